@@ -1,0 +1,25 @@
+"""The ``gogreen`` console script."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Open the main window (optionally on a mesh file)."""
+    parser = argparse.ArgumentParser(prog="gogreen", description="GoGreen Sculpt")
+    parser.add_argument("mesh", nargs="?", help="mesh file to open (OBJ, PLY, STL, OFF)")
+    args = parser.parse_args(argv)
+    from PySide6.QtWidgets import QApplication, QMainWindow
+
+    app = QApplication.instance() or QApplication(sys.argv[:1])
+    window = QMainWindow()
+    window.setWindowTitle("GoGreen Sculpt" + (f" — {args.mesh}" if args.mesh else ""))
+    window.resize(1280, 800)
+    window.show()
+    return app.exec()
+
+
+if __name__ == "__main__":
+    sys.exit(main())

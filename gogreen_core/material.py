@@ -1,0 +1,314 @@
+"""Linear elastic materials: stiffness tensors in Voigt and full 4th-order form.
+
+Voigt order is 11, 22, 33, 23, 13, 12 with engineering shear strains (gamma = 2 eps), so that
+``voigt[a, b] = C[i, j, k, l]`` with (i, j) the index pair of ``a`` and (k, l) that of ``b``
+(see ``../shared/MATH.md``). Stiffness units are whatever the caller uses (only ratios matter for
+the displacement shapes; the Green's function scales as 1/stiffness).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+__all__ = ["VOIGT_PAIRS", "Material", "tensor_to_voigt", "voigt_to_tensor"]
+
+#: Index pair (i, j) of each Voigt position, in the order 11, 22, 33, 23, 13, 12.
+VOIGT_PAIRS: tuple[tuple[int, int], ...] = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))
+
+# VOIGT_INDEX[i, j] -> Voigt position of the symmetric pair (i, j).
+VOIGT_INDEX = np.array([[0, 5, 4], [5, 1, 3], [4, 3, 2]])
+
+_SYMMETRY_RTOL = 1e-10
+
+
+def voigt_to_tensor(voigt: np.ndarray) -> np.ndarray:
+    """Expand a (6, 6) Voigt stiffness into the (3, 3, 3, 3) tensor C_ijkl."""
+    voigt = np.asarray(voigt, dtype=np.float64)
+    return voigt[VOIGT_INDEX[:, :, None, None], VOIGT_INDEX[None, None, :, :]]
+
+
+def tensor_to_voigt(tensor: np.ndarray) -> np.ndarray:
+    """Contract a (3, 3, 3, 3) stiffness tensor with minor symmetries into (6, 6) Voigt form."""
+    tensor = np.asarray(tensor, dtype=np.float64)
+    rows, cols = zip(*VOIGT_PAIRS, strict=True)
+    rows, cols = np.array(rows), np.array(cols)
+    return tensor[rows[:, None], cols[:, None], rows[None, :], cols[None, :]]
+
+
+def _finite(name: str, value: np.ndarray) -> None:
+    if not np.all(np.isfinite(value)):
+        raise ValueError(f"{name} must be finite (got {np.asarray(value).tolist()})")
+
+
+def _scalar(name: str, value: float) -> float:
+    try:
+        out = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a real number (got {value!r})") from None
+    _finite(name, np.array(out))
+    return out
+
+
+def _triple(name: str, value: Sequence[float]) -> np.ndarray:
+    arr = np.asarray(value, dtype=np.float64)
+    if arr.shape != (3,):
+        raise ValueError(f"{name} must have 3 values (got shape {arr.shape})")
+    _finite(name, arr)
+    return arr
+
+
+def check_rotation(rotation: np.ndarray, tol: float = 1e-9) -> np.ndarray:
+    """Return ``rotation`` as a float (3, 3) array, or raise ValueError if it is not a proper
+    rotation (orthonormal with determinant +1, within ``tol``)."""
+    rot = np.asarray(rotation, dtype=np.float64)
+    if rot.shape != (3, 3):
+        raise ValueError(f"rotation must be a 3x3 matrix (got shape {rot.shape})")
+    _finite("rotation", rot)
+    err = np.abs(rot @ rot.T - np.eye(3)).max()
+    if err > tol:
+        raise ValueError(f"rotation is not orthonormal: max |R R^T - I| = {err:.3g}")
+    det = np.linalg.det(rot)
+    if det < 0:
+        raise ValueError("rotation has determinant -1: a reflection, not a proper rotation")
+    return rot
+
+
+class Material:
+    """A homogeneous linear elastic material, defined by its stiffness.
+
+    Build one with a named constructor (``isotropic``, ``from_lame``, ``cubic``,
+    ``orthotropic``, ``transversely_isotropic``, ``from_voigt``). Instances are immutable.
+
+    Attributes
+    ----------
+    voigt : (6, 6) float64
+        Stiffness in Voigt order 11, 22, 33, 23, 13, 12 (engineering shear).
+    tensor : (3, 3, 3, 3) float64
+        The same stiffness as C_ijkl with minor and major symmetries.
+    """
+
+    __slots__ = ("_tensor", "_voigt")
+
+    def __init__(self, voigt: np.ndarray):
+        c6 = np.asarray(voigt, dtype=np.float64)
+        if c6.shape != (6, 6):
+            raise ValueError(f"Voigt stiffness must be a 6x6 matrix (got shape {c6.shape})")
+        _finite("Voigt stiffness", c6)
+        scale = np.abs(c6).max()
+        if scale == 0:
+            raise ValueError("Voigt stiffness is all zeros: not positive definite")
+        asym = np.abs(c6 - c6.T).max()
+        if asym > _SYMMETRY_RTOL * scale:
+            raise ValueError(
+                f"Voigt stiffness is not symmetric: max |C - C^T| = {asym:.3g} "
+                f"(relative {asym / scale:.3g})"
+            )
+        c6 = 0.5 * (c6 + c6.T)
+        eig = np.linalg.eigvalsh(c6)
+        if eig[0] <= 1e-12 * eig[-1]:
+            raise ValueError(
+                f"Voigt stiffness is not positive definite: smallest eigenvalue {eig[0]:.6g} "
+                f"(largest {eig[-1]:.6g})"
+            )
+        c6.setflags(write=False)
+        tensor = voigt_to_tensor(c6)
+        tensor.setflags(write=False)
+        self._voigt = c6
+        self._tensor = tensor
+
+    # -- constructors -------------------------------------------------------------------------
+    @classmethod
+    def from_voigt(cls, voigt: np.ndarray) -> Material:
+        """Any symmetric positive definite (6, 6) stiffness (21 independent coefficients)."""
+        return cls(voigt)
+
+    @classmethod
+    def from_lame(cls, lam: float, mu: float) -> Material:
+        """Isotropic material from the Lamé parameters λ and μ (admissible: μ > 0, 3λ + 2μ > 0)."""
+        lam, mu = _scalar("lam", lam), _scalar("mu", mu)
+        if mu <= 0:
+            raise ValueError(f"shear modulus mu must be > 0 (got {mu})")
+        if 3 * lam + 2 * mu <= 0:
+            bulk3 = 3 * lam + 2 * mu
+            raise ValueError(f"bulk modulus must be > 0: need 3*lam + 2*mu > 0 (got {bulk3})")
+        c6 = np.zeros((6, 6))
+        c6[:3, :3] = lam
+        c6[[0, 1, 2], [0, 1, 2]] = lam + 2 * mu
+        c6[[3, 4, 5], [3, 4, 5]] = mu
+        return cls(c6)
+
+    @classmethod
+    def isotropic(cls, young: float, poisson: float) -> Material:
+        """Isotropic material from Young's modulus E > 0 and Poisson ratio -1 < ν < 1/2."""
+        young, poisson = _scalar("young", young), _scalar("poisson", poisson)
+        if young <= 0:
+            raise ValueError(f"young (Young's modulus) must be > 0 (got {young})")
+        if not -1.0 < poisson < 0.5:
+            raise ValueError(f"poisson must lie in (-1, 1/2) (got {poisson})")
+        lam = young * poisson / ((1 + poisson) * (1 - 2 * poisson))
+        mu = young / (2 * (1 + poisson))
+        return cls.from_lame(lam, mu)
+
+    @classmethod
+    def cubic(cls, c11: float, c12: float, c44: float) -> Material:
+        """Cubic material with axes x, y, z (admissible: c11 > |c12|, c11 + 2 c12 > 0, c44 > 0)."""
+        c11, c12, c44 = _scalar("c11", c11), _scalar("c12", c12), _scalar("c44", c44)
+        c6 = np.zeros((6, 6))
+        c6[:3, :3] = c12
+        c6[[0, 1, 2], [0, 1, 2]] = c11
+        c6[[3, 4, 5], [3, 4, 5]] = c44
+        return cls(c6)
+
+    @classmethod
+    def orthotropic(
+        cls,
+        young: Sequence[float],
+        shear: Sequence[float],
+        poisson: Sequence[float],
+    ) -> Material:
+        """Orthotropic material with axes x, y, z.
+
+        Parameters
+        ----------
+        young : (E1, E2, E3), Young's moduli along x, y, z, all > 0.
+        shear : (G23, G13, G12), shear moduli, all > 0.
+        poisson : (ν12, ν13, ν23), with ν_ij = -ε_j / ε_i under uniaxial stress along i.
+        """
+        e = _triple("young", young)
+        g = _triple("shear", shear)
+        nu12, nu13, nu23 = _triple("poisson", poisson)
+        for name, val in zip(("E1", "E2", "E3"), e, strict=True):
+            if val <= 0:
+                raise ValueError(f"Young's modulus {name} must be > 0 (got {val})")
+        for name, val in zip(("G23", "G13", "G12"), g, strict=True):
+            if val <= 0:
+                raise ValueError(f"shear modulus {name} must be > 0 (got {val})")
+        e1, e2, e3 = e
+        nu21, nu31, nu32 = nu12 * e2 / e1, nu13 * e3 / e1, nu23 * e3 / e2
+        for name, nu, bound in (
+            ("nu12", nu12, np.sqrt(e1 / e2)),
+            ("nu13", nu13, np.sqrt(e1 / e3)),
+            ("nu23", nu23, np.sqrt(e2 / e3)),
+        ):
+            if abs(nu) >= bound:
+                a, b = name[2], name[3]
+                raise ValueError(
+                    f"inadmissible orthotropic Poisson ratio: need |{name}| < sqrt(E{a}/E{b}) = "
+                    f"{bound:.6g} (got {nu})"
+                )
+        delta = 1 - nu12 * nu21 - nu23 * nu32 - nu13 * nu31 - 2 * nu21 * nu32 * nu13
+        if delta <= 0:
+            raise ValueError(
+                "inadmissible orthotropic Poisson ratios: need "
+                "1 - nu12*nu21 - nu23*nu32 - nu13*nu31 - 2*nu21*nu32*nu13 > 0 "
+                f"(got {delta:.6g})"
+            )
+        s = np.zeros((6, 6))
+        s[[0, 1, 2], [0, 1, 2]] = 1 / e
+        s[[3, 4, 5], [3, 4, 5]] = 1 / g
+        s[0, 1] = s[1, 0] = -nu12 / e1
+        s[0, 2] = s[2, 0] = -nu13 / e1
+        s[1, 2] = s[2, 1] = -nu23 / e2
+        return cls(np.linalg.inv(s))
+
+    @classmethod
+    def transversely_isotropic(
+        cls,
+        young_plane: float,
+        young_axial: float,
+        poisson_plane: float,
+        poisson_axial: float,
+        shear_axial: float,
+    ) -> Material:
+        """Transversely isotropic material, symmetry axis z (isotropic in the xy plane).
+
+        Parameters
+        ----------
+        young_plane : E_p = E1 = E2, Young's modulus in the xy plane.
+        young_axial : E_z = E3, Young's modulus along z.
+        poisson_plane : ν_p = ν12, in-plane contraction under in-plane stress (|ν_p| < 1).
+        poisson_axial : ν_pz = ν13 = ν23, contraction along z under in-plane stress.
+        shear_axial : G_z = G13 = G23, shear modulus of planes containing z.
+
+        The in-plane shear modulus is G12 = E_p / (2 (1 + ν_p)).
+        """
+        ep = _scalar("young_plane", young_plane)
+        nup = _scalar("poisson_plane", poisson_plane)
+        if not -1.0 < nup < 1.0:
+            raise ValueError(f"poisson_plane must lie in (-1, 1) (got {nup})")
+        g12 = ep / (2 * (1 + nup))
+        return cls.orthotropic(
+            young=(ep, ep, young_axial),
+            shear=(shear_axial, shear_axial, g12),
+            poisson=(nup, poisson_axial, poisson_axial),
+        )
+
+    # -- properties ---------------------------------------------------------------------------
+    @property
+    def voigt(self) -> np.ndarray:
+        """(6, 6) read-only Voigt stiffness."""
+        return self._voigt
+
+    @property
+    def tensor(self) -> np.ndarray:
+        """(3, 3, 3, 3) read-only stiffness tensor C_ijkl."""
+        return self._tensor
+
+    @property
+    def compliance(self) -> np.ndarray:
+        """(6, 6) Voigt compliance S = C⁻¹ (engineering shear)."""
+        return np.linalg.inv(self._voigt)
+
+    def rotated(self, rotation: np.ndarray) -> Material:
+        """The material with its axes rotated by the proper rotation R (3, 3):
+        C'_abcd = R_ai R_bj R_ck R_dl C_ijkl."""
+        rot = check_rotation(rotation)
+        c = np.einsum("ai,bj,ck,dl,ijkl->abcd", rot, rot, rot, rot, self._tensor, optimize=True)
+        return Material(tensor_to_voigt(c))
+
+    def acoustic_tensor(self, directions: np.ndarray) -> np.ndarray:
+        """M(ξ)_ik = C_ijkl ξ_j ξ_l for directions (N, 3) → (N, 3, 3)."""
+        d = np.asarray(directions, dtype=np.float64)
+        return np.einsum("ijkl,nj,nl->nik", self._tensor, d, d, optimize=True)
+
+    def directional_young(self, directions: np.ndarray) -> np.ndarray:
+        """Young's modulus along unit directions (N, 3) → (N,): 1 / (d⊗d : S : d⊗d)."""
+        d = np.asarray(directions, dtype=np.float64)
+        d = d / np.linalg.norm(d, axis=1, keepdims=True)
+        # Unit uniaxial stress d⊗d in Voigt form; S maps it to engineering strain, so
+        # σ·(Sσ) is the strain energy density and 1/E(d) = d⊗d : S : d⊗d.
+        sig = np.stack(
+            [
+                d[:, 0] ** 2,
+                d[:, 1] ** 2,
+                d[:, 2] ** 2,
+                d[:, 1] * d[:, 2],
+                d[:, 0] * d[:, 2],
+                d[:, 0] * d[:, 1],
+            ],
+            axis=1,
+        )
+        return 1.0 / np.einsum("na,ab,nb->n", sig, self.compliance, sig)
+
+    # -- serialization ------------------------------------------------------------------------
+    def to_dict(self) -> dict:
+        """JSON-ready description: ``{"voigt": 6x6 nested list}``."""
+        return {"voigt": self._voigt.tolist()}
+
+    @classmethod
+    def from_dict(cls, data: dict) -> Material:
+        """Inverse of :meth:`to_dict`."""
+        if not isinstance(data, dict) or "voigt" not in data:
+            raise ValueError("material description must be a dict with a 'voigt' entry")
+        return cls(np.asarray(data["voigt"], dtype=np.float64))
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Material) and np.array_equal(self._voigt, other._voigt)
+
+    def __hash__(self) -> int:
+        return hash(self._voigt.tobytes())
+
+    def __repr__(self) -> str:
+        return f"Material(voigt=\n{np.array2string(self._voigt, precision=5)})"
