@@ -1,0 +1,397 @@
+"""Library of periodic two-phase voxel patterns for :func:`gogreen_core.homogenize.homogenize`.
+
+Every pattern is a plain function returning an (n, n, n) ``int8`` array of 0/1 in axis order
+x, y, z that describes one periodic cell: 0 is phase a (the matrix), 1 is phase b (the
+inclusions, fibres, bars, or odd layers). They include the families of Go Green's Fig. 12
+(Chen & Desbrun 2022): layered, fibre-reinforced, checkerboard, spotted (spherical inclusions),
+cross/lattice and random.
+
+Conventions: the cell is the unit cube, voxel (i, j, k) has centre ((i, j, k) + 1/2) / n and is
+phase b when its centre lies inside the shape (so volume fractions are met up to the voxel
+size; :func:`volume_fraction` gives the realised one). ``periods`` repeats the motif that many
+times along each axis inside the cell. Axes are given as ``"x"``, ``"y"``, ``"z"`` or 0, 1, 2.
+
+:data:`PATTERNS` maps each name to a :class:`PatternSpec` (function, description and the typed
+parameter list) so that a GUI can list the families and build widgets; :func:`make_pattern`
+builds one by name.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+__all__ = [
+    "PATTERNS",
+    "PatternParameter",
+    "PatternSpec",
+    "checkerboard",
+    "fibers",
+    "lattice",
+    "layered",
+    "make_pattern",
+    "random_pattern",
+    "spheres",
+    "volume_fraction",
+]
+
+_AXES = {"x": 0, "y": 1, "z": 2, 0: 0, 1: 1, 2: 2}
+
+# Close packing limits of the volume fraction of each shape (touching neighbours).
+_MAX_FIBER_FRACTION = np.pi / 4.0
+_SPHERE_LATTICES: dict[str, tuple[np.ndarray, float]] = {
+    # centres in one motif (unit cube) and the touching-sphere packing fraction
+    "sc": (np.array([[0.5, 0.5, 0.5]]), np.pi / 6.0),
+    "bcc": (np.array([[0.0, 0.0, 0.0], [0.5, 0.5, 0.5]]), np.pi * np.sqrt(3.0) / 8.0),
+    "fcc": (
+        np.array([[0.0, 0.0, 0.0], [0.5, 0.5, 0.0], [0.5, 0.0, 0.5], [0.0, 0.5, 0.5]]),
+        np.pi / (3.0 * np.sqrt(2.0)),
+    ),
+}
+
+
+# ---------------------------------------------------------------------------------------------
+# Checks and coordinates
+# ---------------------------------------------------------------------------------------------
+def _check_n(n: int) -> int:
+    if isinstance(n, bool) or int(n) != n:
+        raise ValueError(f"n must be an integer (got {n!r})")
+    n = int(n)
+    if n < 2:
+        raise ValueError(f"n must be >= 2 voxels per axis (got {n})")
+    return n
+
+
+def _check_fraction(fraction: float, upper: float = 1.0, what: str = "") -> float:
+    f = float(fraction)
+    if not np.isfinite(f) or not 0.0 <= f <= upper:
+        extra = f" ({what})" if what else ""
+        raise ValueError(f"fraction must lie in [0, {upper:.6g}]{extra} (got {fraction})")
+    return f
+
+
+def _check_periods(periods: int, n: int, per_period: int = 1) -> int:
+    if isinstance(periods, bool) or int(periods) != periods:
+        raise ValueError(f"periods must be an integer (got {periods!r})")
+    periods = int(periods)
+    if periods < 1:
+        raise ValueError(f"periods must be >= 1 (got {periods})")
+    if periods * per_period > n:
+        raise ValueError(
+            f"periods = {periods} is too many for n = {n}: need periods * {per_period} <= n"
+        )
+    return periods
+
+
+def _check_axis(axis: str | int, name: str = "axis") -> int:
+    key = axis.lower() if isinstance(axis, str) else axis
+    if key not in _AXES:
+        raise ValueError(f"{name} must be 'x', 'y', 'z' or 0, 1, 2 (got {axis!r})")
+    return _AXES[key]
+
+
+def _motif_coords(n: int, periods: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Voxel-centre coordinates in motif units, each in [0, 1): three (n, n, n) arrays."""
+    t = ((np.arange(n) + 0.5) / n * periods) % 1.0
+    return np.meshgrid(t, t, t, indexing="ij")
+
+
+def _periodic_distance(t: np.ndarray, centre: float) -> np.ndarray:
+    d = np.abs(t - centre) % 1.0
+    return np.minimum(d, 1.0 - d)
+
+
+def volume_fraction(phases: np.ndarray) -> float:
+    """Realised volume fraction of phase b (the mean of a 0/1 grid)."""
+    return float(np.mean(np.asarray(phases), dtype=np.float64))
+
+
+# ---------------------------------------------------------------------------------------------
+# Pattern families
+# ---------------------------------------------------------------------------------------------
+def layered(
+    n: int = 16, normal: str | int = "z", fraction: float = 0.5, periods: int = 1
+) -> np.ndarray:
+    """Laminate: layers of phase b (thickness ``fraction`` of each period) stacked along
+    ``normal``. Result is transversely isotropic about ``normal`` (exact Backus tensor).
+
+    Shape (n, n, n) int8. ``periods`` layer pairs per cell (periods <= n).
+    """
+    n = _check_n(n)
+    ax = _check_axis(normal, "normal")
+    f = _check_fraction(fraction)
+    periods = _check_periods(periods, n)
+    t = ((np.arange(n) + 0.5) / n * periods) % 1.0
+    line = (t < f).astype(np.int8)
+    shape = [1, 1, 1]
+    shape[ax] = n
+    return np.broadcast_to(line.reshape(shape), (n, n, n)).astype(np.int8)
+
+
+def fibers(
+    n: int = 16,
+    axis: str | int = "z",
+    fraction: float = 0.3,
+    periods: int = 1,
+    shape: str = "round",
+) -> np.ndarray:
+    """Fibre-reinforced: straight rods of phase b along ``axis`` on a square array, one rod per
+    motif centre. ``shape`` "round" (circular section, fraction <= pi/4) or "square" (fraction
+    <= 1). Transversely isotropic-like (tetragonal) about ``axis``.
+
+    Shape (n, n, n) int8.
+    """
+    n = _check_n(n)
+    ax = _check_axis(axis)
+    periods = _check_periods(periods, n)
+    coords = _motif_coords(n, periods)
+    u, v = (coords[i] for i in range(3) if i != ax)
+    du, dv = _periodic_distance(u, 0.5), _periodic_distance(v, 0.5)
+    if shape == "round":
+        f = _check_fraction(fraction, _MAX_FIBER_FRACTION, "round fibres touch at pi/4")
+        inside = du**2 + dv**2 < f / np.pi
+    elif shape == "square":
+        f = _check_fraction(fraction)
+        half = 0.5 * np.sqrt(f)
+        inside = (du < half) & (dv < half)
+    else:
+        raise ValueError(f"shape must be 'round' or 'square' (got {shape!r})")
+    return inside.astype(np.int8)
+
+
+def checkerboard(n: int = 16, periods: int = 1) -> np.ndarray:
+    """3D checkerboard: 2 x 2 x 2 blocks per motif, phase b where the block indices sum to an
+    odd number. Fraction 1/2, cubic symmetry. Shape (n, n, n) int8; needs 2 * periods <= n."""
+    n = _check_n(n)
+    periods = _check_periods(periods, n, per_period=2)
+    x, y, z = _motif_coords(n, periods)
+    blocks = np.floor(2 * x) + np.floor(2 * y) + np.floor(2 * z)
+    return (blocks.astype(np.int64) % 2).astype(np.int8)
+
+
+def spheres(
+    n: int = 16, fraction: float = 0.2, periods: int = 1, arrangement: str = "sc"
+) -> np.ndarray:
+    """Spotted: spherical inclusions of phase b on a simple cubic ("sc"), body-centred ("bcc")
+    or face-centred ("fcc") lattice, radius from ``fraction`` (at most the touching-sphere
+    packing: pi/6 for sc, 0.680 for bcc, 0.740 for fcc). Cubic symmetry.
+
+    Shape (n, n, n) int8.
+    """
+    n = _check_n(n)
+    if arrangement not in _SPHERE_LATTICES:
+        raise ValueError(
+            f"arrangement must be one of {sorted(_SPHERE_LATTICES)} (got {arrangement!r})"
+        )
+    centres, f_max = _SPHERE_LATTICES[arrangement]
+    f = _check_fraction(fraction, f_max, f"spheres of a {arrangement} lattice touch at {f_max:.4g}")
+    periods = _check_periods(periods, n)
+    x, y, z = _motif_coords(n, periods)
+    radius2 = (3.0 * f / (4.0 * np.pi * len(centres))) ** (2.0 / 3.0)
+    inside = np.zeros((n, n, n), dtype=bool)
+    for cx, cy, cz in centres:
+        d2 = (
+            _periodic_distance(x, cx) ** 2
+            + _periodic_distance(y, cy) ** 2
+            + _periodic_distance(z, cz) ** 2
+        )
+        inside |= d2 < radius2
+    return inside.astype(np.int8)
+
+
+def _bar_width(fraction: float, count: int) -> float:
+    """Side w of square bars such that ``count`` (1, 2 or 3) orthogonal bars through the motif
+    centre cover ``fraction`` of the motif: w^2, 2w^2 - w^3 or 3w^2 - 2w^3."""
+    if count == 1:
+        return float(np.sqrt(fraction))
+    coef = {2: [-1.0, 2.0, 0.0, -fraction], 3: [-2.0, 3.0, 0.0, -fraction]}[count]
+    roots = np.roots(coef)
+    real = roots[np.abs(roots.imag) < 1e-9].real
+    return float(np.min(real[(real >= -1e-12) & (real <= 1.0 + 1e-12)]).clip(0.0, 1.0))
+
+
+def lattice(n: int = 16, fraction: float = 0.3, periods: int = 1, axes: str = "xyz") -> np.ndarray:
+    """Cross / lattice: square bars of phase b through the motif centre along each axis in
+    ``axes`` ("xyz": a 3D cubic lattice/frame, cubic symmetry; "xy", "xz", "yz": a 2D cross of
+    bars; one letter: square fibres). Bar width from ``fraction``.
+
+    Shape (n, n, n) int8.
+    """
+    n = _check_n(n)
+    f = _check_fraction(fraction)
+    periods = _check_periods(periods, n)
+    letters = sorted({_check_axis(a, "axes") for a in axes}) if isinstance(axes, str) else []
+    if not letters or len(letters) != len(axes):
+        raise ValueError(f"axes must be distinct letters among 'x', 'y', 'z' (got {axes!r})")
+    half = 0.5 * _bar_width(f, len(letters))
+    coords = _motif_coords(n, periods)
+    near = [_periodic_distance(c, 0.5) < half for c in coords]
+    inside = np.zeros((n, n, n), dtype=bool)
+    for ax in letters:
+        others = [near[i] for i in range(3) if i != ax]
+        inside |= others[0] & others[1]
+    return inside.astype(np.int8)
+
+
+def random_pattern(
+    n: int = 16, fraction: float = 0.5, seed: int = 0, correlation: float = 0.0
+) -> np.ndarray:
+    """Random two-phase microstructure with exactly round(fraction * n^3) voxels of phase b.
+
+    ``correlation`` = 0 draws voxels independently; > 0 thresholds periodic Gaussian-smoothed
+    noise (standard deviation ``correlation`` in cell units, e.g. 0.05) into blobs.
+    Statistically isotropic. Deterministic for a given ``seed``. Shape (n, n, n) int8.
+    """
+    n = _check_n(n)
+    f = _check_fraction(fraction)
+    corr = float(correlation)
+    if not np.isfinite(corr) or corr < 0:
+        raise ValueError(f"correlation must be >= 0 (got {correlation})")
+    rng = np.random.default_rng(seed)
+    noise = rng.random((n, n, n))
+    if corr > 0:
+        k = np.fft.fftfreq(n)
+        kr = np.fft.rfftfreq(n)
+        k2 = k[:, None, None] ** 2 + k[None, :, None] ** 2 + kr[None, None, :] ** 2
+        # Gaussian kernel of std `corr` (cell units) = n * corr voxels, applied periodically.
+        filt = np.exp(-2.0 * (np.pi * n * corr) ** 2 * k2)
+        noise = np.fft.irfftn(np.fft.rfftn(noise) * filt, s=(n, n, n), axes=(0, 1, 2))
+    count = round(f * n**3)
+    out = np.zeros(n**3, dtype=np.int8)
+    if count > 0:
+        order = np.argsort(noise, axis=None, kind="stable")
+        out[order[:count]] = 1
+    return out.reshape(n, n, n)
+
+
+# ---------------------------------------------------------------------------------------------
+# Registry
+# ---------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class PatternParameter:
+    """One parameter of a pattern family, for building GUI widgets.
+
+    kind : "int", "float" or "choice"; ``low``/``high`` bound numbers, ``choices`` lists the
+    allowed values of a "choice".
+    """
+
+    name: str
+    kind: str
+    default: Any
+    description: str
+    low: float | None = None
+    high: float | None = None
+    choices: tuple[Any, ...] = ()
+
+
+@dataclass(frozen=True)
+class PatternSpec:
+    """A pattern family: ``function(n=..., **parameters) -> (n, n, n) int8``."""
+
+    name: str
+    function: Callable[..., np.ndarray]
+    description: str
+    parameters: tuple[PatternParameter, ...]
+
+    def __call__(self, n: int = 16, **params: Any) -> np.ndarray:
+        return self.function(n=n, **params)
+
+
+_AXIS_CHOICES = ("x", "y", "z")
+_PERIODS = PatternParameter("periods", "int", 1, "motif repeats along each axis", 1, 8)
+
+#: Name -> PatternSpec of every pattern family (GUI order).
+PATTERNS: dict[str, PatternSpec] = {
+    spec.name: spec
+    for spec in (
+        PatternSpec(
+            "layered",
+            layered,
+            "Laminate of alternating layers (transversely isotropic about the normal)",
+            (
+                PatternParameter("normal", "choice", "z", "layer normal", choices=_AXIS_CHOICES),
+                PatternParameter("fraction", "float", 0.5, "phase-b layer fraction", 0.0, 1.0),
+                _PERIODS,
+            ),
+        ),
+        PatternSpec(
+            "fibers",
+            fibers,
+            "Straight fibres / rods along an axis on a square array",
+            (
+                PatternParameter("axis", "choice", "z", "fibre direction", choices=_AXIS_CHOICES),
+                PatternParameter(
+                    "fraction", "float", 0.3, "fibre volume fraction", 0.0, _MAX_FIBER_FRACTION
+                ),
+                _PERIODS,
+                PatternParameter(
+                    "shape", "choice", "round", "fibre section", choices=("round", "square")
+                ),
+            ),
+        ),
+        PatternSpec(
+            "checkerboard",
+            checkerboard,
+            "3D checkerboard of cubes (cubic symmetry, fraction 1/2)",
+            (_PERIODS,),
+        ),
+        PatternSpec(
+            "spheres",
+            spheres,
+            "Spotted: spherical inclusions on a cubic lattice (cubic symmetry)",
+            (
+                PatternParameter(
+                    "fraction", "float", 0.2, "inclusion volume fraction", 0.0, np.pi / 6.0
+                ),
+                _PERIODS,
+                PatternParameter(
+                    "arrangement", "choice", "sc", "sphere lattice", choices=("sc", "bcc", "fcc")
+                ),
+            ),
+        ),
+        PatternSpec(
+            "lattice",
+            lattice,
+            "Cross / lattice of square bars along the chosen axes",
+            (
+                PatternParameter("fraction", "float", 0.3, "bar volume fraction", 0.0, 1.0),
+                _PERIODS,
+                PatternParameter(
+                    "axes", "choice", "xyz", "bar directions", choices=("xyz", "xy", "xz", "yz")
+                ),
+            ),
+        ),
+        PatternSpec(
+            "random",
+            random_pattern,
+            "Random voxels or blobs (statistically isotropic)",
+            (
+                PatternParameter("fraction", "float", 0.5, "phase-b volume fraction", 0.0, 1.0),
+                PatternParameter("seed", "int", 0, "random seed", 0, 2**31 - 1),
+                PatternParameter(
+                    "correlation", "float", 0.0, "blob size (cell units, 0 = voxels)", 0.0, 0.25
+                ),
+            ),
+        ),
+    )
+}
+
+
+def make_pattern(name: str, n: int = 16, **params: Any) -> np.ndarray:
+    """Build the pattern ``name`` of :data:`PATTERNS` on an n^3 grid: (n, n, n) int8.
+
+    Unknown names or parameters raise ValueError listing the valid ones.
+    """
+    if name not in PATTERNS:
+        raise ValueError(f"unknown pattern {name!r}; choose one of {list(PATTERNS)}")
+    spec = PATTERNS[name]
+    allowed = {p.name for p in spec.parameters}
+    unknown = set(params) - allowed
+    if unknown:
+        raise ValueError(
+            f"unknown parameter(s) {sorted(unknown)} for pattern {name!r}; valid: {sorted(allowed)}"
+        )
+    return spec.function(n=n, **params)
