@@ -92,15 +92,16 @@ def _group_coefficients(c6: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndar
     return groups, means
 
 
-def describe_symmetry(material: Material | np.ndarray, rtol: float = 1e-6) -> SymmetryDescription:
+def describe_symmetry(material: Material | np.ndarray, rtol: float = 1e-5) -> SymmetryDescription:
     """Equal-coefficient groups and symmetry class of a stiffness, in its own axes.
 
     Parameters
     ----------
     material : Material or (6, 6) Voigt stiffness (order 11, 22, 33, 23, 13, 12).
     rtol : two coefficients are equal (and a coefficient is zero) when they differ by at most
-        ``rtol * max|C|``. The homogenizer's results are accurate to ~1e-10 relative, so the
-        default 1e-6 is safe; raise it to group nearly equal values.
+        ``rtol * max|C|``. The homogenizer's results are accurate to better than 1e-6 relative
+        (~1e-10 at moderate contrast), so the default 1e-5 is safe; raise it to group nearly
+        equal values.
     """
     c6 = material.voigt if isinstance(material, Material) else np.asarray(material, dtype=float)
     if c6.shape != (6, 6):

@@ -165,6 +165,43 @@ def test_anisotropic_phases_are_accepted():
     assert loewner_min(cv - c.voigt) > -1e-9 and loewner_min(c.voigt - cr) > -1e-9
 
 
+# -- symmetry description --------------------------------------------------------------------
+def test_symmetry_classes_of_known_materials():
+    iso = describe_symmetry(Material.isotropic(3.0, 0.3))
+    assert iso.symmetry_class == "isotropic" and iso.group_count == 3
+    assert iso.groups[0, 0] == iso.groups[2, 2] != iso.groups[0, 1] == iso.groups[1, 2]
+    assert iso.groups[3, 3] == iso.groups[5, 5] and iso.groups[0, 3] == -1
+    assert np.allclose(iso.values, Material.isotropic(3.0, 0.3).voigt)
+    ti = Material.transversely_isotropic(10.0, 3.0, 0.3, 0.2, 1.5)
+    assert (describe_symmetry(ti).symmetry_class, describe_symmetry(ti).axis) == (
+        "transversely isotropic",
+        "z",
+    )
+    ortho = Material.orthotropic((1.0, 2.0, 3.0), (0.4, 0.5, 0.6), (0.2, 0.25, 0.3))
+    assert describe_symmetry(ortho).symmetry_class == "orthotropic"
+    cubic = Material.cubic(3.0, 1.0, 0.4)
+    assert describe_symmetry(cubic).symmetry_class == "cubic"
+    c, s = np.cos(0.3), np.sin(0.3)
+    turned = cubic.rotated(np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]))
+    assert describe_symmetry(turned).symmetry_class == "other"
+    assert describe_symmetry(Material.from_voigt(np.eye(6) + 0.1)).symmetry_class == "other"
+
+
+def test_fibers_are_tetragonal_about_their_axis():
+    from gogreen_core.patterns import fibers
+
+    c = homogenize(fibers(8, axis="y", fraction=0.3), bimaterial(contrast=50.0))
+    sym = describe_symmetry(c)
+    assert (sym.symmetry_class, sym.axis) == ("tetragonal", "y")
+
+
+def test_describe_symmetry_rejects_bad_input():
+    with pytest.raises(ValueError, match="6x6"):
+        describe_symmetry(np.eye(5))
+    with pytest.raises(ValueError, match="rtol"):
+        describe_symmetry(np.eye(6), rtol=-1.0)
+
+
 # -- solver details ---------------------------------------------------------------------------
 def test_progress_is_monotone_and_ends_at_one():
     values = []
