@@ -1,4 +1,4 @@
-"""Benchmark of gogreen_core.homogenize: median wall time per pattern, grid size and contrast.
+"""Benchmark of gogreen_core.homogenization: median wall time per pattern, grid size and contrast.
 
 Targets (issue "Bimaterial homogenization"): 16^3 <= 300 ms so the contrast slider feels live,
 32^3 <= 5 s, on a 2-core machine, up to contrast 1e4. Prints figures, never asserts.
@@ -16,7 +16,7 @@ import time
 
 import numpy as np
 
-from gogreen_core.homogenize import bimaterial, homogenize_detailed
+from gogreen_core.homogenization import bimaterial, homogenize_detailed
 from gogreen_core.patterns import make_pattern
 from gogreen_core.symmetry import describe_symmetry
 

@@ -1,9 +1,53 @@
 """GoGreen Sculpt numerics and sculpting engine (no GUI imports).
 
 Regularized Green's functions of any linear elastic material by the spherical-harmonic expansion
-of Chen & Desbrun, "Go Green: General Regularized Green's Functions for Elasticity" (2022).
+of Chen & Desbrun, "Go Green: General Regularized Green's Functions for Elasticity" (2022), the
+bimaterial homogenization that turns a voxel pattern into an anisotropic material, and the
+sculpting engine built on them.
 """
 
+from gogreen_core.homogenization import (
+    HomogenizationResult,
+    bimaterial,
+    check_phases,
+    homogenize,
+    homogenize_detailed,
+    reuss_bound,
+    voigt_bound,
+)
+from gogreen_core.kernel import GreenKernel, lebedev_points
 from gogreen_core.material import Material
+from gogreen_core.patterns import PATTERNS, PatternParameter, PatternSpec, make_pattern
+from gogreen_core.radial import (
+    GaussianRadial,
+    KelvinletRadial,
+    RadialProfile,
+    SplineRadial,
+    radial_from_dict,
+)
+from gogreen_core.symmetry import SYMMETRY_CLASSES, SymmetryDescription, describe_symmetry
 
-__all__ = ["Material"]
+__all__ = [
+    "PATTERNS",
+    "SYMMETRY_CLASSES",
+    "GaussianRadial",
+    "GreenKernel",
+    "HomogenizationResult",
+    "KelvinletRadial",
+    "Material",
+    "PatternParameter",
+    "PatternSpec",
+    "RadialProfile",
+    "SplineRadial",
+    "SymmetryDescription",
+    "bimaterial",
+    "check_phases",
+    "describe_symmetry",
+    "homogenize",
+    "homogenize_detailed",
+    "lebedev_points",
+    "make_pattern",
+    "radial_from_dict",
+    "reuss_bound",
+    "voigt_bound",
+]

@@ -1,4 +1,4 @@
-"""Library of periodic two-phase voxel patterns for :func:`gogreen_core.homogenize.homogenize`.
+"""Library of periodic two-phase voxel patterns for :func:`gogreen_core.homogenize`.
 
 Every pattern is a plain function returning an (n, n, n) ``int8`` array of 0/1 in axis order
 x, y, z that describes one periodic cell: 0 is phase a (the matrix), 1 is phase b (the

@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from gogreen_core.homogenize import (
+from gogreen_core.homogenization import (
     bimaterial,
     check_phases,
     homogenize,

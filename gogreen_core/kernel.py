@@ -1,0 +1,277 @@
+"""The regularized Green's function of any linear elastic material (Chen & Desbrun 2022).
+
+G(x) = 1/(2π²) Σ_{l even} i^l R_l(r) Σ_m Y_lm(x̂) P_lm              (paper Eq. 10)
+∂_p G(x) = 1/(2π²) Σ_{l odd} i^{l+1} ℛ_l(r) Σ_m Y_lm(x̂) 𝒫_lm,p     (paper Eq. 12)
+
+with M(ξ)_ik = C_ijkl ξ_j ξ_l, P_lm = ∫_S² M(ξ̂)⁻¹ Y_lm(ξ̂) dS and 𝒫_lm,p = ∫_S² M⁻¹ Y_lm ξ̂_p dS in
+the real SH basis of ``sph.py`` (the addition theorem makes the real basis exact, so everything
+stays real). The material matrices are integrated once by Lebedev quadrature; R_l and ℛ_l come
+from the radial profile's tables (``radial.py``); evaluation is the numba kernel of
+``_expansion.py``. G is truncated at even l ≤ l_max and ∇G at odd l ≤ l_max + 1.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from functools import lru_cache
+
+import numpy as np
+from scipy.integrate import lebedev_rule
+
+from gogreen_core._expansion import DEGREE_GROUP, expand
+from gogreen_core.material import Material
+from gogreen_core.radial import GaussianRadial, RadialProfile
+from gogreen_core.sph import legendre_recurrence, real_sph_harm
+
+__all__ = ["L_MAX_LIMIT", "GreenKernel", "lebedev_points"]
+
+#: Highest supported truncation degree.
+L_MAX_LIMIT = 60
+#: Lebedev rule used for the material matrices (5,810 nodes, exact to degree 131: the paper's).
+QUADRATURE_ORDER = 131
+
+
+@lru_cache(maxsize=4)
+def lebedev_points(order: int = QUADRATURE_ORDER) -> tuple[np.ndarray, np.ndarray]:
+    """Lebedev nodes (n, 3) on the unit sphere and weights (n,) summing to 4π (read-only)."""
+    nodes, weights = lebedev_rule(order)
+    nodes = np.ascontiguousarray(nodes.T)
+    nodes.setflags(write=False)
+    weights.setflags(write=False)
+    return nodes, weights
+
+
+def _finite_array(name: str, value, shape: tuple[int, ...]) -> np.ndarray:
+    arr = np.asarray(value, dtype=np.float64)
+    if arr.shape != shape:
+        raise ValueError(f"{name} must have shape {shape} (got {arr.shape})")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} must be finite")
+    return arr
+
+
+def _points(name: str, value) -> np.ndarray:
+    arr = np.asarray(value, dtype=np.float64)
+    if arr.ndim != 2 or arr.shape[1] != 3:
+        raise ValueError(f"{name} must have shape (N, 3) (got {arr.shape})")
+    if not np.isfinite(arr).all():
+        raise ValueError(f"{name} contain non-finite values (NaN or inf)")
+    return np.ascontiguousarray(arr)
+
+
+def _evaluation_tables(tables: np.ndarray) -> np.ndarray:
+    """(n_degrees, S, D+1) → (S, D+1, n_pad) with all degrees of a segment contiguous and the
+    degree axis zero-padded to a multiple of DEGREE_GROUP, the layout ``_expansion`` reads."""
+    n_deg = tables.shape[0]
+    n_pad = -(-n_deg // DEGREE_GROUP) * DEGREE_GROUP
+    out = np.zeros((tables.shape[1], tables.shape[2], n_pad))
+    out[:, :, :n_deg] = tables.transpose(1, 2, 0)
+    return out
+
+
+class _Parity:
+    """Packed material coefficients of one parity (even: G, odd: ∇G)."""
+
+    def __init__(self, l_first: int, l_last: int, matrices: np.ndarray, base: np.ndarray):
+        self.l_first = l_first
+        self.l_last = l_last
+        self.degrees = list(range(l_first, l_last + 1, 2))
+        self.matrices = matrices  # (n_terms, 3, 3) or (n_terms, 3, 3, 3)
+        self.base = base  # (l_last+1,) int64, row of Y_l,-l
+
+
+class GreenKernel:
+    """Regularized Green's function G and its gradient for one material and falloff.
+
+    Parameters
+    ----------
+    material : Material
+    l_max : int, 0 ≤ l_max ≤ 60
+        Truncation degree: G uses even l ≤ l_max, ∇G odd l ≤ l_max + 1.
+    radial : RadialProfile, default ``GaussianRadial(1.0)``
+        The load profile (falloff), which also sets the radius ε.
+    degree_weights : sequence of l_max + 1 floats, optional
+        Scales the degree-l term of G (the paper's wrinkle brush: truncation or reweighting).
+        The odd degree l of ∇G uses ``degree_weights[l - 1]``, so zero weights above degree L
+        make ∇G the gradient truncated as G is. Default all ones.
+
+    Building a kernel takes milliseconds (the radial tables are cached per profile shape), so
+    rebuild it whenever the material changes; :meth:`with_radial` changes the falloff or the
+    radius without recomputing the material matrices.
+    """
+
+    def __init__(
+        self,
+        material: Material,
+        l_max: int = 8,
+        radial: RadialProfile | None = None,
+        degree_weights: Sequence[float] | None = None,
+    ):
+        if not isinstance(material, Material):
+            raise ValueError(f"material must be a Material (got {type(material).__name__})")
+        if isinstance(l_max, bool) or not isinstance(l_max, (int, np.integer)):
+            raise ValueError(f"l_max must be an integer (got {l_max!r})")
+        l_max = int(l_max)
+        if not 0 <= l_max <= L_MAX_LIMIT:
+            raise ValueError(f"l_max must lie in [0, {L_MAX_LIMIT}] (got {l_max})")
+        radial = GaussianRadial(1.0) if radial is None else radial
+        if not isinstance(radial, RadialProfile):
+            raise ValueError(f"radial must be a RadialProfile (got {type(radial).__name__})")
+        if degree_weights is None:
+            weights = np.ones(l_max + 1)
+        else:
+            weights = np.array(degree_weights, dtype=np.float64)
+            if weights.shape != (l_max + 1,):
+                raise ValueError(
+                    f"degree_weights must have l_max + 1 = {l_max + 1} values "
+                    f"(got shape {weights.shape})"
+                )
+            if not np.all(np.isfinite(weights)):
+                raise ValueError("degree_weights must be finite")
+        weights.setflags(write=False)
+        self._material = material
+        self._l_max = l_max
+        self._weights = weights
+        self._even, self._odd = self._material_terms(material, l_max, weights)
+        rec = legendre_recurrence(l_max + 1)
+        self._recurrence = (
+            np.ascontiguousarray(rec.qmm),
+            np.ascontiguousarray(rec.a),
+            np.ascontiguousarray(rec.b),
+        )
+        self._set_radial(radial)
+
+    # -- precompute --------------------------------------------------------------------------
+    @staticmethod
+    def _material_terms(
+        material: Material, l_max: int, weights: np.ndarray
+    ) -> tuple[_Parity, _Parity]:
+        nodes, qw = lebedev_points()
+        m_inv = np.linalg.inv(material.acoustic_tensor(nodes))  # (n, 3, 3)
+        basis = real_sph_harm(nodes, l_max + 1) * qw[:, None]  # Y_lm w_q, (n, (L+1)²)
+        flat = m_inv.reshape(len(nodes), 9)
+        grad_flat = (m_inv[:, :, :, None] * nodes[:, None, None, :]).reshape(len(nodes), 27)
+
+        def pack(l_first: int, l_last: int, integrand: np.ndarray, shape: tuple) -> _Parity:
+            degrees = list(range(l_first, l_last + 1, 2))
+            base = np.full(l_last + 1 if l_last >= 0 else 1, -1, dtype=np.int64)
+            cols, factors, offset = [], [], 0
+            for l in degrees:
+                base[l] = offset
+                offset += 2 * l + 1
+                cols.extend(range(l * l, (l + 1) ** 2))
+                # i^l for even l, i^(l+1) for odd l (both real), the 1/(2π²) and the weight.
+                sign = (-1.0) ** ((l + (l % 2)) // 2)
+                weight = weights[l] if l % 2 == 0 else weights[l - 1]
+                factors.extend([sign * weight / (2 * np.pi**2)] * (2 * l + 1))
+            mats = (basis[:, cols].T @ integrand) * np.asarray(factors)[:, None]
+            return _Parity(l_first, l_last, mats.reshape((len(cols), *shape)), base)
+
+        even = pack(0, l_max - l_max % 2, flat, (3, 3))
+        odd_last = l_max + 1 if l_max % 2 == 0 else l_max  # largest odd l ≤ l_max + 1
+        odd = pack(1, odd_last, grad_flat, (3, 3, 3))
+        return even, odd
+
+    def _set_radial(self, radial: RadialProfile) -> None:
+        self._radial = radial
+        self._even_tables = _evaluation_tables(radial.table("R", self._even.degrees))
+        self._odd_tables = _evaluation_tables(radial.table("dR", self._odd.degrees))
+
+    def with_radial(self, radial: RadialProfile) -> GreenKernel:
+        """A kernel for the same material with another falloff or radius (no quadrature)."""
+        if not isinstance(radial, RadialProfile):
+            raise ValueError(f"radial must be a RadialProfile (got {type(radial).__name__})")
+        clone = object.__new__(GreenKernel)
+        clone.__dict__.update(self.__dict__)
+        clone._set_radial(radial)
+        return clone
+
+    def with_eps(self, eps: float) -> GreenKernel:
+        """The same kernel with regularization radius ``eps`` (falloff shape unchanged)."""
+        return self.with_radial(self._radial.with_eps(eps))
+
+    # -- properties --------------------------------------------------------------------------
+    @property
+    def material(self) -> Material:
+        return self._material
+
+    @property
+    def l_max(self) -> int:
+        return self._l_max
+
+    @property
+    def radial(self) -> RadialProfile:
+        return self._radial
+
+    @property
+    def eps(self) -> float:
+        """Regularization radius ε of the falloff (model units)."""
+        return self._radial.eps
+
+    @property
+    def degree_weights(self) -> np.ndarray:
+        return self._weights
+
+    # -- evaluation --------------------------------------------------------------------------
+    def _run(
+        self,
+        parity: _Parity,
+        tables: np.ndarray,
+        points: np.ndarray,
+        center: np.ndarray,
+        coeffs: np.ndarray,
+    ) -> np.ndarray:
+        out = np.empty((points.shape[0], coeffs.shape[1]))
+        if points.shape[0] == 0:
+            return out
+        qmm, rec_a, rec_b = self._recurrence
+        expand(
+            points,
+            np.ascontiguousarray(center, dtype=np.float64),
+            self._radial.eps,
+            1 if parity.l_first == 0 else 2,
+            parity.l_first,
+            parity.l_last,
+            parity.base,
+            np.ascontiguousarray(coeffs, dtype=np.float64),
+            tables,
+            qmm,
+            rec_a,
+            rec_b,
+            out,
+        )
+        return out
+
+    def green(self, offsets: np.ndarray) -> np.ndarray:
+        """G(x) at offsets x (N, 3) → (N, 3, 3), symmetric (units: 1/(stiffness·length))."""
+        pts = _points("offsets", offsets)
+        coeffs = self._even.matrices.reshape(-1, 9)
+        return self._run(self._even, self._even_tables, pts, np.zeros(3), coeffs).reshape(-1, 3, 3)
+
+    def green_gradient(self, offsets: np.ndarray) -> np.ndarray:
+        """∇G at offsets (N, 3) → (N, 3, 3, 3) with ``[n, i, j, p] = ∂G_ij/∂x_p``."""
+        pts = _points("offsets", offsets)
+        coeffs = self._odd.matrices.reshape(-1, 27)
+        out = self._run(self._odd, self._odd_tables, pts, np.zeros(3), coeffs)
+        return out.reshape(-1, 3, 3, 3)
+
+    def displacement(self, points: np.ndarray, center: np.ndarray, force: np.ndarray) -> np.ndarray:
+        """Vector load: u = G(points - center) · force → (N, 3)."""
+        pts = _points("points", points)
+        c = _finite_array("center", center, (3,))
+        f = _finite_array("force", force, (3,))
+        coeffs = self._even.matrices @ f  # (n_terms, 3)
+        return self._run(self._even, self._even_tables, pts, c, coeffs)
+
+    def affine_displacement(
+        self, points: np.ndarray, center: np.ndarray, load: np.ndarray
+    ) -> np.ndarray:
+        """Affine load H (3, 3): u_i = Σ_jp ∂_p G_ij(points - center) H_jp → (N, 3)."""
+        pts = _points("points", points)
+        c = _finite_array("center", center, (3,))
+        h = _finite_array("affine load", load, (3, 3))
+        coeffs = np.einsum("tijp,jp->ti", self._odd.matrices, h)
+        return self._run(self._odd, self._odd_tables, pts, c, coeffs)
+
+    def __repr__(self) -> str:
+        return f"GreenKernel(l_max={self._l_max}, radial={self._radial!r})"

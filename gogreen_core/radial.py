@@ -1,0 +1,424 @@
+"""Radial terms of the SH-regularized Green's function (the brush falloff).
+
+For a radial load g_ε with Fourier transform ĝ, the kernel needs, for each degree l,
+
+* ``R_l(r) = ∫₀^∞ ĝ(k) j_l(kr) dk``    (even l, for G; paper Eq. 10)
+* ``ℛ_l(r) = ∫₀^∞ ĝ(k) j_l(kr) k dk``  (odd l, for ∇G; paper Eq. 12)
+
+All profiles here are scale-free in ρ = r/ε: ``R_l(r) = F_l(ρ)/ε`` and ``ℛ_l(r) = F'_l(ρ)/ε²``,
+where F_l, F'_l are dimensionless. Far away R_l ~ 1/r and ℛ_l ~ 1/r², so the kernel tabulates
+the bounded functions ``F_l(ρ)(1+ρ)`` and ``F'_l(ρ)(1+ρ)²`` on t = ρ/(1+ρ) ∈ [0, 1], which
+covers every r including r → ∞ (see :func:`radial_table`). The tables depend only on the shape
+of the profile, not on ε, so changing the brush radius costs nothing.
+
+Profiles:
+
+* :class:`GaussianRadial`: g_ε = exp(-r²/ε²)/(ε³π^{3/2}), ĝ = exp(-ε²k²/4) (paper Eq. 13).
+* :class:`KelvinletRadial`: g_ε = 15ε⁴/(8π)(r²+ε²)^{-7/2} of de Goes & James 2017, whose
+  transform is ĝ(k) = (εk)² K₂(εk)/2 (ĝ(0) = 1). With GR 6.576.3,
+  R_l = (√π/2) ρ^l Γ((l+5)/2) Γ((l+1)/2)/Γ(l+3/2) ₂F₁((l+5)/2, (l+1)/2; l+3/2; -ρ²)/ε and
+  ℛ_l = √π ρ^l Γ(l/2+3) Γ(l/2+1)/Γ(l+3/2) ₂F₁(l/2+3, l/2+1; l+3/2; -ρ²)/ε².
+  An isotropic material then reproduces the closed-form regularized Kelvinlet.
+* :class:`SplineRadial`: per-degree cubic splines through editable control points (the
+  artist's falloff curves), with R_l(0) = ℛ_l(0) = 0 for l ≥ 1 as in the paper.
+"""
+
+from __future__ import annotations
+
+import json
+from abc import ABC, abstractmethod
+from collections.abc import Iterable
+from functools import lru_cache
+
+import numpy as np
+from scipy import special
+from scipy.interpolate import CubicSpline
+
+__all__ = [
+    "GaussianRadial",
+    "KelvinletRadial",
+    "RadialProfile",
+    "SplineRadial",
+    "radial_from_dict",
+    "radial_table",
+]
+
+#: Kinds of radial term: "R" (R_l, even l, for G) and "dR" (ℛ_l, odd l, for ∇G).
+KINDS = ("R", "dR")
+# Power p of the far-field decay r^-p of each kind; tables store F·(1+ρ)^p.
+_DECAY = {"R": 1, "dR": 2}
+
+#: Piecewise polynomial tables: segments uniform in t = ρ/(1+ρ), polynomial degree per segment.
+TABLE_SEGMENTS = 96
+TABLE_DEGREE = 9
+
+
+def _check_eps(eps: float) -> float:
+    try:
+        value = float(eps)
+    except (TypeError, ValueError):
+        raise ValueError(f"eps (regularization radius) must be a number (got {eps!r})") from None
+    if not np.isfinite(value) or value <= 0:
+        raise ValueError(f"eps (regularization radius) must be finite and > 0 (got {eps!r})")
+    return value
+
+
+def _check_degree(kind: str, l: int) -> int:
+    if kind not in KINDS:
+        raise ValueError(f"radial kind must be one of {KINDS} (got {kind!r})")
+    l = int(l)
+    if l < 0:
+        raise ValueError(f"degree l must be >= 0 (got {l})")
+    return l
+
+
+def far_field_constant(kind: str, l: int) -> float:
+    """lim r^p R(r) for the singular (unregularized) Green's function, ε = 1:
+    ∫₀^∞ j_l(x) dx for "R" and ∫₀^∞ j_l(x) x dx for "dR"."""
+    if kind == "R":
+        return float(np.sqrt(np.pi) / 2 * special.gamma((l + 1) / 2) / special.gamma(l / 2 + 1))
+    return float(np.sqrt(np.pi) * special.gamma(l / 2 + 1) / special.gamma((l + 1) / 2))
+
+
+class RadialProfile(ABC):
+    """A radial load profile: gives R_l and ℛ_l for every degree the kernel needs."""
+
+    #: Name used in JSON ("type") and the GUI.
+    kind_name: str = ""
+
+    def __init__(self, eps: float):
+        self._eps = _check_eps(eps)
+
+    @property
+    def eps(self) -> float:
+        """Regularization radius ε (model units)."""
+        return self._eps
+
+    @abstractmethod
+    def dimensionless(self, kind: str, l: int, rho: np.ndarray) -> np.ndarray:
+        """F_l(ρ) ("R") or F'_l(ρ) ("dR") at ρ = r/ε (any shape), float64."""
+
+    def radial(self, l: int, r: np.ndarray) -> np.ndarray:
+        """R_l(r) (model units⁻¹) at distances r (any shape)."""
+        r = np.asarray(r, dtype=np.float64)
+        return self.dimensionless("R", l, r / self._eps) / self._eps
+
+    def radial_gradient(self, l: int, r: np.ndarray) -> np.ndarray:
+        """ℛ_l(r) (model units⁻²) at distances r (any shape)."""
+        r = np.asarray(r, dtype=np.float64)
+        return self.dimensionless("dR", l, r / self._eps) / self._eps**2
+
+    def with_eps(self, eps: float) -> RadialProfile:
+        """The same falloff shape with another radius ε (shares cached tables)."""
+        clone = object.__new__(type(self))
+        clone.__dict__.update(self.__dict__)
+        clone._eps = _check_eps(eps)
+        return clone
+
+    @abstractmethod
+    def table_key(self) -> tuple:
+        """Hashable identity of the shape (not ε): equal keys give equal tables."""
+
+    def table(self, kind: str, degrees: Iterable[int]) -> np.ndarray:
+        """Piecewise polynomial tables (n_degrees, TABLE_SEGMENTS, TABLE_DEGREE+1), see
+        :func:`radial_table`."""
+        return np.stack([self._degree_table(kind, int(l)) for l in degrees])
+
+    def _degree_table(self, kind: str, l: int) -> np.ndarray:
+        return _cached_table(self.table_key(), kind, l, self)
+
+    @abstractmethod
+    def to_dict(self) -> dict:
+        """JSON-ready description; :func:`radial_from_dict` inverts it."""
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}(eps={self._eps:g})"
+
+
+class _ClosedFormRadial(RadialProfile):
+    def table_key(self) -> tuple:
+        return (self.kind_name,)
+
+    def to_dict(self) -> dict:
+        return {"type": self.kind_name, "eps": self._eps}
+
+    def __eq__(self, other: object) -> bool:
+        return type(other) is type(self) and other.eps == self.eps
+
+    def __hash__(self) -> int:
+        return hash((self.kind_name, self._eps))
+
+
+class GaussianRadial(_ClosedFormRadial):
+    """Gaussian load g_ε = exp(-r²/ε²)/(ε³π^{3/2}): the paper's Eq. 13 (regularized ₁F̃₁).
+
+    Large ρ is safe: scipy's ₁F₁ stays accurate at large negative arguments (checked against
+    quadrature of the radial integrals to ~1e-13 for l ≤ 31, ρ ≤ 10⁵).
+    """
+
+    kind_name = "gaussian"
+
+    def dimensionless(self, kind: str, l: int, rho: np.ndarray) -> np.ndarray:
+        l = _check_degree(kind, l)
+        rho = np.asarray(rho, dtype=np.float64)
+        if kind == "R":
+            a, c = (l + 1) / 2, np.sqrt(np.pi) / 2
+        else:
+            a, c = l / 2 + 1, np.sqrt(np.pi)
+        b = l + 1.5
+        scale = c * special.gamma(a) / special.gamma(b)
+        return scale * rho**l * special.hyp1f1(a, b, -(rho**2))
+
+
+class KelvinletRadial(_ClosedFormRadial):
+    """Regularized Kelvinlet load g_ε = 15ε⁴/(8π)(r²+ε²)^{-7/2} (de Goes & James 2017).
+
+    For an isotropic material the kernel then equals their closed form
+    u = [(a-b)/r_ε I + b/r_ε³ r rᵀ + a ε²/(2 r_ε³) I] f with a = 1/(4πμ), b = a/(4(1-ν)).
+    """
+
+    kind_name = "kelvinlet"
+
+    def dimensionless(self, kind: str, l: int, rho: np.ndarray) -> np.ndarray:
+        l = _check_degree(kind, l)
+        rho = np.asarray(rho, dtype=np.float64)
+        if kind == "R":
+            a, b, c = (l + 5) / 2, (l + 1) / 2, np.sqrt(np.pi) / 2
+        else:
+            a, b, c = l / 2 + 3, l / 2 + 1, np.sqrt(np.pi)
+        g = l + 1.5
+        scale = c * special.gamma(a) * special.gamma(b) / special.gamma(g)
+        return scale * rho**l * special.hyp2f1(a, b, g, -(rho**2))
+
+
+#: Default control abscissae (ρ = r/ε) of a spline falloff: dense where the falloff bends.
+DEFAULT_SPLINE_RHO = np.array(
+    [0.0, 0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0, 2.5, 3.0, 3.5, 4.0, 5.0, 6.0, 8.0, 10.0]
+)
+
+
+class SplineRadial(RadialProfile):
+    """Per-degree cubic splines through control points (ρ_i, F(ρ_i)), ρ = r/ε.
+
+    Each curve is keyed by (kind, l): kind "R" for R_l (even l) and "dR" for ℛ_l (odd l).
+    Control abscissae start at ρ = 0 and increase; for l ≥ 1 the value at ρ = 0 is pinned to 0
+    (R_l(0) = 0, as the paper does). Beyond the last control point ρ_n the curve continues as
+    the far-field decay F(ρ_n)(ρ_n/ρ)^p (p = 1 for R, 2 for ℛ). Edits bump :attr:`version`, so a
+    kernel built afterwards sees the new shape (tables are keyed by version).
+    """
+
+    kind_name = "spline"
+
+    def __init__(self, eps: float, curves: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]]):
+        super().__init__(eps)
+        self._curves: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]] = {}
+        self._splines: dict[tuple[str, int], CubicSpline] = {}
+        self._uid = id(self)
+        self._version = 0
+        if not curves:
+            raise ValueError("a spline falloff needs at least one curve")
+        for (kind, l), (rho, value) in curves.items():
+            self._store(kind, l, rho, value)
+
+    @classmethod
+    def from_profile(
+        cls, profile: RadialProfile, l_max: int, rho: np.ndarray | None = None
+    ) -> SplineRadial:
+        """Sample ``profile`` at control points ``rho`` (default :data:`DEFAULT_SPLINE_RHO`)
+        for every degree a kernel of ``l_max`` needs (even l ≤ l_max, odd l ≤ l_max + 1)."""
+        rho = DEFAULT_SPLINE_RHO if rho is None else np.asarray(rho, dtype=np.float64)
+        curves = {}
+        for l in range(0, l_max + 1, 2):
+            curves[("R", l)] = (rho, profile.dimensionless("R", l, rho))
+        for l in range(1, l_max + 2, 2):
+            curves[("dR", l)] = (rho, profile.dimensionless("dR", l, rho))
+        return cls(profile.eps, curves)
+
+    # -- editing -----------------------------------------------------------------------------
+    @property
+    def version(self) -> int:
+        """Incremented by every edit."""
+        return self._version
+
+    def curve_keys(self) -> list[tuple[str, int]]:
+        """(kind, degree) of every stored curve, sorted."""
+        return sorted(self._curves)
+
+    def curve(self, kind: str, l: int) -> tuple[np.ndarray, np.ndarray]:
+        """Copies of the control points (ρ (n,), value (n,)) of one curve."""
+        rho, value = self._curves[self._key(kind, l)]
+        return rho.copy(), value.copy()
+
+    def set_curve(self, kind: str, l: int, rho: np.ndarray, value: np.ndarray) -> None:
+        """Replace one curve's control points."""
+        self._store(kind, l, rho, value)
+        self._version += 1
+
+    def move_point(self, kind: str, l: int, index: int, rho: float, value: float) -> None:
+        """Move control point ``index`` to (rho, value); it must stay between its neighbours."""
+        xs, ys = self.curve(kind, l)
+        xs[index], ys[index] = rho, value
+        self.set_curve(kind, l, xs, ys)
+
+    def add_point(self, kind: str, l: int, rho: float, value: float) -> int:
+        """Insert a control point; returns its index."""
+        xs, ys = self.curve(kind, l)
+        index = int(np.searchsorted(xs, rho))
+        self.set_curve(kind, l, np.insert(xs, index, rho), np.insert(ys, index, value))
+        return index
+
+    def remove_point(self, kind: str, l: int, index: int) -> None:
+        """Remove a control point (the first one, at ρ = 0, and the last two stay)."""
+        xs, ys = self.curve(kind, l)
+        if index == 0 or index % len(xs) == 0:
+            raise ValueError("the control point at rho = 0 cannot be removed")
+        if len(xs) <= 3:
+            raise ValueError("a falloff curve needs at least 3 control points")
+        self.set_curve(kind, l, np.delete(xs, index), np.delete(ys, index))
+
+    def _key(self, kind: str, l: int) -> tuple[str, int]:
+        l = _check_degree(kind, l)
+        key = (kind, l)
+        if key not in self._curves:
+            have = ", ".join(f"{k}{d}" for k, d in sorted(self._curves))
+            raise ValueError(f"spline falloff has no curve {kind}{l} (it has {have})")
+        return key
+
+    def _store(self, kind: str, l: int, rho: np.ndarray, value: np.ndarray) -> None:
+        l = _check_degree(kind, l)
+        rho = np.array(rho, dtype=np.float64)
+        value = np.array(value, dtype=np.float64)
+        name = f"falloff curve {kind}{l}"
+        if rho.ndim != 1 or rho.shape != value.shape:
+            raise ValueError(f"{name}: rho and value must be 1-D of equal length")
+        if len(rho) < 3:
+            raise ValueError(f"{name}: needs at least 3 control points (got {len(rho)})")
+        if not (np.all(np.isfinite(rho)) and np.all(np.isfinite(value))):
+            raise ValueError(f"{name}: control points must be finite")
+        if rho[0] != 0.0:
+            raise ValueError(f"{name}: the first control point must be at rho = 0 (got {rho[0]})")
+        if np.any(np.diff(rho) <= 0):
+            raise ValueError(f"{name}: control abscissae rho must be strictly increasing")
+        if l >= 1:
+            value[0] = 0.0  # R_l(0) = 0 for l >= 1 (paper); pinned, not an error
+        rho.setflags(write=False)
+        value.setflags(write=False)
+        self._curves[(kind, l)] = (rho, value)
+        self._splines[(kind, l)] = CubicSpline(rho, value, bc_type="not-a-knot")
+
+    # -- evaluation --------------------------------------------------------------------------
+    def dimensionless(self, kind: str, l: int, rho: np.ndarray) -> np.ndarray:
+        key = self._key(kind, l)
+        xs, ys = self._curves[key]
+        rho = np.asarray(rho, dtype=np.float64)
+        out = np.empty_like(rho)
+        inside = rho <= xs[-1]
+        out[inside] = self._splines[key](rho[inside])
+        out[~inside] = ys[-1] * (xs[-1] / rho[~inside]) ** _DECAY[kind]
+        return out
+
+    def table_key(self) -> tuple:
+        return ("spline", self._uid, self._version)
+
+    def with_eps(self, eps: float) -> SplineRadial:
+        # Curves are copied (not shared) so that editing one profile never changes another.
+        clone = SplineRadial(eps, dict(self._curves))
+        clone._uid, clone._version = self._uid, self._version
+        return clone
+
+    # -- serialization -----------------------------------------------------------------------
+    def to_dict(self) -> dict:
+        return {
+            "type": "spline",
+            "eps": self.eps,
+            "curves": [
+                {"kind": k, "degree": l, "rho": rho.tolist(), "value": value.tolist()}
+                for (k, l), (rho, value) in sorted(self._curves.items())
+            ],
+        }
+
+    def to_json(self) -> str:
+        """JSON text of :meth:`to_dict`."""
+        return json.dumps(self.to_dict())
+
+    @classmethod
+    def from_json(cls, text: str) -> SplineRadial:
+        """Inverse of :meth:`to_json`."""
+        profile = radial_from_dict(json.loads(text))
+        if not isinstance(profile, SplineRadial):
+            raise ValueError("JSON does not describe a spline falloff")
+        return profile
+
+
+def radial_from_dict(data: dict) -> RadialProfile:
+    """Rebuild a profile from :meth:`RadialProfile.to_dict` output."""
+    if not isinstance(data, dict) or "type" not in data or "eps" not in data:
+        raise ValueError("a falloff description needs 'type' and 'eps'")
+    kind = data["type"]
+    if kind == "gaussian":
+        return GaussianRadial(data["eps"])
+    if kind == "kelvinlet":
+        return KelvinletRadial(data["eps"])
+    if kind == "spline":
+        try:
+            curves = {
+                (c["kind"], int(c["degree"])): (np.asarray(c["rho"]), np.asarray(c["value"]))
+                for c in data["curves"]
+            }
+        except (KeyError, TypeError) as exc:
+            raise ValueError(f"malformed spline falloff description: {exc}") from None
+        return SplineRadial(data["eps"], curves)
+    raise ValueError(f"unknown falloff type {kind!r} (expected gaussian, kelvinlet or spline)")
+
+
+# -- tables ------------------------------------------------------------------------------------
+@lru_cache(maxsize=1)
+def _chebyshev_to_monomial() -> tuple[np.ndarray, np.ndarray]:
+    """Chebyshev nodes s_k on [-1, 1] and the matrix taking values there to monomial
+    coefficients of the interpolating polynomial (via Chebyshev coefficients, well conditioned)."""
+    n = TABLE_DEGREE + 1
+    k = np.arange(n)
+    nodes = np.cos((2 * k + 1) * np.pi / (2 * n))
+    # values -> Chebyshev coefficients (discrete orthogonality at Chebyshev-Gauss nodes)
+    t = np.cos(np.outer(np.arange(n), (2 * k + 1) * np.pi / (2 * n)))  # T_j(s_k)
+    to_cheb = (2.0 / n) * t
+    to_cheb[0] *= 0.5
+    cheb_to_mono = np.zeros((n, n))  # row j: monomial coefficients of T_j
+    for j in range(n):
+        mono = np.polynomial.chebyshev.cheb2poly(np.eye(n)[j])
+        cheb_to_mono[j, : len(mono)] = mono
+    return nodes, cheb_to_mono.T @ to_cheb
+
+
+def radial_table(profile: RadialProfile, kind: str, l: int) -> np.ndarray:
+    """Tabulate one radial term as a piecewise polynomial in t = ρ/(1+ρ).
+
+    Segment j covers t ∈ [j/S, (j+1)/S] (S = TABLE_SEGMENTS) with local variable
+    s = 2(tS - j) - 1 ∈ [-1, 1]; row j holds monomial coefficients c_0..c_D of
+    F(ρ)(1+ρ)^p in s (p = 1 for "R", 2 for "dR"), interpolated at Chebyshev nodes.
+    Returns (S, D+1) float64.
+    """
+    nodes, to_mono = _chebyshev_to_monomial()
+    t = (np.arange(TABLE_SEGMENTS)[:, None] + 0.5 * (nodes[None, :] + 1)) / TABLE_SEGMENTS
+    rho = t / (1 - t)
+    values = profile.dimensionless(kind, l, rho.ravel()).reshape(rho.shape)
+    values = values * (1 + rho) ** _DECAY[kind]
+    if not np.all(np.isfinite(values)):
+        raise ValueError(f"falloff {profile!r} gives non-finite values for {kind}{l}")
+    return values @ to_mono.T
+
+
+_TABLE_CACHE: dict[tuple, np.ndarray] = {}
+_TABLE_CACHE_LIMIT = 1024
+
+
+def _cached_table(key: tuple, kind: str, l: int, profile: RadialProfile) -> np.ndarray:
+    full_key = (key, kind, l)
+    table = _TABLE_CACHE.get(full_key)
+    if table is None:
+        table = radial_table(profile, kind, l)
+        table.setflags(write=False)
+        if len(_TABLE_CACHE) >= _TABLE_CACHE_LIMIT:
+            _TABLE_CACHE.pop(next(iter(_TABLE_CACHE)))
+        _TABLE_CACHE[full_key] = table
+    return table

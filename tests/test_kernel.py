@@ -1,0 +1,253 @@
+"""GreenKernel against independent references, its symmetries, and its input checks."""
+
+import itertools
+
+import numpy as np
+import pytest
+from green_reference import backus_laminate, kelvinlet_closed_form, reference_green
+
+from gogreen_core import GaussianRadial, GreenKernel, KelvinletRadial, Material
+
+EPS = 0.5
+
+
+def random_rotation(seed: int) -> np.ndarray:
+    q, r = np.linalg.qr(np.random.default_rng(seed).normal(size=(3, 3)))
+    q = q * np.sign(np.diag(r))
+    return q if np.linalg.det(q) > 0 else -q
+
+
+def random_spd_material(seed: int) -> Material:
+    a = np.random.default_rng(seed).normal(size=(6, 6))
+    return Material.from_voigt(a @ a.T + 2 * np.eye(6))
+
+
+MATERIALS = {
+    "isotropic": Material.isotropic(2.6, 0.3),
+    "cubic": Material.cubic(3.0, 1.5, 0.4),
+    "laminate": Material.from_voigt(backus_laminate()).rotated(random_rotation(7)),
+    "general21": random_spd_material(3),
+}
+
+
+def sample_offsets(n: int, seed: int, max_radius: float = 6 * EPS) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    x = rng.normal(size=(n, 3))
+    return x * (rng.uniform(0.02, 1, n) * max_radius / np.linalg.norm(x, axis=1))[:, None]
+
+
+@pytest.fixture(scope="module")
+def references():
+    out = {}
+    for name, material in MATERIALS.items():
+        x = sample_offsets(10, seed=len(name))
+        pairs = [reference_green(material, p, EPS) for p in x]
+        out[name] = (x, np.array([g for g, _ in pairs]), np.array([d for _, d in pairs]))
+    return out
+
+
+def rel_err(a: np.ndarray, b: np.ndarray) -> float:
+    return float(np.abs(a - b).max() / np.abs(b).max())
+
+
+# (material, l_max) -> tolerance on G and ∇G relative error: the SH truncation error measured
+# against the plane-wave reference, with margin (see ../shared/MATH.md for the figures).
+TOLERANCES = {
+    ("isotropic", 2): (1e-10, 1e-10),
+    ("isotropic", 8): (1e-10, 1e-10),
+    ("cubic", 8): (4e-4, 1e-3),
+    ("cubic", 20): (1e-8, 5e-8),
+    ("laminate", 8): (3e-3, 1e-2),
+    ("laminate", 20): (2e-5, 2e-4),
+    ("general21", 8): (1e-3, 3e-3),
+    ("general21", 20): (1e-6, 1e-5),
+}
+
+
+@pytest.mark.parametrize(("name", "l_max"), list(TOLERANCES))
+def test_green_and_gradient_match_plane_wave_reference(references, name, l_max):
+    x, g_ref, dg_ref = references[name]
+    kernel = GreenKernel(MATERIALS[name], l_max=l_max, radial=GaussianRadial(EPS))
+    tol_g, tol_dg = TOLERANCES[(name, l_max)]
+    assert rel_err(kernel.green(x), g_ref) < tol_g
+    assert rel_err(kernel.green_gradient(x), dg_ref) < tol_dg
+
+
+@pytest.mark.parametrize("name", ["cubic", "laminate"])
+def test_error_decreases_with_l_max(references, name):
+    x, g_ref, _dg_ref = references[name]
+    errors = [
+        rel_err(GreenKernel(MATERIALS[name], l_max=l, radial=GaussianRadial(EPS)).green(x), g_ref)
+        for l in (2, 6, 10, 16, 24)
+    ]
+    assert all(b < a for a, b in itertools.pairwise(errors)), errors
+    assert errors[-1] < 1e-3 * errors[0]
+
+
+def test_kelvinlet_profile_reproduces_closed_form_kelvinlets():
+    mu, nu = 0.8, 0.32
+    material = Material.isotropic(2 * mu * (1 + nu), nu)
+    x = sample_offsets(400, seed=5, max_radius=20 * EPS)
+    x[0] = 0.0
+    g_ref, dg_ref = kelvinlet_closed_form(x, EPS, mu, nu)
+    for l_max in (2, 8):
+        kernel = GreenKernel(material, l_max=l_max, radial=KelvinletRadial(EPS))
+        assert rel_err(kernel.green(x), g_ref) < 1e-10
+        assert rel_err(kernel.green_gradient(x), dg_ref) < 1e-10
+        force = np.array([0.3, -1.2, 0.7])
+        center = np.array([0.1, 0.2, -0.3])
+        u = kernel.displacement(x + center, center, force)
+        assert rel_err(u, g_ref @ force) < 1e-10
+        load = np.array([[0.2, 1.0, -0.4], [0.5, -0.3, 0.8], [0.1, 0.9, 0.6]])
+        u_aff = kernel.affine_displacement(x + center, center, load)
+        assert rel_err(u_aff, np.einsum("nijp,jp->ni", dg_ref, load)) < 1e-10
+
+
+def test_kelvinlet_reference_for_anisotropic_material():
+    material = MATERIALS["cubic"]
+    x = sample_offsets(6, seed=11)
+    kernel = GreenKernel(material, l_max=20, radial=KelvinletRadial(EPS))
+    for p in x:
+        g_ref, dg_ref = reference_green(material, p, EPS, kind="kelvinlet")
+        # The algebraic Kelvinlet load has a wider angular spectrum than the Gaussian one.
+        assert rel_err(kernel.green(p[None])[0], g_ref) < 1e-6
+        assert rel_err(kernel.green_gradient(p[None])[0], dg_ref) < 1e-5
+
+
+def test_pde_residual_by_finite_differences():
+    """C_ijkl ∂j∂l G_km + δ_im g_ε = 0 for a strongly anisotropic material (rotated laminate)."""
+    material = MATERIALS["laminate"]
+    kernel = GreenKernel(material, l_max=24, radial=GaussianRadial(EPS))
+    c = material.tensor
+    h = 2e-3 * EPS
+    x = sample_offsets(8, seed=2, max_radius=1.5 * EPS)
+    second = np.empty((len(x), 3, 3, 3, 3))  # [n, k, m, l, j] = ∂j ∂l G_km
+    for j in range(3):
+        step = np.zeros(3)
+        step[j] = h
+        d_plus, d_minus = kernel.green_gradient(x + step), kernel.green_gradient(x - step)
+        second[..., j] = (d_plus - d_minus) / (2 * h)
+    r2 = np.einsum("ni,ni->n", x, x)
+    load = np.exp(-r2 / EPS**2) / (EPS**3 * np.pi**1.5)
+    residual = np.einsum("ijkl,nkmlj->nim", c, second) + load[:, None, None] * np.eye(3)
+    assert np.abs(residual).max() / load.max() < 1e-3
+
+
+def test_symmetries():
+    kernel = GreenKernel(MATERIALS["general21"], l_max=10, radial=GaussianRadial(EPS))
+    x = sample_offsets(50, seed=4)
+    g, dg = kernel.green(x), kernel.green_gradient(x)
+    scale = np.abs(g).max()
+    assert np.abs(g - g.transpose(0, 2, 1)).max() < 1e-13 * scale
+    assert np.abs(kernel.green(-x) - g).max() < 1e-13 * scale
+    assert np.abs(kernel.green_gradient(-x) + dg).max() < 1e-13 * np.abs(dg).max()
+
+
+def test_rotation_covariance():
+    material = MATERIALS["general21"]
+    rot = random_rotation(9)
+    x = sample_offsets(30, seed=8)
+    k = GreenKernel(material, l_max=16, radial=GaussianRadial(EPS))
+    k_rot = GreenKernel(material.rotated(rot), l_max=16, radial=GaussianRadial(EPS))
+    g, g_rot = k.green(x), k_rot.green(x @ rot.T)
+    expected = np.einsum("ai,nij,bj->nab", rot, g, rot)
+    # Exact covariance holds for the full series; the truncated one is covariant to its
+    # truncation error (rotation mixes m within each degree, not degrees).
+    assert rel_err(g_rot, expected) < 1e-9
+    dg_rot = k_rot.green_gradient(x @ rot.T)
+    expected_dg = np.einsum("ai,bj,cp,nijp->nabc", rot, rot, rot, k.green_gradient(x))
+    assert rel_err(dg_rot, expected_dg) < 1e-9
+
+
+def test_origin_and_tiny_radius_are_exact_and_finite():
+    kernel = GreenKernel(MATERIALS["laminate"], l_max=12, radial=GaussianRadial(EPS))
+    direction = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8])
+    x = np.array([[0.0, 0.0, 0.0], 1e-12 * EPS * direction, 1e-6 * EPS * direction])
+    g, dg = kernel.green(x), kernel.green_gradient(x)
+    assert np.all(np.isfinite(g)) and np.all(np.isfinite(dg))
+    assert np.array_equal(dg[0], np.zeros((3, 3, 3)))
+    assert rel_err(g[1], g[0]) < 1e-12 and rel_err(g[2], g[0]) < 1e-9
+    g0_ref, _ = reference_green(MATERIALS["laminate"], np.zeros(3), EPS)
+    assert rel_err(g[0], g0_ref) < 1e-3  # G(0) depends on every degree: truncation level
+
+
+def test_loads_agree_with_green_and_gradient():
+    kernel = GreenKernel(MATERIALS["cubic"], l_max=8, radial=GaussianRadial(EPS))
+    center = np.array([0.2, -0.1, 0.4])
+    x = sample_offsets(64, seed=12)
+    force = np.array([1.0, -2.0, 0.5])
+    load = np.arange(9.0).reshape(3, 3) - 4
+    assert np.allclose(
+        kernel.displacement(x + center, center, force),
+        kernel.green(x) @ force,
+        rtol=1e-12,
+        atol=1e-14,
+    )
+    expected = np.einsum("nijp,jp->ni", kernel.green_gradient(x), load)
+    assert np.allclose(
+        kernel.affine_displacement(x + center, center, load), expected, rtol=1e-12, atol=1e-14
+    )
+
+
+def test_degree_weights_truncate_and_reweight():
+    material = MATERIALS["cubic"]
+    x = sample_offsets(40, seed=13)
+    weights = np.zeros(13)
+    weights[:5] = 1.0
+    truncated = GreenKernel(material, l_max=12, degree_weights=weights)
+    short = GreenKernel(material, l_max=4)
+    assert rel_err(truncated.green(x), short.green(x)) < 1e-13
+    assert rel_err(truncated.green_gradient(x), short.green_gradient(x)) < 1e-13
+    doubled = GreenKernel(material, l_max=4, degree_weights=2 * np.ones(5))
+    assert rel_err(doubled.green(x), 2 * short.green(x)) < 1e-13
+
+
+def test_with_eps_and_l_max_range():
+    material = MATERIALS["cubic"]
+    kernel = GreenKernel(material, l_max=6, radial=GaussianRadial(1.0))
+    x = sample_offsets(20, seed=14)
+    # Scaling: G_ε(x) = G_1(x/ε)/ε.
+    assert rel_err(kernel.with_eps(EPS).green(x), kernel.green(x / EPS) / EPS) < 1e-12
+    for l_max in (0, 1, 30):
+        k = GreenKernel(material, l_max=l_max)
+        assert np.all(np.isfinite(k.green(x))) and np.all(np.isfinite(k.green_gradient(x)))
+
+
+@pytest.mark.parametrize(
+    ("build", "message"),
+    [
+        (lambda: GreenKernel(MATERIALS["cubic"], l_max=-1), "l_max"),
+        (lambda: GreenKernel(MATERIALS["cubic"], l_max=2.5), "integer"),
+        (lambda: GreenKernel("steel"), "Material"),
+        (lambda: GreenKernel(MATERIALS["cubic"], radial=0.5), "RadialProfile"),
+        (lambda: GreenKernel(MATERIALS["cubic"], l_max=4, degree_weights=[1, 1]), "l_max + 1"),
+        (lambda: GreenKernel(MATERIALS["cubic"], l_max=1, degree_weights=[1, np.nan]), "finite"),
+        (lambda: GaussianRadial(0.0), "eps"),
+        (lambda: GaussianRadial(-1.0), "eps"),
+        (lambda: KelvinletRadial(float("nan")), "eps"),
+        (lambda: GreenKernel(MATERIALS["cubic"]).green(np.zeros((3, 2))), "(N, 3)"),
+        (lambda: GreenKernel(MATERIALS["cubic"]).green([[0.0, np.nan, 0.0]]), "non-finite"),
+        (
+            lambda: GreenKernel(MATERIALS["cubic"]).displacement(
+                np.zeros((2, 3)), [0, 0], [1, 0, 0]
+            ),
+            "center",
+        ),
+        (
+            lambda: GreenKernel(MATERIALS["cubic"]).displacement(
+                np.zeros((2, 3)), [0, 0, 0], [1, np.inf, 0]
+            ),
+            "force",
+        ),
+        (
+            lambda: GreenKernel(MATERIALS["cubic"]).affine_displacement(
+                np.zeros((2, 3)), [0, 0, 0], np.eye(2)
+            ),
+            "affine load",
+        ),
+    ],
+)
+def test_bad_input_raises_value_error(build, message):
+    with pytest.raises(ValueError) as info:
+        build()
+    assert message in str(info.value)
