@@ -1,0 +1,152 @@
+"""Benchmark of GreenKernel: precompute time, vector/affine throughput, first-call compile time.
+
+Targets (issue "Numerics core"), on the 2-core reference machine, anisotropic material:
+precompute ≤ 50 ms at l_max = 8 and ≤ 300 ms at l_max = 20; l_max = 8 vector load on 10⁶ points
+≤ 100 ms and at most 3× a numba closed-form isotropic Kelvinlet on the same points in the same run.
+
+    python benchmarks/kernel.py                 # all sizes, l_max 4, 8, 20
+    python benchmarks/kernel.py --sizes 10000 --repeats 3
+
+Prints figures only; nothing here is asserted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+import numba
+import numpy as np
+
+from gogreen_core import GaussianRadial, GreenKernel, KelvinletRadial, Material
+from gogreen_core import kernel as kernel_module
+from gogreen_core import radial as radial_module
+
+
+@numba.njit(parallel=True, cache=True, fastmath=True)
+def kelvinlet_closed_form(points, center, force, eps, mu, nu):  # pragma: no cover - compiled
+    """de Goes & James 2017 regularized Kelvinlet u = [(a-b)/rε I + b/rε³ rrᵀ + aε²/(2rε³) I] f."""
+    a = 1.0 / (4.0 * np.pi * mu)
+    b = a / (4.0 * (1.0 - nu))
+    out = np.empty_like(points)
+    for n in numba.prange(points.shape[0]):
+        x = points[n, 0] - center[0]
+        y = points[n, 1] - center[1]
+        z = points[n, 2] - center[2]
+        re2 = x * x + y * y + z * z + eps * eps
+        inv = 1.0 / np.sqrt(re2)
+        inv3 = inv * inv * inv
+        rf = x * force[0] + y * force[1] + z * force[2]
+        diag = (a - b) * inv + 0.5 * a * eps * eps * inv3
+        out[n, 0] = diag * force[0] + b * inv3 * rf * x
+        out[n, 1] = diag * force[1] + b * inv3 * rf * y
+        out[n, 2] = diag * force[2] + b * inv3 * rf * z
+    return out
+
+
+def timed(function, repeats: int) -> float:
+    """Median wall time of ``function()`` in milliseconds."""
+    samples = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        function()
+        samples.append(1e3 * (time.perf_counter() - start))
+    return statistics.median(samples)
+
+
+def clear_caches() -> None:
+    """Forget Lebedev nodes and radial tables so the next build is a cold start."""
+    kernel_module.lebedev_points.cache_clear()
+    radial_module._TABLE_CACHE.clear()
+
+
+_FIRST_CALL = """
+import time, numpy as np
+start = time.perf_counter()
+from gogreen_core import GreenKernel, Material
+k = GreenKernel(Material.cubic(3.0, 1.5, 0.4), l_max=8)
+k.displacement(np.ones((4, 3)), np.zeros(3), np.ones(3))
+k.affine_displacement(np.ones((4, 3)), np.zeros(3), np.eye(3))
+print(1e3 * (time.perf_counter() - start))
+"""
+
+
+def first_call_ms(cache_dir: str) -> float:
+    """Import + first vector and affine evaluation in a fresh interpreter, in milliseconds."""
+    env = dict(os.environ, NUMBA_CACHE_DIR=cache_dir)
+    result = subprocess.run(
+        [sys.executable, "-c", _FIRST_CALL], env=env, capture_output=True, text=True, check=True
+    )
+    return float(result.stdout.split()[-1])
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--sizes", type=int, nargs="+", default=[10_000, 100_000, 1_000_000])
+    parser.add_argument("--l-max", type=int, nargs="+", default=[4, 8, 20])
+    parser.add_argument("--repeats", type=int, default=7)
+    args = parser.parse_args()
+
+    material = Material.cubic(3.0, 1.5, 0.4).rotated(
+        np.array([[0.36, 0.48, -0.8], [-0.8, 0.6, 0.0], [0.48, 0.64, 0.6]])
+    )
+    eps = 0.3
+    print(f"numba {numba.__version__}, {numba.config.NUMBA_NUM_THREADS} threads")
+    print("material: cubic C11=3, C12=1.5, C44=0.4 (Zener ratio 0.53), rotated off-axis")
+
+    with tempfile.TemporaryDirectory() as cache_dir:
+        compile_ms = first_call_ms(cache_dir)
+        cached_ms = first_call_ms(cache_dir)
+    print(
+        "first call in a fresh process (import, kernel build, vector + affine evaluation): "
+        f"{compile_ms:.0f} ms with an empty numba cache, {cached_ms:.0f} ms from the cache"
+    )
+    rng = np.random.default_rng(0)
+    kelvinlet_closed_form(rng.normal(size=(8, 3)), np.zeros(3), np.ones(3), eps, 1.0, 0.3)
+
+    print("\nprecompute (GreenKernel construction), median ms")
+    print(f"{'l_max':>6} {'cold':>9} {'warm':>9} {'new eps':>9}")
+    for l_max in args.l_max:
+        clear_caches()
+        start = time.perf_counter()
+        GreenKernel(material, l_max=l_max, radial=GaussianRadial(eps))
+        cold = 1e3 * (time.perf_counter() - start)
+        warm = timed(lambda l=l_max: GreenKernel(material, l_max=l, radial=GaussianRadial(eps)), 7)
+        kernel = GreenKernel(material, l_max=l_max, radial=GaussianRadial(eps))
+        new_eps = timed(lambda k=kernel: k.with_eps(0.7), 7)
+        print(f"{l_max:>6} {cold:>9.1f} {warm:>9.1f} {new_eps:>9.2f}")
+
+    print("\nthroughput, median ms (points in a ball of radius 10 ε)")
+    header = f"{'N':>9} {'Kelvinlet':>10}"
+    for l_max in args.l_max:
+        header += f" {'vec l' + str(l_max):>10} {'aff l' + str(l_max):>10}"
+    print(header + "   (ratio vec/Kelvinlet at each l_max)")
+    force = np.array([0.3, -0.2, 1.0])
+    load = np.array([[0.1, 0.4, 0.0], [-0.4, 0.2, 0.1], [0.0, 0.3, -0.3]])
+    kernels = {l: GreenKernel(material, l_max=l, radial=GaussianRadial(eps)) for l in args.l_max}
+    iso = GreenKernel(Material.isotropic(2.6, 0.3), l_max=2, radial=KelvinletRadial(eps))
+    center = np.zeros(3)
+    for n in args.sizes:
+        points = rng.normal(size=(n, 3))
+        points *= (10 * eps * rng.uniform(0, 1, n) ** (1 / 3) / np.linalg.norm(points, axis=1))[
+            :, None
+        ]
+        reference = kelvinlet_closed_form(points, center, force, eps, 1.0, 0.3)
+        assert np.allclose(iso.displacement(points[:100], center, force), reference[:100])
+        kelvin = timed(lambda p=points: kelvinlet_closed_form(p, center, force, eps, 1.0, 0.3), 7)
+        row, ratios = f"{n:>9} {kelvin:>10.2f}", []
+        for l_max, kernel in kernels.items():
+            vec = timed(lambda k=kernel, p=points: k.displacement(p, center, force), args.repeats)
+            aff = timed(lambda k=kernel, p=points: k.affine_displacement(p, center, load), 5)
+            row += f" {vec:>10.2f} {aff:>10.2f}"
+            ratios.append(f"l{l_max}: {vec / kelvin:.1f}x")
+        print(row + "   (" + ", ".join(ratios) + ")")
+
+
+if __name__ == "__main__":
+    main()
