@@ -6,6 +6,9 @@ bimaterial homogenization that turns a voxel pattern into an anisotropic materia
 sculpting engine built on them.
 """
 
+from gogreen_core.brushes import BRUSH_KINDS, Brush, BrushEvent
+from gogreen_core.constraints import ConstraintSet
+from gogreen_core.history import History
 from gogreen_core.homogenization import (
     HomogenizationResult,
     bimaterial,
@@ -21,23 +24,32 @@ from gogreen_core.patterns import PATTERNS, PatternParameter, PatternSpec, make_
 from gogreen_core.radial import (
     GaussianRadial,
     KelvinletRadial,
+    MultiscaleRadial,
     RadialProfile,
     SplineRadial,
     radial_from_dict,
 )
+from gogreen_core.sculptor import Sculptor
 from gogreen_core.symmetry import SYMMETRY_CLASSES, SymmetryDescription, describe_symmetry
 
 __all__ = [
+    "BRUSH_KINDS",
     "PATTERNS",
     "SYMMETRY_CLASSES",
+    "Brush",
+    "BrushEvent",
+    "ConstraintSet",
     "GaussianRadial",
     "GreenKernel",
+    "History",
     "HomogenizationResult",
     "KelvinletRadial",
     "Material",
+    "MultiscaleRadial",
     "PatternParameter",
     "PatternSpec",
     "RadialProfile",
+    "Sculptor",
     "SplineRadial",
     "SymmetryDescription",
     "bimaterial",

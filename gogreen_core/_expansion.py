@@ -174,3 +174,110 @@ def _angular(l_first, l_last, base, coeffs, qmm, rec_a, rec_b, nb, geo, rad, wor
                 acc_k = acc[k]
                 for i in range(nb):
                     acc_k[i] += qc[i] * ck + qs[i] * sk
+
+
+@njit(parallel=True, nogil=True, **_JIT)
+def stream(
+    points: np.ndarray,  # (N, 3) float64, start positions
+    center0: np.ndarray,  # (3,) load center at pseudo-time 0
+    center_step: np.ndarray,  # (3,) center(t) = center0 + t * center_step
+    eps: float,
+    power: int,
+    l_first: int,
+    l_last: int,
+    base: np.ndarray,
+    coeffs: np.ndarray,  # (n_terms, 3): the load already contracted in
+    tables: np.ndarray,
+    qmm: np.ndarray,
+    rec_a: np.ndarray,
+    rec_b: np.ndarray,
+    cutoff_inner: float,  # smooth cutoff: 1 for d <= inner, 0 for d >= outer (outer <= 0: none)
+    cutoff_outer: float,
+    mirrors: np.ndarray,  # (n_m, 3) ±1 signs; row 0 is (1, 1, 1), the brush itself
+    origin: np.ndarray,  # (3,) a point of the mirror planes
+    substeps: int,
+    out: np.ndarray,  # (N, 3) float64, end positions
+) -> None:
+    """RK4 streamlines of the velocity v(x, t) = Σ_M M s(|y - c(t)|) u(y - c(t)), y = M x.
+
+    u is the expansion with ``coeffs`` (K = 3), s the C² smooth cutoff, M the mirror
+    reflections about ``origin``. Each block of points is integrated over t ∈ [0, 1] with
+    ``substeps`` classical RK4 steps while it stays in cache (paper Sec. 3.2).
+    """
+    n_points = points.shape[0]
+    n_pad = tables.shape[2]
+    n_blocks = (n_points + BLOCK - 1) // BLOCK
+    n_tasks = min(n_blocks, TASKS)
+    h = 1.0 / substeps
+    width = cutoff_outer - cutoff_inner
+    inv_width = 1.0 / width if cutoff_outer > 0.0 and width > 0.0 else 0.0
+    for task in prange(n_tasks):
+        geo = np.empty((8, BLOCK))
+        seg = np.empty(BLOCK, dtype=np.int64)
+        rad = np.empty((n_pad, BLOCK))
+        work = np.empty((7, BLOCK))
+        acc = np.empty((3, BLOCK))
+        pos = np.empty((3, BLOCK))
+        vel = np.empty((3, BLOCK))
+        total = np.empty((3, BLOCK))
+        probe = np.empty((BLOCK, 3))
+        center = np.empty(3)
+        for blk in range(task * n_blocks // n_tasks, (task + 1) * n_blocks // n_tasks):
+            start = blk * BLOCK
+            nb = min(BLOCK, n_points - start)
+            for i in range(nb):
+                for k in range(3):
+                    pos[k, i] = points[start + i, k]
+            for step in range(substeps):
+                for stage in range(4):
+                    # classical RK4: stage offsets 0, h/2, h/2, h and weights 1, 2, 2, 1
+                    a = 0.0 if stage == 0 else (h if stage == 3 else 0.5 * h)
+                    t = step * h + a
+                    for k in range(3):
+                        center[k] = center0[k] + t * center_step[k]
+                    for k in range(3):
+                        for i in range(nb):
+                            acc[k, i] = pos[k, i] + (a * vel[k, i] if stage > 0 else 0.0)
+                    for k in range(3):
+                        for i in range(nb):
+                            vel[k, i] = 0.0
+                    for mi in range(mirrors.shape[0]):
+                        for k in range(3):
+                            sgn = mirrors[mi, k]
+                            o = origin[k]
+                            for i in range(nb):
+                                # the brush itself (sgn = 1) sees exactly its own positions
+                                probe[i, k] = acc[k, i] if sgn > 0 else o - (acc[k, i] - o)
+                        _geometry(probe, center, eps, power, tables.shape[0], 0, nb, geo, seg)
+                        _radial(tables, l_first, nb, geo, seg, rad)
+                        _angular(
+                            l_first,
+                            l_last,
+                            base,
+                            coeffs,
+                            qmm,
+                            rec_a,
+                            rec_b,
+                            nb,
+                            geo,
+                            rad,
+                            work,
+                            total,
+                        )
+                        rr = geo[3]
+                        for i in range(nb):
+                            u = min(max((rr[i] - cutoff_inner) * inv_width, 0.0), 1.0)
+                            geo[7, i] = 1.0 - u * u * u * (10.0 + u * (6.0 * u - 15.0))
+                        for k in range(3):
+                            sgn = mirrors[mi, k]
+                            for i in range(nb):
+                                vel[k, i] += sgn * geo[7, i] * total[k, i]
+                    weight = h / 6.0 if stage == 0 or stage == 3 else h / 3.0
+                    for k in range(3):
+                        for i in range(nb):
+                            out[start + i, k] = (
+                                out[start + i, k] if stage > 0 else pos[k, i]
+                            ) + weight * vel[k, i]
+                for i in range(nb):
+                    for k in range(3):
+                        pos[k, i] = out[start + i, k]

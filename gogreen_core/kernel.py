@@ -18,7 +18,7 @@ from functools import lru_cache
 import numpy as np
 from scipy.integrate import lebedev_rule
 
-from gogreen_core._expansion import DEGREE_GROUP, expand
+from gogreen_core._expansion import DEGREE_GROUP, expand, stream
 from gogreen_core.material import Material
 from gogreen_core.radial import GaussianRadial, RadialProfile
 from gogreen_core.sph import legendre_recurrence, real_sph_harm
@@ -272,6 +272,91 @@ class GreenKernel:
         h = _finite_array("affine load", load, (3, 3))
         coeffs = np.einsum("tijp,jp->ti", self._odd.matrices, h)
         return self._run(self._odd, self._odd_tables, pts, c, coeffs)
+
+    def streamlines(
+        self,
+        points: np.ndarray,
+        center: np.ndarray,
+        load: np.ndarray,
+        *,
+        center_step: np.ndarray | None = None,
+        cutoff: tuple[float, float] | None = None,
+        mirror_signs: np.ndarray | None = None,
+        origin: np.ndarray | None = None,
+        substeps: int = 4,
+    ) -> np.ndarray:
+        """Move ``points`` (N, 3) along the load's displacement field taken as a velocity.
+
+        Integrates dx/dt = v(x, t) over pseudo-time t ∈ [0, 1] with ``substeps`` RK4 steps
+        (paper Sec. 3.2) and returns the end positions (N, 3).
+
+        v(x, t) = Σ_M M s(|y - c(t)|) u(y - c(t)) with y = origin + M (x - origin):
+
+        * ``load``: a force (3,) (u = G f) or an affine load (3, 3) (u_i = ∂_p G_ij H_jp);
+        * c(t) = center + t · center_step: a moving load (a grab following the cursor);
+        * s: C² cutoff (quintic smoothstep) equal to 1 up to ``cutoff[0]`` and 0 from
+          ``cutoff[1]`` on (model units); None for no cutoff;
+        * M: diagonal reflections given by ``mirror_signs`` (n_m, 3) of ±1, the first row
+          being (1, 1, 1); None for the brush alone.
+        """
+        pts = _points("points", points)
+        c = _finite_array("center", center, (3,))
+        step = (
+            np.zeros(3) if center_step is None else _finite_array("center_step", center_step, (3,))
+        )
+        load = np.asarray(load, dtype=np.float64)
+        if load.shape == (3,):
+            parity, tables = self._even, self._even_tables
+            coeffs = self._even.matrices @ _finite_array("force", load, (3,))
+        elif load.shape == (3, 3):
+            parity, tables = self._odd, self._odd_tables
+            h = _finite_array("affine load", load, (3, 3))
+            coeffs = np.einsum("tijp,jp->ti", self._odd.matrices, h)
+        else:
+            raise ValueError(
+                f"load must be a force (3,) or an affine load (3, 3), got {load.shape}"
+            )
+        inner, outer = (0.0, 0.0) if cutoff is None else (float(cutoff[0]), float(cutoff[1]))
+        if cutoff is not None and not (np.isfinite(outer) and 0.0 <= inner < outer):
+            raise ValueError(f"cutoff must satisfy 0 <= inner < outer, finite (got {cutoff})")
+        signs = np.ones((1, 3)) if mirror_signs is None else np.asarray(mirror_signs, float)
+        if signs.ndim != 2 or signs.shape[1] != 3 or not np.all(np.abs(signs) == 1):
+            raise ValueError("mirror_signs must be an (n, 3) array of +1/-1")
+        if not np.all(signs[0] == 1):
+            raise ValueError("the first row of mirror_signs must be (1, 1, 1), the brush itself")
+        o = np.zeros(3) if origin is None else _finite_array("origin", origin, (3,))
+        if (
+            isinstance(substeps, bool)
+            or not isinstance(substeps, (int, np.integer))
+            or substeps < 1
+        ):
+            raise ValueError(f"substeps must be an integer >= 1 (got {substeps!r})")
+        out = np.empty_like(pts)
+        if pts.shape[0] == 0:
+            return out
+        qmm, rec_a, rec_b = self._recurrence
+        stream(
+            pts,
+            c,
+            step,
+            self._radial.eps,
+            1 if parity.l_first == 0 else 2,
+            parity.l_first,
+            parity.l_last,
+            parity.base,
+            np.ascontiguousarray(coeffs),
+            tables,
+            qmm,
+            rec_a,
+            rec_b,
+            inner,
+            outer,
+            np.ascontiguousarray(signs),
+            o,
+            int(substeps),
+            out,
+        )
+        return out
 
     def __repr__(self) -> str:
         return f"GreenKernel(l_max={self._l_max}, radial={self._radial!r})"

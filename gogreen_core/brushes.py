@@ -1,0 +1,236 @@
+"""Brush settings and the loads they put on the Green's function kernel.
+
+Every brush of Regularized Kelvinlets (de Goes & James 2017), extended to any material by the
+regularized Green's function of ``kernel.py``:
+
+* ``grab``: a vector load f at the cursor. The center moves with the cursor during an event,
+  c(t) = c₀ + tΔ, and f solves G(0) f = Δ for the anisotropic G(0), so the point under the
+  cursor has velocity exactly Δ along its whole streamline and lands on the cursor.
+* ``grab_biscale``, ``grab_triscale``: the same with Kelvinlets' multi-scale falloff (sums of
+  the falloff at radii ε, 1.25ε, 1.25²ε, as Blender's Elastic Deform), which decays faster.
+* ``scale``, ``twist``, ``pinch``: affine loads H at a fixed center: H ∝ I, H ∝ [a]_× (rotation
+  about the view axis a), H ∝ d dᵀ − e eᵀ (symmetric traceless: stretch along the stroke
+  direction d, squeeze across it, e = a × d). H is normalized so that the deformation gradient
+  at the center has component ``amount · strength`` along the unit load (a relative strain per
+  event for scale and pinch, an angle in radians for twist), whatever the material.
+* ``wrinkle``: a grab whose field uses reweighted SH degrees (paper Fig. 10): the force is fixed
+  by the full kernel, the field by the ``degree_weights`` of the falloff, which bring out the
+  angular ripples of high degrees.
+
+Sizes are relative to the model (the bounding-box diagonal at load), so the same settings act
+alike on a 0.15-unit bunny and a 30-unit ogre: ε = radius · model_size, and only vertices within
+``influence`` · ε of the load are moved, with a C² smooth cutoff starting at half that radius.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+__all__ = [
+    "AFFINE_BRUSHES",
+    "BRUSH_KINDS",
+    "GRAB_BRUSHES",
+    "Brush",
+    "BrushEvent",
+    "affine_unit_load",
+    "default_wrinkle_weights",
+    "mirror_signs",
+]
+
+#: Vector-load brushes (the cursor point follows the cursor).
+GRAB_BRUSHES = ("grab", "grab_biscale", "grab_triscale", "wrinkle")
+#: Affine-load brushes.
+AFFINE_BRUSHES = ("scale", "twist", "pinch")
+BRUSH_KINDS = GRAB_BRUSHES + AFFINE_BRUSHES
+#: Where the smooth cutoff starts, as a fraction of the influence radius.
+CUTOFF_START = 0.5
+
+
+def _positive(name: str, value: float, allow_inf: bool = False) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"brush {name} must be a number (got {value!r})") from None
+    if math.isnan(v) or v <= 0 or (math.isinf(v) and not allow_inf):
+        raise ValueError(
+            f"brush {name} must be {'> 0' if allow_inf else 'finite and > 0'} (got {value!r})"
+        )
+    return v
+
+
+@dataclass(frozen=True)
+class Brush:
+    """Settings of one brush (immutable; use :func:`dataclasses.replace` to change one).
+
+    kind : one of :data:`BRUSH_KINDS`.
+    radius : regularization radius ε as a fraction of the model size (bounding-box diagonal).
+    strength : multiplies the cursor displacement (grab) or the amount (affine brushes).
+    substeps : RK4 steps per event over pseudo-time [0, 1].
+    influence : radius of the influence ball in multiples of ε (``inf``: every vertex).
+    symmetry : mirror planes, any of "x", "y", "z" (e.g. "xz"): the brush is applied mirrored
+        across the planes through the model's center normal to those axes.
+    """
+
+    kind: str = "grab"
+    radius: float = 0.1
+    strength: float = 1.0
+    substeps: int = 4
+    influence: float = 4.0
+    symmetry: str = ""
+
+    def __post_init__(self) -> None:
+        if self.kind not in BRUSH_KINDS:
+            raise ValueError(
+                f"unknown brush {self.kind!r}; expected one of {', '.join(BRUSH_KINDS)}"
+            )
+        object.__setattr__(self, "radius", _positive("radius", self.radius))
+        strength = float(self.strength)
+        if not math.isfinite(strength):
+            raise ValueError(f"brush strength must be finite (got {self.strength!r})")
+        object.__setattr__(self, "strength", strength)
+        if (
+            isinstance(self.substeps, bool)
+            or int(self.substeps) != self.substeps
+            or self.substeps < 1
+        ):
+            raise ValueError(f"brush substeps must be an integer >= 1 (got {self.substeps!r})")
+        object.__setattr__(self, "substeps", int(self.substeps))
+        object.__setattr__(self, "influence", _positive("influence", self.influence, True))
+        axes = "".join(sorted(set(str(self.symmetry).lower())))
+        if any(a not in "xyz" for a in axes):
+            raise ValueError(f"brush symmetry must use the letters x, y, z (got {self.symmetry!r})")
+        object.__setattr__(self, "symmetry", axes)
+
+    @property
+    def is_affine(self) -> bool:
+        return self.kind in AFFINE_BRUSHES
+
+    def eps(self, model_size: float) -> float:
+        """ε in model units."""
+        return self.radius * model_size
+
+    def cutoff(self, model_size: float) -> tuple[float, float] | None:
+        """(inner, outer) cutoff radii in model units, or None for no cutoff."""
+        if math.isinf(self.influence):
+            return None
+        outer = self.influence * self.eps(model_size)
+        return CUTOFF_START * outer, outer
+
+    def to_dict(self) -> dict:
+        data = asdict(self)
+        data["influence"] = None if math.isinf(self.influence) else self.influence
+        return data
+
+    @classmethod
+    def from_dict(cls, data: dict) -> Brush:
+        try:
+            values = dict(data)
+            if values.get("influence", 0) is None:
+                values["influence"] = math.inf
+            return cls(**values)
+        except TypeError as exc:
+            raise ValueError(f"malformed brush description: {exc}") from None
+
+
+def _vector(name: str, value, unit: bool = False) -> np.ndarray:
+    arr = np.asarray(value, dtype=np.float64)
+    if arr.shape != (3,) or not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} must be 3 finite numbers (got {value!r})")
+    if unit:
+        norm = np.linalg.norm(arr)
+        if norm == 0:
+            raise ValueError(f"{name} must be a nonzero vector")
+        arr = arr / norm
+    return arr
+
+
+@dataclass(frozen=True)
+class BrushEvent:
+    """One mouse event of a stroke (model units).
+
+    center : (3,) the cursor on the surface at the start of the event.
+    delta : (3,) cursor displacement during the event (grab brushes).
+    amount : signed magnitude for affine brushes (relative strain, or radians for twist).
+    axis : (3,) view direction (twist axis, pinch normal); +z when omitted.
+    direction : (3,) stroke direction in the view plane (pinch); any vector ⟂ axis if omitted.
+    """
+
+    center: np.ndarray
+    delta: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    amount: float = 0.0
+    axis: np.ndarray | None = None
+    direction: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "center", _vector("event center", self.center))
+        object.__setattr__(self, "delta", _vector("event delta", self.delta))
+        amount = float(self.amount)
+        if not math.isfinite(amount):
+            raise ValueError(f"event amount must be finite (got {self.amount!r})")
+        object.__setattr__(self, "amount", amount)
+        if self.axis is not None:
+            object.__setattr__(self, "axis", _vector("event axis", self.axis, unit=True))
+        if self.direction is not None:
+            object.__setattr__(self, "direction", _vector("event direction", self.direction))
+
+    def to_dict(self) -> dict:
+        data: dict = {"center": self.center.tolist()}
+        if np.any(self.delta):
+            data["delta"] = self.delta.tolist()
+        if self.amount:
+            data["amount"] = self.amount
+        if self.axis is not None:
+            data["axis"] = self.axis.tolist()
+        if self.direction is not None:
+            data["direction"] = self.direction.tolist()
+        return data
+
+    @classmethod
+    def from_dict(cls, data: dict) -> BrushEvent:
+        try:
+            return cls(**data)
+        except TypeError as exc:
+            raise ValueError(f"malformed brush event: {exc}") from None
+
+
+def affine_unit_load(
+    kind: str, axis: np.ndarray | None, direction: np.ndarray | None
+) -> np.ndarray:
+    """Unit affine load Ĥ (3, 3) of an affine brush (Frobenius norm 1)."""
+    a = np.array([0.0, 0.0, 1.0]) if axis is None else np.asarray(axis, dtype=np.float64)
+    if kind == "scale":
+        h = np.eye(3)
+    elif kind == "twist":
+        # Ĥ = [a]_×: H x = a × x, a rotation about the view axis
+        h = np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
+    elif kind == "pinch":
+        d = np.cross(a, [1.0, 0.0, 0.0]) if direction is None else np.asarray(direction, float)
+        d = d - a * (d @ a)
+        if np.linalg.norm(d) < 1e-12:
+            d = np.cross(a, [0.0, 1.0, 0.0])
+        d = d / np.linalg.norm(d)
+        e = np.cross(a, d)
+        h = np.outer(d, d) - np.outer(e, e)
+    else:
+        raise ValueError(f"{kind!r} is not an affine brush ({', '.join(AFFINE_BRUSHES)})")
+    return h / np.linalg.norm(h)
+
+
+def default_wrinkle_weights(l_max: int) -> np.ndarray:
+    """Per-degree weights of the wrinkle brush when the artist set none: degrees above 2 are
+    amplified in proportion to l/2, bringing out the angular ripples (l_max + 1,)."""
+    return np.maximum(1.0, np.arange(l_max + 1) / 2.0)
+
+
+def mirror_signs(symmetry: str) -> np.ndarray:
+    """Sign rows (2^k, 3) of the mirror group of ``symmetry`` ("", "x", "xz", ...); row 0 is the
+    identity."""
+    rows = [np.ones(3)]
+    for axis in symmetry:
+        flip = np.ones(3)
+        flip["xyz".index(axis)] = -1.0
+        rows += [r * flip for r in rows]
+    return np.array(rows)
