@@ -281,3 +281,30 @@ def stream(
                 for i in range(nb):
                     for k in range(3):
                         pos[k, i] = out[start + i, k]
+
+
+@njit(parallel=True, nogil=True, **_JIT)
+def near_segment(
+    points: np.ndarray,  # (N, 3)
+    start: np.ndarray,  # (3,) segment start
+    step: np.ndarray,  # (3,) segment end - start
+    radius: float,
+    mirrors: np.ndarray,  # (n_m, 3) ±1 signs
+    origin: np.ndarray,  # (3,)
+    out: np.ndarray,  # (N,) bool: some mirror image of the point is within radius of the segment
+) -> None:
+    length2 = step[0] * step[0] + step[1] * step[1] + step[2] * step[2]
+    inv = 1.0 / length2 if length2 > 0.0 else 0.0
+    r2 = radius * radius
+    for n in prange(points.shape[0]):
+        hit = False
+        for mi in range(mirrors.shape[0]):
+            y0 = origin[0] + mirrors[mi, 0] * (points[n, 0] - origin[0]) - start[0]
+            y1 = origin[1] + mirrors[mi, 1] * (points[n, 1] - origin[1]) - start[1]
+            y2 = origin[2] + mirrors[mi, 2] * (points[n, 2] - origin[2]) - start[2]
+            t = min(max((y0 * step[0] + y1 * step[1] + y2 * step[2]) * inv, 0.0), 1.0)
+            d0 = y0 - t * step[0]
+            d1 = y1 - t * step[1]
+            d2 = y2 - t * step[2]
+            hit = hit or d0 * d0 + d1 * d1 + d2 * d2 < r2
+        out[n] = hit

@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from gogreen_core._expansion import near_segment
 from gogreen_core.brushes import (
     AFFINE_BRUSHES,
     Brush,
@@ -319,13 +320,9 @@ class Sculptor:
         cutoff = brush.cutoff(self.model_size)
         if cutoff is None:
             return np.arange(len(self._vertices))
-        reach = np.zeros(len(self._vertices), dtype=bool)
-        length2 = float(step @ step)
-        for signs in mirror_signs(brush.symmetry):
-            y = self.origin + signs * (self._vertices - self.origin) - center
-            t = np.clip(y @ step / length2, 0.0, 1.0) if length2 > 0 else 0.0
-            d = y - np.multiply.outer(t, step) if length2 > 0 else y
-            reach |= np.einsum("ij,ij->i", d, d) < cutoff[1] ** 2
+        reach = np.empty(len(self._vertices), dtype=bool)
+        signs = mirror_signs(brush.symmetry)
+        near_segment(self._vertices, center, step, cutoff[1], signs, self.origin, reach)
         return np.flatnonzero(reach)
 
     def _apply_event(self, brush: Brush, event: BrushEvent) -> np.ndarray:
