@@ -7,7 +7,12 @@ import sys
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Open the main window (optionally on a mesh file)."""
+    """``gogreen [FILE]`` opens the main window; ``gogreen replay|deform ...`` runs headless."""
+    argv = sys.argv[1:] if argv is None else argv
+    if argv and argv[0] in ("replay", "deform"):
+        from gogreen_core.batch import main as batch_main  # no Qt for batch work
+
+        return batch_main(argv)
     parser = argparse.ArgumentParser(prog="gogreen", description="GoGreen Sculpt")
     parser.add_argument("mesh", nargs="?", help="mesh file to open (OBJ, PLY, STL, OFF)")
     args = parser.parse_args(argv)

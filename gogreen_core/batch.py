@@ -1,0 +1,229 @@
+"""Headless command line: ``gogreen replay`` and ``gogreen deform`` (no Qt imported).
+
+    gogreen replay SESSION.json IN -o OUT
+    gogreen deform IN -o OUT --brush grab --center X Y Z --delta DX DY DZ [--radius R] ...
+
+Both print a progress bar on stderr and exit with status 2 and a one-line message naming the
+problem on bad input (a broken file, an inadmissible material, a zero radius); the output file
+is written atomically, so a failure never leaves a half-written or clobbered file.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from gogreen_core.brushes import BRUSH_KINDS, Brush, BrushEvent
+from gogreen_core.material import Material
+from gogreen_core.mesh_io import MeshData, load_mesh, save_mesh
+from gogreen_core.radial import GaussianRadial, KelvinletRadial, radial_from_dict
+from gogreen_core.sculptor import Sculptor
+
+__all__ = ["BATCH_COMMANDS", "main"]
+
+BATCH_COMMANDS = ("replay", "deform")
+
+
+class ProgressBar:
+    """A text progress bar on a stream (redrawn in place on a terminal, else every 10%)."""
+
+    def __init__(self, label: str, stream=None, width: int = 30):
+        self.label, self.width = label, width
+        self.stream = sys.stderr if stream is None else stream
+        self.start = time.perf_counter()
+        self._last_decile = -1
+
+    def __call__(self, done: int, total: int) -> None:
+        fraction = done / total if total else 1.0
+        filled = round(self.width * fraction)
+        text = (
+            f"{self.label} [{'#' * filled}{'.' * (self.width - filled)}] {done}/{total} "
+            f"{time.perf_counter() - self.start:.1f} s"
+        )
+        if self.stream.isatty():
+            self.stream.write("\r" + text + ("\n" if done >= total else ""))
+        elif int(10 * fraction) != self._last_decile:
+            self._last_decile = int(10 * fraction)
+            self.stream.write(text + "\n")
+        self.stream.flush()
+
+
+def _save(mesh: MeshData, vertices: np.ndarray, path: str) -> None:
+    out = mesh.copy()
+    out.vertices = np.array(vertices)
+    save_mesh(out, path)
+
+
+def _replay(args: argparse.Namespace) -> int:
+    try:
+        session = json.loads(Path(args.session).read_text())
+    except OSError as exc:
+        raise ValueError(f"{args.session}: cannot read ({exc.strerror})") from None
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"{args.session}: not valid JSON ({exc.msg}, line {exc.lineno})") from None
+    mesh = load_mesh(args.input)
+    sculptor = Sculptor.from_session(session, mesh.vertices, mesh.faces)
+    if session["mesh"].get("sha256") != sculptor.session()["mesh"]["sha256"]:
+        print(
+            f"gogreen: warning: {args.input} differs from the mesh the session was recorded on",
+            file=sys.stderr,
+        )
+    operations = session.get("operations")
+    if not isinstance(operations, list):
+        raise ValueError(f"{args.session}: 'operations' must be a list")
+    sculptor.replay(operations, ProgressBar("replay") if not args.quiet else None)
+    _save(mesh, sculptor.vertices, args.output)
+    return 0
+
+
+def _material(args: argparse.Namespace) -> Material:
+    if args.material:
+        try:
+            data = json.loads(Path(args.material).read_text())
+        except (OSError, json.JSONDecodeError) as exc:
+            raise ValueError(f"{args.material}: cannot read a material ({exc})") from None
+        return Material.from_dict(data.get("material", data))
+    return Material.isotropic(args.young, args.poisson)
+
+
+def _falloff(name: str):
+    if name == "gaussian":
+        return GaussianRadial(1.0)
+    if name == "kelvinlet":
+        return KelvinletRadial(1.0)
+    try:
+        data = json.loads(Path(name).read_text())
+    except (OSError, json.JSONDecodeError) as exc:
+        raise ValueError(
+            f"{name}: not 'gaussian', 'kelvinlet' or a falloff JSON file ({exc})"
+        ) from None
+    return radial_from_dict(data.get("falloff", data))
+
+
+def _deform(args: argparse.Namespace) -> int:
+    mesh = load_mesh(args.input)
+    sculptor = Sculptor(
+        mesh.vertices,
+        mesh.faces,
+        material=_material(args),
+        l_max=args.l_max,
+        falloff=_falloff(args.falloff),
+    )
+    brush = Brush(
+        kind=args.brush,
+        radius=args.radius,
+        strength=args.strength,
+        substeps=args.substeps,
+        influence=args.influence,
+        symmetry=args.symmetry,
+    )
+    if brush.is_affine and args.amount == 0:
+        raise ValueError(f"the {brush.kind} brush needs --amount (nonzero)")
+    if not brush.is_affine and not np.any(args.delta):
+        raise ValueError(f"the {brush.kind} brush needs --delta (nonzero)")
+    if args.events < 1:
+        raise ValueError("--events must be >= 1")
+    # The drag is split into equal events, as mouse events of one stroke.
+    center = np.array(args.center, dtype=np.float64)
+    step = np.array(args.delta, dtype=np.float64) / args.events
+    progress = None if args.quiet else ProgressBar("deform")
+    sculptor.begin_stroke(brush)
+    for k in range(args.events):
+        sculptor.stroke_event(
+            BrushEvent(
+                center=center + k * step,
+                delta=step,
+                amount=args.amount / args.events,
+                axis=args.axis,
+                direction=args.direction,
+            )
+        )
+        if progress:
+            progress(k + 1, args.events)
+    sculptor.end_stroke()
+    _save(mesh, sculptor.vertices, args.output)
+    if args.session_out:
+        Path(args.session_out).write_text(json.dumps(sculptor.session(), indent=1))
+    return 0
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="gogreen", description="GoGreen Sculpt, headless")
+    sub = parser.add_subparsers(dest="command", required=True)
+    replay = sub.add_parser("replay", help="replay a session file on a mesh")
+    replay.add_argument("session", help="session JSON written by the app or `deform`")
+    replay.add_argument("input", help="mesh the session starts from (OBJ, PLY, STL, OFF)")
+    replay.add_argument("-o", "--output", required=True, help="where to write the result")
+    replay.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+
+    deform = sub.add_parser("deform", help="apply one brush stroke to a mesh")
+    deform.add_argument("input")
+    deform.add_argument("-o", "--output", required=True)
+    deform.add_argument("--brush", choices=BRUSH_KINDS, default="grab")
+    deform.add_argument("--center", type=float, nargs=3, required=True, metavar=("X", "Y", "Z"))
+    deform.add_argument(
+        "--delta",
+        type=float,
+        nargs=3,
+        default=[0.0, 0.0, 0.0],
+        metavar=("DX", "DY", "DZ"),
+        help="grab displacement (model units)",
+    )
+    deform.add_argument(
+        "--amount",
+        type=float,
+        default=0.0,
+        help="affine brushes: strain (scale, pinch) or angle in radians (twist)",
+    )
+    deform.add_argument(
+        "--axis",
+        type=float,
+        nargs=3,
+        default=None,
+        metavar=("X", "Y", "Z"),
+        help="twist axis / pinch normal (default +z)",
+    )
+    deform.add_argument(
+        "--direction",
+        type=float,
+        nargs=3,
+        default=None,
+        metavar=("X", "Y", "Z"),
+        help="pinch stretch direction",
+    )
+    deform.add_argument("--radius", type=float, default=0.1, help="ε / model size")
+    deform.add_argument("--strength", type=float, default=1.0)
+    deform.add_argument("--substeps", type=int, default=4, help="RK4 steps per event")
+    deform.add_argument(
+        "--influence",
+        type=float,
+        default=4.0,
+        help="influence radius in multiples of ε ('inf' for all vertices)",
+    )
+    deform.add_argument("--symmetry", default="", help="mirror planes, e.g. x or xz")
+    deform.add_argument("--events", type=int, default=1, help="split the stroke into N events")
+    deform.add_argument("--young", type=float, default=1.0)
+    deform.add_argument("--poisson", type=float, default=0.3)
+    deform.add_argument("--material", help="material JSON (Material.to_dict or a preset)")
+    deform.add_argument("--l-max", type=int, default=8)
+    deform.add_argument(
+        "--falloff", default="gaussian", help="gaussian, kelvinlet, or a falloff/preset JSON file"
+    )
+    deform.add_argument("--session-out", help="also write the session JSON here")
+    deform.add_argument("-q", "--quiet", action="store_true")
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run a batch command; returns the exit status (2 on bad input)."""
+    args = _parser().parse_args(argv)
+    try:
+        return _replay(args) if args.command == "replay" else _deform(args)
+    except (ValueError, RuntimeError) as exc:  # MeshFileError is a ValueError
+        print(f"gogreen {args.command}: error: {exc}", file=sys.stderr)
+        return 2
