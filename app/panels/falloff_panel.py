@@ -1,0 +1,430 @@
+"""Falloff panel: edit the brush falloff curves, the SH truncation degree and wrinkle weights.
+
+The falloff is a :class:`gogreen_core.SplineRadial` in the dimensionless variable ρ = r/ε
+(its ε stays 1; the consumer calls ``with_eps``). Even degrees carry R_l, the falloff of the
+Green's function G used by grab brushes; odd degrees carry ℛ_l, used by ∇G and the affine
+brushes (scale, twist, pinch). The panel keeps *one* SplineRadial for its whole life and edits
+it in place (``set_curve``/``move_point``...), so its version counter (and the kernel's table
+cache) always advances; curves of degrees above the current l_max are kept, so lowering and
+raising l_max restores them.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from PySide6.QtCore import Qt, Signal
+from PySide6.QtWidgets import (
+    QCheckBox,
+    QComboBox,
+    QDoubleSpinBox,
+    QFrame,
+    QGridLayout,
+    QGroupBox,
+    QHBoxLayout,
+    QLabel,
+    QPushButton,
+    QScrollArea,
+    QSpinBox,
+    QVBoxLayout,
+    QWidget,
+)
+
+from app.panels.curve_editor import CurveEditor, curve_color, curve_label
+from gogreen_core.brushes import default_wrinkle_weights
+from gogreen_core.radial import GaussianRadial, KelvinletRadial, RadialProfile, SplineRadial
+
+__all__ = ["L_MAX_RANGE", "QUICK_CURVES", "FalloffPanel"]
+
+#: Range of the truncation degree spin box.
+L_MAX_RANGE = (0, 30)
+#: Curves with a "show" check box: R₀ and R₂ (shown by default), ℛ₁ and ℛ₃.
+QUICK_CURVES = (("R", 0), ("R", 2), ("dR", 1), ("dR", 3))
+_DEFAULT_SHOWN = (("R", 0), ("R", 2))
+_WEIGHT_COLUMNS = 3
+
+
+def _key_id(key: tuple[str, int]) -> str:
+    """Combo item data of a curve ("R:0", "dR:1"): plain strings survive QVariant intact."""
+    return f"{key[0]}:{key[1]}"
+
+
+def _key_from_id(text: str) -> tuple[str, int]:
+    kind, degree = text.split(":")
+    return kind, int(degree)
+
+
+def _needed_keys(l_max: int) -> list[tuple[str, int]]:
+    """Curves a kernel of ``l_max`` uses: R_l for even l ≤ l_max, ℛ_l for odd l ≤ l_max + 1."""
+    keys = [("R", l) for l in range(0, l_max + 1, 2)] + [("dR", l) for l in range(1, l_max + 2, 2)]
+    return sorted(keys, key=lambda k: (k[1], k[0]))
+
+
+class FalloffPanel(QWidget):
+    """Edit the falloff (:attr:`radial`), truncation degree (:attr:`l_max`) and per-degree
+    weights of the wrinkle brush (:attr:`degree_weights`).
+
+    Parameters
+    ----------
+    l_max : int, default 8 (the sculptor's default)
+    parent : QWidget, optional
+
+    Signals
+    -------
+    falloff_changed() : after every edit (each step of a point drag, add/remove, reset, l_max,
+        a weight). Read :attr:`radial`, :attr:`l_max`, :attr:`degree_weights`.
+    editing_finished() : after a discrete edit or at the end of a drag, for consumers that do
+        not want every drag step.
+
+    Widgets (public for scripting and tests): ``editor`` (:class:`CurveEditor`),
+    ``curve_combo``, ``show_checks`` ((kind, l) -> QCheckBox), ``rho_max_spin``,
+    ``reset_gaussian_button``, ``reset_kelvinlet_button``, ``l_max_spin``, ``weight_spins``,
+    ``weights_one_button``, ``weights_boost_button``, ``message_label``.
+    """
+
+    falloff_changed = Signal()
+    editing_finished = Signal()
+
+    def __init__(self, l_max: int = 8, parent: QWidget | None = None):
+        super().__init__(parent)
+        self._l_max = self._check_l_max(l_max)
+        self._radial = SplineRadial.from_profile(GaussianRadial(1.0), self._l_max)
+        self.weight_spins: list[QDoubleSpinBox] = []
+
+        outer = QVBoxLayout(self)
+        outer.setContentsMargins(0, 0, 0, 0)
+        scroll = QScrollArea()
+        scroll.setWidgetResizable(True)
+        scroll.setFrameShape(QFrame.Shape.NoFrame)
+        scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        outer.addWidget(scroll)
+        content = QWidget()
+        scroll.setWidget(content)
+        layout = QVBoxLayout(content)
+        layout.setContentsMargins(6, 6, 6, 6)
+        layout.setSpacing(6)
+
+        self.editor = CurveEditor(self._radial)
+        self.editor.setMinimumHeight(240)
+        self.editor.setMaximumHeight(400)
+        self.editor.edited.connect(self._curve_edited)
+        self.editor.drag_finished.connect(self.editing_finished)
+        self.editor.message.connect(self._show_message)
+        self.editor.active_curve_changed.connect(self._active_changed_in_editor)
+        layout.addWidget(self.editor, 1)
+
+        hint = QLabel("Drag points · double-click or Ctrl+click adds · right-click or Del removes")
+        hint.setWordWrap(True)
+        hint.setStyleSheet("color: #666;")
+        layout.addWidget(hint)
+        self.message_label = QLabel()
+        self.message_label.setWordWrap(True)
+        self.message_label.setStyleSheet("color: #c62828;")
+        self.message_label.hide()
+        layout.addWidget(self.message_label)
+
+        layout.addWidget(self._curves_group())
+        layout.addWidget(self._degrees_group())
+        layout.addStretch(0)
+        self._refresh_curve_choices()
+        self._rebuild_weight_spins(np.ones(self._l_max + 1))
+
+    # -- construction ------------------------------------------------------------------------
+    def _curves_group(self) -> QGroupBox:
+        box = QGroupBox("Curves")
+        grid = QGridLayout(box)
+        grid.setContentsMargins(6, 4, 6, 6)
+        grid.setVerticalSpacing(4)
+        grid.addWidget(QLabel("Edit"), 0, 0)
+        self.curve_combo = QComboBox()
+        self.curve_combo.setToolTip(
+            "Curve whose points are editable: R_l (even l) shapes grab brushes, "
+            "ℛ_l (odd l) the affine brushes (scale, twist, pinch)"
+        )
+        self.curve_combo.currentIndexChanged.connect(self._combo_changed)
+        grid.addWidget(self.curve_combo, 0, 1, 1, 3)
+        grid.addWidget(QLabel("Show"), 1, 0)
+        checks = QHBoxLayout()
+        self.show_checks: dict[tuple[str, int], QCheckBox] = {}
+        for key in QUICK_CURVES:
+            check = QCheckBox(curve_label(key))
+            check.setStyleSheet(f"QCheckBox {{ color: {curve_color(key).name()}; }}")
+            check.setChecked(key in _DEFAULT_SHOWN)
+            check.setToolTip("Grab falloff (G)" if key[0] == "R" else "Affine brushes falloff (∇G)")
+            check.toggled.connect(self._shown_changed)
+            checks.addWidget(check)
+            self.show_checks[key] = check
+        checks.addStretch(1)
+        grid.addLayout(checks, 1, 1, 1, 3)
+        grid.addWidget(QLabel("ρ max"), 2, 0)
+        self.rho_max_spin = QDoubleSpinBox()
+        self.rho_max_spin.setRange(1.0, 50.0)
+        self.rho_max_spin.setDecimals(1)
+        self.rho_max_spin.setSingleStep(1.0)
+        self.rho_max_spin.setValue(self.editor.rho_max)
+        self.rho_max_spin.setToolTip("Right end of the plot, in brush radii")
+        self.rho_max_spin.valueChanged.connect(self.editor.set_rho_max)
+        grid.addWidget(self.rho_max_spin, 2, 1)
+        self.reset_gaussian_button = QPushButton("Reset to Gaussian")
+        self.reset_gaussian_button.setToolTip("All curves from the Gaussian load (paper Eq. 13)")
+        self.reset_gaussian_button.clicked.connect(self.reset_to_gaussian)
+        self.reset_kelvinlet_button = QPushButton("Kelvinlet")
+        self.reset_kelvinlet_button.setToolTip(
+            "All curves from the regularized Kelvinlet load (de Goes & James 2017)"
+        )
+        self.reset_kelvinlet_button.clicked.connect(self.reset_to_kelvinlet)
+        grid.addWidget(self.reset_gaussian_button, 2, 2)
+        grid.addWidget(self.reset_kelvinlet_button, 2, 3)
+        grid.setColumnStretch(1, 1)
+        return box
+
+    def _degrees_group(self) -> QGroupBox:
+        box = QGroupBox("Spherical-harmonic degrees")
+        layout = QVBoxLayout(box)
+        layout.setContentsMargins(6, 4, 6, 6)
+        row = QHBoxLayout()
+        row.addWidget(QLabel("Truncation l_max"))
+        self.l_max_spin = QSpinBox()
+        self.l_max_spin.setRange(*L_MAX_RANGE)
+        self.l_max_spin.setValue(self._l_max)
+        self.l_max_spin.setKeyboardTracking(False)
+        self.l_max_spin.setToolTip(
+            "G uses even degrees l ≤ l_max, ∇G odd l ≤ l_max + 1; higher follows strong "
+            "anisotropy more closely but costs more per brush step"
+        )
+        self.l_max_spin.valueChanged.connect(self.set_l_max)
+        row.addWidget(self.l_max_spin)
+        row.addStretch(1)
+        layout.addLayout(row)
+        caption = QLabel("Wrinkle brush weight of each degree l (0 removes it)")
+        caption.setWordWrap(True)
+        caption.setStyleSheet("color: #555;")
+        layout.addWidget(caption)
+        self._weights_host = QWidget()
+        self._weights_grid = QGridLayout(self._weights_host)
+        self._weights_grid.setContentsMargins(0, 0, 0, 0)
+        self._weights_grid.setHorizontalSpacing(4)
+        self._weights_grid.setVerticalSpacing(2)
+        layout.addWidget(self._weights_host)
+        buttons = QHBoxLayout()
+        self.weights_one_button = QPushButton("All 1")
+        self.weights_one_button.setToolTip("Every degree at weight 1: the wrinkle brush = grab")
+        self.weights_one_button.clicked.connect(
+            lambda: self.set_degree_weights(np.ones(self._l_max + 1), emit=True)
+        )
+        self.weights_boost_button = QPushButton("Boost high degrees")
+        self.weights_boost_button.setToolTip(
+            "The engine's default wrinkle weights: max(1, l / 2), bringing out angular ripples"
+        )
+        self.weights_boost_button.clicked.connect(
+            lambda: self.set_degree_weights(default_wrinkle_weights(self._l_max), emit=True)
+        )
+        buttons.addWidget(self.weights_one_button)
+        buttons.addWidget(self.weights_boost_button)
+        buttons.addStretch(1)
+        layout.addLayout(buttons)
+        return box
+
+    def _rebuild_weight_spins(self, weights: np.ndarray) -> None:
+        for spin in self.weight_spins:
+            spin.deleteLater()
+        while self._weights_grid.count():
+            item = self._weights_grid.takeAt(0)
+            if item.widget() is not None:
+                item.widget().deleteLater()
+        self.weight_spins = []
+        for degree, weight in enumerate(weights):
+            row, col = divmod(degree, _WEIGHT_COLUMNS)
+            label = QLabel(f"l {degree}")
+            label.setAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
+            spin = QDoubleSpinBox()
+            spin.setRange(-100.0, 100.0)
+            spin.setDecimals(2)
+            spin.setSingleStep(0.1)
+            spin.setKeyboardTracking(False)
+            spin.setValue(float(weight))
+            spin.setToolTip(f"Weight of degree {degree} in the wrinkle brush")
+            spin.valueChanged.connect(self._weight_changed)
+            self._weights_grid.addWidget(label, row, 2 * col)
+            self._weights_grid.addWidget(spin, row, 2 * col + 1)
+            self.weight_spins.append(spin)
+        for col in range(_WEIGHT_COLUMNS):
+            self._weights_grid.setColumnStretch(2 * col + 1, 1)
+
+    # -- public API --------------------------------------------------------------------------
+    @property
+    def radial(self) -> SplineRadial:
+        """The edited falloff (ε = 1; call ``with_eps`` for a brush radius)."""
+        return self._radial
+
+    @property
+    def l_max(self) -> int:
+        """Truncation degree of the SH expansion."""
+        return self._l_max
+
+    @property
+    def degree_weights(self) -> np.ndarray:
+        """Per-degree weights of the wrinkle brush, shape (l_max + 1,) (a copy)."""
+        return np.array([spin.value() for spin in self.weight_spins], dtype=np.float64)
+
+    def set_l_max(self, l_max: int, emit: bool = True) -> None:
+        """Change the truncation degree: adds Gaussian curves for new degrees (or restores
+        earlier edits of them) and pads the weights with 1."""
+        l_max = self._check_l_max(l_max)
+        if l_max == self._l_max:
+            return
+        weights = self.degree_weights
+        padded = np.ones(l_max + 1)
+        keep = min(len(weights), l_max + 1)
+        padded[:keep] = weights[:keep]
+        self._l_max = l_max
+        self._ensure_curves()
+        self._sync_l_max_spin()
+        self._rebuild_weight_spins(padded)
+        self._refresh_curve_choices()
+        if emit:
+            self._emit_changed()
+
+    def set_degree_weights(self, weights: Sequence[float] | None, emit: bool = False) -> None:
+        """Set the wrinkle weights (l_max + 1 finite numbers; None: all 1)."""
+        values = np.ones(self._l_max + 1) if weights is None else np.asarray(weights, float)
+        if values.shape != (self._l_max + 1,) or not np.all(np.isfinite(values)):
+            raise ValueError(f"degree_weights must be l_max + 1 = {self._l_max + 1} finite numbers")
+        for spin, value in zip(self.weight_spins, values, strict=True):
+            spin.blockSignals(True)
+            spin.setValue(float(value))
+            spin.blockSignals(False)
+        if emit:
+            self._emit_changed()
+
+    def set_falloff(
+        self,
+        falloff: RadialProfile,
+        l_max: int | None = None,
+        degree_weights: Sequence[float] | None = None,
+        emit: bool = False,
+    ) -> None:
+        """Load a falloff shape (any profile: a spline's curves are copied, a Gaussian,
+        Kelvinlet or multi-scale profile is sampled into curves), optionally with ``l_max``
+        and wrinkle weights (None: all 1). Its ε is ignored. Does not emit unless ``emit``."""
+        if not isinstance(falloff, RadialProfile):
+            raise ValueError(f"falloff must be a RadialProfile (got {type(falloff).__name__})")
+        if l_max is not None:
+            self.set_l_max(l_max, emit=False)
+        source = (
+            falloff
+            if isinstance(falloff, SplineRadial)
+            else SplineRadial.from_profile(falloff.with_eps(1.0), self._l_max)
+        )
+        for key in source.curve_keys():
+            self._radial.set_curve(*key, *source.curve(*key))
+        self._ensure_curves()
+        self.set_degree_weights(degree_weights)
+        self._after_curve_reset(emit)
+
+    def reset_to_gaussian(self) -> None:
+        """Replace every curve by the Gaussian load's (the default falloff)."""
+        self._reset_to(GaussianRadial(1.0))
+
+    def reset_to_kelvinlet(self) -> None:
+        """Replace every curve by the regularized Kelvinlet load's."""
+        self._reset_to(KelvinletRadial(1.0))
+
+    # -- internals ---------------------------------------------------------------------------
+    @staticmethod
+    def _check_l_max(l_max: int) -> int:
+        if isinstance(l_max, bool) or int(l_max) != l_max:
+            raise ValueError(f"l_max must be an integer (got {l_max!r})")
+        l_max = int(l_max)
+        if not L_MAX_RANGE[0] <= l_max <= L_MAX_RANGE[1]:
+            raise ValueError(
+                f"l_max must lie in [{L_MAX_RANGE[0]}, {L_MAX_RANGE[1]}] (got {l_max})"
+            )
+        return l_max
+
+    def _sync_l_max_spin(self) -> None:
+        self.l_max_spin.blockSignals(True)
+        self.l_max_spin.setValue(self._l_max)
+        self.l_max_spin.blockSignals(False)
+
+    def _ensure_curves(self) -> None:
+        """Give the spline every curve a kernel of l_max needs (missing ones: Gaussian)."""
+        have = set(self._radial.curve_keys())
+        missing = [key for key in _needed_keys(self._l_max) if key not in have]
+        if missing:
+            gaussian = SplineRadial.from_profile(GaussianRadial(1.0), self._l_max)
+            for key in missing:
+                self._radial.set_curve(*key, *gaussian.curve(*key))
+
+    def _reset_to(self, profile: RadialProfile) -> None:
+        samples = SplineRadial.from_profile(profile, self._l_max)
+        for key in samples.curve_keys():
+            self._radial.set_curve(*key, *samples.curve(*key))
+        # Stored curves above l_max are reset too, so raising l_max later stays consistent.
+        stale = [k for k in self._radial.curve_keys() if k not in samples.curve_keys()]
+        if stale:
+            top = max(degree for _, degree in stale)
+            more = SplineRadial.from_profile(profile, top)
+            for key in stale:
+                self._radial.set_curve(*key, *more.curve(*key))
+        self._after_curve_reset(emit=True)
+
+    def _after_curve_reset(self, emit: bool) -> None:
+        self.editor.set_radial(self._radial)
+        self._refresh_curve_choices()
+        self._hide_message()
+        if emit:
+            self._emit_changed()
+
+    def _refresh_curve_choices(self) -> None:
+        keys = _needed_keys(self._l_max)
+        active = self.editor.active_key if self.editor.active_key in keys else ("R", 0)
+        self.curve_combo.blockSignals(True)
+        self.curve_combo.clear()
+        for key in keys:
+            role = "grab falloff, G" if key[0] == "R" else "affine brushes, ∇G"
+            self.curve_combo.addItem(f"{curve_label(key)}   ({role}, l = {key[1]})", _key_id(key))
+        self.curve_combo.setCurrentIndex(keys.index(active))
+        self.curve_combo.blockSignals(False)
+        for key, check in self.show_checks.items():
+            check.setEnabled(key in keys)
+        self.editor.set_active_key(active)
+        self._shown_changed()
+
+    def _combo_changed(self, index: int) -> None:
+        if index >= 0:
+            self.editor.set_active_key(_key_from_id(self.curve_combo.itemData(index)))
+
+    def _active_changed_in_editor(self, key: tuple[str, int]) -> None:
+        index = self.curve_combo.findData(_key_id(key))
+        if index >= 0 and index != self.curve_combo.currentIndex():
+            self.curve_combo.blockSignals(True)
+            self.curve_combo.setCurrentIndex(index)
+            self.curve_combo.blockSignals(False)
+
+    def _shown_changed(self, *_args: object) -> None:
+        keys = _needed_keys(self._l_max)
+        shown = [k for k, c in self.show_checks.items() if c.isChecked() and k in keys]
+        self.editor.set_visible_keys(shown)
+
+    def _curve_edited(self) -> None:
+        self._hide_message()
+        self.falloff_changed.emit()
+        if not self.editor.is_dragging:  # add / remove: a discrete edit
+            self.editing_finished.emit()
+
+    def _weight_changed(self, *_args: object) -> None:
+        self._emit_changed()
+
+    def _emit_changed(self) -> None:
+        self.falloff_changed.emit()
+        self.editing_finished.emit()
+
+    def _show_message(self, text: str) -> None:
+        self.message_label.setText(text)
+        self.message_label.show()
+
+    def _hide_message(self) -> None:
+        self.message_label.clear()
+        self.message_label.hide()

@@ -1,0 +1,720 @@
+"""Homogenization panel: design an anisotropic material from a periodic two-phase pattern.
+
+The artist picks a pattern family of :data:`gogreen_core.PATTERNS` (widgets are generated from
+its :class:`~gogreen_core.PatternParameter` list), the base isotropic phase a (E, ν) and the
+stiffness contrast E_b / E_a of phase b (:func:`gogreen_core.bimaterial`). "Compute" runs
+:func:`gogreen_core.homogenize_detailed` on a worker thread of a private ``QThreadPool``
+(progress reaches the bar through a queued signal); a newer request supersedes an older one,
+which stops at its next progress report. The result, optionally rotated by Euler angles
+(:meth:`gogreen_core.Material.rotated`), is shown as its 6×6 Voigt matrix with equal
+coefficients sharing a colour (:func:`gogreen_core.describe_symmetry`) and the symmetry class.
+"Use this material" emits ``material_ready(Material)``.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import threading
+from typing import Any
+
+import numpy as np
+from PySide6.QtCore import QObject, QRunnable, Qt, QThreadPool, QTimer, Signal
+from PySide6.QtGui import QBrush, QCloseEvent, QColor, QFont
+from PySide6.QtWidgets import (
+    QCheckBox,
+    QComboBox,
+    QDoubleSpinBox,
+    QFormLayout,
+    QFrame,
+    QGridLayout,
+    QGroupBox,
+    QHBoxLayout,
+    QLabel,
+    QProgressBar,
+    QPushButton,
+    QScrollArea,
+    QSlider,
+    QSpinBox,
+    QTableWidget,
+    QTableWidgetItem,
+    QVBoxLayout,
+    QWidget,
+)
+
+from app.panels.voxel_preview import PHASE_B_COLOR, SlicePreview, VoxelPreview
+from app.panels.widgets import (
+    ERROR_TEXT_STYLE,
+    ZERO_COLOR,
+    CollapsibleSection,
+    CompactTable,
+    EulerAnglesEditor,
+    NumberField,
+    mark_invalid,
+    pastel_color,
+)
+from gogreen_core import (
+    PATTERNS,
+    HomogenizationResult,
+    Material,
+    SymmetryDescription,
+    bimaterial,
+    describe_symmetry,
+    homogenize_detailed,
+    make_pattern,
+)
+
+__all__ = ["CELL_SIZE", "HomogenizationPanel"]
+
+#: Voxels per axis of the periodic cell.
+CELL_SIZE = 16
+_VOIGT_LABELS = ("11", "22", "33", "23", "13", "12")
+_CONTRAST_RANGE = (1.0, 1.0e4)
+_SLIDER_STEPS_PER_DECADE = 100
+_AUTO_DELAY_MS = 250
+
+
+class _Superseded(Exception):
+    """Raised inside the progress callback of a job that a newer request replaced."""
+
+
+class _RequestCounter:
+    """The id of the newest request, shared (thread-safely) with the worker jobs."""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._ids = itertools.count(1)
+        self._latest = 0
+
+    def next(self) -> int:
+        with self._lock:
+            self._latest = next(self._ids)
+            return self._latest
+
+    def cancel(self) -> None:
+        with self._lock:
+            self._latest = -1
+
+    def is_current(self, request: int) -> bool:
+        with self._lock:
+            return request == self._latest
+
+
+class _JobSignals(QObject):
+    """Signals of the worker jobs (emitted from the pool thread, delivered queued)."""
+
+    progress = Signal(int, float)
+    finished = Signal(int, object)
+    failed = Signal(int, str)
+    cancelled = Signal(int)
+
+
+class _HomogenizeJob(QRunnable):
+    """One homogenization on a pool thread; stops early once superseded."""
+
+    def __init__(
+        self,
+        request: int,
+        phases: np.ndarray,
+        materials: tuple[Material, Material],
+        counter: _RequestCounter,
+        signals: _JobSignals,
+    ):
+        super().__init__()
+        self.setAutoDelete(False)  # Python owns the job (kept in the panel until it reports)
+        self.request = request
+        self._phases = phases
+        self._materials = materials
+        self._counter = counter
+        self._signals = signals
+
+    def run(self) -> None:
+        request, counter, signals = self.request, self._counter, self._signals
+        if not counter.is_current(request):
+            signals.cancelled.emit(request)
+            return
+
+        def progress(fraction: float) -> None:
+            if not counter.is_current(request):
+                raise _Superseded
+            signals.progress.emit(request, float(fraction))
+
+        try:
+            result = homogenize_detailed(self._phases, self._materials, progress)
+        except _Superseded:
+            signals.cancelled.emit(request)
+        except Exception as exc:
+            signals.failed.emit(request, f"{type(exc).__name__}: {exc}")
+        else:
+            signals.finished.emit(request, result)
+
+
+class HomogenizationPanel(QWidget):
+    """Build an anisotropic Material by homogenizing a two-phase voxel pattern.
+
+    Parameters
+    ----------
+    parent : QWidget, optional
+
+    Signals
+    -------
+    material_ready(Material) : "Use this material" was pressed (the rotated result).
+    result_ready(Material) : a computation finished (or the rotation of a result changed).
+    computation_failed(str) : a computation raised; the message is also shown in the panel.
+    busy_changed(bool) : a computation started (True) or the last one ended (False).
+
+    With "Auto" checked (the default) the pattern is homogenized shortly (250 ms) after the
+    panel is created and after every change of the inputs; a rotation only re-rotates the last
+    result.
+
+    Main widgets (public for scripting and tests): ``pattern_combo``, ``parameter_widgets``
+    (name -> QDoubleSpinBox / QSpinBox / QComboBox), ``young_field``, ``poisson_field``,
+    ``contrast_field``, ``contrast_slider``, ``rotation``, ``compute_button``,
+    ``auto_compute_check``, ``progress_bar``, ``error_label``, ``status_label``,
+    ``result_table``, ``symmetry_label``, ``use_button``, ``voxel_view``, ``slice_view``.
+    """
+
+    material_ready = Signal(object)
+    result_ready = Signal(object)
+    computation_failed = Signal(str)
+    busy_changed = Signal(bool)
+
+    def __init__(self, parent: QWidget | None = None):
+        super().__init__(parent)
+        self._phases = np.zeros((CELL_SIZE,) * 3, dtype=np.int8)
+        self._detailed: HomogenizationResult | None = None
+        self._result_key: tuple | None = None
+        self._result: Material | None = None
+        self._symmetry: SymmetryDescription | None = None
+        self._pattern_error = ""
+        self._counter = _RequestCounter()
+        self._signals = _JobSignals()
+        self._signals.progress.connect(self._job_progress)
+        self._signals.finished.connect(self._job_finished)
+        self._signals.failed.connect(self._job_failed)
+        self._signals.cancelled.connect(self._job_cancelled)
+        self._jobs: dict[int, _HomogenizeJob] = {}
+        self._pending: tuple | None = None  # key of the request in flight
+        self._pool = QThreadPool()
+        self._pool.setMaxThreadCount(1)  # one solve at a time; newer requests cancel older
+        self._auto_timer = QTimer(self)
+        self._auto_timer.setSingleShot(True)
+        self._auto_timer.setInterval(_AUTO_DELAY_MS)
+        self._auto_timer.timeout.connect(self.compute)
+        self.parameter_widgets: dict[str, QWidget] = {}
+
+        outer = QVBoxLayout(self)
+        outer.setContentsMargins(0, 0, 0, 0)
+        scroll = QScrollArea()
+        scroll.setWidgetResizable(True)
+        scroll.setFrameShape(QFrame.Shape.NoFrame)
+        scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        outer.addWidget(scroll)
+        content = QWidget()
+        scroll.setWidget(content)
+        layout = QVBoxLayout(content)
+        layout.setContentsMargins(6, 6, 6, 6)
+        layout.setSpacing(6)
+        layout.addWidget(self._pattern_group())
+        layout.addWidget(self._phase_group())
+        layout.addWidget(self._rotation_group())
+        layout.addLayout(self._compute_row())
+        layout.addWidget(self._result_group())
+        layout.addStretch(1)
+
+        self._pattern_changed()
+
+    # -- construction ------------------------------------------------------------------------
+    def _pattern_group(self) -> QGroupBox:
+        box = QGroupBox("Pattern (periodic cell, 16³ voxels)")
+        layout = QVBoxLayout(box)
+        layout.setContentsMargins(6, 4, 6, 6)
+        self.pattern_combo = QComboBox()
+        for name, spec in PATTERNS.items():
+            self.pattern_combo.addItem(name.capitalize(), name)
+            self.pattern_combo.setItemData(
+                self.pattern_combo.count() - 1, spec.description, Qt.ItemDataRole.ToolTipRole
+            )
+        self.pattern_combo.currentIndexChanged.connect(self._pattern_changed)
+        layout.addWidget(self.pattern_combo)
+        self.description_label = QLabel()
+        self.description_label.setWordWrap(True)
+        self.description_label.setStyleSheet("color: #555;")
+        layout.addWidget(self.description_label)
+        self._parameter_host = QWidget()
+        self._parameter_form = QFormLayout(self._parameter_host)
+        self._parameter_form.setContentsMargins(0, 0, 0, 0)
+        layout.addWidget(self._parameter_host)
+
+        preview = QHBoxLayout()
+        self.voxel_view = VoxelPreview()
+        preview.addWidget(self.voxel_view, 3)
+        slices = QVBoxLayout()
+        self.slice_view = SlicePreview(vertical=True)
+        slices.addWidget(self.slice_view)
+        self.slice_slider = QSlider(Qt.Orientation.Horizontal)
+        self.slice_slider.setRange(0, CELL_SIZE - 1)
+        self.slice_slider.setValue(CELL_SIZE // 2)
+        self.slice_slider.setToolTip("Depth of the three slices (voxel index)")
+        self.slice_slider.valueChanged.connect(self.slice_view.set_index)
+        slices.addWidget(self.slice_slider)
+        preview.addLayout(slices, 2)
+        layout.addLayout(preview)
+        legend = QLabel(
+            f"<span style='color:{PHASE_B_COLOR.name()}'>■</span> phase b (stiff)"
+            "&nbsp;&nbsp;<span style='color:#b9c6d6'>■</span> phase a (matrix)"
+        )
+        legend.setStyleSheet("color: #555;")
+        layout.addWidget(legend)
+        return box
+
+    def _phase_group(self) -> QGroupBox:
+        box = QGroupBox("Phases")
+        grid = QGridLayout(box)
+        grid.setContentsMargins(6, 4, 6, 6)
+        grid.setHorizontalSpacing(6)
+        self.young_field = NumberField(1.0, 1e-12, 1e300, tooltip="Young's modulus of phase a")
+        self.poisson_field = NumberField(
+            0.3, -10.0, 10.0, tooltip="Poisson ratio of both phases, -1 < ν < 1/2"
+        )
+        grid.addWidget(QLabel("E of phase a"), 0, 0)
+        grid.addWidget(self.young_field, 0, 1)
+        grid.addWidget(QLabel("ν"), 0, 2, alignment=Qt.AlignmentFlag.AlignRight)
+        grid.addWidget(self.poisson_field, 0, 3)
+        grid.addWidget(QLabel("Contrast E_b/E_a"), 1, 0)
+        row = QHBoxLayout()
+        self.contrast_slider = QSlider(Qt.Orientation.Horizontal)
+        decades = math.log10(_CONTRAST_RANGE[1] / _CONTRAST_RANGE[0])
+        self.contrast_slider.setRange(0, round(decades * _SLIDER_STEPS_PER_DECADE))
+        self.contrast_slider.setToolTip("Stiffness contrast, logarithmic 1 … 10 000")
+        self.contrast_field = NumberField(100.0, *_CONTRAST_RANGE, digits=5)
+        self.contrast_field.setToolTip("Stiffness contrast E_b / E_a in [1, 10 000]")
+        row.addWidget(self.contrast_slider, 1)
+        grid.addLayout(row, 1, 1, 1, 2)
+        grid.addWidget(self.contrast_field, 1, 3)
+        grid.setColumnStretch(1, 1)
+        grid.setColumnStretch(3, 1)
+        self._sync_contrast_slider(100.0)
+        self.contrast_slider.valueChanged.connect(self._contrast_slider_moved)
+        self.contrast_field.valueChanged.connect(self._contrast_field_changed)
+        self.young_field.valueChanged.connect(self._inputs_changed)
+        self.poisson_field.valueChanged.connect(self._inputs_changed)
+        return box
+
+    def _rotation_group(self) -> CollapsibleSection:
+        self.rotation = EulerAnglesEditor()
+        self.rotation.setContentsMargins(12, 0, 0, 0)
+        self.rotation.changed.connect(self._rotation_changed)
+        section = CollapsibleSection("Rotate the result", self.rotation, expanded=False)
+        section.setToolTip(
+            "Euler angles: extrinsic rotations about the fixed x, then y, then z axes, "
+            "R = Rz(γ) Ry(β) Rx(α)"
+        )
+        section.set_summary(self.rotation.summary())
+        self.rotation_section = section
+        return section
+
+    def _compute_row(self) -> QVBoxLayout:
+        column = QVBoxLayout()
+        row = QHBoxLayout()
+        self.compute_button = QPushButton("Compute")
+        self.compute_button.setToolTip("Homogenize the pattern (runs in the background)")
+        self.compute_button.clicked.connect(self.compute)
+        self.auto_compute_check = QCheckBox("Auto")
+        self.auto_compute_check.setToolTip("Recompute shortly after every change")
+        self.auto_compute_check.setChecked(True)
+        self.auto_compute_check.toggled.connect(self._auto_toggled)
+        self.progress_bar = QProgressBar()
+        self.progress_bar.setRange(0, 1000)
+        self.progress_bar.setValue(0)
+        self.progress_bar.setTextVisible(False)
+        self.progress_bar.setMaximumHeight(14)
+        row.addWidget(self.compute_button)
+        row.addWidget(self.auto_compute_check)
+        row.addWidget(self.progress_bar, 1)
+        column.addLayout(row)
+        self.error_label = QLabel()
+        self.error_label.setWordWrap(True)
+        self.error_label.setStyleSheet(ERROR_TEXT_STYLE)
+        self.error_label.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
+        self.error_label.hide()
+        column.addWidget(self.error_label)
+        return column
+
+    def _result_group(self) -> QGroupBox:
+        box = QGroupBox("Effective stiffness (Voigt 6×6)")
+        layout = QVBoxLayout(box)
+        layout.setContentsMargins(6, 4, 6, 6)
+        self.symmetry_label = QLabel("Press Compute to homogenize the pattern.")
+        self.symmetry_label.setWordWrap(True)
+        bold = QFont(self.symmetry_label.font())
+        bold.setBold(True)
+        self.symmetry_label.setFont(bold)
+        layout.addWidget(self.symmetry_label)
+        table = CompactTable(6, 6)
+        table.setHorizontalHeaderLabels(_VOIGT_LABELS)
+        table.setVerticalHeaderLabels(_VOIGT_LABELS)
+        table.setEditTriggers(QTableWidget.EditTrigger.NoEditTriggers)
+        table.setSelectionMode(QTableWidget.SelectionMode.NoSelection)
+        table.setFocusPolicy(Qt.FocusPolicy.NoFocus)
+        table.setToolTip("Equal coefficients share a colour; grey cells are zero")
+        small = QFont(table.font())
+        small.setPointSizeF(max(7.0, small.pointSizeF() - 1.0))
+        for i in range(6):
+            for j in range(6):
+                item = QTableWidgetItem("")
+                item.setTextAlignment(Qt.AlignmentFlag.AlignCenter)
+                item.setFont(small)
+                table.setItem(i, j, item)
+        self.result_table = table
+        layout.addWidget(table)
+        self.status_label = QLabel()
+        self.status_label.setWordWrap(True)
+        self.status_label.setStyleSheet("color: #555;")
+        layout.addWidget(self.status_label)
+        self.use_button = QPushButton("Use this material")
+        self.use_button.setToolTip("Send the effective material to the Material panel and brushes")
+        self.use_button.setEnabled(False)
+        self.use_button.clicked.connect(self.use_material)
+        layout.addWidget(self.use_button)
+        return box
+
+    def _rebuild_parameter_widgets(self, name: str) -> None:
+        while self._parameter_form.rowCount():
+            self._parameter_form.removeRow(0)
+        self.parameter_widgets = {}
+        for param in PATTERNS[name].parameters:
+            widget = self._parameter_widget(param)
+            label = QLabel(param.name.capitalize())
+            label.setToolTip(param.description)
+            widget.setToolTip(param.description)
+            self._parameter_form.addRow(label, widget)
+            self.parameter_widgets[param.name] = widget
+
+    def _parameter_widget(self, param: Any) -> QWidget:
+        if param.kind == "choice":
+            widget = QComboBox()
+            for choice in param.choices:
+                widget.addItem(str(choice), choice)
+            widget.setCurrentIndex(list(param.choices).index(param.default))
+            widget.currentIndexChanged.connect(self._pattern_inputs_changed)
+            return widget
+        if param.kind == "int":
+            widget = QSpinBox()
+            widget.setRange(int(param.low), int(param.high))
+            widget.setValue(int(param.default))
+        else:
+            widget = QDoubleSpinBox()
+            widget.setDecimals(3)
+            widget.setRange(float(param.low), float(param.high))
+            widget.setSingleStep(0.05 if float(param.high) - float(param.low) >= 0.5 else 0.01)
+            widget.setValue(float(param.default))
+        widget.setKeyboardTracking(False)
+        widget.valueChanged.connect(self._pattern_inputs_changed)
+        return widget
+
+    # -- public API --------------------------------------------------------------------------
+    @property
+    def pattern_name(self) -> str:
+        """Key of the selected pattern in :data:`gogreen_core.PATTERNS`."""
+        return self.pattern_combo.currentData()
+
+    def pattern_parameters(self) -> dict[str, Any]:
+        """Current values of the selected pattern's parameters."""
+        values: dict[str, Any] = {}
+        for name, widget in self.parameter_widgets.items():
+            values[name] = widget.currentData() if isinstance(widget, QComboBox) else widget.value()
+        return values
+
+    def set_pattern(self, name: str, **params: Any) -> None:
+        """Select pattern ``name`` and set some of its parameters (others keep defaults)."""
+        if name not in PATTERNS:
+            raise ValueError(f"unknown pattern {name!r}; choose one of {list(PATTERNS)}")
+        unknown = set(params) - {p.name for p in PATTERNS[name].parameters}
+        if unknown:
+            raise ValueError(f"unknown parameter(s) {sorted(unknown)} for pattern {name!r}")
+        self.pattern_combo.blockSignals(True)
+        self.pattern_combo.setCurrentIndex(list(PATTERNS).index(name))
+        self.pattern_combo.blockSignals(False)
+        self._rebuild_parameter_widgets(name)
+        for key, value in params.items():
+            widget = self.parameter_widgets[key]
+            widget.blockSignals(True)
+            if isinstance(widget, QComboBox):
+                widget.setCurrentIndex(widget.findData(value))
+            else:
+                widget.setValue(value)
+            widget.blockSignals(False)
+        self._pattern_changed(rebuild=False)
+
+    @property
+    def phases(self) -> np.ndarray:
+        """The current (16, 16, 16) 0/1 cell (a copy)."""
+        return self._phases.copy()
+
+    @property
+    def contrast(self) -> float:
+        """Stiffness contrast E_b / E_a."""
+        return self.contrast_field.value()
+
+    def set_contrast(self, contrast: float) -> None:
+        """Set the stiffness contrast (clamped to [1, 1e4])."""
+        self.contrast_field.setValue(float(contrast))
+
+    @property
+    def result(self) -> Material | None:
+        """The displayed effective material (rotation applied), or None."""
+        return self._result
+
+    @property
+    def unrotated_result(self) -> Material | None:
+        """The effective material in the axes of the grid, or None."""
+        return None if self._detailed is None else self._detailed.material
+
+    @property
+    def symmetry(self) -> SymmetryDescription | None:
+        """Symmetry description of the displayed matrix, or None."""
+        return self._symmetry
+
+    @property
+    def is_busy(self) -> bool:
+        """Whether a computation is running or queued."""
+        return self._pending is not None
+
+    @property
+    def is_stale(self) -> bool:
+        """Whether the inputs changed since the displayed result was computed."""
+        return self._result is None or self._result_key != self._inputs_key()
+
+    @staticmethod
+    def group_color(group: int) -> QColor:
+        """Cell colour of coefficient group ``group`` (-1, the zeros, is grey)."""
+        return QColor(ZERO_COLOR) if group < 0 else pastel_color(group)
+
+    def cell_color(self, row: int, col: int) -> QColor:
+        """Background colour of result cell (row, col)."""
+        return self.result_table.item(row, col).background().color()
+
+    def compute(self) -> None:
+        """Homogenize the current pattern in the background (supersedes a running request).
+
+        Unchanged inputs reuse the last result (only the rotation is reapplied).
+        """
+        self._auto_timer.stop()
+        if self._pattern_error:
+            self._show_error(self._pattern_error)
+            return
+        try:
+            materials = bimaterial(
+                self.young_field.value(), self.poisson_field.value(), self.contrast
+            )
+        except ValueError as exc:
+            self._mark_phase_fields(str(exc))
+            self._show_error(str(exc))
+            return
+        key = self._inputs_key()
+        if self._detailed is not None and key == self._result_key:
+            self._counter.next()  # drop any request in flight
+            self._set_pending(None)
+            self._display()
+            return
+        request = self._counter.next()
+        job = _HomogenizeJob(request, self._phases.copy(), materials, self._counter, self._signals)
+        self._jobs[request] = job
+        self._set_pending(key)
+        self.progress_bar.setValue(0)
+        self._hide_error()
+        self._pool.start(job)
+
+    def cancel(self) -> None:
+        """Abandon any computation in flight (it stops at its next progress report)."""
+        self._auto_timer.stop()
+        self._counter.cancel()
+        self._set_pending(None)
+
+    def wait_for_idle(self, msecs: int = 30000) -> bool:
+        """Block until the worker thread is idle (for shutdown and tests)."""
+        return self._pool.waitForDone(msecs)
+
+    def use_material(self) -> None:
+        """Emit ``material_ready`` with the displayed result."""
+        if self._result is not None:
+            self.material_ready.emit(self._result)
+
+    def closeEvent(self, event: QCloseEvent) -> None:
+        self.cancel()
+        self._pool.waitForDone(5000)
+        super().closeEvent(event)
+
+    # -- inputs ------------------------------------------------------------------------------
+    def _inputs_key(self) -> tuple:
+        params = tuple(sorted(self.pattern_parameters().items()))
+        return (
+            self.pattern_name,
+            params,
+            self.young_field.value(),
+            self.poisson_field.value(),
+            self.contrast,
+        )
+
+    def _pattern_changed(self, *_args: Any, rebuild: bool = True) -> None:
+        name = self.pattern_name
+        if rebuild:
+            self._rebuild_parameter_widgets(name)
+        self.description_label.setText(PATTERNS[name].description)
+        self._pattern_inputs_changed()
+
+    def _pattern_inputs_changed(self, *_args: Any) -> None:
+        for widget in self.parameter_widgets.values():
+            mark_invalid(widget, False)
+        try:
+            phases = make_pattern(self.pattern_name, CELL_SIZE, **self.pattern_parameters())
+        except ValueError as exc:
+            self._pattern_error = str(exc)
+            for name, widget in self.parameter_widgets.items():
+                if name in self._pattern_error:
+                    mark_invalid(widget, True)
+            self._show_error(self._pattern_error)
+            self._update_stale_state()
+            return
+        self._pattern_error = ""
+        self._hide_error()
+        self._phases = phases
+        self.voxel_view.set_phases(phases)
+        self.slice_view.set_phases(phases)
+        self.slice_view.set_index(self.slice_slider.value())
+        self._inputs_changed()
+
+    def _inputs_changed(self, *_args: Any) -> None:
+        for field in (self.young_field, self.poisson_field, self.contrast_field):
+            mark_invalid(field, False)
+        self._update_stale_state()
+        if self.auto_compute_check.isChecked() and not self._pattern_error:
+            self._auto_timer.start()
+
+    def _auto_toggled(self, auto: bool) -> None:
+        if not auto:
+            self._auto_timer.stop()
+        elif self.is_stale and not self._pattern_error:
+            self._auto_timer.start()
+
+    def _mark_phase_fields(self, message: str) -> None:
+        if "contrast" in message:
+            mark_invalid(self.contrast_field, True)
+        if "young" in message:
+            mark_invalid(self.young_field, True)
+        if "poisson" in message:
+            mark_invalid(self.poisson_field, True)
+
+    def _sync_contrast_slider(self, contrast: float) -> None:
+        position = math.log10(max(contrast, _CONTRAST_RANGE[0]) / _CONTRAST_RANGE[0])
+        self.contrast_slider.blockSignals(True)
+        self.contrast_slider.setValue(round(position * _SLIDER_STEPS_PER_DECADE))
+        self.contrast_slider.blockSignals(False)
+
+    def _contrast_slider_moved(self, position: int) -> None:
+        contrast = _CONTRAST_RANGE[0] * 10.0 ** (position / _SLIDER_STEPS_PER_DECADE)
+        # Round to 3 significant digits so the field shows a tidy number.
+        contrast = float(f"{contrast:.3g}")
+        self.contrast_field.blockSignals(True)
+        self.contrast_field.setValue(contrast)
+        self.contrast_field.blockSignals(False)
+        self._inputs_changed()
+
+    def _contrast_field_changed(self, value: float) -> None:
+        self._sync_contrast_slider(value)
+        self._inputs_changed()
+
+    def _rotation_changed(self) -> None:
+        self.rotation_section.set_summary(self.rotation.summary())
+        if self._detailed is not None:
+            self._display()
+
+    # -- worker results ----------------------------------------------------------------------
+    def _set_pending(self, key: tuple | None) -> None:
+        was_busy = self._pending is not None
+        self._pending = key
+        busy = key is not None
+        if busy != was_busy:
+            self.busy_changed.emit(busy)
+
+    def _job_progress(self, request: int, fraction: float) -> None:
+        if self._counter.is_current(request):
+            self.progress_bar.setValue(round(1000 * fraction))
+
+    def _job_finished(self, request: int, result: HomogenizationResult) -> None:
+        self._jobs.pop(request, None)
+        if not self._counter.is_current(request) or self._pending is None:
+            return
+        self._detailed = result
+        self._result_key = self._pending
+        self._set_pending(None)
+        self.progress_bar.setValue(1000)
+        self._display()
+
+    def _job_failed(self, request: int, message: str) -> None:
+        self._jobs.pop(request, None)
+        if not self._counter.is_current(request):
+            return
+        self._set_pending(None)
+        self.progress_bar.setValue(0)
+        self._show_error(f"Homogenization failed: {message}")
+        self.computation_failed.emit(message)
+
+    def _job_cancelled(self, request: int) -> None:
+        self._jobs.pop(request, None)
+
+    # -- display -----------------------------------------------------------------------------
+    def _display(self) -> None:
+        assert self._detailed is not None
+        base = self._detailed.material
+        rotated = not self.rotation.is_identity()
+        material = base.rotated(self.rotation.rotation_matrix()) if rotated else base
+        symmetry = describe_symmetry(material)
+        self._result, self._symmetry = material, symmetry
+        voigt = material.voigt
+        for i in range(6):
+            for j in range(6):
+                item = self.result_table.item(i, j)
+                group = int(symmetry.groups[i, j])
+                item.setText("0" if group < 0 else f"{voigt[i, j]:.4g}")
+                item.setBackground(QBrush(self.group_color(group)))
+                item.setForeground(QBrush(QColor("#8a8a8a" if group < 0 else "#1a1a1a")))
+                item.setToolTip(f"C{_VOIGT_LABELS[i]},{_VOIGT_LABELS[j]} = {voigt[i, j]:.10g}")
+        text = f"Symmetry: {self._class_text(symmetry)}"
+        if rotated:
+            text += f"  (pattern axes: {self._class_text(describe_symmetry(base))})"
+        self.symmetry_label.setText(text)
+        d = self._detailed
+        iterations = "1 iteration" if d.iterations == 1 else f"{d.iterations} iterations"
+        self.status_label.setText(
+            f"{symmetry.group_count} distinct coefficients (colours) · grey = 0\n"
+            f"phase b {100 * d.fraction_b:.1f} % · {iterations} · {1000 * d.seconds:.0f} ms"
+        )
+        self._update_stale_state()
+        self.result_ready.emit(material)
+
+    @staticmethod
+    def _class_text(symmetry: SymmetryDescription) -> str:
+        if symmetry.axis:
+            return f"{symmetry.symmetry_class} about {symmetry.axis}"
+        return symmetry.symmetry_class
+
+    def _update_stale_state(self) -> None:
+        stale = self.is_stale
+        self.use_button.setEnabled(not stale)
+        self.result_table.setEnabled(not stale)
+        if self._result is not None and stale:
+            self.use_button.setToolTip("The inputs changed: compute again first")
+        else:
+            self.use_button.setToolTip(
+                "Send the effective material to the Material panel and brushes"
+            )
+
+    def _show_error(self, message: str) -> None:
+        self.error_label.setText(message)
+        self.error_label.show()
+
+    def _hide_error(self) -> None:
+        self.error_label.clear()
+        self.error_label.hide()

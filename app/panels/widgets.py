@@ -1,0 +1,320 @@
+"""Small building blocks shared by the side panels: number fields, Euler angles, colours.
+
+Nothing here computes physics; the rotation matrix of the Euler angles comes from
+``scipy.spatial.transform.Rotation`` (gogreen_core has no Euler-angle helper).
+"""
+
+from __future__ import annotations
+
+import colorsys
+import math
+
+import numpy as np
+from PySide6.QtCore import QSize, Qt, Signal
+from PySide6.QtGui import QColor, QPalette, QValidator
+from PySide6.QtWidgets import (
+    QAbstractSpinBox,
+    QDoubleSpinBox,
+    QGridLayout,
+    QHeaderView,
+    QLabel,
+    QSizePolicy,
+    QSlider,
+    QStackedWidget,
+    QTableWidget,
+    QToolButton,
+    QVBoxLayout,
+    QWidget,
+)
+from scipy.spatial.transform import Rotation
+
+__all__ = [
+    "ERROR_TEXT_STYLE",
+    "INVALID_BASE_COLOR",
+    "ZERO_COLOR",
+    "CollapsibleSection",
+    "CompactTable",
+    "EulerAnglesEditor",
+    "FitStackedWidget",
+    "NumberField",
+    "is_marked_invalid",
+    "mark_invalid",
+    "pastel_color",
+]
+
+#: Background of a field holding an invalid value.
+INVALID_BASE_COLOR = QColor("#ffd0d0")
+#: Style sheet of the error message labels.
+ERROR_TEXT_STYLE = "color: #c62828;"
+#: Cell colour of zero coefficients in the stiffness tables.
+ZERO_COLOR = QColor("#e4e4e4")
+
+_GOLDEN_RATIO_CONJUGATE = 0.618033988749895
+
+
+def pastel_color(index: int) -> QColor:
+    """A light colour for group ``index`` (0, 1, 2, ...): hues spread by the golden ratio so
+    that neighbouring indices differ strongly; black text stays readable on every one."""
+    hue = (0.08 + index * _GOLDEN_RATIO_CONJUGATE) % 1.0
+    saturation = 0.38 if index % 2 == 0 else 0.26
+    r, g, b = colorsys.hsv_to_rgb(hue, saturation, 0.98)
+    return QColor.fromRgbF(r, g, b)
+
+
+def mark_invalid(widget: QWidget, invalid: bool) -> None:
+    """Show ``widget`` as holding an invalid value (red background and text) or restore its
+    normal look.
+
+    Uses the palette, not a style sheet, so spin box arrows keep the platform style. Sets the
+    dynamic property ``invalid`` too, so tests can query it.
+    """
+    widget.setProperty("invalid", bool(invalid))
+    if invalid:
+        palette = widget.palette()
+        palette.setColor(QPalette.ColorRole.Base, INVALID_BASE_COLOR)
+        palette.setColor(QPalette.ColorRole.Text, QColor("#7a0000"))
+        widget.setPalette(palette)
+    else:
+        widget.setPalette(QPalette())  # back to the inherited palette
+
+
+def is_marked_invalid(widget: QWidget) -> bool:
+    """Whether :func:`mark_invalid` last marked ``widget`` as invalid."""
+    return bool(widget.property("invalid"))
+
+
+class CompactTable(QTableWidget):
+    """A small table shown whole: as tall as its header plus rows (no vertical scrolling),
+    columns stretched to the width. The height follows the actual font and style."""
+
+    def __init__(
+        self, rows: int, columns: int, row_height: int = 24, parent: QWidget | None = None
+    ):
+        super().__init__(rows, columns, parent)
+        self.horizontalHeader().setSectionResizeMode(QHeaderView.ResizeMode.Stretch)
+        self.horizontalHeader().setMinimumSectionSize(36)
+        self.verticalHeader().setSectionResizeMode(QHeaderView.ResizeMode.Fixed)
+        self.verticalHeader().setDefaultSectionSize(row_height)
+        self.setVerticalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        self.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+        self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
+
+    def _height(self) -> int:
+        header = self.horizontalHeader()
+        header_height = max(header.height(), header.sizeHint().height())
+        return header_height + self.verticalHeader().length() + 2 * self.frameWidth()
+
+    def sizeHint(self) -> QSize:
+        return QSize(super().sizeHint().width(), self._height())
+
+    def minimumSizeHint(self) -> QSize:
+        return QSize(super().minimumSizeHint().width(), self._height())
+
+
+class FitStackedWidget(QStackedWidget):
+    """A stacked widget as tall as its *current* page (QStackedWidget takes the largest)."""
+
+    def __init__(self, parent: QWidget | None = None):
+        super().__init__(parent)
+        self.setSizePolicy(QSizePolicy.Policy.Preferred, QSizePolicy.Policy.Maximum)
+        self.currentChanged.connect(lambda _index: self.updateGeometry())
+
+    def sizeHint(self) -> QSize:
+        page = self.currentWidget()
+        return page.sizeHint() if page is not None else super().sizeHint()
+
+    def minimumSizeHint(self) -> QSize:
+        page = self.currentWidget()
+        return page.minimumSizeHint() if page is not None else super().minimumSizeHint()
+
+
+class CollapsibleSection(QWidget):
+    """A titled section whose body folds away under an arrow button; the header can show a
+    one-line summary of the body (e.g. the current angles) while folded."""
+
+    def __init__(
+        self, title: str, body: QWidget, expanded: bool = True, parent: QWidget | None = None
+    ):
+        super().__init__(parent)
+        self._title = title
+        self._summary = ""
+        self.body = body
+        self.toggle = QToolButton()
+        self.toggle.setCheckable(True)
+        self.toggle.setToolButtonStyle(Qt.ToolButtonStyle.ToolButtonTextBesideIcon)
+        self.toggle.setAutoRaise(True)
+        self.toggle.setStyleSheet("QToolButton { border: none; font-weight: bold; }")
+        self.toggle.toggled.connect(self.set_expanded)
+        layout = QVBoxLayout(self)
+        layout.setContentsMargins(0, 0, 0, 0)
+        layout.setSpacing(2)
+        layout.addWidget(self.toggle)
+        layout.addWidget(body)
+        self.toggle.setChecked(expanded)
+        self.set_expanded(expanded)
+
+    @property
+    def expanded(self) -> bool:
+        """Whether the body is shown."""
+        return self.toggle.isChecked()
+
+    def set_expanded(self, expanded: bool) -> None:
+        """Show or fold the body."""
+        if self.toggle.isChecked() != expanded:
+            self.toggle.setChecked(expanded)  # re-enters through toggled
+            return
+        self.toggle.setArrowType(Qt.ArrowType.DownArrow if expanded else Qt.ArrowType.RightArrow)
+        self.body.setVisible(expanded)
+        self._update_text()
+
+    def set_summary(self, summary: str) -> None:
+        """Text shown after the title while the section is folded."""
+        self._summary = summary
+        self._update_text()
+
+    def _update_text(self) -> None:
+        folded = not self.toggle.isChecked() and self._summary
+        self.toggle.setText(f"{self._title}   ({self._summary})" if folded else self._title)
+
+
+class NumberField(QDoubleSpinBox):
+    """A spin box for material constants of any magnitude.
+
+    Shows up to ``digits`` significant digits (``%g``: 200, 0.3, 1.5e+09), accepts typed
+    scientific notation, steps adaptively (by about a tenth of the value's magnitude) and
+    emits ``valueChanged`` only when editing finishes or the arrows step (no keyboard
+    tracking), so a half-typed number never reaches the model.
+    """
+
+    def __init__(
+        self,
+        value: float = 0.0,
+        minimum: float = -1e300,
+        maximum: float = 1e300,
+        digits: int = 6,
+        tooltip: str = "",
+        parent: QWidget | None = None,
+    ):
+        super().__init__(parent)
+        self._digits = digits
+        self.setDecimals(15)
+        self.setRange(minimum, maximum)
+        self.setStepType(QAbstractSpinBox.StepType.AdaptiveDecimalStepType)
+        self.setKeyboardTracking(False)
+        self.setAccelerated(True)
+        self.setMinimumWidth(70)
+        self.setValue(value)
+        if tooltip:
+            self.setToolTip(tooltip)
+
+    def textFromValue(self, value: float) -> str:
+        return f"{value:.{self._digits}g}"
+
+    def valueFromText(self, text: str) -> float:
+        try:
+            return float(text.strip())
+        except ValueError:
+            return self.value()
+
+    def validate(self, text: str, pos: int) -> object:
+        stripped = text.strip()
+        try:
+            value = float(stripped)
+        except ValueError:
+            partial = stripped in ("", "-", "+", ".", "-.", "+.") or stripped[-1:] in "eE+-"
+            state = QValidator.State.Intermediate if partial else QValidator.State.Invalid
+            return state, text, pos
+        if self.minimum() <= value <= self.maximum():
+            return QValidator.State.Acceptable, text, pos
+        return QValidator.State.Intermediate, text, pos
+
+    def fixup(self, text: str) -> str:
+        return self.textFromValue(self.value())
+
+
+class EulerAnglesEditor(QWidget):
+    """Three Euler angles in degrees, each a slider plus a spin box.
+
+    Convention: extrinsic rotations about the fixed x, y and z axes, in that order, so the
+    rotation matrix is ``R = Rz(γ) · Ry(β) · Rx(α)`` (``Rotation.from_euler("xyz", ...)``).
+    ``changed`` fires on every edit, live while a slider moves.
+    """
+
+    changed = Signal()
+
+    AXES = ("x", "y", "z")
+    SYMBOLS = ("α", "β", "γ")
+
+    def __init__(self, parent: QWidget | None = None):
+        super().__init__(parent)
+        layout = QGridLayout(self)
+        layout.setContentsMargins(0, 0, 0, 0)
+        layout.setHorizontalSpacing(6)
+        layout.setVerticalSpacing(2)
+        self.sliders: list[QSlider] = []
+        self.spins: list[QDoubleSpinBox] = []
+        for row, (axis, symbol) in enumerate(zip(self.AXES, self.SYMBOLS, strict=True)):
+            label = QLabel(f"{symbol} about {axis}")
+            slider = QSlider(Qt.Orientation.Horizontal)
+            slider.setRange(-180, 180)
+            slider.setPageStep(15)
+            spin = QDoubleSpinBox()
+            spin.setRange(-180.0, 180.0)
+            spin.setDecimals(1)
+            spin.setSingleStep(5.0)
+            spin.setSuffix("°")
+            spin.setWrapping(True)
+            spin.setKeyboardTracking(False)
+            spin.setMinimumWidth(72)
+            tip = f"Rotation of the material axes about the fixed {axis} axis, degrees"
+            for widget in (label, slider, spin):
+                widget.setToolTip(tip)
+            slider.valueChanged.connect(lambda v, s=spin: self._slider_moved(s, v))
+            spin.valueChanged.connect(lambda v, s=slider: self._spin_changed(s, v))
+            layout.addWidget(label, row, 0)
+            layout.addWidget(slider, row, 1)
+            layout.addWidget(spin, row, 2)
+            self.sliders.append(slider)
+            self.spins.append(spin)
+        layout.setColumnStretch(1, 1)
+
+    def _slider_moved(self, spin: QDoubleSpinBox, value: int) -> None:
+        if round(spin.value()) != value:
+            spin.setValue(float(value))  # emits through _spin_changed
+
+    def _spin_changed(self, slider: QSlider, value: float) -> None:
+        slider.blockSignals(True)
+        slider.setValue(round(value))
+        slider.blockSignals(False)
+        self.changed.emit()
+
+    @property
+    def angles(self) -> tuple[float, float, float]:
+        """(α, β, γ) in degrees."""
+        return tuple(spin.value() for spin in self.spins)
+
+    def set_angles(self, angles: tuple[float, float, float], emit: bool = True) -> None:
+        """Set the three angles (degrees); emits ``changed`` once if ``emit``."""
+        for spin, slider, value in zip(self.spins, self.sliders, angles, strict=True):
+            for widget in (spin, slider):
+                widget.blockSignals(True)
+            spin.setValue(float(value))
+            slider.setValue(round(value))
+            for widget in (spin, slider):
+                widget.blockSignals(False)
+        if emit:
+            self.changed.emit()
+
+    def summary(self) -> str:
+        """The angles as short text, e.g. "α 0°, β 30°, γ 0°"."""
+        return ", ".join(
+            f"{symbol} {angle:g}°" for symbol, angle in zip(self.SYMBOLS, self.angles, strict=True)
+        )
+
+    def is_identity(self) -> bool:
+        """True when all three angles are zero."""
+        return all(math.isclose(a, 0.0, abs_tol=1e-12) for a in self.angles)
+
+    def rotation_matrix(self) -> np.ndarray:
+        """The (3, 3) proper rotation ``Rz(γ) Ry(β) Rx(α)``."""
+        return Rotation.from_euler("xyz", self.angles, degrees=True).as_matrix()

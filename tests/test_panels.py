@@ -1,0 +1,488 @@
+"""GUI tests of the side panels (pytest-qt). Run with QT_QPA_PLATFORM=offscreen or under Xvfb."""
+
+from __future__ import annotations
+
+import threading
+import time
+
+import numpy as np
+import pytest
+from PySide6.QtCore import QPoint, QPointF, Qt
+
+import app.panels.homogenization_panel as homogenization_module
+from app.panels import FalloffPanel, HomogenizationPanel, MaterialPanel
+from app.panels.widgets import ZERO_COLOR, is_marked_invalid
+from gogreen_core import (
+    PATTERNS,
+    GaussianRadial,
+    KelvinletRadial,
+    Material,
+    SplineRadial,
+    describe_symmetry,
+    homogenize,
+    make_pattern,
+)
+from gogreen_core.brushes import default_wrinkle_weights
+from gogreen_core.homogenization import bimaterial
+
+RESULT_TIMEOUT_MS = 30000
+
+
+# ---------------------------------------------------------------------------------------------
+# Material panel
+# ---------------------------------------------------------------------------------------------
+@pytest.fixture
+def material_panel(qtbot):
+    panel = MaterialPanel()
+    qtbot.addWidget(panel)
+    panel.resize(400, 800)
+    return panel
+
+
+def test_material_panel_emits_valid_material(qtbot, material_panel):
+    panel = material_panel
+    assert panel.material == Material.isotropic(1.0, 0.3)
+    with qtbot.waitSignal(panel.material_changed, timeout=1000) as blocker:
+        panel.set_field("young", 2.5)
+    emitted = blocker.args[0]
+    assert isinstance(emitted, Material)
+    assert emitted == Material.isotropic(2.5, 0.3)
+    assert panel.material == emitted
+    assert panel.error == ""
+    assert panel.invalid_fields() == []
+
+
+def test_invalid_poisson_shows_error_marks_field_and_keeps_material(qtbot, material_panel):
+    panel = material_panel
+    panel.show()
+    old = panel.material
+    with qtbot.assertNotEmitted(panel.material_changed):
+        panel.set_field("poisson", 0.6)
+    assert "poisson must lie in (-1, 1/2)" in panel.error
+    assert panel.error_label.isVisible()
+    assert panel.invalid_fields() == ["poisson"]
+    assert is_marked_invalid(panel.fields["poisson"])
+    assert not is_marked_invalid(panel.fields["young"])
+    assert panel.material is old
+    # A valid value clears the mark and the message, and emits.
+    with qtbot.waitSignal(panel.material_changed, timeout=1000) as blocker:
+        panel.set_field("poisson", 0.25)
+    assert blocker.args[0] == Material.isotropic(1.0, 0.25)
+    assert panel.invalid_fields() == [] and panel.error == ""
+    assert not panel.error_label.isVisible()
+
+
+def test_orthotropic_and_inadmissible_poisson_ratios(qtbot, material_panel):
+    panel = material_panel
+    panel.set_mode("orthotropic")
+    expected = Material.orthotropic(
+        young=(1.0, 1.0, 3.0), shear=(0.5, 0.5, 0.4), poisson=(0.25, 0.1, 0.1)
+    )
+    assert panel.material == expected
+    old = panel.material
+    with qtbot.assertNotEmitted(panel.material_changed):
+        panel.set_field("nu12", 1.5)  # |nu12| must stay below sqrt(E1/E2) = 1
+    assert "inadmissible orthotropic Poisson ratio" in panel.error
+    assert "nu12" in panel.invalid_fields()
+    assert "G23" not in panel.invalid_fields()
+    assert panel.material is old
+
+
+def test_lame_toggle_keeps_the_material(qtbot, material_panel):
+    panel = material_panel
+    panel.set_field("young", 2.0)
+    before = panel.material
+    panel.lame_radio.setChecked(True)
+    assert panel.fields["lam"].value() == pytest.approx(before.voigt[0, 1])
+    assert panel.fields["mu"].value() == pytest.approx(before.voigt[3, 3])
+    assert np.allclose(panel.material.voigt, before.voigt, rtol=1e-12)
+    with qtbot.assertNotEmitted(panel.material_changed):
+        panel.set_field("mu", -1.0)
+    assert panel.invalid_fields() == ["mu"]
+
+
+def test_voigt_table_is_kept_symmetric(qtbot, material_panel):
+    panel = material_panel
+    cubic = Material.cubic(3.0, 1.5, 0.4)
+    with qtbot.assertNotEmitted(panel.material_changed):
+        panel.set_material(cubic)
+    assert panel.mode == "voigt" and panel.material is cubic
+    assert panel.voigt_table.item(0, 1).text() == "1.5"
+
+    with qtbot.waitSignal(panel.material_changed, timeout=1000) as blocker:
+        panel.set_voigt_entry(0, 4, "0.2")
+    assert panel.voigt_table.item(4, 0).text() == "0.2"
+    entries = panel.voigt_entries()
+    assert entries[0, 4] == entries[4, 0] == 0.2
+    assert np.array_equal(entries, entries.T)
+    assert blocker.args[0].voigt[4, 0] == pytest.approx(0.2)
+
+    # Not positive definite: the table is marked, the material stays.
+    old = panel.material
+    with qtbot.assertNotEmitted(panel.material_changed):
+        panel.set_voigt_entry(1, 0, "10")
+    assert panel.voigt_table.item(0, 1).text() == "10"
+    assert "not positive definite" in panel.error
+    assert panel.invalid_fields() == ["voigt"]
+    assert panel.material is old
+    # Not a number.
+    with qtbot.assertNotEmitted(panel.material_changed):
+        panel.set_voigt_entry(2, 2, "abc")
+    assert "not a number" in panel.error
+    assert panel.voigt_table.item(2, 2).text() == "3"  # the stored value is put back
+    # A valid entry clears the marks.
+    with qtbot.waitSignal(panel.material_changed, timeout=1000) as blocker:
+        panel.set_voigt_entry(0, 1, "1.4")
+    assert blocker.args[0].voigt[1, 0] == pytest.approx(1.4)
+    assert panel.invalid_fields() == [] and panel.error == ""
+
+
+def test_glyph_follows_the_material_and_rotation(qtbot, material_panel):
+    panel = material_panel
+    glyph = panel.glyph
+    low, high = glyph.young_range
+    assert high == pytest.approx(low)  # isotropic: a sphere
+    revision = glyph.revision
+    panel.set_mode("transversely_isotropic")  # E_z = 3 E_p by default
+    assert glyph.revision > revision
+    low, high = glyph.young_range
+    assert high / low == pytest.approx(3.0, rel=0.02)
+    axial = panel.material.directional_young(np.array([[0.0, 0.0, 1.0]]))[0]
+
+    radii = glyph.radii
+    with qtbot.waitSignal(panel.material_changed, timeout=1000) as blocker:
+        panel.rotation.set_angles((90.0, 0.0, 0.0))  # the stiff axis z turns onto y
+    rotated = blocker.args[0]
+    assert rotated.directional_young(np.array([[0.0, 1.0, 0.0]]))[0] == pytest.approx(axial)
+    assert panel.base_material != rotated
+    assert not np.allclose(glyph.radii, radii)
+    panel.show()
+    image = glyph.grab().toImage()
+    colors = {image.pixel(x, y) for x in range(0, image.width(), 3) for y in range(image.height())}
+    assert len(colors) > 20  # a shaded surface, not a blank widget
+
+
+# ---------------------------------------------------------------------------------------------
+# Homogenization panel
+# ---------------------------------------------------------------------------------------------
+@pytest.fixture
+def homogenization_panel(qtbot):
+    panel = HomogenizationPanel()
+    qtbot.addWidget(panel)
+    panel.auto_compute_check.setChecked(False)
+    panel.resize(400, 900)
+    yield panel
+    panel.cancel()
+    panel.wait_for_idle()
+
+
+def _wait_idle(qtbot, panel):
+    qtbot.waitUntil(lambda: not panel.is_busy, timeout=RESULT_TIMEOUT_MS)
+
+
+def test_pattern_widgets_follow_the_specs(qtbot, homogenization_panel):
+    panel = homogenization_panel
+    for name, spec in PATTERNS.items():
+        panel.set_pattern(name)
+        assert list(panel.parameter_widgets) == [p.name for p in spec.parameters]
+        defaults = {p.name: p.default for p in spec.parameters}
+        assert panel.pattern_parameters() == defaults
+        assert np.array_equal(panel.voxel_view.phases, make_pattern(name, 16, **defaults))
+    panel.set_pattern("fibers", axis="x", fraction=0.2)
+    assert panel.pattern_parameters()["axis"] == "x"
+    assert np.array_equal(panel.phases, make_pattern("fibers", 16, axis="x", fraction=0.2))
+    # Contrast slider (logarithmic) and field stay in sync.
+    panel.contrast_slider.setValue(300)
+    assert panel.contrast == pytest.approx(1000.0)
+    panel.set_contrast(10.0)
+    assert panel.contrast_slider.value() == 100
+
+
+def test_homogenizes_a_laminate_off_the_gui_thread(qtbot, homogenization_panel, monkeypatch):
+    panel = homogenization_panel
+    threads = []
+    real = homogenization_module.homogenize_detailed
+
+    def recording(*args, **kwargs):
+        threads.append(threading.current_thread())
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(homogenization_module, "homogenize_detailed", recording)
+    panel.set_pattern("layered", normal="z", fraction=0.5)
+    panel.set_contrast(100.0)
+    assert not panel.use_button.isEnabled()
+    with qtbot.waitSignal(panel.result_ready, timeout=RESULT_TIMEOUT_MS) as blocker:
+        panel.compute()
+        assert panel.is_busy  # compute() returned at once: the solve runs in the pool
+    assert threads and threads[0] is not threading.main_thread()
+    assert not panel.is_busy
+    assert panel.progress_bar.value() == panel.progress_bar.maximum()
+    result = blocker.args[0]
+    assert isinstance(result, Material) and result is panel.result
+    reference = homogenize(make_pattern("layered", 16, normal="z"), bimaterial(contrast=100.0))
+    assert np.allclose(result.voigt, reference.voigt, rtol=1e-8, atol=1e-10)
+
+    symmetry = panel.symmetry
+    assert symmetry.symmetry_class == "transversely isotropic" and symmetry.axis == "z"
+    assert "transversely isotropic about z" in panel.symmetry_label.text()
+    groups = symmetry.groups
+    colors = {(i, j): panel.cell_color(i, j).name() for i in range(6) for j in range(6)}
+    for (i, j), color in colors.items():
+        if groups[i, j] < 0:
+            assert color == ZERO_COLOR.name()
+        for (k, m), other in colors.items():
+            assert (color == other) == (groups[i, j] == groups[k, m])
+    assert len({c for c in colors.values()} - {ZERO_COLOR.name()}) == symmetry.group_count
+
+    assert panel.use_button.isEnabled()
+    with qtbot.waitSignal(panel.material_ready, timeout=1000) as ready:
+        panel.use_button.click()
+    assert ready.args[0] is panel.result
+
+
+def test_rotating_the_result_needs_no_recompute(qtbot, homogenization_panel):
+    panel = homogenization_panel
+    panel.set_pattern("layered", normal="z")
+    with qtbot.waitSignal(panel.result_ready, timeout=RESULT_TIMEOUT_MS):
+        panel.compute()
+    unrotated = panel.result
+    with qtbot.waitSignal(panel.result_ready, timeout=1000) as blocker:
+        panel.rotation.set_angles((90.0, 0.0, 0.0))
+    assert not panel.is_busy
+    rotated = blocker.args[0]
+    assert panel.unrotated_result == unrotated
+    assert describe_symmetry(rotated).axis == "y"  # Rx(90°) turns the layer normal onto y
+    assert panel.symmetry.symmetry_class == "transversely isotropic"
+    assert "pattern axes: transversely isotropic about z" in panel.symmetry_label.text()
+
+
+def test_newer_request_supersedes_an_older_one(qtbot, homogenization_panel, monkeypatch):
+    panel = homogenization_panel
+    real = homogenization_module.homogenize_detailed
+    outcomes = []
+
+    started = threading.Event()
+
+    def slow(phases, materials, progress=None, **kwargs):
+        started.set()
+        time.sleep(0.3)  # the second request arrives while the first is here
+        try:
+            result = real(phases, materials, progress, **kwargs)
+        except Exception as exc:
+            outcomes.append(type(exc).__name__)
+            raise
+        outcomes.append("done")
+        return result
+
+    monkeypatch.setattr(homogenization_module, "homogenize_detailed", slow)
+    results = []
+    panel.result_ready.connect(results.append)
+    panel.set_pattern("checkerboard")
+    panel.set_contrast(10.0)
+    panel.compute()
+    assert started.wait(10.0)
+    panel.set_contrast(1000.0)
+    panel.compute()
+    _wait_idle(qtbot, panel)
+    panel.wait_for_idle()
+    assert outcomes == ["_Superseded", "done"]
+    assert len(results) == 1
+    expected = real(make_pattern("checkerboard", 16), bimaterial(contrast=1000.0)).material
+    assert np.allclose(results[0].voigt, expected.voigt, rtol=1e-7)
+    assert panel.symmetry.symmetry_class == "cubic"
+
+
+def test_homogenization_errors_are_shown(qtbot, homogenization_panel, monkeypatch):
+    panel = homogenization_panel
+
+    def failing(*args, **kwargs):
+        raise RuntimeError("homogenization CG did not converge in 2000 iterations")
+
+    monkeypatch.setattr(homogenization_module, "homogenize_detailed", failing)
+    with qtbot.waitSignal(panel.computation_failed, timeout=RESULT_TIMEOUT_MS) as blocker:
+        panel.compute()
+    assert "did not converge" in blocker.args[0]
+    assert "did not converge" in panel.error_label.text()
+    assert not panel.error_label.isHidden()
+    assert panel.result is None and not panel.use_button.isEnabled()
+
+
+# ---------------------------------------------------------------------------------------------
+# Falloff panel
+# ---------------------------------------------------------------------------------------------
+@pytest.fixture
+def falloff_panel(qtbot):
+    panel = FalloffPanel()
+    qtbot.addWidget(panel)
+    panel.resize(400, 900)
+    panel.show()
+    qtbot.waitExposed(panel)
+    return panel
+
+
+def _count(signal) -> list:
+    calls: list = []
+    signal.connect(lambda *args: calls.append(args))
+    return calls
+
+
+def test_drag_a_control_point(qtbot, falloff_panel):
+    panel = falloff_panel
+    editor = panel.editor
+    assert editor.active_key == ("R", 0)
+    changes = _count(panel.falloff_changed)
+    finished = _count(panel.editing_finished)
+    rho, value = editor.control_points()
+    index = int(np.searchsorted(rho, 1.0))
+    version = panel.radial.version
+    before = panel.radial.dimensionless("R", 0, np.array([1.0]))[0]
+
+    start = editor.point_position(index).toPoint()
+    qtbot.mousePress(editor, Qt.MouseButton.LeftButton, pos=start)
+    assert editor.selected_index == index
+    qtbot.mouseMove(editor, pos=start + QPoint(0, -15))
+    qtbot.mouseMove(editor, pos=start + QPoint(0, -40))
+    qtbot.mouseRelease(editor, Qt.MouseButton.LeftButton, pos=start + QPoint(0, -40))
+
+    new_rho, new_value = editor.control_points()
+    assert new_value[index] > value[index] + 0.05
+    assert new_rho[index] == pytest.approx(rho[index], abs=0.05)
+    assert panel.radial.dimensionless("R", 0, np.array([1.0]))[0] > before
+    assert panel.radial.version > version
+    assert len(changes) >= 2  # live while dragging
+    assert len(finished) == 1  # once, at the release
+    assert panel.radial.eps == 1.0
+
+
+def test_point_at_rho_zero_is_pinned_for_l_at_least_1(qtbot, falloff_panel):
+    panel = falloff_panel
+    panel.curve_combo.setCurrentIndex(
+        panel.curve_combo.findText("R₂", Qt.MatchFlag.MatchStartsWith)
+    )
+    editor = panel.editor
+    assert editor.active_key == ("R", 2)
+    start = editor.point_position(0).toPoint()
+    qtbot.mousePress(editor, Qt.MouseButton.LeftButton, pos=start)
+    qtbot.mouseMove(editor, pos=start + QPoint(20, -50))
+    qtbot.mouseRelease(editor, Qt.MouseButton.LeftButton, pos=start + QPoint(20, -50))
+    rho, value = editor.control_points()
+    assert rho[0] == 0.0 and value[0] == 0.0
+
+
+def test_add_and_remove_points(qtbot, falloff_panel):
+    panel = falloff_panel
+    editor = panel.editor
+    changes = _count(panel.falloff_changed)
+    count = len(editor.control_points()[0])
+
+    # Double-click on empty space adds a point there.
+    target = editor.to_screen(4.5, 1.2)
+    qtbot.mouseDClick(editor, Qt.MouseButton.LeftButton, pos=target.toPoint())
+    rho, value = editor.control_points()
+    assert len(rho) == count + 1
+    added = int(np.argmin(np.abs(rho - 4.5)))
+    assert rho[added] == pytest.approx(4.5, abs=0.05)
+    assert value[added] == pytest.approx(1.2, abs=0.05)
+    assert changes
+
+    # Ctrl + click adds too.
+    ctrl_target = editor.to_screen(5.5, 0.9).toPoint()
+    qtbot.mouseClick(
+        editor, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.ControlModifier, ctrl_target
+    )
+    assert len(editor.control_points()[0]) == count + 2
+
+    # Right click on a point removes it.
+    qtbot.mouseClick(editor, Qt.MouseButton.RightButton, pos=editor.point_position(added).toPoint())
+    rho, _ = editor.control_points()
+    assert len(rho) == count + 1
+    assert np.min(np.abs(rho - 4.5)) > 0.05
+
+    # Select + Delete removes the selected point.
+    qtbot.mouseClick(editor, Qt.MouseButton.LeftButton, pos=editor.point_position(3).toPoint())
+    assert editor.selected_index == 3
+    qtbot.keyClick(editor, Qt.Key.Key_Delete)
+    assert len(editor.control_points()[0]) == count
+
+    # The point at rho = 0 stays, with an explanation.
+    qtbot.mouseClick(editor, Qt.MouseButton.RightButton, pos=editor.point_position(0).toPoint())
+    assert len(editor.control_points()[0]) == count
+    assert "cannot be removed" in panel.message_label.text()
+
+
+def test_reset_to_gaussian(qtbot, falloff_panel):
+    panel = falloff_panel
+    radial = panel.radial
+    radial_points = panel.editor.control_points()
+    panel.editor.add_point_at(2.2, 3.0)
+    panel.reset_to_kelvinlet()
+    rho = np.linspace(0.0, 8.0, 17)
+    kelvinlet = KelvinletRadial(1.0)
+    assert np.allclose(
+        radial.dimensionless("R", 0, rho[1:]), kelvinlet.dimensionless("R", 0, rho[1:]), rtol=0.05
+    )
+    version = radial.version
+    with qtbot.waitSignal(panel.falloff_changed, timeout=1000):
+        panel.reset_gaussian_button.click()
+    assert panel.radial is radial  # edited in place: one SplineRadial for the panel's life
+    assert radial.version > version
+    gaussian = SplineRadial.from_profile(GaussianRadial(1.0), panel.l_max)
+    for key in gaussian.curve_keys():
+        assert np.allclose(radial.dimensionless(*key, rho), gaussian.dimensionless(*key, rho))
+    assert np.array_equal(panel.editor.control_points()[0], radial_points[0])
+
+
+def test_l_max_and_degree_weights(qtbot, falloff_panel):
+    panel = falloff_panel
+    assert panel.l_max == 8
+    assert np.array_equal(panel.degree_weights, np.ones(9))
+    with qtbot.waitSignal(panel.falloff_changed, timeout=1000):
+        panel.l_max_spin.setValue(12)
+    assert panel.l_max == 12
+    assert panel.degree_weights.shape == (13,)
+    keys = panel.radial.curve_keys()
+    assert ("R", 12) in keys and ("dR", 13) in keys
+    assert panel.curve_combo.count() == 14  # R0..R12 (7) and ℛ1..ℛ13 (7)
+
+    with qtbot.waitSignal(panel.falloff_changed, timeout=1000):
+        panel.weight_spins[3].setValue(2.5)
+    assert panel.degree_weights[3] == 2.5
+    panel.l_max_spin.setValue(4)
+    assert np.array_equal(panel.degree_weights, [1.0, 1.0, 1.0, 2.5, 1.0])
+    panel.weights_boost_button.click()
+    assert np.array_equal(panel.degree_weights, default_wrinkle_weights(4))
+    panel.weights_one_button.click()
+    assert np.array_equal(panel.degree_weights, np.ones(5))
+
+    # Loading a falloff: any profile, l_max and weights; nothing is emitted.
+    with qtbot.assertNotEmitted(panel.falloff_changed):
+        panel.set_falloff(KelvinletRadial(0.3), 6, [0, 1, 2, 3, 4, 5, 6])
+    assert panel.l_max == 6 and panel.radial.eps == 1.0
+    assert np.array_equal(panel.degree_weights, np.arange(7.0))
+    rho = np.array([0.5, 1.0, 3.0])
+    assert np.allclose(
+        panel.radial.dimensionless("dR", 7, rho),
+        KelvinletRadial(1.0).dimensionless("dR", 7, rho),
+        rtol=1e-3,
+    )
+    with pytest.raises(ValueError, match="degree_weights"):
+        panel.set_degree_weights([1.0, 2.0])
+
+
+def test_curve_selector_and_shown_curves(qtbot, falloff_panel):
+    panel = falloff_panel
+    editor = panel.editor
+    assert editor.visible_keys == [("R", 2), ("R", 0)]
+    panel.show_checks[("dR", 1)].setChecked(True)
+    panel.show_checks[("R", 2)].setChecked(False)
+    assert set(editor.visible_keys) == {("R", 0), ("dR", 1)}
+    panel.curve_combo.setCurrentIndex(
+        panel.curve_combo.findText("ℛ₃", Qt.MatchFlag.MatchStartsWith)
+    )
+    assert editor.active_key == ("dR", 3)
+    assert editor.visible_keys[-1] == ("dR", 3)
+    # Clicking a handle of another shown curve makes it the edited one, and the combo follows.
+    point = QPointF(editor.to_screen(*[float(v[2]) for v in panel.radial.curve("dR", 1)]))
+    qtbot.mouseClick(editor, Qt.MouseButton.LeftButton, pos=point.toPoint())
+    assert editor.active_key == ("dR", 1)
+    assert panel.curve_combo.currentText().startswith("ℛ₁")
