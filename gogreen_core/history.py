@@ -1,8 +1,8 @@
 """Undo/redo of vertex edits, storing only the vertices an operation moved.
 
 Each entry keeps the indices (K,) and the positions before and after (K, 3) of the moved
-vertices, so undo and redo copy exact float64 values back: positions are restored bit for bit.
-A memory cap drops the oldest entries first.
+vertices. Undo and redo copy those float64 values back, so positions are restored bit for bit
+(no ``before + delta`` arithmetic). A memory cap drops the oldest entries first.
 """
 
 from __future__ import annotations
@@ -13,11 +13,14 @@ import numpy as np
 
 __all__ = ["History"]
 
+#: Default memory cap of a :class:`History`, in bytes (512 MiB).
+DEFAULT_MAX_BYTES = 512 * 2**20
+
 
 @dataclass(frozen=True)
 class _Entry:
     label: str
-    indices: np.ndarray  # (K,) int64
+    indices: np.ndarray  # (K,) int64, unique
     before: np.ndarray  # (K, 3) float64
     after: np.ndarray  # (K, 3) float64
 
@@ -27,77 +30,162 @@ class _Entry:
 
 
 class History:
-    """Undo and redo stacks of vertex edits with a memory cap (bytes)."""
+    """Undo and redo stacks of vertex edits, with a memory cap.
 
-    def __init__(self, max_bytes: int = 512 * 2**20):
+    Parameters
+    ----------
+    max_bytes : int
+        Cap on the memory the stored positions and indices take (bytes, > 0; default
+        512 MiB). Recording past the cap drops the oldest undo entries. The newest entry is
+        always kept, even if it alone exceeds the cap, so the last operation can be undone.
+
+    Notes
+    -----
+    The engine records after each operation; :meth:`undo` and :meth:`redo` write into the
+    engine's own (N, 3) float64 vertex array in place.
+    """
+
+    def __init__(self, max_bytes: int = DEFAULT_MAX_BYTES) -> None:
         if not max_bytes > 0:
             raise ValueError(f"history memory cap must be > 0 bytes (got {max_bytes!r})")
         self.max_bytes = int(max_bytes)
-        self._undo: list[_Entry] = []
-        self._redo: list[_Entry] = []
+        self._undo: list[_Entry] = []  # oldest first
+        self._redo: list[_Entry] = []  # next to redo last
+        self._bytes = 0
 
+    # -- state ---------------------------------------------------------------------------------
     @property
     def can_undo(self) -> bool:
+        """True when there is an operation to undo."""
         return bool(self._undo)
 
     @property
     def can_redo(self) -> bool:
+        """True when there is an undone operation to redo."""
         return bool(self._redo)
 
     @property
     def undo_labels(self) -> list[str]:
-        """Labels of the undoable operations, oldest first."""
+        """Labels of the undoable operations, oldest first (the last one is undone next)."""
         return [e.label for e in self._undo]
 
     @property
     def redo_labels(self) -> list[str]:
-        """Labels of the redoable operations, next first."""
+        """Labels of the redoable operations, the one redone next first."""
         return [e.label for e in reversed(self._redo)]
 
     @property
     def memory_bytes(self) -> int:
-        return sum(e.nbytes for e in self._undo + self._redo)
+        """Bytes held by all entries (indices and positions, undo and redo)."""
+        return self._bytes
 
     def clear(self) -> None:
+        """Forget every entry."""
         self._undo.clear()
         self._redo.clear()
+        self._bytes = 0
 
+    # -- recording -----------------------------------------------------------------------------
     def record(
         self, label: str, indices: np.ndarray, before: np.ndarray, after: np.ndarray
     ) -> None:
-        """Record that vertices ``indices`` (K,) went from ``before`` to ``after`` (K, 3).
-        Clears the redo stack; an empty change is not recorded."""
+        """Record that vertices ``indices`` moved from ``before`` to ``after``.
+
+        Parameters
+        ----------
+        label : str
+            Name of the operation, returned by undo/redo (e.g. ``"grab stroke"``).
+        indices : (K,) int
+            Distinct, non-negative vertex indices.
+        before, after : (K, 3) float
+            Their positions before and after the operation (copied).
+
+        An empty change (K = 0) is not recorded and leaves the redo stack alone; otherwise the
+        redo stack is dropped and the oldest entries are evicted past the memory cap.
+        """
         idx = np.array(indices, dtype=np.int64).reshape(-1)
-        b = np.array(before, dtype=np.float64).reshape(-1, 3)
-        a = np.array(after, dtype=np.float64).reshape(-1, 3)
-        if not len(idx) == len(b) == len(a):
-            raise ValueError("history record needs as many before/after rows as indices")
+        b = np.array(before, dtype=np.float64)
+        a = np.array(after, dtype=np.float64)
+        if b.shape != (len(idx), 3) or a.shape != (len(idx), 3):
+            raise ValueError(
+                f"history record {label!r}: before {b.shape} and after {a.shape} must both "
+                f"have shape ({len(idx)}, 3) to match the indices"
+            )
         if len(idx) == 0:
             return
-        self._redo.clear()
-        self._undo.append(_Entry(label, idx, b, a))
-        while len(self._undo) > 1 and self.memory_bytes > self.max_bytes:
-            self._undo.pop(0)
+        if idx.min() < 0:
+            raise ValueError(f"history record {label!r}: negative vertex index {idx.min()}")
+        if len(np.unique(idx)) != len(idx):
+            raise ValueError(f"history record {label!r}: repeated vertex indices")
+        self._redo_drop()
+        entry = _Entry(str(label), idx, b, a)
+        self._undo.append(entry)
+        self._bytes += entry.nbytes
+        while len(self._undo) > 1 and self._bytes > self.max_bytes:
+            self._bytes -= self._undo.pop(0).nbytes
 
     def record_change(self, label: str, before: np.ndarray, after: np.ndarray) -> None:
-        """Record the rows that differ between two full (N, 3) vertex arrays."""
-        changed = np.flatnonzero(np.any(before != after, axis=1))
-        self.record(label, changed, before[changed], after[changed])
+        """Record the rows that differ between two full vertex arrays.
 
+        Parameters
+        ----------
+        label : str
+            Name of the operation.
+        before, after : (N, 3) float64
+            All positions before and after the operation. Rows are compared bit for bit, so
+            ``0.0`` → ``-0.0`` counts as a change and an unchanged NaN does not.
+        """
+        b = np.ascontiguousarray(before, dtype=np.float64)
+        a = np.ascontiguousarray(after, dtype=np.float64)
+        if b.ndim != 2 or b.shape[1:] != (3,) or a.shape != b.shape:
+            raise ValueError(
+                f"history record {label!r}: before {b.shape} and after {a.shape} must both "
+                "have shape (N, 3)"
+            )
+        changed = np.flatnonzero(np.any(b.view(np.uint64) != a.view(np.uint64), axis=1))
+        self.record(label, changed, b[changed], a[changed])
+
+    # -- undo / redo ---------------------------------------------------------------------------
     def undo(self, vertices: np.ndarray) -> str | None:
-        """Restore ``vertices`` (N, 3) in place to before the last entry; its label or None."""
+        """Put ``vertices`` (N, 3) float64 back, in place, as before the last operation.
+
+        Returns its label, or None when there is nothing to undo.
+        """
         if not self._undo:
             return None
-        entry = self._undo.pop()
+        entry = self._undo[-1]
+        self._check_target(vertices, entry)
         vertices[entry.indices] = entry.before
-        self._redo.append(entry)
+        self._redo.append(self._undo.pop())
         return entry.label
 
     def redo(self, vertices: np.ndarray) -> str | None:
-        """Re-apply the last undone entry to ``vertices`` in place; its label or None."""
+        """Re-apply the last undone operation to ``vertices`` (N, 3) float64, in place.
+
+        Returns its label, or None when there is nothing to redo.
+        """
         if not self._redo:
             return None
-        entry = self._redo.pop()
+        entry = self._redo[-1]
+        self._check_target(vertices, entry)
         vertices[entry.indices] = entry.after
-        self._undo.append(entry)
+        self._undo.append(self._redo.pop())
         return entry.label
+
+    # -- helpers -------------------------------------------------------------------------------
+    def _redo_drop(self) -> None:
+        self._bytes -= sum(e.nbytes for e in self._redo)
+        self._redo.clear()
+
+    @staticmethod
+    def _check_target(vertices: np.ndarray, entry: _Entry) -> None:
+        """Refuse (before touching anything) an array the entry cannot be restored into."""
+        if not isinstance(vertices, np.ndarray) or vertices.dtype != np.float64:
+            raise TypeError("undo/redo writes into a float64 numpy array of vertices")
+        if vertices.ndim != 2 or vertices.shape[1] != 3:
+            raise ValueError(f"vertices must have shape (N, 3), got {vertices.shape}")
+        if entry.indices.max() >= len(vertices):
+            raise ValueError(
+                f"{entry.label!r} moved vertex {int(entry.indices.max())} but the array has "
+                f"{len(vertices)} vertices"
+            )

@@ -1,29 +1,92 @@
-"""Procedural meshes (plain arrays out): spheres for tests and the app's default model.
+"""Procedural meshes as plain arrays: icospheres, and the model the app opens on start.
 
-The default model is generated, not shipped: a subdivided icosahedron pushed along its normals
-by a few smooth low-frequency bumps into an organic pebble, then stretched. It takes ~0.2 s,
-is deterministic, closed and outward oriented, with well-shaped triangles everywhere.
+The default model is generated, not shipped as a file: a subdivided icosahedron pushed along
+its radii by a few smooth, low-frequency bumps into an organic pebble, then stretched a little.
+It takes about 0.02 s, so a script writing ``resources/default_model.ply`` would only add a
+file to keep in sync. The icosphere is built here rather than taken from trimesh so that the
+default model (whose SHA-256 a recorded session stores) cannot change with a trimesh release.
 """
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
-import trimesh
 
 __all__ = ["default_model", "icosphere"]
 
 
+def _icosahedron() -> tuple[np.ndarray, np.ndarray]:
+    """Unit icosahedron: vertices (12, 3) on the unit sphere, outward faces (20, 3)."""
+    phi = (1.0 + np.sqrt(5.0)) / 2.0
+    corners = []
+    for s, t in itertools.product((-1.0, 1.0), repeat=2):  # cyclic permutations of (0, ±1, ±φ)
+        corners += [(0.0, s, t * phi), (s, t * phi, 0.0), (t * phi, 0.0, s)]
+    vertices = np.array(corners)
+    # The faces are the triples of mutual nearest neighbours (edge length 2 before scaling).
+    faces = []
+    for a, b, c in itertools.combinations(range(12), 3):
+        sides = [np.linalg.norm(vertices[i] - vertices[j]) for i, j in ((a, b), (b, c), (c, a))]
+        if np.allclose(sides, 2.0):
+            normal = np.cross(vertices[b] - vertices[a], vertices[c] - vertices[a])
+            faces.append((a, b, c) if normal @ vertices[a] > 0 else (a, c, b))
+    return vertices / np.linalg.norm(vertices, axis=1, keepdims=True), np.array(faces)
+
+
+def _subdivide(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Split each triangle in four at its edge midpoints, projected onto the unit sphere.
+
+    Old vertices keep their indices; each edge's midpoint is shared by its two triangles.
+    Orientation is kept: corner triangles and the middle one turn the same way as the parent.
+    """
+    n, m = len(vertices), len(faces)
+    edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    ends = np.sort(edges, axis=1)
+    keys, inverse = np.unique(ends[:, 0] * n + ends[:, 1], return_inverse=True)
+    midpoints = vertices[keys // n] + vertices[keys % n]
+    midpoints /= np.linalg.norm(midpoints, axis=1, keepdims=True)
+    ab, bc, ca = (n + inverse.reshape(-1)[k * m : (k + 1) * m] for k in range(3))
+    a, b, c = faces.T
+    children = np.stack(
+        [
+            np.stack([a, ab, ca], axis=1),
+            np.stack([b, bc, ab], axis=1),
+            np.stack([c, ca, bc], axis=1),
+            np.stack([ab, bc, ca], axis=1),
+        ],
+        axis=1,
+    ).reshape(-1, 3)
+    return np.concatenate([vertices, midpoints]), children
+
+
 def icosphere(subdivisions: int = 4, radius: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
-    """Closed, outward-oriented sphere: vertices (10·4^s + 2, 3) float64, faces (20·4^s, 3)."""
-    if not 0 <= int(subdivisions) <= 8:
-        raise ValueError(f"subdivisions must lie in [0, 8] (got {subdivisions})")
+    """A closed, outward-oriented sphere of near-equilateral triangles.
+
+    Parameters
+    ----------
+    subdivisions : int
+        Times each triangle of an icosahedron is split in four, 0 to 8.
+    radius : float
+        Sphere radius (length units), finite and > 0.
+
+    Returns
+    -------
+    vertices : (10·4^s + 2, 3) float64
+        All at distance ``radius`` from the origin.
+    faces : (20·4^s, 3) int64
+        Counter-clockwise seen from outside (normals point away from the origin).
+    """
+    if int(subdivisions) != subdivisions or not 0 <= subdivisions <= 8:
+        raise ValueError(f"subdivisions must be an integer in [0, 8] (got {subdivisions!r})")
     if not (np.isfinite(radius) and radius > 0):
-        raise ValueError(f"radius must be finite and > 0 (got {radius})")
-    mesh = trimesh.creation.icosphere(subdivisions=int(subdivisions), radius=float(radius))
-    return np.array(mesh.vertices, dtype=np.float64), np.array(mesh.faces, dtype=np.int64)
+        raise ValueError(f"radius must be finite and > 0 (got {radius!r})")
+    vertices, faces = _icosahedron()
+    for _ in range(int(subdivisions)):
+        vertices, faces = _subdivide(vertices, faces)
+    return vertices * float(radius), faces.astype(np.int64)
 
 
-# (direction, amplitude, angular width) of the bumps of the default model
+# (direction, relative amplitude, angular width in radians) of the default model's bumps
 _BUMPS = (
     ((0.0, 0.0, 1.0), 0.22, 0.55),
     ((0.8, 0.3, 0.5), 0.12, 0.45),
@@ -31,16 +94,33 @@ _BUMPS = (
     ((0.1, -0.9, 0.3), 0.08, 0.40),
     ((-0.3, -0.4, -0.85), -0.10, 0.70),
 )
+_STRETCH = (1.15, 1.0, 0.9)
 
 
 def default_model(subdivisions: int = 6) -> tuple[np.ndarray, np.ndarray]:
-    """The app's start-up model (40,962 vertices at the default 6 subdivisions), centered at
-    the origin, about 2 units across: vertices (N, 3), faces (M, 3)."""
-    vertices, faces = icosphere(subdivisions)
-    radius = np.ones(len(vertices))
+    """The smooth pebble the app opens on start.
+
+    Each vertex of an icosphere moves along its radius by a sum of smooth Gaussian bumps of
+    the angle to a few fixed directions; the radius stays above 0.9, so the surface is
+    star-shaped and cannot self-intersect. The result is stretched by (1.15, 1, 0.9) and its
+    bounding box centred at the origin. Deterministic: same arrays on every call.
+
+    Parameters
+    ----------
+    subdivisions : int
+        Icosphere subdivisions; 6 (the default) gives 40,962 vertices and 81,920 faces.
+
+    Returns
+    -------
+    vertices : (N, 3) float64
+        About 2.4 × 2.1 × 1.9 units across, centred at the origin.
+    faces : (M, 3) int64
+        Closed, outward oriented.
+    """
+    sphere, faces = icosphere(subdivisions)
+    radius = np.ones(len(sphere))
     for direction, amplitude, width in _BUMPS:
         d = np.asarray(direction) / np.linalg.norm(direction)
-        cos_angle = vertices @ d
-        radius += amplitude * np.exp((cos_angle - 1.0) / width**2)
-    shaped = vertices * radius[:, None] * np.array([1.15, 1.0, 0.9])
+        radius += amplitude * np.exp((sphere @ d - 1.0) / width**2)
+    shaped = sphere * radius[:, None] * np.asarray(_STRETCH)
     return shaped - 0.5 * (shaped.min(axis=0) + shaped.max(axis=0)), faces

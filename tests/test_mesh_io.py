@@ -1,6 +1,10 @@
-"""Mesh files: order-preserving round trips, clear errors, atomic saves."""
+"""Mesh files: order-preserving loads, exact round trips, clear errors, atomic saves."""
+
+from __future__ import annotations
 
 import os
+import struct
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -8,106 +12,424 @@ import pytest
 from gogreen_core import mesh_io
 from gogreen_core.mesh_io import MeshData, MeshFileError, load_mesh, save_mesh
 
-SHARED = "/work/shared/meshes"
+SHARED = Path("/work/shared/meshes")
+SHARED_MESHES = ["spot.obj", "stanford-bunny.obj", "ogre.obj"]
+TEXT_FORMATS = [(".obj", {}), (".ply", {}), (".ply", {"ascii": True}), (".off", {})]
 
 
-def count_obj_vertices(path: str) -> int:
+def obj_records(path: Path, tag: str) -> list[list[str]]:
+    """The fields of every ``tag`` line of an OBJ file, read independently of mesh_io."""
     with open(path) as handle:
-        return sum(1 for line in handle if line.startswith("v "))
+        return [line.split()[1:] for line in handle if line.split()[:1] == [tag]]
 
 
-@pytest.mark.parametrize("name", ["spot.obj", "stanford-bunny.obj", "ogre.obj"])
-def test_shared_meshes_keep_vertex_order_and_round_trip(tmp_path, name):
-    path = f"{SHARED}/{name}"
+def same_bits(a: np.ndarray, b: np.ndarray) -> bool:
+    a, b = np.ascontiguousarray(a, dtype=np.float64), np.ascontiguousarray(b, dtype=np.float64)
+    return a.shape == b.shape and np.array_equal(a.view(np.uint64), b.view(np.uint64))
+
+
+def write(path: Path, content: str | bytes) -> Path:
+    if isinstance(content, str):
+        path.write_text(content)
+    else:
+        path.write_bytes(content)
+    return path
+
+
+TRIANGLE = MeshData(np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]]), np.array([[0, 1, 2]]))
+
+
+# -- the shared meshes -------------------------------------------------------------------------
+@pytest.fixture(scope="module", params=SHARED_MESHES)
+def shared(request):
+    path = SHARED / request.param
+    return path, load_mesh(path)
+
+
+def test_shared_meshes_keep_every_vertex_in_file_order(shared):
+    path, mesh = shared
+    listed = np.array([fields[:3] for fields in obj_records(path, "v")], dtype=np.float64)
+    assert mesh.vertices.dtype == np.float64 and mesh.faces.dtype == np.int64
+    assert len(mesh.vertices) == len(listed)  # no seam splitting, no merging
+    assert same_bits(mesh.vertices, listed)
+    assert len(mesh.faces) == len(obj_records(path, "f"))  # the three are all-triangle files
+    assert mesh.source == str(path)
+
+
+@pytest.mark.parametrize(("suffix", "options"), TEXT_FORMATS)
+def test_shared_meshes_round_trip_bit_for_bit(shared, tmp_path, suffix, options):
+    _, mesh = shared
+    target = tmp_path / f"out{suffix}"
+    save_mesh(mesh, target, **options)
+    again = load_mesh(target)
+    assert same_bits(again.vertices, mesh.vertices)
+    assert np.array_equal(again.faces, mesh.faces)
+
+
+def test_spot_texture_coordinates_load_and_survive_a_round_trip(tmp_path):
+    path = SHARED / "spot.obj"
     mesh = load_mesh(path)
-    assert len(mesh.vertices) == count_obj_vertices(path)
-    with open(path) as handle:  # first vertex as written in the file
-        first = next(line for line in handle if line.startswith("v ")).split()[1:4]
-    assert np.array_equal(mesh.vertices[0], np.array(first, dtype=float))
-    for suffix, kwargs in ((".obj", {}), (".ply", {}), (".ply", {"ascii": True}), (".off", {})):
-        target = tmp_path / f"out{suffix}"
-        save_mesh(mesh, target, **kwargs)
-        again = load_mesh(target)
-        assert np.array_equal(again.vertices, mesh.vertices), suffix
-        assert np.array_equal(again.faces, mesh.faces), suffix
-
-
-def test_obj_texture_coordinates_survive(tmp_path):
-    mesh = load_mesh(f"{SHARED}/spot.obj")
-    assert mesh.uv is not None and len(mesh.uv) > len(mesh.vertices)  # seams kept, not split
+    uv = np.array([fields[:2] for fields in obj_records(path, "vt")], dtype=np.float64)
+    corners = [[int(c.split("/")[1]) - 1 for c in fields] for fields in obj_records(path, "f")]
+    assert same_bits(mesh.uv, uv)  # 3225 texture coordinates for 2930 vertices: seams kept
+    assert len(mesh.uv) > len(mesh.vertices)
+    assert np.array_equal(mesh.uv_faces, corners)
     save_mesh(mesh, tmp_path / "spot.obj")
     again = load_mesh(tmp_path / "spot.obj")
-    assert np.array_equal(again.uv, mesh.uv)
+    assert same_bits(again.vertices, mesh.vertices)
+    assert same_bits(again.uv, mesh.uv)
     assert np.array_equal(again.uv_faces, mesh.uv_faces)
 
 
-def test_stl_round_trip_keeps_triangles(tmp_path):
-    mesh = load_mesh(f"{SHARED}/spot.obj")
+def test_stl_keeps_each_triangle_corner_as_written(tmp_path):
+    mesh = load_mesh(SHARED / "spot.obj")
     save_mesh(mesh, tmp_path / "spot.stl")
     again = load_mesh(tmp_path / "spot.stl")
-    assert len(again.faces) == len(mesh.faces)
-    corners = mesh.vertices[mesh.faces].astype(np.float32)
-    assert np.array_equal(again.vertices[again.faces].astype(np.float32), corners)
+    assert len(again.vertices) == 3 * len(mesh.faces)  # no welding: 3 corners per triangle
+    assert np.array_equal(again.faces, np.arange(3 * len(mesh.faces)).reshape(-1, 3))
+    corners = mesh.vertices[mesh.faces].reshape(-1, 3).astype(np.float32)  # STL is float32
+    assert np.array_equal(again.vertices, corners.astype(np.float64))
 
 
-def test_polygons_are_triangulated_and_negative_indices_work(tmp_path):
-    path = tmp_path / "quad.obj"
-    path.write_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf -4 -3 -2 -1\n")
+# -- exact floats ------------------------------------------------------------------------------
+@pytest.mark.parametrize(("suffix", "options"), TEXT_FORMATS)
+def test_awkward_floats_reload_bit_for_bit(tmp_path, suffix, options):
+    rng = np.random.default_rng(1)
+    vertices = rng.normal(size=(200, 3)) * 10.0 ** rng.integers(-300, 300, size=(200, 3))
+    vertices[0] = [-0.0, 5e-324, 1e308]  # negative zero, smallest subnormal, huge
+    vertices[1] = [0.1, 1 / 3, -2.2250738585072014e-308]  # smallest normal
+    vertices[2] = [np.pi, np.e, np.nextafter(1.0, 2.0)]
+    faces = rng.integers(0, 200, size=(100, 3))
+    save_mesh(MeshData(vertices, faces), tmp_path / f"a{suffix}", **options)
+    again = load_mesh(tmp_path / f"a{suffix}")
+    assert same_bits(again.vertices, vertices)
+    assert np.array_equal(again.faces, faces)
+
+
+# -- OBJ details -------------------------------------------------------------------------------
+def test_obj_polygons_corner_forms_negative_indices_and_comments(tmp_path):
+    path = write(
+        tmp_path / "forms.obj",
+        "# a comment\n"
+        "v 0 0 0\nv 1 0 0  # trailing comment\nv 1 1 0\nv 0 1 0\nv 0.5 1.5 0 1.0\n"
+        "vn 0 0 1\n"
+        "g group\nusemtl m\ns off\n\n"
+        "f 1//1 2//1 3//1 4//1\n"  # quad with normals only
+        "f -2 -3 -1\n"  # relative indices
+        "f 1 2 3 4 5\n",  # pentagon
+    )
     mesh = load_mesh(path)
-    assert mesh.faces.tolist() == [[0, 1, 2], [0, 2, 3]]
+    assert mesh.faces.tolist() == [[0, 1, 2], [0, 2, 3], [3, 2, 4], [0, 1, 2], [0, 2, 3], [0, 3, 4]]
+    assert mesh.uv is None and len(mesh.vertices) == 5
 
 
-@pytest.mark.parametrize(
-    ("name", "content", "message"),
-    [
-        ("empty.obj", "", "empty"),
-        ("novertex.obj", "# nothing\n", "no vertices"),
-        ("noface.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n", "no triangles"),
-        ("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", "references vertex 8"),
-        ("nan.obj", "v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "vertex 0"),
-        ("text.obj", "v 0 zero 0\n", "bad number"),
-        ("short.obj", "v 0 0\n", "3 coordinates"),
-        ("edge.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n", "at least 3"),
-        ("broken.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 10\n", "broken"),
-        ("trunc.off", "OFF\n4 2 0\n0 0 0\n", "broken"),
-        ("mesh.xyz", "1 2 3\n", "unknown format"),
-    ],
+def test_obj_with_texture_coordinates_on_some_faces_round_trips(tmp_path):
+    path = write(
+        tmp_path / "mixed.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
+        "f 1/1/1 2/2/1 3/3/1\nf 2 4 3\nf -3/-1 -2/-2 -1/-3\n",
+    )
+    mesh = load_mesh(path)
+    assert mesh.uv_faces.tolist() == [[0, 1, 2], [-1, -1, -1], [2, 1, 0]]
+    save_mesh(mesh, tmp_path / "again.obj")
+    again = load_mesh(tmp_path / "again.obj")
+    assert np.array_equal(again.faces, mesh.faces)
+    assert np.array_equal(again.uv_faces, mesh.uv_faces) and same_bits(again.uv, mesh.uv)
+
+
+def test_obj_faces_may_come_before_their_vertices(tmp_path):
+    mesh = load_mesh(write(tmp_path / "fwd.obj", "f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"))
+    assert mesh.faces.tolist() == [[0, 1, 2]]
+
+
+# -- PLY, OFF and STL details ------------------------------------------------------------------
+PLY_ASCII = (
+    "ply\nformat ascii 1.0\ncomment c\nelement vertex {}\nproperty float x\nproperty float y\n"
+    "property float z\nelement face {}\nproperty list uchar int vertex_indices\nend_header\n"
 )
-def test_bad_files_are_rejected_with_the_file_name(tmp_path, name, content, message):
-    path = tmp_path / name
-    path.write_text(content)
+SQUARE = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n"
+
+
+def test_ascii_ply_polygons_are_fan_triangulated(tmp_path):
+    content = PLY_ASCII.format(5, 2) + SQUARE + "0 0 1\n4 0 1 2 3\n5 0 1 2 3 4\n"
+    mesh = load_mesh(write(tmp_path / "p.ply", content))
+    assert mesh.faces.tolist() == [[0, 1, 2], [0, 2, 3], [0, 1, 2], [0, 2, 3], [0, 3, 4]]
+
+
+def big_endian_ply(cut: int = 0) -> bytes:
+    """Binary big-endian PLY with float32 positions, an extra vertex property, an extra face
+    property and faces of two sizes, as other tools write them."""
+    header = (
+        b"ply\nformat binary_big_endian 1.0\nelement vertex 4\nproperty float x\n"
+        b"property float y\nproperty float z\nproperty uchar red\nelement face 2\n"
+        b"property list uchar int vertex_indices\nproperty int flags\nend_header\n"
+    )
+    corners = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0.1, 1, 0)]
+    body = b"".join(struct.pack(">fffB", *p, 200) for p in corners)
+    body += struct.pack(">B3ii", 3, 0, 1, 2, 7) + struct.pack(">B4ii", 4, 0, 1, 2, 3, 7)
+    return header + body[: len(body) - cut]
+
+
+def test_binary_big_endian_ply_with_extra_properties(tmp_path):
+    mesh = load_mesh(write(tmp_path / "be.ply", big_endian_ply()))
+    assert mesh.vertices[3].tolist() == [np.float32(0.1), 1.0, 0.0]
+    assert mesh.faces.tolist() == [[0, 1, 2], [0, 1, 2], [0, 2, 3]]
+
+
+def test_off_variants(tmp_path):
+    quad = load_mesh(write(tmp_path / "q.off", "OFF\n# comment\n4 1 0\n" + SQUARE + "4 0 1 2 3\n"))
+    assert quad.faces.tolist() == [[0, 1, 2], [0, 2, 3]]
+    coloured = load_mesh(
+        write(
+            tmp_path / "c.off",
+            "COFF 3 1 0\n0 0 0 9 9 9 1\n1 0 0 9 9 9 1\n0 1 0 9 9 9 1\n3 0 1 2 0.5 0.5 0.5\n",
+        )
+    )
+    assert coloured.vertices.tolist() == [[0, 0, 0], [1, 0, 0], [0, 1, 0]]
+    assert coloured.faces.tolist() == [[0, 1, 2]]
+
+
+def test_ascii_stl(tmp_path):
+    facet = "facet normal 0 0 1\nouter loop\n{}endloop\nendfacet\n"
+    corners = [
+        "vertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n",
+        "vertex 1 0 0\nvertex 1 1 0\nvertex 0 1 0\n",
+    ]
+    text = "solid t\n" + "".join(facet.format(c) for c in corners) + "endsolid t\n"
+    mesh = load_mesh(write(tmp_path / "t.stl", text))
+    assert len(mesh.vertices) == 6 and mesh.faces.tolist() == [[0, 1, 2], [3, 4, 5]]
+    assert mesh.vertices[4].tolist() == [1, 1, 0]
+
+
+# -- errors ------------------------------------------------------------------------------------
+def cut_binary_ply(tmp_path: Path, cut: int) -> bytes:
+    save_mesh(MeshData(np.zeros((4, 3)), [[0, 1, 2], [0, 2, 3]]), tmp_path / "src.ply")
+    data = (tmp_path / "src.ply").read_bytes()
+    return data[:-cut] if cut > 0 else data + b"\x01\x02"
+
+
+BAD_FILES = [
+    # OBJ
+    ("blank.obj", " \n\n", "the file is empty"),
+    ("novertex.obj", "# nothing\nvt 0 0\n", "no vertices"),
+    ("points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n", "no faces"),
+    ("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 3\nf 1 2 9\n",
+     "range.obj, line 6: face 2 references vertex 9 but the file has 3 vertices"),
+    ("before.obj", "v 0 0 0\nv 1 0 0\nf 1 2 -5\n", "line 3: relative vertex index -5"),
+    ("zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "start at 1"),
+    ("nan.obj", "v 0 0 0\n# c\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n", "line 3: vertex 2 has a non-finite"),
+    ("inf.obj", "v 0 0 0\nv 1 0 -inf\nv 0 1 0\nf 1 2 3\n", "vertex 2 has a non-finite"),
+    ("text.obj", "v 0 zero 0\n", "line 1: bad number"),
+    ("short.obj", "v 0 0\n", "3 coordinates"),
+    ("edge.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n", "at least 3 corners"),
+    ("badindex.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n", "bad vertex index 'x'"),
+    ("vtrange.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/2\n",
+     "line 5: face references texture coordinate 2 but the file has 1"),
+    ("vtpartial.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2 3/1\n", "lack a texture"),
+    ("binary.obj", b"\x00\xff\x13" * 50, "no vertices"),
+    # PLY
+    ("empty.ply", "", "the file is empty"),
+    ("notply.ply", "hello\n", "not a PLY file"),
+    ("noend.ply", "ply\nformat ascii 1.0\nelement vertex 3\n", "no 'end_header'"),
+    ("badheader.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty quux x\nend_header\n",
+     "header line 4"),
+    ("noformat.ply", "ply\nelement vertex 0\nend_header\n", "no 'format'"),
+    ("truncated.ply", PLY_ASCII.format(4, 2) + SQUARE + "3 0 1 2\n", "truncated"),
+    ("extra.ply", PLY_ASCII.format(4, 1) + SQUARE + "3 0 1 2\n3 0 2 3\n", "do not match"),
+    ("badnumber.ply", PLY_ASCII.format(4, 1) + "0 0 0\n1 0 0\n1 x 0\n0 1 0\n3 0 1 2\n",
+     "bad number 'x'"),
+    ("nan.ply", PLY_ASCII.format(4, 1) + "0 0 0\n1 0 0\nnan 1 0\n0 1 0\n3 0 1 2\n",
+     "vertex 2 has a non-finite"),
+    ("range.ply", PLY_ASCII.format(4, 2) + SQUARE + "3 0 1 2\n3 0 2 4\n",
+     "range.ply: face 1 references vertex 4 but the file has 4 vertices"),
+    ("negative.ply", PLY_ASCII.format(4, 1) + SQUARE + "3 0 -1 2\n", "references vertex -1"),
+    ("fraction.ply", PLY_ASCII.format(4, 1) + SQUARE + "3 0 1.5 2\n", "not a whole number"),
+    ("noface.ply", PLY_ASCII.format(4, 0) + SQUARE, "no faces"),
+    ("nopositions.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float q\n"
+     "end_header\n1\n", "no vertex positions"),
+    ("bigendian.ply", big_endian_ply(cut=3), "truncated"),
+    # OFF
+    ("notoff.off", "PLY\n3 1 0\n", "not an OFF file"),
+    ("counts.off", "OFF\nthree one\n", "bad vertex and face counts"),
+    ("truncated.off", "OFF\n4 2 0\n" + SQUARE + "3 0 1 2\n", "truncated"),
+    ("extra.off", "OFF\n4 1 0\n" + SQUARE + "3 0 1 2\n3 0 2 3\n", "line 8: data after"),
+    ("range.off", "OFF\n4 2 0\n" + SQUARE + "3 0 1 2\n4 0 1 2 7\n",
+     "range.off, line 8: face 1 references vertex 7 but the file has 4 vertices"),
+    ("nan.off", "OFF\n4 1 0\n0 0 0\n1 0 inf\n1 1 0\n0 1 0\n3 0 1 2\n", "line 4: vertex 1"),
+    ("badvertex.off", "OFF\n4 1 0\n0 0 0\n1 0\n1 1 0\n0 1 0\n3 0 1 2\n", "3 coordinates"),
+    ("noface.off", "OFF\n4 0 0\n" + SQUARE, "no faces"),
+    ("edge.off", "OFF\n4 1 0\n" + SQUARE + "2 0 1\n", "at least 3 corners"),
+    ("fourd.off", "4OFF\n1 1 0\n0 0 0 0\n", "not 3-D"),
+    # STL
+    ("text.stl", "solid x\nfacet normal 0 0 1\n", "no triangles could be read"),
+    ("binary.stl", b"\0" * 80 + struct.pack("<I", 5) + b"\0" * 60, "no triangles could be read"),
+    # unknown formats
+    ("mesh.xyz", "1 2 3\n", "unknown mesh format '.xyz'"),
+    ("noextension", "v 0 0 0\n", "unknown mesh format '(no extension)'"),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize(("name", "content", "message"), BAD_FILES, ids=[b[0] for b in BAD_FILES])
+def test_bad_files_are_rejected_naming_the_file_and_the_problem(tmp_path, name, content, message):
+    path = write(tmp_path / name, content)
     with pytest.raises(MeshFileError) as info:
         load_mesh(path)
-    assert name in str(info.value) and message in str(info.value)
+    assert str(info.value).startswith(name)
+    assert message in str(info.value)
 
 
-def test_missing_file(tmp_path):
-    with pytest.raises(MeshFileError, match="no such file"):
+@pytest.mark.parametrize("cut", [1, 5, 13, -1])
+def test_truncated_or_padded_binary_ply_is_rejected(tmp_path, cut):
+    path = write(tmp_path / "cut.ply", cut_binary_ply(tmp_path, cut))
+    with pytest.raises(MeshFileError, match=r"cut\.ply: .*(truncated|do not match)"):
+        load_mesh(path)
+
+
+def test_truncated_binary_stl_is_rejected(tmp_path):
+    save_mesh(load_mesh(SHARED / "spot.obj"), tmp_path / "spot.stl")
+    data = (tmp_path / "spot.stl").read_bytes()
+    path = write(tmp_path / "cut.stl", data[:-10])
+    with pytest.raises(MeshFileError, match=r"cut\.stl: no triangles could be read"):
+        load_mesh(path)
+
+
+def test_missing_file_and_folder(tmp_path):
+    with pytest.raises(MeshFileError, match=r"absent\.obj: no such file"):
         load_mesh(tmp_path / "absent.obj")
+    (tmp_path / "folder.obj").mkdir()
+    with pytest.raises(MeshFileError, match=r"folder\.obj: not a file"):
+        load_mesh(tmp_path / "folder.obj")
 
 
-def test_failed_save_never_touches_the_good_file(tmp_path, monkeypatch):
-    mesh = load_mesh(f"{SHARED}/spot.obj")
+def test_mesh_file_error_is_a_value_error():
+    assert issubclass(MeshFileError, ValueError)
+
+
+# -- saving ------------------------------------------------------------------------------------
+@pytest.fixture
+def saved(tmp_path):
+    """A good OBJ on disk, its bytes, and the mesh."""
+    mesh = load_mesh(SHARED / "spot.obj")
     target = tmp_path / "good.obj"
     save_mesh(mesh, target)
-    original = target.read_bytes()
+    return target, target.read_bytes(), mesh
+
+
+def assert_untouched(target: Path, original: bytes) -> None:
+    assert target.read_bytes() == original
+    assert sorted(os.listdir(target.parent)) == [target.name]  # no temporary file left
+
+
+def test_unsaveable_meshes_are_refused_before_writing(saved):
+    target, original, mesh = saved
     bad = mesh.copy()
     bad.vertices[3, 1] = np.nan
-    with pytest.raises(MeshFileError, match="vertex 3"):
+    with pytest.raises(MeshFileError, match=r"good\.obj: vertex 3 has a non-finite"):
         save_mesh(bad, target)
+    bad = mesh.copy()
+    bad.faces[7, 2] = len(mesh.vertices)
+    with pytest.raises(MeshFileError, match="face 7 references vertex 2930"):
+        save_mesh(bad, target)
+    bad = mesh.copy()
+    bad.uv_faces = bad.uv_faces[:-1]
+    with pytest.raises(MeshFileError, match="uv_faces"):
+        save_mesh(bad, target)
+    bad = MeshData(np.zeros((3, 3)), np.zeros((0, 3)))
+    with pytest.raises(MeshFileError, match="no faces"):
+        save_mesh(bad, target)
+    with pytest.raises(MeshFileError, match=r"cannot save as '\.xyz'"):
+        save_mesh(mesh, target.with_suffix(".xyz"))
+    assert_untouched(target, original)
 
-    def explode(*_args, **_kwargs):
-        raise OSError("disk full")
+
+def test_os_error_mid_write_leaves_the_old_file(saved, monkeypatch):
+    target, original, mesh = saved
+
+    def half_then_disk_full(mesh, out):
+        out.write(b"v 1 2 3\n" * 100)
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(mesh_io, "_write_obj", half_then_disk_full)
+    with pytest.raises(MeshFileError, match=r"good\.obj: cannot write \(No space left"):
+        save_mesh(mesh, target)
+    assert_untouched(target, original)
+
+
+class Interrupted(BaseException):
+    """Stands for KeyboardInterrupt without disturbing pytest."""
+
+
+@pytest.mark.parametrize("error", [RuntimeError("bug"), Interrupted()])
+def test_any_exception_mid_write_leaves_the_old_file(saved, monkeypatch, error):
+    target, original, mesh = saved
+
+    def explode(mesh, out):
+        out.write(b"partial")
+        raise error
 
     monkeypatch.setattr(mesh_io, "_write_obj", explode)
-    with pytest.raises(OSError, match="disk full"):
+    with pytest.raises(type(error)):
         save_mesh(mesh, target)
-    assert target.read_bytes() == original
-    assert sorted(os.listdir(tmp_path)) == ["good.obj"]  # no temporary left behind
+    assert_untouched(target, original)
 
 
-def test_mesh_data_copy_is_deep():
-    mesh = MeshData(np.zeros((3, 3)), np.array([[0, 1, 2]]))
+def test_failed_rename_leaves_the_old_file(saved, monkeypatch):
+    target, original, mesh = saved
+
+    def refuse(*_args):
+        raise PermissionError(13, "Permission denied")
+
+    monkeypatch.setattr(mesh_io.os, "replace", refuse)
+    with pytest.raises(MeshFileError, match="Permission denied"):
+        save_mesh(mesh, target)
+    assert_untouched(target, original)
+
+
+def test_save_into_a_missing_folder(tmp_path):
+    with pytest.raises(MeshFileError, match=r"out\.ply: the folder .* does not exist"):
+        save_mesh(TRIANGLE, tmp_path / "nowhere" / "out.ply")
+
+
+def test_save_keeps_permissions_and_symlinks(tmp_path):
+    target = tmp_path / "mesh.off"
+    save_mesh(TRIANGLE, target)
+    umask = os.umask(0)
+    os.umask(umask)
+    assert target.stat().st_mode & 0o777 == 0o666 & ~umask  # a normal new file
+    target.chmod(0o640)
+    save_mesh(TRIANGLE, target)
+    assert target.stat().st_mode & 0o777 == 0o640
+    link = tmp_path / "link.off"
+    link.symlink_to(target.name)
+    moved = TRIANGLE.copy()
+    moved.vertices += 1
+    save_mesh(moved, link)
+    assert link.is_symlink()
+    assert np.array_equal(load_mesh(target).vertices, moved.vertices)
+
+
+def test_save_replaces_an_existing_file_completely(tmp_path):
+    target = tmp_path / "m.ply"
+    save_mesh(load_mesh(SHARED / "spot.obj"), target)
+    save_mesh(TRIANGLE, target)
+    assert np.array_equal(load_mesh(target).faces, [[0, 1, 2]])
+
+
+def test_uppercase_extensions(tmp_path):
+    save_mesh(TRIANGLE, tmp_path / "T.PLY")
+    assert np.array_equal(load_mesh(tmp_path / "T.PLY").vertices, TRIANGLE.vertices)
+
+
+# -- MeshData ----------------------------------------------------------------------------------
+def test_mesh_data_copy_is_deep_and_arrays_are_coerced():
+    mesh = MeshData([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]], uv=[[0, 0]], uv_faces=[[0] * 3])
+    assert mesh.vertices.dtype == np.float64 and mesh.faces.dtype == np.int64
     clone = mesh.copy()
     clone.vertices[0, 0] = 1
-    assert mesh.vertices[0, 0] == 0
+    clone.uv[0, 0] = 1
+    clone.uv_faces[0, 0] = -1
+    assert mesh.vertices[0, 0] == 0 and mesh.uv[0, 0] == 0 and mesh.uv_faces[0, 0] == 0
+    with pytest.raises(ValueError, match=r"\(N, 3\)"):
+        MeshData(np.zeros((3, 2)), [[0, 1, 2]])
+    with pytest.raises(ValueError, match="together"):
+        MeshData(np.zeros((3, 3)), [[0, 1, 2]], uv=np.zeros((1, 2)))
