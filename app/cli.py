@@ -16,13 +16,16 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="gogreen", description="GoGreen Sculpt")
     parser.add_argument("mesh", nargs="?", help="mesh file to open (OBJ, PLY, STL, OFF)")
     args = parser.parse_args(argv)
-    from PySide6.QtWidgets import QApplication, QMainWindow
+    from PySide6.QtWidgets import QApplication
+
+    from app.main_window import MainWindow
 
     app = QApplication.instance() or QApplication(sys.argv[:1])
-    window = QMainWindow()
-    window.setWindowTitle("GoGreen Sculpt" + (f" — {args.mesh}" if args.mesh else ""))
-    window.resize(1280, 800)
+    app.setApplicationName("GoGreen Sculpt")
+    window = MainWindow()
     window.show()
+    if not (args.mesh and window.open_file(args.mesh)):
+        window.open_default()
     return app.exec()
 
 

@@ -1,0 +1,543 @@
+"""Main window: viewport, brush bar, side panels, menus, status bar.
+
+A thin view over :class:`app.document.Document` (which owns a :class:`gogreen_core.Sculptor`):
+mouse strokes from the viewport become engine calls here, and every failure is shown as a
+message that leaves the model as it was.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+import pyvista as pv
+from PySide6.QtCore import QSettings, Qt
+from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
+from PySide6.QtWidgets import (
+    QDockWidget,
+    QFileDialog,
+    QLabel,
+    QMainWindow,
+    QMessageBox,
+    QTabWidget,
+)
+
+from app.brush_bar import BrushBar
+from app.document import SAVE_FORMATS, Document
+from app.panels.falloff_panel import FalloffPanel
+from app.panels.homogenization_panel import HomogenizationPanel
+from app.panels.material_panel import MaterialPanel
+from app.viewport import CursorSample, SculptViewport
+from gogreen_core.brushes import Brush, BrushEvent
+from gogreen_core.material import Material
+from gogreen_core.radial import radial_from_dict
+
+__all__ = ["MainWindow"]
+
+MESH_FILTER = "Meshes (*.obj *.ply *.stl *.off);;All files (*)"
+SAVE_FILTER = "Wavefront OBJ (*.obj);;Stanford PLY (*.ply);;STL (*.stl)"
+PRESET_FORMAT = "gogreen-preset"
+#: Screen drag (pixels) that makes an affine brush's amount 1 (strain, or radians for twist).
+PIXELS_PER_UNIT_AMOUNT = 250.0
+MAX_RECENT = 8
+
+
+class MainWindow(QMainWindow):
+    """GoGreen Sculpt's main window.
+
+    Parameters
+    ----------
+    settings : QSettings, optional
+        Where recent files live (tests pass a temporary one).
+    """
+
+    def __init__(self, settings: QSettings | None = None):
+        super().__init__()
+        self.settings = settings or QSettings("GoGreen", "GoGreen Sculpt")
+        self.resize(1500, 920)
+        self.viewport = SculptViewport(self)
+        self.setCentralWidget(self.viewport)
+        self.brush_bar = BrushBar(self)
+        self.addToolBar(Qt.ToolBarArea.TopToolBarArea, self.brush_bar)
+        self.material_panel = MaterialPanel()
+        self.homogenization_panel = HomogenizationPanel()
+        self.falloff_panel = FalloffPanel()
+        self._build_docks()
+        self._build_menus()
+        self._build_status_bar()
+        self.document: Document | None = None
+        self._stroke: dict | None = None
+        self._frame_times: list[float] = []
+        self.last_step_ms = 0.0
+        self._connect()
+
+    # -- construction ------------------------------------------------------------------------
+    def _build_docks(self) -> None:
+        tabs = QTabWidget()
+        tabs.addTab(self.material_panel, "Material")
+        tabs.addTab(self.homogenization_panel, "Homogenize")
+        tabs.addTab(self.falloff_panel, "Falloff")
+        self.panel_tabs = tabs
+        dock = QDockWidget("Panels", self)
+        dock.setObjectName("panels")
+        dock.setWidget(tabs)
+        dock.setMinimumWidth(400)
+        self.addDockWidget(Qt.DockWidgetArea.RightDockWidgetArea, dock)
+        self.panels_dock = dock
+
+    def _action(self, menu, text: str, slot, shortcut=None) -> QAction:
+        action = QAction(text, self)
+        if shortcut is not None:
+            action.setShortcut(QKeySequence(shortcut))
+        action.triggered.connect(slot)
+        menu.addAction(action)
+        return action
+
+    def _build_menus(self) -> None:
+        bar = self.menuBar()
+        file_menu = bar.addMenu("&File")
+        self._action(file_menu, "&Open…", self.open_dialog, QKeySequence.StandardKey.Open)
+        self.recent_menu = file_menu.addMenu("Open &Recent")
+        self._action(file_menu, "&Save", self.save, QKeySequence.StandardKey.Save)
+        self._action(file_menu, "Save &As…", self.save_as_dialog, "Ctrl+Shift+S")
+        file_menu.addSeparator()
+        self._action(file_menu, "Load &Preset…", self.load_preset_dialog)
+        self._action(file_menu, "Save Pr&eset…", self.save_preset_dialog)
+        self._action(file_menu, "Export Se&ssion…", self.export_session_dialog)
+        self._action(file_menu, "Export Scree&nshot…", self.screenshot_dialog, "F12")
+        file_menu.addSeparator()
+        self._action(file_menu, "&Quit", self.close, QKeySequence.StandardKey.Quit)
+        edit_menu = bar.addMenu("&Edit")
+        self.undo_action = self._action(edit_menu, "&Undo", self.undo, "Ctrl+Z")
+        self.redo_action = self._action(edit_menu, "&Redo", self.redo, "Ctrl+Shift+Z")
+        edit_menu.addSeparator()
+        self._action(edit_menu, "Clear &Constraints", self.clear_constraints)
+        self._action(edit_menu, "Radius Smaller", lambda: self.brush_bar.scale_radius(-1), "[")
+        self._action(edit_menu, "Radius Larger", lambda: self.brush_bar.scale_radius(1), "]")
+        self._action(edit_menu, "Strength Lower", lambda: self.brush_bar.scale_strength(-1), "{")
+        self._action(edit_menu, "Strength Higher", lambda: self.brush_bar.scale_strength(1), "}")
+        view_menu = bar.addMenu("&View")
+        self._action(view_menu, "Reset &Camera", self.reset_camera, "Home")
+        view_menu.addAction(self.panels_dock.toggleViewAction())
+        view_menu.addAction(self.brush_bar.toggleViewAction())
+        self._refresh_recent()
+
+    def _build_status_bar(self) -> None:
+        self.vertex_label = QLabel()
+        self.step_label = QLabel("brush step: –")
+        self.fps_label = QLabel("fps: –")
+        self.message_label = QLabel()
+        for label in (self.vertex_label, self.step_label, self.fps_label):
+            label.setMinimumWidth(150)
+            self.statusBar().addPermanentWidget(label)
+        self.statusBar().addWidget(self.message_label, 1)
+
+    def _connect(self) -> None:
+        self.viewport.stroke_started.connect(self._stroke_started)
+        self.viewport.stroke_moved.connect(self._stroke_moved)
+        self.viewport.stroke_ended.connect(self._stroke_ended)
+        self.viewport.radius_wheel.connect(self.brush_bar.scale_radius)
+        self.viewport.strength_wheel.connect(self.brush_bar.scale_strength)
+        self.brush_bar.changed.connect(self._brush_changed)
+        self.material_panel.material_changed.connect(self.apply_material)
+        self.homogenization_panel.material_ready.connect(self._use_homogenized)
+        self.falloff_panel.falloff_changed.connect(self.apply_falloff)
+
+    # -- documents ---------------------------------------------------------------------------
+    def _sculptor_options(self) -> dict:
+        return {
+            "material": self.material_panel.material,
+            "l_max": self.falloff_panel.l_max,
+            "falloff": self.falloff_panel.radial,
+            "degree_weights": self.falloff_panel.degree_weights,
+        }
+
+    def set_document(self, document: Document) -> None:
+        self.document = document
+        self.viewport.set_mesh(document.sculptor.vertices, document.sculptor.faces)
+        self._constraint_actor = None
+        self._brush_changed()
+        self._refresh_title()
+        self._refresh_status()
+
+    def open_default(self) -> None:
+        self.set_document(Document.default(self._sculptor_options()))
+
+    def open_file(self, path: str) -> bool:
+        """Open a mesh; on failure show why and keep the current model. Returns success."""
+        try:
+            document = Document.open(path, self._sculptor_options())
+        except (ValueError, OSError) as exc:
+            self.show_error("Cannot open the file", str(exc))
+            return False
+        self.set_document(document)
+        self._add_recent(str(Path(path).resolve()))
+        self.flash(f"Opened {document.title}: {len(document.sculptor.vertices)} vertices")
+        return True
+
+    def open_dialog(self) -> None:
+        if not self.maybe_save():
+            return
+        path, _ = QFileDialog.getOpenFileName(self, "Open mesh", self._last_dir(), MESH_FILTER)
+        if path:
+            self.open_file(path)
+
+    def save(self) -> bool:
+        if self.document is None:
+            return False
+        if not self.document.path or Path(self.document.path).suffix.lower() not in SAVE_FORMATS:
+            return self.save_as_dialog()
+        return self.save_to(self.document.path)
+
+    def save_to(self, path: str) -> bool:
+        try:
+            saved = self.document.save(path)
+        except (ValueError, OSError) as exc:
+            self.show_error("Cannot save", str(exc))
+            return False
+        self._add_recent(str(Path(saved).resolve()))
+        self._refresh_title()
+        self.flash(f"Saved {Path(saved).name}")
+        return True
+
+    def save_as_dialog(self) -> bool:
+        if self.document is None:
+            return False
+        path, chosen = QFileDialog.getSaveFileName(
+            self, "Save mesh as", self._last_dir(), SAVE_FILTER
+        )
+        if not path:
+            return False
+        if Path(path).suffix.lower() not in SAVE_FORMATS:
+            path += ".ply" if "PLY" in chosen else ".stl" if "STL" in chosen else ".obj"
+        return self.save_to(path)
+
+    def maybe_save(self) -> bool:
+        """Ask about unsaved changes; True when it is fine to go on."""
+        if self.document is None or not self.document.dirty:
+            return True
+        answer = QMessageBox.question(
+            self,
+            "Unsaved changes",
+            f"{self.document.title} has unsaved changes. Save them?",
+            QMessageBox.StandardButton.Save
+            | QMessageBox.StandardButton.Discard
+            | QMessageBox.StandardButton.Cancel,
+        )
+        if answer == QMessageBox.StandardButton.Save:
+            return self.save()
+        return answer == QMessageBox.StandardButton.Discard
+
+    def closeEvent(self, event: QCloseEvent) -> None:
+        if self.maybe_save():
+            self.viewport.close()
+            event.accept()
+        else:
+            event.ignore()
+
+    def _last_dir(self) -> str:
+        recent = self.recent_files()
+        return str(Path(recent[0]).parent) if recent else str(Path.home())
+
+    def recent_files(self) -> list[str]:
+        value = self.settings.value("recent_files", [])
+        return [value] if isinstance(value, str) else list(value or [])
+
+    def _add_recent(self, path: str) -> None:
+        files = [path] + [p for p in self.recent_files() if p != path]
+        self.settings.setValue("recent_files", files[:MAX_RECENT])
+        self._refresh_recent()
+
+    def _refresh_recent(self) -> None:
+        self.recent_menu.clear()
+        for path in self.recent_files():
+            action = self.recent_menu.addAction(Path(path).name)
+            action.setToolTip(path)
+            action.triggered.connect(
+                lambda _c=False, p=path: self.maybe_save() and self.open_file(p)
+            )
+        self.recent_menu.setEnabled(bool(self.recent_files()))
+
+    # -- settings from the panels ------------------------------------------------------------
+    def apply_material(self, material: Material) -> None:
+        if self.document is None:
+            return
+        try:
+            self.document.sculptor.set_material(material)
+        except (ValueError, RuntimeError) as exc:
+            self.show_error("Material not applied", str(exc))
+            return
+        self.flash("Material applied")
+
+    def _use_homogenized(self, material: Material) -> None:
+        self.material_panel.set_material(material)
+        self.apply_material(material)
+        self.panel_tabs.setCurrentWidget(self.material_panel)
+
+    def apply_falloff(self) -> None:
+        if self.document is None:
+            return
+        try:
+            self.document.sculptor.set_falloff(
+                self.falloff_panel.radial,
+                self.falloff_panel.l_max,
+                self.falloff_panel.degree_weights,
+            )
+        except (ValueError, RuntimeError) as exc:
+            self.show_error("Falloff not applied", str(exc))
+
+    def _brush_changed(self) -> None:
+        if self.document is not None:
+            self.viewport.cursor_radius = self.brush_bar.brush.eps(
+                self.document.sculptor.model_size
+            )
+
+    # -- strokes -----------------------------------------------------------------------------
+    def _stroke_started(self, sample: CursorSample) -> None:
+        if self.document is None:
+            return
+        sculptor = self.document.sculptor
+        if self.brush_bar.constraint_mode:
+            self._start_constraint(sample)
+            return
+        brush = self.brush_bar.brush
+        try:
+            sculptor.begin_stroke(brush)
+        except (ValueError, RuntimeError) as exc:
+            self.show_error("Cannot sculpt", str(exc))
+            return
+        self._stroke = {"brush": brush, "last": sample.point, "anchor": sample.point}
+        self.viewport.show_cursor(sample.point, sample.normal)
+
+    def _start_constraint(self, sample: CursorSample) -> None:
+        sculptor = self.document.sculptor
+        sculptor_eps = sculptor.constraint_radius * sculptor.model_size
+        points = sculptor.constraint_points
+        if len(points):
+            dist = np.linalg.norm(points - sample.point, axis=1)
+            nearest = int(np.argmin(dist))
+            if dist[nearest] < 0.5 * sculptor_eps:  # drag an existing pin
+                self._stroke = {"pin": nearest, "last": sample.point}
+                return
+        try:
+            if not len(points):  # the first pin takes the brush radius
+                sculptor.set_constraint_radius(self.brush_bar.brush.radius)
+            sculptor.add_constraint(sample.point)
+        except ValueError as exc:
+            self.show_error("Cannot pin here", str(exc))
+            return
+        self._stroke = {"pin": len(points), "last": sample.point}
+        self._show_constraints()
+
+    def _event_for(self, sample: CursorSample) -> BrushEvent | None:
+        stroke = self._stroke
+        brush: Brush = stroke["brush"]
+        if brush.is_affine:
+            dx, dy = sample.pixels
+            if dx == 0 and dy == 0:
+                return None
+            up = np.cross(sample.screen_x, sample.view_dir)
+            direction = dx * sample.screen_x + dy * up
+            return BrushEvent(
+                center=stroke["anchor"],
+                amount=dx / PIXELS_PER_UNIT_AMOUNT,
+                axis=sample.view_dir,
+                direction=direction,
+            )
+        delta = sample.point - stroke["last"]
+        if not np.any(delta):
+            return None
+        event = BrushEvent(center=stroke["last"], delta=delta)
+        stroke["last"] = sample.point
+        return event
+
+    def _stroke_moved(self, sample: CursorSample) -> None:
+        if self._stroke is None or self.document is None:
+            return
+        sculptor = self.document.sculptor
+        start = time.perf_counter()
+        try:
+            if "pin" in self._stroke:
+                delta = sample.point - self._stroke["last"]
+                self._stroke["last"] = sample.point
+                sculptor.drag_constraint(self._stroke["pin"], delta)
+                moved = None
+            else:
+                event = self._event_for(sample)
+                if event is None:
+                    return
+                moved = sculptor.stroke_event(event)
+        except (ValueError, RuntimeError) as exc:
+            sculptor.cancel_stroke()
+            self._stroke = None
+            self.viewport.update_vertices(sculptor.vertices)
+            self.show_error("Brush stopped", str(exc))
+            return
+        self.last_step_ms = 1e3 * (time.perf_counter() - start)
+        self.viewport.update_vertices(sculptor.vertices, moved)
+        if "pin" in self._stroke:
+            self._show_constraints()
+        else:
+            self.viewport.show_cursor(sample.point, sample.normal)
+        self._render()
+
+    def _stroke_ended(self) -> None:
+        if self.document is None:
+            return
+        if self._stroke is not None and "pin" not in self._stroke:
+            self.document.sculptor.end_stroke()
+        self._stroke = None
+        self._refresh_title()
+        self._refresh_status()
+
+    def _render(self) -> None:
+        now = time.perf_counter()
+        self.viewport.render()
+        self._frame_times = [t for t in self._frame_times if now - t < 1.0] + [now]
+        self._refresh_status()
+
+    def _show_constraints(self) -> None:
+        points = self.document.sculptor.constraint_points
+        if self._constraint_actor is not None:
+            self.viewport.remove_actor(self._constraint_actor, render=False)
+            self._constraint_actor = None
+        if len(points):
+            self._constraint_actor = self.viewport.add_points(
+                pv.PolyData(points),
+                color="#ff3355",
+                point_size=14,
+                render_points_as_spheres=True,
+                pickable=False,
+                reset_camera=False,
+            )
+        self.viewport.render()
+
+    # -- edit --------------------------------------------------------------------------------
+    def undo(self) -> None:
+        self._history_step(self.document.sculptor.undo if self.document else None, "Undo")
+
+    def redo(self) -> None:
+        self._history_step(self.document.sculptor.redo if self.document else None, "Redo")
+
+    def _history_step(self, step, name: str) -> None:
+        if step is None or self.viewport.in_stroke:
+            return
+        label = step()
+        if label is None:
+            self.flash(f"Nothing to {name.lower()}")
+            return
+        self.viewport.update_vertices(self.document.sculptor.vertices)
+        self.viewport.render()
+        self._refresh_title()
+        self.flash(f"{name}: {label}")
+
+    def clear_constraints(self) -> None:
+        if self.document is not None:
+            self.document.sculptor.clear_constraints()
+            self._show_constraints()
+
+    def reset_camera(self) -> None:
+        self.viewport.view_isometric()
+        self.viewport.reset_camera()
+
+    # -- presets, session, screenshot --------------------------------------------------------
+    def preset(self) -> dict:
+        """Material + falloff + brush as a JSON-ready dict."""
+        return {
+            "format": PRESET_FORMAT,
+            "version": 1,
+            "material": self.material_panel.material.to_dict(),
+            "falloff": self.falloff_panel.radial.to_dict(),
+            "l_max": self.falloff_panel.l_max,
+            "degree_weights": list(map(float, self.falloff_panel.degree_weights)),
+            "brush": self.brush_bar.brush.to_dict(),
+        }
+
+    def apply_preset(self, data: dict) -> None:
+        """Load a preset; a malformed one raises ValueError and changes nothing."""
+        if not isinstance(data, dict) or data.get("format") != PRESET_FORMAT:
+            raise ValueError(f"not a GoGreen preset (expected format {PRESET_FORMAT!r})")
+        try:
+            material = Material.from_dict(data["material"])
+            falloff = radial_from_dict(data["falloff"])
+            brush = Brush.from_dict(data["brush"])
+            l_max, weights = int(data["l_max"]), data.get("degree_weights")
+        except (KeyError, TypeError) as exc:
+            raise ValueError(f"malformed preset: {exc}") from None
+        self.material_panel.set_material(material)
+        self.falloff_panel.set_falloff(falloff, l_max, weights)
+        self.brush_bar.set_brush(brush)
+        self.apply_material(material)
+        self.apply_falloff()
+
+    def _json_dialog(self, title: str, save: bool) -> str:
+        dialog = QFileDialog.getSaveFileName if save else QFileDialog.getOpenFileName
+        path, _ = dialog(self, title, self._last_dir(), "JSON (*.json)")
+        if path and save and not path.endswith(".json"):
+            path += ".json"
+        return path
+
+    def load_preset_dialog(self) -> None:
+        path = self._json_dialog("Load preset", save=False)
+        if path:
+            try:
+                self.apply_preset(json.loads(Path(path).read_text()))
+            except (OSError, ValueError) as exc:
+                self.show_error("Cannot load the preset", f"{Path(path).name}: {exc}")
+
+    def save_preset_dialog(self) -> None:
+        path = self._json_dialog("Save preset", save=True)
+        if path:
+            self._write_json(path, self.preset())
+
+    def export_session_dialog(self) -> None:
+        if self.document is None:
+            return
+        path = self._json_dialog("Export session (for gogreen replay)", save=True)
+        if path:
+            self._write_json(path, self.document.sculptor.session())
+
+    def _write_json(self, path: str, data: dict) -> None:
+        try:
+            tmp = Path(path).with_suffix(".json.tmp")
+            tmp.write_text(json.dumps(data, indent=1))
+            tmp.replace(path)
+            self.flash(f"Wrote {Path(path).name}")
+        except OSError as exc:
+            self.show_error("Cannot write", f"{path}: {exc.strerror}")
+
+    def screenshot_dialog(self) -> None:
+        path, _ = QFileDialog.getSaveFileName(
+            self, "Export screenshot", self._last_dir(), "PNG (*.png)"
+        )
+        if path:
+            self.save_screenshot(path if path.endswith(".png") else path + ".png")
+
+    def save_screenshot(self, path: str) -> None:
+        """PNG of the whole window."""
+        self.viewport.render()
+        if not self.grab().save(path):
+            self.show_error("Cannot write the screenshot", path)
+
+    # -- feedback ----------------------------------------------------------------------------
+    def show_error(self, title: str, message: str) -> None:
+        self.flash(f"{title}: {message}")
+        QMessageBox.warning(self, title, message)
+
+    def flash(self, text: str) -> None:
+        self.message_label.setText(text)
+
+    def _refresh_title(self) -> None:
+        if self.document is not None:
+            mark = " •" if self.document.dirty else ""
+            self.setWindowTitle(f"{self.document.title}{mark} — GoGreen Sculpt")
+        self.undo_action.setEnabled(bool(self.document and self.document.sculptor.history.can_undo))
+        self.redo_action.setEnabled(bool(self.document and self.document.sculptor.history.can_redo))
+
+    def _refresh_status(self) -> None:
+        if self.document is not None:
+            self.vertex_label.setText(f"{len(self.document.sculptor.vertices):,} vertices")
+        self.step_label.setText(f"brush step: {self.last_step_ms:.1f} ms")
+        self.fps_label.setText(f"fps: {len(self._frame_times)}")

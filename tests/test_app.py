@@ -1,0 +1,117 @@
+"""Main window under Xvfb: load spot, sculpt with simulated mouse drags, undo, save, reopen."""
+
+import numpy as np
+import pytest
+from PySide6.QtCore import QPoint, QPointF, QSettings, Qt
+from PySide6.QtGui import QMouseEvent
+from PySide6.QtWidgets import QMessageBox
+
+from app.main_window import MainWindow
+from gogreen_core import Material
+
+SPOT = "/work/shared/meshes/spot.obj"
+
+
+@pytest.fixture
+def window(qtbot, tmp_path, monkeypatch):
+    monkeypatch.setattr(QMessageBox, "warning", lambda *a, **k: QMessageBox.StandardButton.Ok)
+    monkeypatch.setattr(QMessageBox, "question", lambda *a, **k: QMessageBox.StandardButton.Discard)
+    win = MainWindow(QSettings(str(tmp_path / "settings.ini"), QSettings.Format.IniFormat))
+    qtbot.addWidget(win)
+    win.show()
+    qtbot.waitExposed(win)
+    assert win.open_file(SPOT)
+    win.viewport.render()
+    return win
+
+
+def send(viewport, kind, pos, button=Qt.MouseButton.LeftButton, buttons=None):
+    buttons = button if buttons is None else buttons
+    p = QPointF(pos)
+    event = QMouseEvent(
+        kind, p, viewport.mapToGlobal(p), button, buttons, Qt.KeyboardModifier.NoModifier
+    )
+    {
+        QMouseEvent.Type.MouseButtonPress: viewport.mousePressEvent,
+        QMouseEvent.Type.MouseMove: viewport.mouseMoveEvent,
+        QMouseEvent.Type.MouseButtonRelease: viewport.mouseReleaseEvent,
+    }[kind](event)
+
+
+def drag(window, start: QPoint, steps: int = 6):
+    vp = window.viewport
+    offset = QPoint(8, -6)
+    send(vp, QMouseEvent.Type.MouseButtonPress, start)
+    pos = start
+    for _ in range(steps):
+        pos = pos + offset
+        send(
+            vp, QMouseEvent.Type.MouseMove, pos, Qt.MouseButton.NoButton, Qt.MouseButton.LeftButton
+        )
+    send(vp, QMouseEvent.Type.MouseButtonRelease, pos, buttons=Qt.MouseButton.NoButton)
+
+
+def center_of(window) -> QPoint:
+    return QPoint(window.viewport.width() // 2, window.viewport.height() // 2)
+
+
+def test_drag_moves_near_vertices_only_and_undo_restores(window):
+    sculptor = window.document.sculptor
+    before = sculptor.vertices.copy()
+    hit = window.viewport.pick(QPointF(center_of(window)))
+    assert hit is not None, "the model should be under the window center"
+    drag(window, center_of(window))
+    moved = np.linalg.norm(sculptor.vertices - before, axis=1)
+    dist = np.linalg.norm(before - hit[0], axis=1)
+    assert moved[dist < 0.02 * sculptor.model_size].min() > 0
+    assert np.all(moved[dist > 0.6 * sculptor.model_size] == 0)
+    assert np.array_equal(window.viewport.mesh.points, sculptor.vertices)  # view updated in place
+    assert window.last_step_ms > 0 and "ms" in window.step_label.text()
+    window.undo()
+    assert np.array_equal(sculptor.vertices, before)
+
+
+def test_invalid_material_keeps_the_old_one(window):
+    panel = window.material_panel
+    old = window.document.sculptor.material
+    panel.set_field("poisson", 0.6)
+    assert panel.error
+    assert window.document.sculptor.material == old
+    panel.set_field("poisson", 0.45)
+    assert window.document.sculptor.material == Material.isotropic(1.0, 0.45)
+
+
+def test_falloff_edit_changes_the_next_deformation(window):
+    start = center_of(window)
+    sculptor = window.document.sculptor
+    before = sculptor.vertices.copy()
+    drag(window, start)
+    first = sculptor.vertices - before
+    window.undo()
+    radial = window.falloff_panel.radial
+    rho, value = radial.curve("R", 0)
+    radial.move_point("R", 0, 2, float(rho[2]), float(value[2]) * 3)
+    window.falloff_panel.falloff_changed.emit()
+    drag(window, start)
+    assert not np.allclose(sculptor.vertices - before, first)
+
+
+def test_save_then_reopen_round_trips(window, tmp_path):
+    drag(window, center_of(window))
+    assert window.document.dirty
+    target = tmp_path / "spot_edit.ply"
+    assert window.save_to(str(target))
+    assert not window.document.dirty
+    edited = window.document.sculptor.vertices.copy()
+    assert window.open_file(str(target))
+    assert np.array_equal(window.document.sculptor.vertices, edited)
+    assert window.recent_files()[0].endswith("spot_edit.ply")
+
+
+def test_bad_file_keeps_the_model(window, tmp_path):
+    bad = tmp_path / "bad.obj"
+    bad.write_text("v 1 2\n")
+    vertices = window.document.sculptor.vertices.copy()
+    assert not window.open_file(str(bad))
+    assert np.array_equal(window.document.sculptor.vertices, vertices)
+    assert "bad.obj" in window.message_label.text()
