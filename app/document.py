@@ -8,10 +8,10 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from gogreen_core.mesh_io import MeshData, load_mesh, save_mesh
-from gogreen_core.shapes import default_model
 
+from gogreen_core.mesh_io import MeshData, load_mesh, save_mesh
 from gogreen_core.sculptor import Sculptor
+from gogreen_core.shapes import default_model
 
 __all__ = ["SAVE_FORMATS", "Document"]
 
