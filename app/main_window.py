@@ -68,6 +68,7 @@ class MainWindow(QMainWindow):
         self._build_menus()
         self._build_status_bar()
         self.document: Document | None = None
+        self._constraint_actor = None
         self._stroke: dict | None = None
         self._frame_times: list[float] = []
         self.last_step_ms = 0.0
@@ -157,6 +158,8 @@ class MainWindow(QMainWindow):
     def set_document(self, document: Document) -> None:
         self.document = document
         self.viewport.set_mesh(document.sculptor.vertices, document.sculptor.faces)
+        if self._constraint_actor is not None:
+            self.viewport.remove_actor(self._constraint_actor, render=False)
         self._constraint_actor = None
         self._brush_changed()
         self._refresh_title()
@@ -399,19 +402,21 @@ class MainWindow(QMainWindow):
         self._refresh_status()
 
     def _show_constraints(self) -> None:
+        """One marker actor for all pins, its points replaced in place."""
         points = self.document.sculptor.constraint_points
-        if self._constraint_actor is not None:
-            self.viewport.remove_actor(self._constraint_actor, render=False)
-            self._constraint_actor = None
-        if len(points):
-            self._constraint_actor = self.viewport.add_points(
-                pv.PolyData(points),
-                color="#ff3355",
-                point_size=14,
-                render_points_as_spheres=True,
-                pickable=False,
-                reset_camera=False,
-            )
+        if self._constraint_actor is None and len(points):
+            # add_actor, not add_points: pyvista's add_* would rebind viewport.mesh to the markers
+            self._constraint_markers = pv.PolyData(points)
+            self._constraint_actor = pv.Actor(mapper=pv.DataSetMapper(self._constraint_markers))
+            prop = self._constraint_actor.prop
+            prop.color, prop.point_size, prop.render_points_as_spheres = "#ff3355", 14, True
+            self._constraint_actor.SetPickable(False)
+            self.viewport.add_actor(self._constraint_actor, reset_camera=False, render=False)
+        elif self._constraint_actor is not None:
+            self._constraint_markers.points = points if len(points) else np.zeros((0, 3))
+            self._constraint_markers.verts = np.hstack(
+                [np.ones((len(points), 1), int), np.arange(len(points))[:, None]]
+            ).ravel()
         self.viewport.render()
 
     # -- edit --------------------------------------------------------------------------------

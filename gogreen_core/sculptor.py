@@ -188,7 +188,11 @@ class Sculptor:
             raise ValueError("falloff must be a single RadialProfile (Gaussian, Kelvinlet, spline)")
         l_max = self._l_max if l_max is None else l_max
         shape = falloff.with_eps(1.0)  # a copy: later edits of the caller's need another call
-        full = GreenKernel(self._material, l_max, shape)  # validates l_max and the falloff
+        current = self._kernels.get("full")
+        if current is not None and current.l_max == l_max:
+            full = current.with_radial(shape)  # same material: no new quadrature
+        else:
+            full = GreenKernel(self._material, l_max, shape)  # validates l_max and the falloff
         weights = None if degree_weights is None else np.array(degree_weights, dtype=np.float64)
         if weights is not None and (
             weights.shape != (l_max + 1,) or not np.isfinite(weights).all()
@@ -311,7 +315,13 @@ class Sculptor:
                 )
             return unit * (brush.strength * event.amount / response), np.zeros(3)
         delta = brush.strength * event.delta
-        g0 = self._base_kernel(False).with_radial(kernel.radial).green(np.zeros((1, 3)))[0]
+        # The wrinkle brush's force comes from the full (unweighted) kernel at the same falloff.
+        full = (
+            self._base_kernel(False).with_radial(kernel.radial)
+            if brush.kind == "wrinkle"
+            else kernel
+        )
+        g0 = full.green(np.zeros((1, 3)))[0]
         return np.linalg.solve(g0, delta), delta
 
     def _active(self, brush: Brush, center: np.ndarray, step: np.ndarray) -> np.ndarray:

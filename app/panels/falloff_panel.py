@@ -19,19 +19,18 @@ from PySide6.QtWidgets import (
     QCheckBox,
     QComboBox,
     QDoubleSpinBox,
-    QFrame,
     QGridLayout,
     QGroupBox,
     QHBoxLayout,
     QLabel,
     QPushButton,
-    QScrollArea,
     QSpinBox,
     QVBoxLayout,
     QWidget,
 )
 
 from app.panels.curve_editor import CurveEditor, curve_color, curve_label
+from app.panels.widgets import scrolled_column
 from gogreen_core.brushes import default_wrinkle_weights
 from gogreen_core.radial import GaussianRadial, KelvinletRadial, RadialProfile, SplineRadial
 
@@ -92,18 +91,7 @@ class FalloffPanel(QWidget):
         self._radial = SplineRadial.from_profile(GaussianRadial(1.0), self._l_max)
         self.weight_spins: list[QDoubleSpinBox] = []
 
-        outer = QVBoxLayout(self)
-        outer.setContentsMargins(0, 0, 0, 0)
-        scroll = QScrollArea()
-        scroll.setWidgetResizable(True)
-        scroll.setFrameShape(QFrame.Shape.NoFrame)
-        scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
-        outer.addWidget(scroll)
-        content = QWidget()
-        scroll.setWidget(content)
-        layout = QVBoxLayout(content)
-        layout.setContentsMargins(6, 6, 6, 6)
-        layout.setSpacing(6)
+        layout = scrolled_column(self)
 
         self.editor = CurveEditor(self._radial)
         self.editor.setMinimumHeight(240)

@@ -26,14 +26,12 @@ from PySide6.QtWidgets import (
     QComboBox,
     QDoubleSpinBox,
     QFormLayout,
-    QFrame,
     QGridLayout,
     QGroupBox,
     QHBoxLayout,
     QLabel,
     QProgressBar,
     QPushButton,
-    QScrollArea,
     QSlider,
     QSpinBox,
     QTableWidget,
@@ -52,6 +50,7 @@ from app.panels.widgets import (
     NumberField,
     mark_invalid,
     pastel_color,
+    scrolled_column,
 )
 from gogreen_core import (
     PATTERNS,
@@ -203,18 +202,7 @@ class HomogenizationPanel(QWidget):
         self._auto_timer.timeout.connect(self.compute)
         self.parameter_widgets: dict[str, QWidget] = {}
 
-        outer = QVBoxLayout(self)
-        outer.setContentsMargins(0, 0, 0, 0)
-        scroll = QScrollArea()
-        scroll.setWidgetResizable(True)
-        scroll.setFrameShape(QFrame.Shape.NoFrame)
-        scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
-        outer.addWidget(scroll)
-        content = QWidget()
-        scroll.setWidget(content)
-        layout = QVBoxLayout(content)
-        layout.setContentsMargins(6, 6, 6, 6)
-        layout.setSpacing(6)
+        layout = scrolled_column(self)
         layout.addWidget(self._pattern_group())
         layout.addWidget(self._phase_group())
         layout.addWidget(self._rotation_group())

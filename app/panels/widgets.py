@@ -15,9 +15,11 @@ from PySide6.QtGui import QColor, QPalette, QValidator
 from PySide6.QtWidgets import (
     QAbstractSpinBox,
     QDoubleSpinBox,
+    QFrame,
     QGridLayout,
     QHeaderView,
     QLabel,
+    QScrollArea,
     QSizePolicy,
     QSlider,
     QStackedWidget,
@@ -50,6 +52,23 @@ ERROR_TEXT_STYLE = "color: #c62828;"
 ZERO_COLOR = QColor("#e4e4e4")
 
 _GOLDEN_RATIO_CONJUGATE = 0.618033988749895
+
+
+def scrolled_column(panel: QWidget) -> QVBoxLayout:
+    """Give ``panel`` a frameless vertically scrolling area; returns the column layout inside."""
+    outer = QVBoxLayout(panel)
+    outer.setContentsMargins(0, 0, 0, 0)
+    scroll = QScrollArea()
+    scroll.setWidgetResizable(True)
+    scroll.setFrameShape(QFrame.Shape.NoFrame)
+    scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
+    outer.addWidget(scroll)
+    content = QWidget()
+    scroll.setWidget(content)
+    layout = QVBoxLayout(content)
+    layout.setContentsMargins(6, 6, 6, 6)
+    layout.setSpacing(6)
+    return layout
 
 
 def pastel_color(index: int) -> QColor:
