@@ -9,9 +9,12 @@ with x = points[n] - center, r = |x|, t = r/(r+ε), T_l the piecewise polynomial
 Speed notes (measured, 2-core AVX-512 machine): points are processed in blocks of ``BLOCK`` on
 contiguous scratch rows so that LLVM vectorizes across points; ``error_model="numpy"`` removes
 the zero-division checks that otherwise block vectorization; loops touch few arrays each
-(LLVM gives up when runtime alias checks grow too many); the radial Horner keeps four degrees in
-registers per point (a chain through memory was latency bound); for K = 3 (vector and affine
-loads) the Legendre step and the accumulation share one pass over the block.
+(LLVM gives up when runtime alias checks grow too many); the radial polynomial uses Estrin's
+scheme across contiguous degrees (Horner was latency bound); the Legendre recurrence advances two
+degrees per pass and never stores the other parity; for K = 3 (vector and affine loads) one pass
+per (l, m) does the recurrence step and updates all three outputs. What remains is bound by the
+loads and stores of the scratch rows (about 20 ms per 10⁶ points at l_max 8); keeping a whole
+order's chain in registers would need code generated per l_max.
 """
 
 from __future__ import annotations
@@ -24,8 +27,8 @@ from numba import njit, prange
 BLOCK = 256
 # Parallel tasks per call; each reuses one set of scratch rows for a contiguous run of blocks.
 TASKS = 64
-#: Degrees per register group in the radial Horner; tables pad their degree axis to a multiple.
-DEGREE_GROUP = 4
+#: Polynomial degree of the radial table segments that ``_radial`` evaluates (radial.py's).
+SEGMENT_DEGREE = 9
 
 _JIT = {"cache": True, "fastmath": {"contract"}, "boundscheck": False, "error_model": "numpy"}
 
@@ -40,7 +43,7 @@ def expand(
     l_last: int,  # highest degree of the parity
     base: np.ndarray,  # (l_last+1,) int64: coeff row of Y_l,-l for each degree l used
     coeffs: np.ndarray,  # (n_terms, K) float64
-    tables: np.ndarray,  # (S, D+1, n_pad) float64; degree index (l - l_first) // 2
+    tables: np.ndarray,  # (S, SEGMENT_DEGREE+1, n_deg) float64; degree index (l - l_first) // 2
     qmm: np.ndarray,  # (L+1,) Legendre constants Q_m^m
     rec_a: np.ndarray,  # (L+1, L+1) recurrence a_lm
     rec_b: np.ndarray,  # (L+1, L+1) recurrence b_lm
@@ -48,20 +51,21 @@ def expand(
 ) -> None:
     n_points = points.shape[0]
     n_out = coeffs.shape[1]
-    n_pad = tables.shape[2]
+    n_deg = tables.shape[2]
     n_blocks = (n_points + BLOCK - 1) // BLOCK
     n_tasks = min(n_blocks, TASKS)
     for task in prange(n_tasks):
         geo = np.empty((8, BLOCK))
         seg = np.empty(BLOCK, dtype=np.int64)
-        rad = np.empty((n_pad, BLOCK))
-        work = np.empty((7, BLOCK))
+        by_point = np.empty((BLOCK, n_deg))
+        rad = np.empty((n_deg, BLOCK))
+        work = np.empty((6, BLOCK))
         acc = np.empty((n_out, BLOCK))
         for blk in range(task * n_blocks // n_tasks, (task + 1) * n_blocks // n_tasks):
             start = blk * BLOCK
             nb = min(BLOCK, n_points - start)
             _geometry(points, center, eps, power, tables.shape[0], start, nb, geo, seg)
-            _radial(tables, l_first, nb, geo, seg, rad)
+            _radial(tables, l_first, nb, geo, seg, by_point, rad)
             _angular(l_first, l_last, base, coeffs, qmm, rec_a, rec_b, nb, geo, rad, work, acc)
             for i in range(nb):
                 for k in range(n_out):
@@ -104,66 +108,110 @@ def _geometry(points, center, eps, power, n_seg, start, nb, geo, seg):
 
 
 @njit(nogil=True, **_JIT)
-def _radial(tables, l_first, nb, geo, seg, rad):
-    """rad[d, i] = R_l(r_i) (or ℛ_l) for every degree: Horner in the segment's local variable,
-    DEGREE_GROUP degrees at a time held in registers (independent chains across points)."""
+def _radial(tables, l_first, nb, geo, seg, by_point, rad):
+    """rad[d, i] = R_l(r_i) (or ℛ_l) for every degree of the parity (d = (l - l_first) / 2).
+
+    The degree-9 segment polynomial is evaluated by Estrin's scheme (dependency depth 4 instead
+    of Horner's 9: the evaluation was latency bound) with the degrees innermost, contiguous in
+    both ``tables`` and the (BLOCK, n_deg) scratch ``by_point``, so it vectorizes without
+    gathers; one transposing pass then lays the values out by degree for ``_angular``.
+    """
     loc, scale0, scale1 = geo[4], geo[5], geo[6]
-    n_pad = tables.shape[2]
-    top = tables.shape[1] - 1
+    n_deg = tables.shape[2]
     for i in range(nb):
-        coef = tables[seg[i]]
+        c = tables[seg[i]]
         s = loc[i]
-        for d in range(0, n_pad, DEGREE_GROUP):
-            h0 = coef[top, d]
-            h1 = coef[top, d + 1]
-            h2 = coef[top, d + 2]
-            h3 = coef[top, d + 3]
-            for c in range(top - 1, -1, -1):
-                h0 = h0 * s + coef[c, d]
-                h1 = h1 * s + coef[c, d + 1]
-                h2 = h2 * s + coef[c, d + 2]
-                h3 = h3 * s + coef[c, d + 3]
-            sc = scale1[i]
-            rad[d, i] = h0 * (scale0[i] if d == 0 and l_first == 0 else sc)
-            rad[d + 1, i] = h1 * sc
-            rad[d + 2, i] = h2 * sc
-            rad[d + 3, i] = h3 * sc
+        s2 = s * s
+        s4 = s2 * s2
+        row = by_point[i]
+        for d in range(n_deg):
+            p01 = c[0, d] + c[1, d] * s
+            p23 = c[2, d] + c[3, d] * s
+            p45 = c[4, d] + c[5, d] * s
+            p67 = c[6, d] + c[7, d] * s
+            p89 = c[8, d] + c[9, d] * s
+            row[d] = (p01 + p23 * s2) + ((p45 + p67 * s2) + p89 * s4) * s4
+    for d in range(n_deg):
+        # degree 0 keeps its value at r = 0 (G(0) is its l = 0 term); l ≥ 1 vanish there
+        scale = scale0 if d == 0 and l_first == 0 else scale1
+        out = rad[d]
+        for i in range(nb):
+            out[i] = by_point[i, d] * scale[i]
 
 
 @njit(nogil=True, **_JIT)
 def _angular(l_first, l_last, base, coeffs, qmm, rec_a, rec_b, nb, geo, rad, work, acc):
     """acc[k, i] = Σ_l rad[l, i] Σ_m Y_lm(x̂_i) coeffs[row(l, m), k] for one block: for each
-    order m, the Legendre recurrence runs up in l and feeds the degrees of the parity."""
+    order m, the Legendre recurrence runs up in l two degrees per pass (the other parity is
+    never stored) and each pass adds its degree's terms."""
     x, y, z = geo[0], geo[1], geo[2]
-    cos_m, sin_m, qc, qs = work[0], work[1], work[5], work[6]
+    cos_m, sin_m, cur, prev, qc, qs = work[0], work[1], work[2], work[3], work[4], work[5]
     n_out = acc.shape[0]
     acc[:, :nb] = 0.0
     for i in range(nb):
         cos_m[i] = 1.0
         sin_m[i] = 0.0
     for m in range(l_last + 1):
-        if m > 0:
-            for i in range(nb):
-                c_new = x[i] * cos_m[i] - y[i] * sin_m[i]
-                sin_m[i] = x[i] * sin_m[i] + y[i] * cos_m[i]
-                cos_m[i] = c_new
-        cur, prev, nxt = work[2], work[3], work[4]
-        q0 = qmm[m]
-        for i in range(nb):
-            cur[i] = q0  # Q_m^m
-            prev[i] = 0.0  # Q_{m-1}^m
-        for l in range(m, l_last + 1):
-            if l > m:
-                a = rec_a[l, m]
-                b = rec_b[l, m]
-                for i in range(nb):
-                    nxt[i] = a * (z[i] * cur[i] - b * prev[i])
-                cur, prev, nxt = nxt, cur, prev
-            if l < l_first or (l - l_first) % 2 != 0:
-                continue
+        # lowest degree of the parity with this order: m or m + 1
+        l_low = max(m, l_first)
+        l_low += (l_low - l_first) % 2
+        q0 = qmm[m]  # Q_m^m
+        a_low = rec_a[l_low, m] * q0 if l_low > m else q0  # Q_{m+1}^m = a z Q_m^m
+        for l in range(l_low, l_last + 1, 2):
             row = rad[(l - l_first) // 2]
+            a1, b1 = rec_a[l - 1, m], rec_b[l - 1, m]
+            a2, b2 = rec_a[l, m], rec_b[l, m]
             row_c = base[l] + l + m
             row_s = base[l] + l - m
+            if n_out == 3:
+                # vector and affine loads: one pass per degree (the first of each order also
+                # steps cos mφ, sin mφ and starts the recurrence) updates the three outputs
+                first = l == l_low
+                c0, c1, c2 = coeffs[row_c, 0], coeffs[row_c, 1], coeffs[row_c, 2]
+                s0 = coeffs[row_s, 0] if m > 0 else 0.0
+                s1 = coeffs[row_s, 1] if m > 0 else 0.0
+                s2 = coeffs[row_s, 2] if m > 0 else 0.0
+                acc0, acc1, acc2 = acc[0], acc[1], acc[2]
+                for i in range(nb):
+                    if first:
+                        c_m = x[i] * cos_m[i] - y[i] * sin_m[i]
+                        s_m = x[i] * sin_m[i] + y[i] * cos_m[i]
+                        if m > 0:
+                            cos_m[i] = c_m
+                            sin_m[i] = s_m
+                        else:
+                            c_m = 1.0
+                            s_m = 0.0
+                        q_l = a_low * z[i] if l_low > m else q0
+                        prev[i] = q0 if l_low > m else 0.0
+                        cur[i] = q_l
+                    else:
+                        c_m = cos_m[i]
+                        s_m = sin_m[i]
+                        q_odd = a1 * (z[i] * cur[i] - b1 * prev[i])
+                        q_l = a2 * (z[i] * q_odd - b2 * cur[i])
+                        prev[i] = q_odd
+                        cur[i] = q_l
+                    q = row[i] * q_l
+                    q_cos = q * c_m
+                    q_sin = q * s_m
+                    acc0[i] += q_cos * c0 + q_sin * s0
+                    acc1[i] += q_cos * c1 + q_sin * s1
+                    acc2[i] += q_cos * c2 + q_sin * s2
+                continue
+            if l == l_low:
+                for i in range(nb):
+                    if m > 0:
+                        c_new = x[i] * cos_m[i] - y[i] * sin_m[i]
+                        sin_m[i] = x[i] * sin_m[i] + y[i] * cos_m[i]
+                        cos_m[i] = c_new
+                    cur[i] = a_low * z[i] if l_low > m else q0
+                    prev[i] = q0 if l_low > m else 0.0
+            else:
+                for i in range(nb):
+                    q_odd = a1 * (z[i] * cur[i] - b1 * prev[i])
+                    cur[i] = a2 * (z[i] * q_odd - b2 * cur[i])
+                    prev[i] = q_odd
             for i in range(nb):
                 q = row[i] * cur[i]
                 qc[i] = q * cos_m[i]
@@ -205,7 +253,7 @@ def stream(
     ``substeps`` classical RK4 steps while it stays in cache (paper Sec. 3.2).
     """
     n_points = points.shape[0]
-    n_pad = tables.shape[2]
+    n_deg = tables.shape[2]
     n_blocks = (n_points + BLOCK - 1) // BLOCK
     n_tasks = min(n_blocks, TASKS)
     h = 1.0 / substeps
@@ -214,8 +262,9 @@ def stream(
     for task in prange(n_tasks):
         geo = np.empty((8, BLOCK))
         seg = np.empty(BLOCK, dtype=np.int64)
-        rad = np.empty((n_pad, BLOCK))
-        work = np.empty((7, BLOCK))
+        by_point = np.empty((BLOCK, n_deg))
+        rad = np.empty((n_deg, BLOCK))
+        work = np.empty((6, BLOCK))
         acc = np.empty((3, BLOCK))
         pos = np.empty((3, BLOCK))
         vel = np.empty((3, BLOCK))
@@ -249,7 +298,7 @@ def stream(
                                 # the brush itself (sgn = 1) sees exactly its own positions
                                 probe[i, k] = acc[k, i] if sgn > 0 else o - (acc[k, i] - o)
                         _geometry(probe, center, eps, power, tables.shape[0], 0, nb, geo, seg)
-                        _radial(tables, l_first, nb, geo, seg, rad)
+                        _radial(tables, l_first, nb, geo, seg, by_point, rad)
                         _angular(
                             l_first,
                             l_last,

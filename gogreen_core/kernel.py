@@ -18,9 +18,9 @@ from functools import lru_cache
 import numpy as np
 from scipy.integrate import lebedev_rule
 
-from gogreen_core._expansion import DEGREE_GROUP, expand, stream
+from gogreen_core._expansion import SEGMENT_DEGREE, expand, stream
 from gogreen_core.material import Material
-from gogreen_core.radial import GaussianRadial, RadialProfile
+from gogreen_core.radial import TABLE_DEGREE, GaussianRadial, RadialProfile
 from gogreen_core.sph import legendre_recurrence, real_sph_harm
 
 __all__ = ["L_MAX_LIMIT", "GreenKernel", "lebedev_points"]
@@ -60,13 +60,13 @@ def _points(name: str, value) -> np.ndarray:
 
 
 def _evaluation_tables(tables: np.ndarray) -> np.ndarray:
-    """(n_degrees, S, D+1) → (S, D+1, n_pad) with all degrees of a segment contiguous and the
-    degree axis zero-padded to a multiple of DEGREE_GROUP, the layout ``_expansion`` reads."""
-    n_deg = tables.shape[0]
-    n_pad = -(-n_deg // DEGREE_GROUP) * DEGREE_GROUP
-    out = np.zeros((tables.shape[1], tables.shape[2], n_pad))
-    out[:, :, :n_deg] = tables.transpose(1, 2, 0)
-    return out
+    """(n_degrees, S, D+1) → (S, D+1, n_degrees), all degrees of a segment coefficient
+    contiguous: the layout ``_expansion`` reads."""
+    return np.ascontiguousarray(tables.transpose(1, 2, 0))
+
+
+# _expansion unrolls the segment polynomial for this degree
+assert TABLE_DEGREE == SEGMENT_DEGREE
 
 
 class _Parity:
