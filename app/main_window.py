@@ -32,13 +32,13 @@ from app.panels.material_panel import MaterialPanel
 from app.viewport import CursorSample, SculptViewport
 from gogreen_core.brushes import Brush, BrushEvent
 from gogreen_core.material import Material
-from gogreen_core.radial import radial_from_dict
+from gogreen_core.mesh_io import write_text_atomic
+from gogreen_core.presets import Preset, builtin_presets, load_preset, save_preset
 
 __all__ = ["MainWindow"]
 
 MESH_FILTER = "Meshes (*.obj *.ply *.stl *.off);;All files (*)"
 SAVE_FILTER = "Wavefront OBJ (*.obj);;Stanford PLY (*.ply);;STL (*.stl)"
-PRESET_FORMAT = "gogreen-preset"
 #: Screen drag (pixels) that makes an affine brush's amount 1 (strain, or radians for twist).
 PIXELS_PER_UNIT_AMOUNT = 250.0
 MAX_RECENT = 8
@@ -104,7 +104,9 @@ class MainWindow(QMainWindow):
         self._action(file_menu, "&Save", self.save, QKeySequence.StandardKey.Save)
         self._action(file_menu, "Save &As…", self.save_as_dialog, "Ctrl+Shift+S")
         file_menu.addSeparator()
-        self._action(file_menu, "Load &Preset…", self.load_preset_dialog)
+        self.presets_menu = file_menu.addMenu("&Presets")
+        self._fill_presets_menu()
+        self._action(file_menu, "Load &Preset File…", self.load_preset_dialog)
         self._action(file_menu, "Save Pr&eset…", self.save_preset_dialog)
         self._action(file_menu, "Export Se&ssion…", self.export_session_dialog)
         self._action(file_menu, "Export Scree&nshot…", self.screenshot_dialog, "F12")
@@ -124,6 +126,21 @@ class MainWindow(QMainWindow):
         view_menu.addAction(self.panels_dock.toggleViewAction())
         view_menu.addAction(self.brush_bar.toggleViewAction())
         self._refresh_recent()
+
+    def _fill_presets_menu(self) -> None:
+        """One entry per built-in preset (resources/presets), its description as status tip."""
+        try:
+            presets = builtin_presets()
+        except ValueError as exc:  # a broken installation must not stop the window
+            self.presets_menu.setEnabled(False)
+            self.presets_menu.setToolTip(str(exc))
+            return
+        for preset in presets:
+            action = self.presets_menu.addAction(preset.name)
+            action.setStatusTip(preset.description)
+            action.setToolTip(preset.description)
+            action.triggered.connect(lambda _c=False, p=preset: self.apply_preset(p))
+        self.presets_menu.setToolTipsVisible(True)
 
     def _build_status_bar(self) -> None:
         self.vertex_label = QLabel()
@@ -167,6 +184,7 @@ class MainWindow(QMainWindow):
 
     def open_default(self) -> None:
         self.set_document(Document.default(self._sculptor_options()))
+        self.flash(f"Default model: {len(self.document.sculptor.vertices)} vertices")
 
     def open_file(self, path: str) -> bool:
         """Open a mesh; on failure show why and keep the current model. Returns success."""
@@ -322,7 +340,7 @@ class MainWindow(QMainWindow):
             dist = np.linalg.norm(points - sample.point, axis=1)
             nearest = int(np.argmin(dist))
             if dist[nearest] < 0.5 * sculptor_eps:  # drag an existing pin
-                self._stroke = {"pin": nearest, "last": sample.point}
+                self._stroke = {"pin": nearest, "last": sample.point, "continued": False}
                 return
         try:
             if not len(points):  # the first pin takes the brush radius
@@ -331,7 +349,7 @@ class MainWindow(QMainWindow):
         except ValueError as exc:
             self.show_error("Cannot pin here", str(exc))
             return
-        self._stroke = {"pin": len(points), "last": sample.point}
+        self._stroke = {"pin": len(points), "last": sample.point, "continued": False}
         self._show_constraints()
 
     def _event_for(self, sample: CursorSample) -> BrushEvent | None:
@@ -365,7 +383,8 @@ class MainWindow(QMainWindow):
             if "pin" in self._stroke:
                 delta = sample.point - self._stroke["last"]
                 self._stroke["last"] = sample.point
-                sculptor.drag_constraint(self._stroke["pin"], delta)
+                sculptor.drag_constraint(self._stroke["pin"], delta, self._stroke["continued"])
+                self._stroke["continued"] = True
                 moved = None
             else:
                 event = self._event_for(sample)
@@ -444,38 +463,28 @@ class MainWindow(QMainWindow):
             self._show_constraints()
 
     def reset_camera(self) -> None:
-        self.viewport.view_isometric()
-        self.viewport.reset_camera()
+        self.viewport.home_view()
 
     # -- presets, session, screenshot --------------------------------------------------------
-    def preset(self) -> dict:
-        """Material + falloff + brush as a JSON-ready dict."""
-        return {
-            "format": PRESET_FORMAT,
-            "version": 1,
-            "material": self.material_panel.material.to_dict(),
-            "falloff": self.falloff_panel.radial.to_dict(),
-            "l_max": self.falloff_panel.l_max,
-            "degree_weights": list(map(float, self.falloff_panel.degree_weights)),
-            "brush": self.brush_bar.brush.to_dict(),
-        }
+    def preset(self, name: str = "") -> Preset:
+        """The current material + falloff + brush as a :class:`Preset`."""
+        return Preset(
+            name=name,
+            material=self.material_panel.material,
+            falloff=self.falloff_panel.radial,
+            l_max=self.falloff_panel.l_max,
+            degree_weights=self.falloff_panel.degree_weights,
+            brush=self.brush_bar.brush,
+        )
 
-    def apply_preset(self, data: dict) -> None:
-        """Load a preset; a malformed one raises ValueError and changes nothing."""
-        if not isinstance(data, dict) or data.get("format") != PRESET_FORMAT:
-            raise ValueError(f"not a GoGreen preset (expected format {PRESET_FORMAT!r})")
-        try:
-            material = Material.from_dict(data["material"])
-            falloff = radial_from_dict(data["falloff"])
-            brush = Brush.from_dict(data["brush"])
-            l_max, weights = int(data["l_max"]), data.get("degree_weights")
-        except (KeyError, TypeError) as exc:
-            raise ValueError(f"malformed preset: {exc}") from None
-        self.material_panel.set_material(material)
-        self.falloff_panel.set_falloff(falloff, l_max, weights)
-        self.brush_bar.set_brush(brush)
-        self.apply_material(material)
+    def apply_preset(self, preset: Preset) -> None:
+        """Show ``preset`` in the panels and brush bar and give its settings to the model."""
+        self.material_panel.set_material(preset.material)
+        self.falloff_panel.set_falloff(preset.falloff, preset.l_max, preset.degree_weights)
+        self.brush_bar.set_brush(preset.brush)
+        self.apply_material(preset.material)
         self.apply_falloff()
+        self.flash(f"Preset: {preset.name}" if preset.name else "Preset loaded")
 
     def _json_dialog(self, title: str, save: bool) -> str:
         dialog = QFileDialog.getSaveFileName if save else QFileDialog.getOpenFileName
@@ -488,30 +497,29 @@ class MainWindow(QMainWindow):
         path = self._json_dialog("Load preset", save=False)
         if path:
             try:
-                self.apply_preset(json.loads(Path(path).read_text()))
-            except (OSError, ValueError) as exc:
-                self.show_error("Cannot load the preset", f"{Path(path).name}: {exc}")
+                self.apply_preset(load_preset(path))
+            except ValueError as exc:
+                self.show_error("Cannot load the preset", str(exc))
 
     def save_preset_dialog(self) -> None:
         path = self._json_dialog("Save preset", save=True)
         if path:
-            self._write_json(path, self.preset())
+            self._write(path, lambda: save_preset(self.preset(Path(path).stem), path))
 
     def export_session_dialog(self) -> None:
         if self.document is None:
             return
         path = self._json_dialog("Export session (for gogreen replay)", save=True)
         if path:
-            self._write_json(path, self.document.sculptor.session())
+            text = json.dumps(self.document.sculptor.session(), indent=1)
+            self._write(path, lambda: write_text_atomic(path, text))
 
-    def _write_json(self, path: str, data: dict) -> None:
+    def _write(self, path: str, write) -> None:
         try:
-            tmp = Path(path).with_suffix(".json.tmp")
-            tmp.write_text(json.dumps(data, indent=1))
-            tmp.replace(path)
+            write()
             self.flash(f"Wrote {Path(path).name}")
-        except OSError as exc:
-            self.show_error("Cannot write", f"{path}: {exc.strerror}")
+        except ValueError as exc:  # MeshFileError from the atomic writer
+            self.show_error("Cannot write", str(exc))
 
     def screenshot_dialog(self) -> None:
         path, _ = QFileDialog.getSaveFileName(

@@ -25,6 +25,8 @@ from gogreen_core.geometry import vertex_normals
 __all__ = ["CursorSample", "SculptViewport"]
 
 MODEL_COLOR = "#c9b79c"  # warm clay
+#: Direction from the model to the camera in the home view: in front (+z), a little right and above.
+HOME_VIEW_DIRECTION = (0.55, 0.4, 1.0)
 CURSOR_COLOR = "#ff8c1a"
 
 
@@ -112,9 +114,14 @@ class SculptViewport(QtInteractor):
         self._picker.AddPickList(self.mesh_actor)
         self._picker.PickFromListOn()
         if reset_camera:
-            self.view_isometric(render=False)
-            self.reset_camera(render=False)
+            self.home_view(render=False)
         self.render()
+
+    def home_view(self, render: bool = True) -> None:
+        """Front three-quarter view with +y up (the OBJ/PLY convention of Spot, the bunny and
+        most exported models), the whole mesh in frame."""
+        self.view_vector(HOME_VIEW_DIRECTION, viewup=(0.0, 1.0, 0.0), render=False)
+        self.reset_camera(render=render)
 
     def update_vertices(self, vertices: np.ndarray, indices: np.ndarray | None = None) -> None:
         """Write new positions (N, 3) and recompute normals, in place (no new actor)."""

@@ -21,6 +21,7 @@ from gogreen_core.homogenization import (
 from gogreen_core.kernel import GreenKernel, lebedev_points
 from gogreen_core.material import Material
 from gogreen_core.patterns import PATTERNS, PatternParameter, PatternSpec, make_pattern
+from gogreen_core.presets import Preset, builtin_presets, load_preset, save_preset
 from gogreen_core.radial import (
     GaussianRadial,
     KelvinletRadial,
@@ -48,18 +49,22 @@ __all__ = [
     "MultiscaleRadial",
     "PatternParameter",
     "PatternSpec",
+    "Preset",
     "RadialProfile",
     "Sculptor",
     "SplineRadial",
     "SymmetryDescription",
     "bimaterial",
+    "builtin_presets",
     "check_phases",
     "describe_symmetry",
     "homogenize",
     "homogenize_detailed",
     "lebedev_points",
+    "load_preset",
     "make_pattern",
     "radial_from_dict",
     "reuss_bound",
+    "save_preset",
     "voigt_bound",
 ]

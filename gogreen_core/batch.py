@@ -20,7 +20,7 @@ import numpy as np
 
 from gogreen_core.brushes import BRUSH_KINDS, Brush, BrushEvent
 from gogreen_core.material import Material
-from gogreen_core.mesh_io import MeshData, load_mesh, save_mesh
+from gogreen_core.mesh_io import MeshData, load_mesh, save_mesh, write_text_atomic
 from gogreen_core.radial import GaussianRadial, KelvinletRadial, radial_from_dict
 from gogreen_core.sculptor import Sculptor
 
@@ -148,7 +148,7 @@ def _deform(args: argparse.Namespace) -> int:
     sculptor.end_stroke()
     _save(mesh, sculptor.vertices, args.output)
     if args.session_out:
-        Path(args.session_out).write_text(json.dumps(sculptor.session(), indent=1))
+        write_text_atomic(args.session_out, json.dumps(sculptor.session(), indent=1))
     return 0
 
 

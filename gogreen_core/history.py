@@ -124,7 +124,9 @@ class History:
         while len(self._undo) > 1 and self._bytes > self.max_bytes:
             self._bytes -= self._undo.pop(0).nbytes
 
-    def record_change(self, label: str, before: np.ndarray, after: np.ndarray) -> None:
+    def record_change(
+        self, label: str, before: np.ndarray, after: np.ndarray, merge: bool = False
+    ) -> None:
         """Record the rows that differ between two full vertex arrays.
 
         Parameters
@@ -134,6 +136,9 @@ class History:
         before, after : (N, 3) float64
             All positions before and after the operation. Rows are compared bit for bit, so
             ``0.0`` → ``-0.0`` counts as a change and an unchanged NaN does not.
+        merge : bool
+            Continue the last operation if it has the same label and nothing was undone since
+            (the steps of one pin drag become one undo step).
         """
         b = np.ascontiguousarray(before, dtype=np.float64)
         a = np.ascontiguousarray(after, dtype=np.float64)
@@ -143,7 +148,27 @@ class History:
                 "have shape (N, 3)"
             )
         changed = np.flatnonzero(np.any(b.view(np.uint64) != a.view(np.uint64), axis=1))
-        self.record(label, changed, b[changed], a[changed])
+        last = self._undo[-1] if self._undo else None
+        if merge and last is not None and last.label == label and not self._redo:
+            self._merge_last(changed, b[changed], a[changed])
+        else:
+            self.record(label, changed, b[changed], a[changed])
+
+    def _merge_last(self, indices: np.ndarray, before: np.ndarray, after: np.ndarray) -> None:
+        """Fold a change into the last entry: it keeps its own ``before`` rows and takes the
+        new ``after`` rows."""
+        last = self._undo.pop()
+        self._bytes -= last.nbytes
+        union = np.union1d(last.indices, indices)
+        old_rows = np.searchsorted(union, last.indices)
+        new_rows = np.searchsorted(union, indices)
+        b = np.empty((len(union), 3))
+        a = np.empty((len(union), 3))
+        b[new_rows] = before
+        b[old_rows] = last.before  # first state wins
+        a[old_rows] = last.after
+        a[new_rows] = after  # last state wins
+        self.record(last.label, union, b, a)
 
     # -- undo / redo ---------------------------------------------------------------------------
     def undo(self, vertices: np.ndarray) -> str | None:

@@ -42,7 +42,14 @@ from typing import BinaryIO
 
 import numpy as np
 
-__all__ = ["MESH_FORMATS", "MeshData", "MeshFileError", "load_mesh", "save_mesh"]
+__all__ = [
+    "MESH_FORMATS",
+    "MeshData",
+    "MeshFileError",
+    "load_mesh",
+    "save_mesh",
+    "write_text_atomic",
+]
 
 #: File extensions :func:`load_mesh` and :func:`save_mesh` understand (lower case).
 MESH_FORMATS = (".obj", ".ply", ".stl", ".off")
@@ -835,6 +842,17 @@ def save_mesh(mesh: MeshData, path: str | os.PathLike, *, ascii: bool = False) -
         raise MeshFileError(f"{p.name}: {exc}") from None
     except OSError as exc:
         raise MeshFileError(f"{p.name}: cannot write ({exc.strerror or exc})") from exc
+
+
+def write_text_atomic(path: str | os.PathLike, text: str) -> None:
+    """Write ``text`` (UTF-8) to ``path`` through a temporary file renamed over it, so a failed
+    write never leaves a half-written file (sessions, presets). ``MeshFileError`` on failure."""
+    p = Path(path)
+    data = text.encode("utf-8")
+    try:
+        _atomic_write(p, lambda out: out.write(data))
+    except OSError as exc:
+        raise MeshFileError(f"{p.name}: cannot write ({exc.strerror or exc})") from None
 
 
 def _atomic_write(path: Path, write: Callable[[BinaryIO], None]) -> None:

@@ -43,6 +43,8 @@ __all__ = ["SESSION_FORMAT", "Sculptor", "mesh_fingerprint"]
 
 SESSION_FORMAT = "gogreen-session"
 SESSION_VERSION = 1
+#: Operations that set a value; consecutive ones collapse into the last in the session log.
+_SETTING_OPS = frozenset({"material", "falloff", "constraint_radius"})
 #: Relative step of the central differences that measure an affine brush's strength.
 _JACOBIAN_STEP = 1e-3
 
@@ -402,9 +404,12 @@ class Sculptor:
         self._constraints = None
         self._log({"op": "constraints_clear"})
 
-    def drag_constraint(self, index: int, delta: np.ndarray) -> np.ndarray:
+    def drag_constraint(self, index: int, delta: np.ndarray, continued: bool = False) -> np.ndarray:
         """Move constraint ``index`` by ``delta`` (3,) while the others stay: every vertex moves
-        by u = Σ_j G(x − p_j) f_j with u(p_index) = delta and u(p_j) = 0. Returns (N, 3) u."""
+        by u = Σ_j G(x − p_j) f_j with u(p_index) = delta and u(p_j) = 0. Returns (N, 3) u.
+
+        ``continued``: this step continues the previous drag (one mouse drag = one undo step).
+        """
         self._refuse_in_stroke("drag a constraint")
         if self._constraints is None or not 0 <= index < len(self._constraints):
             raise ValueError(f"no constraint {index}")
@@ -418,8 +423,9 @@ class Sculptor:
         self._constraints.move(index, self._constraints.points[index] + d)
         before = self._vertices.copy()
         self._vertices += u
-        self.history.record_change("constraint drag", before, self._vertices)
-        self._log({"op": "constraint_drag", "index": int(index), "delta": d.tolist()})
+        self.history.record_change("constraint drag", before, self._vertices, merge=continued)
+        op = {"op": "constraint_drag", "index": int(index), "delta": d.tolist()}
+        self._log({**op, "continued": True} if continued else op)
         return u
 
     # -- history -----------------------------------------------------------------------------
@@ -440,7 +446,13 @@ class Sculptor:
 
     # -- session log -------------------------------------------------------------------------
     def _log(self, op: dict) -> None:
-        self._operations.append(op)
+        # A setting replaces the one logged just before it (a slider or curve drag sets it many
+        # times in a row): only the last value can matter to what follows, so replay is unchanged.
+        last = self._operations[-1] if self._operations else None
+        if op["op"] in _SETTING_OPS and last is not None and last["op"] == op["op"]:
+            self._operations[-1] = op
+        else:
+            self._operations.append(op)
 
     def session(self) -> dict:
         """The session so far as a JSON-ready dict (see README, "Session files")."""
@@ -517,7 +529,7 @@ class Sculptor:
                 elif kind == "constraints_clear":
                     self.clear_constraints()
                 elif kind == "constraint_drag":
-                    self.drag_constraint(op["index"], op["delta"])
+                    self.drag_constraint(op["index"], op["delta"], bool(op.get("continued")))
                 elif kind == "undo":
                     self.undo()
                 elif kind == "redo":

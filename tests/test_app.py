@@ -115,3 +115,57 @@ def test_bad_file_keeps_the_model(window, tmp_path):
     assert not window.open_file(str(bad))
     assert np.array_equal(window.document.sculptor.vertices, vertices)
     assert "bad.obj" in window.message_label.text()
+
+
+def test_pin_mode_pins_points_and_dragging_a_pin_moves_it_while_others_stay(window):
+    sculptor = window.document.sculptor
+    window.brush_bar.constraint_action.setChecked(True)
+    vp = window.viewport
+    center = center_of(window)
+    other = center + QPoint(-60, 40)
+    # two clicks pin two surface points
+    for pos in (center, other):
+        send(vp, QMouseEvent.Type.MouseButtonPress, pos)
+        send(vp, QMouseEvent.Type.MouseButtonRelease, pos, buttons=Qt.MouseButton.NoButton)
+    pins = sculptor.constraint_points.copy()
+    assert len(pins) == 2
+    assert np.linalg.norm(pins[0] - pins[1]) > 0
+    assert window._constraint_actor is not None
+    assert vp.mesh.n_points == len(sculptor.vertices)  # the markers did not replace the model
+    # dragging the first pin moves it with the cursor; the second pin stays where it was
+    before = sculptor.vertices.copy()
+    drag(window, center, steps=4)
+    after = sculptor.constraint_points
+    assert np.linalg.norm(after[0] - pins[0]) > 1e-3 * sculptor.model_size
+    assert np.allclose(after[1], pins[1])
+    assert len(after) == 2  # the drag started on a pin: no third pin
+    moved = np.linalg.norm(sculptor.vertices - before, axis=1)
+    assert moved.max() > 0
+    assert np.array_equal(vp.mesh.points, sculptor.vertices)
+    window.undo()
+    assert np.array_equal(sculptor.vertices, before)
+    window.clear_constraints()
+    assert len(sculptor.constraint_points) == 0
+
+
+def test_builtin_presets_are_in_the_menu_and_apply(window, tmp_path):
+    actions = window.presets_menu.actions()
+    names = [a.text() for a in actions]
+    assert "Rubber (volume preserving)" in names and len(names) >= 5
+    rubber = actions[names.index("Rubber (volume preserving)")]
+    rubber.trigger()
+    assert window.document.sculptor.material == Material.isotropic(1.0, 0.49)
+    assert window.material_panel.material == Material.isotropic(1.0, 0.49)
+    wrinkle = actions[names.index("Layered sheet wrinkles")]
+    wrinkle.trigger()
+    assert window.brush_bar.brush.kind == "wrinkle"
+    assert not window.document.sculptor.material.voigt[0, 1] == 0.49  # a new, anisotropic one
+    # the current settings saved as a preset file load back unchanged
+    from gogreen_core import load_preset, save_preset
+
+    path = tmp_path / "mine.json"
+    save_preset(window.preset("mine"), path)
+    rubber.trigger()
+    window.apply_preset(load_preset(path))
+    assert window.material_panel.material == load_preset(path).material
+    assert window.brush_bar.brush == load_preset(path).brush

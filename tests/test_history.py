@@ -135,3 +135,27 @@ def test_bad_input_is_refused_without_changing_anything():
     assert history.undo_labels == ["move"]  # still undoable
     vertices = np.ones((10, 3))
     assert history.undo(vertices) == "move" and vertices[9].tolist() == [0, 0, 0]
+
+
+def test_merged_changes_undo_as_one_step_bit_for_bit():
+    history = History()
+    rng = np.random.default_rng(3)
+    start = rng.normal(size=(50, 3))
+    states = [start.copy()]
+    for k in range(4):  # each step moves a different, overlapping set of rows
+        nxt = states[-1].copy()
+        nxt[k * 5 : k * 5 + 12] += rng.normal(size=(12, 3))
+        history.record_change("constraint drag", states[-1], nxt, merge=k > 0)
+        states.append(nxt)
+    assert history.undo_labels == ["constraint drag"]
+    vertices = states[-1].copy()
+    assert history.undo(vertices) == "constraint drag"
+    assert np.array_equal(vertices, start)
+    assert history.redo(vertices) == "constraint drag"
+    assert np.array_equal(vertices, states[-1])
+    # after an undo nothing merges into the undone entry
+    history.undo(vertices)
+    moved = vertices.copy()
+    moved[0] += 1.0
+    history.record_change("constraint drag", vertices, moved, merge=True)
+    assert history.undo_labels == ["constraint drag"] and not history.can_redo

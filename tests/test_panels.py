@@ -435,11 +435,12 @@ def test_reset_to_gaussian(qtbot, falloff_panel):
 def test_l_max_and_degree_weights(qtbot, falloff_panel):
     panel = falloff_panel
     assert panel.l_max == 8
-    assert np.array_equal(panel.degree_weights, np.ones(9))
+    # the wrinkle brush starts with the engine's default weights, not all 1 (= a grab)
+    assert np.array_equal(panel.degree_weights, default_wrinkle_weights(8))
     with qtbot.waitSignal(panel.falloff_changed, timeout=1000):
         panel.l_max_spin.setValue(12)
     assert panel.l_max == 12
-    assert panel.degree_weights.shape == (13,)
+    assert np.array_equal(panel.degree_weights, default_wrinkle_weights(12))
     keys = panel.radial.curve_keys()
     assert ("R", 12) in keys and ("dR", 13) in keys
     assert panel.curve_combo.count() == 14  # R0..R12 (7) and ℛ1..ℛ13 (7)
@@ -448,11 +449,13 @@ def test_l_max_and_degree_weights(qtbot, falloff_panel):
         panel.weight_spins[3].setValue(2.5)
     assert panel.degree_weights[3] == 2.5
     panel.l_max_spin.setValue(4)
-    assert np.array_equal(panel.degree_weights, [1.0, 1.0, 1.0, 2.5, 1.0])
-    panel.weights_boost_button.click()
-    assert np.array_equal(panel.degree_weights, default_wrinkle_weights(4))
+    assert np.array_equal(panel.degree_weights, [1.0, 1.0, 1.0, 2.5, 2.0])
     panel.weights_one_button.click()
     assert np.array_equal(panel.degree_weights, np.ones(5))
+    panel.l_max_spin.setValue(6)  # new degrees get the default weights
+    assert np.array_equal(panel.degree_weights, [1, 1, 1, 1, 1, 2.5, 3])
+    panel.weights_boost_button.click()
+    assert np.array_equal(panel.degree_weights, default_wrinkle_weights(6))
 
     # Loading a falloff: any profile, l_max and weights; nothing is emitted.
     with qtbot.assertNotEmitted(panel.falloff_changed):

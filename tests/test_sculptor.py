@@ -211,6 +211,11 @@ def test_session_replay_reproduces_the_result_bit_for_bit(bunny):
     sculptor.add_constraint(vertices[100])
     sculptor.add_constraint(vertices[2000])
     sculptor.drag_constraint(0, [0.0, 0.003, 0.0])
+    sculptor.drag_constraint(1, [0.002, 0.0, 0.0])
+    sculptor.drag_constraint(1, [0.002, 0.001, 0.0], continued=True)
+    assert sculptor.history.undo_labels[-2:] == ["constraint drag", "constraint drag"]
+    sculptor.undo()  # the whole second drag
+    sculptor.redo()
     text = json.dumps(sculptor.session())
     session = json.loads(text)
     again = Sculptor.from_session(session, vertices, faces)
@@ -246,3 +251,23 @@ def test_a_failed_stroke_leaves_the_mesh_unchanged(bunny):
         )
     assert np.array_equal(sculptor.vertices, vertices)
     assert not sculptor.in_stroke and not sculptor.history.can_undo
+
+
+def test_consecutive_settings_collapse_in_the_session_log(bunny):
+    vertices, faces = bunny
+    sculptor = Sculptor(vertices, faces)
+    # a slider or curve drag sets the material / falloff many times in a row
+    for eps_shape in (0.5, 0.8, 1.0):
+        sculptor.set_falloff(KelvinletRadial(eps_shape), l_max=6)
+    for poisson in (0.1, 0.2, 0.3):
+        sculptor.set_material(Material.isotropic(1.0, poisson))
+    sculptor.apply_brush(Brush("grab"), [BrushEvent(vertices[3], [0.0, 0.002, 0.0])])
+    sculptor.set_material(Material.isotropic(1.0, 0.45))
+    sculptor.apply_brush(Brush("grab"), [BrushEvent(vertices[9], [0.002, 0.0, 0.0])])
+    ops = sculptor.session()["operations"]
+    assert [op["op"] for op in ops] == ["falloff", "material", "stroke", "material", "stroke"]
+    assert ops[1]["material"] == Material.isotropic(1.0, 0.3).to_dict()
+    session = json.loads(json.dumps(sculptor.session()))
+    again = Sculptor.from_session(session, vertices, faces)
+    again.replay(session["operations"])
+    assert np.array_equal(again.vertices, sculptor.vertices)

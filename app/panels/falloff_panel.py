@@ -116,7 +116,7 @@ class FalloffPanel(QWidget):
         layout.addWidget(self._degrees_group())
         layout.addStretch(0)
         self._refresh_curve_choices()
-        self._rebuild_weight_spins(np.ones(self._l_max + 1))
+        self._rebuild_weight_spins(default_wrinkle_weights(self._l_max))
 
     # -- construction ------------------------------------------------------------------------
     def _curves_group(self) -> QGroupBox:
@@ -258,12 +258,12 @@ class FalloffPanel(QWidget):
 
     def set_l_max(self, l_max: int, emit: bool = True) -> None:
         """Change the truncation degree: adds Gaussian curves for new degrees (or restores
-        earlier edits of them) and pads the weights with 1."""
+        earlier edits of them) and gives new degrees the engine's default wrinkle weights."""
         l_max = self._check_l_max(l_max)
         if l_max == self._l_max:
             return
         weights = self.degree_weights
-        padded = np.ones(l_max + 1)
+        padded = default_wrinkle_weights(l_max)
         keep = min(len(weights), l_max + 1)
         padded[:keep] = weights[:keep]
         self._l_max = l_max
@@ -275,8 +275,11 @@ class FalloffPanel(QWidget):
             self._emit_changed()
 
     def set_degree_weights(self, weights: Sequence[float] | None, emit: bool = False) -> None:
-        """Set the wrinkle weights (l_max + 1 finite numbers; None: all 1)."""
-        values = np.ones(self._l_max + 1) if weights is None else np.asarray(weights, float)
+        """Set the wrinkle weights (l_max + 1 finite numbers; None: the engine's default,
+        :func:`gogreen_core.brushes.default_wrinkle_weights`)."""
+        values = (
+            default_wrinkle_weights(self._l_max) if weights is None else np.asarray(weights, float)
+        )
         if values.shape != (self._l_max + 1,) or not np.all(np.isfinite(values)):
             raise ValueError(f"degree_weights must be l_max + 1 = {self._l_max + 1} finite numbers")
         for spin, value in zip(self.weight_spins, values, strict=True):
@@ -295,7 +298,8 @@ class FalloffPanel(QWidget):
     ) -> None:
         """Load a falloff shape (any profile: a spline's curves are copied, a Gaussian,
         Kelvinlet or multi-scale profile is sampled into curves), optionally with ``l_max``
-        and wrinkle weights (None: all 1). Its ε is ignored. Does not emit unless ``emit``."""
+        and wrinkle weights (None: the default ones). Its ε is ignored. Does not emit unless
+        ``emit``."""
         if not isinstance(falloff, RadialProfile):
             raise ValueError(f"falloff must be a RadialProfile (got {type(falloff).__name__})")
         if l_max is not None:
