@@ -23,6 +23,8 @@ class _Entry:
     indices: np.ndarray  # (K,) int64, unique
     before: np.ndarray  # (K, 3) float64
     after: np.ndarray  # (K, 3) float64
+    # the caller's own state beside the vertices (e.g. a dragged pin), before and after
+    state: tuple[object, object] | None = None
 
     @property
     def nbytes(self) -> int:
@@ -52,6 +54,8 @@ class History:
         self._undo: list[_Entry] = []  # oldest first
         self._redo: list[_Entry] = []  # next to redo last
         self._bytes = 0
+        #: The ``state`` side of the entry the last undo/redo applied (None if it had none).
+        self.restored_state: object = None
 
     # -- state ---------------------------------------------------------------------------------
     @property
@@ -87,7 +91,12 @@ class History:
 
     # -- recording -----------------------------------------------------------------------------
     def record(
-        self, label: str, indices: np.ndarray, before: np.ndarray, after: np.ndarray
+        self,
+        label: str,
+        indices: np.ndarray,
+        before: np.ndarray,
+        after: np.ndarray,
+        state: tuple[object, object] | None = None,
     ) -> None:
         """Record that vertices ``indices`` moved from ``before`` to ``after``.
 
@@ -99,6 +108,9 @@ class History:
             Distinct, non-negative vertex indices.
         before, after : (K, 3) float
             Their positions before and after the operation (copied).
+        state : (before, after), optional
+            Other state of the caller that the operation changed; after an undo (redo)
+            :attr:`restored_state` is its ``before`` (``after``).
 
         An empty change (K = 0) is not recorded and leaves the redo stack alone; otherwise the
         redo stack is dropped and the oldest entries are evicted past the memory cap.
@@ -111,21 +123,26 @@ class History:
                 f"history record {label!r}: before {b.shape} and after {a.shape} must both "
                 f"have shape ({len(idx)}, 3) to match the indices"
             )
-        if len(idx) == 0:
+        if len(idx) == 0 and state is None:
             return
-        if idx.min() < 0:
+        if len(idx) and idx.min() < 0:
             raise ValueError(f"history record {label!r}: negative vertex index {idx.min()}")
         if len(np.unique(idx)) != len(idx):
             raise ValueError(f"history record {label!r}: repeated vertex indices")
         self._redo_drop()
-        entry = _Entry(str(label), idx, b, a)
+        entry = _Entry(str(label), idx, b, a, state)
         self._undo.append(entry)
         self._bytes += entry.nbytes
         while len(self._undo) > 1 and self._bytes > self.max_bytes:
             self._bytes -= self._undo.pop(0).nbytes
 
     def record_change(
-        self, label: str, before: np.ndarray, after: np.ndarray, merge: bool = False
+        self,
+        label: str,
+        before: np.ndarray,
+        after: np.ndarray,
+        merge: bool = False,
+        state: tuple[object, object] | None = None,
     ) -> None:
         """Record the rows that differ between two full vertex arrays.
 
@@ -139,6 +156,8 @@ class History:
         merge : bool
             Continue the last operation if it has the same label and nothing was undone since
             (the steps of one pin drag become one undo step).
+        state : (before, after), optional
+            As in :meth:`record`; a merged entry keeps its first ``before``.
         """
         b = np.ascontiguousarray(before, dtype=np.float64)
         a = np.ascontiguousarray(after, dtype=np.float64)
@@ -150,11 +169,13 @@ class History:
         changed = np.flatnonzero(np.any(b.view(np.uint64) != a.view(np.uint64), axis=1))
         last = self._undo[-1] if self._undo else None
         if merge and last is not None and last.label == label and not self._redo:
-            self._merge_last(changed, b[changed], a[changed])
+            self._merge_last(changed, b[changed], a[changed], state)
         else:
-            self.record(label, changed, b[changed], a[changed])
+            self.record(label, changed, b[changed], a[changed], state)
 
-    def _merge_last(self, indices: np.ndarray, before: np.ndarray, after: np.ndarray) -> None:
+    def _merge_last(
+        self, indices: np.ndarray, before: np.ndarray, after: np.ndarray, state
+    ) -> None:
         """Fold a change into the last entry: it keeps its own ``before`` rows and takes the
         new ``after`` rows."""
         last = self._undo.pop()
@@ -168,7 +189,9 @@ class History:
         b[old_rows] = last.before  # first state wins
         a[old_rows] = last.after
         a[new_rows] = after  # last state wins
-        self.record(last.label, union, b, a)
+        if state is not None and last.state is not None:
+            state = (last.state[0], state[1])
+        self.record(last.label, union, b, a, state)
 
     # -- undo / redo ---------------------------------------------------------------------------
     def undo(self, vertices: np.ndarray) -> str | None:
@@ -181,6 +204,7 @@ class History:
         entry = self._undo[-1]
         self._check_target(vertices, entry)
         vertices[entry.indices] = entry.before
+        self.restored_state = None if entry.state is None else entry.state[0]
         self._redo.append(self._undo.pop())
         return entry.label
 
@@ -194,6 +218,7 @@ class History:
         entry = self._redo[-1]
         self._check_target(vertices, entry)
         vertices[entry.indices] = entry.after
+        self.restored_state = None if entry.state is None else entry.state[1]
         self._undo.append(self._redo.pop())
         return entry.label
 
@@ -209,7 +234,7 @@ class History:
             raise TypeError("undo/redo writes into a float64 numpy array of vertices")
         if vertices.ndim != 2 or vertices.shape[1] != 3:
             raise ValueError(f"vertices must have shape (N, 3), got {vertices.shape}")
-        if entry.indices.max() >= len(vertices):
+        if len(entry.indices) and entry.indices.max() >= len(vertices):
             raise ValueError(
                 f"{entry.label!r} moved vertex {int(entry.indices.max())} but the array has "
                 f"{len(vertices)} vertices"

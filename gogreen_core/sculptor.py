@@ -18,6 +18,7 @@ every vertex (no pseudo-time), so the constrained points land exactly on their t
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -420,10 +421,15 @@ class Sculptor:
         targets[index] = d
         forces = self._constraints.solve(targets)
         u = self._constraints.displacement(self._vertices, forces)
-        self._constraints.move(index, self._constraints.points[index] + d)
+        start = self._constraints.points[index]
+        self._constraints.move(index, start + d)
         before = self._vertices.copy()
         self._vertices += u
-        self.history.record_change("constraint drag", before, self._vertices, merge=continued)
+        # the pin's own move is undone with the vertices: (index, position) before and after
+        pin = ((int(index), start), (int(index), start + d))
+        self.history.record_change(
+            "constraint drag", before, self._vertices, merge=continued, state=pin
+        )
         op = {"op": "constraint_drag", "index": int(index), "delta": d.tolist()}
         self._log({**op, "continued": True} if continued else op)
         return u
@@ -434,6 +440,7 @@ class Sculptor:
         self._refuse_in_stroke("undo")
         label = self.history.undo(self._vertices)
         if label is not None:
+            self._restore_pin()
             self._log({"op": "undo"})
         return label
 
@@ -441,8 +448,19 @@ class Sculptor:
         self._refuse_in_stroke("redo")
         label = self.history.redo(self._vertices)
         if label is not None:
+            self._restore_pin()
             self._log({"op": "redo"})
         return label
+
+    def _restore_pin(self) -> None:
+        """Put a dragged pin where the undone/redone drag had it, if that pin still exists."""
+        state = self.history.restored_state
+        if state is None or self._constraints is None:
+            return
+        index, point = state
+        if index < len(self._constraints):
+            with contextlib.suppress(ValueError):  # another pin sits there now: leave it
+                self._constraints.move(index, point)
 
     # -- session log -------------------------------------------------------------------------
     def _log(self, op: dict) -> None:

@@ -142,8 +142,11 @@ def test_pin_mode_pins_points_and_dragging_a_pin_moves_it_while_others_stay(wind
     moved = np.linalg.norm(sculptor.vertices - before, axis=1)
     assert moved.max() > 0
     assert np.array_equal(vp.mesh.points, sculptor.vertices)
-    window.undo()
+    window.undo()  # the whole drag: the surface and the pin go back
     assert np.array_equal(sculptor.vertices, before)
+    assert np.array_equal(sculptor.constraint_points, pins)
+    window.redo()
+    assert np.array_equal(sculptor.constraint_points, after)
     window.clear_constraints()
     assert len(sculptor.constraint_points) == 0
 
