@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import json
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from importlib.resources import files
 from pathlib import Path
 
@@ -35,7 +35,7 @@ PRESET_FORMAT = "gogreen-preset"
 PRESET_VERSION = 1
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)  # eq: the weights array has no single truth value
 class Preset:
     """Everything an artist tunes before a stroke, as one named, shareable unit.
 
@@ -116,7 +116,7 @@ def load_preset(path: str | os.PathLike) -> Preset:
         preset = Preset.from_dict(data)
     except ValueError as exc:
         raise ValueError(f"{p.name}: {exc}") from None
-    return preset if preset.name else Preset(**{**preset.__dict__, "name": p.stem})
+    return preset if preset.name else replace(preset, name=p.stem)
 
 
 def save_preset(preset: Preset, path: str | os.PathLike) -> None:
