@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from gogreen_core.brushes import Brush
+from gogreen_core.kernel import L_MAX_LIMIT
 from gogreen_core.material import Material
 from gogreen_core.mesh_io import write_text_atomic
 from gogreen_core.radial import GaussianRadial, RadialProfile, radial_from_dict
@@ -86,8 +87,10 @@ class Preset:
             raise ValueError(f"preset has no {exc.args[0]!r} entry") from None
         except TypeError as exc:
             raise ValueError(f"malformed preset: {exc}") from None
-        if isinstance(l_max, bool) or not isinstance(l_max, int) or not 0 <= l_max <= 60:
-            raise ValueError(f"preset l_max must be an integer in [0, 60] (got {l_max!r})")
+        if isinstance(l_max, bool) or not isinstance(l_max, int) or not 0 <= l_max <= L_MAX_LIMIT:
+            raise ValueError(
+                f"preset l_max must be an integer in [0, {L_MAX_LIMIT}] (got {l_max!r})"
+            )
         if weights is not None:
             weights = np.asarray(weights, dtype=np.float64)
             if weights.shape != (l_max + 1,) or not np.all(np.isfinite(weights)):
