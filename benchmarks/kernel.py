@@ -26,6 +26,7 @@ import numpy as np
 from gogreen_core import GaussianRadial, GreenKernel, KelvinletRadial, Material
 from gogreen_core import kernel as kernel_module
 from gogreen_core import radial as radial_module
+from gogreen_core._unrolled import UNROLLED_L_MAX
 
 
 @numba.njit(parallel=True, cache=True, fastmath=True)
@@ -76,11 +77,23 @@ print(1e3 * (time.perf_counter() - start))
 """
 
 
-def first_call_ms(cache_dir: str) -> float:
-    """Import + first vector and affine evaluation in a fresh interpreter, in milliseconds."""
-    env = dict(os.environ, NUMBA_CACHE_DIR=cache_dir)
+_DEGREE_COMPILE = """
+import sys, time
+from gogreen_core._unrolled import unrolled_angular
+l_max = int(sys.argv[1])
+start = time.perf_counter()
+unrolled_angular(0, l_max - l_max % 2)
+unrolled_angular(1, l_max + 1 - l_max % 2)
+print(1e3 * (time.perf_counter() - start))
+"""
+
+
+def fresh_process_ms(cache_dir: str, script: str, *args: str) -> float:
+    """Run ``script`` in a fresh interpreter whose numba cache and generated kernels live in
+    ``cache_dir``; returns the milliseconds it prints."""
+    env = dict(os.environ, NUMBA_CACHE_DIR=cache_dir, GOGREEN_KERNEL_DIR=cache_dir)
     result = subprocess.run(
-        [sys.executable, "-c", _FIRST_CALL], env=env, capture_output=True, text=True, check=True
+        [sys.executable, "-c", script, *args], env=env, capture_output=True, text=True, check=True
     )
     return float(result.stdout.split()[-1])
 
@@ -100,12 +113,22 @@ def main() -> None:
     print("material: cubic C11=3, C12=1.5, C44=0.4 (Zener ratio 0.53), rotated off-axis")
 
     with tempfile.TemporaryDirectory() as cache_dir:
-        compile_ms = first_call_ms(cache_dir)
-        cached_ms = first_call_ms(cache_dir)
+        compile_ms = fresh_process_ms(cache_dir, _FIRST_CALL)
+        cached_ms = fresh_process_ms(cache_dir, _FIRST_CALL)
     print(
         "first call in a fresh process (import, kernel build, vector + affine evaluation): "
         f"{compile_ms:.0f} ms with an empty numba cache, {cached_ms:.0f} ms from the cache"
     )
+    per_degree = {}
+    for l_max in args.l_max:
+        if l_max <= UNROLLED_L_MAX:
+            with tempfile.TemporaryDirectory() as cache_dir:
+                per_degree[l_max] = fresh_process_ms(cache_dir, _DEGREE_COMPILE, str(l_max))
+    if per_degree:
+        print(
+            "angular kernels generated for a new l_max (both parities, compiled once per "
+            "machine): " + ", ".join(f"l{l}: {ms:.0f} ms" for l, ms in per_degree.items())
+        )
     rng = np.random.default_rng(0)
     kelvinlet_closed_form(rng.normal(size=(8, 3)), np.zeros(3), np.ones(3), eps, 1.0, 0.3)
 

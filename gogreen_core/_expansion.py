@@ -9,12 +9,12 @@ with x = points[n] - center, r = |x|, t = r/(r+ε), T_l the piecewise polynomial
 Speed notes (measured, 2-core AVX-512 machine): points are processed in blocks of ``BLOCK`` on
 contiguous scratch rows so that LLVM vectorizes across points; ``error_model="numpy"`` removes
 the zero-division checks that otherwise block vectorization; loops touch few arrays each
-(LLVM gives up when runtime alias checks grow too many); the radial polynomial uses Estrin's
-scheme across contiguous degrees (Horner was latency bound); the Legendre recurrence advances two
+(LLVM gives up when runtime alias checks grow too many); the Legendre recurrence advances two
 degrees per pass and never stores the other parity; for K = 3 (vector and affine loads) one pass
-per (l, m) does the recurrence step and updates all three outputs. What remains is bound by the
-loads and stores of the scratch rows (about 20 ms per 10⁶ points at l_max 8); keeping a whole
-order's chain in registers would need code generated per l_max.
+per (l, m) does the recurrence step and updates all three outputs. This generic ``_angular`` is
+bound by the loads and stores of its scratch rows; ``_unrolled.py`` generates, per truncation
+degree, a straight-line replacement for K = 3 that keeps everything in registers and reuses the
+drivers below unchanged.
 """
 
 from __future__ import annotations
@@ -22,15 +22,28 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import carray, cfunc, njit, prange, types
 
 BLOCK = 256
 # Parallel tasks per call; each reuses one set of scratch rows for a contiguous run of blocks.
 TASKS = 64
 #: Polynomial degree of the radial table segments that ``_radial`` evaluates (radial.py's).
-SEGMENT_DEGREE = 9
+SEGMENT_DEGREE = 5
 
 _JIT = {"cache": True, "fastmath": {"contract"}, "boundscheck": False, "error_model": "numpy"}
+
+#: Signature of the angular kernels generated per degree by ``_unrolled``:
+#: (nb, geo (8, BLOCK), rad (n_deg, BLOCK), coeffs (n_terms, 3), acc (3, BLOCK)), C-contiguous
+#: arrays passed as pointers. They reach the drivers below as first-class functions, so the
+#: drivers are compiled (and cached on disk) once, whatever the degree.
+_F8P = types.CPointer(types.float64)
+ANGULAR_SIGNATURE = types.void(types.int64, _F8P, _F8P, _F8P, _F8P)
+
+
+@cfunc(ANGULAR_SIGNATURE, cache=True)
+def generic_marker(nb, geo, rad, coeffs, acc):  # pragma: no cover - never called
+    """Passed as ``angular`` with ``unrolled=False``: the drivers then run ``_angular``."""
+    carray(acc, (3, BLOCK))[:, :nb] = np.nan
 
 
 @njit(parallel=True, nogil=True, **_JIT)
@@ -47,6 +60,8 @@ def expand(
     qmm: np.ndarray,  # (L+1,) Legendre constants Q_m^m
     rec_a: np.ndarray,  # (L+1, L+1) recurrence a_lm
     rec_b: np.ndarray,  # (L+1, L+1) recurrence b_lm
+    angular,  # ANGULAR_SIGNATURE function generated for these degrees (K = 3)
+    unrolled: bool,  # use ``angular``; else the generic ``_angular``
     out: np.ndarray,  # (N, K) float64, overwritten
 ) -> None:
     n_points = points.shape[0]
@@ -57,7 +72,6 @@ def expand(
     for task in prange(n_tasks):
         geo = np.empty((8, BLOCK))
         seg = np.empty(BLOCK, dtype=np.int64)
-        by_point = np.empty((BLOCK, n_deg))
         rad = np.empty((n_deg, BLOCK))
         work = np.empty((6, BLOCK))
         acc = np.empty((n_out, BLOCK))
@@ -65,8 +79,11 @@ def expand(
             start = blk * BLOCK
             nb = min(BLOCK, n_points - start)
             _geometry(points, center, eps, power, tables.shape[0], start, nb, geo, seg)
-            _radial(tables, l_first, nb, geo, seg, by_point, rad)
-            _angular(l_first, l_last, base, coeffs, qmm, rec_a, rec_b, nb, geo, rad, work, acc)
+            _radial(tables, l_first, nb, geo, seg, rad)
+            if unrolled:
+                angular(nb, geo.ctypes, rad.ctypes, coeffs.ctypes, acc.ctypes)
+            else:
+                _angular(l_first, l_last, base, coeffs, qmm, rec_a, rec_b, nb, geo, rad, work, acc)
             for i in range(nb):
                 for k in range(n_out):
                     out[start + i, k] = acc[k, i]
@@ -108,13 +125,13 @@ def _geometry(points, center, eps, power, n_seg, start, nb, geo, seg):
 
 
 @njit(nogil=True, **_JIT)
-def _radial(tables, l_first, nb, geo, seg, by_point, rad):
+def _radial(tables, l_first, nb, geo, seg, rad):
     """rad[d, i] = R_l(r_i) (or ℛ_l) for every degree of the parity (d = (l - l_first) / 2).
 
-    The degree-9 segment polynomial is evaluated by Estrin's scheme (dependency depth 4 instead
-    of Horner's 9: the evaluation was latency bound) with the degrees innermost, contiguous in
-    both ``tables`` and the (BLOCK, n_deg) scratch ``by_point``, so it vectorizes without
-    gathers; one transposing pass then lays the values out by degree for ``_angular``.
+    The degree-5 segment polynomial by Estrin's scheme (depth 3), degrees innermost so that a
+    point's coefficients are contiguous. Each point reads its own segment, so this loop stays
+    scalar (a gather per coefficient would cost more): 384 segments of degree 5 need 6 loads per
+    degree where 96 of degree 9 needed 10, for the same accuracy.
     """
     loc, scale0, scale1 = geo[4], geo[5], geo[6]
     n_deg = tables.shape[2]
@@ -122,21 +139,13 @@ def _radial(tables, l_first, nb, geo, seg, by_point, rad):
         c = tables[seg[i]]
         s = loc[i]
         s2 = s * s
-        s4 = s2 * s2
-        row = by_point[i]
         for d in range(n_deg):
             p01 = c[0, d] + c[1, d] * s
             p23 = c[2, d] + c[3, d] * s
             p45 = c[4, d] + c[5, d] * s
-            p67 = c[6, d] + c[7, d] * s
-            p89 = c[8, d] + c[9, d] * s
-            row[d] = (p01 + p23 * s2) + ((p45 + p67 * s2) + p89 * s4) * s4
-    for d in range(n_deg):
-        # degree 0 keeps its value at r = 0 (G(0) is its l = 0 term); l ≥ 1 vanish there
-        scale = scale0 if d == 0 and l_first == 0 else scale1
-        out = rad[d]
-        for i in range(nb):
-            out[i] = by_point[i, d] * scale[i]
+            # degree 0 keeps its value at r = 0 (G(0) is its l = 0 term); l ≥ 1 vanish there
+            scale = scale0[i] if d == 0 and l_first == 0 else scale1[i]
+            rad[d, i] = (p01 + (p23 + p45 * s2) * s2) * scale
 
 
 @njit(nogil=True, **_JIT)
@@ -239,6 +248,8 @@ def stream(
     qmm: np.ndarray,
     rec_a: np.ndarray,
     rec_b: np.ndarray,
+    angular,  # as in ``expand``
+    unrolled: bool,
     cutoff_inner: float,  # smooth cutoff: 1 for d <= inner, 0 for d >= outer (outer <= 0: none)
     cutoff_outer: float,
     mirrors: np.ndarray,  # (n_m, 3) ±1 signs; row 0 is (1, 1, 1), the brush itself
@@ -262,7 +273,6 @@ def stream(
     for task in prange(n_tasks):
         geo = np.empty((8, BLOCK))
         seg = np.empty(BLOCK, dtype=np.int64)
-        by_point = np.empty((BLOCK, n_deg))
         rad = np.empty((n_deg, BLOCK))
         work = np.empty((6, BLOCK))
         acc = np.empty((3, BLOCK))
@@ -298,21 +308,24 @@ def stream(
                                 # the brush itself (sgn = 1) sees exactly its own positions
                                 probe[i, k] = acc[k, i] if sgn > 0 else o - (acc[k, i] - o)
                         _geometry(probe, center, eps, power, tables.shape[0], 0, nb, geo, seg)
-                        _radial(tables, l_first, nb, geo, seg, by_point, rad)
-                        _angular(
-                            l_first,
-                            l_last,
-                            base,
-                            coeffs,
-                            qmm,
-                            rec_a,
-                            rec_b,
-                            nb,
-                            geo,
-                            rad,
-                            work,
-                            total,
-                        )
+                        _radial(tables, l_first, nb, geo, seg, rad)
+                        if unrolled:
+                            angular(nb, geo.ctypes, rad.ctypes, coeffs.ctypes, total.ctypes)
+                        else:
+                            _angular(
+                                l_first,
+                                l_last,
+                                base,
+                                coeffs,
+                                qmm,
+                                rec_a,
+                                rec_b,
+                                nb,
+                                geo,
+                                rad,
+                                work,
+                                total,
+                            )
                         rr = geo[3]
                         for i in range(nb):
                             u = min(max((rr[i] - cutoff_inner) * inv_width, 0.0), 1.0)

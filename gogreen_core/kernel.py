@@ -12,13 +12,15 @@ from the radial profile's tables (``radial.py``); evaluation is the numba kernel
 
 from __future__ import annotations
 
+import time
 from collections.abc import Sequence
 from functools import lru_cache
 
 import numpy as np
 from scipy.integrate import lebedev_rule
 
-from gogreen_core._expansion import SEGMENT_DEGREE, expand, stream
+from gogreen_core._expansion import SEGMENT_DEGREE, expand, generic_marker, stream
+from gogreen_core._unrolled import UNROLLED_L_MAX, unrolled_angular
 from gogreen_core.material import Material
 from gogreen_core.radial import TABLE_DEGREE, GaussianRadial, RadialProfile
 from gogreen_core.sph import legendre_recurrence, real_sph_harm
@@ -71,6 +73,15 @@ assert TABLE_DEGREE == SEGMENT_DEGREE
 
 class _Parity:
     """Packed material coefficients of one parity (even: G, odd: ∇G)."""
+
+    def angular(self, n_out: int) -> tuple[object, bool]:
+        """(angular kernel, whether to use it) for ``n_out`` outputs: the kernel generated for
+        this degree (``_unrolled``) for the three outputs of vector and affine loads up to
+        ``UNROLLED_L_MAX``, else the drivers' generic ``_angular``. The choice depends on
+        nothing else, so results are reproducible bit for bit."""
+        if n_out == 3 and self.l_last <= UNROLLED_L_MAX:
+            return unrolled_angular(self.l_first, self.l_last), True
+        return generic_marker, False
 
     def __init__(self, l_first: int, l_last: int, matrices: np.ndarray, base: np.ndarray):
         self.l_first = l_first
@@ -225,6 +236,7 @@ class GreenKernel:
         if points.shape[0] == 0:
             return out
         qmm, rec_a, rec_b = self._recurrence
+        coeffs = np.ascontiguousarray(coeffs, dtype=np.float64)
         expand(
             points,
             np.ascontiguousarray(center, dtype=np.float64),
@@ -233,11 +245,12 @@ class GreenKernel:
             parity.l_first,
             parity.l_last,
             parity.base,
-            np.ascontiguousarray(coeffs, dtype=np.float64),
+            coeffs,
             tables,
             qmm,
             rec_a,
             rec_b,
+            *parity.angular(coeffs.shape[1]),
             out,
         )
         return out
@@ -349,6 +362,7 @@ class GreenKernel:
             qmm,
             rec_a,
             rec_b,
+            *parity.angular(3),
             inner,
             outer,
             np.ascontiguousarray(signs),
@@ -357,6 +371,24 @@ class GreenKernel:
             out,
         )
         return out
+
+    def warm_up(self) -> float:
+        """Compile, or load from numba's disk cache, everything this kernel's truncation degree
+        evaluates with (vector and affine loads, streamlines); returns the seconds it took.
+
+        Kernels of a new l_max are generated and compiled on first use, a few seconds once per
+        machine; the app calls this in the background when l_max changes so that the stroke
+        does not wait for it.
+        """
+        start = time.perf_counter()
+        points = np.zeros((2, 3))
+        points[1] = 1.0
+        origin = np.zeros(3)
+        for load in (np.ones(3), np.eye(3)):
+            self.streamlines(points, origin, load, cutoff=(1.0, 2.0), substeps=1)
+        self.displacement(points, origin, np.ones(3))
+        self.affine_displacement(points, origin, np.eye(3))
+        return time.perf_counter() - start
 
     def __repr__(self) -> str:
         return f"GreenKernel(l_max={self._l_max}, radial={self._radial!r})"

@@ -50,8 +50,8 @@ KINDS = ("R", "dR")
 _DECAY = {"R": 1, "dR": 2}
 
 #: Piecewise polynomial tables: segments uniform in t = ρ/(1+ρ), polynomial degree per segment.
-TABLE_SEGMENTS = 96
-TABLE_DEGREE = 9
+TABLE_SEGMENTS = 384
+TABLE_DEGREE = 5
 
 
 def _check_eps(eps: float) -> float:
