@@ -26,6 +26,7 @@ from PySide6.QtWidgets import (
 
 from app.brush_bar import BrushBar
 from app.document import SAVE_FORMATS, Document
+from app.kernel_warmup import KernelWarmer
 from app.panels.falloff_panel import FalloffPanel
 from app.panels.homogenization_panel import HomogenizationPanel
 from app.panels.material_panel import MaterialPanel
@@ -72,7 +73,10 @@ class MainWindow(QMainWindow):
         self._stroke: dict | None = None
         self._frame_times: list[float] = []
         self.last_step_ms = 0.0
+        self.kernel_warmer = KernelWarmer(self)
+        self._announced_warmups: set[int] = set()
         self._connect()
+        self.kernel_warmer.request(self.falloff_panel.l_max)
 
     # -- construction ------------------------------------------------------------------------
     def _build_docks(self) -> None:
@@ -162,6 +166,10 @@ class MainWindow(QMainWindow):
         self.material_panel.material_changed.connect(self.apply_material)
         self.homogenization_panel.material_ready.connect(self._use_homogenized)
         self.falloff_panel.falloff_changed.connect(self.apply_falloff)
+        self.kernel_warmer.ready.connect(self._kernels_ready)
+        self.kernel_warmer.failed.connect(
+            lambda l_max, error: self.flash(f"Kernels for l_max = {l_max} failed: {error}")
+        )
 
     # -- documents ---------------------------------------------------------------------------
     def _sculptor_options(self) -> dict:
@@ -253,6 +261,7 @@ class MainWindow(QMainWindow):
 
     def closeEvent(self, event: QCloseEvent) -> None:
         if self.maybe_save():
+            self.kernel_warmer.wait(60_000)  # a compilation cannot be interrupted
             self.viewport.close()
             event.accept()
         else:
@@ -298,6 +307,10 @@ class MainWindow(QMainWindow):
         self.panel_tabs.setCurrentWidget(self.material_panel)
 
     def apply_falloff(self) -> None:
+        l_max = self.falloff_panel.l_max
+        if self.kernel_warmer.request(l_max):
+            self._announced_warmups.add(l_max)
+            self.flash(f"Preparing the l_max = {l_max} kernels…")
         if self.document is None:
             return
         try:
@@ -308,6 +321,12 @@ class MainWindow(QMainWindow):
             )
         except (ValueError, RuntimeError) as exc:
             self.show_error("Falloff not applied", str(exc))
+
+    def _kernels_ready(self, l_max: int, seconds: float) -> None:
+        if l_max in self._announced_warmups:
+            # more than a load from the disk cache: say that it compiled, once
+            note = f" (compiled in {seconds:.1f} s, kept for next time)" if seconds > 0.5 else ""
+            self.flash(f"l_max = {l_max} kernels ready{note}")
 
     def _brush_changed(self) -> None:
         if self.document is not None:

@@ -96,6 +96,18 @@ def test_falloff_edit_changes_the_next_deformation(window):
     assert not np.allclose(sculptor.vertices - before, first)
 
 
+def test_changing_l_max_prepares_its_kernels_in_the_background(window, qtbot):
+    assert window.kernel_warmer.wait(120_000)  # the start-up request (the default l_max)
+    with qtbot.waitSignal(window.kernel_warmer.ready, timeout=120_000) as ready:
+        window.falloff_panel.l_max_spin.setValue(5)
+    assert ready.args[0] == 5
+    assert window.message_label.text().startswith("l_max = 5 kernels ready")
+    assert window.document.sculptor.l_max == 5
+    assert not window.kernel_warmer.request(5)  # once per degree
+    drag(window, center_of(window))  # sculpts with the prepared kernels
+    assert window.document.dirty
+
+
 def test_save_then_reopen_round_trips(window, tmp_path):
     drag(window, center_of(window))
     assert window.document.dirty
