@@ -74,6 +74,13 @@ assert TABLE_DEGREE == SEGMENT_DEGREE
 class _Parity:
     """Packed material coefficients of one parity (even: G, odd: ∇G)."""
 
+    def __init__(self, l_first: int, l_last: int, matrices: np.ndarray, base: np.ndarray):
+        self.l_first = l_first
+        self.l_last = l_last
+        self.degrees = list(range(l_first, l_last + 1, 2))
+        self.matrices = matrices  # (n_terms, 3, 3) or (n_terms, 3, 3, 3)
+        self.base = base  # (l_last+1,) int64, row of Y_l,-l
+
     def angular(self, n_out: int) -> tuple[object, bool]:
         """(angular kernel, whether to use it) for ``n_out`` outputs: the kernel generated for
         this degree (``_unrolled``) for the three outputs of vector and affine loads up to
@@ -82,13 +89,6 @@ class _Parity:
         if n_out == 3 and self.l_last <= UNROLLED_L_MAX:
             return unrolled_angular(self.l_first, self.l_last), True
         return generic_marker, False
-
-    def __init__(self, l_first: int, l_last: int, matrices: np.ndarray, base: np.ndarray):
-        self.l_first = l_first
-        self.l_last = l_last
-        self.degrees = list(range(l_first, l_last + 1, 2))
-        self.matrices = matrices  # (n_terms, 3, 3) or (n_terms, 3, 3, 3)
-        self.base = base  # (l_last+1,) int64, row of Y_l,-l
 
 
 class GreenKernel:

@@ -215,12 +215,11 @@ class FalloffPanel(QWidget):
         return box
 
     def _rebuild_weight_spins(self, weights: np.ndarray) -> None:
-        for spin in self.weight_spins:
-            spin.deleteLater()
         while self._weights_grid.count():
-            item = self._weights_grid.takeAt(0)
-            if item.widget() is not None:
-                item.widget().deleteLater()
+            widget = self._weights_grid.takeAt(0).widget()
+            if widget is not None:
+                widget.hide()  # gone now, not only when the event loop runs the deletion
+                widget.deleteLater()
         self.weight_spins = []
         for degree, weight in enumerate(weights):
             row, col = divmod(degree, _WEIGHT_COLUMNS)
