@@ -1,6 +1,6 @@
 """Background compilation of the evaluation kernels of a truncation degree.
 
-The angular kernels are generated and compiled per l_max on first use (``GreenKernel.warm_up``,
+The angular kernels are generated and compiled per l_max on first use (``prepare_degree``:
 seconds once per machine, milliseconds from numba's disk cache afterwards). The window asks for
 the current l_max at start and whenever it changes, so that the next stroke does not wait;
 a stroke that comes first simply waits for the same compilation (results do not depend on
@@ -11,8 +11,7 @@ from __future__ import annotations
 
 from PySide6.QtCore import QObject, QRunnable, QThreadPool, Signal
 
-from gogreen_core.kernel import GreenKernel
-from gogreen_core.material import Material
+from gogreen_core.kernel import prepare_degree
 
 __all__ = ["KernelWarmer"]
 
@@ -31,8 +30,7 @@ class _WarmUpJob(QRunnable):
 
     def run(self) -> None:
         try:
-            # the compiled code depends on the degree only, not on the material or falloff
-            seconds = GreenKernel(Material.isotropic(1.0, 0.3), l_max=self.l_max).warm_up()
+            seconds = prepare_degree(self.l_max)
         except Exception as exc:  # reported in the status bar; strokes will raise it again
             self._signals.failed.emit(self.l_max, f"{type(exc).__name__}: {exc}")
         else:

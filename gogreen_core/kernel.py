@@ -25,7 +25,7 @@ from gogreen_core.material import Material
 from gogreen_core.radial import TABLE_DEGREE, GaussianRadial, RadialProfile
 from gogreen_core.sph import legendre_recurrence, real_sph_harm
 
-__all__ = ["L_MAX_LIMIT", "GreenKernel", "lebedev_points"]
+__all__ = ["L_MAX_LIMIT", "GreenKernel", "lebedev_points", "prepare_degree"]
 
 #: Highest supported truncation degree.
 L_MAX_LIMIT = 60
@@ -41,6 +41,22 @@ def lebedev_points(order: int = QUADRATURE_ORDER) -> tuple[np.ndarray, np.ndarra
     nodes.setflags(write=False)
     weights.setflags(write=False)
     return nodes, weights
+
+
+def prepare_degree(l_max: int) -> float:
+    """Generate and compile (or load from numba's disk cache) the angular kernels that vector
+    and affine loads of truncation degree ``l_max`` use; returns the seconds it took.
+
+    Thread safe and runs no parallel code, so it can run on a background thread while strokes
+    evaluate (numba's workqueue threading layer forbids concurrent parallel launches).
+    """
+    start = time.perf_counter()
+    even_last = l_max - l_max % 2
+    odd_last = l_max + 1 - l_max % 2
+    for l_first, l_last in ((0, even_last), (1, odd_last)):
+        if l_last <= UNROLLED_L_MAX:
+            unrolled_angular(l_first, l_last)
+    return time.perf_counter() - start
 
 
 def _finite_array(name: str, value, shape: tuple[int, ...]) -> np.ndarray:
@@ -377,8 +393,7 @@ class GreenKernel:
         evaluates with (vector and affine loads, streamlines); returns the seconds it took.
 
         Kernels of a new l_max are generated and compiled on first use, a few seconds once per
-        machine; the app calls this in the background when l_max changes so that the stroke
-        does not wait for it.
+        machine (see also :func:`prepare_degree`, which the app runs in the background).
         """
         start = time.perf_counter()
         points = np.zeros((2, 3))

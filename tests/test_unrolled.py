@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from gogreen_core import _expansion, _unrolled
-from gogreen_core.kernel import GreenKernel
+from gogreen_core.kernel import GreenKernel, prepare_degree
 from gogreen_core.material import Material
 
 
@@ -61,6 +61,10 @@ def test_generated_and_generic_angular_agree(parity):
     assert not np.array_equal(results[0], results[1])  # two implementations, not one twice
 
 
-def test_warm_up_reports_seconds():
+def test_warm_up_and_prepare_degree():
     seconds = GreenKernel(Material.isotropic(1.0, 0.3), l_max=3).warm_up()
     assert 0.0 < seconds < 600.0
+    assert prepare_degree(7) >= 0.0  # the app's background step: compiles only
+    assert {(0, 6), (1, 7)} <= set(_unrolled._KERNELS)
+    prepare_degree(20)  # above UNROLLED_L_MAX: the generic kernel serves, nothing generated
+    assert not any(last > _unrolled.UNROLLED_L_MAX for _, last in _unrolled._KERNELS)
