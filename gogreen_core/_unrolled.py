@@ -9,7 +9,8 @@ The source is generated per (parity, highest degree) with the recurrence constan
 written to a cache directory (a real file, so that numba's ``cache=True`` keeps the machine code
 on disk) and compiled as a C callback of ``_expansion.ANGULAR_SIGNATURE``; the drivers
 ``expand`` and ``stream`` take it as a first-class function, so only this function is compiled
-per degree (about 1 s at l_max 8, once per machine).
+per degree (measured: 1.1 s for both parities at l_max 4, 3.0 s at 8, 6.6 s at 12; once per
+machine, then loaded from the cache in milliseconds).
 
 Rescaled recurrence: with P_l = Q_l^m / S_l, S_m = Q_m^m and S_l = a_lm S_{l-1}, the normalized
 recurrence Q_l = a_lm (z Q_{l-1} - b_lm Q_{l-2}) of ``sph.py`` becomes
