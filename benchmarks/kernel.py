@@ -78,13 +78,9 @@ print(1e3 * (time.perf_counter() - start))
 
 
 _DEGREE_COMPILE = """
-import sys, time
-from gogreen_core._unrolled import unrolled_angular
-l_max = int(sys.argv[1])
-start = time.perf_counter()
-unrolled_angular(0, l_max - l_max % 2)
-unrolled_angular(1, l_max + 1 - l_max % 2)
-print(1e3 * (time.perf_counter() - start))
+import sys
+from gogreen_core.kernel import prepare_degree
+print(1e3 * prepare_degree(int(sys.argv[1])))
 """
 
 

@@ -43,6 +43,12 @@ def lebedev_points(order: int = QUADRATURE_ORDER) -> tuple[np.ndarray, np.ndarra
     return nodes, weights
 
 
+def _parity_ranges(l_max: int) -> tuple[tuple[int, int], tuple[int, int]]:
+    """(first, last) degree of each parity for truncation ``l_max``: even l ≤ l_max for G,
+    odd l ≤ l_max + 1 for ∇G."""
+    return (0, l_max - l_max % 2), (1, l_max + 1 - l_max % 2)
+
+
 def prepare_degree(l_max: int) -> float:
     """Generate and compile (or load from numba's disk cache) the angular kernels that vector
     and affine loads of truncation degree ``l_max`` use; returns the seconds it took.
@@ -51,9 +57,7 @@ def prepare_degree(l_max: int) -> float:
     evaluate (numba's workqueue threading layer forbids concurrent parallel launches).
     """
     start = time.perf_counter()
-    even_last = l_max - l_max % 2
-    odd_last = l_max + 1 - l_max % 2
-    for l_first, l_last in ((0, even_last), (1, odd_last)):
+    for l_first, l_last in _parity_ranges(l_max):
         if l_last <= UNROLLED_L_MAX:
             unrolled_angular(l_first, l_last)
     return time.perf_counter() - start
@@ -194,8 +198,8 @@ class GreenKernel:
             mats = (basis[:, cols].T @ integrand) * np.asarray(factors)[:, None]
             return _Parity(l_first, l_last, mats.reshape((len(cols), *shape)), base)
 
-        even = pack(0, l_max - l_max % 2, flat, (3, 3))
-        odd_last = l_max + 1 if l_max % 2 == 0 else l_max  # largest odd l ≤ l_max + 1
+        (_, even_last), (_, odd_last) = _parity_ranges(l_max)
+        even = pack(0, even_last, flat, (3, 3))
         odd = pack(1, odd_last, grad_flat, (3, 3, 3))
         return even, odd
 
