@@ -22,6 +22,7 @@ from PySide6.QtWidgets import (
     QMainWindow,
     QMessageBox,
     QTabWidget,
+    QToolBar,
 )
 
 from app.brush_bar import BrushBar
@@ -100,6 +101,19 @@ class MainWindow(QMainWindow):
         menu.addAction(action)
         return action
 
+    def _visibility_action(self, widget: QDockWidget | QToolBar) -> QAction:
+        """Checkable View-menu entry that shows or hides a dock or tool bar.
+
+        Made here instead of taken from ``toggleViewAction()``: for that C++-created action
+        PySide6 6.12 once returned a stale wrapper of another class (a TypeError at start-up in
+        CI); actions created from Python always have their own wrapper.
+        """
+        action = QAction(widget.windowTitle(), self, checkable=True, checked=True)
+        # triggered (the user's choice), not toggled: echoes of visibilityChanged must not hide
+        action.triggered.connect(lambda: widget.setVisible(action.isChecked()))
+        widget.visibilityChanged.connect(action.setChecked)
+        return action
+
     def _build_menus(self) -> None:
         bar = self.menuBar()
         file_menu = bar.addMenu("&File")
@@ -127,8 +141,8 @@ class MainWindow(QMainWindow):
         self._action(edit_menu, "Strength Higher", lambda: self.brush_bar.scale_strength(1), "}")
         view_menu = bar.addMenu("&View")
         self._action(view_menu, "Reset &Camera", self.reset_camera, "Home")
-        view_menu.addAction(self.panels_dock.toggleViewAction())
-        view_menu.addAction(self.brush_bar.toggleViewAction())
+        self.view_actions = [self._visibility_action(w) for w in (self.panels_dock, self.brush_bar)]
+        view_menu.addActions(self.view_actions)
         self._refresh_recent()
 
     def _fill_presets_menu(self) -> None:

@@ -184,3 +184,19 @@ def test_builtin_presets_are_in_the_menu_and_apply(window, tmp_path):
     window.apply_preset(load_preset(path))
     assert window.material_panel.material == load_preset(path).material
     assert window.brush_bar.brush == load_preset(path).brush
+
+
+def test_view_menu_hides_and_shows_the_panels_and_the_brush_bar(window, qtbot):
+    panels, brushes = window.view_actions
+    assert (panels.text(), brushes.text()) == ("Panels", "Brush")
+    assert panels.isChecked() and brushes.isChecked()
+    panels.trigger()
+    qtbot.waitUntil(lambda: not window.panels_dock.isVisible())
+    assert not panels.isChecked()
+    brushes.trigger()
+    assert not window.brush_bar.isVisible()
+    brushes.trigger()
+    panels.trigger()
+    assert window.panels_dock.isVisible() and window.brush_bar.isVisible()
+    window.panels_dock.close()  # its own close button: the menu entry follows
+    qtbot.waitUntil(lambda: not panels.isChecked())
