@@ -4,6 +4,11 @@ Targets (issue "Numerics core"), on the 2-core reference machine, anisotropic ma
 precompute ≤ 50 ms at l_max = 8 and ≤ 300 ms at l_max = 20; l_max = 8 vector load on 10⁶ points
 ≤ 100 ms and at most 3× a numba closed-form isotropic Kelvinlet on the same points in the same run.
 
+The last lines put the ratio in perspective: the multiply-adds per point of the generated angular
+sum and of the radial polynomials, timed at the best multiply-add rate this machine reaches, give
+the arithmetic floor of the expansion before geometry and memory traffic (which alone take about
+the Kelvinlet's time).
+
     python benchmarks/kernel.py                 # all sizes, l_max 4, 8, 20
     python benchmarks/kernel.py --sizes 10000 --repeats 3
 
@@ -26,7 +31,8 @@ import numpy as np
 from gogreen_core import GaussianRadial, GreenKernel, KelvinletRadial, Material
 from gogreen_core import kernel as kernel_module
 from gogreen_core import radial as radial_module
-from gogreen_core._unrolled import UNROLLED_L_MAX
+from gogreen_core._expansion import SEGMENT_DEGREE
+from gogreen_core._unrolled import UNROLLED_L_MAX, angular_source
 
 
 @numba.njit(parallel=True, cache=True, fastmath=True)
@@ -82,6 +88,38 @@ import sys
 from gogreen_core.kernel import prepare_degree
 print(1e3 * prepare_degree(int(sys.argv[1])))
 """
+
+
+def angular_multiply_adds(l_first: int, l_last: int) -> int:
+    """Multiplications per point in the generated angular kernel; each is one multiply or one
+    fused multiply-add instruction (the additions all fuse), so this is its arithmetic count."""
+    return angular_source(l_first, l_last).split("for i in range(nb):")[1].count("*")
+
+
+_CHAINS, _STEPS = 8, 32
+
+
+def multiply_add_rate(n_points: int = 1_000_000) -> float:
+    """Multiply-adds per second this machine sustains (all threads) in straight-line code
+    vectorized across points, as the generated kernels are: 8 independent chains of 32 steps."""
+    lines = [
+        "@numba.njit(parallel=True, fastmath={'contract'}, error_model='numpy')",
+        "def chains(x, out):",
+        "    for n in numba.prange(x.shape[0]):",
+        "        v = x[n]",
+    ]
+    lines += [f"        s{c}_0 = v * {c + 1}.0" for c in range(_CHAINS)]
+    for step in range(1, _STEPS + 1):
+        lines += [f"        s{c}_{step} = s{c}_{step - 1} * v + 0.{c + 1}" for c in range(_CHAINS)]
+    lines.append("        out[n] = " + " + ".join(f"s{c}_{_STEPS}" for c in range(_CHAINS)))
+    namespace = {"numba": numba}
+    exec("\n".join(lines), namespace)  # our own generated code, as in _unrolled
+    chains = namespace["chains"]
+    x = np.random.default_rng(1).uniform(0.0, 0.5, n_points)
+    out = np.empty_like(x)
+    chains(x, out)
+    seconds = timed(lambda: chains(x, out), 9) / 1e3
+    return _CHAINS * _STEPS * n_points / seconds
 
 
 def fresh_process_ms(cache_dir: str, script: str, *args: str) -> float:
@@ -165,6 +203,25 @@ def main() -> None:
             row += f" {vec:>10.2f} {aff:>10.2f}"
             ratios.append(f"l{l_max}: {vec / kelvin:.1f}x")
         print(row + "   (" + ", ".join(ratios) + ")")
+
+    # What the arithmetic alone costs, at the best rate this machine reaches, for the last N.
+    rate = multiply_add_rate()
+    print(
+        f"\narithmetic floor, vector load, N = {n}: this machine sustains {rate / 1e9:.1f} G "
+        "multiply-adds/s in vectorized straight-line code"
+    )
+    for l_max in args.l_max:
+        l_last = l_max - l_max % 2
+        if l_last > UNROLLED_L_MAX:
+            continue
+        angular = angular_multiply_adds(0, l_last)
+        radial = (l_last // 2 + 1) * (SEGMENT_DEGREE + 1)  # Estrin steps and scale per degree
+        floor = 1e3 * (angular + radial) * n / rate
+        print(
+            f"  l_max {l_max}: {angular} angular + {radial} radial multiply-adds per point = "
+            f"{floor:.2f} ms ({floor / kelvin:.1f}x the Kelvinlet) before any geometry or memory "
+            "traffic"
+        )
 
 
 if __name__ == "__main__":
