@@ -211,7 +211,7 @@ def main() -> None:
         "multiply-adds/s in vectorized straight-line code"
     )
     for l_max in args.l_max:
-        l_last = l_max - l_max % 2
+        (_, l_last), _ = kernel_module._parity_ranges(l_max)  # even degrees: G, vector load
         if l_last > UNROLLED_L_MAX:
             continue
         angular = angular_multiply_adds(0, l_last)
