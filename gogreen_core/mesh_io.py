@@ -211,6 +211,12 @@ def _read_obj(data: bytes, name: str) -> MeshData:
             f"(only {count} read so far)"
         )
 
+    def numbers(tokens: list[str], line: int, raw: str) -> tuple[float, ...]:
+        try:
+            return tuple(map(float, tokens))
+        except ValueError:
+            raise MeshFileError(f"{name}, line {line}: bad number in {raw.strip()!r}") from None
+
     text = data.decode("utf-8", errors="replace")
     for number, raw in enumerate(text.split("\n"), start=1):
         if "#" in raw:
@@ -222,21 +228,12 @@ def _read_obj(data: bytes, name: str) -> MeshData:
         if tag == "v":
             if len(parts) < 4:
                 raise MeshFileError(f"{name}, line {number}: a vertex needs 3 coordinates")
-            try:
-                vertices.append((float(parts[1]), float(parts[2]), float(parts[3])))
-            except ValueError:
-                raise MeshFileError(
-                    f"{name}, line {number}: bad number in {raw.strip()!r}"
-                ) from None
+            vertices.append(numbers(parts[1:4], number, raw))
         elif tag == "vt":
             if len(parts) < 2:
                 raise MeshFileError(f"{name}, line {number}: empty texture coordinate")
-            try:
-                uvs.append((float(parts[1]), float(parts[2]) if len(parts) > 2 else 0.0))
-            except ValueError:
-                raise MeshFileError(
-                    f"{name}, line {number}: bad number in {raw.strip()!r}"
-                ) from None
+            u, *v = numbers(parts[1:3], number, raw)
+            uvs.append((u, v[0] if v else 0.0))
         elif tag == "f":
             if len(parts) < 4:
                 raise MeshFileError(f"{name}, line {number}: a face needs at least 3 corners")
