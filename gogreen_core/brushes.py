@@ -29,6 +29,16 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
+from gogreen_core.validation import (
+    ParameterError,
+    check_finite,
+    check_integer,
+    check_number,
+    check_object,
+    check_string,
+    prefixed,
+)
+
 __all__ = [
     "AFFINE_BRUSHES",
     "BRUSH_KINDS",
@@ -49,16 +59,14 @@ BRUSH_KINDS = GRAB_BRUSHES + AFFINE_BRUSHES
 CUTOFF_START = 0.5
 
 
-def _positive(name: str, value: float, allow_inf: bool = False) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"brush {name} must be a number (got {value!r})") from None
-    if math.isnan(v) or v <= 0 or (math.isinf(v) and not allow_inf):
-        raise ValueError(
-            f"brush {name} must be {'> 0' if allow_inf else 'finite and > 0'} (got {value!r})"
-        )
-    return v
+#: Bounds of the brush settings (documented in the README, "Sculpting without the GUI"): a
+#: radius is a fraction of the model size; beyond these the numbers overflow or mean nothing.
+MIN_RADIUS, MAX_RADIUS = 1e-6, 100.0
+MAX_STRENGTH = 1e3
+MAX_SUBSTEPS = 1000
+#: Largest |amount| (and |strength · amount|) of an affine brush event: a strain or an angle
+#: in radians per event at the brush centre.
+MAX_AMOUNT = 100.0
 
 
 @dataclass(frozen=True)
@@ -82,27 +90,30 @@ class Brush:
     symmetry: str = ""
 
     def __post_init__(self) -> None:
-        if self.kind not in BRUSH_KINDS:
-            raise ValueError(
-                f"unknown brush {self.kind!r}; expected one of {', '.join(BRUSH_KINDS)}"
+        if not isinstance(self.kind, str) or self.kind not in BRUSH_KINDS:
+            raise ParameterError(
+                "kind", f"unknown brush {self.kind!r}; expected one of {', '.join(BRUSH_KINDS)}"
             )
-        object.__setattr__(self, "radius", _positive("radius", self.radius))
-        strength = float(self.strength)
-        if not math.isfinite(strength):
-            raise ValueError(f"brush strength must be finite (got {self.strength!r})")
-        object.__setattr__(self, "strength", strength)
-        if (
-            isinstance(self.substeps, bool)
-            or int(self.substeps) != self.substeps
-            or self.substeps < 1
-        ):
-            raise ValueError(f"brush substeps must be an integer >= 1 (got {self.substeps!r})")
-        object.__setattr__(self, "substeps", int(self.substeps))
-        object.__setattr__(self, "influence", _positive("influence", self.influence, True))
-        axes = "".join(sorted(set(str(self.symmetry).lower())))
+        radius = check_number("radius", self.radius, low=MIN_RADIUS, high=MAX_RADIUS)
+        strength = check_number("strength", self.strength, low=-MAX_STRENGTH, high=MAX_STRENGTH)
+        substeps = check_integer("substeps", self.substeps, low=1, high=MAX_SUBSTEPS)
+        influence = self.influence
+        if not (isinstance(influence, float) and influence == math.inf):  # inf: every vertex
+            influence = check_number("influence", influence, low=0.0, low_open=True)
+        symmetry = check_string("symmetry", self.symmetry, max_length=3).lower()
+        axes = "".join(sorted(set(symmetry)))
         if any(a not in "xyz" for a in axes):
-            raise ValueError(f"brush symmetry must use the letters x, y, z (got {self.symmetry!r})")
-        object.__setattr__(self, "symmetry", axes)
+            raise ParameterError(
+                "symmetry", f"brush symmetry must use the letters x, y, z (got {self.symmetry!r})"
+            )
+        for name, value in [
+            ("radius", radius),
+            ("strength", strength),
+            ("substeps", substeps),
+            ("influence", float(influence)),
+            ("symmetry", axes),
+        ]:
+            object.__setattr__(self, name, value)
 
     @property
     def is_affine(self) -> bool:
@@ -125,25 +136,21 @@ class Brush:
         return data
 
     @classmethod
-    def from_dict(cls, data: dict) -> Brush:
-        try:
-            values = dict(data)
-            if values.get("influence", 0) is None:
-                values["influence"] = math.inf
+    def from_dict(cls, data: object, path: str = "brush") -> Brush:
+        """Inverse of :meth:`to_dict`, the brush's schema: :class:`ParameterError` naming the
+        field (``path.radius``...) for a missing, unknown, mistyped or out-of-range one."""
+        fields = ("kind", "radius", "strength", "substeps", "influence", "symmetry")
+        values = dict(check_object(path, data, optional=fields))
+        if "influence" in values and values["influence"] is None:
+            values["influence"] = math.inf
+        with prefixed(path):
             return cls(**values)
-        except TypeError as exc:
-            raise ValueError(f"malformed brush description: {exc}") from None
 
 
-def _vector(name: str, value, unit: bool = False) -> np.ndarray:
-    arr = np.asarray(value, dtype=np.float64)
-    if arr.shape != (3,) or not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} must be 3 finite numbers (got {value!r})")
-    if unit:
-        norm = np.linalg.norm(arr)
-        if norm == 0:
-            raise ValueError(f"{name} must be a nonzero vector")
-        arr = arr / norm
+def _vector(name: str, value, nonzero: bool = False) -> np.ndarray:
+    arr = check_finite(name, value, (3,))
+    if nonzero and not np.linalg.norm(arr) > 1e-150:  # a unit vector made from less is not one
+        raise ParameterError(name, f"{name} must be a nonzero vector (got {value!r})")
     return arr
 
 
@@ -154,7 +161,7 @@ class BrushEvent:
     center : (3,) the cursor on the surface at the start of the event.
     delta : (3,) cursor displacement during the event (grab brushes).
     amount : signed magnitude for affine brushes (relative strain, or radians for twist).
-    axis : (3,) view direction (twist axis, pinch normal); +z when omitted.
+    axis : (3,) view direction (twist axis, pinch normal), any nonzero length; +z when omitted.
     direction : (3,) stroke direction in the view plane (pinch); any vector ⟂ axis if omitted.
     """
 
@@ -165,16 +172,16 @@ class BrushEvent:
     direction: np.ndarray | None = None
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "center", _vector("event center", self.center))
-        object.__setattr__(self, "delta", _vector("event delta", self.delta))
-        amount = float(self.amount)
-        if not math.isfinite(amount):
-            raise ValueError(f"event amount must be finite (got {self.amount!r})")
+        object.__setattr__(self, "center", _vector("center", self.center))
+        object.__setattr__(self, "delta", _vector("delta", self.delta))
+        amount = check_number("amount", self.amount, low=-MAX_AMOUNT, high=MAX_AMOUNT)
         object.__setattr__(self, "amount", amount)
         if self.axis is not None:
-            object.__setattr__(self, "axis", _vector("event axis", self.axis, unit=True))
+            # kept as given (normalized where used): a stored unit vector renormalized on
+            # reading could differ in its last bit and a replay would drift
+            object.__setattr__(self, "axis", _vector("axis", self.axis, nonzero=True))
         if self.direction is not None:
-            object.__setattr__(self, "direction", _vector("event direction", self.direction))
+            object.__setattr__(self, "direction", _vector("direction", self.direction))
 
     def to_dict(self) -> dict:
         data: dict = {"center": self.center.tolist()}
@@ -189,11 +196,13 @@ class BrushEvent:
         return data
 
     @classmethod
-    def from_dict(cls, data: dict) -> BrushEvent:
-        try:
-            return cls(**data)
-        except TypeError as exc:
-            raise ValueError(f"malformed brush event: {exc}") from None
+    def from_dict(cls, data: object, path: str = "event") -> BrushEvent:
+        """Inverse of :meth:`to_dict`, the event's schema: :class:`ParameterError` naming the
+        field (``path.delta``...)."""
+        fields = ("center", "delta", "amount", "axis", "direction")
+        values = check_object(path, data, required=("center",), optional=fields[1:])
+        with prefixed(path):
+            return cls(**values)
 
 
 def affine_unit_load(
@@ -201,6 +210,7 @@ def affine_unit_load(
 ) -> np.ndarray:
     """Unit affine load Ĥ (3, 3) of an affine brush (Frobenius norm 1)."""
     a = np.array([0.0, 0.0, 1.0]) if axis is None else np.asarray(axis, dtype=np.float64)
+    a = a / np.linalg.norm(a)
     if kind == "scale":
         h = np.eye(3)
     elif kind == "twist":
