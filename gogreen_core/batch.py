@@ -78,7 +78,11 @@ def _replay(args: argparse.Namespace) -> int:
             f"gogreen: warning: {args.input} differs from the mesh the session was recorded on",
             file=sys.stderr,
         )
-    sculptor.replay(session, ProgressBar("replay") if not args.quiet else None)
+    try:
+        sculptor.replay(session, ProgressBar("replay") if not args.quiet else None)
+    except ParameterError as exc:  # found while applying (a pin index that does not exist)
+        name = Path(args.session).name
+        raise ParameterError(exc.parameter, f"{name}: {exc}") from None
     _save(mesh, sculptor.vertices, args.output)
     return 0
 
@@ -152,14 +156,14 @@ def _deform(args: argparse.Namespace) -> int:
     sculptor.begin_stroke(brush)
     try:
         for k in range(events):
-            event = BrushEvent(
-                center=center + k * step,
-                delta=step,
-                amount=amount / events,
-                axis=axis,
-                direction=direction,
-            )
             with _option_names():
+                event = BrushEvent(
+                    center=center + k * step,
+                    delta=step,
+                    amount=amount / events,
+                    axis=axis,
+                    direction=direction,
+                )
                 sculptor.stroke_event(event)
             if progress:
                 progress(k + 1, events)

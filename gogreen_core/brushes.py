@@ -149,8 +149,8 @@ class Brush:
 
 def _vector(name: str, value, nonzero: bool = False) -> np.ndarray:
     arr = check_finite(name, value, (3,))
-    if nonzero and not np.linalg.norm(arr) > 1e-150:  # a unit vector made from less is not one
-        raise ParameterError(name, f"{name} must be a nonzero vector (got {value!r})")
+    if nonzero and not np.any(arr):
+        raise ParameterError(name, f"{name} must be nonzero (got {value!r})")
     return arr
 
 
@@ -205,19 +205,31 @@ class BrushEvent:
             return cls(**values)
 
 
+def _tame(vector) -> np.ndarray:
+    """``vector`` (3,), rescaled by its largest component when its length would overflow or
+    underflow (a direction is all that is used)."""
+    v = np.asarray(vector, dtype=np.float64)
+    peak = np.abs(v).max()
+    return v / peak if peak > 1e150 or 0 < peak < 1e-150 else v
+
+
+def _unit(vector) -> np.ndarray:
+    v = _tame(vector)
+    return v / np.linalg.norm(v)
+
+
 def affine_unit_load(
     kind: str, axis: np.ndarray | None, direction: np.ndarray | None
 ) -> np.ndarray:
     """Unit affine load Ĥ (3, 3) of an affine brush (Frobenius norm 1)."""
-    a = np.array([0.0, 0.0, 1.0]) if axis is None else np.asarray(axis, dtype=np.float64)
-    a = a / np.linalg.norm(a)
+    a = np.array([0.0, 0.0, 1.0]) if axis is None else _unit(axis)
     if kind == "scale":
         h = np.eye(3)
     elif kind == "twist":
         # Ĥ = [a]_×: H x = a × x, a rotation about the view axis
         h = np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
     elif kind == "pinch":
-        d = np.cross(a, [1.0, 0.0, 0.0]) if direction is None else np.asarray(direction, float)
+        d = np.cross(a, [1.0, 0.0, 0.0]) if direction is None else _tame(direction)
         d = d - a * (d @ a)
         if np.linalg.norm(d) < 1e-12:
             d = np.cross(a, [0.0, 1.0, 0.0])

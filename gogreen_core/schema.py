@@ -49,6 +49,7 @@ __all__ = [
     "FALLOFF_TYPES",
     "MAX_CONTROL_POINTS",
     "EngineSettings",
+    "check_material",
     "parse_degree_weights",
     "parse_falloff",
     "parse_l_max",
@@ -59,6 +60,12 @@ __all__ = [
 #: Falloff shapes a sculptor, a preset or a session can use (multi-scale ones are made by the
 #: grab_biscale / grab_triscale brushes, never stored).
 FALLOFF_TYPES = ("gaussian", "kelvinlet", "spline")
+#: Bounds of the largest stiffness coefficient |C_ab| (units are free: brushes are normalized by
+#: the material's own response, so only the ratios matter; beyond these the kernel over- or
+#: underflows).
+MIN_STIFFNESS, MAX_STIFFNESS = 1e-100, 1e100
+#: Largest |weight| of a wrinkle degree.
+MAX_DEGREE_WEIGHT = 1e6
 #: Control points of one spline curve, and curves of one spline falloff, at most.
 MAX_CONTROL_POINTS = 1000
 MAX_CURVES = 2 * (L_MAX_LIMIT + 2)
@@ -72,7 +79,20 @@ def parse_material(data: object, path: str = "material") -> Material:
     if voigt.shape != (6, 6):
         raise ParameterError(name, f"{name} must be a 6×6 matrix (got shape {voigt.shape})")
     with prefixed(name):
-        return Material(voigt)
+        return check_material(Material(voigt), name)
+
+
+def check_material(material: Material, path: str = "material") -> Material:
+    """``material`` if its largest stiffness coefficient is within [MIN_STIFFNESS,
+    MAX_STIFFNESS]."""
+    scale = float(np.abs(material.voigt).max())
+    if not MIN_STIFFNESS <= scale <= MAX_STIFFNESS:
+        raise ParameterError(
+            path,
+            f"{path}: the largest stiffness coefficient must be within [{MIN_STIFFNESS:g}, "
+            f"{MAX_STIFFNESS:g}] (got {scale:.3g}); only ratios matter, rescale it",
+        )
+    return material
 
 
 def parse_falloff(data: object, path: str = "falloff") -> RadialProfile:
@@ -121,6 +141,8 @@ def parse_degree_weights(value: object, l_max: int, path: str = "degree_weights"
         raise ParameterError(
             path, f"{path} must hold l_max + 1 = {l_max + 1} numbers (got {len(weights)})"
         )
+    if not np.abs(weights).max() <= MAX_DEGREE_WEIGHT:
+        raise ParameterError(path, f"{path} must be within ±{MAX_DEGREE_WEIGHT:g}")
     return weights
 
 

@@ -55,7 +55,12 @@ from gogreen_core.operations import (
     Undo,
 )
 from gogreen_core.radial import GaussianRadial, MultiscaleRadial, RadialProfile
-from gogreen_core.schema import EngineSettings, parse_degree_weights, parse_l_max
+from gogreen_core.schema import (
+    EngineSettings,
+    check_material,
+    parse_degree_weights,
+    parse_l_max,
+)
 from gogreen_core.session import (
     SESSION_FORMAT,
     SESSION_VERSION,
@@ -71,6 +76,7 @@ from gogreen_core.validation import (
     check_number,
     check_vector,
     prefixed,
+    vector_norm,
 )
 
 __all__ = ["MAX_REACH", "SESSION_FORMAT", "Sculptor", "mesh_fingerprint"]
@@ -224,6 +230,7 @@ class Sculptor:
             raise ParameterError(
                 "material", f"material must be a Material (got {type(material).__name__})"
             )
+        check_material(material)
         if not isinstance(falloff, RadialProfile) or isinstance(falloff, MultiscaleRadial):
             raise ParameterError(
                 "falloff", "falloff must be a single RadialProfile (Gaussian, Kelvinlet, spline)"
@@ -397,7 +404,7 @@ class Sculptor:
 
     def _check_event(self, brush: Brush, event: BrushEvent) -> None:
         reach = MAX_REACH * self.model_size
-        check_vector("center", event.center - self.origin, max_norm=reach)
+        self._check_point("center", event.center)
         if brush.is_affine:
             load = abs(brush.strength * event.amount)
             if not load <= MAX_AMOUNT:
@@ -408,11 +415,11 @@ class Sculptor:
                 )
             return
         check_vector("delta", event.delta, max_norm=reach)
-        if not np.linalg.norm(brush.strength * event.delta) <= reach:
+        if not vector_norm(brush.strength * event.delta) <= reach:
             raise ParameterError(
                 "delta",
                 f"delta × brush strength must be ≤ {MAX_REACH:g} model sizes "
-                f"({reach:.4g}) long (got |delta| = {np.linalg.norm(event.delta):.4g}, "
+                f"({reach:.4g}) long (got |delta| = {vector_norm(event.delta):.4g}, "
                 f"strength {brush.strength:g})",
             )
 
@@ -533,8 +540,15 @@ class Sculptor:
         return constraints
 
     def _check_point(self, name: str, point: object) -> np.ndarray:
+        """``point`` (3,) if finite and within :data:`MAX_REACH` model sizes of the centre."""
         p = check_vector(name, point)
-        check_vector(name, p - self.origin, max_norm=MAX_REACH * self.model_size)
+        distance = vector_norm(p - self.origin)
+        if not distance <= MAX_REACH * self.model_size:
+            raise ParameterError(
+                name,
+                f"{name} is too far from the model: {distance:.4g} from its centre, more than "
+                f"{MAX_REACH:g} model sizes ({MAX_REACH * self.model_size:.4g})",
+            )
         return p
 
     def add_constraint(self, point: np.ndarray) -> int:
@@ -554,7 +568,7 @@ class Sculptor:
     def _check_index(self, index: object) -> int:
         count = 0 if self._constraints is None else len(self._constraints)
         if count == 0:
-            raise ParameterError("index", "there are no constraints")
+            raise ParameterError("index", f"index {index!r}: there are no constraints")
         return check_integer("index", index, low=0, high=count - 1)
 
     def remove_constraint(self, index: int) -> None:
@@ -579,7 +593,7 @@ class Sculptor:
         continued = check_bool("continued", continued)
         d = check_vector("delta", delta, max_norm=MAX_REACH * self.model_size)
         start = self._constraints.points[index]
-        self._check_point("delta", start + d)  # the pin stays within reach
+        self._check_point("delta", start + d)  # the pin stays within reach of the model
         targets = np.zeros((len(self._constraints), 3))
         targets[index] = d
         forces = self._constraints.solve(targets)

@@ -24,6 +24,7 @@ __all__ = [
     "check_vector",
     "field",
     "prefixed",
+    "vector_norm",
 ]
 
 
@@ -133,11 +134,25 @@ def check_finite(name: str, value: object, shape: tuple[int, ...] | None = None)
     return arr
 
 
+def vector_norm(vector: np.ndarray) -> float:
+    """Euclidean length of a finite vector without overflow or underflow of the squares
+    (``np.linalg.norm([0, 1e200, 0])`` is inf)."""
+    v = np.asarray(vector, dtype=np.float64)
+    peak = float(np.abs(v).max()) if v.size else 0.0
+    if peak == 0.0 or not math.isfinite(peak):
+        return peak
+    return peak * float(np.linalg.norm(v / peak))
+
+
 def check_vector(name: str, value: object, *, max_norm: float | None = None) -> np.ndarray:
     """``value`` as a finite float64 3-vector, with ``|value| ≤ max_norm`` when given."""
     arr = check_finite(name, value, (3,))
-    if max_norm is not None and not np.linalg.norm(arr) <= max_norm:
-        raise ParameterError(name, f"{name} is too large (|{name}| must be ≤ {max_norm:g})")
+    if max_norm is not None:
+        norm = vector_norm(arr)
+        if not norm <= max_norm:
+            raise ParameterError(
+                name, f"{name} is too large (|{name}| = {norm:.4g} must be ≤ {max_norm:.4g})"
+            )
     return arr
 
 
