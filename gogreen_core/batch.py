@@ -222,7 +222,8 @@ def _parser() -> argparse.ArgumentParser:
         "--amount",
         type=float,
         default=0.0,
-        help="affine brushes: strain (scale, pinch) or angle in radians (twist) at the centre",
+        help="affine brushes: log strain (scale, pinch) or angle in radians (twist) at the "
+        "brush centre, split over --events",
     )
     deform.add_argument(
         "--axis",

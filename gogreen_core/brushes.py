@@ -6,13 +6,20 @@ regularized Green's function of ``kernel.py``:
 * ``grab``: a vector load f at the cursor. The center moves with the cursor during an event,
   c(t) = c₀ + tΔ, and f solves G(0) f = Δ for the anisotropic G(0), so the point under the
   cursor has velocity exactly Δ along its whole streamline and lands on the cursor.
-* ``grab_biscale``, ``grab_triscale``: the same with Kelvinlets' multi-scale falloff (sums of
-  the falloff at radii ε, 1.25ε, 1.25²ε, as Blender's Elastic Deform), which decays faster.
-* ``scale``, ``twist``, ``pinch``: affine loads H at a fixed center: H ∝ I, H ∝ [a]_× (rotation
-  about the view axis a), H ∝ d dᵀ − e eᵀ (symmetric traceless: stretch along the stroke
-  direction d, squeeze across it, e = a × d). H is normalized so that the deformation gradient
-  at the center has component ``amount · strength`` along the unit load (a relative strain per
-  event for scale and pinch, an angle in radians for twist), whatever the material.
+* ``grab_biscale``, ``grab_triscale``: the same with Kelvinlets' multi-scale falloff (weighted
+  sums of the falloff at radii ε, 1.25ε, 1.25²ε; the ratio 1.25 is ours: Blender's Elastic
+  Deform uses 2), which decays faster.
+* ``scale``, ``twist``, ``pinch``: affine loads H = k B at a fixed center, with the pattern B of
+  :func:`affine_load_shape`: I, [a]_× (rotation about the view axis a), d dᵀ − e eᵀ (stretch
+  along the stroke direction d, squeeze across it, e = a × d). k is set so that the velocity
+  gradient J at the centre has component (J : B)/(B : B) = ``strength · amount`` along B,
+  whatever the material. An event is the flow of that field over pseudo-time [0, 1] with the
+  centre fixed, so the centre's deformation gradient is exp(J): per unit ``amount``, scale is a
+  logarithmic strain of 1 in every direction (lengths × e), pinch a log strain of +1 along d
+  and −1 across, twist a rotation of 1 radian about a; for small amounts the displacement
+  gradient at the centre is ``amount · B``. Log strains and angles add up, so an amount split
+  over several events gives the same result. For an isotropic material J = amount · B exactly;
+  an anisotropic one adds components that are not along B (its own coupling).
 * ``wrinkle``: a grab whose field uses reweighted SH degrees (paper Fig. 10): the force is fixed
   by the full kernel, the field by the ``degree_weights`` of the falloff, which bring out the
   angular ripples of high degrees.
@@ -45,7 +52,7 @@ __all__ = [
     "GRAB_BRUSHES",
     "Brush",
     "BrushEvent",
-    "affine_unit_load",
+    "affine_load_shape",
     "default_wrinkle_weights",
     "mirror_signs",
 ]
@@ -160,7 +167,8 @@ class BrushEvent:
 
     center : (3,) the cursor on the surface at the start of the event.
     delta : (3,) cursor displacement during the event (grab brushes).
-    amount : signed magnitude for affine brushes (relative strain, or radians for twist).
+    amount : affine brushes: the logarithmic strain (scale, pinch) or the angle in radians
+        (twist) at the brush centre per event, times the brush strength (see module docstring).
     axis : (3,) view direction (twist axis, pinch normal), any nonzero length; +z when omitted.
     direction : (3,) stroke direction in the view plane (pinch); any vector ⟂ axis if omitted.
     """
@@ -218,27 +226,28 @@ def _unit(vector) -> np.ndarray:
     return v / np.linalg.norm(v)
 
 
-def affine_unit_load(
+def affine_load_shape(
     kind: str, axis: np.ndarray | None, direction: np.ndarray | None
 ) -> np.ndarray:
-    """Unit affine load Ĥ (3, 3) of an affine brush (Frobenius norm 1)."""
+    """Pattern B (3, 3) of an affine brush: the velocity gradient that ``amount`` 1 asks for at
+    the brush centre. ``scale``: B = I (every direction stretches); ``twist``: B = [a]_×
+    (B x = a × x, a rotation about the unit view axis a, one radian per unit); ``pinch``:
+    B = d dᵀ − e eᵀ (stretch along the unit stroke direction d projected ⟂ a, squeeze along
+    e = a × d)."""
     a = np.array([0.0, 0.0, 1.0]) if axis is None else _unit(axis)
     if kind == "scale":
-        h = np.eye(3)
-    elif kind == "twist":
-        # Ĥ = [a]_×: H x = a × x, a rotation about the view axis
-        h = np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
-    elif kind == "pinch":
+        return np.eye(3)
+    if kind == "twist":
+        return np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
+    if kind == "pinch":
         d = np.cross(a, [1.0, 0.0, 0.0]) if direction is None else _tame(direction)
         d = d - a * (d @ a)
         if np.linalg.norm(d) < 1e-12:
             d = np.cross(a, [0.0, 1.0, 0.0])
         d = d / np.linalg.norm(d)
         e = np.cross(a, d)
-        h = np.outer(d, d) - np.outer(e, e)
-    else:
-        raise ValueError(f"{kind!r} is not an affine brush ({', '.join(AFFINE_BRUSHES)})")
-    return h / np.linalg.norm(h)
+        return np.outer(d, d) - np.outer(e, e)
+    raise ValueError(f"{kind!r} is not an affine brush ({', '.join(AFFINE_BRUSHES)})")
 
 
 def default_wrinkle_weights(l_max: int) -> np.ndarray:
