@@ -23,7 +23,7 @@ from gogreen_core.material import Material
 from gogreen_core.mesh_io import MeshData, load_mesh, save_mesh, write_text_atomic
 from gogreen_core.operations import MAX_EVENTS
 from gogreen_core.radial import GaussianRadial, KelvinletRadial
-from gogreen_core.schema import parse_falloff, parse_l_max, parse_material
+from gogreen_core.schema import parse_falloff, parse_l_max, parse_material, read_json
 from gogreen_core.sculptor import Sculptor
 from gogreen_core.session import load_session
 from gogreen_core.validation import (
@@ -90,13 +90,9 @@ def _replay(args: argparse.Namespace) -> int:
 def _read_json(path: str, option: str) -> object:
     """The JSON value in file ``path`` given to ``option``; ValueError naming both."""
     try:
-        return json.loads(Path(path).read_bytes().decode("utf-8"))
-    except OSError as exc:
-        raise ValueError(f"{option} {path}: cannot read ({exc.strerror or exc})") from None
-    except UnicodeDecodeError as exc:
-        raise ValueError(f"{option} {path}: not UTF-8 text ({exc.reason})") from None
-    except (json.JSONDecodeError, RecursionError) as exc:
-        raise ValueError(f"{option} {path}: not valid JSON ({exc})") from None
+        return read_json(path)
+    except ValueError as exc:
+        raise ValueError(f"{option} {exc}") from None
 
 
 def _section(data: object, key: str) -> tuple[object, str]:

@@ -27,7 +27,13 @@ from gogreen_core.brushes import Brush
 from gogreen_core.material import Material
 from gogreen_core.mesh_io import write_text_atomic
 from gogreen_core.radial import GaussianRadial, RadialProfile
-from gogreen_core.schema import parse_degree_weights, parse_falloff, parse_l_max, parse_material
+from gogreen_core.schema import (
+    parse_degree_weights,
+    parse_falloff,
+    parse_file,
+    parse_l_max,
+    parse_material,
+)
 from gogreen_core.sculptor import Sculptor
 from gogreen_core.validation import ParameterError, check_integer, check_object, check_string
 
@@ -107,22 +113,8 @@ class Preset:
 def load_preset(path: str | os.PathLike) -> Preset:
     """Read a preset file; ``ValueError`` (a :class:`ParameterError` for a bad field) whose
     message starts with the file's name."""
-    p = Path(path)
-    try:
-        raw = p.read_bytes()
-    except OSError as exc:
-        raise ValueError(f"{p.name}: cannot read ({exc.strerror or exc})") from None
-    try:
-        data = json.loads(raw.decode("utf-8"))
-    except UnicodeDecodeError as exc:
-        raise ValueError(f"{p.name}: not valid JSON (not UTF-8 text: {exc.reason})") from None
-    except (json.JSONDecodeError, RecursionError) as exc:
-        raise ValueError(f"{p.name}: not valid JSON ({exc})") from None
-    try:
-        preset = Preset.from_dict(data)
-    except ParameterError as exc:
-        raise ParameterError(exc.parameter, f"{p.name}: {exc}") from None
-    return preset if preset.name else replace(preset, name=p.stem)
+    preset = parse_file(path, Preset.from_dict, "preset file")
+    return preset if preset.name else replace(preset, name=Path(path).stem)
 
 
 def save_preset(preset: Preset, path: str | os.PathLike) -> None:

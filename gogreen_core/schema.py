@@ -19,7 +19,12 @@ rules without removing any of our code.
 
 from __future__ import annotations
 
+import json
+import os
+from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
+from typing import TypeVar
 
 import numpy as np
 
@@ -52,10 +57,14 @@ __all__ = [
     "check_material",
     "parse_degree_weights",
     "parse_falloff",
+    "parse_file",
     "parse_l_max",
     "parse_material",
     "parse_settings",
+    "read_json",
 ]
+
+T = TypeVar("T")
 
 #: Falloff shapes a sculptor, a preset or a session can use (multi-scale ones are made by the
 #: grab_biscale / grab_triscale brushes, never stored).
@@ -216,3 +225,35 @@ def _get(data: object, path: str, key: str) -> object:
         name = field(path, key)
         raise ParameterError(name, f"{name} is missing")
     return data[key]
+
+
+def read_json(path: str | os.PathLike, kind: str = "JSON file") -> object:
+    """The JSON value in file ``path``; ``ValueError`` starting with the file's name when it
+    cannot be read, is not UTF-8 text (``kind`` says what was expected) or is not JSON."""
+    p = Path(path)
+    try:
+        raw = p.read_bytes()
+    except OSError as exc:
+        raise ValueError(f"{p.name}: cannot read ({exc.strerror or exc})") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ValueError(
+            f"{p.name}: not a {kind} (not UTF-8 text: byte {exc.start} is 0x{raw[exc.start]:02x})"
+        ) from None
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"{p.name}: not valid JSON ({exc.msg}, line {exc.lineno})") from None
+    except RecursionError:
+        raise ValueError(f"{p.name}: not valid JSON (nested too deeply)") from None
+
+
+def parse_file(path: str | os.PathLike, parse: Callable[[object], T], kind: str) -> T:
+    """``parse`` of the JSON in ``path`` (see :func:`read_json`); a :class:`ParameterError`
+    keeps its field and gets the file's name in front of its message."""
+    data = read_json(path, kind)
+    try:
+        return parse(data)
+    except ParameterError as exc:
+        raise ParameterError(exc.parameter, f"{Path(path).name}: {exc}") from None

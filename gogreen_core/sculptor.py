@@ -53,6 +53,7 @@ from gogreen_core.operations import (
     Redo,
     Stroke,
     Undo,
+    operation_from_dict,
 )
 from gogreen_core.radial import GaussianRadial, MultiscaleRadial, RadialProfile
 from gogreen_core.schema import (
@@ -709,8 +710,6 @@ class Sculptor:
         if isinstance(operations, Session):
             ops = list(operations.operations)
         else:
-            from gogreen_core.operations import operation_from_dict
-
             ops = [
                 op if isinstance(op, Operation) else operation_from_dict(op, f"operations[{i}]")
                 for i, op in enumerate(operations)
@@ -740,7 +739,6 @@ class Sculptor:
             raise
 
     def _checkpoint(self) -> tuple:
-        h = self.history
         points = None if self._constraints is None else self._constraints.points
         return (
             self._vertices.copy(),
@@ -748,7 +746,7 @@ class Sculptor:
             dict(self._kernels),
             self._constraints,
             points,
-            (list(h._undo), list(h._redo), h._bytes, h.restored_state),
+            self.history.snapshot(),
             len(self._log),
         )
 
@@ -760,6 +758,5 @@ class Sculptor:
         if constraints is not None:
             constraints = self._constraint_set(self._kernels["full"], settings, points)
         self._constraints = constraints
-        h = self.history
-        h._undo, h._redo, h._bytes, h.restored_state = history
+        self.history.restore(history)
         self._log.truncate(log_length)

@@ -13,17 +13,14 @@ their material, falloff and constraint-radius changes are not undo steps.
 from __future__ import annotations
 
 import hashlib
-import json
 import os
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
 from gogreen_core.operations import Operation, operation_from_dict
-from gogreen_core.schema import parse_settings
+from gogreen_core.schema import parse_file, parse_settings
 from gogreen_core.validation import (
-    ParameterError,
     check_choice,
     check_integer,
     check_list,
@@ -128,25 +125,4 @@ def parse_session(data: object) -> Session:
 def load_session(path: str | os.PathLike) -> Session:
     """Read and check a session file; ``ValueError`` (a :class:`ParameterError` for a bad
     field) whose message starts with the file's name."""
-    p = Path(path)
-    try:
-        raw = p.read_bytes()
-    except OSError as exc:
-        raise ValueError(f"{p.name}: cannot read ({exc.strerror or exc})") from None
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise ValueError(
-            f"{p.name}: not a session file (not UTF-8 text: byte {exc.start} is "
-            f"0x{raw[exc.start]:02x})"
-        ) from None
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise ValueError(f"{p.name}: not valid JSON ({exc.msg}, line {exc.lineno})") from None
-    except RecursionError:
-        raise ValueError(f"{p.name}: not valid JSON (nested too deeply)") from None
-    try:
-        return parse_session(data)
-    except ParameterError as exc:
-        raise ParameterError(exc.parameter, f"{p.name}: {exc}") from None
+    return parse_file(path, parse_session, "session file")

@@ -294,7 +294,7 @@ def test_non_utf8_files_are_refused_with_a_message(tmp_path):
     path.write_bytes(b'{"format": "gogreen-session", "x": "\xff\xfe"}')
     with pytest.raises(ValueError, match=r"corrupt\.json: not a session file \(not UTF-8"):
         load_session(path)
-    with pytest.raises(ValueError, match=r"corrupt\.json: not valid JSON \(not UTF-8"):
+    with pytest.raises(ValueError, match=r"corrupt\.json: not a preset file \(not UTF-8"):
         load_preset(path)
 
 
