@@ -31,7 +31,9 @@ from gogreen_core.radial import (
     radial_from_dict,
 )
 from gogreen_core.sculptor import Sculptor
+from gogreen_core.session import load_session
 from gogreen_core.symmetry import SYMMETRY_CLASSES, SymmetryDescription, describe_symmetry
+from gogreen_core.validation import ParameterError
 
 __all__ = [
     "BRUSH_KINDS",
@@ -47,6 +49,7 @@ __all__ = [
     "KelvinletRadial",
     "Material",
     "MultiscaleRadial",
+    "ParameterError",
     "PatternParameter",
     "PatternSpec",
     "Preset",
@@ -62,6 +65,7 @@ __all__ = [
     "homogenize_detailed",
     "lebedev_points",
     "load_preset",
+    "load_session",
     "make_pattern",
     "radial_from_dict",
     "reuss_bound",

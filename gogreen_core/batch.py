@@ -18,11 +18,21 @@ from pathlib import Path
 
 import numpy as np
 
-from gogreen_core.brushes import BRUSH_KINDS, Brush, BrushEvent
+from gogreen_core.brushes import BRUSH_KINDS, MAX_AMOUNT, Brush, BrushEvent
 from gogreen_core.material import Material
 from gogreen_core.mesh_io import MeshData, load_mesh, save_mesh, write_text_atomic
-from gogreen_core.radial import GaussianRadial, KelvinletRadial, radial_from_dict
+from gogreen_core.operations import MAX_EVENTS
+from gogreen_core.radial import GaussianRadial, KelvinletRadial
+from gogreen_core.schema import parse_falloff, parse_l_max, parse_material, read_json
 from gogreen_core.sculptor import Sculptor
+from gogreen_core.session import load_session
+from gogreen_core.validation import (
+    ParameterError,
+    check_integer,
+    check_number,
+    check_vector,
+    prefixed,
+)
 
 __all__ = ["BATCH_COMMANDS", "main"]
 
@@ -60,35 +70,45 @@ def _save(mesh: MeshData, vertices: np.ndarray, path: str) -> None:
 
 
 def _replay(args: argparse.Namespace) -> int:
-    try:
-        session = json.loads(Path(args.session).read_text())
-    except OSError as exc:
-        raise ValueError(f"{args.session}: cannot read ({exc.strerror})") from None
-    except json.JSONDecodeError as exc:
-        raise ValueError(f"{args.session}: not valid JSON ({exc.msg}, line {exc.lineno})") from None
+    session = load_session(args.session)  # every field checked before the mesh is read
     mesh = load_mesh(args.input)
     sculptor = Sculptor.from_session(session, mesh.vertices, mesh.faces)
-    if session["mesh"].get("sha256") != sculptor.session()["mesh"]["sha256"]:
+    if session.sha256 is not None and session.sha256 != sculptor.session()["mesh"]["sha256"]:
         print(
             f"gogreen: warning: {args.input} differs from the mesh the session was recorded on",
             file=sys.stderr,
         )
-    operations = session.get("operations")
-    if not isinstance(operations, list):
-        raise ValueError(f"{args.session}: 'operations' must be a list")
-    sculptor.replay(operations, ProgressBar("replay") if not args.quiet else None)
+    try:
+        sculptor.replay(session, ProgressBar("replay") if not args.quiet else None)
+    except ParameterError as exc:  # found while applying (a pin index that does not exist)
+        name = Path(args.session).name
+        raise ParameterError(exc.parameter, f"{name}: {exc}") from None
     _save(mesh, sculptor.vertices, args.output)
     return 0
 
 
+def _read_json(path: str, option: str) -> object:
+    """The JSON value in file ``path`` given to ``option``; ValueError naming both."""
+    try:
+        return read_json(path)
+    except ValueError as exc:
+        raise ValueError(f"{option} {exc}") from None
+
+
+def _section(data: object, key: str) -> tuple[object, str]:
+    """A preset's ``key`` section, or ``data`` itself (a bare material / falloff file)."""
+    if isinstance(data, dict) and key in data and data.get("format") == "gogreen-preset":
+        return data[key], key
+    return data, ""
+
+
 def _material(args: argparse.Namespace) -> Material:
     if args.material:
-        try:
-            data = json.loads(Path(args.material).read_text())
-        except (OSError, json.JSONDecodeError) as exc:
-            raise ValueError(f"{args.material}: cannot read a material ({exc})") from None
-        return Material.from_dict(data.get("material", data))
-    return Material.isotropic(args.young, args.poisson)
+        data, path = _section(_read_json(args.material, "--material"), "material")
+        with prefixed("--material"):
+            return parse_material(data, path)
+    with prefixed("--young/--poisson"):
+        return Material.isotropic(args.young, args.poisson)
 
 
 def _falloff(name: str):
@@ -96,60 +116,80 @@ def _falloff(name: str):
         return GaussianRadial(1.0)
     if name == "kelvinlet":
         return KelvinletRadial(1.0)
-    try:
-        data = json.loads(Path(name).read_text())
-    except (OSError, json.JSONDecodeError) as exc:
-        raise ValueError(
-            f"{name}: not 'gaussian', 'kelvinlet' or a falloff JSON file ({exc})"
-        ) from None
-    return radial_from_dict(data.get("falloff", data))
+    data, path = _section(_read_json(name, "--falloff"), "falloff")
+    with prefixed("--falloff"):
+        return parse_falloff(data, path)
 
 
 def _deform(args: argparse.Namespace) -> int:
     mesh = load_mesh(args.input)
-    sculptor = Sculptor(
-        mesh.vertices,
-        mesh.faces,
-        material=_material(args),
-        l_max=args.l_max,
-        falloff=_falloff(args.falloff),
-    )
-    brush = Brush(
-        kind=args.brush,
-        radius=args.radius,
-        strength=args.strength,
-        substeps=args.substeps,
-        influence=args.influence,
-        symmetry=args.symmetry,
-    )
-    if brush.is_affine and args.amount == 0:
-        raise ValueError(f"the {brush.kind} brush needs --amount (nonzero)")
-    if not brush.is_affine and not np.any(args.delta):
-        raise ValueError(f"the {brush.kind} brush needs --delta (nonzero)")
-    if args.events < 1:
-        raise ValueError("--events must be >= 1")
+    material, falloff = _material(args), _falloff(args.falloff)
+    l_max = parse_l_max(args.l_max, "--l-max")
+    sculptor = Sculptor(mesh.vertices, mesh.faces, material=material, l_max=l_max, falloff=falloff)
+    with _option_names():
+        brush = Brush(
+            kind=args.brush,
+            radius=args.radius,
+            strength=args.strength,
+            substeps=args.substeps,
+            influence=args.influence,
+            symmetry=args.symmetry,
+        )
+    # Each option is checked under its own name before anything is computed from it.
+    center = check_vector("--center", args.center)
+    delta = check_vector("--delta", args.delta)
+    amount = check_number("--amount", args.amount, low=-MAX_AMOUNT, high=MAX_AMOUNT)
+    axis = None if args.axis is None else check_vector("--axis", args.axis)
+    direction = None if args.direction is None else check_vector("--direction", args.direction)
+    events = check_integer("--events", args.events, low=1, high=MAX_EVENTS)
+    if brush.is_affine and amount == 0:
+        raise ParameterError("--amount", f"the {brush.kind} brush needs --amount (nonzero)")
+    if not brush.is_affine and not np.any(delta):
+        raise ParameterError("--delta", f"the {brush.kind} brush needs --delta (nonzero)")
     # The drag is split into equal events, as mouse events of one stroke.
-    center = np.array(args.center, dtype=np.float64)
-    step = np.array(args.delta, dtype=np.float64) / args.events
+    step = delta / events
     progress = None if args.quiet else ProgressBar("deform")
     sculptor.begin_stroke(brush)
-    for k in range(args.events):
-        sculptor.stroke_event(
-            BrushEvent(
-                center=center + k * step,
-                delta=step,
-                amount=args.amount / args.events,
-                axis=args.axis,
-                direction=args.direction,
-            )
-        )
-        if progress:
-            progress(k + 1, args.events)
+    try:
+        for k in range(events):
+            with _option_names():
+                event = BrushEvent(
+                    center=center + k * step,
+                    delta=step,
+                    amount=amount / events,
+                    axis=axis,
+                    direction=direction,
+                )
+                sculptor.stroke_event(event)
+            if progress:
+                progress(k + 1, events)
+    except Exception:
+        sculptor.cancel_stroke()
+        raise
     sculptor.end_stroke()
     _save(mesh, sculptor.vertices, args.output)
     if args.session_out:
         write_text_atomic(args.session_out, json.dumps(sculptor.session(), indent=1))
     return 0
+
+
+class _option_names:
+    """Re-raise a ParameterError of a brush or event field under its option's name
+    (``delta`` → ``--delta``), so the message names what the user typed."""
+
+    def __enter__(self) -> None:
+        return None
+
+    def __exit__(self, kind, exc, tb) -> bool:
+        if isinstance(exc, ParameterError) and exc.parameter.isidentifier():
+            option = "--" + exc.parameter.replace("_", "-")
+            message = str(exc)
+            if message.startswith(exc.parameter):
+                message = option + message[len(exc.parameter) :]
+            else:
+                message = f"{option}: {message}"
+            raise ParameterError(option, message) from None
+        return False
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -178,7 +218,8 @@ def _parser() -> argparse.ArgumentParser:
         "--amount",
         type=float,
         default=0.0,
-        help="affine brushes: strain (scale, pinch) or angle in radians (twist)",
+        help="affine brushes: log strain (scale, pinch) or angle in radians (twist) at the "
+        "brush centre, split over --events",
     )
     deform.add_argument(
         "--axis",

@@ -6,13 +6,20 @@ regularized Green's function of ``kernel.py``:
 * ``grab``: a vector load f at the cursor. The center moves with the cursor during an event,
   c(t) = c₀ + tΔ, and f solves G(0) f = Δ for the anisotropic G(0), so the point under the
   cursor has velocity exactly Δ along its whole streamline and lands on the cursor.
-* ``grab_biscale``, ``grab_triscale``: the same with Kelvinlets' multi-scale falloff (sums of
-  the falloff at radii ε, 1.25ε, 1.25²ε, as Blender's Elastic Deform), which decays faster.
-* ``scale``, ``twist``, ``pinch``: affine loads H at a fixed center: H ∝ I, H ∝ [a]_× (rotation
-  about the view axis a), H ∝ d dᵀ − e eᵀ (symmetric traceless: stretch along the stroke
-  direction d, squeeze across it, e = a × d). H is normalized so that the deformation gradient
-  at the center has component ``amount · strength`` along the unit load (a relative strain per
-  event for scale and pinch, an angle in radians for twist), whatever the material.
+* ``grab_biscale``, ``grab_triscale``: the same with Kelvinlets' multi-scale falloff (weighted
+  sums of the falloff at radii ε, 1.25ε, 1.25²ε; the ratio 1.25 is ours: Blender's Elastic
+  Deform uses 2), which decays faster.
+* ``scale``, ``twist``, ``pinch``: affine loads H = k B at a fixed center, with the pattern B of
+  :func:`affine_load_shape`: I, [a]_× (rotation about the view axis a), d dᵀ − e eᵀ (stretch
+  along the stroke direction d, squeeze across it, e = a × d). k is set so that the velocity
+  gradient J at the centre has component (J : B)/(B : B) = ``strength · amount`` along B,
+  whatever the material. An event is the flow of that field over pseudo-time [0, 1] with the
+  centre fixed, so the centre's deformation gradient is exp(J): per unit ``amount``, scale is a
+  logarithmic strain of 1 in every direction (lengths × e), pinch a log strain of +1 along d
+  and −1 across, twist a rotation of 1 radian about a; for small amounts the displacement
+  gradient at the centre is ``amount · B``. Log strains and angles add up, so an amount split
+  over several events gives the same result. For an isotropic material J = amount · B exactly;
+  an anisotropic one adds components that are not along B (its own coupling).
 * ``wrinkle``: a grab whose field uses reweighted SH degrees (paper Fig. 10): the force is fixed
   by the full kernel, the field by the ``degree_weights`` of the falloff, which bring out the
   angular ripples of high degrees.
@@ -29,13 +36,23 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
+from gogreen_core.validation import (
+    ParameterError,
+    check_finite,
+    check_integer,
+    check_number,
+    check_object,
+    check_string,
+    prefixed,
+)
+
 __all__ = [
     "AFFINE_BRUSHES",
     "BRUSH_KINDS",
     "GRAB_BRUSHES",
     "Brush",
     "BrushEvent",
-    "affine_unit_load",
+    "affine_load_shape",
     "default_wrinkle_weights",
     "mirror_signs",
 ]
@@ -49,16 +66,14 @@ BRUSH_KINDS = GRAB_BRUSHES + AFFINE_BRUSHES
 CUTOFF_START = 0.5
 
 
-def _positive(name: str, value: float, allow_inf: bool = False) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"brush {name} must be a number (got {value!r})") from None
-    if math.isnan(v) or v <= 0 or (math.isinf(v) and not allow_inf):
-        raise ValueError(
-            f"brush {name} must be {'> 0' if allow_inf else 'finite and > 0'} (got {value!r})"
-        )
-    return v
+#: Bounds of the brush settings (documented in the README, "Sculpting without the GUI"): a
+#: radius is a fraction of the model size; beyond these the numbers overflow or mean nothing.
+MIN_RADIUS, MAX_RADIUS = 1e-6, 100.0
+MAX_STRENGTH = 1e3
+MAX_SUBSTEPS = 1000
+#: Largest |amount| (and |strength · amount|) of an affine brush event: a strain or an angle
+#: in radians per event at the brush centre.
+MAX_AMOUNT = 100.0
 
 
 @dataclass(frozen=True)
@@ -82,27 +97,30 @@ class Brush:
     symmetry: str = ""
 
     def __post_init__(self) -> None:
-        if self.kind not in BRUSH_KINDS:
-            raise ValueError(
-                f"unknown brush {self.kind!r}; expected one of {', '.join(BRUSH_KINDS)}"
+        if not isinstance(self.kind, str) or self.kind not in BRUSH_KINDS:
+            raise ParameterError(
+                "kind", f"unknown brush {self.kind!r}; expected one of {', '.join(BRUSH_KINDS)}"
             )
-        object.__setattr__(self, "radius", _positive("radius", self.radius))
-        strength = float(self.strength)
-        if not math.isfinite(strength):
-            raise ValueError(f"brush strength must be finite (got {self.strength!r})")
-        object.__setattr__(self, "strength", strength)
-        if (
-            isinstance(self.substeps, bool)
-            or int(self.substeps) != self.substeps
-            or self.substeps < 1
-        ):
-            raise ValueError(f"brush substeps must be an integer >= 1 (got {self.substeps!r})")
-        object.__setattr__(self, "substeps", int(self.substeps))
-        object.__setattr__(self, "influence", _positive("influence", self.influence, True))
-        axes = "".join(sorted(set(str(self.symmetry).lower())))
+        radius = check_number("radius", self.radius, low=MIN_RADIUS, high=MAX_RADIUS)
+        strength = check_number("strength", self.strength, low=-MAX_STRENGTH, high=MAX_STRENGTH)
+        substeps = check_integer("substeps", self.substeps, low=1, high=MAX_SUBSTEPS)
+        influence = self.influence
+        if not (isinstance(influence, float) and influence == math.inf):  # inf: every vertex
+            influence = check_number("influence", influence, low=0.0, low_open=True)
+        symmetry = check_string("symmetry", self.symmetry, max_length=3).lower()
+        axes = "".join(sorted(set(symmetry)))
         if any(a not in "xyz" for a in axes):
-            raise ValueError(f"brush symmetry must use the letters x, y, z (got {self.symmetry!r})")
-        object.__setattr__(self, "symmetry", axes)
+            raise ParameterError(
+                "symmetry", f"brush symmetry must use the letters x, y, z (got {self.symmetry!r})"
+            )
+        for name, value in [
+            ("radius", radius),
+            ("strength", strength),
+            ("substeps", substeps),
+            ("influence", float(influence)),
+            ("symmetry", axes),
+        ]:
+            object.__setattr__(self, name, value)
 
     @property
     def is_affine(self) -> bool:
@@ -125,25 +143,21 @@ class Brush:
         return data
 
     @classmethod
-    def from_dict(cls, data: dict) -> Brush:
-        try:
-            values = dict(data)
-            if values.get("influence", 0) is None:
-                values["influence"] = math.inf
+    def from_dict(cls, data: object, path: str = "brush") -> Brush:
+        """Inverse of :meth:`to_dict`, the brush's schema: :class:`ParameterError` naming the
+        field (``path.radius``...) for a missing, unknown, mistyped or out-of-range one."""
+        fields = ("kind", "radius", "strength", "substeps", "influence", "symmetry")
+        values = dict(check_object(path, data, optional=fields))
+        if "influence" in values and values["influence"] is None:
+            values["influence"] = math.inf
+        with prefixed(path):
             return cls(**values)
-        except TypeError as exc:
-            raise ValueError(f"malformed brush description: {exc}") from None
 
 
-def _vector(name: str, value, unit: bool = False) -> np.ndarray:
-    arr = np.asarray(value, dtype=np.float64)
-    if arr.shape != (3,) or not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} must be 3 finite numbers (got {value!r})")
-    if unit:
-        norm = np.linalg.norm(arr)
-        if norm == 0:
-            raise ValueError(f"{name} must be a nonzero vector")
-        arr = arr / norm
+def _vector(name: str, value, nonzero: bool = False) -> np.ndarray:
+    arr = check_finite(name, value, (3,))
+    if nonzero and not np.any(arr):
+        raise ParameterError(name, f"{name} must be nonzero (got {value!r})")
     return arr
 
 
@@ -153,8 +167,9 @@ class BrushEvent:
 
     center : (3,) the cursor on the surface at the start of the event.
     delta : (3,) cursor displacement during the event (grab brushes).
-    amount : signed magnitude for affine brushes (relative strain, or radians for twist).
-    axis : (3,) view direction (twist axis, pinch normal); +z when omitted.
+    amount : affine brushes: the logarithmic strain (scale, pinch) or the angle in radians
+        (twist) at the brush centre per event, times the brush strength (see module docstring).
+    axis : (3,) view direction (twist axis, pinch normal), any nonzero length; +z when omitted.
     direction : (3,) stroke direction in the view plane (pinch); any vector ⟂ axis if omitted.
     """
 
@@ -165,16 +180,16 @@ class BrushEvent:
     direction: np.ndarray | None = None
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "center", _vector("event center", self.center))
-        object.__setattr__(self, "delta", _vector("event delta", self.delta))
-        amount = float(self.amount)
-        if not math.isfinite(amount):
-            raise ValueError(f"event amount must be finite (got {self.amount!r})")
+        object.__setattr__(self, "center", _vector("center", self.center))
+        object.__setattr__(self, "delta", _vector("delta", self.delta))
+        amount = check_number("amount", self.amount, low=-MAX_AMOUNT, high=MAX_AMOUNT)
         object.__setattr__(self, "amount", amount)
         if self.axis is not None:
-            object.__setattr__(self, "axis", _vector("event axis", self.axis, unit=True))
+            # kept as given (normalized where used): a stored unit vector renormalized on
+            # reading could differ in its last bit and a replay would drift
+            object.__setattr__(self, "axis", _vector("axis", self.axis, nonzero=True))
         if self.direction is not None:
-            object.__setattr__(self, "direction", _vector("event direction", self.direction))
+            object.__setattr__(self, "direction", _vector("direction", self.direction))
 
     def to_dict(self) -> dict:
         data: dict = {"center": self.center.tolist()}
@@ -189,34 +204,50 @@ class BrushEvent:
         return data
 
     @classmethod
-    def from_dict(cls, data: dict) -> BrushEvent:
-        try:
-            return cls(**data)
-        except TypeError as exc:
-            raise ValueError(f"malformed brush event: {exc}") from None
+    def from_dict(cls, data: object, path: str = "event") -> BrushEvent:
+        """Inverse of :meth:`to_dict`, the event's schema: :class:`ParameterError` naming the
+        field (``path.delta``...)."""
+        fields = ("center", "delta", "amount", "axis", "direction")
+        values = check_object(path, data, required=("center",), optional=fields[1:])
+        with prefixed(path):
+            return cls(**values)
 
 
-def affine_unit_load(
+def _tame(vector) -> np.ndarray:
+    """``vector`` (3,), rescaled by its largest component when its length would overflow or
+    underflow (a direction is all that is used)."""
+    v = np.asarray(vector, dtype=np.float64)
+    peak = np.abs(v).max()
+    return v / peak if peak > 1e150 or 0 < peak < 1e-150 else v
+
+
+def _unit(vector) -> np.ndarray:
+    v = _tame(vector)
+    return v / np.linalg.norm(v)
+
+
+def affine_load_shape(
     kind: str, axis: np.ndarray | None, direction: np.ndarray | None
 ) -> np.ndarray:
-    """Unit affine load Ĥ (3, 3) of an affine brush (Frobenius norm 1)."""
-    a = np.array([0.0, 0.0, 1.0]) if axis is None else np.asarray(axis, dtype=np.float64)
+    """Pattern B (3, 3) of an affine brush: the velocity gradient that ``amount`` 1 asks for at
+    the brush centre. ``scale``: B = I (every direction stretches); ``twist``: B = [a]_×
+    (B x = a × x, a rotation about the unit view axis a, one radian per unit); ``pinch``:
+    B = d dᵀ − e eᵀ (stretch along the unit stroke direction d projected ⟂ a, squeeze along
+    e = a × d)."""
+    a = np.array([0.0, 0.0, 1.0]) if axis is None else _unit(axis)
     if kind == "scale":
-        h = np.eye(3)
-    elif kind == "twist":
-        # Ĥ = [a]_×: H x = a × x, a rotation about the view axis
-        h = np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
-    elif kind == "pinch":
-        d = np.cross(a, [1.0, 0.0, 0.0]) if direction is None else np.asarray(direction, float)
+        return np.eye(3)
+    if kind == "twist":
+        return np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
+    if kind == "pinch":
+        d = np.cross(a, [1.0, 0.0, 0.0]) if direction is None else _tame(direction)
         d = d - a * (d @ a)
         if np.linalg.norm(d) < 1e-12:
             d = np.cross(a, [0.0, 1.0, 0.0])
         d = d / np.linalg.norm(d)
         e = np.cross(a, d)
-        h = np.outer(d, d) - np.outer(e, e)
-    else:
-        raise ValueError(f"{kind!r} is not an affine brush ({', '.join(AFFINE_BRUSHES)})")
-    return h / np.linalg.norm(h)
+        return np.outer(d, d) - np.outer(e, e)
+    raise ValueError(f"{kind!r} is not an affine brush ({', '.join(AFFINE_BRUSHES)})")
 
 
 def default_wrinkle_weights(l_max: int) -> np.ndarray:

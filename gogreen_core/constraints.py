@@ -83,7 +83,15 @@ class ConstraintSet:
         d = self._kernel.green(np.zeros((1, 3)))[0]
         a_inv_b = self._inverse @ b
         schur = d - b.T @ a_inv_b
-        eig = np.linalg.eigvalsh(0.5 * (schur + schur.T))
+        try:
+            eig = np.linalg.eigvalsh(0.5 * (schur + schur.T))
+        except np.linalg.LinAlgError:  # NaN or overflow in the blocks
+            eig = np.array([np.nan])
+        if not np.all(np.isfinite(eig)):
+            raise ValueError(
+                f"constraint point {p.tolist()} overflows the constraint system (is it too far "
+                "from the model?)"
+            )
         if eig[0] <= 1e-10 * eig[-1]:
             raise ValueError(
                 f"constraint point {p.tolist()} is too close to the others for the brush radius "

@@ -83,6 +83,16 @@ class History:
         """Bytes held by all entries (indices and positions, undo and redo)."""
         return self._bytes
 
+    def snapshot(self) -> tuple:
+        """An opaque copy of the stacks (entries are immutable, so this is cheap) for
+        :meth:`restore`: a caller that must undo a failed batch of records (a replay) uses it."""
+        return (list(self._undo), list(self._redo), self._bytes, self.restored_state)
+
+    def restore(self, snapshot: tuple) -> None:
+        """Put the stacks back as :meth:`snapshot` saw them."""
+        undo, redo, self._bytes, self.restored_state = snapshot
+        self._undo, self._redo = list(undo), list(redo)
+
     def clear(self) -> None:
         """Forget every entry."""
         self._undo.clear()

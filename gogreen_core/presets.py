@@ -24,11 +24,18 @@ from pathlib import Path
 import numpy as np
 
 from gogreen_core.brushes import Brush
-from gogreen_core.kernel import L_MAX_LIMIT
 from gogreen_core.material import Material
 from gogreen_core.mesh_io import write_text_atomic
-from gogreen_core.radial import GaussianRadial, RadialProfile, radial_from_dict
+from gogreen_core.radial import GaussianRadial, RadialProfile
+from gogreen_core.schema import (
+    parse_degree_weights,
+    parse_falloff,
+    parse_file,
+    parse_l_max,
+    parse_material,
+)
 from gogreen_core.sculptor import Sculptor
+from gogreen_core.validation import ParameterError, check_integer, check_object, check_string
 
 __all__ = ["PRESET_FORMAT", "Preset", "builtin_presets", "load_preset", "save_preset"]
 
@@ -52,9 +59,11 @@ class Preset:
     description: str = ""
 
     def apply(self, sculptor: Sculptor) -> None:
-        """Give ``sculptor`` this material and falloff (the brush is the caller's to use)."""
-        sculptor.set_material(self.material)
-        sculptor.set_falloff(self.falloff, self.l_max, self.degree_weights)
+        """Give ``sculptor`` this material and falloff, as one undo step (the brush is the
+        caller's to use)."""
+        joined = sculptor.material != self.material  # a new step the falloff joins
+        sculptor.set_material(self.material)  # ignored when unchanged
+        sculptor.set_falloff(self.falloff, self.l_max, self.degree_weights, continued=joined)
 
     def to_dict(self) -> dict:
         weights = self.degree_weights
@@ -71,55 +80,41 @@ class Preset:
         }
 
     @classmethod
-    def from_dict(cls, data: dict) -> Preset:
-        """Inverse of :meth:`to_dict`; ``ValueError`` naming what is wrong."""
+    def from_dict(cls, data: object) -> Preset:
+        """Inverse of :meth:`to_dict`, the preset schema: :class:`ParameterError` (a
+        ``ValueError``) naming the missing, unknown, mistyped or out-of-range field."""
         if not isinstance(data, dict) or data.get("format") != PRESET_FORMAT:
-            raise ValueError(f"not a GoGreen preset (expected format {PRESET_FORMAT!r})")
-        if data.get("version", PRESET_VERSION) > PRESET_VERSION:
-            raise ValueError(f"preset version {data['version']} is newer than this program's")
-        try:
-            material = Material.from_dict(data["material"])
-            falloff = radial_from_dict(data["falloff"])
-            brush = Brush.from_dict(data["brush"])
-            l_max = data.get("l_max", 8)
-            weights = data.get("degree_weights")
-        except KeyError as exc:
-            raise ValueError(f"preset has no {exc.args[0]!r} entry") from None
-        except TypeError as exc:
-            raise ValueError(f"malformed preset: {exc}") from None
-        if isinstance(l_max, bool) or not isinstance(l_max, int) or not 0 <= l_max <= L_MAX_LIMIT:
-            raise ValueError(
-                f"preset l_max must be an integer in [0, {L_MAX_LIMIT}] (got {l_max!r})"
+            raise ParameterError(
+                "format", f"not a GoGreen preset (expected format {PRESET_FORMAT!r})"
             )
-        if weights is not None:
-            weights = np.asarray(weights, dtype=np.float64)
-            if weights.shape != (l_max + 1,) or not np.all(np.isfinite(weights)):
-                raise ValueError(f"preset degree_weights must be l_max + 1 = {l_max + 1} numbers")
+        check_object(
+            "",
+            data,
+            required=("format", "material", "falloff", "brush"),
+            optional=("version", "name", "description", "l_max", "degree_weights"),
+        )
+        version = data.get("version", PRESET_VERSION)
+        if check_integer("version", version, low=1) > PRESET_VERSION:
+            raise ParameterError(
+                "version", f"preset version {version} is newer than this program's"
+            )
+        l_max = parse_l_max(data.get("l_max", 8))
         return cls(
-            name=str(data.get("name", "")),
-            material=material,
-            falloff=falloff,
+            name=check_string("name", data.get("name", ""), max_length=1000),
+            material=parse_material(data["material"]),
+            falloff=parse_falloff(data["falloff"]),
             l_max=l_max,
-            degree_weights=weights,
-            brush=brush,
-            description=str(data.get("description", "")),
+            degree_weights=parse_degree_weights(data.get("degree_weights"), l_max),
+            brush=Brush.from_dict(data["brush"]),
+            description=check_string("description", data.get("description", "")),
         )
 
 
 def load_preset(path: str | os.PathLike) -> Preset:
-    """Read a preset file; ``ValueError`` naming the file and the problem."""
-    p = Path(path)
-    try:
-        data = json.loads(p.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise ValueError(f"{p.name}: cannot read ({exc.strerror or exc})") from None
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise ValueError(f"{p.name}: not valid JSON ({exc})") from None
-    try:
-        preset = Preset.from_dict(data)
-    except ValueError as exc:
-        raise ValueError(f"{p.name}: {exc}") from None
-    return preset if preset.name else replace(preset, name=p.stem)
+    """Read a preset file; ``ValueError`` (a :class:`ParameterError` for a bad field) whose
+    message starts with the file's name."""
+    preset = parse_file(path, Preset.from_dict, "preset file")
+    return preset if preset.name else replace(preset, name=Path(path).stem)
 
 
 def save_preset(preset: Preset, path: str | os.PathLike) -> None:

@@ -19,18 +19,21 @@ every vertex (no pseudo-time), so the constrained points land exactly on their t
 from __future__ import annotations
 
 import contextlib
-import hashlib
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
 from gogreen_core._expansion import near_segment
 from gogreen_core.brushes import (
     AFFINE_BRUSHES,
+    MAX_AMOUNT,
+    MAX_RADIUS,
+    MIN_RADIUS,
     Brush,
     BrushEvent,
-    affine_unit_load,
+    affine_load_shape,
     default_wrinkle_weights,
     mirror_signs,
 )
@@ -38,21 +41,64 @@ from gogreen_core.constraints import ConstraintSet
 from gogreen_core.history import History
 from gogreen_core.kernel import GreenKernel
 from gogreen_core.material import Material
-from gogreen_core.radial import GaussianRadial, MultiscaleRadial, RadialProfile, radial_from_dict
+from gogreen_core.operations import (
+    ConstraintAdd,
+    ConstraintDrag,
+    ConstraintRadius,
+    ConstraintRemove,
+    ConstraintsClear,
+    FalloffChange,
+    MaterialChange,
+    Operation,
+    Redo,
+    Stroke,
+    Undo,
+    operation_from_dict,
+)
+from gogreen_core.radial import GaussianRadial, MultiscaleRadial, RadialProfile
+from gogreen_core.schema import (
+    EngineSettings,
+    check_material,
+    parse_degree_weights,
+    parse_l_max,
+)
+from gogreen_core.session import (
+    SESSION_FORMAT,
+    SESSION_VERSION,
+    Session,
+    SessionLog,
+    mesh_fingerprint,
+    parse_session,
+)
+from gogreen_core.validation import (
+    ParameterError,
+    check_bool,
+    check_integer,
+    check_number,
+    check_vector,
+    prefixed,
+    vector_norm,
+)
 
-__all__ = ["SESSION_FORMAT", "Sculptor", "mesh_fingerprint"]
+__all__ = ["MAX_REACH", "SESSION_FORMAT", "Sculptor", "mesh_fingerprint"]
 
-SESSION_FORMAT = "gogreen-session"
-SESSION_VERSION = 1
-#: Operations that set a value; consecutive ones collapse into the last in the session log.
-_SETTING_OPS = frozenset({"material", "falloff", "constraint_radius"})
-#: Relative step of the central differences that measure an affine brush's strength.
+#: Step (in ε) of the central differences that measure the velocity gradient an affine load
+#: makes at its centre (Sculptor._centre_jacobian), which sets what `amount` means.
 _JACOBIAN_STEP = 1e-3
+#: Farthest a brush centre, a grab displacement (times the strength), a pin or a pin drag may
+#: reach, in model sizes from the model's centre: beyond it nothing is left to sculpt, and the
+#: arithmetic stays far from overflow whatever the model's scale.
+MAX_REACH = 1e3
+#: Undo labels of settings changes (a continued change joins the last of these).
+_SETTING_LABELS = ("material", "falloff", "constraint radius")
+_NO_ROWS = np.zeros((0, 3))
 
 
-def mesh_fingerprint(vertices: np.ndarray) -> str:
-    """SHA-256 of the float64 vertex array: tells whether a session replays on its own mesh."""
-    return hashlib.sha256(np.ascontiguousarray(vertices, dtype=np.float64).tobytes()).hexdigest()
+class _Pin(NamedTuple):
+    """A dragged pin's index and position: the caller state of a pin-drag undo step."""
+
+    index: int
+    point: np.ndarray
 
 
 def _check_mesh(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -90,7 +136,13 @@ class Sculptor:
         The falloff shape; its ε is ignored (each brush sets ε = radius · model size).
     degree_weights : (l_max + 1,) floats, optional
         Per-degree weights of the wrinkle brush (default :func:`default_wrinkle_weights`).
+    constraint_radius : float, default 0.1
+        ε of the pins as a fraction of the model size.
     history_bytes : memory cap of the undo history.
+
+    The parts: the mesh, the settings and strokes live here; undo steps in :attr:`history`
+    (:class:`History`); the session log in a :class:`SessionLog` of typed operation records
+    (:mod:`gogreen_core.operations`), exported by :meth:`session` and applied by :meth:`replay`.
     """
 
     def __init__(
@@ -102,6 +154,7 @@ class Sculptor:
         l_max: int = 8,
         falloff: RadialProfile | None = None,
         degree_weights: np.ndarray | None = None,
+        constraint_radius: float = 0.1,
         history_bytes: int = 512 * 2**20,
     ):
         self._vertices, self._faces = _check_mesh(vertices, faces)
@@ -109,23 +162,28 @@ class Sculptor:
         self.model_size = float(np.linalg.norm(high - low))
         if not self.model_size > 0:
             raise ValueError("the mesh has zero size (all vertices coincide)")
+        if not np.isfinite(self.model_size):
+            raise ValueError("the mesh is too large (its size overflows a float)")
         #: Point of the mirror planes: the center of the bounding box at load.
         self.origin = 0.5 * (low + high)
         self.history = History(history_bytes)
-        self._material = Material.isotropic(1.0, 0.3)
-        self._l_max = 8
-        self._falloff: RadialProfile = GaussianRadial(1.0)
-        self._weights: np.ndarray | None = None
         self._kernels: dict[str, GreenKernel] = {}
         self._stroke: _Stroke | None = None
         self._constraints: ConstraintSet | None = None
-        self._constraint_radius = 0.1
-        self._operations: list[dict] = []
+        self._log = SessionLog()
+        #: False for a sculptor replaying a version-1 session: settings are no undo steps.
+        self._settings_undoable = True
         self._fingerprint = mesh_fingerprint(self._vertices)
-        self._set_falloff(falloff or GaussianRadial(1.0), l_max, degree_weights)
-        if material is not None:
-            self._set_material(material)
-        self._initial = self._settings()
+        material = Material.isotropic(1.0, 0.3) if material is None else material
+        self._settings = self._checked(
+            material=material,
+            falloff=falloff or GaussianRadial(1.0),
+            l_max=l_max,
+            degree_weights=degree_weights,
+            constraint_radius=constraint_radius,
+        )
+        self._kernels = {"full": self._full_kernel(self._settings)}
+        self._initial = self._settings
 
     # -- state -------------------------------------------------------------------------------
     @property
@@ -140,84 +198,162 @@ class Sculptor:
         return self._faces
 
     @property
+    def settings(self) -> EngineSettings:
+        """Material, falloff, l_max, wrinkle weights and constraint radius (immutable)."""
+        return self._settings
+
+    @property
     def material(self) -> Material:
-        return self._material
+        return self._settings.material
 
     @property
     def falloff(self) -> RadialProfile:
-        return self._falloff
+        return self._settings.falloff
 
     @property
     def l_max(self) -> int:
-        return self._l_max
+        return self._settings.l_max
 
     @property
     def degree_weights(self) -> np.ndarray:
         """Weights of the wrinkle brush (l_max + 1,)."""
-        if self._weights is None:
-            return default_wrinkle_weights(self._l_max)
-        return self._weights
+        weights = self._settings.degree_weights
+        return default_wrinkle_weights(self.l_max) if weights is None else weights
 
     @property
     def in_stroke(self) -> bool:
         return self._stroke is not None
 
-    def _settings(self) -> dict:
-        return {
-            "material": self._material.to_dict(),
-            "falloff": self._falloff.to_dict(),
-            "l_max": self._l_max,
-            "degree_weights": None if self._weights is None else self._weights.tolist(),
-        }
-
     # -- settings ----------------------------------------------------------------------------
-    def _set_material(self, material: Material) -> None:
+    def _checked(self, **values) -> EngineSettings:
+        """Settings from raw values, each checked (ParameterError naming it)."""
+        material, falloff = values["material"], values["falloff"]
         if not isinstance(material, Material):
-            raise ValueError(f"material must be a Material (got {type(material).__name__})")
-        self._material = material
-        self._kernels.clear()
-        self._rebuild_constraints()
-
-    def set_material(self, material: Material) -> None:
-        """Use ``material`` for the next operations."""
-        self._refuse_in_stroke("change the material")
-        self._set_material(material)
-        self._log({"op": "material", "material": material.to_dict()})
-
-    def _set_falloff(
-        self, falloff: RadialProfile, l_max: int | None, degree_weights: np.ndarray | None
-    ) -> None:
+            raise ParameterError(
+                "material", f"material must be a Material (got {type(material).__name__})"
+            )
+        check_material(material)
         if not isinstance(falloff, RadialProfile) or isinstance(falloff, MultiscaleRadial):
-            raise ValueError("falloff must be a single RadialProfile (Gaussian, Kelvinlet, spline)")
-        l_max = self._l_max if l_max is None else l_max
-        shape = falloff.with_eps(1.0)  # a copy: later edits of the caller's need another call
+            raise ParameterError(
+                "falloff", "falloff must be a single RadialProfile (Gaussian, Kelvinlet, spline)"
+            )
+        l_max = parse_l_max(values["l_max"])
+        weights = values["degree_weights"]
+        if weights is not None:
+            weights = np.array(weights, dtype=np.float64)
+            if weights.shape != (l_max + 1,) or not np.isfinite(weights).all():
+                raise ParameterError(
+                    "degree_weights",
+                    f"degree_weights must be l_max + 1 = {l_max + 1} finite numbers",
+                )
+            weights = parse_degree_weights(weights.tolist(), l_max)
+            weights.setflags(write=False)
+        radius = check_number(
+            "constraint_radius", values["constraint_radius"], low=MIN_RADIUS, high=MAX_RADIUS
+        )
+        # a copy of the shape: later edits of the caller's profile need another call
+        return EngineSettings(material, falloff.with_eps(1.0), l_max, weights, radius)
+
+    def _full_kernel(self, settings: EngineSettings) -> GreenKernel:
         current = self._kernels.get("full")
-        if current is not None and current.l_max == l_max:
-            full = current.with_radial(shape)  # same material: no new quadrature
-        else:
-            full = GreenKernel(self._material, l_max, shape)  # validates l_max and the falloff
-        weights = None if degree_weights is None else np.array(degree_weights, dtype=np.float64)
-        if weights is not None and (
-            weights.shape != (l_max + 1,) or not np.isfinite(weights).all()
+        if (
+            current is not None
+            and current.l_max == settings.l_max
+            and self._settings.material == settings.material
         ):
-            raise ValueError(f"degree_weights must be l_max + 1 = {l_max + 1} finite numbers")
-        self._falloff, self._l_max, self._weights = shape, int(l_max), weights
-        self._kernels = {"full": full}
-        self._rebuild_constraints()
+            return current.with_radial(settings.falloff)  # same material: no new quadrature
+        return GreenKernel(settings.material, settings.l_max, settings.falloff)
+
+    def _commit(self, settings: EngineSettings) -> None:
+        """Compute with ``settings`` from now on: kernels and pins are rebuilt first, so a
+        failure (an inadmissible falloff, pins the new radius cannot separate) changes nothing."""
+        full = self._full_kernel(settings)
+        constraints = None
+        if self._constraints is not None:
+            constraints = self._constraint_set(full, settings, self._constraints.points)
+        self._settings, self._kernels, self._constraints = settings, {"full": full}, constraints
+
+    def change_settings(
+        self, *, continued: bool = False, replaying: bool = False, **changes
+    ) -> None:
+        """Change some of :attr:`settings` (``material``, ``falloff``, ``l_max``,
+        ``degree_weights``, ``constraint_radius``): one undo step and one log entry, or part of
+        the last settings step when ``continued`` (every value of one slider or curve drag but
+        the first). Undo puts the previous settings back exactly.
+
+        A value equal to the current one is ignored unless ``continued`` (a drag may come back
+        to where it started) or ``replaying`` (a logged change is always replayed, as the drag it
+        stands for was a step).
+        """
+        keys = set(changes)
+        if not keys or not (
+            keys in ({"material"}, {"constraint_radius"})
+            or keys <= {"falloff", "l_max", "degree_weights"}
+        ):
+            raise TypeError(
+                "change_settings() takes material, constraint_radius, or falloff / l_max / "
+                f"degree_weights, one group at a time (got {sorted(keys)})"
+            )
+        continued = check_bool("continued", continued)
+        if "material" in keys:
+            label = "material"
+
+            def operation(s: EngineSettings) -> Operation:
+                return MaterialChange(s.material, continued)
+        elif "constraint_radius" in keys:
+            label = "constraint radius"
+
+            def operation(s: EngineSettings) -> Operation:
+                return ConstraintRadius(s.constraint_radius, continued)
+        else:
+            label = "falloff"
+            if "l_max" in keys:
+                changes.setdefault("degree_weights", None)  # weights belong to one l_max
+
+            def operation(s: EngineSettings) -> Operation:
+                return FalloffChange(s.falloff, s.l_max, s.degree_weights, continued)
+
+        before = self._settings
+        after = self._checked(**{**before.__dict__, **changes})
+        self._refuse_in_stroke(f"change the {label}")
+        if after.same_as(before) and not (continued or replaying):
+            return  # nothing to do, nothing to undo
+        self._commit(after)
+        if not self._settings_undoable:  # a version-1 session: settings were no undo steps
+            self._log.record(operation(after), replace_last=True)
+            return
+        last = self.history.undo_labels[-1] if self.history.can_undo else None
+        merge = continued and last in _SETTING_LABELS and not self.history.can_redo
+        self.history.record_change(
+            last if merge else label, _NO_ROWS, _NO_ROWS, merge=merge, state=(before, after)
+        )
+        # A collapsed drag is logged as its last value; the replay makes the same one step.
+        self._log.record(operation(after), replace_last=merge)
+
+    def set_material(self, material: Material, continued: bool = False) -> None:
+        """Use ``material`` for the next operations (see :meth:`change_settings`)."""
+        self.change_settings(material=material, continued=continued)
 
     def set_falloff(
         self,
         falloff: RadialProfile,
         l_max: int | None = None,
         degree_weights: np.ndarray | None = None,
+        continued: bool = False,
     ) -> None:
-        """Use this falloff shape (and truncation degree, wrinkle weights) from now on."""
-        self._refuse_in_stroke("change the falloff")
-        self._set_falloff(falloff, l_max, degree_weights)
-        settings = self._settings()
-        self._log(
-            {"op": "falloff", **{k: settings[k] for k in ("falloff", "l_max", "degree_weights")}}
+        """Use this falloff shape (and truncation degree, wrinkle weights) from now on (see
+        :meth:`change_settings`)."""
+        self.change_settings(
+            falloff=falloff,
+            l_max=self.l_max if l_max is None else l_max,
+            degree_weights=degree_weights,
+            continued=continued,
         )
+
+    def set_constraint_radius(self, radius: float, continued: bool = False) -> None:
+        """ε of the constraints, relative to the model size (see :meth:`change_settings`)."""
+        radius = check_number("radius", radius, low=MIN_RADIUS, high=MAX_RADIUS)
+        self.change_settings(constraint_radius=radius, continued=continued)
 
     def _refuse_in_stroke(self, what: str) -> None:
         if self._stroke is not None:
@@ -226,13 +362,13 @@ class Sculptor:
     def _base_kernel(self, wrinkle: bool) -> GreenKernel:
         key = "wrinkle" if wrinkle else "full"
         if key not in self._kernels:
-            weights = self.degree_weights if wrinkle else None
-            self._kernels[key] = GreenKernel(self._material, self._l_max, self._falloff, weights)
+            s = self._settings
+            self._kernels[key] = GreenKernel(s.material, s.l_max, s.falloff, self.degree_weights)
         return self._kernels[key]
 
     def kernel(self, brush: Brush) -> GreenKernel:
         """The kernel of ``brush`` on this model: its falloff, ε and degree weights."""
-        radial = self._falloff.with_eps(brush.eps(self.model_size))
+        radial = self.falloff.with_eps(brush.eps(self.model_size))
         if brush.kind == "grab_biscale":
             radial = MultiscaleRadial.biscale(radial)
         elif brush.kind == "grab_triscale":
@@ -244,21 +380,50 @@ class Sculptor:
         """Start a stroke with ``brush``; events follow, then :meth:`end_stroke`."""
         self._refuse_in_stroke("begin a stroke")
         if not isinstance(brush, Brush):
-            raise ValueError(f"brush must be a Brush (got {type(brush).__name__})")
+            raise ParameterError("brush", f"brush must be a Brush (got {type(brush).__name__})")
         self._stroke = _Stroke(
             brush, self._vertices.copy(), np.zeros(len(self._vertices), dtype=bool)
         )
 
     def stroke_event(self, event: BrushEvent) -> np.ndarray:
-        """Apply one mouse event of the current stroke; returns the indices of moved vertices."""
+        """Apply one mouse event of the current stroke; returns the indices of moved vertices.
+
+        Refused (:class:`ParameterError` naming the event field, nothing moved): a centre
+        farther than :data:`MAX_REACH` model sizes from the model's centre, a grab displacement
+        |strength · delta| beyond that, an affine |strength · amount| above ``MAX_AMOUNT``.
+        """
         if self._stroke is None:
             raise RuntimeError("stroke_event outside a stroke: call begin_stroke first")
         if not isinstance(event, BrushEvent):
-            raise ValueError(f"a stroke event must be a BrushEvent (got {type(event).__name__})")
+            raise ParameterError(
+                "event", f"a stroke event must be a BrushEvent (got {type(event).__name__})"
+            )
+        self._check_event(self._stroke.brush, event)
         moved = self._apply_event(self._stroke.brush, event)
         self._stroke.touched[moved] = True
         self._stroke.events.append(event)
         return moved
+
+    def _check_event(self, brush: Brush, event: BrushEvent) -> None:
+        reach = MAX_REACH * self.model_size
+        self._check_point("center", event.center)
+        if brush.is_affine:
+            load = abs(brush.strength * event.amount)
+            if not load <= MAX_AMOUNT:
+                raise ParameterError(
+                    "amount",
+                    f"amount × brush strength must be ≤ {MAX_AMOUNT:g} in magnitude "
+                    f"(got {event.amount:g} × {brush.strength:g})",
+                )
+            return
+        check_vector("delta", event.delta, max_norm=reach)
+        if not vector_norm(brush.strength * event.delta) <= reach:
+            raise ParameterError(
+                "delta",
+                f"delta × brush strength must be ≤ {MAX_REACH:g} model sizes "
+                f"({reach:.4g}) long (got |delta| = {vector_norm(event.delta):.4g}, "
+                f"strength {brush.strength:g})",
+            )
 
     def end_stroke(self) -> np.ndarray:
         """Finish the stroke: one undo step and one log entry. Returns the moved indices."""
@@ -273,13 +438,7 @@ class Sculptor:
                 f"{stroke.brush.kind} stroke", idx, stroke.before[idx], self._vertices[idx]
             )
         if stroke.events:
-            self._log(
-                {
-                    "op": "stroke",
-                    "brush": stroke.brush.to_dict(),
-                    "events": [e.to_dict() for e in stroke.events],
-                }
-            )
+            self._log.record(Stroke(stroke.brush, tuple(stroke.events)))
         return idx
 
     def cancel_stroke(self) -> None:
@@ -292,8 +451,9 @@ class Sculptor:
         """A whole stroke at once; returns the moved indices."""
         self.begin_stroke(brush)
         try:
-            for event in events:
-                self.stroke_event(event)
+            for number, event in enumerate(events):
+                with prefixed(f"events[{number}]"):
+                    self.stroke_event(event)
         except Exception:
             self.cancel_stroke()
             raise
@@ -302,21 +462,19 @@ class Sculptor:
     def _load(self, brush: Brush, kernel: GreenKernel, event: BrushEvent):
         """(load, center_step) of one event: a force (3,) or an affine load (3, 3)."""
         if brush.kind in AFFINE_BRUSHES:
-            unit = affine_unit_load(brush.kind, event.axis, event.direction)
-            # Deformation gradient at the center per unit load, by central differences.
-            h = _JACOBIAN_STEP * kernel.eps
-            probes = event.center + h * np.vstack([np.eye(3), -np.eye(3)])
-            u = kernel.affine_displacement(probes, event.center, unit)
-            jacobian = ((u[:3] - u[3:]) / (2 * h)).T  # [i, p] = ∂u_i/∂x_p
-            # Its component along the unit load (the sign depends on the material: Kelvinlets'
-            # scale load contracts for ν < 1/2), normalized away so `amount` means the same.
-            response = float(np.sum(jacobian * unit))
-            if not abs(response) > 1e-3 * np.linalg.norm(jacobian):
+            shape = affine_load_shape(brush.kind, event.axis, event.direction)
+            jacobian = self._centre_jacobian(kernel, event.center, shape)
+            # Its component along the pattern B (the sign depends on the material: Kelvinlets'
+            # scale load contracts for ν < 1/2) is divided out, so that the velocity gradient at
+            # the centre has component strength · amount along B: `amount` is a log strain or
+            # an angle at the centre whatever the material (brushes.py docstring).
+            response = float(np.sum(jacobian * shape) / np.sum(shape * shape))
+            if not abs(response) * np.linalg.norm(shape) > 1e-3 * np.linalg.norm(jacobian):
                 raise ValueError(
                     f"the {brush.kind} brush has no effect with this material and falloff "
                     f"(response {response:.3g})"
                 )
-            return unit * (brush.strength * event.amount / response), np.zeros(3)
+            return shape * (brush.strength * event.amount / response), np.zeros(3)
         delta = brush.strength * event.delta
         # The wrinkle brush's force comes from the full (unweighted) kernel at the same falloff.
         full = (
@@ -326,6 +484,21 @@ class Sculptor:
         )
         g0 = full.green(np.zeros((1, 3)))[0]
         return np.linalg.solve(g0, delta), delta
+
+    @staticmethod
+    def _centre_jacobian(kernel: GreenKernel, center: np.ndarray, load: np.ndarray) -> np.ndarray:
+        """∂u_i/∂x_p (3, 3) at the load's centre of the affine load ``load``: central
+        differences at steps h = _JACOBIAN_STEP · ε and h/2, Richardson-extrapolated (error
+        O(h⁴), ~1e-12 relative; the O(h²) differences alone were ~1e-6 off)."""
+        h = _JACOBIAN_STEP * kernel.eps
+        steps = np.array([h, h, h, 0.5 * h, 0.5 * h, 0.5 * h])[:, None]
+        offsets = steps * np.vstack([np.eye(3), np.eye(3)])
+        u = kernel.affine_displacement(
+            center + np.vstack([offsets, -offsets]), center, load
+        )  # (12, 3): +h, +h/2, −h, −h/2
+        coarse = (u[0:3] - u[6:9]) / (2 * h)
+        fine = (u[3:6] - u[9:12]) / h
+        return ((4 * fine - coarse) / 3).T  # [i, p] = ∂u_i/∂x_p
 
     def _active(self, brush: Brush, center: np.ndarray, step: np.ndarray) -> np.ndarray:
         """Indices of vertices the brush can reach during the event (inside the influence
@@ -343,7 +516,7 @@ class Sculptor:
         load, step = self._load(brush, kernel, event)
         active = self._active(brush, event.center, step)
         if len(active):
-            self._vertices[active] = kernel.streamlines(
+            moved = kernel.streamlines(
                 self._vertices[active],
                 event.center,
                 load,
@@ -353,6 +526,12 @@ class Sculptor:
                 origin=self.origin,
                 substeps=brush.substeps,
             )
+            if not np.all(np.isfinite(moved)):  # a last guard: never write NaN into the mesh
+                raise ValueError(
+                    f"the {brush.kind} event would move vertices to infinity; "
+                    "lower the strength, amount or delta"
+                )
+            self._vertices[active] = moved
         return active
 
     # -- constraints -------------------------------------------------------------------------
@@ -364,46 +543,59 @@ class Sculptor:
     @property
     def constraint_radius(self) -> float:
         """ε of the constraints as a fraction of the model size."""
-        return self._constraint_radius
+        return self._settings.constraint_radius
 
-    def _constraint_kernel(self) -> GreenKernel:
-        eps = self._constraint_radius * self.model_size
-        return self._base_kernel(False).with_radial(self._falloff.with_eps(eps))
-
-    def _rebuild_constraints(self) -> None:
-        if self._constraints is None:
-            return
-        points = self._constraints.points
-        self._constraints = ConstraintSet(self._constraint_kernel())
+    def _constraint_set(
+        self, full: GreenKernel, settings: EngineSettings, points: np.ndarray
+    ) -> ConstraintSet:
+        eps = settings.constraint_radius * self.model_size
+        constraints = ConstraintSet(full.with_radial(settings.falloff.with_eps(eps)))
         for p in points:
-            self._constraints.add(p)
+            constraints.add(p)
+        return constraints
 
-    def set_constraint_radius(self, radius: float) -> None:
-        """ε of the constraints, relative to the model size."""
-        radius = Brush(radius=radius).radius
-        self._constraint_radius = radius
-        self._rebuild_constraints()
-        self._log({"op": "constraint_radius", "radius": radius})
+    def _check_point(self, name: str, point: object) -> np.ndarray:
+        """``point`` (3,) if finite and within :data:`MAX_REACH` model sizes of the centre."""
+        p = check_vector(name, point)
+        distance = vector_norm(p - self.origin)
+        if not distance <= MAX_REACH * self.model_size:
+            raise ParameterError(
+                name,
+                f"{name} is too far from the model: {distance:.4g} from its centre, more than "
+                f"{MAX_REACH:g} model sizes ({MAX_REACH * self.model_size:.4g})",
+            )
+        return p
 
     def add_constraint(self, point: np.ndarray) -> int:
-        """Pin a point (3,) (model units); returns its index."""
+        """Pin a point (3,) (model units, within :data:`MAX_REACH` model sizes of the model's
+        centre); returns its index."""
         self._refuse_in_stroke("add a constraint")
+        p = self._check_point("point", point)
         if self._constraints is None:
-            self._constraints = ConstraintSet(self._constraint_kernel())
-        index = self._constraints.add(point)
-        self._log({"op": "constraint_add", "point": np.asarray(point, float).tolist()})
+            constraints = self._constraint_set(self._base_kernel(False), self._settings, [])
+        else:
+            constraints = self._constraints
+        index = constraints.add(p)
+        self._constraints = constraints
+        self._log.record(ConstraintAdd(p))
         return index
+
+    def _check_index(self, index: object) -> int:
+        count = 0 if self._constraints is None else len(self._constraints)
+        if count == 0:
+            raise ParameterError("index", f"index {index!r}: there are no constraints")
+        return check_integer("index", index, low=0, high=count - 1)
 
     def remove_constraint(self, index: int) -> None:
         self._refuse_in_stroke("remove a constraint")
-        if self._constraints is None:
-            raise ValueError("there are no constraints")
+        index = self._check_index(index)
         self._constraints.remove(index)
-        self._log({"op": "constraint_remove", "index": int(index)})
+        self._log.record(ConstraintRemove(index))
 
     def clear_constraints(self) -> None:
+        self._refuse_in_stroke("clear the constraints")
         self._constraints = None
-        self._log({"op": "constraints_clear"})
+        self._log.record(ConstraintsClear())
 
     def drag_constraint(self, index: int, delta: np.ndarray, continued: bool = False) -> np.ndarray:
         """Move constraint ``index`` by ``delta`` (3,) while the others stay: every vertex moves
@@ -412,154 +604,159 @@ class Sculptor:
         ``continued``: this step continues the previous drag (one mouse drag = one undo step).
         """
         self._refuse_in_stroke("drag a constraint")
-        if self._constraints is None or not 0 <= index < len(self._constraints):
-            raise ValueError(f"no constraint {index}")
-        d = np.asarray(delta, dtype=np.float64)
-        if d.shape != (3,) or not np.all(np.isfinite(d)):
-            raise ValueError(f"constraint delta must be 3 finite numbers (got {delta!r})")
+        index = self._check_index(index)
+        continued = check_bool("continued", continued)
+        d = check_vector("delta", delta, max_norm=MAX_REACH * self.model_size)
+        start = self._constraints.points[index]
+        self._check_point("delta", start + d)  # the pin stays within reach of the model
         targets = np.zeros((len(self._constraints), 3))
         targets[index] = d
         forces = self._constraints.solve(targets)
         u = self._constraints.displacement(self._vertices, forces)
-        start = self._constraints.points[index]
+        if not np.all(np.isfinite(u)):
+            raise ParameterError("delta", "the pin drag would move vertices to infinity")
         self._constraints.move(index, start + d)
         before = self._vertices.copy()
         self._vertices += u
         # the pin's own move is undone with the vertices: (index, position) before and after
-        pin = ((int(index), start), (int(index), start + d))
+        pin = (_Pin(index, start), _Pin(index, start + d))
         self.history.record_change(
             "constraint drag", before, self._vertices, merge=continued, state=pin
         )
-        op = {"op": "constraint_drag", "index": int(index), "delta": d.tolist()}
-        self._log({**op, "continued": True} if continued else op)
+        self._log.record(ConstraintDrag(index, d, continued))
         return u
 
     # -- history -----------------------------------------------------------------------------
     def undo(self) -> str | None:
-        """Undo the last operation (bit for bit); returns its label or None."""
+        """Undo the last step (bit for bit; a settings step puts the previous settings back
+        exactly); returns its label or None."""
         self._refuse_in_stroke("undo")
         label = self.history.undo(self._vertices)
         if label is not None:
-            self._restore_pin()
-            self._log({"op": "undo"})
+            self._restore_state()
+            self._log.record(Undo())
         return label
 
     def redo(self) -> str | None:
         self._refuse_in_stroke("redo")
         label = self.history.redo(self._vertices)
         if label is not None:
-            self._restore_pin()
-            self._log({"op": "redo"})
+            self._restore_state()
+            self._log.record(Redo())
         return label
 
-    def _restore_pin(self) -> None:
-        """Put a dragged pin where the undone/redone drag had it, if that pin still exists."""
+    def _restore_state(self) -> None:
+        """Put back the settings, or a dragged pin, that the undone/redone step had."""
         state = self.history.restored_state
-        if state is None or self._constraints is None:
+        if isinstance(state, EngineSettings):
+            self._commit(state)
             return
-        index, point = state
-        if index < len(self._constraints):
+        if not isinstance(state, _Pin) or self._constraints is None:
+            return
+        if state.index < len(self._constraints):
             with contextlib.suppress(ValueError):  # another pin sits there now: leave it
-                self._constraints.move(index, point)
+                self._constraints.move(state.index, state.point)
 
     # -- session log -------------------------------------------------------------------------
-    def _log(self, op: dict) -> None:
-        # A setting replaces the one logged just before it (a slider or curve drag sets it many
-        # times in a row): only the last value can matter to what follows, so replay is unchanged.
-        last = self._operations[-1] if self._operations else None
-        if op["op"] in _SETTING_OPS and last is not None and last["op"] == op["op"]:
-            self._operations[-1] = op
-        else:
-            self._operations.append(op)
+    @property
+    def operations(self) -> list[Operation]:
+        """The typed operation records so far (see :mod:`gogreen_core.operations`)."""
+        return list(self._log)
 
     def session(self) -> dict:
         """The session so far as a JSON-ready dict (see README, "Session files")."""
         return {
             "format": SESSION_FORMAT,
-            "version": SESSION_VERSION,
+            "version": SESSION_VERSION if self._settings_undoable else 1,
             "mesh": {
                 "vertices": len(self._vertices),
                 "faces": len(self._faces),
                 "sha256": self._fingerprint,
             },
-            "settings": self._initial,
-            "operations": list(self._operations),
+            "settings": self._initial.to_dict(),
+            "operations": self._log.to_list(),
         }
 
     @classmethod
-    def from_session(cls, session: dict, vertices: np.ndarray, faces: np.ndarray) -> Sculptor:
+    def from_session(
+        cls, session: dict | Session, vertices: np.ndarray, faces: np.ndarray
+    ) -> Sculptor:
         """A sculptor on ``vertices``/``faces`` with the session's initial settings (no
-        operations applied yet; see :meth:`replay`)."""
-        if not isinstance(session, dict) or session.get("format") != SESSION_FORMAT:
-            raise ValueError(f"not a GoGreen session (expected format {SESSION_FORMAT!r})")
-        if session.get("version") != SESSION_VERSION:
-            raise ValueError(f"unsupported session version {session.get('version')!r}")
-        mesh = session.get("mesh", {})
-        if mesh.get("vertices") != len(vertices) or mesh.get("faces") != len(faces):
+        operations applied yet; see :meth:`replay`). The whole session is checked first
+        (:func:`~gogreen_core.session.parse_session`)."""
+        parsed = session if isinstance(session, Session) else parse_session(session)
+        if parsed.vertices != len(vertices) or parsed.faces != len(faces):
             raise ValueError(
-                f"the session was recorded on a mesh with {mesh.get('vertices')} vertices and "
-                f"{mesh.get('faces')} faces; this one has {len(vertices)} and {len(faces)}"
+                f"the session was recorded on a mesh with {parsed.vertices} vertices and "
+                f"{parsed.faces} faces; this one has {len(vertices)} and {len(faces)}"
             )
-        s = session.get("settings", {})
-        try:
-            return cls(
-                vertices,
-                faces,
-                material=Material.from_dict(s["material"]),
-                l_max=s["l_max"],
-                falloff=radial_from_dict(s["falloff"]),
-                degree_weights=s["degree_weights"],
-            )
-        except (KeyError, TypeError) as exc:
-            raise ValueError(f"malformed session settings: {exc}") from None
+        sculptor = cls(vertices, faces, **parsed.settings)
+        sculptor._settings_undoable = parsed.version >= 2
+        return sculptor
 
     def replay(
-        self, operations: list[dict], progress: Callable[[int, int], None] | None = None
+        self,
+        operations: list[dict] | list[Operation] | Session,
+        progress: Callable[[int, int], None] | None = None,
     ) -> None:
         """Apply logged operations in order (the result is bit for bit the recorded one on the
-        same machine). ``progress(done, total)`` is called after each mouse event."""
-        total = sum(len(op.get("events", ())) or 1 for op in operations)
+        same machine). ``progress(done, total)`` is called after each mouse event and each
+        other operation.
+
+        All of them are checked before any is applied (ParameterError naming the field, e.g.
+        ``operations[3].events[0].delta``), and a replay that fails part-way is rolled back:
+        the mesh, settings, pins, history and log are as before the call.
+        """
+        if isinstance(operations, Session):
+            ops = list(operations.operations)
+        else:
+            ops = [
+                op if isinstance(op, Operation) else operation_from_dict(op, f"operations[{i}]")
+                for i, op in enumerate(operations)
+            ]
+        total = sum(op.steps for op in ops)
         done = 0
-        for number, op in enumerate(operations):
-            try:
-                kind = op["op"]
-                if kind == "stroke":
-                    self.begin_stroke(Brush.from_dict(op["brush"]))
-                    for event in op["events"]:
-                        self.stroke_event(BrushEvent.from_dict(event))
-                        done += 1
-                        if progress:
-                            progress(done, total)
-                    self.end_stroke()
-                    continue
-                if kind == "material":
-                    self.set_material(Material.from_dict(op["material"]))
-                elif kind == "falloff":
-                    self.set_falloff(
-                        radial_from_dict(op["falloff"]), op["l_max"], op["degree_weights"]
-                    )
-                elif kind == "constraint_radius":
-                    self.set_constraint_radius(op["radius"])
-                elif kind == "constraint_add":
-                    self.add_constraint(op["point"])
-                elif kind == "constraint_remove":
-                    self.remove_constraint(op["index"])
-                elif kind == "constraints_clear":
-                    self.clear_constraints()
-                elif kind == "constraint_drag":
-                    self.drag_constraint(op["index"], op["delta"], bool(op.get("continued")))
-                elif kind == "undo":
-                    self.undo()
-                elif kind == "redo":
-                    self.redo()
-                else:
-                    raise ValueError(f"unknown operation {kind!r}")
-            except (KeyError, TypeError) as exc:
-                self.cancel_stroke()
-                raise ValueError(f"operation {number}: malformed ({exc})") from None
-            except ValueError as exc:
-                self.cancel_stroke()
-                raise ValueError(f"operation {number} ({op.get('op')}): {exc}") from None
+
+        def step() -> None:
+            nonlocal done
             done += 1
             if progress:
                 progress(done, total)
+
+        saved = self._checkpoint()
+        number = 0
+        try:
+            for number, op in enumerate(ops):
+                with prefixed(f"operations[{number}]"):
+                    op.apply(self, step)
+        except (ValueError, RuntimeError) as exc:
+            self._rollback(saved)
+            if isinstance(exc, ParameterError):
+                raise
+            raise ValueError(f"operations[{number}] ({ops[number].name}): {exc}") from None
+        except BaseException:
+            self._rollback(saved)
+            raise
+
+    def _checkpoint(self) -> tuple:
+        points = None if self._constraints is None else self._constraints.points
+        return (
+            self._vertices.copy(),
+            self._settings,
+            dict(self._kernels),
+            self._constraints,
+            points,
+            self.history.snapshot(),
+            len(self._log),
+        )
+
+    def _rollback(self, saved: tuple) -> None:
+        vertices, settings, kernels, constraints, points, history, log_length = saved
+        self.cancel_stroke()
+        self._vertices[:] = vertices
+        self._settings, self._kernels = settings, kernels
+        if constraints is not None:
+            constraints = self._constraint_set(self._kernels["full"], settings, points)
+        self._constraints = constraints
+        self.history.restore(history)
+        self._log.truncate(log_length)

@@ -13,9 +13,18 @@ import numpy as np
 
 __all__ = [
     "ParameterError",
+    "check_bool",
+    "check_choice",
     "check_finite",
+    "check_integer",
+    "check_list",
     "check_number",
+    "check_object",
+    "check_string",
     "check_vector",
+    "field",
+    "prefixed",
+    "vector_norm",
 ]
 
 
@@ -34,6 +43,51 @@ class ParameterError(ValueError):
     def __init__(self, parameter: str, message: str):
         super().__init__(message)
         self.parameter = parameter
+
+    def within(self, prefix: str) -> ParameterError:
+        """The same error for the parameter seen from an enclosing object: ``prefix`` is the
+        enclosing path (``"operations[3]"``), so ``delta`` becomes ``operations[3].delta``."""
+        if not prefix:
+            return self
+        path = field(prefix, self.parameter) if self.parameter else prefix
+        message = str(self)
+        if self.parameter and message.startswith(self.parameter):
+            message = path + message[len(self.parameter) :]
+        elif not message.startswith(path):
+            message = f"{path}: {message}"
+        return ParameterError(path, message)
+
+
+def field(path: str, name: str | int) -> str:
+    """The path of a member of ``path``: ``field("brush", "radius")`` → ``"brush.radius"``,
+    ``field("events", 0)`` → ``"events[0]"``."""
+    if isinstance(name, int):
+        return f"{path}[{name}]"
+    return f"{path}.{name}" if path else name
+
+
+def prefixed(prefix: str):
+    """Context manager re-raising any :class:`ParameterError` as seen from ``prefix`` (see
+    :meth:`ParameterError.within`), and any other ``ValueError`` as a :class:`ParameterError`
+    of ``prefix`` itself."""
+    return _Prefixed(prefix)
+
+
+class _Prefixed:
+    def __init__(self, prefix: str):
+        self.prefix = prefix
+
+    def __enter__(self) -> None:
+        return None
+
+    def __exit__(self, kind, exc, tb) -> bool:
+        if exc is None:
+            return False
+        if isinstance(exc, ParameterError):
+            raise exc.within(self.prefix) from None
+        if isinstance(exc, ValueError) and self.prefix:
+            raise ParameterError(self.prefix, f"{self.prefix}: {exc}") from None
+        return False
 
 
 def check_number(
@@ -80,9 +134,102 @@ def check_finite(name: str, value: object, shape: tuple[int, ...] | None = None)
     return arr
 
 
+def vector_norm(vector: np.ndarray) -> float:
+    """Euclidean length of a finite vector without overflow or underflow of the squares
+    (``np.linalg.norm([0, 1e200, 0])`` is inf)."""
+    v = np.asarray(vector, dtype=np.float64)
+    peak = float(np.abs(v).max()) if v.size else 0.0
+    if peak == 0.0 or not math.isfinite(peak):
+        return peak
+    return peak * float(np.linalg.norm(v / peak))
+
+
 def check_vector(name: str, value: object, *, max_norm: float | None = None) -> np.ndarray:
     """``value`` as a finite float64 3-vector, with ``|value| ≤ max_norm`` when given."""
     arr = check_finite(name, value, (3,))
-    if max_norm is not None and not np.linalg.norm(arr) <= max_norm:
-        raise ParameterError(name, f"{name} is too large (|{name}| must be ≤ {max_norm:g})")
+    if max_norm is not None:
+        norm = vector_norm(arr)
+        if not norm <= max_norm:
+            raise ParameterError(
+                name, f"{name} is too large (|{name}| = {norm:.4g} must be ≤ {max_norm:.4g})"
+            )
     return arr
+
+
+def check_integer(
+    name: str, value: object, *, low: int | None = None, high: int | None = None
+) -> int:
+    """``value`` as an int within [low, high]. An integral float (``4.0``, as JSON may write
+    it) is accepted; ``bool``, ``0.5`` and ``1e300`` beyond ``high`` are refused."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise ParameterError(name, f"{name} must be an integer (got {value!r})")
+    if isinstance(value, (float, np.floating)) and not (
+        math.isfinite(value) and float(value).is_integer()
+    ):
+        raise ParameterError(name, f"{name} must be an integer (got {value!r})")
+    v = int(value)
+    if low is not None and v < low:
+        raise ParameterError(name, f"{name} must be ≥ {low} (got {value!r})")
+    if high is not None and v > high:
+        raise ParameterError(name, f"{name} must be ≤ {high} (got {value!r})")
+    return v
+
+
+def check_bool(name: str, value: object) -> bool:
+    """``value`` if it is ``True`` or ``False`` (not 1, not "yes")."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise ParameterError(name, f"{name} must be true or false (got {value!r})")
+    return bool(value)
+
+
+def check_string(name: str, value: object, *, max_length: int = 10_000) -> str:
+    """``value`` if it is a string of at most ``max_length`` characters."""
+    if not isinstance(value, str):
+        raise ParameterError(name, f"{name} must be a string (got {type(value).__name__})")
+    if len(value) > max_length:
+        raise ParameterError(name, f"{name} is too long ({len(value)} > {max_length} characters)")
+    return value
+
+
+def check_choice(name: str, value: object, choices: tuple[str, ...]) -> str:
+    """``value`` if it is one of the strings ``choices``."""
+    if not isinstance(value, str) or value not in choices:
+        raise ParameterError(name, f"{name} must be one of {', '.join(choices)} (got {value!r})")
+    return value
+
+
+def check_list(name: str, value: object, *, max_length: int | None = None) -> list:
+    """``value`` if it is a list (a JSON array), of at most ``max_length`` items."""
+    if not isinstance(value, (list, tuple)):
+        raise ParameterError(name, f"{name} must be a list (got {type(value).__name__})")
+    if max_length is not None and len(value) > max_length:
+        raise ParameterError(name, f"{name} has too many items ({len(value)} > {max_length})")
+    return list(value)
+
+
+def check_object(
+    name: str,
+    value: object,
+    required: tuple[str, ...] = (),
+    optional: tuple[str, ...] | None = None,
+) -> dict:
+    """``value`` if it is a dict (a JSON object) with every ``required`` key and no key outside
+    ``required + optional``; :class:`ParameterError` naming the missing or unknown field.
+    With neither given, only the type is checked."""
+    if not isinstance(value, dict):
+        what = "null" if value is None else type(value).__name__
+        raise ParameterError(name, f"{name or 'the file'} must be an object (got {what})")
+    for key in required:
+        if key not in value:
+            path = field(name, key)
+            raise ParameterError(path, f"{path} is missing")
+    if not required and optional is None:
+        return value
+    allowed = set(required) | set(optional or ())
+    for key in value:
+        if key not in allowed:
+            path = field(name, str(key))
+            raise ParameterError(
+                path, f"{path} is not a known field (expected {', '.join(sorted(allowed))})"
+            )
+    return value

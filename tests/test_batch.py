@@ -8,6 +8,7 @@ import numpy as np
 
 from gogreen_core.batch import main
 from gogreen_core.mesh_io import load_mesh
+from gogreen_core.sculptor import Sculptor
 
 BUNNY = "/work/shared/meshes/stanford-bunny.obj"
 
@@ -127,6 +128,10 @@ def test_bad_input_exits_nonzero_with_a_message_and_keeps_the_output(tmp_path, c
     session.write_text(
         json.dumps({"format": "gogreen-session", "version": 1, "mesh": {"vertices": 3, "faces": 1}})
     )
+    assert main(["replay", str(session), BUNNY, "-o", str(out)]) == 2
+    assert "settings is missing" in capsys.readouterr().err
+    triangle = Sculptor(np.eye(3), [[0, 1, 2]])
+    session.write_text(json.dumps(triangle.session()))
     assert main(["replay", str(session), BUNNY, "-o", str(out)]) == 2
     assert "3 vertices" in capsys.readouterr().err
     assert out.read_text() == "precious"

@@ -159,3 +159,15 @@ def test_merged_changes_undo_as_one_step_bit_for_bit():
     moved[0] += 1.0
     history.record_change("constraint drag", vertices, moved, merge=True)
     assert history.undo_labels == ["constraint drag"] and not history.can_redo
+
+
+def test_snapshot_and_restore_put_the_stacks_back():
+    vertices = np.zeros((4, 3))
+    history = History()
+    history.record("a", [0], [[0.0, 0, 0]], [[1.0, 0, 0]])
+    saved = history.snapshot()
+    history.record("b", [1], [[0.0, 0, 0]], [[2.0, 0, 0]])
+    history.undo(vertices)
+    history.restore(saved)
+    assert history.undo_labels == ["a"] and not history.can_redo
+    assert history.memory_bytes == 8 + 2 * 24

@@ -64,7 +64,11 @@ def test_preset_round_trip_and_apply():
     [
         ("{", "not valid JSON"),
         ('{"format": "other"}', "not a GoGreen preset"),
-        ('{"format": "gogreen-preset", "material": {"voigt": [[1]]}}', "shape|voigt"),
+        (
+            '{"format": "gogreen-preset", "material": {"voigt": [[1]]}, "brush": {}, '
+            '"falloff": {"type": "gaussian", "eps": 1}}',
+            r"material\.voigt must be a 6×6 matrix",
+        ),
         ('{"format": "gogreen-preset", "falloff": {"type": "gaussian", "eps": 1}}', "material"),
     ],
 )

@@ -253,21 +253,29 @@ def test_a_failed_stroke_leaves_the_mesh_unchanged(bunny):
     assert not sculptor.in_stroke and not sculptor.history.can_undo
 
 
-def test_consecutive_settings_collapse_in_the_session_log(bunny):
+def test_a_continued_settings_drag_is_one_step_and_one_log_entry(bunny):
     vertices, faces = bunny
     sculptor = Sculptor(vertices, faces)
     # a slider or curve drag sets the material / falloff many times in a row
-    for eps_shape in (0.5, 0.8, 1.0):
-        sculptor.set_falloff(KelvinletRadial(eps_shape), l_max=6)
-    for poisson in (0.1, 0.2, 0.3):
-        sculptor.set_material(Material.isotropic(1.0, poisson))
+    sculptor.set_falloff(KelvinletRadial(1.0), l_max=6)
+    for k, poisson in enumerate((0.1, 0.2, 0.3)):
+        sculptor.set_material(Material.isotropic(1.0, poisson), continued=k > 0)
     sculptor.apply_brush(Brush("grab"), [BrushEvent(vertices[3], [0.0, 0.002, 0.0])])
     sculptor.set_material(Material.isotropic(1.0, 0.45))
     sculptor.apply_brush(Brush("grab"), [BrushEvent(vertices[9], [0.002, 0.0, 0.0])])
     ops = sculptor.session()["operations"]
     assert [op["op"] for op in ops] == ["falloff", "material", "stroke", "material", "stroke"]
     assert ops[1]["material"] == Material.isotropic(1.0, 0.3).to_dict()
+    assert "continued" not in ops[1]  # the drag's first value started a step of its own
+    assert sculptor.history.undo_labels == [
+        "falloff",
+        "material",
+        "grab stroke",
+        "material",
+        "grab stroke",
+    ]
     session = json.loads(json.dumps(sculptor.session()))
     again = Sculptor.from_session(session, vertices, faces)
     again.replay(session["operations"])
     assert np.array_equal(again.vertices, sculptor.vertices)
+    assert again.history.undo_labels == sculptor.history.undo_labels

@@ -1,0 +1,405 @@
+"""Typed records of what a sculptor did: one class per operation, each with ``apply``,
+``to_dict`` and ``from_dict``.
+
+A session's ``operations`` list holds their ``to_dict`` (``{"op": name, ...}``);
+:func:`operation_from_dict` is the schema that reads one back, checking every field's type and
+range and raising :class:`~gogreen_core.validation.ParameterError` naming the field
+(``operations[3].events[0].delta``). ``apply(sculptor)`` does the operation through the
+sculptor's public methods, which record it again in the sculptor's own log, so replaying a
+session records the same session.
+
+``continued`` (settings and pin drags): the change continues the previous one of its kind, so a
+whole slider drag, curve drag or pin drag is one undo step.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, ClassVar
+
+import numpy as np
+
+from gogreen_core.brushes import MAX_RADIUS, MIN_RADIUS, Brush, BrushEvent
+from gogreen_core.material import Material
+from gogreen_core.radial import RadialProfile
+from gogreen_core.schema import (
+    parse_degree_weights,
+    parse_falloff,
+    parse_l_max,
+    parse_material,
+)
+from gogreen_core.validation import (
+    ParameterError,
+    check_bool,
+    check_choice,
+    check_finite,
+    check_integer,
+    check_list,
+    check_number,
+    check_object,
+    prefixed,
+)
+from gogreen_core.validation import (
+    field as field_path,
+)
+
+if TYPE_CHECKING:
+    from gogreen_core.sculptor import Sculptor
+
+__all__ = [
+    "OPERATIONS",
+    "ConstraintAdd",
+    "ConstraintDrag",
+    "ConstraintRadius",
+    "ConstraintRemove",
+    "ConstraintsClear",
+    "FalloffChange",
+    "MaterialChange",
+    "Operation",
+    "Redo",
+    "Stroke",
+    "Undo",
+    "operation_from_dict",
+]
+
+#: Largest constraint index a file may name (far beyond any pin count an artist places).
+MAX_INDEX = 1_000_000
+#: Most events in one stroke record.
+MAX_EVENTS = 10_000_000
+
+Progress = Callable[[], None]
+
+
+class Operation:
+    """Base of the operation records (immutable dataclasses)."""
+
+    #: The ``"op"`` value in a session file.
+    name: ClassVar[str]
+    #: Fields besides ``op`` that a file may (``optional``) or must (``required``) give.
+    required: ClassVar[tuple[str, ...]] = ()
+    optional: ClassVar[tuple[str, ...]] = ()
+
+    @property
+    def steps(self) -> int:
+        """Units of progress this operation reports (mouse events of a stroke, else 1)."""
+        return 1
+
+    def apply(self, sculptor: Sculptor, progress: Progress | None = None) -> None:
+        """Do the operation on ``sculptor`` (``progress()`` after each step)."""
+        raise NotImplementedError
+
+    def to_dict(self) -> dict:
+        """JSON-ready ``{"op": name, ...}``."""
+        raise NotImplementedError
+
+    @classmethod
+    def from_dict(cls, data: dict, path: str) -> Operation:
+        """Read the fields of a checked ``data`` (``op`` and keys already checked)."""
+        raise NotImplementedError
+
+
+def _continued(data: dict, path: str) -> bool:
+    return check_bool(field_path(path, "continued"), data.get("continued", False))
+
+
+def _with_flag(data: dict, continued: bool) -> dict:
+    return {**data, "continued": True} if continued else data
+
+
+@dataclass(frozen=True, eq=False)
+class Stroke(Operation):
+    """A brush stroke: a brush and its mouse events (one undo step)."""
+
+    name: ClassVar[str] = "stroke"
+    required: ClassVar[tuple[str, ...]] = ("brush", "events")
+    brush: Brush
+    events: tuple[BrushEvent, ...] = field(default_factory=tuple)
+
+    @property
+    def steps(self) -> int:
+        return max(1, len(self.events))
+
+    def apply(self, sculptor: Sculptor, progress: Progress | None = None) -> None:
+        sculptor.begin_stroke(self.brush)
+        try:
+            for number, event in enumerate(self.events):
+                with prefixed(f"events[{number}]"):
+                    sculptor.stroke_event(event)
+                if progress:
+                    progress()
+        except Exception:
+            sculptor.cancel_stroke()
+            raise
+        sculptor.end_stroke()
+        if progress and not self.events:
+            progress()
+
+    def to_dict(self) -> dict:
+        return {
+            "op": self.name,
+            "brush": self.brush.to_dict(),
+            "events": [e.to_dict() for e in self.events],
+        }
+
+    @classmethod
+    def from_dict(cls, data: dict, path: str) -> Stroke:
+        brush = Brush.from_dict(data["brush"], field_path(path, "brush"))
+        name = field_path(path, "events")
+        events = check_list(name, data["events"], max_length=MAX_EVENTS)
+        return cls(
+            brush, tuple(BrushEvent.from_dict(e, field_path(name, i)) for i, e in enumerate(events))
+        )
+
+
+@dataclass(frozen=True, eq=False)
+class MaterialChange(Operation):
+    """The material from now on (an undo step; ``continued`` joins the previous setting)."""
+
+    name: ClassVar[str] = "material"
+    required: ClassVar[tuple[str, ...]] = ("material",)
+    optional: ClassVar[tuple[str, ...]] = ("continued",)
+    material: Material
+    continued: bool = False
+
+    def apply(self, sculptor: Sculptor, progress: Progress | None = None) -> None:
+        sculptor.change_settings(material=self.material, continued=self.continued, replaying=True)
+        if progress:
+            progress()
+
+    def to_dict(self) -> dict:
+        return _with_flag({"op": self.name, "material": self.material.to_dict()}, self.continued)
+
+    @classmethod
+    def from_dict(cls, data: dict, path: str) -> MaterialChange:
+        material = parse_material(data["material"], field_path(path, "material"))
+        return cls(material, _continued(data, path))
+
+
+@dataclass(frozen=True, eq=False)
+class FalloffChange(Operation):
+    """Falloff shape, truncation degree and wrinkle weights from now on (an undo step)."""
+
+    name: ClassVar[str] = "falloff"
+    required: ClassVar[tuple[str, ...]] = ("falloff", "l_max")
+    optional: ClassVar[tuple[str, ...]] = ("degree_weights", "continued")
+    falloff: RadialProfile
+    l_max: int
+    degree_weights: np.ndarray | None = None
+    continued: bool = False
+
+    def apply(self, sculptor: Sculptor, progress: Progress | None = None) -> None:
+        sculptor.change_settings(
+            falloff=self.falloff,
+            l_max=self.l_max,
+            degree_weights=self.degree_weights,
+            continued=self.continued,
+            replaying=True,
+        )
+        if progress:
+            progress()
+
+    def to_dict(self) -> dict:
+        w = self.degree_weights
+        data = {
+            "op": self.name,
+            "falloff": self.falloff.to_dict(),
+            "l_max": int(self.l_max),
+            "degree_weights": None if w is None else [float(x) for x in w],
+        }
+        return _with_flag(data, self.continued)
+
+    @classmethod
+    def from_dict(cls, data: dict, path: str) -> FalloffChange:
+        falloff = parse_falloff(data["falloff"], field_path(path, "falloff"))
+        l_max = parse_l_max(data["l_max"], field_path(path, "l_max"))
+        weights = parse_degree_weights(
+            data.get("degree_weights"), l_max, field_path(path, "degree_weights")
+        )
+        return cls(falloff, l_max, weights, _continued(data, path))
+
+
+@dataclass(frozen=True)
+class ConstraintRadius(Operation):
+    """ε of the pins as a fraction of the model size (an undo step)."""
+
+    name: ClassVar[str] = "constraint_radius"
+    required: ClassVar[tuple[str, ...]] = ("radius",)
+    optional: ClassVar[tuple[str, ...]] = ("continued",)
+    radius: float
+    continued: bool = False
+
+    def apply(self, sculptor: Sculptor, progress: Progress | None = None) -> None:
+        sculptor.change_settings(
+            constraint_radius=self.radius, continued=self.continued, replaying=True
+        )
+        if progress:
+            progress()
+
+    def to_dict(self) -> dict:
+        return _with_flag({"op": self.name, "radius": self.radius}, self.continued)
+
+    @classmethod
+    def from_dict(cls, data: dict, path: str) -> ConstraintRadius:
+        name = field_path(path, "radius")
+        radius = check_number(name, data["radius"], low=MIN_RADIUS, high=MAX_RADIUS)
+        return cls(radius, _continued(data, path))
+
+
+@dataclass(frozen=True, eq=False)
+class ConstraintAdd(Operation):
+    """A pin at ``point`` (3,), model units."""
+
+    name: ClassVar[str] = "constraint_add"
+    required: ClassVar[tuple[str, ...]] = ("point",)
+    point: np.ndarray
+
+    def apply(self, sculptor: Sculptor, progress: Progress | None = None) -> None:
+        sculptor.add_constraint(self.point)
+        if progress:
+            progress()
+
+    def to_dict(self) -> dict:
+        return {"op": self.name, "point": np.asarray(self.point, float).tolist()}
+
+    @classmethod
+    def from_dict(cls, data: dict, path: str) -> ConstraintAdd:
+        return cls(check_finite(field_path(path, "point"), data["point"], (3,)))
+
+
+@dataclass(frozen=True)
+class ConstraintRemove(Operation):
+    """Remove pin ``index``."""
+
+    name: ClassVar[str] = "constraint_remove"
+    required: ClassVar[tuple[str, ...]] = ("index",)
+    index: int
+
+    def apply(self, sculptor: Sculptor, progress: Progress | None = None) -> None:
+        sculptor.remove_constraint(self.index)
+        if progress:
+            progress()
+
+    def to_dict(self) -> dict:
+        return {"op": self.name, "index": int(self.index)}
+
+    @classmethod
+    def from_dict(cls, data: dict, path: str) -> ConstraintRemove:
+        name = field_path(path, "index")
+        return cls(check_integer(name, data["index"], low=0, high=MAX_INDEX))
+
+
+@dataclass(frozen=True)
+class ConstraintsClear(Operation):
+    """Remove every pin."""
+
+    name: ClassVar[str] = "constraints_clear"
+
+    def apply(self, sculptor: Sculptor, progress: Progress | None = None) -> None:
+        sculptor.clear_constraints()
+        if progress:
+            progress()
+
+    def to_dict(self) -> dict:
+        return {"op": self.name}
+
+    @classmethod
+    def from_dict(cls, data: dict, path: str) -> ConstraintsClear:
+        return cls()
+
+
+@dataclass(frozen=True, eq=False)
+class ConstraintDrag(Operation):
+    """Move pin ``index`` by ``delta`` (3,) while the others stay (an undo step, joined to the
+    previous drag when ``continued``)."""
+
+    name: ClassVar[str] = "constraint_drag"
+    required: ClassVar[tuple[str, ...]] = ("index", "delta")
+    optional: ClassVar[tuple[str, ...]] = ("continued",)
+    index: int
+    delta: np.ndarray
+    continued: bool = False
+
+    def apply(self, sculptor: Sculptor, progress: Progress | None = None) -> None:
+        sculptor.drag_constraint(self.index, self.delta, self.continued)
+        if progress:
+            progress()
+
+    def to_dict(self) -> dict:
+        data = {"op": self.name, "index": int(self.index), "delta": self.delta.tolist()}
+        return _with_flag(data, self.continued)
+
+    @classmethod
+    def from_dict(cls, data: dict, path: str) -> ConstraintDrag:
+        index = check_integer(field_path(path, "index"), data["index"], low=0, high=MAX_INDEX)
+        delta = check_finite(field_path(path, "delta"), data["delta"], (3,))
+        return cls(index, delta, _continued(data, path))
+
+
+@dataclass(frozen=True)
+class Undo(Operation):
+    """Undo the last step."""
+
+    name: ClassVar[str] = "undo"
+
+    def apply(self, sculptor: Sculptor, progress: Progress | None = None) -> None:
+        sculptor.undo()
+        if progress:
+            progress()
+
+    def to_dict(self) -> dict:
+        return {"op": self.name}
+
+    @classmethod
+    def from_dict(cls, data: dict, path: str) -> Undo:
+        return cls()
+
+
+@dataclass(frozen=True)
+class Redo(Operation):
+    """Redo the last undone step."""
+
+    name: ClassVar[str] = "redo"
+
+    def apply(self, sculptor: Sculptor, progress: Progress | None = None) -> None:
+        sculptor.redo()
+        if progress:
+            progress()
+
+    def to_dict(self) -> dict:
+        return {"op": self.name}
+
+    @classmethod
+    def from_dict(cls, data: dict, path: str) -> Redo:
+        return cls()
+
+
+#: ``"op"`` name → record class.
+OPERATIONS: dict[str, type[Operation]] = {
+    cls.name: cls
+    for cls in (
+        Stroke,
+        MaterialChange,
+        FalloffChange,
+        ConstraintRadius,
+        ConstraintAdd,
+        ConstraintRemove,
+        ConstraintsClear,
+        ConstraintDrag,
+        Undo,
+        Redo,
+    )
+}
+
+
+def operation_from_dict(data: object, path: str = "operation") -> Operation:
+    """One session operation ``{"op": name, ...}`` → its typed record; ParameterError naming
+    the field (``path.op``, ``path.events[0].delta``...) for anything missing, unknown,
+    mistyped or out of range."""
+    check_object(path, data)
+    if "op" not in data:
+        raise ParameterError(field_path(path, "op"), f"{field_path(path, 'op')} is missing")
+    name = check_choice(field_path(path, "op"), data["op"], tuple(OPERATIONS))
+    cls = OPERATIONS[name]
+    check_object(path, data, required=("op", *cls.required), optional=cls.optional)
+    return cls.from_dict(data, path)

@@ -1,0 +1,259 @@
+"""The one typed schema of the JSON the program reads: sessions, presets, the CLI's files.
+
+Each ``parse_*`` function takes the decoded JSON value and the path of the field it sits at
+(``"settings.material"``, ``"operations[3].falloff"``) and returns the engine object, or raises
+:class:`gogreen_core.validation.ParameterError` naming the field whose type or range is wrong::
+
+    parse_falloff({"type": "gaussian", "eps": "1"}, "falloff")
+    → ParameterError: falloff.eps must be a number (got '1')
+
+Brushes and brush events have theirs in :meth:`Brush.from_dict` and :meth:`BrushEvent.from_dict`;
+sessions in :mod:`gogreen_core.session`, operations in :mod:`gogreen_core.operations`.
+
+The schema is written by hand on top of ``validation.py`` rather than with a schema library
+(jsonschema, pydantic): the checks that matter here are numeric (finite, bounded, positive
+definite stiffness, increasing spline abscissae) and are done by the engine's own constructors,
+whose messages we keep; a library would add a dependency and a second description of the same
+rules without removing any of our code.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TypeVar
+
+import numpy as np
+
+from gogreen_core.brushes import MAX_RADIUS, MIN_RADIUS
+from gogreen_core.kernel import L_MAX_LIMIT
+from gogreen_core.material import Material
+from gogreen_core.radial import (
+    KINDS,
+    GaussianRadial,
+    KelvinletRadial,
+    RadialProfile,
+    SplineRadial,
+)
+from gogreen_core.validation import (
+    ParameterError,
+    check_choice,
+    check_finite,
+    check_integer,
+    check_list,
+    check_number,
+    check_object,
+    field,
+    prefixed,
+)
+
+__all__ = [
+    "FALLOFF_TYPES",
+    "MAX_CONTROL_POINTS",
+    "EngineSettings",
+    "check_material",
+    "parse_degree_weights",
+    "parse_falloff",
+    "parse_file",
+    "parse_l_max",
+    "parse_material",
+    "parse_settings",
+    "read_json",
+]
+
+T = TypeVar("T")
+
+#: Falloff shapes a sculptor, a preset or a session can use (multi-scale ones are made by the
+#: grab_biscale / grab_triscale brushes, never stored).
+FALLOFF_TYPES = ("gaussian", "kelvinlet", "spline")
+#: Bounds of the largest stiffness coefficient |C_ab| (units are free: brushes are normalized by
+#: the material's own response, so only the ratios matter; beyond these the kernel over- or
+#: underflows).
+MIN_STIFFNESS, MAX_STIFFNESS = 1e-100, 1e100
+#: Largest |weight| of a wrinkle degree.
+MAX_DEGREE_WEIGHT = 1e6
+#: Control points of one spline curve, and curves of one spline falloff, at most.
+MAX_CONTROL_POINTS = 1000
+MAX_CURVES = 2 * (L_MAX_LIMIT + 2)
+
+
+def parse_material(data: object, path: str = "material") -> Material:
+    """``{"voigt": 6×6 numbers}`` → :class:`Material` (symmetric positive definite)."""
+    check_object(path, data, required=("voigt",))
+    name = field(path, "voigt")
+    voigt = check_finite(name, data["voigt"])
+    if voigt.shape != (6, 6):
+        raise ParameterError(name, f"{name} must be a 6×6 matrix (got shape {voigt.shape})")
+    with prefixed(name):
+        return check_material(Material(voigt), name)
+
+
+def check_material(material: Material, path: str = "material") -> Material:
+    """``material`` if its largest stiffness coefficient is within [MIN_STIFFNESS,
+    MAX_STIFFNESS]."""
+    scale = float(np.abs(material.voigt).max())
+    if not MIN_STIFFNESS <= scale <= MAX_STIFFNESS:
+        raise ParameterError(
+            path,
+            f"{path}: the largest stiffness coefficient must be within [{MIN_STIFFNESS:g}, "
+            f"{MAX_STIFFNESS:g}] (got {scale:.3g}); only ratios matter, rescale it",
+        )
+    return material
+
+
+def parse_falloff(data: object, path: str = "falloff") -> RadialProfile:
+    """A falloff's ``to_dict`` → Gaussian, Kelvinlet or spline profile."""
+    kind = check_choice(field(path, "type"), _get(data, path, "type"), FALLOFF_TYPES)
+    if kind == "spline":
+        check_object(path, data, required=("type", "eps", "curves"))
+    else:
+        check_object(path, data, required=("type", "eps"))
+    eps = check_number(field(path, "eps"), data["eps"], low=0.0, low_open=True)
+    if kind == "gaussian":
+        return GaussianRadial(eps)
+    if kind == "kelvinlet":
+        return KelvinletRadial(eps)
+    name = field(path, "curves")
+    curves = {}
+    for i, curve in enumerate(check_list(name, data["curves"], max_length=MAX_CURVES)):
+        at = field(name, i)
+        check_object(at, curve, required=("kind", "degree", "rho", "value"))
+        kind_l = check_choice(field(at, "kind"), curve["kind"], KINDS)
+        degree = check_integer(field(at, "degree"), curve["degree"], low=0, high=L_MAX_LIMIT + 1)
+        points = []
+        for key in ("rho", "value"):
+            values = check_list(field(at, key), curve[key], max_length=MAX_CONTROL_POINTS)
+            points.append(check_finite(field(at, key), values))
+        if (kind_l, degree) in curves:
+            raise ParameterError(at, f"{at}: a second curve {kind_l}{degree}")
+        curves[(kind_l, degree)] = tuple(points)
+    if not curves:
+        raise ParameterError(name, f"{name} must hold at least one curve")
+    with prefixed(name):
+        return SplineRadial(eps, curves)
+
+
+def parse_l_max(value: object, path: str = "l_max") -> int:
+    """Truncation degree: an integer in [0, :data:`L_MAX_LIMIT`]."""
+    return check_integer(path, value, low=0, high=L_MAX_LIMIT)
+
+
+def parse_degree_weights(value: object, l_max: int, path: str = "degree_weights"):
+    """``null`` (the engine's default) or l_max + 1 finite numbers → None or (l_max + 1,)."""
+    if value is None:
+        return None
+    weights = check_finite(path, check_list(path, value, max_length=L_MAX_LIMIT + 1))
+    if weights.shape != (l_max + 1,):
+        raise ParameterError(
+            path, f"{path} must hold l_max + 1 = {l_max + 1} numbers (got {len(weights)})"
+        )
+    if not np.abs(weights).max() <= MAX_DEGREE_WEIGHT:
+        raise ParameterError(path, f"{path} must be within ±{MAX_DEGREE_WEIGHT:g}")
+    return weights
+
+
+@dataclass(frozen=True, eq=False)
+class EngineSettings:
+    """What a sculptor computes with besides the mesh: material, falloff shape (ε = 1), l_max,
+    wrinkle weights (None or (l_max + 1,)) and constraint radius (fraction of the model size).
+
+    Immutable: the sculptor keeps one and replaces it on every change, so an undo step can hold
+    the one before and the one after.
+    """
+
+    material: Material
+    falloff: RadialProfile
+    l_max: int
+    degree_weights: np.ndarray | None
+    constraint_radius: float
+
+    def same_as(self, other: EngineSettings) -> bool:
+        """True when both compute the same thing (equal values, not identity)."""
+        w, v = self.degree_weights, other.degree_weights
+        return (
+            self.material == other.material
+            and self.falloff.to_dict() == other.falloff.to_dict()
+            and self.l_max == other.l_max
+            and (w is None) == (v is None)
+            and (w is None or np.array_equal(w, v))
+            and self.constraint_radius == other.constraint_radius
+        )
+
+    def to_dict(self) -> dict:
+        """The session's ``settings`` object (constraint radius included)."""
+        w = self.degree_weights
+        return {
+            "material": self.material.to_dict(),
+            "falloff": self.falloff.to_dict(),
+            "l_max": self.l_max,
+            "degree_weights": None if w is None else [float(x) for x in w],
+            "constraint_radius": self.constraint_radius,
+        }
+
+
+def parse_settings(data: object, path: str = "settings") -> dict:
+    """A session's ``settings`` → keyword arguments of :class:`~gogreen_core.Sculptor`
+    (``material``, ``falloff``, ``l_max``, ``degree_weights``, ``constraint_radius``)."""
+    check_object(
+        path,
+        data,
+        required=("material", "falloff", "l_max"),
+        optional=("degree_weights", "constraint_radius"),
+    )
+    l_max = parse_l_max(data["l_max"], field(path, "l_max"))
+    radius = data.get("constraint_radius", 0.1)
+    return {
+        "material": parse_material(data["material"], field(path, "material")),
+        "falloff": parse_falloff(data["falloff"], field(path, "falloff")),
+        "l_max": l_max,
+        "degree_weights": parse_degree_weights(
+            data.get("degree_weights"), l_max, field(path, "degree_weights")
+        ),
+        "constraint_radius": check_number(
+            field(path, "constraint_radius"), radius, low=MIN_RADIUS, high=MAX_RADIUS
+        ),
+    }
+
+
+def _get(data: object, path: str, key: str) -> object:
+    if not isinstance(data, dict):
+        check_object(path, data)  # raises, naming the path
+    if key not in data:
+        name = field(path, key)
+        raise ParameterError(name, f"{name} is missing")
+    return data[key]
+
+
+def read_json(path: str | os.PathLike, kind: str = "JSON file") -> object:
+    """The JSON value in file ``path``; ``ValueError`` starting with the file's name when it
+    cannot be read, is not UTF-8 text (``kind`` says what was expected) or is not JSON."""
+    p = Path(path)
+    try:
+        raw = p.read_bytes()
+    except OSError as exc:
+        raise ValueError(f"{p.name}: cannot read ({exc.strerror or exc})") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ValueError(
+            f"{p.name}: not a {kind} (not UTF-8 text: byte {exc.start} is 0x{raw[exc.start]:02x})"
+        ) from None
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"{p.name}: not valid JSON ({exc.msg}, line {exc.lineno})") from None
+    except RecursionError:
+        raise ValueError(f"{p.name}: not valid JSON (nested too deeply)") from None
+
+
+def parse_file(path: str | os.PathLike, parse: Callable[[object], T], kind: str) -> T:
+    """``parse`` of the JSON in ``path`` (see :func:`read_json`); a :class:`ParameterError`
+    keeps its field and gets the file's name in front of its message."""
+    data = read_json(path, kind)
+    try:
+        return parse(data)
+    except ParameterError as exc:
+        raise ParameterError(exc.parameter, f"{Path(path).name}: {exc}") from None

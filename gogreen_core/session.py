@@ -1,0 +1,128 @@
+"""Session files: the log of a sculptor's operations, their schema, and replay.
+
+A session (README, "Session files") is ``{"format": "gogreen-session", "version": 2, "mesh":
+{vertices, faces, sha256}, "settings": {...}, "operations": [...]}``. :func:`parse_session`
+checks all of it before anything is applied (every field's type and range; errors name the field,
+e.g. ``operations[3].events[0].delta``), :func:`load_session` reads a file, and
+:meth:`Sculptor.replay` applies the typed operations.
+
+Version 1 files (written before settings changes were undo steps) still replay as recorded:
+their material, falloff and constraint-radius changes are not undo steps.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+from dataclasses import dataclass
+
+import numpy as np
+
+from gogreen_core.operations import Operation, operation_from_dict
+from gogreen_core.schema import parse_file, parse_settings
+from gogreen_core.validation import (
+    check_choice,
+    check_integer,
+    check_list,
+    check_object,
+    check_string,
+    field,
+)
+
+__all__ = [
+    "SESSION_FORMAT",
+    "SESSION_VERSION",
+    "Session",
+    "SessionLog",
+    "load_session",
+    "mesh_fingerprint",
+    "parse_session",
+]
+
+SESSION_FORMAT = "gogreen-session"
+#: 2: settings changes are undo steps (``continued`` joins one to the previous);
+#: 1: they were not.
+SESSION_VERSION = 2
+#: Most operations one session file may hold.
+MAX_OPERATIONS = 10_000_000
+
+
+def mesh_fingerprint(vertices: np.ndarray) -> str:
+    """SHA-256 of the float64 vertex array: tells whether a session replays on its own mesh."""
+    return hashlib.sha256(np.ascontiguousarray(vertices, dtype=np.float64).tobytes()).hexdigest()
+
+
+class SessionLog:
+    """The operations a sculptor did, in order (typed records)."""
+
+    def __init__(self) -> None:
+        self._operations: list[Operation] = []
+
+    def __len__(self) -> int:
+        return len(self._operations)
+
+    def __iter__(self):
+        return iter(self._operations)
+
+    def record(self, operation: Operation, replace_last: bool = False) -> None:
+        """Append ``operation``; with ``replace_last`` it replaces the last one when that is of
+        the same type (a slider drag's values collapse into its last one), keeping the last
+        one's ``continued`` flag, so that a replay joins it to what came before exactly as the
+        first value was."""
+        last = self._operations[-1] if self._operations else None
+        if replace_last and type(last) is type(operation):
+            flag = getattr(last, "continued", None)
+            if flag is not None and flag != operation.continued:
+                operation = type(operation)(**{**operation.__dict__, "continued": flag})
+            self._operations[-1] = operation
+        else:
+            self._operations.append(operation)
+
+    def truncate(self, length: int) -> None:
+        """Forget the operations after the first ``length`` (a rolled-back replay)."""
+        del self._operations[length:]
+
+    def to_list(self) -> list[dict]:
+        return [op.to_dict() for op in self._operations]
+
+
+@dataclass(frozen=True)
+class Session:
+    """A checked session file: mesh sizes and fingerprint, initial settings (keyword arguments
+    of :class:`~gogreen_core.Sculptor`), typed operations, format version."""
+
+    vertices: int
+    faces: int
+    sha256: str | None
+    settings: dict
+    operations: tuple[Operation, ...]
+    version: int = SESSION_VERSION
+
+    @property
+    def steps(self) -> int:
+        """Progress units of a replay (mouse events, one per other operation)."""
+        return sum(op.steps for op in self.operations)
+
+
+def parse_session(data: object) -> Session:
+    """The schema of a session file: every field checked before anything is applied;
+    :class:`ParameterError` naming the first bad field."""
+    check_object("", data, required=("format", "version", "mesh", "settings", "operations"))
+    check_choice("format", data["format"], (SESSION_FORMAT,))
+    version = check_integer("version", data["version"], low=1, high=SESSION_VERSION)
+    mesh = check_object("mesh", data["mesh"], required=("vertices", "faces"), optional=("sha256",))
+    vertices = check_integer("mesh.vertices", mesh["vertices"], low=1)
+    faces = check_integer("mesh.faces", mesh["faces"], low=0)
+    sha = mesh.get("sha256")
+    if sha is not None:
+        sha = check_string("mesh.sha256", sha, max_length=64)
+    settings = parse_settings(data["settings"], "settings")
+    operations = check_list("operations", data["operations"], max_length=MAX_OPERATIONS)
+    ops = tuple(operation_from_dict(op, field("operations", i)) for i, op in enumerate(operations))
+    return Session(vertices, faces, sha, settings, ops, version)
+
+
+def load_session(path: str | os.PathLike) -> Session:
+    """Read and check a session file; ``ValueError`` (a :class:`ParameterError` for a bad
+    field) whose message starts with the file's name."""
+    return parse_file(path, parse_session, "session file")
