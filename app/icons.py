@@ -15,9 +15,10 @@ from __future__ import annotations
 import functools
 from importlib.resources import files
 
-from PySide6.QtCore import QByteArray, QRectF, Qt
-from PySide6.QtGui import QColor, QGuiApplication, QIcon, QPainter, QPalette, QPixmap
+from PySide6.QtCore import QByteArray, QObject, QRectF, Qt
+from PySide6.QtGui import QAction, QColor, QGuiApplication, QIcon, QPainter, QPalette, QPixmap
 from PySide6.QtSvg import QSvgRenderer
+from PySide6.QtWidgets import QAbstractButton, QApplication
 
 from gogreen_core.validation import ParameterError
 
@@ -29,6 +30,8 @@ __all__ = [
     "icon_names",
     "icon_pixmap",
     "icon_svg",
+    "refresh_icons",
+    "set_icon",
 ]
 
 #: Icons of application actions (besides one per brush kind and ``pin``).
@@ -51,6 +54,8 @@ DISABLED_OPACITY = 0.35
 _PACKAGE = "gogreen_resources"
 _FOLDER = "icons"
 _COLOR_TOKEN = b"currentColor"
+#: Dynamic property naming the icon :func:`set_icon` gave an action or button.
+_ICON_PROPERTY = "gogreen_icon"
 
 
 def _icons_folder():
@@ -178,3 +183,30 @@ def icon(name: str, color: QColor | str | None = None) -> QIcon:
     tint = _tint(color)
     icon_svg(name)  # the clear error for a missing icon, before any rendering
     return _cached_icon(name, tint.name(QColor.NameFormat.HexArgb))
+
+
+def set_icon(target: QAction | QAbstractButton, name: str) -> None:
+    """Give ``target`` icon ``name`` in the current palette's colour, and remember the name so
+    that :func:`refresh_icons` (called by :func:`app.theme.apply_theme`) re-tints it after a
+    theme switch."""
+    target.setIcon(icon(name))
+    target.setProperty(_ICON_PROPERTY, name)
+
+
+def refresh_icons(root: QObject | None = None) -> int:
+    """Re-make, in the current palette's colour, the icons :func:`set_icon` gave to ``root``
+    and its descendants (default: every top-level widget). Returns how many were re-made."""
+    if root is not None:
+        roots = [root]
+    elif QApplication.instance() is not None:
+        roots = QApplication.topLevelWidgets()
+    else:
+        return 0
+    count = 0
+    for top in roots:
+        for item in (top, *top.findChildren(QObject)):
+            name = item.property(_ICON_PROPERTY)
+            if isinstance(name, str) and isinstance(item, QAction | QAbstractButton):
+                item.setIcon(icon(name))
+                count += 1
+    return count

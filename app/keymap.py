@@ -50,6 +50,7 @@ __all__ = [
     "bindings_by_group",
     "brush_action",
     "display_keys",
+    "keymap_markdown",
     "shortcuts",
 ]
 
@@ -241,6 +242,19 @@ def display_keys(keys: str) -> str:
         return keys
     sequence = QKeySequence.fromString(keys, QKeySequence.SequenceFormat.PortableText)
     return sequence.toString(QKeySequence.SequenceFormat.NativeText) or keys
+
+
+def keymap_markdown(keymap: Iterable[Binding] = KEYMAP) -> str:
+    """The keymap as Markdown, one table per group (for the README's Controls section, so
+    the documentation is written from the same table as the shortcuts)."""
+    parts = []
+    for group, entries in bindings_by_group(keymap).items():
+        parts.append(f"**{group}**\n\n| Input | Does |\n|---|---|")
+        for entry in entries:
+            keys = " / ".join(f"`{k}`" for k in entry.keys)
+            description = entry.description.replace("|", r"\|")
+            parts[-1] += f"\n| {keys} | {description} |"
+    return "\n\n".join(parts) + "\n"
 
 
 # ---------------------------------------------------------------------------------------------

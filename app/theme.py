@@ -9,7 +9,8 @@ things the palette does not reach.
 
 The viewport reads its colours with ``theme(name).viewport_background`` (bottom, top), or
 ``current_theme(app)`` after :func:`apply_theme`. Icons from :func:`app.icons.icon` take the
-palette's button text colour, so make them after applying the theme (and again after a switch).
+palette's button text colour, so make them after applying the theme; those given with
+:func:`app.icons.set_icon` follow a later switch by themselves.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from dataclasses import dataclass
 from PySide6.QtGui import QColor, QPalette
 from PySide6.QtWidgets import QApplication
 
+from app.icons import refresh_icons
 from gogreen_core.validation import ParameterError
 
 __all__ = [
@@ -227,8 +229,9 @@ def theme(name: str = DEFAULT_THEME) -> Theme:
 def apply_theme(app: QApplication, name: str = DEFAULT_THEME) -> Theme:
     """Give ``app`` the Fusion style, the palette and the style sheet of theme ``name``.
 
-    Can be called again to switch themes; widgets already shown repaint with the new palette
-    (icons made earlier keep their colour: make them again). Returns the applied theme.
+    Can be called again to switch themes: widgets already shown repaint with the new palette,
+    and icons given by :func:`app.icons.set_icon` are re-tinted (icons set otherwise keep
+    their colour). Returns the applied theme.
 
     Raises
     ------
@@ -240,6 +243,7 @@ def apply_theme(app: QApplication, name: str = DEFAULT_THEME) -> Theme:
     app.setPalette(chosen.palette())
     app.setStyleSheet(chosen.style_sheet())
     app.setProperty(_PROPERTY, chosen.name)
+    refresh_icons()
     return chosen
 
 

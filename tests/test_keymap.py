@@ -288,3 +288,17 @@ def test_closed_overlay_leaves_the_view_untouched(qtbot, parent, overlay):
 def test_needs_a_parent():
     with pytest.raises(ParameterError, match="parent"):
         KeymapOverlay(None)
+
+
+def test_markdown_lists_every_binding():
+    from app.keymap import keymap_markdown
+
+    text = keymap_markdown()
+    for group in GROUPS:
+        assert f"**{group}**" in text
+    for entry in KEYMAP:
+        assert entry.description in text
+        for keys in entry.keys:
+            assert f"`{keys}`" in text
+    table_rows = [line for line in text.splitlines() if line.startswith("| `")]
+    assert len(table_rows) == len(KEYMAP)

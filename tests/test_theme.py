@@ -150,3 +150,35 @@ def test_unknown_theme_is_a_named_error(restore_app_look, bad):
     assert isinstance(info.value, ParameterError) and info.value.parameter == "name"
     assert "dark" in str(info.value) and "light" in str(info.value)
     assert app.palette().color(ROLE.Window).name() == before
+
+
+def test_switching_re_tints_icons_given_by_set_icon(restore_app_look, qtbot):
+    from PySide6.QtGui import QAction
+    from PySide6.QtWidgets import QToolBar
+
+    from app.icons import set_icon
+
+    app = restore_app_look
+    apply_theme(app, "dark")
+    bar = QToolBar()
+    qtbot.addWidget(bar)
+    tracked = QAction("grab", bar)
+    set_icon(tracked, "grab")
+    untracked = QAction("grab", bar)
+    untracked.setIcon(icon("grab"))
+    bar.addAction(tracked)
+    bar.addAction(untracked)
+
+    def colours(action):
+        image = action.icon().pixmap(24, 24).toImage()
+        return {
+            image.pixelColor(x, y).name()
+            for y in range(24)
+            for x in range(24)
+            if image.pixelColor(x, y).alpha() == 255
+        }
+
+    assert colours(tracked) == {theme("dark").button_text}
+    apply_theme(app, "light")
+    assert colours(tracked) == {theme("light").button_text}
+    assert colours(untracked) == {theme("dark").button_text}
