@@ -33,6 +33,17 @@ def _luma(colour: str | QColor) -> float:
     return 0.2126 * linear(c.redF()) + 0.7152 * linear(c.greenF()) + 0.0722 * linear(c.blueF())
 
 
+def _solid_colours(themed_icon) -> set[str]:
+    """Colours of the opaque pixels of an icon at 24 px."""
+    image = themed_icon.pixmap(24, 24).toImage()
+    return {
+        image.pixelColor(x, y).name()
+        for y in range(24)
+        for x in range(24)
+        if image.pixelColor(x, y).alpha() == 255
+    }
+
+
 def test_dark_is_the_default_and_light_an_option():
     assert THEMES == ("dark", "light")
     assert DEFAULT_THEME == "dark"
@@ -115,14 +126,7 @@ def test_icons_follow_the_theme(restore_app_look):
     app = restore_app_look
     for name in THEMES:
         apply_theme(app, name)
-        image = icon("grab").pixmap(24, 24).toImage()
-        solid = {
-            image.pixelColor(x, y).name()
-            for y in range(24)
-            for x in range(24)
-            if image.pixelColor(x, y).alpha() == 255
-        }
-        assert solid == {theme(name).button_text}
+        assert _solid_colours(icon("grab")) == {theme(name).button_text}
 
 
 def test_checked_tool_button_stands_out(restore_app_look, qtbot):
@@ -169,16 +173,7 @@ def test_switching_re_tints_icons_given_by_set_icon(restore_app_look, qtbot):
     bar.addAction(tracked)
     bar.addAction(untracked)
 
-    def colours(action):
-        image = action.icon().pixmap(24, 24).toImage()
-        return {
-            image.pixelColor(x, y).name()
-            for y in range(24)
-            for x in range(24)
-            if image.pixelColor(x, y).alpha() == 255
-        }
-
-    assert colours(tracked) == {theme("dark").button_text}
+    assert _solid_colours(tracked.icon()) == {theme("dark").button_text}
     apply_theme(app, "light")
-    assert colours(tracked) == {theme("light").button_text}
-    assert colours(untracked) == {theme("dark").button_text}
+    assert _solid_colours(tracked.icon()) == {theme("light").button_text}
+    assert _solid_colours(untracked.icon()) == {theme("dark").button_text}
