@@ -12,8 +12,8 @@ import pytest
 from gogreen_core import mesh_io
 from gogreen_core.mesh_io import MeshData, MeshFileError, load_mesh, save_mesh
 
-SHARED = Path("/work/shared/meshes")
 SHARED_MESHES = ["spot.obj", "stanford-bunny.obj", "ogre.obj"]
+MADE_MESHES = ["made_textured", "made_open_tiny", "made_huge"]  # their stand-ins (conftest.py)
 TEXT_FORMATS = [(".obj", {}), (".ply", {}), (".ply", {"ascii": True}), (".off", {})]
 
 
@@ -39,26 +39,31 @@ def write(path: Path, content: str | bytes) -> Path:
 TRIANGLE = MeshData(np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]]), np.array([[0, 1, 2]]))
 
 
-# -- the shared meshes -------------------------------------------------------------------------
-@pytest.fixture(scope="module", params=SHARED_MESHES)
-def shared(request):
-    path = SHARED / request.param
+# -- the shared meshes and the project-made ones ----------------------------------------------
+@pytest.fixture(scope="module", params=SHARED_MESHES + MADE_MESHES)
+def listed(request):
+    """An OBJ file (a shared mesh, skipped when absent, or a made one) and its loaded mesh."""
+    if request.param in MADE_MESHES:
+        path = request.getfixturevalue(request.param).path
+    else:
+        path = request.getfixturevalue("shared_mesh")(request.param)
     return path, load_mesh(path)
 
 
-def test_shared_meshes_keep_every_vertex_in_file_order(shared):
-    path, mesh = shared
-    listed = np.array([fields[:3] for fields in obj_records(path, "v")], dtype=np.float64)
+def test_obj_meshes_keep_every_vertex_in_file_order(listed):
+    path, mesh = listed
+    listed_vertices = np.array([fields[:3] for fields in obj_records(path, "v")], dtype=np.float64)
     assert mesh.vertices.dtype == np.float64 and mesh.faces.dtype == np.int64
-    assert len(mesh.vertices) == len(listed)  # no seam splitting, no merging
-    assert same_bits(mesh.vertices, listed)
-    assert len(mesh.faces) == len(obj_records(path, "f"))  # the three are all-triangle files
+    assert len(mesh.vertices) == len(listed_vertices)  # no seam splitting, no merging
+    assert same_bits(mesh.vertices, listed_vertices)
+    sides = [len(fields) - 2 for fields in obj_records(path, "f")]  # triangles per polygon
+    assert len(mesh.faces) == sum(sides)
     assert mesh.source == str(path)
 
 
 @pytest.mark.parametrize(("suffix", "options"), TEXT_FORMATS)
-def test_shared_meshes_round_trip_bit_for_bit(shared, tmp_path, suffix, options):
-    _, mesh = shared
+def test_obj_meshes_round_trip_bit_for_bit(listed, tmp_path, suffix, options):
+    _, mesh = listed
     target = tmp_path / f"out{suffix}"
     save_mesh(mesh, target, **options)
     again = load_mesh(target)
@@ -66,25 +71,52 @@ def test_shared_meshes_round_trip_bit_for_bit(shared, tmp_path, suffix, options)
     assert np.array_equal(again.faces, mesh.faces)
 
 
-def test_spot_texture_coordinates_load_and_survive_a_round_trip(tmp_path):
-    path = SHARED / "spot.obj"
+def edges_used_once(faces: np.ndarray) -> int:
+    edges = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1)
+    _, counts = np.unique(edges, axis=0, return_counts=True)
+    return int((counts == 1).sum())
+
+
+def test_made_meshes_stand_for_the_shared_ones(made_textured, made_open_tiny, made_huge):
+    """The properties each shared mesh brings are present in its project-made stand-in."""
+    textured = load_mesh(made_textured.path)
+    assert len(textured.uv) > len(textured.vertices)  # UV seams, like Spot
+    assert any(len(fields) > 3 for fields in obj_records(made_textured.path, "f"))  # quads
+    assert obj_records(made_textured.path, "vn")
+    assert same_bits(textured.vertices, made_textured.vertices)
+    assert np.array_equal(textured.faces, made_textured.faces)
+    open_tiny = load_mesh(made_open_tiny.path)
+    assert edges_used_once(open_tiny.faces) > 0  # holes, like the bunny
+    assert 0.1 < np.ptp(open_tiny.vertices, axis=0).max() < 0.2 and len(open_tiny.vertices) > 3000
+    assert edges_used_once(made_textured.faces) == edges_used_once(made_huge.faces) == 0
+    assert 25 < np.ptp(load_mesh(made_huge.path).vertices, axis=0).max() < 35  # like the Ogre
+
+
+@pytest.fixture(params=["made", "spot.obj"])
+def textured_obj(request, made_textured, shared_mesh) -> Path:
+    return made_textured.path if request.param == "made" else shared_mesh(request.param)
+
+
+def test_texture_coordinates_load_and_survive_a_round_trip(textured_obj, tmp_path):
+    path = textured_obj
     mesh = load_mesh(path)
     uv = np.array([fields[:2] for fields in obj_records(path, "vt")], dtype=np.float64)
     corners = [[int(c.split("/")[1]) - 1 for c in fields] for fields in obj_records(path, "f")]
-    assert same_bits(mesh.uv, uv)  # 3225 texture coordinates for 2930 vertices: seams kept
+    fanned = [[c[0], c[k], c[k + 1]] for c in corners for k in range(1, len(c) - 1)]
+    assert same_bits(mesh.uv, uv)  # Spot: 3225 texture coordinates for 2930 vertices: seams kept
     assert len(mesh.uv) > len(mesh.vertices)
-    assert np.array_equal(mesh.uv_faces, corners)
-    save_mesh(mesh, tmp_path / "spot.obj")
-    again = load_mesh(tmp_path / "spot.obj")
+    assert np.array_equal(mesh.uv_faces, fanned)
+    save_mesh(mesh, tmp_path / "copy.obj")
+    again = load_mesh(tmp_path / "copy.obj")
     assert same_bits(again.vertices, mesh.vertices)
     assert same_bits(again.uv, mesh.uv)
     assert np.array_equal(again.uv_faces, mesh.uv_faces)
 
 
-def test_stl_keeps_each_triangle_corner_as_written(tmp_path):
-    mesh = load_mesh(SHARED / "spot.obj")
-    save_mesh(mesh, tmp_path / "spot.stl")
-    again = load_mesh(tmp_path / "spot.stl")
+def test_stl_keeps_each_triangle_corner_as_written(made_textured, tmp_path):
+    mesh = load_mesh(made_textured.path)
+    save_mesh(mesh, tmp_path / "m.stl")
+    again = load_mesh(tmp_path / "m.stl")
     assert len(again.vertices) == 3 * len(mesh.faces)  # no welding: 3 corners per triangle
     assert np.array_equal(again.faces, np.arange(3 * len(mesh.faces)).reshape(-1, 3))
     corners = mesh.vertices[mesh.faces].reshape(-1, 3).astype(np.float32)  # STL is float32
@@ -285,9 +317,9 @@ def test_truncated_or_padded_binary_ply_is_rejected(tmp_path, cut):
         load_mesh(path)
 
 
-def test_truncated_binary_stl_is_rejected(tmp_path):
-    save_mesh(load_mesh(SHARED / "spot.obj"), tmp_path / "spot.stl")
-    data = (tmp_path / "spot.stl").read_bytes()
+def test_truncated_binary_stl_is_rejected(made_textured, tmp_path):
+    save_mesh(load_mesh(made_textured.path), tmp_path / "m.stl")
+    data = (tmp_path / "m.stl").read_bytes()
     path = write(tmp_path / "cut.stl", data[:-10])
     with pytest.raises(MeshFileError, match=r"cut\.stl: no triangles could be read"):
         load_mesh(path)
@@ -307,9 +339,9 @@ def test_mesh_file_error_is_a_value_error():
 
 # -- saving ------------------------------------------------------------------------------------
 @pytest.fixture
-def saved(tmp_path):
+def saved(made_textured, tmp_path):
     """A good OBJ on disk, its bytes, and the mesh."""
-    mesh = load_mesh(SHARED / "spot.obj")
+    mesh = load_mesh(made_textured.path)
     target = tmp_path / "good.obj"
     save_mesh(mesh, target)
     return target, target.read_bytes(), mesh
@@ -328,7 +360,7 @@ def test_unsaveable_meshes_are_refused_before_writing(saved):
         save_mesh(bad, target)
     bad = mesh.copy()
     bad.faces[7, 2] = len(mesh.vertices)
-    with pytest.raises(MeshFileError, match="face 7 references vertex 2930"):
+    with pytest.raises(MeshFileError, match=f"face 7 references vertex {len(mesh.vertices)}"):
         save_mesh(bad, target)
     bad = mesh.copy()
     bad.uv_faces = bad.uv_faces[:-1]
@@ -408,9 +440,9 @@ def test_save_keeps_permissions_and_symlinks(tmp_path):
     assert np.array_equal(load_mesh(target).vertices, moved.vertices)
 
 
-def test_save_replaces_an_existing_file_completely(tmp_path):
+def test_save_replaces_an_existing_file_completely(made_textured, tmp_path):
     target = tmp_path / "m.ply"
-    save_mesh(load_mesh(SHARED / "spot.obj"), target)
+    save_mesh(load_mesh(made_textured.path), target)
     save_mesh(TRIANGLE, target)
     assert np.array_equal(load_mesh(target).faces, [[0, 1, 2]])
 
