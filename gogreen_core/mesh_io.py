@@ -8,12 +8,17 @@ Polygons are fan-triangulated (corners ``0, k, k+1``), so a quad becomes two tri
   its replay rely on. Positions stay as listed; texture coordinates are kept per face corner
   (:attr:`MeshData.uv`, :attr:`MeshData.uv_faces`) so they survive a load/save round trip.
   Normals (``vn``), materials and groups are not kept: normals are recomputed after sculpting.
+  A statement that is not in the OBJ specification is refused (a damaged line is reported, not
+  dropped), as is an index too large for any file.
 * **PLY** and **OFF** are parsed here as well, because trimesh silently drops the faces of a
   truncated binary PLY or OFF file instead of reporting it. Any vertex properties besides
   ``x, y, z`` are read and ignored.
 * **STL** goes through trimesh with ``process=False``. An STL file has no shared vertices: each
   triangle lists its own three corners, so a loaded STL has 3·M vertices in file order (no
   welding, which would renumber them). STL stores float32, so saving to STL rounds positions.
+
+Text is read as UTF-8; a leading byte-order mark is skipped and CR LF or lone CR line ends are
+accepted, so no first vertex or line is lost to them.
 
 Every problem raises :class:`MeshFileError` (a ``ValueError``) whose message starts with the
 file name, e.g. ``"spot.obj, line 3012: face 12 references vertex 9001 but the file has 2930
@@ -186,6 +191,31 @@ def _rows(fmt: str, table: np.ndarray) -> str:
 
 
 # -- OBJ ---------------------------------------------------------------------------------------
+#: Larger 1-based indices cannot be real (and would overflow int64 arrays).
+_MAX_INDEX = 2**53
+
+#: Every statement of the OBJ specification; the reader keeps v, vt and f, ignores the others
+#: (normals, groups, materials, smoothing, lines, points, free-form geometry) and refuses any
+#: other word, so that a damaged line is reported instead of silently dropped.
+_OBJ_STATEMENTS = frozenset(
+    "v vt vn vp f fo l p g o s mg usemtl mtllib usemap maplib cstype deg bmat step curv curv2 "
+    "surf parm trim hole scrv sp end con bevel c_interp d_interp lod shadow_obj trace_obj ctech "
+    "stech call csh".split()
+)
+_BOM = "\ufeff"
+
+
+def _text_lines(data: bytes) -> str:
+    """The file as text with '\\n' line ends: UTF-8 (undecodable bytes replaced), a leading
+    byte-order mark removed, CR LF and lone CR (old Mac files) read as line ends."""
+    text = data.decode("utf-8", errors="replace")
+    if text.startswith(_BOM):
+        text = text[1:]
+    if "\r" in text:
+        text = text.replace("\r\n", "\n").replace("\r", "\n")
+    return text
+
+
 def _read_obj(data: bytes, name: str) -> MeshData:
     vertices: list[tuple[float, float, float]] = []
     uvs: list[tuple[float, float]] = []
@@ -200,6 +230,11 @@ def _read_obj(data: bytes, name: str) -> MeshData:
             i = int(token)
         except ValueError:
             raise MeshFileError(f"{name}, line {line}: bad {kind} index {token!r}") from None
+        if i > _MAX_INDEX:  # no file holds that many; int64 arrays could not even store it
+            raise MeshFileError(
+                f"{name}, line {line}: {kind} index {i} is out of range (the file cannot hold "
+                f"that many)"
+            )
         if i > 0:
             return i - 1  # checked against the final count below (forward references are legal)
         if i < 0 and count + i >= 0:
@@ -217,7 +252,7 @@ def _read_obj(data: bytes, name: str) -> MeshData:
         except ValueError:
             raise MeshFileError(f"{name}, line {line}: bad number in {raw.strip()!r}") from None
 
-    text = data.decode("utf-8", errors="replace")
+    text = _text_lines(data)
     for number, raw in enumerate(text.split("\n"), start=1):
         if "#" in raw:
             raw = raw.split("#", 1)[0]
@@ -225,6 +260,10 @@ def _read_obj(data: bytes, name: str) -> MeshData:
         if not parts:
             continue
         tag = parts[0]
+        if tag not in _OBJ_STATEMENTS:
+            raise MeshFileError(
+                f"{name}, line {number}: unknown statement {tag[:20]!r} (not an OBJ file?)"
+            )
         if tag == "v":
             if len(parts) < 4:
                 raise MeshFileError(f"{name}, line {number}: a vertex needs 3 coordinates")
@@ -233,8 +272,13 @@ def _read_obj(data: bytes, name: str) -> MeshData:
             if len(parts) < 2:
                 raise MeshFileError(f"{name}, line {number}: empty texture coordinate")
             u, *v = numbers(parts[1:3], number, raw)
+            if not np.isfinite([u, *v]).all():
+                raise MeshFileError(
+                    f"{name}, line {number}: texture coordinate {len(uvs) + 1} has a non-finite "
+                    f"value {[u, *v]}"
+                )
             uvs.append((u, v[0] if v else 0.0))
-        elif tag == "f":
+        elif tag in ("f", "fo"):  # 'fo' is the old spelling of 'f'
             if len(parts) < 4:
                 raise MeshFileError(f"{name}, line {number}: a face needs at least 3 corners")
             pos: list[int] = []
@@ -416,7 +460,7 @@ def _read_ply_binary(data: bytes, offset: int, element: _PlyElement, endian: str
             continue
         if pos + np.dtype(p.count_dtype).itemsize > len(data):
             raise truncated
-        k = int(np.frombuffer(data, endian + p.count_dtype, 1, pos)[0])
+        k = _list_length(np.frombuffer(data, endian + p.count_dtype, 1, pos)[0], element, name)
         lengths.append(k)
         pos += np.dtype(p.count_dtype).itemsize + k * np.dtype(p.dtype).itemsize
     fields, lists = [], iter(lengths)
@@ -452,6 +496,7 @@ def _read_ply_binary(data: bytes, offset: int, element: _PlyElement, endian: str
                     pos += np.dtype(p.dtype).itemsize
                 else:
                     (k,) = struct.unpack_from(endian + codes[p.count_dtype], data, pos)
+                    k = _list_length(k, element, name)
                     pos += np.dtype(p.count_dtype).itemsize
                     items = struct.unpack_from(f"{endian}{k}{codes[p.dtype]}", data, pos)
                     values[p.name].append(np.array(items, dtype=p.dtype))
@@ -463,6 +508,14 @@ def _read_ply_binary(data: bytes, offset: int, element: _PlyElement, endian: str
         for p in props
     }
     return columns, pos
+
+
+def _list_length(value: float, element: _PlyElement, name: str) -> int:
+    """A list's item count read from the data: a whole number ≥ 0, else MeshFileError."""
+    value = value.item() if isinstance(value, np.generic) else value
+    if not (np.isfinite(value) and value >= 0 and value == int(value)):
+        raise MeshFileError(f"{name}: bad list length {value!r} in element '{element.name}'")
+    return int(value)
 
 
 def _read_ply_ascii(values: np.ndarray, cursor: int, element: _PlyElement, name: str):
@@ -484,7 +537,7 @@ def _read_ply_ascii(values: np.ndarray, cursor: int, element: _PlyElement, name:
             continue
         if pos >= len(values):
             raise truncated
-        k = int(values[pos])
+        k = _list_length(values[pos], element, name)
         width += 1 + k
         pos += 1 + k
     if count and cursor + count * width <= len(values):
@@ -510,10 +563,7 @@ def _read_ply_ascii(values: np.ndarray, cursor: int, element: _PlyElement, name:
                 out[p.name].append(values[pos])
                 pos += 1
                 continue
-            k = values[pos]
-            if k < 0 or k != int(k):
-                raise MeshFileError(f"{name}: bad list length {k} in element '{element.name}'")
-            k = int(k)
+            k = _list_length(values[pos], element, name)
             if pos + 1 + k > len(values):
                 raise truncated
             out[p.name].append(values[pos + 1 : pos + 1 + k])
@@ -525,6 +575,8 @@ def _read_ply_ascii(values: np.ndarray, cursor: int, element: _PlyElement, name:
 
 
 def _read_ply(data: bytes, name: str) -> MeshData:
+    if data.startswith(_BOM.encode("utf-8")):
+        data = data[3:]
     fmt, elements, offset = _read_ply_header(data, name)
     tables: dict[str, dict] = {}
     if fmt == "ascii":
@@ -552,30 +604,56 @@ def _read_ply(data: bytes, name: str) -> MeshData:
             )
 
     vertex = tables.get("vertex", {})
-    if not all(axis in vertex and isinstance(vertex[axis], np.ndarray) for axis in "xyz"):
+    if not all(
+        axis in vertex and isinstance(vertex[axis], np.ndarray) and vertex[axis].ndim == 1
+        for axis in "xyz"
+    ):
         raise MeshFileError(f"{name}: no vertex positions (element 'vertex' with x, y, z)")
     v = np.stack([vertex[axis] for axis in "xyz"], axis=1).astype(np.float64)
     face = tables.get("face", {})
     corners = face.get("vertex_indices", face.get("vertex_index"))
     if corners is None or len(corners) == 0:
         raise MeshFileError(f"{name}: no faces")
+    if isinstance(corners, np.ndarray) and corners.ndim != 2:
+        raise MeshFileError(f"{name}: the face corners are not a list property")
     if isinstance(corners, np.ndarray):
         if corners.shape[1] < 3:
             raise MeshFileError(f"{name}: face 0 has fewer than 3 corners")
-        polygons = [corners]
         triangles = _fan(corners)
         owner = np.repeat(np.arange(len(corners)), corners.shape[1] - 2)
     else:
-        polygons = corners
         short = [i for i, c in enumerate(corners) if len(c) < 3]
         if short:
             raise MeshFileError(f"{name}: face {short[0]} has fewer than 3 corners")
         triangles, owner = _fan_ragged(corners)
-    if any(p.dtype.kind == "f" and np.any(p != np.round(p)) for p in polygons):
-        raise MeshFileError(f"{name}: a face index is not a whole number")
+    if triangles.dtype.kind == "f":  # ASCII data, or float-typed binary indices
+        # Check before casting: 1e30 or NaN would become a meaningless int64.
+        whole = np.isfinite(triangles) & (triangles == np.round(triangles))
+        if not whole.all():
+            row, col = (int(i[0]) for i in np.nonzero(~whole))
+            raise MeshFileError(
+                f"{name}: face {int(owner[row])} has vertex index "
+                f"{_show_number(triangles[row, col])}, which is not a whole number"
+            )
+        outside = (triangles < 0) | (triangles >= len(v))
+        if outside.any():
+            row, col = (int(i[0]) for i in np.nonzero(outside))
+            raise MeshFileError(
+                f"{name}: face {int(owner[row])} references vertex "
+                f"{_show_number(triangles[row, col])} but the file has "
+                f"{len(v)} vertices"
+            )
     triangles = triangles.astype(np.int64)
     _check_polygon_indices(triangles, owner, len(v), lambda _p: name)
     return MeshData(v, triangles)
+
+
+def _show_number(value: np.floating) -> str:
+    """A value read from a file, shown as the file has it: whole numbers as integers, others
+    in the shortest form of their own precision (float32 1e30 as '1e+30', not 1.00000002e30)."""
+    if np.isfinite(value) and value == np.round(value) and abs(value) < _MAX_INDEX:
+        return str(int(value))
+    return str(value)
 
 
 def _is_number(token: str) -> bool:
@@ -615,7 +693,7 @@ def _write_ply(mesh: MeshData, out: BinaryIO, ascii: bool) -> None:
 # -- OFF ---------------------------------------------------------------------------------------
 def _read_off(data: bytes, name: str) -> MeshData:
     rows: list[tuple[int, str]] = []  # (line number, content without comment), non-empty only
-    for number, raw in enumerate(data.decode("utf-8", "replace").split("\n"), start=1):
+    for number, raw in enumerate(_text_lines(data).split("\n"), start=1):
         if "#" in raw:
             raw = raw.split("#", 1)[0]
         line = raw.strip()
@@ -638,7 +716,9 @@ def _read_off(data: bytes, name: str) -> MeshData:
         n_vertices, n_faces = int(counts[0]), int(counts[1])
     except (ValueError, IndexError):
         raise MeshFileError(f"{name}: bad vertex and face counts {' '.join(counts)!r}") from None
-    if n_vertices <= 0 or n_faces < 0:
+    if n_faces < 0 or n_vertices < 0:
+        raise MeshFileError(f"{name}: negative vertex or face count ({n_vertices} {n_faces})")
+    if n_vertices == 0:
         raise MeshFileError(f"{name}: no vertices (counts {n_vertices} {n_faces})")
     vertex_rows = rows[first : first + n_vertices]
     face_rows = rows[first + n_vertices : first + n_vertices + n_faces]
@@ -665,7 +745,7 @@ def _read_off(data: bytes, name: str) -> MeshData:
     if triangles is not None:
         owner = np.arange(len(triangles))
     else:
-        triangles, owner = _off_polygons(face_rows, name)
+        triangles, owner = _off_polygons(face_rows, n_vertices, name)
     _check_polygon_indices(
         triangles, owner, n_vertices, lambda p: f"{name}, line {face_rows[p][0]}"
     )
@@ -696,25 +776,37 @@ def _off_triangles_fast(face_rows: list[tuple[int, str]]) -> np.ndarray | None:
         return None
     try:
         table = np.array(tokens, dtype=np.int64).reshape(-1, 4)
-    except ValueError:
+    except (ValueError, OverflowError):  # the strict reader names the line
         return None
     return table[:, 1:] if np.all(table[:, 0] == 3) else None
 
 
-def _off_polygons(face_rows: list[tuple[int, str]], name: str) -> tuple[np.ndarray, np.ndarray]:
+def _off_polygons(
+    face_rows: list[tuple[int, str]], n_vertices: int, name: str
+) -> tuple[np.ndarray, np.ndarray]:
     """Triangles (T, 3) and their face (T,) from OFF face lines of any sizes; values after a
     face's indices (a colour) are ignored."""
     polygons: list[np.ndarray] = []
-    for number, line in face_rows:
+    for face, (number, line) in enumerate(face_rows):
         words = line.split()
         try:
             k = int(words[0])
-            corners = np.array(words[1 : 1 + k], dtype=np.int64)
+            corners = [int(w) for w in words[1 : 1 + k]]  # Python ints: no overflow
         except ValueError:
             raise MeshFileError(f"{name}, line {number}: bad face {line!r}") from None
-        if k < 3 or len(corners) < k:
+        if k < 3:
             raise MeshFileError(f"{name}, line {number}: a face needs at least 3 corners")
-        polygons.append(corners)
+        if len(corners) < k:
+            raise MeshFileError(
+                f"{name}, line {number}: the face announces {k} corners but lists {len(corners)}"
+            )
+        outside = [c for c in corners if not 0 <= c < n_vertices]
+        if outside:
+            raise MeshFileError(
+                f"{name}, line {number}: face {face} references vertex {outside[0]} but the file "
+                f"has {n_vertices} vertices"
+            )
+        polygons.append(np.array(corners, dtype=np.int64))
     return _fan_ragged(polygons)
 
 

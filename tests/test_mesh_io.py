@@ -240,6 +240,18 @@ def cut_binary_ply(tmp_path: Path, cut: int) -> bytes:
     return data[:-cut] if cut > 0 else data + b"\x01\x02"
 
 
+def binary_ply_with(face: bytes, index_type: str = "int") -> bytes:
+    """Little-endian PLY of 3 vertices and one face whose record (after its list length, an
+    int) is ``face``: a hostile length or index."""
+    header = (
+        "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty double x\n"
+        "property double y\nproperty double z\nelement face 1\n"
+        f"property list int {index_type} vertex_indices\nend_header\n"
+    )
+    body = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]], dtype="<f8").tobytes()
+    return header.encode() + body + face
+
+
 BAD_FILES = [
     # OBJ
     ("blank.obj", " \n\n", "the file is empty"),
@@ -258,7 +270,19 @@ BAD_FILES = [
     ("vtrange.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/2\n",
      "line 5: face references texture coordinate 2 but the file has 1"),
     ("vtpartial.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2 3/1\n", "lack a texture"),
-    ("binary.obj", b"\x00\xff\x13" * 50, "no vertices"),
+    ("binary.obj", b"\x00\xff\x13" * 50, "line 1: unknown statement"),
+    ("unknown.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvv 1 1 1\nf 1 2 3\n",
+     "line 4: unknown statement 'vv'"),
+    ("hugeindex.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999\n",
+     "line 4: vertex index 99999999999999999999 is out of range"),
+    ("hugeuv.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/99999999999999999999\n",
+     "line 5: texture coordinate index 99999999999999999999 is out of range"),
+    ("hugerelative.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -99999999999999999999\n",
+     "line 4: relative vertex index -99999999999999999999 points before the first"),
+    ("hugecoordinate.obj", "v 0 0 0\nv 1 0 1e400\nv 0 1 0\nf 1 2 3\n",
+     "line 2: vertex 2 has a non-finite coordinate [1.0, 0.0, inf]"),
+    ("nanuv.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt nan 1\nf 1/1 2/1 3/2\n",
+     "line 5: texture coordinate 2 has a non-finite value"),
     # PLY
     ("empty.ply", "", "the file is empty"),
     ("notply.ply", "hello\n", "not a PLY file"),
@@ -280,6 +304,34 @@ BAD_FILES = [
     ("nopositions.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float q\n"
      "end_header\n1\n", "no vertex positions"),
     ("bigendian.ply", big_endian_ply(cut=3), "truncated"),
+    ("hugeindex.ply", PLY_ASCII.format(3, 1) + "0 0 0\n1 0 0\n0 1 0\n3 0 1 1e30\n",
+     "hugeindex.ply: face 0 references vertex 1e+30 but the file has 3 vertices"),
+    ("longindex.ply", PLY_ASCII.format(3, 1) + "0 0 0\n1 0 0\n0 1 0\n3 0 1 99999999999999999999\n",
+     "face 0 references vertex 1e+20 but the file has 3 vertices"),
+    ("nanindex.ply", PLY_ASCII.format(3, 1) + "0 0 0\n1 0 0\n0 1 0\n3 0 nan 2\n",
+     "face 0 has vertex index nan, which is not a whole number"),
+    ("infindex.ply", PLY_ASCII.format(3, 1) + "0 0 0\n1 0 0\n0 1 0\n3 0 1 -inf\n",
+     "face 0 has vertex index -inf, which is not a whole number"),
+    ("nanlength.ply", PLY_ASCII.format(3, 1) + "0 0 0\n1 0 0\n0 1 0\nnan 0 1 2\n",
+     "bad list length nan in element 'face'"),
+    ("negativelength.ply", PLY_ASCII.format(3, 1) + "0 0 0\n1 0 0\n0 1 0\n-1 0 1 2\n",
+     "bad list length -1.0 in element 'face'"),
+    ("hugelength.ply", PLY_ASCII.format(3, 1) + "0 0 0\n1 0 0\n0 1 0\n1e30 0 1 2\n",
+     "truncated"),
+    ("hugecoordinate.ply", PLY_ASCII.format(3, 1) + "0 0 0\n1 0 0\n0 1e400 0\n3 0 1 2\n",
+     "vertex 2 has a non-finite"),
+    ("hugecount.ply", PLY_ASCII.format("99999999999999999999", 1) + SQUARE + "3 0 1 2\n",
+     "truncated"),
+    ("negativecount.ply", PLY_ASCII.format(-3, 1) + SQUARE + "3 0 1 2\n", "header line 4"),
+    ("scalarface.ply", PLY_ASCII.replace("list uchar int", "int").format(3, 1)
+     + "0 0 0\n1 0 0\n0 1 0\n2\n", "not a list property"),
+    ("listvertex.ply", PLY_ASCII.replace("float x", "list uchar float x").format(3, 1)
+     + "1 0 0 0\n1 1 0 0\n1 0 1 0\n3 0 1 2\n", "no vertex positions"),
+    ("negativebinary.ply", binary_ply_with(b"\xff\xff\xff\xff"), "bad list length -1"),
+    ("hugebinary.ply", binary_ply_with(struct.pack("<i3f", 3, 0, 1, 1e30), "float"),
+     "face 0 references vertex 1e+30 but the file has 3 vertices"),
+    ("nanbinary.ply", binary_ply_with(struct.pack("<i3f", 3, 0, 1, np.nan), "float"),
+     "face 0 has vertex index nan"),
     # OFF
     ("notoff.off", "PLY\n3 1 0\n", "not an OFF file"),
     ("counts.off", "OFF\nthree one\n", "bad vertex and face counts"),
@@ -292,6 +344,17 @@ BAD_FILES = [
     ("noface.off", "OFF\n4 0 0\n" + SQUARE, "no faces"),
     ("edge.off", "OFF\n4 1 0\n" + SQUARE + "2 0 1\n", "at least 3 corners"),
     ("fourd.off", "4OFF\n1 1 0\n0 0 0 0\n", "not 3-D"),
+    ("hugeindex.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 99999999999999999999\n",
+     "line 6: face 0 references vertex 99999999999999999999 but the file has 3 vertices"),
+    ("negative.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 -1 2\n",
+     "line 6: face 0 references vertex -1"),
+    ("negativecount.off", "OFF\n3 -1 0\n0 0 0\n1 0 0\n0 1 0\n", "negative vertex or face count"),
+    ("hugecount.off", "OFF\n3 99999999999999999999 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+     "truncated"),
+    ("hugecorners.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n99999999999999999999 0 1 2\n",
+     "line 6: the face announces 99999999999999999999 corners but lists 3"),
+    ("hugecoordinate.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 -1e999 0\n3 0 1 2\n",
+     "line 5: vertex 2 has a non-finite"),
     # STL
     ("text.stl", "solid x\nfacet normal 0 0 1\n", "no triangles could be read"),
     ("binary.stl", b"\0" * 80 + struct.pack("<I", 5) + b"\0" * 60, "no triangles could be read"),
@@ -323,6 +386,25 @@ def test_truncated_binary_stl_is_rejected(made_textured, tmp_path):
     path = write(tmp_path / "cut.stl", data[:-10])
     with pytest.raises(MeshFileError, match=r"cut\.stl: no triangles could be read"):
         load_mesh(path)
+
+
+@pytest.mark.parametrize(
+    ("name", "content"),
+    [
+        ("bom.obj", "\ufeffv 1 2 3\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+        ("crlf.obj", "v 1 2 3\r\nv 1 0 0\r\nv 0 1 0\r\nf 1 2 3\r\n"),
+        ("cr.obj", "v 1 2 3\rv 1 0 0\rv 0 1 0\rf 1 2 3\r"),
+        ("bom.off", "\ufeffOFF\n3 1 0\n1 2 3\n1 0 0\n0 1 0\n3 0 1 2\n"),
+        ("cr.off", "OFF\r3 1 0\r1 2 3\r1 0 0\r0 1 0\r3 0 1 2\r"),
+        ("bom.ply", "\ufeff" + PLY_ASCII.format(3, 1) + "1 2 3\n1 0 0\n0 1 0\n3 0 1 2\n"),
+    ],
+)
+def test_byte_order_marks_and_old_line_ends_lose_nothing(tmp_path, name, content):
+    path = tmp_path / name
+    path.write_bytes(content.encode("utf-8"))
+    mesh = load_mesh(path)
+    assert mesh.vertices.tolist() == [[1, 2, 3], [1, 0, 0], [0, 1, 0]]
+    assert mesh.faces.tolist() == [[0, 1, 2]]
 
 
 def test_missing_file_and_folder(tmp_path):
