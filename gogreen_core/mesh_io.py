@@ -217,6 +217,14 @@ def _text_lines(data: bytes) -> str:
 
 
 def _read_obj(data: bytes, name: str) -> MeshData:
+    """OBJ: the fast whole-array reader when the file is regular, else the strict one."""
+    mesh = _read_obj_fast(data)
+    return _read_obj_strict(data, name) if mesh is None else mesh
+
+
+def _read_obj_strict(data: bytes, name: str) -> MeshData:
+    """Line by line: accepts what the fast reader accepts, the same way, and names the line of
+    any problem."""
     vertices: list[tuple[float, float, float]] = []
     uvs: list[tuple[float, float]] = []
     faces: list[tuple[int, int, int]] = []
@@ -341,6 +349,191 @@ def _read_obj(data: bytes, name: str) -> MeshData:
         mesh.uv = np.array(uvs, dtype=np.float64).reshape(-1, 2)
         mesh.uv_faces = t
     return mesh
+
+
+# Fast path: whole-array parsing of a regular OBJ file. It returns None as soon as anything is
+# unusual (a comment after data, a tab after a tag, mixed corner forms, a bad number, an index
+# out of range, ...); _read_obj then runs the strict line-by-line reader, which either accepts
+# the file the same way or names the line at fault. np.fromstring (numpy >= 2) raises on any
+# token it cannot read whole, and rounds decimals correctly like float().
+_SPACE = 32  # bytes <= 32 separate tokens (space, tab, line ends, control characters)
+_MAX_RUNS = 10_000  # more runs of same-kind lines than this: gather them with a byte mask
+
+
+def _gather_lines(
+    data: bytes, arr: np.ndarray, starts: np.ndarray, ends: np.ndarray, keep: np.ndarray, tag: bytes
+) -> bytes:
+    """The lines marked ``keep``, each with its '\\n', as one text that starts with '\\n' and in
+    which every line's ``tag`` (such as b"v ") is blanked."""
+    edges = np.diff(np.concatenate([[0], keep.view(np.int8), [0]]))
+    first, last = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
+    if len(first) <= _MAX_RUNS:  # the usual blocks of v, vt and f lines: copy them whole
+        bounds = zip(starts[first].tolist(), (ends[last] + 1).tolist(), strict=True)
+        text = b"".join([b"\n", *(data[a:b] for a, b in bounds)])
+    else:
+        mask = np.repeat(keep, ends - starts + 1)
+        text = b"\n" + arr[: len(mask)][mask].tobytes()
+    return text.replace(b"\n" + tag, b"\n" + b" " * len(tag))
+
+
+def _numbers_per_line(text: bytes, sentinel: bytes, dtype) -> tuple[np.ndarray, np.ndarray] | None:
+    """All numbers of ``text`` (lines as _gather_lines makes them) and how many each line has,
+    or None if a token is not a number. A ``sentinel`` that the data cannot hold (NaN among
+    finite floats, 0 among 1-based indices) is appended to each line to count them."""
+    try:
+        values = np.fromstring(text.replace(b"\n", b" " + sentinel + b"\n"), dtype, sep=" ")
+    except ValueError:
+        return None
+    marks = np.flatnonzero(np.isnan(values) if sentinel == b"nan" else values == 0)
+    counts = np.diff(marks) - 1
+    if len(marks) != text.count(b"\n") or len(marks) == 0 or marks[0] != 0:
+        return None  # a NaN or 0 in the data itself: the strict reader reports it
+    return np.delete(values, marks), counts
+
+
+def _first_columns(values: np.ndarray, counts: np.ndarray, columns: int) -> np.ndarray:
+    """The first ``columns`` values of each line, from line-major ``values`` (counts per line
+    all >= columns), as a contiguous (lines, columns) array."""
+    if counts.min() == counts.max():
+        return np.ascontiguousarray(values.reshape(len(counts), -1)[:, :columns])
+    firsts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    return values[firsts[:, None] + np.arange(columns)]
+
+
+def _read_obj_fast(data: bytes) -> MeshData | None:
+    if data.startswith(b"\xef\xbb\xbf"):
+        data = data[3:]
+    if b"\r" in data:
+        data = data.replace(b"\r\n", b"\n")
+        if b"\r" in data:
+            return None
+    if not data.endswith(b"\n"):
+        data += b"\n"
+    arr = np.frombuffer(data + b"   ", dtype=np.uint8)
+    ends = np.flatnonzero(arr == ord("\n"))
+    starts = np.concatenate([[0], ends[:-1] + 1])
+    c0, c1, c2 = arr[starts], arr[starts + 1], arr[starts + 2]
+    is_v = (c0 == ord("v")) & (c1 == ord(" "))
+    is_vt = (c0 == ord("v")) & (c1 == ord("t")) & (c2 == ord(" "))
+    is_f = (c0 == ord("f")) & (c1 == ord(" "))
+    if b"#" in data:  # a comment is fine only on a line of its own
+        hashes = np.flatnonzero(arr == ord("#"))
+        if (c0[np.searchsorted(starts, hashes, side="right") - 1] != ord("#")).any():
+            return None
+    ignored = (c0 == ord("#")) | (starts == ends)
+    ignored |= (c0 == ord("v")) & (c1 == ord("n")) & (c2 == ord(" "))  # normals: not kept
+    for line in np.flatnonzero(~(is_v | is_vt | is_f | ignored)).tolist():  # g, s, usemtl...
+        words = data[starts[line] : ends[line]].decode("utf-8", "replace").split()
+        if words and (words[0] not in _OBJ_STATEMENTS or words[0] in ("v", "vt", "f", "fo")):
+            return None
+    n_vertices, n_uv = int(is_v.sum()), int(is_vt.sum())
+    if n_vertices == 0 or not is_f.any():
+        return None
+
+    parsed = _numbers_per_line(_gather_lines(data, arr, starts, ends, is_v, b"v "), b"nan", float)
+    if parsed is None or parsed[1].min() < 3:
+        return None
+    vertices = _first_columns(*parsed, 3)
+    if not np.isfinite(vertices).all():
+        return None
+
+    uv = np.zeros((0, 2))
+    if n_uv:
+        text = _gather_lines(data, arr, starts, ends, is_vt, b"vt ")
+        parsed = _numbers_per_line(text, b"nan", float)
+        if parsed is None or parsed[1].min() < 1:
+            return None
+        values, counts = parsed
+        if counts.max() == 1:
+            uv = np.stack([values, np.zeros_like(values)], axis=1)
+        elif counts.min() >= 2:
+            uv = _first_columns(values, counts, 2)
+        else:
+            return None  # a mix of 1- and 2-value lines: left to the strict reader
+        if not np.isfinite(uv).all():
+            return None
+
+    text = _gather_lines(data, arr, starts, ends, is_f, b"f ")
+    n_slashes = text.count(b"/")
+    if n_slashes == 0:
+        parsed = _numbers_per_line(text, b"0", np.int64)
+        if parsed is None:
+            return None
+        numbers, corners = parsed
+        fields, doubled = 1, 0
+    else:
+        buffer = np.frombuffer(text, dtype=np.uint8)
+        word = buffer > _SPACE
+        first = word.copy()
+        first[1:] &= ~word[:-1]
+        corner_starts = np.flatnonzero(first)
+        lines = np.flatnonzero(buffer == ord("\n"))
+        corners = np.diff(np.searchsorted(corner_starts, lines))
+        n_corners = len(corner_starts)
+        per_corner = n_slashes // n_corners  # 1: "a/b"; 2: "a/b/c" or "a//c"
+        doubled = text.count(b"//")
+        if n_slashes % n_corners or per_corner > 2 or doubled not in (0, n_corners):
+            return None
+        if doubled and per_corner != 2:
+            return None
+        # Every corner must have the same number of slashes as the others.
+        before = np.searchsorted(np.flatnonzero(buffer == ord("/")), corner_starts)
+        if (np.diff(np.append(before, n_slashes)) != per_corner).any():
+            return None
+        fields = 2 if per_corner == 1 or doubled else 3
+        try:
+            numbers = np.fromstring(text.replace(b"/", b" "), np.int64, sep=" ")
+        except ValueError:
+            return None
+        if len(numbers) != fields * n_corners:
+            return None  # an empty field such as "1/ 2/ 3/"
+    if corners.min() < 3:
+        return None
+    numbers = numbers.reshape(-1, fields)
+    face_lines = np.flatnonzero(is_f)
+    polygon = np.repeat(np.arange(len(face_lines)), corners)
+
+    def indices(column: np.ndarray, counted: np.ndarray, total: int) -> np.ndarray | None:
+        """0-based indices from 1-based or relative ones (``counted``: entries read before each
+        face line); None when one is 0, before the first entry, or past the last."""
+        if (column == 0).any():
+            return None
+        relative = column < 0
+        if relative.any():
+            column = column.copy()
+            column[relative] += counted[polygon[relative]] + 1
+            if (column[relative] < 1).any():
+                return None
+        if column.max() > total:  # also catches indices too large for int64 (saturated)
+            return None
+        return column - 1
+
+    position = indices(numbers[:, 0], np.cumsum(is_v)[face_lines], n_vertices)
+    if position is None:
+        return None
+    mesh = MeshData(vertices, _fan_corners(position, corners))
+    if fields >= 2 and not doubled:
+        texture = indices(numbers[:, 1], np.cumsum(is_vt)[face_lines], n_uv)
+        if texture is None:
+            return None
+        mesh.uv, mesh.uv_faces = uv, _fan_corners(texture, corners)
+    return mesh
+
+
+def _fan_corners(corners: np.ndarray, sizes: np.ndarray) -> np.ndarray:
+    """Fan triangles (T, 3) of polygons given as consecutive corners (C,) with sizes (P,):
+    corners 0, k, k+1 of each polygon, in polygon order."""
+    if sizes.min() == sizes.max():
+        return _fan(corners.reshape(len(sizes), -1))
+    first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    per_polygon = sizes - 2
+    owner_first = np.repeat(first, per_polygon)
+    k = np.arange(int(per_polygon.sum())) - np.repeat(
+        np.concatenate([[0], np.cumsum(per_polygon)[:-1]]), per_polygon
+    )
+    return np.stack(
+        [corners[owner_first], corners[owner_first + k + 1], corners[owner_first + k + 2]], axis=1
+    )
 
 
 def _write_obj(mesh: MeshData, out: BinaryIO) -> None:

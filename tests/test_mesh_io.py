@@ -373,6 +373,95 @@ def test_bad_files_are_rejected_naming_the_file_and_the_problem(tmp_path, name, 
     assert message in str(info.value)
 
 
+# -- the fast OBJ reader against the strict one ------------------------------------------------
+def outcome(read, content: bytes, name: str = "t.obj"):
+    """What a reader makes of ``content``: the mesh's arrays, or the error message."""
+    try:
+        mesh = read(content, name)
+    except MeshFileError as exc:
+        return str(exc)
+    uv = None if mesh.uv is None else (mesh.uv.view(np.uint64).tolist(), mesh.uv_faces.tolist())
+    return mesh.vertices.view(np.uint64).tolist(), mesh.faces.tolist(), uv
+
+
+TRI = "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
+REGULAR_OBJ = [
+    TRI + "f 1 2 3\n",
+    "# c\n\n" + TRI + "vn 0 0 1\ng a\ns 1\nusemtl m\nf 1//1 2//1 3//1\n",
+    TRI + "v 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1/1 2/2/1 3/3/1\nf 2/2/1 4/1/1 3/3/1\n",
+    TRI + "v 1 1 0\nvt 0\nvt 1\nvt 0.5\nf 1/1 2/2 3/3 4/1\n",  # 1-value vt, a quad
+    TRI + "v 1 1 0\nv 2 2 0\nf 1 2 3\nf 1 2 4 3\nf -1 -2 -3 -4 -5\n",  # mixed sizes, relative
+    "f 1 2 3\n" + TRI + "v 1e-300 -2.5E+10 .5\nf 4 2 3\n",  # forward reference
+    "v 0\t0  0\nv 1 0\t0 \nv 0 1 0\n#### a # comment\nf  1\t2   3  \n",  # tabs, spaces
+    TRI.replace("\n", "\r\n") + "f 1 2 3\r\n",
+    "\ufeff" + TRI + "f 1 2 3",  # a BOM, no final line end
+    TRI + "vt 0 0\nvt 1 0 0\nf 1/1 2/2 3/1\nf 3/-1 2/-2 1/-1\n",
+    TRI + "v 1 2 3 0.5 0.5 0.5\nf 1 2 4\n",  # w or colours after x y z
+]
+IRREGULAR_OBJ = [  # each is read by the strict reader (accepted or refused the same way)
+    TRI + "f 1 2 3 # a comment\n",
+    TRI + "f 1 2 3\n #\n",
+    TRI + "v 1 2 v3\nf 1 2 3\n",
+    TRI + "v 1 2 3 x\nf 1 2 4\n",  # extra non-numbers after x y z: accepted by both
+    TRI + "v 1 2\nv 1 2 3 4\nf 1 2 3\n",
+    TRI + "v\t1 2 3\nf\t1 2 3\n",
+    TRI + "v 0 nan 0\nf 1 2 3\n",
+    TRI + "v 0 1e999 0\nf 1 2 3\n",
+    TRI + "vt nan 0\nf 1/1 2/1 3/1\n",
+    TRI + "vt 0\nvt 1 0\nf 1/1 2/2 3/1\n",
+    TRI + "vt 0 0\nf 1/1 2 3/1\n",
+    TRI + "vt 0 0\nf 1/1/1 2 3/1/1/1/1\n",
+    TRI + "vt 0 0\nf 1//1 2/1 3//1\n",
+    TRI + "vt 0 0\nf 1/ 2/ 3/\n",
+    TRI + "f 1 2 3\nf 1 2 3 -0\n",
+    TRI + "f 1 2 0\n",
+    TRI + "f 1 2 99999999999999999999\n",
+    TRI + "f 1 2 -99999999999999999999\n",
+    TRI + "f 1 2 -4\n",
+    TRI + "f 1 2 4\n",
+    TRI + "f +1 +2 +3\n",
+    TRI + "f 1 2\n",
+    TRI + "f 1 2 3.0\n",
+    TRI + "f 1 2 1e0\n",
+    TRI + "vt 0 0\nf 1/2 2/1 3/1\n",
+    TRI + "vt 0 0\nf 1/-2 2/1 3/1\n",
+    TRI + "f 1 2 3\x00\n",
+    TRI + "f 1 2 3\rf 1 3 2\n",
+    TRI + "v 1_0 2 3\nf 1 2 4\n",
+    TRI + "vv 1 2 3\nf 1 2 3\n",
+    TRI + "fo 1 2 3\n",
+    TRI,
+    "vt 0 0\nf 1 2 3\n",
+]
+
+
+@pytest.mark.parametrize("content", REGULAR_OBJ + IRREGULAR_OBJ)
+def test_fast_obj_reader_agrees_with_the_strict_one(content):
+    data = content.encode("utf-8")
+    assert outcome(mesh_io._read_obj, data) == outcome(mesh_io._read_obj_strict, data)
+
+
+@pytest.mark.parametrize("content", REGULAR_OBJ)
+def test_regular_obj_files_take_the_fast_path(content):
+    assert mesh_io._read_obj_fast(content.encode("utf-8")) is not None
+
+
+@pytest.mark.parametrize(
+    ("name", "content"), [(n, c) for n, c, _ in BAD_FILES if n.endswith(".obj")]
+)
+def test_fast_obj_reader_leaves_every_bad_file_to_the_strict_one(name, content):
+    data = content if isinstance(content, bytes) else content.encode("utf-8")
+    assert mesh_io._read_obj_fast(data) is None
+    assert outcome(mesh_io._read_obj, data, name) == outcome(mesh_io._read_obj_strict, data, name)
+
+
+def test_fast_obj_reader_on_every_listed_mesh_matches_the_strict_one(listed):
+    path, _ = listed
+    data = path.read_bytes()
+    assert mesh_io._read_obj_fast(data) is not None
+    assert outcome(mesh_io._read_obj, data) == outcome(mesh_io._read_obj_strict, data)
+
+
 @pytest.mark.parametrize("cut", [1, 5, 13, -1])
 def test_truncated_or_padded_binary_ply_is_rejected(tmp_path, cut):
     path = write(tmp_path / "cut.ply", cut_binary_ply(tmp_path, cut))
