@@ -184,10 +184,40 @@ def _check_polygon_indices(
         )
 
 
-def _rows(fmt: str, table: np.ndarray) -> str:
-    """Format each row of ``table`` with ``fmt`` (which ends in a newline); ``%.17g`` for floats
-    reloads bit for bit. Much faster than np.savetxt, which formats row by row."""
-    return (fmt * len(table)) % tuple(table.ravel().tolist())
+_CHUNK = 100_000  # rows formatted at a time: bounds the temporary memory of a large mesh
+
+
+def _write_rows(out: BinaryIO, fmt: str, table: np.ndarray) -> None:
+    """Write each row of ``table`` formatted with ``fmt`` (which ends in a newline); ``%.17g``
+    for floats reloads bit for bit. Much faster than np.savetxt, which formats row by row."""
+    for start in range(0, len(table), _CHUNK):
+        rows = table[start : start + _CHUNK]
+        out.write(((fmt * len(rows)) % tuple(rows.ravel().tolist())).encode("ascii"))
+
+
+def _write_int_rows(out: BinaryIO, prefix: bytes, table: np.ndarray, separators: bytes) -> None:
+    """Write rows ``prefix`` + the row's integers (>= 0), each followed by its separator
+    (``separators[j]`` after column j: b" ", b"/" or b"\n"), in decimal, with whole-array
+    operations: a fixed-width digit grid whose leading zeros are dropped."""
+    n, columns = table.shape
+    if n == 0:
+        return
+    width = len(str(int(table.max())))
+    powers = 10 ** np.arange(width - 1, -1, -1, dtype=np.int64)
+    for start in range(0, n, _CHUNK):
+        rows = table[start : start + _CHUNK]
+        m = len(rows)
+        cells = np.empty((m, columns, width + 1), dtype=np.uint8)
+        cells[:, :, :width] = rows[:, :, None] // powers % 10 + ord("0")
+        cells[:, :, width] = np.frombuffer(separators, dtype=np.uint8)
+        keep = np.ones((m, columns, width + 1), dtype=bool)
+        keep[:, :, :width] = powers <= np.maximum(rows, 1)[:, :, None]  # 0 keeps one digit
+        grid = np.empty((m, len(prefix) + columns * (width + 1)), dtype=np.uint8)
+        grid[:, : len(prefix)] = np.frombuffer(prefix, dtype=np.uint8)
+        grid[:, len(prefix) :] = cells.reshape(m, -1)
+        mask = np.ones(grid.shape, dtype=bool)
+        mask[:, len(prefix) :] = keep.reshape(m, -1)
+        out.write(grid[mask].tobytes())
 
 
 # -- OBJ ---------------------------------------------------------------------------------------
@@ -356,38 +386,158 @@ def _read_obj_strict(data: bytes, name: str) -> MeshData:
 # out of range, ...); _read_obj then runs the strict line-by-line reader, which either accepts
 # the file the same way or names the line at fault. np.fromstring (numpy >= 2) raises on any
 # token it cannot read whole, and rounds decimals correctly like float().
+#
+# The lines of one kind (v, vt or f) are handled as a "piece": their contents joined by
+# b"\n" + tag, i.e. the file's bytes from after the first line's tag to the end of the last
+# line, when they form one block.
 _SPACE = 32  # bytes <= 32 separate tokens (space, tab, line ends, control characters)
 _MAX_RUNS = 10_000  # more runs of same-kind lines than this: gather them with a byte mask
+_MAX_OTHER = 1 << 20  # bytes of other lines checked one by one in Python
 
 
-def _gather_lines(
-    data: bytes, arr: np.ndarray, starts: np.ndarray, ends: np.ndarray, keep: np.ndarray, tag: bytes
-) -> bytes:
-    """The lines marked ``keep``, each with its '\\n', as one text that starts with '\\n' and in
-    which every line's ``tag`` (such as b"v ") is blanked."""
-    edges = np.diff(np.concatenate([[0], keep.view(np.int8), [0]]))
-    first, last = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
-    if len(first) <= _MAX_RUNS:  # the usual blocks of v, vt and f lines: copy them whole
-        bounds = zip(starts[first].tolist(), (ends[last] + 1).tolist(), strict=True)
-        text = b"".join([b"\n", *(data[a:b] for a, b in bounds)])
+@dataclass
+class _ObjSections:
+    """The v, vt and f lines of an OBJ file as pieces (see above; None when there are no such
+    lines), and per face line the count of v and vt lines before it (an int when the same for
+    all, None when unknown: relative indices then go to the strict reader)."""
+
+    v: bytes | None
+    vt: bytes | None
+    f: bytes | None
+    v_before: np.ndarray | int | None
+    vt_before: np.ndarray | int | None
+
+
+def _other_lines_are_fine(text: bytes) -> bool:
+    """Whether lines other than v, vt and f are comments, blank, or known OBJ statements."""
+    for line in text.decode("utf-8", "replace").split("\n"):
+        words = line.split()
+        if not words or line.startswith("#"):
+            continue
+        if "#" in line or words[0] not in _OBJ_STATEMENTS or words[0] in ("v", "vt", "f", "fo"):
+            return False
+    return True
+
+
+def _block(data: bytes, tag: bytes, lo: int, hi: int) -> tuple[int, int] | None:
+    """[start, end) from the first line starting with ``tag`` in data[lo:hi] (``lo`` a line
+    start) to the '\\n' of the last one; None when there is none."""
+    if data.startswith(tag, lo):
+        start = lo
     else:
-        mask = np.repeat(keep, ends - starts + 1)
-        text = b"\n" + arr[: len(mask)][mask].tobytes()
-    return text.replace(b"\n" + tag, b"\n" + b" " * len(tag))
+        found = data.find(b"\n" + tag, lo, hi)
+        if found < 0:
+            return None
+        start = found + 1
+    last = data.rfind(b"\n" + tag, start, hi)
+    return start, data.find(b"\n", start if last < 0 else last + 1, hi)
 
 
-def _numbers_per_line(text: bytes, sentinel: bytes, dtype) -> tuple[np.ndarray, np.ndarray] | None:
-    """All numbers of ``text`` (lines as _gather_lines makes them) and how many each line has,
-    or None if a token is not a number. A ``sentinel`` that the data cannot hold (NaN among
-    finite floats, 0 among 1-based indices) is appended to each line to count them."""
+def _obj_sections_by_blocks(data: bytes) -> _ObjSections | None:
+    """Sections of the usual layout: one block of each of v, vt, vn and f lines and a few
+    other lines (comments, g, s, usemtl...) around them; None otherwise. Found with bytes
+    find/count alone, without an array over every byte."""
+    blocks = {}
+    for tag in (b"v ", b"f "):
+        blocks[tag] = _block(data, tag, 0, len(data))
+        if blocks[tag] is None:
+            return None
+    spans = sorted(blocks.values())
+    if spans[0][1] >= spans[1][0]:
+        return None  # interleaved (a v line after a face, ...)
+    gaps = [(0, spans[0][0]), (spans[0][1] + 1, spans[1][0]), (spans[1][1] + 1, len(data))]
+    for tag in (b"vt ", b"vn "):  # each within one gap
+        for k, (lo, hi) in enumerate(gaps):
+            found = _block(data, tag, lo, hi)
+            if found is not None:
+                blocks[tag] = found
+                gaps[k : k + 1] = [(lo, found[0]), (found[1] + 1, hi)]
+                break
+    if b"vn " in blocks:
+        start, end = blocks.pop(b"vn ")
+        if data.count(b"\n", start, end) != data.count(b"\nvn ", start, end):
+            return None
+    if sum(hi - lo for lo, hi in gaps) > _MAX_OTHER:
+        return None
+    if not all(_other_lines_are_fine(data[lo:hi]) for lo, hi in gaps):
+        return None
+    pieces = {tag: data[start + len(tag) : end] for tag, (start, end) in blocks.items()}
+    faces_start = blocks[b"f "][0]
+
+    def before(tag: bytes) -> int | None:
+        if tag not in blocks:
+            return 0
+        return pieces[tag].count(b"\n") + 1 if blocks[tag][1] < faces_start else None
+
+    return _ObjSections(
+        pieces[b"v "], pieces.get(b"vt "), pieces[b"f "], before(b"v "), before(b"vt ")
+    )
+
+
+def _obj_sections_by_lines(data: bytes) -> _ObjSections | None:
+    """Sections of any layout, by classifying every line with whole-array operations."""
+    arr = np.frombuffer(data + b"   ", dtype=np.uint8)
+    ends = np.flatnonzero(arr == ord("\n"))
+    starts = np.concatenate([[0], ends[:-1] + 1])
+    c0, c1, c2 = arr[starts], arr[starts + 1], arr[starts + 2]
+    kinds = {
+        b"v ": (c0 == ord("v")) & (c1 == ord(" ")),
+        b"vt ": (c0 == ord("v")) & (c1 == ord("t")) & (c2 == ord(" ")),
+        b"f ": (c0 == ord("f")) & (c1 == ord(" ")),
+    }
+    if b"#" in data:  # a comment is fine only on a line of its own
+        hashes = np.flatnonzero(arr == ord("#"))
+        if (c0[np.searchsorted(starts, hashes, side="right") - 1] != ord("#")).any():
+            return None
+    ignored = (c0 == ord("#")) | (starts == ends)
+    ignored |= (c0 == ord("v")) & (c1 == ord("n")) & (c2 == ord(" "))  # normals: not kept
+    others = np.flatnonzero(~(kinds[b"v "] | kinds[b"vt "] | kinds[b"f "] | ignored))
+    for line in others.tolist():  # g, s, usemtl...
+        if not _other_lines_are_fine(data[starts[line] : ends[line]]):
+            return None
+    pieces = {}
+    for tag, keep in kinds.items():
+        if not keep.any():
+            pieces[tag] = None
+            continue
+        edges = np.diff(np.concatenate([[0], keep.view(np.int8), [0]]))
+        first, last = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
+        if len(first) <= _MAX_RUNS:  # runs of lines of this kind: copy them whole
+            bounds = zip(starts[first].tolist(), (ends[last] + 1).tolist(), strict=True)
+            text = b"".join([data[a:b] for a, b in bounds])
+        else:
+            mask = np.repeat(keep, ends - starts + 1)
+            text = arr[: len(mask)][mask].tobytes()
+        pieces[tag] = text[len(tag) : -1]
+    face_lines = np.flatnonzero(kinds[b"f "])
+    return _ObjSections(
+        pieces[b"v "],
+        pieces[b"vt "],
+        pieces[b"f "],
+        np.cumsum(kinds[b"v "])[face_lines],
+        np.cumsum(kinds[b"vt "])[face_lines],
+    )
+
+
+def _numbers_per_line(
+    piece: bytes, tag: bytes, sentinel: bytes, dtype
+) -> tuple[np.ndarray, np.ndarray] | None:
+    """All numbers of a piece and how many each line has, or None if a token is not a number
+    or a line of another kind is among them. A ``sentinel`` that the data cannot hold (NaN
+    among finite floats, 0 among 1-based indices) replaces each line break to count them."""
+    lines = piece.count(b"\n") + 1
+    between = b" " + sentinel + b" " * max(1, len(tag) + 2 - len(sentinel))
+    text = piece.replace(b"\n" + tag, between)
+    if len(text) - len(piece) != (lines - 1) * (len(between) - len(tag) - 1):
+        return None  # a line without the tag among them
     try:
-        values = np.fromstring(text.replace(b"\n", b" " + sentinel + b"\n"), dtype, sep=" ")
+        values = np.fromstring(text + b" " + sentinel, dtype, sep=" ")
     except ValueError:
         return None
     marks = np.flatnonzero(np.isnan(values) if sentinel == b"nan" else values == 0)
-    counts = np.diff(marks) - 1
-    if len(marks) != text.count(b"\n") or len(marks) == 0 or marks[0] != 0:
+    if len(marks) != lines:
         return None  # a NaN or 0 in the data itself: the strict reader reports it
+    counts = np.diff(marks, prepend=-1) - 1
     return np.delete(values, marks), counts
 
 
@@ -400,6 +550,44 @@ def _first_columns(values: np.ndarray, counts: np.ndarray, columns: int) -> np.n
     return values[firsts[:, None] + np.arange(columns)]
 
 
+def _face_corners(piece: bytes) -> tuple[np.ndarray, np.ndarray, bool] | None:
+    """Corner numbers (C, fields), corners per face line, and whether the corners are
+    ``a//c`` (no texture), from the f piece; None unless every corner has the same form."""
+    n_slashes = piece.count(b"/")
+    if n_slashes == 0:
+        parsed = _numbers_per_line(piece, b"f ", b"0", np.int64)
+        return None if parsed is None else (parsed[0][:, None], parsed[1], False)
+    text = piece.replace(b"\nf ", b"\n  ")
+    if len(text) != len(piece) or text.count(b"\n") != piece.count(b"\nf "):
+        return None
+    buffer = np.frombuffer(text, dtype=np.uint8)
+    word = buffer > _SPACE
+    first = word.copy()
+    first[1:] &= ~word[:-1]
+    corner_starts = np.flatnonzero(first)
+    line_starts = np.concatenate([[0], np.flatnonzero(buffer == ord("\n")) + 1, [len(text)]])
+    corners = np.diff(np.searchsorted(corner_starts, line_starts))
+    n_corners = len(corner_starts)
+    per_corner = n_slashes // n_corners  # 1: "a/b"; 2: "a/b/c" or "a//c"
+    doubled = text.count(b"//")
+    if n_slashes % n_corners or per_corner > 2 or doubled not in (0, n_corners):
+        return None
+    if doubled and per_corner != 2:
+        return None
+    # Every corner must have the same number of slashes as the others.
+    before = np.searchsorted(np.flatnonzero(buffer == ord("/")), corner_starts)
+    if (np.diff(np.append(before, n_slashes)) != per_corner).any():
+        return None
+    fields = 2 if per_corner == 1 or doubled else 3
+    try:
+        numbers = np.fromstring(text.replace(b"/", b" "), np.int64, sep=" ")
+    except ValueError:
+        return None
+    if len(numbers) != fields * n_corners:
+        return None  # an empty field such as "1/ 2/ 3/"
+    return numbers.reshape(-1, fields), corners, bool(doubled)
+
+
 def _read_obj_fast(data: bytes) -> MeshData | None:
     if data.startswith(b"\xef\xbb\xbf"):
         data = data[3:]
@@ -409,28 +597,11 @@ def _read_obj_fast(data: bytes) -> MeshData | None:
             return None
     if not data.endswith(b"\n"):
         data += b"\n"
-    arr = np.frombuffer(data + b"   ", dtype=np.uint8)
-    ends = np.flatnonzero(arr == ord("\n"))
-    starts = np.concatenate([[0], ends[:-1] + 1])
-    c0, c1, c2 = arr[starts], arr[starts + 1], arr[starts + 2]
-    is_v = (c0 == ord("v")) & (c1 == ord(" "))
-    is_vt = (c0 == ord("v")) & (c1 == ord("t")) & (c2 == ord(" "))
-    is_f = (c0 == ord("f")) & (c1 == ord(" "))
-    if b"#" in data:  # a comment is fine only on a line of its own
-        hashes = np.flatnonzero(arr == ord("#"))
-        if (c0[np.searchsorted(starts, hashes, side="right") - 1] != ord("#")).any():
-            return None
-    ignored = (c0 == ord("#")) | (starts == ends)
-    ignored |= (c0 == ord("v")) & (c1 == ord("n")) & (c2 == ord(" "))  # normals: not kept
-    for line in np.flatnonzero(~(is_v | is_vt | is_f | ignored)).tolist():  # g, s, usemtl...
-        words = data[starts[line] : ends[line]].decode("utf-8", "replace").split()
-        if words and (words[0] not in _OBJ_STATEMENTS or words[0] in ("v", "vt", "f", "fo")):
-            return None
-    n_vertices, n_uv = int(is_v.sum()), int(is_vt.sum())
-    if n_vertices == 0 or not is_f.any():
+    sections = _obj_sections_by_blocks(data) or _obj_sections_by_lines(data)
+    if sections is None or sections.v is None or sections.f is None:
         return None
 
-    parsed = _numbers_per_line(_gather_lines(data, arr, starts, ends, is_v, b"v "), b"nan", float)
+    parsed = _numbers_per_line(sections.v, b"v ", b"nan", np.float64)
     if parsed is None or parsed[1].min() < 3:
         return None
     vertices = _first_columns(*parsed, 3)
@@ -438,9 +609,8 @@ def _read_obj_fast(data: bytes) -> MeshData | None:
         return None
 
     uv = np.zeros((0, 2))
-    if n_uv:
-        text = _gather_lines(data, arr, starts, ends, is_vt, b"vt ")
-        parsed = _numbers_per_line(text, b"nan", float)
+    if sections.vt is not None:
+        parsed = _numbers_per_line(sections.vt, b"vt ", b"nan", np.float64)
         if parsed is None or parsed[1].min() < 1:
             return None
         values, counts = parsed
@@ -453,67 +623,39 @@ def _read_obj_fast(data: bytes) -> MeshData | None:
         if not np.isfinite(uv).all():
             return None
 
-    text = _gather_lines(data, arr, starts, ends, is_f, b"f ")
-    n_slashes = text.count(b"/")
-    if n_slashes == 0:
-        parsed = _numbers_per_line(text, b"0", np.int64)
-        if parsed is None:
-            return None
-        numbers, corners = parsed
-        fields, doubled = 1, 0
-    else:
-        buffer = np.frombuffer(text, dtype=np.uint8)
-        word = buffer > _SPACE
-        first = word.copy()
-        first[1:] &= ~word[:-1]
-        corner_starts = np.flatnonzero(first)
-        lines = np.flatnonzero(buffer == ord("\n"))
-        corners = np.diff(np.searchsorted(corner_starts, lines))
-        n_corners = len(corner_starts)
-        per_corner = n_slashes // n_corners  # 1: "a/b"; 2: "a/b/c" or "a//c"
-        doubled = text.count(b"//")
-        if n_slashes % n_corners or per_corner > 2 or doubled not in (0, n_corners):
-            return None
-        if doubled and per_corner != 2:
-            return None
-        # Every corner must have the same number of slashes as the others.
-        before = np.searchsorted(np.flatnonzero(buffer == ord("/")), corner_starts)
-        if (np.diff(np.append(before, n_slashes)) != per_corner).any():
-            return None
-        fields = 2 if per_corner == 1 or doubled else 3
-        try:
-            numbers = np.fromstring(text.replace(b"/", b" "), np.int64, sep=" ")
-        except ValueError:
-            return None
-        if len(numbers) != fields * n_corners:
-            return None  # an empty field such as "1/ 2/ 3/"
+    found = _face_corners(sections.f)
+    if found is None:
+        return None
+    numbers, corners, doubled = found
     if corners.min() < 3:
         return None
-    numbers = numbers.reshape(-1, fields)
-    face_lines = np.flatnonzero(is_f)
-    polygon = np.repeat(np.arange(len(face_lines)), corners)
 
-    def indices(column: np.ndarray, counted: np.ndarray, total: int) -> np.ndarray | None:
+    def indices(column: np.ndarray, counted, total: int) -> np.ndarray | None:
         """0-based indices from 1-based or relative ones (``counted``: entries read before each
-        face line); None when one is 0, before the first entry, or past the last."""
+        face line, see _ObjSections); None when one is 0, before the first entry, or past the
+        last."""
         if (column == 0).any():
             return None
         relative = column < 0
         if relative.any():
+            if counted is None:
+                return None
+            if not isinstance(counted, int):
+                counted = counted[np.repeat(np.arange(len(corners)), corners)[relative]]
             column = column.copy()
-            column[relative] += counted[polygon[relative]] + 1
+            column[relative] += counted + 1
             if (column[relative] < 1).any():
                 return None
         if column.max() > total:  # also catches indices too large for int64 (saturated)
             return None
         return column - 1
 
-    position = indices(numbers[:, 0], np.cumsum(is_v)[face_lines], n_vertices)
+    position = indices(numbers[:, 0], sections.v_before, len(vertices))
     if position is None:
         return None
     mesh = MeshData(vertices, _fan_corners(position, corners))
-    if fields >= 2 and not doubled:
-        texture = indices(numbers[:, 1], np.cumsum(is_vt)[face_lines], n_uv)
+    if numbers.shape[1] >= 2 and not doubled:
+        texture = indices(numbers[:, 1], sections.vt_before, len(uv))
         if texture is None:
             return None
         mesh.uv, mesh.uv_faces = uv, _fan_corners(texture, corners)
@@ -537,27 +679,27 @@ def _fan_corners(corners: np.ndarray, sizes: np.ndarray) -> np.ndarray:
 
 
 def _write_obj(mesh: MeshData, out: BinaryIO) -> None:
-    text = io.StringIO()
-    text.write("# written by GoGreen Sculpt\n")
-    text.write(_rows("v %.17g %.17g %.17g\n", mesh.vertices))
+    out.write(b"# written by GoGreen Sculpt\n")
+    _write_rows(out, "v %.17g %.17g %.17g\n", mesh.vertices)
     if mesh.uv is None:
-        text.write(_rows("f %d %d %d\n", mesh.faces + 1))
-    else:
-        text.write(_rows("vt %.17g %.17g\n", mesh.uv))
-        has_uv = mesh.uv_faces[:, 0] >= 0
-        if has_uv.all():
-            corners = np.stack([mesh.faces + 1, mesh.uv_faces + 1], axis=2).reshape(-1, 6)
-            text.write(_rows("f %d/%d %d/%d %d/%d\n", corners))
-        else:  # some faces without texture coordinates: keep them so, in order
-            for face, tex, textured in zip(
-                (mesh.faces + 1).tolist(), (mesh.uv_faces + 1).tolist(), has_uv, strict=True
-            ):
-                if textured:
-                    text.write("f " + " ".join(f"{a}/{b}" for a, b in zip(face, tex, strict=True)))
-                else:
-                    text.write("f {} {} {}".format(*face))
-                text.write("\n")
-    out.write(text.getvalue().encode("utf-8"))
+        _write_int_rows(out, b"f ", mesh.faces + 1, b"  \n")
+        return
+    _write_rows(out, "vt %.17g %.17g\n", mesh.uv)
+    has_uv = mesh.uv_faces[:, 0] >= 0
+    if has_uv.all():
+        corners = np.stack([mesh.faces + 1, mesh.uv_faces + 1], axis=2).reshape(-1, 6)
+        _write_int_rows(out, b"f ", corners, b"/ / /\n")
+        return
+    text = io.StringIO()  # some faces without texture coordinates: keep them so, in order
+    for face, tex, textured in zip(
+        (mesh.faces + 1).tolist(), (mesh.uv_faces + 1).tolist(), has_uv, strict=True
+    ):
+        if textured:
+            text.write("f " + " ".join(f"{a}/{b}" for a, b in zip(face, tex, strict=True)))
+        else:
+            text.write("f {} {} {}".format(*face))
+        text.write("\n")
+    out.write(text.getvalue().encode("ascii"))
 
 
 # -- PLY ---------------------------------------------------------------------------------------
@@ -773,12 +915,14 @@ def _read_ply(data: bytes, name: str) -> MeshData:
     fmt, elements, offset = _read_ply_header(data, name)
     tables: dict[str, dict] = {}
     if fmt == "ascii":
-        tokens = data[offset:].decode("ascii", "replace").split()
-        try:
-            values = np.array(tokens, dtype=np.float64)
+        try:  # whole-array parsing; numpy >= 2 raises on any token it cannot read whole
+            values = np.fromstring(data[offset:], dtype=np.float64, sep=" ")
         except ValueError:
-            bad = next(t for t in tokens if not _is_number(t))
-            raise MeshFileError(f"{name}: bad number {bad!r} in the PLY data") from None
+            tokens = data[offset:].decode("ascii", "replace").split()
+            bad = next((t for t in tokens if not _is_number(t)), None)
+            if bad is not None:
+                raise MeshFileError(f"{name}: bad number {bad!r} in the PLY data") from None
+            values = np.array(tokens, dtype=np.float64)  # e.g. Unicode spaces between them
         cursor = 0
         for element in elements:
             tables[element.name], cursor = _read_ply_ascii(values, cursor, element, name)
@@ -871,10 +1015,8 @@ def _write_ply(mesh: MeshData, out: BinaryIO, ascii: bool) -> None:
     )
     out.write(header.encode("ascii"))
     if ascii:
-        text = io.StringIO()
-        text.write(_rows("%.17g %.17g %.17g\n", mesh.vertices))
-        text.write(_rows("3 %d %d %d\n", mesh.faces))
-        out.write(text.getvalue().encode("ascii"))
+        _write_rows(out, "%.17g %.17g %.17g\n", mesh.vertices)
+        _write_int_rows(out, b"3 ", mesh.faces, b"  \n")
         return
     out.write(np.ascontiguousarray(mesh.vertices, dtype="<f8").tobytes())
     record = np.dtype([("n", "u1"), ("i", "<i4", 3)])
@@ -1004,11 +1146,10 @@ def _off_polygons(
 
 
 def _write_off(mesh: MeshData, out: BinaryIO) -> None:
-    text = io.StringIO()
-    text.write(f"OFF\n# written by GoGreen Sculpt\n{len(mesh.vertices)} {len(mesh.faces)} 0\n")
-    text.write(_rows("%.17g %.17g %.17g\n", mesh.vertices))
-    text.write(_rows("3 %d %d %d\n", mesh.faces))
-    out.write(text.getvalue().encode("ascii"))
+    header = f"OFF\n# written by GoGreen Sculpt\n{len(mesh.vertices)} {len(mesh.faces)} 0\n"
+    out.write(header.encode("ascii"))
+    _write_rows(out, "%.17g %.17g %.17g\n", mesh.vertices)
+    _write_int_rows(out, b"3 ", mesh.faces, b"  \n")
 
 
 # -- STL (trimesh) -----------------------------------------------------------------------------

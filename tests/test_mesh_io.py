@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import io
 import os
 import struct
 from pathlib import Path
@@ -138,6 +139,18 @@ def test_awkward_floats_reload_bit_for_bit(tmp_path, suffix, options):
     assert np.array_equal(again.faces, faces)
 
 
+@pytest.mark.parametrize("columns", [1, 3, 6])
+def test_integer_rows_match_python_formatting(columns):
+    rng = np.random.default_rng(columns)
+    table = rng.integers(0, 10 ** rng.integers(1, 12, size=(250_001, 1)), size=(250_001, columns))
+    table[:4] = [[0] * columns, [9] * columns, [10] * columns, [10**11] * columns]
+    separators = (b"/ " * columns)[: columns - 1] + b"\n"
+    out = io.BytesIO()
+    mesh_io._write_int_rows(out, b"f ", table, separators)
+    fmt = "f " + "".join(f"%d{chr(c)}" for c in separators)
+    assert out.getvalue() == ((fmt * len(table)) % tuple(table.ravel().tolist())).encode()
+
+
 # -- OBJ details -------------------------------------------------------------------------------
 def test_obj_polygons_corner_forms_negative_indices_and_comments(tmp_path):
     path = write(
@@ -180,6 +193,15 @@ PLY_ASCII = (
     "property float z\nelement face {}\nproperty list uchar int vertex_indices\nend_header\n"
 )
 SQUARE = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n"
+
+
+def test_ascii_ply_with_unusual_but_valid_numbers(tmp_path):
+    # read whole-array; the last two lines only by the token-by-token fallback
+    content = PLY_ASCII.format(3, 1) + "+1 2.5E3\t-.5\n1_0.0\x1c0 0\n0 1 0\n3 0 1 2\n"
+    path = tmp_path / "u.ply"
+    path.write_bytes(content.encode("utf-8"))
+    mesh = load_mesh(path)
+    assert mesh.vertices.tolist() == [[1, 2500, -0.5], [10, 0, 0], [0, 1, 0]]
 
 
 def test_ascii_ply_polygons_are_fan_triangulated(tmp_path):
