@@ -9,20 +9,28 @@ from PySide6.QtWidgets import QMessageBox
 from app.main_window import MainWindow
 from gogreen_core import Material
 
-SPOT = "/work/shared/meshes/spot.obj"
-
 
 @pytest.fixture
-def window(qtbot, tmp_path, monkeypatch):
+def window(qtbot, tmp_path, monkeypatch, made_textured):
     monkeypatch.setattr(QMessageBox, "warning", lambda *a, **k: QMessageBox.StandardButton.Ok)
     monkeypatch.setattr(QMessageBox, "question", lambda *a, **k: QMessageBox.StandardButton.Discard)
     win = MainWindow(QSettings(str(tmp_path / "settings.ini"), QSettings.Format.IniFormat))
     qtbot.addWidget(win)
     win.show()
     qtbot.waitExposed(win)
-    assert win.open_file(SPOT)
+    assert win.open_file(str(made_textured.path))  # Spot's stand-in: UV seams (conftest.py)
     win.viewport.render()
     return win
+
+
+def test_opens_and_sculpts_the_shared_spot(window, shared_mesh):
+    assert window.open_file(str(shared_mesh("spot.obj")))
+    assert len(window.document.sculptor.vertices) == 2930  # as listed: seams not split
+    before = window.document.sculptor.vertices.copy()
+    drag(window, center_of(window))
+    assert not np.array_equal(window.document.sculptor.vertices, before)
+    window.undo()
+    assert np.array_equal(window.document.sculptor.vertices, before)
 
 
 def send(viewport, kind, pos, button=Qt.MouseButton.LeftButton, buttons=None):

@@ -5,22 +5,26 @@ import subprocess
 import sys
 
 import numpy as np
+import pytest
 
 from gogreen_core.batch import main
 from gogreen_core.mesh_io import load_mesh
 from gogreen_core.sculptor import Sculptor
 
-BUNNY = "/work/shared/meshes/stanford-bunny.obj"
+
+@pytest.fixture(params=["made", "stanford-bunny.obj"])
+def bunny(request, made_open_tiny, shared_mesh) -> str:
+    """The shared bunny (skipped when absent) or its stand-in: open and tiny (conftest.py)."""
+    return str(made_open_tiny.path if request.param == "made" else shared_mesh(request.param))
 
 
-def test_deform_then_replay_reproduce_bit_for_bit(tmp_path, capsys):
+def test_deform_then_replay_reproduce_bit_for_bit(tmp_path, capsys, bunny):
     out, session = tmp_path / "out.ply", tmp_path / "session.json"
-    bunny = load_mesh(BUNNY)
-    center = bunny.vertices[100]
+    center = load_mesh(bunny).vertices[100]
     status = main(
         [
             "deform",
-            BUNNY,
+            bunny,
             "-o",
             str(out),
             "--brush",
@@ -48,18 +52,18 @@ def test_deform_then_replay_reproduce_bit_for_bit(tmp_path, capsys):
     deformed = load_mesh(out)
     assert np.abs(deformed.vertices[100] - center - [0, 0.01, 0.003]).max() < 1e-9
     replayed = tmp_path / "replayed.ply"
-    assert main(["replay", str(session), BUNNY, "-o", str(replayed)]) == 0
+    assert main(["replay", str(session), bunny, "-o", str(replayed)]) == 0
     assert np.array_equal(load_mesh(replayed).vertices, deformed.vertices)
 
 
-def test_bad_input_exits_nonzero_with_a_message_and_keeps_the_output(tmp_path, capsys):
+def test_bad_input_exits_nonzero_with_a_message_and_keeps_the_output(tmp_path, capsys, bunny):
     out = tmp_path / "out.obj"
     out.write_text("precious")
     assert (
         main(
             [
                 "deform",
-                BUNNY,
+                bunny,
                 "-o",
                 str(out),
                 "--center",
@@ -81,7 +85,7 @@ def test_bad_input_exits_nonzero_with_a_message_and_keeps_the_output(tmp_path, c
         main(
             [
                 "deform",
-                BUNNY,
+                bunny,
                 "-o",
                 str(out),
                 "--center",
@@ -123,21 +127,21 @@ def test_bad_input_exits_nonzero_with_a_message_and_keeps_the_output(tmp_path, c
     assert "broken.obj" in capsys.readouterr().err
     session = tmp_path / "s.json"
     session.write_text("{not json")
-    assert main(["replay", str(session), BUNNY, "-o", str(out)]) == 2
+    assert main(["replay", str(session), bunny, "-o", str(out)]) == 2
     assert "not valid JSON" in capsys.readouterr().err
     session.write_text(
         json.dumps({"format": "gogreen-session", "version": 1, "mesh": {"vertices": 3, "faces": 1}})
     )
-    assert main(["replay", str(session), BUNNY, "-o", str(out)]) == 2
+    assert main(["replay", str(session), bunny, "-o", str(out)]) == 2
     assert "settings is missing" in capsys.readouterr().err
     triangle = Sculptor(np.eye(3), [[0, 1, 2]])
     session.write_text(json.dumps(triangle.session()))
-    assert main(["replay", str(session), BUNNY, "-o", str(out)]) == 2
+    assert main(["replay", str(session), bunny, "-o", str(out)]) == 2
     assert "3 vertices" in capsys.readouterr().err
     assert out.read_text() == "precious"
 
 
-def test_console_script_runs_batch_without_qt(tmp_path):
+def test_console_script_runs_batch_without_qt(tmp_path, bunny):
     code = (
         "import sys; from app.cli import main; "
         "rc = main(['deform', sys.argv[1], '-o', sys.argv[2], '-q', '--brush', 'twist', "
@@ -145,7 +149,7 @@ def test_console_script_runs_batch_without_qt(tmp_path):
         "assert 'PySide6' not in sys.modules; sys.exit(rc)"
     )
     result = subprocess.run(
-        [sys.executable, "-c", code, BUNNY, str(tmp_path / "t.obj")], capture_output=True, text=True
+        [sys.executable, "-c", code, bunny, str(tmp_path / "t.obj")], capture_output=True, text=True
     )
     assert result.returncode == 0, result.stderr
-    assert load_mesh(tmp_path / "t.obj").vertices.shape == load_mesh(BUNNY).vertices.shape
+    assert load_mesh(tmp_path / "t.obj").vertices.shape == load_mesh(bunny).vertices.shape

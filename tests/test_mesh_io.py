@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import io
 import os
 import struct
 from pathlib import Path
@@ -12,8 +13,8 @@ import pytest
 from gogreen_core import mesh_io
 from gogreen_core.mesh_io import MeshData, MeshFileError, load_mesh, save_mesh
 
-SHARED = Path("/work/shared/meshes")
 SHARED_MESHES = ["spot.obj", "stanford-bunny.obj", "ogre.obj"]
+MADE_MESHES = ["made_textured", "made_open_tiny", "made_huge"]  # their stand-ins (conftest.py)
 TEXT_FORMATS = [(".obj", {}), (".ply", {}), (".ply", {"ascii": True}), (".off", {})]
 
 
@@ -39,26 +40,31 @@ def write(path: Path, content: str | bytes) -> Path:
 TRIANGLE = MeshData(np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]]), np.array([[0, 1, 2]]))
 
 
-# -- the shared meshes -------------------------------------------------------------------------
-@pytest.fixture(scope="module", params=SHARED_MESHES)
-def shared(request):
-    path = SHARED / request.param
+# -- the shared meshes and the project-made ones ----------------------------------------------
+@pytest.fixture(scope="module", params=SHARED_MESHES + MADE_MESHES)
+def listed(request):
+    """An OBJ file (a shared mesh, skipped when absent, or a made one) and its loaded mesh."""
+    if request.param in MADE_MESHES:
+        path = request.getfixturevalue(request.param).path
+    else:
+        path = request.getfixturevalue("shared_mesh")(request.param)
     return path, load_mesh(path)
 
 
-def test_shared_meshes_keep_every_vertex_in_file_order(shared):
-    path, mesh = shared
-    listed = np.array([fields[:3] for fields in obj_records(path, "v")], dtype=np.float64)
+def test_obj_meshes_keep_every_vertex_in_file_order(listed):
+    path, mesh = listed
+    listed_vertices = np.array([fields[:3] for fields in obj_records(path, "v")], dtype=np.float64)
     assert mesh.vertices.dtype == np.float64 and mesh.faces.dtype == np.int64
-    assert len(mesh.vertices) == len(listed)  # no seam splitting, no merging
-    assert same_bits(mesh.vertices, listed)
-    assert len(mesh.faces) == len(obj_records(path, "f"))  # the three are all-triangle files
+    assert len(mesh.vertices) == len(listed_vertices)  # no seam splitting, no merging
+    assert same_bits(mesh.vertices, listed_vertices)
+    sides = [len(fields) - 2 for fields in obj_records(path, "f")]  # triangles per polygon
+    assert len(mesh.faces) == sum(sides)
     assert mesh.source == str(path)
 
 
 @pytest.mark.parametrize(("suffix", "options"), TEXT_FORMATS)
-def test_shared_meshes_round_trip_bit_for_bit(shared, tmp_path, suffix, options):
-    _, mesh = shared
+def test_obj_meshes_round_trip_bit_for_bit(listed, tmp_path, suffix, options):
+    _, mesh = listed
     target = tmp_path / f"out{suffix}"
     save_mesh(mesh, target, **options)
     again = load_mesh(target)
@@ -66,25 +72,52 @@ def test_shared_meshes_round_trip_bit_for_bit(shared, tmp_path, suffix, options)
     assert np.array_equal(again.faces, mesh.faces)
 
 
-def test_spot_texture_coordinates_load_and_survive_a_round_trip(tmp_path):
-    path = SHARED / "spot.obj"
+def edges_used_once(faces: np.ndarray) -> int:
+    edges = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1)
+    _, counts = np.unique(edges, axis=0, return_counts=True)
+    return int((counts == 1).sum())
+
+
+def test_made_meshes_stand_for_the_shared_ones(made_textured, made_open_tiny, made_huge):
+    """The properties each shared mesh brings are present in its project-made stand-in."""
+    textured = load_mesh(made_textured.path)
+    assert len(textured.uv) > len(textured.vertices)  # UV seams, like Spot
+    assert any(len(fields) > 3 for fields in obj_records(made_textured.path, "f"))  # quads
+    assert obj_records(made_textured.path, "vn")
+    assert same_bits(textured.vertices, made_textured.vertices)
+    assert np.array_equal(textured.faces, made_textured.faces)
+    open_tiny = load_mesh(made_open_tiny.path)
+    assert edges_used_once(open_tiny.faces) > 0  # holes, like the bunny
+    assert 0.1 < np.ptp(open_tiny.vertices, axis=0).max() < 0.2 and len(open_tiny.vertices) > 3000
+    assert edges_used_once(made_textured.faces) == edges_used_once(made_huge.faces) == 0
+    assert 25 < np.ptp(load_mesh(made_huge.path).vertices, axis=0).max() < 35  # like the Ogre
+
+
+@pytest.fixture(params=["made", "spot.obj"])
+def textured_obj(request, made_textured, shared_mesh) -> Path:
+    return made_textured.path if request.param == "made" else shared_mesh(request.param)
+
+
+def test_texture_coordinates_load_and_survive_a_round_trip(textured_obj, tmp_path):
+    path = textured_obj
     mesh = load_mesh(path)
     uv = np.array([fields[:2] for fields in obj_records(path, "vt")], dtype=np.float64)
     corners = [[int(c.split("/")[1]) - 1 for c in fields] for fields in obj_records(path, "f")]
-    assert same_bits(mesh.uv, uv)  # 3225 texture coordinates for 2930 vertices: seams kept
+    fanned = [[c[0], c[k], c[k + 1]] for c in corners for k in range(1, len(c) - 1)]
+    assert same_bits(mesh.uv, uv)  # Spot: 3225 texture coordinates for 2930 vertices: seams kept
     assert len(mesh.uv) > len(mesh.vertices)
-    assert np.array_equal(mesh.uv_faces, corners)
-    save_mesh(mesh, tmp_path / "spot.obj")
-    again = load_mesh(tmp_path / "spot.obj")
+    assert np.array_equal(mesh.uv_faces, fanned)
+    save_mesh(mesh, tmp_path / "copy.obj")
+    again = load_mesh(tmp_path / "copy.obj")
     assert same_bits(again.vertices, mesh.vertices)
     assert same_bits(again.uv, mesh.uv)
     assert np.array_equal(again.uv_faces, mesh.uv_faces)
 
 
-def test_stl_keeps_each_triangle_corner_as_written(tmp_path):
-    mesh = load_mesh(SHARED / "spot.obj")
-    save_mesh(mesh, tmp_path / "spot.stl")
-    again = load_mesh(tmp_path / "spot.stl")
+def test_stl_keeps_each_triangle_corner_as_written(made_textured, tmp_path):
+    mesh = load_mesh(made_textured.path)
+    save_mesh(mesh, tmp_path / "m.stl")
+    again = load_mesh(tmp_path / "m.stl")
     assert len(again.vertices) == 3 * len(mesh.faces)  # no welding: 3 corners per triangle
     assert np.array_equal(again.faces, np.arange(3 * len(mesh.faces)).reshape(-1, 3))
     corners = mesh.vertices[mesh.faces].reshape(-1, 3).astype(np.float32)  # STL is float32
@@ -104,6 +137,18 @@ def test_awkward_floats_reload_bit_for_bit(tmp_path, suffix, options):
     again = load_mesh(tmp_path / f"a{suffix}")
     assert same_bits(again.vertices, vertices)
     assert np.array_equal(again.faces, faces)
+
+
+@pytest.mark.parametrize("columns", [1, 3, 6])
+def test_integer_rows_match_python_formatting(columns):
+    rng = np.random.default_rng(columns)
+    table = rng.integers(0, 10 ** rng.integers(1, 12, size=(250_001, 1)), size=(250_001, columns))
+    table[:4] = [[0] * columns, [9] * columns, [10] * columns, [10**11] * columns]
+    separators = (b"/ " * columns)[: columns - 1] + b"\n"
+    out = io.BytesIO()
+    mesh_io._write_int_rows(out, b"f ", table, separators)
+    fmt = "f " + "".join(f"%d{chr(c)}" for c in separators)
+    assert out.getvalue() == ((fmt * len(table)) % tuple(table.ravel().tolist())).encode()
 
 
 # -- OBJ details -------------------------------------------------------------------------------
@@ -148,6 +193,15 @@ PLY_ASCII = (
     "property float z\nelement face {}\nproperty list uchar int vertex_indices\nend_header\n"
 )
 SQUARE = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n"
+
+
+def test_ascii_ply_with_unusual_but_valid_numbers(tmp_path):
+    # read whole-array; the last two lines only by the token-by-token fallback
+    content = PLY_ASCII.format(3, 1) + "+1 2.5E3\t-.5\n1_0.0\x1c0 0\n0 1 0\n3 0 1 2\n"
+    path = tmp_path / "u.ply"
+    path.write_bytes(content.encode("utf-8"))
+    mesh = load_mesh(path)
+    assert mesh.vertices.tolist() == [[1, 2500, -0.5], [10, 0, 0], [0, 1, 0]]
 
 
 def test_ascii_ply_polygons_are_fan_triangulated(tmp_path):
@@ -208,6 +262,18 @@ def cut_binary_ply(tmp_path: Path, cut: int) -> bytes:
     return data[:-cut] if cut > 0 else data + b"\x01\x02"
 
 
+def binary_ply_with(face: bytes, index_type: str = "int") -> bytes:
+    """Little-endian PLY of 3 vertices and one face whose record (after its list length, an
+    int) is ``face``: a hostile length or index."""
+    header = (
+        "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty double x\n"
+        "property double y\nproperty double z\nelement face 1\n"
+        f"property list int {index_type} vertex_indices\nend_header\n"
+    )
+    body = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]], dtype="<f8").tobytes()
+    return header.encode() + body + face
+
+
 BAD_FILES = [
     # OBJ
     ("blank.obj", " \n\n", "the file is empty"),
@@ -226,7 +292,19 @@ BAD_FILES = [
     ("vtrange.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/2\n",
      "line 5: face references texture coordinate 2 but the file has 1"),
     ("vtpartial.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2 3/1\n", "lack a texture"),
-    ("binary.obj", b"\x00\xff\x13" * 50, "no vertices"),
+    ("binary.obj", b"\x00\xff\x13" * 50, "line 1: unknown statement"),
+    ("unknown.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvv 1 1 1\nf 1 2 3\n",
+     "line 4: unknown statement 'vv'"),
+    ("hugeindex.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999\n",
+     "line 4: vertex index 99999999999999999999 is out of range"),
+    ("hugeuv.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/99999999999999999999\n",
+     "line 5: texture coordinate index 99999999999999999999 is out of range"),
+    ("hugerelative.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -99999999999999999999\n",
+     "line 4: relative vertex index -99999999999999999999 points before the first"),
+    ("hugecoordinate.obj", "v 0 0 0\nv 1 0 1e400\nv 0 1 0\nf 1 2 3\n",
+     "line 2: vertex 2 has a non-finite coordinate [1.0, 0.0, inf]"),
+    ("nanuv.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt nan 1\nf 1/1 2/1 3/2\n",
+     "line 5: texture coordinate 2 has a non-finite value"),
     # PLY
     ("empty.ply", "", "the file is empty"),
     ("notply.ply", "hello\n", "not a PLY file"),
@@ -248,6 +326,34 @@ BAD_FILES = [
     ("nopositions.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float q\n"
      "end_header\n1\n", "no vertex positions"),
     ("bigendian.ply", big_endian_ply(cut=3), "truncated"),
+    ("hugeindex.ply", PLY_ASCII.format(3, 1) + "0 0 0\n1 0 0\n0 1 0\n3 0 1 1e30\n",
+     "hugeindex.ply: face 0 references vertex 1e+30 but the file has 3 vertices"),
+    ("longindex.ply", PLY_ASCII.format(3, 1) + "0 0 0\n1 0 0\n0 1 0\n3 0 1 99999999999999999999\n",
+     "face 0 references vertex 1e+20 but the file has 3 vertices"),
+    ("nanindex.ply", PLY_ASCII.format(3, 1) + "0 0 0\n1 0 0\n0 1 0\n3 0 nan 2\n",
+     "face 0 has vertex index nan, which is not a whole number"),
+    ("infindex.ply", PLY_ASCII.format(3, 1) + "0 0 0\n1 0 0\n0 1 0\n3 0 1 -inf\n",
+     "face 0 has vertex index -inf, which is not a whole number"),
+    ("nanlength.ply", PLY_ASCII.format(3, 1) + "0 0 0\n1 0 0\n0 1 0\nnan 0 1 2\n",
+     "bad list length nan in element 'face'"),
+    ("negativelength.ply", PLY_ASCII.format(3, 1) + "0 0 0\n1 0 0\n0 1 0\n-1 0 1 2\n",
+     "bad list length -1.0 in element 'face'"),
+    ("hugelength.ply", PLY_ASCII.format(3, 1) + "0 0 0\n1 0 0\n0 1 0\n1e30 0 1 2\n",
+     "truncated"),
+    ("hugecoordinate.ply", PLY_ASCII.format(3, 1) + "0 0 0\n1 0 0\n0 1e400 0\n3 0 1 2\n",
+     "vertex 2 has a non-finite"),
+    ("hugecount.ply", PLY_ASCII.format("99999999999999999999", 1) + SQUARE + "3 0 1 2\n",
+     "truncated"),
+    ("negativecount.ply", PLY_ASCII.format(-3, 1) + SQUARE + "3 0 1 2\n", "header line 4"),
+    ("scalarface.ply", PLY_ASCII.replace("list uchar int", "int").format(3, 1)
+     + "0 0 0\n1 0 0\n0 1 0\n2\n", "not a list property"),
+    ("listvertex.ply", PLY_ASCII.replace("float x", "list uchar float x").format(3, 1)
+     + "1 0 0 0\n1 1 0 0\n1 0 1 0\n3 0 1 2\n", "no vertex positions"),
+    ("negativebinary.ply", binary_ply_with(b"\xff\xff\xff\xff"), "bad list length -1"),
+    ("hugebinary.ply", binary_ply_with(struct.pack("<i3f", 3, 0, 1, 1e30), "float"),
+     "face 0 references vertex 1e+30 but the file has 3 vertices"),
+    ("nanbinary.ply", binary_ply_with(struct.pack("<i3f", 3, 0, 1, np.nan), "float"),
+     "face 0 has vertex index nan"),
     # OFF
     ("notoff.off", "PLY\n3 1 0\n", "not an OFF file"),
     ("counts.off", "OFF\nthree one\n", "bad vertex and face counts"),
@@ -260,6 +366,17 @@ BAD_FILES = [
     ("noface.off", "OFF\n4 0 0\n" + SQUARE, "no faces"),
     ("edge.off", "OFF\n4 1 0\n" + SQUARE + "2 0 1\n", "at least 3 corners"),
     ("fourd.off", "4OFF\n1 1 0\n0 0 0 0\n", "not 3-D"),
+    ("hugeindex.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 99999999999999999999\n",
+     "line 6: face 0 references vertex 99999999999999999999 but the file has 3 vertices"),
+    ("negative.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 -1 2\n",
+     "line 6: face 0 references vertex -1"),
+    ("negativecount.off", "OFF\n3 -1 0\n0 0 0\n1 0 0\n0 1 0\n", "negative vertex or face count"),
+    ("hugecount.off", "OFF\n3 99999999999999999999 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+     "truncated"),
+    ("hugecorners.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n99999999999999999999 0 1 2\n",
+     "line 6: the face announces 99999999999999999999 corners but lists 3"),
+    ("hugecoordinate.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 -1e999 0\n3 0 1 2\n",
+     "line 5: vertex 2 has a non-finite"),
     # STL
     ("text.stl", "solid x\nfacet normal 0 0 1\n", "no triangles could be read"),
     ("binary.stl", b"\0" * 80 + struct.pack("<I", 5) + b"\0" * 60, "no triangles could be read"),
@@ -278,6 +395,129 @@ def test_bad_files_are_rejected_naming_the_file_and_the_problem(tmp_path, name, 
     assert message in str(info.value)
 
 
+# -- the fast OBJ reader against the strict one ------------------------------------------------
+def outcome(read, content: bytes, name: str = "t.obj"):
+    """What a reader makes of ``content``: the mesh's arrays, or the error message."""
+    try:
+        mesh = read(content, name)
+    except MeshFileError as exc:
+        return str(exc)
+    uv = None if mesh.uv is None else (mesh.uv.view(np.uint64).tolist(), mesh.uv_faces.tolist())
+    return mesh.vertices.view(np.uint64).tolist(), mesh.faces.tolist(), uv
+
+
+TRI = "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
+REGULAR_OBJ = [
+    TRI + "f 1 2 3\n",
+    "# c\n\n" + TRI + "vn 0 0 1\ng a\ns 1\nusemtl m\nf 1//1 2//1 3//1\n",
+    TRI + "v 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1/1 2/2/1 3/3/1\nf 2/2/1 4/1/1 3/3/1\n",
+    TRI + "v 1 1 0\nvt 0\nvt 1\nvt 0.5\nf 1/1 2/2 3/3 4/1\n",  # 1-value vt, a quad
+    TRI + "v 1 1 0\nv 2 2 0\nf 1 2 3\nf 1 2 4 3\nf -1 -2 -3 -4 -5\n",  # mixed sizes, relative
+    "f 1 2 3\n" + TRI + "v 1e-300 -2.5E+10 .5\nf 4 2 3\n",  # forward reference
+    "v 0\t0  0\nv 1 0\t0 \nv 0 1 0\n#### a # comment\nf  1\t2   3  \n",  # tabs, spaces
+    TRI.replace("\n", "\r\n") + "f 1 2 3\r\n",
+    "\ufeff" + TRI + "f 1 2 3",  # a BOM, no final line end
+    TRI + "vt 0 0\nvt 1 0 0\nf 1/1 2/2 3/1\nf 3/-1 2/-2 1/-1\n",
+    TRI + "v 1 2 3 0.5 0.5 0.5\nf 1 2 4\n",  # w or colours after x y z
+    TRI + "g a\nusemtl a\nf 1 2 3\ng b\nusemtl b\nf 1 3 2\nf 2 1 3\n",  # face groups
+    TRI + "f 1 2 3\nv 1 1 1\nf 1 2 -1\nv 2 2 2\nf -1 -2 -3\n",  # interleaved, relative
+    "vt 0 0\nv 0 0 0\nvt 1 0\nv 1 0 0\nv 0 1 0\nvt 0 1\nf 1/-1 2/-2 3/-3\n",
+]
+IRREGULAR_OBJ = [  # each is read by the strict reader (accepted or refused the same way)
+    TRI + "f 1 2 3 # a comment\n",
+    TRI + "f 1 2 3\n #\n",
+    TRI + "v 1 2 v3\nf 1 2 3\n",
+    TRI + "v 1 2 3 x\nf 1 2 4\n",  # extra non-numbers after x y z: accepted by both
+    TRI + "v 1 2\nv 1 2 3 4\nf 1 2 3\n",
+    TRI + "v\t1 2 3\nf\t1 2 3\n",
+    TRI + "v 0 nan 0\nf 1 2 3\n",
+    TRI + "v 0 1e999 0\nf 1 2 3\n",
+    TRI + "vt nan 0\nf 1/1 2/1 3/1\n",
+    TRI + "vt 0\nvt 1 0\nf 1/1 2/2 3/1\n",
+    TRI + "vt 0 0\nf 1/1 2 3/1\n",
+    TRI + "vt 0 0\nf 1/1/1 2 3/1/1/1/1\n",
+    TRI + "vt 0 0\nf 1//1 2/1 3//1\n",
+    TRI + "vt 0 0\nf 1/ 2/ 3/\n",
+    TRI + "f 1 2 3\nf 1 2 3 -0\n",
+    TRI + "f 1 2 0\n",
+    TRI + "f 1 2 99999999999999999999\n",
+    TRI + "f 1 2 -99999999999999999999\n",
+    TRI + "f 1 2 -4\n",
+    TRI + "f 1 2 4\n",
+    TRI + "f +1 +2 +3\n",
+    TRI + "f 1 2\n",
+    TRI + "f 1 2 3.0\n",
+    TRI + "f 1 2 1e0\n",
+    TRI + "vt 0 0\nf 1/2 2/1 3/1\n",
+    TRI + "vt 0 0\nf 1/-2 2/1 3/1\n",
+    TRI + "f 1 2 3\x00\n",
+    TRI + "f 1 2 3\rf 1 3 2\n",
+    TRI + "v 1_0 2 3\nf 1 2 4\n",
+    TRI + "vv 1 2 3\nf 1 2 3\n",
+    TRI + "fo 1 2 3\n",
+    TRI,
+    "vt 0 0\nf 1 2 3\n",
+]
+
+
+@pytest.mark.parametrize("content", REGULAR_OBJ + IRREGULAR_OBJ)
+def test_fast_obj_reader_agrees_with_the_strict_one(content):
+    data = content.encode("utf-8")
+    assert outcome(mesh_io._read_obj, data) == outcome(mesh_io._read_obj_strict, data)
+
+
+@pytest.mark.parametrize("content", REGULAR_OBJ)
+def test_regular_obj_files_take_the_fast_path(content):
+    assert mesh_io._read_obj_fast(content.encode("utf-8")) is not None
+
+
+@pytest.mark.parametrize("content", REGULAR_OBJ + IRREGULAR_OBJ)
+def test_both_ways_of_finding_the_obj_sections_agree_with_the_strict_reader(content):
+    data = content.encode("utf-8").removeprefix(b"\xef\xbb\xbf").replace(b"\r\n", b"\n")
+    data += b"" if data.endswith(b"\n") else b"\n"
+    strict = outcome(mesh_io._read_obj_strict, data)
+    for find in (mesh_io._obj_sections_by_blocks, mesh_io._obj_sections_by_lines):
+        sections = find(data)
+        mesh = None if sections is None else mesh_io._obj_from_sections(sections)
+        if mesh is not None:
+            assert outcome(lambda *_, m=mesh: m, data) == strict
+
+
+@pytest.mark.parametrize(
+    ("name", "content"), [(n, c) for n, c, _ in BAD_FILES if n.endswith(".obj")]
+)
+def test_fast_obj_reader_leaves_every_bad_file_to_the_strict_one(name, content):
+    data = content if isinstance(content, bytes) else content.encode("utf-8")
+    assert mesh_io._read_obj_fast(data) is None
+    assert outcome(mesh_io._read_obj, data, name) == outcome(mesh_io._read_obj_strict, data, name)
+
+
+def test_fast_obj_reader_on_every_listed_mesh_matches_the_strict_one(listed):
+    path, _ = listed
+    data = path.read_bytes()
+    assert mesh_io._read_obj_fast(data) is not None
+    assert outcome(mesh_io._read_obj, data) == outcome(mesh_io._read_obj_strict, data)
+
+
+ASCII_PLY_FILES = [(n, c) for n, c, _ in BAD_FILES if n.endswith(".ply")] + [
+    ("square.ply", PLY_ASCII.format(5, 2) + SQUARE + "0 0 1\n4 0 1 2 3\n5 0 1 2 3 4\n"),
+    ("triangle.ply", PLY_ASCII.format(3, 1) + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+]
+
+
+@pytest.mark.parametrize(("name", "content"), ASCII_PLY_FILES, ids=[n for n, _ in ASCII_PLY_FILES])
+def test_ascii_ply_fast_parsing_agrees_with_token_by_token(tmp_path, monkeypatch, name, content):
+    path = write(tmp_path / name, content)
+    data = path.read_bytes()
+    fast = outcome(mesh_io._read_ply, data, name)
+
+    def refuse(*_args, **_kwargs):
+        raise ValueError("string or file could not be read to its end")
+
+    monkeypatch.setattr(mesh_io.np, "fromstring", refuse)  # the token-by-token path
+    assert outcome(mesh_io._read_ply, data, name) == fast
+
+
 @pytest.mark.parametrize("cut", [1, 5, 13, -1])
 def test_truncated_or_padded_binary_ply_is_rejected(tmp_path, cut):
     path = write(tmp_path / "cut.ply", cut_binary_ply(tmp_path, cut))
@@ -285,12 +525,31 @@ def test_truncated_or_padded_binary_ply_is_rejected(tmp_path, cut):
         load_mesh(path)
 
 
-def test_truncated_binary_stl_is_rejected(tmp_path):
-    save_mesh(load_mesh(SHARED / "spot.obj"), tmp_path / "spot.stl")
-    data = (tmp_path / "spot.stl").read_bytes()
+def test_truncated_binary_stl_is_rejected(made_textured, tmp_path):
+    save_mesh(load_mesh(made_textured.path), tmp_path / "m.stl")
+    data = (tmp_path / "m.stl").read_bytes()
     path = write(tmp_path / "cut.stl", data[:-10])
     with pytest.raises(MeshFileError, match=r"cut\.stl: no triangles could be read"):
         load_mesh(path)
+
+
+@pytest.mark.parametrize(
+    ("name", "content"),
+    [
+        ("bom.obj", "\ufeffv 1 2 3\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+        ("crlf.obj", "v 1 2 3\r\nv 1 0 0\r\nv 0 1 0\r\nf 1 2 3\r\n"),
+        ("cr.obj", "v 1 2 3\rv 1 0 0\rv 0 1 0\rf 1 2 3\r"),
+        ("bom.off", "\ufeffOFF\n3 1 0\n1 2 3\n1 0 0\n0 1 0\n3 0 1 2\n"),
+        ("cr.off", "OFF\r3 1 0\r1 2 3\r1 0 0\r0 1 0\r3 0 1 2\r"),
+        ("bom.ply", "\ufeff" + PLY_ASCII.format(3, 1) + "1 2 3\n1 0 0\n0 1 0\n3 0 1 2\n"),
+    ],
+)
+def test_byte_order_marks_and_old_line_ends_lose_nothing(tmp_path, name, content):
+    path = tmp_path / name
+    path.write_bytes(content.encode("utf-8"))
+    mesh = load_mesh(path)
+    assert mesh.vertices.tolist() == [[1, 2, 3], [1, 0, 0], [0, 1, 0]]
+    assert mesh.faces.tolist() == [[0, 1, 2]]
 
 
 def test_missing_file_and_folder(tmp_path):
@@ -307,9 +566,9 @@ def test_mesh_file_error_is_a_value_error():
 
 # -- saving ------------------------------------------------------------------------------------
 @pytest.fixture
-def saved(tmp_path):
+def saved(made_textured, tmp_path):
     """A good OBJ on disk, its bytes, and the mesh."""
-    mesh = load_mesh(SHARED / "spot.obj")
+    mesh = load_mesh(made_textured.path)
     target = tmp_path / "good.obj"
     save_mesh(mesh, target)
     return target, target.read_bytes(), mesh
@@ -328,7 +587,7 @@ def test_unsaveable_meshes_are_refused_before_writing(saved):
         save_mesh(bad, target)
     bad = mesh.copy()
     bad.faces[7, 2] = len(mesh.vertices)
-    with pytest.raises(MeshFileError, match="face 7 references vertex 2930"):
+    with pytest.raises(MeshFileError, match=f"face 7 references vertex {len(mesh.vertices)}"):
         save_mesh(bad, target)
     bad = mesh.copy()
     bad.uv_faces = bad.uv_faces[:-1]
@@ -408,9 +667,9 @@ def test_save_keeps_permissions_and_symlinks(tmp_path):
     assert np.array_equal(load_mesh(target).vertices, moved.vertices)
 
 
-def test_save_replaces_an_existing_file_completely(tmp_path):
+def test_save_replaces_an_existing_file_completely(made_textured, tmp_path):
     target = tmp_path / "m.ply"
-    save_mesh(load_mesh(SHARED / "spot.obj"), target)
+    save_mesh(load_mesh(made_textured.path), target)
     save_mesh(TRIANGLE, target)
     assert np.array_equal(load_mesh(target).faces, [[0, 1, 2]])
 

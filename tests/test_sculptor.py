@@ -12,7 +12,6 @@ from gogreen_core.brushes import Brush, BrushEvent
 from gogreen_core.radial import KelvinletRadial
 from gogreen_core.sculptor import Sculptor
 
-SHARED = "/work/shared/meshes"
 ANISOTROPIC = Material.cubic(3.0, 1.5, 0.4).rotated(
     np.array([[0.36, 0.48, -0.8], [-0.8, 0.6, 0.0], [0.48, 0.64, 0.6]])
 )
@@ -28,9 +27,12 @@ def volume(vertices: np.ndarray, faces: np.ndarray) -> float:
     return float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6)
 
 
-@pytest.fixture(scope="module")
-def bunny():
-    mesh = trimesh.load(f"{SHARED}/stanford-bunny.obj", process=False)
+@pytest.fixture(scope="module", params=["made", "stanford-bunny.obj"])
+def bunny(request, made_open_tiny, shared_mesh):
+    """The shared bunny (skipped when absent) or its stand-in: open and tiny (conftest.py)."""
+    if request.param == "made":
+        return made_open_tiny.vertices, made_open_tiny.faces
+    mesh = trimesh.load(shared_mesh(request.param), process=False)
     return np.array(mesh.vertices), np.array(mesh.faces)
 
 
