@@ -113,7 +113,7 @@ def multiply_add_rate(n_points: int = 1_000_000) -> float:
         lines += [f"        s{c}_{step} = s{c}_{step - 1} * v + 0.{c + 1}" for c in range(_CHAINS)]
     lines.append("        out[n] = " + " + ".join(f"s{c}_{_STEPS}" for c in range(_CHAINS)))
     namespace = {"numba": numba}
-    exec("\n".join(lines), namespace)  # our own generated code, as in _unrolled
+    exec("\n".join(lines), namespace)  # our own generated code, for this measurement only
     chains = namespace["chains"]
     x = np.random.default_rng(1).uniform(0.0, 0.5, n_points)
     out = np.empty_like(x)
@@ -123,9 +123,9 @@ def multiply_add_rate(n_points: int = 1_000_000) -> float:
 
 
 def fresh_process_ms(cache_dir: str, script: str, *args: str) -> float:
-    """Run ``script`` in a fresh interpreter whose numba cache and generated kernels live in
-    ``cache_dir``; returns the milliseconds it prints."""
-    env = dict(os.environ, NUMBA_CACHE_DIR=cache_dir, GOGREEN_KERNEL_DIR=cache_dir)
+    """Run ``script`` in a fresh interpreter whose numba cache lives in ``cache_dir``; returns
+    the milliseconds it prints."""
+    env = dict(os.environ, NUMBA_CACHE_DIR=cache_dir)
     result = subprocess.run(
         [sys.executable, "-c", script, *args], env=env, capture_output=True, text=True, check=True
     )
@@ -160,7 +160,7 @@ def main() -> None:
                 per_degree[l_max] = fresh_process_ms(cache_dir, _DEGREE_COMPILE, str(l_max))
     if per_degree:
         print(
-            "angular kernels generated for a new l_max (both parities, compiled once per "
+            "angular kernels for a new l_max (both parities, compiled once per "
             "machine): " + ", ".join(f"l{l}: {ms:.0f} ms" for l, ms in per_degree.items())
         )
     rng = np.random.default_rng(0)
