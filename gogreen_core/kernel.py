@@ -24,8 +24,9 @@ from gogreen_core._unrolled import UNROLLED_L_MAX, unrolled_angular
 from gogreen_core.material import Material
 from gogreen_core.radial import TABLE_DEGREE, GaussianRadial, RadialProfile
 from gogreen_core.sph import legendre_recurrence, real_sph_harm
+from gogreen_core.validation import ParameterError
 
-__all__ = ["L_MAX_LIMIT", "GreenKernel", "lebedev_points", "prepare_degree"]
+__all__ = ["COORDINATE_LIMIT", "L_MAX_LIMIT", "GreenKernel", "lebedev_points", "prepare_degree"]
 
 #: Highest supported truncation degree.
 L_MAX_LIMIT = 60
@@ -63,22 +64,46 @@ def prepare_degree(l_max: int) -> float:
     return time.perf_counter() - start
 
 
+#: Largest coordinate magnitude of points, offsets and centers: differences of two such values
+#: and their norms stay finite, so every point within it, however far, gets a finite value (the
+#: far field decays as 1/r, 1/r² for gradients). Beyond it a ParameterError names the input.
+COORDINATE_LIMIT = 1e300
+
+
 def _finite_array(name: str, value, shape: tuple[int, ...]) -> np.ndarray:
     arr = np.asarray(value, dtype=np.float64)
     if arr.shape != shape:
-        raise ValueError(f"{name} must have shape {shape} (got {arr.shape})")
+        raise ParameterError(name, f"{name} must have shape {shape} (got {arr.shape})")
     if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} must be finite")
+        raise ParameterError(name, f"{name} must be finite")
+    return arr
+
+
+def _within_limit(name: str, arr: np.ndarray) -> np.ndarray:
+    if arr.size and np.abs(arr).max() > COORDINATE_LIMIT:
+        raise ParameterError(
+            name,
+            f"{name} has a coordinate of magnitude {np.abs(arr).max():.3g}, beyond the "
+            f"supported {COORDINATE_LIMIT:g}",
+        )
     return arr
 
 
 def _points(name: str, value) -> np.ndarray:
     arr = np.asarray(value, dtype=np.float64)
     if arr.ndim != 2 or arr.shape[1] != 3:
-        raise ValueError(f"{name} must have shape (N, 3) (got {arr.shape})")
+        raise ParameterError(name, f"{name} must have shape (N, 3) (got {arr.shape})")
     if not np.isfinite(arr).all():
-        raise ValueError(f"{name} contain non-finite values (NaN or inf)")
-    return np.ascontiguousarray(arr)
+        raise ParameterError(name, f"{name} contain non-finite values (NaN or inf)")
+    return np.ascontiguousarray(_within_limit(name, arr))
+
+
+def _load_coefficients(name: str, coeffs: np.ndarray) -> np.ndarray:
+    if not np.isfinite(coeffs).all():
+        raise ParameterError(
+            name, f"{name} is too large for this material: its expansion overflows"
+        )
+    return coeffs
 
 
 def _evaluation_tables(tables: np.ndarray) -> np.ndarray:
@@ -276,7 +301,9 @@ class GreenKernel:
         return out
 
     def green(self, offsets: np.ndarray) -> np.ndarray:
-        """G(x) at offsets x (N, 3) → (N, 3, 3), symmetric (units: 1/(stiffness·length))."""
+        """G(x) at offsets x (N, 3) → (N, 3, 3), symmetric (units: 1/(stiffness·length)).
+
+        Offsets beyond :data:`COORDINATE_LIMIT` raise ParameterError; within it G is finite."""
         pts = _points("offsets", offsets)
         coeffs = self._even.matrices.reshape(-1, 9)
         return self._run(self._even, self._even_tables, pts, np.zeros(3), coeffs).reshape(-1, 3, 3)
@@ -289,21 +316,31 @@ class GreenKernel:
         return out.reshape(-1, 3, 3, 3)
 
     def displacement(self, points: np.ndarray, center: np.ndarray, force: np.ndarray) -> np.ndarray:
-        """Vector load: u = G(points - center) · force → (N, 3)."""
+        """Vector load: u = G(points - center) · force → (N, 3).
+
+        Finite for every point and center with coordinates within :data:`COORDINATE_LIMIT`
+        (far away u decays as 1/r); beyond it, or for a force so large that u overflows, a
+        :class:`~gogreen_core.validation.ParameterError` names the input.
+        """
         pts = _points("points", points)
-        c = _finite_array("center", center, (3,))
+        c = _within_limit("center", _finite_array("center", center, (3,)))
         f = _finite_array("force", force, (3,))
-        coeffs = self._even.matrices @ f  # (n_terms, 3)
+        with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported below
+            coeffs = _load_coefficients("force", self._even.matrices @ f)  # (n_terms, 3)
         return self._run(self._even, self._even_tables, pts, c, coeffs)
 
     def affine_displacement(
         self, points: np.ndarray, center: np.ndarray, load: np.ndarray
     ) -> np.ndarray:
-        """Affine load H (3, 3): u_i = Σ_jp ∂_p G_ij(points - center) H_jp → (N, 3)."""
+        """Affine load H (3, 3): u_i = Σ_jp ∂_p G_ij(points - center) H_jp → (N, 3).
+
+        Finite within :data:`COORDINATE_LIMIT` as :meth:`displacement` (decay 1/r²)."""
         pts = _points("points", points)
-        c = _finite_array("center", center, (3,))
+        c = _within_limit("center", _finite_array("center", center, (3,)))
         h = _finite_array("affine load", load, (3, 3))
-        coeffs = np.einsum("tijp,jp->ti", self._odd.matrices, h)
+        with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported below
+            coeffs = np.einsum("tijp,jp->ti", self._odd.matrices, h)
+        coeffs = _load_coefficients("affine load", coeffs)
         return self._run(self._odd, self._odd_tables, pts, c, coeffs)
 
     def streamlines(

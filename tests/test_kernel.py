@@ -7,6 +7,8 @@ import pytest
 from green_reference import backus_laminate, kelvinlet_closed_form, reference_green
 
 from gogreen_core import GaussianRadial, GreenKernel, KelvinletRadial, Material
+from gogreen_core.kernel import COORDINATE_LIMIT
+from gogreen_core.validation import ParameterError
 
 EPS = 0.5
 
@@ -252,3 +254,59 @@ def test_bad_input_raises_value_error(build, message):
     with pytest.raises(ValueError) as info:
         build()
     assert message in str(info.value)
+
+
+@pytest.mark.parametrize("radial", [GaussianRadial(0.3), KelvinletRadial(0.3)])
+def test_far_points_decay_finitely(radial):
+    """Points up to COORDINATE_LIMIT away give the far field, finite: r·u and r·G tend to a
+    constant (r²·∇G too, until it underflows to 0); never NaN."""
+    kernel = GreenKernel(MATERIALS["laminate"], l_max=8, radial=radial)
+    direction = np.array([[0.6, -0.48, 0.64]])
+    force, load = (
+        np.array([0.3, -1.0, 0.2]),
+        np.array([[0.1, 0.4, 0.0], [-0.4, 0.2, 0.1], [0, 0, 1]]),
+    )
+    near = 1e8
+    u_far = kernel.displacement(direction * near, np.zeros(3), force) * near
+    g_far = kernel.green(direction * near) * near
+    d_far = kernel.green_gradient(direction * near) * near**2
+    for r in (1e150, 1e160, 1e200, 1e250, COORDINATE_LIMIT / 2):
+        center = np.array([-0.4, 0.2, 0.1]) * r  # the offset, not the coordinates, sets r
+        points = direction * r + center
+        u = kernel.displacement(points, center, force)
+        np.testing.assert_allclose(u * r, u_far, rtol=1e-9)
+        np.testing.assert_allclose(kernel.green(direction * r) * r, g_far, rtol=1e-9)
+        affine = kernel.affine_displacement(points, center, load)
+        gradient = kernel.green_gradient(direction * r)
+        assert np.isfinite(affine).all() and np.isfinite(gradient).all()
+        if r <= 1e150:  # r⁻² still a normal float
+            np.testing.assert_allclose(gradient * r**2, d_far, rtol=1e-9, atol=1e-12)
+        else:
+            assert np.abs(gradient).max() <= 1e-290 and np.abs(affine).max() <= 1e-290
+    # a point at a far distance next to ordinary ones: each gets its own value
+    mixed = np.vstack([direction * 1e200, direction])
+    u = kernel.displacement(mixed, np.zeros(3), force)
+    np.testing.assert_array_equal(u[1:], kernel.displacement(direction, np.zeros(3), force))
+
+
+@pytest.mark.parametrize(
+    ("call", "parameter"),
+    [
+        (lambda k: k.displacement([[2e300, 0, 0]], np.zeros(3), np.ones(3)), "points"),
+        (lambda k: k.displacement(np.zeros((1, 3)), [0, -1e301, 0], np.ones(3)), "center"),
+        (lambda k: k.affine_displacement([[0, 0, 1e305]], np.zeros(3), np.eye(3)), "points"),
+        (lambda k: k.affine_displacement(np.zeros((1, 3)), [1e308, 0, 0], np.eye(3)), "center"),
+        (lambda k: k.green([[0, 0, -1.7e308]]), "offsets"),
+        (lambda k: k.green_gradient([[1e301, 1e301, 0]]), "offsets"),
+        (lambda k: k.displacement(np.zeros((1, 3)), np.zeros(3), [1e308, 1e308, 0]), "force"),
+        (
+            lambda k: k.affine_displacement(np.ones((1, 3)), np.zeros(3), np.eye(3) * 1e308),
+            "affine load",
+        ),
+    ],
+)
+def test_beyond_the_coordinate_limit_raises_parameter_error(call, parameter):
+    kernel = GreenKernel(Material.isotropic(1e-3, 0.3), l_max=4)
+    with pytest.raises(ParameterError) as info:
+        call(kernel)
+    assert info.value.parameter == parameter and parameter in str(info.value)
