@@ -164,7 +164,7 @@ def _parity_ranges(l_max: int) -> tuple[tuple[int, int], tuple[int, int]]:
 
 
 def prepare_degree(l_max: int) -> float:
-    """Generate and compile (or load from numba's disk cache) the angular kernels that vector
+    """Compile (or load from numba's disk cache) the shipped angular kernels that vector
     and affine loads of truncation degree ``l_max`` use; returns the seconds it took.
 
     Thread safe and runs no parallel code, so it can run on a background thread while strokes
@@ -557,8 +557,9 @@ class GreenKernel:
         """Compile, or load from numba's disk cache, everything this kernel's truncation degree
         evaluates with (vector and affine loads, streamlines); returns the seconds it took.
 
-        Kernels of a new l_max are generated and compiled on first use, a few seconds once per
-        machine (see also :func:`prepare_degree`, which the app runs in the background).
+        Kernels of a new l_max (shipped as generated source) are compiled on first use, a few
+        seconds once per machine (see also :func:`prepare_degree`, which the app runs in the
+        background).
         """
         start = time.perf_counter()
         points = np.zeros((2, 3))

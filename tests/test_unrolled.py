@@ -1,6 +1,8 @@
 """Generated angular kernels: their source files, and agreement with the generic kernel."""
 
 import inspect
+import os
+import subprocess
 import sys
 from pathlib import Path
 
@@ -44,6 +46,19 @@ def test_kernels_come_from_the_package_and_bad_degrees_are_refused():
     for first, last in ((0, 3), (2, 4), (1, _unrolled.UNROLLED_L_MAX + 2), (0, -2)):
         with pytest.raises(ValueError, match="no generated angular kernel"):
             _unrolled.unrolled_angular(first, last)
+
+
+def test_compiled_kernels_are_cached_by_numba_where_it_is_told(tmp_path):
+    """A fresh process compiles a shipped kernel into numba's cache (NUMBA_CACHE_DIR here; by
+    default __pycache__ beside the module or numba's per-user cache), nowhere else."""
+    script = "import gogreen_core._unrolled as u; u.unrolled_angular(0, 0); print('ok')"
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
+    result = subprocess.run(
+        [sys.executable, "-c", script], env=env, capture_output=True, text=True, check=True
+    )
+    assert result.stdout.split()[-1] == "ok"
+    index = [p.name for p in tmp_path.rglob("*.nbi")]
+    assert any(name.startswith("degrees_0_0.angular") for name in index), index
 
 
 @pytest.mark.parametrize("parity", [0, 1])
