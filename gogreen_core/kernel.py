@@ -319,38 +319,40 @@ class GreenKernel:
         (_, even_last), (_, odd_last) = _parity_ranges(l_max)
         even_degrees = list(range(0, even_last + 1, 2))
         odd_degrees = list(range(1, odd_last + 1, 2))
-        # Σ_q w_q Y_lm(ξ_q) M⁻¹(ξ_q) (and · ξ_q,p), per degree over column slices of the basis
-        # (no copies), in chunks of nodes that bound the basis to ~64 MB.
-        sums = {l: 0.0 for l in even_degrees + odd_degrees}
+        even_rows = [c for l in even_degrees for c in range(l * l, (l + 1) ** 2)]
+        odd_rows = [c for l in odd_degrees for c in range(l * l, (l + 1) ** 2)]
+        # Σ_q w_q Y_lm(ξ_q) M⁻¹(ξ_q) (and · ξ_q,p): one product per parity, on the rows of the
+        # (terms, n) harmonics (contiguous rows, cheap to gather), in chunks of nodes that bound
+        # the harmonics to ~64 MB.
+        even_sum, odd_sum = 0.0, 0.0
         chunk = max(256, 8_000_000 // (l_max + 2) ** 2)
         for start in range(0, len(nodes), chunk):
             part = nodes[start : start + chunk]
-            m_inv = (
-                np.linalg.inv(material.acoustic_tensor(part))
-                * qw[start : start + chunk, None, None]
-            )
+            m_inv = np.linalg.inv(material.acoustic_tensor(part))
+            m_inv *= qw[start : start + chunk, None, None]
             flat = m_inv.reshape(len(part), 9)
             grad_flat = (m_inv[:, :, :, None] * part[:, None, None, :]).reshape(len(part), 27)
-            basis = real_sph_harm(part, l_max + 1)  # (n, (L+1)²), column slices contiguous
-            for l in even_degrees:
-                sums[l] = sums[l] + basis[:, l * l : (l + 1) ** 2].T @ flat
-            for l in odd_degrees:
-                sums[l] = sums[l] + basis[:, l * l : (l + 1) ** 2].T @ grad_flat
+            rows = real_sph_harm(part, l_max + 1).T  # ((L+1)², n), C-contiguous
+            even_sum = even_sum + rows[even_rows] @ flat
+            odd_sum = odd_sum + rows[odd_rows] @ grad_flat
 
-        def pack(l_first: int, l_last: int, degrees: list[int], shape: tuple) -> _Parity:
+        def pack(l_first: int, l_last: int, degrees: list[int], sums, shape: tuple) -> _Parity:
             base = np.full(l_last + 1 if l_last >= 0 else 1, -1, dtype=np.int64)
-            blocks, offset = [], 0
+            factors, offset = [], 0
             for l in degrees:
                 base[l] = offset
                 offset += 2 * l + 1
                 # i^l for even l, i^(l+1) for odd l (both real), the 1/(2π²) and the weight.
                 sign = (-1.0) ** ((l + (l % 2)) // 2)
                 weight = weights[l] if l % 2 == 0 else weights[l - 1]
-                blocks.append(sums[l] * (sign * weight / (2 * np.pi**2)))
-            mats = np.concatenate(blocks)
+                factors.extend([sign * weight / (2 * np.pi**2)] * (2 * l + 1))
+            mats = sums * np.asarray(factors)[:, None]
             return _Parity(l_first, l_last, mats.reshape((offset, *shape)), base)
 
-        return pack(0, even_last, even_degrees, (3, 3)), pack(1, odd_last, odd_degrees, (3, 3, 3))
+        return (
+            pack(0, even_last, even_degrees, even_sum, (3, 3)),
+            pack(1, odd_last, odd_degrees, odd_sum, (3, 3, 3)),
+        )
 
     def _set_radial(self, radial: RadialProfile) -> None:
         self._radial = radial
