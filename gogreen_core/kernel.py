@@ -65,7 +65,7 @@ def _low_moments(material: Material, nodes: np.ndarray, weights: np.ndarray) -> 
     m_inv = np.linalg.inv(material.acoustic_tensor(nodes))
     x, y, z = nodes.T
     mono = np.stack([np.ones_like(x), x, y, z, x * x, y * y, z * z, x * y, x * z, y * z])
-    return np.einsum("aq,q,qij->aij", mono, weights, m_inv)
+    return ((mono * weights) @ m_inv.reshape(len(nodes), 9)).reshape(10, 3, 3)
 
 
 def _material_frame(material: Material) -> np.ndarray:
