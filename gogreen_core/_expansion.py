@@ -89,12 +89,21 @@ def expand(
                     out[start + i, k] = acc[k, i]
 
 
+# Exact power-of-two scales for norms of offsets whose squares overflow (see ``_geometry``).
+_TINY = 2.0**-600
+_HUGE = 2.0**600
+
+
 @njit(nogil=True, **_JIT)
 def _geometry(points, center, eps, power, n_seg, start, nb, geo, seg):
     """Rows of ``geo``: x̂, ŷ, ẑ, r, local table variable, 1/(r+ε)^p for l = 0 and for l ≥ 1.
 
     At r = 0 the direction is 0 and the l ≥ 1 scale is 0: R_l(0) = ℛ_l(0) = 0 for l ≥ 1, so G(0)
     is its exact degree-0 term and ∇G(0) = 0 with no special case downstream.
+
+    Far points: where x² + y² + z² would overflow (r ≳ 1e154) r is computed from the offsets
+    scaled by 2⁻⁶⁰⁰ (exact), so every finite offset up to ~1e300 gives a finite r, direction and
+    table variable, and the far field its 1/r (1/r² for ∇G) decay, underflowing to 0 at worst.
     """
     x, y, z, rr, loc, scale0, scale1 = geo[0], geo[1], geo[2], geo[3], geo[4], geo[5], geo[6]
     c0, c1, c2 = center[0], center[1], center[2]
@@ -104,7 +113,9 @@ def _geometry(points, center, eps, power, n_seg, start, nb, geo, seg):
     for i in range(nb):
         z[i] = points[start + i, 2] - c2
     for i in range(nb):
-        r = math.sqrt(x[i] * x[i] + y[i] * y[i] + z[i] * z[i])
+        r2 = x[i] * x[i] + y[i] * y[i] + z[i] * z[i]
+        xs, ys, zs = x[i] * _TINY, y[i] * _TINY, z[i] * _TINY
+        r = math.sqrt(r2) if r2 < 1e300 else math.sqrt(xs * xs + ys * ys + zs * zs) * _HUGE
         rr[i] = r
         scale1[i] = 1.0 / r if r > 0.0 else 0.0
     for i in range(nb):
@@ -115,7 +126,7 @@ def _geometry(points, center, eps, power, n_seg, start, nb, geo, seg):
     for i in range(nb):
         r = rr[i]
         inv_re = 1.0 / (r + eps)
-        u = r * inv_re * n_seg
+        u = min(r * inv_re, 1.0) * n_seg
         fj = min(math.floor(u), n_seg - 1.0)
         seg[i] = int(fj)
         loc[i] = 2.0 * (u - fj) - 1.0

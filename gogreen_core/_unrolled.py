@@ -5,12 +5,15 @@ The generic ``_expansion._angular`` runs the Legendre recurrence over scratch ro
 one point (paper Eq. 10 or 12 up to a given degree) is written out as straight-line code, so
 every intermediate stays in a register and LLVM vectorizes the one loop left, over points.
 
-The source is generated per (parity, highest degree) with the recurrence constants as literals,
-written to a cache directory (a real file, so that numba's ``cache=True`` keeps the machine code
-on disk) and compiled as a C callback of ``_expansion.ANGULAR_SIGNATURE``; the drivers
-``expand`` and ``stream`` take it as a first-class function, so only this function is compiled
-per degree (measured: 1.1 s for both parities at l_max 4, 3.0 s at 8, 6.6 s at 12; once per
-machine, then loaded from the cache in milliseconds).
+The sources are generated at build time: ``scripts/make_kernels.py`` writes one module per
+(parity, highest degree) with the recurrence constants as literals into the package
+``gogreen_core._angular`` (committed and shipped, checked fresh by ``tests/test_unrolled.py``).
+Each defines a C callback of ``_expansion.ANGULAR_SIGNATURE`` with ``cache=True``, so numba keeps
+its machine code like any other module's: in ``__pycache__`` beside the source, or numba's own
+per-user cache when that is read-only (``NUMBA_CACHE_DIR`` overrides both). Nothing is generated
+or written at run time. The drivers ``expand`` and ``stream`` take the callback as a first-class
+function, so only it is compiled per degree, on first use (measured: 1.1 s for both parities at
+l_max 4, 3.0 s at 8, 6.6 s at 12; once per machine, then loaded from the cache in milliseconds).
 
 Rescaled recurrence: with P_l = Q_l^m / S_l, S_m = Q_m^m and S_l = a_lm S_{l-1}, the normalized
 recurrence Q_l = a_lm (z Q_{l-1} - b_lm Q_{l-2}) of ``sph.py`` becomes
@@ -21,19 +24,20 @@ folded into the coefficients once per block. Per order m the degree sums A_k = �
 
 from __future__ import annotations
 
-import hashlib
-import importlib.util
-import inspect
-import os
-import sys
-import tempfile
+import importlib
 import threading
-from pathlib import Path
 
 from gogreen_core import _expansion
 from gogreen_core.sph import legendre_recurrence
 
-__all__ = ["UNROLLED_L_MAX", "angular_source", "unrolled_angular"]
+__all__ = [
+    "GENERATED_PACKAGE",
+    "UNROLLED_L_MAX",
+    "angular_source",
+    "generated_modules",
+    "module_source",
+    "unrolled_angular",
+]
 
 #: Highest degree for which kernels are generated; above it the generic kernel serves (the
 #: straight-line code, and its compile time, grow as l²).
@@ -58,17 +62,14 @@ def angular_source(l_first: int, l_last: int) -> str:
         "@cfunc(ANGULAR_SIGNATURE, **_JIT)",
         "def angular(nb, geo_ptr, rad_ptr, coeffs_ptr, acc_ptr):",
         f'    """Degrees {l_first}..{l_last} step 2: acc[k, i] = Σ_lm R_l Y_lm coeffs[lm, k]."""',
-        "    geo = carray(geo_ptr, (8, BLOCK))",
         f"    rad = carray(rad_ptr, ({len(degrees)}, BLOCK))",
         f"    coeffs = carray(coeffs_ptr, ({n_terms}, 3))",
         "    acc = carray(acc_ptr, (3, BLOCK))",
     ]
-    body = [
-        "    for i in range(nb):",
-        "        x = geo[0, i]",
-        "        y = geo[1, i]",
-        "        z = geo[2, i]",
-    ]
+    body = ["    for i in range(nb):"]
+    if l_last >= 1:  # degree 0 alone does not depend on the direction
+        head.insert(3, "    geo = carray(geo_ptr, (8, BLOCK))")
+        body += ["        x = geo[0, i]", "        y = geo[1, i]", "        z = geo[2, i]"]
     body += [f"        w{d} = rad[{d}, i]" for d in range(len(degrees))]
     for m in range(l_last + 1):
         scale = float(rec.qmm[m])
@@ -112,64 +113,59 @@ def angular_source(l_first: int, l_last: int) -> str:
     return "\n".join(head + body) + "\n"
 
 
-def _module_source(l_first: int, l_last: int) -> str:
-    # numba's disk cache does not follow what the module imports, so the text (hence the file
-    # name) carries a digest of _expansion.py and of this generator: editing either regenerates.
-    digest = hashlib.sha1()
-    for module in (_expansion, sys.modules[__name__]):
-        digest.update(inspect.getsource(module).encode())
+#: Package holding the generated kernel modules (written by ``scripts/make_kernels.py``).
+GENERATED_PACKAGE = "gogreen_core._angular"
+
+
+def _module_name(l_first: int, l_last: int) -> str:
+    return f"degrees_{l_first}_{l_last}"
+
+
+def generated_modules() -> dict[str, str]:
+    """Module name → source text of every generated kernel: each parity (first degree 0 or 1)
+    with each highest degree up to :data:`UNROLLED_L_MAX`."""
+    return {
+        _module_name(l_first, l_last): module_source(l_first, l_last)
+        for l_first in (0, 1)
+        for l_last in range(l_first, UNROLLED_L_MAX + 1, 2)
+    }
+
+
+def module_source(l_first: int, l_last: int) -> str:
+    """Text of the generated module for degrees l_first, l_first + 2, …, l_last.
+
+    The block size and compile options of ``_expansion`` are written in as literals, so the
+    module's text (which numba's disk cache follows) changes whenever they do, and the freshness
+    test catches a module not regenerated since.
+    """
+    # options are bools, strings and sets of strings: their repr with double quotes is what
+    # ruff format writes
+    options = ", ".join(f"{k}={v!r}".replace("'", '"') for k, v in _expansion._JIT.items())
     return (
-        f'"""Generated by gogreen_core._unrolled (degrees {l_first}..{l_last} step 2, sources '
-        f'{digest.hexdigest()[:12]}). Do not edit."""\n\n'
+        f'"""Angular kernel for degrees {l_first}..{l_last} step 2. Generated by '
+        'scripts/make_kernels.py\nfrom gogreen_core._unrolled.angular_source: do not edit."""\n\n'
         "from numba import carray, cfunc\n\n"
-        "from gogreen_core._expansion import _JIT, ANGULAR_SIGNATURE, BLOCK\n\n\n"
-        + angular_source(l_first, l_last)
+        "from gogreen_core._expansion import ANGULAR_SIGNATURE\n\n"
+        f"BLOCK = {_expansion.BLOCK}\n"
+        f"_JIT = dict({options})\n\n\n" + angular_source(l_first, l_last)
     )
-
-
-def _cache_dirs() -> list[Path]:
-    configured = os.environ.get("GOGREEN_KERNEL_DIR")
-    if configured:
-        return [Path(configured)]
-    xdg = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    fallback = Path(tempfile.gettempdir()) / "gogreen-kernels"
-    return [Path(xdg) / "gogreen-sculpt" / "kernels", fallback]
-
-
-def _write_source(text: str, name: str) -> Path:
-    errors = []
-    for directory in _cache_dirs():
-        path = directory / f"{name}.py"
-        try:
-            directory.mkdir(parents=True, exist_ok=True)
-            if path.exists() and path.read_text(encoding="utf-8") == text:
-                return path  # unchanged: keeps its time stamp, so numba's cache stays valid
-            # atomic, so that a concurrent process never imports a half-written module
-            fd, tmp = tempfile.mkstemp(dir=directory, suffix=".tmp")
-            with os.fdopen(fd, "w", encoding="utf-8") as handle:
-                handle.write(text)
-            os.replace(tmp, path)
-            return path
-        except OSError as error:
-            errors.append(f"{directory}: {error}")
-    raise OSError("no writable directory for generated kernels: " + "; ".join(errors))
 
 
 def unrolled_angular(l_first: int, l_last: int):
     """The compiled angular kernel (a numba cfunc) for one parity and highest degree.
 
-    Generated, written and compiled (or loaded from numba's cache) on first use; thread safe.
+    Imports its generated module on first use, which compiles it or loads it from numba's disk
+    cache; thread safe.
     """
+    if not (l_first in (0, 1) and l_first <= l_last <= UNROLLED_L_MAX and l_last % 2 == l_first):
+        raise ValueError(
+            f"no generated angular kernel for degrees {l_first}..{l_last} "
+            f"(first degree 0 or 1, last of the same parity, at most {UNROLLED_L_MAX})"
+        )
     key = (l_first, l_last)
     with _LOCK:
         kernel = _KERNELS.get(key)
         if kernel is None:
-            text = _module_source(l_first, l_last)
-            digest = hashlib.sha1(text.encode()).hexdigest()[:12]
-            name = f"gogreen_angular_{l_first}_{l_last}_{digest}"
-            spec = importlib.util.spec_from_file_location(name, _write_source(text, name))
-            module = importlib.util.module_from_spec(spec)
-            sys.modules[name] = module
-            spec.loader.exec_module(module)
+            module = importlib.import_module(f"{GENERATED_PACKAGE}.{_module_name(*key)}")
             kernel = _KERNELS[key] = module.angular
         return kernel

@@ -5,7 +5,9 @@ G(x) = 1/(2π²) Σ_{l even} i^l R_l(r) Σ_m Y_lm(x̂) P_lm              (paper 
 
 with M(ξ)_ik = C_ijkl ξ_j ξ_l, P_lm = ∫_S² M(ξ̂)⁻¹ Y_lm(ξ̂) dS and 𝒫_lm,p = ∫_S² M⁻¹ Y_lm ξ̂_p dS in
 the real SH basis of ``sph.py`` (the addition theorem makes the real basis exact, so everything
-stays real). The material matrices are integrated once by Lebedev quadrature; R_l and ℛ_l come
+stays real). The material matrices are integrated once, by the paper's Lebedev rule where M⁻¹ is
+smooth and by a product rule graded toward the material's axis where it is sharply peaked
+(:func:`material_rule`); R_l and ℛ_l come
 from the radial profile's tables (``radial.py``); evaluation is the numba kernel of
 ``_expansion.py``. G is truncated at even l ≤ l_max and ∇G at odd l ≤ l_max + 1.
 """
@@ -24,13 +26,28 @@ from gogreen_core._unrolled import UNROLLED_L_MAX, unrolled_angular
 from gogreen_core.material import Material
 from gogreen_core.radial import TABLE_DEGREE, GaussianRadial, RadialProfile
 from gogreen_core.sph import legendre_recurrence, real_sph_harm
+from gogreen_core.validation import ParameterError
 
-__all__ = ["L_MAX_LIMIT", "GreenKernel", "lebedev_points", "prepare_degree"]
+__all__ = [
+    "COORDINATE_LIMIT",
+    "L_MAX_LIMIT",
+    "GreenKernel",
+    "lebedev_points",
+    "material_rule",
+    "prepare_degree",
+]
 
 #: Highest supported truncation degree.
 L_MAX_LIMIT = 60
-#: Lebedev rule used for the material matrices (5,810 nodes, exact to degree 131: the paper's).
+#: Lebedev rule used for the material matrices when M(ξ̂)⁻¹ is smooth enough for it (5,810
+#: nodes, exact to degree 131: the paper's).
 QUADRATURE_ORDER = 131
+#: Lower Lebedev rule whose disagreement with QUADRATURE_ORDER on the low moments of M⁻¹ measures
+#: M⁻¹'s content between degrees ~70 and 131, which is what would alias into the coefficients of
+#: degree ≤ 61 under the 131 rule.
+CHECK_ORDER = 71
+#: Relative accuracy asked of the material matrices (against their largest entry).
+QUADRATURE_RTOL = 1e-11
 
 
 @lru_cache(maxsize=4)
@@ -43,6 +60,103 @@ def lebedev_points(order: int = QUADRATURE_ORDER) -> tuple[np.ndarray, np.ndarra
     return nodes, weights
 
 
+def _low_moments(material: Material, nodes: np.ndarray, weights: np.ndarray) -> np.ndarray:
+    """∫ M⁻¹ ξ̂^α dS for the monomials of degree ≤ 2 (10, 3, 3): the error indicator."""
+    m_inv = np.linalg.inv(material.acoustic_tensor(nodes))
+    x, y, z = nodes.T
+    mono = np.stack([np.ones_like(x), x, y, z, x * x, y * y, z * z, x * y, x * z, y * z])
+    return ((mono * weights) @ m_inv.reshape(len(nodes), 9)).reshape(10, 3, 3)
+
+
+def _material_frame(material: Material) -> np.ndarray:
+    """Rotation (3, 3) whose last column is the material's most distinct axis: the eigenvector
+    of A_ij = C_ikjk whose eigenvalue stands farthest (in ratio) from the other two. Stiff
+    fibres along it put the ridge of M⁻¹ on the frame's equator, a stiff plane normal to it puts
+    the peaks of M⁻¹ at the frame's poles: both where the product rule grades its nodes."""
+    values, vectors = np.linalg.eigh(np.einsum("ikjk->ij", material.tensor))
+    logs = np.log(np.maximum(values, values[-1] * 1e-300))
+    axis = 0 if logs[1] - logs[0] > logs[2] - logs[1] else 2
+    others = [k for k in range(3) if k != axis]
+    frame = vectors[:, [*others, axis]]
+    return frame if np.linalg.det(frame) > 0 else frame * np.array([-1.0, 1.0, 1.0])
+
+
+def _product_rule(
+    l_max: int, level: int, frame: np.ndarray, finest: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss–Legendre in the polar angle θ × trapezoid in φ, in ``frame``: nodes (n, 3) and
+    weights (n,) summing to 4π.
+
+    θ panels: uniform ones with enough points for Y_lm up to l_max + 1 (GL with p points
+    resolves e^{ilθ} on a panel of width h for p ≳ lh/2 + 8), refined geometrically (ratio 2)
+    toward the equator and the poles down to width ``finest``, where the integrand M⁻¹ of a
+    strongly anisotropic material has its ridges and peaks: composite Gauss–Legendre on
+    geometrically graded panels converges exponentially however sharp the feature. ``level``
+    ≥ 0 raises the points per panel and in φ.
+    """
+    coarse_points, fine_points = 16 + 4 * level, 8 + 4 * level
+    n_uniform = int(np.ceil(np.pi * (l_max + 2) / (4 * (coarse_points - 8))))
+    uniform_width = np.pi / (2 * n_uniform)
+    edges = set(np.linspace(0.0, np.pi, 2 * n_uniform + 1).tolist())
+    width = finest
+    while width < uniform_width / 2:
+        edges.update((width, np.pi / 2 - width, np.pi / 2 + width, np.pi - width))
+        width *= 2.0
+    edges = np.array(sorted(edges))
+    thetas, theta_weights = [], []
+    for points in (coarse_points, fine_points):
+        lo, hi = edges[:-1], edges[1:]
+        pick = ((hi - lo) > 0.75 * uniform_width) == (points == coarse_points)
+        lo, hi = lo[pick, None], hi[pick, None]
+        gx, gw = np.polynomial.legendre.leggauss(points)
+        thetas.append((lo + 0.5 * (hi - lo) * (gx + 1)).ravel())
+        theta_weights.append((0.5 * (hi - lo) * gw).ravel())
+    theta = np.concatenate(thetas)
+    w_theta = np.concatenate(theta_weights) * np.sin(theta)
+    n_phi = 2 * (l_max + 2) + 24 * (level + 1)
+    phi = 2 * np.pi * np.arange(n_phi) / n_phi
+    sin_t = np.sin(theta)[:, None]
+    local = np.stack(
+        [sin_t * np.cos(phi), sin_t * np.sin(phi), np.cos(theta)[:, None] + 0 * phi], axis=-1
+    ).reshape(-1, 3)
+    weights = np.repeat(w_theta, n_phi) * (2 * np.pi / n_phi)
+    return local @ frame.T, weights
+
+
+def material_rule(
+    material: Material, l_max: int, rtol: float = QUADRATURE_RTOL
+) -> tuple[np.ndarray, np.ndarray]:
+    """Quadrature nodes (n, 3) and weights (n,) on the unit sphere for the material matrices
+    P_lm = ∫ M(ξ̂)⁻¹ Y_lm dS of truncation ``l_max``, accurate to ``rtol`` (relative).
+
+    M⁻¹ is smooth for mild anisotropy, and the paper's Lebedev rule (order 131) serves; for
+    strong anisotropy it is sharply peaked (fibres at contrast 10⁴: a ridge 0.016 rad wide, and
+    the Lebedev rule's l = 0 coefficient is off by 1.5e-3). The Lebedev rule is kept when a lower
+    one (order 71) agrees with it on the moments of M⁻¹ up to degree 2, i.e. when M⁻¹ has no
+    content the rule would alias; otherwise a product rule graded toward the material's axis
+    (:func:`_product_rule`) is refined until two successive levels agree to ``rtol``, and the
+    coarser of the two is returned (at most four levels: past them the finest serves).
+    """
+    nodes, weights = lebedev_points()
+    reference = _low_moments(material, nodes, weights)
+    scale = np.abs(reference).max()
+    check = _low_moments(material, *lebedev_points(CHECK_ORDER))
+    if np.abs(check - reference).max() <= rtol * scale:
+        return nodes, weights
+    frame = _material_frame(material)
+    stiffness = np.linalg.eigvalsh(material.voigt)
+    finest = min(0.05, 0.1 * np.sqrt(stiffness[0] / stiffness[-1]))
+    coarse = _product_rule(l_max, 0, frame, finest)
+    coarse_moments = _low_moments(material, *coarse)
+    for level in range(1, 4):
+        fine = _product_rule(l_max, level, frame, finest)
+        fine_moments = _low_moments(material, *fine)
+        if np.abs(fine_moments - coarse_moments).max() <= rtol * scale:
+            return coarse  # two levels agree: the cheaper one is accurate
+        coarse, coarse_moments = fine, fine_moments
+    return coarse
+
+
 def _parity_ranges(l_max: int) -> tuple[tuple[int, int], tuple[int, int]]:
     """(first, last) degree of each parity for truncation ``l_max``: even l ≤ l_max for G,
     odd l ≤ l_max + 1 for ∇G."""
@@ -50,7 +164,7 @@ def _parity_ranges(l_max: int) -> tuple[tuple[int, int], tuple[int, int]]:
 
 
 def prepare_degree(l_max: int) -> float:
-    """Generate and compile (or load from numba's disk cache) the angular kernels that vector
+    """Compile (or load from numba's disk cache) the shipped angular kernels that vector
     and affine loads of truncation degree ``l_max`` use; returns the seconds it took.
 
     Thread safe and runs no parallel code, so it can run on a background thread while strokes
@@ -63,22 +177,46 @@ def prepare_degree(l_max: int) -> float:
     return time.perf_counter() - start
 
 
+#: Largest coordinate magnitude of points, offsets and centers: differences of two such values
+#: and their norms stay finite, so every point within it, however far, gets a finite value (the
+#: far field decays as 1/r, 1/r² for gradients). Beyond it a ParameterError names the input.
+COORDINATE_LIMIT = 1e300
+
+
 def _finite_array(name: str, value, shape: tuple[int, ...]) -> np.ndarray:
     arr = np.asarray(value, dtype=np.float64)
     if arr.shape != shape:
-        raise ValueError(f"{name} must have shape {shape} (got {arr.shape})")
+        raise ParameterError(name, f"{name} must have shape {shape} (got {arr.shape})")
     if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} must be finite")
+        raise ParameterError(name, f"{name} must be finite")
+    return arr
+
+
+def _within_limit(name: str, arr: np.ndarray) -> np.ndarray:
+    if arr.size and np.abs(arr).max() > COORDINATE_LIMIT:
+        raise ParameterError(
+            name,
+            f"{name} has a coordinate of magnitude {np.abs(arr).max():.3g}, beyond the "
+            f"supported {COORDINATE_LIMIT:g}",
+        )
     return arr
 
 
 def _points(name: str, value) -> np.ndarray:
     arr = np.asarray(value, dtype=np.float64)
     if arr.ndim != 2 or arr.shape[1] != 3:
-        raise ValueError(f"{name} must have shape (N, 3) (got {arr.shape})")
+        raise ParameterError(name, f"{name} must have shape (N, 3) (got {arr.shape})")
     if not np.isfinite(arr).all():
-        raise ValueError(f"{name} contain non-finite values (NaN or inf)")
-    return np.ascontiguousarray(arr)
+        raise ParameterError(name, f"{name} contain non-finite values (NaN or inf)")
+    return np.ascontiguousarray(_within_limit(name, arr))
+
+
+def _load_coefficients(name: str, coeffs: np.ndarray) -> np.ndarray:
+    if not np.isfinite(coeffs).all():
+        raise ParameterError(
+            name, f"{name} is too large for this material: its expansion overflows"
+        )
+    return coeffs
 
 
 def _evaluation_tables(tables: np.ndarray) -> np.ndarray:
@@ -177,31 +315,44 @@ class GreenKernel:
     def _material_terms(
         material: Material, l_max: int, weights: np.ndarray
     ) -> tuple[_Parity, _Parity]:
-        nodes, qw = lebedev_points()
-        m_inv = np.linalg.inv(material.acoustic_tensor(nodes))  # (n, 3, 3)
-        basis = real_sph_harm(nodes, l_max + 1) * qw[:, None]  # Y_lm w_q, (n, (L+1)²)
-        flat = m_inv.reshape(len(nodes), 9)
-        grad_flat = (m_inv[:, :, :, None] * nodes[:, None, None, :]).reshape(len(nodes), 27)
+        nodes, qw = material_rule(material, l_max)
+        (_, even_last), (_, odd_last) = _parity_ranges(l_max)
+        even_degrees = list(range(0, even_last + 1, 2))
+        odd_degrees = list(range(1, odd_last + 1, 2))
+        even_rows = [c for l in even_degrees for c in range(l * l, (l + 1) ** 2)]
+        odd_rows = [c for l in odd_degrees for c in range(l * l, (l + 1) ** 2)]
+        # Σ_q w_q Y_lm(ξ_q) M⁻¹(ξ_q) (and · ξ_q,p): one product per parity, on the rows of the
+        # (terms, n) harmonics (contiguous rows, cheap to gather), in chunks of nodes that bound
+        # the harmonics to ~64 MB.
+        even_sum, odd_sum = 0.0, 0.0
+        chunk = max(256, 8_000_000 // (l_max + 2) ** 2)
+        for start in range(0, len(nodes), chunk):
+            part = nodes[start : start + chunk]
+            m_inv = np.linalg.inv(material.acoustic_tensor(part))
+            m_inv *= qw[start : start + chunk, None, None]
+            flat = m_inv.reshape(len(part), 9)
+            grad_flat = (m_inv[:, :, :, None] * part[:, None, None, :]).reshape(len(part), 27)
+            rows = real_sph_harm(part, l_max + 1).T  # ((L+1)², n), C-contiguous
+            even_sum = even_sum + rows[even_rows] @ flat
+            odd_sum = odd_sum + rows[odd_rows] @ grad_flat
 
-        def pack(l_first: int, l_last: int, integrand: np.ndarray, shape: tuple) -> _Parity:
-            degrees = list(range(l_first, l_last + 1, 2))
+        def pack(l_first: int, l_last: int, degrees: list[int], sums, shape: tuple) -> _Parity:
             base = np.full(l_last + 1 if l_last >= 0 else 1, -1, dtype=np.int64)
-            cols, factors, offset = [], [], 0
+            factors, offset = [], 0
             for l in degrees:
                 base[l] = offset
                 offset += 2 * l + 1
-                cols.extend(range(l * l, (l + 1) ** 2))
                 # i^l for even l, i^(l+1) for odd l (both real), the 1/(2π²) and the weight.
                 sign = (-1.0) ** ((l + (l % 2)) // 2)
                 weight = weights[l] if l % 2 == 0 else weights[l - 1]
                 factors.extend([sign * weight / (2 * np.pi**2)] * (2 * l + 1))
-            mats = (basis[:, cols].T @ integrand) * np.asarray(factors)[:, None]
-            return _Parity(l_first, l_last, mats.reshape((len(cols), *shape)), base)
+            mats = sums * np.asarray(factors)[:, None]
+            return _Parity(l_first, l_last, mats.reshape((offset, *shape)), base)
 
-        (_, even_last), (_, odd_last) = _parity_ranges(l_max)
-        even = pack(0, even_last, flat, (3, 3))
-        odd = pack(1, odd_last, grad_flat, (3, 3, 3))
-        return even, odd
+        return (
+            pack(0, even_last, even_degrees, even_sum, (3, 3)),
+            pack(1, odd_last, odd_degrees, odd_sum, (3, 3, 3)),
+        )
 
     def _set_radial(self, radial: RadialProfile) -> None:
         self._radial = radial
@@ -276,7 +427,9 @@ class GreenKernel:
         return out
 
     def green(self, offsets: np.ndarray) -> np.ndarray:
-        """G(x) at offsets x (N, 3) → (N, 3, 3), symmetric (units: 1/(stiffness·length))."""
+        """G(x) at offsets x (N, 3) → (N, 3, 3), symmetric (units: 1/(stiffness·length)).
+
+        Offsets beyond :data:`COORDINATE_LIMIT` raise ParameterError; within it G is finite."""
         pts = _points("offsets", offsets)
         coeffs = self._even.matrices.reshape(-1, 9)
         return self._run(self._even, self._even_tables, pts, np.zeros(3), coeffs).reshape(-1, 3, 3)
@@ -289,21 +442,31 @@ class GreenKernel:
         return out.reshape(-1, 3, 3, 3)
 
     def displacement(self, points: np.ndarray, center: np.ndarray, force: np.ndarray) -> np.ndarray:
-        """Vector load: u = G(points - center) · force → (N, 3)."""
+        """Vector load: u = G(points - center) · force → (N, 3).
+
+        Finite for every point and center with coordinates within :data:`COORDINATE_LIMIT`
+        (far away u decays as 1/r); beyond it, or for a force so large that u overflows, a
+        :class:`~gogreen_core.validation.ParameterError` names the input.
+        """
         pts = _points("points", points)
-        c = _finite_array("center", center, (3,))
+        c = _within_limit("center", _finite_array("center", center, (3,)))
         f = _finite_array("force", force, (3,))
-        coeffs = self._even.matrices @ f  # (n_terms, 3)
+        with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported below
+            coeffs = _load_coefficients("force", self._even.matrices @ f)  # (n_terms, 3)
         return self._run(self._even, self._even_tables, pts, c, coeffs)
 
     def affine_displacement(
         self, points: np.ndarray, center: np.ndarray, load: np.ndarray
     ) -> np.ndarray:
-        """Affine load H (3, 3): u_i = Σ_jp ∂_p G_ij(points - center) H_jp → (N, 3)."""
+        """Affine load H (3, 3): u_i = Σ_jp ∂_p G_ij(points - center) H_jp → (N, 3).
+
+        Finite within :data:`COORDINATE_LIMIT` as :meth:`displacement` (decay 1/r²)."""
         pts = _points("points", points)
-        c = _finite_array("center", center, (3,))
+        c = _within_limit("center", _finite_array("center", center, (3,)))
         h = _finite_array("affine load", load, (3, 3))
-        coeffs = np.einsum("tijp,jp->ti", self._odd.matrices, h)
+        with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported below
+            coeffs = np.einsum("tijp,jp->ti", self._odd.matrices, h)
+        coeffs = _load_coefficients("affine load", coeffs)
         return self._run(self._odd, self._odd_tables, pts, c, coeffs)
 
     def streamlines(
@@ -396,8 +559,9 @@ class GreenKernel:
         """Compile, or load from numba's disk cache, everything this kernel's truncation degree
         evaluates with (vector and affine loads, streamlines); returns the seconds it took.
 
-        Kernels of a new l_max are generated and compiled on first use, a few seconds once per
-        machine (see also :func:`prepare_degree`, which the app runs in the background).
+        Kernels of a new l_max (shipped as generated source) are compiled on first use, a few
+        seconds once per machine (see also :func:`prepare_degree`, which the app runs in the
+        background).
         """
         start = time.perf_counter()
         points = np.zeros((2, 3))

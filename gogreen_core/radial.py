@@ -25,6 +25,7 @@ Profiles:
 
 from __future__ import annotations
 
+import hashlib
 import json
 from abc import ABC, abstractmethod
 from collections.abc import Iterable, Sequence
@@ -204,8 +205,9 @@ class SplineRadial(RadialProfile):
     Each curve is keyed by (kind, l): kind "R" for R_l (even l) and "dR" for ℛ_l (odd l).
     Control abscissae start at ρ = 0 and increase; for l ≥ 1 the value at ρ = 0 is pinned to 0
     (R_l(0) = 0, as the paper does). Beyond the last control point ρ_n the curve continues as
-    the far-field decay F(ρ_n)(ρ_n/ρ)^p (p = 1 for R, 2 for ℛ). Edits bump :attr:`version`, so a
-    kernel built afterwards sees the new shape (tables are keyed by version).
+    the far-field decay F(ρ_n)(ρ_n/ρ)^p (p = 1 for R, 2 for ℛ). Edits bump :attr:`version`.
+    Tables are keyed by a digest of the control points, so a kernel built after an edit sees
+    the new shape, and equal curves share tables whichever object holds them.
     """
 
     kind_name = "spline"
@@ -214,7 +216,7 @@ class SplineRadial(RadialProfile):
         super().__init__(eps)
         self._curves: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]] = {}
         self._splines: dict[tuple[str, int], CubicSpline] = {}
-        self._uid = id(self)
+        self._digest: str | None = None
         self._version = 0
         if not curves:
             raise ValueError("a spline falloff needs at least one curve")
@@ -306,6 +308,7 @@ class SplineRadial(RadialProfile):
         value.setflags(write=False)
         self._curves[(kind, l)] = (rho, value)
         self._splines[(kind, l)] = CubicSpline(rho, value, bc_type="not-a-knot")
+        self._digest = None
 
     # -- evaluation --------------------------------------------------------------------------
     def dimensionless(self, kind: str, l: int, rho: np.ndarray) -> np.ndarray:
@@ -319,12 +322,21 @@ class SplineRadial(RadialProfile):
         return out
 
     def table_key(self) -> tuple:
-        return ("spline", self._uid, self._version)
+        # Keyed by content, never by id(): a new profile may reuse a dead one's id (measured:
+        # 40 falloffs built and dropped, one got a dead one's table).
+        if self._digest is None:
+            digest = hashlib.sha256()
+            for (kind, l), (rho, value) in sorted(self._curves.items()):
+                digest.update(f"{kind}{l}:{len(rho)};".encode())
+                digest.update(rho.tobytes())
+                digest.update(value.tobytes())
+            self._digest = digest.hexdigest()
+        return ("spline", self._digest)
 
     def with_eps(self, eps: float) -> SplineRadial:
         # Curves are copied (not shared) so that editing one profile never changes another.
         clone = SplineRadial(eps, dict(self._curves))
-        clone._uid, clone._version = self._uid, self._version
+        clone._version = self._version
         return clone
 
     # -- serialization -----------------------------------------------------------------------
@@ -378,12 +390,19 @@ class MultiscaleRadial(RadialProfile):
 
     @classmethod
     def biscale(cls, base: RadialProfile, ratio: float = 1.25) -> MultiscaleRadial:
-        """u_ε − u_{ε·ratio} (Blender's Elastic Deform uses ratio 1.25)."""
+        """u_ε − u_{ε·ratio}.
+
+        The default 1.25 is this project's choice, not a standard: Blender's Elastic Deform
+        brush scales each radius by 2 (ε, 2ε, 4ε) and libigl's Kelvinlets by 1.1.
+        """
         return cls(base, (1.0, ratio), (1.0, -1.0))
 
     @classmethod
     def triscale(cls, base: RadialProfile, ratio: float = 1.25) -> MultiscaleRadial:
-        """u_ε1 − (ε3² − ε1²)/(ε3² − ε2²) u_ε2 + (ε2² − ε1²)/(ε3² − ε2²) u_ε3, ε_k = ε ratio^k."""
+        """u_ε1 − (ε3² − ε1²)/(ε3² − ε2²) u_ε2 + (ε2² − ε1²)/(ε3² − ε2²) u_ε3, ε_k = ε ratio^(k-1).
+
+        The default ratio 1.25 is this project's choice (Blender uses 2, libigl 1.1).
+        """
         e1, e2, e3 = 1.0, ratio, ratio * ratio
         w2 = -(e3**2 - e1**2) / (e3**2 - e2**2)
         w3 = (e2**2 - e1**2) / (e3**2 - e2**2)

@@ -7,6 +7,8 @@ import pytest
 from green_reference import backus_laminate, kelvinlet_closed_form, reference_green
 
 from gogreen_core import GaussianRadial, GreenKernel, KelvinletRadial, Material
+from gogreen_core.kernel import COORDINATE_LIMIT
+from gogreen_core.validation import ParameterError
 
 EPS = 0.5
 
@@ -252,3 +254,128 @@ def test_bad_input_raises_value_error(build, message):
     with pytest.raises(ValueError) as info:
         build()
     assert message in str(info.value)
+
+
+@pytest.mark.parametrize("radial", [GaussianRadial(0.3), KelvinletRadial(0.3)])
+def test_far_points_decay_finitely(radial):
+    """Points up to COORDINATE_LIMIT away give the far field, finite: r·u and r·G tend to a
+    constant (r²·∇G too, until it underflows to 0); never NaN."""
+    kernel = GreenKernel(MATERIALS["laminate"], l_max=8, radial=radial)
+    direction = np.array([[0.6, -0.48, 0.64]])
+    force, load = (
+        np.array([0.3, -1.0, 0.2]),
+        np.array([[0.1, 0.4, 0.0], [-0.4, 0.2, 0.1], [0, 0, 1]]),
+    )
+    near = 1e8
+    u_far = kernel.displacement(direction * near, np.zeros(3), force) * near
+    g_far = kernel.green(direction * near) * near
+    d_far = kernel.green_gradient(direction * near) * near**2
+    for r in (1e150, 1e160, 1e200, 1e250, COORDINATE_LIMIT / 2):
+        center = np.array([-0.4, 0.2, 0.1]) * r  # the offset, not the coordinates, sets r
+        points = direction * r + center
+        u = kernel.displacement(points, center, force)
+        np.testing.assert_allclose(u * r, u_far, rtol=1e-9)
+        np.testing.assert_allclose(kernel.green(direction * r) * r, g_far, rtol=1e-9)
+        affine = kernel.affine_displacement(points, center, load)
+        gradient = kernel.green_gradient(direction * r)
+        assert np.isfinite(affine).all() and np.isfinite(gradient).all()
+        if r <= 1e150:  # r⁻² still a normal float
+            np.testing.assert_allclose(gradient * r**2, d_far, rtol=1e-9, atol=1e-12)
+        else:
+            assert np.abs(gradient).max() <= 1e-290 and np.abs(affine).max() <= 1e-290
+    # a point at a far distance next to ordinary ones: each gets its own value
+    mixed = np.vstack([direction * 1e200, direction])
+    u = kernel.displacement(mixed, np.zeros(3), force)
+    np.testing.assert_array_equal(u[1:], kernel.displacement(direction, np.zeros(3), force))
+
+
+@pytest.mark.parametrize(
+    ("call", "parameter"),
+    [
+        (lambda k: k.displacement([[2e300, 0, 0]], np.zeros(3), np.ones(3)), "points"),
+        (lambda k: k.displacement(np.zeros((1, 3)), [0, -1e301, 0], np.ones(3)), "center"),
+        (lambda k: k.affine_displacement([[0, 0, 1e305]], np.zeros(3), np.eye(3)), "points"),
+        (lambda k: k.affine_displacement(np.zeros((1, 3)), [1e308, 0, 0], np.eye(3)), "center"),
+        (lambda k: k.green([[0, 0, -1.7e308]]), "offsets"),
+        (lambda k: k.green_gradient([[1e301, 1e301, 0]]), "offsets"),
+        (lambda k: k.displacement(np.zeros((1, 3)), np.zeros(3), [1e308, 1e308, 0]), "force"),
+        (
+            lambda k: k.affine_displacement(np.ones((1, 3)), np.zeros(3), np.eye(3) * 1e308),
+            "affine load",
+        ),
+    ],
+)
+def test_beyond_the_coordinate_limit_raises_parameter_error(call, parameter):
+    kernel = GreenKernel(Material.isotropic(1e-3, 0.3), l_max=4)
+    with pytest.raises(ParameterError) as info:
+        call(kernel)
+    assert info.value.parameter == parameter and parameter in str(info.value)
+
+
+def fibre_composite(seed: int = 11) -> tuple[Material, np.ndarray]:
+    """Fibres at stiffness contrast 10⁴ (the homogenized effective tensor of round fibres,
+    fraction ~0.3, in a matrix 10⁴ times softer), rotated off-axis; returns it and the fibre
+    axis. M(ξ̂)⁻¹ has a ridge 0.016 rad wide around the great circle normal to the fibres."""
+    voigt = np.zeros((6, 6))
+    voigt[:3, :3] = [[2.357, 0.800, 0.947], [0.800, 2.357, 0.947], [0.947, 0.947, 2970.0]]
+    voigt[3, 3] = voigt[4, 4] = 0.747
+    voigt[5, 5] = 0.615
+    rotation = random_rotation(seed)
+    return Material.from_voigt(voigt).rotated(rotation), rotation[:, 2]
+
+
+def axis_product_rule(axis: np.ndarray, n_u: int, n_phi: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss–Legendre in u = ξ̂·axis × trapezoid in φ: a plain, fine product rule."""
+    helper = np.array([1.0, 0, 0]) if abs(axis[0]) < 0.9 else np.array([0, 1.0, 0])
+    e1 = np.cross(axis, helper)
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(axis, e1)
+    u, wu = np.polynomial.legendre.leggauss(n_u)
+    phi = 2 * np.pi * np.arange(n_phi) / n_phi
+    sin_t = np.sqrt(1 - u**2)[:, None, None]
+    dirs = u[:, None, None] * axis + sin_t * (
+        np.cos(phi)[None, :, None] * e1 + np.sin(phi)[None, :, None] * e2
+    )
+    return dirs.reshape(-1, 3), np.repeat(wu, n_phi) * (2 * np.pi / n_phi)
+
+
+def test_strong_anisotropy_converges_with_l_max():
+    """Fibres at contrast 10⁴: the displacement keeps converging with l_max to the plane-wave
+    reference (no SH, a fine product rule about the fibre axis, converged to ~1e-12), ≤ 1e-6 at
+    l_max 30. The fixed Lebedev rule stalled at 1.7e-3 for every l_max."""
+    material, axis = fibre_composite()
+    dirs, weights = axis_product_rule(axis, 1000, 200)
+    force = np.array([0.3, -0.5, 1.0])
+    m_inv_f = np.linalg.inv(material.acoustic_tensor(dirs)) @ force
+    x = sample_offsets(8, seed=21)
+    plane = np.sqrt(np.pi) / EPS * np.exp(-(((x @ dirs.T) / EPS) ** 2))  # Φ(x·ξ̂), Gaussian
+    reference = (plane * weights) @ m_inv_f / (2 * np.pi) ** 3
+    errors = []
+    for l_max in (8, 16, 30):
+        kernel = GreenKernel(material, l_max=l_max, radial=GaussianRadial(EPS))
+        errors.append(rel_err(kernel.displacement(x, np.zeros(3), force), reference))
+    assert errors[0] > errors[1] > errors[2] and errors[2] <= 1e-6, errors
+
+
+def test_material_rule_keeps_lebedev_when_smooth_and_grades_when_peaked():
+    from gogreen_core.kernel import material_rule
+
+    for material in (MATERIALS["cubic"], MATERIALS["isotropic"], MATERIALS["general21"]):
+        nodes, weights = material_rule(material, 8)
+        assert len(nodes) == 5810  # the paper's Lebedev rule: M⁻¹ smooth enough
+    material, axis = fibre_composite(seed=4)
+    nodes, weights = material_rule(material, 8)
+    np.testing.assert_allclose(np.linalg.norm(nodes, axis=1), 1.0, rtol=1e-14)
+    assert abs(weights.sum() - 4 * np.pi) < 1e-12
+    # the l = 0 coefficient (mean of M⁻¹) and an l = 2 moment against a fine product rule
+
+    def moments(rule_nodes, rule_weights):
+        m_inv = np.linalg.inv(material.acoustic_tensor(rule_nodes))
+        xz = rule_nodes[:, 0] * rule_nodes[:, 2]
+        return np.einsum("q,qij->ij", rule_weights, m_inv), np.einsum(
+            "q,q,qij->ij", rule_weights, xz, m_inv
+        )
+
+    fine = moments(*axis_product_rule(axis, 1500, 96))
+    for got, want in zip(moments(nodes, weights), fine, strict=True):
+        assert rel_err(got, want) < 1e-11

@@ -143,3 +143,21 @@ def test_quadrature_helper_is_accurate():
     # Guard the test's own reference: ∫₀^∞ e^{-k²/4} j_0(k) dk = (π/2) erf(1).
     value = radial_quadrature(lambda k: np.exp(-(k**2) / 4), 0, 1.0, 0)
     assert np.isclose(value, np.pi / 2 * special.erf(1.0), rtol=1e-12)
+
+
+def test_spline_tables_follow_content_not_object_identity():
+    """Falloffs built and dropped in a loop (so CPython reuses their ids, at edit count 0) each
+    get the table of their own curves, and equal curves share one table."""
+    base = SplineRadial.from_profile(GaussianRadial(1.0), 2)
+    for i in range(40):
+        rho, value = base.curve("R", 0)
+        profile = SplineRadial(1.0, {("R", 0): (rho, value * (1.0 + 0.1 * i))})
+        cached = profile.table("R", [0])[0]
+        np.testing.assert_array_equal(cached, radial_table(profile, "R", 0))
+        del profile
+    twin = SplineRadial.from_json(base.to_json())
+    assert twin.table_key() == base.table_key()
+    np.testing.assert_array_equal(twin.table("R", [2]), base.table("R", [2]))
+    twin.move_point("R", 2, 3, *twin.curve("R", 2)[0][3:4], 0.5)
+    assert twin.table_key() != base.table_key()
+    np.testing.assert_array_equal(twin.table("R", [2])[0], radial_table(twin, "R", 2))

@@ -1,5 +1,11 @@
 """Generated angular kernels: their source files, and agreement with the generic kernel."""
 
+import inspect
+import os
+import subprocess
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -8,34 +14,51 @@ from gogreen_core.kernel import GreenKernel, prepare_degree
 from gogreen_core.material import Material
 
 
-def test_source_file_is_written_once_and_atomically(tmp_path, monkeypatch):
-    monkeypatch.setenv("GOGREEN_KERNEL_DIR", str(tmp_path / "kernels"))
-    path = _unrolled._write_source("x = 1\n", "gogreen_angular_test")
-    assert path.parent == tmp_path / "kernels" and path.read_text() == "x = 1\n"
-    stamp = path.stat().st_mtime_ns
-    # unchanged text keeps the file (and its time stamp: numba's cache stays valid)
-    assert _unrolled._write_source("x = 1\n", "gogreen_angular_test") == path
-    assert path.stat().st_mtime_ns == stamp
-    _unrolled._write_source("x = 2\n", "gogreen_angular_test")
-    assert path.read_text() == "x = 2\n"
-    assert [p.name for p in path.parent.iterdir()] == [path.name]  # no temporary left
+def test_shipped_kernels_are_fresh():
+    """The committed modules equal what scripts/make_kernels.py writes now, and no stale module
+    is left (run the script after changing the generator, BLOCK or the compile options)."""
+    folder = Path(_unrolled.__file__).parent / "_angular"
+    expected = _unrolled.generated_modules()
+    shipped = {path.stem: path.read_text(encoding="utf-8") for path in folder.glob("*.py")}
+    assert shipped.pop("__init__", None) is not None
+    assert sorted(shipped) == sorted(expected)
+    stale = [name for name, text in expected.items() if shipped[name] != text]
+    assert not stale, f"regenerate with `python scripts/make_kernels.py`: {stale} differ"
 
 
-def test_unwritable_kernel_directory_is_named(tmp_path, monkeypatch):
-    blocker = tmp_path / "file"
-    blocker.write_text("not a directory")
-    monkeypatch.setenv("GOGREEN_KERNEL_DIR", str(blocker / "kernels"))
-    with pytest.raises(OSError, match=r"no writable directory for generated kernels.*file"):
-        _unrolled._write_source("x = 1\n", "gogreen_angular_test")
-
-
-def test_module_text_depends_on_the_drivers_source():
-    # The file name carries a digest of _expansion.py, so numba's cache cannot serve code
-    # compiled against older drivers.
-    text = _unrolled._module_source(0, 4)
+def test_module_text_carries_block_size_and_options(monkeypatch):
+    # numba's disk cache follows the module's own text: what the kernel is compiled with must
+    # be in it, so a change cannot be served stale machine code.
+    text = _unrolled.module_source(0, 4)
     assert "ANGULAR_SIGNATURE" in text and "carray(rad_ptr, (3, BLOCK))" in text
-    assert _unrolled._module_source(0, 4) == text
-    assert _unrolled._module_source(1, 5) != text
+    assert f"BLOCK = {_expansion.BLOCK}\n" in text and "cache=True" in text
+    assert _unrolled.module_source(1, 5) != text
+    monkeypatch.setattr(_expansion, "BLOCK", 2 * _expansion.BLOCK)
+    assert _unrolled.module_source(0, 4) != text
+
+
+def test_kernels_come_from_the_package_and_bad_degrees_are_refused():
+    kernel = _unrolled.unrolled_angular(0, 2)
+    assert _unrolled.unrolled_angular(0, 2) is kernel
+    assert "gogreen_core._angular.degrees_0_2" in sys.modules
+    source = inspect.getsource(_unrolled)
+    assert "tempfile" not in source and "gettempdir" not in source
+    for first, last in ((0, 3), (2, 4), (1, _unrolled.UNROLLED_L_MAX + 2), (0, -2)):
+        with pytest.raises(ValueError, match="no generated angular kernel"):
+            _unrolled.unrolled_angular(first, last)
+
+
+def test_compiled_kernels_are_cached_by_numba_where_it_is_told(tmp_path):
+    """A fresh process compiles a shipped kernel into numba's cache (NUMBA_CACHE_DIR here; by
+    default __pycache__ beside the module or numba's per-user cache), nowhere else."""
+    script = "import gogreen_core._unrolled as u; u.unrolled_angular(0, 0); print('ok')"
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
+    result = subprocess.run(
+        [sys.executable, "-c", script], env=env, capture_output=True, text=True, check=True
+    )
+    assert result.stdout.split()[-1] == "ok"
+    index = [p.name for p in tmp_path.rglob("*.nbi")]
+    assert any(name.startswith("degrees_0_0.angular") for name in index), index
 
 
 @pytest.mark.parametrize("parity", [0, 1])
