@@ -239,7 +239,7 @@ MAX_ADAPTIVE_STEPS = 256
 #: fraction of the tolerance (the prediction is a model, see ``stream``; calibrated on the ogre
 #: with grab, scale, twist and pinch events of up to 0.8 ε: measured errors stayed below a
 #: third of the tolerance).
-ESTIMATE_SAFETY = 0.1
+ESTIMATE_SAFETY = 0.25
 
 
 @njit(nogil=True, **_JIT)
@@ -437,13 +437,15 @@ def stream(
     stays in cache (paper Sec. 3.2):
 
     * ``tolerance <= 0``: ``substeps`` classical RK4 steps for every point;
-    * ``tolerance > 0``: one RK4 step for every point, whose stages also give the midpoint
-      rule's end; their distance e estimates the midpoint rule's error (order h³), and the RK4
-      error (order h⁵) is predicted as e (e / max(m, e))^(2/3), m the point's motion. Points
-      whose prediction exceeds ESTIMATE_SAFETY · tolerance · scale (scale = the largest of
-      |center_step| and every motion m) are integrated again with 2, 4, ... RK4 steps, the
-      power of two that brings the prediction, which falls as 1/n⁴, under it. Each point's
-      result depends only on the input (blocks are fixed, never the thread count), so replays
+    * ``tolerance > 0``: one RK4 step for every point, whose stages also give the ends of two
+      second-order rules (midpoint x₀ + k₂, trapezoid x₀ + (k₁ + k₄)/2); the larger distance
+      e of the RK4 end to them estimates a second-order error (order h³), and the RK4 error
+      (order h⁵) is predicted as e (e / max(m, e))^(2/3), m the point's motion. Points whose
+      prediction exceeds ESTIMATE_SAFETY · tolerance · scale (scale = the largest of
+      |center_step| and every motion m) are packed into blocks of their own and integrated
+      again with 2, 4, ... RK4 steps until Richardson's estimate |x_n - x_(n/2)| / 15 is
+      under that bound (at most MAX_ADAPTIVE_STEPS). Each point's result depends only on the
+      input (the blocks are fixed by the point order, never by the thread count), so replays
       are bit-identical.
     """
     n_points = points.shape[0]
@@ -454,8 +456,8 @@ def stream(
     inv_width = 1.0 / width if cutoff_outer > 0.0 and width > 0.0 else 0.0
     adaptive = tolerance > 0.0
     first_steps = 1 if adaptive else substeps
-    predicted = np.zeros(n_points)
-    motion = np.zeros(n_points)
+    rank = np.empty(n_points)  # e⁵ / max(m, e)², see below
+    block_motion = np.zeros(n_blocks)  # largest motion m in each block
     for task in prange(n_tasks):
         scratch, rows = _scratch(n_deg)
         start_rows = np.empty((3, BLOCK))
@@ -499,6 +501,7 @@ def stream(
                     out[start + i, k] = end_rows[k, i]
                 steps[start + i] = first_steps
             if adaptive:
+                most = 0.0
                 for i in range(nb):
                     m2 = 0.0
                     e_mid = 0.0
@@ -510,39 +513,59 @@ def stream(
                         e_mid += d * d
                         d = mid_rows[3 + k, i] - end_rows[k, i]
                         e_trap += d * d
+                    # prediction e (e/reach)^(2/3) > bound  ⇔  e⁵ / reach² > bound³
                     e = math.sqrt(max(e_mid, e_trap))
-                    m = math.sqrt(m2)
-                    motion[start + i] = m
-                    predicted[start + i] = e * (e / max(m, e)) ** (2.0 / 3.0) if e > 0.0 else 0.0
+                    reach2 = max(m2, e * e)
+                    most = max(most, m2)
+                    rank[start + i] = e * e * e * e * e / reach2 if reach2 > 0.0 else 0.0
+                block_motion[blk] = math.sqrt(most)
     if not adaptive:
         return
     scale = math.sqrt(center_step[0] ** 2 + center_step[1] ** 2 + center_step[2] ** 2)
-    for n in range(n_points):
-        scale = max(scale, motion[n])
-    limit = tolerance * scale
-    if limit <= 0.0:
+    for blk in range(n_blocks):
+        scale = max(scale, block_motion[blk])
+    bound = ESTIMATE_SAFETY * tolerance * scale
+    if bound <= 0.0:
         return
+    # the points to refine, packed in index order into full blocks spread evenly over the
+    # tasks (they cluster in space, so in the mesh's order too)
+    bound3 = bound * bound * bound
+    offsets = np.zeros(n_blocks + 1, dtype=np.int64)
+    for blk in prange(n_blocks):
+        count = 0
+        for n in range(blk * BLOCK, min((blk + 1) * BLOCK, n_points)):
+            count += 1 if rank[n] > bound3 else 0
+        offsets[blk + 1] = count
+    for blk in range(n_blocks):
+        offsets[blk + 1] += offsets[blk]
+    n_refine = offsets[n_blocks]
+    refine = np.empty(n_refine, dtype=np.int64)
+    for blk in prange(n_blocks):
+        j = offsets[blk]
+        for n in range(blk * BLOCK, min((blk + 1) * BLOCK, n_points)):
+            if rank[n] > bound3:
+                refine[j] = n
+                j += 1
+    n_packed = (n_refine + BLOCK - 1) // BLOCK
+    n_tasks = min(n_packed, TASKS)
     for task in prange(n_tasks):
         scratch, rows = _scratch(n_deg)
         start_rows = np.empty((3, BLOCK))
         end_rows = np.empty((3, BLOCK))
         previous = np.empty((3, BLOCK))
         picked = np.empty(BLOCK, dtype=np.int64)
-        for blk in range(task * n_blocks // n_tasks, (task + 1) * n_blocks // n_tasks):
+        for blk in range(task * n_packed // n_tasks, (task + 1) * n_packed // n_tasks):
             start = blk * BLOCK
-            nb = min(BLOCK, n_points - start)
-            count = 0
-            for i in range(nb):
-                if predicted[start + i] > ESTIMATE_SAFETY * limit:
-                    picked[count] = i
-                    for k in range(3):
-                        previous[k, count] = out[start + i, k]
-                    count += 1
+            count = min(BLOCK, n_refine - start)
+            for j in range(count):
+                picked[j] = refine[start + j]
+                for k in range(3):
+                    previous[k, j] = out[picked[j], k]
             n_steps = 2
             while count > 0:
                 for j in range(count):
                     for k in range(3):
-                        start_rows[k, j] = points[start + picked[j], k]
+                        start_rows[k, j] = points[picked[j], k]
                 _rk4(
                     n_steps,
                     count,
@@ -572,19 +595,16 @@ def stream(
                 )
                 kept = 0
                 for j in range(count):
-                    i = picked[j]
+                    n = picked[j]
                     d2 = 0.0
                     for k in range(3):
                         d = end_rows[k, j] - previous[k, j]
                         d2 += d * d
-                        out[start + i, k] = end_rows[k, j]
-                    steps[start + i] = n_steps
+                        out[n, k] = end_rows[k, j]
+                    steps[n] = n_steps
                     # Richardson: the n-step result's error is about |x_n - x_(n/2)| / (2⁴ - 1)
-                    if (
-                        math.sqrt(d2) > 15.0 * ESTIMATE_SAFETY * limit
-                        and n_steps < MAX_ADAPTIVE_STEPS
-                    ):
-                        picked[kept] = i
+                    if math.sqrt(d2) > 15.0 * bound and n_steps < MAX_ADAPTIVE_STEPS:
+                        picked[kept] = n
                         for k in range(3):
                             previous[k, kept] = end_rows[k, j]
                         kept += 1
