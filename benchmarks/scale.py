@@ -1,0 +1,183 @@
+"""Benchmark of sculpting at scale: a million-vertex mesh (issue "Sculpting at scale").
+
+    python benchmarks/scale.py [--repeats 7] [--meshes /path/to/meshes]
+
+The mesh is the ogre of ``../shared/meshes`` (relative to the checkout) subdivided twice
+(992,608 vertices) when it is there, else a procedural UV sphere of about the same size. Prints
+medians of: one grab event (cubic material, l_max 8, cursor motion 1% of the model size) at
+radius 0.05 and 0.2 through the Sculptor (everything the app waits for: kernel, force,
+influence ball, adaptive streamlines, scatter), its accuracy against 64 fixed RK4 substeps,
+loading the 1M-vertex OBJ with ``load_mesh`` and with ``trimesh.load`` (same run), saving it
+as OBJ, and the viewport-side core costs: incremental normals for the event's vertices and
+picking the surface point under the mouse. Figures only, no assertions.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+import trimesh
+
+from gogreen_core import Brush, BrushEvent, Material, Sculptor
+from gogreen_core._expansion import near_segment
+from gogreen_core.brushes import mirror_signs
+from gogreen_core.geometry import FaceAdjacency, PickIndex, update_vertex_normals, vertex_normals
+from gogreen_core.mesh_io import MeshData, load_mesh, save_mesh
+
+MATERIAL = Material.cubic(3.0, 1.5, 0.4)
+L_MAX = 8
+
+
+def million_vertex_mesh(meshes: Path) -> tuple[np.ndarray, np.ndarray, str]:
+    ogre = meshes / "ogre.obj"
+    if ogre.exists():
+        mesh = trimesh.load(ogre, process=False)
+        vertices, faces = np.array(mesh.vertices), np.array(mesh.faces)
+        for _ in range(2):
+            vertices, faces = trimesh.remesh.subdivide(vertices, faces)
+        return vertices, faces, "ogre subdivided twice"
+    sphere = trimesh.creation.uv_sphere(radius=1.0, count=[705, 1408])
+    return np.array(sphere.vertices), np.array(sphere.faces), "procedural UV sphere"
+
+
+def median_ms(samples: list[float]) -> str:
+    return f"{1e3 * statistics.median(samples):8.1f} ms (min {1e3 * min(samples):.1f})"
+
+
+def grab_event(sculptor: Sculptor, radius: float, center: np.ndarray, repeats: int):
+    """Median seconds of one grab event, the vertices it moved, and its max error against
+    64 fixed RK4 substeps relative to the cursor motion."""
+    brush = Brush("grab", radius=radius)
+    delta = 0.01 * sculptor.model_size * np.array([0.3, 0.8, 0.5])
+    before = sculptor.vertices.copy()
+    samples, after = [], None
+    for _ in range(repeats):
+        sculptor.begin_stroke(brush)
+        start = time.perf_counter()
+        sculptor.stroke_event(BrushEvent(center, delta))
+        samples.append(time.perf_counter() - start)
+        after = sculptor.vertices.copy()
+        sculptor.end_stroke()
+        sculptor.undo()
+    # the reference: the same event with 64 fixed RK4 substeps for every vertex it can reach
+    kernel = sculptor.kernel(brush)
+    force = np.linalg.solve(kernel.green(np.zeros((1, 3)))[0], delta)
+    cutoff = brush.cutoff(sculptor.model_size)
+    if cutoff is None:
+        active = np.arange(len(before))
+    else:
+        reach = np.empty(len(before), dtype=bool)
+        near_segment(before, center, delta, cutoff[1], mirror_signs(""), sculptor.origin, reach)
+        active = np.flatnonzero(reach)
+    reference = before.copy()
+    reference[active] = kernel.streamlines(
+        before[active], center, force, center_step=delta, cutoff=cutoff, substeps=64,
+        tolerance=None,
+    )  # fmt: skip
+    error = np.linalg.norm(after - reference, axis=1).max() / np.linalg.norm(delta)
+    moved = np.any(after != before, axis=1)
+    return samples, len(active), error, moved
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--repeats", type=int, default=7)
+    parser.add_argument(
+        "--meshes", default=str(Path(__file__).resolve().parents[2] / "shared/meshes")
+    )
+    args = parser.parse_args()
+
+    start = time.perf_counter()
+    sphere = trimesh.creation.icosphere(subdivisions=2)
+    probe = Sculptor(np.array(sphere.vertices), np.array(sphere.faces), material=MATERIAL)
+    probe.apply_brush(Brush("grab"), [BrushEvent(sphere.vertices[0], [0.0, 0.01, 0.0])])
+    first = time.perf_counter() - start
+    print(f"first grab event incl. numba load/compile:      {1e3 * first:8.0f} ms")
+
+    vertices, faces, name = million_vertex_mesh(Path(args.meshes))
+    print(f"mesh: {name}, {len(vertices):,} vertices, {len(faces):,} faces\n")
+
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "big.obj"
+        saves, ours, theirs = [], [], []
+        for _ in range(max(3, args.repeats // 2)):
+            t0 = time.perf_counter()
+            save_mesh(MeshData(vertices, faces), path)
+            saves.append(time.perf_counter() - t0)
+            t0 = time.perf_counter()
+            loaded = load_mesh(path)
+            ours.append(time.perf_counter() - t0)
+            t0 = time.perf_counter()
+            trimesh.load(path, process=False)
+            theirs.append(time.perf_counter() - t0)
+        same = np.array_equal(loaded.vertices, vertices)
+        print(f"save OBJ (save_mesh):                           {median_ms(saves)}")
+        print(f"load OBJ (load_mesh):                           {median_ms(ours)}")
+        print(f"load OBJ (trimesh.load, same run):              {median_ms(theirs)}")
+        ratio = statistics.median(ours) / statistics.median(theirs)
+        print(f"load_mesh / trimesh.load:                       {ratio:8.2f}x "
+              f"(vertices bit-identical: {same})")  # fmt: skip
+
+    sculptor = Sculptor(vertices, faces, material=MATERIAL, l_max=L_MAX)
+    center = vertices[int(np.argmax(vertices @ [0.2, 1.0, 0.3]))].copy()
+    print()
+    moved = None
+    for radius in (0.05, 0.2):
+        samples, affected, error, moved_r = grab_event(sculptor, radius, center, args.repeats)
+        moved = moved_r if moved is None else moved
+        print(f"grab event r={radius:<4} ({affected:>9,} vertices in ball): {median_ms(samples)}")
+        print(f"  max vertex error vs 64 RK4 substeps / cursor motion: {error:.2e}")
+
+    # viewport-side core costs for the radius-0.05 event: normals of the moved vertices and
+    # their one-ring (adjacency built once per mesh), and the pick under the mouse
+    t0 = time.perf_counter()
+    adjacency = FaceAdjacency(faces, len(vertices))
+    build_adjacency = time.perf_counter() - t0
+    normals = vertex_normals(vertices, faces)
+    t0 = time.perf_counter()
+    full = vertex_normals(vertices, faces)
+    full_time = time.perf_counter() - t0
+    changed = np.flatnonzero(moved)
+    updates = []
+    for _ in range(args.repeats):
+        t0 = time.perf_counter()
+        updated = update_vertex_normals(vertices, faces, adjacency, normals, changed)
+        updates.append(time.perf_counter() - t0)
+    exact = np.array_equal(normals[updated], full[updated])
+    print(f"\nface adjacency (once per mesh):                 {1e3 * build_adjacency:8.1f} ms")
+    print(f"all vertex normals (full recompute):            {1e3 * full_time:8.1f} ms")
+    print(
+        f"normals of {len(changed):,} moved vertices + one-ring ({len(updated):,}): "
+        f"{median_ms(updates)}, bit-equal to full: {exact}"
+    )
+    t0 = time.perf_counter()
+    picker = PickIndex(vertices, faces, adjacency)
+    build_pick = time.perf_counter() - t0
+    refits = []
+    for _ in range(args.repeats):
+        t0 = time.perf_counter()
+        picker.update(vertices, changed)
+        refits.append(time.perf_counter() - t0)
+    low, high = vertices.min(axis=0), vertices.max(axis=0)
+    rng = np.random.default_rng(1)
+    picks = []
+    for _ in range(max(args.repeats, 20)):
+        target = low + rng.random(3) * (high - low)
+        origin = target + np.array([0.1, 0.2, 1.0]) * 2 * np.linalg.norm(high - low)
+        t0 = time.perf_counter()
+        picker.pick(vertices, origin, target - origin)
+        picks.append(time.perf_counter() - t0)
+    print(f"pick index build (once per mesh):               {1e3 * build_pick:8.1f} ms")
+    print(f"pick index refit for the event:                 {median_ms(refits)}")
+    print(f"pick (ray under the mouse):                     {median_ms(picks)}")
+    per_event = statistics.median(updates) + statistics.median(refits)
+    print(f"per-event viewport core update (normals+refit): {1e3 * per_event:8.1f} ms")
+
+
+if __name__ == "__main__":
+    main()
