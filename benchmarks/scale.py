@@ -26,7 +26,7 @@ import trimesh
 from gogreen_core import Brush, BrushEvent, Material, Sculptor
 from gogreen_core._expansion import near_segment
 from gogreen_core.brushes import mirror_signs
-from gogreen_core.geometry import FaceAdjacency, PickIndex, update_vertex_normals, vertex_normals
+from gogreen_core.geometry import SurfaceIndex, vertex_normals
 from gogreen_core.mesh_io import MeshData, load_mesh, save_mesh
 
 MATERIAL = Material.cubic(3.0, 1.5, 0.4)
@@ -46,21 +46,24 @@ def million_vertex_mesh(meshes: Path) -> tuple[np.ndarray, np.ndarray, str]:
 
 
 def median_ms(samples: list[float]) -> str:
+    """Median and min of ``samples`` (seconds) in ms."""
     return f"{1e3 * statistics.median(samples):8.1f} ms (min {1e3 * min(samples):.1f})"
 
 
 def grab_event(sculptor: Sculptor, radius: float, center: np.ndarray, repeats: int):
-    """Median seconds of one grab event, the vertices it moved, and its max error against
-    64 fixed RK4 substeps relative to the cursor motion."""
+    """Seconds of each grab event (wall, CPU of all threads, and the streamlines alone), how
+    many vertices it could reach, its max error against 64 fixed RK4 substeps relative to the
+    cursor motion, and the vertices after it."""
     brush = Brush("grab", radius=radius)
     delta = 0.01 * sculptor.model_size * np.array([0.3, 0.8, 0.5])
     before = sculptor.vertices.copy()
-    samples, after = [], None
+    samples, cpu, after = [], [], None
     for _ in range(repeats):
         sculptor.begin_stroke(brush)
-        start = time.perf_counter()
+        start, start_cpu = time.perf_counter(), time.process_time()
         sculptor.stroke_event(BrushEvent(center, delta))
         samples.append(time.perf_counter() - start)
+        cpu.append(time.process_time() - start_cpu)
         after = sculptor.vertices.copy()
         sculptor.end_stroke()
         sculptor.undo()
@@ -74,14 +77,18 @@ def grab_event(sculptor: Sculptor, radius: float, center: np.ndarray, repeats: i
         reach = np.empty(len(before), dtype=bool)
         near_segment(before, center, delta, cutoff[1], mirror_signs(""), sculptor.origin, reach)
         active = np.flatnonzero(reach)
+    stream = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        kernel.streamlines(before[active], center, force, center_step=delta, cutoff=cutoff)
+        stream.append(time.perf_counter() - start)
     reference = before.copy()
     reference[active] = kernel.streamlines(
         before[active], center, force, center_step=delta, cutoff=cutoff, substeps=64,
         tolerance=None,
     )  # fmt: skip
     error = np.linalg.norm(after - reference, axis=1).max() / np.linalg.norm(delta)
-    moved = np.any(after != before, axis=1)
-    return samples, len(active), error, moved
+    return (samples, cpu, stream), len(active), error, after
 
 
 def main() -> None:
@@ -126,57 +133,50 @@ def main() -> None:
     sculptor = Sculptor(vertices, faces, material=MATERIAL, l_max=L_MAX)
     center = vertices[int(np.argmax(vertices @ [0.2, 1.0, 0.3]))].copy()
     print()
-    moved = None
+    events = {}
     for radius in (0.05, 0.2):
-        samples, affected, error, moved_r = grab_event(sculptor, radius, center, args.repeats)
-        moved = moved_r if moved is None else moved
+        times, affected, error, after = grab_event(sculptor, radius, center, args.repeats)
+        events[radius] = after
+        samples, cpu, stream = times
         print(f"grab event r={radius:<4} ({affected:>9,} vertices in ball): {median_ms(samples)}")
+        print(f"  CPU time of all threads (the 2 cores are shared): {median_ms(cpu)}")
+        print(f"  of which adaptive streamlines alone (wall):       {median_ms(stream)}")
         print(f"  max vertex error vs 64 RK4 substeps / cursor motion: {error:.2e}")
 
     # viewport-side core costs for the radius-0.05 event: normals of the moved vertices and
     # their one-ring (adjacency built once per mesh), and the pick under the mouse
+    after = events[0.05]
+    changed = np.flatnonzero(np.any(after != vertices, axis=1))
     t0 = time.perf_counter()
-    adjacency = FaceAdjacency(faces, len(vertices))
-    build_adjacency = time.perf_counter() - t0
-    normals = vertex_normals(vertices, faces)
+    index = SurfaceIndex(vertices, faces)
+    build = time.perf_counter() - t0
     t0 = time.perf_counter()
-    full = vertex_normals(vertices, faces)
+    full = vertex_normals(after, faces)
     full_time = time.perf_counter() - t0
-    changed = np.flatnonzero(moved)
-    updates = []
+    updates, updates_cpu = [], []
     for _ in range(args.repeats):
-        t0 = time.perf_counter()
-        updated = update_vertex_normals(vertices, faces, adjacency, normals, changed)
+        t0, c0 = time.perf_counter(), time.process_time()
+        updated = index.update(after, changed)
         updates.append(time.perf_counter() - t0)
-    exact = np.array_equal(normals[updated], full[updated])
-    print(f"\nface adjacency (once per mesh):                 {1e3 * build_adjacency:8.1f} ms")
-    print(f"all vertex normals (full recompute):            {1e3 * full_time:8.1f} ms")
+        updates_cpu.append(time.process_time() - c0)
+    exact = np.array_equal(index.normals, full)
+    print(f"\nsurface index build (once per mesh):            {1e3 * build:8.1f} ms")
+    print(f"all vertex normals (full recompute, numpy):     {1e3 * full_time:8.1f} ms")
     print(
-        f"normals of {len(changed):,} moved vertices + one-ring ({len(updated):,}): "
-        f"{median_ms(updates)}, bit-equal to full: {exact}"
+        f"per-event update: normals of {len(changed):,} moved vertices + one-ring "
+        f"({len(updated):,}), leaf boxes: {median_ms(updates)}; bit-equal to full: {exact}"
     )
-    t0 = time.perf_counter()
-    picker = PickIndex(vertices, faces, adjacency)
-    build_pick = time.perf_counter() - t0
-    refits = []
-    for _ in range(args.repeats):
-        t0 = time.perf_counter()
-        picker.update(vertices, changed)
-        refits.append(time.perf_counter() - t0)
-    low, high = vertices.min(axis=0), vertices.max(axis=0)
+    print(f"  CPU time of all threads:                      {median_ms(updates_cpu)}")
+    low, high = after.min(axis=0), after.max(axis=0)
     rng = np.random.default_rng(1)
-    picks = []
+    picks, hits = [], 0
     for _ in range(max(args.repeats, 20)):
         target = low + rng.random(3) * (high - low)
         origin = target + np.array([0.1, 0.2, 1.0]) * 2 * np.linalg.norm(high - low)
         t0 = time.perf_counter()
-        picker.pick(vertices, origin, target - origin)
+        hits += index.pick(after, origin, target - origin) is not None
         picks.append(time.perf_counter() - t0)
-    print(f"pick index build (once per mesh):               {1e3 * build_pick:8.1f} ms")
-    print(f"pick index refit for the event:                 {median_ms(refits)}")
-    print(f"pick (ray under the mouse):                     {median_ms(picks)}")
-    per_event = statistics.median(updates) + statistics.median(refits)
-    print(f"per-event viewport core update (normals+refit): {1e3 * per_event:8.1f} ms")
+    print(f"pick (ray under the mouse, {hits}/{len(picks)} hit):            {median_ms(picks)}")
 
 
 if __name__ == "__main__":

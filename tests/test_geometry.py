@@ -1,11 +1,11 @@
-"""Incremental vertex normals and the pick index (gogreen_core.geometry)."""
+"""Incremental vertex normals and picking of the SurfaceIndex (gogreen_core.geometry)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from gogreen_core.geometry import FaceAdjacency, PickIndex, update_vertex_normals, vertex_normals
+from gogreen_core.geometry import FaceAdjacency, SurfaceIndex, vertex_normals
 from gogreen_core.shapes import default_model
 
 
@@ -34,31 +34,42 @@ def test_adjacency_lists_each_vertex_faces_in_order(pebble):
 
 def test_incremental_normals_equal_full_recompute_bit_for_bit(pebble):
     vertices, faces = pebble
-    adjacency = FaceAdjacency(faces, len(vertices))
-    normals = vertex_normals(vertices, faces)
+    normals = SurfaceIndex(vertices, faces)
+    assert np.array_equal(normals.normals, vertex_normals(vertices, faces))
     moved, changed = brush_move(vertices, 5, 0.6)
-    updated = update_vertex_normals(moved, faces, adjacency, normals, changed)
+    updated = normals.update(moved, changed)
     full = vertex_normals(moved, faces)
-    assert np.array_equal(normals, full)  # the rows left alone did not change either
+    assert np.array_equal(normals.normals, full)  # the rows left alone did not change either
     ring = np.unique(faces[np.any(np.isin(faces, changed), axis=1)])
     assert np.array_equal(updated, ring)
     assert len(updated) > len(changed)
+    # a second event elsewhere, from the updated state
+    moved2, changed2 = brush_move(moved, 40, 0.5, seed=1)
+    normals.update(moved2, changed2)
+    assert np.array_equal(normals.normals, vertex_normals(moved2, faces))
 
 
 def test_isolated_vertex_normal_matches_full():
     vertices = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [5, 5, 5]])
     faces = np.array([[0, 1, 2]])
-    adjacency = FaceAdjacency(faces, 4)
-    normals = np.zeros((4, 3))
-    update_vertex_normals(vertices, faces, adjacency, normals, np.arange(4))
-    assert np.array_equal(normals, vertex_normals(vertices, faces))
+    normals = SurfaceIndex(np.zeros((4, 3)), faces)
+    normals.update(vertices, np.arange(4))
+    assert np.array_equal(normals.normals, vertex_normals(vertices, faces))
 
 
-def test_adjacency_rejects_bad_faces():
+def test_bad_meshes_and_updates_are_refused(pebble):
     with pytest.raises(ValueError, match="index vertices"):
         FaceAdjacency(np.array([[0, 1, 3]]), 3)
     with pytest.raises(ValueError, match="shape"):
         FaceAdjacency(np.array([0, 1, 2]), 3)
+    with pytest.raises(ValueError, match="index vertices"):
+        SurfaceIndex(np.zeros((3, 3)), np.array([[0, 1, 3]]))
+    vertices, faces = pebble
+    index = SurfaceIndex(vertices, faces)
+    with pytest.raises(ValueError, match="changed must index"):
+        index.update(vertices, np.array([len(vertices)]))
+    with pytest.raises(ValueError, match="shape"):
+        index.update(vertices[:-1], np.array([0]))
 
 
 def brute_force_pick(vertices, faces, origin, direction):
@@ -82,7 +93,7 @@ def brute_force_pick(vertices, faces, origin, direction):
 
 def test_pick_matches_brute_force_after_the_mesh_moves(pebble):
     vertices, faces = pebble
-    index = PickIndex(vertices, faces)
+    index = SurfaceIndex(vertices, faces)
     moved, changed = brush_move(vertices, 5, 0.8)
     moved[changed] += 0.3 * (moved[changed] - vertices[5])  # far beyond the old boxes
     index.update(moved, changed)
@@ -103,7 +114,7 @@ def test_pick_matches_brute_force_after_the_mesh_moves(pebble):
 
 def test_pick_misses_and_bad_rays(pebble):
     vertices, faces = pebble
-    index = PickIndex(vertices, faces)
+    index = SurfaceIndex(vertices, faces)
     assert index.pick(vertices, np.array([0.0, 0.0, 10.0]), np.array([0.0, 0.0, 1.0])) is None
     with pytest.raises(ValueError, match="nonzero"):
         index.pick(vertices, np.zeros(3), np.zeros(3))
