@@ -1,13 +1,14 @@
 """Benchmark of one brush step (a mouse event) of the sculpting engine.
 
-Targets (issue "Sculpting engine"), 2 cores, anisotropic material, l_max = 8, RK4 with 4 substeps:
-one brush step on the 62k-vertex ogre ≤ 20 ms, and on 100k affected vertices ≤ 33 ms.
+Targets (issue "Sculpting engine"), 2 cores, anisotropic material, l_max = 8: one brush step on
+the 62k-vertex ogre ≤ 20 ms, and on 100k affected vertices ≤ 33 ms. Streamlines are adaptive
+(GreenKernel.streamlines' default tolerance; Brush.substeps no longer changes them).
 
     python benchmarks/brush.py [--repeats 15] [--meshes /path/to/meshes]
 
 Each step is a grab event of 1% of the model size at a surface vertex; the time includes
 everything the app waits for (kernel for the brush radius, force solve, influence-ball
-selection, fused RK4 integration, scatter back). Prints figures only.
+selection, fused adaptive RK4 integration, scatter back). Prints figures only.
 """
 
 from __future__ import annotations

@@ -100,20 +100,6 @@ def test_far_vertices_do_not_move_under_a_local_falloff(bunny):
     assert disp[near_edge].max() < 0.06 * disp[inside].min()
 
 
-@pytest.mark.parametrize("kind", ["grab", "twist"])
-def test_rk4_substep_refinement_converges(kind):
-    vertices, faces = sphere(3)
-    results = []
-    for substeps in (1, 2, 4, 8, 16):
-        s = Sculptor(vertices, faces, material=ANISOTROPIC)
-        event = BrushEvent(vertices[0], [0.0, 0.3, 0.2], amount=1.0, axis=[0.0, 0.3, 1.0])
-        s.apply_brush(Brush(kind, radius=0.2, substeps=substeps), [event])
-        results.append(s.vertices.copy())
-    errors = [np.abs(r - results[-1]).max() for r in results[:-1]]
-    assert all(b < a for a, b in itertools.pairwise(errors)), errors
-    assert errors[2] < errors[1] / 8  # fourth order: ~16x per halving
-
-
 def mirror_pairs(vertices: np.ndarray, axis: int) -> np.ndarray:
     mirrored = vertices.copy()
     mirrored[:, axis] *= -1

@@ -1,0 +1,213 @@
+"""Adaptive streamline integration (GreenKernel.streamlines) against the fixed-step reference.
+
+The meshes are made here (gogreen_core.shapes); the reference is 64 classical RK4 steps. The
+error bound is the engine's target, 1e-4 of the motion scale (the cursor motion for grabs, the
+largest vertex motion for affine brushes): one RK4 step everywhere passes it at these event
+sizes, but one Euler or midpoint step does not (checked below), so a broken adaptive path fails.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numba
+import numpy as np
+import pytest
+
+from gogreen_core import GreenKernel, Material
+from gogreen_core.brushes import affine_unit_load, default_wrinkle_weights, mirror_signs
+from gogreen_core.radial import GaussianRadial, KelvinletRadial, MultiscaleRadial, SplineRadial
+from gogreen_core.shapes import default_model, icosphere
+from gogreen_core.validation import ParameterError
+
+L_MAX = 6
+TOLERANCE = 1e-4
+CUBIC = Material.cubic(3.0, 1.5, 0.4).rotated(
+    np.array([[0.36, 0.48, -0.8], [-0.8, 0.6, 0.0], [0.48, 0.64, 0.6]])
+)
+MATERIALS = {
+    "isotropic": Material.isotropic(1.0, 0.3),
+    "cubic": CUBIC,
+    # a strongly anisotropic orthotropic material: stiffness ratio 50 between axes
+    "orthotropic": Material.orthotropic((50.0, 5.0, 1.0), (2.0, 0.5, 3.0), (0.1, 0.2, 0.3)),
+}
+
+
+def edited_spline(eps: float) -> SplineRadial:
+    """A Gaussian falloff whose l = 0 and l = 1 curves an artist has edited."""
+    spline = SplineRadial.from_profile(GaussianRadial(eps), L_MAX)
+    for kind, l in (("R", 0), ("dR", 1)):
+        rho, value = spline.curve(kind, l)
+        spline.move_point(kind, l, 2, rho[2], 1.3 * value[2])
+    return spline
+
+
+FALLOFFS = {"gaussian": GaussianRadial, "kelvinlet": KelvinletRadial, "spline": edited_spline}
+
+
+@pytest.fixture(scope="module")
+def pebble():
+    vertices, _ = default_model(4)  # 2,562 vertices, about 2.3 units across
+    return vertices
+
+
+def event(kind, material, falloff, vertices, size=0.2):
+    """(kernel, load, center, center step, cutoff) of one event of ``kind`` at vertex 0:
+    ε = 0.4, influence 4ε, a grab of ``size`` ε or an affine load of comparable motion."""
+    eps = 0.4
+    radial = FALLOFFS[falloff](eps)
+    full = GreenKernel(material, L_MAX, radial)
+    kernel = full
+    if kind == "grab_biscale":
+        kernel = full.with_radial(MultiscaleRadial.biscale(radial))
+    elif kind == "wrinkle":
+        kernel = GreenKernel(material, L_MAX, radial, default_wrinkle_weights(L_MAX))
+    center = vertices[0]
+    if kind in ("scale", "twist", "pinch"):
+        unit = affine_unit_load(kind, np.array([0.3, 0.1, 1.0]), np.array([1.0, 0.0, 0.0]))
+        h = 1e-3 * eps
+        probes = center + h * np.vstack([np.eye(3), -np.eye(3)])
+        u = kernel.affine_displacement(probes, center, unit)
+        response = np.sum(((u[:3] - u[3:]) / (2 * h)).T * unit)
+        # a relative strain (or angle) of 0.5·size: the motion about ε of the center is
+        # comparable to a grab of ``size`` ε
+        load, step = unit * (0.5 * size / response), np.zeros(3)
+    else:
+        step = size * eps * np.array([0.3, 0.8, 0.5]) / np.linalg.norm([0.3, 0.8, 0.5])
+        g0 = (full.with_radial(kernel.radial) if kind != "wrinkle" else full).green(
+            np.zeros((1, 3))
+        )[0]
+        load = np.linalg.solve(g0, step)
+    return kernel, load, center, step, (2 * eps, 4 * eps)
+
+
+def compare(kernel, load, center, step, cutoff, points, **options):
+    """(adaptive result, steps, error relative to the motion scale, motion scale, 64-step
+    reference) for one event."""
+    common = dict(center_step=step, cutoff=cutoff, **options)
+    tolerance = common.pop("tolerance", TOLERANCE)
+    reference = kernel.streamlines(points, center, load, substeps=64, tolerance=None, **common)
+    result, steps = kernel._streamlines(points, center, load, tolerance=tolerance, **common)
+    scale = max(np.linalg.norm(step), np.linalg.norm(reference - points, axis=1).max())
+    error = np.linalg.norm(result - reference, axis=1).max() / scale
+    assert scale > 0
+    return result, steps, error, scale, reference
+
+
+@pytest.mark.parametrize(
+    "kind, material, falloff",
+    [(kind, "cubic", "gaussian") for kind in ("grab", "grab_biscale", "scale", "twist")]
+    + [(kind, "cubic", "kelvinlet") for kind in ("pinch", "wrinkle")]
+    + [("grab", m, f) for m, f in itertools.product(MATERIALS, FALLOFFS) if m != "cubic"]
+    + [("twist", "orthotropic", "spline"), ("grab", "cubic", "spline")],
+)
+def test_adaptive_matches_fixed_step_reference(kind, material, falloff, pebble):
+    kernel, load, center, step, cutoff = event(kind, MATERIALS[material], falloff, pebble)
+    _, steps, error, scale, reference = compare(kernel, load, center, step, cutoff, pebble)
+    assert error <= TOLERANCE, error
+    # one Euler step is far outside the bound: the check has teeth
+    euler = euler_error(kernel, load, center, step, cutoff, pebble, reference, scale)
+    assert euler > 10 * TOLERANCE, euler
+    moved = np.linalg.norm(reference - pebble, axis=1) > 0
+    assert moved.sum() > 100
+    # the cheap path is the common one at this event size
+    assert np.mean(steps[moved] == 1) > 0.5
+
+
+def euler_error(kernel, load, center, step, cutoff, points, reference, scale):
+    """Relative error of one Euler step: the velocity at t = 0 from a tiny fixed-step run."""
+    tiny = 1e-6
+    probe = kernel.streamlines(
+        points, center, load * tiny, center_step=step * tiny, cutoff=cutoff, substeps=1,
+        tolerance=None,
+    )  # fmt: skip
+    euler = points + (probe - points) / tiny
+    return np.linalg.norm(euler - reference, axis=1).max() / scale
+
+
+@pytest.mark.parametrize("kind", ["grab", "twist"])
+def test_bound_rejects_one_euler_step(kind, pebble):
+    kernel, load, center, step, cutoff = event(kind, CUBIC, "gaussian", pebble)
+    _, _, error, scale, reference = compare(kernel, load, center, step, cutoff, pebble)
+    assert error <= TOLERANCE
+    assert euler_error(kernel, load, center, step, cutoff, pebble, reference, scale) > 30 * (
+        TOLERANCE
+    )
+
+
+def test_large_event_is_refined_where_needed(pebble):
+    # a grab of 0.8 ε in one event: one RK4 step everywhere misses the bound, the control
+    # sends the vertices that need it to 2 or more steps and meets it
+    kernel, load, center, step, cutoff = event("grab", CUBIC, "gaussian", pebble, size=0.8)
+    _, steps, error, scale, reference = compare(kernel, load, center, step, cutoff, pebble)
+    one_step = kernel.streamlines(pebble, center, load, center_step=step, cutoff=cutoff,
+                                  substeps=1, tolerance=None)  # fmt: skip
+    assert np.linalg.norm(one_step - reference, axis=1).max() / scale > TOLERANCE
+    assert error <= TOLERANCE, error
+    assert steps.max() >= 2
+    assert np.mean(steps >= 2) < 0.9
+
+
+def test_tighter_tolerance_is_more_accurate(pebble):
+    kernel, load, center, step, cutoff = event("grab", CUBIC, "gaussian", pebble, size=0.4)
+    errors = []
+    for tolerance in (1e-3, 1e-5, 1e-7):
+        _, _, error, _, _ = compare(kernel, load, center, step, cutoff, pebble, tolerance=tolerance)
+        errors.append(error)
+        # the step control aims at the tolerance through estimates: within a small factor
+        assert error <= 5 * tolerance
+    assert errors[2] < errors[0]
+
+
+def test_mirrored_adaptive_matches_reference(pebble):
+    kernel, load, center, step, cutoff = event("grab", CUBIC, "gaussian", pebble)
+    _, _, error, _, _ = compare(
+        kernel, load, center, step, cutoff, pebble, mirror_signs=mirror_signs("x"),
+        origin=np.zeros(3),
+    )  # fmt: skip
+    assert error <= TOLERANCE
+
+
+def test_bit_identical_whatever_the_thread_count():
+    vertices, _ = icosphere(5)  # 10,242 vertices: 41 blocks over the tasks
+    kernel, load, center, step, cutoff = event("grab", CUBIC, "gaussian", vertices, size=0.8)
+    runs = []
+    threads = numba.get_num_threads()
+    try:
+        for n in sorted({1, threads}):
+            numba.set_num_threads(n)
+            for _ in range(2):
+                runs.append(
+                    kernel._streamlines(vertices, center, load, center_step=step, cutoff=cutoff)
+                )
+    finally:
+        numba.set_num_threads(threads)
+    assert runs[0][1].max() >= 2  # the refinement pass ran
+    for out, steps in runs[1:]:
+        assert np.array_equal(out, runs[0][0])
+        assert np.array_equal(steps, runs[0][1])
+
+
+def test_fixed_steps_converge_at_fourth_order():
+    vertices, _ = icosphere(3)
+    kernel, load, center, step, _ = event("twist", CUBIC, "gaussian", vertices, size=2.0)
+    results = [
+        kernel.streamlines(vertices, center, load, center_step=step, substeps=n, tolerance=None)
+        for n in (1, 2, 4, 8, 16)
+    ]
+    errors = [np.abs(r - results[-1]).max() for r in results[:-1]]
+    assert all(b < a for a, b in itertools.pairwise(errors)), errors
+    assert errors[2] < errors[1] / 8  # fourth order: ~16x per halving
+
+
+@pytest.mark.parametrize("tolerance", [0.0, -1e-4, float("nan"), float("inf"), True])
+def test_bad_tolerance_is_refused(tolerance):
+    kernel = GreenKernel(CUBIC, 2)
+    with pytest.raises(ParameterError) as info:
+        kernel.streamlines(np.zeros((2, 3)), np.ones(3), np.ones(3), tolerance=tolerance)
+    assert info.value.parameter == "tolerance"
+
+
+def test_no_points():
+    kernel = GreenKernel(CUBIC, 2)
+    assert kernel.streamlines(np.zeros((0, 3)), np.zeros(3), np.ones(3)).shape == (0, 3)
