@@ -239,7 +239,12 @@ def _parser() -> argparse.ArgumentParser:
     )
     deform.add_argument("--radius", type=float, default=0.1, help="ε / model size")
     deform.add_argument("--strength", type=float, default=1.0)
-    deform.add_argument("--substeps", type=int, default=4, help="RK4 steps per event")
+    deform.add_argument(
+        "--substeps",
+        type=int,
+        default=0,
+        help="RK4 steps per event (0, the default: adaptive, within 1e-4 of the cursor motion)",
+    )
     deform.add_argument(
         "--influence",
         type=float,

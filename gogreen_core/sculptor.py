@@ -7,10 +7,10 @@ new vertex positions.
 How a stroke accumulates: a stroke is :meth:`Sculptor.begin_stroke`, one
 :meth:`Sculptor.stroke_event` per mouse event, :meth:`Sculptor.end_stroke`. Each event moves the
 current (already deformed) vertices along the brush's displacement field taken as a velocity
-over pseudo-time [0, 1] (RK4, ``brush.substeps`` steps, paper Sec. 3.2); successive events
-compose, so a stroke is the composition of the flows of its events. For grab brushes the load
-center travels with the cursor during each event, so the point under the cursor follows the
-cursor path exactly. A stroke is one undo step, and one entry of the session log.
+over pseudo-time [0, 1] (adaptive RK4, or ``brush.substeps`` fixed steps; paper Sec. 3.2);
+successive events compose, so a stroke is the composition of the flows of its events. For grab
+brushes the load center travels with the cursor during each event, so the point under the cursor
+follows the cursor path exactly. A stroke is one undo step, and one entry of the session log.
 
 Constraints (paper Fig. 1) are applied as a direct displacement u(x) = Σ_j G(x − p_j) f_j on
 every vertex (no pseudo-time), so the constrained points land exactly on their targets.
@@ -39,7 +39,7 @@ from gogreen_core.brushes import (
 )
 from gogreen_core.constraints import ConstraintSet
 from gogreen_core.history import History
-from gogreen_core.kernel import GreenKernel
+from gogreen_core.kernel import STREAMLINE_TOLERANCE, GreenKernel
 from gogreen_core.material import Material
 from gogreen_core.operations import (
     ConstraintAdd,
@@ -524,7 +524,8 @@ class Sculptor:
                 cutoff=brush.cutoff(self.model_size),
                 mirror_signs=mirror_signs(brush.symmetry),
                 origin=self.origin,
-                substeps=brush.substeps,
+                substeps=max(brush.substeps, 1),
+                tolerance=None if brush.substeps else STREAMLINE_TOLERANCE,
             )
             if not np.all(np.isfinite(moved)):  # a last guard: never write NaN into the mesh
                 raise ValueError(

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from gogreen_core import GreenKernel, Material
-from gogreen_core.brushes import affine_unit_load, default_wrinkle_weights, mirror_signs
+from gogreen_core.brushes import affine_load_shape, default_wrinkle_weights, mirror_signs
 from gogreen_core.radial import GaussianRadial, KelvinletRadial, MultiscaleRadial, SplineRadial
 from gogreen_core.shapes import default_model, icosphere
 from gogreen_core.validation import ParameterError
@@ -64,7 +64,7 @@ def event(kind, material, falloff, vertices, size=0.2):
         kernel = GreenKernel(material, L_MAX, radial, default_wrinkle_weights(L_MAX))
     center = vertices[0]
     if kind in ("scale", "twist", "pinch"):
-        unit = affine_unit_load(kind, np.array([0.3, 0.1, 1.0]), np.array([1.0, 0.0, 0.0]))
+        unit = affine_load_shape(kind, np.array([0.3, 0.1, 1.0]), np.array([1.0, 0.0, 0.0]))
         h = 1e-3 * eps
         probes = center + h * np.vstack([np.eye(3), -np.eye(3)])
         u = kernel.affine_displacement(probes, center, unit)

@@ -217,7 +217,7 @@ def test_session_replay_reproduces_the_result_bit_for_bit(bunny):
         (lambda: Brush("smudge"), "unknown brush"),
         (lambda: Brush(radius=0.0), "radius"),
         (lambda: Brush(radius=np.nan), "radius"),
-        (lambda: Brush(substeps=0), "substeps"),
+        (lambda: Brush(substeps=-1), "substeps"),
         (lambda: Brush(symmetry="w"), "symmetry"),
         (lambda: BrushEvent([0, np.nan, 0]), "center"),
         (lambda: Sculptor(np.zeros((3, 3)), [[0, 1, 2]]), "zero size"),
