@@ -137,7 +137,10 @@ class History:
             return
         if len(idx) and idx.min() < 0:
             raise ValueError(f"history record {label!r}: negative vertex index {idx.min()}")
-        if len(np.unique(idx)) != len(idx):
+        # Callers pass sorted indices (np.flatnonzero): check those in O(K); np.unique's hash
+        # took 90 ms for a 200k-vertex stroke.
+        ordered = idx if np.all(idx[1:] > idx[:-1]) else np.sort(idx)
+        if np.any(ordered[1:] == ordered[:-1]):
             raise ValueError(f"history record {label!r}: repeated vertex indices")
         self._redo_drop()
         entry = _Entry(str(label), idx, b, a, state)
