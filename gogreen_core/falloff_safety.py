@@ -1,0 +1,178 @@
+"""Safe falloffs: bounds on how far one brush event can move a vertex, whatever the falloff.
+
+A brush event moves vertices along the load's field taken as a velocity over pseudo-time
+[0, 1] (``Sculptor``), with a cutoff s ≤ 1, so no vertex moves farther than sup_x |u(x)|, the
+largest displacement the load's field makes anywhere in the influence ball. Normalizing the
+load by the field at the centre (grab: f = G(0)⁻¹ Δ; affine brushes: the velocity gradient at
+the centre) is safe when the field peaks there, as every closed-form falloff does, but an
+edited falloff whose centre is small (a dip of R₀ near 0, R₀(0) = 0, a negative R₀ near 0)
+made that normalization explode (10¹⁶ × the cursor motion was measured).
+
+:class:`FieldBound` samples one kernel's field once (directions × radii, in units of ε, so
+the radius of the brush does not matter) and answers sup_k |D_k h| for a load h per event,
+visiting the samples in decreasing order of their spectral norm and stopping as soon as no
+other sample can beat the best so far (a few hundred 3×3 products on smooth fields).
+The sculptor keeps one per kernel (material, l_max, weights and falloff shape) and influence
+radius: tens of milliseconds once, then free for every event and every brush radius.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+
+import numpy as np
+from scipy.integrate import lebedev_rule
+
+from gogreen_core.kernel import GreenKernel, lebedev_points
+from gogreen_core.material import Material
+
+__all__ = [
+    "MAX_AFFINE_MOTION",
+    "MAX_GRAB_RATIO",
+    "MAX_GRAB_STRAIN",
+    "FieldBound",
+    "mean_green_direction",
+]
+
+#: Largest motion of any vertex in one grab event, in multiples of the cursor motion |Δ|: the
+#: load is f = G(0)⁻¹ Δ as long as its field stays below this anywhere (every closed-form
+#: falloff peaks at the centre, ratio 1; the fibre preset's wrinkle tri-scale grab measures
+#: 1.08), and is scaled down to it otherwise.
+MAX_GRAB_RATIO = 1.5
+#: Largest motion of any vertex in one affine event, in multiples of |strength · amount| · ε
+#: (see :data:`MAX_GRAB_RATIO`; ordinary falloffs measure at most ~0.8, see the tests).
+MAX_AFFINE_MOTION = 4.0
+#: Largest velocity gradient ‖∇u‖_F of one grab event, in multiples of |Δ|/ε: a sheared face
+#: cannot turn over while it stays below ~ln 2 ≈ 0.69, which a cursor motion of up to 0.5 ε
+#: keeps (see :data:`MAX_GRAB_RATIO`; closed-form falloffs measure at most ~?).
+MAX_GRAB_STRAIN = 2.0
+#: Finite-difference step (in ε) of the sampled velocity gradient.
+_GRADIENT_STEP = 1e-4
+#: Radial samples per ε (uniform in ρ = r/ε up to the influence radius, capped below).
+_SAMPLES_PER_EPS = 16
+#: Beyond this radius (in ε) the field is sampled geometrically (unbounded influence).
+_DENSE_RHO = 10.0
+#: Lebedev orders scipy provides (odd up to 31, then every 6th).
+_LEBEDEV_ORDERS = (*range(3, 32, 2), *range(35, 132, 6))
+
+
+@lru_cache(maxsize=8)
+def _directions(l_max: int) -> tuple[np.ndarray, np.ndarray]:
+    """Lebedev nodes (n, 3) and weights (n,) for angular degree ``l_max + 1``: order
+    ≥ 2 (l_max + 1) + 1, so neighbouring nodes are ≲ a quarter of the shortest angular
+    wavelength apart (capped at order 41, 590 nodes, for very high l_max)."""
+    wanted = min(2 * (l_max + 1) + 1, 41)
+    order = next(o for o in _LEBEDEV_ORDERS if o >= wanted)
+    nodes, weights = lebedev_rule(order)
+    return np.ascontiguousarray(nodes.T), weights
+
+
+def _radii(influence: float) -> np.ndarray:
+    """Sample radii ρ = r/ε (increasing, starting at 0) covering the influence ball."""
+    reach = min(influence, _DENSE_RHO)
+    dense = np.linspace(0.0, reach, max(2, math.ceil(reach * _SAMPLES_PER_EPS) + 1))
+    if influence <= _DENSE_RHO:
+        return dense
+    # the far field decays like 1/ρ (G) or 1/ρ² (∇G): a geometric tail catches late bumps
+    far = min(influence, 1e4)
+    return np.concatenate([dense, np.geomspace(reach, far, 40)[1:]])
+
+
+@lru_cache(maxsize=16)
+def mean_green_direction(material: Material) -> np.ndarray:
+    """A (3, 3), the material part of G(0): G(0) = c R₀(0) A with A = ∫_S² M(ξ̂)⁻¹ dS / 4π for
+    every falloff (only the l = 0 term of paper Eq. 10 survives at x = 0), so A⁻¹ Δ is the
+    direction of the grab force even where R₀(0) vanishes (read-only, positive definite)."""
+    nodes, weights = lebedev_points()  # the kernel's own rule: exact for its P_00
+    m_inv = np.linalg.inv(material.acoustic_tensor(nodes))
+    mean = np.einsum("q,qij->ij", weights, m_inv) / (4 * np.pi)
+    mean = 0.5 * (mean + mean.T)
+    mean.setflags(write=False)
+    return mean
+
+
+class _SupTable:
+    """sup_k |D_k h| over sampled linear maps D_k (K, m, n), visited in decreasing order of
+    ‖D_k‖₂ and stopping as soon as no unvisited sample can beat the best so far."""
+
+    def __init__(self, points: np.ndarray, operators: np.ndarray):
+        if not np.all(np.isfinite(operators)):
+            raise ValueError("the falloff's field is not finite")
+        # ‖D‖₂² is the largest eigenvalue of the smaller Gram matrix, D Dᵀ or Dᵀ D
+        if operators.shape[1] <= operators.shape[2]:
+            gram = operators @ operators.transpose(0, 2, 1)
+        else:
+            gram = operators.transpose(0, 2, 1) @ operators
+        norms = np.sqrt(np.maximum(np.linalg.eigvalsh(gram)[:, -1], 0.0))
+        norms *= 1 + 1e-12  # rounding of the eigenvalues: an upper bound stays one
+        order = np.argsort(-norms, kind="stable")
+        self.points = points[order]  # (K, 3)
+        self.operators = np.ascontiguousarray(operators[order])  # (K, m, n)
+        self.norms = np.append(norms[order], 0.0)  # (K + 1,) decreasing, then a sentinel
+
+    def sup(self, h: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
+        """(sup_k |D_k h|, x_k (3,), D_k h (m,)) at the best sample."""
+        size = float(np.linalg.norm(h))
+        count, total = 64, len(self.points)
+        while True:
+            values = self.operators[:count] @ h  # (count, m)
+            lengths = np.einsum("ki,ki->k", values, values)
+            best = int(np.argmax(lengths))
+            top = math.sqrt(lengths[best])
+            if count >= total or top >= self.norms[count] * size:
+                return top, self.points[best], values[best]
+            count = min(4 * count, total)
+
+
+class FieldBound:
+    """Sampled sup of a load's field (and, for vector loads, of its gradient) over the
+    influence ball of one kernel shape.
+
+    Parameters
+    ----------
+    kernel : GreenKernel
+        Any radius: the samples are taken at ε = 1 (G_ε(x) = G₁(x/ε)/ε, ∇G_ε(x) = ∇G₁(x/ε)/ε²).
+    influence : float
+        Influence radius in multiples of ε (``inf`` for none).
+    affine : bool
+        Sample ∇G (affine loads, h = H (3, 3)) instead of G (vector loads, h (3,)).
+
+    The gradient of a vector load's field is taken by forward differences of G (step 10⁻⁴ ε),
+    not from ∇G: a spline falloff's R_l and ℛ_l are separate curves, and the vertices move
+    along G f, so only the derivative of G itself bounds how much a face is sheared.
+    """
+
+    def __init__(self, kernel: GreenKernel, influence: float, affine: bool):
+        unit = kernel.with_eps(1.0)
+        nodes, _ = _directions(kernel.l_max)
+        rho = _radii(influence)
+        points = (rho[1:, None, None] * nodes[None]).reshape(-1, 3)
+        points = np.concatenate([np.zeros((1, 3)), points])  # the centre itself
+        self.affine = bool(affine)
+        self.strain: _SupTable | None = None
+        if self.affine:
+            # [k, i, (j, p)] = ∂_p G_ij: u_i = Σ_jp ∂_p G_ij H_jp = (D_k h)_i with h = H.ravel()
+            self.motion = _SupTable(points, unit.green_gradient(points).reshape(-1, 3, 9))
+            return
+        values = unit.green(points)
+        self.motion = _SupTable(points, values)
+        h = _GRADIENT_STEP
+        ahead = unit.green((points[:, None, :] + h * np.eye(3)[None]).reshape(-1, 3))
+        ahead = ahead.reshape(len(points), 3, 3, 3)  # [k, p, i, j] = G_ij(x_k + h e_p)
+        gradient = (ahead - values[:, None]) / h  # forward differences, error O(h) ~ 1e-4
+        # [k, (i, p), j]: (∇u)_ip = Σ_j ∂_p G_ij f_j
+        self.strain = _SupTable(points, gradient.transpose(0, 2, 1, 3).reshape(-1, 9, 3))
+
+    def motion_sup(self, load: np.ndarray, eps: float) -> tuple[float, np.ndarray, np.ndarray]:
+        """(sup |u|, the point (3,) relative to the centre, u there (3,)) for ``load`` (3,) or
+        (3, 3) on the kernel of radius ``eps`` (model units)."""
+        top, point, value = self.motion.sup(np.asarray(load, dtype=np.float64).ravel())
+        scale = eps ** -(2 if self.affine else 1)
+        return top * scale, point * eps, value * scale
+
+    def strain_sup(self, force: np.ndarray, eps: float) -> float:
+        """sup ‖∇u‖_F (dimensionless) of the force's field u = G f at radius ``eps``."""
+        if self.strain is None:
+            raise ValueError("strain bounds are sampled for vector loads only")
+        return self.strain.sup(np.asarray(force, dtype=np.float64))[0] / eps**2
