@@ -41,11 +41,14 @@ __all__ = [
 #: 1.08), and is scaled down to it otherwise.
 MAX_GRAB_RATIO = 1.5
 #: Largest motion of any vertex in one affine event, in multiples of |strength · amount| · ε
-#: (see :data:`MAX_GRAB_RATIO`; ordinary falloffs measure at most ~0.8, see the tests).
+#: (see :data:`MAX_GRAB_RATIO`; closed-form falloffs measure 0.36-0.7 on isotropic materials,
+#: up to 1.5 on the presets and 2.8 on a 100:1 transversely isotropic laminate).
 MAX_AFFINE_MOTION = 4.0
-#: Largest velocity gradient ‖∇u‖_F of one grab event, in multiples of |Δ|/ε: a sheared face
-#: cannot turn over while it stays below ~ln 2 ≈ 0.69, which a cursor motion of up to 0.5 ε
-#: keeps (see :data:`MAX_GRAB_RATIO`; closed-form falloffs measure at most ~?).
+#: Largest velocity gradient ‖∇u‖_F of one grab event, in multiples of |Δ|/ε: an edited curve
+#: that rises steeply from the centre shears faces over even when its motion is bounded (the
+#: flow of a velocity field with ‖∇v‖ ≤ L turns no face over while e^L − 1 < 1). Closed-form
+#: falloffs measure 0.4-1.1 (Gaussian to tri-scale) on isotropic materials, up to 1.77 on a
+#: 100:1 laminate's wrinkle tri-scale grab, and keep f = G(0)⁻¹ Δ.
 MAX_GRAB_STRAIN = 2.0
 #: Finite-difference step (in ε) of the sampled velocity gradient.
 _GRADIENT_STEP = 1e-4
@@ -92,6 +95,21 @@ def mean_green_direction(material: Material) -> np.ndarray:
     return mean
 
 
+def _largest_eigenvalue(s: np.ndarray) -> np.ndarray:
+    """Largest eigenvalue (K,) of symmetric positive semi-definite 3×3 matrices s (K, 3, 3),
+    in closed form (the trigonometric solution of the characteristic cubic; ~10× faster than
+    a batched eigvalsh)."""
+    q = np.trace(s, axis1=1, axis2=2) / 3
+    off = s[:, 0, 1] ** 2 + s[:, 0, 2] ** 2 + s[:, 1, 2] ** 2
+    diag = (s[:, 0, 0] - q) ** 2 + (s[:, 1, 1] - q) ** 2 + (s[:, 2, 2] - q) ** 2
+    p = np.sqrt((diag + 2 * off) / 6)
+    safe = np.where(p > 0, p, 1.0)
+    b = (s - q[:, None, None] * np.eye(3)) / safe[:, None, None]
+    half_det = np.clip(np.linalg.det(b) / 2, -1.0, 1.0)
+    largest = q + 2 * p * np.cos(np.arccos(half_det) / 3)
+    return np.maximum(largest, 0.0)
+
+
 class _SupTable:
     """sup_k |D_k h| over sampled linear maps D_k (K, m, n), visited in decreasing order of
     ‖D_k‖₂ and stopping as soon as no unvisited sample can beat the best so far."""
@@ -104,8 +122,7 @@ class _SupTable:
             gram = operators @ operators.transpose(0, 2, 1)
         else:
             gram = operators.transpose(0, 2, 1) @ operators
-        norms = np.sqrt(np.maximum(np.linalg.eigvalsh(gram)[:, -1], 0.0))
-        norms *= 1 + 1e-12  # rounding of the eigenvalues: an upper bound stays one
+        norms = np.sqrt(_largest_eigenvalue(gram)) * (1 + 1e-9)  # margin for rounding
         order = np.argsort(-norms, kind="stable")
         self.points = points[order]  # (K, 3)
         self.operators = np.ascontiguousarray(operators[order])  # (K, m, n)

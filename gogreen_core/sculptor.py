@@ -12,6 +12,11 @@ compose, so a stroke is the composition of the flows of its events. For grab bru
 center travels with the cursor during each event, so the point under the cursor follows the
 cursor path exactly. A stroke is one undo step, and one entry of the session log.
 
+Safe falloffs: the load is normalized at the centre (the grabbed point follows the cursor) only
+while no vertex can then move more than :data:`MAX_GRAB_RATIO` × the cursor motion in one event
+(nor shear faces over); a falloff an artist edited so that its field is weak at the centre gets
+its load scaled down to that bound (:meth:`Sculptor._load`), and a zero one is refused.
+
 Constraints (paper Fig. 1) are applied as a direct displacement u(x) = Σ_j G(x − p_j) f_j on
 every vertex (no pseudo-time), so the constrained points land exactly on their targets.
 """
