@@ -28,7 +28,8 @@ from gogreen_core.kernel import GreenKernel, lebedev_points
 from gogreen_core.material import Material
 
 __all__ = [
-    "MAX_AFFINE_MOTION",
+    "AFFINE_FALLBACK",
+    "AFFINE_MARGIN",
     "MAX_GRAB_RATIO",
     "MAX_GRAB_STRAIN",
     "FieldBound",
@@ -40,10 +41,15 @@ __all__ = [
 #: falloff peaks at the centre, ratio 1; the fibre preset's wrinkle tri-scale grab measures
 #: 1.08), and is scaled down to it otherwise.
 MAX_GRAB_RATIO = 1.5
-#: Largest motion of any vertex in one affine event, in multiples of |strength · amount| · ε
-#: (see :data:`MAX_GRAB_RATIO`; closed-form falloffs measure 0.36-0.7 on isotropic materials,
-#: up to 1.5 on the presets and 2.8 on a 100:1 transversely isotropic laminate).
-MAX_AFFINE_MOTION = 4.0
+#: Affine brushes have no single natural scale (their field's reach depends on the material
+#: far more than a grab's: closed-form falloffs move vertices 0.36-0.7 |amount| ε on
+#: isotropic materials and 3.9 on a 1000:1 laminate), so a load normalized at the centre is
+#: kept while it moves and shears vertices at most this many times what the Gaussian falloff
+#: does with the same material and pattern, and is scaled down to that otherwise.
+AFFINE_MARGIN = 1.5
+#: Fallback bounds (motion in |amount| ε, velocity gradient in |amount|) where no pattern of
+#: the Gaussian reference has an effect (an incompressible material's scale brush).
+AFFINE_FALLBACK = (4.0, 8.0)
 #: Largest velocity gradient ‖∇u‖_F of one grab event, in multiples of |Δ|/ε: an edited curve
 #: that rises steeply from the centre shears faces over even when its motion is bounded (the
 #: flow of a velocity field with ‖∇v‖ ≤ L turns no face over while e^L − 1 < 1). Closed-form
@@ -122,7 +128,13 @@ class _SupTable:
             gram = operators @ operators.transpose(0, 2, 1)
         else:
             gram = operators.transpose(0, 2, 1) @ operators
-        norms = np.sqrt(_largest_eigenvalue(gram)) * (1 + 1e-9)  # margin for rounding
+        if gram.shape[1] == 3:
+            largest = _largest_eigenvalue(gram)
+        elif gram.shape[1] == 1:
+            largest = gram[:, 0, 0]
+        else:
+            largest = np.linalg.eigvalsh(gram)[:, -1]
+        norms = np.sqrt(np.maximum(largest, 0.0)) * (1 + 1e-9)  # margin for rounding
         order = np.argsort(-norms, kind="stable")
         self.points = points[order]  # (K, 3)
         self.operators = np.ascontiguousarray(operators[order])  # (K, m, n)
@@ -143,8 +155,8 @@ class _SupTable:
 
 
 class FieldBound:
-    """Sampled sup of a load's field (and, for vector loads, of its gradient) over the
-    influence ball of one kernel shape.
+    """Sampled sup of a load's field and of its gradient over the influence ball of one
+    kernel shape.
 
     Parameters
     ----------
@@ -157,7 +169,8 @@ class FieldBound:
 
     The gradient of a vector load's field is taken by forward differences of G (step 10⁻⁴ ε),
     not from ∇G: a spline falloff's R_l and ℛ_l are separate curves, and the vertices move
-    along G f, so only the derivative of G itself bounds how much a face is sheared.
+    along G f, so only the derivative of G itself bounds how much a face is sheared (and
+    likewise forward differences of ∇G for affine loads).
     """
 
     def __init__(self, kernel: GreenKernel, influence: float, affine: bool):
@@ -167,29 +180,88 @@ class FieldBound:
         points = (rho[1:, None, None] * nodes[None]).reshape(-1, 3)
         points = np.concatenate([np.zeros((1, 3)), points])  # the centre itself
         self.affine = bool(affine)
-        self.strain: _SupTable | None = None
-        if self.affine:
-            # [k, i, (j, p)] = ∂_p G_ij: u_i = Σ_jp ∂_p G_ij H_jp = (D_k h)_i with h = H.ravel()
-            self.motion = _SupTable(points, unit.green_gradient(points).reshape(-1, 3, 9))
-            return
-        values = unit.green(points)
-        self.motion = _SupTable(points, values)
         h = _GRADIENT_STEP
-        ahead = unit.green((points[:, None, :] + h * np.eye(3)[None]).reshape(-1, 3))
-        ahead = ahead.reshape(len(points), 3, 3, 3)  # [k, p, i, j] = G_ij(x_k + h e_p)
-        gradient = (ahead - values[:, None]) / h  # forward differences, error O(h) ~ 1e-4
-        # [k, (i, p), j]: (∇u)_ip = Σ_j ∂_p G_ij f_j
-        self.strain = _SupTable(points, gradient.transpose(0, 2, 1, 3).reshape(-1, 9, 3))
+        shifted = (points[:, None, :] + h * np.eye(3)[None]).reshape(-1, 3)  # x_k + h e_p
+        if self.affine:
+            # [k, i, (j, q)] = ∂_q G_ij: u_i = Σ_jq ∂_q G_ij H_jq = (D_k h)_i, h = H.ravel()
+            values = unit.green_gradient(points).reshape(-1, 3, 9)
+            ahead = unit.green_gradient(shifted).reshape(len(points), 3, 3, 9)
+        else:
+            values = unit.green(points)  # [k, i, j]
+            ahead = unit.green(shifted).reshape(len(points), 3, 3, 3)  # [k, p, i, j]
+        # forward differences (error O(h) ~ 1e-4): [k, p, i, n] = ∂_p of the map at x_k
+        gradient = (ahead - values[:, None]) / h
+        # [k, (i, p), n]: (∇u)_ip = Σ_n ∂_p D_in h_n
+        n = values.shape[2]
+        self._points = points
+        self._maps = (values, gradient.transpose(0, 2, 1, 3).reshape(-1, 9, n))
+        self._tables: dict[str, tuple[np.ndarray, _SupTable, _SupTable]] = {}
+
+    def _table(self, load: np.ndarray) -> tuple[np.ndarray, _SupTable, _SupTable]:
+        """(coefficients of ``load`` in the subspace it lies in, motion table, strain table):
+        affine patterns are a multiple of I (scale), skew (twist) or symmetric traceless
+        (pinch), 1, 3 and 5 dimensions of the 9, and tables restricted to that subspace
+        (built on first use) prune far better than the full ones."""
+        h = np.asarray(load, dtype=np.float64)
+        name = "vector" if h.shape == (3,) else _subspace(h)
+        basis = _BASES[name] if name in _BASES else None
+        if name not in self._tables:
+            maps = self._maps if basis is None else tuple(m @ basis for m in self._maps)
+            self._tables[name] = (
+                basis,
+                _SupTable(self._points, maps[0]),
+                _SupTable(self._points, maps[1]),
+            )
+        basis, motion, strain = self._tables[name]
+        return (h.ravel() if basis is None else basis.T @ h.ravel()), motion, strain
 
     def motion_sup(self, load: np.ndarray, eps: float) -> tuple[float, np.ndarray, np.ndarray]:
         """(sup |u|, the point (3,) relative to the centre, u there (3,)) for ``load`` (3,) or
         (3, 3) on the kernel of radius ``eps`` (model units)."""
-        top, point, value = self.motion.sup(np.asarray(load, dtype=np.float64).ravel())
+        coefficients, motion, _ = self._table(load)
+        top, point, value = motion.sup(coefficients)
         scale = eps ** -(2 if self.affine else 1)
         return top * scale, point * eps, value * scale
 
-    def strain_sup(self, force: np.ndarray, eps: float) -> float:
-        """sup ‖∇u‖_F (dimensionless) of the force's field u = G f at radius ``eps``."""
-        if self.strain is None:
-            raise ValueError("strain bounds are sampled for vector loads only")
-        return self.strain.sup(np.asarray(force, dtype=np.float64))[0] / eps**2
+    def strain_sup(self, load: np.ndarray, eps: float) -> float:
+        """sup ‖∇u‖_F (dimensionless) of the load's field u (force (3,) or affine (3, 3)) on
+        the kernel of radius ``eps``."""
+        coefficients, _, strain = self._table(load)
+        return strain.sup(coefficients)[0] / eps ** (3 if self.affine else 2)
+
+
+def _orthonormal(matrices: list[np.ndarray]) -> np.ndarray:
+    """(9, r) orthonormal basis (columns) of the span of 3×3 ``matrices``."""
+    q, _ = np.linalg.qr(np.array([m.ravel() for m in matrices]).T)
+    return q
+
+
+def _unit_matrix(i: int, j: int) -> np.ndarray:
+    e = np.zeros((3, 3))
+    e[i, j] = 1.0
+    return e
+
+
+_PAIRS = ((1, 2), (0, 2), (0, 1))
+_BASES = {
+    "scale": _orthonormal([np.eye(3)]),
+    "twist": _orthonormal([_unit_matrix(i, j) - _unit_matrix(j, i) for i, j in _PAIRS]),
+    "pinch": _orthonormal(
+        [_unit_matrix(0, 0) - _unit_matrix(1, 1), _unit_matrix(1, 1) - _unit_matrix(2, 2)]
+        + [_unit_matrix(i, j) + _unit_matrix(j, i) for i, j in _PAIRS]
+    ),
+}
+
+
+def _subspace(load: np.ndarray) -> str:
+    """Which of the pattern subspaces of :data:`_BASES` a (3, 3) load lies in ("general" for
+    none)."""
+    size = np.abs(load).max()
+    tol = 1e-12 * size
+    if np.abs(load - load[0, 0] * np.eye(3)).max() <= tol:
+        return "scale"
+    if np.abs(load + load.T).max() <= tol:
+        return "twist"
+    if np.abs(load - load.T).max() <= tol and abs(np.trace(load)) <= 3 * tol:
+        return "pinch"
+    return "general"

@@ -44,7 +44,8 @@ from gogreen_core.brushes import (
 )
 from gogreen_core.constraints import ConstraintSet
 from gogreen_core.falloff_safety import (
-    MAX_AFFINE_MOTION,
+    AFFINE_FALLBACK,
+    AFFINE_MARGIN,
     MAX_GRAB_RATIO,
     MAX_GRAB_STRAIN,
     FieldBound,
@@ -182,8 +183,8 @@ class Sculptor:
         self.origin = 0.5 * (low + high)
         self.history = History(history_bytes)
         self._kernels: dict[str, GreenKernel] = {}
-        #: (base kernel, sampled field bound) per brush variant: see _field_bound.
-        self._bounds: dict[tuple, tuple[GreenKernel, FieldBound]] = {}
+        #: (base kernel, sampled field bound or affine limits): see _field_bound.
+        self._bounds: dict[tuple, tuple] = {}
         self._stroke: _Stroke | None = None
         self._constraints: ConstraintSet | None = None
         self._log = SessionLog()
@@ -504,11 +505,12 @@ class Sculptor:
         Safe falloffs: the load is normalized at the centre (grab: f = G(0)⁻¹ Δ, the grabbed
         point follows the cursor; affine: the velocity gradient there is strength · amount
         along the pattern) as long as no vertex can then move more than
-        :data:`MAX_GRAB_RATIO` |Δ| (grab) or :data:`MAX_AFFINE_MOTION` |amount| ε (affine) in
-        the event, which every closed-form falloff satisfies (their fields peak at the
-        centre). An edited falloff whose centre is weak (a dip, a zero or a negative R₀ near 0)
-        gets the load scaled so that its largest motion is exactly that bound, with the most
-        moved point going along the cursor; a field that is zero everywhere is refused.
+        :data:`MAX_GRAB_RATIO` |Δ| nor be sheared by more than :data:`MAX_GRAB_STRAIN` |Δ|/ε
+        (grab), or more than :data:`AFFINE_MARGIN` × what the Gaussian falloff does with
+        this material (affine), in the event; closed-form falloffs always are (their fields
+        peak at the centre). An edited falloff whose centre is weak (a dip, a zero or a
+        negative R₀ near 0) gets the load scaled to those bounds, with the most moved point
+        going along the cursor; a field that is zero everywhere is refused.
         """
         if brush.kind in AFFINE_BRUSHES:
             return self._affine_load(brush, kernel, event), np.zeros(3)
@@ -567,32 +569,56 @@ class Sculptor:
         response = float(np.sum(jacobian * shape) / np.sum(shape * shape))
         amount = brush.strength * event.amount
         eps = kernel.eps
-        # Largest displacement of the load B anywhere: the centre response is healthy when the
-        # normalized load moves no vertex more than MAX_AFFINE_MOTION |amount| ε.
-        peak, at, moved = self._field_bound(brush, kernel).motion_sup(shape, eps)
+        # The largest displacement and velocity gradient of the load B anywhere: the centre's
+        # response must be large enough that B · amount / response stays within the limits.
+        bound = self._field_bound(brush, kernel)
+        peak, at, moved = bound.motion_sup(shape, eps)
         if not peak * eps**2 > _ZERO_FIELD * self._green_scale():
             raise ParameterError(
                 "falloff",
                 f"the {brush.kind} brush's falloff has no gradient within its influence "
                 f"({brush.influence:g} ε): its odd-degree curves (dR) are zero",
             )
-        limit = MAX_AFFINE_MOTION * eps
-        if np.linalg.norm(jacobian) * limit >= peak:  # the centre moves: the usual rule
+        motion_limit, strain_limit = self._affine_limits(brush, shape)
+        needed = max(peak / (motion_limit * eps), bound.strain_sup(shape, eps) / strain_limit)
+        if np.linalg.norm(jacobian) >= needed:  # the centre moves: the usual rule
             if not abs(response) * np.linalg.norm(shape) > 1e-3 * np.linalg.norm(jacobian):
                 raise ValueError(
                     f"the {brush.kind} brush has no effect with this material and falloff "
                     f"(response {response:.3g})"
                 )
-            if abs(response) * limit >= peak:
+            if abs(response) >= needed:
                 return shape * (amount / response)
-        # A weak centre: scale B so that the largest motion is MAX_AFFINE_MOTION |amount| ε,
-        # with the sign of the centre's response, or where that is lost in rounding, the sign
-        # that makes the most moved point follow the pattern (outwards for scale).
+        # A weak centre: scale B to the limits, with the sign of the centre's response, or
+        # where that is lost in rounding, the sign that makes the most moved point follow the
+        # pattern (outwards for scale).
         if abs(response) * eps > 1e-6 * peak:
             sign = np.sign(response)
         else:
             sign = -1.0 if moved @ (shape @ at) < 0 else 1.0
-        return shape * (sign * amount * limit / peak)
+        return shape * (sign * amount / needed)
+
+    def _affine_limits(self, brush: Brush, shape: np.ndarray) -> tuple[float, float]:
+        """(motion in |amount| ε, velocity gradient in |amount|) an affine event of pattern
+        ``shape`` may reach: AFFINE_MARGIN × what the Gaussian falloff reaches with the same
+        material, l_max, influence and pattern (its field bound is cached per base kernel)."""
+        base = self._base_kernel(False)
+        key = ("gaussian", id(base), brush.influence)
+        cached = self._bounds.get(key)
+        if cached is None or cached[0] is not base:
+            if len(self._bounds) >= 16:
+                self._bounds.clear()
+            gaussian = base.with_radial(GaussianRadial(1.0))
+            cached = (base, (gaussian, FieldBound(gaussian, brush.influence, True)))
+            self._bounds[key] = cached
+        gaussian, bound = cached[1]
+        jacobian = self._centre_jacobian(gaussian, np.zeros(3), shape)
+        response = float(np.sum(jacobian * shape) / np.sum(shape * shape))
+        if not abs(response) * np.linalg.norm(shape) > 1e-3 * np.linalg.norm(jacobian):
+            return AFFINE_FALLBACK  # no effect with a Gaussian (an incompressible scale)
+        load = shape / response
+        motion, strain = bound.motion_sup(load, 1.0)[0], bound.strain_sup(load, 1.0)
+        return AFFINE_MARGIN * motion, AFFINE_MARGIN * strain
 
     @staticmethod
     def _centre_jacobian(kernel: GreenKernel, center: np.ndarray, load: np.ndarray) -> np.ndarray:

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from gogreen_core import Material
-from gogreen_core.brushes import Brush, BrushEvent, mirror_signs
-from gogreen_core.falloff_safety import MAX_AFFINE_MOTION, MAX_GRAB_RATIO
+from gogreen_core.brushes import Brush, BrushEvent, affine_load_shape, mirror_signs
+from gogreen_core.falloff_safety import MAX_GRAB_RATIO
 from gogreen_core.presets import builtin_presets
 from gogreen_core.radial import GaussianRadial, KelvinletRadial, SplineRadial
 from gogreen_core.sculptor import Sculptor
@@ -142,6 +142,26 @@ def test_ordinary_falloffs_keep_the_exact_centre_normalization(sphere, falloff, 
         assert np.array_equal(load, force), (kind, preset and preset.name)
 
 
+@pytest.mark.parametrize("falloff", [GaussianRadial(1.0), KelvinletRadial(1.0)], ids=["g", "k"])
+@pytest.mark.parametrize("kind", ["scale", "twist", "pinch"])
+def test_ordinary_affine_loads_keep_the_exact_centre_normalization(sphere, falloff, kind):
+    vertices, faces = sphere
+    rng = np.random.default_rng(5)
+    materials = [*MATERIALS.values(), *(preset.material for preset in builtin_presets())]
+    for material in materials:
+        sculptor = Sculptor(vertices, faces, material=material, falloff=falloff)
+        brush = Brush(kind, radius=RADIUS)
+        kernel = sculptor.kernel(brush)
+        for _ in range(3):
+            axis, direction = rng.normal(size=(2, 3))
+            event = BrushEvent(vertices[9], amount=0.3, axis=axis, direction=direction)
+            shape = affine_load_shape(kind, event.axis, event.direction)
+            jacobian = sculptor._centre_jacobian(kernel, event.center, shape)
+            response = float(np.sum(jacobian * shape) / np.sum(shape * shape))
+            load, _ = sculptor._load(brush, kernel, event)
+            assert np.array_equal(load, shape * (0.3 / response)), material
+
+
 def test_ordinary_grab_moves_the_picked_vertex_exactly(sphere):
     vertices, faces = sphere
     sculptor = Sculptor(vertices, faces, material=MATERIALS["strongly anisotropic"])
@@ -163,17 +183,33 @@ def test_affine_brushes_with_a_vanishing_centre_response_stay_bounded(sphere, ki
     rho, value = falloff.curve("dR", 1)
     falloff.set_curve("dR", 1, rho, _flat_centre_gradient(rho, value))
     sculptor = Sculptor(vertices, faces, material=MATERIALS[material], falloff=falloff)
+    gaussian = Sculptor(vertices, faces, material=MATERIALS[material])
     eps = RADIUS * sculptor.model_size
-    amount = 0.1
-    event = BrushEvent(vertices[5], amount=amount, axis=vertices[5])
-    sculptor.apply_brush(Brush(kind, radius=RADIUS), [event])
-    moved = sculptor.vertices
-    assert np.all(np.isfinite(moved))
-    motion = np.linalg.norm(moved - vertices, axis=1).max()
-    # (the centre normalization moved them 12-17 amount·ε; a Gaussian moves them ~0.25)
-    assert motion <= 1.01 * MAX_AFFINE_MOTION * amount * eps
+    brush = Brush(kind, radius=RADIUS)
     normals = _face_normals(vertices, faces)
-    assert np.all(np.einsum("ij,ij->i", normals, _face_normals(moved, faces)) > 0)
+    for amount in (1e-3, 0.05, 0.2):
+        event = BrushEvent(vertices[5], amount=amount, axis=vertices[5], direction=[1, 2, 0])
+        sculptor.apply_brush(brush, [event])
+        moved = sculptor.vertices.copy()
+        sculptor.undo()
+        gaussian.apply_brush(brush, [event])
+        reference = np.linalg.norm(gaussian.vertices - vertices, axis=1).max()
+        gaussian.undo()
+        assert np.all(np.isfinite(moved))
+        motion = np.linalg.norm(moved - vertices, axis=1).max()
+        # the centre normalization moved them 12-17 amount·ε, the Gaussian ~0.25 amount·ε
+        assert (
+            motion
+            <= 1.01
+            * sculptor._affine_limits(brush, affine_load_shape(kind, event.axis, event.direction))[
+                0
+            ]
+            * amount
+            * eps
+        )
+        assert motion <= 3 * reference, f"amount {amount}: {motion / reference:.3g}× the Gaussian"
+        turned = np.einsum("ij,ij->i", normals, _face_normals(moved, faces)) <= 0
+        assert not turned.any(), f"amount {amount}: {turned.sum()} faces flipped"
 
 
 def test_a_falloff_that_is_zero_everywhere_is_refused(sphere):
