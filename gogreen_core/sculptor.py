@@ -528,12 +528,13 @@ class Sculptor:
             except np.linalg.LinAlgError:  # G(0) = 0: R₀(0) pulled to 0
                 force = np.full(3, np.nan)
         size = vector_norm(delta)
+        finite = bool(np.all(np.isfinite(force)))
         if size == 0:
-            return np.zeros(3), delta
+            return (force if finite else np.zeros(3)), delta
         bound = self._field_bound(brush, kernel)
         eps = kernel.eps
         if (
-            np.all(np.isfinite(force))
+            finite
             and bound.motion_sup(force, eps)[0] <= MAX_GRAB_RATIO * size
             and bound.strain_sup(force, eps) * eps <= MAX_GRAB_STRAIN * size
         ):
@@ -549,7 +550,7 @@ class Sculptor:
                 f"({brush.influence:g} ε): raise R0 somewhere in the falloff editor",
             )
         strain = bound.strain_sup(direction, eps) * eps
-        scale = min(MAX_GRAB_RATIO / peak, MAX_GRAB_STRAIN / strain) * size
+        scale = min(MAX_GRAB_RATIO / peak, MAX_GRAB_STRAIN / strain if strain else np.inf) * size
         sign = -1.0 if moved @ delta < 0 else 1.0  # the most moved point goes with the cursor
         return direction * (sign * scale), delta
 
