@@ -12,6 +12,11 @@ successive events compose, so a stroke is the composition of the flows of its ev
 brushes the load center travels with the cursor during each event, so the point under the cursor
 follows the cursor path exactly. A stroke is one undo step, and one entry of the session log.
 
+Safe falloffs: the load is normalized at the centre (the grabbed point follows the cursor) only
+while no vertex can then move more than :data:`MAX_GRAB_RATIO` × the cursor motion in one event
+(nor shear faces over); a falloff an artist edited so that its field is weak at the centre gets
+its load scaled down to that bound (:meth:`Sculptor._load`), and a zero one is refused.
+
 Constraints (paper Fig. 1) are applied as a direct displacement u(x) = Σ_j G(x − p_j) f_j on
 every vertex (no pseudo-time), so the constrained points land exactly on their targets.
 """
@@ -38,6 +43,14 @@ from gogreen_core.brushes import (
     mirror_signs,
 )
 from gogreen_core.constraints import ConstraintSet
+from gogreen_core.falloff_safety import (
+    AFFINE_FALLBACK,
+    AFFINE_MARGIN,
+    MAX_GRAB_RATIO,
+    MAX_GRAB_STRAIN,
+    FieldBound,
+    mean_green_direction,
+)
 from gogreen_core.history import History
 from gogreen_core.kernel import STREAMLINE_TOLERANCE, GreenKernel
 from gogreen_core.material import Material
@@ -55,7 +68,7 @@ from gogreen_core.operations import (
     Undo,
     operation_from_dict,
 )
-from gogreen_core.radial import GaussianRadial, MultiscaleRadial, RadialProfile
+from gogreen_core.radial import GaussianRadial, MultiscaleRadial, RadialProfile, SplineRadial
 from gogreen_core.schema import (
     EngineSettings,
     check_material,
@@ -92,6 +105,8 @@ MAX_REACH = 1e3
 #: Undo labels of settings changes (a continued change joins the last of these).
 _SETTING_LABELS = ("material", "falloff", "constraint radius")
 _NO_ROWS = np.zeros((0, 3))
+#: A field smaller than this fraction of the material's G scale (‖A‖/ε) is zero everywhere.
+_ZERO_FIELD = 1e-9
 
 
 class _Pin(NamedTuple):
@@ -168,6 +183,8 @@ class Sculptor:
         self.origin = 0.5 * (low + high)
         self.history = History(history_bytes)
         self._kernels: dict[str, GreenKernel] = {}
+        #: (base kernel, sampled field bound or affine limits): see _field_bound.
+        self._bounds: dict[tuple, tuple] = {}
         self._stroke: _Stroke | None = None
         self._constraints: ConstraintSet | None = None
         self._log = SessionLog()
@@ -236,6 +253,14 @@ class Sculptor:
         if not isinstance(falloff, RadialProfile) or isinstance(falloff, MultiscaleRadial):
             raise ParameterError(
                 "falloff", "falloff must be a single RadialProfile (Gaussian, Kelvinlet, spline)"
+            )
+        if isinstance(falloff, SplineRadial) and not any(
+            np.any(falloff.curve(kind, l)[1]) for kind, l in falloff.curve_keys()
+        ):
+            raise ParameterError(
+                "falloff",
+                "the falloff is zero everywhere (every curve's control values are 0): "
+                "no brush would move anything",
             )
         l_max = parse_l_max(values["l_max"])
         weights = values["degree_weights"]
@@ -459,22 +484,36 @@ class Sculptor:
             raise
         return self.end_stroke()
 
+    def _field_bound(self, brush: Brush, kernel: GreenKernel) -> FieldBound:
+        """The sampled field bound of ``brush``'s kernel shape (cached per base kernel, i.e.
+        per material, l_max, weights and falloff, and per brush variant and influence; the
+        brush radius does not matter)."""
+        base = self._base_kernel(brush.kind == "wrinkle")
+        variant = brush.kind if brush.kind in ("grab_biscale", "grab_triscale") else ""
+        key = (id(base), variant, brush.influence, brush.is_affine)
+        cached = self._bounds.get(key)
+        if cached is None or cached[0] is not base:
+            if len(self._bounds) >= 16:
+                self._bounds.clear()
+            cached = (base, FieldBound(kernel, brush.influence, brush.is_affine))
+            self._bounds[key] = cached
+        return cached[1]
+
     def _load(self, brush: Brush, kernel: GreenKernel, event: BrushEvent):
-        """(load, center_step) of one event: a force (3,) or an affine load (3, 3)."""
+        """(load, center_step) of one event: a force (3,) or an affine load (3, 3).
+
+        Safe falloffs: the load is normalized at the centre (grab: f = G(0)⁻¹ Δ, the grabbed
+        point follows the cursor; affine: the velocity gradient there is strength · amount
+        along the pattern) as long as no vertex can then move more than
+        :data:`MAX_GRAB_RATIO` |Δ| nor be sheared by more than :data:`MAX_GRAB_STRAIN` |Δ|/ε
+        (grab), or more than :data:`AFFINE_MARGIN` × what the Gaussian falloff does with
+        this material (affine), in the event; closed-form falloffs always are (their fields
+        peak at the centre). An edited falloff whose centre is weak (a dip, a zero or a
+        negative R₀ near 0) gets the load scaled to those bounds, with the most moved point
+        going along the cursor; a field that is zero everywhere is refused.
+        """
         if brush.kind in AFFINE_BRUSHES:
-            shape = affine_load_shape(brush.kind, event.axis, event.direction)
-            jacobian = self._centre_jacobian(kernel, event.center, shape)
-            # Its component along the pattern B (the sign depends on the material: Kelvinlets'
-            # scale load contracts for ν < 1/2) is divided out, so that the velocity gradient at
-            # the centre has component strength · amount along B: `amount` is a log strain or
-            # an angle at the centre whatever the material (brushes.py docstring).
-            response = float(np.sum(jacobian * shape) / np.sum(shape * shape))
-            if not abs(response) * np.linalg.norm(shape) > 1e-3 * np.linalg.norm(jacobian):
-                raise ValueError(
-                    f"the {brush.kind} brush has no effect with this material and falloff "
-                    f"(response {response:.3g})"
-                )
-            return shape * (brush.strength * event.amount / response), np.zeros(3)
+            return self._affine_load(brush, kernel, event), np.zeros(3)
         delta = brush.strength * event.delta
         # The wrinkle brush's force comes from the full (unweighted) kernel at the same falloff.
         full = (
@@ -483,7 +522,104 @@ class Sculptor:
             else kernel
         )
         g0 = full.green(np.zeros((1, 3)))[0]
-        return np.linalg.solve(g0, delta), delta
+        with np.errstate(all="ignore"):
+            try:
+                force = np.linalg.solve(g0, delta)
+            except np.linalg.LinAlgError:  # G(0) = 0: R₀(0) pulled to 0
+                force = np.full(3, np.nan)
+        size = vector_norm(delta)
+        finite = bool(np.all(np.isfinite(force)))
+        if size == 0:
+            return (force if finite else np.zeros(3)), delta
+        bound = self._field_bound(brush, kernel)
+        eps = kernel.eps
+        if (
+            finite
+            and bound.motion_sup(force, eps)[0] <= MAX_GRAB_RATIO * size
+            and bound.strain_sup(force, eps) * eps <= MAX_GRAB_STRAIN * size
+        ):
+            return force, delta
+        # A weak centre: G(0) = c R₀(0) A whatever the falloff, so A⁻¹ Δ is the direction of
+        # G(0)⁻¹ Δ even where R₀(0) = 0; scale it to the bounds.
+        direction = np.linalg.solve(mean_green_direction(self.material), delta)
+        peak, _, moved = bound.motion_sup(direction, eps)
+        if not peak * eps > _ZERO_FIELD * vector_norm(direction) * self._green_scale():
+            raise ParameterError(
+                "falloff",
+                f"the {brush.kind} brush's falloff is zero everywhere within its influence "
+                f"({brush.influence:g} ε): raise R0 somewhere in the falloff editor",
+            )
+        strain = bound.strain_sup(direction, eps) * eps
+        scale = min(MAX_GRAB_RATIO / peak, MAX_GRAB_STRAIN / strain if strain else np.inf) * size
+        sign = -1.0 if moved @ delta < 0 else 1.0  # the most moved point goes with the cursor
+        return direction * (sign * scale), delta
+
+    def _green_scale(self) -> float:
+        """‖A‖ (see :func:`mean_green_direction`): G's size for this material at ε = 1 up to a
+        falloff factor of order 1."""
+        return float(np.linalg.norm(mean_green_direction(self.material), 2))
+
+    def _affine_load(self, brush: Brush, kernel: GreenKernel, event: BrushEvent) -> np.ndarray:
+        """Affine load H (3, 3) of one scale / twist / pinch event (see :meth:`_load`)."""
+        shape = affine_load_shape(brush.kind, event.axis, event.direction)
+        jacobian = self._centre_jacobian(kernel, event.center, shape)
+        # Its component along the pattern B (the sign depends on the material: Kelvinlets'
+        # scale load contracts for ν < 1/2) is divided out, so that the velocity gradient at
+        # the centre has component strength · amount along B: `amount` is a log strain or
+        # an angle at the centre whatever the material (brushes.py docstring).
+        response = float(np.sum(jacobian * shape) / np.sum(shape * shape))
+        amount = brush.strength * event.amount
+        eps = kernel.eps
+        # The largest displacement and velocity gradient of the load B anywhere: the centre's
+        # response must be large enough that B · amount / response stays within the limits.
+        bound = self._field_bound(brush, kernel)
+        peak, at, moved = bound.motion_sup(shape, eps)
+        if not peak * eps**2 > _ZERO_FIELD * self._green_scale():
+            raise ParameterError(
+                "falloff",
+                f"the {brush.kind} brush's falloff has no gradient within its influence "
+                f"({brush.influence:g} ε): its odd-degree curves (dR) are zero",
+            )
+        motion_limit, strain_limit = self._affine_limits(brush, shape)
+        needed = max(peak / (motion_limit * eps), bound.strain_sup(shape, eps) / strain_limit)
+        if np.linalg.norm(jacobian) >= needed:  # the centre moves: the usual rule
+            if not abs(response) * np.linalg.norm(shape) > 1e-3 * np.linalg.norm(jacobian):
+                raise ValueError(
+                    f"the {brush.kind} brush has no effect with this material and falloff "
+                    f"(response {response:.3g})"
+                )
+            if abs(response) >= needed:
+                return shape * (amount / response)
+        # A weak centre: scale B to the limits, with the sign of the centre's response, or
+        # where that is lost in rounding, the sign that makes the most moved point follow the
+        # pattern (outwards for scale).
+        if abs(response) * eps > 1e-6 * peak:
+            sign = np.sign(response)
+        else:
+            sign = -1.0 if moved @ (shape @ at) < 0 else 1.0
+        return shape * (sign * amount / needed)
+
+    def _affine_limits(self, brush: Brush, shape: np.ndarray) -> tuple[float, float]:
+        """(motion in |amount| ε, velocity gradient in |amount|) an affine event of pattern
+        ``shape`` may reach: AFFINE_MARGIN × what the Gaussian falloff reaches with the same
+        material, l_max, influence and pattern (its field bound is cached per base kernel)."""
+        base = self._base_kernel(False)
+        key = ("gaussian", id(base), brush.influence)
+        cached = self._bounds.get(key)
+        if cached is None or cached[0] is not base:
+            if len(self._bounds) >= 16:
+                self._bounds.clear()
+            gaussian = base.with_radial(GaussianRadial(1.0))
+            cached = (base, (gaussian, FieldBound(gaussian, brush.influence, True)))
+            self._bounds[key] = cached
+        gaussian, bound = cached[1]
+        jacobian = self._centre_jacobian(gaussian, np.zeros(3), shape)
+        response = float(np.sum(jacobian * shape) / np.sum(shape * shape))
+        if not abs(response) * np.linalg.norm(shape) > 1e-3 * np.linalg.norm(jacobian):
+            return AFFINE_FALLBACK  # no effect with a Gaussian (an incompressible scale)
+        load = shape / response
+        motion, strain = bound.motion_sup(load, 1.0)[0], bound.strain_sup(load, 1.0)
+        return AFFINE_MARGIN * motion, AFFINE_MARGIN * strain
 
     @staticmethod
     def _centre_jacobian(kernel: GreenKernel, center: np.ndarray, load: np.ndarray) -> np.ndarray:
