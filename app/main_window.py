@@ -1,8 +1,11 @@
 """Main window: viewport, brush bar, side panels, menus, status bar.
 
-A thin view over :class:`app.document.Document` (which owns a :class:`gogreen_core.Sculptor`):
-mouse strokes from the viewport become engine calls here, and every failure is shown as a
-message that leaves the model as it was.
+A thin view over :class:`app.document.Document` (which owns a :class:`gogreen_core.Sculptor`)
+and one :class:`gogreen_core.settings.Settings` (brush, material, falloff, constraints) that the
+brush bar and the panels are bound to; an :class:`gogreen_core.settings.EngineLink` feeds the
+settings to the engine. Pointer events from the viewport go to the Qt-free
+:class:`gogreen_core.tools.SculptTools`; every failure is shown as a message that leaves the
+model as it was.
 """
 
 from __future__ import annotations
@@ -34,6 +37,7 @@ from app.viewport import SculptViewport
 from gogreen_core.material import Material
 from gogreen_core.mesh_io import write_text_atomic
 from gogreen_core.presets import Preset, builtin_presets, load_preset, save_preset
+from gogreen_core.settings import ChangeEvent, EngineLink, Settings
 from gogreen_core.tools import PointerEvent, SculptTools, ToolUpdate
 
 __all__ = ["MainWindow"]
@@ -56,20 +60,23 @@ class MainWindow(QMainWindow):
         super().__init__()
         self.settings = settings or QSettings("GoGreen", "GoGreen Sculpt")
         self.resize(1500, 920)
+        #: The one source of truth of what the artist tunes; widgets and the engine follow it.
+        self.model = Settings()
+        self.engine_link = EngineLink(self.model, None, on_error=self._setting_refused)
         self.viewport = SculptViewport(self)
         self.setCentralWidget(self.viewport)
-        self.brush_bar = BrushBar(self)
+        self.brush_bar = BrushBar(self.model.brush, self)
         self.addToolBar(Qt.ToolBarArea.TopToolBarArea, self.brush_bar)
-        self.material_panel = MaterialPanel()
+        self.material_panel = MaterialPanel(settings=self.model)
         self.homogenization_panel = HomogenizationPanel()
-        self.falloff_panel = FalloffPanel()
+        self.falloff_panel = FalloffPanel(settings=self.model)
         self._build_docks()
         self._build_menus()
         self._build_status_bar()
         self.document: Document | None = None
         self._constraint_actor = None
         self.tools = SculptTools(
-            None, brush=lambda: self.brush_bar.brush, first_pin_radius=self._first_pin_radius
+            None, brush=lambda: self.model.brush.brush, first_pin_radius=self._first_pin_radius
         )
         # Drag moves are applied once per event-loop turn, the newest position winning.
         self._tool_timer = QTimer(self)
@@ -80,7 +87,7 @@ class MainWindow(QMainWindow):
         self.kernel_warmer = KernelWarmer(self)
         self._announced_warmups: set[int] = set()
         self._connect()
-        self.kernel_warmer.request(self.falloff_panel.l_max)
+        self.kernel_warmer.request(self.model.l_max)
 
     # -- construction ------------------------------------------------------------------------
     def _build_docks(self) -> None:
@@ -182,10 +189,10 @@ class MainWindow(QMainWindow):
         self.brush_bar.constraint_mode_changed.connect(self._constraint_mode_changed)
         self.viewport.radius_wheel.connect(self.brush_bar.scale_radius)
         self.viewport.strength_wheel.connect(self.brush_bar.scale_strength)
-        self.brush_bar.changed.connect(self._brush_changed)
-        self.material_panel.material_changed.connect(self.apply_material)
+        self.model.brush.events.changed.connect(lambda _c: self._brush_changed())
+        self.model.events.material.connect(self._material_changed)
+        self.model.events.l_max.connect(self._l_max_changed)
         self.homogenization_panel.material_ready.connect(self._use_homogenized)
-        self.falloff_panel.falloff_changed.connect(self.apply_falloff)
         self.kernel_warmer.ready.connect(self._kernels_ready)
         self.kernel_warmer.failed.connect(
             lambda l_max, error: self.flash(f"Kernels for l_max = {l_max} failed: {error}")
@@ -193,17 +200,13 @@ class MainWindow(QMainWindow):
 
     # -- documents ---------------------------------------------------------------------------
     def _sculptor_options(self) -> dict:
-        return {
-            "material": self.material_panel.material,
-            "l_max": self.falloff_panel.l_max,
-            "falloff": self.falloff_panel.radial,
-            "degree_weights": self.falloff_panel.degree_weights,
-        }
+        return self.model.sculptor_options()
 
     def set_document(self, document: Document) -> None:
         self.tools.cancel()
         self.document = document
         self.tools.set_sculptor(document.sculptor)
+        self.engine_link.attach(document.sculptor)
         self.viewport.set_mesh(document.sculptor.vertices, document.sculptor.faces)
         if self._constraint_actor is not None:
             self.viewport.remove_actor(self._constraint_actor, render=False)
@@ -312,37 +315,28 @@ class MainWindow(QMainWindow):
             )
         self.recent_menu.setEnabled(bool(self.recent_files()))
 
-    # -- settings from the panels ------------------------------------------------------------
+    # -- settings --------------------------------------------------------------------------
     def apply_material(self, material: Material) -> None:
-        if self.document is None:
-            return
-        try:
-            self.document.sculptor.set_material(material)
-        except (ValueError, RuntimeError) as exc:
-            self.show_error("Material not applied", str(exc))
-            return
-        self.flash("Material applied")
+        """Use ``material`` (through the settings: the panel and the engine follow)."""
+        self.model.material = material
+
+    def _material_changed(self, event: ChangeEvent) -> None:
+        if event.source != "engine" and self.document is not None:
+            if self.document.sculptor.material == event.value:
+                self.flash("Material applied")
 
     def _use_homogenized(self, material: Material) -> None:
-        self.material_panel.set_material(material)
         self.apply_material(material)
         self.panel_tabs.setCurrentWidget(self.material_panel)
 
-    def apply_falloff(self) -> None:
-        l_max = self.falloff_panel.l_max
-        if self.kernel_warmer.request(l_max):
-            self._announced_warmups.add(l_max)
-            self.flash(f"Preparing the l_max = {l_max} kernels…")
-        if self.document is None:
-            return
-        try:
-            self.document.sculptor.set_falloff(
-                self.falloff_panel.radial,
-                self.falloff_panel.l_max,
-                self.falloff_panel.degree_weights,
-            )
-        except (ValueError, RuntimeError) as exc:
-            self.show_error("Falloff not applied", str(exc))
+    def _l_max_changed(self, event: ChangeEvent) -> None:
+        if self.kernel_warmer.request(event.value):
+            self._announced_warmups.add(event.value)
+            self.flash(f"Preparing the l_max = {event.value} kernels…")
+
+    def _setting_refused(self, parameter: str, exc: Exception) -> None:
+        """The engine refused a setting: the settings were restored from it; say why."""
+        self.show_error(f"{parameter} not applied", str(exc))
 
     def _kernels_ready(self, l_max: int, seconds: float) -> None:
         if l_max in self._announced_warmups:
@@ -364,7 +358,7 @@ class MainWindow(QMainWindow):
 
     def _first_pin_radius(self) -> None:
         """The first pin takes the brush radius."""
-        self.document.sculptor.set_constraint_radius(self.brush_bar.brush.radius)
+        self.model.constraint_radius = self.model.brush.radius
 
     def _pointer_pressed(self, event: PointerEvent) -> None:
         if self.document is not None:
@@ -446,6 +440,7 @@ class MainWindow(QMainWindow):
         if label is None:
             self.flash(f"Nothing to {name.lower()}")
             return
+        self.engine_link.pull()  # an undone setting shows in the panels again
         self.viewport.update_vertices(self.document.sculptor.vertices)
         self.viewport.request_render()
         self._refresh_title()
@@ -462,22 +457,11 @@ class MainWindow(QMainWindow):
     # -- presets, session, screenshot --------------------------------------------------------
     def preset(self, name: str = "") -> Preset:
         """The current material + falloff + brush as a :class:`Preset`."""
-        return Preset(
-            name=name,
-            material=self.material_panel.material,
-            falloff=self.falloff_panel.radial,
-            l_max=self.falloff_panel.l_max,
-            degree_weights=self.falloff_panel.degree_weights,
-            brush=self.brush_bar.brush,
-        )
+        return self.model.preset(name)
 
     def apply_preset(self, preset: Preset) -> None:
-        """Show ``preset`` in the panels and brush bar and give its settings to the model."""
-        self.material_panel.set_material(preset.material)
-        self.falloff_panel.set_falloff(preset.falloff, preset.l_max, preset.degree_weights)
-        self.brush_bar.set_brush(preset.brush)
-        self.apply_material(preset.material)
-        self.apply_falloff()
+        """Give the settings ``preset``'s values (panels, brush bar and engine follow)."""
+        self.model.apply_preset(preset)
         self.flash(f"Preset: {preset.name}" if preset.name else "Preset loaded")
 
     def _json_dialog(self, title: str, save: bool) -> str:

@@ -332,6 +332,8 @@ def test_drag_a_control_point(qtbot, falloff_panel):
     assert editor.active_key == ("R", 0)
     changes = _count(panel.falloff_changed)
     finished = _count(panel.editing_finished)
+    model_changes: list = []
+    panel.settings.events.changed.connect(model_changes.append)
     rho, value = editor.control_points()
     index = int(np.searchsorted(rho, 1.0))
     version = panel.radial.version
@@ -352,6 +354,10 @@ def test_drag_a_control_point(qtbot, falloff_panel):
     assert len(changes) >= 2  # live while dragging
     assert len(finished) == 1  # once, at the release
     assert panel.radial.eps == 1.0
+    # the model hears one drag: a first step, then continued ones (one undo step downstream)
+    flags = [c.continued for c in model_changes]
+    assert len(flags) >= 2 and flags[0] is False and all(flags[1:])
+    assert all(c.names == {"falloff"} for c in model_changes)
 
 
 def test_point_at_rho_zero_is_pinned_for_l_at_least_1(qtbot, falloff_panel):
