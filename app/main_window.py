@@ -23,6 +23,7 @@ from PySide6.QtWidgets import (
     QLabel,
     QMainWindow,
     QMessageBox,
+    QProgressBar,
     QTabWidget,
     QToolBar,
 )
@@ -76,7 +77,10 @@ class MainWindow(QMainWindow):
         self.document: Document | None = None
         self._constraint_actor = None
         self.tools = SculptTools(
-            None, brush=lambda: self.model.brush.brush, first_pin_radius=self._first_pin_radius
+            None,
+            brush=lambda: self.model.brush.brush,
+            first_pin_radius=self._first_pin_radius,
+            ready=self._stroke_refusal,
         )
         # Drag moves are applied once per event-loop turn, the newest position winning.
         self._tool_timer = QTimer(self)
@@ -88,6 +92,7 @@ class MainWindow(QMainWindow):
         self._announced_warmups: set[int] = set()
         self._connect()
         self.kernel_warmer.request(self.model.l_max)
+        self._announced_warmups.add(self.model.l_max)
 
     # -- construction ------------------------------------------------------------------------
     def _build_docks(self) -> None:
@@ -175,6 +180,16 @@ class MainWindow(QMainWindow):
         self.step_label = QLabel("brush step: –")
         self.frame_label = QLabel("render: –")
         self.message_label = QLabel()
+        # Busy indicator while kernels compile (first start, a new l_max): never a silent wait.
+        self.compile_progress = QProgressBar()
+        self.compile_progress.setRange(0, 0)
+        self.compile_progress.setMaximumWidth(160)
+        self.compile_progress.setFormat("")
+        self.compile_progress.setToolTip(
+            "Compiling the brush kernels (once per machine and l_max); strokes start after it"
+        )
+        self.compile_progress.hide()
+        self.statusBar().addPermanentWidget(self.compile_progress)
         for label in (self.vertex_label, self.step_label, self.frame_label):
             label.setMinimumWidth(150)
             self.statusBar().addPermanentWidget(label)
@@ -194,6 +209,7 @@ class MainWindow(QMainWindow):
         self.model.events.l_max.connect(self._l_max_changed)
         self.homogenization_panel.material_ready.connect(self._use_homogenized)
         self.kernel_warmer.ready.connect(self._kernels_ready)
+        self.kernel_warmer.busy_changed.connect(self._compiling)
         self.kernel_warmer.failed.connect(
             lambda l_max, error: self.flash(f"Kernels for l_max = {l_max} failed: {error}")
         )
@@ -338,6 +354,22 @@ class MainWindow(QMainWindow):
         """The engine refused a setting: the settings were restored from it; say why."""
         self.show_error(f"{parameter} not applied", str(exc))
 
+    def _compiling(self, busy: bool) -> None:
+        self.compile_progress.setVisible(busy)
+        if busy:
+            self.flash("Compiling the brush kernels (first start only)…")
+
+    def _stroke_refusal(self) -> str | None:
+        """Why a stroke may not start now (kernels still compiling), or None."""
+        l_max = self.model.l_max
+        if self.kernel_warmer.is_ready(l_max):
+            return None
+        self.kernel_warmer.request(l_max)
+        return (
+            f"the brush kernels for l_max = {l_max} are still compiling (see the status bar); "
+            "strokes start as soon as they are ready"
+        )
+
     def _kernels_ready(self, l_max: int, seconds: float) -> None:
         if l_max in self._announced_warmups:
             # more than a load from the disk cache: say that it compiled, once
@@ -390,7 +422,9 @@ class MainWindow(QMainWindow):
             self.viewport.update_vertices(self.document.sculptor.vertices)
         elif self.document is not None and update.moved is not None:
             self.viewport.update_vertices(self.document.sculptor.vertices, update.moved)
-        if update.error:
+        if update.refused:  # not an error: e.g. kernels still compiling
+            self.flash(f"{error_title}: {update.error}")
+        elif update.error:
             self.show_error(error_title, update.error)
         if self.document is None or not update.changed:
             return

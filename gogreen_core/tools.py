@@ -99,6 +99,7 @@ class ToolUpdate:
     cursor : new brush-ring placement, or None to keep it (``hide_cursor`` hides it).
     step_seconds : wall time of the engine call, 0 if none ran.
     error : message of an engine error (the stroke was cancelled and the mesh restored).
+    refused : the press was refused before reaching the engine (``error`` says why).
     """
 
     moved: np.ndarray | None = None
@@ -108,6 +109,7 @@ class ToolUpdate:
     hide_cursor: bool = False
     step_seconds: float = 0.0
     error: str | None = None
+    refused: bool = False
 
     @property
     def changed(self) -> bool:
@@ -362,7 +364,7 @@ class SculptTools:
             return ToolUpdate()
         reason = self.ready() if self.mode == "brush" else None
         if reason:
-            return ToolUpdate(error=reason)
+            return ToolUpdate(error=reason, refused=True)
         self._moves.reset()
         self._hover = None
         try:

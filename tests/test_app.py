@@ -21,6 +21,7 @@ def window(qtbot, tmp_path, monkeypatch):
     win.show()
     qtbot.waitExposed(win)
     assert win.open_file(SPOT)
+    assert win.kernel_warmer.wait(120_000)  # strokes are refused until the kernels are ready
     win.viewport.render()
     return win
 
@@ -237,3 +238,16 @@ def test_panels_and_engine_follow_the_settings_model(window):
     assert model.degree_weights[2] == 3.0 == window.document.sculptor.degree_weights[2]
     window.brush_bar.radius.setValue(0.2)
     assert model.brush.radius == 0.2
+
+
+def test_strokes_wait_for_the_kernels_with_a_message_not_a_freeze(window, monkeypatch):
+    ready = window.kernel_warmer.is_ready
+    monkeypatch.setattr(window.kernel_warmer, "is_ready", lambda l_max: False)
+    before = window.document.sculptor.vertices.copy()
+    drag(window, center_of(window))
+    assert np.array_equal(window.document.sculptor.vertices, before)
+    assert "still compiling" in window.message_label.text()
+    assert not window.document.sculptor.in_stroke
+    monkeypatch.setattr(window.kernel_warmer, "is_ready", ready)
+    drag(window, center_of(window))
+    assert window.document.dirty

@@ -285,7 +285,7 @@ def test_newer_request_supersedes_an_older_one(qtbot, homogenization_panel, monk
     panel.compute()
     _wait_idle(qtbot, panel)
     panel.wait_for_idle()
-    assert outcomes == ["_Superseded", "done"]
+    assert outcomes == ["Cancelled", "done"]
     assert len(results) == 1
     expected = real(make_pattern("checkerboard", 16), bimaterial(contrast=1000.0)).material
     assert np.allclose(results[0].voigt, expected.voigt, rtol=1e-7)
@@ -495,3 +495,43 @@ def test_curve_selector_and_shown_curves(qtbot, falloff_panel):
     qtbot.mouseClick(editor, Qt.MouseButton.LeftButton, pos=point.toPoint())
     assert editor.active_key == ("dR", 1)
     assert panel.curve_combo.currentText().startswith("ℛ₁")
+
+
+# ---------------------------------------------------------------------------------------------
+# Background work
+# ---------------------------------------------------------------------------------------------
+def test_background_runner_reports_progress_results_errors_and_cancels(qtbot):
+    from app.background import BackgroundRunner
+    from gogreen_core.validation import ParameterError
+
+    runner = BackgroundRunner()
+    progress, results, failures, cancelled = [], [], [], []
+    runner.progress.connect(lambda job, f: progress.append(f))
+    runner.finished.connect(lambda job, r: results.append((job, r)))
+    runner.failed.connect(lambda job, e: failures.append(e))
+    runner.cancelled.connect(cancelled.append)
+    release = threading.Event()
+
+    def work(task):
+        task.progress(0.5)
+        return threading.current_thread() is not threading.main_thread()
+
+    def blocked(task):
+        release.wait(10.0)
+        task.progress(0.1)  # raises Cancelled: it was cancelled while waiting
+        return "never"
+
+    def bad(task):
+        raise ParameterError("contrast", "contrast must be > 0")
+
+    first = runner.submit(work)
+    slow = runner.submit(blocked)
+    failing = runner.submit(bad)
+    runner.cancel(slow)
+    release.set()
+    assert runner.wait(10_000)
+    qtbot.waitUntil(lambda: not runner.busy)
+    assert results == [(first, True)] and progress == [0.5]
+    assert cancelled == [slow]
+    assert failures[0].parameter == "contrast"
+    assert failing not in [job for job, _ in results]

@@ -97,7 +97,8 @@ def test_pressure_scales_a_grab_step(sculptor):
 def test_press_off_the_surface_or_before_ready_is_refused_with_a_message(sculptor):
     tools = tools_for(sculptor, ready=lambda: "kernels are still compiling")
     update = tools.press(at(sculptor.vertices[0]))
-    assert update.error == "kernels are still compiling" and not tools.dragging
+    assert update.error == "kernels are still compiling" and update.refused
+    assert not tools.dragging
     tools.ready = lambda: None
     update = tools.press(PointerEvent((0.0, 0.0), None))
     assert update.error and "surface" in update.error and not sculptor.in_stroke
