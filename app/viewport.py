@@ -92,10 +92,13 @@ class SculptViewport(QtInteractor):
         self._orbit_button: Qt.MouseButton | None = None
         self._hover_pos: QPointF | None = None
         self._hover_timer = self._zero_timer(self._emit_hover)
-        self._render_timer = self._zero_timer(self.render_now)
-        #: Renders done and the duration of the last one (ms).
+        #: Renders done and the duration of the last one (ms), measured by VTK's own events.
         self.frames = 0
         self.last_frame_ms = 0.0
+        self._render_pending = False
+        self._frame_start = 0.0
+        self.ren_win.AddObserver("StartEvent", self._frame_started)
+        self.ren_win.AddObserver("EndEvent", self._frame_ended)
         self.setMouseTracking(True)
 
     def _zero_timer(self, slot) -> QTimer:
@@ -107,22 +110,32 @@ class SculptViewport(QtInteractor):
 
     # -- rendering ---------------------------------------------------------------------------
     def request_render(self) -> None:
-        """Render once when control returns to the event loop (requests in between merge)."""
-        if not self._render_timer.isActive():
-            self._render_timer.start()
+        """Render once when control returns to the event loop.
+
+        A Qt ``update()``: requests made before the next paint merge into one paint, and the
+        widget's paint is where pyvistaqt renders. (``render()`` renders at once and then
+        schedules that paint, which renders again: two renders per frame.)
+        """
+        self._render_pending = True
+        self.update()
 
     def render_now(self) -> None:
-        """Render at once (drops a pending request) and time it."""
-        self._render_timer.stop()
-        start = time.perf_counter()
+        """Render at once (tests, screenshots); a paint (one more render) follows."""
         self.render()
-        self.last_frame_ms = 1e3 * (time.perf_counter() - start)
+
+    def _frame_started(self, *_args) -> None:
+        self._frame_start = time.perf_counter()
+
+    def _frame_ended(self, *_args) -> None:
+        self.last_frame_ms = 1e3 * (time.perf_counter() - self._frame_start)
         self.frames += 1
+        self._render_pending = False
         self.frame_rendered.emit(self.last_frame_ms)
 
     @property
     def render_pending(self) -> bool:
-        return self._render_timer.isActive()
+        """A requested render has not happened yet."""
+        return self._render_pending
 
     # -- mesh --------------------------------------------------------------------------------
     def set_mesh(self, vertices: np.ndarray, faces: np.ndarray, reset_camera: bool = True) -> None:
