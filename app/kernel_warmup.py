@@ -15,12 +15,16 @@ from __future__ import annotations
 
 import time
 
+import numpy as np
 from PySide6.QtCore import QObject, Signal
 
 from app.background import BackgroundRunner, Task
+from gogreen_core.brushes import Brush, BrushEvent
 from gogreen_core.kernel import GreenKernel, prepare_degree
 from gogreen_core.material import Material
 from gogreen_core.radial import GaussianRadial, SplineRadial
+from gogreen_core.sculptor import Sculptor
+from gogreen_core.shapes import icosphere
 
 __all__ = ["KernelWarmer", "warm_up_degree"]
 
@@ -35,9 +39,24 @@ def warm_up_degree(l_max: int, task: Task | None = None) -> float:
     start = time.perf_counter()
     prepare_degree(l_max)
     if task is not None:
-        task.progress(0.5)
+        task.progress(0.3)
     falloff = SplineRadial.from_profile(GaussianRadial(1.0), l_max)
     GreenKernel(Material.isotropic(1.0, 0.3), l_max, falloff).warm_up()
+    if task is not None:
+        task.progress(0.6)
+    # A stroke also runs helpers outside the kernel (the active-vertex search, G(0) for the
+    # grab force, the pins' solve): one tiny stroke of each kind compiles them all.
+    vertices, faces = icosphere(1)
+    sculptor = Sculptor(vertices, faces, l_max=l_max, falloff=falloff)
+    top = vertices[int(np.argmax(vertices[:, 2]))]
+    grab = BrushEvent(center=top, delta=np.array([0.0, 0.0, 0.01]))
+    sculptor.apply_brush(Brush("grab", radius=0.3, symmetry="x"), [grab])
+    sculptor.apply_brush(Brush("wrinkle", radius=0.3), [grab])
+    twist = BrushEvent(center=top, amount=0.01, axis=np.array([0.0, 0.0, 1.0]))
+    sculptor.apply_brush(Brush("twist", radius=0.3), [twist])
+    pin = sculptor.add_constraint(top)
+    sculptor.add_constraint(-top)
+    sculptor.drag_constraint(pin, np.array([0.0, 0.0, 0.01]))
     return time.perf_counter() - start
 
 

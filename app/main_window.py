@@ -31,6 +31,7 @@ from PySide6.QtWidgets import (
 from app.brush_bar import BrushBar
 from app.document import SAVE_FORMATS, Document
 from app.kernel_warmup import KernelWarmer
+from app.keyboard import FocusKeys
 from app.panels.falloff_panel import FalloffPanel
 from app.panels.homogenization_panel import HomogenizationPanel
 from app.panels.material_panel import MaterialPanel
@@ -91,6 +92,7 @@ class MainWindow(QMainWindow):
         self.kernel_warmer = KernelWarmer(self)
         self._announced_warmups: set[int] = set()
         self._connect()
+        self.focus_keys = FocusKeys(self, self.viewport, self._shortcut_keys)
         self.kernel_warmer.request(self.model.l_max)
         self._announced_warmups.add(self.model.l_max)
 
@@ -128,6 +130,10 @@ class MainWindow(QMainWindow):
         action.triggered.connect(lambda: widget.setVisible(action.isChecked()))
         widget.visibilityChanged.connect(action.setChecked)
         return action
+
+    def _shortcut_keys(self) -> list[QKeySequence]:
+        """The key sequences of the window's actions (menus and brush bar)."""
+        return [a.shortcut() for a in self.findChildren(QAction) if not a.shortcut().isEmpty()]
 
     def _build_menus(self) -> None:
         bar = self.menuBar()

@@ -100,6 +100,8 @@ class SculptViewport(QtInteractor):
         self.ren_win.AddObserver("StartEvent", self._frame_started)
         self.ren_win.AddObserver("EndEvent", self._frame_ended)
         self.setMouseTracking(True)
+        # takes the keyboard focus when clicked, and back from fields (app.keyboard)
+        self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
 
     def _zero_timer(self, slot) -> QTimer:
         timer = QTimer(self)
@@ -269,6 +271,7 @@ class SculptViewport(QtInteractor):
         return PointerEvent((pos.x(), pos.y()), point, normal, view, right, float(pressure), names)
 
     def mousePressEvent(self, ev: QMouseEvent) -> None:
+        self.setFocus(Qt.FocusReason.MouseFocusReason)
         if ev.button() == Qt.MouseButton.LeftButton and self._drag_depth is None:
             hit = self.pick(ev.position())
             if hit is not None:

@@ -251,3 +251,32 @@ def test_strokes_wait_for_the_kernels_with_a_message_not_a_freeze(window, monkey
     monkeypatch.setattr(window.kernel_warmer, "is_ready", ready)
     drag(window, center_of(window))
     assert window.document.dirty
+
+
+def test_shortcuts_act_from_a_number_field_and_enter_returns_focus(window, qtbot):
+    from PySide6.QtTest import QTest
+
+    with qtbot.waitActive(window, timeout=10_000):
+        window.activateWindow()
+        window.windowHandle().requestActivate()
+    field = window.material_panel.fields["young"]
+    field.setFocus()
+    qtbot.waitUntil(field.hasFocus)
+    QTest.keyClick(field, Qt.Key.Key_S)  # the Scale brush, not a letter in the field
+    assert window.model.brush.kind == "scale"
+    QTest.keyClick(field, Qt.Key.Key_BracketRight)  # radius larger
+    assert window.model.brush.radius > 0.08
+    window.model.brush.kind = "grab"
+    drag(window, center_of(window))
+    assert window.document.dirty
+    field.setFocus()
+    qtbot.waitUntil(field.hasFocus)
+    QTest.keyClick(field, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)  # the window's undo
+    assert not window.document.dirty
+    QTest.keyClicks(field, "2")  # digits still go into the field
+    QTest.keyClick(field, Qt.Key.Key_Return)
+    qtbot.waitUntil(window.viewport.hasFocus)
+    field.setFocus()
+    qtbot.waitUntil(field.hasFocus)
+    QTest.keyClick(field, Qt.Key.Key_Escape)
+    qtbot.waitUntil(window.viewport.hasFocus)

@@ -225,9 +225,10 @@ class MaterialPanel(QWidget):
         self.mode_combo.currentIndexChanged.connect(self._mode_changed)
         self.settings = settings
         if settings is not None:
-            self.set_material(material or settings.material)
             if material is not None:
                 settings.material = material
+            if settings.material != self._material:  # else keep the friendlier E, ν page
+                self.set_material(settings.material)
             self.material_changed.connect(self._to_model)
             emitter, callback = settings.events.material, self._from_model
             emitter.connect(callback)
