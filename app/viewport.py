@@ -144,6 +144,7 @@ class SculptViewport(QtInteractor):
         """Show a new mesh (one actor, replaced only when the mesh itself changes)."""
         if self.mesh_actor is not None:
             self.remove_actor(self.mesh_actor, render=False)
+        self.show_cursor(None)  # sized for the old mesh; it would also widen the home view
         cells = np.hstack([np.full((len(faces), 1), 3), faces]).ravel()
         self.mesh = pv.PolyData(np.array(vertices, dtype=np.float64), cells)
         self.mesh.point_data["Normals"] = vertex_normals(vertices, faces)

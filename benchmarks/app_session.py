@@ -144,6 +144,10 @@ def main() -> None:
         t_press = time.perf_counter()
         post(QEvent.Type.MouseButtonPress, start, left, left)
         spin(0.05)
+        if not window.tools.dragging:  # the press orbited instead (or was refused)
+            post(QEvent.Type.MouseButtonRelease, start, left, Qt.MouseButton.NoButton)
+            spin(0.5)
+            return None
         pos = start
         # Move k is due at k/120 s: whatever fell due while the window was busy (a step, a
         # render) is posted at once, as the X server queues a real mouse's events.
@@ -175,6 +179,8 @@ def main() -> None:
 
     # the first stroke after start-up: press, one move, release
     first = drag(1)
+    if first is None:
+        sys.exit(f"the first press did not start a stroke: {window.message_label.text()}")
     print(
         f"first stroke after ready: {first['total']:.2f} s (press, 1 move, release; "
         f"step {first['step']:.0f} ms, render {first['render']:.0f} ms)"
@@ -197,6 +203,10 @@ def main() -> None:
             spin(0.5)
         r = drag(args.events)
         n = len(window.document.sculptor.vertices)
+        if r is None:
+            note = window.message_label.text()
+            print(f"{name:<16} {n:>8} the press did not start a stroke: {note}")
+            continue
         print(
             f"{name:<16} {n:>8} {r['received']:>5} {r['processed']:>5} {r['step']:>8.1f} "
             f"{r['render']:>9.0f} {r['after']:>22} {r['settled']:>19.0f}"
