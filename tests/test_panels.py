@@ -535,3 +535,23 @@ def test_background_runner_reports_progress_results_errors_and_cancels(qtbot):
     assert cancelled == [slow]
     assert failures[0].parameter == "contrast"
     assert failing not in [job for job, _ in results]
+
+
+def test_a_rotation_slider_drag_reaches_the_settings_as_one_continued_edit(qtbot):
+    from gogreen_core.settings import Settings
+
+    settings = Settings()
+    panel = MaterialPanel(settings=settings)
+    qtbot.addWidget(panel)
+    panel.set_mode("orthotropic")  # anisotropic: a rotation changes the material
+    changes: list = []
+    settings.events.changed.connect(changes.append)
+    slider = panel.rotation.sliders[2]
+    slider.setSliderDown(True)
+    for angle in (10, 20, 30):
+        slider.setValue(angle)
+    slider.setSliderDown(False)
+    assert [c.continued for c in changes] == [False, True, True]
+    assert settings.material == panel.material
+    panel.rotation.sliders[0].setValue(5)  # a discrete edit after the drag: a new step
+    assert changes[-1].continued is False

@@ -224,6 +224,7 @@ class MaterialPanel(QWidget):
 
         self.mode_combo.currentIndexChanged.connect(self._mode_changed)
         self.settings = settings
+        self._slider_drag = False
         if settings is not None:
             if material is not None:
                 settings.material = material
@@ -237,7 +238,11 @@ class MaterialPanel(QWidget):
             self.set_material(material)
 
     def _to_model(self, material: Material) -> None:
-        self.settings.material = material
+        # a rotation slider drag is one edit: its steps after the first are "continued"
+        dragging = any(slider.isSliderDown() for slider in self.rotation.sliders)
+        continued = dragging and self._slider_drag
+        self._slider_drag = dragging
+        self.settings.set("material", material, continued=continued)
 
     def _from_model(self, event: ChangeEvent) -> None:
         if event.value != self._material:
