@@ -22,7 +22,7 @@ import numpy as np
 import pyvista as pv
 import vtk
 from PySide6.QtCore import QPointF, Qt, QTimer, Signal
-from PySide6.QtGui import QMouseEvent, QWheelEvent
+from PySide6.QtGui import QMouseEvent, QTabletEvent, QWheelEvent
 from pyvistaqt import QtInteractor
 
 from gogreen_core.geometry import vertex_normals
@@ -91,6 +91,8 @@ class SculptViewport(QtInteractor):
         self._drag_depth: float | None = None
         self._orbit_button: Qt.MouseButton | None = None
         self._hover_pos: QPointF | None = None
+        #: Pen pressure of the latest tablet event (1 for a mouse), given to the tools.
+        self._pressure = 1.0
         self._hover_timer = self._zero_timer(self._emit_hover)
         #: Renders done and the duration of the last one (ms), measured by VTK's own events.
         self.frames = 0
@@ -256,9 +258,10 @@ class SculptViewport(QtInteractor):
         point: np.ndarray | None,
         normal: np.ndarray | None = None,
         modifiers: Qt.KeyboardModifier = Qt.KeyboardModifier.NoModifier,
-        pressure: float = 1.0,
+        pressure: float | None = None,
     ) -> PointerEvent:
-        """A plain :class:`PointerEvent` for widget position ``pos``."""
+        """A plain :class:`PointerEvent` for widget position ``pos`` (pressure: the pen's)."""
+        pressure = self._pressure if pressure is None else pressure
         view, right = self._view_axes()
         names = frozenset(
             name
@@ -270,6 +273,12 @@ class SculptViewport(QtInteractor):
             if modifiers & flag
         )
         return PointerEvent((pos.x(), pos.y()), point, normal, view, right, float(pressure), names)
+
+    def tabletEvent(self, ev: QTabletEvent) -> None:
+        """Keep the pen's pressure; Qt then sends the mouse event made from this one."""
+        touching = ev.type() != QTabletEvent.Type.TabletRelease and bool(ev.buttons())
+        self._pressure = float(ev.pressure()) if touching else 1.0  # hover: a mouse's 1
+        ev.ignore()
 
     def mousePressEvent(self, ev: QMouseEvent) -> None:
         self.setFocus(Qt.FocusReason.MouseFocusReason)
