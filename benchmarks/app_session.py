@@ -13,6 +13,7 @@ Prints (figures only; nothing is asserted):
   during a step or a render are coalesced; the last position is always applied), median brush
   step and render times, renders and milliseconds from the button release to a settled screen
   (no render pending), and the first stroke after start-up;
+* 12 undos queued at once (a held Ctrl+Z): milliseconds until the screen settles, renders;
 * a screenshot of the window.
 
 Issue goals: idle ≤ 2 % of a core; release → settled in ≤ one render; first stroke after the
@@ -212,6 +213,20 @@ def main() -> None:
             f"{r['render']:>9.0f} {r['after']:>22} {r['settled']:>19.0f}"
         )
         window.document._saved_vertices = window.document.sculptor.vertices.copy()  # no prompt
+    # 12 undos queued at once (a held Ctrl+Z): one render for all of them, not twelve
+    for _ in range(12):
+        r = drag(5)
+    renders.clear()
+    t_undo = time.perf_counter()
+    for _ in range(12):
+        QTimer.singleShot(0, window.undo)
+    app.processEvents()
+    while vp.render_pending:
+        app.processEvents()
+    print(
+        f"12 queued undos: settled after {1e3 * (time.perf_counter() - t_undo):.0f} ms, "
+        f"{len(renders)} render(s)"
+    )
     window.save_screenshot(args.out)
     print(f"screenshot: {args.out}")
     window.close()
