@@ -1,4 +1,10 @@
-"""Brush toolbar: brush kind, radius, strength, RK4 substeps, mirror symmetry, constraint mode."""
+"""Brush toolbar: a view of the brush settings (kind, radius, strength, RK4 substeps,
+influence, mirror symmetry) plus the constraint (pin) mode of the pointer tools.
+
+The bar holds no brush of its own: every widget is bound to a field of
+:class:`gogreen_core.settings.BrushSettings` (see :mod:`app.bindings`), so presets, the wheel
+shortcuts and scripts that change the model show here, and edits here reach the model.
+"""
 
 from __future__ import annotations
 
@@ -8,7 +14,9 @@ from PySide6.QtCore import Signal
 from PySide6.QtGui import QAction, QActionGroup, QKeySequence
 from PySide6.QtWidgets import QDoubleSpinBox, QLabel, QSpinBox, QToolBar, QWidget
 
+from app.bindings import bind, bind_spin
 from gogreen_core.brushes import BRUSH_KINDS, Brush
+from gogreen_core.settings import BrushSettings
 
 __all__ = ["BRUSH_LABELS", "BrushBar"]
 
@@ -25,14 +33,21 @@ BRUSH_LABELS = {
 
 
 class BrushBar(QToolBar):
-    """Toolbar editing a :class:`gogreen_core.Brush`; ``changed`` fires on every edit."""
+    """Toolbar bound to a :class:`BrushSettings`; ``changed`` fires after each brush change.
+
+    Parameters
+    ----------
+    settings : BrushSettings, optional (a private one when omitted, for standalone use)
+    parent : QWidget, optional
+    """
 
     changed = Signal()
     constraint_mode_changed = Signal(bool)
 
-    def __init__(self, parent: QWidget | None = None):
+    def __init__(self, settings: BrushSettings | None = None, parent: QWidget | None = None):
         super().__init__("Brush", parent)
         self.setObjectName("brush_bar")
+        self.settings = settings if settings is not None else BrushSettings()
         self._group = QActionGroup(self)
         self._group.setExclusive(True)
         self.kind_actions: dict[str, QAction] = {}
@@ -45,38 +60,58 @@ class BrushBar(QToolBar):
             self._group.addAction(action)
             self.addAction(action)
             self.kind_actions[kind] = action
-        self.kind_actions["grab"].setChecked(True)
-        self._group.triggered.connect(lambda _a: self._edited())
+        bind(
+            self.settings,
+            "kind",
+            self._group,
+            lambda kind: self.kind_actions[kind].setChecked(True),
+            self._group.triggered,
+            lambda action: action.data(),
+        )
         self.addSeparator()
 
         self.radius = self._spin(
-            "Radius",
-            0.005,
-            1.0,
-            0.08,
-            3,
-            0.01,
-            "ε as a fraction of the model size  [ ] / Ctrl+wheel",
+            "Radius", 0.005, 1.0, 3, 0.01, "ε as a fraction of the model size  [ ] / Ctrl+wheel"
         )
+        bind_spin(self.settings, "radius", self.radius)
         self.strength = self._spin(
-            "Strength", 0.01, 10.0, 1.0, 2, 0.1, "Brush strength  { } / Shift+wheel"
+            "Strength", 0.01, 10.0, 2, 0.1, "Brush strength  { } / Shift+wheel"
         )
+        bind_spin(self.settings, "strength", self.strength)
         self.addWidget(QLabel(" Substeps "))
         self.substeps = QSpinBox()
         self.substeps.setRange(1, 32)
-        self.substeps.setValue(4)
         self.substeps.setToolTip("RK4 steps per mouse event")
-        self.substeps.valueChanged.connect(self._edited)
         self.addWidget(self.substeps)
+        bind_spin(self.settings, "substeps", self.substeps)
+        self.influence = self._spin(
+            "Influence",
+            0.5,
+            50.0,
+            1,
+            0.5,
+            "Radius of the moved region in brush radii ε (vertices farther stay put; "
+            "a smooth cutoff starts at half of it)",
+        )
+        bind_spin(self.settings, "influence", self.influence)
         self.addSeparator()
 
         self.symmetry_actions: dict[str, QAction] = {}
         for axis in "xyz":
             action = QAction(axis.upper(), self, checkable=True)
             action.setToolTip(f"Mirror the brush across the {axis.upper()} plane of the model")
-            action.toggled.connect(self._edited)
             self.addAction(action)
             self.symmetry_actions[axis] = action
+            bind(
+                self.settings,
+                "symmetry",
+                action,
+                lambda axes, a=axis: self.symmetry_actions[a].setChecked(a in axes),
+                action.toggled,
+                lambda _on: "".join(
+                    a for a, act in self.symmetry_actions.items() if act.isChecked()
+                ),
+            )
         self.addSeparator()
         self.constraint_action = QAction("Pin", self, checkable=True)
         self.constraint_action.setShortcut(QKeySequence("C"))
@@ -85,20 +120,21 @@ class BrushBar(QToolBar):
         )
         self.constraint_action.toggled.connect(self.constraint_mode_changed)
         self.addAction(self.constraint_action)
+        emitter, callback = self.settings.events.changed, self._model_changed
+        emitter.connect(callback)
+        self.destroyed.connect(lambda *_: emitter.disconnect(callback))
 
-    def _spin(self, label, low, high, value, decimals, step, tip) -> QDoubleSpinBox:
+    def _spin(self, label, low, high, decimals, step, tip) -> QDoubleSpinBox:
         self.addWidget(QLabel(f" {label} "))
         spin = QDoubleSpinBox()
         spin.setRange(low, high)
         spin.setDecimals(decimals)
         spin.setSingleStep(step)
-        spin.setValue(value)
         spin.setToolTip(tip)
-        spin.valueChanged.connect(self._edited)
         self.addWidget(spin)
         return spin
 
-    def _edited(self, *_args) -> None:
+    def _model_changed(self, _changes) -> None:
         self.changed.emit()
 
     @property
@@ -107,29 +143,20 @@ class BrushBar(QToolBar):
 
     @property
     def brush(self) -> Brush:
-        """The brush the bar shows."""
-        kind = self._group.checkedAction().data()
-        symmetry = "".join(a for a, act in self.symmetry_actions.items() if act.isChecked())
-        return Brush(
-            kind=kind,
-            radius=self.radius.value(),
-            strength=self.strength.value(),
-            substeps=self.substeps.value(),
-            symmetry=symmetry,
-        )
+        """The brush of the settings the bar shows."""
+        return self.settings.brush
 
     def set_brush(self, brush: Brush) -> None:
-        """Show ``brush`` (e.g. from a preset)."""
-        self.kind_actions[brush.kind].setChecked(True)
-        self.radius.setValue(brush.radius)
-        self.strength.setValue(brush.strength)
-        self.substeps.setValue(brush.substeps)
-        for axis, action in self.symmetry_actions.items():
-            action.setChecked(axis in brush.symmetry)
-        self.changed.emit()
+        """Give the settings ``brush`` (e.g. from a preset); the bar follows."""
+        self.settings.set_brush(brush)
 
     def scale_radius(self, notches: int) -> None:
-        self.radius.setValue(self.radius.value() * math.pow(1.1, notches))
+        self.settings.radius = _scaled(self.settings.radius, notches, self.radius)
 
     def scale_strength(self, notches: int) -> None:
-        self.strength.setValue(self.strength.value() * math.pow(1.1, notches))
+        self.settings.strength = _scaled(self.settings.strength, notches, self.strength)
+
+
+def _scaled(value: float, notches: int, spin: QDoubleSpinBox) -> float:
+    """``value`` times 1.1 per notch, within the spin box's range."""
+    return min(max(value * math.pow(1.1, notches), spin.minimum()), spin.maximum())

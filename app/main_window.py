@@ -1,19 +1,21 @@
 """Main window: viewport, brush bar, side panels, menus, status bar.
 
-A thin view over :class:`app.document.Document` (which owns a :class:`gogreen_core.Sculptor`):
-mouse strokes from the viewport become engine calls here, and every failure is shown as a
-message that leaves the model as it was.
+A thin view over :class:`app.document.Document` (which owns a :class:`gogreen_core.Sculptor`)
+and one :class:`gogreen_core.settings.Settings` (brush, material, falloff, constraints) that the
+brush bar and the panels are bound to; an :class:`gogreen_core.settings.EngineLink` feeds the
+settings to the engine. Pointer events from the viewport go to the Qt-free
+:class:`gogreen_core.tools.SculptTools`; every failure is shown as a message that leaves the
+model as it was.
 """
 
 from __future__ import annotations
 
 import json
-import time
 from pathlib import Path
 
 import numpy as np
 import pyvista as pv
-from PySide6.QtCore import QSettings, Qt
+from PySide6.QtCore import QSettings, Qt, QTimer
 from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
 from PySide6.QtWidgets import (
     QDockWidget,
@@ -21,6 +23,7 @@ from PySide6.QtWidgets import (
     QLabel,
     QMainWindow,
     QMessageBox,
+    QProgressBar,
     QTabWidget,
     QToolBar,
 )
@@ -28,21 +31,21 @@ from PySide6.QtWidgets import (
 from app.brush_bar import BrushBar
 from app.document import SAVE_FORMATS, Document
 from app.kernel_warmup import KernelWarmer
+from app.keyboard import FocusKeys
 from app.panels.falloff_panel import FalloffPanel
 from app.panels.homogenization_panel import HomogenizationPanel
 from app.panels.material_panel import MaterialPanel
-from app.viewport import CursorSample, SculptViewport
-from gogreen_core.brushes import Brush, BrushEvent
+from app.viewport import SculptViewport
 from gogreen_core.material import Material
 from gogreen_core.mesh_io import write_text_atomic
 from gogreen_core.presets import Preset, builtin_presets, load_preset, save_preset
+from gogreen_core.settings import ChangeEvent, EngineLink, Settings
+from gogreen_core.tools import PointerEvent, SculptTools, ToolUpdate
 
 __all__ = ["MainWindow"]
 
 MESH_FILTER = "Meshes (*.obj *.ply *.stl *.off);;All files (*)"
 SAVE_FILTER = "Wavefront OBJ (*.obj);;Stanford PLY (*.ply);;STL (*.stl)"
-#: Screen drag (pixels) that makes an affine brush's amount 1 (strain, or radians for twist).
-PIXELS_PER_UNIT_AMOUNT = 250.0
 MAX_RECENT = 8
 
 
@@ -59,25 +62,39 @@ class MainWindow(QMainWindow):
         super().__init__()
         self.settings = settings or QSettings("GoGreen", "GoGreen Sculpt")
         self.resize(1500, 920)
+        #: The one source of truth of what the artist tunes; widgets and the engine follow it.
+        self.model = Settings()
+        self.engine_link = EngineLink(self.model, None, on_error=self._setting_refused)
         self.viewport = SculptViewport(self)
         self.setCentralWidget(self.viewport)
-        self.brush_bar = BrushBar(self)
+        self.brush_bar = BrushBar(self.model.brush, self)
         self.addToolBar(Qt.ToolBarArea.TopToolBarArea, self.brush_bar)
-        self.material_panel = MaterialPanel()
+        self.material_panel = MaterialPanel(settings=self.model)
         self.homogenization_panel = HomogenizationPanel()
-        self.falloff_panel = FalloffPanel()
+        self.falloff_panel = FalloffPanel(settings=self.model)
         self._build_docks()
         self._build_menus()
         self._build_status_bar()
         self.document: Document | None = None
         self._constraint_actor = None
-        self._stroke: dict | None = None
-        self._frame_times: list[float] = []
+        self.tools = SculptTools(
+            None,
+            brush=lambda: self.model.brush.brush,
+            first_pin_radius=self._first_pin_radius,
+            ready=self._stroke_refusal,
+        )
+        # Drag moves are applied once per event-loop turn, the newest position winning.
+        self._tool_timer = QTimer(self)
+        self._tool_timer.setSingleShot(True)
+        self._tool_timer.setInterval(0)
+        self._tool_timer.timeout.connect(self._process_tools)
         self.last_step_ms = 0.0
         self.kernel_warmer = KernelWarmer(self)
         self._announced_warmups: set[int] = set()
         self._connect()
-        self.kernel_warmer.request(self.falloff_panel.l_max)
+        self.focus_keys = FocusKeys(self, self.viewport, self._shortcut_keys)
+        self.kernel_warmer.request(self.model.l_max)
+        self._announced_warmups.add(self.model.l_max)
 
     # -- construction ------------------------------------------------------------------------
     def _build_docks(self) -> None:
@@ -113,6 +130,10 @@ class MainWindow(QMainWindow):
         action.triggered.connect(lambda: widget.setVisible(action.isChecked()))
         widget.visibilityChanged.connect(action.setChecked)
         return action
+
+    def _shortcut_keys(self) -> list[QKeySequence]:
+        """The key sequences of the window's actions (menus and brush bar)."""
+        return [a.shortcut() for a in self.findChildren(QAction) if not a.shortcut().isEmpty()]
 
     def _build_menus(self) -> None:
         bar = self.menuBar()
@@ -163,39 +184,51 @@ class MainWindow(QMainWindow):
     def _build_status_bar(self) -> None:
         self.vertex_label = QLabel()
         self.step_label = QLabel("brush step: –")
-        self.fps_label = QLabel("fps: –")
+        self.frame_label = QLabel("render: –")
         self.message_label = QLabel()
-        for label in (self.vertex_label, self.step_label, self.fps_label):
+        # Busy indicator while kernels compile (first start, a new l_max): never a silent wait.
+        self.compile_progress = QProgressBar()
+        self.compile_progress.setRange(0, 0)
+        self.compile_progress.setMaximumWidth(160)
+        self.compile_progress.setFormat("")
+        self.compile_progress.setToolTip(
+            "Compiling the brush kernels (once per machine and l_max); strokes start after it"
+        )
+        self.compile_progress.hide()
+        self.statusBar().addPermanentWidget(self.compile_progress)
+        for label in (self.vertex_label, self.step_label, self.frame_label):
             label.setMinimumWidth(150)
             self.statusBar().addPermanentWidget(label)
         self.statusBar().addWidget(self.message_label, 1)
 
     def _connect(self) -> None:
-        self.viewport.stroke_started.connect(self._stroke_started)
-        self.viewport.stroke_moved.connect(self._stroke_moved)
-        self.viewport.stroke_ended.connect(self._stroke_ended)
+        self.viewport.pointer_pressed.connect(self._pointer_pressed)
+        self.viewport.pointer_moved.connect(self._pointer_moved)
+        self.viewport.pointer_released.connect(self._pointer_released)
+        self.viewport.hovered.connect(self._hovered)
+        self.viewport.frame_rendered.connect(self._frame_rendered)
+        self.brush_bar.constraint_mode_changed.connect(self._constraint_mode_changed)
         self.viewport.radius_wheel.connect(self.brush_bar.scale_radius)
         self.viewport.strength_wheel.connect(self.brush_bar.scale_strength)
-        self.brush_bar.changed.connect(self._brush_changed)
-        self.material_panel.material_changed.connect(self.apply_material)
+        self.model.brush.events.changed.connect(lambda _c: self._brush_changed())
+        self.model.events.material.connect(self._material_changed)
+        self.model.events.l_max.connect(self._l_max_changed)
         self.homogenization_panel.material_ready.connect(self._use_homogenized)
-        self.falloff_panel.falloff_changed.connect(self.apply_falloff)
         self.kernel_warmer.ready.connect(self._kernels_ready)
+        self.kernel_warmer.busy_changed.connect(self._compiling)
         self.kernel_warmer.failed.connect(
             lambda l_max, error: self.flash(f"Kernels for l_max = {l_max} failed: {error}")
         )
 
     # -- documents ---------------------------------------------------------------------------
     def _sculptor_options(self) -> dict:
-        return {
-            "material": self.material_panel.material,
-            "l_max": self.falloff_panel.l_max,
-            "falloff": self.falloff_panel.radial,
-            "degree_weights": self.falloff_panel.degree_weights,
-        }
+        return self.model.sculptor_options()
 
     def set_document(self, document: Document) -> None:
+        self.tools.cancel()
         self.document = document
+        self.tools.set_sculptor(document.sculptor)
+        self.engine_link.attach(document.sculptor)
         self.viewport.set_mesh(document.sculptor.vertices, document.sculptor.faces)
         if self._constraint_actor is not None:
             self.viewport.remove_actor(self._constraint_actor, render=False)
@@ -304,37 +337,44 @@ class MainWindow(QMainWindow):
             )
         self.recent_menu.setEnabled(bool(self.recent_files()))
 
-    # -- settings from the panels ------------------------------------------------------------
+    # -- settings --------------------------------------------------------------------------
     def apply_material(self, material: Material) -> None:
-        if self.document is None:
-            return
-        try:
-            self.document.sculptor.set_material(material)
-        except (ValueError, RuntimeError) as exc:
-            self.show_error("Material not applied", str(exc))
-            return
-        self.flash("Material applied")
+        """Use ``material`` (through the settings: the panel and the engine follow)."""
+        self.model.material = material
+
+    def _material_changed(self, event: ChangeEvent) -> None:
+        if event.source != "engine" and self.document is not None:
+            if self.document.sculptor.material == event.value:
+                self.flash("Material applied")
 
     def _use_homogenized(self, material: Material) -> None:
-        self.material_panel.set_material(material)
         self.apply_material(material)
         self.panel_tabs.setCurrentWidget(self.material_panel)
 
-    def apply_falloff(self) -> None:
-        l_max = self.falloff_panel.l_max
-        if self.kernel_warmer.request(l_max):
-            self._announced_warmups.add(l_max)
-            self.flash(f"Preparing the l_max = {l_max} kernels…")
-        if self.document is None:
-            return
-        try:
-            self.document.sculptor.set_falloff(
-                self.falloff_panel.radial,
-                self.falloff_panel.l_max,
-                self.falloff_panel.degree_weights,
-            )
-        except (ValueError, RuntimeError) as exc:
-            self.show_error("Falloff not applied", str(exc))
+    def _l_max_changed(self, event: ChangeEvent) -> None:
+        if self.kernel_warmer.request(event.value):
+            self._announced_warmups.add(event.value)
+            self.flash(f"Preparing the l_max = {event.value} kernels…")
+
+    def _setting_refused(self, parameter: str, exc: Exception) -> None:
+        """The engine refused a setting: the settings were restored from it; say why."""
+        self.show_error(f"{parameter} not applied", str(exc))
+
+    def _compiling(self, busy: bool) -> None:
+        self.compile_progress.setVisible(busy)
+        if busy:
+            self.flash("Compiling the brush kernels (first start only)…")
+
+    def _stroke_refusal(self) -> str | None:
+        """Why a stroke may not start now (kernels still compiling), or None."""
+        l_max = self.model.l_max
+        if self.kernel_warmer.is_ready(l_max):
+            return None
+        self.kernel_warmer.request(l_max)
+        return (
+            f"the brush kernels for l_max = {l_max} are still compiling (see the status bar); "
+            "strokes start as soon as they are ready"
+        )
 
     def _kernels_ready(self, l_max: int, seconds: float) -> None:
         if l_max in self._announced_warmups:
@@ -343,115 +383,70 @@ class MainWindow(QMainWindow):
             self.flash(f"l_max = {l_max} kernels ready{note}")
 
     def _brush_changed(self) -> None:
+        """The ring shows the new radius at once."""
+        state = self.tools.cursor.state
+        if state is not None and self.document is not None:
+            self.viewport.show_cursor(self.tools.cursor.place(state.center, state.normal))
+            self.viewport.request_render()
+
+    # -- pointer tools -----------------------------------------------------------------------
+    def _constraint_mode_changed(self, on: bool) -> None:
+        self.tools.cancel()
+        self.tools.mode = "pin" if on else "brush"
+
+    def _first_pin_radius(self) -> None:
+        """The first pin takes the brush radius."""
+        self.model.constraint_radius = self.model.brush.radius
+
+    def _pointer_pressed(self, event: PointerEvent) -> None:
         if self.document is not None:
-            self.viewport.cursor_radius = self.brush_bar.brush.eps(
-                self.document.sculptor.model_size
-            )
+            self._show_update(self.tools.press(event), "Cannot sculpt")
 
-    # -- strokes -----------------------------------------------------------------------------
-    def _stroke_started(self, sample: CursorSample) -> None:
-        if self.document is None:
-            return
-        sculptor = self.document.sculptor
-        if self.brush_bar.constraint_mode:
-            self._start_constraint(sample)
-            return
-        brush = self.brush_bar.brush
-        try:
-            sculptor.begin_stroke(brush)
-        except (ValueError, RuntimeError) as exc:
-            self.show_error("Cannot sculpt", str(exc))
-            return
-        self._stroke = {"brush": brush, "last": sample.point, "anchor": sample.point}
-        self.viewport.show_cursor(sample.point, sample.normal)
+    def _pointer_moved(self, event: PointerEvent) -> None:
+        self.tools.move(event)
+        if not self._tool_timer.isActive():
+            self._tool_timer.start()
 
-    def _start_constraint(self, sample: CursorSample) -> None:
-        sculptor = self.document.sculptor
-        sculptor_eps = sculptor.constraint_radius * sculptor.model_size
-        points = sculptor.constraint_points
-        if len(points):
-            dist = np.linalg.norm(points - sample.point, axis=1)
-            nearest = int(np.argmin(dist))
-            if dist[nearest] < 0.5 * sculptor_eps:  # drag an existing pin
-                self._stroke = {"pin": nearest, "last": sample.point, "continued": False}
-                return
-        try:
-            if not len(points):  # the first pin takes the brush radius
-                sculptor.set_constraint_radius(self.brush_bar.brush.radius)
-            sculptor.add_constraint(sample.point)
-        except ValueError as exc:
-            self.show_error("Cannot pin here", str(exc))
-            return
-        self._stroke = {"pin": len(points), "last": sample.point, "continued": False}
-        self._show_constraints()
+    def _hovered(self, event: PointerEvent) -> None:
+        self.tools.hover(event)
+        if not self._tool_timer.isActive():
+            self._tool_timer.start()
 
-    def _event_for(self, sample: CursorSample) -> BrushEvent | None:
-        stroke = self._stroke
-        brush: Brush = stroke["brush"]
-        if brush.is_affine:
-            dx, dy = sample.pixels
-            if dx == 0 and dy == 0:
-                return None
-            up = np.cross(sample.screen_x, sample.view_dir)
-            direction = dx * sample.screen_x + dy * up
-            return BrushEvent(
-                center=stroke["anchor"],
-                amount=dx / PIXELS_PER_UNIT_AMOUNT,
-                axis=sample.view_dir,
-                direction=direction,
-            )
-        delta = sample.point - stroke["last"]
-        if not np.any(delta):
-            return None
-        event = BrushEvent(center=stroke["last"], delta=delta)
-        stroke["last"] = sample.point
-        return event
-
-    def _stroke_moved(self, sample: CursorSample) -> None:
-        if self._stroke is None or self.document is None:
-            return
-        sculptor = self.document.sculptor
-        start = time.perf_counter()
-        try:
-            if "pin" in self._stroke:
-                delta = sample.point - self._stroke["last"]
-                self._stroke["last"] = sample.point
-                sculptor.drag_constraint(self._stroke["pin"], delta, self._stroke["continued"])
-                self._stroke["continued"] = True
-                moved = None
-            else:
-                event = self._event_for(sample)
-                if event is None:
-                    return
-                moved = sculptor.stroke_event(event)
-        except (ValueError, RuntimeError) as exc:
-            sculptor.cancel_stroke()
-            self._stroke = None
-            self.viewport.update_vertices(sculptor.vertices)
-            self.show_error("Brush stopped", str(exc))
-            return
-        self.last_step_ms = 1e3 * (time.perf_counter() - start)
-        self.viewport.update_vertices(sculptor.vertices, moved)
-        if "pin" in self._stroke:
-            self._show_constraints()
-        else:
-            self.viewport.show_cursor(sample.point, sample.normal)
-        self._render()
-
-    def _stroke_ended(self) -> None:
-        if self.document is None:
-            return
-        if self._stroke is not None and "pin" not in self._stroke:
-            self.document.sculptor.end_stroke()
-        self._stroke = None
+    def _pointer_released(self, _event: PointerEvent) -> None:
+        self._tool_timer.stop()
+        self._show_update(self.tools.release(), "Brush stopped")
         self._refresh_title()
         self._refresh_status()
 
-    def _render(self) -> None:
-        now = time.perf_counter()
-        self.viewport.render()
-        self._frame_times = [t for t in self._frame_times if now - t < 1.0] + [now]
-        self._refresh_status()
+    def _process_tools(self) -> None:
+        """One engine step for the newest pointer position (older ones were coalesced)."""
+        self._show_update(self.tools.flush(), "Brush stopped")
+
+    def _show_update(self, update: ToolUpdate, error_title: str) -> None:
+        """Draw what the tools changed; one render is requested for all of it."""
+        if self.document is not None and update.all_moved:
+            self.viewport.update_vertices(self.document.sculptor.vertices)
+        elif self.document is not None and update.moved is not None:
+            self.viewport.update_vertices(self.document.sculptor.vertices, update.moved)
+        if update.refused:  # not an error: e.g. kernels still compiling
+            self.flash(f"{error_title}: {update.error}")
+        elif update.error:
+            self.show_error(error_title, update.error)
+        if self.document is None or not update.changed:
+            return
+        if update.step_seconds:
+            self.last_step_ms = 1e3 * update.step_seconds
+            self._refresh_status()
+        if update.pins_changed:
+            self._show_constraints()
+        if update.cursor is not None:
+            self.viewport.show_cursor(update.cursor)
+        elif update.hide_cursor:
+            self.viewport.show_cursor(None)
+        self.viewport.request_render()
+
+    def _frame_rendered(self, ms: float) -> None:
+        self.frame_label.setText(f"render: {ms:.0f} ms")
 
     def _show_constraints(self) -> None:
         """One marker actor for all pins, its points replaced in place."""
@@ -469,7 +464,7 @@ class MainWindow(QMainWindow):
             self._constraint_markers.verts = np.hstack(
                 [np.ones((len(points), 1), int), np.arange(len(points))[:, None]]
             ).ravel()
-        self.viewport.render()
+        self.viewport.request_render()
 
     # -- edit --------------------------------------------------------------------------------
     def undo(self) -> None:
@@ -479,14 +474,15 @@ class MainWindow(QMainWindow):
         self._history_step(self.document.sculptor.redo if self.document else None, "Redo")
 
     def _history_step(self, step, name: str) -> None:
-        if step is None or self.viewport.in_stroke:
+        if step is None or self.tools.dragging:
             return
         label = step()
         if label is None:
             self.flash(f"Nothing to {name.lower()}")
             return
+        self.engine_link.pull()  # an undone setting shows in the panels again
         self.viewport.update_vertices(self.document.sculptor.vertices)
-        self.viewport.render()
+        self.viewport.request_render()
         self._refresh_title()
         self.flash(f"{name}: {label}")
 
@@ -501,22 +497,11 @@ class MainWindow(QMainWindow):
     # -- presets, session, screenshot --------------------------------------------------------
     def preset(self, name: str = "") -> Preset:
         """The current material + falloff + brush as a :class:`Preset`."""
-        return Preset(
-            name=name,
-            material=self.material_panel.material,
-            falloff=self.falloff_panel.radial,
-            l_max=self.falloff_panel.l_max,
-            degree_weights=self.falloff_panel.degree_weights,
-            brush=self.brush_bar.brush,
-        )
+        return self.model.preset(name)
 
     def apply_preset(self, preset: Preset) -> None:
-        """Show ``preset`` in the panels and brush bar and give its settings to the model."""
-        self.material_panel.set_material(preset.material)
-        self.falloff_panel.set_falloff(preset.falloff, preset.l_max, preset.degree_weights)
-        self.brush_bar.set_brush(preset.brush)
-        self.apply_material(preset.material)
-        self.apply_falloff()
+        """Give the settings ``preset``'s values (panels, brush bar and engine follow)."""
+        self.model.apply_preset(preset)
         self.flash(f"Preset: {preset.name}" if preset.name else "Preset loaded")
 
     def _json_dialog(self, title: str, save: bool) -> str:
@@ -586,4 +571,3 @@ class MainWindow(QMainWindow):
         if self.document is not None:
             self.vertex_label.setText(f"{len(self.document.sculptor.vertices):,} vertices")
         self.step_label.setText(f"brush step: {self.last_step_ms:.1f} ms")
-        self.fps_label.setText(f"fps: {len(self._frame_times)}")

@@ -5,47 +5,35 @@ background it orbits), right drag orbits, middle drag pans, the wheel zooms; Ctr
 changes the brush radius and Shift+wheel the strength. The mesh actor is created once; each
 brush event writes new positions and normals into its arrays in place.
 
-The viewport knows nothing of elasticity: it reports strokes as world-space cursor positions
-(:class:`CursorSample`) and the window turns them into engine calls.
+The viewport knows nothing of elasticity or strokes: it translates Qt mouse events into plain
+:class:`gogreen_core.tools.PointerEvent` (the world point under the cursor, picked on press and
+hover, on the drag plane through the press point while dragging) for the Qt-free tools, and
+draws. It renders on demand only: :meth:`SculptViewport.request_render` coalesces every request
+made before control returns to the event loop into one render (pyvistaqt's periodic
+``auto_update`` render is off), and hover picking is coalesced the same way, so an idle window
+uses no CPU and a burst of mouse moves costs one pick and one render.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import time
 
 import numpy as np
 import pyvista as pv
 import vtk
-from PySide6.QtCore import QPointF, Qt, Signal
-from PySide6.QtGui import QMouseEvent, QWheelEvent
+from PySide6.QtCore import QPointF, Qt, QTimer, Signal
+from PySide6.QtGui import QMouseEvent, QTabletEvent, QWheelEvent
 from pyvistaqt import QtInteractor
 
 from gogreen_core.geometry import vertex_normals
+from gogreen_core.tools import CursorState, PointerEvent
 
-__all__ = ["CursorSample", "SculptViewport"]
+__all__ = ["SculptViewport"]
 
 MODEL_COLOR = "#c9b79c"  # warm clay
 #: Direction from the model to the camera in the home view: in front (+z), a little right and above.
 HOME_VIEW_DIRECTION = (0.55, 0.4, 1.0)
 CURSOR_COLOR = "#ff8c1a"
-
-
-@dataclass(frozen=True)
-class CursorSample:
-    """One mouse sample of a stroke, in world (model) units.
-
-    point : (3,) the cursor on the drag plane (at stroke start: the picked surface point).
-    normal : (3,) surface normal at the stroke start.
-    view_dir : (3,) unit direction from the camera into the screen.
-    screen_x : (3,) world direction of the screen's x axis.
-    pixels : (dx, dy) mouse motion since the previous sample, in pixels (y up).
-    """
-
-    point: np.ndarray
-    normal: np.ndarray
-    view_dir: np.ndarray
-    screen_x: np.ndarray
-    pixels: tuple[float, float]
 
 
 def _ring(segments: int = 96) -> pv.PolyData:
@@ -57,16 +45,31 @@ def _ring(segments: int = 96) -> pv.PolyData:
 
 
 class SculptViewport(QtInteractor):
-    """Viewport with sculpting strokes, a brush cursor ring and in-place mesh updates."""
+    """Viewport with pointer events for the tools, a brush cursor ring, in-place mesh updates
+    and on-demand rendering.
 
-    stroke_started = Signal(object)  # CursorSample
-    stroke_moved = Signal(object)  # CursorSample
-    stroke_ended = Signal()
-    radius_wheel = Signal(int)  # +1 / -1 per wheel notch with Ctrl
-    strength_wheel = Signal(int)  # +1 / -1 per wheel notch with Shift
+    Signals
+    -------
+    pointer_pressed(PointerEvent) : left press on the model (``point``, ``normal`` picked).
+    pointer_moved(PointerEvent) : drag move after such a press (``point`` on the drag plane).
+    pointer_released(PointerEvent) : the end of that drag.
+    hovered(PointerEvent) : the newest hover position (coalesced), ``point`` None off the model.
+    radius_wheel(int), strength_wheel(int) : +1 / -1 per wheel notch with Ctrl / Shift.
+    frame_rendered(float) : milliseconds of a render just done.
+    """
+
+    pointer_pressed = Signal(object)
+    pointer_moved = Signal(object)
+    pointer_released = Signal(object)
+    hovered = Signal(object)
+    radius_wheel = Signal(int)
+    strength_wheel = Signal(int)
+    frame_rendered = Signal(float)
 
     def __init__(self, parent=None):
-        super().__init__(parent)
+        # auto_update=False: no periodic render (pyvistaqt's default re-renders 5 times a
+        # second, which alone kept a core busy with software OpenGL)
+        super().__init__(parent, auto_update=False)
         self.set_background("#2b2f36", top="#4a5260")
         self.enable_trackball_style()
         self.mesh: pv.PolyData | None = None
@@ -81,18 +84,69 @@ class SculptViewport(QtInteractor):
             pickable=False,
             reset_camera=False,
             render_lines_as_tubes=False,
+            render=False,
         )
         self._cursor.SetVisibility(False)
-        self.cursor_radius = 0.1
-        self._stroke: dict | None = None
+        #: Depth (display z) of the drag plane while the left button drags on the model.
+        self._drag_depth: float | None = None
         self._orbit_button: Qt.MouseButton | None = None
+        self._hover_pos: QPointF | None = None
+        #: Pen pressure of the latest tablet event (1 for a mouse), given to the tools.
+        self._pressure = 1.0
+        self._hover_timer = self._zero_timer(self._emit_hover)
+        #: Renders done and the duration of the last one (ms), measured by VTK's own events.
+        self.frames = 0
+        self.last_frame_ms = 0.0
+        self._render_pending = False
+        self._frame_start = 0.0
+        self.ren_win.AddObserver("StartEvent", self._frame_started)
+        self.ren_win.AddObserver("EndEvent", self._frame_ended)
         self.setMouseTracking(True)
+        # takes the keyboard focus when clicked, and back from fields (app.keyboard)
+        self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
+
+    def _zero_timer(self, slot) -> QTimer:
+        timer = QTimer(self)
+        timer.setSingleShot(True)
+        timer.setInterval(0)
+        timer.timeout.connect(slot)
+        return timer
+
+    # -- rendering ---------------------------------------------------------------------------
+    def request_render(self) -> None:
+        """Render once when control returns to the event loop.
+
+        A Qt ``update()``: requests made before the next paint merge into one paint, and the
+        widget's paint is where pyvistaqt renders. (``render()`` renders at once and then
+        schedules that paint, which renders again: two renders per frame.)
+        """
+        self._render_pending = True
+        self.update()
+
+    def render_now(self) -> None:
+        """Render at once (tests, screenshots); a paint (one more render) follows."""
+        self.render()
+
+    def _frame_started(self, *_args) -> None:
+        self._frame_start = time.perf_counter()
+
+    def _frame_ended(self, *_args) -> None:
+        self.last_frame_ms = 1e3 * (time.perf_counter() - self._frame_start)
+        self.frames += 1
+        self._render_pending = False
+        self.frame_rendered.emit(self.last_frame_ms)
+
+    @property
+    def render_pending(self) -> bool:
+        """A requested render has not happened yet."""
+        return self._render_pending
 
     # -- mesh --------------------------------------------------------------------------------
     def set_mesh(self, vertices: np.ndarray, faces: np.ndarray, reset_camera: bool = True) -> None:
         """Show a new mesh (one actor, replaced only when the mesh itself changes)."""
         if self.mesh_actor is not None:
             self.remove_actor(self.mesh_actor, render=False)
+        self.show_cursor(None)  # sized for the old mesh; it would also widen the home view
         cells = np.hstack([np.full((len(faces), 1), 3), faces]).ravel()
         self.mesh = pv.PolyData(np.array(vertices, dtype=np.float64), cells)
         self.mesh.point_data["Normals"] = vertex_normals(vertices, faces)
@@ -115,13 +169,15 @@ class SculptViewport(QtInteractor):
         self._picker.PickFromListOn()
         if reset_camera:
             self.home_view(render=False)
-        self.render()
+        self.request_render()
 
     def home_view(self, render: bool = True) -> None:
         """Front three-quarter view with +y up (the OBJ/PLY convention of Spot, the bunny and
         most exported models), the whole mesh in frame."""
         self.view_vector(HOME_VIEW_DIRECTION, viewup=(0.0, 1.0, 0.0), render=False)
-        self.reset_camera(render=render)
+        self.reset_camera(render=False)
+        if render:
+            self.request_render()
 
     def update_vertices(self, vertices: np.ndarray, indices: np.ndarray | None = None) -> None:
         """Write new positions (N, 3) and recompute normals, in place (no new actor)."""
@@ -172,26 +228,17 @@ class SculptViewport(QtInteractor):
         return view, right / np.linalg.norm(right)
 
     # -- cursor ------------------------------------------------------------------------------
-    def show_cursor(self, point: np.ndarray | None, normal: np.ndarray | None = None) -> None:
-        """Place the brush ring (radius :attr:`cursor_radius`) on the surface, or hide it."""
-        if point is None:
+    def show_cursor(self, state: CursorState | None) -> None:
+        """Place the brush ring (:meth:`CursorState.ring_matrix`), or hide it (None)."""
+        if state is None:
             self._cursor.SetVisibility(False)
             return
-        n = np.asarray(normal, dtype=float) if normal is not None else self._view_axes()[0]
-        n = n / (np.linalg.norm(n) or 1.0)
-        helper = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-        t1 = np.cross(n, helper)
-        t1 /= np.linalg.norm(t1)
-        t2 = np.cross(n, t1)
-        matrix = np.eye(4)
-        matrix[:3, 0], matrix[:3, 1], matrix[:3, 2] = (
-            t1 * self.cursor_radius,
-            t2 * self.cursor_radius,
-            n * self.cursor_radius,
-        )
-        matrix[:3, 3] = point + 1e-3 * self.cursor_radius * n
-        self._cursor.SetUserMatrix(pv.vtkmatrix_from_array(matrix))
+        self._cursor.SetUserMatrix(pv.vtkmatrix_from_array(state.ring_matrix()))
         self._cursor.SetVisibility(True)
+
+    @property
+    def cursor_visible(self) -> bool:
+        return bool(self._cursor.GetVisibility())
 
     # -- mouse -------------------------------------------------------------------------------
     def _as_left(self, ev: QMouseEvent) -> QMouseEvent:
@@ -205,21 +252,45 @@ class SculptViewport(QtInteractor):
             Qt.KeyboardModifier.NoModifier,
         )
 
-    def _sample(self, pos: QPointF, point: np.ndarray, normal: np.ndarray) -> CursorSample:
+    def pointer_event(
+        self,
+        pos: QPointF,
+        point: np.ndarray | None,
+        normal: np.ndarray | None = None,
+        modifiers: Qt.KeyboardModifier = Qt.KeyboardModifier.NoModifier,
+        pressure: float | None = None,
+    ) -> PointerEvent:
+        """A plain :class:`PointerEvent` for widget position ``pos`` (pressure: the pen's)."""
+        pressure = self._pressure if pressure is None else pressure
         view, right = self._view_axes()
-        last = self._stroke["pos"] if self._stroke and self._stroke["pos"] is not None else pos
-        pixels = (pos.x() - last.x(), last.y() - pos.y())
-        return CursorSample(point, normal, view, right, pixels)
+        names = frozenset(
+            name
+            for name, flag in (
+                ("shift", Qt.KeyboardModifier.ShiftModifier),
+                ("ctrl", Qt.KeyboardModifier.ControlModifier),
+                ("alt", Qt.KeyboardModifier.AltModifier),
+            )
+            if modifiers & flag
+        )
+        return PointerEvent((pos.x(), pos.y()), point, normal, view, right, float(pressure), names)
+
+    def tabletEvent(self, ev: QTabletEvent) -> None:
+        """Keep the pen's pressure; Qt then sends the mouse event made from this one."""
+        touching = ev.type() != QTabletEvent.Type.TabletRelease and bool(ev.buttons())
+        self._pressure = float(ev.pressure()) if touching else 1.0  # hover: a mouse's 1
+        ev.ignore()
 
     def mousePressEvent(self, ev: QMouseEvent) -> None:
-        if ev.button() == Qt.MouseButton.LeftButton and self._stroke is None:
+        self.setFocus(Qt.FocusReason.MouseFocusReason)
+        if ev.button() == Qt.MouseButton.LeftButton and self._drag_depth is None:
             hit = self.pick(ev.position())
             if hit is not None:
                 point, normal = hit
-                self._stroke = {"depth": self._depth(point), "normal": normal, "pos": None}
-                sample = self._sample(ev.position(), point, normal)
-                self._stroke["pos"] = ev.position()
-                self.stroke_started.emit(sample)
+                self._drag_depth = self._depth(point)
+                self._hover_timer.stop()
+                self.pointer_pressed.emit(
+                    self.pointer_event(ev.position(), point, normal, ev.modifiers())
+                )
                 return
             self._orbit_button = Qt.MouseButton.LeftButton
             super().mousePressEvent(ev)
@@ -230,25 +301,34 @@ class SculptViewport(QtInteractor):
             super().mousePressEvent(ev)
 
     def mouseMoveEvent(self, ev: QMouseEvent) -> None:
-        if self._stroke is not None:
-            point = self._unproject(ev.position(), self._stroke["depth"])
-            sample = self._sample(ev.position(), point, self._stroke["normal"])
-            self._stroke["pos"] = ev.position()
-            self.stroke_moved.emit(sample)
+        if self._drag_depth is not None:
+            point = self._unproject(ev.position(), self._drag_depth)
+            self.pointer_moved.emit(self.pointer_event(ev.position(), point, None, ev.modifiers()))
             return
         if self._orbit_button == Qt.MouseButton.RightButton:
             super().mouseMoveEvent(self._as_left(ev))
             return
         super().mouseMoveEvent(ev)
-        if not ev.buttons():
-            hit = self.pick(ev.position())
-            self.show_cursor(*(hit if hit else (None, None)))
-            self.render()
+        if not ev.buttons():  # hover: pick once for the newest position
+            self._hover_pos = ev.position()
+            if not self._hover_timer.isActive():
+                self._hover_timer.start()
+
+    def _emit_hover(self) -> None:
+        if self._hover_pos is None or self._drag_depth is not None:
+            return
+        pos, self._hover_pos = self._hover_pos, None
+        hit = self.pick(pos)
+        point, normal = hit if hit is not None else (None, None)
+        self.hovered.emit(self.pointer_event(pos, point, normal))
 
     def mouseReleaseEvent(self, ev: QMouseEvent) -> None:
-        if self._stroke is not None and ev.button() == Qt.MouseButton.LeftButton:
-            self._stroke = None
-            self.stroke_ended.emit()
+        if self._drag_depth is not None and ev.button() == Qt.MouseButton.LeftButton:
+            point = self._unproject(ev.position(), self._drag_depth)
+            self._drag_depth = None
+            self.pointer_released.emit(
+                self.pointer_event(ev.position(), point, None, ev.modifiers())
+            )
             return
         if self._orbit_button == Qt.MouseButton.RightButton and ev.button() == self._orbit_button:
             self._orbit_button = None
@@ -268,4 +348,5 @@ class SculptViewport(QtInteractor):
 
     @property
     def in_stroke(self) -> bool:
-        return self._stroke is not None
+        """The left button is dragging on the model."""
+        return self._drag_depth is not None

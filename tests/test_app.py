@@ -19,6 +19,7 @@ def window(qtbot, tmp_path, monkeypatch, made_textured):
     win.show()
     qtbot.waitExposed(win)
     assert win.open_file(str(made_textured.path))  # Spot's stand-in: UV seams (conftest.py)
+    assert win.kernel_warmer.wait(120_000)  # strokes are refused until the kernels are ready
     win.viewport.render()
     return win
 
@@ -99,7 +100,7 @@ def test_falloff_edit_changes_the_next_deformation(window):
     radial = window.falloff_panel.radial
     rho, value = radial.curve("R", 0)
     radial.move_point("R", 0, 2, float(rho[2]), float(value[2]) * 3)
-    window.falloff_panel.falloff_changed.emit()
+    window.model.touch("falloff")  # an in-place curve edit, as the curve editor announces it
     drag(window, start)
     assert not np.allclose(sculptor.vertices - before, first)
 
@@ -208,3 +209,82 @@ def test_view_menu_hides_and_shows_the_panels_and_the_brush_bar(window, qtbot):
     assert window.panels_dock.isVisible() and window.brush_bar.isVisible()
     window.panels_dock.close()  # its own close button: the menu entry follows
     qtbot.waitUntil(lambda: not panels.isChecked())
+
+
+def test_influence_is_a_setting_from_the_brush_bar_to_strokes_sessions_and_presets(window):
+    bar, model = window.brush_bar, window.model
+    bar.influence.setValue(1.5)  # the widget edits the model...
+    assert model.brush.influence == 1.5 and window.brush_bar.brush.influence == 1.5
+    model.brush.influence = 2.5  # ...and follows it
+    assert bar.influence.value() == 2.5
+    sculptor = window.document.sculptor
+    before = sculptor.vertices.copy()
+    hit = window.viewport.pick(QPointF(center_of(window)))
+    drag(window, center_of(window))
+    stroke = [op for op in sculptor.session()["operations"] if op["op"] == "stroke"][-1]
+    assert stroke["brush"]["influence"] == 2.5  # recorded in the session
+    moved = np.linalg.norm(sculptor.vertices - before, axis=1) > 0
+    eps = model.brush.brush.eps(sculptor.model_size)
+    dist = np.linalg.norm(before - hit[0], axis=1)
+    assert moved.any() and dist[moved].max() < 2.5 * eps + 0.1 * sculptor.model_size
+    assert window.preset("p").brush.influence == 2.5  # and in presets
+    bar.influence.setValue(4.0)
+    window.apply_preset(window.preset("p"))
+    assert bar.influence.value() == 4.0
+
+
+def test_panels_and_engine_follow_the_settings_model(window):
+    model = window.model
+    model.material = Material.isotropic(2.0, 0.4)
+    assert window.material_panel.material == Material.isotropic(2.0, 0.4)
+    assert window.document.sculptor.material == Material.isotropic(2.0, 0.4)
+    model.l_max = 6
+    assert window.falloff_panel.l_max_spin.value() == 6
+    assert len(window.falloff_panel.weight_spins) == 7
+    assert window.document.sculptor.l_max == 6
+    window.falloff_panel.weight_spins[2].setValue(3.0)
+    assert model.degree_weights[2] == 3.0 == window.document.sculptor.degree_weights[2]
+    window.brush_bar.radius.setValue(0.2)
+    assert model.brush.radius == 0.2
+
+
+def test_strokes_wait_for_the_kernels_with_a_message_not_a_freeze(window, monkeypatch):
+    ready = window.kernel_warmer.is_ready
+    monkeypatch.setattr(window.kernel_warmer, "is_ready", lambda l_max: False)
+    before = window.document.sculptor.vertices.copy()
+    drag(window, center_of(window))
+    assert np.array_equal(window.document.sculptor.vertices, before)
+    assert "still compiling" in window.message_label.text()
+    assert not window.document.sculptor.in_stroke
+    monkeypatch.setattr(window.kernel_warmer, "is_ready", ready)
+    drag(window, center_of(window))
+    assert window.document.dirty
+
+
+def test_shortcuts_act_from_a_number_field_and_enter_returns_focus(window, qtbot):
+    from PySide6.QtTest import QTest
+
+    with qtbot.waitActive(window, timeout=10_000):
+        window.activateWindow()
+        window.windowHandle().requestActivate()
+    field = window.material_panel.fields["young"]
+    field.setFocus()
+    qtbot.waitUntil(field.hasFocus)
+    QTest.keyClick(field, Qt.Key.Key_S)  # the Scale brush, not a letter in the field
+    assert window.model.brush.kind == "scale"
+    QTest.keyClick(field, Qt.Key.Key_BracketRight)  # radius larger
+    assert window.model.brush.radius > 0.08
+    window.model.brush.kind = "grab"
+    drag(window, center_of(window))
+    assert window.document.dirty
+    field.setFocus()
+    qtbot.waitUntil(field.hasFocus)
+    QTest.keyClick(field, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)  # the window's undo
+    assert not window.document.dirty
+    QTest.keyClicks(field, "2")  # digits still go into the field
+    QTest.keyClick(field, Qt.Key.Key_Return)
+    qtbot.waitUntil(window.viewport.hasFocus)
+    field.setFocus()
+    qtbot.waitUntil(field.hasFocus)
+    QTest.keyClick(field, Qt.Key.Key_Escape)
+    qtbot.waitUntil(window.viewport.hasFocus)

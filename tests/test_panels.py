@@ -285,7 +285,7 @@ def test_newer_request_supersedes_an_older_one(qtbot, homogenization_panel, monk
     panel.compute()
     _wait_idle(qtbot, panel)
     panel.wait_for_idle()
-    assert outcomes == ["_Superseded", "done"]
+    assert outcomes == ["Cancelled", "done"]
     assert len(results) == 1
     expected = real(make_pattern("checkerboard", 16), bimaterial(contrast=1000.0)).material
     assert np.allclose(results[0].voigt, expected.voigt, rtol=1e-7)
@@ -332,6 +332,8 @@ def test_drag_a_control_point(qtbot, falloff_panel):
     assert editor.active_key == ("R", 0)
     changes = _count(panel.falloff_changed)
     finished = _count(panel.editing_finished)
+    model_changes: list = []
+    panel.settings.events.changed.connect(model_changes.append)
     rho, value = editor.control_points()
     index = int(np.searchsorted(rho, 1.0))
     version = panel.radial.version
@@ -352,6 +354,10 @@ def test_drag_a_control_point(qtbot, falloff_panel):
     assert len(changes) >= 2  # live while dragging
     assert len(finished) == 1  # once, at the release
     assert panel.radial.eps == 1.0
+    # the model hears one drag: a first step, then continued ones (one undo step downstream)
+    flags = [c.continued for c in model_changes]
+    assert len(flags) >= 2 and flags[0] is False and all(flags[1:])
+    assert all(c.names == {"falloff"} for c in model_changes)
 
 
 def test_point_at_rho_zero_is_pinned_for_l_at_least_1(qtbot, falloff_panel):
@@ -489,3 +495,63 @@ def test_curve_selector_and_shown_curves(qtbot, falloff_panel):
     qtbot.mouseClick(editor, Qt.MouseButton.LeftButton, pos=point.toPoint())
     assert editor.active_key == ("dR", 1)
     assert panel.curve_combo.currentText().startswith("ℛ₁")
+
+
+# ---------------------------------------------------------------------------------------------
+# Background work
+# ---------------------------------------------------------------------------------------------
+def test_background_runner_reports_progress_results_errors_and_cancels(qtbot):
+    from app.background import BackgroundRunner
+    from gogreen_core.validation import ParameterError
+
+    runner = BackgroundRunner()
+    progress, results, failures, cancelled = [], [], [], []
+    runner.progress.connect(lambda job, f: progress.append(f))
+    runner.finished.connect(lambda job, r: results.append((job, r)))
+    runner.failed.connect(lambda job, e: failures.append(e))
+    runner.cancelled.connect(cancelled.append)
+    release = threading.Event()
+
+    def work(task):
+        task.progress(0.5)
+        return threading.current_thread() is not threading.main_thread()
+
+    def blocked(task):
+        release.wait(10.0)
+        task.progress(0.1)  # raises Cancelled: it was cancelled while waiting
+        return "never"
+
+    def bad(task):
+        raise ParameterError("contrast", "contrast must be > 0")
+
+    first = runner.submit(work)
+    slow = runner.submit(blocked)
+    failing = runner.submit(bad)
+    runner.cancel(slow)
+    release.set()
+    assert runner.wait(10_000)
+    qtbot.waitUntil(lambda: not runner.busy)
+    assert results == [(first, True)] and progress == [0.5]
+    assert cancelled == [slow]
+    assert failures[0].parameter == "contrast"
+    assert failing not in [job for job, _ in results]
+
+
+def test_a_rotation_slider_drag_reaches_the_settings_as_one_continued_edit(qtbot):
+    from gogreen_core.settings import Settings
+
+    settings = Settings()
+    panel = MaterialPanel(settings=settings)
+    qtbot.addWidget(panel)
+    panel.set_mode("orthotropic")  # anisotropic: a rotation changes the material
+    changes: list = []
+    settings.events.changed.connect(changes.append)
+    slider = panel.rotation.sliders[2]
+    slider.setSliderDown(True)
+    for angle in (10, 20, 30):
+        slider.setValue(angle)
+    slider.setSliderDown(False)
+    assert [c.continued for c in changes] == [False, True, True]
+    assert settings.material == panel.material
+    panel.rotation.sliders[0].setValue(5)  # a discrete edit after the drag: a new step
+    assert changes[-1].continued is False

@@ -1,12 +1,14 @@
 """Falloff panel: edit the brush falloff curves, the SH truncation degree and wrinkle weights.
 
-The falloff is a :class:`gogreen_core.SplineRadial` in the dimensionless variable ρ = r/ε
-(its ε stays 1; the consumer calls ``with_eps``). Even degrees carry R_l, the falloff of the
-Green's function G used by grab brushes; odd degrees carry ℛ_l, used by ∇G and the affine
-brushes (scale, twist, pinch). The panel keeps *one* SplineRadial for its whole life and edits
-it in place (``set_curve``/``move_point``...), so its version counter (and the kernel's table
-cache) always advances; curves of degrees above the current l_max are kept, so lowering and
-raising l_max restores them.
+A view of the falloff fields of :class:`gogreen_core.settings.Settings` (``falloff``,
+``l_max``, ``degree_weights``): the panel owns none of them. The falloff is the settings'
+:class:`gogreen_core.SplineRadial` in the dimensionless variable ρ = r/ε (its ε stays 1; the
+consumer calls ``with_eps``). Even degrees carry R_l, the falloff of the Green's function G used
+by grab brushes; odd degrees carry ℛ_l, used by ∇G and the affine brushes (scale, twist,
+pinch). The curve editor edits that one spline in place, and each edit is announced with
+``settings.touch("falloff", continued=...)``: the steps of one point drag after the first are
+``continued``, so a whole drag can be one undo step in the engine. Curves of degrees above the
+current l_max are kept, so lowering and raising l_max restores them.
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ from app.panels.curve_editor import CurveEditor, curve_color, curve_label
 from app.panels.widgets import scrolled_column
 from gogreen_core.brushes import default_wrinkle_weights
 from gogreen_core.radial import GaussianRadial, KelvinletRadial, RadialProfile, SplineRadial
+from gogreen_core.settings import ChangeEvent, Settings, needed_curves
 
 __all__ = ["L_MAX_RANGE", "QUICK_CURVES", "FalloffPanel"]
 
@@ -54,10 +57,7 @@ def _key_from_id(text: str) -> tuple[str, int]:
     return kind, int(degree)
 
 
-def _needed_keys(l_max: int) -> list[tuple[str, int]]:
-    """Curves a kernel of ``l_max`` uses: R_l for even l ≤ l_max, ℛ_l for odd l ≤ l_max + 1."""
-    keys = [("R", l) for l in range(0, l_max + 1, 2)] + [("dR", l) for l in range(1, l_max + 2, 2)]
-    return sorted(keys, key=lambda k: (k[1], k[0]))
+_needed_keys = needed_curves
 
 
 class FalloffPanel(QWidget):
@@ -66,13 +66,16 @@ class FalloffPanel(QWidget):
 
     Parameters
     ----------
-    l_max : int, default 8 (the sculptor's default)
+    l_max : int, default 8 (the sculptor's default; used when ``settings`` is omitted)
     parent : QWidget, optional
+    settings : Settings, optional: the model shown and edited (a private one when omitted)
 
     Signals
     -------
-    falloff_changed() : after every edit (each step of a point drag, add/remove, reset, l_max,
-        a weight). Read :attr:`radial`, :attr:`l_max`, :attr:`degree_weights`.
+    falloff_changed() : after every edit made in the panel (each step of a point drag,
+        add/remove, reset, l_max, a weight); changes made to the settings elsewhere (a preset,
+        an undo) update the panel without it. Read :attr:`radial`, :attr:`l_max`,
+        :attr:`degree_weights`.
     editing_finished() : after a discrete edit or at the end of a drag, for consumers that do
         not want every drag step.
 
@@ -85,19 +88,23 @@ class FalloffPanel(QWidget):
     falloff_changed = Signal()
     editing_finished = Signal()
 
-    def __init__(self, l_max: int = 8, parent: QWidget | None = None):
+    def __init__(
+        self, l_max: int = 8, parent: QWidget | None = None, settings: Settings | None = None
+    ):
         super().__init__(parent)
-        self._l_max = self._check_l_max(l_max)
-        self._radial = SplineRadial.from_profile(GaussianRadial(1.0), self._l_max)
+        self.settings = settings if settings is not None else Settings(l_max=l_max)
+        self._check_l_max(self.settings.l_max)
+        self._editing = False  # the panel itself is changing the settings
+        self._drag_continued = False  # the next drag step continues a drag
         self.weight_spins: list[QDoubleSpinBox] = []
 
         layout = scrolled_column(self)
 
-        self.editor = CurveEditor(self._radial)
+        self.editor = CurveEditor(self.radial)
         self.editor.setMinimumHeight(240)
         self.editor.setMaximumHeight(400)
         self.editor.edited.connect(self._curve_edited)
-        self.editor.drag_finished.connect(self.editing_finished)
+        self.editor.drag_finished.connect(self._drag_finished)
         self.editor.message.connect(self._show_message)
         self.editor.active_curve_changed.connect(self._active_changed_in_editor)
         layout.addWidget(self.editor, 1)
@@ -116,7 +123,16 @@ class FalloffPanel(QWidget):
         layout.addWidget(self._degrees_group())
         layout.addStretch(0)
         self._refresh_curve_choices()
-        self._rebuild_weight_spins(default_wrinkle_weights(self._l_max))
+        self._rebuild_weight_spins(self.settings.degree_weights)
+        events = self.settings.events
+        callbacks = (
+            (events.falloff, self._model_falloff),
+            (events.l_max, self._model_l_max),
+            (events.degree_weights, self._model_weights),
+        )
+        for emitter, callback in callbacks:
+            emitter.connect(callback)
+        self.destroyed.connect(lambda *_: [e.disconnect(c) for e, c in callbacks])
 
     # -- construction ------------------------------------------------------------------------
     def _curves_group(self) -> QGroupBox:
@@ -175,7 +191,7 @@ class FalloffPanel(QWidget):
         row.addWidget(QLabel("Truncation l_max"))
         self.l_max_spin = QSpinBox()
         self.l_max_spin.setRange(*L_MAX_RANGE)
-        self.l_max_spin.setValue(self._l_max)
+        self.l_max_spin.setValue(self.settings.l_max)
         self.l_max_spin.setKeyboardTracking(False)
         self.l_max_spin.setToolTip(
             "G uses even degrees l ≤ l_max, ∇G odd l ≤ l_max + 1; higher follows strong "
@@ -199,14 +215,14 @@ class FalloffPanel(QWidget):
         self.weights_one_button = QPushButton("All 1")
         self.weights_one_button.setToolTip("Every degree at weight 1: the wrinkle brush = grab")
         self.weights_one_button.clicked.connect(
-            lambda: self.set_degree_weights(np.ones(self._l_max + 1), emit=True)
+            lambda: self.set_degree_weights(np.ones(self.l_max + 1), emit=True)
         )
         self.weights_boost_button = QPushButton("Boost high degrees")
         self.weights_boost_button.setToolTip(
             "The engine's default wrinkle weights: max(1, l / 2), bringing out angular ripples"
         )
         self.weights_boost_button.clicked.connect(
-            lambda: self.set_degree_weights(default_wrinkle_weights(self._l_max), emit=True)
+            lambda: self.set_degree_weights(default_wrinkle_weights(self.l_max), emit=True)
         )
         buttons.addWidget(self.weights_one_button)
         buttons.addWidget(self.weights_boost_button)
@@ -242,51 +258,31 @@ class FalloffPanel(QWidget):
     # -- public API --------------------------------------------------------------------------
     @property
     def radial(self) -> SplineRadial:
-        """The edited falloff (ε = 1; call ``with_eps`` for a brush radius)."""
-        return self._radial
+        """The edited falloff, the settings' spline (ε = 1; call ``with_eps`` for a radius)."""
+        return self.settings.falloff
 
     @property
     def l_max(self) -> int:
         """Truncation degree of the SH expansion."""
-        return self._l_max
+        return self.settings.l_max
 
     @property
     def degree_weights(self) -> np.ndarray:
         """Per-degree weights of the wrinkle brush, shape (l_max + 1,) (a copy)."""
-        return np.array([spin.value() for spin in self.weight_spins], dtype=np.float64)
+        return self.settings.degree_weights.copy()
 
     def set_l_max(self, l_max: int, emit: bool = True) -> None:
         """Change the truncation degree: adds Gaussian curves for new degrees (or restores
         earlier edits of them) and gives new degrees the engine's default wrinkle weights."""
         l_max = self._check_l_max(l_max)
-        if l_max == self._l_max:
-            return
-        weights = self.degree_weights
-        padded = default_wrinkle_weights(l_max)
-        keep = min(len(weights), l_max + 1)
-        padded[:keep] = weights[:keep]
-        self._l_max = l_max
-        self._ensure_curves()
-        self._sync_l_max_spin()
-        self._rebuild_weight_spins(padded)
-        self._refresh_curve_choices()
-        if emit:
-            self._emit_changed()
+        if l_max != self.l_max:
+            self._edit({"l_max": l_max}, emit)
 
     def set_degree_weights(self, weights: Sequence[float] | None, emit: bool = False) -> None:
         """Set the wrinkle weights (l_max + 1 finite numbers; None: the engine's default,
-        :func:`gogreen_core.brushes.default_wrinkle_weights`)."""
-        values = (
-            default_wrinkle_weights(self._l_max) if weights is None else np.asarray(weights, float)
-        )
-        if values.shape != (self._l_max + 1,) or not np.all(np.isfinite(values)):
-            raise ValueError(f"degree_weights must be l_max + 1 = {self._l_max + 1} finite numbers")
-        for spin, value in zip(self.weight_spins, values, strict=True):
-            spin.blockSignals(True)
-            spin.setValue(float(value))
-            spin.blockSignals(False)
-        if emit:
-            self._emit_changed()
+        :func:`gogreen_core.brushes.default_wrinkle_weights`); ParameterError otherwise."""
+        values = default_wrinkle_weights(self.l_max) if weights is None else weights
+        self._edit({"degree_weights": values}, emit)
 
     def set_falloff(
         self,
@@ -297,22 +293,13 @@ class FalloffPanel(QWidget):
     ) -> None:
         """Load a falloff shape (any profile: a spline's curves are copied, a Gaussian,
         Kelvinlet or multi-scale profile is sampled into curves), optionally with ``l_max``
-        and wrinkle weights (None: the default ones). Its ε is ignored. Does not emit unless
-        ``emit``."""
+        and wrinkle weights (None: the default ones). Its ε is ignored. Does not emit
+        ``falloff_changed`` unless ``emit``."""
         if not isinstance(falloff, RadialProfile):
             raise ValueError(f"falloff must be a RadialProfile (got {type(falloff).__name__})")
-        if l_max is not None:
-            self.set_l_max(l_max, emit=False)
-        source = (
-            falloff
-            if isinstance(falloff, SplineRadial)
-            else SplineRadial.from_profile(falloff.with_eps(1.0), self._l_max)
-        )
-        for key in source.curve_keys():
-            self._radial.set_curve(*key, *source.curve(*key))
-        self._ensure_curves()
-        self.set_degree_weights(degree_weights)
-        self._after_curve_reset(emit)
+        new_l_max = self.l_max if l_max is None else self._check_l_max(l_max)
+        weights = default_wrinkle_weights(new_l_max) if degree_weights is None else degree_weights
+        self._edit({"l_max": new_l_max, "falloff": falloff, "degree_weights": weights}, emit)
 
     def reset_to_gaussian(self) -> None:
         """Replace every curve by the Gaussian load's (the default falloff)."""
@@ -334,42 +321,56 @@ class FalloffPanel(QWidget):
             )
         return l_max
 
-    def _sync_l_max_spin(self) -> None:
-        self.l_max_spin.blockSignals(True)
-        self.l_max_spin.setValue(self._l_max)
-        self.l_max_spin.blockSignals(False)
-
-    def _ensure_curves(self) -> None:
-        """Give the spline every curve a kernel of l_max needs (missing ones: Gaussian)."""
-        have = set(self._radial.curve_keys())
-        missing = [key for key in _needed_keys(self._l_max) if key not in have]
-        if missing:
-            gaussian = SplineRadial.from_profile(GaussianRadial(1.0), self._l_max)
-            for key in missing:
-                self._radial.set_curve(*key, *gaussian.curve(*key))
+    def _edit(self, values: dict, emit: bool) -> None:
+        """Give the settings ``values`` (the panel follows through the model's events)."""
+        self.settings.update(values)
+        if emit:
+            self._emit_changed()
 
     def _reset_to(self, profile: RadialProfile) -> None:
-        samples = SplineRadial.from_profile(profile, self._l_max)
+        radial = self.radial
+        samples = SplineRadial.from_profile(profile, self.l_max)
         for key in samples.curve_keys():
-            self._radial.set_curve(*key, *samples.curve(*key))
+            radial.set_curve(*key, *samples.curve(*key))
         # Stored curves above l_max are reset too, so raising l_max later stays consistent.
-        stale = [k for k in self._radial.curve_keys() if k not in samples.curve_keys()]
+        stale = [k for k in radial.curve_keys() if k not in samples.curve_keys()]
         if stale:
             top = max(degree for _, degree in stale)
             more = SplineRadial.from_profile(profile, top)
             for key in stale:
-                self._radial.set_curve(*key, *more.curve(*key))
-        self._after_curve_reset(emit=True)
+                radial.set_curve(*key, *more.curve(*key))
+        self.settings.touch("falloff")
+        self._emit_changed()
 
-    def _after_curve_reset(self, emit: bool) -> None:
-        self.editor.set_radial(self._radial)
+    # -- model -> view -----------------------------------------------------------------------
+    def _model_falloff(self, _event: ChangeEvent) -> None:
+        if self._editing:  # the editor's own in-place edit: it is already drawn
+            return
+        self.editor.set_radial(self.radial)
         self._refresh_curve_choices()
         self._hide_message()
-        if emit:
-            self._emit_changed()
+
+    def _model_l_max(self, _event: ChangeEvent) -> None:
+        self._sync_l_max_spin()
+        self._rebuild_weight_spins(self.settings.degree_weights)
+        self._refresh_curve_choices()
+
+    def _model_weights(self, event: ChangeEvent) -> None:
+        if len(event.value) != len(self.weight_spins):
+            self._rebuild_weight_spins(event.value)
+            return
+        for spin, value in zip(self.weight_spins, event.value, strict=True):
+            spin.blockSignals(True)
+            spin.setValue(float(value))
+            spin.blockSignals(False)
+
+    def _sync_l_max_spin(self) -> None:
+        self.l_max_spin.blockSignals(True)
+        self.l_max_spin.setValue(self.l_max)
+        self.l_max_spin.blockSignals(False)
 
     def _refresh_curve_choices(self) -> None:
-        keys = _needed_keys(self._l_max)
+        keys = _needed_keys(self.l_max)
         active = self.editor.active_key if self.editor.active_key in keys else ("R", 0)
         self.curve_combo.blockSignals(True)
         self.curve_combo.clear()
@@ -395,18 +396,30 @@ class FalloffPanel(QWidget):
             self.curve_combo.blockSignals(False)
 
     def _shown_changed(self, *_args: object) -> None:
-        keys = _needed_keys(self._l_max)
+        keys = _needed_keys(self.l_max)
         shown = [k for k, c in self.show_checks.items() if c.isChecked() and k in keys]
         self.editor.set_visible_keys(shown)
 
     def _curve_edited(self) -> None:
         self._hide_message()
+        dragging = self.editor.is_dragging
+        self._editing = True
+        try:
+            self.settings.touch("falloff", continued=dragging and self._drag_continued)
+        finally:
+            self._editing = False
+        self._drag_continued = dragging
         self.falloff_changed.emit()
-        if not self.editor.is_dragging:  # add / remove: a discrete edit
+        if not dragging:  # add / remove: a discrete edit
             self.editing_finished.emit()
 
+    def _drag_finished(self) -> None:
+        self._drag_continued = False
+        self.editing_finished.emit()
+
     def _weight_changed(self, *_args: object) -> None:
-        self._emit_changed()
+        weights = np.array([spin.value() for spin in self.weight_spins], dtype=np.float64)
+        self._edit({"degree_weights": weights}, emit=True)
 
     def _emit_changed(self) -> None:
         self.falloff_changed.emit()

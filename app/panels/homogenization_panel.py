@@ -3,23 +3,22 @@
 The artist picks a pattern family of :data:`gogreen_core.PATTERNS` (widgets are generated from
 its :class:`~gogreen_core.PatternParameter` list), the base isotropic phase a (E, ν) and the
 stiffness contrast E_b / E_a of phase b (:func:`gogreen_core.bimaterial`). "Compute" runs
-:func:`gogreen_core.homogenize_detailed` on a worker thread of a private ``QThreadPool``
-(progress reaches the bar through a queued signal); a newer request supersedes an older one,
-which stops at its next progress report. The result, optionally rotated by Euler angles
-(:meth:`gogreen_core.Material.rotated`), is shown as its 6×6 Voigt matrix with equal
-coefficients sharing a colour (:func:`gogreen_core.describe_symmetry`) and the symmetry class.
+:func:`gogreen_core.homogenize_detailed` off the GUI thread through
+:class:`app.background.BackgroundRunner` (progress reaches the bar through a queued signal); a
+newer request supersedes an older one, which stops at its next progress report. The result,
+optionally rotated by Euler angles (:meth:`gogreen_core.Material.rotated`), is shown as its
+6×6 Voigt matrix with equal coefficients sharing a colour
+(:func:`gogreen_core.describe_symmetry`) and the symmetry class.
 "Use this material" emits ``material_ready(Material)``.
 """
 
 from __future__ import annotations
 
-import itertools
 import math
-import threading
 from typing import Any
 
 import numpy as np
-from PySide6.QtCore import QObject, QRunnable, Qt, QThreadPool, QTimer, Signal
+from PySide6.QtCore import Qt, QTimer, Signal
 from PySide6.QtGui import QBrush, QCloseEvent, QColor, QFont
 from PySide6.QtWidgets import (
     QCheckBox,
@@ -40,6 +39,7 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
+from app.background import BackgroundRunner, Task
 from app.panels.voxel_preview import PHASE_B_COLOR, SlicePreview, VoxelPreview
 from app.panels.widgets import (
     ERROR_TEXT_STYLE,
@@ -49,6 +49,7 @@ from app.panels.widgets import (
     EulerAnglesEditor,
     NumberField,
     mark_invalid,
+    offending_widgets,
     pastel_color,
     scrolled_column,
 )
@@ -71,81 +72,6 @@ _VOIGT_LABELS = ("11", "22", "33", "23", "13", "12")
 _CONTRAST_RANGE = (1.0, 1.0e4)
 _SLIDER_STEPS_PER_DECADE = 100
 _AUTO_DELAY_MS = 250
-
-
-class _Superseded(Exception):
-    """Raised inside the progress callback of a job that a newer request replaced."""
-
-
-class _RequestCounter:
-    """The id of the newest request, shared (thread-safely) with the worker jobs."""
-
-    def __init__(self) -> None:
-        self._lock = threading.Lock()
-        self._ids = itertools.count(1)
-        self._latest = 0
-
-    def next(self) -> int:
-        with self._lock:
-            self._latest = next(self._ids)
-            return self._latest
-
-    def cancel(self) -> None:
-        with self._lock:
-            self._latest = -1
-
-    def is_current(self, request: int) -> bool:
-        with self._lock:
-            return request == self._latest
-
-
-class _JobSignals(QObject):
-    """Signals of the worker jobs (emitted from the pool thread, delivered queued)."""
-
-    progress = Signal(int, float)
-    finished = Signal(int, object)
-    failed = Signal(int, str)
-    cancelled = Signal(int)
-
-
-class _HomogenizeJob(QRunnable):
-    """One homogenization on a pool thread; stops early once superseded."""
-
-    def __init__(
-        self,
-        request: int,
-        phases: np.ndarray,
-        materials: tuple[Material, Material],
-        counter: _RequestCounter,
-        signals: _JobSignals,
-    ):
-        super().__init__()
-        self.setAutoDelete(False)  # Python owns the job (kept in the panel until it reports)
-        self.request = request
-        self._phases = phases
-        self._materials = materials
-        self._counter = counter
-        self._signals = signals
-
-    def run(self) -> None:
-        request, counter, signals = self.request, self._counter, self._signals
-        if not counter.is_current(request):
-            signals.cancelled.emit(request)
-            return
-
-        def progress(fraction: float) -> None:
-            if not counter.is_current(request):
-                raise _Superseded
-            signals.progress.emit(request, float(fraction))
-
-        try:
-            result = homogenize_detailed(self._phases, self._materials, progress)
-        except _Superseded:
-            signals.cancelled.emit(request)
-        except Exception as exc:
-            signals.failed.emit(request, f"{type(exc).__name__}: {exc}")
-        else:
-            signals.finished.emit(request, result)
 
 
 class HomogenizationPanel(QWidget):
@@ -186,16 +112,12 @@ class HomogenizationPanel(QWidget):
         self._result: Material | None = None
         self._symmetry: SymmetryDescription | None = None
         self._pattern_error = ""
-        self._counter = _RequestCounter()
-        self._signals = _JobSignals()
-        self._signals.progress.connect(self._job_progress)
-        self._signals.finished.connect(self._job_finished)
-        self._signals.failed.connect(self._job_failed)
-        self._signals.cancelled.connect(self._job_cancelled)
-        self._jobs: dict[int, _HomogenizeJob] = {}
+        self._runner = BackgroundRunner(self)
+        self._runner.progress.connect(self._job_progress)
+        self._runner.finished.connect(self._job_finished)
+        self._runner.failed.connect(self._job_failed)
+        self._job: int | None = None  # id of the request whose result is wanted
         self._pending: tuple | None = None  # key of the request in flight
-        self._pool = QThreadPool()
-        self._pool.setMaxThreadCount(1)  # one solve at a time; newer requests cancel older
         self._auto_timer = QTimer(self)
         self._auto_timer.setSingleShot(True)
         self._auto_timer.setInterval(_AUTO_DELAY_MS)
@@ -497,32 +419,37 @@ class HomogenizationPanel(QWidget):
                 self.young_field.value(), self.poisson_field.value(), self.contrast
             )
         except ValueError as exc:
-            self._mark_phase_fields(str(exc))
+            self._mark_phase_fields(exc)
             self._show_error(str(exc))
             return
         key = self._inputs_key()
         if self._detailed is not None and key == self._result_key:
-            self._counter.next()  # drop any request in flight
+            self._runner.cancel()  # drop any request in flight
+            self._job = None
             self._set_pending(None)
             self._display()
             return
-        request = self._counter.next()
-        job = _HomogenizeJob(request, self._phases.copy(), materials, self._counter, self._signals)
-        self._jobs[request] = job
+        phases = self._phases.copy()
+
+        def solve(task: Task) -> HomogenizationResult:
+            # looked up at call time, so tests can substitute the solver
+            return homogenize_detailed(phases, materials, task.progress)
+
+        self._job = self._runner.submit(solve, supersede=True)
         self._set_pending(key)
         self.progress_bar.setValue(0)
         self._hide_error()
-        self._pool.start(job)
 
     def cancel(self) -> None:
         """Abandon any computation in flight (it stops at its next progress report)."""
         self._auto_timer.stop()
-        self._counter.cancel()
+        self._runner.cancel()
+        self._job = None
         self._set_pending(None)
 
     def wait_for_idle(self, msecs: int = 30000) -> bool:
         """Block until the worker thread is idle (for shutdown and tests)."""
-        return self._pool.waitForDone(msecs)
+        return self._runner.wait(msecs)
 
     def use_material(self) -> None:
         """Emit ``material_ready`` with the displayed result."""
@@ -531,7 +458,7 @@ class HomogenizationPanel(QWidget):
 
     def closeEvent(self, event: QCloseEvent) -> None:
         self.cancel()
-        self._pool.waitForDone(5000)
+        self._runner.wait(5000)
         super().closeEvent(event)
 
     # -- inputs ------------------------------------------------------------------------------
@@ -559,9 +486,8 @@ class HomogenizationPanel(QWidget):
             phases = make_pattern(self.pattern_name, CELL_SIZE, **self.pattern_parameters())
         except ValueError as exc:
             self._pattern_error = str(exc)
-            for name, widget in self.parameter_widgets.items():
-                if name in self._pattern_error:
-                    mark_invalid(widget, True)
+            for widget in offending_widgets(exc, self.parameter_widgets):
+                mark_invalid(widget, True)
             self._show_error(self._pattern_error)
             self._update_stale_state()
             return
@@ -586,13 +512,14 @@ class HomogenizationPanel(QWidget):
         elif self.is_stale and not self._pattern_error:
             self._auto_timer.start()
 
-    def _mark_phase_fields(self, message: str) -> None:
-        if "contrast" in message:
-            mark_invalid(self.contrast_field, True)
-        if "young" in message:
-            mark_invalid(self.young_field, True)
-        if "poisson" in message:
-            mark_invalid(self.poisson_field, True)
+    def _mark_phase_fields(self, exc: ValueError) -> None:
+        fields = {
+            "contrast": self.contrast_field,
+            "young": self.young_field,
+            "poisson": self.poisson_field,
+        }
+        for field in offending_widgets(exc, fields):
+            mark_invalid(field, True)
 
     def _sync_contrast_slider(self, contrast: float) -> None:
         position = math.log10(max(contrast, _CONTRAST_RANGE[0]) / _CONTRAST_RANGE[0])
@@ -626,31 +553,29 @@ class HomogenizationPanel(QWidget):
         if busy != was_busy:
             self.busy_changed.emit(busy)
 
-    def _job_progress(self, request: int, fraction: float) -> None:
-        if self._counter.is_current(request):
+    def _job_progress(self, job: int, fraction: float) -> None:
+        if job == self._job:
             self.progress_bar.setValue(round(1000 * fraction))
 
-    def _job_finished(self, request: int, result: HomogenizationResult) -> None:
-        self._jobs.pop(request, None)
-        if not self._counter.is_current(request) or self._pending is None:
+    def _job_finished(self, job: int, result: HomogenizationResult) -> None:
+        if job != self._job or self._pending is None:
             return
+        self._job = None
         self._detailed = result
         self._result_key = self._pending
         self._set_pending(None)
         self.progress_bar.setValue(1000)
         self._display()
 
-    def _job_failed(self, request: int, message: str) -> None:
-        self._jobs.pop(request, None)
-        if not self._counter.is_current(request):
+    def _job_failed(self, job: int, exc: Exception) -> None:
+        if job != self._job:
             return
+        self._job = None
+        message = f"{type(exc).__name__}: {exc}"
         self._set_pending(None)
         self.progress_bar.setValue(0)
         self._show_error(f"Homogenization failed: {message}")
         self.computation_failed.emit(message)
-
-    def _job_cancelled(self, request: int) -> None:
-        self._jobs.pop(request, None)
 
     # -- display -----------------------------------------------------------------------------
     def _display(self) -> None:

@@ -8,7 +8,10 @@ the full symmetric 6×6 Voigt stiffness. The material axes can be rotated by thr
 
 The panel is a thin view: every material is built by a :class:`gogreen_core.Material`
 constructor, whose ValueError (naming the violated condition) is shown in the panel, the
-offending fields are marked red, and the last valid material stays in :attr:`material`.
+offending fields are marked red, and the last valid material stays in :attr:`material`. The
+field to mark comes from :attr:`gogreen_core.validation.ParameterError.parameter` (each field
+lists the parameter names that point at it). Given a :class:`gogreen_core.settings.Settings`,
+the panel is bound to its ``material`` field both ways.
 """
 
 from __future__ import annotations
@@ -44,6 +47,7 @@ from app.panels.widgets import (
     mark_invalid,
 )
 from gogreen_core.material import Material
+from gogreen_core.settings import ChangeEvent, Settings
 
 __all__ = ["MODES", "VOIGT_LABELS", "MaterialPanel"]
 
@@ -67,7 +71,7 @@ class _FieldSpec:
     label: str
     default: float
     tooltip: str
-    #: Names in Material's error messages that point at this field (regex words).
+    #: Parameter names (ParameterError.parameter) that point at this field.
     keywords: tuple[str, ...]
     minimum: float = -1e300
     maximum: float = 1e300
@@ -159,7 +163,12 @@ class MaterialPanel(QWidget):
     #: Emitted with the new valid Material after each edit that changes it.
     material_changed = Signal(object)
 
-    def __init__(self, material: Material | None = None, parent: QWidget | None = None):
+    def __init__(
+        self,
+        material: Material | None = None,
+        parent: QWidget | None = None,
+        settings: Settings | None = None,
+    ):
         super().__init__(parent)
         self._material = Material.isotropic(1.0, 0.3)
         self._base = self._material  # before the rotation
@@ -214,8 +223,30 @@ class MaterialPanel(QWidget):
         layout.addStretch(1)
 
         self.mode_combo.currentIndexChanged.connect(self._mode_changed)
-        if material is not None:
+        self.settings = settings
+        self._slider_drag = False
+        if settings is not None:
+            if material is not None:
+                settings.material = material
+            if settings.material != self._material:  # else keep the friendlier E, ν page
+                self.set_material(settings.material)
+            self.material_changed.connect(self._to_model)
+            emitter, callback = settings.events.material, self._from_model
+            emitter.connect(callback)
+            self.destroyed.connect(lambda *_: emitter.disconnect(callback))
+        elif material is not None:
             self.set_material(material)
+
+    def _to_model(self, material: Material) -> None:
+        # a rotation slider drag is one edit: its steps after the first are "continued"
+        dragging = any(slider.isSliderDown() for slider in self.rotation.sliders)
+        continued = dragging and self._slider_drag
+        self._slider_drag = dragging
+        self.settings.set("material", material, continued=continued)
+
+    def _from_model(self, event: ChangeEvent) -> None:
+        if event.value != self._material:
+            self.set_material(event.value)
 
     # -- pages -------------------------------------------------------------------------------
     def _make_field(self, spec: _FieldSpec) -> NumberField:
@@ -493,7 +524,7 @@ class MaterialPanel(QWidget):
                 else base.rotated(self.rotation.rotation_matrix())
             )
         except ValueError as exc:
-            self._reject(str(exc))
+            self._reject(exc)
             return
         self._clear_errors()
         changed = material != self._material
@@ -502,7 +533,8 @@ class MaterialPanel(QWidget):
         if changed:
             self.material_changed.emit(material)
 
-    def _reject(self, message: str) -> None:
+    def _reject(self, exc: ValueError) -> None:
+        message = str(exc)
         self._clear_marks()
         if self.mode == "voigt":
             mark_invalid(self.voigt_table, True)
@@ -511,7 +543,13 @@ class MaterialPanel(QWidget):
             specs = {
                 s.key: s for s in (*_ISOTROPIC_EN, *_ISOTROPIC_LAME, *_ORTHOTROPIC, *_TRANSVERSE)
             }
-            offending = [k for k in keys if _mentions(message, specs[k].keywords)]
+            parameter = getattr(exc, "parameter", None)
+            if parameter is not None:
+                offending = [k for k in keys if parameter in specs[k].keywords]
+            else:
+                # Transitional: a plain ValueError from a Material constructor not yet raising
+                # ParameterError; its message names the parameter as a word.
+                offending = [k for k in keys if _mentions(message, specs[k].keywords)]
             for key in offending or keys:
                 mark_invalid(self.fields[key], True)
         self._show_error(message)

@@ -41,6 +41,7 @@ __all__ = [
     "NumberField",
     "is_marked_invalid",
     "mark_invalid",
+    "offending_widgets",
     "pastel_color",
 ]
 
@@ -337,3 +338,18 @@ class EulerAnglesEditor(QWidget):
     def rotation_matrix(self) -> np.ndarray:
         """The (3, 3) proper rotation ``Rz(γ) Ry(β) Rx(α)``."""
         return Rotation.from_euler("xyz", self.angles, degrees=True).as_matrix()
+
+
+def offending_widgets(exc: Exception, widgets: dict[str, QWidget]) -> list[QWidget]:
+    """The widgets of ``widgets`` (by parameter name) that ``exc`` is about.
+
+    Uses :attr:`ParameterError.parameter` (its full name, or the last dotted part:
+    ``"brush.radius"`` matches ``"radius"``). Transitional, for core functions that still raise
+    a plain ValueError: the keys that the message names.
+    """
+    parameter = getattr(exc, "parameter", None)
+    if parameter is not None:
+        names = {parameter, parameter.rsplit(".", 1)[-1]}
+        return [widget for key, widget in widgets.items() if key in names]
+    message = str(exc)
+    return [widget for key, widget in widgets.items() if key in message]

@@ -1,0 +1,491 @@
+"""The settings model: one evented source of truth for what an artist tunes (no Qt).
+
+In napari's style: a model holds plain values in declared :class:`Field` s; setting a field
+validates it (:class:`gogreen_core.validation.ParameterError` naming the field), and when the
+value changes, emits ``model.events.<field>`` with a :class:`ChangeEvent`, then
+``model.events.changed`` once per update with the set of changed names. Views (the app's
+panels and brush bar) bind to it both ways; the engine is fed from it by :class:`EngineLink`;
+presets are made from and applied to it::
+
+    settings = Settings()
+    settings.brush.events.radius.connect(lambda e: print("radius", e.value))
+    settings.brush.radius = 0.05                     # validated, emitted
+    link = EngineLink(settings, sculptor)            # material/falloff/pins reach the engine
+    settings.material = Material.isotropic(1, 0.45)  # -> sculptor.set_material
+
+Adding a setting: declare one ``Field`` on the model (with its validator) and bind one widget
+to it; a brush field also needs the same name on :class:`gogreen_core.brushes.Brush` (which
+already carries it into strokes, sessions and presets).
+
+Drags: a slider or curve drag sets its field once per step with ``continued=True`` after the
+first step; :class:`EngineLink` forwards that flag to the engine at one call site
+(:meth:`EngineLink.forward`), so that a whole drag can be one undo step.
+"""
+
+from __future__ import annotations
+
+import inspect
+from collections.abc import Callable, Iterable
+from dataclasses import asdict, dataclass, replace
+from typing import Any, ClassVar
+
+import numpy as np
+
+from gogreen_core.brushes import Brush, default_wrinkle_weights
+from gogreen_core.kernel import L_MAX_LIMIT
+from gogreen_core.material import Material
+from gogreen_core.presets import Preset
+from gogreen_core.radial import GaussianRadial, MultiscaleRadial, RadialProfile, SplineRadial
+from gogreen_core.validation import ParameterError, check_finite, check_number
+
+__all__ = [
+    "BrushSettings",
+    "ChangeEvent",
+    "EngineLink",
+    "EventEmitter",
+    "EventedModel",
+    "Field",
+    "Settings",
+    "needed_curves",
+]
+
+
+@dataclass(frozen=True)
+class ChangeEvent:
+    """A field change: ``name``, new ``value``, ``old`` value, ``continued`` (a further step of
+    a drag), ``source`` (who made it, e.g. ``"engine"`` when pulled back from the engine)."""
+
+    name: str
+    value: Any
+    old: Any
+    continued: bool = False
+    source: str = ""
+
+
+@dataclass(frozen=True)
+class Changes:
+    """One update: the changed field ``names``, ``continued``, ``source``."""
+
+    names: frozenset[str]
+    continued: bool = False
+    source: str = ""
+
+
+class EventEmitter:
+    """A list of callbacks called with one event (synchronously, in connection order)."""
+
+    def __init__(self) -> None:
+        self._callbacks: list[Callable[[Any], None]] = []
+
+    def connect(self, callback: Callable[[Any], None]) -> Callable[[Any], None]:
+        self._callbacks.append(callback)
+        return callback
+
+    def disconnect(self, callback: Callable[[Any], None]) -> None:
+        if callback in self._callbacks:
+            self._callbacks.remove(callback)
+
+    def emit(self, event: Any) -> None:
+        for callback in list(self._callbacks):
+            callback(event)
+
+    def __len__(self) -> int:
+        return len(self._callbacks)
+
+
+class _Events:
+    """``events.<field>`` emitters plus ``events.changed``."""
+
+    def __init__(self, names: Iterable[str]) -> None:
+        self.changed = EventEmitter()
+        self._emitters = {name: EventEmitter() for name in names}
+
+    def __getattr__(self, name: str) -> EventEmitter:
+        try:
+            return self._emitters[name]
+        except KeyError:
+            raise AttributeError(f"no event {name!r}") from None
+
+    def __getitem__(self, name: str) -> EventEmitter:
+        return self._emitters[name]
+
+
+class Field:
+    """A declared model field.
+
+    default : the value, or a zero-argument callable making it (mutable defaults).
+    validate : ``(model, name, value) -> value`` normalizing a value or raising
+        :class:`ParameterError`; None accepts anything.
+    eq : ``(a, b) -> bool``, when a new value equals the old (no event); default ``==`` (arrays
+        compared with ``np.array_equal``).
+    """
+
+    def __init__(self, default: Any, validate=None, eq=None, doc: str = "") -> None:
+        self.default, self.validate, self.eq, self.__doc__ = default, validate, eq, doc
+        self.name = ""
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        self.name = name
+
+    def __get__(self, model: EventedModel | None, owner: type) -> Any:
+        if model is None:
+            return self
+        return model._values[self.name]
+
+    def __set__(self, model: EventedModel, value: Any) -> None:
+        model.set(self.name, value)
+
+    def equal(self, a: Any, b: Any) -> bool:
+        if self.eq is not None:
+            return bool(self.eq(a, b))
+        if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
+            return a is not None and b is not None and np.array_equal(a, b)
+        return bool(a == b)
+
+
+class EventedModel:
+    """Base of the evented models: declared :class:`Field` s, validated, with change events.
+
+    Subclasses may override :meth:`_normalize` to validate fields that depend on each other.
+    """
+
+    fields: ClassVar[dict[str, Field]] = {}
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        fields: dict[str, Field] = {}
+        for klass in reversed(cls.__mro__):
+            fields.update({k: v for k, v in vars(klass).items() if isinstance(v, Field)})
+        cls.fields = fields
+
+    def __init__(self, **values: Any) -> None:
+        self._values: dict[str, Any] = {}
+        for name, f in self.fields.items():
+            default = f.default() if callable(f.default) else f.default
+            self._values[name] = f.validate(self, name, default) if f.validate else default
+        self.events = _Events(self.fields)
+        if values:
+            self.update(values)
+
+    def set(self, name: str, value: Any, *, continued: bool = False, source: str = "") -> None:
+        """Set one field (see :meth:`update`)."""
+        self.update({name: value}, continued=continued, source=source)
+
+    def update(
+        self, values: dict[str, Any], *, continued: bool = False, source: str = ""
+    ) -> frozenset[str]:
+        """Validate all ``values`` first (nothing changes if one is bad), then store them and
+        emit one event per changed field and one ``changed``. Returns the changed names."""
+        unknown = set(values) - set(self.fields)
+        if unknown:
+            name = sorted(unknown)[0]
+            raise ParameterError(name, f"{type(self).__name__} has no setting {name!r}")
+        new = self._normalize(dict(values))
+        changed = [n for n in self.fields if n in new and not self._same(n, new[n])]
+        old = {n: self._values[n] for n in changed}
+        for name in changed:
+            self._values[name] = new[name]
+        for name in changed:
+            self.events[name].emit(ChangeEvent(name, new[name], old[name], continued, source))
+        if changed:
+            self.events.changed.emit(Changes(frozenset(changed), continued, source))
+        return frozenset(changed)
+
+    def touch(self, name: str, *, continued: bool = False, source: str = "") -> None:
+        """Announce an in-place edit of a mutable field (e.g. a curve point dragged)."""
+        value = self._values[name]
+        self.events[name].emit(ChangeEvent(name, value, value, continued, source))
+        self.events.changed.emit(Changes(frozenset([name]), continued, source))
+
+    def _same(self, name: str, value: Any) -> bool:
+        return self.fields[name].equal(self._values[name], value)
+
+    def _normalize(self, values: dict[str, Any]) -> dict[str, Any]:
+        """Validated ``values`` (field order); may add dependent fields."""
+        out = {}
+        for name, f in self.fields.items():
+            if name in values:
+                out[name] = f.validate(self, name, values[name]) if f.validate else values[name]
+        return out
+
+    def values(self) -> dict[str, Any]:
+        """The current values by field name (a shallow copy)."""
+        return dict(self._values)
+
+
+# -- brush -----------------------------------------------------------------------------------
+def _brush_value(model: BrushSettings, name: str, value: Any) -> Any:
+    """Validated by :class:`Brush` itself, so the model and the engine accept the same."""
+    base = Brush(**model._values) if len(model._values) == len(model.fields) else Brush()
+    try:
+        return getattr(replace(base, **{name: value}), name)
+    except (TypeError, ValueError) as exc:
+        raise ParameterError(f"brush.{name}", str(exc)) from None
+
+
+class BrushSettings(EventedModel):
+    """The brush of the next stroke; :attr:`brush` is it as an immutable :class:`Brush`."""
+
+    kind = Field("grab", _brush_value, doc="one of BRUSH_KINDS")
+    radius = Field(0.08, _brush_value, doc="ε as a fraction of the model size")
+    strength = Field(1.0, _brush_value, doc="multiplies the cursor motion or amount")
+    substeps = Field(4, _brush_value, doc="RK4 steps per mouse event")
+    influence = Field(4.0, _brush_value, doc="radius of the moved region, in multiples of ε")
+    symmetry = Field("", _brush_value, doc='mirror planes, any of "x", "y", "z"')
+
+    @property
+    def brush(self) -> Brush:
+        return Brush(**self._values)
+
+    def set_brush(self, brush: Brush, *, continued: bool = False) -> None:
+        if not isinstance(brush, Brush):
+            raise ParameterError("brush", f"brush must be a Brush (got {type(brush).__name__})")
+        self.update(asdict(brush), continued=continued)
+
+
+# -- material, falloff, constraints ----------------------------------------------------------
+def needed_curves(l_max: int) -> list[tuple[str, int]]:
+    """Curves a kernel of ``l_max`` uses: R_l for even l ≤ l_max, ℛ_l for odd l ≤ l_max + 1,
+    by degree."""
+    keys = [("R", l) for l in range(0, l_max + 1, 2)] + [("dR", l) for l in range(1, l_max + 2, 2)]
+    return sorted(keys, key=lambda k: (k[1], k[0]))
+
+
+def _material(_model: Settings, name: str, value: Any) -> Material:
+    if not isinstance(value, Material):
+        raise ParameterError(name, f"{name} must be a Material (got {type(value).__name__})")
+    return value
+
+
+def _l_max(_model: Settings, name: str, value: Any) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise ParameterError(name, f"{name} must be an integer (got {value!r})")
+    check_number(name, value, low=0, high=L_MAX_LIMIT)
+    return int(value)
+
+
+def _radius(_model: Settings, name: str, value: Any) -> float:
+    return check_number(name, value, low=0.0, low_open=True)
+
+
+class Settings(EventedModel):
+    """Brush, material, falloff and constraint settings: what the engine, presets and the
+    app's panels share.
+
+    Fields
+    ------
+    material : :class:`Material`
+    l_max : int, SH truncation degree (0 … ``L_MAX_LIMIT``)
+    falloff : :class:`SplineRadial` with ε = 1, *one object for the model's life*: assigning
+        any single radial profile copies its curves into it (sampled when not a spline), curve
+        editors edit it in place and call ``touch("falloff")``. It always has the curves
+        :func:`needed_curves` of ``l_max`` (missing ones: Gaussian); curves above l_max are kept.
+    degree_weights : (l_max + 1,) wrinkle weights; changing l_max keeps the common degrees and
+        gives new ones :func:`default_wrinkle_weights`.
+    constraint_radius : ε of the pins, as a fraction of the model size.
+
+    ``brush`` is a :class:`BrushSettings` (a sub-model with events of its own).
+    """
+
+    material = Field(lambda: Material.isotropic(1.0, 0.3), _material)
+    l_max = Field(8, _l_max)
+    falloff = Field(None, eq=lambda a, b: False)  # in place: every assignment is a change
+    degree_weights = Field(None)
+    constraint_radius = Field(0.1, _radius)
+
+    def __init__(self, **values: Any) -> None:
+        self.brush = BrushSettings()
+        super().__init__()
+        self._values.update(self._normalize({}))  # the spline and weights of the default l_max
+        if values:
+            self.update(values)
+
+    def _normalize(self, values: dict[str, Any]) -> dict[str, Any]:
+        out = super()._normalize(values)
+        l_max = out.get("l_max", self._values.get("l_max", 8))
+        first = self._values.get("falloff") is None  # construction
+        if "falloff" in out or first:
+            out["falloff"] = self._falloff_into(out.get("falloff"), l_max)
+        elif "l_max" in out:
+            self._ensure_curves(self._values["falloff"], l_max)
+        if "degree_weights" in out or "l_max" in out or first:
+            out["degree_weights"] = self._weights(out.get("degree_weights"), l_max)
+        return out
+
+    def _falloff_into(self, profile: RadialProfile | None, l_max: int) -> SplineRadial:
+        spline = self._values.get("falloff")
+        if profile is None and spline is not None:
+            return spline
+        profile = GaussianRadial(1.0) if profile is None else profile
+        if not isinstance(profile, RadialProfile) or isinstance(profile, MultiscaleRadial):
+            raise ParameterError(
+                "falloff",
+                "falloff must be a single RadialProfile (Gaussian, Kelvinlet, spline), "
+                f"got {type(profile).__name__}",
+            )
+        source = (
+            profile
+            if isinstance(profile, SplineRadial)
+            else SplineRadial.from_profile(profile.with_eps(1.0), l_max)
+        )
+        if spline is None:
+            spline = source if source is not profile else profile.with_eps(1.0)
+        elif spline is not profile:
+            for key in source.curve_keys():
+                spline.set_curve(*key, *source.curve(*key))
+        self._ensure_curves(spline, l_max)
+        return spline
+
+    @staticmethod
+    def _ensure_curves(spline: SplineRadial, l_max: int) -> None:
+        have = set(spline.curve_keys())
+        missing = [key for key in needed_curves(l_max) if key not in have]
+        if missing:
+            gaussian = SplineRadial.from_profile(GaussianRadial(1.0), l_max)
+            for key in missing:
+                spline.set_curve(*key, *gaussian.curve(*key))
+
+    def _weights(self, weights: Any, l_max: int) -> np.ndarray:
+        if weights is None:
+            current = self._values.get("degree_weights")
+            padded = default_wrinkle_weights(l_max)
+            if current is not None:
+                keep = min(len(current), l_max + 1)
+                padded[:keep] = current[:keep]
+            return padded
+        values = check_finite("degree_weights", weights)
+        if values.shape != (l_max + 1,):
+            raise ParameterError(
+                "degree_weights",
+                f"degree_weights must be l_max + 1 = {l_max + 1} finite numbers "
+                f"(got shape {values.shape})",
+            )
+        return values.copy()
+
+    # -- presets and the engine's options ----------------------------------------------------
+    def preset(self, name: str = "", description: str = "") -> Preset:
+        """The current settings as a :class:`Preset` (a snapshot: later edits do not leak)."""
+        return Preset(
+            name=name,
+            material=self.material,
+            falloff=self.falloff.with_eps(1.0),
+            l_max=self.l_max,
+            degree_weights=self.degree_weights.copy(),
+            brush=self.brush.brush,
+            description=description,
+        )
+
+    def apply_preset(self, preset: Preset) -> None:
+        """Take every setting of ``preset`` (one update of this model, then the brush)."""
+        self.update(
+            {
+                "material": preset.material,
+                "l_max": preset.l_max,
+                "falloff": preset.falloff,
+                "degree_weights": (
+                    default_wrinkle_weights(preset.l_max)
+                    if preset.degree_weights is None
+                    else preset.degree_weights
+                ),
+            }
+        )
+        self.brush.set_brush(preset.brush)
+
+    def sculptor_options(self) -> dict[str, Any]:
+        """Keyword arguments of :class:`gogreen_core.Sculptor` for a new mesh."""
+        return {
+            "material": self.material,
+            "l_max": self.l_max,
+            "falloff": self.falloff,
+            "degree_weights": self.degree_weights,
+        }
+
+
+#: Engine setter of each group of engine-side settings, and the fields it takes.
+_ENGINE_SETTERS = (
+    ("set_material", ("material",)),
+    ("set_falloff", ("falloff", "l_max", "degree_weights")),
+    ("set_constraint_radius", ("constraint_radius",)),
+)
+
+
+class EngineLink:
+    """Feeds a :class:`gogreen_core.Sculptor` from a :class:`Settings` and pulls back.
+
+    Every settings update reaches the engine as one setter call per group it touches
+    (material; falloff with l_max and weights; constraint radius). A setter that refuses
+    (``ValueError``, ``RuntimeError``) leaves the engine as it was; the link then restores the
+    settings from the engine and calls ``on_error(parameter, exc)``, so model and engine never
+    disagree. :meth:`pull` copies the engine's values into the settings (after undo/redo)
+    without sending them back.
+    """
+
+    def __init__(self, settings: Settings, sculptor=None, on_error=None) -> None:
+        self.settings = settings
+        self.sculptor = sculptor
+        self.on_error = on_error
+        self._pulling = False
+        settings.events.changed.connect(self._changed)
+
+    def attach(self, sculptor) -> None:
+        """Feed ``sculptor`` from now on (made with :meth:`Settings.sculptor_options`); gives
+        it the settings it was not made with (the constraint radius)."""
+        self.sculptor = sculptor
+        if sculptor is not None and sculptor.constraint_radius != self.settings.constraint_radius:
+            self.forward("set_constraint_radius", ("constraint_radius",), False)
+
+    def _changed(self, changes: Changes) -> None:
+        if self._pulling or self.sculptor is None or changes.source == "engine":
+            return
+        for method, names in _ENGINE_SETTERS:
+            if changes.names.intersection(names):
+                if not self.forward(method, names, changes.continued):
+                    return
+
+    def forward(self, method: str, names: tuple[str, ...], continued: bool) -> bool:
+        """The one place settings reach the engine: ``sculptor.<method>(*values)``, with
+        ``continued`` when the engine's setter takes it (one undo step per drag). False, after
+        restoring the settings from the engine and reporting, when the engine refuses."""
+        setter = getattr(self.sculptor, method)
+        args = [self.settings.values()[name] for name in names]
+        kwargs = {"continued": continued} if _takes_continued(setter) else {}
+        try:
+            setter(*args, **kwargs)
+        except (ValueError, RuntimeError) as exc:
+            self.pull()
+            if self.on_error is None:
+                raise
+            parameter = getattr(exc, "parameter", None) or names[0]
+            self.on_error(parameter, exc)
+            return False
+        return True
+
+    def pull(self) -> None:
+        """Copy the engine's settings into the model (no echo back to the engine)."""
+        s = self.sculptor
+        if s is None:
+            return
+        values: dict[str, Any] = {}
+        if s.material != self.settings.material:
+            values["material"] = s.material
+        if s.l_max != self.settings.l_max:
+            values["l_max"] = s.l_max
+        if s.falloff.to_dict() != self.settings.falloff.with_eps(1.0).to_dict():
+            values["falloff"] = s.falloff
+        if not np.array_equal(s.degree_weights, self.settings.degree_weights):
+            values["degree_weights"] = s.degree_weights
+        if s.constraint_radius != self.settings.constraint_radius:
+            values["constraint_radius"] = s.constraint_radius
+        if values:
+            self._pulling = True
+            try:
+                self.settings.update(values, source="engine")
+            finally:
+                self._pulling = False
+
+
+def _takes_continued(setter: Callable) -> bool:
+    try:
+        return "continued" in inspect.signature(setter).parameters
+    except (TypeError, ValueError):
+        return False

@@ -1,0 +1,428 @@
+"""Interaction tools without a GUI: stroke, pin and brush-cursor controllers.
+
+The viewport translates its toolkit's mouse or pen events into :class:`PointerEvent` (a screen
+position, the world point under it, the surface normal, the camera axes, pressure and modifier
+names) and feeds them to :class:`SculptTools`; the tools turn them into engine calls on a
+:class:`gogreen_core.Sculptor` and report what changed in a :class:`ToolUpdate`, which the view
+draws. Everything here runs, and is tested, without a window (napari's mouse-callback model).
+
+Moves are coalesced: :meth:`SculptTools.move` only records the newest event and
+:meth:`SculptTools.flush` applies the newest one, so however many mouse events arrive while a
+brush step or a render runs, the next step starts from the latest cursor position and no
+backlog builds. :meth:`SculptTools.release` always applies the last recorded position before it
+ends the stroke. The counters :attr:`SculptTools.received` and :attr:`SculptTools.processed`
+(per drag) make that measurable.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from gogreen_core.brushes import Brush, BrushEvent
+
+__all__ = [
+    "PIN_PICK_FRACTION",
+    "PIXELS_PER_UNIT_AMOUNT",
+    "CursorController",
+    "CursorState",
+    "PinController",
+    "PointerEvent",
+    "SculptTools",
+    "StrokeController",
+    "ToolUpdate",
+]
+
+#: Screen drag (pixels) that makes an affine brush's amount 1 (strain, or radians for twist).
+PIXELS_PER_UNIT_AMOUNT = 250.0
+#: A press closer to a pin than this fraction of the constraint radius drags that pin.
+PIN_PICK_FRACTION = 0.5
+
+
+@dataclass(frozen=True)
+class PointerEvent:
+    """One pointer sample in plain numbers.
+
+    screen : (x, y) widget pixels, x right, y down.
+    point : (3,) world point: the picked surface point (press, hover), or the cursor on the
+        drag plane through the press point (moves during a drag); None when nothing is hit.
+    normal : (3,) surface normal at ``point`` when it was picked, else None.
+    view_dir : (3,) unit direction from the camera into the screen.
+    screen_x : (3,) unit world direction of the screen's x axis.
+    pressure : pen pressure in [0, 1] (1 for a mouse); scales the step of a stroke.
+    modifiers : names of held modifier keys ("shift", "ctrl", "alt").
+    """
+
+    screen: tuple[float, float]
+    point: np.ndarray | None = None
+    normal: np.ndarray | None = None
+    view_dir: np.ndarray = field(default_factory=lambda: np.array([0.0, 0.0, -1.0]))
+    screen_x: np.ndarray = field(default_factory=lambda: np.array([1.0, 0.0, 0.0]))
+    pressure: float = 1.0
+    modifiers: frozenset[str] = frozenset()
+
+
+@dataclass(frozen=True)
+class CursorState:
+    """Where the brush ring is drawn: ``center`` (3,), unit ``normal`` (3,), ``radius``
+    (model units)."""
+
+    center: np.ndarray
+    normal: np.ndarray
+    radius: float
+
+    def ring_matrix(self) -> np.ndarray:
+        """(4, 4) transform placing the unit circle of the xy plane on the surface (lifted by
+        1e-3 radius along the normal so the surface does not hide it)."""
+        n = np.asarray(self.normal, dtype=float)
+        n = n / (np.linalg.norm(n) or 1.0)
+        helper = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+        t1 = np.cross(n, helper)
+        t1 /= np.linalg.norm(t1)
+        t2 = np.cross(n, t1)
+        matrix = np.eye(4)
+        matrix[:3, 0], matrix[:3, 1], matrix[:3, 2] = t1 * self.radius, t2 * self.radius, n
+        matrix[:3, 2] *= self.radius
+        matrix[:3, 3] = np.asarray(self.center, dtype=float) + 1e-3 * self.radius * n
+        return matrix
+
+
+@dataclass
+class ToolUpdate:
+    """What one call of the tools changed, for the view to draw.
+
+    moved : indices of moved vertices (None: none moved; ``all_moved``: redraw every vertex).
+    pins_changed : the constraint points changed.
+    cursor : new brush-ring placement, or None to keep it (``hide_cursor`` hides it).
+    step_seconds : wall time of the engine call, 0 if none ran.
+    error : message of an engine error (the stroke was cancelled and the mesh restored).
+    refused : the press was refused before reaching the engine (``error`` says why).
+    """
+
+    moved: np.ndarray | None = None
+    all_moved: bool = False
+    pins_changed: bool = False
+    cursor: CursorState | None = None
+    hide_cursor: bool = False
+    step_seconds: float = 0.0
+    error: str | None = None
+    refused: bool = False
+
+    @property
+    def changed(self) -> bool:
+        return bool(
+            self.moved is not None
+            or self.all_moved
+            or self.pins_changed
+            or self.cursor is not None
+            or self.hide_cursor
+            or self.error
+        )
+
+
+class _Coalescer:
+    """Keeps only the newest pending event; counts received and processed ones."""
+
+    def __init__(self) -> None:
+        self.pending: PointerEvent | None = None
+        self.received = 0
+        self.processed = 0
+
+    def reset(self) -> None:
+        self.pending, self.received, self.processed = None, 0, 0
+
+    def push(self, event: PointerEvent) -> None:
+        self.pending = event
+        self.received += 1
+
+    def take(self) -> PointerEvent | None:
+        event, self.pending = self.pending, None
+        if event is not None:
+            self.processed += 1
+        return event
+
+
+class StrokeController:
+    """One brush stroke at a time: press begins it, moves step it, release ends it.
+
+    Grab brushes move the surface by the cursor's world motion on the drag plane (the point
+    under the cursor follows the cursor); affine brushes (scale, twist, pinch) stay at the press
+    point and take their amount from the horizontal screen motion (:data:`PIXELS_PER_UNIT_AMOUNT`
+    pixels = amount 1) and their direction from the screen motion.
+    """
+
+    def __init__(self, sculptor) -> None:
+        self.sculptor = sculptor
+        self.brush: Brush | None = None
+        self._anchor: np.ndarray | None = None
+        self._last_point: np.ndarray | None = None
+        self._last_screen: tuple[float, float] | None = None
+
+    @property
+    def active(self) -> bool:
+        return self.brush is not None
+
+    def press(self, event: PointerEvent, brush: Brush) -> None:
+        """Begin a stroke at the picked ``event.point`` (engine errors propagate, nothing
+        starts)."""
+        if event.point is None:
+            raise ValueError("a stroke starts on the surface (no point under the cursor)")
+        self.sculptor.begin_stroke(brush)
+        self.brush = brush
+        self._anchor = np.array(event.point, dtype=float)
+        self._last_point = self._anchor.copy()
+        self._last_screen = event.screen
+
+    def brush_event(self, event: PointerEvent) -> BrushEvent | None:
+        """The engine event of moving to ``event`` (None when the cursor did not move)."""
+        assert self.brush is not None
+        dx = event.screen[0] - self._last_screen[0]
+        dy = self._last_screen[1] - event.screen[1]  # y up
+        self._last_screen = event.screen
+        pressure = float(np.clip(event.pressure, 0.0, 1.0))
+        if self.brush.is_affine:
+            if dx == 0 and dy == 0:
+                return None
+            view = np.asarray(event.view_dir, dtype=float)
+            right = np.asarray(event.screen_x, dtype=float)
+            up = np.cross(right, view)
+            return BrushEvent(
+                center=self._anchor,
+                amount=pressure * dx / PIXELS_PER_UNIT_AMOUNT,
+                axis=view,
+                direction=dx * right + dy * up,
+            )
+        point = np.asarray(event.point, dtype=float)
+        delta = point - self._last_point
+        if not np.any(delta):
+            return None
+        center, self._last_point = self._last_point, point
+        return BrushEvent(center=center, delta=pressure * delta)
+
+    def step(self, event: PointerEvent) -> np.ndarray | None:
+        """Apply one move; the indices of moved vertices, or None when nothing moved."""
+        brush_event = self.brush_event(event)
+        if brush_event is None:
+            return None
+        return self.sculptor.stroke_event(brush_event)
+
+    def end(self) -> None:
+        if self.brush is not None:
+            self.sculptor.end_stroke()
+        self.brush = None
+
+    def cancel(self) -> None:
+        if self.brush is not None:
+            self.sculptor.cancel_stroke()
+        self.brush = None
+
+
+class PinController:
+    """Constraint pins: a press near a pin grabs it, elsewhere adds one; a drag moves the
+    grabbed pin (one undo step per drag, the engine's ``continued`` flag)."""
+
+    def __init__(self, sculptor) -> None:
+        self.sculptor = sculptor
+        self.index: int | None = None
+        self._last_point: np.ndarray | None = None
+        self._continued = False
+
+    @property
+    def active(self) -> bool:
+        return self.index is not None
+
+    def nearest_pin(self, point: np.ndarray) -> int | None:
+        """Index of the pin within :data:`PIN_PICK_FRACTION` constraint radii, else None."""
+        points = self.sculptor.constraint_points
+        if not len(points):
+            return None
+        dist = np.linalg.norm(points - np.asarray(point), axis=1)
+        nearest = int(np.argmin(dist))
+        eps = self.sculptor.constraint_radius * self.sculptor.model_size
+        return nearest if dist[nearest] < PIN_PICK_FRACTION * eps else None
+
+    def press(self, event: PointerEvent, first_pin_radius: Callable[[], None] | None) -> bool:
+        """Grab the pin near ``event.point`` (False) or add a pin there (True: pins changed).
+
+        ``first_pin_radius`` is called before the first pin is added (the app gives the
+        constraints the brush radius then)."""
+        if event.point is None:
+            raise ValueError("a pin goes on the surface (no point under the cursor)")
+        point = np.array(event.point, dtype=float)
+        grabbed = self.nearest_pin(point)
+        added = grabbed is None
+        if added:
+            if not len(self.sculptor.constraint_points) and first_pin_radius is not None:
+                first_pin_radius()
+            grabbed = self.sculptor.add_constraint(point)
+        self.index, self._last_point, self._continued = grabbed, point, False
+        return added
+
+    def step(self, event: PointerEvent) -> bool:
+        """Move the grabbed pin to ``event.point`` (every vertex may move); False if it did
+        not move."""
+        point = np.asarray(event.point, dtype=float)
+        delta = point - self._last_point
+        if not np.any(delta):
+            return False
+        self._last_point = point
+        self.sculptor.drag_constraint(self.index, delta, self._continued)
+        self._continued = True
+        return True
+
+    def end(self) -> None:
+        self.index = None
+
+
+class CursorController:
+    """The brush ring: on the surface under the hovering cursor, at the stroke's cursor while
+    dragging, hidden off the model. ``radius`` is a callable giving ε in model units."""
+
+    def __init__(self, radius: Callable[[], float]) -> None:
+        self.radius = radius
+        self.state: CursorState | None = None
+        self._normal: np.ndarray | None = None
+
+    def place(self, point: np.ndarray | None, normal: np.ndarray | None) -> CursorState | None:
+        if point is None:
+            self.state = None
+            return None
+        if normal is not None:
+            self._normal = np.asarray(normal, dtype=float)
+        n = self._normal if self._normal is not None else np.array([0.0, 0.0, 1.0])
+        self.state = CursorState(np.array(point, dtype=float), n, float(self.radius()))
+        return self.state
+
+
+class SculptTools:
+    """Routes pointer events to the stroke or the pin controller and the cursor.
+
+    Parameters
+    ----------
+    sculptor : Sculptor, the engine the tools act on (replace with :meth:`set_sculptor`).
+    brush : callable returning the :class:`Brush` a new stroke uses (the settings model's).
+    first_pin_radius : callable run before the first pin is added, optional.
+    ready : callable returning None when strokes may start, else the reason they may not
+        (e.g. kernels still compiling): a refused press reports it as ``error``.
+
+    ``mode`` is ``"brush"`` (presses sculpt) or ``"pin"`` (presses pin and drag pins).
+    """
+
+    def __init__(
+        self,
+        sculptor,
+        brush: Callable[[], Brush],
+        first_pin_radius: Callable[[], None] | None = None,
+        ready: Callable[[], str | None] | None = None,
+    ) -> None:
+        self.brush = brush
+        self.first_pin_radius = first_pin_radius
+        self.ready = ready or (lambda: None)
+        self.mode = "brush"
+        self._moves = _Coalescer()
+        self._hover: PointerEvent | None = None
+        self.cursor = CursorController(self._cursor_radius)
+        self.set_sculptor(sculptor)
+
+    def set_sculptor(self, sculptor) -> None:
+        """Act on another engine (a newly opened mesh); drops any stroke in progress."""
+        if getattr(self, "stroke", None) is not None:
+            self.stroke.cancel()
+        self.sculptor = sculptor
+        self.stroke = StrokeController(sculptor)
+        self.pin = PinController(sculptor)
+
+    def _cursor_radius(self) -> float:
+        return self.brush().eps(self.sculptor.model_size) if self.sculptor is not None else 0.0
+
+    # -- state -------------------------------------------------------------------------------
+    @property
+    def dragging(self) -> bool:
+        return self.stroke.active or self.pin.active
+
+    @property
+    def received(self) -> int:
+        """Move events received during the current (or last) drag."""
+        return self._moves.received
+
+    @property
+    def processed(self) -> int:
+        """Move events applied during the current (or last) drag (the rest were coalesced)."""
+        return self._moves.processed
+
+    @property
+    def has_pending(self) -> bool:
+        return self._moves.pending is not None or self._hover is not None
+
+    # -- events ------------------------------------------------------------------------------
+    def press(self, event: PointerEvent) -> ToolUpdate:
+        """Start a stroke, or add/grab a pin, at the picked ``event.point``."""
+        if self.sculptor is None or self.dragging:
+            return ToolUpdate()
+        reason = self.ready() if self.mode == "brush" else None
+        if reason:
+            return ToolUpdate(error=reason, refused=True)
+        self._moves.reset()
+        self._hover = None
+        try:
+            if self.mode == "pin":
+                added = self.pin.press(event, self.first_pin_radius)
+                return ToolUpdate(pins_changed=added)
+            self.stroke.press(event, self.brush())
+        except (ValueError, RuntimeError) as exc:
+            self.pin.end()
+            return ToolUpdate(error=str(exc))
+        return ToolUpdate(cursor=self.cursor.place(event.point, event.normal))
+
+    def move(self, event: PointerEvent) -> None:
+        """Record a drag move (applied by the next :meth:`flush`; newer moves replace it)."""
+        if self.dragging:
+            self._moves.push(event)
+
+    def hover(self, event: PointerEvent) -> None:
+        """Record a hover sample (no button): the ring follows at the next :meth:`flush`."""
+        if not self.dragging:
+            self._hover = event
+
+    def flush(self) -> ToolUpdate:
+        """Apply the newest recorded move (or hover): one engine step at most."""
+        if self._hover is not None and not self.dragging:
+            hover, self._hover = self._hover, None
+            state = self.cursor.place(hover.point, hover.normal)
+            return ToolUpdate(cursor=state, hide_cursor=state is None)
+        event = self._moves.take()
+        if event is None:
+            return ToolUpdate()
+        start = time.perf_counter()
+        try:
+            if self.pin.active:
+                stepped = self.pin.step(event)
+                update = ToolUpdate(all_moved=stepped, pins_changed=stepped)
+            else:
+                moved = self.stroke.step(event)
+                stepped = moved is not None
+                update = ToolUpdate(moved=moved, cursor=self.cursor.place(event.point, None))
+        except (ValueError, RuntimeError) as exc:
+            self.stroke.cancel()
+            self.pin.end()
+            return ToolUpdate(all_moved=True, error=str(exc))
+        if stepped:
+            update.step_seconds = time.perf_counter() - start
+        return update
+
+    def release(self) -> ToolUpdate:
+        """Apply the last recorded move (if not yet applied), then end the stroke (one undo
+        step) or the pin drag."""
+        update = self.flush() if self._moves.pending is not None else ToolUpdate()
+        self.stroke.end()
+        self.pin.end()
+        return update
+
+    def cancel(self) -> None:
+        """Abandon a stroke in progress (restoring the mesh) or a pin drag."""
+        self._moves.pending = None
+        self.stroke.cancel()
+        self.pin.end()

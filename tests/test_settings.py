@@ -1,0 +1,163 @@
+"""The evented settings model and its link to the engine: no window, no Qt."""
+
+import numpy as np
+import pytest
+
+from gogreen_core.brushes import Brush, default_wrinkle_weights
+from gogreen_core.material import Material
+from gogreen_core.presets import Preset
+from gogreen_core.radial import GaussianRadial, KelvinletRadial, SplineRadial
+from gogreen_core.sculptor import Sculptor
+from gogreen_core.settings import EngineLink, Settings, needed_curves
+from gogreen_core.shapes import icosphere
+from gogreen_core.validation import ParameterError
+
+
+def record(emitter) -> list:
+    events: list = []
+    emitter.connect(events.append)
+    return events
+
+
+def test_a_field_change_emits_once_with_old_and_new_values():
+    settings = Settings()
+    radius = record(settings.brush.events.radius)
+    changed = record(settings.brush.events.changed)
+    settings.brush.radius = 0.05
+    settings.brush.radius = 0.05  # same value: no event
+    assert [(e.old, e.value) for e in radius] == [(0.08, 0.05)]
+    assert [c.names for c in changed] == [frozenset({"radius"})]
+    assert settings.brush.brush == Brush(radius=0.05)
+
+
+@pytest.mark.parametrize(
+    ("name", "value", "parameter"),
+    [
+        ("radius", 0.0, "brush.radius"),
+        ("strength", float("nan"), "brush.strength"),
+        ("kind", "smudge", "brush.kind"),
+        ("influence", -1.0, "brush.influence"),
+        ("symmetry", "xw", "brush.symmetry"),
+    ],
+)
+def test_bad_brush_values_name_their_parameter_and_change_nothing(name, value, parameter):
+    settings = Settings()
+    events = record(settings.brush.events.changed)
+    with pytest.raises(ParameterError) as info:
+        settings.brush.set(name, value)
+    assert info.value.parameter == parameter
+    assert settings.brush.brush == Brush(radius=0.08) and not events
+
+
+def test_update_is_all_or_nothing_and_names_the_bad_field():
+    settings = Settings()
+    with pytest.raises(ParameterError) as info:
+        settings.update({"constraint_radius": 0.2, "l_max": -3})
+    assert info.value.parameter == "l_max"
+    assert settings.constraint_radius == 0.1 and settings.l_max == 8
+    with pytest.raises(ParameterError) as info:
+        settings.degree_weights = [1.0, 2.0]
+    assert info.value.parameter == "degree_weights"
+
+
+def test_l_max_keeps_curves_and_common_weights_and_adds_defaults():
+    settings = Settings()
+    spline = settings.falloff
+    settings.degree_weights = np.arange(9.0)
+    settings.l_max = 4
+    assert np.array_equal(settings.degree_weights, np.arange(5.0))
+    settings.l_max = 6
+    expected = default_wrinkle_weights(6)
+    expected[:5] = np.arange(5.0)
+    assert np.array_equal(settings.degree_weights, expected)
+    assert settings.falloff is spline  # one spline for the model's life
+    assert set(needed_curves(10)) - set(spline.curve_keys())  # not yet there
+    settings.l_max = 10
+    assert set(needed_curves(10)) <= set(spline.curve_keys())
+
+
+def test_assigning_a_profile_copies_its_curves_into_the_one_spline():
+    settings = Settings()
+    spline = settings.falloff
+    version = spline.version
+    events = record(settings.events.falloff)
+    settings.falloff = KelvinletRadial(0.3)
+    assert settings.falloff is spline and spline.version > version and len(events) == 1
+    rho = np.array([0.5, 1.0, 2.0])
+    assert np.allclose(
+        spline.dimensionless("R", 2, rho), KelvinletRadial(1.0).dimensionless("R", 2, rho), 1e-3
+    )
+    with pytest.raises(ParameterError) as info:
+        settings.falloff = "gaussian"
+    assert info.value.parameter == "falloff"
+
+
+def test_presets_round_trip_through_the_model():
+    settings = Settings()
+    preset = Preset(
+        "p",
+        Material.isotropic(2.0, 0.4),
+        KelvinletRadial(1.0),
+        6,
+        None,
+        Brush("wrinkle", radius=0.05, influence=2.5, symmetry="x"),
+    )
+    settings.apply_preset(preset)
+    assert settings.material == preset.material and settings.l_max == 6
+    assert settings.brush.influence == 2.5 and settings.brush.kind == "wrinkle"
+    assert np.array_equal(settings.degree_weights, default_wrinkle_weights(6))
+    again = Preset.from_dict(settings.preset("again").to_dict())
+    assert again.brush == preset.brush and again.material == preset.material
+    assert isinstance(again.falloff, SplineRadial)
+
+
+@pytest.fixture
+def sculptor():
+    vertices, faces = icosphere(2)
+    return Sculptor(vertices, faces)
+
+
+def test_engine_link_feeds_the_sculptor_one_call_per_group(sculptor, monkeypatch):
+    settings = Settings()
+    link = EngineLink(settings, sculptor)
+    calls = []
+    real = sculptor.set_falloff
+    monkeypatch.setattr(sculptor, "set_falloff", lambda *a: (calls.append(a), real(*a)))
+    settings.material = Material.isotropic(1.0, 0.45)
+    assert sculptor.material == Material.isotropic(1.0, 0.45)
+    settings.update({"l_max": 4, "falloff": GaussianRadial(1.0)})
+    assert len(calls) == 1 and sculptor.l_max == 4
+    assert np.array_equal(sculptor.degree_weights, settings.degree_weights)
+    settings.constraint_radius = 0.2
+    assert sculptor.constraint_radius == 0.2
+    # an in-place curve edit (a drag step) reaches the engine through touch()
+    rho, value = settings.falloff.curve("R", 0)
+    settings.falloff.move_point("R", 0, 2, float(rho[2]), float(value[2]) * 2)
+    settings.touch("falloff", continued=True)
+    assert len(calls) == 2
+    assert np.isclose(sculptor.falloff.curve("R", 0)[1][2], value[2] * 2)
+    link.attach(None)
+    settings.material = Material.isotropic(1.0, 0.2)  # no engine: nothing to feed
+
+
+def test_engine_refusal_restores_the_settings_and_reports(sculptor):
+    settings = Settings()
+    errors = []
+    EngineLink(settings, sculptor, on_error=lambda p, e: errors.append((p, str(e))))
+    sculptor.begin_stroke(Brush())
+    settings.material = Material.isotropic(1.0, 0.45)  # refused during a stroke
+    assert errors and errors[0][0] == "material" and "stroke" in errors[0][1]
+    assert settings.material == sculptor.material == Material.isotropic(1.0, 0.3)
+    sculptor.cancel_stroke()
+
+
+def test_pull_copies_engine_values_without_echo(sculptor):
+    settings = Settings()
+    link = EngineLink(settings, sculptor)
+    sculptor.set_material(Material.isotropic(3.0, 0.1))  # e.g. an undo in the engine
+    log_before = len(sculptor.session()["operations"])
+    events = record(settings.events.material)
+    link.pull()
+    assert settings.material == Material.isotropic(3.0, 0.1)
+    assert events[0].source == "engine"
+    assert len(sculptor.session()["operations"]) == log_before  # not sent back

@@ -1,0 +1,167 @@
+"""Stroke, pin and cursor controllers driven by plain events: no window, no Qt."""
+
+import numpy as np
+import pytest
+
+from gogreen_core.brushes import Brush
+from gogreen_core.sculptor import Sculptor
+from gogreen_core.shapes import icosphere
+from gogreen_core.tools import (
+    PIXELS_PER_UNIT_AMOUNT,
+    CursorState,
+    PointerEvent,
+    SculptTools,
+)
+
+NORTH = np.array([0.0, 0.0, 1.0])
+GRAB = Brush("grab", radius=0.1)
+
+
+@pytest.fixture
+def sculptor():
+    vertices, faces = icosphere(3)
+    return Sculptor(vertices, faces)
+
+
+def at(point, screen=(0.0, 0.0), normal=None, pressure=1.0) -> PointerEvent:
+    return PointerEvent(screen, np.asarray(point, float), normal, pressure=pressure)
+
+
+def tools_for(sculptor, brush=GRAB, **kwargs) -> SculptTools:
+    return SculptTools(sculptor, brush=lambda: brush, **kwargs)
+
+
+def test_grab_stroke_follows_the_cursor_and_is_one_undo_step(sculptor):
+    tools = tools_for(sculptor)
+    before = sculptor.vertices.copy()
+    top = int(np.argmax(before[:, 2]))
+    start = before[top]
+    assert tools.press(at(start, normal=NORTH)).cursor is not None
+    assert tools.dragging and sculptor.in_stroke
+    targets = [start + k * np.array([0.0, 0.0, 0.05]) for k in (1, 2, 3)]
+    for k, target in enumerate(targets):
+        tools.move(at(target, screen=(0.0, -10.0 * (k + 1))))
+        update = tools.flush()
+        assert update.moved is not None and update.step_seconds > 0
+    tools.release()
+    assert not tools.dragging and not sculptor.in_stroke
+    assert np.allclose(sculptor.vertices[top], targets[-1], atol=1e-9)
+    assert sculptor.undo() is not None  # one undo step for the whole stroke
+    assert np.array_equal(sculptor.vertices, before)
+
+
+def test_moves_are_coalesced_and_the_last_position_is_always_applied(sculptor):
+    tools = tools_for(sculptor)
+    top = int(np.argmax(sculptor.vertices[:, 2]))
+    start = sculptor.vertices[top].copy()
+    tools.press(at(start))
+    for k in range(1, 21):  # 20 moves arrive before the event loop gets to apply one
+        tools.move(at(start + 0.004 * k * NORTH, screen=(0.0, -k)))
+    assert tools.received == 20 and tools.processed == 0
+    tools.flush()
+    assert tools.processed == 1 and not tools.has_pending
+    assert tools.flush().moved is None  # nothing left to do: no backlog
+    tools.move(at(start + 0.1 * NORTH))
+    tools.release()  # applies the last recorded move before ending the stroke
+    assert (tools.received, tools.processed) == (21, 2)
+    assert np.allclose(sculptor.vertices[top], start + 0.1 * NORTH, atol=1e-9)
+
+
+def test_affine_brush_takes_its_amount_from_the_screen_drag(sculptor):
+    tools = tools_for(sculptor, Brush("scale", radius=0.2))
+    top = int(np.argmax(sculptor.vertices[:, 2]))
+    start = sculptor.vertices[top].copy()
+    tools.press(at(start, screen=(100.0, 100.0)))
+    event = PointerEvent(
+        (100.0 + 0.5 * PIXELS_PER_UNIT_AMOUNT, 100.0),
+        start,
+        view_dir=-NORTH,
+        screen_x=np.array([1.0, 0.0, 0.0]),
+    )
+    brush_event = tools.stroke.brush_event(event)
+    assert brush_event.amount == pytest.approx(0.5)
+    assert np.allclose(brush_event.center, start)
+    tools.cancel()
+    assert not sculptor.in_stroke
+
+
+def test_pressure_scales_a_grab_step(sculptor):
+    tools = tools_for(sculptor)
+    start = sculptor.vertices[int(np.argmax(sculptor.vertices[:, 2]))].copy()
+    tools.press(at(start))
+    brush_event = tools.stroke.brush_event(at(start + 0.1 * NORTH, pressure=0.25))
+    assert np.allclose(brush_event.delta, 0.025 * NORTH)
+    tools.cancel()
+
+
+def test_press_off_the_surface_or_before_ready_is_refused_with_a_message(sculptor):
+    tools = tools_for(sculptor, ready=lambda: "kernels are still compiling")
+    update = tools.press(at(sculptor.vertices[0]))
+    assert update.error == "kernels are still compiling" and update.refused
+    assert not tools.dragging
+    tools.ready = lambda: None
+    update = tools.press(PointerEvent((0.0, 0.0), None))
+    assert update.error and "surface" in update.error and not sculptor.in_stroke
+
+
+def test_engine_error_cancels_the_stroke_and_restores_the_mesh(sculptor):
+    tools = tools_for(sculptor)
+    before = sculptor.vertices.copy()
+    start = before[int(np.argmax(before[:, 2]))]
+    tools.press(at(start))
+    tools.move(at(start + 0.05 * NORTH))
+    tools.flush()
+    tools.move(at(np.array([np.nan, 0.0, 0.0])))
+    update = tools.flush()
+    assert update.error and update.all_moved
+    assert not tools.dragging and not sculptor.in_stroke
+    assert np.array_equal(sculptor.vertices, before)
+
+
+def test_pin_mode_adds_pins_and_drags_one_as_one_undo_step(sculptor):
+    radii = []
+    tools = tools_for(sculptor, first_pin_radius=lambda: radii.append(0.1))
+    tools.mode = "pin"
+    v = sculptor.vertices
+    north, south = v[int(np.argmax(v[:, 2]))].copy(), v[int(np.argmin(v[:, 2]))].copy()
+    for point in (north, south):
+        assert tools.press(at(point)).pins_changed
+        tools.release()
+    assert radii == [0.1]  # only before the first pin
+    assert len(sculptor.constraint_points) == 2
+    before = sculptor.vertices.copy()
+    assert not tools.press(at(north)).pins_changed  # on pin 0: grabs it, adds none
+    for k in (1, 2, 3):
+        tools.move(at(north + 0.03 * k * NORTH))
+        update = tools.flush()
+        assert update.pins_changed and update.all_moved
+    tools.release()
+    assert np.allclose(sculptor.constraint_points[0], north + 0.09 * NORTH)
+    assert np.allclose(sculptor.constraint_points[1], south)
+    assert len(sculptor.constraint_points) == 2
+    sculptor.undo()  # the whole drag
+    assert np.allclose(sculptor.vertices, before)
+    assert np.allclose(sculptor.constraint_points[0], north)
+
+
+def test_hover_places_and_hides_the_cursor_ring_at_the_brush_radius(sculptor):
+    brush = Brush("grab", radius=0.05)
+    tools = tools_for(sculptor, brush)
+    tools.hover(at(NORTH, normal=NORTH))
+    tools.hover(at(2 * NORTH, normal=NORTH))  # only the newest hover counts
+    update = tools.flush()
+    assert np.allclose(update.cursor.center, 2 * NORTH)
+    assert update.cursor.radius == pytest.approx(brush.eps(sculptor.model_size))
+    update = tools.flush()
+    assert not update.changed
+    tools.hover(PointerEvent((0.0, 0.0), None))
+    assert tools.flush().hide_cursor
+
+
+def test_ring_matrix_puts_the_unit_circle_on_the_tangent_plane():
+    state = CursorState(np.array([1.0, 2.0, 3.0]), np.array([0.0, 0.0, 2.0]), 0.5)
+    m = state.ring_matrix()
+    ring = np.array([[np.cos(t), np.sin(t), 0.0, 1.0] for t in np.linspace(0, 6, 7)])
+    world = (m @ ring.T).T[:, :3]
+    assert np.allclose(np.linalg.norm(world[:, :2] - [1.0, 2.0], axis=1), 0.5)
+    assert np.allclose(world[:, 2], 3.0 + 0.5e-3)
