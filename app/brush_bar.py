@@ -78,10 +78,13 @@ class BrushBar(QToolBar):
             "Strength", 0.01, 10.0, 2, 0.1, "Brush strength  { } / Shift+wheel"
         )
         bind_spin(self.settings, "strength", self.strength)
-        self.addWidget(QLabel(" Substeps "))
+        self.addWidget(QLabel(" Steps "))
         self.substeps = QSpinBox()
-        self.substeps.setRange(1, 32)
-        self.substeps.setToolTip("RK4 steps per mouse event")
+        self.substeps.setRange(0, 32)
+        self.substeps.setSpecialValueText("auto")  # 0: adaptive, within 1e-4 of the cursor motion
+        self.substeps.setToolTip(
+            "RK4 steps per mouse event; auto: adaptive, within 1e-4 of the cursor motion"
+        )
         self.addWidget(self.substeps)
         bind_spin(self.settings, "substeps", self.substeps)
         self.influence = self._spin(

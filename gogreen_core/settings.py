@@ -229,7 +229,7 @@ class BrushSettings(EventedModel):
     kind = Field("grab", _brush_value, doc="one of BRUSH_KINDS")
     radius = Field(0.08, _brush_value, doc="ε as a fraction of the model size")
     strength = Field(1.0, _brush_value, doc="multiplies the cursor motion or amount")
-    substeps = Field(4, _brush_value, doc="RK4 steps per mouse event")
+    substeps = Field(0, _brush_value, doc="RK4 steps per mouse event (0: adaptive)")
     influence = Field(4.0, _brush_value, doc="radius of the moved region, in multiples of ε")
     symmetry = Field("", _brush_value, doc='mirror planes, any of "x", "y", "z"')
 
