@@ -481,26 +481,11 @@ def stream(
     first_steps = 1 if adaptive else substeps
     rank = np.empty(n_points)  # e⁵ / max(m, e)², see below
     block_motion = np.zeros(n_blocks)  # largest motion m in each block
-    if indexed:
-        # check the rows first: an index out of range would read outside ``points``
-        problem = np.zeros(n_blocks, dtype=np.int64)
-        for blk in prange(n_blocks):
-            worst = 0
-            for n in range(blk * BLOCK, min((blk + 1) * BLOCK, n_points)):
-                row = indices[n]
-                if row < 0 or row >= n_rows:
-                    worst = 1
-                    break
-                for k in range(3):
-                    if not abs(points[row, k]) <= limit:  # also NaN
-                        worst = 2
-            problem[blk] = worst
-        for blk in range(n_blocks):
-            if problem[blk] == 1:
-                return 1
-        for blk in range(n_blocks):
-            if problem[blk] == 2:
-                return 2
+    if indexed and n_rows == 0:
+        return 1
+    # per block: 1 an index out of range (row 0 read instead), 2 a start position not finite
+    # or beyond ``limit``; checked while the rows are read, acted on after the first pass
+    problem = np.zeros(n_blocks, dtype=np.int64)
     for task in prange(n_tasks):
         scratch, rows = _scratch(n_deg)
         start_rows = np.empty((3, BLOCK))
@@ -510,7 +495,15 @@ def stream(
             start = blk * BLOCK
             nb = min(BLOCK, n_points - start)
             for i in range(nb):
-                row = indices[start + i] if indexed else start + i
+                row = start + i
+                if indexed:
+                    row = indices[start + i]
+                    if row < 0 or row >= n_rows:
+                        problem[blk] = 1
+                        row = 0
+                    for k in range(3):
+                        if not abs(points[row, k]) <= limit and problem[blk] == 0:  # or NaN
+                            problem[blk] = 2
                 for k in range(3):
                     start_rows[k, i] = points[row, k]
             _rk4(
@@ -563,6 +556,10 @@ def stream(
                     most = max(most, m2)
                     rank[start + i] = e * e * e * e * e / reach2 if reach2 > 0.0 else 0.0
                 block_motion[blk] = math.sqrt(most)
+    for code in (1, 2):
+        for blk in range(n_blocks):
+            if problem[blk] == code:
+                return code
     if adaptive:
         _refine(
             points,
