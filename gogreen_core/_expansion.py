@@ -418,7 +418,11 @@ def _scratch(n_deg):
 
 @njit(parallel=True, nogil=True, **_JIT)
 def stream(
-    points: np.ndarray,  # (N, 3) float64, start positions
+    points: np.ndarray,  # (N_all, 3) float64, start positions (the rows ``indices`` if indexed)
+    indices: np.ndarray,  # (N,) int64 rows of ``points`` to move if ``indexed``
+    indexed: bool,  # False: move every row of ``points`` (``indices`` is not read)
+    write_back: bool,  # write the end positions into points[indices] if all are finite
+    limit: float,  # largest coordinate magnitude accepted in an indexed start position
     center0: np.ndarray,  # (3,) load center at pseudo-time 0
     center_step: np.ndarray,  # (3,) center(t) = center0 + t * center_step
     eps: float,
@@ -441,7 +445,7 @@ def stream(
     tolerance: float,  # > 0: adaptive, relative to the motion scale; <= 0: fixed steps
     out: np.ndarray,  # (N, 3) float64, end positions
     steps: np.ndarray,  # (N,) int64: RK4 steps each point took
-) -> None:
+) -> int:
     """RK4 streamlines of the velocity v(x, t) = Σ_M M s(|y - c(t)|) u(y - c(t)), y = M x.
 
     u is the expansion with ``coeffs`` (K = 3), s the C² smooth cutoff, M the mirror
@@ -459,8 +463,15 @@ def stream(
       under that bound (at most MAX_ADAPTIVE_STEPS). Each point's result depends only on the
       input (the blocks are fixed by the point order, never by the thread count), so replays
       are bit-identical.
+
+    Indexed (``indexed``), point n is the row indices[n] of ``points``, read in place (no
+    gathered copy); with ``write_back`` the end positions are scattered back into those rows,
+    and only if every one of them is finite. Returns 0 when done, 1 if an index is out of
+    range, 2 if an indexed start position is not finite or beyond ``limit`` (nothing
+    integrated), 3 if an end position is not finite (nothing written back).
     """
-    n_points = points.shape[0]
+    n_points = indices.shape[0] if indexed else points.shape[0]
+    n_rows = points.shape[0]
     n_deg = tables.shape[2]
     n_blocks = (n_points + BLOCK - 1) // BLOCK
     n_tasks = min(n_blocks, TASKS)
@@ -470,6 +481,11 @@ def stream(
     first_steps = 1 if adaptive else substeps
     rank = np.empty(n_points)  # e⁵ / max(m, e)², see below
     block_motion = np.zeros(n_blocks)  # largest motion m in each block
+    if indexed and n_rows == 0:
+        return 1
+    # per block: 1 an index out of range (row 0 read instead), 2 a start position not finite
+    # or beyond ``limit``; checked while the rows are read, acted on after the first pass
+    problem = np.zeros(n_blocks, dtype=np.int64)
     for task in prange(n_tasks):
         scratch, rows = _scratch(n_deg)
         start_rows = np.empty((3, BLOCK))
@@ -479,8 +495,17 @@ def stream(
             start = blk * BLOCK
             nb = min(BLOCK, n_points - start)
             for i in range(nb):
+                row = start + i
+                if indexed:
+                    row = indices[start + i]
+                    if row < 0 or row >= n_rows:
+                        problem[blk] = 1
+                        row = 0
+                    for k in range(3):
+                        if not abs(points[row, k]) <= limit and problem[blk] == 0:  # or NaN
+                            problem[blk] = 2
                 for k in range(3):
-                    start_rows[k, i] = points[start + i, k]
+                    start_rows[k, i] = points[row, k]
             _rk4(
                 first_steps,
                 nb,
@@ -531,8 +556,92 @@ def stream(
                     most = max(most, m2)
                     rank[start + i] = e * e * e * e * e / reach2 if reach2 > 0.0 else 0.0
                 block_motion[blk] = math.sqrt(most)
-    if not adaptive:
-        return
+    for code in (1, 2):
+        for blk in range(n_blocks):
+            if problem[blk] == code:
+                return code
+    if adaptive:
+        _refine(
+            points,
+            indices,
+            indexed,
+            center0,
+            center_step,
+            eps,
+            power,
+            l_first,
+            l_last,
+            base,
+            coeffs,
+            tables,
+            qmm,
+            rec_a,
+            rec_b,
+            angular,
+            unrolled,
+            cutoff_inner,
+            inv_width,
+            mirrors,
+            origin,
+            tolerance,
+            out,
+            steps,
+            rank,
+            block_motion,
+        )
+    if not write_back:
+        return 0
+    bad = np.zeros(n_blocks, dtype=np.bool_)
+    for blk in prange(n_blocks):
+        for n in range(blk * BLOCK, min((blk + 1) * BLOCK, n_points)):
+            for k in range(3):
+                if not math.isfinite(out[n, k]):
+                    bad[blk] = True
+    for blk in range(n_blocks):
+        if bad[blk]:
+            return 3
+    for blk in prange(n_blocks):
+        for n in range(blk * BLOCK, min((blk + 1) * BLOCK, n_points)):
+            row = indices[n] if indexed else n
+            for k in range(3):
+                points[row, k] = out[n, k]
+    return 0
+
+
+@njit(parallel=True, nogil=True, **_JIT)
+def _refine(
+    points,
+    indices,
+    indexed,
+    center0,
+    center_step,
+    eps,
+    power,
+    l_first,
+    l_last,
+    base,
+    coeffs,
+    tables,
+    qmm,
+    rec_a,
+    rec_b,
+    angular,
+    unrolled,
+    cutoff_inner,
+    inv_width,
+    mirrors,
+    origin,
+    tolerance,
+    out,
+    steps,
+    rank,
+    block_motion,
+):
+    """The adaptive pass of ``stream``: the points whose predicted error is too large, again
+    with 2, 4, ... RK4 steps (see ``stream``)."""
+    n_points = out.shape[0]
+    n_deg = tables.shape[2]
+    n_blocks = block_motion.shape[0]
     scale = math.sqrt(center_step[0] ** 2 + center_step[1] ** 2 + center_step[2] ** 2)
     for blk in range(n_blocks):
         scale = max(scale, block_motion[blk])
@@ -576,8 +685,9 @@ def stream(
             n_steps = 2
             while count > 0:
                 for j in range(count):
+                    row = indices[picked[j]] if indexed else picked[j]
                     for k in range(3):
-                        start_rows[k, j] = points[picked[j], k]
+                        start_rows[k, j] = points[row, k]
                 _rk4(
                     n_steps,
                     count,

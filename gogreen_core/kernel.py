@@ -483,6 +483,8 @@ class GreenKernel:
         origin: np.ndarray | None = None,
         substeps: int = 4,
         tolerance: float | None = STREAMLINE_TOLERANCE,
+        indices: np.ndarray | None = None,
+        in_place: bool = False,
     ) -> np.ndarray:
         """Move ``points`` (N, 3) along the load's displacement field taken as a velocity.
 
@@ -512,6 +514,14 @@ class GreenKernel:
 
         Both are deterministic: the same input gives bit-identical output whatever the number
         of threads (points are processed in fixed blocks), so undo and replay are exact.
+
+        Rows of a larger array, without copies (a mesh being sculpted):
+
+        * ``indices`` (n,) int: move only the rows ``points[indices]``, read in place; the
+          result (n, 3) is bit for bit that of ``streamlines(points[indices], ...)``.
+        * ``in_place``: also write the end positions into ``points`` (a C-contiguous float64
+          (N, 3) array) at ``indices`` (every row if None), and only if all of them are
+          finite: otherwise ValueError and ``points`` is unchanged.
         """
         return self._streamlines(
             points,
@@ -523,6 +533,8 @@ class GreenKernel:
             origin=origin,
             substeps=substeps,
             tolerance=tolerance,
+            indices=indices,
+            in_place=in_place,
         )[0]
 
     def _streamlines(
@@ -537,10 +549,39 @@ class GreenKernel:
         origin: np.ndarray | None = None,
         substeps: int = 4,
         tolerance: float | None = STREAMLINE_TOLERANCE,
+        indices: np.ndarray | None = None,
+        in_place: bool = False,
+        out: np.ndarray | None = None,
     ) -> tuple[np.ndarray, np.ndarray]:
         """:meth:`streamlines`, also returning the RK4 steps each point took (N,) int64 (for
-        benchmarks and tests: 4 velocity evaluations per step)."""
-        pts = _points("points", points)
+        benchmarks and tests: 4 velocity evaluations per step). ``out``: a C-contiguous
+        float64 array of at least n rows whose first n rows receive the result (a buffer the
+        caller reuses between events; the result is a view of it)."""
+        if in_place:
+            if not (
+                isinstance(points, np.ndarray)
+                and points.dtype == np.float64
+                and points.ndim == 2
+                and points.shape[1] == 3
+                and points.flags.c_contiguous
+                and points.flags.writeable
+            ):
+                raise ParameterError(
+                    "points",
+                    "in_place needs points as a writable C-contiguous (N, 3) float64 array",
+                )
+        if indices is None:
+            pts = _points("points", points)  # the array itself if in_place (checked above)
+            rows = np.zeros(0, dtype=np.int64)
+        else:
+            rows = np.asarray(indices)
+            if rows.ndim != 1 or not (rows.size == 0 or np.issubdtype(rows.dtype, np.integer)):
+                raise ParameterError("indices", f"indices must be 1-D integers (got {rows.dtype})")
+            rows = np.ascontiguousarray(rows, dtype=np.int64)
+            pts = np.asarray(points, dtype=np.float64)
+            if pts.ndim != 2 or pts.shape[1] != 3:
+                raise ParameterError("points", f"points must have shape (N, 3) (got {pts.shape})")
+            pts = np.ascontiguousarray(pts)
         c = _finite_array("center", center, (3,))
         step = (
             np.zeros(3) if center_step is None else _finite_array("center_step", center_step, (3,))
@@ -576,13 +617,25 @@ class GreenKernel:
             tol = 0.0
         else:
             tol = check_number("tolerance", tolerance, low=0.0, low_open=True)
-        out = np.empty_like(pts)
-        steps = np.empty(pts.shape[0], dtype=np.int64)
-        if pts.shape[0] == 0:
-            return out, steps
+        n = pts.shape[0] if indices is None else rows.shape[0]
+        if out is None:
+            result = np.empty((n, 3))
+        else:
+            if not (out.dtype == np.float64 and out.ndim == 2 and out.shape[1] == 3):
+                raise ValueError(f"out must be a float64 (n, 3) array (got {out.shape})")
+            result = out[:n]
+            if len(result) < n or not result.flags.c_contiguous:
+                raise ValueError(f"out must be C-contiguous with at least {n} rows")
+        steps = np.empty(n, dtype=np.int64)
+        if n == 0:
+            return result, steps
         qmm, rec_a, rec_b = self._recurrence
-        stream(
+        status = stream(
             pts,
+            rows,
+            indices is not None,
+            in_place,
+            COORDINATE_LIMIT,
             c,
             step,
             self._radial.eps,
@@ -602,10 +655,20 @@ class GreenKernel:
             o,
             int(substeps),
             tol,
-            out,
+            result,
             steps,
         )
-        return out, steps
+        if status == 1:
+            raise ParameterError("indices", f"indices must be rows 0 to {len(pts) - 1}")
+        if status == 2:
+            raise ParameterError(
+                "points",
+                "points contain non-finite values (NaN or inf) or coordinates beyond the "
+                f"supported {COORDINATE_LIMIT:g} in the rows of indices",
+            )
+        if status == 3:
+            raise ValueError("the streamlines would move points to infinity; nothing was moved")
+        return result, steps
 
     def warm_up(self) -> float:
         """Compile, or load from numba's disk cache, everything this kernel's truncation degree

@@ -652,23 +652,34 @@ class Sculptor:
         load, step = self._load(brush, kernel, event)
         active = self._active(brush, event.center, step)
         if len(active):
-            moved = kernel.streamlines(
-                self._vertices[active],
-                event.center,
-                load,
-                center_step=step,
-                cutoff=brush.cutoff(self.model_size),
-                mirror_signs=mirror_signs(brush.symmetry),
-                origin=self.origin,
-                substeps=max(brush.substeps, 1),
-                tolerance=None if brush.substeps else STREAMLINE_TOLERANCE,
-            )
-            if not np.all(np.isfinite(moved)):  # a last guard: never write NaN into the mesh
+            # the integrator's result rows, kept between events (no per-event allocation)
+            buffer = getattr(self, "_event_rows", None)
+            if buffer is None or len(buffer) < len(active):
+                buffer = self._event_rows = np.empty((len(active), 3))
+            try:
+                # the mesh rows are read and written in place, the latter only if every end
+                # position is finite (a last guard: never write NaN into the mesh)
+                kernel._streamlines(
+                    self._vertices,
+                    event.center,
+                    load,
+                    center_step=step,
+                    cutoff=brush.cutoff(self.model_size),
+                    mirror_signs=mirror_signs(brush.symmetry),
+                    origin=self.origin,
+                    substeps=max(brush.substeps, 1),
+                    tolerance=None if brush.substeps else STREAMLINE_TOLERANCE,
+                    indices=active,
+                    in_place=True,
+                    out=buffer,
+                )
+            except ValueError as exc:
+                if isinstance(exc, ParameterError):
+                    raise
                 raise ValueError(
                     f"the {brush.kind} event would move vertices to infinity; "
                     "lower the strength, amount or delta"
-                )
-            self._vertices[active] = moved
+                ) from None
         return active
 
     # -- constraints -------------------------------------------------------------------------
