@@ -16,8 +16,9 @@ from pathlib import Path
 import numpy as np
 import pyvista as pv
 from PySide6.QtCore import QSettings, Qt, QTimer
-from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
+from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QKeySequence
 from PySide6.QtWidgets import (
+    QApplication,
     QDockWidget,
     QFileDialog,
     QLabel,
@@ -35,6 +36,7 @@ from app.keyboard import FocusKeys
 from app.panels.falloff_panel import FalloffPanel
 from app.panels.homogenization_panel import HomogenizationPanel
 from app.panels.material_panel import MaterialPanel
+from app.theme import DEFAULT_THEME, THEMES, Theme, apply_theme, theme
 from app.viewport import SculptViewport
 from gogreen_core.material import Material
 from gogreen_core.mesh_io import write_text_atomic
@@ -55,18 +57,21 @@ class MainWindow(QMainWindow):
     Parameters
     ----------
     settings : QSettings, optional
-        Where recent files live (tests pass a temporary one).
+        Where recent files, the theme and the first-run hint live (tests pass a temporary one).
     """
 
     def __init__(self, settings: QSettings | None = None):
         super().__init__()
         self.settings = settings or QSettings("GoGreen", "GoGreen Sculpt")
+        # Before any widget is made: icons take the theme's colour when they are made.
+        self.theme: Theme = apply_theme(QApplication.instance(), self._stored_theme())
         self.resize(1500, 920)
         #: The one source of truth of what the artist tunes; widgets and the engine follow it.
         self.model = Settings()
         self.engine_link = EngineLink(self.model, None, on_error=self._setting_refused)
         self.viewport = SculptViewport(self)
         self.setCentralWidget(self.viewport)
+        self._viewport_colors()
         self.brush_bar = BrushBar(self.model.brush, self)
         self.addToolBar(Qt.ToolBarArea.TopToolBarArea, self.brush_bar)
         self.material_panel = MaterialPanel(settings=self.model)
@@ -164,6 +169,17 @@ class MainWindow(QMainWindow):
         self._action(view_menu, "Reset &Camera", self.reset_camera, "Home")
         self.view_actions = [self._visibility_action(w) for w in (self.panels_dock, self.brush_bar)]
         view_menu.addActions(self.view_actions)
+        view_menu.addSeparator()
+        theme_menu = view_menu.addMenu("&Theme")
+        self.theme_actions: dict[str, QAction] = {}
+        theme_group = QActionGroup(self)
+        for name in THEMES:
+            action = QAction(name.capitalize(), self, checkable=True)
+            action.setChecked(name == self.theme.name)
+            action.triggered.connect(lambda _c=False, n=name: self.set_theme(n))
+            theme_group.addAction(action)
+            theme_menu.addAction(action)
+            self.theme_actions[name] = action
         self._refresh_recent()
 
     def _fill_presets_menu(self) -> None:
@@ -219,6 +235,25 @@ class MainWindow(QMainWindow):
         self.kernel_warmer.failed.connect(
             lambda l_max, error: self.flash(f"Kernels for l_max = {l_max} failed: {error}")
         )
+
+    # -- look --------------------------------------------------------------------------------
+    def _stored_theme(self) -> str:
+        name = self.settings.value("theme", DEFAULT_THEME)
+        return name if name in THEMES else DEFAULT_THEME
+
+    def set_theme(self, name: str) -> None:
+        """Switch to theme ``name`` (one of :data:`app.theme.THEMES`) and remember it."""
+        self.theme = apply_theme(QApplication.instance(), theme(name).name)
+        self.settings.setValue("theme", self.theme.name)
+        self.theme_actions[self.theme.name].setChecked(True)
+        self.material_panel.refresh_colors()
+        self.homogenization_panel.refresh_colors()
+        self._viewport_colors()
+        self.viewport.request_render()
+
+    def _viewport_colors(self) -> None:
+        bottom, top = self.theme.viewport_background
+        self.viewport.set_background(bottom, top=top)
 
     # -- documents ---------------------------------------------------------------------------
     def _sculptor_options(self) -> dict:

@@ -11,7 +11,19 @@ from gogreen_core import Material
 
 
 @pytest.fixture
-def window(qtbot, tmp_path, monkeypatch, made_textured):
+def app_look(qapp):
+    """The application's style, palette and style sheet, restored after the test (the
+    window applies its theme to the whole application)."""
+    saved = qapp.palette(), qapp.styleSheet(), qapp.style().name(), qapp.property("gogreen_theme")
+    yield qapp
+    qapp.setStyle(saved[2])
+    qapp.setPalette(saved[0])
+    qapp.setStyleSheet(saved[1])
+    qapp.setProperty("gogreen_theme", saved[3])
+
+
+@pytest.fixture
+def window(qtbot, tmp_path, monkeypatch, made_textured, app_look):
     monkeypatch.setattr(QMessageBox, "warning", lambda *a, **k: QMessageBox.StandardButton.Ok)
     monkeypatch.setattr(QMessageBox, "question", lambda *a, **k: QMessageBox.StandardButton.Discard)
     win = MainWindow(QSettings(str(tmp_path / "settings.ini"), QSettings.Format.IniFormat))
@@ -288,3 +300,25 @@ def test_shortcuts_act_from_a_number_field_and_enter_returns_focus(window, qtbot
     qtbot.waitUntil(field.hasFocus)
     QTest.keyClick(field, Qt.Key.Key_Escape)
     qtbot.waitUntil(window.viewport.hasFocus)
+
+
+def test_dark_theme_by_default_light_from_the_view_menu_and_remembered(window, qtbot, tmp_path):
+    from PySide6.QtGui import QPalette
+    from PySide6.QtWidgets import QApplication
+
+    from app.theme import current_theme, theme
+
+    app = QApplication.instance()
+    assert window.theme is theme("dark") and current_theme(app) is theme("dark")
+    assert app.palette().color(QPalette.ColorRole.Window).name() == theme("dark").window
+    bottom, _top = theme("dark").viewport_background
+    assert window.viewport.background_color.hex_rgb == bottom
+    assert window.theme_actions["dark"].isChecked()
+
+    window.theme_actions["light"].trigger()
+    assert current_theme(app) is theme("light") and window.theme_actions["light"].isChecked()
+    assert window.viewport.background_color.hex_rgb == theme("light").viewport_background[0]
+    assert window.settings.value("theme") == "light"
+    again = MainWindow(window.settings)  # the next start
+    qtbot.addWidget(again)
+    assert again.theme is theme("light") and again.theme_actions["light"].isChecked()

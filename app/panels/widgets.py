@@ -30,10 +30,10 @@ from PySide6.QtWidgets import (
 )
 from scipy.spatial.transform import Rotation
 
+from app.theme import active_theme
+from gogreen_core.validation import ParameterError
+
 __all__ = [
-    "ERROR_TEXT_STYLE",
-    "INVALID_BASE_COLOR",
-    "ZERO_COLOR",
     "CollapsibleSection",
     "CompactTable",
     "EulerAnglesEditor",
@@ -43,14 +43,12 @@ __all__ = [
     "mark_invalid",
     "offending_widgets",
     "pastel_color",
+    "set_text_role",
+    "zero_cell_colors",
 ]
 
-#: Background of a field holding an invalid value.
-INVALID_BASE_COLOR = QColor("#ffd0d0")
-#: Style sheet of the error message labels.
-ERROR_TEXT_STYLE = "color: #c62828;"
-#: Cell colour of zero coefficients in the stiffness tables.
-ZERO_COLOR = QColor("#e4e4e4")
+#: Text roles of :func:`set_text_role` (their colours come from the theme's style sheet).
+TEXT_ROLES = ("muted", "error")
 
 _GOLDEN_RATIO_CONJUGATE = 0.618033988749895
 
@@ -72,12 +70,36 @@ def scrolled_column(panel: QWidget) -> QVBoxLayout:
     return layout
 
 
-def pastel_color(index: int) -> QColor:
-    """A light colour for group ``index`` (0, 1, 2, ...): hues spread by the golden ratio so
-    that neighbouring indices differ strongly; black text stays readable on every one."""
+def set_text_role(label: QLabel, role: str) -> None:
+    """Colour ``label``'s text as a ``"muted"`` caption or an ``"error"`` message, in the
+    current theme's colours (the application style sheet of :mod:`app.theme` reads the
+    ``text_role`` property, so the label follows a later theme switch)."""
+    if role not in TEXT_ROLES:
+        raise ParameterError("role", f"role: one of {', '.join(TEXT_ROLES)}, got {role!r}")
+    label.setProperty("text_role", role)
+    label.style().unpolish(label)
+    label.style().polish(label)
+
+
+def zero_cell_colors() -> tuple[QColor, QColor]:
+    """(background, text) of zero coefficients in the stiffness tables, from the theme."""
+    current = active_theme()
+    return QColor(current.zero_cell), QColor(current.muted_text)
+
+
+def pastel_color(index: int, dark: bool | None = None) -> QColor:
+    """A colour for group ``index`` (0, 1, 2, ...): hues spread by the golden ratio so that
+    neighbouring indices differ strongly. Light pastels for dark text, or (``dark``, the
+    default under the dark theme) deep tones for light text."""
+    if dark is None:
+        dark = active_theme().name == "dark"
     hue = (0.08 + index * _GOLDEN_RATIO_CONJUGATE) % 1.0
-    saturation = 0.38 if index % 2 == 0 else 0.26
-    r, g, b = colorsys.hsv_to_rgb(hue, saturation, 0.98)
+    if dark:
+        saturation = 0.55 if index % 2 == 0 else 0.40
+        r, g, b = colorsys.hsv_to_rgb(hue, saturation, 0.42)
+    else:
+        saturation = 0.38 if index % 2 == 0 else 0.26
+        r, g, b = colorsys.hsv_to_rgb(hue, saturation, 0.98)
     return QColor.fromRgbF(r, g, b)
 
 
@@ -90,9 +112,10 @@ def mark_invalid(widget: QWidget, invalid: bool) -> None:
     """
     widget.setProperty("invalid", bool(invalid))
     if invalid:
+        current = active_theme()
         palette = widget.palette()
-        palette.setColor(QPalette.ColorRole.Base, INVALID_BASE_COLOR)
-        palette.setColor(QPalette.ColorRole.Text, QColor("#7a0000"))
+        palette.setColor(QPalette.ColorRole.Base, QColor(current.invalid_base))
+        palette.setColor(QPalette.ColorRole.Text, QColor(current.text))
         widget.setPalette(palette)
     else:
         widget.setPalette(QPalette())  # back to the inherited palette
