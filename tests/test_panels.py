@@ -627,3 +627,31 @@ def test_captions_errors_and_zero_cells_take_the_theme_colours(qtbot, name):
         app.setPalette(saved[0])
         app.setStyleSheet(saved[1])
         app.setProperty("gogreen_theme", saved[3])
+
+
+@pytest.mark.parametrize("name", ["dark", "light"])
+def test_plots_are_drawn_on_the_themes_paper(qtbot, name):
+    from PySide6.QtWidgets import QApplication
+
+    from app.panels.curve_editor import CurveEditor
+    from app.panels.glyph import YoungModulusGlyph
+    from app.panels.widgets import plot_colors
+    from app.theme import apply_theme
+
+    app = QApplication.instance()
+    saved = app.palette(), app.styleSheet(), app.style().name(), app.property("gogreen_theme")
+    try:
+        colours = apply_theme(app, name)
+        paper = plot_colors().background.name()
+        assert paper == (colours.base if name == "dark" else "#ffffff")
+        curves = CurveEditor(SplineRadial.from_profile(GaussianRadial(1.0), 4))
+        for plot in (curves, YoungModulusGlyph(Material.isotropic(1.0, 0.3))):
+            qtbot.addWidget(plot)
+            plot.resize(300, 240)
+            image = plot.grab().toImage()
+            assert image.pixelColor(4, 4).name() == paper, type(plot).__name__
+    finally:
+        app.setStyle(saved[2])
+        app.setPalette(saved[0])
+        app.setStyleSheet(saved[1])
+        app.setProperty("gogreen_theme", saved[3])

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import colorsys
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from PySide6.QtCore import QSize, Qt, Signal
@@ -39,10 +40,12 @@ __all__ = [
     "EulerAnglesEditor",
     "FitStackedWidget",
     "NumberField",
+    "PlotColors",
     "is_marked_invalid",
     "mark_invalid",
     "offending_widgets",
     "pastel_color",
+    "plot_colors",
     "set_text_role",
     "zero_cell_colors",
 ]
@@ -79,6 +82,36 @@ def set_text_role(label: QLabel, role: str) -> None:
     label.setProperty("text_role", role)
     label.style().unpolish(label)
     label.style().polish(label)
+
+
+@dataclass(frozen=True)
+class PlotColors:
+    """Colours of the panels' hand-drawn plots (falloff curves, modulus glyph, voxel cell)."""
+
+    background: QColor
+    frame: QColor
+    grid: QColor
+    axis: QColor
+    text: QColor
+    muted: QColor
+    legend: QColor
+    handle: QColor
+    #: Whether curve colours are lightened for a dark background.
+    dark: bool
+
+
+def plot_colors() -> PlotColors:
+    """The plot colours of the current theme: white paper on the light theme, the theme's
+    field colour (dark) with light text on the dark one."""
+    current = active_theme()
+    if current.name == "light":
+        values = ("#ffffff", "#b0b0b0", "#eeeeee", "#9e9e9e", "#222222", "#888888")
+        legend, handle, dark = QColor(255, 255, 255, 225), QColor("#ffffff"), False
+    else:
+        values = (current.base, current.mid, "#2e3035", "#6c7078", current.text, current.muted_text)
+        legend, handle, dark = QColor(current.base), QColor(current.base), True
+        legend.setAlpha(225)
+    return PlotColors(*(QColor(v) for v in values), legend, handle, dark)
 
 
 def zero_cell_colors() -> tuple[QColor, QColor]:
