@@ -604,3 +604,7 @@ class KeymapOverlay(QWidget):
                 painter.setPen(_TEXT)
             painter.drawText(box, int(Qt.AlignmentFlag.AlignCenter), keys)
             cursor += box.width()
+
+
+if __name__ == "__main__":  # python -m app.keymap > controls.md: the README's Controls tables
+    print(keymap_markdown(), end="")

@@ -11,13 +11,15 @@ model as it was.
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import numpy as np
 import pyvista as pv
 from PySide6.QtCore import QSettings, Qt, QTimer
-from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
+from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QImage, QKeySequence
 from PySide6.QtWidgets import (
+    QApplication,
     QDockWidget,
     QFileDialog,
     QLabel,
@@ -30,23 +32,40 @@ from PySide6.QtWidgets import (
 
 from app.brush_bar import BrushBar
 from app.document import SAVE_FORMATS, Document
+from app.icons import set_icon
 from app.kernel_warmup import KernelWarmer
 from app.keyboard import FocusKeys
+from app.keymap import KeymapOverlay, binding, brush_action, display_keys, shortcuts
 from app.panels.falloff_panel import FalloffPanel
 from app.panels.homogenization_panel import HomogenizationPanel
 from app.panels.material_panel import MaterialPanel
+from app.theme import DEFAULT_THEME, THEMES, Theme, apply_theme, theme
 from app.viewport import SculptViewport
 from gogreen_core.material import Material
 from gogreen_core.mesh_io import write_text_atomic
 from gogreen_core.presets import Preset, builtin_presets, load_preset, save_preset
 from gogreen_core.settings import ChangeEvent, EngineLink, Settings
 from gogreen_core.tools import PointerEvent, SculptTools, ToolUpdate
+from gogreen_core.validation import ParameterError
 
 __all__ = ["MainWindow"]
 
 MESH_FILTER = "Meshes (*.obj *.ply *.stl *.off);;All files (*)"
 SAVE_FILTER = "Wavefront OBJ (*.obj);;Stanford PLY (*.ply);;STL (*.stl)"
 MAX_RECENT = 8
+FIRST_RUN_HINT = (
+    "Welcome! Press ? (or F1, or Help → Keyboard & Mouse) to see every key, mouse and pen control"
+)
+#: Shading modes of the View menu: (menu text, tool tip); the first is the default.
+SHADINGS = {
+    "studio": ("Studio", "Key, fill and back lights with soft highlights"),
+    "clay": (
+        "Clay",
+        "Matte clay lit from the camera, like a matcap: forms read at any angle",
+    ),
+}
+#: Material (ambient, diffuse, specular, specular power) of the mesh in each shading mode.
+_SHADING_PROPS = {"studio": (0.12, 0.85, 0.25, 20.0), "clay": (0.22, 0.9, 0.0, 1.0)}
 
 
 class MainWindow(QMainWindow):
@@ -55,18 +74,21 @@ class MainWindow(QMainWindow):
     Parameters
     ----------
     settings : QSettings, optional
-        Where recent files live (tests pass a temporary one).
+        Where recent files, the theme and the first-run hint live (tests pass a temporary one).
     """
 
     def __init__(self, settings: QSettings | None = None):
         super().__init__()
         self.settings = settings or QSettings("GoGreen", "GoGreen Sculpt")
+        # Before any widget is made: icons take the theme's colour when they are made.
+        self.theme: Theme = apply_theme(QApplication.instance(), self._stored_theme())
         self.resize(1500, 920)
         #: The one source of truth of what the artist tunes; widgets and the engine follow it.
         self.model = Settings()
         self.engine_link = EngineLink(self.model, None, on_error=self._setting_refused)
         self.viewport = SculptViewport(self)
         self.setCentralWidget(self.viewport)
+        self._viewport_colors()
         self.brush_bar = BrushBar(self.model.brush, self)
         self.addToolBar(Qt.ToolBarArea.TopToolBarArea, self.brush_bar)
         self.material_panel = MaterialPanel(settings=self.model)
@@ -93,6 +115,14 @@ class MainWindow(QMainWindow):
         self._announced_warmups: set[int] = set()
         self._connect()
         self.focus_keys = FocusKeys(self, self.viewport, self._shortcut_keys)
+        #: The keymap drawn over the viewport (Help menu, ``?``, F1).
+        self.keymap_overlay = KeymapOverlay(self.viewport)
+        self.keymap_overlay.closed.connect(self.viewport.setFocus)
+        self.shading = self._stored_shading()
+        self.shading_actions[self.shading].setChecked(True)
+        self._apply_lights()
+        self._show_gizmo()
+        self.show_first_run_hint()
         self.kernel_warmer.request(self.model.l_max)
         self._announced_warmups.add(self.model.l_max)
 
@@ -110,13 +140,29 @@ class MainWindow(QMainWindow):
         self.addDockWidget(Qt.DockWidgetArea.RightDockWidgetArea, dock)
         self.panels_dock = dock
 
-    def _action(self, menu, text: str, slot, shortcut=None) -> QAction:
+    def _action(
+        self, menu, text: str, slot, key: str | None = None, icon_name: str | None = None
+    ) -> QAction:
+        """A menu action; ``key``: its entry in :data:`app.keymap.KEYMAP`, which gives its
+        shortcuts (the one table the keymap overlay and the README show)."""
         action = QAction(text, self)
-        if shortcut is not None:
-            action.setShortcut(QKeySequence(shortcut))
+        if key is not None:
+            self._bind_keys(action, key)
+        if icon_name is not None:
+            set_icon(action, icon_name)
         action.triggered.connect(slot)
         menu.addAction(action)
         return action
+
+    def _bind_keys(self, action: QAction, key: str, tip: str | None = None) -> None:
+        """Give ``action`` the shortcuts of keymap entry ``key`` and a tool tip naming them
+        (``tip`` or the keymap's description, then the keys)."""
+        entry = binding(key)
+        action.setShortcuts(shortcuts(key))
+        action.setShortcutContext(Qt.ShortcutContext.WindowShortcut)
+        keys = " / ".join(display_keys(k) for k in entry.keys)
+        action.setToolTip(f"{tip or entry.description}  [{keys}]")
+        self.keymap_actions[key] = action
 
     def _visibility_action(self, widget: QDockWidget | QToolBar) -> QAction:
         """Checkable View-menu entry that shows or hides a dock or tool bar.
@@ -133,37 +179,90 @@ class MainWindow(QMainWindow):
 
     def _shortcut_keys(self) -> list[QKeySequence]:
         """The key sequences of the window's actions (menus and brush bar)."""
-        return [a.shortcut() for a in self.findChildren(QAction) if not a.shortcut().isEmpty()]
+        return [
+            key for a in self.findChildren(QAction) for key in a.shortcuts() if not key.isEmpty()
+        ]
 
     def _build_menus(self) -> None:
+        #: The window's actions by keymap entry (``"undo"``, ``"brush_grab"``, …).
+        self.keymap_actions: dict[str, QAction] = {}
         bar = self.menuBar()
         file_menu = bar.addMenu("&File")
-        self._action(file_menu, "&Open…", self.open_dialog, QKeySequence.StandardKey.Open)
+        self.new_action = self._action(file_menu, "&New", self.new_document, "new", "new")
+        self._action(file_menu, "&Open…", self.open_dialog, "open", "open")
         self.recent_menu = file_menu.addMenu("Open &Recent")
-        self._action(file_menu, "&Save", self.save, QKeySequence.StandardKey.Save)
-        self._action(file_menu, "Save &As…", self.save_as_dialog, "Ctrl+Shift+S")
+        self._action(file_menu, "&Save", self.save, "save", "save")
+        self._action(file_menu, "Save &As…", self.save_as_dialog, "save_as")
         file_menu.addSeparator()
         self.presets_menu = file_menu.addMenu("&Presets")
         self._fill_presets_menu()
         self._action(file_menu, "Load &Preset File…", self.load_preset_dialog)
         self._action(file_menu, "Save Pr&eset…", self.save_preset_dialog)
         self._action(file_menu, "Export Se&ssion…", self.export_session_dialog)
-        self._action(file_menu, "Export Scree&nshot…", self.screenshot_dialog, "F12")
+        self.screenshot_action = self._action(
+            file_menu, "Export Scree&nshot…", self.screenshot_dialog, "screenshot", "screenshot"
+        )
         file_menu.addSeparator()
-        self._action(file_menu, "&Quit", self.close, QKeySequence.StandardKey.Quit)
+        self._action(file_menu, "&Quit", self.close, "quit")
         edit_menu = bar.addMenu("&Edit")
-        self.undo_action = self._action(edit_menu, "&Undo", self.undo, "Ctrl+Z")
-        self.redo_action = self._action(edit_menu, "&Redo", self.redo, "Ctrl+Shift+Z")
+        self.undo_action = self._action(edit_menu, "&Undo", self.undo, "undo", "undo")
+        self.redo_action = self._action(edit_menu, "&Redo", self.redo, "redo", "redo")
         edit_menu.addSeparator()
         self._action(edit_menu, "Clear &Constraints", self.clear_constraints)
-        self._action(edit_menu, "Radius Smaller", lambda: self.brush_bar.scale_radius(-1), "[")
-        self._action(edit_menu, "Radius Larger", lambda: self.brush_bar.scale_radius(1), "]")
-        self._action(edit_menu, "Strength Lower", lambda: self.brush_bar.scale_strength(-1), "{")
-        self._action(edit_menu, "Strength Higher", lambda: self.brush_bar.scale_strength(1), "}")
+        bar_ = self.brush_bar
+        self._action(edit_menu, "Radius Smaller", lambda: bar_.scale_radius(-1), "radius_smaller")
+        self._action(edit_menu, "Radius Larger", lambda: bar_.scale_radius(1), "radius_larger")
+        self._action(edit_menu, "Strength Lower", lambda: bar_.scale_strength(-1), "strength_lower")
+        self._action(
+            edit_menu, "Strength Higher", lambda: bar_.scale_strength(1), "strength_higher"
+        )
         view_menu = bar.addMenu("&View")
-        self._action(view_menu, "Reset &Camera", self.reset_camera, "Home")
+        self._action(view_menu, "Reset &Camera", self.reset_camera, "reset_camera", "home")
         self.view_actions = [self._visibility_action(w) for w in (self.panels_dock, self.brush_bar)]
         view_menu.addActions(self.view_actions)
+        view_menu.addSeparator()
+        theme_menu = view_menu.addMenu("&Theme")
+        self.theme_actions: dict[str, QAction] = {}
+        theme_group = QActionGroup(self)
+        for name in THEMES:
+            action = QAction(name.capitalize(), self, checkable=True)
+            action.setChecked(name == self.theme.name)
+            action.triggered.connect(lambda _c=False, n=name: self.set_theme(n))
+            theme_group.addAction(action)
+            theme_menu.addAction(action)
+            self.theme_actions[name] = action
+        shading_menu = view_menu.addMenu("&Shading")
+        set_icon(shading_menu.menuAction(), "shading")
+        self.shading_actions: dict[str, QAction] = {}
+        shading_group = QActionGroup(self)
+        for name, (title, tip) in SHADINGS.items():
+            action = QAction(title, self, checkable=True)
+            action.setToolTip(tip)
+            action.setStatusTip(tip)
+            action.triggered.connect(lambda _c=False, n=name: self.set_shading(n))
+            shading_group.addAction(action)
+            shading_menu.addAction(action)
+            self.shading_actions[name] = action
+        self.wireframe_action = self._action(
+            view_menu, "&Wireframe", self._wireframe_toggled, "wireframe", "wireframe"
+        )
+        self.wireframe_action.setCheckable(True)
+        self.gizmo_action = QAction("Orientation &Gizmo", self, checkable=True, checked=True)
+        self.gizmo_action.setToolTip("Axes in the corner of the view: x red, y green, z blue")
+        self.gizmo_action.triggered.connect(self._show_gizmo)
+        view_menu.addAction(self.gizmo_action)
+        help_menu = bar.addMenu("&Help")
+        self.keymap_action = self._action(
+            help_menu, "&Keyboard && Mouse", self.toggle_keymap, "keymap", "help"
+        )
+        # The brush bar's actions take their keys from the keymap too, and the project's icons.
+        for kind, action in self.brush_bar.kind_actions.items():
+            tip = action.toolTip().rsplit("  [", 1)[0]
+            self._bind_keys(action, brush_action(kind), tip)
+            set_icon(action, kind)
+        pin = self.brush_bar.constraint_action
+        self._bind_keys(pin, "pin_mode", pin.toolTip().rsplit(" [", 1)[0])
+        set_icon(pin, "pin")
         self._refresh_recent()
 
     def _fill_presets_menu(self) -> None:
@@ -200,6 +299,10 @@ class MainWindow(QMainWindow):
             label.setMinimumWidth(150)
             self.statusBar().addPermanentWidget(label)
         self.statusBar().addWidget(self.message_label, 1)
+        # a temporary message (the first-run hint) is drawn where the label is: not both
+        self.statusBar().messageChanged.connect(
+            lambda text: self.message_label.setHidden(bool(text))
+        )
 
     def _connect(self) -> None:
         self.viewport.pointer_pressed.connect(self._pointer_pressed)
@@ -220,6 +323,103 @@ class MainWindow(QMainWindow):
             lambda l_max, error: self.flash(f"Kernels for l_max = {l_max} failed: {error}")
         )
 
+    # -- look --------------------------------------------------------------------------------
+    def _stored_theme(self) -> str:
+        name = self.settings.value("theme", DEFAULT_THEME)
+        return name if name in THEMES else DEFAULT_THEME
+
+    def set_theme(self, name: str) -> None:
+        """Switch to theme ``name`` (one of :data:`app.theme.THEMES`) and remember it."""
+        self.theme = apply_theme(QApplication.instance(), theme(name).name)
+        self.settings.setValue("theme", self.theme.name)
+        self.theme_actions[self.theme.name].setChecked(True)
+        self.material_panel.refresh_colors()
+        self.homogenization_panel.refresh_colors()
+        self._viewport_colors()
+        self.viewport.request_render()
+
+    def _viewport_colors(self) -> None:
+        bottom, top = self.theme.viewport_background
+        self.viewport.set_background(bottom, top=top)
+        if getattr(self, "gizmo_action", None) is not None:
+            self._show_gizmo()  # its labels in the theme's text colour
+
+    def _stored_shading(self) -> str:
+        name = self.settings.value("shading", next(iter(SHADINGS)))
+        return name if name in SHADINGS else next(iter(SHADINGS))
+
+    def set_shading(self, name: str) -> None:
+        """Shade the model ``name`` (a key of :data:`SHADINGS`) and remember it."""
+        if name not in SHADINGS:
+            raise ParameterError(
+                "name", f"name: unknown shading {name!r}; the shadings are {', '.join(SHADINGS)}"
+            )
+        self.shading = name
+        self.settings.setValue("shading", name)
+        self.shading_actions[name].setChecked(True)
+        self._apply_lights()
+        self._apply_mesh_look()
+        self.viewport.request_render()
+
+    def _apply_lights(self) -> None:
+        self.viewport.remove_all_lights()
+        if self.shading == "clay":
+            self.viewport.add_light(pv.Light(light_type="headlight", intensity=1.0))
+        else:
+            self.viewport.enable_lightkit()
+
+    def _apply_mesh_look(self) -> None:
+        """Shading and wireframe of the mesh actor (made anew by each ``set_mesh``)."""
+        actor = self.viewport.mesh_actor
+        if actor is None:
+            return
+        prop = actor.prop
+        prop.ambient, prop.diffuse, prop.specular, prop.specular_power = _SHADING_PROPS[
+            self.shading
+        ]
+        prop.show_edges = self.wireframe_action.isChecked()
+        prop.edge_color = "#1c1f24"
+        prop.line_width = 1.0
+
+    @property
+    def wireframe(self) -> bool:
+        """The triangle edges are drawn over the surface (View → Wireframe, Shift+Z)."""
+        return self.wireframe_action.isChecked()
+
+    def set_wireframe(self, on: bool) -> None:
+        self.wireframe_action.setChecked(bool(on))
+        self._wireframe_toggled()
+
+    def _wireframe_toggled(self) -> None:
+        self._apply_mesh_look()
+        self.viewport.request_render()
+
+    def _show_gizmo(self) -> None:
+        """The orientation gizmo (pyvista's axes widget) when View → Orientation Gizmo is on."""
+        self.viewport.hide_axes()
+        if self.gizmo_action.isChecked():
+            self.viewport.add_axes(interactive=False, line_width=2, color=self.theme.window_text)
+        self.viewport.request_render()
+
+    @property
+    def gizmo_visible(self) -> bool:
+        widget = getattr(self.viewport.renderer, "axes_widget", None)
+        return bool(widget is not None and widget.GetEnabled())
+
+    # -- help --------------------------------------------------------------------------------
+    def toggle_keymap(self) -> None:
+        """Show the keymap over the viewport, or hide it (Help menu, ``?``, F1)."""
+        self.keymap_overlay.toggle_overlay()
+
+    def show_first_run_hint(self) -> bool:
+        """Once per user (remembered in the settings): say that ``?`` shows the controls.
+        Returns whether the hint was shown."""
+        if self.settings.value("keymap_hint_shown", False, type=bool):
+            return False
+        self.settings.setValue("keymap_hint_shown", True)
+        self.statusBar().showMessage(FIRST_RUN_HINT, 30_000)
+        return True
+
     # -- documents ---------------------------------------------------------------------------
     def _sculptor_options(self) -> dict:
         return self.model.sculptor_options()
@@ -230,6 +430,7 @@ class MainWindow(QMainWindow):
         self.tools.set_sculptor(document.sculptor)
         self.engine_link.attach(document.sculptor)
         self.viewport.set_mesh(document.sculptor.vertices, document.sculptor.faces)
+        self._apply_mesh_look()
         if self._constraint_actor is not None:
             self.viewport.remove_actor(self._constraint_actor, render=False)
         self._constraint_actor = None
@@ -240,6 +441,14 @@ class MainWindow(QMainWindow):
     def open_default(self) -> None:
         self.set_document(Document.default(self._sculptor_options()))
         self.flash(f"Default model: {len(self.document.sculptor.vertices)} vertices")
+
+    def new_document(self) -> bool:
+        """File → New: the default model, after asking to save unsaved changes (as Open
+        does). Returns whether the default model was opened."""
+        if not self.maybe_save():
+            return False
+        self.open_default()
+        return True
 
     def open_file(self, path: str) -> bool:
         """Open a mesh; on failure show why and keep the current model. Returns success."""
@@ -546,11 +755,25 @@ class MainWindow(QMainWindow):
         if path:
             self.save_screenshot(path if path.endswith(".png") else path + ".png")
 
-    def save_screenshot(self, path: str) -> None:
-        """PNG of the whole window."""
-        self.viewport.render()
-        if not self.grab().save(path):
-            self.show_error("Cannot write the screenshot", path)
+    def save_screenshot(self, path: str) -> bool:
+        """PNG of the viewport only (no panels, menus or overlays), written atomically; the
+        status bar names the file. Returns success."""
+        target = Path(path)
+        partial = target.with_name(f".{target.name}.partial")
+        try:
+            self.viewport.render()
+            pixels = np.ascontiguousarray(self.viewport.screenshot(return_img=True)[:, :, :3])
+            height, width = pixels.shape[:2]
+            image = QImage(pixels.data, width, height, 3 * width, QImage.Format.Format_RGB888)
+            if not image.save(str(partial), "PNG"):
+                raise OSError("Qt could not write the PNG (is the folder writable?)")
+            os.replace(partial, target)
+        except (OSError, RuntimeError, ValueError) as exc:
+            partial.unlink(missing_ok=True)
+            self.show_error("Cannot write the screenshot", f"{target}: {exc}")
+            return False
+        self.flash(f"Screenshot saved: {target} ({width}×{height})")
+        return True
 
     # -- feedback ----------------------------------------------------------------------------
     def show_error(self, title: str, message: str) -> None:

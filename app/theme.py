@@ -27,6 +27,7 @@ __all__ = [
     "DEFAULT_THEME",
     "THEMES",
     "Theme",
+    "active_theme",
     "apply_theme",
     "current_theme",
     "theme",
@@ -115,7 +116,9 @@ class Theme:
     def style_sheet(self) -> str:
         """What the palette does not cover: checked tool buttons (Fusion draws them barely
         darker than unchecked ones, so the active brush would not stand out), tool tip and menu
-        separator contrast, dock titles."""
+        separator contrast, dock titles, and the text colours of labels given a role by
+        :func:`app.panels.widgets.set_text_role` (``muted`` captions, ``error`` messages), so
+        that they follow a theme switch."""
         return f"""
 QToolButton:checked {{
     background-color: {_mix(self.highlight, self.button, 0.45)};
@@ -136,6 +139,12 @@ QMenu::separator {{
 QDockWidget::title {{
     background: {self.button};
     padding: 4px;
+}}
+QLabel[text_role="muted"] {{
+    color: {self.muted_text};
+}}
+QLabel[text_role="error"] {{
+    color: {self.error_text};
 }}
 """
 
@@ -251,3 +260,17 @@ def current_theme(app: QApplication) -> Theme | None:
     """The theme last applied to ``app`` by :func:`apply_theme`, or None."""
     name = app.property(_PROPERTY)
     return _THEMES.get(name) if isinstance(name, str) else None
+
+
+def active_theme() -> Theme:
+    """The theme widgets should draw with now: the one applied to the running application,
+    else (no theme applied, e.g. a panel made alone in a test) the built-in theme matching the
+    application palette's lightness."""
+    app = QApplication.instance()
+    if app is None:
+        return theme()
+    applied = current_theme(app)
+    if applied is not None:
+        return applied
+    window = app.palette().color(QPalette.ColorRole.Window)
+    return theme("dark" if window.lightnessF() < 0.5 else "light")

@@ -11,7 +11,19 @@ from gogreen_core import Material
 
 
 @pytest.fixture
-def window(qtbot, tmp_path, monkeypatch, made_textured):
+def app_look(qapp):
+    """The application's style, palette and style sheet, restored after the test (the
+    window applies its theme to the whole application)."""
+    saved = qapp.palette(), qapp.styleSheet(), qapp.style().name(), qapp.property("gogreen_theme")
+    yield qapp
+    qapp.setStyle(saved[2])
+    qapp.setPalette(saved[0])
+    qapp.setStyleSheet(saved[1])
+    qapp.setProperty("gogreen_theme", saved[3])
+
+
+@pytest.fixture
+def window(qtbot, tmp_path, monkeypatch, made_textured, app_look):
     monkeypatch.setattr(QMessageBox, "warning", lambda *a, **k: QMessageBox.StandardButton.Ok)
     monkeypatch.setattr(QMessageBox, "question", lambda *a, **k: QMessageBox.StandardButton.Discard)
     win = MainWindow(QSettings(str(tmp_path / "settings.ini"), QSettings.Format.IniFormat))
@@ -288,3 +300,185 @@ def test_shortcuts_act_from_a_number_field_and_enter_returns_focus(window, qtbot
     qtbot.waitUntil(field.hasFocus)
     QTest.keyClick(field, Qt.Key.Key_Escape)
     qtbot.waitUntil(window.viewport.hasFocus)
+
+
+def test_dark_theme_by_default_light_from_the_view_menu_and_remembered(window, qtbot, tmp_path):
+    from PySide6.QtGui import QPalette
+    from PySide6.QtWidgets import QApplication
+
+    from app.theme import current_theme, theme
+
+    app = QApplication.instance()
+    assert window.theme is theme("dark") and current_theme(app) is theme("dark")
+    assert app.palette().color(QPalette.ColorRole.Window).name() == theme("dark").window
+    bottom, _top = theme("dark").viewport_background
+    assert window.viewport.background_color.hex_rgb == bottom
+    assert window.theme_actions["dark"].isChecked()
+
+    window.theme_actions["light"].trigger()
+    assert current_theme(app) is theme("light") and window.theme_actions["light"].isChecked()
+    assert window.viewport.background_color.hex_rgb == theme("light").viewport_background[0]
+    assert window.settings.value("theme") == "light"
+    again = MainWindow(window.settings)  # the next start
+    qtbot.addWidget(again)
+    assert again.theme is theme("light") and again.theme_actions["light"].isChecked()
+
+
+def test_shortcuts_and_tool_tips_come_from_the_keymap(window):
+    from app.keymap import KEYMAP, shortcuts
+
+    keyboard = {entry.action: entry for entry in KEYMAP if not entry.is_gesture}
+    bound = window.keymap_actions
+    # F / Shift+F drags belong to the viewport's tools, not to window actions
+    assert set(keyboard) - set(bound) <= {"radius_drag", "strength_drag"}
+    for action_id, action in bound.items():
+        assert action.shortcuts() == shortcuts(action_id), action_id
+        assert keyboard[action_id].keys[0].replace("Ctrl+", "") in action.toolTip().replace(
+            "Ctrl+", ""
+        )
+    grab = window.brush_bar.kind_actions["grab"]
+    assert [k.toString() for k in grab.shortcuts()] == ["1", "G"]
+    assert grab.toolTip().startswith("Grab: the point under the cursor")
+    assert [k.toString() for k in window.keymap_action.shortcuts()] == ["?", "F1"]
+    keys = window._shortcut_keys()  # what number fields hand over to the window
+    assert all(k in keys for k in grab.shortcuts())
+
+
+def test_brush_and_menu_actions_have_the_projects_icons(window):
+    for kind, action in window.brush_bar.kind_actions.items():
+        assert action.property("gogreen_icon") == kind and not action.icon().isNull()
+    assert window.brush_bar.constraint_action.property("gogreen_icon") == "pin"
+    for key, name in {
+        "new": "new",
+        "open": "open",
+        "save": "save",
+        "undo": "undo",
+        "redo": "redo",
+        "screenshot": "screenshot",
+        "reset_camera": "home",
+        "wireframe": "wireframe",
+        "keymap": "help",
+    }.items():
+        action = window.keymap_actions[key]
+        assert action.property("gogreen_icon") == name and not action.icon().isNull(), key
+
+
+def activate(window, qtbot) -> None:
+    """Make ``window`` the active window (shortcuts act only in the active window)."""
+    with qtbot.waitActive(window, timeout=10_000):
+        window.activateWindow()
+        window.windowHandle().requestActivate()
+
+
+def test_help_menu_f1_and_question_mark_show_the_keymap_over_the_viewport(window, qtbot):
+    from PySide6.QtTest import QTest
+
+    activate(window, qtbot)
+    overlay = window.keymap_overlay
+    assert overlay.parentWidget() is window.viewport and overlay.isHidden()
+    window.keymap_action.trigger()
+    assert overlay.isVisible() and overlay.geometry() == window.viewport.rect()
+    assert "Ctrl+Z — Undo" in overlay.text_lines()
+    qtbot.keyClick(overlay, Qt.Key.Key_Escape)
+    assert overlay.isHidden()
+    qtbot.waitUntil(window.viewport.hasFocus)  # handed back to the view
+    QTest.keyClick(window.viewport, Qt.Key.Key_F1)
+    assert overlay.isVisible()
+    QTest.keyClick(overlay, Qt.Key.Key_F1)
+    assert overlay.isHidden()
+    qtbot.waitUntil(window.viewport.hasFocus)
+    QTest.keyClick(window.viewport, Qt.Key.Key_Question)
+    assert overlay.isVisible()
+
+
+def test_first_run_hint_is_shown_once(window, qtbot):
+    from app.main_window import FIRST_RUN_HINT
+
+    assert window.settings.value("keymap_hint_shown", False, type=bool)
+    assert "?" in FIRST_RUN_HINT
+    again = MainWindow(window.settings)
+    qtbot.addWidget(again)
+    assert not again.show_first_run_hint()
+    assert again.statusBar().currentMessage() != FIRST_RUN_HINT
+
+
+def test_file_new_opens_the_default_model_after_asking_to_save(window, monkeypatch):
+    from app.document import Document
+
+    drag(window, center_of(window))
+    assert window.document.dirty
+    asked = []
+    answer = QMessageBox.StandardButton.Cancel
+    monkeypatch.setattr(QMessageBox, "question", lambda *a, **k: asked.append(a) or answer)
+    textured = window.document
+    window.new_action.trigger()  # cancelled: the edited model stays
+    assert len(asked) == 1 and window.document is textured
+    answer = QMessageBox.StandardButton.Discard
+    assert [k.toString() for k in window.new_action.shortcuts()] == ["Ctrl+N"]
+    assert window.new_document()
+    default = Document.default()
+    assert len(asked) == 2 and window.document.path is None
+    assert np.array_equal(window.document.sculptor.vertices, default.sculptor.vertices)
+    assert not window.document.dirty
+    assert window.new_document() and len(asked) == 2  # clean: nothing to ask
+
+
+def test_screenshot_is_the_viewport_only_and_named_in_the_status_bar(window, tmp_path):
+    from PySide6.QtGui import QImage
+
+    path = tmp_path / "shot.png"
+    assert window.save_screenshot(str(path))
+    image = QImage(str(path))
+    ratio = window.viewport.devicePixelRatioF()
+    size = window.viewport.size()
+    assert (image.width(), image.height()) == (
+        round(size.width() * ratio),
+        round(size.height() * ratio),
+    )
+    assert image.width() < window.width()  # not the whole window
+    corner = image.pixelColor(2, image.height() - 2).name()  # the viewport's background
+    assert corner != window.palette().color(window.backgroundRole()).name()
+    assert str(path) in window.message_label.text()
+    assert not list(tmp_path.glob(".*partial"))
+    assert not window.save_screenshot(str(tmp_path / "missing" / "shot.png"))
+    assert "Cannot write the screenshot" in window.message_label.text()
+
+
+def test_shading_wireframe_and_orientation_gizmo(window, qtbot):
+    from PySide6.QtTest import QTest
+
+    prop = window.viewport.mesh_actor.prop
+    assert window.shading == "studio" and not window.wireframe and not prop.show_edges
+    activate(window, qtbot)
+    window.viewport.setFocus()
+    QTest.keyClick(window.viewport, Qt.Key.Key_Z, Qt.KeyboardModifier.ShiftModifier)
+    assert window.wireframe and window.viewport.mesh_actor.prop.show_edges
+    window.shading_actions["clay"].trigger()
+    assert window.shading == "clay" and window.settings.value("shading") == "clay"
+    assert window.viewport.mesh_actor.prop.specular == 0.0
+    lights = list(window.viewport.renderer.lights)
+    assert len(lights) == 1 and lights[0].light_type == lights[0].light_type.HEADLIGHT
+    assert window.open_file(str(window.document.path))  # a new mesh actor keeps the look
+    prop = window.viewport.mesh_actor.prop
+    assert prop.show_edges and prop.specular == 0.0
+    window.shading_actions["studio"].trigger()
+    assert len(list(window.viewport.renderer.lights)) > 1  # key, fill, back lights
+    assert window.gizmo_visible
+    window.gizmo_action.trigger()
+    assert not window.gizmo_visible
+    window.gizmo_action.trigger()
+    assert window.gizmo_visible
+    with pytest.raises(ValueError, match="shading"):
+        window.set_shading("toon")
+
+
+def test_presets_open_the_material_panel_in_the_mode_of_their_material(window):
+    from gogreen_core.presets import builtin_presets
+
+    modes = {}
+    for preset in builtin_presets():
+        window.apply_preset(preset)
+        modes[preset.name] = window.material_panel.mode
+    assert modes["Soft clay"] == "isotropic"
+    assert modes["Wood grain"] == "voigt"
+    assert window.material_panel.material == window.model.material

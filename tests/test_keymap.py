@@ -302,3 +302,19 @@ def test_markdown_lists_every_binding():
             assert f"`{keys}`" in text
     table_rows = [line for line in text.splitlines() if line.startswith("| `")]
     assert len(table_rows) == len(KEYMAP)
+
+
+def test_readme_controls_section_is_the_keymap():
+    """README.md's Controls tables are keymap_markdown() verbatim (regenerate them with
+    ``python -m app.keymap``), so the documentation cannot drift from the shortcuts."""
+    from pathlib import Path
+
+    from app.keymap import keymap_markdown
+
+    readme = (Path(__file__).resolve().parent.parent / "README.md").read_text(encoding="utf-8")
+    assert "## Controls" in readme
+    begin = readme.index("<!-- controls:begin")
+    begin = readme.index("-->\n", begin) + len("-->\n")
+    end = readme.index("<!-- controls:end -->")
+    assert readme[begin:end] == keymap_markdown()
+    assert readme.index("## Controls") < begin

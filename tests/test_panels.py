@@ -8,10 +8,12 @@ import time
 import numpy as np
 import pytest
 from PySide6.QtCore import QPoint, QPointF, Qt
+from PySide6.QtGui import QPalette
+from PySide6.QtWidgets import QLabel
 
 import app.panels.homogenization_panel as homogenization_module
 from app.panels import FalloffPanel, HomogenizationPanel, MaterialPanel
-from app.panels.widgets import ZERO_COLOR, is_marked_invalid
+from app.panels.widgets import is_marked_invalid, zero_cell_colors
 from gogreen_core import (
     PATTERNS,
     GaussianRadial,
@@ -229,10 +231,12 @@ def test_homogenizes_a_laminate_off_the_gui_thread(qtbot, homogenization_panel, 
     colors = {(i, j): panel.cell_color(i, j).name() for i in range(6) for j in range(6)}
     for (i, j), color in colors.items():
         if groups[i, j] < 0:
-            assert color == ZERO_COLOR.name()
+            assert color == zero_cell_colors()[0].name()
         for (k, m), other in colors.items():
             assert (color == other) == (groups[i, j] == groups[k, m])
-    assert len({c for c in colors.values()} - {ZERO_COLOR.name()}) == symmetry.group_count
+    assert (
+        len({c for c in colors.values()} - {zero_cell_colors()[0].name()}) == symmetry.group_count
+    )
 
     assert panel.use_button.isEnabled()
     with qtbot.waitSignal(panel.material_ready, timeout=1000) as ready:
@@ -555,3 +559,99 @@ def test_a_rotation_slider_drag_reaches_the_settings_as_one_continued_edit(qtbot
     assert settings.material == panel.material
     panel.rotation.sliders[0].setValue(5)  # a discrete edit after the drag: a new step
     assert changes[-1].continued is False
+
+
+def test_tiny_voigt_numbers_are_shown_as_zero_and_kept(qtbot, material_panel):
+    panel = material_panel
+    voigt = np.array(Material.cubic(3.0, 1.5, 0.4).voigt)
+    voigt[0, 4] = voigt[4, 0] = 1.6e-12  # round-off of a rotation: not a coefficient
+    voigt[1, 5] = voigt[5, 1] = 3e-3  # small but real: shown
+    material = Material(voigt)
+    panel.set_material(material)
+    assert panel.mode == "voigt"
+    assert panel.voigt_table.item(0, 4).text() == "0"
+    assert panel.voigt_table.item(4, 0).text() == "0"
+    assert panel.voigt_table.item(1, 5).text() == "0.003"
+    assert panel.voigt_entries()[0, 4] == 1.6e-12  # the stored value keeps full precision
+    assert panel.material is material
+
+
+def test_isotropic_materials_open_in_the_isotropic_mode(qtbot, material_panel):
+    panel = material_panel
+    soft = Material.isotropic(2.5, 0.42)
+    panel.set_material(soft)
+    assert panel.mode == "isotropic" and panel.material is soft
+    assert panel.fields["young"].value() == pytest.approx(2.5)
+    assert panel.fields["poisson"].value() == pytest.approx(0.42)
+    panel.set_material(Material.cubic(3.0, 1.5, 0.4))  # not isotropic: the 6x6 table
+    assert panel.mode == "voigt"
+
+
+@pytest.mark.parametrize("name", ["dark", "light"])
+def test_captions_errors_and_zero_cells_take_the_theme_colours(qtbot, name):
+    from PySide6.QtWidgets import QApplication
+
+    from app.panels.widgets import mark_invalid, set_text_role
+    from app.theme import apply_theme, theme
+
+    app = QApplication.instance()
+    saved = app.palette(), app.styleSheet(), app.style().name(), app.property("gogreen_theme")
+    try:
+        colours = apply_theme(app, name)
+        panel = FalloffPanel()
+        qtbot.addWidget(panel)
+        captions = [
+            label for label in panel.findChildren(QLabel) if label.property("text_role") == "muted"
+        ]
+        assert captions, "the falloff panel's captions are muted"
+        for label in captions:
+            label.ensurePolished()
+            assert label.palette().color(label.foregroundRole()).name() == colours.muted_text
+        error = QLabel("broken")
+        qtbot.addWidget(error)
+        set_text_role(error, "error")
+        error.ensurePolished()
+        assert error.palette().color(error.foregroundRole()).name() == colours.error_text
+        with pytest.raises(ValueError, match="role"):
+            set_text_role(error, "loud")
+        material = MaterialPanel()
+        qtbot.addWidget(material)
+        material.set_material(Material.cubic(3.0, 1.5, 0.4))
+        zero = material.voigt_table.item(0, 3)
+        assert zero.foreground().color().name() == colours.muted_text
+        mark_invalid(material.voigt_table, True)
+        base = material.voigt_table.palette().color(QPalette.ColorRole.Base).name()
+        assert base == theme(name).invalid_base
+    finally:
+        app.setStyle(saved[2])
+        app.setPalette(saved[0])
+        app.setStyleSheet(saved[1])
+        app.setProperty("gogreen_theme", saved[3])
+
+
+@pytest.mark.parametrize("name", ["dark", "light"])
+def test_plots_are_drawn_on_the_themes_paper(qtbot, name):
+    from PySide6.QtWidgets import QApplication
+
+    from app.panels.curve_editor import CurveEditor
+    from app.panels.glyph import YoungModulusGlyph
+    from app.panels.widgets import plot_colors
+    from app.theme import apply_theme
+
+    app = QApplication.instance()
+    saved = app.palette(), app.styleSheet(), app.style().name(), app.property("gogreen_theme")
+    try:
+        colours = apply_theme(app, name)
+        paper = plot_colors().background.name()
+        assert paper == (colours.base if name == "dark" else "#ffffff")
+        curves = CurveEditor(SplineRadial.from_profile(GaussianRadial(1.0), 4))
+        for plot in (curves, YoungModulusGlyph(Material.isotropic(1.0, 0.3))):
+            qtbot.addWidget(plot)
+            plot.resize(300, 240)
+            image = plot.grab().toImage()
+            assert image.pixelColor(4, 4).name() == paper, type(plot).__name__
+    finally:
+        app.setStyle(saved[2])
+        app.setPalette(saved[0])
+        app.setStyleSheet(saved[1])
+        app.setProperty("gogreen_theme", saved[3])

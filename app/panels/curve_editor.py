@@ -33,6 +33,7 @@ from PySide6.QtGui import (
 )
 from PySide6.QtWidgets import QSizePolicy, QWidget
 
+from app.panels.widgets import plot_colors
 from gogreen_core.radial import SplineRadial
 
 __all__ = ["CurveEditor", "curve_color", "curve_label"]
@@ -58,11 +59,13 @@ def curve_label(key: CurveKey) -> str:
 
 
 def curve_color(key: CurveKey) -> QColor:
-    """Line colour of a curve (fixed for the four usual ones)."""
+    """Line colour of a curve (fixed for the four usual ones; lighter on the dark theme)."""
     if key in _KEY_COLORS:
-        return QColor(_KEY_COLORS[key])
-    kind, degree = key
-    return QColor(_OTHER_COLORS[(degree + (0 if kind == "R" else 3)) % len(_OTHER_COLORS)])
+        color = QColor(_KEY_COLORS[key])
+    else:
+        kind, degree = key
+        color = QColor(_OTHER_COLORS[(degree + (0 if kind == "R" else 3)) % len(_OTHER_COLORS)])
+    return color.lighter(165) if plot_colors().dark else color
 
 
 def _nice_step(span: float, target_ticks: int) -> float:
@@ -405,7 +408,8 @@ class CurveEditor(QWidget):
     def paintEvent(self, event: QPaintEvent) -> None:
         painter = QPainter(self)
         painter.setRenderHint(QPainter.RenderHint.Antialiasing)
-        painter.fillRect(self.rect(), QColor("#ffffff"))
+        self._colors = plot_colors()
+        painter.fillRect(self.rect(), self._colors.background)
         rect = self.plot_rect()
         font = QFont(painter.font())
         font.setPointSizeF(max(7.0, font.pointSizeF() - 1.0))
@@ -427,15 +431,16 @@ class CurveEditor(QWidget):
 
     def _draw_grid(self, painter: QPainter, rect: QRectF) -> None:
         metrics = QFontMetricsF(painter.font())
-        painter.setPen(QPen(QColor("#b0b0b0"), 1.0))
+        colors = self._colors
+        painter.setPen(QPen(colors.frame, 1.0))
         painter.drawRect(rect)
         x_ticks = _ticks(0.0, self._rho_max, max(3, int(rect.width() / 60)))
         x_step = x_ticks[1] - x_ticks[0] if len(x_ticks) > 1 else 1.0
         for tick in x_ticks:
             x = self.to_screen(tick, 0.0).x()
-            painter.setPen(QPen(QColor("#eeeeee"), 1.0))
+            painter.setPen(QPen(colors.grid, 1.0))
             painter.drawLine(QPointF(x, rect.top()), QPointF(x, rect.bottom()))
-            painter.setPen(QColor("#444444"))
+            painter.setPen(colors.text)
             painter.drawLine(QPointF(x, rect.bottom()), QPointF(x, rect.bottom() + 4))
             painter.drawText(
                 QRectF(x - 30, rect.bottom() + 5, 60, metrics.height()),
@@ -448,16 +453,16 @@ class CurveEditor(QWidget):
         for tick in y_ticks:
             y = self.to_screen(0.0, tick).y()
             zero = abs(tick) < 1e-9 * y_step
-            painter.setPen(QPen(QColor("#9e9e9e" if zero else "#eeeeee"), 1.0))
+            painter.setPen(QPen(colors.axis if zero else colors.grid, 1.0))
             painter.drawLine(QPointF(rect.left(), y), QPointF(rect.right(), y))
-            painter.setPen(QColor("#444444"))
+            painter.setPen(colors.text)
             painter.drawLine(QPointF(rect.left() - 4, y), QPointF(rect.left(), y))
             painter.drawText(
                 QRectF(0, y - metrics.height() / 2, rect.left() - 7, metrics.height()),
                 Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter,
                 _tick_text(tick, y_step),
             )
-        painter.setPen(QColor("#222222"))
+        painter.setPen(colors.text)
         painter.drawText(
             QRectF(
                 rect.left(), rect.bottom() + 5 + metrics.height(), rect.width(), metrics.height()
@@ -517,7 +522,7 @@ class CurveEditor(QWidget):
                 painter.drawRect(QRectF(p.x() - r, p.y() - r, 2 * r, 2 * r))
                 continue
             painter.setPen(QPen(color.darker(130), 1.5))
-            painter.setBrush(color if i == self._selected else QColor("#ffffff"))
+            painter.setBrush(color if i == self._selected else self._colors.handle)
             painter.drawEllipse(p, r, r)
 
     def _draw_legend(self, painter: QPainter, rect: QRectF) -> None:
@@ -526,8 +531,8 @@ class CurveEditor(QWidget):
         line = metrics.height() + 2
         width = max(metrics.horizontalAdvance(curve_label(k) + " (edit)") for k in keys) + 30
         box = QRectF(rect.right() - width - 6, rect.top() + 6, width, line * len(keys) + 6)
-        painter.setPen(QPen(QColor("#cfcfcf"), 1.0))
-        painter.setBrush(QColor(255, 255, 255, 225))
+        painter.setPen(QPen(self._colors.frame, 1.0))
+        painter.setBrush(self._colors.legend)
         painter.drawRoundedRect(box, 3, 3)
         for row, key in enumerate(reversed(keys)):
             y = box.top() + 3 + row * line + line / 2
@@ -537,7 +542,7 @@ class CurveEditor(QWidget):
                 pen.setStyle(Qt.PenStyle.DashLine)
             painter.setPen(pen)
             painter.drawLine(QPointF(box.left() + 5, y), QPointF(box.left() + 21, y))
-            painter.setPen(QColor("#222222"))
+            painter.setPen(self._colors.text)
             painter.drawText(
                 QRectF(box.left() + 25, y - line / 2, width - 26, line),
                 Qt.AlignmentFlag.AlignVCenter,
@@ -552,7 +557,7 @@ class CurveEditor(QWidget):
         if index >= len(xs):
             return
         text = f"{curve_label(self._active)}   ρ = {xs[index]:.3g}   F = {ys[index]:.4g}"
-        painter.setPen(QColor("#333333"))
+        painter.setPen(self._colors.text)
         painter.drawText(
             QRectF(rect.left() + 6, rect.top() + 4, rect.width() - 12, 18),
             Qt.AlignmentFlag.AlignLeft | Qt.AlignmentFlag.AlignVCenter,

@@ -32,7 +32,7 @@ from PySide6.QtWidgets import (
 )
 
 from app.panels.curve_editor import CurveEditor, curve_color, curve_label
-from app.panels.widgets import scrolled_column
+from app.panels.widgets import scrolled_column, set_text_role
 from gogreen_core.brushes import default_wrinkle_weights
 from gogreen_core.radial import GaussianRadial, KelvinletRadial, RadialProfile, SplineRadial
 from gogreen_core.settings import ChangeEvent, Settings, needed_curves
@@ -111,11 +111,11 @@ class FalloffPanel(QWidget):
 
         hint = QLabel("Drag points · double-click or Ctrl+click adds · right-click or Del removes")
         hint.setWordWrap(True)
-        hint.setStyleSheet("color: #666;")
+        set_text_role(hint, "muted")
         layout.addWidget(hint)
         self.message_label = QLabel()
         self.message_label.setWordWrap(True)
-        self.message_label.setStyleSheet("color: #c62828;")
+        set_text_role(self.message_label, "error")
         self.message_label.hide()
         layout.addWidget(self.message_label)
 
@@ -203,7 +203,7 @@ class FalloffPanel(QWidget):
         layout.addLayout(row)
         caption = QLabel("Wrinkle brush weight of each degree l (0 removes it)")
         caption.setWordWrap(True)
-        caption.setStyleSheet("color: #555;")
+        set_text_role(caption, "muted")
         layout.addWidget(caption)
         self._weights_host = QWidget()
         self._weights_grid = QGridLayout(self._weights_host)

@@ -20,6 +20,7 @@ from PySide6.QtCore import QPointF, QRectF, QSize, Qt
 from PySide6.QtGui import QColor, QFont, QMouseEvent, QPainter, QPaintEvent, QPen, QPolygonF
 from PySide6.QtWidgets import QSizePolicy, QWidget
 
+from app.panels.widgets import plot_colors
 from gogreen_core.material import Material
 
 __all__ = ["YoungModulusGlyph"]
@@ -133,8 +134,9 @@ class YoungModulusGlyph(QWidget):
     def paintEvent(self, event: QPaintEvent) -> None:
         painter = QPainter(self)
         painter.setRenderHint(QPainter.RenderHint.Antialiasing)
-        painter.fillRect(self.rect(), QColor("#fbfbfb"))
-        painter.setPen(QPen(QColor("#d0d0d0")))
+        colors = self._colors = plot_colors()
+        painter.fillRect(self.rect(), colors.background)
+        painter.setPen(QPen(colors.frame))
         painter.drawRect(self.rect().adjusted(0, 0, -1, -1))
         legend_height = 34
         size = min(self.width(), self.height() - legend_height)
@@ -209,7 +211,7 @@ class YoungModulusGlyph(QWidget):
                 ),
                 QColor(int(c[0]), int(c[1]), int(c[2])),
             )
-        painter.setPen(QColor("#333333"))
+        painter.setPen(self._colors.text)
         font = QFont(painter.font())
         font.setBold(False)
         font.setPointSizeF(max(7.0, font.pointSizeF() - 1.0))
@@ -221,7 +223,7 @@ class YoungModulusGlyph(QWidget):
         painter.drawText(
             QRectF(96, top, self.width() - 100, 18), Qt.AlignmentFlag.AlignVCenter, text
         )
-        painter.setPen(QColor("#888888"))
+        painter.setPen(self._colors.muted)
         painter.drawText(
             QRectF(10, top + 16, self.width() - 20, 16),
             Qt.AlignmentFlag.AlignVCenter,

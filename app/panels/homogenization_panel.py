@@ -42,8 +42,6 @@ from PySide6.QtWidgets import (
 from app.background import BackgroundRunner, Task
 from app.panels.voxel_preview import PHASE_B_COLOR, SlicePreview, VoxelPreview
 from app.panels.widgets import (
-    ERROR_TEXT_STYLE,
-    ZERO_COLOR,
     CollapsibleSection,
     CompactTable,
     EulerAnglesEditor,
@@ -52,7 +50,10 @@ from app.panels.widgets import (
     offending_widgets,
     pastel_color,
     scrolled_column,
+    set_text_role,
+    zero_cell_colors,
 )
+from app.theme import active_theme
 from gogreen_core import (
     PATTERNS,
     HomogenizationResult,
@@ -149,7 +150,7 @@ class HomogenizationPanel(QWidget):
         layout.addWidget(self.pattern_combo)
         self.description_label = QLabel()
         self.description_label.setWordWrap(True)
-        self.description_label.setStyleSheet("color: #555;")
+        set_text_role(self.description_label, "muted")
         layout.addWidget(self.description_label)
         self._parameter_host = QWidget()
         self._parameter_form = QFormLayout(self._parameter_host)
@@ -174,7 +175,7 @@ class HomogenizationPanel(QWidget):
             f"<span style='color:{PHASE_B_COLOR.name()}'>■</span> phase b (stiff)"
             "&nbsp;&nbsp;<span style='color:#b9c6d6'>■</span> phase a (matrix)"
         )
-        legend.setStyleSheet("color: #555;")
+        set_text_role(legend, "muted")
         layout.addWidget(legend)
         return box
 
@@ -245,7 +246,7 @@ class HomogenizationPanel(QWidget):
         column.addLayout(row)
         self.error_label = QLabel()
         self.error_label.setWordWrap(True)
-        self.error_label.setStyleSheet(ERROR_TEXT_STYLE)
+        set_text_role(self.error_label, "error")
         self.error_label.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
         self.error_label.hide()
         column.addWidget(self.error_label)
@@ -280,7 +281,7 @@ class HomogenizationPanel(QWidget):
         layout.addWidget(table)
         self.status_label = QLabel()
         self.status_label.setWordWrap(True)
-        self.status_label.setStyleSheet("color: #555;")
+        set_text_role(self.status_label, "muted")
         layout.addWidget(self.status_label)
         self.use_button = QPushButton("Use this material")
         self.use_button.setToolTip("Send the effective material to the Material panel and brushes")
@@ -399,7 +400,17 @@ class HomogenizationPanel(QWidget):
     @staticmethod
     def group_color(group: int) -> QColor:
         """Cell colour of coefficient group ``group`` (-1, the zeros, is grey)."""
-        return QColor(ZERO_COLOR) if group < 0 else pastel_color(group)
+        return zero_cell_colors()[0] if group < 0 else pastel_color(group)
+
+    @staticmethod
+    def group_text_color(group: int) -> QColor:
+        """Text colour on a cell of group ``group``: muted for the zeros; on the group
+        colours, the theme's text colour under the dark theme (deep tones), near-black on the
+        light theme's pastels."""
+        if group < 0:
+            return zero_cell_colors()[1]
+        current = active_theme()
+        return QColor(current.text if current.name == "dark" else "#1a1a1a")
 
     def cell_color(self, row: int, col: int) -> QColor:
         """Background colour of result cell (row, col)."""
@@ -577,6 +588,17 @@ class HomogenizationPanel(QWidget):
         self._show_error(f"Homogenization failed: {message}")
         self.computation_failed.emit(message)
 
+    def refresh_colors(self) -> None:
+        """Re-colour the result cells in the current theme (after a theme switch)."""
+        if self._symmetry is None:
+            return
+        for i in range(6):
+            for j in range(6):
+                group = int(self._symmetry.groups[i, j])
+                item = self.result_table.item(i, j)
+                item.setBackground(QBrush(self.group_color(group)))
+                item.setForeground(QBrush(self.group_text_color(group)))
+
     # -- display -----------------------------------------------------------------------------
     def _display(self) -> None:
         assert self._detailed is not None
@@ -592,7 +614,7 @@ class HomogenizationPanel(QWidget):
                 group = int(symmetry.groups[i, j])
                 item.setText("0" if group < 0 else f"{voigt[i, j]:.4g}")
                 item.setBackground(QBrush(self.group_color(group)))
-                item.setForeground(QBrush(QColor("#8a8a8a" if group < 0 else "#1a1a1a")))
+                item.setForeground(QBrush(self.group_text_color(group)))
                 item.setToolTip(f"C{_VOIGT_LABELS[i]},{_VOIGT_LABELS[j]} = {voigt[i, j]:.10g}")
         text = f"Symmetry: {self._class_text(symmetry)}"
         if rotated:

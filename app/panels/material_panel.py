@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from PySide6.QtCore import Qt, Signal
-from PySide6.QtGui import QBrush, QColor
+from PySide6.QtGui import QBrush
 from PySide6.QtWidgets import (
     QButtonGroup,
     QComboBox,
@@ -38,18 +38,19 @@ from PySide6.QtWidgets import (
 
 from app.panels.glyph import YoungModulusGlyph
 from app.panels.widgets import (
-    ERROR_TEXT_STYLE,
     CompactTable,
     EulerAnglesEditor,
     FitStackedWidget,
     NumberField,
     is_marked_invalid,
     mark_invalid,
+    set_text_role,
+    zero_cell_colors,
 )
 from gogreen_core.material import Material
 from gogreen_core.settings import ChangeEvent, Settings
 
-__all__ = ["MODES", "VOIGT_LABELS", "MaterialPanel"]
+__all__ = ["MODES", "TINY_VOIGT", "VOIGT_LABELS", "MaterialPanel", "displayed_voigt"]
 
 #: Mode keys, in the order of the mode selector.
 MODES = ("isotropic", "orthotropic", "transversely_isotropic", "voigt")
@@ -137,6 +138,37 @@ def _mentions(message: str, keywords: tuple[str, ...]) -> bool:
     )
 
 
+#: Voigt entries smaller than this fraction of the largest are shown as 0 (round-off).
+TINY_VOIGT = 1e-9
+
+
+def displayed_voigt(voigt: np.ndarray) -> np.ndarray:
+    """The (6, 6) Voigt entries as the table shows them: entries with
+    ``|x| < TINY_VOIGT · max|C|`` (round-off of rotations and homogenization, e.g. 1.6e-12
+    beside 1) as 0; the stored values keep full precision."""
+    voigt = np.asarray(voigt, dtype=np.float64)
+    scale = float(np.max(np.abs(voigt))) if voigt.size else 0.0
+    return np.where(np.abs(voigt) < TINY_VOIGT * scale, 0.0, voigt)
+
+
+def _isotropic_parameters(material: Material) -> dict[str, float] | None:
+    """E, ν, λ and μ of an isotropic ``material`` (to round-off), else None."""
+    c = np.asarray(material.voigt, dtype=np.float64)
+    scale = float(np.max(np.abs(c)))
+    if scale == 0.0 or not np.all(np.isfinite(c)):
+        return None
+    lam, mu = c[0, 1], c[3, 3]
+    expected = np.zeros((6, 6))
+    expected[:3, :3] = lam
+    expected[np.arange(3), np.arange(3)] = lam + 2 * mu
+    expected[np.arange(3, 6), np.arange(3, 6)] = mu
+    if np.max(np.abs(c - expected)) > 1e-9 * scale or lam + mu == 0:
+        return None
+    young = mu * (3 * lam + 2 * mu) / (lam + mu)
+    poisson = lam / (2 * (lam + mu))
+    return {"young": young, "poisson": poisson, "lam": lam, "mu": mu}
+
+
 class MaterialPanel(QWidget):
     """Edit a :class:`gogreen_core.Material`; emits ``material_changed(Material)`` on edits.
 
@@ -205,7 +237,7 @@ class MaterialPanel(QWidget):
 
         self.error_label = QLabel()
         self.error_label.setWordWrap(True)
-        self.error_label.setStyleSheet(ERROR_TEXT_STYLE)
+        set_text_role(self.error_label, "error")
         self.error_label.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
         self.error_label.hide()
         layout.addWidget(self.error_label)
@@ -323,7 +355,7 @@ class MaterialPanel(QWidget):
         table.itemChanged.connect(self._voigt_item_changed)
         layout.addWidget(table)
         hint = QLabel("Base stiffness before rotation; (i, j) mirrors (j, i).")
-        hint.setStyleSheet("color: #666;")
+        set_text_role(hint, "muted")
         hint.setWordWrap(True)
         layout.addWidget(hint)
         return page
@@ -358,20 +390,29 @@ class MaterialPanel(QWidget):
         return self.error_label.text() if not self.error_label.isHidden() else ""
 
     def set_material(self, material: Material, emit: bool = False) -> None:
-        """Load ``material`` into the Voigt mode (rotation reset to zero).
+        """Load ``material`` (rotation reset to zero) in the mode that fits it: an isotropic
+        material in the isotropic mode (its E and ν, or λ and μ when that page is shown),
+        any other in the Voigt mode.
 
         Does not emit ``material_changed`` unless ``emit`` (the caller who loads a material
         usually applies it itself).
         """
         if not isinstance(material, Material):
             raise ValueError(f"material must be a Material (got {type(material).__name__})")
+        isotropic = _isotropic_parameters(material)
+        mode = "isotropic" if isotropic is not None else "voigt"
         self._updating = True
         try:
             self._voigt = np.array(material.voigt)
             self._fill_voigt_table()
+            if isotropic is not None:
+                for key, value in isotropic.items():
+                    self.fields[key].blockSignals(True)
+                    self.fields[key].setValue(float(value))
+                    self.fields[key].blockSignals(False)
             self.rotation.set_angles((0.0, 0.0, 0.0), emit=False)
-            self.mode_combo.setCurrentIndex(MODES.index("voigt"))
-            self.pages.setCurrentIndex(MODES.index("voigt"))
+            self.mode_combo.setCurrentIndex(MODES.index(mode))
+            self.pages.setCurrentIndex(MODES.index(mode))
         finally:
             self._updating = False
         self._clear_errors()
@@ -413,14 +454,31 @@ class MaterialPanel(QWidget):
     def _fill_voigt_table(self) -> None:
         table = self.voigt_table
         table.blockSignals(True)
+        shown = displayed_voigt(self._voigt)
+        for i in range(6):
+            for j in range(6):
+                self._show_voigt_cell(table.item(i, j), shown[i, j])
+        table.blockSignals(False)
+        mark_invalid(table, False)
+
+    def refresh_colors(self) -> None:
+        """Re-colour the Voigt table in the current theme (after a theme switch)."""
+        table = self.voigt_table
+        table.blockSignals(True)
         for i in range(6):
             for j in range(6):
                 item = table.item(i, j)
-                item.setText(f"{self._voigt[i, j]:.6g}")
-                item.setBackground(QBrush())
-                item.setForeground(QBrush(QColor("#999") if self._voigt[i, j] == 0 else "#000"))
+                zero = item.text() == "0"
+                item.setForeground(QBrush(zero_cell_colors()[1]) if zero else QBrush())
         table.blockSignals(False)
-        mark_invalid(table, False)
+
+    @staticmethod
+    def _show_voigt_cell(item: QTableWidgetItem, value: float) -> None:
+        """Text of a Voigt cell; zeros muted, the others in the palette's text colour (a
+        default brush, so that they follow the theme)."""
+        item.setText(f"{value:.6g}")
+        item.setBackground(QBrush())
+        item.setForeground(QBrush(zero_cell_colors()[1]) if value == 0 else QBrush())
 
     def _voigt_item_changed(self, item: QTableWidgetItem) -> None:
         i, j = item.row(), item.column()
@@ -441,10 +499,7 @@ class MaterialPanel(QWidget):
         self._voigt[i, j] = self._voigt[j, i] = value
         self.voigt_table.blockSignals(True)
         for r, c in ((i, j), (j, i)):
-            cell = self.voigt_table.item(r, c)
-            cell.setText(f"{value:.6g}")
-            cell.setBackground(QBrush())
-            cell.setForeground(QBrush(QColor("#999") if value == 0 else "#000"))
+            self._show_voigt_cell(self.voigt_table.item(r, c), value)
         self.voigt_table.blockSignals(False)
         self._rebuild()
 

@@ -10,7 +10,7 @@ each orientation at an adjustable depth.
 from __future__ import annotations
 
 import numpy as np
-from PySide6.QtCore import QPointF, QRectF, QSize, Qt
+from PySide6.QtCore import QEvent, QPointF, QRectF, QSize, Qt
 from PySide6.QtGui import (
     QColor,
     QFont,
@@ -23,6 +23,8 @@ from PySide6.QtGui import (
     QResizeEvent,
 )
 from PySide6.QtWidgets import QSizePolicy, QWidget
+
+from app.panels.widgets import plot_colors
 
 __all__ = ["PHASE_A_COLOR", "PHASE_B_COLOR", "SlicePreview", "VoxelPreview"]
 
@@ -67,6 +69,11 @@ class VoxelPreview(QWidget):
         self._pixmap = None
         super().resizeEvent(event)
 
+    def changeEvent(self, event: QEvent) -> None:
+        if event.type() == QEvent.Type.PaletteChange:  # a theme switch: redraw on new paper
+            self._pixmap = None
+        super().changeEvent(event)
+
     def paintEvent(self, event: QPaintEvent) -> None:
         if self._pixmap is None or self._pixmap.size() != self.size() * self.devicePixelRatioF():
             self._pixmap = self._render()
@@ -78,7 +85,7 @@ class VoxelPreview(QWidget):
         ratio = self.devicePixelRatioF()
         pixmap = QPixmap(self.size() * ratio)
         pixmap.setDevicePixelRatio(ratio)
-        pixmap.fill(QColor("#fbfbfb"))
+        pixmap.fill(plot_colors().background)
         painter = QPainter(pixmap)
         painter.setRenderHint(QPainter.RenderHint.Antialiasing)
         n = self._phases.shape[0]
@@ -247,7 +254,7 @@ class SlicePreview(QWidget):
 
     def paintEvent(self, event: QPaintEvent) -> None:
         painter = QPainter(self)
-        painter.fillRect(self.rect(), QColor("#fbfbfb"))
+        painter.fillRect(self.rect(), plot_colors().background)
         a, b = PHASE_A_COLOR.rgb(), PHASE_B_COLOR.rgb()
         font = QFont(painter.font())
         font.setPointSizeF(max(7.0, font.pointSizeF() - 1.0))
@@ -262,7 +269,7 @@ class SlicePreview(QWidget):
             painter.drawImage(rect, image)
             painter.setPen(QPen(QColor("#7a8ca0"), 1.0))
             painter.drawRect(rect)
-            painter.setPen(QColor("#333333"))
+            painter.setPen(plot_colors().text)
             align = Qt.AlignmentFlag.AlignVCenter | (
                 Qt.AlignmentFlag.AlignLeft if self._vertical else Qt.AlignmentFlag.AlignHCenter
             )

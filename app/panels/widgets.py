@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import colorsys
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from PySide6.QtCore import QSize, Qt, Signal
@@ -30,27 +31,27 @@ from PySide6.QtWidgets import (
 )
 from scipy.spatial.transform import Rotation
 
+from app.theme import active_theme
+from gogreen_core.validation import ParameterError
+
 __all__ = [
-    "ERROR_TEXT_STYLE",
-    "INVALID_BASE_COLOR",
-    "ZERO_COLOR",
     "CollapsibleSection",
     "CompactTable",
     "EulerAnglesEditor",
     "FitStackedWidget",
     "NumberField",
+    "PlotColors",
     "is_marked_invalid",
     "mark_invalid",
     "offending_widgets",
     "pastel_color",
+    "plot_colors",
+    "set_text_role",
+    "zero_cell_colors",
 ]
 
-#: Background of a field holding an invalid value.
-INVALID_BASE_COLOR = QColor("#ffd0d0")
-#: Style sheet of the error message labels.
-ERROR_TEXT_STYLE = "color: #c62828;"
-#: Cell colour of zero coefficients in the stiffness tables.
-ZERO_COLOR = QColor("#e4e4e4")
+#: Text roles of :func:`set_text_role` (their colours come from the theme's style sheet).
+TEXT_ROLES = ("muted", "error")
 
 _GOLDEN_RATIO_CONJUGATE = 0.618033988749895
 
@@ -72,12 +73,66 @@ def scrolled_column(panel: QWidget) -> QVBoxLayout:
     return layout
 
 
-def pastel_color(index: int) -> QColor:
-    """A light colour for group ``index`` (0, 1, 2, ...): hues spread by the golden ratio so
-    that neighbouring indices differ strongly; black text stays readable on every one."""
+def set_text_role(label: QLabel, role: str) -> None:
+    """Colour ``label``'s text as a ``"muted"`` caption or an ``"error"`` message, in the
+    current theme's colours (the application style sheet of :mod:`app.theme` reads the
+    ``text_role`` property, so the label follows a later theme switch)."""
+    if role not in TEXT_ROLES:
+        raise ParameterError("role", f"role: one of {', '.join(TEXT_ROLES)}, got {role!r}")
+    label.setProperty("text_role", role)
+    label.style().unpolish(label)
+    label.style().polish(label)
+
+
+@dataclass(frozen=True)
+class PlotColors:
+    """Colours of the panels' hand-drawn plots (falloff curves, modulus glyph, voxel cell)."""
+
+    background: QColor
+    frame: QColor
+    grid: QColor
+    axis: QColor
+    text: QColor
+    muted: QColor
+    legend: QColor
+    handle: QColor
+    #: Whether curve colours are lightened for a dark background.
+    dark: bool
+
+
+def plot_colors() -> PlotColors:
+    """The plot colours of the current theme: white paper on the light theme, the theme's
+    field colour (dark) with light text on the dark one."""
+    current = active_theme()
+    if current.name == "light":
+        values = ("#ffffff", "#b0b0b0", "#eeeeee", "#9e9e9e", "#222222", "#888888")
+        legend, handle, dark = QColor(255, 255, 255, 225), QColor("#ffffff"), False
+    else:
+        values = (current.base, current.mid, "#2e3035", "#6c7078", current.text, current.muted_text)
+        legend, handle, dark = QColor(current.base), QColor(current.base), True
+        legend.setAlpha(225)
+    return PlotColors(*(QColor(v) for v in values), legend, handle, dark)
+
+
+def zero_cell_colors() -> tuple[QColor, QColor]:
+    """(background, text) of zero coefficients in the stiffness tables, from the theme."""
+    current = active_theme()
+    return QColor(current.zero_cell), QColor(current.muted_text)
+
+
+def pastel_color(index: int, dark: bool | None = None) -> QColor:
+    """A colour for group ``index`` (0, 1, 2, ...): hues spread by the golden ratio so that
+    neighbouring indices differ strongly. Light pastels for dark text, or (``dark``, the
+    default under the dark theme) deep tones for light text."""
+    if dark is None:
+        dark = active_theme().name == "dark"
     hue = (0.08 + index * _GOLDEN_RATIO_CONJUGATE) % 1.0
-    saturation = 0.38 if index % 2 == 0 else 0.26
-    r, g, b = colorsys.hsv_to_rgb(hue, saturation, 0.98)
+    if dark:
+        saturation = 0.55 if index % 2 == 0 else 0.40
+        r, g, b = colorsys.hsv_to_rgb(hue, saturation, 0.42)
+    else:
+        saturation = 0.38 if index % 2 == 0 else 0.26
+        r, g, b = colorsys.hsv_to_rgb(hue, saturation, 0.98)
     return QColor.fromRgbF(r, g, b)
 
 
@@ -90,9 +145,10 @@ def mark_invalid(widget: QWidget, invalid: bool) -> None:
     """
     widget.setProperty("invalid", bool(invalid))
     if invalid:
+        current = active_theme()
         palette = widget.palette()
-        palette.setColor(QPalette.ColorRole.Base, INVALID_BASE_COLOR)
-        palette.setColor(QPalette.ColorRole.Text, QColor("#7a0000"))
+        palette.setColor(QPalette.ColorRole.Base, QColor(current.invalid_base))
+        palette.setColor(QPalette.ColorRole.Text, QColor(current.text))
         widget.setPalette(palette)
     else:
         widget.setPalette(QPalette())  # back to the inherited palette
