@@ -20,12 +20,11 @@ import time
 
 import numpy as np
 import pyvista as pv
-import vtk
 from PySide6.QtCore import QPointF, Qt, QTimer, Signal
 from PySide6.QtGui import QMouseEvent, QTabletEvent, QWheelEvent
 from pyvistaqt import QtInteractor
 
-from gogreen_core.geometry import vertex_normals
+from gogreen_core.geometry import SurfaceIndex
 from gogreen_core.tools import CursorState, PointerEvent
 
 __all__ = ["SculptViewport"]
@@ -42,6 +41,20 @@ def _ring(segments: int = 96) -> pv.PolyData:
     points = np.column_stack([np.cos(t), np.sin(t), np.zeros_like(t)])
     lines = np.concatenate([[segments + 1], np.arange(segments), [0]])
     return pv.PolyData(points, lines=lines)
+
+
+def _barycentric(a: np.ndarray, b: np.ndarray, c: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """Barycentric weights (3,) of point ``p`` in triangle ``a b c`` (clipped to [0, 1])."""
+    v0, v1, v2 = b - a, c - a, p - a
+    d00, d01, d11 = v0 @ v0, v0 @ v1, v1 @ v1
+    d20, d21 = v2 @ v0, v2 @ v1
+    det = d00 * d11 - d01 * d01
+    if det == 0:
+        return np.full(3, 1.0 / 3.0)
+    v = (d11 * d20 - d01 * d21) / det
+    w = (d00 * d21 - d01 * d20) / det
+    weights = np.clip(np.array([1.0 - v - w, v, w]), 0.0, 1.0)
+    return weights / weights.sum()
 
 
 class SculptViewport(QtInteractor):
@@ -75,8 +88,10 @@ class SculptViewport(QtInteractor):
         self.mesh: pv.PolyData | None = None
         self.mesh_actor = None
         self._faces: np.ndarray | None = None
-        self._picker = vtk.vtkCellPicker()
-        self._picker.SetTolerance(1e-4)
+        #: Per-mesh index: incremental normals and ray picking (gogreen_core.geometry).
+        self.surface: SurfaceIndex | None = None
+        #: Milliseconds of the last :meth:`update_vertices` (array writes, normals, Modified).
+        self.last_update_ms = 0.0
         self._cursor = self.add_mesh(
             _ring(),
             color=CURSOR_COLOR,
@@ -149,7 +164,9 @@ class SculptViewport(QtInteractor):
         self.show_cursor(None)  # sized for the old mesh; it would also widen the home view
         cells = np.hstack([np.full((len(faces), 1), 3), faces]).ravel()
         self.mesh = pv.PolyData(np.array(vertices, dtype=np.float64), cells)
-        self.mesh.point_data["Normals"] = vertex_normals(vertices, faces)
+        # built once per mesh (about 2 s at 1M vertices, benchmarks/viewport_scale.py)
+        self.surface = SurfaceIndex(self.mesh.points, faces)
+        self.mesh.point_data["Normals"] = self.surface.normals
         self.mesh.point_data.active_normals_name = "Normals"
         self._faces = np.asarray(faces)
         self.mesh_actor = self.add_mesh(
@@ -164,9 +181,6 @@ class SculptViewport(QtInteractor):
         )
         self.mesh_actor.mapper.SetInputData(self.mesh)  # our arrays, updated in place
         self.mesh_actor.GetProperty().SetInterpolationToPhong()
-        self._picker.InitializePickList()
-        self._picker.AddPickList(self.mesh_actor)
-        self._picker.PickFromListOn()
         if reset_camera:
             self.home_view(render=False)
         self.request_render()
@@ -180,32 +194,61 @@ class SculptViewport(QtInteractor):
             self.request_render()
 
     def update_vertices(self, vertices: np.ndarray, indices: np.ndarray | None = None) -> None:
-        """Write new positions (N, 3) and recompute normals, in place (no new actor)."""
+        """Write new positions (N, 3) into the actor's arrays in place (no new actor).
+
+        ``indices``: the vertices that moved; None compares every vertex with the shown one
+        (undo, a pin drag) and updates those that differ. Only the moved rows and the normals
+        of them and their one-ring (:meth:`SurfaceIndex.update`) are written; the arrays are
+        marked modified, nothing is rebuilt.
+        """
         if self.mesh is None:
             return
+        start = time.perf_counter()
         points = self.mesh.points
+        vertices = np.asarray(vertices, dtype=np.float64)
         if indices is None:
-            points[:] = vertices
+            differ = points != vertices  # per column: much faster than np.any(axis=1)
+            indices = np.flatnonzero(differ[:, 0] | differ[:, 1] | differ[:, 2])
         else:
+            indices = np.asarray(indices, dtype=np.int64).ravel()
+        if len(indices):
             points[indices] = vertices[indices]
-        self.mesh.point_data["Normals"][:] = vertex_normals(points, self._faces)
-        self.mesh.GetPoints().Modified()
-        self.mesh.GetPointData().GetNormals().Modified()
-        self.mesh.Modified()
+            rows = self.surface.update(points, indices)
+            self.mesh.point_data["Normals"][rows] = self.surface.normals[rows]
+            self.mesh.GetPoints().Modified()
+            self.mesh.GetPointData().GetNormals().Modified()
+        self.last_update_ms = 1e3 * (time.perf_counter() - start)
 
     # -- picking -----------------------------------------------------------------------------
     def _display(self, pos: QPointF) -> tuple[float, float]:
         ratio = self.devicePixelRatioF()
         return pos.x() * ratio, (self.height() - pos.y() - 1) * ratio
 
+    def pick_ray(self, pos: QPointF) -> tuple[np.ndarray, np.ndarray]:
+        """Camera ray (origin on the near plane (3,), direction (3,)) through widget ``pos``."""
+        near = self._unproject(pos, 0.0)
+        return near, self._unproject(pos, 1.0) - near
+
     def pick(self, pos: QPointF) -> tuple[np.ndarray, np.ndarray] | None:
-        """Surface point and normal under the widget position, or None."""
-        if self.mesh_actor is None:
+        """Surface point (3,) and unit normal (3,) under the widget position, or None.
+
+        A ray pick on the :class:`SurfaceIndex` (no locator built over the mesh); the normal is
+        the vertex normals interpolated at the hit (as VTK's cell picker gives it)."""
+        if self.mesh is None or self.surface is None:
             return None
-        x, y = self._display(pos)
-        if not self._picker.Pick(x, y, 0, self.renderer):
+        origin, direction = self.pick_ray(pos)
+        if not np.any(direction) or not np.all(np.isfinite(direction)):
             return None
-        return np.array(self._picker.GetPickPosition()), np.array(self._picker.GetPickNormal())
+        hit = self.surface.pick(self.mesh.points, origin, direction)
+        if hit is None:
+            return None
+        face, point = hit
+        corners = self._faces[face]
+        a, b, c = self.mesh.points[corners]
+        weights = _barycentric(a, b, c, point)
+        normal = weights @ self.surface.normals[corners]
+        length = np.linalg.norm(normal)
+        return point, (normal / length if length > 0 else np.cross(b - a, c - a))
 
     def _unproject(self, pos: QPointF, depth: float) -> np.ndarray:
         x, y = self._display(pos)
