@@ -21,26 +21,18 @@ import time
 import numpy as np
 import pyvista as pv
 from PySide6.QtCore import QPointF, Qt, QTimer, Signal
-from PySide6.QtGui import QMouseEvent, QTabletEvent, QWheelEvent
+from PySide6.QtGui import QKeyEvent, QMouseEvent, QTabletEvent, QWheelEvent
 from pyvistaqt import QtInteractor
 
+from app.cursor_overlay import CursorOverlay, PinOverlay
 from gogreen_core.geometry import SurfaceIndex
-from gogreen_core.tools import CursorState, PointerEvent
+from gogreen_core.tools import CursorState, PointerEvent, SculptTools, ToolUpdate
 
 __all__ = ["SculptViewport"]
 
 MODEL_COLOR = "#c9b79c"  # warm clay
 #: Direction from the model to the camera in the home view: in front (+z), a little right and above.
 HOME_VIEW_DIRECTION = (0.55, 0.4, 1.0)
-CURSOR_COLOR = "#ff8c1a"
-
-
-def _ring(segments: int = 96) -> pv.PolyData:
-    """Unit circle in the xy plane, as a closed polyline."""
-    t = np.linspace(0.0, 2 * np.pi, segments, endpoint=False)
-    points = np.column_stack([np.cos(t), np.sin(t), np.zeros_like(t)])
-    lines = np.concatenate([[segments + 1], np.arange(segments), [0]])
-    return pv.PolyData(points, lines=lines)
 
 
 def _barycentric(a: np.ndarray, b: np.ndarray, c: np.ndarray, p: np.ndarray) -> np.ndarray:
@@ -68,6 +60,8 @@ class SculptViewport(QtInteractor):
     pointer_released(PointerEvent) : the end of that drag.
     hovered(PointerEvent) : the newest hover position (coalesced), ``point`` None off the model.
     radius_wheel(int), strength_wheel(int) : +1 / -1 per wheel notch with Ctrl / Shift.
+    tool_update(ToolUpdate) : what a key or click handled here changed (a pin removed by a
+        right click), for the window to draw.
     frame_rendered(float) : milliseconds of a render just done.
     """
 
@@ -78,6 +72,7 @@ class SculptViewport(QtInteractor):
     radius_wheel = Signal(int)
     strength_wheel = Signal(int)
     frame_rendered = Signal(float)
+    tool_update = Signal(object)
 
     def __init__(self, parent=None):
         # auto_update=False: no periodic render (pyvistaqt's default re-renders 5 times a
@@ -92,16 +87,13 @@ class SculptViewport(QtInteractor):
         self.surface: SurfaceIndex | None = None
         #: Milliseconds of the last :meth:`update_vertices` (array writes, normals, Modified).
         self.last_update_ms = 0.0
-        self._cursor = self.add_mesh(
-            _ring(),
-            color=CURSOR_COLOR,
-            line_width=2.5,
-            pickable=False,
-            reset_camera=False,
-            render_lines_as_tubes=False,
-            render=False,
-        )
-        self._cursor.SetVisibility(False)
+        #: The brush cursor: 2D, drawn over the surface (app.cursor_overlay).
+        self.cursor_overlay = CursorOverlay(self.renderer)
+        #: The reach of the pins (2D rings).
+        self.pin_overlay = PinOverlay(self.renderer)
+        #: The Qt-free tools the keys act on (F / Shift+F drags, number keys); set by the
+        #: window. The viewport only translates key and mouse events for them.
+        self.tools: SculptTools | None = None
         #: Depth (display z) of the drag plane while the left button drags on the model.
         self._drag_depth: float | None = None
         self._orbit_button: Qt.MouseButton | None = None
@@ -272,16 +264,14 @@ class SculptViewport(QtInteractor):
 
     # -- cursor ------------------------------------------------------------------------------
     def show_cursor(self, state: CursorState | None) -> None:
-        """Place the brush ring (:meth:`CursorState.ring_matrix`), or hide it (None)."""
-        if state is None:
-            self._cursor.SetVisibility(False)
-            return
-        self._cursor.SetUserMatrix(pv.vtkmatrix_from_array(state.ring_matrix()))
-        self._cursor.SetVisibility(True)
+        """Place the brush cursor overlay at ``state`` (drawn at the next render), or hide it
+        (None)."""
+        self.cursor_overlay.show(state)
+        self.request_render()
 
     @property
     def cursor_visible(self) -> bool:
-        return bool(self._cursor.GetVisibility())
+        return self.cursor_overlay.visible
 
     # -- mouse -------------------------------------------------------------------------------
     def _as_left(self, ev: QMouseEvent) -> QMouseEvent:
@@ -323,8 +313,60 @@ class SculptViewport(QtInteractor):
         self._pressure = float(ev.pressure()) if touching else 1.0  # hover: a mouse's 1
         ev.ignore()
 
+    # -- keys and value drags (F / Shift+F) ---------------------------------------------------
+    @property
+    def value_dragging(self) -> bool:
+        return self.tools is not None and self.tools.value_drag is not None
+
+    def _show_tool_update(self, update: ToolUpdate) -> None:
+        if update.cursor is not None:
+            self.show_cursor(update.cursor)
+
+    def start_value_drag(self, name: str, pos: QPointF | None = None) -> None:
+        """Begin dragging the brush ``"radius"`` (F) or ``"strength"`` (Shift+F) with the
+        pointer at ``pos`` (default: where it is now): moving sets it live, a click or Enter
+        confirms, Escape or a right click restores it."""
+        if self.tools is None or self.in_stroke:
+            return
+        if pos is None:
+            pos = QPointF(self.mapFromGlobal(self.cursor().pos()))
+        center, ring = None, None
+        if self.cursor_overlay.screen is not None:
+            (x, y), ring, _ = self.cursor_overlay.screen
+            ratio = self.devicePixelRatioF() or 1.0
+            center, ring = (x / ratio, self.height() - 1 - y / ratio), ring / ratio
+        self._hover_timer.stop()
+        self._show_tool_update(self.tools.start_value_drag(name, (pos.x(), pos.y()), center, ring))
+
+    def finish_value_drag(self, confirm: bool) -> None:
+        if self.value_dragging:
+            self._show_tool_update(self.tools.finish_value_drag(confirm))
+
+    def keyPressEvent(self, ev: QKeyEvent) -> None:
+        key, mods = ev.key(), ev.modifiers()
+        if self.value_dragging:
+            if key in (Qt.Key.Key_Return, Qt.Key.Key_Enter):
+                self.finish_value_drag(True)
+            elif key == Qt.Key.Key_Escape:
+                self.finish_value_drag(False)
+            ev.accept()  # nothing else while dragging a value
+            return
+        plain = not mods & ~Qt.KeyboardModifier.ShiftModifier & ~Qt.KeyboardModifier.KeypadModifier
+        if key == Qt.Key.Key_F and plain and self.tools is not None:
+            shift = bool(mods & Qt.KeyboardModifier.ShiftModifier)
+            self.start_value_drag("strength" if shift else "radius")
+            ev.accept()
+            return
+        if plain and self.tools is not None and self.tools.pick_brush(ev.text()):
+            ev.accept()
+            return
+        super().keyPressEvent(ev)
+
     def mousePressEvent(self, ev: QMouseEvent) -> None:
         self.setFocus(Qt.FocusReason.MouseFocusReason)
+        if self.value_dragging:
+            self.finish_value_drag(ev.button() != Qt.MouseButton.RightButton)
+            return
         if ev.button() == Qt.MouseButton.LeftButton and self._drag_depth is None:
             hit = self.pick(ev.position())
             if hit is not None:
@@ -337,13 +379,37 @@ class SculptViewport(QtInteractor):
                 return
             self._orbit_button = Qt.MouseButton.LeftButton
             super().mousePressEvent(ev)
+        elif ev.button() == Qt.MouseButton.RightButton and self._remove_pin(ev.position()):
+            return
         elif ev.button() == Qt.MouseButton.RightButton:
             self._orbit_button = Qt.MouseButton.RightButton
             super().mousePressEvent(self._as_left(ev))  # right drag orbits
         else:
             super().mousePressEvent(ev)
 
+    def _remove_pin(self, pos: QPointF) -> bool:
+        """In pin mode, a right click on a pin removes it (True); elsewhere it orbits."""
+        if self.tools is None or self.tools.mode != "pin" or self.in_stroke:
+            return False
+        hit = self.pick(pos)
+        if hit is None:
+            return False
+        update = self.tools.remove_pin(self.pointer_event(pos, hit[0], hit[1]))
+        if not update.changed:
+            return False
+        self.tool_update.emit(update)
+        return True
+
+    def show_pins(self, points: np.ndarray, reach: float) -> None:
+        """Show the reach (world radius) of the pins at ``points`` (k, 3)."""
+        self.pin_overlay.show(points, reach)
+        self.request_render()
+
     def mouseMoveEvent(self, ev: QMouseEvent) -> None:
+        if self.value_dragging:
+            pos = ev.position()
+            self._show_tool_update(self.tools.move_value_drag((pos.x(), pos.y())))
+            return
         if self._drag_depth is not None:
             point = self._unproject(ev.position(), self._drag_depth)
             self.pointer_moved.emit(self.pointer_event(ev.position(), point, None, ev.modifiers()))

@@ -92,3 +92,35 @@ def test_pick_follows_moved_vertices(viewport):
     after, expected = viewport.pick(pos), old_pick(viewport, pos)
     np.testing.assert_allclose(after[0], expected[0], atol=5e-4)
     assert not np.allclose(after[0], before)
+
+
+def test_cursor_overlay_is_2d_sized_by_projection_and_follows_the_radius(viewport):
+    from gogreen_core.tools import CursorState
+
+    pos = QPointF(viewport.width() / 2, viewport.height() / 2)
+    point, normal = viewport.pick(pos)
+    profile = np.linspace(1.0, 0.0, 16)
+    viewport.show_cursor(CursorState(point, normal, 0.1, 3.0, profile))
+    viewport.render_now()
+    overlay = viewport.cursor_overlay
+    assert viewport.cursor_visible and overlay.screen is not None
+    (x, y), eps_px, outer_px = overlay.screen
+    # centred on the picked point's screen position (display y is up)
+    assert abs(x - pos.x()) < 1.5 and abs(y - (viewport.height() - 1 - pos.y())) < 1.5
+    assert outer_px == pytest.approx(3.0 * eps_px)
+    # the world radius projected: a camera-perpendicular offset of 0.1 lands eps_px away
+    camera = viewport.renderer.GetActiveCamera()
+    up = np.array(camera.GetViewUp())
+    viewport.renderer.SetWorldPoint(*(point + 0.1 * up), 1.0)
+    viewport.renderer.WorldToDisplay()
+    top = np.array(viewport.renderer.GetDisplayPoint()[:2])
+    assert np.hypot(*(top - (x, y))) == pytest.approx(eps_px, rel=0.1)  # perspective
+    # 2D actors: drawn over the scene, never depth-tested against the surface
+    assert overlay._ring.actor.IsA("vtkActor2D") and overlay._ring.actor.GetVisibility()
+    # a new radius shows at once, without a mouse move
+    viewport.show_cursor(CursorState(point, normal, 0.2, 3.0, profile))
+    viewport.render_now()
+    assert overlay.screen[1] == pytest.approx(2 * eps_px, rel=0.05)
+    viewport.show_cursor(None)
+    viewport.render_now()
+    assert not viewport.cursor_visible and not overlay._ring.actor.GetVisibility()
