@@ -83,7 +83,9 @@ class MainWindow(QMainWindow):
             first_pin_radius=self._first_pin_radius,
             ready=self._stroke_refusal,
             settings=self.model.brush,
+            pen=lambda: self.model.pen,
         )
+        self.brush_bar.bind_pen(self.model.pen)  # pressure toggles, stabilizer, spacing
         self.viewport.tools = self.tools  # F / Shift+F drags and number keys
         # Drag moves are applied once per event-loop turn, the newest position winning.
         self._tool_timer = QTimer(self)

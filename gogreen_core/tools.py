@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -38,6 +38,7 @@ __all__ = [
     "PROFILE_SAMPLES",
     "CursorController",
     "CursorState",
+    "PenOptions",
     "PinController",
     "PointerEvent",
     "SculptTools",
@@ -201,6 +202,30 @@ class _Coalescer:
         return event
 
 
+@dataclass(frozen=True)
+class PenOptions:
+    """How pressure, the stabilizer and spacing act (the attributes of
+    :class:`gogreen_core.settings.PenSettings`; any object with them will do).
+
+    pressure_strength : pressure scales each event's step (the strength).
+    pressure_radius : the pressure at the press scales the stroke's radius (the engine keeps
+        one brush per stroke, so the radius is set when the stroke begins).
+    lazy_radius : stabilizer, screen pixels: the brush follows the pointer at this distance
+        behind it (a rope of that length), smoothing jitter; 0: off.
+    spacing : a move is applied only once the brush point has gone this many ε from the last
+        applied one; 0: every move.
+    """
+
+    pressure_strength: bool = True
+    pressure_radius: bool = False
+    lazy_radius: float = 0.0
+    spacing: float = 0.0
+
+
+#: Smallest radius factor pen pressure gives (a feather touch still sculpts).
+MIN_PRESSURE_RADIUS = 0.1
+
+
 class StrokeController:
     """One brush stroke at a time: press begins it, moves step it, release ends it.
 
@@ -210,12 +235,17 @@ class StrokeController:
     pixels = amount 1) and their direction from the screen motion.
     """
 
-    def __init__(self, sculptor) -> None:
+    def __init__(self, sculptor, pen: Callable[[], PenOptions] | None = None) -> None:
         self.sculptor = sculptor
+        self.pen = pen or PenOptions
         self.brush: Brush | None = None
         self._anchor: np.ndarray | None = None
         self._last_point: np.ndarray | None = None
         self._last_screen: tuple[float, float] | None = None
+        #: Stabilized pointer: screen (x, y) and world point where the brush is.
+        self._lazy: tuple[tuple[float, float], np.ndarray | None] | None = None
+        #: World point of the last applied event (spacing is measured from it).
+        self._applied: np.ndarray | None = None
 
     @property
     def active(self) -> bool:
@@ -231,11 +261,16 @@ class StrokeController:
         starts)."""
         if event.point is None:
             raise ValueError("a stroke starts on the surface (no point under the cursor)")
+        if self.pen().pressure_radius:
+            factor = max(float(np.clip(event.pressure, 0.0, 1.0)), MIN_PRESSURE_RADIUS)
+            brush = replace(brush, radius=max(brush.radius * factor, MIN_RADIUS))
         self.sculptor.begin_stroke(brush)
         self.brush = brush
         self._anchor = np.array(event.point, dtype=float)
         self._last_point = self._anchor.copy()
         self._last_screen = event.screen
+        self._lazy = (event.screen, self._anchor.copy())
+        self._applied = self._anchor.copy()
 
     def brush_event(self, event: PointerEvent) -> BrushEvent | None:
         """The engine event of moving to ``event`` (None when the cursor did not move)."""
@@ -243,7 +278,7 @@ class StrokeController:
         dx = event.screen[0] - self._last_screen[0]
         dy = self._last_screen[1] - event.screen[1]  # y up
         self._last_screen = event.screen
-        pressure = float(np.clip(event.pressure, 0.0, 1.0))
+        pressure = float(np.clip(event.pressure, 0.0, 1.0)) if self.pen().pressure_strength else 1.0
         if "ctrl" in event.modifiers:  # Ctrl held inverts the brush (Blender's habit)
             pressure = -pressure
         if self.brush.is_affine:
@@ -265,8 +300,41 @@ class StrokeController:
         center, self._last_point = self._last_point, point
         return BrushEvent(center=center, delta=pressure * delta)
 
+    def stabilized(self, event: PointerEvent) -> PointerEvent | None:
+        """``event`` after the stabilizer and spacing (:class:`PenOptions`): the brush point
+        trails the pointer by ``lazy_radius`` pixels (the world point interpolated on the drag
+        plane), and None while it has moved less than ``spacing`` · ε since the last applied
+        event or not left the lazy radius."""
+        pen = self.pen()
+        lazy = float(pen.lazy_radius)
+        if lazy > 0 and self._lazy is not None:
+            (lx, ly), lpoint = self._lazy
+            dx, dy = event.screen[0] - lx, event.screen[1] - ly
+            distance = float(np.hypot(dx, dy))
+            if distance <= lazy:
+                return None
+            t = (distance - lazy) / distance
+            screen = (lx + t * dx, ly + t * dy)
+            point = None
+            if event.point is not None and lpoint is not None:
+                point = lpoint + t * (np.asarray(event.point, dtype=float) - lpoint)
+            self._lazy = (screen, point)
+            event = replace(event, screen=screen, point=point)
+        spacing = float(pen.spacing)
+        if spacing > 0 and event.point is not None and self._applied is not None:
+            eps = self.brush.eps(self.sculptor.model_size)
+            if np.linalg.norm(np.asarray(event.point) - self._applied) < spacing * eps:
+                return None
+        return event
+
     def step(self, event: PointerEvent) -> np.ndarray | None:
-        """Apply one move; the indices of moved vertices, or None when nothing moved."""
+        """Apply one move (after :meth:`stabilized`); the indices of moved vertices, or None
+        when nothing moved."""
+        event = self.stabilized(event)
+        if event is None:
+            return None
+        if event.point is not None:
+            self._applied = np.array(event.point, dtype=float)
         brush_event = self.brush_event(event)
         if brush_event is None:
             return None
@@ -447,8 +515,11 @@ class SculptTools:
         first_pin_radius: Callable[[], None] | None = None,
         ready: Callable[[], str | None] | None = None,
         settings=None,
+        pen: Callable[[], PenOptions] | None = None,
     ) -> None:
         self.brush = brush
+        #: Pressure, stabilizer and spacing options (:class:`PenOptions` or PenSettings).
+        self.pen = pen or PenOptions
         #: The brush settings model (``kind``, ``radius``, ``strength``) that keys and value
         #: drags change (a :class:`gogreen_core.settings.BrushSettings`), optional.
         self.settings = settings
@@ -471,7 +542,7 @@ class SculptTools:
         if getattr(self, "stroke", None) is not None:
             self.stroke.cancel()
         self.sculptor = sculptor
-        self.stroke = StrokeController(sculptor)
+        self.stroke = StrokeController(sculptor, lambda: self.pen())
         self.pin = PinController(sculptor)
 
     def _cursor_radius(self) -> float:

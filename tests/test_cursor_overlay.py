@@ -118,3 +118,72 @@ def test_number_keys_and_a_click_confirming_a_radius_drag(window):
     import numpy as np
 
     assert np.array_equal(window.document.sculptor.vertices, before)  # the click did not sculpt
+
+
+def tablet(vp, kind, pos, pressure, buttons=Qt.MouseButton.LeftButton):
+    from PySide6.QtGui import QInputDevice, QPointingDevice, QTabletEvent
+
+    device = QPointingDevice(
+        "test pen",
+        7,
+        QInputDevice.DeviceType.Stylus,
+        QPointingDevice.PointerType.Pen,
+        QInputDevice.Capability.Position | QInputDevice.Capability.Pressure,
+        1,
+        3,
+    )
+    p = QPointF(pos)
+    event = QTabletEvent(
+        kind,
+        device,
+        p,
+        vp.mapToGlobal(p),
+        pressure,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        Qt.KeyboardModifier.NoModifier,
+        Qt.MouseButton.LeftButton,
+        buttons,
+    )
+    vp.tabletEvent(event)
+
+
+def pen_drag(window, pressure):
+    vp = window.viewport
+    start = center_of(window)
+    end = start + QPoint(0, -12)
+    tablet(vp, QMouseEvent.Type.TabletPress, start, pressure)
+    send(vp, QMouseEvent.Type.MouseButtonPress, start)
+    tablet(vp, QMouseEvent.Type.TabletMove, end, pressure)
+    send(vp, QMouseEvent.Type.MouseMove, end, Qt.MouseButton.NoButton, Qt.MouseButton.LeftButton)
+    window._process_tools()
+    send(vp, QMouseEvent.Type.MouseButtonRelease, end, buttons=Qt.MouseButton.NoButton)
+    tablet(vp, QMouseEvent.Type.TabletRelease, end, 0.0, Qt.MouseButton.NoButton)
+
+
+def test_pen_pressure_scales_the_strength_and_the_toggles_are_in_the_brush_bar(window):
+    import numpy as np
+
+    sculptor = window.document.sculptor
+    before = sculptor.vertices.copy()
+    pen_drag(window, 1.0)
+    full = np.linalg.norm(sculptor.vertices - before, axis=1).max()
+    window.undo()
+    pen_drag(window, 0.5)
+    half = np.linalg.norm(sculptor.vertices - before, axis=1).max()
+    window.undo()
+    assert full > 0 and half == pytest.approx(0.5 * full, rel=0.05)
+    assert window.viewport._pressure == 1.0  # back to a mouse's after the pen lifted
+    # the brush bar's toggle turns it off: a light pen then moves as much as a firm one
+    window.brush_bar.pressure_actions["pressure_strength"].trigger()
+    assert window.model.pen.pressure_strength is False
+    pen_drag(window, 0.5)
+    same = np.linalg.norm(sculptor.vertices - before, axis=1).max()
+    assert same == pytest.approx(full, rel=0.05)
+    window.model.pen.pressure_radius = True
+    assert window.brush_bar.pressure_actions["pressure_radius"].isChecked()
+    window.brush_bar.lazy_radius.setValue(15)
+    assert window.model.pen.lazy_radius == 15.0

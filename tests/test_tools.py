@@ -279,3 +279,68 @@ def test_ctrl_held_inverts_the_brush(sculptor):
     tools.flush()
     tools.release()
     np.testing.assert_allclose(sculptor.vertices[top], start - 0.02 * NORTH, atol=1e-9)
+
+
+def pen_tools(sculptor, **options):
+    from gogreen_core.tools import PenOptions
+
+    pen = PenOptions(**options)
+    return SculptTools(sculptor, brush=lambda: GRAB, pen=lambda: pen)
+
+
+def grab_once(tools, sculptor, pressure, step=0.02):
+    top = int(np.argmax(sculptor.vertices[:, 2]))
+    start = sculptor.vertices[top].copy()
+    tools.press(at(start, pressure=pressure))
+    tools.move(at(start + step * NORTH, screen=(0.0, -10.0), pressure=pressure))
+    tools.flush()
+    tools.release()
+    return sculptor.vertices[top] - start
+
+
+def test_pressure_drives_the_strength_only_when_toggled(sculptor):
+    moved = grab_once(pen_tools(sculptor), sculptor, 0.5)
+    np.testing.assert_allclose(moved, 0.01 * NORTH, atol=1e-9)
+    sculptor.undo()
+    moved = grab_once(pen_tools(sculptor, pressure_strength=False), sculptor, 0.5)
+    np.testing.assert_allclose(moved, 0.02 * NORTH, atol=1e-9)
+
+
+def test_pressure_drives_the_radius_at_the_press(sculptor):
+    tools = pen_tools(sculptor, pressure_radius=True, pressure_strength=False)
+    top = sculptor.vertices[int(np.argmax(sculptor.vertices[:, 2]))]
+    tools.press(at(top, pressure=0.5))
+    assert tools.stroke.brush.radius == pytest.approx(0.5 * GRAB.radius)
+    tools.release()
+    tools.press(at(top, pressure=0.0))  # a feather touch keeps a tenth
+    assert tools.stroke.brush.radius == pytest.approx(0.1 * GRAB.radius)
+    tools.release()
+
+
+def test_stabilizer_trails_the_pointer_by_the_lazy_radius(sculptor):
+    tools = pen_tools(sculptor, lazy_radius=20.0)
+    top = int(np.argmax(sculptor.vertices[:, 2]))
+    start = sculptor.vertices[top].copy()
+    tools.press(PointerEvent((0.0, 0.0), start))
+    tools.move(PointerEvent((15.0, 0.0), start + 0.015 * NORTH))  # within the rope: nothing
+    assert tools.flush().moved is None
+    tools.move(PointerEvent((40.0, 0.0), start + 0.04 * NORTH))  # the brush goes to 20 px
+    assert tools.flush().moved is not None
+    tools.release()
+    np.testing.assert_allclose(sculptor.vertices[top], start + 0.02 * NORTH, atol=1e-9)
+
+
+def test_spacing_skips_moves_shorter_than_a_fraction_of_eps(sculptor):
+    tools = pen_tools(sculptor, spacing=0.5)
+    eps = GRAB.eps(sculptor.model_size)
+    top = int(np.argmax(sculptor.vertices[:, 2]))
+    start = sculptor.vertices[top].copy()
+    tools.press(at(start))
+    tools.move(at(start + 0.3 * eps * NORTH, screen=(0.0, -1.0)))
+    assert tools.flush().moved is None
+    tools.move(at(start + 0.6 * eps * NORTH, screen=(0.0, -2.0)))
+    assert tools.flush().moved is not None
+    tools.move(at(start + 0.9 * eps * NORTH, screen=(0.0, -3.0)))  # 0.3 ε from the last
+    assert tools.flush().moved is None
+    tools.release()
+    np.testing.assert_allclose(sculptor.vertices[top], start + 0.6 * eps * NORTH, atol=1e-9)
