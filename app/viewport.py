@@ -85,6 +85,7 @@ class SculptViewport(QtInteractor):
         self._faces: np.ndarray | None = None
         #: Per-mesh index: incremental normals and ray picking (gogreen_core.geometry).
         self.surface: SurfaceIndex | None = None
+        self._normals_shared = False
         #: Milliseconds of the last :meth:`update_vertices` (array writes, normals, Modified).
         self.last_update_ms = 0.0
         #: The brush cursor: 2D, drawn over the surface (app.cursor_overlay).
@@ -160,6 +161,10 @@ class SculptViewport(QtInteractor):
         self.surface = SurfaceIndex(self.mesh.points, faces)
         self.mesh.point_data["Normals"] = self.surface.normals
         self.mesh.point_data.active_normals_name = "Normals"
+        # VTK wraps the index's normals without a copy: its updates are the actor's
+        self._normals_shared = np.shares_memory(
+            self.mesh.point_data["Normals"], self.surface.normals
+        )
         self._faces = np.asarray(faces)
         self.mesh_actor = self.add_mesh(
             self.mesh,
@@ -206,7 +211,8 @@ class SculptViewport(QtInteractor):
         if len(indices):
             points[indices] = vertices[indices]
             rows = self.surface.update(points, indices)
-            self.mesh.point_data["Normals"][rows] = self.surface.normals[rows]
+            if not self._normals_shared:
+                self.mesh.point_data["Normals"][rows] = self.surface.normals[rows]
             self.mesh.GetPoints().Modified()
             self.mesh.GetPointData().GetNormals().Modified()
         self.last_update_ms = 1e3 * (time.perf_counter() - start)
