@@ -16,7 +16,7 @@ from PySide6.QtWidgets import QDoubleSpinBox, QLabel, QSpinBox, QToolBar, QWidge
 
 from app.bindings import bind, bind_spin
 from gogreen_core.brushes import BRUSH_KINDS, Brush
-from gogreen_core.settings import BrushSettings
+from gogreen_core.settings import BrushSettings, PenSettings
 
 __all__ = ["BRUSH_LABELS", "BrushBar"]
 
@@ -123,9 +123,44 @@ class BrushBar(QToolBar):
         )
         self.constraint_action.toggled.connect(self.constraint_mode_changed)
         self.addAction(self.constraint_action)
+        self.pen: PenSettings | None = None
         emitter, callback = self.settings.events.changed, self._model_changed
         emitter.connect(callback)
         self.destroyed.connect(lambda *_: emitter.disconnect(callback))
+
+    def bind_pen(self, pen: PenSettings) -> None:
+        """Add the pen controls bound to ``pen``: pressure → strength and pressure → radius
+        toggles (as in Blender), the stabilizer's lazy radius (pixels) and event spacing (ε)."""
+        self.pen = pen
+        self.addSeparator()
+        self.pressure_actions: dict[str, QAction] = {}
+        for name, text, tip in (
+            ("pressure_strength", "P→S", "Pen pressure scales the strength"),
+            ("pressure_radius", "P→R", "Pen pressure at the press scales the radius"),
+        ):
+            action = QAction(text, self, checkable=True)
+            action.setToolTip(tip)
+            self.addAction(action)
+            self.pressure_actions[name] = action
+            bind(pen, name, action, action.setChecked, action.toggled, bool)
+        self.lazy_radius = self._spin(
+            "Lazy",
+            0.0,
+            500.0,
+            0,
+            5.0,
+            "Stroke stabilizer: the brush trails the pen by this many pixels (0: off)",
+        )
+        bind_spin(pen, "lazy_radius", self.lazy_radius)
+        self.spacing = self._spin(
+            "Spacing",
+            0.0,
+            10.0,
+            2,
+            0.05,
+            "Minimum brush motion between applied events, in brush radii ε (0: every event)",
+        )
+        bind_spin(pen, "spacing", self.spacing)
 
     def _spin(self, label, low, high, decimals, step, tip) -> QDoubleSpinBox:
         self.addWidget(QLabel(f" {label} "))

@@ -104,7 +104,11 @@ class MainWindow(QMainWindow):
             brush=lambda: self.model.brush.brush,
             first_pin_radius=self._first_pin_radius,
             ready=self._stroke_refusal,
+            settings=self.model.brush,
+            pen=lambda: self.model.pen,
         )
+        self.brush_bar.bind_pen(self.model.pen)  # pressure toggles, stabilizer, spacing
+        self.viewport.tools = self.tools  # F / Shift+F drags and number keys
         # Drag moves are applied once per event-loop turn, the newest position winning.
         self._tool_timer = QTimer(self)
         self._tool_timer.setSingleShot(True)
@@ -310,6 +314,7 @@ class MainWindow(QMainWindow):
         self.viewport.pointer_released.connect(self._pointer_released)
         self.viewport.hovered.connect(self._hovered)
         self.viewport.frame_rendered.connect(self._frame_rendered)
+        self.viewport.tool_update.connect(lambda u: self._show_update(u, "Pin"))
         self.brush_bar.constraint_mode_changed.connect(self._constraint_mode_changed)
         self.viewport.radius_wheel.connect(self.brush_bar.scale_radius)
         self.viewport.strength_wheel.connect(self.brush_bar.scale_strength)
@@ -428,12 +433,14 @@ class MainWindow(QMainWindow):
         self.tools.cancel()
         self.document = document
         self.tools.set_sculptor(document.sculptor)
+        self.tools.cursor.hide()  # until the mouse moves over the new model
         self.engine_link.attach(document.sculptor)
         self.viewport.set_mesh(document.sculptor.vertices, document.sculptor.faces)
         self._apply_mesh_look()
         if self._constraint_actor is not None:
             self.viewport.remove_actor(self._constraint_actor, render=False)
         self._constraint_actor = None
+        self.viewport.show_pins(np.zeros((0, 3)), 0.0)
         self._brush_changed()
         self._refresh_title()
         self._refresh_status()
@@ -595,7 +602,7 @@ class MainWindow(QMainWindow):
         """The ring shows the new radius at once."""
         state = self.tools.cursor.state
         if state is not None and self.document is not None:
-            self.viewport.show_cursor(self.tools.cursor.place(state.center, state.normal))
+            self.viewport.show_cursor(self.tools.cursor.refresh())
             self.viewport.request_render()
 
     # -- pointer tools -----------------------------------------------------------------------
@@ -660,6 +667,7 @@ class MainWindow(QMainWindow):
     def _show_constraints(self) -> None:
         """One marker actor for all pins, its points replaced in place."""
         points = self.document.sculptor.constraint_points
+        self.viewport.show_pins(points, self.document.sculptor.constraint_reach)
         if self._constraint_actor is None and len(points):
             # add_actor, not add_points: pyvista's add_* would rebind viewport.mesh to the markers
             self._constraint_markers = pv.PolyData(points)
@@ -690,8 +698,10 @@ class MainWindow(QMainWindow):
             self.flash(f"Nothing to {name.lower()}")
             return
         self.engine_link.pull()  # an undone setting shows in the panels again
+        self.tools.cursor.hide()  # the surface under it moved: hidden until the mouse moves
+        self.viewport.show_cursor(None)
         self.viewport.update_vertices(self.document.sculptor.vertices)
-        self.viewport.request_render()
+        self._show_constraints()  # the pins follow undo/redo
         self._refresh_title()
         self.flash(f"{name}: {label}")
 

@@ -20,28 +20,33 @@ import time
 
 import numpy as np
 import pyvista as pv
-import vtk
 from PySide6.QtCore import QPointF, Qt, QTimer, Signal
-from PySide6.QtGui import QMouseEvent, QTabletEvent, QWheelEvent
+from PySide6.QtGui import QKeyEvent, QMouseEvent, QTabletEvent, QWheelEvent
 from pyvistaqt import QtInteractor
 
-from gogreen_core.geometry import vertex_normals
-from gogreen_core.tools import CursorState, PointerEvent
+from app.cursor_overlay import CursorOverlay, PinOverlay
+from gogreen_core.geometry import SurfaceIndex
+from gogreen_core.tools import CursorState, PointerEvent, SculptTools, ToolUpdate
 
 __all__ = ["SculptViewport"]
 
 MODEL_COLOR = "#c9b79c"  # warm clay
 #: Direction from the model to the camera in the home view: in front (+z), a little right and above.
 HOME_VIEW_DIRECTION = (0.55, 0.4, 1.0)
-CURSOR_COLOR = "#ff8c1a"
 
 
-def _ring(segments: int = 96) -> pv.PolyData:
-    """Unit circle in the xy plane, as a closed polyline."""
-    t = np.linspace(0.0, 2 * np.pi, segments, endpoint=False)
-    points = np.column_stack([np.cos(t), np.sin(t), np.zeros_like(t)])
-    lines = np.concatenate([[segments + 1], np.arange(segments), [0]])
-    return pv.PolyData(points, lines=lines)
+def _barycentric(a: np.ndarray, b: np.ndarray, c: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """Barycentric weights (3,) of point ``p`` in triangle ``a b c`` (clipped to [0, 1])."""
+    v0, v1, v2 = b - a, c - a, p - a
+    d00, d01, d11 = v0 @ v0, v0 @ v1, v1 @ v1
+    d20, d21 = v2 @ v0, v2 @ v1
+    det = d00 * d11 - d01 * d01
+    if det == 0:
+        return np.full(3, 1.0 / 3.0)
+    v = (d11 * d20 - d01 * d21) / det
+    w = (d00 * d21 - d01 * d20) / det
+    weights = np.clip(np.array([1.0 - v - w, v, w]), 0.0, 1.0)
+    return weights / weights.sum()
 
 
 class SculptViewport(QtInteractor):
@@ -55,6 +60,8 @@ class SculptViewport(QtInteractor):
     pointer_released(PointerEvent) : the end of that drag.
     hovered(PointerEvent) : the newest hover position (coalesced), ``point`` None off the model.
     radius_wheel(int), strength_wheel(int) : +1 / -1 per wheel notch with Ctrl / Shift.
+    tool_update(ToolUpdate) : what a key or click handled here changed (a pin removed by a
+        right click), for the window to draw.
     frame_rendered(float) : milliseconds of a render just done.
     """
 
@@ -65,6 +72,7 @@ class SculptViewport(QtInteractor):
     radius_wheel = Signal(int)
     strength_wheel = Signal(int)
     frame_rendered = Signal(float)
+    tool_update = Signal(object)
 
     def __init__(self, parent=None):
         # auto_update=False: no periodic render (pyvistaqt's default re-renders 5 times a
@@ -75,18 +83,18 @@ class SculptViewport(QtInteractor):
         self.mesh: pv.PolyData | None = None
         self.mesh_actor = None
         self._faces: np.ndarray | None = None
-        self._picker = vtk.vtkCellPicker()
-        self._picker.SetTolerance(1e-4)
-        self._cursor = self.add_mesh(
-            _ring(),
-            color=CURSOR_COLOR,
-            line_width=2.5,
-            pickable=False,
-            reset_camera=False,
-            render_lines_as_tubes=False,
-            render=False,
-        )
-        self._cursor.SetVisibility(False)
+        #: Per-mesh index: incremental normals and ray picking (gogreen_core.geometry).
+        self.surface: SurfaceIndex | None = None
+        self._normals_shared = False
+        #: Milliseconds of the last :meth:`update_vertices` (array writes, normals, Modified).
+        self.last_update_ms = 0.0
+        #: The brush cursor: 2D, drawn over the surface (app.cursor_overlay).
+        self.cursor_overlay = CursorOverlay(self.renderer)
+        #: The reach of the pins (2D rings).
+        self.pin_overlay = PinOverlay(self.renderer)
+        #: The Qt-free tools the keys act on (F / Shift+F drags, number keys); set by the
+        #: window. The viewport only translates key and mouse events for them.
+        self.tools: SculptTools | None = None
         #: Depth (display z) of the drag plane while the left button drags on the model.
         self._drag_depth: float | None = None
         self._orbit_button: Qt.MouseButton | None = None
@@ -149,8 +157,14 @@ class SculptViewport(QtInteractor):
         self.show_cursor(None)  # sized for the old mesh; it would also widen the home view
         cells = np.hstack([np.full((len(faces), 1), 3), faces]).ravel()
         self.mesh = pv.PolyData(np.array(vertices, dtype=np.float64), cells)
-        self.mesh.point_data["Normals"] = vertex_normals(vertices, faces)
+        # built once per mesh (about 2 s at 1M vertices, benchmarks/viewport_scale.py)
+        self.surface = SurfaceIndex(self.mesh.points, faces)
+        self.mesh.point_data["Normals"] = self.surface.normals
         self.mesh.point_data.active_normals_name = "Normals"
+        # VTK wraps the index's normals without a copy: its updates are the actor's
+        self._normals_shared = np.shares_memory(
+            self.mesh.point_data["Normals"], self.surface.normals
+        )
         self._faces = np.asarray(faces)
         self.mesh_actor = self.add_mesh(
             self.mesh,
@@ -164,9 +178,6 @@ class SculptViewport(QtInteractor):
         )
         self.mesh_actor.mapper.SetInputData(self.mesh)  # our arrays, updated in place
         self.mesh_actor.GetProperty().SetInterpolationToPhong()
-        self._picker.InitializePickList()
-        self._picker.AddPickList(self.mesh_actor)
-        self._picker.PickFromListOn()
         if reset_camera:
             self.home_view(render=False)
         self.request_render()
@@ -180,32 +191,62 @@ class SculptViewport(QtInteractor):
             self.request_render()
 
     def update_vertices(self, vertices: np.ndarray, indices: np.ndarray | None = None) -> None:
-        """Write new positions (N, 3) and recompute normals, in place (no new actor)."""
+        """Write new positions (N, 3) into the actor's arrays in place (no new actor).
+
+        ``indices``: the vertices that moved; None compares every vertex with the shown one
+        (undo, a pin drag) and updates those that differ. Only the moved rows and the normals
+        of them and their one-ring (:meth:`SurfaceIndex.update`) are written; the arrays are
+        marked modified, nothing is rebuilt.
+        """
         if self.mesh is None:
             return
+        start = time.perf_counter()
         points = self.mesh.points
+        vertices = np.asarray(vertices, dtype=np.float64)
         if indices is None:
-            points[:] = vertices
+            differ = points != vertices  # per column: much faster than np.any(axis=1)
+            indices = np.flatnonzero(differ[:, 0] | differ[:, 1] | differ[:, 2])
         else:
+            indices = np.asarray(indices, dtype=np.int64).ravel()
+        if len(indices):
             points[indices] = vertices[indices]
-        self.mesh.point_data["Normals"][:] = vertex_normals(points, self._faces)
-        self.mesh.GetPoints().Modified()
-        self.mesh.GetPointData().GetNormals().Modified()
-        self.mesh.Modified()
+            rows = self.surface.update(points, indices)
+            if not self._normals_shared:
+                self.mesh.point_data["Normals"][rows] = self.surface.normals[rows]
+            self.mesh.GetPoints().Modified()
+            self.mesh.GetPointData().GetNormals().Modified()
+        self.last_update_ms = 1e3 * (time.perf_counter() - start)
 
     # -- picking -----------------------------------------------------------------------------
     def _display(self, pos: QPointF) -> tuple[float, float]:
         ratio = self.devicePixelRatioF()
         return pos.x() * ratio, (self.height() - pos.y() - 1) * ratio
 
+    def pick_ray(self, pos: QPointF) -> tuple[np.ndarray, np.ndarray]:
+        """Camera ray (origin on the near plane (3,), direction (3,)) through widget ``pos``."""
+        near = self._unproject(pos, 0.0)
+        return near, self._unproject(pos, 1.0) - near
+
     def pick(self, pos: QPointF) -> tuple[np.ndarray, np.ndarray] | None:
-        """Surface point and normal under the widget position, or None."""
-        if self.mesh_actor is None:
+        """Surface point (3,) and unit normal (3,) under the widget position, or None.
+
+        A ray pick on the :class:`SurfaceIndex` (no locator built over the mesh); the normal is
+        the vertex normals interpolated at the hit (as VTK's cell picker gives it)."""
+        if self.mesh is None or self.surface is None:
             return None
-        x, y = self._display(pos)
-        if not self._picker.Pick(x, y, 0, self.renderer):
+        origin, direction = self.pick_ray(pos)
+        if not np.any(direction) or not np.all(np.isfinite(direction)):
             return None
-        return np.array(self._picker.GetPickPosition()), np.array(self._picker.GetPickNormal())
+        hit = self.surface.pick(self.mesh.points, origin, direction)
+        if hit is None:
+            return None
+        face, point = hit
+        corners = self._faces[face]
+        a, b, c = self.mesh.points[corners]
+        weights = _barycentric(a, b, c, point)
+        normal = weights @ self.surface.normals[corners]
+        length = np.linalg.norm(normal)
+        return point, (normal / length if length > 0 else np.cross(b - a, c - a))
 
     def _unproject(self, pos: QPointF, depth: float) -> np.ndarray:
         x, y = self._display(pos)
@@ -229,16 +270,14 @@ class SculptViewport(QtInteractor):
 
     # -- cursor ------------------------------------------------------------------------------
     def show_cursor(self, state: CursorState | None) -> None:
-        """Place the brush ring (:meth:`CursorState.ring_matrix`), or hide it (None)."""
-        if state is None:
-            self._cursor.SetVisibility(False)
-            return
-        self._cursor.SetUserMatrix(pv.vtkmatrix_from_array(state.ring_matrix()))
-        self._cursor.SetVisibility(True)
+        """Place the brush cursor overlay at ``state`` (drawn at the next render), or hide it
+        (None)."""
+        self.cursor_overlay.show(state)
+        self.request_render()
 
     @property
     def cursor_visible(self) -> bool:
-        return bool(self._cursor.GetVisibility())
+        return self.cursor_overlay.visible
 
     # -- mouse -------------------------------------------------------------------------------
     def _as_left(self, ev: QMouseEvent) -> QMouseEvent:
@@ -280,8 +319,60 @@ class SculptViewport(QtInteractor):
         self._pressure = float(ev.pressure()) if touching else 1.0  # hover: a mouse's 1
         ev.ignore()
 
+    # -- keys and value drags (F / Shift+F) ---------------------------------------------------
+    @property
+    def value_dragging(self) -> bool:
+        return self.tools is not None and self.tools.value_drag is not None
+
+    def _show_tool_update(self, update: ToolUpdate) -> None:
+        if update.cursor is not None:
+            self.show_cursor(update.cursor)
+
+    def start_value_drag(self, name: str, pos: QPointF | None = None) -> None:
+        """Begin dragging the brush ``"radius"`` (F) or ``"strength"`` (Shift+F) with the
+        pointer at ``pos`` (default: where it is now): moving sets it live, a click or Enter
+        confirms, Escape or a right click restores it."""
+        if self.tools is None or self.in_stroke:
+            return
+        if pos is None:
+            pos = QPointF(self.mapFromGlobal(self.cursor().pos()))
+        center, ring = None, None
+        if self.cursor_overlay.screen is not None:
+            (x, y), ring, _ = self.cursor_overlay.screen
+            ratio = self.devicePixelRatioF() or 1.0
+            center, ring = (x / ratio, self.height() - 1 - y / ratio), ring / ratio
+        self._hover_timer.stop()
+        self._show_tool_update(self.tools.start_value_drag(name, (pos.x(), pos.y()), center, ring))
+
+    def finish_value_drag(self, confirm: bool) -> None:
+        if self.value_dragging:
+            self._show_tool_update(self.tools.finish_value_drag(confirm))
+
+    def keyPressEvent(self, ev: QKeyEvent) -> None:
+        key, mods = ev.key(), ev.modifiers()
+        if self.value_dragging:
+            if key in (Qt.Key.Key_Return, Qt.Key.Key_Enter):
+                self.finish_value_drag(True)
+            elif key == Qt.Key.Key_Escape:
+                self.finish_value_drag(False)
+            ev.accept()  # nothing else while dragging a value
+            return
+        plain = not mods & ~Qt.KeyboardModifier.ShiftModifier & ~Qt.KeyboardModifier.KeypadModifier
+        if key == Qt.Key.Key_F and plain and self.tools is not None:
+            shift = bool(mods & Qt.KeyboardModifier.ShiftModifier)
+            self.start_value_drag("strength" if shift else "radius")
+            ev.accept()
+            return
+        if plain and self.tools is not None and self.tools.pick_brush(ev.text()):
+            ev.accept()
+            return
+        super().keyPressEvent(ev)
+
     def mousePressEvent(self, ev: QMouseEvent) -> None:
         self.setFocus(Qt.FocusReason.MouseFocusReason)
+        if self.value_dragging:
+            self.finish_value_drag(ev.button() != Qt.MouseButton.RightButton)
+            return
         if ev.button() == Qt.MouseButton.LeftButton and self._drag_depth is None:
             hit = self.pick(ev.position())
             if hit is not None:
@@ -294,13 +385,37 @@ class SculptViewport(QtInteractor):
                 return
             self._orbit_button = Qt.MouseButton.LeftButton
             super().mousePressEvent(ev)
+        elif ev.button() == Qt.MouseButton.RightButton and self._remove_pin(ev.position()):
+            return
         elif ev.button() == Qt.MouseButton.RightButton:
             self._orbit_button = Qt.MouseButton.RightButton
             super().mousePressEvent(self._as_left(ev))  # right drag orbits
         else:
             super().mousePressEvent(ev)
 
+    def _remove_pin(self, pos: QPointF) -> bool:
+        """In pin mode, a right click on a pin removes it (True); elsewhere it orbits."""
+        if self.tools is None or self.tools.mode != "pin" or self.in_stroke:
+            return False
+        hit = self.pick(pos)
+        if hit is None:
+            return False
+        update = self.tools.remove_pin(self.pointer_event(pos, hit[0], hit[1]))
+        if not update.changed:
+            return False
+        self.tool_update.emit(update)
+        return True
+
+    def show_pins(self, points: np.ndarray, reach: float) -> None:
+        """Show the reach (world radius) of the pins at ``points`` (k, 3)."""
+        self.pin_overlay.show(points, reach)
+        self.request_render()
+
     def mouseMoveEvent(self, ev: QMouseEvent) -> None:
+        if self.value_dragging:
+            pos = ev.position()
+            self._show_tool_update(self.tools.move_value_drag((pos.x(), pos.y())))
+            return
         if self._drag_depth is not None:
             point = self._unproject(ev.position(), self._drag_depth)
             self.pointer_moved.emit(self.pointer_event(ev.position(), point, None, ev.modifiers()))

@@ -9,6 +9,12 @@ The inverse of K is kept and updated when one constraint is added (block borderi
 3 × 3 Schur complement) or removed (the inverse of the complementary block), O(k²) each instead
 of the O(k³) refactorization; one step of iterative refinement with K itself makes the solve
 accurate to machine precision, so constrained points land on their targets to ~1e-14 relative.
+
+Pins act locally: each term carries the brushes' C² smooth cutoff s (quintic smoothstep, 1 up
+to half the influence radius, 0 from it on; influence radius :data:`CONSTRAINT_INFLUENCE` · ε),
+u(x) = Σ_j s(|x − p_j|) G(x − p_j) f_j, and K uses the same cut-off blocks, so the pins still
+get exactly their prescribed displacements while nothing beyond the influence radius of every
+pin moves. Without it G decays only as 1/r and dragging one pin moved the whole model.
 """
 
 from __future__ import annotations
@@ -17,7 +23,23 @@ import numpy as np
 
 from gogreen_core.kernel import GreenKernel
 
-__all__ = ["ConstraintSet"]
+__all__ = ["CONSTRAINT_INFLUENCE", "ConstraintSet", "smooth_cutoff"]
+
+#: Reach of a pin's displacement in multiples of its ε (the brushes' default influence).
+CONSTRAINT_INFLUENCE = 4.0
+#: Where the cutoff starts, as a fraction of the influence radius (as for brushes).
+_CUTOFF_START = 0.5
+
+
+def smooth_cutoff(distance: np.ndarray, inner: float, outer: float) -> np.ndarray:
+    """The brushes' C² cutoff (quintic smoothstep) of ``distance`` (any shape): 1 up to
+    ``inner``, 0 from ``outer`` on."""
+    distance = np.asarray(distance, dtype=float)
+    width = outer - inner
+    if width <= 0:
+        return (distance < outer).astype(float)
+    u = np.clip((distance - inner) / width, 0.0, 1.0)
+    return 1.0 - u**3 * (10.0 - 15.0 * u + 6.0 * u**2)
 
 
 class ConstraintSet:
@@ -30,12 +52,21 @@ class ConstraintSet:
     min_separation : float
         Two constraints closer than this (model units) are rejected as coincident; default
         1e-6 ε.
+    influence : float
+        Reach of each pin in multiples of ε (smooth cutoff from half of it); ``inf``: none.
 
     State: ``points`` (k, 3), ``matrix`` K (3k, 3k), ``inverse`` K⁻¹ (3k, 3k).
     """
 
-    def __init__(self, kernel: GreenKernel, min_separation: float | None = None):
+    def __init__(
+        self,
+        kernel: GreenKernel,
+        min_separation: float | None = None,
+        influence: float = CONSTRAINT_INFLUENCE,
+    ):
         self._kernel = kernel
+        outer = float(influence) * kernel.eps
+        self._cutoff = None if not np.isfinite(outer) else (_CUTOFF_START * outer, outer)
         self._min_sep = 1e-6 * kernel.eps if min_separation is None else float(min_separation)
         self._points = np.zeros((0, 3))
         self._matrix = np.zeros((0, 0))
@@ -61,9 +92,21 @@ class ConstraintSet:
     def __len__(self) -> int:
         return len(self._points)
 
+    @property
+    def reach(self) -> float:
+        """Distance (model units) beyond which a pin moves nothing (``inf``: no cutoff)."""
+        return np.inf if self._cutoff is None else self._cutoff[1]
+
+    def _weights(self, offsets: np.ndarray) -> np.ndarray:
+        if self._cutoff is None:
+            return np.ones(len(offsets))
+        return smooth_cutoff(np.linalg.norm(offsets, axis=1), *self._cutoff)
+
     def _blocks(self, p: np.ndarray, others: np.ndarray) -> np.ndarray:
-        """G(others − p) as a (3k, 3) column block."""
-        return self._kernel.green(others - p).reshape(-1, 3)
+        """s G(others − p) as a (3k, 3) column block."""
+        offsets = others - p
+        blocks = self._kernel.green(offsets) * self._weights(offsets)[:, None, None]
+        return blocks.reshape(-1, 3)
 
     def add(self, point: np.ndarray) -> int:
         """Add a constraint at ``point`` (3,); returns its index. O(k²)."""
@@ -148,8 +191,18 @@ class ConstraintSet:
         return f.reshape(-1, 3)
 
     def displacement(self, points: np.ndarray, forces: np.ndarray) -> np.ndarray:
-        """u(points) = Σ_j G(points − p_j) f_j → (N, 3)."""
+        """u(points) = Σ_j s(|points − p_j|) G(points − p_j) f_j → (N, 3); only the points
+        within :attr:`reach` of a pin are evaluated."""
+        points = np.asarray(points, dtype=np.float64)
         out = np.zeros((len(points), 3))
         for p, f in zip(self._points, forces, strict=True):
-            out += self._kernel.displacement(points, p, f)
+            if not np.any(f):
+                continue
+            if self._cutoff is None:
+                out += self._kernel.displacement(points, p, f)
+                continue
+            near = np.flatnonzero(np.linalg.norm(points - p, axis=1) < self._cutoff[1])
+            if len(near):
+                weights = self._weights(points[near] - p)
+                out[near] += weights[:, None] * self._kernel.displacement(points[near], p, f)
         return out

@@ -42,7 +42,7 @@ from gogreen_core.brushes import (
     default_wrinkle_weights,
     mirror_signs,
 )
-from gogreen_core.constraints import ConstraintSet
+from gogreen_core.constraints import CONSTRAINT_INFLUENCE, ConstraintSet
 from gogreen_core.falloff_safety import (
     AFFINE_FALLBACK,
     AFFINE_MARGIN,
@@ -107,6 +107,12 @@ _SETTING_LABELS = ("material", "falloff", "constraint radius")
 _NO_ROWS = np.zeros((0, 3))
 #: A field smaller than this fraction of the material's G scale (‖A‖/ε) is zero everywhere.
 _ZERO_FIELD = 1e-9
+
+
+class _Pins(NamedTuple):
+    """The pins (k, 3) before or after adding, removing or clearing them (an undo step)."""
+
+    points: np.ndarray
 
 
 class _Pin(NamedTuple):
@@ -693,6 +699,12 @@ class Sculptor:
         """ε of the constraints as a fraction of the model size."""
         return self._settings.constraint_radius
 
+    @property
+    def constraint_reach(self) -> float:
+        """Distance (model units) beyond which a pin moves nothing:
+        :data:`gogreen_core.constraints.CONSTRAINT_INFLUENCE` constraint radii."""
+        return CONSTRAINT_INFLUENCE * self._settings.constraint_radius * self.model_size
+
     def _constraint_set(
         self, full: GreenKernel, settings: EngineSettings, points: np.ndarray
     ) -> ConstraintSet:
@@ -716,17 +728,32 @@ class Sculptor:
 
     def add_constraint(self, point: np.ndarray) -> int:
         """Pin a point (3,) (model units, within :data:`MAX_REACH` model sizes of the model's
-        centre); returns its index."""
+        centre); returns its index. An undo step (the vertices do not move)."""
         self._refuse_in_stroke("add a constraint")
         p = self._check_point("point", point)
         if self._constraints is None:
             constraints = self._constraint_set(self._base_kernel(False), self._settings, [])
         else:
             constraints = self._constraints
+        before = constraints.points
         index = constraints.add(p)
         self._constraints = constraints
+        self._record_pins("add pin", before)
         self._log.record(ConstraintAdd(p))
         return index
+
+    def _record_pins(self, label: str, before: np.ndarray) -> None:
+        """One undo step for a change of the pins alone (positions before and now)."""
+        state = (_Pins(before), _Pins(self.constraint_points))
+        none = np.zeros((0, 3))
+        self.history.record(label, np.zeros(0, dtype=np.int64), none, none, state)
+
+    def _set_pins(self, points: np.ndarray) -> None:
+        """Rebuild the pins at ``points`` (k, 3) (undo/redo of an add, remove or clear)."""
+        if not len(points):
+            self._constraints = None
+            return
+        self._constraints = self._constraint_set(self._base_kernel(False), self._settings, points)
 
     def _check_index(self, index: object) -> int:
         count = 0 if self._constraints is None else len(self._constraints)
@@ -735,14 +762,21 @@ class Sculptor:
         return check_integer("index", index, low=0, high=count - 1)
 
     def remove_constraint(self, index: int) -> None:
+        """Remove pin ``index`` (an undo step)."""
         self._refuse_in_stroke("remove a constraint")
         index = self._check_index(index)
+        before = self._constraints.points
         self._constraints.remove(index)
+        self._record_pins("remove pin", before)
         self._log.record(ConstraintRemove(index))
 
     def clear_constraints(self) -> None:
+        """Remove every pin (an undo step when there were any)."""
         self._refuse_in_stroke("clear the constraints")
+        before = self.constraint_points
         self._constraints = None
+        if len(before):
+            self._record_pins("clear pins", before)
         self._log.record(ConstraintsClear())
 
     def drag_constraint(self, index: int, delta: np.ndarray, continued: bool = False) -> np.ndarray:
@@ -798,6 +832,9 @@ class Sculptor:
         state = self.history.restored_state
         if isinstance(state, EngineSettings):
             self._commit(state)
+            return
+        if isinstance(state, _Pins):
+            self._set_pins(state.points)
             return
         if not isinstance(state, _Pin) or self._constraints is None:
             return

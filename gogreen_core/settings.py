@@ -45,6 +45,7 @@ __all__ = [
     "EventEmitter",
     "EventedModel",
     "Field",
+    "PenSettings",
     "Settings",
     "needed_curves",
 ]
@@ -243,6 +244,31 @@ class BrushSettings(EventedModel):
         self.update(asdict(brush), continued=continued)
 
 
+# -- pen ---------------------------------------------------------------------------------------
+def _flag(_model: PenSettings, name: str, value: Any) -> bool:
+    if not isinstance(value, (bool, np.bool_)):
+        raise ParameterError(f"pen.{name}", f"{name} must be true or false (got {value!r})")
+    return bool(value)
+
+
+def _pen_number(high: float):
+    def validate(_model: PenSettings, name: str, value: Any) -> float:
+        return check_number(f"pen.{name}", value, low=0.0, high=high)
+
+    return validate
+
+
+class PenSettings(EventedModel):
+    """How a pen (or the mouse) drives a stroke, as in Blender: pressure toggles for the
+    strength and the radius, a stabilizer and event spacing (the stroke controller reads them,
+    :class:`gogreen_core.tools.StrokeController`)."""
+
+    pressure_strength = Field(True, _flag, doc="pen pressure scales each event's step")
+    pressure_radius = Field(False, _flag, doc="pen pressure at the press scales the radius")
+    lazy_radius = Field(0.0, _pen_number(1000.0), doc="stabilizer: lag in screen pixels")
+    spacing = Field(0.0, _pen_number(10.0), doc="minimum motion between events, in ε")
+
+
 # -- material, falloff, constraints ----------------------------------------------------------
 def needed_curves(l_max: int) -> list[tuple[str, int]]:
     """Curves a kernel of ``l_max`` uses: R_l for even l ≤ l_max, ℛ_l for odd l ≤ l_max + 1,
@@ -295,6 +321,8 @@ class Settings(EventedModel):
 
     def __init__(self, **values: Any) -> None:
         self.brush = BrushSettings()
+        #: Pen pressure, stabilizer and spacing (not part of presets or sessions).
+        self.pen = PenSettings()
         super().__init__()
         self._values.update(self._normalize({}))  # the spline and weights of the default l_max
         if values:

@@ -18,28 +18,54 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from gogreen_core.brushes import Brush, BrushEvent
+from gogreen_core.brushes import (
+    BRUSH_KINDS,
+    MAX_RADIUS,
+    MAX_STRENGTH,
+    MIN_RADIUS,
+    Brush,
+    BrushEvent,
+)
+from gogreen_core.constraints import smooth_cutoff
 
 __all__ = [
     "PIN_PICK_FRACTION",
     "PIXELS_PER_UNIT_AMOUNT",
+    "PROFILE_SAMPLES",
     "CursorController",
     "CursorState",
+    "PenOptions",
     "PinController",
     "PointerEvent",
     "SculptTools",
     "StrokeController",
     "ToolUpdate",
+    "ValueDrag",
+    "brush_for_key",
+    "brush_profile",
+    "smooth_cutoff",
 ]
 
 #: Screen drag (pixels) that makes an affine brush's amount 1 (strain, or radians for twist).
 PIXELS_PER_UNIT_AMOUNT = 250.0
 #: A press closer to a pin than this fraction of the constraint radius drags that pin.
 PIN_PICK_FRACTION = 0.5
+
+
+#: Screen distance (pixels) from the cursor centre that means strength 1 when F-dragging the
+#: strength with no cursor shown.
+PIXELS_PER_STRENGTH = 100.0
+
+
+def brush_for_key(key: str) -> str | None:
+    """The brush a number key picks ("1" → the first of :data:`BRUSH_KINDS`), else None."""
+    if len(key) == 1 and key.isdigit() and 1 <= int(key) <= len(BRUSH_KINDS):
+        return BRUSH_KINDS[int(key) - 1]
+    return None
 
 
 @dataclass(frozen=True)
@@ -65,14 +91,45 @@ class PointerEvent:
     modifiers: frozenset[str] = frozenset()
 
 
+#: Samples of the falloff profile drawn in the brush cursor, over [0, influence · ε].
+PROFILE_SAMPLES = 48
+
+
+def brush_profile(kernel, brush: Brush, eps: float, samples: int = PROFILE_SAMPLES) -> np.ndarray:
+    """Relative motion (samples,) in [0, 1] at distances ``linspace(0, influence · ε)`` from a
+    grab of ``kernel`` (a :class:`GreenKernel` at ε = ``eps``): |G(r x̂) G(0)⁻¹ e| averaged over
+    the three axes e, times the brush's smooth cutoff, divided by its largest value. With
+    ``kernel`` None (kernels not ready) only the cutoff is drawn."""
+    outer = (brush.influence if np.isfinite(brush.influence) else 4.0) * eps
+    r = np.linspace(0.0, outer, samples)
+    cutoff = smooth_cutoff(r, 0.5 * outer, outer) if np.isfinite(brush.influence) else 1.0
+    if kernel is None:
+        return np.broadcast_to(cutoff, r.shape).astype(float)
+    offsets = np.zeros((samples, 3))
+    offsets[:, 0] = r
+    green = kernel.green(offsets)  # (samples, 3, 3)
+    try:
+        normalized = green @ np.linalg.inv(green[0])
+    except np.linalg.LinAlgError:  # a falloff with G(0) = 0
+        normalized = green / (np.abs(green).max() or 1.0)
+    motion = np.linalg.norm(normalized, axis=1).mean(axis=1) * cutoff
+    peak = motion.max()
+    return motion / peak if peak > 0 and np.isfinite(peak) else np.zeros(samples)
+
+
 @dataclass(frozen=True)
 class CursorState:
-    """Where the brush ring is drawn: ``center`` (3,), unit ``normal`` (3,), ``radius``
-    (model units)."""
+    """Where the brush cursor is drawn: ``center`` (3,), unit ``normal`` (3,), ``radius`` ε
+    (model units), ``influence`` (the moved region's radius in multiples of ε), ``profile``
+    (samples over [0, influence · ε] of the relative motion, :func:`brush_profile`, or None)
+    and ``label`` (a live value shown while F / Shift+F drags it, else None)."""
 
     center: np.ndarray
     normal: np.ndarray
     radius: float
+    influence: float = 4.0
+    profile: np.ndarray | None = None
+    label: str | None = None
 
     def ring_matrix(self) -> np.ndarray:
         """(4, 4) transform placing the unit circle of the xy plane on the surface (lifted by
@@ -145,6 +202,30 @@ class _Coalescer:
         return event
 
 
+@dataclass(frozen=True)
+class PenOptions:
+    """How pressure, the stabilizer and spacing act (the attributes of
+    :class:`gogreen_core.settings.PenSettings`; any object with them will do).
+
+    pressure_strength : pressure scales each event's step (the strength).
+    pressure_radius : the pressure at the press scales the stroke's radius (the engine keeps
+        one brush per stroke, so the radius is set when the stroke begins).
+    lazy_radius : stabilizer, screen pixels: the brush follows the pointer at this distance
+        behind it (a rope of that length), smoothing jitter; 0: off.
+    spacing : a move is applied only once the brush point has gone this many ε from the last
+        applied one; 0: every move.
+    """
+
+    pressure_strength: bool = True
+    pressure_radius: bool = False
+    lazy_radius: float = 0.0
+    spacing: float = 0.0
+
+
+#: Smallest radius factor pen pressure gives (a feather touch still sculpts).
+MIN_PRESSURE_RADIUS = 0.1
+
+
 class StrokeController:
     """One brush stroke at a time: press begins it, moves step it, release ends it.
 
@@ -154,27 +235,42 @@ class StrokeController:
     pixels = amount 1) and their direction from the screen motion.
     """
 
-    def __init__(self, sculptor) -> None:
+    def __init__(self, sculptor, pen: Callable[[], PenOptions] | None = None) -> None:
         self.sculptor = sculptor
+        self.pen = pen or PenOptions
         self.brush: Brush | None = None
         self._anchor: np.ndarray | None = None
         self._last_point: np.ndarray | None = None
         self._last_screen: tuple[float, float] | None = None
+        #: Stabilized pointer: screen (x, y) and world point where the brush is.
+        self._lazy: tuple[tuple[float, float], np.ndarray | None] | None = None
+        #: World point of the last applied event (spacing is measured from it).
+        self._applied: np.ndarray | None = None
 
     @property
     def active(self) -> bool:
         return self.brush is not None
+
+    @property
+    def anchor(self) -> np.ndarray | None:
+        """(3,) the press point of the stroke (where affine brushes act), None between strokes."""
+        return self._anchor
 
     def press(self, event: PointerEvent, brush: Brush) -> None:
         """Begin a stroke at the picked ``event.point`` (engine errors propagate, nothing
         starts)."""
         if event.point is None:
             raise ValueError("a stroke starts on the surface (no point under the cursor)")
+        if self.pen().pressure_radius:
+            factor = max(float(np.clip(event.pressure, 0.0, 1.0)), MIN_PRESSURE_RADIUS)
+            brush = replace(brush, radius=max(brush.radius * factor, MIN_RADIUS))
         self.sculptor.begin_stroke(brush)
         self.brush = brush
         self._anchor = np.array(event.point, dtype=float)
         self._last_point = self._anchor.copy()
         self._last_screen = event.screen
+        self._lazy = (event.screen, self._anchor.copy())
+        self._applied = self._anchor.copy()
 
     def brush_event(self, event: PointerEvent) -> BrushEvent | None:
         """The engine event of moving to ``event`` (None when the cursor did not move)."""
@@ -182,7 +278,9 @@ class StrokeController:
         dx = event.screen[0] - self._last_screen[0]
         dy = self._last_screen[1] - event.screen[1]  # y up
         self._last_screen = event.screen
-        pressure = float(np.clip(event.pressure, 0.0, 1.0))
+        pressure = float(np.clip(event.pressure, 0.0, 1.0)) if self.pen().pressure_strength else 1.0
+        if "ctrl" in event.modifiers:  # Ctrl held inverts the brush (Blender's habit)
+            pressure = -pressure
         if self.brush.is_affine:
             if dx == 0 and dy == 0:
                 return None
@@ -202,8 +300,41 @@ class StrokeController:
         center, self._last_point = self._last_point, point
         return BrushEvent(center=center, delta=pressure * delta)
 
+    def stabilized(self, event: PointerEvent) -> PointerEvent | None:
+        """``event`` after the stabilizer and spacing (:class:`PenOptions`): the brush point
+        trails the pointer by ``lazy_radius`` pixels (the world point interpolated on the drag
+        plane), and None while it has moved less than ``spacing`` · ε since the last applied
+        event or not left the lazy radius."""
+        pen = self.pen()
+        lazy = float(pen.lazy_radius)
+        if lazy > 0 and self._lazy is not None:
+            (lx, ly), lpoint = self._lazy
+            dx, dy = event.screen[0] - lx, event.screen[1] - ly
+            distance = float(np.hypot(dx, dy))
+            if distance <= lazy:
+                return None
+            t = (distance - lazy) / distance
+            screen = (lx + t * dx, ly + t * dy)
+            point = None
+            if event.point is not None and lpoint is not None:
+                point = lpoint + t * (np.asarray(event.point, dtype=float) - lpoint)
+            self._lazy = (screen, point)
+            event = replace(event, screen=screen, point=point)
+        spacing = float(pen.spacing)
+        if spacing > 0 and event.point is not None and self._applied is not None:
+            eps = self.brush.eps(self.sculptor.model_size)
+            if np.linalg.norm(np.asarray(event.point) - self._applied) < spacing * eps:
+                return None
+        return event
+
     def step(self, event: PointerEvent) -> np.ndarray | None:
-        """Apply one move; the indices of moved vertices, or None when nothing moved."""
+        """Apply one move (after :meth:`stabilized`); the indices of moved vertices, or None
+        when nothing moved."""
+        event = self.stabilized(event)
+        if event is None:
+            return None
+        if event.point is not None:
+            self._applied = np.array(event.point, dtype=float)
         brush_event = self.brush_event(event)
         if brush_event is None:
             return None
@@ -277,24 +408,90 @@ class PinController:
         self.index = None
 
 
-class CursorController:
-    """The brush ring: on the surface under the hovering cursor, at the stroke's cursor while
-    dragging, hidden off the model. ``radius`` is a callable giving ε in model units."""
+class ValueDrag:
+    """An on-screen drag of the brush radius or strength (Blender's F / Shift+F).
 
-    def __init__(self, radius: Callable[[], float]) -> None:
+    The value is proportional to the screen distance from the cursor centre ``center``
+    (pixels): ``value = start · distance / start_distance``, so the ring's edge follows the
+    pointer for the radius. ``start_distance`` is the distance that means the starting value
+    (the ring's pixel radius for the radius; the pointer's distance when the drag starts for the
+    strength). Values are clipped to ``[low, high]``.
+    """
+
+    def __init__(
+        self,
+        name: str,
+        start: float,
+        center: tuple[float, float],
+        start_distance: float,
+        low: float,
+        high: float,
+    ) -> None:
+        if name not in ("radius", "strength"):
+            raise ValueError(f"a value drag is of radius or strength (got {name!r})")
+        self.name, self.start, self.center = name, float(start), center
+        self.start_distance = max(float(start_distance), 1.0)
+        self.low, self.high = low, high
+        self.value = self.start
+
+    def move(self, screen: tuple[float, float]) -> float:
+        distance = float(np.hypot(screen[0] - self.center[0], screen[1] - self.center[1]))
+        self.value = float(
+            np.clip(self.start * distance / self.start_distance, self.low, self.high)
+        )
+        return self.value
+
+    @property
+    def label(self) -> str:
+        return f"{self.name.capitalize()} {self.value:.3g}"
+
+
+class CursorController:
+    """The brush cursor: on the surface under the hovering cursor, where the brush acts while
+    dragging, hidden off the model. ``radius`` is a callable giving ε in model units;
+    ``influence`` and ``profile`` (optional callables) give the influence factor and the falloff
+    samples of the current brush."""
+
+    def __init__(
+        self,
+        radius: Callable[[], float],
+        influence: Callable[[], float] | None = None,
+        profile: Callable[[], np.ndarray | None] | None = None,
+    ) -> None:
         self.radius = radius
+        self.influence = influence or (lambda: 4.0)
+        self.profile = profile or (lambda: None)
         self.state: CursorState | None = None
         self._normal: np.ndarray | None = None
 
-    def place(self, point: np.ndarray | None, normal: np.ndarray | None) -> CursorState | None:
+    def place(
+        self, point: np.ndarray | None, normal: np.ndarray | None, label: str | None = None
+    ) -> CursorState | None:
         if point is None:
             self.state = None
             return None
         if normal is not None:
             self._normal = np.asarray(normal, dtype=float)
         n = self._normal if self._normal is not None else np.array([0.0, 0.0, 1.0])
-        self.state = CursorState(np.array(point, dtype=float), n, float(self.radius()))
+        self.state = CursorState(
+            np.array(point, dtype=float),
+            n,
+            float(self.radius()),
+            float(self.influence()),
+            self.profile(),
+            label,
+        )
         return self.state
+
+    def refresh(self) -> CursorState | None:
+        """The same place with the current radius, influence and profile (None if hidden)."""
+        if self.state is None:
+            return None
+        return self.place(self.state.center, self.state.normal, self.state.label)
+
+    def hide(self) -> None:
+        """Hidden until the pointer moves again (after undo, or a newly opened file)."""
+        self.state = None
 
 
 class SculptTools:
@@ -317,14 +514,27 @@ class SculptTools:
         brush: Callable[[], Brush],
         first_pin_radius: Callable[[], None] | None = None,
         ready: Callable[[], str | None] | None = None,
+        settings=None,
+        pen: Callable[[], PenOptions] | None = None,
     ) -> None:
         self.brush = brush
+        #: Pressure, stabilizer and spacing options (:class:`PenOptions` or PenSettings).
+        self.pen = pen or PenOptions
+        #: The brush settings model (``kind``, ``radius``, ``strength``) that keys and value
+        #: drags change (a :class:`gogreen_core.settings.BrushSettings`), optional.
+        self.settings = settings
+        self.value_drag: ValueDrag | None = None
         self.first_pin_radius = first_pin_radius
         self.ready = ready or (lambda: None)
         self.mode = "brush"
         self._moves = _Coalescer()
         self._hover: PointerEvent | None = None
-        self.cursor = CursorController(self._cursor_radius)
+        self.cursor = CursorController(
+            self._cursor_radius, lambda: self.brush().influence, self._cursor_profile
+        )
+        self._profile_key: tuple | None = None
+        self._profile: np.ndarray | None = None
+        self._profile_settings = None
         self.set_sculptor(sculptor)
 
     def set_sculptor(self, sculptor) -> None:
@@ -332,11 +542,30 @@ class SculptTools:
         if getattr(self, "stroke", None) is not None:
             self.stroke.cancel()
         self.sculptor = sculptor
-        self.stroke = StrokeController(sculptor)
+        self.stroke = StrokeController(sculptor, lambda: self.pen())
         self.pin = PinController(sculptor)
 
     def _cursor_radius(self) -> float:
         return self.brush().eps(self.sculptor.model_size) if self.sculptor is not None else 0.0
+
+    def _cursor_profile(self) -> np.ndarray | None:
+        """The current brush's falloff samples (:func:`brush_profile`), cached per engine
+        settings (material, falloff, l_max) and brush shape."""
+        if self.sculptor is None:
+            return None
+        brush = self.brush()
+        eps = brush.eps(self.sculptor.model_size)
+        ready = not self.ready()
+        settings = self.sculptor.settings
+        key = (id(self.sculptor), brush.kind, brush.influence, eps, ready)
+        if key != self._profile_key or settings is not self._profile_settings:
+            try:
+                kernel = self.sculptor.kernel(brush) if ready else None
+                self._profile = brush_profile(kernel, brush, eps)
+            except (ValueError, RuntimeError, np.linalg.LinAlgError):
+                self._profile = brush_profile(None, brush, eps)
+            self._profile_key, self._profile_settings = key, settings
+        return self._profile
 
     # -- state -------------------------------------------------------------------------------
     @property
@@ -356,6 +585,66 @@ class SculptTools:
     @property
     def has_pending(self) -> bool:
         return self._moves.pending is not None or self._hover is not None
+
+    # -- keys --------------------------------------------------------------------------------
+    def pick_brush(self, key: str) -> bool:
+        """Number keys pick brushes in :data:`BRUSH_KINDS` order; True if ``key`` did."""
+        kind = brush_for_key(key)
+        if kind is None or self.settings is None or self.dragging:
+            return False
+        self.settings.kind = kind
+        return True
+
+    def start_value_drag(
+        self,
+        name: str,
+        screen: tuple[float, float],
+        cursor_center: tuple[float, float] | None,
+        ring_pixels: float | None,
+    ) -> ToolUpdate:
+        """Begin an F (``"radius"``) or Shift+F (``"strength"``) drag with the pointer at
+        ``screen``; the cursor's screen centre and ε ring radius (pixels) if it is shown."""
+        if self.settings is None or self.dragging or self.value_drag is not None:
+            return ToolUpdate()
+        start = float(getattr(self.settings, name))
+        if name == "radius":
+            low, high = MIN_RADIUS, MAX_RADIUS
+            if cursor_center is None or not ring_pixels:
+                ring_pixels = 100.0
+                cursor_center = (screen[0] - ring_pixels, screen[1])
+            distance = ring_pixels
+        else:
+            low, high = 0.0, MAX_STRENGTH
+            if cursor_center is None:
+                cursor_center = (screen[0] - PIXELS_PER_STRENGTH * start, screen[1])
+            distance = float(np.hypot(screen[0] - cursor_center[0], screen[1] - cursor_center[1]))
+            distance = distance if distance >= 1.0 else PIXELS_PER_STRENGTH
+        self.value_drag = ValueDrag(name, start, cursor_center, distance, low, high)
+        return self._value_update()
+
+    def _value_update(self) -> ToolUpdate:
+        state = self.cursor.state
+        if state is None:
+            return ToolUpdate()
+        label = self.value_drag.label if self.value_drag is not None else None
+        return ToolUpdate(cursor=self.cursor.place(state.center, state.normal, label))
+
+    def move_value_drag(self, screen: tuple[float, float]) -> ToolUpdate:
+        """The pointer moved during a value drag: the setting follows at once."""
+        if self.value_drag is None:
+            return ToolUpdate()
+        value = self.value_drag.move(screen)
+        setattr(self.settings, self.value_drag.name, value)
+        return self._value_update()
+
+    def finish_value_drag(self, confirm: bool) -> ToolUpdate:
+        """Click or Enter (``confirm``) keeps the value; Escape or right click restores it."""
+        drag, self.value_drag = self.value_drag, None
+        if drag is None:
+            return ToolUpdate()
+        if not confirm:
+            setattr(self.settings, drag.name, drag.start)
+        return self._value_update()
 
     # -- events ------------------------------------------------------------------------------
     def press(self, event: PointerEvent) -> ToolUpdate:
@@ -404,7 +693,9 @@ class SculptTools:
             else:
                 moved = self.stroke.step(event)
                 stepped = moved is not None
-                update = ToolUpdate(moved=moved, cursor=self.cursor.place(event.point, None))
+                # the cursor sits where the brush acts: affine brushes at their press point
+                acts = self.stroke.anchor if self.stroke.brush.is_affine else event.point
+                update = ToolUpdate(moved=moved, cursor=self.cursor.place(acts, None))
         except (ValueError, RuntimeError) as exc:
             self.stroke.cancel()
             self.pin.end()
@@ -420,6 +711,20 @@ class SculptTools:
         self.stroke.end()
         self.pin.end()
         return update
+
+    def remove_pin(self, event: PointerEvent) -> ToolUpdate:
+        """Remove the pin near ``event.point`` (a right click in pin mode; an undo step);
+        nothing when no pin is near."""
+        if self.sculptor is None or self.dragging or event.point is None:
+            return ToolUpdate()
+        index = self.pin.nearest_pin(np.asarray(event.point, dtype=float))
+        if index is None:
+            return ToolUpdate()
+        try:
+            self.sculptor.remove_constraint(index)
+        except (ValueError, RuntimeError) as exc:
+            return ToolUpdate(error=str(exc))
+        return ToolUpdate(pins_changed=True)
 
     def cancel(self) -> None:
         """Abandon a stroke in progress (restoring the mesh) or a pin drag."""

@@ -161,3 +161,21 @@ def test_pull_copies_engine_values_without_echo(sculptor):
     assert settings.material == Material.isotropic(3.0, 0.1)
     assert events[0].source == "engine"
     assert len(sculptor.session()["operations"]) == log_before  # not sent back
+
+
+def test_pen_settings_validate_and_emit():
+    import pytest as _pytest
+
+    from gogreen_core.settings import Settings
+    from gogreen_core.validation import ParameterError
+
+    settings = Settings()
+    assert settings.pen.pressure_strength is True and settings.pen.pressure_radius is False
+    seen = []
+    settings.pen.events.lazy_radius.connect(lambda e: seen.append(e.value))
+    settings.pen.lazy_radius = 12
+    assert seen == [12.0]
+    with _pytest.raises(ParameterError, match="spacing"):
+        settings.pen.spacing = -1
+    with _pytest.raises(ParameterError, match="pressure_radius"):
+        settings.pen.pressure_radius = "yes"

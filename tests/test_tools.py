@@ -165,3 +165,182 @@ def test_ring_matrix_puts_the_unit_circle_on_the_tangent_plane():
     world = (m @ ring.T).T[:, :3]
     assert np.allclose(np.linalg.norm(world[:, :2] - [1.0, 2.0], axis=1), 0.5)
     assert np.allclose(world[:, 2], 3.0 + 0.5e-3)
+
+
+def test_cursor_carries_influence_and_a_falloff_profile(sculptor):
+    brush = Brush("grab", radius=0.1, influence=3.0)
+    tools = tools_for(sculptor, brush)
+    top = sculptor.vertices[int(np.argmax(sculptor.vertices[:, 2]))]
+    tools.hover(at(top, normal=NORTH))
+    state = tools.flush().cursor
+    assert state.influence == 3.0 and state.radius == pytest.approx(0.1 * sculptor.model_size)
+    profile = state.profile
+    assert profile[0] == pytest.approx(1.0) and profile[-1] == pytest.approx(0.0, abs=1e-12)
+    assert np.all(np.diff(profile) <= 1e-12)  # the Kelvinlet-like field falls off
+    assert 0.05 < profile[len(profile) // 3] < 1.0  # not the bare cutoff (1 up to half)
+
+
+def test_smooth_cutoff_and_profile_without_kernels():
+    from gogreen_core.tools import brush_profile, smooth_cutoff
+
+    r = np.array([0.0, 0.5, 0.75, 1.0, 2.0])
+    np.testing.assert_allclose(smooth_cutoff(r, 0.5, 1.0), [1.0, 1.0, 0.5, 0.0, 0.0])
+    cutoff_only = brush_profile(None, Brush("grab", radius=0.1, influence=2.0), eps=0.1)
+    assert cutoff_only[0] == 1.0 and cutoff_only[-1] == 0.0
+
+
+def test_affine_brush_cursor_stays_at_the_point_it_acts_on(sculptor):
+    tools = tools_for(sculptor, Brush("twist", radius=0.1))
+    top = sculptor.vertices[int(np.argmax(sculptor.vertices[:, 2]))].copy()
+    tools.press(at(top, normal=NORTH))
+    tools.move(at(top + np.array([0.3, 0.0, 0.0]), screen=(40.0, 0.0)))
+    update = tools.flush()
+    assert update.moved is not None
+    np.testing.assert_array_equal(update.cursor.center, top)
+    tools.release()
+
+
+def test_cursor_hide_and_refresh(sculptor):
+    radius = {"r": 0.1}
+    tools = SculptTools(sculptor, brush=lambda: Brush("grab", radius=radius["r"]))
+    tools.hover(at([0.0, 0.0, 1.0], normal=NORTH))
+    tools.flush()
+    radius["r"] = 0.2
+    assert tools.cursor.refresh().radius == pytest.approx(0.2 * sculptor.model_size)
+    tools.cursor.hide()
+    assert tools.cursor.state is None and tools.cursor.refresh() is None
+
+
+class FakeBrushSettings:
+    """Stands in for gogreen_core.settings.BrushSettings (plain attributes)."""
+
+    def __init__(self):
+        self.kind, self.radius, self.strength, self.influence = "grab", 0.1, 1.0, 4.0
+
+    @property
+    def brush(self):
+        return Brush(self.kind, radius=self.radius, strength=self.strength)
+
+
+def settings_tools(sculptor):
+    settings = FakeBrushSettings()
+    return SculptTools(sculptor, brush=lambda: settings.brush, settings=settings), settings
+
+
+def test_f_drag_sets_the_radius_live_and_confirms_or_cancels(sculptor):
+    tools, settings = settings_tools(sculptor)
+    tools.hover(at([0.0, 0.0, 1.0], normal=NORTH))
+    tools.flush()
+    # the ring (centre (100, 100), 40 px) is under the pointer's start at its edge
+    update = tools.start_value_drag("radius", (140.0, 100.0), (100.0, 100.0), 40.0)
+    assert update.cursor.label == "Radius 0.1"
+    update = tools.move_value_drag((180.0, 100.0))  # twice the distance: twice the radius
+    assert settings.radius == pytest.approx(0.2) and update.cursor.label == "Radius 0.2"
+    assert update.cursor.radius == pytest.approx(0.2 * sculptor.model_size)
+    tools.finish_value_drag(confirm=True)
+    assert settings.radius == pytest.approx(0.2) and tools.value_drag is None
+    assert tools.cursor.state.label is None
+    tools.start_value_drag("radius", (180.0, 100.0), (100.0, 100.0), 80.0)
+    tools.move_value_drag((110.0, 100.0))
+    assert settings.radius == pytest.approx(0.025)
+    tools.finish_value_drag(confirm=False)  # Escape / right click
+    assert settings.radius == pytest.approx(0.2)
+
+
+def test_shift_f_drags_the_strength_and_clips(sculptor):
+    tools, settings = settings_tools(sculptor)
+    tools.start_value_drag("strength", (150.0, 100.0), (100.0, 100.0), 40.0)
+    tools.move_value_drag((100.0, 200.0))  # 100 px from the centre, was 50 px: twice
+    assert settings.strength == pytest.approx(2.0)
+    tools.move_value_drag((100.0, 100.0))
+    assert settings.strength == 0.0
+    tools.finish_value_drag(confirm=True)
+    assert settings.strength == 0.0
+
+
+def test_number_keys_pick_brushes_in_order(sculptor):
+    from gogreen_core.brushes import BRUSH_KINDS
+    from gogreen_core.tools import brush_for_key
+
+    tools, settings = settings_tools(sculptor)
+    for number, kind in enumerate(BRUSH_KINDS, start=1):
+        assert tools.pick_brush(str(number)) and settings.kind == kind
+    assert brush_for_key("0") is None and brush_for_key("8") is None and brush_for_key("a") is None
+    assert not tools.pick_brush("9")
+
+
+def test_ctrl_held_inverts_the_brush(sculptor):
+    top = int(np.argmax(sculptor.vertices[:, 2]))
+    start = sculptor.vertices[top].copy()
+    tools = tools_for(sculptor)
+    tools.press(at(start))
+    ctrl = PointerEvent((0.0, -5.0), start + 0.02 * NORTH, modifiers=frozenset({"ctrl"}))
+    tools.move(ctrl)
+    tools.flush()
+    tools.release()
+    np.testing.assert_allclose(sculptor.vertices[top], start - 0.02 * NORTH, atol=1e-9)
+
+
+def pen_tools(sculptor, **options):
+    from gogreen_core.tools import PenOptions
+
+    pen = PenOptions(**options)
+    return SculptTools(sculptor, brush=lambda: GRAB, pen=lambda: pen)
+
+
+def grab_once(tools, sculptor, pressure, step=0.02):
+    top = int(np.argmax(sculptor.vertices[:, 2]))
+    start = sculptor.vertices[top].copy()
+    tools.press(at(start, pressure=pressure))
+    tools.move(at(start + step * NORTH, screen=(0.0, -10.0), pressure=pressure))
+    tools.flush()
+    tools.release()
+    return sculptor.vertices[top] - start
+
+
+def test_pressure_drives_the_strength_only_when_toggled(sculptor):
+    moved = grab_once(pen_tools(sculptor), sculptor, 0.5)
+    np.testing.assert_allclose(moved, 0.01 * NORTH, atol=1e-9)
+    sculptor.undo()
+    moved = grab_once(pen_tools(sculptor, pressure_strength=False), sculptor, 0.5)
+    np.testing.assert_allclose(moved, 0.02 * NORTH, atol=1e-9)
+
+
+def test_pressure_drives_the_radius_at_the_press(sculptor):
+    tools = pen_tools(sculptor, pressure_radius=True, pressure_strength=False)
+    top = sculptor.vertices[int(np.argmax(sculptor.vertices[:, 2]))]
+    tools.press(at(top, pressure=0.5))
+    assert tools.stroke.brush.radius == pytest.approx(0.5 * GRAB.radius)
+    tools.release()
+    tools.press(at(top, pressure=0.0))  # a feather touch keeps a tenth
+    assert tools.stroke.brush.radius == pytest.approx(0.1 * GRAB.radius)
+    tools.release()
+
+
+def test_stabilizer_trails_the_pointer_by_the_lazy_radius(sculptor):
+    tools = pen_tools(sculptor, lazy_radius=20.0)
+    top = int(np.argmax(sculptor.vertices[:, 2]))
+    start = sculptor.vertices[top].copy()
+    tools.press(PointerEvent((0.0, 0.0), start))
+    tools.move(PointerEvent((15.0, 0.0), start + 0.015 * NORTH))  # within the rope: nothing
+    assert tools.flush().moved is None
+    tools.move(PointerEvent((40.0, 0.0), start + 0.04 * NORTH))  # the brush goes to 20 px
+    assert tools.flush().moved is not None
+    tools.release()
+    np.testing.assert_allclose(sculptor.vertices[top], start + 0.02 * NORTH, atol=1e-9)
+
+
+def test_spacing_skips_moves_shorter_than_a_fraction_of_eps(sculptor):
+    tools = pen_tools(sculptor, spacing=0.5)
+    eps = GRAB.eps(sculptor.model_size)
+    top = int(np.argmax(sculptor.vertices[:, 2]))
+    start = sculptor.vertices[top].copy()
+    tools.press(at(start))
+    tools.move(at(start + 0.3 * eps * NORTH, screen=(0.0, -1.0)))
+    assert tools.flush().moved is None
+    tools.move(at(start + 0.6 * eps * NORTH, screen=(0.0, -2.0)))
+    assert tools.flush().moved is not None
+    tools.move(at(start + 0.9 * eps * NORTH, screen=(0.0, -3.0)))  # 0.3 ε from the last
+    assert tools.flush().moved is None
+    tools.release()
+    np.testing.assert_allclose(sculptor.vertices[top], start + 0.6 * eps * NORTH, atol=1e-9)

@@ -1,0 +1,194 @@
+"""The brush cursor as a 2D overlay: VTK 2D actors drawn after the scene, never hidden by it.
+
+It shows, around the screen position of the point where the brush acts: the radius ε (a solid
+ring), the influence radius (influence · ε, a thin ring: nothing beyond it moves) and the
+falloff profile (the relative motion against the distance from the centre, drawn as a curve
+over the ring's diameter, 1 at the centre rising to the top of the ε ring), plus a text label
+for a live value (F / Shift+F drags). The rings' screen sizes come from projecting the world
+radius at the point, so they match what the brush does at that depth; the geometry is rebuilt
+at every render (a renderer ``StartEvent``) so orbiting and zooming keep it in place.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import vtk
+from vtkmodules.util.numpy_support import numpy_to_vtk
+
+from gogreen_core.tools import CursorState
+
+__all__ = ["CursorOverlay", "PinOverlay", "ring_points"]
+
+CURSOR_COLOR = (1.0, 0.55, 0.1)
+INFLUENCE_COLOR = (1.0, 0.8, 0.55)
+PROFILE_COLOR = (1.0, 1.0, 1.0)
+PIN_COLOR = (1.0, 0.2, 0.33)
+SEGMENTS = 96
+
+
+def ring_points(center: tuple[float, float], radius: float, segments: int = SEGMENTS) -> np.ndarray:
+    """(segments + 1, 3) display points of a closed circle (z = 0)."""
+    t = np.linspace(0.0, 2 * np.pi, segments + 1)
+    return np.column_stack(
+        [center[0] + radius * np.cos(t), center[1] + radius * np.sin(t), np.zeros_like(t)]
+    )
+
+
+class _Polyline2D:
+    """One polyline actor in display coordinates (pixels, y up)."""
+
+    def __init__(self, renderer, color, width: float, opacity: float = 1.0):
+        self.polydata = vtk.vtkPolyData()
+        mapper = vtk.vtkPolyDataMapper2D()
+        mapper.SetInputData(self.polydata)
+        self.actor = vtk.vtkActor2D()
+        self.actor.SetMapper(mapper)
+        prop = self.actor.GetProperty()
+        prop.SetColor(*color)
+        prop.SetLineWidth(width)
+        prop.SetOpacity(opacity)
+        self.actor.SetPickable(False)
+        self.actor.SetVisibility(False)
+        renderer.AddViewProp(self.actor)
+
+    def set(self, points: np.ndarray) -> None:
+        self.set_many([points])
+
+    def set_many(self, polylines: list[np.ndarray]) -> None:
+        points = np.concatenate(polylines) if polylines else np.zeros((0, 3))
+        vtk_points = vtk.vtkPoints()
+        vtk_points.SetData(numpy_to_vtk(np.ascontiguousarray(points, dtype=np.float64), deep=1))
+        lines = vtk.vtkCellArray()
+        start = 0
+        for line in polylines:
+            lines.InsertNextCell(len(line))
+            for k in range(start, start + len(line)):
+                lines.InsertCellPoint(k)
+            start += len(line)
+        self.polydata.SetPoints(vtk_points)
+        self.polydata.SetLines(lines)
+        self.polydata.Modified()
+
+
+class CursorOverlay:
+    """The brush cursor of a renderer: :meth:`show` a :class:`CursorState` (None hides it).
+
+    ``screen`` holds, after each render, the display centre (x, y) and the pixel radii of the ε
+    and influence rings (None while hidden), for tests and the F drag.
+    """
+
+    def __init__(self, renderer):
+        self.renderer = renderer
+        self.state: CursorState | None = None
+        self.screen: tuple[tuple[float, float], float, float] | None = None
+        self._influence = _Polyline2D(renderer, INFLUENCE_COLOR, 1.0, 0.6)
+        self._ring = _Polyline2D(renderer, CURSOR_COLOR, 2.5)
+        self._profile = _Polyline2D(renderer, PROFILE_COLOR, 1.5, 0.85)
+        self._text = vtk.vtkTextActor()
+        self._text.GetTextProperty().SetFontSize(16)
+        self._text.GetTextProperty().SetColor(*CURSOR_COLOR)
+        self._text.GetTextProperty().BoldOn()
+        self._text.SetVisibility(False)
+        self._text.SetPickable(False)
+        renderer.AddViewProp(self._text)
+        renderer.AddObserver("StartEvent", lambda *_: self.layout())
+
+    @property
+    def visible(self) -> bool:
+        return self.state is not None
+
+    def show(self, state: CursorState | None) -> None:
+        """Draw ``state`` at the next render (None: hide)."""
+        self.state = state
+        self.layout()
+
+    def _to_display(self, point: np.ndarray) -> np.ndarray:
+        self.renderer.SetWorldPoint(*point, 1.0)
+        self.renderer.WorldToDisplay()
+        return np.array(self.renderer.GetDisplayPoint())
+
+    def pixel_radius(self, center: np.ndarray, radius: float) -> float:
+        """Screen radius (pixels) of a world ``radius`` at world ``center``: the projection of
+        a radius perpendicular to the view."""
+        camera = self.renderer.GetActiveCamera()
+        view = np.array(camera.GetFocalPoint()) - np.array(camera.GetPosition())
+        side = np.cross(view, np.array(camera.GetViewUp()))
+        norm = np.linalg.norm(side)
+        side = side / norm if norm > 0 else np.array([1.0, 0.0, 0.0])
+        a, b = self._to_display(center), self._to_display(center + radius * side)
+        return float(np.hypot(*(b - a)[:2]))
+
+    def layout(self) -> None:
+        """Rebuild the 2D geometry for the current camera (cheap: a few hundred points)."""
+        parts = (self._influence, self._ring, self._profile)
+        if self.state is None:
+            for part in parts:
+                part.actor.SetVisibility(False)
+            self._text.SetVisibility(False)
+            self.screen = None
+            return
+        state = self.state
+        center = np.asarray(state.center, dtype=float)
+        display = self._to_display(center)
+        xy = (float(display[0]), float(display[1]))
+        eps_px = self.pixel_radius(center, state.radius)
+        influence = state.influence if np.isfinite(state.influence) else 4.0
+        outer_px = eps_px * influence
+        self._ring.set(ring_points(xy, eps_px))
+        self._influence.set(ring_points(xy, outer_px))
+        for part in (self._ring, self._influence):
+            part.actor.SetVisibility(True)
+        if state.profile is not None and len(state.profile) > 1 and outer_px > 0:
+            # mirrored profile over the diameter: height eps_px · motion(|x|)
+            samples = np.asarray(state.profile, dtype=float)
+            r = np.linspace(0.0, outer_px, len(samples))
+            xs = np.concatenate([-r[::-1], r[1:]])
+            ys = np.concatenate([samples[::-1], samples[1:]]) * eps_px
+            self._profile.set(np.column_stack([xy[0] + xs, xy[1] + ys, np.zeros_like(xs)]))
+            self._profile.actor.SetVisibility(True)
+        else:
+            self._profile.actor.SetVisibility(False)
+        if state.label:
+            self._text.SetInput(state.label)
+            self._text.SetPosition(xy[0] + eps_px + 8, xy[1] + 8)
+            self._text.SetVisibility(True)
+        else:
+            self._text.SetVisibility(False)
+        self.screen = (xy, eps_px, outer_px)
+
+
+class PinOverlay:
+    """The reach of every pin: a 2D ring (drawn over the surface) of the world radius beyond
+    which the pin moves nothing, around each pin's screen position; rebuilt at every render."""
+
+    def __init__(self, renderer):
+        self.renderer = renderer
+        self.points = np.zeros((0, 3))
+        self.reach = 0.0
+        #: Pixel radii of the rings after the last render.
+        self.screen_radii: list[float] = []
+        self._rings = _Polyline2D(renderer, PIN_COLOR, 1.5, 0.8)
+        self._projector = CursorOverlay.__new__(CursorOverlay)
+        self._projector.renderer = renderer
+        renderer.AddObserver("StartEvent", lambda *_: self.layout())
+
+    def show(self, points: np.ndarray, reach: float) -> None:
+        """Rings of world radius ``reach`` around ``points`` (k, 3); k = 0 hides them."""
+        self.points = np.asarray(points, dtype=float).reshape(-1, 3)
+        self.reach = float(reach)
+        self.layout()
+
+    def layout(self) -> None:
+        if not len(self.points) or not np.isfinite(self.reach) or self.reach <= 0:
+            self._rings.actor.SetVisibility(False)
+            self.screen_radii = []
+            return
+        rings, radii = [], []
+        for point in self.points:
+            display = self._projector._to_display(point)
+            radius = self._projector.pixel_radius(point, self.reach)
+            rings.append(ring_points((display[0], display[1]), radius))
+            radii.append(radius)
+        self._rings.set_many(rings)
+        self._rings.actor.SetVisibility(True)
+        self.screen_radii = radii

@@ -1,0 +1,189 @@
+"""The brush cursor overlay in the main window: where it sits, when it updates and hides."""
+
+import pytest
+from PySide6.QtCore import QPoint, QPointF, QSettings, Qt
+from PySide6.QtGui import QMouseEvent
+from PySide6.QtWidgets import QMessageBox
+
+from app.main_window import MainWindow
+from tests.test_app import center_of, drag, send
+
+
+@pytest.fixture
+def window(qtbot, tmp_path, monkeypatch, made_textured):
+    monkeypatch.setattr(QMessageBox, "warning", lambda *a, **k: QMessageBox.StandardButton.Ok)
+    monkeypatch.setattr(QMessageBox, "question", lambda *a, **k: QMessageBox.StandardButton.Discard)
+    win = MainWindow(QSettings(str(tmp_path / "settings.ini"), QSettings.Format.IniFormat))
+    qtbot.addWidget(win)
+    win.show()
+    qtbot.waitExposed(win)
+    assert win.open_file(str(made_textured.path))
+    assert win.kernel_warmer.wait(120_000)
+    win.viewport.render()
+    return win
+
+
+def hover(window, pos):
+    send(
+        window.viewport,
+        QMouseEvent.Type.MouseMove,
+        pos,
+        Qt.MouseButton.NoButton,
+        Qt.MouseButton.NoButton,
+    )
+    window.viewport._emit_hover()
+    window._process_tools()
+    window.viewport.render_now()
+
+
+def test_cursor_shows_radius_and_influence_and_updates_without_a_move(window):
+    vp = window.viewport
+    hover(window, center_of(window))
+    assert vp.cursor_visible
+    (_, eps_px, outer_px) = vp.cursor_overlay.screen
+    assert outer_px == pytest.approx(window.model.brush.influence * eps_px)
+    window.model.brush.radius = 2 * window.model.brush.radius  # no mouse move
+    vp.render_now()
+    assert vp.cursor_overlay.screen[1] == pytest.approx(2 * eps_px, rel=0.05)
+    window.model.brush.influence = 2.0
+    vp.render_now()
+    assert vp.cursor_overlay.screen[2] == pytest.approx(2.0 * vp.cursor_overlay.screen[1])
+
+
+def test_cursor_hides_after_undo_and_open_until_the_mouse_moves(window, made_textured):
+    vp = window.viewport
+    drag(window, center_of(window))
+    hover(window, center_of(window))
+    assert vp.cursor_visible
+    window.undo()
+    assert not vp.cursor_visible
+    window.model.brush.radius = 0.5 * window.model.brush.radius  # must not bring it back
+    assert not vp.cursor_visible
+    hover(window, center_of(window))
+    assert vp.cursor_visible
+    assert window.open_file(str(made_textured.path))
+    window.model.brush.radius = 0.5 * window.model.brush.radius
+    assert not vp.cursor_visible
+    assert vp.pick(QPointF(center_of(window))) is not None
+
+
+def key(window, key, modifiers=Qt.KeyboardModifier.NoModifier, text=""):
+    from PySide6.QtGui import QKeyEvent
+
+    window.viewport.keyPressEvent(QKeyEvent(QKeyEvent.Type.KeyPress, key, modifiers, text))
+
+
+def test_f_drags_the_radius_on_screen_and_escape_restores_it(window):
+    vp = window.viewport
+    center = center_of(window)
+    hover(window, center)
+    (x, y), eps_px, _ = vp.cursor_overlay.screen
+    start = window.model.brush.radius
+    edge = QPointF(x + eps_px, vp.height() - 1 - y)
+    vp.start_value_drag("radius", edge)
+    assert vp.value_dragging
+    moved = QPointF(x + 2 * eps_px, vp.height() - 1 - y)
+    send(vp, QMouseEvent.Type.MouseMove, moved, Qt.MouseButton.NoButton, Qt.MouseButton.NoButton)
+    assert window.model.brush.radius == pytest.approx(2 * start, rel=0.02)
+    vp.render_now()
+    assert vp.cursor_overlay.screen[1] == pytest.approx(2 * eps_px, rel=0.05)  # live ring
+    assert vp.cursor_overlay.state.label.startswith("Radius")
+    key(window, Qt.Key.Key_Escape)
+    assert window.model.brush.radius == start and not vp.value_dragging
+    # Shift+F then a left click keeps the new strength; F via the key
+    key(window, Qt.Key.Key_F, Qt.KeyboardModifier.ShiftModifier, "F")
+    assert vp.value_dragging and vp.tools.value_drag.name == "strength"
+    key(window, Qt.Key.Key_Return)
+    assert not vp.value_dragging
+
+
+def test_number_keys_and_a_click_confirming_a_radius_drag(window):
+    vp = window.viewport
+    key(window, Qt.Key.Key_5, text="5")
+    assert window.model.brush.kind == "scale"
+    key(window, Qt.Key.Key_1, text="1")
+    assert window.model.brush.kind == "grab"
+    hover(window, center_of(window))
+    before = window.document.sculptor.vertices.copy()
+    vp.start_value_drag("radius", QPointF(center_of(window)) + QPointF(30, 0))
+    send(
+        vp,
+        QMouseEvent.Type.MouseMove,
+        center_of(window) + QPoint(60, 0),
+        Qt.MouseButton.NoButton,
+        Qt.MouseButton.NoButton,
+    )
+    send(vp, QMouseEvent.Type.MouseButtonPress, center_of(window) + QPoint(60, 0))
+    assert not vp.value_dragging
+    import numpy as np
+
+    assert np.array_equal(window.document.sculptor.vertices, before)  # the click did not sculpt
+
+
+def tablet(vp, kind, pos, pressure, buttons=Qt.MouseButton.LeftButton):
+    from PySide6.QtGui import QInputDevice, QPointingDevice, QTabletEvent
+
+    device = QPointingDevice(
+        "test pen",
+        7,
+        QInputDevice.DeviceType.Stylus,
+        QPointingDevice.PointerType.Pen,
+        QInputDevice.Capability.Position | QInputDevice.Capability.Pressure,
+        1,
+        3,
+    )
+    p = QPointF(pos)
+    event = QTabletEvent(
+        kind,
+        device,
+        p,
+        vp.mapToGlobal(p),
+        pressure,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        Qt.KeyboardModifier.NoModifier,
+        Qt.MouseButton.LeftButton,
+        buttons,
+    )
+    vp.tabletEvent(event)
+
+
+def pen_drag(window, pressure):
+    vp = window.viewport
+    start = center_of(window)
+    end = start + QPoint(0, -12)
+    tablet(vp, QMouseEvent.Type.TabletPress, start, pressure)
+    send(vp, QMouseEvent.Type.MouseButtonPress, start)
+    tablet(vp, QMouseEvent.Type.TabletMove, end, pressure)
+    send(vp, QMouseEvent.Type.MouseMove, end, Qt.MouseButton.NoButton, Qt.MouseButton.LeftButton)
+    window._process_tools()
+    send(vp, QMouseEvent.Type.MouseButtonRelease, end, buttons=Qt.MouseButton.NoButton)
+    tablet(vp, QMouseEvent.Type.TabletRelease, end, 0.0, Qt.MouseButton.NoButton)
+
+
+def test_pen_pressure_scales_the_strength_and_the_toggles_are_in_the_brush_bar(window):
+    import numpy as np
+
+    sculptor = window.document.sculptor
+    before = sculptor.vertices.copy()
+    pen_drag(window, 1.0)
+    full = np.linalg.norm(sculptor.vertices - before, axis=1).max()
+    window.undo()
+    pen_drag(window, 0.5)
+    half = np.linalg.norm(sculptor.vertices - before, axis=1).max()
+    window.undo()
+    assert full > 0 and half == pytest.approx(0.5 * full, rel=0.05)
+    assert window.viewport._pressure == 1.0  # back to a mouse's after the pen lifted
+    # the brush bar's toggle turns it off: a light pen then moves as much as a firm one
+    window.brush_bar.pressure_actions["pressure_strength"].trigger()
+    assert window.model.pen.pressure_strength is False
+    pen_drag(window, 0.5)
+    same = np.linalg.norm(sculptor.vertices - before, axis=1).max()
+    assert same == pytest.approx(full, rel=0.05)
+    window.model.pen.pressure_radius = True
+    assert window.brush_bar.pressure_actions["pressure_radius"].isChecked()
+    window.brush_bar.lazy_radius.setValue(15)
+    assert window.model.pen.lazy_radius == 15.0
