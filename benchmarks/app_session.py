@@ -229,6 +229,8 @@ def main() -> None:
     )
     window.save_screenshot(args.out)
     print(f"screenshot: {args.out}")
+    # the drags above left unsaved edits: without this, closing asks to save and waits forever
+    window.document._saved_vertices = window.document.sculptor.vertices.copy()
     window.close()
 
 
