@@ -676,3 +676,6 @@ def test_the_falloff_preview_follows_a_curve_edit(qtbot, falloff_panel):
         preview.values[np.searchsorted(preview.rho, 1.5)]
         > before[np.searchsorted(preview.rho, 1.5)]
     )
+    edited = preview.values.copy()
+    panel.settings.material = Material.cubic(1.0, 0.5, 0.1)  # the material counts too
+    qtbot.waitUntil(lambda: not np.array_equal(preview.values, edited), timeout=5_000)
