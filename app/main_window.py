@@ -26,6 +26,7 @@ from PySide6.QtWidgets import (
     QMainWindow,
     QMessageBox,
     QProgressBar,
+    QPushButton,
     QTabWidget,
     QToolBar,
 )
@@ -41,6 +42,7 @@ from app.panels.homogenization_panel import HomogenizationPanel
 from app.panels.material_panel import MaterialPanel
 from app.theme import DEFAULT_THEME, THEMES, Theme, apply_theme, theme
 from app.viewport import SculptViewport
+from gogreen_core.brushes import default_wrinkle_weights
 from gogreen_core.material import Material
 from gogreen_core.mesh_io import write_text_atomic
 from gogreen_core.presets import Preset, builtin_presets, load_preset, save_preset
@@ -66,6 +68,34 @@ SHADINGS = {
 }
 #: Material (ambient, diffuse, specular, specular power) of the mesh in each shading mode.
 _SHADING_PROPS = {"studio": (0.12, 0.85, 0.25, 20.0), "clay": (0.22, 0.9, 0.0, 1.0)}
+#: Below this :func:`material_anisotropy` the wrinkle brush moves the surface like grab (its
+#: reweighted degrees l > 2 carry next to nothing): the cubic c11=1, c12=.5, c44=.4 is 0.13,
+#: the built-in wood / fibre / layered presets 0.58 to 0.83.
+WRINKLE_MIN_ANISOTROPY = 0.25
+WRINKLE_NEEDS = (
+    "the wrinkle brush needs a strongly anisotropic material: with this nearly isotropic one "
+    "it moves the surface like grab"
+)
+
+
+def material_anisotropy(material: Material) -> float:
+    """‖C − C_iso‖ / ‖C‖ (Frobenius, on the 3×3×3×3 tensor): 0 for an isotropic material,
+    where C_iso, the closest isotropic tensor, has the same C_iijj and C_ijij."""
+    c = material.tensor
+    eye = np.eye(3)
+    trace, shear = np.einsum("iijj", c), np.einsum("ijij", c)  # 9λ + 6μ, 3λ + 12μ
+    mu = (3.0 * shear - trace) / 30.0
+    lam = (trace - 6.0 * mu) / 9.0
+    iso = lam * np.einsum("ij,kl", eye, eye) + mu * (
+        np.einsum("ik,jl", eye, eye) + np.einsum("il,jk", eye, eye)
+    )
+    norm = np.linalg.norm(c)
+    return float(np.linalg.norm(c - iso) / norm) if norm > 0 else 0.0
+
+
+def wrinkle_preset() -> Preset:
+    """The built-in preset made for the wrinkle brush ("Layered sheet wrinkles")."""
+    return next(p for p in builtin_presets() if p.brush.kind == "wrinkle")
 
 
 class MainWindow(QMainWindow):
@@ -303,6 +333,14 @@ class MainWindow(QMainWindow):
             label.setMinimumWidth(150)
             self.statusBar().addPermanentWidget(label)
         self.statusBar().addWidget(self.message_label, 1)
+        # one click to a material the wrinkle brush needs (shown only when it lacks one)
+        self.wrinkle_fix_button = QPushButton("Use a wrinkle material")
+        self.wrinkle_fix_button.setToolTip(
+            "Apply the “Layered sheet wrinkles” material and wrinkle weights (one undo step)"
+        )
+        self.wrinkle_fix_button.clicked.connect(self.use_wrinkle_material)
+        self.wrinkle_fix_button.hide()
+        self.statusBar().addWidget(self.wrinkle_fix_button)
         # a temporary message (the first-run hint) is drawn where the label is: not both
         self.statusBar().messageChanged.connect(
             lambda text: self.message_label.setHidden(bool(text))
@@ -320,6 +358,10 @@ class MainWindow(QMainWindow):
         self.viewport.strength_wheel.connect(self.brush_bar.scale_strength)
         self.model.brush.events.changed.connect(lambda _c: self._brush_changed())
         self.model.events.material.connect(self._material_changed)
+        self.model.brush.events.kind.connect(lambda _e: self._check_wrinkle_material())
+        self._wrinkle_tip = self.brush_bar.kind_actions["wrinkle"].toolTip()
+        # after the engine link (connected first): a settings step enables Undo at once
+        self.model.events.changed.connect(lambda _c: self._refresh_title())
         self.model.events.l_max.connect(self._l_max_changed)
         self.homogenization_panel.material_ready.connect(self._use_homogenized)
         self.kernel_warmer.ready.connect(self._kernels_ready)
@@ -562,6 +604,38 @@ class MainWindow(QMainWindow):
         if event.source != "engine" and self.document is not None:
             if self.document.sculptor.material == event.value:
                 self.flash("Material applied")
+        self._check_wrinkle_material()
+
+    @property
+    def wrinkle_lacks_material(self) -> bool:
+        """The wrinkle brush is picked and the material is (nearly) isotropic."""
+        return (
+            self.model.brush.kind == "wrinkle"
+            and material_anisotropy(self.model.material) < WRINKLE_MIN_ANISOTROPY
+        )
+
+    def _check_wrinkle_material(self) -> None:
+        """Say what the wrinkle brush needs (status bar, its tool tip) and offer the fix."""
+        lacking = self.wrinkle_lacks_material
+        action = self.brush_bar.kind_actions["wrinkle"]
+        note = f"\n{WRINKLE_NEEDS[0].upper()}{WRINKLE_NEEDS[1:]}."
+        action.setToolTip(self._wrinkle_tip + (note if lacking else ""))
+        if lacking and self.wrinkle_fix_button.isHidden():
+            self.statusBar().clearMessage()  # a temporary hint would hide the message
+            self.flash(f"Wrinkle: {WRINKLE_NEEDS}.")
+        self.wrinkle_fix_button.setVisible(lacking)
+
+    def use_wrinkle_material(self) -> None:
+        """Apply the wrinkle preset's material and weights: one undo step."""
+        preset = wrinkle_preset()
+        l_max = self.model.l_max
+        weights = preset.degree_weights
+        if weights is None or len(weights) != l_max + 1:
+            weights = default_wrinkle_weights(l_max)
+        changed = self.model.update({"material": preset.material})
+        # continued: the weights join the material's undo step
+        self.model.update({"degree_weights": weights}, continued=bool(changed))
+        self.flash(f"Wrinkle material: {preset.name} (Ctrl+Z undoes it)")
 
     def _use_homogenized(self, material: Material) -> None:
         self.apply_material(material)

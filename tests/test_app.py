@@ -482,3 +482,99 @@ def test_presets_open_the_material_panel_in_the_mode_of_their_material(window):
     assert modes["Soft clay"] == "isotropic"
     assert modes["Wood grain"] == "voigt"
     assert window.material_panel.material == window.model.material
+
+
+def _curve_drag(qtbot, editor, index: int, dy: int) -> None:
+    """Drag control point ``index`` of the active curve ``dy`` pixels in a few mouse steps."""
+    start = editor.point_position(index).toPoint()
+    qtbot.mousePress(editor, Qt.MouseButton.LeftButton, pos=start)
+    for step in (1, 2, 3):
+        qtbot.mouseMove(editor, pos=start + QPoint(0, dy * step // 3))
+    qtbot.mouseRelease(editor, Qt.MouseButton.LeftButton, pos=start + QPoint(0, dy))
+
+
+def test_a_curve_drag_is_one_undo_step_restored_exactly_and_redone(window, qtbot):
+    activate(window, qtbot)
+    window.panel_tabs.setCurrentWidget(window.falloff_panel)
+    editor = window.falloff_panel.editor
+    qtbot.waitExposed(editor)
+    sculptor = window.document.sculptor
+    model_curves = window.model.falloff.to_dict()
+    engine_curves = sculptor.falloff.to_dict()
+    points = editor.control_points()
+    depth = len(sculptor.history.undo_labels)
+    rho, _ = points
+    _curve_drag(qtbot, editor, int(np.searchsorted(rho, 1.0)), -40)
+    edited = window.model.falloff.to_dict()
+    assert edited != model_curves
+    assert sculptor.falloff.to_dict() == edited  # the engine follows every step
+    assert len(sculptor.history.undo_labels) == depth + 1  # the whole drag: one step
+    assert sculptor.history.undo_labels[-1] == "falloff"
+
+    assert window.undo_action.isEnabled()  # a settings step enables Ctrl+Z at once
+    activate(window, qtbot)
+    qtbot.keyClick(editor, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)  # window's undo
+    assert window.model.falloff.to_dict() == model_curves
+    assert sculptor.falloff.to_dict() == engine_curves
+    for shown, before in zip(editor.control_points(), points, strict=True):
+        assert np.array_equal(shown, before)  # the editor shows the old curve again
+    assert len(sculptor.history.undo_labels) == depth
+
+    window.redo()
+    assert window.model.falloff.to_dict() == edited
+    assert sculptor.falloff.to_dict() == edited
+    window.undo()
+    assert window.model.falloff.to_dict() == model_curves
+
+
+def _wrinkle_vs_grab(window, start: QPoint) -> float:
+    """max |wrinkle − grab| / max |grab| of one drag from ``start`` (both undone)."""
+    sculptor = window.document.sculptor
+    rest = sculptor.vertices.copy()
+    moved = {}
+    for kind in ("grab", "wrinkle"):
+        window.model.brush.kind = kind
+        drag(window, start)
+        moved[kind] = sculptor.vertices - rest
+        window.undo()
+    window.model.brush.kind = "grab"
+    assert np.array_equal(sculptor.vertices, rest)
+    return float(np.abs(moved["wrinkle"] - moved["grab"]).max() / np.abs(moved["grab"]).max())
+
+
+def test_wrinkle_on_an_isotropic_material_says_so_and_one_click_fixes_it(window, qtbot):
+    from app.main_window import material_anisotropy, wrinkle_preset
+
+    sculptor = window.document.sculptor
+    old_material, old_weights = window.model.material, window.model.degree_weights.copy()
+    assert material_anisotropy(old_material) < 1e-12
+    assert window.wrinkle_fix_button.isHidden()
+    start = center_of(window)
+    iso = _wrinkle_vs_grab(window, start)  # the isotropic material: wrinkle looks like grab
+    assert iso < 1e-9, iso  # measured 8e-16
+
+    window.model.brush.kind = "wrinkle"
+    assert "anisotropic" in window.message_label.text()
+    assert "anisotropic" in window.brush_bar.kind_actions["wrinkle"].toolTip()
+    assert window.wrinkle_fix_button.isVisible()
+    depth = len(sculptor.history.undo_labels)
+    qtbot.mouseClick(window.wrinkle_fix_button, Qt.MouseButton.LeftButton)
+    preset = wrinkle_preset()
+    assert window.model.material == preset.material
+    assert sculptor.material == preset.material
+    assert material_anisotropy(sculptor.material) > 0.5
+    assert len(sculptor.history.undo_labels) == depth + 1  # material and weights: one step
+    assert window.wrinkle_fix_button.isHidden()
+    assert "anisotropic" not in window.brush_bar.kind_actions["wrinkle"].toolTip()
+
+    # now a wrinkle stroke differs from a grab stroke (same drag, same start)
+    aniso = _wrinkle_vs_grab(window, start)
+    assert aniso > 0.03, aniso  # measured 0.06 of the drag's largest displacement
+    window.model.brush.kind = "wrinkle"
+    assert window.wrinkle_fix_button.isHidden()
+
+    window.undo()  # the material step: the old material and weights exactly
+    assert window.model.material == old_material
+    assert sculptor.material == old_material
+    assert np.array_equal(sculptor.degree_weights, old_weights)
+    assert window.wrinkle_fix_button.isVisible()  # wrinkle still picked: offered again

@@ -655,3 +655,27 @@ def test_plots_are_drawn_on_the_themes_paper(qtbot, name):
         app.setPalette(saved[0])
         app.setStyleSheet(saved[1])
         app.setProperty("gogreen_theme", saved[3])
+
+
+def test_the_falloff_preview_follows_a_curve_edit(qtbot, falloff_panel):
+    panel = falloff_panel
+    preview = panel.preview
+    qtbot.waitUntil(lambda: preview.values is not None, timeout=20_000)
+    before = preview.values.copy()
+    assert len(before) == 64 and before.max() == pytest.approx(1.0)
+    editor = panel.editor
+    rho, _ = editor.control_points()
+    start = editor.point_position(int(np.searchsorted(rho, 1.5))).toPoint()
+    qtbot.mousePress(editor, Qt.MouseButton.LeftButton, pos=start)
+    qtbot.mouseMove(editor, pos=start + QPoint(0, -20))
+    qtbot.mouseMove(editor, pos=start + QPoint(0, -50))
+    qtbot.mouseRelease(editor, Qt.MouseButton.LeftButton, pos=start + QPoint(0, -50))
+    qtbot.waitUntil(lambda: not np.array_equal(preview.values, before), timeout=5_000)
+    assert preview.values.max() == pytest.approx(1.0)
+    assert (
+        preview.values[np.searchsorted(preview.rho, 1.5)]
+        > before[np.searchsorted(preview.rho, 1.5)]
+    )
+    edited = preview.values.copy()
+    panel.settings.material = Material.cubic(1.0, 0.5, 0.1)  # the material counts too
+    qtbot.waitUntil(lambda: not np.array_equal(preview.values, edited), timeout=5_000)

@@ -16,7 +16,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
-from PySide6.QtCore import Qt, Signal
+from PySide6.QtCore import QPointF, QSize, Qt, QTimer, Signal
+from PySide6.QtGui import QColor, QPainter, QPainterPath, QPen
 from PySide6.QtWidgets import (
     QCheckBox,
     QComboBox,
@@ -32,12 +33,13 @@ from PySide6.QtWidgets import (
 )
 
 from app.panels.curve_editor import CurveEditor, curve_color, curve_label
-from app.panels.widgets import scrolled_column, set_text_role
+from app.panels.widgets import plot_colors, scrolled_column, set_text_role
 from gogreen_core.brushes import default_wrinkle_weights
+from gogreen_core.kernel import GreenKernel
 from gogreen_core.radial import GaussianRadial, KelvinletRadial, RadialProfile, SplineRadial
 from gogreen_core.settings import ChangeEvent, Settings, needed_curves
 
-__all__ = ["L_MAX_RANGE", "QUICK_CURVES", "FalloffPanel"]
+__all__ = ["L_MAX_RANGE", "QUICK_CURVES", "FalloffPanel", "FalloffPreview"]
 
 #: Range of the truncation degree spin box.
 L_MAX_RANGE = (0, 30)
@@ -45,6 +47,99 @@ L_MAX_RANGE = (0, 30)
 QUICK_CURVES = (("R", 0), ("R", 2), ("dR", 1), ("dR", 3))
 _DEFAULT_SHOWN = (("R", 0), ("R", 2))
 _WEIGHT_COLUMNS = 3
+#: Samples of the falloff preview (one kernel evaluation each: a few ms in all).
+PREVIEW_SAMPLES = 64
+#: Least time between two preview updates (ms): a drag's steps are coalesced.
+PREVIEW_INTERVAL_MS = 120
+
+
+class FalloffPreview(QWidget):
+    """What the artist feels: the grab displacement |u| along a radius, normalized to 1 at
+    its peak, for the settings' material, falloff and l_max.
+
+    The load pulls along z (out of a surface) and the samples lie along x (across it), at
+    ρ = r/ε in [0, ``rho_max``]. Changes are coalesced: at most one update per
+    :data:`PREVIEW_INTERVAL_MS` (:meth:`schedule`); :meth:`recompute` updates at once.
+    :attr:`rho` and :attr:`values` are the plotted data (values None if the kernel failed).
+    """
+
+    def __init__(self, settings: Settings, parent: QWidget | None = None):
+        super().__init__(parent)
+        self.settings = settings
+        self.rho_max = 4.0
+        self.rho = np.linspace(0.0, self.rho_max, PREVIEW_SAMPLES)
+        self.values: np.ndarray | None = None
+        self._kernel: GreenKernel | None = None  # of (material, l_max) = _kernel_key
+        self._kernel_key: tuple | None = None
+        self._timer = QTimer(self)
+        self._timer.setSingleShot(True)
+        self._timer.setInterval(PREVIEW_INTERVAL_MS)
+        self._timer.timeout.connect(self.recompute)
+        self.setMinimumHeight(90)
+        self.setToolTip(
+            "Falloff felt by a grab brush: displacement along a radius (ρ = r/ε), "
+            "normalized to 1 at its peak, for this material, falloff and l_max"
+        )
+
+    def sizeHint(self) -> QSize:
+        return QSize(300, 110)
+
+    def set_rho_max(self, rho_max: float) -> None:
+        self.rho_max = float(rho_max)
+        self.schedule()
+
+    def schedule(self) -> None:
+        """Recompute soon (once for any number of calls within the interval)."""
+        if not self._timer.isActive():
+            self._timer.start()
+
+    def recompute(self) -> None:
+        self._timer.stop()
+        s = self.settings
+        rho = np.linspace(0.0, self.rho_max, PREVIEW_SAMPLES)
+        points = np.zeros((PREVIEW_SAMPLES, 3))
+        points[:, 0] = rho
+        try:
+            radial = s.falloff.with_eps(1.0)
+            if self._kernel is None or self._kernel_key != (s.material, s.l_max):
+                self._kernel = GreenKernel(s.material, s.l_max, radial)
+                self._kernel_key = (s.material, s.l_max)
+            kernel = self._kernel.with_radial(radial)  # ~2 ms, a new kernel ~15 ms
+            u = kernel.displacement(points, np.zeros(3), np.array([0.0, 0.0, 1.0]))
+            magnitude = np.linalg.norm(u, axis=1)
+            peak = magnitude.max()
+            values = magnitude / peak if np.isfinite(peak) and peak > 0 else None
+        except (ValueError, RuntimeError):
+            values = None
+        self.rho, self.values = rho, values
+        self.update()
+
+    def paintEvent(self, _event) -> None:
+        colors = plot_colors()
+        painter = QPainter(self)
+        painter.setRenderHint(QPainter.RenderHint.Antialiasing)
+        painter.fillRect(self.rect(), colors.background)
+        rect = self.rect().adjusted(8, 18, -8, -8)
+        painter.setPen(QPen(colors.frame, 1.0))
+        painter.drawRect(rect)
+        painter.setPen(QPen(colors.grid, 1.0))
+        for frac in (0.25, 0.5, 0.75):
+            y = rect.bottom() - frac * rect.height()
+            painter.drawLine(QPointF(rect.left(), y), QPointF(rect.right(), y))
+        painter.setPen(colors.muted)
+        painter.drawText(8, 13, f"felt falloff |u| (grab), ρ 0 – {self.rho_max:g}")
+        if self.values is None:
+            painter.drawText(rect, Qt.AlignmentFlag.AlignCenter, "no preview")
+            return
+        path = QPainterPath()
+        for i, (r, v) in enumerate(zip(self.rho, self.values, strict=True)):
+            point = QPointF(
+                rect.left() + r / self.rho_max * rect.width(),
+                rect.bottom() - float(v) * rect.height(),
+            )
+            path.moveTo(point) if i == 0 else path.lineTo(point)
+        painter.setPen(QPen(QColor(curve_color(("R", 0))), 2.0))
+        painter.drawPath(path)
 
 
 def _key_id(key: tuple[str, int]) -> str:
@@ -108,6 +203,8 @@ class FalloffPanel(QWidget):
         self.editor.message.connect(self._show_message)
         self.editor.active_curve_changed.connect(self._active_changed_in_editor)
         layout.addWidget(self.editor, 1)
+        self.preview = FalloffPreview(self.settings)
+        layout.addWidget(self.preview)
 
         hint = QLabel("Drag points · double-click or Ctrl+click adds · right-click or Del removes")
         hint.setWordWrap(True)
@@ -130,8 +227,11 @@ class FalloffPanel(QWidget):
             (events.l_max, self._model_l_max),
             (events.degree_weights, self._model_weights),
         )
+        callbacks += ((events.changed, self._schedule_preview),)
         for emitter, callback in callbacks:
             emitter.connect(callback)
+        self.rho_max_spin.valueChanged.connect(self.preview.set_rho_max)
+        self.preview.set_rho_max(self.rho_max_spin.value())
         self.destroyed.connect(lambda *_: [e.disconnect(c) for e, c in callbacks])
 
     # -- construction ------------------------------------------------------------------------
@@ -349,6 +449,10 @@ class FalloffPanel(QWidget):
         self.editor.set_radial(self.radial)
         self._refresh_curve_choices()
         self._hide_message()
+
+    def _schedule_preview(self, changes) -> None:
+        if changes.names & {"material", "falloff", "l_max"}:
+            self.preview.schedule()
 
     def _model_l_max(self, _event: ChangeEvent) -> None:
         self._sync_l_max_spin()
