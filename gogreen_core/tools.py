@@ -47,6 +47,7 @@ __all__ = [
     "ValueDrag",
     "brush_for_key",
     "brush_profile",
+    "grab_motion",
     "smooth_cutoff",
 ]
 
@@ -105,16 +106,24 @@ def brush_profile(kernel, brush: Brush, eps: float, samples: int = PROFILE_SAMPL
     cutoff = smooth_cutoff(r, 0.5 * outer, outer) if np.isfinite(brush.influence) else 1.0
     if kernel is None:
         return np.broadcast_to(cutoff, r.shape).astype(float)
-    offsets = np.zeros((samples, 3))
-    offsets[:, 0] = r
-    green = kernel.green(offsets)  # (samples, 3, 3)
-    try:
-        normalized = green @ np.linalg.inv(green[0])
-    except np.linalg.LinAlgError:  # a falloff with G(0) = 0
-        normalized = green / (np.abs(green).max() or 1.0)
-    motion = np.linalg.norm(normalized, axis=1).mean(axis=1) * cutoff
+    motion = grab_motion(kernel, r) * cutoff
     peak = motion.max()
     return motion / peak if peak > 0 and np.isfinite(peak) else np.zeros(samples)
+
+
+def grab_motion(kernel, distances: np.ndarray) -> np.ndarray:
+    """Motion (n,) at ``distances`` (n,) along x̂ from a unit grab of ``kernel`` (a
+    :class:`GreenKernel`): |G(r x̂) G(0)⁻¹ e| averaged over the three axes e, so 1 at the centre
+    (G(0) singular, a falloff with R₀(0) = 0: G divided by its largest entry instead). What the
+    brush cursor and the falloff panel's preview draw."""
+    offsets = np.zeros((len(distances), 3))
+    offsets[:, 0] = distances
+    green = kernel.green(offsets)  # (n, 3, 3)
+    try:
+        normalized = green @ np.linalg.inv(green[0])
+    except np.linalg.LinAlgError:
+        normalized = green / (np.abs(green).max() or 1.0)
+    return np.linalg.norm(normalized, axis=1).mean(axis=1)
 
 
 @dataclass(frozen=True)

@@ -183,3 +183,36 @@ def made_huge(tmp_path_factory) -> MadeMesh:
     path = tmp_path_factory.mktemp("made") / "huge.obj"
     write_obj(path, vertices, faces)
     return MadeMesh(path, vertices, faces)
+
+
+# -- the main window (GUI tests) ---------------------------------------------------------------
+@pytest.fixture
+def app_look(qapp):
+    """The application's style, palette and style sheet, restored after the test (the
+    window applies its theme to the whole application)."""
+    saved = qapp.palette(), qapp.styleSheet(), qapp.style().name(), qapp.property("gogreen_theme")
+    yield qapp
+    qapp.setStyle(saved[2])
+    qapp.setPalette(saved[0])
+    qapp.setStyleSheet(saved[1])
+    qapp.setProperty("gogreen_theme", saved[3])
+
+
+@pytest.fixture
+def window(qtbot, tmp_path, monkeypatch, made_textured, app_look):
+    """The main window on Spot's stand-in (UV seams), kernels ready, message boxes answered."""
+    from PySide6.QtCore import QSettings
+    from PySide6.QtWidgets import QMessageBox
+
+    from app.main_window import MainWindow  # Qt only for the GUI tests that ask for it
+
+    monkeypatch.setattr(QMessageBox, "warning", lambda *a, **k: QMessageBox.StandardButton.Ok)
+    monkeypatch.setattr(QMessageBox, "question", lambda *a, **k: QMessageBox.StandardButton.Discard)
+    win = MainWindow(QSettings(str(tmp_path / "settings.ini"), QSettings.Format.IniFormat))
+    qtbot.addWidget(win)
+    win.show()
+    qtbot.waitExposed(win)
+    assert win.open_file(str(made_textured.path))  # Spot's stand-in: UV seams (conftest.py)
+    assert win.kernel_warmer.wait(120_000)  # strokes are refused until the kernels are ready
+    win.viewport.render()
+    return win

@@ -2,38 +2,12 @@
 
 import numpy as np
 import pytest
-from PySide6.QtCore import QPoint, QPointF, QSettings, Qt
+from PySide6.QtCore import QPoint, QPointF, Qt
 from PySide6.QtGui import QMouseEvent
 from PySide6.QtWidgets import QMessageBox
 
 from app.main_window import MainWindow
 from gogreen_core import Material
-
-
-@pytest.fixture
-def app_look(qapp):
-    """The application's style, palette and style sheet, restored after the test (the
-    window applies its theme to the whole application)."""
-    saved = qapp.palette(), qapp.styleSheet(), qapp.style().name(), qapp.property("gogreen_theme")
-    yield qapp
-    qapp.setStyle(saved[2])
-    qapp.setPalette(saved[0])
-    qapp.setStyleSheet(saved[1])
-    qapp.setProperty("gogreen_theme", saved[3])
-
-
-@pytest.fixture
-def window(qtbot, tmp_path, monkeypatch, made_textured, app_look):
-    monkeypatch.setattr(QMessageBox, "warning", lambda *a, **k: QMessageBox.StandardButton.Ok)
-    monkeypatch.setattr(QMessageBox, "question", lambda *a, **k: QMessageBox.StandardButton.Discard)
-    win = MainWindow(QSettings(str(tmp_path / "settings.ini"), QSettings.Format.IniFormat))
-    qtbot.addWidget(win)
-    win.show()
-    qtbot.waitExposed(win)
-    assert win.open_file(str(made_textured.path))  # Spot's stand-in: UV seams (conftest.py)
-    assert win.kernel_warmer.wait(120_000)  # strokes are refused until the kernels are ready
-    win.viewport.render()
-    return win
 
 
 def test_opens_and_sculpts_the_shared_spot(window, shared_mesh):

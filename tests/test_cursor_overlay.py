@@ -1,26 +1,10 @@
 """The brush cursor overlay in the main window: where it sits, when it updates and hides."""
 
 import pytest
-from PySide6.QtCore import QPoint, QPointF, QSettings, Qt
+from PySide6.QtCore import QPoint, QPointF, Qt
 from PySide6.QtGui import QMouseEvent
-from PySide6.QtWidgets import QMessageBox
 
-from app.main_window import MainWindow
 from tests.test_app import center_of, drag, send
-
-
-@pytest.fixture
-def window(qtbot, tmp_path, monkeypatch, made_textured):
-    monkeypatch.setattr(QMessageBox, "warning", lambda *a, **k: QMessageBox.StandardButton.Ok)
-    monkeypatch.setattr(QMessageBox, "question", lambda *a, **k: QMessageBox.StandardButton.Discard)
-    win = MainWindow(QSettings(str(tmp_path / "settings.ini"), QSettings.Format.IniFormat))
-    qtbot.addWidget(win)
-    win.show()
-    qtbot.waitExposed(win)
-    assert win.open_file(str(made_textured.path))
-    assert win.kernel_warmer.wait(120_000)
-    win.viewport.render()
-    return win
 
 
 def hover(window, pos):

@@ -2,11 +2,9 @@
 
 import numpy as np
 import pytest
-from PySide6.QtCore import QPoint, QPointF, QSettings, Qt
+from PySide6.QtCore import QPoint, QPointF, Qt
 from PySide6.QtGui import QMouseEvent
-from PySide6.QtWidgets import QMessageBox
 
-from app.main_window import MainWindow
 from gogreen_core.constraints import CONSTRAINT_INFLUENCE, smooth_cutoff
 from gogreen_core.sculptor import Sculptor
 from gogreen_core.shapes import icosphere
@@ -67,19 +65,6 @@ def test_adding_and_removing_pins_are_undo_steps_and_replay(sculptor):
     replayed.replay(sculptor.session()["operations"])
     np.testing.assert_array_equal(replayed.vertices, sculptor.vertices)
     np.testing.assert_array_equal(replayed.constraint_points, sculptor.constraint_points)
-
-
-@pytest.fixture
-def window(qtbot, tmp_path, monkeypatch, made_textured):
-    monkeypatch.setattr(QMessageBox, "warning", lambda *a, **k: QMessageBox.StandardButton.Ok)
-    monkeypatch.setattr(QMessageBox, "question", lambda *a, **k: QMessageBox.StandardButton.Discard)
-    win = MainWindow(QSettings(str(tmp_path / "settings.ini"), QSettings.Format.IniFormat))
-    qtbot.addWidget(win)
-    win.show()
-    qtbot.waitExposed(win)
-    assert win.open_file(str(made_textured.path))
-    win.viewport.render()
-    return win
 
 
 def click(vp, pos, button=Qt.MouseButton.LeftButton):

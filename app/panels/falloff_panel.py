@@ -38,6 +38,7 @@ from gogreen_core.brushes import default_wrinkle_weights
 from gogreen_core.kernel import GreenKernel
 from gogreen_core.radial import GaussianRadial, KelvinletRadial, RadialProfile, SplineRadial
 from gogreen_core.settings import ChangeEvent, Settings, needed_curves
+from gogreen_core.tools import grab_motion
 
 __all__ = ["L_MAX_RANGE", "QUICK_CURVES", "FalloffPanel", "FalloffPreview"]
 
@@ -54,11 +55,9 @@ PREVIEW_INTERVAL_MS = 120
 
 
 class FalloffPreview(QWidget):
-    """What the artist feels: the grab displacement |u| along a radius, normalized to 1 at
-    its peak, for the settings' material, falloff and l_max.
-
-    The load pulls along z (out of a surface) and the samples lie along x (across it), at
-    ρ = r/ε in [0, ``rho_max``]. Changes are coalesced: at most one update per
+    """What the artist feels: a grab's motion along a radius (:func:`grab_motion`, the curve
+    the brush cursor draws), normalized to 1 at its peak, for the settings' material, falloff
+    and l_max, at ρ = r/ε in [0, ``rho_max``]. Changes are coalesced: at most one update per
     :data:`PREVIEW_INTERVAL_MS` (:meth:`schedule`); :meth:`recompute` updates at once.
     :attr:`rho` and :attr:`values` are the plotted data (values None if the kernel failed).
     """
@@ -97,16 +96,13 @@ class FalloffPreview(QWidget):
         self._timer.stop()
         s = self.settings
         rho = np.linspace(0.0, self.rho_max, PREVIEW_SAMPLES)
-        points = np.zeros((PREVIEW_SAMPLES, 3))
-        points[:, 0] = rho
         try:
             radial = s.falloff.with_eps(1.0)
             if self._kernel is None or self._kernel_key != (s.material, s.l_max):
                 self._kernel = GreenKernel(s.material, s.l_max, radial)
                 self._kernel_key = (s.material, s.l_max)
             kernel = self._kernel.with_radial(radial)  # ~2 ms, a new kernel ~15 ms
-            u = kernel.displacement(points, np.zeros(3), np.array([0.0, 0.0, 1.0]))
-            magnitude = np.linalg.norm(u, axis=1)
+            magnitude = grab_motion(kernel, rho)  # what the brush cursor draws too
             peak = magnitude.max()
             values = magnitude / peak if np.isfinite(peak) and peak > 0 else None
         except (ValueError, RuntimeError):
