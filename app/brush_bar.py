@@ -136,7 +136,7 @@ class BrushBar(QToolBar):
         self.pressure_actions: dict[str, QAction] = {}
         for name, text, tip in (
             ("pressure_strength", "P→S", "Pen pressure scales the strength"),
-            ("pressure_radius", "P→R", "Pen pressure at the press scales the radius"),
+            ("pressure_radius", "P→R", "Pen pressure scales the radius along the stroke"),
         ):
             action = QAction(text, self, checkable=True)
             action.setToolTip(tip)

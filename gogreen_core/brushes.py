@@ -32,7 +32,7 @@ alike on a 0.15-unit bunny and a 30-unit ogre: ε = radius · model_size, and on
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 
@@ -175,6 +175,10 @@ class BrushEvent:
         (twist) at the brush centre per event, times the brush strength (see module docstring).
     axis : (3,) view direction (twist axis, pinch normal), any nonzero length; +z when omitted.
     direction : (3,) stroke direction in the view plane (pinch); any vector ⟂ axis if omitted.
+    radius_factor : in (0, 1], scales the stroke brush's radius ε for this event alone (pen
+        pressure → radius along a stroke); its kernel ε, influence ball and safety bound use
+        max(radius · radius_factor, MIN_RADIUS). 1 (the default) is not written by
+        :meth:`to_dict`, so sessions without pressure read and write as before.
     """
 
     center: np.ndarray
@@ -182,6 +186,7 @@ class BrushEvent:
     amount: float = 0.0
     axis: np.ndarray | None = None
     direction: np.ndarray | None = None
+    radius_factor: float = 1.0
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "center", _vector("center", self.center))
@@ -194,6 +199,16 @@ class BrushEvent:
             object.__setattr__(self, "axis", _vector("axis", self.axis, nonzero=True))
         if self.direction is not None:
             object.__setattr__(self, "direction", _vector("direction", self.direction))
+        factor = check_number("radius_factor", self.radius_factor, low=0.0, high=1.0, low_open=True)
+        object.__setattr__(self, "radius_factor", factor)
+
+    def brush(self, stroke_brush: Brush) -> Brush:
+        """The brush this event acts with: ``stroke_brush`` with its radius scaled by
+        :attr:`radius_factor` (at least :data:`MIN_RADIUS`); ``stroke_brush`` itself at 1."""
+        if self.radius_factor == 1.0:
+            return stroke_brush
+        radius = max(stroke_brush.radius * self.radius_factor, MIN_RADIUS)
+        return replace(stroke_brush, radius=radius)
 
     def to_dict(self) -> dict:
         data: dict = {"center": self.center.tolist()}
@@ -205,13 +220,15 @@ class BrushEvent:
             data["axis"] = self.axis.tolist()
         if self.direction is not None:
             data["direction"] = self.direction.tolist()
+        if self.radius_factor != 1.0:
+            data["radius_factor"] = self.radius_factor
         return data
 
     @classmethod
     def from_dict(cls, data: object, path: str = "event") -> BrushEvent:
         """Inverse of :meth:`to_dict`, the event's schema: :class:`ParameterError` naming the
         field (``path.delta``...)."""
-        fields = ("center", "delta", "amount", "axis", "direction")
+        fields = ("center", "delta", "amount", "axis", "direction", "radius_factor")
         values = check_object(path, data, required=("center",), optional=fields[1:])
         with prefixed(path):
             return cls(**values)

@@ -422,6 +422,7 @@ class Sculptor:
         Refused (:class:`ParameterError` naming the event field, nothing moved): a centre
         farther than :data:`MAX_REACH` model sizes from the model's centre, a grab displacement
         |strength · delta| beyond that, an affine |strength · amount| above ``MAX_AMOUNT``.
+        The event acts with the stroke's brush at radius × ``event.radius_factor``.
         """
         if self._stroke is None:
             raise RuntimeError("stroke_event outside a stroke: call begin_stroke first")
@@ -429,8 +430,11 @@ class Sculptor:
             raise ParameterError(
                 "event", f"a stroke event must be a BrushEvent (got {type(event).__name__})"
             )
-        self._check_event(self._stroke.brush, event)
-        moved = self._apply_event(self._stroke.brush, event)
+        # pen pressure → radius: this event's ε, influence ball and load normalization use the
+        # scaled radius (the field bound is cached in units of ε, valid for every radius)
+        brush = event.brush(self._stroke.brush)
+        self._check_event(brush, event)
+        moved = self._apply_event(brush, event)
         self._stroke.touched[moved] = True
         self._stroke.events.append(event)
         return moved

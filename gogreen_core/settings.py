@@ -264,7 +264,7 @@ class PenSettings(EventedModel):
     :class:`gogreen_core.tools.StrokeController`)."""
 
     pressure_strength = Field(True, _flag, doc="pen pressure scales each event's step")
-    pressure_radius = Field(False, _flag, doc="pen pressure at the press scales the radius")
+    pressure_radius = Field(False, _flag, doc="pen pressure scales the radius along the stroke")
     lazy_radius = Field(0.0, _pen_number(1000.0), doc="stabilizer: lag in screen pixels")
     spacing = Field(0.0, _pen_number(10.0), doc="minimum motion between events, in ε")
 

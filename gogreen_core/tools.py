@@ -48,6 +48,7 @@ __all__ = [
     "brush_for_key",
     "brush_profile",
     "grab_motion",
+    "pressure_radius_factor",
     "smooth_cutoff",
 ]
 
@@ -217,8 +218,9 @@ class PenOptions:
     :class:`gogreen_core.settings.PenSettings`; any object with them will do).
 
     pressure_strength : pressure scales each event's step (the strength).
-    pressure_radius : the pressure at the press scales the stroke's radius (the engine keeps
-        one brush per stroke, so the radius is set when the stroke begins).
+    pressure_radius : pressure scales each event's radius ε along the stroke (Blender's habit):
+        the event's :attr:`BrushEvent.radius_factor` is the pressure, at least
+        :data:`MIN_PRESSURE_RADIUS`.
     lazy_radius : stabilizer, screen pixels: the brush follows the pointer at this distance
         behind it (a rope of that length), smoothing jitter; 0: off.
     spacing : a move is applied only once the brush point has gone this many ε from the last
@@ -233,6 +235,14 @@ class PenOptions:
 
 #: Smallest radius factor pen pressure gives (a feather touch still sculpts).
 MIN_PRESSURE_RADIUS = 0.1
+
+
+def pressure_radius_factor(pressure: float) -> float:
+    """The radius factor in [:data:`MIN_PRESSURE_RADIUS`, 1] of a pen ``pressure`` (clipped to
+    [0, 1]; NaN counts as a full press)."""
+    p = float(pressure)
+    p = 1.0 if not np.isfinite(p) else min(max(p, 0.0), 1.0)
+    return max(p, MIN_PRESSURE_RADIUS)
 
 
 class StrokeController:
@@ -255,6 +265,9 @@ class StrokeController:
         self._lazy: tuple[tuple[float, float], np.ndarray | None] | None = None
         #: World point of the last applied event (spacing is measured from it).
         self._applied: np.ndarray | None = None
+        #: Radius factor of the latest pen sample of the stroke (pressure → radius), 1 when
+        #: off or between strokes: what the brush cursor draws.
+        self.radius_factor = 1.0
 
     @property
     def active(self) -> bool:
@@ -270,9 +283,6 @@ class StrokeController:
         starts)."""
         if event.point is None:
             raise ValueError("a stroke starts on the surface (no point under the cursor)")
-        if self.pen().pressure_radius:
-            factor = max(float(np.clip(event.pressure, 0.0, 1.0)), MIN_PRESSURE_RADIUS)
-            brush = replace(brush, radius=max(brush.radius * factor, MIN_RADIUS))
         self.sculptor.begin_stroke(brush)
         self.brush = brush
         self._anchor = np.array(event.point, dtype=float)
@@ -280,6 +290,19 @@ class StrokeController:
         self._last_screen = event.screen
         self._lazy = (event.screen, self._anchor.copy())
         self._applied = self._anchor.copy()
+        self.radius_factor = self._radius_factor(event)
+
+    def _radius_factor(self, event: PointerEvent) -> float:
+        """The radius factor of ``event``'s pressure (1 unless pressure → radius is on)."""
+        return pressure_radius_factor(event.pressure) if self.pen().pressure_radius else 1.0
+
+    @property
+    def radius(self) -> float | None:
+        """The radius (fraction of the model size) the stroke's next event acts with: the
+        brush's times the pen's :attr:`radius_factor`; None between strokes."""
+        if self.brush is None:
+            return None
+        return max(self.brush.radius * self.radius_factor, MIN_RADIUS)
 
     def brush_event(self, event: PointerEvent) -> BrushEvent | None:
         """The engine event of moving to ``event`` (None when the cursor did not move)."""
@@ -288,6 +311,7 @@ class StrokeController:
         dy = self._last_screen[1] - event.screen[1]  # y up
         self._last_screen = event.screen
         pressure = float(np.clip(event.pressure, 0.0, 1.0)) if self.pen().pressure_strength else 1.0
+        factor = self._radius_factor(event)
         if "ctrl" in event.modifiers:  # Ctrl held inverts the brush (Blender's habit)
             pressure = -pressure
         if self.brush.is_affine:
@@ -301,19 +325,21 @@ class StrokeController:
                 amount=pressure * dx / PIXELS_PER_UNIT_AMOUNT,
                 axis=view,
                 direction=dx * right + dy * up,
+                radius_factor=factor,
             )
         point = np.asarray(event.point, dtype=float)
         delta = point - self._last_point
         if not np.any(delta):
             return None
         center, self._last_point = self._last_point, point
-        return BrushEvent(center=center, delta=pressure * delta)
+        return BrushEvent(center=center, delta=pressure * delta, radius_factor=factor)
 
     def stabilized(self, event: PointerEvent) -> PointerEvent | None:
         """``event`` after the stabilizer and spacing (:class:`PenOptions`): the brush point
         trails the pointer by ``lazy_radius`` pixels (the world point interpolated on the drag
         plane), and None while it has moved less than ``spacing`` · ε since the last applied
-        event or not left the lazy radius."""
+        event or not left the lazy radius (ε at the event's pressure when pressure → radius is
+        on, as the spacing is relative to the brush size)."""
         pen = self.pen()
         lazy = float(pen.lazy_radius)
         if lazy > 0 and self._lazy is not None:
@@ -331,7 +357,7 @@ class StrokeController:
             event = replace(event, screen=screen, point=point)
         spacing = float(pen.spacing)
         if spacing > 0 and event.point is not None and self._applied is not None:
-            eps = self.brush.eps(self.sculptor.model_size)
+            eps = self.brush.eps(self.sculptor.model_size) * self._radius_factor(event)
             if np.linalg.norm(np.asarray(event.point) - self._applied) < spacing * eps:
                 return None
         return event
@@ -339,6 +365,7 @@ class StrokeController:
     def step(self, event: PointerEvent) -> np.ndarray | None:
         """Apply one move (after :meth:`stabilized`); the indices of moved vertices, or None
         when nothing moved."""
+        self.radius_factor = self._radius_factor(event)  # the cursor follows the pen at once
         event = self.stabilized(event)
         if event is None:
             return None
@@ -352,12 +379,12 @@ class StrokeController:
     def end(self) -> None:
         if self.brush is not None:
             self.sculptor.end_stroke()
-        self.brush = None
+        self.brush, self.radius_factor = None, 1.0
 
     def cancel(self) -> None:
         if self.brush is not None:
             self.sculptor.cancel_stroke()
-        self.brush = None
+        self.brush, self.radius_factor = None, 1.0
 
 
 class PinController:
@@ -555,7 +582,14 @@ class SculptTools:
         self.pin = PinController(sculptor)
 
     def _cursor_radius(self) -> float:
-        return self.brush().eps(self.sculptor.model_size) if self.sculptor is not None else 0.0
+        """ε of the cursor (model units): during a stroke the radius its events act with (the
+        pen's pressure-scaled one), else the current brush's."""
+        if self.sculptor is None:
+            return 0.0
+        radius = self.stroke.radius if self.stroke.active else None
+        if radius is None:
+            return self.brush().eps(self.sculptor.model_size)
+        return radius * self.sculptor.model_size
 
     def _cursor_profile(self) -> np.ndarray | None:
         """The current brush's falloff samples (:func:`brush_profile`), cached per engine

@@ -171,3 +171,43 @@ def test_pen_pressure_scales_the_strength_and_the_toggles_are_in_the_brush_bar(w
     assert window.brush_bar.pressure_actions["pressure_radius"].isChecked()
     window.brush_bar.lazy_radius.setValue(15)
     assert window.model.pen.lazy_radius == 15.0
+
+
+def test_pen_pressure_drives_the_radius_along_one_stroke_and_the_cursor_shows_it(window):
+    """Synthetic tablet events with pressure going 1.0 → 0.3 within one stroke: each engine
+    event's radius factor follows the pen, the moved region shrinks, and the cursor's ε ring
+    shows the pressure-scaled radius while the pen draws."""
+    import numpy as np
+
+    vp = window.viewport
+    sculptor = window.document.sculptor
+    window.model.pen.pressure_radius = True
+    window.model.pen.pressure_strength = False
+    pressures = [1.0, 0.8, 0.55, 0.3]
+    start = center_of(window)
+    tablet(vp, QMouseEvent.Type.TabletPress, start, pressures[0])
+    send(vp, QMouseEvent.Type.MouseButtonPress, start)
+    vp.render_now()
+    ring_px, moved = [], []
+    pos = start
+    for pressure in pressures:
+        pos = pos + QPoint(0, -4)
+        tablet(vp, QMouseEvent.Type.TabletMove, pos, pressure)
+        send(
+            vp, QMouseEvent.Type.MouseMove, pos, Qt.MouseButton.NoButton, Qt.MouseButton.LeftButton
+        )
+        before = sculptor.vertices.copy()
+        window._process_tools()
+        vp.render_now()
+        moved.append(int(np.count_nonzero(np.any(sculptor.vertices != before, axis=1))))
+        ring_px.append(vp.cursor_overlay.screen[1])
+    send(vp, QMouseEvent.Type.MouseButtonRelease, pos, buttons=Qt.MouseButton.NoButton)
+    tablet(vp, QMouseEvent.Type.TabletRelease, pos, 0.0, Qt.MouseButton.NoButton)
+    events = sculptor.operations[-1].events
+    assert [e.radius_factor for e in events] == pytest.approx(pressures)
+    assert moved == sorted(moved, reverse=True) and 0 < moved[-1] < 0.5 * moved[0]
+    # the ring follows the pressure (the depth of the point under the pen barely changes)
+    assert np.array(ring_px) / ring_px[0] == pytest.approx(pressures, rel=0.1)
+    # after the pen lifts, the cursor is back at the brush's own radius
+    hover(window, start)
+    assert vp.cursor_overlay.screen[1] == pytest.approx(ring_px[0], rel=0.1)

@@ -34,7 +34,7 @@ def recorded(sphere):
     s = Sculptor(vertices, faces)
     s.set_material(ANISOTROPIC)
     s.set_falloff(SplineRadial.from_profile(GaussianRadial(1.0), 4), 4, np.ones(5))
-    s.apply_brush(Brush("grab"), [BrushEvent(vertices[0], [0.0, 0.05, 0.0])])
+    s.apply_brush(Brush("grab"), [BrushEvent(vertices[0], [0.0, 0.05, 0.0], radius_factor=0.5)])
     s.apply_brush(Brush("twist"), [BrushEvent(vertices[5], amount=0.2, axis=[0, 1, 0])])
     s.set_constraint_radius(0.2)
     s.add_constraint(vertices[10])
@@ -84,6 +84,9 @@ def hostile_sessions(session: dict):
         for bad in ("x", [0, 0], [0, None, 0], [0, float("nan"), 0], [0, 1e400, 0], None):
             name = f"operations[{stroke}].events[0].{field}"
             yield f"{field} {bad!r}", edited(session, (*ev, field), bad), name
+    for bad in (float("nan"), float("inf"), 0, 0.0, -0.5, 1.5, 1e300, "0.5", None, True, [0.5]):
+        name = f"operations[{stroke}].events[0].radius_factor"
+        yield f"radius_factor {bad!r}", edited(session, (*ev, "radius_factor"), bad), name
     yield "amount text", edited(session, (*ev, "amount"), "1"), f"operations[{stroke}].events[0]."
     yield "event key", edited(session, (*ev, "speed"), 1), f"operations[{stroke}].events[0].speed"
     for field, bad in [

@@ -45,6 +45,13 @@ def records():
             (BrushEvent([0, 0, 1], amount=0.1, axis=[0, 1, 1], direction=[1, 0, 0]),),
         ),
         Stroke(Brush("grab", influence=np.inf), (BrushEvent([0, 0, 1], [0, 0.1, 0]),)),
+        Stroke(
+            Brush("grab_biscale"),
+            (
+                BrushEvent([0, 0, 1], [0, 0.1, 0]),
+                BrushEvent([0, 0.1, 1], [0, 0.1, 0], radius_factor=0.3),
+            ),
+        ),
         MaterialChange(CUBIC),
         MaterialChange(Material.isotropic(2.0, 0.2), continued=True),
         FalloffChange(spline, 4, np.arange(5.0)),
@@ -299,3 +306,52 @@ def test_settings_refused_inside_a_stroke_and_bad_values_change_nothing(sphere):
     sculptor.cancel_stroke()
     assert not sculptor.history.can_undo and sculptor.session()["operations"] == []
     assert sculptor.material == Material.isotropic(1.0, 0.3) and sculptor.l_max == 8
+
+
+def test_per_event_radius_factors_replay_bit_identically(sphere):
+    """Pen pressure → radius: each event's radius factor is recorded, and the session replays
+    bit for bit; events at factor 1 are written as before (no field)."""
+    vertices, faces = sphere
+    sculptor = Sculptor(vertices, faces, material=CUBIC)
+    top = vertices[int(np.argmax(vertices[:, 2]))]
+    factors = [1.0, 0.8, 0.55, 0.3]
+    for brush in (Brush("grab"), Brush("grab_triscale", symmetry="x"), Brush("wrinkle")):
+        events = [
+            BrushEvent(top + np.array([0, 0.02 * k, 0]), [0, 0.02, 0.01], radius_factor=f)
+            for k, f in enumerate(factors)
+        ]
+        sculptor.apply_brush(brush, events)
+    twist = [BrushEvent(top, amount=0.1, axis=[0, 0, 1], radius_factor=f) for f in factors]
+    sculptor.apply_brush(Brush("twist", radius=0.2), twist)
+    scale = [BrushEvent(top, amount=0.05, radius_factor=1e-9)]  # clamped to MIN_RADIUS
+    sculptor.apply_brush(Brush("scale", radius=0.2), scale)
+    session = session_of(sculptor)
+    events = session["operations"][0]["events"]
+    assert "radius_factor" not in events[0]
+    assert [e["radius_factor"] for e in events[1:]] == factors[1:]
+    again = Sculptor.from_session(session, vertices, faces)
+    again.replay(session["operations"])
+    assert np.array_equal(again.vertices, sculptor.vertices)
+    assert session_of(again) == session
+    # the factor matters: the same strokes at full radius end elsewhere
+    full = json.loads(json.dumps(session).replace('"radius_factor"', '"_rf"'))
+    for op in full["operations"]:
+        for event in op.get("events", []):
+            event.pop("_rf", None)
+    other = Sculptor.from_session(full, vertices, faces)
+    other.replay(full["operations"])
+    assert not np.allclose(other.vertices, sculptor.vertices)
+
+
+def test_an_event_radius_factor_shrinks_the_moved_region(sphere):
+    vertices, faces = sphere
+    top = vertices[int(np.argmax(vertices[:, 2]))]
+    reach = {}
+    for factor in (1.0, 0.3):
+        sculptor = Sculptor(vertices, faces)
+        brush = Brush("grab", radius=0.1)
+        moved = sculptor.apply_brush(brush, [BrushEvent(top, [0, 0, 0.02], radius_factor=factor)])
+        reach[factor] = np.linalg.norm(vertices[moved] - top, axis=1).max()
+        outer = brush.influence * max(brush.radius * factor, 1e-6) * sculptor.model_size
+        assert reach[factor] <= outer + 0.02
+    assert reach[0.3] < 0.4 * reach[1.0]

@@ -306,14 +306,69 @@ def test_pressure_drives_the_strength_only_when_toggled(sculptor):
     np.testing.assert_allclose(moved, 0.02 * NORTH, atol=1e-9)
 
 
-def test_pressure_drives_the_radius_at_the_press(sculptor):
-    tools = pen_tools(sculptor, pressure_radius=True, pressure_strength=False)
-    top = sculptor.vertices[int(np.argmax(sculptor.vertices[:, 2]))]
-    tools.press(at(top, pressure=0.5))
-    assert tools.stroke.brush.radius == pytest.approx(0.5 * GRAB.radius)
+def pen_stroke(tools, sculptor, pressures, step=0.01):
+    """A grab stroke up from the top vertex, one applied move per pressure; returns the
+    vertices moved by each event and the events' radius factors, as the engine logged them."""
+    top = int(np.argmax(sculptor.vertices[:, 2]))
+    start = sculptor.vertices[top].copy()
+    tools.press(at(start, pressure=pressures[0]))
+    moved = []
+    for k, pressure in enumerate(pressures, start=1):
+        tools.move(at(start + k * step * NORTH, screen=(0.0, -10.0 * k), pressure=pressure))
+        before = sculptor.vertices.copy()
+        update = tools.flush()
+        assert update.moved is not None
+        moved.append(np.flatnonzero(np.any(sculptor.vertices != before, axis=1)))
     tools.release()
-    tools.press(at(top, pressure=0.0))  # a feather touch keeps a tenth
-    assert tools.stroke.brush.radius == pytest.approx(0.1 * GRAB.radius)
+    stroke = sculptor.operations[-1]
+    return moved, [event.radius_factor for event in stroke.events], start
+
+
+def test_pressure_drives_the_radius_along_the_stroke(sculptor):
+    tools = pen_tools(sculptor, pressure_radius=True, pressure_strength=False)
+    pressures = [1.0, 0.8, 0.55, 0.3]
+    moved, factors, start = pen_stroke(tools, sculptor, pressures)
+    assert factors == pytest.approx(pressures)  # each event's radius follows the pen
+    # the reach of each event (farthest moved vertex from the centre) shrinks with it
+    eps = GRAB.eps(sculptor.model_size)
+    reach = []
+    for k, (indices, factor) in enumerate(zip(moved, factors, strict=True)):
+        center = start + k * 0.01 * NORTH
+        farthest = np.linalg.norm(sculptor.vertices[indices] - center, axis=1).max()
+        assert farthest <= GRAB.influence * factor * eps + 0.01 + 1e-9  # the event's own ball
+        reach.append(len(indices))
+    assert reach == sorted(reach, reverse=True) and reach[-1] < 0.25 * reach[0]
+    # the grabbed point still follows the pen exactly, whatever the radius
+    top = int(np.argmax(sculptor.vertices[:, 2]))
+    np.testing.assert_allclose(sculptor.vertices[top], start + 0.04 * NORTH, atol=1e-9)
+    # the brush cursor shows the radius the latest event acted with, the full one after
+    assert tools.stroke.radius is None
+    tools.press(at(start, pressure=0.4))
+    assert tools.cursor.state.radius == pytest.approx(0.4 * eps)
+    tools.move(at(start + 0.01 * NORTH, screen=(0.0, -10.0), pressure=0.0))
+    assert tools.flush().cursor.radius == pytest.approx(0.1 * eps)  # a feather keeps a tenth
+    tools.release()
+    assert sculptor.operations[-1].events[0].radius_factor == pytest.approx(0.1)
+
+
+def test_pressure_radius_off_keeps_the_radius_and_old_sessions(sculptor):
+    tools = pen_tools(sculptor, pressure_radius=False, pressure_strength=False)
+    _, factors, _ = pen_stroke(tools, sculptor, [1.0, 0.3])
+    assert factors == [1.0, 1.0]
+    assert all("radius_factor" not in e for e in sculptor.session()["operations"][-1]["events"])
+
+
+def test_spacing_follows_the_pressure_scaled_radius(sculptor):
+    tools = pen_tools(sculptor, spacing=0.5, pressure_radius=True)
+    eps = GRAB.eps(sculptor.model_size)
+    top = int(np.argmax(sculptor.vertices[:, 2]))
+    start = sculptor.vertices[top].copy()
+    tools.press(at(start, pressure=0.5))
+    # 0.3 ε is past half of the half-pressure ε (0.25 ε): applied
+    tools.move(at(start + 0.3 * eps * NORTH, screen=(0.0, -1.0), pressure=0.5))
+    assert tools.flush().moved is not None
+    tools.move(at(start + 0.6 * eps * NORTH, screen=(0.0, -2.0), pressure=1.0))
+    assert tools.flush().moved is None  # 0.3 ε < 0.5 ε at full pressure: skipped
     tools.release()
 
 
