@@ -679,3 +679,145 @@ def test_the_falloff_preview_follows_a_curve_edit(qtbot, falloff_panel):
     edited = preview.values.copy()
     panel.settings.material = Material.cubic(1.0, 0.5, 0.1)  # the material counts too
     qtbot.waitUntil(lambda: not np.array_equal(preview.values, edited), timeout=5_000)
+
+
+# ---------------------------------------------------------------------------------------------
+# Falloff preview: off the GUI thread, latest request wins, tick labels
+# ---------------------------------------------------------------------------------------------
+def _block_the_worker():
+    """Occupy the app's background thread until the returned event is set."""
+    from app.background import BackgroundRunner
+
+    runner = BackgroundRunner()
+    release, started = threading.Event(), threading.Event()
+
+    def hold(_task):
+        started.set()
+        release.wait(30)
+
+    runner.submit(hold)
+    assert started.wait(10)
+    return runner, release
+
+
+def test_the_falloff_preview_computes_off_the_gui_thread_and_the_latest_request_wins(
+    qtbot, falloff_panel, monkeypatch
+):
+    from app.panels.falloff_panel import PreviewComputer, PreviewRequest
+
+    preview = falloff_panel.preview
+    assert preview.wait()
+    shown = preview.values.copy()
+    threads: list[int] = []
+    compute = PreviewComputer.__call__
+
+    def recording(self, request):
+        threads.append(threading.get_ident())
+        return compute(self, request)
+
+    monkeypatch.setattr(PreviewComputer, "__call__", recording)
+    runner, release = _block_the_worker()
+    try:
+        before = (preview.requested, preview.shown)
+        materials = [Material.cubic(1.0, 0.5, c44) for c44 in (0.1, 0.2, 0.4)]
+        for material in materials:  # three requests while the worker is busy
+            falloff_panel.settings.material = material
+            preview.recompute()
+            assert np.array_equal(preview.values, shown)  # the old curve stays: no flicker
+        assert preview.pending
+        qtbot.waitUntil(lambda: preview.stale, timeout=5_000)  # dimmed, "updating…"
+        preview.repaint()
+    finally:
+        release.set()
+    assert preview.wait() and runner.wait()
+    assert not preview.pending and not preview.stale
+    # only the latest of the queued requests was computed, on the worker thread
+    assert preview.requested - before[0] == 3 and preview.shown - before[1] == 1
+    assert len(threads) == 1 and threads[0] != threading.get_ident()
+    rho = np.linspace(0.0, preview.rho_max, len(preview.rho))
+    expected = PreviewComputer()(PreviewRequest.of(falloff_panel.settings, rho))
+    np.testing.assert_array_equal(preview.values, expected)
+
+
+def test_a_computing_request_is_shown_and_the_newest_follows(qtbot, falloff_panel, monkeypatch):
+    """A request already computing when a newer one is sent still shows its (newer than on
+    screen) curve, then the newest replaces it: live updates during a long drag."""
+    from app.panels.falloff_panel import PreviewComputer, PreviewRequest
+
+    preview = falloff_panel.preview
+    assert preview.wait()
+    settings = falloff_panel.settings
+    started, release = threading.Event(), threading.Event()
+    compute = PreviewComputer.__call__
+
+    def slow_first(self, request):
+        if not started.is_set():
+            started.set()
+            release.wait(30)
+        return compute(self, request)
+
+    monkeypatch.setattr(PreviewComputer, "__call__", slow_first)
+    shown = preview.shown
+    settings.material = Material.cubic(1.0, 0.5, 0.1)
+    preview.recompute()
+    assert started.wait(10)  # the first request is computing
+    first = PreviewComputer()(PreviewRequest.of(settings, preview.rho))
+    settings.material = Material.cubic(1.0, 0.5, 0.4)
+    preview.recompute()
+    drawn: list[np.ndarray] = []
+    preview.update = lambda: drawn.append(preview.values)
+    release.set()
+    assert preview.wait()
+    assert preview.shown - shown == 2
+    np.testing.assert_array_equal(drawn[0], first)
+    np.testing.assert_array_equal(
+        preview.values, PreviewComputer()(PreviewRequest.of(settings, preview.rho))
+    )
+    assert not np.array_equal(first, preview.values)
+
+
+@pytest.mark.parametrize("name", ["dark", "light"])
+def test_the_falloff_preview_has_tick_labels_in_both_themes(qtbot, name):
+    from PySide6.QtWidgets import QApplication
+
+    from app.panels.falloff_panel import FalloffPreview
+    from app.panels.widgets import plot_colors
+    from app.theme import apply_theme
+    from gogreen_core.settings import Settings
+
+    app = QApplication.instance()
+    saved = app.palette(), app.styleSheet(), app.style().name(), app.property("gogreen_theme")
+    try:
+        apply_theme(app, name)
+        preview = FalloffPreview(Settings())
+        qtbot.addWidget(preview)
+        preview.resize(320, 160)
+        preview.recompute()
+        assert preview.wait()
+        colors = plot_colors()
+        image = preview.grab().toImage()
+        rect = preview.plot_rect().toRect()
+        paper = colors.background
+
+        def text_pixels(x0, y0, x1, y1):
+            """Pixels in a box that stand out from the paper like the text colour does."""
+            count = 0
+            for x in range(max(x0, 0), min(x1, image.width())):
+                for y in range(max(y0, 0), min(y1, image.height())):
+                    c = image.pixelColor(x, y)
+                    if abs(c.lightness() - paper.lightness()) > 80:
+                        count += 1
+            return count
+
+        assert abs(colors.text.lightness() - paper.lightness()) > 120  # legible contrast
+        # labels left of the plot (0 … 1) and below it (0 … ρ max), and the axis titles
+        assert text_pixels(0, rect.top() - 6, rect.left() - 4, rect.bottom() + 6) > 40
+        assert (
+            text_pixels(rect.left() - 6, rect.bottom() + 4, rect.right() + 6, image.height()) > 80
+        )
+        assert preview.values is not None and preview.values.max() == pytest.approx(1.0)
+    finally:
+        app.setStyle(saved[2])
+        app.setPalette(saved[0])
+        app.setStyleSheet(saved[1])
+        app.setProperty("gogreen_theme", saved[3])

@@ -14,10 +14,11 @@ current l_max are kept, so lowering and raising l_max restores them.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
-from PySide6.QtCore import QPointF, QSize, Qt, QTimer, Signal
-from PySide6.QtGui import QColor, QPainter, QPainterPath, QPen
+from PySide6.QtCore import QPointF, QRectF, QSize, Qt, QTimer, Signal
+from PySide6.QtGui import QColor, QFont, QFontMetricsF, QPainter, QPainterPath, QPen
 from PySide6.QtWidgets import (
     QCheckBox,
     QComboBox,
@@ -32,15 +33,26 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
+from app.background import BackgroundRunner, Cancelled, Task
 from app.panels.curve_editor import CurveEditor, curve_color, curve_label
+from app.panels.curve_editor import _tick_text as tick_text
+from app.panels.curve_editor import _ticks as tick_values
 from app.panels.widgets import plot_colors, scrolled_column, set_text_role
 from gogreen_core.brushes import default_wrinkle_weights
 from gogreen_core.kernel import GreenKernel
+from gogreen_core.material import Material
 from gogreen_core.radial import GaussianRadial, KelvinletRadial, RadialProfile, SplineRadial
 from gogreen_core.settings import ChangeEvent, Settings, needed_curves
 from gogreen_core.tools import grab_motion
 
-__all__ = ["L_MAX_RANGE", "QUICK_CURVES", "FalloffPanel", "FalloffPreview"]
+__all__ = [
+    "L_MAX_RANGE",
+    "QUICK_CURVES",
+    "FalloffPanel",
+    "FalloffPreview",
+    "PreviewComputer",
+    "PreviewRequest",
+]
 
 #: Range of the truncation degree spin box.
 L_MAX_RANGE = (0, 30)
@@ -52,14 +64,65 @@ _WEIGHT_COLUMNS = 3
 PREVIEW_SAMPLES = 64
 #: Least time between two preview updates (ms): a drag's steps are coalesced.
 PREVIEW_INTERVAL_MS = 120
+#: A request still running after this long (ms) dims the shown curve: it is out of date (a new
+#: material's quadrature, or an l_max whose kernels are still compiling).
+PREVIEW_STALE_MS = 400
+
+
+@dataclass(frozen=True)
+class PreviewRequest:
+    """What one preview shows: a snapshot taken on the GUI thread (the curve editor edits the
+    settings' spline in place, so the worker gets copies of its control points)."""
+
+    material: Material
+    l_max: int
+    curves: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]]
+    rho: np.ndarray
+
+    @classmethod
+    def of(cls, settings: Settings, rho: np.ndarray) -> PreviewRequest:
+        falloff = settings.falloff
+        curves = {key: falloff.curve(*key) for key in falloff.curve_keys()}  # copies, ~20 µs
+        return cls(settings.material, settings.l_max, curves, np.array(rho, dtype=float))
+
+
+class PreviewComputer:
+    """Computes previews off the GUI thread, keeping the kernel of the latest (material,
+    l_max) so that a curve edit only swaps the falloff (a new material or l_max needs a new
+    quadrature). Used by one worker at a time (the app's background thread runs its jobs in
+    turn), never by two threads at once."""
+
+    def __init__(self) -> None:
+        self._key: tuple | None = None
+        self._kernel: GreenKernel | None = None
+
+    def __call__(self, request: PreviewRequest) -> np.ndarray | None:
+        """The felt falloff (:func:`grab_motion`) at ``request.rho`` (ρ = r/ε), normalized to
+        1 at its peak; None if it is zero or not finite."""
+        radial = SplineRadial(1.0, request.curves)
+        key = (request.material, request.l_max)
+        if self._kernel is None or self._key != key:
+            self._kernel, self._key = GreenKernel(request.material, request.l_max, radial), key
+        magnitude = grab_motion(self._kernel.with_radial(radial), request.rho)
+        peak = magnitude.max()
+        return magnitude / peak if np.isfinite(peak) and peak > 0 else None
 
 
 class FalloffPreview(QWidget):
     """What the artist feels: a grab's motion along a radius (:func:`grab_motion`, the curve
     the brush cursor draws), normalized to 1 at its peak, for the settings' material, falloff
-    and l_max, at ρ = r/ε in [0, ``rho_max``]. Changes are coalesced: at most one update per
-    :data:`PREVIEW_INTERVAL_MS` (:meth:`schedule`); :meth:`recompute` updates at once.
-    :attr:`rho` and :attr:`values` are the plotted data (values None if the kernel failed).
+    and l_max, at ρ = r/ε in [0, ``rho_max``], with tick labels on both axes.
+
+    Changes are coalesced: at most one request per :data:`PREVIEW_INTERVAL_MS`
+    (:meth:`schedule`; :meth:`recompute` requests at once). The computation runs on the app's
+    background thread (:mod:`app.background`; a curve edit takes 2-6 ms, a new material or l_max
+    70-120 ms, a new l_max's first compilation much longer), the latest request winning: a
+    request still queued when a newer one is sent is skipped, one already computing is shown
+    when it ends (it is newer than the curve on screen) and the newest follows. The shown
+    curve stays until a new one arrives (no flicker), dimmed while the latest request is older
+    than :data:`PREVIEW_STALE_MS`.
+    :attr:`rho` and :attr:`values` are the plotted data (values None if the kernel failed);
+    :attr:`pending` tells whether a request is in flight, :meth:`wait` blocks until none is.
     """
 
     def __init__(self, settings: Settings, parent: QWidget | None = None):
@@ -68,20 +131,46 @@ class FalloffPreview(QWidget):
         self.rho_max = 4.0
         self.rho = np.linspace(0.0, self.rho_max, PREVIEW_SAMPLES)
         self.values: np.ndarray | None = None
-        self._kernel: GreenKernel | None = None  # of (material, l_max) = _kernel_key
-        self._kernel_key: tuple | None = None
+        #: Requests sent and results shown (the rest were skipped as superseded), for tests.
+        self.requested = 0
+        self.shown = 0
+        #: Number of the latest request, read by queued jobs on the worker thread.
+        self._latest = [0]
+        self._shown_number = 0
+        self._computer = PreviewComputer()
+        self._runner = BackgroundRunner(self)
+        self._runner.finished.connect(self._finished)
+        self._runner.failed.connect(self._failed)
+        self._runner.cancelled.connect(self._cancelled)
+        self._job: int | None = None
+        self._stale = False
         self._timer = QTimer(self)
         self._timer.setSingleShot(True)
         self._timer.setInterval(PREVIEW_INTERVAL_MS)
         self._timer.timeout.connect(self.recompute)
-        self.setMinimumHeight(90)
+        self._stale_timer = QTimer(self)
+        self._stale_timer.setSingleShot(True)
+        self._stale_timer.setInterval(PREVIEW_STALE_MS)
+        self._stale_timer.timeout.connect(self._mark_stale)
+        self.setMinimumHeight(130)
         self.setToolTip(
-            "Falloff felt by a grab brush: displacement along a radius (ρ = r/ε), "
-            "normalized to 1 at its peak, for this material, falloff and l_max"
+            "Falloff felt by a grab brush: displacement along a radius, in brush radii "
+            "(ρ = r/ε), normalized to 1 at its peak, for this material, falloff and l_max"
         )
 
     def sizeHint(self) -> QSize:
-        return QSize(300, 110)
+        return QSize(300, 150)
+
+    @property
+    def pending(self) -> bool:
+        """A request is scheduled or computing."""
+        return self._timer.isActive() or self._job is not None
+
+    @property
+    def stale(self) -> bool:
+        """The latest request has been computing for longer than :data:`PREVIEW_STALE_MS`:
+        the curve on screen is out of date (drawn dimmed, "updating…" in the title)."""
+        return self._stale
 
     def set_rho_max(self, rho_max: float) -> None:
         self.rho_max = float(rho_max)
@@ -93,49 +182,159 @@ class FalloffPreview(QWidget):
             self._timer.start()
 
     def recompute(self) -> None:
+        """Request the preview of the current settings now (see the class docstring for what
+        happens to a request in flight)."""
         self._timer.stop()
-        s = self.settings
-        rho = np.linspace(0.0, self.rho_max, PREVIEW_SAMPLES)
-        try:
-            radial = s.falloff.with_eps(1.0)
-            if self._kernel is None or self._kernel_key != (s.material, s.l_max):
-                self._kernel = GreenKernel(s.material, s.l_max, radial)
-                self._kernel_key = (s.material, s.l_max)
-            kernel = self._kernel.with_radial(radial)  # ~2 ms, a new kernel ~15 ms
-            magnitude = grab_motion(kernel, rho)  # what the brush cursor draws too
-            peak = magnitude.max()
-            values = magnitude / peak if np.isfinite(peak) and peak > 0 else None
-        except (ValueError, RuntimeError):
-            values = None
-        self.rho, self.values = rho, values
+        request = PreviewRequest.of(self.settings, np.linspace(0.0, self.rho_max, PREVIEW_SAMPLES))
+        self.requested += 1
+        number, latest, computer = self.requested, self._latest, self._computer
+        latest[0] = number
+
+        def compute(_task: Task) -> tuple:
+            if latest[0] != number:  # a newer request was sent while this one waited
+                raise Cancelled
+            return number, request.rho, computer(request)
+
+        self._job = self._runner.submit(compute)
+        if not self._stale_timer.isActive():
+            self._stale_timer.start()
+
+    def wait(self, msecs: int = 30_000) -> bool:
+        """Send a scheduled request now and block until its result is shown (tests, scripts);
+        False on time-out."""
+        if self._timer.isActive():
+            self.recompute()
+        return self._runner.wait(msecs) and self._job is None
+
+    def _finished(self, job: int, result: tuple) -> None:
+        number, rho, values = result
+        if number > self._shown_number:  # jobs end in order: never older than the shown one
+            self._shown_number = number
+            self.rho, self.values = rho, values
+            self.shown += 1
+        self._ended(job)
+
+    def _failed(self, job: int, _exc: Exception) -> None:
+        if job == self._job:
+            self.values = None
+        self._ended(job)
+
+    def _cancelled(self, job: int) -> None:
+        self._ended(job)
+
+    def _ended(self, job: int) -> None:
+        if job == self._job:  # the latest request: the preview is up to date
+            self._job = None
+            self._stale_timer.stop()
+            self._stale = False
         self.update()
+
+    def _mark_stale(self) -> None:
+        if self._job is not None:
+            self._stale = True
+            self.update()
+
+    def closeEvent(self, event) -> None:
+        self._timer.stop()
+        self._latest[0] = -1  # queued requests are skipped
+        super().closeEvent(event)
+
+    # -- drawing -----------------------------------------------------------------------------
+    def plot_rect(self) -> QRectF:
+        """The plot area inside the axes' tick labels and titles (widget pixels)."""
+        metrics = QFontMetricsF(self._font())
+        left = metrics.horizontalAdvance("0.75") + 10 + metrics.height()
+        top = metrics.height() + 8
+        bottom = 2 * metrics.height() + 10
+        return QRectF(self.rect()).adjusted(left, top, -10, -bottom)
+
+    def _font(self) -> QFont:
+        font = QFont(self.font())
+        font.setPointSizeF(max(7.0, font.pointSizeF() - 1.0))
+        return font
 
     def paintEvent(self, _event) -> None:
         colors = plot_colors()
         painter = QPainter(self)
         painter.setRenderHint(QPainter.RenderHint.Antialiasing)
         painter.fillRect(self.rect(), colors.background)
-        rect = self.rect().adjusted(8, 18, -8, -8)
-        painter.setPen(QPen(colors.frame, 1.0))
-        painter.drawRect(rect)
-        painter.setPen(QPen(colors.grid, 1.0))
-        for frac in (0.25, 0.5, 0.75):
-            y = rect.bottom() - frac * rect.height()
-            painter.drawLine(QPointF(rect.left(), y), QPointF(rect.right(), y))
-        painter.setPen(colors.muted)
-        painter.drawText(8, 13, f"felt falloff |u| (grab), ρ 0 – {self.rho_max:g}")
+        painter.setFont(self._font())
+        metrics = QFontMetricsF(painter.font())
+        rect = self.plot_rect()
+        painter.setPen(colors.text)
+        painter.drawText(
+            QRectF(rect.left(), 2, rect.width(), metrics.height()),
+            Qt.AlignmentFlag.AlignHCenter,
+            "felt falloff of a grab" + ("  (updating…)" if self._stale else ""),
+        )
+        rho_max = float(self.rho[-1]) if len(self.rho) > 1 and self.rho[-1] > 0 else 1.0
+        self._draw_axes(painter, rect, metrics, rho_max, colors)
         if self.values is None:
-            painter.drawText(rect, Qt.AlignmentFlag.AlignCenter, "no preview")
+            painter.setPen(colors.muted)
+            text = "computing…" if self.pending else "no preview"
+            painter.drawText(rect, Qt.AlignmentFlag.AlignCenter, text)
             return
         path = QPainterPath()
         for i, (r, v) in enumerate(zip(self.rho, self.values, strict=True)):
             point = QPointF(
-                rect.left() + r / self.rho_max * rect.width(),
+                rect.left() + r / rho_max * rect.width(),
                 rect.bottom() - float(v) * rect.height(),
             )
             path.moveTo(point) if i == 0 else path.lineTo(point)
-        painter.setPen(QPen(QColor(curve_color(("R", 0))), 2.0))
+        color = QColor(curve_color(("R", 0)))
+        if self._stale:
+            color.setAlpha(110)
+        painter.setPen(QPen(color, 2.0))
         painter.drawPath(path)
+
+    def _draw_axes(self, painter, rect, metrics, rho_max, colors) -> None:
+        """Frame, grid, tick labels (ρ below, normalized |u| 0-1 on the left) and titles."""
+        painter.setPen(QPen(colors.frame, 1.0))
+        painter.drawRect(rect)
+        x_ticks = tick_values(0.0, rho_max, max(2, int(rect.width() / 50)))
+        x_step = x_ticks[1] - x_ticks[0] if len(x_ticks) > 1 else 1.0
+        for tick in x_ticks:
+            x = rect.left() + tick / rho_max * rect.width()
+            painter.setPen(QPen(colors.grid, 1.0))
+            painter.drawLine(QPointF(x, rect.top()), QPointF(x, rect.bottom()))
+            painter.setPen(colors.text)
+            painter.drawLine(QPointF(x, rect.bottom()), QPointF(x, rect.bottom() + 3))
+            painter.drawText(
+                QRectF(x - 30, rect.bottom() + 4, 60, metrics.height()),
+                Qt.AlignmentFlag.AlignHCenter | Qt.AlignmentFlag.AlignTop,
+                tick_text(tick, x_step),
+            )
+        y_ticks = (0.0, 0.25, 0.5, 0.75, 1.0) if rect.height() >= 90 else (0.0, 0.5, 1.0)
+        for tick in y_ticks:
+            y = rect.bottom() - tick * rect.height()
+            painter.setPen(QPen(colors.grid, 1.0))
+            painter.drawLine(QPointF(rect.left(), y), QPointF(rect.right(), y))
+            painter.setPen(colors.text)
+            painter.drawLine(QPointF(rect.left() - 3, y), QPointF(rect.left(), y))
+            painter.drawText(
+                QRectF(0, y - metrics.height() / 2, rect.left() - 5, metrics.height()),
+                Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter,
+                tick_text(tick, 0.25 if len(y_ticks) == 5 else 0.5),
+            )
+        painter.setPen(colors.text)
+        painter.drawText(
+            QRectF(
+                rect.left(), rect.bottom() + 4 + metrics.height(), rect.width(), metrics.height()
+            ),
+            Qt.AlignmentFlag.AlignHCenter,
+            "distance ρ = r/ε (brush radii)",
+        )
+        painter.save()
+        painter.translate(metrics.height() / 2 + 1, rect.center().y())
+        painter.rotate(-90)
+        painter.drawText(
+            QRectF(
+                -rect.height() / 2 - 20, -metrics.height() / 2, rect.height() + 40, metrics.height()
+            ),
+            Qt.AlignmentFlag.AlignCenter,
+            "|u| / peak",
+        )
+        painter.restore()
 
 
 def _key_id(key: tuple[str, int]) -> str:
