@@ -43,7 +43,7 @@ def measure(run, repeats: int) -> tuple[float, float, float]:
 def edit(settings: Settings, k: int) -> None:
     """Move R₀'s second control point a little (as one step of a drag does)."""
     rho, value = settings.falloff.curve("R", 0)
-    value[1] *= 1.0 + 1e-3 * (1 + k % 7)
+    value[1] *= 1.0 + 1e-6 * (1 + k)  # a new value every time: no table is cached yet
     settings.falloff.set_curve("R", 0, rho, value)
     settings.touch("falloff")
 
