@@ -7,8 +7,9 @@ Prints medians and minima (wall ms) and the median CPU ms of one preview update
 * after a curve edit (a control point of R₀ moved: new tables, same kernel), and
 * after a material change (a new kernel: the SH quadrature of P_lm),
 at l_max 8 and 20, for the whole computation (what the GUI thread did before, ``before``:
-the spline copy, the kernel swap, G along a radius) and, now, the GUI thread's snapshot of the
-settings (``GUI now``) and the worker's part (``worker``).
+the spline copy, the kernel swap, G along a radius) and, now, the GUI thread's part (``GUI
+now``: the snapshot of the settings, then G at the 64 samples when the kernel arrives) and the
+worker's (``worker``: the kernel).
 """
 
 from __future__ import annotations
@@ -19,7 +20,12 @@ import time
 
 import numpy as np
 
-from app.panels.falloff_panel import PREVIEW_SAMPLES, PreviewComputer, PreviewRequest
+from app.panels.falloff_panel import (
+    PREVIEW_SAMPLES,
+    PreviewComputer,
+    PreviewRequest,
+    felt_falloff,
+)
 from gogreen_core.kernel import GreenKernel
 from gogreen_core.material import Material
 from gogreen_core.settings import Settings
@@ -75,18 +81,23 @@ def bench(l_max: int, material: Material, rho: np.ndarray, repeats: int) -> None
     def worker_after_edit():
         edit(settings, next(edits))
         request = PreviewRequest.of(settings, rho)
-        return lambda: computer(request)
+        return lambda: computer.kernel(request)
+
+    def gui_after_edit():
+        edit(settings, next(edits))
+        kernel = computer.kernel(PreviewRequest.of(settings, rho))
+        return lambda: (PreviewRequest.of(settings, rho), felt_falloff(kernel, rho))
 
     def worker_new_material():
         fresh = PreviewComputer()  # no kernel kept: the quadrature of a new material
         request = PreviewRequest.of(settings, rho)
-        return lambda: fresh(request)
+        return lambda: fresh.kernel(request)
 
     cases = {
         "curve edit, before (all on the GUI thread)": after_edit(
             lambda: old_update(settings, kernel, rho)
         ),
-        "curve edit, GUI now (snapshot)": after_edit(lambda: PreviewRequest.of(settings, rho)),
+        "curve edit, GUI now (snapshot, 64 samples)": gui_after_edit,
         "curve edit, worker": worker_after_edit,
         "material change, before (GUI thread)": lambda: lambda: old_update(settings, None, rho),
         "material change, worker": worker_new_material,

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import threading
 from abc import ABC, abstractmethod
 from collections.abc import Iterable, Sequence
 from functools import lru_cache
@@ -501,6 +502,9 @@ def radial_table(profile: RadialProfile, kind: str, l: int) -> np.ndarray:
 
 _TABLE_CACHE: dict[tuple, np.ndarray] = {}
 _TABLE_CACHE_LIMIT = 1024
+#: Kernels are built on the app's background thread too: evicting (iterating the dict) while
+#: another thread inserts would raise.
+_TABLE_CACHE_LOCK = threading.Lock()
 
 
 def _cached_table(key: tuple, kind: str, l: int, profile: RadialProfile) -> np.ndarray:
@@ -509,7 +513,8 @@ def _cached_table(key: tuple, kind: str, l: int, profile: RadialProfile) -> np.n
     if table is None:
         table = radial_table(profile, kind, l)
         table.setflags(write=False)
-        if len(_TABLE_CACHE) >= _TABLE_CACHE_LIMIT:
-            _TABLE_CACHE.pop(next(iter(_TABLE_CACHE)))
-        _TABLE_CACHE[full_key] = table
+        with _TABLE_CACHE_LOCK:
+            if len(_TABLE_CACHE) >= _TABLE_CACHE_LIMIT:
+                _TABLE_CACHE.pop(next(iter(_TABLE_CACHE)))
+            _TABLE_CACHE[full_key] = table
     return table

@@ -703,19 +703,26 @@ def _block_the_worker():
 def test_the_falloff_preview_computes_off_the_gui_thread_and_the_latest_request_wins(
     qtbot, falloff_panel, monkeypatch
 ):
+    import app.panels.falloff_panel as falloff_module
     from app.panels.falloff_panel import PreviewComputer, PreviewRequest
 
     preview = falloff_panel.preview
     assert preview.wait()
     shown = preview.values.copy()
     threads: list[int] = []
-    compute = PreviewComputer.__call__
+    evaluated: list[int] = []
+    build, evaluate = PreviewComputer.kernel, falloff_module.felt_falloff
 
     def recording(self, request):
         threads.append(threading.get_ident())
-        return compute(self, request)
+        return build(self, request)
 
-    monkeypatch.setattr(PreviewComputer, "__call__", recording)
+    def recording_evaluation(kernel, rho):
+        evaluated.append(threading.get_ident())
+        return evaluate(kernel, rho)
+
+    monkeypatch.setattr(PreviewComputer, "kernel", recording)
+    monkeypatch.setattr(falloff_module, "felt_falloff", recording_evaluation)
     runner, release = _block_the_worker()
     try:
         before = (preview.requested, preview.shown)
@@ -731,9 +738,11 @@ def test_the_falloff_preview_computes_off_the_gui_thread_and_the_latest_request_
         release.set()
     assert preview.wait() and runner.wait()
     assert not preview.pending and not preview.stale
-    # only the latest of the queued requests was computed, on the worker thread
+    # only the latest of the queued requests was computed: its kernel on the worker thread,
+    # its 64 samples (numba's parallel driver, like strokes) on the GUI thread
     assert preview.requested - before[0] == 3 and preview.shown - before[1] == 1
     assert len(threads) == 1 and threads[0] != threading.get_ident()
+    assert evaluated == [threading.get_ident()]
     rho = np.linspace(0.0, preview.rho_max, len(preview.rho))
     expected = PreviewComputer()(PreviewRequest.of(falloff_panel.settings, rho))
     np.testing.assert_array_equal(preview.values, expected)
@@ -748,15 +757,15 @@ def test_a_computing_request_is_shown_and_the_newest_follows(qtbot, falloff_pane
     assert preview.wait()
     settings = falloff_panel.settings
     started, release = threading.Event(), threading.Event()
-    compute = PreviewComputer.__call__
+    build = PreviewComputer.kernel
 
     def slow_first(self, request):
         if not started.is_set():
             started.set()
             release.wait(30)
-        return compute(self, request)
+        return build(self, request)
 
-    monkeypatch.setattr(PreviewComputer, "__call__", slow_first)
+    monkeypatch.setattr(PreviewComputer, "kernel", slow_first)
     shown = preview.shown
     settings.material = Material.cubic(1.0, 0.5, 0.1)
     preview.recompute()

@@ -39,7 +39,7 @@ from app.panels.curve_editor import _tick_text as tick_text
 from app.panels.curve_editor import _ticks as tick_values
 from app.panels.widgets import plot_colors, scrolled_column, set_text_role
 from gogreen_core.brushes import default_wrinkle_weights
-from gogreen_core.kernel import GreenKernel
+from gogreen_core.kernel import GreenKernel, prepare_degree
 from gogreen_core.material import Material
 from gogreen_core.radial import GaussianRadial, KelvinletRadial, RadialProfile, SplineRadial
 from gogreen_core.settings import ChangeEvent, Settings, needed_curves
@@ -52,6 +52,7 @@ __all__ = [
     "FalloffPreview",
     "PreviewComputer",
     "PreviewRequest",
+    "felt_falloff",
 ]
 
 #: Range of the truncation degree spin box.
@@ -87,25 +88,41 @@ class PreviewRequest:
 
 
 class PreviewComputer:
-    """Computes previews off the GUI thread, keeping the kernel of the latest (material,
-    l_max) so that a curve edit only swaps the falloff (a new material or l_max needs a new
-    quadrature). Used by one worker at a time (the app's background thread runs its jobs in
-    turn), never by two threads at once."""
+    """Builds the kernels of previews off the GUI thread, keeping the one of the latest
+    (material, l_max) so that a curve edit only swaps the falloff (new radial tables; a new
+    material or l_max needs a new quadrature). Used by one worker at a time (the app's
+    background thread runs its jobs in turn), never by two threads at once.
+
+    :meth:`kernel` is the slow part (plain numpy, and the compilation of a new l_max's angular
+    code, which runs no parallel code): the worker's. :func:`felt_falloff` evaluates G at the
+    64 samples (~0.06 ms) with numba's parallel driver: on the GUI thread, where strokes run,
+    because numba's workqueue threading layer aborts the process on two parallel launches
+    from two threads at once (measured: "Concurrent access has been detected")."""
 
     def __init__(self) -> None:
         self._key: tuple | None = None
         self._kernel: GreenKernel | None = None
 
-    def __call__(self, request: PreviewRequest) -> np.ndarray | None:
-        """The felt falloff (:func:`grab_motion`) at ``request.rho`` (ρ = r/ε), normalized to
-        1 at its peak; None if it is zero or not finite."""
+    def kernel(self, request: PreviewRequest) -> GreenKernel:
+        """The kernel of ``request``'s material, l_max and falloff (ε = 1)."""
         radial = SplineRadial(1.0, request.curves)
         key = (request.material, request.l_max)
         if self._kernel is None or self._key != key:
+            prepare_degree(request.l_max)  # compiled here, not when the GUI thread evaluates
             self._kernel, self._key = GreenKernel(request.material, request.l_max, radial), key
-        magnitude = grab_motion(self._kernel.with_radial(radial), request.rho)
-        peak = magnitude.max()
-        return magnitude / peak if np.isfinite(peak) and peak > 0 else None
+        return self._kernel.with_radial(radial)
+
+    def __call__(self, request: PreviewRequest) -> np.ndarray | None:
+        """Both steps on the calling thread (scripts, tests, benchmarks)."""
+        return felt_falloff(self.kernel(request), request.rho)
+
+
+def felt_falloff(kernel: GreenKernel, rho: np.ndarray) -> np.ndarray | None:
+    """The felt falloff (:func:`grab_motion`) of ``kernel`` (ε = 1) at ``rho`` (n,), normalized
+    to 1 at its peak; None if it is zero or not finite."""
+    magnitude = grab_motion(kernel, rho)
+    peak = magnitude.max()
+    return magnitude / peak if np.isfinite(peak) and peak > 0 else None
 
 
 class FalloffPreview(QWidget):
@@ -114,9 +131,11 @@ class FalloffPreview(QWidget):
     and l_max, at ρ = r/ε in [0, ``rho_max``], with tick labels on both axes.
 
     Changes are coalesced: at most one request per :data:`PREVIEW_INTERVAL_MS`
-    (:meth:`schedule`; :meth:`recompute` requests at once). The computation runs on the app's
-    background thread (:mod:`app.background`; a curve edit takes 2-6 ms, a new material or l_max
-    70-120 ms, a new l_max's first compilation much longer), the latest request winning: a
+    (:meth:`schedule`; :meth:`recompute` requests at once). The kernel is built on the app's
+    background thread (:mod:`app.background`; after a curve edit 2-8 ms at l_max 8, 12-28 ms
+    at l_max 20, after a material change 40-100 ms, a new l_max's first compilation much
+    longer; ``benchmarks/falloff_preview.py``) and evaluated on the GUI thread when it arrives
+    (~0.06 ms, see :class:`PreviewComputer`), the latest request winning: a
     request still queued when a newer one is sent is skipped, one already computing is shown
     when it ends (it is newer than the curve on screen) and the newest follows. The shown
     curve stays until a new one arrives (no flicker), dimmed while the latest request is older
@@ -193,7 +212,7 @@ class FalloffPreview(QWidget):
         def compute(_task: Task) -> tuple:
             if latest[0] != number:  # a newer request was sent while this one waited
                 raise Cancelled
-            return number, request.rho, computer(request)
+            return number, request.rho, computer.kernel(request)
 
         self._job = self._runner.submit(compute)
         if not self._stale_timer.isActive():
@@ -207,8 +226,12 @@ class FalloffPreview(QWidget):
         return self._runner.wait(msecs) and self._job is None
 
     def _finished(self, job: int, result: tuple) -> None:
-        number, rho, values = result
+        number, rho, kernel = result
         if number > self._shown_number:  # jobs end in order: never older than the shown one
+            try:
+                values = felt_falloff(kernel, rho)
+            except (ValueError, RuntimeError):
+                values = None
             self._shown_number = number
             self.rho, self.values = rho, values
             self.shown += 1
