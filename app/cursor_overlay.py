@@ -4,9 +4,10 @@ It shows, around the screen position of the point where the brush acts: the radi
 ring), the influence radius (influence · ε, a thin ring: nothing beyond it moves) and the
 falloff profile (the relative motion against the distance from the centre, drawn as a curve
 over the ring's diameter, 1 at the centre rising to the top of the ε ring), plus a text label
-for a live value (F / Shift+F drags). The rings' screen sizes come from projecting the world
-radius at the point, so they match what the brush does at that depth; the geometry is rebuilt
-at every render (a renderer ``StartEvent``) so orbiting and zooming keep it in place.
+for a live value (F / Shift+F drags) and, while pen pressure shrinks the radius, a faint ring at
+the brush's full radius (as Blender draws it). The rings' screen sizes come from projecting the
+world radius at the point, so they match what the brush does at that depth; the geometry is
+rebuilt at every render (a renderer ``StartEvent``) so orbiting and zooming keep it in place.
 """
 
 from __future__ import annotations
@@ -74,14 +75,17 @@ class CursorOverlay:
     """The brush cursor of a renderer: :meth:`show` a :class:`CursorState` (None hides it).
 
     ``screen`` holds, after each render, the display centre (x, y) and the pixel radii of the ε
-    and influence rings (None while hidden), for tests and the F drag.
+    and influence rings (None while hidden), for tests and the F drag; ``full_pixels`` the
+    pixel radius of the full-radius ring (None unless pen pressure shrinks the radius).
     """
 
     def __init__(self, renderer):
         self.renderer = renderer
         self.state: CursorState | None = None
         self.screen: tuple[tuple[float, float], float, float] | None = None
+        self.full_pixels: float | None = None
         self._influence = _Polyline2D(renderer, INFLUENCE_COLOR, 1.0, 0.6)
+        self._full = _Polyline2D(renderer, CURSOR_COLOR, 1.0, 0.45)
         self._ring = _Polyline2D(renderer, CURSOR_COLOR, 2.5)
         self._profile = _Polyline2D(renderer, PROFILE_COLOR, 1.5, 0.85)
         self._text = vtk.vtkTextActor()
@@ -120,7 +124,8 @@ class CursorOverlay:
 
     def layout(self) -> None:
         """Rebuild the 2D geometry for the current camera (cheap: a few hundred points)."""
-        parts = (self._influence, self._ring, self._profile)
+        parts = (self._influence, self._ring, self._profile, self._full)
+        self.full_pixels = None
         if self.state is None:
             for part in parts:
                 part.actor.SetVisibility(False)
@@ -138,6 +143,11 @@ class CursorOverlay:
         self._influence.set(ring_points(xy, outer_px))
         for part in (self._ring, self._influence):
             part.actor.SetVisibility(True)
+        full = state.full_radius
+        if full is not None and np.isfinite(full) and full > state.radius:
+            self.full_pixels = eps_px * full / state.radius
+            self._full.set(ring_points(xy, self.full_pixels))
+        self._full.actor.SetVisibility(self.full_pixels is not None)
         if state.profile is not None and len(state.profile) > 1 and outer_px > 0:
             # mirrored profile over the diameter: height eps_px · motion(|x|)
             samples = np.asarray(state.profile, dtype=float)

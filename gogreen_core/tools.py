@@ -141,8 +141,10 @@ def grab_motion(kernel, distances: np.ndarray) -> np.ndarray:
 class CursorState:
     """Where the brush cursor is drawn: ``center`` (3,), unit ``normal`` (3,), ``radius`` ε
     (model units), ``influence`` (the moved region's radius in multiples of ε), ``profile``
-    (samples over [0, influence · ε] of the relative motion, :func:`brush_profile`, or None)
-    and ``label`` (a live value shown while F / Shift+F drags it, else None)."""
+    (samples over [0, influence · ε] of the relative motion, :func:`brush_profile`, or None),
+    ``label`` (a live value shown while F / Shift+F drags it, else None) and ``full_radius``
+    (during a pen stroke whose pressure shrinks the radius: the brush's own ε, model units,
+    drawn faintly around the pressed one; else None)."""
 
     center: np.ndarray
     normal: np.ndarray
@@ -150,6 +152,7 @@ class CursorState:
     influence: float = 4.0
     profile: np.ndarray | None = None
     label: str | None = None
+    full_radius: float | None = None
 
     def ring_matrix(self) -> np.ndarray:
         """(4, 4) transform placing the unit circle of the xy plane on the surface (lifted by
@@ -503,10 +506,12 @@ class CursorController:
         radius: Callable[[], float],
         influence: Callable[[], float] | None = None,
         profile: Callable[[], np.ndarray | None] | None = None,
+        full_radius: Callable[[], float | None] | None = None,
     ) -> None:
         self.radius = radius
         self.influence = influence or (lambda: 4.0)
         self.profile = profile or (lambda: None)
+        self.full_radius = full_radius or (lambda: None)
         self.state: CursorState | None = None
         self._normal: np.ndarray | None = None
 
@@ -526,6 +531,7 @@ class CursorController:
             float(self.influence()),
             self.profile(),
             label,
+            self.full_radius(),
         )
         return self.state
 
@@ -576,7 +582,10 @@ class SculptTools:
         self._moves = _Coalescer()
         self._hover: PointerEvent | None = None
         self.cursor = CursorController(
-            self._cursor_radius, lambda: self.brush().influence, self._cursor_profile
+            self._cursor_radius,
+            lambda: self.brush().influence,
+            self._cursor_profile,
+            self._cursor_full_radius,
         )
         self._profile_key: tuple | None = None
         self._profile: np.ndarray | None = None
@@ -600,6 +609,12 @@ class SculptTools:
         if radius is None:
             return self.brush().eps(self.sculptor.model_size)
         return radius * self.sculptor.model_size
+
+    def _cursor_full_radius(self) -> float | None:
+        """The brush's own ε (model units) while pen pressure shrinks the stroke's, else None."""
+        if self.sculptor is None or not self.stroke.active or self.stroke.radius_factor >= 1.0:
+            return None
+        return self.brush().eps(self.sculptor.model_size)
 
     def _cursor_profile(self) -> np.ndarray | None:
         """The current brush's falloff samples (:func:`brush_profile`), cached per engine

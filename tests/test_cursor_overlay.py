@@ -188,7 +188,7 @@ def test_pen_pressure_drives_the_radius_along_one_stroke_and_the_cursor_shows_it
     tablet(vp, QMouseEvent.Type.TabletPress, start, pressures[0])
     send(vp, QMouseEvent.Type.MouseButtonPress, start)
     vp.render_now()
-    ring_px, moved = [], []
+    ring_px, full_px, moved = [], [], []
     pos = start
     for pressure in pressures:
         pos = pos + QPoint(0, -4)
@@ -201,6 +201,7 @@ def test_pen_pressure_drives_the_radius_along_one_stroke_and_the_cursor_shows_it
         vp.render_now()
         moved.append(int(np.count_nonzero(np.any(sculptor.vertices != before, axis=1))))
         ring_px.append(vp.cursor_overlay.screen[1])
+        full_px.append(vp.cursor_overlay.full_pixels)
     send(vp, QMouseEvent.Type.MouseButtonRelease, pos, buttons=Qt.MouseButton.NoButton)
     tablet(vp, QMouseEvent.Type.TabletRelease, pos, 0.0, Qt.MouseButton.NoButton)
     events = sculptor.operations[-1].events
@@ -208,6 +209,10 @@ def test_pen_pressure_drives_the_radius_along_one_stroke_and_the_cursor_shows_it
     assert moved == sorted(moved, reverse=True) and 0 < moved[-1] < 0.5 * moved[0]
     # the ring follows the pressure (the depth of the point under the pen barely changes)
     assert np.array(ring_px) / ring_px[0] == pytest.approx(pressures, rel=0.1)
-    # after the pen lifts, the cursor is back at the brush's own radius
+    # a faint ring keeps the full radius while the pressure shrinks it (none at full pressure)
+    assert full_px[0] is None
+    assert full_px[1:] == pytest.approx([ring_px[0]] * 3, rel=0.1)
+    # after the pen lifts, the cursor is back at the brush's own radius, alone
     hover(window, start)
     assert vp.cursor_overlay.screen[1] == pytest.approx(ring_px[0], rel=0.1)
+    assert vp.cursor_overlay.full_pixels is None

@@ -345,9 +345,12 @@ def test_pressure_drives_the_radius_along_the_stroke(sculptor):
     assert tools.stroke.radius is None
     tools.press(at(start, pressure=0.4))
     assert tools.cursor.state.radius == pytest.approx(0.4 * eps)
+    assert tools.cursor.state.full_radius == pytest.approx(eps)  # the full ring, faint
     tools.move(at(start + 0.01 * NORTH, screen=(0.0, -10.0), pressure=0.0))
     assert tools.flush().cursor.radius == pytest.approx(0.1 * eps)  # a feather keeps a tenth
     tools.release()
+    hovered = tools.cursor.place(start, NORTH)
+    assert hovered.radius == pytest.approx(eps) and hovered.full_radius is None
     assert sculptor.operations[-1].events[0].radius_factor == pytest.approx(0.1)
 
 
