@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# Shared setup for the two quick-start commands: Debian libraries that Qt and VTK load, then a
+# Shared setup for the two quick-start commands: Debian libraries that Qt and VTK load (and GNU
+# OpenMP, numba's thread-safe parallel layer: the app runs compiled parallel code on a worker
+# thread and the GUI thread at once, which numba's fallback "workqueue" layer aborts on), then a
 # virtual environment in .venv with the package installed (editable, with the test extras).
 # Safe to run again: each step is skipped when already done.
 set -euo pipefail
@@ -8,7 +10,8 @@ cd "$root"
 
 debian_packages=(xvfb xauth libgl1 libegl1 libglu1-mesa libxkbcommon-x11-0 libxcb-cursor0
     libxcb-icccm4 libxcb-keysyms1 libxcb-image0 libxcb-render-util0 libxcb-xinerama0
-    libxcb-shape0 libxcb-randr0 libxcb-xkb1 libdbus-1-3 libfontconfig1 libxrender1 libxi6)
+    libxcb-shape0 libxcb-randr0 libxcb-xkb1 libdbus-1-3 libfontconfig1 libxrender1 libxi6
+    libgomp1)
 if command -v dpkg-query >/dev/null 2>&1; then
     missing=()
     for p in "${debian_packages[@]}"; do
