@@ -70,11 +70,17 @@ SHADINGS = {
 _SHADING_PROPS = {"studio": (0.12, 0.85, 0.25, 20.0), "clay": (0.22, 0.9, 0.0, 1.0)}
 #: Below this :func:`material_anisotropy` the wrinkle brush moves the surface like grab (its
 #: reweighted degrees l > 2 carry next to nothing): the cubic c11=1, c12=.5, c44=.4 is 0.13,
-#: the built-in wood / fibre / layered presets 0.58 to 0.83.
+#: the built-in layered / wood / fibre presets 0.65 to 0.83.
 WRINKLE_MIN_ANISOTROPY = 0.25
 WRINKLE_NEEDS = (
-    "the wrinkle brush needs a strongly anisotropic material: with this nearly isotropic one "
-    "it moves the surface like grab"
+    "needs a layered or fibred (anisotropic) material: on this uniform one it moves the "
+    "surface like Grab"
+)
+#: Tool tip of the wrinkle brush: what it does and what it needs, in an artist's words.
+WRINKLE_TIP = (
+    "Wrinkle: pulls like Grab and ripples the surface around the pull, along the "
+    "material's layers or fibres; needs a layered material such as the “Layered sheet "
+    "wrinkles” preset (ripple strength per degree: Falloff panel)"
 )
 
 
@@ -359,7 +365,9 @@ class MainWindow(QMainWindow):
         self.model.brush.events.changed.connect(lambda _c: self._brush_changed())
         self.model.events.material.connect(self._material_changed)
         self.model.brush.events.kind.connect(lambda _e: self._check_wrinkle_material())
-        self._wrinkle_tip = self.brush_bar.kind_actions["wrinkle"].toolTip()
+        shortcut = self.brush_bar.kind_actions["wrinkle"].toolTip().rpartition("  [")
+        self._wrinkle_tip = WRINKLE_TIP + (shortcut[1] + shortcut[2] if shortcut[1] else "")
+        self._check_wrinkle_material()
         # after the engine link (connected first): a settings step enables Undo at once
         self.model.events.changed.connect(lambda _c: self._refresh_title())
         self.model.events.l_max.connect(self._l_max_changed)
@@ -622,7 +630,7 @@ class MainWindow(QMainWindow):
         action.setToolTip(self._wrinkle_tip + (note if lacking else ""))
         if lacking and self.wrinkle_fix_button.isHidden():
             self.statusBar().clearMessage()  # a temporary hint would hide the message
-            self.flash(f"Wrinkle: {WRINKLE_NEEDS}.")
+            self.flash(f"Wrinkle {WRINKLE_NEEDS}.")
         self.wrinkle_fix_button.setVisible(lacking)
 
     def use_wrinkle_material(self) -> None:

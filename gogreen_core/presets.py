@@ -9,7 +9,8 @@ and loads or saves any other file; a script does the same::
 
 File format (``"format": "gogreen-preset"``, ``"version": 1``): ``name``, ``description``,
 ``material`` (:meth:`Material.to_dict`), ``falloff`` (a radial profile's ``to_dict``),
-``l_max``, ``degree_weights`` (l_max + 1 numbers or null for the default), ``brush``
+``l_max``, ``degree_weights`` (l_max + 1 numbers, or null: :func:`default_wrinkle_weights` of
+l_max when applied, by the app and by :meth:`Preset.apply` alike), ``brush``
 (:meth:`Brush.to_dict`).
 """
 
@@ -23,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from gogreen_core.brushes import Brush
+from gogreen_core.brushes import Brush, default_wrinkle_weights
 from gogreen_core.material import Material
 from gogreen_core.mesh_io import write_text_atomic
 from gogreen_core.radial import GaussianRadial, RadialProfile
@@ -47,7 +48,8 @@ PRESET_VERSION = 1
 class Preset:
     """Everything an artist tunes before a stroke, as one named, shareable unit.
 
-    ``degree_weights`` is None for the engine's default wrinkle weights, else (l_max + 1,).
+    ``degree_weights`` is None for :func:`default_wrinkle_weights` of ``l_max``, else
+    (l_max + 1,).
     """
 
     name: str
@@ -63,7 +65,12 @@ class Preset:
         caller's to use)."""
         joined = sculptor.material != self.material  # a new step the falloff joins
         sculptor.set_material(self.material)  # ignored when unchanged
-        sculptor.set_falloff(self.falloff, self.l_max, self.degree_weights, continued=joined)
+        # explicit weights, as the app's settings apply them: the sculptor's None means the old
+        # weights of sessions that recorded null (legacy_wrinkle_weights)
+        weights = self.degree_weights
+        if weights is None:
+            weights = default_wrinkle_weights(self.l_max)
+        sculptor.set_falloff(self.falloff, self.l_max, weights, continued=joined)
 
     def to_dict(self) -> dict:
         weights = self.degree_weights

@@ -39,7 +39,7 @@ from gogreen_core.brushes import (
     Brush,
     BrushEvent,
     affine_load_shape,
-    default_wrinkle_weights,
+    legacy_wrinkle_weights,
     mirror_signs,
 )
 from gogreen_core.constraints import CONSTRAINT_INFLUENCE, ConstraintSet
@@ -156,7 +156,9 @@ class Sculptor:
     falloff : RadialProfile, default GaussianRadial
         The falloff shape; its ε is ignored (each brush sets ε = radius · model size).
     degree_weights : (l_max + 1,) floats, optional
-        Per-degree weights of the wrinkle brush (default :func:`default_wrinkle_weights`).
+        Per-degree weights of the wrinkle brush. None means :func:`legacy_wrinkle_weights`
+        (what sessions recorded as null, so they replay exactly); the app and presets pass
+        :func:`~gogreen_core.brushes.default_wrinkle_weights` explicitly.
     constraint_radius : float, default 0.1
         ε of the pins as a fraction of the model size.
     history_bytes : memory cap of the undo history.
@@ -241,7 +243,7 @@ class Sculptor:
     def degree_weights(self) -> np.ndarray:
         """Weights of the wrinkle brush (l_max + 1,)."""
         weights = self._settings.degree_weights
-        return default_wrinkle_weights(self.l_max) if weights is None else weights
+        return legacy_wrinkle_weights(self.l_max) if weights is None else weights
 
     @property
     def in_stroke(self) -> bool:

@@ -459,11 +459,11 @@ def test_l_max_and_degree_weights(qtbot, falloff_panel):
         panel.weight_spins[3].setValue(2.5)
     assert panel.degree_weights[3] == 2.5
     panel.l_max_spin.setValue(4)
-    assert np.array_equal(panel.degree_weights, [1.0, 1.0, 1.0, 2.5, 2.0])
+    assert np.array_equal(panel.degree_weights, [1.0, 1.0, 1.0, 2.5, default_wrinkle_weights(4)[4]])
     panel.weights_one_button.click()
     assert np.array_equal(panel.degree_weights, np.ones(5))
     panel.l_max_spin.setValue(6)  # new degrees get the default weights
-    assert np.array_equal(panel.degree_weights, [1, 1, 1, 1, 1, 2.5, 3])
+    assert np.array_equal(panel.degree_weights, [1, 1, 1, 1, 1, *default_wrinkle_weights(6)[5:]])
     panel.weights_boost_button.click()
     assert np.array_equal(panel.degree_weights, default_wrinkle_weights(6))
 

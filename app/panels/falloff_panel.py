@@ -537,7 +537,7 @@ class FalloffPanel(QWidget):
         )
         self.weights_boost_button = QPushButton("Boost high degrees")
         self.weights_boost_button.setToolTip(
-            "The engine's default wrinkle weights: max(1, l / 2), bringing out angular ripples"
+            "The default wrinkle weights: degrees 3-8 raised to show their ripples in the brush"
         )
         self.weights_boost_button.clicked.connect(
             lambda: self.set_degree_weights(default_wrinkle_weights(self.l_max), emit=True)
