@@ -25,6 +25,7 @@ import tempfile
 import time
 from pathlib import Path
 
+import numba
 import numpy as np
 import trimesh
 
@@ -79,9 +80,9 @@ def median_ms(samples: list[float]) -> str:
 
 
 def grab_event(sculptor: Sculptor, radius: float, center: np.ndarray, repeats: int):
-    """Seconds of each grab event (wall, CPU of all threads, and the streamlines alone), how
-    many vertices it could reach, its max error against 64 fixed RK4 substeps relative to the
-    cursor motion, and the vertices after it."""
+    """Seconds of each grab event (wall, CPU of all threads, and the streamlines alone, also
+    on one thread), how many vertices it could reach, its max error against 64 fixed RK4
+    substeps relative to the cursor motion, and the vertices after it."""
     brush = Brush("grab", radius=radius)
     delta = 0.01 * sculptor.model_size * np.array([0.3, 0.8, 0.5])
     before = sculptor.vertices.copy()
@@ -116,13 +117,26 @@ def grab_event(sculptor: Sculptor, radius: float, center: np.ndarray, repeats: i
             )
             wall.append(time.perf_counter() - start)
             cpu_.append(time.process_time() - start_cpu)
+    # the same adaptive streamlines on one thread: CPU time that the other developers' load on
+    # the shared cores disturbs least
+    threads = numba.get_num_threads()
+    single = []
+    try:
+        numba.set_num_threads(1)
+        for _ in range(repeats):
+            start_cpu = time.process_time()
+            kernel.streamlines(points, center, force, center_step=delta, cutoff=cutoff)
+            single.append(time.process_time() - start_cpu)
+    finally:
+        numba.set_num_threads(threads)
     reference = before.copy()
     reference[active] = kernel.streamlines(
         before[active], center, force, center_step=delta, cutoff=cutoff, substeps=64,
         tolerance=None,
     )  # fmt: skip
     error = np.linalg.norm(after - reference, axis=1).max() / np.linalg.norm(delta)
-    return (samples, cpu, stream, stream_cpu, fixed, fixed_cpu), len(active), error, after
+    times = (samples, cpu, stream, stream_cpu, single, fixed, fixed_cpu)
+    return times, len(active), error, after
 
 
 def main() -> None:
@@ -175,11 +189,12 @@ def main() -> None:
     for radius in (0.05, 0.2):
         times, affected, error, after = grab_event(sculptor, radius, center, args.repeats)
         events[radius] = after
-        samples, cpu, stream, stream_cpu, fixed, fixed_cpu = times
+        samples, cpu, stream, stream_cpu, single, fixed, fixed_cpu = times
         print(f"grab event r={radius:<4} ({affected:>9,} vertices in ball): {median_ms(samples)}")
         print(f"  CPU time of all threads (the 2 cores are shared): {median_ms(cpu)}")
         print(f"  adaptive streamlines alone, wall:                 {median_ms(stream)}")
         print(f"  adaptive streamlines alone, CPU:                  {median_ms(stream_cpu)}")
+        print(f"  adaptive streamlines alone, one thread, CPU:      {median_ms(single)}")
         print(f"  4 fixed RK4 substeps (former default), wall:      {median_ms(fixed)}")
         print(f"  4 fixed RK4 substeps (former default), CPU:       {median_ms(fixed_cpu)}")
         print(f"  max vertex error vs 64 RK4 substeps / cursor motion: {error:.2e}")

@@ -20,9 +20,18 @@ drivers below unchanged.
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 from numba import carray, cfunc, njit, prange, types
+
+# numba's OpenMP threading layer loads libgomp at the first parallel call (after this import);
+# its default lets idle worker threads spin, which on cores shared with other programs starves
+# the threads doing the work. Passive waiting, measured on the shared 2-core machine under load
+# (wall medians): a grab event on the 1M-vertex ogre 186-234 ms -> 83-85 ms, on a 2,562-vertex
+# sphere 72-165 ms -> 0.5 ms; uncontended it costs ~0.1 ms of wake-up per event (small-mesh
+# minimum 0.35-0.44 -> 0.50 ms). A user's own setting wins.
+os.environ.setdefault("OMP_WAIT_POLICY", "passive")
 
 BLOCK = 256
 # Parallel tasks per call; each reuses one set of scratch rows for a contiguous run of blocks.
@@ -56,7 +65,7 @@ def expand(
     l_last: int,  # highest degree of the parity
     base: np.ndarray,  # (l_last+1,) int64: coeff row of Y_l,-l for each degree l used
     coeffs: np.ndarray,  # (n_terms, K) float64
-    tables: np.ndarray,  # (S, SEGMENT_DEGREE+1, n_deg) float64; degree index (l - l_first) // 2
+    tables: np.ndarray,  # (n_deg, S, SEGMENT_DEGREE+1) float64; degree index (l - l_first) // 2
     qmm: np.ndarray,  # (L+1,) Legendre constants Q_m^m
     rec_a: np.ndarray,  # (L+1, L+1) recurrence a_lm
     rec_b: np.ndarray,  # (L+1, L+1) recurrence b_lm
@@ -66,7 +75,7 @@ def expand(
 ) -> None:
     n_points = points.shape[0]
     n_out = coeffs.shape[1]
-    n_deg = tables.shape[2]
+    n_deg = tables.shape[0]
     n_blocks = (n_points + BLOCK - 1) // BLOCK
     n_tasks = min(n_blocks, TASKS)
     for task in prange(n_tasks):
@@ -78,7 +87,12 @@ def expand(
         for blk in range(task * n_blocks // n_tasks, (task + 1) * n_blocks // n_tasks):
             start = blk * BLOCK
             nb = min(BLOCK, n_points - start)
-            _geometry(points, center, eps, power, tables.shape[0], start, nb, geo, seg)
+            for i in range(nb):
+                geo[0, i] = points[start + i, 0] - center[0]
+                geo[1, i] = points[start + i, 1] - center[1]
+            for i in range(nb):
+                geo[2, i] = points[start + i, 2] - center[2]
+            _geometry(eps, power, tables.shape[1], nb, geo, seg)
             _radial(tables, l_first, nb, geo, seg, rad)
             if unrolled:
                 angular(nb, geo.ctypes, rad.ctypes, coeffs.ctypes, acc.ctypes)
@@ -95,8 +109,10 @@ _HUGE = 2.0**600
 
 
 @njit(nogil=True, **_JIT)
-def _geometry(points, center, eps, power, n_seg, start, nb, geo, seg):
-    """Rows of ``geo``: x̂, ŷ, ẑ, r, local table variable, 1/(r+ε)^p for l = 0 and for l ≥ 1.
+def _geometry(eps, power, n_seg, nb, geo, seg):
+    """Rows of ``geo``: x̂, ŷ, ẑ, r, local table variable, 1/(r+ε)^p for l = 0 and for l ≥ 1,
+    from the offsets x - c the caller wrote in rows 0-2 (normalized in place); ``seg`` gets each
+    point's table segment.
 
     At r = 0 the direction is 0 and the l ≥ 1 scale is 0: R_l(0) = ℛ_l(0) = 0 for l ≥ 1, so G(0)
     is its exact degree-0 term and ∇G(0) = 0 with no special case downstream.
@@ -106,17 +122,20 @@ def _geometry(points, center, eps, power, n_seg, start, nb, geo, seg):
     table variable, and the far field its 1/r (1/r² for ∇G) decay, underflowing to 0 at worst.
     """
     x, y, z, rr, loc, scale0, scale1 = geo[0], geo[1], geo[2], geo[3], geo[4], geo[5], geo[6]
-    c0, c1, c2 = center[0], center[1], center[2]
-    for i in range(nb):
-        x[i] = points[start + i, 0] - c0
-        y[i] = points[start + i, 1] - c1
-    for i in range(nb):
-        z[i] = points[start + i, 2] - c2
+    n_huge = 0
     for i in range(nb):
         r2 = x[i] * x[i] + y[i] * y[i] + z[i] * z[i]
-        xs, ys, zs = x[i] * _TINY, y[i] * _TINY, z[i] * _TINY
-        r = math.sqrt(r2) if r2 < 1e300 else math.sqrt(xs * xs + ys * ys + zs * zs) * _HUGE
-        rr[i] = r
+        n_huge += 0 if r2 < 1e300 else 1
+        rr[i] = math.sqrt(r2)
+    if n_huge > 0:
+        # rare: a loop of its own, so that the common one takes one square root per point
+        for i in range(nb):
+            r2 = x[i] * x[i] + y[i] * y[i] + z[i] * z[i]
+            if not r2 < 1e300:
+                xs, ys, zs = x[i] * _TINY, y[i] * _TINY, z[i] * _TINY
+                rr[i] = math.sqrt(xs * xs + ys * ys + zs * zs) * _HUGE
+    for i in range(nb):
+        r = rr[i]
         scale1[i] = 1.0 / r if r > 0.0 else 0.0
     for i in range(nb):
         x[i] *= scale1[i]
@@ -139,24 +158,27 @@ def _geometry(points, center, eps, power, n_seg, start, nb, geo, seg):
 def _radial(tables, l_first, nb, geo, seg, rad):
     """rad[d, i] = R_l(r_i) (or ℛ_l) for every degree of the parity (d = (l - l_first) / 2).
 
-    The degree-5 segment polynomial by Estrin's scheme (depth 3), degrees innermost so that a
-    point's coefficients are contiguous. Each point reads its own segment, so this loop stays
-    scalar (a gather per coefficient would cost more): 384 segments of degree 5 need 6 loads per
-    degree where 96 of degree 9 needed 10, for the same accuracy.
+    The degree-5 segment polynomial by Estrin's scheme (depth 3). Each point reads its own
+    segment; degrees outermost, so that the loop over the block's points vectorizes with
+    gathers (a segment's six coefficients are contiguous per degree). Measured on 10⁶ points,
+    five degrees, one thread: 7.8 ms, where the point-outer loop (scalar, coefficients of all
+    degrees contiguous) took 9.5 ms. 384 segments of degree 5 need 6 loads per degree where
+    96 of degree 9 needed 10, for the same accuracy.
     """
     loc, scale0, scale1 = geo[4], geo[5], geo[6]
-    n_deg = tables.shape[2]
-    for i in range(nb):
-        c = tables[seg[i]]
-        s = loc[i]
-        s2 = s * s
-        for d in range(n_deg):
-            p01 = c[0, d] + c[1, d] * s
-            p23 = c[2, d] + c[3, d] * s
-            p45 = c[4, d] + c[5, d] * s
-            # degree 0 keeps its value at r = 0 (G(0) is its l = 0 term); l ≥ 1 vanish there
-            scale = scale0[i] if d == 0 and l_first == 0 else scale1[i]
-            rad[d, i] = (p01 + (p23 + p45 * s2) * s2) * scale
+    for d in range(tables.shape[0]):
+        c = tables[d]
+        row = rad[d]
+        # degree 0 keeps its value at r = 0 (G(0) is its l = 0 term); l ≥ 1 vanish there
+        scale = scale0 if d == 0 and l_first == 0 else scale1
+        for i in range(nb):
+            j = seg[i]
+            s = loc[i]
+            s2 = s * s
+            p01 = c[j, 0] + c[j, 1] * s
+            p23 = c[j, 2] + c[j, 3] * s
+            p45 = c[j, 4] + c[j, 5] * s
+            row[i] = (p01 + (p23 + p45 * s2) * s2) * scale[i]
 
 
 @njit(nogil=True, **_JIT)
@@ -281,9 +303,7 @@ def _velocity(
     vel,
 ):
     """vel[:, :nb] = v(pos[:, :nb], t), the streamline velocity of ``stream`` (rows x, y, z)."""
-    geo, seg, rad, work, total, probe, center = scratch
-    for k in range(3):
-        center[k] = center0[k] + t * center_step[k]
+    geo, seg, rad, work, total = scratch
     for k in range(3):
         for i in range(nb):
             vel[k, i] = 0.0
@@ -291,10 +311,12 @@ def _velocity(
         for k in range(3):
             sgn = mirrors[mi, k]
             o = origin[k]
+            c = center0[k] + t * center_step[k]
+            offset = geo[k]
             for i in range(nb):
                 # the brush itself (sgn = 1) sees exactly its own positions
-                probe[i, k] = pos[k, i] if sgn > 0 else o - (pos[k, i] - o)
-        _geometry(probe, center, eps, power, tables.shape[0], 0, nb, geo, seg)
+                offset[i] = (pos[k, i] if sgn > 0 else o - (pos[k, i] - o)) - c
+        _geometry(eps, power, tables.shape[1], nb, geo, seg)
         _radial(tables, l_first, nb, geo, seg, rad)
         if unrolled:
             angular(nb, geo.ctypes, rad.ctypes, coeffs.ctypes, total.ctypes)
@@ -381,16 +403,20 @@ def _rk4(
                 scratch,
                 vel,
             )
-            if n_steps == 1 and stage != 2:
-                # mid[0:3] = x₀ + k₂ (midpoint rule), mid[3:6] = x₀ + (k₁ + k₄)/2 (trapezoid)
+            # mid[0:3] = x₀ + k₂ (midpoint rule), mid[3:6] = x₀ + (k₁ + k₄)/2 (trapezoid); one
+            # loop per stage (a branch on the stage inside the loop kept it from vectorizing)
+            if n_steps == 1 and stage == 0:
                 for k in range(3):
                     for i in range(nb):
-                        if stage == 1:
-                            mid[k, i] = pos[k, i] + vel[k, i]
-                        elif stage == 0:
-                            mid[3 + k, i] = pos[k, i] + 0.5 * vel[k, i]
-                        else:
-                            mid[3 + k, i] += 0.5 * vel[k, i]
+                        mid[3 + k, i] = pos[k, i] + 0.5 * vel[k, i]
+            elif n_steps == 1 and stage == 1:
+                for k in range(3):
+                    for i in range(nb):
+                        mid[k, i] = pos[k, i] + vel[k, i]
+            elif n_steps == 1 and stage == 3:
+                for k in range(3):
+                    for i in range(nb):
+                        mid[3 + k, i] += 0.5 * vel[k, i]
             weight = h / 6.0 if stage == 0 or stage == 3 else h / 3.0
             for k in range(3):
                 for i in range(nb):
@@ -409,8 +435,6 @@ def _scratch(n_deg):
         np.empty((n_deg, BLOCK)),
         np.empty((6, BLOCK)),
         np.empty((3, BLOCK)),
-        np.empty((BLOCK, 3)),
-        np.empty(3),
     )
     rows = (np.empty((3, BLOCK)), np.empty((3, BLOCK)), np.empty((3, BLOCK)))
     return scratch, rows
@@ -472,25 +496,29 @@ def stream(
     """
     n_points = indices.shape[0] if indexed else points.shape[0]
     n_rows = points.shape[0]
-    n_deg = tables.shape[2]
+    n_deg = tables.shape[0]
     n_blocks = (n_points + BLOCK - 1) // BLOCK
     n_tasks = min(n_blocks, TASKS)
     width = cutoff_outer - cutoff_inner
     inv_width = 1.0 / width if cutoff_outer > 0.0 and width > 0.0 else 0.0
     adaptive = tolerance > 0.0
     first_steps = 1 if adaptive else substeps
-    rank = np.empty(n_points)  # e⁵ / max(m, e)², see below
     block_motion = np.zeros(n_blocks)  # largest motion m in each block
     if indexed and n_rows == 0:
         return 1
     # per block: 1 an index out of range (row 0 read instead), 2 a start position not finite
     # or beyond ``limit``; checked while the rows are read, acted on after the first pass
+    rank = np.empty(n_points)  # e⁵ / max(m, e)², see below
     problem = np.zeros(n_blocks, dtype=np.int64)
+    # per block: an end position not finite, checked as the rows are written (no pass of its
+    # own): a first step that overflowed fails the event even where refinement might not)
+    bad = np.zeros(n_blocks, dtype=np.bool_)
     for task in prange(n_tasks):
         scratch, rows = _scratch(n_deg)
         start_rows = np.empty((3, BLOCK))
         end_rows = np.empty((3, BLOCK))
         mid_rows = np.empty((6, BLOCK))
+        motion2 = np.empty(BLOCK)
         for blk in range(task * n_blocks // n_tasks, (task + 1) * n_blocks // n_tasks):
             start = blk * BLOCK
             nb = min(BLOCK, n_points - start)
@@ -537,8 +565,12 @@ def stream(
                 for k in range(3):
                     out[start + i, k] = end_rows[k, i]
                 steps[start + i] = first_steps
+            if write_back:
+                for k in range(3):
+                    for i in range(nb):
+                        if not math.isfinite(end_rows[k, i]):
+                            bad[blk] = True
             if adaptive:
-                most = 0.0
                 for i in range(nb):
                     m2 = 0.0
                     e_mid = 0.0
@@ -553,15 +585,20 @@ def stream(
                     # prediction e (e/reach)^(2/3) > bound  ⇔  e⁵ / reach² > bound³
                     e = math.sqrt(max(e_mid, e_trap))
                     reach2 = max(m2, e * e)
-                    most = max(most, m2)
+                    motion2[i] = m2
                     rank[start + i] = e * e * e * e * e / reach2 if reach2 > 0.0 else 0.0
+                # the block's largest motion in a loop of its own: a max reduction inside the
+                # loop above kept it (its square roots and divisions) from vectorizing
+                most = 0.0
+                for i in range(nb):
+                    most = max(most, motion2[i])
                 block_motion[blk] = math.sqrt(most)
     for code in (1, 2):
         for blk in range(n_blocks):
             if problem[blk] == code:
                 return code
     if adaptive:
-        _refine(
+        refined_bad = _refine(
             points,
             indices,
             indexed,
@@ -589,14 +626,10 @@ def stream(
             rank,
             block_motion,
         )
+        if refined_bad and write_back:
+            return 3
     if not write_back:
         return 0
-    bad = np.zeros(n_blocks, dtype=np.bool_)
-    for blk in prange(n_blocks):
-        for n in range(blk * BLOCK, min((blk + 1) * BLOCK, n_points)):
-            for k in range(3):
-                if not math.isfinite(out[n, k]):
-                    bad[blk] = True
     for blk in range(n_blocks):
         if bad[blk]:
             return 3
@@ -638,16 +671,17 @@ def _refine(
     block_motion,
 ):
     """The adaptive pass of ``stream``: the points whose predicted error is too large, again
-    with 2, 4, ... RK4 steps (see ``stream``)."""
+    with 2, 4, ... RK4 steps (see ``stream``). Returns True if an end position it wrote is not
+    finite."""
     n_points = out.shape[0]
-    n_deg = tables.shape[2]
+    n_deg = tables.shape[0]
     n_blocks = block_motion.shape[0]
     scale = math.sqrt(center_step[0] ** 2 + center_step[1] ** 2 + center_step[2] ** 2)
     for blk in range(n_blocks):
         scale = max(scale, block_motion[blk])
     bound = ESTIMATE_SAFETY * tolerance * scale
     if bound <= 0.0:
-        return
+        return False
     # the points to refine, packed in index order into full blocks spread evenly over the
     # tasks (they cluster in space, so in the mesh's order too)
     bound3 = bound * bound * bound
@@ -669,6 +703,7 @@ def _refine(
                 j += 1
     n_packed = (n_refine + BLOCK - 1) // BLOCK
     n_tasks = min(n_packed, TASKS)
+    bad = np.zeros(n_packed, dtype=np.bool_)
     for task in prange(n_tasks):
         scratch, rows = _scratch(n_deg)
         start_rows = np.empty((3, BLOCK))
@@ -730,8 +765,16 @@ def _refine(
                         for k in range(3):
                             previous[k, kept] = end_rows[k, j]
                         kept += 1
+                    else:  # its final end position
+                        for k in range(3):
+                            if not math.isfinite(end_rows[k, j]):
+                                bad[blk] = True
                 count = kept
                 n_steps *= 2
+    for blk in range(n_packed):
+        if bad[blk]:
+            return True
+    return False
 
 
 @njit(parallel=True, nogil=True, **_JIT)

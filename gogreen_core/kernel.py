@@ -222,9 +222,9 @@ def _load_coefficients(name: str, coeffs: np.ndarray) -> np.ndarray:
 
 
 def _evaluation_tables(tables: np.ndarray) -> np.ndarray:
-    """(n_degrees, S, D+1) → (S, D+1, n_degrees), all degrees of a segment coefficient
-    contiguous: the layout ``_expansion`` reads."""
-    return np.ascontiguousarray(tables.transpose(1, 2, 0))
+    """(n_degrees, S, D+1), C-contiguous: the layout ``_expansion._radial`` reads (the D+1
+    coefficients of one degree's segment contiguous)."""
+    return np.ascontiguousarray(tables, dtype=np.float64)
 
 
 # _expansion unrolls the segment polynomial for this degree

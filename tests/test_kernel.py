@@ -1,6 +1,9 @@
 """GreenKernel against independent references, its symmetries, and its input checks."""
 
 import itertools
+import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -379,3 +382,16 @@ def test_material_rule_keeps_lebedev_when_smooth_and_grades_when_peaked():
     fine = moments(*axis_product_rule(axis, 1500, 96))
     for got, want in zip(moments(nodes, weights), fine, strict=True):
         assert rel_err(got, want) < 1e-11
+
+
+def test_openmp_threads_wait_passively_unless_the_user_chose():
+    """Idle OpenMP worker threads sleep instead of spinning on shared cores (see _expansion)."""
+    script = "import os, gogreen_core; print(os.environ['OMP_WAIT_POLICY'])"
+    for given, expected in ((None, "passive"), ("active", "active")):
+        env = {k: v for k, v in os.environ.items() if k != "OMP_WAIT_POLICY"}
+        if given is not None:
+            env["OMP_WAIT_POLICY"] = given
+        result = subprocess.run(
+            [sys.executable, "-c", script], env=env, capture_output=True, text=True, check=True
+        )
+        assert result.stdout.split()[-1] == expected

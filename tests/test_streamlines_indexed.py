@@ -81,3 +81,20 @@ def test_indexed_input_errors_name_the_problem_and_move_nothing(setup):
         narrow.streamlines(mesh, center, np.full(3, 1.7e308), indices=[0, 1, 2], in_place=True)
     assert np.array_equal(mesh, vertices)
     assert len(kernel.streamlines(mesh, center, np.ones(3), indices=[])) == 0
+
+
+@pytest.mark.parametrize("tolerance", [1e-4, None])
+@pytest.mark.parametrize("indexed", [True, False])
+def test_overflowing_ends_write_nothing(setup, tolerance, indexed):
+    """The check for non-finite ends runs as the integrator writes them (adaptive and fixed
+    steps, rows of a mesh or all of it): an overflow fails the event and moves nothing."""
+    vertices, kernel = setup
+    narrow = kernel.with_radial(GaussianRadial(0.01))
+    mesh = vertices.copy()
+    rows = np.arange(0, len(mesh), 7) if indexed else None
+    load = np.full(3, 1.7e308)
+    with pytest.raises(ValueError, match="to infinity"):
+        narrow.streamlines(
+            mesh, mesh[0], load, indices=rows, in_place=True, tolerance=tolerance, substeps=2
+        )
+    assert np.array_equal(mesh, vertices)
