@@ -33,6 +33,7 @@ from PySide6.QtGui import (
 )
 from PySide6.QtWidgets import QSizePolicy, QWidget
 
+from app.panels.plot_axes import draw_plot_axes
 from app.panels.widgets import plot_colors
 from gogreen_core.radial import SplineRadial
 
@@ -66,31 +67,6 @@ def curve_color(key: CurveKey) -> QColor:
         kind, degree = key
         color = QColor(_OTHER_COLORS[(degree + (0 if kind == "R" else 3)) % len(_OTHER_COLORS)])
     return color.lighter(165) if plot_colors().dark else color
-
-
-def _nice_step(span: float, target_ticks: int) -> float:
-    raw = span / max(target_ticks, 1)
-    magnitude = 10.0 ** math.floor(math.log10(raw))
-    for factor in (1.0, 2.0, 2.5, 5.0, 10.0):
-        if raw <= factor * magnitude:
-            return factor * magnitude
-    return 10.0 * magnitude
-
-
-def _ticks(low: float, high: float, target_ticks: int) -> list[float]:
-    step = _nice_step(high - low, target_ticks)
-    first = math.ceil(low / step - 1e-9) * step
-    count = math.floor((high - first) / step + 1e-9) + 1
-    return [first + i * step for i in range(max(count, 0))]
-
-
-def _tick_text(value: float, step: float) -> str:
-    """Tick label with as many decimals as the tick step needs."""
-    decimals = 0
-    while decimals < 6 and abs(round(step * 10**decimals) - step * 10**decimals) > 1e-6:
-        decimals += 1
-    text = f"{value:.{decimals}f}"
-    return "0" if float(text) == 0 else text
 
 
 class CurveEditor(QWidget):
@@ -430,55 +406,14 @@ class CurveEditor(QWidget):
         painter.end()
 
     def _draw_grid(self, painter: QPainter, rect: QRectF) -> None:
-        metrics = QFontMetricsF(painter.font())
-        colors = self._colors
-        painter.setPen(QPen(colors.frame, 1.0))
-        painter.drawRect(rect)
-        x_ticks = _ticks(0.0, self._rho_max, max(3, int(rect.width() / 60)))
-        x_step = x_ticks[1] - x_ticks[0] if len(x_ticks) > 1 else 1.0
-        for tick in x_ticks:
-            x = self.to_screen(tick, 0.0).x()
-            painter.setPen(QPen(colors.grid, 1.0))
-            painter.drawLine(QPointF(x, rect.top()), QPointF(x, rect.bottom()))
-            painter.setPen(colors.text)
-            painter.drawLine(QPointF(x, rect.bottom()), QPointF(x, rect.bottom() + 4))
-            painter.drawText(
-                QRectF(x - 30, rect.bottom() + 5, 60, metrics.height()),
-                Qt.AlignmentFlag.AlignHCenter | Qt.AlignmentFlag.AlignTop,
-                _tick_text(tick, x_step),
-            )
-        low, high = self._range
-        y_ticks = _ticks(low, high, max(3, int(rect.height() / 40)))
-        y_step = y_ticks[1] - y_ticks[0] if len(y_ticks) > 1 else 1.0
-        for tick in y_ticks:
-            y = self.to_screen(0.0, tick).y()
-            zero = abs(tick) < 1e-9 * y_step
-            painter.setPen(QPen(colors.axis if zero else colors.grid, 1.0))
-            painter.drawLine(QPointF(rect.left(), y), QPointF(rect.right(), y))
-            painter.setPen(colors.text)
-            painter.drawLine(QPointF(rect.left() - 4, y), QPointF(rect.left(), y))
-            painter.drawText(
-                QRectF(0, y - metrics.height() / 2, rect.left() - 7, metrics.height()),
-                Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter,
-                _tick_text(tick, y_step),
-            )
-        painter.setPen(colors.text)
-        painter.drawText(
-            QRectF(
-                rect.left(), rect.bottom() + 5 + metrics.height(), rect.width(), metrics.height()
-            ),
-            Qt.AlignmentFlag.AlignHCenter,
-            "ρ = r / ε",
+        draw_plot_axes(
+            painter,
+            rect,
+            (0.0, self._rho_max),
+            self._range,
+            ("ρ = r / ε", "F(ρ)  (dimensionless)"),
+            self._colors,
         )
-        painter.save()
-        painter.translate(11, rect.center().y())
-        painter.rotate(-90)
-        painter.drawText(
-            QRectF(-rect.height() / 2, -metrics.height() / 2, rect.height(), metrics.height()),
-            Qt.AlignmentFlag.AlignCenter,
-            "F(ρ)  (dimensionless)",
-        )
-        painter.restore()
 
     def _draw_curve(self, painter: QPainter, key: CurveKey, active: bool) -> None:
         rho = np.linspace(0.0, self._rho_max, _SAMPLES)

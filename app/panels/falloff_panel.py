@@ -35,8 +35,7 @@ from PySide6.QtWidgets import (
 
 from app.background import BackgroundRunner, Cancelled, Task
 from app.panels.curve_editor import CurveEditor, curve_color, curve_label
-from app.panels.curve_editor import _tick_text as tick_text
-from app.panels.curve_editor import _ticks as tick_values
+from app.panels.plot_axes import draw_plot_axes
 from app.panels.widgets import plot_colors, scrolled_column, set_text_role
 from gogreen_core.brushes import default_wrinkle_weights
 from gogreen_core.kernel import GreenKernel, prepare_degree
@@ -291,7 +290,7 @@ class FalloffPreview(QWidget):
             "felt falloff of a grab" + ("  (updating…)" if self._stale else ""),
         )
         rho_max = float(self.rho[-1]) if len(self.rho) > 1 and self.rho[-1] > 0 else 1.0
-        self._draw_axes(painter, rect, metrics, rho_max, colors)
+        self._draw_axes(painter, rect, rho_max, colors)
         if self.values is None:
             painter.setPen(colors.muted)
             text = "computing…" if self.pending else "no preview"
@@ -310,54 +309,13 @@ class FalloffPreview(QWidget):
         painter.setPen(QPen(color, 2.0))
         painter.drawPath(path)
 
-    def _draw_axes(self, painter, rect, metrics, rho_max, colors) -> None:
+    def _draw_axes(self, painter, rect, rho_max, colors) -> None:
         """Frame, grid, tick labels (ρ below, normalized |u| 0-1 on the left) and titles."""
-        painter.setPen(QPen(colors.frame, 1.0))
-        painter.drawRect(rect)
-        x_ticks = tick_values(0.0, rho_max, max(2, int(rect.width() / 50)))
-        x_step = x_ticks[1] - x_ticks[0] if len(x_ticks) > 1 else 1.0
-        for tick in x_ticks:
-            x = rect.left() + tick / rho_max * rect.width()
-            painter.setPen(QPen(colors.grid, 1.0))
-            painter.drawLine(QPointF(x, rect.top()), QPointF(x, rect.bottom()))
-            painter.setPen(colors.text)
-            painter.drawLine(QPointF(x, rect.bottom()), QPointF(x, rect.bottom() + 3))
-            painter.drawText(
-                QRectF(x - 30, rect.bottom() + 4, 60, metrics.height()),
-                Qt.AlignmentFlag.AlignHCenter | Qt.AlignmentFlag.AlignTop,
-                tick_text(tick, x_step),
-            )
         y_ticks = (0.0, 0.25, 0.5, 0.75, 1.0) if rect.height() >= 90 else (0.0, 0.5, 1.0)
-        for tick in y_ticks:
-            y = rect.bottom() - tick * rect.height()
-            painter.setPen(QPen(colors.grid, 1.0))
-            painter.drawLine(QPointF(rect.left(), y), QPointF(rect.right(), y))
-            painter.setPen(colors.text)
-            painter.drawLine(QPointF(rect.left() - 3, y), QPointF(rect.left(), y))
-            painter.drawText(
-                QRectF(0, y - metrics.height() / 2, rect.left() - 5, metrics.height()),
-                Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter,
-                tick_text(tick, 0.25 if len(y_ticks) == 5 else 0.5),
-            )
-        painter.setPen(colors.text)
-        painter.drawText(
-            QRectF(
-                rect.left(), rect.bottom() + 4 + metrics.height(), rect.width(), metrics.height()
-            ),
-            Qt.AlignmentFlag.AlignHCenter,
-            "distance ρ = r/ε (brush radii)",
+        titles = ("distance ρ = r/ε (brush radii)", "|u| / peak")
+        draw_plot_axes(
+            painter, rect, (0.0, rho_max), (0.0, 1.0), titles, colors, y_ticks, (50.0, 40.0)
         )
-        painter.save()
-        painter.translate(metrics.height() / 2 + 1, rect.center().y())
-        painter.rotate(-90)
-        painter.drawText(
-            QRectF(
-                -rect.height() / 2 - 20, -metrics.height() / 2, rect.height() + 40, metrics.height()
-            ),
-            Qt.AlignmentFlag.AlignCenter,
-            "|u| / peak",
-        )
-        painter.restore()
 
 
 def _key_id(key: tuple[str, int]) -> str:
