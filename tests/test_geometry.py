@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gogreen_core.geometry import FaceAdjacency, SurfaceIndex, vertex_normals
-from gogreen_core.shapes import default_model
+from gogreen_core.geometry import LEAF_SIZE, FaceAdjacency, SurfaceIndex, vertex_normals
+from gogreen_core.shapes import default_model, icosphere
 
 
 @pytest.fixture(scope="module")
@@ -32,29 +32,74 @@ def test_adjacency_lists_each_vertex_faces_in_order(pebble):
         assert np.array_equal(got, expected)
 
 
+def test_index_arrays_are_the_mesh_in_its_own_order(pebble):
+    vertices, faces = pebble
+    index = SurfaceIndex(vertices, faces)
+    assert np.array_equal(index.order[index.rank], np.arange(len(vertices)))
+    assert np.array_equal(index.positions, vertices[index.order])
+    assert np.array_equal(index.vertices, vertices)
+    assert np.array_equal(np.sort(index.face_order), np.arange(len(faces)))
+    assert np.array_equal(index.order[index.faces], faces[index.face_order])  # corner order kept
+
+
 def test_incremental_normals_equal_full_recompute_bit_for_bit(pebble):
     vertices, faces = pebble
-    normals = SurfaceIndex(vertices, faces)
-    assert np.array_equal(normals.normals, vertex_normals(vertices, faces))
+    index = SurfaceIndex(vertices, faces)
+    assert np.array_equal(index.normals[index.rank], vertex_normals(vertices, faces))
     moved, changed = brush_move(vertices, 5, 0.6)
-    updated = normals.update(moved, changed)
+    count = index.update(moved, changed)
     full = vertex_normals(moved, faces)
-    assert np.array_equal(normals.normals, full)  # the rows left alone did not change either
+    # every row: the recomputed ones and the ones left alone
+    assert np.array_equal(index.normals[index.rank], full)
+    assert np.array_equal(index.vertices, moved)
     ring = np.unique(faces[np.any(np.isin(faces, changed), axis=1)])
-    assert np.array_equal(updated, ring)
-    assert len(updated) > len(changed)
+    assert count == len(ring) > len(changed)
     # a second event elsewhere, from the updated state
     moved2, changed2 = brush_move(moved, 40, 0.5, seed=1)
-    normals.update(moved2, changed2)
-    assert np.array_equal(normals.normals, vertex_normals(moved2, faces))
+    index.update(moved2, changed2)
+    assert np.array_equal(index.normals[index.rank], vertex_normals(moved2, faces))
+    # rows outside ``changed`` are not read: the index keeps the positions it was given
+    stale = moved2.copy()
+    stale[np.setdiff1d(np.arange(len(stale)), changed2)] = np.nan
+    index.update(stale, changed2)
+    assert np.array_equal(index.normals[index.rank], vertex_normals(moved2, faces))
+
+
+def test_updates_from_many_threads_chunks_match_a_single_thread(pebble):
+    """The passes deal chunks to the threads: a brush region spanning many chunks (every
+    vertex of a bigger mesh) gives the same bits as a fresh build."""
+    vertices, faces = icosphere(6)  # 40,962 vertices: several chunks per thread
+    index = SurfaceIndex(vertices, faces)
+    moved, changed = brush_move(vertices, 0, 1.2, seed=2)
+    index.update(moved, changed)
+    fresh = SurfaceIndex(moved, faces)  # built in another order (of the moved positions)
+    assert np.array_equal(index.normals[index.rank], fresh.normals[fresh.rank])
+    assert np.array_equal(index.normals[index.rank], vertex_normals(moved, faces))
 
 
 def test_isolated_vertex_normal_matches_full():
     vertices = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [5, 5, 5]])
     faces = np.array([[0, 1, 2]])
-    normals = SurfaceIndex(np.zeros((4, 3)), faces)
-    normals.update(vertices, np.arange(4))
-    assert np.array_equal(normals.normals, vertex_normals(vertices, faces))
+    index = SurfaceIndex(np.zeros((4, 3)), faces)
+    index.update(vertices, np.arange(4))
+    assert np.array_equal(index.normals[index.rank], vertex_normals(vertices, faces))
+
+
+def test_build_reports_progress_and_stops_when_the_callback_raises(pebble):
+    vertices, faces = pebble
+    seen = []
+    SurfaceIndex(vertices, faces, progress=seen.append)
+    assert seen == sorted(seen) and seen[-1] == 1.0 and len(seen) >= 3
+
+    class Stop(Exception):
+        pass
+
+    def stop(fraction):
+        if fraction > 0.3:
+            raise Stop
+
+    with pytest.raises(Stop):
+        SurfaceIndex(vertices, faces, progress=stop)
 
 
 def test_bad_meshes_and_updates_are_refused(pebble):
@@ -96,13 +141,17 @@ def test_pick_matches_brute_force_after_the_mesh_moves(pebble):
     index = SurfaceIndex(vertices, faces)
     moved, changed = brush_move(vertices, 5, 0.8)
     moved[changed] += 0.3 * (moved[changed] - vertices[5])  # far beyond the old boxes
+    index.pick(vertices[5] + 3.0, -vertices[5])  # boxes fitted, then moved: stale
     index.update(moved, changed)
+    # boxes are refit lazily: not by the update, by the next pick
+    assert index._stale_boxes
     rng = np.random.default_rng(3)
     hits = 0
     for _ in range(100):
         origin = rng.normal(size=3) * 3
         direction = rng.normal(size=3) * 0.3 - origin
-        got = index.pick(moved, origin, direction)
+        got = index.pick(origin, direction)
+        assert not index._stale_boxes
         expected = brute_force_pick(moved, faces, origin, direction)
         assert (got is None) == (expected is None)
         if got is not None:
@@ -110,13 +159,31 @@ def test_pick_matches_brute_force_after_the_mesh_moves(pebble):
             assert got[0] == expected[0]
             assert np.allclose(got[1], expected[1], atol=1e-12)
     assert hits > 50
+    # several updates between two picks (a stroke), the last one back home
+    index.update(vertices, changed)
+    moved2, changed2 = brush_move(vertices, 30, 0.7, seed=4)
+    index.update(moved2, changed2)
+    for _ in range(50):
+        origin = rng.normal(size=3) * 3
+        direction = rng.normal(size=3) * 0.3 - origin
+        got = index.pick(origin, direction)
+        expected = brute_force_pick(moved2, faces, origin, direction)
+        assert (got is None) == (expected is None)
+        if got is not None:
+            assert got[0] == expected[0]
+            assert np.allclose(got[1], expected[1], atol=1e-12)
+    boxes = index._boxes
+    corners = index.positions[index.faces]  # (M, 3, 3) in leaf order
+    leaf = np.arange(len(index.faces)) // LEAF_SIZE
+    assert np.all(boxes[leaf, :3] <= corners.min(axis=1))
+    assert np.all(boxes[leaf, 3:] >= corners.max(axis=1))
 
 
 def test_pick_misses_and_bad_rays(pebble):
     vertices, faces = pebble
     index = SurfaceIndex(vertices, faces)
-    assert index.pick(vertices, np.array([0.0, 0.0, 10.0]), np.array([0.0, 0.0, 1.0])) is None
+    assert index.pick(np.array([0.0, 0.0, 10.0]), np.array([0.0, 0.0, 1.0])) is None
     with pytest.raises(ValueError, match="nonzero"):
-        index.pick(vertices, np.zeros(3), np.zeros(3))
+        index.pick(np.zeros(3), np.zeros(3))
     with pytest.raises(ValueError, match="finite"):
-        index.pick(vertices, np.array([np.nan, 0, 0]), np.ones(3))
+        index.pick(np.array([np.nan, 0, 0]), np.ones(3))
