@@ -2,9 +2,10 @@
 
 Per-event work stays proportional to the change: a :class:`SurfaceIndex`, built once per mesh,
 recomputes after each event only the faces around the moved vertices and the normals of those
-vertices and their one-ring (bit for bit what :func:`vertex_normals` gives), refits the boxes
-of the face groups they touch, and finds the surface point under the mouse without a locator
-built over the whole mesh.
+vertices and their one-ring (bit for bit what a build on the moved mesh gives, and within
+float32 rounding of :func:`vertex_normals`), refits the boxes of the face groups they touch when
+it next picks, and finds the surface point under the mouse without a locator built over the
+whole mesh.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ from numba import njit, prange
 
 __all__ = ["FaceAdjacency", "SurfaceIndex", "mesh_volume", "vertex_normals"]
 
-# No fastmath here: the incremental normals must round exactly as numpy's full computation.
+# No fastmath here: the face normals round as numpy.cross's operations, the sums in face order.
 _JIT = {"cache": True, "boundscheck": False, "nogil": True}  # nogil: a background build
 
 
@@ -103,10 +104,14 @@ def _morton_keys(points, groups, low, scale, keys):
 
 
 @njit(**_JIT)
-def _connect(faces, rank, face_order, face_rank, index_faces, offsets, leaf_ids):
-    """The faces in index order with index-numbered corners (index_faces), and for each
-    index vertex its faces as leaf positions in increasing original face order (the order
-    in which :func:`vertex_normals` sums them): ``leaf_ids[offsets[i]:offsets[i + 1]]``."""
+def _connect(
+    faces, rank, face_order, face_rank, index_faces, offsets, leaf_ids, leaf_offsets, leaves
+):
+    """The faces in index order with index-numbered corners (index_faces); for each index
+    vertex its faces as leaf positions in increasing original face order (the order in which
+    :func:`vertex_normals` sums them), ``leaf_ids[offsets[i]:offsets[i + 1]]``, and the
+    distinct leaves holding them, ``leaves[leaf_offsets[i]:leaf_offsets[i + 1]]`` (returns
+    how many entries of ``leaves`` that uses)."""
     n_faces = faces.shape[0]
     for p in range(n_faces):
         f = face_order[p]
@@ -124,24 +129,42 @@ def _connect(faces, rank, face_order, face_rank, index_faces, offsets, leaf_ids)
             i = rank[faces[f, k]]
             leaf_ids[cursor[i]] = face_rank[f]
             cursor[i] += 1
+    used = 0
+    leaf_offsets[0] = 0
+    for i in range(offsets.shape[0] - 1):
+        first = used
+        for j in range(offsets[i], offsets[i + 1]):
+            leaf = leaf_ids[j] // LEAF_SIZE
+            known = False
+            for q in range(first, used):
+                if leaves[q] == leaf:
+                    known = True
+                    break
+            if not known:
+                leaves[used] = leaf
+                used += 1
+        leaf_offsets[i + 1] = used
+    return used
 
 
 @njit(parallel=True, **_JIT)
 def _update(
-    vertices, seeds, rank, offsets, leaf_ids, faces, positions, moved, ring, leaf_mark,
-    leaf_dirty, face_normals, normals, n_threads,
+    vertices, seeds, rank, offsets, leaf_ids, leaf_offsets, leaves, faces, positions, moved,
+    ring, leaf_mark, leaf_dirty, face_normals, normals, n_threads,
 ):  # fmt: skip
     """One event: the seed vertices (original numbers) moved to ``vertices``; the arrays of
     the index are in its own order. Four passes, each dealing chunks to the threads in turn;
     returns how many vertex normals were recomputed.
 
-    1. copy the seeds' rows into ``positions`` and flag them in ``moved``;
+    1. copy the seeds' rows into ``positions`` and flag them in ``moved`` and ``ring`` (a
+       vertex in no face still gets its (0, 0, 1));
     2. for each moved vertex: mark the leaves of its faces (and their boxes stale);
     3. for each face of a marked leaf with a moved corner: (b - a) × (c - a) with numpy.cross's
-       operations (no fused multiply-add, see _JIT), its corners flagged in ``ring``;
-    4. for each vertex in ``ring`` or moved (a vertex in no face still gets its (0, 0, 1)):
-       its faces' normals summed in original face order (as np.bincount does), divided by
-       their norm (as np.linalg.norm computes it), (0, 0, 1) if zero.
+       operations (no fused multiply-add, see _JIT) rounded to float32, its corners flagged in
+       ``ring``;
+    4. for each vertex in ``ring``: its faces' normals summed in float64 in original face order
+       (as np.bincount does), divided by their norm (as np.linalg.norm computes it), (0, 0, 1)
+       if zero.
 
     Every flag is cleared by the pass that reads it last: no per-event allocation."""
     n = positions.shape[0]
@@ -156,14 +179,13 @@ def _update(
                 positions[i, 1] = vertices[v, 1]
                 positions[i, 2] = vertices[v, 2]
                 moved[i] = True
+                ring[i] = True  # a vertex in no face still gets its (0, 0, 1)
     for t in prange(n_threads):
         for s in range(t * _VERTEX_CHUNK, n, n_threads * _VERTEX_CHUNK):
             for i in range(s, min(s + _VERTEX_CHUNK, n)):
                 if moved[i]:
-                    for j in range(offsets[i], offsets[i + 1]):
-                        leaf = leaf_ids[j] // LEAF_SIZE
-                        if not leaf_mark[leaf]:  # read first: no cache line ping-pong
-                            leaf_mark[leaf] = True
+                    for j in range(leaf_offsets[i], leaf_offsets[i + 1]):
+                        leaf_mark[leaves[j]] = True
     n_leaves = leaf_mark.shape[0]
     n_faces = faces.shape[0]
     for t in prange(n_threads):
@@ -186,14 +208,14 @@ def _update(
                     face_normals[f, 0] = u1 * w2 - u2 * w1
                     face_normals[f, 1] = u2 * w0 - u0 * w2
                     face_normals[f, 2] = u0 * w1 - u1 * w0
-                    for corner in (a, b, c):
-                        if not ring[corner]:
-                            ring[corner] = True
+                    ring[a] = True
+                    ring[b] = True
+                    ring[c] = True
     counts = np.zeros(16 * n_threads, dtype=np.int64)  # a cache line per thread
     for t in prange(n_threads):
         for s in range(t * _VERTEX_CHUNK, n, n_threads * _VERTEX_CHUNK):
             for i in range(s, min(s + _VERTEX_CHUNK, n)):
-                if not ring[i] and not moved[i]:
+                if not ring[i]:
                     continue
                 ring[i] = False
                 moved[i] = False
@@ -310,12 +332,13 @@ class SurfaceIndex:
     faces grouped in Z-order of their centroids into leaves of :data:`LEAF_SIZE` faces
     (:attr:`face_order`), each leaf with a bounding box. After an event, :meth:`update`
     copies the moved rows into :attr:`positions`, recomputes the faces around them and the
-    normals of those vertices and their one-ring (bit for bit what :func:`vertex_normals`
-    gives on the whole mesh) and marks the boxes of the leaves they touch stale.
-    :meth:`pick` refits the stale boxes first (a stroke picks only at its press, so none of
-    its events pays for boxes), tests a ray against every box, then the faces of the boxes
-    hit, nearest box first, until no box can hold a nearer hit. The leaves depend only on the
-    mesh at build time; they stay correct however far vertices move (only less tight).
+    normals of those vertices and their one-ring (bit for bit what a new index of the moved
+    mesh gives; :func:`vertex_normals` to the float32 rounding of the face normals, ~1e-7)
+    and marks the boxes of the leaves they touch stale. :meth:`pick` refits the stale boxes
+    first (a stroke picks only at its press, so none of its events pays for boxes), tests a
+    ray against every box, then the faces of the boxes hit, nearest box first, until no box
+    can hold a nearer hit. The leaves depend only on the mesh at build time; they stay correct
+    however far vertices move (only less tight).
 
     :attr:`positions`, :attr:`normals` and :attr:`faces` are the arrays a renderer can draw
     directly (the viewport's VTK arrays share their memory): no copy per event.
@@ -380,8 +403,11 @@ class SurfaceIndex:
         self.faces = np.empty((len(faces), 3), dtype=np.int32)
         self._offsets = np.empty(n + 1, dtype=np.int64)
         self._leaf_ids = np.empty(3 * len(faces), dtype=np.int32)
-        _connect(faces, self.rank, self.face_order, face_rank, self.faces, self._offsets,
-                 self._leaf_ids)  # fmt: skip
+        self._leaf_offsets = np.empty(n + 1, dtype=np.int64)
+        leaves = np.empty(3 * len(faces), dtype=np.int32)
+        used = _connect(faces, self.rank, self.face_order, face_rank, self.faces, self._offsets,
+                        self._leaf_ids, self._leaf_offsets, leaves)  # fmt: skip
+        self._leaves = leaves[:used].copy()
         report(0.7)
         n_leaves = (len(faces) + LEAF_SIZE - 1) // LEAF_SIZE
         self.positions = np.empty((n, 3))
@@ -390,7 +416,9 @@ class SurfaceIndex:
         self._ring = np.zeros(n, dtype=np.bool_)
         self._leaf_mark = np.zeros(n_leaves, dtype=np.bool_)
         self._leaf_dirty = np.zeros(n_leaves, dtype=np.bool_)
-        self._face_normals = np.empty((len(faces), 3))
+        # float32: the vertex normals' sums read them (the per-event pass bound by memory
+        # traffic) and VTK draws float32; each is (b - a) × (c - a) rounded once
+        self._face_normals = np.empty((len(faces), 3), dtype=np.float32)
         self._boxes = np.empty((n_leaves, 6))
         self._stale_boxes = False
         # every vertex "moved": every face normal, vertex normal and box
@@ -422,7 +450,8 @@ class SurfaceIndex:
         self._stale_boxes = True
         return int(
             _update(
-                vertices, seeds, self.rank, self._offsets, self._leaf_ids, self.faces,
+                vertices, seeds, self.rank, self._offsets, self._leaf_ids, self._leaf_offsets,
+                self._leaves, self.faces,
                 self.positions, self._moved, self._ring, self._leaf_mark, self._leaf_dirty,
                 self._face_normals, self.normals, numba.get_num_threads(),
             )
