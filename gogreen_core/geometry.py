@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from contextlib import contextmanager
 
 import numba
 import numpy as np
@@ -158,7 +159,7 @@ def _update(
 
     1. copy the seeds' rows into ``positions`` and flag them in ``moved`` and ``ring`` (a
        vertex in no face still gets its (0, 0, 1));
-    2. for each moved vertex: mark the leaves of its faces (and their boxes stale);
+    2. for each moved vertex: mark the leaves of its faces;
     3. for each face of a marked leaf with a moved corner: (b - a) × (c - a) with numpy.cross's
        operations (no fused multiply-add, see _JIT) rounded to float32, its corners flagged in
        ``ring``;
@@ -420,7 +421,7 @@ class SurfaceIndex:
         # traffic) and VTK draws float32; each is (b - a) × (c - a) rounded once
         self._face_normals = np.empty((len(faces), 3), dtype=np.float32)
         self._boxes = np.empty((n_leaves, 6))
-        self._stale_boxes = False
+        self._stale_boxes = 0  # vertices moved since the boxes were last refit
         # every vertex "moved": every face normal, vertex normal and box
         self.update(vertices, np.arange(n, dtype=np.int64))
         report(0.95)
@@ -447,22 +448,23 @@ class SurfaceIndex:
             return 0
         if seeds.min() < 0 or seeds.max() >= self._n_vertices:
             raise ValueError(f"changed must index vertices 0 to {self._n_vertices - 1}")
-        self._stale_boxes = True
-        return int(
-            _update(
-                vertices, seeds, self.rank, self._offsets, self._leaf_ids, self._leaf_offsets,
-                self._leaves, self.faces,
-                self.positions, self._moved, self._ring, self._leaf_mark, self._leaf_dirty,
-                self._face_normals, self.normals, numba.get_num_threads(),
-            )
-        )  # fmt: skip
+        self._stale_boxes += len(seeds)
+        with _threads_for(len(seeds)) as threads:
+            return int(
+                _update(
+                    vertices, seeds, self.rank, self._offsets, self._leaf_ids,
+                    self._leaf_offsets, self._leaves, self.faces, self.positions, self._moved,
+                    self._ring, self._leaf_mark, self._leaf_dirty, self._face_normals,
+                    self.normals, threads,
+                )
+            )  # fmt: skip
 
     def _refit(self) -> None:
         """Refit the boxes of the leaves marked stale since the last pick."""
         if self._stale_boxes:
-            _refit(self.positions, self.faces, self._leaf_dirty, self._boxes,
-                   numba.get_num_threads())  # fmt: skip
-            self._stale_boxes = False
+            with _threads_for(self._stale_boxes) as threads:
+                _refit(self.positions, self.faces, self._leaf_dirty, self._boxes, threads)
+            self._stale_boxes = 0
 
     def pick(self, origin: np.ndarray, direction: np.ndarray) -> tuple[int, np.ndarray] | None:
         """The first face (the mesh's face number) hit by the ray origin + t·direction (t ≥ 0)
@@ -484,6 +486,26 @@ class SurfaceIndex:
         if face < 0:
             return None
         return int(face), o + t * d
+
+
+#: Below this many moved vertices an update runs on the calling thread alone: waking the
+#: other threads would cost more than the work (much more when the cores are busy).
+PARALLEL_VERTICES = 20_000
+
+
+@contextmanager
+def _threads_for(work: int):
+    """numba's thread count for ``work`` vertices (1 below :data:`PARALLEL_VERTICES`),
+    restored afterwards (the setting is per calling thread)."""
+    threads = numba.get_num_threads()
+    if work >= PARALLEL_VERTICES or threads == 1:
+        yield threads
+        return
+    numba.set_num_threads(1)
+    try:
+        yield 1
+    finally:
+        numba.set_num_threads(threads)
 
 
 def _curve_order(points, groups, low, scale) -> np.ndarray:

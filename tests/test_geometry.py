@@ -5,7 +5,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gogreen_core.geometry import LEAF_SIZE, FaceAdjacency, SurfaceIndex, vertex_normals
+from gogreen_core.geometry import (
+    LEAF_SIZE,
+    PARALLEL_VERTICES,
+    FaceAdjacency,
+    SurfaceIndex,
+    vertex_normals,
+)
 from gogreen_core.shapes import default_model, icosphere
 
 
@@ -93,9 +99,15 @@ def test_updates_from_many_threads_chunks_match_a_single_thread(pebble):
     vertex of a bigger mesh) gives the same bits as a fresh build."""
     vertices, faces = icosphere(6)  # 40,962 vertices: several chunks per thread
     index = SurfaceIndex(vertices, faces)
-    moved, changed = brush_move(vertices, 0, 1.2, seed=2)
+    moved, changed = brush_move(vertices, 0, 1.6, seed=2)
+    assert len(changed) >= PARALLEL_VERTICES  # the update runs on all threads
     index.update(moved, changed)
     assert_normals_of(index, moved, faces)
+    # a small update afterwards runs on the calling thread alone: same bits
+    moved2, changed2 = brush_move(moved, 7, 0.05, seed=3)
+    assert 0 < len(changed2) < PARALLEL_VERTICES
+    index.update(moved2, changed2)
+    assert_normals_of(index, moved2, faces)
 
 
 def test_isolated_vertex_normal_matches_full():
