@@ -333,7 +333,7 @@ class MainWindow(QMainWindow):
         self.surface_progress = QProgressBar()
         self.surface_progress.setRange(0, 100)
         self.surface_progress.setMaximumWidth(160)
-        self.surface_progress.setFormat("preparing mesh %p%")
+        self.surface_progress.setFormat("preparing %p%")
         self.surface_progress.setToolTip(
             "Preparing the opened mesh for picking and smooth shading; strokes start after it"
         )
