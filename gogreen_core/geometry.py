@@ -171,11 +171,10 @@ def _update(
     n = positions.shape[0]
     n_seeds = seeds.shape[0]
     for t in prange(n_threads):
-        # each thread writes the rows of its own chunks (no cache line written by two)
-        for j in range(n_seeds):
-            v = seeds[j]
-            i = rank[v]
-            if (i // _VERTEX_CHUNK) % n_threads == t:
+        for s in range(t * _VERTEX_CHUNK, n_seeds, n_threads * _VERTEX_CHUNK):
+            for j in range(s, min(s + _VERTEX_CHUNK, n_seeds)):
+                v = seeds[j]
+                i = rank[v]
                 positions[i, 0] = vertices[v, 0]
                 positions[i, 1] = vertices[v, 1]
                 positions[i, 2] = vertices[v, 2]
