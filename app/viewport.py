@@ -305,12 +305,11 @@ class SculptViewport(QtInteractor):
         start = time.perf_counter()
         vertices = np.asarray(vertices, dtype=np.float64)
         surface = self.surface
-        if indices is None:
-            shown = surface.positions if surface is not None else self.mesh.points
-            target = vertices[surface.order] if surface is not None else vertices
-            differ = shown != target  # per column: much faster than np.any(axis=1)
-            rows = np.flatnonzero(differ[:, 0] | differ[:, 1] | differ[:, 2])
-            indices = surface.order[rows] if surface is not None else rows
+        if indices is None and surface is not None:
+            indices = surface.changed_rows(vertices)
+        elif indices is None:
+            differ = self.mesh.points != vertices  # per column: faster than np.any(axis=1)
+            indices = np.flatnonzero(differ[:, 0] | differ[:, 1] | differ[:, 2])
         else:
             indices = np.asarray(indices, dtype=np.int64).ravel()
         if len(indices):

@@ -241,6 +241,21 @@ def _update(
 
 
 @njit(parallel=True, **_JIT)
+def _differ(vertices, rank, positions, mask, n_threads):
+    """mask[v]: row v of ``vertices`` differs from the index's positions (any coordinate)."""
+    n = mask.shape[0]
+    for t in prange(n_threads):
+        for s in range(t * _VERTEX_CHUNK, n, n_threads * _VERTEX_CHUNK):
+            for v in range(s, min(s + _VERTEX_CHUNK, n)):
+                i = rank[v]
+                mask[v] = (
+                    positions[i, 0] != vertices[v, 0]
+                    or positions[i, 1] != vertices[v, 1]
+                    or positions[i, 2] != vertices[v, 2]
+                )
+
+
+@njit(parallel=True, **_JIT)
 def _refit(positions, index_faces, leaf_dirty, boxes, n_threads):
     """The bounding box of each leaf marked in ``leaf_dirty`` (cleared)."""
     n_leaves = leaf_dirty.shape[0]
@@ -457,6 +472,19 @@ class SurfaceIndex:
                     self.normals, threads,
                 )
             )  # fmt: skip
+
+    def changed_rows(self, vertices: np.ndarray) -> np.ndarray:
+        """The sorted indices of the rows of ``vertices`` (N, 3, the mesh's order) that
+        differ from the positions of the last :meth:`update` (what an undo moved)."""
+        vertices = np.ascontiguousarray(vertices, dtype=np.float64)
+        if vertices.shape != (self._n_vertices, 3):
+            raise ValueError(
+                f"vertices must have shape ({self._n_vertices}, 3) (got {vertices.shape})"
+            )
+        mask = np.empty(self._n_vertices, dtype=np.bool_)
+        with _threads_for(self._n_vertices) as threads:
+            _differ(vertices, self.rank, self.positions, mask, threads)
+        return np.flatnonzero(mask)
 
     def _refit(self) -> None:
         """Refit the boxes of the leaves marked stale since the last pick."""
