@@ -335,6 +335,16 @@ class MainWindow(QMainWindow):
         )
         self.compile_progress.hide()
         self.statusBar().addPermanentWidget(self.compile_progress)
+        # Progress of the background build of a big mesh's surface index (picking, shading)
+        self.surface_progress = QProgressBar()
+        self.surface_progress.setRange(0, 100)
+        self.surface_progress.setMaximumWidth(160)
+        self.surface_progress.setFormat("preparing %p%")
+        self.surface_progress.setToolTip(
+            "Preparing the opened mesh for picking and smooth shading; strokes start after it"
+        )
+        self.surface_progress.hide()
+        self.statusBar().addPermanentWidget(self.surface_progress)
         for label in (self.vertex_label, self.step_label, self.frame_label):
             label.setMinimumWidth(150)
             self.statusBar().addPermanentWidget(label)
@@ -372,6 +382,12 @@ class MainWindow(QMainWindow):
         self.model.events.changed.connect(lambda _c: self._refresh_title())
         self.model.events.l_max.connect(self._l_max_changed)
         self.homogenization_panel.material_ready.connect(self._use_homogenized)
+        self.viewport.surface_progress.connect(
+            lambda done: self.surface_progress.setValue(round(100 * done))
+        )
+        self.viewport.surface_ready.connect(self._surface_ready)
+        self.viewport.surface_failed.connect(self._surface_failed)
+        self.viewport.surface_pending.connect(self._surface_pending)
         self.kernel_warmer.ready.connect(self._kernels_ready)
         self.kernel_warmer.busy_changed.connect(self._compiling)
         self.kernel_warmer.failed.connect(
@@ -486,6 +502,8 @@ class MainWindow(QMainWindow):
         self.tools.cursor.hide()  # until the mouse moves over the new model
         self.engine_link.attach(document.sculptor)
         self.viewport.set_mesh(document.sculptor.vertices, document.sculptor.faces)
+        self.surface_progress.setValue(0)
+        self.surface_progress.setVisible(self.viewport.surface_building)
         self._apply_mesh_look()
         if self._constraint_actor is not None:
             self.viewport.remove_actor(self._constraint_actor, render=False)
@@ -516,8 +534,28 @@ class MainWindow(QMainWindow):
             return False
         self.set_document(document)
         self._add_recent(str(Path(path).resolve()))
-        self.flash(f"Opened {document.title}: {len(document.sculptor.vertices)} vertices")
+        note = " – preparing it for picking…" if self.viewport.surface_building else ""
+        self.flash(f"Opened {document.title}: {len(document.sculptor.vertices)} vertices{note}")
         return True
+
+    def _surface_ready(self) -> None:
+        """The background build of the mesh's surface index ended: strokes can start."""
+        self.surface_progress.hide()
+        self._apply_mesh_look()  # the actor now draws the index's arrays
+        if self.document is not None:
+            self.flash(f"{self.document.title} is ready to sculpt")
+
+    def _surface_failed(self, error: str) -> None:
+        self.surface_progress.hide()
+        self.show_error("Cannot prepare the mesh for picking", error)
+
+    def _surface_pending(self) -> None:
+        """A left press while the surface index builds: say why nothing happens."""
+        self.flash(
+            f"Cannot sculpt yet: the mesh is being prepared for picking "
+            f"({self.surface_progress.value()} %, see the status bar); "
+            "strokes start as soon as it is ready"
+        )
 
     def open_dialog(self) -> None:
         if not self.maybe_save():
@@ -574,6 +612,7 @@ class MainWindow(QMainWindow):
 
     def closeEvent(self, event: QCloseEvent) -> None:
         if self.maybe_save():
+            self.viewport.cancel_surface_build()  # it stops at its next progress report
             self.kernel_warmer.wait(60_000)  # a compilation cannot be interrupted
             self.viewport.close()
             event.accept()

@@ -24,6 +24,7 @@ from PySide6.QtCore import QPointF, Qt, QTimer, Signal
 from PySide6.QtGui import QKeyEvent, QMouseEvent, QTabletEvent, QWheelEvent
 from pyvistaqt import QtInteractor
 
+from app.background import BackgroundRunner
 from app.cursor_overlay import CursorOverlay, PinOverlay
 from gogreen_core.geometry import SurfaceIndex
 from gogreen_core.tools import CursorState, PointerEvent, SculptTools, ToolUpdate
@@ -31,6 +32,9 @@ from gogreen_core.tools import CursorState, PointerEvent, SculptTools, ToolUpdat
 __all__ = ["SculptViewport"]
 
 MODEL_COLOR = "#c9b79c"  # warm clay
+#: Meshes with at least this many faces get their SurfaceIndex built in the background
+#: (about 25 ms of build below it: not worth a flat-shaded moment).
+BACKGROUND_INDEX_FACES = 200_000
 #: Direction from the model to the camera in the home view: in front (+z), a little right and above.
 HOME_VIEW_DIRECTION = (0.55, 0.4, 1.0)
 
@@ -63,6 +67,10 @@ class SculptViewport(QtInteractor):
     tool_update(ToolUpdate) : what a key or click handled here changed (a pin removed by a
         right click), for the window to draw.
     frame_rendered(float) : milliseconds of a render just done.
+    surface_progress(float) : fraction done of a background :class:`SurfaceIndex` build.
+    surface_ready() : that build ended; picking and smooth shading work from now on.
+    surface_failed(str) : that build failed (the error).
+    surface_pending() : a left press while that build runs (no stroke started).
     """
 
     pointer_pressed = Signal(object)
@@ -73,6 +81,10 @@ class SculptViewport(QtInteractor):
     strength_wheel = Signal(int)
     frame_rendered = Signal(float)
     tool_update = Signal(object)
+    surface_progress = Signal(float)
+    surface_ready = Signal()
+    surface_failed = Signal(str)
+    surface_pending = Signal()
 
     def __init__(self, parent=None):
         # auto_update=False: no periodic render (pyvistaqt's default re-renders 5 times a
@@ -85,7 +97,13 @@ class SculptViewport(QtInteractor):
         self._faces: np.ndarray | None = None
         #: Per-mesh index: incremental normals and ray picking (gogreen_core.geometry).
         self.surface: SurfaceIndex | None = None
-        self._normals_shared = False
+        self._arrays_shared = False
+        # the index of a big mesh is built on the background thread (app.background)
+        self._index_runner = BackgroundRunner(self)
+        self._index_runner.progress.connect(lambda _job, done: self.surface_progress.emit(done))
+        self._index_runner.finished.connect(self._index_built)
+        self._index_runner.failed.connect(self._index_failed)
+        self._index_job: int | None = None
         #: Milliseconds of the last :meth:`update_vertices` (array writes, normals, Modified).
         self.last_update_ms = 0.0
         #: The brush cursor: 2D, drawn over the surface (app.cursor_overlay).
@@ -150,24 +168,55 @@ class SculptViewport(QtInteractor):
         return self._render_pending
 
     # -- mesh --------------------------------------------------------------------------------
-    def set_mesh(self, vertices: np.ndarray, faces: np.ndarray, reset_camera: bool = True) -> None:
-        """Show a new mesh (one actor, replaced only when the mesh itself changes)."""
+    def set_mesh(
+        self,
+        vertices: np.ndarray,
+        faces: np.ndarray,
+        reset_camera: bool = True,
+        background: bool | None = None,
+    ) -> None:
+        """Show a new mesh (one actor, replaced only when the mesh itself changes).
+
+        Its :class:`SurfaceIndex` (picking, incremental normals) is built at once for a mesh
+        of fewer than :data:`BACKGROUND_INDEX_FACES` faces, else (or with ``background``) on
+        the background thread (about 0.5 s at 2M faces): meanwhile the mesh is shown
+        flat-shaded in its own order, vertex updates are drawn, picks find nothing and a left
+        press emits :attr:`surface_pending` instead of starting a stroke.
+        :attr:`surface_progress` and then :attr:`surface_ready` report the build.
+        """
         if self.mesh_actor is not None:
             self.remove_actor(self.mesh_actor, render=False)
+            self.mesh_actor = None
         self.show_cursor(None)  # sized for the old mesh; it would also widen the home view
-        cells = np.hstack([np.full((len(faces), 1), 3), faces]).ravel()
-        self.mesh = pv.PolyData(np.array(vertices, dtype=np.float64), cells)
-        # built once per mesh (about 2 s at 1M vertices, benchmarks/viewport_scale.py)
-        self.surface = SurfaceIndex(self.mesh.points, faces)
-        self.mesh.point_data["Normals"] = self.surface.normals
-        self.mesh.point_data.active_normals_name = "Normals"
-        # VTK wraps the index's normals without a copy: its updates are the actor's
-        self._normals_shared = np.shares_memory(
-            self.mesh.point_data["Normals"], self.surface.normals
-        )
+        self._index_runner.cancel()
+        self._index_job = None
+        self.surface = None
+        vertices = np.array(vertices, dtype=np.float64)  # our copy: VTK draws it
         self._faces = np.asarray(faces)
+        if background is None:
+            background = len(self._faces) >= BACKGROUND_INDEX_FACES
+        if background:
+            self._show(pv.PolyData.from_regular_faces(vertices, self._faces))
+            built_from = vertices.copy()  # the build reads this; the view's copy may move
+            faces = self._faces
+            self._index_job = self._index_runner.submit(
+                lambda task: (SurfaceIndex(built_from, faces, task.progress), built_from),
+                supersede=True,
+            )
+        else:
+            self._use_index(SurfaceIndex(vertices, self._faces))
+        if reset_camera:
+            self.home_view(render=False)
+        self.request_render()
+
+    def _show(self, mesh: pv.PolyData) -> None:
+        """Draw ``mesh`` with the model's look: a new actor, or the current one's input."""
+        self.mesh = mesh
+        if self.mesh_actor is not None:
+            self.mesh_actor.mapper.SetInputData(mesh)
+            return
         self.mesh_actor = self.add_mesh(
-            self.mesh,
+            mesh,
             color=MODEL_COLOR,
             specular=0.25,
             specular_power=20,
@@ -176,11 +225,62 @@ class SculptViewport(QtInteractor):
             reset_camera=False,
             render=False,
         )
-        self.mesh_actor.mapper.SetInputData(self.mesh)  # our arrays, updated in place
+        self.mesh_actor.mapper.SetInputData(mesh)  # our arrays, updated in place
         self.mesh_actor.GetProperty().SetInterpolationToPhong()
-        if reset_camera:
-            self.home_view(render=False)
+
+    def _use_index(self, surface: SurfaceIndex) -> None:
+        """Draw the mesh from ``surface``'s arrays (shared, in its order: the per-event
+        updates write them in place) and pick on it."""
+        mesh = pv.PolyData.from_regular_faces(surface.positions, surface.faces)
+        mesh.point_data["Normals"] = surface.normals
+        mesh.point_data.active_normals_name = "Normals"
+        # VTK wraps the index's arrays without a copy: its updates are the actor's
+        self._arrays_shared = np.shares_memory(mesh.points, surface.positions) and (
+            np.shares_memory(mesh.point_data["Normals"], surface.normals)
+        )
+        self.surface = surface
+        self._show(mesh)
+
+    def _index_built(self, job: int, result: tuple[SurfaceIndex, np.ndarray]) -> None:
+        if job != self._index_job or self.mesh is None:
+            return  # a mesh opened since
+        self._index_job = None
+        surface, built_from = result
+        # vertices moved while it was built (undo, a script): bring the index up to date
+        shown = self.mesh.points
+        differ = shown != built_from
+        moved = np.flatnonzero(differ[:, 0] | differ[:, 1] | differ[:, 2])
+        if len(moved):
+            surface.update(shown, moved)
+        self._use_index(surface)
         self.request_render()
+        self.surface_ready.emit()
+
+    def _index_failed(self, job: int, error: Exception) -> None:
+        if job == self._index_job:
+            self._index_job = None
+            self.surface_failed.emit(f"{type(error).__name__}: {error}")
+
+    @property
+    def surface_building(self) -> bool:
+        """A mesh is shown whose :class:`SurfaceIndex` is still being built."""
+        return self._index_job is not None
+
+    def wait_for_surface(self, msecs: int = -1) -> bool:
+        """Block until a background index build ends and apply it (tests, benchmarks)."""
+        done = self._index_runner.wait(msecs)
+        return done and self.surface is not None
+
+    def cancel_surface_build(self) -> None:
+        """Drop a background index build (closing the window)."""
+        self._index_runner.cancel()
+        self._index_job = None
+
+    def shown_vertices(self) -> np.ndarray:
+        """The positions (N, 3) drawn, in the mesh's vertex order (a copy)."""
+        if self.surface is not None:
+            return self.surface.vertices
+        return np.array(self.mesh.points) if self.mesh is not None else np.zeros((0, 3))
 
     def home_view(self, render: bool = True) -> None:
         """Front three-quarter view with +y up (the OBJ/PLY convention of Spot, the bunny and
@@ -191,30 +291,39 @@ class SculptViewport(QtInteractor):
             self.request_render()
 
     def update_vertices(self, vertices: np.ndarray, indices: np.ndarray | None = None) -> None:
-        """Write new positions (N, 3) into the actor's arrays in place (no new actor).
+        """Write new positions (N, 3, the mesh's order) into the actor's arrays in place.
 
         ``indices``: the vertices that moved; None compares every vertex with the shown one
         (undo, a pin drag) and updates those that differ. Only the moved rows and the normals
-        of them and their one-ring (:meth:`SurfaceIndex.update`) are written; the arrays are
-        marked modified, nothing is rebuilt.
+        of them and their one-ring are written (:meth:`SurfaceIndex.update`, whose arrays VTK
+        draws); the arrays are marked modified, nothing is rebuilt. While the index builds in
+        the background the moved rows are written (flat-shaded view) and the index catches up
+        when it is ready.
         """
         if self.mesh is None:
             return
         start = time.perf_counter()
-        points = self.mesh.points
         vertices = np.asarray(vertices, dtype=np.float64)
-        if indices is None:
-            differ = points != vertices  # per column: much faster than np.any(axis=1)
+        surface = self.surface
+        if indices is None and surface is not None:
+            indices = surface.changed_rows(vertices)
+        elif indices is None:
+            differ = self.mesh.points != vertices  # per column: faster than np.any(axis=1)
             indices = np.flatnonzero(differ[:, 0] | differ[:, 1] | differ[:, 2])
         else:
             indices = np.asarray(indices, dtype=np.int64).ravel()
         if len(indices):
-            points[indices] = vertices[indices]
-            rows = self.surface.update(points, indices)
-            if not self._normals_shared:
-                self.mesh.point_data["Normals"][rows] = self.surface.normals[rows]
+            if surface is None:
+                self.mesh.points[indices] = vertices[indices]
+            else:
+                surface.update(vertices, indices)
+                if not self._arrays_shared:
+                    self.mesh.points = surface.positions
+                    self.mesh.point_data["Normals"] = surface.normals
             self.mesh.GetPoints().Modified()
-            self.mesh.GetPointData().GetNormals().Modified()
+            normals = self.mesh.GetPointData().GetNormals()
+            if normals is not None:
+                normals.Modified()
         self.last_update_ms = 1e3 * (time.perf_counter() - start)
 
     # -- picking -----------------------------------------------------------------------------
@@ -237,14 +346,14 @@ class SculptViewport(QtInteractor):
         origin, direction = self.pick_ray(pos)
         if not np.any(direction) or not np.all(np.isfinite(direction)):
             return None
-        hit = self.surface.pick(self.mesh.points, origin, direction)
+        hit = self.surface.pick(origin, direction)
         if hit is None:
             return None
         face, point = hit
-        corners = self._faces[face]
-        a, b, c = self.mesh.points[corners]
+        rows = self.surface.rank[self._faces[face]]
+        a, b, c = self.surface.positions[rows]
         weights = _barycentric(a, b, c, point)
-        normal = weights @ self.surface.normals[corners]
+        normal = weights @ self.surface.normals[rows]
         length = np.linalg.norm(normal)
         return point, (normal / length if length > 0 else np.cross(b - a, c - a))
 
@@ -372,6 +481,9 @@ class SculptViewport(QtInteractor):
         self.setFocus(Qt.FocusReason.MouseFocusReason)
         if self.value_dragging:
             self.finish_value_drag(ev.button() != Qt.MouseButton.RightButton)
+            return
+        if ev.button() == Qt.MouseButton.LeftButton and self.surface_building:
+            self.surface_pending.emit()  # nothing to pick on yet: no stroke, no orbit
             return
         if ev.button() == Qt.MouseButton.LeftButton and self._drag_depth is None:
             hit = self.pick(ev.position())

@@ -2,22 +2,26 @@
 
 Per-event work stays proportional to the change: a :class:`SurfaceIndex`, built once per mesh,
 recomputes after each event only the faces around the moved vertices and the normals of those
-vertices and their one-ring (bit for bit what :func:`vertex_normals` gives), refits the boxes
-of the face groups they touch, and finds the surface point under the mouse without a locator
-built over the whole mesh.
+vertices and their one-ring (bit for bit what a build on the moved mesh gives, and within
+float32 rounding of :func:`vertex_normals`), refits the boxes of the face groups they touch when
+it next picks, and finds the surface point under the mouse without a locator built over the
+whole mesh.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from contextlib import contextmanager
 
+import numba
 import numpy as np
 from numba import njit, prange
 
 __all__ = ["FaceAdjacency", "SurfaceIndex", "mesh_volume", "vertex_normals"]
 
-# No fastmath here: the incremental normals must round exactly as numpy's full computation.
-_JIT = {"cache": True, "boundscheck": False}
+# No fastmath here: the face normals round as numpy.cross's operations, the sums in face order.
+_JIT = {"cache": True, "boundscheck": False, "nogil": True}  # nogil: a background build
 
 
 def vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -74,87 +78,204 @@ class FaceAdjacency:
 
 #: Faces per leaf of the surface index (one bounding box each).
 LEAF_SIZE = 32
+#: Work items per chunk of the per-event kernels: chunks are dealt to the threads in turn, so a
+#: brush region (contiguous in the index's spatial order) is shared by all threads.
+_VERTEX_CHUNK = 4096
+_LEAF_CHUNK = 128
+#: Bits per axis of the Z-order (Morton) codes; a code leaves 31 bits for the item's index.
+_MORTON_BITS = 10
 
 
-def _morton_order(points: np.ndarray) -> np.ndarray:
-    """Order of ``points`` (n, 3) along a Z-order curve (10 bits per axis)."""
-    low, high = points.min(axis=0), points.max(axis=0)
-    cells = ((points - low) / np.maximum(high - low, 1e-300) * 1023).astype(np.uint64)
-    code = np.zeros(len(points), dtype=np.uint64)
-    for bit in range(10):
+@njit(parallel=True, **_JIT)
+def _morton_keys(points, groups, low, scale, keys):
+    """keys[i] = (Z-order code of the mean of points[groups[i]]) << 31 | i: sorting the keys
+    sorts the items along the curve, ties in index order (what a stable sort gives)."""
+    k = groups.shape[1]
+    for i in prange(groups.shape[0]):
+        code = 0
         for axis in range(3):
-            code |= ((cells[:, axis] >> np.uint64(bit)) & np.uint64(1)) << np.uint64(3 * bit + axis)
-    return np.argsort(code, kind="stable")
+            s = 0.0
+            for j in range(k):
+                s += points[groups[i, j], axis]
+            cell = int((s / k - low[axis]) * scale[axis])
+            cell = min(max(cell, 0), (1 << _MORTON_BITS) - 1)
+            for bit in range(_MORTON_BITS):
+                code |= ((cell >> bit) & 1) << (3 * bit + axis)
+        keys[i] = (code << 31) | np.int64(i)
+
+
+@njit(**_JIT)
+def _connect(
+    faces, rank, face_order, face_rank, index_faces, offsets, leaf_ids, leaf_offsets, leaves
+):
+    """The faces in index order with index-numbered corners (index_faces); for each index
+    vertex its faces as leaf positions in increasing original face order (the order in which
+    :func:`vertex_normals` sums them), ``leaf_ids[offsets[i]:offsets[i + 1]]``, and the
+    distinct leaves holding them, ``leaves[leaf_offsets[i]:leaf_offsets[i + 1]]`` (returns
+    how many entries of ``leaves`` that uses)."""
+    n_faces = faces.shape[0]
+    for p in range(n_faces):
+        f = face_order[p]
+        for k in range(3):
+            index_faces[p, k] = rank[faces[f, k]]
+    offsets[:] = 0
+    for f in range(n_faces):
+        for k in range(3):
+            offsets[rank[faces[f, k]] + 1] += 1
+    for i in range(1, offsets.shape[0]):
+        offsets[i] += offsets[i - 1]
+    cursor = offsets[:-1].copy()
+    for f in range(n_faces):
+        for k in range(3):
+            i = rank[faces[f, k]]
+            leaf_ids[cursor[i]] = face_rank[f]
+            cursor[i] += 1
+    used = 0
+    leaf_offsets[0] = 0
+    for i in range(offsets.shape[0] - 1):
+        first = used
+        for j in range(offsets[i], offsets[i + 1]):
+            leaf = leaf_ids[j] // LEAF_SIZE
+            known = False
+            for q in range(first, used):
+                if leaves[q] == leaf:
+                    known = True
+                    break
+            if not known:
+                leaves[used] = leaf
+                used += 1
+        leaf_offsets[i + 1] = used
+    return used
 
 
 @njit(parallel=True, **_JIT)
-def _mark(offsets, leaf_ids, seeds, face_mark, leaf_mark):
-    """Mark the faces (leaf positions) around the seed vertices and their leaves."""
-    for s in prange(seeds.shape[0]):
-        v = seeds[s]
-        for j in range(offsets[v], offsets[v + 1]):
-            f = leaf_ids[j]
-            face_mark[f] = True
-            leaf_mark[f // LEAF_SIZE] = True
+def _update(
+    vertices, seeds, rank, offsets, leaf_ids, leaf_offsets, leaves, faces, positions, moved,
+    ring, leaf_mark, leaf_dirty, face_normals, normals, n_threads,
+):  # fmt: skip
+    """One event: the seed vertices (original numbers) moved to ``vertices``; the arrays of
+    the index are in its own order. Four passes, each dealing chunks to the threads in turn;
+    returns how many vertex normals were recomputed.
+
+    1. copy the seeds' rows into ``positions`` and flag them in ``moved`` and ``ring`` (a
+       vertex in no face still gets its (0, 0, 1));
+    2. for each moved vertex: mark the leaves of its faces;
+    3. for each face of a marked leaf with a moved corner: (b - a) × (c - a) with numpy.cross's
+       operations (no fused multiply-add, see _JIT) rounded to float32, its corners flagged in
+       ``ring``;
+    4. for each vertex in ``ring``: its faces' normals summed in float64 in original face order
+       (as np.bincount does), divided by their norm (as np.linalg.norm computes it), (0, 0, 1)
+       if zero.
+
+    Every flag is cleared by the pass that reads it last: no per-event allocation."""
+    n = positions.shape[0]
+    n_seeds = seeds.shape[0]
+    for t in prange(n_threads):
+        for s in range(t * _VERTEX_CHUNK, n_seeds, n_threads * _VERTEX_CHUNK):
+            for j in range(s, min(s + _VERTEX_CHUNK, n_seeds)):
+                v = seeds[j]
+                i = rank[v]
+                positions[i, 0] = vertices[v, 0]
+                positions[i, 1] = vertices[v, 1]
+                positions[i, 2] = vertices[v, 2]
+                moved[i] = True
+                ring[i] = True  # a vertex in no face still gets its (0, 0, 1)
+    for t in prange(n_threads):
+        for s in range(t * _VERTEX_CHUNK, n, n_threads * _VERTEX_CHUNK):
+            for i in range(s, min(s + _VERTEX_CHUNK, n)):
+                if moved[i]:
+                    for j in range(leaf_offsets[i], leaf_offsets[i + 1]):
+                        leaf_mark[leaves[j]] = True
+    n_leaves = leaf_mark.shape[0]
+    n_faces = faces.shape[0]
+    for t in prange(n_threads):
+        for s in range(t * _LEAF_CHUNK, n_leaves, n_threads * _LEAF_CHUNK):
+            for lf in range(s, min(s + _LEAF_CHUNK, n_leaves)):
+                if not leaf_mark[lf]:
+                    continue
+                leaf_mark[lf] = False
+                leaf_dirty[lf] = True
+                for f in range(lf * LEAF_SIZE, min((lf + 1) * LEAF_SIZE, n_faces)):
+                    a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
+                    if not moved[a] and not moved[b] and not moved[c]:
+                        continue
+                    u0 = positions[b, 0] - positions[a, 0]
+                    u1 = positions[b, 1] - positions[a, 1]
+                    u2 = positions[b, 2] - positions[a, 2]
+                    w0 = positions[c, 0] - positions[a, 0]
+                    w1 = positions[c, 1] - positions[a, 1]
+                    w2 = positions[c, 2] - positions[a, 2]
+                    face_normals[f, 0] = u1 * w2 - u2 * w1
+                    face_normals[f, 1] = u2 * w0 - u0 * w2
+                    face_normals[f, 2] = u0 * w1 - u1 * w0
+                    ring[a] = True
+                    ring[b] = True
+                    ring[c] = True
+    counts = np.zeros(16 * n_threads, dtype=np.int64)  # a cache line per thread
+    for t in prange(n_threads):
+        for s in range(t * _VERTEX_CHUNK, n, n_threads * _VERTEX_CHUNK):
+            for i in range(s, min(s + _VERTEX_CHUNK, n)):
+                if not ring[i]:
+                    continue
+                ring[i] = False
+                moved[i] = False
+                counts[16 * t] += 1
+                n0 = 0.0
+                n1 = 0.0
+                n2 = 0.0
+                for j in range(offsets[i], offsets[i + 1]):
+                    f = leaf_ids[j]
+                    n0 += face_normals[f, 0]
+                    n1 += face_normals[f, 1]
+                    n2 += face_normals[f, 2]
+                norm = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
+                if norm == 0.0:
+                    normals[i, 0] = 0.0
+                    normals[i, 1] = 0.0
+                    normals[i, 2] = 1.0
+                else:
+                    normals[i, 0] = n0 / norm
+                    normals[i, 1] = n1 / norm
+                    normals[i, 2] = n2 / norm
+    return counts.sum()
 
 
 @njit(parallel=True, **_JIT)
-def _refresh(vertices, leaf_faces, leaves, face_mark, face_normals, boxes, vertex_mark):
-    """For each leaf in ``leaves``: its box, and for its marked faces the normal
-    (b - a) × (c - a) with numpy.cross's operations (no fused multiply-add; see _JIT) and
-    their corners marked in vertex_mark. Face arrays are in leaf order."""
-    n_faces = leaf_faces.shape[0]
-    for s in prange(leaves.shape[0]):
-        leaf = leaves[s]
-        lo0 = lo1 = lo2 = np.inf
-        hi0 = hi1 = hi2 = -np.inf
-        for f in range(leaf * LEAF_SIZE, min((leaf + 1) * LEAF_SIZE, n_faces)):
-            a, b, c = leaf_faces[f, 0], leaf_faces[f, 1], leaf_faces[f, 2]
-            for v in (a, b, c):
-                x, y, z = vertices[v, 0], vertices[v, 1], vertices[v, 2]
-                lo0, lo1, lo2 = min(lo0, x), min(lo1, y), min(lo2, z)
-                hi0, hi1, hi2 = max(hi0, x), max(hi1, y), max(hi2, z)
-            if not face_mark[f]:
-                continue
-            u0 = vertices[b, 0] - vertices[a, 0]
-            u1 = vertices[b, 1] - vertices[a, 1]
-            u2 = vertices[b, 2] - vertices[a, 2]
-            w0 = vertices[c, 0] - vertices[a, 0]
-            w1 = vertices[c, 1] - vertices[a, 1]
-            w2 = vertices[c, 2] - vertices[a, 2]
-            face_normals[f, 0] = u1 * w2 - u2 * w1
-            face_normals[f, 1] = u2 * w0 - u0 * w2
-            face_normals[f, 2] = u0 * w1 - u1 * w0
-            vertex_mark[a] = True
-            vertex_mark[b] = True
-            vertex_mark[c] = True
-        boxes[leaf, 0], boxes[leaf, 1], boxes[leaf, 2] = lo0, lo1, lo2
-        boxes[leaf, 3], boxes[leaf, 4], boxes[leaf, 5] = hi0, hi1, hi2
+def _differ(vertices, rank, positions, mask, n_threads):
+    """mask[v]: row v of ``vertices`` differs from the index's positions (any coordinate)."""
+    n = mask.shape[0]
+    for t in prange(n_threads):
+        for s in range(t * _VERTEX_CHUNK, n, n_threads * _VERTEX_CHUNK):
+            for v in range(s, min(s + _VERTEX_CHUNK, n)):
+                i = rank[v]
+                mask[v] = (
+                    positions[i, 0] != vertices[v, 0]
+                    or positions[i, 1] != vertices[v, 1]
+                    or positions[i, 2] != vertices[v, 2]
+                )
 
 
 @njit(parallel=True, **_JIT)
-def _sum_normals(offsets, leaf_ids, face_normals, targets, normals):
-    """normals[v] for v in targets: its faces' normals summed in face order (as np.bincount
-    does), then divided by their norm (as np.linalg.norm computes it); (0, 0, 1) if zero."""
-    for s in prange(targets.shape[0]):
-        v = targets[s]
-        n0 = 0.0
-        n1 = 0.0
-        n2 = 0.0
-        for j in range(offsets[v], offsets[v + 1]):
-            f = leaf_ids[j]
-            n0 += face_normals[f, 0]
-            n1 += face_normals[f, 1]
-            n2 += face_normals[f, 2]
-        norm = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
-        if norm == 0.0:
-            normals[v, 0] = 0.0
-            normals[v, 1] = 0.0
-            normals[v, 2] = 1.0
-        else:
-            normals[v, 0] = n0 / norm
-            normals[v, 1] = n1 / norm
-            normals[v, 2] = n2 / norm
+def _refit(positions, index_faces, leaf_dirty, boxes, n_threads):
+    """The bounding box of each leaf marked in ``leaf_dirty`` (cleared)."""
+    n_leaves = leaf_dirty.shape[0]
+    n_faces = index_faces.shape[0]
+    for t in prange(n_threads):
+        for s in range(t * _LEAF_CHUNK, n_leaves, n_threads * _LEAF_CHUNK):
+            for leaf in range(s, min(s + _LEAF_CHUNK, n_leaves)):
+                if not leaf_dirty[leaf]:
+                    continue
+                leaf_dirty[leaf] = False
+                lo0 = lo1 = lo2 = np.inf
+                hi0 = hi1 = hi2 = -np.inf
+                for f in range(leaf * LEAF_SIZE, min((leaf + 1) * LEAF_SIZE, n_faces)):
+                    for k in range(3):
+                        v = index_faces[f, k]
+                        x, y, z = positions[v, 0], positions[v, 1], positions[v, 2]
+                        lo0, lo1, lo2 = min(lo0, x), min(lo1, y), min(lo2, z)
+                        hi0, hi1, hi2 = max(hi0, x), max(hi1, y), max(hi2, z)
+                boxes[leaf, 0], boxes[leaf, 1], boxes[leaf, 2] = lo0, lo1, lo2
+                boxes[leaf, 3], boxes[leaf, 4], boxes[leaf, 5] = hi0, hi1, hi2
 
 
 @njit(**_JIT)
@@ -221,108 +342,203 @@ def _closest_hit(vertices, leaf_faces, order, candidates, near, origin, directio
 class SurfaceIndex:
     """What the viewport needs per event, at a cost proportional to the change.
 
-    Built once per mesh: the face adjacency, the faces grouped in Z-order of their centroids
-    into leaves of :data:`LEAF_SIZE` faces with a bounding box each, every face normal and the
-    vertex normals. After an event, :meth:`update` recomputes the faces around the moved
-    vertices, the normals of those vertices and their one-ring (bit for bit what
-    :func:`vertex_normals` gives on the whole mesh) and the boxes of the leaves they touch.
-    :meth:`pick` tests a ray against every box, then the faces of the boxes hit, nearest box
-    first, until no box can hold a nearer hit. The leaves depend only on the mesh at build
-    time; they stay correct however far vertices move (only less tight).
+    Built once per mesh, in an order of its own so that the work on a brush region reads
+    neighbouring memory: the vertices renumbered along a Z-order curve (:attr:`order`), the
+    faces grouped in Z-order of their centroids into leaves of :data:`LEAF_SIZE` faces
+    (:attr:`face_order`), each leaf with a bounding box. After an event, :meth:`update`
+    copies the moved rows into :attr:`positions`, recomputes the faces around them and the
+    normals of those vertices and their one-ring (bit for bit what a new index of the moved
+    mesh gives; :func:`vertex_normals` to the float32 rounding of the face normals, ~1e-7)
+    and marks the boxes of the leaves they touch stale. :meth:`pick` refits the stale boxes
+    first (a stroke picks only at its press, so none of its events pays for boxes), tests a
+    ray against every box, then the faces of the boxes hit, nearest box first, until no box
+    can hold a nearer hit. The leaves depend only on the mesh at build time; they stay correct
+    however far vertices move (only less tight).
+
+    :attr:`positions`, :attr:`normals` and :attr:`faces` are the arrays a renderer can draw
+    directly (the viewport's VTK arrays share their memory): no copy per event.
 
     Parameters
     ----------
     vertices : (N, 3) float64
-    faces : (M, 3) int64, indices into ``vertices``
+    faces : (M, 3) int, indices into ``vertices``
+    progress : callable(fraction), optional
+        Called with 0 < fraction ≤ 1 between the build's stages; a background build reports
+        it, and cancels the build by raising from it.
 
     Attributes
     ----------
+    order : (N,) int32
+        Row i of :attr:`positions` and :attr:`normals` is vertex ``order[i]``.
+    rank : (N,) int32
+        The inverse of :attr:`order`: vertex v is row ``rank[v]``.
+    positions : (N, 3) float64
+        The positions as of the last :meth:`update`, in index order.
     normals : (N, 3) float64
-        The current unit vertex normals (updated in place by :meth:`update`).
+        The unit vertex normals, in index order (updated in place by :meth:`update`).
+    faces : (M, 3) int32
+        The faces in leaf order, as rows of :attr:`positions`: ``faces[c]`` is face
+        ``face_order[c]`` of the mesh, corners in its order.
+    face_order : (M,) int32
+        The mesh face of each row of :attr:`faces`.
     """
 
-    def __init__(self, vertices: np.ndarray, faces: np.ndarray):
+    def __init__(
+        self,
+        vertices: np.ndarray,
+        faces: np.ndarray,
+        progress: Callable[[float], None] | None = None,
+    ):
+        report = progress if progress is not None else (lambda _fraction: None)
         vertices = np.ascontiguousarray(vertices, dtype=np.float64)
         if vertices.ndim != 2 or vertices.shape[1] != 3:
             raise ValueError(f"vertices must have shape (N, 3) (got {vertices.shape})")
-        faces = np.ascontiguousarray(faces, dtype=np.int64)
-        adjacency = FaceAdjacency(faces, len(vertices))
-        self._n_vertices = len(vertices)
-        centroids = vertices[faces].mean(axis=1)
-        self._order = _morton_order(centroids) if len(faces) else np.zeros(0, np.int64)
-        rank = np.empty_like(self._order)
-        rank[self._order] = np.arange(len(self._order))
-        self._leaf_faces = np.ascontiguousarray(faces[self._order])
-        self._offsets = adjacency.offsets
-        # each vertex's faces in face order (the summation order), as leaf positions
-        self._leaf_ids = rank[adjacency.face_ids]
-        a, b, c = (vertices[self._leaf_faces[:, k]] for k in range(3))
-        self._face_normals = np.cross(b - a, c - a)
-        self.normals = vertex_normals(vertices, faces)
+        faces = np.asarray(faces)
+        if faces.ndim != 2 or faces.shape[1] != 3:
+            raise ValueError(f"faces must have shape (M, 3) (got {faces.shape})")
+        n = len(vertices)
+        if faces.size and (faces.min() < 0 or faces.max() >= n):
+            raise ValueError(f"faces must index vertices 0 to {n - 1}")
+        if n >= 2**31 or len(faces) >= 2**31:
+            raise ValueError("meshes of 2**31 or more vertices or faces are not supported")
+        faces = np.ascontiguousarray(faces, dtype=np.int32)
+        self._n_vertices = n
+        low = vertices.min(axis=0) if n else np.zeros(3)
+        extent = (vertices.max(axis=0) - low) if n else np.ones(3)
+        scale = ((1 << _MORTON_BITS) - 1) / np.maximum(extent, 1e-300)
+        # the vertices along the curve, then the faces by their centroids
+        self.order = _curve_order(vertices, np.arange(n, dtype=np.int32).reshape(n, 1), low, scale)
+        self.rank = np.empty(n, dtype=np.int32)
+        self.rank[self.order] = np.arange(n, dtype=np.int32)
+        report(0.2)
+        self.face_order = _curve_order(vertices, faces, low, scale)
+        face_rank = np.empty(len(faces), dtype=np.int32)
+        face_rank[self.face_order] = np.arange(len(faces), dtype=np.int32)
+        report(0.4)
+        self.faces = np.empty((len(faces), 3), dtype=np.int32)
+        self._offsets = np.empty(n + 1, dtype=np.int64)
+        self._leaf_ids = np.empty(3 * len(faces), dtype=np.int32)
+        self._leaf_offsets = np.empty(n + 1, dtype=np.int64)
+        leaves = np.empty(3 * len(faces), dtype=np.int32)
+        used = _connect(faces, self.rank, self.face_order, face_rank, self.faces, self._offsets,
+                        self._leaf_ids, self._leaf_offsets, leaves)  # fmt: skip
+        self._leaves = leaves[:used].copy()
+        report(0.7)
         n_leaves = (len(faces) + LEAF_SIZE - 1) // LEAF_SIZE
+        self.positions = np.empty((n, 3))
+        self.normals = np.empty((n, 3))
+        self._moved = np.zeros(n, dtype=np.bool_)
+        self._ring = np.zeros(n, dtype=np.bool_)
+        self._leaf_mark = np.zeros(n_leaves, dtype=np.bool_)
+        self._leaf_dirty = np.zeros(n_leaves, dtype=np.bool_)
+        # float32: the vertex normals' sums read them (the per-event pass bound by memory
+        # traffic) and VTK draws float32; each is (b - a) × (c - a) rounded once
+        self._face_normals = np.empty((len(faces), 3), dtype=np.float32)
         self._boxes = np.empty((n_leaves, 6))
-        face_mark = np.zeros(len(faces), dtype=np.bool_)  # normals are already right
-        vertex_mark = np.zeros(len(vertices), dtype=np.bool_)
-        _refresh(
-            vertices,
-            self._leaf_faces,
-            np.arange(n_leaves),
-            face_mark,
-            self._face_normals,
-            self._boxes,
-            vertex_mark,
-        )
+        self._stale_boxes = 0  # vertices moved since the boxes were last refit
+        # every vertex "moved": every face normal, vertex normal and box
+        self.update(vertices, np.arange(n, dtype=np.int64))
+        report(0.95)
+        self._refit()
+        report(1.0)
 
-    def update(self, vertices: np.ndarray, changed: np.ndarray) -> np.ndarray:
-        """The vertices ``changed`` (indices) moved to ``vertices`` (N, 3): update
-        :attr:`normals` and the boxes; returns the sorted indices of the normals recomputed
-        (the moved vertices and their one-ring), the rows the viewport must upload."""
+    @property
+    def vertices(self) -> np.ndarray:
+        """The positions (N, 3) as of the last :meth:`update`, in the mesh's order (a copy)."""
+        return self.positions[self.rank]
+
+    def update(self, vertices: np.ndarray, changed: np.ndarray) -> int:
+        """The vertices ``changed`` (indices) moved to ``vertices`` (N, 3, the mesh's order;
+        only the rows ``changed`` are read): update :attr:`positions` and :attr:`normals`,
+        mark the boxes they touch stale. Returns how many normals were recomputed (the moved
+        vertices and their one-ring)."""
         vertices = np.ascontiguousarray(vertices, dtype=np.float64)
         if vertices.shape != (self._n_vertices, 3):
             raise ValueError(
                 f"vertices must have shape ({self._n_vertices}, 3) (got {vertices.shape})"
             )
-        seeds = np.asarray(changed, dtype=np.int64).ravel()
-        if seeds.size and (seeds.min() < 0 or seeds.max() >= self._n_vertices):
+        seeds = np.ascontiguousarray(changed, dtype=np.int64).ravel()
+        if not seeds.size:
+            return 0
+        if seeds.min() < 0 or seeds.max() >= self._n_vertices:
             raise ValueError(f"changed must index vertices 0 to {self._n_vertices - 1}")
-        face_mark = np.zeros(len(self._leaf_faces), dtype=np.bool_)
-        leaf_mark = np.zeros(len(self._boxes), dtype=np.bool_)
-        _mark(self._offsets, self._leaf_ids, seeds, face_mark, leaf_mark)
-        vertex_mark = np.zeros(self._n_vertices, dtype=np.bool_)
-        vertex_mark[seeds] = True  # a vertex in no face still gets its (0, 0, 1)
-        _refresh(
-            vertices,
-            self._leaf_faces,
-            np.flatnonzero(leaf_mark),
-            face_mark,
-            self._face_normals,
-            self._boxes,
-            vertex_mark,
-        )
-        ring = np.flatnonzero(vertex_mark)
-        _sum_normals(self._offsets, self._leaf_ids, self._face_normals, ring, self.normals)
-        return ring
+        self._stale_boxes += len(seeds)
+        with _threads_for(len(seeds)) as threads:
+            return int(
+                _update(
+                    vertices, seeds, self.rank, self._offsets, self._leaf_ids,
+                    self._leaf_offsets, self._leaves, self.faces, self.positions, self._moved,
+                    self._ring, self._leaf_mark, self._leaf_dirty, self._face_normals,
+                    self.normals, threads,
+                )
+            )  # fmt: skip
 
-    def pick(
-        self, vertices: np.ndarray, origin: np.ndarray, direction: np.ndarray
-    ) -> tuple[int, np.ndarray] | None:
-        """The first face hit by the ray origin + t·direction (t ≥ 0) and the hit point (3,),
-        or None. ``vertices`` (N, 3): the current positions (those of the last update)."""
+    def changed_rows(self, vertices: np.ndarray) -> np.ndarray:
+        """The sorted indices of the rows of ``vertices`` (N, 3, the mesh's order) that
+        differ from the positions of the last :meth:`update` (what an undo moved)."""
+        vertices = np.ascontiguousarray(vertices, dtype=np.float64)
+        if vertices.shape != (self._n_vertices, 3):
+            raise ValueError(
+                f"vertices must have shape ({self._n_vertices}, 3) (got {vertices.shape})"
+            )
+        mask = np.empty(self._n_vertices, dtype=np.bool_)
+        with _threads_for(self._n_vertices) as threads:
+            _differ(vertices, self.rank, self.positions, mask, threads)
+        return np.flatnonzero(mask)
+
+    def _refit(self) -> None:
+        """Refit the boxes of the leaves marked stale since the last pick."""
+        if self._stale_boxes:
+            with _threads_for(self._stale_boxes) as threads:
+                _refit(self.positions, self.faces, self._leaf_dirty, self._boxes, threads)
+            self._stale_boxes = 0
+
+    def pick(self, origin: np.ndarray, direction: np.ndarray) -> tuple[int, np.ndarray] | None:
+        """The first face (the mesh's face number) hit by the ray origin + t·direction (t ≥ 0)
+        at the positions of the last :meth:`update`, and the hit point (3,); or None."""
         o = np.asarray(origin, dtype=np.float64)
         d = np.asarray(direction, dtype=np.float64)
         if o.shape != (3,) or d.shape != (3,) or not np.all(np.isfinite(o) & np.isfinite(d)):
             raise ValueError("pick origin and direction must be 3 finite numbers each")
         if not np.any(d):
             raise ValueError("pick direction must be nonzero")
+        self._refit()
         with np.errstate(divide="ignore"):
             inv = 1.0 / d
         near = np.empty(len(self._boxes))
         _leaf_hits(self._boxes, o, inv, near)
         hit = np.flatnonzero(near < np.inf)
         candidates = hit[np.argsort(near[hit], kind="stable")]
-        face, t = _closest_hit(
-            np.ascontiguousarray(vertices), self._leaf_faces, self._order, candidates, near, o, d
-        )
+        face, t = _closest_hit(self.positions, self.faces, self.face_order, candidates, near, o, d)
         if face < 0:
             return None
         return int(face), o + t * d
+
+
+#: Below this many moved vertices an update runs on the calling thread alone: waking the
+#: other threads would cost more than the work (much more when the cores are busy).
+PARALLEL_VERTICES = 20_000
+
+
+@contextmanager
+def _threads_for(work: int):
+    """numba's thread count for ``work`` vertices (1 below :data:`PARALLEL_VERTICES`),
+    restored afterwards (the setting is per calling thread)."""
+    threads = numba.get_num_threads()
+    if work >= PARALLEL_VERTICES or threads == 1:
+        yield threads
+        return
+    numba.set_num_threads(1)
+    try:
+        yield 1
+    finally:
+        numba.set_num_threads(threads)
+
+
+def _curve_order(points, groups, low, scale) -> np.ndarray:
+    """Indices (int32) of the groups (k, g) of ``points`` sorted along the Z-order curve of
+    their mean points, ties in index order."""
+    keys = np.empty(len(groups), dtype=np.int64)
+    _morton_keys(points, np.ascontiguousarray(groups, dtype=np.int32), low, scale, keys)
+    keys.sort()  # unique keys: any sort gives the stable order; numpy's default is fastest
+    return (keys & np.int64(2**31 - 1)).astype(np.int32)
