@@ -6,7 +6,13 @@ import numpy as np
 import pytest
 
 from gogreen_core import Material
-from gogreen_core.brushes import Brush, BrushEvent, affine_load_shape, mirror_signs
+from gogreen_core.brushes import (
+    Brush,
+    BrushEvent,
+    affine_load_shape,
+    default_wrinkle_weights,
+    mirror_signs,
+)
 from gogreen_core.falloff_safety import MAX_GRAB_RATIO
 from gogreen_core.presets import builtin_presets
 from gogreen_core.radial import GaussianRadial, KelvinletRadial, SplineRadial
@@ -27,15 +33,8 @@ MATERIALS = {
 }
 
 
-#: Every spline made here stays alive: radial.py keys its table cache by id() of the profile,
-#: which a new profile could reuse once an old one is freed (stale tables).
-_KEEP: list[SplineRadial] = []
-
-
 def _spline(l_max: int = L_MAX) -> SplineRadial:
-    falloff = SplineRadial.from_profile(GaussianRadial(1.0), l_max)
-    _KEEP.append(falloff)
-    return falloff
+    return SplineRadial.from_profile(GaussianRadial(1.0), l_max)
 
 
 def _edited(edit) -> SplineRadial:
@@ -94,6 +93,29 @@ def _face_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     return np.cross(b - a, c - a)
 
 
+def _assert_safe_events(sculptor, kind, radius, centres):
+    """Single ``kind`` events of every size in :data:`EVENT_SIZES` (units of ε) at each of
+    ``centres`` (vertex indices), each undone: finite, no vertex moved more than 3× the cursor
+    motion, no face turned over."""
+    vertices, faces = sculptor.vertices.copy(), sculptor.faces
+    eps = radius * sculptor.model_size
+    normals = _face_normals(vertices, faces)
+    direction = np.array([0.6, -0.3, 0.74])
+    direction /= np.linalg.norm(direction)
+    for index in centres:
+        for size in EVENT_SIZES:
+            delta = size * eps * direction
+            sculptor.apply_brush(Brush(kind, radius=radius), [BrushEvent(vertices[index], delta)])
+            moved = sculptor.vertices.copy()
+            sculptor.undo()
+            label = f"{kind}, cursor motion {size} ε at vertex {index}"
+            assert np.all(np.isfinite(moved)), label
+            motion = np.linalg.norm(moved - vertices, axis=1).max()
+            assert motion <= 3 * size * eps, f"{label}: moved {motion / (size * eps):.3g}×"
+            turned = np.einsum("ij,ij->i", normals, _face_normals(moved, faces)) <= 0
+            assert not turned.any(), f"{label}: {turned.sum()} faces flipped"
+
+
 @pytest.mark.parametrize("material", list(MATERIALS))
 @pytest.mark.parametrize("curve", list(CURVES))
 def test_edited_falloffs_never_wreck_the_mesh(sphere, curve, material):
@@ -101,23 +123,28 @@ def test_edited_falloffs_never_wreck_the_mesh(sphere, curve, material):
     sculptor = Sculptor(
         vertices, faces, material=MATERIALS[material], l_max=L_MAX, falloff=_edited(CURVES[curve])
     )
-    eps = RADIUS * sculptor.model_size
-    normals = _face_normals(vertices, faces)
-    center = vertices[7]
-    direction = np.array([0.6, -0.3, 0.74])
-    direction /= np.linalg.norm(direction)
     for kind in ("grab", "grab_biscale"):
-        for size in EVENT_SIZES:
-            delta = size * eps * direction
-            sculptor.apply_brush(Brush(kind, radius=RADIUS), [BrushEvent(center, delta)])
-            moved = sculptor.vertices.copy()
-            sculptor.undo()
-            label = f"{kind}, cursor motion {size} ε"
-            assert np.all(np.isfinite(moved)), label
-            motion = np.linalg.norm(moved - vertices, axis=1).max()
-            assert motion <= 3 * size * eps, f"{label}: moved {motion / (size * eps):.3g}×"
-            turned = np.einsum("ij,ij->i", normals, _face_normals(moved, faces)) <= 0
-            assert not turned.any(), f"{label}: {turned.sum()} faces flipped"
+        _assert_safe_events(sculptor, kind, RADIUS, [7])
+
+
+@pytest.mark.parametrize("curve", ["dip near 0", "zero at 0", "wiggles", None])
+@pytest.mark.parametrize("material", ["wrinkle preset", "1000:1 transversely isotropic"])
+def test_the_wrinkle_brush_with_its_default_weights_never_wrecks_the_mesh(sphere, curve, material):
+    vertices, faces = sphere
+    materials = {
+        "wrinkle preset": next(p for p in builtin_presets() if p.brush.kind == "wrinkle").material,
+        "1000:1 transversely isotropic": Material.transversely_isotropic(
+            1000.0, 1.0, 0.3, 0.02, 0.5
+        ),
+    }
+    sculptor = Sculptor(
+        vertices,
+        faces,
+        material=materials[material],
+        falloff=GaussianRadial(1.0) if curve is None else _edited(CURVES[curve]),
+        degree_weights=default_wrinkle_weights(L_MAX),
+    )
+    _assert_safe_events(sculptor, "wrinkle", RADIUS, [7, 40])
 
 
 @pytest.mark.parametrize(

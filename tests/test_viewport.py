@@ -13,13 +13,18 @@ from gogreen_core.geometry import SurfaceIndex, vertex_normals
 from gogreen_core.shapes import icosphere
 
 
-@pytest.fixture
-def viewport(qtbot):
+def _shown_viewport(qtbot) -> SculptViewport:
     vp = SculptViewport()
     qtbot.addWidget(vp)
     vp.resize(500, 400)
     vp.show()
     qtbot.waitExposed(vp)
+    return vp
+
+
+@pytest.fixture
+def viewport(qtbot):
+    vp = _shown_viewport(qtbot)
     vertices, faces = icosphere(3)
     vertices = vertices * (1.0 + 0.1 * np.sin(5 * vertices[:, :1]))  # not a plain sphere
     vp.set_mesh(vertices, faces)
@@ -183,11 +188,7 @@ def press(vp: SculptViewport, pos: QPointF) -> None:
 
 def test_background_index_build_keeps_the_view_usable_and_loses_nothing(qtbot, monkeypatch):
     gated = GatedIndex(monkeypatch)
-    vp = SculptViewport()
-    qtbot.addWidget(vp)
-    vp.resize(500, 400)
-    vp.show()
-    qtbot.waitExposed(vp)
+    vp = _shown_viewport(qtbot)
     vertices, faces = icosphere(3)
     progress = []
     vp.surface_progress.connect(progress.append)
@@ -220,10 +221,7 @@ def test_background_index_build_keeps_the_view_usable_and_loses_nothing(qtbot, m
 
 def test_a_newer_mesh_supersedes_a_background_build(qtbot, monkeypatch):
     gated = GatedIndex(monkeypatch)
-    vp = SculptViewport()
-    qtbot.addWidget(vp)
-    vp.show()
-    qtbot.waitExposed(vp)
+    vp = _shown_viewport(qtbot)
     big, big_faces = icosphere(3)
     vp.set_mesh(big, big_faces, background=True)
     assert gated.started.wait(30)
