@@ -676,8 +676,8 @@ class MainWindow(QMainWindow):
         """Apply the wrinkle preset's material and weights: one undo step."""
         preset = wrinkle_preset()
         l_max = self.model.l_max
-        weights = preset.degree_weights
-        if weights is None or len(weights) != l_max + 1:
+        weights = preset.weights
+        if len(weights) != l_max + 1:
             weights = default_wrinkle_weights(l_max)
         changed = self.model.update({"material": preset.material})
         # continued: the weights join the material's undo step

@@ -200,8 +200,7 @@ class SculptViewport(QtInteractor):
             built_from = vertices.copy()  # the build reads this; the view's copy may move
             faces = self._faces
             self._index_job = self._index_runner.submit(
-                lambda task: (SurfaceIndex(built_from, faces, task.progress), built_from),
-                supersede=True,
+                lambda task: SurfaceIndex(built_from, faces, task.progress), supersede=True
             )
         else:
             self._use_index(SurfaceIndex(vertices, self._faces))
@@ -241,17 +240,13 @@ class SculptViewport(QtInteractor):
         self.surface = surface
         self._show(mesh)
 
-    def _index_built(self, job: int, result: tuple[SurfaceIndex, np.ndarray]) -> None:
+    def _index_built(self, job: int, surface: SurfaceIndex) -> None:
         if job != self._index_job or self.mesh is None:
             return  # a mesh opened since
         self._index_job = None
-        surface, built_from = result
         # vertices moved while it was built (undo, a script): bring the index up to date
         shown = self.mesh.points
-        differ = shown != built_from
-        moved = np.flatnonzero(differ[:, 0] | differ[:, 1] | differ[:, 2])
-        if len(moved):
-            surface.update(shown, moved)
+        surface.update(shown, surface.changed_rows(shown))
         self._use_index(surface)
         self.request_render()
         self.surface_ready.emit()

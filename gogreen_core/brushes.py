@@ -147,6 +147,13 @@ class Brush:
         """ε in model units."""
         return self.radius * model_size
 
+    def scaled(self, factor: float) -> Brush:
+        """This brush with its radius times ``factor`` (at least :data:`MIN_RADIUS`); itself
+        at 1 (pen pressure → radius)."""
+        if factor == 1.0:
+            return self
+        return replace(self, radius=max(self.radius * factor, MIN_RADIUS))
+
     def cutoff(self, model_size: float) -> tuple[float, float] | None:
         """(inner, outer) cutoff radii in model units, or None for no cutoff."""
         if math.isinf(self.influence):
@@ -217,11 +224,8 @@ class BrushEvent:
 
     def brush(self, stroke_brush: Brush) -> Brush:
         """The brush this event acts with: ``stroke_brush`` with its radius scaled by
-        :attr:`radius_factor` (at least :data:`MIN_RADIUS`); ``stroke_brush`` itself at 1."""
-        if self.radius_factor == 1.0:
-            return stroke_brush
-        radius = max(stroke_brush.radius * self.radius_factor, MIN_RADIUS)
-        return replace(stroke_brush, radius=radius)
+        :attr:`radius_factor` (:meth:`Brush.scaled`)."""
+        return stroke_brush.scaled(self.radius_factor)
 
     def to_dict(self) -> dict:
         data: dict = {"center": self.center.tolist()}

@@ -12,11 +12,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from contextlib import contextmanager
 
 import numba
 import numpy as np
 from numba import njit, prange
+
+from gogreen_core.threads import threads_at_most
 
 __all__ = ["FaceAdjacency", "SurfaceIndex", "mesh_volume", "vertex_normals"]
 
@@ -520,19 +521,9 @@ class SurfaceIndex:
 PARALLEL_VERTICES = 20_000
 
 
-@contextmanager
 def _threads_for(work: int):
-    """numba's thread count for ``work`` vertices (1 below :data:`PARALLEL_VERTICES`),
-    restored afterwards (the setting is per calling thread)."""
-    threads = numba.get_num_threads()
-    if work >= PARALLEL_VERTICES or threads == 1:
-        yield threads
-        return
-    numba.set_num_threads(1)
-    try:
-        yield 1
-    finally:
-        numba.set_num_threads(threads)
+    """numba's thread count for ``work`` vertices: 1 below :data:`PARALLEL_VERTICES`."""
+    return threads_at_most(1 if work < PARALLEL_VERTICES else numba.get_num_threads())
 
 
 def _curve_order(points, groups, low, scale) -> np.ndarray:

@@ -60,17 +60,21 @@ class Preset:
     brush: Brush = field(default_factory=Brush)
     description: str = ""
 
+    @property
+    def weights(self) -> np.ndarray:
+        """The wrinkle weights (l_max + 1,) applying this preset gives, always explicit: the
+        sculptor's None means the old weights of sessions that recorded null
+        (:func:`~gogreen_core.brushes.legacy_wrinkle_weights`)."""
+        if self.degree_weights is None:
+            return default_wrinkle_weights(self.l_max)
+        return self.degree_weights
+
     def apply(self, sculptor: Sculptor) -> None:
         """Give ``sculptor`` this material and falloff, as one undo step (the brush is the
         caller's to use)."""
         joined = sculptor.material != self.material  # a new step the falloff joins
         sculptor.set_material(self.material)  # ignored when unchanged
-        # explicit weights, as the app's settings apply them: the sculptor's None means the old
-        # weights of sessions that recorded null (legacy_wrinkle_weights)
-        weights = self.degree_weights
-        if weights is None:
-            weights = default_wrinkle_weights(self.l_max)
-        sculptor.set_falloff(self.falloff, self.l_max, weights, continued=joined)
+        sculptor.set_falloff(self.falloff, self.l_max, self.weights, continued=joined)
 
     def to_dict(self) -> dict:
         weights = self.degree_weights

@@ -410,11 +410,7 @@ class Settings(EventedModel):
                 "material": preset.material,
                 "l_max": preset.l_max,
                 "falloff": preset.falloff,
-                "degree_weights": (
-                    default_wrinkle_weights(preset.l_max)
-                    if preset.degree_weights is None
-                    else preset.degree_weights
-                ),
+                "degree_weights": preset.weights,
             }
         )
         self.brush.set_brush(preset.brush)

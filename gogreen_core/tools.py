@@ -20,7 +20,6 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
-import numba
 import numpy as np
 
 from gogreen_core.brushes import (
@@ -32,6 +31,7 @@ from gogreen_core.brushes import (
     BrushEvent,
 )
 from gogreen_core.constraints import smooth_cutoff
+from gogreen_core.threads import threads_at_most
 
 __all__ = [
     "PIN_PICK_FRACTION",
@@ -124,12 +124,8 @@ def grab_motion(kernel, distances: np.ndarray) -> np.ndarray:
     numpy's BLAS threads ran (0.24 ms with one thread)."""
     offsets = np.zeros((len(distances), 3))
     offsets[:, 0] = distances
-    threads = numba.get_num_threads()
-    numba.set_num_threads(1)  # per calling thread: other threads keep theirs
-    try:
+    with threads_at_most(1):
         green = kernel.green(offsets)  # (n, 3, 3)
-    finally:
-        numba.set_num_threads(threads)
     try:
         normalized = green @ np.linalg.inv(green[0])
     except np.linalg.LinAlgError:
@@ -315,7 +311,7 @@ class StrokeController:
         brush's times the pen's :attr:`radius_factor`; None between strokes."""
         if self.brush is None:
             return None
-        return max(self.brush.radius * self.radius_factor, MIN_RADIUS)
+        return self.brush.scaled(self.radius_factor).radius
 
     def brush_event(self, event: PointerEvent) -> BrushEvent | None:
         """The engine event of moving to ``event`` (None when the cursor did not move)."""

@@ -22,7 +22,6 @@ import numpy as np
 from PySide6.QtCore import QPointF, QRectF, QSize, Qt, Signal
 from PySide6.QtGui import (
     QColor,
-    QFont,
     QFontMetricsF,
     QKeyEvent,
     QMouseEvent,
@@ -33,7 +32,7 @@ from PySide6.QtGui import (
 )
 from PySide6.QtWidgets import QSizePolicy, QWidget
 
-from app.panels.plot_axes import draw_plot_axes
+from app.panels.plot_axes import draw_plot_axes, plot_font
 from app.panels.widgets import plot_colors
 from gogreen_core.radial import SplineRadial
 
@@ -387,9 +386,7 @@ class CurveEditor(QWidget):
         self._colors = plot_colors()
         painter.fillRect(self.rect(), self._colors.background)
         rect = self.plot_rect()
-        font = QFont(painter.font())
-        font.setPointSizeF(max(7.0, font.pointSizeF() - 1.0))
-        painter.setFont(font)
+        painter.setFont(plot_font(painter.font()))
         self._draw_grid(painter, rect)
         painter.save()
         painter.setClipRect(rect.adjusted(-6, -6, 6, 6))

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from PySide6.QtCore import QPointF, QRectF, QSize, Qt, QTimer, Signal
-from PySide6.QtGui import QColor, QFont, QFontMetricsF, QPainter, QPainterPath, QPen
+from PySide6.QtGui import QColor, QFontMetricsF, QPainter, QPainterPath, QPen
 from PySide6.QtWidgets import (
     QCheckBox,
     QComboBox,
@@ -35,7 +35,7 @@ from PySide6.QtWidgets import (
 
 from app.background import BackgroundRunner, Cancelled, Task
 from app.panels.curve_editor import CurveEditor, curve_color, curve_label
-from app.panels.plot_axes import draw_plot_axes
+from app.panels.plot_axes import draw_plot_axes, plot_font
 from app.panels.widgets import plot_colors, scrolled_column, set_text_role
 from gogreen_core.brushes import default_wrinkle_weights
 from gogreen_core.kernel import GreenKernel, prepare_degree
@@ -264,23 +264,18 @@ class FalloffPreview(QWidget):
     # -- drawing -----------------------------------------------------------------------------
     def plot_rect(self) -> QRectF:
         """The plot area inside the axes' tick labels and titles (widget pixels)."""
-        metrics = QFontMetricsF(self._font())
+        metrics = QFontMetricsF(plot_font(self.font()))
         left = metrics.horizontalAdvance("0.75") + 10 + metrics.height()
         top = metrics.height() + 8
         bottom = 2 * metrics.height() + 10
         return QRectF(self.rect()).adjusted(left, top, -10, -bottom)
-
-    def _font(self) -> QFont:
-        font = QFont(self.font())
-        font.setPointSizeF(max(7.0, font.pointSizeF() - 1.0))
-        return font
 
     def paintEvent(self, _event) -> None:
         colors = plot_colors()
         painter = QPainter(self)
         painter.setRenderHint(QPainter.RenderHint.Antialiasing)
         painter.fillRect(self.rect(), colors.background)
-        painter.setFont(self._font())
+        painter.setFont(plot_font(self.font()))
         metrics = QFontMetricsF(painter.font())
         rect = self.plot_rect()
         painter.setPen(colors.text)

@@ -7,12 +7,19 @@ import math
 from collections.abc import Sequence
 
 from PySide6.QtCore import QPointF, QRectF, Qt
-from PySide6.QtGui import QFontMetricsF, QPainter, QPen
+from PySide6.QtGui import QFont, QFontMetricsF, QPainter, QPen
 
-__all__ = ["draw_plot_axes", "nice_ticks", "tick_text"]
+__all__ = ["draw_plot_axes", "nice_ticks", "plot_font", "tick_text"]
 
 #: Length of a tick mark outside the frame (pixels).
 TICK_LENGTH = 4.0
+
+
+def plot_font(font: QFont) -> QFont:
+    """The plots' label font: ``font`` one point smaller (at least 7 pt)."""
+    small = QFont(font)
+    small.setPointSizeF(max(7.0, font.pointSizeF() - 1.0))
+    return small
 
 
 def _nice_step(span: float, target_ticks: int) -> float:

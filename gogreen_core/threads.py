@@ -1,0 +1,27 @@
+"""numba's thread count for a block of work, restored afterwards."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+import numba
+
+__all__ = ["threads_at_most"]
+
+
+@contextmanager
+def threads_at_most(limit: int) -> Iterator[int]:
+    """Run the block with at most ``limit`` numba threads; yields the count in force.
+
+    For small work a second thread only adds its wake-up (several ms on a busy 2-core
+    machine). The setting is per calling thread: other threads keep theirs."""
+    threads = numba.get_num_threads()
+    if limit >= threads:
+        yield threads
+        return
+    numba.set_num_threads(limit)
+    try:
+        yield limit
+    finally:
+        numba.set_num_threads(threads)
