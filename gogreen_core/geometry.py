@@ -83,6 +83,9 @@ LEAF_SIZE = 32
 #: brush region (contiguous in the index's spatial order) is shared by all threads.
 _VERTEX_CHUNK = 4096
 _LEAF_CHUNK = 128
+#: Vertices per block (2**_BLOCK_SHIFT) of the per-event flags; blocks per chunk.
+_BLOCK_SHIFT = 6
+_BLOCK_CHUNK = 64
 #: Bits per axis of the Z-order (Morton) codes; a code leaves 31 bits for the item's index.
 _MORTON_BITS = 10
 
@@ -107,13 +110,15 @@ def _morton_keys(points, groups, low, scale, keys):
 
 @njit(**_JIT)
 def _connect(
-    faces, rank, face_order, face_rank, index_faces, offsets, leaf_ids, leaf_offsets, leaves
-):
+    faces, rank, face_order, face_rank, index_faces, offsets, leaf_ids, block_offsets,
+    block_leaves,
+):  # fmt: skip
     """The faces in index order with index-numbered corners (index_faces); for each index
     vertex its faces as leaf positions in increasing original face order (the order in which
-    :func:`vertex_normals` sums them), ``leaf_ids[offsets[i]:offsets[i + 1]]``, and the
-    distinct leaves holding them, ``leaves[leaf_offsets[i]:leaf_offsets[i + 1]]`` (returns
-    how many entries of ``leaves`` that uses)."""
+    :func:`vertex_normals` sums them), ``leaf_ids[offsets[i]:offsets[i + 1]]``; for each
+    block of 2**_BLOCK_SHIFT index vertices the distinct leaves holding their faces,
+    ``block_leaves[block_offsets[b]:block_offsets[b + 1]]`` (returns how many entries of
+    ``block_leaves`` that uses)."""
     n_faces = faces.shape[0]
     for p in range(n_faces):
         f = face_order[p]
@@ -131,44 +136,45 @@ def _connect(
             i = rank[faces[f, k]]
             leaf_ids[cursor[i]] = face_rank[f]
             cursor[i] += 1
+    n = offsets.shape[0] - 1
+    seen_by = np.full((n_faces + LEAF_SIZE - 1) // LEAF_SIZE, -1, dtype=np.int32)
     used = 0
-    leaf_offsets[0] = 0
-    for i in range(offsets.shape[0] - 1):
-        first = used
-        for j in range(offsets[i], offsets[i + 1]):
+    block_offsets[0] = 0
+    for b in range(block_offsets.shape[0] - 1):
+        for j in range(offsets[b << _BLOCK_SHIFT], offsets[min((b + 1) << _BLOCK_SHIFT, n)]):
             leaf = leaf_ids[j] // LEAF_SIZE
-            known = False
-            for q in range(first, used):
-                if leaves[q] == leaf:
-                    known = True
-                    break
-            if not known:
-                leaves[used] = leaf
+            if seen_by[leaf] != b:
+                seen_by[leaf] = b
+                block_leaves[used] = leaf
                 used += 1
-        leaf_offsets[i + 1] = used
+        block_offsets[b + 1] = used
     return used
 
 
 @njit(parallel=True, **_JIT)
 def _update(
-    vertices, seeds, rank, offsets, leaf_ids, leaf_offsets, leaves, faces, positions, moved,
-    ring, leaf_mark, leaf_dirty, face_normals, normals, n_threads,
+    vertices, seeds, rank, offsets, leaf_ids, block_offsets, block_leaves, faces, positions,
+    moved, ring, block_moved, block_ring, leaf_mark, leaf_dirty, face_normals, normals,
+    n_threads,
 ):  # fmt: skip
     """One event: the seed vertices (original numbers) moved to ``vertices``; the arrays of
     the index are in its own order. Four passes, each dealing chunks to the threads in turn;
     returns how many vertex normals were recomputed.
 
-    1. copy the seeds' rows into ``positions`` and flag them in ``moved`` and ``ring`` (a
-       vertex in no face still gets its (0, 0, 1));
-    2. for each moved vertex: mark the leaves of its faces;
+    1. copy the seeds' rows into ``positions``, flag them in ``moved`` and their blocks in
+       ``block_moved``;
+    2. for each flagged block: mark the leaves holding its vertices' faces, flag the block in
+       ``block_ring`` (a moved vertex in no face still gets its (0, 0, 1));
     3. for each face of a marked leaf with a moved corner: (b - a) × (c - a) with numpy.cross's
        operations (no fused multiply-add, see _JIT) rounded to float32, its corners flagged in
-       ``ring``;
-    4. for each vertex in ``ring``: its faces' normals summed in float64 in original face order
-       (as np.bincount does), divided by their norm (as np.linalg.norm computes it), (0, 0, 1)
-       if zero.
+       ``ring`` and their blocks in ``block_ring``;
+    4. for each vertex of a ``block_ring`` block flagged in ``moved`` or ``ring``: its faces'
+       normals summed in float64 in original face order (as np.bincount does), scaled by the
+       inverse of their norm, (0, 0, 1) if zero.
 
-    Every flag is cleared by the pass that reads it last: no per-event allocation."""
+    Flags are per vertex and per block of 2**_BLOCK_SHIFT vertices, so that passes 2 and 4
+    scan the blocks rather than every vertex. Every flag is cleared by the pass that reads it
+    last: no per-event allocation."""
     n = positions.shape[0]
     n_seeds = seeds.shape[0]
     for t in prange(n_threads):
@@ -180,13 +186,16 @@ def _update(
                 positions[i, 1] = vertices[v, 1]
                 positions[i, 2] = vertices[v, 2]
                 moved[i] = True
-                ring[i] = True  # a vertex in no face still gets its (0, 0, 1)
+                block_moved[i >> _BLOCK_SHIFT] = True
+    n_blocks = block_moved.shape[0]
     for t in prange(n_threads):
-        for s in range(t * _VERTEX_CHUNK, n, n_threads * _VERTEX_CHUNK):
-            for i in range(s, min(s + _VERTEX_CHUNK, n)):
-                if moved[i]:
-                    for j in range(leaf_offsets[i], leaf_offsets[i + 1]):
-                        leaf_mark[leaves[j]] = True
+        for s in range(t * _BLOCK_CHUNK, n_blocks, n_threads * _BLOCK_CHUNK):
+            for b in range(s, min(s + _BLOCK_CHUNK, n_blocks)):
+                if block_moved[b]:
+                    block_moved[b] = False
+                    block_ring[b] = True
+                    for j in range(block_offsets[b], block_offsets[b + 1]):
+                        leaf_mark[block_leaves[j]] = True
     n_leaves = leaf_mark.shape[0]
     n_faces = faces.shape[0]
     for t in prange(n_threads):
@@ -212,32 +221,42 @@ def _update(
                     ring[a] = True
                     ring[b] = True
                     ring[c] = True
+                    block_ring[a >> _BLOCK_SHIFT] = True
+                    block_ring[b >> _BLOCK_SHIFT] = True
+                    block_ring[c >> _BLOCK_SHIFT] = True
     counts = np.zeros(16 * n_threads, dtype=np.int64)  # a cache line per thread
     for t in prange(n_threads):
-        for s in range(t * _VERTEX_CHUNK, n, n_threads * _VERTEX_CHUNK):
-            for i in range(s, min(s + _VERTEX_CHUNK, n)):
-                if not ring[i]:
+        count = 0
+        for s in range(t * _BLOCK_CHUNK, n_blocks, n_threads * _BLOCK_CHUNK):
+            for b in range(s, min(s + _BLOCK_CHUNK, n_blocks)):
+                if not block_ring[b]:
                     continue
-                ring[i] = False
-                moved[i] = False
-                counts[16 * t] += 1
-                n0 = 0.0
-                n1 = 0.0
-                n2 = 0.0
-                for j in range(offsets[i], offsets[i + 1]):
-                    f = leaf_ids[j]
-                    n0 += face_normals[f, 0]
-                    n1 += face_normals[f, 1]
-                    n2 += face_normals[f, 2]
-                norm = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
-                if norm == 0.0:
-                    normals[i, 0] = 0.0
-                    normals[i, 1] = 0.0
-                    normals[i, 2] = 1.0
-                else:
-                    normals[i, 0] = n0 / norm
-                    normals[i, 1] = n1 / norm
-                    normals[i, 2] = n2 / norm
+                block_ring[b] = False
+                for i in range(b << _BLOCK_SHIFT, min((b + 1) << _BLOCK_SHIFT, n)):
+                    if not moved[i] and not ring[i]:
+                        continue
+                    moved[i] = False
+                    ring[i] = False
+                    count += 1
+                    n0 = 0.0
+                    n1 = 0.0
+                    n2 = 0.0
+                    for j in range(offsets[i], offsets[i + 1]):
+                        f = leaf_ids[j]
+                        n0 += face_normals[f, 0]
+                        n1 += face_normals[f, 1]
+                        n2 += face_normals[f, 2]
+                    norm = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
+                    if norm == 0.0:
+                        normals[i, 0] = 0.0
+                        normals[i, 1] = 0.0
+                        normals[i, 2] = 1.0
+                    else:
+                        inverse = 1.0 / norm
+                        normals[i, 0] = n0 * inverse
+                        normals[i, 1] = n1 * inverse
+                        normals[i, 2] = n2 * inverse
+        counts[16 * t] = count
     return counts.sum()
 
 
@@ -400,8 +419,10 @@ class SurfaceIndex:
         n = len(vertices)
         if faces.size and (faces.min() < 0 or faces.max() >= n):
             raise ValueError(f"faces must index vertices 0 to {n - 1}")
-        if n >= 2**31 or len(faces) >= 2**31:
-            raise ValueError("meshes of 2**31 or more vertices or faces are not supported")
+        if n >= 2**31 or 3 * len(faces) >= 2**31:  # int32 rows and face-corner offsets
+            raise ValueError(
+                "meshes of 2**31 vertices or 2**31 / 3 faces or more are not supported"
+            )
         faces = np.ascontiguousarray(faces, dtype=np.int32)
         self._n_vertices = n
         low = vertices.min(axis=0) if n else np.zeros(3)
@@ -417,19 +438,22 @@ class SurfaceIndex:
         face_rank[self.face_order] = np.arange(len(faces), dtype=np.int32)
         report(0.4)
         self.faces = np.empty((len(faces), 3), dtype=np.int32)
-        self._offsets = np.empty(n + 1, dtype=np.int64)
+        n_blocks = (n + (1 << _BLOCK_SHIFT) - 1) >> _BLOCK_SHIFT
+        self._offsets = np.empty(n + 1, dtype=np.int32)
         self._leaf_ids = np.empty(3 * len(faces), dtype=np.int32)
-        self._leaf_offsets = np.empty(n + 1, dtype=np.int64)
-        leaves = np.empty(3 * len(faces), dtype=np.int32)
+        self._block_offsets = np.empty(n_blocks + 1, dtype=np.int32)
+        block_leaves = np.empty(3 * len(faces), dtype=np.int32)
         used = _connect(faces, self.rank, self.face_order, face_rank, self.faces, self._offsets,
-                        self._leaf_ids, self._leaf_offsets, leaves)  # fmt: skip
-        self._leaves = leaves[:used].copy()
+                        self._leaf_ids, self._block_offsets, block_leaves)  # fmt: skip
+        self._block_leaves = block_leaves[:used].copy()
         report(0.7)
         n_leaves = (len(faces) + LEAF_SIZE - 1) // LEAF_SIZE
         self.positions = np.empty((n, 3))
         self.normals = np.empty((n, 3))
         self._moved = np.zeros(n, dtype=np.bool_)
         self._ring = np.zeros(n, dtype=np.bool_)
+        self._block_moved = np.zeros(n_blocks, dtype=np.bool_)
+        self._block_ring = np.zeros(n_blocks, dtype=np.bool_)
         self._leaf_mark = np.zeros(n_leaves, dtype=np.bool_)
         self._leaf_dirty = np.zeros(n_leaves, dtype=np.bool_)
         # float32: the vertex normals' sums read them (the per-event pass bound by memory
@@ -468,9 +492,10 @@ class SurfaceIndex:
             return int(
                 _update(
                     vertices, seeds, self.rank, self._offsets, self._leaf_ids,
-                    self._leaf_offsets, self._leaves, self.faces, self.positions, self._moved,
-                    self._ring, self._leaf_mark, self._leaf_dirty, self._face_normals,
-                    self.normals, threads,
+                    self._block_offsets, self._block_leaves, self.faces, self.positions,
+                    self._moved, self._ring, self._block_moved, self._block_ring,
+                    self._leaf_mark, self._leaf_dirty, self._face_normals, self.normals,
+                    threads,
                 )
             )  # fmt: skip
 
