@@ -821,7 +821,8 @@ class MainWindow(QMainWindow):
         self.engine_link.pull()  # an undone setting shows in the panels again
         self.tools.cursor.hide()  # the surface under it moved: hidden until the mouse moves
         self.viewport.show_cursor(None)
-        self.viewport.update_vertices(self.document.sculptor.vertices)
+        sculptor = self.document.sculptor
+        self.viewport.update_vertices(sculptor.vertices, sculptor.history.restored_indices)
         self._show_constraints()  # the pins follow undo/redo
         self._refresh_title()
         self.flash(f"{name}: {label}")

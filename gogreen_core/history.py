@@ -56,6 +56,8 @@ class History:
         self._bytes = 0
         #: The ``state`` side of the entry the last undo/redo applied (None if it had none).
         self.restored_state: object = None
+        #: The vertices (K,) int64 the last undo/redo wrote (what a view must redraw).
+        self.restored_indices: np.ndarray = np.zeros(0, dtype=np.int64)
 
     # -- state ---------------------------------------------------------------------------------
     @property
@@ -143,6 +145,7 @@ class History:
         if np.any(ordered[1:] == ordered[:-1]):
             raise ValueError(f"history record {label!r}: repeated vertex indices")
         self._redo_drop()
+        idx.flags.writeable = False  # shared by :attr:`restored_indices`
         entry = _Entry(str(label), idx, b, a, state)
         self._undo.append(entry)
         self._bytes += entry.nbytes
@@ -217,6 +220,7 @@ class History:
         entry = self._undo[-1]
         self._check_target(vertices, entry)
         vertices[entry.indices] = entry.before
+        self.restored_indices = entry.indices
         self.restored_state = None if entry.state is None else entry.state[0]
         self._redo.append(self._undo.pop())
         return entry.label
@@ -231,6 +235,7 @@ class History:
         entry = self._redo[-1]
         self._check_target(vertices, entry)
         vertices[entry.indices] = entry.after
+        self.restored_indices = entry.indices
         self.restored_state = None if entry.state is None else entry.state[1]
         self._undo.append(self._redo.pop())
         return entry.label

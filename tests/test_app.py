@@ -62,8 +62,12 @@ def test_drag_moves_near_vertices_only_and_undo_restores(window):
     assert np.all(moved[dist > 0.6 * sculptor.model_size] == 0)
     assert np.array_equal(window.viewport.shown_vertices(), sculptor.vertices)  # view updated
     assert window.last_step_ms > 0 and "ms" in window.step_label.text()
+    after = sculptor.vertices.copy()
     window.undo()
     assert np.array_equal(sculptor.vertices, before)
+    assert np.array_equal(window.viewport.shown_vertices(), before)  # the rows undo wrote
+    window.redo()
+    assert np.array_equal(window.viewport.shown_vertices(), after)
 
 
 def test_invalid_material_keeps_the_old_one(window):

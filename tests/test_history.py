@@ -49,6 +49,20 @@ def test_undo_and_redo_restore_every_bit():
     assert history.redo(vertices) is None and not history.can_redo
 
 
+def test_undo_and_redo_name_the_rows_they_wrote():
+    """What a view redraws after an undo/redo: exactly the rows that changed (read-only)."""
+    vertices = np.random.default_rng(2).normal(size=(300, 3))
+    history = History()
+    states = random_session(history, vertices, steps=3)
+    for k, step in ((2, history.undo), (2, history.redo)):
+        before = vertices.copy()
+        step(vertices)
+        written = history.restored_indices
+        assert not written.flags.writeable
+        assert np.array_equal(np.sort(written), np.flatnonzero(np.any(before != vertices, axis=1)))
+        assert np.array_equal(vertices, states[k if step == history.undo else k + 1])
+
+
 def test_record_change_compares_bits_and_stores_only_changed_rows():
     before = np.zeros((6, 3))
     after = before.copy()
