@@ -9,7 +9,8 @@ time until its :class:`SurfaceIndex`, built on the background thread, is ready),
 :meth:`SculptViewport.update_vertices` for a grab-like event moving the 1k, 100k and 500k
 vertices nearest to a surface point (the index writes the moved rows and their normals into
 the arrays VTK draws, Modified(); the GL draw excluded; CPU time of all threads too), the same
-with no indices (undo: the moved rows are found by comparison), the first pick after such an
+with no indices (the moved rows found by comparison, as after a pin drag or a stroke rolled
+back; an undo/redo passes the rows it wrote and costs as the update), the first pick after such an
 event (it refits the leaf boxes the event left stale) and :meth:`SculptViewport.pick` at the
 window centre (camera ray through the SurfaceIndex). Figures only, no assertions.
 """
@@ -87,7 +88,7 @@ def main() -> None:
             f"update_vertices, {len(inside):,} moved vertices (ball of {radius:.3f} diagonals): "
             f"{median_ms(samples)}, CPU {median_ms(cpu)}"
         )
-        print(f"  undo (rows found by comparison): {median_ms(undo)}; next pick (refits the "
+        print(f"  back, rows found by comparison: {median_ms(undo)}; next pick (refits the "
               f"stale boxes): {median_ms(refit)}")  # fmt: skip
     picks = []
     for k in range(args.repeats * 3):

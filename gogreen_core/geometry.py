@@ -85,7 +85,7 @@ _VERTEX_CHUNK = 4096
 _LEAF_CHUNK = 128
 #: Vertices per block (2**_BLOCK_SHIFT) of the per-event flags; blocks per chunk.
 _BLOCK_SHIFT = 6
-_BLOCK_CHUNK = 64
+_BLOCK_CHUNK = _VERTEX_CHUNK >> _BLOCK_SHIFT
 #: Bits per axis of the Z-order (Morton) codes; a code leaves 31 bits for the item's index.
 _MORTON_BITS = 10
 
