@@ -5,17 +5,41 @@ from __future__ import annotations
 import argparse
 import sys
 
+#: The headless subcommands (gogreen_core.batch), one help line each.
+COMMANDS = {
+    "deform": "apply one brush stroke to a mesh and write the result",
+    "replay": "replay a session file on a mesh (bit for bit the recorded result)",
+}
+
+
+def _parser() -> argparse.ArgumentParser:
+    """The parser of ``gogreen [mesh]``; its help also lists the subcommands, which
+    :mod:`gogreen_core.batch` parses (``gogreen COMMAND --help`` shows their options)."""
+    width = max(len(name) for name in COMMANDS)
+    commands = "\n".join(f"  {name:<{width}}  {text}" for name, text in COMMANDS.items())
+    each_help = " or ".join(f"`gogreen {name} --help`" for name in COMMANDS)
+    parser = argparse.ArgumentParser(
+        prog="gogreen",
+        usage=f"gogreen [-h] [mesh]\n       gogreen {{{','.join(COMMANDS)}}} ...",
+        description="GoGreen Sculpt: opens the sculpting window, on the mesh if one is given.",
+        epilog=(
+            f"commands (no window is opened):\n{commands}\n\n"
+            f"Run {each_help} for a command's own options."
+        ),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument("mesh", nargs="?", help="mesh file to open (OBJ, PLY, STL, OFF)")
+    return parser
+
 
 def main(argv: list[str] | None = None) -> int:
     """``gogreen [FILE]`` opens the main window; ``gogreen replay|deform ...`` runs headless."""
     argv = sys.argv[1:] if argv is None else argv
-    if argv and argv[0] in ("replay", "deform"):
+    if argv and argv[0] in COMMANDS:
         from gogreen_core.batch import main as batch_main  # no Qt for batch work
 
         return batch_main(argv)
-    parser = argparse.ArgumentParser(prog="gogreen", description="GoGreen Sculpt")
-    parser.add_argument("mesh", nargs="?", help="mesh file to open (OBJ, PLY, STL, OFF)")
-    args = parser.parse_args(argv)
+    args = _parser().parse_args(argv)
     from PySide6.QtWidgets import QApplication
 
     from app.main_window import MainWindow

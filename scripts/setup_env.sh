@@ -35,6 +35,9 @@ stamp=.venv/.gogreen-installed
 if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
     echo "[gogreen] installing the package and its dependencies into .venv"
     .venv/bin/python -m pip install -q --upgrade pip
-    .venv/bin/python -m pip install -q -e ".[test]"
+    # The filter hides only setuptools' "Editable installation" notice (information, not a
+    # problem: the resources/ folder is mapped to gogreen_resources, so setuptools installs a
+    # meta path finder and says so in a box of asterisks that reads like an error).
+    .venv/bin/python -W "ignore:Editable installation:UserWarning" -m pip install -q -e ".[test]"
     touch "$stamp"
 fi
