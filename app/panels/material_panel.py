@@ -38,10 +38,12 @@ from PySide6.QtWidgets import (
 
 from app.panels.glyph import YoungModulusGlyph
 from app.panels.widgets import (
+    CompactNumberDelegate,
     CompactTable,
     EulerAnglesEditor,
     FitStackedWidget,
     NumberField,
+    exact_number_text,
     is_marked_invalid,
     mark_invalid,
     set_text_role,
@@ -137,6 +139,11 @@ def _mentions(message: str, keywords: tuple[str, ...]) -> bool:
         re.search(rf"(?<![A-Za-z0-9_]){re.escape(k)}(?![A-Za-z0-9_])", message) for k in keywords
     )
 
+
+_VOIGT_HINT = (
+    "Stiffness C in Voigt order 11, 22, 33, 23, 13, 12 (engineering shear). "
+    "Editing (i, j) also sets (j, i); must be positive definite."
+)
 
 #: Voigt entries smaller than this fraction of the largest are shown as 0 (round-off).
 TINY_VOIGT = 1e-9
@@ -341,10 +348,10 @@ class MaterialPanel(QWidget):
         table = CompactTable(6, 6)
         table.setHorizontalHeaderLabels(VOIGT_LABELS)
         table.setVerticalHeaderLabels(VOIGT_LABELS)
-        table.setToolTip(
-            "Stiffness C in Voigt order 11, 22, 33, 23, 13, 12 (engineering shear). "
-            "Editing (i, j) also sets (j, i); must be positive definite."
-        )
+        table.setToolTip(_VOIGT_HINT)
+        # Cells show 4 significant digits (the default dock is too narrow for 6); the items
+        # keep the exact value, which the editor and the cell's tool tip show.
+        table.setItemDelegate(CompactNumberDelegate(digits=4, parent=table))
         for i in range(6):
             for j in range(6):
                 item = QTableWidgetItem()
@@ -472,11 +479,19 @@ class MaterialPanel(QWidget):
                 item.setForeground(QBrush(zero_cell_colors()[1]) if zero else QBrush())
         table.blockSignals(False)
 
-    @staticmethod
-    def _show_voigt_cell(item: QTableWidgetItem, value: float) -> None:
-        """Text of a Voigt cell; zeros muted, the others in the palette's text colour (a
-        default brush, so that they follow the theme)."""
-        item.setText(f"{value:.6g}")
+    def _show_voigt_cell(self, item: QTableWidgetItem, value: float) -> None:
+        """Text of a Voigt cell: ``value`` exactly (the delegate shows it rounded; the editor
+        and the tool tip show it whole, with the stored value when round-off is shown as 0);
+        zeros muted, the others in the palette's text colour (a default brush, so that they
+        follow the theme)."""
+        i, j = item.row(), item.column()
+        text = exact_number_text(value)
+        tip = f"C{VOIGT_LABELS[i]},{VOIGT_LABELS[j]} = {text}"
+        stored = float(self._voigt[i, j])
+        if stored != value:
+            tip += f" (stored {exact_number_text(stored)}: round-off, shown as 0)"
+        item.setText(text)
+        item.setToolTip(f"{tip}\n{_VOIGT_HINT}")
         item.setBackground(QBrush())
         item.setForeground(QBrush(zero_cell_colors()[1]) if value == 0 else QBrush())
 
@@ -490,7 +505,7 @@ class MaterialPanel(QWidget):
         except ValueError:
             # Keep the table showing numbers: put the stored value back and explain.
             self.voigt_table.blockSignals(True)
-            item.setText(f"{self._voigt[i, j]:.6g}")
+            self._show_voigt_cell(item, displayed_voigt(self._voigt)[i, j])
             self.voigt_table.blockSignals(False)
             self._clear_marks()
             mark_invalid(self.voigt_table, True)

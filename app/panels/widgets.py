@@ -11,8 +11,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from PySide6.QtCore import QSize, Qt, Signal
-from PySide6.QtGui import QColor, QPalette, QValidator
+from PySide6.QtCore import QModelIndex, QPersistentModelIndex, QSize, Qt, Signal
+from PySide6.QtGui import QColor, QFontMetrics, QPalette, QValidator
 from PySide6.QtWidgets import (
     QAbstractSpinBox,
     QDoubleSpinBox,
@@ -24,6 +24,9 @@ from PySide6.QtWidgets import (
     QSizePolicy,
     QSlider,
     QStackedWidget,
+    QStyle,
+    QStyledItemDelegate,
+    QStyleOptionViewItem,
     QTableWidget,
     QToolButton,
     QVBoxLayout,
@@ -36,11 +39,14 @@ from gogreen_core.validation import ParameterError
 
 __all__ = [
     "CollapsibleSection",
+    "CompactNumberDelegate",
     "CompactTable",
     "EulerAnglesEditor",
     "FitStackedWidget",
     "NumberField",
     "PlotColors",
+    "compact_number_text",
+    "exact_number_text",
     "is_marked_invalid",
     "mark_invalid",
     "offending_widgets",
@@ -185,6 +191,92 @@ class CompactTable(QTableWidget):
 
     def minimumSizeHint(self) -> QSize:
         return QSize(super().minimumSizeHint().width(), self._height())
+
+
+def exact_number_text(value: float) -> str:
+    """The shortest text that reads back as exactly ``value``: ``"0.40601234"``, ``"3"``
+    (no ``.0``), ``"1e-07"``; -0.0 is ``"0"``."""
+    text = repr(float(value) + 0.0)  # + 0.0 turns -0.0 into 0.0
+    return text[:-2] if text.endswith(".0") else text
+
+
+def compact_number_text(value: float, digits: int = 4) -> str:
+    """``value`` rounded to ``digits`` significant digits, short exponents:
+    ``compact_number_text(-1.5931234)`` is ``"-1.593"``, ``compact_number_text(2.1e11)`` is
+    ``"2.1e11"``, ``compact_number_text(1e-5)`` is ``"1e-5"``."""
+    text = f"{float(value) + 0.0:.{digits}g}"
+    mantissa, exponent_mark, exponent = text.partition("e")
+    return f"{mantissa}e{int(exponent)}" if exponent_mark else text
+
+
+class CompactNumberDelegate(QStyledItemDelegate):
+    """Item delegate for tables of numbers in a narrow panel: the items hold the exact text
+    (:func:`exact_number_text`), which the editor opens with and :func:`float` reads back,
+    while a cell shows ``digits`` significant digits (:func:`compact_number_text`), fewer
+    (down to ``min_digits``) only when the column is too narrow for them, so that no value is
+    cut to "0.406…". The editor is widened to its text, over the neighbouring cells if needed.
+    Text that is not a number is shown as it is."""
+
+    def __init__(self, digits: int = 4, min_digits: int = 2, parent: QWidget | None = None):
+        super().__init__(parent)
+        if not 1 <= min_digits <= digits:
+            raise ValueError(f"need 1 <= min_digits <= digits (got {min_digits}, {digits})")
+        self.digits = digits
+        self.min_digits = min_digits
+
+    def fitted_text(self, text: str, width: int, metrics: QFontMetrics) -> str:
+        """What a cell ``width`` pixels wide (text area) shows for the item text ``text``."""
+        try:
+            value = float(text)
+        except ValueError:
+            return text
+        if not math.isfinite(value):
+            return text
+        shown = text
+        for digits in range(self.digits, self.min_digits - 1, -1):
+            shown = compact_number_text(value, digits)
+            if metrics.horizontalAdvance(shown) <= width:
+                break
+        return shown  # the view elides it if even min_digits do not fit
+
+    @staticmethod
+    def text_width(option: QStyleOptionViewItem) -> int:
+        """Width of the text area of a cell drawn with ``option`` (the style's margins, as
+        QCommonStyle lays out item text)."""
+        style = option.widget.style() if option.widget is not None else None
+        margin = 1 + (
+            style.pixelMetric(QStyle.PixelMetric.PM_FocusFrameHMargin, None, option.widget)
+            if style is not None
+            else 2
+        )
+        return option.rect.width() - 2 * margin
+
+    def initStyleOption(
+        self, option: QStyleOptionViewItem, index: QModelIndex | QPersistentModelIndex
+    ) -> None:
+        super().initStyleOption(option, index)
+        if option.features & QStyleOptionViewItem.ViewItemFeature.HasDisplay:
+            option.text = self.fitted_text(option.text, self.text_width(option), option.fontMetrics)
+
+    def updateEditorGeometry(
+        self,
+        editor: QWidget,
+        option: QStyleOptionViewItem,
+        index: QModelIndex | QPersistentModelIndex,
+    ) -> None:
+        super().updateEditorGeometry(editor, option, index)
+        text = str(index.data(Qt.ItemDataRole.EditRole) or "")
+        needed = editor.fontMetrics().horizontalAdvance(text + "00") + 8  # room for the caret
+        rect = editor.geometry()
+        if needed <= rect.width():
+            return
+        parent = editor.parentWidget()
+        limit = parent.width() if parent is not None else needed
+        rect.setWidth(min(needed, limit))
+        if rect.right() >= limit:  # keep it inside the table: grow to the left
+            rect.moveRight(limit - 1)
+        rect.moveLeft(max(rect.left(), 0))
+        editor.setGeometry(rect)
 
 
 class FitStackedWidget(QStackedWidget):
