@@ -5,7 +5,8 @@ Blender's sculpt-mode habits: F drags the radius and Shift+F the strength on scr
 the brush, number keys pick brushes, ``[`` / ``]`` change the radius, Ctrl+Z undoes and
 Ctrl+Shift+Z (or Ctrl+Y) redoes, ``?`` shows this keymap; left drag sculpts, right drag orbits,
 middle drag pans, the wheel zooms. The main window takes its shortcuts from it
-(:func:`shortcuts`), so the overlay and the behaviour cannot drift apart.
+(:func:`shortcuts`), so the overlay and the behaviour cannot drift apart. It is the only source
+of key behaviour: the viewport passes no key to VTK or pyvista (their default keys never act).
 
 Each :class:`Binding` is ``(keys, action, description, group)``: ``keys`` holds alternatives,
 each either a key sequence in Qt's portable text (``"Shift+F"``, ``"Ctrl+Shift+Z"``, ``"["``) or

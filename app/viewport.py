@@ -2,8 +2,10 @@
 
 Mouse map (as PyVista and Blender users expect): left drag on the model sculpts (on the
 background it orbits), right drag orbits, middle drag pans, the wheel zooms; Ctrl+wheel
-changes the brush radius and Shift+wheel the strength. The mesh actor is created once; each
-brush event writes new positions and normals into its arrays in place.
+changes the brush radius and Shift+wheel the strength. Keys are the window's (app.keymap) and
+the tools' (F, number keys): none reaches VTK's interactor, whose default keys (and pyvista's)
+would act behind the app's back. The mesh actor is created once; each brush event writes new
+positions and normals into its arrays in place.
 
 The viewport knows nothing of elasticity or strokes: it translates Qt mouse events into plain
 :class:`gogreen_core.tools.PointerEvent` (the world point under the cursor, picked on press and
@@ -92,6 +94,7 @@ class SculptViewport(QtInteractor):
         super().__init__(parent, auto_update=False)
         self.set_background("#2b2f36", top="#4a5260")
         self.enable_trackball_style()
+        self._mute_vtk_keys()
         self.mesh: pv.PolyData | None = None
         self.mesh_actor = None
         self._faces: np.ndarray | None = None
@@ -130,6 +133,17 @@ class SculptViewport(QtInteractor):
         self.setMouseTracking(True)
         # takes the keyboard focus when clicked, and back from fields (app.keyboard)
         self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
+
+    def _mute_vtk_keys(self) -> None:
+        """No VTK or pyvista key binding may act (app.keymap is the app's only keymap): keys
+        are not passed to the interactor (:meth:`keyPressEvent`), and should one arrive by
+        another path, pyvista's key callbacks (q, b, v, Shift+C, Up, Down, plus, minus) are gone
+        and the style's default key actions (p outline, s / w, r, e / q, f, 3, j / t / c / a)
+        are replaced by observers that do nothing."""
+        self.iren.clear_key_event_callbacks()
+        style = self.iren.interactor.GetInteractorStyle()
+        for event in ("CharEvent", "KeyPressEvent", "KeyReleaseEvent"):
+            style.AddObserver(event, lambda *_args: None)
 
     def _zero_timer(self, slot) -> QTimer:
         timer = QTimer(self)
@@ -470,7 +484,11 @@ class SculptViewport(QtInteractor):
         if plain and self.tools is not None and self.tools.pick_brush(ev.text()):
             ev.accept()
             return
-        super().keyPressEvent(ev)
+        # not to VTK (its and pyvista's default keys would act): Qt gives it to the parent
+        ev.ignore()
+
+    def keyReleaseEvent(self, ev: QKeyEvent) -> None:
+        ev.ignore()  # not to VTK either
 
     def mousePressEvent(self, ev: QMouseEvent) -> None:
         self.setFocus(Qt.FocusReason.MouseFocusReason)
