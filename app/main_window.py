@@ -888,13 +888,12 @@ class MainWindow(QMainWindow):
             self.save_screenshot(path if path.endswith(".png") else path + ".png")
 
     def save_screenshot(self, path: str) -> bool:
-        """PNG of the viewport only (no panels, menus or overlays), written atomically; the
-        status bar names the file. Returns success."""
+        """PNG of the viewport only (no panels, menus, overlays or brush cursor), written
+        atomically; the status bar names the file. Returns success."""
         target = Path(path)
         partial = target.with_name(f".{target.name}.partial")
         try:
-            self.viewport.render()
-            pixels = np.ascontiguousarray(self.viewport.screenshot(return_img=True)[:, :, :3])
+            pixels = self.viewport.model_image()
             height, width = pixels.shape[:2]
             image = QImage(pixels.data, width, height, 3 * width, QImage.Format.Format_RGB888)
             if not image.save(str(partial), "PNG"):

@@ -397,6 +397,25 @@ class SculptViewport(QtInteractor):
     def cursor_visible(self) -> bool:
         return self.cursor_overlay.visible
 
+    def model_image(self) -> np.ndarray:
+        """The view as drawn, without the brush cursor: (H, W, 3) uint8 RGB, H and W in device
+        pixels (screenshots).
+
+        The cursor is left out of one render, which is read back; it is then drawn again as it
+        was (its state is kept) at the next render, requested here: one frame without it on
+        screen at most.
+        """
+        overlay = self.cursor_overlay
+        overlay.suspended = True
+        try:
+            self.render()
+            pixels = self.screenshot(return_img=True)
+        finally:
+            overlay.suspended = False
+            overlay.layout()
+            self.request_render()
+        return np.ascontiguousarray(pixels[:, :, :3])
+
     # -- mouse -------------------------------------------------------------------------------
     def _as_left(self, ev: QMouseEvent) -> QMouseEvent:
         buttons = Qt.MouseButton.LeftButton if ev.buttons() else Qt.MouseButton.NoButton

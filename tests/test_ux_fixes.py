@@ -142,3 +142,53 @@ def test_vtk_keys_do_nothing_in_the_window_and_the_apps_keys_still_work(window, 
     radius = window.model.brush.radius
     QTest.keyClick(vp, Qt.Key.Key_BracketRight)
     assert window.model.brush.radius > radius
+
+
+# -- F12: the model without the brush cursor -----------------------------------------------------
+def png_pixels(path) -> np.ndarray:
+    from PySide6.QtGui import QImage
+
+    image = QImage(str(path)).convertToFormat(QImage.Format.Format_RGB888)
+    row = image.bytesPerLine()
+    data = np.frombuffer(image.constBits(), np.uint8, row * image.height())
+    rows = data.reshape(image.height(), row)[:, : 3 * image.width()]
+    return rows.reshape(image.height(), image.width(), 3).copy()  # the image's memory goes
+
+
+def cursor_pixels(pixels: np.ndarray) -> int:
+    """Pixels of the brush ring's orange (the model is clay, the background blue-grey)."""
+    from app.cursor_overlay import CURSOR_COLOR
+
+    orange = np.array(CURSOR_COLOR) * 255
+    return int(np.sum(np.abs(pixels.astype(float) - orange).max(axis=2) < 40))
+
+
+def test_screenshot_leaves_the_brush_cursor_out_and_restores_it(window, qtbot, tmp_path):
+    from tests.test_cursor_overlay import hover
+
+    vp = window.viewport
+    hover(window, center_of(window))
+    overlay = vp.cursor_overlay
+    state, screen = overlay.state, overlay.screen
+    assert vp.cursor_visible and state.profile is not None  # ring, influence ring, profile
+    on_screen = np.ascontiguousarray(vp.screenshot(return_img=True)[:, :, :3])
+    assert cursor_pixels(on_screen) > 100  # what the test looks for is there to find
+    qtbot.waitUntil(lambda: not vp.render_pending)
+    frames = vp.frames
+    path = tmp_path / "shot.png"
+    assert window.save_screenshot(str(path))
+    shot = png_pixels(path)
+    assert cursor_pixels(shot) == 0
+    # restored as it was, drawn again by the next render: one render for the capture, one after
+    assert overlay.state is state and vp.cursor_visible
+    qtbot.waitUntil(lambda: not vp.render_pending)
+    qtbot.wait(50)
+    assert vp.frames - frames <= 2
+    assert overlay.screen == screen and overlay._ring.actor.GetVisibility()
+    assert overlay._profile.actor.GetVisibility() and overlay._influence.actor.GetVisibility()
+    # the shot is the view with the cursor hidden
+    vp.show_cursor(None)
+    vp.render_now()
+    model_only = np.ascontiguousarray(vp.screenshot(return_img=True)[:, :, :3])
+    assert shot.shape == model_only.shape
+    assert np.mean(np.any(shot != model_only, axis=2)) < 1e-3
