@@ -22,7 +22,7 @@ import time
 
 import numpy as np
 import pyvista as pv
-from PySide6.QtCore import QPointF, Qt, QTimer, Signal
+from PySide6.QtCore import QEvent, QPointF, Qt, QTimer, Signal
 from PySide6.QtGui import QKeyEvent, QMouseEvent, QTabletEvent, QWheelEvent
 from pyvistaqt import QtInteractor
 
@@ -580,6 +580,30 @@ class SculptViewport(QtInteractor):
         hit = self.pick(pos)
         point, normal = hit if hit is not None else (None, None)
         self.hovered.emit(self.pointer_event(pos, point, normal))
+
+    def leaveEvent(self, ev: QEvent) -> None:
+        super().leaveEvent(ev)
+        self._pointer_gone()
+
+    def event(self, ev: QEvent) -> bool:
+        if ev.type() == QEvent.Type.WindowDeactivate:  # a dialog or another window has the input
+            self._pointer_gone()
+        return super().event(ev)
+
+    def _pointer_gone(self) -> None:
+        """The pointer left the view (in any jump) or the window lost the input: hide the brush
+        cursor until the next hover over the model. A miss is reported as the newest hover, so
+        the tools forget the cursor too and a hover still queued cannot bring it back. Not
+        during a stroke or an F / Shift+F drag, which keep their cursor."""
+        if self.in_stroke or self.value_dragging:
+            return
+        self._hover_timer.stop()
+        self._hover_pos = None
+        if not self.cursor_visible and (self.tools is None or self.tools.cursor.state is None):
+            return  # nothing shown: no event, no render
+        self.show_cursor(None)
+        pos = QPointF(self.mapFromGlobal(self.cursor().pos()))
+        self.hovered.emit(self.pointer_event(pos, None))
 
     def mouseReleaseEvent(self, ev: QMouseEvent) -> None:
         if self._drag_depth is not None and ev.button() == Qt.MouseButton.LeftButton:

@@ -4,7 +4,7 @@ leaves the viewport or a dialog takes the input, VTK's and pyvista's own keys do
 Save As proposes a file name."""
 
 import numpy as np
-from PySide6.QtCore import Qt
+from PySide6.QtCore import QPoint, Qt
 from PySide6.QtTest import QTest
 
 from gogreen_core.shapes import icosphere
@@ -192,3 +192,80 @@ def test_screenshot_leaves_the_brush_cursor_out_and_restores_it(window, qtbot, t
     model_only = np.ascontiguousarray(vp.screenshot(return_img=True)[:, :, :3])
     assert shot.shape == model_only.shape
     assert np.mean(np.any(shot != model_only, axis=2)) < 1e-3
+
+
+# -- the brush cursor hides when the pointer leaves or a dialog takes the input ------------------
+def real_hover(window, qtbot, pos) -> None:
+    """A real mouse move over the viewport, then the event loop until the ring is drawn."""
+    vp = window.viewport
+    QTest.mouseMove(vp, pos + QPoint(2, 2))  # Qt drops a move to where the pointer already is
+    QTest.mouseMove(vp, pos)
+    qtbot.waitUntil(lambda: vp.cursor_visible, timeout=5000)
+    qtbot.waitUntil(lambda: not vp.render_pending, timeout=5000)
+
+
+def cursor_gone(window) -> bool:
+    """Not drawn, and forgotten by the tools (a brush change would otherwise redraw it)."""
+    return not window.viewport.cursor_visible and window.tools.cursor.state is None
+
+
+def test_cursor_hides_when_the_pointer_jumps_out_of_the_view(window, qtbot):
+    vp = window.viewport
+    activate(window, qtbot)
+    real_hover(window, qtbot, center_of(window))
+    tab_bar = window.panel_tabs.tabBar()
+    QTest.mouseMove(tab_bar, tab_bar.tabRect(1).center())  # one jump onto a panel tab
+    qtbot.waitUntil(lambda: cursor_gone(window), timeout=5000)
+    qtbot.wait(50)  # a hover or tool step still queued must not bring it back
+    assert not vp.cursor_visible
+    window.model.brush.radius = 1.5 * window.model.brush.radius  # nor a brush change
+    assert not vp.cursor_visible
+    real_hover(window, qtbot, center_of(window) + QPoint(5, 5))  # back at the next hover
+    status = window.statusBar()
+    QTest.mouseMove(status, status.rect().center())  # straight onto the status bar
+    qtbot.waitUntil(lambda: cursor_gone(window), timeout=5000)
+    real_hover(window, qtbot, center_of(window))
+
+
+def test_cursor_hides_while_a_modal_dialog_is_open(window, qtbot, monkeypatch):
+    from PySide6.QtCore import QTimer
+    from PySide6.QtWidgets import QApplication, QFileDialog
+
+    activate(window, qtbot)
+    real_hover(window, qtbot, center_of(window))
+    seen = {}
+
+    def inspect_dialog():
+        dialog = QApplication.activeModalWidget()
+        if not isinstance(dialog, QFileDialog):
+            QTimer.singleShot(20, inspect_dialog)
+            return
+        try:
+            qtbot.waitUntil(lambda: cursor_gone(window), timeout=5000)
+        finally:  # the dialog closes whatever happened
+            seen["hidden"] = cursor_gone(window)
+            dialog.reject()
+
+    QTimer.singleShot(0, inspect_dialog)
+    window.open_dialog()  # File > Open: a real modal dialog, answered above
+    assert seen == {"hidden": True}
+    real_hover(window, qtbot, center_of(window) + QPoint(4, 0))  # back at the next hover
+
+
+def test_cursor_hides_when_another_window_takes_the_input(window, qtbot):
+    from PySide6.QtWidgets import QWidget
+
+    activate(window, qtbot)
+    real_hover(window, qtbot, center_of(window))
+    other = QWidget()
+    qtbot.addWidget(other)
+    other.setWindowTitle("another window")
+    other.setGeometry(1540, 940, 50, 40)  # away from the pointer: no leave event
+    other.show()
+    qtbot.waitExposed(other)
+    with qtbot.waitActive(other, timeout=10_000):
+        other.activateWindow()
+        other.windowHandle().requestActivate()
+    qtbot.waitUntil(lambda: cursor_gone(window), timeout=5000)
+    activate(window, qtbot)
+    real_hover(window, qtbot, center_of(window) + QPoint(-3, 2))  # back at the next hover
