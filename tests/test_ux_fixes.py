@@ -269,3 +269,47 @@ def test_cursor_hides_when_another_window_takes_the_input(window, qtbot):
     qtbot.waitUntil(lambda: cursor_gone(window), timeout=5000)
     activate(window, qtbot)
     real_hover(window, qtbot, center_of(window) + QPoint(-3, 2))  # back at the next hover
+
+
+# -- Save As proposes a file name ------------------------------------------------------------------
+def answer_file_dialog(open_it, accept: bool = False) -> dict:
+    """Call ``open_it`` (which runs a modal QFileDialog) and read what the real dialog proposes:
+    its selected file and name filter; then cancel it (or accept the proposal)."""
+    from PySide6.QtCore import QTimer
+    from PySide6.QtWidgets import QApplication, QFileDialog
+
+    seen = {}
+
+    def answer():
+        dialog = QApplication.activeModalWidget()
+        if not isinstance(dialog, QFileDialog):
+            QTimer.singleShot(20, answer)
+            return
+        seen["files"] = dialog.selectedFiles()
+        seen["filter"] = dialog.selectedNameFilter()
+        dialog.accept() if accept else dialog.reject()
+
+    QTimer.singleShot(0, answer)
+    seen["result"] = open_it()
+    return seen
+
+
+def test_save_as_proposes_the_documents_path_or_untitled_in_the_last_folder(window, tmp_path):
+    from pathlib import Path
+
+    opened = Path(window.document.path)
+    seen = answer_file_dialog(window.save_as_dialog)
+    assert [Path(f) for f in seen["files"]] == [opened] and "OBJ" in seen["filter"]
+    assert seen["result"] is False  # cancelled: nothing written
+    ply = tmp_path / "work" / "statue.ply"
+    ply.parent.mkdir()
+    assert window.save_to(str(ply))
+    seen = answer_file_dialog(window.save_as_dialog)
+    assert [Path(f) for f in seen["files"]] == [ply] and "PLY" in seen["filter"]
+    # the default model: untitled.obj in the folder used last, saved there when accepted
+    assert window.new_document() and window.document.path is None
+    seen = answer_file_dialog(window.save_as_dialog, accept=True)
+    untitled = ply.parent / "untitled.obj"
+    assert [Path(f) for f in seen["files"]] == [untitled] and "OBJ" in seen["filter"]
+    assert seen["result"] is True and untitled.is_file()
+    assert Path(window.document.path) == untitled
