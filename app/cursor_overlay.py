@@ -77,6 +77,7 @@ class CursorOverlay:
     ``screen`` holds, after each render, the display centre (x, y) and the pixel radii of the ε
     and influence rings (None while hidden), for tests and the F drag; ``full_pixels`` the
     pixel radius of the full-radius ring (None unless pen pressure shrinks the radius).
+    ``suspended`` hides it without forgetting its state (a screenshot of the model only).
     """
 
     def __init__(self, renderer):
@@ -84,6 +85,8 @@ class CursorOverlay:
         self.state: CursorState | None = None
         self.screen: tuple[tuple[float, float], float, float] | None = None
         self.full_pixels: float | None = None
+        #: While True nothing is drawn; :attr:`state` is kept and drawn again once it is False.
+        self.suspended = False
         self._influence = _Polyline2D(renderer, INFLUENCE_COLOR, 1.0, 0.6)
         self._full = _Polyline2D(renderer, CURSOR_COLOR, 1.0, 0.45)
         self._ring = _Polyline2D(renderer, CURSOR_COLOR, 2.5)
@@ -126,7 +129,7 @@ class CursorOverlay:
         """Rebuild the 2D geometry for the current camera (cheap: a few hundred points)."""
         parts = (self._influence, self._ring, self._profile, self._full)
         self.full_pixels = None
-        if self.state is None:
+        if self.state is None or self.suspended:
             for part in parts:
                 part.actor.SetVisibility(False)
             self._text.SetVisibility(False)

@@ -2,10 +2,11 @@
 
 :data:`KEYMAP` is the one table of what every key, mouse gesture and pen input does, in
 Blender's sculpt-mode habits: F drags the radius and Shift+F the strength on screen, Ctrl inverts
-the brush, number keys pick brushes, ``[`` / ``]`` change the radius, Ctrl+Z / Ctrl+Shift+Z undo
-and redo, ``?`` shows this keymap; left drag sculpts, right drag orbits, middle drag pans, the
-wheel zooms. The main window takes its shortcuts from it (:func:`shortcuts`), so the overlay and
-the behaviour cannot drift apart.
+the brush, number keys pick brushes, ``[`` / ``]`` change the radius, Ctrl+Z undoes and
+Ctrl+Shift+Z (or Ctrl+Y) redoes, ``?`` shows this keymap; left drag sculpts, right drag orbits,
+middle drag pans, the wheel zooms. The main window takes its shortcuts from it
+(:func:`shortcuts`), so the overlay and the behaviour cannot drift apart. It is the only source
+of key behaviour: the viewport passes no key to VTK or pyvista (their default keys never act).
 
 Each :class:`Binding` is ``(keys, action, description, group)``: ``keys`` holds alternatives,
 each either a key sequence in Qt's portable text (``"Shift+F"``, ``"Ctrl+Shift+Z"``, ``"["``) or
@@ -173,7 +174,7 @@ KEYMAP: tuple[Binding, ...] = (
     Binding(("Home",), "reset_camera", "Frame the whole model", "View"),
     Binding(("Shift+Z",), "wireframe", "Wireframe on / off", "View"),
     Binding(("Ctrl+Z",), "undo", "Undo", "Edit"),
-    Binding(("Ctrl+Shift+Z",), "redo", "Redo", "Edit"),
+    Binding(("Ctrl+Shift+Z", "Ctrl+Y"), "redo", "Redo", "Edit"),
     Binding(("Ctrl+N",), "new", "New: the default model", "File"),
     Binding(("Ctrl+O",), "open", "Open a model or a session", "File"),
     Binding(("Ctrl+S",), "save", "Save", "File"),
@@ -270,7 +271,7 @@ _KEYCAP_FILL = QColor(255, 255, 255, 22)
 
 @dataclass(frozen=True)
 class _Row:
-    keys: tuple[str, ...]  # display text of each alternative
+    keys: tuple[tuple[str, ...], ...]  # display text of each alternative, by line
     gesture: bool
     description: str
     height: float
@@ -308,6 +309,7 @@ class KeymapOverlay(QWidget):
     MIN_POINT_SIZE = 6.0
     MIN_DESCRIPTION_CHARS = 16
     PREFERRED_POINT_SIZE = 10.0
+    KEY_LINE_GAP = 0.2  # between lines of one row's key caps, in line heights
 
     def __init__(self, parent: QWidget, keymap: Iterable[Binding] = KEYMAP):
         if not isinstance(parent, QWidget):
@@ -413,6 +415,19 @@ class KeymapOverlay(QWidget):
         ]
         return sum(widths) + metrics.horizontalAdvance(" / ") * (len(keys) - 1)
 
+    def _key_lines(
+        self, metrics: QFontMetricsF, keys: tuple[str, ...], gesture: bool, width: float
+    ) -> tuple[tuple[str, ...], ...]:
+        """The alternatives packed into lines of at most ``width`` (``"1 / G"`` on one line,
+        ``Ctrl+Shift+Z`` over ``Ctrl+Y``): one long pair does not widen the whole key column."""
+        lines: list[tuple[str, ...]] = []
+        for key in keys:
+            if lines and self._key_text_width(metrics, (*lines[-1], key), gesture) <= width:
+                lines[-1] = (*lines[-1], key)
+            else:
+                lines.append((key,))
+        return tuple(lines)
+
     def _layout(self, width: float, height: float) -> _Layout:
         """The largest font, then the fewest columns, at which the whole keymap fits; at the
         smallest font, the layout with the most columns that still leaves readable lines."""
@@ -444,8 +459,9 @@ class KeymapOverlay(QWidget):
         widest_description = 0.0
         for entries in self._groups.values():
             for entry in entries:
-                keys = tuple(display_keys(k) for k in entry.keys)
-                key_width = max(key_width, self._key_text_width(metrics, keys, entry.is_gesture))
+                for key in entry.keys:  # the widest single alternative
+                    alone = self._key_text_width(metrics, (display_keys(key),), entry.is_gesture)
+                    key_width = max(key_width, alone)
                 widest_description = max(
                     widest_description, metrics.horizontalAdvance(entry.description)
                 )
@@ -466,6 +482,7 @@ class KeymapOverlay(QWidget):
 
         blocks = []
         row_gap = metrics.height() * 0.45
+        key_line_height = metrics.height() * (1.15 + self.KEY_LINE_GAP)
         for group, entries in self._groups.items():
             rows = []
             for entry in entries:
@@ -474,12 +491,16 @@ class KeymapOverlay(QWidget):
                     int(Qt.TextFlag.TextWordWrap),
                     entry.description,
                 )
+                keys = tuple(display_keys(k) for k in entry.keys)
+                lines = self._key_lines(metrics, keys, entry.is_gesture, key_width)
+                text_height = max(bounds.height(), metrics.height() * 1.25)
+                keys_height = len(lines) * key_line_height
                 rows.append(
                     _Row(
-                        keys=tuple(display_keys(k) for k in entry.keys),
+                        keys=lines,
                         gesture=entry.is_gesture,
                         description=entry.description,
-                        height=max(bounds.height(), metrics.height() * 1.25) + row_gap,
+                        height=max(text_height, keys_height) + row_gap,
                     )
                 )
             blocks.append((group, tuple(rows)))
@@ -576,13 +597,26 @@ class KeymapOverlay(QWidget):
     def _paint_keys(
         self, painter: QPainter, metrics: QFontMetricsF, row: _Row, x: float, y: float, width: float
     ) -> None:
-        """Key caps right-aligned in the key column (gestures as plain accent text)."""
+        """Key caps right-aligned in the key column, a line per group of alternatives
+        (gestures as plain accent text)."""
+        for line, keys in enumerate(row.keys):
+            line_y = y + line * metrics.height() * (1.15 + self.KEY_LINE_GAP)
+            total = self._key_text_width(metrics, keys, row.gesture)
+            self._paint_key_line(painter, metrics, keys, row.gesture, x + width - total, line_y)
+
+    def _paint_key_line(
+        self,
+        painter: QPainter,
+        metrics: QFontMetricsF,
+        keys: tuple[str, ...],
+        gesture: bool,
+        cursor: float,
+        y: float,
+    ) -> None:
         pad = metrics.height() * 0.5
         cap_height = metrics.height() * 1.15
         separator = " / "
-        total = self._key_text_width(metrics, row.keys, row.gesture)
-        cursor = x + width - total
-        for index, keys in enumerate(row.keys):
+        for index, key in enumerate(keys):
             if index:
                 painter.setPen(_MUTED)
                 painter.drawText(
@@ -591,8 +625,8 @@ class KeymapOverlay(QWidget):
                     separator,
                 )
                 cursor += metrics.horizontalAdvance(separator)
-            text_width = metrics.horizontalAdvance(keys)
-            if row.gesture:
+            text_width = metrics.horizontalAdvance(key)
+            if gesture:
                 painter.setPen(_ACCENT)
                 box = QRectF(cursor, y, text_width, cap_height)
             else:
@@ -602,7 +636,7 @@ class KeymapOverlay(QWidget):
                 painter.drawRoundedRect(box.adjusted(0.5, 0.5, -0.5, -0.5), 3, 3)
                 painter.setBrush(Qt.BrushStyle.NoBrush)
                 painter.setPen(_TEXT)
-            painter.drawText(box, int(Qt.AlignmentFlag.AlignCenter), keys)
+            painter.drawText(box, int(Qt.AlignmentFlag.AlignCenter), key)
             cursor += box.width()
 
 

@@ -84,6 +84,13 @@ WRINKLE_TIP = (
 )
 
 
+def _save_filter(suffix: str) -> str:
+    """The entry of :data:`SAVE_FILTER` for a file ending in ``suffix`` (``".ply"``); the
+    first (OBJ) for any other."""
+    entries = SAVE_FILTER.split(";;")
+    return next((e for e in entries if f"*{suffix.lower()})" in e), entries[0])
+
+
 def material_anisotropy(material: Material) -> float:
     """‖C − C_iso‖ / ‖C‖ (Frobenius, on the 3×3×3×3 tensor): 0 for an isotropic material,
     where C_iso, the closest isotropic tensor, has the same C_iijj and C_ijij."""
@@ -585,14 +592,23 @@ class MainWindow(QMainWindow):
     def save_as_dialog(self) -> bool:
         if self.document is None:
             return False
+        suggested = self._save_as_suggestion()
         path, chosen = QFileDialog.getSaveFileName(
-            self, "Save mesh as", self._last_dir(), SAVE_FILTER
+            self, "Save mesh as", str(suggested), SAVE_FILTER, _save_filter(suggested.suffix)
         )
         if not path:
             return False
         if Path(path).suffix.lower() not in SAVE_FORMATS:
             path += ".ply" if "PLY" in chosen else ".stl" if "STL" in chosen else ".obj"
         return self.save_to(path)
+
+    def _save_as_suggestion(self) -> Path:
+        """What Save As proposes: the document's own path (as .obj when its format cannot be
+        written, e.g. .off), or untitled.obj in the folder used last for the default model."""
+        if self.document.path:
+            path = Path(self.document.path)
+            return path if path.suffix.lower() in SAVE_FORMATS else path.with_suffix(".obj")
+        return Path(self._last_dir()) / "untitled.obj"
 
     def maybe_save(self) -> bool:
         """Ask about unsaved changes; True when it is fine to go on."""
@@ -888,13 +904,12 @@ class MainWindow(QMainWindow):
             self.save_screenshot(path if path.endswith(".png") else path + ".png")
 
     def save_screenshot(self, path: str) -> bool:
-        """PNG of the viewport only (no panels, menus or overlays), written atomically; the
-        status bar names the file. Returns success."""
+        """PNG of the viewport only (no panels, menus, overlays or brush cursor), written
+        atomically; the status bar names the file. Returns success."""
         target = Path(path)
         partial = target.with_name(f".{target.name}.partial")
         try:
-            self.viewport.render()
-            pixels = np.ascontiguousarray(self.viewport.screenshot(return_img=True)[:, :, :3])
+            pixels = self.viewport.model_image()
             height, width = pixels.shape[:2]
             image = QImage(pixels.data, width, height, 3 * width, QImage.Format.Format_RGB888)
             if not image.save(str(partial), "PNG"):

@@ -2,8 +2,10 @@
 
 Mouse map (as PyVista and Blender users expect): left drag on the model sculpts (on the
 background it orbits), right drag orbits, middle drag pans, the wheel zooms; Ctrl+wheel
-changes the brush radius and Shift+wheel the strength. The mesh actor is created once; each
-brush event writes new positions and normals into its arrays in place.
+changes the brush radius and Shift+wheel the strength. Keys are the window's (app.keymap) and
+the tools' (F, number keys): none reaches VTK's interactor, whose default keys (and pyvista's)
+would act behind the app's back. The mesh actor is created once; each brush event writes new
+positions and normals into its arrays in place.
 
 The viewport knows nothing of elasticity or strokes: it translates Qt mouse events into plain
 :class:`gogreen_core.tools.PointerEvent` (the world point under the cursor, picked on press and
@@ -20,7 +22,7 @@ import time
 
 import numpy as np
 import pyvista as pv
-from PySide6.QtCore import QPointF, Qt, QTimer, Signal
+from PySide6.QtCore import QEvent, QPointF, Qt, QTimer, Signal
 from PySide6.QtGui import QKeyEvent, QMouseEvent, QTabletEvent, QWheelEvent
 from pyvistaqt import QtInteractor
 
@@ -92,6 +94,7 @@ class SculptViewport(QtInteractor):
         super().__init__(parent, auto_update=False)
         self.set_background("#2b2f36", top="#4a5260")
         self.enable_trackball_style()
+        self._mute_vtk_keys()
         self.mesh: pv.PolyData | None = None
         self.mesh_actor = None
         self._faces: np.ndarray | None = None
@@ -130,6 +133,17 @@ class SculptViewport(QtInteractor):
         self.setMouseTracking(True)
         # takes the keyboard focus when clicked, and back from fields (app.keyboard)
         self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
+
+    def _mute_vtk_keys(self) -> None:
+        """No VTK or pyvista key binding may act (app.keymap is the app's only keymap): keys
+        are not passed to the interactor (:meth:`keyPressEvent`), and should one arrive by
+        another path, pyvista's key callbacks (q, b, v, Shift+C, Up, Down, plus, minus) are gone
+        and the style's default key actions (p outline, s / w, r, e / q, f, 3, j / t / c / a)
+        are replaced by observers that do nothing."""
+        self.iren.clear_key_event_callbacks()
+        style = self.iren.interactor.GetInteractorStyle()
+        for event in ("CharEvent", "KeyPressEvent", "KeyReleaseEvent"):
+            style.AddObserver(event, lambda *_args: None)
 
     def _zero_timer(self, slot) -> QTimer:
         timer = QTimer(self)
@@ -383,6 +397,25 @@ class SculptViewport(QtInteractor):
     def cursor_visible(self) -> bool:
         return self.cursor_overlay.visible
 
+    def model_image(self) -> np.ndarray:
+        """The view as drawn, without the brush cursor: (H, W, 3) uint8 RGB, H and W in device
+        pixels (screenshots).
+
+        The cursor is left out of one render, which is read back; it is then drawn again as it
+        was (its state is kept) at the next render, requested here: one frame without it on
+        screen at most.
+        """
+        overlay = self.cursor_overlay
+        overlay.suspended = True
+        try:
+            self.render()
+            pixels = self.screenshot(return_img=True)
+        finally:
+            overlay.suspended = False
+            overlay.layout()
+            self.request_render()
+        return np.ascontiguousarray(pixels[:, :, :3])
+
     # -- mouse -------------------------------------------------------------------------------
     def _as_left(self, ev: QMouseEvent) -> QMouseEvent:
         buttons = Qt.MouseButton.LeftButton if ev.buttons() else Qt.MouseButton.NoButton
@@ -470,7 +503,11 @@ class SculptViewport(QtInteractor):
         if plain and self.tools is not None and self.tools.pick_brush(ev.text()):
             ev.accept()
             return
-        super().keyPressEvent(ev)
+        # not to VTK (its and pyvista's default keys would act): Qt gives it to the parent
+        ev.ignore()
+
+    def keyReleaseEvent(self, ev: QKeyEvent) -> None:
+        ev.ignore()  # not to VTK either
 
     def mousePressEvent(self, ev: QMouseEvent) -> None:
         self.setFocus(Qt.FocusReason.MouseFocusReason)
@@ -543,6 +580,30 @@ class SculptViewport(QtInteractor):
         hit = self.pick(pos)
         point, normal = hit if hit is not None else (None, None)
         self.hovered.emit(self.pointer_event(pos, point, normal))
+
+    def leaveEvent(self, ev: QEvent) -> None:
+        super().leaveEvent(ev)
+        self._pointer_gone()
+
+    def event(self, ev: QEvent) -> bool:
+        if ev.type() == QEvent.Type.WindowDeactivate:  # a dialog or another window has the input
+            self._pointer_gone()
+        return super().event(ev)
+
+    def _pointer_gone(self) -> None:
+        """The pointer left the view (in any jump) or the window lost the input: hide the brush
+        cursor until the next hover over the model. A miss is reported as the newest hover, so
+        the tools forget the cursor too and a hover still queued cannot bring it back. Not
+        during a stroke or an F / Shift+F drag, which keep their cursor."""
+        if self.in_stroke or self.value_dragging:
+            return
+        self._hover_timer.stop()
+        self._hover_pos = None
+        if not self.cursor_visible and (self.tools is None or self.tools.cursor.state is None):
+            return  # nothing shown: no event, no render
+        self.show_cursor(None)
+        pos = QPointF(self.mapFromGlobal(self.cursor().pos()))
+        self.hovered.emit(self.pointer_event(pos, None))
 
     def mouseReleaseEvent(self, ev: QMouseEvent) -> None:
         if self._drag_depth is not None and ev.button() == Qt.MouseButton.LeftButton:

@@ -66,7 +66,7 @@ def test_blender_sculpt_habits():
     assert binding("radius_smaller").keys == ("[",)
     assert binding("radius_larger").keys == ("]",)
     assert binding("undo").keys == ("Ctrl+Z",)
-    assert binding("redo").keys == ("Ctrl+Shift+Z",)
+    assert binding("redo").keys == ("Ctrl+Shift+Z", "Ctrl+Y")
     assert "?" in binding("keymap").keys
     assert binding("sculpt").keys == ("Left drag",)
     assert binding("orbit").keys == ("Right drag",)
