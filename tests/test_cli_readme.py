@@ -41,6 +41,14 @@ def fresh_folder(tmp_path: Path) -> Path:
     return tmp_path
 
 
+def _run_ok(command: list[str], folder: Path) -> None:
+    """Run ``command`` in ``folder`` as a user would; fail with its stderr if it fails."""
+    result = subprocess.run(
+        command, cwd=folder, capture_output=True, text=True, timeout=600, stdin=subprocess.DEVNULL
+    )
+    assert result.returncode == 0, result.stderr[-2000:]
+
+
 def test_the_readme_calls_commands_through_the_venv():
     for block in _blocks("bash"):
         for line in block.splitlines():
@@ -55,15 +63,7 @@ def test_the_readme_calls_commands_through_the_venv():
 
 def test_the_readme_command_line_examples_run_as_written(fresh_folder):
     script = "set -euo pipefail\n" + "\n".join(_venv_commands()) + "\n"
-    result = subprocess.run(
-        ["bash", "-c", script],
-        cwd=fresh_folder,
-        capture_output=True,
-        text=True,
-        timeout=600,
-        stdin=subprocess.DEVNULL,
-    )
-    assert result.returncode == 0, result.stderr[-2000:]
+    _run_ok(["bash", "-c", script], fresh_folder)
     pebble = load_mesh(fresh_folder / "pebble.obj").vertices
     pulled = load_mesh(fresh_folder / "pulled.obj").vertices
     twisted = load_mesh(fresh_folder / "twisted.obj").vertices
@@ -77,14 +77,6 @@ def test_the_readme_python_examples_run_as_written(fresh_folder):
     core, sculpting, presets = _blocks("python")
     python = str(fresh_folder / ".venv" / "bin" / "python")
     for script in (core, sculpting + presets):  # the presets example continues the one before
-        result = subprocess.run(
-            [python, "-c", script],
-            cwd=fresh_folder,
-            capture_output=True,
-            text=True,
-            timeout=600,
-            stdin=subprocess.DEVNULL,
-        )
-        assert result.returncode == 0, result.stderr[-2000:]
+        _run_ok([python, "-c", script], fresh_folder)
     assert load_mesh(fresh_folder / "out.ply").vertices.shape == (40962, 3)
     assert (fresh_folder / "my_wood.json").is_file()

@@ -227,28 +227,17 @@ def test_cursor_hides_when_the_pointer_jumps_out_of_the_view(window, qtbot):
     real_hover(window, qtbot, center_of(window))
 
 
-def test_cursor_hides_while_a_modal_dialog_is_open(window, qtbot, monkeypatch):
-    from PySide6.QtCore import QTimer
-    from PySide6.QtWidgets import QApplication, QFileDialog
-
+def test_cursor_hides_while_a_modal_dialog_is_open(window, qtbot):
     activate(window, qtbot)
     real_hover(window, qtbot, center_of(window))
-    seen = {}
 
-    def inspect_dialog():
-        dialog = QApplication.activeModalWidget()
-        if not isinstance(dialog, QFileDialog):
-            QTimer.singleShot(20, inspect_dialog)
-            return
-        try:
-            qtbot.waitUntil(lambda: cursor_gone(window), timeout=5000)
-        finally:  # the dialog closes whatever happened
-            seen["hidden"] = cursor_gone(window)
-            dialog.reject()
+    def hidden_while_open(_dialog) -> bool:
+        qtbot.waitUntil(lambda: cursor_gone(window), timeout=5000)
+        return cursor_gone(window)
 
-    QTimer.singleShot(0, inspect_dialog)
-    window.open_dialog()  # File > Open: a real modal dialog, answered above
-    assert seen == {"hidden": True}
+    # File > Open: a real modal dialog, answered once the cursor is gone
+    seen = answer_file_dialog(window.open_dialog, inspect=hidden_while_open)
+    assert seen["inspected"] is True
     real_hover(window, qtbot, center_of(window) + QPoint(4, 0))  # back at the next hover
 
 
@@ -272,9 +261,10 @@ def test_cursor_hides_when_another_window_takes_the_input(window, qtbot):
 
 
 # -- Save As proposes a file name ------------------------------------------------------------------
-def answer_file_dialog(open_it, accept: bool = False) -> dict:
+def answer_file_dialog(open_it, accept: bool = False, inspect=None) -> dict:
     """Call ``open_it`` (which runs a modal QFileDialog) and read what the real dialog proposes:
-    its selected file and name filter; then cancel it (or accept the proposal)."""
+    its selected file and name filter, and what ``inspect(dialog)`` returns while it is open;
+    then cancel it (or accept the proposal), whatever happened."""
     from PySide6.QtCore import QTimer
     from PySide6.QtWidgets import QApplication, QFileDialog
 
@@ -285,9 +275,13 @@ def answer_file_dialog(open_it, accept: bool = False) -> dict:
         if not isinstance(dialog, QFileDialog):
             QTimer.singleShot(20, answer)
             return
-        seen["files"] = dialog.selectedFiles()
-        seen["filter"] = dialog.selectedNameFilter()
-        dialog.accept() if accept else dialog.reject()
+        try:
+            seen["files"] = dialog.selectedFiles()
+            seen["filter"] = dialog.selectedNameFilter()
+            if inspect is not None:
+                seen["inspected"] = inspect(dialog)
+        finally:
+            dialog.accept() if accept else dialog.reject()
 
     QTimer.singleShot(0, answer)
     seen["result"] = open_it()
