@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 import os
+from collections import namedtuple
 
 import numpy as np
 from numba import carray, cfunc, njit, prange, types
@@ -276,33 +277,30 @@ MAX_ADAPTIVE_STEPS = 256
 ESTIMATE_SAFETY = 0.25
 
 
+#: What the streamline velocity is made of, passed as one value through ``stream``, ``_refine``,
+#: ``_rk4`` and ``_velocity``: the load path (centre at pseudo-time t = center0 + t ·
+#: center_step), the expansion (``expand``'s arrays, ``coeffs`` with the load contracted in),
+#: the smooth cutoff (1 for d <= cutoff_inner, falling over 1 / inv_width; inv_width 0: none)
+#: and the mirrors (±1 rows about ``origin``).
+_Field = namedtuple(
+    "_Field",
+    "center0 center_step eps power l_first l_last base coeffs tables qmm rec_a rec_b angular "
+    "unrolled cutoff_inner inv_width mirrors origin",
+)
+
+
 @njit(nogil=True, **_JIT)
 def _velocity(
     pos,
     nb,
     t,
-    center0,
-    center_step,
-    eps,
-    power,
-    l_first,
-    l_last,
-    base,
-    coeffs,
-    tables,
-    qmm,
-    rec_a,
-    rec_b,
-    angular,
-    unrolled,
-    cutoff_inner,
-    inv_width,
-    mirrors,
-    origin,
+    field,
     scratch,
     vel,
 ):
     """vel[:, :nb] = v(pos[:, :nb], t), the streamline velocity of ``stream`` (rows x, y, z)."""
+    (center0, center_step, eps, power, l_first, l_last, base, coeffs, tables, qmm, rec_a, rec_b,
+     angular, unrolled, cutoff_inner, inv_width, mirrors, origin) = field  # fmt: skip
     geo, seg, rad, work, total = scratch
     for k in range(3):
         for i in range(nb):
@@ -339,24 +337,7 @@ def _rk4(
     start,
     end,
     mid,
-    center0,
-    center_step,
-    eps,
-    power,
-    l_first,
-    l_last,
-    base,
-    coeffs,
-    tables,
-    qmm,
-    rec_a,
-    rec_b,
-    angular,
-    unrolled,
-    cutoff_inner,
-    inv_width,
-    mirrors,
-    origin,
+    field,
     scratch,
     rows,
 ):
@@ -382,24 +363,7 @@ def _rk4(
                 stage_pos,
                 nb,
                 step * h + a,
-                center0,
-                center_step,
-                eps,
-                power,
-                l_first,
-                l_last,
-                base,
-                coeffs,
-                tables,
-                qmm,
-                rec_a,
-                rec_b,
-                angular,
-                unrolled,
-                cutoff_inner,
-                inv_width,
-                mirrors,
-                origin,
+                field,
                 scratch,
                 vel,
             )
@@ -501,6 +465,26 @@ def stream(
     n_tasks = min(n_blocks, TASKS)
     width = cutoff_outer - cutoff_inner
     inv_width = 1.0 / width if cutoff_outer > 0.0 and width > 0.0 else 0.0
+    field = _Field(
+        center0,
+        center_step,
+        eps,
+        power,
+        l_first,
+        l_last,
+        base,
+        coeffs,
+        tables,
+        qmm,
+        rec_a,
+        rec_b,
+        angular,
+        unrolled,
+        cutoff_inner,
+        inv_width,
+        mirrors,
+        origin,
+    )
     adaptive = tolerance > 0.0
     first_steps = 1 if adaptive else substeps
     block_motion = np.zeros(n_blocks)  # largest motion m in each block
@@ -540,24 +524,7 @@ def stream(
                 start_rows,
                 end_rows,
                 mid_rows,
-                center0,
-                center_step,
-                eps,
-                power,
-                l_first,
-                l_last,
-                base,
-                coeffs,
-                tables,
-                qmm,
-                rec_a,
-                rec_b,
-                angular,
-                unrolled,
-                cutoff_inner,
-                inv_width,
-                mirrors,
-                origin,
+                field,
                 scratch,
                 rows,
             )
@@ -602,24 +569,7 @@ def stream(
             points,
             indices,
             indexed,
-            center0,
-            center_step,
-            eps,
-            power,
-            l_first,
-            l_last,
-            base,
-            coeffs,
-            tables,
-            qmm,
-            rec_a,
-            rec_b,
-            angular,
-            unrolled,
-            cutoff_inner,
-            inv_width,
-            mirrors,
-            origin,
+            field,
             tolerance,
             out,
             steps,
@@ -646,24 +596,7 @@ def _refine(
     points,
     indices,
     indexed,
-    center0,
-    center_step,
-    eps,
-    power,
-    l_first,
-    l_last,
-    base,
-    coeffs,
-    tables,
-    qmm,
-    rec_a,
-    rec_b,
-    angular,
-    unrolled,
-    cutoff_inner,
-    inv_width,
-    mirrors,
-    origin,
+    field,
     tolerance,
     out,
     steps,
@@ -674,9 +607,10 @@ def _refine(
     with 2, 4, ... RK4 steps (see ``stream``). Returns True if an end position it wrote is not
     finite."""
     n_points = out.shape[0]
-    n_deg = tables.shape[0]
+    n_deg = field.tables.shape[0]
     n_blocks = block_motion.shape[0]
-    scale = math.sqrt(center_step[0] ** 2 + center_step[1] ** 2 + center_step[2] ** 2)
+    step = field.center_step
+    scale = math.sqrt(step[0] ** 2 + step[1] ** 2 + step[2] ** 2)
     for blk in range(n_blocks):
         scale = max(scale, block_motion[blk])
     bound = ESTIMATE_SAFETY * tolerance * scale
@@ -729,24 +663,7 @@ def _refine(
                     start_rows,
                     end_rows,
                     end_rows,
-                    center0,
-                    center_step,
-                    eps,
-                    power,
-                    l_first,
-                    l_last,
-                    base,
-                    coeffs,
-                    tables,
-                    qmm,
-                    rec_a,
-                    rec_b,
-                    angular,
-                    unrolled,
-                    cutoff_inner,
-                    inv_width,
-                    mirrors,
-                    origin,
+                    field,
                     scratch,
                     rows,
                 )
