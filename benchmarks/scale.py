@@ -25,7 +25,6 @@ import tempfile
 import time
 from pathlib import Path
 
-import numba
 import numpy as np
 import trimesh
 
@@ -35,6 +34,7 @@ from gogreen_core.brushes import mirror_signs
 from gogreen_core.geometry import SurfaceIndex, vertex_normals
 from gogreen_core.mesh_io import MeshData, load_mesh, save_mesh
 from gogreen_core.shapes import icosphere
+from gogreen_core.threads import threads_at_most
 
 MATERIAL = Material.cubic(3.0, 1.5, 0.4)
 L_MAX = 8
@@ -119,16 +119,12 @@ def grab_event(sculptor: Sculptor, radius: float, center: np.ndarray, repeats: i
             cpu_.append(time.process_time() - start_cpu)
     # the same adaptive streamlines on one thread: CPU time that the other developers' load on
     # the shared cores disturbs least
-    threads = numba.get_num_threads()
     single = []
-    try:
-        numba.set_num_threads(1)
+    with threads_at_most(1):
         for _ in range(repeats):
             start_cpu = time.process_time()
             kernel.streamlines(points, center, force, center_step=delta, cutoff=cutoff)
             single.append(time.process_time() - start_cpu)
-    finally:
-        numba.set_num_threads(threads)
     reference = before.copy()
     reference[active] = kernel.streamlines(
         before[active], center, force, center_step=delta, cutoff=cutoff, substeps=64,

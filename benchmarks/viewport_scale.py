@@ -18,7 +18,6 @@ window centre (camera ray through the SurfaceIndex). Figures only, no assertions
 from __future__ import annotations
 
 import argparse
-import statistics
 import sys
 import time
 from pathlib import Path
@@ -28,13 +27,9 @@ from PySide6.QtCore import QPointF
 from PySide6.QtWidgets import QApplication
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from scale import million_vertex_mesh
+from scale import median_ms, million_vertex_mesh
 
 from app.viewport import SculptViewport
-
-
-def median_ms(samples: list[float]) -> str:
-    return f"{1e3 * statistics.median(samples):8.1f} ms (min {1e3 * min(samples):.1f})"
 
 
 def main() -> None:

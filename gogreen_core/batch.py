@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from gogreen_core.brushes import BRUSH_KINDS, MAX_AMOUNT, Brush, BrushEvent
+from gogreen_core.brushes import BRUSH_KINDS, DEFAULT_INFLUENCE, MAX_AMOUNT, Brush, BrushEvent
 from gogreen_core.material import Material
 from gogreen_core.mesh_io import MeshData, load_mesh, save_mesh, write_text_atomic
 from gogreen_core.operations import MAX_EVENTS
@@ -248,7 +248,7 @@ def _parser() -> argparse.ArgumentParser:
     deform.add_argument(
         "--influence",
         type=float,
-        default=4.0,
+        default=DEFAULT_INFLUENCE,
         help="influence radius in multiples of ε ('inf' for all vertices)",
     )
     deform.add_argument("--symmetry", default="", help="mirror planes, e.g. x or xz")

@@ -70,6 +70,9 @@ AFFINE_BRUSHES = ("scale", "twist", "pinch")
 BRUSH_KINDS = GRAB_BRUSHES + AFFINE_BRUSHES
 #: Where the smooth cutoff starts, as a fraction of the influence radius.
 CUTOFF_START = 0.5
+#: Default radius of the moved region in multiples of ε (also the pins' reach, and the extent
+#: the cursor draws for a brush of infinite influence).
+DEFAULT_INFLUENCE = 4.0
 #: Radius (in ε) at which :func:`default_wrinkle_weights` equalizes the degrees' radial terms.
 WRINKLE_RING = 2.5
 #: Highest degree :func:`default_wrinkle_weights` boosts.
@@ -110,7 +113,7 @@ class Brush:
     radius: float = 0.1
     strength: float = 1.0
     substeps: int = 0
-    influence: float = 4.0
+    influence: float = DEFAULT_INFLUENCE
     symmetry: str = ""
 
     def __post_init__(self) -> None:

@@ -21,14 +21,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from gogreen_core.brushes import CUTOFF_START, DEFAULT_INFLUENCE
 from gogreen_core.kernel import GreenKernel
 
 __all__ = ["CONSTRAINT_INFLUENCE", "ConstraintSet", "smooth_cutoff"]
 
 #: Reach of a pin's displacement in multiples of its ε (the brushes' default influence).
-CONSTRAINT_INFLUENCE = 4.0
-#: Where the cutoff starts, as a fraction of the influence radius (as for brushes).
-_CUTOFF_START = 0.5
+CONSTRAINT_INFLUENCE = DEFAULT_INFLUENCE
 
 
 def smooth_cutoff(distance: np.ndarray, inner: float, outer: float) -> np.ndarray:
@@ -66,7 +65,7 @@ class ConstraintSet:
     ):
         self._kernel = kernel
         outer = float(influence) * kernel.eps
-        self._cutoff = None if not np.isfinite(outer) else (_CUTOFF_START * outer, outer)
+        self._cutoff = None if not np.isfinite(outer) else (CUTOFF_START * outer, outer)
         self._min_sep = 1e-6 * kernel.eps if min_separation is None else float(min_separation)
         self._points = np.zeros((0, 3))
         self._matrix = np.zeros((0, 0))

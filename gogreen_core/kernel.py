@@ -32,6 +32,7 @@ __all__ = [
     "COORDINATE_LIMIT",
     "L_MAX_LIMIT",
     "GreenKernel",
+    "StreamlineOverflow",
     "lebedev_points",
     "material_rule",
     "prepare_degree",
@@ -39,6 +40,12 @@ __all__ = [
 
 #: Highest supported truncation degree.
 L_MAX_LIMIT = 60
+
+
+class StreamlineOverflow(ValueError):
+    """The streamlines would move a point to infinity (nothing was moved)."""
+
+
 #: Lebedev rule used for the material matrices when M(ξ̂)⁻¹ is smooth enough for it (5,810
 #: nodes, exact to degree 131: the paper's).
 QUADRATURE_ORDER = 131
@@ -667,7 +674,9 @@ class GreenKernel:
                 f"supported {COORDINATE_LIMIT:g} in the rows of indices",
             )
         if status == 3:
-            raise ValueError("the streamlines would move points to infinity; nothing was moved")
+            raise StreamlineOverflow(
+                "the streamlines would move points to infinity; nothing was moved"
+            )
         return result, steps
 
     def warm_up(self) -> float:

@@ -52,7 +52,7 @@ from gogreen_core.falloff_safety import (
     mean_green_direction,
 )
 from gogreen_core.history import History
-from gogreen_core.kernel import STREAMLINE_TOLERANCE, GreenKernel
+from gogreen_core.kernel import STREAMLINE_TOLERANCE, GreenKernel, StreamlineOverflow
 from gogreen_core.material import Material
 from gogreen_core.operations import (
     ConstraintAdd,
@@ -190,6 +190,7 @@ class Sculptor:
         #: Point of the mirror planes: the center of the bounding box at load.
         self.origin = 0.5 * (low + high)
         self.history = History(history_bytes)
+        self._event_rows = np.empty((0, 3))  # the integrator's result rows (grown as needed)
         self._kernels: dict[str, GreenKernel] = {}
         #: (base kernel, sampled field bound or affine limits): see _field_bound.
         self._bounds: dict[tuple, tuple] = {}
@@ -665,8 +666,8 @@ class Sculptor:
         active = self._active(brush, event.center, step)
         if len(active):
             # the integrator's result rows, kept between events (no per-event allocation)
-            buffer = getattr(self, "_event_rows", None)
-            if buffer is None or len(buffer) < len(active):
+            buffer = self._event_rows
+            if len(buffer) < len(active):
                 buffer = self._event_rows = np.empty((len(active), 3))
             try:
                 # the mesh rows are read and written in place, the latter only if every end
@@ -685,9 +686,7 @@ class Sculptor:
                     in_place=True,
                     out=buffer,
                 )
-            except ValueError as exc:
-                if isinstance(exc, ParameterError):
-                    raise
+            except StreamlineOverflow:
                 raise ValueError(
                     f"the {brush.kind} event would move vertices to infinity; "
                     "lower the strength, amount or delta"
@@ -751,8 +750,7 @@ class Sculptor:
     def _record_pins(self, label: str, before: np.ndarray) -> None:
         """One undo step for a change of the pins alone (positions before and now)."""
         state = (_Pins(before), _Pins(self.constraint_points))
-        none = np.zeros((0, 3))
-        self.history.record(label, np.zeros(0, dtype=np.int64), none, none, state)
+        self.history.record(label, np.zeros(0, dtype=np.int64), _NO_ROWS, _NO_ROWS, state)
 
     def _set_pins(self, points: np.ndarray) -> None:
         """Rebuild the pins at ``points`` (k, 3) (undo/redo of an add, remove or clear)."""

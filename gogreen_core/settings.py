@@ -31,12 +31,12 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from gogreen_core.brushes import Brush, default_wrinkle_weights
+from gogreen_core.brushes import DEFAULT_INFLUENCE, Brush, default_wrinkle_weights
 from gogreen_core.kernel import L_MAX_LIMIT
 from gogreen_core.material import Material
 from gogreen_core.presets import Preset
 from gogreen_core.radial import GaussianRadial, MultiscaleRadial, RadialProfile, SplineRadial
-from gogreen_core.validation import ParameterError, check_finite, check_number
+from gogreen_core.validation import ParameterError, check_bool, check_finite, check_number
 
 __all__ = [
     "BrushSettings",
@@ -231,7 +231,9 @@ class BrushSettings(EventedModel):
     radius = Field(0.08, _brush_value, doc="ε as a fraction of the model size")
     strength = Field(1.0, _brush_value, doc="multiplies the cursor motion or amount")
     substeps = Field(0, _brush_value, doc="RK4 steps per mouse event (0: adaptive)")
-    influence = Field(4.0, _brush_value, doc="radius of the moved region, in multiples of ε")
+    influence = Field(
+        DEFAULT_INFLUENCE, _brush_value, doc="radius of the moved region, in multiples of ε"
+    )
     symmetry = Field("", _brush_value, doc='mirror planes, any of "x", "y", "z"')
 
     @property
@@ -246,9 +248,7 @@ class BrushSettings(EventedModel):
 
 # -- pen ---------------------------------------------------------------------------------------
 def _flag(_model: PenSettings, name: str, value: Any) -> bool:
-    if not isinstance(value, (bool, np.bool_)):
-        raise ParameterError(f"pen.{name}", f"{name} must be true or false (got {value!r})")
-    return bool(value)
+    return check_bool(f"pen.{name}", value)
 
 
 def _pen_number(high: float):

@@ -24,6 +24,8 @@ import numpy as np
 
 from gogreen_core.brushes import (
     BRUSH_KINDS,
+    CUTOFF_START,
+    DEFAULT_INFLUENCE,
     MAX_RADIUS,
     MAX_STRENGTH,
     MIN_RADIUS,
@@ -103,9 +105,10 @@ def brush_profile(kernel, brush: Brush, eps: float, samples: int = PROFILE_SAMPL
     grab of ``kernel`` (a :class:`GreenKernel` at ε = ``eps``): |G(r x̂) G(0)⁻¹ e| averaged over
     the three axes e, times the brush's smooth cutoff, divided by its largest value. With
     ``kernel`` None (kernels not ready) only the cutoff is drawn."""
-    outer = (brush.influence if np.isfinite(brush.influence) else 4.0) * eps
+    finite = np.isfinite(brush.influence)
+    outer = (brush.influence if finite else DEFAULT_INFLUENCE) * eps
     r = np.linspace(0.0, outer, samples)
-    cutoff = smooth_cutoff(r, 0.5 * outer, outer) if np.isfinite(brush.influence) else 1.0
+    cutoff = smooth_cutoff(r, CUTOFF_START * outer, outer) if finite else 1.0
     if kernel is None:
         return np.broadcast_to(cutoff, r.shape).astype(float)
     motion = grab_motion(kernel, r) * cutoff
@@ -145,7 +148,7 @@ class CursorState:
     center: np.ndarray
     normal: np.ndarray
     radius: float
-    influence: float = 4.0
+    influence: float = DEFAULT_INFLUENCE
     profile: np.ndarray | None = None
     label: str | None = None
     full_radius: float | None = None
@@ -493,21 +496,21 @@ class ValueDrag:
 
 class CursorController:
     """The brush cursor: on the surface under the hovering cursor, where the brush acts while
-    dragging, hidden off the model. ``radius`` is a callable giving ε in model units;
-    ``influence`` and ``profile`` (optional callables) give the influence factor and the falloff
-    samples of the current brush."""
+    dragging, hidden off the model. Callables give the current brush's ε in model units
+    (``radius``), influence factor, falloff samples (``profile``, or None) and, during a pen
+    stroke whose pressure shrinks ε, the full ε (``full_radius``, else None)."""
 
     def __init__(
         self,
         radius: Callable[[], float],
-        influence: Callable[[], float] | None = None,
-        profile: Callable[[], np.ndarray | None] | None = None,
-        full_radius: Callable[[], float | None] | None = None,
+        influence: Callable[[], float],
+        profile: Callable[[], np.ndarray | None],
+        full_radius: Callable[[], float | None],
     ) -> None:
         self.radius = radius
-        self.influence = influence or (lambda: 4.0)
-        self.profile = profile or (lambda: None)
-        self.full_radius = full_radius or (lambda: None)
+        self.influence = influence
+        self.profile = profile
+        self.full_radius = full_radius
         self.state: CursorState | None = None
         self._normal: np.ndarray | None = None
 
