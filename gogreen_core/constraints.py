@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from gogreen_core._expansion import near_segment
 from gogreen_core.brushes import CUTOFF_START, DEFAULT_INFLUENCE
 from gogreen_core.kernel import GreenKernel
 
@@ -28,6 +29,9 @@ __all__ = ["CONSTRAINT_INFLUENCE", "ConstraintSet", "smooth_cutoff"]
 
 #: Reach of a pin's displacement in multiples of its ε (the brushes' default influence).
 CONSTRAINT_INFLUENCE = DEFAULT_INFLUENCE
+# a pin's reach is a ball: a segment of length 0 (near_segment) with no mirror images
+_NO_STEP = np.zeros(3)
+_NO_MIRRORS = np.ones((1, 3))
 
 
 def smooth_cutoff(distance: np.ndarray, inner: float, outer: float) -> np.ndarray:
@@ -191,17 +195,44 @@ class ConstraintSet:
 
     def displacement(self, points: np.ndarray, forces: np.ndarray) -> np.ndarray:
         """u(points) = Σ_j s(|points − p_j|) G(points − p_j) f_j → (N, 3); only the points
-        within :attr:`reach` of a pin are evaluated."""
+        within :attr:`reach` of a pin are evaluated (:meth:`displacement_rows`)."""
         points = np.asarray(points, dtype=np.float64)
         out = np.zeros((len(points), 3))
+        rows, u = self.displacement_rows(points, forces)
+        out[rows] = u
+        return out
+
+    def displacement_rows(
+        self, points: np.ndarray, forces: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """The rows (K,) int64, sorted, of ``points`` (N, 3) within :attr:`reach` of a pin
+        whose force is not zero, and u (K, 3) there (u is zero at every other row)."""
+        points = np.asarray(points, dtype=np.float64)
+        pins = []  # (p, f, its rows, their weights)
         for p, f in zip(self._points, forces, strict=True):
             if not np.any(f):
                 continue
             if self._cutoff is None:
-                out += self._kernel.displacement(points, p, f)
+                pins.append((p, f, np.arange(len(points)), None))
                 continue
-            near = np.flatnonzero(np.linalg.norm(points - p, axis=1) < self._cutoff[1])
-            if len(near):
-                weights = self._weights(points[near] - p)
-                out[near] += weights[:, None] * self._kernel.displacement(points[near], p, f)
-        return out
+            # candidates by a parallel pass (a hair wider), then the exact test on them alone
+            mask = np.empty(len(points), dtype=np.bool_)
+            wider = self._cutoff[1] * (1.0 + 1e-9)
+            near_segment(points, p, _NO_STEP, wider, _NO_MIRRORS, p, mask)
+            candidates = np.flatnonzero(mask)
+            distance = np.linalg.norm(points[candidates] - p, axis=1)
+            inside = distance < self._cutoff[1]
+            pins.append((p, f, candidates[inside], smooth_cutoff(distance[inside], *self._cutoff)))
+        reached = np.zeros(len(points), dtype=np.bool_)
+        for pin in pins:
+            reached[pin[2]] = True
+        rows = np.flatnonzero(reached)
+        slot = np.cumsum(reached) - 1  # row r is u[slot[r]]
+        u = np.zeros((len(rows), 3))
+        for p, f, pin_rows, weights in pins:
+            if len(pin_rows):
+                displacement = self._kernel.displacement(points[pin_rows], p, f)
+                if weights is not None:
+                    displacement *= weights[:, None]
+                u[slot[pin_rows]] += displacement
+        return rows, u

@@ -798,18 +798,21 @@ class Sculptor:
         targets = np.zeros((len(self._constraints), 3))
         targets[index] = d
         forces = self._constraints.solve(targets)
-        u = self._constraints.displacement(self._vertices, forces)
-        if not np.all(np.isfinite(u)):
+        # only the rows within the pins' reach move: no pass over the whole mesh
+        rows, moved = self._constraints.displacement_rows(self._vertices, forces)
+        if not np.all(np.isfinite(moved)):
             raise ParameterError("delta", "the pin drag would move vertices to infinity")
         self._constraints.move(index, start + d)
-        before = self._vertices.copy()
-        self._vertices += u
+        before = self._vertices[rows]
+        self._vertices[rows] += moved
         # the pin's own move is undone with the vertices: (index, position) before and after
         pin = (_Pin(index, start), _Pin(index, start + d))
-        self.history.record_change(
-            "constraint drag", before, self._vertices, merge=continued, state=pin
+        self.history.record_rows(
+            "constraint drag", rows, before, self._vertices[rows], merge=continued, state=pin
         )
         self._log.record(ConstraintDrag(index, d, continued))
+        u = np.zeros_like(self._vertices)
+        u[rows] = moved
         return u
 
     # -- history -----------------------------------------------------------------------------

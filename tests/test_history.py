@@ -185,3 +185,21 @@ def test_snapshot_and_restore_put_the_stacks_back():
     history.restore(saved)
     assert history.undo_labels == ["a"] and not history.can_redo
     assert history.memory_bytes == 8 + 2 * 24
+
+
+def test_record_rows_keeps_what_record_change_keeps():
+    """An operation that knows its rows records the same entry as a full comparison."""
+    rng = np.random.default_rng(3)
+    before = rng.normal(size=(200, 3))
+    after = before.copy()
+    after[[4, 50, 51]] += 1.0
+    after[7] = -0.0 * before[7] + before[7]  # unchanged bits: left out
+    full, rows = History(), History()
+    full.record_change("drag", before, after)
+    candidates = np.array([4, 7, 50, 51, 120])
+    rows.record_rows("drag", candidates, before[candidates], after[candidates])
+    for history in (full, rows):
+        vertices = after.copy()
+        history.undo(vertices)
+        assert np.array_equal(vertices, before)
+        assert np.array_equal(history.restored_indices, [4, 50, 51])
