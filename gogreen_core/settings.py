@@ -261,7 +261,17 @@ def _pen_number(high: float):
 class PenSettings(EventedModel):
     """How a pen (or the mouse) drives a stroke, as in Blender: pressure toggles for the
     strength and the radius, a stabilizer and event spacing (the stroke controller reads them,
-    :class:`gogreen_core.tools.StrokeController`)."""
+    :class:`gogreen_core.tools.StrokeController`).
+
+    pressure_strength : pressure scales each event's step (the strength).
+    pressure_radius : pressure scales each event's radius ε along the stroke (Blender's habit):
+        the event's :attr:`BrushEvent.radius_factor` is the pressure, at least
+        :data:`gogreen_core.tools.MIN_PRESSURE_RADIUS`.
+    lazy_radius : stabilizer, screen pixels: the brush follows the pointer at this distance
+        behind it (a rope of that length), smoothing jitter; 0: off.
+    spacing : a move is applied only once the brush point has gone this many ε from the last
+        applied one; 0: every move.
+    """
 
     pressure_strength = Field(True, _flag, doc="pen pressure scales each event's step")
     pressure_radius = Field(False, _flag, doc="pen pressure scales the radius along the stroke")

@@ -33,6 +33,7 @@ from gogreen_core.brushes import (
     BrushEvent,
 )
 from gogreen_core.constraints import smooth_cutoff
+from gogreen_core.settings import PenSettings
 from gogreen_core.threads import threads_at_most
 
 __all__ = [
@@ -41,7 +42,6 @@ __all__ = [
     "PROFILE_SAMPLES",
     "CursorController",
     "CursorState",
-    "PenOptions",
     "PinController",
     "PointerEvent",
     "SculptTools",
@@ -224,27 +224,6 @@ class _Coalescer:
         return event
 
 
-@dataclass(frozen=True)
-class PenOptions:
-    """How pressure, the stabilizer and spacing act (the attributes of
-    :class:`gogreen_core.settings.PenSettings`; any object with them will do).
-
-    pressure_strength : pressure scales each event's step (the strength).
-    pressure_radius : pressure scales each event's radius ε along the stroke (Blender's habit):
-        the event's :attr:`BrushEvent.radius_factor` is the pressure, at least
-        :data:`MIN_PRESSURE_RADIUS`.
-    lazy_radius : stabilizer, screen pixels: the brush follows the pointer at this distance
-        behind it (a rope of that length), smoothing jitter; 0: off.
-    spacing : a move is applied only once the brush point has gone this many ε from the last
-        applied one; 0: every move.
-    """
-
-    pressure_strength: bool = True
-    pressure_radius: bool = False
-    lazy_radius: float = 0.0
-    spacing: float = 0.0
-
-
 #: Smallest radius factor pen pressure gives (a feather touch still sculpts).
 MIN_PRESSURE_RADIUS = 0.1
 
@@ -266,9 +245,10 @@ class StrokeController:
     pixels = amount 1) and their direction from the screen motion.
     """
 
-    def __init__(self, sculptor, pen: Callable[[], PenOptions] | None = None) -> None:
+    def __init__(self, sculptor, pen: Callable[[], PenSettings] | None = None) -> None:
         self.sculptor = sculptor
-        self.pen = pen or PenOptions
+        defaults = PenSettings()
+        self.pen = pen or (lambda: defaults)
         self.brush: Brush | None = None
         self._anchor: np.ndarray | None = None
         self._last_point: np.ndarray | None = None
@@ -347,7 +327,7 @@ class StrokeController:
         return BrushEvent(center=center, delta=pressure * delta, radius_factor=factor)
 
     def stabilized(self, event: PointerEvent) -> PointerEvent | None:
-        """``event`` after the stabilizer and spacing (:class:`PenOptions`): the brush point
+        """``event`` after the stabilizer and spacing (:class:`PenSettings`): the brush point
         trails the pointer by ``lazy_radius`` pixels (the world point interpolated on the drag
         plane), and None while it has moved less than ``spacing`` · ε since the last applied
         event or not left the lazy radius (ε at the event's pressure when pressure → radius is
@@ -566,11 +546,12 @@ class SculptTools:
         first_pin_radius: Callable[[], None] | None = None,
         ready: Callable[[], str | None] | None = None,
         settings=None,
-        pen: Callable[[], PenOptions] | None = None,
+        pen: Callable[[], PenSettings] | None = None,
     ) -> None:
         self.brush = brush
-        #: Pressure, stabilizer and spacing options (:class:`PenOptions` or PenSettings).
-        self.pen = pen or PenOptions
+        #: Pressure, stabilizer and spacing options (:class:`PenSettings`; defaults if None).
+        defaults = PenSettings()
+        self.pen = pen or (lambda: defaults)
         #: The brush settings model (``kind``, ``radius``, ``strength``) that keys and value
         #: drags change (a :class:`gogreen_core.settings.BrushSettings`), optional.
         self.settings = settings

@@ -282,9 +282,9 @@ def test_ctrl_held_inverts_the_brush(sculptor):
 
 
 def pen_tools(sculptor, **options):
-    from gogreen_core.tools import PenOptions
+    from gogreen_core.settings import PenSettings
 
-    pen = PenOptions(**options)
+    pen = PenSettings(**options)
     return SculptTools(sculptor, brush=lambda: GRAB, pen=lambda: pen)
 
 
