@@ -7,6 +7,7 @@ import time
 
 import numpy as np
 import pytest
+from gui_helpers import show_widget
 from PySide6.QtCore import QPoint, QPointF, Qt
 from PySide6.QtGui import QPalette
 from PySide6.QtWidgets import QLabel
@@ -316,12 +317,7 @@ def test_homogenization_errors_are_shown(qtbot, homogenization_panel, monkeypatc
 # ---------------------------------------------------------------------------------------------
 @pytest.fixture
 def falloff_panel(qtbot):
-    panel = FalloffPanel()
-    qtbot.addWidget(panel)
-    panel.resize(400, 900)
-    panel.show()
-    qtbot.waitExposed(panel)
-    return panel
+    return show_widget(qtbot, FalloffPanel(), 400, 900)
 
 
 def _count(signal) -> list:
