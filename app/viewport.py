@@ -27,7 +27,7 @@ from PySide6.QtGui import QKeyEvent, QMouseEvent, QTabletEvent, QWheelEvent
 from pyvistaqt import QtInteractor
 
 from app.background import BackgroundRunner
-from app.cursor_overlay import CursorOverlay, PinOverlay
+from app.cursor_overlay import CursorOverlay, PinOverlay, to_display
 from gogreen_core.geometry import SurfaceIndex
 from gogreen_core.tools import CursorState, PointerEvent, SculptTools, ToolUpdate
 
@@ -374,9 +374,7 @@ class SculptViewport(QtInteractor):
         return w[:3] / w[3]
 
     def _depth(self, point: np.ndarray) -> float:
-        self.renderer.SetWorldPoint(*point, 1.0)
-        self.renderer.WorldToDisplay()
-        return self.renderer.GetDisplayPoint()[2]
+        return float(to_display(self.renderer, point)[2])
 
     def _view_axes(self) -> tuple[np.ndarray, np.ndarray]:
         camera = self.renderer.GetActiveCamera()
