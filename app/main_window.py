@@ -463,10 +463,6 @@ class MainWindow(QMainWindow):
         """The triangle edges are drawn over the surface (View → Wireframe, Shift+Z)."""
         return self.wireframe_action.isChecked()
 
-    def set_wireframe(self, on: bool) -> None:
-        self.wireframe_action.setChecked(bool(on))
-        self._wireframe_toggled()
-
     def _wireframe_toggled(self) -> None:
         self._apply_mesh_look()
         self.viewport.request_render()
@@ -738,8 +734,7 @@ class MainWindow(QMainWindow):
         """The ring shows the new radius at once."""
         state = self.tools.cursor.state
         if state is not None and self.document is not None:
-            self.viewport.show_cursor(self.tools.cursor.refresh())
-            self.viewport.request_render()
+            self.viewport.show_cursor(self.tools.cursor.refresh())  # requests the render
 
     # -- pointer tools -----------------------------------------------------------------------
     def _constraint_mode_changed(self, on: bool) -> None:

@@ -107,8 +107,6 @@ class SculptViewport(QtInteractor):
         self._index_runner.finished.connect(self._index_built)
         self._index_runner.failed.connect(self._index_failed)
         self._index_job: int | None = None
-        #: Milliseconds of the last :meth:`update_vertices` (array writes, normals, Modified).
-        self.last_update_ms = 0.0
         #: The brush cursor: 2D, drawn over the surface (app.cursor_overlay).
         self.cursor_overlay = CursorOverlay(self.renderer)
         #: The reach of the pins (2D rings).
@@ -311,7 +309,6 @@ class SculptViewport(QtInteractor):
         """
         if self.mesh is None:
             return
-        start = time.perf_counter()
         vertices = np.asarray(vertices, dtype=np.float64)
         surface = self.surface
         if indices is None and surface is not None:
@@ -333,7 +330,6 @@ class SculptViewport(QtInteractor):
             normals = self.mesh.GetPointData().GetNormals()
             if normals is not None:
                 normals.Modified()
-        self.last_update_ms = 1e3 * (time.perf_counter() - start)
 
     # -- picking -----------------------------------------------------------------------------
     def _display(self, pos: QPointF) -> tuple[float, float]:
