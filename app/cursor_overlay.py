@@ -18,7 +18,7 @@ from vtkmodules.util.numpy_support import numpy_to_vtk
 
 from gogreen_core.tools import CursorState
 
-__all__ = ["CursorOverlay", "PinOverlay", "ring_points"]
+__all__ = ["CursorOverlay", "PinOverlay", "pixel_radius", "ring_points", "to_display"]
 
 CURSOR_COLOR = (1.0, 0.55, 0.1)
 INFLUENCE_COLOR = (1.0, 0.8, 0.55)
@@ -33,6 +33,26 @@ def ring_points(center: tuple[float, float], radius: float, segments: int = SEGM
     return np.column_stack(
         [center[0] + radius * np.cos(t), center[1] + radius * np.sin(t), np.zeros_like(t)]
     )
+
+
+def to_display(renderer, point: np.ndarray) -> np.ndarray:
+    """Display coordinates (x, y in pixels, y up; z the depth in [0, 1]) (3,) of the world
+    ``point`` (3,) through ``renderer``'s current camera."""
+    renderer.SetWorldPoint(*point, 1.0)
+    renderer.WorldToDisplay()
+    return np.array(renderer.GetDisplayPoint())
+
+
+def pixel_radius(renderer, center: np.ndarray, radius: float) -> float:
+    """Screen radius (pixels) of a world ``radius`` at world ``center`` (3,) through
+    ``renderer``'s camera: the projection of a radius perpendicular to the view."""
+    camera = renderer.GetActiveCamera()
+    view = np.array(camera.GetFocalPoint()) - np.array(camera.GetPosition())
+    side = np.cross(view, np.array(camera.GetViewUp()))
+    norm = np.linalg.norm(side)
+    side = side / norm if norm > 0 else np.array([1.0, 0.0, 0.0])
+    a, b = to_display(renderer, center), to_display(renderer, center + radius * side)
+    return float(np.hypot(*(b - a)[:2]))
 
 
 class _Polyline2D:
@@ -109,22 +129,6 @@ class CursorOverlay:
         self.state = state
         self.layout()
 
-    def _to_display(self, point: np.ndarray) -> np.ndarray:
-        self.renderer.SetWorldPoint(*point, 1.0)
-        self.renderer.WorldToDisplay()
-        return np.array(self.renderer.GetDisplayPoint())
-
-    def pixel_radius(self, center: np.ndarray, radius: float) -> float:
-        """Screen radius (pixels) of a world ``radius`` at world ``center``: the projection of
-        a radius perpendicular to the view."""
-        camera = self.renderer.GetActiveCamera()
-        view = np.array(camera.GetFocalPoint()) - np.array(camera.GetPosition())
-        side = np.cross(view, np.array(camera.GetViewUp()))
-        norm = np.linalg.norm(side)
-        side = side / norm if norm > 0 else np.array([1.0, 0.0, 0.0])
-        a, b = self._to_display(center), self._to_display(center + radius * side)
-        return float(np.hypot(*(b - a)[:2]))
-
     def layout(self) -> None:
         """Rebuild the 2D geometry for the current camera (cheap: a few hundred points)."""
         parts = (self._influence, self._ring, self._profile, self._full)
@@ -137,9 +141,9 @@ class CursorOverlay:
             return
         state = self.state
         center = np.asarray(state.center, dtype=float)
-        display = self._to_display(center)
+        display = to_display(self.renderer, center)
         xy = (float(display[0]), float(display[1]))
-        eps_px = self.pixel_radius(center, state.radius)
+        eps_px = pixel_radius(self.renderer, center, state.radius)
         influence = state.influence if np.isfinite(state.influence) else 4.0
         outer_px = eps_px * influence
         self._ring.set(ring_points(xy, eps_px))
@@ -181,8 +185,6 @@ class PinOverlay:
         #: Pixel radii of the rings after the last render.
         self.screen_radii: list[float] = []
         self._rings = _Polyline2D(renderer, PIN_COLOR, 1.5, 0.8)
-        self._projector = CursorOverlay.__new__(CursorOverlay)
-        self._projector.renderer = renderer
         renderer.AddObserver("StartEvent", lambda *_: self.layout())
 
     def show(self, points: np.ndarray, reach: float) -> None:
@@ -198,8 +200,8 @@ class PinOverlay:
             return
         rings, radii = [], []
         for point in self.points:
-            display = self._projector._to_display(point)
-            radius = self._projector.pixel_radius(point, self.reach)
+            display = to_display(self.renderer, point)
+            radius = pixel_radius(self.renderer, point, self.reach)
             rings.append(ring_points((display[0], display[1]), radius))
             radii.append(radius)
         self._rings.set_many(rings)

@@ -11,12 +11,11 @@ model as it was.
 from __future__ import annotations
 
 import json
-import os
 from pathlib import Path
 
 import numpy as np
 import pyvista as pv
-from PySide6.QtCore import QSettings, Qt, QTimer
+from PySide6.QtCore import QBuffer, QIODevice, QSettings, Qt, QTimer
 from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QImage, QKeySequence
 from PySide6.QtWidgets import (
     QApplication,
@@ -44,7 +43,7 @@ from app.theme import DEFAULT_THEME, THEMES, Theme, apply_theme, theme
 from app.viewport import SculptViewport
 from gogreen_core.brushes import default_wrinkle_weights
 from gogreen_core.material import Material
-from gogreen_core.mesh_io import write_text_atomic
+from gogreen_core.mesh_io import write_bytes_atomic, write_text_atomic
 from gogreen_core.presets import Preset, builtin_presets, load_preset, save_preset
 from gogreen_core.settings import ChangeEvent, EngineLink, Settings
 from gogreen_core.tools import PointerEvent, SculptTools, ToolUpdate
@@ -464,10 +463,6 @@ class MainWindow(QMainWindow):
         """The triangle edges are drawn over the surface (View → Wireframe, Shift+Z)."""
         return self.wireframe_action.isChecked()
 
-    def set_wireframe(self, on: bool) -> None:
-        self.wireframe_action.setChecked(bool(on))
-        self._wireframe_toggled()
-
     def _wireframe_toggled(self) -> None:
         self._apply_mesh_look()
         self.viewport.request_render()
@@ -739,8 +734,7 @@ class MainWindow(QMainWindow):
         """The ring shows the new radius at once."""
         state = self.tools.cursor.state
         if state is not None and self.document is not None:
-            self.viewport.show_cursor(self.tools.cursor.refresh())
-            self.viewport.request_render()
+            self.viewport.show_cursor(self.tools.cursor.refresh())  # requests the render
 
     # -- pointer tools -----------------------------------------------------------------------
     def _constraint_mode_changed(self, on: bool) -> None:
@@ -905,18 +899,18 @@ class MainWindow(QMainWindow):
 
     def save_screenshot(self, path: str) -> bool:
         """PNG of the viewport only (no panels, menus, overlays or brush cursor), written
-        atomically; the status bar names the file. Returns success."""
+        atomically (``write_bytes_atomic``); the status bar names the file. Returns success."""
         target = Path(path)
-        partial = target.with_name(f".{target.name}.partial")
         try:
             pixels = self.viewport.model_image()
             height, width = pixels.shape[:2]
             image = QImage(pixels.data, width, height, 3 * width, QImage.Format.Format_RGB888)
-            if not image.save(str(partial), "PNG"):
-                raise OSError("Qt could not write the PNG (is the folder writable?)")
-            os.replace(partial, target)
+            png = QBuffer()
+            png.open(QIODevice.OpenModeFlag.WriteOnly)
+            if not image.save(png, "PNG"):
+                raise RuntimeError("Qt could not encode the PNG")
+            write_bytes_atomic(target, png.data().data())
         except (OSError, RuntimeError, ValueError) as exc:
-            partial.unlink(missing_ok=True)
             self.show_error("Cannot write the screenshot", f"{target}: {exc}")
             return False
         self.flash(f"Screenshot saved: {target} ({width}×{height})")

@@ -27,7 +27,7 @@ from PySide6.QtGui import QKeyEvent, QMouseEvent, QTabletEvent, QWheelEvent
 from pyvistaqt import QtInteractor
 
 from app.background import BackgroundRunner
-from app.cursor_overlay import CursorOverlay, PinOverlay
+from app.cursor_overlay import CursorOverlay, PinOverlay, to_display
 from gogreen_core.geometry import SurfaceIndex
 from gogreen_core.tools import CursorState, PointerEvent, SculptTools, ToolUpdate
 
@@ -107,8 +107,6 @@ class SculptViewport(QtInteractor):
         self._index_runner.finished.connect(self._index_built)
         self._index_runner.failed.connect(self._index_failed)
         self._index_job: int | None = None
-        #: Milliseconds of the last :meth:`update_vertices` (array writes, normals, Modified).
-        self.last_update_ms = 0.0
         #: The brush cursor: 2D, drawn over the surface (app.cursor_overlay).
         self.cursor_overlay = CursorOverlay(self.renderer)
         #: The reach of the pins (2D rings).
@@ -311,7 +309,6 @@ class SculptViewport(QtInteractor):
         """
         if self.mesh is None:
             return
-        start = time.perf_counter()
         vertices = np.asarray(vertices, dtype=np.float64)
         surface = self.surface
         if indices is None and surface is not None:
@@ -333,7 +330,6 @@ class SculptViewport(QtInteractor):
             normals = self.mesh.GetPointData().GetNormals()
             if normals is not None:
                 normals.Modified()
-        self.last_update_ms = 1e3 * (time.perf_counter() - start)
 
     # -- picking -----------------------------------------------------------------------------
     def _display(self, pos: QPointF) -> tuple[float, float]:
@@ -374,9 +370,7 @@ class SculptViewport(QtInteractor):
         return w[:3] / w[3]
 
     def _depth(self, point: np.ndarray) -> float:
-        self.renderer.SetWorldPoint(*point, 1.0)
-        self.renderer.WorldToDisplay()
-        return self.renderer.GetDisplayPoint()[2]
+        return float(to_display(self.renderer, point)[2])
 
     def _view_axes(self) -> tuple[np.ndarray, np.ndarray]:
         camera = self.renderer.GetActiveCamera()

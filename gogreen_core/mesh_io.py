@@ -57,6 +57,7 @@ __all__ = [
     "MeshFileError",
     "load_mesh",
     "save_mesh",
+    "write_bytes_atomic",
     "write_text_atomic",
 ]
 
@@ -1285,8 +1286,13 @@ def save_mesh(mesh: MeshData, path: str | os.PathLike, *, ascii: bool = False) -
 def write_text_atomic(path: str | os.PathLike, text: str) -> None:
     """Write ``text`` (UTF-8) to ``path`` through a temporary file renamed over it, so a failed
     write never leaves a half-written file (sessions, presets). ``MeshFileError`` on failure."""
+    write_bytes_atomic(path, text.encode("utf-8"))
+
+
+def write_bytes_atomic(path: str | os.PathLike, data: bytes) -> None:
+    """Write ``data`` to ``path`` through a temporary file renamed over it, so a failed write
+    never leaves a half-written file (screenshots). ``MeshFileError`` on failure."""
     p = Path(path)
-    data = text.encode("utf-8")
     try:
         _atomic_write(p, lambda out: out.write(data))
     except OSError as exc:

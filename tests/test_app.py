@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from gui_helpers import activate, center_of, drag, send
 from PySide6.QtCore import QPoint, QPointF, Qt
 from PySide6.QtGui import QMouseEvent
 from PySide6.QtWidgets import QMessageBox
@@ -18,36 +19,6 @@ def test_opens_and_sculpts_the_shared_spot(window, shared_mesh):
     assert not np.array_equal(window.document.sculptor.vertices, before)
     window.undo()
     assert np.array_equal(window.document.sculptor.vertices, before)
-
-
-def send(viewport, kind, pos, button=Qt.MouseButton.LeftButton, buttons=None):
-    buttons = button if buttons is None else buttons
-    p = QPointF(pos)
-    event = QMouseEvent(
-        kind, p, viewport.mapToGlobal(p), button, buttons, Qt.KeyboardModifier.NoModifier
-    )
-    {
-        QMouseEvent.Type.MouseButtonPress: viewport.mousePressEvent,
-        QMouseEvent.Type.MouseMove: viewport.mouseMoveEvent,
-        QMouseEvent.Type.MouseButtonRelease: viewport.mouseReleaseEvent,
-    }[kind](event)
-
-
-def drag(window, start: QPoint, steps: int = 6):
-    vp = window.viewport
-    offset = QPoint(8, -6)
-    send(vp, QMouseEvent.Type.MouseButtonPress, start)
-    pos = start
-    for _ in range(steps):
-        pos = pos + offset
-        send(
-            vp, QMouseEvent.Type.MouseMove, pos, Qt.MouseButton.NoButton, Qt.MouseButton.LeftButton
-        )
-    send(vp, QMouseEvent.Type.MouseButtonRelease, pos, buttons=Qt.MouseButton.NoButton)
-
-
-def center_of(window) -> QPoint:
-    return QPoint(window.viewport.width() // 2, window.viewport.height() // 2)
 
 
 def test_drag_moves_near_vertices_only_and_undo_restores(window):
@@ -254,9 +225,7 @@ def test_strokes_wait_for_the_kernels_with_a_message_not_a_freeze(window, monkey
 def test_shortcuts_act_from_a_number_field_and_enter_returns_focus(window, qtbot):
     from PySide6.QtTest import QTest
 
-    with qtbot.waitActive(window, timeout=10_000):
-        window.activateWindow()
-        window.windowHandle().requestActivate()
+    activate(window, qtbot)
     field = window.material_panel.fields["young"]
     field.setFocus()
     qtbot.waitUntil(field.hasFocus)
@@ -339,13 +308,6 @@ def test_brush_and_menu_actions_have_the_projects_icons(window):
     }.items():
         action = window.keymap_actions[key]
         assert action.property("gogreen_icon") == name and not action.icon().isNull(), key
-
-
-def activate(window, qtbot) -> None:
-    """Make ``window`` the active window (shortcuts act only in the active window)."""
-    with qtbot.waitActive(window, timeout=10_000):
-        window.activateWindow()
-        window.windowHandle().requestActivate()
 
 
 def test_help_menu_f1_and_question_mark_show_the_keymap_over_the_viewport(window, qtbot):

@@ -1,23 +1,9 @@
 """The brush cursor overlay in the main window: where it sits, when it updates and hides."""
 
 import pytest
+from gui_helpers import center_of, drag, hover, send
 from PySide6.QtCore import QPoint, QPointF, Qt
 from PySide6.QtGui import QMouseEvent
-
-from tests.test_app import center_of, drag, send
-
-
-def hover(window, pos):
-    send(
-        window.viewport,
-        QMouseEvent.Type.MouseMove,
-        pos,
-        Qt.MouseButton.NoButton,
-        Qt.MouseButton.NoButton,
-    )
-    window.viewport._emit_hover()
-    window._process_tools()
-    window.viewport.render_now()
 
 
 def test_cursor_shows_radius_and_influence_and_updates_without_a_move(window):

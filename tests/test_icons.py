@@ -79,19 +79,15 @@ def test_tint_colours_the_strokes(qapp):
         assert all(c.name() == colour for c in solid)
 
 
-def test_default_tint_follows_the_palette(qapp):
+def test_default_tint_follows_the_palette(app_look):
     from PySide6.QtGui import QPalette
 
-    original = qapp.palette()
-    try:
-        palette = QPalette(original)
-        palette.setColor(QPalette.ColorRole.ButtonText, QColor("#00ff00"))
-        qapp.setPalette(palette)
-        image = icon("save").pixmap(24, 24).toImage()
-        solid = [c for _x, _y, c in _ink(image) if c.alpha() == 255]
-        assert solid and all(c.name() == "#00ff00" for c in solid)
-    finally:
-        qapp.setPalette(original)
+    palette = QPalette(app_look.palette())
+    palette.setColor(QPalette.ColorRole.ButtonText, QColor("#00ff00"))
+    app_look.setPalette(palette)
+    image = icon("save").pixmap(24, 24).toImage()
+    solid = [c for _x, _y, c in _ink(image) if c.alpha() == 255]
+    assert solid and all(c.name() == "#00ff00" for c in solid)
 
 
 def test_icon_is_cached_and_has_sizes(qapp):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import pytest
+from gui_helpers import show_widget
 from PySide6.QtCore import QPoint, QPointF, Qt
 from PySide6.QtGui import QColor, QKeySequence, QWheelEvent
 from PySide6.QtWidgets import QApplication, QWidget
@@ -158,12 +159,7 @@ class _Parent(QWidget):
 
 @pytest.fixture
 def parent(qtbot):
-    widget = _Parent()
-    qtbot.addWidget(widget)
-    widget.resize(1000, 700)
-    widget.show()
-    qtbot.waitExposed(widget)
-    return widget
+    return show_widget(qtbot, _Parent(), 1000, 700)
 
 
 @pytest.fixture

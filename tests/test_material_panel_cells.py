@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from gui_helpers import show_widget
 from PySide6.QtCore import Qt
 from PySide6.QtGui import QFontMetrics
 from PySide6.QtWidgets import QApplication, QLineEdit, QStyleOptionViewItem
@@ -114,12 +115,9 @@ def test_wood_grain_is_readable_in_the_default_window(window, qtbot):
 
 def test_the_editor_opens_on_the_exact_value_and_sets_exactly_what_is_typed(qtbot):
     panel = MaterialPanel()
-    qtbot.addWidget(panel)
-    panel.resize(380, 700)
     wood = {p.name: p for p in builtin_presets()}["Wood grain"]
     panel.set_material(wood.material)
-    panel.show()
-    qtbot.waitExposed(panel)
+    show_widget(qtbot, panel, 380, 700)
     table = panel.voigt_table
     stored = panel.voigt_entries()[1, 0]
     item = table.item(1, 0)

@@ -674,6 +674,28 @@ def test_save_replaces_an_existing_file_completely(made_textured, tmp_path):
     assert np.array_equal(load_mesh(target).faces, [[0, 1, 2]])
 
 
+def test_write_bytes_atomic_replaces_keeps_permissions_and_names_failures(tmp_path, monkeypatch):
+    target = tmp_path / "shot.png"
+    target.write_bytes(b"old picture, longer than the new one")
+    target.chmod(0o640)
+    mesh_io.write_bytes_atomic(target, b"\x89PNG new")
+    assert target.read_bytes() == b"\x89PNG new"
+    assert target.stat().st_mode & 0o777 == 0o640
+    assert [p.name for p in tmp_path.iterdir()] == ["shot.png"]  # no temporary file left
+
+    def refuse(*_args):
+        raise PermissionError(13, "Permission denied")
+
+    monkeypatch.setattr(mesh_io.os, "replace", refuse)
+    with pytest.raises(MeshFileError, match=r"shot\.png: cannot write \(Permission denied"):
+        mesh_io.write_bytes_atomic(target, b"lost")
+    assert target.read_bytes() == b"\x89PNG new"
+    assert [p.name for p in tmp_path.iterdir()] == ["shot.png"]
+    monkeypatch.undo()
+    with pytest.raises(MeshFileError, match="does not exist"):
+        mesh_io.write_bytes_atomic(tmp_path / "nowhere" / "shot.png", b"x")
+
+
 def test_uppercase_extensions(tmp_path):
     save_mesh(TRIANGLE, tmp_path / "T.PLY")
     assert np.array_equal(load_mesh(tmp_path / "T.PLY").vertices, TRIANGLE.vertices)

@@ -7,6 +7,7 @@ import time
 
 import numpy as np
 import pytest
+from gui_helpers import show_widget
 from PySide6.QtCore import QPoint, QPointF, Qt
 from PySide6.QtGui import QPalette
 from PySide6.QtWidgets import QLabel
@@ -316,12 +317,7 @@ def test_homogenization_errors_are_shown(qtbot, homogenization_panel, monkeypatc
 # ---------------------------------------------------------------------------------------------
 @pytest.fixture
 def falloff_panel(qtbot):
-    panel = FalloffPanel()
-    qtbot.addWidget(panel)
-    panel.resize(400, 900)
-    panel.show()
-    qtbot.waitExposed(panel)
-    return panel
+    return show_widget(qtbot, FalloffPanel(), 400, 900)
 
 
 def _count(signal) -> list:
@@ -588,73 +584,55 @@ def test_isotropic_materials_open_in_the_isotropic_mode(qtbot, material_panel):
 
 
 @pytest.mark.parametrize("name", ["dark", "light"])
-def test_captions_errors_and_zero_cells_take_the_theme_colours(qtbot, name):
-    from PySide6.QtWidgets import QApplication
-
+def test_captions_errors_and_zero_cells_take_the_theme_colours(qtbot, app_look, name):
     from app.panels.widgets import mark_invalid, set_text_role
     from app.theme import apply_theme, theme
 
-    app = QApplication.instance()
-    saved = app.palette(), app.styleSheet(), app.style().name(), app.property("gogreen_theme")
-    try:
-        colours = apply_theme(app, name)
-        panel = FalloffPanel()
-        qtbot.addWidget(panel)
-        captions = [
-            label for label in panel.findChildren(QLabel) if label.property("text_role") == "muted"
-        ]
-        assert captions, "the falloff panel's captions are muted"
-        for label in captions:
-            label.ensurePolished()
-            assert label.palette().color(label.foregroundRole()).name() == colours.muted_text
-        error = QLabel("broken")
-        qtbot.addWidget(error)
-        set_text_role(error, "error")
-        error.ensurePolished()
-        assert error.palette().color(error.foregroundRole()).name() == colours.error_text
-        with pytest.raises(ValueError, match="role"):
-            set_text_role(error, "loud")
-        material = MaterialPanel()
-        qtbot.addWidget(material)
-        material.set_material(Material.cubic(3.0, 1.5, 0.4))
-        zero = material.voigt_table.item(0, 3)
-        assert zero.foreground().color().name() == colours.muted_text
-        mark_invalid(material.voigt_table, True)
-        base = material.voigt_table.palette().color(QPalette.ColorRole.Base).name()
-        assert base == theme(name).invalid_base
-    finally:
-        app.setStyle(saved[2])
-        app.setPalette(saved[0])
-        app.setStyleSheet(saved[1])
-        app.setProperty("gogreen_theme", saved[3])
+    app = app_look
+    colours = apply_theme(app, name)
+    panel = FalloffPanel()
+    qtbot.addWidget(panel)
+    captions = [
+        label for label in panel.findChildren(QLabel) if label.property("text_role") == "muted"
+    ]
+    assert captions, "the falloff panel's captions are muted"
+    for label in captions:
+        label.ensurePolished()
+        assert label.palette().color(label.foregroundRole()).name() == colours.muted_text
+    error = QLabel("broken")
+    qtbot.addWidget(error)
+    set_text_role(error, "error")
+    error.ensurePolished()
+    assert error.palette().color(error.foregroundRole()).name() == colours.error_text
+    with pytest.raises(ValueError, match="role"):
+        set_text_role(error, "loud")
+    material = MaterialPanel()
+    qtbot.addWidget(material)
+    material.set_material(Material.cubic(3.0, 1.5, 0.4))
+    zero = material.voigt_table.item(0, 3)
+    assert zero.foreground().color().name() == colours.muted_text
+    mark_invalid(material.voigt_table, True)
+    base = material.voigt_table.palette().color(QPalette.ColorRole.Base).name()
+    assert base == theme(name).invalid_base
 
 
 @pytest.mark.parametrize("name", ["dark", "light"])
-def test_plots_are_drawn_on_the_themes_paper(qtbot, name):
-    from PySide6.QtWidgets import QApplication
-
+def test_plots_are_drawn_on_the_themes_paper(qtbot, app_look, name):
     from app.panels.curve_editor import CurveEditor
     from app.panels.glyph import YoungModulusGlyph
     from app.panels.widgets import plot_colors
     from app.theme import apply_theme
 
-    app = QApplication.instance()
-    saved = app.palette(), app.styleSheet(), app.style().name(), app.property("gogreen_theme")
-    try:
-        colours = apply_theme(app, name)
-        paper = plot_colors().background.name()
-        assert paper == (colours.base if name == "dark" else "#ffffff")
-        curves = CurveEditor(SplineRadial.from_profile(GaussianRadial(1.0), 4))
-        for plot in (curves, YoungModulusGlyph(Material.isotropic(1.0, 0.3))):
-            qtbot.addWidget(plot)
-            plot.resize(300, 240)
-            image = plot.grab().toImage()
-            assert image.pixelColor(4, 4).name() == paper, type(plot).__name__
-    finally:
-        app.setStyle(saved[2])
-        app.setPalette(saved[0])
-        app.setStyleSheet(saved[1])
-        app.setProperty("gogreen_theme", saved[3])
+    app = app_look
+    colours = apply_theme(app, name)
+    paper = plot_colors().background.name()
+    assert paper == (colours.base if name == "dark" else "#ffffff")
+    curves = CurveEditor(SplineRadial.from_profile(GaussianRadial(1.0), 4))
+    for plot in (curves, YoungModulusGlyph(Material.isotropic(1.0, 0.3))):
+        qtbot.addWidget(plot)
+        plot.resize(300, 240)
+        image = plot.grab().toImage()
+        assert image.pixelColor(4, 4).name() == paper, type(plot).__name__
 
 
 def test_the_falloff_preview_follows_a_curve_edit(qtbot, falloff_panel):
@@ -786,47 +764,36 @@ def test_a_computing_request_is_shown_and_the_newest_follows(qtbot, falloff_pane
 
 
 @pytest.mark.parametrize("name", ["dark", "light"])
-def test_the_falloff_preview_has_tick_labels_in_both_themes(qtbot, name):
-    from PySide6.QtWidgets import QApplication
-
+def test_the_falloff_preview_has_tick_labels_in_both_themes(qtbot, app_look, name):
     from app.panels.falloff_panel import FalloffPreview
     from app.panels.widgets import plot_colors
     from app.theme import apply_theme
     from gogreen_core.settings import Settings
 
-    app = QApplication.instance()
-    saved = app.palette(), app.styleSheet(), app.style().name(), app.property("gogreen_theme")
-    try:
-        apply_theme(app, name)
-        preview = FalloffPreview(Settings())
-        qtbot.addWidget(preview)
-        preview.resize(320, 160)
-        preview.recompute()
-        assert preview.wait()
-        colors = plot_colors()
-        image = preview.grab().toImage()
-        rect = preview.plot_rect().toRect()
-        paper = colors.background
+    app = app_look
+    apply_theme(app, name)
+    preview = FalloffPreview(Settings())
+    qtbot.addWidget(preview)
+    preview.resize(320, 160)
+    preview.recompute()
+    assert preview.wait()
+    colors = plot_colors()
+    image = preview.grab().toImage()
+    rect = preview.plot_rect().toRect()
+    paper = colors.background
 
-        def text_pixels(x0, y0, x1, y1):
-            """Pixels in a box that stand out from the paper like the text colour does."""
-            count = 0
-            for x in range(max(x0, 0), min(x1, image.width())):
-                for y in range(max(y0, 0), min(y1, image.height())):
-                    c = image.pixelColor(x, y)
-                    if abs(c.lightness() - paper.lightness()) > 80:
-                        count += 1
-            return count
+    def text_pixels(x0, y0, x1, y1):
+        """Pixels in a box that stand out from the paper like the text colour does."""
+        count = 0
+        for x in range(max(x0, 0), min(x1, image.width())):
+            for y in range(max(y0, 0), min(y1, image.height())):
+                c = image.pixelColor(x, y)
+                if abs(c.lightness() - paper.lightness()) > 80:
+                    count += 1
+        return count
 
-        assert abs(colors.text.lightness() - paper.lightness()) > 120  # legible contrast
-        # labels left of the plot (0 … 1) and below it (0 … ρ max), and the axis titles
-        assert text_pixels(0, rect.top() - 6, rect.left() - 4, rect.bottom() + 6) > 40
-        assert (
-            text_pixels(rect.left() - 6, rect.bottom() + 4, rect.right() + 6, image.height()) > 80
-        )
-        assert preview.values is not None and preview.values.max() == pytest.approx(1.0)
-    finally:
-        app.setStyle(saved[2])
-        app.setPalette(saved[0])
-        app.setStyleSheet(saved[1])
-        app.setProperty("gogreen_theme", saved[3])
+    assert abs(colors.text.lightness() - paper.lightness()) > 120  # legible contrast
+    # labels left of the plot (0 … 1) and below it (0 … ρ max), and the axis titles
+    assert text_pixels(0, rect.top() - 6, rect.left() - 4, rect.bottom() + 6) > 40
+    assert text_pixels(rect.left() - 6, rect.bottom() + 4, rect.right() + 6, image.height()) > 80
+    assert preview.values is not None and preview.values.max() == pytest.approx(1.0)

@@ -2,13 +2,13 @@
 
 import numpy as np
 import pytest
+from gui_helpers import center_of, send
 from PySide6.QtCore import QPoint, QPointF, Qt
 from PySide6.QtGui import QMouseEvent
 
 from gogreen_core.constraints import CONSTRAINT_INFLUENCE, smooth_cutoff
 from gogreen_core.sculptor import Sculptor
 from gogreen_core.shapes import icosphere
-from tests.test_app import center_of, send
 
 
 @pytest.fixture

@@ -13,16 +13,6 @@ from gogreen_core.validation import ParameterError
 ROLE = QPalette.ColorRole
 
 
-@pytest.fixture
-def restore_app_look(qapp):
-    palette, style_sheet, style = qapp.palette(), qapp.styleSheet(), qapp.style().name()
-    yield qapp
-    qapp.setStyle(style)
-    qapp.setPalette(palette)
-    qapp.setStyleSheet(style_sheet)
-    qapp.setProperty("gogreen_theme", None)
-
-
 def _luma(colour: str | QColor) -> float:
     """WCAG relative luminance (linearized sRGB)."""
     c = QColor(colour)
@@ -50,8 +40,8 @@ def test_dark_is_the_default_and_light_an_option():
 
 
 @pytest.mark.parametrize("name", THEMES)
-def test_apply_theme_sets_the_palette(restore_app_look, name):
-    app = restore_app_look
+def test_apply_theme_sets_the_palette(app_look, name):
+    app = app_look
     applied = apply_theme(app, name)
     assert applied is theme(name) and current_theme(app) is applied
     palette = app.palette()
@@ -73,16 +63,16 @@ def test_apply_theme_sets_the_palette(restore_app_look, name):
     assert label.palette().color(ROLE.Window).name() == applied.window
 
 
-def test_default_theme_is_dark(restore_app_look):
-    app = restore_app_look
+def test_default_theme_is_dark(app_look):
+    app = app_look
     apply_theme(app)
     assert current_theme(app).name == "dark"
     assert _luma(app.palette().color(ROLE.Window)) < 0.1
     assert _luma(app.palette().color(ROLE.Text)) > 0.6
 
 
-def test_light_theme_is_light(restore_app_look):
-    app = restore_app_look
+def test_light_theme_is_light(app_look):
+    app = app_look
     apply_theme(app, "light")
     assert _luma(app.palette().color(ROLE.Window)) > 0.6
     assert _luma(app.palette().color(ROLE.Text)) < 0.1
@@ -115,22 +105,22 @@ def test_viewport_background_is_plain_data(name):
     assert _luma(top) > _luma(bottom)  # lit from above
 
 
-def test_switching_back_and_forth(restore_app_look):
-    app = restore_app_look
+def test_switching_back_and_forth(app_look):
+    app = app_look
     apply_theme(app, "light")
     apply_theme(app, "dark")
     assert app.palette().color(ROLE.Window).name() == theme("dark").window
 
 
-def test_icons_follow_the_theme(restore_app_look):
-    app = restore_app_look
+def test_icons_follow_the_theme(app_look):
+    app = app_look
     for name in THEMES:
         apply_theme(app, name)
         assert _solid_colours(icon("grab")) == {theme(name).button_text}
 
 
-def test_checked_tool_button_stands_out(restore_app_look, qtbot):
-    apply_theme(restore_app_look, "dark")
+def test_checked_tool_button_stands_out(app_look, qtbot):
+    apply_theme(app_look, "dark")
     buttons = []
     for checked in (False, True):
         button = QToolButton()
@@ -146,8 +136,8 @@ def test_checked_tool_button_stands_out(restore_app_look, qtbot):
 
 
 @pytest.mark.parametrize("bad", ["Dark", "solarized", "", None])
-def test_unknown_theme_is_a_named_error(restore_app_look, bad):
-    app = restore_app_look
+def test_unknown_theme_is_a_named_error(app_look, bad):
+    app = app_look
     before = app.palette().color(ROLE.Window).name()
     with pytest.raises(ValueError, match=repr(bad).replace("(", r"\(")) as info:
         apply_theme(app, bad)
@@ -156,13 +146,13 @@ def test_unknown_theme_is_a_named_error(restore_app_look, bad):
     assert app.palette().color(ROLE.Window).name() == before
 
 
-def test_switching_re_tints_icons_given_by_set_icon(restore_app_look, qtbot):
+def test_switching_re_tints_icons_given_by_set_icon(app_look, qtbot):
     from PySide6.QtGui import QAction
     from PySide6.QtWidgets import QToolBar
 
     from app.icons import set_icon
 
-    app = restore_app_look
+    app = app_look
     apply_theme(app, "dark")
     bar = QToolBar()
     qtbot.addWidget(bar)

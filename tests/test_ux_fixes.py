@@ -4,11 +4,11 @@ leaves the viewport or a dialog takes the input, VTK's and pyvista's own keys do
 Save As proposes a file name."""
 
 import numpy as np
+from gui_helpers import activate, center_of, drag, hover, shown_viewport
 from PySide6.QtCore import QPoint, Qt
 from PySide6.QtTest import QTest
 
 from gogreen_core.shapes import icosphere
-from tests.test_app import activate, center_of, drag
 
 
 def test_ctrl_y_redoes_like_ctrl_shift_z(window, qtbot):
@@ -86,9 +86,7 @@ def view_state(vp) -> tuple:
 
 
 def test_vtk_and_pyvista_keys_do_nothing_in_the_viewport(qtbot):
-    from tests.test_viewport import _shown_viewport
-
-    vp = _shown_viewport(qtbot)
+    vp = shown_viewport(qtbot)
     vertices, faces = icosphere(3)
     vp.set_mesh(vertices, faces)
     vp.render_now()
@@ -164,8 +162,6 @@ def cursor_pixels(pixels: np.ndarray) -> int:
 
 
 def test_screenshot_leaves_the_brush_cursor_out_and_restores_it(window, qtbot, tmp_path):
-    from tests.test_cursor_overlay import hover
-
     vp = window.viewport
     hover(window, center_of(window))
     overlay = vp.cursor_overlay
@@ -252,9 +248,7 @@ def test_cursor_hides_when_another_window_takes_the_input(window, qtbot):
     other.setGeometry(1540, 940, 50, 40)  # away from the pointer: no leave event
     other.show()
     qtbot.waitExposed(other)
-    with qtbot.waitActive(other, timeout=10_000):
-        other.activateWindow()
-        other.windowHandle().requestActivate()
+    activate(other, qtbot)
     qtbot.waitUntil(lambda: cursor_gone(window), timeout=5000)
     activate(window, qtbot)
     real_hover(window, qtbot, center_of(window) + QPoint(-3, 2))  # back at the next hover

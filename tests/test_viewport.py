@@ -5,7 +5,8 @@ import threading
 import numpy as np
 import pytest
 import vtk
-from PySide6.QtCore import QPointF, Qt, QTimer
+from gui_helpers import send, shown_viewport
+from PySide6.QtCore import QPointF, QTimer
 from PySide6.QtGui import QMouseEvent
 
 from app.viewport import SculptViewport
@@ -13,18 +14,9 @@ from gogreen_core.geometry import SurfaceIndex, vertex_normals
 from gogreen_core.shapes import icosphere
 
 
-def _shown_viewport(qtbot) -> SculptViewport:
-    vp = SculptViewport()
-    qtbot.addWidget(vp)
-    vp.resize(500, 400)
-    vp.show()
-    qtbot.waitExposed(vp)
-    return vp
-
-
 @pytest.fixture
 def viewport(qtbot):
-    vp = _shown_viewport(qtbot)
+    vp = shown_viewport(qtbot)
     vertices, faces = icosphere(3)
     vertices = vertices * (1.0 + 0.1 * np.sin(5 * vertices[:, :1]))  # not a plain sphere
     vp.set_mesh(vertices, faces)
@@ -178,17 +170,9 @@ class GatedIndex:
         monkeypatch.setattr(viewport_module, "SurfaceIndex", build)
 
 
-def press(vp: SculptViewport, pos: QPointF) -> None:
-    event = QMouseEvent(
-        QMouseEvent.Type.MouseButtonPress, pos, vp.mapToGlobal(pos), Qt.MouseButton.LeftButton,
-        Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier,
-    )  # fmt: skip
-    vp.mousePressEvent(event)
-
-
 def test_background_index_build_keeps_the_view_usable_and_loses_nothing(qtbot, monkeypatch):
     gated = GatedIndex(monkeypatch)
-    vp = _shown_viewport(qtbot)
+    vp = shown_viewport(qtbot)
     vertices, faces = icosphere(3)
     progress = []
     vp.surface_progress.connect(progress.append)
@@ -202,7 +186,7 @@ def test_background_index_build_keeps_the_view_usable_and_loses_nothing(qtbot, m
     pressed = []
     vp.pointer_pressed.connect(pressed.append)
     with qtbot.waitSignal(vp.surface_pending, timeout=1000):
-        press(vp, center)
+        send(vp, QMouseEvent.Type.MouseButtonPress, center)
     assert not pressed and not vp.in_stroke  # no stroke starts without a surface to pick
     # vertices moved meanwhile (undo, a script) are drawn, and the index catches up
     moved = vertices * 1.1
@@ -216,12 +200,12 @@ def test_background_index_build_keeps_the_view_usable_and_loses_nothing(qtbot, m
     vp.render_now()
     assert vp.pick(center) is not None
     with qtbot.waitSignal(vp.pointer_pressed, timeout=1000):
-        press(vp, center)
+        send(vp, QMouseEvent.Type.MouseButtonPress, center)
 
 
 def test_a_newer_mesh_supersedes_a_background_build(qtbot, monkeypatch):
     gated = GatedIndex(monkeypatch)
-    vp = _shown_viewport(qtbot)
+    vp = shown_viewport(qtbot)
     big, big_faces = icosphere(3)
     vp.set_mesh(big, big_faces, background=True)
     assert gated.started.wait(30)
@@ -259,7 +243,7 @@ def test_opening_a_big_mesh_does_not_block_the_event_loop(window, qtbot, monkeyp
     QTimer.singleShot(0, lambda: ticks.append(1))
     qtbot.waitUntil(lambda: bool(ticks), timeout=2000)
     before = window.document.sculptor.vertices.copy()
-    press(vp, QPointF(vp.width() / 2, vp.height() / 2))
+    send(vp, QMouseEvent.Type.MouseButtonPress, QPointF(vp.width() / 2, vp.height() / 2))
     assert "being prepared" in window.message_label.text()
     assert np.array_equal(window.document.sculptor.vertices, before)
     with qtbot.waitSignal(vp.surface_ready, timeout=30_000):

@@ -212,9 +212,8 @@ def test_weights_recorded_as_null_keep_their_meaning():
 def test_the_app_says_what_the_wrinkle_brush_needs_and_the_fix_makes_ripples(window, qtbot):
     """Issue 13, item 6 in the app: the tool tip says in an artist's words what the brush does
     and needs; after "Use a wrinkle material" a drag differs from the same grab drag."""
+    from gui_helpers import center_of, drag
     from PySide6.QtCore import Qt
-
-    from tests.test_app import center_of, drag
 
     action = window.brush_bar.kind_actions["wrinkle"]
     tip = action.toolTip()

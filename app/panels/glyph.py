@@ -20,6 +20,7 @@ from PySide6.QtCore import QPointF, QRectF, QSize, Qt
 from PySide6.QtGui import QColor, QFont, QMouseEvent, QPainter, QPaintEvent, QPen, QPolygonF
 from PySide6.QtWidgets import QSizePolicy, QWidget
 
+from app.panels.plot_axes import plot_font
 from app.panels.widgets import plot_colors
 from gogreen_core.material import Material
 
@@ -212,9 +213,8 @@ class YoungModulusGlyph(QWidget):
                 QColor(int(c[0]), int(c[1]), int(c[2])),
             )
         painter.setPen(self._colors.text)
-        font = QFont(painter.font())
+        font = plot_font(painter.font())
         font.setBold(False)
-        font.setPointSizeF(max(7.0, font.pointSizeF() - 1.0))
         painter.setFont(font)
         if e_max - e_min <= 1e-9 * e_max:
             text = f"E = {e_max:.4g} in every direction"

@@ -40,6 +40,7 @@ from PySide6.QtWidgets import (
 )
 
 from app.background import BackgroundRunner, Task
+from app.panels.plot_axes import plot_font
 from app.panels.voxel_preview import PHASE_B_COLOR, SlicePreview, VoxelPreview
 from app.panels.widgets import (
     CollapsibleSection,
@@ -269,8 +270,7 @@ class HomogenizationPanel(QWidget):
         table.setSelectionMode(QTableWidget.SelectionMode.NoSelection)
         table.setFocusPolicy(Qt.FocusPolicy.NoFocus)
         table.setToolTip("Equal coefficients share a colour; grey cells are zero")
-        small = QFont(table.font())
-        small.setPointSizeF(max(7.0, small.pointSizeF() - 1.0))
+        small = plot_font(table.font())
         for i in range(6):
             for j in range(6):
                 item = QTableWidgetItem("")

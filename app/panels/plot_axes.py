@@ -16,7 +16,8 @@ TICK_LENGTH = 4.0
 
 
 def plot_font(font: QFont) -> QFont:
-    """The plots' label font: ``font`` one point smaller (at least 7 pt)."""
+    """The plots' label font (also the small print of the panels' tables): ``font`` one point
+    smaller (at least 7 pt)."""
     small = QFont(font)
     small.setPointSizeF(max(7.0, font.pointSizeF() - 1.0))
     return small

@@ -24,6 +24,7 @@ from PySide6.QtGui import (
 )
 from PySide6.QtWidgets import QSizePolicy, QWidget
 
+from app.panels.plot_axes import plot_font
 from app.panels.widgets import plot_colors
 
 __all__ = ["PHASE_A_COLOR", "PHASE_B_COLOR", "SlicePreview", "VoxelPreview"]
@@ -256,9 +257,7 @@ class SlicePreview(QWidget):
         painter = QPainter(self)
         painter.fillRect(self.rect(), plot_colors().background)
         a, b = PHASE_A_COLOR.rgb(), PHASE_B_COLOR.rgb()
-        font = QFont(painter.font())
-        font.setPointSizeF(max(7.0, font.pointSizeF() - 1.0))
-        painter.setFont(font)
+        painter.setFont(plot_font(painter.font()))
         for (plane, axis), (label_rect, rect) in zip(self.PLANES, self._slot_rects(), strict=True):
             cells = self.slice_image(plane)
             n = cells.shape[0]
