@@ -332,25 +332,17 @@ class MainWindow(QMainWindow):
         self.frame_label = QLabel("render: –")
         self.message_label = QLabel()
         # Busy indicator while kernels compile (first start, a new l_max): never a silent wait.
-        self.compile_progress = QProgressBar()
-        self.compile_progress.setRange(0, 0)
-        self.compile_progress.setMaximumWidth(160)
-        self.compile_progress.setFormat("")
-        self.compile_progress.setToolTip(
-            "Compiling the brush kernels (once per machine and l_max); strokes start after it"
+        self.compile_progress = self._status_progress(
+            0,
+            "",
+            "Compiling the brush kernels (once per machine and l_max); strokes start after it",
         )
-        self.compile_progress.hide()
-        self.statusBar().addPermanentWidget(self.compile_progress)
         # Progress of the background build of a big mesh's surface index (picking, shading)
-        self.surface_progress = QProgressBar()
-        self.surface_progress.setRange(0, 100)
-        self.surface_progress.setMaximumWidth(160)
-        self.surface_progress.setFormat("preparing %p%")
-        self.surface_progress.setToolTip(
-            "Preparing the opened mesh for picking and smooth shading; strokes start after it"
+        self.surface_progress = self._status_progress(
+            100,
+            "preparing %p%",
+            "Preparing the opened mesh for picking and smooth shading; strokes start after it",
         )
-        self.surface_progress.hide()
-        self.statusBar().addPermanentWidget(self.surface_progress)
         for label in (self.vertex_label, self.step_label, self.frame_label):
             label.setMinimumWidth(150)
             self.statusBar().addPermanentWidget(label)
@@ -920,6 +912,18 @@ class MainWindow(QMainWindow):
     def show_error(self, title: str, message: str) -> None:
         self.flash(f"{title}: {message}")
         QMessageBox.warning(self, title, message)
+
+    def _status_progress(self, maximum: int, text: str, tip: str) -> QProgressBar:
+        """A hidden progress bar at the right of the status bar (``maximum`` 0: busy, no
+        fraction)."""
+        bar = QProgressBar()
+        bar.setRange(0, maximum)
+        bar.setMaximumWidth(160)
+        bar.setFormat(text)
+        bar.setToolTip(tip)
+        bar.hide()
+        self.statusBar().addPermanentWidget(bar)
+        return bar
 
     def flash(self, text: str) -> None:
         self.message_label.setText(text)
