@@ -1,7 +1,9 @@
-"""Headless command line: ``gogreen replay`` and ``gogreen deform`` (no Qt imported).
+"""Headless command line: ``gogreen replay``, ``gogreen deform``, ``gogreen truncation`` (no Qt
+imported).
 
     gogreen replay SESSION.json IN -o OUT
     gogreen deform IN -o OUT --brush grab --center X Y Z --delta DX DY DZ [--radius R] ...
+    gogreen truncation [--material FILE | --young E --poisson NU] [--l-max L] [--max-degree D]
 
 Both print a progress bar on stderr and exit with status 2 and a one-line message naming the
 problem on bad input (a broken file, an inadmissible material, a zero radius); the output file
@@ -26,6 +28,7 @@ from gogreen_core.radial import GaussianRadial, KelvinletRadial
 from gogreen_core.schema import parse_falloff, parse_l_max, parse_material, read_json
 from gogreen_core.sculptor import Sculptor
 from gogreen_core.session import load_session
+from gogreen_core.truncation import truncation_errors
 from gogreen_core.validation import (
     ParameterError,
     check_integer,
@@ -36,7 +39,7 @@ from gogreen_core.validation import (
 
 __all__ = ["BATCH_COMMANDS", "main"]
 
-BATCH_COMMANDS = ("replay", "deform")
+BATCH_COMMANDS = ("replay", "deform", "truncation")
 
 
 class ProgressBar:
@@ -173,6 +176,19 @@ def _deform(args: argparse.Namespace) -> int:
     return 0
 
 
+def _truncation(args: argparse.Namespace) -> int:
+    """Print δ(l_max) of the material, one line per even l_max, then the summary."""
+    material = _material(args)
+    l_max = parse_l_max(args.l_max, "--l-max")
+    max_degree = check_integer("--max-degree", args.max_degree, low=0, high=44)
+    progress = None if args.quiet else ProgressBar("truncation")
+    report = truncation_errors(material, max_degree, progress=progress)
+    print("relative error of the Green's function within 6 ε, by l_max:")
+    print(report.table())
+    print(report.summary(l_max))
+    return 0
+
+
 class _option_names:
     """Re-raise a ParameterError of a brush or event field under its option's name
     (``delta`` → ``--delta``), so the message names what the user typed."""
@@ -262,6 +278,16 @@ def _parser() -> argparse.ArgumentParser:
     )
     deform.add_argument("--session-out", help="also write the session JSON here")
     deform.add_argument("-q", "--quiet", action="store_true")
+
+    truncation = sub.add_parser(
+        "truncation", help="how accurate each l_max is for a material (paper Fig. 9)"
+    )
+    truncation.add_argument("--material", help="material JSON (Material.to_dict or a preset)")
+    truncation.add_argument("--young", type=float, default=1.0)
+    truncation.add_argument("--poisson", type=float, default=0.3)
+    truncation.add_argument("--l-max", type=int, default=8, help="the l_max to assess")
+    truncation.add_argument("--max-degree", type=int, default=20, help="largest l_max measured")
+    truncation.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     return parser
 
 
@@ -269,7 +295,8 @@ def main(argv: list[str] | None = None) -> int:
     """Run a batch command; returns the exit status (2 on bad input)."""
     args = _parser().parse_args(argv)
     try:
-        return _replay(args) if args.command == "replay" else _deform(args)
+        command = {"replay": _replay, "deform": _deform, "truncation": _truncation}
+        return command[args.command](args)
     except (ValueError, RuntimeError) as exc:  # MeshFileError is a ValueError
         print(f"gogreen {args.command}: error: {exc}", file=sys.stderr)
         return 2

@@ -238,6 +238,23 @@ def _evaluation_tables(tables: np.ndarray) -> np.ndarray:
 assert TABLE_DEGREE == SEGMENT_DEGREE
 
 
+def _checked_weights(degree_weights: Sequence[float] | None, l_max: int) -> np.ndarray:
+    """Degree weights (l_max + 1,), read-only: all ones for None."""
+    if degree_weights is None:
+        weights = np.ones(l_max + 1)
+    else:
+        weights = np.array(degree_weights, dtype=np.float64)
+        if weights.shape != (l_max + 1,):
+            raise ValueError(
+                f"degree_weights must have l_max + 1 = {l_max + 1} values "
+                f"(got shape {weights.shape})"
+            )
+        if not np.all(np.isfinite(weights)):
+            raise ValueError("degree_weights must be finite")
+    weights.setflags(write=False)
+    return weights
+
+
 class _Parity:
     """Packed material coefficients of one parity (even: G, odd: ∇G)."""
 
@@ -295,22 +312,12 @@ class GreenKernel:
         radial = GaussianRadial(1.0) if radial is None else radial
         if not isinstance(radial, RadialProfile):
             raise ValueError(f"radial must be a RadialProfile (got {type(radial).__name__})")
-        if degree_weights is None:
-            weights = np.ones(l_max + 1)
-        else:
-            weights = np.array(degree_weights, dtype=np.float64)
-            if weights.shape != (l_max + 1,):
-                raise ValueError(
-                    f"degree_weights must have l_max + 1 = {l_max + 1} values "
-                    f"(got shape {weights.shape})"
-                )
-            if not np.all(np.isfinite(weights)):
-                raise ValueError("degree_weights must be finite")
-        weights.setflags(write=False)
+        weights = _checked_weights(degree_weights, l_max)
         self._material = material
         self._l_max = l_max
         self._weights = weights
-        self._even, self._odd = self._material_terms(material, l_max, weights)
+        self._sums = self._material_sums(material, l_max)
+        self._even, self._odd = self._pack(self._sums, l_max, weights)
         rec = legendre_recurrence(l_max + 1)
         self._recurrence = (
             np.ascontiguousarray(rec.qmm),
@@ -321,18 +328,15 @@ class GreenKernel:
 
     # -- precompute --------------------------------------------------------------------------
     @staticmethod
-    def _material_terms(
-        material: Material, l_max: int, weights: np.ndarray
-    ) -> tuple[_Parity, _Parity]:
+    def _material_sums(material: Material, l_max: int) -> tuple[np.ndarray, np.ndarray]:
+        """Σ_q w_q Y_lm(ξ_q) M⁻¹(ξ_q) (even l, (n_even, 9)) and the same times ξ_q,p (odd l,
+        (n_odd, 27)): the quadrature of paper Eq. 10 and 12, before signs and weights."""
         nodes, qw = material_rule(material, l_max)
         (_, even_last), (_, odd_last) = _parity_ranges(l_max)
-        even_degrees = list(range(0, even_last + 1, 2))
-        odd_degrees = list(range(1, odd_last + 1, 2))
-        even_rows = [c for l in even_degrees for c in range(l * l, (l + 1) ** 2)]
-        odd_rows = [c for l in odd_degrees for c in range(l * l, (l + 1) ** 2)]
-        # Σ_q w_q Y_lm(ξ_q) M⁻¹(ξ_q) (and · ξ_q,p): one product per parity, on the rows of the
-        # (terms, n) harmonics (contiguous rows, cheap to gather), in chunks of nodes that bound
-        # the harmonics to ~64 MB.
+        even_rows = [c for l in range(0, even_last + 1, 2) for c in range(l * l, (l + 1) ** 2)]
+        odd_rows = [c for l in range(1, odd_last + 1, 2) for c in range(l * l, (l + 1) ** 2)]
+        # one product per parity, on the rows of the (terms, n) harmonics (contiguous rows,
+        # cheap to gather), in chunks of nodes that bound the harmonics to ~64 MB.
         even_sum, odd_sum = 0.0, 0.0
         chunk = max(256, 8_000_000 // (l_max + 2) ** 2)
         for start in range(0, len(nodes), chunk):
@@ -344,24 +348,29 @@ class GreenKernel:
             rows = real_sph_harm(part, l_max + 1).T  # ((L+1)², n), C-contiguous
             even_sum = even_sum + rows[even_rows] @ flat
             odd_sum = odd_sum + rows[odd_rows] @ grad_flat
+        return even_sum, odd_sum
 
-        def pack(l_first: int, l_last: int, degrees: list[int], sums, shape: tuple) -> _Parity:
+    @staticmethod
+    def _pack(
+        sums: tuple[np.ndarray, np.ndarray], l_max: int, weights: np.ndarray
+    ) -> tuple[_Parity, _Parity]:
+        """The even and odd packed coefficients: the sums times i^l (even l) or i^(l+1) (odd
+        l), both real, the 1/(2π²) and the degree weight."""
+
+        def pack(l_first: int, l_last: int, sums: np.ndarray, shape: tuple) -> _Parity:
             base = np.full(l_last + 1 if l_last >= 0 else 1, -1, dtype=np.int64)
             factors, offset = [], 0
-            for l in degrees:
+            for l in range(l_first, l_last + 1, 2):
                 base[l] = offset
                 offset += 2 * l + 1
-                # i^l for even l, i^(l+1) for odd l (both real), the 1/(2π²) and the weight.
                 sign = (-1.0) ** ((l + (l % 2)) // 2)
                 weight = weights[l] if l % 2 == 0 else weights[l - 1]
                 factors.extend([sign * weight / (2 * np.pi**2)] * (2 * l + 1))
             mats = sums * np.asarray(factors)[:, None]
             return _Parity(l_first, l_last, mats.reshape((offset, *shape)), base)
 
-        return (
-            pack(0, even_last, even_degrees, even_sum, (3, 3)),
-            pack(1, odd_last, odd_degrees, odd_sum, (3, 3, 3)),
-        )
+        (_, even_last), (_, odd_last) = _parity_ranges(l_max)
+        return pack(0, even_last, sums[0], (3, 3)), pack(1, odd_last, sums[1], (3, 3, 3))
 
     def _set_radial(self, radial: RadialProfile) -> None:
         self._radial = radial
@@ -380,6 +389,16 @@ class GreenKernel:
     def with_eps(self, eps: float) -> GreenKernel:
         """The same kernel with regularization radius ``eps`` (falloff shape unchanged)."""
         return self.with_radial(self._radial.with_eps(eps))
+
+    def with_degree_weights(self, degree_weights: Sequence[float]) -> GreenKernel:
+        """The same kernel with other ``degree_weights`` (see the class docstring): no new
+        quadrature, bit for bit ``GreenKernel(material, l_max, radial, degree_weights)``."""
+        weights = _checked_weights(degree_weights, self._l_max)
+        clone = object.__new__(GreenKernel)
+        clone.__dict__.update(self.__dict__)
+        clone._weights = weights
+        clone._even, clone._odd = self._pack(self._sums, self._l_max, weights)
+        return clone
 
     # -- properties --------------------------------------------------------------------------
     @property
