@@ -352,10 +352,13 @@ class GreenKernel:
 
     @staticmethod
     def _pack(
-        sums: tuple[np.ndarray, np.ndarray], l_max: int, weights: np.ndarray
+        sums: tuple[np.ndarray, np.ndarray],
+        l_max: int,
+        weights: np.ndarray,
+        output_maps: np.ndarray | None = None,
     ) -> tuple[_Parity, _Parity]:
         """The even and odd packed coefficients: the sums times i^l (even l) or i^(l+1) (odd
-        l), both real, the 1/(2π²) and the degree weight."""
+        l), both real, the 1/(2π²) and the degree weight, then the degree's output map."""
 
         def pack(l_first: int, l_last: int, sums: np.ndarray, shape: tuple) -> _Parity:
             base = np.full(l_last + 1 if l_last >= 0 else 1, -1, dtype=np.int64)
@@ -366,8 +369,13 @@ class GreenKernel:
                 sign = (-1.0) ** ((l + (l % 2)) // 2)
                 weight = weights[l] if l % 2 == 0 else weights[l - 1]
                 factors.extend([sign * weight / (2 * np.pi**2)] * (2 * l + 1))
-            mats = sums * np.asarray(factors)[:, None]
-            return _Parity(l_first, l_last, mats.reshape((offset, *shape)), base)
+            mats = (sums * np.asarray(factors)[:, None]).reshape((offset, *shape))
+            if output_maps is not None:
+                for l in range(l_first, l_last + 1, 2):
+                    rows = slice(base[l], base[l] + 2 * l + 1)
+                    matrix = output_maps[min(l, l_max)]
+                    mats[rows] = np.einsum("ik,tk...->ti...", matrix, mats[rows])
+            return _Parity(l_first, l_last, mats, base)
 
         (_, even_last), (_, odd_last) = _parity_ranges(l_max)
         return pack(0, even_last, sums[0], (3, 3)), pack(1, odd_last, sums[1], (3, 3, 3))
@@ -390,14 +398,28 @@ class GreenKernel:
         """The same kernel with regularization radius ``eps`` (falloff shape unchanged)."""
         return self.with_radial(self._radial.with_eps(eps))
 
-    def with_degree_weights(self, degree_weights: Sequence[float]) -> GreenKernel:
+    def with_degree_weights(
+        self, degree_weights: Sequence[float], output_maps: np.ndarray | None = None
+    ) -> GreenKernel:
         """The same kernel with other ``degree_weights`` (see the class docstring): no new
-        quadrature, bit for bit ``GreenKernel(material, l_max, radial, degree_weights)``."""
+        quadrature, bit for bit ``GreenKernel(material, l_max, radial, degree_weights)``.
+
+        output_maps : (l_max + 1, 3, 3), optional
+            A linear map applied to the displacement of each degree l (of G, and l_max's for
+            ∇G's top degree l_max + 1): u = Σ_l A_l u_l. The wrinkle brush keeps only the
+            normal component of its high degrees this way (A_l = n nᵀ)."""
         weights = _checked_weights(degree_weights, self._l_max)
+        if output_maps is not None:
+            output_maps = np.asarray(output_maps, dtype=np.float64)
+            if output_maps.shape != (self._l_max + 1, 3, 3) or not np.isfinite(output_maps).all():
+                raise ValueError(
+                    f"output_maps must be {self._l_max + 1} finite 3×3 matrices "
+                    f"(got shape {output_maps.shape})"
+                )
         clone = object.__new__(GreenKernel)
         clone.__dict__.update(self.__dict__)
         clone._weights = weights
-        clone._even, clone._odd = self._pack(self._sums, self._l_max, weights)
+        clone._even, clone._odd = self._pack(self._sums, self._l_max, weights, output_maps)
         return clone
 
     # -- properties --------------------------------------------------------------------------
