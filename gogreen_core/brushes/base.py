@@ -2,9 +2,12 @@
 
 A brush type says what one mouse event of its kind does to the mesh: :meth:`BrushType.displace`
 returns the rows it moves and their new positions (a :class:`Displacement`), and the stroke
-driver (:mod:`gogreen_core.stroke`) writes them, records the stroke and its undo step. Nothing
-here writes the mesh. A brush type may have a Green's function kernel (:meth:`BrushType.kernel`,
-None otherwise: a relaxation or a mask painter would not).
+driver (:mod:`gogreen_core.stroke`) writes them, records the stroke and its undo step. A brush
+writes the mesh only when the driver lets it (:attr:`StrokeContext.write_through`: nothing to
+apply to the rows on their way, so a brush whose integrator can write its end positions in place
+saves the driver's scatter; a per-vertex mask would turn it off). A brush type may have a Green's
+function kernel (:meth:`BrushType.kernel`, None otherwise: a relaxation or a mask painter would
+not).
 
 :class:`GreenBrush` is the family of brushes of the paper: a load at the cursor (a force or an
 affine load) whose regularized Green's function field is taken as a velocity over pseudo-time
@@ -65,13 +68,20 @@ def mirror_signs(symmetry: str) -> np.ndarray:
 
 @dataclass(frozen=True)
 class StrokeContext:
-    """What a brush sees of the engine during one event: the mesh (read it, never write it),
-    the kernels of the current settings, and ``rows``: n → a writable C-contiguous (n, 3)
-    float64 buffer for the new positions (the driver's, reused between events)."""
+    """What a brush sees of the engine during one event: the mesh (read it; write it only with
+    ``write_through``), the kernels of the current settings, and ``rows``: n → a writable
+    C-contiguous (n, 3) float64 buffer for the new positions (the driver's, reused between
+    events).
+
+    write_through : the driver applies nothing to the new positions, so a brush may also write
+        them into ``mesh.vertices`` itself (all or none: only if every one is finite) and say so
+        in its :class:`Displacement`.
+    """
 
     mesh: MeshState
     kernels: KernelCache
     rows: Callable[[int], np.ndarray]
+    write_through: bool = False
 
     @property
     def settings(self) -> EngineSettings:
@@ -85,10 +95,12 @@ class StrokeContext:
 @dataclass(frozen=True)
 class Displacement:
     """What one event does: vertex ``rows`` (n,) int64 go to ``positions`` (n, 3) (model
-    units; may be the driver's buffer, valid until the next event)."""
+    units; may be the driver's buffer, valid until the next event); ``written``: the brush has
+    written them into the mesh already (:attr:`StrokeContext.write_through`)."""
 
     rows: np.ndarray
     positions: np.ndarray
+    written: bool = False
 
 
 class BrushType(ABC):
@@ -188,6 +200,7 @@ class GreenBrush(BrushType):
         out = ctx.rows(len(rows))
         if len(rows):
             try:
+                # written through only if every end position is finite (the kernel checks)
                 kernel._streamlines(
                     mesh.vertices,
                     event.center,
@@ -199,13 +212,14 @@ class GreenBrush(BrushType):
                     substeps=max(brush.substeps, 1),
                     tolerance=None if brush.substeps else STREAMLINE_TOLERANCE,
                     indices=rows,
+                    in_place=ctx.write_through,
                     out=out,
                 )
             except StreamlineOverflow:
                 raise ValueError(self._overflow()) from None
-            if not np.isfinite(out).all():  # a last guard: never NaN into the mesh
+            if not ctx.write_through and not np.isfinite(out).all():  # never NaN in the mesh
                 raise ValueError(self._overflow())
-        return Displacement(rows, out)
+        return Displacement(rows, out, written=ctx.write_through)
 
     def _overflow(self) -> str:
         return (
