@@ -127,6 +127,10 @@ class Sculptor:
             raise ParameterError(
                 "settings", f"settings must be EngineSettings (got {type(settings).__name__})"
             )
+        elif any(x is not None for x in (material, falloff, degree_weights)) or (
+            (l_max, constraint_radius) != (8, DEFAULT_CONSTRAINT_RADIUS)
+        ):
+            raise TypeError("Sculptor() takes settings or their fields one by one, not both")
         self._kernels = KernelCache(settings)
         self._initial = settings
         self._strokes = StrokeDriver(self._mesh, self.history, self._log)
