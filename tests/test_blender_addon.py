@@ -49,6 +49,7 @@ from gogreen_core.brushes import default_wrinkle_weights  # noqa: E402
 
 REPO_MODULE = "gogreen_test"
 MODULE = f"bl_ext.{REPO_MODULE}.gogreen_sculpt"
+TOOL = "gogreen.sculpt_tool"
 
 
 @pytest.fixture(scope="module")
@@ -126,17 +127,25 @@ def test_registers_and_unregisters_cleanly(addon):
         assert not hasattr(bpy.types.Scene, "gogreen")
         assert not hasattr(bpy.types, "VIEW3D_PT_gogreen")
         assert "gogreen" not in dir(bpy.ops)
+        assert TOOL not in tool_ids("OBJECT") | tool_ids("SCULPT")
         assert mesh_access.forget_stroke not in handlers.undo_post
         assert sub(addon, "drawing").cursor() is None
         assert not addon._REGISTERED  # the draw handler was removed
         addon_utils.enable(MODULE, default_set=True, handle_error=_raise)
         assert hasattr(bpy.types.Scene, "gogreen") and hasattr(bpy.types, "VIEW3D_PT_gogreen")
-        assert bpy.ops.gogreen.apply_stroke.poll() in (True, False)
-    tools = [tool.idname for tool in bpy.context.workspace.tools]
-    assert isinstance(tools, list)  # the tool registered without error in both modes
+        assert tool_ids("OBJECT") >= {TOOL} and tool_ids("SCULPT") >= {TOOL}
     settings = bpy.context.scene.gogreen
     kinds = {item.identifier for item in settings.bl_rna.properties["brush"].enum_items}
     assert kinds == set(BRUSH_KINDS)  # the engine's list, nothing hard-coded
+
+
+def tool_ids(mode: str) -> set[str]:
+    """Identifiers of the 3D view's toolbar tools in ``mode``."""
+    from bl_ui.space_toolsystem_common import ToolSelectPanelHelper
+
+    helper = ToolSelectPanelHelper._tool_class_from_space_type("VIEW_3D")
+    items = ToolSelectPanelHelper._tools_flatten(helper.tools_from_context(bpy.context, mode=mode))
+    return {item.idname for item in items if item is not None}
 
 
 def _set_anisotropic(settings) -> Material:
