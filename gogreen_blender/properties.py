@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import bpy
 from bpy.props import (
-    BoolProperty,
     EnumProperty,
     FloatProperty,
     FloatVectorProperty,
@@ -183,7 +182,6 @@ def _settings_class() -> type:
         "degree_weights": StringProperty(
             name="Wrinkle weights", description="Per-degree weights of the wrinkle brush (JSON)"
         ),
-        "show_pattern_help": BoolProperty(default=False),
     }
     annotations.update(_pattern_annotations())
     return type("GoGreenSettings", (bpy.types.PropertyGroup,), {"__annotations__": annotations})

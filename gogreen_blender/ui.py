@@ -60,6 +60,26 @@ class VIEW3D_PT_gogreen_brush(_GoGreenPanel, bpy.types.Panel):
         layout.prop(s, "substeps")
 
 
+def _draw_pattern(layout, s) -> None:
+    """The homogenization inputs, the Compute button and the state of the result."""
+    layout.prop(s, "pattern", text="")
+    col = layout.column(align=True)
+    for p in PATTERNS[s.pattern].parameters:
+        col.prop(s, properties.pattern_prop(s.pattern, p.name))
+    col = layout.column(align=True)
+    col.prop(s, "phase_young")
+    col.prop(s, "phase_poisson")
+    col.prop(s, "contrast")
+    col.prop(s, "resolution")
+    row = layout.row()
+    row.enabled = RUNNER.busy is None
+    row.operator("gogreen.homogenize", text="Compute", icon="PLAY")
+    if not s.homogenized_material:
+        layout.label(text="Not computed yet", icon="ERROR")
+    elif s.homogenized_inputs != properties.homogenization_inputs(s):
+        layout.label(text="Inputs changed: compute again", icon="ERROR")
+
+
 class VIEW3D_PT_gogreen_material(_GoGreenPanel, bpy.types.Panel):
     bl_label = "Material"
     bl_parent_id = "VIEW3D_PT_gogreen"
@@ -81,30 +101,11 @@ class VIEW3D_PT_gogreen_material(_GoGreenPanel, bpy.types.Panel):
             col.prop(s, "ortho_shear")
             col.prop(s, "ortho_poisson")
         elif s.material_mode == "HOMOGENIZED":
-            self._draw_pattern(layout, s)
+            _draw_pattern(layout, s)
         else:
             col.label(text=s.custom_name or "No preset loaded", icon="MATERIAL")
         if s.material_mode != "ISOTROPIC":
             layout.prop(s, "rotation")
-
-    @staticmethod
-    def _draw_pattern(layout, s):
-        layout.prop(s, "pattern", text="")
-        col = layout.column(align=True)
-        for p in PATTERNS[s.pattern].parameters:
-            col.prop(s, properties.pattern_prop(s.pattern, p.name))
-        col = layout.column(align=True)
-        col.prop(s, "phase_young")
-        col.prop(s, "phase_poisson")
-        col.prop(s, "contrast")
-        col.prop(s, "resolution")
-        row = layout.row()
-        row.enabled = RUNNER.busy is None
-        row.operator("gogreen.homogenize", text="Compute", icon="PLAY")
-        if not s.homogenized_material:
-            layout.label(text="Not computed yet", icon="ERROR")
-        elif s.homogenized_inputs != properties.homogenization_inputs(s):
-            layout.label(text="Inputs changed: compute again", icon="ERROR")
 
 
 class VIEW3D_PT_gogreen_falloff(_GoGreenPanel, bpy.types.Panel):

@@ -409,6 +409,60 @@ def test_invoking_the_tool_off_the_mesh_passes_the_click_through(ico):
     assert result & {"PASS_THROUGH", "CANCELLED"}
 
 
+class RecordingLayout:
+    """Stands in for a panel's ``UILayout`` (none exists without a window): checks that each
+    drawn property and operator exists."""
+
+    def __init__(self):
+        self.drawn = []
+
+    def _child(self, *args, **kwargs):
+        return self
+
+    row = column = _child
+
+    def prop(self, data, name, **kwargs):
+        assert name in data.bl_rna.properties, name
+        self.drawn.append(name)
+
+    def operator(self, idname, **kwargs):
+        group, name = idname.split(".")
+        assert hasattr(getattr(bpy.ops, group), name), idname
+        self.drawn.append(idname)
+        return type("Props", (), {})()
+
+    def operator_menu_enum(self, idname, prop, **kwargs):
+        self.operator(idname)
+
+    def label(self, text="", **kwargs):
+        self.drawn.append(text)
+
+    def progress(self, factor=0.0, type="BAR", text=""):
+        self.drawn.append(text)
+
+
+@pytest.mark.parametrize("mode", ["ISOTROPIC", "ORTHOTROPIC", "HOMOGENIZED", "CUSTOM"])
+def test_the_sidebar_panels_draw_every_material_mode(ico, mode):
+    module = sys.modules[MODULE]
+    ui, jobs = sub(module, "ui"), sub(module, "jobs")
+    bpy.context.scene.gogreen.material_mode = mode
+    layout = RecordingLayout()
+    job = jobs.Job("Homogenizing the layered pattern", lambda progress: None)
+    job.progress = 0.4
+    jobs.RUNNER.current = job  # a job in progress shows its bar
+    try:
+        for panel in ui.PANELS:
+            panel.draw(type("Panel", (), {"layout": layout})(), bpy.context)
+        ui._draw_tool_settings(bpy.context, layout, None)
+    finally:
+        jobs.RUNNER.current = None
+    assert "Homogenizing the layered pattern: 40 %" in layout.drawn
+    assert {"brush", "radius", "strength", "influence", "l_max"} <= set(layout.drawn)
+    assert "wm.tool_set_by_id" in layout.drawn and "gogreen.load_preset" in layout.drawn
+    if mode == "HOMOGENIZED":
+        assert "gogreen.homogenize" in layout.drawn and "layered__fraction" in layout.drawn
+
+
 # -- material sources ---------------------------------------------------------------------------
 def test_homogenize_computes_the_pattern_material(ico):
     s = bpy.context.scene.gogreen
