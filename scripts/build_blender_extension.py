@@ -1,9 +1,10 @@
 """Build the GoGreen Sculpt extension for Blender 4.2+: one installable .zip per platform.
 
-Usage (any Python >= 3.11 with pip; from the repository root)::
+Usage (``bash scripts/build_blender_extension.sh`` runs it with .venv's Python, or any
+Python >= 3.11 with pip)::
 
-    python3 scripts/build_blender_extension.py                     # every platform -> dist/
-    python3 scripts/build_blender_extension.py --platform linux-x64
+    bash scripts/build_blender_extension.sh                     # every platform -> dist/
+    bash scripts/build_blender_extension.sh --platform linux-x64
 
 Each package holds ``gogreen_blender/`` (the add-on), its ``blender_manifest.toml`` with the
 ``platforms`` and ``wheels`` entries filled in, and ``wheels/``: ``gogreen_core`` built from

@@ -546,11 +546,11 @@ print("moved", float(np.abs(after - before).max()))
 
 
 def test_the_package_builds_installs_and_sculpts(tmp_path):
-    """scripts/build_blender_extension.py (Linux, Python 3.11) → Blender's validation →
+    """scripts/build_blender_extension.sh (Linux, Python 3.11) → Blender's validation →
     Blender's installer → a stroke in a fresh Blender with only the package's wheels."""
     out = tmp_path / "dist"
     build = subprocess.run(
-        [sys.executable, str(ROOT / "scripts" / "build_blender_extension.py"),
+        ["bash", str(ROOT / "scripts" / "build_blender_extension.sh"),
          "--platform", "linux-x64", "--python", "3.11", "--output", str(out)],
         capture_output=True, text=True, cwd=ROOT,
     )  # fmt: skip
