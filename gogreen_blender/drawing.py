@@ -13,6 +13,8 @@ import numpy as np
 
 __all__ = ["CursorState", "cursor", "draw_cursor", "ring_points", "set_cursor"]
 
+#: Identifier of the GoGreen Sculpt tool (the circle shows while it is active).
+TOOL_ID = "gogreen.sculpt_tool"
 #: Segments of a ring.
 SEGMENTS = 64
 RING_COLOR = (1.0, 0.55, 0.1, 0.9)
@@ -58,9 +60,16 @@ def cursor() -> CursorState | None:
 
 
 def draw_cursor() -> None:
-    """SpaceView3D POST_VIEW draw handler (needs a GPU context: not in background mode)."""
+    """SpaceView3D POST_VIEW draw handler (needs a GPU context: not in background mode); draws
+    while the GoGreen tool is the active one."""
     state = _cursor
     if state is None:
+        return
+    import bpy
+
+    context = bpy.context
+    tool = context.workspace.tools.from_space_view3d_mode(context.mode, create=False)
+    if tool is None or tool.idname != TOOL_ID:
         return
     import gpu
     from gpu_extras.batch import batch_for_shader

@@ -7,6 +7,8 @@ Errors in the user's settings or input (a :class:`gogreen_core.ParameterError`, 
 
 from __future__ import annotations
 
+import contextlib
+import json
 import time
 from pathlib import Path
 
@@ -50,29 +52,25 @@ _KIND_ITEMS = [("SCENE", "Scene's brush", "The brush chosen in the GoGreen panel
 ]
 
 
+@contextlib.contextmanager
 def _compile_progress(context, settings):
-    """Context for an engine call on the main thread that may compile kernels: with a window,
-    the mouse cursor shows progress and the status bar says why it waits."""
-
-    class _Progress:
-        def __enter__(self):
-            self.cold = not bpy.app.background and not compile_status.is_warm(settings.l_max)
-            if self.cold:
-                context.window_manager.progress_begin(0, 1)
-                if context.workspace is not None:
-                    context.workspace.status_text_set(
-                        "GoGreen: compiling the brush kernels (first use only, about 30 s)..."
-                    )
-            return self
-
-        def __exit__(self, *exc):
-            if self.cold:
-                context.window_manager.progress_end()
-                if context.workspace is not None:
-                    context.workspace.status_text_set(None)
-            return False
-
-    return _Progress()
+    """Around an engine call on the main thread that may compile kernels: with a window, the
+    mouse cursor shows progress and the status bar says why Blender waits."""
+    cold = not bpy.app.background and not compile_status.is_warm(settings.l_max)
+    workspace = context.workspace
+    if cold:
+        context.window_manager.progress_begin(0, 1)
+        if workspace is not None:
+            workspace.status_text_set(
+                "GoGreen: compiling the brush kernels (first use only, about 30 s)..."
+            )
+    try:
+        yield
+    finally:
+        if cold:
+            context.window_manager.progress_end()
+            if workspace is not None:
+                workspace.status_text_set(None)
 
 
 class GOGREEN_OT_apply_stroke(bpy.types.Operator):
@@ -362,19 +360,13 @@ def apply_preset(scene, preset: Preset) -> None:
         s.falloff = "KELVINLET"
     else:
         s.falloff = "CUSTOM"
-        s.custom_falloff = _json(falloff.to_dict())
+        s.custom_falloff = json.dumps(falloff.to_dict())
     s.l_max = preset.l_max
-    s.degree_weights = _json([float(w) for w in preset.weights])
+    s.degree_weights = json.dumps([float(w) for w in preset.weights])
     brush = preset.brush
     s.brush, s.radius, s.strength = brush.kind, brush.radius, brush.strength
     s.substeps = brush.substeps
-    s.influence = brush.influence if np.isfinite(brush.influence) else 1e6
-
-
-def _json(value) -> str:
-    import json
-
-    return json.dumps(value)
+    s.influence = brush.influence  # an infinite one is stored as the largest float
 
 
 def preset_from_scene(scene, name: str) -> Preset:

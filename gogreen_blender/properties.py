@@ -8,6 +8,8 @@ float properties would round (a preset's, a homogenized one) are kept as JSON te
 
 from __future__ import annotations
 
+import math
+
 import bpy
 from bpy.props import (
     EnumProperty,
@@ -26,6 +28,8 @@ __all__ = ["GoGreenSettings", "pattern_prop", "read_settings", "register", "unre
 
 #: The engine's default brush, whose values the panel starts from.
 _DEFAULT_BRUSH = Brush()
+#: An influence at least this large means every vertex (math.inf in the engine).
+INFINITE_INFLUENCE = 1e30
 #: Resolution of the homogenization cell (voxels per side).
 DEFAULT_RESOLUTION = 16
 
@@ -101,7 +105,7 @@ def _settings_class() -> type:
         ),
         "influence": FloatProperty(
             name="Influence",
-            description="Radius of the moved region in multiples of ε",
+            description="Radius of the moved region in multiples of ε (inf: every vertex)",
             default=_DEFAULT_BRUSH.influence,
             soft_min=1.0,
             soft_max=10.0,
@@ -248,13 +252,15 @@ def read_settings(scene, obj=None, kind: str | None = None) -> engine.SculptSett
     if obj is not None and obj.type == "MESH":
         mesh = obj.data
         symmetry = engine.mirror_axes(mesh.use_mirror_x, mesh.use_mirror_y, mesh.use_mirror_z)
+    # Blender stores an infinite influence (every vertex) as the largest single float
+    influence = math.inf if s.influence >= INFINITE_INFLUENCE else s.influence
     try:
         brush = Brush(
             kind or s.brush,
             radius=s.radius,
             strength=s.strength,
             substeps=s.substeps,
-            influence=s.influence,
+            influence=influence,
             symmetry=symmetry,
         )
     except ParameterError as exc:

@@ -7,11 +7,10 @@ import bpy
 from gogreen_core import PATTERNS
 
 from . import compile_status, properties
+from .drawing import TOOL_ID
 from .jobs import RUNNER
 
 __all__ = ["PANELS", "register_tools", "unregister_tools"]
-
-TOOL_ID = "gogreen.sculpt_tool"
 
 
 class _GoGreenPanel:

@@ -298,6 +298,16 @@ def test_bad_events_are_reported_and_leave_the_mesh(ico, events, message):
     assert np.array_equal(positions(ico), before)
 
 
+def test_an_infinite_influence_moves_every_vertex(ico):
+    properties = sub(sys.modules[MODULE], "properties")
+    s = bpy.context.scene.gogreen
+    s.influence = float("inf")  # Blender keeps the largest single float
+    assert properties.read_settings(bpy.context.scene).brush.influence == float("inf")
+    before = positions(ico)
+    stroke_op("grab", EVENTS[:1])
+    assert np.all(np.any(positions(ico) != before, axis=1))
+
+
 def test_an_unsuitable_object_is_reported(ico):
     ico.shape_key_add(name="Basis")
     with pytest.raises(RuntimeError, match="shape keys"):
