@@ -111,7 +111,6 @@ class GOGREEN_OT_apply_stroke(bpy.types.Operator):
                 result = engine.stroke(vertices, faces, settings, events)
         except ValueError as exc:
             return _report_error(self, exc)
-        compile_status.mark_warm(settings.l_max)
         mesh_access.prepare_undo(obj)
         mesh_access.write_vertices(obj, result)
         mesh_access.stroke_done(obj)
