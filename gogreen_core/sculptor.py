@@ -57,7 +57,7 @@ from gogreen_core.session import (
     replay,
 )
 from gogreen_core.stroke import StrokeDriver
-from gogreen_core.validation import ParameterError, check_bool, prefixed
+from gogreen_core.validation import ParameterError, check_bool, check_vector, prefixed
 
 __all__ = ["MAX_REACH", "SESSION_FORMAT", "Sculptor", "mesh_fingerprint"]
 
@@ -108,8 +108,6 @@ class Sculptor:
     ) -> None:
         self._mesh = MeshState(vertices, faces)
         self.model_size = self._mesh.model_size
-        #: Point of the mirror planes: the center of the bounding box at load.
-        self.origin = self._mesh.origin
         self.history = History(history_bytes)
         self._log = SessionLog()
         #: False for a sculptor replaying a version-1 session: settings are no undo steps.
@@ -147,6 +145,16 @@ class Sculptor:
     @property
     def faces(self) -> np.ndarray:
         return self._mesh.faces
+
+    @property
+    def origin(self) -> np.ndarray:
+        """(3,) point of the mirror planes: the centre of the bounding box at load, unless set
+        (Blender mirrors about the object's origin)."""
+        return self._mesh.origin
+
+    @origin.setter
+    def origin(self, point: np.ndarray) -> None:
+        self._mesh.origin = check_vector("origin", point)
 
     @property
     def settings(self) -> EngineSettings:
