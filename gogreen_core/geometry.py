@@ -19,7 +19,7 @@ from numba import njit, prange
 
 from gogreen_core.threads import threads_at_most
 
-__all__ = ["FaceAdjacency", "SurfaceIndex", "mean_edge_length", "mesh_volume", "vertex_normals"]
+__all__ = ["FaceAdjacency", "SurfaceIndex", "mesh_volume", "vertex_normals"]
 
 # No fastmath here: the face normals round as numpy.cross's operations, the sums in face order.
 _JIT = {"cache": True, "boundscheck": False, "nogil": True}  # nogil: a background build
@@ -41,17 +41,6 @@ def vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     out[empty] = (0.0, 0.0, 1.0)
     norm[empty] = 1.0
     return out / norm[:, None]
-
-
-def mean_edge_length(vertices: np.ndarray, faces: np.ndarray) -> float:
-    """Mean length (model units) of the triangles' edges, each interior edge counted twice
-    (a resolution measure: the falloff editor samples its curves by it)."""
-    v = np.asarray(vertices, dtype=np.float64)
-    f = np.asarray(faces, dtype=np.int64)
-    if not len(f):
-        return 0.0
-    lengths = [np.linalg.norm(v[f[:, (k + 1) % 3]] - v[f[:, k]], axis=1) for k in range(3)]
-    return float(np.mean(np.concatenate(lengths)))
 
 
 def mesh_volume(vertices: np.ndarray, faces: np.ndarray) -> float:

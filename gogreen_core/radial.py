@@ -44,7 +44,6 @@ __all__ = [
     "SplineRadial",
     "radial_from_dict",
     "radial_table",
-    "spline_abscissae",
 ]
 
 #: Kinds of radial term: "R" (R_l, even l, for G) and "dR" (ℛ_l, odd l, for ∇G).
@@ -204,27 +203,6 @@ class KelvinletRadial(_ClosedFormRadial):
 DEFAULT_SPLINE_RHO = np.array(
     [0.0, 0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0, 2.5, 3.0, 3.5, 4.0, 5.0, 6.0, 8.0, 10.0]
 )
-#: Where a spline made for a mesh is sampled densely (ρ ≤ this), and the coarse tail beyond.
-_DENSE_SPLINE_REACH = 4.0
-_SPLINE_TAIL = (5.0, 6.0, 8.0, 10.0)
-#: Finest spacing (in ρ) of a spline made for a mesh (69 control points in all): a curve
-#: editor with more points than this is no longer editable by hand.
-_FINEST_SPLINE_STEP = 1.0 / 16.0
-
-
-def spline_abscissae(edges_per_eps: float | None = None) -> np.ndarray:
-    """Control abscissae ρ (increasing, from 0) of a spline falloff for a mesh whose edges are
-    ε / ``edges_per_eps`` long: one control point every two edges up to ρ = 4 (the finest
-    scale the mesh can show, paper Sec. 5), at least :data:`DEFAULT_SPLINE_RHO`'s density
-    (every 0.25) and at most every 1/16, then the tail 5, 6, 8, 10. None: the default 17."""
-    if edges_per_eps is None:
-        return DEFAULT_SPLINE_RHO.copy()
-    value = float(edges_per_eps)
-    if not np.isfinite(value) or value <= 0:
-        raise ValueError(f"edges_per_eps must be finite and > 0 (got {edges_per_eps!r})")
-    step = min(0.25, max(_FINEST_SPLINE_STEP, 2.0 / value))
-    count = round(_DENSE_SPLINE_REACH / step)
-    return np.concatenate([np.linspace(0.0, _DENSE_SPLINE_REACH, count + 1), _SPLINE_TAIL])
 
 
 class SplineRadial(RadialProfile):

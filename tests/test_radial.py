@@ -166,8 +166,8 @@ def test_spline_tables_follow_content_not_object_identity():
 def test_spline_control_points_follow_the_mesh_resolution():
     """A spline made for a mesh has a control point every two edges up to ρ = 4 (every 0.25
     at least, every 1/16 at most), so its smallest editable scale is what the mesh shows."""
-    from gogreen_core.geometry import mean_edge_length
-    from gogreen_core.radial import DEFAULT_SPLINE_RHO, spline_abscissae
+    from gogreen_core.radial import DEFAULT_SPLINE_RHO
+    from gogreen_core.resolution import mean_edge_length, spline_abscissae
     from gogreen_core.shapes import icosphere
 
     assert np.array_equal(spline_abscissae(), DEFAULT_SPLINE_RHO)
