@@ -99,10 +99,11 @@ _BRUSH_NAMES = {
     "grab": "Grab brush",
     "grab_biscale": "Bi-scale grab brush (sharper falloff)",
     "grab_triscale": "Tri-scale grab brush (sharpest falloff)",
-    "wrinkle": "Wrinkle brush (needs an anisotropic material)",
+    "wrinkle": "Wrinkle brush: a pull that folds the surface (needs an anisotropic material)",
     "scale": "Scale brush: inflate / deflate",
     "twist": "Twist brush",
     "pinch": "Pinch brush",
+    "stretch": "Stretch brush: pull along the drag; the material moves the sides (Poisson)",
 }
 #: The letter each brush had before number keys (kept as a second key).
 _BRUSH_LETTERS = {
@@ -113,6 +114,7 @@ _BRUSH_LETTERS = {
     "scale": "S",
     "twist": "W",
     "pinch": "P",
+    "stretch": "E",
 }
 #: Action identifier of each brush kind (``"brush_grab"`` …).
 BRUSH_ACTIONS = {kind: f"brush_{kind}" for kind in BRUSH_KINDS}
@@ -306,7 +308,7 @@ class KeymapOverlay(QWidget):
     COLUMN_GAP = 36.0
     KEY_GAP = 14.0
     MAX_DESCRIPTION_WIDTH = 330.0
-    MIN_POINT_SIZE = 6.0
+    MIN_POINT_SIZE = 5.0
     MIN_DESCRIPTION_CHARS = 16
     PREFERRED_POINT_SIZE = 10.0
     KEY_LINE_GAP = 0.2  # between lines of one row's key caps, in line heights

@@ -41,7 +41,6 @@ from app.panels.homogenization_panel import HomogenizationPanel
 from app.panels.material_panel import MaterialPanel
 from app.theme import DEFAULT_THEME, THEMES, Theme, apply_theme, theme
 from app.viewport import SculptViewport
-from gogreen_core.brushes import default_wrinkle_weights
 from gogreen_core.material import Material
 from gogreen_core.mesh_io import write_bytes_atomic, write_text_atomic
 from gogreen_core.presets import Preset, builtin_presets, load_preset, save_preset
@@ -67,19 +66,18 @@ SHADINGS = {
 }
 #: Material (ambient, diffuse, specular, specular power) of the mesh in each shading mode.
 _SHADING_PROPS = {"studio": (0.12, 0.85, 0.25, 20.0), "clay": (0.22, 0.9, 0.0, 1.0)}
-#: Below this :func:`material_anisotropy` the wrinkle brush moves the surface like grab (its
-#: reweighted degrees l > 2 carry next to nothing): the cubic c11=1, c12=.5, c44=.4 is 0.13,
-#: the built-in layered / wood / fibre presets 0.65 to 0.83.
+#: Below this :func:`material_anisotropy` the wrinkle brush barely folds (its degrees l > 2
+#: carry next to nothing): the cubic c11=1, c12=.5, c44=.4 is 0.13, the built-in layered /
+#: wood / fibre presets 0.65 to 0.83.
 WRINKLE_MIN_ANISOTROPY = 0.25
 WRINKLE_NEEDS = (
-    "needs a layered or fibred (anisotropic) material: on this uniform one it moves the "
-    "surface like Grab"
+    "needs a layered or fibred (anisotropic) material: on this uniform one it pulls without folds"
 )
 #: Tool tip of the wrinkle brush: what it does and what it needs, in an artist's words.
 WRINKLE_TIP = (
-    "Wrinkle: pulls like Grab and ripples the surface around the pull, along the "
-    "material's layers or fibres; needs a layered material such as the “Layered sheet "
-    "wrinkles” preset (ripple strength per degree: Falloff panel)"
+    "Wrinkle: pulls the surface and folds it around the pull, along the material's layers "
+    "or fibres; needs a layered material such as the “Layered sheet wrinkles” preset (fold "
+    "degree and depth: Falloff panel; rotate the material to turn the folds)"
 )
 
 
@@ -676,15 +674,15 @@ class MainWindow(QMainWindow):
         self.wrinkle_fix_button.setVisible(lacking)
 
     def use_wrinkle_material(self) -> None:
-        """Apply the wrinkle preset's material and weights: one undo step."""
+        """Apply the wrinkle preset's material, and its l_max and fold weights when this model's
+        l_max is lower (folds need the degrees): one undo step."""
         preset = wrinkle_preset()
-        l_max = self.model.l_max
-        weights = preset.weights
-        if len(weights) != l_max + 1:
-            weights = default_wrinkle_weights(l_max)
         changed = self.model.update({"material": preset.material})
-        # continued: the weights join the material's undo step
-        self.model.update({"degree_weights": weights}, continued=bool(changed))
+        if self.model.l_max < preset.l_max:
+            # continued: the falloff group joins the material's undo step
+            weights = preset.engine_settings().weights_for("wrinkle")
+            self.model.update({"l_max": preset.l_max}, continued=bool(changed))
+            self.model.set_brush_weights("wrinkle", weights, continued=True)
         self.flash(f"Wrinkle material: {preset.name} (Ctrl+Z undoes it)")
 
     def _use_homogenized(self, material: Material) -> None:

@@ -422,6 +422,23 @@ class GreenKernel:
         clone._even, clone._odd = self._pack(self._sums, self._l_max, weights, output_maps)
         return clone
 
+    def degree_norms(self) -> np.ndarray:
+        """(l_max + 2,) the size of each degree's material term, unweighted: the Frobenius norm
+        of Σ_m P_lm (even l, G) or 𝒫_lm (odd l, ∇G), in the quadrature's units (compare them
+        with each other). Zero for a degree the material does not have (l > 2 of an
+        isotropic material, up to rounding)."""
+        norms = np.zeros(self._l_max + 2)
+        for parity, sums in zip((0, 1), self._sums, strict=True):
+            first = parity
+            offset = 0
+            for l in range(first, self._l_max + 2, 2):
+                if l > self._l_max + parity:
+                    break
+                rows = sums[offset : offset + 2 * l + 1]
+                norms[l] = float(np.sqrt(np.sum(rows * rows)))
+                offset += 2 * l + 1
+        return norms
+
     # -- properties --------------------------------------------------------------------------
     @property
     def material(self) -> Material:

@@ -20,7 +20,7 @@ scaled down to that bound, and a zero one is refused (:mod:`gogreen_core.brushes
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -30,6 +30,7 @@ from gogreen_core.engine_settings import (
     DEFAULT_CONSTRAINT_RADIUS,
     SETTING_GROUPS,
     EngineSettings,
+    resized_brush_weights,
 )
 from gogreen_core.history import History
 from gogreen_core.kernel import GreenKernel
@@ -72,7 +73,13 @@ def _record(settings: EngineSettings, group: str, continued: bool) -> Operation:
         return MaterialChange(settings.material, continued)
     if group == "constraint_radius":
         return ConstraintRadius(settings.constraint_radius, continued)
-    return FalloffChange(settings.falloff, settings.l_max, settings.degree_weights, continued)
+    return FalloffChange(
+        settings.falloff,
+        settings.l_max,
+        settings.degree_weights,
+        continued,
+        settings.brush_weights,
+    )
 
 
 class Sculptor:
@@ -207,7 +214,7 @@ class Sculptor:
             if group[0] == "material":
                 self.set_material(s.material, continued)
             elif group[0] == "falloff":
-                self.set_falloff(s.falloff, s.l_max, s.degree_weights, continued)
+                self.set_falloff(s.falloff, s.l_max, s.degree_weights, continued, s.brush_weights)
             else:
                 self.set_constraint_radius(s.constraint_radius, continued)
 
@@ -231,9 +238,13 @@ class Sculptor:
                 f"degree_weights, one group at a time (got {sorted(keys)})"
             )
         continued = check_bool("continued", continued)
-        if "l_max" in keys:
-            changes.setdefault("degree_weights", None)  # weights belong to one l_max
         before = self.settings
+        if "l_max" in keys:  # weights belong to one l_max
+            changes.setdefault("degree_weights", None)
+            if "brush_weights" not in keys:
+                changes["brush_weights"] = resized_brush_weights(
+                    before.brush_weights, changes["l_max"]
+                )
         after = before.replace(**changes)
         label = _LABELS[group[0]]
         self._refuse_in_stroke(f"change the {label}")
@@ -265,15 +276,19 @@ class Sculptor:
         l_max: int | None = None,
         degree_weights: np.ndarray | None = None,
         continued: bool = False,
+        brush_weights: Mapping[str, Sequence[float]] | None = None,
     ) -> None:
-        """Use this falloff shape (and truncation degree, wrinkle weights) from now on (see
+        """Use this falloff shape (and truncation degree, legacy wrinkle weights, per-brush
+        weights: kept, or resized to a new l_max, when None) from now on (see
         :meth:`change_settings`)."""
-        self.change_settings(
-            falloff=falloff,
-            l_max=self.l_max if l_max is None else l_max,
-            degree_weights=degree_weights,
-            continued=continued,
-        )
+        changes: dict[str, Any] = {
+            "falloff": falloff,
+            "l_max": self.l_max if l_max is None else l_max,
+            "degree_weights": degree_weights,
+        }
+        if brush_weights is not None:
+            changes["brush_weights"] = brush_weights
+        self.change_settings(continued=continued, **changes)
 
     def set_constraint_radius(self, radius: float, continued: bool = False) -> None:
         """ε of the constraints, relative to the model size (see :meth:`change_settings`)."""
@@ -289,6 +304,12 @@ class Sculptor:
         """The kernel of ``brush`` on this model: its falloff, ε and degree weights (None for
         a brush without a Green's function)."""
         return self._strokes.kernel(self._kernels, brush)
+
+    def influence(self, brush: Brush) -> float:
+        """``brush``'s influence radius in multiples of ε (``inf``: every vertex): its own
+        number, or the one ``"auto"`` gives with the current settings (what the cursor's
+        influence ring shows)."""
+        return self._strokes.reach(self._kernels, brush)
 
     def begin_stroke(self, brush: Brush) -> None:
         """Start a stroke with ``brush``; events follow, then :meth:`end_stroke`."""

@@ -15,7 +15,7 @@ from gogreen_core.mesh_io import MeshData, save_mesh
 from gogreen_core.presets import Preset, load_preset
 from gogreen_core.radial import GaussianRadial, SplineRadial
 from gogreen_core.sculptor import Sculptor
-from gogreen_core.session import load_session, parse_session
+from gogreen_core.session import SESSION_VERSION, load_session, parse_session
 
 HUGE = 1e200
 ANISOTROPIC = Material.cubic(3.0, 1.5, 0.4)
@@ -74,7 +74,7 @@ def hostile_sessions(session: dict):
     yield "settings list", edited(session, ("settings",), []), "settings"
     yield "format", edited(session, ("format",), "gogreen"), "format"
     yield "version text", edited(session, ("version",), "2"), "version"
-    yield "version future", edited(session, ("version",), 3), "version"
+    yield "version future", edited(session, ("version",), SESSION_VERSION + 1), "version"
     yield "operations object", edited(session, ("operations",), {}), "operations"
     for bad in (7, "stroke", None, [1]):
         yield f"operation {bad!r}", edited(session, ("operations", 0), bad), "operations[0]"
@@ -100,6 +100,7 @@ def hostile_sessions(session: dict):
         ("kind", 3),
         ("symmetry", 3),
         ("influence", -1),
+        ("influence", "automatic"),
     ]:
         name = f"operations[{stroke}].brush.{field}"
         yield f"brush {field} {bad!r}", edited(session, (*br, field), bad), name
@@ -116,6 +117,16 @@ def hostile_sessions(session: dict):
         edited(session, ("operations", add, "point"), [1e300, 0, 0]),
         f"operations[{add}].point",
     )
+    weights = ("operations", falloff, "brush_weights")
+    for what, bad, where in [
+        ("kind", {"bogus": [1.0] * 10}, "bogus"),
+        ("length", {"pinch": [1.0, 2.0]}, "pinch"),
+        ("nan", {"grab": [float("nan")] * 10}, "grab"),
+        ("huge", {"grab": [1e300] * 10}, "grab"),
+        ("type", ["grab"], None),
+    ]:
+        name = f"operations[{falloff}].brush_weights" + (f".{where}" if where else "")
+        yield f"brush weights {what}", edited(session, weights, bad), name
     yield (
         "l_max big",
         edited(session, ("operations", falloff, "l_max"), 1e300),

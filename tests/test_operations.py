@@ -186,7 +186,7 @@ def test_a_slider_drag_is_one_step_and_replays(sphere):
     sculptor.set_falloff(KelvinletRadial(1.0), continued=True)  # joins the material's step
     assert sculptor.history.undo_labels == ["grab stroke", "material"]
     session = session_of(sculptor)
-    assert session["version"] == SESSION_VERSION == 2
+    assert session["version"] == SESSION_VERSION == 3
     again = Sculptor.from_session(session, vertices, faces)
     again.replay(session["operations"])
     assert np.array_equal(again.vertices, sculptor.vertices)
@@ -349,7 +349,7 @@ def test_an_event_radius_factor_shrinks_the_moved_region(sphere):
     reach = {}
     for factor in (1.0, 0.3):
         sculptor = Sculptor(vertices, faces)
-        brush = Brush("grab", radius=0.1)
+        brush = Brush("grab", radius=0.1, influence=4.0)  # a ball that fits on the sphere
         moved = sculptor.apply_brush(brush, [BrushEvent(top, [0, 0, 0.02], radius_factor=factor)])
         reach[factor] = np.linalg.norm(vertices[moved] - top, axis=1).max()
         outer = brush.influence * max(brush.radius * factor, 1e-6) * sculptor.model_size

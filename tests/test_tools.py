@@ -14,7 +14,7 @@ from gogreen_core.tools import (
 )
 
 NORTH = np.array([0.0, 0.0, 1.0])
-GRAB = Brush("grab", radius=0.1)
+GRAB = Brush("grab", radius=0.1, influence=4.0)  # the reach these tests measure
 
 
 @pytest.fixture
@@ -185,7 +185,7 @@ def test_smooth_cutoff_and_profile_without_kernels():
 
     r = np.array([0.0, 0.5, 0.75, 1.0, 2.0])
     np.testing.assert_allclose(smooth_cutoff(r, 0.5, 1.0), [1.0, 1.0, 0.5, 0.0, 0.0])
-    cutoff_only = brush_profile(None, Brush("grab", radius=0.1, influence=2.0), eps=0.1)
+    cutoff_only = brush_profile(None, 2.0, eps=0.1)  # an influence of 2 ε
     assert cutoff_only[0] == 1.0 and cutoff_only[-1] == 0.0
 
 
@@ -265,7 +265,9 @@ def test_number_keys_pick_brushes_in_order(sculptor):
     tools, settings = settings_tools(sculptor)
     for number, kind in enumerate(BRUSH_KINDS, start=1):
         assert tools.pick_brush(str(number)) and settings.kind == kind
-    assert brush_for_key("0") is None and brush_for_key("8") is None and brush_for_key("a") is None
+    beyond = str(len(BRUSH_KINDS) + 1)  # the key after the last brush's
+    assert brush_for_key("0") is None and brush_for_key(beyond) is None
+    assert brush_for_key("a") is None
     assert not tools.pick_brush("9")
 
 
