@@ -57,6 +57,7 @@ __all__ = [
     "MeshFileError",
     "load_mesh",
     "save_mesh",
+    "write_atomic",
     "write_bytes_atomic",
     "write_text_atomic",
 ]
@@ -1297,6 +1298,14 @@ def write_bytes_atomic(path: str | os.PathLike, data: bytes) -> None:
         _atomic_write(p, lambda out: out.write(data))
     except OSError as exc:
         raise MeshFileError(f"{p.name}: cannot write ({exc.strerror or exc})") from None
+
+
+def write_atomic(path: str | os.PathLike, write: Callable[[BinaryIO], None]) -> None:
+    """Stream a file through ``write(handle)`` into a temporary file next to ``path``, fsynced
+    and renamed over it (the rename made durable too), so there is never a half-written file
+    (the recovery journal's checkpoints). ``OSError`` as raised; ``MeshFileError`` when the
+    folder does not exist."""
+    _atomic_write(Path(path), write)
 
 
 def _atomic_write(path: Path, write: Callable[[BinaryIO], None]) -> None:

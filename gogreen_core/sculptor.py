@@ -42,6 +42,7 @@ from gogreen_core.brushes import (
     legacy_wrinkle_weights,
     mirror_signs,
 )
+from gogreen_core.checkpoint import SculptState
 from gogreen_core.constraints import CONSTRAINT_INFLUENCE, ConstraintSet
 from gogreen_core.falloff_safety import (
     AFFINE_FALLBACK,
@@ -78,6 +79,7 @@ from gogreen_core.schema import (
 from gogreen_core.session import (
     SESSION_FORMAT,
     SESSION_VERSION,
+    LogListener,
     Session,
     SessionLog,
     mesh_fingerprint,
@@ -440,6 +442,7 @@ class Sculptor:
         moved = self._apply_event(brush, event)
         self._stroke.touched[moved] = True
         self._stroke.events.append(event)
+        self._log.event(event)
         return moved
 
     def _check_event(self, brush: Brush, event: BrushEvent) -> None:
@@ -850,6 +853,12 @@ class Sculptor:
                 self._constraints.move(state.index, state.point)
 
     # -- session log -------------------------------------------------------------------------
+    def subscribe(self, listener: LogListener) -> Callable[[], None]:
+        """Call ``listener`` after each change of the operation log and each mouse event of a
+        stroke (:data:`~gogreen_core.session.LogListener`; the recovery journal). Returns the
+        function that unsubscribes it."""
+        return self._log.subscribe(listener)
+
     @property
     def operations(self) -> list[Operation]:
         """The typed operation records so far (see :mod:`gogreen_core.operations`)."""
@@ -929,6 +938,32 @@ class Sculptor:
         except BaseException:
             self._rollback(saved)
             raise
+
+    # -- crash recovery ----------------------------------------------------------------------
+    def state(self) -> SculptState:
+        """A copy of what the next operations compute from (a checkpoint of the recovery
+        journal): vertices, settings, the pins' solver state, model size and mirror origin."""
+        pins = self._constraints
+        return SculptState(
+            self._vertices.copy(),
+            self._settings,
+            None if pins is None else (pins.points, pins.matrix.copy(), pins.inverse.copy()),
+            self.model_size,
+            self.origin.copy(),
+        )
+
+    @classmethod
+    def from_state(cls, state: SculptState, faces: np.ndarray, **options) -> Sculptor:
+        """A sculptor whose next operations give bit for bit what the one that took ``state``
+        (:meth:`state`) would have; its undo history and log start empty. ``options``:
+        ``history_bytes``."""
+        s = state.settings
+        sculptor = cls(state.vertices, faces, **s.__dict__, **options)
+        sculptor.model_size, sculptor.origin = float(state.model_size), state.origin.copy()
+        if state.pins is not None:
+            kernel = sculptor._constraint_set(sculptor._kernels["full"], s, []).kernel
+            sculptor._constraints = ConstraintSet.restored(kernel, *state.pins)
+        return sculptor
 
     def _checkpoint(self) -> tuple:
         points = None if self._constraints is None else self._constraints.points
