@@ -1,0 +1,774 @@
+"""Crash recovery: list the journals :mod:`gogreen_core.journal` leaves behind after an unclean
+exit, and rebuild a document from one (bit for bit the state after its last complete record).
+
+    journals = list_journals()                 # newest first; in_use: a running app writes it
+    recovery = recover(journals[0].directory)  # locks it, replays it
+    recovery.mesh, recovery.sculptor           # the mesh as it was, a sculptor to go on with
+
+How: the journal's start (its base copy and start state) or one of its checkpoints, then the
+records after it replayed (:meth:`Sculptor.replay` semantics, one record at a time). Recovery
+starts from the oldest checkpoint whose replay fits :data:`RECOVERY_WORK` (estimated from the
+mouse events to replay × the vertices), so the recovered undo history (the replayed records)
+is as deep as that budget allows and recovery stays within about 2 s on this machine; a
+checkpoint whose later records undo past it (``d``, the undo steps done, disagrees) is skipped
+for an older one, down to the start, which always replays.
+
+Damage is never fatal: every complete record before it is kept and the notes say what was
+dropped: a record cut off by the crash or corrupt (checksum), an operation this version cannot
+read (a newer version's journal), a checkpoint cut short or corrupt (an older one, or the start,
+is used), a missing base copy (the document's own file is used if it still has the same
+vertices, its faces otherwise with a checkpoint).
+
+``gogreen recover`` (:func:`main`) does it from the command line.
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import contextlib
+import json
+import os
+import sys
+import time
+import zlib
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+from datetime import datetime
+from pathlib import Path
+
+import numpy as np
+
+from gogreen_core.checkpoint import CheckpointError, SculptState, read_checkpoint
+from gogreen_core.journal import (
+    JOURNAL_FILE,
+    JOURNAL_FORMAT,
+    JOURNAL_VERSION,
+    THUMBNAIL_FILE,
+    JournalLock,
+    lock_owner,
+    recovery_root,
+    vertex_hash,
+)
+from gogreen_core.mesh_io import MeshData, load_mesh, save_mesh, write_text_atomic
+from gogreen_core.operations import Operation, operation_from_dict
+from gogreen_core.sculptor import Sculptor
+from gogreen_core.session import SESSION_FORMAT, SESSION_VERSION
+from gogreen_core.validation import ParameterError
+
+__all__ = [
+    "RECOVERY_WORK",
+    "JournalContents",
+    "JournalError",
+    "JournalInfo",
+    "Recovery",
+    "discard",
+    "find_journal",
+    "journal_session",
+    "list_journals",
+    "main",
+    "read_journal",
+    "recover",
+]
+
+#: Most brush work (mouse events × vertices) recovery replays when it can choose: about 2 s.
+RECOVERY_WORK = 5e7
+#: Names of the operations in summaries (singular, plural).
+_KINDS = {
+    "stroke": ("stroke", "strokes"),
+    "constraint_add": ("pin edit", "pin edits"),
+    "constraint_remove": ("pin edit", "pin edits"),
+    "constraints_clear": ("pin edit", "pin edits"),
+    "constraint_drag": ("pin drag", "pin drags"),
+    "material": ("settings change", "settings changes"),
+    "falloff": ("settings change", "settings changes"),
+    "constraint_radius": ("settings change", "settings changes"),
+    "undo": ("undo", "undos"),
+    "redo": ("redo", "redos"),
+}
+
+
+class JournalError(ValueError):
+    """A journal that cannot be recovered at all (its header unreadable, no mesh left), or is
+    in use by a running app; the message says which and why."""
+
+
+@dataclass(frozen=True)
+class Record:
+    """One complete journal record: ``seq`` (1, 2, ...), ``kind`` (``append``/``replace``),
+    ``n`` operations after it, ``t`` unix time, ``d`` undo steps done, the operation's session
+    form ``data`` and its typed ``op`` (None when read without validation)."""
+
+    seq: int
+    kind: str
+    n: int
+    t: float
+    d: int
+    data: dict
+    op: Operation | None
+
+    @property
+    def steps(self) -> int:
+        """Replay work units: a stroke's mouse events, else 1."""
+        events = self.data.get("events")
+        return max(1, len(events)) if isinstance(events, list) else 1
+
+
+@dataclass
+class JournalContents:
+    """What a journal holds up to its first damage: header, complete records, and ``notes``
+    saying what was dropped and why."""
+
+    directory: Path
+    header: dict
+    records: list[Record]
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def operations(self) -> list[dict]:
+        """The session operations the records make (a ``replace`` replaces the last)."""
+        ops: list[dict] = []
+        for record in self.records:
+            if record.kind == "replace" and ops:
+                ops[-1] = record.data
+            else:
+                ops.append(record.data)
+        return ops
+
+    @property
+    def modified(self) -> float:
+        """Time of the last complete record (of the header when there is none)."""
+        return self.records[-1].t if self.records else float(self.header.get("created", 0))
+
+
+def _frame_payload(line: bytes) -> bytes | None:
+    """The payload of a journal line, or None if its checksum does not match."""
+    if len(line) < 10 or line[8:9] != b" ":
+        return None
+    try:
+        crc = int(line[:8], 16)
+    except ValueError:
+        return None
+    payload = line[9:]
+    return payload if zlib.crc32(payload) == crc else None
+
+
+def _check_header(header: object, name: str) -> dict:
+    if not isinstance(header, dict) or header.get("format") != JOURNAL_FORMAT:
+        raise JournalError(f"{name}: not a GoGreen Sculpt journal")
+    try:
+        mesh, start = header["mesh"], header["start"]
+        ok = (
+            isinstance(header["version"], int)
+            and isinstance(mesh["vertices"], int)
+            and isinstance(mesh["faces"], int)
+            and isinstance(mesh["sha256"], str)
+            and isinstance(mesh["base"], str)
+            and isinstance(start, dict)
+        )
+    except (KeyError, TypeError):
+        ok = False
+    if not ok:
+        raise JournalError(f"{name}: the journal's header is malformed")
+    return header
+
+
+def read_journal(directory: str | os.PathLike, validate: bool = True) -> JournalContents:
+    """Read a journal folder's ``journal.jsonl`` up to its first damage. ``validate``: also
+    check every operation (as session files are); listing skips that. :class:`JournalError`
+    when even the header cannot be read."""
+    directory = Path(directory)
+    path = directory / JOURNAL_FILE
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise JournalError(f"{directory.name}: cannot read the journal ({exc.strerror})") from None
+    lines = data.split(b"\n")
+    payload = _frame_payload(lines[0]) if len(lines) > 1 else None
+    try:
+        header = json.loads(payload) if payload is not None else None
+    except ValueError:
+        header = None
+    if header is None:
+        raise JournalError(f"{directory.name}: the journal's header is cut off or corrupt")
+    header = _check_header(header, directory.name)
+    contents = JournalContents(directory, header, [])
+    if header["version"] > JOURNAL_VERSION:
+        contents.notes.append(
+            f"written by a newer GoGreen Sculpt (journal version {header['version']}; this one "
+            f"reads {JOURNAL_VERSION}): read as far as this version understands it"
+        )
+    body = lines[1:]  # the last piece follows the last newline: empty unless cut off
+    for index, line in enumerate(body):
+        last = index == len(body) - 1
+        if last and not line:
+            break
+        seq = index + 1
+        problem = "was cut off (its write did not finish)" if last else None
+        record = None
+        if problem is None:
+            record, problem = _parse_record(line, seq, validate)
+        if problem is not None:
+            dropped = len(body) - index - (0 if body[-1] else 1)
+            size = sum(len(x) + 1 for x in body[index:]) - 1
+            rest = f" and the {dropped - 1} after it" if dropped > 1 else ""
+            contents.notes.append(
+                f"record {seq} {problem}: it{rest} ({size:,} bytes) dropped; the "
+                f"{seq - 1} records before it are kept"
+            )
+            break
+        contents.records.append(record)
+    return contents
+
+
+def _parse_record(line: bytes, seq: int, validate: bool) -> tuple[Record | None, str | None]:
+    payload = _frame_payload(line)
+    if payload is None:
+        return None, "is corrupt (checksum mismatch)"
+    try:
+        data = json.loads(payload)
+        values = (data["seq"], data["kind"], data["n"], data["t"], data["d"], data["op"])
+    except (ValueError, KeyError, TypeError):
+        return None, "is malformed"
+    number, kind, n, t, d, op = values
+    if number != seq:
+        return None, f"is out of order (numbered {number})"
+    if kind not in ("append", "replace"):
+        return None, f"is of a kind this version does not know ({kind!r})"
+    if not (isinstance(n, int) and isinstance(d, int) and isinstance(t, (int, float))):
+        return None, "is malformed"
+    if not isinstance(op, dict):
+        return None, "is malformed"
+    typed = None
+    if validate:
+        try:
+            typed = operation_from_dict(op, "op")
+        except ParameterError as exc:
+            return None, f"holds an operation this version cannot read ({exc})"
+    elif not isinstance(op.get("op"), str):
+        return None, "is malformed"
+    return Record(seq, kind, n, float(t), d, op, typed), None
+
+
+# -- listing ---------------------------------------------------------------------------------
+@dataclass
+class JournalInfo:
+    """A journal as the recovery dialog and ``gogreen recover --list`` show it."""
+
+    directory: Path
+    title: str
+    document: str | None
+    created: float
+    modified: float
+    operations: int
+    kinds: dict[str, int]
+    vertices: int
+    faces: int
+    in_use: bool
+    owner: dict
+    notes: list[str]
+    size: int
+    thumbnail: Path | None
+    readable: bool = True
+
+    @property
+    def id(self) -> str:
+        return self.directory.name
+
+    def summary(self) -> str:
+        """``"20 strokes, 2 pin edits, 1 undo"`` (or ``"no operations"``)."""
+        counts: dict[str, int] = collections.Counter()
+        names: dict[str, str] = {}
+        for op, count in self.kinds.items():
+            one, many = _KINDS.get(op, (op, op + "s"))
+            counts[one] += count
+            names[one] = many
+        parts = [f"{c} {one if c == 1 else names[one]}" for one, c in counts.items()]
+        return ", ".join(parts) or "no operations"
+
+    def status(self) -> str:
+        """Who holds it or what is wrong with it ("" when nothing)."""
+        if self.in_use:
+            who = self.owner
+            process = f"process {who['pid']}" if "pid" in who else "another process"
+            host = f" on {who['host']}" if who.get("host") else ""
+            return f"in use by a running GoGreen Sculpt ({process}{host})"
+        return "; ".join(self.notes)
+
+
+def journal_info(directory: str | os.PathLike) -> JournalInfo:
+    """What :func:`list_journals` shows of one journal folder (never raises)."""
+    directory = Path(directory)
+    lock = None
+    try:
+        lock = JournalLock.acquire(directory)
+    except OSError:
+        pass
+    in_use = lock is None
+    if lock is not None:
+        lock.release()
+    size = sum(p.stat().st_size for p in directory.iterdir() if p.is_file())
+    thumbnail = directory / THUMBNAIL_FILE
+    thumbnail = thumbnail if thumbnail.is_file() else None
+    try:
+        contents = read_journal(directory, validate=False)
+    except JournalError as exc:
+        mtime = directory.stat().st_mtime
+        return JournalInfo(
+            directory, directory.name, None, mtime, mtime, 0, {}, 0, 0, in_use,
+            lock_owner(directory), [str(exc)], size, thumbnail, readable=False,
+        )  # fmt: skip
+    header = contents.header
+    document = header.get("document") or {}
+    kinds = collections.Counter(op.get("op", "?") for op in contents.operations)
+    return JournalInfo(
+        directory,
+        str(document.get("title") or directory.name),
+        document.get("path"),
+        float(header.get("created", 0)),
+        contents.modified,
+        len(contents.operations),
+        dict(kinds),
+        header["mesh"]["vertices"],
+        header["mesh"]["faces"],
+        in_use,
+        lock_owner(directory),
+        contents.notes,
+        size,
+        thumbnail,
+    )
+
+
+def list_journals(root: str | os.PathLike | None = None) -> list[JournalInfo]:
+    """The journals under ``root`` (:func:`~gogreen_core.journal.recovery_root`), last changed
+    first, the ones running apps write included (``in_use``). Folders a crash left half-made
+    are deleted."""
+    root = Path(root) if root is not None else recovery_root()
+    if not root.is_dir():
+        return []
+    infos = []
+    for folder in root.iterdir():
+        if not folder.is_dir():
+            continue
+        if folder.name.startswith(".new-"):  # a crash while a journal was being created
+            with contextlib.suppress(OSError):
+                lock = JournalLock.acquire(folder)
+                if lock is not None and time.time() - folder.stat().st_mtime > 60:
+                    lock.remove()
+                elif lock is not None:
+                    lock.release()
+            continue
+        if not folder.name.startswith("."):
+            infos.append(journal_info(folder))
+    return sorted(infos, key=lambda info: info.modified, reverse=True)
+
+
+def find_journal(name: str, root: str | os.PathLike | None = None) -> Path:
+    """The journal folder called ``name`` (or the only one starting with it, or a path to
+    one); :class:`JournalError` naming the candidates otherwise."""
+    root = Path(root) if root is not None else recovery_root()
+    if os.sep in name and (Path(name) / JOURNAL_FILE).is_file():
+        return Path(name)
+    if (root / name / JOURNAL_FILE).is_file():
+        return root / name
+    matches = sorted(p for p in root.glob(f"{name}*") if (p / JOURNAL_FILE).is_file())
+    if len(matches) == 1:
+        return matches[0]
+    if not matches:
+        raise JournalError(f"no journal {name!r} in {root} (`gogreen recover --list`)")
+    raise JournalError(f"{name!r} names several journals: {', '.join(p.name for p in matches)}")
+
+
+def discard(directory: str | os.PathLike) -> None:
+    """Delete a journal (not one a running app writes: :class:`JournalError`)."""
+    directory = Path(directory)
+    lock = _lock(directory)
+    lock.remove()
+
+
+def _lock(directory: Path) -> JournalLock:
+    try:
+        lock = JournalLock.acquire(directory)
+    except OSError as exc:
+        raise JournalError(f"{directory.name}: cannot open ({exc.strerror})") from None
+    if lock is None:
+        info = journal_info(directory)
+        raise JournalError(f"{directory.name}: {info.status()}")
+    return lock
+
+
+# -- recovering ------------------------------------------------------------------------------
+@dataclass
+class Recovery:
+    """A recovered journal: ``mesh`` (the document's mesh with the recovered vertices),
+    ``sculptor`` (continues bit for bit; its undo history holds the ``replayed`` records),
+    ``records`` and ``operations`` recovered, ``start`` (0: the journal's start, k: the
+    checkpoint after record k), ``notes`` (what was dropped), and the journal's ``lock``
+    (held until :meth:`release`, or handed to the journal that continues it)."""
+
+    contents: JournalContents
+    mesh: MeshData
+    sculptor: Sculptor
+    records: int
+    replayed: int
+    start: int
+    notes: list[str]
+    lock: JournalLock | None
+    seconds: float = 0.0
+
+    @property
+    def operations(self) -> int:
+        return len(self.contents.operations)
+
+    @property
+    def title(self) -> str:
+        document = self.contents.header.get("document") or {}
+        return str(document.get("title") or self.contents.directory.name)
+
+    @property
+    def document(self) -> str | None:
+        return (self.contents.header.get("document") or {}).get("path")
+
+    def session(self) -> dict:
+        """The session of the recovered records (:func:`journal_session`)."""
+        return journal_session(self.contents)
+
+    def release(self) -> None:
+        if self.lock is not None:
+            self.lock.release()
+            self.lock = None
+
+
+def journal_session(contents: JournalContents) -> dict:
+    """The journal's complete records as a session file (README, "Session files") starting
+    from the journal's start mesh; pins the journal started with come first as
+    ``constraint_add`` operations."""
+    header = contents.header
+    start = header["start"]
+    pins = start.get("pins")
+    adds = [{"op": "constraint_add", "point": p} for p in (pins or {}).get("points", [])]
+    mesh = header["mesh"]
+    return {
+        "format": SESSION_FORMAT,
+        "version": SESSION_VERSION,
+        "mesh": {"vertices": mesh["vertices"], "faces": mesh["faces"], "sha256": mesh["sha256"]},
+        "settings": start["settings"],
+        "operations": adds + contents.operations,
+    }
+
+
+def _start_state(header: dict, vertices: np.ndarray) -> SculptState:
+    start = header["start"]
+    pins = start.get("pins")
+    arrays = [vertices]
+    if pins is not None:
+        arrays += [np.array(pins[key], dtype=np.float64) for key in ("points", "matrix", "inverse")]
+    head = {**start, "pins": None if pins is None else len(pins["points"])}
+    return SculptState.from_header(head, arrays)
+
+
+def _load_base(contents: JournalContents, notes: list[str]) -> tuple[MeshData | None, bool]:
+    """The journal's start mesh, and whether its vertices are the start's (False: only the
+    faces of the document's file could be had, for use with a checkpoint)."""
+    header = contents.header
+    mesh = header["mesh"]
+    name = mesh["base"]
+    document = (header.get("document") or {}).get("path")
+    try:
+        with np.load(contents.directory / name, allow_pickle=False) as arrays:
+            data = {key: arrays[key] for key in arrays.files}
+        base = MeshData(
+            vertices=data["vertices"],
+            faces=data["faces"].astype(np.int64),
+            uv=data.get("uv"),
+            uv_faces=None if "uv_faces" not in data else data["uv_faces"].astype(np.int64),
+            source=document,
+        )
+        problem = _base_mismatch(base, mesh)
+    except FileNotFoundError:
+        problem = "is missing"
+    except Exception as exc:  # a zip cut short, a bad CRC, missing arrays
+        problem = f"is unreadable ({exc})"
+    if problem is None:
+        return base, True
+    note = f"the copy of the start mesh ({name}) {problem}"
+    if document:
+        try:
+            mesh_file = load_mesh(document)
+        except (ValueError, OSError) as exc:
+            notes.append(f"{note}, and the document's file cannot be read ({exc})")
+            return None, False
+        if _base_mismatch(mesh_file, mesh) is None:
+            notes.append(f"{note}: the document's file {document} has the same mesh and was used")
+            return mesh_file, True
+        if len(mesh_file.vertices) == mesh["vertices"] and len(mesh_file.faces) == mesh["faces"]:
+            notes.append(
+                f"{note}, and {document} changed since: only a checkpoint can be recovered, on "
+                "the file's faces"
+            )
+            return mesh_file, False
+        notes.append(f"{note}, and {document} is another mesh now")
+        return None, False
+    notes.append(note)
+    return None, False
+
+
+def _base_mismatch(base: MeshData, mesh: dict) -> str | None:
+    if len(base.vertices) != mesh["vertices"] or len(base.faces) != mesh["faces"]:
+        return (
+            f"has {len(base.vertices)} vertices and {len(base.faces)} faces, not "
+            f"{mesh['vertices']} and {mesh['faces']}"
+        )
+    if vertex_hash(base.vertices) != mesh["sha256"]:
+        return "has other vertices (hash mismatch)"
+    return None
+
+
+def _checkpoints(contents: JournalContents) -> list[tuple[int, Path]]:
+    """(record, path) of the checkpoints that could apply, newest first."""
+    last = len(contents.records)
+    found = []
+    for path in contents.directory.glob("checkpoint-*.bin"):
+        with contextlib.suppress(ValueError):
+            seq = int(path.stem.split("-", 1)[1])
+            if 0 < seq <= last:
+                found.append((seq, path))
+    return sorted(found, reverse=True)
+
+
+def _plan(records: list[Record]) -> list[Record]:
+    """The records to apply: of a run of ``replace`` records only the last (each merges into
+    the same operation)."""
+    plan: list[Record] = []
+    for record in records:
+        if record.kind == "replace" and plan and plan[-1].kind == "replace":
+            plan[-1] = record
+        else:
+            plan.append(record)
+    return plan
+
+
+class _Diverged(Exception):
+    """A replay from a checkpoint undid something from before it."""
+
+
+def _replay(
+    sculptor: Sculptor,
+    records: list[Record],
+    done: int,
+    progress: Callable[[int, int], None] | None,
+) -> tuple[int, str | None]:
+    """Apply ``records`` to ``sculptor`` (whose ``history.done`` stands for ``done``); returns
+    how many were applied and the error that stopped it (None). Raises :class:`_Diverged`.
+    ``progress(done, total)`` in mouse events."""
+    offset = done - sculptor.history.done
+    total = sum(r.steps for r in records)
+    steps = applied = 0
+    for record in _plan(records):
+        op = record.op
+        if record.kind == "replace" and hasattr(op, "continued"):
+            op = replace(op, continued=True)  # merges into the last step, as it did
+        try:
+            op.apply(sculptor)
+        except (ValueError, RuntimeError) as exc:
+            return applied, f"record {record.seq} ({record.data.get('op')}) failed: {exc}"
+        if sculptor.history.done + offset != record.d:
+            raise _Diverged(record.seq)
+        applied = record.seq - records[0].seq + 1
+        steps += record.steps
+        if progress:
+            progress(steps, total)
+    return applied, None
+
+
+def recover(
+    directory: str | os.PathLike,
+    *,
+    budget: float = RECOVERY_WORK,
+    progress: Callable[[int, int], None] | None = None,
+    lock: bool = True,
+) -> Recovery:
+    """Rebuild the document a journal was recording (see the module docstring).
+
+    ``budget``: most brush work to replay when a checkpoint allows less (mouse events ×
+    vertices; 0 always starts from the newest usable checkpoint, ``inf`` from the start).
+    ``progress(done, total)`` in mouse events. The journal stays locked by the returned
+    :class:`Recovery` (``lock=False``: not locked, for reading a copy).
+    :class:`JournalError` when nothing can be recovered or a running app holds it.
+    """
+    began = time.perf_counter()
+    directory = Path(directory)
+    held = _lock(directory) if lock else None
+    try:
+        contents = read_journal(directory)
+        notes = list(contents.notes)
+        base, exact = _load_base(contents, notes)
+        if base is None:
+            raise JournalError(
+                f"{directory.name}: nothing to rebuild the mesh from ({notes[-1]}); "
+                "`gogreen recover ID --session OUT.json` still writes its operations"
+            )
+        records = contents.records
+        vertices = contents.header["mesh"]["vertices"]
+        cost = np.cumsum([0] + [r.steps for r in reversed(records)])[::-1] * vertices
+        starts: list[tuple[int, Path | None]] = [(0, None)] if exact else []
+        starts += _checkpoints(contents)
+        fits = sorted(s for s in starts if cost[s[0]] <= budget)
+        order = fits + sorted((s for s in starts if cost[s[0]] > budget), reverse=True)
+        best = None
+        for seq, path in order:
+            try:
+                state, done = _state_at(contents, base, seq, path)
+            except CheckpointError as exc:
+                notes.append(f"checkpoint after record {seq} not used: {exc}")
+                continue
+            sculptor = Sculptor.from_state(state, base.faces)
+            tail = records[seq:]
+            try:
+                applied, error = _replay(sculptor, tail, done, progress)
+            except _Diverged:
+                continue  # undoes past this checkpoint: an older start replays it right
+            result = (seq + applied, seq, sculptor, applied, error)
+            if best is None or result[0] > best[0]:
+                best = result
+            if error is None:
+                break
+        if best is None:
+            raise JournalError(f"{directory.name}: no usable start ({'; '.join(notes)})")
+        kept, seq, sculptor, replayed, error = best
+        if error is not None:
+            rest = len(records) - kept - 1
+            notes.append(f"{error}: it{f' and the {rest} after it' if rest else ''} dropped")
+            contents.records = records[:kept]
+        mesh = base.copy()
+        mesh.vertices = np.array(sculptor.vertices)
+        mesh.source = (contents.header.get("document") or {}).get("path")
+        return Recovery(
+            contents, mesh, sculptor, kept, replayed, seq, notes, held,
+            time.perf_counter() - began,
+        )  # fmt: skip
+    except BaseException:
+        if held is not None:
+            held.release()
+        raise
+
+
+def _state_at(
+    contents: JournalContents, base: MeshData, seq: int, path: Path | None
+) -> tuple[SculptState, int]:
+    """The state to replay from (the start or a checkpoint) and its undo steps done."""
+    header = contents.header
+    if path is None:
+        return _start_state(header, base.vertices.copy()), int(header["start"].get("done", 0))
+    state, meta = read_checkpoint(path)
+    if meta.get("token") != header.get("token") or meta.get("seq") != seq:
+        raise CheckpointError(f"{path.name}: belongs to an older journal in this folder")
+    if len(state.vertices) != header["mesh"]["vertices"]:
+        raise CheckpointError(f"{path.name}: has {len(state.vertices)} vertices")
+    return state, int(meta.get("done", 0))
+
+
+# -- command line ----------------------------------------------------------------------------
+def _when(seconds: float) -> str:
+    return datetime.fromtimestamp(seconds).strftime("%Y-%m-%d %H:%M:%S")
+
+
+def _print_list(root: Path, out) -> None:
+    infos = list_journals(root)
+    if not infos:
+        print(f"no recovery journals in {root}", file=out)
+        return
+    print(f"{'ID':<24} {'LAST CHANGE':<19} {'OPS':>5}  DOCUMENT", file=out)
+    for info in infos:
+        document = info.document or "(no file: the default model)"
+        print(
+            f"{info.id:<24} {_when(info.modified):<19} {info.operations:>5}  {info.title} — "
+            f"{document}",
+            file=out,
+        )
+        print(f"{'':<24} {info.vertices:,} vertices; {info.summary()}", file=out)
+        if info.status():
+            print(f"{'':<24} {info.status()}", file=out)
+    print(f"\njournals live in {root}", file=out)
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="gogreen recover",
+        description=(
+            "List the crash-recovery journals, or rebuild the mesh (and session) one recorded. "
+            f"Journals live in {recovery_root()}."
+        ),
+    )
+    parser.add_argument("journal", nargs="?", help="journal ID (or its first characters)")
+    parser.add_argument("--list", action="store_true", help="list the journals")
+    parser.add_argument("-o", "--output", help="write the recovered mesh (.obj, .ply, .stl, .off)")
+    parser.add_argument("--session", help="write the journal's operations as a session JSON")
+    parser.add_argument("--discard", action="store_true", help="delete the journal")
+    parser.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """``gogreen recover``: exit status 0, or 2 with a message naming the problem."""
+    parser = _parser()
+    args = parser.parse_args(argv)
+    root = recovery_root()
+    if args.list:
+        _print_list(root, sys.stdout)
+        return 0
+    if not args.journal:
+        parser.error("name a journal (see --list), or give --list")
+    if not (args.output or args.session or args.discard):
+        parser.error("say what to do: -o OUT.obj, --session OUT.json and/or --discard")
+    try:
+        directory = find_journal(args.journal, root)
+        if args.output or args.session:
+            _write_recovered(directory, args)
+        if args.discard:
+            discard(directory)
+            print(f"discarded {directory.name}", file=sys.stderr)
+        elif args.output or args.session:
+            print(
+                f"the journal stays in {directory} (`gogreen recover {directory.name} "
+                "--discard` deletes it)",
+                file=sys.stderr,
+            )
+    except (ValueError, OSError) as exc:  # JournalError, MeshFileError, ParameterError
+        print(f"gogreen recover: error: {exc}", file=sys.stderr)
+        return 2
+    return 0
+
+
+def _write_recovered(directory: Path, args: argparse.Namespace) -> None:
+    from gogreen_core.batch import ProgressBar  # its text bar; no Qt
+
+    if args.output:
+        bar = None if args.quiet else ProgressBar("recover")
+        recovery = recover(directory, progress=bar)
+        try:
+            save_mesh(recovery.mesh, args.output)
+            contents = recovery.contents
+        finally:
+            recovery.release()
+        print(
+            f"recovered {recovery.title}: {recovery.operations} operations "
+            f"({recovery.records} records; {recovery.replayed} replayed in "
+            f"{recovery.seconds:.1f} s) -> {args.output}",
+            file=sys.stderr,
+        )
+        for note in recovery.notes:
+            print(f"gogreen recover: warning: {note}", file=sys.stderr)
+    else:
+        contents = read_journal(directory)
+        for note in contents.notes:
+            print(f"gogreen recover: warning: {note}", file=sys.stderr)
+    if args.session:
+        session = journal_session(contents)
+        write_text_atomic(args.session, json.dumps(session, indent=1))
+        print(f"wrote the session ({len(session['operations'])} operations) -> {args.session}",
+              file=sys.stderr)  # fmt: skip
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
