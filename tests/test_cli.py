@@ -23,21 +23,23 @@ def test_top_level_help_lists_each_command_on_one_line_and_how_to_get_its_help(c
     text = _help(capsys, ["--help"])
     assert "mesh file to open" in text
     lines = text.splitlines()
+    width = max(len(name) for name in COMMANDS)
     for name, summary in COMMANDS.items():
-        assert [line for line in lines if line.split()[:1] == [name]] == [f"  {name}  {summary}"]
+        wanted = [f"  {name:<{width}}  {summary}"]
+        assert [line for line in lines if line.split()[:1] == [name]] == wanted
         assert f"`gogreen {name} --help`" in text
-    assert "gogreen {deform,replay} ..." in text  # in the usage too
+    assert "gogreen {deform,replay,recover} ..." in text  # in the usage too
     assert _help(capsys, ["-h"]) == text
 
 
-def test_the_listed_commands_are_the_ones_the_batch_parser_runs():
+def test_the_listed_commands_are_the_ones_the_batch_parser_runs_and_recover():
     subparsers = [
         action
         for action in batch._parser()._actions
         if isinstance(action, argparse._SubParsersAction)
     ]
     assert len(subparsers) == 1
-    assert set(subparsers[0].choices) == set(COMMANDS)
+    assert set(subparsers[0].choices) | {"recover"} == set(COMMANDS)
 
 
 @pytest.mark.parametrize("name", sorted(COMMANDS))

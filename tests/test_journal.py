@@ -541,9 +541,51 @@ def test_find_and_discard(mesh, tmp_path):
     sculptor, journal = journaled(mesh, tmp_path)
     stroke(sculptor, 0)
     directory = crash(journal)
-    assert find_journal(directory.name[:10], tmp_path) == directory
+    assert find_journal(directory.name[:-2], tmp_path) == directory
     assert find_journal(str(directory), tmp_path) == directory
     with pytest.raises(JournalError, match="no journal 'nope'"):
         find_journal("nope", tmp_path)
     discard(directory)
     assert list_journals(tmp_path) == []
+
+
+# -- gogreen recover ---------------------------------------------------------------------------
+def test_gogreen_recover_lists_writes_and_discards(mesh, tmp_path, capsys):
+    from app.cli import main
+    from gogreen_core.mesh_io import load_mesh
+    from gogreen_core.session import load_session
+
+    document = tmp_path / "model.obj"
+    save_mesh(mesh, document)
+    sculptor = Sculptor(mesh.vertices, mesh.faces)
+    journal = Journal(sculptor, mesh, document=str(document))  # the default place
+    for k in range(3):
+        stroke(sculptor, k)
+    sculptor.undo()
+    directory = crash(journal)
+    running_sculptor, running = journaled(mesh, None)
+    stroke(running_sculptor, 0)
+
+    assert main(["recover", "--list"]) == 0
+    out = capsys.readouterr().out
+    assert directory.name in out and "model.obj" in out and str(document) in out
+    assert "3 strokes, 1 undo" in out and "in use by a running GoGreen Sculpt" in out
+    assert f"journals live in {recovery_root()}" in out
+
+    output, session = tmp_path / "out.obj", tmp_path / "out.json"
+    argv = ["recover", directory.name, "-o", str(output), "--session", str(session), "-q"]
+    assert main(argv) == 0
+    err = capsys.readouterr().err
+    assert "recovered model.obj: 4 operations" in err and "--discard` deletes it" in err
+    assert np.array_equal(load_mesh(output).vertices, sculptor.vertices)
+    replayed = Sculptor.from_session(load_session(session), mesh.vertices, mesh.faces)
+    replayed.replay(load_session(session))
+    assert np.array_equal(replayed.vertices, sculptor.vertices)
+
+    assert main(["recover", running.id, "-o", str(output)]) == 2
+    assert "in use by a running GoGreen Sculpt" in capsys.readouterr().err
+    assert main(["recover", "nope", "-o", str(output)]) == 2
+    assert "no journal 'nope'" in capsys.readouterr().err
+    assert main(["recover", directory.name, "--discard"]) == 0
+    assert not directory.exists()
+    running.close()
