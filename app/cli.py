@@ -47,6 +47,7 @@ def main(argv: list[str] | None = None) -> int:
 
         return batch_main(argv)
     args = _parser().parse_args(argv)
+    from PySide6.QtCore import QTimer
     from PySide6.QtWidgets import QApplication
 
     from app.main_window import MainWindow
@@ -57,6 +58,7 @@ def main(argv: list[str] | None = None) -> int:
     window.show()
     if not (args.mesh and window.open_file(args.mesh)):
         window.open_default()
+    QTimer.singleShot(0, window.crash_recovery.offer)  # unsaved work of a crashed session
     return app.exec()
 
 

@@ -466,9 +466,13 @@ class Journal:
         if self.active:
             self._submit(("file", name, data))
 
-    def restart(self) -> None:
+    def restart(self, document: str | None = None, title: str | None = None) -> None:
         """Start a fresh journal from the sculptor's current state (after a save: the saved
-        file holds what came before). The old records go once the new base copy is written."""
+        file, ``document`` called ``title`` from now on, holds what came before). The old
+        records go once the new base copy is written."""
+        if document is not None:
+            self.document = os.path.abspath(document)
+            self.title = title or Path(document).name
         self._pending.clear()
         self._start()
 
