@@ -73,6 +73,7 @@ __all__ = [
     "Journal",
     "JournalLock",
     "recovery_root",
+    "replay_work",
     "state_home",
 ]
 
@@ -81,12 +82,25 @@ JOURNAL_VERSION = 1
 JOURNAL_FILE = "journal.jsonl"
 LOCK_FILE = "lock"
 THUMBNAIL_FILE = "thumbnail.png"
-#: Brush work (mouse events × vertices; any other operation counts as one event) after which
-#: a checkpoint is due: about 0.8 s of replay on this project's 2-core test machine.
-CHECKPOINT_WORK = 2e7
+#: Replay work (see :func:`replay_work`) after which a checkpoint is due: about 0.5 s of
+#: replay on this project's 2-core test machine (a 1M-vertex event: 25 to 80 ms).
+CHECKPOINT_WORK = 1.5e7
+#: Replay work of a material or falloff change (a new kernel: ~50 ms).
+SETTINGS_WORK = 1.5e6
 #: Checkpoints kept per journal (recovery may start from an older one for a deeper undo).
 KEEP_CHECKPOINTS = 3
 _COMPACT = (",", ":")
+
+
+def replay_work(name: str, events: int, vertices: int) -> float:
+    """Estimated cost of replaying an operation (``"op"`` name, mouse events if a stroke) on
+    a mesh of ``vertices``: events × vertices for a stroke (each event passes over the whole
+    mesh), one event for other operations, a kernel's worth for a material or falloff."""
+    if name == "stroke":
+        return max(1, events) * vertices
+    if name in ("material", "falloff"):
+        return max(vertices, SETTINGS_WORK)
+    return vertices
 
 
 def state_home() -> Path:
@@ -429,8 +443,8 @@ class Journal:
         )
         write_all(self._fd, frame(record.encode()))
         self.records = seq
-        steps = max(1, len(op.events)) if isinstance(op, Stroke) else 1
-        self._work += steps * len(self.mesh.vertices)
+        events = len(op.events) if isinstance(op, Stroke) else 0
+        self._work += replay_work(op.name, events, len(self.mesh.vertices))
         self._submit(("fsync", self._fd, seq))
         if self.wake is not None:
             self.wake()

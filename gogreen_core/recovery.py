@@ -9,7 +9,7 @@ How: the journal's start (its base copy and start state) or one of its checkpoin
 records after it replayed (:meth:`Sculptor.replay` semantics, one record at a time). Recovery
 starts from the oldest checkpoint whose replay fits :data:`RECOVERY_WORK` (estimated from the
 mouse events to replay × the vertices), so the recovered undo history (the replayed records)
-is as deep as that budget allows and recovery stays within about 2 s on this machine; a
+is as deep as that budget allows and recovery stays within about 1 to 2 s here; a
 checkpoint whose later records undo past it (``d``, the undo steps done, disagrees) is skipped
 for an older one, down to the start, which always replays.
 
@@ -48,6 +48,7 @@ from gogreen_core.journal import (
     JournalLock,
     lock_owner,
     recovery_root,
+    replay_work,
     vertex_hash,
 )
 from gogreen_core.mesh_io import MeshData, load_mesh, save_mesh, write_text_atomic
@@ -71,8 +72,9 @@ __all__ = [
     "recover",
 ]
 
-#: Most brush work (mouse events × vertices) recovery replays when it can choose: about 2 s.
-RECOVERY_WORK = 5e7
+#: Most replay work (:func:`~gogreen_core.journal.replay_work`) recovery replays when it can
+#: choose: about 1 s on this project's test machine, 2 s on a busy one.
+RECOVERY_WORK = 3e7
 #: Names of the operations in summaries (singular, plural).
 _KINDS = {
     "stroke": ("stroke", "strokes"),
@@ -109,9 +111,13 @@ class Record:
 
     @property
     def steps(self) -> int:
-        """Replay work units: a stroke's mouse events, else 1."""
+        """Progress units of its replay: a stroke's mouse events, else 1."""
         events = self.data.get("events")
         return max(1, len(events)) if isinstance(events, list) else 1
+
+    def work(self, vertices: int) -> float:
+        """Estimated replay cost (:func:`~gogreen_core.journal.replay_work`)."""
+        return replay_work(str(self.data.get("op")), self.steps, vertices)
 
 
 @dataclass
@@ -590,8 +596,9 @@ def recover(
 ) -> Recovery:
     """Rebuild the document a journal was recording (see the module docstring).
 
-    ``budget``: most brush work to replay when a checkpoint allows less (mouse events ×
-    vertices; 0 always starts from the newest usable checkpoint, ``inf`` from the start).
+    ``budget``: most replay work when a checkpoint allows less (mouse events × vertices:
+    :func:`~gogreen_core.journal.replay_work`; 0 always starts from the newest usable
+    checkpoint, ``inf`` from the start).
     ``progress(done, total)`` in mouse events. The journal stays locked by the returned
     :class:`Recovery` (``lock=False``: not locked, for reading a copy).
     :class:`JournalError` when nothing can be recovered or a running app holds it.
@@ -610,7 +617,7 @@ def recover(
             )
         records = contents.records
         vertices = contents.header["mesh"]["vertices"]
-        cost = np.cumsum([0] + [r.steps for r in reversed(records)])[::-1] * vertices
+        cost = np.cumsum([0] + [r.work(vertices) for r in reversed(records)])[::-1]
         starts: list[tuple[int, Path | None]] = [(0, None)] if exact else []
         starts += _checkpoints(contents)
         fits = sorted(s for s in starts if cost[s[0]] <= budget)

@@ -23,6 +23,7 @@ from gogreen_core.checkpoint import CheckpointError, read_checkpoint
 from gogreen_core.constraints import ConstraintSet
 from gogreen_core.journal import (
     JOURNAL_FILE,
+    SETTINGS_WORK,
     Journal,
     JournalLock,
     recovery_root,
@@ -263,7 +264,7 @@ def test_recovery_from_a_checkpoint_is_exact_and_keeps_the_history_after_it(mesh
     assert recovery.start == 6 and recovery.replayed == 0  # the newest checkpoint
     assert same_state(recovery.sculptor, sculptor)
     recovery.release()
-    recovery = recover(directory, budget=2.5 * 6 * len(mesh.vertices))
+    recovery = recover(directory, budget=SETTINGS_WORK + 6 * len(mesh.vertices))
     assert recovery.start == 4 and recovery.replayed == 2  # the oldest that fits the budget
     assert recovery.sculptor.history.undo_labels == ["material", "grab stroke"]
     for s in (sculptor, recovery.sculptor):
