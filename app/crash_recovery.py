@@ -21,11 +21,12 @@ from pathlib import Path
 
 from PySide6.QtCore import QBuffer, QIODevice, QObject, Qt, QTimer
 from PySide6.QtGui import QImage
-from PySide6.QtWidgets import QMessageBox
+from PySide6.QtWidgets import QLabel, QMessageBox
 
 from app.background import BackgroundRunner, Task
 from app.document import Document
 from app.recovery_dialog import THUMBNAIL, RecoveryDialog
+from app.theme import active_theme
 from gogreen_core.journal import THUMBNAIL_FILE
 from gogreen_core.recovery import JournalInfo, Recovery, discard, list_journals, recover
 
@@ -56,6 +57,11 @@ class CrashRecovery(QObject):
         self.progress = window._status_progress(
             100, "recovering %p%", "Rebuilding the unsaved work from its crash-recovery journal"
         )
+        #: Shown while the open document's work is not protected (no journal can be written).
+        self.warning = QLabel("⚠ recovery off")
+        self.warning.setStyleSheet(f"color: {active_theme().error_text}")
+        self.warning.hide()
+        window.statusBar().addPermanentWidget(self.warning)
 
     # -- the open document's journal --------------------------------------------------------
     def document_changed(self, previous: Document | None, document: Document) -> None:
@@ -92,6 +98,8 @@ class CrashRecovery(QObject):
                 self._write_thumbnail(journal)
         for problem in journal.take_problems():
             self.window.flash(problem)
+            self.warning.setToolTip(problem)
+        self.warning.setVisible(not journal.active)
 
     def _write_thumbnail(self, journal) -> None:
         self._thumbnail_at = (time.monotonic(), journal.records)

@@ -89,6 +89,12 @@ class RecoveryDialog(QDialog):
         )
         intro.setWordWrap(True)
         self.list = QListWidget()
+        colors = active_theme()
+        # a framed row rather than a filled one: the muted and red lines stay readable
+        self.list.setStyleSheet(
+            f"QListWidget::item:selected {{ background: {colors.alternate_base}; "
+            f"border: 2px solid {colors.highlight}; border-radius: 4px; }}"
+        )
         self.list.setIconSize(THUMBNAIL)
         self.list.setSpacing(4)
         self.list.setWordWrap(True)
@@ -125,7 +131,9 @@ class RecoveryDialog(QDialog):
         picture = QPixmap(str(info.thumbnail)) if info.thumbnail else QPixmap()
         if picture.isNull():
             picture = icon("grab").pixmap(64, 64)
-        item.setIcon(QIcon(picture))
+        picture_icon = QIcon(picture)
+        picture_icon.addPixmap(picture, QIcon.Mode.Selected)  # not tinted when selected
+        item.setIcon(picture_icon)
         label = QLabel(describe(info))
         label.setTextFormat(Qt.TextFormat.RichText)
         label.setWordWrap(True)
@@ -166,8 +174,8 @@ class RecoveryDialog(QDialog):
             answer = QMessageBox.question(
                 self,
                 "Discard unsaved work",
-                f"Delete the unsaved work on {info.title} ({info.operations} operations, last "
-                f"changed {when(info.modified)})? This cannot be undone.",
+                f"Delete the unsaved work on {info.title}: {info.operations} operations, last "
+                f"changed {when(info.modified)}? This cannot be undone.",
                 QMessageBox.StandardButton.Discard | QMessageBox.StandardButton.Cancel,
                 QMessageBox.StandardButton.Cancel,
             )

@@ -432,6 +432,8 @@ class Journal:
                 self._append(kind, item, length)
         except Exception as exc:  # nothing may stop the sculpting
             self._stop(exc)
+            if self.wake is not None:
+                self.wake()  # the app says so
 
     def _append(self, kind: str, op: Operation, length: int) -> None:
         text = operation_json(op, self._pending)
@@ -555,7 +557,8 @@ class Journal:
                     return
                 self._do(task)
             except Exception as exc:
-                self._problem(_task_problem(kind, exc))
+                if kind != "file":  # a picture protects nothing: not worth a message
+                    self._problem(_task_problem(kind, exc))
 
     def _do(self, task: tuple) -> None:
         kind = task[0]
@@ -634,6 +637,5 @@ def _task_problem(kind: str, exc: Exception) -> str:
         "checkpoint": "Crash-recovery checkpoints cannot be written",
         "base": "The crash-recovery copy of the mesh cannot be written",
         "fsync": "The crash-recovery journal cannot be flushed to disk",
-        "file": "The crash-recovery thumbnail cannot be written",
     }.get(kind, "The crash-recovery journal had a problem")
     return f"{what} ({_reason(exc)})"

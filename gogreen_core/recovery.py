@@ -217,10 +217,10 @@ def read_journal(directory: str | os.PathLike, validate: bool = True) -> Journal
         if problem is not None:
             dropped = len(body) - index - (0 if body[-1] else 1)
             size = sum(len(x) + 1 for x in body[index:]) - 1
-            rest = f" and the {dropped - 1} after it" if dropped > 1 else ""
+            what = f"it and the {dropped - 1} after it were" if dropped > 1 else "it was"
             contents.notes.append(
-                f"record {seq} {problem}: it{rest} ({size:,} bytes) dropped; the "
-                f"{seq - 1} records before it are kept"
+                f"record {seq} {problem}: {what} dropped ({size:,} bytes); the {seq - 1} "
+                "records before it are kept"
             )
             break
         contents.records.append(record)
@@ -645,7 +645,8 @@ def recover(
         kept, seq, sculptor, replayed, error = best
         if error is not None:
             rest = len(records) - kept - 1
-            notes.append(f"{error}: it{f' and the {rest} after it' if rest else ''} dropped")
+            what = f"it and the {rest} after it were" if rest else "it was"
+            notes.append(f"{error}: {what} dropped")
             contents.records = records[:kept]
         mesh = base.copy()
         mesh.vertices = np.array(sculptor.vertices)

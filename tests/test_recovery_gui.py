@@ -156,3 +156,25 @@ def test_a_clean_quit_leaves_no_journal(window):
     assert window.document.journal.records == 1
     window.close()  # unsaved changes discarded (the fixture answers Discard)
     assert list_journals() == []
+
+
+def test_a_journal_that_cannot_be_written_is_said_once_and_sculpting_goes_on(window, monkeypatch):
+    import errno
+
+    from gui_helpers import center_of, drag
+
+    import gogreen_core.journal as journal_module
+
+    def full_disk(*_args) -> None:
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(journal_module, "write_all", full_disk)
+    drag(window, center_of(window))
+    window.crash_recovery.idle()  # what the idle timer does
+    assert "journal stopped: No space left on device" in window.message_label.text()
+    assert not window.crash_recovery.warning.isHidden()
+    window.flash("something else")
+    drag(window, center_of(window))
+    window.crash_recovery.idle()
+    assert window.message_label.text() == "something else"  # said once
+    assert len(window.document.sculptor.operations) == 2  # sculpting went on
