@@ -313,13 +313,15 @@ def journal_info(directory: str | os.PathLike) -> JournalInfo:
     in_use = lock is None
     if lock is not None:
         lock.release()
-    size = sum(p.stat().st_size for p in directory.iterdir() if p.is_file())
+    size = 0
+    with contextlib.suppress(OSError):  # another app may be removing it right now
+        size = sum(p.stat().st_size for p in directory.iterdir() if p.is_file())
     thumbnail = directory / THUMBNAIL_FILE
     thumbnail = thumbnail if thumbnail.is_file() else None
     try:
         contents = read_journal(directory, validate=False)
     except JournalError as exc:
-        mtime = directory.stat().st_mtime
+        mtime = directory.stat().st_mtime if directory.exists() else 0.0
         return JournalInfo(
             directory, directory.name, None, mtime, mtime, 0, {}, 0, 0, in_use,
             lock_owner(directory), [str(exc)], size, thumbnail, readable=False,
@@ -364,7 +366,7 @@ def list_journals(root: str | os.PathLike | None = None) -> list[JournalInfo]:
                 elif lock is not None:
                     lock.release()
             continue
-        if not folder.name.startswith("."):
+        if not folder.name.startswith(".") and folder.is_dir():
             infos.append(journal_info(folder))
     return sorted(infos, key=lambda info: info.modified, reverse=True)
 

@@ -120,13 +120,18 @@ def run(sculptor: Sculptor, seed: int, after: Callable[[int], None]) -> None:
         after(number)
 
 
+def say(line: str) -> None:
+    """One whole line on the standard output (one write: the worker thread says C meanwhile)."""
+    os.write(1, (line + "\n").encode())
+
+
 def _slow_writes() -> None:
     """Write journal lines and checkpoints slowly, saying when a write starts (W, C)."""
     import gogreen_core.checkpoint as checkpoint
     import gogreen_core.journal as journal
 
     def write_all(fd: int, data: bytes) -> None:
-        print("W", flush=True)
+        say("W")
         for start in range(0, len(data), 16):
             journal._write_piece(fd, data[start : start + 16])
             time.sleep(0.0003)
@@ -145,7 +150,7 @@ def _slow_writes() -> None:
     original = checkpoint.write_atomic
 
     def write_atomic(path, write) -> None:
-        print("C", flush=True)
+        say("C")
         original(path, lambda out: write(Slow(out)))
 
     journal._write_piece = journal.write_all
@@ -156,7 +161,7 @@ def _slow_writes() -> None:
 def session(argv: list[str]) -> None:
     from gogreen_core.journal import Journal
 
-    print(f"PID {os.getpid()}", flush=True)
+    say(f"PID {os.getpid()}")
     root, seed, slow = Path(argv[0]), int(argv[1]), "--slow" in argv
     if slow:
         _slow_writes()
@@ -164,17 +169,17 @@ def session(argv: list[str]) -> None:
     sculptor = Sculptor(data.vertices, data.faces)
     journal = Journal(sculptor, data, root=root, checkpoint_work=40 * len(data.vertices))
     journal.flush()  # the base copy is written before the first step
-    print("READY", flush=True)
+    say("READY")
 
     def after(step: int) -> None:
-        print(f"DONE {journal.records}", flush=True)
+        say(f"DONE {journal.records}")
         if step + 1 < STEPS:
-            print(f"START {step + 1}", flush=True)
+            say(f"START {step + 1}")
 
-    print("START 0", flush=True)
+    say("START 0")
     run(sculptor, seed, after)
     journal.flush()
-    print("END", flush=True)
+    say("END")
     time.sleep(60)  # the test kills it
 
 
@@ -189,7 +194,7 @@ def main() -> None:
             finally:
                 os._exit(0)
         os.waitpid(pid, 0)
-        print(f"EXIT {pid}", flush=True)
+        say(f"EXIT {pid}")
 
 
 if __name__ == "__main__":
