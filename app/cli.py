@@ -5,8 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-#: The headless subcommands (gogreen_core.batch; recover: gogreen_core.recovery), one help
-#: line each.
+#: The headless subcommands (gogreen_core.batch), one help line each.
 COMMANDS = {
     "deform": "apply one brush stroke to a mesh and write the result",
     "replay": "replay a session file on a mesh (bit for bit the recorded result)",
@@ -38,10 +37,6 @@ def main(argv: list[str] | None = None) -> int:
     """``gogreen [FILE]`` opens the main window; ``gogreen replay|deform|recover ...`` runs
     headless."""
     argv = sys.argv[1:] if argv is None else argv
-    if argv and argv[0] == "recover":
-        from gogreen_core.recovery import main as recover_main  # no Qt
-
-        return recover_main(argv[1:])
     if argv and argv[0] in COMMANDS:
         from gogreen_core.batch import main as batch_main  # no Qt for batch work
 

@@ -44,7 +44,6 @@ from __future__ import annotations
 import collections
 import contextlib
 import errno
-import fcntl
 import hashlib
 import json
 import os
@@ -61,6 +60,11 @@ from datetime import datetime
 from pathlib import Path
 
 import numpy as np
+
+try:
+    import fcntl
+except ImportError:  # not POSIX (Windows): no journal, said as a problem
+    fcntl = None
 
 from gogreen_core.checkpoint import SculptState, write_checkpoint
 from gogreen_core.mesh_io import MeshData, write_atomic, write_bytes_atomic
@@ -159,6 +163,8 @@ class JournalLock:
         this one) holds it. ``create``: write this process's id and host into the file.
         OSError when the folder cannot be opened."""
         directory = Path(directory)
+        if fcntl is None:
+            raise OSError(errno.ENOSYS, "file locks (flock) are not available on this system")
         fd = os.open(directory / LOCK_FILE, os.O_RDWR | os.O_CREAT, 0o600)
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)

@@ -19,22 +19,19 @@ read (a newer version's journal), a checkpoint cut short or corrupt (an older on
 is used), a missing base copy (the document's own file is used if it still has the same
 vertices, its faces otherwise with a checkpoint).
 
-``gogreen recover`` (:func:`main`) does it from the command line.
+``gogreen recover`` (:mod:`gogreen_core.batch`) does it from the command line.
 """
 
 from __future__ import annotations
 
-import argparse
 import collections
 import contextlib
 import json
 import os
-import sys
 import time
 import zlib
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
-from datetime import datetime
 from pathlib import Path
 
 import numpy as np
@@ -51,7 +48,7 @@ from gogreen_core.journal import (
     replay_work,
     vertex_hash,
 )
-from gogreen_core.mesh_io import MeshData, load_mesh, save_mesh, write_text_atomic
+from gogreen_core.mesh_io import MeshData, load_mesh
 from gogreen_core.operations import Operation, operation_from_dict
 from gogreen_core.sculptor import Sculptor
 from gogreen_core.session import SESSION_FORMAT, SESSION_VERSION
@@ -67,7 +64,6 @@ __all__ = [
     "find_journal",
     "journal_session",
     "list_journals",
-    "main",
     "read_journal",
     "recover",
 ]
@@ -676,109 +672,3 @@ def _state_at(
     if len(state.vertices) != header["mesh"]["vertices"]:
         raise CheckpointError(f"{path.name}: has {len(state.vertices)} vertices")
     return state, int(meta.get("done", 0))
-
-
-# -- command line ----------------------------------------------------------------------------
-def _when(seconds: float) -> str:
-    return datetime.fromtimestamp(seconds).strftime("%Y-%m-%d %H:%M:%S")
-
-
-def _print_list(root: Path, out) -> None:
-    infos = list_journals(root)
-    if not infos:
-        print(f"no recovery journals in {root}", file=out)
-        return
-    print(f"{'ID':<24} {'LAST CHANGE':<19} {'OPS':>5}  DOCUMENT", file=out)
-    for info in infos:
-        document = info.document or "(no file: the default model)"
-        print(
-            f"{info.id:<24} {_when(info.modified):<19} {info.operations:>5}  {info.title} — "
-            f"{document}",
-            file=out,
-        )
-        print(f"{'':<24} {info.vertices:,} vertices; {info.summary()}", file=out)
-        if info.status():
-            print(f"{'':<24} {info.status()}", file=out)
-    print(f"\njournals live in {root}", file=out)
-
-
-def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        prog="gogreen recover",
-        description=(
-            "List the crash-recovery journals, or rebuild the mesh (and session) one recorded. "
-            f"Journals live in {recovery_root()}."
-        ),
-    )
-    parser.add_argument("journal", nargs="?", help="journal ID (or its first characters)")
-    parser.add_argument("--list", action="store_true", help="list the journals")
-    parser.add_argument("-o", "--output", help="write the recovered mesh (.obj, .ply, .stl, .off)")
-    parser.add_argument("--session", help="write the journal's operations as a session JSON")
-    parser.add_argument("--discard", action="store_true", help="delete the journal")
-    parser.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
-    return parser
-
-
-def main(argv: list[str] | None = None) -> int:
-    """``gogreen recover``: exit status 0, or 2 with a message naming the problem."""
-    parser = _parser()
-    args = parser.parse_args(argv)
-    root = recovery_root()
-    if args.list:
-        _print_list(root, sys.stdout)
-        return 0
-    if not args.journal:
-        parser.error("name a journal (see --list), or give --list")
-    if not (args.output or args.session or args.discard):
-        parser.error("say what to do: -o OUT.obj, --session OUT.json and/or --discard")
-    try:
-        directory = find_journal(args.journal, root)
-        if args.output or args.session:
-            _write_recovered(directory, args)
-        if args.discard:
-            discard(directory)
-            print(f"discarded {directory.name}", file=sys.stderr)
-        elif args.output or args.session:
-            print(
-                f"the journal stays in {directory} (`gogreen recover {directory.name} "
-                "--discard` deletes it)",
-                file=sys.stderr,
-            )
-    except (ValueError, OSError) as exc:  # JournalError, MeshFileError, ParameterError
-        print(f"gogreen recover: error: {exc}", file=sys.stderr)
-        return 2
-    return 0
-
-
-def _write_recovered(directory: Path, args: argparse.Namespace) -> None:
-    from gogreen_core.batch import ProgressBar  # its text bar; no Qt
-
-    if args.output:
-        bar = None if args.quiet else ProgressBar("recover")
-        recovery = recover(directory, progress=bar)
-        try:
-            save_mesh(recovery.mesh, args.output)
-            contents = recovery.contents
-        finally:
-            recovery.release()
-        print(
-            f"recovered {recovery.title}: {recovery.operations} operations "
-            f"({recovery.records} records; {recovery.replayed} replayed in "
-            f"{recovery.seconds:.1f} s) -> {args.output}",
-            file=sys.stderr,
-        )
-        for note in recovery.notes:
-            print(f"gogreen recover: warning: {note}", file=sys.stderr)
-    else:
-        contents = read_journal(directory)
-        for note in contents.notes:
-            print(f"gogreen recover: warning: {note}", file=sys.stderr)
-    if args.session:
-        session = journal_session(contents)
-        write_text_atomic(args.session, json.dumps(session, indent=1))
-        print(f"wrote the session ({len(session['operations'])} operations) -> {args.session}",
-              file=sys.stderr)  # fmt: skip
-
-
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())

@@ -7,7 +7,7 @@ reads ``ROOT SEED [--slow]`` lines on its input and forks a process for each (th
 done once: each session starts in a few ms), which prints ``PID p``, ``READY``, then ``START k``
 before each step and ``DONE r`` after it (r: journal records written), then waits to be killed;
 the forking process prints ``EXIT p`` when it is gone. With ``--slow`` every journal line is
-written in 16-byte pieces 0.3 ms apart after a ``W`` line, and every checkpoint in 1 kB pieces
+written in 48-byte pieces 0.2 ms apart after a ``W`` line, and every checkpoint in 1 kB pieces
 1 ms apart after a ``C`` line, so that a kill lands in the middle of a write (a disk that slow
 is what a crash during a write looks like). Nothing here starts a thread before the fork.
 """
@@ -132,9 +132,9 @@ def _slow_writes() -> None:
 
     def write_all(fd: int, data: bytes) -> None:
         say("W")
-        for start in range(0, len(data), 16):
-            journal._write_piece(fd, data[start : start + 16])
-            time.sleep(0.0003)
+        for start in range(0, len(data), 48):
+            journal._write_piece(fd, data[start : start + 48])
+            time.sleep(0.0002)
 
     class Slow:
         def __init__(self, out) -> None:

@@ -32,14 +32,14 @@ def test_top_level_help_lists_each_command_on_one_line_and_how_to_get_its_help(c
     assert _help(capsys, ["-h"]) == text
 
 
-def test_the_listed_commands_are_the_ones_the_batch_parser_runs_and_recover():
+def test_the_listed_commands_are_the_ones_the_batch_parser_runs():
     subparsers = [
         action
         for action in batch._parser()._actions
         if isinstance(action, argparse._SubParsersAction)
     ]
     assert len(subparsers) == 1
-    assert set(subparsers[0].choices) | {"recover"} == set(COMMANDS)
+    assert set(subparsers[0].choices) == set(COMMANDS)
 
 
 @pytest.mark.parametrize("name", sorted(COMMANDS))
