@@ -273,7 +273,7 @@ class Journal:
         Take due checkpoints right after an operation (scripts); the app passes False and
         calls :meth:`checkpoint` when idle.
     checkpoint_work : float
-        Brush work (mouse events × vertices) after which a checkpoint is due.
+        Replay work (:func:`replay_work`) after which a checkpoint is due.
     replaces : JournalLock, optional
         The lock of a journal this one continues (a recovered document's): that folder is
         removed once this journal's base copy is on disk.
