@@ -3,8 +3,8 @@
 :class:`SculptState` is everything a :class:`~gogreen_core.Sculptor`'s next operations compute
 from besides the faces: the vertices, the settings, the pins with their solver state bit for
 bit, and the model size and mirror origin (both fixed when the mesh was loaded, so a state
-taken after sculpting must carry them). ``Sculptor.state()`` takes one,
-``Sculptor.from_state(state, faces)`` continues from it exactly.
+taken after sculpting must carry them). :func:`gogreen_core.sculptor.capture_state` takes one,
+:func:`gogreen_core.sculptor.restore_state` continues from it exactly.
 
 The file (``checkpoint-<record>.bin``)::
 
@@ -29,8 +29,8 @@ from typing import BinaryIO
 
 import numpy as np
 
+from gogreen_core.engine_settings import EngineSettings
 from gogreen_core.mesh_io import write_atomic
-from gogreen_core.schema import EngineSettings, parse_settings
 
 __all__ = ["CHECKPOINT_VERSION", "CheckpointError", "SculptState", "read_checkpoint"]
 
@@ -81,7 +81,7 @@ class SculptState:
     @classmethod
     def from_header(cls, header: dict, arrays: list[np.ndarray]) -> SculptState:
         """Inverse of :meth:`header` with the arrays read back (ValueError if malformed)."""
-        settings = EngineSettings(**parse_settings(header["settings"], "settings"))
+        settings = EngineSettings.from_dict(header["settings"], "settings")
         origin = np.array(header["origin"], dtype=np.float64)
         size = float(header["model_size"])
         if origin.shape != (3,) or not np.isfinite(origin).all() or not size > 0:

@@ -43,199 +43,60 @@ from __future__ import annotations
 
 import collections
 import contextlib
-import errno
-import hashlib
 import json
 import os
 import secrets
-import shutil
-import socket
-import tempfile
 import threading
 import time
-import zlib
 from collections.abc import Callable
 from dataclasses import replace
-from datetime import datetime
 from pathlib import Path
 
 import numpy as np
 
-try:
-    import fcntl
-except ImportError:  # not POSIX (Windows): no journal, said as a problem
-    fcntl = None
-
 from gogreen_core.checkpoint import SculptState, write_checkpoint
+from gogreen_core.journal_format import (
+    JOURNAL_FILE,
+    JOURNAL_FORMAT,
+    JOURNAL_VERSION,
+    SETTINGS_WORK,
+    THUMBNAIL_FILE,
+    JournalLock,
+    frame,
+    new_folder,
+    owner,
+    recovery_root,
+    replay_work,
+    state_home,
+    vertex_hash,
+    write_all,
+)
 from gogreen_core.mesh_io import MeshData, write_atomic, write_bytes_atomic
 from gogreen_core.operations import Operation, Stroke
+from gogreen_core.sculptor import capture_state
 
 __all__ = [
     "CHECKPOINT_WORK",
+    "JOURNAL_FILE",
     "JOURNAL_FORMAT",
     "JOURNAL_VERSION",
+    "SETTINGS_WORK",
+    "THUMBNAIL_FILE",
     "Journal",
     "JournalLock",
+    "frame",
     "recovery_root",
     "replay_work",
     "state_home",
+    "write_all",
 ]
 
-JOURNAL_FORMAT = "gogreen-journal"
-JOURNAL_VERSION = 1
-JOURNAL_FILE = "journal.jsonl"
-LOCK_FILE = "lock"
-THUMBNAIL_FILE = "thumbnail.png"
 #: Replay work (see :func:`replay_work`) after which a checkpoint is due: about 0.5 s of
 #: replay on this project's 2-core test machine (a 1M-vertex event: 25 to 80 ms).
 CHECKPOINT_WORK = 1.5e7
-#: Replay work of a material or falloff change (a new kernel: ~50 ms).
-SETTINGS_WORK = 1.5e6
 #: Checkpoints kept per journal (recovery may start from an older one for a deeper undo).
 KEEP_CHECKPOINTS = 3
 _COMPACT = (",", ":")
-
-
-def replay_work(name: str, events: int, vertices: int) -> float:
-    """Estimated cost of replaying an operation (``"op"`` name, mouse events if a stroke) on
-    a mesh of ``vertices``: events × vertices for a stroke (each event passes over the whole
-    mesh), one event for other operations, a kernel's worth for a material or falloff."""
-    if name == "stroke":
-        return max(1, events) * vertices
-    if name in ("material", "falloff"):
-        return max(vertices, SETTINGS_WORK)
-    return vertices
-
-
-def state_home() -> Path:
-    """``$XDG_STATE_HOME``, or ``~/.local/state`` when it is unset or not absolute."""
-    value = os.environ.get("XDG_STATE_HOME", "")
-    return Path(value) if os.path.isabs(value) else Path.home() / ".local" / "state"
-
-
-def recovery_root() -> Path:
-    """The folder of the recovery journals: ``<state home>/gogreen-sculpt/recovery``."""
-    return state_home() / "gogreen-sculpt" / "recovery"
-
-
-def _private_folder(root: Path) -> None:
-    """Make ``root`` and its parent (``gogreen-sculpt``) mode 0700, creating them."""
-    for folder in (root.parent, root):
-        folder.mkdir(mode=0o700, parents=True, exist_ok=True)
-        if folder.stat().st_mode & 0o077:
-            folder.chmod(0o700)
-
-
-def frame(payload: bytes) -> bytes:
-    """One journal line: the payload's CRC-32 (8 hex digits), a space, the payload, newline."""
-    return b"%08x %s\n" % (zlib.crc32(payload), payload)
-
-
-def write_all(fd: int, data: bytes) -> None:
-    """``write`` until all of ``data`` is written (a short write is retried; a full disk
-    raises ``OSError``, leaving the line cut short, which a reader detects)."""
-    view = memoryview(data)
-    while view:
-        written = os.write(fd, view)
-        if written <= 0:
-            raise OSError(errno.EIO, "write wrote nothing")
-        view = view[written:]
-
-
-def vertex_hash(vertices: np.ndarray) -> str:
-    """SHA-256 of the float64 vertex array (the session files' ``mesh.sha256``)."""
-    array = np.ascontiguousarray(vertices, dtype=np.float64)
-    return hashlib.sha256(memoryview(array).cast("B")).hexdigest()
-
-
-class JournalLock:
-    """An exclusive ``flock`` on a journal folder's ``lock`` file: held by the app writing the
-    journal, and by whoever recovers or discards it. The kernel drops it when its process dies
-    (a crash, ``kill -9``), which is what makes a journal recoverable."""
-
-    def __init__(self, directory: Path, fd: int) -> None:
-        self.directory = Path(directory)
-        self._fd: int | None = fd
-
-    @classmethod
-    def acquire(cls, directory: str | os.PathLike, create: bool = False) -> JournalLock | None:
-        """The lock of ``directory``, or None while another process (or another journal of
-        this one) holds it. ``create``: write this process's id and host into the file.
-        OSError when the folder cannot be opened."""
-        directory = Path(directory)
-        if fcntl is None:
-            raise OSError(errno.ENOSYS, "file locks (flock) are not available on this system")
-        fd = os.open(directory / LOCK_FILE, os.O_RDWR | os.O_CREAT, 0o600)
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            os.close(fd)
-            return None
-        except BaseException:
-            os.close(fd)
-            raise
-        if create:
-            with contextlib.suppress(OSError):
-                os.ftruncate(fd, 0)
-                write_all(fd, json.dumps(_owner()).encode())
-        return cls(directory, fd)
-
-    @property
-    def held(self) -> bool:
-        return self._fd is not None
-
-    def release(self) -> None:
-        """Let go (the folder stays)."""
-        if self._fd is not None:
-            os.close(self._fd)  # closing the last descriptor drops the flock
-            self._fd = None
-
-    def remove(self) -> None:
-        """Delete the folder and everything in it, then let go."""
-        with contextlib.suppress(OSError):
-            for child in self.directory.iterdir():
-                if child.name != LOCK_FILE:
-                    if child.is_dir() and not child.is_symlink():
-                        shutil.rmtree(child, ignore_errors=True)
-                    else:
-                        child.unlink(missing_ok=True)
-            (self.directory / LOCK_FILE).unlink(missing_ok=True)
-            self.directory.rmdir()
-        self.release()
-
-
-def _owner() -> dict:
-    return {"pid": os.getpid(), "host": socket.gethostname(), "since": time.time()}
-
-
-def lock_owner(directory: str | os.PathLike) -> dict:
-    """What the ``lock`` file says about the process that wrote the journal ({} if nothing)."""
-    try:
-        data = json.loads((Path(directory) / LOCK_FILE).read_text())
-    except (OSError, ValueError):
-        return {}
-    return data if isinstance(data, dict) else {}
-
-
-def _new_folder(root: Path) -> tuple[Path, JournalLock]:
-    """A new journal folder, locked before it gets its final name (so no other instance ever
-    sees it unlocked)."""
-    _private_folder(root)
-    staging = Path(tempfile.mkdtemp(prefix=".new-", dir=root))  # mode 0700
-    lock = JournalLock.acquire(staging, create=True)
-    if lock is None:  # nobody else knows this folder
-        raise OSError(errno.EBUSY, f"{staging} is locked")
-    while True:
-        name = f"{datetime.now():%Y%m%d-%H%M%S}-{secrets.token_hex(3)}"
-        try:
-            os.rename(staging, root / name)  # fails if the name exists (a non-empty folder)
-            break
-        except OSError as exc:
-            if exc.errno not in (errno.EEXIST, errno.ENOTEMPTY):
-                lock.remove()
-                raise
-    lock.directory = root / name
-    return lock.directory, lock
 
 
 def operation_json(op: Operation, events: list[tuple[object, str]] | None = None) -> str:
@@ -363,8 +224,8 @@ class Journal:
         in the same folder): header now, base copy on the worker thread."""
         try:
             if self.directory is None:
-                self.directory, self._lock = _new_folder(self.root)
-            state = self.sculptor.state()
+                self.directory, self._lock = new_folder(self.root)
+            state = capture_state(self.sculptor)
             sha = vertex_hash(state.vertices)
             base = f"base-{sha[:16]}.npz"
             self._token = secrets.token_hex(8)
@@ -373,7 +234,7 @@ class Journal:
                 "version": JOURNAL_VERSION,
                 "token": self._token,
                 "created": time.time(),
-                **_owner(),
+                **owner(),
                 "document": {"path": self.document, "title": self.title},
                 "mesh": {
                     "vertices": len(state.vertices),
@@ -472,7 +333,7 @@ class Journal:
         worker thread; returns whether one was taken (not during a stroke)."""
         if not self.active or self.sculptor.in_stroke:
             return False
-        state = self.sculptor.state()
+        state = capture_state(self.sculptor)
         extra = {"token": self._token, "seq": self.records, "done": self._done()}
         self._work = 0.0
         self._submit(("checkpoint", state, {**extra, "time": time.time()}))

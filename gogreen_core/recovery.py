@@ -6,7 +6,7 @@ exit, and rebuild a document from one (bit for bit the state after its last comp
     recovery.mesh, recovery.sculptor           # the mesh as it was, a sculptor to go on with
 
 How: the journal's start (its base copy and start state) or one of its checkpoints, then the
-records after it replayed (:meth:`Sculptor.replay` semantics, one record at a time). Recovery
+records after it replayed (:func:`gogreen_core.session.replay`, one record at a time). Recovery
 starts from the oldest checkpoint whose replay fits :data:`RECOVERY_WORK` (estimated from the
 mouse events to replay × the vertices), so the recovered undo history (the replayed records)
 is as deep as that budget allows and recovery stays within about 1 to 2 s here; a
@@ -26,33 +26,30 @@ from __future__ import annotations
 
 import collections
 import contextlib
-import json
 import os
 import time
-import zlib
 from collections.abc import Callable
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
 from gogreen_core.checkpoint import CheckpointError, SculptState, read_checkpoint
-from gogreen_core.journal import (
+from gogreen_core.journal_format import (
     JOURNAL_FILE,
-    JOURNAL_FORMAT,
-    JOURNAL_VERSION,
     THUMBNAIL_FILE,
+    JournalContents,
+    JournalError,
     JournalLock,
+    Record,
     lock_owner,
+    read_journal,
     recovery_root,
-    replay_work,
     vertex_hash,
 )
 from gogreen_core.mesh_io import MeshData, load_mesh
-from gogreen_core.operations import Operation, operation_from_dict
-from gogreen_core.sculptor import Sculptor
-from gogreen_core.session import SESSION_FORMAT, SESSION_VERSION
-from gogreen_core.validation import ParameterError
+from gogreen_core.sculptor import Sculptor, restore_state
+from gogreen_core.session import SESSION_FORMAT, SESSION_VERSION, replay
 
 __all__ = [
     "RECOVERY_WORK",
@@ -84,172 +81,6 @@ _KINDS = {
     "undo": ("undo", "undos"),
     "redo": ("redo", "redos"),
 }
-
-
-class JournalError(ValueError):
-    """A journal that cannot be recovered at all (its header unreadable, no mesh left), or is
-    in use by a running app; the message says which and why."""
-
-
-@dataclass(frozen=True)
-class Record:
-    """One complete journal record: ``seq`` (1, 2, ...), ``kind`` (``append``/``replace``),
-    ``n`` operations after it, ``t`` unix time, ``d`` undo steps done, the operation's session
-    form ``data`` and its typed ``op`` (None when read without validation)."""
-
-    seq: int
-    kind: str
-    n: int
-    t: float
-    d: int
-    data: dict
-    op: Operation | None
-
-    @property
-    def steps(self) -> int:
-        """Progress units of its replay: a stroke's mouse events, else 1."""
-        events = self.data.get("events")
-        return max(1, len(events)) if isinstance(events, list) else 1
-
-    def work(self, vertices: int) -> float:
-        """Estimated replay cost (:func:`~gogreen_core.journal.replay_work`)."""
-        return replay_work(str(self.data.get("op")), self.steps, vertices)
-
-
-@dataclass
-class JournalContents:
-    """What a journal holds up to its first damage: header, complete records, and ``notes``
-    saying what was dropped and why."""
-
-    directory: Path
-    header: dict
-    records: list[Record]
-    notes: list[str] = field(default_factory=list)
-
-    @property
-    def operations(self) -> list[dict]:
-        """The session operations the records make (a ``replace`` replaces the last)."""
-        ops: list[dict] = []
-        for record in self.records:
-            if record.kind == "replace" and ops:
-                ops[-1] = record.data
-            else:
-                ops.append(record.data)
-        return ops
-
-    @property
-    def modified(self) -> float:
-        """Time of the last complete record (of the header when there is none)."""
-        return self.records[-1].t if self.records else float(self.header.get("created", 0))
-
-
-def _frame_payload(line: bytes) -> bytes | None:
-    """The payload of a journal line, or None if its checksum does not match."""
-    if len(line) < 10 or line[8:9] != b" ":
-        return None
-    try:
-        crc = int(line[:8], 16)
-    except ValueError:
-        return None
-    payload = line[9:]
-    return payload if zlib.crc32(payload) == crc else None
-
-
-def _check_header(header: object, name: str) -> dict:
-    if not isinstance(header, dict) or header.get("format") != JOURNAL_FORMAT:
-        raise JournalError(f"{name}: not a GoGreen Sculpt journal")
-    try:
-        mesh, start = header["mesh"], header["start"]
-        ok = (
-            isinstance(header["version"], int)
-            and isinstance(mesh["vertices"], int)
-            and isinstance(mesh["faces"], int)
-            and isinstance(mesh["sha256"], str)
-            and isinstance(mesh["base"], str)
-            and isinstance(start, dict)
-        )
-    except (KeyError, TypeError):
-        ok = False
-    if not ok:
-        raise JournalError(f"{name}: the journal's header is malformed")
-    return header
-
-
-def read_journal(directory: str | os.PathLike, validate: bool = True) -> JournalContents:
-    """Read a journal folder's ``journal.jsonl`` up to its first damage. ``validate``: also
-    check every operation (as session files are); listing skips that. :class:`JournalError`
-    when even the header cannot be read."""
-    directory = Path(directory)
-    path = directory / JOURNAL_FILE
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise JournalError(f"{directory.name}: cannot read the journal ({exc.strerror})") from None
-    lines = data.split(b"\n")
-    payload = _frame_payload(lines[0]) if len(lines) > 1 else None
-    try:
-        header = json.loads(payload) if payload is not None else None
-    except ValueError:
-        header = None
-    if header is None:
-        raise JournalError(f"{directory.name}: the journal's header is cut off or corrupt")
-    header = _check_header(header, directory.name)
-    contents = JournalContents(directory, header, [])
-    if header["version"] > JOURNAL_VERSION:
-        contents.notes.append(
-            f"written by a newer GoGreen Sculpt (journal version {header['version']}; this one "
-            f"reads {JOURNAL_VERSION}): read as far as this version understands it"
-        )
-    body = lines[1:]  # the last piece follows the last newline: empty unless cut off
-    for index, line in enumerate(body):
-        last = index == len(body) - 1
-        if last and not line:
-            break
-        seq = index + 1
-        problem = "was cut off (its write did not finish)" if last else None
-        record = None
-        if problem is None:
-            record, problem = _parse_record(line, seq, validate)
-        if problem is not None:
-            dropped = len(body) - index - (0 if body[-1] else 1)
-            size = sum(len(x) + 1 for x in body[index:]) - 1
-            what = f"it and the {dropped - 1} after it were" if dropped > 1 else "it was"
-            contents.notes.append(
-                f"record {seq} {problem}: {what} dropped ({size:,} bytes); the {seq - 1} "
-                "records before it are kept"
-            )
-            break
-        contents.records.append(record)
-    return contents
-
-
-def _parse_record(line: bytes, seq: int, validate: bool) -> tuple[Record | None, str | None]:
-    payload = _frame_payload(line)
-    if payload is None:
-        return None, "is corrupt (checksum mismatch)"
-    try:
-        data = json.loads(payload)
-        values = (data["seq"], data["kind"], data["n"], data["t"], data["d"], data["op"])
-    except (ValueError, KeyError, TypeError):
-        return None, "is malformed"
-    number, kind, n, t, d, op = values
-    if number != seq:
-        return None, f"is out of order (numbered {number})"
-    if kind not in ("append", "replace"):
-        return None, f"is of a kind this version does not know ({kind!r})"
-    if not (isinstance(n, int) and isinstance(d, int) and isinstance(t, (int, float))):
-        return None, "is malformed"
-    if not isinstance(op, dict):
-        return None, "is malformed"
-    typed = None
-    if validate:
-        try:
-            typed = operation_from_dict(op, "op")
-        except ParameterError as exc:
-            return None, f"holds an operation this version cannot read ({exc})"
-    elif not isinstance(op.get("op"), str):
-        return None, "is malformed"
-    return Record(seq, kind, n, float(t), d, op, typed), None
 
 
 # -- listing ---------------------------------------------------------------------------------
@@ -573,7 +404,7 @@ def _replay(
         if record.kind == "replace" and hasattr(op, "continued"):
             op = replace(op, continued=True)  # merges into the last step, as it did
         try:
-            op.apply(sculptor)
+            replay(sculptor, [op])  # one record at a time: a failure undoes that record alone
         except (ValueError, RuntimeError) as exc:
             return applied, f"record {record.seq} ({record.data.get('op')}) failed: {exc}"
         if sculptor.history.done + offset != record.d:
@@ -627,7 +458,7 @@ def recover(
             except CheckpointError as exc:
                 notes.append(f"checkpoint after record {seq} not used: {exc}")
                 continue
-            sculptor = Sculptor.from_state(state, base.faces)
+            sculptor = restore_state(state, base.faces)
             tail = records[seq:]
             try:
                 applied, error = _replay(sculptor, tail, done, progress)

@@ -39,6 +39,7 @@ from gogreen_core.recovery import (
     read_journal,
     recover,
 )
+from gogreen_core.sculptor import capture_state, restore_state
 from gogreen_core.session import parse_session
 
 
@@ -115,12 +116,14 @@ def test_a_state_continues_bit_for_bit_pins_included(mesh):
     sculptor.remove_constraint(1)
     stroke(sculptor, 1)
     # why the pins' solver state is saved: rebuilt from the points it rounds differently
-    live = sculptor.state().pins
-    rebuilt = ConstraintSet(Sculptor.from_state(sculptor.state(), mesh.faces)._constraints.kernel)
+    live = capture_state(sculptor).pins
+    rebuilt = ConstraintSet(
+        restore_state(capture_state(sculptor), mesh.faces)._pins.constraints.kernel
+    )
     for point in live[0]:
         rebuilt.add(point)
     assert not np.array_equal(rebuilt.inverse, live[2])
-    copy = Sculptor.from_state(sculptor.state(), mesh.faces)
+    copy = restore_state(capture_state(sculptor), mesh.faces)
     assert copy.model_size == sculptor.model_size and np.array_equal(copy.origin, sculptor.origin)
     assert not copy.history.can_undo and copy.operations == []
     for s in (sculptor, copy):
