@@ -10,8 +10,18 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from gogreen_core import mesh_io
-from gogreen_core.mesh_io import MeshData, MeshFileError, load_mesh, save_mesh
+from gogreen_core.mesh_io import (
+    MeshData,
+    MeshFileError,
+    atomic,
+    load_mesh,
+    obj,
+    obj_fast,
+    obj_strict,
+    ply,
+    save_mesh,
+    text,
+)
 
 SHARED_MESHES = ["spot.obj", "stanford-bunny.obj", "ogre.obj"]
 MADE_MESHES = ["made_textured", "made_open_tiny", "made_huge"]  # their stand-ins (conftest.py)
@@ -146,7 +156,7 @@ def test_integer_rows_match_python_formatting(columns):
     table[:4] = [[0] * columns, [9] * columns, [10] * columns, [10**11] * columns]
     separators = (b"/ " * columns)[: columns - 1] + b"\n"
     out = io.BytesIO()
-    mesh_io._write_int_rows(out, b"f ", table, separators)
+    text.write_int_rows(out, b"f ", table, separators)
     fmt = "f " + "".join(f"%d{chr(c)}" for c in separators)
     assert out.getvalue() == ((fmt * len(table)) % tuple(table.ravel().tolist())).encode()
 
@@ -463,22 +473,22 @@ IRREGULAR_OBJ = [  # each is read by the strict reader (accepted or refused the 
 @pytest.mark.parametrize("content", REGULAR_OBJ + IRREGULAR_OBJ)
 def test_fast_obj_reader_agrees_with_the_strict_one(content):
     data = content.encode("utf-8")
-    assert outcome(mesh_io._read_obj, data) == outcome(mesh_io._read_obj_strict, data)
+    assert outcome(obj.read_obj, data) == outcome(obj_strict.read_obj_strict, data)
 
 
 @pytest.mark.parametrize("content", REGULAR_OBJ)
 def test_regular_obj_files_take_the_fast_path(content):
-    assert mesh_io._read_obj_fast(content.encode("utf-8")) is not None
+    assert obj_fast.read_obj_fast(content.encode("utf-8")) is not None
 
 
 @pytest.mark.parametrize("content", REGULAR_OBJ + IRREGULAR_OBJ)
 def test_both_ways_of_finding_the_obj_sections_agree_with_the_strict_reader(content):
     data = content.encode("utf-8").removeprefix(b"\xef\xbb\xbf").replace(b"\r\n", b"\n")
     data += b"" if data.endswith(b"\n") else b"\n"
-    strict = outcome(mesh_io._read_obj_strict, data)
-    for find in (mesh_io._obj_sections_by_blocks, mesh_io._obj_sections_by_lines):
+    strict = outcome(obj_strict.read_obj_strict, data)
+    for find in (obj_fast.sections_by_blocks, obj_fast.sections_by_lines):
         sections = find(data)
-        mesh = None if sections is None else mesh_io._obj_from_sections(sections)
+        mesh = None if sections is None else obj_fast.mesh_from_sections(sections)
         if mesh is not None:
             assert outcome(lambda *_, m=mesh: m, data) == strict
 
@@ -488,15 +498,15 @@ def test_both_ways_of_finding_the_obj_sections_agree_with_the_strict_reader(cont
 )
 def test_fast_obj_reader_leaves_every_bad_file_to_the_strict_one(name, content):
     data = content if isinstance(content, bytes) else content.encode("utf-8")
-    assert mesh_io._read_obj_fast(data) is None
-    assert outcome(mesh_io._read_obj, data, name) == outcome(mesh_io._read_obj_strict, data, name)
+    assert obj_fast.read_obj_fast(data) is None
+    assert outcome(obj.read_obj, data, name) == outcome(obj_strict.read_obj_strict, data, name)
 
 
 def test_fast_obj_reader_on_every_listed_mesh_matches_the_strict_one(listed):
     path, _ = listed
     data = path.read_bytes()
-    assert mesh_io._read_obj_fast(data) is not None
-    assert outcome(mesh_io._read_obj, data) == outcome(mesh_io._read_obj_strict, data)
+    assert obj_fast.read_obj_fast(data) is not None
+    assert outcome(obj.read_obj, data) == outcome(obj_strict.read_obj_strict, data)
 
 
 ASCII_PLY_FILES = [(n, c) for n, c, _ in BAD_FILES if n.endswith(".ply")] + [
@@ -509,13 +519,13 @@ ASCII_PLY_FILES = [(n, c) for n, c, _ in BAD_FILES if n.endswith(".ply")] + [
 def test_ascii_ply_fast_parsing_agrees_with_token_by_token(tmp_path, monkeypatch, name, content):
     path = write(tmp_path / name, content)
     data = path.read_bytes()
-    fast = outcome(mesh_io._read_ply, data, name)
+    fast = outcome(ply.read_ply, data, name)
 
     def refuse(*_args, **_kwargs):
         raise ValueError("string or file could not be read to its end")
 
-    monkeypatch.setattr(mesh_io.np, "fromstring", refuse)  # the token-by-token path
-    assert outcome(mesh_io._read_ply, data, name) == fast
+    monkeypatch.setattr(text.np, "fromstring", refuse)  # the token-by-token path
+    assert outcome(ply.read_ply, data, name) == fast
 
 
 @pytest.mark.parametrize("cut", [1, 5, 13, -1])
@@ -608,7 +618,7 @@ def test_os_error_mid_write_leaves_the_old_file(saved, monkeypatch):
         out.write(b"v 1 2 3\n" * 100)
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr(mesh_io, "_write_obj", half_then_disk_full)
+    monkeypatch.setattr(obj, "write_obj", half_then_disk_full)
     with pytest.raises(MeshFileError, match=r"good\.obj: cannot write \(No space left"):
         save_mesh(mesh, target)
     assert_untouched(target, original)
@@ -626,7 +636,7 @@ def test_any_exception_mid_write_leaves_the_old_file(saved, monkeypatch, error):
         out.write(b"partial")
         raise error
 
-    monkeypatch.setattr(mesh_io, "_write_obj", explode)
+    monkeypatch.setattr(obj, "write_obj", explode)
     with pytest.raises(type(error)):
         save_mesh(mesh, target)
     assert_untouched(target, original)
@@ -638,7 +648,7 @@ def test_failed_rename_leaves_the_old_file(saved, monkeypatch):
     def refuse(*_args):
         raise PermissionError(13, "Permission denied")
 
-    monkeypatch.setattr(mesh_io.os, "replace", refuse)
+    monkeypatch.setattr(atomic.os, "replace", refuse)
     with pytest.raises(MeshFileError, match="Permission denied"):
         save_mesh(mesh, target)
     assert_untouched(target, original)
@@ -678,7 +688,7 @@ def test_write_bytes_atomic_replaces_keeps_permissions_and_names_failures(tmp_pa
     target = tmp_path / "shot.png"
     target.write_bytes(b"old picture, longer than the new one")
     target.chmod(0o640)
-    mesh_io.write_bytes_atomic(target, b"\x89PNG new")
+    atomic.write_bytes_atomic(target, b"\x89PNG new")
     assert target.read_bytes() == b"\x89PNG new"
     assert target.stat().st_mode & 0o777 == 0o640
     assert [p.name for p in tmp_path.iterdir()] == ["shot.png"]  # no temporary file left
@@ -686,14 +696,14 @@ def test_write_bytes_atomic_replaces_keeps_permissions_and_names_failures(tmp_pa
     def refuse(*_args):
         raise PermissionError(13, "Permission denied")
 
-    monkeypatch.setattr(mesh_io.os, "replace", refuse)
+    monkeypatch.setattr(atomic.os, "replace", refuse)
     with pytest.raises(MeshFileError, match=r"shot\.png: cannot write \(Permission denied"):
-        mesh_io.write_bytes_atomic(target, b"lost")
+        atomic.write_bytes_atomic(target, b"lost")
     assert target.read_bytes() == b"\x89PNG new"
     assert [p.name for p in tmp_path.iterdir()] == ["shot.png"]
     monkeypatch.undo()
     with pytest.raises(MeshFileError, match="does not exist"):
-        mesh_io.write_bytes_atomic(tmp_path / "nowhere" / "shot.png", b"x")
+        atomic.write_bytes_atomic(tmp_path / "nowhere" / "shot.png", b"x")
 
 
 def test_uppercase_extensions(tmp_path):

@@ -1,0 +1,160 @@
+"""OBJ, the strict reader: line by line, naming the line of any problem.
+
+It accepts exactly what the fast reader (:mod:`~gogreen_core.mesh_io.obj_fast`) accepts, with the
+same result; the fast one hands it every file that is not regular, so that each error message
+comes from here.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+
+from gogreen_core.mesh_io.data import MAX_INDEX, MeshData, MeshFileError
+from gogreen_core.mesh_io.text import text_lines
+
+__all__ = ["OBJ_STATEMENTS", "read_obj_strict"]
+
+#: Every statement of the OBJ specification; the reader keeps v, vt and f, ignores the others
+#: (normals, groups, materials, smoothing, lines, points, free-form geometry) and refuses any
+#: other word, so that a damaged line is reported instead of silently dropped.
+OBJ_STATEMENTS = frozenset(
+    "v vt vn vp f fo l p g o s mg usemtl mtllib usemap maplib cstype deg bmat step curv curv2 "
+    "surf parm trim hole scrv sp end con bevel c_interp d_interp lod shadow_obj trace_obj ctech "
+    "stech call csh".split()
+)
+
+
+def read_obj_strict(data: bytes, name: str) -> MeshData:
+    """Line by line: accepts what the fast reader accepts, the same way, and names the line of
+    any problem."""
+    vertices: list[tuple[float, float, float]] = []
+    uvs: list[tuple[float, float]] = []
+    faces: list[tuple[int, int, int]] = []
+    uv_faces: list[tuple[int, int, int]] = []
+    face_lines: list[int] = []  # source line of each polygon
+    face_first: list[int] = []  # first triangle of each polygon
+    textured = 0
+
+    def index(token: str, count: int, kind: str, line: int) -> int:
+        try:
+            i = int(token)
+        except ValueError:
+            raise MeshFileError(f"{name}, line {line}: bad {kind} index {token!r}") from None
+        if i > MAX_INDEX:  # no file holds that many; int64 arrays could not even store it
+            raise MeshFileError(
+                f"{name}, line {line}: {kind} index {i} is out of range (the file cannot hold "
+                f"that many)"
+            )
+        if i > 0:
+            return i - 1  # checked against the final count below (forward references are legal)
+        if i < 0 and count + i >= 0:
+            return count + i  # relative to the entries read so far
+        if i == 0:
+            raise MeshFileError(f"{name}, line {line}: OBJ indices start at 1 (got 0)")
+        raise MeshFileError(
+            f"{name}, line {line}: relative {kind} index {i} points before the first {kind} "
+            f"(only {count} read so far)"
+        )
+
+    def numbers(tokens: list[str], line: int, raw: str) -> tuple[float, ...]:
+        try:
+            return tuple(map(float, tokens))
+        except ValueError:
+            raise MeshFileError(f"{name}, line {line}: bad number in {raw.strip()!r}") from None
+
+    text = text_lines(data)
+    for number, raw in enumerate(text.split("\n"), start=1):
+        if "#" in raw:
+            raw = raw.split("#", 1)[0]
+        parts = raw.split()
+        if not parts:
+            continue
+        tag = parts[0]
+        if tag not in OBJ_STATEMENTS:
+            raise MeshFileError(
+                f"{name}, line {number}: unknown statement {tag[:20]!r} (not an OBJ file?)"
+            )
+        if tag == "v":
+            if len(parts) < 4:
+                raise MeshFileError(f"{name}, line {number}: a vertex needs 3 coordinates")
+            vertices.append(numbers(parts[1:4], number, raw))
+        elif tag == "vt":
+            if len(parts) < 2:
+                raise MeshFileError(f"{name}, line {number}: empty texture coordinate")
+            u, *v = numbers(parts[1:3], number, raw)
+            if not np.isfinite([u, *v]).all():
+                raise MeshFileError(
+                    f"{name}, line {number}: texture coordinate {len(uvs) + 1} has a non-finite "
+                    f"value {[u, *v]}"
+                )
+            uvs.append((u, v[0] if v else 0.0))
+        elif tag in ("f", "fo"):  # 'fo' is the old spelling of 'f'
+            if len(parts) < 4:
+                raise MeshFileError(f"{name}, line {number}: a face needs at least 3 corners")
+            pos: list[int] = []
+            tex: list[int] = []
+            for corner in parts[1:]:
+                fields = corner.split("/")
+                pos.append(index(fields[0], len(vertices), "vertex", number))
+                if len(fields) > 1 and fields[1]:
+                    tex.append(index(fields[1], len(uvs), "texture coordinate", number))
+            if tex and len(tex) != len(pos):
+                raise MeshFileError(
+                    f"{name}, line {number}: some corners of this face lack a texture index"
+                )
+            if tex:
+                textured += 1
+            else:
+                tex = [-1] * len(pos)
+            face_lines.append(number)
+            face_first.append(len(faces))
+            for k in range(1, len(pos) - 1):  # fan triangulation
+                faces.append((pos[0], pos[k], pos[k + 1]))
+                uv_faces.append((tex[0], tex[k], tex[k + 1]))
+
+    if not vertices:
+        raise MeshFileError(f"{name}: no vertices (empty or not an OBJ file)")
+    if not faces:
+        raise MeshFileError(f"{name}: no faces (the file has only points)")
+    v = np.array(vertices, dtype=np.float64)
+    f = np.array(faces, dtype=np.int64)
+
+    def line_of_triangle(row: int) -> int:
+        return face_lines[int(np.searchsorted(face_first, row, side="right")) - 1]
+
+    finite = np.isfinite(v).all(axis=1)
+    if not finite.all():
+        bad = int(np.flatnonzero(~finite)[0])
+        lines = (n for n, raw in enumerate(text.split("\n"), 1) if raw.split()[:1] == ["v"])
+        raise MeshFileError(
+            f"{name}, line {next(itertools.islice(lines, bad, None))}: vertex {bad + 1} has a "
+            f"non-finite coordinate {v[bad].tolist()}"
+        )
+    outside = f >= len(v)
+    if outside.any():
+        row, col = (int(i[0]) for i in np.nonzero(outside))
+        polygon = int(np.searchsorted(face_first, row, side="right"))
+        raise MeshFileError(
+            f"{name}, line {line_of_triangle(row)}: face {polygon} references vertex "
+            f"{int(f[row, col]) + 1} but the file has {len(v)} vertices"
+        )
+    mesh = MeshData(v, f)
+    if textured:
+        t = np.array(uv_faces, dtype=np.int64)
+        outside = t >= len(uvs)
+        if outside.any():
+            row, col = (int(i[0]) for i in np.nonzero(outside))
+            raise MeshFileError(
+                f"{name}, line {line_of_triangle(row)}: face references texture coordinate "
+                f"{int(t[row, col]) + 1} but the file has {len(uvs)} texture coordinates"
+            )
+        mesh.uv = np.array(uvs, dtype=np.float64).reshape(-1, 2)
+        mesh.uv_faces = t
+    return mesh
+
+
+# Fast path: whole-array parsing of a regular OBJ file. It returns None as soon as anything is
+# unusual (a comment after data, a tab after a tag, mixed corner forms, a bad number, an index
+# out of range, ...); read_obj then runs the strict line-by-line reader, which either accepts
