@@ -124,14 +124,16 @@ def test_texture_coordinates_load_and_survive_a_round_trip(textured_obj, tmp_pat
     assert np.array_equal(again.uv_faces, mesh.uv_faces)
 
 
-def test_stl_keeps_each_triangle_corner_as_written(made_textured, tmp_path):
+def test_stl_corners_are_welded_into_the_same_closed_surface(made_textured, tmp_path):
     mesh = load_mesh(made_textured.path)
     save_mesh(mesh, tmp_path / "m.stl")
     again = load_mesh(tmp_path / "m.stl")
-    assert len(again.vertices) == 3 * len(mesh.faces)  # no welding: 3 corners per triangle
-    assert np.array_equal(again.faces, np.arange(3 * len(mesh.faces)).reshape(-1, 3))
-    corners = mesh.vertices[mesh.faces].reshape(-1, 3).astype(np.float32)  # STL is float32
-    assert np.array_equal(again.vertices, corners.astype(np.float64))
+    corners = mesh.vertices[mesh.faces].astype(np.float32)  # STL is float32
+    assert np.array_equal(again.vertices[again.faces], corners.astype(np.float64))
+    assert len(again.vertices) == len(np.unique(mesh.faces))  # one vertex per position
+    first_use = np.unique(again.faces.ravel(), return_index=True)[1]
+    assert np.all(np.diff(first_use) > 0)  # numbered in order of first appearance
+    assert edges_used_once(again.faces) == edges_used_once(mesh.faces) == 0  # closed
 
 
 # -- exact floats ------------------------------------------------------------------------------
@@ -166,12 +168,12 @@ def test_obj_polygons_corner_forms_negative_indices_and_comments(tmp_path):
     path = write(
         tmp_path / "forms.obj",
         "# a comment\n"
-        "v 0 0 0\nv 1 0 0  # trailing comment\nv 1 1 0\nv 0 1 0\nv 0.5 1.5 0 1.0\n"
+        "v 0 0 0\nv 1 0 0  # trailing comment\nv 1 1 0\nv 0 1 0\nv -0.5 0.5 0 1.0\n"
         "vn 0 0 1\n"
         "g group\nusemtl m\ns off\n\n"
         "f 1//1 2//1 3//1 4//1\n"  # quad with normals only
         "f -2 -3 -1\n"  # relative indices
-        "f 1 2 3 4 5\n",  # pentagon
+        "f 1 2 3 4 5\n",  # convex pentagon: fanned from its first corner
     )
     mesh = load_mesh(path)
     assert mesh.faces.tolist() == [[0, 1, 2], [0, 2, 3], [3, 2, 4], [0, 1, 2], [0, 2, 3], [0, 3, 4]]
@@ -261,8 +263,8 @@ def test_ascii_stl(tmp_path):
     ]
     text = "solid t\n" + "".join(facet.format(c) for c in corners) + "endsolid t\n"
     mesh = load_mesh(write(tmp_path / "t.stl", text))
-    assert len(mesh.vertices) == 6 and mesh.faces.tolist() == [[0, 1, 2], [3, 4, 5]]
-    assert mesh.vertices[4].tolist() == [1, 1, 0]
+    assert len(mesh.vertices) == 4 and mesh.faces.tolist() == [[0, 1, 2], [1, 3, 2]]
+    assert mesh.vertices[3].tolist() == [1, 1, 0]
 
 
 # -- errors ------------------------------------------------------------------------------------

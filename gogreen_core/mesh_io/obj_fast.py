@@ -3,8 +3,8 @@
 :func:`read_obj_fast` returns None as soon as anything is unusual (a comment after data, a tab
 after a tag, mixed corner forms, a bad number, an index out of range, ...); the strict reader
 (:mod:`~gogreen_core.mesh_io.obj_strict`) then either accepts the file the same way or names the
-line at fault. ``np.fromstring`` raises on any token it cannot read whole, and rounds decimals
-correctly like ``float()``.
+line at fault. :func:`~gogreen_core.mesh_io.text.parse_numbers` raises on any token it cannot
+read whole, and rounds decimals correctly like ``float()``.
 
 The lines of one kind (v, vt or f) are handled as a "piece": their contents joined by
 ``b"\n" + tag``, i.e. the file's bytes from after the first line's tag to the end of the last
@@ -13,13 +13,15 @@ line, when they form one block.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 
 import numpy as np
 
 from gogreen_core.mesh_io.data import MeshData
 from gogreen_core.mesh_io.obj_strict import OBJ_STATEMENTS
-from gogreen_core.mesh_io.polygons import fan_corners
+from gogreen_core.mesh_io.polygons import triangulate
+from gogreen_core.mesh_io.text import parse_numbers, without_dos_eof
 
 __all__ = [
     "ObjSections",
@@ -170,7 +172,7 @@ def _numbers_per_line(
     if len(text) - len(piece) != (lines - 1) * (len(between) - len(tag) - 1):
         return None  # a line without the tag among them
     try:
-        values = np.fromstring(text + b" " + sentinel, dtype, sep=" ")
+        values = parse_numbers(text + b" " + sentinel, dtype)
     except ValueError:
         return None
     marks = np.flatnonzero(np.isnan(values) if sentinel == b"nan" else values == 0)
@@ -219,7 +221,7 @@ def _face_corners(piece: bytes) -> tuple[np.ndarray, np.ndarray, bool] | None:
         return None
     fields = 2 if per_corner == 1 or doubled else 3
     try:
-        numbers = np.fromstring(text.replace(b"/", b" "), np.int64, sep=" ")
+        numbers = parse_numbers(text.replace(b"/", b" "), np.int64)
     except ValueError:
         return None
     if len(numbers) != fields * n_corners:
@@ -228,12 +230,16 @@ def _face_corners(piece: bytes) -> tuple[np.ndarray, np.ndarray, bool] | None:
 
 
 def read_obj_fast(data: bytes) -> MeshData | None:
-    if data.startswith(b"\xef\xbb\xbf"):
-        data = data[3:]
+    """The mesh of a regular OBJ file, else None (the strict reader then reads it)."""
+    data = without_dos_eof(data.removeprefix(b"\xef\xbb\xbf"))
     if b"\r" in data:
         data = data.replace(b"\r\n", b"\n")
         if b"\r" in data:
             return None
+    if b"\\" in data:  # lines continued by a backslash (comments never are)
+        if b"#" in data:
+            return None
+        data = re.sub(rb"\\[ \t]*\n", b" ", data)
     if not data.endswith(b"\n"):
         data += b"\n"
     sections = sections_by_blocks(data)
@@ -300,10 +306,11 @@ def mesh_from_sections(sections: ObjSections) -> MeshData | None:
     position = indices(numbers[:, 0], sections.v_before, len(vertices))
     if position is None:
         return None
-    mesh = MeshData(vertices, fan_corners(position, corners))
+    triangles = triangulate(vertices, position, corners)
+    mesh = MeshData(vertices, position[triangles])
     if numbers.shape[1] >= 2 and not doubled:
         texture = indices(numbers[:, 1], sections.vt_before, len(uv))
         if texture is None:
             return None
-        mesh.uv, mesh.uv_faces = uv, fan_corners(texture, corners)
+        mesh.uv, mesh.uv_faces = uv, texture[triangles]
     return mesh

@@ -7,14 +7,15 @@ comes from here.
 
 from __future__ import annotations
 
-import itertools
+from collections.abc import Iterator
 
 import numpy as np
 
 from gogreen_core.mesh_io.data import MAX_INDEX, MeshData, MeshFileError
+from gogreen_core.mesh_io.polygons import triangulate
 from gogreen_core.mesh_io.text import text_lines
 
-__all__ = ["OBJ_STATEMENTS", "read_obj_strict"]
+__all__ = ["OBJ_STATEMENTS", "read_obj_strict", "statements"]
 
 #: Every statement of the OBJ specification; the reader keeps v, vt and f, ignores the others
 #: (normals, groups, materials, smoothing, lines, points, free-form geometry) and refuses any
@@ -29,12 +30,13 @@ OBJ_STATEMENTS = frozenset(
 def read_obj_strict(data: bytes, name: str) -> MeshData:
     """Line by line: accepts what the fast reader accepts, the same way, and names the line of
     any problem."""
-    vertices: list[tuple[float, float, float]] = []
+    vertices: list[tuple[float, ...]] = []
+    vertex_lines: list[int] = []
     uvs: list[tuple[float, float]] = []
-    faces: list[tuple[int, int, int]] = []
-    uv_faces: list[tuple[int, int, int]] = []
+    corners: list[int] = []  # vertex index of each polygon corner, polygon after polygon
+    corner_uvs: list[int] = []  # texture index of each corner, -1 when the face has none
+    sizes: list[int] = []  # corners of each polygon
     face_lines: list[int] = []  # source line of each polygon
-    face_first: list[int] = []  # first triangle of each polygon
     textured = 0
 
     def index(token: str, count: int, kind: str, line: int) -> int:
@@ -64,10 +66,7 @@ def read_obj_strict(data: bytes, name: str) -> MeshData:
         except ValueError:
             raise MeshFileError(f"{name}, line {line}: bad number in {raw.strip()!r}") from None
 
-    text = text_lines(data)
-    for number, raw in enumerate(text.split("\n"), start=1):
-        if "#" in raw:
-            raw = raw.split("#", 1)[0]
+    for number, raw in statements(text_lines(data)):
         parts = raw.split()
         if not parts:
             continue
@@ -80,6 +79,7 @@ def read_obj_strict(data: bytes, name: str) -> MeshData:
             if len(parts) < 4:
                 raise MeshFileError(f"{name}, line {number}: a vertex needs 3 coordinates")
             vertices.append(numbers(parts[1:4], number, raw))
+            vertex_lines.append(number)
         elif tag == "vt":
             if len(parts) < 2:
                 raise MeshFileError(f"{name}, line {number}: empty texture coordinate")
@@ -104,57 +104,71 @@ def read_obj_strict(data: bytes, name: str) -> MeshData:
                 raise MeshFileError(
                     f"{name}, line {number}: some corners of this face lack a texture index"
                 )
-            if tex:
-                textured += 1
-            else:
-                tex = [-1] * len(pos)
+            textured += bool(tex)
+            corners += pos
+            corner_uvs += tex or [-1] * len(pos)
+            sizes.append(len(pos))
             face_lines.append(number)
-            face_first.append(len(faces))
-            for k in range(1, len(pos) - 1):  # fan triangulation
-                faces.append((pos[0], pos[k], pos[k + 1]))
-                uv_faces.append((tex[0], tex[k], tex[k + 1]))
 
     if not vertices:
         raise MeshFileError(f"{name}: no vertices (empty or not an OBJ file)")
-    if not faces:
+    if not sizes:
         raise MeshFileError(f"{name}: no faces (the file has only points)")
     v = np.array(vertices, dtype=np.float64)
-    f = np.array(faces, dtype=np.int64)
+    c = np.array(corners, dtype=np.int64)
+    ends = np.cumsum(sizes)
 
-    def line_of_triangle(row: int) -> int:
-        return face_lines[int(np.searchsorted(face_first, row, side="right")) - 1]
+    def polygon_of(corner: int) -> int:
+        return int(np.searchsorted(ends, corner, side="right"))
 
     finite = np.isfinite(v).all(axis=1)
     if not finite.all():
         bad = int(np.flatnonzero(~finite)[0])
-        lines = (n for n, raw in enumerate(text.split("\n"), 1) if raw.split()[:1] == ["v"])
         raise MeshFileError(
-            f"{name}, line {next(itertools.islice(lines, bad, None))}: vertex {bad + 1} has a "
-            f"non-finite coordinate {v[bad].tolist()}"
+            f"{name}, line {vertex_lines[bad]}: vertex {bad + 1} has a non-finite coordinate "
+            f"{v[bad].tolist()}"
         )
-    outside = f >= len(v)
+    outside = c >= len(v)
     if outside.any():
-        row, col = (int(i[0]) for i in np.nonzero(outside))
-        polygon = int(np.searchsorted(face_first, row, side="right"))
+        corner = int(np.argmax(outside))
+        polygon = polygon_of(corner)
         raise MeshFileError(
-            f"{name}, line {line_of_triangle(row)}: face {polygon} references vertex "
-            f"{int(f[row, col]) + 1} but the file has {len(v)} vertices"
+            f"{name}, line {face_lines[polygon]}: face {polygon + 1} references vertex "
+            f"{int(c[corner]) + 1} but the file has {len(v)} vertices"
         )
-    mesh = MeshData(v, f)
+    triangles = triangulate(v, c, np.array(sizes))
+    mesh = MeshData(v, c[triangles])
     if textured:
-        t = np.array(uv_faces, dtype=np.int64)
+        t = np.array(corner_uvs, dtype=np.int64)
         outside = t >= len(uvs)
         if outside.any():
-            row, col = (int(i[0]) for i in np.nonzero(outside))
+            corner = int(np.argmax(outside))
             raise MeshFileError(
-                f"{name}, line {line_of_triangle(row)}: face references texture coordinate "
-                f"{int(t[row, col]) + 1} but the file has {len(uvs)} texture coordinates"
+                f"{name}, line {face_lines[polygon_of(corner)]}: face references texture "
+                f"coordinate {int(t[corner]) + 1} but the file has {len(uvs)} texture coordinates"
             )
         mesh.uv = np.array(uvs, dtype=np.float64).reshape(-1, 2)
-        mesh.uv_faces = t
+        mesh.uv_faces = t[triangles]
     return mesh
 
 
-# Fast path: whole-array parsing of a regular OBJ file. It returns None as soon as anything is
-# unusual (a comment after data, a tab after a tag, mixed corner forms, a bad number, an index
-# out of range, ...); read_obj then runs the strict line-by-line reader, which either accepts
+def statements(text: str) -> Iterator[tuple[int, str]]:
+    """The number of its first line and the content of each statement of an OBJ text:
+    comments removed, and a line that ends in a backslash joined with the next one (the
+    specification's continuation; Rhino writes long faces so)."""
+    pending, first = "", 0
+    for number, raw in enumerate(text.split("\n"), start=1):
+        if "#" in raw:
+            raw = raw.split("#", 1)[0]
+        content = raw.rstrip()
+        if content.endswith("\\"):
+            if not pending:
+                first = number
+            pending += content[:-1] + " "
+        elif pending:
+            yield first, pending + raw
+            pending = ""
+        else:
+            yield number, raw
+    if pending:
+        yield first, pending

@@ -1,15 +1,17 @@
 """OFF (Object File Format), read and written here: trimesh silently drops the faces of a
-truncated file instead of reporting it."""
+truncated file instead of reporting it. Polygons are triangulated by their shape; colours after
+a vertex's or a face's numbers are ignored."""
 
 from __future__ import annotations
 
 import contextlib
+import re
 from typing import BinaryIO
 
 import numpy as np
 
 from gogreen_core.mesh_io.data import MeshData, MeshFileError
-from gogreen_core.mesh_io.polygons import check_polygon_indices, fan_ragged
+from gogreen_core.mesh_io.polygons import check_corner_indices, triangulate
 from gogreen_core.mesh_io.text import is_number, text_lines, write_int_rows, write_rows
 
 __all__ = ["read_off", "write_off"]
@@ -26,9 +28,12 @@ def read_off(data: bytes, name: str) -> MeshData:
     if not rows:
         raise MeshFileError(f"{name}: no data (only comments or blank lines)")
     head = rows[0][1].split()
-    keyword = head[0]
-    if not keyword.endswith("OFF") or keyword.strip("STCN4n") != "OFF":
-        raise MeshFileError(f"{name}: not an OFF file (it starts with {keyword!r})")
+    # [ST][C][N][4][n]OFF, the vertex count possibly glued to it ("OFF8 6 12", ModelNet40).
+    match = re.fullmatch(r"([STCN4n]*OFF)(\d*)", head[0])
+    if match is None:
+        raise MeshFileError(f"{name}: not an OFF file (it starts with {head[0]!r})")
+    keyword = match[1]
+    head = [keyword, match[2], *head[1:]] if match[2] else head
     if "4" in keyword or "n" in keyword:
         raise MeshFileError(f"{name}: {keyword} files (not 3-D) are not supported")
     counts, first = head[1:], 1
@@ -65,13 +70,13 @@ def read_off(data: bytes, name: str) -> MeshData:
         )
     if n_faces == 0:
         raise MeshFileError(f"{name}: no faces")
-    triangles = _off_triangles_fast(face_rows)
-    if triangles is not None:
-        owner = np.arange(len(triangles))
+    table = _off_polygons_fast(face_rows)
+    if table is not None:
+        corners, sizes = table.ravel(), np.full(len(table), table.shape[1])
     else:
-        triangles, owner = _off_polygons(face_rows, n_vertices, name)
-    check_polygon_indices(triangles, owner, n_vertices, lambda p: f"{name}, line {face_rows[p][0]}")
-    return MeshData(v, triangles)
+        corners, sizes = _off_polygons(face_rows, n_vertices, name)
+    check_corner_indices(corners, sizes, n_vertices, lambda p: f"{name}, line {face_rows[p][0]}")
+    return MeshData(v, corners[triangulate(v, corners, sizes)])
 
 
 def _off_vertices(vertex_rows: list[tuple[int, str]], name: str) -> np.ndarray:
@@ -91,24 +96,26 @@ def _off_vertices(vertex_rows: list[tuple[int, str]], name: str) -> np.ndarray:
     return np.array(coordinates, dtype=np.float64)
 
 
-def _off_triangles_fast(face_rows: list[tuple[int, str]]) -> np.ndarray | None:
-    """(F, 3) indices when every face line is exactly ``3 a b c``, else None."""
+def _off_polygons_fast(face_rows: list[tuple[int, str]]) -> np.ndarray | None:
+    """(F, k) indices when every face line is exactly ``k a b c ...`` with the same k ≥ 3
+    (all triangles, all quads), else None."""
     tokens = " ".join(line for _, line in face_rows).split()
-    if len(tokens) != 4 * len(face_rows):
+    width = len(tokens) // len(face_rows)
+    if width < 4 or len(tokens) != width * len(face_rows):
         return None
     try:
-        table = np.array(tokens, dtype=np.int64).reshape(-1, 4)
-    except (ValueError, OverflowError):  # the strict reader names the line
+        table = np.array(tokens, dtype=np.int64).reshape(-1, width)
+    except (ValueError, OverflowError):  # the line-by-line reader names the line
         return None
-    return table[:, 1:] if np.all(table[:, 0] == 3) else None
+    return table[:, 1:] if np.all(table[:, 0] == width - 1) else None
 
 
 def _off_polygons(
     face_rows: list[tuple[int, str]], n_vertices: int, name: str
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Triangles (T, 3) and their face (T,) from OFF face lines of any sizes; values after a
+    """Corners (C,) and sizes (F,) of the faces of OFF face lines of any sizes; values after a
     face's indices (a colour) are ignored."""
-    polygons: list[np.ndarray] = []
+    polygons: list[list[int]] = []
     for face, (number, line) in enumerate(face_rows):
         words = line.split()
         try:
@@ -128,8 +135,9 @@ def _off_polygons(
                 f"{name}, line {number}: face {face} references vertex {outside[0]} but the file "
                 f"has {n_vertices} vertices"
             )
-        polygons.append(np.array(corners, dtype=np.int64))
-    return fan_ragged(polygons)
+        polygons.append(corners)
+    sizes = np.array([len(p) for p in polygons], dtype=np.int64)
+    return np.array([c for p in polygons for c in p], dtype=np.int64), sizes
 
 
 def write_off(mesh: MeshData, out: BinaryIO) -> None:

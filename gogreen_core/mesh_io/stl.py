@@ -1,33 +1,91 @@
-"""STL, through trimesh with ``process=False``. An STL file has no shared vertices: each triangle
-lists its own three corners, so a loaded STL has 3·M vertices in file order (no welding, which
-would renumber them). STL stores float32, so saving to STL rounds positions."""
+"""STL, binary and ASCII, read and written here (numpy views of the file, no copies beyond the
+float64 positions).
+
+An STL file has no shared vertices: each triangle lists its own three corners (float32). They
+are welded at load (:func:`~gogreen_core.mesh_io.weld.weld`: corners at exactly the same
+position are one vertex, in order of first appearance), so a closed model loads closed, as it
+was in the program that wrote it; saving writes each triangle's corners again. STL stores
+float32, so saving to STL rounds positions. Normals in the file are ignored (the corners' order
+gives the orientation); the attribute word of each binary triangle too.
+"""
 
 from __future__ import annotations
 
-import io
+import re
 from typing import BinaryIO
 
 import numpy as np
 
 from gogreen_core.mesh_io.data import MeshData, MeshFileError
+from gogreen_core.mesh_io.text import parse_numbers, without_dos_eof
+from gogreen_core.mesh_io.weld import weld
 
 __all__ = ["read_stl", "write_stl"]
 
+_HEADER = 80
+_TRIANGLE = np.dtype([("normal", "<f4", 3), ("corners", "<f4", (3, 3)), ("attribute", "<u2")])
+
 
 def read_stl(data: bytes, name: str) -> MeshData:
-    import trimesh
+    if len(data) >= _HEADER + 4:
+        count = int(np.frombuffer(data, "<u4", 1, _HEADER)[0])
+        if len(data) == _HEADER + 4 + count * _TRIANGLE.itemsize:
+            triangles = np.frombuffer(data, _TRIANGLE, count, _HEADER + 4)
+            return _welded(triangles["corners"].reshape(-1, 3), name)
+    else:
+        count = None
+    if data.lstrip()[:5].lower() == b"solid":
+        return _welded(_ascii_corners(data, name), name)
+    announced = "" if count is None else f": its header announces {count} triangles"
+    raise MeshFileError(
+        f"{name}: no triangles could be read (a binary STL of {len(data)} bytes{announced}, "
+        "which do not fit: broken or truncated STL)"
+    )
 
+
+def _ascii_corners(data: bytes, name: str) -> np.ndarray:
+    """(3·M, 3) corner positions of an ASCII STL (every solid of the file)."""
+    text = without_dos_eof(data).lower()
+    facets = len(re.findall(rb"\bendfacet\b", text))
+    found = re.findall(rb"\bvertex\s+(\S+)\s+(\S+)\s+(\S+)", text)
+    if facets == 0 or len(found) != 3 * facets:
+        raise MeshFileError(
+            f"{name}: no triangles could be read (an ASCII STL with {facets} complete facets "
+            f"and {len(found)} vertices: broken or truncated STL)"
+        )
     try:
-        loaded = trimesh.load(io.BytesIO(data), file_type="stl", process=False, force="mesh")
-    except Exception as exc:  # trimesh raises many kinds of errors on broken files
-        raise MeshFileError(f"{name}: broken STL file ({exc or type(exc).__name__})") from None
-    if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0:
-        raise MeshFileError(f"{name}: no triangles could be read (broken or truncated STL)")
-    return MeshData(np.array(loaded.vertices, dtype=np.float64), np.array(loaded.faces))
+        return parse_numbers(b" ".join(b" ".join(xyz) for xyz in found), np.float64).reshape(-1, 3)
+    except ValueError:
+        bad = next(b" ".join(xyz) for xyz in found if not _all_numbers(xyz))
+        raise MeshFileError(
+            f"{name}: bad number in the vertex {bad.decode('ascii', 'replace')!r}"
+        ) from None
+
+
+def _all_numbers(tokens: tuple[bytes, ...]) -> bool:
+    try:
+        [float(t) for t in tokens]
+    except ValueError:
+        return False
+    return True
+
+
+def _welded(corners: np.ndarray, name: str) -> MeshData:
+    if len(corners) == 0:
+        raise MeshFileError(f"{name}: no triangles could be read (an STL without triangles)")
+    points = corners.astype(np.float64)
+    index, kept = weld(points)
+    return MeshData(points[kept], index.reshape(-1, 3))
 
 
 def write_stl(mesh: MeshData, out: BinaryIO) -> None:
-    import trimesh
-
-    tm = trimesh.Trimesh(mesh.vertices, mesh.faces, process=False)
-    out.write(trimesh.exchange.stl.export_stl(tm))
+    """Binary STL: each triangle's unit normal (0 for a degenerate one) and its corners, in
+    float32."""
+    corners = mesh.vertices[mesh.faces]
+    normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    length = np.linalg.norm(normal, axis=1, keepdims=True)
+    table = np.zeros(len(mesh.faces), dtype=_TRIANGLE)
+    table["normal"] = np.divide(normal, length, out=np.zeros_like(normal), where=length > 0)
+    table["corners"] = corners
+    header = b"binary STL written by GoGreen Sculpt".ljust(_HEADER, b" ")
+    out.write(header + np.array(len(table), dtype="<u4").tobytes() + table.tobytes())
