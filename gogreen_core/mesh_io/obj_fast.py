@@ -236,9 +236,10 @@ def read_obj_fast(data: bytes) -> MeshData | None:
         data = data.replace(b"\r\n", b"\n")
         if b"\r" in data:
             return None
-    if b"\\" in data:  # lines continued by a backslash (comments never are)
-        if b"#" in data:
-            return None
+    if b"\\" in data:  # lines continued by a backslash
+        continued = [m.start() for m in re.finditer(rb"\\[ \t]*\n", data)]
+        if any(b"#" in data[data.rfind(b"\n", 0, at) + 1 : at] for at in continued):
+            return None  # a comment never continues: the strict reader knows that
         data = re.sub(rb"\\[ \t]*\n", b" ", data)
     if not data.endswith(b"\n"):
         data += b"\n"
