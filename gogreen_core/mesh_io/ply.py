@@ -89,7 +89,7 @@ def read_ply(data: bytes, name: str) -> MeshData:
         mesh = MeshData(points, file_faces)
     else:  # split vertices (UV seams) are joined back
         _check_finite(points, name, "a non-finite coordinate")  # named as the file counts
-        index, kept = weld(points, np.stack(others, axis=1).astype(np.float64))
+        index, kept = weld(points, np.stack(others, axis=1))
         mesh = MeshData(points[kept], index[file_faces])
     if uv is not None:
         mesh.uv, mesh.uv_faces = uv, file_faces

@@ -281,7 +281,9 @@ def _copy_runs(buffer, starts, nbytes):
     out = np.empty(total, dtype=np.uint8)
     at = 0
     for i in range(len(starts)):
-        out[at : at + nbytes[i]] = buffer[starts[i] : starts[i] + nbytes[i]]
+        start = starts[i]
+        for b in range(nbytes[i]):  # a few bytes each: a loop beats a slice copy
+            out[at + b] = buffer[start + b]
         at += nbytes[i]
     return out
 

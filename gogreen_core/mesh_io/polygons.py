@@ -96,8 +96,7 @@ def _fans(points, corners, sizes, tolerance):
         n_triangles += sizes[p] - 2
     triangles = np.empty((n_triangles, 3), dtype=np.int64)
     folded = np.zeros(len(sizes), dtype=np.bool_)
-    cross = np.empty((np.max(sizes), 3))
-    scale = np.empty(np.max(sizes))
+    cross = np.empty((np.max(sizes), 4))  # per fan triangle: its cross product and scale
     c = 0
     t = 0
     for p in range(len(sizes)):
@@ -107,19 +106,28 @@ def _fans(points, corners, sizes, tolerance):
             triangles[t + j, 1] = c + j + 1
             triangles[t + j, 2] = c + j + 2
         if k > 3:
-            origin = points[corners[c]]
-            normal = np.zeros(3)
+            o = corners[c]
+            nx = ny = nz = 0.0
             for j in range(k - 2):
-                a = points[corners[c + j + 1]] - origin
-                b = points[corners[c + j + 2]] - origin
-                cross[j, 0] = a[1] * b[2] - a[2] * b[1]
-                cross[j, 1] = a[2] * b[0] - a[0] * b[2]
-                cross[j, 2] = a[0] * b[1] - a[1] * b[0]
-                scale[j] = np.sqrt((a @ a) * (b @ b))
-                normal += cross[j]
-            length = np.sqrt(normal @ normal)
+                b = corners[c + j + 1]
+                d = corners[c + j + 2]
+                ax = points[b, 0] - points[o, 0]
+                ay = points[b, 1] - points[o, 1]
+                az = points[b, 2] - points[o, 2]
+                bx = points[d, 0] - points[o, 0]
+                by = points[d, 1] - points[o, 1]
+                bz = points[d, 2] - points[o, 2]
+                cross[j, 0] = ay * bz - az * by
+                cross[j, 1] = az * bx - ax * bz
+                cross[j, 2] = ax * by - ay * bx
+                cross[j, 3] = np.sqrt((ax * ax + ay * ay + az * az) * (bx * bx + by * by + bz * bz))
+                nx += cross[j, 0]
+                ny += cross[j, 1]
+                nz += cross[j, 2]
+            length = np.sqrt(nx * nx + ny * ny + nz * nz)
             for j in range(k - 2):
-                if cross[j] @ normal < -tolerance * scale[j] * length:
+                side = cross[j, 0] * nx + cross[j, 1] * ny + cross[j, 2] * nz
+                if side < -tolerance * cross[j, 3] * length:
                     folded[p] = True
                     break
         c += k

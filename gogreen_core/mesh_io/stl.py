@@ -73,9 +73,11 @@ def _all_numbers(tokens: tuple[bytes, ...]) -> bool:
 def _welded(corners: np.ndarray, name: str) -> MeshData:
     if len(corners) == 0:
         raise MeshFileError(f"{name}: no triangles could be read (an STL without triangles)")
-    points = corners.astype(np.float64)
-    index, kept = weld(points)
-    return MeshData(points[kept], index.reshape(-1, 3))
+    try:
+        index, kept = weld(corners)  # float32 keys for binary STL
+    except ValueError as exc:
+        raise MeshFileError(f"{name}: {exc}") from None
+    return MeshData(corners[kept].astype(np.float64), index.reshape(-1, 3))
 
 
 def write_stl(mesh: MeshData, out: BinaryIO) -> None:
