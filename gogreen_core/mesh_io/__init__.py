@@ -1,7 +1,11 @@
 """Mesh files: OBJ, PLY (ASCII and binary), STL and OFF, loaded and saved without reordering.
 
-Loading keeps the vertices exactly as the file lists them: same count, same order, no merging.
-Polygons are fan-triangulated (corners ``0, k, k+1``), so a quad becomes two triangles in place.
+Loading keeps the vertices as the file lists them: same order, and the same count except where
+the format itself made copies of a vertex: STL's triangle corners and the vertices a PLY (as
+Blender writes it) splits along UV seams are welded back into one, so the surface a brush
+deforms is in one piece. Polygons are triangulated by their shape: a convex polygon (a quad)
+by its fan (corners ``0, k, k+1``) in place, as the file orders it; a concave n-gon without
+covering its notch (:mod:`~gogreen_core.mesh_io.polygons`).
 
 Text is read as UTF-8; a leading byte-order mark is skipped and CR LF or lone CR line ends are
 accepted, so no first vertex or line is lost to them.
@@ -17,10 +21,12 @@ with whole-array operations.
 
 Modules: :mod:`~gogreen_core.mesh_io.formats` (``load_mesh``, ``save_mesh``: the reader or
 writer by extension), one module per format (``obj`` with its two readers ``obj_fast`` and
-``obj_strict``, ``ply``, ``stl``, ``off``), ``data`` (``MeshData``, ``MeshFileError``),
-``polygons`` (polygons to triangles), ``text`` (number parsing and formatting) and ``atomic``
-(``write_bytes_atomic``, ``write_text_atomic``, also used for sessions, presets and
-screenshots).
+``obj_strict``, ``ply`` with ``ply_elements`` for its records, ``stl``, ``off``), ``data``
+(``MeshData``, ``MeshFileError``), ``polygons`` (polygons to triangles), ``weld`` (joining
+and splitting vertices at seams), ``text`` (number parsing, the same under numpy 1.26 and 2,
+and formatting) and ``atomic`` (``write_bytes_atomic``, ``write_text_atomic``, also used for
+sessions, presets and screenshots). A few loops run as numba code (cached on disk like the
+kernels'): the PLY record walk, the fan test and the weld.
 """
 
 from gogreen_core.mesh_io.atomic import write_bytes_atomic, write_text_atomic

@@ -24,12 +24,14 @@ class MeshData:
     Attributes
     ----------
     vertices : (N, 3) float64
-        Positions, in the file's units and order.
+        Positions, in the file's units and order (vertices that STL or a PLY split only for
+        their format are one vertex, at its first appearance).
     faces : (M, 3) int64
         Vertex indices (from 0) of each triangle, counter-clockwise seen from outside when the
         file is consistently oriented.
     uv : (T, 2) float64 or None
-        Texture coordinates (OBJ ``vt``), shared between corners like the file shares them.
+        Texture coordinates: OBJ ``vt`` records, shared between corners like the file shares
+        them; a PLY's per-vertex ``s, t`` (one row per vertex of the file).
     uv_faces : (M, 3) int64 or None
         Per face corner, the row of ``uv`` it uses; a row of -1 marks a face that has no
         texture coordinates (allowed in OBJ). Set together with ``uv``.

@@ -30,18 +30,24 @@ _READERS: dict[str, Callable[[bytes, str], MeshData]] = {
 
 
 def load_mesh(path: str | os.PathLike) -> MeshData:
-    """Read a triangle mesh, keeping its vertices' count and order exactly as in the file.
+    """Read a triangle mesh, keeping its vertices' count and order as in the file.
+
+    Vertices that the format made copies of are joined back (STL's triangle corners, a PLY's
+    vertices split along UV seams), so that a closed model loads closed; OBJ and OFF vertices
+    and those of a PLY without such splits stay exactly as listed. Polygons are triangulated by
+    their shape (convex ones by the fan from their first corner, in file order).
 
     Parameters
     ----------
     path : str or PathLike
-        A ``.obj``, ``.ply`` (ASCII or binary), ``.stl`` or ``.off`` file (case-insensitive).
+        A ``.obj``, ``.ply`` (ASCII or binary), ``.stl`` (binary or ASCII) or ``.off`` file
+        (case-insensitive).
 
     Returns
     -------
     MeshData
-        vertices (N, 3) float64 in file units, faces (M, 3) int64 (polygons fan-triangulated),
-        ``uv``/``uv_faces`` for an OBJ with texture coordinates, ``source`` = ``str(path)``.
+        vertices (N, 3) float64 in file units, faces (M, 3) int64, ``uv``/``uv_faces`` for an
+        OBJ or PLY with texture coordinates, ``source`` = ``str(path)``.
 
     Raises
     ------
@@ -79,7 +85,8 @@ def save_mesh(mesh: MeshData, path: str | os.PathLike, *, ascii: bool = False) -
     ----------
     mesh : MeshData
         vertices (N, 3) float64 (must be finite), faces (M, 3) int64; ``uv``/``uv_faces`` are
-        written to OBJ only.
+        written to OBJ (per corner) and PLY (``s, t`` per vertex: a vertex whose corners have
+        several is written once per texture coordinate, which loading joins back).
     path : str or PathLike
         ``.obj``, ``.ply``, ``.stl`` or ``.off``. A symbolic link is written through (the
         link stays); an existing file keeps its permission bits.
