@@ -126,9 +126,10 @@ def test_a_blender_ply_without_uvs_keeps_its_vertices_as_listed(tmp_path: Path):
     assert edges_used_once(mesh.faces) == 0
 
 
-def test_touching_vertices_with_the_same_attributes_stay_apart(tmp_path: Path):
-    """Two triangles meeting at one point, written with the same UV there: two vertices of the
-    model, not a split made by the exporter, so they are not welded."""
+def test_ply_vertices_at_one_position_are_joined_when_the_file_has_attributes(tmp_path: Path):
+    """Two triangles meeting at one point: with UVs in the file they are welded there, equal
+    UVs (an exporter that writes a vertex per corner, or UVs equal after rounding to float32)
+    or not; a file of positions only keeps its vertices as listed."""
     header = (
         "ply\nformat ascii 1.0\nelement vertex 6\nproperty float x\nproperty float y\n"
         "property float z\nproperty float s\nproperty float t\nelement face 2\n"
@@ -137,9 +138,15 @@ def test_touching_vertices_with_the_same_attributes_stay_apart(tmp_path: Path):
     rows = "0 0 0 0 0\n1 0 0 1 0\n1 1 0 1 1\n1 1 0 1 1\n2 1 0 0 1\n2 2 0 0 0\n3 0 1 2\n3 3 4 5\n"
     path = tmp_path / "touch.ply"
     path.write_text(header + rows)
-    assert len(load_mesh(path).vertices) == 6
+    mesh = load_mesh(path)
+    assert len(mesh.vertices) == 5 and mesh.faces.tolist() == [[0, 1, 2], [2, 3, 4]]
+    assert mesh.uv_faces.tolist() == [[0, 1, 2], [3, 4, 5]]  # the file's corners
     path.write_text(header + rows.replace("1 1 0 1 1\n2 1", "1 1 0 0.5 1\n2 1"))  # a seam
     assert len(load_mesh(path).vertices) == 5
+    plain = header.replace("property float s\nproperty float t\n", "")
+    positions = "0 0 0\n1 0 0\n1 1 0\n1 1 0\n2 1 0\n2 2 0\n3 0 1 2\n3 3 4 5\n"
+    path.write_text(plain + positions)
+    assert len(load_mesh(path).vertices) == 6
 
 
 @pytest.mark.parametrize("model", [u_prism, uv_sphere])

@@ -4,10 +4,12 @@ which silently drops the faces of a truncated binary file instead of reporting i
 Reading: positions ``x, y, z``; texture coordinates ``s, t`` (Blender), ``u, v``,
 ``texture_u, texture_v`` or ``texture_s, texture_t``; faces (``vertex_indices`` or
 ``vertex_index`` lists, triangulated by their shape) and triangle strips (element
-``tristrips``). Vertices that the file split only for their attributes (Blender splits them
-along UV seams) are welded back, so the surface is one piece (:mod:`~gogreen_core.mesh_io.weld`);
-``MeshData.uv`` then holds the file's per-vertex texture coordinates and ``uv_faces`` the
-file's vertex of each corner. Other vertex properties (normals, colours) are read and dropped.
+``tristrips``). In a file whose vertices carry attributes besides their position, vertices at
+the same position are welded (:mod:`~gogreen_core.mesh_io.weld`): exporters split vertices for
+their attributes (Blender along UV seams), and the surface must be one piece. ``MeshData.uv``
+holds the file's per-vertex texture coordinates and ``uv_faces`` the file's vertex of each
+corner. Other vertex properties (normals, colours) are read and dropped. A file with positions
+only keeps its vertices exactly as listed.
 
 Writing: float64 positions (trimesh writes float32, which would round sculpted positions),
 int32 indices, and ``s, t`` when the mesh has texture coordinates, split at the seams.
@@ -84,12 +86,16 @@ def read_ply(data: bytes, name: str) -> MeshData:
     if uv_names is not None:
         uv = np.stack([scalars[n] for n in uv_names], axis=1).astype(np.float64)
         _check_finite(uv, name, "a non-finite texture coordinate")
-    others = [column for key, column in scalars.items() if key not in ("x", "y", "z")]
-    if not others:
+    if set(vertex) == {"x", "y", "z"}:
         mesh = MeshData(points, file_faces)
-    else:  # split vertices (UV seams) are joined back
+    else:
+        # Per-vertex attributes (UVs, normals, colours): exporters split a vertex for each
+        # value its corners have (Blender along UV seams). Vertices at the same position are
+        # joined back, whether their attributes differ or not (an exporter that writes a
+        # vertex per corner, or UVs that differ only before rounding to float32), so that the
+        # surface is one piece.
         _check_finite(points, name, "a non-finite coordinate")  # named as the file counts
-        index, kept = weld(points, np.stack(others, axis=1))
+        index, kept = weld(points)
         mesh = MeshData(points[kept], index[file_faces])
     if uv is not None:
         mesh.uv, mesh.uv_faces = uv, file_faces

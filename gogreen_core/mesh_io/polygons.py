@@ -75,9 +75,9 @@ def triangulate(points: np.ndarray, corners: np.ndarray, sizes: np.ndarray) -> n
         return np.arange(3 * len(sizes), dtype=np.int64).reshape(-1, 3)
     corners = np.ascontiguousarray(corners, dtype=np.int64)
     points = np.ascontiguousarray(points, dtype=np.float64)
-    triangles, folded = _fans(points, corners, sizes, _FOLD_TOLERANCE)
-    if folded.any():
-        _retriangulate(points, corners, sizes, triangles, np.flatnonzero(folded))
+    triangles, uncovered = _fans(points, corners, sizes, _FOLD_TOLERANCE, _MAX_FAN_STARTS)
+    if uncovered.any():
+        _ear_clip_all(points, corners, sizes, triangles, np.flatnonzero(uncovered))
     return triangles
 
 
@@ -87,16 +87,15 @@ def _starts(sizes: np.ndarray) -> np.ndarray:
 
 
 @numba.njit(cache=True, nogil=True)
-def _fans(points, corners, sizes, tolerance):
-    """The fan of each polygon from its first corner (T, 3) (positions in ``corners``), and
-    whether it folds over (P,): a fan triangle turns against the polygon's Newell normal (its
-    best-fit plane), which is the sum of the fan triangles' cross products."""
+def _fans(points, corners, sizes, tolerance, max_starts):
+    """Fan triangles of each polygon (T, 3) (positions in ``corners``): from its first corner
+    when that fan covers it, else from the first other corner whose fan does (polygons of up to
+    ``max_starts`` corners); and which polygons no fan covers (P,), for ear clipping."""
     n_triangles = 0
     for p in range(len(sizes)):
         n_triangles += sizes[p] - 2
     triangles = np.empty((n_triangles, 3), dtype=np.int64)
-    folded = np.zeros(len(sizes), dtype=np.bool_)
-    cross = np.empty((np.max(sizes), 4))  # per fan triangle: its cross product and scale
+    uncovered = np.zeros(len(sizes), dtype=np.bool_)
     c = 0
     t = 0
     for p in range(len(sizes)):
@@ -106,88 +105,75 @@ def _fans(points, corners, sizes, tolerance):
             triangles[t + j, 1] = c + j + 1
             triangles[t + j, 2] = c + j + 2
         if k > 3:
-            o = corners[c]
+            # The Newell normal: the sum of the cross products of any fan's triangles.
             nx = ny = nz = 0.0
-            for j in range(k - 2):
-                b = corners[c + j + 1]
-                d = corners[c + j + 2]
-                ax = points[b, 0] - points[o, 0]
-                ay = points[b, 1] - points[o, 1]
-                az = points[b, 2] - points[o, 2]
-                bx = points[d, 0] - points[o, 0]
-                by = points[d, 1] - points[o, 1]
-                bz = points[d, 2] - points[o, 2]
-                cross[j, 0] = ay * bz - az * by
-                cross[j, 1] = az * bx - ax * bz
-                cross[j, 2] = ax * by - ay * bx
-                cross[j, 3] = np.sqrt((ax * ax + ay * ay + az * az) * (bx * bx + by * by + bz * bz))
-                nx += cross[j, 0]
-                ny += cross[j, 1]
-                nz += cross[j, 2]
+            o = corners[c]
+            for j in range(1, k - 1):
+                ax, ay, az = _edge(points, o, corners[c + j])
+                bx, by, bz = _edge(points, o, corners[c + j + 1])
+                nx += ay * bz - az * by
+                ny += az * bx - ax * bz
+                nz += ax * by - ay * bx
             length = np.sqrt(nx * nx + ny * ny + nz * nz)
-            for j in range(k - 2):
-                side = cross[j, 0] * nx + cross[j, 1] * ny + cross[j, 2] * nz
-                if side < -tolerance * cross[j, 3] * length:
-                    folded[p] = True
+            covered = False
+            for start in range(k if k <= max_starts else 1):
+                if _fan_covers(points, corners, c, k, start, nx, ny, nz, length, tolerance):
+                    for j in range(k - 2):
+                        triangles[t + j, 0] = c + start
+                        triangles[t + j, 1] = c + (start + j + 1) % k
+                        triangles[t + j, 2] = c + (start + j + 2) % k
+                    covered = True
                     break
+            uncovered[p] = not covered
         c += k
         t += k - 2
-    return triangles, folded
+    return triangles, uncovered
 
 
-def _retriangulate(
+@numba.njit(cache=True, nogil=True, inline="always")
+def _edge(points, a, b):
+    return points[b, 0] - points[a, 0], points[b, 1] - points[a, 1], points[b, 2] - points[a, 2]
+
+
+@numba.njit(cache=True, nogil=True)
+def _fan_covers(points, corners, c, k, start, nx, ny, nz, length, tolerance):
+    """Whether every triangle of the fan from corner ``start`` of the polygon at ``c`` turns
+    with the normal (within ``tolerance``: the sine of its angle against the plane)."""
+    o = corners[c + start]
+    for j in range(1, k - 1):
+        ax, ay, az = _edge(points, o, corners[c + (start + j) % k])
+        bx, by, bz = _edge(points, o, corners[c + (start + j + 1) % k])
+        side = (ay * bz - az * by) * nx + (az * bx - ax * bz) * ny + (ax * by - ay * bx) * nz
+        scale = np.sqrt((ax * ax + ay * ay + az * az) * (bx * bx + by * by + bz * bz))
+        if side < -tolerance * scale * length:
+            return False
+    return True
+
+
+def _ear_clip_all(
     points: np.ndarray,
     corners: np.ndarray,
     sizes: np.ndarray,
     triangles: np.ndarray,
     polygons: np.ndarray,
 ) -> None:
-    """Replace, in ``triangles``, the fans of ``polygons`` by triangulations that cover them:
-    the fan from another corner when one does, else ear clipping."""
+    """Replace, in ``triangles``, the fans of ``polygons`` (which no fan covers) by ear
+    clipping; a polygon it fails on (degenerate, twisted) keeps its fan."""
     corner_starts, triangle_starts = _starts(sizes), _starts(sizes - 2)
-    for k in np.unique(sizes[polygons]).tolist():
-        group = polygons[sizes[polygons] == k]
-        positions = points[corners[corner_starts[group][:, None] + np.arange(k)]]  # (G, k, 3)
-        local = np.arange(k - 2)
-        normal = np.cross(
-            positions[:, 1:-1] - positions[:, :1], positions[:, 2:] - positions[:, :1]
-        ).sum(axis=1)
-        left = np.ones(len(group), dtype=bool)
-        for start in range(1, k if k <= _MAX_FAN_STARTS else 1):
-            ring = (start + np.arange(k)) % k
-            covers = left & _fan_covers(positions[:, ring], normal)
-            if covers.any():
-                fan_rows = np.stack([np.zeros(k - 2, int), local + 1, local + 2], axis=1)
-                rows = triangle_starts[group[covers]][:, None] + local
-                triangles[rows] = corner_starts[group[covers]][:, None, None] + ring[fan_rows]
-                left &= ~covers
-            if not left.any():
-                break
-        for g in np.flatnonzero(left).tolist():
-            clipped = _ear_clip(positions[g], normal[g])
-            if clipped is not None:  # else the fan stays: a degenerate or twisted polygon
-                rows = triangle_starts[group[g]] + local
-                triangles[rows] = corner_starts[group[g]] + clipped
+    for p in polygons.tolist():
+        k = int(sizes[p])
+        positions = points[corners[corner_starts[p] : corner_starts[p] + k]]
+        clipped = _ear_clip(positions)
+        if clipped is not None:
+            triangles[triangle_starts[p] : triangle_starts[p] + k - 2] = corner_starts[p] + clipped
 
 
-def _fan_covers(positions: np.ndarray, normal: np.ndarray) -> np.ndarray:
-    """Whether the fan from the first corner of each polygon (G, k, 3) stays on the side of
-    its ``normal`` (G, 3)."""
-    a = positions[:, 1:-1] - positions[:, :1]
-    b = positions[:, 2:] - positions[:, :1]
-    side = np.einsum("gtj,gj->gt", np.cross(a, b), normal)
-    scale = np.sqrt(
-        np.einsum("gtj,gtj->gt", a, a)
-        * np.einsum("gtj,gtj->gt", b, b)
-        * np.einsum("gj,gj->g", normal, normal)[:, None]
-    )
-    return (side >= -_FOLD_TOLERANCE * scale).all(axis=1)
-
-
-def _ear_clip(positions: np.ndarray, normal: np.ndarray) -> np.ndarray | None:
-    """Triangles (k-2, 3) of corner numbers covering one polygon (k, 3) with Newell ``normal``,
-    by ear clipping on its best-fit plane; None when that fails (a twisted polygon)."""
+def _ear_clip(positions: np.ndarray) -> np.ndarray | None:
+    """Triangles (k-2, 3) of corner numbers covering one polygon (k, 3), by ear clipping on its
+    best-fit plane; None when that fails (a twisted polygon)."""
     k = len(positions)
+    edges = positions[1:] - positions[0]
+    normal = np.cross(edges[:-1], edges[1:]).sum(axis=0)  # Newell's
     length = np.linalg.norm(normal)
     if not length > 0:
         return None
