@@ -345,3 +345,48 @@ def test_decimals_are_rounded_correctly_under_any_numpy(tmp_path: Path):
     mesh = load_mesh(path)
     assert mesh.vertices[:, 0].tolist() == [float(f"{x}.1") for x, _ in U_SHAPE]
     assert triangle_area(mesh.vertices, mesh.faces) == pytest.approx(5.0, rel=1e-14)
+
+
+# -- compiled code -----------------------------------------------------------------------------
+WARM_UP_CHECK = """
+import sys
+import numpy as np
+from gogreen_core import mesh_io
+from gogreen_core.mesh_io import ply_elements, polygons, weld
+
+loops = [ply_elements._walk_binary_records, ply_elements._copy_runs,
+         ply_elements._walk_ascii_records, polygons._fans, weld._first_equal_rows]
+mesh_io.warm_up()
+ready = {f: set(f.signatures) for f in loops}
+for path in sys.argv[1:]:
+    mesh = mesh_io.load_mesh(path)
+    mesh_io.save_mesh(mesh, path + ".ply")
+new = [(f.__name__, s) for f in loops for s in f.signatures if s not in ready[f]]
+print(new)
+"""
+
+
+def test_warm_up_compiles_every_loop_that_loading_runs(tmp_path: Path):
+    """After ``warm_up`` (the app runs it off the GUI thread), loading files of every kind
+    compiles nothing more: a fresh process lists the compiled signatures."""
+    import subprocess
+    import sys
+
+    from mesh_io_models import binary_stl, blender_obj, blender_ply, u_prism, uv_sphere
+
+    prism, sphere = u_prism(), uv_sphere()
+    files = {
+        "a.ply": blender_ply(sphere),
+        "b.ply": blender_ply(prism, ascii=True),
+        "c.ply": blender_ply(prism, export_uv=False),
+        "d.stl": binary_stl(sphere.vertices, sphere.triangles),
+        "e.obj": blender_obj({"Prism": prism}).encode(),
+        "f.stl": TRIANGLE_FILES["t.stl"].encode(),
+    }
+    for name, data in files.items():
+        (tmp_path / name).write_bytes(data)
+    paths = [str(tmp_path / name) for name in files]
+    result = subprocess.run(
+        [sys.executable, "-c", WARM_UP_CHECK, *paths], capture_output=True, text=True, check=True
+    )
+    assert result.stdout.strip() == "[]", result.stdout

@@ -31,7 +31,7 @@ kernels'): the PLY record walk, the fan test and the weld.
 
 from gogreen_core.mesh_io.atomic import write_bytes_atomic, write_text_atomic
 from gogreen_core.mesh_io.data import MeshData, MeshFileError
-from gogreen_core.mesh_io.formats import MESH_FORMATS, load_mesh, save_mesh
+from gogreen_core.mesh_io.formats import MESH_FORMATS, load_mesh, save_mesh, warm_up
 
 __all__ = [
     "MESH_FORMATS",
@@ -39,6 +39,7 @@ __all__ = [
     "MeshFileError",
     "load_mesh",
     "save_mesh",
+    "warm_up",
     "write_bytes_atomic",
     "write_text_atomic",
 ]

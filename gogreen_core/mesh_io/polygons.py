@@ -70,7 +70,7 @@ def triangulate(points: np.ndarray, corners: np.ndarray, sizes: np.ndarray) -> n
     (T, 3) int64
         Positions in ``corners`` of each triangle's corners, T = Σ(k-2), polygon after polygon.
     """
-    sizes = np.asarray(sizes, dtype=np.int64)
+    sizes = np.ascontiguousarray(sizes, dtype=np.int64)
     if len(sizes) == 0 or sizes.max() == 3:
         return np.arange(3 * len(sizes), dtype=np.int64).reshape(-1, 3)
     corners = np.ascontiguousarray(corners, dtype=np.int64)

@@ -20,17 +20,18 @@ from gogreen_core.mesh_io.data import MeshData, MeshFileError
 from gogreen_core.mesh_io.text import parse_numbers, without_dos_eof
 from gogreen_core.mesh_io.weld import weld
 
-__all__ = ["read_stl", "write_stl"]
+__all__ = ["TRIANGLE", "read_stl", "write_stl"]
 
 _HEADER = 80
-_TRIANGLE = np.dtype([("normal", "<f4", 3), ("corners", "<f4", (3, 3)), ("attribute", "<u2")])
+#: A binary STL triangle record.
+TRIANGLE = np.dtype([("normal", "<f4", 3), ("corners", "<f4", (3, 3)), ("attribute", "<u2")])
 
 
 def read_stl(data: bytes, name: str) -> MeshData:
     if len(data) >= _HEADER + 4:
         count = int(np.frombuffer(data, "<u4", 1, _HEADER)[0])
-        if len(data) == _HEADER + 4 + count * _TRIANGLE.itemsize:
-            triangles = np.frombuffer(data, _TRIANGLE, count, _HEADER + 4)
+        if len(data) == _HEADER + 4 + count * TRIANGLE.itemsize:
+            triangles = np.frombuffer(data, TRIANGLE, count, _HEADER + 4)
             return _welded(triangles["corners"].reshape(-1, 3), name)
     else:
         count = None
@@ -86,7 +87,7 @@ def write_stl(mesh: MeshData, out: BinaryIO) -> None:
     corners = mesh.vertices[mesh.faces]
     normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
     length = np.linalg.norm(normal, axis=1, keepdims=True)
-    table = np.zeros(len(mesh.faces), dtype=_TRIANGLE)
+    table = np.zeros(len(mesh.faces), dtype=TRIANGLE)
     table["normal"] = np.divide(normal, length, out=np.zeros_like(normal), where=length > 0)
     table["corners"] = corners
     header = b"binary STL written by GoGreen Sculpt".ljust(_HEADER, b" ")
