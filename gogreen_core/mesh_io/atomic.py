@@ -18,18 +18,22 @@ from gogreen_core.mesh_io.data import MeshFileError
 __all__ = ["atomic_write", "write_bytes_atomic", "write_text_atomic"]
 
 
-def write_text_atomic(path: str | os.PathLike, text: str) -> None:
+def write_text_atomic(path: str | os.PathLike[str], text: str) -> None:
     """Write ``text`` (UTF-8) to ``path`` through a temporary file renamed over it, so a failed
     write never leaves a half-written file (sessions, presets). ``MeshFileError`` on failure."""
     write_bytes_atomic(path, text.encode("utf-8"))
 
 
-def write_bytes_atomic(path: str | os.PathLike, data: bytes) -> None:
+def write_bytes_atomic(path: str | os.PathLike[str], data: bytes) -> None:
     """Write ``data`` to ``path`` through a temporary file renamed over it, so a failed write
     never leaves a half-written file (screenshots). ``MeshFileError`` on failure."""
     p = Path(path)
+
+    def write(out: BinaryIO) -> None:
+        out.write(data)
+
     try:
-        atomic_write(p, lambda out: out.write(data))
+        atomic_write(p, write)
     except OSError as exc:
         raise MeshFileError(f"{p.name}: cannot write ({exc.strerror or exc})") from None
 

@@ -90,6 +90,7 @@ def validate_mesh(mesh: MeshData, name: str) -> None:
     if mesh.uv is None:
         return
     uv, uvf = mesh.uv, mesh.uv_faces
+    assert uvf is not None  # set together with uv (__post_init__)
     if uv.ndim != 2 or uv.shape[1] != 2 or not np.isfinite(uv).all():
         raise MeshFileError(f"{name}: texture coordinates must be finite (T, 2) values")
     if uvf.shape != f.shape:

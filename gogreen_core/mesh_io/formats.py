@@ -31,7 +31,7 @@ _READERS: dict[str, Callable[[bytes, str], MeshData]] = {
 }
 
 
-def load_mesh(path: str | os.PathLike) -> MeshData:
+def load_mesh(path: str | os.PathLike[str]) -> MeshData:
     """Read a triangle mesh, keeping its vertices' count and order as in the file.
 
     Vertices that the format made copies of are joined back (STL's triangle corners, a PLY's
@@ -80,7 +80,7 @@ def load_mesh(path: str | os.PathLike) -> MeshData:
     return mesh
 
 
-def save_mesh(mesh: MeshData, path: str | os.PathLike, *, ascii: bool = False) -> None:
+def save_mesh(mesh: MeshData, path: str | os.PathLike[str], *, ascii: bool = False) -> None:
     """Write ``mesh`` to ``path`` atomically; the extension chooses the format.
 
     Parameters

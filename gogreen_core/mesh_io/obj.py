@@ -35,14 +35,16 @@ def write_obj(mesh: MeshData, out: BinaryIO) -> None:
         write_int_rows(out, b"f ", mesh.faces + 1, b"  \n")
         return
     write_rows(out, "vt %.17g %.17g\n", mesh.uv)
-    has_uv = mesh.uv_faces[:, 0] >= 0
+    uv_faces = mesh.uv_faces
+    assert uv_faces is not None  # set together with uv
+    has_uv = uv_faces[:, 0] >= 0
     if has_uv.all():
-        corners = np.stack([mesh.faces + 1, mesh.uv_faces + 1], axis=2).reshape(-1, 6)
+        corners = np.stack([mesh.faces + 1, uv_faces + 1], axis=2).reshape(-1, 6)
         write_int_rows(out, b"f ", corners, b"/ / /\n")
         return
     text = io.StringIO()  # some faces without texture coordinates: keep them so, in order
     for face, tex, textured in zip(
-        (mesh.faces + 1).tolist(), (mesh.uv_faces + 1).tolist(), has_uv, strict=True
+        (mesh.faces + 1).tolist(), (uv_faces + 1).tolist(), has_uv, strict=True
     ):
         if textured:
             text.write("f " + " ".join(f"{a}/{b}" for a, b in zip(face, tex, strict=True)))

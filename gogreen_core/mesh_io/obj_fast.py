@@ -78,11 +78,12 @@ def sections_by_blocks(data: bytes) -> ObjSections | None:
     """Sections of the usual layout: one block of each of v, vt, vn and f lines and a few
     other lines (comments, g, s, usemtl...) around them; None otherwise. Found with bytes
     find/count alone, without an array over every byte."""
-    blocks = {}
+    blocks: dict[bytes, tuple[int, int]] = {}
     for tag in (b"v ", b"f "):
-        blocks[tag] = _block(data, tag, 0, len(data))
-        if blocks[tag] is None:
+        found = _block(data, tag, 0, len(data))
+        if found is None:
             return None
+        blocks[tag] = found
     spans = sorted(blocks.values())
     if spans[0][1] >= spans[1][0]:
         return None  # interleaved (a v line after a face, ...)
@@ -136,7 +137,7 @@ def sections_by_lines(data: bytes) -> ObjSections | None:
     for line in others.tolist():  # g, s, usemtl...
         if not _other_lines_are_fine(data[starts[line] : ends[line]]):
             return None
-    pieces = {}
+    pieces: dict[bytes, bytes | None] = {}
     for tag, keep in kinds.items():
         if not keep.any():
             pieces[tag] = None
@@ -161,7 +162,7 @@ def sections_by_lines(data: bytes) -> ObjSections | None:
 
 
 def _numbers_per_line(
-    piece: bytes, tag: bytes, sentinel: bytes, dtype
+    piece: bytes, tag: bytes, sentinel: bytes, dtype: type[np.generic]
 ) -> tuple[np.ndarray, np.ndarray] | None:
     """All numbers of a piece and how many each line has, or None if a token is not a number
     or a line of another kind is among them. A ``sentinel`` that the data cannot hold (NaN
@@ -284,7 +285,9 @@ def mesh_from_sections(sections: ObjSections) -> MeshData | None:
     if corners.min() < 3:
         return None
 
-    def indices(column: np.ndarray, counted, total: int) -> np.ndarray | None:
+    def indices(
+        column: np.ndarray, counted: np.ndarray | int | None, total: int
+    ) -> np.ndarray | None:
         """0-based indices from 1-based or relative ones (``counted``: entries read before each
         face line, see ObjSections); None when one is 0, before the first entry, or past the
         last."""

@@ -83,13 +83,13 @@ def read_obj_strict(data: bytes, name: str) -> MeshData:
         elif tag == "vt":
             if len(parts) < 2:
                 raise MeshFileError(f"{name}, line {number}: empty texture coordinate")
-            u, *v = numbers(parts[1:3], number, raw)
-            if not np.isfinite([u, *v]).all():
+            u, *rest = numbers(parts[1:3], number, raw)
+            if not np.isfinite([u, *rest]).all():
                 raise MeshFileError(
                     f"{name}, line {number}: texture coordinate {len(uvs) + 1} has a non-finite "
-                    f"value {[u, *v]}"
+                    f"value {[u, *rest]}"
                 )
-            uvs.append((u, v[0] if v else 0.0))
+            uvs.append((u, rest[0] if rest else 0.0))
         elif tag in ("f", "fo"):  # 'fo' is the old spelling of 'f'
             if len(parts) < 4:
                 raise MeshFileError(f"{name}, line {number}: a face needs at least 3 corners")
@@ -130,11 +130,11 @@ def read_obj_strict(data: bytes, name: str) -> MeshData:
         )
     outside = c >= len(v)
     if outside.any():
-        corner = int(np.argmax(outside))
-        polygon = polygon_of(corner)
+        bad = int(np.argmax(outside))
+        polygon = polygon_of(bad)
         raise MeshFileError(
             f"{name}, line {face_lines[polygon]}: face {polygon + 1} references vertex "
-            f"{int(c[corner]) + 1} but the file has {len(v)} vertices"
+            f"{int(c[bad]) + 1} but the file has {len(v)} vertices"
         )
     triangles = triangulate(v, c, np.array(sizes))
     mesh = MeshData(v, c[triangles])
@@ -142,10 +142,10 @@ def read_obj_strict(data: bytes, name: str) -> MeshData:
         t = np.array(corner_uvs, dtype=np.int64)
         outside = t >= len(uvs)
         if outside.any():
-            corner = int(np.argmax(outside))
+            bad = int(np.argmax(outside))
             raise MeshFileError(
-                f"{name}, line {face_lines[polygon_of(corner)]}: face references texture "
-                f"coordinate {int(t[corner]) + 1} but the file has {len(uvs)} texture coordinates"
+                f"{name}, line {face_lines[polygon_of(bad)]}: face references texture "
+                f"coordinate {int(t[bad]) + 1} but the file has {len(uvs)} texture coordinates"
             )
         mesh.uv = np.array(uvs, dtype=np.float64).reshape(-1, 2)
         mesh.uv_faces = t[triangles]

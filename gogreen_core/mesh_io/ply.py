@@ -186,7 +186,8 @@ def _strip_triangles(strips: PlyList, n_vertices: int, name: str) -> np.ndarray:
     a, b, c = flat[i], flat[i + 1], flat[i + 2]
     odd = (i - after_stop[i]) % 2 == 1
     triangles = np.stack([np.where(odd, b, a), np.where(odd, a, b), c], axis=1)
-    return triangles[(a != b) & (b != c) & (a != c)]
+    kept: np.ndarray = triangles[(a != b) & (b != c) & (a != c)]
+    return kept
 
 
 def write_ply(mesh: MeshData, out: BinaryIO, ascii: bool) -> None:

@@ -164,7 +164,7 @@ def read_binary_element(
         k = _list_length(np.frombuffer(data, endian + p.count_dtype, 1, pos)[0], element, name)
         lengths.append(k)
         pos += np.dtype(p.count_dtype).itemsize + k * np.dtype(p.dtype).itemsize
-    fields: list[tuple] = []
+    fields: list[tuple[str, str] | tuple[str, str, int]] = []
     lists = iter(lengths)
     for i, p in enumerate(props):
         if p.count_dtype is None:
@@ -233,7 +233,16 @@ _TRUNCATED, _BAD_LENGTH = 1, 2
 
 
 @numba.njit(cache=True, nogil=True)
-def _walk_binary_records(buffer, offset, count, is_list, size, item, signed, big_endian):
+def _walk_binary_records(
+    buffer: np.ndarray,
+    offset: int,
+    count: int,
+    is_list: np.ndarray,
+    size: np.ndarray,
+    item: np.ndarray,
+    signed: np.ndarray,
+    big_endian: bool,
+) -> tuple[np.ndarray, np.ndarray, int, int]:
     """Start of each record and the end of the last (count + 1,), and the length of each list
     (count, lists) of an element of binary records at ``buffer[offset:]``; status 0, or
     _TRUNCATED, or _BAD_LENGTH with the bad length."""
@@ -273,7 +282,7 @@ def _walk_binary_records(buffer, offset, count, is_list, size, item, signed, big
 
 
 @numba.njit(cache=True, nogil=True)
-def _copy_runs(buffer, starts, nbytes):
+def _copy_runs(buffer: np.ndarray, starts: np.ndarray, nbytes: np.ndarray) -> np.ndarray:
     """The bytes ``buffer[starts[i] : starts[i] + nbytes[i]]``, concatenated."""
     total = 0
     for i in range(len(starts)):
@@ -364,7 +373,9 @@ def read_ascii_element(
 
 
 @numba.njit(cache=True, nogil=True)
-def _walk_ascii_records(values, cursor, count, is_list):
+def _walk_ascii_records(
+    values: np.ndarray, cursor: int, count: int, is_list: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, int, float]:
     """ASCII counterpart of :func:`_walk_binary_records` on the file's numbers."""
     n_lists = 0
     for j in range(len(is_list)):

@@ -75,6 +75,7 @@ def triangulate(points: np.ndarray, corners: np.ndarray, sizes: np.ndarray) -> n
         return np.arange(3 * len(sizes), dtype=np.int64).reshape(-1, 3)
     corners = np.ascontiguousarray(corners, dtype=np.int64)
     points = np.ascontiguousarray(points, dtype=np.float64)
+    triangles: np.ndarray
     triangles, uncovered = _fans(points, corners, sizes, _FOLD_TOLERANCE, _MAX_FAN_STARTS)
     if uncovered.any():
         _ear_clip_all(points, corners, sizes, triangles, np.flatnonzero(uncovered))
@@ -87,7 +88,9 @@ def _starts(sizes: np.ndarray) -> np.ndarray:
 
 
 @numba.njit(cache=True, nogil=True)
-def _fans(points, corners, sizes, tolerance, max_starts):
+def _fans(
+    points: np.ndarray, corners: np.ndarray, sizes: np.ndarray, tolerance: float, max_starts: int
+) -> tuple[np.ndarray, np.ndarray]:
     """Fan triangles of each polygon (T, 3) (positions in ``corners``): from its first corner
     when that fan covers it, else from the first other corner whose fan does (polygons of up to
     ``max_starts`` corners); and which polygons no fan covers (P,), for ear clipping."""
@@ -131,12 +134,23 @@ def _fans(points, corners, sizes, tolerance, max_starts):
 
 
 @numba.njit(cache=True, nogil=True, inline="always")
-def _edge(points, a, b):
+def _edge(points: np.ndarray, a: int, b: int) -> tuple[float, float, float]:
     return points[b, 0] - points[a, 0], points[b, 1] - points[a, 1], points[b, 2] - points[a, 2]
 
 
 @numba.njit(cache=True, nogil=True)
-def _fan_covers(points, corners, c, k, start, nx, ny, nz, length, tolerance):
+def _fan_covers(
+    points: np.ndarray,
+    corners: np.ndarray,
+    c: int,
+    k: int,
+    start: int,
+    nx: float,
+    ny: float,
+    nz: float,
+    length: float,
+    tolerance: float,
+) -> bool:
     """Whether every triangle of the fan from corner ``start`` of the polygon at ``c`` turns
     with the normal (within ``tolerance``: the sine of its angle against the plane)."""
     o = corners[c + start]
@@ -190,11 +204,10 @@ def _ear_clip(positions: np.ndarray) -> np.ndarray | None:
     area = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
     if area.sum() < 0:
         tri = tri[:, ::-1]
-    if len(tri) < k - 2:
-        tri = _put_back_dropped_corners(tri, k)
-    if tri is None or len(tri) != k - 2 or len(np.unique(tri)) != k:
+    whole = tri if len(tri) == k - 2 else _put_back_dropped_corners(tri, k)
+    if whole is None or len(whole) != k - 2 or len(np.unique(whole)) != k:
         return None
-    return tri
+    return whole
 
 
 def _put_back_dropped_corners(tri: np.ndarray, k: int) -> np.ndarray | None:
