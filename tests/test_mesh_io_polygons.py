@@ -3,20 +3,15 @@ ones without covering their notches, every k-gon as k-2 triangles on all its cor
 
 from __future__ import annotations
 
-import struct
 from pathlib import Path
 
 import numpy as np
 import pytest
-from mesh_io_models import U_PRISM_AREA, U_SHAPE, edges_used_once, u_prism
+from mesh_io_models import U_PRISM_AREA, U_SHAPE, blender_ply, edges_used_once, u_prism
+from mesh_io_models import triangle_area as area
 
 from gogreen_core.mesh_io import load_mesh
 from gogreen_core.mesh_io.polygons import triangulate
-
-
-def area(points: np.ndarray, triangles: np.ndarray) -> float:
-    t = points[triangles]
-    return 0.5 * float(np.linalg.norm(np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), axis=1).sum())
 
 
 def shoelace(polygon: np.ndarray) -> float:
@@ -124,36 +119,22 @@ def test_twisted_polygons_fall_back_to_the_fan_with_their_corners():
     assert np.array_equal(triangulate(line, np.arange(4), np.array([4])), fan_of([4]))
 
 
-def ply_binary(vertices: np.ndarray, polygons: list[list[int]]) -> bytes:
-    header = (
-        "ply\nformat binary_little_endian 1.0\n"
-        f"element vertex {len(vertices)}\nproperty float x\nproperty float y\nproperty float z\n"
-        f"element face {len(polygons)}\nproperty list uchar uint vertex_indices\nend_header\n"
-    )
-    faces = b"".join(struct.pack(f"<B{len(p)}I", len(p), *p) for p in polygons)
-    return header.encode() + vertices.astype("<f4").tobytes() + faces
-
-
 @pytest.mark.parametrize("suffix", [".obj", ".ply", ".off", "ascii.ply"])
 def test_a_concave_prism_loads_with_its_area_and_closed(tmp_path: Path, suffix):
     prism = u_prism()
     vertices, polygons = prism.vertices, prism.polygons
     rows = "".join(f"{x} {y} {z}\n" for x, y, z in vertices.tolist())
-    if suffix == ".obj":
-        text = "".join("v " + r for r in rows.splitlines(True))
-        text += "".join("f " + " ".join(str(i + 1) for i in p) + "\n" for p in polygons)
-    elif suffix == ".off":
-        text = f"OFF\n{len(vertices)} {len(polygons)} 0\n" + rows
-        text += "".join(f"{len(p)} " + " ".join(map(str, p)) + "\n" for p in polygons)
-    elif suffix == "ascii.ply":
-        text = ply_binary(vertices, polygons).split(b"end_header\n")[0].decode()
-        text = text.replace("binary_little_endian", "ascii") + "end_header\n" + rows
-        text += "".join(f"{len(p)} " + " ".join(map(str, p)) + "\n" for p in polygons)
-    path = tmp_path / ("prism" + (suffix if suffix != "ascii.ply" else ".ply"))
-    if suffix == ".ply":
-        path.write_bytes(ply_binary(vertices, polygons))
-    else:
-        path.write_text(text)
+    lists = "".join(f"{len(p)} " + " ".join(map(str, p)) + "\n" for p in polygons)
+    files = {
+        ".obj": "".join("v " + r for r in rows.splitlines(True))
+        + "".join("f " + " ".join(str(i + 1) for i in p) + "\n" for p in polygons),
+        ".off": f"OFF\n{len(vertices)} {len(polygons)} 0\n" + rows + lists,
+        ".ply": blender_ply(prism, export_uv=False),
+        "ascii.ply": blender_ply(prism, ascii=True, export_uv=False),
+    }
+    path = tmp_path / ("prism" + suffix.removeprefix("ascii"))
+    data = files[suffix]
+    path.write_bytes(data if isinstance(data, bytes) else data.encode())
     mesh = load_mesh(path)
     assert area(mesh.vertices, mesh.faces) == U_PRISM_AREA
     assert edges_used_once(mesh.faces) == 0
