@@ -69,6 +69,15 @@ def version() -> str:
     return project
 
 
+def core_packages() -> list[str]:
+    """The packages of ``gogreen_core`` and its presets, as pyproject.toml lists them (so that a
+    new subpackage of the core, such as ``gogreen_core.mesh_io``, is in the wheel too)."""
+    with open(ROOT / "pyproject.toml", "rb") as fh:
+        listed = tomllib.load(fh)["tool"]["setuptools"]["packages"]
+    wanted = ("gogreen_core", "gogreen_resources", "gogreen_resources.presets")
+    return [p for p in listed if p in wanted or p.startswith("gogreen_core.")]
+
+
 def pip(*args: str) -> None:
     subprocess.run([sys.executable, "-m", "pip", *args], check=True)
 
@@ -99,8 +108,7 @@ dependencies = ["numpy>=1.26", "scipy>=1.15", "numba>=0.60", "trimesh>=4.0",
                 "mapbox-earcut>=1.0.3"]
 
 [tool.setuptools]
-packages = ["gogreen_core", "gogreen_core._angular", "gogreen_resources",
-            "gogreen_resources.presets"]
+packages = {core_packages()!r}
 
 [tool.setuptools.package-data]
 "gogreen_resources.presets" = ["*.json"]
