@@ -30,7 +30,7 @@ from typing import BinaryIO
 import numpy as np
 
 from gogreen_core.engine_settings import EngineSettings
-from gogreen_core.mesh_io import write_atomic
+from gogreen_core.mesh_io.atomic import atomic_write
 
 __all__ = ["CHECKPOINT_VERSION", "CheckpointError", "SculptState", "read_checkpoint"]
 
@@ -118,7 +118,7 @@ def write_checkpoint(path: str | os.PathLike, state: SculptState, extra: dict) -
                 crc = zlib.crc32(chunk, crc)
         out.write(struct.pack("<I", crc))
 
-    write_atomic(path, write)
+    atomic_write(path, write)
 
 
 def read_checkpoint(path: str | os.PathLike) -> tuple[SculptState, dict]:

@@ -71,7 +71,8 @@ from gogreen_core.journal_format import (
     vertex_hash,
     write_all,
 )
-from gogreen_core.mesh_io import MeshData, write_atomic, write_bytes_atomic
+from gogreen_core.mesh_io import MeshData, write_bytes_atomic
+from gogreen_core.mesh_io.atomic import atomic_write
 from gogreen_core.operations import Operation, Stroke
 from gogreen_core.sculptor import capture_state
 
@@ -456,7 +457,7 @@ class Journal:
             arrays["uv"] = mesh.uv
             arrays["uv_faces"] = mesh.uv_faces.astype(_index_type(mesh.uv_faces))
         self._base_written = False
-        write_atomic(self.directory / name, lambda out: np.savez(out, **arrays))
+        atomic_write(self.directory / name, lambda out: np.savez(out, **arrays))
         self._base_written = True
 
     def _write_checkpoint(self, state: SculptState, extra: dict) -> None:

@@ -147,15 +147,15 @@ def _slow_writes() -> None:
                 self.out.flush()
                 time.sleep(0.001)
 
-    original = checkpoint.write_atomic
+    original = checkpoint.atomic_write
 
-    def write_atomic(path, write) -> None:
+    def atomic_write(path, write) -> None:
         say("C")
         original(path, lambda out: write(Slow(out)))
 
     journal._write_piece = journal.write_all
     journal.write_all = write_all
-    checkpoint.write_atomic = write_atomic
+    checkpoint.atomic_write = atomic_write
 
 
 def session(argv: list[str]) -> None:

@@ -449,7 +449,7 @@ def test_a_read_only_journal_stops_writing_says_so_once_and_sculpting_goes_on(
         raise OSError(errno.EROFS, "Read-only file system")
 
     # the file system turns read-only (as after a disk error): checkpoints, then records fail
-    monkeypatch.setattr(checkpoint_module, "write_atomic", read_only)
+    monkeypatch.setattr(checkpoint_module, "atomic_write", read_only)
     stroke(sculptor, 3)
     journal.flush()
     (problem,) = journal.take_problems()
