@@ -191,11 +191,6 @@ class Sculptor:
         return self.settings.l_max
 
     @property
-    def degree_weights(self) -> np.ndarray:
-        """Weights of the wrinkle brush (l_max + 1,)."""
-        return self.settings.wrinkle_weights
-
-    @property
     def in_stroke(self) -> bool:
         return self._strokes.active
 

@@ -204,7 +204,7 @@ def test_panels_and_engine_follow_the_settings_model(window):
     assert len(window.falloff_panel.weight_spins) == 7
     assert window.document.sculptor.l_max == 6
     window.falloff_panel.weight_spins[2].setValue(3.0)
-    assert model.degree_weights[2] == 3.0 == window.document.sculptor.degree_weights[2]
+    assert model.degree_weights[2] == 3.0 == window.document.sculptor.settings.wrinkle_weights[2]
     window.brush_bar.radius.setValue(0.2)
     assert model.brush.radius == 0.2
 

@@ -177,7 +177,7 @@ def test_weights_recorded_as_null_keep_their_meaning():
     material = _wrinkle_preset().material
     assert np.array_equal(legacy_wrinkle_weights(8), np.maximum(1.0, np.arange(9) / 2.0))
     old = Sculptor(vertices, faces, material=material)
-    assert np.array_equal(old.degree_weights, legacy_wrinkle_weights(8))
+    assert np.array_equal(old.settings.wrinkle_weights, legacy_wrinkle_weights(8))
     event = BrushEvent(vertices[5], [0.0, 0.02, 0.01])
     old.apply_brush(Brush("wrinkle_legacy", radius=0.2), [event])
     session = json.loads(json.dumps(old.session()))
@@ -199,12 +199,12 @@ def test_weights_recorded_as_null_keep_their_meaning():
     again = Sculptor.from_session(recorded, vertices, faces)
     again.replay(recorded["operations"])
     assert np.array_equal(again.vertices, fresh.vertices)
-    assert np.array_equal(fresh.degree_weights, default_wrinkle_weights(_wrinkle_preset().l_max))
+    assert np.array_equal(fresh.settings.wrinkle_weights, default_wrinkle_weights(_wrinkle_preset().l_max))
     # a preset file with null weights applies the new defaults, as the app does
     nameless = _wrinkle_preset()
     fresh = Sculptor(vertices, faces)
     replace(nameless, degree_weights=None).apply(fresh)
-    assert np.array_equal(fresh.degree_weights, default_wrinkle_weights(nameless.l_max))
+    assert np.array_equal(fresh.settings.wrinkle_weights, default_wrinkle_weights(nameless.l_max))
     settings = Settings()
     settings.apply_preset(replace(nameless, degree_weights=None))
     assert np.array_equal(settings.degree_weights, default_wrinkle_weights(nameless.l_max))
