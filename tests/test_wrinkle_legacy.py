@@ -199,7 +199,9 @@ def test_weights_recorded_as_null_keep_their_meaning():
     again = Sculptor.from_session(recorded, vertices, faces)
     again.replay(recorded["operations"])
     assert np.array_equal(again.vertices, fresh.vertices)
-    assert np.array_equal(fresh.settings.wrinkle_weights, default_wrinkle_weights(_wrinkle_preset().l_max))
+    assert np.array_equal(
+        fresh.settings.wrinkle_weights, default_wrinkle_weights(_wrinkle_preset().l_max)
+    )
     # a preset file with null weights applies the new defaults, as the app does
     nameless = _wrinkle_preset()
     fresh = Sculptor(vertices, faces)

@@ -42,6 +42,7 @@ __all__ = [
     "DEFAULT_INFLUENCE",
     "BrushType",
     "Displacement",
+    "EventField",
     "GreenBrush",
     "StrokeContext",
     "mirror_signs",
@@ -98,6 +99,20 @@ class StrokeContext:
     @property
     def model_size(self) -> float:
         return self.mesh.model_size
+
+
+@dataclass(frozen=True)
+class EventField:
+    """The velocity field of one event of a Green's function brush: ``kernel`` (at the brush's
+    ε) with ``load`` (a force (3,) or an affine load (3, 3)) at ``center`` (3,), which moves by
+    ``step`` (3,) over the event; only within ``reach`` ε of it (a smooth cutoff from half
+    that), mirrored across the brush's ``symmetry`` planes."""
+
+    kernel: GreenKernel
+    center: np.ndarray
+    load: np.ndarray
+    step: np.ndarray
+    reach: float
 
 
 @dataclass(frozen=True)
@@ -244,24 +259,20 @@ class GreenBrush(BrushType):
         """(load, centre step) of one event: a force (3,) or an affine load (3, 3), and the
         centre's motion (3,) over the event (the load travels with the cursor)."""
 
-    def displace(self, ctx: StrokeContext, brush: Brush, event: BrushEvent) -> Displacement:
+    def field(self, ctx: StrokeContext, brush: Brush, event: BrushEvent) -> EventField:
+        """The field ``event`` moves the mesh along (normalized and bounded: :meth:`load`)."""
         kernel = self.kernel(ctx, brush)
         load, step = self.load(ctx, brush, kernel, event)
-        return self.integrate(ctx, brush, kernel, event.center, load, step, self.reach(ctx, brush))
+        return EventField(kernel, event.center, load, step, self.reach(ctx, brush))
 
-    def integrate(
-        self,
-        ctx: StrokeContext,
-        brush: Brush,
-        kernel: GreenKernel,
-        center: np.ndarray,
-        load: np.ndarray,
-        step: np.ndarray,
-        reach: float,
-    ) -> Displacement:
-        """Move the rows within ``reach`` ε of the load (at ``center``, moving by ``step`` over
-        the event) and of its mirror images along the load's field (paper Sec. 3.2)."""
-        cutoff = brush.cutoff(ctx.model_size, reach)
+    def displace(self, ctx: StrokeContext, brush: Brush, event: BrushEvent) -> Displacement:
+        return self.integrate(ctx, brush, self.field(ctx, brush, event))
+
+    def integrate(self, ctx: StrokeContext, brush: Brush, field: EventField) -> Displacement:
+        """Move the rows within the field's reach of its load and of the load's mirror images
+        along the field (paper Sec. 3.2)."""
+        kernel, center, load, step = field.kernel, field.center, field.load, field.step
+        cutoff = brush.cutoff(ctx.model_size, field.reach)
         signs = mirror_signs(brush.symmetry)
         mesh = ctx.mesh
         rows = mesh.rows_near(center, step, None if cutoff is None else cutoff[1], signs)

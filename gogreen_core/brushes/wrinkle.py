@@ -39,8 +39,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from gogreen_core.brushes.base import AUTO_INFLUENCE, Displacement, StrokeContext, mirror_signs
+from gogreen_core.brushes.base import AUTO_INFLUENCE, EventField, StrokeContext, mirror_signs
 from gogreen_core.brushes.grab import GrabBrush
+from gogreen_core.constraints import smooth_cutoff
 from gogreen_core.falloff_safety import (
     MAX_GRAB_RATIO,
     MAX_GRAB_STRAIN,
@@ -155,15 +156,6 @@ def _disk(normal: np.ndarray, reach: float) -> tuple[np.ndarray, np.ndarray, np.
     return np.vstack([np.zeros((1, 3)), offsets]), np.concatenate([[0.0], r]), np.array([t1, t2])
 
 
-def _cutoff_weight(radius: np.ndarray, reach: float) -> np.ndarray:
-    """The integrator's C² cutoff (1 to half the reach, 0 from the reach on) at ``radius``."""
-    if not np.isfinite(reach):
-        return np.ones_like(radius)
-    s = np.clip((radius - 0.5 * reach) / (0.5 * reach), 0.0, 1.0)
-    weight: np.ndarray = 1.0 - s**3 * (10.0 - 15.0 * s + 6.0 * s * s)
-    return weight
-
-
 class WrinkleBrush(GrabBrush):
     """The folding wrinkle brush (see the module docstring); its ω_l are the settings'
     (:meth:`EngineSettings.weights_for`), default :func:`fold_weights`."""
@@ -215,7 +207,7 @@ class WrinkleBrush(GrabBrush):
         key = ("wrinkle reach", ctx.settings.weights_for(self.kind).tobytes())
         return ctx.kernels.derived(key, reach)
 
-    def displace(self, ctx: StrokeContext, brush: Brush, event: BrushEvent) -> Displacement:
+    def field(self, ctx: StrokeContext, brush: Brush, event: BrushEvent) -> EventField:
         eps = brush.eps(ctx.model_size)
         delta = brush.strength * event.delta
         size = float(np.linalg.norm(delta))
@@ -253,7 +245,7 @@ class WrinkleBrush(GrabBrush):
                 force = force * min(scale, self._pull_scale(ctx, pull_kernel, force, reach, size))
         kernel = unit.with_degree_weights(weights, maps)
         memo["anchor"] = center + step
-        return self.integrate(ctx, brush, kernel, center, force, step, reach)
+        return EventField(kernel, center, force, step, reach)
 
     def _surface_frame(
         self, ctx: StrokeContext, memo: dict[str, Any], cursor: np.ndarray, eps: float
@@ -322,7 +314,9 @@ class WrinkleBrush(GrabBrush):
         n = len(offsets)
         u_pull = pull_kernel.displacement(points, center, force).reshape(3, n, 3)
         u_fold = fold_kernel.displacement(points, center, force).reshape(3, n, 3)
-        cut = _cutoff_weight(radii, reach)
+        cut = (
+            smooth_cutoff(radii, 0.5 * reach, reach) if np.isfinite(reach) else np.ones_like(radii)
+        )
         fold_size = float((np.linalg.norm(u_fold[0], axis=1) * cut).max())
         pull_size = float((np.linalg.norm(u_pull[0], axis=1) * cut).max())
         alpha = depth * size / fold_size if depth > 0 and fold_size > _NO_TERM * pull_size else 0.0
