@@ -47,6 +47,7 @@ from PySide6.QtWidgets import (
     QToolTip,
     QWidget,
 )
+from shiboken6 import isValid
 
 from app.theme import active_theme
 from gogreen_core.settings import ChangeEvent, EventedModel
@@ -163,6 +164,9 @@ class Binding:
 
     def refresh(self) -> None:
         """Show the value in effect (dropping a refused edit on screen)."""
+        if not isValid(self.widget):  # deleted by Qt before its ``destroyed`` reached us
+            self.unbind()
+            return
         blocker = QSignalBlocker(self.widget) if self._block else None
         try:
             self._show(self.value)
@@ -266,9 +270,12 @@ def bindings_of(model: EventedModel) -> list[Binding]:
     return list(_REGISTRY.get(model, []))
 
 
-def refresh(models: EventedModel | Iterable[EventedModel]) -> None:
-    """Show the values in effect in every widget bound to ``models`` (after undo, redo,
-    opening a model or a preset), dropping refused edits still on screen."""
+def refresh(models: EventedModel | Iterable[EventedModel] | None = None) -> None:
+    """Show the values in effect in every widget bound to ``models`` (default: every bound
+    model), dropping refused edits still on screen: after undo, redo, opening a model or a
+    preset."""
+    if models is None:
+        models = list(_REGISTRY.keys())
     for model in [models] if isinstance(models, EventedModel) else models:
         for binding in bindings_of(model):
             binding.refresh()

@@ -48,8 +48,8 @@ def main(argv: list[str] | None = None) -> int:
     app.setApplicationName("GoGreen Sculpt")
     window = MainWindow()
     window.show()
-    if not (args.mesh and window.open_file(args.mesh)):
-        window.open_default()
+    if not (args.mesh and window.files.open_file(args.mesh)):
+        window.files.open_default()
     return app.exec()
 
 

@@ -14,13 +14,13 @@ from app.keymap import (
     GROUPS,
     KEYMAP,
     Binding,
-    KeymapOverlay,
     binding,
     bindings_by_group,
     brush_action,
     display_keys,
     shortcuts,
 )
+from app.keymap_overlay import KeymapOverlay
 from gogreen_core.brushes import BRUSH_KINDS
 from gogreen_core.validation import ParameterError
 

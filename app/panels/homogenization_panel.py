@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 from PySide6.QtCore import Qt, QTimer, Signal
-from PySide6.QtGui import QBrush, QCloseEvent, QColor, QFont
+from PySide6.QtGui import QCloseEvent, QColor, QFont
 from PySide6.QtWidgets import (
     QCheckBox,
     QComboBox,
@@ -38,8 +38,6 @@ from PySide6.QtWidgets import (
     QPushButton,
     QSlider,
     QSpinBox,
-    QTableWidget,
-    QTableWidgetItem,
     QVBoxLayout,
     QWidget,
 )
@@ -47,19 +45,15 @@ from PySide6.QtWidgets import (
 from app.background import BackgroundRunner, Task
 from app.bindings import bind, bind_check, bind_choice, bind_spin, bind_view
 from app.panels.homogenization_inputs import CELL_SIZE, HomogenizationInputs
-from app.panels.plot_axes import plot_font
+from app.panels.stiffness_table import StiffnessTable
 from app.panels.voxel_preview import PHASE_B_COLOR, SlicePreview, VoxelPreview
 from app.panels.widgets import (
     CollapsibleSection,
-    CompactTable,
     EulerAnglesEditor,
     NumberField,
-    pastel_color,
     scrolled_column,
     set_text_role,
-    zero_cell_colors,
 )
-from app.theme import active_theme
 from gogreen_core import (
     PATTERNS,
     HomogenizationResult,
@@ -269,20 +263,7 @@ class HomogenizationPanel(QWidget):
         bold.setBold(True)
         self.symmetry_label.setFont(bold)
         layout.addWidget(self.symmetry_label)
-        table = CompactTable(6, 6)
-        table.setHorizontalHeaderLabels(_VOIGT_LABELS)
-        table.setVerticalHeaderLabels(_VOIGT_LABELS)
-        table.setEditTriggers(QTableWidget.EditTrigger.NoEditTriggers)
-        table.setSelectionMode(QTableWidget.SelectionMode.NoSelection)
-        table.setFocusPolicy(Qt.FocusPolicy.NoFocus)
-        table.setToolTip("Equal coefficients share a colour; grey cells are zero")
-        small = plot_font(table.font())
-        for i in range(6):
-            for j in range(6):
-                item = QTableWidgetItem("")
-                item.setTextAlignment(Qt.AlignmentFlag.AlignCenter)
-                item.setFont(small)
-                table.setItem(i, j, item)
+        table = StiffnessTable()
         self.result_table = table
         layout.addWidget(table)
         self.status_label = QLabel()
@@ -442,24 +423,9 @@ class HomogenizationPanel(QWidget):
         """Whether the inputs changed since the displayed result was computed."""
         return self._result is None or self._result_key != self._inputs_key()
 
-    @staticmethod
-    def group_color(group: int) -> QColor:
-        """Cell colour of coefficient group ``group`` (-1, the zeros, is grey)."""
-        return zero_cell_colors()[0] if group < 0 else pastel_color(group)
-
-    @staticmethod
-    def group_text_color(group: int) -> QColor:
-        """Text colour on a cell of group ``group``: muted for the zeros; on the group
-        colours, the theme's text colour under the dark theme (deep tones), near-black on the
-        light theme's pastels."""
-        if group < 0:
-            return zero_cell_colors()[1]
-        current = active_theme()
-        return QColor(current.text if current.name == "dark" else "#1a1a1a")
-
     def cell_color(self, row: int, col: int) -> QColor:
         """Background colour of result cell (row, col)."""
-        return self.result_table.item(row, col).background().color()
+        return self.result_table.cell_color(row, col)
 
     def compute(self) -> None:
         """Homogenize the current pattern in the background (supersedes a running request).
@@ -571,14 +537,7 @@ class HomogenizationPanel(QWidget):
 
     def refresh_colors(self) -> None:
         """Re-colour the result cells in the current theme (after a theme switch)."""
-        if self._symmetry is None:
-            return
-        for i in range(6):
-            for j in range(6):
-                group = int(self._symmetry.groups[i, j])
-                item = self.result_table.item(i, j)
-                item.setBackground(QBrush(self.group_color(group)))
-                item.setForeground(QBrush(self.group_text_color(group)))
+        self.result_table.refresh_colors()
 
     # -- display -----------------------------------------------------------------------------
     def _display(self) -> None:
@@ -588,15 +547,7 @@ class HomogenizationPanel(QWidget):
         material = base.rotated(self.rotation.rotation_matrix()) if rotated else base
         symmetry = describe_symmetry(material)
         self._result, self._symmetry = material, symmetry
-        voigt = material.voigt
-        for i in range(6):
-            for j in range(6):
-                item = self.result_table.item(i, j)
-                group = int(symmetry.groups[i, j])
-                item.setText("0" if group < 0 else f"{voigt[i, j]:.4g}")
-                item.setBackground(QBrush(self.group_color(group)))
-                item.setForeground(QBrush(self.group_text_color(group)))
-                item.setToolTip(f"C{_VOIGT_LABELS[i]},{_VOIGT_LABELS[j]} = {voigt[i, j]:.10g}")
+        self.result_table.show_material(material, symmetry)
         text = f"Symmetry: {self._class_text(symmetry)}"
         if rotated:
             text += f"  (pattern axes: {self._class_text(describe_symmetry(base))})"
