@@ -111,7 +111,8 @@ class Binding:
     revert_on_error : a refused edit is replaced at once by the value in effect (a table
         cell, a curve) instead of staying on screen until the focus leaves; or a function of
         the error telling whether to.
-    on_error : called with the message of a refused edit (e.g. a panel's message line).
+    on_error : called with the message of a refused edit (e.g. a panel's message line), and
+        with None when the refused value gives way to the one in effect.
     echo : re-show the model's value after the widget's own edit even when it is the value
         the widget holds (default: only when the model changed it).
     block : block the widget's signals while showing a value (off for a view whose widget's
@@ -131,7 +132,7 @@ class Binding:
         dragging: Callable[[], bool] | None = None,
         drag_ended: SignalInstance | None = None,
         revert_on_error: bool | Callable[[ValueError], bool] = False,
-        on_error: Callable[[str], None] | None = None,
+        on_error: Callable[[str | None], None] | None = None,
         echo: bool = False,
         block: bool = True,
     ) -> None:
@@ -149,6 +150,11 @@ class Binding:
         #: The message of the refused edit on screen, or None.
         self.refused: str | None = None
         model.events[name].connect(self._model_changed)
+        if label and isinstance(widget, QWidget) and not widget.accessibleName():
+            widget.setAccessibleName(label)  # the field's name in its refusals (app.fields)
+        left = getattr(widget, "left", None)
+        if isinstance(left, SignalInstance):  # a field that dropped a refused text
+            left.connect(self._left)
         if edited is not None:
             edited.connect(self._edited)
         if drag_ended is not None:
@@ -173,6 +179,8 @@ class Binding:
         finally:
             if blocker is not None:
                 blocker.unblock()
+        if self.refused is not None and self._on_error is not None:
+            self._on_error(None)  # the refusal is gone from the screen: its message too
         self._mark(None)
 
     def refuse(self, message: str) -> None:
@@ -190,6 +198,10 @@ class Binding:
     # -- internals ---------------------------------------------------------------------------
     def _model_changed(self, _event: ChangeEvent) -> None:
         if not self._setting:
+            self.refresh()
+
+    def _left(self) -> None:
+        if self.refused is not None:
             self.refresh()
 
     def _drag_ended(self, *_args: Any) -> None:

@@ -12,9 +12,10 @@ import math
 
 from PySide6.QtCore import Signal
 from PySide6.QtGui import QAction, QActionGroup, QKeySequence
-from PySide6.QtWidgets import QDoubleSpinBox, QLabel, QSpinBox, QToolBar, QWidget
+from PySide6.QtWidgets import QDoubleSpinBox, QLabel, QToolBar, QWidget
 
 from app.bindings import bind, bind_spin
+from app.fields import DecimalField, IntegerField
 from gogreen_core.brushes import BRUSH_KINDS, Brush
 from gogreen_core.settings import BrushSettings, PenSettings
 
@@ -73,20 +74,19 @@ class BrushBar(QToolBar):
         self.radius = self._spin(
             "Radius", 0.005, 1.0, 3, 0.01, "ε as a fraction of the model size  [ ] / Ctrl+wheel"
         )
-        bind_spin(self.settings, "radius", self.radius)
+        bind_spin(self.settings, "radius", self.radius, "Radius")
         self.strength = self._spin(
             "Strength", 0.01, 10.0, 2, 0.1, "Brush strength  { } / Shift+wheel"
         )
-        bind_spin(self.settings, "strength", self.strength)
+        bind_spin(self.settings, "strength", self.strength, "Strength")
         self.addWidget(QLabel(" Steps "))
-        self.substeps = QSpinBox()
-        self.substeps.setRange(0, 32)
+        self.substeps = IntegerField(0, 32)
         self.substeps.setSpecialValueText("auto")  # 0: adaptive, within 1e-4 of the cursor motion
         self.substeps.setToolTip(
             "RK4 steps per mouse event; auto: adaptive, within 1e-4 of the cursor motion"
         )
         self.addWidget(self.substeps)
-        bind_spin(self.settings, "substeps", self.substeps)
+        bind_spin(self.settings, "substeps", self.substeps, "Steps")
         self.influence = self._spin(
             "Influence",
             0.5,
@@ -96,7 +96,7 @@ class BrushBar(QToolBar):
             "Radius of the moved region in brush radii ε (vertices farther stay put; "
             "a smooth cutoff starts at half of it)",
         )
-        bind_spin(self.settings, "influence", self.influence)
+        bind_spin(self.settings, "influence", self.influence, "Influence")
         self.addSeparator()
 
         self.symmetry_actions: dict[str, QAction] = {}
@@ -151,7 +151,7 @@ class BrushBar(QToolBar):
             5.0,
             "Stroke stabilizer: the brush trails the pen by this many pixels (0: off)",
         )
-        bind_spin(pen, "lazy_radius", self.lazy_radius)
+        bind_spin(pen, "lazy_radius", self.lazy_radius, "Lazy")
         self.spacing = self._spin(
             "Spacing",
             0.0,
@@ -160,15 +160,11 @@ class BrushBar(QToolBar):
             0.05,
             "Minimum brush motion between applied events, in brush radii ε (0: every event)",
         )
-        bind_spin(pen, "spacing", self.spacing)
+        bind_spin(pen, "spacing", self.spacing, "Spacing")
 
-    def _spin(self, label, low, high, decimals, step, tip) -> QDoubleSpinBox:
+    def _spin(self, label, low, high, decimals, step, tip) -> DecimalField:
         self.addWidget(QLabel(f" {label} "))
-        spin = QDoubleSpinBox()
-        spin.setRange(low, high)
-        spin.setDecimals(decimals)
-        spin.setSingleStep(step)
-        spin.setToolTip(tip)
+        spin = DecimalField(low, high, decimals, step, tip)
         self.addWidget(spin)
         return spin
 

@@ -86,6 +86,7 @@ class KeymapOverlay(QWidget):
         self.setObjectName("keymap_overlay")
         self._groups = bindings_by_group(keymap)
         self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
+        self.setProperty("takes_keys", True)  # keeps the keyboard focus (app.keyboard)
         self.setAttribute(Qt.WidgetAttribute.WA_NoSystemBackground)
         self.setAutoFillBackground(False)
         self.hide()

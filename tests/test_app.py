@@ -222,30 +222,31 @@ def test_strokes_wait_for_the_kernels_with_a_message_not_a_freeze(window, monkey
     assert window.document.dirty
 
 
-def test_shortcuts_act_from_a_number_field_and_enter_returns_focus(window, qtbot):
+def test_keys_typed_in_a_number_field_stay_there_and_enter_returns_focus(window, qtbot):
     from PySide6.QtTest import QTest
 
     activate(window, qtbot)
     field = window.material_panel.fields["young"]
     field.setFocus()
     qtbot.waitUntil(field.hasFocus)
-    QTest.keyClick(field, Qt.Key.Key_S)  # the Scale brush, not a letter in the field
-    assert window.model.brush.kind == "scale"
-    QTest.keyClick(field, Qt.Key.Key_BracketRight)  # radius larger
-    assert window.model.brush.radius > 0.08
-    window.model.brush.kind = "grab"
+    field.selectAll()
+    QTest.keyClick(field, Qt.Key.Key_S)  # a letter in the field, not the Scale brush
+    QTest.keyClick(field, Qt.Key.Key_BracketRight)  # nor radius larger
+    assert window.model.brush.kind == "grab" and window.model.brush.radius == 0.08
+    assert field.lineEdit().text() == "s]"
+    QTest.keyClick(field, Qt.Key.Key_Escape)  # dropped: the value in effect, keys go home
+    assert field.lineEdit().text() == "1"
+    qtbot.waitUntil(window.viewport.hasFocus)
     drag(window, center_of(window))
     assert window.document.dirty
     field.setFocus()
     qtbot.waitUntil(field.hasFocus)
     QTest.keyClick(field, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)  # the window's undo
     assert not window.document.dirty
-    QTest.keyClicks(field, "2")  # digits still go into the field
+    field.selectAll()
+    QTest.keyClicks(field, "2")  # digits go into the field
     QTest.keyClick(field, Qt.Key.Key_Return)
-    qtbot.waitUntil(window.viewport.hasFocus)
-    field.setFocus()
-    qtbot.waitUntil(field.hasFocus)
-    QTest.keyClick(field, Qt.Key.Key_Escape)
+    assert window.model.material == Material.isotropic(2.0, 0.3)
     qtbot.waitUntil(window.viewport.hasFocus)
 
 

@@ -31,12 +31,12 @@ from PySide6.QtWidgets import (
     QHBoxLayout,
     QLabel,
     QPushButton,
-    QSpinBox,
     QVBoxLayout,
     QWidget,
 )
 
 from app.bindings import bind, bind_choice, bind_spin, bind_view
+from app.fields import DecimalField, IntegerField
 from app.panels.curve_editor import CurveEditor, curve_color, curve_label
 from app.panels.falloff_preview import (
     FalloffPreview,
@@ -172,11 +172,9 @@ class FalloffPanel(QWidget):
         checks.addStretch(1)
         grid.addLayout(checks, 1, 1, 1, 3)
         grid.addWidget(QLabel("ρ max"), 2, 0)
-        self.rho_max_spin = QDoubleSpinBox()
-        self.rho_max_spin.setRange(*_RHO_MAX_RANGE)
-        self.rho_max_spin.setDecimals(1)
-        self.rho_max_spin.setSingleStep(1.0)
-        self.rho_max_spin.setToolTip("Right end of the plot, in brush radii")
+        self.rho_max_spin = DecimalField(
+            *_RHO_MAX_RANGE, decimals=1, step=1.0, tooltip="Right end of the plot, in brush radii"
+        )
         grid.addWidget(self.rho_max_spin, 2, 1)
         self.reset_gaussian_button = QPushButton("Reset to Gaussian")
         self.reset_gaussian_button.setToolTip("All curves from the Gaussian load (paper Eq. 13)")
@@ -197,8 +195,7 @@ class FalloffPanel(QWidget):
         layout.setContentsMargins(6, 4, 6, 6)
         row = QHBoxLayout()
         row.addWidget(QLabel("Truncation l_max"))
-        self.l_max_spin = QSpinBox()
-        self.l_max_spin.setRange(*L_MAX_RANGE)
+        self.l_max_spin = IntegerField(*L_MAX_RANGE)
         self.l_max_spin.setToolTip(
             "G uses even degrees l ≤ l_max, ∇G odd l ≤ l_max + 1; higher follows strong "
             "anisotropy more closely but costs more per brush step"
@@ -213,6 +210,7 @@ class FalloffPanel(QWidget):
         self.weight_grid = NumberGrid(
             lambda degree: f"l {degree}",
             (-100.0, 100.0),
+            name="Wrinkle weight",
             tooltip=lambda degree: f"Weight of degree {degree} in the wrinkle brush",
         )
         layout.addWidget(self.weight_grid)
@@ -400,7 +398,10 @@ class FalloffPanel(QWidget):
         if changes.names & {"material", "falloff", "l_max"}:
             self.preview.schedule()
 
-    def _show_message(self, text: str) -> None:
+    def _show_message(self, text: str | None) -> None:
+        if text is None:
+            self._hide_message()
+            return
         self.message_label.setText(text)
         self.message_label.show()
 

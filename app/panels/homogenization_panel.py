@@ -28,7 +28,6 @@ from PySide6.QtGui import QCloseEvent, QColor, QFont
 from PySide6.QtWidgets import (
     QCheckBox,
     QComboBox,
-    QDoubleSpinBox,
     QFormLayout,
     QGridLayout,
     QGroupBox,
@@ -37,13 +36,13 @@ from PySide6.QtWidgets import (
     QProgressBar,
     QPushButton,
     QSlider,
-    QSpinBox,
     QVBoxLayout,
     QWidget,
 )
 
 from app.background import BackgroundRunner, Task
 from app.bindings import bind, bind_check, bind_choice, bind_spin, bind_view
+from app.fields import DecimalField, IntegerField
 from app.panels.homogenization_inputs import CELL_SIZE, HomogenizationInputs
 from app.panels.stiffness_table import StiffnessTable
 from app.panels.voxel_preview import PHASE_B_COLOR, SlicePreview, VoxelPreview
@@ -328,7 +327,7 @@ class HomogenizationPanel(QWidget):
         def entry(value: Any) -> dict[str, Any]:
             return {**inputs.parameters, key: value}
 
-        widget: QComboBox | QSpinBox | QDoubleSpinBox
+        widget: QComboBox | IntegerField | DecimalField
         if param.kind == "choice":
             widget = combo = QComboBox()
             for choice in param.choices:
@@ -344,15 +343,11 @@ class HomogenizationPanel(QWidget):
             )
             return widget
         if param.kind == "int":
-            widget = QSpinBox()
-            widget.setRange(int(param.low), int(param.high))
+            widget = IntegerField(int(param.low), int(param.high))
         else:
-            widget = QDoubleSpinBox()
-            widget.setDecimals(3)
-            widget.setRange(float(param.low), float(param.high))
-            widget.setSingleStep(0.05 if float(param.high) - float(param.low) >= 0.5 else 0.01)
+            low, high = float(param.low), float(param.high)
+            widget = DecimalField(low, high, 3, 0.05 if high - low >= 0.5 else 0.01)
         spin = widget
-        spin.setKeyboardTracking(False)
         bind(
             inputs,
             "parameters",

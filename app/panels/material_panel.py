@@ -452,7 +452,10 @@ class MaterialPanel(QWidget):
         return voigt
 
     # -- messages ----------------------------------------------------------------------------
-    def _show_error(self, message: str) -> None:
+    def _show_error(self, message: str | None) -> None:
+        if message is None:
+            self._hide_error()
+            return
         self.error_label.setText(f"Not applied: {message}")
         self.error_label.show()
 

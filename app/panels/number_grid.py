@@ -6,7 +6,9 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 from PySide6.QtCore import Qt, Signal
-from PySide6.QtWidgets import QDoubleSpinBox, QGridLayout, QLabel, QWidget
+from PySide6.QtWidgets import QGridLayout, QLabel, QWidget
+
+from app.fields import DecimalField
 
 __all__ = ["NumberGrid"]
 
@@ -31,16 +33,18 @@ class NumberGrid(QWidget):
         step: float = 0.1,
         columns: int = 3,
         tooltip: Callable[[int], str] | None = None,
+        name: str = "",
         parent: QWidget | None = None,
     ):
         super().__init__(parent)
+        self._name = name
         self._label, self._range, self._decimals, self._step = label, value_range, decimals, step
         self._columns, self._tooltip = columns, tooltip
         self._grid = QGridLayout(self)
         self._grid.setContentsMargins(0, 0, 0, 0)
         self._grid.setHorizontalSpacing(4)
         self._grid.setVerticalSpacing(2)
-        self.spins: list[QDoubleSpinBox] = []
+        self.spins: list[DecimalField] = []
 
     @property
     def values(self) -> np.ndarray:
@@ -66,11 +70,8 @@ class NumberGrid(QWidget):
             row, col = divmod(index, self._columns)
             label = QLabel(self._label(index))
             label.setAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
-            spin = QDoubleSpinBox()
-            spin.setRange(*self._range)
-            spin.setDecimals(self._decimals)
-            spin.setSingleStep(self._step)
-            spin.setKeyboardTracking(False)
+            spin = DecimalField(*self._range, decimals=self._decimals, step=self._step)
+            spin.setAccessibleName(f"{self._name} {self._label(index)}".strip())
             if self._tooltip is not None:
                 spin.setToolTip(self._tooltip(index))
             spin.valueChanged.connect(self._spin_changed)

@@ -12,9 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from PySide6.QtCore import QModelIndex, QPersistentModelIndex, QSize, Qt, Signal
-from PySide6.QtGui import QColor, QFontMetrics, QValidator
+from PySide6.QtGui import QColor, QFontMetrics
 from PySide6.QtWidgets import (
-    QAbstractSpinBox,
     QDoubleSpinBox,
     QFrame,
     QGridLayout,
@@ -35,6 +34,7 @@ from PySide6.QtWidgets import (
 from scipy.spatial.transform import Rotation
 
 from app.bindings import is_marked_invalid, mark_invalid
+from app.fields import DecimalField, NumberField
 from app.theme import active_theme
 from gogreen_core.validation import ParameterError
 
@@ -322,61 +322,6 @@ class CollapsibleSection(QWidget):
         self.toggle.setText(f"{self._title}   ({self._summary})" if folded else self._title)
 
 
-class NumberField(QDoubleSpinBox):
-    """A spin box for material constants of any magnitude.
-
-    Shows up to ``digits`` significant digits (``%g``: 200, 0.3, 1.5e+09), accepts typed
-    scientific notation, steps adaptively (by about a tenth of the value's magnitude) and
-    emits ``valueChanged`` only when editing finishes or the arrows step (no keyboard
-    tracking), so a half-typed number never reaches the model.
-    """
-
-    def __init__(
-        self,
-        value: float = 0.0,
-        minimum: float = -1e300,
-        maximum: float = 1e300,
-        digits: int = 6,
-        tooltip: str = "",
-        parent: QWidget | None = None,
-    ):
-        super().__init__(parent)
-        self._digits = digits
-        self.setDecimals(15)
-        self.setRange(minimum, maximum)
-        self.setStepType(QAbstractSpinBox.StepType.AdaptiveDecimalStepType)
-        self.setKeyboardTracking(False)
-        self.setAccelerated(True)
-        self.setMinimumWidth(70)
-        self.setValue(value)
-        if tooltip:
-            self.setToolTip(tooltip)
-
-    def textFromValue(self, value: float) -> str:
-        return f"{value:.{self._digits}g}"
-
-    def valueFromText(self, text: str) -> float:
-        try:
-            return float(text.strip())
-        except ValueError:
-            return self.value()
-
-    def validate(self, text: str, pos: int) -> object:
-        stripped = text.strip()
-        try:
-            value = float(stripped)
-        except ValueError:
-            partial = stripped in ("", "-", "+", ".", "-.", "+.") or stripped[-1:] in "eE+-"
-            state = QValidator.State.Intermediate if partial else QValidator.State.Invalid
-            return state, text, pos
-        if self.minimum() <= value <= self.maximum():
-            return QValidator.State.Acceptable, text, pos
-        return QValidator.State.Intermediate, text, pos
-
-    def fixup(self, text: str) -> str:
-        return self.textFromValue(self.value())
-
-
 class EulerAnglesEditor(QWidget):
     """Three Euler angles in degrees, each a slider plus a spin box.
 
@@ -406,14 +351,11 @@ class EulerAnglesEditor(QWidget):
             slider = QSlider(Qt.Orientation.Horizontal)
             slider.setRange(-180, 180)
             slider.setPageStep(15)
-            spin = QDoubleSpinBox()
-            spin.setRange(-180.0, 180.0)
-            spin.setDecimals(1)
-            spin.setSingleStep(5.0)
+            spin = DecimalField(-180.0, 180.0, 1, 5.0)
             spin.setSuffix("°")
             spin.setWrapping(True)
-            spin.setKeyboardTracking(False)
             spin.setMinimumWidth(72)
+            spin.setAccessibleName(f"{symbol} about {axis}")
             tip = f"Rotation of the material axes about the fixed {axis} axis, degrees"
             for widget in (label, slider, spin):
                 widget.setToolTip(tip)
