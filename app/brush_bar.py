@@ -26,9 +26,9 @@ BRUSH_LABELS = {
     "grab": ("Grab", "G", "Grab: the point under the cursor follows the cursor"),
     "grab_biscale": ("Bi-scale", "B", "Bi-scale grab: sharper falloff (two radii)"),
     "grab_triscale": ("Tri-scale", "T", "Tri-scale grab: sharpest falloff (three radii)"),
-    "scale": ("Scale", "S", "Scale: inflate (drag right) or deflate (drag left)"),
-    "twist": ("Twist", "W", "Twist about the view axis: drag right or left"),
-    "pinch": ("Pinch", "P", "Pinch: stretch along the drag, squeeze across"),
+    "scale": ("Scale", "S", "Scale: inflate (drag right or up) or deflate (left or down)"),
+    "twist": ("Twist", "W", "Twist about the view axis: drag right or up, left or down"),
+    "pinch": ("Pinch", "P", "Pinch: stretch along the drag (right or up), squeeze (left or down)"),
     "wrinkle": ("Wrinkle", "R", "Wrinkle: grab with reweighted SH degrees (Falloff panel)"),
 }
 

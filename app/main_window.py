@@ -394,10 +394,10 @@ class MainWindow(QMainWindow):
 
     def _history_step(self, name: str) -> None:
         sculptor = self.sculptor
-        if sculptor is None or self.tools.dragging:
+        if self.tools.dragging:
             return
-        label = getattr(sculptor, name)()
-        if label is None:
+        label = getattr(sculptor, name)() if sculptor is not None else None
+        if label is None or sculptor is None:
             self.flash(f"Nothing to {name}")
             return
         self.engine_link.pull()  # an undone setting shows in the panels again
@@ -453,8 +453,14 @@ class MainWindow(QMainWindow):
         if self.document is not None:
             mark = " •" if self.document.dirty else ""
             self.setWindowTitle(f"{self.document.title}{mark} — GoGreen Sculpt")
-        self.undo_action.setEnabled(bool(sculptor and sculptor.history.can_undo))
-        self.redo_action.setEnabled(bool(sculptor and sculptor.history.can_redo))
+        history = sculptor.history if sculptor is not None else None
+        for action, name, labels in (
+            (self.undo_action, "Undo", history.undo_labels[-1:] if history else []),
+            (self.redo_action, "Redo", history.redo_labels[:1] if history else []),
+        ):
+            # named after what it will do; kept enabled so that the key says "Nothing to …"
+            what = labels[0].replace("_", " ") if labels else ""
+            action.setText(f"&{name} {what}" if what else f"&{name} (nothing to {name.lower()})")
 
     def _refresh_status(self) -> None:
         sculptor = self.sculptor

@@ -177,6 +177,8 @@ class SculptViewport(MeshDisplay, QtInteractor):
             self.tool_message.emit(f"{error_title}: {update.error}")
         elif update.error:
             self.tool_error.emit(error_title, update.error)
+        if update.note:
+            self.tool_message.emit(update.note)
         if sculptor is None or not update.changed:
             return
         if update.step_seconds:
