@@ -11,6 +11,9 @@ artist is typing in a field.
 * The focus never rests on anything else: after a click on a panel's button, check box,
   slider, tab or combo box, after a menu, a dialog or another window, and when a focused
   widget disappears, the viewport has the keys again.
+* Numpad keys are told from the digits above the letters (numpad 1 is a view, 1 a brush):
+  Qt's shortcut map drops the keypad flag of X11 key events, so the window's actions with a
+  numpad shortcut are triggered here, outside fields, from the key event itself.
 """
 
 from __future__ import annotations
@@ -18,7 +21,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from PySide6.QtCore import QEvent, QObject, Qt, QTimer
-from PySide6.QtGui import QKeyEvent, QKeySequence
+from PySide6.QtGui import QAction, QKeyEvent, QKeySequence
 from PySide6.QtWidgets import (
     QAbstractItemView,
     QAbstractSpinBox,
@@ -77,16 +80,22 @@ class FocusKeys(QObject):
     """Application event filter applying the rules above to the widgets of ``window``, with
     ``home`` (the viewport) as the place the keys go back to.
 
-    ``window_keys``: a callable returning the key sequences of the window's actions.
+    ``window_keys``: a callable returning the key sequences of the window's actions;
+    ``actions``: one returning those actions (for their numpad shortcuts).
     """
 
     def __init__(
-        self, window: QWidget, home: QWidget, window_keys: Callable[[], list[QKeySequence]]
+        self,
+        window: QWidget,
+        home: QWidget,
+        window_keys: Callable[[], list[QKeySequence]],
+        actions: Callable[[], list[QAction]] = list,
     ) -> None:
         super().__init__(window)
         self._window = window
         self._home = home
         self._window_keys = window_keys
+        self._actions = actions
         app = QApplication.instance()
         assert app is not None
         app.installEventFilter(self)
@@ -118,6 +127,10 @@ class FocusKeys(QObject):
         ) or not self._ours(obj):
             return False
         assert isinstance(obj, QWidget)
+        if kind in (QEvent.Type.ShortcutOverride, QEvent.Type.KeyPress) and self._numpad(
+            obj, event, kind == QEvent.Type.KeyPress
+        ):
+            return True
         if kind == QEvent.Type.ShortcutOverride:
             assert isinstance(event, QKeyEvent)
             return self._shortcut_wins(obj, event)
@@ -135,6 +148,25 @@ class FocusKeys(QObject):
             if (typing and reason in _RETURNED) or (not typing and reason not in _CHOSEN):
                 QTimer.singleShot(0, self.go_home)
         return False
+
+    def _numpad(self, obj: QWidget, event: QEvent, press: bool) -> bool:
+        """A numpad key of one of the window's actions, outside a field: claimed from Qt's
+        shortcut map (which would take numpad 1 for the brush key 1) and, on the key press,
+        the action triggered (told which key: Ctrl+numpad 1 is the back view)."""
+        assert isinstance(event, QKeyEvent)
+        if not event.modifiers() & Qt.KeyboardModifier.KeypadModifier or typing_widget(obj):
+            return False
+        pressed = QKeySequence(event.keyCombination())
+        action = next(
+            (a for a in self._actions() if a.isEnabled() and pressed in a.shortcuts()), None
+        )
+        if action is None:
+            return False
+        event.accept()
+        if press:
+            trigger = getattr(action, "trigger_for_key", None)
+            trigger(event.keyCombination()) if trigger is not None else action.trigger()
+        return True
 
     def _key_pressed(self, obj: QWidget, event: QKeyEvent) -> None:
         field = _field(obj)

@@ -1,12 +1,13 @@
-"""The keymap as data, and an overlay that shows it (Help menu and ``?``).
+"""The keymap as data: one table of every key, mouse gesture and pen input.
 
 :data:`KEYMAP` is the one table of what every key, mouse gesture and pen input does, in
 Blender's sculpt-mode habits: F drags the radius and Shift+F the strength on screen, Ctrl inverts
 the brush, number keys pick brushes, ``[`` / ``]`` change the radius, Ctrl+Z undoes and
-Ctrl+Shift+Z (or Ctrl+Y) redoes, ``?`` shows this keymap; left drag sculpts, right drag orbits,
-middle drag pans, the wheel zooms. The main window takes its shortcuts from it
-(:func:`shortcuts`), so the overlay and the behaviour cannot drift apart. It is the only source
-of key behaviour: the viewport passes no key to VTK or pyvista (their default keys never act).
+Ctrl+Shift+Z (or Ctrl+Y) redoes, ``?`` shows this keymap; left drag sculpts, middle drag orbits,
+Shift+middle pans, Ctrl+middle and the wheel zoom, numpad keys pick the views. The main window
+takes its shortcuts from it (:func:`shortcuts`), so the overlay and the behaviour cannot drift
+apart. It is the only source of key behaviour: the viewport passes no key to VTK or pyvista
+(their default keys never act). A new key is one row here (and its action in the window).
 
 Each :class:`Binding` is ``(keys, action, description, group)``: ``keys`` holds alternatives,
 each either a key sequence in Qt's portable text (``"Shift+F"``, ``"Ctrl+Shift+Z"``, ``"["``) or
@@ -20,6 +21,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 from typing import NamedTuple
 
+from PySide6.QtCore import QKeyCombination, Qt
 from PySide6.QtGui import (
     QKeySequence,
 )
@@ -115,7 +117,12 @@ def _brush_bindings() -> tuple[Binding, ...]:
 
 #: The keymap: every key, mouse gesture and pen input of the application.
 KEYMAP: tuple[Binding, ...] = (
-    Binding(("Left drag",), "sculpt", "Sculpt with the brush (on the background: orbit)", "Sculpt"),
+    Binding(
+        ("Left drag",),
+        "sculpt",
+        "Sculpt (a drag begun off the model sculpts from where it reaches it)",
+        "Sculpt",
+    ),
     Binding(
         ("Ctrl+Left drag",),
         "invert",
@@ -154,10 +161,27 @@ KEYMAP: tuple[Binding, ...] = (
         "Pins",
     ),
     Binding(("Right click",), "remove_pin", "In pin mode: remove the pin under the cursor", "Pins"),
-    Binding(("Right drag",), "orbit", "Orbit the camera", "View"),
-    Binding(("Middle drag",), "pan", "Pan the camera", "View"),
+    Binding(
+        ("Middle drag", "Shift+Middle drag", "Ctrl+Middle drag"),
+        "orbit",
+        "Orbit; with Shift pan, with Ctrl zoom",
+        "View",
+    ),
     Binding(("Wheel",), "zoom", "Zoom", "View"),
-    Binding(("Home",), "reset_camera", "Frame the whole model", "View"),
+    Binding(
+        ("Right drag",),
+        "orbit_classic",
+        "Orbit, in the classic navigation (View menu)",
+        "View",
+    ),
+    Binding(("Num+1", "Ctrl+Num+1"), "view_front", "Front view (Ctrl: back)", "View"),
+    Binding(("Num+3", "Ctrl+Num+3"), "view_right", "Right view (Ctrl: left)", "View"),
+    Binding(("Num+7", "Ctrl+Num+7"), "view_top", "Top view (Ctrl: bottom)", "View"),
+    Binding(("Num+5",), "projection", "Perspective / orthographic", "View"),
+    Binding(
+        ("Num+.", "."), "frame_cursor", "Frame the model about the point under the cursor", "View"
+    ),
+    Binding(("Home",), "reset_camera", "Frame the whole model (the home view)", "View"),
     Binding(("Shift+Z",), "wireframe", "Wireframe on / off", "View"),
     Binding(("Ctrl+Z",), "undo", "Undo", "Edit"),
     Binding(("Ctrl+Shift+Z", "Ctrl+Y"), "redo", "Redo", "Edit"),
@@ -200,9 +224,36 @@ def shortcuts(action: str) -> list[QKeySequence]:
             f"action: {action!r} is a mouse or pen gesture ({', '.join(entry.keys)}), "
             "not a keyboard shortcut",
         )
-    return [
+    sequences = [
         QKeySequence.fromString(k, QKeySequence.SequenceFormat.PortableText) for k in entry.keys
     ]
+    return sequences + [s for s in map(_numlock_off, sequences) if s is not None]
+
+
+#: What a numpad key sends with NumLock off (Blender takes both alike).
+_NUMLOCK_OFF = {
+    Qt.Key.Key_1: Qt.Key.Key_End,
+    Qt.Key.Key_3: Qt.Key.Key_PageDown,
+    Qt.Key.Key_5: Qt.Key.Key_Clear,
+    Qt.Key.Key_7: Qt.Key.Key_Home,
+    Qt.Key.Key_Period: Qt.Key.Key_Delete,
+}
+
+
+def _numlock_off(sequence: QKeySequence) -> QKeySequence | None:
+    """The sequence a numpad shortcut arrives as with NumLock off, None for other keys."""
+    combination = sequence[0] if sequence.count() == 1 else None
+    if (
+        combination is None
+        or not combination.keyboardModifiers() & Qt.KeyboardModifier.KeypadModifier
+    ):
+        return None
+    other = _NUMLOCK_OFF.get(combination.key())
+    return (
+        None
+        if other is None
+        else QKeySequence(QKeyCombination(combination.keyboardModifiers(), other))
+    )
 
 
 def brush_action(kind: str) -> str:

@@ -55,6 +55,7 @@ class _Layout:
     left: float
     column_width: float
     bottom: float
+    heading_height: float
 
 
 class KeymapOverlay(QWidget):
@@ -74,10 +75,11 @@ class KeymapOverlay(QWidget):
     COLUMN_GAP = 36.0
     KEY_GAP = 14.0
     MAX_DESCRIPTION_WIDTH = 330.0
-    MIN_POINT_SIZE = 6.0
+    MIN_POINT_SIZE = 5.0
     MIN_DESCRIPTION_CHARS = 16
     PREFERRED_POINT_SIZE = 10.0
     KEY_LINE_GAP = 0.2  # between lines of one row's key caps, in line heights
+    ROW_GAPS = (0.45, 0.12)  # between rows, in line heights: the usual, then tight
 
     def __init__(self, parent: QWidget, keymap: Iterable[Binding] = KEYMAP):
         if not isinstance(parent, QWidget):
@@ -198,30 +200,40 @@ class KeymapOverlay(QWidget):
         return tuple(lines)
 
     def _layout(self, width: float, height: float) -> _Layout:
-        """The largest font, then the fewest columns, at which the whole keymap fits; at the
-        smallest font, the layout with the most columns that still leaves readable lines."""
-        point_size = max(self.font().pointSizeF(), self.PREFERRED_POINT_SIZE)
-        while True:
-            candidates = [
-                layout
-                for n_columns in range(1, len(self._groups) + 1)
-                if (layout := self._try_layout(point_size, width, n_columns)) is not None
-            ]
-            for layout in candidates:
-                if layout.bottom <= height - self.MARGIN:
-                    return layout
-            if point_size <= self.MIN_POINT_SIZE:
-                if candidates:
-                    return min(candidates, key=lambda layout: layout.bottom)
-                # not even one readable column: one column as wide as the widget
-                return self._try_layout(point_size, width, 1, force=True)
-            point_size = max(self.MIN_POINT_SIZE, point_size * 0.9)
+        """The largest font, then the fewest columns, at which the whole keymap fits, with
+        the usual spacing, else with tight spacing; at the smallest font and tight spacing, the
+        layout with the most columns that still leaves readable lines."""
+        for gap in self.ROW_GAPS:
+            point_size = max(self.font().pointSizeF(), self.PREFERRED_POINT_SIZE)
+            while True:
+                candidates = self._candidates(point_size, width, gap)
+                for layout in candidates:
+                    if layout.bottom <= height - self.MARGIN:
+                        return layout
+                if point_size <= self.MIN_POINT_SIZE:
+                    break
+                point_size = max(self.MIN_POINT_SIZE, point_size * 0.9)
+        if candidates:
+            return min(candidates, key=lambda layout: layout.bottom)
+        # not even one readable column: one column as wide as the widget
+        forced = self._try_layout(self.MIN_POINT_SIZE, width, 1, self.ROW_GAPS[-1], force=True)
+        assert forced is not None
+        return forced
+
+    def _candidates(self, point_size: float, width: float, gap: float) -> list[_Layout]:
+        """The readable layouts at ``point_size`` and row ``gap``, fewest columns first."""
+        return [
+            layout
+            for n_columns in range(1, len(self._groups) + 1)
+            if (layout := self._try_layout(point_size, width, n_columns, gap)) is not None
+        ]
 
     def _try_layout(
-        self, point_size: float, width: float, n_columns: int, force: bool = False
+        self, point_size: float, width: float, n_columns: int, gap: float, force: bool = False
     ) -> _Layout | None:
-        """Groups packed into ``n_columns`` columns at ``point_size``; None when the lines
-        would be too narrow to read (under :attr:`MIN_DESCRIPTION_CHARS` characters)."""
+        """Groups packed into ``n_columns`` columns at ``point_size``, rows ``gap`` line
+        heights apart; None when the lines would be too narrow to read (under
+        :attr:`MIN_DESCRIPTION_CHARS` characters)."""
         body, heading, title = self._fonts(point_size)
         metrics = QFontMetricsF(body)
         key_width = 0.0
@@ -250,7 +262,7 @@ class KeymapOverlay(QWidget):
         column_width = key_width + self.KEY_GAP + description_width
 
         blocks = []
-        row_gap = metrics.height() * 0.45
+        row_gap = metrics.height() * gap
         key_line_height = metrics.height() * (1.15 + self.KEY_LINE_GAP)
         for group, entries in self._groups.items():
             rows = []
@@ -274,19 +286,8 @@ class KeymapOverlay(QWidget):
                 )
             blocks.append((group, tuple(rows)))
 
-        heading_height = QFontMetricsF(heading).height() * 1.9
-        heights = [heading_height + sum(r.height for r in rows) for _g, rows in blocks]
-        target = sum(heights) / n_columns
-        columns: list[list] = [[]]
-        column_heights = [0.0]
-        for block, block_height in zip(blocks, heights, strict=True):
-            # a new column when this block would overshoot the even share by more than half
-            overshoot = column_heights[-1] + block_height / 2 > target
-            if columns[-1] and overshoot and len(columns) < n_columns:
-                columns.append([])
-                column_heights.append(0.0)
-            columns[-1].append(block)
-            column_heights[-1] += block_height
+        heading_height = QFontMetricsF(heading).height() * (1.45 + gap)
+        columns, column_heights = self._pack(blocks, heading_height, n_columns)
         total_width = len(columns) * column_width + (len(columns) - 1) * self.COLUMN_GAP
         left = max(self.MARGIN, (width - total_width) / 2)
         top = self.MARGIN + QFontMetricsF(title).height() * 2.2
@@ -299,7 +300,37 @@ class KeymapOverlay(QWidget):
             left=left,
             column_width=column_width,
             bottom=top + max(column_heights),
+            heading_height=heading_height,
         )
+
+    @staticmethod
+    def _pack(
+        blocks: list[tuple[str, tuple[_Row, ...]]], heading_height: float, n_columns: int
+    ) -> tuple[list[list[tuple[str, tuple[_Row, ...]]]], list[float]]:
+        """The groups' rows filled into at most ``n_columns`` columns of about even height, in
+        order; a group that does not fit goes on in the next column under "(continued)"."""
+        total = sum(heading_height + sum(r.height for r in rows) for _g, rows in blocks)
+        target = total / n_columns
+        columns: list[list[tuple[str, tuple[_Row, ...]]]] = [[]]
+        heights = [0.0]
+        for group, rows in blocks:
+            title, part = group, []
+            for row in rows:
+                used = heights[-1] + (heading_height + sum(r.height for r in part) if part else 0)
+                extra = row.height + (0.0 if part else heading_height)
+                full = used + extra > target + row.height / 2
+                if full and (columns[-1] or part) and len(columns) < n_columns:
+                    if part:
+                        columns[-1].append((title, tuple(part)))
+                        heights[-1] = used
+                        title = f"{group} (continued)"
+                    columns.append([])
+                    heights.append(0.0)
+                    part = []
+                part.append(row)
+            columns[-1].append((title, tuple(part)))
+            heights[-1] += heading_height + sum(r.height for r in part)
+        return columns, heights
 
     def paintEvent(self, event: QPaintEvent) -> None:
         painter = QPainter(self)
@@ -330,7 +361,7 @@ class KeymapOverlay(QWidget):
             int(Qt.AlignmentFlag.AlignHCenter | Qt.AlignmentFlag.AlignTop),
             self.HINT,
         )
-        heading_height = QFontMetricsF(heading).height() * 1.9
+        heading_height = layout.heading_height
         for index, column in enumerate(layout.columns):
             x = layout.left + index * (layout.column_width + self.COLUMN_GAP)
             y = layout.top

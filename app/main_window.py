@@ -13,6 +13,7 @@ end). The File menu's work is :class:`app.files.FileActions`, the View menu's lo
 from __future__ import annotations
 
 from collections.abc import Callable
+from functools import partial
 
 from PySide6.QtCore import QSettings, Qt
 from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
@@ -36,6 +37,7 @@ from app.keyboard import FocusKeys
 from app.keymap import binding, brush_action, display_keys, shortcuts
 from app.keymap_overlay import KeymapOverlay
 from app.look import SHADINGS, ViewLook, stored_theme
+from app.navigation import OPPOSITE_VIEWS, VIEW_TITLES, NavigationPreferences, ViewAction
 from app.panels.falloff_panel import FalloffPanel
 from app.panels.homogenization_panel import HomogenizationPanel
 from app.panels.material_panel import MaterialPanel
@@ -113,7 +115,9 @@ class MainWindow(QMainWindow):
         self.kernel_warmer = KernelWarmer(self)
         self._announced_warmups: set[int] = set()
         self._connect()
-        self.focus_keys = FocusKeys(self, self.viewport, self._shortcut_keys)
+        self.focus_keys = FocusKeys(
+            self, self.viewport, self._shortcut_keys, lambda: self.findChildren(QAction)
+        )
         #: The keymap drawn over the viewport (Help menu, ``?``, F1).
         self.keymap_overlay = KeymapOverlay(self.viewport)
         self.keymap_overlay.closed.connect(self.viewport.setFocus)
@@ -220,6 +224,19 @@ class MainWindow(QMainWindow):
         )
         view_menu = bar.addMenu("&View")
         self._action(view_menu, "Reset &Camera", self.reset_camera, "reset_camera", "home")
+        views, viewport = view_menu.addMenu("Camera &Views"), self.viewport
+        for key, opposite in OPPOSITE_VIEWS.items():
+            # numpad 1, 3, 7: one side, and with Ctrl the opposite one (Blender's keys)
+            action = ViewAction(VIEW_TITLES[key], self, key, opposite, viewport.show_view)
+            self._bind_keys(action, key)
+            views.addAction(action)
+            self._action(views, VIEW_TITLES[opposite], partial(viewport.show_view, opposite))
+        self._action(views, "Perspective / &Orthographic", viewport.toggle_projection, "projection")
+        self._action(
+            views, "&Frame About the Cursor", lambda: viewport.frame_under_cursor(), "frame_cursor"
+        )
+        self.navigation = NavigationPreferences(self, viewport, self.settings)
+        self.navigation.fill_menu(view_menu)
         self.view_actions = [self._visibility_action(w) for w in (self.panels_dock, self.brush_bar)]
         view_menu.addActions(self.view_actions)
         view_menu.addSeparator()

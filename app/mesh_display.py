@@ -198,6 +198,7 @@ class MeshDisplay(_Base):
         self.reset_camera(render=False)
         if render:
             self.request_render()
+            self.rehover()
 
     def update_vertices(self, vertices: np.ndarray, indices: np.ndarray | None = None) -> None:
         """Write new positions (N, 3, the mesh's order) into the actor's arrays in place.

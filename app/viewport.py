@@ -1,10 +1,11 @@
 """The 3D viewport: a pyvistaqt QtInteractor where the left mouse button sculpts.
 
-Mouse map (as PyVista and Blender users expect): left drag on the model sculpts (on the
-background it orbits), right drag orbits, middle drag pans, the wheel zooms; Ctrl+wheel
-changes the brush radius and Shift+wheel the strength. Keys are the window's (app.keymap) and
-the tools' (F, number keys): none reaches VTK's interactor, whose default keys (and pyvista's)
-would act behind the app's back.
+Mouse map (Blender's, :mod:`app.navigation`): left drag sculpts (one that starts off the model
+sculpts once it reaches it; preference: it orbits), middle drag orbits, Shift+middle pans,
+Ctrl+middle and the wheel zoom (the "classic" scheme: right drag orbits, middle pans);
+Ctrl+wheel changes the brush radius and Shift+wheel the strength. Keys are the window's
+(app.keymap) and the tools' (F, number keys): none reaches VTK's interactor, whose default keys
+(and pyvista's) would act behind the app's back.
 
 The stroke loop: the viewport translates Qt mouse events into plain
 :class:`gogreen_core.tools.PointerEvent` (the world point under the cursor, picked on press and
@@ -31,6 +32,7 @@ from PySide6.QtGui import QKeyEvent, QMouseEvent, QTabletEvent, QWheelEvent
 from pyvistaqt import QtInteractor
 
 from app.mesh_display import BACKGROUND_INDEX_FACES, HOME_VIEW_DIRECTION, MeshDisplay
+from app.navigation import CameraViews, camera_gesture, vtk_button
 from gogreen_core.tools import PointerEvent, SculptTools, ToolUpdate
 
 __all__ = ["BACKGROUND_INDEX_FACES", "HOME_VIEW_DIRECTION", "SculptViewport"]
@@ -42,7 +44,7 @@ _MODIFIER_NAMES = (
 )
 
 
-class SculptViewport(MeshDisplay, QtInteractor):
+class SculptViewport(MeshDisplay, CameraViews, QtInteractor):
     """Viewport with the stroke loop, a brush cursor ring, in-place mesh updates and
     on-demand rendering.
 
@@ -84,9 +86,16 @@ class SculptViewport(MeshDisplay, QtInteractor):
         self._init_display()
         #: The Qt-free tools pointer events go to (:meth:`set_tools`); None: nothing sculpts.
         self.tools: SculptTools | None = None
+        #: Navigation scheme (a key of app.navigation.NAVIGATIONS) and what a left drag that
+        #: starts off the model does ("sculpt" once it reaches the model, or "orbit").
+        self.navigation = "blender"
+        self.left_on_background = "sculpt"
         #: Depth (display z) of the drag plane while the left button drags on the model.
         self._drag_depth: float | None = None
-        self._orbit_button: Qt.MouseButton | None = None
+        #: The camera drag going on: (the Qt button held, VTK's button doing the gesture).
+        self._camera: tuple[Qt.MouseButton, Qt.MouseButton] | None = None
+        #: A left drag that started off the model, waiting to reach it (Blender's habit).
+        self._reaching = False
         self._hover_pos: QPointF | None = None
         #: Pen pressure of the latest tablet event (1 for a mouse), given to the tools.
         self._pressure = 1.0
@@ -277,38 +286,51 @@ class SculptViewport(MeshDisplay, QtInteractor):
     def keyReleaseEvent(self, ev: QKeyEvent) -> None:
         ev.ignore()  # not to VTK either
 
-    # -- mouse -------------------------------------------------------------------------------
-    def _as_left(self, ev: QMouseEvent) -> QMouseEvent:
-        buttons = Qt.MouseButton.LeftButton if ev.buttons() else Qt.MouseButton.NoButton
+    # -- mouse -----------------------------------------------------------------------------
+    @staticmethod
+    def _as_button(ev: QMouseEvent, button: Qt.MouseButton) -> QMouseEvent:
+        """``ev`` as VTK's trackball style should see it: ``button`` (held while dragging),
+        no modifiers (the gesture was chosen already)."""
+        pressed = ev.type() != QEvent.Type.MouseMove
+        held = button if ev.type() != QEvent.Type.MouseButtonRelease else Qt.MouseButton.NoButton
         return QMouseEvent(
             ev.type(),
             ev.position(),
             ev.globalPosition(),
-            Qt.MouseButton.LeftButton,
-            buttons,
+            button if pressed else Qt.MouseButton.NoButton,
+            held,
             Qt.KeyboardModifier.NoModifier,
         )
+
+    def _start_camera(self, ev: QMouseEvent, gesture: str) -> None:
+        self._camera = (ev.button(), vtk_button(gesture))
+        self._hover_timer.stop()
+        super().mousePressEvent(self._as_button(ev, self._camera[1]))
 
     def mousePressEvent(self, ev: QMouseEvent) -> None:
         self.setFocus(Qt.FocusReason.MouseFocusReason)
         if self.value_dragging:
             self.finish_value_drag(ev.button() != Qt.MouseButton.RightButton)
             return
-        if ev.button() == Qt.MouseButton.LeftButton and self.surface_building:
+        if self._camera is not None or self._drag_depth is not None or self._reaching:
+            return  # one drag at a time
+        button = ev.button()
+        if button == Qt.MouseButton.LeftButton and self.surface_building:
             self.surface_pending.emit()  # nothing to pick on yet: no stroke, no orbit
             return
-        if ev.button() == Qt.MouseButton.LeftButton and self._drag_depth is None:
+        if button == Qt.MouseButton.LeftButton:
             if self._press_on_surface(ev):
                 return
-            self._orbit_button = Qt.MouseButton.LeftButton
-            super().mousePressEvent(ev)
-        elif ev.button() == Qt.MouseButton.RightButton and self._remove_pin(ev.position()):
+            if self.left_on_background == "orbit":
+                self._start_camera(ev, "orbit")
+            else:
+                self._reaching = True  # sculpts once the drag reaches the model
             return
-        elif ev.button() == Qt.MouseButton.RightButton:
-            self._orbit_button = Qt.MouseButton.RightButton
-            super().mousePressEvent(self._as_left(ev))  # right drag orbits
-        else:
-            super().mousePressEvent(ev)
+        if button == Qt.MouseButton.RightButton and self._remove_pin(ev.position()):
+            return
+        gesture = camera_gesture(self.navigation, button, ev.modifiers())
+        if gesture is not None:
+            self._start_camera(ev, gesture)
 
     def _press_on_surface(self, ev: QMouseEvent) -> bool:
         """A left press on the model: the tools start a stroke (or a pin) there (True);
@@ -318,6 +340,7 @@ class SculptViewport(MeshDisplay, QtInteractor):
             return False
         point, normal = hit
         self._drag_depth = self._depth(point)
+        self._reaching = False
         self._hover_timer.stop()
         event = self.pointer_event(ev.position(), point, normal, ev.modifiers())
         if self.tools is not None:
@@ -350,14 +373,26 @@ class SculptViewport(MeshDisplay, QtInteractor):
                 self.tools.move(self.pointer_event(ev.position(), point, None, ev.modifiers()))
                 self._schedule_flush()
             return
-        if self._orbit_button == Qt.MouseButton.RightButton:
-            super().mouseMoveEvent(self._as_left(ev))
+        if self._reaching:
+            self._press_on_surface(ev)  # the drag reached the model: the stroke starts there
+            return
+        if self._camera is not None:
+            super().mouseMoveEvent(self._as_button(ev, self._camera[1]))
             return
         super().mouseMoveEvent(ev)
         if not ev.buttons():  # hover: pick once for the newest position
             self._hover_pos = ev.position()
             if not self._hover_timer.isActive():
                 self._hover_timer.start()
+
+    def rehover(self) -> None:
+        """The camera moved under a still pointer: pick what is under it now (the brush
+        cursor follows), as a hover would."""
+        if self.in_stroke or self.value_dragging or not self.underMouse():
+            return
+        self._hover_pos = QPointF(self.mapFromGlobal(self.cursor().pos()))
+        if not self._hover_timer.isActive():
+            self._hover_timer.start()
 
     def _hover_now(self) -> None:
         """The newest hover position, picked and handed to the tools (the ring follows)."""
@@ -403,12 +438,13 @@ class SculptViewport(MeshDisplay, QtInteractor):
                 self.draw(self.tools.release(), "Brush stopped")
             self.stroke_ended.emit()
             return
-        if self._orbit_button == Qt.MouseButton.RightButton and ev.button() == self._orbit_button:
-            self._orbit_button = None
-            super().mouseReleaseEvent(self._as_left(ev))
+        if self._reaching and ev.button() == Qt.MouseButton.LeftButton:
+            self._reaching = False  # the drag never reached the model
             return
-        self._orbit_button = None
-        super().mouseReleaseEvent(ev)
+        if self._camera is not None and ev.button() == self._camera[0]:
+            button, self._camera = self._camera[1], None
+            super().mouseReleaseEvent(self._as_button(ev, button))
+            self.rehover()
 
     def wheelEvent(self, ev: QWheelEvent) -> None:
         notches = 1 if ev.angleDelta().y() > 0 else -1
@@ -417,7 +453,8 @@ class SculptViewport(MeshDisplay, QtInteractor):
         elif ev.modifiers() & Qt.KeyboardModifier.ShiftModifier:
             self.strength_wheel.emit(notches)
         else:
-            super().wheelEvent(ev)
+            super().wheelEvent(ev)  # zoom
+            self.rehover()
 
     @property
     def in_stroke(self) -> bool:
