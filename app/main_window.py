@@ -15,7 +15,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from functools import partial
 
-from PySide6.QtCore import QSettings, Qt
+from PySide6.QtCore import QPoint, QSettings, QSize, Qt
 from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
 from PySide6.QtWidgets import (
     QApplication,
@@ -27,7 +27,7 @@ from PySide6.QtWidgets import (
     QToolBar,
 )
 
-from app.bindings import refresh
+from app.bindings import panel_words, refresh
 from app.brush_bar import BrushBar
 from app.document import Document
 from app.files import FileActions
@@ -53,9 +53,30 @@ from gogreen_core.tools import SculptTools
 
 __all__ = ["FIRST_RUN_HINT", "SHADINGS", "MainWindow", "material_anisotropy", "wrinkle_preset"]
 
+#: Share of the screen's free width and height the window opens with.
+WINDOW_SHARE = 0.94
+#: The settings' fields as the panels name them (in messages).
+SETTING_NAMES = {
+    "material": "Material",
+    "falloff": "Falloff",
+    "l_max": "Truncation l_max",
+    "degree_weights": "Wrinkle weights",
+    "constraint_radius": "Pin radius",
+}
 FIRST_RUN_HINT = (
     "Welcome! Press ? (or F1, or Help → Keyboard & Mouse) to see every key, mouse and pen control"
 )
+
+
+def fit_to_screen(window: QMainWindow) -> None:
+    """Open ``window`` over most of its screen (:data:`WINDOW_SHARE` of the free area,
+    centred), as a desktop tool does; at a fixed size it was 1300 × 800 on a 1600 × 1000
+    screen."""
+    screen = window.screen() or QApplication.primaryScreen()
+    free = screen.availableGeometry()
+    size = QSize(round(free.width() * WINDOW_SHARE), round(free.height() * WINDOW_SHARE))
+    window.resize(size)
+    window.move(free.center() - QPoint(size.width() // 2, size.height() // 2))
 
 
 class MainWindow(QMainWindow):
@@ -76,7 +97,7 @@ class MainWindow(QMainWindow):
         self.settings = settings or QSettings("GoGreen", "GoGreen Sculpt")
         # Before any widget is made: icons take the theme's colour when they are made.
         theme = apply_theme(QApplication.instance(), stored_theme(self.settings))
-        self.resize(1500, 920)
+        fit_to_screen(self)
         #: The one source of truth of what the artist tunes; widgets and the engine follow it.
         self.model = Settings()
         self.engine_link = EngineLink(self.model, None, on_error=self._setting_refused)
@@ -369,8 +390,10 @@ class MainWindow(QMainWindow):
             self.flash(f"Preparing the l_max = {event.value} kernels…")
 
     def _setting_refused(self, parameter: str, exc: Exception) -> None:
-        """The engine refused a setting: the settings were restored from it; say why."""
-        self.show_error(f"{parameter} not applied", str(exc))
+        """The engine refused a setting: the settings were restored from it; say why, in
+        the panels' words."""
+        name = SETTING_NAMES.get(parameter.rsplit(".", 1)[-1], parameter)
+        self.show_error(f"{name} not applied", panel_words(str(exc), SETTING_NAMES))
 
     def _compiling(self, busy: bool) -> None:
         self.status.compile_progress.setVisible(busy)

@@ -44,6 +44,7 @@ from app.background import BackgroundRunner, Task
 from app.bindings import bind, bind_check, bind_choice, bind_spin, bind_view
 from app.fields import DecimalField, IntegerField
 from app.panels.homogenization_inputs import CELL_SIZE, HomogenizationInputs
+from app.panels.material_form import rotation_matrix
 from app.panels.stiffness_table import StiffnessTable
 from app.panels.voxel_preview import PHASE_B_COLOR, SlicePreview, VoxelPreview
 from app.panels.widgets import (
@@ -240,10 +241,20 @@ class HomogenizationPanel(QWidget):
         self.progress_bar.setValue(0)
         self.progress_bar.setTextVisible(False)
         self.progress_bar.setMaximumHeight(14)
+        # "Use this material" under Compute: in sight at the default window size (below the
+        # result table it was under the fold)
+        self.use_button = QPushButton("Use this material")
+        self.use_button.setToolTip("Send the effective material to the Material panel and brushes")
+        self.use_button.setEnabled(False)
+        self.use_button.clicked.connect(self.use_material)
         row.addWidget(self.compute_button)
         row.addWidget(self.auto_compute_check)
         row.addWidget(self.progress_bar, 1)
         column.addLayout(row)
+        use_row = QHBoxLayout()
+        use_row.addWidget(self.use_button)
+        use_row.addStretch(1)
+        column.addLayout(use_row)
         self.error_label = QLabel()
         self.error_label.setWordWrap(True)
         set_text_role(self.error_label, "error")
@@ -269,11 +280,6 @@ class HomogenizationPanel(QWidget):
         self.status_label.setWordWrap(True)
         set_text_role(self.status_label, "muted")
         layout.addWidget(self.status_label)
-        self.use_button = QPushButton("Use this material")
-        self.use_button.setToolTip("Send the effective material to the Material panel and brushes")
-        self.use_button.setEnabled(False)
-        self.use_button.clicked.connect(self.use_material)
-        layout.addWidget(self.use_button)
         return box
 
     def _bind(self) -> None:
@@ -306,6 +312,8 @@ class HomogenizationPanel(QWidget):
         slices = self.slice_slider
         bind(inputs, "slice", slices, slices.setValue, slices.valueChanged, label="Slice")
         bind_view(inputs, "slice", self.slice_view, self.slice_view.set_index)
+        voxels = self.voxel_view
+        bind_view(inputs, "angles", voxels, lambda a: voxels.set_rotation(rotation_matrix(a)))
 
     def _rebuild_parameter_widgets(self, name: str) -> None:
         """The widgets of pattern ``name``'s parameters, each bound to its entry of
