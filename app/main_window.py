@@ -29,6 +29,7 @@ from PySide6.QtWidgets import (
 
 from app.bindings import panel_words, refresh
 from app.brush_bar import BrushBar
+from app.crash_recovery import CrashRecovery
 from app.document import Document
 from app.files import FileActions
 from app.icons import set_icon
@@ -135,6 +136,8 @@ class MainWindow(QMainWindow):
         self.last_step_ms = 0.0
         self.kernel_warmer = KernelWarmer(self)
         self._announced_warmups: set[int] = set()
+        #: The documents' crash-recovery journals and the offer of unsaved work at start.
+        self.crash_recovery = CrashRecovery(self)
         self._connect()
         self.focus_keys = FocusKeys(
             self, self.viewport, self._shortcut_keys, lambda: self.findChildren(QAction)
@@ -330,17 +333,23 @@ class MainWindow(QMainWindow):
         """Edit ``document`` from now on: the tools, the engine link and the view follow, and
         every panel shows the settings in effect."""
         self.tools.cancel()
-        self.document = document
+        previous, self.document = self.document, document
         self.tools.set_sculptor(document.sculptor)
         self.tools.cursor.hide()  # until the mouse moves over the new model
-        self.engine_link.attach(document.sculptor)
+        if document.recovered:  # its settings are the ones to show
+            self.engine_link.sculptor = document.sculptor
+            self.engine_link.pull()
+        else:
+            self.engine_link.attach(document.sculptor)
         self.viewport.set_mesh(document.sculptor.vertices, document.sculptor.faces)
         self.surface_progress.setValue(0)
         self.surface_progress.setVisible(self.viewport.surface_building)
         self.look.apply_mesh_look()
+        self.viewport.show_sculptor()  # its pins: none, or a recovered document's
         refresh()  # every panel shows the settings in effect, refused inputs dropped
         self.refresh_title()
         self._refresh_status()
+        self.crash_recovery.document_changed(previous, document)
 
     def _surface_ready(self) -> None:
         """The background build of the mesh's surface index ended: strokes can start."""
@@ -363,6 +372,7 @@ class MainWindow(QMainWindow):
 
     def closeEvent(self, event: QCloseEvent) -> None:
         if self.files.maybe_save():
+            self.crash_recovery.close()  # saved or discarded: the journal goes
             self.viewport.cancel_surface_build()  # it stops at its next progress report
             self.kernel_warmer.wait(60_000)  # a compilation cannot be interrupted
             self.viewport.close()

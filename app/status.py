@@ -19,13 +19,13 @@ class StatusArea:
         self.frame_label = QLabel("render: –")
         self.message_label = QLabel()
         # Busy indicator while kernels compile (first start, a new l_max): never a silent wait.
-        self.compile_progress = self._progress(
+        self.compile_progress = self.add_progress(
             0,
             "",
             "Compiling the brush kernels (once per machine and l_max); strokes start after it",
         )
         # Progress of the background build of a big mesh's surface index (picking, shading)
-        self.surface_progress = self._progress(
+        self.surface_progress = self.add_progress(
             100,
             "preparing %p%",
             "Preparing the opened mesh for picking and smooth shading; strokes start after it",
@@ -44,9 +44,9 @@ class StatusArea:
         # a temporary message (the first-run hint) is drawn where the label is: not both
         bar.messageChanged.connect(lambda text: self.message_label.setHidden(bool(text)))
 
-    def _progress(self, maximum: int, text: str, tip: str) -> QProgressBar:
+    def add_progress(self, maximum: int, text: str, tip: str) -> QProgressBar:
         """A hidden progress bar at the right of the status bar (``maximum`` 0: busy, no
-        fraction)."""
+        fraction): ``text`` its format (``"%p%"``), ``tip`` its tool tip."""
         progress = QProgressBar()
         progress.setRange(0, maximum)
         progress.setMaximumWidth(160)

@@ -87,6 +87,7 @@ class StrokeDriver:
         self._write(moved)
         stroke.touched[moved.rows] = True
         stroke.events.append(event)
+        self.log.event(event)  # the recovery journal serializes it now
         return moved.rows
 
     def _write(self, moved: Displacement) -> None:
