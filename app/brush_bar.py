@@ -9,6 +9,7 @@ shortcuts and scripts that change the model show here, and edits here reach the 
 from __future__ import annotations
 
 import math
+from functools import partial
 
 from PySide6.QtCore import Signal
 from PySide6.QtGui import QAction, QActionGroup, QKeySequence
@@ -109,7 +110,7 @@ class BrushBar(QToolBar):
                 self.settings,
                 "symmetry",
                 action,
-                lambda axes, a=axis: self.symmetry_actions[a].setChecked(a in axes),
+                partial(self._show_axis, axis),
                 action.toggled,
                 lambda _on: "".join(
                     a for a, act in self.symmetry_actions.items() if act.isChecked()
@@ -127,6 +128,9 @@ class BrushBar(QToolBar):
         emitter, callback = self.settings.events.changed, self._model_changed
         emitter.connect(callback)
         self.destroyed.connect(lambda *_: emitter.disconnect(callback))
+
+    def _show_axis(self, axis: str, axes: str) -> None:
+        self.symmetry_actions[axis].setChecked(axis in axes)
 
     def bind_pen(self, pen: PenSettings) -> None:
         """Add the pen controls bound to ``pen``: pressure → strength and pressure → radius

@@ -21,7 +21,7 @@ from pathlib import Path
 
 from PySide6.QtCore import QBuffer, QIODevice, QObject, Qt, QTimer
 from PySide6.QtGui import QImage
-from PySide6.QtWidgets import QLabel, QMessageBox
+from PySide6.QtWidgets import QLabel, QMessageBox, QProgressBar
 
 from app.background import BackgroundRunner, Task
 from app.document import Document
@@ -51,6 +51,7 @@ class CrashRecovery(QObject):
         self._idle_timer.timeout.connect(self.idle)
         self._thumbnail_at = (0.0, -1)  # time and journal records of the last picture
         self._runner = BackgroundRunner(self)
+        self.progress: QProgressBar
         self._runner.progress.connect(lambda _id, done: self.progress.setValue(round(100 * done)))
         self._runner.finished.connect(lambda _id, recovery: self._recovered(recovery))
         self._runner.failed.connect(lambda _id, exc: self._failed(exc))
@@ -113,7 +114,7 @@ class CrashRecovery(QObject):
         small = image.scaled(THUMBNAIL, Qt.AspectRatioMode.KeepAspectRatio, smooth)
         png = QBuffer()
         png.open(QIODevice.OpenModeFlag.WriteOnly)
-        if small.save(png, "PNG"):
+        if small.save(png, "PNG"):  # type: ignore[call-overload]  # the stub wants bytes, Qt str
             journal.write_file(THUMBNAIL_FILE, png.data().data())
 
     # -- unsaved work of earlier sessions ---------------------------------------------------

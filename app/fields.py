@@ -36,8 +36,8 @@ def number_text(value: float) -> str:
     return f"{value:g}".replace("-", "−")
 
 
-if TYPE_CHECKING:
-    _SpinBox = QDoubleSpinBox
+if TYPE_CHECKING:  # the behaviour of a QSpinBox or a QDoubleSpinBox, whichever follows it
+    from typing import Any as _SpinBox
 else:
     _SpinBox = object
 
@@ -106,7 +106,7 @@ class _FieldBehaviour(_SpinBox):
         shown = self._core(text) or "nothing"
         return f"{self.label}: enter {self.range_text()} (got {shown!r})"
 
-    def validate(self, text: str, pos: int) -> object:
+    def validate(self, text: str, pos: int) -> tuple[QValidator.State, str, int]:
         # Never Invalid: what is typed stays on screen (it is judged on Enter).
         state = (
             QValidator.State.Acceptable
@@ -118,13 +118,13 @@ class _FieldBehaviour(_SpinBox):
     def fixup(self, text: str) -> str:
         return text  # never change what was typed behind the artist's back
 
-    def valueFromText(self, text: str) -> float:
+    def _value_of(self, text: str) -> float:
+        """The value ``text`` says (the field's minimum for its special text), else the
+        current value."""
         if self.specialValueText() and text.strip() == self.specialValueText():
-            return self.minimum()
+            return float(self.minimum())
         value = self._number(text)
-        if value is None:
-            return self.value()
-        return int(value) if self._whole else value
+        return float(self.value()) if value is None else value
 
     # -- showing a refusal -------------------------------------------------------------------
     def refuse(self, message: str) -> None:
@@ -148,7 +148,7 @@ class _FieldBehaviour(_SpinBox):
         if line.text() != shown:
             line.setText(shown)
         self._unmark()
-        self.left.emit()  # type: ignore[attr-defined]  # each field class has the signal
+        self.left.emit()  # each field class has the signal
 
     def _unmark(self) -> None:
         if is_marked_invalid(self):
@@ -204,6 +204,9 @@ class DecimalField(_FieldBehaviour, QDoubleSpinBox):
             self.setToolTip(tooltip)
         self._init_field()
 
+    def valueFromText(self, text: str) -> float:
+        return self._value_of(text)
+
 
 class IntegerField(_FieldBehaviour, QSpinBox):
     """A whole number in [``minimum``, ``maximum``]."""
@@ -219,6 +222,9 @@ class IntegerField(_FieldBehaviour, QSpinBox):
         if tooltip:
             self.setToolTip(tooltip)
         self._init_field()
+
+    def valueFromText(self, text: str) -> int:
+        return int(self._value_of(text))
 
 
 class NumberField(_FieldBehaviour, QDoubleSpinBox):
@@ -251,3 +257,6 @@ class NumberField(_FieldBehaviour, QDoubleSpinBox):
 
     def textFromValue(self, value: float) -> str:
         return f"{value:.{self._digits}g}"
+
+    def valueFromText(self, text: str) -> float:
+        return self._value_of(text)

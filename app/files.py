@@ -49,8 +49,9 @@ class FileActions(QObject):
     def open_default(self) -> None:
         """The embedded default model."""
         window = self.window
-        window.set_document(Document.default(window.model.sculptor_options()))
-        window.flash(f"Default model: {len(window.sculptor.vertices)} vertices")
+        document = Document.default(window.model.sculptor_options())
+        window.set_document(document)
+        window.flash(f"Default model: {len(document.sculptor.vertices)} vertices")
 
     def new_document(self) -> bool:
         """File → New: the default model, after asking to save unsaved changes (as Open
@@ -151,7 +152,9 @@ class FileActions(QObject):
 
     def recent_files(self) -> list[str]:
         value = self.window.settings.value("recent_files", [])
-        return [value] if isinstance(value, str) else list(value or [])
+        if isinstance(value, str):
+            return [value]
+        return [str(v) for v in value] if isinstance(value, (list, tuple)) else []
 
     def _add_recent(self, path: str) -> None:
         files = [path] + [p for p in self.recent_files() if p != path]
@@ -246,9 +249,9 @@ class FileActions(QObject):
             image = QImage(pixels.data, width, height, 3 * width, QImage.Format.Format_RGB888)
             png = QBuffer()
             png.open(QIODevice.OpenModeFlag.WriteOnly)
-            if not image.save(png, "PNG"):
+            if not image.save(png, "PNG"):  # type: ignore[call-overload]  # stub: bytes; runtime: str
                 raise RuntimeError("Qt could not encode the PNG")
-            write_bytes_atomic(target, png.data().data())
+            write_bytes_atomic(target, bytes(png.data().data()))
         except (OSError, RuntimeError, ValueError) as exc:
             self.window.show_error("Cannot write the screenshot", f"{target}: {exc}")
             return False

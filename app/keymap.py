@@ -242,7 +242,7 @@ _NUMLOCK_OFF = {
 
 def _numlock_off(sequence: QKeySequence) -> QKeySequence | None:
     """The sequence a numpad shortcut arrives as with NumLock off, None for other keys."""
-    combination = sequence[0] if sequence.count() == 1 else None
+    combination = sequence[0] if sequence.count() == 1 else None  # type: ignore[index]
     if (
         combination is None
         or not combination.keyboardModifiers() & Qt.KeyboardModifier.KeypadModifier

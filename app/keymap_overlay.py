@@ -9,7 +9,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 from dataclasses import dataclass
 
-from PySide6.QtCore import QEvent, QObject, QRectF, QSize, Qt, Signal
+from PySide6.QtCore import QEvent, QObject, QPointF, QRectF, QSize, Qt, Signal
 from PySide6.QtGui import (
     QColor,
     QFont,
@@ -85,6 +85,7 @@ class KeymapOverlay(QWidget):
         if not isinstance(parent, QWidget):
             raise ParameterError("parent", "parent: the overlay needs a widget to lie over")
         super().__init__(parent)
+        self._parent = parent
         self.setObjectName("keymap_overlay")
         self._groups = bindings_by_group(keymap)
         self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
@@ -102,7 +103,7 @@ class KeymapOverlay(QWidget):
 
     def show_overlay(self) -> None:
         """Lay the overlay over the whole parent, on top, with the keyboard focus."""
-        self.setGeometry(self.parentWidget().rect())
+        self.setGeometry(self._parent.rect())
         self.raise_()
         self.show()
         self.setFocus(Qt.FocusReason.OtherFocusReason)
@@ -138,9 +139,9 @@ class KeymapOverlay(QWidget):
 
     # -- events ------------------------------------------------------------------------------
     def eventFilter(self, watched: QObject, event: QEvent) -> bool:
-        if watched is self.parentWidget() and event.type() == QEvent.Type.Resize:
+        if watched is self._parent and event.type() == QEvent.Type.Resize:
             if self.isVisible():
-                self.setGeometry(self.parentWidget().rect())
+                self.setGeometry(self._parent.rect())
         return False
 
     def keyPressEvent(self, event: QKeyEvent) -> None:
@@ -314,7 +315,7 @@ class KeymapOverlay(QWidget):
         columns: list[list[tuple[str, tuple[_Row, ...]]]] = [[]]
         heights = [0.0]
         for group, rows in blocks:
-            title, part = group, []
+            title, part = group, list[_Row]()
             for row in rows:
                 used = heights[-1] + (heading_height + sum(r.height for r in part) if part else 0)
                 extra = row.height + (0.0 if part else heading_height)
@@ -375,7 +376,8 @@ class KeymapOverlay(QWidget):
                 )
                 painter.setPen(QPen(_ACCENT, 1.0))
                 painter.drawLine(
-                    x, y + heading_height - 4, x + layout.column_width, y + heading_height - 4
+                    QPointF(x, y + heading_height - 4),
+                    QPointF(x + layout.column_width, y + heading_height - 4),
                 )
                 y += heading_height
                 painter.setFont(body)

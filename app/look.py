@@ -6,13 +6,15 @@ QSettings.
 
 from __future__ import annotations
 
+from typing import Any
+
 import pyvista as pv
 from PySide6.QtCore import QObject, QSettings
 from PySide6.QtGui import QAction, QActionGroup
-from PySide6.QtWidgets import QApplication, QMenu, QWidget
+from PySide6.QtWidgets import QMenu, QWidget
 
 from app.icons import set_icon
-from app.theme import DEFAULT_THEME, THEMES, Theme, apply_theme, theme
+from app.theme import DEFAULT_THEME, THEMES, Theme, apply_theme, qt_application, theme
 from app.viewport import SculptViewport
 from gogreen_core.validation import ParameterError
 
@@ -92,7 +94,7 @@ class ViewLook(QObject):
 
     def set_theme(self, name: str) -> None:
         """Switch to theme ``name`` (one of :data:`app.theme.THEMES`) and remember it."""
-        self.theme = apply_theme(QApplication.instance(), theme(name).name)
+        self.theme = apply_theme(qt_application(), theme(name).name)
         self.settings.setValue("theme", self.theme.name)
         self.theme_actions[self.theme.name].setChecked(True)
         for refresh in self.refresh_colors:
@@ -102,7 +104,8 @@ class ViewLook(QObject):
     def viewport_colors(self) -> None:
         """The viewport's background gradient and the gizmo's labels in the theme's colours."""
         bottom, top = self.theme.viewport_background
-        self.viewport.set_background(bottom, top=top)
+        plotter: Any = self.viewport  # pyvista's decorator hides set_background's signature
+        plotter.set_background(bottom, top=top)
         self.show_gizmo()
 
     def set_shading(self, name: str) -> None:
@@ -149,9 +152,10 @@ class ViewLook(QObject):
 
     def show_gizmo(self) -> None:
         """The orientation gizmo (pyvista's axes widget) when View → Orientation Gizmo is on."""
-        self.viewport.hide_axes()
+        plotter: Any = self.viewport  # pyvista's decorator hides these signatures
+        plotter.hide_axes()
         if self.gizmo_action.isChecked():
-            self.viewport.add_axes(interactive=False, line_width=2, color=self.theme.window_text)
+            plotter.add_axes(interactive=False, line_width=2, color=self.theme.window_text)
         self.viewport.request_render()
 
     @property

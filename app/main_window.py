@@ -43,7 +43,7 @@ from app.panels.falloff_panel import FalloffPanel
 from app.panels.homogenization_panel import HomogenizationPanel
 from app.panels.material_panel import MaterialPanel
 from app.status import StatusArea
-from app.theme import apply_theme
+from app.theme import apply_theme, qt_application
 from app.viewport import SculptViewport
 from app.wrinkle_hint import WrinkleHint, material_anisotropy, wrinkle_preset
 from gogreen_core.material import Material
@@ -97,7 +97,7 @@ class MainWindow(QMainWindow):
         super().__init__()
         self.settings = settings or QSettings("GoGreen", "GoGreen Sculpt")
         # Before any widget is made: icons take the theme's colour when they are made.
-        theme = apply_theme(QApplication.instance(), stored_theme(self.settings))
+        theme = apply_theme(qt_application(), stored_theme(self.settings))
         fit_to_screen(self)
         #: The one source of truth of what the artist tunes; widgets and the engine follow it.
         self.model = Settings()
@@ -251,9 +251,9 @@ class MainWindow(QMainWindow):
         views, viewport = view_menu.addMenu("Camera &Views"), self.viewport
         for key, opposite in OPPOSITE_VIEWS.items():
             # numpad 1, 3, 7: one side, and with Ctrl the opposite one (Blender's keys)
-            action = ViewAction(VIEW_TITLES[key], self, key, opposite, viewport.show_view)
-            self._bind_keys(action, key)
-            views.addAction(action)
+            view_action = ViewAction(VIEW_TITLES[key], self, key, opposite, viewport.show_view)
+            self._bind_keys(view_action, key)
+            views.addAction(view_action)
             self._action(views, VIEW_TITLES[opposite], partial(viewport.show_view, opposite))
         self._action(views, "Perspective / &Orthographic", viewport.toggle_projection, "projection")
         self._action(

@@ -144,7 +144,7 @@ class MeshDisplay(_Base):
     def _use_index(self, surface: SurfaceIndex) -> None:
         """Draw the mesh from ``surface``'s arrays (shared, in its order: the per-event
         updates write them in place) and pick on it."""
-        mesh = pv.PolyData.from_regular_faces(surface.positions, surface.faces)
+        mesh = pv.PolyData.from_regular_faces(surface.positions, surface.faces)  # type: ignore[arg-type]
         mesh.point_data["Normals"] = surface.normals
         mesh.point_data.active_normals_name = "Normals"
         # VTK wraps the index's arrays without a copy: its updates are the actor's
@@ -194,8 +194,9 @@ class MeshDisplay(_Base):
     def home_view(self, render: bool = True) -> None:
         """Front three-quarter view with +y up (the OBJ/PLY convention of Spot, the bunny and
         most exported models), the whole mesh in frame."""
-        self.view_vector(HOME_VIEW_DIRECTION, viewup=(0.0, 1.0, 0.0), render=False)
-        self.reset_camera(render=False)
+        plotter: Any = self  # pyvista's argument-checking decorator hides these signatures
+        plotter.view_vector(HOME_VIEW_DIRECTION, viewup=(0.0, 1.0, 0.0), render=False)
+        plotter.reset_camera(render=False)
         if render:
             self.request_render()
             self.rehover()
@@ -223,7 +224,8 @@ class MeshDisplay(_Base):
             indices = np.asarray(indices, dtype=np.int64).ravel()
         if len(indices):
             if surface is None:
-                self.mesh.points[indices] = vertices[indices]
+                points: np.ndarray = self.mesh.points
+                points[indices] = vertices[indices]
             else:
                 surface.update(vertices, indices)
                 if not self._arrays_shared:
@@ -331,4 +333,5 @@ class MeshDisplay(_Base):
             overlay.suspended = False
             overlay.layout()
             self.request_render()
+        assert pixels is not None
         return np.ascontiguousarray(pixels[:, :, :3])

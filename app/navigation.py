@@ -27,9 +27,10 @@ from PySide6.QtWidgets import QMenu
 from gogreen_core.validation import ParameterError
 
 if TYPE_CHECKING:
+    from app.mesh_display import MeshDisplay
     from app.viewport import SculptViewport
 
-    _Base = SculptViewport
+    _Base = MeshDisplay
 else:
     _Base = object
 

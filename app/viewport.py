@@ -44,7 +44,8 @@ _MODIFIER_NAMES = (
 )
 
 
-class SculptViewport(MeshDisplay, CameraViews, QtInteractor):
+# pyvistaqt's QtInteractor itself joins QWidget.update and BasePlotter.update
+class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[misc]
     """Viewport with the stroke loop, a brush cursor ring, in-place mesh updates and
     on-demand rendering.
 
@@ -203,9 +204,9 @@ class SculptViewport(MeshDisplay, CameraViews, QtInteractor):
     def show_sculptor(self, indices=None) -> None:
         """Draw the tools' sculptor as it is (after undo, redo, a script): the vertices that
         differ (or ``indices``) and the pins; the cursor hides until the pointer moves."""
-        sculptor = self.tools.sculptor if self.tools is not None else None
-        if sculptor is None:
+        if self.tools is None or self.tools.sculptor is None:
             return
+        sculptor = self.tools.sculptor
         self.tools.cursor.hide()
         self.show_cursor(None)
         self.update_vertices(sculptor.vertices, indices)

@@ -19,13 +19,13 @@ alone, one ``Field`` on :class:`FalloffView`).
 from __future__ import annotations
 
 from collections.abc import Sequence
+from functools import partial
 from typing import Any
 
 import numpy as np
 from PySide6.QtWidgets import (
     QCheckBox,
     QComboBox,
-    QDoubleSpinBox,
     QGridLayout,
     QGroupBox,
     QHBoxLayout,
@@ -83,6 +83,10 @@ def _curve_keys(view: EventedModel, name: str, value: Any) -> tuple[tuple[str, i
 
 def _rho_max(_view: EventedModel, name: str, value: Any) -> float:
     return check_number(name, value, low=_RHO_MAX_RANGE[0], high=_RHO_MAX_RANGE[1])
+
+
+def _show_check(check: QCheckBox, key: tuple[str, int], shown: tuple) -> None:
+    check.setChecked(key in shown)
 
 
 class FalloffView(EventedModel):
@@ -272,7 +276,7 @@ class FalloffPanel(QWidget):
                 view,
                 "shown_curves",
                 check,
-                lambda shown, check=check, key=key: check.setChecked(key in shown),
+                partial(_show_check, check, key),
                 check.toggled,
                 lambda on, key=key: self._shown_with(key, on),
                 label="Show",
@@ -302,7 +306,7 @@ class FalloffPanel(QWidget):
         return self.settings.degree_weights.copy()
 
     @property
-    def weight_spins(self) -> list[QDoubleSpinBox]:
+    def weight_spins(self) -> list[DecimalField]:
         """The fields of the wrinkle weights, one per degree 0 … l_max."""
         return self.weight_grid.spins
 
@@ -311,7 +315,7 @@ class FalloffPanel(QWidget):
         earlier edits of them) and gives new degrees the engine's default wrinkle weights."""
         self.settings.l_max = self._check_l_max(l_max)
 
-    def set_degree_weights(self, weights: Sequence[float] | None) -> None:
+    def set_degree_weights(self, weights: Sequence[float] | np.ndarray | None) -> None:
         """Set the wrinkle weights (l_max + 1 finite numbers; None: the engine's default,
         :func:`gogreen_core.brushes.default_wrinkle_weights`); ParameterError otherwise."""
         values = default_wrinkle_weights(self.l_max) if weights is None else weights

@@ -71,15 +71,15 @@ class HomogenizationInputs(EventedModel):
             try:
                 make_pattern(merged["pattern"], CELL_SIZE, **merged["parameters"])
             except ValueError as exc:
-                named = [p for p in merged["parameters"] if p in str(exc)]
+                named = [str(p) for p in merged["parameters"] if str(p) in str(exc)]
                 parameter = getattr(exc, "parameter", None) or next(iter(named), "parameters")
-                raise ParameterError(parameter, str(exc)) from None
+                raise ParameterError(str(parameter), str(exc)) from None
         if {"young", "poisson", "contrast"} & set(out):
             try:
                 bimaterial(merged["young"], merged["poisson"], merged["contrast"])
             except ValueError as exc:
-                named = next((k for k in ("contrast", "young", "poisson") if k in str(exc)), None)
-                raise ParameterError(named or next(iter(out)), str(exc)) from None
+                named = [k for k in ("contrast", "young", "poisson") if k in str(exc)]
+                raise ParameterError((named or list(out))[0], str(exc)) from None
         return out
 
     @property

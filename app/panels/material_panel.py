@@ -392,7 +392,7 @@ class MaterialPanel(QWidget):
     def set_voigt_entry(self, row: int, col: int, value: float | str) -> None:
         """Edit Voigt cell (row, col) as the user would (text), which also sets (col, row)."""
         self.set_mode("voigt")
-        self.voigt_table.item(row, col).setText(str(value))
+        self.voigt_table.cell(row, col).setText(str(value))
 
     def voigt_entries(self) -> np.ndarray:
         """The (6, 6) numbers of the Voigt inputs (base, before rotation)."""
@@ -414,7 +414,7 @@ class MaterialPanel(QWidget):
         shown = displayed_voigt(voigt)
         for i in range(6):
             for j in range(6):
-                self._show_voigt_cell(self.voigt_table.item(i, j), shown[i, j], voigt[i, j])
+                self._show_voigt_cell(self.voigt_table.cell(i, j), shown[i, j], voigt[i, j])
 
     def _show_voigt_cell(self, item: QTableWidgetItem, value: float, stored: float) -> None:
         """Text of a Voigt cell: ``value`` exactly (the delegate shows it rounded; the editor
@@ -444,7 +444,7 @@ class MaterialPanel(QWidget):
             raise ParameterError(
                 "voigt", f"C{VOIGT_LABELS[i]},{VOIGT_LABELS[j]}: {text!r} is not a number"
             )
-        mirror = self.voigt_table.item(j, i)
+        mirror = self.voigt_table.cell(j, i)
         if mirror.text() != item.text():
             mirror.setText(item.text())
         voigt = np.array(self.form.voigt)

@@ -61,7 +61,8 @@ class NumberGrid(QWidget):
 
     def _rebuild(self, count: int) -> None:
         while self._grid.count():
-            widget = self._grid.takeAt(0).widget()
+            taken = self._grid.takeAt(0)
+            widget = taken.widget() if taken is not None else None
             if widget is not None:
                 widget.hide()  # gone now, not only when the event loop runs the deletion
                 widget.deleteLater()

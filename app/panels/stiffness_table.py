@@ -45,7 +45,7 @@ class StiffnessTable(CompactTable):
         for i in range(6):
             for j in range(6):
                 group = int(symmetry.groups[i, j])
-                item = self.item(i, j)
+                item = self.cell(i, j)
                 item.setText("0" if group < 0 else f"{voigt[i, j]:.4g}")
                 item.setToolTip(f"C{VOIGT_LABELS[i]},{VOIGT_LABELS[j]} = {voigt[i, j]:.10g}")
         self.refresh_colors()
@@ -57,13 +57,13 @@ class StiffnessTable(CompactTable):
         for i in range(6):
             for j in range(6):
                 group = int(self._symmetry.groups[i, j])
-                item = self.item(i, j)
+                item = self.cell(i, j)
                 item.setBackground(QBrush(self.group_color(group)))
                 item.setForeground(QBrush(self.group_text_color(group)))
 
     def cell_color(self, row: int, col: int) -> QColor:
         """Background colour of cell (row, col)."""
-        return self.item(row, col).background().color()
+        return self.cell(row, col).background().color()
 
     @staticmethod
     def group_color(group: int) -> QColor:

@@ -27,6 +27,7 @@ from PySide6.QtWidgets import (
     QStyledItemDelegate,
     QStyleOptionViewItem,
     QTableWidget,
+    QTableWidgetItem,
     QToolButton,
     QVBoxLayout,
     QWidget,
@@ -117,7 +118,8 @@ def plot_colors() -> PlotColors:
         values = (current.base, current.mid, "#2e3035", "#6c7078", current.text, current.muted_text)
         legend, handle, dark = QColor(current.base), QColor(current.base), True
         legend.setAlpha(225)
-    return PlotColors(*(QColor(v) for v in values), legend, handle, dark)
+    background, frame, grid, axis, text, muted = (QColor(v) for v in values)
+    return PlotColors(background, frame, grid, axis, text, muted, legend, handle, dark)
 
 
 def zero_cell_colors() -> tuple[QColor, QColor]:
@@ -157,6 +159,12 @@ class CompactTable(QTableWidget):
         self.setVerticalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
         self.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
         self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
+
+    def cell(self, row: int, column: int) -> QTableWidgetItem:
+        """The item at (row, column), which every cell of these tables has."""
+        item = self.item(row, column)
+        assert item is not None, (row, column)
+        return item
 
     def _height(self) -> int:
         header = self.horizontalHeader()
