@@ -32,6 +32,7 @@ from gogreen_core.brushes.base import (
     GreenBrush,
     StrokeContext,
     mirror_signs,
+    smooth_cutoff,
 )
 from gogreen_core.brushes.brush import Brush, BrushEvent
 from gogreen_core.brushes.table import (
@@ -83,4 +84,5 @@ __all__ = [
     "fold_weights",
     "legacy_wrinkle_weights",
     "mirror_signs",
+    "smooth_cutoff",
 ]

@@ -46,6 +46,7 @@ __all__ = [
     "GreenBrush",
     "StrokeContext",
     "mirror_signs",
+    "smooth_cutoff",
 ]
 
 #: Where the smooth cutoff starts, as a fraction of the influence radius.
@@ -70,6 +71,17 @@ def mirror_signs(symmetry: str) -> np.ndarray:
         flip["xyz".index(axis)] = -1.0
         rows += [r * flip for r in rows]
     return np.array(rows)
+
+
+def smooth_cutoff(distance: np.ndarray, inner: float, outer: float) -> np.ndarray:
+    """The brushes' C² cutoff (quintic smoothstep) of ``distance`` (any shape): 1 up to
+    ``inner``, 0 from ``outer`` on."""
+    distance = np.asarray(distance, dtype=float)
+    width = outer - inner
+    if width <= 0:
+        return (distance < outer).astype(float)
+    u = np.clip((distance - inner) / width, 0.0, 1.0)
+    return 1.0 - u**3 * (10.0 - 15.0 * u + 6.0 * u**2)
 
 
 @dataclass(frozen=True)

@@ -42,9 +42,14 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from gogreen_core.brushes.base import AUTO_INFLUENCE, EventField, StrokeContext, mirror_signs
+from gogreen_core.brushes.base import (
+    AUTO_INFLUENCE,
+    EventField,
+    StrokeContext,
+    mirror_signs,
+    smooth_cutoff,
+)
 from gogreen_core.brushes.grab import GrabBrush
-from gogreen_core.constraints import smooth_cutoff
 from gogreen_core.falloff_safety import (
     MAX_GRAB_RATIO,
     MAX_GRAB_STRAIN,
