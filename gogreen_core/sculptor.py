@@ -52,7 +52,12 @@ from gogreen_core.falloff_safety import (
     mean_green_direction,
 )
 from gogreen_core.history import History
-from gogreen_core.kernel import STREAMLINE_TOLERANCE, GreenKernel, StreamlineOverflow
+from gogreen_core.kernel import (
+    EVALUATION,
+    STREAMLINE_TOLERANCE,
+    GreenKernel,
+    StreamlineOverflow,
+)
 from gogreen_core.material import Material
 from gogreen_core.operations import (
     ConstraintAdd,
@@ -199,6 +204,9 @@ class Sculptor:
         self._log = SessionLog()
         #: False for a sculptor replaying a version-1 session: settings are no undo steps.
         self._settings_undoable = True
+        #: The kernels' compiled arithmetic: 1 for a sculptor replaying a session of version 1
+        #: or 2, which it reproduces bit for bit (see GreenKernel's ``evaluation``).
+        self._evaluation = EVALUATION
         self._fingerprint = mesh_fingerprint(self._vertices)
         material = Material.isotropic(1.0, 0.3) if material is None else material
         self._settings = self._checked(
@@ -296,7 +304,9 @@ class Sculptor:
             and self._settings.material == settings.material
         ):
             return current.with_radial(settings.falloff)  # same material: no new quadrature
-        return GreenKernel(settings.material, settings.l_max, settings.falloff)
+        return GreenKernel(
+            settings.material, settings.l_max, settings.falloff, evaluation=self._evaluation
+        )
 
     def _commit(self, settings: EngineSettings) -> None:
         """Compute with ``settings`` from now on: kernels and pins are rebuilt first, so a
@@ -397,7 +407,9 @@ class Sculptor:
         key = "wrinkle" if wrinkle else "full"
         if key not in self._kernels:
             s = self._settings
-            self._kernels[key] = GreenKernel(s.material, s.l_max, s.falloff, self.degree_weights)
+            self._kernels[key] = GreenKernel(
+                s.material, s.l_max, s.falloff, self.degree_weights, evaluation=self._evaluation
+            )
         return self._kernels[key]
 
     def kernel(self, brush: Brush) -> GreenKernel:
@@ -859,7 +871,11 @@ class Sculptor:
         """The session so far as a JSON-ready dict (see README, "Session files")."""
         return {
             "format": SESSION_FORMAT,
-            "version": SESSION_VERSION if self._settings_undoable else 1,
+            "version": (
+                1
+                if not self._settings_undoable
+                else (SESSION_VERSION if self._evaluation == EVALUATION else 2)
+            ),
             "mesh": {
                 "vertices": len(self._vertices),
                 "faces": len(self._faces),
@@ -884,6 +900,10 @@ class Sculptor:
             )
         sculptor = cls(vertices, faces, **parsed.settings)
         sculptor._settings_undoable = parsed.version >= 2
+        if parsed.version < 3:  # recorded with evaluation 1: replayed with it, bit for bit
+            sculptor._evaluation = 1
+            sculptor._kernels = {}
+            sculptor._kernels = {"full": sculptor._full_kernel(sculptor._settings)}
         return sculptor
 
     def replay(
