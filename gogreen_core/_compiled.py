@@ -32,7 +32,17 @@ import numpy as np
 
 from gogreen_core import _expansion, _integrator, _unrolled
 
-__all__ = ["DRIVERS", "angular", "drivers", "ensure_drivers", "prepare", "request", "wait"]
+__all__ = [
+    "DRIVERS",
+    "angular",
+    "drivers",
+    "ensure_drivers",
+    "prepare",
+    "request",
+    "units_for",
+    "wait",
+    "when_ready",
+]
 
 #: The unit of the drivers (the other units are (l_first, l_last) of an angular kernel).
 DRIVERS = "drivers"
@@ -45,6 +55,8 @@ CHILD_TIMEOUT = 900.0
 _ready: set = set()
 _pending: list = []
 _failed: dict = {}
+#: (units, callback) waiting for their units (see :func:`when_ready`).
+_callbacks: list = []
 _condition = threading.Condition()
 _worker: threading.Thread | None = None
 _marker = None
@@ -130,6 +142,23 @@ def request(*units) -> None:
             _worker.start()
 
 
+def when_ready(units, callback) -> None:
+    """Call ``callback(failures)`` once every unit of ``units`` is ready or failed (failures:
+    the exceptions of those that failed), on the worker thread, or now if they already are.
+    The units are requested."""
+    units = tuple(units)
+    request(*units)
+    with _condition:
+        if not _settled(units):
+            _callbacks.append((units, callback))
+            return
+    callback([_failed[u] for u in units if u in _failed])
+
+
+def _settled(units) -> bool:
+    return all(u in _ready or u in _failed for u in units)
+
+
 def wait(units, timeout: float | None = None) -> bool:
     """Block until ``units`` are ready (or failed); False on time-out."""
     deadline = None if timeout is None else time.monotonic() + timeout
@@ -184,6 +213,18 @@ def _work() -> None:
             with _condition:
                 _pending.remove(unit)
                 _condition.notify_all()
+                due = [entry for entry in _callbacks if _settled(entry[0])]
+                for entry in due:
+                    _callbacks.remove(entry)
+            for units, callback in due:
+                callback([_failed[u] for u in units if u in _failed])
+
+
+def units_for(l_max: int) -> tuple:
+    """The units vector and affine loads of truncation degree ``l_max`` evaluate with: the
+    drivers and the generated angular kernel of each parity (when one is generated)."""
+    parities = ((0, l_max - l_max % 2), (1, l_max + 1 - l_max % 2))
+    return (DRIVERS, *(p for p in parities if p[1] <= _unrolled.UNROLLED_L_MAX))
 
 
 def _load(unit) -> None:

@@ -22,7 +22,6 @@ import numpy as np
 from gogreen_core import _compiled, _evaluation
 from gogreen_core._evaluation import EVALUATION, EVALUATIONS, Parity
 from gogreen_core._expansion import SEGMENT_DEGREE
-from gogreen_core._unrolled import UNROLLED_L_MAX
 from gogreen_core.material import Material
 from gogreen_core.quadrature import (
     CHECK_ORDER,
@@ -77,11 +76,7 @@ def prepare_degree(l_max: int) -> float:
     evaluation on. The compilation itself runs in a child process where it can (see
     ``_compiled``), so the other threads of this one are not slowed. Thread safe.
     """
-    units = [_compiled.DRIVERS]
-    for l_first, l_last in _parity_ranges(l_max):
-        if l_last <= UNROLLED_L_MAX:
-            units.append((l_first, l_last))
-    return _compiled.prepare(*units)
+    return _compiled.prepare(*_compiled.units_for(l_max))
 
 
 #: Largest coordinate magnitude of points, offsets and centers: differences of two such values
