@@ -37,6 +37,7 @@ __all__ = [
     "angular",
     "drivers",
     "ensure_drivers",
+    "geometry",
     "prepare",
     "request",
     "units_for",
@@ -44,8 +45,11 @@ __all__ = [
     "when_ready",
 ]
 
-#: The unit of the drivers (the other units are (l_first, l_last) of an angular kernel).
+#: The unit of the drivers (the other units are (l_first, l_last) of an angular kernel, and
+#: GEOMETRY).
 DRIVERS = "drivers"
+#: The unit of ``geometry.py``'s compiled functions (the viewport's surface index).
+GEOMETRY = "geometry"
 #: How compilation runs (see the module docstring), and the value a compiling child gets.
 _MODE_VARIABLE = "GOGREEN_COMPILE"
 MODES = ("child", "thread", "off")
@@ -89,6 +93,18 @@ def drivers() -> bool:
     return False
 
 
+def geometry() -> bool:
+    """Whether ``geometry.py``'s compiled functions are ready (else they are requested)."""
+    if _forced is not None:
+        if _forced == "numpy":
+            return False
+        prepare(GEOMETRY)
+    if GEOMETRY in _ready:
+        return True
+    request(GEOMETRY)
+    return False
+
+
 def angular(l_first: int, l_last: int):
     """The generated angular kernel if it is ready, else None (it is requested)."""
     if _forced == "generic":
@@ -103,7 +119,8 @@ def angular(l_first: int, l_last: int):
 
 class forced:
     """``with forced("numpy" | "generic" | "unrolled"):`` evaluations in the block use that
-    code (compiled first if needed): tests comparing them, benchmarks. Not thread safe."""
+    code (compiled first if needed; ``geometry.py`` compiled for the last two): tests comparing
+    them, benchmarks. Not thread safe."""
 
     def __init__(self, code: str):
         if code not in ("numpy", "generic", "unrolled"):
@@ -160,7 +177,12 @@ def _settled(units) -> bool:
 
 
 def wait(units, timeout: float | None = None) -> bool:
-    """Block until ``units`` are ready (or failed); False on time-out."""
+    """Block until ``units`` are ready (or failed); False on time-out. The units are
+    requested (with ``GOGREEN_COMPILE=off``, never ready: returns False at once)."""
+    units = tuple(units)
+    request(*units)
+    if _mode() == "off" and not _settled(units):
+        return False
     deadline = None if timeout is None else time.monotonic() + timeout
     with _condition:
         while any(u not in _ready and u not in _failed for u in units):
@@ -230,6 +252,10 @@ def units_for(l_max: int) -> tuple:
 def _load(unit) -> None:
     if unit == DRIVERS:
         ensure_drivers()
+    elif unit == GEOMETRY:
+        from gogreen_core import geometry
+
+        geometry.compile_kernels()
     else:
         _unrolled.unrolled_angular(*unit)
 
@@ -269,6 +295,8 @@ def _cached(unit) -> bool:
     the caches directly (numba's ``_cache.load_overload``, not public API): any doubt counts as
     not cached, which only costs a child process that finds everything cached."""
     try:
+        if unit == GEOMETRY:
+            return _geometry_cached()
         if unit != DRIVERS:
             return _unrolled.angular_cached(*unit)
         from numba import typeof
@@ -282,6 +310,23 @@ def _cached(unit) -> bool:
         return False
 
 
+def _geometry_cached() -> bool:
+    """Whether numba's disk cache holds machine code of every compiled function of
+    ``geometry.py`` for this machine (its index is read, not the code: numba's
+    ``_cache._cache_file``, not public API)."""
+    from numba.core.dispatcher import Dispatcher
+
+    from gogreen_core import geometry
+
+    for dispatcher in vars(geometry).values():
+        if isinstance(dispatcher, Dispatcher):
+            magic = dispatcher.targetctx.codegen().magic_tuple()
+            index = dispatcher._cache._cache_file._load_index()
+            if not any(key[1] == magic for key in index):
+                return False
+    return True
+
+
 def _can_spawn() -> bool:
     """A child Python can compile for us: asked for (a child itself runs in mode ``thread``),
     and this process is a Python interpreter (not an application embedding one, e.g. Blender)."""
@@ -291,7 +336,7 @@ def _can_spawn() -> bool:
 
 def _compile_in_child(units) -> bool:
     """Compile ``units`` into numba's disk cache in a child process; True if it succeeded."""
-    args = [u if u == DRIVERS else f"{u[0]}:{u[1]}" for u in units]
+    args = [u if isinstance(u, str) else f"{u[0]}:{u[1]}" for u in units]
     env = dict(os.environ, **{_MODE_VARIABLE: "thread"})
     try:
         result = subprocess.run(
@@ -316,5 +361,5 @@ _CHILD_SCRIPT = (
 def _main(argv: list[str]) -> int:
     """The child: compile (into numba's disk cache) the units named on its command line."""
     for arg in argv:
-        _load(DRIVERS if arg == DRIVERS else tuple(int(v) for v in arg.split(":")))
+        _load(arg if arg in (DRIVERS, GEOMETRY) else tuple(int(v) for v in arg.split(":")))
     return 0

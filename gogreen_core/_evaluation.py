@@ -62,6 +62,11 @@ class Parity:
                 return kernel, True
         return _compiled.generic_marker(), False
 
+    def request_angular(self, n_out: int) -> None:
+        """Ask for the generated kernel ``angular`` would use (compiled with the drivers)."""
+        if n_out == 3 and self.l_last <= _unrolled.UNROLLED_L_MAX:
+            _compiled.request((self.l_first, self.l_last))
+
     def legacy_angular(self, n_out: int) -> tuple[object, bool]:
         """``angular`` of evaluation 1: its generated kernel whenever there is one."""
         from gogreen_core._legacy import expansion, unrolled
@@ -101,6 +106,7 @@ def expand(
         return out
     folded = parity.folded(coeffs)
     if not _compiled.drivers():
+        parity.request_angular(coeffs.shape[1])
         out[:] = _numpy_eval.expand(
             points, center, eps, parity.power, parity.l_first, parity.l_last, parity.base,
             folded, parity.beta, tables,
@@ -151,6 +157,8 @@ def stream(
         )  # fmt: skip
     width = outer - inner
     compiled = _compiled.drivers()
+    if not compiled:
+        parity.request_angular(3)
     field = (
         center, center_step, float(eps), parity.power, parity.l_first, parity.l_last,
         parity.base, parity.folded(coeffs), parity.beta, tables,
