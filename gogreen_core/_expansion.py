@@ -268,23 +268,24 @@ def expand_blocks(
 @njit(cache=True, boundscheck=False, nogil=True, error_model="numpy", fastmath={"contract"})
 def near_segment_rows(points, start, step, radius, mirrors, origin, out, first, last):
     """out[n] for n in [first, last): some mirror image of points[n] is within ``radius`` of the
-    segment start → start + step. (The arithmetic of evaluation 1, contractions included: which
-    vertices an event reaches must not change for old sessions.)"""
+    segment start → start + step. (The arithmetic of evaluation 1, contractions included, per
+    point: which vertices an event reaches must not change for old sessions. The loop over the
+    points is the inner one, so that it vectorizes.)"""
     length2 = step[0] * step[0] + step[1] * step[1] + step[2] * step[2]
     inv = 1.0 / length2 if length2 > 0.0 else 0.0
     r2 = radius * radius
-    for n in range(first, last):
-        hit = False
-        for mi in range(mirrors.shape[0]):
-            y0 = origin[0] + mirrors[mi, 0] * (points[n, 0] - origin[0]) - start[0]
-            y1 = origin[1] + mirrors[mi, 1] * (points[n, 1] - origin[1]) - start[1]
-            y2 = origin[2] + mirrors[mi, 2] * (points[n, 2] - origin[2]) - start[2]
+    for mi in range(mirrors.shape[0]):
+        m0, m1, m2 = mirrors[mi, 0], mirrors[mi, 1], mirrors[mi, 2]
+        for n in range(first, last):
+            y0 = origin[0] + m0 * (points[n, 0] - origin[0]) - start[0]
+            y1 = origin[1] + m1 * (points[n, 1] - origin[1]) - start[1]
+            y2 = origin[2] + m2 * (points[n, 2] - origin[2]) - start[2]
             t = min(max((y0 * step[0] + y1 * step[1] + y2 * step[2]) * inv, 0.0), 1.0)
             d0 = y0 - t * step[0]
             d1 = y1 - t * step[1]
             d2 = y2 - t * step[2]
-            hit = hit or d0 * d0 + d1 * d1 + d2 * d2 < r2
-        out[n] = hit
+            near = d0 * d0 + d1 * d1 + d2 * d2 < r2
+            out[n] = near if mi == 0 else (out[n] or near)
 
 
 def near_segment(

@@ -35,6 +35,13 @@ from gogreen_core._parallel import run_ranges
 
 __all__ = ["ESTIMATE_SAFETY", "MAX_ADAPTIVE_STEPS", "stream"]
 
+#: SHA-256 (first 16 hex digits) of ``_expansion.py``, written by ``scripts/make_kernels.py``
+#: (checked by ``tests/test_unrolled.py``). numba keys the disk cache of this module's compiled
+#: code on this file alone, yet compiles ``_expansion``'s functions and constants into it: a
+#: change there must change this file, or a stale machine code (another BLOCK, another
+#: arithmetic) would be loaded.
+EXPANSION_SOURCE = "1565296d3155bdb7"
+
 #: Largest number of RK4 steps the adaptive streamlines give one vertex in one event.
 MAX_ADAPTIVE_STEPS = 256
 #: The adaptive streamlines accept a result where its estimated error is at most this fraction

@@ -1,7 +1,7 @@
 """Write the generated angular kernels: gogreen_core/_angular/ (the current evaluation) and
-gogreen_core/_legacy/angular/ (evaluation 1, frozen). Run after changing the generator in
-gogreen_core/_unrolled.py or the block size / compile options of _expansion.py; the files are
-committed and shipped.
+gogreen_core/_legacy/angular/ (evaluation 1, frozen), and the stamp of _expansion.py in
+_integrator.py. Run after changing the generator in gogreen_core/_unrolled.py or anything in
+_expansion.py; the files are committed and shipped.
 
     python scripts/make_kernels.py
 
@@ -11,6 +11,8 @@ shipped files equal what this script would write now.
 
 from __future__ import annotations
 
+import hashlib
+import re
 from pathlib import Path
 
 from gogreen_core import _unrolled
@@ -33,7 +35,25 @@ TARGETS = (
 )
 
 
+def expansion_stamp() -> str:
+    """The first 16 hex digits of the SHA-256 of gogreen_core/_expansion.py."""
+    return hashlib.sha256((PACKAGE / "_expansion.py").read_bytes()).hexdigest()[:16]
+
+
+def stamp_integrator() -> None:
+    """Write expansion_stamp() into _integrator.py's EXPANSION_SOURCE (see there)."""
+    path = PACKAGE / "_integrator.py"
+    text = path.read_text(encoding="utf-8")
+    fresh = re.sub(
+        r'EXPANSION_SOURCE = "[0-9a-f]*"', f'EXPANSION_SOURCE = "{expansion_stamp()}"', text
+    )
+    if fresh != text:
+        path.write_text(fresh, encoding="utf-8")
+        print(f"wrote {path} (EXPANSION_SOURCE)")
+
+
 def main() -> None:
+    stamp_integrator()
     for folder, generator, package_doc in TARGETS:
         folder.mkdir(parents=True, exist_ok=True)
         (folder / "__init__.py").write_text(package_doc, encoding="utf-8")

@@ -27,6 +27,17 @@ def test_shipped_kernels_are_fresh(generator):
     assert not stale, f"regenerate with `python scripts/make_kernels.py`: {stale} differ"
 
 
+def test_integrator_carries_the_stamp_of_expansion():
+    """_integrator's compiled code is cached on its own file's stamp, but built with
+    _expansion's functions: a change there must show here (scripts/make_kernels.py)."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
+    from make_kernels import expansion_stamp
+
+    from gogreen_core import _integrator
+
+    assert _integrator.EXPANSION_SOURCE == expansion_stamp(), "run scripts/make_kernels.py"
+
+
 def test_module_text_carries_block_size_and_options(monkeypatch):
     # numba's disk cache follows the module's own text: what the kernel is compiled with must
     # be in it, so a change cannot be served stale machine code.
