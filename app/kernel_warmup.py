@@ -1,12 +1,14 @@
 """The compiled brush kernels, brought in while the artist already sculpts.
 
 Strokes never wait for a compiler: until the compiled code of an l_max is ready the engine runs
-the same arithmetic in NumPy, with the same results bit for bit (``gogreen_core._compiled``).
-The window asks for the current l_max at start and whenever it changes; on a new machine a
-child process compiles it (seconds to tens of seconds, once per machine: numba keeps it on
-disk), elsewhere it loads from the disk cache in milliseconds. :class:`KernelWarmer` reports
-when that is done, to say so in the status bar and stop its progress indicator; it runs nothing
-on the app's background thread, which stays free for mesh indexing and homogenization.
+the same arithmetic in NumPy, with the same results bit for bit (``gogreen_core._compiled``),
+and so do the viewport's surface index (picking, normals). The window asks for the current
+l_max at start and whenever it changes; on a new machine a child process compiles it, with the
+surface index and the mesh readers' loops (seconds to tens of seconds, once per machine: numba
+keeps them on disk), elsewhere they load from the disk cache in milliseconds.
+:class:`KernelWarmer` reports when the kernels are in, to say so in the status bar and stop its
+progress indicator; it runs nothing on the app's background thread, which stays free for mesh
+indexing and homogenization.
 """
 
 from __future__ import annotations
@@ -47,6 +49,8 @@ class KernelWarmer(QObject):
         if l_max in self._requested:
             return False
         units = _compiled.units_for(l_max)
+        if not self._requested:  # with the kernels, in one child process on a new machine
+            _compiled.request(*units, _compiled.GEOMETRY, _compiled.MESH_IO)
         self._requested[l_max] = units
         self._waiting.add(l_max)
         if len(self._waiting) == 1:

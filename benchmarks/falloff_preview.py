@@ -50,8 +50,7 @@ def edit(settings: Settings, k: int) -> None:
     """Move R₀'s second control point a little (as one step of a drag does)."""
     rho, value = settings.falloff.curve("R", 0)
     value[1] *= 1.0 + 1e-6 * (1 + k)  # a new value every time: no table is cached yet
-    settings.falloff.set_curve("R", 0, rho, value)
-    settings.touch("falloff")
+    settings.falloff = settings.falloff.with_curves({("R", 0): (rho, value)})
 
 
 def old_update(settings: Settings, kernel: GreenKernel | None, rho: np.ndarray):

@@ -5,7 +5,7 @@
 Prints medians (ms) of
 * the one-time sampling of a kernel's field bound (on the first event after a material,
   falloff, l_max or influence change; cached per kernel, whatever the brush radius);
-* per event: the bound look-ups ``Sculptor._load`` adds, the whole ``_load`` and the centre
+* per event: the bound look-ups a brush's ``load`` adds, the whole ``load`` and the centre
   normalization alone (G(0) solve, or the centre Jacobian), for a Gaussian falloff and for
   edited ones (R₀(0) = 0, ℛ₁ flat near 0), which take the rescaling path.
 """
@@ -21,6 +21,7 @@ import numpy as np
 
 from gogreen_core import Brush, BrushEvent, Material, Sculptor
 from gogreen_core.brushes import affine_load_shape
+from gogreen_core.brushes.affine import centre_jacobian
 from gogreen_core.falloff_safety import FieldBound
 from gogreen_core.radial import GaussianRadial, SplineRadial
 from gogreen_core.shapes import icosphere
@@ -86,7 +87,7 @@ def main() -> None:
             times = event_times(sculptor, Brush(kind), vertices[0], args.repeats)
             print(f"{f'{name}, {kind}':<36} {times[0]:>8.3f} {times[1]:>8.3f} {times[2]:>12.3f}")
     print(
-        "checks: the bound look-ups _load adds; load: Sculptor._load; centre "
+        "checks: the bound look-ups the load adds; load: the brush type's load; centre "
         "only: G(0) solve or centre Jacobian\n(the numba calls inside the last two take ~20 ms "
         "whenever other processes hold the cores: read the minimum of several runs)"
     )
@@ -95,31 +96,33 @@ def main() -> None:
 def event_times(
     sculptor: Sculptor, brush: Brush, center: np.ndarray, repeats: int
 ) -> tuple[float, float, float]:
-    """Medians (ms) of the added bound checks, of the whole _load, of the centre alone."""
+    """Medians (ms) of the added bound checks, of the whole load, of the centre alone."""
     event = BrushEvent(center, delta=[0.01, 0.02, 0.0], amount=0.1, axis=center)
     kernel = sculptor.kernel(brush)
-    load, _ = sculptor._load(brush, kernel, event)  # samples the bound (cached from now on)
+    behaviour = brush.type
+    context = sculptor._strokes.context(sculptor._kernels)  # what the brush sees
+    load, _ = behaviour.load(context, brush, kernel, event)  # samples the bound (cached now)
     eps = kernel.eps
     shape = np.eye(3)
     full = sculptor.kernel(Brush("grab", radius=brush.radius)).with_radial(kernel.radial)
 
     def checks() -> None:
-        bound = sculptor._field_bound(brush, kernel)
+        bound = behaviour.field_bound(context, brush, kernel)
         if brush.is_affine:  # includes the Gaussian reference's centre Jacobian (numba)
             bound.motion_sup(shape, eps)
             bound.strain_sup(shape, eps)
-            sculptor._affine_limits(brush, shape)
-            sculptor._green_scale()
+            behaviour.limits(context, brush, shape)
+            context.kernels.green_scale  # noqa: B018
         else:
             bound.motion_sup(load, eps)
             bound.strain_sup(load, eps)
 
     def whole() -> None:
-        sculptor._load(brush, kernel, event)
+        behaviour.load(context, brush, kernel, event)
 
     def centre_only() -> None:
         if brush.is_affine:
-            sculptor._centre_jacobian(kernel, center, shape)
+            centre_jacobian(kernel, center, shape)
         else:
             np.linalg.solve(full.green(np.zeros((1, 3)))[0], event.delta)
 

@@ -8,6 +8,7 @@ sculpting engine built on them.
 
 from gogreen_core.brushes import BRUSH_KINDS, Brush, BrushEvent
 from gogreen_core.constraints import ConstraintSet
+from gogreen_core.engine_settings import EngineSettings
 from gogreen_core.history import History
 from gogreen_core.homogenization import (
     HomogenizationResult,
@@ -42,6 +43,7 @@ __all__ = [
     "Brush",
     "BrushEvent",
     "ConstraintSet",
+    "EngineSettings",
     "GaussianRadial",
     "GreenKernel",
     "History",

@@ -50,6 +50,35 @@ __all__ = [
 DRIVERS = "drivers"
 #: The unit of ``geometry.py``'s compiled functions (the viewport's surface index).
 GEOMETRY = "geometry"
+#: The unit of the mesh readers' compiled loops (``mesh_io.warm_up``): opening a file then
+#: never compiles on the calling thread.
+MESH_IO = "mesh_io"
+#: Units named by a string, each with the function that compiles (or loads) it.
+_NAMED = {
+    "geometry": lambda: _compile_geometry(),
+    "mesh_io": lambda: __import__("gogreen_core.mesh_io").mesh_io.warm_up(),
+}
+
+
+def _compile_geometry() -> None:
+    """Compile (or load from numba's disk cache) every compiled function of ``geometry.py``,
+    on this thread: a small surface index built, updated, compared and picked with them."""
+    from gogreen_core import geometry
+
+    geometry._compiling.now = True
+    try:
+        vertices = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+        faces = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+        index = geometry.SurfaceIndex(vertices, faces)
+        moved = vertices.copy()
+        moved[3, 2] = 1.5
+        index.update(moved, np.array([3]))
+        index.changed_rows(vertices)
+        index.pick(np.array([0.2, 0.2, 3.0]), np.array([0.0, 0.0, -1.0]))
+    finally:
+        geometry._compiling.now = False
+
+
 #: How compilation runs (see the module docstring), and the value a compiling child gets.
 _MODE_VARIABLE = "GOGREEN_COMPILE"
 MODES = ("child", "thread", "off")
@@ -252,10 +281,8 @@ def units_for(l_max: int) -> tuple:
 def _load(unit) -> None:
     if unit == DRIVERS:
         ensure_drivers()
-    elif unit == GEOMETRY:
-        from gogreen_core import geometry
-
-        geometry.compile_kernels()
+    elif unit in _NAMED:
+        _NAMED[unit]()
     else:
         _unrolled.unrolled_angular(*unit)
 
@@ -295,8 +322,8 @@ def _cached(unit) -> bool:
     the caches directly (numba's ``_cache.load_overload``, not public API): any doubt counts as
     not cached, which only costs a child process that finds everything cached."""
     try:
-        if unit == GEOMETRY:
-            return _geometry_cached()
+        if unit in _NAMED:
+            return _modules_cached(unit)
         if unit != DRIVERS:
             return _unrolled.angular_cached(*unit)
         from numba import typeof
@@ -310,16 +337,21 @@ def _cached(unit) -> bool:
         return False
 
 
-def _geometry_cached() -> bool:
-    """Whether numba's disk cache holds machine code of every compiled function of
-    ``geometry.py`` for this machine (its index is read, not the code: numba's
+def _modules_cached(unit: str) -> bool:
+    """Whether numba's disk cache holds machine code for this machine of every compiled
+    function of the modules of ``unit`` (their cache index is read, not the code: numba's
     ``_cache._cache_file``, not public API)."""
+    import importlib
+    import pkgutil
+
     from numba.core.dispatcher import Dispatcher
 
-    from gogreen_core import geometry
-
-    for dispatcher in vars(geometry).values():
-        if isinstance(dispatcher, Dispatcher):
+    module = importlib.import_module(f"gogreen_core.{unit}")
+    modules = [module]
+    for info in pkgutil.iter_modules(getattr(module, "__path__", [])):
+        modules.append(importlib.import_module(f"{module.__name__}.{info.name}"))
+    for dispatcher in (v for m in modules for v in vars(m).values()):
+        if isinstance(dispatcher, Dispatcher) and dispatcher.__module__.startswith(module.__name__):
             magic = dispatcher.targetctx.codegen().magic_tuple()
             index = dispatcher._cache._cache_file._load_index()
             if not any(key[1] == magic for key in index):
@@ -361,5 +393,5 @@ _CHILD_SCRIPT = (
 def _main(argv: list[str]) -> int:
     """The child: compile (into numba's disk cache) the units named on its command line."""
     for arg in argv:
-        _load(arg if arg in (DRIVERS, GEOMETRY) else tuple(int(v) for v in arg.split(":")))
+        _load(arg if arg == DRIVERS or arg in _NAMED else tuple(int(v) for v in arg.split(":")))
     return 0

@@ -569,6 +569,7 @@ def _curve_order(points, groups, low, scale) -> np.ndarray:
     return (keys & np.int64(2**31 - 1)).astype(np.int32)
 
 
+#: ``now`` True on a thread that compiles this module's functions (``_compiled``).
 _compiling = threading.local()
 
 
@@ -584,20 +585,3 @@ def _kernels():
     from gogreen_core import _geometry_numpy
 
     return _geometry_numpy
-
-
-def compile_kernels() -> None:
-    """Compile (or load from numba's disk cache) every compiled function of this module, on
-    the calling thread: a small index built, updated, compared and picked."""
-    _compiling.now = True
-    try:
-        vertices = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
-        faces = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
-        index = SurfaceIndex(vertices, faces)
-        moved = vertices.copy()
-        moved[3, 2] = 1.5
-        index.update(moved, np.array([3]))
-        index.changed_rows(vertices)
-        index.pick(np.array([0.2, 0.2, 3.0]), np.array([0.0, 0.0, -1.0]))
-    finally:
-        _compiling.now = False

@@ -1,12 +1,10 @@
-"""Typed records of what a sculptor did: one class per operation, each with ``apply``,
-``to_dict`` and ``from_dict``.
+"""Typed records of what a sculptor did: one immutable class per operation, with ``to_dict``
+and ``from_dict``; data only (replaying them is :func:`gogreen_core.session.replay`).
 
 A session's ``operations`` list holds their ``to_dict`` (``{"op": name, ...}``);
 :func:`operation_from_dict` is the schema that reads one back, checking every field's type and
 range and raising :class:`~gogreen_core.validation.ParameterError` naming the field
-(``operations[3].events[0].delta``). ``apply(sculptor)`` does the operation through the
-sculptor's public methods, which record it again in the sculptor's own log, so replaying a
-session records the same session.
+(``operations[3].events[0].delta``).
 
 ``continued`` (settings and pin drags): the change continues the previous one of its kind, so a
 whole slider drag, curve drag or pin drag is one undo step.
@@ -14,13 +12,13 @@ whole slider drag, curve drag or pin drag is one undo step.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, ClassVar
+from typing import ClassVar
 
 import numpy as np
 
-from gogreen_core.brushes import MAX_RADIUS, MIN_RADIUS, Brush, BrushEvent
+from gogreen_core.brushes import Brush, BrushEvent
+from gogreen_core.limits import MAX_RADIUS, MIN_RADIUS
 from gogreen_core.material import Material
 from gogreen_core.radial import RadialProfile
 from gogreen_core.schema import (
@@ -38,14 +36,10 @@ from gogreen_core.validation import (
     check_list,
     check_number,
     check_object,
-    prefixed,
 )
 from gogreen_core.validation import (
     field as field_path,
 )
-
-if TYPE_CHECKING:
-    from gogreen_core.sculptor import Sculptor
 
 __all__ = [
     "OPERATIONS",
@@ -68,8 +62,6 @@ MAX_INDEX = 1_000_000
 #: Most events in one stroke record.
 MAX_EVENTS = 10_000_000
 
-Progress = Callable[[], None]
-
 
 class Operation:
     """Base of the operation records (immutable dataclasses)."""
@@ -84,10 +76,6 @@ class Operation:
     def steps(self) -> int:
         """Units of progress this operation reports (mouse events of a stroke, else 1)."""
         return 1
-
-    def apply(self, sculptor: Sculptor, progress: Progress | None = None) -> None:
-        """Do the operation on ``sculptor`` (``progress()`` after each step)."""
-        raise NotImplementedError
 
     def to_dict(self) -> dict:
         """JSON-ready ``{"op": name, ...}``."""
@@ -120,21 +108,6 @@ class Stroke(Operation):
     def steps(self) -> int:
         return max(1, len(self.events))
 
-    def apply(self, sculptor: Sculptor, progress: Progress | None = None) -> None:
-        sculptor.begin_stroke(self.brush)
-        try:
-            for number, event in enumerate(self.events):
-                with prefixed(f"events[{number}]"):
-                    sculptor.stroke_event(event)
-                if progress:
-                    progress()
-        except Exception:
-            sculptor.cancel_stroke()
-            raise
-        sculptor.end_stroke()
-        if progress and not self.events:
-            progress()
-
     def to_dict(self) -> dict:
         return {
             "op": self.name,
@@ -162,11 +135,6 @@ class MaterialChange(Operation):
     material: Material
     continued: bool = False
 
-    def apply(self, sculptor: Sculptor, progress: Progress | None = None) -> None:
-        sculptor.change_settings(material=self.material, continued=self.continued, replaying=True)
-        if progress:
-            progress()
-
     def to_dict(self) -> dict:
         return _with_flag({"op": self.name, "material": self.material.to_dict()}, self.continued)
 
@@ -187,17 +155,6 @@ class FalloffChange(Operation):
     l_max: int
     degree_weights: np.ndarray | None = None
     continued: bool = False
-
-    def apply(self, sculptor: Sculptor, progress: Progress | None = None) -> None:
-        sculptor.change_settings(
-            falloff=self.falloff,
-            l_max=self.l_max,
-            degree_weights=self.degree_weights,
-            continued=self.continued,
-            replaying=True,
-        )
-        if progress:
-            progress()
 
     def to_dict(self) -> dict:
         w = self.degree_weights
@@ -229,13 +186,6 @@ class ConstraintRadius(Operation):
     radius: float
     continued: bool = False
 
-    def apply(self, sculptor: Sculptor, progress: Progress | None = None) -> None:
-        sculptor.change_settings(
-            constraint_radius=self.radius, continued=self.continued, replaying=True
-        )
-        if progress:
-            progress()
-
     def to_dict(self) -> dict:
         return _with_flag({"op": self.name, "radius": self.radius}, self.continued)
 
@@ -254,11 +204,6 @@ class ConstraintAdd(Operation):
     required: ClassVar[tuple[str, ...]] = ("point",)
     point: np.ndarray
 
-    def apply(self, sculptor: Sculptor, progress: Progress | None = None) -> None:
-        sculptor.add_constraint(self.point)
-        if progress:
-            progress()
-
     def to_dict(self) -> dict:
         return {"op": self.name, "point": np.asarray(self.point, float).tolist()}
 
@@ -275,11 +220,6 @@ class ConstraintRemove(Operation):
     required: ClassVar[tuple[str, ...]] = ("index",)
     index: int
 
-    def apply(self, sculptor: Sculptor, progress: Progress | None = None) -> None:
-        sculptor.remove_constraint(self.index)
-        if progress:
-            progress()
-
     def to_dict(self) -> dict:
         return {"op": self.name, "index": int(self.index)}
 
@@ -294,11 +234,6 @@ class ConstraintsClear(Operation):
     """Remove every pin."""
 
     name: ClassVar[str] = "constraints_clear"
-
-    def apply(self, sculptor: Sculptor, progress: Progress | None = None) -> None:
-        sculptor.clear_constraints()
-        if progress:
-            progress()
 
     def to_dict(self) -> dict:
         return {"op": self.name}
@@ -320,11 +255,6 @@ class ConstraintDrag(Operation):
     delta: np.ndarray
     continued: bool = False
 
-    def apply(self, sculptor: Sculptor, progress: Progress | None = None) -> None:
-        sculptor.drag_constraint(self.index, self.delta, self.continued)
-        if progress:
-            progress()
-
     def to_dict(self) -> dict:
         data = {"op": self.name, "index": int(self.index), "delta": self.delta.tolist()}
         return _with_flag(data, self.continued)
@@ -342,11 +272,6 @@ class Undo(Operation):
 
     name: ClassVar[str] = "undo"
 
-    def apply(self, sculptor: Sculptor, progress: Progress | None = None) -> None:
-        sculptor.undo()
-        if progress:
-            progress()
-
     def to_dict(self) -> dict:
         return {"op": self.name}
 
@@ -360,11 +285,6 @@ class Redo(Operation):
     """Redo the last undone step."""
 
     name: ClassVar[str] = "redo"
-
-    def apply(self, sculptor: Sculptor, progress: Progress | None = None) -> None:
-        sculptor.redo()
-        if progress:
-            progress()
 
     def to_dict(self) -> dict:
         return {"op": self.name}

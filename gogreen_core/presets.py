@@ -21,10 +21,12 @@ import os
 from dataclasses import dataclass, field, replace
 from importlib.resources import files
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from gogreen_core.brushes import Brush, default_wrinkle_weights
+from gogreen_core.engine_settings import EngineSettings
 from gogreen_core.material import Material
 from gogreen_core.mesh_io import write_text_atomic
 from gogreen_core.radial import GaussianRadial, RadialProfile
@@ -35,8 +37,10 @@ from gogreen_core.schema import (
     parse_l_max,
     parse_material,
 )
-from gogreen_core.sculptor import Sculptor
 from gogreen_core.validation import ParameterError, check_integer, check_object, check_string
+
+if TYPE_CHECKING:
+    from gogreen_core.sculptor import Sculptor
 
 __all__ = ["PRESET_FORMAT", "Preset", "builtin_presets", "load_preset", "save_preset"]
 
@@ -49,7 +53,9 @@ class Preset:
     """Everything an artist tunes before a stroke, as one named, shareable unit.
 
     ``degree_weights`` is None for :func:`default_wrinkle_weights` of ``l_max``, else
-    (l_max + 1,).
+    (l_max + 1,). The material, falloff, l_max and weights are checked as the engine's settings
+    are (:class:`EngineSettings`, a :class:`ParameterError` naming the field); the falloff is
+    held as an immutable value at ε = 1.
     """
 
     name: str
@@ -59,6 +65,29 @@ class Preset:
     degree_weights: np.ndarray | None = None
     brush: Brush = field(default_factory=Brush)
     description: str = ""
+
+    def __post_init__(self) -> None:
+        checked = self.engine_settings()
+        object.__setattr__(self, "material", checked.material)
+        object.__setattr__(self, "falloff", checked.falloff)
+        object.__setattr__(self, "l_max", checked.l_max)
+        if self.degree_weights is not None:
+            object.__setattr__(self, "degree_weights", checked.degree_weights)
+        if not isinstance(self.brush, Brush):
+            raise ParameterError(
+                "brush", f"brush must be a Brush (got {type(self.brush).__name__})"
+            )
+
+    def engine_settings(self, base: EngineSettings | None = None) -> EngineSettings:
+        """``base`` (default: the engine's defaults) with this preset's material, falloff, l_max
+        and weights (:attr:`weights`, always explicit)."""
+        values: dict[str, Any] = {
+            "material": self.material,
+            "falloff": self.falloff,
+            "l_max": self.l_max,
+            "degree_weights": self.weights,
+        }
+        return EngineSettings(**values) if base is None else base.replace(**values)
 
     @property
     def weights(self) -> np.ndarray:
@@ -76,7 +105,7 @@ class Preset:
         sculptor.set_material(self.material)  # ignored when unchanged
         sculptor.set_falloff(self.falloff, self.l_max, self.weights, continued=joined)
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         weights = self.degree_weights
         return {
             "format": PRESET_FORMAT,

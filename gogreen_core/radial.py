@@ -118,6 +118,11 @@ class RadialProfile(ABC):
         clone._eps = _check_eps(eps)
         return clone
 
+    def as_value(self) -> RadialProfile:
+        """This shape at ε = 1 as an immutable value (what settings hold and compare by
+        content): itself when it is one already."""
+        return self if self._eps == 1.0 else self.with_eps(1.0)
+
     @abstractmethod
     def table_key(self) -> tuple:
         """Hashable identity of the shape (not ε): equal keys give equal tables."""
@@ -207,6 +212,10 @@ class SplineRadial(RadialProfile):
     Control abscissae start at ρ = 0 and increase; for l ≥ 1 the value at ρ = 0 is pinned to 0
     (R_l(0) = 0, as the paper does). Beyond the last control point ρ_n the curve continues as
     the far-field decay F(ρ_n)(ρ_n/ρ)^p (p = 1 for R, 2 for ℛ). Edits bump :attr:`version`.
+
+    A value compared by content (``==``). Settings hold frozen ones (:meth:`as_value`) and an
+    edit makes a new one (:meth:`with_curves`, :meth:`with_point_moved`, ...); a profile a
+    script builds may also be edited in place (:meth:`set_curve`, ...) before it is handed over.
     Tables are keyed by a digest of the control points, so a kernel built after an edit sees
     the new shape, and equal curves share tables whichever object holds them.
     """
@@ -219,6 +228,7 @@ class SplineRadial(RadialProfile):
         self._splines: dict[tuple[str, int], CubicSpline] = {}
         self._digest: str | None = None
         self._version = 0
+        self._frozen = False
         if not curves:
             raise ValueError("a spline falloff needs at least one curve")
         for (kind, l), (rho, value) in curves.items():
@@ -238,10 +248,10 @@ class SplineRadial(RadialProfile):
             curves[("dR", l)] = (rho, profile.dimensionless("dR", l, rho))
         return cls(profile.eps, curves)
 
-    # -- editing -----------------------------------------------------------------------------
+    # -- editing ----------------------------------------------------------------------------
     @property
     def version(self) -> int:
-        """Incremented by every edit."""
+        """Incremented by every edit (an edited value has its source's version + 1)."""
         return self._version
 
     def curve_keys(self) -> list[tuple[str, int]]:
@@ -253,32 +263,91 @@ class SplineRadial(RadialProfile):
         rho, value = self._curves[self._key(kind, l)]
         return rho.copy(), value.copy()
 
+    # Values: each edit makes a new profile (frozen when this one is), this one stays.
+    def with_curves(
+        self, curves: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]] | SplineRadial
+    ) -> SplineRadial:
+        """This falloff with the given curves (or another spline's) replacing or adding to its
+        own (a new value; the others are kept)."""
+        if isinstance(curves, SplineRadial):
+            curves = curves._curves
+        clone = object.__new__(SplineRadial)
+        clone.__dict__.update(self.__dict__)
+        # the other curves' (read-only) points and splines are shared, not rebuilt
+        clone._curves, clone._splines = dict(self._curves), dict(self._splines)
+        for (kind, l), (rho, value) in curves.items():
+            clone._store(kind, l, rho, value)
+        clone._version = self._version + 1
+        return clone
+
+    def with_point_moved(
+        self, kind: str, l: int, index: int, rho: float, value: float
+    ) -> SplineRadial:
+        """This falloff with control point ``index`` at (rho, value) (see :meth:`move_point`)."""
+        return self.with_curves({(kind, l): self._moved(kind, l, index, rho, value)})
+
+    def with_point_added(
+        self, kind: str, l: int, rho: float, value: float
+    ) -> tuple[SplineRadial, int]:
+        """This falloff with a control point inserted, and the point's index."""
+        xs, ys, index = self._added(kind, l, rho, value)
+        return self.with_curves({(kind, l): (xs, ys)}), index
+
+    def without_point(self, kind: str, l: int, index: int) -> SplineRadial:
+        """This falloff without control point ``index`` (see :meth:`remove_point`)."""
+        return self.with_curves({(kind, l): self._removed(kind, l, index)})
+
+    def as_value(self) -> SplineRadial:
+        """This shape at ε = 1 as an immutable value: itself when it is one already, else a
+        frozen copy (later edits of this profile do not reach it)."""
+        if self._frozen and self.eps == 1.0:
+            return self
+        clone = self.with_eps(1.0)
+        clone._frozen = True
+        return clone
+
+    # In place: for a profile a script builds before handing it over (settings freeze theirs).
     def set_curve(self, kind: str, l: int, rho: np.ndarray, value: np.ndarray) -> None:
-        """Replace one curve's control points."""
+        """Replace one curve's control points (in place; refused on a frozen value)."""
+        if self._frozen:
+            raise TypeError(
+                "this falloff is an immutable value (settings hold it): make an edited one "
+                "with with_curves, with_point_moved, with_point_added or without_point"
+            )
         self._store(kind, l, rho, value)
         self._version += 1
 
     def move_point(self, kind: str, l: int, index: int, rho: float, value: float) -> None:
         """Move control point ``index`` to (rho, value); it must stay between its neighbours."""
-        xs, ys = self.curve(kind, l)
-        xs[index], ys[index] = rho, value
-        self.set_curve(kind, l, xs, ys)
+        self.set_curve(kind, l, *self._moved(kind, l, index, rho, value))
 
     def add_point(self, kind: str, l: int, rho: float, value: float) -> int:
         """Insert a control point; returns its index."""
-        xs, ys = self.curve(kind, l)
-        index = int(np.searchsorted(xs, rho))
-        self.set_curve(kind, l, np.insert(xs, index, rho), np.insert(ys, index, value))
+        xs, ys, index = self._added(kind, l, rho, value)
+        self.set_curve(kind, l, xs, ys)
         return index
 
     def remove_point(self, kind: str, l: int, index: int) -> None:
         """Remove a control point (the first one, at ρ = 0, and the last two stay)."""
+        self.set_curve(kind, l, *self._removed(kind, l, index))
+
+    def _moved(self, kind: str, l: int, index: int, rho: float, value: float):
+        xs, ys = self.curve(kind, l)
+        xs[index], ys[index] = rho, value
+        return xs, ys
+
+    def _added(self, kind: str, l: int, rho: float, value: float):
+        xs, ys = self.curve(kind, l)
+        index = int(np.searchsorted(xs, rho))
+        return np.insert(xs, index, rho), np.insert(ys, index, value), index
+
+    def _removed(self, kind: str, l: int, index: int):
         xs, ys = self.curve(kind, l)
         if index == 0 or index % len(xs) == 0:
             raise ValueError("the control point at rho = 0 cannot be removed")
         if len(xs) <= 3:
             raise ValueError("a falloff curve needs at least 3 control points")
-        self.set_curve(kind, l, np.delete(xs, index), np.delete(ys, index))
+        return np.delete(xs, index), np.delete(ys, index)
 
     def _key(self, kind: str, l: int) -> tuple[str, int]:
         l = _check_degree(kind, l)
@@ -335,10 +404,21 @@ class SplineRadial(RadialProfile):
         return ("spline", self._digest)
 
     def with_eps(self, eps: float) -> SplineRadial:
+        if self._frozen:  # immutable curves: shared
+            return super().with_eps(eps)  # type: ignore[return-value]
         # Curves are copied (not shared) so that editing one profile never changes another.
         clone = SplineRadial(eps, dict(self._curves))
         clone._version = self._version
         return clone
+
+    def __eq__(self, other: object) -> bool:
+        """Equal by content: the same ε and the same control points."""
+        if not isinstance(other, SplineRadial):
+            return NotImplemented
+        return self.eps == other.eps and self.table_key() == other.table_key()
+
+    def __hash__(self) -> int:
+        return hash((self.eps, self.table_key()))
 
     # -- serialization -----------------------------------------------------------------------
     def to_dict(self) -> dict:

@@ -8,7 +8,9 @@ Each ``parse_*`` function takes the decoded JSON value and the path of the field
     → ParameterError: falloff.eps must be a number (got '1')
 
 Brushes and brush events have theirs in :meth:`Brush.from_dict` and :meth:`BrushEvent.from_dict`;
-sessions in :mod:`gogreen_core.session`, operations in :mod:`gogreen_core.operations`.
+engine settings in :meth:`EngineSettings.from_dict`; sessions in :mod:`gogreen_core.session`,
+operations in :mod:`gogreen_core.operations`. The bounds and range checks are in
+:mod:`gogreen_core.limits`.
 
 The schema is written by hand on top of ``validation.py`` rather than with a schema library
 (jsonschema, pydantic): the checks that matter here are numeric (finite, bounded, positive
@@ -22,14 +24,18 @@ from __future__ import annotations
 import json
 import os
 from collections.abc import Callable
-from dataclasses import dataclass
 from pathlib import Path
 from typing import TypeVar
 
-import numpy as np
-
-from gogreen_core.brushes import MAX_RADIUS, MIN_RADIUS
 from gogreen_core.kernel import L_MAX_LIMIT
+from gogreen_core.limits import (
+    MAX_DEGREE_WEIGHT,
+    MAX_STIFFNESS,
+    MIN_STIFFNESS,
+    check_degree_weights,
+    check_l_max,
+    check_material,
+)
 from gogreen_core.material import Material
 from gogreen_core.radial import (
     KINDS,
@@ -53,14 +59,15 @@ from gogreen_core.validation import (
 __all__ = [
     "FALLOFF_TYPES",
     "MAX_CONTROL_POINTS",
-    "EngineSettings",
+    "MAX_DEGREE_WEIGHT",
+    "MAX_STIFFNESS",
+    "MIN_STIFFNESS",
     "check_material",
     "parse_degree_weights",
     "parse_falloff",
     "parse_file",
     "parse_l_max",
     "parse_material",
-    "parse_settings",
     "read_json",
 ]
 
@@ -69,12 +76,6 @@ T = TypeVar("T")
 #: Falloff shapes a sculptor, a preset or a session can use (multi-scale ones are made by the
 #: grab_biscale / grab_triscale brushes, never stored).
 FALLOFF_TYPES = ("gaussian", "kelvinlet", "spline")
-#: Bounds of the largest stiffness coefficient |C_ab| (units are free: brushes are normalized by
-#: the material's own response, so only the ratios matter; beyond these the kernel over- or
-#: underflows).
-MIN_STIFFNESS, MAX_STIFFNESS = 1e-100, 1e100
-#: Largest |weight| of a wrinkle degree.
-MAX_DEGREE_WEIGHT = 1e6
 #: Control points of one spline curve, and curves of one spline falloff, at most.
 MAX_CONTROL_POINTS = 1000
 MAX_CURVES = 2 * (L_MAX_LIMIT + 2)
@@ -89,19 +90,6 @@ def parse_material(data: object, path: str = "material") -> Material:
         raise ParameterError(name, f"{name} must be a 6×6 matrix (got shape {voigt.shape})")
     with prefixed(name):
         return check_material(Material(voigt), name)
-
-
-def check_material(material: Material, path: str = "material") -> Material:
-    """``material`` if its largest stiffness coefficient is within [MIN_STIFFNESS,
-    MAX_STIFFNESS]."""
-    scale = float(np.abs(material.voigt).max())
-    if not MIN_STIFFNESS <= scale <= MAX_STIFFNESS:
-        raise ParameterError(
-            path,
-            f"{path}: the largest stiffness coefficient must be within [{MIN_STIFFNESS:g}, "
-            f"{MAX_STIFFNESS:g}] (got {scale:.3g}); only ratios matter, rescale it",
-        )
-    return material
 
 
 def parse_falloff(data: object, path: str = "falloff") -> RadialProfile:
@@ -136,86 +124,11 @@ def parse_falloff(data: object, path: str = "falloff") -> RadialProfile:
         return SplineRadial(eps, curves)
 
 
-def parse_l_max(value: object, path: str = "l_max") -> int:
-    """Truncation degree: an integer in [0, :data:`L_MAX_LIMIT`]."""
-    return check_integer(path, value, low=0, high=L_MAX_LIMIT)
-
-
-def parse_degree_weights(value: object, l_max: int, path: str = "degree_weights"):
-    """``null`` (the engine's default) or l_max + 1 finite numbers → None or (l_max + 1,)."""
-    if value is None:
-        return None
-    weights = check_finite(path, check_list(path, value, max_length=L_MAX_LIMIT + 1))
-    if weights.shape != (l_max + 1,):
-        raise ParameterError(
-            path, f"{path} must hold l_max + 1 = {l_max + 1} numbers (got {len(weights)})"
-        )
-    if not np.abs(weights).max() <= MAX_DEGREE_WEIGHT:
-        raise ParameterError(path, f"{path} must be within ±{MAX_DEGREE_WEIGHT:g}")
-    return weights
-
-
-@dataclass(frozen=True, eq=False)
-class EngineSettings:
-    """What a sculptor computes with besides the mesh: material, falloff shape (ε = 1), l_max,
-    wrinkle weights (None or (l_max + 1,)) and constraint radius (fraction of the model size).
-
-    Immutable: the sculptor keeps one and replaces it on every change, so an undo step can hold
-    the one before and the one after.
-    """
-
-    material: Material
-    falloff: RadialProfile
-    l_max: int
-    degree_weights: np.ndarray | None
-    constraint_radius: float
-
-    def same_as(self, other: EngineSettings) -> bool:
-        """True when both compute the same thing (equal values, not identity)."""
-        w, v = self.degree_weights, other.degree_weights
-        return (
-            self.material == other.material
-            and self.falloff.to_dict() == other.falloff.to_dict()
-            and self.l_max == other.l_max
-            and (w is None) == (v is None)
-            and (w is None or np.array_equal(w, v))
-            and self.constraint_radius == other.constraint_radius
-        )
-
-    def to_dict(self) -> dict:
-        """The session's ``settings`` object (constraint radius included)."""
-        w = self.degree_weights
-        return {
-            "material": self.material.to_dict(),
-            "falloff": self.falloff.to_dict(),
-            "l_max": self.l_max,
-            "degree_weights": None if w is None else [float(x) for x in w],
-            "constraint_radius": self.constraint_radius,
-        }
-
-
-def parse_settings(data: object, path: str = "settings") -> dict:
-    """A session's ``settings`` → keyword arguments of :class:`~gogreen_core.Sculptor`
-    (``material``, ``falloff``, ``l_max``, ``degree_weights``, ``constraint_radius``)."""
-    check_object(
-        path,
-        data,
-        required=("material", "falloff", "l_max"),
-        optional=("degree_weights", "constraint_radius"),
-    )
-    l_max = parse_l_max(data["l_max"], field(path, "l_max"))
-    radius = data.get("constraint_radius", 0.1)
-    return {
-        "material": parse_material(data["material"], field(path, "material")),
-        "falloff": parse_falloff(data["falloff"], field(path, "falloff")),
-        "l_max": l_max,
-        "degree_weights": parse_degree_weights(
-            data.get("degree_weights"), l_max, field(path, "degree_weights")
-        ),
-        "constraint_radius": check_number(
-            field(path, "constraint_radius"), radius, low=MIN_RADIUS, high=MAX_RADIUS
-        ),
-    }
+#: Truncation degree: an integer in [0, ``L_MAX_LIMIT``] (``parse_l_max(value, path)``).
+parse_l_max = check_l_max
+#: ``null`` or l_max + 1 finite numbers → None or a read-only (l_max + 1,) array
+#: (``parse_degree_weights(value, l_max, path)``).
+parse_degree_weights = check_degree_weights
 
 
 def _get(data: object, path: str, key: str) -> object:

@@ -1,10 +1,11 @@
 """Session files: the log of a sculptor's operations, their schema, and replay.
 
-A session (README, "Session files") is ``{"format": "gogreen-session", "version": 2, "mesh":
+A session (README, "Session files") is ``{"format": "gogreen-session", "version": 3, "mesh":
 {vertices, faces, sha256}, "settings": {...}, "operations": [...]}``. :func:`parse_session`
 checks all of it before anything is applied (every field's type and range; errors name the field,
-e.g. ``operations[3].events[0].delta``), :func:`load_session` reads a file, and
-:meth:`Sculptor.replay` applies the typed operations.
+e.g. ``operations[3].events[0].delta``), :func:`load_session` reads a file, and :func:`replay`
+(:meth:`Sculptor.replay`) applies the typed operations through the sculptor's public methods,
+which record them again in its own log, so replaying a session records the same session.
 
 Version 1 files (written before settings changes were undo steps) still replay as recorded:
 their material, falloff and constraint-radius changes are not undo steps. Version 1 and 2 files
@@ -15,20 +16,41 @@ from __future__ import annotations
 
 import hashlib
 import os
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from gogreen_core.operations import Operation, operation_from_dict
-from gogreen_core.schema import parse_file, parse_settings
+from gogreen_core.engine_settings import EngineSettings
+from gogreen_core.operations import (
+    ConstraintAdd,
+    ConstraintDrag,
+    ConstraintRadius,
+    ConstraintRemove,
+    ConstraintsClear,
+    FalloffChange,
+    MaterialChange,
+    Operation,
+    Redo,
+    Stroke,
+    Undo,
+    operation_from_dict,
+)
+from gogreen_core.schema import parse_file
 from gogreen_core.validation import (
+    ParameterError,
     check_choice,
     check_integer,
     check_list,
     check_object,
     check_string,
     field,
+    prefixed,
 )
+
+if TYPE_CHECKING:
+    from gogreen_core.sculptor import Sculptor
 
 __all__ = [
     "SESSION_FORMAT",
@@ -38,6 +60,7 @@ __all__ = [
     "load_session",
     "mesh_fingerprint",
     "parse_session",
+    "replay",
 ]
 
 SESSION_FORMAT = "gogreen-session"
@@ -63,7 +86,7 @@ class SessionLog:
     def __len__(self) -> int:
         return len(self._operations)
 
-    def __iter__(self):
+    def __iter__(self) -> Iterator[Operation]:
         return iter(self._operations)
 
     def record(self, operation: Operation, replace_last: bool = False) -> None:
@@ -90,13 +113,13 @@ class SessionLog:
 
 @dataclass(frozen=True)
 class Session:
-    """A checked session file: mesh sizes and fingerprint, initial settings (keyword arguments
-    of :class:`~gogreen_core.Sculptor`), typed operations, format version."""
+    """A checked session file: mesh sizes and fingerprint, initial settings, typed operations,
+    format version."""
 
     vertices: int
     faces: int
     sha256: str | None
-    settings: dict
+    settings: EngineSettings
     operations: tuple[Operation, ...]
     version: int = SESSION_VERSION
 
@@ -118,7 +141,7 @@ def parse_session(data: object) -> Session:
     sha = mesh.get("sha256")
     if sha is not None:
         sha = check_string("mesh.sha256", sha, max_length=64)
-    settings = parse_settings(data["settings"], "settings")
+    settings = EngineSettings.from_dict(data["settings"], "settings")
     operations = check_list("operations", data["operations"], max_length=MAX_OPERATIONS)
     ops = tuple(operation_from_dict(op, field("operations", i)) for i, op in enumerate(operations))
     return Session(vertices, faces, sha, settings, ops, version)
@@ -128,3 +151,96 @@ def load_session(path: str | os.PathLike) -> Session:
     """Read and check a session file; ``ValueError`` (a :class:`ParameterError` for a bad
     field) whose message starts with the file's name."""
     return parse_file(path, parse_session, "session file")
+
+
+# -- replay ------------------------------------------------------------------------------------
+Step = Callable[[], None]
+
+
+def _stroke(sculptor: Sculptor, op: Stroke, step: Step) -> None:
+    sculptor.begin_stroke(op.brush)
+    try:
+        for number, event in enumerate(op.events):
+            with prefixed(f"events[{number}]"):
+                sculptor.stroke_event(event)
+            step()
+    except Exception:
+        sculptor.cancel_stroke()
+        raise
+    sculptor.end_stroke()
+    if not op.events:
+        step()
+
+
+def _falloff(sculptor: Sculptor, op: FalloffChange) -> None:
+    sculptor.change_settings(
+        falloff=op.falloff,
+        l_max=op.l_max,
+        degree_weights=op.degree_weights,
+        continued=op.continued,
+        replaying=True,
+    )
+
+
+#: How each record is done: through the sculptor's public methods (a logged settings change is
+#: always replayed, as the drag it stands for was a step).
+_ACTIONS: dict[type[Operation], Callable[[Sculptor, Any], object]] = {
+    MaterialChange: lambda s, op: s.change_settings(
+        material=op.material, continued=op.continued, replaying=True
+    ),
+    FalloffChange: _falloff,
+    ConstraintRadius: lambda s, op: s.change_settings(
+        constraint_radius=op.radius, continued=op.continued, replaying=True
+    ),
+    ConstraintAdd: lambda s, op: s.add_constraint(op.point),
+    ConstraintRemove: lambda s, op: s.remove_constraint(op.index),
+    ConstraintsClear: lambda s, op: s.clear_constraints(),
+    ConstraintDrag: lambda s, op: s.drag_constraint(op.index, op.delta, op.continued),
+    Undo: lambda s, op: s.undo(),
+    Redo: lambda s, op: s.redo(),
+}
+
+
+def replay(
+    sculptor: Sculptor,
+    operations: Sequence[dict[str, Any]] | Sequence[Operation] | Session,
+    progress: Callable[[int, int], None] | None = None,
+) -> None:
+    """Apply logged operations to ``sculptor`` in order (the result is bit for bit the recorded
+    one on the same machine). ``progress(done, total)`` is called after each mouse event and
+    each other operation.
+
+    All of them are checked before any is applied (ParameterError naming the field, e.g.
+    ``operations[3].events[0].delta``), and a replay that fails part-way is rolled back
+    (:meth:`Sculptor.all_or_nothing`): the mesh, settings, pins, history and log are as before.
+    """
+    if isinstance(operations, Session):
+        ops = list(operations.operations)
+    else:
+        ops = [
+            op if isinstance(op, Operation) else operation_from_dict(op, f"operations[{i}]")
+            for i, op in enumerate(operations)
+        ]
+    total = sum(op.steps for op in ops)
+    done = 0
+
+    def step() -> None:
+        nonlocal done
+        done += 1
+        if progress:
+            progress(done, total)
+
+    number = 0
+    try:
+        with sculptor.all_or_nothing():
+            for number, op in enumerate(ops):
+                with prefixed(f"operations[{number}]"):
+                    if isinstance(op, Stroke):
+                        _stroke(sculptor, op, step)
+                    else:
+                        _ACTIONS[type(op)](sculptor, op)
+                        step()
+    except ParameterError:
+        raise
+    except (ValueError, RuntimeError) as exc:
+        raise ValueError(f"operations[{number}] ({ops[number].name}): {exc}") from None

@@ -11,34 +11,53 @@ presets are made from and applied to it::
     settings.brush.events.radius.connect(lambda e: print("radius", e.value))
     settings.brush.radius = 0.05                     # validated, emitted
     link = EngineLink(settings, sculptor)            # material/falloff/pins reach the engine
-    settings.material = Material.isotropic(1, 0.45)  # -> sculptor.set_material
+    settings.material = Material.isotropic(1, 0.45)  # -> sculptor.apply_settings(...)
+
+Every value is immutable (a new one per change; the falloff too, compared by content), so a
+change is an assignment and an equal value is no change.
 
 Adding a setting: declare one ``Field`` on the model (with its validator) and bind one widget
 to it; a brush field also needs the same name on :class:`gogreen_core.brushes.Brush` (which
-already carries it into strokes, sessions and presets).
+already carries it into strokes, sessions and presets); an engine field also needs the same
+name on :class:`gogreen_core.engine_settings.EngineSettings` (which carries it to the
+sculptor, sessions and undo).
 
 Drags: a slider or curve drag sets its field once per step with ``continued=True`` after the
-first step; :class:`EngineLink` forwards that flag to the engine at one call site
-(:meth:`EngineLink.forward`), so that a whole drag can be one undo step.
+first step; :class:`EngineLink` forwards that flag to the engine in its one typed call
+(:meth:`EngineLink.send`), so that a whole drag can be one undo step.
 """
 
 from __future__ import annotations
 
-import inspect
-from collections.abc import Callable, Iterable
-from dataclasses import asdict, dataclass, replace
-from typing import Any, ClassVar
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import asdict, dataclass, fields, replace
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
 from gogreen_core.brushes import DEFAULT_INFLUENCE, Brush, default_wrinkle_weights
-from gogreen_core.kernel import L_MAX_LIMIT
+from gogreen_core.engine_settings import (
+    DEFAULT_CONSTRAINT_RADIUS,
+    SETTING_GROUPS,
+    EngineSettings,
+)
+from gogreen_core.limits import (
+    check_constraint_radius,
+    check_degree_weights,
+    check_falloff,
+    check_l_max,
+    check_material,
+)
 from gogreen_core.material import Material
 from gogreen_core.presets import Preset
-from gogreen_core.radial import GaussianRadial, MultiscaleRadial, RadialProfile, SplineRadial
-from gogreen_core.validation import ParameterError, check_bool, check_finite, check_number
+from gogreen_core.radial import GaussianRadial, SplineRadial
+from gogreen_core.validation import ParameterError, check_bool, check_number
+
+if TYPE_CHECKING:
+    from gogreen_core.sculptor import Sculptor
 
 __all__ = [
+    "ENGINE_FIELDS",
     "BrushSettings",
     "ChangeEvent",
     "EngineLink",
@@ -192,12 +211,6 @@ class EventedModel:
             self.events.changed.emit(Changes(frozenset(changed), continued, source))
         return frozenset(changed)
 
-    def touch(self, name: str, *, continued: bool = False, source: str = "") -> None:
-        """Announce an in-place edit of a mutable field (e.g. a curve point dragged)."""
-        value = self._values[name]
-        self.events[name].emit(ChangeEvent(name, value, value, continued, source))
-        self.events.changed.emit(Changes(frozenset([name]), continued, source))
-
     def _same(self, name: str, value: Any) -> bool:
         return self.fields[name].equal(self._values[name], value)
 
@@ -287,21 +300,28 @@ def needed_curves(l_max: int) -> list[tuple[str, int]]:
     return sorted(keys, key=lambda k: (k[1], k[0]))
 
 
+def _with_needed_curves(spline: SplineRadial, l_max: int) -> SplineRadial:
+    """``spline`` with the curves of ``l_max`` it lacks taken from the Gaussian falloff (itself
+    when it has them all)."""
+    have = set(spline.curve_keys())
+    missing = [key for key in needed_curves(l_max) if key not in have]
+    if not missing:
+        return spline
+    gaussian = SplineRadial.from_profile(GaussianRadial(1.0), l_max)
+    return spline.with_curves({key: gaussian.curve(*key) for key in missing})
+
+
+# Each field is checked by the engine's own checks (gogreen_core.limits), named as the field.
 def _material(_model: Settings, name: str, value: Any) -> Material:
-    if not isinstance(value, Material):
-        raise ParameterError(name, f"{name} must be a Material (got {type(value).__name__})")
-    return value
+    return check_material(value, name)
 
 
 def _l_max(_model: Settings, name: str, value: Any) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise ParameterError(name, f"{name} must be an integer (got {value!r})")
-    check_number(name, value, low=0, high=L_MAX_LIMIT)
-    return int(value)
+    return check_l_max(value, name)
 
 
 def _radius(_model: Settings, name: str, value: Any) -> float:
-    return check_number(name, value, low=0.0, low_open=True)
+    return check_constraint_radius(value, name)
 
 
 class Settings(EventedModel):
@@ -312,22 +332,24 @@ class Settings(EventedModel):
     ------
     material : :class:`Material`
     l_max : int, SH truncation degree (0 … ``L_MAX_LIMIT``)
-    falloff : :class:`SplineRadial` with ε = 1, *one object for the model's life*: assigning
-        any single radial profile copies its curves into it (sampled when not a spline), curve
-        editors edit it in place and call ``touch("falloff")``. It always has the curves
-        :func:`needed_curves` of ``l_max`` (missing ones: Gaussian); curves above l_max are kept.
-    degree_weights : (l_max + 1,) wrinkle weights; changing l_max keeps the common degrees and
-        gives new ones :func:`default_wrinkle_weights`.
+    falloff : :class:`SplineRadial`, an immutable value at ε = 1 (compared by content): assigning
+        any single radial profile gives a spline with its curves (sampled when not a spline)
+        replacing the current ones; an edit (the curve editor's) assigns a new value. It always
+        has the curves :func:`needed_curves` of ``l_max`` (missing ones: Gaussian); curves above
+        l_max are kept.
+    degree_weights : (l_max + 1,) wrinkle weights (read-only); changing l_max keeps the common
+        degrees and gives new ones :func:`default_wrinkle_weights`.
     constraint_radius : ε of the pins, as a fraction of the model size.
 
+    :attr:`engine_settings` is the engine's part as one :class:`EngineSettings` value.
     ``brush`` is a :class:`BrushSettings` (a sub-model with events of its own).
     """
 
     material = Field(lambda: Material.isotropic(1.0, 0.3), _material)
     l_max = Field(8, _l_max)
-    falloff = Field(None, eq=lambda a, b: False)  # in place: every assignment is a change
-    degree_weights = Field(None)
-    constraint_radius = Field(0.1, _radius)
+    falloff = Field(None)  # checked in _normalize, with l_max
+    degree_weights = Field(None)  # checked in _normalize, with l_max
+    constraint_radius = Field(DEFAULT_CONSTRAINT_RADIUS, _radius)
 
     def __init__(self, **values: Any) -> None:
         self.brush = BrushSettings()
@@ -342,73 +364,56 @@ class Settings(EventedModel):
         out = super()._normalize(values)
         l_max = out.get("l_max", self._values.get("l_max", 8))
         first = self._values.get("falloff") is None  # construction
-        if "falloff" in out or first:
-            out["falloff"] = self._falloff_into(out.get("falloff"), l_max)
-        elif "l_max" in out:
-            self._ensure_curves(self._values["falloff"], l_max)
+        if "falloff" in out or "l_max" in out or first:
+            out["falloff"] = self._spline(out.get("falloff"), l_max)
         if "degree_weights" in out or "l_max" in out or first:
             out["degree_weights"] = self._weights(out.get("degree_weights"), l_max)
         return out
 
-    def _falloff_into(self, profile: RadialProfile | None, l_max: int) -> SplineRadial:
-        spline = self._values.get("falloff")
-        if profile is None and spline is not None:
-            return spline
-        profile = GaussianRadial(1.0) if profile is None else profile
-        if not isinstance(profile, RadialProfile) or isinstance(profile, MultiscaleRadial):
-            raise ParameterError(
-                "falloff",
-                "falloff must be a single RadialProfile (Gaussian, Kelvinlet, spline), "
-                f"got {type(profile).__name__}",
-            )
-        source = (
-            profile
-            if isinstance(profile, SplineRadial)
-            else SplineRadial.from_profile(profile.with_eps(1.0), l_max)
-        )
-        if spline is None:
-            spline = source if source is not profile else profile.with_eps(1.0)
-        elif spline is not profile:
-            for key in source.curve_keys():
-                spline.set_curve(*key, *source.curve(*key))
-        self._ensure_curves(spline, l_max)
-        return spline
-
-    @staticmethod
-    def _ensure_curves(spline: SplineRadial, l_max: int) -> None:
-        have = set(spline.curve_keys())
-        missing = [key for key in needed_curves(l_max) if key not in have]
-        if missing:
-            gaussian = SplineRadial.from_profile(GaussianRadial(1.0), l_max)
-            for key in missing:
-                spline.set_curve(*key, *gaussian.curve(*key))
+    def _spline(self, profile: object, l_max: int) -> SplineRadial:
+        current: SplineRadial | None = self._values.get("falloff")
+        if profile is None:
+            spline = current or SplineRadial.from_profile(GaussianRadial(1.0), l_max).as_value()
+        else:
+            shape = check_falloff(profile, "falloff")
+            if not isinstance(shape, SplineRadial):
+                shape = SplineRadial.from_profile(shape, l_max).as_value()
+            spline = shape if current is None else current.with_curves(shape)
+        return _with_needed_curves(spline, l_max)
 
     def _weights(self, weights: Any, l_max: int) -> np.ndarray:
-        if weights is None:
-            current = self._values.get("degree_weights")
-            padded = default_wrinkle_weights(l_max)
-            if current is not None:
-                keep = min(len(current), l_max + 1)
-                padded[:keep] = current[:keep]
-            return padded
-        values = check_finite("degree_weights", weights)
-        if values.shape != (l_max + 1,):
-            raise ParameterError(
-                "degree_weights",
-                f"degree_weights must be l_max + 1 = {l_max + 1} finite numbers "
-                f"(got shape {values.shape})",
-            )
-        return values.copy()
+        if weights is not None:
+            checked = check_degree_weights(weights, l_max, "degree_weights")
+            assert checked is not None
+            return checked
+        current = self._values.get("degree_weights")
+        padded = default_wrinkle_weights(l_max)
+        if current is not None:
+            keep = min(len(current), l_max + 1)
+            padded[:keep] = current[:keep]
+        padded.setflags(write=False)
+        return padded
+
+    @property
+    def engine_settings(self) -> EngineSettings:
+        """Material, falloff, l_max, weights and the pins' radius as one engine value."""
+        return EngineSettings(
+            material=self.material,
+            falloff=self.falloff,
+            l_max=self.l_max,
+            degree_weights=self.degree_weights,
+            constraint_radius=self.constraint_radius,
+        )
 
     # -- presets and the engine's options ----------------------------------------------------
     def preset(self, name: str = "", description: str = "") -> Preset:
-        """The current settings as a :class:`Preset` (a snapshot: later edits do not leak)."""
+        """The current settings as a :class:`Preset` (values: later edits do not reach it)."""
         return Preset(
             name=name,
             material=self.material,
-            falloff=self.falloff.with_eps(1.0),
+            falloff=self.falloff,
             l_max=self.l_max,
-            degree_weights=self.degree_weights.copy(),
+            degree_weights=self.degree_weights,
             brush=self.brush.brush,
             description=description,
         )
@@ -426,100 +431,91 @@ class Settings(EventedModel):
         self.brush.set_brush(preset.brush)
 
     def sculptor_options(self) -> dict[str, Any]:
-        """Keyword arguments of :class:`gogreen_core.Sculptor` for a new mesh."""
-        return {
-            "material": self.material,
-            "l_max": self.l_max,
-            "falloff": self.falloff,
-            "degree_weights": self.degree_weights,
-        }
+        """Keyword arguments of :class:`gogreen_core.Sculptor` for a new mesh: these
+        :attr:`engine_settings`."""
+        return {"settings": self.engine_settings}
 
 
-#: Engine setter of each group of engine-side settings, and the fields it takes.
-_ENGINE_SETTERS = (
-    ("set_material", ("material",)),
-    ("set_falloff", ("falloff", "l_max", "degree_weights")),
-    ("set_constraint_radius", ("constraint_radius",)),
-)
+#: The model's fields that are the engine's settings.
+ENGINE_FIELDS = tuple(f.name for f in fields(EngineSettings))
 
 
 class EngineLink:
     """Feeds a :class:`gogreen_core.Sculptor` from a :class:`Settings` and pulls back.
 
-    Every settings update reaches the engine as one setter call per group it touches
-    (material; falloff with l_max and weights; constraint radius). A setter that refuses
-    (``ValueError``, ``RuntimeError``) leaves the engine as it was; the link then restores the
-    settings from the engine and calls ``on_error(parameter, exc)``, so model and engine never
-    disagree. :meth:`pull` copies the engine's values into the settings (after undo/redo)
-    without sending them back.
+    Every update of the engine's fields reaches the engine as one typed call,
+    ``sculptor.apply_settings(value, continued=...)``: ``value`` is the engine's settings with
+    the updated fields' groups (:data:`SETTING_GROUPS`) taken from the model, one undo step per
+    group, joined to the step before while a drag is ``continued``. An
+    engine that refuses (``ValueError``, ``RuntimeError``) is left as it was; the link then
+    restores the settings from the engine and calls ``on_error(parameter, exc)``, so model and
+    engine never disagree. :meth:`pull` copies the engine's values into the settings (after
+    undo/redo) without sending them back.
     """
 
-    def __init__(self, settings: Settings, sculptor=None, on_error=None) -> None:
+    def __init__(
+        self,
+        settings: Settings,
+        sculptor: Sculptor | None = None,
+        on_error: Callable[[str, Exception], None] | None = None,
+    ) -> None:
         self.settings = settings
         self.sculptor = sculptor
         self.on_error = on_error
         self._pulling = False
         settings.events.changed.connect(self._changed)
 
-    def attach(self, sculptor) -> None:
+    def attach(self, sculptor: Sculptor | None) -> None:
         """Feed ``sculptor`` from now on (made with :meth:`Settings.sculptor_options`); gives
-        it the settings it was not made with (the constraint radius)."""
+        it the settings it was not made with."""
         self.sculptor = sculptor
-        if sculptor is not None and sculptor.constraint_radius != self.settings.constraint_radius:
-            self.forward("set_constraint_radius", ("constraint_radius",), False)
+        if sculptor is not None:
+            self.send(False, ENGINE_FIELDS)
 
     def _changed(self, changes: Changes) -> None:
         if self._pulling or self.sculptor is None or changes.source == "engine":
             return
-        for method, names in _ENGINE_SETTERS:
-            if changes.names.intersection(names):
-                if not self.forward(method, names, changes.continued):
-                    return
+        names = [name for name in ENGINE_FIELDS if name in changes.names]
+        if names:
+            self.send(changes.continued, names)
 
-    def forward(self, method: str, names: tuple[str, ...], continued: bool) -> bool:
-        """The one place settings reach the engine: ``sculptor.<method>(*values)``, with
-        ``continued`` when the engine's setter takes it (one undo step per drag). False, after
-        restoring the settings from the engine and reporting, when the engine refuses."""
-        setter = getattr(self.sculptor, method)
-        args = [self.settings.values()[name] for name in names]
-        kwargs = {"continued": continued} if _takes_continued(setter) else {}
+    def send(self, continued: bool, names: Sequence[str]) -> bool:
+        """The one place settings reach the engine. False, after restoring the settings from
+        the engine and reporting (the parameter, else the first of ``names``), when the engine
+        refuses."""
+        assert self.sculptor is not None
+        model = self.settings.engine_settings
+        groups = [group for group in SETTING_GROUPS if set(group) & set(names)]
         try:
-            setter(*args, **kwargs)
+            value = self.sculptor.settings.replace(
+                **{name: getattr(model, name) for group in groups for name in group}
+            )
+            self.sculptor.apply_settings(value, continued=continued)
         except (ValueError, RuntimeError) as exc:
             self.pull()
             if self.on_error is None:
                 raise
-            parameter = getattr(exc, "parameter", None) or names[0]
-            self.on_error(parameter, exc)
+            self.on_error(getattr(exc, "parameter", None) or names[0], exc)
             return False
         return True
 
     def pull(self) -> None:
         """Copy the engine's settings into the model (no echo back to the engine)."""
-        s = self.sculptor
-        if s is None:
+        if self.sculptor is None:
             return
-        values: dict[str, Any] = {}
-        if s.material != self.settings.material:
-            values["material"] = s.material
-        if s.l_max != self.settings.l_max:
-            values["l_max"] = s.l_max
-        if s.falloff.to_dict() != self.settings.falloff.with_eps(1.0).to_dict():
-            values["falloff"] = s.falloff
-        if not np.array_equal(s.degree_weights, self.settings.degree_weights):
-            values["degree_weights"] = s.degree_weights
-        if s.constraint_radius != self.settings.constraint_radius:
-            values["constraint_radius"] = s.constraint_radius
+        engine, model = self.sculptor.settings, self.settings.engine_settings
+        values = {
+            name: getattr(engine, name)
+            for name in ENGINE_FIELDS
+            if not engine.agrees(model, (name,))
+        }
+        if engine.degree_weights is None:  # the legacy weights, made explicit
+            values.pop("degree_weights", None)
+            if not np.array_equal(engine.wrinkle_weights, model.wrinkle_weights):
+                values["degree_weights"] = engine.wrinkle_weights
         if values:
             self._pulling = True
             try:
                 self.settings.update(values, source="engine")
             finally:
                 self._pulling = False
-
-
-def _takes_continued(setter: Callable) -> bool:
-    try:
-        return "continued" in inspect.signature(setter).parameters
-    except (TypeError, ValueError):
-        return False

@@ -60,8 +60,8 @@ def test_falloff_edit_changes_the_next_deformation(window):
     window.undo()
     radial = window.falloff_panel.radial
     rho, value = radial.curve("R", 0)
-    radial.move_point("R", 0, 2, float(rho[2]), float(value[2]) * 3)
-    window.model.touch("falloff")  # an in-place curve edit, as the curve editor announces it
+    # a curve edit, as the curve editor makes it: a new falloff value
+    window.model.falloff = radial.with_point_moved("R", 0, 2, float(rho[2]), float(value[2]) * 3)
     drag(window, start)
     assert not np.allclose(sculptor.vertices - before, first)
 

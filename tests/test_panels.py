@@ -418,10 +418,10 @@ def test_add_and_remove_points(qtbot, falloff_panel):
 
 def test_reset_to_gaussian(qtbot, falloff_panel):
     panel = falloff_panel
-    radial = panel.radial
     radial_points = panel.editor.control_points()
     panel.editor.add_point_at(2.2, 3.0)
     panel.reset_to_kelvinlet()
+    radial = panel.radial
     rho = np.linspace(0.0, 8.0, 17)
     kelvinlet = KelvinletRadial(1.0)
     assert np.allclose(
@@ -430,7 +430,12 @@ def test_reset_to_gaussian(qtbot, falloff_panel):
     version = radial.version
     with qtbot.waitSignal(panel.falloff_changed, timeout=1000):
         panel.reset_gaussian_button.click()
-    assert panel.radial is radial  # edited in place: one SplineRadial for the panel's life
+    # a new falloff value (immutable), shown by the editor; the Kelvinlet one is unchanged
+    assert panel.radial is not radial and panel.editor.radial is panel.radial
+    assert np.allclose(
+        radial.dimensionless("R", 0, rho[1:]), kelvinlet.dimensionless("R", 0, rho[1:]), rtol=0.05
+    )
+    radial = panel.radial
     assert radial.version > version
     gaussian = SplineRadial.from_profile(GaussianRadial(1.0), panel.l_max)
     for key in gaussian.curve_keys():

@@ -13,12 +13,32 @@ from gogreen_core.brushes import (
     default_wrinkle_weights,
     mirror_signs,
 )
+from gogreen_core.brushes.affine import centre_jacobian
 from gogreen_core.falloff_safety import MAX_GRAB_RATIO
 from gogreen_core.presets import builtin_presets
 from gogreen_core.radial import GaussianRadial, KelvinletRadial, SplineRadial
 from gogreen_core.sculptor import Sculptor
 from gogreen_core.shapes import icosphere
 from gogreen_core.validation import ParameterError
+
+
+# The brush physics moved from Sculptor's private methods to the brush table (its rows' load,
+# limits and field bound, given the engine's stroke context).
+def _context(sculptor):
+    return sculptor._strokes.context(sculptor._kernels)
+
+
+def _load(sculptor, brush, kernel, event):
+    return brush.type.load(_context(sculptor), brush, kernel, event)
+
+
+def _affine_limits(sculptor, brush, shape):
+    return brush.type.limits(_context(sculptor), brush, shape)
+
+
+def _field_bound(sculptor, brush, kernel):
+    return brush.type.field_bound(_context(sculptor), brush, kernel)
+
 
 L_MAX = 8
 #: Brush radius relative to the model size (2 for the unit sphere): ε = 0.3.
@@ -165,7 +185,7 @@ def test_ordinary_falloffs_keep_the_exact_centre_normalization(sphere, falloff, 
         force = np.linalg.solve(
             full.with_radial(sculptor.kernel(brush).radial).green(np.zeros((1, 3)))[0], event.delta
         )
-        load, _ = sculptor._load(brush, sculptor.kernel(brush), event)
+        load, _ = _load(sculptor, brush, sculptor.kernel(brush), event)
         assert np.array_equal(load, force), (kind, preset and preset.name)
 
 
@@ -183,9 +203,9 @@ def test_ordinary_affine_loads_keep_the_exact_centre_normalization(sphere, fallo
             axis, direction = rng.normal(size=(2, 3))
             event = BrushEvent(vertices[9], amount=0.3, axis=axis, direction=direction)
             shape = affine_load_shape(kind, event.axis, event.direction)
-            jacobian = sculptor._centre_jacobian(kernel, event.center, shape)
+            jacobian = centre_jacobian(kernel, event.center, shape)
             response = float(np.sum(jacobian * shape) / np.sum(shape * shape))
-            load, _ = sculptor._load(brush, kernel, event)
+            load, _ = _load(sculptor, brush, kernel, event)
             assert np.array_equal(load, shape * (0.3 / response)), material
 
 
@@ -228,7 +248,7 @@ def test_affine_brushes_with_a_vanishing_centre_response_stay_bounded(sphere, ki
         assert (
             motion
             <= 1.01
-            * sculptor._affine_limits(brush, affine_load_shape(kind, event.axis, event.direction))[
+            * _affine_limits(sculptor, brush, affine_load_shape(kind, event.axis, event.direction))[
                 0
             ]
             * amount
@@ -272,12 +292,12 @@ def test_the_bound_is_cached_per_kernel_not_per_event(sphere):
     brush = Brush("grab", radius=RADIUS)
     event = BrushEvent(vertices[0], np.array([0.01, 0.0, 0.0]))
     sculptor.apply_brush(brush, [event, event])
-    first = sculptor._field_bound(brush, sculptor.kernel(brush))
+    first = _field_bound(sculptor, brush, sculptor.kernel(brush))
     # another radius: the same samples (they are taken at ε = 1)
     other = Brush("grab", radius=2 * RADIUS)
-    assert sculptor._field_bound(other, sculptor.kernel(other)) is first
+    assert _field_bound(sculptor, other, sculptor.kernel(other)) is first
     sculptor.set_falloff(_edited(_wiggles))
-    assert sculptor._field_bound(brush, sculptor.kernel(brush)) is not first
+    assert _field_bound(sculptor, brush, sculptor.kernel(brush)) is not first
 
 
 def test_mirrored_brushes_stay_bounded(sphere):

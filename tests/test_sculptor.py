@@ -155,7 +155,7 @@ def test_constraints_land_on_targets_and_low_rank_updates_match(bunny):
     ids.pop(2)
     sculptor.add_constraint(vertices[1700])
     ids.append(1700)
-    constraints = sculptor._constraints
+    constraints = sculptor._pins.constraints
     full = np.linalg.inv(constraints.matrix)
     assert np.abs(constraints.inverse - full).max() < 1e-8 * np.abs(full).max()
     delta = 0.03 * sculptor.model_size * np.array([0.2, 1.0, 0.1])

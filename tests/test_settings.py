@@ -70,23 +70,33 @@ def test_l_max_keeps_curves_and_common_weights_and_adds_defaults():
     expected = default_wrinkle_weights(6)
     expected[:5] = np.arange(5.0)
     assert np.array_equal(settings.degree_weights, expected)
-    assert settings.falloff is spline  # one spline for the model's life
+    assert settings.falloff is spline  # it had the curves of l_max 4 and 6: unchanged
     assert set(needed_curves(10)) - set(spline.curve_keys())  # not yet there
     settings.l_max = 10
-    assert set(needed_curves(10)) <= set(spline.curve_keys())
+    assert set(needed_curves(10)) <= set(settings.falloff.curve_keys())
+    # a new value with the old curves kept (values are immutable: the old one is unchanged)
+    assert set(needed_curves(10)) - set(spline.curve_keys())
+    for key in spline.curve_keys():
+        assert all(map(np.array_equal, settings.falloff.curve(*key), spline.curve(*key)))
 
 
-def test_assigning_a_profile_copies_its_curves_into_the_one_spline():
+def test_assigning_a_profile_gives_a_spline_of_its_curves():
     settings = Settings()
     spline = settings.falloff
+    before = spline.to_dict()
     version = spline.version
     events = record(settings.events.falloff)
     settings.falloff = KelvinletRadial(0.3)
-    assert settings.falloff is spline and spline.version > version and len(events) == 1
+    # a new value (the falloff is immutable, compared by content), the old one unchanged
+    new = settings.falloff
+    assert isinstance(new, SplineRadial) and new.eps == 1.0 and new != spline
+    assert new.version > version and len(events) == 1 and spline.to_dict() == before
     rho = np.array([0.5, 1.0, 2.0])
     assert np.allclose(
-        spline.dimensionless("R", 2, rho), KelvinletRadial(1.0).dimensionless("R", 2, rho), 1e-3
+        new.dimensionless("R", 2, rho), KelvinletRadial(1.0).dimensionless("R", 2, rho), 1e-3
     )
+    settings.falloff = KelvinletRadial(1.0)  # the same curves: no change, no event
+    assert settings.falloff is new and len(events) == 1
     with pytest.raises(ParameterError) as info:
         settings.falloff = "gaussian"
     assert info.value.parameter == "falloff"
@@ -130,10 +140,10 @@ def test_engine_link_feeds_the_sculptor_one_call_per_group(sculptor, monkeypatch
     assert np.array_equal(sculptor.degree_weights, settings.degree_weights)
     settings.constraint_radius = 0.2
     assert sculptor.constraint_radius == 0.2
-    # an in-place curve edit (a drag step) reaches the engine through touch()
+    # a curve edit (a drag step: a new falloff value) reaches the engine
     rho, value = settings.falloff.curve("R", 0)
-    settings.falloff.move_point("R", 0, 2, float(rho[2]), float(value[2]) * 2)
-    settings.touch("falloff", continued=True)
+    edited = settings.falloff.with_point_moved("R", 0, 2, float(rho[2]), float(value[2]) * 2)
+    settings.set("falloff", edited, continued=True)
     assert len(calls) == 2
     assert np.isclose(sculptor.falloff.curve("R", 0)[1][2], value[2] * 2)
     link.attach(None)

@@ -74,12 +74,14 @@ class CurveEditor(QWidget):
     Parameters
     ----------
     radial : SplineRadial
-        The spline edited in place (``move_point``, ``add_point``, ``remove_point``).
+        The spline shown; each edit replaces it by an edited value (``with_point_moved``,
+        ``with_point_added``, ``without_point``), read back from :attr:`radial`.
     parent : QWidget, optional
 
     Signals
     -------
-    edited() : after every change of the spline (each drag step, add, remove).
+    edited() : after every change of the spline (each drag step, add, remove): :attr:`radial`
+        is the new value.
     drag_finished() : the left button was released after dragging a point.
     selection_changed(int) : the selected control point of the active curve (-1: none).
     active_curve_changed(object) : the (kind, l) key of the new active curve.
@@ -277,7 +279,7 @@ class CurveEditor(QWidget):
             rho = float(np.clip(rho, low, high))
         if rho == xs[index] and value == ys[index]:
             return
-        self._radial.move_point(kind, degree, index, rho, value)
+        self._radial = self._radial.with_point_moved(kind, degree, index, rho, value)
         self.update()
         self.edited.emit()
 
@@ -293,7 +295,7 @@ class CurveEditor(QWidget):
         if np.min(np.abs(xs - rho)) < _MIN_GAP:
             self.message.emit(f"cannot add a point at ρ = {rho:.3g}: too close to another point")
             return -1
-        index = self._radial.add_point(*self._active, rho, value)
+        self._radial, index = self._radial.with_point_added(*self._active, rho, value)
         self._select(index)
         self.refit()
         self.edited.emit()
@@ -303,7 +305,7 @@ class CurveEditor(QWidget):
         """Remove control point ``index`` of the active curve; False (with a ``message``) when
         the spline refuses (the point at ρ = 0, or fewer than 3 points would remain)."""
         try:
-            self._radial.remove_point(*self._active, index)
+            self._radial = self._radial.without_point(*self._active, index)
         except ValueError as exc:
             self.message.emit(f"cannot remove this point: {exc}")
             return False

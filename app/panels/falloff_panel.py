@@ -5,8 +5,8 @@ A view of the falloff fields of :class:`gogreen_core.settings.Settings` (``fallo
 :class:`gogreen_core.SplineRadial` in the dimensionless variable ρ = r/ε (its ε stays 1; the
 consumer calls ``with_eps``). Even degrees carry R_l, the falloff of the Green's function G used
 by grab brushes; odd degrees carry ℛ_l, used by ∇G and the affine brushes (scale, twist,
-pinch). The curve editor edits that one spline in place, and each edit is announced with
-``settings.touch("falloff", continued=...)``: the steps of one point drag after the first are
+pinch). Each edit of the curve editor is a new falloff value, set with
+``settings.set("falloff", ..., continued=...)``: the steps of one point drag after the first are
 ``continued``, so a whole drag can be one undo step in the engine. Curves of degrees above the
 current l_max are kept, so lowering and raising l_max restores them.
 """
@@ -71,8 +71,8 @@ PREVIEW_STALE_MS = 400
 
 @dataclass(frozen=True)
 class PreviewRequest:
-    """What one preview shows: a snapshot taken on the GUI thread (the curve editor edits the
-    settings' spline in place, so the worker gets copies of its control points)."""
+    """What one preview shows: a snapshot taken on the GUI thread (copies of the control points
+    of the settings' falloff)."""
 
     material: Material
     l_max: int
@@ -599,23 +599,19 @@ class FalloffPanel(QWidget):
             self._emit_changed()
 
     def _reset_to(self, profile: RadialProfile) -> None:
-        radial = self.radial
         samples = SplineRadial.from_profile(profile, self.l_max)
-        for key in samples.curve_keys():
-            radial.set_curve(*key, *samples.curve(*key))
+        radial = self.radial.with_curves(samples)
         # Stored curves above l_max are reset too, so raising l_max later stays consistent.
         stale = [k for k in radial.curve_keys() if k not in samples.curve_keys()]
         if stale:
-            top = max(degree for _, degree in stale)
-            more = SplineRadial.from_profile(profile, top)
-            for key in stale:
-                radial.set_curve(*key, *more.curve(*key))
-        self.settings.touch("falloff")
+            more = SplineRadial.from_profile(profile, max(degree for _, degree in stale))
+            radial = radial.with_curves({key: more.curve(*key) for key in stale})
+        self.settings.falloff = radial
         self._emit_changed()
 
     # -- model -> view -----------------------------------------------------------------------
     def _model_falloff(self, _event: ChangeEvent) -> None:
-        if self._editing:  # the editor's own in-place edit: it is already drawn
+        if self._editing:  # the editor's own edit: it is already drawn
             return
         self.editor.set_radial(self.radial)
         self._refresh_curve_choices()
@@ -680,7 +676,12 @@ class FalloffPanel(QWidget):
         dragging = self.editor.is_dragging
         self._editing = True
         try:
-            self.settings.touch("falloff", continued=dragging and self._drag_continued)
+            continued = dragging and self._drag_continued
+            self.settings.set("falloff", self.editor.radial, continued=continued)
+        except ValueError as exc:  # e.g. every curve at zero: the settings keep theirs
+            self.editor.set_radial(self.radial)
+            self._show_message(str(exc))
+            return
         finally:
             self._editing = False
         self._drag_continued = dragging

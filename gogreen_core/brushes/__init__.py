@@ -1,0 +1,76 @@
+"""Brushes: their settings, their events, and a table of what each kind does.
+
+Every brush of Regularized Kelvinlets (de Goes & James 2017), extended to any material by the
+regularized Green's function of ``kernel.py``, is a row of the brush table
+(:mod:`gogreen_core.brushes.table`), one module per family:
+
+* :mod:`~gogreen_core.brushes.grab`: ``grab``, ``grab_biscale``, ``grab_triscale``, a vector load
+  the grabbed point follows exactly (multi-scale falloffs decay faster);
+* :mod:`~gogreen_core.brushes.wrinkle`: ``wrinkle``, a grab whose field has reweighted SH degrees
+  (paper Fig. 10);
+* :mod:`~gogreen_core.brushes.affine`: ``scale``, ``twist``, ``pinch``, an affine load at the
+  press point whose ``amount`` is a log strain or an angle at the centre, whatever the material.
+
+The interface (:mod:`~gogreen_core.brushes.base`): a :class:`BrushType` turns one event into the
+rows it moves and their new positions; the stroke driver (:mod:`gogreen_core.stroke`) writes
+them. :class:`Brush` and :class:`BrushEvent` (:mod:`~gogreen_core.brushes.brush`) are the
+immutable settings and events that strokes, sessions and presets carry.
+
+Adding a brush: one module (a :class:`BrushType`, usually a :class:`GreenBrush`) and one row in
+:data:`BRUSH_TABLE`.
+"""
+
+from gogreen_core.brushes.base import (
+    CUTOFF_START,
+    DEFAULT_INFLUENCE,
+    BrushType,
+    Displacement,
+    GreenBrush,
+    StrokeContext,
+    mirror_signs,
+)
+from gogreen_core.brushes.brush import Brush, BrushEvent
+from gogreen_core.brushes.table import (
+    AFFINE_BRUSHES,
+    BRUSH_KINDS,
+    BRUSH_TABLE,
+    GRAB_BRUSHES,
+    affine_load_shape,
+    brush_type,
+)
+from gogreen_core.brushes.wrinkle import (
+    WRINKLE_LEVEL,
+    WRINKLE_RING,
+    WRINKLE_TOP_DEGREE,
+    default_wrinkle_weights,
+    legacy_wrinkle_weights,
+)
+from gogreen_core.limits import MAX_AMOUNT, MAX_RADIUS, MAX_STRENGTH, MAX_SUBSTEPS, MIN_RADIUS
+
+__all__ = [
+    "AFFINE_BRUSHES",
+    "BRUSH_KINDS",
+    "BRUSH_TABLE",
+    "CUTOFF_START",
+    "DEFAULT_INFLUENCE",
+    "GRAB_BRUSHES",
+    "MAX_AMOUNT",
+    "MAX_RADIUS",
+    "MAX_STRENGTH",
+    "MAX_SUBSTEPS",
+    "MIN_RADIUS",
+    "WRINKLE_LEVEL",
+    "WRINKLE_RING",
+    "WRINKLE_TOP_DEGREE",
+    "Brush",
+    "BrushEvent",
+    "BrushType",
+    "Displacement",
+    "GreenBrush",
+    "StrokeContext",
+    "affine_load_shape",
+    "brush_type",
+    "default_wrinkle_weights",
+    "legacy_wrinkle_weights",
+    "mirror_signs",
+]

@@ -1,0 +1,228 @@
+"""The brush interface: one :class:`BrushType` per row of the brush table.
+
+A brush type says what one mouse event of its kind does to the mesh: :meth:`BrushType.displace`
+returns the rows it moves and their new positions (a :class:`Displacement`), and the stroke
+driver (:mod:`gogreen_core.stroke`) writes them, records the stroke and its undo step. A brush
+writes the mesh only when the driver lets it (:attr:`StrokeContext.write_through`: nothing to
+apply to the rows on their way, so a brush whose integrator can write its end positions in place
+saves the driver's scatter; a per-vertex mask would turn it off). A brush type may have a Green's
+function kernel (:meth:`BrushType.kernel`, None otherwise: a relaxation or a mask painter would
+not).
+
+:class:`GreenBrush` is the family of brushes of the paper: a load at the cursor (a force or an
+affine load) whose regularized Green's function field is taken as a velocity over pseudo-time
+[0, 1] (paper Sec. 3.2). A member says which kernel it uses (:meth:`GreenBrush.radial`, its
+falloff at its radius; :meth:`GreenBrush.degree_weights`, its ω_l) and how its load is
+normalized and bounded (:meth:`GreenBrush.load`); the integration, the influence ball and the
+mirror images are common.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, ClassVar
+
+import numpy as np
+
+from gogreen_core.falloff_safety import FieldBound
+from gogreen_core.kernel import STREAMLINE_TOLERANCE, GreenKernel, StreamlineOverflow
+from gogreen_core.radial import RadialProfile
+
+if TYPE_CHECKING:
+    from gogreen_core.brushes.brush import Brush, BrushEvent
+    from gogreen_core.engine_settings import EngineSettings
+    from gogreen_core.kernel_cache import KernelCache
+    from gogreen_core.mesh_state import MeshState
+
+__all__ = [
+    "CUTOFF_START",
+    "DEFAULT_INFLUENCE",
+    "BrushType",
+    "Displacement",
+    "GreenBrush",
+    "StrokeContext",
+    "mirror_signs",
+]
+
+#: Where the smooth cutoff starts, as a fraction of the influence radius.
+CUTOFF_START = 0.5
+#: Default radius of the moved region in multiples of ε (also the pins' reach, and the extent
+#: the cursor draws for a brush of infinite influence).
+DEFAULT_INFLUENCE = 4.0
+#: A field smaller than this fraction of the material's G scale (‖A‖/ε) is zero everywhere.
+ZERO_FIELD = 1e-9
+
+
+def mirror_signs(symmetry: str) -> np.ndarray:
+    """Sign rows (2^k, 3) of the mirror group of ``symmetry`` ("", "x", "xz", ...); row 0 is the
+    identity."""
+    rows = [np.ones(3)]
+    for axis in symmetry:
+        flip = np.ones(3)
+        flip["xyz".index(axis)] = -1.0
+        rows += [r * flip for r in rows]
+    return np.array(rows)
+
+
+@dataclass(frozen=True)
+class StrokeContext:
+    """What a brush sees of the engine during one event: the mesh (read it; write it only with
+    ``write_through``), the kernels of the current settings, and ``rows``: n → a writable
+    C-contiguous (n, 3) float64 buffer for the new positions (the driver's, reused between
+    events).
+
+    write_through : the driver applies nothing to the new positions, so a brush may also write
+        them into ``mesh.vertices`` itself (all or none: only if every one is finite) and say so
+        in its :class:`Displacement`.
+    """
+
+    mesh: MeshState
+    kernels: KernelCache
+    rows: Callable[[int], np.ndarray]
+    write_through: bool = False
+
+    @property
+    def settings(self) -> EngineSettings:
+        return self.kernels.settings
+
+    @property
+    def model_size(self) -> float:
+        return self.mesh.model_size
+
+
+@dataclass(frozen=True)
+class Displacement:
+    """What one event does: vertex ``rows`` (n,) int64 go to ``positions`` (n, 3) (model
+    units; may be the driver's buffer, valid until the next event); ``written``: the brush has
+    written them into the mesh already (:attr:`StrokeContext.write_through`)."""
+
+    rows: np.ndarray
+    positions: np.ndarray
+    written: bool = False
+
+
+class BrushType(ABC):
+    """One row of the brush table: how a brush of kind :attr:`kind` acts.
+
+    family : ``"vector"`` (the event carries the cursor's motion ``delta``; the grab family) or
+        ``"affine"`` (the brush stays at the press point and the event carries an ``amount``);
+        the tools read it through :attr:`Brush.is_affine`.
+    """
+
+    family: ClassVar[str] = "vector"
+
+    def __init__(self, kind: str) -> None:
+        self.kind = kind
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}({self.kind!r})"
+
+    @property
+    def is_affine(self) -> bool:
+        return self.family == "affine"
+
+    def check_event(self, brush: Brush, event: BrushEvent, reach: float) -> None:
+        """Refuse an event whose magnitudes this brush cannot take (:class:`ParameterError`
+        naming the event field); ``reach`` is the farthest motion in model units. The centre is
+        checked by the driver. Default: every event is accepted."""
+        return None
+
+    def kernel(self, ctx: StrokeContext, brush: Brush) -> GreenKernel | None:
+        """The brush's Green's function kernel at its radius (what the cursor's profile
+        draws), or None for a brush without one."""
+        return None
+
+    @abstractmethod
+    def displace(self, ctx: StrokeContext, brush: Brush, event: BrushEvent) -> Displacement:
+        """The rows ``event`` moves with ``brush`` (``event``'s radius factor already applied)
+        and their new positions; ValueError, nothing moved, for an event that cannot be made."""
+
+
+class GreenBrush(BrushType):
+    """A brush whose field is a regularized Green's function's: the common stroke step.
+
+    Members give :meth:`load` (the load and how the centre moves during the event, normalized
+    and bounded: "safe falloffs", :mod:`gogreen_core.falloff_safety`) and may change
+    :meth:`radial` (the falloff at the brush radius), :meth:`degree_weights` (ω_l of the field)
+    and :meth:`cutoff` (the influence ball).
+    """
+
+    #: Names the brush's falloff variant: brushes with equal keys, family and weights share
+    #: one sampled field bound per influence radius.
+    radial_key: str = ""
+
+    def radial(self, falloff: RadialProfile) -> RadialProfile:
+        """The brush's falloff from the settings' shape ``falloff`` at the brush's ε."""
+        return falloff
+
+    def degree_weights(self, settings: EngineSettings) -> np.ndarray | None:
+        """Per-degree weights ω_l (l_max + 1,) of the field, None for the full kernel."""
+        return None
+
+    def cutoff(self, ctx: StrokeContext, brush: Brush) -> tuple[float, float] | None:
+        """(inner, outer) radii (model units) of the smooth cutoff of the field, None for
+        none."""
+        return brush.cutoff(ctx.model_size)
+
+    def kernel(self, ctx: StrokeContext, brush: Brush) -> GreenKernel:
+        radial = self.radial(ctx.settings.falloff.with_eps(brush.eps(ctx.model_size)))
+        return ctx.kernels.weighted(self.degree_weights(ctx.settings)).with_radial(radial)
+
+    def field_bound(self, ctx: StrokeContext, brush: Brush, kernel: GreenKernel) -> FieldBound:
+        """The sampled bound of this brush's field (cached per settings, brush shape and
+        influence; the brush radius does not matter: the samples are in units of ε)."""
+        weights = self.degree_weights(ctx.settings)
+        key = (
+            "field bound",
+            self.family,
+            self.radial_key,
+            None if weights is None else weights.tobytes(),
+            brush.influence,
+        )
+        return ctx.kernels.derived(key, lambda: FieldBound(kernel, brush.influence, self.is_affine))
+
+    @abstractmethod
+    def load(
+        self, ctx: StrokeContext, brush: Brush, kernel: GreenKernel, event: BrushEvent
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """(load, centre step) of one event: a force (3,) or an affine load (3, 3), and the
+        centre's motion (3,) over the event (the load travels with the cursor)."""
+
+    def displace(self, ctx: StrokeContext, brush: Brush, event: BrushEvent) -> Displacement:
+        kernel = self.kernel(ctx, brush)
+        load, step = self.load(ctx, brush, kernel, event)
+        cutoff = self.cutoff(ctx, brush)
+        signs = mirror_signs(brush.symmetry)
+        mesh = ctx.mesh
+        rows = mesh.rows_near(event.center, step, None if cutoff is None else cutoff[1], signs)
+        out = ctx.rows(len(rows))
+        if len(rows):
+            try:
+                # written through only if every end position is finite (the kernel checks)
+                kernel._streamlines(
+                    mesh.vertices,
+                    event.center,
+                    load,
+                    center_step=step,
+                    cutoff=cutoff,
+                    mirror_signs=signs,
+                    origin=mesh.origin,
+                    substeps=max(brush.substeps, 1),
+                    tolerance=None if brush.substeps else STREAMLINE_TOLERANCE,
+                    indices=rows,
+                    in_place=ctx.write_through,
+                    out=out,
+                )
+            except StreamlineOverflow:
+                raise ValueError(self._overflow()) from None
+            if not ctx.write_through and not np.isfinite(out).all():  # never NaN in the mesh
+                raise ValueError(self._overflow())
+        return Displacement(rows, out, written=ctx.write_through)
+
+    def _overflow(self) -> str:
+        return (
+            f"the {self.kind} event would move vertices to infinity; "
+            "lower the strength, amount or delta"
+        )

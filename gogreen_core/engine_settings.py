@@ -1,0 +1,167 @@
+"""The engine's settings as one immutable value: material, falloff, l_max, weights, pins' radius.
+
+:class:`EngineSettings` is what a :class:`~gogreen_core.Sculptor` computes with besides the mesh
+and the brush. The evented model (:class:`gogreen_core.settings.Settings`) hands one to the
+engine in one typed call (:meth:`Sculptor.apply_settings`), presets make one
+(:meth:`Preset.engine_settings`), a session file stores one (its ``settings``) and undo steps hold
+the one before and the one after. Its constructor checks every field (:mod:`gogreen_core.limits`:
+:class:`ParameterError` naming it), so a value that exists is valid; equality is by content.
+
+Adding an engine setting: one field here (its default, its check in ``__post_init__``, its
+``to_dict`` / ``from_dict`` entry), one field on the evented model, and the engine reads it from
+:attr:`Sculptor.settings`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass, field, fields, replace
+from typing import Any
+
+import numpy as np
+
+from gogreen_core.limits import (
+    check_constraint_radius,
+    check_degree_weights,
+    check_falloff,
+    check_l_max,
+    check_material,
+)
+from gogreen_core.material import Material
+from gogreen_core.radial import GaussianRadial, RadialProfile
+from gogreen_core.schema import parse_falloff, parse_material
+from gogreen_core.validation import check_object
+from gogreen_core.validation import field as field_path
+
+__all__ = [
+    "DEFAULT_CONSTRAINT_RADIUS",
+    "SETTING_GROUPS",
+    "EngineSettings",
+    "legacy_wrinkle_weights",
+]
+
+#: ε of the pins (fraction of the model size) when a session file does not say.
+DEFAULT_CONSTRAINT_RADIUS = 0.1
+#: Fields that change together, as one undo step and one session record each: the material;
+#: the falloff with l_max and the weights (which belong to one l_max); the pins' radius.
+SETTING_GROUPS: tuple[tuple[str, ...], ...] = (
+    ("material",),
+    ("falloff", "l_max", "degree_weights"),
+    ("constraint_radius",),
+)
+
+
+def legacy_wrinkle_weights(l_max: int) -> np.ndarray:
+    """The wrinkle weights max(1, l/2) (l_max + 1,) that ``degree_weights = None`` means in
+    the engine: sessions and presets recorded ``null`` for them before
+    :func:`~gogreen_core.brushes.default_wrinkle_weights` changed, so None keeps this meaning
+    and they replay exactly; new code records the weights it uses explicitly."""
+    l_max = check_l_max(l_max)
+    return np.maximum(1.0, np.arange(l_max + 1) / 2.0)
+
+
+def _default_material() -> Material:
+    return Material.isotropic(1.0, 0.3)
+
+
+def _default_falloff() -> RadialProfile:
+    return GaussianRadial(1.0)
+
+
+@dataclass(frozen=True, eq=False)  # eq: by content, below (the weights are an array)
+class EngineSettings:
+    """What the engine computes with besides the mesh and the brush (immutable, checked).
+
+    material : :class:`Material`, default isotropic E = 1, ν = 0.3.
+    falloff : the falloff shape, a single :class:`RadialProfile` held as an immutable value at
+        ε = 1 (each brush sets its ε = radius · model size).
+    l_max : SH truncation degree, 0 … ``L_MAX_LIMIT``.
+    degree_weights : per-degree weights (l_max + 1,) of the wrinkle brush (read-only), or None
+        for :func:`legacy_wrinkle_weights` (what sessions recorded as null, so they replay
+        exactly; the app and presets give weights explicitly).
+    constraint_radius : ε of the pins as a fraction of the model size.
+
+    Change one with :meth:`replace` (checked again); compare with ``==`` (by content).
+    """
+
+    material: Material = field(default_factory=_default_material)
+    falloff: RadialProfile = field(default_factory=_default_falloff)
+    l_max: int = 8
+    degree_weights: np.ndarray | None = None
+    constraint_radius: float = DEFAULT_CONSTRAINT_RADIUS
+
+    def __post_init__(self) -> None:
+        l_max = check_l_max(self.l_max)
+        checked = {
+            "material": check_material(self.material),
+            "falloff": check_falloff(self.falloff),
+            "l_max": l_max,
+            "degree_weights": check_degree_weights(self.degree_weights, l_max),
+            "constraint_radius": check_constraint_radius(self.constraint_radius),
+        }
+        for name, value in checked.items():
+            object.__setattr__(self, name, value)
+
+    def replace(self, **changes: Any) -> EngineSettings:
+        """This value with some fields changed (checked like a new one)."""
+        return replace(self, **changes)
+
+    @property
+    def wrinkle_weights(self) -> np.ndarray:
+        """The wrinkle brush's weights (l_max + 1,): :attr:`degree_weights`, or the legacy
+        ones when None."""
+        weights = self.degree_weights
+        return legacy_wrinkle_weights(self.l_max) if weights is None else weights
+
+    def agrees(self, other: EngineSettings, names: Iterable[str]) -> bool:
+        """True when the fields ``names`` are equal in both (by content)."""
+        for name in names:
+            a, b = getattr(self, name), getattr(other, name)
+            if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
+                if a is None or b is None or not np.array_equal(a, b):
+                    return False
+            elif a != b:
+                return False
+        return True
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, EngineSettings):
+            return NotImplemented
+        return self.agrees(other, (f.name for f in fields(self)))
+
+    __hash__ = None  # type: ignore[assignment]  # equal by content, holds an array
+
+    def same_as(self, other: EngineSettings) -> bool:
+        """True when both compute the same thing (``==``)."""
+        return self == other
+
+    def to_dict(self) -> dict[str, Any]:
+        """The session's ``settings`` object (constraint radius included)."""
+        w = self.degree_weights
+        return {
+            "material": self.material.to_dict(),
+            "falloff": self.falloff.to_dict(),
+            "l_max": self.l_max,
+            "degree_weights": None if w is None else [float(x) for x in w],
+            "constraint_radius": self.constraint_radius,
+        }
+
+    @classmethod
+    def from_dict(cls, data: object, path: str = "settings") -> EngineSettings:
+        """Inverse of :meth:`to_dict`, the schema of a session's ``settings``:
+        :class:`ParameterError` naming the field (``settings.l_max``...)."""
+        names = tuple(f.name for f in fields(cls))
+        values = check_object(path, data, required=names[:3], optional=names[3:])
+        l_max = check_l_max(values["l_max"], field_path(path, "l_max"))
+        return cls(
+            material=parse_material(values["material"], field_path(path, "material")),
+            falloff=parse_falloff(values["falloff"], field_path(path, "falloff")),
+            l_max=l_max,
+            degree_weights=check_degree_weights(
+                values.get("degree_weights"), l_max, field_path(path, "degree_weights")
+            ),
+            constraint_radius=check_constraint_radius(
+                values.get("constraint_radius", DEFAULT_CONSTRAINT_RADIUS),
+                field_path(path, "constraint_radius"),
+            ),
+        )

@@ -1,0 +1,181 @@
+"""The stroke controller: pointer samples of one drag → brush events of one stroke."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import replace
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from gogreen_core.brushes import Brush, BrushEvent
+from gogreen_core.settings import PenSettings
+from gogreen_core.tools.events import PointerEvent
+
+if TYPE_CHECKING:
+    from gogreen_core.sculptor import Sculptor
+
+__all__ = [
+    "MIN_PRESSURE_RADIUS",
+    "PIXELS_PER_UNIT_AMOUNT",
+    "StrokeController",
+    "pressure_radius_factor",
+]
+
+#: Screen drag (pixels) that makes an affine brush's amount 1 (strain, or radians for twist).
+PIXELS_PER_UNIT_AMOUNT = 250.0
+
+
+#: Smallest radius factor pen pressure gives (a feather touch still sculpts).
+MIN_PRESSURE_RADIUS = 0.1
+
+
+def pressure_radius_factor(pressure: float) -> float:
+    """The radius factor in [:data:`MIN_PRESSURE_RADIUS`, 1] of a pen ``pressure`` (clipped to
+    [0, 1]; NaN counts as a full press)."""
+    p = float(pressure)
+    p = 1.0 if not np.isfinite(p) else min(max(p, 0.0), 1.0)
+    return max(p, MIN_PRESSURE_RADIUS)
+
+
+class StrokeController:
+    """One brush stroke at a time: press begins it, moves step it, release ends it.
+
+    Grab brushes move the surface by the cursor's world motion on the drag plane (the point
+    under the cursor follows the cursor); affine brushes (scale, twist, pinch) stay at the press
+    point and take their amount from the horizontal screen motion (:data:`PIXELS_PER_UNIT_AMOUNT`
+    pixels = amount 1) and their direction from the screen motion.
+    """
+
+    def __init__(self, sculptor: Sculptor, pen: Callable[[], PenSettings] | None = None) -> None:
+        self.sculptor = sculptor
+        defaults = PenSettings()
+        self.pen = pen or (lambda: defaults)
+        self.brush: Brush | None = None
+        self._anchor: np.ndarray | None = None
+        self._last_point: np.ndarray | None = None
+        self._last_screen: tuple[float, float] | None = None
+        #: Stabilized pointer: screen (x, y) and world point where the brush is.
+        self._lazy: tuple[tuple[float, float], np.ndarray | None] | None = None
+        #: World point of the last applied event (spacing is measured from it).
+        self._applied: np.ndarray | None = None
+        #: Radius factor of the latest pen sample of the stroke (pressure → radius), 1 when
+        #: off or between strokes: what the brush cursor draws.
+        self.radius_factor = 1.0
+
+    @property
+    def active(self) -> bool:
+        return self.brush is not None
+
+    @property
+    def anchor(self) -> np.ndarray | None:
+        """(3,) the press point of the stroke (where affine brushes act), None between strokes."""
+        return self._anchor
+
+    def press(self, event: PointerEvent, brush: Brush) -> None:
+        """Begin a stroke at the picked ``event.point`` (engine errors propagate, nothing
+        starts)."""
+        if event.point is None:
+            raise ValueError("a stroke starts on the surface (no point under the cursor)")
+        self.sculptor.begin_stroke(brush)
+        self.brush = brush
+        self._anchor = np.array(event.point, dtype=float)
+        self._last_point = self._anchor.copy()
+        self._last_screen = event.screen
+        self._lazy = (event.screen, self._anchor.copy())
+        self._applied = self._anchor.copy()
+        self.radius_factor = self._radius_factor(event)
+
+    def _radius_factor(self, event: PointerEvent) -> float:
+        """The radius factor of ``event``'s pressure (1 unless pressure → radius is on)."""
+        return pressure_radius_factor(event.pressure) if self.pen().pressure_radius else 1.0
+
+    @property
+    def radius(self) -> float | None:
+        """The radius (fraction of the model size) the stroke's next event acts with: the
+        brush's times the pen's :attr:`radius_factor`; None between strokes."""
+        if self.brush is None:
+            return None
+        return self.brush.scaled(self.radius_factor).radius
+
+    def brush_event(self, event: PointerEvent) -> BrushEvent | None:
+        """The engine event of moving to ``event`` (None when the cursor did not move)."""
+        assert self.brush is not None
+        dx = event.screen[0] - self._last_screen[0]
+        dy = self._last_screen[1] - event.screen[1]  # y up
+        self._last_screen = event.screen
+        pressure = float(np.clip(event.pressure, 0.0, 1.0)) if self.pen().pressure_strength else 1.0
+        factor = self._radius_factor(event)
+        if "ctrl" in event.modifiers:  # Ctrl held inverts the brush (Blender's habit)
+            pressure = -pressure
+        if self.brush.is_affine:
+            if dx == 0 and dy == 0:
+                return None
+            view = np.asarray(event.view_dir, dtype=float)
+            right = np.asarray(event.screen_x, dtype=float)
+            up = np.cross(right, view)
+            return BrushEvent(
+                center=self._anchor,
+                amount=pressure * dx / PIXELS_PER_UNIT_AMOUNT,
+                axis=view,
+                direction=dx * right + dy * up,
+                radius_factor=factor,
+            )
+        point = np.asarray(event.point, dtype=float)
+        delta = point - self._last_point
+        if not np.any(delta):
+            return None
+        center, self._last_point = self._last_point, point
+        return BrushEvent(center=center, delta=pressure * delta, radius_factor=factor)
+
+    def stabilized(self, event: PointerEvent) -> PointerEvent | None:
+        """``event`` after the stabilizer and spacing (:class:`PenSettings`): the brush point
+        trails the pointer by ``lazy_radius`` pixels (the world point interpolated on the drag
+        plane), and None while it has moved less than ``spacing`` · ε since the last applied
+        event or not left the lazy radius (ε at the event's pressure when pressure → radius is
+        on, as the spacing is relative to the brush size)."""
+        pen = self.pen()
+        lazy = float(pen.lazy_radius)
+        if lazy > 0 and self._lazy is not None:
+            (lx, ly), lpoint = self._lazy
+            dx, dy = event.screen[0] - lx, event.screen[1] - ly
+            distance = float(np.hypot(dx, dy))
+            if distance <= lazy:
+                return None
+            t = (distance - lazy) / distance
+            screen = (lx + t * dx, ly + t * dy)
+            point = None
+            if event.point is not None and lpoint is not None:
+                point = lpoint + t * (np.asarray(event.point, dtype=float) - lpoint)
+            self._lazy = (screen, point)
+            event = replace(event, screen=screen, point=point)
+        spacing = float(pen.spacing)
+        if spacing > 0 and event.point is not None and self._applied is not None:
+            eps = self.brush.eps(self.sculptor.model_size) * self._radius_factor(event)
+            if np.linalg.norm(np.asarray(event.point) - self._applied) < spacing * eps:
+                return None
+        return event
+
+    def step(self, event: PointerEvent) -> np.ndarray | None:
+        """Apply one move (after :meth:`stabilized`); the indices of moved vertices, or None
+        when nothing moved."""
+        self.radius_factor = self._radius_factor(event)  # the cursor follows the pen at once
+        event = self.stabilized(event)
+        if event is None:
+            return None
+        if event.point is not None:
+            self._applied = np.array(event.point, dtype=float)
+        brush_event = self.brush_event(event)
+        if brush_event is None:
+            return None
+        return self.sculptor.stroke_event(brush_event)
+
+    def end(self) -> None:
+        if self.brush is not None:
+            self.sculptor.end_stroke()
+        self.brush, self.radius_factor = None, 1.0
+
+    def cancel(self) -> None:
+        if self.brush is not None:
+            self.sculptor.cancel_stroke()
+        self.brush, self.radius_factor = None, 1.0
