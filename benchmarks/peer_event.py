@@ -13,7 +13,8 @@ Prints, in one run (figures only, no assertions):
   load (4 evaluations a vertex), numba, parallel over the vertices, read and written in place
   like the mesh rows of the event; event and peer alternate, so that the load of the shared
   cores falls on both; medians, minima and the ratio of the medians;
-* the event's accuracy: max vertex error against 64 RK4 substeps over the cursor motion;
+* the event's accuracy: max vertex error against 64 RK4 substeps over the cursor motion, and
+  the same event with evaluation 1 (the code before issue 23, which old sessions replay with);
 * the first grab event in a fresh process with an empty numba cache (NUMBA_CACHE_DIR a new
   temporary directory; numba would also use ``__pycache__`` beside the sources, which this
   overrides): imports, default model (40,962 vertices), one event, and how long the compiled
@@ -149,6 +150,17 @@ def peer_event(vertices: np.ndarray, faces: np.ndarray, repeats: int) -> None:
     _, steps = kernel._streamlines(
         vertices[rows], center, np.linalg.solve(g0, delta), center_step=delta, cutoff=cutoff
     )
+    # evaluation 1 (the code before this issue, kept for old sessions) on the same event
+    old = Sculptor.from_session(dict(sculptor.session(), version=2), vertices, faces)
+    old.kernel(brush).warm_up()
+    old_events = []
+    for _ in range(max(3, repeats // 3)):
+        old.begin_stroke(brush)
+        start = time.perf_counter()
+        old.stroke_event(BrushEvent(center, delta))
+        old_events.append(time.perf_counter() - start)
+        old.end_stroke()
+        old.undo()
     ratio = statistics.median(events) / statistics.median(peers)
     ratio_cpu = statistics.median(events_cpu) / statistics.median(peers_cpu)
     print(f"grab event, {len(rows):,} vertices moved ({numba.get_num_threads()} threads):")
@@ -159,6 +171,7 @@ def peer_event(vertices: np.ndarray, faces: np.ndarray, repeats: int) -> None:
     print(f"  ratio event / peer (medians, wall):          {ratio:7.2f}x")
     print(f"  ratio event / peer (medians, CPU time):      {ratio_cpu:7.2f}x")
     print(f"  evaluations a vertex (4 per RK4 step):       {4 * steps.mean():7.3f}")
+    print(f"  evaluation 1 (before; old sessions), wall:   {median_ms(old_events)}")
     print(f"  max error vs 64 RK4 substeps / cursor motion: {error:.2e}")
 
 

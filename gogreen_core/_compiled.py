@@ -34,9 +34,12 @@ from gogreen_core import _expansion, _integrator, _unrolled
 
 __all__ = [
     "DRIVERS",
+    "GEOMETRY",
+    "MESH_IO",
     "angular",
     "drivers",
     "ensure_drivers",
+    "forced",
     "geometry",
     "prepare",
     "request",
@@ -45,40 +48,14 @@ __all__ = [
     "when_ready",
 ]
 
-#: The unit of the drivers (the other units are (l_first, l_last) of an angular kernel, and
-#: GEOMETRY).
+#: The unit of the drivers (the others: (l_first, l_last) of a generated angular kernel,
+#: GEOMETRY and MESH_IO).
 DRIVERS = "drivers"
 #: The unit of ``geometry.py``'s compiled functions (the viewport's surface index).
 GEOMETRY = "geometry"
 #: The unit of the mesh readers' compiled loops (``mesh_io.warm_up``): opening a file then
 #: never compiles on the calling thread.
 MESH_IO = "mesh_io"
-#: Units named by a string, each with the function that compiles (or loads) it.
-_NAMED = {
-    "geometry": lambda: _compile_geometry(),
-    "mesh_io": lambda: __import__("gogreen_core.mesh_io").mesh_io.warm_up(),
-}
-
-
-def _compile_geometry() -> None:
-    """Compile (or load from numba's disk cache) every compiled function of ``geometry.py``,
-    on this thread: a small surface index built, updated, compared and picked with them."""
-    from gogreen_core import geometry
-
-    geometry._compiling.now = True
-    try:
-        vertices = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
-        faces = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
-        index = geometry.SurfaceIndex(vertices, faces)
-        moved = vertices.copy()
-        moved[3, 2] = 1.5
-        index.update(moved, np.array([3]))
-        index.changed_rows(vertices)
-        index.pick(np.array([0.2, 0.2, 3.0]), np.array([0.0, 0.0, -1.0]))
-    finally:
-        geometry._compiling.now = False
-
-
 #: How compilation runs (see the module docstring), and the value a compiling child gets.
 _MODE_VARIABLE = "GOGREEN_COMPILE"
 MODES = ("child", "thread", "off")
@@ -112,25 +89,22 @@ _forced: str | None = None
 
 def drivers() -> bool:
     """Whether the compiled drivers are ready (else they are requested; use NumPy)."""
-    if _forced is not None:
-        if _forced == "numpy":
-            return False
-        prepare(DRIVERS)
-    if DRIVERS in _ready:
-        return True
-    request(DRIVERS)
-    return False
+    return _in_use(DRIVERS)
 
 
 def geometry() -> bool:
     """Whether ``geometry.py``'s compiled functions are ready (else they are requested)."""
+    return _in_use(GEOMETRY)
+
+
+def _in_use(unit) -> bool:
     if _forced is not None:
         if _forced == "numpy":
             return False
-        prepare(GEOMETRY)
-    if GEOMETRY in _ready:
+        prepare(unit)
+    if unit in _ready:
         return True
-    request(GEOMETRY)
+    request(unit)
     return False
 
 
@@ -267,8 +241,8 @@ def _work() -> None:
                 due = [entry for entry in _callbacks if _settled(entry[0])]
                 for entry in due:
                     _callbacks.remove(entry)
-            for units, callback in due:
-                callback([_failed[u] for u in units if u in _failed])
+            for waited, callback in due:
+                callback([_failed[u] for u in waited if u in _failed])
 
 
 def units_for(l_max: int) -> tuple:
@@ -276,6 +250,35 @@ def units_for(l_max: int) -> tuple:
     drivers and the generated angular kernel of each parity (when one is generated)."""
     parities = ((0, l_max - l_max % 2), (1, l_max + 1 - l_max % 2))
     return (DRIVERS, *(p for p in parities if p[1] <= _unrolled.UNROLLED_L_MAX))
+
+
+def _compile_geometry() -> None:
+    """Compile (or load from numba's disk cache) every compiled function of ``geometry.py``,
+    on this thread: a small surface index built, updated, compared and picked with them."""
+    from gogreen_core import geometry
+
+    geometry._compiling.now = True
+    try:
+        vertices = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+        faces = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+        index = geometry.SurfaceIndex(vertices, faces)
+        moved = vertices.copy()
+        moved[3, 2] = 1.5
+        index.update(moved, np.array([3]))
+        index.changed_rows(vertices)
+        index.pick(np.array([0.2, 0.2, 3.0]), np.array([0.0, 0.0, -1.0]))
+    finally:
+        geometry._compiling.now = False
+
+
+def _compile_mesh_io() -> None:
+    from gogreen_core import mesh_io
+
+    mesh_io.warm_up()
+
+
+#: Units named by a string (but DRIVERS), each with the function that compiles or loads it.
+_NAMED = {GEOMETRY: _compile_geometry, MESH_IO: _compile_mesh_io}
 
 
 def _load(unit) -> None:
@@ -319,8 +322,9 @@ def ensure_drivers() -> None:
 
 def _cached(unit) -> bool:
     """Whether numba's disk cache holds ``unit`` (then loading it takes milliseconds). Asks
-    the caches directly (numba's ``_cache.load_overload``, not public API): any doubt counts as
-    not cached, which only costs a child process that finds everything cached."""
+    the caches directly (numba's ``_cache.load_overload``, not public API; the drivers' C
+    callback marker is compiled or loaded on the way, a fraction of a second): any doubt counts
+    as not cached, which only costs a child process that finds everything cached."""
     try:
         if unit in _NAMED:
             return _modules_cached(unit)
