@@ -178,8 +178,9 @@ def main() -> None:
                 per_degree[l_max] = fresh_process_ms(cache_dir, _DEGREE_COMPILE, str(l_max))
     if per_degree:
         print(
-            "angular kernels for a new l_max (both parities, compiled once per "
-            "machine): " + ", ".join(f"l{l}: {ms:.0f} ms" for l, ms in per_degree.items())
+            "compiled code of a new machine for an l_max (drivers and both parities' angular "
+            "kernels, compiled once in a child process while NumPy serves): "
+            + ", ".join(f"l{l}: {ms:.0f} ms" for l, ms in per_degree.items())
         )
     rng = np.random.default_rng(0)
     kelvinlet_closed_form(rng.normal(size=(8, 3)), np.zeros(3), np.ones(3), eps, 1.0, 0.3)
