@@ -87,6 +87,7 @@ class StrokeDriver:
         self._write(moved)
         stroke.touched[moved.rows] = True
         stroke.events.append(event)
+        self.log.event(event)  # the recovery journal serializes it now
         return moved.rows
 
     def _write(self, moved: Displacement) -> None:
@@ -102,7 +103,8 @@ class StrokeDriver:
         return self._rows[:n]
 
     def end(self) -> np.ndarray:
-        """Finish the stroke: one undo step and one log entry. Returns the moved indices."""
+        """Finish the stroke: one undo step and one log entry, unless it changed nothing.
+        Returns the moved indices."""
         stroke, self._stroke = self._stroke, None
         if stroke is None:
             return np.zeros(0, dtype=np.int64)
@@ -110,11 +112,10 @@ class StrokeDriver:
         idx = np.flatnonzero(stroke.touched)
         changed = np.any(stroke.before[idx] != vertices[idx], axis=1)
         idx = idx[changed]
-        if len(idx):
+        if len(idx):  # a stroke that changed nothing is no undo step and no log entry
             self.history.record(
                 f"{stroke.brush.kind} stroke", idx, stroke.before[idx], vertices[idx]
             )
-        if stroke.events:
             self.log.record(Stroke(stroke.brush, tuple(stroke.events)))
         return idx
 

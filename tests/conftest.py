@@ -185,6 +185,16 @@ def made_huge(tmp_path_factory) -> MadeMesh:
     return MadeMesh(path, vertices, faces)
 
 
+@pytest.fixture(autouse=True)
+def state_home(tmp_path_factory, monkeypatch) -> Path:
+    """Every test's ``XDG_STATE_HOME`` is a fresh temporary folder (inherited by the processes
+    it starts), so that no crash-recovery journal (each open document writes one) ever lands in
+    the user's ``~/.local/state``."""
+    folder = tmp_path_factory.mktemp("state")
+    monkeypatch.setenv("XDG_STATE_HOME", str(folder))
+    return folder
+
+
 # -- the main window (GUI tests) ---------------------------------------------------------------
 @pytest.fixture
 def app_look(qapp):
@@ -212,7 +222,7 @@ def window(qtbot, tmp_path, monkeypatch, made_textured, app_look):
     qtbot.addWidget(win)
     win.show()
     qtbot.waitExposed(win)
-    assert win.open_file(str(made_textured.path))  # Spot's stand-in: UV seams (conftest.py)
+    assert win.files.open_file(str(made_textured.path))  # Spot's stand-in: UV seams (conftest.py)
     assert win.kernel_warmer.wait(120_000)  # strokes are refused until the kernels are ready
     win.viewport.render()
     return win
