@@ -20,6 +20,7 @@ scaled down to that bound, and a zero one is refused (:mod:`gogreen_core.brushes
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from typing import Any
 
@@ -35,7 +36,7 @@ from gogreen_core.engine_settings import (
     resized_brush_weights,
 )
 from gogreen_core.history import History
-from gogreen_core.kernel import GreenKernel
+from gogreen_core.kernel import EVALUATION, GreenKernel
 from gogreen_core.kernel_cache import KernelCache
 from gogreen_core.limits import MAX_REACH, check_constraint_radius
 from gogreen_core.material import Material
@@ -51,6 +52,7 @@ from gogreen_core.operations import (
 from gogreen_core.pins import Pins
 from gogreen_core.radial import GaussianRadial, RadialProfile
 from gogreen_core.session import (
+    RENAMED_BEFORE_3,
     SESSION_FORMAT,
     SESSION_VERSION,
     LogListener,
@@ -317,8 +319,12 @@ class Sculptor:
         return self._strokes.reach(self._kernels, brush)
 
     def begin_stroke(self, brush: Brush) -> None:
-        """Start a stroke with ``brush``; events follow, then :meth:`end_stroke`."""
+        """Start a stroke with ``brush``; events follow, then :meth:`end_stroke`. In a sculptor
+        replaying a session before version 3 (which records version 2 again) a brush's name
+        means what it meant then (``wrinkle`` is ``wrinkle_legacy``)."""
         self._refuse_in_stroke("begin a stroke")
+        if self._kernels.evaluation != EVALUATION and brush.kind in RENAMED_BEFORE_3:
+            brush = dataclasses.replace(brush, kind=RENAMED_BEFORE_3[brush.kind])
         self._strokes.begin(brush)
 
     def stroke_event(self, event: BrushEvent) -> np.ndarray:
@@ -452,7 +458,11 @@ class Sculptor:
         """The session so far as a JSON-ready dict (see README, "Session files")."""
         return {
             "format": SESSION_FORMAT,
-            "version": SESSION_VERSION if self._settings_undoable else 1,
+            "version": (
+                1
+                if not self._settings_undoable
+                else (SESSION_VERSION if self._kernels.evaluation == EVALUATION else 2)
+            ),
             "mesh": {
                 "vertices": len(self._mesh.vertices),
                 "faces": len(self._mesh.faces),
@@ -477,6 +487,8 @@ class Sculptor:
             )
         sculptor = cls(vertices, faces, settings=parsed.settings)
         sculptor._settings_undoable = parsed.version >= 2
+        if parsed.version < 3:  # recorded with the kernels' evaluation 1: replayed with it
+            sculptor._kernels = KernelCache(parsed.settings, evaluation=1)
         return sculptor
 
     def replay(

@@ -7,10 +7,11 @@ e.g. ``operations[3].events[0].delta``), :func:`load_session` reads a file, and 
 (:meth:`Sculptor.replay`) applies the typed operations through the sculptor's public methods,
 which record them again in its own log, so replaying a session records the same session.
 
-Older files still replay as recorded: in version 1 files (written before settings changes were
-undo steps) material, falloff and constraint-radius changes are not undo steps; in version 1
-and 2 files the ``wrinkle`` brush is the one of that time, ``wrinkle_legacy`` now (its weights
-are the settings' ``degree_weights``).
+Older files still replay as recorded, bit for bit: in version 1 files (written before settings
+changes were undo steps) material, falloff and constraint-radius changes are not undo steps;
+version 1 and 2 files replay with the kernels' evaluation 1, the arithmetic they were recorded
+with, their ``wrinkle`` brush is the one of that time (``wrinkle_legacy`` now; its weights are
+the settings' ``degree_weights``) and a stroke that gives no influence had 4 ε.
 """
 
 from __future__ import annotations
@@ -56,6 +57,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "SESSION_FORMAT",
+    "RENAMED_BEFORE_3",
     "SESSION_VERSION",
     "Session",
     "SessionLog",
@@ -66,14 +68,16 @@ __all__ = [
 ]
 
 SESSION_FORMAT = "gogreen-session"
-#: 3: ``wrinkle`` is the folding wrinkle brush, brushes have their own degree weights
-#: (``brush_weights``) and an automatic influence; 2: settings changes are undo steps
-#: (``continued`` joins one to the previous); 1: they were not.
+#: 3: computed with the kernels' evaluation 2 (``GreenKernel(evaluation=2)``); ``wrinkle`` is
+#: the folding wrinkle brush, brushes have their own degree weights (``brush_weights``) and an
+#: automatic influence; 2: settings changes are undo steps (``continued`` joins one to the
+#: previous), evaluation 1; 1: they were not. Sessions of versions 1 and 2 replay with
+#: evaluation 1, bit for bit.
 SESSION_VERSION = 3
 #: The brush influence (in ε) of a session before version 3 that does not give one.
 OLD_DEFAULT_INFLUENCE = 4.0
 #: The brush kinds a session before version 3 names differently: what they are now.
-_RENAMED_BEFORE_3 = {"wrinkle": "wrinkle_legacy"}
+RENAMED_BEFORE_3 = {"wrinkle": "wrinkle_legacy"}
 #: Most operations one session file may hold.
 MAX_OPERATIONS = 10_000_000
 
@@ -196,10 +200,10 @@ def _old_influence(op: object) -> object:
 
 
 def _renamed(op: Operation) -> Operation:
-    """``op`` with the brush kind its name meant before version 3 (:data:`_RENAMED_BEFORE_3`)."""
-    if isinstance(op, Stroke) and op.brush.kind in _RENAMED_BEFORE_3:
+    """``op`` with the brush kind its name meant before version 3 (:data:`RENAMED_BEFORE_3`)."""
+    if isinstance(op, Stroke) and op.brush.kind in RENAMED_BEFORE_3:
         return dataclasses.replace(
-            op, brush=dataclasses.replace(op.brush, kind=_RENAMED_BEFORE_3[op.brush.kind])
+            op, brush=dataclasses.replace(op.brush, kind=RENAMED_BEFORE_3[op.brush.kind])
         )
     return op
 
