@@ -56,8 +56,8 @@ if TYPE_CHECKING:
     from gogreen_core.sculptor import Sculptor
 
 __all__ = [
-    "SESSION_FORMAT",
     "RENAMED_BEFORE_3",
+    "SESSION_FORMAT",
     "SESSION_VERSION",
     "Session",
     "SessionLog",
