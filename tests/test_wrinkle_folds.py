@@ -170,28 +170,26 @@ def test_fold_weights_pick_one_degree():
 
 
 def test_old_sessions_replay_their_wrinkle_strokes_with_the_legacy_brush():
-    """A version-2 session's ``wrinkle`` stroke is the legacy brush's: the same file replays bit
-    for bit, and re-exported it names ``wrinkle_legacy`` in a version-3 session."""
+    """A version-2 session's ``wrinkle`` stroke is the legacy brush's: recorded by a sculptor
+    of that time (one replaying a version-2 file: the legacy arithmetic and names), it replays
+    bit for bit, and a sculptor of now folds instead."""
     vertices, faces = icosphere(2)
-    material = PRESET.material
-    recorded = Sculptor(vertices, faces, material=material)
-    brush = Brush("wrinkle_legacy", radius=0.2, influence=4.0)
-    recorded.apply_brush(brush, [BrushEvent(vertices[5], [0.0, 0.02, 0.01])])
+    empty = Sculptor(vertices, faces, material=PRESET.material).session()
+    old = dict(json.loads(json.dumps(empty)), version=2)
+    recorded = Sculptor.from_session(old, vertices, faces)  # a version-2 sculptor
+    event = BrushEvent(vertices[5], [0.0, 0.02, 0.01])
+    recorded.apply_brush(Brush("wrinkle", radius=0.2, influence=4.0), [event])
     session = json.loads(json.dumps(recorded.session()))
-    assert session["version"] == 3
-    old = json.loads(json.dumps(session))
-    old["version"] = 2
-    old["operations"][0]["brush"]["kind"] = "wrinkle"
-    del old["operations"][0]["brush"]["influence"]  # 4 ε when a version-2 file does not say
-    replayed = Sculptor.from_session(old, vertices, faces)
-    replayed.replay(parse_session(old))
+    assert session["version"] == 2
+    assert session["operations"][0]["brush"]["kind"] == "wrinkle_legacy"
+    session["operations"][0]["brush"]["kind"] = "wrinkle"  # as the old program wrote it
+    del session["operations"][0]["brush"]["influence"]  # 4 ε when a version-2 file does not say
+    replayed = Sculptor.from_session(session, vertices, faces)
+    replayed.replay(parse_session(session))
     assert np.array_equal(replayed.vertices, recorded.vertices)
-    assert replayed.session()["operations"][0]["brush"]["kind"] == "wrinkle_legacy"
-    # a new wrinkle stroke on the same input moves the mesh differently
-    folding = Sculptor(vertices, faces, material=material)
-    folding.apply_brush(
-        Brush("wrinkle", radius=0.2, influence=4.0), [BrushEvent(vertices[5], [0.0, 0.02, 0.01])]
-    )
+    # a sculptor of now on the same input: the folding brush moves the mesh differently
+    folding = Sculptor(vertices, faces, material=PRESET.material)
+    folding.apply_brush(Brush("wrinkle", radius=0.2, influence=4.0), [event])
     assert not np.array_equal(folding.vertices, recorded.vertices)
 
 
