@@ -34,7 +34,7 @@ from gogreen_core.engine_settings import (
     EngineSettings,
 )
 from gogreen_core.history import History
-from gogreen_core.kernel import GreenKernel
+from gogreen_core.kernel import EVALUATION, GreenKernel
 from gogreen_core.kernel_cache import KernelCache
 from gogreen_core.limits import MAX_REACH, check_constraint_radius
 from gogreen_core.material import Material
@@ -436,7 +436,11 @@ class Sculptor:
         """The session so far as a JSON-ready dict (see README, "Session files")."""
         return {
             "format": SESSION_FORMAT,
-            "version": SESSION_VERSION if self._settings_undoable else 1,
+            "version": (
+                1
+                if not self._settings_undoable
+                else (SESSION_VERSION if self._kernels.evaluation == EVALUATION else 2)
+            ),
             "mesh": {
                 "vertices": len(self._mesh.vertices),
                 "faces": len(self._mesh.faces),
@@ -461,6 +465,8 @@ class Sculptor:
             )
         sculptor = cls(vertices, faces, settings=parsed.settings)
         sculptor._settings_undoable = parsed.version >= 2
+        if parsed.version < 3:  # recorded with the kernels' evaluation 1: replayed with it
+            sculptor._kernels = KernelCache(parsed.settings, evaluation=1)
         return sculptor
 
     def replay(

@@ -14,16 +14,13 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 PACKAGES = ("gogreen_core", "app")
 #: Generated code (scripts/make_kernels.py) is not held to the limits below.
-GENERATED = ("gogreen_core/_angular/",)
+GENERATED = ("gogreen_core/_angular/", "gogreen_core/_legacy/angular/")
 MAX_MODULE_LINES = 600
 MAX_CLASS_METHODS = 40
 #: Modules over the line limit for now, each with its owner (issue 24).
 LINE_EXEMPT = {
     # being split into a package per file format on branch h-mesh (issue 24.5)
     "gogreen_core/mesh_io.py",
-    # the integrator is being rewritten on branch h-perf; kernel.py and _expansion.py follow
-    "gogreen_core/kernel.py",
-    "gogreen_core/_expansion.py",
 }
 
 
