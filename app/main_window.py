@@ -48,6 +48,7 @@ from app.viewport import SculptViewport
 from app.wrinkle_hint import WrinkleHint, material_anisotropy, wrinkle_preset
 from gogreen_core.material import Material
 from gogreen_core.presets import Preset
+from gogreen_core.resolution import edges_per_eps
 from gogreen_core.sculptor import Sculptor
 from gogreen_core.settings import ChangeEvent, EngineLink, Settings
 from gogreen_core.tools import SculptTools
@@ -114,6 +115,10 @@ class MainWindow(QMainWindow):
         self.material_panel = MaterialPanel(settings=self.model)
         self.homogenization_panel = HomogenizationPanel()
         self.falloff_panel = FalloffPanel(settings=self.model)
+        # curves made from a Gaussian get a control point every two edges of the mesh
+        self.falloff_panel.resolution = lambda: (
+            None if self.sculptor is None else edges_per_eps(self.sculptor, self.model.brush.radius)
+        )
         self.look.refresh_colors += [
             self.material_panel.refresh_colors,
             self.homogenization_panel.refresh_colors,

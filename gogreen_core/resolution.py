@@ -4,11 +4,22 @@ scale the mesh can show can be edited)."""
 
 from __future__ import annotations
 
+import weakref
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from gogreen_core.radial import DEFAULT_SPLINE_RHO
 
-__all__ = ["mean_edge_length", "spline_abscissae"]
+if TYPE_CHECKING:
+    from gogreen_core.sculptor import Sculptor
+
+#: Mean edge length of each sculptor's mesh as it was first asked for (the edge lengths barely
+#: change under a brush; a subdivision makes a new mesh state but the same sculptor: a rough
+#: figure is all the falloff editor needs).
+_EDGES: weakref.WeakKeyDictionary[Sculptor, tuple[int, float]] = weakref.WeakKeyDictionary()
+
+__all__ = ["edges_per_eps", "mean_edge_length", "spline_abscissae"]
 
 #: Where a spline made for a mesh is sampled densely (ρ ≤ this), and the coarse tail beyond.
 _DENSE_SPLINE_REACH = 4.0
@@ -42,3 +53,16 @@ def mean_edge_length(vertices: np.ndarray, faces: np.ndarray) -> float:
         return 0.0
     lengths = [np.linalg.norm(v[f[:, (k + 1) % 3]] - v[f[:, k]], axis=1) for k in range(3)]
     return float(np.mean(np.concatenate(lengths)))
+
+
+def edges_per_eps(sculptor: Sculptor, radius: float) -> float | None:
+    """How many mesh edges a brush of ``radius`` (a fraction of the model size) spans: ε over
+    the mean edge length of the sculptor's mesh (measured once per face count), None for a mesh
+    without edges."""
+    faces = len(sculptor.faces)
+    cached = _EDGES.get(sculptor)
+    if cached is None or cached[0] != faces:
+        cached = (faces, mean_edge_length(sculptor.vertices, sculptor.faces))
+        _EDGES[sculptor] = cached
+    edge = cached[1]
+    return radius * sculptor.model_size / edge if edge > 0 else None

@@ -201,10 +201,14 @@ def test_panels_and_engine_follow_the_settings_model(window):
     assert window.document.sculptor.material == Material.isotropic(2.0, 0.4)
     model.l_max = 6
     assert window.falloff_panel.l_max_spin.value() == 6
-    assert len(window.falloff_panel.weight_spins) == 7
+    assert len(window.falloff_panel.weight_spins) == 4  # the grab brush: R0 R2 R4 R6
     assert window.document.sculptor.l_max == 6
-    window.falloff_panel.weight_spins[2].setValue(3.0)
-    assert model.degree_weights[2] == 3.0 == window.document.sculptor.settings.wrinkle_weights[2]
+    window.falloff_panel.weight_spins[2].setValue(3.0)  # R4
+    assert (
+        model.weights_for("grab")[4]
+        == 3.0
+        == window.document.sculptor.settings.weights_for("grab")[4]
+    )
     window.brush_bar.radius.setValue(0.2)
     assert model.brush.radius == 0.2
 
