@@ -27,6 +27,7 @@ from PySide6.QtWidgets import (
     QToolBar,
 )
 
+from app.background import shared_pool
 from app.bindings import panel_words, refresh
 from app.brush_bar import BrushBar
 from app.crash_recovery import CrashRecovery
@@ -380,7 +381,10 @@ class MainWindow(QMainWindow):
         if self.files.maybe_save():
             self.crash_recovery.close()  # saved or discarded: the journal goes
             self.viewport.cancel_surface_build()  # it stops at its next progress report
-            self.kernel_warmer.wait(60_000)  # a compilation cannot be interrupted
+            # background jobs stop at their next progress report (a compilation goes on in
+            # its own process and needs no waiting for)
+            self.falloff_panel.truncation.runner.cancel()
+            shared_pool().waitForDone(10_000)
             self.viewport.close()
             event.accept()
         else:
