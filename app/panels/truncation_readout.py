@@ -33,9 +33,12 @@ class TruncationReadout(QWidget):
         self.settings = settings
         self.report: TruncationReport | None = None
         self._material: Material | None = None
-        self.runner = BackgroundRunner(self)
+        # not a child of the readout: a job still running when the readout is deleted reports
+        # to a live runner, whose connections to the deleted readout Qt has dropped
+        self.runner = BackgroundRunner()
         self.runner.finished.connect(self._computed)
         self.runner.failed.connect(self._failed)
+        self.destroyed.connect(self.runner.cancel)
         layout = QVBoxLayout(self)
         layout.setContentsMargins(0, 2, 0, 0)
         self.label = QLabel()
