@@ -13,6 +13,7 @@ indexing and homogenization.
 
 from __future__ import annotations
 
+import itertools
 import time
 
 from PySide6.QtCore import QObject, Qt, Signal
@@ -20,6 +21,29 @@ from PySide6.QtCore import QObject, Qt, Signal
 from gogreen_core import _compiled
 
 __all__ = ["KernelWarmer"]
+
+
+class _Relay(QObject):
+    """Carries a compilation's end from the compiling thread to the GUI thread.
+
+    One for the process, never deleted: the compiling thread calls back long after the window
+    that asked may be gone (on a new machine the compilation takes tens of seconds), and a
+    signal emitted on a deleted warmer from another thread is a use after free (a crash seen in
+    CI). Each warmer listens with a connection Qt drops when the warmer is deleted."""
+
+    settled = Signal(int, int, float, str)  # warmer token, l_max, seconds, error
+
+
+_relay: _Relay | None = None
+_tokens = itertools.count(1)
+
+
+def _the_relay() -> _Relay:
+    """The process's relay, made on the GUI thread by the first warmer."""
+    global _relay
+    if _relay is None:
+        _relay = _Relay()
+    return _relay
 
 
 class KernelWarmer(QObject):
@@ -35,11 +59,12 @@ class KernelWarmer(QObject):
     ready = Signal(int, float)
     failed = Signal(int, str)
     busy_changed = Signal(bool)
-    _settled = Signal(int, float, str)  # from the compiling thread (queued to the GUI thread)
 
     def __init__(self, parent: QObject | None = None):
         super().__init__(parent)
-        self._settled.connect(self._report, Qt.ConnectionType.QueuedConnection)
+        self._token = next(_tokens)
+        self._relay = _the_relay()
+        self._relay.settled.connect(self._settled, Qt.ConnectionType.QueuedConnection)
         self._requested: dict[int, tuple] = {}  # l_max -> its compiled units
         self._waiting: set[int] = set()
 
@@ -56,10 +81,11 @@ class KernelWarmer(QObject):
         if len(self._waiting) == 1:
             self.busy_changed.emit(True)
         start = time.perf_counter()
+        relay, token = self._relay, self._token  # never self: it may be gone by then
 
         def settled(failures: list) -> None:
             error = "; ".join(f"{type(e).__name__}: {e}" for e in failures)
-            self._settled.emit(l_max, time.perf_counter() - start, error)
+            relay.settled.emit(token, l_max, time.perf_counter() - start, error)
 
         _compiled.when_ready(units, settled)
         return True
@@ -83,6 +109,10 @@ class KernelWarmer(QObject):
         on its own and leaves its work in the disk cache."""
         units = {u for units in self._requested.values() for u in units}
         return _compiled.wait(units, None if msecs < 0 else msecs / 1000)
+
+    def _settled(self, token: int, l_max: int, seconds: float, error: str) -> None:
+        if token == self._token:
+            self._report(l_max, seconds, error)
 
     def _report(self, l_max: int, seconds: float, error: str) -> None:
         self._waiting.discard(l_max)

@@ -27,6 +27,7 @@ import subprocess
 import sys
 import threading
 import time
+import traceback
 
 import numpy as np
 
@@ -242,7 +243,10 @@ def _work() -> None:
                 for entry in due:
                     _callbacks.remove(entry)
             for waited, callback in due:
-                callback([_failed[u] for u in waited if u in _failed])
+                try:
+                    callback([_failed[u] for u in waited if u in _failed])
+                except Exception:  # one listener's error must not starve the others
+                    traceback.print_exc()
 
 
 def units_for(l_max: int) -> tuple:
