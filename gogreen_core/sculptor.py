@@ -35,14 +35,16 @@ from gogreen_core.history import History
 from gogreen_core.kernel import GreenKernel
 from gogreen_core.kernel_cache import KernelCache
 from gogreen_core.limits import MAX_REACH, check_constraint_radius
+from gogreen_core.mask import Mask
 from gogreen_core.material import Material
-from gogreen_core.mesh_state import MeshState
+from gogreen_core.mesh_state import MaskRows, MeshSnapshot, MeshState
 from gogreen_core.operations import (
     ConstraintRadius,
     FalloffChange,
     MaterialChange,
     Operation,
     Redo,
+    Subdivide,
     Undo,
 )
 from gogreen_core.pins import Pins
@@ -57,6 +59,7 @@ from gogreen_core.session import (
     replay,
 )
 from gogreen_core.stroke import StrokeDriver
+from gogreen_core.subdivision import PreparedSubdivision, prepare_subdivision
 from gogreen_core.validation import ParameterError, check_bool, check_vector, prefixed
 
 __all__ = ["MAX_REACH", "SESSION_FORMAT", "Sculptor", "mesh_fingerprint"]
@@ -64,6 +67,29 @@ __all__ = ["MAX_REACH", "SESSION_FORMAT", "Sculptor", "mesh_fingerprint"]
 #: Undo label of each settings group (a continued change joins the last of these).
 _LABELS = {"material": "material", "falloff": "falloff", "constraint_radius": "constraint radius"}
 _NO_ROWS = np.zeros((0, 3))
+_NO_INDEX = np.zeros(0, dtype=np.int64)
+
+
+def _same_mesh(a: MeshSnapshot, b: MeshSnapshot) -> bool:
+    """Both snapshots hold equal arrays (bit for bit)."""
+    pairs = zip(
+        (a.vertices, a.faces, a.mask, a.uv, a.uv_faces),
+        (b.vertices, b.faces, b.mask, b.uv, b.uv_faces),
+        strict=True,
+    )
+    return all(
+        (x is None and y is None)
+        or (
+            x is not None
+            and y is not None
+            and x.dtype == y.dtype
+            and x.shape == y.shape
+            and np.array_equal(
+                np.ascontiguousarray(x).view(np.uint8), np.ascontiguousarray(y).view(np.uint8)
+            )
+        )
+        for x, y in pairs
+    )
 
 
 def _record(settings: EngineSettings, group: str, continued: bool) -> Operation:
@@ -82,15 +108,19 @@ class Sculptor:
     ----------
     vertices : (N, 3) float64, faces : (M, 3) int64
         The mesh; vertices are copied and then edited in place (see :attr:`vertices`).
+    uv : (T, 2) float64 and uv_faces : (M, 3) int64, optional
+        Texture coordinates per face corner (rows of -1: untextured faces), carried through a
+        subdivision (see :attr:`mesh`).
     settings : EngineSettings, optional
         Material, falloff, l_max, wrinkle weights and pins' radius in one value; or give them
         one by one (``material``, ``l_max``, ``falloff``, ``degree_weights``,
         ``constraint_radius``, the fields of :class:`EngineSettings` with its defaults).
     history_bytes : memory cap of the undo history.
 
-    The parts: undo steps in :attr:`history` (:class:`History`); the session log of typed
-    operation records (:mod:`gogreen_core.operations`), exported by :meth:`session` and applied
-    by :meth:`replay`.
+    The parts: undo steps in :attr:`history` (:class:`History`); the vertex mask in
+    :attr:`mask` (:class:`~gogreen_core.mask.Mask`: painted by the mask brush, inverted,
+    cleared); the session log of typed operation records (:mod:`gogreen_core.operations`),
+    exported by :meth:`session` and applied by :meth:`replay`.
     """
 
     def __init__(
@@ -98,6 +128,8 @@ class Sculptor:
         vertices: np.ndarray,
         faces: np.ndarray,
         *,
+        uv: np.ndarray | None = None,
+        uv_faces: np.ndarray | None = None,
         settings: EngineSettings | None = None,
         material: Material | None = None,
         l_max: int = 8,
@@ -106,8 +138,9 @@ class Sculptor:
         constraint_radius: float = DEFAULT_CONSTRAINT_RADIUS,
         history_bytes: int = 512 * 2**20,
     ) -> None:
-        self._mesh = MeshState(vertices, faces)
+        self._mesh = MeshState(vertices, faces, uv, uv_faces)
         self.model_size = self._mesh.model_size
+        self._loaded = (len(self._mesh.vertices), len(self._mesh.faces))  # the session's mesh
         self.history = History(history_bytes)
         self._log = SessionLog()
         #: False for a sculptor replaying a version-1 session: settings are no undo steps.
@@ -133,6 +166,8 @@ class Sculptor:
         self._initial = settings
         self._strokes = StrokeDriver(self._mesh, self.history, self._log)
         self._pins = Pins(self._mesh, self.history, self._log, lambda: self._kernels)
+        #: The vertex mask: what holds vertices still under every brush and pin drag.
+        self.mask = Mask(self._mesh, self.history, self._log, self._strokes.refuse)
 
     # -- state -------------------------------------------------------------------------------
     @property
@@ -144,7 +179,14 @@ class Sculptor:
 
     @property
     def faces(self) -> np.ndarray:
+        """(M, 3) int64 faces (a subdivision, and its undo, give the sculptor new ones)."""
         return self._mesh.faces
+
+    @property
+    def mesh(self) -> MeshSnapshot:
+        """Copies of the mesh's arrays: vertices, faces, mask, UVs and their corners (what a
+        file is saved from, or a subdivision is prepared from off the GUI thread)."""
+        return self._mesh.snapshot()
 
     @property
     def origin(self) -> np.ndarray:
@@ -236,7 +278,7 @@ class Sculptor:
         before = self.settings
         after = before.replace(**changes)
         label = _LABELS[group[0]]
-        self._refuse_in_stroke(f"change the {label}")
+        self._strokes.refuse(f"change the {label}")
         if after == before and not (continued or replaying):
             return  # nothing to do, nothing to undo
         self._commit(after)
@@ -280,10 +322,6 @@ class Sculptor:
         radius = check_constraint_radius(radius, "radius")
         self.change_settings(constraint_radius=radius, continued=continued)
 
-    def _refuse_in_stroke(self, what: str) -> None:
-        if self._strokes.active:
-            raise RuntimeError(f"cannot {what} during a stroke; end the stroke first")
-
     # -- strokes -----------------------------------------------------------------------------
     def kernel(self, brush: Brush) -> GreenKernel | None:
         """The kernel of ``brush`` on this model: its falloff, ε and degree weights (None for
@@ -292,7 +330,7 @@ class Sculptor:
 
     def begin_stroke(self, brush: Brush) -> None:
         """Start a stroke with ``brush``; events follow, then :meth:`end_stroke`."""
-        self._refuse_in_stroke("begin a stroke")
+        self._strokes.refuse("begin a stroke")
         self._strokes.begin(brush)
 
     def stroke_event(self, event: BrushEvent) -> np.ndarray:
@@ -345,17 +383,17 @@ class Sculptor:
     def add_constraint(self, point: np.ndarray) -> int:
         """Pin a point (3,) (model units, within :data:`MAX_REACH` model sizes of the model's
         centre); returns its index. An undo step (the vertices do not move)."""
-        self._refuse_in_stroke("add a constraint")
+        self._strokes.refuse("add a constraint")
         return self._pins.add(point)
 
     def remove_constraint(self, index: int) -> None:
         """Remove pin ``index`` (an undo step)."""
-        self._refuse_in_stroke("remove a constraint")
+        self._strokes.refuse("remove a constraint")
         self._pins.remove(index)
 
     def clear_constraints(self) -> None:
         """Remove every pin (an undo step when there were any)."""
-        self._refuse_in_stroke("clear the constraints")
+        self._strokes.refuse("clear the constraints")
         self._pins.clear()
 
     def drag_constraint(self, index: int, delta: np.ndarray, continued: bool = False) -> np.ndarray:
@@ -364,29 +402,68 @@ class Sculptor:
 
         ``continued``: this step continues the previous drag (one mouse drag = one undo step).
         """
-        self._refuse_in_stroke("drag a constraint")
+        self._strokes.refuse("drag a constraint")
         return self._pins.drag(index, delta, continued)
+
+    # -- topology ----------------------------------------------------------------------------
+    def subdivide(
+        self,
+        unmasked_only: bool = False,
+        *,
+        progress: Callable[[float], None] | None = None,
+        prepared: PreparedSubdivision | None = None,
+    ) -> None:
+        """One step of Loop subdivision (:mod:`gogreen_core.subdivision`) of the whole mesh,
+        or of its faces that are not masked: about 4× the vertices and faces, old vertices keep
+        their numbers, the mask and UVs carried along; the model's size and origin stay (brush
+        sizes do not change). One undo step (undo gives back the previous arrays exactly,
+        faces included) and one log entry.
+
+        ``prepared``: the same subdivision computed ahead from :attr:`mesh`
+        (:func:`~gogreen_core.subdivision.prepare_subdivision`, e.g. off the GUI thread); a
+        ValueError, nothing changed, if the mesh is no longer the one it was made from.
+        ``progress(fraction)`` is called while computing here.
+        """
+        self._strokes.refuse("subdivide")
+        unmasked_only = check_bool("unmasked_only", unmasked_only)
+        mesh = self._mesh
+        before = mesh.snapshot()
+        if prepared is None:
+            prepared = prepare_subdivision(before, unmasked_only, progress, mesh.edges)
+        elif prepared.unmasked_only != unmasked_only or not _same_mesh(prepared.source, before):
+            raise ValueError(
+                "the prepared subdivision was made from another mesh (it changed since, or "
+                "another part was asked for): subdivide again"
+            )
+        mesh.adopt(prepared.result)
+        after = mesh.snapshot()
+        self.history.record("subdivide", _NO_INDEX, _NO_ROWS, _NO_ROWS, state=(before, after))
+        self._log.record(Subdivide(unmasked_only))
 
     # -- history -----------------------------------------------------------------------------
     def undo(self) -> str | None:
         """Undo the last step (bit for bit; a settings step puts the previous settings back
         exactly); returns its label or None."""
-        self._refuse_in_stroke("undo")
+        self._strokes.refuse("undo")
         return self._history_step(self.history.undo, Undo())
 
     def redo(self) -> str | None:
-        self._refuse_in_stroke("redo")
+        self._strokes.refuse("redo")
         return self._history_step(self.history.redo, Redo())
 
     def _history_step(
         self, step: Callable[[np.ndarray], str | None], record: Operation
     ) -> str | None:
-        """Undo or redo: the vertices, then the settings or pins the step had."""
+        """Undo or redo: the vertices, then the settings, mask, mesh or pins the step had."""
         label = step(self._mesh.vertices)
         if label is not None:
             state = self.history.restored_state
             if isinstance(state, EngineSettings):
                 self._commit(state)
+            elif isinstance(state, MaskRows):
+                self._mesh.set_mask_rows(state)
+            elif isinstance(state, MeshSnapshot):
+                self._mesh.adopt(state)
             else:
                 self._pins.restore(state)
             self._log.record(record)
@@ -396,14 +473,14 @@ class Sculptor:
     def all_or_nothing(self) -> Iterator[None]:
         """A block whose failure puts back the mesh, settings, pins, history and log as they
         were (a replay that fails part-way)."""
-        vertices = self._mesh.vertices.copy()
+        mesh = self._mesh.snapshot()
         kernels, points = self._kernels, None if not len(self._pins) else self._pins.points
         history, log_length = self.history.snapshot(), len(self._log)
         try:
             yield
         except BaseException:
             self.cancel_stroke()
-            self._mesh.vertices[:] = vertices
+            self._mesh.adopt(mesh)
             self._kernels = kernels
             self._pins.adopt(None if points is None else self._pins.built(kernels, points))
             self.history.restore(history)
@@ -421,9 +498,9 @@ class Sculptor:
         return {
             "format": SESSION_FORMAT,
             "version": SESSION_VERSION if self._settings_undoable else 1,
-            "mesh": {
-                "vertices": len(self._mesh.vertices),
-                "faces": len(self._mesh.faces),
+            "mesh": {  # the mesh it started from (a subdivision changes the sculptor's)
+                "vertices": self._loaded[0],
+                "faces": self._loaded[1],
                 "sha256": self._fingerprint,
             },
             "settings": self._initial.to_dict(),
@@ -432,18 +509,23 @@ class Sculptor:
 
     @classmethod
     def from_session(
-        cls, session: dict[str, Any] | Session, vertices: np.ndarray, faces: np.ndarray
+        cls,
+        session: dict[str, Any] | Session,
+        vertices: np.ndarray,
+        faces: np.ndarray,
+        uv: np.ndarray | None = None,
+        uv_faces: np.ndarray | None = None,
     ) -> Sculptor:
-        """A sculptor on ``vertices``/``faces`` with the session's initial settings (no
-        operations applied yet; see :meth:`replay`). The whole session is checked first
-        (:func:`~gogreen_core.session.parse_session`)."""
+        """A sculptor on ``vertices``/``faces`` (and texture corners ``uv``, ``uv_faces``)
+        with the session's initial settings (no operations applied yet; see :meth:`replay`).
+        The whole session is checked first (:func:`~gogreen_core.session.parse_session`)."""
         parsed = session if isinstance(session, Session) else parse_session(session)
         if parsed.vertices != len(vertices) or parsed.faces != len(faces):
             raise ValueError(
                 f"the session was recorded on a mesh with {parsed.vertices} vertices and "
                 f"{parsed.faces} faces; this one has {len(vertices)} and {len(faces)}"
             )
-        sculptor = cls(vertices, faces, settings=parsed.settings)
+        sculptor = cls(vertices, faces, uv=uv, uv_faces=uv_faces, settings=parsed.settings)
         sculptor._settings_undoable = parsed.version >= 2
         return sculptor
 
