@@ -22,15 +22,23 @@ SAVE_FORMATS = (".obj", ".ply", ".stl")
 class Document:
     """A mesh being sculpted.
 
-    ``mesh`` keeps what the file had (faces, texture coordinates); ``sculptor`` owns the
-    vertex positions while editing; :meth:`save` writes them back atomically.
+    ``mesh`` keeps what the file had; ``sculptor`` owns the vertex positions, faces and
+    texture coordinates while editing (a subdivision changes all three); :meth:`save` writes
+    them atomically.
     """
 
     def __init__(self, mesh: MeshData, path: str | None, sculptor_options: dict | None = None):
         self.mesh = mesh
         self.path = path
-        self.sculptor = Sculptor(mesh.vertices, mesh.faces, **(sculptor_options or {}))
+        self.sculptor = Sculptor(
+            mesh.vertices,
+            mesh.faces,
+            uv=mesh.uv,
+            uv_faces=mesh.uv_faces,
+            **(sculptor_options or {}),
+        )
         self._saved_vertices = self.sculptor.vertices.copy()
+        self._saved_faces = self.sculptor.faces
 
     @classmethod
     def open(cls, path: str, sculptor_options: dict | None = None) -> Document:
@@ -49,8 +57,10 @@ class Document:
 
     @property
     def dirty(self) -> bool:
-        """True when the vertices differ from the last saved (or loaded) state."""
-        return not np.array_equal(self.sculptor.vertices, self._saved_vertices)
+        """True when the vertices or faces differ from the last saved (or loaded) state."""
+        faces = self.sculptor.faces
+        same_faces = faces is self._saved_faces or np.array_equal(faces, self._saved_faces)
+        return not (same_faces and np.array_equal(self.sculptor.vertices, self._saved_vertices))
 
     def save(self, path: str | None = None) -> str:
         """Write the current vertices (atomically) to ``path`` or the document's own path."""
@@ -61,9 +71,10 @@ class Document:
             raise ValueError(
                 f"{Path(target).name}: unsupported format (save as {', '.join(SAVE_FORMATS)})"
             )
-        out = self.mesh.copy()
-        out.vertices = np.array(self.sculptor.vertices)
+        now = self.sculptor.mesh
+        out = MeshData(now.vertices, now.faces, now.uv, now.uv_faces, self.mesh.source)
         save_mesh(out, target)
         self.path = str(target)
-        self._saved_vertices = self.sculptor.vertices.copy()
+        self._saved_vertices = now.vertices
+        self._saved_faces = self.sculptor.faces
         return self.path

@@ -54,6 +54,9 @@ def warm_up_degree(l_max: int, task: Task | None = None) -> float:
     sculptor.apply_brush(Brush("wrinkle", radius=0.3), [grab])
     twist = BrushEvent(center=top, amount=0.01, axis=np.array([0.0, 0.0, 1.0]))
     sculptor.apply_brush(Brush("twist", radius=0.3), [twist])
+    paint = BrushEvent(center=top, delta=np.array([0.0, 0.0, 0.01]), amount=0.5)
+    sculptor.apply_brush(Brush("mask", radius=0.1), [paint])  # the blend of masked rows
+    sculptor.apply_brush(Brush("smooth", radius=0.3, symmetry="x"), [paint])
     pin = sculptor.add_constraint(top)
     sculptor.add_constraint(-top)
     sculptor.drag_constraint(pin, np.array([0.0, 0.0, 0.01]))

@@ -38,6 +38,7 @@ from PySide6.QtGui import (
 from PySide6.QtWidgets import QWidget
 
 from gogreen_core.brushes import BRUSH_KINDS
+from gogreen_core.tools import NUMBER_KEYS
 from gogreen_core.validation import ParameterError
 
 __all__ = [
@@ -66,7 +67,17 @@ GESTURES = (
 )
 
 #: Groups in the order the overlay shows them.
-GROUPS = ("Sculpt", "Brushes", "Radius and strength", "Pins", "View", "Edit", "File", "Help")
+GROUPS = (
+    "Sculpt",
+    "Brushes",
+    "Radius and strength",
+    "Pins",
+    "Mask and mesh",
+    "View",
+    "Edit",
+    "File",
+    "Help",
+)
 
 
 class Binding(NamedTuple):
@@ -103,6 +114,8 @@ _BRUSH_NAMES = {
     "scale": "Scale brush: inflate / deflate",
     "twist": "Twist brush",
     "pinch": "Pinch brush",
+    "smooth": "Smooth brush",
+    "mask": "Mask brush (Ctrl erases)",
 }
 #: The letter each brush had before number keys (kept as a second key).
 _BRUSH_LETTERS = {
@@ -113,17 +126,19 @@ _BRUSH_LETTERS = {
     "scale": "S",
     "twist": "W",
     "pinch": "P",
+    "smooth": "Shift+S",
+    "mask": "M",
 }
 #: Action identifier of each brush kind (``"brush_grab"`` …).
 BRUSH_ACTIONS = {kind: f"brush_{kind}" for kind in BRUSH_KINDS}
 
 
 def _brush_bindings() -> tuple[Binding, ...]:
+    """A number key (in table order, "0" the tenth) and a letter per brush."""
+    numbers = [(key,) for key in NUMBER_KEYS] + [()] * max(len(BRUSH_KINDS) - len(NUMBER_KEYS), 0)
     return tuple(
-        Binding(
-            (str(number), _BRUSH_LETTERS[kind]), BRUSH_ACTIONS[kind], _BRUSH_NAMES[kind], "Brushes"
-        )
-        for number, kind in enumerate(BRUSH_KINDS, start=1)
+        Binding((*number, _BRUSH_LETTERS[kind]), BRUSH_ACTIONS[kind], _BRUSH_NAMES[kind], "Brushes")
+        for number, kind in zip(numbers, BRUSH_KINDS, strict=False)
     )
 
 
@@ -134,6 +149,12 @@ KEYMAP: tuple[Binding, ...] = (
         ("Ctrl+Left drag",),
         "invert",
         "Sculpt inverted: push instead of pull, deflate, twist the other way",
+        "Sculpt",
+    ),
+    Binding(
+        ("Shift+Left drag",),
+        "smooth_stroke",
+        "Smooth with any brush",
         "Sculpt",
     ),
     Binding(
@@ -168,6 +189,20 @@ KEYMAP: tuple[Binding, ...] = (
         "Pins",
     ),
     Binding(("Right click",), "remove_pin", "In pin mode: remove the pin under the cursor", "Pins"),
+    Binding(("Ctrl+I",), "mask_invert", "Invert the mask", "Mask and mesh"),
+    Binding(("Alt+M",), "mask_clear", "Clear the mask", "Mask and mesh"),
+    Binding(
+        ("Ctrl+D",),
+        "subdivide",
+        "Subdivide the mesh",
+        "Mask and mesh",
+    ),
+    Binding(
+        ("Ctrl+Shift+D",),
+        "subdivide_unmasked",
+        "Subdivide the unmasked part",
+        "Mask and mesh",
+    ),
     Binding(("Right drag",), "orbit", "Orbit the camera", "View"),
     Binding(("Middle drag",), "pan", "Pan the camera", "View"),
     Binding(("Wheel",), "zoom", "Zoom", "View"),
@@ -306,7 +341,7 @@ class KeymapOverlay(QWidget):
     COLUMN_GAP = 36.0
     KEY_GAP = 14.0
     MAX_DESCRIPTION_WIDTH = 330.0
-    MIN_POINT_SIZE = 6.0
+    MIN_POINT_SIZE = 5.0  # a small window (640 × 420) still shows every binding
     MIN_DESCRIPTION_CHARS = 16
     PREFERRED_POINT_SIZE = 10.0
     KEY_LINE_GAP = 0.2  # between lines of one row's key caps, in line heights

@@ -36,6 +36,7 @@ from app.icons import set_icon
 from app.kernel_warmup import KernelWarmer
 from app.keyboard import FocusKeys
 from app.keymap import KeymapOverlay, binding, brush_action, display_keys, shortcuts
+from app.mesh_edits import MeshEdits
 from app.panels.falloff_panel import FalloffPanel
 from app.panels.homogenization_panel import HomogenizationPanel
 from app.panels.material_panel import MaterialPanel
@@ -262,6 +263,9 @@ class MainWindow(QMainWindow):
         self._action(
             edit_menu, "Strength Higher", lambda: bar_.scale_strength(1), "strength_higher"
         )
+        #: The Mesh menu (subdivide, mask) and what keeps the view in step with the mesh.
+        self.mesh_edits = MeshEdits(self)
+        self.mesh_menu = self.mesh_edits.build_menu(bar)
         view_menu = bar.addMenu("&View")
         self._action(view_menu, "Reset &Camera", self.reset_camera, "reset_camera", "home")
         self.view_actions = [self._visibility_action(w) for w in (self.panels_dock, self.brush_bar)]
@@ -496,6 +500,7 @@ class MainWindow(QMainWindow):
         self.tools.cursor.hide()  # until the mouse moves over the new model
         self.engine_link.attach(document.sculptor)
         self.viewport.set_mesh(document.sculptor.vertices, document.sculptor.faces)
+        self.mesh_edits.attach()
         self.surface_progress.setValue(0)
         self.surface_progress.setVisible(self.viewport.surface_building)
         self._apply_mesh_look()
@@ -615,6 +620,7 @@ class MainWindow(QMainWindow):
 
     def closeEvent(self, event: QCloseEvent) -> None:
         if self.maybe_save():
+            self.mesh_edits.cancel()
             self.viewport.cancel_surface_build()  # it stops at its next progress report
             self.kernel_warmer.wait(60_000)  # a compilation cannot be interrupted
             self.viewport.close()
@@ -706,7 +712,10 @@ class MainWindow(QMainWindow):
             self.flash("Compiling the brush kernels (first start only)…")
 
     def _stroke_refusal(self) -> str | None:
-        """Why a stroke may not start now (kernels still compiling), or None."""
+        """Why a stroke may not start now (kernels still compiling, a subdivision running), or
+        None."""
+        if self.mesh_edits.busy:
+            return self.mesh_edits.refusal()
         l_max = self.model.l_max
         if self.kernel_warmer.is_ready(l_max):
             return None
@@ -767,6 +776,8 @@ class MainWindow(QMainWindow):
             self.viewport.update_vertices(self.document.sculptor.vertices)
         elif self.document is not None and update.moved is not None:
             self.viewport.update_vertices(self.document.sculptor.vertices, update.moved)
+        if self.document is not None and update.changed:
+            self.mesh_edits.sync(update.moved)  # a mask stroke's tint
         if update.refused:  # not an error: e.g. kernels still compiling
             self.flash(f"{error_title}: {update.error}")
         elif update.error:
@@ -816,6 +827,9 @@ class MainWindow(QMainWindow):
     def _history_step(self, step, name: str) -> None:
         if step is None or self.tools.dragging:
             return
+        if self.mesh_edits.busy:
+            self.flash(f"Cannot {name.lower()}: {self.mesh_edits.refusal()}")
+            return
         label = step()
         if label is None:
             self.flash(f"Nothing to {name.lower()}")
@@ -824,7 +838,8 @@ class MainWindow(QMainWindow):
         self.tools.cursor.hide()  # the surface under it moved: hidden until the mouse moves
         self.viewport.show_cursor(None)
         sculptor = self.document.sculptor
-        self.viewport.update_vertices(sculptor.vertices, sculptor.history.restored_indices)
+        if not self.mesh_edits.sync():  # a subdivision undone or redone shows its whole mesh
+            self.viewport.update_vertices(sculptor.vertices, sculptor.history.restored_indices)
         self._show_constraints()  # the pins follow undo/redo
         self._refresh_title()
         self.flash(f"{name}: {label}")
