@@ -9,6 +9,7 @@ import sys
 COMMANDS = {
     "deform": "apply one brush stroke to a mesh and write the result",
     "replay": "replay a session file on a mesh (bit for bit the recorded result)",
+    "recover": "list the crash-recovery journals, or write the mesh or session one recorded",
 }
 
 
@@ -33,13 +34,15 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``gogreen [FILE]`` opens the main window; ``gogreen replay|deform ...`` runs headless."""
+    """``gogreen [FILE]`` opens the main window; ``gogreen replay|deform|recover ...`` runs
+    headless."""
     argv = sys.argv[1:] if argv is None else argv
     if argv and argv[0] in COMMANDS:
         from gogreen_core.batch import main as batch_main  # no Qt for batch work
 
         return batch_main(argv)
     args = _parser().parse_args(argv)
+    from PySide6.QtCore import QTimer
     from PySide6.QtWidgets import QApplication
 
     from app.main_window import MainWindow
@@ -50,6 +53,7 @@ def main(argv: list[str] | None = None) -> int:
     window.show()
     if not (args.mesh and window.open_file(args.mesh)):
         window.open_default()
+    QTimer.singleShot(0, window.crash_recovery.offer)  # unsaved work of a crashed session
     return app.exec()
 
 

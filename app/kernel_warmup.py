@@ -19,6 +19,7 @@ import numpy as np
 from PySide6.QtCore import QObject, Signal
 
 from app.background import BackgroundRunner, Task
+from gogreen_core import mesh_io
 from gogreen_core.brushes import Brush, BrushEvent
 from gogreen_core.kernel import GreenKernel, prepare_degree
 from gogreen_core.material import Material
@@ -37,6 +38,7 @@ def warm_up_degree(l_max: int, task: Task | None = None) -> float:
     type) compile all of it.
     """
     start = time.perf_counter()
+    mesh_io.warm_up()  # the mesh readers' compiled loops: opening a file then never compiles
     prepare_degree(l_max)
     if task is not None:
         task.progress(0.3)

@@ -31,6 +31,7 @@ from PySide6.QtWidgets import (
 )
 
 from app.brush_bar import BrushBar
+from app.crash_recovery import CrashRecovery
 from app.document import SAVE_FORMATS, Document
 from app.icons import set_icon
 from app.kernel_warmup import KernelWarmer
@@ -160,6 +161,8 @@ class MainWindow(QMainWindow):
         self.last_step_ms = 0.0
         self.kernel_warmer = KernelWarmer(self)
         self._announced_warmups: set[int] = set()
+        #: The documents' crash-recovery journals and the offer of unsaved work at start.
+        self.crash_recovery = CrashRecovery(self)
         self._connect()
         self.focus_keys = FocusKeys(self, self.viewport, self._shortcut_keys)
         #: The keymap drawn over the viewport (Help menu, ``?``, F1).
@@ -495,10 +498,14 @@ class MainWindow(QMainWindow):
 
     def set_document(self, document: Document) -> None:
         self.tools.cancel()
-        self.document = document
+        previous, self.document = self.document, document
         self.tools.set_sculptor(document.sculptor)
         self.tools.cursor.hide()  # until the mouse moves over the new model
-        self.engine_link.attach(document.sculptor)
+        if document.recovered:  # its settings are the ones to show
+            self.engine_link.sculptor = document.sculptor
+            self.engine_link.pull()
+        else:
+            self.engine_link.attach(document.sculptor)
         self.viewport.set_mesh(document.sculptor.vertices, document.sculptor.faces)
         self.mesh_edits.attach()
         self.surface_progress.setValue(0)
@@ -507,10 +514,11 @@ class MainWindow(QMainWindow):
         if self._constraint_actor is not None:
             self.viewport.remove_actor(self._constraint_actor, render=False)
         self._constraint_actor = None
-        self.viewport.show_pins(np.zeros((0, 3)), 0.0)
+        self._show_constraints()  # none, or a recovered document's
         self._brush_changed()
         self._refresh_title()
         self._refresh_status()
+        self.crash_recovery.document_changed(previous, document)
 
     def open_default(self) -> None:
         self.set_document(Document.default(self._sculptor_options()))
@@ -621,6 +629,7 @@ class MainWindow(QMainWindow):
     def closeEvent(self, event: QCloseEvent) -> None:
         if self.maybe_save():
             self.mesh_edits.cancel()
+            self.crash_recovery.close()  # saved or discarded: the journal goes
             self.viewport.cancel_surface_build()  # it stops at its next progress report
             self.kernel_warmer.wait(60_000)  # a compilation cannot be interrupted
             self.viewport.close()

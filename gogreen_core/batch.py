@@ -1,11 +1,14 @@
-"""Headless command line: ``gogreen replay`` and ``gogreen deform`` (no Qt imported).
+"""Headless command line: ``gogreen replay``, ``gogreen deform`` and ``gogreen recover`` (no Qt
+imported).
 
     gogreen replay SESSION.json IN -o OUT
     gogreen deform IN -o OUT --brush grab --center X Y Z --delta DX DY DZ [--radius R] ...
+    gogreen recover --list | ID [-o OUT] [--session OUT.json] [--discard]
 
-Both print a progress bar on stderr and exit with status 2 and a one-line message naming the
-problem on bad input (a broken file, an inadmissible material, a zero radius); the output file
-is written atomically, so a failure never leaves a half-written or clobbered file.
+They print a progress bar on stderr and exit with status 2 and a one-line message naming the
+problem on bad input (a broken file, an inadmissible material, a zero radius, a journal in use);
+the output file is written atomically, so a failure never leaves a half-written or clobbered
+file.
 """
 
 from __future__ import annotations
@@ -14,15 +17,25 @@ import argparse
 import json
 import sys
 import time
+from datetime import datetime
 from pathlib import Path
 
 import numpy as np
 
 from gogreen_core.brushes import BRUSH_KINDS, DEFAULT_INFLUENCE, MAX_AMOUNT, Brush, BrushEvent
+from gogreen_core.journal import recovery_root
 from gogreen_core.material import Material
 from gogreen_core.mesh_io import MeshData, load_mesh, save_mesh, write_text_atomic
 from gogreen_core.operations import MAX_EVENTS
 from gogreen_core.radial import GaussianRadial, KelvinletRadial
+from gogreen_core.recovery import (
+    discard,
+    find_journal,
+    journal_session,
+    list_journals,
+    read_journal,
+    recover,
+)
 from gogreen_core.schema import parse_falloff, parse_l_max, parse_material, read_json
 from gogreen_core.sculptor import Sculptor
 from gogreen_core.session import load_session
@@ -36,7 +49,7 @@ from gogreen_core.validation import (
 
 __all__ = ["BATCH_COMMANDS", "main"]
 
-BATCH_COMMANDS = ("replay", "deform")
+BATCH_COMMANDS = ("replay", "deform", "recover")
 
 
 class ProgressBar:
@@ -173,6 +186,71 @@ def _deform(args: argparse.Namespace) -> int:
     return 0
 
 
+def _recover(args: argparse.Namespace) -> int:
+    root = recovery_root()
+    if args.list:
+        _print_journals(root)
+        return 0
+    if not args.journal:
+        raise ValueError("name a journal (see --list), or give --list")
+    if not (args.output or args.session or args.discard):
+        raise ValueError("say what to do: -o OUT.obj, --session OUT.json and/or --discard")
+    directory = find_journal(args.journal, root)
+    if args.output or args.session:
+        _write_recovered(directory, args)
+    if args.discard:
+        discard(directory)
+        print(f"discarded {directory.name}", file=sys.stderr)
+    else:
+        print(
+            f"the journal stays in {directory} (`gogreen recover {directory.name} --discard` "
+            "deletes it)",
+            file=sys.stderr,
+        )
+    return 0
+
+
+def _print_journals(root: Path) -> None:
+    infos = list_journals(root)
+    if not infos:
+        print(f"no recovery journals in {root}")
+        return
+    print(f"{'ID':<24} {'LAST CHANGE':<19} {'OPS':>5}  DOCUMENT")
+    for info in infos:
+        when = datetime.fromtimestamp(info.modified).strftime("%Y-%m-%d %H:%M:%S")
+        document = info.document or "(no file: the default model)"
+        print(f"{info.id:<24} {when:<19} {info.operations:>5}  {info.title} — {document}")
+        print(f"{'':<24} {info.vertices:,} vertices; {info.summary()}")
+        if info.status():
+            print(f"{'':<24} {info.status()}")
+    print(f"\njournals live in {root}")
+
+
+def _write_recovered(directory: Path, args: argparse.Namespace) -> None:
+    if args.output:
+        recovery = recover(directory, progress=None if args.quiet else ProgressBar("recover"))
+        try:
+            _save(recovery.mesh, recovery.mesh.vertices, args.output)
+        finally:
+            recovery.release()
+        print(
+            f"recovered {recovery.title}: {recovery.operations} operations ({recovery.records} "
+            f"records; {recovery.replayed} replayed in {recovery.seconds:.1f} s) -> {args.output}",
+            file=sys.stderr,
+        )
+        contents, notes = recovery.contents, recovery.notes
+    else:
+        contents = read_journal(directory)
+        notes = contents.notes
+    for note in notes:
+        print(f"gogreen recover: warning: {note}", file=sys.stderr)
+    if args.session:
+        session = journal_session(contents)
+        write_text_atomic(args.session, json.dumps(session, indent=1))
+        count = len(session["operations"])
+        print(f"wrote the session ({count} operations) -> {args.session}", file=sys.stderr)
+
+
 class _option_names:
     """Re-raise a ParameterError of a brush or event field under its option's name
     (``delta`` → ``--delta``), so the message names what the user typed."""
@@ -262,14 +340,32 @@ def _parser() -> argparse.ArgumentParser:
     )
     deform.add_argument("--session-out", help="also write the session JSON here")
     deform.add_argument("-q", "--quiet", action="store_true")
+
+    recover_ = sub.add_parser(
+        "recover",
+        help="list the crash-recovery journals, or rebuild what one recorded",
+        description=(
+            "List the crash-recovery journals, or rebuild the mesh (and session) one recorded. "
+            f"Journals live in {recovery_root()}."
+        ),
+    )
+    recover_.add_argument("journal", nargs="?", help="journal ID (or its first characters)")
+    recover_.add_argument("--list", action="store_true", help="list the journals")
+    recover_.add_argument(
+        "-o", "--output", help="write the recovered mesh (.obj, .ply, .stl, .off)"
+    )
+    recover_.add_argument("--session", help="write the journal's operations as a session JSON")
+    recover_.add_argument("--discard", action="store_true", help="delete the journal")
+    recover_.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
     """Run a batch command; returns the exit status (2 on bad input)."""
     args = _parser().parse_args(argv)
+    command = {"replay": _replay, "deform": _deform, "recover": _recover}[args.command]
     try:
-        return _replay(args) if args.command == "replay" else _deform(args)
-    except (ValueError, RuntimeError) as exc:  # MeshFileError is a ValueError
+        return command(args)
+    except (ValueError, RuntimeError, OSError) as exc:  # MeshFileError, JournalError: ValueError
         print(f"gogreen {args.command}: error: {exc}", file=sys.stderr)
         return 2

@@ -64,6 +64,22 @@ class ConstraintSet:
         self._matrix = np.zeros((0, 0))
         self._inverse = np.zeros((0, 0))
 
+    @classmethod
+    def restored(
+        cls, kernel: GreenKernel, points: np.ndarray, matrix: np.ndarray, inverse: np.ndarray
+    ) -> ConstraintSet:
+        """A set in exactly the state another one had: its ``points`` (k, 3), ``matrix`` and
+        ``inverse`` (3k, 3k), as a recovery checkpoint saved them. The inverse is kept bit for
+        bit: adding the points again would round differently once pins were moved or removed
+        (each move updates the inverse in place), and later drags would differ."""
+        points = np.array(points, dtype=np.float64).reshape(-1, 3)
+        size = 3 * len(points)
+        matrix = np.array(matrix, dtype=np.float64).reshape(size, size)
+        inverse = np.array(inverse, dtype=np.float64).reshape(size, size)
+        constraints = cls(kernel)
+        constraints._points, constraints._matrix, constraints._inverse = points, matrix, inverse
+        return constraints
+
     @property
     def kernel(self) -> GreenKernel:
         return self._kernel

@@ -56,6 +56,7 @@ class History:
         self._undo: list[_Entry] = []  # oldest first
         self._redo: list[_Entry] = []  # next to redo last
         self._bytes = 0
+        self._evicted = 0  # entries dropped by the memory cap so far
         #: The ``state`` side of the entry the last undo/redo applied (None if it had none).
         self.restored_state: object = None
         #: The vertices (K,) int64 the last undo/redo wrote (what a view must redraw).
@@ -83,6 +84,13 @@ class History:
         return [e.label for e in reversed(self._redo)]
 
     @property
+    def done(self) -> int:
+        """Undo steps recorded or redone minus those undone, counting the ones the memory cap
+        dropped: +1 for a new entry or a redo, -1 for an undo, 0 for a merge or an eviction.
+        The recovery journal compares it between a session and its replay."""
+        return len(self._undo) + self._evicted
+
+    @property
     def memory_bytes(self) -> int:
         """Bytes held by all entries (indices and positions, undo and redo)."""
         return self._bytes
@@ -90,11 +98,11 @@ class History:
     def snapshot(self) -> tuple:
         """An opaque copy of the stacks (entries are immutable, so this is cheap) for
         :meth:`restore`: a caller that must undo a failed batch of records (a replay) uses it."""
-        return (list(self._undo), list(self._redo), self._bytes, self.restored_state)
+        return (list(self._undo), list(self._redo), self._bytes, self._evicted, self.restored_state)
 
     def restore(self, snapshot: tuple) -> None:
         """Put the stacks back as :meth:`snapshot` saw them."""
-        undo, redo, self._bytes, self.restored_state = snapshot
+        undo, redo, self._bytes, self._evicted, self.restored_state = snapshot
         self._undo, self._redo = list(undo), list(redo)
 
     def clear(self) -> None:
@@ -153,6 +161,7 @@ class History:
         self._bytes += entry.nbytes
         while len(self._undo) > 1 and self._bytes > self.max_bytes:
             self._bytes -= self._undo.pop(0).nbytes
+            self._evicted += 1
 
     def record_change(
         self,

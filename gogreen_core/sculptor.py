@@ -26,6 +26,8 @@ from typing import Any
 import numpy as np
 
 from gogreen_core.brushes import Brush, BrushEvent
+from gogreen_core.checkpoint import SculptState
+from gogreen_core.constraints import ConstraintSet
 from gogreen_core.engine_settings import (
     DEFAULT_CONSTRAINT_RADIUS,
     SETTING_GROUPS,
@@ -52,6 +54,7 @@ from gogreen_core.radial import GaussianRadial, RadialProfile
 from gogreen_core.session import (
     SESSION_FORMAT,
     SESSION_VERSION,
+    LogListener,
     Session,
     SessionLog,
     mesh_fingerprint,
@@ -62,7 +65,14 @@ from gogreen_core.stroke import StrokeDriver
 from gogreen_core.subdivision import PreparedSubdivision, prepare_subdivision
 from gogreen_core.validation import ParameterError, check_bool, check_vector, prefixed
 
-__all__ = ["MAX_REACH", "SESSION_FORMAT", "Sculptor", "mesh_fingerprint"]
+__all__ = [
+    "MAX_REACH",
+    "SESSION_FORMAT",
+    "Sculptor",
+    "capture_state",
+    "mesh_fingerprint",
+    "restore_state",
+]
 
 #: Undo label of each settings group (a continued change joins the last of these).
 _LABELS = {"material": "material", "falloff": "falloff", "constraint_radius": "constraint radius"}
@@ -488,6 +498,12 @@ class Sculptor:
             raise
 
     # -- session log -------------------------------------------------------------------------
+    def subscribe(self, listener: LogListener) -> Callable[[], None]:
+        """Call ``listener`` after each change of the operation log and each mouse event of a
+        stroke (:data:`~gogreen_core.session.LogListener`; the recovery journal). Returns the
+        function that unsubscribes it."""
+        return self._log.subscribe(listener)
+
     @property
     def operations(self) -> list[Operation]:
         """The typed operation records so far (see :mod:`gogreen_core.operations`)."""
@@ -539,3 +555,31 @@ class Sculptor:
         one fails). ``progress(done, total)`` is called after each mouse event and each other
         operation."""
         replay(self, operations, progress)
+
+
+# -- crash recovery ----------------------------------------------------------------------------
+def capture_state(sculptor: Sculptor) -> SculptState:
+    """A copy of what ``sculptor``'s next operations compute from (a checkpoint of the recovery
+    journal): vertices, settings, the pins' solver state, model size and mirror origin."""
+    pins = sculptor._pins.constraints
+    mesh = sculptor._mesh
+    return SculptState(
+        mesh.vertices.copy(),
+        sculptor.settings,
+        None if pins is None else (pins.points, pins.matrix.copy(), pins.inverse.copy()),
+        mesh.model_size,
+        mesh.origin.copy(),
+    )
+
+
+def restore_state(state: SculptState, faces: np.ndarray, **options: Any) -> Sculptor:
+    """A sculptor whose next operations give bit for bit what the one that took ``state``
+    (:func:`capture_state`) would have; its undo history and log start empty. ``options``:
+    ``history_bytes``."""
+    sculptor = Sculptor(state.vertices, faces, settings=state.settings, **options)
+    sculptor.model_size = sculptor._mesh.model_size = float(state.model_size)
+    sculptor._mesh.origin = state.origin.copy()
+    if state.pins is not None:
+        kernel = sculptor._pins.built(sculptor._kernels, np.zeros((0, 3))).kernel
+        sculptor._pins.adopt(ConstraintSet.restored(kernel, *state.pins))
+    return sculptor

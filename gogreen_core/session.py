@@ -78,11 +78,35 @@ def mesh_fingerprint(vertices: np.ndarray) -> str:
     return hashlib.sha256(np.ascontiguousarray(vertices, dtype=np.float64).tobytes()).hexdigest()
 
 
+#: ``listener(kind, item, length)`` of a :class:`SessionLog`: ``kind`` is ``"append"`` or
+#: ``"replace"`` (``item`` the operation now last), ``"truncate"`` (``item`` None) or ``"event"``
+#: (``item`` a mouse event of the stroke in progress, not yet an operation); ``length`` is the
+#: number of operations after the change.
+LogListener = Callable[[str, object, int], None]
+
+
 class SessionLog:
-    """The operations a sculptor did, in order (typed records)."""
+    """The operations a sculptor did, in order (typed records), and who listens to them (the
+    crash-recovery journal: :mod:`gogreen_core.journal`)."""
 
     def __init__(self) -> None:
         self._operations: list[Operation] = []
+        self._listeners: list[LogListener] = []
+
+    def subscribe(self, listener: LogListener) -> Callable[[], None]:
+        """Call ``listener`` after every change (see :data:`LogListener`); returns the function
+        that unsubscribes it."""
+        self._listeners.append(listener)
+        return lambda: self._listeners.remove(listener) if listener in self._listeners else None
+
+    def _notify(self, kind: str, item: object) -> None:
+        for listener in self._listeners:
+            listener(kind, item, len(self._operations))
+
+    def event(self, event: object) -> None:
+        """Tell the listeners about a mouse event of the stroke in progress (it becomes part of
+        the stroke's operation when the stroke ends)."""
+        self._notify("event", event)
 
     def __len__(self) -> int:
         return len(self._operations)
@@ -101,12 +125,16 @@ class SessionLog:
             if flag is not None and flag != operation.continued:
                 operation = type(operation)(**{**operation.__dict__, "continued": flag})
             self._operations[-1] = operation
+            self._notify("replace", operation)
         else:
             self._operations.append(operation)
+            self._notify("append", operation)
 
     def truncate(self, length: int) -> None:
         """Forget the operations after the first ``length`` (a rolled-back replay)."""
-        del self._operations[length:]
+        if length < len(self._operations):
+            del self._operations[length:]
+            self._notify("truncate", None)
 
     def to_list(self) -> list[dict]:
         return [op.to_dict() for op in self._operations]

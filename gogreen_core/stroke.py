@@ -105,6 +105,7 @@ class StrokeDriver:
         if moved.mask is None:
             stroke.touched[moved.rows] = True
         stroke.events.append(event)
+        self.log.event(event)  # the recovery journal serializes it now
         return moved.rows
 
     def _write(self, stroke: _Stroke, moved: Displacement) -> None:

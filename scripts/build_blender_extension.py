@@ -8,10 +8,10 @@ Python >= 3.11 with pip)::
 
 Each package holds ``gogreen_blender/`` (the add-on), its ``blender_manifest.toml`` with the
 ``platforms`` and ``wheels`` entries filled in, and ``wheels/``: ``gogreen_core`` built from
-this checkout (with the built-in presets) and, from the package index, numba, llvmlite, scipy
-and trimesh for that platform, for each Python that Blender versions ship (3.11: Blender 4.2 to
-5.0; 3.13: 5.1 on), resolved against the numpy that Blender bundles (so numpy itself is not
-included). Blender installs only the wheels that match its platform and Python.
+this checkout (with the built-in presets) and, from the package index, numba, llvmlite, scipy,
+trimesh and mapbox_earcut for that platform, for each Python that Blender versions ship (3.11:
+Blender 4.2 to 5.0; 3.13: 5.1 on), resolved against the numpy that Blender bundles (so numpy
+itself is not included). Blender installs only the wheels that match its platform and Python.
 
 The packages are then checked with Blender's own validator (``blender_ext.py validate`` from
 the ``bpy`` package of ``.venv-blender``, ``--blender-ext PATH``, or a ``blender`` on the
@@ -49,7 +49,7 @@ PLATFORMS = {
 #: resolved at its lowest so that the chosen scipy and numba accept it.
 PYTHONS = {"3.11": "numpy==1.26.4", "3.13": "numpy==2.2.6"}
 #: What the add-on needs besides numpy (gogreen_core's dependencies).
-REQUIREMENTS = ("numba>=0.60", "scipy>=1.15", "trimesh>=4.0")
+REQUIREMENTS = ("numba>=0.60", "scipy>=1.15", "trimesh>=4.0", "mapbox-earcut>=1.0.3")
 #: Files of the add-on folder that go into the package.
 ADDON_FILES = "*.py"
 
@@ -67,6 +67,15 @@ def version() -> str:
     if manifest != project:
         sys.exit(f"{SOURCE / MANIFEST}: version {manifest} differs from pyproject.toml's {project}")
     return project
+
+
+def core_packages() -> list[str]:
+    """The packages of ``gogreen_core`` and its presets, as pyproject.toml lists them (so that a
+    new subpackage of the core, such as ``gogreen_core.mesh_io``, is in the wheel too)."""
+    with open(ROOT / "pyproject.toml", "rb") as fh:
+        listed = tomllib.load(fh)["tool"]["setuptools"]["packages"]
+    wanted = ("gogreen_core", "gogreen_resources", "gogreen_resources.presets")
+    return [p for p in listed if p in wanted or p.startswith("gogreen_core.")]
 
 
 def pip(*args: str) -> None:
@@ -95,11 +104,11 @@ name = "gogreen-core"
 version = "{project_version}"
 description = "GoGreen Sculpt's engine: regularized Green's functions of elasticity"
 requires-python = ">=3.11"
-dependencies = ["numpy>=1.26", "scipy>=1.15", "numba>=0.60", "trimesh>=4.0"]
+dependencies = ["numpy>=1.26", "scipy>=1.15", "numba>=0.60", "trimesh>=4.0",
+                "mapbox-earcut>=1.0.3"]
 
 [tool.setuptools]
-packages = ["gogreen_core", "gogreen_core._angular", "gogreen_resources",
-            "gogreen_resources.presets"]
+packages = {core_packages()!r}
 
 [tool.setuptools.package-data]
 "gogreen_resources.presets" = ["*.json"]

@@ -5,7 +5,8 @@
 #
 # The Blender extension's tests run in a second pytest, inside .venv-blender (Python 3.11 with
 # Blender as a Python module, made by scripts/setup_blender_env.sh); when that cannot be made
-# (no Python 3.11, no package index) they are skipped with the reason.
+# (no Python 3.11, no package index) they are skipped with the reason. The mesh file tests run
+# there again: under numpy 1.26, the numpy of Blender's Python, where gogreen_core runs too.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$root/scripts/setup_env.sh"
@@ -29,10 +30,10 @@ if [ $# -eq 0 ] || [ "${GOGREEN_BLENDER_TESTS:-0}" = "1" ]; then
     blender_status=0
     bash scripts/setup_blender_env.sh || blender_status=$?
     if [ "$blender_status" -eq 0 ]; then
-        echo "[gogreen] Blender extension tests (bpy in .venv-blender)"
+        echo "[gogreen] Blender extension and mesh file tests (bpy, numpy 1.26 in .venv-blender)"
         # numba's cache of the kernels compiled with .venv-blender's numba, apart from .venv's
-        NUMBA_CACHE_DIR="$root/.venv-blender/numba-cache" \
-            .venv-blender/bin/python -m pytest -q tests/test_blender_*.py || status=$?
+        NUMBA_CACHE_DIR="$root/.venv-blender/numba-cache" .venv-blender/bin/python -m pytest -q \
+            tests/test_blender_*.py tests/test_mesh_io*.py || status=$?
     elif [ "$blender_status" -eq 3 ]; then
         echo "[gogreen] Blender extension tests SKIPPED: bpy could not be installed (see above)"
     else

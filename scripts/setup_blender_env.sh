@@ -33,7 +33,8 @@ echo "[gogreen] installing Blender as a Python module (bpy $bpy_version) into .v
 rm -rf .venv-blender
 "$python" -m venv .venv-blender
 pip=(.venv-blender/bin/python -m pip install -q)
-if ! "${pip[@]}" "bpy==$bpy_version" pytest "numba>=0.60" "scipy>=1.15" "trimesh>=4.0"; then
+if ! "${pip[@]}" "bpy==$bpy_version" pytest "numba>=0.60" "scipy>=1.15" "trimesh>=4.0" \
+    "mapbox-earcut>=1.0.3"; then
     rm -rf .venv-blender
     echo "[gogreen] could not install bpy $bpy_version from the package index"
     exit 3

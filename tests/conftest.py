@@ -185,6 +185,16 @@ def made_huge(tmp_path_factory) -> MadeMesh:
     return MadeMesh(path, vertices, faces)
 
 
+@pytest.fixture(autouse=True)
+def state_home(tmp_path_factory, monkeypatch) -> Path:
+    """Every test's ``XDG_STATE_HOME`` is a fresh temporary folder (inherited by the processes
+    it starts), so that no crash-recovery journal (each open document writes one) ever lands in
+    the user's ``~/.local/state``."""
+    folder = tmp_path_factory.mktemp("state")
+    monkeypatch.setenv("XDG_STATE_HOME", str(folder))
+    return folder
+
+
 # -- the main window (GUI tests) ---------------------------------------------------------------
 @pytest.fixture
 def app_look(qapp):

@@ -540,9 +540,11 @@ import json, bpy, numpy as np
 import addon_utils  # importable once bpy is
 # bpy as a module starts with the default preferences: enable the installed extension
 assert addon_utils.enable("bl_ext.user_default.gogreen_sculpt", default_set=True) is not None
-import gogreen_core, numba, scipy, llvmlite
+import gogreen_core, gogreen_core.mesh_io, gogreen_core.brushes, numba, scipy, llvmlite
 local = "/extensions/.local/"
-for module in (gogreen_core, numba, scipy, llvmlite):  # from the package's wheels
+for module in (gogreen_core, gogreen_core.mesh_io, gogreen_core.brushes, numba, scipy, llvmlite):
+    # from the package's wheels (a subpackage missing from the core's wheel would come from the
+    # checkout's editable install in this environment, so each one is checked)
     assert local in module.__file__, module.__file__
 bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=2)
 obj = bpy.context.active_object

@@ -23,10 +23,12 @@ def test_top_level_help_lists_each_command_on_one_line_and_how_to_get_its_help(c
     text = _help(capsys, ["--help"])
     assert "mesh file to open" in text
     lines = text.splitlines()
+    width = max(len(name) for name in COMMANDS)
     for name, summary in COMMANDS.items():
-        assert [line for line in lines if line.split()[:1] == [name]] == [f"  {name}  {summary}"]
+        wanted = [f"  {name:<{width}}  {summary}"]
+        assert [line for line in lines if line.split()[:1] == [name]] == wanted
         assert f"`gogreen {name} --help`" in text
-    assert "gogreen {deform,replay} ..." in text  # in the usage too
+    assert "gogreen {deform,replay,recover} ..." in text  # in the usage too
     assert _help(capsys, ["-h"]) == text
 
 

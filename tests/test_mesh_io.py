@@ -10,8 +10,18 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from gogreen_core import mesh_io
-from gogreen_core.mesh_io import MeshData, MeshFileError, load_mesh, save_mesh
+from gogreen_core.mesh_io import (
+    MeshData,
+    MeshFileError,
+    atomic,
+    load_mesh,
+    obj,
+    obj_fast,
+    obj_strict,
+    ply,
+    save_mesh,
+    text,
+)
 
 SHARED_MESHES = ["spot.obj", "stanford-bunny.obj", "ogre.obj"]
 MADE_MESHES = ["made_textured", "made_open_tiny", "made_huge"]  # their stand-ins (conftest.py)
@@ -114,14 +124,16 @@ def test_texture_coordinates_load_and_survive_a_round_trip(textured_obj, tmp_pat
     assert np.array_equal(again.uv_faces, mesh.uv_faces)
 
 
-def test_stl_keeps_each_triangle_corner_as_written(made_textured, tmp_path):
+def test_stl_corners_are_welded_into_the_same_closed_surface(made_textured, tmp_path):
     mesh = load_mesh(made_textured.path)
     save_mesh(mesh, tmp_path / "m.stl")
     again = load_mesh(tmp_path / "m.stl")
-    assert len(again.vertices) == 3 * len(mesh.faces)  # no welding: 3 corners per triangle
-    assert np.array_equal(again.faces, np.arange(3 * len(mesh.faces)).reshape(-1, 3))
-    corners = mesh.vertices[mesh.faces].reshape(-1, 3).astype(np.float32)  # STL is float32
-    assert np.array_equal(again.vertices, corners.astype(np.float64))
+    corners = mesh.vertices[mesh.faces].astype(np.float32)  # STL is float32
+    assert np.array_equal(again.vertices[again.faces], corners.astype(np.float64))
+    assert len(again.vertices) == len(np.unique(mesh.faces))  # one vertex per position
+    first_use = np.unique(again.faces.ravel(), return_index=True)[1]
+    assert np.all(np.diff(first_use) > 0)  # numbered in order of first appearance
+    assert edges_used_once(again.faces) == edges_used_once(mesh.faces) == 0  # closed
 
 
 # -- exact floats ------------------------------------------------------------------------------
@@ -146,7 +158,7 @@ def test_integer_rows_match_python_formatting(columns):
     table[:4] = [[0] * columns, [9] * columns, [10] * columns, [10**11] * columns]
     separators = (b"/ " * columns)[: columns - 1] + b"\n"
     out = io.BytesIO()
-    mesh_io._write_int_rows(out, b"f ", table, separators)
+    text.write_int_rows(out, b"f ", table, separators)
     fmt = "f " + "".join(f"%d{chr(c)}" for c in separators)
     assert out.getvalue() == ((fmt * len(table)) % tuple(table.ravel().tolist())).encode()
 
@@ -156,12 +168,12 @@ def test_obj_polygons_corner_forms_negative_indices_and_comments(tmp_path):
     path = write(
         tmp_path / "forms.obj",
         "# a comment\n"
-        "v 0 0 0\nv 1 0 0  # trailing comment\nv 1 1 0\nv 0 1 0\nv 0.5 1.5 0 1.0\n"
+        "v 0 0 0\nv 1 0 0  # trailing comment\nv 1 1 0\nv 0 1 0\nv -0.5 0.5 0 1.0\n"
         "vn 0 0 1\n"
         "g group\nusemtl m\ns off\n\n"
         "f 1//1 2//1 3//1 4//1\n"  # quad with normals only
         "f -2 -3 -1\n"  # relative indices
-        "f 1 2 3 4 5\n",  # pentagon
+        "f 1 2 3 4 5\n",  # convex pentagon: fanned from its first corner
     )
     mesh = load_mesh(path)
     assert mesh.faces.tolist() == [[0, 1, 2], [0, 2, 3], [3, 2, 4], [0, 1, 2], [0, 2, 3], [0, 3, 4]]
@@ -251,8 +263,8 @@ def test_ascii_stl(tmp_path):
     ]
     text = "solid t\n" + "".join(facet.format(c) for c in corners) + "endsolid t\n"
     mesh = load_mesh(write(tmp_path / "t.stl", text))
-    assert len(mesh.vertices) == 6 and mesh.faces.tolist() == [[0, 1, 2], [3, 4, 5]]
-    assert mesh.vertices[4].tolist() == [1, 1, 0]
+    assert len(mesh.vertices) == 4 and mesh.faces.tolist() == [[0, 1, 2], [1, 3, 2]]
+    assert mesh.vertices[3].tolist() == [1, 1, 0]
 
 
 # -- errors ------------------------------------------------------------------------------------
@@ -463,22 +475,22 @@ IRREGULAR_OBJ = [  # each is read by the strict reader (accepted or refused the 
 @pytest.mark.parametrize("content", REGULAR_OBJ + IRREGULAR_OBJ)
 def test_fast_obj_reader_agrees_with_the_strict_one(content):
     data = content.encode("utf-8")
-    assert outcome(mesh_io._read_obj, data) == outcome(mesh_io._read_obj_strict, data)
+    assert outcome(obj.read_obj, data) == outcome(obj_strict.read_obj_strict, data)
 
 
 @pytest.mark.parametrize("content", REGULAR_OBJ)
 def test_regular_obj_files_take_the_fast_path(content):
-    assert mesh_io._read_obj_fast(content.encode("utf-8")) is not None
+    assert obj_fast.read_obj_fast(content.encode("utf-8")) is not None
 
 
 @pytest.mark.parametrize("content", REGULAR_OBJ + IRREGULAR_OBJ)
 def test_both_ways_of_finding_the_obj_sections_agree_with_the_strict_reader(content):
     data = content.encode("utf-8").removeprefix(b"\xef\xbb\xbf").replace(b"\r\n", b"\n")
     data += b"" if data.endswith(b"\n") else b"\n"
-    strict = outcome(mesh_io._read_obj_strict, data)
-    for find in (mesh_io._obj_sections_by_blocks, mesh_io._obj_sections_by_lines):
+    strict = outcome(obj_strict.read_obj_strict, data)
+    for find in (obj_fast.sections_by_blocks, obj_fast.sections_by_lines):
         sections = find(data)
-        mesh = None if sections is None else mesh_io._obj_from_sections(sections)
+        mesh = None if sections is None else obj_fast.mesh_from_sections(sections)
         if mesh is not None:
             assert outcome(lambda *_, m=mesh: m, data) == strict
 
@@ -488,15 +500,15 @@ def test_both_ways_of_finding_the_obj_sections_agree_with_the_strict_reader(cont
 )
 def test_fast_obj_reader_leaves_every_bad_file_to_the_strict_one(name, content):
     data = content if isinstance(content, bytes) else content.encode("utf-8")
-    assert mesh_io._read_obj_fast(data) is None
-    assert outcome(mesh_io._read_obj, data, name) == outcome(mesh_io._read_obj_strict, data, name)
+    assert obj_fast.read_obj_fast(data) is None
+    assert outcome(obj.read_obj, data, name) == outcome(obj_strict.read_obj_strict, data, name)
 
 
 def test_fast_obj_reader_on_every_listed_mesh_matches_the_strict_one(listed):
     path, _ = listed
     data = path.read_bytes()
-    assert mesh_io._read_obj_fast(data) is not None
-    assert outcome(mesh_io._read_obj, data) == outcome(mesh_io._read_obj_strict, data)
+    assert obj_fast.read_obj_fast(data) is not None
+    assert outcome(obj.read_obj, data) == outcome(obj_strict.read_obj_strict, data)
 
 
 ASCII_PLY_FILES = [(n, c) for n, c, _ in BAD_FILES if n.endswith(".ply")] + [
@@ -509,13 +521,13 @@ ASCII_PLY_FILES = [(n, c) for n, c, _ in BAD_FILES if n.endswith(".ply")] + [
 def test_ascii_ply_fast_parsing_agrees_with_token_by_token(tmp_path, monkeypatch, name, content):
     path = write(tmp_path / name, content)
     data = path.read_bytes()
-    fast = outcome(mesh_io._read_ply, data, name)
+    fast = outcome(ply.read_ply, data, name)
 
     def refuse(*_args, **_kwargs):
         raise ValueError("string or file could not be read to its end")
 
-    monkeypatch.setattr(mesh_io.np, "fromstring", refuse)  # the token-by-token path
-    assert outcome(mesh_io._read_ply, data, name) == fast
+    monkeypatch.setattr(text.np, "fromstring", refuse)  # the token-by-token path
+    assert outcome(ply.read_ply, data, name) == fast
 
 
 @pytest.mark.parametrize("cut", [1, 5, 13, -1])
@@ -608,7 +620,7 @@ def test_os_error_mid_write_leaves_the_old_file(saved, monkeypatch):
         out.write(b"v 1 2 3\n" * 100)
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr(mesh_io, "_write_obj", half_then_disk_full)
+    monkeypatch.setattr(obj, "write_obj", half_then_disk_full)
     with pytest.raises(MeshFileError, match=r"good\.obj: cannot write \(No space left"):
         save_mesh(mesh, target)
     assert_untouched(target, original)
@@ -626,7 +638,7 @@ def test_any_exception_mid_write_leaves_the_old_file(saved, monkeypatch, error):
         out.write(b"partial")
         raise error
 
-    monkeypatch.setattr(mesh_io, "_write_obj", explode)
+    monkeypatch.setattr(obj, "write_obj", explode)
     with pytest.raises(type(error)):
         save_mesh(mesh, target)
     assert_untouched(target, original)
@@ -638,7 +650,7 @@ def test_failed_rename_leaves_the_old_file(saved, monkeypatch):
     def refuse(*_args):
         raise PermissionError(13, "Permission denied")
 
-    monkeypatch.setattr(mesh_io.os, "replace", refuse)
+    monkeypatch.setattr(atomic.os, "replace", refuse)
     with pytest.raises(MeshFileError, match="Permission denied"):
         save_mesh(mesh, target)
     assert_untouched(target, original)
@@ -678,7 +690,7 @@ def test_write_bytes_atomic_replaces_keeps_permissions_and_names_failures(tmp_pa
     target = tmp_path / "shot.png"
     target.write_bytes(b"old picture, longer than the new one")
     target.chmod(0o640)
-    mesh_io.write_bytes_atomic(target, b"\x89PNG new")
+    atomic.write_bytes_atomic(target, b"\x89PNG new")
     assert target.read_bytes() == b"\x89PNG new"
     assert target.stat().st_mode & 0o777 == 0o640
     assert [p.name for p in tmp_path.iterdir()] == ["shot.png"]  # no temporary file left
@@ -686,14 +698,14 @@ def test_write_bytes_atomic_replaces_keeps_permissions_and_names_failures(tmp_pa
     def refuse(*_args):
         raise PermissionError(13, "Permission denied")
 
-    monkeypatch.setattr(mesh_io.os, "replace", refuse)
+    monkeypatch.setattr(atomic.os, "replace", refuse)
     with pytest.raises(MeshFileError, match=r"shot\.png: cannot write \(Permission denied"):
-        mesh_io.write_bytes_atomic(target, b"lost")
+        atomic.write_bytes_atomic(target, b"lost")
     assert target.read_bytes() == b"\x89PNG new"
     assert [p.name for p in tmp_path.iterdir()] == ["shot.png"]
     monkeypatch.undo()
     with pytest.raises(MeshFileError, match="does not exist"):
-        mesh_io.write_bytes_atomic(tmp_path / "nowhere" / "shot.png", b"x")
+        atomic.write_bytes_atomic(tmp_path / "nowhere" / "shot.png", b"x")
 
 
 def test_uppercase_extensions(tmp_path):

@@ -88,7 +88,7 @@ def test_a_failed_save_keeps_the_old_file(tmp_path, monkeypatch):
     def broken(*args, **kwargs):
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr("gogreen_core.mesh_io.os.replace", broken)
+    monkeypatch.setattr("gogreen_core.mesh_io.atomic.os.replace", broken)
     with pytest.raises(ValueError, match=r"p\.json"):
         save_preset(builtin_presets()[1], path)
     assert path.read_bytes() == before

@@ -1,0 +1,231 @@
+"""Polygons to triangles by their shape, and the index check that names the polygon at fault.
+
+Polygons are given as consecutive corners with their sizes (the way files list them) and come
+back as triangles of *corner positions*, so that a caller maps vertex and texture indices
+through the same triangles. A polygon whose fan from its first corner (``0, j, j+1``) covers it
+exactly (every fan triangle on the polygon's side of its best-fit plane: triangles, convex
+polygons, and many concave ones) keeps that fan, as the file order has it. The others (a
+concave n-gon, where the fan would cover the notch) are triangulated on their best-fit plane:
+by the fan from another corner when one covers the polygon, else by ear clipping
+(``mapbox_earcut``). Each polygon of k corners always gives k-2 triangles that use each of its
+corners and edges, so neighbouring faces stay connected, and the polygon's area is kept.
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Callable
+
+import mapbox_earcut
+import numba
+import numpy as np
+
+from gogreen_core.mesh_io.data import MeshFileError
+
+__all__ = ["check_corner_indices", "concatenated_ranges", "triangulate"]
+
+#: A fan triangle whose turn against the polygon's normal is below -this (the sine of the
+#: angle between the triangle's and the polygon's sides) folds over: the polygon is concave
+#: there. The tolerance lets nearly straight corners (three points in a row) keep the fan.
+_FOLD_TOLERANCE = 1e-9
+#: Polygons of up to this many corners try the fan from each of their corners (k² work each)
+#: before ear clipping.
+_MAX_FAN_STARTS = 32
+
+
+def concatenated_ranges(starts: np.ndarray, counts: np.ndarray) -> np.ndarray:
+    """The ranges ``starts[i] : starts[i] + counts[i]`` (int64), concatenated."""
+    return np.repeat(starts - _starts(counts), counts) + np.arange(int(counts.sum()))
+
+
+def check_corner_indices(
+    corners: np.ndarray, sizes: np.ndarray, n_vertices: int, where: Callable[[int], str]
+) -> None:
+    """Raise MeshFileError for the first corner (in file order) whose vertex index is not in
+    [0, n_vertices); ``where(polygon)`` starts the message (the file, and its line if known)."""
+    outside = (corners < 0) | (corners >= n_vertices)
+    if outside.any():
+        corner = int(np.argmax(outside))
+        polygon = int(np.searchsorted(np.cumsum(sizes), corner, side="right"))
+        raise MeshFileError(
+            f"{where(polygon)}: face {polygon} references vertex {int(corners[corner])} "
+            f"but the file has {n_vertices} vertices"
+        )
+
+
+def triangulate(points: np.ndarray, corners: np.ndarray, sizes: np.ndarray) -> np.ndarray:
+    """Triangles of polygons by their shape (see the module's description).
+
+    Parameters
+    ----------
+    points : (N, 3) float64
+        Vertex positions.
+    corners : (C,) int
+        Vertex index of each corner (all in [0, N)), polygon after polygon.
+    sizes : (P,) int
+        Corners of each polygon (≥ 3), summing to C.
+
+    Returns
+    -------
+    (T, 3) int64
+        Positions in ``corners`` of each triangle's corners, T = Σ(k-2), polygon after polygon.
+    """
+    sizes = np.ascontiguousarray(sizes, dtype=np.int64)
+    if len(sizes) == 0 or sizes.max() == 3:
+        return np.arange(3 * len(sizes), dtype=np.int64).reshape(-1, 3)
+    corners = np.ascontiguousarray(corners, dtype=np.int64)
+    points = np.ascontiguousarray(points, dtype=np.float64)
+    triangles: np.ndarray
+    triangles, uncovered = _fans(points, corners, sizes, _FOLD_TOLERANCE, _MAX_FAN_STARTS)
+    if uncovered.any():
+        _ear_clip_all(points, corners, sizes, triangles, np.flatnonzero(uncovered))
+    return triangles
+
+
+def _starts(sizes: np.ndarray) -> np.ndarray:
+    """Offset of each run of ``sizes`` items in their concatenation."""
+    return np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int64)
+
+
+@numba.njit(cache=True, nogil=True)
+def _fans(
+    points: np.ndarray, corners: np.ndarray, sizes: np.ndarray, tolerance: float, max_starts: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """Fan triangles of each polygon (T, 3) (positions in ``corners``): from its first corner
+    when that fan covers it, else from the first other corner whose fan does (polygons of up to
+    ``max_starts`` corners); and which polygons no fan covers (P,), for ear clipping."""
+    n_triangles = 0
+    for p in range(len(sizes)):
+        n_triangles += sizes[p] - 2
+    triangles = np.empty((n_triangles, 3), dtype=np.int64)
+    uncovered = np.zeros(len(sizes), dtype=np.bool_)
+    c = 0
+    t = 0
+    for p in range(len(sizes)):
+        k = sizes[p]
+        for j in range(k - 2):
+            triangles[t + j, 0] = c
+            triangles[t + j, 1] = c + j + 1
+            triangles[t + j, 2] = c + j + 2
+        if k > 3:
+            # The Newell normal: the sum of the cross products of any fan's triangles.
+            nx = ny = nz = 0.0
+            o = corners[c]
+            for j in range(1, k - 1):
+                ax, ay, az = _edge(points, o, corners[c + j])
+                bx, by, bz = _edge(points, o, corners[c + j + 1])
+                nx += ay * bz - az * by
+                ny += az * bx - ax * bz
+                nz += ax * by - ay * bx
+            length = np.sqrt(nx * nx + ny * ny + nz * nz)
+            covered = False
+            for start in range(k if k <= max_starts else 1):
+                if _fan_covers(points, corners, c, k, start, nx, ny, nz, length, tolerance):
+                    for j in range(k - 2):
+                        triangles[t + j, 0] = c + start
+                        triangles[t + j, 1] = c + (start + j + 1) % k
+                        triangles[t + j, 2] = c + (start + j + 2) % k
+                    covered = True
+                    break
+            uncovered[p] = not covered
+        c += k
+        t += k - 2
+    return triangles, uncovered
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _edge(points: np.ndarray, a: int, b: int) -> tuple[float, float, float]:
+    return points[b, 0] - points[a, 0], points[b, 1] - points[a, 1], points[b, 2] - points[a, 2]
+
+
+@numba.njit(cache=True, nogil=True)
+def _fan_covers(
+    points: np.ndarray,
+    corners: np.ndarray,
+    c: int,
+    k: int,
+    start: int,
+    nx: float,
+    ny: float,
+    nz: float,
+    length: float,
+    tolerance: float,
+) -> bool:
+    """Whether every triangle of the fan from corner ``start`` of the polygon at ``c`` turns
+    with the normal (within ``tolerance``: the sine of its angle against the plane)."""
+    o = corners[c + start]
+    for j in range(1, k - 1):
+        ax, ay, az = _edge(points, o, corners[c + (start + j) % k])
+        bx, by, bz = _edge(points, o, corners[c + (start + j + 1) % k])
+        side = (ay * bz - az * by) * nx + (az * bx - ax * bz) * ny + (ax * by - ay * bx) * nz
+        scale = np.sqrt((ax * ax + ay * ay + az * az) * (bx * bx + by * by + bz * bz))
+        if side < -tolerance * scale * length:
+            return False
+    return True
+
+
+def _ear_clip_all(
+    points: np.ndarray,
+    corners: np.ndarray,
+    sizes: np.ndarray,
+    triangles: np.ndarray,
+    polygons: np.ndarray,
+) -> None:
+    """Replace, in ``triangles``, the fans of ``polygons`` (which no fan covers) by ear
+    clipping; a polygon it fails on (degenerate, twisted) keeps its fan."""
+    corner_starts, triangle_starts = _starts(sizes), _starts(sizes - 2)
+    for p in polygons.tolist():
+        k = int(sizes[p])
+        positions = points[corners[corner_starts[p] : corner_starts[p] + k]]
+        clipped = _ear_clip(positions)
+        if clipped is not None:
+            triangles[triangle_starts[p] : triangle_starts[p] + k - 2] = corner_starts[p] + clipped
+
+
+def _ear_clip(positions: np.ndarray) -> np.ndarray | None:
+    """Triangles (k-2, 3) of corner numbers covering one polygon (k, 3), by ear clipping on its
+    best-fit plane; None when that fails (a twisted polygon)."""
+    k = len(positions)
+    edges = positions[1:] - positions[0]
+    normal = np.cross(edges[:-1], edges[1:]).sum(axis=0)  # Newell's
+    length = np.linalg.norm(normal)
+    if not length > 0:
+        return None
+    w = normal / length
+    u = np.cross(w, [1.0, 0.0, 0.0] if abs(w[0]) < 0.9 else [0.0, 1.0, 0.0])
+    u /= np.linalg.norm(u)
+    v = np.cross(w, u)  # (u, v, w) right-handed: the polygon runs counter-clockwise in (u, v)
+    flat = np.ascontiguousarray((positions - positions[0]) @ np.stack([u, v], axis=1))
+    found = mapbox_earcut.triangulate_float64(flat, np.array([k], dtype=np.uint32))
+    tri = np.asarray(found, dtype=np.int64).reshape(-1, 3)
+    if len(tri) == 0:
+        return None
+    a, b = flat[tri[:, 1]] - flat[tri[:, 0]], flat[tri[:, 2]] - flat[tri[:, 0]]
+    area = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+    if area.sum() < 0:
+        tri = tri[:, ::-1]
+    whole = tri if len(tri) == k - 2 else _put_back_dropped_corners(tri, k)
+    if whole is None or len(whole) != k - 2 or len(np.unique(whole)) != k:
+        return None
+    return whole
+
+
+def _put_back_dropped_corners(tri: np.ndarray, k: int) -> np.ndarray | None:
+    """Ear clipping drops corners that lie on a straight line between their neighbours (or
+    repeat one); a neighbouring face may still use such a corner, so split the triangle on the
+    edge that skips them into a fan through them. None when no such triangle is found."""
+    kept = np.flatnonzero(np.isin(np.arange(k), tri))
+    rows = [list(t) for t in tri.tolist()]
+    for a, b in zip(kept.tolist(), np.roll(kept, -1).tolist(), strict=True):
+        dropped = [(a + i) % k for i in range(1, (b - a) % k)]
+        if not dropped:
+            continue
+        for r, t in enumerate(rows):
+            if (a, b) in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0])):
+                c = t[(t.index(b) + 1) % 3]
+                chain = [a, *dropped, b]
+                rows[r : r + 1] = [[p, q, c] for p, q in itertools.pairwise(chain)]
+                break
+        else:
+            return None
+    return np.array(rows, dtype=np.int64)

@@ -1,0 +1,131 @@
+"""Vertices that a file split only for its format, joined back (and split again to save).
+
+STL lists three corners per triangle, and Blender's PLY exporter writes one vertex per distinct
+(vertex, UV) pair, so a UV seam or an STL triangle soup loads as pieces that a brush would tear
+apart. :func:`weld` joins vertices at exactly the same position (bit for bit, as the exporter
+wrote the same float twice); the welded vertices keep the order of their first appearance, so
+a file without splits keeps its vertex order. It is an open-addressing hash table in numba
+code: one pass, where sorting the positions would take several times longer.
+:func:`split_at_seams` does the opposite for a format with one texture coordinate per vertex.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+__all__ = ["split_at_seams", "weld"]
+
+
+def weld(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Join vertices at the same position (bit for bit, -0.0 as 0.0).
+
+    Parameters
+    ----------
+    points : (N, 3) float32 or float64
+        Positions as the file has them (float32 ones are compared as float32).
+
+    Returns
+    -------
+    index : (N,) int64
+        The welded vertex of each file vertex.
+    kept : (W,) int64
+        The file vertex that each welded vertex comes from (its first appearance), increasing.
+    """
+    if len(points) >= 2**31:
+        raise ValueError(f"too many vertices to weld ({len(points)})")
+    first = _first_equal_rows(_bits(points))
+    new = first == np.arange(len(points))
+    return (np.cumsum(new) - 1)[first], np.flatnonzero(new)
+
+
+def split_at_seams(
+    faces: np.ndarray, uv: np.ndarray, uv_faces: np.ndarray, n_vertices: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """One texture coordinate per vertex, for a format that has no per-corner ones (PLY).
+
+    A vertex keeps its number and the texture coordinate of its first textured corner; each
+    other (vertex, texture coordinate) pair of its corners becomes a new vertex after the
+    ``n_vertices`` originals, in order of first appearance. Corners without one (rows of -1
+    in ``uv_faces``) use the vertex's own. Loading the file welds them back (:func:`weld`) in
+    the same order.
+
+    Returns
+    -------
+    source : (V,) int64
+        The vertex each written vertex is a copy of (``arange(n_vertices)`` first).
+    vertex_uv : (V, 2) float64
+        Its texture coordinate ((0, 0) for a vertex without a textured corner).
+    written_faces : (M, 3) int64
+        The faces on the written vertices.
+    """
+    corner_vertex = faces.ravel()
+    corner_uv = uv_faces.ravel()
+    textured = np.flatnonzero(corner_uv >= 0)
+    vertex_uv = np.zeros((n_vertices, 2))
+    vertices, first_corner = np.unique(corner_vertex[textured], return_index=True)
+    vertex_uv[vertices] = uv[corner_uv[textured[first_corner]]]
+    value = uv[corner_uv[textured]]
+    own = vertex_uv[corner_vertex[textured]]
+    other = textured[(_bits(value) != _bits(own)).any(axis=1)]
+    written = corner_vertex.copy()
+    if len(other):
+        keys = np.concatenate(
+            [corner_vertex[other, None].astype(np.uint64), _bits(uv[corner_uv[other]])], axis=1
+        )
+        first = _first_equal_rows(keys)
+        new = first == np.arange(len(first))
+        number = np.cumsum(new) - 1
+        written[other] = n_vertices + number[first]
+        extra = other[new]
+        source = np.concatenate([np.arange(n_vertices), corner_vertex[extra]])
+        vertex_uv = np.concatenate([vertex_uv, uv[corner_uv[extra]]])
+    else:
+        source = np.arange(n_vertices)
+    return source, vertex_uv, written.reshape(faces.shape)
+
+
+def _bits(values: np.ndarray) -> np.ndarray:
+    """(N, A) float values as the bits of their float32 (uint32) or else float64 (uint64)
+    value, -0.0 counted as 0.0: equal keys for equal values."""
+    if values.dtype == np.float32:
+        return np.ascontiguousarray(values + np.float32(0.0)).view(np.uint32)
+    return np.ascontiguousarray(np.asarray(values, dtype=np.float64) + 0.0).view(np.uint64)
+
+
+@numba.njit(cache=True, nogil=True)
+def _first_equal_rows(keys: np.ndarray) -> np.ndarray:
+    """For each row of ``keys`` (N, W) unsigned ints, the first row equal to it (N,) int64: one
+    pass through an open-addressing hash table. It has 2N slots or more, so that probe chains
+    stay short even when every row is distinct (a growing table measured 1.4x slower)."""
+    n = keys.shape[0]
+    size = 16
+    while size < 2 * n:
+        size *= 2
+    mask = np.uint64(size - 1)
+    table = np.full(size, -1, dtype=np.int32)  # int32: half the memory to miss in the cache
+    first = np.empty(n, dtype=np.int64)
+    for i in range(n):
+        h = np.uint64(0x9E3779B97F4A7C15)
+        for j in range(keys.shape[1]):  # a splitmix64-style mix of each word
+            h ^= np.uint64(keys[i, j]) + np.uint64(0x9E3779B97F4A7C15) + (h << np.uint64(6))
+            h ^= h >> np.uint64(31)
+            h *= np.uint64(0xBF58476D1CE4E5B9)
+            h ^= h >> np.uint64(29)
+        slot = h & mask
+        while True:
+            row = table[slot]
+            if row < 0:
+                table[slot] = i
+                first[i] = i
+                break
+            same = True
+            for j in range(keys.shape[1]):
+                if keys[row, j] != keys[i, j]:
+                    same = False
+                    break
+            if same:
+                first[i] = row
+                break
+            slot = (slot + np.uint64(1)) & mask
+    return first
