@@ -91,6 +91,13 @@ class Pins:
         everything else about the settings change has succeeded."""
         return None if self.constraints is None else self.built(kernels)
 
+    def follow(self, kernels: KernelCache) -> KernelCache:
+        """Rebuild the pins for new settings' ``kernels`` and keep them; returns ``kernels``,
+        for the sculptor to compute with from now on. A failure (pins the new radius cannot
+        separate, an inadmissible falloff) raises before anything changed."""
+        self.adopt(self.rebuilt(kernels))
+        return kernels
+
     def adopt(self, constraints: ConstraintSet | None) -> None:
         self.constraints = constraints
 

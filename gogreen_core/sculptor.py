@@ -235,14 +235,6 @@ class Sculptor:
         return self._strokes.active
 
     # -- settings ----------------------------------------------------------------------------
-    def _commit(self, settings: EngineSettings) -> None:
-        """Compute with ``settings`` from now on: kernels and pins are rebuilt first, so a
-        failure (an inadmissible falloff, pins the new radius cannot separate) changes nothing."""
-        kernels = KernelCache(settings, self._kernels)
-        pins = self._pins.rebuilt(kernels)
-        self._kernels = kernels
-        self._pins.adopt(pins)
-
     def apply_settings(self, settings: EngineSettings, *, continued: bool = False) -> None:
         """Compute with ``settings`` from now on: for each group of fields that differs, its
         setter (:meth:`set_material`; :meth:`set_falloff` with l_max and weights;
@@ -291,7 +283,7 @@ class Sculptor:
         self._strokes.refuse(f"change the {label}")
         if after == before and not (continued or replaying):
             return  # nothing to do, nothing to undo
-        self._commit(after)
+        self._kernels = self._pins.follow(KernelCache(after, self._kernels))
         if not self._settings_undoable:  # a version-1 session: settings were no undo steps
             self._log.record(_record(after, group[0], continued), replace_last=True)
             return
@@ -469,7 +461,7 @@ class Sculptor:
         if label is not None:
             state = self.history.restored_state
             if isinstance(state, EngineSettings):
-                self._commit(state)
+                self._kernels = self._pins.follow(KernelCache(state, self._kernels))
             elif isinstance(state, MaskRows):
                 self._mesh.set_mask_rows(state)
             elif isinstance(state, MeshSnapshot):
