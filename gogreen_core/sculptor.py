@@ -550,25 +550,46 @@ class Sculptor:
 
 
 # -- crash recovery ----------------------------------------------------------------------------
-def capture_state(sculptor: Sculptor) -> SculptState:
+def capture_state(sculptor: Sculptor, faces: np.ndarray | None = None) -> SculptState:
     """A copy of what ``sculptor``'s next operations compute from (a checkpoint of the recovery
-    journal): vertices, settings, the pins' solver state, model size and mirror origin."""
+    journal): vertices, settings, the pins' solver state, the mask (None when nothing is
+    masked), model size and mirror origin; its faces and UVs unless they are the array
+    ``faces`` (the journal's start's: a checkpoint then needs not hold them). The engine never
+    edits a face array in place (a subdivision makes new ones), so they are held, not copied."""
     pins = sculptor._pins.constraints
     mesh = sculptor._mesh
+    topology = mesh.faces is not faces
     return SculptState(
         mesh.vertices.copy(),
         sculptor.settings,
         None if pins is None else (pins.points, pins.matrix.copy(), pins.inverse.copy()),
         mesh.model_size,
         mesh.origin.copy(),
+        mesh.mask.copy() if mesh.masked else None,
+        mesh.faces if topology else None,
+        mesh.uv if topology else None,
+        mesh.uv_faces if topology else None,
     )
 
 
-def restore_state(state: SculptState, faces: np.ndarray, **options: Any) -> Sculptor:
+def restore_state(
+    state: SculptState,
+    faces: np.ndarray,
+    uv: np.ndarray | None = None,
+    uv_faces: np.ndarray | None = None,
+    **options: Any,
+) -> Sculptor:
     """A sculptor whose next operations give bit for bit what the one that took ``state``
-    (:func:`capture_state`) would have; its undo history and log start empty. ``options``:
-    ``history_bytes``."""
-    sculptor = Sculptor(state.vertices, faces, settings=state.settings, **options)
+    (:func:`capture_state`) would have; its undo history and log start empty. ``faces`` (and
+    ``uv``, ``uv_faces``): the journal start's, for a state that does not hold its own.
+    ``options``: ``history_bytes``."""
+    if state.faces is not None:
+        faces, uv, uv_faces = state.faces, state.uv, state.uv_faces
+    sculptor = Sculptor(
+        state.vertices, faces, uv=uv, uv_faces=uv_faces, settings=state.settings, **options
+    )
+    if state.mask is not None:
+        sculptor._mesh.set_mask_rows(MaskRows(np.arange(len(state.mask)), state.mask))
     sculptor.model_size = sculptor._mesh.model_size = float(state.model_size)
     sculptor._mesh.origin = state.origin.copy()
     if state.pins is not None:
