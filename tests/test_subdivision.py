@@ -195,3 +195,26 @@ def test_the_mesh_property_is_a_copy():
     assert isinstance(MeshData(snapshot.vertices, snapshot.faces).faces, np.ndarray)
     with pytest.raises(ValueError, match="uv_faces"):
         Sculptor(vertices, faces, uv=vertices[:, :2], uv_faces=faces[:3])
+
+
+def test_gogreen_replay_writes_the_subdivided_mesh_with_its_uvs(made_textured, tmp_path):
+    from gogreen_core.batch import main
+
+    mesh = load_mesh(made_textured.path)
+    sculptor = Sculptor(mesh.vertices, mesh.faces, uv=mesh.uv, uv_faces=mesh.uv_faces)
+    sculptor.subdivide()
+    top = mesh.vertices[int(np.argmax(mesh.vertices[:, 2]))]
+    sculptor.apply_brush(Brush("smooth", radius=0.1), [BrushEvent(top, amount=1.0)])
+    session = tmp_path / "session.json"
+    session.write_text(json.dumps(sculptor.session()))
+    out = tmp_path / "out.obj"
+    assert main(["replay", str(session), str(made_textured.path), "-o", str(out), "-q"]) == 0
+    written = load_mesh(out)
+    assert len(written.faces) == len(sculptor.faces) and written.uv is not None
+    np.testing.assert_allclose(written.vertices, sculptor.vertices, atol=1e-6)
+    # a smooth stroke from the command line takes the pressure per event
+    smoothed = tmp_path / "smoothed.obj"
+    args = ["deform", str(made_textured.path), "-o", str(smoothed), "--brush", "smooth"]
+    args += ["--center", *map(str, top), "--amount", "1", "--events", "3", "-q"]
+    assert main(args) == 0
+    assert not np.array_equal(load_mesh(smoothed).vertices, mesh.vertices)
