@@ -218,3 +218,22 @@ def test_gogreen_replay_writes_the_subdivided_mesh_with_its_uvs(made_textured, t
     args += ["--center", *map(str, top), "--amount", "1", "--events", "3", "-q"]
     assert main(args) == 0
     assert not np.array_equal(load_mesh(smoothed).vertices, mesh.vertices)
+
+
+def test_pins_hold_across_a_subdivision_and_its_undo():
+    """Pins are points in space, not vertex numbers: they drag the finer mesh, and undo of
+    the subdivision gives back the mesh they dragged before."""
+    vertices, faces = icosphere(3)
+    sculptor = Sculptor(vertices, faces)
+    top = vertices[int(np.argmax(vertices[:, 2]))]
+    pin = sculptor.add_constraint(top)
+    sculptor.add_constraint(-top)
+    sculptor.drag_constraint(pin, np.array([0.0, 0.0, 0.05]))
+    dragged = sculptor.vertices.copy()
+    sculptor.subdivide()
+    u = sculptor.drag_constraint(pin, np.array([0.0, 0.05, 0.0]))
+    assert u.shape == (len(sculptor.vertices), 3) and np.any(u)
+    np.testing.assert_allclose(sculptor.constraint_points[pin], top + np.array([0.0, 0.05, 0.05]))
+    assert sculptor.undo() == "constraint drag" and sculptor.undo() == "subdivide"
+    assert np.array_equal(sculptor.vertices, dragged)
+    np.testing.assert_allclose(sculptor.constraint_points[pin], top + np.array([0.0, 0.0, 0.05]))
