@@ -19,7 +19,7 @@ from gogreen_core.limits import MAX_REACH
 from gogreen_core.topology import MeshEdges, VertexNeighbours, mesh_edges, vertex_neighbours
 from gogreen_core.validation import ParameterError, check_vector, vector_norm
 
-__all__ = ["MaskRows", "MeshSnapshot", "MeshState", "check_mesh", "check_uv"]
+__all__ = ["MaskRows", "MeshSnapshot", "MeshState", "check_mesh", "check_uv", "compact_faces"]
 
 
 def check_mesh(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -69,7 +69,7 @@ class MaskRows(NamedTuple):
         return int(self.rows.nbytes + self.values.nbytes)
 
 
-def _compact(faces: np.ndarray) -> np.ndarray:
+def compact_faces(faces: np.ndarray) -> np.ndarray:
     """Faces as int32 when the vertex count allows (half the memory of a kept snapshot)."""
     return faces.astype(np.int32) if len(faces) and faces.max() < 2**31 else faces.copy()
 
@@ -159,10 +159,10 @@ class MeshState:
         """Copies of the arrays (a subdivision's undo step, a replay's rollback)."""
         return MeshSnapshot(
             self.vertices.copy(),
-            _compact(self.faces),
+            compact_faces(self.faces),
             self.mask.copy(),
             None if self.uv is None else self.uv.copy(),
-            None if self.uv_faces is None else _compact(self.uv_faces),
+            None if self.uv_faces is None else compact_faces(self.uv_faces),
         )
 
     def adopt(self, mesh: MeshSnapshot) -> None:

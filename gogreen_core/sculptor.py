@@ -437,9 +437,9 @@ class Sculptor:
                 "the prepared subdivision was made from another mesh (it changed since, or "
                 "another part was asked for): subdivide again"
             )
-        mesh.adopt(prepared.result)
-        after = mesh.snapshot()
-        self.history.record("subdivide", _NO_INDEX, _NO_ROWS, _NO_ROWS, state=(before, after))
+        mesh.adopt(prepared.result)  # copies: the read-only result is the step's after-side
+        state = (before, prepared.result)
+        self.history.record("subdivide", _NO_INDEX, _NO_ROWS, _NO_ROWS, state=state)
         self._log.record(Subdivide(unmasked_only))
 
     # -- history -----------------------------------------------------------------------------

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from gogreen_core.mesh_state import MeshSnapshot
+from gogreen_core.mesh_state import MeshSnapshot, compact_faces
 from gogreen_core.topology import MeshEdges, mesh_edges
 
 __all__ = [
@@ -268,7 +268,8 @@ def prepare_subdivision(
     edges: MeshEdges | None = None,
 ) -> PreparedSubdivision:
     """Loop subdivision of a whole mesh (its arrays in ``source``), or of its unmasked faces
-    (:func:`unmasked_faces`), mask and UVs carried along."""
+    (:func:`unmasked_faces`), mask and UVs carried along. The result is read-only and compact
+    (faces as int32 where they fit): the sculptor keeps it as its undo step's after-side."""
     faces = np.asarray(source.faces, dtype=np.int64)
     uv_faces = None if source.uv_faces is None else np.asarray(source.uv_faces, dtype=np.int64)
     refine = unmasked_faces(faces, source.mask) if unmasked_only else None
@@ -283,5 +284,9 @@ def prepare_subdivision(
         progress=progress,
     )
     assert done.mask is not None
-    result = MeshSnapshot(done.vertices, done.faces, done.mask, done.uv, done.uv_faces)
-    return PreparedSubdivision(source, bool(unmasked_only), result)
+    uv_faces = None if done.uv_faces is None else compact_faces(done.uv_faces)
+    arrays = (done.vertices, compact_faces(done.faces), done.mask, done.uv, uv_faces)
+    for array in arrays:
+        if array is not None:
+            array.setflags(write=False)
+    return PreparedSubdivision(source, bool(unmasked_only), MeshSnapshot(*arrays))
