@@ -28,7 +28,8 @@ __all__ = ["PaintBrush", "cutoff_weights"]
 
 @njit(parallel=True, cache=True, nogil=True, boundscheck=False)
 def cutoff_weights(points, rows, start, step, mirrors, origin, inner, outer, out):
-    """out[k] = the brushes' quintic cutoff (1 up to ``inner``, 0 from ``outer`` on) of the
+    """out[k] = the brushes' quintic cutoff (:func:`smooth_cutoff`, compiled: a numpy pass over
+    half a million rows took 90 ms; 1 up to ``inner``, 0 from ``outer`` on) of the
     distance from points[rows[k]], or its nearest mirror image (``mirrors`` (m, 3) signs about
     ``origin``), to the segment from ``start`` to ``start + step``."""
     length2 = step[0] * step[0] + step[1] * step[1] + step[2] * step[2]

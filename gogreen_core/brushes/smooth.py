@@ -9,10 +9,12 @@ nothing is amplified, and the low frequencies that make the shape stay to second
 volume stays where plain Laplacian smoothing shrinks it. Measured on a noisy unit icosphere
 (2,562 vertices, 2 % radial noise), 100 full-weight events: volume −0.08 % with μ = −0.5,
 +2.5 % with Taubin's μ = −0.53 (whose pass band inflates the lowest frequencies), −35 % without
-the μ step. ``a`` is |strength · amount| (the pen
-pressure times the brush strength) spread over ⌈a⌉ pairs of at most full steps. Open rims relax
-along themselves (their two rim neighbours), so holes do not widen, and their corners (a turn
-over 60°) stay; a vertex on a non-manifold edge stays. Ctrl (a negative amount) smooths too.
+the μ step.
+
+``a`` is |strength · amount| (the brush strength times the pen pressure), spread over ⌈a⌉ pairs
+of at most full steps. Open rims relax along themselves (their two rim neighbours), so holes do
+not widen, and their corners (a turn over 60°) stay; a vertex on a non-manifold edge stays. Ctrl
+(a negative amount) smooths too.
 
 Each pass writes new positions from the previous ones (Jacobi order), so the result does not
 depend on the order of the rows or the number of threads: a replay gives it bit for bit.
