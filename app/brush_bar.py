@@ -9,12 +9,14 @@ shortcuts and scripts that change the model show here, and edits here reach the 
 from __future__ import annotations
 
 import math
+from functools import partial
 
 from PySide6.QtCore import Signal
 from PySide6.QtGui import QAction, QActionGroup, QKeySequence
-from PySide6.QtWidgets import QDoubleSpinBox, QLabel, QSpinBox, QToolBar, QWidget
+from PySide6.QtWidgets import QDoubleSpinBox, QLabel, QToolBar, QWidget
 
 from app.bindings import bind, bind_spin
+from app.fields import DecimalField, IntegerField
 from gogreen_core.brushes import BRUSH_KINDS, Brush
 from gogreen_core.settings import BrushSettings, PenSettings
 
@@ -25,9 +27,9 @@ BRUSH_LABELS = {
     "grab": ("Grab", "G", "Grab: the point under the cursor follows the cursor"),
     "grab_biscale": ("Bi-scale", "B", "Bi-scale grab: sharper falloff (two radii)"),
     "grab_triscale": ("Tri-scale", "T", "Tri-scale grab: sharpest falloff (three radii)"),
-    "scale": ("Scale", "S", "Scale: inflate (drag right) or deflate (drag left)"),
-    "twist": ("Twist", "W", "Twist about the view axis: drag right or left"),
-    "pinch": ("Pinch", "P", "Pinch: stretch along the drag, squeeze across"),
+    "scale": ("Scale", "S", "Scale: inflate (drag right or up) or deflate (left or down)"),
+    "twist": ("Twist", "W", "Twist about the view axis: drag right or up, left or down"),
+    "pinch": ("Pinch", "P", "Pinch: stretch along the drag (right or up), squeeze (left or down)"),
     "wrinkle": ("Wrinkle", "R", "Wrinkle: grab with reweighted SH degrees (Falloff panel)"),
     "smooth": (
         "Smooth",
@@ -79,20 +81,19 @@ class BrushBar(QToolBar):
         self.radius = self._spin(
             "Radius", 0.005, 1.0, 3, 0.01, "ε as a fraction of the model size  [ ] / Ctrl+wheel"
         )
-        bind_spin(self.settings, "radius", self.radius)
+        bind_spin(self.settings, "radius", self.radius, "Radius")
         self.strength = self._spin(
             "Strength", 0.01, 10.0, 2, 0.1, "Brush strength  { } / Shift+wheel"
         )
-        bind_spin(self.settings, "strength", self.strength)
+        bind_spin(self.settings, "strength", self.strength, "Strength")
         self.addWidget(QLabel(" Steps "))
-        self.substeps = QSpinBox()
-        self.substeps.setRange(0, 32)
+        self.substeps = IntegerField(0, 32)
         self.substeps.setSpecialValueText("auto")  # 0: adaptive, within 1e-4 of the cursor motion
         self.substeps.setToolTip(
             "RK4 steps per mouse event; auto: adaptive, within 1e-4 of the cursor motion"
         )
         self.addWidget(self.substeps)
-        bind_spin(self.settings, "substeps", self.substeps)
+        bind_spin(self.settings, "substeps", self.substeps, "Steps")
         self.influence = self._spin(
             "Influence",
             0.5,
@@ -102,7 +103,7 @@ class BrushBar(QToolBar):
             "Radius of the moved region in brush radii ε (vertices farther stay put; "
             "a smooth cutoff starts at half of it)",
         )
-        bind_spin(self.settings, "influence", self.influence)
+        bind_spin(self.settings, "influence", self.influence, "Influence")
         self.addSeparator()
 
         self.symmetry_actions: dict[str, QAction] = {}
@@ -115,7 +116,7 @@ class BrushBar(QToolBar):
                 self.settings,
                 "symmetry",
                 action,
-                lambda axes, a=axis: self.symmetry_actions[a].setChecked(a in axes),
+                partial(self._show_axis, axis),
                 action.toggled,
                 lambda _on: "".join(
                     a for a, act in self.symmetry_actions.items() if act.isChecked()
@@ -133,6 +134,9 @@ class BrushBar(QToolBar):
         emitter, callback = self.settings.events.changed, self._model_changed
         emitter.connect(callback)
         self.destroyed.connect(lambda *_: emitter.disconnect(callback))
+
+    def _show_axis(self, axis: str, axes: str) -> None:
+        self.symmetry_actions[axis].setChecked(axis in axes)
 
     def bind_pen(self, pen: PenSettings) -> None:
         """Add the pen controls bound to ``pen``: pressure → strength and pressure → radius
@@ -157,7 +161,7 @@ class BrushBar(QToolBar):
             5.0,
             "Stroke stabilizer: the brush trails the pen by this many pixels (0: off)",
         )
-        bind_spin(pen, "lazy_radius", self.lazy_radius)
+        bind_spin(pen, "lazy_radius", self.lazy_radius, "Lazy")
         self.spacing = self._spin(
             "Spacing",
             0.0,
@@ -166,15 +170,11 @@ class BrushBar(QToolBar):
             0.05,
             "Minimum brush motion between applied events, in brush radii ε (0: every event)",
         )
-        bind_spin(pen, "spacing", self.spacing)
+        bind_spin(pen, "spacing", self.spacing, "Spacing")
 
-    def _spin(self, label, low, high, decimals, step, tip) -> QDoubleSpinBox:
+    def _spin(self, label, low, high, decimals, step, tip) -> DecimalField:
         self.addWidget(QLabel(f" {label} "))
-        spin = QDoubleSpinBox()
-        spin.setRange(low, high)
-        spin.setDecimals(decimals)
-        spin.setSingleStep(step)
-        spin.setToolTip(tip)
+        spin = DecimalField(low, high, decimals, step, tip)
         self.addWidget(spin)
         return spin
 

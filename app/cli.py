@@ -51,8 +51,8 @@ def main(argv: list[str] | None = None) -> int:
     app.setApplicationName("GoGreen Sculpt")
     window = MainWindow()
     window.show()
-    if not (args.mesh and window.open_file(args.mesh)):
-        window.open_default()
+    if not (args.mesh and window.files.open_file(args.mesh)):
+        window.files.open_default()
     QTimer.singleShot(0, window.crash_recovery.offer)  # unsaved work of a crashed session
     return app.exec()
 

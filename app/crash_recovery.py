@@ -21,7 +21,7 @@ from pathlib import Path
 
 from PySide6.QtCore import QBuffer, QIODevice, QObject, Qt, QTimer
 from PySide6.QtGui import QImage
-from PySide6.QtWidgets import QLabel, QMessageBox
+from PySide6.QtWidgets import QLabel, QMessageBox, QProgressBar
 
 from app.background import BackgroundRunner, Task
 from app.document import Document
@@ -51,10 +51,11 @@ class CrashRecovery(QObject):
         self._idle_timer.timeout.connect(self.idle)
         self._thumbnail_at = (0.0, -1)  # time and journal records of the last picture
         self._runner = BackgroundRunner(self)
+        self.progress: QProgressBar
         self._runner.progress.connect(lambda _id, done: self.progress.setValue(round(100 * done)))
         self._runner.finished.connect(lambda _id, recovery: self._recovered(recovery))
         self._runner.failed.connect(lambda _id, exc: self._failed(exc))
-        self.progress = window._status_progress(
+        self.progress = window.status.add_progress(
             100, "recovering %p%", "Rebuilding the unsaved work from its crash-recovery journal"
         )
         #: Shown while the open document's work is not protected (no journal can be written).
@@ -113,7 +114,7 @@ class CrashRecovery(QObject):
         small = image.scaled(THUMBNAIL, Qt.AspectRatioMode.KeepAspectRatio, smooth)
         png = QBuffer()
         png.open(QIODevice.OpenModeFlag.WriteOnly)
-        if small.save(png, "PNG"):
+        if small.save(png, "PNG"):  # type: ignore[call-overload]  # the stub wants bytes, Qt str
             journal.write_file(THUMBNAIL_FILE, png.data().data())
 
     # -- unsaved work of earlier sessions ---------------------------------------------------
@@ -146,7 +147,7 @@ class CrashRecovery(QObject):
     def recover(self, directory: str | os.PathLike) -> int | None:
         """Rebuild the document of journal ``directory`` off the GUI thread; the window shows
         it when done. Returns the job id (None when the artist kept the current changes)."""
-        if not self.window.maybe_save():
+        if not self.window.files.maybe_save():
             return None
         name = Path(directory).name
         self.window.flash(f"Recovering the unsaved work of journal {name}…")
@@ -168,7 +169,7 @@ class CrashRecovery(QObject):
     def _recovered(self, recovery: Recovery) -> None:
         self.progress.hide()
         window = self.window
-        if not window.maybe_save():  # changes made while it was rebuilt: the artist said keep
+        if not window.files.maybe_save():  # changes made while it was rebuilt: keep them
             recovery.release()
             return
         window.set_document(Document.recovered_from(recovery))

@@ -196,10 +196,11 @@ def set_icon(target: QAction | QAbstractButton, name: str) -> None:
 def refresh_icons(root: QObject | None = None) -> int:
     """Re-make, in the current palette's colour, the icons :func:`set_icon` gave to ``root``
     and its descendants (default: every top-level widget). Returns how many were re-made."""
+    roots: list[QObject]
     if root is not None:
         roots = [root]
     elif QApplication.instance() is not None:
-        roots = QApplication.topLevelWidgets()
+        roots = list(QApplication.topLevelWidgets())
     else:
         return 0
     count = 0

@@ -1,122 +1,95 @@
-"""Background compilation of everything a stroke evaluates with, per truncation degree.
+"""The compiled brush kernels, brought in while the artist already sculpts.
 
-The angular kernels are generated and compiled per l_max on first use
-(:func:`gogreen_core.kernel.prepare_degree`), and the parallel drivers (streamlines,
-displacements) once per machine (:meth:`gogreen_core.kernel.GreenKernel.warm_up`): seconds to
-tens of seconds from an empty numba cache, milliseconds from the disk cache afterwards. The
-window asks for the current l_max at start and whenever it changes and refuses strokes of an
-l_max that is not ready yet (with a message), so no stroke ever waits on a compiler.
-
-A warm-up cannot be interrupted (a numba compilation reports no progress); cancelling one only
-drops its result (see :mod:`app.background`).
+Strokes never wait for a compiler: until the compiled code of an l_max is ready the engine runs
+the same arithmetic in NumPy, with the same results bit for bit (``gogreen_core._compiled``),
+and so do the viewport's surface index (picking, normals). The window asks for the current
+l_max at start and whenever it changes; on a new machine a child process compiles it, with the
+surface index, the mesh readers' and the paint brushes' loops (seconds to tens of seconds, once
+per machine: numba keeps them on disk), elsewhere they load from the disk cache in
+milliseconds.
+:class:`KernelWarmer` reports when the kernels are in, to say so in the status bar and stop its
+progress indicator; it runs nothing on the app's background thread, which stays free for mesh
+indexing and homogenization.
 """
 
 from __future__ import annotations
 
 import time
 
-import numpy as np
-from PySide6.QtCore import QObject, Signal
+from PySide6.QtCore import QObject, Qt, Signal
 
-from app.background import BackgroundRunner, Task
-from gogreen_core import mesh_io
-from gogreen_core.brushes import Brush, BrushEvent
-from gogreen_core.kernel import GreenKernel, prepare_degree
-from gogreen_core.material import Material
-from gogreen_core.radial import GaussianRadial, SplineRadial
-from gogreen_core.sculptor import Sculptor
-from gogreen_core.shapes import icosphere
+from gogreen_core import _compiled
 
-__all__ = ["KernelWarmer", "warm_up_degree"]
-
-
-def warm_up_degree(l_max: int, task: Task | None = None) -> float:
-    """Compile (or load from the cache) what strokes of ``l_max`` run; returns seconds.
-
-    The compiled code does not depend on the material or the falloff's values (those are
-    tables), so a fixed isotropic material and a spline Gaussian (the app's default falloff
-    type) compile all of it.
-    """
-    start = time.perf_counter()
-    mesh_io.warm_up()  # the mesh readers' compiled loops: opening a file then never compiles
-    prepare_degree(l_max)
-    if task is not None:
-        task.progress(0.3)
-    falloff = SplineRadial.from_profile(GaussianRadial(1.0), l_max)
-    GreenKernel(Material.isotropic(1.0, 0.3), l_max, falloff).warm_up()
-    if task is not None:
-        task.progress(0.6)
-    # A stroke also runs helpers outside the kernel (the active-vertex search, G(0) for the
-    # grab force, the pins' solve): one tiny stroke of each kind compiles them all.
-    vertices, faces = icosphere(1)
-    sculptor = Sculptor(vertices, faces, l_max=l_max, falloff=falloff)
-    top = vertices[int(np.argmax(vertices[:, 2]))]
-    grab = BrushEvent(center=top, delta=np.array([0.0, 0.0, 0.01]))
-    sculptor.apply_brush(Brush("grab", radius=0.3, symmetry="x"), [grab])
-    sculptor.apply_brush(Brush("wrinkle", radius=0.3), [grab])
-    twist = BrushEvent(center=top, amount=0.01, axis=np.array([0.0, 0.0, 1.0]))
-    sculptor.apply_brush(Brush("twist", radius=0.3), [twist])
-    paint = BrushEvent(center=top, delta=np.array([0.0, 0.0, 0.01]), amount=0.5)
-    sculptor.apply_brush(Brush("mask", radius=0.1), [paint])  # the blend of masked rows
-    sculptor.apply_brush(Brush("smooth", radius=0.3, symmetry="x"), [paint])
-    pin = sculptor.add_constraint(top)
-    sculptor.add_constraint(-top)
-    sculptor.drag_constraint(pin, np.array([0.0, 0.0, 0.01]))
-    return time.perf_counter() - start
+__all__ = ["KernelWarmer"]
 
 
 class KernelWarmer(QObject):
-    """Warms the kernels of each requested l_max once, on the shared background thread.
+    """Brings in the compiled kernels of each requested l_max once.
 
-    Signals
+    Signals (emitted on the GUI thread, after the call that requested them returned)
     -------
-    ready(int, float) : l_max and the seconds its warm-up took.
-    failed(int, str) : l_max and the error.
-    busy_changed(bool) : a warm-up is queued or running.
+    ready(int, float) : l_max and the seconds it took to be compiled or loaded.
+    failed(int, str) : l_max and the error (its strokes keep running in NumPy).
+    busy_changed(bool) : some requested l_max is not ready yet.
     """
 
     ready = Signal(int, float)
     failed = Signal(int, str)
     busy_changed = Signal(bool)
+    _settled = Signal(int, float, str)  # from the compiling thread (queued to the GUI thread)
 
     def __init__(self, parent: QObject | None = None):
         super().__init__(parent)
-        self._runner = BackgroundRunner(self)
-        self._runner.finished.connect(self._finished)
-        self._runner.failed.connect(self._failed)
-        self._runner.busy_changed.connect(self.busy_changed)
-        self._jobs: dict[int, int] = {}  # job id -> l_max
-        self._requested: set[int] = set()
-        self._ready: set[int] = set()
-        self._errors: dict[int, str] = {}
+        self._settled.connect(self._report, Qt.ConnectionType.QueuedConnection)
+        self._requested: dict[int, tuple] = {}  # l_max -> its compiled units
+        self._waiting: set[int] = set()
 
     def request(self, l_max: int) -> bool:
-        """Queue the warm-up of ``l_max`` unless already asked for; True if queued now."""
+        """Ask for the compiled kernels of ``l_max`` unless already asked for; True if asked
+        now. Returns at once; :attr:`ready` follows."""
         if l_max in self._requested:
             return False
-        self._requested.add(l_max)
-        job = self._runner.submit(lambda task, l=l_max: warm_up_degree(l, task))
-        self._jobs[job] = l_max
+        units = _compiled.units_for(l_max)
+        if not self._requested:  # with the kernels, in one child process on a new machine
+            _compiled.request(*units, _compiled.GEOMETRY, _compiled.MESH_IO, _compiled.BRUSHES)
+        self._requested[l_max] = units
+        self._waiting.add(l_max)
+        if len(self._waiting) == 1:
+            self.busy_changed.emit(True)
+        start = time.perf_counter()
+
+        def settled(failures: list) -> None:
+            error = "; ".join(f"{type(e).__name__}: {e}" for e in failures)
+            self._settled.emit(l_max, time.perf_counter() - start, error)
+
+        _compiled.when_ready(units, settled)
         return True
 
     def is_ready(self, l_max: int) -> bool:
-        """The warm-up of ``l_max`` ended (a failed one counts: strokes then show the error)."""
-        return l_max in self._ready or l_max in self._errors
+        """Strokes of ``l_max`` may start: always (the NumPy evaluation serves until the
+        compiled code is ready, with the same results)."""
+        return True
+
+    def compiled(self, l_max: int) -> bool:
+        """The compiled kernels of ``l_max`` are in use (or failed: NumPy serves)."""
+        return l_max in self._requested and l_max not in self._waiting
 
     @property
     def busy(self) -> bool:
-        return self._runner.busy
+        return bool(self._waiting)
 
     def wait(self, msecs: int = -1) -> bool:
-        """Block until queued warm-ups end (tests, closing the window); False on time-out."""
-        return self._runner.wait(msecs)
+        """Block until the requested kernels are compiled or loaded (tests, benchmarks);
+        False on time-out. Closing the app need not wait: a compiling child process finishes
+        on its own and leaves its work in the disk cache."""
+        units = {u for units in self._requested.values() for u in units}
+        return _compiled.wait(units, None if msecs < 0 else msecs / 1000)
 
-    def _finished(self, job: int, seconds: float) -> None:
-        l_max = self._jobs.pop(job)
-        self._ready.add(l_max)
-        self.ready.emit(l_max, seconds)
-
-    def _failed(self, job: int, exc: Exception) -> None:
-        l_max = self._jobs.pop(job)
-        self._errors[l_max] = f"{type(exc).__name__}: {exc}"
-        self.failed.emit(l_max, self._errors[l_max])
+    def _report(self, l_max: int, seconds: float, error: str) -> None:
+        self._waiting.discard(l_max)
+        if error:
+            self.failed.emit(l_max, error)
+        else:
+            self.ready.emit(l_max, seconds)
+        if not self._waiting:
+            self.busy_changed.emit(False)

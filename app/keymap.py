@@ -1,41 +1,30 @@
-"""The keymap as data, and an overlay that shows it (Help menu and ``?``).
+"""The keymap as data: one table of every key, mouse gesture and pen input.
 
 :data:`KEYMAP` is the one table of what every key, mouse gesture and pen input does, in
 Blender's sculpt-mode habits: F drags the radius and Shift+F the strength on screen, Ctrl inverts
 the brush, number keys pick brushes, ``[`` / ``]`` change the radius, Ctrl+Z undoes and
-Ctrl+Shift+Z (or Ctrl+Y) redoes, ``?`` shows this keymap; left drag sculpts, right drag orbits,
-middle drag pans, the wheel zooms. The main window takes its shortcuts from it
-(:func:`shortcuts`), so the overlay and the behaviour cannot drift apart. It is the only source
-of key behaviour: the viewport passes no key to VTK or pyvista (their default keys never act).
+Ctrl+Shift+Z (or Ctrl+Y) redoes, ``?`` shows this keymap; left drag sculpts, middle drag orbits,
+Shift+middle pans, Ctrl+middle and the wheel zoom, numpad keys pick the views. The main window
+takes its shortcuts from it (:func:`shortcuts`), so the overlay and the behaviour cannot drift
+apart. It is the only source of key behaviour: the viewport passes no key to VTK or pyvista
+(their default keys never act). A new key is one row here (and its action in the window).
 
 Each :class:`Binding` is ``(keys, action, description, group)``: ``keys`` holds alternatives,
 each either a key sequence in Qt's portable text (``"Shift+F"``, ``"Ctrl+Shift+Z"``, ``"["``) or
 a gesture: optional modifiers and one of :data:`GESTURES` (``"Ctrl+Wheel"``, ``"Left drag"``).
 
-:class:`KeymapOverlay` is a translucent widget laid over a parent (the viewport or the central
-widget) listing the table by group; Escape, ``?``, F1 or a click closes it.
+:class:`app.keymap_overlay.KeymapOverlay` draws the table over the viewport.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass
 from typing import NamedTuple
 
-from PySide6.QtCore import QEvent, QObject, QRectF, QSize, Qt, Signal
+from PySide6.QtCore import QKeyCombination, Qt
 from PySide6.QtGui import (
-    QColor,
-    QFont,
-    QFontMetricsF,
-    QKeyEvent,
     QKeySequence,
-    QMouseEvent,
-    QPainter,
-    QPaintEvent,
-    QPen,
-    QWheelEvent,
 )
-from PySide6.QtWidgets import QWidget
 
 from gogreen_core.brushes import BRUSH_KINDS
 from gogreen_core.tools import NUMBER_KEYS
@@ -47,7 +36,6 @@ __all__ = [
     "GROUPS",
     "KEYMAP",
     "Binding",
-    "KeymapOverlay",
     "binding",
     "bindings_by_group",
     "brush_action",
@@ -144,7 +132,12 @@ def _brush_bindings() -> tuple[Binding, ...]:
 
 #: The keymap: every key, mouse gesture and pen input of the application.
 KEYMAP: tuple[Binding, ...] = (
-    Binding(("Left drag",), "sculpt", "Sculpt with the brush (on the background: orbit)", "Sculpt"),
+    Binding(
+        ("Left drag",),
+        "sculpt",
+        "Sculpt (a drag begun off the model sculpts from where it reaches it)",
+        "Sculpt",
+    ),
     Binding(
         ("Ctrl+Left drag",),
         "invert",
@@ -203,10 +196,27 @@ KEYMAP: tuple[Binding, ...] = (
         "Subdivide the unmasked part",
         "Mask and mesh",
     ),
-    Binding(("Right drag",), "orbit", "Orbit the camera", "View"),
-    Binding(("Middle drag",), "pan", "Pan the camera", "View"),
+    Binding(
+        ("Middle drag", "Shift+Middle drag", "Ctrl+Middle drag"),
+        "orbit",
+        "Orbit; with Shift pan, with Ctrl zoom",
+        "View",
+    ),
     Binding(("Wheel",), "zoom", "Zoom", "View"),
-    Binding(("Home",), "reset_camera", "Frame the whole model", "View"),
+    Binding(
+        ("Right drag",),
+        "orbit_classic",
+        "Orbit, in the classic navigation (View menu)",
+        "View",
+    ),
+    Binding(("Num+1", "Ctrl+Num+1"), "view_front", "Front view (Ctrl: back)", "View"),
+    Binding(("Num+3", "Ctrl+Num+3"), "view_right", "Right view (Ctrl: left)", "View"),
+    Binding(("Num+7", "Ctrl+Num+7"), "view_top", "Top view (Ctrl: bottom)", "View"),
+    Binding(("Num+5",), "projection", "Perspective / orthographic", "View"),
+    Binding(
+        ("Num+.", "."), "frame_cursor", "Frame the model about the point under the cursor", "View"
+    ),
+    Binding(("Home",), "reset_camera", "Frame the whole model (the home view)", "View"),
     Binding(("Shift+Z",), "wireframe", "Wireframe on / off", "View"),
     Binding(("Ctrl+Z",), "undo", "Undo", "Edit"),
     Binding(("Ctrl+Shift+Z", "Ctrl+Y"), "redo", "Redo", "Edit"),
@@ -249,9 +259,36 @@ def shortcuts(action: str) -> list[QKeySequence]:
             f"action: {action!r} is a mouse or pen gesture ({', '.join(entry.keys)}), "
             "not a keyboard shortcut",
         )
-    return [
+    sequences = [
         QKeySequence.fromString(k, QKeySequence.SequenceFormat.PortableText) for k in entry.keys
     ]
+    return sequences + [s for s in map(_numlock_off, sequences) if s is not None]
+
+
+#: What a numpad key sends with NumLock off (Blender takes both alike).
+_NUMLOCK_OFF = {
+    Qt.Key.Key_1: Qt.Key.Key_End,
+    Qt.Key.Key_3: Qt.Key.Key_PageDown,
+    Qt.Key.Key_5: Qt.Key.Key_Clear,
+    Qt.Key.Key_7: Qt.Key.Key_Home,
+    Qt.Key.Key_Period: Qt.Key.Key_Delete,
+}
+
+
+def _numlock_off(sequence: QKeySequence) -> QKeySequence | None:
+    """The sequence a numpad shortcut arrives as with NumLock off, None for other keys."""
+    combination = sequence[0] if sequence.count() == 1 else None  # type: ignore[index]
+    if (
+        combination is None
+        or not combination.keyboardModifiers() & Qt.KeyboardModifier.KeypadModifier
+    ):
+        return None
+    other = _NUMLOCK_OFF.get(combination.key())
+    return (
+        None
+        if other is None
+        else QKeySequence(QKeyCombination(combination.keyboardModifiers(), other))
+    )
 
 
 def brush_action(kind: str) -> str:
@@ -291,388 +328,6 @@ def keymap_markdown(keymap: Iterable[Binding] = KEYMAP) -> str:
             description = entry.description.replace("|", r"\|")
             parts[-1] += f"\n| {keys} | {description} |"
     return "\n\n".join(parts) + "\n"
-
-
-# ---------------------------------------------------------------------------------------------
-# Overlay
-# ---------------------------------------------------------------------------------------------
-_BACKDROP = QColor(14, 16, 20, 215)
-_TEXT = QColor("#eef0f3")
-_MUTED = QColor("#a7adb6")
-_ACCENT = QColor("#7fd196")
-_KEYCAP_BORDER = QColor("#8a9099")
-_KEYCAP_FILL = QColor(255, 255, 255, 22)
-
-
-@dataclass(frozen=True)
-class _Row:
-    keys: tuple[tuple[str, ...], ...]  # display text of each alternative, by line
-    gesture: bool
-    description: str
-    height: float
-
-
-@dataclass(frozen=True)
-class _Layout:
-    point_size: float
-    key_width: float
-    description_width: float
-    columns: tuple[tuple[tuple[str, tuple[_Row, ...]], ...], ...]
-    top: float
-    left: float
-    column_width: float
-    bottom: float
-
-
-class KeymapOverlay(QWidget):
-    """Translucent keymap drawn over ``parent``, grouped in columns.
-
-    Hidden when made; :meth:`show_overlay` lays it over the whole parent (following the
-    parent's resizes) and takes the keyboard focus; Escape, ``?``, F1 or any click calls
-    :meth:`hide_overlay`, which emits :attr:`closed`. It swallows the mouse and wheel events
-    it receives so that closing it does not also sculpt or zoom the view under it.
-    """
-
-    closed = Signal()
-
-    TITLE = "Keyboard, mouse and pen"
-    HINT = "Esc or a click closes this"
-    MARGIN = 28.0
-    COLUMN_GAP = 36.0
-    KEY_GAP = 14.0
-    MAX_DESCRIPTION_WIDTH = 330.0
-    MIN_POINT_SIZE = 5.0  # a small window (640 × 420) still shows every binding
-    MIN_DESCRIPTION_CHARS = 16
-    PREFERRED_POINT_SIZE = 10.0
-    KEY_LINE_GAP = 0.2  # between lines of one row's key caps, in line heights
-
-    def __init__(self, parent: QWidget, keymap: Iterable[Binding] = KEYMAP):
-        if not isinstance(parent, QWidget):
-            raise ParameterError("parent", "parent: the overlay needs a widget to lie over")
-        super().__init__(parent)
-        self.setObjectName("keymap_overlay")
-        self._groups = bindings_by_group(keymap)
-        self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
-        self.setAttribute(Qt.WidgetAttribute.WA_NoSystemBackground)
-        self.setAutoFillBackground(False)
-        self.hide()
-        parent.installEventFilter(self)
-
-    # -- public ------------------------------------------------------------------------------
-    @property
-    def groups(self) -> dict[str, tuple[Binding, ...]]:
-        """The bindings shown, by group."""
-        return dict(self._groups)
-
-    def show_overlay(self) -> None:
-        """Lay the overlay over the whole parent, on top, with the keyboard focus."""
-        self.setGeometry(self.parentWidget().rect())
-        self.raise_()
-        self.show()
-        self.setFocus(Qt.FocusReason.OtherFocusReason)
-
-    def hide_overlay(self) -> None:
-        """Hide the overlay and emit :attr:`closed` (nothing when already hidden)."""
-        if self.isHidden():
-            return
-        self.hide()
-        self.closed.emit()
-
-    def toggle_overlay(self) -> None:
-        """Show the overlay when hidden, hide it when shown (the ``?`` key and Help menu)."""
-        if self.isHidden():
-            self.show_overlay()
-        else:
-            self.hide_overlay()
-
-    def text_lines(self) -> list[str]:
-        """The text shown, one line per group title and per binding (``keys — description``);
-        for tests and accessibility."""
-        lines = []
-        for group, entries in self._groups.items():
-            lines.append(group)
-            for entry in entries:
-                keys = " / ".join(display_keys(k) for k in entry.keys)
-                lines.append(f"{keys} — {entry.description}")
-        return lines
-
-    def sizeHint(self) -> QSize:
-        parent = self.parentWidget()
-        return parent.size() if parent is not None else QSize(900, 600)
-
-    # -- events ------------------------------------------------------------------------------
-    def eventFilter(self, watched: QObject, event: QEvent) -> bool:
-        if watched is self.parentWidget() and event.type() == QEvent.Type.Resize:
-            if self.isVisible():
-                self.setGeometry(self.parentWidget().rect())
-        return False
-
-    def keyPressEvent(self, event: QKeyEvent) -> None:
-        if event.key() in (Qt.Key.Key_Escape, Qt.Key.Key_Question, Qt.Key.Key_F1):
-            self.hide_overlay()
-            event.accept()
-            return
-        super().keyPressEvent(event)
-
-    def mousePressEvent(self, event: QMouseEvent) -> None:
-        event.accept()
-        self.hide_overlay()
-
-    def mouseReleaseEvent(self, event: QMouseEvent) -> None:
-        event.accept()
-
-    def mouseMoveEvent(self, event: QMouseEvent) -> None:
-        event.accept()
-
-    def wheelEvent(self, event: QWheelEvent) -> None:
-        event.accept()
-
-    # -- layout and painting -----------------------------------------------------------------
-    def _fonts(self, point_size: float) -> tuple[QFont, QFont, QFont]:
-        body = QFont(self.font())
-        body.setPointSizeF(point_size)
-        heading = QFont(body)
-        heading.setBold(True)
-        title = QFont(heading)
-        title.setPointSizeF(point_size * 1.45)
-        return body, heading, title
-
-    def _key_text_width(
-        self, metrics: QFontMetricsF, keys: tuple[str, ...], gesture: bool
-    ) -> float:
-        pad = metrics.height() * 0.5
-        cap = metrics.height() * 1.15
-        widths = [
-            metrics.horizontalAdvance(k)
-            if gesture
-            else max(metrics.horizontalAdvance(k) + pad, cap)
-            for k in keys
-        ]
-        return sum(widths) + metrics.horizontalAdvance(" / ") * (len(keys) - 1)
-
-    def _key_lines(
-        self, metrics: QFontMetricsF, keys: tuple[str, ...], gesture: bool, width: float
-    ) -> tuple[tuple[str, ...], ...]:
-        """The alternatives packed into lines of at most ``width`` (``"1 / G"`` on one line,
-        ``Ctrl+Shift+Z`` over ``Ctrl+Y``): one long pair does not widen the whole key column."""
-        lines: list[tuple[str, ...]] = []
-        for key in keys:
-            if lines and self._key_text_width(metrics, (*lines[-1], key), gesture) <= width:
-                lines[-1] = (*lines[-1], key)
-            else:
-                lines.append((key,))
-        return tuple(lines)
-
-    def _layout(self, width: float, height: float) -> _Layout:
-        """The largest font, then the fewest columns, at which the whole keymap fits; at the
-        smallest font, the layout with the most columns that still leaves readable lines."""
-        point_size = max(self.font().pointSizeF(), self.PREFERRED_POINT_SIZE)
-        while True:
-            candidates = [
-                layout
-                for n_columns in range(1, len(self._groups) + 1)
-                if (layout := self._try_layout(point_size, width, n_columns)) is not None
-            ]
-            for layout in candidates:
-                if layout.bottom <= height - self.MARGIN:
-                    return layout
-            if point_size <= self.MIN_POINT_SIZE:
-                if candidates:
-                    return min(candidates, key=lambda layout: layout.bottom)
-                # not even one readable column: one column as wide as the widget
-                return self._try_layout(point_size, width, 1, force=True)
-            point_size = max(self.MIN_POINT_SIZE, point_size * 0.9)
-
-    def _try_layout(
-        self, point_size: float, width: float, n_columns: int, force: bool = False
-    ) -> _Layout | None:
-        """Groups packed into ``n_columns`` columns at ``point_size``; None when the lines
-        would be too narrow to read (under :attr:`MIN_DESCRIPTION_CHARS` characters)."""
-        body, heading, title = self._fonts(point_size)
-        metrics = QFontMetricsF(body)
-        key_width = 0.0
-        widest_description = 0.0
-        for entries in self._groups.values():
-            for entry in entries:
-                for key in entry.keys:  # the widest single alternative
-                    alone = self._key_text_width(metrics, (display_keys(key),), entry.is_gesture)
-                    key_width = max(key_width, alone)
-                widest_description = max(
-                    widest_description, metrics.horizontalAdvance(entry.description)
-                )
-        available = width - 2 * self.MARGIN
-        column_width = (available - (n_columns - 1) * self.COLUMN_GAP) / n_columns
-        description_width = column_width - key_width - self.KEY_GAP
-        shortest = metrics.averageCharWidth() * self.MIN_DESCRIPTION_CHARS
-        if description_width < shortest:
-            if not force:
-                return None
-            description_width = shortest
-        description_width = min(
-            description_width,
-            widest_description + 1.0,
-            self.MAX_DESCRIPTION_WIDTH * point_size / 10.0,
-        )
-        column_width = key_width + self.KEY_GAP + description_width
-
-        blocks = []
-        row_gap = metrics.height() * 0.45
-        key_line_height = metrics.height() * (1.15 + self.KEY_LINE_GAP)
-        for group, entries in self._groups.items():
-            rows = []
-            for entry in entries:
-                bounds = metrics.boundingRect(
-                    QRectF(0, 0, description_width, 1e6),
-                    int(Qt.TextFlag.TextWordWrap),
-                    entry.description,
-                )
-                keys = tuple(display_keys(k) for k in entry.keys)
-                lines = self._key_lines(metrics, keys, entry.is_gesture, key_width)
-                text_height = max(bounds.height(), metrics.height() * 1.25)
-                keys_height = len(lines) * key_line_height
-                rows.append(
-                    _Row(
-                        keys=lines,
-                        gesture=entry.is_gesture,
-                        description=entry.description,
-                        height=max(text_height, keys_height) + row_gap,
-                    )
-                )
-            blocks.append((group, tuple(rows)))
-
-        heading_height = QFontMetricsF(heading).height() * 1.9
-        heights = [heading_height + sum(r.height for r in rows) for _g, rows in blocks]
-        target = sum(heights) / n_columns
-        columns: list[list] = [[]]
-        column_heights = [0.0]
-        for block, block_height in zip(blocks, heights, strict=True):
-            # a new column when this block would overshoot the even share by more than half
-            overshoot = column_heights[-1] + block_height / 2 > target
-            if columns[-1] and overshoot and len(columns) < n_columns:
-                columns.append([])
-                column_heights.append(0.0)
-            columns[-1].append(block)
-            column_heights[-1] += block_height
-        total_width = len(columns) * column_width + (len(columns) - 1) * self.COLUMN_GAP
-        left = max(self.MARGIN, (width - total_width) / 2)
-        top = self.MARGIN + QFontMetricsF(title).height() * 2.2
-        return _Layout(
-            point_size=point_size,
-            key_width=key_width,
-            description_width=description_width,
-            columns=tuple(tuple(c) for c in columns),
-            top=top,
-            left=left,
-            column_width=column_width,
-            bottom=top + max(column_heights),
-        )
-
-    def paintEvent(self, event: QPaintEvent) -> None:
-        painter = QPainter(self)
-        try:
-            painter.setRenderHint(QPainter.RenderHint.Antialiasing)
-            painter.setRenderHint(QPainter.RenderHint.TextAntialiasing)
-            painter.fillRect(self.rect(), _BACKDROP)
-            self._paint_keymap(painter)
-        finally:
-            painter.end()
-
-    def _paint_keymap(self, painter: QPainter) -> None:
-        layout = self._layout(self.width(), self.height())
-        body, heading, title = self._fonts(layout.point_size)
-        metrics = QFontMetricsF(body)
-        title_metrics = QFontMetricsF(title)
-        painter.setFont(title)
-        painter.setPen(_TEXT)
-        painter.drawText(
-            QRectF(0, self.MARGIN, self.width(), title_metrics.height()),
-            int(Qt.AlignmentFlag.AlignHCenter | Qt.AlignmentFlag.AlignTop),
-            self.TITLE,
-        )
-        painter.setFont(body)
-        painter.setPen(_MUTED)
-        painter.drawText(
-            QRectF(0, self.MARGIN + title_metrics.height() * 1.1, self.width(), metrics.height()),
-            int(Qt.AlignmentFlag.AlignHCenter | Qt.AlignmentFlag.AlignTop),
-            self.HINT,
-        )
-        heading_height = QFontMetricsF(heading).height() * 1.9
-        for index, column in enumerate(layout.columns):
-            x = layout.left + index * (layout.column_width + self.COLUMN_GAP)
-            y = layout.top
-            for group, rows in column:
-                painter.setFont(heading)
-                painter.setPen(_ACCENT)
-                painter.drawText(
-                    QRectF(x, y, layout.column_width, heading_height),
-                    int(Qt.AlignmentFlag.AlignLeft | Qt.AlignmentFlag.AlignVCenter),
-                    group,
-                )
-                painter.setPen(QPen(_ACCENT, 1.0))
-                painter.drawLine(
-                    x, y + heading_height - 4, x + layout.column_width, y + heading_height - 4
-                )
-                y += heading_height
-                painter.setFont(body)
-                for row in rows:
-                    self._paint_keys(painter, metrics, row, x, y, layout.key_width)
-                    painter.setPen(_TEXT)
-                    painter.drawText(
-                        QRectF(
-                            x + layout.key_width + self.KEY_GAP,
-                            y + 2,
-                            layout.description_width,
-                            row.height,
-                        ),
-                        int(Qt.AlignmentFlag.AlignLeft | Qt.TextFlag.TextWordWrap),
-                        row.description,
-                    )
-                    y += row.height
-
-    def _paint_keys(
-        self, painter: QPainter, metrics: QFontMetricsF, row: _Row, x: float, y: float, width: float
-    ) -> None:
-        """Key caps right-aligned in the key column, a line per group of alternatives
-        (gestures as plain accent text)."""
-        for line, keys in enumerate(row.keys):
-            line_y = y + line * metrics.height() * (1.15 + self.KEY_LINE_GAP)
-            total = self._key_text_width(metrics, keys, row.gesture)
-            self._paint_key_line(painter, metrics, keys, row.gesture, x + width - total, line_y)
-
-    def _paint_key_line(
-        self,
-        painter: QPainter,
-        metrics: QFontMetricsF,
-        keys: tuple[str, ...],
-        gesture: bool,
-        cursor: float,
-        y: float,
-    ) -> None:
-        pad = metrics.height() * 0.5
-        cap_height = metrics.height() * 1.15
-        separator = " / "
-        for index, key in enumerate(keys):
-            if index:
-                painter.setPen(_MUTED)
-                painter.drawText(
-                    QRectF(cursor, y, metrics.horizontalAdvance(separator), cap_height),
-                    int(Qt.AlignmentFlag.AlignCenter),
-                    separator,
-                )
-                cursor += metrics.horizontalAdvance(separator)
-            text_width = metrics.horizontalAdvance(key)
-            if gesture:
-                painter.setPen(_ACCENT)
-                box = QRectF(cursor, y, text_width, cap_height)
-            else:
-                box = QRectF(cursor, y, max(text_width + pad, cap_height), cap_height)
-                painter.setPen(QPen(_KEYCAP_BORDER, 1.0))
-                painter.setBrush(_KEYCAP_FILL)
-                painter.drawRoundedRect(box.adjusted(0.5, 0.5, -0.5, -0.5), 3, 3)
-                painter.setBrush(Qt.BrushStyle.NoBrush)
-                painter.setPen(_TEXT)
-            painter.drawText(box, int(Qt.AlignmentFlag.AlignCenter), key)
-            cursor += box.width()
 
 
 if __name__ == "__main__":  # python -m app.keymap > controls.md: the README's Controls tables

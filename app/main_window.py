@@ -1,115 +1,84 @@
 """Main window: viewport, brush bar, side panels, menus, status bar.
 
-A thin view over :class:`app.document.Document` (which owns a :class:`gogreen_core.Sculptor`)
-and one :class:`gogreen_core.settings.Settings` (brush, material, falloff, constraints) that the
-brush bar and the panels are bound to; an :class:`gogreen_core.settings.EngineLink` feeds the
-settings to the engine. Pointer events from the viewport go to the Qt-free
-:class:`gogreen_core.tools.SculptTools`; every failure is shown as a message that leaves the
-model as it was.
+The window wires menus and documents. It owns the open :class:`app.document.Document` and one
+:class:`gogreen_core.settings.Settings` (brush, material, falloff, constraints) that the brush
+bar and the panels are bound to; an :class:`gogreen_core.settings.EngineLink` feeds the
+settings to the engine. Pointer events never pass through it: the viewport hands them to the
+Qt-free :class:`gogreen_core.tools.SculptTools` and draws what they give back
+(:mod:`app.viewport`); the window hears only what it reports (a message, an error, a stroke's
+end). The File menu's work is :class:`app.files.FileActions`, the View menu's look
+:class:`app.look.ViewLook`; every failure is a message that leaves the model as it was.
 """
 
 from __future__ import annotations
 
-import json
-from pathlib import Path
+from collections.abc import Callable
+from functools import partial
 
-import numpy as np
-import pyvista as pv
-from PySide6.QtCore import QBuffer, QIODevice, QSettings, Qt, QTimer
-from PySide6.QtGui import QAction, QActionGroup, QCloseEvent, QImage, QKeySequence
+from PySide6.QtCore import QPoint, QSettings, QSize, Qt
+from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
 from PySide6.QtWidgets import (
     QApplication,
     QDockWidget,
-    QFileDialog,
-    QLabel,
     QMainWindow,
+    QMenu,
     QMessageBox,
-    QProgressBar,
-    QPushButton,
     QTabWidget,
     QToolBar,
 )
 
+from app.bindings import panel_words, refresh
 from app.brush_bar import BrushBar
 from app.crash_recovery import CrashRecovery
-from app.document import SAVE_FORMATS, Document
+from app.document import Document
+from app.files import FileActions
 from app.icons import set_icon
 from app.kernel_warmup import KernelWarmer
 from app.keyboard import FocusKeys
-from app.keymap import KeymapOverlay, binding, brush_action, display_keys, shortcuts
+from app.keymap import binding, brush_action, display_keys, shortcuts
+from app.keymap_overlay import KeymapOverlay
+from app.look import SHADINGS, ViewLook, stored_theme
 from app.mesh_edits import MeshEdits
+from app.navigation import OPPOSITE_VIEWS, VIEW_TITLES, NavigationPreferences, ViewAction
 from app.panels.falloff_panel import FalloffPanel
 from app.panels.homogenization_panel import HomogenizationPanel
 from app.panels.material_panel import MaterialPanel
-from app.theme import DEFAULT_THEME, THEMES, Theme, apply_theme, theme
+from app.status import StatusArea
+from app.theme import apply_theme, qt_application
 from app.viewport import SculptViewport
-from gogreen_core.brushes import default_wrinkle_weights
+from app.wrinkle_hint import WrinkleHint, material_anisotropy, wrinkle_preset
 from gogreen_core.material import Material
-from gogreen_core.mesh_io import write_bytes_atomic, write_text_atomic
-from gogreen_core.presets import Preset, builtin_presets, load_preset, save_preset
+from gogreen_core.presets import Preset
+from gogreen_core.sculptor import Sculptor
 from gogreen_core.settings import ChangeEvent, EngineLink, Settings
-from gogreen_core.tools import PointerEvent, SculptTools, ToolUpdate
-from gogreen_core.validation import ParameterError
+from gogreen_core.tools import SculptTools
 
-__all__ = ["MainWindow"]
+__all__ = ["FIRST_RUN_HINT", "SHADINGS", "MainWindow", "material_anisotropy", "wrinkle_preset"]
 
-MESH_FILTER = "Meshes (*.obj *.ply *.stl *.off);;All files (*)"
-SAVE_FILTER = "Wavefront OBJ (*.obj);;Stanford PLY (*.ply);;STL (*.stl)"
-MAX_RECENT = 8
+#: Share of the screen's free width and height the window opens with.
+WINDOW_SHARE = 0.94
+#: The settings' fields as the panels name them (in messages).
+SETTING_NAMES = {
+    "material": "Material",
+    "falloff": "Falloff",
+    "l_max": "Truncation l_max",
+    "degree_weights": "Wrinkle weights",
+    "constraint_radius": "Pin radius",
+}
 FIRST_RUN_HINT = (
     "Welcome! Press ? (or F1, or Help → Keyboard & Mouse) to see every key, mouse and pen control"
 )
-#: Shading modes of the View menu: (menu text, tool tip); the first is the default.
-SHADINGS = {
-    "studio": ("Studio", "Key, fill and back lights with soft highlights"),
-    "clay": (
-        "Clay",
-        "Matte clay lit from the camera, like a matcap: forms read at any angle",
-    ),
-}
-#: Material (ambient, diffuse, specular, specular power) of the mesh in each shading mode.
-_SHADING_PROPS = {"studio": (0.12, 0.85, 0.25, 20.0), "clay": (0.22, 0.9, 0.0, 1.0)}
-#: Below this :func:`material_anisotropy` the wrinkle brush moves the surface like grab (its
-#: reweighted degrees l > 2 carry next to nothing): the cubic c11=1, c12=.5, c44=.4 is 0.13,
-#: the built-in layered / wood / fibre presets 0.65 to 0.83.
-WRINKLE_MIN_ANISOTROPY = 0.25
-WRINKLE_NEEDS = (
-    "needs a layered or fibred (anisotropic) material: on this uniform one it moves the "
-    "surface like Grab"
-)
-#: Tool tip of the wrinkle brush: what it does and what it needs, in an artist's words.
-WRINKLE_TIP = (
-    "Wrinkle: pulls like Grab and ripples the surface around the pull, along the "
-    "material's layers or fibres; needs a layered material such as the “Layered sheet "
-    "wrinkles” preset (ripple strength per degree: Falloff panel)"
-)
 
 
-def _save_filter(suffix: str) -> str:
-    """The entry of :data:`SAVE_FILTER` for a file ending in ``suffix`` (``".ply"``); the
-    first (OBJ) for any other."""
-    entries = SAVE_FILTER.split(";;")
-    return next((e for e in entries if f"*{suffix.lower()})" in e), entries[0])
-
-
-def material_anisotropy(material: Material) -> float:
-    """‖C − C_iso‖ / ‖C‖ (Frobenius, on the 3×3×3×3 tensor): 0 for an isotropic material,
-    where C_iso, the closest isotropic tensor, has the same C_iijj and C_ijij."""
-    c = material.tensor
-    eye = np.eye(3)
-    trace, shear = np.einsum("iijj", c), np.einsum("ijij", c)  # 9λ + 6μ, 3λ + 12μ
-    mu = (3.0 * shear - trace) / 30.0
-    lam = (trace - 6.0 * mu) / 9.0
-    iso = lam * np.einsum("ij,kl", eye, eye) + mu * (
-        np.einsum("ik,jl", eye, eye) + np.einsum("il,jk", eye, eye)
-    )
-    norm = np.linalg.norm(c)
-    return float(np.linalg.norm(c - iso) / norm) if norm > 0 else 0.0
-
-
-def wrinkle_preset() -> Preset:
-    """The built-in preset made for the wrinkle brush ("Layered sheet wrinkles")."""
-    return next(p for p in builtin_presets() if p.brush.kind == "wrinkle")
+def fit_to_screen(window: QMainWindow) -> None:
+    """Open ``window`` over most of its screen (:data:`WINDOW_SHARE` of the free area,
+    centred), as a desktop tool does; at a fixed size it was 1300 × 800 on a 1600 × 1000
+    screen."""
+    screen = window.screen() or QApplication.primaryScreen()
+    free = screen.availableGeometry()
+    size = QSize(round(free.width() * WINDOW_SHARE), round(free.height() * WINDOW_SHARE))
+    window.resize(size)
+    window.move(free.center() - QPoint(size.width() // 2, size.height() // 2))
 
 
 class MainWindow(QMainWindow):
@@ -119,30 +88,43 @@ class MainWindow(QMainWindow):
     ----------
     settings : QSettings, optional
         Where recent files, the theme and the first-run hint live (tests pass a temporary one).
+
+    Parts (public for scripting and tests): ``viewport``, ``brush_bar``, ``material_panel``,
+    ``homogenization_panel``, ``falloff_panel``, ``files`` (:class:`FileActions`), ``look``
+    (:class:`ViewLook`), ``status`` (:class:`StatusArea`), ``tools``, ``model``.
     """
 
     def __init__(self, settings: QSettings | None = None):
         super().__init__()
         self.settings = settings or QSettings("GoGreen", "GoGreen Sculpt")
         # Before any widget is made: icons take the theme's colour when they are made.
-        self.theme: Theme = apply_theme(QApplication.instance(), self._stored_theme())
-        self.resize(1500, 920)
+        theme = apply_theme(qt_application(), stored_theme(self.settings))
+        fit_to_screen(self)
         #: The one source of truth of what the artist tunes; widgets and the engine follow it.
         self.model = Settings()
         self.engine_link = EngineLink(self.model, None, on_error=self._setting_refused)
+        self.document: Document | None = None
         self.viewport = SculptViewport(self)
         self.setCentralWidget(self.viewport)
-        self._viewport_colors()
+        self.look = ViewLook(self, self.viewport, self.settings, theme)
+        self.files = FileActions(self)
         self.brush_bar = BrushBar(self.model.brush, self)
         self.addToolBar(Qt.ToolBarArea.TopToolBarArea, self.brush_bar)
+        self.brush_bar.bind_pen(self.model.pen)  # pressure toggles, stabilizer, spacing
         self.material_panel = MaterialPanel(settings=self.model)
         self.homogenization_panel = HomogenizationPanel()
         self.falloff_panel = FalloffPanel(settings=self.model)
+        self.look.refresh_colors += [
+            self.material_panel.refresh_colors,
+            self.homogenization_panel.refresh_colors,
+        ]
         self._build_docks()
+        self.status = StatusArea(self.statusBar())
+        self.message_label = self.status.message_label
+        self.step_label = self.status.step_label
+        self.surface_progress = self.status.surface_progress
+        self.wrinkle_fix_button = self.status.wrinkle_fix_button
         self._build_menus()
-        self._build_status_bar()
-        self.document: Document | None = None
-        self._constraint_actor = None
         self.tools = SculptTools(
             None,
             brush=lambda: self.model.brush.brush,
@@ -151,27 +133,20 @@ class MainWindow(QMainWindow):
             settings=self.model.brush,
             pen=lambda: self.model.pen,
         )
-        self.brush_bar.bind_pen(self.model.pen)  # pressure toggles, stabilizer, spacing
-        self.viewport.tools = self.tools  # F / Shift+F drags and number keys
-        # Drag moves are applied once per event-loop turn, the newest position winning.
-        self._tool_timer = QTimer(self)
-        self._tool_timer.setSingleShot(True)
-        self._tool_timer.setInterval(0)
-        self._tool_timer.timeout.connect(self._process_tools)
+        self.viewport.set_tools(self.tools)
         self.last_step_ms = 0.0
         self.kernel_warmer = KernelWarmer(self)
         self._announced_warmups: set[int] = set()
         #: The documents' crash-recovery journals and the offer of unsaved work at start.
         self.crash_recovery = CrashRecovery(self)
         self._connect()
-        self.focus_keys = FocusKeys(self, self.viewport, self._shortcut_keys)
+        self.focus_keys = FocusKeys(
+            self, self.viewport, self._shortcut_keys, lambda: self.findChildren(QAction)
+        )
         #: The keymap drawn over the viewport (Help menu, ``?``, F1).
         self.keymap_overlay = KeymapOverlay(self.viewport)
         self.keymap_overlay.closed.connect(self.viewport.setFocus)
-        self.shading = self._stored_shading()
-        self.shading_actions[self.shading].setChecked(True)
-        self._apply_lights()
-        self._show_gizmo()
+        self.look.apply()
         self.show_first_run_hint()
         self.kernel_warmer.request(self.model.l_max)
         self._announced_warmups.add(self.model.l_max)
@@ -191,7 +166,12 @@ class MainWindow(QMainWindow):
         self.panels_dock = dock
 
     def _action(
-        self, menu, text: str, slot, key: str | None = None, icon_name: str | None = None
+        self,
+        menu: QMenu,
+        text: str,
+        slot: Callable,
+        key: str | None = None,
+        icon_name: str | None = None,
     ) -> QAction:
         """A menu action; ``key``: its entry in :data:`app.keymap.KEYMAP`, which gives its
         shortcuts (the one table the keymap overlay and the README show)."""
@@ -236,21 +216,20 @@ class MainWindow(QMainWindow):
     def _build_menus(self) -> None:
         #: The window's actions by keymap entry (``"undo"``, ``"brush_grab"``, …).
         self.keymap_actions: dict[str, QAction] = {}
-        bar = self.menuBar()
+        bar, files = self.menuBar(), self.files
         file_menu = bar.addMenu("&File")
-        self.new_action = self._action(file_menu, "&New", self.new_document, "new", "new")
-        self._action(file_menu, "&Open…", self.open_dialog, "open", "open")
-        self.recent_menu = file_menu.addMenu("Open &Recent")
-        self._action(file_menu, "&Save", self.save, "save", "save")
-        self._action(file_menu, "Save &As…", self.save_as_dialog, "save_as")
+        self.new_action = self._action(file_menu, "&New", files.new_document, "new", "new")
+        self._action(file_menu, "&Open…", files.open_dialog, "open", "open")
+        files.recent_menu = file_menu.addMenu("Open &Recent")
+        self._action(file_menu, "&Save", files.save, "save", "save")
+        self._action(file_menu, "Save &As…", files.save_as_dialog, "save_as")
         file_menu.addSeparator()
-        self.presets_menu = file_menu.addMenu("&Presets")
-        self._fill_presets_menu()
-        self._action(file_menu, "Load &Preset File…", self.load_preset_dialog)
-        self._action(file_menu, "Save Pr&eset…", self.save_preset_dialog)
-        self._action(file_menu, "Export Se&ssion…", self.export_session_dialog)
+        files.fill_presets_menu(file_menu.addMenu("&Presets"))
+        self._action(file_menu, "Load &Preset File…", files.load_preset_dialog)
+        self._action(file_menu, "Save Pr&eset…", files.save_preset_dialog)
+        self._action(file_menu, "Export Se&ssion…", files.export_session_dialog)
         self.screenshot_action = self._action(
-            file_menu, "Export Scree&nshot…", self.screenshot_dialog, "screenshot", "screenshot"
+            file_menu, "Export Scree&nshot…", files.screenshot_dialog, "screenshot", "screenshot"
         )
         file_menu.addSeparator()
         self._action(file_menu, "&Quit", self.close, "quit")
@@ -259,51 +238,38 @@ class MainWindow(QMainWindow):
         self.redo_action = self._action(edit_menu, "&Redo", self.redo, "redo", "redo")
         edit_menu.addSeparator()
         self._action(edit_menu, "Clear &Constraints", self.clear_constraints)
-        bar_ = self.brush_bar
-        self._action(edit_menu, "Radius Smaller", lambda: bar_.scale_radius(-1), "radius_smaller")
-        self._action(edit_menu, "Radius Larger", lambda: bar_.scale_radius(1), "radius_larger")
-        self._action(edit_menu, "Strength Lower", lambda: bar_.scale_strength(-1), "strength_lower")
+        brush = self.brush_bar
+        self._action(edit_menu, "Radius Smaller", lambda: brush.scale_radius(-1), "radius_smaller")
+        self._action(edit_menu, "Radius Larger", lambda: brush.scale_radius(1), "radius_larger")
         self._action(
-            edit_menu, "Strength Higher", lambda: bar_.scale_strength(1), "strength_higher"
+            edit_menu, "Strength Lower", lambda: brush.scale_strength(-1), "strength_lower"
+        )
+        self._action(
+            edit_menu, "Strength Higher", lambda: brush.scale_strength(1), "strength_higher"
         )
         #: The Mesh menu (subdivide, mask) and what keeps the view in step with the mesh.
         self.mesh_edits = MeshEdits(self)
         self.mesh_menu = self.mesh_edits.build_menu(bar)
         view_menu = bar.addMenu("&View")
         self._action(view_menu, "Reset &Camera", self.reset_camera, "reset_camera", "home")
+        views, viewport = view_menu.addMenu("Camera &Views"), self.viewport
+        for key, opposite in OPPOSITE_VIEWS.items():
+            # numpad 1, 3, 7: one side, and with Ctrl the opposite one (Blender's keys)
+            view_action = ViewAction(VIEW_TITLES[key], self, key, opposite, viewport.show_view)
+            self._bind_keys(view_action, key)
+            views.addAction(view_action)
+            self._action(views, VIEW_TITLES[opposite], partial(viewport.show_view, opposite))
+        self._action(views, "Perspective / &Orthographic", viewport.toggle_projection, "projection")
+        self._action(
+            views, "&Frame About the Cursor", lambda: viewport.frame_under_cursor(), "frame_cursor"
+        )
+        self.navigation = NavigationPreferences(self, viewport, self.settings)
+        self.navigation.fill_menu(view_menu)
         self.view_actions = [self._visibility_action(w) for w in (self.panels_dock, self.brush_bar)]
         view_menu.addActions(self.view_actions)
         view_menu.addSeparator()
-        theme_menu = view_menu.addMenu("&Theme")
-        self.theme_actions: dict[str, QAction] = {}
-        theme_group = QActionGroup(self)
-        for name in THEMES:
-            action = QAction(name.capitalize(), self, checkable=True)
-            action.setChecked(name == self.theme.name)
-            action.triggered.connect(lambda _c=False, n=name: self.set_theme(n))
-            theme_group.addAction(action)
-            theme_menu.addAction(action)
-            self.theme_actions[name] = action
-        shading_menu = view_menu.addMenu("&Shading")
-        set_icon(shading_menu.menuAction(), "shading")
-        self.shading_actions: dict[str, QAction] = {}
-        shading_group = QActionGroup(self)
-        for name, (title, tip) in SHADINGS.items():
-            action = QAction(title, self, checkable=True)
-            action.setToolTip(tip)
-            action.setStatusTip(tip)
-            action.triggered.connect(lambda _c=False, n=name: self.set_shading(n))
-            shading_group.addAction(action)
-            shading_menu.addAction(action)
-            self.shading_actions[name] = action
-        self.wireframe_action = self._action(
-            view_menu, "&Wireframe", self._wireframe_toggled, "wireframe", "wireframe"
-        )
-        self.wireframe_action.setCheckable(True)
-        self.gizmo_action = QAction("Orientation &Gizmo", self, checkable=True, checked=True)
-        self.gizmo_action.setToolTip("Axes in the corner of the view: x red, y green, z blue")
-        self.gizmo_action.triggered.connect(self._show_gizmo)
-        view_menu.addAction(self.gizmo_action)
+        self.look.fill_menu(view_menu)
+        self._bind_keys(self.look.wireframe_action, "wireframe")
         help_menu = bar.addMenu("&Help")
         self.keymap_action = self._action(
             help_menu, "&Keyboard && Mouse", self.toggle_keymap, "keymap", "help"
@@ -316,167 +282,36 @@ class MainWindow(QMainWindow):
         pin = self.brush_bar.constraint_action
         self._bind_keys(pin, "pin_mode", pin.toolTip().rsplit(" [", 1)[0])
         set_icon(pin, "pin")
-        self._refresh_recent()
-
-    def _fill_presets_menu(self) -> None:
-        """One entry per built-in preset (resources/presets), its description as status tip."""
-        try:
-            presets = builtin_presets()
-        except ValueError as exc:  # a broken installation must not stop the window
-            self.presets_menu.setEnabled(False)
-            self.presets_menu.setToolTip(str(exc))
-            return
-        for preset in presets:
-            action = self.presets_menu.addAction(preset.name)
-            action.setStatusTip(preset.description)
-            action.setToolTip(preset.description)
-            action.triggered.connect(lambda _c=False, p=preset: self.apply_preset(p))
-        self.presets_menu.setToolTipsVisible(True)
-
-    def _build_status_bar(self) -> None:
-        self.vertex_label = QLabel()
-        self.step_label = QLabel("brush step: –")
-        self.frame_label = QLabel("render: –")
-        self.message_label = QLabel()
-        # Busy indicator while kernels compile (first start, a new l_max): never a silent wait.
-        self.compile_progress = self._status_progress(
-            0,
-            "",
-            "Compiling the brush kernels (once per machine and l_max); strokes start after it",
-        )
-        # Progress of the background build of a big mesh's surface index (picking, shading)
-        self.surface_progress = self._status_progress(
-            100,
-            "preparing %p%",
-            "Preparing the opened mesh for picking and smooth shading; strokes start after it",
-        )
-        for label in (self.vertex_label, self.step_label, self.frame_label):
-            label.setMinimumWidth(150)
-            self.statusBar().addPermanentWidget(label)
-        self.statusBar().addWidget(self.message_label, 1)
-        # one click to a material the wrinkle brush needs (shown only when it lacks one)
-        self.wrinkle_fix_button = QPushButton("Use a wrinkle material")
-        self.wrinkle_fix_button.setToolTip(
-            "Apply the “Layered sheet wrinkles” material and wrinkle weights (one undo step)"
-        )
-        self.wrinkle_fix_button.clicked.connect(self.use_wrinkle_material)
-        self.wrinkle_fix_button.hide()
-        self.statusBar().addWidget(self.wrinkle_fix_button)
-        # a temporary message (the first-run hint) is drawn where the label is: not both
-        self.statusBar().messageChanged.connect(
-            lambda text: self.message_label.setHidden(bool(text))
-        )
+        files.refresh_recent()
 
     def _connect(self) -> None:
-        self.viewport.pointer_pressed.connect(self._pointer_pressed)
-        self.viewport.pointer_moved.connect(self._pointer_moved)
-        self.viewport.pointer_released.connect(self._pointer_released)
-        self.viewport.hovered.connect(self._hovered)
-        self.viewport.frame_rendered.connect(self._frame_rendered)
-        self.viewport.tool_update.connect(lambda u: self._show_update(u, "Pin"))
+        viewport, status = self.viewport, self.status
+        viewport.tool_message.connect(self.flash)
+        viewport.tool_error.connect(self.show_error)
+        viewport.step_timed.connect(self._step_timed)
+        viewport.stroke_ended.connect(self._stroke_ended)
+        viewport.frame_rendered.connect(status.show_frame_time)
+        viewport.radius_wheel.connect(self.brush_bar.scale_radius)
+        viewport.strength_wheel.connect(self.brush_bar.scale_strength)
+        viewport.surface_progress.connect(status.show_surface_progress)
+        viewport.surface_ready.connect(self._surface_ready)
+        viewport.surface_failed.connect(self._surface_failed)
+        viewport.surface_pending.connect(self._surface_pending)
         self.brush_bar.constraint_mode_changed.connect(self._constraint_mode_changed)
-        self.viewport.radius_wheel.connect(self.brush_bar.scale_radius)
-        self.viewport.strength_wheel.connect(self.brush_bar.scale_strength)
-        self.model.brush.events.changed.connect(lambda _c: self._brush_changed())
+        self.model.brush.events.changed.connect(lambda _c: viewport.refresh_cursor())
         self.model.events.material.connect(self._material_changed)
-        self.model.brush.events.kind.connect(lambda _e: self._check_wrinkle_material())
-        shortcut = self.brush_bar.kind_actions["wrinkle"].toolTip().rpartition("  [")
-        self._wrinkle_tip = WRINKLE_TIP + (shortcut[1] + shortcut[2] if shortcut[1] else "")
-        self._check_wrinkle_material()
+        self.wrinkle_hint = WrinkleHint(
+            self.model, self.brush_bar.kind_actions["wrinkle"], self.wrinkle_fix_button, self.note
+        )
         # after the engine link (connected first): a settings step enables Undo at once
-        self.model.events.changed.connect(lambda _c: self._refresh_title())
+        self.model.events.changed.connect(lambda _c: self.refresh_title())
         self.model.events.l_max.connect(self._l_max_changed)
         self.homogenization_panel.material_ready.connect(self._use_homogenized)
-        self.viewport.surface_progress.connect(
-            lambda done: self.surface_progress.setValue(round(100 * done))
-        )
-        self.viewport.surface_ready.connect(self._surface_ready)
-        self.viewport.surface_failed.connect(self._surface_failed)
-        self.viewport.surface_pending.connect(self._surface_pending)
         self.kernel_warmer.ready.connect(self._kernels_ready)
         self.kernel_warmer.busy_changed.connect(self._compiling)
         self.kernel_warmer.failed.connect(
             lambda l_max, error: self.flash(f"Kernels for l_max = {l_max} failed: {error}")
         )
-
-    # -- look --------------------------------------------------------------------------------
-    def _stored_theme(self) -> str:
-        name = self.settings.value("theme", DEFAULT_THEME)
-        return name if name in THEMES else DEFAULT_THEME
-
-    def set_theme(self, name: str) -> None:
-        """Switch to theme ``name`` (one of :data:`app.theme.THEMES`) and remember it."""
-        self.theme = apply_theme(QApplication.instance(), theme(name).name)
-        self.settings.setValue("theme", self.theme.name)
-        self.theme_actions[self.theme.name].setChecked(True)
-        self.material_panel.refresh_colors()
-        self.homogenization_panel.refresh_colors()
-        self._viewport_colors()
-        self.viewport.request_render()
-
-    def _viewport_colors(self) -> None:
-        bottom, top = self.theme.viewport_background
-        self.viewport.set_background(bottom, top=top)
-        if getattr(self, "gizmo_action", None) is not None:
-            self._show_gizmo()  # its labels in the theme's text colour
-
-    def _stored_shading(self) -> str:
-        name = self.settings.value("shading", next(iter(SHADINGS)))
-        return name if name in SHADINGS else next(iter(SHADINGS))
-
-    def set_shading(self, name: str) -> None:
-        """Shade the model ``name`` (a key of :data:`SHADINGS`) and remember it."""
-        if name not in SHADINGS:
-            raise ParameterError(
-                "name", f"name: unknown shading {name!r}; the shadings are {', '.join(SHADINGS)}"
-            )
-        self.shading = name
-        self.settings.setValue("shading", name)
-        self.shading_actions[name].setChecked(True)
-        self._apply_lights()
-        self._apply_mesh_look()
-        self.viewport.request_render()
-
-    def _apply_lights(self) -> None:
-        self.viewport.remove_all_lights()
-        if self.shading == "clay":
-            self.viewport.add_light(pv.Light(light_type="headlight", intensity=1.0))
-        else:
-            self.viewport.enable_lightkit()
-
-    def _apply_mesh_look(self) -> None:
-        """Shading and wireframe of the mesh actor (made anew by each ``set_mesh``)."""
-        actor = self.viewport.mesh_actor
-        if actor is None:
-            return
-        prop = actor.prop
-        prop.ambient, prop.diffuse, prop.specular, prop.specular_power = _SHADING_PROPS[
-            self.shading
-        ]
-        prop.show_edges = self.wireframe_action.isChecked()
-        prop.edge_color = "#1c1f24"
-        prop.line_width = 1.0
-
-    @property
-    def wireframe(self) -> bool:
-        """The triangle edges are drawn over the surface (View → Wireframe, Shift+Z)."""
-        return self.wireframe_action.isChecked()
-
-    def _wireframe_toggled(self) -> None:
-        self._apply_mesh_look()
-        self.viewport.request_render()
-
-    def _show_gizmo(self) -> None:
-        """The orientation gizmo (pyvista's axes widget) when View → Orientation Gizmo is on."""
-        self.viewport.hide_axes()
-        if self.gizmo_action.isChecked():
-            self.viewport.add_axes(interactive=False, line_width=2, color=self.theme.window_text)
-        self.viewport.request_render()
-
-    @property
-    def gizmo_visible(self) -> bool:
-        widget = getattr(self.viewport.renderer, "axes_widget", None)
-        return bool(widget is not None and widget.GetEnabled())
 
     # -- help --------------------------------------------------------------------------------
     def toggle_keymap(self) -> None:
@@ -493,10 +328,14 @@ class MainWindow(QMainWindow):
         return True
 
     # -- documents ---------------------------------------------------------------------------
-    def _sculptor_options(self) -> dict:
-        return self.model.sculptor_options()
+    @property
+    def sculptor(self) -> Sculptor | None:
+        """The open document's engine (None before a document is open)."""
+        return self.document.sculptor if self.document is not None else None
 
     def set_document(self, document: Document) -> None:
+        """Edit ``document`` from now on: the tools, the engine link and the view follow, and
+        every panel shows the settings in effect."""
         self.tools.cancel()
         previous, self.document = self.document, document
         self.tools.set_sculptor(document.sculptor)
@@ -510,45 +349,17 @@ class MainWindow(QMainWindow):
         self.mesh_edits.attach()
         self.surface_progress.setValue(0)
         self.surface_progress.setVisible(self.viewport.surface_building)
-        self._apply_mesh_look()
-        if self._constraint_actor is not None:
-            self.viewport.remove_actor(self._constraint_actor, render=False)
-        self._constraint_actor = None
-        self._show_constraints()  # none, or a recovered document's
-        self._brush_changed()
-        self._refresh_title()
+        self.look.apply_mesh_look()
+        self.viewport.show_sculptor()  # its pins: none, or a recovered document's
+        refresh()  # every panel shows the settings in effect, refused inputs dropped
+        self.refresh_title()
         self._refresh_status()
         self.crash_recovery.document_changed(previous, document)
-
-    def open_default(self) -> None:
-        self.set_document(Document.default(self._sculptor_options()))
-        self.flash(f"Default model: {len(self.document.sculptor.vertices)} vertices")
-
-    def new_document(self) -> bool:
-        """File → New: the default model, after asking to save unsaved changes (as Open
-        does). Returns whether the default model was opened."""
-        if not self.maybe_save():
-            return False
-        self.open_default()
-        return True
-
-    def open_file(self, path: str) -> bool:
-        """Open a mesh; on failure show why and keep the current model. Returns success."""
-        try:
-            document = Document.open(path, self._sculptor_options())
-        except (ValueError, OSError) as exc:
-            self.show_error("Cannot open the file", str(exc))
-            return False
-        self.set_document(document)
-        self._add_recent(str(Path(path).resolve()))
-        note = " – preparing it for picking…" if self.viewport.surface_building else ""
-        self.flash(f"Opened {document.title}: {len(document.sculptor.vertices)} vertices{note}")
-        return True
 
     def _surface_ready(self) -> None:
         """The background build of the mesh's surface index ended: strokes can start."""
         self.surface_progress.hide()
-        self._apply_mesh_look()  # the actor now draws the index's arrays
+        self.look.apply_mesh_look()  # the actor now draws the index's arrays
         if self.document is not None:
             self.flash(f"{self.document.title} is ready to sculpt")
 
@@ -564,70 +375,8 @@ class MainWindow(QMainWindow):
             "strokes start as soon as it is ready"
         )
 
-    def open_dialog(self) -> None:
-        if not self.maybe_save():
-            return
-        path, _ = QFileDialog.getOpenFileName(self, "Open mesh", self._last_dir(), MESH_FILTER)
-        if path:
-            self.open_file(path)
-
-    def save(self) -> bool:
-        if self.document is None:
-            return False
-        if not self.document.path or Path(self.document.path).suffix.lower() not in SAVE_FORMATS:
-            return self.save_as_dialog()
-        return self.save_to(self.document.path)
-
-    def save_to(self, path: str) -> bool:
-        try:
-            saved = self.document.save(path)
-        except (ValueError, OSError) as exc:
-            self.show_error("Cannot save", str(exc))
-            return False
-        self._add_recent(str(Path(saved).resolve()))
-        self._refresh_title()
-        self.flash(f"Saved {Path(saved).name}")
-        return True
-
-    def save_as_dialog(self) -> bool:
-        if self.document is None:
-            return False
-        suggested = self._save_as_suggestion()
-        path, chosen = QFileDialog.getSaveFileName(
-            self, "Save mesh as", str(suggested), SAVE_FILTER, _save_filter(suggested.suffix)
-        )
-        if not path:
-            return False
-        if Path(path).suffix.lower() not in SAVE_FORMATS:
-            path += ".ply" if "PLY" in chosen else ".stl" if "STL" in chosen else ".obj"
-        return self.save_to(path)
-
-    def _save_as_suggestion(self) -> Path:
-        """What Save As proposes: the document's own path (as .obj when its format cannot be
-        written, e.g. .off), or untitled.obj in the folder used last for the default model."""
-        if self.document.path:
-            path = Path(self.document.path)
-            return path if path.suffix.lower() in SAVE_FORMATS else path.with_suffix(".obj")
-        return Path(self._last_dir()) / "untitled.obj"
-
-    def maybe_save(self) -> bool:
-        """Ask about unsaved changes; True when it is fine to go on."""
-        if self.document is None or not self.document.dirty:
-            return True
-        answer = QMessageBox.question(
-            self,
-            "Unsaved changes",
-            f"{self.document.title} has unsaved changes. Save them?",
-            QMessageBox.StandardButton.Save
-            | QMessageBox.StandardButton.Discard
-            | QMessageBox.StandardButton.Cancel,
-        )
-        if answer == QMessageBox.StandardButton.Save:
-            return self.save()
-        return answer == QMessageBox.StandardButton.Discard
-
     def closeEvent(self, event: QCloseEvent) -> None:
-        if self.maybe_save():
+        if self.files.maybe_save():
             self.mesh_edits.cancel()
             self.crash_recovery.close()  # saved or discarded: the journal goes
             self.viewport.cancel_surface_build()  # it stops at its next progress report
@@ -637,70 +386,15 @@ class MainWindow(QMainWindow):
         else:
             event.ignore()
 
-    def _last_dir(self) -> str:
-        recent = self.recent_files()
-        return str(Path(recent[0]).parent) if recent else str(Path.home())
-
-    def recent_files(self) -> list[str]:
-        value = self.settings.value("recent_files", [])
-        return [value] if isinstance(value, str) else list(value or [])
-
-    def _add_recent(self, path: str) -> None:
-        files = [path] + [p for p in self.recent_files() if p != path]
-        self.settings.setValue("recent_files", files[:MAX_RECENT])
-        self._refresh_recent()
-
-    def _refresh_recent(self) -> None:
-        self.recent_menu.clear()
-        for path in self.recent_files():
-            action = self.recent_menu.addAction(Path(path).name)
-            action.setToolTip(path)
-            action.triggered.connect(
-                lambda _c=False, p=path: self.maybe_save() and self.open_file(p)
-            )
-        self.recent_menu.setEnabled(bool(self.recent_files()))
-
-    # -- settings --------------------------------------------------------------------------
+    # -- settings ----------------------------------------------------------------------------
     def apply_material(self, material: Material) -> None:
         """Use ``material`` (through the settings: the panel and the engine follow)."""
         self.model.material = material
 
     def _material_changed(self, event: ChangeEvent) -> None:
-        if event.source != "engine" and self.document is not None:
-            if self.document.sculptor.material == event.value:
-                self.flash("Material applied")
-        self._check_wrinkle_material()
-
-    @property
-    def wrinkle_lacks_material(self) -> bool:
-        """The wrinkle brush is picked and the material is (nearly) isotropic."""
-        return (
-            self.model.brush.kind == "wrinkle"
-            and material_anisotropy(self.model.material) < WRINKLE_MIN_ANISOTROPY
-        )
-
-    def _check_wrinkle_material(self) -> None:
-        """Say what the wrinkle brush needs (status bar, its tool tip) and offer the fix."""
-        lacking = self.wrinkle_lacks_material
-        action = self.brush_bar.kind_actions["wrinkle"]
-        note = f"\n{WRINKLE_NEEDS[0].upper()}{WRINKLE_NEEDS[1:]}."
-        action.setToolTip(self._wrinkle_tip + (note if lacking else ""))
-        if lacking and self.wrinkle_fix_button.isHidden():
-            self.statusBar().clearMessage()  # a temporary hint would hide the message
-            self.flash(f"Wrinkle {WRINKLE_NEEDS}.")
-        self.wrinkle_fix_button.setVisible(lacking)
-
-    def use_wrinkle_material(self) -> None:
-        """Apply the wrinkle preset's material and weights: one undo step."""
-        preset = wrinkle_preset()
-        l_max = self.model.l_max
-        weights = preset.weights
-        if len(weights) != l_max + 1:
-            weights = default_wrinkle_weights(l_max)
-        changed = self.model.update({"material": preset.material})
-        # continued: the weights join the material's undo step
-        self.model.update({"degree_weights": weights}, continued=bool(changed))
-        self.flash(f"Wrinkle material: {preset.name} (Ctrl+Z undoes it)")
+        sculptor = self.sculptor
+        if event.source != "engine" and sculptor is not None and sculptor.material == event.value:
+            self.flash("Material applied")
 
     def _use_homogenized(self, material: Material) -> None:
         self.apply_material(material)
@@ -712,11 +406,13 @@ class MainWindow(QMainWindow):
             self.flash(f"Preparing the l_max = {event.value} kernels…")
 
     def _setting_refused(self, parameter: str, exc: Exception) -> None:
-        """The engine refused a setting: the settings were restored from it; say why."""
-        self.show_error(f"{parameter} not applied", str(exc))
+        """The engine refused a setting: the settings were restored from it; say why, in
+        the panels' words."""
+        name = SETTING_NAMES.get(parameter.rsplit(".", 1)[-1], parameter)
+        self.show_error(f"{name} not applied", panel_words(str(exc), SETTING_NAMES))
 
     def _compiling(self, busy: bool) -> None:
-        self.compile_progress.setVisible(busy)
+        self.status.compile_progress.setVisible(busy)
         if busy:
             self.flash("Compiling the brush kernels (first start only)…")
 
@@ -740,13 +436,6 @@ class MainWindow(QMainWindow):
             note = f" (compiled in {seconds:.1f} s, kept for next time)" if seconds > 0.5 else ""
             self.flash(f"l_max = {l_max} kernels ready{note}")
 
-    def _brush_changed(self) -> None:
-        """The ring shows the new radius at once."""
-        state = self.tools.cursor.state
-        if state is not None and self.document is not None:
-            self.viewport.show_cursor(self.tools.cursor.refresh())  # requests the render
-
-    # -- pointer tools -----------------------------------------------------------------------
     def _constraint_mode_changed(self, on: bool) -> None:
         self.tools.cancel()
         self.tools.mode = "pin" if on else "brush"
@@ -755,113 +444,40 @@ class MainWindow(QMainWindow):
         """The first pin takes the brush radius."""
         self.model.constraint_radius = self.model.brush.radius
 
-    def _pointer_pressed(self, event: PointerEvent) -> None:
-        if self.document is not None:
-            self._show_update(self.tools.press(event), "Cannot sculpt")
-
-    def _pointer_moved(self, event: PointerEvent) -> None:
-        self.tools.move(event)
-        if not self._tool_timer.isActive():
-            self._tool_timer.start()
-
-    def _hovered(self, event: PointerEvent) -> None:
-        self.tools.hover(event)
-        if not self._tool_timer.isActive():
-            self._tool_timer.start()
-
-    def _pointer_released(self, _event: PointerEvent) -> None:
-        self._tool_timer.stop()
-        self._show_update(self.tools.release(), "Brush stopped")
-        self._refresh_title()
-        self._refresh_status()
-
-    def _process_tools(self) -> None:
-        """One engine step for the newest pointer position (older ones were coalesced)."""
-        self._show_update(self.tools.flush(), "Brush stopped")
-
-    def _show_update(self, update: ToolUpdate, error_title: str) -> None:
-        """Draw what the tools changed; one render is requested for all of it."""
-        if self.document is not None and update.all_moved:
-            self.viewport.update_vertices(self.document.sculptor.vertices)
-        elif self.document is not None and update.moved is not None:
-            self.viewport.update_vertices(self.document.sculptor.vertices, update.moved)
-        if self.document is not None and update.changed:
-            self.mesh_edits.sync(update.moved)  # a mask stroke's tint
-        if update.refused:  # not an error: e.g. kernels still compiling
-            self.flash(f"{error_title}: {update.error}")
-        elif update.error:
-            self.show_error(error_title, update.error)
-        if self.document is None or not update.changed:
-            return
-        if update.step_seconds:
-            self.last_step_ms = 1e3 * update.step_seconds
-            self._refresh_status()
-        if update.pins_changed:
-            self._show_constraints()
-        if update.cursor is not None:
-            self.viewport.show_cursor(update.cursor)
-        elif update.hide_cursor:
-            self.viewport.show_cursor(None)
-        self.viewport.request_render()
-
-    def _frame_rendered(self, ms: float) -> None:
-        self.frame_label.setText(f"render: {ms:.0f} ms")
-
-    def _show_constraints(self) -> None:
-        """One marker actor for all pins, its points replaced in place."""
-        points = self.document.sculptor.constraint_points
-        self.viewport.show_pins(points, self.document.sculptor.constraint_reach)
-        if self._constraint_actor is None and len(points):
-            # add_actor, not add_points: pyvista's add_* would rebind viewport.mesh to the markers
-            self._constraint_markers = pv.PolyData(points)
-            self._constraint_actor = pv.Actor(mapper=pv.DataSetMapper(self._constraint_markers))
-            prop = self._constraint_actor.prop
-            prop.color, prop.point_size, prop.render_points_as_spheres = "#ff3355", 14, True
-            self._constraint_actor.SetPickable(False)
-            self.viewport.add_actor(self._constraint_actor, reset_camera=False, render=False)
-        elif self._constraint_actor is not None:
-            self._constraint_markers.points = points if len(points) else np.zeros((0, 3))
-            self._constraint_markers.verts = np.hstack(
-                [np.ones((len(points), 1), int), np.arange(len(points))[:, None]]
-            ).ravel()
-        self.viewport.request_render()
-
     # -- edit --------------------------------------------------------------------------------
     def undo(self) -> None:
-        self._history_step(self.document.sculptor.undo if self.document else None, "Undo")
+        self._history_step("undo")
 
     def redo(self) -> None:
-        self._history_step(self.document.sculptor.redo if self.document else None, "Redo")
+        self._history_step("redo")
 
-    def _history_step(self, step, name: str) -> None:
-        if step is None or self.tools.dragging:
+    def _history_step(self, name: str) -> None:
+        sculptor = self.sculptor
+        if self.tools.dragging:
             return
         if self.mesh_edits.busy:
-            self.flash(f"Cannot {name.lower()}: {self.mesh_edits.refusal()}")
+            self.flash(f"Cannot {name}: {self.mesh_edits.refusal()}")
             return
-        label = step()
-        if label is None:
-            self.flash(f"Nothing to {name.lower()}")
+        label = getattr(sculptor, name)() if sculptor is not None else None
+        if label is None or sculptor is None:
+            self.flash(f"Nothing to {name}")
             return
         self.engine_link.pull()  # an undone setting shows in the panels again
-        self.tools.cursor.hide()  # the surface under it moved: hidden until the mouse moves
-        self.viewport.show_cursor(None)
-        sculptor = self.document.sculptor
-        if not self.mesh_edits.sync():  # a subdivision undone or redone shows its whole mesh
-            self.viewport.update_vertices(sculptor.vertices, sculptor.history.restored_indices)
-        self._show_constraints()  # the pins follow undo/redo
-        self._refresh_title()
-        self.flash(f"{name}: {label}")
+        refresh()
+        # a subdivision undone or redone shows its whole mesh
+        self.mesh_edits.sync(sculptor.history.restored_indices)
+        self.refresh_title()
+        self.flash(f"{name.capitalize()}: {label}")
 
     def clear_constraints(self) -> None:
-        if self.document is not None:
-            self.document.sculptor.clear_constraints()
-            self._show_constraints()
+        if self.sculptor is not None:
+            self.sculptor.clear_constraints()
+            self.viewport.show_sculptor()
 
     def reset_camera(self) -> None:
         self.viewport.home_view()
 
-    # -- presets, session, screenshot --------------------------------------------------------
+    # -- presets -----------------------------------------------------------------------------
     def preset(self, name: str = "") -> Preset:
         """The current material + falloff + brush as a :class:`Preset`."""
         return self.model.preset(name)
@@ -869,97 +485,46 @@ class MainWindow(QMainWindow):
     def apply_preset(self, preset: Preset) -> None:
         """Give the settings ``preset``'s values (panels, brush bar and engine follow)."""
         self.model.apply_preset(preset)
+        refresh()
         self.flash(f"Preset: {preset.name}" if preset.name else "Preset loaded")
 
-    def _json_dialog(self, title: str, save: bool) -> str:
-        dialog = QFileDialog.getSaveFileName if save else QFileDialog.getOpenFileName
-        path, _ = dialog(self, title, self._last_dir(), "JSON (*.json)")
-        if path and save and not path.endswith(".json"):
-            path += ".json"
-        return path
-
-    def load_preset_dialog(self) -> None:
-        path = self._json_dialog("Load preset", save=False)
-        if path:
-            try:
-                self.apply_preset(load_preset(path))
-            except ValueError as exc:
-                self.show_error("Cannot load the preset", str(exc))
-
-    def save_preset_dialog(self) -> None:
-        path = self._json_dialog("Save preset", save=True)
-        if path:
-            self._write(path, lambda: save_preset(self.preset(Path(path).stem), path))
-
-    def export_session_dialog(self) -> None:
-        if self.document is None:
-            return
-        path = self._json_dialog("Export session (for gogreen replay)", save=True)
-        if path:
-            text = json.dumps(self.document.sculptor.session(), indent=1)
-            self._write(path, lambda: write_text_atomic(path, text))
-
-    def _write(self, path: str, write) -> None:
-        try:
-            write()
-            self.flash(f"Wrote {Path(path).name}")
-        except ValueError as exc:  # MeshFileError from the atomic writer
-            self.show_error("Cannot write", str(exc))
-
-    def screenshot_dialog(self) -> None:
-        path, _ = QFileDialog.getSaveFileName(
-            self, "Export screenshot", self._last_dir(), "PNG (*.png)"
-        )
-        if path:
-            self.save_screenshot(path if path.endswith(".png") else path + ".png")
-
-    def save_screenshot(self, path: str) -> bool:
-        """PNG of the viewport only (no panels, menus, overlays or brush cursor), written
-        atomically (``write_bytes_atomic``); the status bar names the file. Returns success."""
-        target = Path(path)
-        try:
-            pixels = self.viewport.model_image()
-            height, width = pixels.shape[:2]
-            image = QImage(pixels.data, width, height, 3 * width, QImage.Format.Format_RGB888)
-            png = QBuffer()
-            png.open(QIODevice.OpenModeFlag.WriteOnly)
-            if not image.save(png, "PNG"):
-                raise RuntimeError("Qt could not encode the PNG")
-            write_bytes_atomic(target, png.data().data())
-        except (OSError, RuntimeError, ValueError) as exc:
-            self.show_error("Cannot write the screenshot", f"{target}: {exc}")
-            return False
-        self.flash(f"Screenshot saved: {target} ({width}×{height})")
-        return True
-
     # -- feedback ----------------------------------------------------------------------------
+    def flash(self, text: str) -> None:
+        """Say ``text`` in the status bar (until the next message)."""
+        self.message_label.setText(text)
+
+    def note(self, text: str) -> None:
+        """Say ``text`` in the status bar now, over a temporary hint shown there."""
+        self.statusBar().clearMessage()
+        self.flash(text)
+
     def show_error(self, title: str, message: str) -> None:
         self.flash(f"{title}: {message}")
         QMessageBox.warning(self, title, message)
 
-    def _status_progress(self, maximum: int, text: str, tip: str) -> QProgressBar:
-        """A hidden progress bar at the right of the status bar (``maximum`` 0: busy, no
-        fraction)."""
-        bar = QProgressBar()
-        bar.setRange(0, maximum)
-        bar.setMaximumWidth(160)
-        bar.setFormat(text)
-        bar.setToolTip(tip)
-        bar.hide()
-        self.statusBar().addPermanentWidget(bar)
-        return bar
+    def _step_timed(self, ms: float) -> None:
+        self.last_step_ms = ms
+        self._refresh_status()
 
-    def flash(self, text: str) -> None:
-        self.message_label.setText(text)
+    def _stroke_ended(self) -> None:
+        self.refresh_title()
+        self._refresh_status()
 
-    def _refresh_title(self) -> None:
+    def refresh_title(self) -> None:
+        """The title (document, unsaved mark) and the Undo / Redo entries."""
+        sculptor = self.sculptor
         if self.document is not None:
             mark = " •" if self.document.dirty else ""
             self.setWindowTitle(f"{self.document.title}{mark} — GoGreen Sculpt")
-        self.undo_action.setEnabled(bool(self.document and self.document.sculptor.history.can_undo))
-        self.redo_action.setEnabled(bool(self.document and self.document.sculptor.history.can_redo))
+        history = sculptor.history if sculptor is not None else None
+        for action, name, labels in (
+            (self.undo_action, "Undo", history.undo_labels[-1:] if history else []),
+            (self.redo_action, "Redo", history.redo_labels[:1] if history else []),
+        ):
+            # named after what it will do; kept enabled so that the key says "Nothing to …"
+            what = labels[0].replace("_", " ") if labels else ""
+            action.setText(f"&{name} {what}" if what else f"&{name} (nothing to {name.lower()})")
 
     def _refresh_status(self) -> None:
-        if self.document is not None:
-            self.vertex_label.setText(f"{len(self.document.sculptor.vertices):,} vertices")
-        self.step_label.setText(f"brush step: {self.last_step_ms:.1f} ms")
+        sculptor = self.sculptor
+        self.status.show_counts(len(sculptor.vertices) if sculptor else None, self.last_step_ms)

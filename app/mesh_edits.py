@@ -5,7 +5,7 @@ the mesh, with progress in the status bar); the window refuses strokes, undo and
 meanwhile, and the result is adopted on the GUI thread (:meth:`Sculptor.subdivide` with
 ``prepared``: one undo step, one session record). Whenever the sculptor's face array or mask
 changed (a subdivision, its undo, a mask stroke), :meth:`MeshEdits.sync` redraws the mesh
-(a new surface index for picking and normals) or the mask's tint.
+(a new surface index for picking and normals, the pins, the mask's tint).
 """
 
 from __future__ import annotations
@@ -46,7 +46,6 @@ class MeshEdits(QObject):
         self._job_started = 0.0
         self._progress_bar = None
         self._shown_faces: np.ndarray | None = None
-        self._shown_mask = -1
         #: Seconds of the last subdivision, from the request to the mesh shown (benchmarks).
         self.last_seconds = 0.0
 
@@ -85,8 +84,7 @@ class MeshEdits(QObject):
             self._end_job()
         sculptor = self.window.document.sculptor
         self._shown_faces = sculptor.faces
-        self._shown_mask = -1
-        self.sync()
+        self.window.viewport.show_mask_of(sculptor)
 
     def cancel(self) -> None:
         """Drop a running subdivision (closing the window)."""
@@ -97,10 +95,10 @@ class MeshEdits(QObject):
         return self._runner.wait(msecs)
 
     # -- view --------------------------------------------------------------------------------
-    def sync(self, rows: np.ndarray | None = None) -> bool:
-        """Bring the view up to the sculptor's mesh: True when its faces changed and the whole
-        mesh was shown again; the mask tint redrawn when the mask changed (``rows``: only
-        these vertices, a mask stroke's event)."""
+    def sync(self, indices: np.ndarray | None = None) -> bool:
+        """Bring the view up to the sculptor's mesh: when its faces changed (a subdivision,
+        its undo or redo) the whole mesh is shown again, with its pins and mask (True);
+        else the vertices that differ (or ``indices``), pins and mask are drawn (False)."""
         document = self.window.document
         if document is None:
             return False
@@ -110,15 +108,10 @@ class MeshEdits(QObject):
         if remade:
             self._shown_faces = sculptor.faces
             viewport.set_mesh(sculptor.vertices, sculptor.faces, reset_camera=False)
-            self.window._apply_mesh_look()
+            self.window.look.apply_mesh_look()
             self.window.surface_progress.setValue(0)
             self.window.surface_progress.setVisible(viewport.surface_building)
-            self.window.tools.cursor.hide()
-            self._shown_mask = -1
-        if sculptor.mask.version != self._shown_mask:
-            partial = rows if self._shown_mask >= 0 and not remade else None
-            self._shown_mask = sculptor.mask.version
-            viewport.show_mask(sculptor.mask.values if sculptor.mask.any else None, partial)
+        viewport.show_sculptor(None if remade else indices)
         return remade
 
     # -- actions -----------------------------------------------------------------------------
@@ -176,7 +169,7 @@ class MeshEdits(QObject):
 
     def _bar(self):
         if self._progress_bar is None:
-            self._progress_bar = self.window._status_progress(
+            self._progress_bar = self.window.status.add_progress(
                 100, "subdividing %p%", "Loop subdivision of the mesh; sculpting waits for it"
             )
         return self._progress_bar
@@ -232,7 +225,6 @@ class MeshEdits(QObject):
 
     def _subdivided(self) -> None:
         sculptor = self.window.document.sculptor
-        self.sync()
         self.last_seconds = time.perf_counter() - self._job_started
         self._edited(
             f"Subdivided: {len(sculptor.vertices):,} vertices, {len(sculptor.faces):,} faces "
@@ -241,6 +233,6 @@ class MeshEdits(QObject):
 
     def _edited(self, message: str) -> None:
         self.sync()
-        self.window._refresh_title()
+        self.window.refresh_title()
         self.window._refresh_status()
         self.window.flash(message)

@@ -30,6 +30,7 @@ __all__ = [
     "active_theme",
     "apply_theme",
     "current_theme",
+    "qt_application",
     "theme",
 ]
 
@@ -154,7 +155,7 @@ def _mix(first: str, second: str, weight: float) -> str:
     a, b = QColor(first), QColor(second)
     channels = [
         round(weight * x + (1.0 - weight) * y)
-        for x, y in zip(a.getRgb()[:3], b.getRgb()[:3], strict=True)
+        for x, y in zip((a.red(), a.green(), a.blue()), (b.red(), b.green(), b.blue()), strict=True)
     ]
     return QColor(*channels).name()
 
@@ -235,6 +236,14 @@ def theme(name: str = DEFAULT_THEME) -> Theme:
         ) from None
 
 
+def qt_application() -> QApplication:
+    """The running QApplication (the app's widgets need one)."""
+    app = QApplication.instance()
+    if not isinstance(app, QApplication):
+        raise RuntimeError("no QApplication is running")
+    return app
+
+
 def apply_theme(app: QApplication, name: str = DEFAULT_THEME) -> Theme:
     """Give ``app`` the Fusion style, the palette and the style sheet of theme ``name``.
 
@@ -267,7 +276,7 @@ def active_theme() -> Theme:
     else (no theme applied, e.g. a panel made alone in a test) the built-in theme matching the
     application palette's lightness."""
     app = QApplication.instance()
-    if app is None:
+    if not isinstance(app, QApplication):
         return theme()
     applied = current_theme(app)
     if applied is not None:

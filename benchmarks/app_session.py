@@ -78,7 +78,7 @@ def main() -> None:
     settings = QSettings(str(Path(tempfile.mkdtemp()) / "s.ini"), QSettings.Format.IniFormat)
     window = MainWindow(settings)
     window.show()
-    window.open_default()
+    window.files.open_default()
     construct = time.perf_counter() - t0
     last[0] = time.perf_counter()
     heartbeat.start()
@@ -199,7 +199,7 @@ def main() -> None:
             if not path.exists():
                 print(f"{name:<16} skipped: {path} not found")
                 continue
-            if not window.open_file(str(path)):
+            if not window.files.open_file(str(path)):
                 continue
             spin(0.5)
         r = drag(args.events)
@@ -227,7 +227,7 @@ def main() -> None:
         f"12 queued undos: settled after {1e3 * (time.perf_counter() - t_undo):.0f} ms, "
         f"{len(renders)} render(s)"
     )
-    window.save_screenshot(args.out)
+    window.files.save_screenshot(args.out)
     print(f"screenshot: {args.out}")
     # the drags above left unsaved edits: without this, closing asks to save and waits forever
     window.document._saved_vertices = window.document.sculptor.vertices.copy()

@@ -4,10 +4,12 @@ Targets (issue "Numerics core"), on the 2-core reference machine, anisotropic ma
 precompute ≤ 50 ms at l_max = 8 and ≤ 300 ms at l_max = 20; l_max = 8 vector load on 10⁶ points
 ≤ 100 ms and at most 3× a numba closed-form isotropic Kelvinlet on the same points in the same run.
 
-The last lines put the ratio in perspective: the multiply-adds per point of the generated angular
-sum and of the radial polynomials, timed at the best multiply-add rate this machine reaches, give
-the arithmetic floor of the expansion before geometry and memory traffic (which alone take about
-the Kelvinlet's time).
+The last lines put the ratio in perspective: the floating-point operations per point of the
+generated angular sum and of the radial polynomials, timed at the best rate this machine reaches
+for them, give the arithmetic floor of the expansion before geometry and memory traffic (which
+alone take about the Kelvinlet's time). The current evaluation fuses no multiply-add (its NumPy
+twin, which serves until it is compiled, has none); the floor with fused multiply-adds, which
+evaluation 1 had, is printed beside it, and evaluation 1's throughput in the same run.
 
     python benchmarks/kernel.py                 # all sizes, l_max 4, 8, 20
     python benchmarks/kernel.py --sizes 10000 --repeats 3
@@ -33,6 +35,7 @@ from gogreen_core import kernel as kernel_module
 from gogreen_core import radial as radial_module
 from gogreen_core._expansion import SEGMENT_DEGREE
 from gogreen_core._unrolled import UNROLLED_L_MAX, angular_source
+from gogreen_core.kernel import prepare_degree
 
 
 @numba.njit(parallel=True, cache=True, fastmath=True)
@@ -82,10 +85,13 @@ _FIRST_CALL = """
 import time, numpy as np
 start = time.perf_counter()
 from gogreen_core import GreenKernel, Material
+from gogreen_core.kernel import prepare_degree
 k = GreenKernel(Material.cubic(3.0, 1.5, 0.4), l_max=8)
 k.displacement(np.ones((4, 3)), np.zeros(3), np.ones(3))
 k.affine_displacement(np.ones((4, 3)), np.zeros(3), np.eye(3))
-print(1e3 * (time.perf_counter() - start))
+first = 1e3 * (time.perf_counter() - start)
+prepare_degree(8)  # the compiled code, brought in the background meanwhile
+print(first, 1e3 * (time.perf_counter() - start))
 """
 
 
@@ -96,20 +102,24 @@ print(1e3 * prepare_degree(int(sys.argv[1])))
 """
 
 
-def angular_multiply_adds(l_first: int, l_last: int) -> int:
-    """Multiplications per point in the generated angular kernel; each is one multiply or one
-    fused multiply-add instruction (the additions all fuse), so this is its arithmetic count."""
-    return angular_source(l_first, l_last).split("for i in range(nb):")[1].count("*")
+def angular_operations(l_first: int, l_last: int) -> tuple[int, int]:
+    """(multiplications, additions and subtractions) per point in the generated angular
+    kernel: its arithmetic, each one instruction (with fused multiply-adds every addition would
+    fuse into a multiplication)."""
+    body = angular_source(l_first, l_last).split("for i in range(nb):")[1]
+    return body.count("*"), body.count(" + ") + body.count(" - ")
 
 
 _CHAINS, _STEPS = 8, 32
 
 
-def multiply_add_rate(n_points: int = 1_000_000) -> float:
+def multiply_add_rate(n_points: int = 1_000_000, fused: bool = True) -> float:
     """Multiply-adds per second this machine sustains (all threads) in straight-line code
-    vectorized across points, as the generated kernels are: 8 independent chains of 32 steps."""
+    vectorized across points, as the generated kernels are: 8 independent chains of 32 steps;
+    ``fused``: each one instruction, else a multiplication and an addition."""
+    contract = "{'contract'}" if fused else "False"
     lines = [
-        "@numba.njit(parallel=True, fastmath={'contract'}, error_model='numpy')",
+        f"@numba.njit(parallel=True, fastmath={contract}, error_model='numpy')",
         "def chains(x, out):",
         "    for n in numba.prange(x.shape[0]):",
         "        v = x[n]",
@@ -128,14 +138,15 @@ def multiply_add_rate(n_points: int = 1_000_000) -> float:
     return _CHAINS * _STEPS * n_points / seconds
 
 
-def fresh_process_ms(cache_dir: str, script: str, *args: str) -> float:
+def fresh_process_ms(cache_dir: str, script: str, *args: str) -> float | list[float]:
     """Run ``script`` in a fresh interpreter whose numba cache lives in ``cache_dir``; returns
-    the milliseconds it prints."""
+    the milliseconds it prints (a list when it prints several)."""
     env = dict(os.environ, NUMBA_CACHE_DIR=cache_dir)
     result = subprocess.run(
         [sys.executable, "-c", script, *args], env=env, capture_output=True, text=True, check=True
     )
-    return float(result.stdout.split()[-1])
+    values = [float(v) for v in result.stdout.split()]
+    return values[0] if len(values) == 1 else values
 
 
 def main() -> None:
@@ -153,11 +164,12 @@ def main() -> None:
     print("material: cubic C11=3, C12=1.5, C44=0.4 (Zener ratio 0.53), rotated off-axis")
 
     with tempfile.TemporaryDirectory() as cache_dir:
-        compile_ms = fresh_process_ms(cache_dir, _FIRST_CALL)
-        cached_ms = fresh_process_ms(cache_dir, _FIRST_CALL)
+        first_ms, compiled_ms = fresh_process_ms(cache_dir, _FIRST_CALL)
+        cached_ms, _ = fresh_process_ms(cache_dir, _FIRST_CALL)
     print(
         "first call in a fresh process (import, kernel build, vector + affine evaluation): "
-        f"{compile_ms:.0f} ms with an empty numba cache, {cached_ms:.0f} ms from the cache"
+        f"{first_ms:.0f} ms with an empty numba cache (compiled code ready after "
+        f"{compiled_ms:.0f} ms), {cached_ms:.0f} ms from the cache"
     )
     per_degree = {}
     for l_max in args.l_max:
@@ -166,8 +178,9 @@ def main() -> None:
                 per_degree[l_max] = fresh_process_ms(cache_dir, _DEGREE_COMPILE, str(l_max))
     if per_degree:
         print(
-            "angular kernels for a new l_max (both parities, compiled once per "
-            "machine): " + ", ".join(f"l{l}: {ms:.0f} ms" for l, ms in per_degree.items())
+            "compiled code of a new machine for an l_max (drivers and both parities' angular "
+            "kernels, compiled once in a child process while NumPy serves): "
+            + ", ".join(f"l{l}: {ms:.0f} ms" for l, ms in per_degree.items())
         )
     rng = np.random.default_rng(0)
     kelvinlet_closed_form(rng.normal(size=(8, 3)), np.zeros(3), np.ones(3), eps, 1.0, 0.3)
@@ -208,6 +221,9 @@ def main() -> None:
     force = np.array([0.3, -0.2, 1.0])
     load = np.array([[0.1, 0.4, 0.0], [-0.4, 0.2, 0.1], [0.0, 0.3, -0.3]])
     kernels = {l: GreenKernel(material, l_max=l, radial=GaussianRadial(eps)) for l in args.l_max}
+    for l_max in args.l_max:
+        prepare_degree(l_max)  # the compiled code (NumPy serves until then)
+    legacy = GreenKernel(material, l_max=8, radial=GaussianRadial(eps), evaluation=1)
     iso = GreenKernel(Material.isotropic(2.6, 0.3), l_max=2, radial=KelvinletRadial(eps))
     center = np.zeros(3)
     for n in args.sizes:
@@ -225,24 +241,28 @@ def main() -> None:
             row += f" {vec:>10.2f} {aff:>10.2f}"
             ratios.append(f"l{l_max}: {vec / kelvin:.1f}x")
         print(row + "   (" + ", ".join(ratios) + ")")
+        old = timed(lambda p=points: legacy.displacement(p, center, force), args.repeats)
+        print(f"{'':>9} evaluation 1 (fused multiply-adds), vec l8: {old:.2f} ms")
 
-    # What the arithmetic alone costs, at the best rate this machine reaches, for the last N.
-    rate = multiply_add_rate()
+    # What the arithmetic alone costs, at the best rates this machine reaches, for the last N.
+    fused_rate, rate = multiply_add_rate(), 2 * multiply_add_rate(fused=False)
     print(
         f"\narithmetic floor, vector load, N = {n}: this machine sustains {rate / 1e9:.1f} G "
-        "multiply-adds/s in vectorized straight-line code"
+        f"multiplications or additions/s ({fused_rate / 1e9:.1f} G fused multiply-adds/s) in "
+        "vectorized straight-line code"
     )
     for l_max in args.l_max:
         (_, l_last), _ = kernel_module._parity_ranges(l_max)  # even degrees: G, vector load
         if l_last > UNROLLED_L_MAX:
             continue
-        angular = angular_multiply_adds(0, l_last)
-        radial = (l_last // 2 + 1) * (SEGMENT_DEGREE + 1)  # Estrin steps and scale per degree
-        floor = 1e3 * (angular + radial) * n / rate
+        multiplies, additions = angular_operations(0, l_last)
+        radial = (l_last // 2 + 1) * (SEGMENT_DEGREE + 1)  # Estrin's products and sums, scale
+        floor = 1e3 * (multiplies + additions + 2 * radial) * n / rate
+        fused = 1e3 * (multiplies + radial) * n / fused_rate
         print(
-            f"  l_max {l_max}: {angular} angular + {radial} radial multiply-adds per point = "
-            f"{floor:.2f} ms ({floor / kelvin:.1f}x the Kelvinlet) before any geometry or memory "
-            "traffic"
+            f"  l_max {l_max}: {multiplies} + {additions} angular and {2 * radial} radial "
+            f"operations per point = {floor:.2f} ms ({floor / kelvin:.1f}x the Kelvinlet); fused "
+            f"multiply-adds would make it {fused:.2f} ms; before any geometry or memory traffic"
         )
 
 

@@ -28,10 +28,11 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
-from gogreen_core import Brush, BrushEvent, Material, Sculptor
+from gogreen_core import Brush, BrushEvent, Material, Sculptor, _compiled
 from gogreen_core._expansion import near_segment
 from gogreen_core.brushes import mirror_signs
 from gogreen_core.geometry import SurfaceIndex, vertex_normals
+from gogreen_core.kernel import prepare_degree
 from gogreen_core.mesh_io import MeshData, load_mesh, save_mesh
 from gogreen_core.shapes import icosphere
 from gogreen_core.threads import threads_at_most
@@ -42,7 +43,7 @@ FIRST_EVENT = """
 import time
 start = time.perf_counter()
 import numpy as np
-from gogreen_core import Brush, BrushEvent, Material, Sculptor
+from gogreen_core import Brush, BrushEvent, Material, Sculptor, _compiled
 from gogreen_core.shapes import icosphere
 vertices, faces = icosphere(2)
 sculptor = Sculptor(vertices, faces, material=Material.cubic(3.0, 1.5, 0.4))
@@ -150,6 +151,10 @@ def main() -> None:
     probe.apply_brush(Brush("grab"), [BrushEvent(sphere.vertices[0], [0.0, 0.01, 0.0])])
     first = time.perf_counter() - start
     print(f"first grab event incl. numba cache load:        {1e3 * first:8.0f} ms")
+    # the compiled code (on a new machine the first events run in NumPy while a child process
+    # compiles it; peer_event.py times that)
+    prepare_degree(L_MAX)
+    _compiled.prepare(_compiled.GEOMETRY)
     if args.cold_compile:
         cold = cold_first_event()
         print(f"first grab event, empty numba cache (compile):  {1e3 * cold:8.0f} ms")

@@ -30,6 +30,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from scale import median_ms, million_vertex_mesh
 
 from app.viewport import SculptViewport
+from gogreen_core import _compiled
 
 
 def main() -> None:
@@ -39,6 +40,7 @@ def main() -> None:
     parser.add_argument("--meshes", type=Path, default=root.parent / "shared" / "meshes")
     args = parser.parse_args()
     app = QApplication.instance() or QApplication([])
+    _compiled.prepare(_compiled.GEOMETRY)  # the compiled index (NumPy serves until then)
     vertices, faces, source = million_vertex_mesh(args.meshes)
     print(f"mesh: {source}, {len(vertices):,} vertices, {len(faces):,} faces")
     viewport = SculptViewport()

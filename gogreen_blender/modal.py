@@ -4,7 +4,8 @@ add-on and by synthetic ones in the tests.
 :class:`ModalStroke` turns window events into one stroke of a :class:`gogreen_core.Sculptor`
 through :class:`gogreen_core.tools.StrokeController` (the desktop app's stroke logic: grab
 brushes follow the cursor on the drag plane through the press point, affine brushes take their
-amount from the horizontal screen motion, Ctrl inverts, pen pressure scales the step). What
+amount from the signed length of the drag in any direction, Ctrl inverts, pen pressure scales
+the step). What
 it needs from the viewport is a :class:`View` (object-space ray picks and projections), which
 the operator implements with ``bpy_extras.view3d_utils`` and the tests with a fake.
 

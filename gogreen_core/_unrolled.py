@@ -1,31 +1,43 @@
-"""Angular kernels generated for one truncation degree (three outputs: vector and affine loads).
+"""Angular kernels generated per truncation degree (three outputs: vector and affine loads).
 
 The generic ``_expansion._angular`` runs the Legendre recurrence over scratch rows, one pass per
 (l, m): its loads and stores of those rows, not arithmetic, bound it. Here the angular sum of
 one point (paper Eq. 10 or 12 up to a given degree) is written out as straight-line code, so
 every intermediate stays in a register and LLVM vectorizes the one loop left, over points.
 
+Both compute the same thing with the same IEEE operations in the same order (nothing
+contracted into fused multiply-adds), as does the NumPy evaluation of ``_numpy_eval``, so they
+agree bit for bit and any of them may serve a call (see ``_expansion``).
+
 The sources are generated at build time: ``scripts/make_kernels.py`` writes one module per
 (parity, highest degree) with the recurrence constants as literals into the package
 ``gogreen_core._angular`` (committed and shipped, checked fresh by ``tests/test_unrolled.py``).
-Each defines a C callback of ``_expansion.ANGULAR_SIGNATURE`` with ``cache=True``, so numba keeps
-its machine code like any other module's: in ``__pycache__`` beside the source, or numba's own
+Each defines the function ``angular`` and its compile ``OPTIONS``; :func:`unrolled_angular`
+makes it a C callback of ``_expansion.ANGULAR_SIGNATURE`` with ``cache=True``, so numba keeps its
+machine code like any other module's: in ``__pycache__`` beside the source, or numba's own
 per-user cache when that is read-only (``NUMBA_CACHE_DIR`` overrides both). Nothing is generated
-or written at run time. The drivers ``expand`` and ``stream`` take the callback as a first-class
-function, so only it is compiled per degree, on first use (measured: 1.1 s for both parities at
-l_max 4, 3.0 s at 8, 6.6 s at 12; once per machine, then loaded from the cache in milliseconds).
+or written at run time. The drivers take the callback as a first-class function, so only it is
+compiled per degree, on first use, by ``_compiled`` (in the background, while the generic
+kernel serves).
 
 Rescaled recurrence: with P_l = Q_l^m / S_l, S_m = Q_m^m and S_l = a_lm S_{l-1}, the normalized
 recurrence Q_l = a_lm (z Q_{l-1} - b_lm Q_{l-2}) of ``sph.py`` becomes
-P_l = z P_{l-1} - (b_lm / a_{l-1,m}) P_{l-2} with P_m = 1 and P_{m+1} = z; the scales S_l are
-folded into the coefficients once per block. Per order m the degree sums A_k = Σ_l R_l P_l C_lmk
-(and B_k with the sine coefficients) are combined as cos mφ A_k + sin mφ B_k.
+P_l = z P_{l-1} - β_lm P_{l-2} with β_lm = b_lm / a_{l-1,m}, P_m = 1 and P_{m+1} = z; the scales
+S_l are folded into the coefficients once per call (:func:`row_scales`). Per order m the degree
+sums A_k = Σ_l R_l P_l C_lmk (and B_k with the sine coefficients) are combined as
+cos mφ A_k + sin mφ B_k.
 """
 
 from __future__ import annotations
 
 import importlib
 import threading
+from functools import lru_cache
+
+import numpy as np
+from numba import cfunc
+from numba.core import sigutils
+from numba.core.ccallback import CFunc
 
 from gogreen_core import _expansion
 from gogreen_core.sph import legendre_recurrence
@@ -33,9 +45,12 @@ from gogreen_core.sph import legendre_recurrence
 __all__ = [
     "GENERATED_PACKAGE",
     "UNROLLED_L_MAX",
+    "angular_cached",
+    "angular_constants",
     "angular_source",
     "generated_modules",
     "module_source",
+    "row_scales",
     "unrolled_angular",
 ]
 
@@ -43,23 +58,51 @@ __all__ = [
 #: straight-line code, and its compile time, grow as l²).
 UNROLLED_L_MAX = 13
 
-_LOCK = threading.Lock()
-_KERNELS: dict[tuple[int, int], object] = {}
+
+@lru_cache(maxsize=8)
+def angular_constants(l_last: int) -> tuple[np.ndarray, np.ndarray]:
+    """(β, S), each (L+1, L+1) with L = max(l_last, 1): the rescaled recurrence constants
+    β[l, m] = b_lm / a_{l-1,m} (l ≥ m + 2) and the scales S[l, m] = Q_m^m Π_{j=m+1..l} a_jm
+    (l ≥ m), as the generated kernels have them written in (read-only arrays)."""
+    size = max(l_last, 1) + 1
+    rec = legendre_recurrence(size - 1)
+    beta = np.zeros((size, size))
+    scales = np.zeros((size, size))
+    for m in range(size):
+        scale = float(rec.qmm[m])
+        scales[m, m] = scale
+        for l in range(m + 1, size):
+            scale *= float(rec.a[l, m])
+            scales[l, m] = scale
+            if l >= m + 2:
+                beta[l, m] = float(rec.b[l, m] / rec.a[l - 1, m])
+    beta.setflags(write=False)
+    scales.setflags(write=False)
+    return beta, scales
+
+
+def row_scales(l_first: int, l_last: int) -> np.ndarray:
+    """S for each coefficient row of the parity (rows of degree l: m = -l … l), to fold into
+    the coefficients: (Σ (2l+1),)."""
+    _, scales = angular_constants(l_last)
+    return np.concatenate(
+        [[scales[l, abs(m)] for m in range(-l, l + 1)] for l in range(l_first, l_last + 1, 2)]
+    )
 
 
 def angular_source(l_first: int, l_last: int) -> str:
     """Source of the angular kernel for degrees l_first, l_first + 2, …, l_last (K = 3).
 
-    Every name is assigned once (numba's SSA pass is slow on reassigned names).
+    The operations of ``_expansion._angular`` (see there), unrolled; every name is assigned
+    once (numba's SSA pass is slow on reassigned names).
     """
-    rec = legendre_recurrence(max(l_last, 1))
+    beta, _ = angular_constants(l_last)
     degrees = list(range(l_first, l_last + 1, 2))
     base, n_terms = {}, 0
     for l in degrees:
         base[l] = n_terms
         n_terms += 2 * l + 1
     head = [
-        "@cfunc(ANGULAR_SIGNATURE, **_JIT)",
         "def angular(nb, geo_ptr, rad_ptr, coeffs_ptr, acc_ptr):",
         f'    """Degrees {l_first}..{l_last} step 2: acc[k, i] = Σ_lm R_l Y_lm coeffs[lm, k]."""',
         f"    rad = carray(rad_ptr, ({len(degrees)}, BLOCK))",
@@ -72,17 +115,13 @@ def angular_source(l_first: int, l_last: int) -> str:
         body += ["        x = geo[0, i]", "        y = geo[1, i]", "        z = geo[2, i]"]
     body += [f"        w{d} = rad[{d}, i]" for d in range(len(degrees))]
     for m in range(l_last + 1):
-        scale = float(rec.qmm[m])
-        scales = {m: scale}
         for l in range(m + 1, l_last + 1):
-            scale *= float(rec.a[l, m])
-            scales[l] = scale
             if l == m + 1:
                 chain = "z"
+            elif l == m + 2:  # P_m = 1, and β · 1 = β exactly
+                chain = f"z * p{l - 1}_{m} - {float(beta[l, m])!r}"
             else:
-                beta = float(rec.b[l, m] / rec.a[l - 1, m])
-                older = repr(beta) if l == m + 2 else f"{beta!r} * p{l - 2}_{m}"
-                chain = f"z * p{l - 1}_{m} - {older}"
+                chain = f"z * p{l - 1}_{m} - {float(beta[l, m])!r} * p{l - 2}_{m}"
             body.append(f"        p{l}_{m} = {chain}")
         terms = [l for l in degrees if l >= m]
         parts = (("a", 1),) if m == 0 else (("a", 1), ("b", -1))
@@ -92,10 +131,13 @@ def angular_source(l_first: int, l_last: int) -> str:
             for k in range(3):
                 for part, sign in parts:
                     coeff = f"{part}c{l}_{m}_{k}"
-                    row = base[l] + l + sign * m
-                    head.append(f"    {coeff} = coeffs[{row}, {k}] * {scales[l]!r}")
-                    prior = f"{part}{m}_{k}_{n - 1} + " if n else ""
-                    body.append(f"        {part}{m}_{k}_{n} = {prior}t{l}_{m} * {coeff}")
+                    head.append(f"    {coeff} = coeffs[{base[l] + l + sign * m}, {k}]")
+                    value = (
+                        f"{part}{m}_{k}_{n - 1} + t{l}_{m} * {coeff}"
+                        if n
+                        else f"t{l}_{m} * {coeff}"
+                    )
+                    body.append(f"        {part}{m}_{k}_{n} = {value}")
         last = len(terms) - 1
         if m == 1:
             body += ["        cm1 = x", "        sm1 = y"]
@@ -106,7 +148,7 @@ def angular_source(l_first: int, l_last: int) -> str:
             total = (
                 f"a0_{k}_{last}"
                 if m == 0
-                else (f"u{k}_{m - 1} + cm{m} * a{m}_{k}_{last} + sm{m} * b{m}_{k}_{last}")
+                else f"(u{k}_{m - 1} + cm{m} * a{m}_{k}_{last}) + sm{m} * b{m}_{k}_{last}"
             )
             body.append(f"        u{k}_{m} = {total}")
     body += [f"        acc[{k}, i] = u{k}_{l_last}" for k in range(3)]
@@ -138,34 +180,70 @@ def module_source(l_first: int, l_last: int) -> str:
     module's text (which numba's disk cache follows) changes whenever they do, and the freshness
     test catches a module not regenerated since.
     """
-    # options are bools, strings and sets of strings: their repr with double quotes is what
-    # ruff format writes
-    options = ", ".join(f"{k}={v!r}".replace("'", '"') for k, v in _expansion._JIT.items())
+    # options are bools and strings: their repr with double quotes is what ruff format writes
+    options = ", ".join(f"{k}={v!r}".replace("'", '"') for k, v in _CALLBACK_OPTIONS.items())
     return (
         f'"""Angular kernel for degrees {l_first}..{l_last} step 2. Generated by '
         'scripts/make_kernels.py\nfrom gogreen_core._unrolled.angular_source: do not edit."""\n\n'
-        "from numba import carray, cfunc\n\n"
-        "from gogreen_core._expansion import ANGULAR_SIGNATURE\n\n"
+        "from numba import carray\n\n"
         f"BLOCK = {_expansion.BLOCK}\n"
-        f"_JIT = dict({options})\n\n\n" + angular_source(l_first, l_last)
+        "#: Options of the C callback gogreen_core._unrolled makes of ``angular``.\n"
+        f"OPTIONS = dict({options})\n\n\n" + angular_source(l_first, l_last)
     )
 
 
-def unrolled_angular(l_first: int, l_last: int):
-    """The compiled angular kernel (a numba cfunc) for one parity and highest degree.
+#: Compile options of the generated C callbacks: those of the drivers (no fastmath); cached.
+_CALLBACK_OPTIONS = {
+    k: v for k, v in _expansion._JIT.items() if k in ("boundscheck", "error_model")
+}
 
-    Imports its generated module on first use, which compiles it or loads it from numba's disk
-    cache; thread safe.
-    """
+
+_KERNELS: dict[tuple[int, int], object] = {}
+#: Held while a generated kernel is compiled (or loaded); never while only looking one up.
+_COMPILE_LOCK = threading.Lock()
+
+
+def _check(l_first: int, l_last: int) -> tuple[int, int]:
     if not (l_first in (0, 1) and l_first <= l_last <= UNROLLED_L_MAX and l_last % 2 == l_first):
         raise ValueError(
             f"no generated angular kernel for degrees {l_first}..{l_last} "
             f"(first degree 0 or 1, last of the same parity, at most {UNROLLED_L_MAX})"
         )
-    key = (l_first, l_last)
-    with _LOCK:
-        kernel = _KERNELS.get(key)
-        if kernel is None:
-            module = importlib.import_module(f"{GENERATED_PACKAGE}.{_module_name(*key)}")
-            kernel = _KERNELS[key] = module.angular
-        return kernel
+    return l_first, l_last
+
+
+def _module(key: tuple[int, int]):
+    return importlib.import_module(f"{GENERATED_PACKAGE}.{_module_name(*key)}")
+
+
+def unrolled_angular(l_first: int, l_last: int):
+    """The compiled angular kernel (a numba cfunc) for one parity and highest degree.
+
+    Compiles it on first use, or loads it from numba's disk cache (seconds the first time on
+    a machine, then milliseconds); thread safe. ``_compiled`` calls it off the evaluating
+    threads.
+    """
+    key = _check(l_first, l_last)
+    kernel = _KERNELS.get(key)
+    if kernel is None:
+        with _COMPILE_LOCK:
+            kernel = _KERNELS.get(key)
+            if kernel is None:
+                module = _module(key)
+                make = cfunc(_expansion.ANGULAR_SIGNATURE, cache=True, **module.OPTIONS)
+                kernel = _KERNELS[key] = make(module.angular)
+    return kernel
+
+
+def angular_cached(l_first: int, l_last: int) -> bool:
+    """Whether numba's disk cache holds the compiled kernel (nothing is compiled). Uses
+    numba's cache of C callbacks directly (``CFunc._cache``, not public API)."""
+    key = _check(l_first, l_last)
+    if key in _KERNELS:
+        return True
+    module = _module(key)
+    signature = sigutils.normalize_signature(_expansion.ANGULAR_SIGNATURE)
+    callback = CFunc(module.angular, signature, {}, module.OPTIONS)
+    callback.enable_caching()
+    context = callback._targetdescr.target_context
+    return callback._cache.load_overload(callback._sig, context) is not None

@@ -11,6 +11,8 @@ whole mesh.
 from __future__ import annotations
 
 import math
+import sys
+import threading
 from collections.abc import Callable
 
 import numba
@@ -443,8 +445,10 @@ class SurfaceIndex:
         self._leaf_ids = np.empty(3 * len(faces), dtype=np.int32)
         self._block_offsets = np.empty(n_blocks + 1, dtype=np.int32)
         block_leaves = np.empty(3 * len(faces), dtype=np.int32)
-        used = _connect(faces, self.rank, self.face_order, face_rank, self.faces, self._offsets,
-                        self._leaf_ids, self._block_offsets, block_leaves)  # fmt: skip
+        used = _kernels()._connect(
+            faces, self.rank, self.face_order, face_rank, self.faces, self._offsets,
+            self._leaf_ids, self._block_offsets, block_leaves,
+        )  # fmt: skip
         self._block_leaves = block_leaves[:used].copy()
         report(0.7)
         n_leaves = (len(faces) + LEAF_SIZE - 1) // LEAF_SIZE
@@ -490,7 +494,7 @@ class SurfaceIndex:
         self._stale_boxes += len(seeds)
         with _threads_for(len(seeds)) as threads:
             return int(
-                _update(
+                _kernels()._update(
                     vertices, seeds, self.rank, self._offsets, self._leaf_ids,
                     self._block_offsets, self._block_leaves, self.faces, self.positions,
                     self._moved, self._ring, self._block_moved, self._block_ring,
@@ -509,14 +513,16 @@ class SurfaceIndex:
             )
         mask = np.empty(self._n_vertices, dtype=np.bool_)
         with _threads_for(self._n_vertices) as threads:
-            _differ(vertices, self.rank, self.positions, mask, threads)
+            _kernels()._differ(vertices, self.rank, self.positions, mask, threads)
         return np.flatnonzero(mask)
 
     def _refit(self) -> None:
         """Refit the boxes of the leaves marked stale since the last pick."""
         if self._stale_boxes:
             with _threads_for(self._stale_boxes) as threads:
-                _refit(self.positions, self.faces, self._leaf_dirty, self._boxes, threads)
+                _kernels()._refit(
+                    self.positions, self.faces, self._leaf_dirty, self._boxes, threads
+                )
             self._stale_boxes = 0
 
     def pick(self, origin: np.ndarray, direction: np.ndarray) -> tuple[int, np.ndarray] | None:
@@ -532,10 +538,13 @@ class SurfaceIndex:
         with np.errstate(divide="ignore"):
             inv = 1.0 / d
         near = np.empty(len(self._boxes))
-        _leaf_hits(self._boxes, o, inv, near)
+        kernels = _kernels()
+        kernels._leaf_hits(self._boxes, o, inv, near)
         hit = np.flatnonzero(near < np.inf)
         candidates = hit[np.argsort(near[hit], kind="stable")]
-        face, t = _closest_hit(self.positions, self.faces, self.face_order, candidates, near, o, d)
+        face, t = kernels._closest_hit(
+            self.positions, self.faces, self.face_order, candidates, near, o, d
+        )
         if face < 0:
             return None
         return int(face), o + t * d
@@ -555,6 +564,24 @@ def _curve_order(points, groups, low, scale) -> np.ndarray:
     """Indices (int32) of the groups (k, g) of ``points`` sorted along the Z-order curve of
     their mean points, ties in index order."""
     keys = np.empty(len(groups), dtype=np.int64)
-    _morton_keys(points, np.ascontiguousarray(groups, dtype=np.int32), low, scale, keys)
+    _kernels()._morton_keys(points, np.ascontiguousarray(groups, dtype=np.int32), low, scale, keys)
     keys.sort()  # unique keys: any sort gives the stable order; numpy's default is fastest
     return (keys & np.int64(2**31 - 1)).astype(np.int32)
+
+
+#: ``now`` True on a thread that compiles this module's functions (``_compiled``).
+_compiling = threading.local()
+
+
+def _kernels():
+    """This module, whose compiled functions serve once numba has them (compiled in the
+    background, see ``gogreen_core._compiled``), else their NumPy twins
+    (``gogreen_core._geometry_numpy``: the same results), so that a new machine need not wait
+    for the compiler to pick and shade."""
+    from gogreen_core import _compiled
+
+    if getattr(_compiling, "now", False) or _compiled.geometry():
+        return sys.modules[__name__]
+    from gogreen_core import _geometry_numpy
+
+    return _geometry_numpy

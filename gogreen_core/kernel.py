@@ -7,30 +7,40 @@ with M(ξ)_ik = C_ijkl ξ_j ξ_l, P_lm = ∫_S² M(ξ̂)⁻¹ Y_lm(ξ̂) dS and 
 the real SH basis of ``sph.py`` (the addition theorem makes the real basis exact, so everything
 stays real). The material matrices are integrated once, by the paper's Lebedev rule where M⁻¹ is
 smooth and by a product rule graded toward the material's axis where it is sharply peaked
-(:func:`material_rule`); R_l and ℛ_l come
-from the radial profile's tables (``radial.py``); evaluation is the numba kernel of
-``_expansion.py``. G is truncated at even l ≤ l_max and ∇G at odd l ≤ l_max + 1.
+(:func:`material_rule`, ``quadrature.py``); R_l and ℛ_l come from the radial profile's tables
+(``radial.py``); evaluation is the numba code of ``_expansion.py`` and ``_integrator.py``
+(see ``_evaluation.py``). G is truncated at even l ≤ l_max and ∇G at odd l ≤ l_max + 1.
 """
 
 from __future__ import annotations
 
 import time
 from collections.abc import Sequence
-from functools import lru_cache
 
 import numpy as np
-from scipy.integrate import lebedev_rule
 
-from gogreen_core._expansion import SEGMENT_DEGREE, expand, generic_marker, stream
-from gogreen_core._unrolled import UNROLLED_L_MAX, unrolled_angular
+from gogreen_core import _compiled, _evaluation
+from gogreen_core._evaluation import EVALUATION, EVALUATIONS, Parity
+from gogreen_core._expansion import SEGMENT_DEGREE
 from gogreen_core.material import Material
+from gogreen_core.quadrature import (
+    CHECK_ORDER,
+    QUADRATURE_ORDER,
+    QUADRATURE_RTOL,
+    lebedev_points,
+    material_rule,
+)
 from gogreen_core.radial import TABLE_DEGREE, GaussianRadial, RadialProfile
 from gogreen_core.sph import legendre_recurrence, real_sph_harm
 from gogreen_core.validation import ParameterError, check_number
 
 __all__ = [
+    "CHECK_ORDER",
     "COORDINATE_LIMIT",
+    "EVALUATION",
     "L_MAX_LIMIT",
+    "QUADRATURE_ORDER",
+    "QUADRATURE_RTOL",
     "GreenKernel",
     "StreamlineOverflow",
     "lebedev_points",
@@ -46,124 +56,8 @@ class StreamlineOverflow(ValueError):
     """The streamlines would move a point to infinity (nothing was moved)."""
 
 
-#: Lebedev rule used for the material matrices when M(ξ̂)⁻¹ is smooth enough for it (5,810
-#: nodes, exact to degree 131: the paper's).
-QUADRATURE_ORDER = 131
-#: Lower Lebedev rule whose disagreement with QUADRATURE_ORDER on the low moments of M⁻¹ measures
-#: M⁻¹'s content between degrees ~70 and 131, which is what would alias into the coefficients of
-#: degree ≤ 61 under the 131 rule.
-CHECK_ORDER = 71
-#: Relative accuracy asked of the material matrices (against their largest entry).
-QUADRATURE_RTOL = 1e-11
 #: Default error target of :meth:`GreenKernel.streamlines`, relative to the motion scale.
 STREAMLINE_TOLERANCE = 1e-4
-
-
-@lru_cache(maxsize=4)
-def lebedev_points(order: int = QUADRATURE_ORDER) -> tuple[np.ndarray, np.ndarray]:
-    """Lebedev nodes (n, 3) on the unit sphere and weights (n,) summing to 4π (read-only)."""
-    nodes, weights = lebedev_rule(order)
-    nodes = np.ascontiguousarray(nodes.T)
-    nodes.setflags(write=False)
-    weights.setflags(write=False)
-    return nodes, weights
-
-
-def _low_moments(material: Material, nodes: np.ndarray, weights: np.ndarray) -> np.ndarray:
-    """∫ M⁻¹ ξ̂^α dS for the monomials of degree ≤ 2 (10, 3, 3): the error indicator."""
-    m_inv = np.linalg.inv(material.acoustic_tensor(nodes))
-    x, y, z = nodes.T
-    mono = np.stack([np.ones_like(x), x, y, z, x * x, y * y, z * z, x * y, x * z, y * z])
-    return ((mono * weights) @ m_inv.reshape(len(nodes), 9)).reshape(10, 3, 3)
-
-
-def _material_frame(material: Material) -> np.ndarray:
-    """Rotation (3, 3) whose last column is the material's most distinct axis: the eigenvector
-    of A_ij = C_ikjk whose eigenvalue stands farthest (in ratio) from the other two. Stiff
-    fibres along it put the ridge of M⁻¹ on the frame's equator, a stiff plane normal to it puts
-    the peaks of M⁻¹ at the frame's poles: both where the product rule grades its nodes."""
-    values, vectors = np.linalg.eigh(np.einsum("ikjk->ij", material.tensor))
-    logs = np.log(np.maximum(values, values[-1] * 1e-300))
-    axis = 0 if logs[1] - logs[0] > logs[2] - logs[1] else 2
-    others = [k for k in range(3) if k != axis]
-    frame = vectors[:, [*others, axis]]
-    return frame if np.linalg.det(frame) > 0 else frame * np.array([-1.0, 1.0, 1.0])
-
-
-def _product_rule(
-    l_max: int, level: int, frame: np.ndarray, finest: float
-) -> tuple[np.ndarray, np.ndarray]:
-    """Gauss–Legendre in the polar angle θ × trapezoid in φ, in ``frame``: nodes (n, 3) and
-    weights (n,) summing to 4π.
-
-    θ panels: uniform ones with enough points for Y_lm up to l_max + 1 (GL with p points
-    resolves e^{ilθ} on a panel of width h for p ≳ lh/2 + 8), refined geometrically (ratio 2)
-    toward the equator and the poles down to width ``finest``, where the integrand M⁻¹ of a
-    strongly anisotropic material has its ridges and peaks: composite Gauss–Legendre on
-    geometrically graded panels converges exponentially however sharp the feature. ``level``
-    ≥ 0 raises the points per panel and in φ.
-    """
-    coarse_points, fine_points = 16 + 4 * level, 8 + 4 * level
-    n_uniform = int(np.ceil(np.pi * (l_max + 2) / (4 * (coarse_points - 8))))
-    uniform_width = np.pi / (2 * n_uniform)
-    edges = set(np.linspace(0.0, np.pi, 2 * n_uniform + 1).tolist())
-    width = finest
-    while width < uniform_width / 2:
-        edges.update((width, np.pi / 2 - width, np.pi / 2 + width, np.pi - width))
-        width *= 2.0
-    edges = np.array(sorted(edges))
-    thetas, theta_weights = [], []
-    for points in (coarse_points, fine_points):
-        lo, hi = edges[:-1], edges[1:]
-        pick = ((hi - lo) > 0.75 * uniform_width) == (points == coarse_points)
-        lo, hi = lo[pick, None], hi[pick, None]
-        gx, gw = np.polynomial.legendre.leggauss(points)
-        thetas.append((lo + 0.5 * (hi - lo) * (gx + 1)).ravel())
-        theta_weights.append((0.5 * (hi - lo) * gw).ravel())
-    theta = np.concatenate(thetas)
-    w_theta = np.concatenate(theta_weights) * np.sin(theta)
-    n_phi = 2 * (l_max + 2) + 24 * (level + 1)
-    phi = 2 * np.pi * np.arange(n_phi) / n_phi
-    sin_t = np.sin(theta)[:, None]
-    local = np.stack(
-        [sin_t * np.cos(phi), sin_t * np.sin(phi), np.cos(theta)[:, None] + 0 * phi], axis=-1
-    ).reshape(-1, 3)
-    weights = np.repeat(w_theta, n_phi) * (2 * np.pi / n_phi)
-    return local @ frame.T, weights
-
-
-def material_rule(
-    material: Material, l_max: int, rtol: float = QUADRATURE_RTOL
-) -> tuple[np.ndarray, np.ndarray]:
-    """Quadrature nodes (n, 3) and weights (n,) on the unit sphere for the material matrices
-    P_lm = ∫ M(ξ̂)⁻¹ Y_lm dS of truncation ``l_max``, accurate to ``rtol`` (relative).
-
-    M⁻¹ is smooth for mild anisotropy, and the paper's Lebedev rule (order 131) serves; for
-    strong anisotropy it is sharply peaked (fibres at contrast 10⁴: a ridge 0.016 rad wide, and
-    the Lebedev rule's l = 0 coefficient is off by 1.5e-3). The Lebedev rule is kept when a lower
-    one (order 71) agrees with it on the moments of M⁻¹ up to degree 2, i.e. when M⁻¹ has no
-    content the rule would alias; otherwise a product rule graded toward the material's axis
-    (:func:`_product_rule`) is refined until two successive levels agree to ``rtol``, and the
-    coarser of the two is returned (at most four levels: past them the finest serves).
-    """
-    nodes, weights = lebedev_points()
-    reference = _low_moments(material, nodes, weights)
-    scale = np.abs(reference).max()
-    check = _low_moments(material, *lebedev_points(CHECK_ORDER))
-    if np.abs(check - reference).max() <= rtol * scale:
-        return nodes, weights
-    frame = _material_frame(material)
-    stiffness = np.linalg.eigvalsh(material.voigt)
-    finest = min(0.05, 0.1 * np.sqrt(stiffness[0] / stiffness[-1]))
-    coarse = _product_rule(l_max, 0, frame, finest)
-    coarse_moments = _low_moments(material, *coarse)
-    for level in range(1, 4):
-        fine = _product_rule(l_max, level, frame, finest)
-        fine_moments = _low_moments(material, *fine)
-        if np.abs(fine_moments - coarse_moments).max() <= rtol * scale:
-            return coarse  # two levels agree: the cheaper one is accurate
-        coarse, coarse_moments = fine, fine_moments
-    return coarse
 
 
 def _parity_ranges(l_max: int) -> tuple[tuple[int, int], tuple[int, int]]:
@@ -173,17 +67,16 @@ def _parity_ranges(l_max: int) -> tuple[tuple[int, int], tuple[int, int]]:
 
 
 def prepare_degree(l_max: int) -> float:
-    """Compile (or load from numba's disk cache) the shipped angular kernels that vector
-    and affine loads of truncation degree ``l_max`` use; returns the seconds it took.
+    """Bring in the compiled code vector and affine loads of truncation degree ``l_max`` run
+    with (the drivers and the shipped angular kernels of both parities) and wait for it;
+    returns the seconds it took (milliseconds from numba's disk cache).
 
-    Thread safe and runs no parallel code, so it can run on a background thread while strokes
-    evaluate (numba's workqueue threading layer forbids concurrent parallel launches).
+    Evaluations never wait for it (they run in NumPy or with the generic kernel until then,
+    with the same results); this is for callers that want the compiled speed from their first
+    evaluation on. The compilation itself runs in a child process where it can (see
+    ``_compiled``), so the other threads of this one are not slowed. Thread safe.
     """
-    start = time.perf_counter()
-    for l_first, l_last in _parity_ranges(l_max):
-        if l_last <= UNROLLED_L_MAX:
-            unrolled_angular(l_first, l_last)
-    return time.perf_counter() - start
+    return _compiled.prepare(*_compiled.units_for(l_max))
 
 
 #: Largest coordinate magnitude of points, offsets and centers: differences of two such values
@@ -193,7 +86,7 @@ COORDINATE_LIMIT = 1e300
 
 
 def _finite_array(name: str, value, shape: tuple[int, ...]) -> np.ndarray:
-    arr = np.asarray(value, dtype=np.float64)
+    arr = np.array(value, dtype=np.float64)  # a writable copy: one compiled type
     if arr.shape != shape:
         raise ParameterError(name, f"{name} must have shape {shape} (got {arr.shape})")
     if not np.all(np.isfinite(arr)):
@@ -217,7 +110,14 @@ def _points(name: str, value) -> np.ndarray:
         raise ParameterError(name, f"{name} must have shape (N, 3) (got {arr.shape})")
     if not np.isfinite(arr).all():
         raise ParameterError(name, f"{name} contain non-finite values (NaN or inf)")
-    return np.ascontiguousarray(_within_limit(name, arr))
+    return _writable(_within_limit(name, arr))
+
+
+def _writable(arr: np.ndarray) -> np.ndarray:
+    """``arr`` C-contiguous and writable (a copy if it is not): the compiled functions are
+    typed for such arrays, and a read-only one would compile them again."""
+    arr = np.ascontiguousarray(arr)
+    return arr if arr.flags.writeable else arr.copy()
 
 
 def _load_coefficients(name: str, coeffs: np.ndarray) -> np.ndarray:
@@ -238,26 +138,6 @@ def _evaluation_tables(tables: np.ndarray) -> np.ndarray:
 assert TABLE_DEGREE == SEGMENT_DEGREE
 
 
-class _Parity:
-    """Packed material coefficients of one parity (even: G, odd: ∇G)."""
-
-    def __init__(self, l_first: int, l_last: int, matrices: np.ndarray, base: np.ndarray):
-        self.l_first = l_first
-        self.l_last = l_last
-        self.degrees = list(range(l_first, l_last + 1, 2))
-        self.matrices = matrices  # (n_terms, 3, 3) or (n_terms, 3, 3, 3)
-        self.base = base  # (l_last+1,) int64, row of Y_l,-l
-
-    def angular(self, n_out: int) -> tuple[object, bool]:
-        """(angular kernel, whether to use it) for ``n_out`` outputs: the kernel generated for
-        this degree (``_unrolled``) for the three outputs of vector and affine loads up to
-        ``UNROLLED_L_MAX``, else the drivers' generic ``_angular``. The choice depends on
-        nothing else, so results are reproducible bit for bit."""
-        if n_out == 3 and self.l_last <= UNROLLED_L_MAX:
-            return unrolled_angular(self.l_first, self.l_last), True
-        return generic_marker, False
-
-
 class GreenKernel:
     """Regularized Green's function G and its gradient for one material and falloff.
 
@@ -272,6 +152,11 @@ class GreenKernel:
         Scales the degree-l term of G (the paper's wrinkle brush: truncation or reweighting).
         The odd degree l of ∇G uses ``degree_weights[l - 1]``, so zero weights above degree L
         make ∇G the gradient truncated as G is. Default all ones.
+    evaluation : int, default :data:`EVALUATION` (2)
+        Which compiled arithmetic evaluates the kernel: 2, or 1 for the code that recorded
+        session files of versions 1 and 2, kept so that they replay bit for bit (results of
+        the two agree to rounding and, for streamlines, within the step tolerance). Both are
+        deterministic bit for bit whatever the number of threads.
 
     Building a kernel takes milliseconds (the radial tables are cached per profile shape), so
     rebuild it whenever the material changes; :meth:`with_radial` changes the falloff or the
@@ -284,7 +169,11 @@ class GreenKernel:
         l_max: int = 8,
         radial: RadialProfile | None = None,
         degree_weights: Sequence[float] | None = None,
+        *,
+        evaluation: int = EVALUATION,
     ):
+        if evaluation not in EVALUATIONS or isinstance(evaluation, bool):
+            raise ValueError(f"evaluation must be one of {EVALUATIONS} (got {evaluation!r})")
         if not isinstance(material, Material):
             raise ValueError(f"material must be a Material (got {type(material).__name__})")
         if isinstance(l_max, bool) or not isinstance(l_max, (int, np.integer)):
@@ -307,7 +196,11 @@ class GreenKernel:
             if not np.all(np.isfinite(weights)):
                 raise ValueError("degree_weights must be finite")
         weights.setflags(write=False)
+        if evaluation != EVALUATION:
+            # its strokes must see the compiled influence test (``_expansion.near_segment``)
+            _compiled.prepare(_compiled.DRIVERS)
         self._material = material
+        self._evaluation = int(evaluation)
         self._l_max = l_max
         self._weights = weights
         self._even, self._odd = self._material_terms(material, l_max, weights)
@@ -323,7 +216,7 @@ class GreenKernel:
     @staticmethod
     def _material_terms(
         material: Material, l_max: int, weights: np.ndarray
-    ) -> tuple[_Parity, _Parity]:
+    ) -> tuple[Parity, Parity]:
         nodes, qw = material_rule(material, l_max)
         (_, even_last), (_, odd_last) = _parity_ranges(l_max)
         even_degrees = list(range(0, even_last + 1, 2))
@@ -345,7 +238,7 @@ class GreenKernel:
             even_sum = even_sum + rows[even_rows] @ flat
             odd_sum = odd_sum + rows[odd_rows] @ grad_flat
 
-        def pack(l_first: int, l_last: int, degrees: list[int], sums, shape: tuple) -> _Parity:
+        def pack(l_first: int, l_last: int, degrees: list[int], sums, shape: tuple) -> Parity:
             base = np.full(l_last + 1 if l_last >= 0 else 1, -1, dtype=np.int64)
             factors, offset = [], 0
             for l in degrees:
@@ -356,7 +249,7 @@ class GreenKernel:
                 weight = weights[l] if l % 2 == 0 else weights[l - 1]
                 factors.extend([sign * weight / (2 * np.pi**2)] * (2 * l + 1))
             mats = sums * np.asarray(factors)[:, None]
-            return _Parity(l_first, l_last, mats.reshape((offset, *shape)), base)
+            return Parity(l_first, l_last, mats.reshape((offset, *shape)), base)
 
         return (
             pack(0, even_last, even_degrees, even_sum, (3, 3)),
@@ -403,37 +296,24 @@ class GreenKernel:
     def degree_weights(self) -> np.ndarray:
         return self._weights
 
+    @property
+    def evaluation(self) -> int:
+        """The compiled arithmetic this kernel evaluates with (see the class docstring)."""
+        return self._evaluation
+
     # -- evaluation --------------------------------------------------------------------------
     def _run(
         self,
-        parity: _Parity,
+        parity: Parity,
         tables: np.ndarray,
         points: np.ndarray,
         center: np.ndarray,
         coeffs: np.ndarray,
     ) -> np.ndarray:
-        out = np.empty((points.shape[0], coeffs.shape[1]))
-        if points.shape[0] == 0:
-            return out
-        qmm, rec_a, rec_b = self._recurrence
-        coeffs = np.ascontiguousarray(coeffs, dtype=np.float64)
-        expand(
-            points,
-            np.ascontiguousarray(center, dtype=np.float64),
-            self._radial.eps,
-            1 if parity.l_first == 0 else 2,
-            parity.l_first,
-            parity.l_last,
-            parity.base,
-            coeffs,
-            tables,
-            qmm,
-            rec_a,
-            rec_b,
-            *parity.angular(coeffs.shape[1]),
-            out,
-        )
-        return out
+        return _evaluation.expand(
+            self._evaluation, parity, tables, self._radial.eps, self._recurrence, points,
+            center, coeffs,
+        )  # fmt: skip
 
     def green(self, offsets: np.ndarray) -> np.ndarray:
         """G(x) at offsets x (N, 3) → (N, 3, 3), symmetric (units: 1/(stiffness·length)).
@@ -584,11 +464,11 @@ class GreenKernel:
             rows = np.asarray(indices)
             if rows.ndim != 1 or not (rows.size == 0 or np.issubdtype(rows.dtype, np.integer)):
                 raise ParameterError("indices", f"indices must be 1-D integers (got {rows.dtype})")
-            rows = np.ascontiguousarray(rows, dtype=np.int64)
+            rows = _writable(rows.astype(np.int64, copy=False))
             pts = np.asarray(points, dtype=np.float64)
             if pts.ndim != 2 or pts.shape[1] != 3:
                 raise ParameterError("points", f"points must have shape (N, 3) (got {pts.shape})")
-            pts = np.ascontiguousarray(pts)
+            pts = _writable(pts)
         c = _finite_array("center", center, (3,))
         step = (
             np.zeros(3) if center_step is None else _finite_array("center_step", center_step, (3,))
@@ -608,7 +488,7 @@ class GreenKernel:
         inner, outer = (0.0, 0.0) if cutoff is None else (float(cutoff[0]), float(cutoff[1]))
         if cutoff is not None and not (np.isfinite(outer) and 0.0 <= inner < outer):
             raise ValueError(f"cutoff must satisfy 0 <= inner < outer, finite (got {cutoff})")
-        signs = np.ones((1, 3)) if mirror_signs is None else np.asarray(mirror_signs, float)
+        signs = np.ones((1, 3)) if mirror_signs is None else np.array(mirror_signs, float)
         if signs.ndim != 2 or signs.shape[1] != 3 or not np.all(np.abs(signs) == 1):
             raise ValueError("mirror_signs must be an (n, 3) array of +1/-1")
         if not np.all(signs[0] == 1):
@@ -636,35 +516,11 @@ class GreenKernel:
         steps = np.empty(n, dtype=np.int64)
         if n == 0:
             return result, steps
-        qmm, rec_a, rec_b = self._recurrence
-        status = stream(
-            pts,
-            rows,
-            indices is not None,
-            in_place,
-            COORDINATE_LIMIT,
-            c,
-            step,
-            self._radial.eps,
-            1 if parity.l_first == 0 else 2,
-            parity.l_first,
-            parity.l_last,
-            parity.base,
-            np.ascontiguousarray(coeffs),
-            tables,
-            qmm,
-            rec_a,
-            rec_b,
-            *parity.angular(3),
-            inner,
-            outer,
-            np.ascontiguousarray(signs),
-            o,
-            int(substeps),
-            tol,
-            result,
-            steps,
-        )
+        status = _evaluation.stream(
+            self._evaluation, parity, tables, self._radial.eps, self._recurrence, coeffs,
+            pts, rows, indices is not None, in_place, COORDINATE_LIMIT, c, step,
+            (inner, outer), signs, o, int(substeps), tol, result, steps,
+        )  # fmt: skip
         if status == 1:
             raise ParameterError("indices", f"indices must be rows 0 to {len(pts) - 1}")
         if status == 2:
@@ -683,11 +539,12 @@ class GreenKernel:
         """Compile, or load from numba's disk cache, everything this kernel's truncation degree
         evaluates with (vector and affine loads, streamlines); returns the seconds it took.
 
-        Kernels of a new l_max (shipped as generated source) are compiled on first use, a few
-        seconds once per machine (see also :func:`prepare_degree`, which the app runs in the
-        background).
+        Evaluation needs none of it (see :func:`prepare_degree`): this is for callers that
+        want the compiled speed from the next evaluation on.
         """
         start = time.perf_counter()
+        if self._evaluation == EVALUATION:
+            prepare_degree(self._l_max)
         points = np.zeros((2, 3))
         points[1] = 1.0
         origin = np.zeros(3)
@@ -698,4 +555,5 @@ class GreenKernel:
         return time.perf_counter() - start
 
     def __repr__(self) -> str:
-        return f"GreenKernel(l_max={self._l_max}, radial={self._radial!r})"
+        note = "" if self._evaluation == EVALUATION else f", evaluation={self._evaluation}"
+        return f"GreenKernel(l_max={self._l_max}, radial={self._radial!r}{note})"

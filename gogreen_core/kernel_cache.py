@@ -17,7 +17,7 @@ import numpy as np
 
 from gogreen_core.engine_settings import EngineSettings
 from gogreen_core.falloff_safety import mean_green_direction
-from gogreen_core.kernel import GreenKernel
+from gogreen_core.kernel import EVALUATION, GreenKernel
 
 __all__ = ["KernelCache"]
 
@@ -32,9 +32,20 @@ class KernelCache:
 
     previous : the cache of the settings before, whose quadrature is reused when the
         material and l_max are the same (a falloff edit builds new radial tables only).
+    evaluation : the kernels' compiled arithmetic (``GreenKernel``'s), by default that of
+        ``previous``, else the current one; 1 replays sessions of versions 1 and 2.
     """
 
-    def __init__(self, settings: EngineSettings, previous: KernelCache | None = None) -> None:
+    def __init__(
+        self,
+        settings: EngineSettings,
+        previous: KernelCache | None = None,
+        evaluation: int | None = None,
+    ) -> None:
+        if evaluation is None:
+            evaluation = EVALUATION if previous is None else previous.evaluation
+        #: The kernels' evaluation (see ``GreenKernel``).
+        self.evaluation = evaluation
         self.settings = settings
         old = None if previous is None else previous.settings
         if (
@@ -42,10 +53,13 @@ class KernelCache:
             and old is not None
             and old.l_max == settings.l_max
             and old.material == settings.material
+            and previous.evaluation == evaluation
         ):
             self.full = previous.full.with_radial(settings.falloff)  # no new quadrature
         else:
-            self.full = GreenKernel(settings.material, settings.l_max, settings.falloff)
+            self.full = GreenKernel(
+                settings.material, settings.l_max, settings.falloff, evaluation=evaluation
+            )
         self._weighted: dict[bytes, GreenKernel] = {}
         self._derived: dict[Hashable, Any] = {}
 
@@ -58,7 +72,9 @@ class KernelCache:
         kernel = self._weighted.get(key)
         if kernel is None:
             s = self.settings
-            kernel = GreenKernel(s.material, s.l_max, s.falloff, weights)
+            kernel = GreenKernel(
+                s.material, s.l_max, s.falloff, weights, evaluation=self.evaluation
+            )
             self._weighted[key] = kernel
         return kernel
 

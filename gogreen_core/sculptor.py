@@ -34,7 +34,7 @@ from gogreen_core.engine_settings import (
     EngineSettings,
 )
 from gogreen_core.history import History
-from gogreen_core.kernel import GreenKernel
+from gogreen_core.kernel import EVALUATION, GreenKernel
 from gogreen_core.kernel_cache import KernelCache
 from gogreen_core.limits import MAX_REACH, check_constraint_radius
 from gogreen_core.mask import Mask
@@ -78,28 +78,6 @@ __all__ = [
 _LABELS = {"material": "material", "falloff": "falloff", "constraint_radius": "constraint radius"}
 _NO_ROWS = np.zeros((0, 3))
 _NO_INDEX = np.zeros(0, dtype=np.int64)
-
-
-def _same_mesh(a: MeshSnapshot, b: MeshSnapshot) -> bool:
-    """Both snapshots hold equal arrays (bit for bit)."""
-    pairs = zip(
-        (a.vertices, a.faces, a.mask, a.uv, a.uv_faces),
-        (b.vertices, b.faces, b.mask, b.uv, b.uv_faces),
-        strict=True,
-    )
-    return all(
-        (x is None and y is None)
-        or (
-            x is not None
-            and y is not None
-            and x.dtype == y.dtype
-            and x.shape == y.shape
-            and np.array_equal(
-                np.ascontiguousarray(x).view(np.uint8), np.ascontiguousarray(y).view(np.uint8)
-            )
-        )
-        for x, y in pairs
-    )
 
 
 def _record(settings: EngineSettings, group: str, continued: bool) -> Operation:
@@ -432,7 +410,7 @@ class Sculptor:
         before = mesh.snapshot()
         if prepared is None:
             prepared = prepare_subdivision(before, unmasked_only, progress, mesh.edges)
-        elif prepared.unmasked_only != unmasked_only or not _same_mesh(prepared.source, before):
+        elif prepared.unmasked_only != unmasked_only or not prepared.made_from(before):
             raise ValueError(
                 "the prepared subdivision was made from another mesh (it changed since, or "
                 "another part was asked for): subdivide again"
@@ -505,7 +483,11 @@ class Sculptor:
         """The session so far as a JSON-ready dict (see README, "Session files")."""
         return {
             "format": SESSION_FORMAT,
-            "version": SESSION_VERSION if self._settings_undoable else 1,
+            "version": (
+                1
+                if not self._settings_undoable
+                else (SESSION_VERSION if self._kernels.evaluation == EVALUATION else 2)
+            ),
             "mesh": {  # the mesh it started from (a subdivision changes the sculptor's)
                 "vertices": self._loaded[0],
                 "faces": self._loaded[1],
@@ -535,6 +517,8 @@ class Sculptor:
             )
         sculptor = cls(vertices, faces, uv=uv, uv_faces=uv_faces, settings=parsed.settings)
         sculptor._settings_undoable = parsed.version >= 2
+        if parsed.version < 3:  # recorded with the kernels' evaluation 1: replayed with it
+            sculptor._kernels = KernelCache(parsed.settings, evaluation=1)
         return sculptor
 
     def replay(

@@ -1,6 +1,6 @@
 """Session files: the log of a sculptor's operations, their schema, and replay.
 
-A session (README, "Session files") is ``{"format": "gogreen-session", "version": 2, "mesh":
+A session (README, "Session files") is ``{"format": "gogreen-session", "version": 3, "mesh":
 {vertices, faces, sha256}, "settings": {...}, "operations": [...]}``. :func:`parse_session`
 checks all of it before anything is applied (every field's type and range; errors name the field,
 e.g. ``operations[3].events[0].delta``), :func:`load_session` reads a file, and :func:`replay`
@@ -8,7 +8,8 @@ e.g. ``operations[3].events[0].delta``), :func:`load_session` reads a file, and 
 which record them again in its own log, so replaying a session records the same session.
 
 Version 1 files (written before settings changes were undo steps) still replay as recorded:
-their material, falloff and constraint-radius changes are not undo steps.
+their material, falloff and constraint-radius changes are not undo steps. Version 1 and 2 files
+replay with the kernels' evaluation 1, the arithmetic they were recorded with, bit for bit.
 """
 
 from __future__ import annotations
@@ -66,9 +67,10 @@ __all__ = [
 ]
 
 SESSION_FORMAT = "gogreen-session"
-#: 2: settings changes are undo steps (``continued`` joins one to the previous);
-#: 1: they were not.
-SESSION_VERSION = 2
+#: 3: computed with the kernels' evaluation 2 (``GreenKernel(evaluation=2)``);
+#: 2: settings changes are undo steps (``continued`` joins one to the previous), evaluation 1;
+#: 1: they were not. Sessions of versions 1 and 2 replay with evaluation 1, bit for bit.
+SESSION_VERSION = 3
 #: Most operations one session file may hold.
 MAX_OPERATIONS = 10_000_000
 

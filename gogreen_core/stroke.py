@@ -131,7 +131,8 @@ class StrokeDriver:
         return self._rows[:n]
 
     def end(self) -> np.ndarray:
-        """Finish the stroke: one undo step and one log entry. Returns the moved indices."""
+        """Finish the stroke: one undo step and one log entry, unless it changed nothing.
+        Returns the moved indices."""
         stroke, self._stroke = self._stroke, None
         if stroke is None:
             return np.zeros(0, dtype=np.int64)
@@ -147,11 +148,11 @@ class StrokeDriver:
                     MaskRows(painted, stroke.mask_before[painted]),
                     self.mesh.mask_rows(painted),
                 )
+        # a stroke that changed nothing (no vertex, no mask value) is no undo step, no log entry
         if len(idx) or state is not None:
             self.history.record(
                 f"{stroke.brush.kind} stroke", idx, stroke.before[idx], vertices[idx], state
             )
-        if stroke.events:
             self.log.record(Stroke(stroke.brush, tuple(stroke.events)))
         return idx
 

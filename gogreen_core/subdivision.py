@@ -251,6 +251,16 @@ def loop_subdivide(
     return SubdividedMesh(np.concatenate([old, new]), new_faces, new_mask, new_uv, new_uv_faces)
 
 
+def _same_bits(a: np.ndarray | None, b: np.ndarray | None) -> bool:
+    if a is None or b is None:
+        return a is None and b is None
+    if a.dtype != b.dtype or a.shape != b.shape:
+        return False
+    return np.array_equal(
+        np.ascontiguousarray(a).view(np.uint8), np.ascontiguousarray(b).view(np.uint8)
+    )
+
+
 @dataclass(frozen=True)
 class PreparedSubdivision:
     """A subdivision computed ahead (off the GUI thread) of the mesh ``source``, for
@@ -259,6 +269,16 @@ class PreparedSubdivision:
     source: MeshSnapshot
     unmasked_only: bool
     result: MeshSnapshot
+
+    def made_from(self, mesh: MeshSnapshot) -> bool:
+        """``mesh`` holds the arrays this was made from, bit for bit."""
+        pairs = zip(
+            (self.source.vertices, self.source.faces, self.source.mask, self.source.uv,
+             self.source.uv_faces),
+            (mesh.vertices, mesh.faces, mesh.mask, mesh.uv, mesh.uv_faces),
+            strict=True,
+        )  # fmt: skip
+        return all(_same_bits(a, b) for a, b in pairs)
 
 
 def prepare_subdivision(

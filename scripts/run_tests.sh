@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Quick start, command 2: install what is needed, then run the lint check and the test suite.
+# Quick start, command 2: install what is needed, then run the lint and type checks and the test
+# suite.
 # Extra arguments go to pytest (and then only the main suite runs; GOGREEN_BLENDER_TESTS=1 runs
 # the Blender tests too).
 #
@@ -12,6 +13,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$root/scripts/setup_env.sh"
 cd "$root"
 .venv/bin/ruff check .
+.venv/bin/mypy  # the app, default mode ([tool.mypy] in pyproject.toml)
 
 run_pytest() {
     # GUI tests run on a real X server (a virtual one when there is no display) so that the VTK

@@ -222,7 +222,7 @@ def window(qtbot, tmp_path, monkeypatch, made_textured, app_look):
     qtbot.addWidget(win)
     win.show()
     qtbot.waitExposed(win)
-    assert win.open_file(str(made_textured.path))  # Spot's stand-in: UV seams (conftest.py)
+    assert win.files.open_file(str(made_textured.path))  # Spot's stand-in: UV seams (conftest.py)
     assert win.kernel_warmer.wait(120_000)  # strokes are refused until the kernels are ready
     win.viewport.render()
     return win

@@ -51,8 +51,7 @@ def hover(window, pos) -> None:
         Qt.MouseButton.NoButton,
         Qt.MouseButton.NoButton,
     )
-    window.viewport._emit_hover()
-    window._process_tools()
+    window.viewport._hover_now()  # the hover's pick, handed to the tools and drawn
     window.viewport.render_now()
 
 

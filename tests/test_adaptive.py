@@ -54,20 +54,63 @@ def pebble():
     return vertices
 
 
+def weak_centre(eps: float) -> SplineRadial:
+    """A falloff an artist pulled down at the centre: R_0 near 0 halved, ℛ_1 doubled there."""
+    spline = SplineRadial.from_profile(GaussianRadial(eps), L_MAX)
+    for kind, l, factor in (("R", 0, 0.5), ("dR", 1, 2.0)):
+        rho, value = spline.curve(kind, l)
+        for index in (0, 1):
+            spline.move_point(kind, l, index, rho[index], factor * value[index])
+    return spline
+
+
+FALLOFFS = {**FALLOFFS, "weak centre": weak_centre}
+#: The paper's fold-making wrinkle (MATH.md): l_max 10, degrees 6, 8, 10 boosted 100 times,
+#: influence 8ε.
+FOLD_L_MAX = 10
+FOLD_WEIGHTS = np.array([1, 1, 1, 1, 1, 1, 100, 1, 100, 1, 100], dtype=float)
+#: Affine degree weights the falloff panel offers (ℛ_1 scaled from global to local reach).
+AFFINE_WEIGHTS = np.array([1, 16, 1, 0.25, 1, 1, 1], dtype=float)
+
+
+def affine_shape(kind: str) -> np.ndarray:
+    """The brush's pattern: ``affine_load_shape`` for scale, twist and pinch, and the stretch
+    brush's uniaxial load d dᵀ along the stroke direction (the paper-controls issue's)."""
+    axis, direction = np.array([0.3, 0.1, 1.0]), np.array([1.0, 0.0, 0.0])
+    if kind == "stretch":
+        d = direction - axis * (direction @ axis) / (axis @ axis)
+        d /= np.linalg.norm(d)
+        return np.outer(d, d)
+    return affine_load_shape(kind.removesuffix("_weighted"), axis, direction)
+
+
 def event(kind, material, falloff, vertices, size=0.2):
     """(kernel, load, center, center step, cutoff) of one event of ``kind`` at vertex 0:
-    ε = 0.4, influence 4ε, a grab of ``size`` ε or an affine load of comparable motion."""
+    ε = 0.4, influence 4ε (8ε for the fold wrinkle), a grab of ``size`` ε or an affine load of
+    comparable motion."""
     eps = 0.4
     radial = FALLOFFS[falloff](eps)
     full = GreenKernel(material, L_MAX, radial)
     kernel = full
+    influence = 4
     if kind == "grab_biscale":
         kernel = full.with_radial(MultiscaleRadial.biscale(radial))
+    elif kind == "grab_triscale":
+        kernel = full.with_radial(MultiscaleRadial.triscale(radial))
     elif kind == "wrinkle":
         kernel = GreenKernel(material, L_MAX, radial, default_wrinkle_weights(L_MAX))
+    elif kind == "fold_wrinkle":
+        radial = FALLOFFS[falloff](eps) if falloff != "spline" else SplineRadial.from_profile(
+            GaussianRadial(eps), FOLD_L_MAX
+        )  # fmt: skip
+        full = GreenKernel(material, FOLD_L_MAX, radial)
+        kernel = GreenKernel(material, FOLD_L_MAX, radial, FOLD_WEIGHTS)
+        influence = 8
+    elif kind.endswith("_weighted"):
+        kernel = GreenKernel(material, L_MAX, radial, AFFINE_WEIGHTS)
     center = vertices[0]
-    if kind in ("scale", "twist", "pinch"):
-        unit = affine_load_shape(kind, np.array([0.3, 0.1, 1.0]), np.array([1.0, 0.0, 0.0]))
+    if kind in ("scale", "twist", "pinch", "stretch") or kind.endswith("_weighted"):
+        unit = affine_shape(kind)
         h = 1e-3 * eps
         probes = center + h * np.vstack([np.eye(3), -np.eye(3)])
         u = kernel.affine_displacement(probes, center, unit)
@@ -77,11 +120,10 @@ def event(kind, material, falloff, vertices, size=0.2):
         load, step = unit * (0.5 * size / response), np.zeros(3)
     else:
         step = size * eps * np.array([0.3, 0.8, 0.5]) / np.linalg.norm([0.3, 0.8, 0.5])
-        g0 = (full.with_radial(kernel.radial) if kind != "wrinkle" else full).green(
-            np.zeros((1, 3))
-        )[0]
+        unweighted = kind in ("wrinkle", "fold_wrinkle")
+        g0 = (full if unweighted else full.with_radial(kernel.radial)).green(np.zeros((1, 3)))[0]
         load = np.linalg.solve(g0, step)
-    return kernel, load, center, step, (2 * eps, 4 * eps)
+    return kernel, load, center, step, ((influence - 2) * eps, influence * eps)
 
 
 def compare(kernel, load, center, step, cutoff, points, **options):
@@ -102,7 +144,14 @@ def compare(kernel, load, center, step, cutoff, points, **options):
     [(kind, "cubic", "gaussian") for kind in ("grab", "grab_biscale", "scale", "twist")]
     + [(kind, "cubic", "kelvinlet") for kind in ("pinch", "wrinkle")]
     + [("grab", m, f) for m, f in itertools.product(MATERIALS, FALLOFFS) if m != "cubic"]
-    + [("twist", "orthotropic", "spline"), ("grab", "cubic", "spline")],
+    + [("twist", "orthotropic", "spline"), ("grab", "cubic", "spline")]
+    # the paper-controls issue's: stretch, degree weights on affine brushes, fold wrinkles,
+    # and falloffs edited to a weak centre
+    + [("stretch", m, "gaussian") for m in ("cubic", "orthotropic")]
+    + [("stretch", "cubic", "weak centre"), ("grab_triscale", "cubic", "kelvinlet")]
+    + [("pinch_weighted", "orthotropic", "gaussian"), ("twist_weighted", "cubic", "spline")]
+    + [("fold_wrinkle", "cubic", "gaussian"), ("fold_wrinkle", "orthotropic", "spline")]
+    + [("grab", "cubic", "weak centre"), ("scale", "orthotropic", "weak centre")],
 )
 def test_adaptive_matches_fixed_step_reference(kind, material, falloff, pebble):
     kernel, load, center, step, cutoff = event(kind, MATERIALS[material], falloff, pebble)

@@ -12,7 +12,7 @@ from gogreen_core import Material
 
 
 def test_opens_and_sculpts_the_shared_spot(window, shared_mesh):
-    assert window.open_file(str(shared_mesh("spot.obj")))
+    assert window.files.open_file(str(shared_mesh("spot.obj")))
     assert len(window.document.sculptor.vertices) == 2930  # as listed: seams not split
     before = window.document.sculptor.vertices.copy()
     drag(window, center_of(window))
@@ -82,19 +82,19 @@ def test_save_then_reopen_round_trips(window, tmp_path):
     drag(window, center_of(window))
     assert window.document.dirty
     target = tmp_path / "spot_edit.ply"
-    assert window.save_to(str(target))
+    assert window.files.save_to(str(target))
     assert not window.document.dirty
     edited = window.document.sculptor.vertices.copy()
-    assert window.open_file(str(target))
+    assert window.files.open_file(str(target))
     assert np.array_equal(window.document.sculptor.vertices, edited)
-    assert window.recent_files()[0].endswith("spot_edit.ply")
+    assert window.files.recent_files()[0].endswith("spot_edit.ply")
 
 
 def test_bad_file_keeps_the_model(window, tmp_path):
     bad = tmp_path / "bad.obj"
     bad.write_text("v 1 2\n")
     vertices = window.document.sculptor.vertices.copy()
-    assert not window.open_file(str(bad))
+    assert not window.files.open_file(str(bad))
     assert np.array_equal(window.document.sculptor.vertices, vertices)
     assert "bad.obj" in window.message_label.text()
 
@@ -112,7 +112,7 @@ def test_pin_mode_pins_points_and_dragging_a_pin_moves_it_while_others_stay(wind
     pins = sculptor.constraint_points.copy()
     assert len(pins) == 2
     assert np.linalg.norm(pins[0] - pins[1]) > 0
-    assert window._constraint_actor is not None
+    assert window.viewport.pin_actor is not None
     assert vp.mesh.n_points == len(sculptor.vertices)  # the markers did not replace the model
     # dragging the first pin moves it with the cursor; the second pin stays where it was
     before = sculptor.vertices.copy()
@@ -134,7 +134,7 @@ def test_pin_mode_pins_points_and_dragging_a_pin_moves_it_while_others_stay(wind
 
 
 def test_builtin_presets_are_in_the_menu_and_apply(window, tmp_path):
-    actions = window.presets_menu.actions()
+    actions = window.files.presets_menu.actions()
     names = [a.text() for a in actions]
     assert "Rubber (volume preserving)" in names and len(names) >= 5
     rubber = actions[names.index("Rubber (volume preserving)")]
@@ -222,30 +222,31 @@ def test_strokes_wait_for_the_kernels_with_a_message_not_a_freeze(window, monkey
     assert window.document.dirty
 
 
-def test_shortcuts_act_from_a_number_field_and_enter_returns_focus(window, qtbot):
+def test_keys_typed_in_a_number_field_stay_there_and_enter_returns_focus(window, qtbot):
     from PySide6.QtTest import QTest
 
     activate(window, qtbot)
     field = window.material_panel.fields["young"]
     field.setFocus()
     qtbot.waitUntil(field.hasFocus)
-    QTest.keyClick(field, Qt.Key.Key_S)  # the Scale brush, not a letter in the field
-    assert window.model.brush.kind == "scale"
-    QTest.keyClick(field, Qt.Key.Key_BracketRight)  # radius larger
-    assert window.model.brush.radius > 0.08
-    window.model.brush.kind = "grab"
+    field.selectAll()
+    QTest.keyClick(field, Qt.Key.Key_S)  # a letter in the field, not the Scale brush
+    QTest.keyClick(field, Qt.Key.Key_BracketRight)  # nor radius larger
+    assert window.model.brush.kind == "grab" and window.model.brush.radius == 0.08
+    assert field.lineEdit().text() == "s]"
+    QTest.keyClick(field, Qt.Key.Key_Escape)  # dropped: the value in effect, keys go home
+    assert field.lineEdit().text() == "1"
+    qtbot.waitUntil(window.viewport.hasFocus)
     drag(window, center_of(window))
     assert window.document.dirty
     field.setFocus()
     qtbot.waitUntil(field.hasFocus)
     QTest.keyClick(field, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)  # the window's undo
     assert not window.document.dirty
-    QTest.keyClicks(field, "2")  # digits still go into the field
+    field.selectAll()
+    QTest.keyClicks(field, "2")  # digits go into the field
     QTest.keyClick(field, Qt.Key.Key_Return)
-    qtbot.waitUntil(window.viewport.hasFocus)
-    field.setFocus()
-    qtbot.waitUntil(field.hasFocus)
-    QTest.keyClick(field, Qt.Key.Key_Escape)
+    assert window.model.material == Material.isotropic(2.0, 0.3)
     qtbot.waitUntil(window.viewport.hasFocus)
 
 
@@ -256,19 +257,19 @@ def test_dark_theme_by_default_light_from_the_view_menu_and_remembered(window, q
     from app.theme import current_theme, theme
 
     app = QApplication.instance()
-    assert window.theme is theme("dark") and current_theme(app) is theme("dark")
+    assert window.look.theme is theme("dark") and current_theme(app) is theme("dark")
     assert app.palette().color(QPalette.ColorRole.Window).name() == theme("dark").window
     bottom, _top = theme("dark").viewport_background
     assert window.viewport.background_color.hex_rgb == bottom
-    assert window.theme_actions["dark"].isChecked()
+    assert window.look.theme_actions["dark"].isChecked()
 
-    window.theme_actions["light"].trigger()
-    assert current_theme(app) is theme("light") and window.theme_actions["light"].isChecked()
+    window.look.theme_actions["light"].trigger()
+    assert current_theme(app) is theme("light") and window.look.theme_actions["light"].isChecked()
     assert window.viewport.background_color.hex_rgb == theme("light").viewport_background[0]
     assert window.settings.value("theme") == "light"
     again = MainWindow(window.settings)  # the next start
     qtbot.addWidget(again)
-    assert again.theme is theme("light") and again.theme_actions["light"].isChecked()
+    assert again.look.theme is theme("light") and again.look.theme_actions["light"].isChecked()
 
 
 def test_shortcuts_and_tool_tips_come_from_the_keymap(window):
@@ -355,19 +356,19 @@ def test_file_new_opens_the_default_model_after_asking_to_save(window, monkeypat
     assert len(asked) == 1 and window.document is textured
     answer = QMessageBox.StandardButton.Discard
     assert [k.toString() for k in window.new_action.shortcuts()] == ["Ctrl+N"]
-    assert window.new_document()
+    assert window.files.new_document()
     default = Document.default()
     assert len(asked) == 2 and window.document.path is None
     assert np.array_equal(window.document.sculptor.vertices, default.sculptor.vertices)
     assert not window.document.dirty
-    assert window.new_document() and len(asked) == 2  # clean: nothing to ask
+    assert window.files.new_document() and len(asked) == 2  # clean: nothing to ask
 
 
 def test_screenshot_is_the_viewport_only_and_named_in_the_status_bar(window, tmp_path):
     from PySide6.QtGui import QImage
 
     path = tmp_path / "shot.png"
-    assert window.save_screenshot(str(path))
+    assert window.files.save_screenshot(str(path))
     image = QImage(str(path))
     ratio = window.viewport.devicePixelRatioF()
     size = window.viewport.size()
@@ -380,7 +381,7 @@ def test_screenshot_is_the_viewport_only_and_named_in_the_status_bar(window, tmp
     assert corner != window.palette().color(window.backgroundRole()).name()
     assert str(path) in window.message_label.text()
     assert not list(tmp_path.glob(".shot.png*"))  # no temporary file left behind
-    assert not window.save_screenshot(str(tmp_path / "missing" / "shot.png"))
+    assert not window.files.save_screenshot(str(tmp_path / "missing" / "shot.png"))
     assert "Cannot write the screenshot" in window.message_label.text()
 
 
@@ -388,28 +389,28 @@ def test_shading_wireframe_and_orientation_gizmo(window, qtbot):
     from PySide6.QtTest import QTest
 
     prop = window.viewport.mesh_actor.prop
-    assert window.shading == "studio" and not window.wireframe and not prop.show_edges
+    assert window.look.shading == "studio" and not window.look.wireframe and not prop.show_edges
     activate(window, qtbot)
     window.viewport.setFocus()
     QTest.keyClick(window.viewport, Qt.Key.Key_Z, Qt.KeyboardModifier.ShiftModifier)
-    assert window.wireframe and window.viewport.mesh_actor.prop.show_edges
-    window.shading_actions["clay"].trigger()
-    assert window.shading == "clay" and window.settings.value("shading") == "clay"
+    assert window.look.wireframe and window.viewport.mesh_actor.prop.show_edges
+    window.look.shading_actions["clay"].trigger()
+    assert window.look.shading == "clay" and window.settings.value("shading") == "clay"
     assert window.viewport.mesh_actor.prop.specular == 0.0
     lights = list(window.viewport.renderer.lights)
     assert len(lights) == 1 and lights[0].light_type == lights[0].light_type.HEADLIGHT
-    assert window.open_file(str(window.document.path))  # a new mesh actor keeps the look
+    assert window.files.open_file(str(window.document.path))  # a new mesh actor keeps the look
     prop = window.viewport.mesh_actor.prop
     assert prop.show_edges and prop.specular == 0.0
-    window.shading_actions["studio"].trigger()
+    window.look.shading_actions["studio"].trigger()
     assert len(list(window.viewport.renderer.lights)) > 1  # key, fill, back lights
-    assert window.gizmo_visible
-    window.gizmo_action.trigger()
-    assert not window.gizmo_visible
-    window.gizmo_action.trigger()
-    assert window.gizmo_visible
+    assert window.look.gizmo_visible
+    window.look.gizmo_action.trigger()
+    assert not window.look.gizmo_visible
+    window.look.gizmo_action.trigger()
+    assert window.look.gizmo_visible
     with pytest.raises(ValueError, match="shading"):
-        window.set_shading("toon")
+        window.look.set_shading("toon")
 
 
 def test_presets_open_the_material_panel_in_the_mode_of_their_material(window):
@@ -451,7 +452,7 @@ def test_a_curve_drag_is_one_undo_step_restored_exactly_and_redone(window, qtbot
     assert len(sculptor.history.undo_labels) == depth + 1  # the whole drag: one step
     assert sculptor.history.undo_labels[-1] == "falloff"
 
-    assert window.undo_action.isEnabled()  # a settings step enables Ctrl+Z at once
+    assert window.undo_action.text() == "&Undo falloff"  # named at once after a settings step
     activate(window, qtbot)
     qtbot.keyClick(editor, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)  # window's undo
     assert window.model.falloff.to_dict() == model_curves

@@ -174,7 +174,7 @@ def test_a_press_off_the_mesh_starts_nothing(sphere):
 
 
 @pytest.mark.parametrize("kind", ["scale", "twist", "pinch"])
-def test_affine_brushes_take_the_horizontal_motion_and_ctrl_inverts(sphere, kind):
+def test_affine_brushes_take_the_drag_length_and_ctrl_inverts(sphere, kind):
     results = {}
     for ctrl in (False, True):
         sculptor = _sculptor(sphere)
@@ -185,7 +185,9 @@ def test_affine_brushes_take_the_horizontal_motion_and_ctrl_inverts(sphere, kind
         stroke.handle(release(CX + 25, CY + 4))
         (logged,) = sculptor.operations
         (event,) = logged.events
-        assert event.amount == pytest.approx((-25 if ctrl else 25) / PIXELS_PER_UNIT_AMOUNT)
+        # the drag's length (25 px right, 4 down), + as it sets off right; Ctrl inverts
+        length = np.hypot(25, 4)
+        assert event.amount == pytest.approx((-length if ctrl else length) / PIXELS_PER_UNIT_AMOUNT)
         np.testing.assert_allclose(event.center, [0, 0, 1])  # affine brushes stay at the press
         np.testing.assert_allclose(event.axis, [0, 0, -1])
         results[ctrl] = sculptor.vertices.copy()

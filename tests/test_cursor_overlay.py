@@ -31,7 +31,7 @@ def test_cursor_hides_after_undo_and_open_until_the_mouse_moves(window, made_tex
     assert not vp.cursor_visible
     hover(window, center_of(window))
     assert vp.cursor_visible
-    assert window.open_file(str(made_textured.path))
+    assert window.files.open_file(str(made_textured.path))
     window.model.brush.radius = 0.5 * window.model.brush.radius
     assert not vp.cursor_visible
     assert vp.pick(QPointF(center_of(window))) is not None
@@ -129,7 +129,7 @@ def pen_drag(window, pressure):
     send(vp, QMouseEvent.Type.MouseButtonPress, start)
     tablet(vp, QMouseEvent.Type.TabletMove, end, pressure)
     send(vp, QMouseEvent.Type.MouseMove, end, Qt.MouseButton.NoButton, Qt.MouseButton.LeftButton)
-    window._process_tools()
+    window.viewport.flush_tools()
     send(vp, QMouseEvent.Type.MouseButtonRelease, end, buttons=Qt.MouseButton.NoButton)
     tablet(vp, QMouseEvent.Type.TabletRelease, end, 0.0, Qt.MouseButton.NoButton)
 
@@ -183,7 +183,7 @@ def test_pen_pressure_drives_the_radius_along_one_stroke_and_the_cursor_shows_it
             vp, QMouseEvent.Type.MouseMove, pos, Qt.MouseButton.NoButton, Qt.MouseButton.LeftButton
         )
         before = sculptor.vertices.copy()
-        window._process_tools()
+        window.viewport.flush_tools()
         vp.render_now()
         moved.append(int(np.count_nonzero(np.any(sculptor.vertices != before, axis=1))))
         ring_px.append(vp.cursor_overlay.screen[1])

@@ -15,7 +15,7 @@ from gogreen_core.mesh_io import MeshData, save_mesh
 from gogreen_core.presets import Preset, load_preset
 from gogreen_core.radial import GaussianRadial, SplineRadial
 from gogreen_core.sculptor import Sculptor
-from gogreen_core.session import load_session, parse_session
+from gogreen_core.session import SESSION_VERSION, load_session, parse_session
 
 HUGE = 1e200
 ANISOTROPIC = Material.cubic(3.0, 1.5, 0.4)
@@ -74,7 +74,7 @@ def hostile_sessions(session: dict):
     yield "settings list", edited(session, ("settings",), []), "settings"
     yield "format", edited(session, ("format",), "gogreen"), "format"
     yield "version text", edited(session, ("version",), "2"), "version"
-    yield "version future", edited(session, ("version",), 3), "version"
+    yield "version future", edited(session, ("version",), SESSION_VERSION + 1), "version"
     yield "operations object", edited(session, ("operations",), {}), "operations"
     for bad in (7, "stroke", None, [1]):
         yield f"operation {bad!r}", edited(session, ("operations", 0), bad), "operations[0]"

@@ -14,13 +14,13 @@ from app.keymap import (
     GROUPS,
     KEYMAP,
     Binding,
-    KeymapOverlay,
     binding,
     bindings_by_group,
     brush_action,
     display_keys,
     shortcuts,
 )
+from app.keymap_overlay import KeymapOverlay
 from gogreen_core.brushes import BRUSH_KINDS
 from gogreen_core.tools import NUMBER_KEYS
 from gogreen_core.validation import ParameterError
@@ -71,9 +71,21 @@ def test_blender_sculpt_habits():
     assert binding("redo").keys == ("Ctrl+Shift+Z", "Ctrl+Y")
     assert "?" in binding("keymap").keys
     assert binding("sculpt").keys == ("Left drag",)
-    assert binding("orbit").keys == ("Right drag",)
-    assert binding("pan").keys == ("Middle drag",)
+    # Blender's navigation (issue 21 item 4); the first scheme stays as a preference
+    assert binding("orbit").keys == ("Middle drag", "Shift+Middle drag", "Ctrl+Middle drag")
     assert binding("zoom").keys == ("Wheel",)
+    assert binding("orbit_classic").keys == ("Right drag",)
+    for action, key in (("view_front", "1"), ("view_right", "3"), ("view_top", "7")):
+        assert binding(action).keys == (f"Num+{key}", f"Ctrl+Num+{key}")  # Ctrl: opposite
+    assert binding("projection").keys == ("Num+5",)
+    assert binding("frame_cursor").keys == ("Num+.", ".")
+    # numpad keys also act with NumLock off, as in Blender
+    assert [s.toString() for s in shortcuts("view_top")] == [
+        "Num+7",
+        "Ctrl+Num+7",
+        "Num+Home",
+        "Ctrl+Num+Home",
+    ]
     assert binding("radius_wheel").keys == ("Ctrl+Wheel",)
     assert binding("strength_wheel").keys == ("Shift+Wheel",)
     assert binding("pressure").keys == ("Pen pressure",)

@@ -31,7 +31,7 @@ def drag_with(window, start: QPoint, modifiers=Qt.KeyboardModifier.NoModifier, s
     for _ in range(steps):
         pos = pos + QPoint(6, -4)
         vp.mouseMoveEvent(event(QMouseEvent.Type.MouseMove, pos, none, left))
-        window._process_tools()
+        window.viewport.flush_tools()
     vp.mouseReleaseEvent(event(QMouseEvent.Type.MouseButtonRelease, pos, left, none))
 
 

@@ -88,7 +88,7 @@ def test_right_click_removes_a_pin_and_the_rings_follow_undo(window):
     assert len(sculptor.constraint_points) == 1
     window.undo()  # the removal
     assert len(sculptor.constraint_points) == 2 and len(vp.pin_overlay.points) == 2
-    np.testing.assert_array_equal(window._constraint_markers.points, sculptor.constraint_points)
+    np.testing.assert_array_equal(window.viewport.pin_markers.points, sculptor.constraint_points)
     window.undo()
     window.undo()  # both additions
     assert len(sculptor.constraint_points) == 0 and len(vp.pin_overlay.points) == 0

@@ -31,7 +31,7 @@ from app.main_window import MainWindow
 app = QApplication(sys.argv[:1])
 window = MainWindow(QSettings({settings!r}, QSettings.Format.IniFormat))
 window.show()
-assert window.open_file({mesh!r})
+assert window.files.open_file({mesh!r})
 assert window.kernel_warmer.wait(120_000)
 while window.viewport.surface_building:
     app.processEvents()
@@ -126,7 +126,7 @@ def test_a_killed_window_is_recovered_by_the_next_one(window, qtbot, tmp_path, m
     (info,) = list_journals()
     assert info.directory == journal.directory and info.in_use
     # saving: no longer "recovered", and the journal starts afresh
-    assert window.save_to(str(tmp_path / "saved.obj"))
+    assert window.files.save_to(str(tmp_path / "saved.obj"))
     assert window.windowTitle() == "saved.obj — GoGreen Sculpt"
     assert journal.records == 0
     window.close()

@@ -142,3 +142,29 @@ def test_shift_drag_smooths_with_the_current_brush_radius(noisy_sphere):
     tools.move(PointerEvent((104.0, 100.0), top + np.array([0.02, 0.0, 0.0])))
     tools.release()
     assert sculptor.operations[-1].brush == grab
+
+
+@pytest.mark.parametrize("symmetry", ["", "xz"])
+def test_paint_strokes_are_the_same_before_the_loops_are_compiled(noisy_sphere, symmetry):
+    """Until numba has the paint loops (compiled in the background on a new machine) their
+    NumPy twins run: the same smooth and mask strokes, bit for bit, open rims included."""
+    from gogreen_core._compiled import forced
+
+    vertices, faces = noisy_sphere
+    keep = vertices[faces].mean(axis=1)[:, 2] > -0.5  # an open rim too
+    faces = faces[keep]
+    top = vertices[int(np.argmax(vertices[:, 2]))]
+    events = [BrushEvent(top + k * np.array([0.05, 0.0, -0.02]), [0.05, 0.0, -0.02], amount=0.8)
+              for k in range(8)]  # fmt: skip
+    results = []
+    for code in ("numpy", "unrolled"):
+        with forced(code):
+            sculptor = Sculptor(vertices, faces)
+            sculptor.apply_brush(Brush("mask", radius=0.05, symmetry=symmetry), events[:2])
+            brush = Brush("smooth", radius=0.15, strength=2.5, symmetry=symmetry)
+            sculptor.apply_brush(brush, events)
+            sculptor.apply_brush(Brush("smooth", radius=0.2, influence=np.inf), events[:1])
+            results.append((sculptor.vertices.copy(), sculptor.mask.values.copy()))
+    assert np.array_equal(results[0][0], results[1][0])
+    assert np.array_equal(results[0][1], results[1][1])
+    assert np.any(results[0][0] != vertices)

@@ -404,3 +404,64 @@ def test_spacing_skips_moves_shorter_than_a_fraction_of_eps(sculptor):
     assert tools.flush().moved is None
     tools.release()
     np.testing.assert_allclose(sculptor.vertices[top], start + 0.6 * eps * NORTH, atol=1e-9)
+
+
+# -- affine brushes in any direction (issue 21 item 3) -------------------------------------------
+def _affine_amounts(sculptor, kind, screens, start_screen=(100.0, 100.0)):
+    """The amounts (and directions) of the events a drag through ``screens`` makes."""
+    tools = tools_for(sculptor, Brush(kind, radius=0.2))
+    top = sculptor.vertices[int(np.argmax(sculptor.vertices[:, 2]))].copy()
+    tools.press(at(top, screen=start_screen))
+    events = []
+    for screen in screens:
+        event = PointerEvent(screen, top, view_dir=-NORTH, screen_x=np.array([1.0, 0.0, 0.0]))
+        made = tools.stroke.brush_event(event)
+        if made is not None:
+            events.append(made)
+    tools.cancel()
+    return events
+
+
+@pytest.mark.parametrize("kind", ["scale", "twist", "pinch"])
+def test_a_vertical_drag_drives_an_affine_brush_as_far_as_a_horizontal_one(sculptor, kind):
+    """The walkthrough: a 140 px vertical pinch drag changed nothing."""
+    up = _affine_amounts(sculptor, kind, [(100.0, 100.0 - 10.0 * k) for k in range(1, 15)])
+    right = _affine_amounts(sculptor, kind, [(100.0 + 10.0 * k, 100.0) for k in range(1, 15)])
+    down = _affine_amounts(sculptor, kind, [(100.0, 100.0 + 10.0 * k) for k in range(1, 15)])
+    left = _affine_amounts(sculptor, kind, [(100.0 - 10.0 * k, 100.0) for k in range(1, 15)])
+    drags = {"up": up, "right": right, "down": down, "left": left}
+    total = {name: sum(e.amount for e in events) for name, events in drags.items()}
+    assert total["up"] == pytest.approx(140.0 / PIXELS_PER_UNIT_AMOUNT)  # right or up: +
+    assert total["right"] == pytest.approx(total["up"])
+    assert total["down"] == pytest.approx(-total["up"])  # left or down: −
+    assert total["left"] == pytest.approx(-total["up"])
+    # pinch stretches along the drag: vertical for a vertical drag
+    direction = up[-1].direction / np.linalg.norm(up[-1].direction)
+    assert abs(direction @ np.cross(np.array([1.0, 0.0, 0.0]), -NORTH)) == pytest.approx(1.0)
+
+
+def test_an_affine_drag_never_jumps_and_starts_over_at_the_press_point(sculptor):
+    # out to the right, back through the press point, on to the left: the amount grows to
+    # +80 px, falls back to 0 near the press point, then goes negative (a new drag)
+    path = [(100.0 + x, 100.0) for x in (20, 40, 60, 80, 60, 40, 20, 1, -20, -40)]
+    events = _affine_amounts(sculptor, "scale", path)
+    cumulative = np.cumsum([e.amount for e in events]) * PIXELS_PER_UNIT_AMOUNT
+    np.testing.assert_allclose(cumulative, [20, 40, 60, 80, 60, 40, 20, 0, -20, -40], atol=1e-9)
+    steps = np.abs(np.diff(np.concatenate([[0.0], cumulative])))
+    assert steps.max() <= 20.0 + 1e-9  # never more than the pointer moved
+
+
+def test_a_stroke_that_changes_nothing_says_so_and_records_nothing(sculptor):
+    tools = tools_for(sculptor, Brush("pinch", radius=0.2))
+    top = sculptor.vertices[int(np.argmax(sculptor.vertices[:, 2]))].copy()
+    operations = len(sculptor.operations)
+    tools.press(at(top, screen=(50.0, 50.0)))
+    update = tools.release()  # a click: no drag
+    assert update.note is not None and update.note.startswith("Nothing changed: the pinch")
+    assert not sculptor.history.can_undo and len(sculptor.operations) == operations
+    tools.press(at(top, screen=(50.0, 50.0)))
+    tools.move(at(top, screen=(50.0, 10.0)))  # 40 px straight up
+    update = tools.release()
+    assert update.note is None and update.moved is not None
+    assert sculptor.history.undo_labels == ["pinch stroke"]
+    assert len(sculptor.operations) == operations + 1

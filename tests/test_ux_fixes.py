@@ -134,9 +134,9 @@ def test_vtk_keys_do_nothing_in_the_window_and_the_apps_keys_still_work(window, 
     QTest.keyClick(vp, Qt.Key.Key_2)
     assert window.model.brush.kind == "grab_biscale"
     QTest.keyClick(vp, Qt.Key.Key_Z, Qt.KeyboardModifier.ShiftModifier)
-    assert window.wireframe and window.wireframe_action.isChecked()
+    assert window.look.wireframe and window.look.wireframe_action.isChecked()
     QTest.keyClick(vp, Qt.Key.Key_Z, Qt.KeyboardModifier.ShiftModifier)
-    assert not window.wireframe
+    assert not window.look.wireframe
     radius = window.model.brush.radius
     QTest.keyClick(vp, Qt.Key.Key_BracketRight)
     assert window.model.brush.radius > radius
@@ -172,7 +172,7 @@ def test_screenshot_leaves_the_brush_cursor_out_and_restores_it(window, qtbot, t
     qtbot.waitUntil(lambda: not vp.render_pending)
     frames = vp.frames
     path = tmp_path / "shot.png"
-    assert window.save_screenshot(str(path))
+    assert window.files.save_screenshot(str(path))
     shot = png_pixels(path)
     assert cursor_pixels(shot) == 0
     # restored as it was, drawn again by the next render: one render for the capture, one after
@@ -232,7 +232,7 @@ def test_cursor_hides_while_a_modal_dialog_is_open(window, qtbot):
         return cursor_gone(window)
 
     # File > Open: a real modal dialog, answered once the cursor is gone
-    seen = answer_file_dialog(window.open_dialog, inspect=hidden_while_open)
+    seen = answer_file_dialog(window.files.open_dialog, inspect=hidden_while_open)
     assert seen["inspected"] is True
     real_hover(window, qtbot, center_of(window) + QPoint(4, 0))  # back at the next hover
 
@@ -286,17 +286,17 @@ def test_save_as_proposes_the_documents_path_or_untitled_in_the_last_folder(wind
     from pathlib import Path
 
     opened = Path(window.document.path)
-    seen = answer_file_dialog(window.save_as_dialog)
+    seen = answer_file_dialog(window.files.save_as_dialog)
     assert [Path(f) for f in seen["files"]] == [opened] and "OBJ" in seen["filter"]
     assert seen["result"] is False  # cancelled: nothing written
     ply = tmp_path / "work" / "statue.ply"
     ply.parent.mkdir()
-    assert window.save_to(str(ply))
-    seen = answer_file_dialog(window.save_as_dialog)
+    assert window.files.save_to(str(ply))
+    seen = answer_file_dialog(window.files.save_as_dialog)
     assert [Path(f) for f in seen["files"]] == [ply] and "PLY" in seen["filter"]
     # the default model: untitled.obj in the folder used last, saved there when accepted
-    assert window.new_document() and window.document.path is None
-    seen = answer_file_dialog(window.save_as_dialog, accept=True)
+    assert window.files.new_document() and window.document.path is None
+    seen = answer_file_dialog(window.files.save_as_dialog, accept=True)
     untitled = ply.parent / "untitled.obj"
     assert [Path(f) for f in seen["files"]] == [untitled] and "OBJ" in seen["filter"]
     assert seen["result"] is True and untitled.is_file()

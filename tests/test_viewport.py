@@ -149,7 +149,7 @@ class GatedIndex:
     gate: the build is certainly still running while the test looks at the window."""
 
     def __init__(self, monkeypatch):
-        import app.viewport as viewport_module
+        import app.mesh_display as viewport_module
 
         self.gate = threading.Event()
         self.started = threading.Event()
@@ -225,7 +225,7 @@ def test_a_newer_mesh_supersedes_a_background_build(qtbot, monkeypatch):
 def test_opening_a_big_mesh_does_not_block_the_event_loop(window, qtbot, monkeypatch, tmp_path):
     """File → Open of a mesh whose index builds in the background: the window returns to
     its event loop at once, a press says why nothing happens, and the index becomes ready."""
-    import app.viewport as viewport_module
+    import app.mesh_display as viewport_module
 
     gated = GatedIndex(monkeypatch)
     monkeypatch.setattr(viewport_module, "BACKGROUND_INDEX_FACES", 1)  # a small "big" mesh
@@ -234,7 +234,7 @@ def test_opening_a_big_mesh_does_not_block_the_event_loop(window, qtbot, monkeyp
     lines = [f"v {x!r} {y!r} {z!r}" for x, y, z in vertices.tolist()]
     lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in faces.tolist()]
     path.write_text("\n".join(lines) + "\n")
-    assert window.open_file(str(path))
+    assert window.files.open_file(str(path))
     vp = window.viewport
     assert gated.started.wait(30) and vp.surface_building
     assert window.surface_progress.isVisible()

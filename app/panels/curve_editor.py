@@ -112,6 +112,7 @@ class CurveEditor(QWidget):
         self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Expanding)
         self.setMouseTracking(True)
         self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
+        self.setProperty("takes_keys", True)  # keeps the keyboard focus (app.keyboard)
         self.setToolTip(
             "Drag a point to move it · double-click or Ctrl+click to add · "
             "right-click or Delete to remove"

@@ -1,8 +1,11 @@
 """A QPainter glyph of a material's anisotropy: the directional Young's modulus surface.
 
-The surface is r(d) = E(d) / max E over unit directions d, with E(d) from
+The surface is r(d) = (E(d) / max E)^p over unit directions d, with E(d) from
 :meth:`gogreen_core.Material.directional_young`. An isotropic material is a sphere; a stiff
-direction bulges out. Faces are coloured from blue (softest direction) to orange (stiffest).
+direction bulges out. p is 1 (radius ∝ E) unless max/min E exceeds :data:`MAX_SHAPE_RATIO`;
+then it is lowered so that the softest direction keeps 1/MAX_SHAPE_RATIO of the radius: a fibre
+composite (max/min E of 40 or more) stays a readable spindle, not a needle, and the legend says
+so. Faces are coloured from blue (softest direction) to orange (stiffest), linearly in E.
 
 Why QPainter and not a second pyvistaqt ``QtInteractor``: the glyph must render identically
 on a desktop, under ``xvfb-run`` and with ``QT_QPA_PLATFORM=offscreen`` (the test setting).
@@ -28,6 +31,8 @@ __all__ = ["YoungModulusGlyph"]
 
 _SOFT = np.array([74.0, 127.0, 208.0])  # colour of the softest direction
 _STIFF = np.array([236.0, 136.0, 58.0])  # colour of the stiffest direction
+#: Largest max/min radius of the glyph's shape (see the module docstring).
+MAX_SHAPE_RATIO = 4.0
 _AXIS_COLORS = {"x": QColor("#d32f2f"), "y": QColor("#2e7d32"), "z": QColor("#1565c0")}
 
 
@@ -76,7 +81,10 @@ class YoungModulusGlyph(QWidget):
         self._drag_origin: QPointF | None = None
         self.setMinimumSize(160, 160)
         self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
-        self.setToolTip("Directional Young's modulus E(d), scaled by its maximum. Drag to orbit.")
+        self.setToolTip(
+            "Directional Young's modulus E(d), scaled by its maximum (a strong anisotropy's "
+            "shape compressed, see the legend). Drag to orbit."
+        )
         if material is not None:
             self.set_material(material)
 
@@ -96,6 +104,19 @@ class YoungModulusGlyph(QWidget):
     def young_range(self) -> tuple[float, float]:
         """(min E, max E) over the sampled directions."""
         return float(self._radii.min()), float(self._radii.max())
+
+    @property
+    def shape_exponent(self) -> float:
+        """p of the drawn radius (E / max E)^p: 1, or less for a strong anisotropy."""
+        e_min, e_max = self.young_range
+        ratio = e_max / e_min if e_min > 0 else np.inf
+        return 1.0 if ratio <= MAX_SHAPE_RATIO else float(np.log(MAX_SHAPE_RATIO) / np.log(ratio))
+
+    @property
+    def shape_radii(self) -> np.ndarray:
+        """The drawn radius of each grid direction, 1 in the stiffest (see the module
+        docstring)."""
+        return (self._radii / self.young_range[1]) ** self.shape_exponent
 
     @property
     def revision(self) -> int:
@@ -145,7 +166,7 @@ class YoungModulusGlyph(QWidget):
         scale = 0.40 * size
 
         e_min, e_max = self.young_range
-        points = self._dirs * (self._radii / e_max)[:, None]
+        points = self._dirs * self.shape_radii[:, None]
         view = points @ self._view_basis().T  # (N, 3): right, up, depth
         quads = view[self._quads]  # (Q, 4, 3)
         depth = quads[:, :, 2].mean(axis=1)
@@ -227,5 +248,9 @@ class YoungModulusGlyph(QWidget):
         painter.drawText(
             QRectF(10, top + 16, self.width() - 20, 16),
             Qt.AlignmentFlag.AlignVCenter,
-            "soft → stiff direction · drag to orbit",
+            (
+                f"soft → stiff · shape ∝ E^{self.shape_exponent:.2f} · drag to orbit"
+                if self.shape_exponent < 1.0
+                else "soft → stiff direction · drag to orbit"
+            ),
         )

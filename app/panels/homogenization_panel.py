@@ -10,6 +10,11 @@ optionally rotated by Euler angles (:meth:`gogreen_core.Material.rotated`), is s
 6×6 Voigt matrix with equal coefficients sharing a colour
 (:func:`gogreen_core.describe_symmetry`) and the symmetry class.
 "Use this material" emits ``material_ready(Material)``.
+
+Every input widget is bound through :mod:`app.bindings` to the panel's
+:class:`HomogenizationInputs`, which never holds an invalid input: a pattern parameter, phase
+or contrast the core refuses is marked red with the reason and the computation uses the inputs
+in effect.
 """
 
 from __future__ import annotations
@@ -19,11 +24,10 @@ from typing import Any
 
 import numpy as np
 from PySide6.QtCore import Qt, QTimer, Signal
-from PySide6.QtGui import QBrush, QCloseEvent, QColor, QFont
+from PySide6.QtGui import QCloseEvent, QColor, QFont
 from PySide6.QtWidgets import (
     QCheckBox,
     QComboBox,
-    QDoubleSpinBox,
     QFormLayout,
     QGridLayout,
     QGroupBox,
@@ -32,29 +36,24 @@ from PySide6.QtWidgets import (
     QProgressBar,
     QPushButton,
     QSlider,
-    QSpinBox,
-    QTableWidget,
-    QTableWidgetItem,
     QVBoxLayout,
     QWidget,
 )
 
 from app.background import BackgroundRunner, Task
-from app.panels.plot_axes import plot_font
+from app.bindings import bind, bind_check, bind_choice, bind_spin, bind_view
+from app.fields import DecimalField, IntegerField
+from app.panels.homogenization_inputs import CELL_SIZE, HomogenizationInputs
+from app.panels.material_form import rotation_matrix
+from app.panels.stiffness_table import StiffnessTable
 from app.panels.voxel_preview import PHASE_B_COLOR, SlicePreview, VoxelPreview
 from app.panels.widgets import (
     CollapsibleSection,
-    CompactTable,
     EulerAnglesEditor,
     NumberField,
-    mark_invalid,
-    offending_widgets,
-    pastel_color,
     scrolled_column,
     set_text_role,
-    zero_cell_colors,
 )
-from app.theme import active_theme
 from gogreen_core import (
     PATTERNS,
     HomogenizationResult,
@@ -63,17 +62,25 @@ from gogreen_core import (
     bimaterial,
     describe_symmetry,
     homogenize_detailed,
-    make_pattern,
 )
+from gogreen_core.settings import Changes
 
-__all__ = ["CELL_SIZE", "HomogenizationPanel"]
-
-#: Voxels per axis of the periodic cell.
-CELL_SIZE = 16
+__all__ = ["CELL_SIZE", "HomogenizationInputs", "HomogenizationPanel"]
 _VOIGT_LABELS = ("11", "22", "33", "23", "13", "12")
 _CONTRAST_RANGE = (1.0, 1.0e4)
 _SLIDER_STEPS_PER_DECADE = 100
 _AUTO_DELAY_MS = 250
+
+
+def _slider_position(contrast: float) -> int:
+    """The logarithmic contrast slider's position of ``contrast``."""
+    position = math.log10(max(contrast, _CONTRAST_RANGE[0]) / _CONTRAST_RANGE[0])
+    return round(position * _SLIDER_STEPS_PER_DECADE)
+
+
+def _slider_contrast(position: int) -> float:
+    """The contrast at slider ``position``, to 3 significant digits (a tidy number)."""
+    return float(f"{_CONTRAST_RANGE[0] * 10.0 ** (position / _SLIDER_STEPS_PER_DECADE):.3g}")
 
 
 class HomogenizationPanel(QWidget):
@@ -108,12 +115,13 @@ class HomogenizationPanel(QWidget):
 
     def __init__(self, parent: QWidget | None = None):
         super().__init__(parent)
-        self._phases = np.zeros((CELL_SIZE,) * 3, dtype=np.int8)
+        #: What the inputs hold (every input widget is bound to it).
+        self.inputs = HomogenizationInputs()
+        self._phases = self.inputs.phases
         self._detailed: HomogenizationResult | None = None
         self._result_key: tuple | None = None
         self._result: Material | None = None
         self._symmetry: SymmetryDescription | None = None
-        self._pattern_error = ""
         self._runner = BackgroundRunner(self)
         self._runner.progress.connect(self._job_progress)
         self._runner.finished.connect(self._job_finished)
@@ -134,7 +142,10 @@ class HomogenizationPanel(QWidget):
         layout.addWidget(self._result_group())
         layout.addStretch(1)
 
-        self._pattern_changed()
+        self._bind()
+        self.inputs.events.changed.connect(self._inputs_changed)
+        self._show_pattern()
+        self._inputs_changed(Changes(frozenset(self.inputs.fields)))
 
     # -- construction ------------------------------------------------------------------------
     def _pattern_group(self) -> QGroupBox:
@@ -147,7 +158,6 @@ class HomogenizationPanel(QWidget):
             self.pattern_combo.setItemData(
                 self.pattern_combo.count() - 1, spec.description, Qt.ItemDataRole.ToolTipRole
             )
-        self.pattern_combo.currentIndexChanged.connect(self._pattern_changed)
         layout.addWidget(self.pattern_combo)
         self.description_label = QLabel()
         self.description_label.setWordWrap(True)
@@ -166,9 +176,7 @@ class HomogenizationPanel(QWidget):
         slices.addWidget(self.slice_view)
         self.slice_slider = QSlider(Qt.Orientation.Horizontal)
         self.slice_slider.setRange(0, CELL_SIZE - 1)
-        self.slice_slider.setValue(CELL_SIZE // 2)
         self.slice_slider.setToolTip("Depth of the three slices (voxel index)")
-        self.slice_slider.valueChanged.connect(self.slice_view.set_index)
         slices.addWidget(self.slice_slider)
         preview.addLayout(slices, 2)
         layout.addLayout(preview)
@@ -206,17 +214,11 @@ class HomogenizationPanel(QWidget):
         grid.addWidget(self.contrast_field, 1, 3)
         grid.setColumnStretch(1, 1)
         grid.setColumnStretch(3, 1)
-        self._sync_contrast_slider(100.0)
-        self.contrast_slider.valueChanged.connect(self._contrast_slider_moved)
-        self.contrast_field.valueChanged.connect(self._contrast_field_changed)
-        self.young_field.valueChanged.connect(self._inputs_changed)
-        self.poisson_field.valueChanged.connect(self._inputs_changed)
         return box
 
     def _rotation_group(self) -> CollapsibleSection:
         self.rotation = EulerAnglesEditor()
         self.rotation.setContentsMargins(12, 0, 0, 0)
-        self.rotation.changed.connect(self._rotation_changed)
         section = CollapsibleSection("Rotate the result", self.rotation, expanded=False)
         section.setToolTip(
             "Euler angles: extrinsic rotations about the fixed x, then y, then z axes, "
@@ -234,17 +236,25 @@ class HomogenizationPanel(QWidget):
         self.compute_button.clicked.connect(self.compute)
         self.auto_compute_check = QCheckBox("Auto")
         self.auto_compute_check.setToolTip("Recompute shortly after every change")
-        self.auto_compute_check.setChecked(True)
-        self.auto_compute_check.toggled.connect(self._auto_toggled)
         self.progress_bar = QProgressBar()
         self.progress_bar.setRange(0, 1000)
         self.progress_bar.setValue(0)
         self.progress_bar.setTextVisible(False)
         self.progress_bar.setMaximumHeight(14)
+        # "Use this material" under Compute: in sight at the default window size (below the
+        # result table it was under the fold)
+        self.use_button = QPushButton("Use this material")
+        self.use_button.setToolTip("Send the effective material to the Material panel and brushes")
+        self.use_button.setEnabled(False)
+        self.use_button.clicked.connect(self.use_material)
         row.addWidget(self.compute_button)
         row.addWidget(self.auto_compute_check)
         row.addWidget(self.progress_bar, 1)
         column.addLayout(row)
+        use_row = QHBoxLayout()
+        use_row.addWidget(self.use_button)
+        use_row.addStretch(1)
+        column.addLayout(use_row)
         self.error_label = QLabel()
         self.error_label.setWordWrap(True)
         set_text_role(self.error_label, "error")
@@ -263,36 +273,53 @@ class HomogenizationPanel(QWidget):
         bold.setBold(True)
         self.symmetry_label.setFont(bold)
         layout.addWidget(self.symmetry_label)
-        table = CompactTable(6, 6)
-        table.setHorizontalHeaderLabels(_VOIGT_LABELS)
-        table.setVerticalHeaderLabels(_VOIGT_LABELS)
-        table.setEditTriggers(QTableWidget.EditTrigger.NoEditTriggers)
-        table.setSelectionMode(QTableWidget.SelectionMode.NoSelection)
-        table.setFocusPolicy(Qt.FocusPolicy.NoFocus)
-        table.setToolTip("Equal coefficients share a colour; grey cells are zero")
-        small = plot_font(table.font())
-        for i in range(6):
-            for j in range(6):
-                item = QTableWidgetItem("")
-                item.setTextAlignment(Qt.AlignmentFlag.AlignCenter)
-                item.setFont(small)
-                table.setItem(i, j, item)
+        table = StiffnessTable()
         self.result_table = table
         layout.addWidget(table)
         self.status_label = QLabel()
         self.status_label.setWordWrap(True)
         set_text_role(self.status_label, "muted")
         layout.addWidget(self.status_label)
-        self.use_button = QPushButton("Use this material")
-        self.use_button.setToolTip("Send the effective material to the Material panel and brushes")
-        self.use_button.setEnabled(False)
-        self.use_button.clicked.connect(self.use_material)
-        layout.addWidget(self.use_button)
         return box
 
+    def _bind(self) -> None:
+        """Every input widget to its field of :attr:`inputs`."""
+        inputs, slider, rotation = self.inputs, self.contrast_slider, self.rotation
+        bind_choice(inputs, "pattern", self.pattern_combo, label="Pattern")
+        bind_view(inputs, "pattern", self._parameter_host, self._rebuild_parameter_widgets)
+        bind_spin(inputs, "young", self.young_field, "E of phase a")
+        bind_spin(inputs, "poisson", self.poisson_field, "ν")
+        bind_spin(inputs, "contrast", self.contrast_field, "Contrast E_b/E_a")
+        bind(
+            inputs,
+            "contrast",
+            slider,
+            lambda contrast: slider.setValue(_slider_position(contrast)),
+            slider.valueChanged,
+            _slider_contrast,
+            label="Contrast E_b/E_a",
+        )
+        bind(
+            inputs,
+            "angles",
+            rotation,
+            rotation.set_angles,
+            rotation.changed,
+            lambda: rotation.angles,
+            label="Rotation",
+        )
+        bind_check(inputs, "auto", self.auto_compute_check)
+        slices = self.slice_slider
+        bind(inputs, "slice", slices, slices.setValue, slices.valueChanged, label="Slice")
+        bind_view(inputs, "slice", self.slice_view, self.slice_view.set_index)
+        voxels = self.voxel_view
+        bind_view(inputs, "angles", voxels, lambda a: voxels.set_rotation(rotation_matrix(a)))
+
     def _rebuild_parameter_widgets(self, name: str) -> None:
+        """The widgets of pattern ``name``'s parameters, each bound to its entry of
+        ``inputs.parameters``."""
         while self._parameter_form.rowCount():
-            self._parameter_form.removeRow(0)
+            self._parameter_form.removeRow(0)  # deletes the widgets: their bindings end
         self.parameter_widgets = {}
         for param in PATTERNS[name].parameters:
             widget = self._parameter_widget(param)
@@ -303,60 +330,62 @@ class HomogenizationPanel(QWidget):
             self.parameter_widgets[param.name] = widget
 
     def _parameter_widget(self, param: Any) -> QWidget:
+        inputs, key = self.inputs, param.name
+
+        def entry(value: Any) -> dict[str, Any]:
+            return {**inputs.parameters, key: value}
+
+        widget: QComboBox | IntegerField | DecimalField
         if param.kind == "choice":
-            widget = QComboBox()
+            widget = combo = QComboBox()
             for choice in param.choices:
-                widget.addItem(str(choice), choice)
-            widget.setCurrentIndex(list(param.choices).index(param.default))
-            widget.currentIndexChanged.connect(self._pattern_inputs_changed)
+                combo.addItem(str(choice), choice)
+            bind(
+                inputs,
+                "parameters",
+                combo,
+                lambda values: combo.setCurrentIndex(combo.findData(values[key])),
+                combo.currentIndexChanged,
+                lambda index: entry(combo.itemData(index)),
+                label=key.capitalize(),
+            )
             return widget
         if param.kind == "int":
-            widget = QSpinBox()
-            widget.setRange(int(param.low), int(param.high))
-            widget.setValue(int(param.default))
+            widget = IntegerField(int(param.low), int(param.high))
         else:
-            widget = QDoubleSpinBox()
-            widget.setDecimals(3)
-            widget.setRange(float(param.low), float(param.high))
-            widget.setSingleStep(0.05 if float(param.high) - float(param.low) >= 0.5 else 0.01)
-            widget.setValue(float(param.default))
-        widget.setKeyboardTracking(False)
-        widget.valueChanged.connect(self._pattern_inputs_changed)
+            low, high = float(param.low), float(param.high)
+            widget = DecimalField(low, high, 3, 0.05 if high - low >= 0.5 else 0.01)
+        spin = widget
+        bind(
+            inputs,
+            "parameters",
+            spin,
+            lambda values: spin.setValue(values[key]),
+            spin.valueChanged,
+            entry,
+            label=key.capitalize(),
+        )
         return widget
 
     # -- public API --------------------------------------------------------------------------
     @property
     def pattern_name(self) -> str:
         """Key of the selected pattern in :data:`gogreen_core.PATTERNS`."""
-        return self.pattern_combo.currentData()
+        return self.inputs.pattern
 
     def pattern_parameters(self) -> dict[str, Any]:
         """Current values of the selected pattern's parameters."""
-        values: dict[str, Any] = {}
-        for name, widget in self.parameter_widgets.items():
-            values[name] = widget.currentData() if isinstance(widget, QComboBox) else widget.value()
-        return values
+        return dict(self.inputs.parameters)
 
     def set_pattern(self, name: str, **params: Any) -> None:
         """Select pattern ``name`` and set some of its parameters (others keep defaults)."""
         if name not in PATTERNS:
             raise ValueError(f"unknown pattern {name!r}; choose one of {list(PATTERNS)}")
-        unknown = set(params) - {p.name for p in PATTERNS[name].parameters}
+        defaults = {p.name: p.default for p in PATTERNS[name].parameters}
+        unknown = set(params) - set(defaults)
         if unknown:
             raise ValueError(f"unknown parameter(s) {sorted(unknown)} for pattern {name!r}")
-        self.pattern_combo.blockSignals(True)
-        self.pattern_combo.setCurrentIndex(list(PATTERNS).index(name))
-        self.pattern_combo.blockSignals(False)
-        self._rebuild_parameter_widgets(name)
-        for key, value in params.items():
-            widget = self.parameter_widgets[key]
-            widget.blockSignals(True)
-            if isinstance(widget, QComboBox):
-                widget.setCurrentIndex(widget.findData(value))
-            else:
-                widget.setValue(value)
-            widget.blockSignals(False)
-        self._pattern_changed(rebuild=False)
+        self.inputs.update({"pattern": name, "parameters": {**defaults, **params}})
 
     @property
     def phases(self) -> np.ndarray:
@@ -366,11 +395,11 @@ class HomogenizationPanel(QWidget):
     @property
     def contrast(self) -> float:
         """Stiffness contrast E_b / E_a."""
-        return self.contrast_field.value()
+        return self.inputs.contrast
 
     def set_contrast(self, contrast: float) -> None:
         """Set the stiffness contrast (clamped to [1, 1e4])."""
-        self.contrast_field.setValue(float(contrast))
+        self.inputs.contrast = min(max(float(contrast), _CONTRAST_RANGE[0]), _CONTRAST_RANGE[1])
 
     @property
     def result(self) -> Material | None:
@@ -397,24 +426,9 @@ class HomogenizationPanel(QWidget):
         """Whether the inputs changed since the displayed result was computed."""
         return self._result is None or self._result_key != self._inputs_key()
 
-    @staticmethod
-    def group_color(group: int) -> QColor:
-        """Cell colour of coefficient group ``group`` (-1, the zeros, is grey)."""
-        return zero_cell_colors()[0] if group < 0 else pastel_color(group)
-
-    @staticmethod
-    def group_text_color(group: int) -> QColor:
-        """Text colour on a cell of group ``group``: muted for the zeros; on the group
-        colours, the theme's text colour under the dark theme (deep tones), near-black on the
-        light theme's pastels."""
-        if group < 0:
-            return zero_cell_colors()[1]
-        current = active_theme()
-        return QColor(current.text if current.name == "dark" else "#1a1a1a")
-
     def cell_color(self, row: int, col: int) -> QColor:
         """Background colour of result cell (row, col)."""
-        return self.result_table.item(row, col).background().color()
+        return self.result_table.cell_color(row, col)
 
     def compute(self) -> None:
         """Homogenize the current pattern in the background (supersedes a running request).
@@ -422,17 +436,8 @@ class HomogenizationPanel(QWidget):
         Unchanged inputs reuse the last result (only the rotation is reapplied).
         """
         self._auto_timer.stop()
-        if self._pattern_error:
-            self._show_error(self._pattern_error)
-            return
-        try:
-            materials = bimaterial(
-                self.young_field.value(), self.poisson_field.value(), self.contrast
-            )
-        except ValueError as exc:
-            self._mark_phase_fields(exc)
-            self._show_error(str(exc))
-            return
+        inputs = self.inputs
+        materials = bimaterial(inputs.young, inputs.poisson, inputs.contrast)  # valid inputs
         key = self._inputs_key()
         if self._detailed is not None and key == self._result_key:
             self._runner.cancel()  # drop any request in flight
@@ -474,87 +479,32 @@ class HomogenizationPanel(QWidget):
 
     # -- inputs ------------------------------------------------------------------------------
     def _inputs_key(self) -> tuple:
-        params = tuple(sorted(self.pattern_parameters().items()))
-        return (
-            self.pattern_name,
-            params,
-            self.young_field.value(),
-            self.poisson_field.value(),
-            self.contrast,
-        )
+        inputs = self.inputs
+        params = tuple(sorted(inputs.parameters.items()))
+        return (inputs.pattern, params, inputs.young, inputs.poisson, inputs.contrast)
 
-    def _pattern_changed(self, *_args: Any, rebuild: bool = True) -> None:
-        name = self.pattern_name
-        if rebuild:
-            self._rebuild_parameter_widgets(name)
-        self.description_label.setText(PATTERNS[name].description)
-        self._pattern_inputs_changed()
-
-    def _pattern_inputs_changed(self, *_args: Any) -> None:
-        for widget in self.parameter_widgets.values():
-            mark_invalid(widget, False)
-        try:
-            phases = make_pattern(self.pattern_name, CELL_SIZE, **self.pattern_parameters())
-        except ValueError as exc:
-            self._pattern_error = str(exc)
-            for widget in offending_widgets(exc, self.parameter_widgets):
-                mark_invalid(widget, True)
-            self._show_error(self._pattern_error)
+    def _inputs_changed(self, changes: Changes) -> None:
+        names = changes.names
+        if names & {"pattern", "parameters"}:
+            self._show_pattern()
+        if names & {"pattern", "parameters", "young", "poisson", "contrast", "auto"}:
             self._update_stale_state()
-            return
-        self._pattern_error = ""
-        self._hide_error()
-        self._phases = phases
-        self.voxel_view.set_phases(phases)
-        self.slice_view.set_phases(phases)
-        self.slice_view.set_index(self.slice_slider.value())
-        self._inputs_changed()
+            if self.inputs.auto and self.is_stale:
+                self._auto_timer.start()
+            elif not self.inputs.auto:
+                self._auto_timer.stop()
+        if "angles" in names:
+            self.rotation_section.set_summary(self.rotation.summary())
+            if self._detailed is not None:
+                self._display()
 
-    def _inputs_changed(self, *_args: Any) -> None:
-        for field in (self.young_field, self.poisson_field, self.contrast_field):
-            mark_invalid(field, False)
-        self._update_stale_state()
-        if self.auto_compute_check.isChecked() and not self._pattern_error:
-            self._auto_timer.start()
-
-    def _auto_toggled(self, auto: bool) -> None:
-        if not auto:
-            self._auto_timer.stop()
-        elif self.is_stale and not self._pattern_error:
-            self._auto_timer.start()
-
-    def _mark_phase_fields(self, exc: ValueError) -> None:
-        fields = {
-            "contrast": self.contrast_field,
-            "young": self.young_field,
-            "poisson": self.poisson_field,
-        }
-        for field in offending_widgets(exc, fields):
-            mark_invalid(field, True)
-
-    def _sync_contrast_slider(self, contrast: float) -> None:
-        position = math.log10(max(contrast, _CONTRAST_RANGE[0]) / _CONTRAST_RANGE[0])
-        self.contrast_slider.blockSignals(True)
-        self.contrast_slider.setValue(round(position * _SLIDER_STEPS_PER_DECADE))
-        self.contrast_slider.blockSignals(False)
-
-    def _contrast_slider_moved(self, position: int) -> None:
-        contrast = _CONTRAST_RANGE[0] * 10.0 ** (position / _SLIDER_STEPS_PER_DECADE)
-        # Round to 3 significant digits so the field shows a tidy number.
-        contrast = float(f"{contrast:.3g}")
-        self.contrast_field.blockSignals(True)
-        self.contrast_field.setValue(contrast)
-        self.contrast_field.blockSignals(False)
-        self._inputs_changed()
-
-    def _contrast_field_changed(self, value: float) -> None:
-        self._sync_contrast_slider(value)
-        self._inputs_changed()
-
-    def _rotation_changed(self) -> None:
-        self.rotation_section.set_summary(self.rotation.summary())
-        if self._detailed is not None:
-            self._display()
+    def _show_pattern(self) -> None:
+        """The cell of the current pattern in the previews, its description above them."""
+        self._phases = self.inputs.phases
+        self.description_label.setText(PATTERNS[self.inputs.pattern].description)
+        self.voxel_view.set_phases(self._phases)
+        self.slice_view.set_phases(self._phases)
+        self.slice_view.set_index(self.inputs.slice)
 
     # -- worker results ----------------------------------------------------------------------
     def _set_pending(self, key: tuple | None) -> None:
@@ -590,14 +540,7 @@ class HomogenizationPanel(QWidget):
 
     def refresh_colors(self) -> None:
         """Re-colour the result cells in the current theme (after a theme switch)."""
-        if self._symmetry is None:
-            return
-        for i in range(6):
-            for j in range(6):
-                group = int(self._symmetry.groups[i, j])
-                item = self.result_table.item(i, j)
-                item.setBackground(QBrush(self.group_color(group)))
-                item.setForeground(QBrush(self.group_text_color(group)))
+        self.result_table.refresh_colors()
 
     # -- display -----------------------------------------------------------------------------
     def _display(self) -> None:
@@ -607,15 +550,7 @@ class HomogenizationPanel(QWidget):
         material = base.rotated(self.rotation.rotation_matrix()) if rotated else base
         symmetry = describe_symmetry(material)
         self._result, self._symmetry = material, symmetry
-        voigt = material.voigt
-        for i in range(6):
-            for j in range(6):
-                item = self.result_table.item(i, j)
-                group = int(symmetry.groups[i, j])
-                item.setText("0" if group < 0 else f"{voigt[i, j]:.4g}")
-                item.setBackground(QBrush(self.group_color(group)))
-                item.setForeground(QBrush(self.group_text_color(group)))
-                item.setToolTip(f"C{_VOIGT_LABELS[i]},{_VOIGT_LABELS[j]} = {voigt[i, j]:.10g}")
+        self.result_table.show_material(material, symmetry)
         text = f"Symmetry: {self._class_text(symmetry)}"
         if rotated:
             text += f"  (pattern axes: {self._class_text(describe_symmetry(base))})"

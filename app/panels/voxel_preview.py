@@ -34,21 +34,47 @@ PHASE_A_COLOR = QColor("#dfe7f0")
 PHASE_B_COLOR = QColor("#e8873a")
 
 _COS30 = float(np.cos(np.pi / 6))
-# Face shades of phase b: top (+z), right (+y), left (+x).
-_FACE_COLORS = (QColor("#f6a860"), QColor("#c8691f"), QColor("#e08535"))
 _AXIS_COLORS = {"x": QColor("#d32f2f"), "y": QColor("#2e7d32"), "z": QColor("#1565c0")}
 
 
+#: The direction the isometric view looks from (toward the viewer), and the light's.
+_VIEW = np.array([1.0, 1.0, 1.0]) / np.sqrt(3.0)
+_LIGHT = np.array([0.35, 0.55, 1.0]) / np.linalg.norm([0.35, 0.55, 1.0])
+#: The six face directions of a voxel and the corners of each face (unit cube).
+_NORMALS = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]])
+_FACE_CORNERS = {
+    (0, 1): ((1, 0, 0), (1, 1, 0), (1, 1, 1), (1, 0, 1)),
+    (0, -1): ((0, 0, 0), (0, 1, 0), (0, 1, 1), (0, 0, 1)),
+    (1, 1): ((0, 1, 0), (1, 1, 0), (1, 1, 1), (0, 1, 1)),
+    (1, -1): ((0, 0, 0), (1, 0, 0), (1, 0, 1), (0, 0, 1)),
+    (2, 1): ((0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)),
+    (2, -1): ((0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)),
+}
+
+
+def _isometric(points: np.ndarray) -> np.ndarray:
+    """(…, 3) points (x, y, z) → (…, 2) isometric screen offsets (right, down), seen from
+    the (+x, +y, +z) corner with z up."""
+    x, y, z = points[..., 0], points[..., 1], points[..., 2]
+    return np.stack([(y - x) * _COS30, (x + y) * 0.5 - z], axis=-1)
+
+
 class VoxelPreview(QWidget):
-    """Isometric drawing of phase b of an (n, n, n) 0/1 cell (axis order x, y, z)."""
+    """Isometric drawing of phase b of an (n, n, n) 0/1 cell (axis order x, y, z), turned by
+    :meth:`set_rotation` (the rotation the panel applies to the material: the drawing shows
+    the pattern as the rotated material has it), inside the cell's box and axes."""
 
     def __init__(self, parent: QWidget | None = None):
         super().__init__(parent)
         self._phases = np.zeros((2, 2, 2), dtype=np.int8)
+        self._rotation = np.eye(3)
         self._pixmap: QPixmap | None = None
         self.setMinimumSize(170, 170)
         self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
-        self.setToolTip("Periodic cell: stiff phase b (orange) inside the soft matrix (box)")
+        self.setToolTip(
+            "Periodic cell: stiff phase b (orange) inside the soft matrix (box), turned as the "
+            "result is rotated"
+        )
 
     def sizeHint(self) -> QSize:
         return QSize(200, 190)
@@ -60,9 +86,20 @@ class VoxelPreview(QWidget):
         view.setflags(write=False)
         return view
 
+    @property
+    def rotation(self) -> np.ndarray:
+        """(3, 3) the rotation the cell is drawn with (a copy)."""
+        return self._rotation.copy()
+
     def set_phases(self, phases: np.ndarray) -> None:
         """Show the (n, n, n) 0/1 cell ``phases``."""
         self._phases = np.asarray(phases, dtype=np.int8).copy()
+        self._pixmap = None
+        self.update()
+
+    def set_rotation(self, rotation: np.ndarray) -> None:
+        """Draw the cell turned by the proper rotation ``rotation`` (3, 3)."""
+        self._rotation = np.array(rotation, dtype=np.float64).reshape(3, 3)
         self._pixmap = None
         self.update()
 
@@ -91,55 +128,55 @@ class VoxelPreview(QWidget):
         painter.setRenderHint(QPainter.RenderHint.Antialiasing)
         n = self._phases.shape[0]
         width, height = self.width(), self.height()
-        # Projected extent of the cube: width 2 n cos30, height 2 n; margins for the axes.
-        scale = min((width - 30) / (2 * n * _COS30), (height - 30) / (2.0 * n))
-        cx, cy = width / 2.0, height / 2.0
-        half = n / 2.0
+        box = np.array([(x, y, z) for x in (0, n) for y in (0, n) for z in (0, n)], float)
+        extent = np.ptp(_isometric((box - n / 2) @ self._rotation.T), axis=0)
+        scale = min((width - 30) / extent[0], (height - 30) / extent[1])
+        centre = np.array([width / 2.0, height / 2.0])
 
-        def corner(x: float, y: float, z: float) -> QPointF:
-            """Screen point of cell point (x, y, z), cube centred in the widget."""
-            x, y, z = x - half, y - half, z - half
-            return QPointF(cx + (y - x) * _COS30 * scale, cy + ((x + y) * 0.5 - z) * scale)
+        def screen(points: np.ndarray) -> np.ndarray:
+            """Screen points (…, 2) of cell points (…, 3), turned, cube centred."""
+            turned = (np.asarray(points, float) - n / 2) @ self._rotation.T
+            return centre + scale * _isometric(turned)
 
-        self._draw_box(painter, corner, n, hidden=True)
-        self._draw_voxels(painter, corner)
-        self._draw_box(painter, corner, n, hidden=False)
-        self._draw_axes(painter, corner, n)
+        self._draw_box(painter, screen, n, hidden=True)
+        self._draw_voxels(painter, screen)
+        self._draw_box(painter, screen, n, hidden=False)
+        self._draw_axes(painter, screen, n)
         painter.end()
         return pixmap
 
-    def _draw_voxels(self, painter: QPainter, corner) -> None:
+    def _draw_voxels(self, painter: QPainter, screen) -> None:
+        """The faces of phase b that border phase a (or the cell's side) and face the
+        viewer, far ones first, shaded by how they face the light."""
         ph = self._phases.astype(bool)
         n = ph.shape[0]
-        # Visible faces from the (+x, +y, +z) corner: a face shows when the next voxel along
-        # its normal is phase a or outside the cell.
-        exposed = []
-        for axis in range(3):
-            nxt = np.zeros_like(ph)
-            index = [slice(None)] * 3
-            index[axis] = slice(0, n - 1)
-            src = [slice(None)] * 3
-            src[axis] = slice(1, n)
-            nxt[tuple(index)] = ph[tuple(src)]
-            exposed.append(ph & ~nxt)
-        faces = []
-        for axis in range(3):
-            for i, j, k in np.argwhere(exposed[axis]):
-                faces.append((i + j + k, axis, i, j, k))
-        faces.sort()
-        offsets = {
-            0: ((1, 0, 0), (1, 1, 0), (1, 1, 1), (1, 0, 1)),  # +x face
-            1: ((0, 1, 0), (1, 1, 0), (1, 1, 1), (0, 1, 1)),  # +y face
-            2: ((0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)),  # +z face
-        }
-        colors = {0: _FACE_COLORS[2], 1: _FACE_COLORS[1], 2: _FACE_COLORS[0]}
+        padded = np.pad(ph, 1)
         edge = QPen(QColor(120, 60, 20, 70), 0.5)
-        for _, axis, i, j, k in faces:
-            painter.setBrush(colors[axis])
-            painter.setPen(edge)
-            painter.drawPolygon(
-                QPolygonF([corner(i + a, j + b, k + c) for a, b, c in offsets[axis]])
-            )
+        faces = []  # (depth, corners (4, 3), shade)
+        for normal in _NORMALS:
+            turned = self._rotation @ normal
+            if turned @ _VIEW <= 1e-9:
+                continue  # faces away from the viewer
+            axis, sign = int(np.flatnonzero(normal)[0]), int(normal.sum())
+            shifted = padded[
+                1 + normal[0] : n + 1 + normal[0],
+                1 + normal[1] : n + 1 + normal[1],
+                1 + normal[2] : n + 1 + normal[2],
+            ]
+            cells = np.argwhere(ph & ~shifted)
+            if not len(cells):
+                continue
+            corners = cells[:, None, :] + np.array(_FACE_CORNERS[(axis, sign)])[None]
+            depth = ((corners.mean(axis=1) - n / 2) @ self._rotation.T) @ _VIEW
+            shade = 0.55 + 0.45 * max(float(turned @ _LIGHT), 0.0)
+            faces += [(d, c, shade) for d, c in zip(depth, corners, strict=True)]
+        faces.sort(key=lambda face: face[0])
+        painter.setPen(edge)
+        for _depth, corners, shade in faces:
+            color = QColor(PHASE_B_COLOR)
+            color.setHsvF(color.hsvHueF(), color.hsvSaturationF(), min(1.0, shade + 0.05))
+            painter.setBrush(color)
+            painter.drawPolygon(QPolygonF([QPointF(*p) for p in screen(corners)]))
 
     @staticmethod
     def _box_edges(n: int) -> list[tuple[tuple[int, int, int], tuple[int, int, int]]]:
@@ -151,40 +188,43 @@ class VoxelPreview(QWidget):
             if a < b and sum(int(p != q) for p, q in zip(a, b, strict=True)) == 1
         ]
 
-    def _draw_box(self, painter: QPainter, corner, n: int, hidden: bool) -> None:
-        """Cell wireframe: the three edges at the hidden (0, 0, 0) corner dashed, behind the
-        voxels; the others solid, on top."""
+    def _edge_hidden(self, a: tuple[int, int, int], b: tuple[int, int, int], n: int) -> bool:
+        """Whether a box edge lies behind the cell: both box faces along it face away."""
+        facing = []
+        for axis in range(3):
+            if a[axis] == b[axis]:  # the edge lies on the box face of this axis at a[axis]
+                normal = np.zeros(3)
+                normal[axis] = 1.0 if a[axis] == n else -1.0
+                facing.append((self._rotation @ normal) @ _VIEW > 1e-9)
+        return not any(facing)
+
+    def _draw_box(self, painter: QPainter, screen, n: int, hidden: bool) -> None:
+        """Cell wireframe: the edges behind the cell dashed, under the voxels; the others
+        solid, on top."""
         painter.setBrush(Qt.BrushStyle.NoBrush)
         for a, b in self._box_edges(n):
-            at_back = a == (0, 0, 0)
-            if at_back != hidden:
+            if self._edge_hidden(a, b, n) != hidden:
                 continue
             pen = QPen(QColor("#7a8ca0"), 1.0)
             if hidden:
                 pen.setStyle(Qt.PenStyle.DashLine)
             painter.setPen(pen)
-            painter.drawLine(corner(*a), corner(*b))
-        if hidden:
-            painter.setPen(Qt.PenStyle.NoPen)
-            faded = QColor(PHASE_A_COLOR)
-            faded.setAlpha(110)
-            painter.setBrush(faded)
-            top = [(0, 0, n), (n, 0, n), (n, n, n), (0, n, n)]
-            painter.drawPolygon(QPolygonF([corner(*p) for p in top]))
+            (x0, y0), (x1, y1) = screen(np.array([a, b], float))
+            painter.drawLine(QPointF(x0, y0), QPointF(x1, y1))
 
-    def _draw_axes(self, painter: QPainter, corner, n: int) -> None:
+    def _draw_axes(self, painter: QPainter, screen, n: int) -> None:
         font = QFont(painter.font())
         font.setBold(True)
         painter.setFont(font)
-        ends = {"x": (n + 0.22 * n, 0, 0), "y": (0, n + 0.22 * n, 0), "z": (0, 0, n + 0.18 * n)}
-        starts = {"x": (n, 0, 0), "y": (0, n, 0), "z": (0, 0, n)}
-        for name, color in _AXIS_COLORS.items():
+        for axis, (name, color) in enumerate(_AXIS_COLORS.items()):
+            start = np.zeros(3)
+            start[axis] = n
+            end = start.copy()
+            end[axis] = 1.2 * n
+            (x0, y0), (x1, y1) = screen(np.array([start, end]))
             painter.setPen(QPen(color, 1.4))
-            start, end = corner(*starts[name]), corner(*ends[name])
-            painter.drawLine(start, end)
-            painter.drawText(
-                QRectF(end.x() - 8, end.y() - 9, 16, 16), Qt.AlignmentFlag.AlignCenter, name
-            )
+            painter.drawLine(QPointF(x0, y0), QPointF(x1, y1))
+            painter.drawText(QRectF(x1 - 8, y1 - 9, 16, 16), Qt.AlignmentFlag.AlignCenter, name)
 
 
 class SlicePreview(QWidget):

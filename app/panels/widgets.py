@@ -12,9 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from PySide6.QtCore import QModelIndex, QPersistentModelIndex, QSize, Qt, Signal
-from PySide6.QtGui import QColor, QFontMetrics, QPalette, QValidator
+from PySide6.QtGui import QColor, QFontMetrics
 from PySide6.QtWidgets import (
-    QAbstractSpinBox,
     QDoubleSpinBox,
     QFrame,
     QGridLayout,
@@ -28,12 +27,15 @@ from PySide6.QtWidgets import (
     QStyledItemDelegate,
     QStyleOptionViewItem,
     QTableWidget,
+    QTableWidgetItem,
     QToolButton,
     QVBoxLayout,
     QWidget,
 )
 from scipy.spatial.transform import Rotation
 
+from app.bindings import is_marked_invalid, mark_invalid
+from app.fields import DecimalField, NumberField
 from app.theme import active_theme
 from gogreen_core.validation import ParameterError
 
@@ -49,7 +51,6 @@ __all__ = [
     "exact_number_text",
     "is_marked_invalid",
     "mark_invalid",
-    "offending_widgets",
     "pastel_color",
     "plot_colors",
     "set_text_role",
@@ -117,7 +118,8 @@ def plot_colors() -> PlotColors:
         values = (current.base, current.mid, "#2e3035", "#6c7078", current.text, current.muted_text)
         legend, handle, dark = QColor(current.base), QColor(current.base), True
         legend.setAlpha(225)
-    return PlotColors(*(QColor(v) for v in values), legend, handle, dark)
+    background, frame, grid, axis, text, muted = (QColor(v) for v in values)
+    return PlotColors(background, frame, grid, axis, text, muted, legend, handle, dark)
 
 
 def zero_cell_colors() -> tuple[QColor, QColor]:
@@ -142,29 +144,6 @@ def pastel_color(index: int, dark: bool | None = None) -> QColor:
     return QColor.fromRgbF(r, g, b)
 
 
-def mark_invalid(widget: QWidget, invalid: bool) -> None:
-    """Show ``widget`` as holding an invalid value (red background and text) or restore its
-    normal look.
-
-    Uses the palette, not a style sheet, so spin box arrows keep the platform style. Sets the
-    dynamic property ``invalid`` too, so tests can query it.
-    """
-    widget.setProperty("invalid", bool(invalid))
-    if invalid:
-        current = active_theme()
-        palette = widget.palette()
-        palette.setColor(QPalette.ColorRole.Base, QColor(current.invalid_base))
-        palette.setColor(QPalette.ColorRole.Text, QColor(current.text))
-        widget.setPalette(palette)
-    else:
-        widget.setPalette(QPalette())  # back to the inherited palette
-
-
-def is_marked_invalid(widget: QWidget) -> bool:
-    """Whether :func:`mark_invalid` last marked ``widget`` as invalid."""
-    return bool(widget.property("invalid"))
-
-
 class CompactTable(QTableWidget):
     """A small table shown whole: as tall as its header plus rows (no vertical scrolling),
     columns stretched to the width. The height follows the actual font and style."""
@@ -180,6 +159,12 @@ class CompactTable(QTableWidget):
         self.setVerticalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
         self.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
         self.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
+
+    def cell(self, row: int, column: int) -> QTableWidgetItem:
+        """The item at (row, column), which every cell of these tables has."""
+        item = self.item(row, column)
+        assert item is not None, (row, column)
+        return item
 
     def _height(self) -> int:
         header = self.horizontalHeader()
@@ -345,70 +330,17 @@ class CollapsibleSection(QWidget):
         self.toggle.setText(f"{self._title}   ({self._summary})" if folded else self._title)
 
 
-class NumberField(QDoubleSpinBox):
-    """A spin box for material constants of any magnitude.
-
-    Shows up to ``digits`` significant digits (``%g``: 200, 0.3, 1.5e+09), accepts typed
-    scientific notation, steps adaptively (by about a tenth of the value's magnitude) and
-    emits ``valueChanged`` only when editing finishes or the arrows step (no keyboard
-    tracking), so a half-typed number never reaches the model.
-    """
-
-    def __init__(
-        self,
-        value: float = 0.0,
-        minimum: float = -1e300,
-        maximum: float = 1e300,
-        digits: int = 6,
-        tooltip: str = "",
-        parent: QWidget | None = None,
-    ):
-        super().__init__(parent)
-        self._digits = digits
-        self.setDecimals(15)
-        self.setRange(minimum, maximum)
-        self.setStepType(QAbstractSpinBox.StepType.AdaptiveDecimalStepType)
-        self.setKeyboardTracking(False)
-        self.setAccelerated(True)
-        self.setMinimumWidth(70)
-        self.setValue(value)
-        if tooltip:
-            self.setToolTip(tooltip)
-
-    def textFromValue(self, value: float) -> str:
-        return f"{value:.{self._digits}g}"
-
-    def valueFromText(self, text: str) -> float:
-        try:
-            return float(text.strip())
-        except ValueError:
-            return self.value()
-
-    def validate(self, text: str, pos: int) -> object:
-        stripped = text.strip()
-        try:
-            value = float(stripped)
-        except ValueError:
-            partial = stripped in ("", "-", "+", ".", "-.", "+.") or stripped[-1:] in "eE+-"
-            state = QValidator.State.Intermediate if partial else QValidator.State.Invalid
-            return state, text, pos
-        if self.minimum() <= value <= self.maximum():
-            return QValidator.State.Acceptable, text, pos
-        return QValidator.State.Intermediate, text, pos
-
-    def fixup(self, text: str) -> str:
-        return self.textFromValue(self.value())
-
-
 class EulerAnglesEditor(QWidget):
     """Three Euler angles in degrees, each a slider plus a spin box.
 
     Convention: extrinsic rotations about the fixed x, y and z axes, in that order, so the
     rotation matrix is ``R = Rz(γ) · Ry(β) · Rx(α)`` (``Rotation.from_euler("xyz", ...)``).
-    ``changed`` fires on every edit, live while a slider moves.
+    ``changed`` fires on every edit, live while a slider moves, once for :meth:`set_angles`;
+    ``drag_finished`` when a slider is let go (:meth:`is_dragging` tells a drag's steps).
     """
 
     changed = Signal()
+    drag_finished = Signal()
 
     AXES = ("x", "y", "z")
     SYMBOLS = ("α", "β", "γ")
@@ -419,6 +351,7 @@ class EulerAnglesEditor(QWidget):
         layout.setContentsMargins(0, 0, 0, 0)
         layout.setHorizontalSpacing(6)
         layout.setVerticalSpacing(2)
+        self._setting = False  # set_angles is writing the spins: one `changed` at the end
         self.sliders: list[QSlider] = []
         self.spins: list[QDoubleSpinBox] = []
         for row, (axis, symbol) in enumerate(zip(self.AXES, self.SYMBOLS, strict=True)):
@@ -426,19 +359,18 @@ class EulerAnglesEditor(QWidget):
             slider = QSlider(Qt.Orientation.Horizontal)
             slider.setRange(-180, 180)
             slider.setPageStep(15)
-            spin = QDoubleSpinBox()
-            spin.setRange(-180.0, 180.0)
-            spin.setDecimals(1)
-            spin.setSingleStep(5.0)
+            spin = DecimalField(-180.0, 180.0, 1, 5.0)
             spin.setSuffix("°")
             spin.setWrapping(True)
-            spin.setKeyboardTracking(False)
             spin.setMinimumWidth(72)
+            spin.setAccessibleName(f"{symbol} about {axis}")
             tip = f"Rotation of the material axes about the fixed {axis} axis, degrees"
             for widget in (label, slider, spin):
                 widget.setToolTip(tip)
+            # each follows the other; comparing the values ends the round trip
             slider.valueChanged.connect(lambda v, s=spin: self._slider_moved(s, v))
             spin.valueChanged.connect(lambda v, s=slider: self._spin_changed(s, v))
+            slider.sliderReleased.connect(self.drag_finished)
             layout.addWidget(label, row, 0)
             layout.addWidget(slider, row, 1)
             layout.addWidget(spin, row, 2)
@@ -451,26 +383,32 @@ class EulerAnglesEditor(QWidget):
             spin.setValue(float(value))  # emits through _spin_changed
 
     def _spin_changed(self, slider: QSlider, value: float) -> None:
-        slider.blockSignals(True)
-        slider.setValue(round(value))
-        slider.blockSignals(False)
-        self.changed.emit()
+        if slider.value() != round(value):
+            slider.setValue(round(value))  # its change finds the spin at the value already
+        if not self._setting:
+            self.changed.emit()
+
+    def is_dragging(self) -> bool:
+        """A slider is held (its edits are the steps of one drag)."""
+        return any(slider.isSliderDown() for slider in self.sliders)
 
     @property
     def angles(self) -> tuple[float, float, float]:
         """(α, β, γ) in degrees."""
-        return tuple(spin.value() for spin in self.spins)
+        a, b, c = (spin.value() for spin in self.spins)
+        return a, b, c
 
     def set_angles(self, angles: tuple[float, float, float], emit: bool = True) -> None:
-        """Set the three angles (degrees); emits ``changed`` once if ``emit``."""
-        for spin, slider, value in zip(self.spins, self.sliders, angles, strict=True):
-            for widget in (spin, slider):
-                widget.blockSignals(True)
-            spin.setValue(float(value))
-            slider.setValue(round(value))
-            for widget in (spin, slider):
-                widget.blockSignals(False)
-        if emit:
+        """Set the three angles (degrees); emits ``changed`` once if ``emit`` and they
+        changed."""
+        before = self.angles
+        self._setting = True
+        try:
+            for spin, value in zip(self.spins, angles, strict=True):
+                spin.setValue(float(value))
+        finally:
+            self._setting = False
+        if emit and self.angles != before:
             self.changed.emit()
 
     def summary(self) -> str:
@@ -486,18 +424,3 @@ class EulerAnglesEditor(QWidget):
     def rotation_matrix(self) -> np.ndarray:
         """The (3, 3) proper rotation ``Rz(γ) Ry(β) Rx(α)``."""
         return Rotation.from_euler("xyz", self.angles, degrees=True).as_matrix()
-
-
-def offending_widgets(exc: Exception, widgets: dict[str, QWidget]) -> list[QWidget]:
-    """The widgets of ``widgets`` (by parameter name) that ``exc`` is about.
-
-    Uses :attr:`ParameterError.parameter` (its full name, or the last dotted part:
-    ``"brush.radius"`` matches ``"radius"``). Transitional, for core functions that still raise
-    a plain ValueError: the keys that the message names.
-    """
-    parameter = getattr(exc, "parameter", None)
-    if parameter is not None:
-        names = {parameter, parameter.rsplit(".", 1)[-1]}
-        return [widget for key, widget in widgets.items() if key in names]
-    message = str(exc)
-    return [widget for key, widget in widgets.items() if key in message]

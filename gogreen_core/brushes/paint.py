@@ -14,45 +14,16 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numba import njit, prange
 
 from gogreen_core.brushes.base import BrushType, StrokeContext, mirror_signs
+from gogreen_core.brushes.paint_kernels import kernels
 from gogreen_core.limits import MAX_REACH
 from gogreen_core.validation import ParameterError, check_vector, vector_norm
 
 if TYPE_CHECKING:
     from gogreen_core.brushes.brush import Brush, BrushEvent
 
-__all__ = ["PaintBrush", "cutoff_weights"]
-
-
-@njit(parallel=True, cache=True, nogil=True, boundscheck=False)
-def cutoff_weights(points, rows, start, step, mirrors, origin, inner, outer, out):
-    """out[k] = the brushes' quintic cutoff (:func:`smooth_cutoff`, compiled: a numpy pass over
-    half a million rows took 90 ms; 1 up to ``inner``, 0 from ``outer`` on) of the
-    distance from points[rows[k]], or its nearest mirror image (``mirrors`` (m, 3) signs about
-    ``origin``), to the segment from ``start`` to ``start + step``."""
-    length2 = step[0] * step[0] + step[1] * step[1] + step[2] * step[2]
-    inv = 1.0 / length2 if length2 > 0.0 else 0.0
-    width = outer - inner
-    for k in prange(rows.shape[0]):
-        n = rows[k]
-        nearest = np.inf
-        for mi in range(mirrors.shape[0]):
-            y0 = origin[0] + mirrors[mi, 0] * (points[n, 0] - origin[0]) - start[0]
-            y1 = origin[1] + mirrors[mi, 1] * (points[n, 1] - origin[1]) - start[1]
-            y2 = origin[2] + mirrors[mi, 2] * (points[n, 2] - origin[2]) - start[2]
-            t = min(max((y0 * step[0] + y1 * step[1] + y2 * step[2]) * inv, 0.0), 1.0)
-            d0 = y0 - t * step[0]
-            d1 = y1 - t * step[1]
-            d2 = y2 - t * step[2]
-            nearest = min(nearest, d0 * d0 + d1 * d1 + d2 * d2)
-        distance = np.sqrt(nearest)
-        if width <= 0.0:
-            out[k] = 1.0 if distance < outer else 0.0
-        else:
-            u = min(max((distance - inner) / width, 0.0), 1.0)
-            out[k] = 1.0 - u * u * u * (10.0 - 15.0 * u + 6.0 * u * u)
+__all__ = ["PaintBrush"]
 
 
 class PaintBrush(BrushType):
@@ -83,7 +54,7 @@ class PaintBrush(BrushType):
             return rows, np.ones(len(rows))
         weight = np.empty(len(rows))
         inner, outer = cutoff
-        cutoff_weights(
+        kernels().cutoff_weights(
             mesh.vertices, rows, event.center, event.delta, signs, mesh.origin, inner, outer, weight
         )
         keep = weight > 0

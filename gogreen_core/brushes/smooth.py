@@ -26,11 +26,10 @@ import math
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numba import njit, prange
 
 from gogreen_core.brushes.base import Displacement, StrokeContext
 from gogreen_core.brushes.paint import PaintBrush
-from gogreen_core.topology import BOUNDARY, FIXED
+from gogreen_core.brushes.paint_kernels import kernels
 
 if TYPE_CHECKING:
     from gogreen_core.brushes.brush import Brush, BrushEvent
@@ -42,53 +41,6 @@ TAUBIN_LAMBDA = 0.5
 TAUBIN_MU = -0.5
 #: Most λ|μ pairs one event runs (a strength of 10 and a full amount).
 MAX_PAIRS = 16
-
-
-@njit(parallel=True, cache=True, nogil=True, boundscheck=False)
-def _relax(vertices, rows, slot, current, factor, offsets, neighbours, on_boundary, mode, out):
-    """out[k] = current[k] + factor[k] (mean of the neighbours of vertex rows[k] − current[k]),
-    neighbours read from ``current`` where they are rows (``slot`` ≥ 0) and ``vertices``
-    elsewhere; boundary vertices take their boundary neighbours only, fixed ones stay."""
-    for k in prange(rows.shape[0]):
-        i = rows[k]
-        kind = mode[i]
-        sx = 0.0
-        sy = 0.0
-        sz = 0.0
-        count = 0
-        fx = fy = fz = 0.0
-        if kind != FIXED and factor[k] != 0.0:
-            for e in range(offsets[i], offsets[i + 1]):
-                if kind == BOUNDARY and not on_boundary[e]:
-                    continue
-                j = neighbours[e]
-                s = slot[j]
-                if s >= 0:
-                    px, py, pz = current[s, 0], current[s, 1], current[s, 2]
-                else:
-                    px, py, pz = vertices[j, 0], vertices[j, 1], vertices[j, 2]
-                if count == 0:
-                    fx, fy, fz = px, py, pz
-                sx += px
-                sy += py
-                sz += pz
-                count += 1
-        if kind == BOUNDARY and count == 2:
-            # a corner of the rim (a turn over 60° between its rim neighbours) stays
-            ux, uy, uz = fx - current[k, 0], fy - current[k, 1], fz - current[k, 2]
-            vx, vy, vz = sx - fx - current[k, 0], sy - fy - current[k, 1], sz - fz - current[k, 2]
-            dot = ux * vx + uy * vy + uz * vz
-            if dot > -0.5 * np.sqrt((ux * ux + uy * uy + uz * uz) * (vx * vx + vy * vy + vz * vz)):
-                count = 0
-        if count == 0:
-            out[k, 0] = current[k, 0]
-            out[k, 1] = current[k, 1]
-            out[k, 2] = current[k, 2]
-        else:
-            f = factor[k]
-            out[k, 0] = current[k, 0] + f * (sx / count - current[k, 0])
-            out[k, 1] = current[k, 1] + f * (sy / count - current[k, 1])
-            out[k, 2] = current[k, 2] + f * (sz / count - current[k, 2])
 
 
 class SmoothBrush(PaintBrush):
@@ -109,9 +61,10 @@ class SmoothBrush(PaintBrush):
         slot[rows] = np.arange(len(rows))
         current = mesh.vertices[rows]
         spare = np.empty_like(current)
+        relax = kernels().relax
         for _ in range(pairs):
             for factor in (TAUBIN_LAMBDA * step, TAUBIN_MU * step):
-                _relax(
+                relax(
                     mesh.vertices,
                     rows,
                     slot,

@@ -77,6 +77,7 @@ class ToolUpdate:
     step_seconds : wall time of the engine call, 0 if none ran.
     error : message of an engine error (the stroke was cancelled and the mesh restored).
     refused : the press was refused before reaching the engine (``error`` says why).
+    note : what the artist should know that is no error (a stroke that changed nothing).
     """
 
     moved: np.ndarray | None = None
@@ -87,6 +88,7 @@ class ToolUpdate:
     step_seconds: float = 0.0
     error: str | None = None
     refused: bool = False
+    note: str | None = None
 
     @property
     def changed(self) -> bool:
@@ -97,4 +99,5 @@ class ToolUpdate:
             or self.cursor is not None
             or self.hide_cursor
             or self.error
+            or self.note
         )

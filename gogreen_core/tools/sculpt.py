@@ -302,10 +302,18 @@ class SculptTools:
 
     def release(self) -> ToolUpdate:
         """Apply the last recorded move (if not yet applied), then end the stroke (one undo
-        step) or the pin drag."""
+        step; ``note`` says so when it changed nothing, which is recorded nowhere) or the pin
+        drag."""
         update = self.flush() if self._moves.pending is not None else ToolUpdate()
-        self.stroke.end()
+        brush = self.stroke.brush
+        moved = self.stroke.end()
         self.pin.end()
+        if brush is not None and moved is not None and not len(moved):
+            hint = "drag away from where you press" if brush.is_affine else "drag farther"
+            update.note = (
+                f"Nothing changed: the {brush.kind.replace('_', '-')} stroke moved no vertex, "
+                f"so it is not recorded ({hint})"
+            )
         return update
 
     def remove_pin(self, event: PointerEvent) -> ToolUpdate:

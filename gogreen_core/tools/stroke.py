@@ -16,6 +16,7 @@ if TYPE_CHECKING:
     from gogreen_core.sculptor import Sculptor
 
 __all__ = [
+    "AFFINE_SIGN_PIXELS",
     "MIN_PRESSURE_RADIUS",
     "PIXELS_PER_UNIT_AMOUNT",
     "StrokeController",
@@ -24,6 +25,9 @@ __all__ = [
 
 #: Screen drag (pixels) that makes an affine brush's amount 1 (strain, or radians for twist).
 PIXELS_PER_UNIT_AMOUNT = 250.0
+#: An affine stroke's sign is set once its drag is this long (pixels), and set again when the
+#: drag comes back within it of the press point.
+AFFINE_SIGN_PIXELS = 3.0
 
 
 #: Smallest radius factor pen pressure gives (a feather touch still sculpts).
@@ -42,12 +46,16 @@ class StrokeController:
     """One brush stroke at a time: press begins it, moves step it, release ends it.
 
     Grab brushes move the surface by the cursor's world motion on the drag plane (the point
-    under the cursor follows the cursor); affine brushes (scale, twist, pinch) stay at the press
-    point and take their amount from the horizontal screen motion (:data:`PIXELS_PER_UNIT_AMOUNT`
-    pixels = amount 1) and their direction from the screen motion. Paint brushes (smooth,
-    mask) act where the cursor passes, a dab at the press point first: each event is the
-    segment the cursor moved along the drag plane and the pen pressure (negative with Ctrl:
-    the mask brush erases).
+    under the cursor follows the cursor). Affine brushes (scale, twist, pinch) stay at the press
+    point and, as Blender's Elastic Deform does, take their amount from the signed length of
+    the drag from the press point, in any direction (:data:`PIXELS_PER_UNIT_AMOUNT` pixels =
+    amount 1), and their direction (pinch) from the drag: the sign is + when the drag sets off
+    right or up, − left or down (Blender: right or left of the press point, so that a vertical
+    drag there always deflates), set once the drag is :data:`AFFINE_SIGN_PIXELS` long and again
+    whenever it comes back that close to the press point, so the amount never jumps. Paint
+    brushes (smooth, mask) act where the cursor passes, a dab at the press point first: each
+    event is the segment the cursor moved along the drag plane and the pen pressure (negative
+    with Ctrl: the mask brush erases).
     """
 
     def __init__(self, sculptor: Sculptor, pen: Callable[[], PenSettings] | None = None) -> None:
@@ -58,6 +66,11 @@ class StrokeController:
         self._anchor: np.ndarray | None = None
         self._last_point: np.ndarray | None = None
         self._last_screen: tuple[float, float] | None = None
+        #: Affine strokes: the press point on screen, the sign of the drag (0 undecided) and
+        #: the signed drag length (pixels) already applied.
+        self._press_screen: tuple[float, float] = (0.0, 0.0)
+        self._sign = 0
+        self._applied_drag = 0.0
         #: Stabilized pointer: screen (x, y) and world point where the brush is.
         self._lazy: tuple[tuple[float, float], np.ndarray | None] | None = None
         #: World point of the last applied event (spacing is measured from it).
@@ -85,6 +98,7 @@ class StrokeController:
         self._anchor = np.array(event.point, dtype=float)
         self._last_point = self._anchor.copy()
         self._last_screen = event.screen
+        self._press_screen, self._sign, self._applied_drag = event.screen, 0, 0.0
         self._lazy = (event.screen, self._anchor.copy())
         self._applied = self._anchor.copy()
         self.radius_factor = self._radius_factor(event)
@@ -120,24 +134,11 @@ class StrokeController:
     def brush_event(self, event: PointerEvent) -> BrushEvent | None:
         """The engine event of moving to ``event`` (None when the cursor did not move)."""
         assert self.brush is not None
-        dx = event.screen[0] - self._last_screen[0]
-        dy = self._last_screen[1] - event.screen[1]  # y up
         self._last_screen = event.screen
         pressure = self._pressure(event)
         factor = self._radius_factor(event)
         if self.brush.is_affine:
-            if dx == 0 and dy == 0:
-                return None
-            view = np.asarray(event.view_dir, dtype=float)
-            right = np.asarray(event.screen_x, dtype=float)
-            up = np.cross(right, view)
-            return BrushEvent(
-                center=self._anchor,
-                amount=pressure * dx / PIXELS_PER_UNIT_AMOUNT,
-                axis=view,
-                direction=dx * right + dy * up,
-                radius_factor=factor,
-            )
+            return self._affine_event(event, pressure, factor)
         point = np.asarray(event.point, dtype=float)
         delta = point - self._last_point
         if not np.any(delta):
@@ -146,6 +147,34 @@ class StrokeController:
         if self.brush.type.family == "paint":  # the swept segment, the pressure apart
             return BrushEvent(center=center, delta=delta, amount=pressure, radius_factor=factor)
         return BrushEvent(center=center, delta=pressure * delta, radius_factor=factor)
+
+    def _affine_event(
+        self, event: PointerEvent, pressure: float, factor: float
+    ) -> BrushEvent | None:
+        """The affine event of the drag reaching ``event`` (see the class docstring): the
+        change of the signed drag length since the last event, along the drag's direction."""
+        assert self._anchor is not None
+        dx = event.screen[0] - self._press_screen[0]
+        dy = self._press_screen[1] - event.screen[1]  # y up
+        length = float(np.hypot(dx, dy))
+        if length < AFFINE_SIGN_PIXELS:
+            self._sign = 0  # back at the press point: the next drag sets the sign again
+        elif self._sign == 0:
+            self._sign = 1 if dx + dy > 0 or (dx + dy == 0 and dx > 0) else -1
+        signed = self._sign * length
+        change, self._applied_drag = signed - self._applied_drag, signed
+        if change == 0:
+            return None
+        view = np.asarray(event.view_dir, dtype=float)
+        right = np.asarray(event.screen_x, dtype=float)
+        up = np.cross(right, view)
+        return BrushEvent(
+            center=self._anchor,
+            amount=pressure * change / PIXELS_PER_UNIT_AMOUNT,
+            axis=view,
+            direction=dx * right + dy * up if length > 0 else None,
+            radius_factor=factor,
+        )
 
     def stabilized(self, event: PointerEvent) -> PointerEvent | None:
         """``event`` after the stabilizer and spacing (:class:`PenSettings`): the brush point
@@ -189,10 +218,12 @@ class StrokeController:
             return None
         return self.sculptor.stroke_event(brush_event)
 
-    def end(self) -> None:
-        if self.brush is not None:
-            self.sculptor.end_stroke()
+    def end(self) -> np.ndarray | None:
+        """End the stroke (one undo step if it changed anything); the indices of the vertices
+        it moved, None when no stroke was going on."""
+        moved = self.sculptor.end_stroke() if self.brush is not None else None
         self.brush, self.radius_factor = None, 1.0
+        return moved
 
     def cancel(self) -> None:
         if self.brush is not None:

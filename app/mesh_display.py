@@ -1,0 +1,425 @@
+"""What the viewport draws and picks: the mesh, its surface index, the pins, the brush cursor.
+
+:class:`MeshDisplay` is a part of :class:`app.viewport.SculptViewport` (a mixin over its
+pyvista plotter): the mesh actor is created once; each brush event writes new positions and
+normals into its arrays in place; picking is a ray cast on the mesh's
+:class:`gogreen_core.geometry.SurfaceIndex`, which a big mesh builds on the background thread.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import pyvista as pv
+from PySide6.QtCore import QPointF
+
+from app.background import BackgroundRunner
+from app.cursor_overlay import CursorOverlay, PinOverlay, to_display
+from gogreen_core.geometry import SurfaceIndex
+from gogreen_core.tools import CursorState
+
+if TYPE_CHECKING:
+    from pyvistaqt import QtInteractor
+
+    from gogreen_core.sculptor import Sculptor
+
+    _Base = QtInteractor
+else:
+    _Base = object
+
+__all__ = [
+    "BACKGROUND_INDEX_FACES",
+    "HOME_VIEW_DIRECTION",
+    "MASK_SHADE",
+    "MODEL_COLOR",
+    "MeshDisplay",
+]
+
+MODEL_COLOR = "#c9b79c"  # warm clay
+#: How much darker a fully masked vertex is drawn (Blender shows its mask as a dark tint).
+MASK_SHADE = 0.6
+_MASK_ARRAY = "MaskTint"
+#: Meshes with at least this many faces get their SurfaceIndex built in the background
+#: (about 25 ms of build below it: not worth a flat-shaded moment).
+BACKGROUND_INDEX_FACES = 200_000
+#: Direction from the model to the camera in the home view: in front (+z), a little right and above.
+HOME_VIEW_DIRECTION = (0.55, 0.4, 1.0)
+PIN_COLOR = "#ff3355"
+
+
+def barycentric(a: np.ndarray, b: np.ndarray, c: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """Barycentric weights (3,) of point ``p`` in triangle ``a b c`` (clipped to [0, 1])."""
+    v0, v1, v2 = b - a, c - a, p - a
+    d00, d01, d11 = v0 @ v0, v0 @ v1, v1 @ v1
+    d20, d21 = v2 @ v0, v2 @ v1
+    det = d00 * d11 - d01 * d01
+    if det == 0:
+        return np.full(3, 1.0 / 3.0)
+    v = (d11 * d20 - d01 * d21) / det
+    w = (d00 * d21 - d01 * d20) / det
+    weights = np.clip(np.array([1.0 - v - w, v, w]), 0.0, 1.0)
+    return weights / weights.sum()
+
+
+def _tint(mask: np.ndarray) -> np.ndarray:
+    """RGB (n, 3) uint8 of the model's colour darkened by the mask values (n,)."""
+    base = np.array(pv.Color(MODEL_COLOR).int_rgb, dtype=np.float64)
+    shade = 1.0 - MASK_SHADE * np.clip(mask, 0.0, 1.0)
+    return np.rint(shade[:, None] * base).astype(np.uint8)
+
+
+class MeshDisplay(_Base):
+    """The mesh, pins and cursor of the viewport (see the module docstring).
+
+    Attributes: ``mesh`` (the drawn pv.PolyData), ``mesh_actor``, ``surface`` (its
+    :class:`SurfaceIndex`, None while a background build runs), ``cursor_overlay``,
+    ``pin_overlay``, ``pin_actor`` (the pins' markers, one actor for all).
+    """
+
+    def _init_display(self) -> None:
+        self.mesh: pv.PolyData | None = None
+        self.mesh_actor: Any = None
+        self._faces: np.ndarray | None = None
+        #: The vertex mask drawn as a tint (the mesh's order), None when nothing is masked, and
+        #: the sculptor's mask version it shows (-1: none yet).
+        self._mask: np.ndarray | None = None
+        self._mask_version = -1
+        #: Per-mesh index: incremental normals and ray picking (gogreen_core.geometry).
+        self.surface: SurfaceIndex | None = None
+        self._arrays_shared = False
+        # the index of a big mesh is built on the background thread (app.background)
+        self._index_runner = BackgroundRunner(self)
+        self._index_runner.progress.connect(lambda _job, done: self.surface_progress.emit(done))
+        self._index_runner.finished.connect(self._index_built)
+        self._index_runner.failed.connect(self._index_failed)
+        self._index_job: int | None = None
+        #: The brush cursor: 2D, drawn over the surface (app.cursor_overlay).
+        self.cursor_overlay = CursorOverlay(self.renderer)
+        #: The reach of the pins (2D rings) and their markers (one actor, points in place).
+        self.pin_overlay = PinOverlay(self.renderer)
+        self.pin_actor: Any = None
+        self.pin_markers: pv.PolyData | None = None
+
+    # -- mesh --------------------------------------------------------------------------------
+    def set_mesh(
+        self,
+        vertices: np.ndarray,
+        faces: np.ndarray,
+        reset_camera: bool = True,
+        background: bool | None = None,
+    ) -> None:
+        """Show a new mesh (one actor, replaced only when the mesh itself changes), without
+        pins.
+
+        Its :class:`SurfaceIndex` (picking, incremental normals) is built at once for a mesh
+        of fewer than :data:`BACKGROUND_INDEX_FACES` faces, else (or with ``background``) on
+        the background thread (about 0.5 s at 2M faces): meanwhile the mesh is shown
+        flat-shaded in its own order, vertex updates are drawn, picks find nothing and a left
+        press emits ``surface_pending`` instead of starting a stroke.
+        ``surface_progress`` and then ``surface_ready`` report the build.
+        """
+        if self.mesh_actor is not None:
+            self.remove_actor(self.mesh_actor, render=False)
+            self.mesh_actor = None
+        self.show_cursor(None)  # sized for the old mesh; it would also widen the home view
+        self.show_pins(np.zeros((0, 3)), 0.0)
+        self._mask, self._mask_version = None, -1  # the new mesh's tint comes with show_mask
+        self._index_runner.cancel()
+        self._index_job = None
+        self.surface = None
+        vertices = np.array(vertices, dtype=np.float64)  # our copy: VTK draws it
+        self._faces = np.asarray(faces)
+        if background is None:
+            background = len(self._faces) >= BACKGROUND_INDEX_FACES
+        if background:
+            self._show(pv.PolyData.from_regular_faces(vertices, self._faces))
+            built_from = vertices.copy()  # the build reads this; the view's copy may move
+            faces = self._faces
+            self._index_job = self._index_runner.submit(
+                lambda task: SurfaceIndex(built_from, faces, task.progress), supersede=True
+            )
+        else:
+            self._use_index(SurfaceIndex(vertices, self._faces))
+        if reset_camera:
+            self.home_view(render=False)
+        self.request_render()
+
+    def _show(self, mesh: pv.PolyData) -> None:
+        """Draw ``mesh`` with the model's look: a new actor, or the current one's input."""
+        self.mesh = mesh
+        if self.mesh_actor is not None:
+            self.mesh_actor.mapper.SetInputData(mesh)
+            self._draw_mask()
+            return
+        self.mesh_actor = self.add_mesh(
+            mesh,
+            color=MODEL_COLOR,
+            specular=0.25,
+            specular_power=20,
+            diffuse=0.85,
+            ambient=0.12,
+            reset_camera=False,
+            render=False,
+        )
+        self.mesh_actor.mapper.SetInputData(mesh)  # our arrays, updated in place
+        self.mesh_actor.GetProperty().SetInterpolationToPhong()
+        self._draw_mask()
+
+    # -- mask tint ---------------------------------------------------------------------------
+    def show_mask_of(self, sculptor: Sculptor, rows: np.ndarray | None = None) -> None:
+        """Draw ``sculptor``'s vertex mask as a darker tint if it changed since last drawn
+        (``rows``: only these vertices' values may have, a mask stroke's event)."""
+        mask = sculptor.mask
+        if mask.version == self._mask_version:
+            return
+        partial = rows if self._mask_version >= 0 else None
+        self._mask_version = mask.version
+        self.show_mask(mask.values if mask.any else None, partial)
+
+    def show_mask(self, mask: np.ndarray | None, rows: np.ndarray | None = None) -> None:
+        """Draw the vertex mask (N,) in [0, 1] (the mesh's order) as a darker tint, a masked
+        vertex :data:`MASK_SHADE` darker; None or all zero: no tint. ``rows``: only these
+        vertices' values changed."""
+        if mask is None or (rows is None and not np.any(mask)):
+            if self._mask is not None:
+                self._mask = None
+                self._draw_mask()
+            return
+        if self._mask is None or rows is None or len(self._mask) != len(mask):
+            self._mask = np.array(mask, dtype=np.float64)
+            self._draw_mask()
+            return
+        rows = np.asarray(rows, dtype=np.int64)
+        self._mask[rows] = mask[rows]
+        self._draw_mask(rows)
+
+    @property
+    def mask_shown(self) -> bool:
+        """A mask tint is drawn."""
+        return self._mask is not None
+
+    def _draw_mask(self, rows: np.ndarray | None = None) -> None:
+        """Colour the mesh from the mask (direct RGB point colours, in the shown order: the
+        surface index's when it draws), or back to the plain colour without one."""
+        if self.mesh is None or self.mesh_actor is None:
+            return
+        mapper = self.mesh_actor.mapper
+        data = self.mesh.point_data
+        if self._mask is None or len(self._mask) != self.mesh.n_points:
+            if _MASK_ARRAY in data:
+                data.remove(_MASK_ARRAY)
+            mapper.ScalarVisibilityOff()
+            self.request_render()
+            return
+        rank = self.surface.rank if self.surface is not None else None
+        if rows is not None and _MASK_ARRAY in data:
+            data[_MASK_ARRAY][rows if rank is None else rank[rows]] = _tint(self._mask[rows])
+            self.mesh.GetPointData().GetArray(_MASK_ARRAY).Modified()
+        else:
+            colors = _tint(self._mask)
+            if rank is not None:
+                shown = np.empty_like(colors)
+                shown[rank] = colors
+                colors = shown
+            data[_MASK_ARRAY] = colors
+        mapper.SetScalarModeToUsePointFieldData()
+        mapper.SelectColorArray(_MASK_ARRAY)
+        mapper.SetColorModeToDirectScalars()
+        mapper.ScalarVisibilityOn()
+        self.request_render()
+
+    def _use_index(self, surface: SurfaceIndex) -> None:
+        """Draw the mesh from ``surface``'s arrays (shared, in its order: the per-event
+        updates write them in place) and pick on it."""
+        mesh = pv.PolyData.from_regular_faces(surface.positions, surface.faces)  # type: ignore[arg-type]
+        mesh.point_data["Normals"] = surface.normals
+        mesh.point_data.active_normals_name = "Normals"
+        # VTK wraps the index's arrays without a copy: its updates are the actor's
+        self._arrays_shared = np.shares_memory(mesh.points, surface.positions) and (
+            np.shares_memory(mesh.point_data["Normals"], surface.normals)
+        )
+        self.surface = surface
+        self._show(mesh)
+
+    def _index_built(self, job: int, surface: SurfaceIndex) -> None:
+        if job != self._index_job or self.mesh is None:
+            return  # a mesh opened since
+        self._index_job = None
+        # vertices moved while it was built (undo, a script): bring the index up to date
+        shown = self.mesh.points
+        surface.update(shown, surface.changed_rows(shown))
+        self._use_index(surface)
+        self.request_render()
+        self.surface_ready.emit()
+
+    def _index_failed(self, job: int, error: Exception) -> None:
+        if job == self._index_job:
+            self._index_job = None
+            self.surface_failed.emit(f"{type(error).__name__}: {error}")
+
+    @property
+    def surface_building(self) -> bool:
+        """A mesh is shown whose :class:`SurfaceIndex` is still being built."""
+        return self._index_job is not None
+
+    def wait_for_surface(self, msecs: int = -1) -> bool:
+        """Block until a background index build ends and apply it (tests, benchmarks)."""
+        done = self._index_runner.wait(msecs)
+        return done and self.surface is not None
+
+    def cancel_surface_build(self) -> None:
+        """Drop a background index build (closing the window)."""
+        self._index_runner.cancel()
+        self._index_job = None
+
+    def shown_vertices(self) -> np.ndarray:
+        """The positions (N, 3) drawn, in the mesh's vertex order (a copy)."""
+        if self.surface is not None:
+            return self.surface.vertices
+        return np.array(self.mesh.points) if self.mesh is not None else np.zeros((0, 3))
+
+    def home_view(self, render: bool = True) -> None:
+        """Front three-quarter view with +y up (the OBJ/PLY convention of Spot, the bunny and
+        most exported models), the whole mesh in frame."""
+        plotter: Any = self  # pyvista's argument-checking decorator hides these signatures
+        plotter.view_vector(HOME_VIEW_DIRECTION, viewup=(0.0, 1.0, 0.0), render=False)
+        plotter.reset_camera(render=False)
+        if render:
+            self.request_render()
+            self.rehover()
+
+    def update_vertices(self, vertices: np.ndarray, indices: np.ndarray | None = None) -> None:
+        """Write new positions (N, 3, the mesh's order) into the actor's arrays in place.
+
+        ``indices``: the vertices that moved; None compares every vertex with the shown one
+        (undo, a pin drag) and updates those that differ. Only the moved rows and the normals
+        of them and their one-ring are written (:meth:`SurfaceIndex.update`, whose arrays VTK
+        draws); the arrays are marked modified, nothing is rebuilt. While the index builds in
+        the background the moved rows are written (flat-shaded view) and the index catches up
+        when it is ready.
+        """
+        if self.mesh is None:
+            return
+        vertices = np.asarray(vertices, dtype=np.float64)
+        surface = self.surface
+        if indices is None and surface is not None:
+            indices = surface.changed_rows(vertices)
+        elif indices is None:
+            differ = self.mesh.points != vertices  # per column: faster than np.any(axis=1)
+            indices = np.flatnonzero(differ[:, 0] | differ[:, 1] | differ[:, 2])
+        else:
+            indices = np.asarray(indices, dtype=np.int64).ravel()
+        if len(indices):
+            if surface is None:
+                points: np.ndarray = self.mesh.points
+                points[indices] = vertices[indices]
+            else:
+                surface.update(vertices, indices)
+                if not self._arrays_shared:
+                    self.mesh.points = surface.positions
+                    self.mesh.point_data["Normals"] = surface.normals
+            self.mesh.GetPoints().Modified()
+            normals = self.mesh.GetPointData().GetNormals()
+            if normals is not None:
+                normals.Modified()
+
+    # -- picking -----------------------------------------------------------------------------
+    def _display(self, pos: QPointF) -> tuple[float, float]:
+        ratio = self.devicePixelRatioF()
+        return pos.x() * ratio, (self.height() - pos.y() - 1) * ratio
+
+    def pick_ray(self, pos: QPointF) -> tuple[np.ndarray, np.ndarray]:
+        """Camera ray (origin on the near plane (3,), direction (3,)) through widget ``pos``."""
+        near = self._unproject(pos, 0.0)
+        return near, self._unproject(pos, 1.0) - near
+
+    def pick(self, pos: QPointF) -> tuple[np.ndarray, np.ndarray] | None:
+        """Surface point (3,) and unit normal (3,) under the widget position, or None.
+
+        A ray pick on the :class:`SurfaceIndex` (no locator built over the mesh); the normal is
+        the vertex normals interpolated at the hit (as VTK's cell picker gives it)."""
+        if self.mesh is None or self.surface is None or self._faces is None:
+            return None
+        origin, direction = self.pick_ray(pos)
+        if not np.any(direction) or not np.all(np.isfinite(direction)):
+            return None
+        hit = self.surface.pick(origin, direction)
+        if hit is None:
+            return None
+        face, point = hit
+        rows = self.surface.rank[self._faces[face]]
+        a, b, c = self.surface.positions[rows]
+        weights = barycentric(a, b, c, point)
+        normal = weights @ self.surface.normals[rows]
+        length = np.linalg.norm(normal)
+        return point, (normal / length if length > 0 else np.cross(b - a, c - a))
+
+    def _unproject(self, pos: QPointF, depth: float) -> np.ndarray:
+        x, y = self._display(pos)
+        self.renderer.SetDisplayPoint(x, y, depth)
+        self.renderer.DisplayToWorld()
+        w = np.array(self.renderer.GetWorldPoint())
+        return w[:3] / w[3]
+
+    def _depth(self, point: np.ndarray) -> float:
+        return float(to_display(self.renderer, point)[2])
+
+    def _view_axes(self) -> tuple[np.ndarray, np.ndarray]:
+        camera = self.renderer.GetActiveCamera()
+        view = np.array(camera.GetFocalPoint()) - np.array(camera.GetPosition())
+        view /= np.linalg.norm(view)
+        up = np.array(camera.GetViewUp())
+        right = np.cross(view, up)
+        return view, right / np.linalg.norm(right)
+
+    # -- cursor and pins ---------------------------------------------------------------------
+    def show_cursor(self, state: CursorState | None) -> None:
+        """Place the brush cursor overlay at ``state`` (drawn at the next render), or hide it
+        (None)."""
+        self.cursor_overlay.show(state)
+        self.request_render()
+
+    @property
+    def cursor_visible(self) -> bool:
+        return self.cursor_overlay.visible
+
+    def show_pins(self, points: np.ndarray, reach: float) -> None:
+        """Show the pins at ``points`` (k, 3): a marker each (one actor, its points replaced
+        in place) and the ring of their reach (world radius)."""
+        points = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+        self.pin_overlay.show(points, reach)
+        if self.pin_actor is None and len(points):
+            # add_actor, not add_points: pyvista's add_* would rebind self.mesh to the markers
+            self.pin_markers = pv.PolyData(points)
+            self.pin_actor = pv.Actor(mapper=pv.DataSetMapper(self.pin_markers))
+            prop = self.pin_actor.prop
+            prop.color, prop.point_size, prop.render_points_as_spheres = PIN_COLOR, 14, True
+            self.pin_actor.SetPickable(False)
+            self.add_actor(self.pin_actor, reset_camera=False, render=False)
+        elif self.pin_markers is not None:
+            self.pin_markers.points = points if len(points) else np.zeros((0, 3))
+            self.pin_markers.verts = np.hstack(
+                [np.ones((len(points), 1), int), np.arange(len(points))[:, None]]
+            ).ravel()
+        self.request_render()
+
+    def model_image(self) -> np.ndarray:
+        """The view as drawn, without the brush cursor: (H, W, 3) uint8 RGB, H and W in device
+        pixels (screenshots).
+
+        The cursor is left out of one render, which is read back; it is then drawn again as it
+        was (its state is kept) at the next render, requested here: one frame without it on
+        screen at most.
+        """
+        overlay = self.cursor_overlay
+        overlay.suspended = True
+        try:
+            self.render()
+            pixels = self.screenshot(return_img=True)
+        finally:
+            overlay.suspended = False
+            overlay.layout()
+            self.request_render()
+        assert pixels is not None
+        return np.ascontiguousarray(pixels[:, :, :3])

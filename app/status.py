@@ -1,0 +1,69 @@
+"""The main window's status bar: messages, counts, timings and progress bars."""
+
+from __future__ import annotations
+
+from PySide6.QtWidgets import QLabel, QProgressBar, QPushButton, QStatusBar
+
+__all__ = ["StatusArea"]
+
+
+class StatusArea:
+    """The widgets of ``bar``: the message line (``message_label``), the vertex count, the
+    last brush step and render times, two progress bars (kernel compilation, the background
+    build of a big mesh's surface index) and the wrinkle brush's fix button."""
+
+    def __init__(self, bar: QStatusBar) -> None:
+        self.bar = bar
+        self.vertex_label = QLabel()
+        self.step_label = QLabel("brush step: –")
+        self.frame_label = QLabel("render: –")
+        self.message_label = QLabel()
+        # Busy indicator while kernels compile (first start, a new l_max): never a silent wait.
+        self.compile_progress = self.add_progress(
+            0,
+            "",
+            "Compiling the brush kernels (once per machine and l_max); strokes start after it",
+        )
+        # Progress of the background build of a big mesh's surface index (picking, shading)
+        self.surface_progress = self.add_progress(
+            100,
+            "preparing %p%",
+            "Preparing the opened mesh for picking and smooth shading; strokes start after it",
+        )
+        for label in (self.vertex_label, self.step_label, self.frame_label):
+            label.setMinimumWidth(150)
+            bar.addPermanentWidget(label)
+        bar.addWidget(self.message_label, 1)
+        # one click to a material the wrinkle brush needs (shown only when it lacks one)
+        self.wrinkle_fix_button = QPushButton("Use a wrinkle material")
+        self.wrinkle_fix_button.setToolTip(
+            "Apply the “Layered sheet wrinkles” material and wrinkle weights (one undo step)"
+        )
+        self.wrinkle_fix_button.hide()
+        bar.addWidget(self.wrinkle_fix_button)
+        # a temporary message (the first-run hint) is drawn where the label is: not both
+        bar.messageChanged.connect(lambda text: self.message_label.setHidden(bool(text)))
+
+    def add_progress(self, maximum: int, text: str, tip: str) -> QProgressBar:
+        """A hidden progress bar at the right of the status bar (``maximum`` 0: busy, no
+        fraction): ``text`` its format (``"%p%"``), ``tip`` its tool tip."""
+        progress = QProgressBar()
+        progress.setRange(0, maximum)
+        progress.setMaximumWidth(160)
+        progress.setFormat(text)
+        progress.setToolTip(tip)
+        progress.hide()
+        self.bar.addPermanentWidget(progress)
+        return progress
+
+    def show_counts(self, vertices: int | None, step_ms: float) -> None:
+        """The vertex count (None: keep it) and the last brush step's time."""
+        if vertices is not None:
+            self.vertex_label.setText(f"{vertices:,} vertices")
+        self.step_label.setText(f"brush step: {step_ms:.1f} ms")
+
+    def show_frame_time(self, ms: float) -> None:
+        self.frame_label.setText(f"render: {ms:.0f} ms")
+
+    def show_surface_progress(self, done: float) -> None:
+        self.surface_progress.setValue(round(100 * done))

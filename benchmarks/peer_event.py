@@ -1,0 +1,295 @@
+"""A grab event against its isotropic peer, and how soon a new machine sculpts (issue 23).
+
+    python benchmarks/peer_event.py [--repeats 15] [--meshes DIR] [--no-cold] [--no-app]
+
+Prints, in one run (figures only, no assertions):
+
+* the grab event on the 1M-vertex ogre (``../shared/meshes/ogre.obj`` subdivided twice, 992,608
+  vertices; skipped with the reason when the file is absent) through the Sculptor: cubic
+  material, l_max 8, radius 0.05, cursor motion 1% of the model size, compiled code (everything
+  the app waits for: kernel, force, influence ball, adaptive streamlines, write-back);
+* its peer on the same moved vertices in the same run: Blender's Elastic Deform math, one RK4
+  step of the closed-form regularized Kelvinlet (de Goes & James 2017) of the same moving
+  load (4 evaluations a vertex), numba, parallel over the vertices, read and written in place
+  like the mesh rows of the event; event and peer alternate, so that the load of the shared
+  cores falls on both; medians, minima and the ratio of the medians;
+* the event's accuracy: max vertex error against 64 RK4 substeps over the cursor motion, and
+  the same event with evaluation 1 (the code before issue 23, which old sessions replay with);
+* the first grab event in a fresh process with an empty numba cache (NUMBA_CACHE_DIR a new
+  temporary directory; numba would also use ``__pycache__`` beside the sources, which this
+  overrides): imports, default model (40,962 vertices), one event, and how long the compiled
+  code then takes to be ready in the background;
+* the app on an empty cache (needs a display, e.g. under xvfb-run): process start → window
+  shown, and window shown → first stroke accepted (a press, a move, a release posted to the
+  viewport until the mesh changes).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numba
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from gogreen_core import Brush, BrushEvent, Material, Sculptor  # noqa: E402
+from gogreen_core._expansion import near_segment  # noqa: E402
+from gogreen_core.brushes import mirror_signs  # noqa: E402
+from gogreen_core.kernel import prepare_degree  # noqa: E402
+
+MATERIAL = Material.cubic(3.0, 1.5, 0.4)
+L_MAX = 8
+RADIUS = 0.05
+MOTION = 0.01  # of the model size
+
+
+@numba.njit(parallel=True, cache=True, fastmath={"contract"}, error_model="numpy")
+def kelvinlet_rk4(points, rows, center, step, force, eps, a, b):  # pragma: no cover - compiled
+    """One classical RK4 step over t ∈ [0, 1] of the regularized Kelvinlet of a load moving
+    from ``center`` by ``step``: v = [(a-b)/r_ε + aε²/(2r_ε³)] f + b (r·f)/r_ε³ r, r = x - c(t),
+    r_ε = √(r² + ε²) (de Goes & James 2017, Blender's Elastic Deform brush), for the mesh rows
+    ``rows`` of ``points``, in place. One vertex per iteration, as Blender's brush loop."""
+    e2 = eps * eps
+    for n in numba.prange(rows.shape[0]):
+        row = rows[n]
+        x0, y0, z0 = points[row, 0], points[row, 1], points[row, 2]
+        ex, ey, ez = x0, y0, z0
+        vx = vy = vz = 0.0
+        for stage in range(4):
+            h = 0.0 if stage == 0 else (1.0 if stage == 3 else 0.5)
+            dx = x0 + h * vx - (center[0] + h * step[0])
+            dy = y0 + h * vy - (center[1] + h * step[1])
+            dz = z0 + h * vz - (center[2] + h * step[2])
+            inv = 1.0 / math.sqrt(dx * dx + dy * dy + dz * dz + e2)
+            inv3 = inv * inv * inv
+            diagonal = (a - b) * inv + 0.5 * a * e2 * inv3
+            along = b * inv3 * (dx * force[0] + dy * force[1] + dz * force[2])
+            vx = diagonal * force[0] + along * dx
+            vy = diagonal * force[1] + along * dy
+            vz = diagonal * force[2] + along * dz
+            weight = (1.0 if stage == 0 or stage == 3 else 2.0) / 6.0
+            ex += weight * vx
+            ey += weight * vy
+            ez += weight * vz
+        points[row, 0] = ex
+        points[row, 1] = ey
+        points[row, 2] = ez
+
+
+def ogre(meshes: Path) -> tuple[np.ndarray, np.ndarray] | None:
+    """The shared ogre subdivided twice (992,608 vertices), or None if it is not there."""
+    path = meshes / "ogre.obj"
+    if not path.is_file():
+        return None
+    import trimesh
+
+    mesh = trimesh.load(path, process=False)
+    vertices, faces = np.array(mesh.vertices), np.array(mesh.faces)
+    for _ in range(2):
+        vertices, faces = trimesh.remesh.subdivide(vertices, faces)
+    return vertices, faces
+
+
+def median_ms(samples: list[float]) -> str:
+    return f"{1e3 * statistics.median(samples):7.2f} ms (min {1e3 * min(samples):.2f})"
+
+
+def peer_event(vertices: np.ndarray, faces: np.ndarray, repeats: int) -> None:
+    prepare_degree(L_MAX)  # the compiled code (a fresh machine gets it in the background)
+    sculptor = Sculptor(vertices, faces, material=MATERIAL, l_max=L_MAX)
+    center = vertices[int(np.argmax(vertices @ [0.2, 1.0, 0.3]))].copy()
+    brush = Brush("grab", radius=RADIUS)
+    delta = MOTION * sculptor.model_size * np.array([0.3, 0.8, 0.5])
+    cutoff = brush.cutoff(sculptor.model_size)
+    reach = np.empty(len(vertices), dtype=bool)
+    near_segment(vertices, center, delta, cutoff[1], mirror_signs(""), sculptor.origin, reach)
+    rows = np.flatnonzero(reach)
+    # the peer's load: the Kelvinlet whose centre follows the cursor, G(0) f = Δ with
+    # G(0) = (3a/2 - b)/ε I, for an isotropic material of the same scale (μ = 1, ν = 0.3)
+    eps = sculptor.kernel(brush).eps
+    a = 1.0 / (4.0 * math.pi)
+    b = a / (4.0 * (1.0 - 0.3))
+    force = delta * eps / (1.5 * a - b)
+    work = vertices.copy()
+    kelvinlet_rk4(work, rows, center, delta, force, eps, a, b)  # compile / load
+    events, events_cpu, peers, peers_cpu = [], [], [], []
+    after = None
+    for _ in range(repeats):
+        sculptor.begin_stroke(brush)
+        start, start_cpu = time.perf_counter(), time.process_time()
+        sculptor.stroke_event(BrushEvent(center, delta))
+        events.append(time.perf_counter() - start)
+        events_cpu.append(time.process_time() - start_cpu)
+        after = sculptor.vertices.copy()
+        sculptor.end_stroke()
+        sculptor.undo()
+        work[rows] = vertices[rows]
+        start, start_cpu = time.perf_counter(), time.process_time()
+        kelvinlet_rk4(work, rows, center, delta, force, eps, a, b)
+        peers.append(time.perf_counter() - start)
+        peers_cpu.append(time.process_time() - start_cpu)
+    kernel = sculptor.kernel(brush)
+    g0 = kernel.green(np.zeros((1, 3)))[0]
+    reference = vertices.copy()
+    reference[rows] = kernel.streamlines(
+        vertices[rows], center, np.linalg.solve(g0, delta), center_step=delta, cutoff=cutoff,
+        substeps=64, tolerance=None,
+    )  # fmt: skip
+    error = np.linalg.norm(after - reference, axis=1).max() / np.linalg.norm(delta)
+    _, steps = kernel._streamlines(
+        vertices[rows], center, np.linalg.solve(g0, delta), center_step=delta, cutoff=cutoff
+    )
+    # evaluation 1 (the code before this issue, kept for old sessions) on the same event
+    old = Sculptor.from_session(dict(sculptor.session(), version=2), vertices, faces)
+    old.kernel(brush).warm_up()
+    old_events = []
+    for _ in range(max(3, repeats // 3)):
+        old.begin_stroke(brush)
+        start = time.perf_counter()
+        old.stroke_event(BrushEvent(center, delta))
+        old_events.append(time.perf_counter() - start)
+        old.end_stroke()
+        old.undo()
+    ratio = statistics.median(events) / statistics.median(peers)
+    ratio_cpu = statistics.median(events_cpu) / statistics.median(peers_cpu)
+    print(f"grab event, {len(rows):,} vertices moved ({numba.get_num_threads()} threads):")
+    print(f"  event through the Sculptor (wall):           {median_ms(events)}")
+    print(f"  event, CPU time of all threads:              {median_ms(events_cpu)}")
+    print(f"  Kelvinlet RK4 peer on the same vertices:     {median_ms(peers)}")
+    print(f"  peer, CPU time of all threads:               {median_ms(peers_cpu)}")
+    print(f"  ratio event / peer (medians, wall):          {ratio:7.2f}x")
+    print(f"  ratio event / peer (medians, CPU time):      {ratio_cpu:7.2f}x")
+    print(f"  evaluations a vertex (4 per RK4 step):       {4 * steps.mean():7.3f}")
+    print(f"  evaluation 1 (before; old sessions), wall:   {median_ms(old_events)}")
+    print(f"  max error vs 64 RK4 substeps / cursor motion: {error:.2e}")
+
+
+FIRST_EVENT = r"""
+import time
+start = time.perf_counter()
+import numpy as np
+from gogreen_core import Brush, BrushEvent, Material, Sculptor
+from gogreen_core import _compiled
+from gogreen_core.shapes import default_model
+vertices, faces = default_model()
+sculptor = Sculptor(vertices, faces, material=Material.cubic(3.0, 1.5, 0.4))
+top = vertices[int(np.argmax(vertices[:, 2]))]
+sculptor.apply_brush(Brush("grab"), [BrushEvent(top, [0.0, 0.01, 0.0])])
+first = time.perf_counter() - start
+_compiled.wait(_compiled.units_for(8))  # the background compilation's end
+print(first, time.perf_counter() - start)
+"""
+
+
+def cold_first_event() -> tuple[float, float]:
+    """(seconds to the end of the first grab event, seconds until the compiled code was
+    ready) in a fresh process with an empty numba cache, imports included."""
+    with tempfile.TemporaryDirectory() as cache:
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+        result = subprocess.run(
+            [sys.executable, "-c", FIRST_EVENT], env=env, capture_output=True, text=True,
+            check=True, cwd=ROOT,
+        )  # fmt: skip
+    first, ready = (float(v) for v in result.stdout.split()[-2:])
+    return first, ready
+
+
+FIRST_STROKE = r"""
+import json, sys, tempfile, time
+from pathlib import Path
+start = time.perf_counter()
+from PySide6.QtCore import QEvent, QPointF, QSettings, Qt
+from PySide6.QtGui import QMouseEvent
+from PySide6.QtWidgets import QApplication
+app = QApplication(sys.argv[:1])
+from app.main_window import MainWindow
+settings = QSettings(str(Path(tempfile.mkdtemp()) / "s.ini"), QSettings.Format.IniFormat)
+window = MainWindow(settings)
+window.show()
+app.processEvents()
+shown = time.perf_counter()
+window.open_default()  # as `gogreen` does, before the event loop runs
+vp = window.viewport
+left, none = Qt.MouseButton.LeftButton, Qt.MouseButton.NoButton
+
+
+def post(kind, pos, button, buttons):
+    event = QMouseEvent(kind, pos, vp.mapToGlobal(pos), button, buttons,
+                        Qt.KeyboardModifier.NoModifier)
+    QApplication.postEvent(vp, event)
+
+
+before = window.document.sculptor.vertices.copy()
+accepted = None
+while accepted is None and time.perf_counter() - shown < 300:
+    app.processEvents()
+    pos = QPointF(0.5 * vp.width(), 0.5 * vp.height())
+    post(QEvent.Type.MouseButtonPress, pos, left, left)
+    post(QEvent.Type.MouseMove, pos + QPointF(12, -9), none, left)
+    post(QEvent.Type.MouseButtonRelease, pos + QPointF(12, -9), left, none)
+    for _ in range(3):
+        app.processEvents()
+    if (window.document.sculptor.vertices != before).any():
+        accepted = time.perf_counter()
+    else:
+        time.sleep(0.02)
+print(json.dumps(dict(window=shown - start, stroke=(accepted or float("nan")) - shown,
+                      message=window.message_label.text())))
+window.document._saved_vertices = window.document.sculptor.vertices.copy()
+window.close()
+"""
+
+
+def cold_app() -> dict:
+    """Process start → window shown and window shown → first accepted stroke, empty cache."""
+    with tempfile.TemporaryDirectory() as cache:
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+        result = subprocess.run(
+            [sys.executable, "-c", FIRST_STROKE], env=env, capture_output=True, text=True,
+            check=True, cwd=ROOT,
+        )  # fmt: skip
+    return json.loads(result.stdout.strip().splitlines()[-1])
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--repeats", type=int, default=15)
+    parser.add_argument("--meshes", type=Path, default=ROOT.parent / "shared" / "meshes")
+    parser.add_argument("--no-cold", action="store_true", help="skip the empty-cache runs")
+    parser.add_argument("--no-app", action="store_true", help="skip the app's first stroke")
+    args = parser.parse_args()
+    print(f"load average at start: {os.getloadavg()[0]:.2f} (2 cores, shared)")
+    mesh = ogre(args.meshes)
+    if mesh is None:
+        print(f"grab event on the 1M-vertex ogre: skipped ({args.meshes / 'ogre.obj'} not found)")
+    else:
+        peer_event(*mesh, args.repeats)
+    if not args.no_cold:
+        first, ready = cold_first_event()
+        print("first grab event, fresh process, empty numba cache, imports included:")
+        print(f"  default model, one event:                    {first:7.2f} s")
+        print(f"  compiled code ready in the background after: {ready:7.2f} s")
+    if not args.no_app and not args.no_cold:
+        if not (os.environ.get("DISPLAY") or os.environ.get("QT_QPA_PLATFORM")):
+            print("app on an empty cache: skipped (no display: run under xvfb-run)")
+        else:
+            app = cold_app()
+            print("app, empty numba cache:")
+            print(f"  process start -> window shown:              {app['window']:7.2f} s")
+            print(f"  window shown -> first stroke accepted:      {app['stroke']:7.2f} s")
+    print(f"load average at end: {os.getloadavg()[0]:.2f}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,169 @@
+"""The compiled code a :class:`~gogreen_core.kernel.GreenKernel` evaluates with.
+
+Two evaluations, each deterministic bit for bit:
+
+* **2** (current, :data:`EVALUATION`): ``_expansion`` and ``_integrator``, serial GIL-free
+  numba functions run on a thread pool, and the generated angular kernels of ``_unrolled``.
+  Until they are compiled (``_compiled``: in a child process, once per machine) the same
+  arithmetic runs in NumPy (``_numpy_eval``), with equal results bit for bit, so the first
+  evaluation on a new machine takes milliseconds, not the compiler's tens of seconds.
+* **1**: the code that produced session files of versions 1 and 2 (``_legacy``), kept
+  unchanged so that they replay bit for bit; compiled when first used.
+"""
+
+from __future__ import annotations
+
+from functools import partial
+
+import numpy as np
+
+from gogreen_core import _compiled, _expansion, _integrator, _numpy_eval, _unrolled
+from gogreen_core._expansion import BLOCK
+from gogreen_core._parallel import run_ranges
+
+__all__ = ["EVALUATION", "EVALUATIONS", "Parity", "expand", "stream"]
+
+#: The evaluation new kernels use.
+EVALUATION = 2
+#: Evaluations a kernel can use (1: sessions recorded before session version 3).
+EVALUATIONS = (1, 2)
+#: Blocks per range handed to a thread by ``expand``.
+_MIN_BLOCKS = 32
+
+
+class Parity:
+    """Packed material coefficients of one parity (even: G, odd: ∇G).
+
+    ``matrices`` (n_terms, 3, 3) or (n_terms, 3, 3, 3), rows of degree l from ``base[l]``;
+    ``scales`` (n_terms,) the Legendre scales evaluation 2 folds into the coefficients."""
+
+    def __init__(self, l_first: int, l_last: int, matrices: np.ndarray, base: np.ndarray):
+        self.l_first = l_first
+        self.l_last = l_last
+        self.degrees = list(range(l_first, l_last + 1, 2))
+        self.matrices = matrices
+        self.base = base  # (l_last+1,) int64, row of Y_l,-l
+        self.scales = _unrolled.row_scales(l_first, l_last)
+        self.beta = np.array(_unrolled.angular_constants(l_last)[0])  # writable: one type
+
+    @property
+    def power(self) -> int:
+        """1 for G (R_l ~ 1/r), 2 for ∇G (ℛ_l ~ 1/r²)."""
+        return 1 if self.l_first == 0 else 2
+
+    def angular(self, n_out: int) -> tuple[object, bool]:
+        """(angular kernel, whether to use it) for ``n_out`` outputs, once the drivers are
+        ready: the kernel generated for these degrees (``_unrolled``) for the three outputs of
+        vector and affine loads up to ``UNROLLED_L_MAX`` once it is compiled (it is requested
+        otherwise), else the generic ``_angular`` (the same results, bit for bit)."""
+        if n_out == 3 and self.l_last <= _unrolled.UNROLLED_L_MAX:
+            kernel = _compiled.angular(self.l_first, self.l_last)
+            if kernel is not None:
+                return kernel, True
+        return _compiled.generic_marker(), False
+
+    def request_angular(self, n_out: int) -> None:
+        """Ask for the generated kernel ``angular`` would use (compiled with the drivers)."""
+        if n_out == 3 and self.l_last <= _unrolled.UNROLLED_L_MAX:
+            _compiled.request((self.l_first, self.l_last))
+
+    def legacy_angular(self, n_out: int) -> tuple[object, bool]:
+        """``angular`` of evaluation 1: its generated kernel whenever there is one."""
+        from gogreen_core._legacy import expansion, unrolled
+
+        if n_out == 3 and self.l_last <= unrolled.UNROLLED_L_MAX:
+            return unrolled.unrolled_angular(self.l_first, self.l_last), True
+        return expansion.generic_marker, False
+
+    def folded(self, coeffs: np.ndarray) -> np.ndarray:
+        """``coeffs`` (n_terms, K) with the Legendre scales folded in (evaluation 2)."""
+        return np.ascontiguousarray(coeffs * self.scales[:, None])
+
+
+def expand(
+    evaluation: int,
+    parity: Parity,
+    tables: np.ndarray,
+    eps: float,
+    recurrence: tuple[np.ndarray, np.ndarray, np.ndarray],
+    points: np.ndarray,
+    center: np.ndarray,
+    coeffs: np.ndarray,
+) -> np.ndarray:
+    """out[n, k] = the expansion of ``parity`` with ``coeffs`` (n_terms, K) at points - center
+    → (N, K)."""
+    out = np.empty((points.shape[0], coeffs.shape[1]))
+    if points.shape[0] == 0:
+        return out
+    if evaluation == 1:
+        from gogreen_core._legacy.expansion import expand as legacy_expand
+
+        legacy_expand(
+            points, center, eps, parity.power, parity.l_first, parity.l_last, parity.base,
+            np.ascontiguousarray(coeffs), tables, *recurrence,
+            *parity.legacy_angular(coeffs.shape[1]), out,
+        )  # fmt: skip
+        return out
+    folded = parity.folded(coeffs)
+    if not _compiled.drivers():
+        parity.request_angular(coeffs.shape[1])
+        out[:] = _numpy_eval.expand(
+            points, center, eps, parity.power, parity.l_first, parity.l_last, parity.base,
+            folded, parity.beta, tables,
+        )  # fmt: skip
+        return out
+    angular, unrolled = parity.angular(coeffs.shape[1])
+    work = partial(
+        _expansion.expand_blocks, points, center, eps, parity.power, parity.l_first,
+        parity.l_last, parity.base, folded, parity.beta, tables, angular, unrolled, out,
+    )  # fmt: skip
+    run_ranges(work, (points.shape[0] + BLOCK - 1) // BLOCK, _MIN_BLOCKS)
+    return out
+
+
+def stream(
+    evaluation: int,
+    parity: Parity,
+    tables: np.ndarray,
+    eps: float,
+    recurrence: tuple[np.ndarray, np.ndarray, np.ndarray],
+    coeffs: np.ndarray,
+    points: np.ndarray,
+    rows: np.ndarray,
+    indexed: bool,
+    in_place: bool,
+    limit: float,
+    center: np.ndarray,
+    center_step: np.ndarray,
+    cutoff: tuple[float, float],
+    mirrors: np.ndarray,
+    origin: np.ndarray,
+    substeps: int,
+    tolerance: float,
+    out: np.ndarray,
+    steps: np.ndarray,
+) -> int:
+    """The streamlines of the load ``coeffs`` (n_terms, 3); see ``_integrator.stream`` for the
+    arguments and the status returned."""
+    inner, outer = cutoff
+    if evaluation == 1:
+        from gogreen_core._legacy.stream import stream as legacy_stream
+
+        return legacy_stream(
+            points, rows, indexed, in_place, limit, center, center_step, eps, parity.power,
+            parity.l_first, parity.l_last, parity.base, np.ascontiguousarray(coeffs), tables,
+            *recurrence, *parity.legacy_angular(3), inner, outer, mirrors, origin, substeps,
+            tolerance, out, steps,
+        )  # fmt: skip
+    width = outer - inner
+    compiled = _compiled.drivers()
+    if not compiled:
+        parity.request_angular(3)
+    field = (
+        center, center_step, float(eps), parity.power, parity.l_first, parity.l_last,
+        parity.base, parity.folded(coeffs), parity.beta, tables,
+        *(parity.angular(3) if compiled else (None, False)), float(inner),
+        1.0 / width if outer > 0.0 and width > 0.0 else 0.0, mirrors, origin,
+    )  # fmt: skip
+    run = _integrator.stream if compiled else _numpy_eval.stream
+    return run(points, rows, indexed, in_place, limit, field, substeps, tolerance, out, steps)

@@ -1,0 +1,226 @@
+"""Sculpting at once on a new machine: the NumPy evaluation serves until the compiled code is
+ready, with the same results bit for bit; old sessions replay with the arithmetic they were
+recorded with (issue "Performance: sculpt at once on a fresh install")."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from gogreen_core import Brush, BrushEvent, GreenKernel, Material, Sculptor
+from gogreen_core._compiled import forced
+from gogreen_core.brushes import mirror_signs
+from gogreen_core.radial import GaussianRadial, KelvinletRadial, SplineRadial
+from gogreen_core.session import parse_session
+from gogreen_core.shapes import default_model, icosphere
+
+CODES = ("numpy", "generic", "unrolled")
+CUBIC = Material.cubic(3.0, 1.5, 0.4).rotated(
+    np.array([[0.36, 0.48, -0.8], [-0.8, 0.6, 0.0], [0.48, 0.64, 0.6]])
+)
+ORTHOTROPIC = Material.orthotropic((50.0, 5.0, 1.0), (2.0, 0.5, 3.0), (0.1, 0.2, 0.3))
+
+
+def points(n: int = 2000, seed: int = 3) -> np.ndarray:
+    """Offsets around the origin at all scales of the falloff, and the special ones: the centre
+    itself, a point at 1e-200, one at 1e200 (the far-field path of the geometry)."""
+    p = np.random.default_rng(seed).normal(size=(n, 3)) * 1.5
+    p[0] = 0.0
+    p[1] = [0.0, 0.0, 1e-200]
+    p[2] = [1e200, -3e199, 0.0]
+    return p
+
+
+def evaluations(kernel: GreenKernel, x: np.ndarray) -> list[np.ndarray]:
+    rng = np.random.default_rng(4)
+    force, load = rng.normal(size=3), rng.normal(size=(3, 3)) * 0.3
+    return [
+        kernel.green(x[:300]),
+        kernel.green_gradient(x[:300]),
+        kernel.displacement(x, np.array([0.1, 0.0, -0.2]), force),
+        kernel.affine_displacement(x, np.zeros(3), load),
+    ]
+
+
+@pytest.mark.parametrize("l_max", [0, 1, 2, 5, 8, 13, 15])
+@pytest.mark.parametrize("falloff", ["gaussian", "kelvinlet", "spline"])
+def test_the_three_codes_evaluate_the_same_bits(l_max, falloff):
+    """NumPy, the compiled generic kernel and the generated one (up to degree 13): equal."""
+    radial = {
+        "gaussian": GaussianRadial(0.7),
+        "kelvinlet": KelvinletRadial(0.4),
+        "spline": SplineRadial.from_profile(GaussianRadial(0.6), l_max),
+    }[falloff]
+    kernel = GreenKernel(ORTHOTROPIC if l_max % 2 else CUBIC, l_max, radial)
+    x = points()
+    results = {}
+    for code in CODES:
+        with forced(code):
+            results[code] = evaluations(kernel, x)
+    for code in CODES[1:]:
+        for a, b in zip(results["numpy"], results[code], strict=True):
+            assert np.array_equal(a, b), code
+    assert np.isfinite(results["numpy"][2]).all()
+
+
+def streamline_runs(kernel: GreenKernel, x: np.ndarray) -> list[np.ndarray]:
+    """Grab and affine events, adaptive (with refinement) and fixed steps, with a mirror and
+    the smooth cutoff; the results and the steps each point took."""
+    rng = np.random.default_rng(5)
+    force, load = rng.normal(size=3), rng.normal(size=(3, 3)) * 0.5
+    common = dict(cutoff=(0.5, 1.6), mirror_signs=mirror_signs("xz"), origin=np.array([0.05, 0, 0]))
+    runs = []
+    for value, step in ((force, np.array([0.6, 0.3, 0.0])), (load, None)):
+        for tolerance in (1e-4, None):
+            out, steps = kernel._streamlines(
+                x, np.zeros(3), value, center_step=step, tolerance=tolerance, substeps=3, **common
+            )
+            runs += [out, steps]
+    return runs
+
+
+@pytest.mark.parametrize("l_max", [2, 8, 15])
+def test_the_three_codes_integrate_the_same_bits(l_max):
+    kernel = GreenKernel(CUBIC, l_max, GaussianRadial(0.5))
+    x = points(1500)[3:]
+    results = {}
+    for code in CODES:
+        with forced(code):
+            results[code] = streamline_runs(kernel, x)
+    steps = results["numpy"][1]
+    assert steps.max() >= 2 and np.mean(steps == 1) > 0.3  # the refinement ran, not everywhere
+    for code in CODES[1:]:
+        for a, b in zip(results["numpy"], results[code], strict=True):
+            assert np.array_equal(a, b), code
+
+
+def test_in_place_rows_agree_between_codes():
+    """The sculptor's call: rows of a mesh, read and written in place."""
+    vertices, _ = icosphere(4)
+    kernel = GreenKernel(CUBIC, 6, GaussianRadial(0.3))
+    rows = np.flatnonzero(vertices[:, 2] > 0.2)
+    force = np.linalg.solve(kernel.green(np.zeros((1, 3)))[0], [0.0, 0.1, 0.05])
+    meshes = []
+    for code in CODES:
+        mesh = vertices.copy()
+        with forced(code):
+            kernel._streamlines(
+                mesh, vertices[0], force, center_step=np.array([0.0, 0.1, 0.05]),
+                cutoff=(0.6, 1.2), indices=rows, in_place=True,
+            )  # fmt: skip
+        meshes.append(mesh)
+    assert not np.array_equal(meshes[0], vertices)
+    for mesh in meshes[1:]:
+        assert np.array_equal(mesh, meshes[0])
+
+
+FRESH_PROCESS = r"""
+import hashlib, json, sys, threading, time
+from numba.core import event
+compiled_on = []
+
+
+class Compilations(event.Listener):
+    def on_start(self, e):
+        module = getattr(e.data["dispatcher"].py_func, "__module__", "")
+        if module.startswith("gogreen_core"):  # not numba's own small overloads
+            compiled_on.append(threading.current_thread().name)
+
+    def on_end(self, e):
+        pass
+
+
+event.register("numba:compile", Compilations())
+start = time.perf_counter()
+import numpy as np
+from gogreen_core import Brush, BrushEvent, Material, Sculptor
+from gogreen_core import _compiled
+from gogreen_core.shapes import default_model
+
+
+def stroke():
+    vertices, faces = default_model(4)
+    sculptor = Sculptor(vertices, faces, material=Material.cubic(3.0, 1.5, 0.4), l_max=6)
+    top = vertices[int(np.argmax(vertices[:, 2]))]
+    for kind in ("grab", "twist"):
+        event = BrushEvent(top, [0.02, 0.05, 0.0], amount=0.1, axis=[0.0, 0.3, 1.0])
+        sculptor.apply_brush(Brush(kind, radius=0.2, symmetry="x"), [event])
+    return hashlib.sha256(sculptor.vertices.tobytes()).hexdigest()
+
+
+first = stroke()
+seconds = time.perf_counter() - start
+ready = _compiled.DRIVERS in _compiled._ready
+main_thread_compilations = compiled_on.count("MainThread")
+from gogreen_core.kernel import prepare_degree
+prepare_degree(6)
+compiled = stroke()
+print(json.dumps(dict(first=first, compiled=compiled, ready_before=ready, seconds=seconds,
+                      main=main_thread_compilations, here=len(compiled_on))))
+"""
+
+
+def test_a_new_machine_sculpts_at_once_and_the_switch_changes_nothing(tmp_path):
+    """A fresh process with an empty numba cache: its first strokes compile nothing on the
+    calling thread (the NumPy evaluation serves), the compilation runs in a child process
+    (this one only loads its result), and the compiled strokes give the same bits."""
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), GOGREEN_COMPILE="child")
+    result = subprocess.run(
+        [sys.executable, "-c", FRESH_PROCESS], env=env, capture_output=True, text=True, check=True
+    )
+    report = json.loads(result.stdout.strip().splitlines()[-1])
+    assert not report["ready_before"]  # the first strokes did not wait for the compiler
+    assert report["main"] == 0
+    assert report["here"] == 0, "compiled our code in this process rather than in the child"
+    assert report["first"] == report["compiled"]
+    assert any(tmp_path.rglob("*.nbi"))  # the child left its work in the cache
+    # and this process (compiled code, its own cache) agrees
+    vertices, faces = default_model(4)
+    sculptor = Sculptor(vertices, faces, material=Material.cubic(3.0, 1.5, 0.4), l_max=6)
+    top = vertices[int(np.argmax(vertices[:, 2]))]
+    with forced("unrolled"):
+        for kind in ("grab", "twist"):
+            event = BrushEvent(top, [0.02, 0.05, 0.0], amount=0.1, axis=[0.0, 0.3, 1.0])
+            sculptor.apply_brush(Brush(kind, radius=0.2, symmetry="x"), [event])
+    assert hashlib.sha256(sculptor.vertices.tobytes()).hexdigest() == report["first"]
+
+
+def sculpt_session(sculptor: Sculptor) -> np.ndarray:
+    top = sculptor.vertices[int(np.argmax(sculptor.vertices[:, 2]))].copy()
+    for kind in ("grab", "grab_biscale", "wrinkle"):
+        events = [BrushEvent(top, np.array([0.0, 0.05, 0.1])), BrushEvent(top, [0.05, 0, 0.05])]
+        sculptor.apply_brush(Brush(kind, radius=0.2, symmetry="x"), events)
+    for kind in ("scale", "twist", "pinch"):
+        event = BrushEvent(top, amount=0.1, axis=np.array([0.0, 0.3, 1.0]), direction=[1, 0, 0])
+        sculptor.apply_brush(Brush(kind, radius=0.2), [event])
+    pin = sculptor.add_constraint(top)
+    sculptor.add_constraint(-top)
+    sculptor.drag_constraint(pin, np.array([0.0, 0.0, 0.05]))
+    return sculptor.vertices.copy()
+
+
+def test_sessions_replay_with_the_evaluation_they_were_recorded_with():
+    vertices, faces = default_model(3)
+    settings = dict(material=CUBIC, l_max=6)
+    current = Sculptor(vertices, faces, **settings)
+    after = sculpt_session(current)
+    session = current.session()
+    assert session["version"] == 3
+    # a version-2 file (recorded before evaluation 2 existed) replays with evaluation 1
+    old = dict(session, version=2)
+    legacy = Sculptor.from_session(old, vertices, faces)
+    legacy.replay(parse_session(old))
+    assert legacy.kernel(Brush("grab")).evaluation == 1
+    assert legacy.session()["version"] == 2  # what it records replays the same way
+    replayed = Sculptor.from_session(session, vertices, faces)
+    replayed.replay(parse_session(session))
+    assert np.array_equal(replayed.vertices, after)
+    # the two arithmetics agree to rounding and to the integrator's tolerance, not bit for bit
+    assert not np.array_equal(legacy.vertices, after)
+    assert np.abs(legacy.vertices - after).max() < 1e-6 * np.abs(after - vertices).max()
