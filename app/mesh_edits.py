@@ -23,6 +23,7 @@ from gogreen_core.subdivision import PreparedSubdivision, prepare_subdivision
 
 if TYPE_CHECKING:
     from app.main_window import MainWindow
+    from gogreen_core.sculptor import Sculptor
 
 __all__ = ["BACKGROUND_SUBDIVISION_FACES", "MeshEdits"]
 
@@ -67,6 +68,13 @@ class MeshEdits(QObject):
 
     # -- state -------------------------------------------------------------------------------
     @property
+    def _sculptor(self) -> Sculptor:
+        """The shown document's sculptor (the menu acts only while one is shown)."""
+        sculptor = self.window.sculptor
+        assert sculptor is not None
+        return sculptor
+
+    @property
     def busy(self) -> bool:
         """A subdivision is being computed."""
         return self._job is not None
@@ -82,7 +90,7 @@ class MeshEdits(QObject):
         if self._job is not None:
             self._runner.cancel(self._job)
             self._end_job()
-        sculptor = self.window.document.sculptor
+        sculptor = self._sculptor
         self._shown_faces = sculptor.faces
         self.window.viewport.show_mask_of(sculptor)
 
@@ -128,14 +136,14 @@ class MeshEdits(QObject):
     def invert_mask(self) -> None:
         """Mesh → Invert Mask (Ctrl+I): one undo step."""
         if self._ready("invert the mask"):
-            self.window.document.sculptor.mask.invert()
+            self._sculptor.mask.invert()
             self._edited("Mask inverted")
 
     def clear_mask(self) -> None:
         """Mesh → Clear Mask (Alt+M): one undo step (nothing when nothing is masked)."""
         if not self._ready("clear the mask"):
             return
-        mask = self.window.document.sculptor.mask
+        mask = self._sculptor.mask
         if not mask.any:
             self.window.flash("Nothing is masked")
             return
@@ -148,7 +156,7 @@ class MeshEdits(QObject):
         faces or more."""
         if not self._ready("subdivide"):
             return
-        sculptor = self.window.document.sculptor
+        sculptor = self._sculptor
         if unmasked_only and not sculptor.mask.any:
             self.window.flash("Nothing is masked: Subdivide refines the whole mesh")
             return
@@ -200,7 +208,7 @@ class MeshEdits(QObject):
             if job != self._job or self.window.document is None:
                 return  # another document was opened meanwhile
             self._end_job()
-            sculptor = self.window.document.sculptor
+            sculptor = self._sculptor
             try:
                 sculptor.subdivide(prepared.unmasked_only, prepared=prepared)
             except (ValueError, RuntimeError) as exc:
@@ -224,7 +232,7 @@ class MeshEdits(QObject):
         self._enable(True)
 
     def _subdivided(self) -> None:
-        sculptor = self.window.document.sculptor
+        sculptor = self._sculptor
         self.last_seconds = time.perf_counter() - self._job_started
         self._edited(
             f"Subdivided: {len(sculptor.vertices):,} vertices, {len(sculptor.faces):,} faces "
