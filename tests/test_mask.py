@@ -185,7 +185,7 @@ def test_the_tools_paint_a_dab_at_the_press_and_ctrl_erases(sphere):
     assert sculptor.mask.values.max() == 1.0
     tools.move(PointerEvent((110.0, 100.0), top + np.array([0.05, 0.0, 0.0])))
     tools.flush()
-    tools.release()
+    assert tools.release().note is None  # recorded: no "nothing changed" though no vertex moved
     painted = sculptor.mask.values.copy()
     assert sculptor.history.undo_labels == ["mask stroke"]
     ctrl = frozenset({"ctrl"})

@@ -306,13 +306,18 @@ class SculptTools:
         drag."""
         update = self.flush() if self._moves.pending is not None else ToolUpdate()
         brush = self.stroke.brush
+        history = self.sculptor.history if self.sculptor is not None else None
+        steps = history.done if history is not None else 0
         moved = self.stroke.end()
         self.pin.end()
-        if brush is not None and moved is not None and not len(moved):
+        # recorded nothing: no vertex moved and no mask value painted (a mask stroke moves none)
+        recorded = history is not None and history.done != steps
+        if brush is not None and moved is not None and not recorded:
             hint = "drag away from where you press" if brush.is_affine else "drag farther"
+            mask = " and changed no mask value" if brush.type.family == "paint" else ""
             update.note = (
-                f"Nothing changed: the {brush.kind.replace('_', '-')} stroke moved no vertex, "
-                f"so it is not recorded ({hint})"
+                f"Nothing changed: the {brush.kind.replace('_', '-')} stroke moved no vertex"
+                f"{mask}, so it is not recorded ({hint})"
             )
         return update
 
