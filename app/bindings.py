@@ -16,16 +16,19 @@ sub-models) for what the engine uses, and small :class:`~gogreen_core.settings.E
 subclasses of the panels for what a panel only shows (the curve being edited, the material's
 input form), so that every widget of a panel is bound the same way.
 
-Adding a bound widget to a panel is one call::
+Adding a bound widget to a panel is one call (number fields are :mod:`app.fields`' own,
+which never change what was typed; the label is the name refusals use)::
 
-    spin = QDoubleSpinBox(); spin.setRange(0.0, 4.0)
-    bind_spin(settings, "fold_depth", spin, "Fold depth")      # a number
+    depth = DecimalField(0.0, 4.0, decimals=2)
+    bind_spin(settings, "fold_depth", depth, "Fold depth")     # a number
     bind_check(view, "preview", QCheckBox("Preview"))          # a flag (check box or action)
     bind_choice(settings, "mode", combo)                       # a combo box (item data)
     bind_readout(settings, "error", label, "{:.1%}".format)    # read-only text
-    bind(model, name, widget, show, edited, read)              # any other widget
+    bind(settings, "weights", grid, grid.set_values, grid.edited)   # any other widget
+                                                               # (NumberGrid: one field per entry)
 
-and a field the panel alone shows is one ``Field`` on the panel's own model.
+and a field the panel alone shows is one ``Field`` on the panel's own model (FalloffView,
+MaterialForm, HomogenizationInputs).
 """
 
 from __future__ import annotations

@@ -48,22 +48,19 @@ _CHOSEN = (
 _RETURNED = (Qt.FocusReason.PopupFocusReason, Qt.FocusReason.ActiveWindowFocusReason)
 
 
+def _editable(widget: QWidget | None) -> bool:
+    return isinstance(widget, QAbstractSpinBox) or (
+        isinstance(widget, QComboBox) and widget.isEditable()
+    )
+
+
 def _field(widget: QWidget | None) -> QWidget | None:
-    """The number or text field ``widget`` is (or is the line edit of), else None."""
-    while widget is not None:
-        if isinstance(widget, QAbstractSpinBox):
-            return widget
-        if isinstance(widget, QComboBox) and widget.isEditable():
-            return widget
-        if not isinstance(widget, QLineEdit):
-            return None
+    """The number or text field ``widget`` is (or is the line edit of), else None; a line
+    edit of its own (a table cell's editor) is a field."""
+    if isinstance(widget, QLineEdit):
         parent = widget.parentWidget()
-        if not isinstance(parent, (QAbstractSpinBox, QComboBox, QLineEdit, QAbstractItemView)):
-            return widget  # a line edit of its own
-        if isinstance(parent, QAbstractItemView):
-            return widget  # a table cell's editor
-        widget = parent
-    return None
+        return parent if _editable(parent) else widget
+    return widget if _editable(widget) else None
 
 
 def typing_widget(widget: QWidget | None) -> bool:

@@ -26,9 +26,11 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from typing import Any
 
 from PySide6.QtCore import QEvent, QPointF, Qt, QTimer, Signal
 from PySide6.QtGui import QKeyEvent, QMouseEvent, QTabletEvent, QWheelEvent
+from PySide6.QtWidgets import QWidget
 from pyvistaqt import QtInteractor
 
 from app.mesh_display import BACKGROUND_INDEX_FACES, HOME_VIEW_DIRECTION, MeshDisplay
@@ -77,12 +79,13 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
     surface_failed = Signal(str)
     surface_pending = Signal()
 
-    def __init__(self, parent=None):
+    def __init__(self, parent: QWidget | None = None) -> None:
         # auto_update=False: no periodic render (pyvistaqt's default re-renders 5 times a
         # second, which alone kept a core busy with software OpenGL)
         super().__init__(parent, auto_update=False)
-        self.set_background("#2b2f36", top="#4a5260")
-        self.enable_trackball_style()
+        plotter: Any = self  # pyvista's argument-checking decorator hides these signatures
+        plotter.set_background("#2b2f36", top="#4a5260")
+        plotter.enable_trackball_style()
         self._mute_vtk_keys()
         self._init_display()
         #: The Qt-free tools pointer events go to (:meth:`set_tools`); None: nothing sculpts.
@@ -107,8 +110,10 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         self.last_frame_ms = 0.0
         self._render_pending = False
         self._frame_start = 0.0
-        self.ren_win.AddObserver("StartEvent", self._frame_started)
-        self.ren_win.AddObserver("EndEvent", self._frame_ended)
+        window = self.ren_win
+        assert window is not None
+        window.AddObserver("StartEvent", self._frame_started)
+        window.AddObserver("EndEvent", self._frame_ended)
         self.setMouseTracking(True)
         # takes the keyboard focus when clicked, and back from fields (app.keyboard)
         self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)

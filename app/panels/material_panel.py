@@ -50,7 +50,6 @@ from app.panels.material_form import (
     FieldSpec,
     MaterialForm,
     form_values,
-    isotropic_parameters,
 )
 from app.panels.widgets import (
     CompactNumberDelegate,
@@ -79,9 +78,6 @@ _VOIGT_HINT = (
 TINY_VOIGT = 1e-9
 #: Materials the panel made, with the inputs they were made from (undo shows them again).
 _REMEMBERED = 64
-
-# kept for scripts that imported it from here
-_isotropic_parameters = isotropic_parameters
 
 
 def _not(flag: bool) -> bool:
