@@ -31,6 +31,12 @@ BRUSH_LABELS = {
     "twist": ("Twist", "W", "Twist about the view axis: drag right or up, left or down"),
     "pinch": ("Pinch", "P", "Pinch: stretch along the drag (right or up), squeeze (left or down)"),
     "wrinkle": ("Wrinkle", "R", "Wrinkle: grab with reweighted SH degrees (Falloff panel)"),
+    "smooth": (
+        "Smooth",
+        "Shift+S",
+        "Smooth: relaxes bumps and facets without shrinking (Shift+drag with any brush)",
+    ),
+    "mask": ("Mask", "M", "Mask: paint what no brush moves; Ctrl+drag erases, Ctrl+I inverts"),
 }
 
 

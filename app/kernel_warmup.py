@@ -4,8 +4,9 @@ Strokes never wait for a compiler: until the compiled code of an l_max is ready 
 the same arithmetic in NumPy, with the same results bit for bit (``gogreen_core._compiled``),
 and so do the viewport's surface index (picking, normals). The window asks for the current
 l_max at start and whenever it changes; on a new machine a child process compiles it, with the
-surface index and the mesh readers' loops (seconds to tens of seconds, once per machine: numba
-keeps them on disk), elsewhere they load from the disk cache in milliseconds.
+surface index, the mesh readers' and the paint brushes' loops (seconds to tens of seconds, once
+per machine: numba keeps them on disk), elsewhere they load from the disk cache in
+milliseconds.
 :class:`KernelWarmer` reports when the kernels are in, to say so in the status bar and stop its
 progress indicator; it runs nothing on the app's background thread, which stays free for mesh
 indexing and homogenization.
@@ -75,7 +76,7 @@ class KernelWarmer(QObject):
             return False
         units = _compiled.units_for(l_max)
         if not self._requested:  # with the kernels, in one child process on a new machine
-            _compiled.request(*units, _compiled.GEOMETRY, _compiled.MESH_IO)
+            _compiled.request(*units, _compiled.GEOMETRY, _compiled.MESH_IO, _compiled.BRUSHES)
         self._requested[l_max] = units
         self._waiting.add(l_max)
         if len(self._waiting) == 1:

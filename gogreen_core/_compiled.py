@@ -34,10 +34,12 @@ import numpy as np
 from gogreen_core import _expansion, _integrator, _unrolled
 
 __all__ = [
+    "BRUSHES",
     "DRIVERS",
     "GEOMETRY",
     "MESH_IO",
     "angular",
+    "brushes",
     "drivers",
     "ensure_drivers",
     "forced",
@@ -54,6 +56,8 @@ __all__ = [
 DRIVERS = "drivers"
 #: The unit of ``geometry.py``'s compiled functions (the viewport's surface index).
 GEOMETRY = "geometry"
+#: The unit of the paint brushes' compiled loops (``brushes.paint_kernels``: smooth, mask).
+BRUSHES = "brushes"
 #: The unit of the mesh readers' compiled loops (``mesh_io.warm_up``): opening a file then
 #: never compiles on the calling thread.
 MESH_IO = "mesh_io"
@@ -96,6 +100,11 @@ def drivers() -> bool:
 def geometry() -> bool:
     """Whether ``geometry.py``'s compiled functions are ready (else they are requested)."""
     return _in_use(GEOMETRY)
+
+
+def brushes() -> bool:
+    """Whether the paint brushes' compiled loops are ready (else they are requested)."""
+    return _in_use(BRUSHES)
 
 
 def _in_use(unit) -> bool:
@@ -281,8 +290,14 @@ def _compile_mesh_io() -> None:
     mesh_io.warm_up()
 
 
+def _compile_brushes() -> None:
+    from gogreen_core.brushes import paint_kernels
+
+    paint_kernels.compile_now()
+
+
 #: Units named by a string (but DRIVERS), each with the function that compiles or loads it.
-_NAMED = {GEOMETRY: _compile_geometry, MESH_IO: _compile_mesh_io}
+_NAMED = {GEOMETRY: _compile_geometry, MESH_IO: _compile_mesh_io, BRUSHES: _compile_brushes}
 
 
 def _load(unit) -> None:

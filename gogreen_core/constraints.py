@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from gogreen_core._expansion import near_segment
-from gogreen_core.brushes import CUTOFF_START, DEFAULT_INFLUENCE
+from gogreen_core.brushes import CUTOFF_START, DEFAULT_INFLUENCE, smooth_cutoff
 from gogreen_core.kernel import GreenKernel
 
 __all__ = ["CONSTRAINT_INFLUENCE", "ConstraintSet", "smooth_cutoff"]
@@ -32,17 +32,6 @@ CONSTRAINT_INFLUENCE = DEFAULT_INFLUENCE
 # a pin's reach is a ball: a segment of length 0 (near_segment) with no mirror images
 _NO_STEP = np.zeros(3)
 _NO_MIRRORS = np.ones((1, 3))
-
-
-def smooth_cutoff(distance: np.ndarray, inner: float, outer: float) -> np.ndarray:
-    """The brushes' C² cutoff (quintic smoothstep) of ``distance`` (any shape): 1 up to
-    ``inner``, 0 from ``outer`` on."""
-    distance = np.asarray(distance, dtype=float)
-    width = outer - inner
-    if width <= 0:
-        return (distance < outer).astype(float)
-    u = np.clip((distance - inner) / width, 0.0, 1.0)
-    return 1.0 - u**3 * (10.0 - 15.0 * u + 6.0 * u**2)
 
 
 class ConstraintSet:

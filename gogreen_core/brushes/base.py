@@ -5,9 +5,10 @@ returns the rows it moves and their new positions (a :class:`Displacement`), and
 driver (:mod:`gogreen_core.stroke`) writes them, records the stroke and its undo step. A brush
 writes the mesh only when the driver lets it (:attr:`StrokeContext.write_through`: nothing to
 apply to the rows on their way, so a brush whose integrator can write its end positions in place
-saves the driver's scatter; a per-vertex mask would turn it off). A brush type may have a Green's
-function kernel (:meth:`BrushType.kernel`, None otherwise: a relaxation or a mask painter would
-not).
+saves the driver's scatter; a vertex mask turns it off: the driver blends the rows by it). A
+brush type may have a Green's function kernel (:meth:`BrushType.kernel`, None otherwise: the
+smooth brush's relaxation and the mask painter have none). A mask painter returns new mask
+values instead of positions (:attr:`Displacement.mask`).
 
 :class:`GreenBrush` is the family of brushes of the paper: a load at the cursor (a force or an
 affine load) whose regularized Green's function field is taken as a velocity over pseudo-time
@@ -44,6 +45,7 @@ __all__ = [
     "GreenBrush",
     "StrokeContext",
     "mirror_signs",
+    "smooth_cutoff",
 ]
 
 #: Where the smooth cutoff starts, as a fraction of the influence radius.
@@ -53,6 +55,17 @@ CUTOFF_START = 0.5
 DEFAULT_INFLUENCE = 4.0
 #: A field smaller than this fraction of the material's G scale (‖A‖/ε) is zero everywhere.
 ZERO_FIELD = 1e-9
+
+
+def smooth_cutoff(distance: np.ndarray, inner: float, outer: float) -> np.ndarray:
+    """The brushes' C² cutoff (quintic smoothstep) of ``distance`` (any shape): 1 up to
+    ``inner``, 0 from ``outer`` on."""
+    distance = np.asarray(distance, dtype=float)
+    width = outer - inner
+    if width <= 0:
+        return (distance < outer).astype(float)
+    u = np.clip((distance - inner) / width, 0.0, 1.0)
+    return 1.0 - u**3 * (10.0 - 15.0 * u + 6.0 * u**2)
 
 
 def mirror_signs(symmetry: str) -> np.ndarray:
@@ -96,19 +109,27 @@ class StrokeContext:
 class Displacement:
     """What one event does: vertex ``rows`` (n,) int64 go to ``positions`` (n, 3) (model
     units; may be the driver's buffer, valid until the next event); ``written``: the brush has
-    written them into the mesh already (:attr:`StrokeContext.write_through`)."""
+    written them into the mesh already (:attr:`StrokeContext.write_through`).
+
+    mask : a mask painter's new mask values (n,) in [0, 1] of ``rows`` (``positions`` is then
+        None: no vertex moves).
+    """
 
     rows: np.ndarray
-    positions: np.ndarray
+    positions: np.ndarray | None
     written: bool = False
+    mask: np.ndarray | None = None
 
 
 class BrushType(ABC):
     """One row of the brush table: how a brush of kind :attr:`kind` acts.
 
-    family : ``"vector"`` (the event carries the cursor's motion ``delta``; the grab family) or
-        ``"affine"`` (the brush stays at the press point and the event carries an ``amount``);
-        the tools read it through :attr:`Brush.is_affine`.
+    family : ``"vector"`` (the event carries the cursor's motion ``delta``; the grab family),
+        ``"affine"`` (the brush stays at the press point and the event carries an ``amount``;
+        the tools read it through :attr:`Brush.is_affine`) or ``"paint"`` (the brush acts
+        where the cursor passes: the event carries the segment from ``center`` to
+        ``center + delta`` and ``amount`` ± the pen pressure, negative to erase or invert; the
+        smooth brush and the mask painter).
     """
 
     family: ClassVar[str] = "vector"

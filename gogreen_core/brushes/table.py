@@ -12,6 +12,8 @@ import numpy as np
 from gogreen_core.brushes.affine import AffineBrush, pinch_pattern, scale_pattern, twist_pattern
 from gogreen_core.brushes.base import BrushType
 from gogreen_core.brushes.grab import GrabBrush
+from gogreen_core.brushes.mask import MaskBrush
+from gogreen_core.brushes.smooth import SmoothBrush
 from gogreen_core.brushes.wrinkle import WrinkleBrush
 from gogreen_core.radial import MultiscaleRadial
 
@@ -20,6 +22,7 @@ __all__ = [
     "BRUSH_KINDS",
     "BRUSH_TABLE",
     "GRAB_BRUSHES",
+    "PAINT_BRUSHES",
     "affine_load_shape",
     "brush_type",
 ]
@@ -32,6 +35,8 @@ BRUSH_TABLE: tuple[BrushType, ...] = (
     AffineBrush("scale", scale_pattern),
     AffineBrush("twist", twist_pattern),
     AffineBrush("pinch", pinch_pattern),
+    SmoothBrush("smooth"),
+    MaskBrush("mask"),
 )
 
 _BY_KIND = {brush.kind: brush for brush in BRUSH_TABLE}
@@ -41,6 +46,8 @@ BRUSH_KINDS = tuple(_BY_KIND)
 GRAB_BRUSHES = tuple(b.kind for b in BRUSH_TABLE if b.family == "vector")
 #: Affine-load brushes.
 AFFINE_BRUSHES = tuple(b.kind for b in BRUSH_TABLE if b.family == "affine")
+#: Brushes acting where the cursor passes, without a Green's function (smooth, mask).
+PAINT_BRUSHES = tuple(b.kind for b in BRUSH_TABLE if b.family == "paint")
 
 
 def brush_type(kind: str) -> BrushType:
