@@ -40,6 +40,12 @@ BRUSH_LABELS = {
         "R",
         "Wrinkle: a pull that folds the surface around the cursor (folds: Falloff panel)",
     ),
+    "smooth": (
+        "Smooth",
+        "Shift+S",
+        "Smooth: relaxes bumps and facets without shrinking (Shift+drag with any brush)",
+    ),
+    "mask": ("Mask", "M", "Mask: paint what no brush moves; Ctrl+drag erases, Ctrl+I inverts"),
 }
 
 

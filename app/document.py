@@ -26,10 +26,10 @@ SAVE_FORMATS = (".obj", ".ply", ".stl")
 class Document:
     """A mesh being sculpted.
 
-    ``mesh`` keeps what the file had (faces, texture coordinates); ``sculptor`` owns the
-    vertex positions while editing; :meth:`save` writes them back atomically. While the window
-    shows it, :attr:`journal` records every operation for crash recovery (:meth:`start_journal`;
-    a save starts a fresh one; :meth:`close` removes it).
+    ``mesh`` keeps what the file had; ``sculptor`` owns the vertex positions, faces and
+    texture coordinates while editing (a subdivision changes all three); :meth:`save` writes
+    them atomically. While the window shows it, :attr:`journal` records every operation for
+    crash recovery (:meth:`start_journal`; a save starts a fresh one; :meth:`close` removes it).
     """
 
     def __init__(
@@ -41,8 +41,15 @@ class Document:
     ):
         self.mesh = mesh
         self.path = path
-        self.sculptor = sculptor or Sculptor(mesh.vertices, mesh.faces, **(sculptor_options or {}))
+        self.sculptor = sculptor or Sculptor(
+            mesh.vertices,
+            mesh.faces,
+            uv=mesh.uv,
+            uv_faces=mesh.uv_faces,
+            **(sculptor_options or {}),
+        )
         self._saved_vertices = self.sculptor.vertices.copy()
+        self._saved_faces = self.sculptor.faces
         #: The crash-recovery journal (None until :meth:`start_journal`).
         self.journal: Journal | None = None
         #: Rebuilt from a journal after a crash and not saved since.
@@ -81,9 +88,13 @@ class Document:
 
     @property
     def dirty(self) -> bool:
-        """True when recovered and not saved since, or when the vertices differ from the last
-        saved (or loaded) state."""
-        return self.recovered or not np.array_equal(self.sculptor.vertices, self._saved_vertices)
+        """True when recovered and not saved since, or when the vertices or faces differ from
+        the last saved (or loaded) state."""
+        faces = self.sculptor.faces
+        same_faces = faces is self._saved_faces or np.array_equal(faces, self._saved_faces)
+        return self.recovered or not (
+            same_faces and np.array_equal(self.sculptor.vertices, self._saved_vertices)
+        )
 
     def start_journal(self, wake: Callable[[], None] | None = None) -> Journal:
         """Record every operation from now on in a crash-recovery journal (its checkpoints are
@@ -119,11 +130,12 @@ class Document:
             raise ValueError(
                 f"{Path(target).name}: unsupported format (save as {', '.join(SAVE_FORMATS)})"
             )
-        out = self.mesh.copy()
-        out.vertices = np.array(self.sculptor.vertices)
+        now = self.sculptor.mesh
+        out = MeshData(now.vertices, now.faces, now.uv, now.uv_faces, self.mesh.source)
         save_mesh(out, target)
         self.path = str(target)
-        self._saved_vertices = self.sculptor.vertices.copy()
+        self._saved_vertices = now.vertices
+        self._saved_faces = self.sculptor.faces
         self.recovered = False
         if self.journal is not None:  # the file holds what came before
             self.journal.restart(self.path, self.name)

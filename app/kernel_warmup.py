@@ -4,8 +4,9 @@ Strokes never wait for a compiler: until the compiled code of an l_max is ready 
 the same arithmetic in NumPy, with the same results bit for bit (``gogreen_core._compiled``),
 and so do the viewport's surface index (picking, normals). The window asks for the current
 l_max at start and whenever it changes; on a new machine a child process compiles it, with the
-surface index and the mesh readers' loops (seconds to tens of seconds, once per machine: numba
-keeps them on disk), elsewhere they load from the disk cache in milliseconds.
+surface index, the mesh readers' and the paint brushes' loops (seconds to tens of seconds, once
+per machine: numba keeps them on disk), elsewhere they load from the disk cache in
+milliseconds.
 :class:`KernelWarmer` reports when the kernels are in, to say so in the status bar and stop its
 progress indicator; it runs nothing on the app's background thread, which stays free for mesh
 indexing and homogenization.
@@ -13,6 +14,7 @@ indexing and homogenization.
 
 from __future__ import annotations
 
+import itertools
 import time
 
 from PySide6.QtCore import QObject, Qt, Signal
@@ -20,6 +22,29 @@ from PySide6.QtCore import QObject, Qt, Signal
 from gogreen_core import _compiled
 
 __all__ = ["KernelWarmer"]
+
+
+class _Relay(QObject):
+    """Carries a compilation's end from the compiling thread to the GUI thread.
+
+    One for the process, never deleted: the compiling thread calls back long after the window
+    that asked may be gone (on a new machine the compilation takes tens of seconds), and a
+    signal emitted on a deleted warmer from another thread is a use after free (a crash seen in
+    CI). Each warmer listens with a connection Qt drops when the warmer is deleted."""
+
+    settled = Signal(int, int, float, str)  # warmer token, l_max, seconds, error
+
+
+_relay: _Relay | None = None
+_tokens = itertools.count(1)
+
+
+def _the_relay() -> _Relay:
+    """The process's relay, made on the GUI thread by the first warmer."""
+    global _relay
+    if _relay is None:
+        _relay = _Relay()
+    return _relay
 
 
 class KernelWarmer(QObject):
@@ -35,11 +60,12 @@ class KernelWarmer(QObject):
     ready = Signal(int, float)
     failed = Signal(int, str)
     busy_changed = Signal(bool)
-    _settled = Signal(int, float, str)  # from the compiling thread (queued to the GUI thread)
 
     def __init__(self, parent: QObject | None = None):
         super().__init__(parent)
-        self._settled.connect(self._report, Qt.ConnectionType.QueuedConnection)
+        self._token = next(_tokens)
+        self._relay = _the_relay()
+        self._relay.settled.connect(self._settled, Qt.ConnectionType.QueuedConnection)
         self._requested: dict[int, tuple] = {}  # l_max -> its compiled units
         self._waiting: set[int] = set()
 
@@ -50,16 +76,17 @@ class KernelWarmer(QObject):
             return False
         units = _compiled.units_for(l_max)
         if not self._requested:  # with the kernels, in one child process on a new machine
-            _compiled.request(*units, _compiled.GEOMETRY, _compiled.MESH_IO)
+            _compiled.request(*units, _compiled.GEOMETRY, _compiled.MESH_IO, _compiled.BRUSHES)
         self._requested[l_max] = units
         self._waiting.add(l_max)
         if len(self._waiting) == 1:
             self.busy_changed.emit(True)
         start = time.perf_counter()
+        relay, token = self._relay, self._token  # never self: it may be gone by then
 
         def settled(failures: list) -> None:
             error = "; ".join(f"{type(e).__name__}: {e}" for e in failures)
-            self._settled.emit(l_max, time.perf_counter() - start, error)
+            relay.settled.emit(token, l_max, time.perf_counter() - start, error)
 
         _compiled.when_ready(units, settled)
         return True
@@ -83,6 +110,10 @@ class KernelWarmer(QObject):
         on its own and leaves its work in the disk cache."""
         units = {u for units in self._requested.values() for u in units}
         return _compiled.wait(units, None if msecs < 0 else msecs / 1000)
+
+    def _settled(self, token: int, l_max: int, seconds: float, error: str) -> None:
+        if token == self._token:
+            self._report(l_max, seconds, error)
 
     def _report(self, l_max: int, seconds: float, error: str) -> None:
         self._waiting.discard(l_max)

@@ -27,6 +27,7 @@ from PySide6.QtGui import (
 )
 
 from gogreen_core.brushes import BRUSH_KINDS
+from gogreen_core.tools import NUMBER_KEYS
 from gogreen_core.validation import ParameterError
 
 __all__ = [
@@ -54,7 +55,17 @@ GESTURES = (
 )
 
 #: Groups in the order the overlay shows them.
-GROUPS = ("Sculpt", "Brushes", "Radius and strength", "Pins", "View", "Edit", "File", "Help")
+GROUPS = (
+    "Sculpt",
+    "Brushes",
+    "Radius and strength",
+    "Pins",
+    "Mask and mesh",
+    "View",
+    "Edit",
+    "File",
+    "Help",
+)
 
 
 class Binding(NamedTuple):
@@ -92,6 +103,8 @@ _BRUSH_NAMES = {
     "twist": "Twist brush",
     "pinch": "Pinch brush",
     "stretch": "Stretch brush: pull along the drag; the material moves the sides (Poisson)",
+    "smooth": "Smooth brush",
+    "mask": "Mask brush (Ctrl erases)",
 }
 #: The letter each brush had before number keys (kept as a second key).
 _BRUSH_LETTERS = {
@@ -103,17 +116,19 @@ _BRUSH_LETTERS = {
     "twist": "W",
     "pinch": "P",
     "stretch": "E",
+    "smooth": "Shift+S",
+    "mask": "M",
 }
 #: Action identifier of each brush kind (``"brush_grab"`` …).
 BRUSH_ACTIONS = {kind: f"brush_{kind}" for kind in BRUSH_KINDS}
 
 
 def _brush_bindings() -> tuple[Binding, ...]:
+    """A number key (in table order, "0" the tenth) and a letter per brush."""
+    numbers = [(key,) for key in NUMBER_KEYS] + [()] * max(len(BRUSH_KINDS) - len(NUMBER_KEYS), 0)
     return tuple(
-        Binding(
-            (str(number), _BRUSH_LETTERS[kind]), BRUSH_ACTIONS[kind], _BRUSH_NAMES[kind], "Brushes"
-        )
-        for number, kind in enumerate(BRUSH_KINDS, start=1)
+        Binding((*number, _BRUSH_LETTERS[kind]), BRUSH_ACTIONS[kind], _BRUSH_NAMES[kind], "Brushes")
+        for number, kind in zip(numbers, BRUSH_KINDS, strict=False)
     )
 
 
@@ -129,6 +144,12 @@ KEYMAP: tuple[Binding, ...] = (
         ("Ctrl+Left drag",),
         "invert",
         "Sculpt inverted: push instead of pull, deflate, twist the other way",
+        "Sculpt",
+    ),
+    Binding(
+        ("Shift+Left drag",),
+        "smooth_stroke",
+        "Smooth with any brush",
         "Sculpt",
     ),
     Binding(
@@ -163,6 +184,20 @@ KEYMAP: tuple[Binding, ...] = (
         "Pins",
     ),
     Binding(("Right click",), "remove_pin", "In pin mode: remove the pin under the cursor", "Pins"),
+    Binding(("Ctrl+I",), "mask_invert", "Invert the mask", "Mask and mesh"),
+    Binding(("Alt+M",), "mask_clear", "Clear the mask", "Mask and mesh"),
+    Binding(
+        ("Ctrl+D",),
+        "subdivide",
+        "Subdivide the mesh",
+        "Mask and mesh",
+    ),
+    Binding(
+        ("Ctrl+Shift+D",),
+        "subdivide_unmasked",
+        "Subdivide the unmasked part",
+        "Mask and mesh",
+    ),
     Binding(
         ("Middle drag", "Shift+Middle drag", "Ctrl+Middle drag"),
         "orbit",

@@ -39,6 +39,7 @@ from app.keyboard import FocusKeys
 from app.keymap import binding, brush_action, display_keys, shortcuts
 from app.keymap_overlay import KeymapOverlay
 from app.look import SHADINGS, ViewLook, stored_theme
+from app.mesh_edits import MeshEdits
 from app.navigation import OPPOSITE_VIEWS, VIEW_TITLES, NavigationPreferences, ViewAction
 from app.panels.falloff_panel import FalloffPanel
 from app.panels.homogenization_panel import HomogenizationPanel
@@ -253,6 +254,9 @@ class MainWindow(QMainWindow):
         self._action(
             edit_menu, "Strength Higher", lambda: brush.scale_strength(1), "strength_higher"
         )
+        #: The Mesh menu (subdivide, mask) and what keeps the view in step with the mesh.
+        self.mesh_edits = MeshEdits(self)
+        self.mesh_menu = self.mesh_edits.build_menu(bar)
         view_menu = bar.addMenu("&View")
         self._action(view_menu, "Reset &Camera", self.reset_camera, "reset_camera", "home")
         views, viewport = view_menu.addMenu("Camera &Views"), self.viewport
@@ -349,6 +353,7 @@ class MainWindow(QMainWindow):
         else:
             self.engine_link.attach(document.sculptor)
         self.viewport.set_mesh(document.sculptor.vertices, document.sculptor.faces)
+        self.mesh_edits.attach()
         self.surface_progress.setValue(0)
         self.surface_progress.setVisible(self.viewport.surface_building)
         self.look.apply_mesh_look()
@@ -379,6 +384,7 @@ class MainWindow(QMainWindow):
 
     def closeEvent(self, event: QCloseEvent) -> None:
         if self.files.maybe_save():
+            self.mesh_edits.cancel()
             self.crash_recovery.close()  # saved or discarded: the journal goes
             self.viewport.cancel_surface_build()  # it stops at its next progress report
             # background jobs stop at their next progress report (a compilation goes on in
@@ -421,7 +427,10 @@ class MainWindow(QMainWindow):
             self.flash("Compiling the brush kernels (first start only)…")
 
     def _stroke_refusal(self) -> str | None:
-        """Why a stroke may not start now (kernels still compiling), or None."""
+        """Why a stroke may not start now (kernels still compiling, a subdivision running), or
+        None."""
+        if self.mesh_edits.busy:
+            return self.mesh_edits.refusal()
         l_max = self.model.l_max
         if self.kernel_warmer.is_ready(l_max):
             return None
@@ -456,13 +465,17 @@ class MainWindow(QMainWindow):
         sculptor = self.sculptor
         if self.tools.dragging:
             return
+        if self.mesh_edits.busy:
+            self.flash(f"Cannot {name}: {self.mesh_edits.refusal()}")
+            return
         label = getattr(sculptor, name)() if sculptor is not None else None
         if label is None or sculptor is None:
             self.flash(f"Nothing to {name}")
             return
         self.engine_link.pull()  # an undone setting shows in the panels again
         refresh()
-        self.viewport.show_sculptor(sculptor.history.restored_indices)
+        # a subdivision undone or redone shows its whole mesh
+        self.mesh_edits.sync(sculptor.history.restored_indices)
         self.refresh_title()
         self.flash(f"{name.capitalize()}: {label}")
 

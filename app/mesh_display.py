@@ -22,13 +22,24 @@ from gogreen_core.tools import CursorState
 if TYPE_CHECKING:
     from pyvistaqt import QtInteractor
 
+    from gogreen_core.sculptor import Sculptor
+
     _Base = QtInteractor
 else:
     _Base = object
 
-__all__ = ["BACKGROUND_INDEX_FACES", "HOME_VIEW_DIRECTION", "MODEL_COLOR", "MeshDisplay"]
+__all__ = [
+    "BACKGROUND_INDEX_FACES",
+    "HOME_VIEW_DIRECTION",
+    "MASK_SHADE",
+    "MODEL_COLOR",
+    "MeshDisplay",
+]
 
 MODEL_COLOR = "#c9b79c"  # warm clay
+#: How much darker a fully masked vertex is drawn (Blender shows its mask as a dark tint).
+MASK_SHADE = 0.6
+_MASK_ARRAY = "MaskTint"
 #: Meshes with at least this many faces get their SurfaceIndex built in the background
 #: (about 25 ms of build below it: not worth a flat-shaded moment).
 BACKGROUND_INDEX_FACES = 200_000
@@ -51,6 +62,13 @@ def barycentric(a: np.ndarray, b: np.ndarray, c: np.ndarray, p: np.ndarray) -> n
     return weights / weights.sum()
 
 
+def _tint(mask: np.ndarray) -> np.ndarray:
+    """RGB (n, 3) uint8 of the model's colour darkened by the mask values (n,)."""
+    base = np.array(pv.Color(MODEL_COLOR).int_rgb, dtype=np.float64)
+    shade = 1.0 - MASK_SHADE * np.clip(mask, 0.0, 1.0)
+    return np.rint(shade[:, None] * base).astype(np.uint8)
+
+
 class MeshDisplay(_Base):
     """The mesh, pins and cursor of the viewport (see the module docstring).
 
@@ -63,6 +81,10 @@ class MeshDisplay(_Base):
         self.mesh: pv.PolyData | None = None
         self.mesh_actor: Any = None
         self._faces: np.ndarray | None = None
+        #: The vertex mask drawn as a tint (the mesh's order), None when nothing is masked, and
+        #: the sculptor's mask version it shows (-1: none yet).
+        self._mask: np.ndarray | None = None
+        self._mask_version = -1
         #: Per-mesh index: incremental normals and ray picking (gogreen_core.geometry).
         self.surface: SurfaceIndex | None = None
         self._arrays_shared = False
@@ -102,6 +124,7 @@ class MeshDisplay(_Base):
             self.mesh_actor = None
         self.show_cursor(None)  # sized for the old mesh; it would also widen the home view
         self.show_pins(np.zeros((0, 3)), 0.0)
+        self._mask, self._mask_version = None, -1  # the new mesh's tint comes with show_mask
         self._index_runner.cancel()
         self._index_job = None
         self.surface = None
@@ -127,6 +150,7 @@ class MeshDisplay(_Base):
         self.mesh = mesh
         if self.mesh_actor is not None:
             self.mesh_actor.mapper.SetInputData(mesh)
+            self._draw_mask()
             return
         self.mesh_actor = self.add_mesh(
             mesh,
@@ -140,6 +164,70 @@ class MeshDisplay(_Base):
         )
         self.mesh_actor.mapper.SetInputData(mesh)  # our arrays, updated in place
         self.mesh_actor.GetProperty().SetInterpolationToPhong()
+        self._draw_mask()
+
+    # -- mask tint ---------------------------------------------------------------------------
+    def show_mask_of(self, sculptor: Sculptor, rows: np.ndarray | None = None) -> None:
+        """Draw ``sculptor``'s vertex mask as a darker tint if it changed since last drawn
+        (``rows``: only these vertices' values may have, a mask stroke's event)."""
+        mask = sculptor.mask
+        if mask.version == self._mask_version:
+            return
+        partial = rows if self._mask_version >= 0 else None
+        self._mask_version = mask.version
+        self.show_mask(mask.values if mask.any else None, partial)
+
+    def show_mask(self, mask: np.ndarray | None, rows: np.ndarray | None = None) -> None:
+        """Draw the vertex mask (N,) in [0, 1] (the mesh's order) as a darker tint, a masked
+        vertex :data:`MASK_SHADE` darker; None or all zero: no tint. ``rows``: only these
+        vertices' values changed."""
+        if mask is None or (rows is None and not np.any(mask)):
+            if self._mask is not None:
+                self._mask = None
+                self._draw_mask()
+            return
+        if self._mask is None or rows is None or len(self._mask) != len(mask):
+            self._mask = np.array(mask, dtype=np.float64)
+            self._draw_mask()
+            return
+        rows = np.asarray(rows, dtype=np.int64)
+        self._mask[rows] = mask[rows]
+        self._draw_mask(rows)
+
+    @property
+    def mask_shown(self) -> bool:
+        """A mask tint is drawn."""
+        return self._mask is not None
+
+    def _draw_mask(self, rows: np.ndarray | None = None) -> None:
+        """Colour the mesh from the mask (direct RGB point colours, in the shown order: the
+        surface index's when it draws), or back to the plain colour without one."""
+        if self.mesh is None or self.mesh_actor is None:
+            return
+        mapper = self.mesh_actor.mapper
+        data = self.mesh.point_data
+        if self._mask is None or len(self._mask) != self.mesh.n_points:
+            if _MASK_ARRAY in data:
+                data.remove(_MASK_ARRAY)
+            mapper.ScalarVisibilityOff()
+            self.request_render()
+            return
+        rank = self.surface.rank if self.surface is not None else None
+        if rows is not None and _MASK_ARRAY in data:
+            data[_MASK_ARRAY][rows if rank is None else rank[rows]] = _tint(self._mask[rows])
+            self.mesh.GetPointData().GetArray(_MASK_ARRAY).Modified()
+        else:
+            colors = _tint(self._mask)
+            if rank is not None:
+                shown = np.empty_like(colors)
+                shown[rank] = colors
+                colors = shown
+            data[_MASK_ARRAY] = colors
+        mapper.SetScalarModeToUsePointFieldData()
+        mapper.SelectColorArray(_MASK_ARRAY)
+        mapper.SetColorModeToDirectScalars()
+        mapper.ScalarVisibilityOn()
+        self.request_render()
 
     def _use_index(self, surface: SurfaceIndex) -> None:
         """Draw the mesh from ``surface``'s arrays (shared, in its order: the per-event

@@ -188,6 +188,8 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
             self.update_vertices(sculptor.vertices)
         elif sculptor is not None and update.moved is not None:
             self.update_vertices(sculptor.vertices, update.moved)
+        if sculptor is not None and update.changed:
+            self.show_mask_of(sculptor, update.moved)  # a mask stroke's rows
         if update.refused:  # not an error: e.g. kernels still compiling
             self.tool_message.emit(f"{error_title}: {update.error}")
         elif update.error:
@@ -215,6 +217,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         self.tools.cursor.hide()
         self.show_cursor(None)
         self.update_vertices(sculptor.vertices, indices)
+        self.show_mask_of(sculptor)
         self.show_pins(sculptor.constraint_points, sculptor.constraint_reach)
 
     def refresh_cursor(self) -> None:

@@ -105,5 +105,5 @@ class WrinkleHint(QObject):
             # continued: the falloff group joins the material's undo step
             weights = preset.engine_settings().weights_for("wrinkle")
             self.model.update({"l_max": preset.l_max}, continued=bool(changed))
-            self.model.set_brush_weights("wrinkle", weights, continued=True)
+            self.model.set_brush_weights("wrinkle", weights.tolist(), continued=True)
         self.flash(f"Wrinkle material: {preset.name} (Ctrl+Z undoes it)")

@@ -27,16 +27,19 @@ import subprocess
 import sys
 import threading
 import time
+import traceback
 
 import numpy as np
 
 from gogreen_core import _expansion, _integrator, _unrolled
 
 __all__ = [
+    "BRUSHES",
     "DRIVERS",
     "GEOMETRY",
     "MESH_IO",
     "angular",
+    "brushes",
     "drivers",
     "ensure_drivers",
     "forced",
@@ -53,6 +56,8 @@ __all__ = [
 DRIVERS = "drivers"
 #: The unit of ``geometry.py``'s compiled functions (the viewport's surface index).
 GEOMETRY = "geometry"
+#: The unit of the paint brushes' compiled loops (``brushes.paint_kernels``: smooth, mask).
+BRUSHES = "brushes"
 #: The unit of the mesh readers' compiled loops (``mesh_io.warm_up``): opening a file then
 #: never compiles on the calling thread.
 MESH_IO = "mesh_io"
@@ -95,6 +100,11 @@ def drivers() -> bool:
 def geometry() -> bool:
     """Whether ``geometry.py``'s compiled functions are ready (else they are requested)."""
     return _in_use(GEOMETRY)
+
+
+def brushes() -> bool:
+    """Whether the paint brushes' compiled loops are ready (else they are requested)."""
+    return _in_use(BRUSHES)
 
 
 def _in_use(unit) -> bool:
@@ -242,7 +252,10 @@ def _work() -> None:
                 for entry in due:
                     _callbacks.remove(entry)
             for waited, callback in due:
-                callback([_failed[u] for u in waited if u in _failed])
+                try:
+                    callback([_failed[u] for u in waited if u in _failed])
+                except Exception:  # one listener's error must not starve the others
+                    traceback.print_exc()
 
 
 def units_for(l_max: int) -> tuple:
@@ -277,8 +290,14 @@ def _compile_mesh_io() -> None:
     mesh_io.warm_up()
 
 
+def _compile_brushes() -> None:
+    from gogreen_core.brushes import paint_kernels
+
+    paint_kernels.compile_now()
+
+
 #: Units named by a string (but DRIVERS), each with the function that compiles or loads it.
-_NAMED = {GEOMETRY: _compile_geometry, MESH_IO: _compile_mesh_io}
+_NAMED = {GEOMETRY: _compile_geometry, MESH_IO: _compile_mesh_io, BRUSHES: _compile_brushes}
 
 
 def _load(unit) -> None:

@@ -78,16 +78,16 @@ class ProgressBar:
         self.stream.flush()
 
 
-def _save(mesh: MeshData, vertices: np.ndarray, path: str) -> None:
-    out = mesh.copy()
-    out.vertices = np.array(vertices)
-    save_mesh(out, path)
+def _save(mesh: MeshData, sculptor: Sculptor, path: str) -> None:
+    """The sculptor's mesh (its faces and UVs too: a subdivision changes them) to ``path``."""
+    now = sculptor.mesh
+    save_mesh(MeshData(now.vertices, now.faces, now.uv, now.uv_faces, mesh.source), path)
 
 
 def _replay(args: argparse.Namespace) -> int:
     session = load_session(args.session)  # every field checked before the mesh is read
     mesh = load_mesh(args.input)
-    sculptor = Sculptor.from_session(session, mesh.vertices, mesh.faces)
+    sculptor = Sculptor.from_session(session, mesh.vertices, mesh.faces, mesh.uv, mesh.uv_faces)
     if session.sha256 is not None and session.sha256 != sculptor.session()["mesh"]["sha256"]:
         print(
             f"gogreen: warning: {args.input} differs from the mesh the session was recorded on",
@@ -98,7 +98,7 @@ def _replay(args: argparse.Namespace) -> int:
     except ParameterError as exc:  # found while applying (a pin index that does not exist)
         name = Path(args.session).name
         raise ParameterError(exc.parameter, f"{name}: {exc}") from None
-    _save(mesh, sculptor.vertices, args.output)
+    _save(mesh, sculptor, args.output)
     return 0
 
 
@@ -157,9 +157,10 @@ def _deform(args: argparse.Namespace) -> int:
     axis = None if args.axis is None else check_vector("--axis", args.axis)
     direction = None if args.direction is None else check_vector("--direction", args.direction)
     events = check_integer("--events", args.events, low=1, high=MAX_EVENTS)
-    if brush.is_affine and amount == 0:
+    paint = brush.type.family == "paint"  # smooth, mask: --amount is each event's pressure
+    if (brush.is_affine or paint) and amount == 0:
         raise ParameterError("--amount", f"the {brush.kind} brush needs --amount (nonzero)")
-    if not brush.is_affine and not np.any(delta):
+    if not (brush.is_affine or paint) and not np.any(delta):
         raise ParameterError("--delta", f"the {brush.kind} brush needs --delta (nonzero)")
     # The drag is split into equal events, as mouse events of one stroke.
     step = delta / events
@@ -171,7 +172,7 @@ def _deform(args: argparse.Namespace) -> int:
                 event = BrushEvent(
                     center=center + k * step,
                     delta=step,
-                    amount=amount / events,
+                    amount=amount if paint else amount / events,
                     axis=axis,
                     direction=direction,
                 )
@@ -182,7 +183,7 @@ def _deform(args: argparse.Namespace) -> int:
         sculptor.cancel_stroke()
         raise
     sculptor.end_stroke()
-    _save(mesh, sculptor.vertices, args.output)
+    _save(mesh, sculptor, args.output)
     if args.session_out:
         write_text_atomic(args.session_out, json.dumps(sculptor.session(), indent=1))
     return 0
@@ -245,7 +246,7 @@ def _write_recovered(directory: Path, args: argparse.Namespace) -> None:
     if args.output:
         recovery = recover(directory, progress=None if args.quiet else ProgressBar("recover"))
         try:
-            _save(recovery.mesh, recovery.mesh.vertices, args.output)
+            _save(recovery.mesh, recovery.sculptor, args.output)
         finally:
             recovery.release()
         print(
@@ -312,7 +313,8 @@ def _parser() -> argparse.ArgumentParser:
         type=float,
         default=0.0,
         help="affine brushes: log strain (scale, pinch) or angle in radians (twist) at the "
-        "brush centre, split over --events",
+        "brush centre, split over --events; smooth and mask: each event's pressure "
+        "(negative: the mask brush erases)",
     )
     deform.add_argument(
         "--axis",

@@ -1,16 +1,19 @@
 """A sculptor's state as a file: the checkpoints of the recovery journal.
 
 :class:`SculptState` is everything a :class:`~gogreen_core.Sculptor`'s next operations compute
-from besides the faces: the vertices, the settings, the pins with their solver state bit for
-bit, and the model size and mirror origin (both fixed when the mesh was loaded, so a state
-taken after sculpting must carry them). :func:`gogreen_core.sculptor.capture_state` takes one,
+from: the vertices, the settings, the pins with their solver state bit for bit, the vertex mask,
+the faces and texture corners when they are not the journal's start's (a subdivision), and the
+model size and mirror origin (both fixed when the mesh was loaded, so a state taken after
+sculpting must carry them). :func:`gogreen_core.sculptor.capture_state` takes one,
 :func:`gogreen_core.sculptor.restore_state` continues from it exactly.
 
 The file (``checkpoint-<record>.bin``)::
 
     b"GOGREEN-CHECKPOINT\\n"
     header length (8 bytes, little endian), header (JSON, UTF-8)
-    vertices (N, 3) float64, then pin points (k, 3), matrix and inverse (3k, 3k), little endian
+    vertices (N, 3) float64, then pin points (k, 3), matrix and inverse (3k, 3k), then (version
+    2, when the header says so) the mask (N,), the faces (M, 3), the UVs (T, 2) and their
+    corners (M, 3) (indices as float64, exact), all little endian
     CRC-32 of everything before (4 bytes, little endian)
 
 A file cut short, or whose checksum or header does not match, is refused with
@@ -35,7 +38,8 @@ from gogreen_core.mesh_io.atomic import atomic_write
 __all__ = ["CHECKPOINT_VERSION", "CheckpointError", "SculptState", "read_checkpoint"]
 
 CHECKPOINT_MAGIC = b"GOGREEN-CHECKPOINT\n"
-CHECKPOINT_VERSION = 1
+#: 2: the mask, faces and UVs may follow the pins (version 1 files are read as before).
+CHECKPOINT_VERSION = 2
 #: Largest header a checkpoint may have (settings with a spline falloff are a few kB).
 _MAX_HEADER = 1 << 20
 _CHUNK = 1 << 22  # bytes per write and checksum step
@@ -55,6 +59,9 @@ class SculptState:
         The pins' solver state, bit for bit (:meth:`ConstraintSet.restored`).
     model_size : float, origin : (3,) float64
         Size and bounding-box centre of the mesh as first loaded (brush radii and mirror planes).
+    mask : (N,) float64 or None (nothing masked)
+    faces : (M, 3) int64 or None (the faces of the journal's start); uv : (T, 2) and
+        uv_faces : (M, 3) with them, or None.
     """
 
     vertices: np.ndarray
@@ -62,11 +69,16 @@ class SculptState:
     pins: tuple[np.ndarray, np.ndarray, np.ndarray] | None
     model_size: float
     origin: np.ndarray
+    mask: np.ndarray | None = None
+    faces: np.ndarray | None = None
+    uv: np.ndarray | None = None
+    uv_faces: np.ndarray | None = None
 
     def arrays(self) -> list[np.ndarray]:
         """The arrays a checkpoint file stores, in order (contiguous float64)."""
         pins = list(self.pins) if self.pins is not None else []
-        return [np.ascontiguousarray(a, dtype="<f8") for a in (self.vertices, *pins)]
+        extra = [a for a in (self.mask, self.faces, self.uv, self.uv_faces) if a is not None]
+        return [np.ascontiguousarray(a, dtype="<f8") for a in (self.vertices, *pins, *extra)]
 
     def header(self) -> dict:
         """The JSON-ready part (settings, sizes, model size, origin; floats exact)."""
@@ -76,6 +88,9 @@ class SculptState:
             "settings": self.settings.to_dict(),
             "model_size": float(self.model_size),
             "origin": [float(x) for x in self.origin],
+            "mask": self.mask is not None,
+            "faces": None if self.faces is None else len(self.faces),
+            "uv": None if self.uv is None else len(self.uv),
         }
 
     @classmethod
@@ -87,7 +102,14 @@ class SculptState:
         if origin.shape != (3,) or not np.isfinite(origin).all() or not size > 0:
             raise ValueError("model size or origin malformed")
         pins = tuple(arrays[1:4]) if header["pins"] is not None else None
-        return cls(arrays[0], settings, pins, size, origin)
+        rest = iter(arrays[1 if pins is None else 4 :])
+        mask = next(rest) if header.get("mask") else None
+        faces = uv = uv_faces = None
+        if header.get("faces") is not None:
+            faces = next(rest).astype(np.int64)
+            if header.get("uv") is not None:
+                uv, uv_faces = next(rest), next(rest).astype(np.int64)
+        return cls(arrays[0], settings, pins, size, origin, mask, faces, uv, uv_faces)
 
 
 def _shapes(header: dict) -> list[tuple[int, ...]]:
@@ -97,6 +119,15 @@ def _shapes(header: dict) -> list[tuple[int, ...]]:
     shapes: list[tuple[int, ...]] = [(n, 3)]
     if k is not None:
         shapes += [(k, 3), (3 * k, 3 * k), (3 * k, 3 * k)]
+    m, t = header.get("faces"), header.get("uv")
+    if header.get("mask"):
+        shapes.append((n,))
+    if m is not None:
+        if not isinstance(m, int) or m < 0 or not (t is None or (isinstance(t, int) and t >= 0)):
+            raise ValueError("face or texture coordinate count malformed")
+        shapes.append((m, 3))
+        if t is not None:
+            shapes += [(t, 2), (m, 3)]
     return shapes
 
 

@@ -28,7 +28,9 @@ class _Entry:
 
     @property
     def nbytes(self) -> int:
-        return self.indices.nbytes + self.before.nbytes + self.after.nbytes
+        # the caller's state counts when it says its size (a mask edit, a subdivision's meshes)
+        held = 0 if self.state is None else sum(int(getattr(s, "nbytes", 0)) for s in self.state)
+        return self.indices.nbytes + self.before.nbytes + self.after.nbytes + held
 
 
 class History:

@@ -123,8 +123,9 @@ class Journal:
     sculptor : Sculptor
         Whose operations are journaled, from its current state on.
     mesh : MeshData
-        The document's mesh (faces and texture coordinates for the base copy; its vertices
-        are not used: the journal starts from ``sculptor``'s).
+        The document's mesh as loaded (not used for the base copy: the journal starts from
+        ``sculptor``'s vertices, faces, texture coordinates and mask, which a subdivision
+        changes).
     document : str, optional
         The document's file (shown by recovery, tried when the base copy is missing).
     title : str, optional
@@ -160,6 +161,8 @@ class Journal:
     ) -> None:
         self.sculptor = sculptor
         self.mesh = mesh
+        #: The face array of the journal's start: checkpoints hold faces only when another.
+        self._base_faces: object = None
         self.document = None if document is None else os.path.abspath(document)
         self.title = title or (Path(document).name if document else "untitled")
         self.root = Path(root) if root is not None else recovery_root()
@@ -226,7 +229,8 @@ class Journal:
         try:
             if self.directory is None:
                 self.directory, self._lock = new_folder(self.root)
-            state = capture_state(self.sculptor)
+            state = capture_state(self.sculptor)  # with its faces and UVs: the base copy's
+            self._base_faces = self.sculptor.faces
             sha = vertex_hash(state.vertices)
             base = f"base-{sha[:16]}.npz"
             self._token = secrets.token_hex(8)
@@ -239,7 +243,7 @@ class Journal:
                 "document": {"path": self.document, "title": self.title},
                 "mesh": {
                     "vertices": len(state.vertices),
-                    "faces": len(self.mesh.faces),
+                    "faces": len(self.sculptor.faces),
                     "sha256": sha,
                     "base": base,
                 },
@@ -262,7 +266,7 @@ class Journal:
         self._stopped = False
         if old is not None:
             self._submit(("close", old))
-        self._submit(("base", state.vertices, base))
+        self._submit(("base", state, base))
         self._submit(("fsync", fd, 0))
         self._submit(("prune", base))
         if self._retire is not None:
@@ -314,7 +318,7 @@ class Journal:
         write_all(self._fd, frame(record.encode()))
         self.records = seq
         events = len(op.events) if isinstance(op, Stroke) else 0
-        self._work += replay_work(op.name, events, len(self.mesh.vertices))
+        self._work += replay_work(op.name, events, len(self.sculptor.vertices))
         self._submit(("fsync", self._fd, seq))
         if self.wake is not None:
             self.wake()
@@ -334,7 +338,7 @@ class Journal:
         worker thread; returns whether one was taken (not during a stroke)."""
         if not self.active or self.sculptor.in_stroke:
             return False
-        state = capture_state(self.sculptor)
+        state = capture_state(self.sculptor, self._base_faces)  # faces only if subdivided
         extra = {"token": self._token, "seq": self.records, "done": self._done()}
         self._work = 0.0
         self._submit(("checkpoint", state, {**extra, "time": time.time()}))
@@ -449,13 +453,15 @@ class Journal:
             else:  # this journal has no base copy: the recovered one stays for next time
                 task[1].release()
 
-    def _write_base(self, vertices: np.ndarray, name: str) -> None:
-        mesh = self.mesh
-        faces = mesh.faces
-        arrays = {"vertices": vertices, "faces": faces.astype(_index_type(faces))}
-        if mesh.uv is not None:
-            arrays["uv"] = mesh.uv
-            arrays["uv_faces"] = mesh.uv_faces.astype(_index_type(mesh.uv_faces))
+    def _write_base(self, state: SculptState, name: str) -> None:
+        faces = state.faces
+        assert faces is not None  # the start's state holds its faces
+        arrays = {"vertices": state.vertices, "faces": faces.astype(_index_type(faces))}
+        if state.uv is not None and state.uv_faces is not None:
+            arrays["uv"] = state.uv
+            arrays["uv_faces"] = state.uv_faces.astype(_index_type(state.uv_faces))
+        if state.mask is not None:
+            arrays["mask"] = state.mask
         self._base_written = False
         atomic_write(self.directory / name, lambda out: np.savez(out, **arrays))
         self._base_written = True

@@ -1,19 +1,25 @@
-"""The mesh being sculpted: its vertices (edited in place), faces and the sizes tools use.
+"""The mesh being sculpted: its vertices (edited in place), faces, texture corners, vertex mask
+and the sizes tools use.
 
 Brush radii, pins and the reach of every point are relative to the model's size (the
 bounding-box diagonal at load), so the same settings act alike on a 0.15-unit bunny and a
-30-unit ogre.
+30-unit ogre. A subdivision replaces the arrays (:meth:`MeshState.adopt`) but keeps the model's
+size and origin, so brush sizes do not jump.
 """
 
 from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
 from gogreen_core._expansion import near_segment
 from gogreen_core.limits import MAX_REACH
+from gogreen_core.topology import MeshEdges, VertexNeighbours, mesh_edges, vertex_neighbours
 from gogreen_core.validation import ParameterError, check_vector, vector_norm
 
-__all__ = ["MeshState", "check_mesh"]
+__all__ = ["MaskRows", "MeshSnapshot", "MeshState", "check_mesh", "check_uv", "compact_faces"]
 
 
 def check_mesh(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -32,13 +38,79 @@ def check_mesh(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.
     return v, f
 
 
-class MeshState:
-    """Vertices (N, 3) float64, edited in place by the engine alone, and faces (M, 3) int64
-    (copied from the arguments); :attr:`model_size` (bounding-box diagonal at load, model
-    units) and :attr:`origin` (its centre: the point of the mirror planes)."""
+def check_uv(
+    uv: np.ndarray | None, uv_faces: np.ndarray | None, n_faces: int
+) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """Copies of texture coordinates ``uv`` (T, 2) float64 and their face corners ``uv_faces``
+    (M, 3) int64 (rows of -1 for untextured faces), both or neither; ValueError otherwise."""
+    if uv is None and uv_faces is None:
+        return None, None
+    if uv is None or uv_faces is None:
+        raise ValueError("uv and uv_faces go together")
+    t = np.array(uv, dtype=np.float64)
+    c = np.array(uv_faces, dtype=np.int64)
+    if t.ndim != 2 or t.shape[1] != 2 or not np.all(np.isfinite(t)):
+        raise ValueError(f"uv must be a finite (T, 2) array (got shape {t.shape})")
+    if c.shape != (n_faces, 3):
+        raise ValueError(f"uv_faces must have shape ({n_faces}, 3) (got {c.shape})")
+    if c.size and (c.min() < -1 or c.max() >= len(t)):
+        raise ValueError(f"uv_faces must hold -1 or rows below {len(t)} of uv")
+    return t, c
 
-    def __init__(self, vertices: np.ndarray, faces: np.ndarray) -> None:
+
+class MaskRows(NamedTuple):
+    """Mask values (K,) of the vertices ``rows`` (K,) int64: one side of a mask undo step."""
+
+    rows: np.ndarray
+    values: np.ndarray
+
+    @property
+    def nbytes(self) -> int:
+        return int(self.rows.nbytes + self.values.nbytes)
+
+
+def compact_faces(faces: np.ndarray) -> np.ndarray:
+    """Faces as int32 when the vertex count allows (half the memory of a kept snapshot)."""
+    return faces.astype(np.int32) if len(faces) and faces.max() < 2**31 else faces.copy()
+
+
+@dataclass(frozen=True)
+class MeshSnapshot:
+    """Copies of all of a mesh's arrays (one side of a subdivision's undo step); faces are kept
+    as int32 where they fit and come back as int64, equal."""
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    mask: np.ndarray
+    uv: np.ndarray | None = None
+    uv_faces: np.ndarray | None = None
+
+    @property
+    def nbytes(self) -> int:
+        arrays = (self.vertices, self.faces, self.mask, self.uv, self.uv_faces)
+        return sum(int(a.nbytes) for a in arrays if a is not None)
+
+
+class MeshState:
+    """Vertices (N, 3) float64, edited in place by the engine alone; faces (M, 3) int64;
+    optional texture coordinates ``uv`` (T, 2) and their face corners ``uv_faces`` (M, 3)
+    (rows of -1: untextured faces); the vertex :attr:`mask` (N,) float64 in [0, 1] (how much each
+    vertex is held: 1 does not move); :attr:`model_size` (bounding-box diagonal at load, model
+    units) and :attr:`origin` (its centre: the point of the mirror planes).
+
+    :attr:`topology` counts the changes of the face array (a view rebuilds what depends on it);
+    :attr:`edges` and :attr:`neighbours` are built on first use for the current faces.
+    """
+
+    def __init__(
+        self,
+        vertices: np.ndarray,
+        faces: np.ndarray,
+        uv: np.ndarray | None = None,
+        uv_faces: np.ndarray | None = None,
+    ) -> None:
         self.vertices, self.faces = check_mesh(vertices, faces)
+        self.uv, self.uv_faces = check_uv(uv, uv_faces, len(self.faces))
         low, high = self.vertices.min(axis=0), self.vertices.max(axis=0)
         self.model_size = float(np.linalg.norm(high - low))
         if not self.model_size > 0:
@@ -46,7 +118,70 @@ class MeshState:
         if not np.isfinite(self.model_size):
             raise ValueError("the mesh is too large (its size overflows a float)")
         self.origin = 0.5 * (low + high)
+        self.mask = np.zeros(len(self.vertices))
+        #: Some vertex is masked (mask > 0): brushes' results are blended by the driver.
+        self.masked = False
+        #: Counts the changes of the mask (a view redraws its tint when it changes).
+        self.mask_version = 0
+        self.topology = 0
+        self._edges: MeshEdges | None = None
+        self._neighbours: VertexNeighbours | None = None
 
+    # -- connectivity ------------------------------------------------------------------------
+    @property
+    def edges(self) -> MeshEdges:
+        """The edges of the current faces (built once per face array)."""
+        if self._edges is None:
+            self._edges = mesh_edges(self.faces, len(self.vertices))
+        return self._edges
+
+    @property
+    def neighbours(self) -> VertexNeighbours:
+        """Each vertex's neighbours for the current faces (built once per face array)."""
+        if self._neighbours is None:
+            self._neighbours = vertex_neighbours(self.edges, len(self.vertices))
+        return self._neighbours
+
+    # -- mask --------------------------------------------------------------------------------
+    def mask_rows(self, rows: np.ndarray) -> MaskRows:
+        """The mask values of ``rows`` (copies)."""
+        rows = np.asarray(rows, dtype=np.int64)
+        return MaskRows(rows, self.mask[rows].copy())
+
+    def set_mask_rows(self, change: MaskRows) -> None:
+        """Write mask values (an edit, or one side of an undo step)."""
+        self.mask[change.rows] = change.values
+        self.masked = bool(np.any(self.mask))
+        self.mask_version += 1
+
+    # -- whole arrays ------------------------------------------------------------------------
+    def snapshot(self) -> MeshSnapshot:
+        """Copies of the arrays (a subdivision's undo step, a replay's rollback)."""
+        return MeshSnapshot(
+            self.vertices.copy(),
+            compact_faces(self.faces),
+            self.mask.copy(),
+            None if self.uv is None else self.uv.copy(),
+            None if self.uv_faces is None else compact_faces(self.uv_faces),
+        )
+
+    def adopt(self, mesh: MeshSnapshot) -> None:
+        """Take the arrays of ``mesh`` (copies; a new face array, a new :attr:`topology`);
+        the model's size and origin stay."""
+        faces = np.array(mesh.faces, dtype=np.int64)
+        same = faces.shape == self.faces.shape and np.array_equal(faces, self.faces)
+        self.vertices = np.array(mesh.vertices, dtype=np.float64)
+        self.faces = self.faces if same else faces
+        self.mask = np.array(mesh.mask, dtype=np.float64)
+        self.masked = bool(np.any(self.mask))
+        self.mask_version += 1
+        self.uv = None if mesh.uv is None else np.array(mesh.uv, dtype=np.float64)
+        self.uv_faces = None if mesh.uv_faces is None else np.array(mesh.uv_faces, np.int64)
+        if not same:
+            self.topology += 1
+            self._edges = self._neighbours = None
+
+    # -- places ------------------------------------------------------------------------------
     @property
     def reach(self) -> float:
         """How far (model units) a point, a brush centre or a motion may go from the model's

@@ -51,10 +51,13 @@ __all__ = [
     "ConstraintRemove",
     "ConstraintsClear",
     "FalloffChange",
+    "MaskClear",
+    "MaskInvert",
     "MaterialChange",
     "Operation",
     "Redo",
     "Stroke",
+    "Subdivide",
     "Undo",
     "operation_from_dict",
 ]
@@ -279,6 +282,55 @@ class ConstraintDrag(Operation):
 
 
 @dataclass(frozen=True)
+class MaskInvert(Operation):
+    """Invert the vertex mask, m → 1 − m (an undo step; the vertices do not move)."""
+
+    name: ClassVar[str] = "mask_invert"
+
+    def to_dict(self) -> dict:
+        return {"op": self.name}
+
+    @classmethod
+    def from_dict(cls, data: dict, path: str) -> MaskInvert:
+        return cls()
+
+
+@dataclass(frozen=True)
+class MaskClear(Operation):
+    """Clear the vertex mask (an undo step when anything was masked)."""
+
+    name: ClassVar[str] = "mask_clear"
+
+    def to_dict(self) -> dict:
+        return {"op": self.name}
+
+    @classmethod
+    def from_dict(cls, data: dict, path: str) -> MaskClear:
+        return cls()
+
+
+@dataclass(frozen=True)
+class Subdivide(Operation):
+    """One step of Loop subdivision of the whole mesh, or of its faces that are not masked
+    (``unmasked_only``); an undo step (:mod:`gogreen_core.subdivision`)."""
+
+    name: ClassVar[str] = "subdivide"
+    optional: ClassVar[tuple[str, ...]] = ("unmasked_only",)
+    unmasked_only: bool = False
+
+    def to_dict(self) -> dict:
+        data: dict = {"op": self.name}
+        if self.unmasked_only:
+            data["unmasked_only"] = True
+        return data
+
+    @classmethod
+    def from_dict(cls, data: dict, path: str) -> Subdivide:
+        name = field_path(path, "unmasked_only")
+        return cls(check_bool(name, data.get("unmasked_only", False)))
+
+
+@dataclass(frozen=True)
 class Undo(Operation):
     """Undo the last step."""
 
@@ -318,6 +370,9 @@ OPERATIONS: dict[str, type[Operation]] = {
         ConstraintRemove,
         ConstraintsClear,
         ConstraintDrag,
+        MaskInvert,
+        MaskClear,
+        Subdivide,
         Undo,
         Redo,
     )

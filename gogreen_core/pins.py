@@ -2,7 +2,8 @@
 
 A drag moves every vertex by a direct displacement u(x) = Σ_j G(x − p_j) f_j (no pseudo-time)
 with u(p_dragged) = delta and u(p_j) = 0 at the other pins, so the pins land exactly on their
-targets (:class:`~gogreen_core.constraints.ConstraintSet`). Adding, removing or clearing pins is
+targets (:class:`~gogreen_core.constraints.ConstraintSet`), unless the vertex mask holds them
+(each vertex moves (1 − mask) of u). Adding, removing or clearing pins is
 an undo step of its own (the vertices do not move); a drag is one, joined across the mouse
 events of one drag (``continued``). Each is one entry of the session log.
 """
@@ -90,6 +91,13 @@ class Pins:
         everything else about the settings change has succeeded."""
         return None if self.constraints is None else self.built(kernels)
 
+    def follow(self, kernels: KernelCache) -> KernelCache:
+        """Rebuild the pins for new settings' ``kernels`` and keep them; returns ``kernels``,
+        for the sculptor to compute with from now on. A failure (pins the new radius cannot
+        separate, an inadmissible falloff) raises before anything changed."""
+        self.adopt(self.rebuilt(kernels))
+        return kernels
+
     def adopt(self, constraints: ConstraintSet | None) -> None:
         self.constraints = constraints
 
@@ -156,6 +164,8 @@ class Pins:
         rows, moved = constraints.displacement_rows(vertices, forces)
         if not np.all(np.isfinite(moved)):
             raise ParameterError("delta", "the pin drag would move vertices to infinity")
+        if self.mesh.masked:  # masked vertices move (1 − mask) of the way: held ones not at all
+            moved *= (1.0 - self.mesh.mask[rows])[:, None]
         constraints.move(i, start + d)
         before = vertices[rows]
         vertices[rows] += moved

@@ -19,41 +19,49 @@ Profiles:
   R_l = (√π/2) ρ^l Γ((l+5)/2) Γ((l+1)/2)/Γ(l+3/2) ₂F₁((l+5)/2, (l+1)/2; l+3/2; -ρ²)/ε and
   ℛ_l = √π ρ^l Γ(l/2+3) Γ(l/2+1)/Γ(l+3/2) ₂F₁(l/2+3, l/2+1; l+3/2; -ρ²)/ε².
   An isotropic material then reproduces the closed-form regularized Kelvinlet.
-* :class:`SplineRadial`: per-degree cubic splines through editable control points (the
-  artist's falloff curves), with R_l(0) = ℛ_l(0) = 0 for l ≥ 1 as in the paper.
+* :class:`SplineRadial`: per-degree curves through editable control points (the artist's
+  falloff curves), with R_l(0) = ℛ_l(0) = 0 for l ≥ 1 as in the paper; shape-preserving for new
+  curves, interpolating cubic splines for those saved before (:data:`INTERPOLATIONS`).
 """
 
 from __future__ import annotations
 
 import hashlib
 import json
-import threading
 from abc import ABC, abstractmethod
 from collections.abc import Iterable, Sequence
-from functools import lru_cache
 
 import numpy as np
 from scipy import special
-from scipy.interpolate import CubicSpline
+from scipy.interpolate import PPoly
+
+from gogreen_core.falloff_curves import INTERPOLATIONS, interpolant, monotone_hermite
+from gogreen_core.radial_tables import _TABLE_CACHE as _TABLE_CACHE  # benchmarks empty it
+from gogreen_core.radial_tables import (
+    DECAY,
+    TABLE_DEGREE,
+    TABLE_SEGMENTS,
+    cached_table,
+    radial_table,
+)
 
 __all__ = [
+    "INTERPOLATIONS",
+    "TABLE_DEGREE",
+    "TABLE_SEGMENTS",
     "GaussianRadial",
     "KelvinletRadial",
     "MultiscaleRadial",
     "RadialProfile",
     "SplineRadial",
+    "monotone_hermite",
     "radial_from_dict",
     "radial_table",
 ]
 
 #: Kinds of radial term: "R" (R_l, even l, for G) and "dR" (ℛ_l, odd l, for ∇G).
 KINDS = ("R", "dR")
-# Power p of the far-field decay r^-p of each kind; tables store F·(1+ρ)^p.
-_DECAY = {"R": 1, "dR": 2}
-
-#: Piecewise polynomial tables: segments uniform in t = ρ/(1+ρ), polynomial degree per segment.
-TABLE_SEGMENTS = 384
-TABLE_DEGREE = 5
+_DECAY = DECAY  # far-field decay power of each kind (see radial_tables)
 
 
 def _check_eps(eps: float) -> float:
@@ -133,7 +141,7 @@ class RadialProfile(ABC):
         return np.stack([self._degree_table(kind, int(l)) for l in degrees])
 
     def _degree_table(self, kind: str, l: int) -> np.ndarray:
-        return _cached_table(self.table_key(), kind, l, self)
+        return cached_table(self.table_key(), kind, l, self)
 
     @abstractmethod
     def to_dict(self) -> dict:
@@ -206,7 +214,9 @@ DEFAULT_SPLINE_RHO = np.array(
 
 
 class SplineRadial(RadialProfile):
-    """Per-degree cubic splines through control points (ρ_i, F(ρ_i)), ρ = r/ε.
+    """Per-degree curves through control points (ρ_i, F(ρ_i)), ρ = r/ε, interpolated by
+    :attr:`interpolation` (one of :data:`INTERPOLATIONS`; ``"cubic"`` unless given, as files
+    without the key mean).
 
     Each curve is keyed by (kind, l): kind "R" for R_l (even l) and "dR" for ℛ_l (odd l).
     Control abscissae start at ρ = 0 and increase; for l ≥ 1 the value at ρ = 0 is pinned to 0
@@ -222,10 +232,21 @@ class SplineRadial(RadialProfile):
 
     kind_name = "spline"
 
-    def __init__(self, eps: float, curves: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]]):
+    def __init__(
+        self,
+        eps: float,
+        curves: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]],
+        interpolation: str = "cubic",
+    ):
         super().__init__(eps)
+        if interpolation not in INTERPOLATIONS:
+            raise ValueError(
+                f"spline interpolation must be one of {', '.join(INTERPOLATIONS)} "
+                f"(got {interpolation!r})"
+            )
+        self._interpolation = interpolation
         self._curves: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]] = {}
-        self._splines: dict[tuple[str, int], CubicSpline] = {}
+        self._splines: dict[tuple[str, int], PPoly] = {}
         self._digest: str | None = None
         self._version = 0
         self._frozen = False
@@ -236,19 +257,35 @@ class SplineRadial(RadialProfile):
 
     @classmethod
     def from_profile(
-        cls, profile: RadialProfile, l_max: int, rho: np.ndarray | None = None
+        cls,
+        profile: RadialProfile,
+        l_max: int,
+        rho: np.ndarray | None = None,
+        interpolation: str = "monotone",
     ) -> SplineRadial:
         """Sample ``profile`` at control points ``rho`` (default :data:`DEFAULT_SPLINE_RHO`)
-        for every degree a kernel of ``l_max`` needs (even l ≤ l_max, odd l ≤ l_max + 1)."""
+        for every degree a kernel of ``l_max`` needs (even l ≤ l_max, odd l ≤ l_max + 1): new
+        curves, shape-preserving unless ``interpolation`` says otherwise."""
         rho = DEFAULT_SPLINE_RHO if rho is None else np.asarray(rho, dtype=np.float64)
         curves = {}
         for l in range(0, l_max + 1, 2):
             curves[("R", l)] = (rho, profile.dimensionless("R", l, rho))
         for l in range(1, l_max + 2, 2):
             curves[("dR", l)] = (rho, profile.dimensionless("dR", l, rho))
-        return cls(profile.eps, curves)
+        return cls(profile.eps, curves, interpolation)
 
     # -- editing ----------------------------------------------------------------------------
+    @property
+    def interpolation(self) -> str:
+        """How the curves pass through their points (see :data:`INTERPOLATIONS`)."""
+        return self._interpolation
+
+    def with_interpolation(self, interpolation: str) -> SplineRadial:
+        """The same control points through another interpolant (a new value)."""
+        clone = SplineRadial(self.eps, self._curves, interpolation)
+        clone._frozen, clone._version = self._frozen, self._version + 1
+        return clone
+
     @property
     def version(self) -> int:
         """Incremented by every edit (an edited value has its source's version + 1)."""
@@ -267,9 +304,11 @@ class SplineRadial(RadialProfile):
     def with_curves(
         self, curves: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]] | SplineRadial
     ) -> SplineRadial:
-        """This falloff with the given curves (or another spline's) replacing or adding to its
-        own (a new value; the others are kept)."""
+        """This falloff with the given curves (or another spline's, with its interpolation)
+        replacing or adding to its own (a new value; the others are kept)."""
         if isinstance(curves, SplineRadial):
+            if curves.interpolation != self.interpolation:
+                return self.with_interpolation(curves.interpolation).with_curves(curves)
             curves = curves._curves
         clone = object.__new__(SplineRadial)
         clone.__dict__.update(self.__dict__)
@@ -377,7 +416,7 @@ class SplineRadial(RadialProfile):
         rho.setflags(write=False)
         value.setflags(write=False)
         self._curves[(kind, l)] = (rho, value)
-        self._splines[(kind, l)] = CubicSpline(rho, value, bc_type="not-a-knot")
+        self._splines[(kind, l)] = interpolant(self._interpolation, rho, value)
         self._digest = None
 
     # -- evaluation --------------------------------------------------------------------------
@@ -396,6 +435,8 @@ class SplineRadial(RadialProfile):
         # 40 falloffs built and dropped, one got a dead one's table).
         if self._digest is None:
             digest = hashlib.sha256()
+            if self._interpolation != "cubic":  # cubic digests as they were
+                digest.update(f"{self._interpolation};".encode())
             for (kind, l), (rho, value) in sorted(self._curves.items()):
                 digest.update(f"{kind}{l}:{len(rho)};".encode())
                 digest.update(rho.tobytes())
@@ -407,7 +448,7 @@ class SplineRadial(RadialProfile):
         if self._frozen:  # immutable curves: shared
             return super().with_eps(eps)  # type: ignore[return-value]
         # Curves are copied (not shared) so that editing one profile never changes another.
-        clone = SplineRadial(eps, dict(self._curves))
+        clone = SplineRadial(eps, dict(self._curves), self._interpolation)
         clone._version = self._version
         return clone
 
@@ -422,7 +463,7 @@ class SplineRadial(RadialProfile):
 
     # -- serialization -----------------------------------------------------------------------
     def to_dict(self) -> dict:
-        return {
+        data = {
             "type": "spline",
             "eps": self.eps,
             "curves": [
@@ -430,6 +471,9 @@ class SplineRadial(RadialProfile):
                 for (k, l), (rho, value) in sorted(self._curves.items())
             ],
         }
+        if self._interpolation != "cubic":  # absent: the cubic of files written before
+            data["interpolation"] = self._interpolation
+        return data
 
     def to_json(self) -> str:
         """JSON text of :meth:`to_dict`."""
@@ -537,64 +581,7 @@ def radial_from_dict(data: dict) -> RadialProfile:
             }
         except (KeyError, TypeError) as exc:
             raise ValueError(f"malformed spline falloff description: {exc}") from None
-        return SplineRadial(data["eps"], curves)
+        return SplineRadial(data["eps"], curves, data.get("interpolation", "cubic"))
     raise ValueError(
         f"unknown falloff type {kind!r} (expected gaussian, kelvinlet, spline or multiscale)"
     )
-
-
-# -- tables ------------------------------------------------------------------------------------
-@lru_cache(maxsize=1)
-def _chebyshev_to_monomial() -> tuple[np.ndarray, np.ndarray]:
-    """Chebyshev nodes s_k on [-1, 1] and the matrix taking values there to monomial
-    coefficients of the interpolating polynomial (via Chebyshev coefficients, well conditioned)."""
-    n = TABLE_DEGREE + 1
-    k = np.arange(n)
-    nodes = np.cos((2 * k + 1) * np.pi / (2 * n))
-    # values -> Chebyshev coefficients (discrete orthogonality at Chebyshev-Gauss nodes)
-    t = np.cos(np.outer(np.arange(n), (2 * k + 1) * np.pi / (2 * n)))  # T_j(s_k)
-    to_cheb = (2.0 / n) * t
-    to_cheb[0] *= 0.5
-    cheb_to_mono = np.zeros((n, n))  # row j: monomial coefficients of T_j
-    for j in range(n):
-        mono = np.polynomial.chebyshev.cheb2poly(np.eye(n)[j])
-        cheb_to_mono[j, : len(mono)] = mono
-    return nodes, cheb_to_mono.T @ to_cheb
-
-
-def radial_table(profile: RadialProfile, kind: str, l: int) -> np.ndarray:
-    """Tabulate one radial term as a piecewise polynomial in t = ρ/(1+ρ).
-
-    Segment j covers t ∈ [j/S, (j+1)/S] (S = TABLE_SEGMENTS) with local variable
-    s = 2(tS - j) - 1 ∈ [-1, 1]; row j holds monomial coefficients c_0..c_D of
-    F(ρ)(1+ρ)^p in s (p = 1 for "R", 2 for "dR"), interpolated at Chebyshev nodes.
-    Returns (S, D+1) float64.
-    """
-    nodes, to_mono = _chebyshev_to_monomial()
-    t = (np.arange(TABLE_SEGMENTS)[:, None] + 0.5 * (nodes[None, :] + 1)) / TABLE_SEGMENTS
-    rho = t / (1 - t)
-    values = profile.dimensionless(kind, l, rho.ravel()).reshape(rho.shape)
-    values = values * (1 + rho) ** _DECAY[kind]
-    if not np.all(np.isfinite(values)):
-        raise ValueError(f"falloff {profile!r} gives non-finite values for {kind}{l}")
-    return values @ to_mono.T
-
-
-_TABLE_CACHE: dict[tuple, np.ndarray] = {}
-_TABLE_CACHE_LIMIT = 1024
-#: Kernels are built on the app's background thread too: evicting (iterating the dict) while
-#: another thread inserts would raise.
-_TABLE_CACHE_LOCK = threading.Lock()
-
-
-def _cached_table(key: tuple, kind: str, l: int, profile: RadialProfile) -> np.ndarray:
-    full_key = (key, kind, l)
-    table = _TABLE_CACHE.get(full_key)
-    if table is None:
-        table = radial_table(profile, kind, l)
-        table.setflags(write=False)
-        with _TABLE_CACHE_LOCK:
-            if len(_TABLE_CACHE) >= _TABLE_CACHE_LIMIT:
-                _TABLE_CACHE.pop(next(iter(_TABLE_CACHE)))
-            _TABLE_CACHE[full_key] = table
-    return table

@@ -292,19 +292,30 @@ def journal_session(contents: JournalContents) -> dict:
     }
 
 
-def _start_state(header: dict, vertices: np.ndarray) -> SculptState:
+def _start_state(header: dict, base: MeshData, mask: np.ndarray | None) -> SculptState:
+    """The journal's start state: its header's settings and pins, the base copy's vertices,
+    faces, UVs and mask."""
     start = header["start"]
     pins = start.get("pins")
-    arrays = [vertices]
+    arrays = [base.vertices.copy()]
     if pins is not None:
         arrays += [np.array(pins[key], dtype=np.float64) for key in ("points", "matrix", "inverse")]
+    if start.get("mask"):
+        if mask is None or mask.shape != (len(base.vertices),):
+            raise CheckpointError("the start's mask is missing from the copy of the start mesh")
+        arrays.append(np.array(mask, dtype=np.float64))
     head = {**start, "pins": None if pins is None else len(pins["points"])}
+    if start.get("faces") is not None:  # the base copy's faces: no second copy of them
+        head["faces"] = head["uv"] = None
     return SculptState.from_header(head, arrays)
 
 
-def _load_base(contents: JournalContents, notes: list[str]) -> tuple[MeshData | None, bool]:
-    """The journal's start mesh, and whether its vertices are the start's (False: only the
-    faces of the document's file could be had, for use with a checkpoint)."""
+def _load_base(
+    contents: JournalContents, notes: list[str]
+) -> tuple[MeshData | None, bool, np.ndarray | None]:
+    """The journal's start mesh, whether its vertices are the start's (False: only the faces
+    of the document's file could be had, for use with a checkpoint), and the start's mask
+    (None when nothing was masked, or the copy is missing)."""
     header = contents.header
     mesh = header["mesh"]
     name = mesh["base"]
@@ -325,27 +336,27 @@ def _load_base(contents: JournalContents, notes: list[str]) -> tuple[MeshData | 
     except Exception as exc:  # a zip cut short, a bad CRC, missing arrays
         problem = f"is unreadable ({exc})"
     if problem is None:
-        return base, True
+        return base, True, data.get("mask")
     note = f"the copy of the start mesh ({name}) {problem}"
     if document:
         try:
             mesh_file = load_mesh(document)
         except (ValueError, OSError) as exc:
             notes.append(f"{note}, and the document's file cannot be read ({exc})")
-            return None, False
+            return None, False, None
         if _base_mismatch(mesh_file, mesh) is None:
             notes.append(f"{note}: the document's file {document} has the same mesh and was used")
-            return mesh_file, True
+            return mesh_file, True, None
         if len(mesh_file.vertices) == mesh["vertices"] and len(mesh_file.faces) == mesh["faces"]:
             notes.append(
                 f"{note}, and {document} changed since: only a checkpoint can be recovered, on "
                 "the file's faces"
             )
-            return mesh_file, False
+            return mesh_file, False, None
         notes.append(f"{note}, and {document} is another mesh now")
-        return None, False
+        return None, False, None
     notes.append(note)
-    return None, False
+    return None, False, None
 
 
 def _base_mismatch(base: MeshData, mesh: dict) -> str | None:
@@ -438,7 +449,7 @@ def recover(
     try:
         contents = read_journal(directory)
         notes = list(contents.notes)
-        base, exact = _load_base(contents, notes)
+        base, exact, mask = _load_base(contents, notes)
         if base is None:
             raise JournalError(
                 f"{directory.name}: nothing to rebuild the mesh from ({notes[-1]}); "
@@ -454,11 +465,11 @@ def recover(
         best = None
         for seq, path in order:
             try:
-                state, done = _state_at(contents, base, seq, path)
+                state, done = _state_at(contents, base, mask, seq, path)
             except CheckpointError as exc:
                 notes.append(f"checkpoint after record {seq} not used: {exc}")
                 continue
-            sculptor = restore_state(state, base.faces)
+            sculptor = restore_state(state, base.faces, base.uv, base.uv_faces)
             tail = records[seq:]
             try:
                 applied, error = _replay(sculptor, tail, done, progress)
@@ -477,9 +488,9 @@ def recover(
             what = f"it and the {rest} after it were" if rest else "it was"
             notes.append(f"{error}: {what} dropped")
             contents.records = records[:kept]
-        mesh = base.copy()
-        mesh.vertices = np.array(sculptor.vertices)
-        mesh.source = (contents.header.get("document") or {}).get("path")
+        now = sculptor.mesh  # a subdivision replayed: its faces and UVs
+        document = (contents.header.get("document") or {}).get("path")
+        mesh = MeshData(now.vertices, now.faces, now.uv, now.uv_faces, source=document)
         return Recovery(
             contents, mesh, sculptor, kept, replayed, seq, notes, held,
             time.perf_counter() - began,
@@ -491,15 +502,21 @@ def recover(
 
 
 def _state_at(
-    contents: JournalContents, base: MeshData, seq: int, path: Path | None
+    contents: JournalContents,
+    base: MeshData,
+    mask: np.ndarray | None,
+    seq: int,
+    path: Path | None,
 ) -> tuple[SculptState, int]:
     """The state to replay from (the start or a checkpoint) and its undo steps done."""
     header = contents.header
     if path is None:
-        return _start_state(header, base.vertices.copy()), int(header["start"].get("done", 0))
+        return _start_state(header, base, mask), int(header["start"].get("done", 0))
     state, meta = read_checkpoint(path)
     if meta.get("token") != header.get("token") or meta.get("seq") != seq:
         raise CheckpointError(f"{path.name}: belongs to an older journal in this folder")
-    if len(state.vertices) != header["mesh"]["vertices"]:
+    if state.faces is None and len(state.vertices) != header["mesh"]["vertices"]:
         raise CheckpointError(f"{path.name}: has {len(state.vertices)} vertices")
+    if state.faces is not None and state.faces.size and state.faces.max() >= len(state.vertices):
+        raise CheckpointError(f"{path.name}: its faces name vertices it does not have")
     return state, int(meta.get("done", 0))

@@ -38,6 +38,7 @@ from gogreen_core.limits import (
 )
 from gogreen_core.material import Material
 from gogreen_core.radial import (
+    INTERPOLATIONS,
     KINDS,
     GaussianRadial,
     KelvinletRadial,
@@ -96,7 +97,7 @@ def parse_falloff(data: object, path: str = "falloff") -> RadialProfile:
     """A falloff's ``to_dict`` → Gaussian, Kelvinlet or spline profile."""
     kind = check_choice(field(path, "type"), _get(data, path, "type"), FALLOFF_TYPES)
     if kind == "spline":
-        check_object(path, data, required=("type", "eps", "curves"))
+        check_object(path, data, required=("type", "eps", "curves"), optional=("interpolation",))
     else:
         check_object(path, data, required=("type", "eps"))
     eps = check_number(field(path, "eps"), data["eps"], low=0.0, low_open=True)
@@ -120,8 +121,12 @@ def parse_falloff(data: object, path: str = "falloff") -> RadialProfile:
         curves[(kind_l, degree)] = tuple(points)
     if not curves:
         raise ParameterError(name, f"{name} must hold at least one curve")
+    # absent: the interpolating cubic that files written before PCHIP used (bit for bit)
+    interpolation = check_choice(
+        field(path, "interpolation"), data.get("interpolation", "cubic"), INTERPOLATIONS
+    )
     with prefixed(name):
-        return SplineRadial(eps, curves)
+        return SplineRadial(eps, curves, interpolation)
 
 
 #: Truncation degree: an integer in [0, ``L_MAX_LIMIT``] (``parse_l_max(value, path)``).

@@ -39,14 +39,16 @@ from gogreen_core.history import History
 from gogreen_core.kernel import EVALUATION, GreenKernel
 from gogreen_core.kernel_cache import KernelCache
 from gogreen_core.limits import MAX_REACH, check_constraint_radius
+from gogreen_core.mask import Mask
 from gogreen_core.material import Material
-from gogreen_core.mesh_state import MeshState
+from gogreen_core.mesh_state import MaskRows, MeshSnapshot, MeshState
 from gogreen_core.operations import (
     ConstraintRadius,
     FalloffChange,
     MaterialChange,
     Operation,
     Redo,
+    Subdivide,
     Undo,
 )
 from gogreen_core.pins import Pins
@@ -63,6 +65,7 @@ from gogreen_core.session import (
     replay,
 )
 from gogreen_core.stroke import StrokeDriver
+from gogreen_core.subdivision import PreparedSubdivision, prepare_subdivision
 from gogreen_core.validation import ParameterError, check_bool, check_vector, prefixed
 
 __all__ = [
@@ -77,6 +80,7 @@ __all__ = [
 #: Undo label of each settings group (a continued change joins the last of these).
 _LABELS = {"material": "material", "falloff": "falloff", "constraint_radius": "constraint radius"}
 _NO_ROWS = np.zeros((0, 3))
+_NO_INDEX = np.zeros(0, dtype=np.int64)
 
 
 def _record(settings: EngineSettings, group: str, continued: bool) -> Operation:
@@ -85,13 +89,8 @@ def _record(settings: EngineSettings, group: str, continued: bool) -> Operation:
         return MaterialChange(settings.material, continued)
     if group == "constraint_radius":
         return ConstraintRadius(settings.constraint_radius, continued)
-    return FalloffChange(
-        settings.falloff,
-        settings.l_max,
-        settings.degree_weights,
-        continued,
-        settings.brush_weights,
-    )
+    s = settings
+    return FalloffChange(s.falloff, s.l_max, s.degree_weights, continued, s.brush_weights)
 
 
 class Sculptor:
@@ -101,15 +100,19 @@ class Sculptor:
     ----------
     vertices : (N, 3) float64, faces : (M, 3) int64
         The mesh; vertices are copied and then edited in place (see :attr:`vertices`).
+    uv : (T, 2) float64 and uv_faces : (M, 3) int64, optional
+        Texture coordinates per face corner (rows of -1: untextured faces), carried through a
+        subdivision (see :attr:`mesh`).
     settings : EngineSettings, optional
         Material, falloff, l_max, wrinkle weights and pins' radius in one value; or give them
         one by one (``material``, ``l_max``, ``falloff``, ``degree_weights``,
         ``constraint_radius``, the fields of :class:`EngineSettings` with its defaults).
     history_bytes : memory cap of the undo history.
 
-    The parts: undo steps in :attr:`history` (:class:`History`); the session log of typed
-    operation records (:mod:`gogreen_core.operations`), exported by :meth:`session` and applied
-    by :meth:`replay`.
+    The parts: undo steps in :attr:`history` (:class:`History`); the vertex mask in
+    :attr:`mask` (:class:`~gogreen_core.mask.Mask`: painted by the mask brush, inverted,
+    cleared); the session log of typed operation records (:mod:`gogreen_core.operations`),
+    exported by :meth:`session` and applied by :meth:`replay`.
     """
 
     def __init__(
@@ -117,6 +120,8 @@ class Sculptor:
         vertices: np.ndarray,
         faces: np.ndarray,
         *,
+        uv: np.ndarray | None = None,
+        uv_faces: np.ndarray | None = None,
         settings: EngineSettings | None = None,
         material: Material | None = None,
         l_max: int = 8,
@@ -125,8 +130,9 @@ class Sculptor:
         constraint_radius: float = DEFAULT_CONSTRAINT_RADIUS,
         history_bytes: int = 512 * 2**20,
     ) -> None:
-        self._mesh = MeshState(vertices, faces)
+        self._mesh = MeshState(vertices, faces, uv, uv_faces)
         self.model_size = self._mesh.model_size
+        self._loaded = (len(self._mesh.vertices), len(self._mesh.faces))  # the session's mesh
         self.history = History(history_bytes)
         self._log = SessionLog()
         #: False for a sculptor replaying a version-1 session: settings are no undo steps.
@@ -152,6 +158,8 @@ class Sculptor:
         self._initial = settings
         self._strokes = StrokeDriver(self._mesh, self.history, self._log)
         self._pins = Pins(self._mesh, self.history, self._log, lambda: self._kernels)
+        #: The vertex mask: what holds vertices still under every brush and pin drag.
+        self.mask = Mask(self._mesh, self.history, self._log, self._strokes.refuse)
 
     # -- state -------------------------------------------------------------------------------
     @property
@@ -163,7 +171,14 @@ class Sculptor:
 
     @property
     def faces(self) -> np.ndarray:
+        """(M, 3) int64 faces (a subdivision, and its undo, give the sculptor new ones)."""
         return self._mesh.faces
+
+    @property
+    def mesh(self) -> MeshSnapshot:
+        """Copies of the mesh's arrays: vertices, faces, mask, UVs and their corners (what a
+        file is saved from, or a subdivision is prepared from off the GUI thread)."""
+        return self._mesh.snapshot()
 
     @property
     def origin(self) -> np.ndarray:
@@ -197,14 +212,6 @@ class Sculptor:
         return self._strokes.active
 
     # -- settings ----------------------------------------------------------------------------
-    def _commit(self, settings: EngineSettings) -> None:
-        """Compute with ``settings`` from now on: kernels and pins are rebuilt first, so a
-        failure (an inadmissible falloff, pins the new radius cannot separate) changes nothing."""
-        kernels = KernelCache(settings, self._kernels)
-        pins = self._pins.rebuilt(kernels)
-        self._kernels = kernels
-        self._pins.adopt(pins)
-
     def apply_settings(self, settings: EngineSettings, *, continued: bool = False) -> None:
         """Compute with ``settings`` from now on: for each group of fields that differs, its
         setter (:meth:`set_material`; :meth:`set_falloff` with l_max and weights;
@@ -254,10 +261,10 @@ class Sculptor:
                 )
         after = before.replace(**changes)
         label = _LABELS[group[0]]
-        self._refuse_in_stroke(f"change the {label}")
+        self._strokes.refuse(f"change the {label}")
         if after == before and not (continued or replaying):
             return  # nothing to do, nothing to undo
-        self._commit(after)
+        self._kernels = self._pins.follow(KernelCache(after, self._kernels))
         if not self._settings_undoable:  # a version-1 session: settings were no undo steps
             self._log.record(_record(after, group[0], continued), replace_last=True)
             return
@@ -302,10 +309,6 @@ class Sculptor:
         radius = check_constraint_radius(radius, "radius")
         self.change_settings(constraint_radius=radius, continued=continued)
 
-    def _refuse_in_stroke(self, what: str) -> None:
-        if self._strokes.active:
-            raise RuntimeError(f"cannot {what} during a stroke; end the stroke first")
-
     # -- strokes -----------------------------------------------------------------------------
     def kernel(self, brush: Brush) -> GreenKernel | None:
         """The kernel of ``brush`` on this model: its falloff, ε and degree weights (None for
@@ -322,7 +325,7 @@ class Sculptor:
         """Start a stroke with ``brush``; events follow, then :meth:`end_stroke`. In a sculptor
         replaying a session before version 3 (which records version 2 again) a brush's name
         means what it meant then (``wrinkle`` is ``wrinkle_legacy``)."""
-        self._refuse_in_stroke("begin a stroke")
+        self._strokes.refuse("begin a stroke")
         if self._kernels.evaluation != EVALUATION and brush.kind in RENAMED_BEFORE_3:
             brush = dataclasses.replace(brush, kind=RENAMED_BEFORE_3[brush.kind])
         self._strokes.begin(brush)
@@ -377,17 +380,17 @@ class Sculptor:
     def add_constraint(self, point: np.ndarray) -> int:
         """Pin a point (3,) (model units, within :data:`MAX_REACH` model sizes of the model's
         centre); returns its index. An undo step (the vertices do not move)."""
-        self._refuse_in_stroke("add a constraint")
+        self._strokes.refuse("add a constraint")
         return self._pins.add(point)
 
     def remove_constraint(self, index: int) -> None:
         """Remove pin ``index`` (an undo step)."""
-        self._refuse_in_stroke("remove a constraint")
+        self._strokes.refuse("remove a constraint")
         self._pins.remove(index)
 
     def clear_constraints(self) -> None:
         """Remove every pin (an undo step when there were any)."""
-        self._refuse_in_stroke("clear the constraints")
+        self._strokes.refuse("clear the constraints")
         self._pins.clear()
 
     def drag_constraint(self, index: int, delta: np.ndarray, continued: bool = False) -> np.ndarray:
@@ -396,29 +399,68 @@ class Sculptor:
 
         ``continued``: this step continues the previous drag (one mouse drag = one undo step).
         """
-        self._refuse_in_stroke("drag a constraint")
+        self._strokes.refuse("drag a constraint")
         return self._pins.drag(index, delta, continued)
+
+    # -- topology ----------------------------------------------------------------------------
+    def subdivide(
+        self,
+        unmasked_only: bool = False,
+        *,
+        progress: Callable[[float], None] | None = None,
+        prepared: PreparedSubdivision | None = None,
+    ) -> None:
+        """One step of Loop subdivision (:mod:`gogreen_core.subdivision`) of the whole mesh,
+        or of its faces that are not masked: about 4× the vertices and faces, old vertices keep
+        their numbers, the mask and UVs carried along; the model's size and origin stay (brush
+        sizes do not change). One undo step (undo gives back the previous arrays exactly,
+        faces included) and one log entry.
+
+        ``prepared``: the same subdivision computed ahead from :attr:`mesh`
+        (:func:`~gogreen_core.subdivision.prepare_subdivision`, e.g. off the GUI thread); a
+        ValueError, nothing changed, if the mesh is no longer the one it was made from.
+        ``progress(fraction)`` is called while computing here.
+        """
+        self._strokes.refuse("subdivide")
+        unmasked_only = check_bool("unmasked_only", unmasked_only)
+        mesh = self._mesh
+        before = mesh.snapshot()
+        if prepared is None:
+            prepared = prepare_subdivision(before, unmasked_only, progress, mesh.edges)
+        elif prepared.unmasked_only != unmasked_only or not prepared.made_from(before):
+            raise ValueError(
+                "the prepared subdivision was made from another mesh (it changed since, or "
+                "another part was asked for): subdivide again"
+            )
+        mesh.adopt(prepared.result)  # copies: the read-only result is the step's after-side
+        state = (before, prepared.result)
+        self.history.record("subdivide", _NO_INDEX, _NO_ROWS, _NO_ROWS, state=state)
+        self._log.record(Subdivide(unmasked_only))
 
     # -- history -----------------------------------------------------------------------------
     def undo(self) -> str | None:
         """Undo the last step (bit for bit; a settings step puts the previous settings back
         exactly); returns its label or None."""
-        self._refuse_in_stroke("undo")
+        self._strokes.refuse("undo")
         return self._history_step(self.history.undo, Undo())
 
     def redo(self) -> str | None:
-        self._refuse_in_stroke("redo")
+        self._strokes.refuse("redo")
         return self._history_step(self.history.redo, Redo())
 
     def _history_step(
         self, step: Callable[[np.ndarray], str | None], record: Operation
     ) -> str | None:
-        """Undo or redo: the vertices, then the settings or pins the step had."""
+        """Undo or redo: the vertices, then the settings, mask, mesh or pins the step had."""
         label = step(self._mesh.vertices)
         if label is not None:
             state = self.history.restored_state
             if isinstance(state, EngineSettings):
-                self._commit(state)
+                self._kernels = self._pins.follow(KernelCache(state, self._kernels))
+            elif isinstance(state, MaskRows):
+                self._mesh.set_mask_rows(state)
+            elif isinstance(state, MeshSnapshot):
+                self._mesh.adopt(state)
             else:
                 self._pins.restore(state)
             self._log.record(record)
@@ -428,14 +470,14 @@ class Sculptor:
     def all_or_nothing(self) -> Iterator[None]:
         """A block whose failure puts back the mesh, settings, pins, history and log as they
         were (a replay that fails part-way)."""
-        vertices = self._mesh.vertices.copy()
+        mesh = self._mesh.snapshot()
         kernels, points = self._kernels, None if not len(self._pins) else self._pins.points
         history, log_length = self.history.snapshot(), len(self._log)
         try:
             yield
         except BaseException:
             self.cancel_stroke()
-            self._mesh.vertices[:] = vertices
+            self._mesh.adopt(mesh)
             self._kernels = kernels
             self._pins.adopt(None if points is None else self._pins.built(kernels, points))
             self.history.restore(history)
@@ -463,9 +505,9 @@ class Sculptor:
                 if not self._settings_undoable
                 else (SESSION_VERSION if self._kernels.evaluation == EVALUATION else 2)
             ),
-            "mesh": {
-                "vertices": len(self._mesh.vertices),
-                "faces": len(self._mesh.faces),
+            "mesh": {  # the mesh it started from (a subdivision changes the sculptor's)
+                "vertices": self._loaded[0],
+                "faces": self._loaded[1],
                 "sha256": self._fingerprint,
             },
             "settings": self._initial.to_dict(),
@@ -474,18 +516,23 @@ class Sculptor:
 
     @classmethod
     def from_session(
-        cls, session: dict[str, Any] | Session, vertices: np.ndarray, faces: np.ndarray
+        cls,
+        session: dict[str, Any] | Session,
+        vertices: np.ndarray,
+        faces: np.ndarray,
+        uv: np.ndarray | None = None,
+        uv_faces: np.ndarray | None = None,
     ) -> Sculptor:
-        """A sculptor on ``vertices``/``faces`` with the session's initial settings (no
-        operations applied yet; see :meth:`replay`). The whole session is checked first
-        (:func:`~gogreen_core.session.parse_session`)."""
+        """A sculptor on ``vertices``/``faces`` (and texture corners ``uv``, ``uv_faces``)
+        with the session's initial settings (no operations applied yet; see :meth:`replay`).
+        The whole session is checked first (:func:`~gogreen_core.session.parse_session`)."""
         parsed = session if isinstance(session, Session) else parse_session(session)
         if parsed.vertices != len(vertices) or parsed.faces != len(faces):
             raise ValueError(
                 f"the session was recorded on a mesh with {parsed.vertices} vertices and "
                 f"{parsed.faces} faces; this one has {len(vertices)} and {len(faces)}"
             )
-        sculptor = cls(vertices, faces, settings=parsed.settings)
+        sculptor = cls(vertices, faces, uv=uv, uv_faces=uv_faces, settings=parsed.settings)
         sculptor._settings_undoable = parsed.version >= 2
         if parsed.version < 3:  # recorded with the kernels' evaluation 1: replayed with it
             sculptor._kernels = KernelCache(parsed.settings, evaluation=1)
@@ -504,25 +551,46 @@ class Sculptor:
 
 
 # -- crash recovery ----------------------------------------------------------------------------
-def capture_state(sculptor: Sculptor) -> SculptState:
+def capture_state(sculptor: Sculptor, faces: np.ndarray | None = None) -> SculptState:
     """A copy of what ``sculptor``'s next operations compute from (a checkpoint of the recovery
-    journal): vertices, settings, the pins' solver state, model size and mirror origin."""
+    journal): vertices, settings, the pins' solver state, the mask (None when nothing is
+    masked), model size and mirror origin; its faces and UVs unless they are the array
+    ``faces`` (the journal's start's: a checkpoint then needs not hold them). The engine never
+    edits a face array in place (a subdivision makes new ones), so they are held, not copied."""
     pins = sculptor._pins.constraints
     mesh = sculptor._mesh
+    topology = mesh.faces is not faces
     return SculptState(
         mesh.vertices.copy(),
         sculptor.settings,
         None if pins is None else (pins.points, pins.matrix.copy(), pins.inverse.copy()),
         mesh.model_size,
         mesh.origin.copy(),
+        mesh.mask.copy() if mesh.masked else None,
+        mesh.faces if topology else None,
+        mesh.uv if topology else None,
+        mesh.uv_faces if topology else None,
     )
 
 
-def restore_state(state: SculptState, faces: np.ndarray, **options: Any) -> Sculptor:
+def restore_state(
+    state: SculptState,
+    faces: np.ndarray,
+    uv: np.ndarray | None = None,
+    uv_faces: np.ndarray | None = None,
+    **options: Any,
+) -> Sculptor:
     """A sculptor whose next operations give bit for bit what the one that took ``state``
-    (:func:`capture_state`) would have; its undo history and log start empty. ``options``:
-    ``history_bytes``."""
-    sculptor = Sculptor(state.vertices, faces, settings=state.settings, **options)
+    (:func:`capture_state`) would have; its undo history and log start empty. ``faces`` (and
+    ``uv``, ``uv_faces``): the journal start's, for a state that does not hold its own.
+    ``options``: ``history_bytes``."""
+    if state.faces is not None:
+        faces, uv, uv_faces = state.faces, state.uv, state.uv_faces
+    sculptor = Sculptor(
+        state.vertices, faces, uv=uv, uv_faces=uv_faces, settings=state.settings, **options
+    )
+    if state.mask is not None:
+        sculptor._mesh.set_mask_rows(MaskRows(np.arange(len(state.mask)), state.mask))
     sculptor.model_size = sculptor._mesh.model_size = float(state.model_size)
     sculptor._mesh.origin = state.origin.copy()
     if state.pins is not None:

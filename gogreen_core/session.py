@@ -33,10 +33,13 @@ from gogreen_core.operations import (
     ConstraintRemove,
     ConstraintsClear,
     FalloffChange,
+    MaskClear,
+    MaskInvert,
     MaterialChange,
     Operation,
     Redo,
     Stroke,
+    Subdivide,
     Undo,
     operation_from_dict,
 )
@@ -258,6 +261,9 @@ _ACTIONS: dict[type[Operation], Callable[[Sculptor, Any], object]] = {
     ConstraintRemove: lambda s, op: s.remove_constraint(op.index),
     ConstraintsClear: lambda s, op: s.clear_constraints(),
     ConstraintDrag: lambda s, op: s.drag_constraint(op.index, op.delta, op.continued),
+    MaskInvert: lambda s, op: s.mask.invert(),
+    MaskClear: lambda s, op: s.mask.clear(),
+    Subdivide: lambda s, op: s.subdivide(op.unmasked_only),
     Undo: lambda s, op: s.undo(),
     Redo: lambda s, op: s.redo(),
 }

@@ -8,10 +8,12 @@ composition of the flows of its events. For grab brushes the load center travels
 cursor during each event, so the point under the cursor follows the cursor path exactly.
 
 The driver is the one place that decides how a brush's per-vertex results reach the mesh
-(:meth:`StrokeDriver._write`): today nothing is applied to them on the way, so it lets brushes
-write through (the integrator's in-place write, which saves a scatter of every moved row: 8-15 ms
-of CPU for a 0.5-1M-vertex ball, measured with ``benchmarks/scale.py``); a per-vertex mask would
-turn that off here and blend the rows itself. A stroke is one undo step and one entry of the
+(:meth:`StrokeDriver._write`). Without a vertex mask nothing is applied to them on the way, so
+it lets brushes write through (the integrator's in-place write, which saves a scatter of every
+moved row: 8-15 ms of CPU for a 0.5-1M-vertex ball, measured with ``benchmarks/scale.py``);
+with a mask it writes each row itself, moved (1 − mask) of the way (a row at 1 keeps its
+position bit for bit). A mask painter's values are written here too. A stroke is one undo step
+(its moved rows and, for a mask stroke, the mask values it changed) and one entry of the
 session log, recorded when it ends.
 """
 
@@ -25,12 +27,20 @@ from gogreen_core.brushes import Brush, BrushEvent, Displacement, StrokeContext
 from gogreen_core.history import History
 from gogreen_core.kernel import GreenKernel
 from gogreen_core.kernel_cache import KernelCache
-from gogreen_core.mesh_state import MeshState
+from gogreen_core.mesh_state import MaskRows, MeshState
 from gogreen_core.operations import Stroke
 from gogreen_core.session import SessionLog
 from gogreen_core.validation import ParameterError
 
-__all__ = ["StrokeDriver"]
+__all__ = ["StrokeDriver", "blend_by_mask"]
+
+
+def blend_by_mask(old: np.ndarray, new: np.ndarray, held: np.ndarray) -> np.ndarray:
+    """Rows (n, 3) moved (1 − ``held``) of the way from ``old`` to ``new`` (both (n, 3));
+    exactly ``old`` where ``held`` (n,) is 1 and exactly ``new`` where it is 0."""
+    held = held[:, None]
+    blended = old + (1.0 - held) * (new - old)
+    return np.where(held >= 1.0, old, np.where(held <= 0.0, new, blended))
 
 
 @dataclass
@@ -40,6 +50,7 @@ class _Stroke:
     touched: np.ndarray  # (N,) bool: rows an event moved
     events: list[BrushEvent] = field(default_factory=list)
     memo: dict = field(default_factory=dict)  # the brush's state between events
+    mask_before: np.ndarray | None = None  # (N,) the mask, copied at the first mask edit
 
 
 class StrokeDriver:
@@ -55,11 +66,18 @@ class StrokeDriver:
     def active(self) -> bool:
         return self._stroke is not None
 
+    def refuse(self, what: str) -> None:
+        """RuntimeError naming ``what`` while a stroke runs (what may not happen then)."""
+        if self._stroke is not None:
+            raise RuntimeError(f"cannot {what} during a stroke; end the stroke first")
+
     def context(self, kernels: KernelCache) -> StrokeContext:
         """What a brush sees of the engine (the mesh, ``kernels``, the result buffer, its state
         in the current stroke)."""
         memo = None if self._stroke is None else self._stroke.memo
-        return StrokeContext(self.mesh, kernels, self._buffer, write_through=True, stroke=memo)
+        return StrokeContext(
+            self.mesh, kernels, self._buffer, write_through=not self.mesh.masked, stroke=memo
+        )
 
     def kernel(self, kernels: KernelCache, brush: Brush) -> GreenKernel | None:
         """``brush``'s Green's function kernel at its radius (None for a brush without one)."""
@@ -78,7 +96,8 @@ class StrokeDriver:
         self._stroke = _Stroke(brush, vertices.copy(), np.zeros(len(vertices), dtype=bool))
 
     def event(self, kernels: KernelCache, event: BrushEvent) -> np.ndarray:
-        """Apply one event of the current stroke; the indices (n,) of the rows it moved."""
+        """Apply one event of the current stroke; the indices (n,) of the rows it moved (or
+        whose mask it painted)."""
         stroke = self._stroke
         if stroke is None:
             raise RuntimeError("stroke_event outside a stroke: call begin_stroke first")
@@ -93,16 +112,27 @@ class StrokeDriver:
         behaviour = brush.type
         behaviour.check_event(brush, event, self.mesh.reach)
         moved = behaviour.displace(self.context(kernels), brush, event)
-        self._write(moved)
-        stroke.touched[moved.rows] = True
+        self._write(stroke, moved)
+        if moved.mask is None:
+            stroke.touched[moved.rows] = True
         stroke.events.append(event)
         self.log.event(event)  # the recovery journal serializes it now
         return moved.rows
 
-    def _write(self, moved: Displacement) -> None:
+    def _write(self, stroke: _Stroke, moved: Displacement) -> None:
         """The one place brush results reach the mesh (unless the brush wrote them through)."""
-        if not moved.written:
-            self.mesh.vertices[moved.rows] = moved.positions
+        mesh = self.mesh
+        if moved.mask is not None:
+            if stroke.mask_before is None:
+                stroke.mask_before = mesh.mask.copy()
+            mesh.set_mask_rows(MaskRows(moved.rows, moved.mask))
+            return
+        if moved.written or moved.positions is None:
+            return
+        positions = moved.positions
+        if mesh.masked:
+            positions = blend_by_mask(mesh.vertices[moved.rows], positions, mesh.mask[moved.rows])
+        mesh.vertices[moved.rows] = positions
 
     def _buffer(self, n: int) -> np.ndarray:
         """A C-contiguous (n, 3) float64 buffer, kept between events (no per-event
@@ -121,15 +151,26 @@ class StrokeDriver:
         idx = np.flatnonzero(stroke.touched)
         changed = np.any(stroke.before[idx] != vertices[idx], axis=1)
         idx = idx[changed]
-        if len(idx):  # a stroke that changed nothing is no undo step and no log entry
+        state = None
+        if stroke.mask_before is not None:
+            painted = np.flatnonzero(stroke.mask_before != self.mesh.mask)
+            if len(painted):
+                state = (
+                    MaskRows(painted, stroke.mask_before[painted]),
+                    self.mesh.mask_rows(painted),
+                )
+        # a stroke that changed nothing (no vertex, no mask value) is no undo step, no log entry
+        if len(idx) or state is not None:
             self.history.record(
-                f"{stroke.brush.kind} stroke", idx, stroke.before[idx], vertices[idx]
+                f"{stroke.brush.kind} stroke", idx, stroke.before[idx], vertices[idx], state
             )
             self.log.record(Stroke(stroke.brush, tuple(stroke.events)))
         return idx
 
     def cancel(self) -> None:
-        """Abandon the current stroke, restoring the vertices as they were before it."""
-        if self._stroke is not None:
-            self.mesh.vertices[:] = self._stroke.before
-            self._stroke = None
+        """Abandon the current stroke, restoring the vertices (and mask) as they were before."""
+        stroke, self._stroke = self._stroke, None
+        if stroke is not None:
+            self.mesh.vertices[:] = stroke.before
+            if stroke.mask_before is not None:
+                self.mesh.set_mask_rows(MaskRows(np.arange(len(stroke.before)), stroke.mask_before))

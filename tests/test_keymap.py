@@ -22,6 +22,7 @@ from app.keymap import (
 )
 from app.keymap_overlay import KeymapOverlay
 from gogreen_core.brushes import BRUSH_KINDS
+from gogreen_core.tools import NUMBER_KEYS
 from gogreen_core.validation import ParameterError
 
 PORTABLE = QKeySequence.SequenceFormat.PortableText
@@ -92,11 +93,19 @@ def test_blender_sculpt_habits():
 
 def test_number_keys_pick_the_brushes_in_order():
     assert set(BRUSH_ACTIONS) == set(BRUSH_KINDS)
-    for number, kind in enumerate(BRUSH_KINDS, start=1):
+    for number, kind in enumerate(BRUSH_KINDS):
         entry = binding(brush_action(kind))
-        assert entry.keys[0] == str(number)
+        if number < len(NUMBER_KEYS):  # 1 … 9, then 0
+            assert entry.keys[0] == NUMBER_KEYS[number]
         assert entry.group == "Brushes"
-    assert len(BRUSH_KINDS) <= 9
+
+
+def test_smooth_mask_and_subdivide_keys():
+    assert binding("smooth_stroke").keys == ("Shift+Left drag",)  # Blender: Shift smooths
+    assert binding("brush_mask").keys[-1] == "M"  # Blender's mask brush key
+    assert binding("mask_invert").keys == ("Ctrl+I",)
+    assert binding("mask_clear").keys == ("Alt+M",)
+    assert binding("subdivide").keys == ("Ctrl+D",)  # ZBrush's divide
 
 
 def test_shortcuts_the_window_had_are_kept():
@@ -130,8 +139,8 @@ def test_gestures_and_unknown_actions_are_named_errors(qapp):
     with pytest.raises(ParameterError, match="'fly'") as info:
         binding("fly")
     assert info.value.parameter == "action"
-    with pytest.raises(ParameterError, match="'smooth'") as info:
-        brush_action("smooth")
+    with pytest.raises(ParameterError, match="'smudge'") as info:
+        brush_action("smudge")
     assert info.value.parameter == "kind"
 
 

@@ -260,15 +260,15 @@ def test_shift_f_drags_the_strength_and_clips(sculptor):
 
 def test_number_keys_pick_brushes_in_order(sculptor):
     from gogreen_core.brushes import BRUSH_KINDS
-    from gogreen_core.tools import brush_for_key
+    from gogreen_core.tools import NUMBER_KEYS, brush_for_key
 
     tools, settings = settings_tools(sculptor)
-    for number, kind in enumerate(BRUSH_KINDS, start=1):
-        assert tools.pick_brush(str(number)) and settings.kind == kind
-    beyond = str(len(BRUSH_KINDS) + 1)  # the key after the last brush's
-    assert brush_for_key("0") is None and brush_for_key(beyond) is None
-    assert brush_for_key("a") is None
-    assert not tools.pick_brush("9")
+    for key, kind in zip(NUMBER_KEYS, BRUSH_KINDS, strict=False):
+        assert tools.pick_brush(key) and settings.kind == kind
+    for key in NUMBER_KEYS[len(BRUSH_KINDS) :]:  # keys past the table pick nothing
+        assert brush_for_key(key) is None and not tools.pick_brush(key)
+    assert NUMBER_KEYS[:3] == "123" and NUMBER_KEYS[9] == "0"
+    assert brush_for_key("a") is None and brush_for_key("11") is None
 
 
 def test_ctrl_held_inverts_the_brush(sculptor):

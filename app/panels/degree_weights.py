@@ -14,6 +14,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 import numpy as np
+from PySide6.QtGui import QStandardItemModel
 from PySide6.QtWidgets import QComboBox, QGroupBox, QHBoxLayout, QLabel, QPushButton, QVBoxLayout
 
 from app.bindings import bind, bind_view
@@ -166,7 +167,10 @@ class DegreeWeights(QGroupBox):
             self.fold_combo.addItem(f"{degree}", degree)
             if degree > l_max:  # the folds need the degree: raise l_max first
                 index = self.fold_combo.count() - 1
-                self.fold_combo.model().item(index).setEnabled(False)
+                model = self.fold_combo.model()
+                assert isinstance(model, QStandardItemModel)  # a combo box's own model
+                item = model.item(index)
+                item.setEnabled(False)
         self.fold_combo.setCurrentIndex(self.fold_combo.findData(self._folds()[0]))
 
     def _show_depth(self, _weights: Mapping | None = None) -> None:
@@ -184,7 +188,7 @@ class DegreeWeights(QGroupBox):
     def _all_ones(self) -> None:
         omega = self._omega()
         omega[self.degrees] = 1.0
-        self.settings.set_brush_weights(self.kind, omega)
+        self.settings.set_brush_weights(self.kind, omega.tolist())
 
     def _with_folds(self, degree: int | None, depth: float) -> dict:
         """The settings' brush weights with the wrinkle brush's folds at ``degree`` and

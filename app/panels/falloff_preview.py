@@ -52,12 +52,14 @@ class PreviewRequest:
     l_max: int
     curves: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]]
     rho: np.ndarray
+    interpolation: str = "monotone"
 
     @classmethod
     def of(cls, settings: Settings, rho: np.ndarray) -> PreviewRequest:
         falloff = settings.falloff
         curves = {key: falloff.curve(*key) for key in falloff.curve_keys()}  # copies, ~20 µs
-        return cls(settings.material, settings.l_max, curves, np.array(rho, dtype=float))
+        rho = np.array(rho, dtype=float)
+        return cls(settings.material, settings.l_max, curves, rho, falloff.interpolation)
 
 
 class PreviewComputer:
@@ -78,7 +80,7 @@ class PreviewComputer:
 
     def kernel(self, request: PreviewRequest) -> GreenKernel:
         """The kernel of ``request``'s material, l_max and falloff (ε = 1)."""
-        radial = SplineRadial(1.0, request.curves)
+        radial = SplineRadial(1.0, request.curves, request.interpolation)
         key = (request.material, request.l_max)
         if self._kernel is None or self._key != key:
             prepare_degree(request.l_max)  # compiled here, not when the GUI thread evaluates

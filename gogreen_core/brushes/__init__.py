@@ -11,7 +11,10 @@ regularized Green's function of ``kernel.py``, is a row of the brush table
   (:mod:`~gogreen_core.brushes.wrinkle_legacy`), the one of sessions before version 3;
 * :mod:`~gogreen_core.brushes.affine`: ``scale``, ``twist``, ``pinch``, ``stretch``, an affine
   load at the press point whose ``amount`` is a log strain or an angle at the centre, whatever
-  the material.
+  the material;
+* the paint family (:mod:`~gogreen_core.brushes.paint`), acting where the cursor passes without
+  a Green's function: ``smooth`` (:mod:`~gogreen_core.brushes.smooth`, Taubin relaxation) and
+  ``mask`` (:mod:`~gogreen_core.brushes.mask`, paints the vertex mask that holds vertices).
 
 The interface (:mod:`~gogreen_core.brushes.base`): a :class:`BrushType` turns one event into the
 rows it moves and their new positions; the stroke driver (:mod:`gogreen_core.stroke`) writes
@@ -40,6 +43,7 @@ from gogreen_core.brushes.table import (
     BRUSH_KINDS,
     BRUSH_TABLE,
     GRAB_BRUSHES,
+    PAINT_BRUSHES,
     affine_load_shape,
     brush_type,
 )
@@ -68,6 +72,7 @@ __all__ = [
     "MAX_STRENGTH",
     "MAX_SUBSTEPS",
     "MIN_RADIUS",
+    "PAINT_BRUSHES",
     "WRINKLE_LEVEL",
     "WRINKLE_RING",
     "WRINKLE_TOP_DEGREE",

@@ -5,9 +5,10 @@ returns the rows it moves and their new positions (a :class:`Displacement`), and
 driver (:mod:`gogreen_core.stroke`) writes them, records the stroke and its undo step. A brush
 writes the mesh only when the driver lets it (:attr:`StrokeContext.write_through`: nothing to
 apply to the rows on their way, so a brush whose integrator can write its end positions in place
-saves the driver's scatter; a per-vertex mask would turn it off). A brush type may have a Green's
-function kernel (:meth:`BrushType.kernel`, None otherwise: a relaxation or a mask painter would
-not).
+saves the driver's scatter; a vertex mask turns it off: the driver blends the rows by it). A
+brush type may have a Green's function kernel (:meth:`BrushType.kernel`, None otherwise: the
+smooth brush's relaxation and the mask painter have none). A mask painter returns new mask
+values instead of positions (:attr:`Displacement.mask`).
 
 :class:`GreenBrush` is the family of brushes of the paper: a load at the cursor (a force or an
 affine load) whose regularized Green's function field is taken as a velocity over pseudo-time
@@ -62,17 +63,6 @@ AUTO_INFLUENCE = "auto"
 ZERO_FIELD = 1e-9
 
 
-def mirror_signs(symmetry: str) -> np.ndarray:
-    """Sign rows (2^k, 3) of the mirror group of ``symmetry`` ("", "x", "xz", ...); row 0 is the
-    identity."""
-    rows = [np.ones(3)]
-    for axis in symmetry:
-        flip = np.ones(3)
-        flip["xyz".index(axis)] = -1.0
-        rows += [r * flip for r in rows]
-    return np.array(rows)
-
-
 def smooth_cutoff(distance: np.ndarray, inner: float, outer: float) -> np.ndarray:
     """The brushes' C² cutoff (quintic smoothstep) of ``distance`` (any shape): 1 up to
     ``inner``, 0 from ``outer`` on."""
@@ -82,6 +72,17 @@ def smooth_cutoff(distance: np.ndarray, inner: float, outer: float) -> np.ndarra
         return (distance < outer).astype(float)
     u = np.clip((distance - inner) / width, 0.0, 1.0)
     return 1.0 - u**3 * (10.0 - 15.0 * u + 6.0 * u**2)
+
+
+def mirror_signs(symmetry: str) -> np.ndarray:
+    """Sign rows (2^k, 3) of the mirror group of ``symmetry`` ("", "x", "xz", ...); row 0 is the
+    identity."""
+    rows = [np.ones(3)]
+    for axis in symmetry:
+        flip = np.ones(3)
+        flip["xyz".index(axis)] = -1.0
+        rows += [r * flip for r in rows]
+    return np.array(rows)
 
 
 @dataclass(frozen=True)
@@ -131,19 +132,27 @@ class EventField:
 class Displacement:
     """What one event does: vertex ``rows`` (n,) int64 go to ``positions`` (n, 3) (model
     units; may be the driver's buffer, valid until the next event); ``written``: the brush has
-    written them into the mesh already (:attr:`StrokeContext.write_through`)."""
+    written them into the mesh already (:attr:`StrokeContext.write_through`).
+
+    mask : a mask painter's new mask values (n,) in [0, 1] of ``rows`` (``positions`` is then
+        None: no vertex moves).
+    """
 
     rows: np.ndarray
-    positions: np.ndarray
+    positions: np.ndarray | None
     written: bool = False
+    mask: np.ndarray | None = None
 
 
 class BrushType(ABC):
     """One row of the brush table: how a brush of kind :attr:`kind` acts.
 
-    family : ``"vector"`` (the event carries the cursor's motion ``delta``; the grab family) or
-        ``"affine"`` (the brush stays at the press point and the event carries an ``amount``);
-        the tools read it through :attr:`Brush.is_affine`.
+    family : ``"vector"`` (the event carries the cursor's motion ``delta``; the grab family),
+        ``"affine"`` (the brush stays at the press point and the event carries an ``amount``;
+        the tools read it through :attr:`Brush.is_affine`) or ``"paint"`` (the brush acts
+        where the cursor passes: the event carries the segment from ``center`` to
+        ``center + delta`` and ``amount`` ± the pen pressure, negative to erase or invert; the
+        smooth brush and the mask painter).
     """
 
     family: ClassVar[str] = "vector"
@@ -178,6 +187,11 @@ class BrushType(ABC):
         ``influence``, or :data:`DEFAULT_INFLUENCE` for an automatic one (a brush without a
         field of its own)."""
         return DEFAULT_INFLUENCE if brush.influence == AUTO_INFLUENCE else float(brush.influence)
+
+    def cutoff(self, ctx: StrokeContext, brush: Brush) -> tuple[float, float] | None:
+        """(inner, outer) radii (model units) of the smooth cutoff of the brush's reach, None
+        for none."""
+        return brush.cutoff(ctx.model_size, self.reach(ctx, brush))
 
     def kernel(self, ctx: StrokeContext, brush: Brush) -> GreenKernel | None:
         """The brush's Green's function kernel at its radius (what the cursor's profile
@@ -240,11 +254,6 @@ class GreenBrush(BrushType):
         """The brush's kernel at ε = 1."""
         radial = self.radial(ctx.settings.falloff.with_eps(1.0))
         return ctx.kernels.weighted(self.degree_weights(ctx.settings)).with_radial(radial)
-
-    def cutoff(self, ctx: StrokeContext, brush: Brush) -> tuple[float, float] | None:
-        """(inner, outer) radii (model units) of the smooth cutoff of the field, None for
-        none."""
-        return brush.cutoff(ctx.model_size, self.reach(ctx, brush))
 
     def kernel(self, ctx: StrokeContext, brush: Brush) -> GreenKernel:
         radial = self.radial(ctx.settings.falloff.with_eps(brush.eps(ctx.model_size)))

@@ -19,6 +19,8 @@ from gogreen_core.brushes.affine import (
 )
 from gogreen_core.brushes.base import BrushType
 from gogreen_core.brushes.grab import GrabBrush
+from gogreen_core.brushes.mask import MaskBrush
+from gogreen_core.brushes.smooth import SmoothBrush
 from gogreen_core.brushes.wrinkle import WrinkleBrush
 from gogreen_core.brushes.wrinkle_legacy import LegacyWrinkleBrush
 from gogreen_core.radial import MultiscaleRadial
@@ -30,6 +32,7 @@ __all__ = [
     "BRUSH_TABLE",
     "GRAB_BRUSHES",
     "LEGACY_TABLE",
+    "PAINT_BRUSHES",
     "affine_load_shape",
     "brush_type",
     "weighted_kinds",
@@ -44,6 +47,8 @@ BRUSH_TABLE: tuple[BrushType, ...] = (
     AffineBrush("twist", twist_pattern),
     AffineBrush("pinch", pinch_pattern),
     AffineBrush("stretch", stretch_pattern),
+    SmoothBrush("smooth"),
+    MaskBrush("mask"),
 )
 #: Brushes old sessions use under names the table now gives to others.
 LEGACY_TABLE: tuple[BrushType, ...] = (LegacyWrinkleBrush("wrinkle_legacy"),)
@@ -57,6 +62,8 @@ ALL_KINDS = tuple(_BY_KIND)
 GRAB_BRUSHES = tuple(b.kind for b in BRUSH_TABLE if b.family == "vector")
 #: Affine-load brushes.
 AFFINE_BRUSHES = tuple(b.kind for b in BRUSH_TABLE if b.family == "affine")
+#: Brushes acting where the cursor passes, without a Green's function (smooth, mask).
+PAINT_BRUSHES = tuple(b.kind for b in BRUSH_TABLE if b.family == "paint")
 
 
 def weighted_kinds() -> tuple[str, ...]:

@@ -25,7 +25,7 @@ from gogreen_core.tools.cursor import (
 )
 from gogreen_core.tools.events import CursorState, PointerEvent, ToolUpdate
 from gogreen_core.tools.pins import PIN_PICK_FRACTION, PinController
-from gogreen_core.tools.sculpt import SculptTools, brush_for_key
+from gogreen_core.tools.sculpt import NUMBER_KEYS, SculptTools, brush_for_key
 from gogreen_core.tools.stroke import (
     MIN_PRESSURE_RADIUS,
     PIXELS_PER_UNIT_AMOUNT,
@@ -35,6 +35,7 @@ from gogreen_core.tools.stroke import (
 
 __all__ = [
     "MIN_PRESSURE_RADIUS",
+    "NUMBER_KEYS",
     "PIN_PICK_FRACTION",
     "PIXELS_PER_STRENGTH",
     "PIXELS_PER_UNIT_AMOUNT",

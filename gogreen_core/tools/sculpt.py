@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from dataclasses import replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -30,7 +31,10 @@ from gogreen_core.tools.stroke import StrokeController
 if TYPE_CHECKING:
     from gogreen_core.sculptor import Sculptor
 
-__all__ = ["SculptTools", "brush_for_key"]
+__all__ = ["NUMBER_KEYS", "SMOOTH", "SculptTools", "brush_for_key"]
+
+#: The brush a stroke begun with Shift held uses.
+SMOOTH = "smooth"
 
 
 class _Coalescer:
@@ -55,10 +59,15 @@ class _Coalescer:
         return event
 
 
+#: The number keys in brush order: "1" picks the first of :data:`BRUSH_KINDS`, "0" the tenth.
+NUMBER_KEYS = "1234567890"
+
+
 def brush_for_key(key: str) -> str | None:
-    """The brush a number key picks ("1" → the first of :data:`BRUSH_KINDS`), else None."""
-    if len(key) == 1 and key.isdigit() and 1 <= int(key) <= len(BRUSH_KINDS):
-        return BRUSH_KINDS[int(key) - 1]
+    """The brush a number key picks ("1" → the first of :data:`BRUSH_KINDS`, "0" → the
+    tenth), else None."""
+    if len(key) == 1 and key in NUMBER_KEYS and NUMBER_KEYS.index(key) < len(BRUSH_KINDS):
+        return BRUSH_KINDS[NUMBER_KEYS.index(key)]
     return None
 
 
@@ -246,8 +255,17 @@ class SculptTools:
         return self._value_update()
 
     # -- events ------------------------------------------------------------------------------
+    def stroke_brush(self, modifiers: frozenset[str] = frozenset()) -> Brush:
+        """The brush a stroke begun with ``modifiers`` held uses: the current one, or with
+        Shift the smooth brush at its radius, influence and symmetry (Blender's habit)."""
+        brush = self.brush()
+        if "shift" in modifiers and brush.kind != SMOOTH:
+            return replace(brush, kind=SMOOTH, substeps=0)
+        return brush
+
     def press(self, event: PointerEvent) -> ToolUpdate:
-        """Start a stroke, or add/grab a pin, at the picked ``event.point``."""
+        """Start a stroke (a smoothing one with Shift held), or add/grab a pin, at the picked
+        ``event.point``."""
         if self.sculptor is None or self.dragging:
             return ToolUpdate()
         reason = self.ready() if self.mode == "brush" else None
@@ -259,11 +277,11 @@ class SculptTools:
             if self.mode == "pin":
                 added = self.pin.press(event, self.first_pin_radius)
                 return ToolUpdate(pins_changed=added)
-            self.stroke.press(event, self.brush())
+            moved = self.stroke.press(event, self.stroke_brush(event.modifiers))
         except (ValueError, RuntimeError) as exc:
             self.pin.end()
             return ToolUpdate(error=str(exc))
-        return ToolUpdate(cursor=self.cursor.place(event.point, event.normal))
+        return ToolUpdate(moved=moved, cursor=self.cursor.place(event.point, event.normal))
 
     def move(self, event: PointerEvent) -> None:
         """Record a drag move (applied by the next :meth:`flush`; newer moves replace it)."""
@@ -309,13 +327,18 @@ class SculptTools:
         drag."""
         update = self.flush() if self._moves.pending is not None else ToolUpdate()
         brush = self.stroke.brush
+        history = self.sculptor.history if self.sculptor is not None else None
+        steps = history.done if history is not None else 0
         moved = self.stroke.end()
         self.pin.end()
-        if brush is not None and moved is not None and not len(moved):
+        # recorded nothing: no vertex moved and no mask value painted (a mask stroke moves none)
+        recorded = history is not None and history.done != steps
+        if brush is not None and moved is not None and not recorded:
             hint = "drag away from where you press" if brush.is_affine else "drag farther"
+            mask = " and changed no mask value" if brush.type.family == "paint" else ""
             update.note = (
-                f"Nothing changed: the {brush.kind.replace('_', '-')} stroke moved no vertex, "
-                f"so it is not recorded ({hint})"
+                f"Nothing changed: the {brush.kind.replace('_', '-')} stroke moved no vertex"
+                f"{mask}, so it is not recorded ({hint})"
             )
         return update
 

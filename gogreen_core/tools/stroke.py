@@ -52,7 +52,10 @@ class StrokeController:
     amount 1), and their direction (pinch) from the drag: the sign is + when the drag sets off
     right or up, − left or down (Blender: right or left of the press point, so that a vertical
     drag there always deflates), set once the drag is :data:`AFFINE_SIGN_PIXELS` long and again
-    whenever it comes back that close to the press point, so the amount never jumps.
+    whenever it comes back that close to the press point, so the amount never jumps. Paint
+    brushes (smooth, mask) act where the cursor passes, a dab at the press point first: each
+    event is the segment the cursor moved along the drag plane and the pen pressure (negative
+    with Ctrl: the mask brush erases).
     """
 
     def __init__(self, sculptor: Sculptor, pen: Callable[[], PenSettings] | None = None) -> None:
@@ -85,9 +88,9 @@ class StrokeController:
         """(3,) the press point of the stroke (where affine brushes act), None between strokes."""
         return self._anchor
 
-    def press(self, event: PointerEvent, brush: Brush) -> None:
+    def press(self, event: PointerEvent, brush: Brush) -> np.ndarray | None:
         """Begin a stroke at the picked ``event.point`` (engine errors propagate, nothing
-        starts)."""
+        starts); a paint brush's dab there: the rows it changed (None for other brushes)."""
         if event.point is None:
             raise ValueError("a stroke starts on the surface (no point under the cursor)")
         self.sculptor.begin_stroke(brush)
@@ -99,6 +102,22 @@ class StrokeController:
         self._lazy = (event.screen, self._anchor.copy())
         self._applied = self._anchor.copy()
         self.radius_factor = self._radius_factor(event)
+        if brush.type.family != "paint":
+            return None
+        dab = BrushEvent(
+            center=self._anchor, amount=self._pressure(event), radius_factor=self.radius_factor
+        )
+        try:
+            return self.sculptor.stroke_event(dab)
+        except (ValueError, RuntimeError):
+            self.cancel()
+            raise
+
+    def _pressure(self, event: PointerEvent) -> float:
+        """The pen pressure the step takes (1 unless pressure → strength is on), negative
+        with Ctrl held (the brush inverted, as in Blender)."""
+        pressure = float(np.clip(event.pressure, 0.0, 1.0)) if self.pen().pressure_strength else 1.0
+        return -pressure if "ctrl" in event.modifiers else pressure
 
     def _radius_factor(self, event: PointerEvent) -> float:
         """The radius factor of ``event``'s pressure (1 unless pressure → radius is on)."""
@@ -116,10 +135,8 @@ class StrokeController:
         """The engine event of moving to ``event`` (None when the cursor did not move)."""
         assert self.brush is not None
         self._last_screen = event.screen
-        pressure = float(np.clip(event.pressure, 0.0, 1.0)) if self.pen().pressure_strength else 1.0
+        pressure = self._pressure(event)
         factor = self._radius_factor(event)
-        if "ctrl" in event.modifiers:  # Ctrl held inverts the brush (Blender's habit)
-            pressure = -pressure
         if self.brush.is_affine:
             return self._affine_event(event, pressure, factor)
         point = np.asarray(event.point, dtype=float)
@@ -127,6 +144,8 @@ class StrokeController:
         if not np.any(delta):
             return None
         center, self._last_point = self._last_point, point
+        if self.brush.type.family == "paint":  # the swept segment, the pressure apart
+            return BrushEvent(center=center, delta=delta, amount=pressure, radius_factor=factor)
         return BrushEvent(center=center, delta=pressure * delta, radius_factor=factor)
 
     def _affine_event(

@@ -1,0 +1,246 @@
+"""The Mesh menu: subdivide, invert and clear the mask; and the view kept in step with them.
+
+A subdivision of a big mesh runs off the GUI thread (:func:`prepare_subdivision` on copies of
+the mesh, with progress in the status bar); the window refuses strokes, undo and mask edits
+meanwhile, and the result is adopted on the GUI thread (:meth:`Sculptor.subdivide` with
+``prepared``: one undo step, one session record). Whenever the sculptor's face array or mask
+changed (a subdivision, its undo, a mask stroke), :meth:`MeshEdits.sync` redraws the mesh
+(a new surface index for picking and normals, the pins, the mask's tint).
+"""
+
+from __future__ import annotations
+
+import time
+from typing import TYPE_CHECKING
+
+import numpy as np
+from PySide6.QtCore import QObject, Qt, QTimer
+from PySide6.QtGui import QGuiApplication
+from PySide6.QtWidgets import QMenu, QMenuBar
+
+from app.background import BackgroundRunner
+from gogreen_core.subdivision import PreparedSubdivision, prepare_subdivision
+
+if TYPE_CHECKING:
+    from app.main_window import MainWindow
+    from gogreen_core.sculptor import Sculptor
+
+__all__ = ["BACKGROUND_SUBDIVISION_FACES", "MeshEdits"]
+
+#: Meshes with at least this many faces are subdivided off the GUI thread: the 124k-face ogre
+#: took 0.26-0.37 s here (a loaded machine), the 2M-face one 2.3 s.
+BACKGROUND_SUBDIVISION_FACES = 50_000
+
+
+class MeshEdits(QObject):
+    """The Mesh menu of ``window`` and what keeps its viewport in step with the mesh."""
+
+    def __init__(self, window: MainWindow) -> None:
+        super().__init__(window)
+        self.window = window
+        self._runner = BackgroundRunner(self)
+        self._runner.progress.connect(self._progress)
+        self._runner.finished.connect(self._prepared)
+        self._runner.failed.connect(self._failed)
+        self._runner.cancelled.connect(lambda _job: self._end_job())
+        self._job: int | None = None
+        self._job_started = 0.0
+        self._progress_bar = None
+        self._shown_faces: np.ndarray | None = None
+        #: Seconds of the last subdivision, from the request to the mesh shown (benchmarks).
+        self.last_seconds = 0.0
+
+    def build_menu(self, bar: QMenuBar) -> QMenu:
+        """The Mesh menu: Subdivide (Ctrl+D), Subdivide Unmasked, Invert and Clear Mask."""
+        menu = bar.addMenu("Me&sh")  # not Alt+M: Blender's Clear Mask
+        action = self.window._action
+        self.subdivide_action = action(menu, "&Subdivide", self.subdivide, "subdivide")
+        self.subdivide_unmasked_action = action(
+            menu,
+            "Subdivide &Unmasked",
+            lambda: self.subdivide(unmasked_only=True),
+            "subdivide_unmasked",
+        )
+        menu.addSeparator()
+        action(menu, "&Invert Mask", self.invert_mask, "mask_invert")
+        action(menu, "&Clear Mask", self.clear_mask, "mask_clear")
+        return menu
+
+    # -- state -------------------------------------------------------------------------------
+    @property
+    def _sculptor(self) -> Sculptor:
+        """The shown document's sculptor (the menu acts only while one is shown)."""
+        sculptor = self.window.sculptor
+        assert sculptor is not None
+        return sculptor
+
+    @property
+    def busy(self) -> bool:
+        """A subdivision is being computed."""
+        return self._job is not None
+
+    def refusal(self) -> str | None:
+        """Why the mesh may not change now (a subdivision runs), or None."""
+        if self.busy:
+            return "the mesh is being subdivided (see the status bar); wait until it is done"
+        return None
+
+    def attach(self) -> None:
+        """A new document is shown: forget a running subdivision; the view shows its mesh."""
+        if self._job is not None:
+            self._runner.cancel(self._job)
+            self._end_job()
+        sculptor = self._sculptor
+        self._shown_faces = sculptor.faces
+        self.window.viewport.show_mask_of(sculptor)
+
+    def cancel(self) -> None:
+        """Drop a running subdivision (closing the window)."""
+        self._runner.cancel()
+
+    def wait(self, msecs: int = -1) -> bool:
+        """Block until a running subdivision is computed and adopted (tests)."""
+        return self._runner.wait(msecs)
+
+    # -- view --------------------------------------------------------------------------------
+    def sync(self, indices: np.ndarray | None = None) -> bool:
+        """Bring the view up to the sculptor's mesh: when its faces changed (a subdivision,
+        its undo or redo) the whole mesh is shown again, with its pins and mask (True);
+        else the vertices that differ (or ``indices``), pins and mask are drawn (False)."""
+        document = self.window.document
+        if document is None:
+            return False
+        sculptor = document.sculptor
+        viewport = self.window.viewport
+        remade = sculptor.faces is not self._shown_faces
+        if remade:
+            self._shown_faces = sculptor.faces
+            viewport.set_mesh(sculptor.vertices, sculptor.faces, reset_camera=False)
+            self.window.look.apply_mesh_look()
+            self.window.surface_progress.setValue(0)
+            self.window.surface_progress.setVisible(viewport.surface_building)
+        viewport.show_sculptor(None if remade else indices)
+        return remade
+
+    # -- actions -----------------------------------------------------------------------------
+    def _ready(self, what: str) -> bool:
+        window = self.window
+        if window.document is None:
+            return False
+        reason = self.refusal() or ("a stroke is in progress" if window.tools.dragging else None)
+        if reason:
+            window.flash(f"Cannot {what}: {reason}")
+            return False
+        return True
+
+    def invert_mask(self) -> None:
+        """Mesh → Invert Mask (Ctrl+I): one undo step."""
+        if self._ready("invert the mask"):
+            self._sculptor.mask.invert()
+            self._edited("Mask inverted")
+
+    def clear_mask(self) -> None:
+        """Mesh → Clear Mask (Alt+M): one undo step (nothing when nothing is masked)."""
+        if not self._ready("clear the mask"):
+            return
+        mask = self._sculptor.mask
+        if not mask.any:
+            self.window.flash("Nothing is masked")
+            return
+        mask.clear()
+        self._edited("Mask cleared")
+
+    def subdivide(self, unmasked_only: bool = False) -> None:
+        """Mesh → Subdivide (Ctrl+D) or Subdivide Unmasked: Loop subdivision, one undo step;
+        off the GUI thread with progress for a mesh of :data:`BACKGROUND_SUBDIVISION_FACES`
+        faces or more."""
+        if not self._ready("subdivide"):
+            return
+        sculptor = self._sculptor
+        if unmasked_only and not sculptor.mask.any:
+            self.window.flash("Nothing is masked: Subdivide refines the whole mesh")
+            return
+        self._job_started = time.perf_counter()
+        if len(sculptor.faces) < BACKGROUND_SUBDIVISION_FACES:
+            sculptor.subdivide(unmasked_only)
+            self._subdivided()
+            return
+        source = sculptor.mesh
+        self._job = self._runner.submit(
+            lambda task: prepare_subdivision(source, unmasked_only, task.progress)
+        )
+        bar = self._bar()
+        bar.setValue(0)
+        bar.show()
+        self._enable(False)
+        self.window.flash(f"Subdividing {len(source.faces):,} faces…")
+
+    def _bar(self):
+        if self._progress_bar is None:
+            self._progress_bar = self.window.status.add_progress(
+                100, "subdividing %p%", "Loop subdivision of the mesh; sculpting waits for it"
+            )
+        return self._progress_bar
+
+    def _enable(self, on: bool) -> None:
+        for action in (self.subdivide_action, self.subdivide_unmasked_action):
+            action.setEnabled(on)
+
+    def _progress(self, job: int, fraction: float) -> None:
+        if job == self._job:
+            self._bar().setValue(round(100 * fraction))
+
+    def _prepared(self, job: int, prepared: PreparedSubdivision) -> None:
+        """The background job ended: say that the new mesh is being shown (adopting it and the
+        first frame of a 4M-vertex mesh take seconds on the GUI thread here, measured 0.4 s
+        and 3 s), let the message and a busy cursor paint, then adopt it."""
+        if job != self._job or self.window.document is None:
+            return
+        self._bar().setFormat("showing the mesh…")
+        self._bar().setValue(100)
+        vertices = len(prepared.result.vertices)
+        self.window.flash(f"Showing the subdivided mesh ({vertices:,} vertices)…")
+        QGuiApplication.setOverrideCursor(Qt.CursorShape.WaitCursor)
+        QTimer.singleShot(50, lambda: self._adopt(job, prepared))
+
+    def _adopt(self, job: int, prepared: PreparedSubdivision) -> None:
+        try:
+            if job != self._job or self.window.document is None:
+                return  # another document was opened meanwhile
+            self._end_job()
+            sculptor = self._sculptor
+            try:
+                sculptor.subdivide(prepared.unmasked_only, prepared=prepared)
+            except (ValueError, RuntimeError) as exc:
+                self.window.show_error("Cannot subdivide", str(exc))
+                return
+            self._subdivided()
+        finally:
+            # after the first frame of the new mesh (the paint just requested)
+            QTimer.singleShot(0, QGuiApplication.restoreOverrideCursor)
+
+    def _failed(self, job: int, error: Exception) -> None:
+        if job == self._job:
+            self._end_job()
+            self.window.show_error("Cannot subdivide", f"{type(error).__name__}: {error}")
+
+    def _end_job(self) -> None:
+        self._job = None
+        if self._progress_bar is not None:
+            self._progress_bar.hide()
+            self._progress_bar.setFormat("subdividing %p%")
+        self._enable(True)
+
+    def _subdivided(self) -> None:
+        sculptor = self._sculptor
+        self.last_seconds = time.perf_counter() - self._job_started
+        self._edited(
+            f"Subdivided: {len(sculptor.vertices):,} vertices, {len(sculptor.faces):,} faces "
+            f"in {self.last_seconds:.1f} s (Ctrl+Z undoes it)"
+        )
+
+    def _edited(self, message: str) -> None:
+        self.sync()
+        self.window.refresh_title()
+        self.window._refresh_status()
+        self.window.flash(message)

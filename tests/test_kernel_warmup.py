@@ -1,0 +1,46 @@
+"""The kernel warmer's reports cross from the compiling thread to the GUI thread safely, also
+when the window that asked is gone by then (the compilation of a new machine outlives it)."""
+
+from __future__ import annotations
+
+import threading
+
+import shiboken6
+from PySide6.QtCore import QObject
+
+from app import kernel_warmup
+from app.kernel_warmup import KernelWarmer
+
+
+def _call_on_a_thread(callback) -> list[BaseException]:
+    errors: list[BaseException] = []
+
+    def run() -> None:
+        try:
+            callback([])
+        except BaseException as exc:
+            errors.append(exc)
+
+    thread = threading.Thread(target=run)
+    thread.start()
+    thread.join()
+    return errors
+
+
+def test_a_compilation_ending_after_its_warmer_was_deleted_reports_nowhere(qtbot, monkeypatch):
+    callbacks = []
+    monkeypatch.setattr(kernel_warmup._compiled, "units_for", lambda l_max: (("unit", l_max),))
+    monkeypatch.setattr(kernel_warmup._compiled, "request", lambda *units: None)
+    monkeypatch.setattr(kernel_warmup._compiled, "when_ready", lambda u, cb: callbacks.append(cb))
+    parent = QObject()
+    gone = KernelWarmer(parent)
+    live = KernelWarmer()
+    assert gone.request(6) and live.request(7)
+    assert gone.busy and live.busy
+    shiboken6.delete(parent)  # the window closed: its warmer went with it
+    assert not shiboken6.isValid(gone)
+    with qtbot.waitSignal(live.ready, timeout=5_000) as ready:
+        assert _call_on_a_thread(callbacks[0]) == []  # the deleted warmer's report
+        assert _call_on_a_thread(callbacks[1]) == []
+    assert ready.args[0] == 7  # only the live warmer's own report reached it
+    assert not live.busy and live.compiled(7)
