@@ -220,6 +220,12 @@ KEYMAP: tuple[Binding, ...] = (
     ),
     Binding(("Home",), "reset_camera", "Frame the whole model (the home view)", "View"),
     Binding(("Shift+Z",), "wireframe", "Wireframe on / off", "View"),
+    Binding(
+        ("Shift+V",),
+        "field_preview",
+        "Field preview on / off: colour what the brush would move under the resting cursor",
+        "View",
+    ),
     Binding(("Ctrl+Z",), "undo", "Undo", "Edit"),
     Binding(("Ctrl+Shift+Z", "Ctrl+Y"), "redo", "Redo", "Edit"),
     Binding(("Ctrl+N",), "new", "New: the default model", "File"),

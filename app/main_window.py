@@ -32,6 +32,7 @@ from app.bindings import panel_words, refresh
 from app.brush_bar import BrushBar
 from app.crash_recovery import CrashRecovery
 from app.document import Document
+from app.field_preview import FieldPreviewer
 from app.files import FileActions
 from app.icons import set_icon
 from app.kernel_warmup import KernelWarmer
@@ -110,6 +111,8 @@ class MainWindow(QMainWindow):
         self.viewport = SculptViewport(self)
         self.setCentralWidget(self.viewport)
         self.look = ViewLook(self, self.viewport, self.settings, theme)
+        #: View → Field Preview: what the brush would move, coloured under the resting cursor.
+        self.field_preview = FieldPreviewer(self, self.viewport, self.model, self.settings)
         self.files = FileActions(self)
         self.brush_bar = BrushBar(self.model.brush, self)
         self.addToolBar(Qt.ToolBarArea.TopToolBarArea, self.brush_bar)
@@ -277,6 +280,8 @@ class MainWindow(QMainWindow):
         view_menu.addSeparator()
         self.look.fill_menu(view_menu)
         self._bind_keys(self.look.wireframe_action, "wireframe")
+        view_menu.addAction(self.field_preview.action)
+        self._bind_keys(self.field_preview.action, "field_preview")
         help_menu = bar.addMenu("&Help")
         self.keymap_action = self._action(
             help_menu, "&Keyboard && Mouse", self.toggle_keymap, "keymap", "help"
@@ -390,6 +395,7 @@ class MainWindow(QMainWindow):
             # background jobs stop at their next progress report (a compilation goes on in
             # its own process and needs no waiting for)
             self.falloff_panel.truncation.runner.cancel()
+            self.field_preview.runner.cancel()
             shared_pool().waitForDone(10_000)
             self.viewport.close()
             event.accept()

@@ -6,7 +6,8 @@ stroke is done. :func:`field_preview` evaluates the brush's velocity field once 
 cheaper than one brush event, which takes at least four evaluations) at the vertices it would
 move, for a drag of one ε along ``direction`` (grab brushes: |u| as a fraction of the cursor
 motion) or an ``amount`` of 1 (affine brushes: |u| in ε per unit of log strain or angle); the
-app colours the surface by it while the cursor hovers (View → Field preview).
+app colours the surface by it while the cursor hovers (View → Field preview). Masked vertices
+move (1 − mask) of the way in a stroke, and so in the preview.
 """
 
 from __future__ import annotations
@@ -30,14 +31,14 @@ class FieldPreview:
     """A brush's field at the vertices it reaches.
 
     rows : (n,) int64, the vertices within its influence (and its mirror images').
-    motion : (n,) ≥ 0, |u| per unit drag (grab brushes: as a fraction of the cursor motion;
+    velocity : (n, 3), u per unit drag (grab brushes: as a fraction of the cursor motion;
         affine brushes: in ε per unit amount).
-    direction : (n, 3), u's unit direction (0 where u is 0).
+    motion : (n,) ≥ 0, |u|.
     """
 
     rows: np.ndarray
+    velocity: np.ndarray
     motion: np.ndarray
-    direction: np.ndarray
 
 
 def field_preview(
@@ -73,16 +74,19 @@ def field_preview(
     points = mesh.vertices[rows]
     velocity = np.zeros_like(points)
     for sign in signs:  # v(x) = Σ_M M s(|y − c|) u(y − c), y = o + M (x − o)
-        mirrored = mesh.origin + sign * (points - mesh.origin)
+        identity = bool(np.all(sign == 1.0))
+        mirrored = points if identity else mesh.origin + sign * (points - mesh.origin)
         if behaviour.is_affine:
             u = field.kernel.affine_displacement(mirrored, field.center, field.load)
         else:
             u = field.kernel.displacement(mirrored, field.center, field.load)
-        if cutoff is not None:
-            distance = np.linalg.norm(mirrored - field.center, axis=1)
-            u = u * smooth_cutoff(distance, *cutoff)[:, None]
-        velocity += sign * u
-    size = np.linalg.norm(velocity, axis=1)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        unit_direction = np.where(size[:, None] > 0, velocity / size[:, None], 0.0)
-    return FieldPreview(rows, size / unit, unit_direction)
+        if cutoff is not None:  # only the rows past its start: most of a big mesh is inside
+            offsets = mirrored - field.center
+            distance = np.sqrt(np.einsum("ij,ij->i", offsets, offsets))
+            fading = np.flatnonzero(distance > cutoff[0])
+            u[fading] *= smooth_cutoff(distance[fading], *cutoff)[:, None]
+        velocity += u if identity else sign * u
+    velocity /= unit
+    if mesh.masked:  # a stroke moves a vertex (1 − mask) of the way
+        velocity *= (1.0 - mesh.mask[rows])[:, None]
+    return FieldPreview(rows, velocity, np.sqrt(np.einsum("ij,ij->i", velocity, velocity)))

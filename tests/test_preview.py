@@ -33,7 +33,7 @@ def test_a_grab_preview_is_one_at_the_cursor_and_what_a_stroke_does(pebble):
     sculptor.apply_brush(brush, [BrushEvent(top, step)])
     moved = np.linalg.norm(sculptor.vertices - vertices, axis=1)[preview.rows] / (1e-4 * eps)
     assert np.abs(moved - preview.motion).max() < 1e-3
-    assert np.allclose(np.linalg.norm(preview.direction[preview.motion > 0], axis=1), 1.0)
+    assert np.allclose(preview.motion, np.linalg.norm(preview.velocity, axis=1), rtol=1e-12, atol=0)
 
 
 def test_the_preview_shows_the_material(pebble):
@@ -48,8 +48,7 @@ def test_the_preview_shows_the_material(pebble):
         previews.append(field_preview(sculptor, brush, top, [0, 0, 1.0], [1.0, 0, 0]))
     iso, fibre = previews
     assert np.array_equal(iso.rows, fibre.rows)
-    velocity = [p.motion[:, None] * p.direction for p in previews]
-    assert np.linalg.norm(velocity[0] - velocity[1], axis=1).max() > 0.05
+    assert np.linalg.norm(iso.velocity - fibre.velocity, axis=1).max() > 0.05
 
 
 def test_affine_and_mirrored_previews(pebble):
@@ -64,3 +63,17 @@ def test_affine_and_mirrored_previews(pebble):
     image = np.argmin(np.linalg.norm(vertices - side * [-1, 1, 1], axis=1))
     assert image in preview.rows
     assert field_preview(sculptor, mirrored, side, [0, 0, 1.0], [0, 0, 2.0]) is None  # along
+
+
+def test_wrinkle_and_stretch_previews_and_the_mask(pebble):
+    vertices, faces, top = pebble
+    sculptor = Sculptor(vertices, faces, material=FIBRES)
+    for kind in ("wrinkle", "stretch"):
+        preview = field_preview(sculptor, Brush(kind, radius=0.1), top, [0, 0, 1.0], [1.0, 0, 0])
+        assert preview is not None and preview.motion.max() > 0
+    assert field_preview(sculptor, Brush("smooth"), top, [0, 0, 1.0], [1.0, 0, 0]) is None
+    brush = Brush("grab", radius=0.1, influence=4.0)
+    free = field_preview(sculptor, brush, top, [0, 0, 1.0], [1.0, 0, 0])
+    sculptor.mask.invert()  # all held: a stroke would move nothing, nor does the preview
+    held = field_preview(sculptor, brush, top, [0, 0, 1.0], [1.0, 0, 0])
+    assert np.array_equal(held.rows, free.rows) and not held.motion.any()
