@@ -7,8 +7,10 @@ vertices it would move (:func:`gogreen_core.preview.field_preview`) and those ve
 coloured by how far they would go: from the model's colour where nothing moves, through blue to
 yellow where a vertex follows the cursor entirely (grab brushes; affine brushes are scaled to
 their largest motion), in bands of a tenth, so the shape of the region (stretched along fibres,
-flattened across layers) reads like a contour map. The drag direction is the one the pointer
-last moved in over the model (the view's up at first).
+flattened across layers) reads like a contour map; arrows, about one per ε/2 where a vertex
+moves at least a tenth as far, show which way (an anisotropic material turns them away from the
+drag). The drag direction is the one the pointer last moved in over the model (the view's up at
+first).
 
 The evaluation runs on the background thread (never a wait: 8 ms on the default model, 0.1 to
 0.4 s on a 1M-vertex mesh, ``benchmarks/field_preview.py``); a newer rest supersedes it, a
@@ -59,6 +61,34 @@ def field_colors(motion: np.ndarray, scale: float = 1.0) -> np.ndarray:
     base = np.array(pv.Color(MODEL_COLOR).int_rgb, dtype=np.float64)
     fade = np.clip(t / VISIBLE_MOTION - 1.0, 0.0, 1.0)[:, None]  # 0 up to 1 %, 1 from 2 %
     return np.rint(base + fade * (rgb - base)).astype(np.uint8)
+
+
+def field_arrows(
+    points: np.ndarray,
+    normals: np.ndarray | None,
+    preview: FieldPreview,
+    spacing: float,
+    length: float,
+    scale: float = 1.0,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Arrows of the preview's field: their feet (k, 3) and vectors (k, 3), at most one per
+    cube of side ``spacing`` (model units) among the vertices moving at least a tenth of
+    ``scale``; a vertex that moves ``scale`` gets an arrow ``length`` long, centred on it and
+    lifted along its unit normal (``normals`` (N, 3), or None) so that an arrow leaving the
+    surface's tangent plane is not hidden inside it. ``points``: the vertices (N, 3)."""
+    strong = np.flatnonzero(preview.motion >= 0.1 * scale)
+    if not len(strong) or not spacing > 0:
+        return np.zeros((0, 3)), np.zeros((0, 3))
+    rows = preview.rows[strong]
+    cells = np.floor(points[rows] / spacing).astype(np.int64)
+    _, first = np.unique(cells, axis=0, return_index=True)
+    rows, vectors = rows[first], preview.velocity[strong[first]] * (length / scale)
+    feet = points[rows] - 0.5 * vectors
+    if normals is not None:
+        n = normals[rows]
+        lift = 0.5 * np.abs(np.einsum("ij,ij->i", vectors, n)) + 0.05 * length
+        feet += lift[:, None] * n
+    return feet, vectors
 
 
 class FieldPreviewer(QObject):
@@ -187,5 +217,11 @@ class FieldPreviewer(QObject):
         brush = key[3]
         scale = largest if brush.is_affine and largest > 0 else 1.0
         self._key = key
-        self.viewport.show_field(preview.rows, field_colors(preview.motion, scale))
+        sculptor = self.viewport.tools.sculptor if self.viewport.tools is not None else None
+        arrows = None
+        if sculptor is not None:
+            eps = brush.eps(sculptor.model_size)
+            normals = self.viewport.vertex_normals()
+            arrows = field_arrows(sculptor.vertices, normals, preview, 0.5 * eps, 0.45 * eps, scale)
+        self.viewport.show_field(preview.rows, field_colors(preview.motion, scale), arrows)
         self.shown.emit(largest, seconds)

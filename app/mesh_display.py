@@ -96,6 +96,8 @@ class MeshDisplay(_Base):
         self._field_rgb: np.ndarray | None = None
         self._field_on: np.ndarray | None = None
         self._field_rows = np.zeros(0, dtype=np.int64)
+        #: The field preview's arrows (one actor, its geometry replaced), None until first shown.
+        self.field_arrow_actor: Any = None
         #: Per-mesh index: incremental normals and ray picking (gogreen_core.geometry).
         self.surface: SurfaceIndex | None = None
         self._arrays_shared = False
@@ -138,6 +140,7 @@ class MeshDisplay(_Base):
         self._mask, self._mask_version = None, -1  # the new mesh's tint comes with show_mask
         self._field_rgb = self._field_on = None
         self._field_rows = np.zeros(0, dtype=np.int64)
+        self._show_arrows(None)
         self._index_runner.cancel()
         self._index_job = None
         self.surface = None
@@ -213,11 +216,17 @@ class MeshDisplay(_Base):
         return self._mask is not None
 
     # -- field preview ------------------------------------------------------------------------
-    def show_field(self, rows: np.ndarray | None, colors: np.ndarray | None = None) -> None:
+    def show_field(
+        self,
+        rows: np.ndarray | None,
+        colors: np.ndarray | None = None,
+        arrows: tuple[np.ndarray, np.ndarray] | None = None,
+    ) -> None:
         """Colour the vertices ``rows`` (n,) (the mesh's order) with ``colors`` (n, 3) uint8
-        RGB over the model (the field preview; the mask still darkens them); None: no
-        preview."""
+        RGB over the model (the field preview; the mask still darkens them), with ``arrows``
+        (feet (k, 3), vectors (k, 3), model units) drawn over it; None: no preview."""
         n = self.mesh.n_points if self.mesh is not None else 0
+        self._show_arrows(arrows if rows is not None else None)
         if rows is None or colors is None or n == 0:
             if len(self._field_rows):
                 gone, self._field_rows = self._field_rows, np.zeros(0, dtype=np.int64)
@@ -236,6 +245,29 @@ class MeshDisplay(_Base):
         self._field_rgb[rows] = colors
         self._field_rows = rows
         self._draw_colors(np.union1d(gone, rows))
+
+    def _show_arrows(self, arrows: tuple[np.ndarray, np.ndarray] | None) -> None:
+        """The preview's arrows (one actor, hidden without arrows)."""
+        if arrows is None or not len(arrows[0]):
+            if self.field_arrow_actor is not None and self.field_arrow_actor.GetVisibility():
+                self.field_arrow_actor.SetVisibility(False)
+                self.request_render()
+            return
+        feet, vectors = arrows
+        points = pv.PolyData(np.asarray(feet, dtype=np.float64))
+        points["vectors"] = np.asarray(vectors, dtype=np.float64)
+        glyphs = points.glyph(orient="vectors", scale="vectors", geom=pv.Arrow(), factor=1.0)
+        if self.field_arrow_actor is None:
+            self.field_arrow_actor = pv.Actor(mapper=pv.DataSetMapper(glyphs))
+            self.field_arrow_actor.mapper.ScalarVisibilityOff()
+            prop = self.field_arrow_actor.prop
+            prop.color, prop.ambient, prop.diffuse = "#1b1f27", 0.35, 0.6
+            self.field_arrow_actor.SetPickable(False)
+            self.add_actor(self.field_arrow_actor, reset_camera=False, render=False)
+        else:
+            self.field_arrow_actor.mapper.SetInputData(glyphs)
+        self.field_arrow_actor.SetVisibility(True)
+        self.request_render()
 
     @property
     def field_shown(self) -> bool:
@@ -331,6 +363,13 @@ class MeshDisplay(_Base):
         """Drop a background index build (closing the window)."""
         self._index_runner.cancel()
         self._index_job = None
+
+    def vertex_normals(self) -> np.ndarray | None:
+        """The unit vertex normals (N, 3) drawn, in the mesh's vertex order (None while the
+        surface index is built)."""
+        if self.surface is None:
+            return None
+        return self.surface.normals[self.surface.rank]
 
     def shown_vertices(self) -> np.ndarray:
         """The positions (N, 3) drawn, in the mesh's vertex order (a copy)."""

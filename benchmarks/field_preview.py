@@ -67,7 +67,9 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=5)
     args = parser.parse_args()
     vertices, faces = default_model()
-    measure(Sculptor(vertices, faces, material=MATERIAL, l_max=L_MAX), "default model", args.repeats)
+    measure(
+        Sculptor(vertices, faces, material=MATERIAL, l_max=L_MAX), "default model", args.repeats
+    )
     vertices, faces, name = million_vertex_mesh(SHARED)
     measure(Sculptor(vertices, faces, material=MATERIAL, l_max=L_MAX), name, args.repeats)
 

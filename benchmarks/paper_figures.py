@@ -13,7 +13,10 @@ issue, item 8): what an artist gets from the brushes and presets we ship.
 * ``fig11_stretch.png``: a cube stretched along x at its centre (Fig. 11): Poisson ratios +0.45
   (x–y) / −0.45 (x–z) against an isotropic ν = 0.45, seen along x (the mid-section's outline)
   and from above;
-* ``fig09_truncation.png``: δ(l_max), the truncation error of each anisotropic preset (Fig. 9).
+* ``fig09_truncation.png``: δ(l_max), the truncation error of each anisotropic preset (Fig. 9);
+* ``field_preview.png``: the app's field preview (View → Field Preview) of a grab on the default
+  model, soft clay against the fibre composite, dragged along and across the fibres: what
+  would move and which way, before the stroke, in the app's colours and arrows.
 """
 
 from __future__ import annotations
@@ -38,6 +41,8 @@ from gogreen_core import (
     make_pattern,
 )
 from gogreen_core.brushes import fold_weights
+from gogreen_core.preview import field_preview
+from gogreen_core.shapes import default_model
 from gogreen_core.truncation import truncation_errors
 
 HERE = Path(__file__).resolve().parent
@@ -243,13 +248,65 @@ def truncation_figure(out: Path) -> None:
     plotter.close()
 
 
+def preview_figure(out: Path) -> None:
+    from app.field_preview import field_arrows, field_colors  # the app's (Qt is not shown)
+
+    vertices, faces = default_model()
+    names = ("Soft clay", "Fibre composite")
+    drags = (("along the fibres (z)", (0.0, 0.0, 1.0)), ("across them (y)", (0.0, 1.0, 0.0)))
+    plotter = _plotter(len(names), len(drags))
+    view = np.array([-1.0, 0.0, 0.0])  # seen from +x: the fibres (z) lie in the picture
+    center = vertices[int(np.argmax(vertices[:, 0]))]
+    for row, (how, drag) in enumerate(drags):
+        for column, name in enumerate(names):
+            preset = next(p for p in builtin_presets() if p.name == name)
+            sculptor = Sculptor(vertices, faces, settings=preset.engine_settings())
+            brush = Brush("grab", radius=0.08)
+            eps = brush.eps(sculptor.model_size)
+            start = time.perf_counter()
+            preview = field_preview(sculptor, brush, center, view, drag)
+            seconds = time.perf_counter() - start
+            colors = field_colors(np.zeros(len(vertices)))
+            colors[preview.rows] = field_colors(preview.motion)
+            offsets = vertices[preview.rows] - center
+            half = np.linalg.norm(offsets[preview.motion >= 0.5], axis=1).max() / eps
+            sideways = np.abs(preview.velocity @ np.cross(view, drag)).max()
+            print(
+                f"field preview, {name}, a grab {how}: {len(preview.rows):,} vertices in "
+                f"{1e3 * seconds:.1f} ms; half the cursor's motion up to {half:.2f} eps; "
+                f"sideways motion up to {sideways:.2f} of it"
+            )
+            mesh = _polydata(vertices, faces)
+            mesh["colors"] = colors
+            plotter.subplot(row, column)
+            plotter.add_mesh(mesh, scalars="colors", rgb=True, smooth_shading=True, specular=0.3)
+            shaded = mesh.compute_normals(cell_normals=False, split_vertices=False)
+            normals = np.asarray(shaded.point_data["Normals"])
+            feet, vectors = field_arrows(vertices, normals, preview, 0.5 * eps, 0.45 * eps)
+            arrows = pv.PolyData(feet)
+            arrows["v"] = vectors
+            plotter.add_mesh(
+                arrows.glyph(orient="v", scale="v", geom=pv.Arrow(), factor=1.0),
+                color="#1b1f27",
+            )
+            plotter.add_text(f"{name}: a grab {how}", font_size=10, color="black")
+            plotter.camera_position = [
+                tuple(center + 6 * eps * np.array([1.0, 0.0, 0.0])),
+                tuple(center),
+                (0.0, 1.0, 0.0),
+            ]
+    plotter.screenshot(str(out / "field_preview.png"))
+    plotter.close()
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("-o", "--output", default=str(HERE.parent / "docs" / "figures"))
     args = parser.parse_args(argv)
     out = Path(args.output)
     out.mkdir(parents=True, exist_ok=True)
-    for make in (wrinkle_figure, pinch_figure, stretch_figure, truncation_figure):
+    figures = (wrinkle_figure, pinch_figure, stretch_figure, truncation_figure, preview_figure)
+    for make in figures:
         make(out)
     print(f"wrote the figures to {out}")
     return 0

@@ -11,9 +11,10 @@ from PySide6.QtCore import QPoint, QPointF, Qt
 from PySide6.QtGui import QMouseEvent
 from PySide6.QtTest import QTest
 
-from app.field_preview import field_colors
+from app.field_preview import field_arrows, field_colors
 from app.mesh_display import COLOR_ARRAY, MODEL_COLOR
 from gogreen_core import Material
+from gogreen_core.preview import FieldPreview
 
 NO_KEYS = Qt.KeyboardModifier.NoModifier
 MODEL_RGB = np.array(pv.Color(MODEL_COLOR).int_rgb)
@@ -43,6 +44,19 @@ def test_field_colors_ramp_bands_and_fade():
     assert np.array_equal(field_colors(np.array([2.0]), scale=4.0), field_colors(np.array([0.5])))
 
 
+def test_field_arrows_one_per_cell_where_vertices_move():
+    points = np.array([[0.0, 0, 0], [0.01, 0, 0], [1.0, 0, 0], [2.0, 0, 0]])
+    velocity = np.array([[1.0, 0, 0], [0.9, 0, 0], [0, 0.5, 0], [0, 0.01, 0]])
+    preview = FieldPreview(np.arange(4), velocity, np.linalg.norm(velocity, axis=1))
+    feet, vectors = field_arrows(points, None, preview, spacing=0.5, length=0.2)
+    assert len(feet) == 2  # one for the two close vertices, none for the still one
+    assert np.allclose(np.sort(np.linalg.norm(vectors, axis=1)), [0.1, 0.2])
+    assert np.allclose(feet + 0.5 * vectors, points[[0, 2]])  # centred on their vertices
+    up = np.tile([0.0, 1.0, 0.0], (4, 1))  # lifted along the normal, more when leaving it
+    lifted, _ = field_arrows(points, up, preview, spacing=0.5, length=0.2)
+    assert np.allclose(lifted - feet, [[0, 0.01, 0], [0, 0.01 + 0.05, 0]])
+
+
 def test_the_preview_colours_what_the_brush_would_move_and_goes_during_a_stroke(window, qtbot):
     activate(window, qtbot)
     vp = window.viewport
@@ -63,6 +77,8 @@ def test_the_preview_colours_what_the_brush_would_move_and_goes_during_a_stroke(
     assert np.abs(colors[near] - MODEL_RGB).sum(axis=1).min() > 60  # coloured where it moves
     assert (colors[far] == MODEL_RGB).all()  # untouched where it cannot reach
     assert np.array_equal(sculptor.vertices, before)  # a preview, not a stroke
+    arrows = vp.field_arrow_actor
+    assert arrows.GetVisibility() and arrows.mapper.GetInput().GetNumberOfPoints() > 0
     # a stroke hides it; resting again after the stroke shows it again
     left, none = Qt.MouseButton.LeftButton, Qt.MouseButton.NoButton
 
@@ -72,6 +88,7 @@ def test_the_preview_colours_what_the_brush_would_move_and_goes_during_a_stroke(
     start = QPointF(center_of(window))
     vp.mousePressEvent(mouse(QMouseEvent.Type.MouseButtonPress, start, left, left))
     assert not vp.field_shown and shown_colors(window) is None
+    assert not arrows.GetVisibility()
     end = start + QPointF(8, -5)
     vp.mouseMoveEvent(mouse(QMouseEvent.Type.MouseMove, end, none, left))
     vp.flush_tools()
