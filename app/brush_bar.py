@@ -17,7 +17,7 @@ from PySide6.QtWidgets import QDoubleSpinBox, QLabel, QToolBar, QWidget
 
 from app.bindings import bind, bind_spin
 from app.fields import DecimalField, IntegerField
-from gogreen_core.brushes import BRUSH_KINDS, Brush
+from gogreen_core.brushes import AUTO_INFLUENCE, BRUSH_KINDS, Brush
 from gogreen_core.settings import BrushSettings, PenSettings
 
 __all__ = ["BRUSH_LABELS", "BrushBar"]
@@ -30,7 +30,16 @@ BRUSH_LABELS = {
     "scale": ("Scale", "S", "Scale: inflate (drag right or up) or deflate (left or down)"),
     "twist": ("Twist", "W", "Twist about the view axis: drag right or up, left or down"),
     "pinch": ("Pinch", "P", "Pinch: stretch along the drag (right or up), squeeze (left or down)"),
-    "wrinkle": ("Wrinkle", "R", "Wrinkle: grab with reweighted SH degrees (Falloff panel)"),
+    "stretch": (
+        "Stretch",
+        "E",
+        "Stretch along the drag: the material decides whether the sides narrow or widen",
+    ),
+    "wrinkle": (
+        "Wrinkle",
+        "R",
+        "Wrinkle: a pull that folds the surface around the cursor (folds: Falloff panel)",
+    ),
     "smooth": (
         "Smooth",
         "Shift+S",
@@ -96,14 +105,24 @@ class BrushBar(QToolBar):
         bind_spin(self.settings, "substeps", self.substeps, "Steps")
         self.influence = self._spin(
             "Influence",
-            0.5,
+            0.0,
             50.0,
             1,
             0.5,
-            "Radius of the moved region in brush radii ε (vertices farther stay put; "
-            "a smooth cutoff starts at half of it)",
+            "Radius of the moved region in brush radii ε (vertices farther stay put; a smooth "
+            "cutoff starts at half of it). auto: where the brush's own field has faded to a "
+            "tenth, shown by the cursor's outer ring",
         )
-        bind_spin(self.settings, "influence", self.influence, "Influence")
+        self.influence.setSpecialValueText("auto")  # 0: the field's own reach
+        bind(
+            self.settings,
+            "influence",
+            self.influence,
+            lambda value: self.influence.setValue(0.0 if value == AUTO_INFLUENCE else value),
+            self.influence.valueChanged,
+            lambda value: AUTO_INFLUENCE if value == 0.0 else value,
+            label="Influence",
+        )
         self.addSeparator()
 
         self.symmetry_actions: dict[str, QAction] = {}

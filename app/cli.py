@@ -9,6 +9,7 @@ import sys
 COMMANDS = {
     "deform": "apply one brush stroke to a mesh and write the result",
     "replay": "replay a session file on a mesh (bit for bit the recorded result)",
+    "truncation": "how accurate each l_max is for a material (paper Fig. 9)",
     "recover": "list the crash-recovery journals, or write the mesh or session one recorded",
 }
 

@@ -16,6 +16,7 @@ from PySide6.QtGui import QImage
 from PySide6.QtWidgets import QFileDialog, QMenu, QMessageBox
 
 from app.document import SAVE_FORMATS, Document
+from gogreen_core.material_words import describe_material
 from gogreen_core.mesh_io import write_bytes_atomic, write_text_atomic
 from gogreen_core.presets import builtin_presets, load_preset, save_preset
 
@@ -192,7 +193,7 @@ class FileActions(QObject):
         for preset in presets:
             action = menu.addAction(preset.name)
             action.setStatusTip(preset.description)
-            action.setToolTip(preset.description)
+            action.setToolTip(f"{preset.description}\n{describe_material(preset.material)}")
             action.triggered.connect(lambda _c=False, p=preset: self.window.apply_preset(p))
         menu.setToolTipsVisible(True)
 

@@ -98,10 +98,11 @@ _BRUSH_NAMES = {
     "grab": "Grab brush",
     "grab_biscale": "Bi-scale grab brush (sharper falloff)",
     "grab_triscale": "Tri-scale grab brush (sharpest falloff)",
-    "wrinkle": "Wrinkle brush (needs an anisotropic material)",
+    "wrinkle": "Wrinkle brush: a pull that folds the surface (needs an anisotropic material)",
     "scale": "Scale brush: inflate / deflate",
     "twist": "Twist brush",
     "pinch": "Pinch brush",
+    "stretch": "Stretch brush: pull along the drag; the material moves the sides (Poisson)",
     "smooth": "Smooth brush",
     "mask": "Mask brush (Ctrl erases)",
 }
@@ -114,6 +115,7 @@ _BRUSH_LETTERS = {
     "scale": "S",
     "twist": "W",
     "pinch": "P",
+    "stretch": "E",
     "smooth": "Shift+S",
     "mask": "M",
 }
@@ -218,6 +220,12 @@ KEYMAP: tuple[Binding, ...] = (
     ),
     Binding(("Home",), "reset_camera", "Frame the whole model (the home view)", "View"),
     Binding(("Shift+Z",), "wireframe", "Wireframe on / off", "View"),
+    Binding(
+        ("Shift+V",),
+        "field_preview",
+        "Field preview on / off: colour what the brush would move under the resting cursor",
+        "View",
+    ),
     Binding(("Ctrl+Z",), "undo", "Undo", "Edit"),
     Binding(("Ctrl+Shift+Z", "Ctrl+Y"), "redo", "Redo", "Edit"),
     Binding(("Ctrl+N",), "new", "New: the default model", "File"),

@@ -27,10 +27,12 @@ from PySide6.QtWidgets import (
     QToolBar,
 )
 
+from app.background import shared_pool
 from app.bindings import panel_words, refresh
 from app.brush_bar import BrushBar
 from app.crash_recovery import CrashRecovery
 from app.document import Document
+from app.field_preview import FieldPreviewer
 from app.files import FileActions
 from app.icons import set_icon
 from app.kernel_warmup import KernelWarmer
@@ -49,6 +51,7 @@ from app.viewport import SculptViewport
 from app.wrinkle_hint import WrinkleHint, material_anisotropy, wrinkle_preset
 from gogreen_core.material import Material
 from gogreen_core.presets import Preset
+from gogreen_core.resolution import edges_per_eps
 from gogreen_core.sculptor import Sculptor
 from gogreen_core.settings import ChangeEvent, EngineLink, Settings
 from gogreen_core.tools import SculptTools
@@ -63,6 +66,7 @@ SETTING_NAMES = {
     "falloff": "Falloff",
     "l_max": "Truncation l_max",
     "degree_weights": "Wrinkle weights",
+    "brush_weights": "Degree weights",
     "constraint_radius": "Pin radius",
 }
 FIRST_RUN_HINT = (
@@ -107,6 +111,8 @@ class MainWindow(QMainWindow):
         self.viewport = SculptViewport(self)
         self.setCentralWidget(self.viewport)
         self.look = ViewLook(self, self.viewport, self.settings, theme)
+        #: View → Field Preview: what the brush would move, coloured under the resting cursor.
+        self.field_preview = FieldPreviewer(self, self.viewport, self.model, self.settings)
         self.files = FileActions(self)
         self.brush_bar = BrushBar(self.model.brush, self)
         self.addToolBar(Qt.ToolBarArea.TopToolBarArea, self.brush_bar)
@@ -114,6 +120,10 @@ class MainWindow(QMainWindow):
         self.material_panel = MaterialPanel(settings=self.model)
         self.homogenization_panel = HomogenizationPanel()
         self.falloff_panel = FalloffPanel(settings=self.model)
+        # curves made from a Gaussian get a control point every two edges of the mesh
+        self.falloff_panel.resolution = lambda: (
+            None if self.sculptor is None else edges_per_eps(self.sculptor, self.model.brush.radius)
+        )
         self.look.refresh_colors += [
             self.material_panel.refresh_colors,
             self.homogenization_panel.refresh_colors,
@@ -270,6 +280,8 @@ class MainWindow(QMainWindow):
         view_menu.addSeparator()
         self.look.fill_menu(view_menu)
         self._bind_keys(self.look.wireframe_action, "wireframe")
+        view_menu.addAction(self.field_preview.action)
+        self._bind_keys(self.field_preview.action, "field_preview")
         help_menu = bar.addMenu("&Help")
         self.keymap_action = self._action(
             help_menu, "&Keyboard && Mouse", self.toggle_keymap, "keymap", "help"
@@ -380,7 +392,11 @@ class MainWindow(QMainWindow):
             self.mesh_edits.cancel()
             self.crash_recovery.close()  # saved or discarded: the journal goes
             self.viewport.cancel_surface_build()  # it stops at its next progress report
-            self.kernel_warmer.wait(60_000)  # a compilation cannot be interrupted
+            # background jobs stop at their next progress report (a compilation goes on in
+            # its own process and needs no waiting for)
+            self.falloff_panel.truncation.runner.cancel()
+            self.field_preview.runner.cancel()
+            shared_pool().waitForDone(10_000)
             self.viewport.close()
             event.accept()
         else:

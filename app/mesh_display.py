@@ -1,5 +1,9 @@
 """What the viewport draws and picks: the mesh, its surface index, the pins, the brush cursor.
 
+The mesh's colours: the model colour, darkened where the vertex mask holds vertices, and the
+field preview's colours (:mod:`app.field_preview`) over the vertices the brush would move; both
+are one direct-RGB point array, updated in place for the rows that change.
+
 :class:`MeshDisplay` is a part of :class:`app.viewport.SculptViewport` (a mixin over its
 pyvista plotter): the mesh actor is created once; each brush event writes new positions and
 normals into its arrays in place; picking is a ray cast on the mesh's
@@ -30,6 +34,7 @@ else:
 
 __all__ = [
     "BACKGROUND_INDEX_FACES",
+    "COLOR_ARRAY",
     "HOME_VIEW_DIRECTION",
     "MASK_SHADE",
     "MODEL_COLOR",
@@ -39,7 +44,8 @@ __all__ = [
 MODEL_COLOR = "#c9b79c"  # warm clay
 #: How much darker a fully masked vertex is drawn (Blender shows its mask as a dark tint).
 MASK_SHADE = 0.6
-_MASK_ARRAY = "MaskTint"
+#: The mesh's point array of direct RGB colours (mask tint and field preview).
+COLOR_ARRAY = "SurfaceColors"
 #: Meshes with at least this many faces get their SurfaceIndex built in the background
 #: (about 25 ms of build below it: not worth a flat-shaded moment).
 BACKGROUND_INDEX_FACES = 200_000
@@ -85,6 +91,13 @@ class MeshDisplay(_Base):
         #: the sculptor's mask version it shows (-1: none yet).
         self._mask: np.ndarray | None = None
         self._mask_version = -1
+        #: The field preview: its colours (N, 3) uint8 where ``_field_on`` (N,) bool, and the
+        #: rows it colours now (the mesh's order).
+        self._field_rgb: np.ndarray | None = None
+        self._field_on: np.ndarray | None = None
+        self._field_rows = np.zeros(0, dtype=np.int64)
+        #: The field preview's arrows (one actor, its geometry replaced), None until first shown.
+        self.field_arrow_actor: Any = None
         #: Per-mesh index: incremental normals and ray picking (gogreen_core.geometry).
         self.surface: SurfaceIndex | None = None
         self._arrays_shared = False
@@ -125,6 +138,9 @@ class MeshDisplay(_Base):
         self.show_cursor(None)  # sized for the old mesh; it would also widen the home view
         self.show_pins(np.zeros((0, 3)), 0.0)
         self._mask, self._mask_version = None, -1  # the new mesh's tint comes with show_mask
+        self._field_rgb = self._field_on = None
+        self._field_rows = np.zeros(0, dtype=np.int64)
+        self._show_arrows(None)
         self._index_runner.cancel()
         self._index_job = None
         self.surface = None
@@ -150,7 +166,7 @@ class MeshDisplay(_Base):
         self.mesh = mesh
         if self.mesh_actor is not None:
             self.mesh_actor.mapper.SetInputData(mesh)
-            self._draw_mask()
+            self._draw_colors()
             return
         self.mesh_actor = self.add_mesh(
             mesh,
@@ -164,7 +180,7 @@ class MeshDisplay(_Base):
         )
         self.mesh_actor.mapper.SetInputData(mesh)  # our arrays, updated in place
         self.mesh_actor.GetProperty().SetInterpolationToPhong()
-        self._draw_mask()
+        self._draw_colors()
 
     # -- mask tint ---------------------------------------------------------------------------
     def show_mask_of(self, sculptor: Sculptor, rows: np.ndarray | None = None) -> None:
@@ -184,47 +200,122 @@ class MeshDisplay(_Base):
         if mask is None or (rows is None and not np.any(mask)):
             if self._mask is not None:
                 self._mask = None
-                self._draw_mask()
+                self._draw_colors()
             return
         if self._mask is None or rows is None or len(self._mask) != len(mask):
             self._mask = np.array(mask, dtype=np.float64)
-            self._draw_mask()
+            self._draw_colors()
             return
         rows = np.asarray(rows, dtype=np.int64)
         self._mask[rows] = mask[rows]
-        self._draw_mask(rows)
+        self._draw_colors(rows)
 
     @property
     def mask_shown(self) -> bool:
         """A mask tint is drawn."""
         return self._mask is not None
 
-    def _draw_mask(self, rows: np.ndarray | None = None) -> None:
-        """Colour the mesh from the mask (direct RGB point colours, in the shown order: the
-        surface index's when it draws), or back to the plain colour without one."""
+    # -- field preview ------------------------------------------------------------------------
+    def show_field(
+        self,
+        rows: np.ndarray | None,
+        colors: np.ndarray | None = None,
+        arrows: tuple[np.ndarray, np.ndarray] | None = None,
+    ) -> None:
+        """Colour the vertices ``rows`` (n,) (the mesh's order) with ``colors`` (n, 3) uint8
+        RGB over the model (the field preview; the mask still darkens them), with ``arrows``
+        (feet (k, 3), vectors (k, 3), model units) drawn over it; None: no preview."""
+        n = self.mesh.n_points if self.mesh is not None else 0
+        self._show_arrows(arrows if rows is not None else None)
+        if rows is None or colors is None or n == 0:
+            if len(self._field_rows):
+                gone, self._field_rows = self._field_rows, np.zeros(0, dtype=np.int64)
+                if self._field_on is not None:
+                    self._field_on[gone] = False
+                self._draw_colors(gone)
+            return
+        rows = np.asarray(rows, dtype=np.int64)
+        if self._field_on is None or len(self._field_on) != n:
+            self._field_on = np.zeros(n, dtype=bool)
+            self._field_rgb = np.zeros((n, 3), dtype=np.uint8)
+        assert self._field_rgb is not None
+        gone = self._field_rows
+        self._field_on[gone] = False
+        self._field_on[rows] = True
+        self._field_rgb[rows] = colors
+        self._field_rows = rows
+        self._draw_colors(np.union1d(gone, rows))
+
+    def _show_arrows(self, arrows: tuple[np.ndarray, np.ndarray] | None) -> None:
+        """The preview's arrows (one actor, hidden without arrows)."""
+        if arrows is None or not len(arrows[0]):
+            if self.field_arrow_actor is not None and self.field_arrow_actor.GetVisibility():
+                self.field_arrow_actor.SetVisibility(False)
+                self.request_render()
+            return
+        feet, vectors = arrows
+        points = pv.PolyData(np.asarray(feet, dtype=np.float64))
+        points["vectors"] = np.asarray(vectors, dtype=np.float64)
+        glyphs = points.glyph(orient="vectors", scale="vectors", geom=pv.Arrow(), factor=1.0)
+        if self.field_arrow_actor is None:
+            self.field_arrow_actor = pv.Actor(mapper=pv.DataSetMapper(glyphs))
+            self.field_arrow_actor.mapper.ScalarVisibilityOff()
+            prop = self.field_arrow_actor.prop
+            prop.color, prop.ambient, prop.diffuse = "#1b1f27", 0.35, 0.6
+            self.field_arrow_actor.SetPickable(False)
+            self.add_actor(self.field_arrow_actor, reset_camera=False, render=False)
+        else:
+            self.field_arrow_actor.mapper.SetInputData(glyphs)
+        self.field_arrow_actor.SetVisibility(True)
+        self.request_render()
+
+    @property
+    def field_shown(self) -> bool:
+        """A field preview colours some vertices."""
+        return len(self._field_rows) > 0
+
+    def _colors(self, rows: np.ndarray | None) -> np.ndarray:
+        """The colours (n, 3) uint8 of ``rows`` (None: every vertex), the mesh's order."""
+        n = self.mesh.n_points if self.mesh is not None else 0
+        count = n if rows is None else len(rows)
+        mask = self._mask if self._mask is not None and len(self._mask) == n else None
+        shade = np.zeros(count) if mask is None else (mask if rows is None else mask[rows])
+        colors = _tint(shade)
+        if self.field_shown and self._field_on is not None and self._field_rgb is not None:
+            on = self._field_on if rows is None else self._field_on[rows]
+            field = self._field_rgb if rows is None else self._field_rgb[rows]
+            dark = 1.0 - MASK_SHADE * np.clip(shade[on], 0.0, 1.0)
+            colors[on] = np.rint(dark[:, None] * field[on]).astype(np.uint8)
+        return colors
+
+    def _draw_colors(self, rows: np.ndarray | None = None) -> None:
+        """Colour the mesh (direct RGB point colours, in the shown order: the surface index's
+        when it draws) from the mask and the field preview, only ``rows`` when given, or back
+        to the plain colour without either."""
         if self.mesh is None or self.mesh_actor is None:
             return
         mapper = self.mesh_actor.mapper
         data = self.mesh.point_data
-        if self._mask is None or len(self._mask) != self.mesh.n_points:
-            if _MASK_ARRAY in data:
-                data.remove(_MASK_ARRAY)
+        masked = self._mask is not None and len(self._mask) == self.mesh.n_points
+        if not masked and not self.field_shown:
+            if COLOR_ARRAY in data:
+                data.remove(COLOR_ARRAY)
             mapper.ScalarVisibilityOff()
             self.request_render()
             return
         rank = self.surface.rank if self.surface is not None else None
-        if rows is not None and _MASK_ARRAY in data:
-            data[_MASK_ARRAY][rows if rank is None else rank[rows]] = _tint(self._mask[rows])
-            self.mesh.GetPointData().GetArray(_MASK_ARRAY).Modified()
+        if rows is not None and COLOR_ARRAY in data:
+            data[COLOR_ARRAY][rows if rank is None else rank[rows]] = self._colors(rows)
+            self.mesh.GetPointData().GetArray(COLOR_ARRAY).Modified()
         else:
-            colors = _tint(self._mask)
+            colors = self._colors(None)
             if rank is not None:
                 shown = np.empty_like(colors)
                 shown[rank] = colors
                 colors = shown
-            data[_MASK_ARRAY] = colors
+            data[COLOR_ARRAY] = colors
         mapper.SetScalarModeToUsePointFieldData()
-        mapper.SelectColorArray(_MASK_ARRAY)
+        mapper.SelectColorArray(COLOR_ARRAY)
         mapper.SetColorModeToDirectScalars()
         mapper.ScalarVisibilityOn()
         self.request_render()
@@ -272,6 +363,13 @@ class MeshDisplay(_Base):
         """Drop a background index build (closing the window)."""
         self._index_runner.cancel()
         self._index_job = None
+
+    def vertex_normals(self) -> np.ndarray | None:
+        """The unit vertex normals (N, 3) drawn, in the mesh's vertex order (None while the
+        surface index is built)."""
+        if self.surface is None:
+            return None
+        return self.surface.normals[self.surface.rank]
 
     def shown_vertices(self) -> np.ndarray:
         """The positions (N, 3) drawn, in the mesh's vertex order (a copy)."""

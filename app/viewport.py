@@ -54,6 +54,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
     Signals
     -------
     pointer_pressed(PointerEvent) : a left press on the model handed to the tools.
+    hovered() : a hover was handed to the tools (the cursor moved, or left the model).
     tool_message(str) : what the tools refused and why (e.g. kernels still compiling).
     tool_error(str, str) : (title, message) of an engine error; the stroke was cancelled.
     step_timed(float) : milliseconds of the engine step just drawn.
@@ -67,6 +68,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
     """
 
     pointer_pressed = Signal(object)
+    hovered = Signal()
     tool_message = Signal(str)
     tool_error = Signal(str, str)
     step_timed = Signal(float)
@@ -412,6 +414,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         point, normal = hit if hit is not None else (None, None)
         self.tools.hover(self.pointer_event(pos, point, normal))
         self.flush_tools()
+        self.hovered.emit()
 
     def leaveEvent(self, ev: QEvent) -> None:
         super().leaveEvent(ev)
@@ -438,6 +441,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
             pos = QPointF(self.mapFromGlobal(self.cursor().pos()))
             self.tools.hover(self.pointer_event(pos, None))
             self.flush_tools()
+            self.hovered.emit()
 
     def mouseReleaseEvent(self, ev: QMouseEvent) -> None:
         if self._drag_depth is not None and ev.button() == Qt.MouseButton.LeftButton:

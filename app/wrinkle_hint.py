@@ -10,7 +10,6 @@ from PySide6.QtCore import QObject
 from PySide6.QtGui import QAction
 from PySide6.QtWidgets import QPushButton
 
-from gogreen_core.brushes import default_wrinkle_weights
 from gogreen_core.material import Material
 from gogreen_core.presets import Preset, builtin_presets
 from gogreen_core.settings import Settings
@@ -29,14 +28,13 @@ __all__ = [
 #: the built-in layered / wood / fibre presets 0.65 to 0.83.
 WRINKLE_MIN_ANISOTROPY = 0.25
 WRINKLE_NEEDS = (
-    "needs a layered or fibred (anisotropic) material: on this uniform one it moves the "
-    "surface like Grab"
+    "needs a layered or fibred (anisotropic) material: on this uniform one it pulls without folds"
 )
 #: Tool tip of the wrinkle brush: what it does and what it needs, in an artist's words.
 WRINKLE_TIP = (
-    "Wrinkle: pulls like Grab and ripples the surface around the pull, along the "
-    "material's layers or fibres; needs a layered material such as the “Layered sheet "
-    "wrinkles” preset (ripple strength per degree: Falloff panel)"
+    "Wrinkle: pulls the surface and folds it around the pull, along the material's layers "
+    "or fibres; needs a layered material such as the “Layered sheet wrinkles” preset (fold "
+    "degree and depth: Falloff panel; rotate the material to turn the folds)"
 )
 
 
@@ -99,13 +97,13 @@ class WrinkleHint(QObject):
         self.button.setVisible(lacking)
 
     def use_wrinkle_material(self) -> None:
-        """Apply the wrinkle preset's material and weights: one undo step."""
+        """Apply the wrinkle preset's material, and its l_max and fold weights when this model's
+        l_max is lower (folds need the degrees): one undo step."""
         preset = wrinkle_preset()
-        l_max = self.model.l_max
-        weights = preset.weights
-        if len(weights) != l_max + 1:
-            weights = default_wrinkle_weights(l_max)
         changed = self.model.update({"material": preset.material})
-        # continued: the weights join the material's undo step
-        self.model.update({"degree_weights": weights}, continued=bool(changed))
+        if self.model.l_max < preset.l_max:
+            # continued: the falloff group joins the material's undo step
+            weights = preset.engine_settings().weights_for("wrinkle")
+            self.model.update({"l_max": preset.l_max}, continued=bool(changed))
+            self.model.set_brush_weights("wrinkle", weights.tolist(), continued=True)
         self.flash(f"Wrinkle material: {preset.name} (Ctrl+Z undoes it)")

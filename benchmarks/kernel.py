@@ -252,7 +252,7 @@ def main() -> None:
         "vectorized straight-line code"
     )
     for l_max in args.l_max:
-        (_, l_last), _ = kernel_module._parity_ranges(l_max)  # even degrees: G, vector load
+        (_, l_last), _ = kernel_module.parity_ranges(l_max)  # even degrees: G, vector load
         if l_last > UNROLLED_L_MAX:
             continue
         multiplies, additions = angular_operations(0, l_last)

@@ -109,7 +109,7 @@ def peer_event(vertices: np.ndarray, faces: np.ndarray, repeats: int) -> None:
     prepare_degree(L_MAX)  # the compiled code (a fresh machine gets it in the background)
     sculptor = Sculptor(vertices, faces, material=MATERIAL, l_max=L_MAX)
     center = vertices[int(np.argmax(vertices @ [0.2, 1.0, 0.3]))].copy()
-    brush = Brush("grab", radius=RADIUS)
+    brush = Brush("grab", radius=RADIUS, influence=4.0)  # the peer's ball (504,347 rows)
     delta = MOTION * sculptor.model_size * np.array([0.3, 0.8, 0.5])
     cutoff = brush.cutoff(sculptor.model_size)
     reach = np.empty(len(vertices), dtype=bool)

@@ -1,8 +1,9 @@
-"""Headless command line: ``gogreen replay``, ``gogreen deform`` and ``gogreen recover`` (no Qt
-imported).
+"""Headless command line: ``gogreen replay``, ``gogreen deform``, ``gogreen truncation`` and
+``gogreen recover`` (no Qt imported).
 
     gogreen replay SESSION.json IN -o OUT
     gogreen deform IN -o OUT --brush grab --center X Y Z --delta DX DY DZ [--radius R] ...
+    gogreen truncation [--material FILE | --young E --poisson NU] [--l-max L] [--max-degree D]
     gogreen recover --list | ID [-o OUT] [--session OUT.json] [--discard]
 
 They print a progress bar on stderr and exit with status 2 and a one-line message naming the
@@ -39,6 +40,7 @@ from gogreen_core.recovery import (
 from gogreen_core.schema import parse_falloff, parse_l_max, parse_material, read_json
 from gogreen_core.sculptor import Sculptor
 from gogreen_core.session import load_session
+from gogreen_core.truncation import truncation_errors
 from gogreen_core.validation import (
     ParameterError,
     check_integer,
@@ -49,7 +51,7 @@ from gogreen_core.validation import (
 
 __all__ = ["BATCH_COMMANDS", "main"]
 
-BATCH_COMMANDS = ("replay", "deform", "recover")
+BATCH_COMMANDS = ("replay", "deform", "truncation", "recover")
 
 
 class ProgressBar:
@@ -184,6 +186,19 @@ def _deform(args: argparse.Namespace) -> int:
     _save(mesh, sculptor, args.output)
     if args.session_out:
         write_text_atomic(args.session_out, json.dumps(sculptor.session(), indent=1))
+    return 0
+
+
+def _truncation(args: argparse.Namespace) -> int:
+    """Print δ(l_max) of the material, one line per even l_max, then the summary."""
+    material = _material(args)
+    l_max = parse_l_max(args.l_max, "--l-max")
+    max_degree = check_integer("--max-degree", args.max_degree, low=0, high=44)
+    progress = None if args.quiet else ProgressBar("truncation")
+    report = truncation_errors(material, max_degree, progress=progress)
+    print("relative error of the Green's function within 6 ε, by l_max:")
+    print(report.table())
+    print(report.summary(l_max))
     return 0
 
 
@@ -343,6 +358,15 @@ def _parser() -> argparse.ArgumentParser:
     deform.add_argument("--session-out", help="also write the session JSON here")
     deform.add_argument("-q", "--quiet", action="store_true")
 
+    truncation = sub.add_parser(
+        "truncation", help="how accurate each l_max is for a material (paper Fig. 9)"
+    )
+    truncation.add_argument("--material", help="material JSON (Material.to_dict or a preset)")
+    truncation.add_argument("--young", type=float, default=1.0)
+    truncation.add_argument("--poisson", type=float, default=0.3)
+    truncation.add_argument("--l-max", type=int, default=8, help="the l_max to assess")
+    truncation.add_argument("--max-degree", type=int, default=20, help="largest l_max measured")
+    truncation.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     recover_ = sub.add_parser(
         "recover",
         help="list the crash-recovery journals, or rebuild what one recorded",
@@ -365,9 +389,14 @@ def _parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Run a batch command; returns the exit status (2 on bad input)."""
     args = _parser().parse_args(argv)
-    command = {"replay": _replay, "deform": _deform, "recover": _recover}[args.command]
+    commands = {
+        "replay": _replay,
+        "deform": _deform,
+        "truncation": _truncation,
+        "recover": _recover,
+    }
     try:
-        return command(args)
+        return commands[args.command](args)
     except (ValueError, RuntimeError, OSError) as exc:  # MeshFileError, JournalError: ValueError
         print(f"gogreen {args.command}: error: {exc}", file=sys.stderr)
         return 2

@@ -14,13 +14,15 @@ Adding an engine setting: one field here (its default, its check in ``__post_ini
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, fields, replace
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
 
 from gogreen_core.limits import (
+    check_brush_weights,
     check_constraint_radius,
     check_degree_weights,
     check_falloff,
@@ -38,6 +40,7 @@ __all__ = [
     "SETTING_GROUPS",
     "EngineSettings",
     "legacy_wrinkle_weights",
+    "resized_brush_weights",
 ]
 
 #: ε of the pins (fraction of the model size) when a session file does not say.
@@ -46,7 +49,7 @@ DEFAULT_CONSTRAINT_RADIUS = 0.1
 #: the falloff with l_max and the weights (which belong to one l_max); the pins' radius.
 SETTING_GROUPS: tuple[tuple[str, ...], ...] = (
     ("material",),
-    ("falloff", "l_max", "degree_weights"),
+    ("falloff", "l_max", "degree_weights", "brush_weights"),
     ("constraint_radius",),
 )
 
@@ -58,6 +61,28 @@ def legacy_wrinkle_weights(l_max: int) -> np.ndarray:
     and they replay exactly; new code records the weights it uses explicitly."""
     l_max = check_l_max(l_max)
     return np.maximum(1.0, np.arange(l_max + 1) / 2.0)
+
+
+def _default_weights(kind: str, l_max: int) -> np.ndarray:
+    """The degree weights (l_max + 2,) brush ``kind`` starts with (its table row's)."""
+    from gogreen_core.brushes.table import brush_type  # the table imports this module
+
+    weights: np.ndarray = brush_type(kind).default_weights(l_max)
+    return weights
+
+
+def resized_brush_weights(
+    weights: Mapping[str, tuple[float, ...]], l_max: int
+) -> Mapping[str, tuple[float, ...]]:
+    """``weights`` for another ``l_max``: each brush keeps the degrees both have, and new
+    degrees get the brush's defaults."""
+    out = {}
+    for kind, values in weights.items():
+        padded = _default_weights(kind, l_max)
+        keep = min(len(values), l_max + 2)
+        padded[:keep] = values[:keep]
+        out[kind] = tuple(float(x) for x in padded)
+    return MappingProxyType(out)
 
 
 def _default_material() -> Material:
@@ -76,10 +101,14 @@ class EngineSettings:
     falloff : the falloff shape, a single :class:`RadialProfile` held as an immutable value at
         ε = 1 (each brush sets its ε = radius · model size).
     l_max : SH truncation degree, 0 … ``L_MAX_LIMIT``.
-    degree_weights : per-degree weights (l_max + 1,) of the wrinkle brush (read-only), or None
+    degree_weights : per-degree weights (l_max + 1,) of the legacy wrinkle brush
+        (``wrinkle_legacy``: what sessions before version 3 call ``wrinkle``; read-only), or None
         for :func:`legacy_wrinkle_weights` (what sessions recorded as null, so they replay
-        exactly; the app and presets give weights explicitly).
+        exactly).
     constraint_radius : ε of the pins as a fraction of the model size.
+    brush_weights : per-brush degree weights ω_l (paper Fig. 7 and 10), a read-only mapping
+        from a brush kind to l_max + 2 numbers (degrees 0 … l_max + 1); a brush not in it uses
+        its defaults (:meth:`weights_for`).
 
     Change one with :meth:`replace` (checked again); compare with ``==`` (by content).
     """
@@ -89,6 +118,9 @@ class EngineSettings:
     l_max: int = 8
     degree_weights: np.ndarray | None = None
     constraint_radius: float = DEFAULT_CONSTRAINT_RADIUS
+    brush_weights: Mapping[str, tuple[float, ...]] = field(
+        default_factory=lambda: MappingProxyType({})
+    )
 
     def __post_init__(self) -> None:
         l_max = check_l_max(self.l_max)
@@ -98,6 +130,7 @@ class EngineSettings:
             "l_max": l_max,
             "degree_weights": check_degree_weights(self.degree_weights, l_max),
             "constraint_radius": check_constraint_radius(self.constraint_radius),
+            "brush_weights": check_brush_weights(self.brush_weights, l_max),
         }
         for name, value in checked.items():
             object.__setattr__(self, name, value)
@@ -112,6 +145,25 @@ class EngineSettings:
         ones when None."""
         weights = self.degree_weights
         return legacy_wrinkle_weights(self.l_max) if weights is None else weights
+
+    def weights_for(self, kind: str) -> np.ndarray:
+        """The degree weights ω_l (l_max + 2,) of brush ``kind``: its own in
+        :attr:`brush_weights`, else its defaults (a new array)."""
+        stored = self.brush_weights.get(kind)
+        if stored is None:
+            return _default_weights(kind, self.l_max)
+        return np.array(stored)
+
+    def with_brush_weights(self, kind: str, weights: Iterable[float] | None) -> EngineSettings:
+        """This value with brush ``kind``'s degree weights ω_l set (l_max + 2 numbers, degrees 0
+        … l_max + 1), or back to its defaults for None; e.g.
+        ``sculptor.apply_settings(sculptor.settings.with_brush_weights("pinch", w))``."""
+        table = dict(self.brush_weights)
+        if weights is None:
+            table.pop(kind, None)
+        else:
+            table[kind] = tuple(float(w) for w in weights)
+        return self.replace(brush_weights=table)
 
     def agrees(self, other: EngineSettings, names: Iterable[str]) -> bool:
         """True when the fields ``names`` are equal in both (by content)."""
@@ -136,15 +188,19 @@ class EngineSettings:
         return self == other
 
     def to_dict(self) -> dict[str, Any]:
-        """The session's ``settings`` object (constraint radius included)."""
+        """The session's ``settings`` object (constraint radius included; brush weights when
+        some brush has its own)."""
         w = self.degree_weights
-        return {
+        data = {
             "material": self.material.to_dict(),
             "falloff": self.falloff.to_dict(),
             "l_max": self.l_max,
             "degree_weights": None if w is None else [float(x) for x in w],
             "constraint_radius": self.constraint_radius,
         }
+        if self.brush_weights:
+            data["brush_weights"] = {k: list(v) for k, v in self.brush_weights.items()}
+        return data
 
     @classmethod
     def from_dict(cls, data: object, path: str = "settings") -> EngineSettings:
@@ -163,5 +219,8 @@ class EngineSettings:
             constraint_radius=check_constraint_radius(
                 values.get("constraint_radius", DEFAULT_CONSTRAINT_RADIUS),
                 field_path(path, "constraint_radius"),
+            ),
+            brush_weights=check_brush_weights(
+                values.get("brush_weights"), l_max, field_path(path, "brush_weights")
             ),
         )

@@ -22,6 +22,12 @@ import numpy as np
 from gogreen_core import _compiled, _evaluation
 from gogreen_core._evaluation import EVALUATION, EVALUATIONS, Parity
 from gogreen_core._expansion import SEGMENT_DEGREE
+from gogreen_core.coefficients import (
+    checked_weights,
+    degree_norms,
+    material_sums,
+    pack_terms,
+)
 from gogreen_core.material import Material
 from gogreen_core.quadrature import (
     CHECK_ORDER,
@@ -31,7 +37,7 @@ from gogreen_core.quadrature import (
     material_rule,
 )
 from gogreen_core.radial import TABLE_DEGREE, GaussianRadial, RadialProfile
-from gogreen_core.sph import legendre_recurrence, real_sph_harm
+from gogreen_core.sph import legendre_recurrence
 from gogreen_core.validation import ParameterError, check_number
 
 __all__ = [
@@ -58,12 +64,6 @@ class StreamlineOverflow(ValueError):
 
 #: Default error target of :meth:`GreenKernel.streamlines`, relative to the motion scale.
 STREAMLINE_TOLERANCE = 1e-4
-
-
-def _parity_ranges(l_max: int) -> tuple[tuple[int, int], tuple[int, int]]:
-    """(first, last) degree of each parity for truncation ``l_max``: even l ≤ l_max for G,
-    odd l ≤ l_max + 1 for ∇G."""
-    return (0, l_max - l_max % 2), (1, l_max + 1 - l_max % 2)
 
 
 def prepare_degree(l_max: int) -> float:
@@ -184,18 +184,7 @@ class GreenKernel:
         radial = GaussianRadial(1.0) if radial is None else radial
         if not isinstance(radial, RadialProfile):
             raise ValueError(f"radial must be a RadialProfile (got {type(radial).__name__})")
-        if degree_weights is None:
-            weights = np.ones(l_max + 1)
-        else:
-            weights = np.array(degree_weights, dtype=np.float64)
-            if weights.shape != (l_max + 1,):
-                raise ValueError(
-                    f"degree_weights must have l_max + 1 = {l_max + 1} values "
-                    f"(got shape {weights.shape})"
-                )
-            if not np.all(np.isfinite(weights)):
-                raise ValueError("degree_weights must be finite")
-        weights.setflags(write=False)
+        weights = checked_weights(degree_weights, l_max)
         if evaluation != EVALUATION:
             # its strokes must see the compiled influence test (``_expansion.near_segment``)
             _compiled.prepare(_compiled.DRIVERS)
@@ -203,7 +192,8 @@ class GreenKernel:
         self._evaluation = int(evaluation)
         self._l_max = l_max
         self._weights = weights
-        self._even, self._odd = self._material_terms(material, l_max, weights)
+        self._sums = material_sums(material, l_max)
+        self._even, self._odd = pack_terms(self._sums, l_max, weights)
         rec = legendre_recurrence(l_max + 1)
         self._recurrence = (
             np.ascontiguousarray(rec.qmm),
@@ -213,49 +203,6 @@ class GreenKernel:
         self._set_radial(radial)
 
     # -- precompute --------------------------------------------------------------------------
-    @staticmethod
-    def _material_terms(
-        material: Material, l_max: int, weights: np.ndarray
-    ) -> tuple[Parity, Parity]:
-        nodes, qw = material_rule(material, l_max)
-        (_, even_last), (_, odd_last) = _parity_ranges(l_max)
-        even_degrees = list(range(0, even_last + 1, 2))
-        odd_degrees = list(range(1, odd_last + 1, 2))
-        even_rows = [c for l in even_degrees for c in range(l * l, (l + 1) ** 2)]
-        odd_rows = [c for l in odd_degrees for c in range(l * l, (l + 1) ** 2)]
-        # Σ_q w_q Y_lm(ξ_q) M⁻¹(ξ_q) (and · ξ_q,p): one product per parity, on the rows of the
-        # (terms, n) harmonics (contiguous rows, cheap to gather), in chunks of nodes that bound
-        # the harmonics to ~64 MB.
-        even_sum, odd_sum = 0.0, 0.0
-        chunk = max(256, 8_000_000 // (l_max + 2) ** 2)
-        for start in range(0, len(nodes), chunk):
-            part = nodes[start : start + chunk]
-            m_inv = np.linalg.inv(material.acoustic_tensor(part))
-            m_inv *= qw[start : start + chunk, None, None]
-            flat = m_inv.reshape(len(part), 9)
-            grad_flat = (m_inv[:, :, :, None] * part[:, None, None, :]).reshape(len(part), 27)
-            rows = real_sph_harm(part, l_max + 1).T  # ((L+1)², n), C-contiguous
-            even_sum = even_sum + rows[even_rows] @ flat
-            odd_sum = odd_sum + rows[odd_rows] @ grad_flat
-
-        def pack(l_first: int, l_last: int, degrees: list[int], sums, shape: tuple) -> Parity:
-            base = np.full(l_last + 1 if l_last >= 0 else 1, -1, dtype=np.int64)
-            factors, offset = [], 0
-            for l in degrees:
-                base[l] = offset
-                offset += 2 * l + 1
-                # i^l for even l, i^(l+1) for odd l (both real), the 1/(2π²) and the weight.
-                sign = (-1.0) ** ((l + (l % 2)) // 2)
-                weight = weights[l] if l % 2 == 0 else weights[l - 1]
-                factors.extend([sign * weight / (2 * np.pi**2)] * (2 * l + 1))
-            mats = sums * np.asarray(factors)[:, None]
-            return Parity(l_first, l_last, mats.reshape((offset, *shape)), base)
-
-        return (
-            pack(0, even_last, even_degrees, even_sum, (3, 3)),
-            pack(1, odd_last, odd_degrees, odd_sum, (3, 3, 3)),
-        )
-
     def _set_radial(self, radial: RadialProfile) -> None:
         self._radial = radial
         self._even_tables = _evaluation_tables(radial.table("R", self._even.degrees))
@@ -273,6 +220,27 @@ class GreenKernel:
     def with_eps(self, eps: float) -> GreenKernel:
         """The same kernel with regularization radius ``eps`` (falloff shape unchanged)."""
         return self.with_radial(self._radial.with_eps(eps))
+
+    def with_degree_weights(
+        self, degree_weights: Sequence[float], output_maps: np.ndarray | None = None
+    ) -> GreenKernel:
+        """The same kernel with other ``degree_weights`` (see the class docstring): no new
+        quadrature, bit for bit ``GreenKernel(material, l_max, radial, degree_weights)``.
+        ``output_maps`` (l_max + 1, 3, 3), optional: a linear map A_l applied to each degree's
+        displacement, u = Σ_l A_l u_l (:func:`~gogreen_core.coefficients.pack_terms`; the
+        wrinkle brush keeps only the normal part of its high degrees)."""
+        weights = checked_weights(degree_weights, self._l_max)
+        clone = object.__new__(GreenKernel)
+        clone.__dict__.update(self.__dict__)
+        clone._weights = weights
+        clone._even, clone._odd = pack_terms(self._sums, self._l_max, weights, output_maps)
+        return clone
+
+    def degree_norms(self) -> np.ndarray:
+        """(l_max + 2,) the size of each degree's material term, unweighted
+        (:func:`~gogreen_core.coefficients.degree_norms`): 0 for a degree the material does
+        not have (l > 2 of an isotropic one, up to rounding)."""
+        return degree_norms(self._sums, self._l_max)
 
     # -- properties --------------------------------------------------------------------------
     @property

@@ -12,13 +12,15 @@ whole slider drag, curve drag or pin drag is one undo step.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from types import MappingProxyType
 from typing import ClassVar
 
 import numpy as np
 
 from gogreen_core.brushes import Brush, BrushEvent
-from gogreen_core.limits import MAX_RADIUS, MIN_RADIUS
+from gogreen_core.limits import MAX_RADIUS, MIN_RADIUS, check_brush_weights
 from gogreen_core.material import Material
 from gogreen_core.radial import RadialProfile
 from gogreen_core.schema import (
@@ -149,15 +151,20 @@ class MaterialChange(Operation):
 
 @dataclass(frozen=True, eq=False)
 class FalloffChange(Operation):
-    """Falloff shape, truncation degree and wrinkle weights from now on (an undo step)."""
+    """Falloff shape, truncation degree and degree weights from now on (an undo step):
+    ``degree_weights`` of the legacy wrinkle brush, ``brush_weights`` of every brush that has
+    its own (absent in sessions before version 3: every brush at its defaults)."""
 
     name: ClassVar[str] = "falloff"
     required: ClassVar[tuple[str, ...]] = ("falloff", "l_max")
-    optional: ClassVar[tuple[str, ...]] = ("degree_weights", "continued")
+    optional: ClassVar[tuple[str, ...]] = ("degree_weights", "brush_weights", "continued")
     falloff: RadialProfile
     l_max: int
     degree_weights: np.ndarray | None = None
     continued: bool = False
+    brush_weights: Mapping[str, tuple[float, ...]] = field(
+        default_factory=lambda: MappingProxyType({})
+    )
 
     def to_dict(self) -> dict:
         w = self.degree_weights
@@ -167,6 +174,8 @@ class FalloffChange(Operation):
             "l_max": int(self.l_max),
             "degree_weights": None if w is None else [float(x) for x in w],
         }
+        if self.brush_weights:
+            data["brush_weights"] = {k: list(v) for k, v in self.brush_weights.items()}
         return _with_flag(data, self.continued)
 
     @classmethod
@@ -176,7 +185,10 @@ class FalloffChange(Operation):
         weights = parse_degree_weights(
             data.get("degree_weights"), l_max, field_path(path, "degree_weights")
         )
-        return cls(falloff, l_max, weights, _continued(data, path))
+        brush_weights = check_brush_weights(
+            data.get("brush_weights"), l_max, field_path(path, "brush_weights")
+        )
+        return cls(falloff, l_max, weights, _continued(data, path), brush_weights)
 
 
 @dataclass(frozen=True)

@@ -18,15 +18,18 @@ from __future__ import annotations
 
 import json
 import os
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from importlib.resources import files
 from pathlib import Path
+from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from gogreen_core.brushes import Brush, default_wrinkle_weights
 from gogreen_core.engine_settings import EngineSettings
+from gogreen_core.limits import check_brush_weights
 from gogreen_core.material import Material
 from gogreen_core.mesh_io import write_text_atomic
 from gogreen_core.radial import GaussianRadial, RadialProfile
@@ -45,7 +48,7 @@ if TYPE_CHECKING:
 __all__ = ["PRESET_FORMAT", "Preset", "builtin_presets", "load_preset", "save_preset"]
 
 PRESET_FORMAT = "gogreen-preset"
-PRESET_VERSION = 1
+PRESET_VERSION = 2
 
 
 @dataclass(frozen=True, eq=False)  # eq: the weights array has no single truth value
@@ -65,6 +68,9 @@ class Preset:
     degree_weights: np.ndarray | None = None
     brush: Brush = field(default_factory=Brush)
     description: str = ""
+    brush_weights: Mapping[str, tuple[float, ...]] = field(
+        default_factory=lambda: MappingProxyType({})
+    )
 
     def __post_init__(self) -> None:
         checked = self.engine_settings()
@@ -73,6 +79,7 @@ class Preset:
         object.__setattr__(self, "l_max", checked.l_max)
         if self.degree_weights is not None:
             object.__setattr__(self, "degree_weights", checked.degree_weights)
+        object.__setattr__(self, "brush_weights", checked.brush_weights)
         if not isinstance(self.brush, Brush):
             raise ParameterError(
                 "brush", f"brush must be a Brush (got {type(self.brush).__name__})"
@@ -86,6 +93,7 @@ class Preset:
             "falloff": self.falloff,
             "l_max": self.l_max,
             "degree_weights": self.weights,
+            "brush_weights": self.brush_weights,
         }
         return EngineSettings(**values) if base is None else base.replace(**values)
 
@@ -103,7 +111,13 @@ class Preset:
         caller's to use)."""
         joined = sculptor.material != self.material  # a new step the falloff joins
         sculptor.set_material(self.material)  # ignored when unchanged
-        sculptor.set_falloff(self.falloff, self.l_max, self.weights, continued=joined)
+        sculptor.set_falloff(
+            self.falloff,
+            self.l_max,
+            self.weights,
+            continued=joined,
+            brush_weights=self.brush_weights,
+        )
 
     def to_dict(self) -> dict[str, Any]:
         weights = self.degree_weights
@@ -117,6 +131,11 @@ class Preset:
             "l_max": int(self.l_max),
             "degree_weights": None if weights is None else [float(w) for w in weights],
             "brush": self.brush.to_dict(),
+            **(
+                {"brush_weights": {k: list(v) for k, v in self.brush_weights.items()}}
+                if self.brush_weights
+                else {}
+            ),
         }
 
     @classmethod
@@ -131,7 +150,7 @@ class Preset:
             "",
             data,
             required=("format", "material", "falloff", "brush"),
-            optional=("version", "name", "description", "l_max", "degree_weights"),
+            optional=("version", "name", "description", "l_max", "degree_weights", "brush_weights"),
         )
         version = data.get("version", PRESET_VERSION)
         if check_integer("version", version, low=1) > PRESET_VERSION:
@@ -147,6 +166,7 @@ class Preset:
             degree_weights=parse_degree_weights(data.get("degree_weights"), l_max),
             brush=Brush.from_dict(data["brush"]),
             description=check_string("description", data.get("description", "")),
+            brush_weights=check_brush_weights(data.get("brush_weights"), l_max),
         )
 
 

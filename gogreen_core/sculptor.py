@@ -20,7 +20,8 @@ scaled down to that bound, and a zero one is refused (:mod:`gogreen_core.brushes
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Callable, Iterator, Sequence
+import dataclasses
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -32,6 +33,7 @@ from gogreen_core.engine_settings import (
     DEFAULT_CONSTRAINT_RADIUS,
     SETTING_GROUPS,
     EngineSettings,
+    resized_brush_weights,
 )
 from gogreen_core.history import History
 from gogreen_core.kernel import EVALUATION, GreenKernel
@@ -52,6 +54,7 @@ from gogreen_core.operations import (
 from gogreen_core.pins import Pins
 from gogreen_core.radial import GaussianRadial, RadialProfile
 from gogreen_core.session import (
+    RENAMED_BEFORE_3,
     SESSION_FORMAT,
     SESSION_VERSION,
     LogListener,
@@ -86,7 +89,8 @@ def _record(settings: EngineSettings, group: str, continued: bool) -> Operation:
         return MaterialChange(settings.material, continued)
     if group == "constraint_radius":
         return ConstraintRadius(settings.constraint_radius, continued)
-    return FalloffChange(settings.falloff, settings.l_max, settings.degree_weights, continued)
+    s = settings
+    return FalloffChange(s.falloff, s.l_max, s.degree_weights, continued, s.brush_weights)
 
 
 class Sculptor:
@@ -204,11 +208,6 @@ class Sculptor:
         return self.settings.l_max
 
     @property
-    def degree_weights(self) -> np.ndarray:
-        """Weights of the wrinkle brush (l_max + 1,)."""
-        return self.settings.wrinkle_weights
-
-    @property
     def in_stroke(self) -> bool:
         return self._strokes.active
 
@@ -229,7 +228,7 @@ class Sculptor:
             if group[0] == "material":
                 self.set_material(s.material, continued)
             elif group[0] == "falloff":
-                self.set_falloff(s.falloff, s.l_max, s.degree_weights, continued)
+                self.set_falloff(s.falloff, s.l_max, s.degree_weights, continued, s.brush_weights)
             else:
                 self.set_constraint_radius(s.constraint_radius, continued)
 
@@ -253,9 +252,13 @@ class Sculptor:
                 f"degree_weights, one group at a time (got {sorted(keys)})"
             )
         continued = check_bool("continued", continued)
-        if "l_max" in keys:
-            changes.setdefault("degree_weights", None)  # weights belong to one l_max
         before = self.settings
+        if "l_max" in keys:  # weights belong to one l_max
+            changes.setdefault("degree_weights", None)
+            if "brush_weights" not in keys:
+                changes["brush_weights"] = resized_brush_weights(
+                    before.brush_weights, changes["l_max"]
+                )
         after = before.replace(**changes)
         label = _LABELS[group[0]]
         self._strokes.refuse(f"change the {label}")
@@ -287,15 +290,19 @@ class Sculptor:
         l_max: int | None = None,
         degree_weights: np.ndarray | None = None,
         continued: bool = False,
+        brush_weights: Mapping[str, Sequence[float]] | None = None,
     ) -> None:
-        """Use this falloff shape (and truncation degree, wrinkle weights) from now on (see
+        """Use this falloff shape (and truncation degree, legacy wrinkle weights, per-brush
+        weights: kept, or resized to a new l_max, when None) from now on (see
         :meth:`change_settings`)."""
-        self.change_settings(
-            falloff=falloff,
-            l_max=self.l_max if l_max is None else l_max,
-            degree_weights=degree_weights,
-            continued=continued,
-        )
+        changes: dict[str, Any] = {
+            "falloff": falloff,
+            "l_max": self.l_max if l_max is None else l_max,
+            "degree_weights": degree_weights,
+        }
+        if brush_weights is not None:
+            changes["brush_weights"] = brush_weights
+        self.change_settings(continued=continued, **changes)
 
     def set_constraint_radius(self, radius: float, continued: bool = False) -> None:
         """ε of the constraints, relative to the model size (see :meth:`change_settings`)."""
@@ -308,9 +315,19 @@ class Sculptor:
         a brush without a Green's function)."""
         return self._strokes.kernel(self._kernels, brush)
 
+    def influence(self, brush: Brush) -> float:
+        """``brush``'s influence radius in multiples of ε (``inf``: every vertex): its own
+        number, or the one ``"auto"`` gives with the current settings (what the cursor's
+        influence ring shows)."""
+        return self._strokes.reach(self._kernels, brush)
+
     def begin_stroke(self, brush: Brush) -> None:
-        """Start a stroke with ``brush``; events follow, then :meth:`end_stroke`."""
+        """Start a stroke with ``brush``; events follow, then :meth:`end_stroke`. In a sculptor
+        replaying a session before version 3 (which records version 2 again) a brush's name
+        means what it meant then (``wrinkle`` is ``wrinkle_legacy``)."""
         self._strokes.refuse("begin a stroke")
+        if self._kernels.evaluation != EVALUATION and brush.kind in RENAMED_BEFORE_3:
+            brush = dataclasses.replace(brush, kind=RENAMED_BEFORE_3[brush.kind])
         self._strokes.begin(brush)
 
     def stroke_event(self, event: BrushEvent) -> np.ndarray:

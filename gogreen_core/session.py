@@ -7,13 +7,16 @@ e.g. ``operations[3].events[0].delta``), :func:`load_session` reads a file, and 
 (:meth:`Sculptor.replay`) applies the typed operations through the sculptor's public methods,
 which record them again in its own log, so replaying a session records the same session.
 
-Version 1 files (written before settings changes were undo steps) still replay as recorded:
-their material, falloff and constraint-radius changes are not undo steps. Version 1 and 2 files
-replay with the kernels' evaluation 1, the arithmetic they were recorded with, bit for bit.
+Older files still replay as recorded, bit for bit: in version 1 files (written before settings
+changes were undo steps) material, falloff and constraint-radius changes are not undo steps;
+version 1 and 2 files replay with the kernels' evaluation 1, the arithmetic they were recorded
+with, their ``wrinkle`` brush is the one of that time (``wrinkle_legacy`` now; its weights are
+the settings' ``degree_weights``) and a stroke that gives no influence had 4 ε.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import os
 from collections.abc import Callable, Iterator, Sequence
@@ -56,6 +59,7 @@ if TYPE_CHECKING:
     from gogreen_core.sculptor import Sculptor
 
 __all__ = [
+    "RENAMED_BEFORE_3",
     "SESSION_FORMAT",
     "SESSION_VERSION",
     "Session",
@@ -67,10 +71,16 @@ __all__ = [
 ]
 
 SESSION_FORMAT = "gogreen-session"
-#: 3: computed with the kernels' evaluation 2 (``GreenKernel(evaluation=2)``);
-#: 2: settings changes are undo steps (``continued`` joins one to the previous), evaluation 1;
-#: 1: they were not. Sessions of versions 1 and 2 replay with evaluation 1, bit for bit.
+#: 3: computed with the kernels' evaluation 2 (``GreenKernel(evaluation=2)``); ``wrinkle`` is
+#: the folding wrinkle brush, brushes have their own degree weights (``brush_weights``) and an
+#: automatic influence; 2: settings changes are undo steps (``continued`` joins one to the
+#: previous), evaluation 1; 1: they were not. Sessions of versions 1 and 2 replay with
+#: evaluation 1, bit for bit.
 SESSION_VERSION = 3
+#: The brush influence (in ε) of a session before version 3 that does not give one.
+OLD_DEFAULT_INFLUENCE = 4.0
+#: The brush kinds a session before version 3 names differently: what they are now.
+RENAMED_BEFORE_3 = {"wrinkle": "wrinkle_legacy"}
 #: Most operations one session file may hold.
 MAX_OPERATIONS = 10_000_000
 
@@ -174,8 +184,31 @@ def parse_session(data: object) -> Session:
         sha = check_string("mesh.sha256", sha, max_length=64)
     settings = EngineSettings.from_dict(data["settings"], "settings")
     operations = check_list("operations", data["operations"], max_length=MAX_OPERATIONS)
+    if version < 3:  # the brush influence was 4 ε when a file did not say
+        operations = [_old_influence(op) for op in operations]
     ops = tuple(operation_from_dict(op, field("operations", i)) for i, op in enumerate(operations))
+    if version < 3:
+        ops = tuple(_renamed(op) for op in ops)
     return Session(vertices, faces, sha, settings, ops, version)
+
+
+def _old_influence(op: object) -> object:
+    """A stroke record of a session before version 3 with its brush's influence made explicit:
+    4 ε (:data:`OLD_DEFAULT_INFLUENCE`), the default then (now "auto")."""
+    if not (isinstance(op, dict) and isinstance(op.get("brush"), dict)):
+        return op
+    if "influence" in op["brush"]:
+        return op
+    return {**op, "brush": {**op["brush"], "influence": OLD_DEFAULT_INFLUENCE}}
+
+
+def _renamed(op: Operation) -> Operation:
+    """``op`` with the brush kind its name meant before version 3 (:data:`RENAMED_BEFORE_3`)."""
+    if isinstance(op, Stroke) and op.brush.kind in RENAMED_BEFORE_3:
+        return dataclasses.replace(
+            op, brush=dataclasses.replace(op.brush, kind=RENAMED_BEFORE_3[op.brush.kind])
+        )
+    return op
 
 
 def load_session(path: str | os.PathLike) -> Session:
@@ -208,6 +241,7 @@ def _falloff(sculptor: Sculptor, op: FalloffChange) -> None:
         falloff=op.falloff,
         l_max=op.l_max,
         degree_weights=op.degree_weights,
+        brush_weights=op.brush_weights,
         continued=op.continued,
         replaying=True,
     )

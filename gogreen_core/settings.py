@@ -35,13 +35,15 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
-from gogreen_core.brushes import DEFAULT_INFLUENCE, Brush, default_wrinkle_weights
+from gogreen_core.brushes import AUTO_INFLUENCE, Brush, default_wrinkle_weights
 from gogreen_core.engine_settings import (
     DEFAULT_CONSTRAINT_RADIUS,
     SETTING_GROUPS,
     EngineSettings,
+    resized_brush_weights,
 )
 from gogreen_core.limits import (
+    check_brush_weights,
     check_constraint_radius,
     check_degree_weights,
     check_falloff,
@@ -245,7 +247,9 @@ class BrushSettings(EventedModel):
     strength = Field(1.0, _brush_value, doc="multiplies the cursor motion or amount")
     substeps = Field(0, _brush_value, doc="RK4 steps per mouse event (0: adaptive)")
     influence = Field(
-        DEFAULT_INFLUENCE, _brush_value, doc="radius of the moved region, in multiples of ε"
+        AUTO_INFLUENCE,
+        _brush_value,
+        doc='radius of the moved region, in multiples of ε, or "auto" (where the field fades)',
     )
     symmetry = Field("", _brush_value, doc='mirror planes, any of "x", "y", "z"')
 
@@ -337,9 +341,12 @@ class Settings(EventedModel):
         replacing the current ones; an edit (the curve editor's) assigns a new value. It always
         has the curves :func:`needed_curves` of ``l_max`` (missing ones: Gaussian); curves above
         l_max are kept.
-    degree_weights : (l_max + 1,) wrinkle weights (read-only); changing l_max keeps the common
-        degrees and gives new ones :func:`default_wrinkle_weights`.
+    degree_weights : (l_max + 1,) weights of the legacy wrinkle brush of old sessions
+        (read-only); changing l_max keeps the common degrees and gives new ones
+        :func:`default_wrinkle_weights`.
     constraint_radius : ε of the pins, as a fraction of the model size.
+    brush_weights : per-brush degree weights ω_l (kind → l_max + 2 numbers, read-only mapping);
+        changing l_max keeps the common degrees and gives new ones each brush's defaults.
 
     :attr:`engine_settings` is the engine's part as one :class:`EngineSettings` value.
     ``brush`` is a :class:`BrushSettings` (a sub-model with events of its own).
@@ -350,6 +357,7 @@ class Settings(EventedModel):
     falloff = Field(None)  # checked in _normalize, with l_max
     degree_weights = Field(None)  # checked in _normalize, with l_max
     constraint_radius = Field(DEFAULT_CONSTRAINT_RADIUS, _radius)
+    brush_weights = Field(None)  # checked in _normalize, with l_max
 
     def __init__(self, **values: Any) -> None:
         self.brush = BrushSettings()
@@ -368,6 +376,11 @@ class Settings(EventedModel):
             out["falloff"] = self._spline(out.get("falloff"), l_max)
         if "degree_weights" in out or "l_max" in out or first:
             out["degree_weights"] = self._weights(out.get("degree_weights"), l_max)
+        if "brush_weights" in out or "l_max" in out or first:
+            given = out.get("brush_weights")
+            if given is None:
+                given = resized_brush_weights(self._values.get("brush_weights") or {}, l_max)
+            out["brush_weights"] = check_brush_weights(given, l_max, "brush_weights")
         return out
 
     def _spline(self, profile: object, l_max: int) -> SplineRadial:
@@ -403,7 +416,20 @@ class Settings(EventedModel):
             l_max=self.l_max,
             degree_weights=self.degree_weights,
             constraint_radius=self.constraint_radius,
+            brush_weights=self.brush_weights,
         )
+
+    def weights_for(self, kind: str) -> np.ndarray:
+        """Brush ``kind``'s degree weights ω_l (l_max + 2,) (its defaults when it has none of its
+        own)."""
+        return self.engine_settings.weights_for(kind)
+
+    def set_brush_weights(
+        self, kind: str, weights: Sequence[float] | None, *, continued: bool = False
+    ) -> None:
+        """Give brush ``kind`` the degree weights ``weights`` (None: its defaults)."""
+        value = self.engine_settings.with_brush_weights(kind, weights)
+        self.update({"brush_weights": value.brush_weights}, continued=continued)
 
     # -- presets and the engine's options ----------------------------------------------------
     def preset(self, name: str = "", description: str = "") -> Preset:
@@ -416,6 +442,7 @@ class Settings(EventedModel):
             degree_weights=self.degree_weights,
             brush=self.brush.brush,
             description=description,
+            brush_weights=self.brush_weights,
         )
 
     def apply_preset(self, preset: Preset) -> None:
@@ -426,6 +453,7 @@ class Settings(EventedModel):
                 "l_max": preset.l_max,
                 "falloff": preset.falloff,
                 "degree_weights": preset.weights,
+                "brush_weights": preset.brush_weights,
             }
         )
         self.brush.set_brush(preset.brush)

@@ -49,6 +49,7 @@ class _Stroke:
     before: np.ndarray  # (N, 3) the vertices when the stroke began
     touched: np.ndarray  # (N,) bool: rows an event moved
     events: list[BrushEvent] = field(default_factory=list)
+    memo: dict = field(default_factory=dict)  # the brush's state between events
     mask_before: np.ndarray | None = None  # (N,) the mask, copied at the first mask edit
 
 
@@ -71,12 +72,22 @@ class StrokeDriver:
             raise RuntimeError(f"cannot {what} during a stroke; end the stroke first")
 
     def context(self, kernels: KernelCache) -> StrokeContext:
-        """What a brush sees of the engine (the mesh, ``kernels``, the result buffer)."""
-        return StrokeContext(self.mesh, kernels, self._buffer, write_through=not self.mesh.masked)
+        """What a brush sees of the engine (the mesh, ``kernels``, the result buffer, its state
+        in the current stroke)."""
+        memo = None if self._stroke is None else self._stroke.memo
+        return StrokeContext(
+            self.mesh, kernels, self._buffer, write_through=not self.mesh.masked, stroke=memo
+        )
 
     def kernel(self, kernels: KernelCache, brush: Brush) -> GreenKernel | None:
         """``brush``'s Green's function kernel at its radius (None for a brush without one)."""
         return brush.type.kernel(self.context(kernels), brush)
+
+    def reach(self, kernels: KernelCache, brush: Brush) -> float:
+        """``brush``'s influence radius in ε, resolved (:meth:`BrushType.reach`)."""
+        if not isinstance(brush, Brush):
+            raise ParameterError("brush", f"brush must be a Brush (got {type(brush).__name__})")
+        return brush.type.reach(self.context(kernels), brush)
 
     def begin(self, brush: Brush) -> None:
         if not isinstance(brush, Brush):

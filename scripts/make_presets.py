@@ -23,7 +23,7 @@ from gogreen_core import (
     make_pattern,
     save_preset,
 )
-from gogreen_core.brushes import default_wrinkle_weights
+from gogreen_core.brushes import fold_weights
 
 FOLDER = Path(__file__).resolve().parents[1] / "resources" / "presets"
 
@@ -98,11 +98,25 @@ def builtin() -> dict[str, Preset]:
             "Layered sheet wrinkles",
             _tilt(laminate, 45.0),
             GaussianRadial(1.0),
-            degree_weights=default_wrinkle_weights(8),
+            l_max=10,
             brush=Brush("wrinkle", radius=0.06),
+            brush_weights={"wrinkle": fold_weights(10, 8)},
             description=(
-                "Homogenized 1:100 laminate, layers tilted 45°, with the wrinkle brush's "
-                "boosted degrees: pulls ripple the surface along the layers."
+                "Homogenized 1:100 laminate, layers tilted 45°: the wrinkle brush folds the "
+                "surface around the cursor along the layers (fold degree 6, 8 or 10 and the "
+                "fold depth in the Falloff panel; rotate the material to turn the folds)."
+            ),
+        ),
+        "07_auxetic_stretch": Preset(
+            "Auxetic stretch",
+            Material.orthotropic(
+                young=(1.0, 1.0, 1.0), shear=(0.4, 0.4, 0.4), poisson=(0.45, -0.45, 0.0)
+            ),
+            GaussianRadial(1.0),
+            brush=Brush("stretch", radius=0.15),
+            description=(
+                "Orthotropic with Poisson ratios +0.45 (x–y) and −0.45 (x–z): stretched along "
+                "x it narrows along y and widens along z (the stretch brush, paper Fig. 11)."
             ),
         ),
     }

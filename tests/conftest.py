@@ -10,6 +10,7 @@ Ogre is huge (~30 units). The made meshes below have the same properties (checke
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -183,6 +184,16 @@ def made_huge(tmp_path_factory) -> MadeMesh:
     path = tmp_path_factory.mktemp("made") / "huge.obj"
     write_obj(path, vertices, faces)
     return MadeMesh(path, vertices, faces)
+
+
+@pytest.fixture(autouse=True)
+def background_jobs_end():
+    """After each test, wait for the app's background jobs (a panel's computation outlives the
+    panel by up to a second), so that none runs on into the next test or past the end."""
+    yield
+    background = sys.modules.get("app.background")
+    if background is not None:
+        background.shared_pool().waitForDone(60_000)
 
 
 @pytest.fixture(autouse=True)

@@ -28,7 +28,7 @@ def test_top_level_help_lists_each_command_on_one_line_and_how_to_get_its_help(c
         wanted = [f"  {name:<{width}}  {summary}"]
         assert [line for line in lines if line.split()[:1] == [name]] == wanted
         assert f"`gogreen {name} --help`" in text
-    assert "gogreen {deform,replay,recover} ..." in text  # in the usage too
+    assert "gogreen {" + ",".join(COMMANDS) + "} ..." in text  # in the usage too
     assert _help(capsys, ["-h"]) == text
 
 
@@ -46,7 +46,8 @@ def test_the_listed_commands_are_the_ones_the_batch_parser_runs():
 def test_each_command_keeps_its_own_help(capsys, name):
     text = _help(capsys, [name, "--help"])
     assert text.startswith(f"usage: gogreen {name} ")
-    assert "-o OUTPUT" in text
+    if name != "truncation":  # it prints its table
+        assert "-o OUTPUT" in text
 
 
 def test_help_opens_no_window_and_loads_no_qt():

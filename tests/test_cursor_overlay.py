@@ -11,7 +11,8 @@ def test_cursor_shows_radius_and_influence_and_updates_without_a_move(window):
     hover(window, center_of(window))
     assert vp.cursor_visible
     (_, eps_px, outer_px) = vp.cursor_overlay.screen
-    assert outer_px == pytest.approx(window.model.brush.influence * eps_px)
+    influence = window.document.sculptor.influence(window.model.brush.brush)  # "auto": resolved
+    assert outer_px == pytest.approx(influence * eps_px)
     window.model.brush.radius = 2 * window.model.brush.radius  # no mouse move
     vp.render_now()
     assert vp.cursor_overlay.screen[1] == pytest.approx(2 * eps_px, rel=0.05)
@@ -169,6 +170,7 @@ def test_pen_pressure_drives_the_radius_along_one_stroke_and_the_cursor_shows_it
     sculptor = window.document.sculptor
     window.model.pen.pressure_radius = True
     window.model.pen.pressure_strength = False
+    window.model.brush.influence = 4.0  # a ball smaller than the model, so it can shrink
     pressures = [1.0, 0.8, 0.55, 0.3]
     start = center_of(window)
     tablet(vp, QMouseEvent.Type.TabletPress, start, pressures[0])

@@ -192,8 +192,10 @@ def test_a_new_machine_sculpts_at_once_and_the_switch_changes_nothing(tmp_path):
 
 
 def sculpt_session(sculptor: Sculptor) -> np.ndarray:
+    # brushes whose names mean the same in sessions of every version (a version-2 file's
+    # wrinkle is the legacy brush)
     top = sculptor.vertices[int(np.argmax(sculptor.vertices[:, 2]))].copy()
-    for kind in ("grab", "grab_biscale", "wrinkle"):
+    for kind in ("grab", "grab_biscale", "grab_triscale"):
         events = [BrushEvent(top, np.array([0.0, 0.05, 0.1])), BrushEvent(top, [0.05, 0, 0.05])]
         sculptor.apply_brush(Brush(kind, radius=0.2, symmetry="x"), events)
     for kind in ("scale", "twist", "pinch"):

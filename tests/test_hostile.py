@@ -100,6 +100,7 @@ def hostile_sessions(session: dict):
         ("kind", 3),
         ("symmetry", 3),
         ("influence", -1),
+        ("influence", "automatic"),
     ]:
         name = f"operations[{stroke}].brush.{field}"
         yield f"brush {field} {bad!r}", edited(session, (*br, field), bad), name
@@ -116,6 +117,16 @@ def hostile_sessions(session: dict):
         edited(session, ("operations", add, "point"), [1e300, 0, 0]),
         f"operations[{add}].point",
     )
+    weights = ("operations", falloff, "brush_weights")
+    for what, bad, where in [
+        ("kind", {"bogus": [1.0] * 10}, "bogus"),
+        ("length", {"pinch": [1.0, 2.0]}, "pinch"),
+        ("nan", {"grab": [float("nan")] * 10}, "grab"),
+        ("huge", {"grab": [1e300] * 10}, "grab"),
+        ("type", ["grab"], None),
+    ]:
+        name = f"operations[{falloff}].brush_weights" + (f".{where}" if where else "")
+        yield f"brush weights {what}", edited(session, weights, bad), name
     yield (
         "l_max big",
         edited(session, ("operations", falloff, "l_max"), 1e300),

@@ -401,3 +401,33 @@ def test_openmp_threads_wait_passively_unless_the_user_chose():
             [sys.executable, "-c", script], env=env, capture_output=True, text=True, check=True
         )
         assert result.stdout.split()[-1] == expected
+
+
+def test_reweighting_a_kernel_needs_no_quadrature_and_is_exact():
+    """with_degree_weights gives bit for bit the kernel built with those weights, and its
+    output maps act on each degree's displacement (the wrinkle brush's normal projection)."""
+    material = Material.orthotropic(
+        young=(1.0, 0.6, 12.0), shear=(0.8, 0.9, 0.3), poisson=(0.45, 0.03, 0.03)
+    )
+    weights = np.array([1.0, 0.5, 2.0, 3.0, 0.1, 7.0, 1.0, 1.0, 4.0])
+    built = GreenKernel(material, 8, GaussianRadial(0.3), weights)
+    reweighted = GreenKernel(material, 8, GaussianRadial(0.3)).with_degree_weights(weights)
+    points = np.random.default_rng(1).normal(size=(64, 3))
+    assert np.array_equal(built.green(points), reweighted.green(points))
+    assert np.array_equal(built.green_gradient(points), reweighted.green_gradient(points))
+    normal = np.array([0.2, 0.3, 0.9]) / np.linalg.norm([0.2, 0.3, 0.9])
+    maps = np.array([np.eye(3) if l < 4 else np.outer(normal, normal) for l in range(9)])
+    mapped = built.with_degree_weights(weights, maps)
+    low = built.with_degree_weights(weights * (np.arange(9) < 4))
+    high = built.with_degree_weights(weights * (np.arange(9) >= 4))
+    force, load = np.array([0.3, -1.0, 0.5]), np.random.default_rng(3).normal(size=(3, 3))
+    expected = low.displacement(points, np.zeros(3), force) + high.displacement(
+        points, np.zeros(3), force
+    ) @ np.outer(normal, normal)
+    assert np.allclose(mapped.displacement(points, np.zeros(3), force), expected, atol=1e-15)
+    expected = low.affine_displacement(points, np.zeros(3), load) + high.affine_displacement(
+        points, np.zeros(3), load
+    ) @ np.outer(normal, normal)
+    assert np.allclose(mapped.affine_displacement(points, np.zeros(3), load), expected, atol=1e-15)
+    with pytest.raises(ValueError, match="output_maps"):
+        built.with_degree_weights(weights, maps[:3])

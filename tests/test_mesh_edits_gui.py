@@ -11,6 +11,7 @@ from PySide6.QtGui import QMouseEvent
 from PySide6.QtTest import QTest
 
 import app.mesh_edits as mesh_edits
+from app.mesh_display import COLOR_ARRAY
 
 CTRL = Qt.KeyboardModifier.ControlModifier
 ALT = Qt.KeyboardModifier.AltModifier
@@ -38,9 +39,9 @@ def drag_with(window, start: QPoint, modifiers=Qt.KeyboardModifier.NoModifier, s
 def shown_colors(window):
     """The tint colours (N, 3) in the mesh's vertex order, None without a tint."""
     vp = window.viewport
-    if "MaskTint" not in vp.mesh.point_data:
+    if COLOR_ARRAY not in vp.mesh.point_data:
         return None
-    colors = np.asarray(vp.mesh.point_data["MaskTint"])
+    colors = np.asarray(vp.mesh.point_data[COLOR_ARRAY])
     return colors[vp.surface.rank] if vp.surface is not None else colors
 
 

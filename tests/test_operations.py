@@ -359,7 +359,7 @@ def test_an_event_radius_factor_shrinks_the_moved_region(sphere):
     reach = {}
     for factor in (1.0, 0.3):
         sculptor = Sculptor(vertices, faces)
-        brush = Brush("grab", radius=0.1)
+        brush = Brush("grab", radius=0.1, influence=4.0)  # a ball that fits on the sphere
         moved = sculptor.apply_brush(brush, [BrushEvent(top, [0, 0, 0.02], radius_factor=factor)])
         reach[factor] = np.linalg.norm(vertices[moved] - top, axis=1).max()
         outer = brush.influence * max(brush.radius * factor, 1e-6) * sculptor.model_size

@@ -25,7 +25,7 @@ from gogreen_core import (
     homogenize,
     make_pattern,
 )
-from gogreen_core.brushes import default_wrinkle_weights
+from gogreen_core.brushes import fold_weights
 from gogreen_core.homogenization import bimaterial
 
 RESULT_TIMEOUT_MS = 30000
@@ -443,42 +443,71 @@ def test_reset_to_gaussian(qtbot, falloff_panel):
 
 
 def test_l_max_and_degree_weights(qtbot, falloff_panel):
+    """The degree weights shown are the current brush's: R_l of the even degrees for a grab,
+    ℛ_l of the odd ones for an affine brush, the wrinkle brush's pull and folds; edits, l_max
+    changes and the buttons reach the settings."""
     panel = falloff_panel
-    assert panel.l_max == 8
-    # the wrinkle brush starts with the engine's default weights, not all 1 (= a grab)
-    assert np.array_equal(panel.degree_weights, default_wrinkle_weights(8))
+    settings = panel.settings
+    assert panel.l_max == 8 and settings.brush.kind == "grab"
+    assert panel.degree_weights.title() == "Degree weights: Grab brush"
+    assert len(panel.weight_spins) == 5  # R0 R2 R4 R6 R8
+    assert np.array_equal(panel.weight_grid.values, np.ones(5))
     panel.l_max_spin.setValue(12)
-    assert panel.l_max == 12
-    assert np.array_equal(panel.degree_weights, default_wrinkle_weights(12))
+    assert panel.l_max == 12 and len(panel.weight_spins) == 7
     keys = panel.radial.curve_keys()
     assert ("R", 12) in keys and ("dR", 13) in keys
     assert panel.curve_combo.count() == 14  # R0..R12 (7) and ℛ1..ℛ13 (7)
 
-    panel.weight_spins[3].setValue(2.5)
-    assert panel.degree_weights[3] == 2.5
-    panel.l_max_spin.setValue(4)
-    assert np.array_equal(panel.degree_weights, [1.0, 1.0, 1.0, 2.5, default_wrinkle_weights(4)[4]])
-    panel.weights_one_button.click()
-    assert np.array_equal(panel.degree_weights, np.ones(5))
-    panel.l_max_spin.setValue(6)  # new degrees get the default weights
-    assert np.array_equal(panel.degree_weights, [1, 1, 1, 1, 1, *default_wrinkle_weights(6)[5:]])
-    panel.weights_boost_button.click()
-    assert np.array_equal(panel.degree_weights, default_wrinkle_weights(6))
+    panel.weight_spins[1].setValue(2.5)  # R2 of the grab brush
+    assert settings.weights_for("grab")[2] == 2.5
+    panel.l_max_spin.setValue(4)  # fewer degrees: the common ones stay
+    assert np.array_equal(settings.weights_for("grab"), [1.0, 1.0, 2.5, 1.0, 1.0, 1.0])
+    panel.degree_weights.ones_button.click()
+    assert settings.weights_for("grab")[2] == 1.0
 
-    # Loading a falloff: any profile, l_max and weights, one update of the settings
-    changes = _count(panel.settings.events.changed)
-    panel.set_falloff(KelvinletRadial(0.3), 6, [0, 1, 2, 3, 4, 5, 6])
-    assert [c.names for c in changes] == [{"falloff", "degree_weights"}]
+    settings.brush.kind = "pinch"  # an affine brush: ℛ1 ℛ3 ℛ5
+    assert panel.degree_weights.title() == "Degree weights: Pinch brush"
+    assert len(panel.weight_spins) == 3
+    panel.weight_spins[0].setValue(16.0)
+    assert settings.weights_for("pinch")[1] == 16.0
+    assert settings.weights_for("grab")[1] == 1.0  # each brush its own
+
+    panel.l_max_spin.setValue(10)
+    settings.brush.kind = "wrinkle"
+    fold = panel.degree_weights.fold_combo
+    assert fold.isVisibleTo(panel) and fold.currentData() == 8  # the default folds
+    fold.setCurrentIndex(fold.findData(10))
+    fold.activated.emit(fold.currentIndex())
+    assert list(np.flatnonzero(settings.weights_for("wrinkle"))) == [0, 2, 10]
+    panel.degree_weights.depth_field.setValue(1.2)
+    assert settings.weights_for("wrinkle")[10] == 1.2
+    panel.degree_weights.default_button.click()
+    assert np.array_equal(settings.weights_for("wrinkle"), fold_weights(10))
+
+    # Loading a falloff: any profile and l_max, one update of the settings
+    changes = _count(settings.events.changed)
+    panel.set_falloff(KelvinletRadial(0.3), 6)
+    # the weights follow l_max (the legacy wrinkle brush's too)
+    assert [c.names for c in changes] == [{"falloff", "l_max", "brush_weights", "degree_weights"}]
     assert panel.l_max == 6 and panel.radial.eps == 1.0
-    assert np.array_equal(panel.degree_weights, np.arange(7.0))
     rho = np.array([0.5, 1.0, 3.0])
     assert np.allclose(
         panel.radial.dimensionless("dR", 7, rho),
         KelvinletRadial(1.0).dimensionless("dR", 7, rho),
         rtol=1e-3,
     )
-    with pytest.raises(ValueError, match="degree_weights"):
-        panel.set_degree_weights([1.0, 2.0])
+
+
+def test_curves_made_from_a_gaussian_follow_the_mesh(qtbot, falloff_panel):
+    """With the mesh known (ε spanning 14 edges), a reset samples a point every two edges."""
+    panel = falloff_panel
+    panel.resolution = lambda: 14.0
+    panel.reset_to_gaussian()
+    rho, _ = panel.radial.curve("R", 0)
+    assert len(rho) == 33 and rho[1] == pytest.approx(1 / 7)
+    panel.resolution = None
+    panel.reset_to_kelvinlet()
+    assert len(panel.radial.curve("R", 0)[0]) == 17
 
 
 def test_curve_selector_and_shown_curves(qtbot, falloff_panel):

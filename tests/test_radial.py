@@ -161,3 +161,25 @@ def test_spline_tables_follow_content_not_object_identity():
     twin.move_point("R", 2, 3, *twin.curve("R", 2)[0][3:4], 0.5)
     assert twin.table_key() != base.table_key()
     np.testing.assert_array_equal(twin.table("R", [2])[0], radial_table(twin, "R", 2))
+
+
+def test_spline_control_points_follow_the_mesh_resolution():
+    """A spline made for a mesh has a control point every two edges up to ρ = 4 (every 0.25
+    at least, every 1/16 at most), so its smallest editable scale is what the mesh shows."""
+    from gogreen_core.radial import DEFAULT_SPLINE_RHO
+    from gogreen_core.resolution import mean_edge_length, spline_abscissae
+    from gogreen_core.shapes import icosphere
+
+    assert np.array_equal(spline_abscissae(), DEFAULT_SPLINE_RHO)
+    fine = spline_abscissae(14.0)  # ε spans 14 edges: a point every 1/7
+    assert fine[0] == 0 and np.allclose(np.diff(fine[:29]), 1 / 7) and fine[28] == 4.0
+    assert list(fine[29:]) == [5.0, 6.0, 8.0, 10.0]
+    assert len(spline_abscissae(4.0)) == 21  # coarse: every 0.25
+    assert len(spline_abscissae(1e6)) == 69  # capped at 1/16
+    with pytest.raises(ValueError, match="edges_per_eps"):
+        spline_abscissae(0.0)
+    vertices, faces = icosphere(3)
+    edge = mean_edge_length(vertices, faces)
+    assert 0.1 < edge < 0.2  # unit sphere, 642 vertices
+    spline = SplineRadial.from_profile(GaussianRadial(1.0), 4, spline_abscissae(0.5 / edge))
+    assert len(spline.curve("R", 0)[0]) == len(spline_abscissae(0.5 / edge))

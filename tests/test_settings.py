@@ -137,7 +137,7 @@ def test_engine_link_feeds_the_sculptor_one_call_per_group(sculptor, monkeypatch
     assert sculptor.material == Material.isotropic(1.0, 0.45)
     settings.update({"l_max": 4, "falloff": GaussianRadial(1.0)})
     assert len(calls) == 1 and sculptor.l_max == 4
-    assert np.array_equal(sculptor.degree_weights, settings.degree_weights)
+    assert np.array_equal(sculptor.settings.wrinkle_weights, settings.degree_weights)
     settings.constraint_radius = 0.2
     assert sculptor.constraint_radius == 0.2
     # a curve edit (a drag step: a new falloff value) reaches the engine

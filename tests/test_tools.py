@@ -14,7 +14,7 @@ from gogreen_core.tools import (
 )
 
 NORTH = np.array([0.0, 0.0, 1.0])
-GRAB = Brush("grab", radius=0.1)
+GRAB = Brush("grab", radius=0.1, influence=4.0)  # the reach these tests measure
 
 
 @pytest.fixture
@@ -185,7 +185,7 @@ def test_smooth_cutoff_and_profile_without_kernels():
 
     r = np.array([0.0, 0.5, 0.75, 1.0, 2.0])
     np.testing.assert_allclose(smooth_cutoff(r, 0.5, 1.0), [1.0, 1.0, 0.5, 0.0, 0.0])
-    cutoff_only = brush_profile(None, Brush("grab", radius=0.1, influence=2.0), eps=0.1)
+    cutoff_only = brush_profile(None, 2.0, eps=0.1)  # an influence of 2 ε
     assert cutoff_only[0] == 1.0 and cutoff_only[-1] == 0.0
 
 

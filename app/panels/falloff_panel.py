@@ -1,7 +1,8 @@
-"""Falloff panel: edit the brush falloff curves, the SH truncation degree and wrinkle weights.
+"""Falloff panel: edit the brush falloff curves, the SH truncation degree and the brushes'
+degree weights.
 
 A view of the falloff fields of :class:`gogreen_core.settings.Settings` (``falloff``,
-``l_max``, ``degree_weights``): the panel owns none of them. The falloff is the settings'
+``l_max``, ``brush_weights``): the panel owns none of them. The falloff is the settings'
 :class:`gogreen_core.SplineRadial` in the dimensionless variable ρ = r/ε (its ε stays 1; the
 consumer calls ``with_eps``). Even degrees carry R_l, the falloff of the Green's function G used
 by grab brushes; odd degrees carry ℛ_l, used by ∇G and the affine brushes (scale, twist,
@@ -18,7 +19,7 @@ alone, one ``Field`` on :class:`FalloffView`).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable
 from functools import partial
 from typing import Any
 
@@ -38,6 +39,7 @@ from PySide6.QtWidgets import (
 from app.bindings import bind, bind_choice, bind_spin, bind_view
 from app.fields import DecimalField, IntegerField
 from app.panels.curve_editor import CurveEditor, curve_color, curve_label
+from app.panels.degree_weights import DegreeWeights
 from app.panels.falloff_preview import (
     FalloffPreview,
     PreviewComputer,
@@ -45,9 +47,10 @@ from app.panels.falloff_preview import (
     felt_falloff,
 )
 from app.panels.number_grid import NumberGrid
+from app.panels.truncation_readout import TruncationReadout
 from app.panels.widgets import scrolled_column, set_text_role
-from gogreen_core.brushes import default_wrinkle_weights
 from gogreen_core.radial import GaussianRadial, KelvinletRadial, RadialProfile, SplineRadial
+from gogreen_core.resolution import spline_abscissae
 from gogreen_core.settings import EventedModel, Field, Settings, needed_curves
 from gogreen_core.validation import ParameterError, check_number
 
@@ -100,8 +103,8 @@ class FalloffView(EventedModel):
 
 
 class FalloffPanel(QWidget):
-    """Edit the falloff (:attr:`radial`), truncation degree (:attr:`l_max`) and per-degree
-    weights of the wrinkle brush (:attr:`degree_weights`).
+    """Edit the falloff (:attr:`radial`), truncation degree (:attr:`l_max`) and the current
+    brush's per-degree weights (:attr:`degree_weights`).
 
     Parameters
     ----------
@@ -114,9 +117,9 @@ class FalloffPanel(QWidget):
 
     Widgets (public for scripting and tests): ``editor`` (:class:`CurveEditor`),
     ``curve_combo``, ``show_checks`` ((kind, l) -> QCheckBox), ``rho_max_spin``,
-    ``reset_gaussian_button``, ``reset_kelvinlet_button``, ``l_max_spin``, ``weight_grid``
-    (:class:`NumberGrid`; ``weight_spins`` its fields), ``weights_one_button``,
-    ``weights_boost_button``, ``message_label``, ``preview``.
+    ``reset_gaussian_button``, ``reset_kelvinlet_button``, ``l_max_spin``, ``truncation``
+    (:class:`TruncationReadout`), ``degree_weights`` (:class:`DegreeWeights`: ``weight_grid``
+    its grid, ``weight_spins`` its fields), ``message_label``, ``preview``.
     """
 
     def __init__(
@@ -126,6 +129,9 @@ class FalloffPanel(QWidget):
         self.settings = settings if settings is not None else Settings(l_max=l_max)
         self._check_l_max(self.settings.l_max)
         self.view = FalloffView()
+        #: Brush radii per mesh edge of the sculpted mesh (ε / mean edge length), or None:
+        #: set by the window; curves made from a Gaussian are sampled by it.
+        self.resolution: Callable[[], float | None] | None = None
 
         layout = scrolled_column(self)
         self.editor = CurveEditor(self.radial)
@@ -148,6 +154,8 @@ class FalloffPanel(QWidget):
 
         layout.addWidget(self._curves_group())
         layout.addWidget(self._degrees_group())
+        self.degree_weights = DegreeWeights(self.settings)
+        layout.addWidget(self.degree_weights)
         layout.addStretch(0)
         self._bind()
 
@@ -207,32 +215,8 @@ class FalloffPanel(QWidget):
         row.addWidget(self.l_max_spin)
         row.addStretch(1)
         layout.addLayout(row)
-        caption = QLabel("Wrinkle brush weight of each degree l (0 removes it)")
-        caption.setWordWrap(True)
-        set_text_role(caption, "muted")
-        layout.addWidget(caption)
-        self.weight_grid = NumberGrid(
-            lambda degree: f"l {degree}",
-            (-100.0, 100.0),
-            name="Wrinkle weight",
-            tooltip=lambda degree: f"Weight of degree {degree} in the wrinkle brush",
-        )
-        layout.addWidget(self.weight_grid)
-        buttons = QHBoxLayout()
-        self.weights_one_button = QPushButton("All 1")
-        self.weights_one_button.setToolTip("Every degree at weight 1: the wrinkle brush = grab")
-        self.weights_one_button.clicked.connect(
-            lambda: self.set_degree_weights(np.ones(self.l_max + 1))
-        )
-        self.weights_boost_button = QPushButton("Boost high degrees")
-        self.weights_boost_button.setToolTip(
-            "The default wrinkle weights: degrees 3-8 raised to show their ripples in the brush"
-        )
-        self.weights_boost_button.clicked.connect(lambda: self.set_degree_weights(None))
-        buttons.addWidget(self.weights_one_button)
-        buttons.addWidget(self.weights_boost_button)
-        buttons.addStretch(1)
-        layout.addLayout(buttons)
+        self.truncation = TruncationReadout(self.settings)
+        layout.addWidget(self.truncation)
         return box
 
     def _bind(self) -> None:
@@ -252,14 +236,6 @@ class FalloffPanel(QWidget):
             on_error=self._show_message,
         )
         bind_spin(settings, "l_max", self.l_max_spin, "Truncation l_max")
-        bind(
-            settings,
-            "degree_weights",
-            self.weight_grid,
-            self.weight_grid.set_values,
-            self.weight_grid.edited,
-            label="Wrinkle weights",
-        )
         bind_view(settings, "l_max", combo, self._fill_curve_combo, block=True)
         bind_view(settings, "l_max", self, self._l_max_shown)
         bind_choice(view, "active_curve", combo, lambda: needed_curves(self.l_max), "Edit")
@@ -301,40 +277,31 @@ class FalloffPanel(QWidget):
         return self.settings.l_max
 
     @property
-    def degree_weights(self) -> np.ndarray:
-        """Per-degree weights of the wrinkle brush, shape (l_max + 1,) (a copy)."""
-        return self.settings.degree_weights.copy()
+    def weight_grid(self) -> NumberGrid:
+        """The current brush's degree weights, one field per degree its field has."""
+        return self.degree_weights.grid
 
     @property
     def weight_spins(self) -> list[DecimalField]:
-        """The fields of the wrinkle weights, one per degree 0 … l_max."""
+        """The fields of :attr:`weight_grid`."""
         return self.weight_grid.spins
 
     def set_l_max(self, l_max: int) -> None:
         """Change the truncation degree: adds Gaussian curves for new degrees (or restores
-        earlier edits of them) and gives new degrees the engine's default wrinkle weights."""
+        earlier edits of them) and gives new degrees each brush's default weights."""
         self.settings.l_max = self._check_l_max(l_max)
 
-    def set_degree_weights(self, weights: Sequence[float] | np.ndarray | None) -> None:
-        """Set the wrinkle weights (l_max + 1 finite numbers; None: the engine's default,
-        :func:`gogreen_core.brushes.default_wrinkle_weights`); ParameterError otherwise."""
-        values = default_wrinkle_weights(self.l_max) if weights is None else weights
-        self.settings.degree_weights = values
-
-    def set_falloff(
-        self,
-        falloff: RadialProfile,
-        l_max: int | None = None,
-        degree_weights: Sequence[float] | None = None,
-    ) -> None:
+    def set_falloff(self, falloff: RadialProfile, l_max: int | None = None) -> None:
         """Load a falloff shape (any profile: a spline's curves are copied, a Gaussian,
-        Kelvinlet or multi-scale profile is sampled into curves), optionally with ``l_max``
-        and wrinkle weights (None: the default ones). Its ε is ignored."""
+        Kelvinlet or multi-scale profile is sampled into curves, one control point every two
+        mesh edges when the panel knows the mesh: :attr:`resolution`), optionally with
+        ``l_max``. Its ε is ignored."""
         if not isinstance(falloff, RadialProfile):
             raise ValueError(f"falloff must be a RadialProfile (got {type(falloff).__name__})")
         new_l_max = self.l_max if l_max is None else self._check_l_max(l_max)
-        weights = default_wrinkle_weights(new_l_max) if degree_weights is None else degree_weights
-        self.settings.update({"l_max": new_l_max, "falloff": falloff, "degree_weights": weights})
+        if not isinstance(falloff, SplineRadial):
+            falloff = SplineRadial.from_profile(falloff, new_l_max, self._abscissae())
+        self.settings.update({"l_max": new_l_max, "falloff": falloff})
 
     def reset_to_gaussian(self) -> None:
         """Replace every curve by the Gaussian load's (the default falloff)."""
@@ -356,13 +323,21 @@ class FalloffPanel(QWidget):
             )
         return l_max
 
+    def _abscissae(self) -> np.ndarray:
+        """Control points (ρ) of a curve sampled for the current mesh and brush: one every two
+        edges (:func:`gogreen_core.resolution.spline_abscissae`), the default 17 when the
+        panel does not know the mesh."""
+        edges = self.resolution() if self.resolution is not None else None
+        return spline_abscissae(edges)
+
     def _reset_to(self, profile: RadialProfile) -> None:
-        samples = SplineRadial.from_profile(profile, self.l_max)
+        rho = self._abscissae()
+        samples = SplineRadial.from_profile(profile, self.l_max, rho)
         radial = self.radial.with_curves(samples)
         # Stored curves above l_max are reset too, so raising l_max later stays consistent.
         stale = [k for k in radial.curve_keys() if k not in samples.curve_keys()]
         if stale:
-            more = SplineRadial.from_profile(profile, max(degree for _, degree in stale))
+            more = SplineRadial.from_profile(profile, max(degree for _, degree in stale), rho)
             radial = radial.with_curves({key: more.curve(*key) for key in stale})
         self.settings.falloff = radial
 

@@ -63,6 +63,7 @@ from gogreen_core import (
     describe_symmetry,
     homogenize_detailed,
 )
+from gogreen_core.material_words import describe_material
 from gogreen_core.settings import Changes
 
 __all__ = ["CELL_SIZE", "HomogenizationInputs", "HomogenizationPanel"]
@@ -105,7 +106,8 @@ class HomogenizationPanel(QWidget):
     (name -> QDoubleSpinBox / QSpinBox / QComboBox), ``young_field``, ``poisson_field``,
     ``contrast_field``, ``contrast_slider``, ``rotation``, ``compute_button``,
     ``auto_compute_check``, ``progress_bar``, ``error_label``, ``status_label``,
-    ``result_table``, ``symmetry_label``, ``use_button``, ``voxel_view``, ``slice_view``.
+    ``result_table``, ``symmetry_label``, ``words_label`` (what the result does, in words),
+    ``use_button``, ``voxel_view``, ``slice_view``.
     """
 
     material_ready = Signal(object)
@@ -269,10 +271,14 @@ class HomogenizationPanel(QWidget):
         layout.setContentsMargins(6, 4, 6, 6)
         self.symmetry_label = QLabel("Press Compute to homogenize the pattern.")
         self.symmetry_label.setWordWrap(True)
+        #: What the result does under a brush, in words (fibres / layers, stiffer along…).
+        self.words_label = QLabel()
+        self.words_label.setWordWrap(True)
         bold = QFont(self.symmetry_label.font())
         bold.setBold(True)
         self.symmetry_label.setFont(bold)
         layout.addWidget(self.symmetry_label)
+        layout.addWidget(self.words_label)
         table = StiffnessTable()
         self.result_table = table
         layout.addWidget(table)
@@ -555,6 +561,7 @@ class HomogenizationPanel(QWidget):
         if rotated:
             text += f"  (pattern axes: {self._class_text(describe_symmetry(base))})"
         self.symmetry_label.setText(text)
+        self.words_label.setText(describe_material(material))
         d = self._detailed
         iterations = "1 iteration" if d.iterations == 1 else f"{d.iterations} iterations"
         self.status_label.setText(

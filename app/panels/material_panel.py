@@ -37,7 +37,15 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from app.bindings import Binding, bind, bind_check, bind_choice, bind_spin, bind_view
+from app.bindings import (
+    Binding,
+    bind,
+    bind_check,
+    bind_choice,
+    bind_readout,
+    bind_spin,
+    bind_view,
+)
 from app.panels.glyph import YoungModulusGlyph
 from app.panels.material_form import (
     FIELD_SPECS,
@@ -63,6 +71,7 @@ from app.panels.widgets import (
     zero_cell_colors,
 )
 from gogreen_core.material import Material
+from gogreen_core.material_words import describe_material
 from gogreen_core.settings import ChangeEvent, Changes, Settings
 from gogreen_core.validation import ParameterError
 
@@ -146,6 +155,10 @@ class MaterialPanel(QWidget):
         glyph_layout = QVBoxLayout(glyph_box)
         glyph_layout.setContentsMargins(6, 4, 6, 6)
         glyph_layout.addWidget(self.glyph)
+        #: What the material does under a brush, in words (bound to the settings' material).
+        self.words_label = QLabel()
+        self.words_label.setWordWrap(True)
+        glyph_layout.addWidget(self.words_label)
         layout.addWidget(glyph_box)
 
         mode_row = QHBoxLayout()
@@ -222,6 +235,7 @@ class MaterialPanel(QWidget):
         )
         form.events.changed.connect(self._form_changed)
         bind_view(self.settings, "material", self.glyph, self.glyph.set_material)
+        bind_readout(self.settings, "material", self.words_label, describe_material)
         emitter, callback = self.settings.events.material, self._model_material
         emitter.connect(callback)
         self.destroyed.connect(lambda *_: emitter.disconnect(callback))

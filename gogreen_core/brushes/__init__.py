@@ -6,10 +6,12 @@ regularized Green's function of ``kernel.py``, is a row of the brush table
 
 * :mod:`~gogreen_core.brushes.grab`: ``grab``, ``grab_biscale``, ``grab_triscale``, a vector load
   the grabbed point follows exactly (multi-scale falloffs decay faster);
-* :mod:`~gogreen_core.brushes.wrinkle`: ``wrinkle``, a grab whose field has reweighted SH degrees
-  (paper Fig. 10);
-* :mod:`~gogreen_core.brushes.affine`: ``scale``, ``twist``, ``pinch``, an affine load at the
-  press point whose ``amount`` is a log strain or an angle at the centre, whatever the material;
+* :mod:`~gogreen_core.brushes.wrinkle`: ``wrinkle``, a pull that folds the surface around the
+  cursor with the material's high SH degrees (paper Fig. 10); ``wrinkle_legacy``
+  (:mod:`~gogreen_core.brushes.wrinkle_legacy`), the one of sessions before version 3;
+* :mod:`~gogreen_core.brushes.affine`: ``scale``, ``twist``, ``pinch``, ``stretch``, an affine
+  load at the press point whose ``amount`` is a log strain or an angle at the centre, whatever
+  the material;
 * the paint family (:mod:`~gogreen_core.brushes.paint`), acting where the cursor passes without
   a Green's function: ``smooth`` (:mod:`~gogreen_core.brushes.smooth`, Taubin relaxation) and
   ``mask`` (:mod:`~gogreen_core.brushes.mask`, paints the vertex mask that holds vertices).
@@ -24,10 +26,12 @@ Adding a brush: one module (a :class:`BrushType`, usually a :class:`GreenBrush`)
 """
 
 from gogreen_core.brushes.base import (
+    AUTO_INFLUENCE,
     CUTOFF_START,
     DEFAULT_INFLUENCE,
     BrushType,
     Displacement,
+    EventField,
     GreenBrush,
     StrokeContext,
     mirror_signs,
@@ -43,7 +47,8 @@ from gogreen_core.brushes.table import (
     affine_load_shape,
     brush_type,
 )
-from gogreen_core.brushes.wrinkle import (
+from gogreen_core.brushes.wrinkle import FOLD_DEGREES, FOLD_DEPTH, fold_weights
+from gogreen_core.brushes.wrinkle_legacy import (
     WRINKLE_LEVEL,
     WRINKLE_RING,
     WRINKLE_TOP_DEGREE,
@@ -54,10 +59,13 @@ from gogreen_core.limits import MAX_AMOUNT, MAX_RADIUS, MAX_STRENGTH, MAX_SUBSTE
 
 __all__ = [
     "AFFINE_BRUSHES",
+    "AUTO_INFLUENCE",
     "BRUSH_KINDS",
     "BRUSH_TABLE",
     "CUTOFF_START",
     "DEFAULT_INFLUENCE",
+    "FOLD_DEGREES",
+    "FOLD_DEPTH",
     "GRAB_BRUSHES",
     "MAX_AMOUNT",
     "MAX_RADIUS",
@@ -72,11 +80,13 @@ __all__ = [
     "BrushEvent",
     "BrushType",
     "Displacement",
+    "EventField",
     "GreenBrush",
     "StrokeContext",
     "affine_load_shape",
     "brush_type",
     "default_wrinkle_weights",
+    "fold_weights",
     "legacy_wrinkle_weights",
     "mirror_signs",
     "smooth_cutoff",

@@ -1,8 +1,9 @@
-"""The affine family: an affine load H = k B at a fixed centre (scale, twist, pinch).
+"""The affine family: an affine load H = k B at a fixed centre (scale, twist, pinch, stretch).
 
 Each member has a pattern B (3, 3), the velocity gradient that ``amount`` 1 asks for at the
 brush centre: I (scale), [a]_× (twist: rotation about the view axis a), d dᵀ − e eᵀ (pinch:
-stretch along the stroke direction d, squeeze across it, e = a × d). k is set so that the
+stretch along the stroke direction d, squeeze across it, e = a × d), d dᵀ (stretch: a uniaxial
+load along d, the sides left to the material's Poisson ratios). k is set so that the
 velocity gradient J at the centre has component (J : B)/(B : B) = ``strength · amount`` along B,
 whatever the material. An event is the flow of that field over pseudo-time [0, 1] with the
 centre fixed, so the centre's deformation gradient is exp(J): per unit ``amount``, scale is a
@@ -42,6 +43,7 @@ __all__ = [
     "centre_jacobian",
     "pinch_pattern",
     "scale_pattern",
+    "stretch_pattern",
     "stroke_direction",
     "twist_pattern",
 ]
@@ -94,6 +96,14 @@ def pinch_pattern(axis: np.ndarray, direction: np.ndarray | None) -> np.ndarray:
     d = stroke_direction(axis, direction)
     e = np.cross(axis, d)
     return np.outer(d, d) - np.outer(e, e)
+
+
+def stretch_pattern(axis: np.ndarray, direction: np.ndarray | None) -> np.ndarray:
+    """B = d dᵀ: a uniaxial load along the stroke direction d (paper Fig. 11). Only the
+    stretch along d is asked for; how the sides move is the material's (its Poisson ratios:
+    they narrow for ν > 0, widen for ν < 0), unlike pinch, which prescribes both."""
+    d = stroke_direction(axis, direction)
+    return np.outer(d, d)
 
 
 def centre_jacobian(kernel: GreenKernel, center: np.ndarray, load: np.ndarray) -> np.ndarray:
@@ -162,7 +172,7 @@ class AffineBrush(GreenBrush):
             raise ParameterError(
                 "falloff",
                 f"the {brush.kind} brush's falloff has no gradient within its influence "
-                f"({brush.influence:g} ε): its odd-degree curves (dR) are zero",
+                f"({self.reach(ctx, brush):g} ε): its odd-degree curves (dR) are zero",
             )
         motion_limit, strain_limit = self.limits(ctx, brush, shape)
         needed = max(peak / (motion_limit * eps), bound.strain_sup(shape, eps) / strain_limit)
@@ -189,12 +199,13 @@ class AffineBrush(GreenBrush):
         l_max, weights, influence and pattern (its field bound is cached per settings)."""
         weights = self.degree_weights(ctx.settings)
         base = ctx.kernels.weighted(weights)
+        reach = self.reach(ctx, brush)
 
         def reference() -> tuple[GreenKernel, FieldBound]:
             gaussian = base.with_radial(GaussianRadial(1.0))
-            return gaussian, FieldBound(gaussian, brush.influence, True)
+            return gaussian, FieldBound(gaussian, reach, True)
 
-        key = ("gaussian", None if weights is None else weights.tobytes(), brush.influence)
+        key = ("gaussian", None if weights is None else weights.tobytes(), reach)
         gaussian, bound = ctx.kernels.derived(key, reference)
         jacobian = centre_jacobian(gaussian, np.zeros(3), shape)
         response = _response(jacobian, shape)

@@ -23,11 +23,11 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
-from gogreen_core.falloff_safety import FieldBound
+from gogreen_core.falloff_safety import FieldBound, field_reach
 from gogreen_core.kernel import STREAMLINE_TOLERANCE, GreenKernel, StreamlineOverflow
 from gogreen_core.radial import RadialProfile
 
@@ -38,10 +38,12 @@ if TYPE_CHECKING:
     from gogreen_core.mesh_state import MeshState
 
 __all__ = [
+    "AUTO_INFLUENCE",
     "CUTOFF_START",
     "DEFAULT_INFLUENCE",
     "BrushType",
     "Displacement",
+    "EventField",
     "GreenBrush",
     "StrokeContext",
     "mirror_signs",
@@ -50,9 +52,13 @@ __all__ = [
 
 #: Where the smooth cutoff starts, as a fraction of the influence radius.
 CUTOFF_START = 0.5
-#: Default radius of the moved region in multiples of ε (also the pins' reach, and the extent
-#: the cursor draws for a brush of infinite influence).
+#: Radius of the moved region in multiples of ε before it was automatic (also the pins' reach,
+#: the extent the cursor draws for a brush of infinite influence, and the least an automatic
+#: influence is).
 DEFAULT_INFLUENCE = 4.0
+#: A brush's ``influence`` that follows its field's own decay (:meth:`GreenBrush.reach`): the
+#: default.
+AUTO_INFLUENCE = "auto"
 #: A field smaller than this fraction of the material's G scale (‖A‖/ε) is zero everywhere.
 ZERO_FIELD = 1e-9
 
@@ -89,12 +95,15 @@ class StrokeContext:
     write_through : the driver applies nothing to the new positions, so a brush may also write
         them into ``mesh.vertices`` itself (all or none: only if every one is finite) and say so
         in its :class:`Displacement`.
+    stroke : a dict the brush may keep state in from one event of the stroke to the next (the
+        wrinkle brush's surface frame); None outside a stroke.
     """
 
     mesh: MeshState
     kernels: KernelCache
     rows: Callable[[int], np.ndarray]
     write_through: bool = False
+    stroke: dict[str, Any] | None = None
 
     @property
     def settings(self) -> EngineSettings:
@@ -103,6 +112,20 @@ class StrokeContext:
     @property
     def model_size(self) -> float:
         return self.mesh.model_size
+
+
+@dataclass(frozen=True)
+class EventField:
+    """The velocity field of one event of a Green's function brush: ``kernel`` (at the brush's
+    ε) with ``load`` (a force (3,) or an affine load (3, 3)) at ``center`` (3,), which moves by
+    ``step`` (3,) over the event; only within ``reach`` ε of it (a smooth cutoff from half
+    that), mirrored across the brush's ``symmetry`` planes."""
+
+    kernel: GreenKernel
+    center: np.ndarray
+    load: np.ndarray
+    step: np.ndarray
+    reach: float
 
 
 @dataclass(frozen=True)
@@ -150,6 +173,26 @@ class BrushType(ABC):
         checked by the driver. Default: every event is accepted."""
         return None
 
+    def default_weights(self, l_max: int) -> np.ndarray:
+        """The degree weights ω_l (l_max + 2,) this brush starts with: all ones (the field of
+        the paper's expansion as it is)."""
+        return np.ones(l_max + 2)
+
+    #: Whether the brush's field has per-degree weights an artist can edit (in
+    #: :attr:`EngineSettings.brush_weights`).
+    weighted: ClassVar[bool] = False
+
+    def reach(self, ctx: StrokeContext, brush: Brush) -> float:
+        """The brush's influence radius in multiples of ε (``inf`` for every vertex): its
+        ``influence``, or :data:`DEFAULT_INFLUENCE` for an automatic one (a brush without a
+        field of its own)."""
+        return DEFAULT_INFLUENCE if brush.influence == AUTO_INFLUENCE else float(brush.influence)
+
+    def cutoff(self, ctx: StrokeContext, brush: Brush) -> tuple[float, float] | None:
+        """(inner, outer) radii (model units) of the smooth cutoff of the brush's reach, None
+        for none."""
+        return brush.cutoff(ctx.model_size, self.reach(ctx, brush))
+
     def kernel(self, ctx: StrokeContext, brush: Brush) -> GreenKernel | None:
         """The brush's Green's function kernel at its radius (what the cursor's profile
         draws), or None for a brush without one."""
@@ -173,19 +216,44 @@ class GreenBrush(BrushType):
     #: Names the brush's falloff variant: brushes with equal keys, family and weights share
     #: one sampled field bound per influence radius.
     radial_key: str = ""
+    weighted = True
 
     def radial(self, falloff: RadialProfile) -> RadialProfile:
         """The brush's falloff from the settings' shape ``falloff`` at the brush's ε."""
         return falloff
 
     def degree_weights(self, settings: EngineSettings) -> np.ndarray | None:
-        """Per-degree weights ω_l (l_max + 1,) of the field, None for the full kernel."""
-        return None
+        """The kernel's degree weights (l_max + 1,) from the brush's ω_l
+        (:meth:`EngineSettings.weights_for`), None when they are all ones (the full kernel):
+        a vector load's field has the even degrees of G, ω_l scaling R_l; an affine load's the
+        odd degrees of ∇G, ω_l scaling ℛ_l (the kernel's weight l − 1)."""
+        omega = settings.weights_for(self.kind)
+        if np.all(omega == 1.0):
+            return None
+        weights: np.ndarray = omega[1:] if self.is_affine else omega[:-1]
+        return weights
 
-    def cutoff(self, ctx: StrokeContext, brush: Brush) -> tuple[float, float] | None:
-        """(inner, outer) radii (model units) of the smooth cutoff of the field, None for
-        none."""
-        return brush.cutoff(ctx.model_size)
+    def reach(self, ctx: StrokeContext, brush: Brush) -> float:
+        """The influence radius in multiples of ε: the brush's ``influence``, or for
+        ``"auto"`` twice the radius beyond which the field stays below a tenth of its peak
+        (:func:`~gogreen_core.falloff_safety.field_reach`, at least
+        :data:`DEFAULT_INFLUENCE`), so the cutoff starts where the field has faded and every
+        control of the falloff shows (cached per settings and brush shape)."""
+        if brush.influence != AUTO_INFLUENCE:
+            return float(brush.influence)
+        weights = self.degree_weights(ctx.settings)
+        key = (
+            "reach",
+            self.family,
+            self.radial_key,
+            None if weights is None else weights.tobytes(),
+        )
+        return ctx.kernels.derived(key, lambda: field_reach(self._unit_kernel(ctx), self.is_affine))
+
+    def _unit_kernel(self, ctx: StrokeContext) -> GreenKernel:
+        """The brush's kernel at ε = 1."""
+        radial = self.radial(ctx.settings.falloff.with_eps(1.0))
+        return ctx.kernels.weighted(self.degree_weights(ctx.settings)).with_radial(radial)
 
     def kernel(self, ctx: StrokeContext, brush: Brush) -> GreenKernel:
         radial = self.radial(ctx.settings.falloff.with_eps(brush.eps(ctx.model_size)))
@@ -195,14 +263,15 @@ class GreenBrush(BrushType):
         """The sampled bound of this brush's field (cached per settings, brush shape and
         influence; the brush radius does not matter: the samples are in units of ε)."""
         weights = self.degree_weights(ctx.settings)
+        reach = self.reach(ctx, brush)
         key = (
             "field bound",
             self.family,
             self.radial_key,
             None if weights is None else weights.tobytes(),
-            brush.influence,
+            reach,
         )
-        return ctx.kernels.derived(key, lambda: FieldBound(kernel, brush.influence, self.is_affine))
+        return ctx.kernels.derived(key, lambda: FieldBound(kernel, reach, self.is_affine))
 
     @abstractmethod
     def load(
@@ -211,20 +280,30 @@ class GreenBrush(BrushType):
         """(load, centre step) of one event: a force (3,) or an affine load (3, 3), and the
         centre's motion (3,) over the event (the load travels with the cursor)."""
 
-    def displace(self, ctx: StrokeContext, brush: Brush, event: BrushEvent) -> Displacement:
+    def field(self, ctx: StrokeContext, brush: Brush, event: BrushEvent) -> EventField:
+        """The field ``event`` moves the mesh along (normalized and bounded: :meth:`load`)."""
         kernel = self.kernel(ctx, brush)
         load, step = self.load(ctx, brush, kernel, event)
-        cutoff = self.cutoff(ctx, brush)
+        return EventField(kernel, event.center, load, step, self.reach(ctx, brush))
+
+    def displace(self, ctx: StrokeContext, brush: Brush, event: BrushEvent) -> Displacement:
+        return self.integrate(ctx, brush, self.field(ctx, brush, event))
+
+    def integrate(self, ctx: StrokeContext, brush: Brush, field: EventField) -> Displacement:
+        """Move the rows within the field's reach of its load and of the load's mirror images
+        along the field (paper Sec. 3.2)."""
+        kernel, center, load, step = field.kernel, field.center, field.load, field.step
+        cutoff = brush.cutoff(ctx.model_size, field.reach)
         signs = mirror_signs(brush.symmetry)
         mesh = ctx.mesh
-        rows = mesh.rows_near(event.center, step, None if cutoff is None else cutoff[1], signs)
+        rows = mesh.rows_near(center, step, None if cutoff is None else cutoff[1], signs)
         out = ctx.rows(len(rows))
         if len(rows):
             try:
                 # written through only if every end position is finite (the kernel checks)
                 kernel._streamlines(
                     mesh.vertices,
-                    event.center,
+                    center,
                     load,
                     center_step=step,
                     cutoff=cutoff,

@@ -13,8 +13,8 @@ from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 
-from gogreen_core.brushes.base import CUTOFF_START, DEFAULT_INFLUENCE, BrushType
-from gogreen_core.brushes.table import BRUSH_KINDS, brush_type
+from gogreen_core.brushes.base import AUTO_INFLUENCE, CUTOFF_START, BrushType
+from gogreen_core.brushes.table import ALL_KINDS, BRUSH_KINDS, brush_type
 from gogreen_core.limits import MAX_AMOUNT, MAX_RADIUS, MAX_STRENGTH, MAX_SUBSTEPS, MIN_RADIUS
 from gogreen_core.validation import (
     ParameterError,
@@ -33,7 +33,8 @@ __all__ = ["Brush", "BrushEvent"]
 class Brush:
     """Settings of one brush (immutable; use :func:`dataclasses.replace` to change one).
 
-    kind : one of :data:`BRUSH_KINDS`.
+    kind : one of :data:`BRUSH_KINDS` (or a kind only old sessions use, e.g.
+        ``wrinkle_legacy``).
     radius : regularization radius ε as a fraction of the model size (bounding-box diagonal).
     strength : multiplies the cursor displacement (grab) or the amount (affine brushes).
     substeps : how each event is integrated over pseudo-time [0, 1]. 0 (the default): adaptive
@@ -41,7 +42,10 @@ class Brush:
         reference (:meth:`GreenKernel.streamlines`); n ≥ 1: exactly n RK4 steps for every
         vertex (what sessions recorded before adaptive integration used, so they replay bit for
         bit).
-    influence : radius of the influence ball in multiples of ε (``inf``: every vertex).
+    influence : radius of the influence ball in multiples of ε (``inf``: every vertex), or
+        ``"auto"`` (the default): where the brush's own field has faded
+        (:meth:`~gogreen_core.brushes.GreenBrush.reach`; :meth:`Sculptor.influence` gives the
+        number).
     symmetry : mirror planes, any of "x", "y", "z" (e.g. "xz"): the brush is applied mirrored
         across the planes through the model's center normal to those axes.
     """
@@ -50,11 +54,11 @@ class Brush:
     radius: float = 0.1
     strength: float = 1.0
     substeps: int = 0
-    influence: float = DEFAULT_INFLUENCE
+    influence: float | str = AUTO_INFLUENCE
     symmetry: str = ""
 
     def __post_init__(self) -> None:
-        if not isinstance(self.kind, str) or self.kind not in BRUSH_KINDS:
+        if not isinstance(self.kind, str) or self.kind not in ALL_KINDS:
             raise ParameterError(
                 "kind", f"unknown brush {self.kind!r}; expected one of {', '.join(BRUSH_KINDS)}"
             )
@@ -62,8 +66,15 @@ class Brush:
         strength = check_number("strength", self.strength, low=-MAX_STRENGTH, high=MAX_STRENGTH)
         substeps = check_integer("substeps", self.substeps, low=0, high=MAX_SUBSTEPS)
         influence = self.influence
-        if not (isinstance(influence, float) and influence == math.inf):  # inf: every vertex
-            influence = check_number("influence", influence, low=0.0, low_open=True)
+        if isinstance(influence, str):
+            if influence != AUTO_INFLUENCE:
+                raise ParameterError(
+                    "influence",
+                    f"influence must be a number of ε, inf or {AUTO_INFLUENCE!r} "
+                    f"(got {influence!r})",
+                )
+        elif not (isinstance(influence, float) and influence == math.inf):  # every vertex
+            influence = float(check_number("influence", influence, low=0.0, low_open=True))
         symmetry = check_string("symmetry", self.symmetry, max_length=3).lower()
         axes = "".join(sorted(set(symmetry)))
         if any(a not in "xyz" for a in axes):
@@ -74,7 +85,7 @@ class Brush:
             ("radius", radius),
             ("strength", strength),
             ("substeps", substeps),
-            ("influence", float(influence)),
+            ("influence", influence),
             ("symmetry", axes),
         ]:
             object.__setattr__(self, name, value)
@@ -100,16 +111,31 @@ class Brush:
             return self
         return replace(self, radius=max(self.radius * factor, MIN_RADIUS))
 
-    def cutoff(self, model_size: float) -> tuple[float, float] | None:
-        """(inner, outer) cutoff radii in model units, or None for no cutoff."""
-        if math.isinf(self.influence):
+    @property
+    def auto_influence(self) -> bool:
+        """The influence follows the brush's field (``influence == "auto"``)."""
+        return self.influence == AUTO_INFLUENCE
+
+    def cutoff(self, model_size: float, reach: float | None = None) -> tuple[float, float] | None:
+        """(inner, outer) cutoff radii in model units, or None for no cutoff: for an influence
+        of ``reach`` ε (the brush's own number when None; an automatic one needs the engine's:
+        :meth:`Sculptor.influence`)."""
+        if reach is None:
+            if self.auto_influence:
+                raise ValueError(
+                    "an automatic influence depends on the brush's field: ask the engine "
+                    "(Sculptor.influence(brush)) for its radius"
+                )
+            reach = float(self.influence)
+        if math.isinf(reach):
             return None
-        outer = self.influence * self.eps(model_size)
+        outer = reach * self.eps(model_size)
         return CUTOFF_START * outer, outer
 
     def to_dict(self) -> dict:
         data = asdict(self)
-        data["influence"] = None if math.isinf(self.influence) else self.influence
+        if not self.auto_influence and math.isinf(float(self.influence)):
+            data["influence"] = None
         return data
 
     @classmethod

@@ -41,12 +41,15 @@ class GrabBrush(GreenBrush):
     multiscale : makes the brush's falloff from the settings' one at its radius (e.g.
         :meth:`MultiscaleRadial.biscale`); None for the falloff itself.
 
-    With per-degree weights (:meth:`degree_weights`, the wrinkle brush) the force still comes
-    from the full kernel at the same falloff, so the grabbed point follows the cursor while
-    the field around it is reweighted.
+    The force solves G(0) f = Δ with the brush's own kernel: only degree 0 is nonzero at the
+    centre, so its weight ω_0 divides out and the grabbed point follows the cursor whatever the
+    weights (:attr:`force_from_full`: the legacy wrinkle brush took G(0) of the full kernel,
+    which is the same number with ω_0 = 1).
     """
 
     family = "vector"
+    #: Solve for the force with the full (unweighted) kernel.
+    force_from_full = False
 
     def __init__(
         self, kind: str, multiscale: Callable[[RadialProfile], RadialProfile] | None = None
@@ -73,7 +76,7 @@ class GrabBrush(GreenBrush):
     ) -> tuple[np.ndarray, np.ndarray]:
         """(f, Δ): the force (3,) and the cursor motion, along which the load travels."""
         delta = brush.strength * event.delta
-        weighted = self.degree_weights(ctx.settings) is not None
+        weighted = self.force_from_full and self.degree_weights(ctx.settings) is not None
         full = ctx.kernels.full.with_radial(kernel.radial) if weighted else kernel
         g0 = full.green(np.zeros((1, 3)))[0]
         with np.errstate(all="ignore"):
@@ -101,7 +104,7 @@ class GrabBrush(GreenBrush):
             raise ParameterError(
                 "falloff",
                 f"the {brush.kind} brush's falloff is zero everywhere within its influence "
-                f"({brush.influence:g} ε): raise R0 somewhere in the falloff editor",
+                f"({self.reach(ctx, brush):g} ε): raise R0 somewhere in the falloff editor",
             )
         strain = bound.strain_sup(direction, eps) * eps
         scale = min(MAX_GRAB_RATIO / peak, MAX_GRAB_STRAIN / strain if strain else np.inf) * size

@@ -45,7 +45,7 @@ class PaintBrush(BrushType):
         images) and their weights (n,) in [0, 1]: the smooth cutoff at their distance (1 for
         every vertex with an infinite influence)."""
         mesh = ctx.mesh
-        cutoff = brush.cutoff(ctx.model_size)
+        cutoff = self.cutoff(ctx, brush)
         signs = mirror_signs(brush.symmetry)
         rows = mesh.rows_near(
             event.center, event.delta, None if cutoff is None else cutoff[1], signs

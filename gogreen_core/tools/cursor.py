@@ -7,7 +7,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from gogreen_core.brushes import CUTOFF_START, DEFAULT_INFLUENCE, Brush
+from gogreen_core.brushes import CUTOFF_START, DEFAULT_INFLUENCE
 from gogreen_core.constraints import smooth_cutoff
 from gogreen_core.kernel import GreenKernel
 from gogreen_core.threads import threads_at_most
@@ -31,14 +31,15 @@ PROFILE_SAMPLES = 48
 
 
 def brush_profile(
-    kernel: GreenKernel | None, brush: Brush, eps: float, samples: int = PROFILE_SAMPLES
+    kernel: GreenKernel | None, influence: float, eps: float, samples: int = PROFILE_SAMPLES
 ) -> np.ndarray:
     """Relative motion (samples,) in [0, 1] at distances ``linspace(0, influence · ε)`` from a
     grab of ``kernel`` (a :class:`GreenKernel` at ε = ``eps``): |G(r x̂) G(0)⁻¹ e| averaged over
-    the three axes e, times the brush's smooth cutoff, divided by its largest value. With
+    the three axes e, times the brush's smooth cutoff, divided by its largest value, for an
+    ``influence`` of that many ε (the brush's, resolved: :meth:`Sculptor.influence`). With
     ``kernel`` None (kernels not ready) only the cutoff is drawn."""
-    finite = np.isfinite(brush.influence)
-    outer = (brush.influence if finite else DEFAULT_INFLUENCE) * eps
+    finite = np.isfinite(influence)
+    outer = (influence if finite else DEFAULT_INFLUENCE) * eps
     r = np.linspace(0.0, outer, samples)
     cutoff = smooth_cutoff(r, CUTOFF_START * outer, outer) if finite else 1.0
     if kernel is None:

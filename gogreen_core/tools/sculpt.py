@@ -9,7 +9,14 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from gogreen_core.brushes import BRUSH_KINDS, MAX_RADIUS, MAX_STRENGTH, MIN_RADIUS, Brush
+from gogreen_core.brushes import (
+    BRUSH_KINDS,
+    DEFAULT_INFLUENCE,
+    MAX_RADIUS,
+    MAX_STRENGTH,
+    MIN_RADIUS,
+    Brush,
+)
 from gogreen_core.settings import BrushSettings, PenSettings
 from gogreen_core.tools.cursor import (
     PIXELS_PER_STRENGTH,
@@ -102,7 +109,7 @@ class SculptTools:
         self._hover: PointerEvent | None = None
         self.cursor = CursorController(
             self._cursor_radius,
-            lambda: self.brush().influence,
+            self._cursor_influence,
             self._cursor_profile,
             self._cursor_full_radius,
         )
@@ -129,6 +136,19 @@ class SculptTools:
             return self.brush().eps(self.sculptor.model_size)
         return radius * self.sculptor.model_size
 
+    def _cursor_influence(self) -> float:
+        """The brush's influence in ε: its own number, or what ``"auto"`` gives with the
+        engine's settings (:data:`DEFAULT_INFLUENCE` while the kernels are not ready)."""
+        brush = self.brush()
+        if not brush.auto_influence:
+            return float(brush.influence)
+        if self.sculptor is None or self.ready():
+            return DEFAULT_INFLUENCE
+        try:
+            return self.sculptor.influence(brush)
+        except (ValueError, RuntimeError, np.linalg.LinAlgError):
+            return DEFAULT_INFLUENCE
+
     def _cursor_full_radius(self) -> float | None:
         """The brush's own ε (model units) while pen pressure shrinks the stroke's, else None."""
         if self.sculptor is None or not self.stroke.active or self.stroke.radius_factor >= 1.0:
@@ -146,11 +166,12 @@ class SculptTools:
         settings = self.sculptor.settings
         key = (id(self.sculptor), brush.kind, brush.influence, eps, ready)
         if key != self._profile_key or settings is not self._profile_settings:
+            influence = self._cursor_influence()
             try:
                 kernel = self.sculptor.kernel(brush) if ready else None
-                self._profile = brush_profile(kernel, brush, eps)
+                self._profile = brush_profile(kernel, influence, eps)
             except (ValueError, RuntimeError, np.linalg.LinAlgError):
-                self._profile = brush_profile(None, brush, eps)
+                self._profile = brush_profile(None, influence, eps)
             self._profile_key, self._profile_settings = key, settings
         return self._profile
 
