@@ -28,6 +28,7 @@ import sys
 import threading
 import time
 import traceback
+from typing import Any
 
 import numpy as np
 
@@ -67,11 +68,11 @@ MODES = ("child", "thread", "off")
 #: Longest a compiling child may take before the worker compiles in this process instead.
 CHILD_TIMEOUT = 900.0
 
-_ready: set = set()
-_pending: list = []
-_failed: dict = {}
+_ready: set[Any] = set()
+_pending: list[Any] = []
+_failed: dict[str, Any] = {}
 #: (units, callback) waiting for their units (see :func:`when_ready`).
-_callbacks: list = []
+_callbacks: list[Any] = []
 _condition = threading.Condition()
 _worker: threading.Thread | None = None
 _marker = None
@@ -258,7 +259,7 @@ def _work() -> None:
                     traceback.print_exc()
 
 
-def units_for(l_max: int) -> tuple:
+def units_for(l_max: int) -> tuple[Any, ...]:
     """The units vector and affine loads of truncation degree ``l_max`` evaluate with: the
     drivers and the generated angular kernel of each parity (when one is generated)."""
     parities = ((0, l_max - l_max % 2), (1, l_max + 1 - l_max % 2))

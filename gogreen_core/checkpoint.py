@@ -28,7 +28,7 @@ import os
 import struct
 import zlib
 from dataclasses import dataclass
-from typing import BinaryIO
+from typing import Any, BinaryIO
 
 import numpy as np
 
@@ -80,7 +80,7 @@ class SculptState:
         extra = [a for a in (self.mask, self.faces, self.uv, self.uv_faces) if a is not None]
         return [np.ascontiguousarray(a, dtype="<f8") for a in (self.vertices, *pins, *extra)]
 
-    def header(self) -> dict:
+    def header(self) -> dict[str, Any]:
         """The JSON-ready part (settings, sizes, model size, origin; floats exact)."""
         return {
             "vertices": len(self.vertices),
@@ -94,7 +94,7 @@ class SculptState:
         }
 
     @classmethod
-    def from_header(cls, header: dict, arrays: list[np.ndarray]) -> SculptState:
+    def from_header(cls, header: dict[str, Any], arrays: list[np.ndarray]) -> SculptState:
         """Inverse of :meth:`header` with the arrays read back (ValueError if malformed)."""
         settings = EngineSettings.from_dict(header["settings"], "settings")
         origin = np.array(header["origin"], dtype=np.float64)
@@ -112,7 +112,7 @@ class SculptState:
         return cls(arrays[0], settings, pins, size, origin, mask, faces, uv, uv_faces)
 
 
-def _shapes(header: dict) -> list[tuple[int, ...]]:
+def _shapes(header: dict[str, Any]) -> list[tuple[int, ...]]:
     n, k = header["vertices"], header["pins"]
     if not isinstance(n, int) or n < 1 or not (k is None or (isinstance(k, int) and k >= 0)):
         raise ValueError("vertex or pin count malformed")
@@ -131,7 +131,9 @@ def _shapes(header: dict) -> list[tuple[int, ...]]:
     return shapes
 
 
-def write_checkpoint(path: str | os.PathLike, state: SculptState, extra: dict) -> None:
+def write_checkpoint(
+    path: str | os.PathLike[str], state: SculptState, extra: dict[str, Any]
+) -> None:
     """Write ``state`` (and ``extra`` header fields: the journal's record number...) to
     ``path`` atomically (fsynced, renamed). OSError as raised."""
     header = json.dumps({"version": CHECKPOINT_VERSION, **extra, **state.header()}).encode()
@@ -152,7 +154,7 @@ def write_checkpoint(path: str | os.PathLike, state: SculptState, extra: dict) -
     atomic_write(path, write)
 
 
-def read_checkpoint(path: str | os.PathLike) -> tuple[SculptState, dict]:
+def read_checkpoint(path: str | os.PathLike[str]) -> tuple[SculptState, dict[str, Any]]:
     """The state in a checkpoint file and its header; :class:`CheckpointError` saying what is
     wrong (missing, cut short, checksum, newer version, malformed)."""
     name = os.path.basename(path)

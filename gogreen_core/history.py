@@ -8,6 +8,7 @@ vertices. Undo and redo copy those float64 values back, so positions are restore
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -95,12 +96,12 @@ class History:
         """Bytes held by all entries (indices and positions, undo and redo)."""
         return self._bytes
 
-    def snapshot(self) -> tuple:
+    def snapshot(self) -> tuple[Any, ...]:
         """An opaque copy of the stacks (entries are immutable, so this is cheap) for
         :meth:`restore`: a caller that must undo a failed batch of records (a replay) uses it."""
         return (list(self._undo), list(self._redo), self._bytes, self._evicted, self.restored_state)
 
-    def restore(self, snapshot: tuple) -> None:
+    def restore(self, snapshot: tuple[Any, ...]) -> None:
         """Put the stacks back as :meth:`snapshot` saw them."""
         undo, redo, self._bytes, self._evicted, self.restored_state = snapshot
         self._undo, self._redo = list(undo), list(redo)

@@ -51,6 +51,7 @@ import time
 from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -153,7 +154,7 @@ class Journal:
         *,
         document: str | None = None,
         title: str | None = None,
-        root: str | os.PathLike | None = None,
+        root: str | os.PathLike[str] | None = None,
         auto_checkpoint: bool = True,
         checkpoint_work: float = CHECKPOINT_WORK,
         replaces: JournalLock | None = None,
@@ -183,7 +184,7 @@ class Journal:
         self._problems: list[str] = []
         self._reported = 0
         self._lock_problems = threading.Lock()
-        self._tasks: collections.deque = collections.deque()
+        self._tasks: collections.deque[Any] = collections.deque()
         self._busy = False
         self._cond = threading.Condition()
         self._thread = threading.Thread(target=self._run, name="gogreen-journal", daemon=True)
@@ -398,12 +399,12 @@ class Journal:
             self._retire = None
 
     # -- worker thread -----------------------------------------------------------------------
-    def _submit(self, task: tuple) -> None:
+    def _submit(self, task: tuple[Any, ...]) -> None:
         with self._cond:
             self._tasks.append(task)
             self._cond.notify_all()
 
-    def _next_task(self) -> tuple:
+    def _next_task(self) -> tuple[Any, ...]:
         """The next task; runs of fsyncs of one file collapse into the last, and a checkpoint
         with a newer one queued is skipped."""
         with self._cond:
@@ -432,7 +433,7 @@ class Journal:
                 if kind != "file":  # a picture protects nothing: not worth a message
                     self._problem(_task_problem(kind, exc))
 
-    def _do(self, task: tuple) -> None:
+    def _do(self, task: tuple[Any, ...]) -> None:
         kind = task[0]
         if kind == "fsync":
             os.fsync(task[1])
@@ -466,7 +467,7 @@ class Journal:
         atomic_write(self.directory / name, lambda out: np.savez(out, **arrays))
         self._base_written = True
 
-    def _write_checkpoint(self, state: SculptState, extra: dict) -> None:
+    def _write_checkpoint(self, state: SculptState, extra: dict[str, Any]) -> None:
         if extra["token"] != self._token:
             return  # the journal restarted since it was taken
         write_checkpoint(self.directory / f"checkpoint-{extra['seq']}.bin", state, extra)
@@ -489,7 +490,7 @@ class Journal:
                     path.unlink(missing_ok=True)
 
 
-def _pins_json(state: SculptState) -> dict | None:
+def _pins_json(state: SculptState) -> dict[str, Any] | None:
     if state.pins is None:
         return None
     points, matrix, inverse = state.pins

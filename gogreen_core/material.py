@@ -9,6 +9,7 @@ the displacement shapes; the Green's function scales as 1/stiffness).
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
@@ -293,12 +294,12 @@ class Material:
         return 1.0 / np.einsum("na,ab,nb->n", sig, self.compliance, sig)
 
     # -- serialization ------------------------------------------------------------------------
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """JSON-ready description: ``{"voigt": 6x6 nested list}``."""
         return {"voigt": self._voigt.tolist()}
 
     @classmethod
-    def from_dict(cls, data: dict) -> Material:
+    def from_dict(cls, data: dict[str, Any]) -> Material:
         """Inverse of :meth:`to_dict`."""
         if not isinstance(data, dict) or "voigt" not in data:
             raise ValueError("material description must be a dict with a 'voigt' entry")

@@ -30,6 +30,7 @@ import hashlib
 import json
 from abc import ABC, abstractmethod
 from collections.abc import Iterable, Sequence
+from typing import Any
 
 import numpy as np
 from scipy import special
@@ -132,7 +133,7 @@ class RadialProfile(ABC):
         return self if self._eps == 1.0 else self.with_eps(1.0)
 
     @abstractmethod
-    def table_key(self) -> tuple:
+    def table_key(self) -> tuple[Any, ...]:
         """Hashable identity of the shape (not ε): equal keys give equal tables."""
 
     def table(self, kind: str, degrees: Iterable[int]) -> np.ndarray:
@@ -144,7 +145,7 @@ class RadialProfile(ABC):
         return cached_table(self.table_key(), kind, l, self)
 
     @abstractmethod
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """JSON-ready description; :func:`radial_from_dict` inverts it."""
 
     def __repr__(self) -> str:
@@ -152,10 +153,10 @@ class RadialProfile(ABC):
 
 
 class _ClosedFormRadial(RadialProfile):
-    def table_key(self) -> tuple:
+    def table_key(self) -> tuple[Any, ...]:
         return (self.kind_name,)
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {"type": self.kind_name, "eps": self._eps}
 
     def __eq__(self, other: object) -> bool:
@@ -430,7 +431,7 @@ class SplineRadial(RadialProfile):
         out[~inside] = ys[-1] * (xs[-1] / rho[~inside]) ** _DECAY[kind]
         return out
 
-    def table_key(self) -> tuple:
+    def table_key(self) -> tuple[Any, ...]:
         # Keyed by content, never by id(): a new profile may reuse a dead one's id (measured:
         # 40 falloffs built and dropped, one got a dead one's table).
         if self._digest is None:
@@ -462,7 +463,7 @@ class SplineRadial(RadialProfile):
         return hash((self.eps, self.table_key()))
 
     # -- serialization -----------------------------------------------------------------------
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         data = {
             "type": "spline",
             "eps": self.eps,
@@ -545,10 +546,10 @@ class MultiscaleRadial(RadialProfile):
             for s, w in zip(self._scales, self._weights, strict=True)
         )
 
-    def table_key(self) -> tuple:
+    def table_key(self) -> tuple[Any, ...]:
         return ("multiscale", self._base.table_key(), self._scales, self._weights)
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {
             "type": self.kind_name,
             "eps": self.eps,
@@ -558,7 +559,7 @@ class MultiscaleRadial(RadialProfile):
         }
 
 
-def radial_from_dict(data: dict) -> RadialProfile:
+def radial_from_dict(data: dict[str, Any]) -> RadialProfile:
     """Rebuild a profile from :meth:`RadialProfile.to_dict` output."""
     if not isinstance(data, dict) or "type" not in data or "eps" not in data:
         raise ValueError("a falloff description needs 'type' and 'eps'")

@@ -145,7 +145,7 @@ def _get(data: object, path: str, key: str) -> object:
     return data[key]
 
 
-def read_json(path: str | os.PathLike, kind: str = "JSON file") -> object:
+def read_json(path: str | os.PathLike[str], kind: str = "JSON file") -> object:
     """The JSON value in file ``path``; ``ValueError`` starting with the file's name when it
     cannot be read, is not UTF-8 text (``kind`` says what was expected) or is not JSON."""
     p = Path(path)
@@ -167,7 +167,7 @@ def read_json(path: str | os.PathLike, kind: str = "JSON file") -> object:
         raise ValueError(f"{p.name}: not valid JSON (nested too deeply)") from None
 
 
-def parse_file(path: str | os.PathLike, parse: Callable[[object], T], kind: str) -> T:
+def parse_file(path: str | os.PathLike[str], parse: Callable[[object], T], kind: str) -> T:
     """``parse`` of the JSON in ``path`` (see :func:`read_json`); a :class:`ParameterError`
     keeps its field and gets the file's name in front of its message."""
     data = read_json(path, kind)

@@ -148,7 +148,7 @@ class SessionLog:
             del self._operations[length:]
             self._notify("truncate", None)
 
-    def to_list(self) -> list[dict]:
+    def to_list(self) -> list[dict[str, Any]]:
         return [op.to_dict() for op in self._operations]
 
 
@@ -211,7 +211,7 @@ def _renamed(op: Operation) -> Operation:
     return op
 
 
-def load_session(path: str | os.PathLike) -> Session:
+def load_session(path: str | os.PathLike[str]) -> Session:
     """Read and check a session file; ``ValueError`` (a :class:`ParameterError` for a bad
     field) whose message starts with the file's name."""
     return parse_file(path, parse_session, "session file")

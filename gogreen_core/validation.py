@@ -8,6 +8,7 @@ and preset readers) can point at the field without parsing the message text.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -198,7 +199,7 @@ def check_choice(name: str, value: object, choices: tuple[str, ...]) -> str:
     return value
 
 
-def check_list(name: str, value: object, *, max_length: int | None = None) -> list:
+def check_list(name: str, value: object, *, max_length: int | None = None) -> list[Any]:
     """``value`` if it is a list (a JSON array), of at most ``max_length`` items."""
     if not isinstance(value, (list, tuple)):
         raise ParameterError(name, f"{name} must be a list (got {type(value).__name__})")
@@ -212,7 +213,7 @@ def check_object(
     value: object,
     required: tuple[str, ...] = (),
     optional: tuple[str, ...] | None = None,
-) -> dict:
+) -> dict[str, Any]:
     """``value`` if it is a dict (a JSON object) with every ``required`` key and no key outside
     ``required + optional``; :class:`ParameterError` naming the missing or unknown field.
     With neither given, only the type is checked."""

@@ -136,10 +136,10 @@ class FoldRadial(RadialProfile):
         window: np.ndarray = t**l * np.exp(0.5 * l * (1.0 - t * t))
         return window
 
-    def table_key(self) -> tuple:
+    def table_key(self) -> tuple[Any, ...]:
         return ("folds", FOLD_RING, MOUND_SCALE, self._base.table_key())
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {"type": self.kind_name, "base": self._base.to_dict()}
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -113,7 +113,7 @@ class SculptTools:
             self._cursor_profile,
             self._cursor_full_radius,
         )
-        self._profile_key: tuple | None = None
+        self._profile_key: tuple[Any, ...] | None = None
         self._profile: np.ndarray | None = None
         self._profile_settings = None
         self.set_sculptor(sculptor)
