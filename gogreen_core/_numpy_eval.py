@@ -198,7 +198,7 @@ def _rk4(
 
 def _norm2(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     d0, d1, d2 = a[0] - b[0], a[1] - b[1], a[2] - b[2]
-    return d0 * d0 + d1 * d1 + d2 * d2
+    return cast(np.ndarray, d0 * d0 + d1 * d1 + d2 * d2)
 
 
 def stream(

@@ -19,6 +19,8 @@ pin moves. Without it G decays only as 1/r and dragging one pin moved the whole 
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 
 from gogreen_core._expansion import near_segment
@@ -114,7 +116,7 @@ class ConstraintSet:
         """s G(others − p) as a (3k, 3) column block."""
         offsets = others - p
         blocks = self._kernel.green(offsets) * self._weights(offsets)[:, None, None]
-        return blocks.reshape(-1, 3)
+        return cast(np.ndarray, blocks.reshape(-1, 3))
 
     def add(self, point: np.ndarray) -> int:
         """Add a constraint at ``point`` (3,); returns its index. O(k²)."""

@@ -8,6 +8,7 @@ the material's axis where it is sharply peaked (:func:`material_rule`).
 from __future__ import annotations
 
 from functools import lru_cache
+from typing import cast
 
 import numpy as np
 from scipy.integrate import lebedev_rule
@@ -42,7 +43,7 @@ def _low_moments(material: Material, nodes: np.ndarray, weights: np.ndarray) -> 
     m_inv = np.linalg.inv(material.acoustic_tensor(nodes))
     x, y, z = nodes.T
     mono = np.stack([np.ones_like(x), x, y, z, x * x, y * y, z * z, x * y, x * z, y * z])
-    return ((mono * weights) @ m_inv.reshape(len(nodes), 9)).reshape(10, 3, 3)
+    return cast(np.ndarray, ((mono * weights) @ m_inv.reshape(len(nodes), 9)).reshape(10, 3, 3))
 
 
 def _material_frame(material: Material) -> np.ndarray:

@@ -30,7 +30,7 @@ import hashlib
 import json
 from abc import ABC, abstractmethod
 from collections.abc import Iterable, Sequence
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from scipy import special
@@ -184,7 +184,7 @@ class GaussianRadial(_ClosedFormRadial):
             a, c = l / 2 + 1, np.sqrt(np.pi)
         b = l + 1.5
         scale = c * special.gamma(a) / special.gamma(b)
-        return scale * rho**l * special.hyp1f1(a, b, -(rho**2))
+        return cast(np.ndarray, scale * rho**l * special.hyp1f1(a, b, -(rho**2)))
 
 
 class KelvinletRadial(_ClosedFormRadial):
@@ -205,7 +205,7 @@ class KelvinletRadial(_ClosedFormRadial):
             a, b, c = l / 2 + 3, l / 2 + 1, np.sqrt(np.pi)
         g = l + 1.5
         scale = c * special.gamma(a) * special.gamma(b) / special.gamma(g)
-        return scale * rho**l * special.hyp2f1(a, b, g, -(rho**2))
+        return cast(np.ndarray, scale * rho**l * special.hyp2f1(a, b, g, -(rho**2)))
 
 
 #: Default control abscissae (ρ = r/ε) of a spline falloff: dense where the falloff bends.
@@ -371,17 +371,21 @@ class SplineRadial(RadialProfile):
         """Remove a control point (the first one, at ρ = 0, and the last two stay)."""
         self.set_curve(kind, l, *self._removed(kind, l, index))
 
-    def _moved(self, kind: str, l: int, index: int, rho: float, value: float):
+    def _moved(
+        self, kind: str, l: int, index: int, rho: float, value: float
+    ) -> tuple[np.ndarray, np.ndarray]:
         xs, ys = self.curve(kind, l)
         xs[index], ys[index] = rho, value
         return xs, ys
 
-    def _added(self, kind: str, l: int, rho: float, value: float):
+    def _added(
+        self, kind: str, l: int, rho: float, value: float
+    ) -> tuple[np.ndarray, np.ndarray, int]:
         xs, ys = self.curve(kind, l)
         index = int(np.searchsorted(xs, rho))
         return np.insert(xs, index, rho), np.insert(ys, index, value), index
 
-    def _removed(self, kind: str, l: int, index: int):
+    def _removed(self, kind: str, l: int, index: int) -> tuple[np.ndarray, np.ndarray]:
         xs, ys = self.curve(kind, l)
         if index == 0 or index % len(xs) == 0:
             raise ValueError("the control point at rho = 0 cannot be removed")
@@ -541,9 +545,12 @@ class MultiscaleRadial(RadialProfile):
     def dimensionless(self, kind: str, l: int, rho: np.ndarray) -> np.ndarray:
         rho = np.asarray(rho, dtype=np.float64)
         p = _DECAY[kind]
-        return sum(
-            w * s**-p * self._base.dimensionless(kind, l, rho / s)
-            for s, w in zip(self._scales, self._weights, strict=True)
+        return cast(
+            np.ndarray,
+            sum(
+                w * s**-p * self._base.dimensionless(kind, l, rho / s)
+                for s, w in zip(self._scales, self._weights, strict=True)
+            ),
         )
 
     def table_key(self) -> tuple[Any, ...]:

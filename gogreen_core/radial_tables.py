@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import threading
 from functools import lru_cache
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
@@ -61,7 +61,7 @@ def radial_table(profile: RadialProfile, kind: str, l: int) -> np.ndarray:
     values = values * (1 + rho) ** DECAY[kind]
     if not np.all(np.isfinite(values)):
         raise ValueError(f"falloff {profile!r} gives non-finite values for {kind}{l}")
-    return values @ to_mono.T
+    return cast(np.ndarray, values @ to_mono.T)
 
 
 _TABLE_CACHE: dict[tuple[Any, ...], np.ndarray] = {}
