@@ -28,7 +28,7 @@ import os
 import struct
 import zlib
 from dataclasses import dataclass
-from typing import Any, BinaryIO
+from typing import Any, BinaryIO, cast
 
 import numpy as np
 
@@ -101,7 +101,11 @@ class SculptState:
         size = float(header["model_size"])
         if origin.shape != (3,) or not np.isfinite(origin).all() or not size > 0:
             raise ValueError("model size or origin malformed")
-        pins = tuple(arrays[1:4]) if header["pins"] is not None else None
+        pins = (
+            cast("tuple[np.ndarray, np.ndarray, np.ndarray]", tuple(arrays[1:4]))
+            if header["pins"] is not None
+            else None
+        )
         rest = iter(arrays[1 if pins is None else 4 :])
         mask = next(rest) if header.get("mask") else None
         faces = uv = uv_faces = None
@@ -144,7 +148,8 @@ def write_checkpoint(
             out.write(piece)
             crc = zlib.crc32(piece, crc)
         for array in state.arrays():
-            data = memoryview(array).cast("B")
+            # (numpy declares its buffer protocol to type checkers from Python 3.12 on)
+            data = memoryview(cast(Any, array)).cast("B")
             for start in range(0, len(data), _CHUNK):
                 chunk = data[start : start + _CHUNK]
                 out.write(chunk)

@@ -19,7 +19,7 @@ pin moves. Without it G decays only as 1/r and dragging one pin moved the whole 
 
 from __future__ import annotations
 
-from typing import cast
+from typing import Any, cast
 
 import numpy as np
 
@@ -186,6 +186,7 @@ class ConstraintSet:
         self._reorder(order)
 
     def _reorder(self, order: list[int]) -> None:
+        idx: Any  # an array, or [] (which np.ix_ takes; numpy's annotations do not say so)
         idx = np.concatenate([np.arange(3 * i, 3 * i + 3) for i in order]) if order else []
         self._points = self._points[order]
         self._matrix = self._matrix[np.ix_(idx, idx)]
@@ -215,7 +216,8 @@ class ConstraintSet:
         """The rows (K,) int64, sorted, of ``points`` (N, 3) within :attr:`reach` of a pin
         whose force is not zero, and u (K, 3) there (u is zero at every other row)."""
         points = np.asarray(points, dtype=np.float64)
-        pins = []  # (p, f, its rows, their weights)
+        # (p, f, its rows, their weights)
+        pins: list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]] = []
         for p, f in zip(self._points, forces, strict=True):
             if not np.any(f):
                 continue

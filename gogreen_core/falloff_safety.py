@@ -235,7 +235,7 @@ class FieldBound:
         n = values.shape[2]
         self._points = points
         self._maps = (values, gradient.transpose(0, 2, 1, 3).reshape(-1, 9, n))
-        self._tables: dict[str, tuple[np.ndarray, _SupTable, _SupTable]] = {}
+        self._tables: dict[str, tuple[np.ndarray | None, _SupTable, _SupTable]] = {}
 
     def _table(self, load: np.ndarray) -> tuple[np.ndarray, _SupTable, _SupTable]:
         """(coefficients of ``load`` in the subspace it lies in, motion table, strain table):

@@ -220,7 +220,15 @@ class History:
         changed = np.flatnonzero(np.any(b.view(np.uint64) != a.view(np.uint64), axis=1))
         self._record_or_merge(label, idx[changed], b[changed], a[changed], merge, state)
 
-    def _record_or_merge(self, label, indices, before, after, merge, state) -> None:
+    def _record_or_merge(
+        self,
+        label: str,
+        indices: np.ndarray,
+        before: np.ndarray,
+        after: np.ndarray,
+        merge: bool,
+        state: tuple[object, object] | None,
+    ) -> None:
         last = self._undo[-1] if self._undo else None
         if merge and last is not None and last.label == label and not self._redo:
             self._merge_last(indices, before, after, state)
@@ -228,7 +236,11 @@ class History:
             self.record(label, indices, before, after, state)
 
     def _merge_last(
-        self, indices: np.ndarray, before: np.ndarray, after: np.ndarray, state
+        self,
+        indices: np.ndarray,
+        before: np.ndarray,
+        after: np.ndarray,
+        state: tuple[object, object] | None,
     ) -> None:
         """Fold a change into the last entry: it keeps its own ``before`` rows and takes the
         new ``after`` rows."""

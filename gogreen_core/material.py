@@ -33,9 +33,9 @@ def voigt_to_tensor(voigt: np.ndarray) -> np.ndarray:
 def tensor_to_voigt(tensor: np.ndarray) -> np.ndarray:
     """Contract a (3, 3, 3, 3) stiffness tensor with minor symmetries into (6, 6) Voigt form."""
     tensor = np.asarray(tensor, dtype=np.float64)
-    rows, cols = zip(*VOIGT_PAIRS, strict=True)
-    rows, cols = np.array(rows), np.array(cols)
-    return tensor[rows[:, None], cols[:, None], rows[None, :], cols[None, :]]
+    row_list, col_list = zip(*VOIGT_PAIRS, strict=True)
+    rows, cols = np.array(row_list), np.array(col_list)
+    return cast(np.ndarray, tensor[rows[:, None], cols[:, None], rows[None, :], cols[None, :]])
 
 
 def _finite(name: str, value: np.ndarray) -> None:

@@ -383,7 +383,7 @@ def operation_from_dict(data: object, path: str = "operation") -> Operation:
     """One session operation ``{"op": name, ...}`` → its typed record; ParameterError naming
     the field (``path.op``, ``path.events[0].delta``...) for anything missing, unknown,
     mistyped or out of range."""
-    check_object(path, data)
+    data = check_object(path, data)
     if "op" not in data:
         raise ParameterError(field_path(path, "op"), f"{field_path(path, 'op')} is missing")
     name = check_choice(field_path(path, "op"), data["op"], tuple(OPERATIONS))

@@ -75,12 +75,12 @@ def _product_rule(
     coarse_points, fine_points = 16 + 4 * level, 8 + 4 * level
     n_uniform = int(np.ceil(np.pi * (l_max + 2) / (4 * (coarse_points - 8))))
     uniform_width = np.pi / (2 * n_uniform)
-    edges = set(np.linspace(0.0, np.pi, 2 * n_uniform + 1).tolist())
+    edge_set = set(np.linspace(0.0, np.pi, 2 * n_uniform + 1).tolist())
     width = finest
     while width < uniform_width / 2:
-        edges.update((width, np.pi / 2 - width, np.pi / 2 + width, np.pi - width))
+        edge_set.update((width, np.pi / 2 - width, np.pi / 2 + width, np.pi - width))
         width *= 2.0
-    edges = np.array(sorted(edges))
+    edges = np.array(sorted(edge_set))
     thetas, theta_weights = [], []
     for points in (coarse_points, fine_points):
         lo, hi = edges[:-1], edges[1:]

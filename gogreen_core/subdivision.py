@@ -162,6 +162,7 @@ def _split_faces(
         turn = (first[:, None] + np.arange(3)) % 3
         (c0, c1, c2) = np.take_along_axis(corners[f], turn, axis=1).T
         (m0, m1, m2) = np.take_along_axis(middles[f], turn, axis=1).T
+        children: tuple[tuple[np.ndarray, np.ndarray, np.ndarray], ...]
         if n_split == 1:
             children = ((c0, m0, c2), (m0, c1, c2))
         else:

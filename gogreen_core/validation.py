@@ -8,7 +8,8 @@ and preset readers) can point at the field without parsing the message text.
 from __future__ import annotations
 
 import math
-from typing import Any
+from types import TracebackType
+from typing import Any, Literal
 
 import numpy as np
 
@@ -67,7 +68,7 @@ def field(path: str, name: str | int) -> str:
     return f"{path}.{name}" if path else name
 
 
-def prefixed(prefix: str):
+def prefixed(prefix: str) -> _Prefixed:
     """Context manager re-raising any :class:`ParameterError` as seen from ``prefix`` (see
     :meth:`ParameterError.within`), and any other ``ValueError`` as a :class:`ParameterError`
     of ``prefix`` itself."""
@@ -75,13 +76,18 @@ def prefixed(prefix: str):
 
 
 class _Prefixed:
-    def __init__(self, prefix: str):
+    def __init__(self, prefix: str) -> None:
         self.prefix = prefix
 
     def __enter__(self) -> None:
         return None
 
-    def __exit__(self, kind, exc, tb) -> bool:
+    def __exit__(
+        self,
+        kind: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> Literal[False]:
         if exc is None:
             return False
         if isinstance(exc, ParameterError):

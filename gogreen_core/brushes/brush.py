@@ -151,7 +151,7 @@ class Brush:
             return cls(**values)
 
 
-def _vector(name: str, value, nonzero: bool = False) -> np.ndarray:
+def _vector(name: str, value: object, nonzero: bool = False) -> np.ndarray:
     arr = check_finite(name, value, (3,))
     if nonzero and not np.any(arr):
         raise ParameterError(name, f"{name} must be nonzero (got {value!r})")
