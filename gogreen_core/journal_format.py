@@ -20,17 +20,19 @@ import zlib
 from dataclasses import dataclass, field
 from datetime import datetime
 from pathlib import Path
-from typing import Any
+from types import ModuleType
+from typing import Any, cast
 
 import numpy as np
 
+from gogreen_core.operations import Operation, operation_from_dict
+from gogreen_core.validation import ParameterError
+
+fcntl: ModuleType | None  # None where there is no fcntl
 try:
     import fcntl
 except ImportError:  # not POSIX (Windows): no journal, said as a problem
     fcntl = None
-
-from gogreen_core.operations import Operation, operation_from_dict
-from gogreen_core.validation import ParameterError
 
 __all__ = [
     "JOURNAL_FILE",
@@ -119,7 +121,7 @@ def write_all(fd: int, data: bytes) -> None:
 def vertex_hash(vertices: np.ndarray) -> str:
     """SHA-256 of the float64 vertex array (the session files' ``mesh.sha256``)."""
     array = np.ascontiguousarray(vertices, dtype=np.float64)
-    return hashlib.sha256(memoryview(array).cast("B")).hexdigest()
+    return hashlib.sha256(memoryview(cast(Any, array)).cast("B")).hexdigest()
 
 
 class JournalLock:
@@ -346,6 +348,7 @@ def read_journal(directory: str | os.PathLike[str], validate: bool = True) -> Jo
                 "records before it are kept"
             )
             break
+        assert record is not None  # parsed without a problem
         contents.records.append(record)
     return contents
 

@@ -31,7 +31,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -49,6 +49,7 @@ from gogreen_core.journal_format import (
     vertex_hash,
 )
 from gogreen_core.mesh_io import MeshData, load_mesh
+from gogreen_core.operations import Operation
 from gogreen_core.sculptor import Sculptor, restore_state
 from gogreen_core.session import SESSION_FORMAT, SESSION_VERSION, replay
 
@@ -144,8 +145,8 @@ def journal_info(directory: str | os.PathLike[str]) -> JournalInfo:
     size = 0
     with contextlib.suppress(OSError):  # another app may be removing it right now
         size = sum(p.stat().st_size for p in directory.iterdir() if p.is_file())
-    thumbnail = directory / THUMBNAIL_FILE
-    thumbnail = thumbnail if thumbnail.is_file() else None
+    thumbnail_path = directory / THUMBNAIL_FILE
+    thumbnail = thumbnail_path if thumbnail_path.is_file() else None
     try:
         contents = read_journal(directory, validate=False)
     except JournalError as exc:
@@ -412,9 +413,9 @@ def _replay(
     total = sum(r.steps for r in records)
     steps = applied = 0
     for record in _plan(records):
-        op = record.op
+        op = cast(Operation, record.op)  # (the records were read with validation)
         if record.kind == "replace" and hasattr(op, "continued"):
-            op = replace(op, continued=True)  # merges into the last step, as it did
+            op = replace(cast(Any, op), continued=True)  # merges into the last step, as it did
         try:
             replay(sculptor, [op])  # one record at a time: a failure undoes that record alone
         except (ValueError, RuntimeError) as exc:
