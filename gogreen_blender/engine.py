@@ -14,6 +14,7 @@ bounding box the desktop app mirrors about.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from collections.abc import Callable, Mapping, Sequence
@@ -38,18 +39,23 @@ from gogreen_core import (
     radial_from_dict,
 )
 from gogreen_core.brushes import default_wrinkle_weights
+from gogreen_core.engine_settings import EngineSettings, resized_brush_weights
+from gogreen_core.limits import check_brush_weights
 from gogreen_core.shapes import icosphere
 
 __all__ = [
+    "ADDON_BRUSH_KINDS",
     "FALLOFF_KINDS",
     "MATERIAL_MODES",
     "SculptSettings",
     "brush_label",
+    "brush_weights_from",
     "default_settings",
     "euler_matrix",
     "events_from_json",
     "falloff_from",
     "homogenized_material",
+    "influence_of",
     "make_sculptor",
     "material_from_json",
     "material_to_json",
@@ -59,6 +65,10 @@ __all__ = [
     "stroke",
     "warm_up",
 ]
+
+#: The engine's brushes the add-on offers: all but the mask brush, whose mask would live for one
+#: stroke only here (Blender keeps its own sculpt mask, with its own tools).
+ADDON_BRUSH_KINDS = tuple(kind for kind in BRUSH_KINDS if kind != "mask")
 
 #: Material sources of the panel: identifier, label, description.
 MATERIAL_MODES = (
@@ -89,7 +99,9 @@ class SculptSettings:
     material : the elastic material (any :class:`gogreen_core.Material`).
     falloff : the falloff shape (its ε is ignored: each brush sets it).
     l_max : truncation degree of the spherical-harmonic expansion.
-    degree_weights : the wrinkle brush's per-degree weights (l_max + 1,).
+    degree_weights : the legacy wrinkle brush's per-degree weights (l_max + 1,).
+    brush_weights : each brush kind's degree weights ω_0 … ω_{l_max+1} (a kind not listed has
+        its defaults).
     """
 
     brush: Brush
@@ -97,6 +109,17 @@ class SculptSettings:
     falloff: RadialProfile
     l_max: int
     degree_weights: np.ndarray
+    brush_weights: Mapping[str, tuple[float, ...]] = dataclasses.field(default_factory=dict)
+
+    def engine_settings(self) -> EngineSettings:
+        """The engine's settings value of these (checked: ParameterError names a bad one)."""
+        return EngineSettings(
+            material=self.material,
+            falloff=self.falloff,
+            l_max=self.l_max,
+            degree_weights=self.degree_weights,
+            brush_weights=self.brush_weights,
+        )
 
 
 def euler_matrix(angles: Sequence[float]) -> np.ndarray:
@@ -173,6 +196,59 @@ def degree_weights_from(text: str, l_max: int) -> np.ndarray:
     return weights
 
 
+def brush_weights_from(text: str, l_max: int) -> Mapping[str, tuple[float, ...]]:
+    """The per-brush degree weights stored as a JSON object (a preset's, the panel's), fitted
+    to ``l_max`` (degrees both have are kept, new ones get each brush's defaults); none
+    stored: every brush at its defaults."""
+    if not text:
+        return {}
+    try:
+        stored = json.loads(text)
+    except (ValueError, TypeError) as exc:
+        raise ParameterError("brush_weights", f"stored weights are not JSON: {exc}") from None
+    if not isinstance(stored, dict) or not all(isinstance(w, list) for w in stored.values()):
+        raise ParameterError("brush_weights", "stored weights must map brush kinds to lists")
+    sized = {kind: tuple(weights) for kind, weights in stored.items()}
+    if {len(weights) for weights in sized.values()} - {l_max + 2}:  # stored for another l_max
+        try:
+            sized = dict(resized_brush_weights(sized, l_max))
+        except (TypeError, ValueError) as exc:
+            message = f"stored weights are not numbers: {exc}"
+            raise ParameterError("brush_weights", message) from None
+    return check_brush_weights(sized, l_max)
+
+
+#: Resolved automatic influences (ε) of recent settings (the cursor asks at every hover).
+_influences: dict[str, float] = {}
+
+
+def influence_of(settings: SculptSettings) -> float:
+    """The brush's influence radius in ε for these settings: its own number, or the one an
+    automatic influence resolves to (where the field has faded; mesh independent, so found on
+    a small sphere and remembered)."""
+    brush = settings.brush
+    if not brush.auto_influence:
+        return float(brush.influence)
+    key = json.dumps(
+        [
+            brush.kind,
+            brush.substeps,
+            settings.material.to_dict(),
+            settings.falloff.to_dict(),
+            settings.l_max,
+            {k: list(w) for k, w in settings.brush_weights.items()},
+        ],
+        sort_keys=True,
+        default=float,
+    )
+    if key not in _influences:
+        vertices, faces = icosphere(1)
+        if len(_influences) > 64:
+            _influences.clear()
+        _influences[key] = make_sculptor(vertices, faces, settings).influence(brush)
+    return _influences[key]
+
+
 def pattern_phases(pattern: str, resolution: int, params: Mapping[str, object]) -> np.ndarray:
     """The (n, n, n) 0/1 voxel cell of a pattern of :data:`gogreen_core.PATTERNS`."""
     if pattern not in PATTERNS:
@@ -205,14 +281,7 @@ def make_sculptor(vertices: np.ndarray, faces: np.ndarray, settings: SculptSetti
     """A :class:`gogreen_core.Sculptor` on the mesh (object space, float64) with the settings;
     mirror planes through the object's origin. Its errors (:class:`ParameterError`, a
     ``ValueError``) name the bad setting."""
-    sculptor = Sculptor(
-        vertices,
-        faces,
-        material=settings.material,
-        l_max=settings.l_max,
-        falloff=settings.falloff,
-        degree_weights=settings.degree_weights,
-    )
+    sculptor = Sculptor(vertices, faces, settings=settings.engine_settings())
     # Blender mirrors sculpting about the object's local axes through its origin
     sculptor.origin = np.zeros(3)
     return sculptor
@@ -245,7 +314,7 @@ def stroke(
     return np.array(sculptor.vertices)
 
 
-def warm_up(settings: SculptSettings, kinds: Sequence[str] = BRUSH_KINDS) -> None:
+def warm_up(settings: SculptSettings, kinds: Sequence[str] = ADDON_BRUSH_KINDS) -> None:
     """Compile (or load from numba's disk cache) what strokes of these settings run: one tiny
     mirrored stroke of every brush kind on a small sphere. Seconds to tens of seconds the first
     time on a machine, well under a second afterwards."""
@@ -268,10 +337,9 @@ def default_settings(l_max: int = 8) -> SculptSettings:
         GaussianRadial(1.0),
         l_max,
         default_wrinkle_weights(l_max),
+        {},
     )
 
 
 def _with_brush(settings: SculptSettings, brush: Brush) -> SculptSettings:
-    return SculptSettings(
-        brush, settings.material, settings.falloff, settings.l_max, settings.degree_weights
-    )
+    return dataclasses.replace(settings, brush=brush)

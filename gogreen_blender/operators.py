@@ -19,7 +19,6 @@ from bpy_extras.io_utils import ExportHelper, ImportHelper
 from mathutils import Vector
 
 from gogreen_core import (
-    BRUSH_KINDS,
     GaussianRadial,
     KelvinletRadial,
     Preset,
@@ -48,7 +47,7 @@ def _kind_items(_self, _context):
 
 
 _KIND_ITEMS = [("SCENE", "Scene's brush", "The brush chosen in the GoGreen panel")] + [
-    (k, engine.brush_label(k), f"The {k} brush") for k in BRUSH_KINDS
+    (k, engine.brush_label(k), f"The {k} brush") for k in engine.ADDON_BRUSH_KINDS
 ]
 
 
@@ -173,9 +172,11 @@ class RegionView:
         )
 
 
-def _brush_radii(brush, model_size: float) -> tuple[float, float]:
-    eps = brush.eps(model_size)
-    return eps, brush.influence * eps
+def _brush_radii(brush, sculptor) -> tuple[float, float]:
+    """ε and the influence radius (model units) of ``brush`` on ``sculptor``'s mesh (an
+    automatic influence resolved by the engine)."""
+    eps = brush.eps(sculptor.model_size)
+    return eps, sculptor.influence(brush) * eps
 
 
 def input_event(event) -> InputEvent:
@@ -220,7 +221,7 @@ class ObjectStroke:
 
     def show_cursor(self) -> None:
         if hasattr(self.view, "cursor") and self.stroke.center is not None:
-            eps, reach = _brush_radii(self.stroke.brush, self.stroke.sculptor.model_size)
+            eps, reach = _brush_radii(self.stroke.brush, self.stroke.sculptor)
             drawing.set_cursor(self.view.cursor(self.stroke.center, eps, reach))
 
     def handle(self, event: InputEvent) -> str:
@@ -337,7 +338,9 @@ class GOGREEN_OT_hover(bpy.types.Operator):
                 corners = np.array(obj.bound_box, dtype=float)
                 size = float(np.linalg.norm(corners.max(axis=0) - corners.min(axis=0)))
                 eps = s.radius * size
-                state = view.cursor(point, eps, s.influence * eps)
+                state = view.cursor(
+                    point, eps, engine.influence_of(properties.read_settings(context.scene)) * eps
+                )
         if state is not None or drawing.cursor() is not None:
             drawing.set_cursor(state)
             context.area.tag_redraw()
@@ -362,10 +365,12 @@ def apply_preset(scene, preset: Preset) -> None:
         s.custom_falloff = json.dumps(falloff.to_dict())
     s.l_max = preset.l_max
     s.degree_weights = json.dumps([float(w) for w in preset.weights])
+    s.brush_weights = json.dumps({k: list(w) for k, w in preset.brush_weights.items()})
     brush = preset.brush
     s.brush, s.radius, s.strength = brush.kind, brush.radius, brush.strength
     s.substeps = brush.substeps
-    s.influence = brush.influence  # an infinite one is stored as the largest float
+    # an automatic influence is stored as 0, an infinite one as the largest float
+    s.influence = 0.0 if brush.auto_influence else brush.influence
 
 
 def preset_from_scene(scene, name: str) -> Preset:
@@ -377,6 +382,7 @@ def preset_from_scene(scene, name: str) -> Preset:
         falloff=settings.falloff,
         l_max=settings.l_max,
         degree_weights=settings.degree_weights,
+        brush_weights=settings.brush_weights,
         brush=settings.brush,
         description="Saved from Blender",
     )

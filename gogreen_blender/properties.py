@@ -1,7 +1,8 @@
 """The add-on's settings, stored on the scene (``scene.gogreen``) so they save with the file.
 
-Brush kinds come from :data:`gogreen_core.BRUSH_KINDS` and the homogenization patterns and
-their parameters from :data:`gogreen_core.PATTERNS` when the add-on registers, so a kind or a
+Brush kinds come from :data:`gogreen_core.BRUSH_KINDS` (but the mask brush:
+:data:`engine.ADDON_BRUSH_KINDS`) and the homogenization patterns and their parameters from
+:data:`gogreen_core.PATTERNS` when the add-on registers, so a kind or a
 pattern added to the engine appears here by itself. Materials that Blender's single-precision
 float properties would round (a preset's, a homogenized one) are kept as JSON text.
 """
@@ -20,7 +21,8 @@ from bpy.props import (
     StringProperty,
 )
 
-from gogreen_core import BRUSH_KINDS, PATTERNS, Brush, Material, ParameterError
+from gogreen_core import PATTERNS, Brush, Material, ParameterError
+from gogreen_core.brushes import AUTO_INFLUENCE
 
 from . import engine
 
@@ -82,7 +84,7 @@ def _settings_class() -> type:
         "brush": EnumProperty(
             name="Brush",
             description="Brush of the GoGreen Sculpt tool",
-            items=[(k, engine.brush_label(k), f"The {k} brush") for k in BRUSH_KINDS],
+            items=[(k, engine.brush_label(k), f"The {k} brush") for k in engine.ADDON_BRUSH_KINDS],
             default=_DEFAULT_BRUSH.kind,
         ),
         # The core checks the ranges and names the problem; the UI limits only guide.
@@ -105,10 +107,13 @@ def _settings_class() -> type:
         ),
         "influence": FloatProperty(
             name="Influence",
-            description="Radius of the moved region in multiples of ε (inf: every vertex)",
-            default=_DEFAULT_BRUSH.influence,
-            soft_min=1.0,
-            soft_max=10.0,
+            description=(
+                "Radius of the moved region in multiples of ε; 0: automatic, where the brush's "
+                "field has faded (the desktop app's default); inf: every vertex"
+            ),
+            default=0.0,
+            min=0.0,
+            soft_max=32.0,
         ),
         "substeps": IntProperty(
             name="Substeps",
@@ -184,7 +189,14 @@ def _settings_class() -> type:
             update=_changed_l_max,
         ),
         "degree_weights": StringProperty(
-            name="Wrinkle weights", description="Per-degree weights of the wrinkle brush (JSON)"
+            name="Legacy wrinkle weights",
+            description="Per-degree weights of the wrinkle brush of sessions before version 3 "
+            "(JSON)",
+        ),
+        "brush_weights": StringProperty(
+            name="Degree weights",
+            description="Each brush kind's per-degree weights ω_0 … ω_(l_max+1) (JSON object; "
+            "a kind not listed has its defaults)",
         ),
     }
     annotations.update(_pattern_annotations())
@@ -252,8 +264,13 @@ def read_settings(scene, obj=None, kind: str | None = None) -> engine.SculptSett
     if obj is not None and obj.type == "MESH":
         mesh = obj.data
         symmetry = engine.mirror_axes(mesh.use_mirror_x, mesh.use_mirror_y, mesh.use_mirror_z)
-    # Blender stores an infinite influence (every vertex) as the largest single float
-    influence = math.inf if s.influence >= INFINITE_INFLUENCE else s.influence
+    # Blender stores an automatic influence as 0, an infinite one (every vertex) as the
+    # largest single float
+    influence: float | str = s.influence
+    if s.influence <= 0.0:
+        influence = AUTO_INFLUENCE
+    elif s.influence >= INFINITE_INFLUENCE:
+        influence = math.inf
     try:
         brush = Brush(
             kind or s.brush,
@@ -272,6 +289,7 @@ def read_settings(scene, obj=None, kind: str | None = None) -> engine.SculptSett
         falloff=engine.falloff_from(s.falloff, s.custom_falloff),
         l_max=l_max,
         degree_weights=engine.degree_weights_from(s.degree_weights, l_max),
+        brush_weights=engine.brush_weights_from(s.brush_weights, l_max),
     )
 
 

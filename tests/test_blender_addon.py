@@ -136,7 +136,7 @@ def test_registers_and_unregisters_cleanly(addon):
         assert tool_ids("OBJECT") >= {TOOL} and tool_ids("SCULPT") >= {TOOL}
     settings = bpy.context.scene.gogreen
     kinds = {item.identifier for item in settings.bl_rna.properties["brush"].enum_items}
-    assert kinds == set(BRUSH_KINDS)  # the engine's list, nothing hard-coded
+    assert kinds == set(BRUSH_KINDS) - {"mask"}  # the engine's list but the mask brush
 
 
 def tool_ids(mode: str) -> set[str]:
@@ -170,7 +170,7 @@ def _set_anisotropic(settings) -> Material:
     return material.rotated(rz @ ry @ rx)
 
 
-@pytest.mark.parametrize("kind", BRUSH_KINDS)
+@pytest.mark.parametrize("kind", [k for k in BRUSH_KINDS if k != "mask"])
 def test_apply_stroke_is_bit_identical_to_the_sculptor(ico, kind):
     settings = bpy.context.scene.gogreen
     material = _set_anisotropic(settings)
@@ -178,7 +178,8 @@ def test_apply_stroke_is_bit_identical_to_the_sculptor(ico, kind):
     before = positions(ico)
     assert stroke_op(kind, EVENTS) == {"FINISHED"}
     after = positions(ico)
-    assert np.abs(after - before).max() > 1e-3
+    # the smooth brush relaxes an icosphere little: its events' amounts are pen pressures
+    assert np.abs(after - before).max() > (1e-5 if kind == "smooth" else 1e-3)
 
     sculptor = Sculptor(
         before.astype(np.float64),
@@ -189,9 +190,7 @@ def test_apply_stroke_is_bit_identical_to_the_sculptor(ico, kind):
         degree_weights=default_wrinkle_weights(6),
     )
     sculptor.origin = np.zeros(3)  # mirror planes through the object's origin
-    brush = Brush(
-        kind, radius=settings.radius, strength=settings.strength, influence=4.0, symmetry="x"
-    )
+    brush = Brush(kind, radius=settings.radius, strength=settings.strength, symmetry="x")
     sculptor.apply_brush(brush, [BrushEvent.from_dict(e) for e in EVENTS])
     expected = sculptor.vertices.astype(np.float32)
     assert np.array_equal(after.view(np.uint32), expected.view(np.uint32))
@@ -257,7 +256,6 @@ def _plain(value):
 BAD_SETTINGS = [
     ("poisson", 0.5, "poisson must lie in"),
     ("radius", 0.0, "radius"),
-    ("influence", -1.0, "influence"),
     ("strength", 5000.0, "strength"),
     ("material_mode", "HOMOGENIZED", "not been homogenized"),
     ("material_mode", "CUSTOM", "no preset material"),
@@ -504,6 +502,12 @@ def test_presets_are_shared_with_the_desktop_app(ico, tmp_path):
     assert Material.from_dict(json.loads(s.custom_material)) == wood.material  # every bit
     assert s.l_max == wood.l_max and s.brush == wood.brush.kind
     assert json.loads(s.degree_weights) == [float(w) for w in wood.weights]
+    assert s.influence == 0.0  # the preset's automatic influence
+    properties = sub(sys.modules[MODULE], "properties")
+    layered = {p.name: p for p in builtin_presets()}["Layered sheet wrinkles"]
+    assert bpy.ops.gogreen.load_preset(preset="Layered sheet wrinkles") == {"FINISHED"}
+    assert properties.read_settings(bpy.context.scene).brush_weights == layered.brush_weights
+    assert bpy.ops.gogreen.load_preset(preset="Wood grain") == {"FINISHED"}
     path = tmp_path / "mine.json"
     assert bpy.ops.gogreen.save_preset(filepath=str(path)) == {"FINISHED"}
     mine = load_preset(path)  # what the desktop app reads

@@ -343,6 +343,39 @@ def test_falloffs_and_wrinkle_weights():
     assert engine.mirror_axes(True, False, True) == "xz"
 
 
+def test_degree_weights_of_every_brush_and_the_automatic_influence(sphere):
+    assert engine.brush_weights_from("", 4) == {}
+    weights = engine.brush_weights_from('{"pinch": [1, 0.25, 1, 1, 1, 1]}', 4)
+    assert weights == {"pinch": (1.0, 0.25, 1.0, 1.0, 1.0, 1.0)}
+    # stored for l_max 4, read for 6: the degrees both have kept, the new ones the defaults
+    assert engine.brush_weights_from('{"pinch": [1, 0.25, 1, 1, 1, 1]}', 6)["pinch"][:2] == (
+        1.0,
+        0.25,
+    )
+    with pytest.raises(ParameterError, match="stored weights"):
+        engine.brush_weights_from('{"pinch": [1, "x"]}', 4)
+    with pytest.raises(ParameterError, match="stored weights"):
+        engine.brush_weights_from("[1, 2]", 4)
+    vertices, faces = sphere
+    settings = dataclasses.replace(
+        engine.default_settings(6), brush=Brush("pinch", radius=0.2), brush_weights=weights
+    )
+    settings = dataclasses.replace(
+        settings, brush_weights=engine.brush_weights_from('{"pinch": [1, 16, 1, 1, 1, 1, 1, 1]}', 6)
+    )
+    events = [BrushEvent(center=vertices[0], amount=0.3, axis=np.array([0.0, 0.2, 1.0]))]
+    reference = Sculptor(vertices, faces, settings=settings.engine_settings())
+    reference.origin = np.zeros(3)
+    reference.apply_brush(settings.brush, events)
+    assert np.array_equal(engine.stroke(vertices, faces, settings, events), reference.vertices)
+    plain = dataclasses.replace(settings, brush_weights={})
+    assert not np.array_equal(engine.stroke(vertices, faces, plain, events), reference.vertices)
+    # the cursor's reach: the engine's automatic influence, or the brush's own number
+    assert engine.influence_of(settings) == reference.influence(settings.brush) > 4.0
+    fixed = dataclasses.replace(settings, brush=Brush("pinch", radius=0.2, influence=3.0))
+    assert engine.influence_of(fixed) == 3.0
+
+
 def test_stroke_is_the_engines_apply_brush(sphere):
     vertices, faces = sphere
     settings = engine.SculptSettings(
@@ -389,11 +422,11 @@ def test_mirror_planes_go_through_the_object_origin():
     np.testing.assert_allclose(moved[mirror], moved * flip, atol=1e-12)
 
 
-def test_warm_up_runs_every_brush_kind(monkeypatch):
+def test_warm_up_runs_every_brush_kind_the_add_on_offers(monkeypatch):
     seen = []
     monkeypatch.setattr(engine, "stroke", lambda v, f, s, e: seen.append(s.brush.kind))
     engine.warm_up(engine.default_settings(2))
-    assert seen == list(BRUSH_KINDS)
+    assert seen == [k for k in BRUSH_KINDS if k != "mask"]  # what the add-on offers
 
 
 def test_ring_points_draw_a_closed_circle_in_the_view_plane():

@@ -8,6 +8,7 @@ import pytest
 
 from gogreen_core import Brush, BrushEvent, Sculptor
 from gogreen_core.brushes import BRUSH_KINDS, BRUSH_TABLE
+from gogreen_core.brushes.paint import PAINT_AUTO_INFLUENCE
 from gogreen_core.shapes import icosphere
 from gogreen_core.tools import PointerEvent, SculptTools
 
@@ -43,10 +44,10 @@ def test_the_mask_brush_paints_with_the_cutoff_weight_and_ctrl_erases(sphere):
     mask = sculptor.mask.values
     assert np.array_equal(sculptor.vertices, vertices)  # painting moves nothing
     distance = np.linalg.norm(vertices - top_of(vertices), axis=1)
-    eps = 0.12 * sculptor.model_size
-    assert np.all(mask[distance < 0.5 * 4 * eps] == 1.0)  # the inner half of the influence
-    assert np.all(mask[distance >= 4 * eps] == 0.0)
-    rim = (distance > 2 * eps) & (distance < 4 * eps)
+    reach = PAINT_AUTO_INFLUENCE * 0.12 * sculptor.model_size  # automatic: 2ε
+    assert np.all(mask[distance < 0.5 * reach] == 1.0)  # the inner half of the influence
+    assert np.all(mask[distance >= reach] == 0.0)
+    rim = (distance > 0.5 * reach) & (distance < reach)
     assert np.any((mask[rim] > 0) & (mask[rim] < 1))  # soft at the rim
     assert sculptor.mask.any and sculptor.history.undo_labels == ["mask stroke"]
     # a negative amount (Ctrl) erases, clipped at 0

@@ -5,7 +5,9 @@ dab) and ``amount``: the pen pressure, negative to erase or invert (Ctrl). Each 
 brush's influence ball of the segment (or of its mirror images) gets the weight of the brushes'
 smooth cutoff at its distance: 1 up to half the influence radius, a C² fall to 0 at it
 (:func:`~gogreen_core.brushes.base.smooth_cutoff`), so a paint brush covers the region a grab
-of the same radius and influence moves. Members: the smooth brush
+of the same radius and influence moves. An automatic influence is
+:data:`PAINT_AUTO_INFLUENCE`: full strength within the brush circle (ε), none beyond 2ε, where
+Blender's mask and smooth brushes act. Members: the smooth brush
 (:mod:`~gogreen_core.brushes.smooth`) and the mask painter (:mod:`~gogreen_core.brushes.mask`).
 """
 
@@ -15,7 +17,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from gogreen_core.brushes.base import BrushType, StrokeContext, mirror_signs
+from gogreen_core.brushes.base import AUTO_INFLUENCE, BrushType, StrokeContext, mirror_signs
 from gogreen_core.brushes.paint_kernels import kernels
 from gogreen_core.limits import MAX_REACH
 from gogreen_core.validation import ParameterError, check_vector, vector_norm
@@ -23,13 +25,22 @@ from gogreen_core.validation import ParameterError, check_vector, vector_norm
 if TYPE_CHECKING:
     from gogreen_core.brushes.brush import Brush, BrushEvent
 
-__all__ = ["PaintBrush"]
+__all__ = ["PAINT_AUTO_INFLUENCE", "PaintBrush"]
+
+#: The influence (in ε) of a paint brush whose influence is automatic.
+PAINT_AUTO_INFLUENCE = 2.0
 
 
 class PaintBrush(BrushType):
     """A brush acting on the region the cursor sweeps (see the module docstring)."""
 
     family = "paint"
+
+    def reach(self, ctx: StrokeContext, brush: Brush) -> float:
+        """The brush's ``influence``, or :data:`PAINT_AUTO_INFLUENCE` for an automatic one."""
+        if brush.influence == AUTO_INFLUENCE:
+            return PAINT_AUTO_INFLUENCE
+        return float(brush.influence)
 
     def check_event(self, brush: Brush, event: BrushEvent, reach: float) -> None:
         check_vector("delta", event.delta, max_norm=reach)
