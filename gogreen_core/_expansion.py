@@ -333,9 +333,7 @@ def near_segment(
     radius: float,
     mirrors: NDArray[np.float64],  # (n_m, 3) ±1 signs
     origin: NDArray[np.float64],  # (3,)
-    out: NDArray[
-        np.bool_
-    ],  # (N,) bool: some mirror image of the point is within radius of the segment
+    out: NDArray[np.bool_],  # (N,): some mirror image of the point is within radius of the segment
 ) -> None:
     """Which points some mirror image of which lies within ``radius`` of the segment (the
     vertices a brush event can reach), on the thread pool; in NumPy until compiled."""

@@ -82,7 +82,7 @@ def _angular(
 ) -> np.ndarray:
     """``_expansion._angular`` for all points at once: (K, n)."""
     x, y, z = geometry[:3]
-    # the partial sums start as None (no term yet): typed Any, as numpy's mix of types
+    # None until the first term is added (so typed Any, as are the sums of numpy operands)
     u: Any = None
     cos_m: Any
     sin_m: Any

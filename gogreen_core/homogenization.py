@@ -363,9 +363,9 @@ def _apply_symbol(sinv: np.ndarray, xh: np.ndarray) -> None:  # pragma: no cover
 
 
 @nb.njit(parallel=True, cache=True, fastmath=True)
-def _axpy_columns(
+def _axpy_columns(  # pragma: no cover - compiled
     y: np.ndarray, x: np.ndarray, a: np.ndarray
-) -> None:  # pragma: no cover - compiled
+) -> None:
     """y[:, c] += a[c] * x[:, c] for (M, m) arrays."""
     for i in nb.prange(y.shape[0]):
         for c in range(y.shape[1]):
@@ -373,9 +373,9 @@ def _axpy_columns(
 
 
 @nb.njit(parallel=True, cache=True, fastmath=True)
-def _xpay_columns(
+def _xpay_columns(  # pragma: no cover - compiled
     y: np.ndarray, x: np.ndarray, a: np.ndarray
-) -> None:  # pragma: no cover - compiled
+) -> None:
     """y[:, c] = x[:, c] + a[c] * y[:, c] for (M, m) arrays."""
     for i in nb.prange(y.shape[0]):
         for c in range(y.shape[1]):
