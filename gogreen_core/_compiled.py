@@ -28,10 +28,21 @@ import sys
 import threading
 import time
 import traceback
+from collections.abc import Callable, Iterable
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from gogreen_core import _expansion, _integrator, _unrolled
+
+if TYPE_CHECKING:
+    from numba.core.ccallback import CFunc
+
+#: A unit of compilation: DRIVERS, GEOMETRY, BRUSHES, MESH_IO or (l_first, l_last) of an
+#: angular kernel.
+Unit = str | tuple[int, ...]
+#: What :func:`when_ready` calls with the errors of the units that failed.
+ReadyCallback = Callable[[list[Exception]], None]
 
 __all__ = [
     "BRUSHES",
@@ -67,17 +78,17 @@ MODES = ("child", "thread", "off")
 #: Longest a compiling child may take before the worker compiles in this process instead.
 CHILD_TIMEOUT = 900.0
 
-_ready: set = set()
-_pending: list = []
-_failed: dict = {}
+_ready: set[Unit] = set()
+_pending: list[Unit] = []
+_failed: dict[Unit, Exception] = {}
 #: (units, callback) waiting for their units (see :func:`when_ready`).
-_callbacks: list = []
+_callbacks: list[tuple[tuple[Unit, ...], ReadyCallback]] = []
 _condition = threading.Condition()
 _worker: threading.Thread | None = None
-_marker = None
+_marker: CFunc[Any] | None = None
 
 
-def generic_marker():
+def generic_marker() -> CFunc[Any]:
     """The C callback passed as ``angular`` with ``unrolled=False`` (never called): the
     drivers then run the generic ``_expansion._angular``. Compiled with the drivers."""
     global _marker
@@ -107,7 +118,7 @@ def brushes() -> bool:
     return _in_use(BRUSHES)
 
 
-def _in_use(unit) -> bool:
+def _in_use(unit: Unit) -> bool:
     if _forced is not None:
         if _forced == "numpy":
             return False
@@ -118,7 +129,7 @@ def _in_use(unit) -> bool:
     return False
 
 
-def angular(l_first: int, l_last: int):
+def angular(l_first: int, l_last: int) -> CFunc[Any] | None:
     """The generated angular kernel if it is ready, else None (it is requested)."""
     if _forced == "generic":
         return None
@@ -135,7 +146,7 @@ class forced:
     code (compiled first if needed; ``geometry.py`` compiled for the last two): tests comparing
     them, benchmarks. Not thread safe."""
 
-    def __init__(self, code: str):
+    def __init__(self, code: str) -> None:
         if code not in ("numpy", "generic", "unrolled"):
             raise ValueError(f"unknown evaluation code {code!r}")
         self.code = code
@@ -145,7 +156,7 @@ class forced:
         self._saved, _forced = _forced, self.code
         return self
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: object) -> None:
         global _forced
         _forced = self._saved
 
@@ -155,7 +166,7 @@ def _mode() -> str:
     return mode if mode in MODES else "child"
 
 
-def request(*units) -> None:
+def request(*units: Unit) -> None:
     """Queue ``units`` for the worker unless ready, queued or failed; never blocks."""
     global _worker
     if _mode() == "off":
@@ -172,7 +183,7 @@ def request(*units) -> None:
             _worker.start()
 
 
-def when_ready(units, callback) -> None:
+def when_ready(units: Iterable[Unit], callback: ReadyCallback) -> None:
     """Call ``callback(failures)`` once every unit of ``units`` is ready or failed (failures:
     the exceptions of those that failed), on the worker thread, or now if they already are.
     The units are requested."""
@@ -185,11 +196,11 @@ def when_ready(units, callback) -> None:
     callback([_failed[u] for u in units if u in _failed])
 
 
-def _settled(units) -> bool:
+def _settled(units: Iterable[Unit]) -> bool:
     return all(u in _ready or u in _failed for u in units)
 
 
-def wait(units, timeout: float | None = None) -> bool:
+def wait(units: Iterable[Unit], timeout: float | None = None) -> bool:
     """Block until ``units`` are ready (or failed); False on time-out. The units are
     requested (with ``GOGREEN_COMPILE=off``, never ready: returns False at once)."""
     units = tuple(units)
@@ -206,7 +217,7 @@ def wait(units, timeout: float | None = None) -> bool:
     return True
 
 
-def prepare(*units) -> float:
+def prepare(*units: Unit) -> float:
     """Bring ``units`` in and wait for them (this thread waits; the compilation runs in a
     child process where it can). Returns the seconds it took; raises the error of a unit that
     could not be compiled."""
@@ -258,7 +269,7 @@ def _work() -> None:
                     traceback.print_exc()
 
 
-def units_for(l_max: int) -> tuple:
+def units_for(l_max: int) -> tuple[Unit, ...]:
     """The units vector and affine loads of truncation degree ``l_max`` evaluate with: the
     drivers and the generated angular kernel of each parity (when one is generated)."""
     parities = ((0, l_max - l_max % 2), (1, l_max + 1 - l_max % 2))
@@ -300,7 +311,7 @@ def _compile_brushes() -> None:
 _NAMED = {GEOMETRY: _compile_geometry, MESH_IO: _compile_mesh_io, BRUSHES: _compile_brushes}
 
 
-def _load(unit) -> None:
+def _load(unit: Unit) -> None:
     if unit == DRIVERS:
         ensure_drivers()
     elif unit in _NAMED:
@@ -309,7 +320,7 @@ def _load(unit) -> None:
         _unrolled.unrolled_angular(*unit)
 
 
-def _driver_calls():
+def _driver_calls() -> list[tuple[Any, tuple[Any, ...]]]:
     """(dispatcher, arguments) of every driver, typed as the real calls are (float64
     C-contiguous writable arrays, int64 rows and bases, bool flags, the C callback type of
     ``angular``), with empty ranges: calling them compiles and returns."""
@@ -339,7 +350,7 @@ def ensure_drivers() -> None:
         _condition.notify_all()
 
 
-def _cached(unit) -> bool:
+def _cached(unit: Unit) -> bool:
     """Whether numba's disk cache holds ``unit`` (then loading it takes milliseconds). Asks
     the caches directly (numba's ``_cache.load_overload``, not public API; the drivers' C
     callback marker is compiled or loaded on the way, a fraction of a second): any doubt counts
@@ -375,8 +386,9 @@ def _modules_cached(unit: str) -> bool:
         modules.append(importlib.import_module(f"{module.__name__}.{info.name}"))
     for dispatcher in (v for m in modules for v in vars(m).values()):
         if isinstance(dispatcher, Dispatcher) and dispatcher.__module__.startswith(module.__name__):
-            magic = dispatcher.targetctx.codegen().magic_tuple()
-            index = dispatcher._cache._cache_file._load_index()
+            internals: Any = dispatcher  # numba's cache and code generator carry no types
+            magic = internals.targetctx.codegen().magic_tuple()
+            index = internals._cache._cache_file._load_index()
             if not any(key[1] == magic for key in index):
                 return False
     return True
@@ -389,7 +401,7 @@ def _can_spawn() -> bool:
     return _mode() == "child" and name.startswith("python")
 
 
-def _compile_in_child(units) -> bool:
+def _compile_in_child(units: Iterable[Unit]) -> bool:
     """Compile ``units`` into numba's disk cache in a child process; True if it succeeded."""
     args = [u if isinstance(u, str) else f"{u[0]}:{u[1]}" for u in units]
     env = dict(os.environ, **{_MODE_VARIABLE: "thread"})

@@ -32,11 +32,17 @@ from __future__ import annotations
 import math
 import os
 from functools import partial
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from numba import carray, njit, types
+from numba import njit, types
+from numba.np.numpy_support import carray
+from numpy.typing import NDArray
 
 from gogreen_core._parallel import run_ranges
+
+if TYPE_CHECKING:
+    from gogreen_core._jit_options import NogilJitOptions
 
 # numba's OpenMP threading layer loads libgomp at the first parallel call (``geometry.py``'s
 # drivers; after this import); its default lets idle worker threads spin, which on cores shared
@@ -49,7 +55,7 @@ BLOCK = 128
 #: Polynomial degree of the radial table segments that ``_radial`` evaluates (radial.py's).
 SEGMENT_DEGREE = 5
 
-_JIT = {"cache": True, "boundscheck": False, "error_model": "numpy", "nogil": True}
+_JIT: NogilJitOptions = {"cache": True, "boundscheck": False, "error_model": "numpy", "nogil": True}
 
 
 #: Signature of the angular kernels generated per degree by ``_unrolled``:
@@ -60,7 +66,9 @@ _F8P = types.CPointer(types.float64)
 ANGULAR_SIGNATURE = types.void(types.int64, _F8P, _F8P, _F8P, _F8P)
 
 
-def generic_marker(nb, geo, rad, coeffs, acc):  # pragma: no cover - never called
+def generic_marker(  # pragma: no cover - never called
+    nb: int, geo: Any, rad: Any, coeffs: Any, acc: Any
+) -> None:
     """Made a C callback by ``_compiled.generic_marker`` (when the drivers compile, not at
     import) and passed as ``angular`` with ``unrolled=False``: the drivers then run
     ``_angular``."""
@@ -73,7 +81,9 @@ _HUGE = 2.0**600
 
 
 @njit(**_JIT)
-def _geometry(eps, power, n_seg, nb, geo, seg):
+def _geometry(
+    eps: float, power: int, n_seg: int, nb: int, geo: NDArray[np.float64], seg: NDArray[np.int64]
+) -> None:
     """Rows of ``geo``: x̂, ŷ, ẑ, r, local table variable, 1/(r+ε)^p for l = 0 and for l ≥ 1,
     from the offsets x - c the caller wrote in rows 0-2 (normalized in place); ``seg`` gets each
     point's table segment.
@@ -116,7 +126,14 @@ def _geometry(eps, power, n_seg, nb, geo, seg):
 
 
 @njit(**_JIT)
-def _radial(tables, l_first, nb, geo, seg, rad):
+def _radial(
+    tables: NDArray[np.float64],
+    l_first: int,
+    nb: int,
+    geo: NDArray[np.float64],
+    seg: NDArray[np.int64],
+    rad: NDArray[np.float64],
+) -> None:
     """rad[d, i] = R_l(r_i) (or ℛ_l) for every degree of the parity (d = (l - l_first) / 2).
 
     The degree-5 segment polynomial by Estrin's scheme (depth 3). Each point reads its own
@@ -140,7 +157,18 @@ def _radial(tables, l_first, nb, geo, seg, rad):
 
 
 @njit(**_JIT)
-def _angular(l_first, l_last, base, coeffs, beta, nb, geo, rad, work, acc):
+def _angular(
+    l_first: int,
+    l_last: int,
+    base: NDArray[np.int64],
+    coeffs: NDArray[np.float64],
+    beta: NDArray[np.float64],
+    nb: int,
+    geo: NDArray[np.float64],
+    rad: NDArray[np.float64],
+    work: NDArray[np.float64],
+    acc: NDArray[np.float64],
+) -> None:
     """acc[k, i] = Σ_l rad[l, i] Σ_m Y_lm(x̂_i) coeffs[row(l, m), k] for one block, K outputs.
 
     The arithmetic of the generated kernels (``_unrolled.angular_source``), operation for
@@ -222,19 +250,19 @@ def _angular(l_first, l_last, base, coeffs, beta, nb, geo, rad, work, acc):
 
 @njit(**_JIT)
 def expand_blocks(
-    points: np.ndarray,  # (N, 3) float64
-    center: np.ndarray,  # (3,) float64
+    points: NDArray[np.float64],  # (N, 3) float64
+    center: NDArray[np.float64],  # (3,) float64
     eps: float,
     power: int,  # 1 for R_l (G), 2 for ℛ_l (∇G)
     l_first: int,  # 0 (even degrees) or 1 (odd degrees)
     l_last: int,  # highest degree of the parity
-    base: np.ndarray,  # (l_last+1,) int64: coeff row of Y_l,-l for each degree l used
-    coeffs: np.ndarray,  # (n_terms, K) float64, Legendre scales folded in (``_unrolled``)
-    beta: np.ndarray,  # (L+1, L+1) rescaled recurrence constants β_lm
-    tables: np.ndarray,  # (n_deg, S, SEGMENT_DEGREE+1) float64; degree index (l - l_first) // 2
-    angular,  # ANGULAR_SIGNATURE function generated for these degrees (K = 3)
+    base: NDArray[np.int64],  # (l_last+1,) int64: coeff row of Y_l,-l for each degree l used
+    coeffs: NDArray[np.float64],  # (n_terms, K) float64, Legendre scales folded in (``_unrolled``)
+    beta: NDArray[np.float64],  # (L+1, L+1) rescaled recurrence constants β_lm
+    tables: NDArray[np.float64],  # (n_deg, S, SEGMENT_DEGREE+1); degree index (l - l_first) // 2
+    angular: Any,  # ANGULAR_SIGNATURE function generated for these degrees (K = 3)
     unrolled: bool,  # use ``angular``; else the generic ``_angular``
-    out: np.ndarray,  # (N, K) float64: rows of the blocks below overwritten
+    out: NDArray[np.float64],  # (N, K) float64: rows of the blocks below overwritten
     first_block: int,
     last_block: int,  # blocks [first_block, last_block) of BLOCK points
 ) -> None:
@@ -266,7 +294,17 @@ def expand_blocks(
 
 
 @njit(cache=True, boundscheck=False, nogil=True, error_model="numpy", fastmath={"contract"})
-def near_segment_rows(points, start, step, radius, mirrors, origin, out, first, last):
+def near_segment_rows(
+    points: NDArray[np.float64],
+    start: NDArray[np.float64],
+    step: NDArray[np.float64],
+    radius: float,
+    mirrors: NDArray[np.float64],
+    origin: NDArray[np.float64],
+    out: NDArray[np.bool_],
+    first: int,
+    last: int,
+) -> None:
     """out[n] for n in [first, last): some mirror image of points[n] is within ``radius`` of the
     segment start → start + step. (The arithmetic of evaluation 1, contractions included, per
     point: which vertices an event reaches must not change for old sessions. The loop over the
@@ -289,13 +327,13 @@ def near_segment_rows(points, start, step, radius, mirrors, origin, out, first, 
 
 
 def near_segment(
-    points: np.ndarray,  # (N, 3) float64
-    start: np.ndarray,  # (3,) segment start
-    step: np.ndarray,  # (3,) segment end - start
+    points: NDArray[np.float64],  # (N, 3) float64
+    start: NDArray[np.float64],  # (3,) segment start
+    step: NDArray[np.float64],  # (3,) segment end - start
     radius: float,
-    mirrors: np.ndarray,  # (n_m, 3) ±1 signs
-    origin: np.ndarray,  # (3,)
-    out: np.ndarray,  # (N,) bool: some mirror image of the point is within radius of the segment
+    mirrors: NDArray[np.float64],  # (n_m, 3) ±1 signs
+    origin: NDArray[np.float64],  # (3,)
+    out: NDArray[np.bool_],  # (N,): some mirror image of the point is within radius of the segment
 ) -> None:
     """Which points some mirror image of which lies within ``radius`` of the segment (the
     vertices a brush event can reach), on the thread pool; in NumPy until compiled."""

@@ -18,7 +18,9 @@ from gogreen_core.geometry import _BLOCK_SHIFT, _MORTON_BITS, LEAF_SIZE
 __all__ = []
 
 
-def _morton_keys(points, groups, low, scale, keys):
+def _morton_keys(
+    points: np.ndarray, groups: np.ndarray, low: np.ndarray, scale: np.ndarray, keys: np.ndarray
+) -> None:
     n, k = groups.shape
     code = np.zeros(n, dtype=np.int64)
     top = (1 << _MORTON_BITS) - 1
@@ -35,9 +37,10 @@ def _morton_keys(points, groups, low, scale, keys):
 
 
 def _connect(
-    faces, rank, face_order, face_rank, index_faces, offsets, leaf_ids, block_offsets,
-    block_leaves,
-):  # fmt: skip
+    faces: np.ndarray, rank: np.ndarray, face_order: np.ndarray, face_rank: np.ndarray,
+    index_faces: np.ndarray, offsets: np.ndarray, leaf_ids: np.ndarray,
+    block_offsets: np.ndarray, block_leaves: np.ndarray,
+) -> int:  # fmt: skip
     n = offsets.shape[0] - 1
     corners = rank[faces].astype(np.int64)  # (M, 3) index vertex of each corner
     index_faces[:] = corners[face_order]
@@ -62,7 +65,7 @@ def _connect(
     return used
 
 
-def _ranges(offsets, starts):
+def _ranges(offsets: np.ndarray, starts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(positions, owner): every index in [offsets[s], offsets[s + 1]) for s in ``starts``, in
     order, and the position in ``starts`` it came from."""
     begin = offsets[starts].astype(np.int64)
@@ -73,10 +76,12 @@ def _ranges(offsets, starts):
 
 
 def _update(
-    vertices, seeds, rank, offsets, leaf_ids, block_offsets, block_leaves, faces, positions,
-    moved, ring, block_moved, block_ring, leaf_mark, leaf_dirty, face_normals, normals,
-    n_threads,
-):  # fmt: skip
+    vertices: np.ndarray, seeds: np.ndarray, rank: np.ndarray, offsets: np.ndarray,
+    leaf_ids: np.ndarray, block_offsets: np.ndarray, block_leaves: np.ndarray,
+    faces: np.ndarray, positions: np.ndarray, moved: np.ndarray, ring: np.ndarray,
+    block_moved: np.ndarray, block_ring: np.ndarray, leaf_mark: np.ndarray,
+    leaf_dirty: np.ndarray, face_normals: np.ndarray, normals: np.ndarray, n_threads: int,
+) -> int:  # fmt: skip
     n = positions.shape[0]
     rows = rank[seeds].astype(np.int64)
     positions[rows] = vertices[seeds]
@@ -125,11 +130,19 @@ def _update(
     return len(vertex)
 
 
-def _differ(vertices, rank, positions, mask, n_threads):
+def _differ(
+    vertices: np.ndarray, rank: np.ndarray, positions: np.ndarray, mask: np.ndarray, n_threads: int
+) -> None:
     mask[:] = np.any(positions[rank] != vertices, axis=1)
 
 
-def _refit(positions, index_faces, leaf_dirty, boxes, n_threads):
+def _refit(
+    positions: np.ndarray,
+    index_faces: np.ndarray,
+    leaf_dirty: np.ndarray,
+    boxes: np.ndarray,
+    n_threads: int,
+) -> None:
     leaves = np.flatnonzero(leaf_dirty)
     if not leaves.size:
         return
@@ -146,7 +159,9 @@ def _refit(positions, index_faces, leaf_dirty, boxes, n_threads):
     boxes[leaves, 3:] = np.maximum.reduceat(corners.max(axis=1), bounds, axis=0)
 
 
-def _leaf_hits(boxes, origin, inv_dir, near):
+def _leaf_hits(
+    boxes: np.ndarray, origin: np.ndarray, inv_dir: np.ndarray, near: np.ndarray
+) -> None:
     t0 = np.zeros(boxes.shape[0])
     t1 = np.full(boxes.shape[0], np.inf)
     with np.errstate(invalid="ignore"):
@@ -162,7 +177,15 @@ def _leaf_hits(boxes, origin, inv_dir, near):
     near[:] = np.where(t0 <= t1, t0, np.inf)
 
 
-def _closest_hit(vertices, leaf_faces, order, candidates, near, origin, direction):
+def _closest_hit(
+    vertices: np.ndarray,
+    leaf_faces: np.ndarray,
+    order: np.ndarray,
+    candidates: np.ndarray,
+    near: np.ndarray,
+    origin: np.ndarray,
+    direction: np.ndarray,
+) -> tuple[int, float]:
     n_faces = order.shape[0]
     ox, oy, oz = origin
     dx, dy, dz = direction

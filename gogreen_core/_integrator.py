@@ -26,12 +26,19 @@ from __future__ import annotations
 
 import math
 from functools import partial
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numba import njit
 
 from gogreen_core._expansion import _JIT, BLOCK, _angular, _geometry, _radial
 from gogreen_core._parallel import run_ranges
+
+if TYPE_CHECKING:
+    #: The velocity field's tuple (see below), the scratch rows of ``_scratch``.
+    Field = tuple[Any, ...]
+    Scratch = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+    Rows = tuple[np.ndarray, np.ndarray, np.ndarray]
 
 __all__ = ["ESTIMATE_SAFETY", "MAX_ADAPTIVE_STEPS", "stream"]
 
@@ -40,7 +47,7 @@ __all__ = ["ESTIMATE_SAFETY", "MAX_ADAPTIVE_STEPS", "stream"]
 #: code on this file alone, yet compiles ``_expansion``'s functions and constants into it: a
 #: change there must change this file, or a stale machine code (another BLOCK, another
 #: arithmetic) would be loaded.
-EXPANSION_SOURCE = "1565296d3155bdb7"
+EXPANSION_SOURCE = "e4673ce34c166e54"
 
 #: Largest number of RK4 steps the adaptive streamlines give one vertex in one event.
 MAX_ADAPTIVE_STEPS = 256
@@ -64,7 +71,7 @@ CUTOFF_END = 1.0 - 2.0**-30
 
 
 @njit(**_JIT)
-def _scratch(n_deg):
+def _scratch(n_deg: int) -> tuple[Scratch, Rows]:
     """Scratch rows of ``_velocity`` (geometry, segments, radial terms, angular work, the
     angular sum) and of ``_rk4`` (position, stage position, velocity)."""
     scratch = (
@@ -79,7 +86,9 @@ def _scratch(n_deg):
 
 
 @njit(**_JIT)
-def _velocity(pos, nb, t, field, scratch, vel):
+def _velocity(
+    pos: np.ndarray, nb: int, t: float, field: Field, scratch: Scratch, vel: np.ndarray
+) -> None:
     """vel[:, :nb] = v(pos[:, :nb], t) (rows x, y, z)."""
     (center0, center_step, eps, power, l_first, l_last, base, coeffs, beta, tables, angular,
      unrolled, cutoff_inner, inv_width, mirrors, origin) = field  # fmt: skip
@@ -127,16 +136,25 @@ def _velocity(pos, nb, t, field, scratch, vel):
 
 
 @njit(**_JIT)
-def _norm2(a, b, i, row):
+def _norm2(a: np.ndarray, b: np.ndarray, i: int, row: int) -> float:
     """|a[row:row+3, i] - b[0:3, i]|², summed x, y, z in that order."""
-    d0 = a[row, i] - b[0, i]
-    d1 = a[row + 1, i] - b[1, i]
-    d2 = a[row + 2, i] - b[2, i]
+    d0: float = a[row, i] - b[0, i]
+    d1: float = a[row + 1, i] - b[1, i]
+    d2: float = a[row + 2, i] - b[2, i]
     return d0 * d0 + d1 * d1 + d2 * d2
 
 
 @njit(**_JIT)
-def _rk4(n_steps, nb, start, end, mid, field, scratch, rows):
+def _rk4(
+    n_steps: int | np.int64,
+    nb: int,
+    start: np.ndarray,
+    end: np.ndarray,
+    mid: np.ndarray,
+    field: Field,
+    scratch: Scratch,
+    rows: Rows,
+) -> None:
     """end[:, :nb] = ``n_steps`` classical RK4 steps over t ∈ [0, 1] from start[:, :nb].
 
     With one step, mid (6, BLOCK) also gets the ends of two second-order rules made of RK4's
@@ -185,22 +203,22 @@ def _rk4(n_steps, nb, start, end, mid, field, scratch, rows):
 
 @njit(**_JIT)
 def _first_pass(
-    points,  # (N_all, 3) float64, start positions (the rows ``indices`` if indexed)
-    indices,  # (N,) int64 rows of ``points`` to move if ``indexed``
-    indexed,  # False: move every row of ``points`` (``indices`` is not read)
-    limit,  # largest coordinate magnitude accepted in an indexed start position
-    n_steps,  # RK4 steps (1 when adaptive)
-    adaptive,  # also estimate the errors (``rank``, ``block_motion``)
-    field,
-    out,  # (N, 3) end positions
-    steps,  # (N,) int64 RK4 steps each point took
-    rank,  # (N,) e⁵ / max(m, e)²: the cube of the predicted error (see the module docstring)
-    block_motion,  # (n_blocks,) the largest motion m in each block
-    problem,  # (n_blocks,) int64: 1 an index out of range, 2 a start not finite or beyond limit
-    bad,  # (n_blocks,) bool: an end position not finite
-    first_block,
-    last_block,
-):
+    points: np.ndarray,  # (N_all, 3) float64, start positions (the rows ``indices`` if indexed)
+    indices: np.ndarray,  # (N,) int64 rows of ``points`` to move if ``indexed``
+    indexed: bool,  # False: move every row of ``points`` (``indices`` is not read)
+    limit: float,  # largest coordinate magnitude accepted in an indexed start position
+    n_steps: int,  # RK4 steps (1 when adaptive)
+    adaptive: bool,  # also estimate the errors (``rank``, ``block_motion``)
+    field: Field,
+    out: np.ndarray,  # (N, 3) end positions
+    steps: np.ndarray,  # (N,) int64 RK4 steps each point took
+    rank: np.ndarray,  # (N,) e⁵ / max(m, e)²: the cube of the predicted error (module docstring)
+    block_motion: np.ndarray,  # (n_blocks,) the largest motion m in each block
+    problem: np.ndarray,  # (n_blocks,) int64: 1 an index out of range, 2 a bad start
+    bad: np.ndarray,  # (n_blocks,) bool: an end position not finite
+    first_block: int,
+    last_block: int,
+) -> None:
     """The first pass of ``stream`` over blocks [first_block, last_block)."""
     n_points = indices.shape[0] if indexed else points.shape[0]
     n_rows = points.shape[0]
@@ -252,8 +270,11 @@ def _first_pass(
 
 
 @njit(**_JIT)
-def _refine_pass(points, indices, indexed, field, bound, refine, out, steps, bad, first_block,
-                 last_block):  # fmt: skip
+def _refine_pass(
+    points: np.ndarray, indices: np.ndarray, indexed: bool, field: Field, bound: float,
+    refine: np.ndarray, out: np.ndarray, steps: np.ndarray, bad: np.ndarray, first_block: int,
+    last_block: int,
+) -> None:  # fmt: skip
     """The points ``refine`` (indices into ``out``), packed BLOCK at a time, again with 2, 4, …
     RK4 steps until Richardson's estimate is under ``bound`` (blocks [first, last) of them)."""
     n_refine = refine.shape[0]
@@ -298,7 +319,9 @@ def _refine_pass(points, indices, indexed, field, bound, refine, out, steps, bad
 
 
 @njit(**_JIT)
-def _write_back(points, indices, indexed, out, first, last):
+def _write_back(
+    points: np.ndarray, indices: np.ndarray, indexed: bool, out: np.ndarray, first: int, last: int
+) -> None:
     """points[indices[n]] (or points[n]) = out[n] for n in [first, last)."""
     for n in range(first, last):
         row = indices[n] if indexed else n
@@ -319,7 +342,7 @@ def stream(
     indexed: bool,
     write_back: bool,
     limit: float,
-    field: tuple,
+    field: tuple[Any, ...],
     substeps: int,
     tolerance: float,
     out: np.ndarray,

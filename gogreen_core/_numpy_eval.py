@@ -16,6 +16,7 @@ not depend on the chunk it is in.
 from __future__ import annotations
 
 import math
+from typing import Any, cast
 
 import numpy as np
 
@@ -28,7 +29,7 @@ __all__ = ["expand", "near_segment", "stream"]
 CHUNK = 4096
 
 
-def _geometry(offsets: np.ndarray, eps: float, power: int, n_seg: int) -> tuple:
+def _geometry(offsets: np.ndarray, eps: float, power: int, n_seg: int) -> tuple[Any, ...]:
     """``_expansion._geometry`` for offsets (3, n): (x̂, ŷ, ẑ, r, loc, seg, scale0, scale1)."""
     x, y, z = offsets
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
@@ -56,7 +57,7 @@ def _geometry(offsets: np.ndarray, eps: float, power: int, n_seg: int) -> tuple:
     )
 
 
-def _radial(tables: np.ndarray, l_first: int, geometry: tuple) -> list[np.ndarray]:
+def _radial(tables: np.ndarray, l_first: int, geometry: tuple[Any, ...]) -> list[np.ndarray]:
     """``_expansion._radial``: the radial term of each degree of the parity (n,)."""
     loc, seg, scale0, scale1 = geometry[4:]
     s2 = loc * loc
@@ -70,16 +71,31 @@ def _radial(tables: np.ndarray, l_first: int, geometry: tuple) -> list[np.ndarra
     return rows
 
 
-def _angular(l_first, l_last, base, coeffs, beta, geometry, rad) -> np.ndarray:
+def _angular(
+    l_first: int,
+    l_last: int,
+    base: np.ndarray,
+    coeffs: np.ndarray,
+    beta: np.ndarray,
+    geometry: tuple[Any, ...],
+    rad: list[np.ndarray],
+) -> np.ndarray:
     """``_expansion._angular`` for all points at once: (K, n)."""
     x, y, z = geometry[:3]
-    u = None
+    # None until the first term is added (so typed Any, as are the sums of numpy operands)
+    u: Any = None
+    cos_m: Any
+    sin_m: Any
     cos_m = sin_m = None
     for m in range(l_last + 1):
         if m == 1:
             cos_m, sin_m = x, y
         elif m > 1:
             cos_m, sin_m = cos_m * x - sin_m * y, cos_m * y + sin_m * x
+        part_a: Any
+        part_b: Any
+        prev: Any
+        cur: Any
         part_a = part_b = None
         prev = cur = None
         for l in range(m, l_last + 1):
@@ -101,10 +117,21 @@ def _angular(l_first, l_last, base, coeffs, beta, geometry, rad) -> np.ndarray:
                 if m > 0:
                     part_b = part_b + t * cs
         u = part_a if m == 0 else (u + cos_m * part_a) + sin_m * part_b
-    return u
+    return cast(np.ndarray, u)
 
 
-def expand(points, center, eps, power, l_first, l_last, base, coeffs, beta, tables) -> np.ndarray:
+def expand(
+    points: np.ndarray,
+    center: np.ndarray,
+    eps: float,
+    power: int,
+    l_first: int,
+    l_last: int,
+    base: np.ndarray,
+    coeffs: np.ndarray,
+    beta: np.ndarray,
+    tables: np.ndarray,
+) -> np.ndarray:
     """``_expansion.expand_blocks`` over all ``points`` (N, 3) → (N, K)."""
     out = np.empty((points.shape[0], coeffs.shape[1]))
     for start in range(0, points.shape[0], CHUNK):
@@ -116,11 +143,11 @@ def expand(points, center, eps, power, l_first, l_last, base, coeffs, beta, tabl
     return out
 
 
-def _velocity(pos: np.ndarray, t: float, field: tuple) -> np.ndarray:
+def _velocity(pos: np.ndarray, t: float, field: tuple[Any, ...]) -> np.ndarray:
     """``_integrator._velocity`` at positions (3, n) → (3, n)."""
     (center0, center_step, eps, power, l_first, l_last, base, coeffs, beta, tables, _, _,
      cutoff_inner, inv_width, mirrors, origin) = field  # fmt: skip
-    vel = None
+    vel: Any = None
     for mi in range(mirrors.shape[0]):
         offsets = np.empty_like(pos)
         for k in range(3):
@@ -139,18 +166,20 @@ def _velocity(pos: np.ndarray, t: float, field: tuple) -> np.ndarray:
             vel = np.where(nonzero, weight * total, 0.0)
         else:
             vel = np.where(nonzero, vel + (mirrors[mi][:, None] * weight) * total, vel)
-    return vel
+    return cast(np.ndarray, vel)
 
 
-def _rk4(n_steps: int, start: np.ndarray, field: tuple, want_mid: bool):
+def _rk4(
+    n_steps: int, start: np.ndarray, field: tuple[Any, ...], want_mid: bool
+) -> tuple[np.ndarray, Any]:
     """``_integrator._rk4`` from start (3, n) → (end, mid (6, n) or None)."""
     h = 1.0 / n_steps
     pos = start
-    mid = np.empty((6, start.shape[1])) if want_mid else None
-    end = None
+    mid: Any = np.empty((6, start.shape[1])) if want_mid else None
+    end: Any = None
     for step in range(n_steps):
         t0 = step * h
-        vel = None
+        vel: Any = None
         for stage in range(4):
             a = 0.0 if stage == 0 else (h if stage == 3 else 0.5 * h)
             vel = _velocity(pos if stage == 0 else pos + a * vel, t0 + a, field)
@@ -169,10 +198,21 @@ def _rk4(n_steps: int, start: np.ndarray, field: tuple, want_mid: bool):
 
 def _norm2(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     d0, d1, d2 = a[0] - b[0], a[1] - b[1], a[2] - b[2]
-    return d0 * d0 + d1 * d1 + d2 * d2
+    return cast(np.ndarray, d0 * d0 + d1 * d1 + d2 * d2)
 
 
-def stream(points, indices, indexed, write_back, limit, field, substeps, tolerance, out, steps):
+def stream(
+    points: np.ndarray,
+    indices: np.ndarray,
+    indexed: bool,
+    write_back: bool,
+    limit: float,
+    field: tuple[Any, ...],
+    substeps: int,
+    tolerance: float,
+    out: np.ndarray,
+    steps: np.ndarray,
+) -> int:
     """``_integrator.stream`` (same arguments, same status codes, same bits)."""
     n_rows = points.shape[0]
     if indexed:
@@ -225,7 +265,15 @@ def stream(points, indices, indexed, write_back, limit, field, substeps, toleran
     return 0
 
 
-def near_segment(points, start, step, radius, mirrors, origin, out) -> None:
+def near_segment(
+    points: np.ndarray,
+    start: np.ndarray,
+    step: np.ndarray,
+    radius: float,
+    mirrors: np.ndarray,
+    origin: np.ndarray,
+    out: np.ndarray,
+) -> None:
     """``_expansion.near_segment`` (without its contractions: the vertices at rounding distance
     from the ball's surface may differ, which changes nothing, see ``_integrator``)."""
     length2 = step[0] * step[0] + step[1] * step[1] + step[2] * step[2]

@@ -16,6 +16,7 @@ import itertools
 import threading
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
+from typing import Any
 
 import numba
 
@@ -33,8 +34,9 @@ def _executor() -> ThreadPoolExecutor:
     global _pool
     with _pool_lock:
         if _pool is None:
+            config: Any = numba.config  # its settings are read from the environment: untyped
             _pool = ThreadPoolExecutor(
-                max_workers=max(1, numba.config.NUMBA_NUM_THREADS - 1),
+                max_workers=max(1, config.NUMBA_NUM_THREADS - 1),
                 thread_name_prefix="gogreen-eval",
             )
         return _pool

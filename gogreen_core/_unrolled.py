@@ -33,6 +33,8 @@ from __future__ import annotations
 import importlib
 import threading
 from functools import lru_cache
+from types import ModuleType
+from typing import Any
 
 import numpy as np
 from numba import cfunc
@@ -198,7 +200,7 @@ _CALLBACK_OPTIONS = {
 }
 
 
-_KERNELS: dict[tuple[int, int], object] = {}
+_KERNELS: dict[tuple[int, int], CFunc[Any]] = {}
 #: Held while a generated kernel is compiled (or loaded); never while only looking one up.
 _COMPILE_LOCK = threading.Lock()
 
@@ -212,11 +214,11 @@ def _check(l_first: int, l_last: int) -> tuple[int, int]:
     return l_first, l_last
 
 
-def _module(key: tuple[int, int]):
+def _module(key: tuple[int, int]) -> ModuleType:
     return importlib.import_module(f"{GENERATED_PACKAGE}.{_module_name(*key)}")
 
 
-def unrolled_angular(l_first: int, l_last: int):
+def unrolled_angular(l_first: int, l_last: int) -> CFunc[Any]:
     """The compiled angular kernel (a numba cfunc) for one parity and highest degree.
 
     Compiles it on first use, or loads it from numba's disk cache (seconds the first time on
@@ -243,7 +245,7 @@ def angular_cached(l_first: int, l_last: int) -> bool:
         return True
     module = _module(key)
     signature = sigutils.normalize_signature(_expansion.ANGULAR_SIGNATURE)
-    callback = CFunc(module.angular, signature, {}, module.OPTIONS)
+    callback: Any = CFunc(module.angular, signature, {}, module.OPTIONS)
     callback.enable_caching()
     context = callback._targetdescr.target_context
     return callback._cache.load_overload(callback._sig, context) is not None

@@ -20,6 +20,8 @@ import sys
 import time
 from datetime import datetime
 from pathlib import Path
+from types import TracebackType
+from typing import Literal, TextIO
 
 import numpy as np
 
@@ -28,7 +30,7 @@ from gogreen_core.journal import recovery_root
 from gogreen_core.material import Material
 from gogreen_core.mesh_io import MeshData, load_mesh, save_mesh, write_text_atomic
 from gogreen_core.operations import MAX_EVENTS
-from gogreen_core.radial import GaussianRadial, KelvinletRadial
+from gogreen_core.radial import GaussianRadial, KelvinletRadial, RadialProfile
 from gogreen_core.recovery import (
     discard,
     find_journal,
@@ -57,7 +59,7 @@ BATCH_COMMANDS = ("replay", "deform", "truncation", "recover")
 class ProgressBar:
     """A text progress bar on a stream (redrawn in place on a terminal, else every 10%)."""
 
-    def __init__(self, label: str, stream=None, width: int = 30):
+    def __init__(self, label: str, stream: TextIO | None = None, width: int = 30) -> None:
         self.label, self.width = label, width
         self.stream = sys.stderr if stream is None else stream
         self.start = time.perf_counter()
@@ -126,7 +128,7 @@ def _material(args: argparse.Namespace) -> Material:
         return Material.isotropic(args.young, args.poisson)
 
 
-def _falloff(name: str):
+def _falloff(name: str) -> RadialProfile:
     if name == "gaussian":
         return GaussianRadial(1.0)
     if name == "kelvinlet":
@@ -274,7 +276,12 @@ class _option_names:
     def __enter__(self) -> None:
         return None
 
-    def __exit__(self, kind, exc, tb) -> bool:
+    def __exit__(
+        self,
+        kind: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> Literal[False]:
         if isinstance(exc, ParameterError) and exc.parameter.isidentifier():
             option = "--" + exc.parameter.replace("_", "-")
             message = str(exc)

@@ -28,7 +28,7 @@ import os
 import struct
 import zlib
 from dataclasses import dataclass
-from typing import BinaryIO
+from typing import Any, BinaryIO, cast
 
 import numpy as np
 
@@ -80,7 +80,7 @@ class SculptState:
         extra = [a for a in (self.mask, self.faces, self.uv, self.uv_faces) if a is not None]
         return [np.ascontiguousarray(a, dtype="<f8") for a in (self.vertices, *pins, *extra)]
 
-    def header(self) -> dict:
+    def header(self) -> dict[str, Any]:
         """The JSON-ready part (settings, sizes, model size, origin; floats exact)."""
         return {
             "vertices": len(self.vertices),
@@ -94,14 +94,18 @@ class SculptState:
         }
 
     @classmethod
-    def from_header(cls, header: dict, arrays: list[np.ndarray]) -> SculptState:
+    def from_header(cls, header: dict[str, Any], arrays: list[np.ndarray]) -> SculptState:
         """Inverse of :meth:`header` with the arrays read back (ValueError if malformed)."""
         settings = EngineSettings.from_dict(header["settings"], "settings")
         origin = np.array(header["origin"], dtype=np.float64)
         size = float(header["model_size"])
         if origin.shape != (3,) or not np.isfinite(origin).all() or not size > 0:
             raise ValueError("model size or origin malformed")
-        pins = tuple(arrays[1:4]) if header["pins"] is not None else None
+        pins = (
+            cast("tuple[np.ndarray, np.ndarray, np.ndarray]", tuple(arrays[1:4]))
+            if header["pins"] is not None
+            else None
+        )
         rest = iter(arrays[1 if pins is None else 4 :])
         mask = next(rest) if header.get("mask") else None
         faces = uv = uv_faces = None
@@ -112,7 +116,7 @@ class SculptState:
         return cls(arrays[0], settings, pins, size, origin, mask, faces, uv, uv_faces)
 
 
-def _shapes(header: dict) -> list[tuple[int, ...]]:
+def _shapes(header: dict[str, Any]) -> list[tuple[int, ...]]:
     n, k = header["vertices"], header["pins"]
     if not isinstance(n, int) or n < 1 or not (k is None or (isinstance(k, int) and k >= 0)):
         raise ValueError("vertex or pin count malformed")
@@ -131,7 +135,9 @@ def _shapes(header: dict) -> list[tuple[int, ...]]:
     return shapes
 
 
-def write_checkpoint(path: str | os.PathLike, state: SculptState, extra: dict) -> None:
+def write_checkpoint(
+    path: str | os.PathLike[str], state: SculptState, extra: dict[str, Any]
+) -> None:
     """Write ``state`` (and ``extra`` header fields: the journal's record number...) to
     ``path`` atomically (fsynced, renamed). OSError as raised."""
     header = json.dumps({"version": CHECKPOINT_VERSION, **extra, **state.header()}).encode()
@@ -142,7 +148,8 @@ def write_checkpoint(path: str | os.PathLike, state: SculptState, extra: dict) -
             out.write(piece)
             crc = zlib.crc32(piece, crc)
         for array in state.arrays():
-            data = memoryview(array).cast("B")
+            # (numpy declares its buffer protocol to type checkers from Python 3.12 on)
+            data = memoryview(cast(Any, array)).cast("B")
             for start in range(0, len(data), _CHUNK):
                 chunk = data[start : start + _CHUNK]
                 out.write(chunk)
@@ -152,7 +159,7 @@ def write_checkpoint(path: str | os.PathLike, state: SculptState, extra: dict) -
     atomic_write(path, write)
 
 
-def read_checkpoint(path: str | os.PathLike) -> tuple[SculptState, dict]:
+def read_checkpoint(path: str | os.PathLike[str]) -> tuple[SculptState, dict[str, Any]]:
     """The state in a checkpoint file and its header; :class:`CheckpointError` saying what is
     wrong (missing, cut short, checksum, newer version, malformed)."""
     name = os.path.basename(path)

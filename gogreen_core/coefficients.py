@@ -27,7 +27,7 @@ def parity_ranges(l_max: int) -> tuple[tuple[int, int], tuple[int, int]]:
     return (0, l_max - l_max % 2), (1, l_max + 1 - l_max % 2)
 
 
-def checked_weights(degree_weights: Sequence[float] | None, l_max: int) -> np.ndarray:
+def checked_weights(degree_weights: Sequence[float] | np.ndarray | None, l_max: int) -> np.ndarray:
     """Degree weights (l_max + 1,), read-only: all ones for None; ValueError for the wrong
     count or a value that is not finite."""
     if degree_weights is None:

@@ -19,6 +19,8 @@ pin moves. Without it G decays only as 1/r and dragging one pin moved the whole 
 
 from __future__ import annotations
 
+from typing import Any, cast
+
 import numpy as np
 
 from gogreen_core._expansion import near_segment
@@ -114,7 +116,7 @@ class ConstraintSet:
         """s G(others − p) as a (3k, 3) column block."""
         offsets = others - p
         blocks = self._kernel.green(offsets) * self._weights(offsets)[:, None, None]
-        return blocks.reshape(-1, 3)
+        return cast(np.ndarray, blocks.reshape(-1, 3))
 
     def add(self, point: np.ndarray) -> int:
         """Add a constraint at ``point`` (3,); returns its index. O(k²)."""
@@ -184,6 +186,7 @@ class ConstraintSet:
         self._reorder(order)
 
     def _reorder(self, order: list[int]) -> None:
+        idx: Any  # an array, or [] (which np.ix_ takes; numpy's annotations do not say so)
         idx = np.concatenate([np.arange(3 * i, 3 * i + 3) for i in order]) if order else []
         self._points = self._points[order]
         self._matrix = self._matrix[np.ix_(idx, idx)]
@@ -213,7 +216,8 @@ class ConstraintSet:
         """The rows (K,) int64, sorted, of ``points`` (N, 3) within :attr:`reach` of a pin
         whose force is not zero, and u (K, 3) there (u is zero at every other row)."""
         points = np.asarray(points, dtype=np.float64)
-        pins = []  # (p, f, its rows, their weights)
+        # (p, f, its rows, their weights)
+        pins: list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]] = []
         for p, f in zip(self._points, forces, strict=True):
             if not np.any(f):
                 continue

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 from functools import lru_cache
+from typing import cast
 
 import numpy as np
 from scipy.integrate import lebedev_rule
@@ -137,7 +138,7 @@ def mean_green_direction(material: Material) -> np.ndarray:
     mean = np.einsum("q,qij->ij", weights, m_inv) / (4 * np.pi)
     mean = 0.5 * (mean + mean.T)
     mean.setflags(write=False)
-    return mean
+    return cast(np.ndarray, mean)
 
 
 def _largest_eigenvalue(s: np.ndarray) -> np.ndarray:
@@ -152,7 +153,7 @@ def _largest_eigenvalue(s: np.ndarray) -> np.ndarray:
     b = (s - q[:, None, None] * np.eye(3)) / safe[:, None, None]
     half_det = np.clip(np.linalg.det(b) / 2, -1.0, 1.0)
     largest = q + 2 * p * np.cos(np.arccos(half_det) / 3)
-    return np.maximum(largest, 0.0)
+    return cast(np.ndarray, np.maximum(largest, 0.0))
 
 
 class _SupTable:
@@ -234,7 +235,7 @@ class FieldBound:
         n = values.shape[2]
         self._points = points
         self._maps = (values, gradient.transpose(0, 2, 1, 3).reshape(-1, 9, n))
-        self._tables: dict[str, tuple[np.ndarray, _SupTable, _SupTable]] = {}
+        self._tables: dict[str, tuple[np.ndarray | None, _SupTable, _SupTable]] = {}
 
     def _table(self, load: np.ndarray) -> tuple[np.ndarray, _SupTable, _SupTable]:
         """(coefficients of ``load`` in the subspace it lies in, motion table, strain table):

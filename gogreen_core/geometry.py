@@ -14,17 +14,20 @@ import math
 import sys
 import threading
 from collections.abc import Callable
+from contextlib import AbstractContextManager
+from types import ModuleType
 
 import numba
 import numpy as np
 from numba import njit, prange
 
+from gogreen_core._jit_options import NogilJitOptions
 from gogreen_core.threads import threads_at_most
 
 __all__ = ["FaceAdjacency", "SurfaceIndex", "mesh_volume", "vertex_normals"]
 
-# No fastmath here: the face normals round as numpy.cross's operations, the sums in face order.
-_JIT = {"cache": True, "boundscheck": False, "nogil": True}  # nogil: a background build
+# No fastmath (normals round as numpy.cross does, sums in face order); nogil: a background build.
+_JIT: NogilJitOptions = {"cache": True, "boundscheck": False, "nogil": True}
 
 
 def vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -38,7 +41,7 @@ def vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     flat = faces.ravel()
     for axis in range(3):
         out[:, axis] = np.bincount(flat, np.repeat(face_normals[:, axis], 3), minlength=n)
-    norm = np.linalg.norm(out, axis=1)
+    norm: np.ndarray[tuple[int], np.dtype[np.float64]] = np.linalg.norm(out, axis=1)
     empty = norm == 0
     out[empty] = (0.0, 0.0, 1.0)
     norm[empty] = 1.0
@@ -93,7 +96,8 @@ _MORTON_BITS = 10
 
 
 @njit(parallel=True, **_JIT)
-def _morton_keys(points, groups, low, scale, keys):
+def _morton_keys(points: np.ndarray, groups: np.ndarray, low: np.ndarray, scale: np.ndarray,
+                 keys: np.ndarray) -> None:  # fmt: skip
     """keys[i] = (Z-order code of the mean of points[groups[i]]) << 31 | i: sorting the keys
     sorts the items along the curve, ties in index order (what a stable sort gives)."""
     k = groups.shape[1]
@@ -112,9 +116,9 @@ def _morton_keys(points, groups, low, scale, keys):
 
 @njit(**_JIT)
 def _connect(
-    faces, rank, face_order, face_rank, index_faces, offsets, leaf_ids, block_offsets,
-    block_leaves,
-):  # fmt: skip
+    faces: np.ndarray, rank: np.ndarray, face_order: np.ndarray, face_rank: np.ndarray,
+    index_faces: np.ndarray, offsets: np.ndarray, leaf_ids: np.ndarray, block_offsets: np.ndarray,
+    block_leaves: np.ndarray) -> int:  # fmt: skip
     """The faces in index order with index-numbered corners (index_faces); for each index
     vertex its faces as leaf positions in increasing original face order (the order in which
     :func:`vertex_normals` sums them), ``leaf_ids[offsets[i]:offsets[i + 1]]``; for each
@@ -155,10 +159,11 @@ def _connect(
 
 @njit(parallel=True, **_JIT)
 def _update(
-    vertices, seeds, rank, offsets, leaf_ids, block_offsets, block_leaves, faces, positions,
-    moved, ring, block_moved, block_ring, leaf_mark, leaf_dirty, face_normals, normals,
-    n_threads,
-):  # fmt: skip
+    vertices: np.ndarray, seeds: np.ndarray, rank: np.ndarray, offsets: np.ndarray,
+    leaf_ids: np.ndarray, block_offsets: np.ndarray, block_leaves: np.ndarray, faces: np.ndarray,
+    positions: np.ndarray, moved: np.ndarray, ring: np.ndarray, block_moved: np.ndarray,
+    block_ring: np.ndarray, leaf_mark: np.ndarray, leaf_dirty: np.ndarray, face_normals: np.ndarray,
+    normals: np.ndarray, n_threads: int) -> np.int64:  # fmt: skip
     """One event: the seed vertices (original numbers) moved to ``vertices``; the arrays of
     the index are in its own order. Four passes, each dealing chunks to the threads in turn;
     returns how many vertex normals were recomputed.
@@ -259,11 +264,13 @@ def _update(
                         normals[i, 1] = n1 * inverse
                         normals[i, 2] = n2 * inverse
         counts[16 * t] = count
-    return counts.sum()
+    total: np.int64 = counts.sum()
+    return total
 
 
 @njit(parallel=True, **_JIT)
-def _differ(vertices, rank, positions, mask, n_threads):
+def _differ(vertices: np.ndarray, rank: np.ndarray, positions: np.ndarray, mask: np.ndarray,
+            n_threads: int) -> None:  # fmt: skip
     """mask[v]: row v of ``vertices`` differs from the index's positions (any coordinate)."""
     n = mask.shape[0]
     for t in prange(n_threads):
@@ -278,7 +285,8 @@ def _differ(vertices, rank, positions, mask, n_threads):
 
 
 @njit(parallel=True, **_JIT)
-def _refit(positions, index_faces, leaf_dirty, boxes, n_threads):
+def _refit(positions: np.ndarray, index_faces: np.ndarray, leaf_dirty: np.ndarray,
+           boxes: np.ndarray, n_threads: int) -> None:  # fmt: skip
     """The bounding box of each leaf marked in ``leaf_dirty`` (cleared)."""
     n_leaves = leaf_dirty.shape[0]
     n_faces = index_faces.shape[0]
@@ -301,7 +309,8 @@ def _refit(positions, index_faces, leaf_dirty, boxes, n_threads):
 
 
 @njit(**_JIT)
-def _leaf_hits(boxes, origin, inv_dir, near):
+def _leaf_hits(boxes: np.ndarray, origin: np.ndarray, inv_dir: np.ndarray,
+               near: np.ndarray) -> None:  # fmt: skip
     """near[c] = entry distance of the ray into box c, or inf if it misses. Serial: a
     parallel launch costs more than this millisecond of work when the cores are busy."""
     for c in range(boxes.shape[0]):
@@ -320,7 +329,9 @@ def _leaf_hits(boxes, origin, inv_dir, near):
 
 
 @njit(**_JIT)
-def _closest_hit(vertices, leaf_faces, order, candidates, near, origin, direction):
+def _closest_hit(vertices: np.ndarray, leaf_faces: np.ndarray, order: np.ndarray,
+                 candidates: np.ndarray, near: np.ndarray, origin: np.ndarray,
+                 direction: np.ndarray) -> tuple[int, float]:  # fmt: skip
     """(face, t) of the closest ray-triangle hit among the candidate chunks, sorted by entry
     distance (Möller-Trumbore, both sides); (-1, inf) if none."""
     best_t = np.inf
@@ -555,12 +566,13 @@ class SurfaceIndex:
 PARALLEL_VERTICES = 20_000
 
 
-def _threads_for(work: int):
+def _threads_for(work: int) -> AbstractContextManager[int]:
     """numba's thread count for ``work`` vertices: 1 below :data:`PARALLEL_VERTICES`."""
     return threads_at_most(1 if work < PARALLEL_VERTICES else numba.get_num_threads())
 
 
-def _curve_order(points, groups, low, scale) -> np.ndarray:
+def _curve_order(points: np.ndarray, groups: np.ndarray, low: np.ndarray,
+                 scale: np.ndarray) -> np.ndarray:  # fmt: skip
     """Indices (int32) of the groups (k, g) of ``points`` sorted along the Z-order curve of
     their mean points, ties in index order."""
     keys = np.empty(len(groups), dtype=np.int64)
@@ -573,7 +585,7 @@ def _curve_order(points, groups, low, scale) -> np.ndarray:
 _compiling = threading.local()
 
 
-def _kernels():
+def _kernels() -> ModuleType:
     """This module, whose compiled functions serve once numba has them (compiled in the
     background, see ``gogreen_core._compiled``), else their NumPy twins
     (``gogreen_core._geometry_numpy``: the same results), so that a new machine need not wait

@@ -8,6 +8,7 @@ vertices. Undo and redo copy those float64 values back, so positions are restore
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -95,12 +96,12 @@ class History:
         """Bytes held by all entries (indices and positions, undo and redo)."""
         return self._bytes
 
-    def snapshot(self) -> tuple:
+    def snapshot(self) -> tuple[Any, ...]:
         """An opaque copy of the stacks (entries are immutable, so this is cheap) for
         :meth:`restore`: a caller that must undo a failed batch of records (a replay) uses it."""
         return (list(self._undo), list(self._redo), self._bytes, self._evicted, self.restored_state)
 
-    def restore(self, snapshot: tuple) -> None:
+    def restore(self, snapshot: tuple[Any, ...]) -> None:
         """Put the stacks back as :meth:`snapshot` saw them."""
         undo, redo, self._bytes, self._evicted, self.restored_state = snapshot
         self._undo, self._redo = list(undo), list(redo)
@@ -219,7 +220,15 @@ class History:
         changed = np.flatnonzero(np.any(b.view(np.uint64) != a.view(np.uint64), axis=1))
         self._record_or_merge(label, idx[changed], b[changed], a[changed], merge, state)
 
-    def _record_or_merge(self, label, indices, before, after, merge, state) -> None:
+    def _record_or_merge(
+        self,
+        label: str,
+        indices: np.ndarray,
+        before: np.ndarray,
+        after: np.ndarray,
+        merge: bool,
+        state: tuple[object, object] | None,
+    ) -> None:
         last = self._undo[-1] if self._undo else None
         if merge and last is not None and last.label == label and not self._redo:
             self._merge_last(indices, before, after, state)
@@ -227,7 +236,11 @@ class History:
             self.record(label, indices, before, after, state)
 
     def _merge_last(
-        self, indices: np.ndarray, before: np.ndarray, after: np.ndarray, state
+        self,
+        indices: np.ndarray,
+        before: np.ndarray,
+        after: np.ndarray,
+        state: tuple[object, object] | None,
     ) -> None:
         """Fold a change into the last entry: it keeps its own ``before`` rows and takes the
         new ``after`` rows."""

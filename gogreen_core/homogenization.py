@@ -65,6 +65,7 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from itertools import product
+from typing import cast
 
 import numba as nb
 import numpy as np
@@ -237,7 +238,7 @@ _B = _strain_operator()
 
 def _element_stiffness(voigt: np.ndarray) -> np.ndarray:
     """(24, 24) stiffness of the unit voxel, exact 2x2x2 Gauss quadrature."""
-    return np.einsum("gai,ab,gbj->ij", _B, voigt, _B) / 8.0
+    return cast(np.ndarray, np.einsum("gai,ab,gbj->ij", _B, voigt, _B) / 8.0)
 
 
 def _stencil_blocks(ke: np.ndarray) -> np.ndarray:
@@ -304,7 +305,9 @@ def _inverse_symbol(n: int, lam_over_mu: float) -> np.ndarray:
 # Compiled kernels
 # ---------------------------------------------------------------------------------------------
 @nb.njit(parallel=True, cache=True, fastmath=True)
-def _apply_stiffness(table, code, x, out, xdot):  # pragma: no cover - compiled
+def _apply_stiffness(  # pragma: no cover - compiled
+    table: np.ndarray, code: np.ndarray, x: np.ndarray, out: np.ndarray, xdot: np.ndarray
+) -> None:
     """out = K x for the periodic Q1 stiffness given per node by its stencil row
     ``table[code[i, j, k]]`` (27, 3, 3), for six load cases at once; x, out: (n, n, n, 18)
     (3 components x 6 cases per node). Also xdot[i * n + j, c] = partial sums of x_c . (K x)_c
@@ -342,7 +345,7 @@ def _apply_stiffness(table, code, x, out, xdot):  # pragma: no cover - compiled
 
 
 @nb.njit(parallel=True, cache=True, fastmath=True)
-def _apply_symbol(sinv, xh):  # pragma: no cover - compiled
+def _apply_symbol(sinv: np.ndarray, xh: np.ndarray) -> None:  # pragma: no cover - compiled
     """In place xh[f] = sinv[f] @ xh[f] per frequency f; sinv real (..., 3, 3), xh (..., 3, m)."""
     n0, n1, n2 = xh.shape[0], xh.shape[1], xh.shape[2]
     m = xh.shape[4]
@@ -360,7 +363,9 @@ def _apply_symbol(sinv, xh):  # pragma: no cover - compiled
 
 
 @nb.njit(parallel=True, cache=True, fastmath=True)
-def _axpy_columns(y, x, a):  # pragma: no cover - compiled
+def _axpy_columns(  # pragma: no cover - compiled
+    y: np.ndarray, x: np.ndarray, a: np.ndarray
+) -> None:
     """y[:, c] += a[c] * x[:, c] for (M, m) arrays."""
     for i in nb.prange(y.shape[0]):
         for c in range(y.shape[1]):
@@ -368,7 +373,9 @@ def _axpy_columns(y, x, a):  # pragma: no cover - compiled
 
 
 @nb.njit(parallel=True, cache=True, fastmath=True)
-def _xpay_columns(y, x, a):  # pragma: no cover - compiled
+def _xpay_columns(  # pragma: no cover - compiled
+    y: np.ndarray, x: np.ndarray, a: np.ndarray
+) -> None:
     """y[:, c] = x[:, c] + a[c] * y[:, c] for (M, m) arrays."""
     for i in nb.prange(y.shape[0]):
         for c in range(y.shape[1]):
@@ -448,17 +455,17 @@ def homogenize_detailed(
     def precondition(r: np.ndarray) -> np.ndarray:
         rh = sfft.rfftn(r, axes=(0, 1, 2), workers=workers)
         _apply_symbol(sinv, rh)
-        return sfft.irfftn(rh, s=(n, n, n), axes=(0, 1, 2), workers=workers)
+        return cast(np.ndarray, sfft.irfftn(rh, s=(n, n, n), axes=(0, 1, 2), workers=workers))
 
     def dot(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-        return np.einsum("ij,ij->j", u.reshape(-1, 6), v.reshape(-1, 6))
+        return cast(np.ndarray, np.einsum("ij,ij->j", u.reshape(-1, 6), v.reshape(-1, 6)))
 
     xdot = np.empty((n * n, 6))
 
     def stiffness(x: np.ndarray, out: np.ndarray) -> np.ndarray:
         """out = K x; returns the six x_c . (K x)_c."""
         _apply_stiffness(table, code, x.reshape(n, n, n, 18), out.reshape(n, n, n, 18), xdot)
-        return xdot.sum(axis=0)
+        return cast(np.ndarray, xdot.sum(axis=0))
 
     report(0.05)
     # Preconditioned CG on the six load cases at once (independent step sizes per column).
@@ -516,7 +523,7 @@ def homogenize_detailed(
 
 def _dot_matrix(u: np.ndarray, v: np.ndarray) -> np.ndarray:
     """(6, 6) matrix of inner products u_i . v_j of two (..., 6) fields."""
-    return u.reshape(-1, 6).T @ v.reshape(-1, 6)
+    return cast(np.ndarray, u.reshape(-1, 6).T @ v.reshape(-1, 6))
 
 
 def homogenize(

@@ -51,9 +51,11 @@ import time
 from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
+from typing import Any, cast
 
 import numpy as np
 
+from gogreen_core.brushes.brush import BrushEvent
 from gogreen_core.checkpoint import SculptState, write_checkpoint
 from gogreen_core.journal_format import (
     JOURNAL_FILE,
@@ -74,7 +76,7 @@ from gogreen_core.journal_format import (
 from gogreen_core.mesh_io import MeshData, write_bytes_atomic
 from gogreen_core.mesh_io.atomic import atomic_write
 from gogreen_core.operations import Operation, Stroke
-from gogreen_core.sculptor import capture_state
+from gogreen_core.sculptor import Sculptor, capture_state
 
 __all__ = [
     "CHECKPOINT_WORK",
@@ -148,12 +150,12 @@ class Journal:
 
     def __init__(
         self,
-        sculptor,
+        sculptor: Sculptor,
         mesh: MeshData,
         *,
         document: str | None = None,
         title: str | None = None,
-        root: str | os.PathLike | None = None,
+        root: str | os.PathLike[str] | None = None,
         auto_checkpoint: bool = True,
         checkpoint_work: float = CHECKPOINT_WORK,
         replaces: JournalLock | None = None,
@@ -162,7 +164,7 @@ class Journal:
         self.sculptor = sculptor
         self.mesh = mesh
         #: The face array of the journal's start: checkpoints hold faces only when another.
-        self._base_faces: object = None
+        self._base_faces: np.ndarray | None = None
         self.document = None if document is None else os.path.abspath(document)
         self.title = title or (Path(document).name if document else "untitled")
         self.root = Path(root) if root is not None else recovery_root()
@@ -183,7 +185,7 @@ class Journal:
         self._problems: list[str] = []
         self._reported = 0
         self._lock_problems = threading.Lock()
-        self._tasks: collections.deque = collections.deque()
+        self._tasks: collections.deque[tuple[Any, ...]] = collections.deque()
         self._busy = False
         self._cond = threading.Condition()
         self._thread = threading.Thread(target=self._run, name="gogreen-journal", daemon=True)
@@ -276,11 +278,12 @@ class Journal:
     def _write_header(self, header: bytes) -> int:
         """Write a new ``journal.jsonl`` holding the header alone (renamed over the old one, so
         there is always a whole journal); returns its descriptor, open for appending."""
-        tmp = self.directory / f".{JOURNAL_FILE}.tmp"
+        directory = cast(Path, self.directory)  # (started: the folder was made)
+        tmp = directory / f".{JOURNAL_FILE}.tmp"
         fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_APPEND, 0o600)
         try:
             write_all(fd, frame(header))
-            os.replace(tmp, self.directory / JOURNAL_FILE)
+            os.replace(tmp, directory / JOURNAL_FILE)
         except BaseException:
             os.close(fd)
             raise
@@ -295,13 +298,13 @@ class Journal:
             return
         try:
             if kind == "event":
-                text = json.dumps(item.to_dict(), separators=_COMPACT)
+                text = json.dumps(cast(BrushEvent, item).to_dict(), separators=_COMPACT)
                 self._pending.append((item, text))
             elif kind == "truncate":  # a rolled-back replay: start again from what is now
                 self._pending.clear()
                 self._start()
             else:
-                self._append(kind, item, length)
+                self._append(kind, cast(Operation, item), length)
         except Exception as exc:  # nothing may stop the sculpting
             self._stop(exc)
             if self.wake is not None:
@@ -315,7 +318,7 @@ class Journal:
             f'{{"seq":{seq},"kind":"{kind}","n":{length},"t":{time.time():.3f},'
             f'"d":{self._done()},"op":{text}}}'
         )
-        write_all(self._fd, frame(record.encode()))
+        write_all(cast(int, self._fd), frame(record.encode()))
         self.records = seq
         events = len(op.events) if isinstance(op, Stroke) else 0
         self._work += replay_work(op.name, events, len(self.sculptor.vertices))
@@ -398,12 +401,12 @@ class Journal:
             self._retire = None
 
     # -- worker thread -----------------------------------------------------------------------
-    def _submit(self, task: tuple) -> None:
+    def _submit(self, task: tuple[Any, ...]) -> None:
         with self._cond:
             self._tasks.append(task)
             self._cond.notify_all()
 
-    def _next_task(self) -> tuple:
+    def _next_task(self) -> tuple[Any, ...]:
         """The next task; runs of fsyncs of one file collapse into the last, and a checkpoint
         with a newer one queued is skipped."""
         with self._cond:
@@ -432,7 +435,7 @@ class Journal:
                 if kind != "file":  # a picture protects nothing: not worth a message
                     self._problem(_task_problem(kind, exc))
 
-    def _do(self, task: tuple) -> None:
+    def _do(self, task: tuple[Any, ...]) -> None:
         kind = task[0]
         if kind == "fsync":
             os.fsync(task[1])
@@ -446,7 +449,7 @@ class Journal:
         elif kind == "prune":
             self._prune(keep_base=task[1])
         elif kind == "file":
-            write_bytes_atomic(self.directory / task[1], task[2])
+            write_bytes_atomic(cast(Path, self.directory) / task[1], task[2])
         elif kind == "retire":
             if self._base_written:
                 task[1].remove()
@@ -456,27 +459,33 @@ class Journal:
     def _write_base(self, state: SculptState, name: str) -> None:
         faces = state.faces
         assert faces is not None  # the start's state holds its faces
-        arrays = {"vertices": state.vertices, "faces": faces.astype(_index_type(faces))}
+        arrays: dict[str, Any] = {
+            "vertices": state.vertices,
+            "faces": faces.astype(_index_type(faces)),
+        }
         if state.uv is not None and state.uv_faces is not None:
             arrays["uv"] = state.uv
             arrays["uv_faces"] = state.uv_faces.astype(_index_type(state.uv_faces))
         if state.mask is not None:
             arrays["mask"] = state.mask
         self._base_written = False
-        atomic_write(self.directory / name, lambda out: np.savez(out, **arrays))
+        atomic_write(cast(Path, self.directory) / name, lambda out: np.savez(out, **arrays))
         self._base_written = True
 
-    def _write_checkpoint(self, state: SculptState, extra: dict) -> None:
+    def _write_checkpoint(self, state: SculptState, extra: dict[str, Any]) -> None:
         if extra["token"] != self._token:
             return  # the journal restarted since it was taken
-        write_checkpoint(self.directory / f"checkpoint-{extra['seq']}.bin", state, extra)
+        write_checkpoint(
+            cast(Path, self.directory) / f"checkpoint-{extra['seq']}.bin", state, extra
+        )
         self._prune()
 
     def _prune(self, keep_base: str | None = None) -> None:
         """Delete all but the newest :data:`KEEP_CHECKPOINTS` checkpoints, the checkpoints of
         an older generation (``keep_base`` given: a restart) and other base copies."""
+        directory = cast(Path, self.directory)  # (tasks are queued once the folder was made)
         numbered = []
-        for path in self.directory.glob("checkpoint-*.bin"):
+        for path in directory.glob("checkpoint-*.bin"):
             with contextlib.suppress(ValueError):
                 numbered.append((int(path.stem.split("-", 1)[1]), path))
         numbered.sort()
@@ -484,12 +493,12 @@ class Journal:
         for _, path in drop:
             path.unlink(missing_ok=True)
         if keep_base is not None:
-            for path in self.directory.glob("base-*.npz"):
+            for path in directory.glob("base-*.npz"):
                 if path.name != keep_base:
                     path.unlink(missing_ok=True)
 
 
-def _pins_json(state: SculptState) -> dict | None:
+def _pins_json(state: SculptState) -> dict[str, Any] | None:
     if state.pins is None:
         return None
     points, matrix, inverse = state.pins

@@ -20,16 +20,19 @@ import zlib
 from dataclasses import dataclass, field
 from datetime import datetime
 from pathlib import Path
+from types import ModuleType
+from typing import Any, cast
 
 import numpy as np
 
+from gogreen_core.operations import Operation, operation_from_dict
+from gogreen_core.validation import ParameterError
+
+fcntl: ModuleType | None  # None where there is no fcntl
 try:
     import fcntl
 except ImportError:  # not POSIX (Windows): no journal, said as a problem
     fcntl = None
-
-from gogreen_core.operations import Operation, operation_from_dict
-from gogreen_core.validation import ParameterError
 
 __all__ = [
     "JOURNAL_FILE",
@@ -118,7 +121,7 @@ def write_all(fd: int, data: bytes) -> None:
 def vertex_hash(vertices: np.ndarray) -> str:
     """SHA-256 of the float64 vertex array (the session files' ``mesh.sha256``)."""
     array = np.ascontiguousarray(vertices, dtype=np.float64)
-    return hashlib.sha256(memoryview(array).cast("B")).hexdigest()
+    return hashlib.sha256(memoryview(cast(Any, array)).cast("B")).hexdigest()
 
 
 class JournalLock:
@@ -131,7 +134,7 @@ class JournalLock:
         self._fd: int | None = fd
 
     @classmethod
-    def acquire(cls, directory: str | os.PathLike, create: bool = False) -> JournalLock | None:
+    def acquire(cls, directory: str | os.PathLike[str], create: bool = False) -> JournalLock | None:
         """The lock of ``directory``, or None while another process (or another journal of
         this one) holds it. ``create``: write this process's id and host into the file.
         OSError when the folder cannot be opened."""
@@ -177,12 +180,12 @@ class JournalLock:
         self.release()
 
 
-def owner() -> dict:
+def owner() -> dict[str, Any]:
     """Who writes a journal: this process's id, host and start time."""
     return {"pid": os.getpid(), "host": socket.gethostname(), "since": time.time()}
 
 
-def lock_owner(directory: str | os.PathLike) -> dict:
+def lock_owner(directory: str | os.PathLike[str]) -> dict[str, Any]:
     """What the ``lock`` file says about the process that wrote the journal ({} if nothing)."""
     try:
         data = json.loads((Path(directory) / LOCK_FILE).read_text())
@@ -228,7 +231,7 @@ class Record:
     n: int
     t: float
     d: int
-    data: dict
+    data: dict[str, Any]
     op: Operation | None
 
     @property
@@ -248,14 +251,14 @@ class JournalContents:
     saying what was dropped and why."""
 
     directory: Path
-    header: dict
+    header: dict[str, Any]
     records: list[Record]
     notes: list[str] = field(default_factory=list)
 
     @property
-    def operations(self) -> list[dict]:
+    def operations(self) -> list[dict[str, Any]]:
         """The session operations the records make (a ``replace`` replaces the last)."""
-        ops: list[dict] = []
+        ops: list[dict[str, Any]] = []
         for record in self.records:
             if record.kind == "replace" and ops:
                 ops[-1] = record.data
@@ -281,7 +284,7 @@ def _frame_payload(line: bytes) -> bytes | None:
     return payload if zlib.crc32(payload) == crc else None
 
 
-def _check_header(header: object, name: str) -> dict:
+def _check_header(header: object, name: str) -> dict[str, Any]:
     if not isinstance(header, dict) or header.get("format") != JOURNAL_FORMAT:
         raise JournalError(f"{name}: not a GoGreen Sculpt journal")
     try:
@@ -301,7 +304,7 @@ def _check_header(header: object, name: str) -> dict:
     return header
 
 
-def read_journal(directory: str | os.PathLike, validate: bool = True) -> JournalContents:
+def read_journal(directory: str | os.PathLike[str], validate: bool = True) -> JournalContents:
     """Read a journal folder's ``journal.jsonl`` up to its first damage. ``validate``: also
     check every operation (as session files are); listing skips that. :class:`JournalError`
     when even the header cannot be read."""
@@ -345,6 +348,7 @@ def read_journal(directory: str | os.PathLike, validate: bool = True) -> Journal
                 "records before it are kept"
             )
             break
+        assert record is not None  # parsed without a problem
         contents.records.append(record)
     return contents
 

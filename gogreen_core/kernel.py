@@ -18,6 +18,7 @@ import time
 from collections.abc import Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from gogreen_core import _compiled, _evaluation
 from gogreen_core._evaluation import EVALUATION, EVALUATIONS, Parity
@@ -85,7 +86,7 @@ def prepare_degree(l_max: int) -> float:
 COORDINATE_LIMIT = 1e300
 
 
-def _finite_array(name: str, value, shape: tuple[int, ...]) -> np.ndarray:
+def _finite_array(name: str, value: ArrayLike, shape: tuple[int, ...]) -> np.ndarray:
     arr = np.array(value, dtype=np.float64)  # a writable copy: one compiled type
     if arr.shape != shape:
         raise ParameterError(name, f"{name} must have shape {shape} (got {arr.shape})")
@@ -104,7 +105,7 @@ def _within_limit(name: str, arr: np.ndarray) -> np.ndarray:
     return arr
 
 
-def _points(name: str, value) -> np.ndarray:
+def _points(name: str, value: ArrayLike) -> np.ndarray:
     arr = np.asarray(value, dtype=np.float64)
     if arr.ndim != 2 or arr.shape[1] != 3:
         raise ParameterError(name, f"{name} must have shape (N, 3) (got {arr.shape})")
@@ -168,7 +169,7 @@ class GreenKernel:
         material: Material,
         l_max: int = 8,
         radial: RadialProfile | None = None,
-        degree_weights: Sequence[float] | None = None,
+        degree_weights: Sequence[float] | np.ndarray | None = None,
         *,
         evaluation: int = EVALUATION,
     ):
@@ -222,7 +223,7 @@ class GreenKernel:
         return self.with_radial(self._radial.with_eps(eps))
 
     def with_degree_weights(
-        self, degree_weights: Sequence[float], output_maps: np.ndarray | None = None
+        self, degree_weights: Sequence[float] | np.ndarray, output_maps: np.ndarray | None = None
     ) -> GreenKernel:
         """The same kernel with other ``degree_weights`` (see the class docstring): no new
         quadrature, bit for bit ``GreenKernel(material, l_max, radial, degree_weights)``.

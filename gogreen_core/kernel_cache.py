@@ -45,7 +45,7 @@ class KernelCache:
         if evaluation is None:
             evaluation = EVALUATION if previous is None else previous.evaluation
         #: The kernels' evaluation (see ``GreenKernel``).
-        self.evaluation = evaluation
+        self.evaluation: int = evaluation
         self.settings = settings
         old = None if previous is None else previous.settings
         if (
@@ -55,7 +55,9 @@ class KernelCache:
             and old.material == settings.material
             and previous.evaluation == evaluation
         ):
-            self.full = previous.full.with_radial(settings.falloff)  # no new quadrature
+            self.full: GreenKernel = previous.full.with_radial(
+                settings.falloff
+            )  # no new quadrature
         else:
             self.full = GreenKernel(
                 settings.material, settings.l_max, settings.falloff, evaluation=evaluation

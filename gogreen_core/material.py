@@ -9,6 +9,7 @@ the displacement shapes; the Green's function scales as 1/stiffness).
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any, cast
 
 import numpy as np
 
@@ -26,15 +27,15 @@ _SYMMETRY_RTOL = 1e-10
 def voigt_to_tensor(voigt: np.ndarray) -> np.ndarray:
     """Expand a (6, 6) Voigt stiffness into the (3, 3, 3, 3) tensor C_ijkl."""
     voigt = np.asarray(voigt, dtype=np.float64)
-    return voigt[VOIGT_INDEX[:, :, None, None], VOIGT_INDEX[None, None, :, :]]
+    return cast(np.ndarray, voigt[VOIGT_INDEX[:, :, None, None], VOIGT_INDEX[None, None, :, :]])
 
 
 def tensor_to_voigt(tensor: np.ndarray) -> np.ndarray:
     """Contract a (3, 3, 3, 3) stiffness tensor with minor symmetries into (6, 6) Voigt form."""
     tensor = np.asarray(tensor, dtype=np.float64)
-    rows, cols = zip(*VOIGT_PAIRS, strict=True)
-    rows, cols = np.array(rows), np.array(cols)
-    return tensor[rows[:, None], cols[:, None], rows[None, :], cols[None, :]]
+    row_list, col_list = zip(*VOIGT_PAIRS, strict=True)
+    rows, cols = np.array(row_list), np.array(col_list)
+    return cast(np.ndarray, tensor[rows[:, None], cols[:, None], rows[None, :], cols[None, :]])
 
 
 def _finite(name: str, value: np.ndarray) -> None:
@@ -271,7 +272,7 @@ class Material:
     def acoustic_tensor(self, directions: np.ndarray) -> np.ndarray:
         """M(ξ)_ik = C_ijkl ξ_j ξ_l for directions (N, 3) → (N, 3, 3)."""
         d = np.asarray(directions, dtype=np.float64)
-        return np.einsum("ijkl,nj,nl->nik", self._tensor, d, d, optimize=True)
+        return cast(np.ndarray, np.einsum("ijkl,nj,nl->nik", self._tensor, d, d, optimize=True))
 
     def directional_young(self, directions: np.ndarray) -> np.ndarray:
         """Young's modulus along unit directions (N, 3) → (N,): 1 / (d⊗d : S : d⊗d)."""
@@ -290,15 +291,15 @@ class Material:
             ],
             axis=1,
         )
-        return 1.0 / np.einsum("na,ab,nb->n", sig, self.compliance, sig)
+        return cast(np.ndarray, 1.0 / np.einsum("na,ab,nb->n", sig, self.compliance, sig))
 
     # -- serialization ------------------------------------------------------------------------
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """JSON-ready description: ``{"voigt": 6x6 nested list}``."""
         return {"voigt": self._voigt.tolist()}
 
     @classmethod
-    def from_dict(cls, data: dict) -> Material:
+    def from_dict(cls, data: dict[str, Any]) -> Material:
         """Inverse of :meth:`to_dict`."""
         if not isinstance(data, dict) or "voigt" not in data:
             raise ValueError("material description must be a dict with a 'voigt' entry")

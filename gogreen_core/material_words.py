@@ -18,6 +18,7 @@ lie between ("tilted 45° from +Z toward −Y").
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
@@ -95,7 +96,7 @@ def _other(vector: np.ndarray) -> np.ndarray:
     """A unit vector ⟂ ``vector``."""
     helper = _AXES[np.argmin(np.abs(vector))]
     out = np.cross(vector, helper)
-    return out / np.linalg.norm(out)
+    return cast(np.ndarray, out / np.linalg.norm(out))
 
 
 def direction_words(direction: np.ndarray, signed: bool = False) -> str:

@@ -117,7 +117,7 @@ class MeshState:
             raise ValueError("the mesh has zero size (all vertices coincide)")
         if not np.isfinite(self.model_size):
             raise ValueError("the mesh is too large (its size overflows a float)")
-        self.origin = 0.5 * (low + high)
+        self.origin: np.ndarray = 0.5 * (low + high)
         self.mask = np.zeros(len(self.vertices))
         #: Some vertex is masked (mask > 0): brushes' results are blended by the driver.
         self.masked = False

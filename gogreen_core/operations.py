@@ -15,7 +15,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -82,21 +82,21 @@ class Operation:
         """Units of progress this operation reports (mouse events of a stroke, else 1)."""
         return 1
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """JSON-ready ``{"op": name, ...}``."""
         raise NotImplementedError
 
     @classmethod
-    def from_dict(cls, data: dict, path: str) -> Operation:
+    def from_dict(cls, data: dict[str, Any], path: str) -> Operation:
         """Read the fields of a checked ``data`` (``op`` and keys already checked)."""
         raise NotImplementedError
 
 
-def _continued(data: dict, path: str) -> bool:
+def _continued(data: dict[str, Any], path: str) -> bool:
     return check_bool(field_path(path, "continued"), data.get("continued", False))
 
 
-def _with_flag(data: dict, continued: bool) -> dict:
+def _with_flag(data: dict[str, Any], continued: bool) -> dict[str, Any]:
     return {**data, "continued": True} if continued else data
 
 
@@ -113,7 +113,7 @@ class Stroke(Operation):
     def steps(self) -> int:
         return max(1, len(self.events))
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {
             "op": self.name,
             "brush": self.brush.to_dict(),
@@ -121,7 +121,7 @@ class Stroke(Operation):
         }
 
     @classmethod
-    def from_dict(cls, data: dict, path: str) -> Stroke:
+    def from_dict(cls, data: dict[str, Any], path: str) -> Stroke:
         brush = Brush.from_dict(data["brush"], field_path(path, "brush"))
         name = field_path(path, "events")
         events = check_list(name, data["events"], max_length=MAX_EVENTS)
@@ -140,11 +140,11 @@ class MaterialChange(Operation):
     material: Material
     continued: bool = False
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return _with_flag({"op": self.name, "material": self.material.to_dict()}, self.continued)
 
     @classmethod
-    def from_dict(cls, data: dict, path: str) -> MaterialChange:
+    def from_dict(cls, data: dict[str, Any], path: str) -> MaterialChange:
         material = parse_material(data["material"], field_path(path, "material"))
         return cls(material, _continued(data, path))
 
@@ -166,7 +166,7 @@ class FalloffChange(Operation):
         default_factory=lambda: MappingProxyType({})
     )
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         w = self.degree_weights
         data = {
             "op": self.name,
@@ -179,7 +179,7 @@ class FalloffChange(Operation):
         return _with_flag(data, self.continued)
 
     @classmethod
-    def from_dict(cls, data: dict, path: str) -> FalloffChange:
+    def from_dict(cls, data: dict[str, Any], path: str) -> FalloffChange:
         falloff = parse_falloff(data["falloff"], field_path(path, "falloff"))
         l_max = parse_l_max(data["l_max"], field_path(path, "l_max"))
         weights = parse_degree_weights(
@@ -201,11 +201,11 @@ class ConstraintRadius(Operation):
     radius: float
     continued: bool = False
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return _with_flag({"op": self.name, "radius": self.radius}, self.continued)
 
     @classmethod
-    def from_dict(cls, data: dict, path: str) -> ConstraintRadius:
+    def from_dict(cls, data: dict[str, Any], path: str) -> ConstraintRadius:
         name = field_path(path, "radius")
         radius = check_number(name, data["radius"], low=MIN_RADIUS, high=MAX_RADIUS)
         return cls(radius, _continued(data, path))
@@ -219,11 +219,11 @@ class ConstraintAdd(Operation):
     required: ClassVar[tuple[str, ...]] = ("point",)
     point: np.ndarray
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {"op": self.name, "point": np.asarray(self.point, float).tolist()}
 
     @classmethod
-    def from_dict(cls, data: dict, path: str) -> ConstraintAdd:
+    def from_dict(cls, data: dict[str, Any], path: str) -> ConstraintAdd:
         return cls(check_finite(field_path(path, "point"), data["point"], (3,)))
 
 
@@ -235,11 +235,11 @@ class ConstraintRemove(Operation):
     required: ClassVar[tuple[str, ...]] = ("index",)
     index: int
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {"op": self.name, "index": int(self.index)}
 
     @classmethod
-    def from_dict(cls, data: dict, path: str) -> ConstraintRemove:
+    def from_dict(cls, data: dict[str, Any], path: str) -> ConstraintRemove:
         name = field_path(path, "index")
         return cls(check_integer(name, data["index"], low=0, high=MAX_INDEX))
 
@@ -250,11 +250,11 @@ class ConstraintsClear(Operation):
 
     name: ClassVar[str] = "constraints_clear"
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {"op": self.name}
 
     @classmethod
-    def from_dict(cls, data: dict, path: str) -> ConstraintsClear:
+    def from_dict(cls, data: dict[str, Any], path: str) -> ConstraintsClear:
         return cls()
 
 
@@ -270,12 +270,12 @@ class ConstraintDrag(Operation):
     delta: np.ndarray
     continued: bool = False
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         data = {"op": self.name, "index": int(self.index), "delta": self.delta.tolist()}
         return _with_flag(data, self.continued)
 
     @classmethod
-    def from_dict(cls, data: dict, path: str) -> ConstraintDrag:
+    def from_dict(cls, data: dict[str, Any], path: str) -> ConstraintDrag:
         index = check_integer(field_path(path, "index"), data["index"], low=0, high=MAX_INDEX)
         delta = check_finite(field_path(path, "delta"), data["delta"], (3,))
         return cls(index, delta, _continued(data, path))
@@ -287,11 +287,11 @@ class MaskInvert(Operation):
 
     name: ClassVar[str] = "mask_invert"
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {"op": self.name}
 
     @classmethod
-    def from_dict(cls, data: dict, path: str) -> MaskInvert:
+    def from_dict(cls, data: dict[str, Any], path: str) -> MaskInvert:
         return cls()
 
 
@@ -301,11 +301,11 @@ class MaskClear(Operation):
 
     name: ClassVar[str] = "mask_clear"
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {"op": self.name}
 
     @classmethod
-    def from_dict(cls, data: dict, path: str) -> MaskClear:
+    def from_dict(cls, data: dict[str, Any], path: str) -> MaskClear:
         return cls()
 
 
@@ -318,14 +318,14 @@ class Subdivide(Operation):
     optional: ClassVar[tuple[str, ...]] = ("unmasked_only",)
     unmasked_only: bool = False
 
-    def to_dict(self) -> dict:
-        data: dict = {"op": self.name}
+    def to_dict(self) -> dict[str, Any]:
+        data: dict[str, Any] = {"op": self.name}
         if self.unmasked_only:
             data["unmasked_only"] = True
         return data
 
     @classmethod
-    def from_dict(cls, data: dict, path: str) -> Subdivide:
+    def from_dict(cls, data: dict[str, Any], path: str) -> Subdivide:
         name = field_path(path, "unmasked_only")
         return cls(check_bool(name, data.get("unmasked_only", False)))
 
@@ -336,11 +336,11 @@ class Undo(Operation):
 
     name: ClassVar[str] = "undo"
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {"op": self.name}
 
     @classmethod
-    def from_dict(cls, data: dict, path: str) -> Undo:
+    def from_dict(cls, data: dict[str, Any], path: str) -> Undo:
         return cls()
 
 
@@ -350,11 +350,11 @@ class Redo(Operation):
 
     name: ClassVar[str] = "redo"
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {"op": self.name}
 
     @classmethod
-    def from_dict(cls, data: dict, path: str) -> Redo:
+    def from_dict(cls, data: dict[str, Any], path: str) -> Redo:
         return cls()
 
 
@@ -383,7 +383,7 @@ def operation_from_dict(data: object, path: str = "operation") -> Operation:
     """One session operation ``{"op": name, ...}`` → its typed record; ParameterError naming
     the field (``path.op``, ``path.events[0].delta``...) for anything missing, unknown,
     mistyped or out of range."""
-    check_object(path, data)
+    data = check_object(path, data)
     if "op" not in data:
         raise ParameterError(field_path(path, "op"), f"{field_path(path, 'op')} is missing")
     name = check_choice(field_path(path, "op"), data["op"], tuple(OPERATIONS))

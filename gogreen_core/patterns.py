@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -159,7 +159,7 @@ def fibers(
         inside = (du < half) & (dv < half)
     else:
         raise ValueError(f"shape must be 'round' or 'square' (got {shape!r})")
-    return inside.astype(np.int8)
+    return cast(np.ndarray, inside.astype(np.int8))
 
 
 def checkerboard(n: int = 16, periods: int = 1) -> np.ndarray:
@@ -169,7 +169,7 @@ def checkerboard(n: int = 16, periods: int = 1) -> np.ndarray:
     periods = _check_periods(periods, n, per_period=2)
     x, y, z = _motif_coords(n, periods)
     blocks = np.floor(2 * x) + np.floor(2 * y) + np.floor(2 * z)
-    return (blocks.astype(np.int64) % 2).astype(np.int8)
+    return cast(np.ndarray, (blocks.astype(np.int64) % 2).astype(np.int8))
 
 
 def spheres(

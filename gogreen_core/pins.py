@@ -43,7 +43,7 @@ class _Points(NamedTuple):
 class _Pin(NamedTuple):
     """A dragged pin's index and position: the caller state of a pin-drag undo step."""
 
-    index: int
+    pin_index: int  # (not ``index``: a tuple's method)
     point: np.ndarray
 
 
@@ -186,6 +186,6 @@ class Pins:
             return
         if not isinstance(state, _Pin) or self.constraints is None:
             return
-        if state.index < len(self.constraints):
+        if state.pin_index < len(self.constraints):
             with contextlib.suppress(ValueError):  # another pin sits there now: leave it
-                self.constraints.move(state.index, state.point)
+                self.constraints.move(state.pin_index, state.point)

@@ -170,14 +170,14 @@ class Preset:
         )
 
 
-def load_preset(path: str | os.PathLike) -> Preset:
+def load_preset(path: str | os.PathLike[str]) -> Preset:
     """Read a preset file; ``ValueError`` (a :class:`ParameterError` for a bad field) whose
     message starts with the file's name."""
     preset = parse_file(path, Preset.from_dict, "preset file")
     return preset if preset.name else replace(preset, name=Path(path).stem)
 
 
-def save_preset(preset: Preset, path: str | os.PathLike) -> None:
+def save_preset(preset: Preset, path: str | os.PathLike[str]) -> None:
     """Write ``preset`` as JSON atomically (a failed save leaves any old file intact)."""
     write_text_atomic(path, json.dumps(preset.to_dict(), indent=1) + "\n")
 

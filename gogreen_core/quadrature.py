@@ -8,6 +8,7 @@ the material's axis where it is sharply peaked (:func:`material_rule`).
 from __future__ import annotations
 
 from functools import lru_cache
+from typing import cast
 
 import numpy as np
 from scipy.integrate import lebedev_rule
@@ -42,7 +43,7 @@ def _low_moments(material: Material, nodes: np.ndarray, weights: np.ndarray) -> 
     m_inv = np.linalg.inv(material.acoustic_tensor(nodes))
     x, y, z = nodes.T
     mono = np.stack([np.ones_like(x), x, y, z, x * x, y * y, z * z, x * y, x * z, y * z])
-    return ((mono * weights) @ m_inv.reshape(len(nodes), 9)).reshape(10, 3, 3)
+    return cast(np.ndarray, ((mono * weights) @ m_inv.reshape(len(nodes), 9)).reshape(10, 3, 3))
 
 
 def _material_frame(material: Material) -> np.ndarray:
@@ -74,12 +75,12 @@ def _product_rule(
     coarse_points, fine_points = 16 + 4 * level, 8 + 4 * level
     n_uniform = int(np.ceil(np.pi * (l_max + 2) / (4 * (coarse_points - 8))))
     uniform_width = np.pi / (2 * n_uniform)
-    edges = set(np.linspace(0.0, np.pi, 2 * n_uniform + 1).tolist())
+    edge_set = set(np.linspace(0.0, np.pi, 2 * n_uniform + 1).tolist())
     width = finest
     while width < uniform_width / 2:
-        edges.update((width, np.pi / 2 - width, np.pi / 2 + width, np.pi - width))
+        edge_set.update((width, np.pi / 2 - width, np.pi / 2 + width, np.pi - width))
         width *= 2.0
-    edges = np.array(sorted(edges))
+    edges = np.array(sorted(edge_set))
     thetas, theta_weights = [], []
     for points in (coarse_points, fine_points):
         lo, hi = edges[:-1], edges[1:]

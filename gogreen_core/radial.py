@@ -30,6 +30,7 @@ import hashlib
 import json
 from abc import ABC, abstractmethod
 from collections.abc import Iterable, Sequence
+from typing import Any, cast
 
 import numpy as np
 from scipy import special
@@ -132,7 +133,7 @@ class RadialProfile(ABC):
         return self if self._eps == 1.0 else self.with_eps(1.0)
 
     @abstractmethod
-    def table_key(self) -> tuple:
+    def table_key(self) -> tuple[Any, ...]:
         """Hashable identity of the shape (not ε): equal keys give equal tables."""
 
     def table(self, kind: str, degrees: Iterable[int]) -> np.ndarray:
@@ -144,7 +145,7 @@ class RadialProfile(ABC):
         return cached_table(self.table_key(), kind, l, self)
 
     @abstractmethod
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         """JSON-ready description; :func:`radial_from_dict` inverts it."""
 
     def __repr__(self) -> str:
@@ -152,10 +153,10 @@ class RadialProfile(ABC):
 
 
 class _ClosedFormRadial(RadialProfile):
-    def table_key(self) -> tuple:
+    def table_key(self) -> tuple[Any, ...]:
         return (self.kind_name,)
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {"type": self.kind_name, "eps": self._eps}
 
     def __eq__(self, other: object) -> bool:
@@ -183,7 +184,7 @@ class GaussianRadial(_ClosedFormRadial):
             a, c = l / 2 + 1, np.sqrt(np.pi)
         b = l + 1.5
         scale = c * special.gamma(a) / special.gamma(b)
-        return scale * rho**l * special.hyp1f1(a, b, -(rho**2))
+        return cast(np.ndarray, scale * rho**l * special.hyp1f1(a, b, -(rho**2)))
 
 
 class KelvinletRadial(_ClosedFormRadial):
@@ -204,7 +205,7 @@ class KelvinletRadial(_ClosedFormRadial):
             a, b, c = l / 2 + 3, l / 2 + 1, np.sqrt(np.pi)
         g = l + 1.5
         scale = c * special.gamma(a) * special.gamma(b) / special.gamma(g)
-        return scale * rho**l * special.hyp2f1(a, b, g, -(rho**2))
+        return cast(np.ndarray, scale * rho**l * special.hyp2f1(a, b, g, -(rho**2)))
 
 
 #: Default control abscissae (ρ = r/ε) of a spline falloff: dense where the falloff bends.
@@ -370,17 +371,21 @@ class SplineRadial(RadialProfile):
         """Remove a control point (the first one, at ρ = 0, and the last two stay)."""
         self.set_curve(kind, l, *self._removed(kind, l, index))
 
-    def _moved(self, kind: str, l: int, index: int, rho: float, value: float):
+    def _moved(
+        self, kind: str, l: int, index: int, rho: float, value: float
+    ) -> tuple[np.ndarray, np.ndarray]:
         xs, ys = self.curve(kind, l)
         xs[index], ys[index] = rho, value
         return xs, ys
 
-    def _added(self, kind: str, l: int, rho: float, value: float):
+    def _added(
+        self, kind: str, l: int, rho: float, value: float
+    ) -> tuple[np.ndarray, np.ndarray, int]:
         xs, ys = self.curve(kind, l)
         index = int(np.searchsorted(xs, rho))
         return np.insert(xs, index, rho), np.insert(ys, index, value), index
 
-    def _removed(self, kind: str, l: int, index: int):
+    def _removed(self, kind: str, l: int, index: int) -> tuple[np.ndarray, np.ndarray]:
         xs, ys = self.curve(kind, l)
         if index == 0 or index % len(xs) == 0:
             raise ValueError("the control point at rho = 0 cannot be removed")
@@ -430,7 +435,7 @@ class SplineRadial(RadialProfile):
         out[~inside] = ys[-1] * (xs[-1] / rho[~inside]) ** _DECAY[kind]
         return out
 
-    def table_key(self) -> tuple:
+    def table_key(self) -> tuple[Any, ...]:
         # Keyed by content, never by id(): a new profile may reuse a dead one's id (measured:
         # 40 falloffs built and dropped, one got a dead one's table).
         if self._digest is None:
@@ -462,7 +467,7 @@ class SplineRadial(RadialProfile):
         return hash((self.eps, self.table_key()))
 
     # -- serialization -----------------------------------------------------------------------
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         data = {
             "type": "spline",
             "eps": self.eps,
@@ -540,15 +545,18 @@ class MultiscaleRadial(RadialProfile):
     def dimensionless(self, kind: str, l: int, rho: np.ndarray) -> np.ndarray:
         rho = np.asarray(rho, dtype=np.float64)
         p = _DECAY[kind]
-        return sum(
-            w * s**-p * self._base.dimensionless(kind, l, rho / s)
-            for s, w in zip(self._scales, self._weights, strict=True)
+        return cast(
+            np.ndarray,
+            sum(
+                w * s**-p * self._base.dimensionless(kind, l, rho / s)
+                for s, w in zip(self._scales, self._weights, strict=True)
+            ),
         )
 
-    def table_key(self) -> tuple:
+    def table_key(self) -> tuple[Any, ...]:
         return ("multiscale", self._base.table_key(), self._scales, self._weights)
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {
             "type": self.kind_name,
             "eps": self.eps,
@@ -558,7 +566,7 @@ class MultiscaleRadial(RadialProfile):
         }
 
 
-def radial_from_dict(data: dict) -> RadialProfile:
+def radial_from_dict(data: dict[str, Any]) -> RadialProfile:
     """Rebuild a profile from :meth:`RadialProfile.to_dict` output."""
     if not isinstance(data, dict) or "type" not in data or "eps" not in data:
         raise ValueError("a falloff description needs 'type' and 'eps'")

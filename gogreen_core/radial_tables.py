@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import threading
 from functools import lru_cache
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
@@ -61,17 +61,17 @@ def radial_table(profile: RadialProfile, kind: str, l: int) -> np.ndarray:
     values = values * (1 + rho) ** DECAY[kind]
     if not np.all(np.isfinite(values)):
         raise ValueError(f"falloff {profile!r} gives non-finite values for {kind}{l}")
-    return values @ to_mono.T
+    return cast(np.ndarray, values @ to_mono.T)
 
 
-_TABLE_CACHE: dict[tuple, np.ndarray] = {}
+_TABLE_CACHE: dict[tuple[Any, ...], np.ndarray] = {}
 _TABLE_CACHE_LIMIT = 1024
 #: Kernels are built on the app's background thread too: evicting (iterating the dict) while
 #: another thread inserts would raise.
 _TABLE_CACHE_LOCK = threading.Lock()
 
 
-def cached_table(key: tuple, kind: str, l: int, profile: RadialProfile) -> np.ndarray:
+def cached_table(key: tuple[Any, ...], kind: str, l: int, profile: RadialProfile) -> np.ndarray:
     full_key = (key, kind, l)
     table = _TABLE_CACHE.get(full_key)
     if table is None:

@@ -31,6 +31,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import Any, cast
 
 import numpy as np
 
@@ -48,6 +49,7 @@ from gogreen_core.journal_format import (
     vertex_hash,
 )
 from gogreen_core.mesh_io import MeshData, load_mesh
+from gogreen_core.operations import Operation
 from gogreen_core.sculptor import Sculptor, restore_state
 from gogreen_core.session import SESSION_FORMAT, SESSION_VERSION, replay
 
@@ -98,7 +100,7 @@ class JournalInfo:
     vertices: int
     faces: int
     in_use: bool
-    owner: dict
+    owner: dict[str, Any]
     notes: list[str]
     size: int
     thumbnail: Path | None
@@ -129,7 +131,7 @@ class JournalInfo:
         return "; ".join(self.notes)
 
 
-def journal_info(directory: str | os.PathLike) -> JournalInfo:
+def journal_info(directory: str | os.PathLike[str]) -> JournalInfo:
     """What :func:`list_journals` shows of one journal folder (never raises)."""
     directory = Path(directory)
     lock = None
@@ -143,8 +145,8 @@ def journal_info(directory: str | os.PathLike) -> JournalInfo:
     size = 0
     with contextlib.suppress(OSError):  # another app may be removing it right now
         size = sum(p.stat().st_size for p in directory.iterdir() if p.is_file())
-    thumbnail = directory / THUMBNAIL_FILE
-    thumbnail = thumbnail if thumbnail.is_file() else None
+    thumbnail_path = directory / THUMBNAIL_FILE
+    thumbnail = thumbnail_path if thumbnail_path.is_file() else None
     try:
         contents = read_journal(directory, validate=False)
     except JournalError as exc:
@@ -174,7 +176,7 @@ def journal_info(directory: str | os.PathLike) -> JournalInfo:
     )
 
 
-def list_journals(root: str | os.PathLike | None = None) -> list[JournalInfo]:
+def list_journals(root: str | os.PathLike[str] | None = None) -> list[JournalInfo]:
     """The journals under ``root`` (:func:`~gogreen_core.journal.recovery_root`), last changed
     first, the ones running apps write included (``in_use``). Folders a crash left half-made
     are deleted."""
@@ -198,7 +200,7 @@ def list_journals(root: str | os.PathLike | None = None) -> list[JournalInfo]:
     return sorted(infos, key=lambda info: info.modified, reverse=True)
 
 
-def find_journal(name: str, root: str | os.PathLike | None = None) -> Path:
+def find_journal(name: str, root: str | os.PathLike[str] | None = None) -> Path:
     """The journal folder called ``name`` (or the only one starting with it, or a path to
     one); :class:`JournalError` naming the candidates otherwise."""
     root = Path(root) if root is not None else recovery_root()
@@ -214,7 +216,7 @@ def find_journal(name: str, root: str | os.PathLike | None = None) -> Path:
     raise JournalError(f"{name!r} names several journals: {', '.join(p.name for p in matches)}")
 
 
-def discard(directory: str | os.PathLike) -> None:
+def discard(directory: str | os.PathLike[str]) -> None:
     """Delete a journal (not one a running app writes: :class:`JournalError`)."""
     directory = Path(directory)
     lock = _lock(directory)
@@ -264,7 +266,7 @@ class Recovery:
     def document(self) -> str | None:
         return (self.contents.header.get("document") or {}).get("path")
 
-    def session(self) -> dict:
+    def session(self) -> dict[str, Any]:
         """The session of the recovered records (:func:`journal_session`)."""
         return journal_session(self.contents)
 
@@ -274,7 +276,7 @@ class Recovery:
             self.lock = None
 
 
-def journal_session(contents: JournalContents) -> dict:
+def journal_session(contents: JournalContents) -> dict[str, Any]:
     """The journal's complete records as a session file (README, "Session files") starting
     from the journal's start mesh; pins the journal started with come first as
     ``constraint_add`` operations."""
@@ -292,7 +294,7 @@ def journal_session(contents: JournalContents) -> dict:
     }
 
 
-def _start_state(header: dict, base: MeshData, mask: np.ndarray | None) -> SculptState:
+def _start_state(header: dict[str, Any], base: MeshData, mask: np.ndarray | None) -> SculptState:
     """The journal's start state: its header's settings and pins, the base copy's vertices,
     faces, UVs and mask."""
     start = header["start"]
@@ -359,7 +361,7 @@ def _load_base(
     return None, False, None
 
 
-def _base_mismatch(base: MeshData, mesh: dict) -> str | None:
+def _base_mismatch(base: MeshData, mesh: dict[str, Any]) -> str | None:
     if len(base.vertices) != mesh["vertices"] or len(base.faces) != mesh["faces"]:
         return (
             f"has {len(base.vertices)} vertices and {len(base.faces)} faces, not "
@@ -411,9 +413,9 @@ def _replay(
     total = sum(r.steps for r in records)
     steps = applied = 0
     for record in _plan(records):
-        op = record.op
+        op = cast(Operation, record.op)  # (the records were read with validation)
         if record.kind == "replace" and hasattr(op, "continued"):
-            op = replace(op, continued=True)  # merges into the last step, as it did
+            op = replace(cast(Any, op), continued=True)  # merges into the last step, as it did
         try:
             replay(sculptor, [op])  # one record at a time: a failure undoes that record alone
         except (ValueError, RuntimeError) as exc:
@@ -428,7 +430,7 @@ def _replay(
 
 
 def recover(
-    directory: str | os.PathLike,
+    directory: str | os.PathLike[str],
     *,
     budget: float = RECOVERY_WORK,
     progress: Callable[[int, int], None] | None = None,

@@ -25,7 +25,7 @@ import json
 import os
 from collections.abc import Callable
 from pathlib import Path
-from typing import TypeVar
+from typing import TYPE_CHECKING, TypeVar, cast
 
 from gogreen_core.kernel import L_MAX_LIMIT
 from gogreen_core.limits import (
@@ -57,6 +57,9 @@ from gogreen_core.validation import (
     prefixed,
 )
 
+if TYPE_CHECKING:
+    import numpy as np
+
 __all__ = [
     "FALLOFF_TYPES",
     "MAX_CONTROL_POINTS",
@@ -84,7 +87,7 @@ MAX_CURVES = 2 * (L_MAX_LIMIT + 2)
 
 def parse_material(data: object, path: str = "material") -> Material:
     """``{"voigt": 6×6 numbers}`` → :class:`Material` (symmetric positive definite)."""
-    check_object(path, data, required=("voigt",))
+    data = check_object(path, data, required=("voigt",))
     name = field(path, "voigt")
     voigt = check_finite(name, data["voigt"])
     if voigt.shape != (6, 6):
@@ -97,19 +100,21 @@ def parse_falloff(data: object, path: str = "falloff") -> RadialProfile:
     """A falloff's ``to_dict`` → Gaussian, Kelvinlet or spline profile."""
     kind = check_choice(field(path, "type"), _get(data, path, "type"), FALLOFF_TYPES)
     if kind == "spline":
-        check_object(path, data, required=("type", "eps", "curves"), optional=("interpolation",))
+        data = check_object(
+            path, data, required=("type", "eps", "curves"), optional=("interpolation",)
+        )
     else:
-        check_object(path, data, required=("type", "eps"))
+        data = check_object(path, data, required=("type", "eps"))
     eps = check_number(field(path, "eps"), data["eps"], low=0.0, low_open=True)
     if kind == "gaussian":
         return GaussianRadial(eps)
     if kind == "kelvinlet":
         return KelvinletRadial(eps)
     name = field(path, "curves")
-    curves = {}
+    curves: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]] = {}
     for i, curve in enumerate(check_list(name, data["curves"], max_length=MAX_CURVES)):
         at = field(name, i)
-        check_object(at, curve, required=("kind", "degree", "rho", "value"))
+        curve = check_object(at, curve, required=("kind", "degree", "rho", "value"))
         kind_l = check_choice(field(at, "kind"), curve["kind"], KINDS)
         degree = check_integer(field(at, "degree"), curve["degree"], low=0, high=L_MAX_LIMIT + 1)
         points = []
@@ -118,7 +123,7 @@ def parse_falloff(data: object, path: str = "falloff") -> RadialProfile:
             points.append(check_finite(field(at, key), values))
         if (kind_l, degree) in curves:
             raise ParameterError(at, f"{at}: a second curve {kind_l}{degree}")
-        curves[(kind_l, degree)] = tuple(points)
+        curves[(kind_l, degree)] = cast("tuple[np.ndarray, np.ndarray]", tuple(points))
     if not curves:
         raise ParameterError(name, f"{name} must hold at least one curve")
     # absent: the interpolating cubic that files written before PCHIP used (bit for bit)
@@ -138,14 +143,14 @@ parse_degree_weights = check_degree_weights
 
 def _get(data: object, path: str, key: str) -> object:
     if not isinstance(data, dict):
-        check_object(path, data)  # raises, naming the path
+        data = check_object(path, data)  # raises, naming the path
     if key not in data:
         name = field(path, key)
         raise ParameterError(name, f"{name} is missing")
     return data[key]
 
 
-def read_json(path: str | os.PathLike, kind: str = "JSON file") -> object:
+def read_json(path: str | os.PathLike[str], kind: str = "JSON file") -> object:
     """The JSON value in file ``path``; ``ValueError`` starting with the file's name when it
     cannot be read, is not UTF-8 text (``kind`` says what was expected) or is not JSON."""
     p = Path(path)
@@ -167,7 +172,7 @@ def read_json(path: str | os.PathLike, kind: str = "JSON file") -> object:
         raise ValueError(f"{p.name}: not valid JSON (nested too deeply)") from None
 
 
-def parse_file(path: str | os.PathLike, parse: Callable[[object], T], kind: str) -> T:
+def parse_file(path: str | os.PathLike[str], parse: Callable[[object], T], kind: str) -> T:
     """``parse`` of the JSON in ``path`` (see :func:`read_json`); a :class:`ParameterError`
     keeps its field and gets the file's name in front of its message."""
     data = read_json(path, kind)

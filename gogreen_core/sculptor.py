@@ -159,7 +159,7 @@ class Sculptor:
         self._strokes = StrokeDriver(self._mesh, self.history, self._log)
         self._pins = Pins(self._mesh, self.history, self._log, lambda: self._kernels)
         #: The vertex mask: what holds vertices still under every brush and pin drag.
-        self.mask = Mask(self._mesh, self.history, self._log, self._strokes.refuse)
+        self.mask: Mask = Mask(self._mesh, self.history, self._log, self._strokes.refuse)
 
     # -- state -------------------------------------------------------------------------------
     @property

@@ -21,7 +21,7 @@ import hashlib
 import os
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
@@ -134,7 +134,7 @@ class SessionLog:
         last = self._operations[-1] if self._operations else None
         if replace_last and type(last) is type(operation):
             flag = getattr(last, "continued", None)
-            if flag is not None and flag != operation.continued:
+            if flag is not None and flag != cast(Any, operation).continued:  # (same type)
                 operation = type(operation)(**{**operation.__dict__, "continued": flag})
             self._operations[-1] = operation
             self._notify("replace", operation)
@@ -148,7 +148,7 @@ class SessionLog:
             del self._operations[length:]
             self._notify("truncate", None)
 
-    def to_list(self) -> list[dict]:
+    def to_list(self) -> list[dict[str, Any]]:
         return [op.to_dict() for op in self._operations]
 
 
@@ -173,7 +173,7 @@ class Session:
 def parse_session(data: object) -> Session:
     """The schema of a session file: every field checked before anything is applied;
     :class:`ParameterError` naming the first bad field."""
-    check_object("", data, required=("format", "version", "mesh", "settings", "operations"))
+    data = check_object("", data, required=("format", "version", "mesh", "settings", "operations"))
     check_choice("format", data["format"], (SESSION_FORMAT,))
     version = check_integer("version", data["version"], low=1, high=SESSION_VERSION)
     mesh = check_object("mesh", data["mesh"], required=("vertices", "faces"), optional=("sha256",))
@@ -211,7 +211,7 @@ def _renamed(op: Operation) -> Operation:
     return op
 
 
-def load_session(path: str | os.PathLike) -> Session:
+def load_session(path: str | os.PathLike[str]) -> Session:
     """Read and check a session file; ``ValueError`` (a :class:`ParameterError` for a bad
     field) whose message starts with the file's name."""
     return parse_file(path, parse_session, "session file")

@@ -142,7 +142,13 @@ class Field:
         compared with ``np.array_equal``).
     """
 
-    def __init__(self, default: Any, validate=None, eq=None, doc: str = "") -> None:
+    def __init__(
+        self,
+        default: Any,
+        validate: Callable[[Any, str, Any], Any] | None = None,
+        eq: Callable[[Any, Any], bool] | None = None,
+        doc: str = "",
+    ) -> None:
         self.default, self.validate, self.eq, self.__doc__ = default, validate, eq, doc
         self.name = ""
 
@@ -268,7 +274,7 @@ def _flag(_model: PenSettings, name: str, value: Any) -> bool:
     return check_bool(f"pen.{name}", value)
 
 
-def _pen_number(high: float):
+def _pen_number(high: float) -> Callable[[PenSettings, str, Any], float]:
     def validate(_model: PenSettings, name: str, value: Any) -> float:
         return check_number(f"pen.{name}", value, low=0.0, high=high)
 

@@ -20,6 +20,7 @@ session log, recorded when it ends.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -49,7 +50,7 @@ class _Stroke:
     before: np.ndarray  # (N, 3) the vertices when the stroke began
     touched: np.ndarray  # (N,) bool: rows an event moved
     events: list[BrushEvent] = field(default_factory=list)
-    memo: dict = field(default_factory=dict)  # the brush's state between events
+    memo: dict[str, Any] = field(default_factory=dict)  # the brush's state between events
     mask_before: np.ndarray | None = None  # (N,) the mask, copied at the first mask edit
 
 

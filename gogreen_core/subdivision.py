@@ -26,6 +26,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
@@ -63,12 +64,12 @@ def unmasked_faces(faces: np.ndarray, mask: np.ndarray | None) -> np.ndarray:
     (every face without a mask)."""
     if mask is None:
         return np.ones(len(faces), dtype=bool)
-    return np.all(mask[faces] < MASK_THRESHOLD, axis=1)
+    return cast(np.ndarray, np.all(mask[faces] < MASK_THRESHOLD, axis=1))
 
 
 def _loop_beta(valence: np.ndarray) -> np.ndarray:
     n = np.maximum(valence, 1).astype(np.float64)
-    return (0.625 - (0.375 + 0.25 * np.cos(2.0 * np.pi / n)) ** 2) / n
+    return cast(np.ndarray, (0.625 - (0.375 + 0.25 * np.cos(2.0 * np.pi / n)) ** 2) / n)
 
 
 def _gathered_sum(index: np.ndarray, columns: np.ndarray, rows: np.ndarray, n: int) -> np.ndarray:
@@ -109,7 +110,7 @@ def _old_positions(
         (1.0 - valence[:, None] * beta) * vertices + beta * around,
         np.where(boundary[:, None], 0.75 * vertices + 0.125 * rim_sum, vertices),
     )
-    return vertices + free[:, None] * (loop - vertices)
+    return cast(np.ndarray, vertices + free[:, None] * (loop - vertices))
 
 
 def _edge_positions(
@@ -132,7 +133,7 @@ def _edge_positions(
     middle = 0.5 * (vertices[a] + vertices[b])
     loop = 0.375 * (vertices[a] + vertices[b]) + 0.125 * opposite_sum[chosen]
     weight = np.where(inside[chosen], np.minimum(free[a], free[b]), 0.0)
-    return middle + weight[:, None] * (loop - middle)
+    return cast(np.ndarray, middle + weight[:, None] * (loop - middle))
 
 
 def _split_faces(
@@ -161,6 +162,7 @@ def _split_faces(
         turn = (first[:, None] + np.arange(3)) % 3
         (c0, c1, c2) = np.take_along_axis(corners[f], turn, axis=1).T
         (m0, m1, m2) = np.take_along_axis(middles[f], turn, axis=1).T
+        children: tuple[tuple[np.ndarray, np.ndarray, np.ndarray], ...]
         if n_split == 1:
             children = ((c0, m0, c2), (m0, c1, c2))
         else:

@@ -8,6 +8,8 @@ and preset readers) can point at the field without parsing the message text.
 from __future__ import annotations
 
 import math
+from types import TracebackType
+from typing import Any, Literal
 
 import numpy as np
 
@@ -66,7 +68,7 @@ def field(path: str, name: str | int) -> str:
     return f"{path}.{name}" if path else name
 
 
-def prefixed(prefix: str):
+def prefixed(prefix: str) -> _Prefixed:
     """Context manager re-raising any :class:`ParameterError` as seen from ``prefix`` (see
     :meth:`ParameterError.within`), and any other ``ValueError`` as a :class:`ParameterError`
     of ``prefix`` itself."""
@@ -74,13 +76,18 @@ def prefixed(prefix: str):
 
 
 class _Prefixed:
-    def __init__(self, prefix: str):
+    def __init__(self, prefix: str) -> None:
         self.prefix = prefix
 
     def __enter__(self) -> None:
         return None
 
-    def __exit__(self, kind, exc, tb) -> bool:
+    def __exit__(
+        self,
+        kind: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> Literal[False]:
         if exc is None:
             return False
         if isinstance(exc, ParameterError):
@@ -198,7 +205,7 @@ def check_choice(name: str, value: object, choices: tuple[str, ...]) -> str:
     return value
 
 
-def check_list(name: str, value: object, *, max_length: int | None = None) -> list:
+def check_list(name: str, value: object, *, max_length: int | None = None) -> list[Any]:
     """``value`` if it is a list (a JSON array), of at most ``max_length`` items."""
     if not isinstance(value, (list, tuple)):
         raise ParameterError(name, f"{name} must be a list (got {type(value).__name__})")
@@ -212,7 +219,7 @@ def check_object(
     value: object,
     required: tuple[str, ...] = (),
     optional: tuple[str, ...] | None = None,
-) -> dict:
+) -> dict[str, Any]:
     """``value`` if it is a dict (a JSON object) with every ``required`` key and no key outside
     ``required + optional``; :class:`ParameterError` naming the missing or unknown field.
     With neither given, only the type is checked."""

@@ -14,6 +14,7 @@ bash "$root/scripts/setup_env.sh"
 cd "$root"
 .venv/bin/ruff check .
 .venv/bin/mypy  # the app, default mode ([tool.mypy] in pyproject.toml)
+.venv/bin/mypy --strict -p gogreen_core  # the core, strict mode (same config's overrides)
 
 run_pytest() {
     # GUI tests run on a real X server (a virtual one when there is no display) so that the VTK

@@ -17,9 +17,14 @@ with x = points[n] - center, r = |x|, t = r/(r+ε), T_l the piecewise polynomial
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from numba import carray, cfunc, njit, prange, types
+from numba import cfunc, njit, prange, types
+from numba.np.numpy_support import carray
+
+if TYPE_CHECKING:
+    from gogreen_core._jit_options import JitOptions
 
 # (OMP_WAIT_POLICY: set by gogreen_core._expansion, imported before this module)
 
@@ -29,7 +34,12 @@ TASKS = 64
 #: Polynomial degree of the radial table segments that ``_radial`` evaluates (radial.py's).
 SEGMENT_DEGREE = 5
 
-_JIT = {"cache": True, "fastmath": {"contract"}, "boundscheck": False, "error_model": "numpy"}
+_JIT: JitOptions = {
+    "cache": True,
+    "fastmath": {"contract"},
+    "boundscheck": False,
+    "error_model": "numpy",
+}
 
 #: Signature of the angular kernels generated per degree by ``_unrolled``:
 #: (nb, geo (8, BLOCK), rad (n_deg, BLOCK), coeffs (n_terms, 3), acc (3, BLOCK)), C-contiguous
@@ -40,7 +50,9 @@ ANGULAR_SIGNATURE = types.void(types.int64, _F8P, _F8P, _F8P, _F8P)
 
 
 @cfunc(ANGULAR_SIGNATURE, cache=True)
-def generic_marker(nb, geo, rad, coeffs, acc):  # pragma: no cover - never called
+def generic_marker(  # pragma: no cover - never called
+    nb: int, geo: Any, rad: Any, coeffs: Any, acc: Any
+) -> None:
     """Passed as ``angular`` with ``unrolled=False``: the drivers then run ``_angular``."""
     carray(acc, (3, BLOCK))[:, :nb] = np.nan
 
@@ -59,7 +71,7 @@ def expand(
     qmm: np.ndarray,  # (L+1,) Legendre constants Q_m^m
     rec_a: np.ndarray,  # (L+1, L+1) recurrence a_lm
     rec_b: np.ndarray,  # (L+1, L+1) recurrence b_lm
-    angular,  # ANGULAR_SIGNATURE function generated for these degrees (K = 3)
+    angular: Any,  # ANGULAR_SIGNATURE function generated for these degrees (K = 3)
     unrolled: bool,  # use ``angular``; else the generic ``_angular``
     out: np.ndarray,  # (N, K) float64, overwritten
 ) -> None:
@@ -99,7 +111,9 @@ _HUGE = 2.0**600
 
 
 @njit(nogil=True, **_JIT)
-def _geometry(eps, power, n_seg, nb, geo, seg):
+def _geometry(
+    eps: float, power: int, n_seg: int, nb: int, geo: np.ndarray, seg: np.ndarray
+) -> None:
     """Rows of ``geo``: x̂, ŷ, ẑ, r, local table variable, 1/(r+ε)^p for l = 0 and for l ≥ 1,
     from the offsets x - c the caller wrote in rows 0-2 (normalized in place); ``seg`` gets each
     point's table segment.
@@ -145,7 +159,9 @@ def _geometry(eps, power, n_seg, nb, geo, seg):
 
 
 @njit(nogil=True, **_JIT)
-def _radial(tables, l_first, nb, geo, seg, rad):
+def _radial(
+    tables: np.ndarray, l_first: int, nb: int, geo: np.ndarray, seg: np.ndarray, rad: np.ndarray
+) -> None:
     """rad[d, i] = R_l(r_i) (or ℛ_l) for every degree of the parity (d = (l - l_first) / 2).
 
     The degree-5 segment polynomial by Estrin's scheme (depth 3). Each point reads its own
@@ -172,7 +188,20 @@ def _radial(tables, l_first, nb, geo, seg, rad):
 
 
 @njit(nogil=True, **_JIT)
-def _angular(l_first, l_last, base, coeffs, qmm, rec_a, rec_b, nb, geo, rad, work, acc):
+def _angular(
+    l_first: int,
+    l_last: int,
+    base: np.ndarray,
+    coeffs: np.ndarray,
+    qmm: np.ndarray,
+    rec_a: np.ndarray,
+    rec_b: np.ndarray,
+    nb: int,
+    geo: np.ndarray,
+    rad: np.ndarray,
+    work: np.ndarray,
+    acc: np.ndarray,
+) -> None:
     """acc[k, i] = Σ_l rad[l, i] Σ_m Y_lm(x̂_i) coeffs[row(l, m), k] for one block: for each
     order m, the Legendre recurrence runs up in l two degrees per pass (the other parity is
     never stored) and each pass adds its degree's terms."""

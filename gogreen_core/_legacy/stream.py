@@ -9,11 +9,16 @@ from __future__ import annotations
 
 import math
 from collections import namedtuple
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numba import njit, prange
 
 from gogreen_core._legacy.expansion import _JIT, BLOCK, TASKS, _angular, _geometry, _radial
+
+if TYPE_CHECKING:
+    Scratch = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+    Rows = tuple[np.ndarray, np.ndarray, np.ndarray]
 
 #: Largest number of RK4 steps the adaptive streamlines give one vertex in one event.
 MAX_ADAPTIVE_STEPS = 256
@@ -39,13 +44,13 @@ _Field = namedtuple(
 
 @njit(nogil=True, **_JIT)
 def _velocity(
-    pos,
-    nb,
-    t,
-    field,
-    scratch,
-    vel,
-):
+    pos: np.ndarray,
+    nb: int,
+    t: float,
+    field: _Field,
+    scratch: Scratch,
+    vel: np.ndarray,
+) -> None:
     """vel[:, :nb] = v(pos[:, :nb], t), the streamline velocity of ``stream`` (rows x, y, z)."""
     (center0, center_step, eps, power, l_first, l_last, base, coeffs, tables, qmm, rec_a, rec_b,
      angular, unrolled, cutoff_inner, inv_width, mirrors, origin) = field  # fmt: skip
@@ -80,15 +85,15 @@ def _velocity(
 
 @njit(nogil=True, **_JIT)
 def _rk4(
-    n_steps,
-    nb,
-    start,
-    end,
-    mid,
-    field,
-    scratch,
-    rows,
-):
+    n_steps: int,
+    nb: int,
+    start: np.ndarray,
+    end: np.ndarray,
+    mid: np.ndarray,
+    field: _Field,
+    scratch: Scratch,
+    rows: Rows,
+) -> None:
     """end[:, :nb] = ``n_steps`` classical RK4 steps over t ∈ [0, 1] from start[:, :nb].
 
     With one step, mid (6, BLOCK) also gets the ends of two second-order rules made of RK4's
@@ -139,7 +144,7 @@ def _rk4(
 
 
 @njit(nogil=True, **_JIT)
-def _scratch(n_deg):
+def _scratch(n_deg: int) -> tuple[Scratch, Rows]:
     """Per-task scratch rows of ``_velocity`` and ``_rk4``."""
     scratch = (
         np.empty((8, BLOCK)),
@@ -171,7 +176,7 @@ def stream(
     qmm: np.ndarray,
     rec_a: np.ndarray,
     rec_b: np.ndarray,
-    angular,  # as in ``expand``
+    angular: Any,  # as in ``expand``
     unrolled: bool,
     cutoff_inner: float,  # smooth cutoff: 1 for d <= inner, 0 for d >= outer (outer <= 0: none)
     cutoff_outer: float,
@@ -341,22 +346,22 @@ def stream(
 
 @njit(parallel=True, nogil=True, **_JIT)
 def _refine(
-    points,
-    indices,
-    indexed,
-    field,
-    tolerance,
-    out,
-    steps,
-    rank,
-    block_motion,
-):
+    points: np.ndarray,
+    indices: np.ndarray,
+    indexed: bool,
+    field: _Field,
+    tolerance: float,
+    out: np.ndarray,
+    steps: np.ndarray,
+    rank: np.ndarray,
+    block_motion: np.ndarray,
+) -> bool:
     """The adaptive pass of ``stream``: the points whose predicted error is too large, again
     with 2, 4, ... RK4 steps (see ``stream``). Returns True if an end position it wrote is not
     finite."""
     n_points = out.shape[0]
     n_deg = field.tables.shape[0]
-    n_blocks = block_motion.shape[0]
+    n_blocks: int = block_motion.shape[0]
     step = field.center_step
     scale = math.sqrt(step[0] ** 2 + step[1] ** 2 + step[2] ** 2)
     for blk in range(n_blocks):
@@ -375,7 +380,7 @@ def _refine(
         offsets[blk + 1] = count
     for blk in range(n_blocks):
         offsets[blk + 1] += offsets[blk]
-    n_refine = offsets[n_blocks]
+    n_refine: int = offsets[n_blocks]
     refine = np.empty(n_refine, dtype=np.int64)
     for blk in prange(n_blocks):
         j = offsets[blk]

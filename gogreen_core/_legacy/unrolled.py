@@ -10,9 +10,13 @@ from __future__ import annotations
 
 import importlib
 import threading
+from typing import TYPE_CHECKING, Any
 
 from gogreen_core._legacy import expansion as _expansion
 from gogreen_core.sph import legendre_recurrence
+
+if TYPE_CHECKING:
+    from numba.core.ccallback import CFunc
 
 __all__ = [
     "GENERATED_PACKAGE",
@@ -28,7 +32,7 @@ __all__ = [
 UNROLLED_L_MAX = 13
 
 _LOCK = threading.Lock()
-_KERNELS: dict[tuple[int, int], object] = {}
+_KERNELS: dict[tuple[int, int], CFunc[Any]] = {}
 
 
 def angular_source(l_first: int, l_last: int) -> str:
@@ -136,7 +140,7 @@ def module_source(l_first: int, l_last: int) -> str:
     )
 
 
-def unrolled_angular(l_first: int, l_last: int):
+def unrolled_angular(l_first: int, l_last: int) -> CFunc[Any]:
     """The compiled angular kernel (a numba cfunc) for one parity and highest degree.
 
     Imports its generated module on first use, which compiles it or loads it from numba's disk

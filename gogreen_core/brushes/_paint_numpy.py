@@ -11,7 +11,17 @@ from gogreen_core.topology import BOUNDARY, FIXED
 __all__ = ["cutoff_weights", "relax"]
 
 
-def cutoff_weights(points, rows, start, step, mirrors, origin, inner, outer, out):
+def cutoff_weights(
+    points: np.ndarray,
+    rows: np.ndarray,
+    start: np.ndarray,
+    step: np.ndarray,
+    mirrors: np.ndarray,
+    origin: np.ndarray,
+    inner: float,
+    outer: float,
+    out: np.ndarray,
+) -> None:
     """See :func:`gogreen_core.brushes.paint_kernels.cutoff_weights`."""
     length2 = step[0] * step[0] + step[1] * step[1] + step[2] * step[2]
     inv = 1.0 / length2 if length2 > 0.0 else 0.0
@@ -35,7 +45,18 @@ def cutoff_weights(points, rows, start, step, mirrors, origin, inner, outer, out
         out[:] = 1.0 - u * u * u * (10.0 - 15.0 * u + 6.0 * u * u)
 
 
-def relax(vertices, rows, slot, current, factor, offsets, neighbours, on_boundary, mode, out):
+def relax(
+    vertices: np.ndarray,
+    rows: np.ndarray,
+    slot: np.ndarray,
+    current: np.ndarray,
+    factor: np.ndarray,
+    offsets: np.ndarray,
+    neighbours: np.ndarray,
+    on_boundary: np.ndarray,
+    mode: np.ndarray,
+    out: np.ndarray,
+) -> None:
     """See :func:`gogreen_core.brushes.paint_kernels.relax`: the neighbour sums run over the
     neighbours' places in turn (the compiled loop's order)."""
     n = len(rows)

@@ -24,7 +24,7 @@ A new member is a pattern function (axis, direction) → B and a table row
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
@@ -67,7 +67,7 @@ def _tame(vector: np.ndarray) -> np.ndarray:
 def unit(vector: np.ndarray) -> np.ndarray:
     """``vector`` (3,) scaled to length 1."""
     v = _tame(vector)
-    return v / np.linalg.norm(v)
+    return cast(np.ndarray, v / np.linalg.norm(v))
 
 
 def stroke_direction(axis: np.ndarray, direction: np.ndarray | None) -> np.ndarray:
@@ -77,7 +77,7 @@ def stroke_direction(axis: np.ndarray, direction: np.ndarray | None) -> np.ndarr
     d = d - axis * (d @ axis)
     if np.linalg.norm(d) < 1e-12:
         d = np.cross(axis, [0.0, 1.0, 0.0])
-    return d / np.linalg.norm(d)
+    return cast(np.ndarray, d / np.linalg.norm(d))
 
 
 def scale_pattern(axis: np.ndarray, direction: np.ndarray | None) -> np.ndarray:
@@ -95,7 +95,7 @@ def pinch_pattern(axis: np.ndarray, direction: np.ndarray | None) -> np.ndarray:
     """B = d dᵀ − e eᵀ: stretch along the stroke direction d, squeeze along e = a × d."""
     d = stroke_direction(axis, direction)
     e = np.cross(axis, d)
-    return np.outer(d, d) - np.outer(e, e)
+    return cast(np.ndarray, np.outer(d, d) - np.outer(e, e))
 
 
 def stretch_pattern(axis: np.ndarray, direction: np.ndarray | None) -> np.ndarray:

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import asdict, dataclass, field, replace
+from typing import Any
 
 import numpy as np
 
@@ -132,7 +133,7 @@ class Brush:
         outer = reach * self.eps(model_size)
         return CUTOFF_START * outer, outer
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         data = asdict(self)
         if not self.auto_influence and math.isinf(float(self.influence)):
             data["influence"] = None
@@ -150,7 +151,7 @@ class Brush:
             return cls(**values)
 
 
-def _vector(name: str, value, nonzero: bool = False) -> np.ndarray:
+def _vector(name: str, value: object, nonzero: bool = False) -> np.ndarray:
     arr = check_finite(name, value, (3,))
     if nonzero and not np.any(arr):
         raise ParameterError(name, f"{name} must be nonzero (got {value!r})")
@@ -199,8 +200,8 @@ class BrushEvent:
         :attr:`radius_factor` (:meth:`Brush.scaled`)."""
         return stroke_brush.scaled(self.radius_factor)
 
-    def to_dict(self) -> dict:
-        data: dict = {"center": self.center.tolist()}
+    def to_dict(self) -> dict[str, Any]:
+        data: dict[str, Any] = {"center": self.center.tolist()}
         if np.any(self.delta):
             data["delta"] = self.delta.tolist()
         if self.amount:

@@ -101,7 +101,9 @@ _NORMAL_RADIUS = 1.0
 _NORMAL_REFRESH = 1.0
 
 
-def fold_weights(l_max: int, degree: int = DEFAULT_FOLD_DEGREE, depth: float = FOLD_DEPTH):
+def fold_weights(
+    l_max: int, degree: int = DEFAULT_FOLD_DEGREE, depth: float = FOLD_DEPTH
+) -> np.ndarray:
     """The wrinkle brush's ω_l (l_max + 2,) for folds of one ``degree``: ω₀ = ω₂ = 1 (the pull),
     ω_degree = ``depth`` (the folds), the rest 0. A ``degree`` above l_max gives the highest
     even degree ≥ 4 there is (none below l_max 4: no folds)."""
@@ -136,10 +138,10 @@ class FoldRadial(RadialProfile):
         window: np.ndarray = t**l * np.exp(0.5 * l * (1.0 - t * t))
         return window
 
-    def table_key(self) -> tuple:
+    def table_key(self) -> tuple[Any, ...]:
         return ("folds", FOLD_RING, MOUND_SCALE, self._base.table_key())
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {"type": self.kind_name, "base": self._base.to_dict()}
 
 

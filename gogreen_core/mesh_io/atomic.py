@@ -38,7 +38,7 @@ def write_bytes_atomic(path: str | os.PathLike[str], data: bytes) -> None:
         raise MeshFileError(f"{p.name}: cannot write ({exc.strerror or exc})") from None
 
 
-def atomic_write(path: Path, write: Callable[[BinaryIO], None]) -> None:
+def atomic_write(path: str | os.PathLike[str], write: Callable[[BinaryIO], None]) -> None:
     """Write through ``write`` into a temporary file next to ``path``, then rename it over."""
     target = Path(os.path.realpath(path))
     folder = target.parent

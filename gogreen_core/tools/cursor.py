@@ -4,6 +4,7 @@ drags of the radius and strength (Blender's F / Shift+F)."""
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import cast
 
 import numpy as np
 
@@ -66,7 +67,7 @@ def grab_motion(kernel: GreenKernel, distances: np.ndarray) -> np.ndarray:
         normalized = green @ np.linalg.inv(green[0])
     except np.linalg.LinAlgError:
         normalized = green / (np.abs(green).max() or 1.0)
-    return np.linalg.norm(normalized, axis=1).mean(axis=1)
+    return cast(np.ndarray, np.linalg.norm(normalized, axis=1).mean(axis=1))
 
 
 class ValueDrag:

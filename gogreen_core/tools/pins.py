@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
@@ -67,7 +67,7 @@ class PinController:
         if not np.any(delta):
             return False
         self._last_point = point
-        self.sculptor.drag_constraint(self.index, delta, self._continued)
+        self.sculptor.drag_constraint(cast(int, self.index), delta, self._continued)
         self._continued = True
         return True
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
@@ -29,6 +29,7 @@ from gogreen_core.tools.pins import PinController
 from gogreen_core.tools.stroke import StrokeController
 
 if TYPE_CHECKING:
+    from gogreen_core.engine_settings import EngineSettings
     from gogreen_core.sculptor import Sculptor
 
 __all__ = ["NUMBER_KEYS", "SMOOTH", "SculptTools", "brush_for_key"]
@@ -113,9 +114,9 @@ class SculptTools:
             self._cursor_profile,
             self._cursor_full_radius,
         )
-        self._profile_key: tuple | None = None
+        self._profile_key: tuple[Any, ...] | None = None
         self._profile: np.ndarray | None = None
-        self._profile_settings = None
+        self._profile_settings: EngineSettings | None = None
         self.set_sculptor(sculptor)
 
     def set_sculptor(self, sculptor: Sculptor | None) -> None:
@@ -123,8 +124,11 @@ class SculptTools:
         if getattr(self, "stroke", None) is not None:
             self.stroke.cancel()
         self.sculptor = sculptor
-        self.stroke = StrokeController(sculptor, lambda: self.pen())
-        self.pin = PinController(sculptor)
+        # (the controllers act only once there is a sculptor)
+        self.stroke: StrokeController = StrokeController(
+            cast("Sculptor", sculptor), lambda: self.pen()
+        )
+        self.pin: PinController = PinController(cast("Sculptor", sculptor))
 
     def _cursor_radius(self) -> float:
         """ε of the cursor (model units): during a stroke the radius its events act with (the
@@ -311,7 +315,8 @@ class SculptTools:
                 moved = self.stroke.step(event)
                 stepped = moved is not None
                 # the cursor sits where the brush acts: affine brushes at their press point
-                acts = self.stroke.anchor if self.stroke.brush.is_affine else event.point
+                affine = cast(Brush, self.stroke.brush).is_affine
+                acts = self.stroke.anchor if affine else event.point
                 update = ToolUpdate(moved=moved, cursor=self.cursor.place(acts, None))
         except (ValueError, RuntimeError) as exc:
             self.stroke.cancel()

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
@@ -143,7 +143,7 @@ class StrokeController:
         delta = point - self._last_point
         if not np.any(delta):
             return None
-        center, self._last_point = self._last_point, point
+        center, self._last_point = cast(np.ndarray, self._last_point), point
         if self.brush.type.family == "paint":  # the swept segment, the pressure apart
             return BrushEvent(center=center, delta=delta, amount=pressure, radius_factor=factor)
         return BrushEvent(center=center, delta=pressure * delta, radius_factor=factor)
@@ -199,7 +199,8 @@ class StrokeController:
             event = replace(event, screen=screen, point=point)
         spacing = float(pen.spacing)
         if spacing > 0 and event.point is not None and self._applied is not None:
-            eps = self.brush.eps(self.sculptor.model_size) * self._radius_factor(event)
+            brush = cast(Brush, self.brush)  # (a stroke is in progress)
+            eps = brush.eps(self.sculptor.model_size) * self._radius_factor(event)
             if np.linalg.norm(np.asarray(event.point) - self._applied) < spacing * eps:
                 return None
         return event
@@ -208,12 +209,12 @@ class StrokeController:
         """Apply one move (after :meth:`stabilized`); the indices of moved vertices, or None
         when nothing moved."""
         self.radius_factor = self._radius_factor(event)  # the cursor follows the pen at once
-        event = self.stabilized(event)
-        if event is None:
+        stable = self.stabilized(event)
+        if stable is None:
             return None
-        if event.point is not None:
-            self._applied = np.array(event.point, dtype=float)
-        brush_event = self.brush_event(event)
+        if stable.point is not None:
+            self._applied = np.array(stable.point, dtype=float)
+        brush_event = self.brush_event(stable)
         if brush_event is None:
             return None
         return self.sculptor.stroke_event(brush_event)
