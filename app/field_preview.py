@@ -12,9 +12,10 @@ moves at least a tenth as far, show which way (an anisotropic material turns the
 drag). The drag direction is the one the pointer last moved in over the model (the view's up at
 first).
 
-The evaluation runs on the background thread (never a wait: 8 ms on the default model, 0.1 to
-0.4 s on a 1M-vertex mesh, ``benchmarks/field_preview.py``); a newer rest supersedes it, a
-stroke or a moved mesh drops it.
+The evaluation, its colours and arrows run on the background thread (8 ms on the default model,
+0.1 to 0.9 s on a 1M-vertex mesh, ``benchmarks/field_preview.py``); the GUI thread only writes
+the colours of the rows that change (about 90 ms for a 1M-vertex preview). A newer rest
+supersedes it; a stroke or a moved mesh drops it.
 """
 
 from __future__ import annotations
@@ -81,7 +82,10 @@ def field_arrows(
         return np.zeros((0, 3)), np.zeros((0, 3))
     rows = preview.rows[strong]
     cells = np.floor(points[rows] / spacing).astype(np.int64)
-    _, first = np.unique(cells, axis=0, return_index=True)
+    cells -= cells.min(axis=0)
+    span = cells.max(axis=0) + 1
+    keys = (cells[:, 0] * span[1] + cells[:, 1]) * span[2] + cells[:, 2]  # one int a cell
+    _, first = np.unique(keys, return_index=True)
     rows, vectors = rows[first], preview.velocity[strong[first]] * (length / scale)
     feet = points[rows] - 0.5 * vectors
     if normals is not None:
@@ -188,13 +192,23 @@ class FieldPreviewer(QObject):
         if key == self._key and self.viewport.field_shown:
             return  # showing it already
         start = time.perf_counter()
+        surface = self.viewport.surface  # the normals the arrows are lifted along
 
         def evaluate(task: Task) -> tuple | None:
+            # everything but drawing here: on a 1M-vertex mesh the colours and arrows take
+            # tenths of a second too
             preview = field_preview(sculptor, brush, center, axis, direction)
-            task.progress(1.0)  # dropped here if a stroke began meanwhile
+            task.progress(0.5)  # dropped here if a stroke began meanwhile
             if preview is None:
                 return None
-            return key, preview, time.perf_counter() - start
+            largest = float(preview.motion.max()) if len(preview.motion) else 0.0
+            scale = largest if brush.is_affine and largest > 0 else 1.0
+            normals = None if surface is None else surface.normals[surface.rank]
+            eps = brush.eps(sculptor.model_size)
+            arrows = field_arrows(sculptor.vertices, normals, preview, 0.5 * eps, 0.45 * eps, scale)
+            colors = field_colors(preview.motion, scale)
+            task.progress(1.0)
+            return key, preview.rows, colors, arrows, largest, time.perf_counter() - start
 
         self._job = self.runner.submit(evaluate, supersede=True)
 
@@ -206,22 +220,10 @@ class FieldPreviewer(QObject):
         if result is None or tools is None or tools.sculptor is None or not self.enabled:
             self.viewport.show_field(None)
             return
-        key, preview, seconds = result
+        key, rows, colors, arrows, largest, seconds = result
         sculptor = tools.sculptor
         if self.viewport.in_stroke or key[:2] != (id(sculptor), sculptor.history.done):
             return  # the mesh moved since: the next rest evaluates again
-        self._show(preview, seconds, key)
-
-    def _show(self, preview: FieldPreview, seconds: float, key: tuple) -> None:
-        largest = float(preview.motion.max()) if len(preview.motion) else 0.0
-        brush = key[3]
-        scale = largest if brush.is_affine and largest > 0 else 1.0
         self._key = key
-        sculptor = self.viewport.tools.sculptor if self.viewport.tools is not None else None
-        arrows = None
-        if sculptor is not None:
-            eps = brush.eps(sculptor.model_size)
-            normals = self.viewport.vertex_normals()
-            arrows = field_arrows(sculptor.vertices, normals, preview, 0.5 * eps, 0.45 * eps, scale)
-        self.viewport.show_field(preview.rows, field_colors(preview.motion, scale), arrows)
+        self.viewport.show_field(rows, colors, arrows)
         self.shown.emit(largest, seconds)

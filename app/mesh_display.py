@@ -239,12 +239,14 @@ class MeshDisplay(_Base):
             self._field_on = np.zeros(n, dtype=bool)
             self._field_rgb = np.zeros((n, 3), dtype=np.uint8)
         assert self._field_rgb is not None
-        gone = self._field_rows
-        self._field_on[gone] = False
+        changed = np.zeros(n, dtype=bool)  # the rows left and the rows coloured now
+        changed[self._field_rows] = True
+        changed[rows] = True
+        self._field_on[self._field_rows] = False
         self._field_on[rows] = True
         self._field_rgb[rows] = colors
         self._field_rows = rows
-        self._draw_colors(np.union1d(gone, rows))
+        self._draw_colors(np.flatnonzero(changed))
 
     def _show_arrows(self, arrows: tuple[np.ndarray, np.ndarray] | None) -> None:
         """The preview's arrows (one actor, hidden without arrows)."""
@@ -363,13 +365,6 @@ class MeshDisplay(_Base):
         """Drop a background index build (closing the window)."""
         self._index_runner.cancel()
         self._index_job = None
-
-    def vertex_normals(self) -> np.ndarray | None:
-        """The unit vertex normals (N, 3) drawn, in the mesh's vertex order (None while the
-        surface index is built)."""
-        if self.surface is None:
-            return None
-        return self.surface.normals[self.surface.rank]
 
     def shown_vertices(self) -> np.ndarray:
         """The positions (N, 3) drawn, in the mesh's vertex order (a copy)."""
