@@ -5,9 +5,8 @@ brush's field at the vertices it reaches, against one brush event of the same br
 
 Prints, per mesh (the default model; the 1M-vertex mesh of ``benchmarks/scale.py``) and brush
 (grab, pinch, wrinkle; automatic influence, cubic material, l_max 8): the vertices the preview
-colours and the median time of the preview and of one event. The app computes the preview on
-the GUI thread after the pointer rests (numba's parallel launches must not overlap a stroke's),
-so its time is what a pause of the cursor costs.
+colours, the median time of the field alone, of the field with the app's colours and arrows
+(what the app's background job does after the pointer rests), and of one brush event.
 """
 
 from __future__ import annotations
@@ -20,6 +19,7 @@ from pathlib import Path
 import numpy as np
 from scale import L_MAX, MATERIAL, million_vertex_mesh
 
+from app.field_preview import field_arrows, field_colors  # numpy only (Qt is not shown)
 from gogreen_core import Brush, BrushEvent, Sculptor
 from gogreen_core.preview import field_preview
 from gogreen_core.shapes import default_model
@@ -44,11 +44,16 @@ def measure(sculptor: Sculptor, name: str, repeats: int) -> None:
             else BrushEvent(center, 0.01 * sculptor.model_size * direction)
         )
         preview = field_preview(sculptor, brush, center, axis, direction)  # warm
-        previews, events = [], []
+        previews, drawn, events = [], [], []
+        eps = brush.eps(sculptor.model_size)
         for _ in range(repeats):
             start = time.perf_counter()
-            field_preview(sculptor, brush, center, axis, direction)
+            field = field_preview(sculptor, brush, center, axis, direction)
             previews.append(time.perf_counter() - start)
+            assert field is not None
+            field_arrows(sculptor.vertices, None, field, 0.5 * eps, 0.45 * eps)
+            field_colors(field.motion)
+            drawn.append(time.perf_counter() - start)
             sculptor.begin_stroke(brush)
             start = time.perf_counter()
             sculptor.stroke_event(event)
@@ -57,7 +62,8 @@ def measure(sculptor: Sculptor, name: str, repeats: int) -> None:
             sculptor.undo()
         rows = 0 if preview is None else len(preview.rows)
         print(
-            f"{name:>28} {kind:>8}: {rows:>9,} vertices  preview {median_ms(previews):7.1f} ms"
+            f"{name:>28} {kind:>8}: {rows:>9,} vertices  field {median_ms(previews):7.1f} ms"
+            f"  with colours and arrows {median_ms(drawn):7.1f} ms"
             f"  event {median_ms(events):7.1f} ms"
         )
 
