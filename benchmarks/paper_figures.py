@@ -42,33 +42,11 @@ from gogreen_core import (
 )
 from gogreen_core.brushes import fold_weights
 from gogreen_core.preview import field_preview
-from gogreen_core.shapes import default_model
+from gogreen_core.shapes import default_model, flat_sheet, open_tube
 from gogreen_core.truncation import truncation_errors
 
 HERE = Path(__file__).resolve().parent
 PANEL = (520, 460)
-
-
-def _sheet(n: int = 201) -> tuple[np.ndarray, np.ndarray]:
-    x = np.linspace(-1.0, 1.0, n)
-    gx, gy = np.meshgrid(x, x, indexing="ij")
-    vertices = np.stack([gx.ravel(), gy.ravel(), np.zeros(n * n)], axis=1)
-    index = np.arange(n * n).reshape(n, n)
-    a, b = index[:-1, :-1].ravel(), index[1:, :-1].ravel()
-    c, d = index[1:, 1:].ravel(), index[:-1, 1:].ravel()
-    return vertices, np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])
-
-
-def _tube(rings: int = 480, around: int = 64, length: float = 24.0):
-    angle = np.linspace(0.0, 2 * np.pi, around, endpoint=False)
-    z = np.linspace(-length / 2, length / 2, rings)
-    zz, aa = np.meshgrid(z, angle, indexing="ij")
-    vertices = np.stack([np.cos(aa.ravel()), np.sin(aa.ravel()), zz.ravel()], axis=1)
-    index = np.arange(rings * around).reshape(rings, around)
-    j0, j1 = np.arange(around), np.roll(np.arange(around), -1)
-    a, b = index[:-1][:, j0].ravel(), index[1:][:, j0].ravel()
-    c, d = index[1:][:, j1].ravel(), index[:-1][:, j1].ravel()
-    return vertices, np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])
 
 
 def _polydata(vertices: np.ndarray, faces: np.ndarray) -> pv.PolyData:
@@ -85,7 +63,7 @@ def _plotter(columns: int, rows: int = 1) -> pv.Plotter:
 
 def wrinkle_figure(out: Path) -> None:
     preset = next(p for p in builtin_presets() if p.name == "Layered sheet wrinkles")
-    vertices, faces = _sheet()
+    vertices, faces = flat_sheet()
     panels = [("grab", None)] + [("wrinkle", degree) for degree in (6, 8, 10)]
     rows = [
         ("pulled 2 eps along the normal", (0.0, 0.0, 1.0)),
@@ -133,7 +111,7 @@ def wrinkle_figure(out: Path) -> None:
 
 def pinch_figure(out: Path) -> None:
     laminate = homogenize(make_pattern("layered", 8), bimaterial(contrast=100.0))
-    vertices, faces = _tube()
+    vertices, faces = open_tube()
     plotter = _plotter(2)
     for column, omega_1 in enumerate((0.25, 16.0)):
         sculptor = Sculptor(vertices, faces, material=laminate)

@@ -1,4 +1,5 @@
-"""Procedural meshes as plain arrays: icospheres, and the model the app opens on start.
+"""Procedural meshes as plain arrays: icospheres, the model the app opens on start, and the
+flat sheet and long tube the paper's effects are measured and pictured on.
 
 The default model is generated, not shipped as a file: a subdivided icosahedron pushed along
 its radii by a few smooth, low-frequency bumps into an organic pebble, then stretched a little.
@@ -13,7 +14,7 @@ import itertools
 
 import numpy as np
 
-__all__ = ["default_model", "icosphere"]
+__all__ = ["default_model", "flat_sheet", "icosphere", "open_tube"]
 
 
 def _icosahedron() -> tuple[np.ndarray, np.ndarray]:
@@ -124,3 +125,38 @@ def default_model(subdivisions: int = 6) -> tuple[np.ndarray, np.ndarray]:
         radius += amplitude * np.exp((sphere @ d - 1.0) / width**2)
     shaped = sphere * radius[:, None] * np.asarray(_STRETCH)
     return shaped - 0.5 * (shaped.min(axis=0) + shaped.max(axis=0)), faces
+
+
+def _quads_as_triangles(a: np.ndarray, b: np.ndarray, c: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """Triangles (2k, 3) of the quads a b c d (each (k,)), split along a c."""
+    return np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])
+
+
+def flat_sheet(n: int = 201) -> tuple[np.ndarray, np.ndarray]:
+    """A flat n × n grid over [-1, 1]² in z = 0: vertices (n², 3) float64 and faces
+    (2 (n − 1)², 3) int64 (the wrinkle brush's measuring sheet, paper Fig. 10)."""
+    x = np.linspace(-1.0, 1.0, n)
+    grid_x, grid_y = np.meshgrid(x, x, indexing="ij")
+    vertices = np.stack([grid_x.ravel(), grid_y.ravel(), np.zeros(n * n)], axis=1)
+    index = np.arange(n * n).reshape(n, n)
+    return vertices, _quads_as_triangles(
+        index[:-1, :-1].ravel(), index[1:, :-1].ravel(), index[1:, 1:].ravel(),
+        index[:-1, 1:].ravel(),
+    )  # fmt: skip
+
+
+def open_tube(
+    rings: int = 480, around: int = 64, length: float = 24.0
+) -> tuple[np.ndarray, np.ndarray]:
+    """A long open tube of radius 1 along z, ``length`` long: vertices (rings · around, 3)
+    float64 and faces (2 (rings − 1) around, 3) int64 (the long shape of paper Fig. 7)."""
+    angle = np.linspace(0.0, 2 * np.pi, around, endpoint=False)
+    z = np.linspace(-length / 2, length / 2, rings)
+    zz, aa = np.meshgrid(z, angle, indexing="ij")
+    vertices = np.stack([np.cos(aa.ravel()), np.sin(aa.ravel()), zz.ravel()], axis=1)
+    index = np.arange(rings * around).reshape(rings, around)
+    j0, j1 = np.arange(around), np.roll(np.arange(around), -1)
+    return vertices, _quads_as_triangles(
+        index[:-1][:, j0].ravel(), index[1:][:, j0].ravel(), index[1:][:, j1].ravel(),
+        index[:-1][:, j1].ravel(),
+    )  # fmt: skip

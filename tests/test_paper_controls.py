@@ -22,22 +22,8 @@ from gogreen_core.brushes import AUTO_INFLUENCE, BRUSH_KINDS, DEFAULT_INFLUENCE
 from gogreen_core.falloff_safety import AUTO_INFLUENCE_RANGE, AUTO_LEVEL
 from gogreen_core.radial import GaussianRadial, KelvinletRadial
 from gogreen_core.session import parse_session
-from gogreen_core.shapes import icosphere
+from gogreen_core.shapes import icosphere, open_tube
 from gogreen_core.validation import ParameterError
-
-
-def _tube(rings: int = 480, around: int = 64, length: float = 24.0):
-    """A long open tube of radius 1 along z (the long shape of Fig. 7)."""
-    angle = np.linspace(0.0, 2 * np.pi, around, endpoint=False)
-    z = np.linspace(-length / 2, length / 2, rings)
-    zz, aa = np.meshgrid(z, angle, indexing="ij")
-    vertices = np.stack([np.cos(aa.ravel()), np.sin(aa.ravel()), zz.ravel()], axis=1)
-    index = np.arange(rings * around).reshape(rings, around)
-    j0, j1 = np.arange(around), np.roll(np.arange(around), -1)
-    a, b = index[:-1][:, j0].ravel(), index[1:][:, j0].ravel()
-    c, d = index[1:][:, j1].ravel(), index[:-1][:, j1].ravel()
-    return vertices, np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])
-
 
 LAMINATE = homogenize(make_pattern("layered", 8), bimaterial(contrast=100.0))
 
@@ -45,7 +31,7 @@ LAMINATE = homogenize(make_pattern("layered", 8), bimaterial(contrast=100.0))
 def _pinch_reach(omega_1: float) -> float:
     """far (> 6 ε) / peak displacement of one small pinch on the tube, ℛ₁ weighted ``omega_1``,
     at the default (automatic) influence."""
-    vertices, faces = _tube()
+    vertices, faces = open_tube()
     sculptor = Sculptor(vertices, faces, material=LAMINATE)
     omega = sculptor.settings.weights_for("pinch")
     omega[1] = omega_1

@@ -13,21 +13,9 @@ import pytest
 from gogreen_core import Brush, BrushEvent, Material, Sculptor, builtin_presets
 from gogreen_core.brushes import FOLD_DEPTH, fold_weights
 from gogreen_core.session import parse_session
-from gogreen_core.shapes import icosphere
+from gogreen_core.shapes import flat_sheet, icosphere
 
-
-def _sheet(n: int = 201) -> tuple[np.ndarray, np.ndarray]:
-    """A flat n × n grid over [-1, 1]² in z = 0 (the issue's measuring sheet)."""
-    x = np.linspace(-1.0, 1.0, n)
-    grid_x, grid_y = np.meshgrid(x, x, indexing="ij")
-    vertices = np.stack([grid_x.ravel(), grid_y.ravel(), np.zeros(n * n)], axis=1)
-    index = np.arange(n * n).reshape(n, n)
-    a, b = index[:-1, :-1].ravel(), index[1:, :-1].ravel()
-    c, d = index[1:, 1:].ravel(), index[:-1, 1:].ravel()
-    return vertices, np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])
-
-
-SHEET = _sheet()
+SHEET = flat_sheet()
 RADIUS = 0.05  # ε as a fraction of the model size, as in the issue
 PRESET = next(p for p in builtin_presets() if p.name == "Layered sheet wrinkles")
 

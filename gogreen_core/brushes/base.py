@@ -181,12 +181,15 @@ class BrushType(ABC):
     #: Whether the brush's field has per-degree weights an artist can edit (in
     #: :attr:`EngineSettings.brush_weights`).
     weighted: ClassVar[bool] = False
+    #: The influence (ε) an automatic one means for a brush without a field of its own.
+    auto_reach: ClassVar[float] = DEFAULT_INFLUENCE
 
     def reach(self, ctx: StrokeContext, brush: Brush) -> float:
         """The brush's influence radius in multiples of ε (``inf`` for every vertex): its
-        ``influence``, or :data:`DEFAULT_INFLUENCE` for an automatic one (a brush without a
-        field of its own)."""
-        return DEFAULT_INFLUENCE if brush.influence == AUTO_INFLUENCE else float(brush.influence)
+        ``influence``, or :attr:`auto_reach` for an automatic one."""
+        if brush.influence == AUTO_INFLUENCE:
+            return self.auto_reach
+        return float(brush.influence)
 
     def cutoff(self, ctx: StrokeContext, brush: Brush) -> tuple[float, float] | None:
         """(inner, outer) radii (model units) of the smooth cutoff of the brush's reach, None

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from gogreen_core.brushes.base import AUTO_INFLUENCE, BrushType, StrokeContext, mirror_signs
+from gogreen_core.brushes.base import BrushType, StrokeContext, mirror_signs
 from gogreen_core.brushes.paint_kernels import kernels
 from gogreen_core.limits import MAX_REACH
 from gogreen_core.validation import ParameterError, check_vector, vector_norm
@@ -35,12 +35,7 @@ class PaintBrush(BrushType):
     """A brush acting on the region the cursor sweeps (see the module docstring)."""
 
     family = "paint"
-
-    def reach(self, ctx: StrokeContext, brush: Brush) -> float:
-        """The brush's ``influence``, or :data:`PAINT_AUTO_INFLUENCE` for an automatic one."""
-        if brush.influence == AUTO_INFLUENCE:
-            return PAINT_AUTO_INFLUENCE
-        return float(brush.influence)
+    auto_reach = PAINT_AUTO_INFLUENCE
 
     def check_event(self, brush: Brush, event: BrushEvent, reach: float) -> None:
         check_vector("delta", event.delta, max_norm=reach)
