@@ -33,7 +33,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from gogreen_core import _expansion, _integrator, _unrolled
+from gogreen_core import _expansion, _influence_compiled, _integrator, _unrolled
 
 if TYPE_CHECKING:
     from numba.core.ccallback import CFunc
@@ -338,6 +338,7 @@ def _driver_calls() -> list[tuple[Any, tuple[Any, ...]]]:
         (_integrator._refine_pass, (f33, rows, True, field, 1.0, rows, f33, rows, flags, 0, 0)),
         (_integrator._write_back, (f33, rows, True, f33, 0, 0)),
         (_expansion.near_segment_rows, (f33, f3, f3, 1.0, f33, f3, flags, 0, 0)),
+        *_influence_compiled.compile_calls(),
     ]  # fmt: skip
 
 

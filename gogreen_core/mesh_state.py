@@ -14,7 +14,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from gogreen_core._expansion import near_segment
+from gogreen_core.influence import VertexBlocks
 from gogreen_core.limits import MAX_REACH
 from gogreen_core.topology import MeshEdges, VertexNeighbours, mesh_edges, vertex_neighbours
 from gogreen_core.validation import ParameterError, check_vector, vector_norm
@@ -92,7 +92,8 @@ class MeshSnapshot:
 
 
 class MeshState:
-    """Vertices (N, 3) float64, edited in place by the engine alone; faces (M, 3) int64;
+    """Vertices (N, 3) float64, edited in place by the engine alone, and only through
+    :meth:`write_rows` or with a report of the rows written (:meth:`moved`); faces (M, 3) int64;
     optional texture coordinates ``uv`` (T, 2) and their face corners ``uv_faces`` (M, 3)
     (rows of -1: untextured faces); the vertex :attr:`mask` (N,) float64 in [0, 1] (how much each
     vertex is held: 1 does not move); :attr:`model_size` (bounding-box diagonal at load, model
@@ -100,6 +101,10 @@ class MeshState:
 
     :attr:`topology` counts the changes of the face array (a view rebuilds what depends on it);
     :attr:`edges` and :attr:`neighbours` are built on first use for the current faces.
+
+    :meth:`rows_near` answers with the boxes of blocks of vertex rows
+    (:class:`~gogreen_core.influence.VertexBlocks`), which the reports of written rows keep
+    right; a new vertex array (:meth:`adopt`) is indexed anew by itself.
     """
 
     def __init__(
@@ -126,6 +131,7 @@ class MeshState:
         self.topology = 0
         self._edges: MeshEdges | None = None
         self._neighbours: VertexNeighbours | None = None
+        self._blocks = VertexBlocks()
 
     # -- connectivity ------------------------------------------------------------------------
     @property
@@ -203,11 +209,27 @@ class MeshState:
     def rows_near(
         self, center: np.ndarray, step: np.ndarray, radius: float | None, signs: np.ndarray
     ) -> np.ndarray:
-        """Indices (n,) of the vertices within ``radius`` of the segment from ``center`` to
-        ``center + step``, or of its mirror images (``signs`` (2^k, 3), see
-        :func:`~gogreen_core.brushes.mirror_signs`); every vertex for None."""
+        """Indices (n,) int64, ascending, of the vertices within ``radius`` of the segment from
+        ``center`` to ``center + step``, or of its mirror images (``signs`` (2^k, 3), see
+        :func:`~gogreen_core.brushes.mirror_signs`); every vertex for None. The rows a pass
+        over every vertex with ``_expansion.near_segment`` gives, bit for bit."""
         if radius is None:
             return np.arange(len(self.vertices))
-        reach = np.empty(len(self.vertices), dtype=bool)
-        near_segment(self.vertices, center, step, radius, signs, self.origin, reach)
-        return np.flatnonzero(reach)
+        return self._blocks.rows_near(self.vertices, center, step, radius, signs, self.origin)
+
+    # -- vertex writes -----------------------------------------------------------------------
+    def write_rows(self, rows: np.ndarray | None, positions: np.ndarray) -> None:
+        """vertices[rows] = positions ((k, 3), or (N, 3) for every row when ``rows`` is None)."""
+        try:
+            if rows is None:
+                self.vertices[:] = positions
+            else:
+                self.vertices[rows] = positions
+        finally:  # a write that failed part-way is reported too
+            self.moved(rows)
+
+    def moved(self, rows: np.ndarray | None) -> None:
+        """Report vertex rows (k,) written in place by someone else (None: any row may have
+        been), after the write: every path that writes :attr:`vertices` in place calls this
+        or :meth:`write_rows`, or :meth:`rows_near` may miss moved vertices."""
+        self._blocks.changed(self.vertices, rows)

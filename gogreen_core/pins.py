@@ -168,7 +168,7 @@ class Pins:
             moved *= (1.0 - self.mesh.mask[rows])[:, None]
         constraints.move(i, start + d)
         before = vertices[rows]
-        vertices[rows] += moved
+        self.mesh.write_rows(rows, before + moved)
         # the pin's own move is undone with the vertices: (index, position) before and after
         pin = (_Pin(i, start), _Pin(i, start + d))
         self.history.record_rows(

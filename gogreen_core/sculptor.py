@@ -454,6 +454,7 @@ class Sculptor:
         """Undo or redo: the vertices, then the settings, mask, mesh or pins the step had."""
         label = step(self._mesh.vertices)
         if label is not None:
+            self._mesh.moved(self.history.restored_indices)  # written in place
             state = self.history.restored_state
             if isinstance(state, EngineSettings):
                 self._kernels = self._pins.follow(KernelCache(state, self._kernels))

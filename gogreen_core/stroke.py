@@ -128,12 +128,15 @@ class StrokeDriver:
                 stroke.mask_before = mesh.mask.copy()
             mesh.set_mask_rows(MaskRows(moved.rows, moved.mask))
             return
-        if moved.written or moved.positions is None:
+        if moved.written:
+            mesh.moved(moved.rows)  # the brush wrote them in place
+            return
+        if moved.positions is None:
             return
         positions = moved.positions
         if mesh.masked:
             positions = blend_by_mask(mesh.vertices[moved.rows], positions, mesh.mask[moved.rows])
-        mesh.vertices[moved.rows] = positions
+        mesh.write_rows(moved.rows, positions)
 
     def _buffer(self, n: int) -> np.ndarray:
         """A C-contiguous (n, 3) float64 buffer, kept between events (no per-event
@@ -172,6 +175,6 @@ class StrokeDriver:
         """Abandon the current stroke, restoring the vertices (and mask) as they were before."""
         stroke, self._stroke = self._stroke, None
         if stroke is not None:
-            self.mesh.vertices[:] = stroke.before
+            self.mesh.write_rows(None, stroke.before)
             if stroke.mask_before is not None:
                 self.mesh.set_mask_rows(MaskRows(np.arange(len(stroke.before)), stroke.mask_before))

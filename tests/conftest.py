@@ -237,3 +237,19 @@ def window(qtbot, tmp_path, monkeypatch, made_textured, app_look):
     assert win.kernel_warmer.wait(120_000)  # strokes are refused until the kernels are ready
     win.viewport.render()
     return win
+
+
+@pytest.fixture(autouse=True)
+def _influence_answers_checked():
+    """Every influence test answered by the vertex blocks (``MeshState.rows_near``) is checked
+    against the plain pass over every vertex, in every test: a path that writes vertices
+    without reporting them fails the test that takes it."""
+    from gogreen_core import influence
+
+    saved, influence.VERIFY = influence.VERIFY, True
+    influence.mismatches.clear()
+    yield
+    influence.VERIFY = saved
+    found = list(influence.mismatches)
+    influence.mismatches.clear()
+    assert not found, f"rows_near missed or added rows: {found}"

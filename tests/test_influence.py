@@ -1,0 +1,384 @@
+"""The influence test answered with the boxes of vertex blocks (``gogreen_core.influence``) gives
+the rows of the plain pass over every vertex (``_expansion.near_segment`` + ``np.flatnonzero``)
+exactly, for every query and after every kind of vertex write, with the NumPy and the compiled
+code. (The conftest also checks every ``rows_near`` answer of every test against the plain pass.)
+"""
+
+from __future__ import annotations
+
+import ast
+import inspect
+import textwrap
+import threading
+
+import numpy as np
+import pytest
+
+from gogreen_core import (
+    Brush,
+    BrushEvent,
+    Sculptor,
+    _compiled,
+    _expansion,
+    _influence_compiled,
+    _influence_numpy,
+    influence,
+)
+from gogreen_core.brushes import mirror_signs
+from gogreen_core.mesh_state import MeshState
+from gogreen_core.sculptor import capture_state, restore_state
+from gogreen_core.shapes import icosphere
+
+CODES = ("numpy", "unrolled")
+SYMMETRIES = ("", "x", "xz", "xyz")
+
+
+def plain(mesh, center, step, radius, signs):
+    """The rows of the plain pass, as ``MeshState.rows_near`` gave them before the blocks."""
+    reach = np.empty(len(mesh.vertices), dtype=bool)
+    _expansion.near_segment(mesh.vertices, center, step, radius, signs, mesh.origin, reach)
+    return np.flatnonzero(reach)
+
+
+def bumpy_sphere(subdivisions=4):
+    """A lumpy icosphere whose vertices are listed in Morton order (locality, as in most mesh
+    files; the icosphere's own order has little)."""
+    vertices, faces = icosphere(subdivisions)
+    bumps = 1.0 + 0.2 * np.sin(4 * vertices[:, 0]) * np.cos(3 * vertices[:, 1])
+    vertices = vertices * bumps[:, None] * [1.3, 1.0, 0.8] + [0.4, -0.2, 0.1]
+    q = ((vertices - vertices.min(axis=0)) * (1023 / np.ptp(vertices, axis=0).max())).astype(int)
+    code = np.zeros(len(vertices), dtype=np.int64)
+    for bit in range(10):
+        for k in range(3):
+            code |= ((q[:, k] >> bit) & 1) << (3 * bit + k)
+    order = np.argsort(code, kind="stable")
+    rank = np.empty_like(order)
+    rank[order] = np.arange(len(order))
+    return vertices[order], rank[faces]
+
+
+def with_far_rows(points, n=20_000):
+    """``points`` and, after them, a line of ``n`` rows far away (queries near ``points`` then
+    test few rows: the blocks answer, not the plain pass)."""
+    far = points.max(axis=0) + 100.0 + np.linspace(0.0, 10.0, n)[:, None] * [1.0, 0.5, 0.2]
+    return MeshState(np.vstack([points, far]), np.zeros((0, 3), dtype=np.int64))
+
+
+def random_query(rng, mesh):
+    """A centre near (or far from) the surface, a step (zero, short or long), a radius (tiny to
+    the whole model) and a symmetry."""
+    size = mesh.model_size
+    kind = rng.integers(6)
+    if kind == 0:  # off the mesh: the cursor far away
+        center = mesh.origin + rng.normal(size=3) * 3 * size
+    else:
+        center = mesh.vertices[rng.integers(len(mesh.vertices))] + rng.normal(size=3) * 0.02 * size
+    step = [np.zeros(3), 0.01 * size * rng.normal(size=3), 0.5 * size * rng.normal(size=3)][
+        rng.integers(3)
+    ]
+    radius = size * 10 ** rng.uniform(-4, 0.5)
+    return center, step, radius, mirror_signs(SYMMETRIES[rng.integers(4)])
+
+
+def assert_rows_right(mesh, rng, queries=12, around=None):
+    """rows_near == the plain pass for random queries (and ones centred on ``around`` rows)."""
+    used = mesh._blocks.answers["blocks"]
+    for i in range(queries):
+        center, step, radius, signs = random_query(rng, mesh)
+        if around is not None and len(around) and i % 2:
+            center = mesh.vertices[around[rng.integers(len(around))]]
+        got = mesh.rows_near(center, step, radius, signs)
+        assert got.dtype == np.int64
+        np.testing.assert_array_equal(got, plain(mesh, center, step, radius, signs))
+    assert mesh._blocks.answers["blocks"] > used  # the blocks answered, not only the plain pass
+
+
+def _function(fn):
+    tree = ast.parse(textwrap.dedent(inspect.getsource(fn)))
+    node = tree.body[0]
+    assert isinstance(node, ast.FunctionDef)
+    return node
+
+
+def test_the_per_point_test_is_near_segment_rows_word_for_word():
+    twin, original = (
+        _function(_influence_compiled._near_rows),
+        _function(_expansion.near_segment_rows),
+    )
+
+    # the compile options, the arguments and every statement but the docstring
+    def dump(nodes):
+        return [ast.dump(node) for node in nodes]
+
+    assert dump(twin.decorator_list) == dump(original.decorator_list)
+    assert ast.dump(twin.args) == ast.dump(original.args)
+    assert dump(twin.body[1:]) == dump(original.body[1:])
+
+
+@pytest.mark.parametrize("code", CODES)
+def test_random_queries_give_the_plain_rows(code):
+    rng = np.random.default_rng(1)
+    mesh = MeshState(*bumpy_sphere(5))
+    with _compiled.forced(code):
+        assert_rows_right(mesh, rng, queries=120)
+        assert mesh.rows_near(mesh.origin, np.zeros(3), None, mirror_signs("")).tolist() == list(
+            range(len(mesh.vertices))
+        )
+
+
+@pytest.mark.parametrize("code", CODES)
+def test_points_at_rounding_distance_from_the_capsule(code):
+    """Shells of points just inside and just outside the capsule, far from the origin (large
+    coordinates: the largest rounding), in blocks taken whole and blocks tested: where a box
+    test without its margin, or another per-point arithmetic, would decide differently."""
+    rng = np.random.default_rng(7)
+    start, step, radius = np.array([3.0e3, -2.0e3, 1.0e3]), np.array([0.3, -0.1, 0.2]), 0.7
+    shells = []
+    for relative in (-1e-6, -1e-9, -1e-12, -1e-15, 0.0, 1e-15, 1e-12, 1e-9):
+        direction = rng.normal(size=(4096, 3))
+        direction /= np.linalg.norm(direction, axis=1)[:, None]
+        along = start + np.sort(rng.random(4096))[:, None] * step  # runs of nearby points
+        shells.append(along + radius * (1.0 + relative) * direction)
+    inner = start + 0.5 * radius * rng.random((2048, 1)) * np.array([[0.6, 0.0, 0.8]])
+    points = np.vstack([*shells, inner])
+    mesh = with_far_rows(points, 100_000)
+    mesh.origin = np.array([2.9e3, -2.1e3, 0.9e3])
+    with _compiled.forced(code):
+        for symmetry in SYMMETRIES:
+            signs = mirror_signs(symmetry)
+            for s in (step, np.zeros(3)):
+                got = mesh.rows_near(start, s, radius, signs)
+                expected = plain(mesh, start, s, radius, signs)
+                np.testing.assert_array_equal(got, expected)
+                assert 0 < len(expected) < len(points)
+        assert mesh._blocks.answers == {"blocks": 8, "plain": 0}
+
+
+def test_the_margin_is_what_keeps_the_rows_exact(monkeypatch):
+    """Without its margin, the NumPy box test takes whole a block of points within rounding of
+    the capsule's surface, some of which fail the per-point test: the tests above can fail."""
+    start, radius = np.array([1.0e4, 1.0e4, 1.0e4]), 1.0
+    direction = np.array([1.0, 2.0, 2.0]) / 3.0
+    ulp = np.spacing(1.0e4)
+    points = start + (radius + ulp * np.arange(-32, 32))[:, None] * direction  # one block
+    mesh = with_far_rows(points)
+    signs, zero = mirror_signs(""), np.zeros(3)
+    expected = plain(mesh, start, zero, radius, signs)
+    assert 0 < len(expected) < 64
+    with _compiled.forced("numpy"):
+        np.testing.assert_array_equal(mesh.rows_near(start, zero, radius, signs), expected)
+        assert mesh._blocks.answers == {"blocks": 1, "plain": 0}
+        monkeypatch.setattr(_influence_numpy, "SLACK", -1e-14)  # a margin of -1e-10 here
+        monkeypatch.setattr(influence, "VERIFY", False)
+        assert not np.array_equal(mesh.rows_near(start, zero, radius, signs), expected)
+
+
+@pytest.mark.filterwarnings("ignore:overflow encountered:RuntimeWarning")  # |step|² = inf
+@pytest.mark.parametrize("code", CODES)
+def test_queries_the_blocks_leave_to_the_plain_pass(code):
+    rng = np.random.default_rng(5)
+    vertices, faces = bumpy_sphere(4)
+    shuffled = MeshState(vertices[rng.permutation(len(vertices))], faces)  # no locality at all
+    mesh = MeshState(vertices, faces)
+    center, zero = vertices[0], np.zeros(3)
+    queries = [
+        (mesh, center, zero, np.nan, mirror_signs("")),  # NaN radius: nothing
+        (mesh, center, zero, 1e-200, mirror_signs("")),  # a radius whose square underflows
+        (mesh, center, np.full(3, 1e-130), 0.5, mirror_signs("x")),  # |step|² underflows
+        (mesh, center, np.full(3, 1e160), 0.5, mirror_signs("x")),  # |step|² overflows
+        (mesh, center, zero, 0.5, np.array([[1.0, 1.0, 1.0], [0.5, 1.0, 1.0]])),  # not ±1
+        (mesh, center, zero, 0.5, np.ones((9, 3))),  # more than 8 images
+        (shuffled, center, zero, 0.5, mirror_signs("")),  # every block spans the model
+    ]
+    with _compiled.forced(code):
+        for state, c, step, radius, signs in queries:
+            got = state.rows_near(c, step, radius, signs)
+            np.testing.assert_array_equal(got, plain(state, c, step, radius, signs))
+        assert mesh._blocks.answers == {"blocks": 0, "plain": 6}
+        assert shuffled._blocks.answers == {"blocks": 0, "plain": 1}
+        huge = MeshState(vertices * 1e152, faces)  # coordinates past the margin argument's
+        c = huge.vertices[0]
+        np.testing.assert_array_equal(
+            huge.rows_near(c, np.zeros(3), 1e140, mirror_signs("")),
+            plain(huge, c, np.zeros(3), 1e140, mirror_signs("")),
+        )
+        assert huge._blocks.answers == {"blocks": 0, "plain": 1}
+        # a radius covering the whole model: every block taken whole, no per-point test
+        assert_rows_right(mesh, rng, queries=2)
+        every = mesh.rows_near(center, zero, 10 * mesh.model_size, mirror_signs("xyz"))
+        assert len(every) == len(vertices)
+
+
+@pytest.mark.parametrize("code", CODES)
+def test_vertices_moved_out_of_their_block_are_found(code):
+    """Rows moved far from their block's other rows (written with ``write_rows`` or in place
+    and reported with ``moved``), and moved back: every query, around the old and the new
+    places, gives the plain pass's rows."""
+    rng = np.random.default_rng(11)
+    mesh = MeshState(*bumpy_sphere(4))
+    n = len(mesh.vertices)
+    with _compiled.forced(code):
+        assert_rows_right(mesh, rng, queries=4)  # the boxes are built
+        for round_ in range(12):
+            rows = np.unique(rng.integers(0, n, size=rng.integers(1, 300)))
+            target = mesh.vertices[rng.integers(n)]
+            new = target + 0.01 * rng.normal(size=(len(rows), 3))
+            if round_ % 3 == 0:
+                mesh.write_rows(rows, new)
+            elif round_ % 3 == 1:
+                mesh.vertices[rows] = new  # in place, then reported
+                mesh.moved(rows)
+            else:
+                mesh.vertices[rows - n] = new  # negative indices, as numpy takes them
+                mesh.moved(rows - n)
+            assert_rows_right(mesh, rng, queries=8, around=rows)
+        mesh.vertices[:] = mesh.vertices[::-1].copy()  # every row: reported as None
+        mesh.moved(None)
+        assert_rows_right(mesh, rng, queries=8)
+
+
+def test_an_unreported_write_is_caught():
+    """What the conftest's check is for: a write that forgets to report its rows gives wrong
+    rows, and the check says so."""
+    mesh = MeshState(*bumpy_sphere(4))
+    center, zero, signs = mesh.vertices[0].copy(), np.zeros(3), mirror_signs("")
+    with _compiled.forced("unrolled"):
+        before = mesh.rows_near(center, zero, 0.1, signs)
+        far = np.flatnonzero(np.linalg.norm(mesh.vertices - center, axis=1) > 1.0)[:5]
+        mesh.vertices[far] = center  # not reported
+        with pytest.raises(AssertionError, match="stale vertex blocks"):
+            mesh.rows_near(center, zero, 0.1, signs)
+        influence.mismatches.clear()
+        mesh.moved(far)
+        np.testing.assert_array_equal(
+            mesh.rows_near(center, zero, 0.1, signs), np.union1d(before, far)
+        )
+
+
+@pytest.mark.parametrize("code", CODES)
+def test_a_new_vertex_array_is_indexed_anew(code):
+    rng = np.random.default_rng(2)
+    mesh = MeshState(*bumpy_sphere(4))
+    with _compiled.forced(code):
+        assert_rows_right(mesh, rng, queries=3)
+        snapshot = mesh.snapshot()
+        moved = snapshot.vertices[::-1].copy()
+        mesh.adopt(type(snapshot)(moved, snapshot.faces, snapshot.mask))  # no report needed
+        assert_rows_right(mesh, rng, queries=6)
+        mesh.vertices = mesh.vertices + 0.3  # even a plain assignment of another array
+        assert_rows_right(mesh, rng, queries=6)
+
+
+def _sculpt_everything(sculptor, rng):
+    """Every engine path that writes vertices, each followed by a check of ``rows_near``."""
+    mesh = sculptor._mesh
+    size = sculptor.model_size
+    top = mesh.vertices[int(np.argmax(mesh.vertices[:, 2]))].copy()
+    side = mesh.vertices[int(np.argmax(mesh.vertices[:, 0]))].copy()
+    drag = np.array([0.3, 0.2, 0.9]) * 0.05 * size
+
+    def check():
+        assert_rows_right(mesh, rng, queries=6, around=np.flatnonzero(moved_rows))
+
+    moved_rows = np.zeros(len(mesh.vertices), dtype=bool)
+    # a grab stroke written through by the integrator, with a mirror image
+    brush = Brush("grab", radius=0.15, influence=2.0, symmetry="x")
+    sculptor.begin_stroke(brush)
+    for k in range(3):
+        moved_rows[sculptor.stroke_event(BrushEvent(top + k * drag, drag))] = True
+        check()
+    sculptor.end_stroke()
+    # a stroke cancelled half-way
+    sculptor.begin_stroke(Brush("twist", radius=0.2))
+    sculptor.stroke_event(BrushEvent(side, amount=0.3, axis=[1.0, 0, 0], direction=[0, 1.0, 0]))
+    check()
+    sculptor.cancel_stroke()
+    check()
+    # smooth: the driver writes the rows
+    sculptor.apply_brush(Brush("smooth", radius=0.2, strength=3.0), [BrushEvent(top, drag)])
+    check()
+    # a masked grab: the driver blends and writes
+    sculptor.apply_brush(Brush("mask", radius=0.2), [BrushEvent(side, np.zeros(3))])
+    sculptor.apply_brush(Brush("grab", radius=0.2), [BrushEvent(side, -drag)])
+    check()
+    sculptor.mask.clear()
+    # pins: a drag moves the rows within the pins' reach
+    pin = sculptor.add_constraint(side)
+    sculptor.add_constraint(top)
+    sculptor.drag_constraint(pin, 0.05 * size * np.array([0.0, 1.0, 0.0]))
+    check()
+    # undo and redo of everything so far, then again
+    while sculptor.undo() is not None:
+        check()
+    while sculptor.redo() is not None:
+        check()
+    # a subdivision (a new array), sculpted on, undone, redone
+    sculptor.subdivide()
+    moved_rows = np.zeros(len(mesh.vertices), dtype=bool)
+    moved_rows[sculptor.apply_brush(Brush("pinch", radius=0.2), [BrushEvent(top, amount=0.4)])] = 1
+    check()
+    sculptor.undo()
+    check()
+    sculptor.undo()
+    moved_rows = np.zeros(len(mesh.vertices), dtype=bool)
+    check()
+    sculptor.redo()
+    check()
+
+
+@pytest.mark.parametrize("code", CODES)
+def test_every_engine_write_keeps_the_rows_right(code):
+    rng = np.random.default_rng(17)
+    vertices, faces = bumpy_sphere(3)
+    with _compiled.forced(code):
+        sculptor = Sculptor(vertices, faces)
+        _sculpt_everything(sculptor, rng)
+        # the session replayed (a replay that fails part-way rolls back through adopt)
+        replayed = Sculptor.from_session(sculptor.session(), vertices, faces)
+        replayed.replay(sculptor.session()["operations"])
+        np.testing.assert_array_equal(replayed.vertices, sculptor.vertices)
+        assert_rows_right(replayed._mesh, rng, queries=6)
+        # a replay failing part-way (an event off the model) is rolled back (adopt)
+        before = replayed.vertices.copy()
+        grab = {"kind": "grab", "radius": 0.2, "strength": 1.0, "influence": 2.0}
+        event = {"center": before[0].tolist(), "delta": [0.05, 0.0, 0.0]}
+        broken = [
+            {"op": "stroke", "brush": grab, "events": [event, {**event, "center": [1e9] * 3}]}
+        ]
+        with pytest.raises(ValueError, match="too far"):
+            replayed.replay(broken)
+        np.testing.assert_array_equal(replayed.vertices, before)
+        assert_rows_right(replayed._mesh, rng, queries=6)
+        # a recovered state
+        restored = restore_state(capture_state(sculptor), sculptor.faces)
+        assert_rows_right(restored._mesh, rng, queries=6)
+
+
+def test_a_background_query_and_writes_interleave():
+    """A thread asking while another writes and reports: afterwards the answers are right."""
+    rng = np.random.default_rng(23)
+    mesh = MeshState(*bumpy_sphere(4))
+    n, stop = len(mesh.vertices), threading.Event()
+    errors = []
+
+    def ask():
+        try:
+            while not stop.is_set():
+                mesh.rows_near(mesh.vertices[0], np.zeros(3), 0.3, mirror_signs("x"))
+        except Exception as exc:  # pragma: no cover - reported below
+            errors.append(exc)
+
+    with _compiled.forced("unrolled"):
+        thread = threading.Thread(target=ask)
+        thread.start()
+        try:
+            for _ in range(200):
+                rows = np.unique(rng.integers(0, n, size=50))
+                mesh.write_rows(
+                    rows, mesh.vertices[rng.integers(n)] + 0.01 * rng.random((50, 3))[: len(rows)]
+                )
+        finally:
+            stop.set()
+            thread.join()
+        assert not errors
+        assert_rows_right(mesh, rng, queries=10)
