@@ -13,6 +13,10 @@ Prints, in one run (figures only, no assertions):
   load (4 evaluations a vertex), numba, parallel over the vertices, read and written in place
   like the mesh rows of the event; event and peer alternate, so that the load of the shared
   cores falls on both; medians, minima and the ratio of the medians;
+* the event's influence ball (which vertices it may move): answered by the vertex blocks
+  (``gogreen_core.influence``) against the plain pass over every vertex it replaced, the
+  blocks' build (the first query on a new vertex array) and their upkeep after the event (the
+  report of its moved rows, and the refit of their blocks' boxes at the next query);
 * the event's accuracy: max vertex error against 64 RK4 substeps over the cursor motion, and
   the same event with evaluation 1 (the code before issue 23, which old sessions replay with);
 * the first grab event in a fresh process with an empty numba cache (NUMBA_CACHE_DIR a new
@@ -46,6 +50,7 @@ sys.path.insert(0, str(ROOT))
 from gogreen_core import Brush, BrushEvent, Material, Sculptor  # noqa: E402
 from gogreen_core._expansion import near_segment  # noqa: E402
 from gogreen_core.brushes import mirror_signs  # noqa: E402
+from gogreen_core.influence import VertexBlocks, plain_rows_near  # noqa: E402
 from gogreen_core.kernel import prepare_degree  # noqa: E402
 
 MATERIAL = Material.cubic(3.0, 1.5, 0.4)
@@ -103,6 +108,42 @@ def ogre(meshes: Path) -> tuple[np.ndarray, np.ndarray] | None:
 
 def median_ms(samples: list[float]) -> str:
     return f"{1e3 * statistics.median(samples):7.2f} ms (min {1e3 * min(samples):.2f})"
+
+
+def influence_ball(
+    sculptor: Sculptor, center: np.ndarray, delta: np.ndarray, radius: float, repeats: int
+) -> None:
+    """The event's influence test by the vertex blocks and by the plain pass (medians), the
+    blocks' build and their upkeep for the event's moved rows."""
+    mesh, signs = sculptor._mesh, mirror_signs("")
+    args = (center, delta, radius, signs)
+    start = time.perf_counter()
+    VertexBlocks().rows_near(mesh.vertices, *args, mesh.origin)  # a build, then the answer
+    first = time.perf_counter() - start
+    rows = mesh.rows_near(*args)
+    blocks, plain, report, refit = [], [], [], []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        mesh.rows_near(*args)
+        blocks.append(time.perf_counter() - start)
+        start = time.perf_counter()
+        plain_rows_near(mesh.vertices, *args, mesh.origin, True)
+        plain.append(time.perf_counter() - start)
+        start = time.perf_counter()
+        mesh.moved(rows)  # what the event's write reports
+        report.append(time.perf_counter() - start)
+        start = time.perf_counter()
+        mesh.rows_near(*args)  # refits the moved rows' blocks first
+        refit.append(time.perf_counter() - start - blocks[-1])
+    answers = mesh._blocks.answers
+    print(f"influence ball, 1M vertices: {statistics.median(blocks) * 1e3:.2f} ms "
+          f"(was {statistics.median(plain) * 1e3:.2f} ms brute force)")  # fmt: skip
+    print(f"  by the vertex blocks ({len(rows):,} rows; {answers['plain']} plain answers): "
+          f"{median_ms(blocks)}")  # fmt: skip
+    print(f"  plain pass over every vertex + flatnonzero:  {median_ms(plain)}")
+    print(f"  first query on a new vertex array (build):   {1e3 * first:7.2f} ms")
+    print(f"  report of the event's {len(rows):,} moved rows:  {median_ms(report)}")
+    print(f"  refit of their blocks at the next query:     {median_ms(refit)}")
 
 
 def peer_event(vertices: np.ndarray, faces: np.ndarray, repeats: int) -> None:
@@ -173,6 +214,7 @@ def peer_event(vertices: np.ndarray, faces: np.ndarray, repeats: int) -> None:
     print(f"  evaluations a vertex (4 per RK4 step):       {4 * steps.mean():7.3f}")
     print(f"  evaluation 1 (before; old sessions), wall:   {median_ms(old_events)}")
     print(f"  max error vs 64 RK4 substeps / cursor motion: {error:.2e}")
+    influence_ball(sculptor, center, delta, cutoff[1], repeats)
 
 
 FIRST_EVENT = r"""

@@ -65,6 +65,14 @@ def _near_rows(
 def _mark(rows: NDArray[np.int64], n: int, dirty: NDArray[np.bool_]) -> None:
     """dirty[b] for the block of every row of ``rows`` (numpy's indexing: negative rows count
     from the end; rows out of range are no rows)."""
+    low, high = n, -1
+    for i in range(rows.shape[0]):  # vectorized: then the common case's loop has no branch
+        low = min(low, rows[i])
+        high = max(high, rows[i])
+    if 0 <= low and high < n:
+        for i in range(rows.shape[0]):
+            dirty[rows[i] >> BLOCK_SHIFT] = True
+        return
     for i in range(rows.shape[0]):
         r = rows[i]
         if r < 0:

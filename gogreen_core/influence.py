@@ -7,7 +7,7 @@ test; which vertices an event reaches must not change for old sessions). Over ev
 
 :class:`VertexBlocks` keeps the bounding box of every block of :data:`BLOCK` consecutive vertex
 rows (mesh files list their vertices with locality: on the twice-subdivided ogre half the blocks
-span under 3 % of the model). A query tests the boxes against its capsules (the segment dilated
+span under 1.3 % of the model, 90 % under 7 %). A query tests the boxes against its capsules (the segment dilated
 by the radius, one per mirror image M: the segment o + M (start - o) → + M step, since M is its
 own inverse and keeps distances): a block out of every capsule is skipped, a block inside one is
 taken whole, and only the rows of the others get the per-point test. The rows come out in
@@ -142,6 +142,7 @@ class VertexBlocks:
     def changed(self, vertices: NDArray[np.float64], rows: NDArray[np.integer] | None) -> None:
         """Rows ``rows`` (k,) of ``vertices`` (N, 3) were written (None: any row may have been):
         their boxes are refitted before the next answer. Nothing to do for another array."""
+        compiled = _compiled_ready()
         with self._lock:
             if not self._serves(vertices):
                 return
@@ -152,7 +153,7 @@ class VertexBlocks:
             if rows.dtype == np.bool_:
                 rows = np.flatnonzero(rows)
             rows = np.ascontiguousarray(rows, dtype=np.int64).ravel()
-            if _compiled_ready():
+            if compiled:
                 _mark(rows, self._n, self._dirty)
             else:
                 numpy_twin.mark(rows, self._n, self._dirty)
