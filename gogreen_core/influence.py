@@ -3,20 +3,22 @@
 An event reaches the vertices p some mirror image o + M (p - o) of which lies within ``radius``
 of the segment from ``start`` to ``start + step`` (``_expansion.near_segment``, the influence
 test; which vertices an event reaches must not change for old sessions). Over every vertex of a
-1M-vertex mesh that test, and the list of the reached ones, cost ~8 ms an event.
+1M-vertex mesh that test, and the list of the reached ones, cost 5-9 ms an event here.
 
 :class:`VertexBlocks` keeps the bounding box of every block of :data:`BLOCK` consecutive vertex
-rows (mesh files list their vertices with locality: on the twice-subdivided ogre half the blocks
-span under 1.3 % of the model, 90 % under 7 %). A query tests the boxes against its capsules (the segment dilated
-by the radius, one per mirror image M: the segment o + M (start - o) → + M step, since M is its
-own inverse and keeps distances): a block out of every capsule is skipped, a block inside one is
-taken whole, and only the rows of the others get the per-point test. The rows come out in
-ascending order with no sort (blocks are runs of rows), and are the plain pass's bit for bit:
+rows. Mesh files list their vertices with locality (on the twice-subdivided ogre half the blocks
+span under 1.3 % of the model, 90 % under 7 %); the icosphere's order has less (the default model
+subdivided twice: 10 % and 37 %), and the blocks then save less. A query tests the boxes against
+its capsules (the segment dilated by the radius, one per mirror image M: the segment
+o + M (start - o) → + M step, since M is its own inverse and keeps distances): a block out of
+every capsule is skipped, a block inside one is taken whole, and only the rows of the others get
+the per-point test. The rows come out in ascending order with no sort (blocks are runs of rows),
+and are the plain pass's bit for bit:
 
-* the box tests are conservative by a margin ``SLACK`` times the largest coordinate in
-  play, thousands of times the rounding of the per-point test (tens of units in the last place
-  of that coordinate), so no vertex the test would keep is skipped and every vertex of a block
-  taken whole passes it;
+* the box tests are conservative by a margin ``SLACK`` (2⁻³⁶) times the largest coordinate,
+  radius or step in play, a thousand times the rounding of the per-point test (at most about a
+  hundred units in the last place of that largest value), so no vertex the test would keep is
+  skipped and every vertex of a block taken whole passes it;
 * the per-point test is ``_expansion.near_segment_rows``'s own arithmetic
   (``_influence_compiled._near_rows``, its twin compiled with the same options:
   ``tests/test_influence.py`` holds their text and results equal) or, before the compiled code
