@@ -202,6 +202,21 @@ def peer_event(vertices: np.ndarray, faces: np.ndarray, repeats: int) -> None:
         old_events.append(time.perf_counter() - start)
         old.end_stroke()
         old.undo()
+    # where the event's time goes: the influence ball, and one fixed RK4 step on its rows
+    balls, passes, passes_cpu = [], [], []
+    signs, origin = mirror_signs(""), sculptor.origin
+    load = np.linalg.solve(g0, delta)
+    for _ in range(repeats):
+        start = time.perf_counter()
+        sculptor._mesh.rows_near(center, delta, cutoff[1], signs)  # the event's own test
+        balls.append(time.perf_counter() - start)
+        start, start_cpu = time.perf_counter(), time.process_time()
+        kernel._streamlines(
+            vertices, center, load, center_step=delta, cutoff=cutoff, substeps=1, tolerance=None,
+            indices=rows, mirror_signs=signs, origin=origin,
+        )  # fmt: skip
+        passes.append(time.perf_counter() - start)
+        passes_cpu.append(time.process_time() - start_cpu)
     ratio = statistics.median(events) / statistics.median(peers)
     ratio_cpu = statistics.median(events_cpu) / statistics.median(peers_cpu)
     print(f"grab event, {len(rows):,} vertices moved ({numba.get_num_threads()} threads):")
@@ -211,7 +226,14 @@ def peer_event(vertices: np.ndarray, faces: np.ndarray, repeats: int) -> None:
     print(f"  peer, CPU time of all threads:               {median_ms(peers_cpu)}")
     print(f"  ratio event / peer (medians, wall):          {ratio:7.2f}x")
     print(f"  ratio event / peer (medians, CPU time):      {ratio_cpu:7.2f}x")
-    print(f"  evaluations a vertex (4 per RK4 step):       {4 * steps.mean():7.3f}")
+    # a vertex refined to n steps took 1 + 2 + ... + n = 2n - 1 RK4 steps of 4 evaluations
+    print(f"  evaluations a vertex (4 per RK4 step):       {4 * (2 * steps - 1).mean():7.3f}")
+    print(f"  of which the influence ball (all vertices):  {median_ms(balls)}")
+    print(f"  one fixed RK4 step on the ball's rows:       {median_ms(passes)}")
+    n_evaluations = 4 * len(rows)
+    ns_event = 1e9 * statistics.median(passes_cpu) / n_evaluations
+    ns_peer = 1e9 * statistics.median(peers_cpu) / n_evaluations
+    print(f"  CPU a field evaluation, expansion / Kelvinlet: {ns_event:5.1f} / {ns_peer:.1f} ns")
     print(f"  evaluation 1 (before; old sessions), wall:   {median_ms(old_events)}")
     print(f"  max error vs 64 RK4 substeps / cursor motion: {error:.2e}")
     influence_ball(sculptor, center, delta, cutoff[1], repeats)
