@@ -228,7 +228,7 @@ def peer_event(vertices: np.ndarray, faces: np.ndarray, repeats: int) -> None:
     print(f"  ratio event / peer (medians, CPU time):      {ratio_cpu:7.2f}x")
     # a vertex refined to n steps took 1 + 2 + ... + n = 2n - 1 RK4 steps of 4 evaluations
     print(f"  evaluations a vertex (4 per RK4 step):       {4 * (2 * steps - 1).mean():7.3f}")
-    print(f"  of which the influence ball (all vertices):  {median_ms(balls)}")
+    print(f"  of which the influence ball (vertex blocks): {median_ms(balls)}")
     print(f"  one fixed RK4 step on the ball's rows:       {median_ms(passes)}")
     n_evaluations = 4 * len(rows)
     ns_event = 1e9 * statistics.median(passes_cpu) / n_evaluations
