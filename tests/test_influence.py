@@ -93,6 +93,22 @@ def assert_rows_right(mesh, rng, queries=12, around=None):
     assert mesh._blocks.answers["blocks"] > used  # the blocks answered, not only the plain pass
 
 
+def classified(mesh, start, step, radius, signs, code):
+    """(blocks a capsule may reach, blocks taken whole) (n_blocks,) by the box tests of
+    ``code``, on the boxes of ``mesh``'s last query."""
+    blocks = mesh._blocks
+    query = (start, step, radius, signs, mesh.origin)
+    if code == "numpy":
+        return _influence_numpy.classify(blocks._lo, blocks._hi, *query)
+    n_blocks = len(blocks._lo)
+    status, images = np.empty(n_blocks, np.uint8), np.empty(n_blocks, np.uint8)
+    hits = np.empty(n_blocks, np.int64)
+    _influence_compiled._classify(
+        blocks._lo, blocks._hi, len(mesh.vertices), *query, status, images, hits
+    )
+    return status != _influence_compiled.OUT, status == _influence_compiled.INSIDE
+
+
 def _function(fn):
     tree = ast.parse(textwrap.dedent(inspect.getsource(fn)))
     node = tree.body[0]
@@ -128,30 +144,44 @@ def test_random_queries_give_the_plain_rows(code):
 
 @pytest.mark.parametrize("code", CODES)
 def test_points_at_rounding_distance_from_the_capsule(code):
-    """Shells of points just inside and just outside the capsule, far from the origin (large
-    coordinates: the largest rounding), in blocks taken whole and blocks tested: where a box
-    test without its margin, or another per-point arithmetic, would decide differently."""
+    """Far from the origin (large coordinates: the largest rounding): shells of points within
+    rounding of the capsule's surface (blocks tested point by point, where another per-point
+    arithmetic would decide differently), and blocks of points in tiny patches at 3 margins
+    inside and outside it (taken whole, and skipped: the margin is no wider than it says)."""
     rng = np.random.default_rng(7)
     start, step, radius = np.array([3.0e3, -2.0e3, 1.0e3]), np.array([0.3, -0.1, 0.2]), 0.7
-    shells = []
-    for relative in (-1e-6, -1e-9, -1e-12, -1e-15, 0.0, 1e-15, 1e-12, 1e-9):
-        direction = rng.normal(size=(4096, 3))
+    origin = np.array([2.9e3, -2.1e3, 0.9e3])
+    # the margin: SLACK times the largest coordinate (the far rows' ~3.2e3)
+    margin = _influence_compiled.SLACK * 3.2e3
+
+    def sphere_points(count, distance, spread):
+        direction = rng.normal(size=3) + spread * rng.normal(size=(count, 3))
         direction /= np.linalg.norm(direction, axis=1)[:, None]
-        along = start + np.sort(rng.random(4096))[:, None] * step  # runs of nearby points
-        shells.append(along + radius * (1.0 + relative) * direction)
-    inner = start + 0.5 * radius * rng.random((2048, 1)) * np.array([[0.6, 0.0, 0.8]])
-    points = np.vstack([*shells, inner])
+        return start + distance * direction  # about the segment's start: the capsule's cap
+
+    shells = [
+        sphere_points(4096, radius * (1.0 + relative), 1e3)
+        for relative in (-1e-9, -1e-12, -1e-15, 0.0, 1e-15, 1e-12, 1e-9)
+    ]
+    inside = [sphere_points(64, radius - 3 * margin, 1e-10) for _ in range(8)]
+    outside = [sphere_points(64, radius + 3 * margin, 1e-10) for _ in range(8)]
+    points = np.vstack([*shells, *inside, *outside])
     mesh = with_far_rows(points, 100_000)
-    mesh.origin = np.array([2.9e3, -2.1e3, 0.9e3])
+    mesh.origin = origin
+    zero, signs = np.zeros(3), mirror_signs("")
     with _compiled.forced(code):
         for symmetry in SYMMETRIES:
-            signs = mirror_signs(symmetry)
-            for s in (step, np.zeros(3)):
-                got = mesh.rows_near(start, s, radius, signs)
-                expected = plain(mesh, start, s, radius, signs)
+            for s in (step, zero):
+                got = mesh.rows_near(start, s, radius, mirror_signs(symmetry))
+                expected = plain(mesh, start, s, radius, mirror_signs(symmetry))
                 np.testing.assert_array_equal(got, expected)
                 assert 0 < len(expected) < len(points)
         assert mesh._blocks.answers == {"blocks": 8, "plain": 0}
+    # the blocks of the patches: 8 inside, then 8 outside
+    patches = np.arange(len(shells) * 4096 // 64, len(points) // 64)
+    reached, whole = classified(mesh, start, zero, radius, signs, code)
+    assert whole[patches[:8]].all()
+    assert not reached[patches[8:]].any()
 
 
 def test_the_margin_is_what_keeps_the_rows_exact(monkeypatch):
