@@ -25,7 +25,9 @@ and are the plain pass's bit for bit:
   is ready, ``_numpy_eval.near_segment`` itself;
 * inputs where that margin argument does not hold (a radius or coordinates near the float
   range's ends, a step whose squared length overflows or underflows, signs other than ±1, more
-  than 8 images) and queries where most rows would need the test go to the plain pass.
+  than 8 images) and queries where most rows would need the test go to the plain pass, and so
+  does every query on an array whose order has no locality at all (:data:`DORMANT_EXTENT`: its
+  writes are then not even tracked).
 
 The boxes follow the vertices: every write reports its rows (:meth:`VertexBlocks.changed`,
 through ``MeshState``), which marks their blocks; the next query refits the marked boxes from
@@ -65,7 +67,13 @@ STEP2_RANGE = (1e-250, 1e250)
 MAX_IMAGES = 8
 #: Above this fraction of the rows needing the per-point test, the plain pass serves.
 PLAIN_FRACTION = 0.5
+#: An array whose median block spans more than this fraction of its bounding box's diagonal
+#: (a vertex order without locality) is left to the plain pass: the blocks would cost their
+#: upkeep and save nothing.
+DORMANT_EXTENT = 0.25
 #: Check every answer against the plain pass; record mismatches in :data:`mismatches` and raise.
+#: The blocks then answer for every vertex order (none is left dormant), so that the tests
+#: check them on every mesh.
 VERIFY = False
 #: What :data:`VERIFY` found (descriptions), for a test harness to assert empty.
 mismatches: list[str] = []
@@ -114,8 +122,10 @@ class VertexBlocks:
 
     State, for the array it serves (built on the first query, refitted block by block):
     lo, hi (n_blocks, 3) float64, model units: each block's box (lo > hi: no finite row);
-    dirty (n_blocks,) bool: blocks written since their box was fitted. One lock guards it, so
-    a background query and the writes of another thread may interleave.
+    dirty (n_blocks,) bool: blocks written since their box was fitted; dormant: the array's
+    order has no locality (:data:`DORMANT_EXTENT`), the plain pass answers and writes are not
+    tracked. One lock guards it, so a background query and the writes of another thread may
+    interleave.
     """
 
     def __init__(self) -> None:
@@ -126,6 +136,7 @@ class VertexBlocks:
         self._hi = np.empty((0, 3))
         self._dirty = np.empty(0, dtype=np.bool_)
         self._near = np.empty(0, dtype=np.bool_)
+        self._dormant: bool | None = None  # decided with the first boxes
         #: Answers given by the blocks and by the plain pass (what a benchmark reports).
         self.answers = {"blocks": 0, "plain": 0}
 
@@ -140,13 +151,14 @@ class VertexBlocks:
         self._lo, self._hi = np.empty((n_blocks, 3)), np.empty((n_blocks, 3))
         self._dirty = np.ones(n_blocks, dtype=np.bool_)
         self._near = np.empty(n, dtype=np.bool_)
+        self._dormant = None
 
     def changed(self, vertices: NDArray[np.float64], rows: NDArray[np.integer] | None) -> None:
         """Rows ``rows`` (k,) of ``vertices`` (N, 3) were written (None: any row may have been):
         their boxes are refitted before the next answer. Nothing to do for another array."""
         compiled = _compiled_ready()
         with self._lock:
-            if not self._serves(vertices):
+            if not self._serves(vertices) or self._dormant:
                 return
             if rows is None:
                 self._dirty[:] = True
@@ -183,12 +195,15 @@ class VertexBlocks:
         compiled = _compiled_ready()
         with self._lock:
             rows = None
-            if _usable(*query[:4]):
-                if not self._serves(vertices):
-                    self._index(vertices)
+            if not self._serves(vertices):
+                self._index(vertices)
+            if _usable(*query[:4]) and not self._dormant:
                 self._refit(vertices, compiled)
-                by = self._by_compiled if compiled else self._by_numpy
-                rows = by(vertices, query)
+                if self._dormant is None:
+                    self._dormant = not VERIFY and self._without_locality()
+                if not self._dormant:
+                    by = self._by_compiled if compiled else self._by_numpy
+                    rows = by(vertices, query)
             self.answers["plain" if rows is None else "blocks"] += 1
             if rows is None:
                 return plain_rows_near(vertices, *query, compiled)
@@ -207,6 +222,17 @@ class VertexBlocks:
         else:
             numpy_twin.refit(vertices, dirty, self._lo, self._hi)
         self._dirty[dirty] = False
+
+    def _without_locality(self) -> bool:
+        """Whether the median block spans more than :data:`DORMANT_EXTENT` of the diagonal of
+        the vertices' bounding box (then the plain pass serves this array)."""
+        lo, hi = self._lo, self._hi
+        valid = np.all(lo <= hi, axis=1)
+        if not valid.any():
+            return True
+        lo, hi = lo[valid], hi[valid]
+        diagonal = float(np.linalg.norm(hi.max(axis=0) - lo.min(axis=0)))
+        return bool(np.median((hi - lo).max(axis=1)) > DORMANT_EXTENT * diagonal)
 
     def _by_compiled(self, vertices: NDArray[np.float64], query: Query) -> NDArray[np.int64] | None:
         """The answer by the blocks with the compiled loops, or None for the plain pass."""

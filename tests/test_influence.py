@@ -240,6 +240,30 @@ def test_queries_the_blocks_leave_to_the_plain_pass(code):
 
 
 @pytest.mark.parametrize("code", CODES)
+def test_a_vertex_order_without_locality_is_left_to_the_plain_pass(code, monkeypatch):
+    """Shuffled rows: every block spans the model, the index goes dormant (no upkeep of its
+    writes, the plain pass answers); a new array with locality is served by blocks again."""
+    monkeypatch.setattr(influence, "VERIFY", False)  # (which keeps every index awake)
+    rng = np.random.default_rng(29)
+    vertices, faces = bumpy_sphere(5)
+    order = rng.permutation(len(vertices))
+    mesh = MeshState(vertices[order], faces[:0])
+    with _compiled.forced(code):
+        for _ in range(3):
+            center, step, radius, signs = random_query(rng, mesh)
+            got = mesh.rows_near(center, step, radius, signs)
+            np.testing.assert_array_equal(got, plain(mesh, center, step, radius, signs))
+            rows = rng.integers(0, len(vertices), 100)
+            mesh.write_rows(rows, mesh.vertices[rows] + 0.1)
+            assert mesh._blocks._dirty.sum() == 0  # not tracked
+        assert mesh._blocks.answers == {"blocks": 0, "plain": 3}
+        snapshot = mesh.snapshot()
+        mesh.adopt(type(snapshot)(vertices, snapshot.faces, snapshot.mask))
+        assert_rows_right(mesh, rng, queries=8)
+        assert mesh._blocks._dormant is False
+
+
+@pytest.mark.parametrize("code", CODES)
 def test_vertices_moved_out_of_their_block_are_found(code):
     """Rows moved far from their block's other rows (written with ``write_rows`` or in place
     and reported with ``moved``), and moved back: every query, around the old and the new
