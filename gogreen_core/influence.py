@@ -205,12 +205,11 @@ class VertexBlocks:
                     by = self._by_compiled if compiled else self._by_numpy
                     rows = by(vertices, query)
             self.answers["plain" if rows is None else "blocks"] += 1
-            if rows is None:
-                return plain_rows_near(vertices, *query, compiled)
             # (other threads may see the GUI thread's writes mid-way: the main thread checks)
-            if VERIFY and threading.current_thread() is threading.main_thread():
+            main = threading.current_thread() is threading.main_thread()
+            if rows is not None and VERIFY and main:
                 _verify(rows, plain_rows_near(vertices, *query, compiled))
-        return rows
+        return plain_rows_near(vertices, *query, compiled) if rows is None else rows
 
     def _refit(self, vertices: NDArray[np.float64], compiled: bool) -> None:
         """Fit the boxes of the blocks written since they were fitted."""
