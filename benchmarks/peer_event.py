@@ -283,7 +283,7 @@ window = MainWindow(settings)
 window.show()
 app.processEvents()
 shown = time.perf_counter()
-window.open_default()  # as `gogreen` does, before the event loop runs
+window.files.open_default()  # as `gogreen` does, before the event loop runs
 vp = window.viewport
 left, none = Qt.MouseButton.LeftButton, Qt.MouseButton.NoButton
 
