@@ -19,6 +19,7 @@ pin moves. Without it G decays only as 1/r and dragging one pin moved the whole 
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any, cast
 
 import numpy as np
@@ -211,10 +212,17 @@ class ConstraintSet:
         return out
 
     def displacement_rows(
-        self, points: np.ndarray, forces: np.ndarray
+        self,
+        points: np.ndarray,
+        forces: np.ndarray,
+        near: Callable[[np.ndarray, float], np.ndarray] | None = None,
     ) -> tuple[np.ndarray, np.ndarray]:
         """The rows (K,) int64, sorted, of ``points`` (N, 3) within :attr:`reach` of a pin
-        whose force is not zero, and u (K, 3) there (u is zero at every other row)."""
+        whose force is not zero, and u (K, 3) there (u is zero at every other row).
+
+        ``near(point (3,), radius)``: the rows (k,) int64, ascending, of ``points`` within
+        ``radius`` of ``point`` or a superset of them (e.g. ``MeshState.rows_near``, which
+        answers without a pass over every row); by default a pass over all of them."""
         points = np.asarray(points, dtype=np.float64)
         # (p, f, its rows, their weights)
         pins: list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]] = []
@@ -224,11 +232,14 @@ class ConstraintSet:
             if self._cutoff is None:
                 pins.append((p, f, np.arange(len(points)), None))
                 continue
-            # candidates by a parallel pass (a hair wider), then the exact test on them alone
-            mask = np.empty(len(points), dtype=np.bool_)
+            # candidates a hair wider (rounding never drops one), then the exact test on them
             wider = self._cutoff[1] * (1.0 + 1e-9)
-            near_segment(points, p, _NO_STEP, wider, _NO_MIRRORS, p, mask)
-            candidates = np.flatnonzero(mask)
+            if near is None:
+                mask = np.empty(len(points), dtype=np.bool_)
+                near_segment(points, p, _NO_STEP, wider, _NO_MIRRORS, p, mask)
+                candidates = np.flatnonzero(mask)
+            else:
+                candidates = near(p, wider)
             distance = np.linalg.norm(points[candidates] - p, axis=1)
             inside = distance < self._cutoff[1]
             pins.append((p, f, candidates[inside], smooth_cutoff(distance[inside], *self._cutoff)))

@@ -32,6 +32,9 @@ from gogreen_core.validation import ParameterError, check_bool, check_integer, c
 __all__ = ["Pins"]
 
 _NO_ROWS = np.zeros((0, 3))
+#: A pin's influence test: the ball about its point (no step, no mirror image).
+_NO_STEP = np.zeros(3)
+_ONE_IMAGE = np.ones((1, 3))
 
 
 class _Points(NamedTuple):
@@ -146,6 +149,10 @@ class Pins:
             self._record("clear pins", before)
         self.log.record(ConstraintsClear())
 
+    def _near(self, point: np.ndarray, radius: float) -> np.ndarray:
+        """The mesh's vertices within ``radius`` of ``point`` (by its vertex blocks)."""
+        return self.mesh.rows_near(point, _NO_STEP, radius, _ONE_IMAGE)
+
     def drag(self, index: object, delta: object, continued: object = False) -> np.ndarray:
         """Move pin ``index`` by ``delta`` (3,) while the others stay; (N, 3) u. An undo step,
         joined to the previous drag when ``continued``."""
@@ -161,7 +168,7 @@ class Pins:
         forces = constraints.solve(targets)
         # only the rows within the pins' reach move: no pass over the whole mesh
         vertices = self.mesh.vertices
-        rows, moved = constraints.displacement_rows(vertices, forces)
+        rows, moved = constraints.displacement_rows(vertices, forces, self._near)
         if not np.all(np.isfinite(moved)):
             raise ParameterError("delta", "the pin drag would move vertices to infinity")
         if self.mesh.masked:  # masked vertices move (1 − mask) of the way: held ones not at all

@@ -436,3 +436,27 @@ def test_a_background_query_and_writes_interleave():
             thread.join()
         assert not errors
         assert_rows_right(mesh, rng, queries=10)
+
+
+@pytest.mark.parametrize("code", CODES)
+def test_a_pin_drag_by_the_blocks_moves_what_the_plain_pass_would(code):
+    one, faces = bumpy_sphere(4)
+    # two lumps apart: a pin's reach (a fraction of the model) holds one and not the other
+    vertices = np.vstack([one, one + np.array([12.0, 0.0, 0.0])])
+    faces = np.vstack([faces, faces + len(one)])
+    with _compiled.forced(code):
+        sculptor = Sculptor(vertices, faces)
+        mesh = sculptor._mesh
+        pins = sculptor._pins
+        for point in (mesh.vertices[0], mesh.vertices[len(vertices) // 2]):
+            sculptor.add_constraint(point)
+        constraints = pins.constraints
+        targets = np.zeros((2, 3))
+        targets[0] = 0.03 * sculptor.model_size
+        forces = constraints.solve(targets)
+        by_blocks = constraints.displacement_rows(mesh.vertices, forces, pins._near)
+        by_plain = constraints.displacement_rows(mesh.vertices, forces)
+        assert 0 < len(by_blocks[0]) < len(vertices)  # a real ball, not every vertex
+        assert mesh._blocks.answers["blocks"] >= 1  # the blocks answered, not the plain pass
+        np.testing.assert_array_equal(by_blocks[0], by_plain[0])
+        np.testing.assert_array_equal(by_blocks[1], by_plain[1])
