@@ -337,7 +337,6 @@ def _driver_calls() -> list[tuple[Any, tuple[Any, ...]]]:
          (f33, rows, True, 1.0, 1, True, field, f33, rows, blocks, blocks, rows, flags, 0, 0)),
         (_integrator._refine_pass, (f33, rows, True, field, 1.0, rows, f33, rows, flags, 0, 0)),
         (_integrator._write_back, (f33, rows, True, f33, 0, 0)),
-        (_expansion.near_segment_rows, (f33, f3, f3, 1.0, f33, f3, flags, 0, 0)),
         *_influence_compiled.compile_calls(),
     ]  # fmt: skip
 

@@ -39,6 +39,7 @@ from numba import njit, types
 from numba.np.numpy_support import carray
 from numpy.typing import NDArray
 
+from gogreen_core._influence_compiled import near_segment_rows
 from gogreen_core._parallel import run_ranges
 
 if TYPE_CHECKING:
@@ -292,39 +293,6 @@ def expand_blocks(
         for i in range(nb):
             for k in range(n_out):
                 out[start + i, k] = acc[k, i]
-
-
-@njit(cache=True, boundscheck=False, nogil=True, error_model="numpy", fastmath={"contract"})
-def near_segment_rows(
-    points: NDArray[np.float64],
-    start: NDArray[np.float64],
-    step: NDArray[np.float64],
-    radius: float,
-    mirrors: NDArray[np.float64],
-    origin: NDArray[np.float64],
-    out: NDArray[np.bool_],
-    first: int,
-    last: int,
-) -> None:
-    """out[n] for n in [first, last): some mirror image of points[n] is within ``radius`` of the
-    segment start → start + step. (The arithmetic of evaluation 1, contractions included, per
-    point: which vertices an event reaches must not change for old sessions. The loop over the
-    points is the inner one, so that it vectorizes.)"""
-    length2 = step[0] * step[0] + step[1] * step[1] + step[2] * step[2]
-    inv = 1.0 / length2 if length2 > 0.0 else 0.0
-    r2 = radius * radius
-    for mi in range(mirrors.shape[0]):
-        m0, m1, m2 = mirrors[mi, 0], mirrors[mi, 1], mirrors[mi, 2]
-        for n in range(first, last):
-            y0 = origin[0] + m0 * (points[n, 0] - origin[0]) - start[0]
-            y1 = origin[1] + m1 * (points[n, 1] - origin[1]) - start[1]
-            y2 = origin[2] + m2 * (points[n, 2] - origin[2]) - start[2]
-            t = min(max((y0 * step[0] + y1 * step[1] + y2 * step[2]) * inv, 0.0), 1.0)
-            d0 = y0 - t * step[0]
-            d1 = y1 - t * step[1]
-            d2 = y2 - t * step[2]
-            near = d0 * d0 + d1 * d1 + d2 * d2 < r2
-            out[n] = near if mi == 0 else (out[n] or near)
 
 
 def near_segment(

@@ -31,7 +31,7 @@ _JIT: NogilJitOptions = {"cache": True, "boundscheck": False, "error_model": "nu
 
 
 @njit(cache=True, boundscheck=False, nogil=True, error_model="numpy", fastmath={"contract"})
-def _near_rows(
+def near_segment_rows(
     points: NDArray[np.float64],
     start: NDArray[np.float64],
     step: NDArray[np.float64],
@@ -42,8 +42,12 @@ def _near_rows(
     first: int,
     last: int,
 ) -> None:
-    """``_expansion.near_segment_rows``, word for word: the per-point test of the rows of the
-    blocks a capsule meets (``tests/test_influence.py`` holds the two texts equal)."""
+    """out[n] for n in [first, last): some mirror image of points[n] is within ``radius`` of the
+    segment start → start + step. (The arithmetic of evaluation 1, contractions included, per
+    point: which vertices an event reaches must not change for old sessions. The loop over the
+    points is the inner one, so that it vectorizes.) The one per-point influence test: over
+    every row (``_expansion.near_segment``) and over the rows of the blocks a capsule meets
+    (``_test_blocks``), so both give the same rows bit for bit."""
     length2 = step[0] * step[0] + step[1] * step[1] + step[2] * step[2]
     inv = 1.0 / length2 if length2 > 0.0 else 0.0
     r2 = radius * radius
@@ -246,7 +250,7 @@ def _test_blocks(
             if (images[b] >> mi) & 1:
                 chosen[k] = mirrors[mi]
                 k += 1
-        _near_rows(points, start, step, radius, chosen[:k], origin, near, begin, end)
+        near_segment_rows(points, start, step, radius, chosen[:k], origin, near, begin, end)
         c = 0
         for i in range(begin, end):
             c += near[i]
@@ -287,6 +291,7 @@ def compile_calls() -> list[tuple[Any, tuple[Any, ...]]]:
     f3, f33, rows = np.zeros(3), np.zeros((1, 3)), np.zeros(1, dtype=np.int64)
     flags, small = np.zeros(1, dtype=np.bool_), np.zeros(1, dtype=np.uint8)
     return [
+        (near_segment_rows, (f33, f3, f3, 1.0, f33, f3, flags, 0, 0)),
         (_mark, (rows, 0, flags)),
         (_refit, (f33, rows, f33, f33, 0, 0)),
         (_classify, (np.zeros((0, 3)), np.zeros((0, 3)), 0, f3, f3, 1.0, f33, f3, small, small,

@@ -19,10 +19,9 @@ and are the plain pass's bit for bit:
   radius or step in play, a thousand times the rounding of the per-point test (at most about a
   hundred units in the last place of that largest value), so no vertex the test would keep is
   skipped and every vertex of a block taken whole passes it;
-* the per-point test is ``_expansion.near_segment_rows``'s own arithmetic
-  (``_influence_compiled._near_rows``, its twin compiled with the same options:
-  ``tests/test_influence.py`` holds their text and results equal) or, before the compiled code
-  is ready, ``_numpy_eval.near_segment`` itself;
+* the per-point test is the plain pass's own compiled function
+  (``_influence_compiled.near_segment_rows``, which ``_expansion.near_segment`` runs over every
+  row) or, before the compiled code is ready, ``_numpy_eval.near_segment`` itself;
 * inputs where that margin argument does not hold (a radius or coordinates near the float
   range's ends, a step whose squared length overflows or underflows, signs other than ±1, more
   than 8 images) and queries where most rows would need the test go to the plain pass, and so
@@ -45,8 +44,8 @@ from functools import partial
 import numpy as np
 from numpy.typing import NDArray
 
-from gogreen_core import _expansion, _numpy_eval
 from gogreen_core import _influence_numpy as numpy_twin
+from gogreen_core import _numpy_eval
 from gogreen_core._influence_compiled import (
     BLOCK,
     BLOCK_SHIFT,
@@ -56,6 +55,7 @@ from gogreen_core._influence_compiled import (
     _mark,
     _refit,
     _test_blocks,
+    near_segment_rows,
 )
 from gogreen_core._parallel import run_ranges
 
@@ -108,7 +108,7 @@ def plain_rows_near(
     False), then ``np.flatnonzero``."""
     out = np.empty(len(points), dtype=np.bool_)
     if compiled:
-        rows = _expansion.near_segment_rows
+        rows = near_segment_rows
         work = partial(rows, points, start, step, float(radius), mirrors, origin, out)
         run_ranges(work, len(points), 1 << 16)
     else:

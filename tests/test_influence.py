@@ -6,9 +6,6 @@ code. (The conftest also checks every ``rows_near`` answer of every test against
 
 from __future__ import annotations
 
-import ast
-import inspect
-import textwrap
 import threading
 
 import numpy as np
@@ -107,28 +104,6 @@ def classified(mesh, start, step, radius, signs, code):
         blocks._lo, blocks._hi, len(mesh.vertices), *query, status, images, hits
     )
     return status != _influence_compiled.OUT, status == _influence_compiled.INSIDE
-
-
-def _function(fn):
-    tree = ast.parse(textwrap.dedent(inspect.getsource(fn)))
-    node = tree.body[0]
-    assert isinstance(node, ast.FunctionDef)
-    return node
-
-
-def test_the_per_point_test_is_near_segment_rows_word_for_word():
-    twin, original = (
-        _function(_influence_compiled._near_rows),
-        _function(_expansion.near_segment_rows),
-    )
-
-    # the compile options, the arguments and every statement but the docstring
-    def dump(nodes):
-        return [ast.dump(node) for node in nodes]
-
-    assert dump(twin.decorator_list) == dump(original.decorator_list)
-    assert ast.dump(twin.args) == ast.dump(original.args)
-    assert dump(twin.body[1:]) == dump(original.body[1:])
 
 
 @pytest.mark.parametrize("code", CODES)
