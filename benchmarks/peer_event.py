@@ -202,14 +202,12 @@ def peer_event(vertices: np.ndarray, faces: np.ndarray, repeats: int) -> None:
         old_events.append(time.perf_counter() - start)
         old.end_stroke()
         old.undo()
-    # where the event's time goes: the influence ball, and one fixed RK4 step on its rows
-    balls, passes, passes_cpu = [], [], []
+    # where the event's time goes: one fixed RK4 step on the ball's rows (the influence ball
+    # itself: ``influence_ball`` below)
+    passes, passes_cpu = [], []
     signs, origin = mirror_signs(""), sculptor.origin
     load = np.linalg.solve(g0, delta)
     for _ in range(repeats):
-        start = time.perf_counter()
-        sculptor._mesh.rows_near(center, delta, cutoff[1], signs)  # the event's own test
-        balls.append(time.perf_counter() - start)
         start, start_cpu = time.perf_counter(), time.process_time()
         kernel._streamlines(
             vertices, center, load, center_step=delta, cutoff=cutoff, substeps=1, tolerance=None,
@@ -228,7 +226,6 @@ def peer_event(vertices: np.ndarray, faces: np.ndarray, repeats: int) -> None:
     print(f"  ratio event / peer (medians, CPU time):      {ratio_cpu:7.2f}x")
     # a vertex refined to n steps took 1 + 2 + ... + n = 2n - 1 RK4 steps of 4 evaluations
     print(f"  evaluations a vertex (4 per RK4 step):       {4 * (2 * steps - 1).mean():7.3f}")
-    print(f"  of which the influence ball (vertex blocks): {median_ms(balls)}")
     print(f"  one fixed RK4 step on the ball's rows:       {median_ms(passes)}")
     n_evaluations = 4 * len(rows)
     ns_event = 1e9 * statistics.median(passes_cpu) / n_evaluations

@@ -303,12 +303,13 @@ def near_segment(
     mirrors: NDArray[np.float64],  # (n_m, 3) ±1 signs
     origin: NDArray[np.float64],  # (3,)
     out: NDArray[np.bool_],  # (N,): some mirror image of the point is within radius of the segment
+    compiled: bool | None = None,  # the compiled pass or NumPy's; None: compiled once ready
 ) -> None:
     """Which points some mirror image of which lies within ``radius`` of the segment (the
     vertices a brush event can reach), on the thread pool; in NumPy until compiled."""
     from gogreen_core import _compiled, _numpy_eval
 
-    if not _compiled.drivers():
+    if not (_compiled.drivers() if compiled is None else compiled):
         _numpy_eval.near_segment(points, start, step, radius, mirrors, origin, out)
         return
     work = partial(near_segment_rows, points, start, step, float(radius), mirrors, origin, out)

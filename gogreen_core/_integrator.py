@@ -47,7 +47,7 @@ __all__ = ["ESTIMATE_SAFETY", "MAX_ADAPTIVE_STEPS", "stream"]
 #: code on this file alone, yet compiles ``_expansion``'s functions and constants into it: a
 #: change there must change this file, or a stale machine code (another BLOCK, another
 #: arithmetic) would be loaded.
-EXPANSION_SOURCE = "e17438b8a4437f61"
+EXPANSION_SOURCE = "922796348e46f377"
 
 #: Largest number of RK4 steps the adaptive streamlines give one vertex in one event.
 MAX_ADAPTIVE_STEPS = 256

@@ -44,8 +44,8 @@ from functools import partial
 import numpy as np
 from numpy.typing import NDArray
 
+from gogreen_core import _expansion
 from gogreen_core import _influence_numpy as numpy_twin
-from gogreen_core import _numpy_eval
 from gogreen_core._influence_compiled import (
     BLOCK,
     BLOCK_SHIFT,
@@ -55,7 +55,6 @@ from gogreen_core._influence_compiled import (
     _mark,
     _refit,
     _test_blocks,
-    near_segment_rows,
 )
 from gogreen_core._parallel import run_ranges
 
@@ -107,12 +106,7 @@ def plain_rows_near(
     them: ``_expansion.near_segment`` (compiled, or its NumPy twin when ``compiled`` is
     False), then ``np.flatnonzero``."""
     out = np.empty(len(points), dtype=np.bool_)
-    if compiled:
-        rows = near_segment_rows
-        work = partial(rows, points, start, step, float(radius), mirrors, origin, out)
-        run_ranges(work, len(points), 1 << 16)
-    else:
-        _numpy_eval.near_segment(points, start, step, radius, mirrors, origin, out)
+    _expansion.near_segment(points, start, step, radius, mirrors, origin, out, compiled)
     return np.flatnonzero(out)
 
 
