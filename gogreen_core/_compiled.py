@@ -85,18 +85,20 @@ _failed: dict[Unit, Exception] = {}
 _callbacks: list[tuple[tuple[Unit, ...], ReadyCallback]] = []
 _condition = threading.Condition()
 _worker: threading.Thread | None = None
-_marker: CFunc[Any] | None = None
+_markers: dict[bool, CFunc[Any]] = {}
 
 
-def generic_marker() -> CFunc[Any]:
-    """The C callback passed as ``angular`` with ``unrolled=False`` (never called): the
-    drivers then run the generic ``_expansion._angular``. Compiled with the drivers."""
-    global _marker
-    if _marker is None:
+def generic_marker(single: bool = False) -> CFunc[Any]:
+    """The C callback passed as ``angular`` (``single``: as ``angular32``, evaluation 3's
+    single precision kernel) with ``unrolled=False`` (never called): the drivers then run the
+    generic ``_expansion._angular``. Compiled with the drivers."""
+    marker = _markers.get(single)
+    if marker is None:
         from numba import cfunc
 
-        _marker = cfunc(_expansion.ANGULAR_SIGNATURE, cache=True)(_expansion.generic_marker)
-    return _marker
+        signature = _expansion.ANGULAR_SINGLE_SIGNATURE if single else _expansion.ANGULAR_SIGNATURE
+        marker = _markers[single] = cfunc(signature, cache=True)(_expansion.generic_marker)
+    return marker
 
 
 #: Tests and benchmarks only (:func:`forced`): None, or which code evaluates.
@@ -129,13 +131,14 @@ def _in_use(unit: Unit) -> bool:
     return False
 
 
-def angular(l_first: int, l_last: int) -> CFunc[Any] | None:
-    """The generated angular kernel if it is ready, else None (it is requested)."""
+def angular(l_first: int, l_last: int, single: bool = False) -> CFunc[Any] | None:
+    """The generated angular kernel (``single``: its single precision one) if it is ready,
+    else None (its unit is requested)."""
     if _forced == "generic":
         return None
     if _forced == "unrolled":
         prepare((l_first, l_last))
-    kernel = _unrolled._KERNELS.get((l_first, l_last))
+    kernel = _unrolled._KERNELS.get((l_first, l_last, single))
     if kernel is None:
         request((l_first, l_last))
     return kernel
@@ -317,7 +320,16 @@ def _load(unit: Unit) -> None:
     elif unit in _NAMED:
         _NAMED[unit]()
     else:
-        _unrolled.unrolled_angular(*unit)
+        for first, last, single in _angular_kernels(unit):
+            _unrolled.unrolled_angular(first, last, single)
+
+
+def _angular_kernels(unit: Unit) -> list[tuple[int, int, bool]]:
+    """(l_first, l_last, single) of the kernels of an angular unit: double precision, and
+    single where the parity has more than one degree (evaluation 3's degrees above the
+    lowest)."""
+    first, last = int(unit[0]), int(unit[1])
+    return [(first, last, single) for single in ((False, True) if last > first else (False,))]
 
 
 def _driver_calls() -> list[tuple[Any, tuple[Any, ...]]]:
@@ -329,7 +341,30 @@ def _driver_calls() -> list[tuple[Any, tuple[Any, ...]]]:
     tables = np.zeros((1, 2, _expansion.SEGMENT_DEGREE + 1))
     beta, blocks, flags = np.zeros((2, 2)), np.zeros(1), np.zeros(1, dtype=np.bool_)
     marker = generic_marker()
-    field = (f3, f3, 1.0, 1, 0, 0, base, f33, beta, tables, marker, False, 0.0, 0.0, f33, f3)
+    single = (f33.astype(np.float32), beta.astype(np.float32), np.zeros((2, 0, 3), np.float32))
+    field = (
+        f3,
+        f3,
+        1.0,
+        1,
+        0,
+        0,
+        base,
+        f33,
+        beta,
+        tables,
+        marker,
+        False,
+        0.0,
+        0.0,
+        f33,
+        f3,
+        False,
+        *single,
+        0.0,
+        generic_marker(single=True),
+        False,
+    )
     return [
         (_expansion.expand_blocks,
          (f33, f3, 1.0, 1, 0, 0, base, f33, beta, tables, marker, False, f33, 0, 0)),
@@ -359,7 +394,7 @@ def _cached(unit: Unit) -> bool:
         if unit in _NAMED:
             return _modules_cached(unit)
         if unit != DRIVERS:
-            return _unrolled.angular_cached(*unit)
+            return all(_unrolled.angular_cached(*kernel) for kernel in _angular_kernels(unit))
         from numba import typeof
 
         for dispatcher, args in _driver_calls():

@@ -1,14 +1,21 @@
 """The compiled code a :class:`~gogreen_core.kernel.GreenKernel` evaluates with.
 
-Two evaluations, each deterministic bit for bit:
+Three evaluations, each deterministic bit for bit:
 
-* **2** (current, :data:`EVALUATION`): ``_expansion`` and ``_integrator``, serial GIL-free
-  numba functions run on a thread pool, and the generated angular kernels of ``_unrolled``.
-  Until they are compiled (``_compiled``: in a child process, once per machine) the same
-  arithmetic runs in NumPy (``_numpy_eval``), with equal results bit for bit, so the first
-  evaluation on a new machine takes milliseconds, not the compiler's tens of seconds.
+* **3** (current, :data:`EVALUATION`): evaluation 2's, but for the streamlines (the brushes'
+  strokes) whose field sums the degrees above each parity's lowest in single precision
+  (``_integrator``: twice the arithmetic rate, ~1e-8 of the field off evaluation 2, 1e-4 below
+  the integrator's tolerance). G, ∇G and the loads' displacements stay evaluation 2's.
+* **2**: ``_expansion`` and ``_integrator`` in double precision, serial GIL-free numba
+  functions run on a thread pool, and the generated angular kernels of ``_unrolled``; session
+  files of version 3 replay with it.
 * **1**: the code that produced session files of versions 1 and 2 (``_legacy``), kept
   unchanged so that they replay bit for bit; compiled when first used.
+
+Until the compiled code of evaluations 2 and 3 is ready (``_compiled``: in a child process,
+once per machine) the same arithmetic runs in NumPy (``_numpy_eval``), with equal results bit
+for bit, so the first evaluation on a new machine takes milliseconds, not the compiler's tens
+of seconds.
 """
 
 from __future__ import annotations
@@ -24,9 +31,9 @@ from gogreen_core._parallel import run_ranges
 __all__ = ["EVALUATION", "EVALUATIONS", "Parity", "expand", "stream"]
 
 #: The evaluation new kernels use.
-EVALUATION = 2
-#: Evaluations a kernel can use (1: sessions recorded before session version 3).
-EVALUATIONS = (1, 2)
+EVALUATION = 3
+#: Evaluations a kernel can use (1: sessions recorded before session version 3; 2: version 3).
+EVALUATIONS = (1, 2, 3)
 #: Blocks per range handed to a thread by ``expand``.
 _MIN_BLOCKS = 32
 
@@ -45,6 +52,8 @@ class Parity:
         self.base = base  # (l_last+1,) int64, row of Y_l,-l
         self.scales = _unrolled.row_scales(l_first, l_last)
         self.beta = np.array(_unrolled.angular_constants(l_last)[0])  # writable: one type
+        #: evaluation 3's single precision recurrence constants
+        self.beta_single = self.beta.astype(np.float32)
 
     @property
     def power(self) -> int:
@@ -62,10 +71,32 @@ class Parity:
                 return kernel, True
         return _compiled.generic_marker(), False
 
+    def angular_single(self) -> tuple[object, bool]:
+        """``angular`` for evaluation 3's single precision degrees (those above l_first):
+        the generated ``angular_single`` kernel once compiled, else the generic ``_angular``."""
+        if self.l_first < self.l_last <= _unrolled.UNROLLED_L_MAX:
+            kernel = _compiled.angular(self.l_first, self.l_last, single=True)
+            if kernel is not None:
+                return kernel, True
+        return _compiled.generic_marker(single=True), False
+
     def request_angular(self, n_out: int) -> None:
         """Ask for the generated kernel ``angular`` would use (compiled with the drivers)."""
         if n_out == 3 and self.l_last <= _unrolled.UNROLLED_L_MAX:
             _compiled.request((self.l_first, self.l_last))
+
+    def single(self, coeffs: np.ndarray) -> tuple[np.ndarray, float]:
+        """Evaluation 3's single precision coefficients: (``folded(coeffs)`` divided by the
+        largest magnitude of its rows of degree above l_first, as float32 (n_terms, K); that
+        magnitude). All zeros and 0 when there is none; NaN rows (and the field) when it is
+        not finite, as the double precision ones would overflow."""
+        folded = self.folded(coeffs)
+        upper = np.abs(folded[2 * self.l_first + 1 :])
+        scale = float(upper.max(initial=0.0))
+        if scale == 0.0:
+            return np.zeros(folded.shape, dtype=np.float32), 0.0
+        with np.errstate(invalid="ignore"):
+            return np.ascontiguousarray(folded / scale, dtype=np.float32), scale
 
     def legacy_angular(self, n_out: int) -> tuple[object, bool]:
         """``angular`` of evaluation 1: its generated kernel whenever there is one."""
@@ -125,6 +156,7 @@ def stream(
     evaluation: int,
     parity: Parity,
     tables: np.ndarray,
+    single_tables: np.ndarray,
     eps: float,
     recurrence: tuple[np.ndarray, np.ndarray, np.ndarray],
     coeffs: np.ndarray,
@@ -144,7 +176,8 @@ def stream(
     steps: np.ndarray,
 ) -> int:
     """The streamlines of the load ``coeffs`` (n_terms, 3); see ``_integrator.stream`` for the
-    arguments and the status returned."""
+    arguments and the status returned. ``single_tables``: evaluation 3's tables of the degrees
+    above the parity's lowest (``RadialProfile.single_table``)."""
     inner, outer = cutoff
     if evaluation == 1:
         from gogreen_core._legacy.stream import stream as legacy_stream
@@ -159,11 +192,20 @@ def stream(
     compiled = _compiled.drivers()
     if not compiled:
         parity.request_angular(3)
+    single = evaluation >= 3
+    if single:
+        coeffs32, cscale = parity.single(coeffs)
+        tables, tables32 = tables[:1], single_tables
+    else:
+        coeffs32, cscale = np.zeros((1, 3), dtype=np.float32), 0.0
+        tables32 = np.zeros((1, 0, 3), dtype=np.float32)
     field = (
         center, center_step, float(eps), parity.power, parity.l_first, parity.l_last,
         parity.base, parity.folded(coeffs), parity.beta, tables,
         *(parity.angular(3) if compiled else (None, False)), float(inner),
         1.0 / width if outer > 0.0 and width > 0.0 else 0.0, mirrors, origin,
+        single, coeffs32, parity.beta_single, tables32, cscale,
+        *(parity.angular_single() if compiled else (None, False)),
     )  # fmt: skip
     run = _integrator.stream if compiled else _numpy_eval.stream
     return run(points, rows, indexed, in_place, limit, field, substeps, tolerance, out, steps)

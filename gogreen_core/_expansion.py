@@ -52,7 +52,7 @@ if TYPE_CHECKING:
 os.environ.setdefault("OMP_WAIT_POLICY", "passive")
 
 #: Points per block (scratch rows of BLOCK doubles stay in the L1 cache).
-BLOCK = 128
+BLOCK = 256
 #: Polynomial degree of the radial table segments that ``_radial`` evaluates (radial.py's).
 SEGMENT_DEGREE = 5
 
@@ -65,20 +65,30 @@ _JIT: NogilJitOptions = {"cache": True, "boundscheck": False, "error_model": "nu
 #: are compiled (and cached on disk) once, whatever the degree.
 _F8P = types.CPointer(types.float64)
 ANGULAR_SIGNATURE = types.void(types.int64, _F8P, _F8P, _F8P, _F8P)
+#: The same for the single precision kernels of evaluation 3's streamlines (float32 rows).
+_F4P = types.CPointer(types.float32)
+ANGULAR_SINGLE_SIGNATURE = types.void(types.int64, _F4P, _F4P, _F4P, _F4P)
 
 
 def generic_marker(  # pragma: no cover - never called
     nb: int, geo: Any, rad: Any, coeffs: Any, acc: Any
 ) -> None:
     """Made a C callback by ``_compiled.generic_marker`` (when the drivers compile, not at
-    import) and passed as ``angular`` with ``unrolled=False``: the drivers then run
-    ``_angular``."""
+    import; one of each signature) and passed as ``angular`` with ``unrolled=False``: the
+    drivers then run ``_angular``."""
     carray(acc, (3, BLOCK))[0, 0] = np.nan
 
 
 # Exact power-of-two scales for norms of offsets whose squares overflow (see ``_geometry``).
 _TINY = 2.0**-600
 _HUGE = 2.0**600
+
+
+#: The cutoff weight is exactly 0 from u = (d - inner) / (outer - inner) ≥ CUTOFF_END on (where
+#: the smoothstep is below 1e-26, and rounding would leave ~1e-16): a vertex whose every stage
+#: lies there does not move at all, so whether the influence test (``near_segment``) counts a
+#: vertex at rounding distance from the ball's surface in or out changes no result.
+CUTOFF_END = 1.0 - 2.0**-30
 
 
 @njit(**_JIT)

@@ -6,6 +6,14 @@ u is the expansion of ``_expansion`` with the load contracted into its coefficie
 the C² smooth cutoff (1 up to ``cutoff_inner``, a quintic smoothstep down to 0 over
 1 / inv_width), M the mirror reflections about ``origin`` (row 0 is the brush itself).
 
+Two arithmetics of u, chosen by the field's ``single`` flag (see ``_evaluation``):
+
+* evaluation 2 (``single`` false): u as ``_expansion`` evaluates it, in double precision;
+* evaluation 3 (``single``): ``_single_field``'s, the parity's lowest degree in double
+  precision and the degrees above it in single precision: the higher degrees' arithmetic twice
+  as fast, off evaluation 2 by ~1e-8 of the field, and the grabbed point at the brush centre
+  still follows the cursor to rounding.
+
 :func:`stream` runs the passes below over blocks of points on the thread pool (``_parallel``):
 
 * fixed steps (``tolerance <= 0``): ``substeps`` classical RK4 steps for every point;
@@ -31,23 +39,27 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numba import njit
 
-from gogreen_core._expansion import _JIT, BLOCK, _angular, _geometry, _radial
+from gogreen_core._expansion import _JIT, BLOCK, CUTOFF_END, _angular, _geometry, _radial
 from gogreen_core._parallel import run_ranges
+from gogreen_core._single_field import _single_velocity
 
 if TYPE_CHECKING:
     #: The velocity field's tuple (see below), the scratch rows of ``_scratch``.
     Field = tuple[Any, ...]
-    Scratch = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+    Scratch = tuple[
+        np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+        np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+    ]  # fmt: skip
     Rows = tuple[np.ndarray, np.ndarray, np.ndarray]
 
-__all__ = ["ESTIMATE_SAFETY", "MAX_ADAPTIVE_STEPS", "stream"]
+__all__ = ["CUTOFF_END", "ESTIMATE_SAFETY", "MAX_ADAPTIVE_STEPS", "stream"]
 
-#: SHA-256 (first 16 hex digits) of ``_expansion.py``, written by ``scripts/make_kernels.py``
-#: (checked by ``tests/test_unrolled.py``). numba keys the disk cache of this module's compiled
-#: code on this file alone, yet compiles ``_expansion``'s functions and constants into it: a
-#: change there must change this file, or a stale machine code (another BLOCK, another
-#: arithmetic) would be loaded.
-EXPANSION_SOURCE = "922796348e46f377"
+#: SHA-256 (first 16 hex digits) of ``_expansion.py`` and ``_single_field.py``, written by
+#: ``scripts/make_kernels.py`` (checked by ``tests/test_unrolled.py``). numba keys the disk cache
+#: of this module's compiled code on this file alone, yet compiles their functions and constants
+#: into it: a change there must change this file, or a stale machine code (another BLOCK,
+#: another arithmetic) would be loaded.
+COMPILED_SOURCES = "172a2073fdb8e66b"
 
 #: Largest number of RK4 steps the adaptive streamlines give one vertex in one event.
 MAX_ADAPTIVE_STEPS = 256
@@ -59,27 +71,28 @@ MAX_ADAPTIVE_STEPS = 256
 ESTIMATE_SAFETY = 0.25
 #: Blocks per range handed to a thread (each a fraction of a millisecond of work).
 _MIN_BLOCKS = 8
-#: The cutoff weight is exactly 0 from u = (d - inner) / (outer - inner) ≥ CUTOFF_END on (where
-#: the smoothstep is below 1e-26, and rounding would leave ~1e-16): a vertex whose every stage
-#: lies there does not move at all, so whether the influence test (``near_segment``) counts a
-#: vertex at rounding distance from the ball's surface in or out changes no result.
-CUTOFF_END = 1.0 - 2.0**-30
 
 # The velocity field travels as one tuple through the functions below:
 # (center0, center_step, eps, power, l_first, l_last, base, coeffs, beta, tables, angular,
-#  unrolled, cutoff_inner, inv_width, mirrors, origin); see ``stream``.
+#  unrolled, cutoff_inner, inv_width, mirrors, origin, single, coeffs32, beta32, tables32,
+#  cscale, angular32, unrolled32); see ``stream`` and ``_evaluation.stream``.
 
 
 @njit(**_JIT)
-def _scratch(n_deg: int) -> tuple[Scratch, Rows]:
+def _scratch(n_deg: int, n_single: int) -> tuple[Scratch, Rows]:
     """Scratch rows of ``_velocity`` (geometry, segments, radial terms, angular work, the
-    angular sum) and of ``_rk4`` (position, stage position, velocity)."""
+    angular sum, and their float32 twins for the single precision degrees) and of ``_rk4``
+    (position, stage position, velocity)."""
     scratch = (
         np.empty((8, BLOCK)),
         np.empty(BLOCK, dtype=np.int64),
         np.empty((n_deg, BLOCK)),
         np.empty((10, BLOCK)),
         np.empty((3, BLOCK)),
+        np.empty((8, BLOCK), dtype=np.float32),
+        np.empty((max(n_single, 1), BLOCK), dtype=np.float32),
+        np.empty((10, BLOCK), dtype=np.float32),
+        np.empty((3, BLOCK), dtype=np.float32),
     )
     rows = (np.empty((3, BLOCK)), np.empty((3, BLOCK)), np.empty((3, BLOCK)))
     return scratch, rows
@@ -91,8 +104,11 @@ def _velocity(
 ) -> None:
     """vel[:, :nb] = v(pos[:, :nb], t) (rows x, y, z)."""
     (center0, center_step, eps, power, l_first, l_last, base, coeffs, beta, tables, angular,
-     unrolled, cutoff_inner, inv_width, mirrors, origin) = field  # fmt: skip
-    geo, seg, rad, work, total = scratch
+     unrolled, cutoff_inner, inv_width, mirrors, origin, single) = field[:17]  # fmt: skip
+    if single:
+        _single_velocity(pos, nb, t, field, scratch, vel)
+        return
+    geo, seg, rad, work, total = scratch[:5]
     weight = geo[7]
     for mi in range(mirrors.shape[0]):
         for k in range(3):
@@ -222,7 +238,7 @@ def _first_pass(
     """The first pass of ``stream`` over blocks [first_block, last_block)."""
     n_points = indices.shape[0] if indexed else points.shape[0]
     n_rows = points.shape[0]
-    scratch, rows = _scratch(field[9].shape[0])
+    scratch, rows = _scratch(field[9].shape[0], field[19].shape[1])
     start_rows = np.empty((3, BLOCK))
     end_rows = np.empty((3, BLOCK))
     mid_rows = np.empty((6, BLOCK))
@@ -278,7 +294,7 @@ def _refine_pass(
     """The points ``refine`` (indices into ``out``), packed BLOCK at a time, again with 2, 4, …
     RK4 steps until Richardson's estimate is under ``bound`` (blocks [first, last) of them)."""
     n_refine = refine.shape[0]
-    scratch, rows = _scratch(field[9].shape[0])
+    scratch, rows = _scratch(field[9].shape[0], field[19].shape[1])
     start_rows = np.empty((3, BLOCK))
     end_rows = np.empty((3, BLOCK))
     previous = np.empty((3, BLOCK))

@@ -30,7 +30,8 @@ CHUNK = 4096
 
 
 def _geometry(offsets: np.ndarray, eps: float, power: int, n_seg: int) -> tuple[Any, ...]:
-    """``_expansion._geometry`` for offsets (3, n): (x̂, ŷ, ẑ, r, loc, seg, scale0, scale1)."""
+    """``_expansion._geometry`` for offsets (3, n): (x̂, ŷ, ẑ, r, loc, seg, scale0, scale1) and
+    evaluation 3's table variable σ = loc + 1 ∈ [0, 2] (as computed, not from loc)."""
     x, y, z = offsets
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         r2 = x * x + y * y + z * z
@@ -45,21 +46,23 @@ def _geometry(offsets: np.ndarray, eps: float, power: int, n_seg: int) -> tuple[
     u = np.minimum(r * inv_re, 1.0) * n_seg
     fj = np.minimum(np.floor(u), n_seg - 1.0)
     scale = inv_re if power == 1 else inv_re * inv_re
+    sigma = 2.0 * (u - fj)
     return (
         x * inv,
         y * inv,
         z * inv,
         r,
-        2.0 * (u - fj) - 1.0,
+        sigma - 1.0,
         fj.astype(np.int64),
         scale,
         np.where(positive, scale, 0.0),
+        sigma,
     )
 
 
 def _radial(tables: np.ndarray, l_first: int, geometry: tuple[Any, ...]) -> list[np.ndarray]:
     """``_expansion._radial``: the radial term of each degree of the parity (n,)."""
-    loc, seg, scale0, scale1 = geometry[4:]
+    loc, seg, scale0, scale1 = geometry[4:8]
     s2 = loc * loc
     rows = []
     for d in range(tables.shape[0]):
@@ -143,10 +146,32 @@ def expand(
     return out
 
 
+def _single_field(field: tuple[Any, ...], geometry: tuple[Any, ...]) -> np.ndarray:
+    """``_integrator._single_velocity``'s field before the weight (K, n): the parity's lowest
+    degree in float64 plus the degrees above it in float32."""
+    l_first, l_last, base, coeffs = field[4:8]
+    coeffs32, beta32, tables32, cscale = field[17:21]
+    x, y, z = geometry[:3]
+    t = _radial(field[9], l_first, geometry)[0]
+    c0, c1, c2 = (coeffs[j][:, None] for j in ((0, 1, 2) if l_first else (0, 0, 0)))
+    low = t * c0 if l_first == 0 else ((t * z) * c1 + x * (t * c2)) + y * (t * c0)
+    if l_last > l_first:
+        single = tuple(v.astype(np.float32) for v in geometry[:3])
+        loc, seg = geometry[8].astype(np.float32), geometry[5]
+        rad = []
+        for d in range(tables32.shape[1]):
+            c = tables32[seg, d]  # (n, 3): each point's segment
+            rad.append(c[:, 0] + (c[:, 1] + c[:, 2] * loc) * loc)
+        total = _angular(l_first + 2, l_last, base, coeffs32, beta32, single, rad)
+    else:
+        total = np.zeros((3, len(x)), dtype=np.float32)
+    return cast(np.ndarray, low + (geometry[7] * cscale) * total)
+
+
 def _velocity(pos: np.ndarray, t: float, field: tuple[Any, ...]) -> np.ndarray:
     """``_integrator._velocity`` at positions (3, n) → (3, n)."""
     (center0, center_step, eps, power, l_first, l_last, base, coeffs, beta, tables, _, _,
-     cutoff_inner, inv_width, mirrors, origin) = field  # fmt: skip
+     cutoff_inner, inv_width, mirrors, origin, single) = field[:17]  # fmt: skip
     vel: Any = None
     for mi in range(mirrors.shape[0]):
         offsets = np.empty_like(pos)
@@ -158,9 +183,12 @@ def _velocity(pos: np.ndarray, t: float, field: tuple[Any, ...]) -> np.ndarray:
         u = np.minimum(np.maximum((geometry[3] - cutoff_inner) * inv_width, 0.0), 1.0)
         reached = u < CUTOFF_END
         weight = np.where(reached, 1.0 - u * u * u * (10.0 + u * (6.0 * u - 15.0)), 0.0)
-        total = _angular(
-            l_first, l_last, base, coeffs, beta, geometry, _radial(tables, l_first, geometry)
-        )
+        if single:  # evaluation 3: the lowest degree in float64, the others in float32
+            total = _single_field(field, geometry)
+        else:
+            total = _angular(
+                l_first, l_last, base, coeffs, beta, geometry, _radial(tables, l_first, geometry)
+            )
         nonzero = weight != 0.0
         if mi == 0:
             vel = np.where(nonzero, weight * total, 0.0)

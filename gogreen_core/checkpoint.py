@@ -32,6 +32,8 @@ from typing import Any, BinaryIO, cast
 
 import numpy as np
 
+from gogreen_core._evaluation import EVALUATION as CURRENT_EVALUATION
+from gogreen_core._evaluation import EVALUATIONS
 from gogreen_core.engine_settings import EngineSettings
 from gogreen_core.mesh_io.atomic import atomic_write
 
@@ -62,6 +64,8 @@ class SculptState:
     mask : (N,) float64 or None (nothing masked)
     faces : (M, 3) int64 or None (the faces of the journal's start); uv : (T, 2) and
         uv_faces : (M, 3) with them, or None.
+    evaluation : the kernels' evaluation (``GreenKernel``'s) its operations compute with; a
+        header without one was written when evaluation 2 was the current one.
     """
 
     vertices: np.ndarray
@@ -73,6 +77,7 @@ class SculptState:
     faces: np.ndarray | None = None
     uv: np.ndarray | None = None
     uv_faces: np.ndarray | None = None
+    evaluation: int = CURRENT_EVALUATION
 
     def arrays(self) -> list[np.ndarray]:
         """The arrays a checkpoint file stores, in order (contiguous float64)."""
@@ -91,6 +96,7 @@ class SculptState:
             "mask": self.mask is not None,
             "faces": None if self.faces is None else len(self.faces),
             "uv": None if self.uv is None else len(self.uv),
+            "evaluation": self.evaluation,
         }
 
     @classmethod
@@ -113,7 +119,10 @@ class SculptState:
             faces = next(rest).astype(np.int64)
             if header.get("uv") is not None:
                 uv, uv_faces = next(rest), next(rest).astype(np.int64)
-        return cls(arrays[0], settings, pins, size, origin, mask, faces, uv, uv_faces)
+        evaluation = header.get("evaluation", 2)
+        if evaluation not in EVALUATIONS or isinstance(evaluation, bool):
+            raise ValueError(f"evaluation malformed ({evaluation!r})")
+        return cls(arrays[0], settings, pins, size, origin, mask, faces, uv, uv_faces, evaluation)
 
 
 def _shapes(header: dict[str, Any]) -> list[tuple[int, ...]]:

@@ -10,6 +10,7 @@ its :meth:`~gogreen_core.radial.RadialProfile.table_key`.
 from __future__ import annotations
 
 import threading
+from collections.abc import Callable, Iterable
 from functools import lru_cache
 from typing import TYPE_CHECKING, Any, cast
 
@@ -18,7 +19,17 @@ import numpy as np
 if TYPE_CHECKING:
     from gogreen_core.radial import RadialProfile
 
-__all__ = ["DECAY", "TABLE_DEGREE", "TABLE_SEGMENTS", "cached_table", "radial_table"]
+__all__ = [
+    "DECAY",
+    "SINGLE_DEGREE",
+    "TABLE_DEGREE",
+    "TABLE_SEGMENTS",
+    "cached_single_table",
+    "cached_table",
+    "radial_table",
+    "single_table",
+    "single_tables",
+]
 
 # Power p of the far-field decay r^-p of each kind; tables store F·(1+ρ)^p.
 DECAY = {"R": 1, "dR": 2}
@@ -26,13 +37,16 @@ DECAY = {"R": 1, "dR": 2}
 #: Piecewise polynomial tables: segments uniform in t = ρ/(1+ρ), polynomial degree per segment.
 TABLE_SEGMENTS = 384
 TABLE_DEGREE = 5
+#: Polynomial degree of the single precision tables (:func:`single_table`), on the same segments.
+SINGLE_DEGREE = 2
 
 
-@lru_cache(maxsize=1)
-def _chebyshev_to_monomial() -> tuple[np.ndarray, np.ndarray]:
+@lru_cache(maxsize=2)
+def _chebyshev_to_monomial(degree: int = TABLE_DEGREE) -> tuple[np.ndarray, np.ndarray]:
     """Chebyshev nodes s_k on [-1, 1] and the matrix taking values there to monomial
-    coefficients of the interpolating polynomial (via Chebyshev coefficients, well conditioned)."""
-    n = TABLE_DEGREE + 1
+    coefficients of the interpolating polynomial of ``degree`` (via Chebyshev coefficients,
+    well conditioned)."""
+    n = degree + 1
     k = np.arange(n)
     nodes = np.cos((2 * k + 1) * np.pi / (2 * n))
     # values -> Chebyshev coefficients (discrete orthogonality at Chebyshev-Gauss nodes)
@@ -64,6 +78,31 @@ def radial_table(profile: RadialProfile, kind: str, l: int) -> np.ndarray:
     return cast(np.ndarray, values @ to_mono.T)
 
 
+def single_table(table: np.ndarray) -> np.ndarray:
+    """The single precision table of evaluation 3's streamlines from a :func:`radial_table`
+    (S, TABLE_DEGREE + 1) of a degree l ≥ 1: on each segment the polynomial of degree
+    :data:`SINGLE_DEGREE` in σ = s + 1 ∈ [0, 2] interpolating it at Chebyshev nodes,
+    c₀ + (c₁ + c₂ σ) σ, as float32 (S, 3). On the first segment it interpolates at σ = 0 the
+    exact R_l(0) = ℛ_l(0) = 0 instead of the node nearest it: c₀ = 0, so a point at rounding
+    distance from the brush centre gets no spurious higher degree (the grabbed point follows
+    the cursor).
+
+    Off the double precision table by ~1e-8 of its largest value (1e-7 at degree 13), below
+    the single precision rounding of the terms it serves: the degrees above a parity's lowest,
+    which evaluation 3 sums in float32.
+    """
+    nodes, _ = _chebyshev_to_monomial(SINGLE_DEGREE)
+    values = table @ (nodes[:, None] ** np.arange(table.shape[1])).T  # each segment at the nodes
+    sigma = nodes + 1.0
+    coeffs = np.linalg.solve(np.vander(sigma, increasing=True), values.T).T
+    low = int(np.argmin(sigma))  # the node nearest σ = 0 moves there
+    first, first_values = sigma.copy(), values[0].copy()
+    first[low] = first_values[low] = 0.0
+    coeffs[0] = np.linalg.solve(np.vander(first, increasing=True), first_values)
+    coeffs[0, 0] = 0.0  # exactly
+    return np.ascontiguousarray(coeffs, dtype=np.float32)
+
+
 _TABLE_CACHE: dict[tuple[Any, ...], np.ndarray] = {}
 _TABLE_CACHE_LIMIT = 1024
 #: Kernels are built on the app's background thread too: evicting (iterating the dict) while
@@ -72,10 +111,33 @@ _TABLE_CACHE_LOCK = threading.Lock()
 
 
 def cached_table(key: tuple[Any, ...], kind: str, l: int, profile: RadialProfile) -> np.ndarray:
-    full_key = (key, kind, l)
+    """:func:`radial_table` of ``profile`` (whose table key is ``key``), cached (read-only)."""
+    return _cached((key, kind, l), lambda: radial_table(profile, kind, l))
+
+
+def cached_single_table(
+    key: tuple[Any, ...], kind: str, l: int, profile: RadialProfile
+) -> np.ndarray:
+    """:func:`single_table` of :func:`cached_table`, cached (read-only)."""
+    return _cached(
+        (key, kind, l, "single"), lambda: single_table(cached_table(key, kind, l, profile))
+    )
+
+
+def single_tables(profile: RadialProfile, kind: str, degrees: Iterable[int]) -> np.ndarray:
+    """Evaluation 3's tables of ``profile`` for ``degrees``, segment by segment: (S, n_degrees,
+    SINGLE_DEGREE + 1) float32 (:func:`single_table`, cached)."""
+    key = profile.table_key()
+    tables = [cached_single_table(key, kind, int(l), profile) for l in degrees]
+    if not tables:
+        return np.zeros((TABLE_SEGMENTS, 0, SINGLE_DEGREE + 1), dtype=np.float32)
+    return np.stack(tables, axis=1)
+
+
+def _cached(full_key: tuple[Any, ...], make: Callable[[], np.ndarray]) -> np.ndarray:
     table = _TABLE_CACHE.get(full_key)
     if table is None:
-        table = radial_table(profile, kind, l)
+        table = make()
         table.setflags(write=False)
         with _TABLE_CACHE_LOCK:
             if len(_TABLE_CACHE) >= _TABLE_CACHE_LIMIT:

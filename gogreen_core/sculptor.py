@@ -56,13 +56,14 @@ from gogreen_core.radial import GaussianRadial, RadialProfile
 from gogreen_core.session import (
     RENAMED_BEFORE_3,
     SESSION_FORMAT,
-    SESSION_VERSION,
+    VERSION_EVALUATIONS,
     LogListener,
     Session,
     SessionLog,
     mesh_fingerprint,
     parse_session,
     replay,
+    version_of,
 )
 from gogreen_core.stroke import StrokeDriver
 from gogreen_core.subdivision import PreparedSubdivision, prepare_subdivision
@@ -322,11 +323,10 @@ class Sculptor:
         return self._strokes.reach(self._kernels, brush)
 
     def begin_stroke(self, brush: Brush) -> None:
-        """Start a stroke with ``brush``; events follow, then :meth:`end_stroke`. In a sculptor
-        replaying a session before version 3 (which records version 2 again) a brush's name
-        means what it meant then (``wrinkle`` is ``wrinkle_legacy``)."""
+        """Start a stroke with ``brush``; events follow, then :meth:`end_stroke`. Replaying a
+        session before version 3, a brush's name means what it did then (``wrinkle_legacy``)."""
         self._strokes.refuse("begin a stroke")
-        if self._kernels.evaluation != EVALUATION and brush.kind in RENAMED_BEFORE_3:
+        if self._kernels.evaluation == 1 and brush.kind in RENAMED_BEFORE_3:
             brush = dataclasses.replace(brush, kind=RENAMED_BEFORE_3[brush.kind])
         self._strokes.begin(brush)
 
@@ -501,11 +501,7 @@ class Sculptor:
         """The session so far as a JSON-ready dict (see README, "Session files")."""
         return {
             "format": SESSION_FORMAT,
-            "version": (
-                1
-                if not self._settings_undoable
-                else (SESSION_VERSION if self._kernels.evaluation == EVALUATION else 2)
-            ),
+            "version": version_of(self._kernels.evaluation, self._settings_undoable),
             "mesh": {  # the mesh it started from (a subdivision changes the sculptor's)
                 "vertices": self._loaded[0],
                 "faces": self._loaded[1],
@@ -535,8 +531,9 @@ class Sculptor:
             )
         sculptor = cls(vertices, faces, uv=uv, uv_faces=uv_faces, settings=parsed.settings)
         sculptor._settings_undoable = parsed.version >= 2
-        if parsed.version < 3:  # recorded with the kernels' evaluation 1: replayed with it
-            sculptor._kernels = KernelCache(parsed.settings, evaluation=1)
+        evaluation = VERSION_EVALUATIONS[parsed.version]
+        if evaluation != EVALUATION:  # replayed with the arithmetic it was recorded with
+            sculptor._kernels = KernelCache(parsed.settings, evaluation=evaluation)
         return sculptor
 
     def replay(
@@ -554,10 +551,10 @@ class Sculptor:
 # -- crash recovery ----------------------------------------------------------------------------
 def capture_state(sculptor: Sculptor, faces: np.ndarray | None = None) -> SculptState:
     """A copy of what ``sculptor``'s next operations compute from (a checkpoint of the recovery
-    journal): vertices, settings, the pins' solver state, the mask (None when nothing is
-    masked), model size and mirror origin; its faces and UVs unless they are the array
-    ``faces`` (the journal's start's: a checkpoint then needs not hold them). The engine never
-    edits a face array in place (a subdivision makes new ones), so they are held, not copied."""
+    journal): vertices, settings, pins' solver state, mask (None when nothing is masked), model
+    size, mirror origin, kernels' evaluation; its faces and UVs unless they are the array
+    ``faces`` (the journal's start's: a checkpoint needs not hold them then). The engine never
+    edits a face array in place (a subdivision makes new ones): they are held, not copied."""
     pins = sculptor._pins.constraints
     mesh = sculptor._mesh
     topology = mesh.faces is not faces
@@ -571,6 +568,7 @@ def capture_state(sculptor: Sculptor, faces: np.ndarray | None = None) -> Sculpt
         mesh.faces if topology else None,
         mesh.uv if topology else None,
         mesh.uv_faces if topology else None,
+        sculptor._kernels.evaluation,
     )
 
 
@@ -590,6 +588,8 @@ def restore_state(
     sculptor = Sculptor(
         state.vertices, faces, uv=uv, uv_faces=uv_faces, settings=state.settings, **options
     )
+    if state.evaluation != EVALUATION:  # a replayed old session's arithmetic goes on
+        sculptor._kernels = KernelCache(state.settings, evaluation=state.evaluation)
     if state.mask is not None:
         sculptor._mesh.set_mask_rows(MaskRows(np.arange(len(state.mask)), state.mask))
     sculptor.model_size = sculptor._mesh.model_size = float(state.model_size)

@@ -1,17 +1,18 @@
 """Session files: the log of a sculptor's operations, their schema, and replay.
 
-A session (README, "Session files") is ``{"format": "gogreen-session", "version": 3, "mesh":
+A session (README, "Session files") is ``{"format": "gogreen-session", "version": 4, "mesh":
 {vertices, faces, sha256}, "settings": {...}, "operations": [...]}``. :func:`parse_session`
 checks all of it before anything is applied (every field's type and range; errors name the field,
 e.g. ``operations[3].events[0].delta``), :func:`load_session` reads a file, and :func:`replay`
 (:meth:`Sculptor.replay`) applies the typed operations through the sculptor's public methods,
 which record them again in its own log, so replaying a session records the same session.
 
-Older files still replay as recorded, bit for bit: in version 1 files (written before settings
-changes were undo steps) material, falloff and constraint-radius changes are not undo steps;
-version 1 and 2 files replay with the kernels' evaluation 1, the arithmetic they were recorded
-with, their ``wrinkle`` brush is the one of that time (``wrinkle_legacy`` now; its weights are
-the settings' ``degree_weights``) and a stroke that gives no influence had 4 ε.
+Older files still replay as recorded, bit for bit: every version replays with the kernels'
+evaluation it was recorded with (:data:`VERSION_EVALUATIONS`: 3 for version 4, 2 for version 3,
+1 before); in version 1 files (written before settings changes were undo steps) material,
+falloff and constraint-radius changes are not undo steps; in version 1 and 2 files the
+``wrinkle`` brush is the one of that time (``wrinkle_legacy`` now; its weights are the
+settings' ``degree_weights``) and a stroke that gives no influence had 4 ε.
 """
 
 from __future__ import annotations
@@ -62,27 +63,39 @@ __all__ = [
     "RENAMED_BEFORE_3",
     "SESSION_FORMAT",
     "SESSION_VERSION",
+    "VERSION_EVALUATIONS",
     "Session",
     "SessionLog",
     "load_session",
     "mesh_fingerprint",
     "parse_session",
     "replay",
+    "version_of",
 ]
 
 SESSION_FORMAT = "gogreen-session"
-#: 3: computed with the kernels' evaluation 2 (``GreenKernel(evaluation=2)``); ``wrinkle`` is
-#: the folding wrinkle brush, brushes have their own degree weights (``brush_weights``) and an
-#: automatic influence; 2: settings changes are undo steps (``continued`` joins one to the
-#: previous), evaluation 1; 1: they were not. Sessions of versions 1 and 2 replay with
-#: evaluation 1, bit for bit.
-SESSION_VERSION = 3
+#: 4: computed with the kernels' evaluation 3 (``GreenKernel(evaluation=3)``: the strokes'
+#: fields partly in single precision); 3: evaluation 2, ``wrinkle`` is the folding wrinkle brush,
+#: brushes have their own degree weights (``brush_weights``) and an automatic influence;
+#: 2: settings changes are undo steps (``continued`` joins one to the previous), evaluation 1;
+#: 1: they were not. Every version replays with its evaluation, bit for bit.
+SESSION_VERSION = 4
+#: The kernels' evaluation the sessions of each version were recorded, and replay, with.
+VERSION_EVALUATIONS = {1: 1, 2: 1, 3: 2, 4: 3}
 #: The brush influence (in ε) of a session before version 3 that does not give one.
 OLD_DEFAULT_INFLUENCE = 4.0
 #: The brush kinds a session before version 3 names differently: what they are now.
 RENAMED_BEFORE_3 = {"wrinkle": "wrinkle_legacy"}
 #: Most operations one session file may hold.
 MAX_OPERATIONS = 10_000_000
+
+
+def version_of(evaluation: int, settings_undoable: bool = True) -> int:
+    """The session version that records what a sculptor with the kernels' ``evaluation`` does
+    (1 where settings changes are no undo steps, as in the version-1 file it replays)."""
+    if not settings_undoable:
+        return 1
+    return max(v for v, e in VERSION_EVALUATIONS.items() if e == evaluation)
 
 
 def mesh_fingerprint(vertices: np.ndarray) -> str:

@@ -1,7 +1,7 @@
 """Write the generated angular kernels: gogreen_core/_angular/ (the current evaluation) and
-gogreen_core/_legacy/angular/ (evaluation 1, frozen), and the stamp of _expansion.py in
-_integrator.py. Run after changing the generator in gogreen_core/_unrolled.py or anything in
-_expansion.py; the files are committed and shipped.
+gogreen_core/_legacy/angular/ (evaluation 1, frozen), and the stamp of _expansion.py and
+_single_field.py in _integrator.py. Run after changing the generator in
+gogreen_core/_unrolled.py or anything in those two files; the files are committed and shipped.
 
     python scripts/make_kernels.py
 
@@ -35,21 +35,28 @@ TARGETS = (
 )
 
 
-def expansion_stamp() -> str:
-    """The first 16 hex digits of the SHA-256 of gogreen_core/_expansion.py."""
-    return hashlib.sha256((PACKAGE / "_expansion.py").read_bytes()).hexdigest()[:16]
+#: The modules whose compiled functions ``_integrator``'s machine code holds (see there).
+COMPILED_SOURCES = ("_expansion.py", "_single_field.py")
+
+
+def sources_stamp() -> str:
+    """The first 16 hex digits of the SHA-256 of COMPILED_SOURCES (in gogreen_core)."""
+    digest = hashlib.sha256()
+    for name in COMPILED_SOURCES:
+        digest.update((PACKAGE / name).read_bytes())
+    return digest.hexdigest()[:16]
 
 
 def stamp_integrator() -> None:
-    """Write expansion_stamp() into _integrator.py's EXPANSION_SOURCE (see there)."""
+    """Write sources_stamp() into _integrator.py's COMPILED_SOURCES (see there)."""
     path = PACKAGE / "_integrator.py"
     text = path.read_text(encoding="utf-8")
     fresh = re.sub(
-        r'EXPANSION_SOURCE = "[0-9a-f]*"', f'EXPANSION_SOURCE = "{expansion_stamp()}"', text
+        r'COMPILED_SOURCES = "[0-9a-f]*"', f'COMPILED_SOURCES = "{sources_stamp()}"', text
     )
     if fresh != text:
         path.write_text(fresh, encoding="utf-8")
-        print(f"wrote {path} (EXPANSION_SOURCE)")
+        print(f"wrote {path} (COMPILED_SOURCES)")
 
 
 def main() -> None:

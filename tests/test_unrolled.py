@@ -27,15 +27,16 @@ def test_shipped_kernels_are_fresh(generator):
     assert not stale, f"regenerate with `python scripts/make_kernels.py`: {stale} differ"
 
 
-def test_integrator_carries_the_stamp_of_expansion():
+def test_integrator_carries_the_stamp_of_the_sources_it_compiles():
     """_integrator's compiled code is cached on its own file's stamp, but built with
-    _expansion's functions: a change there must show here (scripts/make_kernels.py)."""
+    _expansion's and _single_field's functions: a change there must show here
+    (scripts/make_kernels.py)."""
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
-    from make_kernels import expansion_stamp
+    from make_kernels import sources_stamp
 
     from gogreen_core import _integrator
 
-    assert _integrator.EXPANSION_SOURCE == expansion_stamp(), "run scripts/make_kernels.py"
+    assert _integrator.COMPILED_SOURCES == sources_stamp(), "run scripts/make_kernels.py"
 
 
 def test_module_text_carries_block_size_and_options(monkeypatch):
@@ -83,6 +84,7 @@ def test_compiled_kernels_are_cached_by_numba_where_it_is_told(tmp_path):
 
 def test_prepare_degree():
     assert prepare_degree(7) >= 0.0  # the app's background step: brings the code in
-    assert {(0, 6), (1, 7)} <= set(_unrolled._KERNELS)
+    # each unit: the double precision kernel and evaluation 3's single precision one
+    assert {(0, 6, False), (0, 6, True), (1, 7, False), (1, 7, True)} <= set(_unrolled._KERNELS)
     prepare_degree(20)  # above UNROLLED_L_MAX: the generic kernel serves, nothing generated
-    assert not any(last > _unrolled.UNROLLED_L_MAX for _, last in _unrolled._KERNELS)
+    assert not any(last > _unrolled.UNROLLED_L_MAX for _, last, _ in _unrolled._KERNELS)
