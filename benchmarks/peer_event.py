@@ -17,8 +17,10 @@ Prints, in one run (figures only, no assertions):
   (``gogreen_core.influence``) against the plain pass over every vertex it replaced, the
   blocks' build (the first query on a new vertex array) and their upkeep after the event (the
   report of its moved rows, and the refit of their blocks' boxes at the next query);
-* the event's accuracy: max vertex error against 64 RK4 substeps over the cursor motion, and
-  the same event with evaluation 1 (the code before issue 23, which old sessions replay with);
+* the event's accuracy: max vertex error against 64 RK4 substeps over the cursor motion, its
+  velocity evaluations a vertex (third-order steps take 3, RK4 steps 4, the probes that choose
+  between them 15 each), and the same event with evaluations 2 and 1 (the code before issue
+  23 and before evaluation 3, which version 3 and version 1-2 sessions replay with);
 * the first grab event in a fresh process with an empty numba cache (NUMBA_CACHE_DIR a new
   temporary directory; numba would also use ``__pycache__`` beside the sources, which this
   overrides): imports, default model (40,962 vertices), one event, and how long the compiled
@@ -49,6 +51,7 @@ sys.path.insert(0, str(ROOT))
 
 from gogreen_core import Brush, BrushEvent, Material, Sculptor  # noqa: E402
 from gogreen_core._expansion import near_segment  # noqa: E402
+from gogreen_core._stream import probe_rows  # noqa: E402
 from gogreen_core.brushes import mirror_signs  # noqa: E402
 from gogreen_core.influence import VertexBlocks, plain_rows_near  # noqa: E402
 from gogreen_core.kernel import prepare_degree  # noqa: E402
@@ -188,20 +191,22 @@ def peer_event(vertices: np.ndarray, faces: np.ndarray, repeats: int) -> None:
         substeps=64, tolerance=None,
     )  # fmt: skip
     error = np.linalg.norm(after - reference, axis=1).max() / np.linalg.norm(delta)
-    _, steps = kernel._streamlines(
+    _, evaluations = kernel._streamlines(
         vertices[rows], center, np.linalg.solve(g0, delta), center_step=delta, cutoff=cutoff
     )
-    # evaluation 1 (the code before this issue, kept for old sessions) on the same event
-    old = Sculptor.from_session(dict(sculptor.session(), version=2), vertices, faces)
-    old.kernel(brush).warm_up()
-    old_events = []
-    for _ in range(max(3, repeats // 3)):
-        old.begin_stroke(brush)
-        start = time.perf_counter()
-        old.stroke_event(BrushEvent(center, delta))
-        old_events.append(time.perf_counter() - start)
-        old.end_stroke()
-        old.undo()
+    probes = 15 * len(probe_rows(len(rows)))
+    # evaluations 2 and 1 (kept for old sessions: versions 3, and 1-2) on the same event
+    old_events: dict[int, list[float]] = {}
+    for version, evaluation in ((3, 2), (2, 1)):
+        old = Sculptor.from_session(dict(sculptor.session(), version=version), vertices, faces)
+        old.kernel(brush).warm_up()
+        for _ in range(max(3, repeats // 3)):
+            old.begin_stroke(brush)
+            start = time.perf_counter()
+            old.stroke_event(BrushEvent(center, delta))
+            old_events.setdefault(evaluation, []).append(time.perf_counter() - start)
+            old.end_stroke()
+            old.undo()
     # where the event's time goes: one fixed RK4 step on the ball's rows (the influence ball
     # itself: ``influence_ball`` below)
     passes, passes_cpu = [], []
@@ -224,14 +229,15 @@ def peer_event(vertices: np.ndarray, faces: np.ndarray, repeats: int) -> None:
     print(f"  peer, CPU time of all threads:               {median_ms(peers_cpu)}")
     print(f"  ratio event / peer (medians, wall):          {ratio:7.2f}x")
     print(f"  ratio event / peer (medians, CPU time):      {ratio_cpu:7.2f}x")
-    # a vertex refined to n steps took 1 + 2 + ... + n = 2n - 1 RK4 steps of 4 evaluations
-    print(f"  evaluations a vertex (4 per RK4 step):       {4 * (2 * steps - 1).mean():7.3f}")
+    own = float(evaluations.mean())
+    print(f"  evaluations a vertex (its own + the probes'): {own:.3f} + {probes / len(rows):.3f}")
     print(f"  one fixed RK4 step on the ball's rows:       {median_ms(passes)}")
     n_evaluations = 4 * len(rows)
     ns_event = 1e9 * statistics.median(passes_cpu) / n_evaluations
     ns_peer = 1e9 * statistics.median(peers_cpu) / n_evaluations
     print(f"  CPU a field evaluation, expansion / Kelvinlet: {ns_event:5.1f} / {ns_peer:.1f} ns")
-    print(f"  evaluation 1 (before; old sessions), wall:   {median_ms(old_events)}")
+    print(f"  evaluation 2 (version 3 sessions), wall:     {median_ms(old_events[2])}")
+    print(f"  evaluation 1 (versions 1-2), wall:           {median_ms(old_events[1])}")
     print(f"  max error vs 64 RK4 substeps / cursor motion: {error:.2e}")
     influence_ball(sculptor, center, delta, cutoff[1], repeats)
 

@@ -368,8 +368,11 @@ def _driver_calls() -> list[tuple[Any, tuple[Any, ...]]]:
     return [
         (_expansion.expand_blocks,
          (f33, f3, 1.0, 1, 0, 0, base, f33, beta, tables, marker, False, f33, 0, 0)),
+        (_integrator._probe_pass,
+         (f33, rows, True, 1.0, field, rows, blocks, blocks, blocks, 0, 0)),
         (_integrator._first_pass,
-         (f33, rows, True, 1.0, 1, True, field, f33, rows, blocks, blocks, rows, flags, 0, 0)),
+         (f33, rows, True, 1.0, 1, True, True, 0.0, field, f33, rows, blocks, blocks, blocks,
+          rows, flags, 0, 0)),
         (_integrator._refine_pass, (f33, rows, True, field, 1.0, rows, f33, rows, flags, 0, 0)),
         (_integrator._write_back, (f33, rows, True, f33, 0, 0)),
         *_influence_compiled.compile_calls(),

@@ -3,9 +3,11 @@
 Three evaluations, each deterministic bit for bit:
 
 * **3** (current, :data:`EVALUATION`): evaluation 2's, but for the streamlines (the brushes'
-  strokes) whose field sums the degrees above each parity's lowest in single precision
-  (``_integrator``: twice the arithmetic rate, ~1e-8 of the field off evaluation 2, 1e-4 below
-  the integrator's tolerance). G, ∇G and the loads' displacements stay evaluation 2's.
+  strokes), whose field sums the degrees above each parity's lowest in single precision
+  (``_single_field``: twice the arithmetic rate, ~1e-8 of the field off evaluation 2, 1e-4
+  below the integrator's tolerance) and whose adaptive steps are third-order ones where probes
+  show they are within the tolerance (``_integrator``). G, ∇G and the loads' displacements stay
+  evaluation 2's.
 * **2**: ``_expansion`` and ``_integrator`` in double precision, serial GIL-free numba
   functions run on a thread pool, and the generated angular kernels of ``_unrolled``; session
   files of version 3 replay with it.
@@ -24,7 +26,7 @@ from functools import partial
 
 import numpy as np
 
-from gogreen_core import _compiled, _expansion, _integrator, _numpy_eval, _unrolled
+from gogreen_core import _compiled, _expansion, _numpy_eval, _stream, _unrolled
 from gogreen_core._expansion import BLOCK
 from gogreen_core._parallel import run_ranges
 
@@ -175,19 +177,24 @@ def stream(
     out: np.ndarray,
     steps: np.ndarray,
 ) -> int:
-    """The streamlines of the load ``coeffs`` (n_terms, 3); see ``_integrator.stream`` for the
+    """The streamlines of the load ``coeffs`` (n_terms, 3); see ``_stream.stream`` for the
     arguments and the status returned. ``single_tables``: evaluation 3's tables of the degrees
     above the parity's lowest (``RadialProfile.single_table``)."""
     inner, outer = cutoff
     if evaluation == 1:
         from gogreen_core._legacy.stream import stream as legacy_stream
 
-        return legacy_stream(
+        # it counts RK4 steps, for every point: n steps took 4 (2n - 1) evaluations if adaptive
+        n_steps = np.empty(len(out), dtype=np.int64)
+        status = legacy_stream(
             points, rows, indexed, in_place, limit, center, center_step, eps, parity.power,
             parity.l_first, parity.l_last, parity.base, np.ascontiguousarray(coeffs), tables,
             *recurrence, *parity.legacy_angular(3), inner, outer, mirrors, origin, substeps,
-            tolerance, out, steps,
+            tolerance, out, n_steps,
         )  # fmt: skip
+        if len(steps):
+            steps[:] = 4 * (2 * n_steps - 1) if tolerance > 0.0 else 4 * n_steps
+        return int(status)
     width = outer - inner
     compiled = _compiled.drivers()
     if not compiled:
@@ -207,5 +214,7 @@ def stream(
         single, coeffs32, parity.beta_single, tables32, cscale,
         *(parity.angular_single() if compiled else (None, False)),
     )  # fmt: skip
-    run = _integrator.stream if compiled else _numpy_eval.stream
-    return run(points, rows, indexed, in_place, limit, field, substeps, tolerance, out, steps)
+    run = _stream.stream if compiled else _numpy_eval.stream
+    return run(
+        points, rows, indexed, in_place, limit, field, substeps, tolerance, single, out, steps
+    )

@@ -14,16 +14,27 @@ Two arithmetics of u, chosen by the field's ``single`` flag (see ``_evaluation``
   as fast, off evaluation 2 by ~1e-8 of the field, and the grabbed point at the brush centre
   still follows the cursor to rounding.
 
-:func:`stream` runs the passes below over blocks of points on the thread pool (``_parallel``):
+``_stream.stream`` runs the passes below over blocks of points on the thread pool
+(``_parallel``):
 
 * fixed steps (``tolerance <= 0``): ``substeps`` classical RK4 steps for every point;
 * adaptive: one RK4 step for every point, whose stages also give the ends of two second-order
   rules (midpoint x₀ + k₂, trapezoid x₀ + (k₁ + k₄)/2); the larger distance e of the RK4 end to
   them estimates a second-order error (order h³), and the RK4 error (order h⁵) is predicted as
   e (e / max(m, e))^(2/3), m the point's motion. Points whose prediction exceeds
-  ESTIMATE_SAFETY · tolerance · scale (scale = the largest of |Δc| and every motion m) are
-  packed into blocks of their own and integrated again with 2, 4, ... RK4 steps until
-  Richardson's estimate |x_n - x_(n/2)| / 15 is under that bound (at most MAX_ADAPTIVE_STEPS).
+  ``_stream.ESTIMATE_SAFETY`` · tolerance · scale (scale = the largest of |Δc| and every
+  motion m) are packed into blocks of their own and integrated again with 2, 4, ... RK4 steps
+  until Richardson's estimate |x_n - x_(n/2)| / 15 is under that bound (at most
+  MAX_ADAPTIVE_STEPS);
+* adaptive with ``third_order`` (evaluation 3), on ``_stream.THIRD_ORDER_POINTS`` points or
+  more: first the probes, ``_stream.probe_rows`` evenly spread over the points, each
+  integrated with one third-order step (SSPRK3, three evaluations) and with one and two RK4
+  steps. Where the third-order step's error they show (its distance to the two-step end, plus
+  that end's Richardson estimate) is within the bound above at every probe, every point takes
+  the third-order step instead of RK4's, and keeps it if its spread (the distance of its end
+  to the second-order Heun end made of the same stages) is within the probes' range: a point
+  the probes did not speak for goes to the refinement above (its first end a third-order one,
+  which only makes Richardson's estimate larger). Elsewhere the RK4 pass above runs.
 
 Every point's result depends only on the input (blocks are fixed by the point order, never by
 the thread count), and the generic and generated angular kernels compute the same bits, so
@@ -33,14 +44,12 @@ replays are bit-identical whatever the threads or the kernels compiled so far.
 from __future__ import annotations
 
 import math
-from functools import partial
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numba import njit
 
 from gogreen_core._expansion import _JIT, BLOCK, CUTOFF_END, _angular, _geometry, _radial
-from gogreen_core._parallel import run_ranges
 from gogreen_core._single_field import _single_velocity
 
 if TYPE_CHECKING:
@@ -52,7 +61,7 @@ if TYPE_CHECKING:
     ]  # fmt: skip
     Rows = tuple[np.ndarray, np.ndarray, np.ndarray]
 
-__all__ = ["CUTOFF_END", "ESTIMATE_SAFETY", "MAX_ADAPTIVE_STEPS", "stream"]
+__all__ = ["CUTOFF_END", "MAX_ADAPTIVE_STEPS"]
 
 #: SHA-256 (first 16 hex digits) of ``_expansion.py`` and ``_single_field.py``, written by
 #: ``scripts/make_kernels.py`` (checked by ``tests/test_unrolled.py``). numba keys the disk cache
@@ -63,14 +72,8 @@ COMPILED_SOURCES = "172a2073fdb8e66b"
 
 #: Largest number of RK4 steps the adaptive streamlines give one vertex in one event.
 MAX_ADAPTIVE_STEPS = 256
-#: The adaptive streamlines accept a result where its estimated error is at most this fraction
-#: of the tolerance. The one-step prediction is a model; calibrated on the ogre (cubic material,
-#: l_max 8) with grab, twist, scale and pinch events of 0.1 ε to 0.8 ε against 64 fixed steps:
-#: max error / motion scale 2e-6 (grab of 0.2 ε) up to 9.8e-5 (grab of 0.8 ε), affine brushes
-#: below 2e-6; 0.1 refined 5x more vertices for no needed gain.
-ESTIMATE_SAFETY = 0.25
-#: Blocks per range handed to a thread (each a fraction of a millisecond of work).
-_MIN_BLOCKS = 8
+_SIXTH = 1.0 / 6.0
+_THIRD = 1.0 / 3.0
 
 # The velocity field travels as one tuple through the functions below:
 # (center0, center_step, eps, power, l_first, l_last, base, coeffs, beta, tables, angular,
@@ -218,6 +221,111 @@ def _rk4(
 
 
 @njit(**_JIT)
+def _rk3(
+    nb: int,
+    start: np.ndarray,
+    end: np.ndarray,
+    spread: np.ndarray,
+    field: Field,
+    scratch: Scratch,
+    rows: Rows,
+    ksum: np.ndarray,
+) -> None:
+    """end[:, :nb] = one third-order step over t ∈ [0, 1] from start[:, :nb]: Shu and Osher's
+    strong-stability-preserving RK3, stages k₁ at (x₀, 0), k₂ at (x₀ + k₁, 1), k₃ at
+    (x₀ + (k₁ + k₂)/4, ½), end x₀ + (k₁ + k₂ + 4 k₃)/6; spread[i] = |(2 k₃ - k₁ - k₂)/3|², the
+    squared distance of that end to the second-order Heun end x₀ + (k₁ + k₂)/2. ``ksum``
+    (3, BLOCK) scratch."""
+    _, stage_pos, vel = rows
+    _velocity(start, nb, 0.0, field, scratch, vel)
+    for k in range(3):
+        for i in range(nb):
+            ksum[k, i] = vel[k, i]
+            stage_pos[k, i] = start[k, i] + vel[k, i]
+    _velocity(stage_pos, nb, 1.0, field, scratch, vel)
+    for k in range(3):
+        for i in range(nb):
+            ksum[k, i] = ksum[k, i] + vel[k, i]
+            stage_pos[k, i] = start[k, i] + 0.25 * ksum[k, i]
+    _velocity(stage_pos, nb, 0.5, field, scratch, vel)
+    for k in range(3):
+        for i in range(nb):
+            end[k, i] = start[k, i] + (ksum[k, i] + 4.0 * vel[k, i]) * _SIXTH
+    for i in range(nb):
+        d0 = (2.0 * vel[0, i] - ksum[0, i]) * _THIRD
+        d1 = (2.0 * vel[1, i] - ksum[1, i]) * _THIRD
+        d2 = (2.0 * vel[2, i] - ksum[2, i]) * _THIRD
+        spread[i] = d0 * d0 + d1 * d1 + d2 * d2
+
+
+@njit(**_JIT)
+def _predicted_error(end: np.ndarray, start: np.ndarray, mid: np.ndarray, i: int) -> float:
+    """The cube of one RK4 step's predicted error at point i, e⁵ / max(m, e)² (module
+    docstring), from its end, start and second-order ends ``mid`` (``_rk4``)."""
+    m2 = _norm2(end, start, i, 0)
+    e = math.sqrt(max(_norm2(mid, end, i, 0), _norm2(mid, end, i, 3)))
+    reach2 = max(m2, e * e)
+    return e * e * e * e * e / reach2 if reach2 > 0.0 else 0.0
+
+
+@njit(**_JIT)
+def _probe_pass(
+    points: np.ndarray,
+    indices: np.ndarray,
+    indexed: bool,
+    limit: float,
+    field: Field,
+    probes: np.ndarray,  # (P,) int64 points probed (rows of ``indices`` if indexed)
+    error: np.ndarray,  # (P,) the third-order step's error (see below)
+    spread: np.ndarray,  # (P,) the third-order step's squared spread (``_rk3``)
+    motion: np.ndarray,  # (P,) the squared motion |x₄ - x₀|² of the two RK4 steps
+    first_block: int,
+    last_block: int,
+) -> None:
+    """The probes of the third-order pass (blocks [first, last) of them; see the module
+    docstring): the third-order end x₃'s error is measured against two RK4 steps x₄, whose own
+    is Richardson's estimate against one: |x₃ - x₄| + |x₄ - x₄'| / 15. A probe whose start is
+    bad (the first pass reports it) gets an infinite error."""
+    n_probes = probes.shape[0]
+    n_rows = points.shape[0]
+    scratch, rows = _scratch(field[9].shape[0], field[19].shape[1])
+    start_rows = np.empty((3, BLOCK))
+    third = np.empty((3, BLOCK))
+    fourth = np.empty((3, BLOCK))
+    coarse = np.empty((3, BLOCK))
+    mid_rows = np.empty((6, BLOCK))
+    ksum = np.empty((3, BLOCK))
+    spreads = np.empty(BLOCK)
+    for blk in range(first_block, last_block):
+        start = blk * BLOCK
+        nb = min(BLOCK, n_probes - start)
+        good = True
+        for j in range(nb):
+            row = probes[start + j]
+            if indexed:
+                row = indices[row]
+                if row < 0 or row >= n_rows:
+                    good = False
+                    row = 0
+            for k in range(3):
+                value = points[row, k]
+                good = good and (abs(value) <= limit or not indexed)
+                start_rows[k, j] = value
+        if not good:
+            for j in range(nb):
+                error[start + j] = np.inf
+            continue
+        _rk3(nb, start_rows, third, spreads, field, scratch, rows, ksum)
+        _rk4(1, nb, start_rows, coarse, mid_rows, field, scratch, rows)
+        _rk4(2, nb, start_rows, fourth, mid_rows, field, scratch, rows)
+        for j in range(nb):
+            richardson = math.sqrt(_norm2(fourth, coarse, j, 0)) / 15.0
+            error[start + j] = math.sqrt(_norm2(third, fourth, j, 0)) + richardson
+            spread[start + j] = spreads[j]
+            motion[start + j] = _norm2(fourth, start_rows, j, 0)
+
+
+@njit(**_JIT)
 def _first_pass(
     points: np.ndarray,  # (N_all, 3) float64, start positions (the rows ``indices`` if indexed)
     indices: np.ndarray,  # (N,) int64 rows of ``points`` to move if ``indexed``
@@ -225,11 +333,14 @@ def _first_pass(
     limit: float,  # largest coordinate magnitude accepted in an indexed start position
     n_steps: int,  # RK4 steps (1 when adaptive)
     adaptive: bool,  # also estimate the errors (``rank``, ``block_motion``)
+    third_order: bool,  # one SSPRK3 step (adaptive), kept where its spread is within the limit
+    spread_limit: float,  # the largest squared spread (``_rk3``) the probes spoke for
     field: Field,
     out: np.ndarray,  # (N, 3) end positions
-    steps: np.ndarray,  # (N,) int64 RK4 steps each point took
+    evaluations: np.ndarray,  # (N,) int64 velocity evaluations each point took
     rank: np.ndarray,  # (N,) e⁵ / max(m, e)²: the cube of the predicted error (module docstring)
     block_motion: np.ndarray,  # (n_blocks,) the largest motion m in each block
+    block_rank: np.ndarray,  # (n_blocks,) the largest rank in each block
     problem: np.ndarray,  # (n_blocks,) int64: 1 an index out of range, 2 a bad start
     bad: np.ndarray,  # (n_blocks,) bool: an end position not finite
     first_block: int,
@@ -243,6 +354,8 @@ def _first_pass(
     end_rows = np.empty((3, BLOCK))
     mid_rows = np.empty((6, BLOCK))
     motion2 = np.empty(BLOCK)
+    ksum = np.empty((3, BLOCK))
+    spreads = np.empty(BLOCK)
     for blk in range(first_block, last_block):
         start = blk * BLOCK
         nb = min(BLOCK, n_points - start)
@@ -258,41 +371,57 @@ def _first_pass(
                         problem[blk] = 2
             for k in range(3):
                 start_rows[k, i] = points[row, k]
-        _rk4(n_steps, nb, start_rows, end_rows, mid_rows, field, scratch, rows)
+        if third_order:
+            _rk3(nb, start_rows, end_rows, spreads, field, scratch, rows, ksum)
+        else:
+            _rk4(n_steps, nb, start_rows, end_rows, mid_rows, field, scratch, rows)
         for i in range(nb):
             for k in range(3):
                 out[start + i, k] = end_rows[k, i]
-            steps[start + i] = n_steps
+        if evaluations.shape[0]:  # (an empty array: not counted)
+            for i in range(nb):
+                evaluations[start + i] = 3 if third_order else 4 * n_steps
         for k in range(3):
             for i in range(nb):
                 if not math.isfinite(end_rows[k, i]):
                     bad[blk] = True
-        if adaptive:
+        if not adaptive:
+            continue
+        for i in range(nb):
+            motion2[i] = _norm2(end_rows, start_rows, i, 0)
+        if third_order:  # kept (rank 0), or refined (its spread is beyond the probes')
+            kept = 0
             for i in range(nb):
-                m2 = _norm2(end_rows, start_rows, i, 0)
-                e_mid = _norm2(mid_rows, end_rows, i, 0)
-                e_trap = _norm2(mid_rows, end_rows, i, 3)
+                kept += 1 if spreads[i] <= spread_limit else 0
+            block_rank[blk] = 0.0 if kept == nb else np.inf
+            if kept < nb:  # only such blocks' ranks are read (``_above``)
+                for i in range(nb):
+                    rank[start + i] = 0.0 if spreads[i] <= spread_limit else np.inf
+        else:
+            for i in range(nb):
                 # prediction e (e/reach)^(2/3) > bound  ⇔  e⁵ / reach² > bound³
-                e = math.sqrt(max(e_mid, e_trap))
-                reach2 = max(m2, e * e)
-                motion2[i] = m2
-                rank[start + i] = e * e * e * e * e / reach2 if reach2 > 0.0 else 0.0
-            # the block's largest motion in a loop of its own: a max reduction inside the
-            # loop above kept it (its square roots and divisions) from vectorizing
-            most = 0.0
+                rank[start + i] = _predicted_error(end_rows, start_rows, mid_rows, i)
+            largest = 0.0
             for i in range(nb):
-                most = max(most, motion2[i])
-            block_motion[blk] = math.sqrt(most)
+                largest = max(largest, rank[start + i])
+            block_rank[blk] = largest
+        # the block's largest motion in a loop of its own: a max reduction inside the loops
+        # above kept them (square roots and divisions) from vectorizing
+        most = 0.0
+        for i in range(nb):
+            most = max(most, motion2[i])
+        block_motion[blk] = math.sqrt(most)
 
 
 @njit(**_JIT)
 def _refine_pass(
     points: np.ndarray, indices: np.ndarray, indexed: bool, field: Field, bound: float,
-    refine: np.ndarray, out: np.ndarray, steps: np.ndarray, bad: np.ndarray, first_block: int,
-    last_block: int,
+    refine: np.ndarray, out: np.ndarray, evaluations: np.ndarray, bad: np.ndarray,
+    first_block: int, last_block: int,
 ) -> None:  # fmt: skip
     """The points ``refine`` (indices into ``out``), packed BLOCK at a time, again with 2, 4, …
-    RK4 steps until Richardson's estimate is under ``bound`` (blocks [first, last) of them)."""
+    RK4 steps until Richardson's estimate is under ``bound`` (blocks [first, last) of them);
+    ``evaluations`` counts them."""
     n_refine = refine.shape[0]
     scratch, rows = _scratch(field[9].shape[0], field[19].shape[1])
     start_rows = np.empty((3, BLOCK))
@@ -320,7 +449,8 @@ def _refine_pass(
                 d2 = _norm2(end_rows, previous, j, 0)
                 for k in range(3):
                     out[n, k] = end_rows[k, j]
-                steps[n] = n_steps
+                if evaluations.shape[0]:
+                    evaluations[n] += 4 * n_steps
                 # Richardson: the n-step result's error is about |x_n - x_(n/2)| / (2⁴ - 1)
                 if math.sqrt(d2) > 15.0 * bound and n_steps < MAX_ADAPTIVE_STEPS:
                     picked[kept] = n
@@ -343,72 +473,3 @@ def _write_back(
         row = indices[n] if indexed else n
         for k in range(3):
             points[row, k] = out[n, k]
-
-
-def refinement_bound(center_step: np.ndarray, motion: float, tolerance: float) -> float:
-    """ESTIMATE_SAFETY · tolerance · scale, scale the larger of |center_step| and the largest
-    motion of a first step (the same float wherever it is computed)."""
-    s0, s1, s2 = (float(v) for v in center_step)
-    return ESTIMATE_SAFETY * tolerance * max(math.sqrt(s0 * s0 + s1 * s1 + s2 * s2), motion)
-
-
-def stream(
-    points: np.ndarray,
-    indices: np.ndarray,
-    indexed: bool,
-    write_back: bool,
-    limit: float,
-    field: tuple[Any, ...],
-    substeps: int,
-    tolerance: float,
-    out: np.ndarray,
-    steps: np.ndarray,
-) -> int:
-    """Move points along the streamlines of ``field`` (see the module docstring).
-
-    ``points`` (N_all, 3): start positions, the rows ``indices`` (N,) int64 if ``indexed``
-    (read in place, no gathered copy), written back in place with ``write_back`` and only if
-    every end position is finite. ``field``: the velocity (see ``_velocity``). ``substeps``
-    fixed RK4 steps if ``tolerance <= 0``, else adaptive steps within ``tolerance`` times the
-    motion scale. ``out`` (N, 3) gets the end positions, ``steps`` (N,) int64 the RK4 steps of
-    each point. Returns 0 when done, 1 if an index is out of range, 2 if an indexed start
-    position is not finite or beyond ``limit`` (nothing integrated), 3 if an end position is not
-    finite (nothing written back).
-    """
-    n_points = indices.shape[0] if indexed else points.shape[0]
-    if indexed and points.shape[0] == 0:
-        return 1
-    n_blocks = (n_points + BLOCK - 1) // BLOCK
-    adaptive = tolerance > 0.0
-    rank = np.empty(n_points)
-    block_motion = np.zeros(n_blocks)
-    problem = np.zeros(n_blocks, dtype=np.int64)
-    bad = np.zeros(n_blocks, dtype=np.bool_)
-    first_pass = partial(
-        _first_pass, points, indices, indexed, limit, 1 if adaptive else substeps, adaptive,
-        field, out, steps, rank, block_motion, problem, bad,
-    )  # fmt: skip
-    run_ranges(first_pass, n_blocks, _MIN_BLOCKS)
-    for code in (1, 2):
-        if np.any(problem == code):
-            return code
-    if adaptive:
-        bound = refinement_bound(field[1], float(block_motion.max(initial=0.0)), tolerance)
-        if bound > 0.0:
-            refine = np.flatnonzero(rank > bound * bound * bound)
-            n_packed = (len(refine) + BLOCK - 1) // BLOCK
-            refined_bad = np.zeros(n_packed, dtype=np.bool_)
-            refine_pass = partial(
-                _refine_pass, points, indices, indexed, field, bound, refine, out, steps,
-                refined_bad,
-            )  # fmt: skip
-            run_ranges(refine_pass, n_packed, 1)
-            # a first step that overflowed fails the event even where refinement might not
-            if write_back and (refined_bad.any() or bad.any()):
-                return 3
-    if not write_back:
-        return 0
-    if bad.any():
-        return 3
-    run_ranges(partial(_write_back, points, indices, indexed, out), n_points, 1 << 16)
-    return 0

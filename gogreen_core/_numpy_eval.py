@@ -21,7 +21,8 @@ from typing import Any, cast
 import numpy as np
 
 from gogreen_core._expansion import _HUGE, _TINY
-from gogreen_core._integrator import CUTOFF_END, MAX_ADAPTIVE_STEPS, refinement_bound
+from gogreen_core._integrator import _SIXTH, _THIRD, CUTOFF_END, MAX_ADAPTIVE_STEPS
+from gogreen_core._stream import probe_rows, refinement_bound, third_order_limit
 
 __all__ = ["expand", "near_segment", "stream"]
 
@@ -224,9 +225,41 @@ def _rk4(
     return end, mid
 
 
+def _rk3(start: np.ndarray, field: tuple[Any, ...]) -> tuple[np.ndarray, np.ndarray]:
+    """``_integrator._rk3`` from start (3, n) → (end, squared spread (n,))."""
+    k1 = _velocity(start, 0.0, field)
+    ksum = k1 + _velocity(start + k1, 1.0, field)
+    k3 = _velocity(start + 0.25 * ksum, 0.5, field)
+    end = start + (ksum + 4.0 * k3) * _SIXTH
+    d = (2.0 * k3 - ksum) * _THIRD
+    return end, d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
+
+
 def _norm2(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     d0, d1, d2 = a[0] - b[0], a[1] - b[1], a[2] - b[2]
     return cast(np.ndarray, d0 * d0 + d1 * d1 + d2 * d2)
+
+
+def _probes(
+    points: np.ndarray, indices: np.ndarray, indexed: bool, field: tuple[Any, ...],
+    tolerance: float,
+) -> float:  # fmt: skip
+    """``_integrator``'s probes and their verdict (``third_order_limit``): the largest squared
+    spread of the third-order steps kept, or -1 for none (starts already checked)."""
+    probes = probe_rows(indices.shape[0] if indexed else points.shape[0])
+    found = []
+    for first in range(0, probes.shape[0], CHUNK):
+        picked = probes[first : first + CHUNK]
+        start = np.ascontiguousarray(points[indices[picked] if indexed else picked].T)
+        third, spread = _rk3(start, field)
+        coarse, _ = _rk4(1, start, field, False)
+        fourth, _ = _rk4(2, start, field, False)
+        richardson = np.sqrt(_norm2(fourth, coarse)) / 15.0
+        found.append((np.sqrt(_norm2(third, fourth)) + richardson, spread, _norm2(fourth, start)))
+    if not found:
+        return -1.0
+    error, spread, motion = (np.concatenate(part) for part in zip(*found, strict=True))
+    return third_order_limit(field[1], tolerance, error, spread, motion)
 
 
 def stream(
@@ -238,10 +271,11 @@ def stream(
     field: tuple[Any, ...],
     substeps: int,
     tolerance: float,
+    third_order: bool,
     out: np.ndarray,
-    steps: np.ndarray,
+    evaluations: np.ndarray,
 ) -> int:
-    """``_integrator.stream`` (same arguments, same status codes, same bits)."""
+    """``_stream.stream`` (same arguments, same status codes, same bits)."""
     n_rows = points.shape[0]
     if indexed:
         if n_rows == 0 or (indices.size and (indices.min() < 0 or indices.max() >= n_rows)):
@@ -253,21 +287,32 @@ def stream(
     rank = np.empty(n_points)
     motion2, bad = 0.0, False
     with np.errstate(all="ignore"):  # overflows are reported (status 3), as compiled
+        limit3 = -1.0
+        if adaptive and third_order:
+            limit3 = _probes(points, indices, indexed, field, tolerance)
         for first in range(0, n_points, CHUNK):
             rows = indices[first : first + CHUNK] if indexed else slice(first, first + CHUNK)
             start = np.ascontiguousarray(points[rows].T)
-            end, mid = _rk4(1 if adaptive else substeps, start, field, adaptive)
+            if limit3 >= 0.0:
+                end, spread = _rk3(start, field)
+                rank[first : first + CHUNK] = np.where(spread <= limit3, 0.0, np.inf)
+            else:
+                end, mid = _rk4(1 if adaptive else substeps, start, field, adaptive)
             out[first : first + CHUNK] = end.T
-            steps[first : first + CHUNK] = 1 if adaptive else substeps
+            if len(evaluations):  # (an empty array: not counted)
+                evaluations[first : first + CHUNK] = (
+                    3 if limit3 >= 0.0 else 4 * (1 if adaptive else substeps)
+                )
             bad = bad or not np.isfinite(end).all()
             if adaptive:
                 m2 = _norm2(end, start)
+                motion2 = max(motion2, float(m2.max(initial=0.0)))
+            if adaptive and limit3 < 0.0:
                 e = np.sqrt(np.maximum(_norm2(mid[:3], end), _norm2(mid[3:], end)))
                 reach2 = np.maximum(m2, e * e)
                 rank[first : first + CHUNK] = np.where(
                     reach2 > 0.0, e * e * e * e * e / reach2, 0.0
                 )
-                motion2 = max(motion2, float(m2.max(initial=0.0)))
         refined_bad = False
         bound = refinement_bound(field[1], math.sqrt(motion2), tolerance) if adaptive else 0.0
         if bound > 0.0:
@@ -280,7 +325,8 @@ def stream(
                     rows = indices[picked] if indexed else picked
                     end, _ = _rk4(n_steps, np.ascontiguousarray(points[rows].T), field, False)
                     out[picked] = end.T
-                    steps[picked] = n_steps
+                    if len(evaluations):
+                        evaluations[picked] += 4 * n_steps
                     again = np.sqrt(_norm2(end, previous)) > 15.0 * bound
                     again &= n_steps < MAX_ADAPTIVE_STEPS
                     refined_bad = refined_bad or not np.isfinite(end[:, ~again]).all()

@@ -11,9 +11,10 @@ independently of the split, so results do not depend on the thread count.
 
 A call of a numba function from Python types its arguments first, each element of a tuple
 argument in Python (the streamlines' velocity field: 23 of them, about 0.2 ms a call, holding
-the GIL). :func:`run_ranges` does that once per call of its own and calls the compiled code's
-entry point for every range: 15 µs a range, so ranges can be many and small (measured on the
-1M-vertex ogre: a grab event's first pass 24.7 ms in 8 ranges, 20.2 ms in 128).
+the GIL). :func:`run_ranges` calls the compiled code's entry point for every range instead,
+found once per call of its own from a key of the arguments' types it remembers (about 25 µs):
+15 µs a range, so ranges can be many and small (measured on the 1M-vertex ogre: a grab event's
+first pass 24.7 ms in 8 ranges, 20.2 ms in 128).
 """
 
 from __future__ import annotations
@@ -26,6 +27,8 @@ from functools import partial
 from typing import Any
 
 import numba
+import numpy as np
+from numba.core.ccallback import CFunc
 
 __all__ = ["run_ranges"]
 
@@ -50,6 +53,30 @@ def _executor() -> ThreadPoolExecutor:
         return _pool
 
 
+#: numba's argument types of the calls :func:`run_ranges` made, by dispatcher and type key.
+_signatures: dict[tuple[Any, ...], tuple[Any, ...]] = {}
+
+
+def _type_key(value: Any) -> Any:
+    """What numba's type of an argument depends on, for the values the drivers take (arrays,
+    tuples of them, bools, ints, floats, C callbacks); None for any other (then typed anew)."""
+    if isinstance(value, np.ndarray):
+        flags = value.flags
+        layout = "C" if flags.c_contiguous else ("F" if flags.f_contiguous else "A")
+        return (value.dtype.str, value.ndim, layout, flags.writeable, flags.aligned)
+    if isinstance(value, tuple):
+        keys = tuple(_type_key(v) for v in value)
+        return None if None in keys else keys
+    if isinstance(value, (bool, float)):
+        return type(value)
+    if isinstance(value, int):
+        return (int, value.bit_length() > 63)
+    if isinstance(value, CFunc):
+        callback: Any = value  # (numba's signature attribute carries no type)
+        return callback._sig
+    return None
+
+
 def _entry_point(work: Callable[[int, int], None]) -> Callable[[int, int], None]:
     """``work``, a ``partial`` of a numba dispatcher, as a ``partial`` of the machine code the
     dispatcher would choose for these arguments and two int ranges (its compiled entry point,
@@ -60,8 +87,14 @@ def _entry_point(work: Callable[[int, int], None]) -> Callable[[int, int], None]
     overloads = getattr(work.func, "overloads", None)
     if not isinstance(overloads, dict):
         return work
+    args = (*work.args, 0, 0)
     try:
-        signature = tuple(numba.typeof(a) for a in (*work.args, 0, 0))
+        key = _type_key(args)
+        signature = None if key is None else _signatures.get((work.func, key))
+        if signature is None:
+            signature = tuple(numba.typeof(a) for a in args)
+            if key is not None:
+                _signatures[work.func, key] = signature
         entry = overloads[signature].entry_point
     except Exception:
         return work
@@ -72,13 +105,14 @@ def run_ranges(work: Callable[[int, int], None], n_items: int, min_items: int) -
     """Call ``work(first, last)`` over ranges covering [0, n_items) in order-independent pieces
     of at least ``min_items`` items, on up to ``numba.get_num_threads()`` threads (the caller
     runs ranges too). Exceptions propagate."""
+    if n_items <= 0:
+        return
     threads = numba.get_num_threads()
     n_ranges = min(n_items // max(min_items, 1), threads * RANGES_PER_THREAD)
-    if threads <= 1 or n_ranges <= 1:
-        if n_items > 0:
-            work(0, n_items)
-        return
     work = _entry_point(work)
+    if threads <= 1 or n_ranges <= 1:
+        work(0, n_items)
+        return
     bounds = [n_items * k // n_ranges for k in range(n_ranges + 1)]
     # next() on this iterator is one C call under the GIL: each range goes to one thread
     ranges = itertools.pairwise(bounds)

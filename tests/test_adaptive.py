@@ -15,6 +15,14 @@ import numpy as np
 import pytest
 
 from gogreen_core import GreenKernel, Material
+from gogreen_core._stream import (
+    ESTIMATE_SAFETY,
+    MIN_PROBES,
+    POINTS_PER_PROBE,
+    THIRD_ORDER_POINTS,
+    probe_rows,
+    third_order_limit,
+)
 from gogreen_core.brushes import affine_load_shape, default_wrinkle_weights, mirror_signs
 from gogreen_core.radial import GaussianRadial, KelvinletRadial, MultiscaleRadial, SplineRadial
 from gogreen_core.shapes import default_model, icosphere
@@ -129,16 +137,16 @@ def event(kind, material, falloff, vertices, size=0.2):
 
 
 def compare(kernel, load, center, step, cutoff, points, **options):
-    """(adaptive result, steps, error relative to the motion scale, motion scale, 64-step
-    reference) for one event."""
+    """(adaptive result, evaluations each point took, error relative to the motion scale,
+    motion scale, 64-step reference) for one event."""
     common = dict(center_step=step, cutoff=cutoff, **options)
     tolerance = common.pop("tolerance", TOLERANCE)
     reference = kernel.streamlines(points, center, load, substeps=64, tolerance=None, **common)
-    result, steps = kernel._streamlines(points, center, load, tolerance=tolerance, **common)
+    result, evaluations = kernel._streamlines(points, center, load, tolerance=tolerance, **common)
     scale = max(np.linalg.norm(step), np.linalg.norm(reference - points, axis=1).max())
     error = np.linalg.norm(result - reference, axis=1).max() / scale
     assert scale > 0
-    return result, steps, error, scale, reference
+    return result, evaluations, error, scale, reference
 
 
 @pytest.mark.parametrize(
@@ -157,15 +165,15 @@ def compare(kernel, load, center, step, cutoff, points, **options):
 )
 def test_adaptive_matches_fixed_step_reference(kind, material, falloff, pebble):
     kernel, load, center, step, cutoff = event(kind, MATERIALS[material], falloff, pebble)
-    _, steps, error, scale, reference = compare(kernel, load, center, step, cutoff, pebble)
+    _, evaluations, error, scale, reference = compare(kernel, load, center, step, cutoff, pebble)
     assert error <= TOLERANCE, error
     # one Euler step is far outside the bound: the check has teeth
     euler = euler_error(kernel, load, center, step, cutoff, pebble, reference, scale)
     assert euler > 10 * TOLERANCE, euler
     moved = np.linalg.norm(reference - pebble, axis=1) > 0
     assert moved.sum() > 100
-    # the cheap path is the common one at this event size
-    assert np.mean(steps[moved] == 1) > 0.5
+    # the cheap path (one step of 3 or 4 evaluations) is the common one at this event size
+    assert np.mean(evaluations[moved] <= 4) > 0.5
 
 
 def euler_error(kernel, load, center, step, cutoff, points, reference, scale):
@@ -193,13 +201,13 @@ def test_large_event_is_refined_where_needed(pebble):
     # a grab of 0.8 ε in one event: one RK4 step everywhere misses the bound, the control
     # sends the vertices that need it to 2 or more steps and meets it
     kernel, load, center, step, cutoff = event("grab", CUBIC, "gaussian", pebble, size=0.8)
-    _, steps, error, scale, reference = compare(kernel, load, center, step, cutoff, pebble)
+    _, evaluations, error, scale, reference = compare(kernel, load, center, step, cutoff, pebble)
     one_step = kernel.streamlines(pebble, center, load, center_step=step, cutoff=cutoff,
                                   substeps=1, tolerance=None)  # fmt: skip
     assert np.linalg.norm(one_step - reference, axis=1).max() / scale > TOLERANCE
     assert error <= TOLERANCE, error
-    assert steps.max() >= 2
-    assert np.mean(steps >= 2) < 0.9
+    assert evaluations.max() > 4  # refined: 4 + 8 for two RK4 steps and more
+    assert np.mean(evaluations > 4) < 0.9
 
 
 def test_tighter_tolerance_is_more_accurate(pebble):
@@ -236,10 +244,10 @@ def test_bit_identical_whatever_the_thread_count():
                 )
     finally:
         numba.set_num_threads(threads)
-    assert runs[0][1].max() >= 2  # the refinement pass ran
-    for out, steps in runs[1:]:
+    assert runs[0][1].max() > 4  # the refinement pass ran
+    for out, evaluations in runs[1:]:
         assert np.array_equal(out, runs[0][0])
-        assert np.array_equal(steps, runs[0][1])
+        assert np.array_equal(evaluations, runs[0][1])
 
 
 def test_fixed_steps_converge_at_fourth_order():
@@ -282,3 +290,48 @@ def test_a_monotone_weak_centre_is_integrated_within_twice_the_tolerance(materia
     finally:
         del FALLOFFS["weak monotone"]
     assert error <= 2.0 * TOLERANCE, error
+
+
+def test_third_order_steps_where_the_probes_show_they_are_enough(pebble):
+    """Evaluation 3 takes one third-order step (3 evaluations) where probes spread over the
+    points show its error within the bound, RK4 (4 and more) where they do not or where there
+    are too few points to probe; evaluation 2 never does."""
+    kernel, load, center, step, cutoff = event("grab", CUBIC, "gaussian", pebble)
+    _, evaluations, error, _, reference = compare(kernel, load, center, step, cutoff, pebble)
+    moved = np.linalg.norm(reference - pebble, axis=1) > 0
+    assert error <= TOLERANCE
+    assert np.mean(evaluations[moved] == 3) > 0.9
+    large = event("grab", CUBIC, "gaussian", pebble, size=0.8)
+    assert not np.any(compare(*large, pebble)[1] == 3)  # the probes saw RK3 miss the bound
+    few = pebble[: THIRD_ORDER_POINTS - 1]
+    assert not np.any(compare(kernel, load, center, step, cutoff, few)[1] == 3)
+    older = GreenKernel(CUBIC, L_MAX, kernel.radial, evaluation=2)
+    assert not np.any(compare(older, load, center, step, cutoff, pebble)[1] == 3)
+
+
+def test_a_point_beyond_the_probes_spread_is_refined():
+    """Points whose third-order spread exceeds every probe's take RK4 steps (3 + 8 or more
+    evaluations) and meet the tolerance with the others."""
+    points = np.random.default_rng(3).normal(size=(1500, 3)) * 1.5
+    kernel = GreenKernel(CUBIC, 8, GaussianRadial(0.5))
+    force = np.linalg.solve(kernel.green(np.zeros((1, 3)))[0], [0.012, 0.006, 0.0])
+    result = compare(kernel, force, np.zeros(3), np.array([0.012, 0.006, 0.0]), (0.5, 1.6), points)
+    _, evaluations, error, _, _ = result
+    assert np.mean(evaluations == 3) > 0.9
+    assert np.any(evaluations > 4) and not np.any(evaluations == 4)
+    assert error <= TOLERANCE
+
+
+def test_probes_and_their_verdict():
+    assert len(probe_rows(THIRD_ORDER_POINTS - 1)) == 0
+    rows = probe_rows(100_000)
+    assert len(rows) == max(MIN_PROBES, 100_000 // POINTS_PER_PROBE)
+    assert rows[0] > 0 and rows[-1] < 100_000 and np.all(np.diff(rows) > 0)
+    step, motion, spread = np.array([0.1, 0.0, 0.0]), np.full(4, 1e-2), np.arange(4.0)
+    bound = ESTIMATE_SAFETY * TOLERANCE * 0.1
+    assert third_order_limit(step, TOLERANCE, np.full(4, 0.9 * bound), spread, motion) == 3.0
+    for error in (1.1 * bound, np.nan):
+        errors = np.full(4, 0.5 * bound)
+        errors[2] = error
+        assert third_order_limit(step, TOLERANCE, errors, spread, motion) == -1.0
+    assert third_order_limit(step, TOLERANCE, np.zeros(0), np.zeros(0), np.zeros(0)) == -1.0

@@ -117,8 +117,10 @@ def test_event_fields_have_rings_only_where_the_artist_moved_a_point():
 
 
 def test_a_strokes_rim_beyond_the_edit_is_untouched_by_it():
-    """Vertices more than 3.6 ε from the stroke path move bit for bit as without the edit
-    with the monotone curve; with the cubic the edit's ringing moves them differently."""
+    """Vertices more than 3.6 ε from the stroke path move as without the edit with the
+    monotone curve, to the integrator's tolerance (its choice of steps is made for the whole
+    event: third-order ones where probes anywhere show them enough); with the cubic the edit's
+    ringing moves them differently, two orders of magnitude more."""
     n = 121
     x, y = np.meshgrid(np.linspace(-1, 1, n), np.linspace(-1, 1, n), indexing="ij")
     vertices = np.stack([x.ravel(), y.ravel(), np.zeros(n * n)], axis=1)
@@ -142,8 +144,10 @@ def test_a_strokes_rim_beyond_the_edit_is_untouched_by_it():
     far = np.hypot(gap, vertices[:, 1]) > 3.6 * eps
     reached = np.any(moved["monotone", "before"] != vertices, axis=1)
     assert np.any(far & reached)  # the rim reaches beyond 3.6 ε (influence 4 ε)
-    assert np.array_equal(moved["monotone", "after"][far], moved["monotone", "before"][far])
-    assert not np.array_equal(moved["cubic", "after"][far], moved["cubic", "before"][far])
+    motion = np.linalg.norm(events[0].delta)
+    for interpolation, low, high in (("monotone", 0.0, 1e-4), ("cubic", 1e-3, np.inf)):
+        after, before = moved[interpolation, "after"][far], moved[interpolation, "before"][far]
+        assert low <= np.abs(after - before).max() / motion < high, interpolation
 
 
 def test_saved_cubic_falloffs_still_read_and_write_as_before():

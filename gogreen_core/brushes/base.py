@@ -317,6 +317,7 @@ class GreenBrush(BrushType):
                     indices=rows,
                     in_place=ctx.write_through,
                     out=out,
+                    count=False,
                 )
             except StreamlineOverflow:
                 raise ValueError(self._overflow()) from None
