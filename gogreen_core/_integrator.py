@@ -84,7 +84,7 @@ _THIRD = 1.0 / 3.0
 @njit(**_JIT)
 def _scratch(n_deg: int, n_single: int) -> tuple[Scratch, Rows]:
     """Scratch rows of ``_velocity`` (geometry, segments, radial terms, angular work, the
-    angular sum, and their float32 twins for the single precision degrees) and of ``_rk4``
+    angular sum, and their float32 twins for the single precision degrees) and of ``_steps``
     (position, stage position, velocity)."""
     scratch = (
         np.empty((8, BLOCK)),
@@ -164,21 +164,32 @@ def _norm2(a: np.ndarray, b: np.ndarray, i: int, row: int) -> float:
 
 
 @njit(**_JIT)
-def _rk4(
+def _steps(
+    third_order: bool,
     n_steps: int | np.int64,
     nb: int,
     start: np.ndarray,
     end: np.ndarray,
     mid: np.ndarray,
+    spread: np.ndarray,
     field: Field,
     scratch: Scratch,
     rows: Rows,
 ) -> None:
-    """end[:, :nb] = ``n_steps`` classical RK4 steps over t ∈ [0, 1] from start[:, :nb].
+    """end[:, :nb] = ``n_steps`` classical RK4 steps over t ∈ [0, 1] from start[:, :nb], or
+    (``third_order``) one third-order step.
 
-    With one step, mid (6, BLOCK) also gets the ends of two second-order rules made of RK4's
-    stages, the midpoint rule x₀ + k₂ (rows 0-2) and the trapezoid x₀ + (k₁ + k₄)/2 (rows 3-5):
-    the adaptive pass's error estimates.
+    RK4 with one step: mid (6, BLOCK) also gets the ends of two second-order rules made of its
+    stages, the midpoint rule x₀ + k₂ (rows 0-2) and the trapezoid x₀ + (k₁ + k₄)/2 (rows
+    3-5): the adaptive pass's error estimates.
+
+    Third order: Shu and Osher's strong-stability-preserving RK3, stages k₁ at (x₀, 0), k₂ at
+    (x₀ + k₁, 1), k₃ at (x₀ + (k₁ + k₂)/4, ½), end x₀ + (k₁ + k₂ + 4 k₃)/6; spread[i] =
+    |(2 k₃ - k₁ - k₂)/3|², the squared distance of that end to the second-order Heun end
+    x₀ + (k₁ + k₂)/2 (mid rows 3-5 hold k₁ + k₂).
+
+    One call of the velocity for all stages: each is compiled into its caller, and fewer copies
+    compile faster.
     """
     pos, stage_pos, vel = rows
     h = 1.0 / n_steps
@@ -186,82 +197,68 @@ def _rk4(
     for k in range(3):
         for i in range(nb):
             pos[k, i] = start[k, i]
+    ksum = mid[3:6]
     for step in range(n_steps):
         t0 = step * h
-        for stage in range(4):
-            # classical RK4: stage offsets 0, h/2, h/2, h and weights 1, 2, 2, 1
-            a = 0.0 if stage == 0 else (h if stage == 3 else 0.5 * h)
-            if stage == 0:
-                _velocity(pos, nb, t0, field, scratch, vel)
+        for stage in range(3 if third_order else 4):
+            if third_order:
+                t = 0.0 if stage == 0 else (1.0 if stage == 1 else 0.5)
+            else:  # classical RK4: stage offsets 0, h/2, h/2, h and weights 1, 2, 2, 1
+                t = t0 + (0.0 if stage == 0 else (h if stage == 3 else 0.5 * h))
+            _velocity(pos if stage == 0 else stage_pos, nb, t, field, scratch, vel)
+            # one loop per stage (a branch on the stage inside the loop kept it from
+            # vectorizing); each makes the next stage's position
+            if third_order and stage == 0:
+                for k in range(3):
+                    for i in range(nb):
+                        ksum[k, i] = vel[k, i]
+                        stage_pos[k, i] = pos[k, i] + vel[k, i]
+            elif third_order and stage == 1:
+                for k in range(3):
+                    for i in range(nb):
+                        ksum[k, i] = ksum[k, i] + vel[k, i]
+                        stage_pos[k, i] = pos[k, i] + 0.25 * ksum[k, i]
+            elif third_order:
+                for k in range(3):
+                    for i in range(nb):
+                        end[k, i] = pos[k, i] + (ksum[k, i] + 4.0 * vel[k, i]) * _SIXTH
+                for i in range(nb):
+                    d0 = (2.0 * vel[0, i] - ksum[0, i]) * _THIRD
+                    d1 = (2.0 * vel[1, i] - ksum[1, i]) * _THIRD
+                    d2 = (2.0 * vel[2, i] - ksum[2, i]) * _THIRD
+                    spread[i] = d0 * d0 + d1 * d1 + d2 * d2
             else:
+                if n_steps == 1 and stage == 0:
+                    for k in range(3):
+                        for i in range(nb):
+                            mid[3 + k, i] = pos[k, i] + 0.5 * vel[k, i]
+                elif n_steps == 1 and stage == 1:
+                    for k in range(3):
+                        for i in range(nb):
+                            mid[k, i] = pos[k, i] + vel[k, i]
+                elif n_steps == 1 and stage == 3:
+                    for k in range(3):
+                        for i in range(nb):
+                            mid[3 + k, i] = mid[3 + k, i] + 0.5 * vel[k, i]
+                weight = h / 6.0 if stage == 0 or stage == 3 else h / 3.0
                 for k in range(3):
                     for i in range(nb):
-                        stage_pos[k, i] = pos[k, i] + a * vel[k, i]
-                _velocity(stage_pos, nb, t0 + a, field, scratch, vel)
-            # one loop per stage (a branch on the stage inside the loop kept it from vectorizing)
-            if n_steps == 1 and stage == 0:
-                for k in range(3):
-                    for i in range(nb):
-                        mid[3 + k, i] = pos[k, i] + 0.5 * vel[k, i]
-            elif n_steps == 1 and stage == 1:
-                for k in range(3):
-                    for i in range(nb):
-                        mid[k, i] = pos[k, i] + vel[k, i]
-            elif n_steps == 1 and stage == 3:
-                for k in range(3):
-                    for i in range(nb):
-                        mid[3 + k, i] = mid[3 + k, i] + 0.5 * vel[k, i]
-            weight = h / 6.0 if stage == 0 or stage == 3 else h / 3.0
+                        end[k, i] = (end[k, i] if stage > 0 else pos[k, i]) + weight * vel[k, i]
+                if stage < 3:
+                    a = h if stage == 2 else 0.5 * h
+                    for k in range(3):
+                        for i in range(nb):
+                            stage_pos[k, i] = pos[k, i] + a * vel[k, i]
+        if not third_order:
             for k in range(3):
                 for i in range(nb):
-                    end[k, i] = (end[k, i] if stage > 0 else pos[k, i]) + weight * vel[k, i]
-        for k in range(3):
-            for i in range(nb):
-                pos[k, i] = end[k, i]
-
-
-@njit(**_JIT)
-def _rk3(
-    nb: int,
-    start: np.ndarray,
-    end: np.ndarray,
-    spread: np.ndarray,
-    field: Field,
-    scratch: Scratch,
-    rows: Rows,
-    ksum: np.ndarray,
-) -> None:
-    """end[:, :nb] = one third-order step over t ∈ [0, 1] from start[:, :nb]: Shu and Osher's
-    strong-stability-preserving RK3, stages k₁ at (x₀, 0), k₂ at (x₀ + k₁, 1), k₃ at
-    (x₀ + (k₁ + k₂)/4, ½), end x₀ + (k₁ + k₂ + 4 k₃)/6; spread[i] = |(2 k₃ - k₁ - k₂)/3|², the
-    squared distance of that end to the second-order Heun end x₀ + (k₁ + k₂)/2. ``ksum``
-    (3, BLOCK) scratch."""
-    _, stage_pos, vel = rows
-    _velocity(start, nb, 0.0, field, scratch, vel)
-    for k in range(3):
-        for i in range(nb):
-            ksum[k, i] = vel[k, i]
-            stage_pos[k, i] = start[k, i] + vel[k, i]
-    _velocity(stage_pos, nb, 1.0, field, scratch, vel)
-    for k in range(3):
-        for i in range(nb):
-            ksum[k, i] = ksum[k, i] + vel[k, i]
-            stage_pos[k, i] = start[k, i] + 0.25 * ksum[k, i]
-    _velocity(stage_pos, nb, 0.5, field, scratch, vel)
-    for k in range(3):
-        for i in range(nb):
-            end[k, i] = start[k, i] + (ksum[k, i] + 4.0 * vel[k, i]) * _SIXTH
-    for i in range(nb):
-        d0 = (2.0 * vel[0, i] - ksum[0, i]) * _THIRD
-        d1 = (2.0 * vel[1, i] - ksum[1, i]) * _THIRD
-        d2 = (2.0 * vel[2, i] - ksum[2, i]) * _THIRD
-        spread[i] = d0 * d0 + d1 * d1 + d2 * d2
+                    pos[k, i] = end[k, i]
 
 
 @njit(**_JIT)
 def _predicted_error(end: np.ndarray, start: np.ndarray, mid: np.ndarray, i: int) -> float:
     """The cube of one RK4 step's predicted error at point i, e⁵ / max(m, e)² (module
-    docstring), from its end, start and second-order ends ``mid`` (``_rk4``)."""
+    docstring), from its end, start and second-order ends ``mid`` (``_steps``)."""
     m2 = _norm2(end, start, i, 0)
     e = math.sqrt(max(_norm2(mid, end, i, 0), _norm2(mid, end, i, 3)))
     reach2 = max(m2, e * e)
@@ -277,7 +274,7 @@ def _probe_pass(
     field: Field,
     probes: np.ndarray,  # (P,) int64 points probed (rows of ``indices`` if indexed)
     error: np.ndarray,  # (P,) the third-order step's error (see below)
-    spread: np.ndarray,  # (P,) the third-order step's squared spread (``_rk3``)
+    spread: np.ndarray,  # (P,) the third-order step's squared spread (``_steps``)
     motion: np.ndarray,  # (P,) the squared motion |x₄ - x₀|² of the two RK4 steps
     first_block: int,
     last_block: int,
@@ -294,7 +291,6 @@ def _probe_pass(
     fourth = np.empty((3, BLOCK))
     coarse = np.empty((3, BLOCK))
     mid_rows = np.empty((6, BLOCK))
-    ksum = np.empty((3, BLOCK))
     spreads = np.empty(BLOCK)
     for blk in range(first_block, last_block):
         start = blk * BLOCK
@@ -315,9 +311,10 @@ def _probe_pass(
             for j in range(nb):
                 error[start + j] = np.inf
             continue
-        _rk3(nb, start_rows, third, spreads, field, scratch, rows, ksum)
-        _rk4(1, nb, start_rows, coarse, mid_rows, field, scratch, rows)
-        _rk4(2, nb, start_rows, fourth, mid_rows, field, scratch, rows)
+        for method in range(3):  # one call site (see ``_steps``)
+            ends = third if method == 0 else (coarse if method == 1 else fourth)
+            _steps(method == 0, max(method, 1), nb, start_rows, ends, mid_rows, spreads, field,
+                   scratch, rows)  # fmt: skip
         for j in range(nb):
             richardson = math.sqrt(_norm2(fourth, coarse, j, 0)) / 15.0
             error[start + j] = math.sqrt(_norm2(third, fourth, j, 0)) + richardson
@@ -334,7 +331,7 @@ def _first_pass(
     n_steps: int,  # RK4 steps (1 when adaptive)
     adaptive: bool,  # also estimate the errors (``rank``, ``block_motion``)
     third_order: bool,  # one SSPRK3 step (adaptive), kept where its spread is within the limit
-    spread_limit: float,  # the largest squared spread (``_rk3``) the probes spoke for
+    spread_limit: float,  # the largest squared spread (``_steps``) the probes spoke for
     field: Field,
     out: np.ndarray,  # (N, 3) end positions
     evaluations: np.ndarray,  # (N,) int64 velocity evaluations each point took
@@ -354,7 +351,6 @@ def _first_pass(
     end_rows = np.empty((3, BLOCK))
     mid_rows = np.empty((6, BLOCK))
     motion2 = np.empty(BLOCK)
-    ksum = np.empty((3, BLOCK))
     spreads = np.empty(BLOCK)
     for blk in range(first_block, last_block):
         start = blk * BLOCK
@@ -371,10 +367,8 @@ def _first_pass(
                         problem[blk] = 2
             for k in range(3):
                 start_rows[k, i] = points[row, k]
-        if third_order:
-            _rk3(nb, start_rows, end_rows, spreads, field, scratch, rows, ksum)
-        else:
-            _rk4(n_steps, nb, start_rows, end_rows, mid_rows, field, scratch, rows)
+        _steps(third_order, n_steps, nb, start_rows, end_rows, mid_rows, spreads, field, scratch,
+               rows)  # fmt: skip
         for i in range(nb):
             for k in range(3):
                 out[start + i, k] = end_rows[k, i]
@@ -428,6 +422,7 @@ def _refine_pass(
     end_rows = np.empty((3, BLOCK))
     previous = np.empty((3, BLOCK))
     picked = np.empty(BLOCK, dtype=np.int64)
+    spreads = np.empty(BLOCK)
     for blk in range(first_block, last_block):
         start = blk * BLOCK
         count = min(BLOCK, n_refine - start)
@@ -442,7 +437,8 @@ def _refine_pass(
                 row = indices[picked[j]] if indexed else picked[j]
                 for k in range(3):
                     start_rows[k, j] = points[row, k]
-            _rk4(n_steps, count, start_rows, end_rows, end_rows, field, scratch, rows)
+            _steps(False, n_steps, count, start_rows, end_rows, end_rows, spreads, field, scratch,
+                   rows)  # fmt: skip
             kept = 0
             for j in range(count):
                 n = picked[j]

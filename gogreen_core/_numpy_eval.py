@@ -201,7 +201,7 @@ def _velocity(pos: np.ndarray, t: float, field: tuple[Any, ...]) -> np.ndarray:
 def _rk4(
     n_steps: int, start: np.ndarray, field: tuple[Any, ...], want_mid: bool
 ) -> tuple[np.ndarray, Any]:
-    """``_integrator._rk4`` from start (3, n) → (end, mid (6, n) or None)."""
+    """``_integrator._steps`` (RK4) from start (3, n) → (end, mid (6, n) or None)."""
     h = 1.0 / n_steps
     pos = start
     mid: Any = np.empty((6, start.shape[1])) if want_mid else None
@@ -226,7 +226,7 @@ def _rk4(
 
 
 def _rk3(start: np.ndarray, field: tuple[Any, ...]) -> tuple[np.ndarray, np.ndarray]:
-    """``_integrator._rk3`` from start (3, n) → (end, squared spread (n,))."""
+    """``_integrator._steps`` (third order) from start (3, n) → (end, squared spread (n,))."""
     k1 = _velocity(start, 0.0, field)
     ksum = k1 + _velocity(start + k1, 1.0, field)
     k3 = _velocity(start + 0.25 * ksum, 0.5, field)
