@@ -68,7 +68,7 @@ __all__ = ["CUTOFF_END", "MAX_ADAPTIVE_STEPS"]
 #: of this module's compiled code on this file alone, yet compiles their functions and constants
 #: into it: a change there must change this file, or a stale machine code (another BLOCK,
 #: another arithmetic) would be loaded.
-COMPILED_SOURCES = "172a2073fdb8e66b"
+COMPILED_SOURCES = "651faa9cd031c0d7"
 
 #: Largest number of RK4 steps the adaptive streamlines give one vertex in one event.
 MAX_ADAPTIVE_STEPS = 256
@@ -78,7 +78,7 @@ _THIRD = 1.0 / 3.0
 # The velocity field travels as one tuple through the functions below:
 # (center0, center_step, eps, power, l_first, l_last, base, coeffs, beta, tables, angular,
 #  unrolled, cutoff_inner, inv_width, mirrors, origin, single, coeffs32, beta32, tables32,
-#  cscale, angular32, unrolled32); see ``stream`` and ``_evaluation.stream``.
+#  cscale, angular32, unrolled32); see ``_evaluation.stream``.
 
 
 @njit(**_JIT)

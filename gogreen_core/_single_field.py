@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numba import njit
 
-from gogreen_core._expansion import _HUGE, _JIT, _TINY, CUTOFF_END, _angular
+from gogreen_core._expansion import _HUGE, _JIT, _TINY, CUTOFF_END, _angular, _radial
 
 if TYPE_CHECKING:
     #: The velocity field's tuple and the scratch rows (see ``_integrator``).
@@ -126,38 +126,17 @@ def _single_geometry(
 
 @njit(**_JIT)
 def _single_radial(
-    l_first: int,
-    nb: int,
-    tables: np.ndarray,
-    tables32: np.ndarray,
-    geo: np.ndarray,
-    seg: np.ndarray,
-    geo32: np.ndarray,
-    rad: np.ndarray,
-    rad32: np.ndarray,
+    tables32: np.ndarray, nb: int, seg: np.ndarray, sigma: np.ndarray, rad32: np.ndarray
 ) -> None:
-    """Evaluation 3's radial terms: rad[0] the lowest degree's as ``_expansion._radial``
-    (``tables`` (1, S, 6) float64), and rad32[d] the single precision table (``tables32``
-    (S, n_deg - 1, 3) float32) of each degree above, c₀ + (c₁ + c₂ σ) σ in float32 with
-    σ = loc + 1 (geo32 row 4), unscaled (the velocity scales it)."""
-    c = tables[0]
-    scale = geo[5] if l_first == 0 else geo[6]
-    loc, loc32, low = geo[4], geo32[4], rad[0]
-    n_single = tables32.shape[1]
-    for i in range(nb):
-        j = np.uint64(seg[i])
-        s = loc[i]
-        s2 = s * s
-        p01 = c[j, 0] + c[j, 1] * s
-        p23 = c[j, 2] + c[j, 3] * s
-        p45 = c[j, 4] + c[j, 5] * s
-        low[i] = (p01 + (p23 + p45 * s2) * s2) * scale[i]
-    for d in range(n_single):
+    """rad32[d, i] = the single precision table (``tables32`` (S, n_deg - 1, 3) float32) of
+    degree d above the lowest at point i, c₀ + (c₁ + c₂ σ) σ in float32 with σ = loc + 1,
+    unscaled (the velocity scales it)."""
+    for d in range(tables32.shape[1]):
         row = rad32[d]
         for i in range(nb):
             j = np.uint64(seg[i])
-            s32 = loc32[i]
-            row[i] = tables32[j, d, 0] + (tables32[j, d, 1] + tables32[j, d, 2] * s32) * s32
+            s = sigma[i]
+            row[i] = tables32[j, d, 0] + (tables32[j, d, 1] + tables32[j, d, 2] * s) * s
 
 
 @njit(**_JIT)
@@ -182,7 +161,8 @@ def _single_velocity(
                     for i in range(nb):
                         vel[k, i] = 0.0
             continue
-        _single_radial(l_first, nb, tables, tables32, geo, seg, geo32, rad, rad32)
+        _radial(tables, l_first, nb, geo, seg, rad)  # the lowest degree's, alone in ``tables``
+        _single_radial(tables32, nb, seg, geo32[4], rad32)
         if upper:
             if unrolled32:
                 angular32(nb, geo32.ctypes, rad32.ctypes, coeffs32.ctypes, total32.ctypes)
