@@ -48,7 +48,6 @@ def blend_by_mask(old: np.ndarray, new: np.ndarray, held: np.ndarray) -> np.ndar
 class _Stroke:
     brush: Brush
     before: np.ndarray  # (N, 3) the vertices when the stroke began
-    touched: np.ndarray  # (N,) bool: rows an event moved
     events: list[BrushEvent] = field(default_factory=list)
     memo: dict[str, Any] = field(default_factory=dict)  # the brush's state between events
     mask_before: np.ndarray | None = None  # (N,) the mask, copied at the first mask edit
@@ -94,7 +93,7 @@ class StrokeDriver:
         if not isinstance(brush, Brush):
             raise ParameterError("brush", f"brush must be a Brush (got {type(brush).__name__})")
         vertices = self.mesh.vertices
-        self._stroke = _Stroke(brush, vertices.copy(), np.zeros(len(vertices), dtype=bool))
+        self._stroke = _Stroke(brush, vertices.copy())
 
     def event(self, kernels: KernelCache, event: BrushEvent) -> np.ndarray:
         """Apply one event of the current stroke; the indices (n,) of the rows it moved (or
@@ -114,8 +113,6 @@ class StrokeDriver:
         behaviour.check_event(brush, event, self.mesh.reach)
         moved = behaviour.displace(self.context(kernels), brush, event)
         self._write(stroke, moved)
-        if moved.mask is None:
-            stroke.touched[moved.rows] = True
         stroke.events.append(event)
         self.log.event(event)  # the recovery journal serializes it now
         return moved.rows
@@ -151,10 +148,14 @@ class StrokeDriver:
         stroke, self._stroke = self._stroke, None
         if stroke is None:
             return np.zeros(0, dtype=np.int64)
-        vertices = self.mesh.vertices
-        idx = np.flatnonzero(stroke.touched)
-        changed = np.any(stroke.before[idx] != vertices[idx], axis=1)
-        idx = idx[changed]
+        # the rows that changed, found once at the end rather than marked at every event
+        # (only the stroke writes the vertices meanwhile): on a 1M-vertex mesh 6 ms at the
+        # end instead of 0.5 ms an event
+        vertices, before = self.mesh.vertices, stroke.before
+        changed = before[:, 0] != vertices[:, 0]
+        for k in (1, 2):
+            changed |= before[:, k] != vertices[:, k]
+        idx = np.flatnonzero(changed)
         state = None
         if stroke.mask_before is not None:
             painted = np.flatnonzero(stroke.mask_before != self.mesh.mask)
