@@ -68,7 +68,7 @@ __all__ = ["CUTOFF_END", "MAX_ADAPTIVE_STEPS"]
 #: of this module's compiled code on this file alone, yet compiles their functions and constants
 #: into it: a change there must change this file, or a stale machine code (another BLOCK,
 #: another arithmetic) would be loaded.
-COMPILED_SOURCES = "651faa9cd031c0d7"
+COMPILED_SOURCES = "014c9c9e7086cce1"
 
 #: Largest number of RK4 steps the adaptive streamlines give one vertex in one event.
 MAX_ADAPTIVE_STEPS = 256
@@ -193,10 +193,12 @@ def _steps(
     """
     pos, stage_pos, vel = rows
     h = 1.0 / n_steps
-    # (element loops rather than slice assignments, whose shape checks compile slowly)
-    for k in range(3):
-        for i in range(nb):
-            pos[k, i] = start[k, i]
+    if third_order or n_steps == 1:  # one step: it starts from ``start`` itself
+        pos = start
+    else:  # (element loops rather than slice assignments, whose shape checks compile slowly)
+        for k in range(3):
+            for i in range(nb):
+                pos[k, i] = start[k, i]
     ksum = mid[3:6]
     for step in range(n_steps):
         t0 = step * h
@@ -249,7 +251,7 @@ def _steps(
                     for k in range(3):
                         for i in range(nb):
                             stage_pos[k, i] = pos[k, i] + a * vel[k, i]
-        if not third_order:
+        if not third_order and step + 1 < n_steps:
             for k in range(3):
                 for i in range(nb):
                     pos[k, i] = end[k, i]
@@ -355,18 +357,24 @@ def _first_pass(
     for blk in range(first_block, last_block):
         start = blk * BLOCK
         nb = min(BLOCK, n_points - start)
+        # the gather, then the checks counted in loops that vectorize (no store in a branch)
+        n_outside = 0
         for i in range(nb):
             row = start + i
             if indexed:
                 row = indices[start + i]
-                if row < 0 or row >= n_rows:
-                    problem[blk] = 1
-                    row = 0
-                for k in range(3):
-                    if not abs(points[row, k]) <= limit and problem[blk] == 0:  # or NaN
-                        problem[blk] = 2
+                inside = 0 <= row < n_rows
+                n_outside += 0 if inside else 1
+                row = row if inside else 0
             for k in range(3):
                 start_rows[k, i] = points[row, k]
+        if indexed:
+            n_bad_starts = 0
+            for k in range(3):
+                for i in range(nb):
+                    n_bad_starts += 0 if abs(start_rows[k, i]) <= limit else 1  # or NaN
+            if n_outside or n_bad_starts:
+                problem[blk] = 1 if n_outside else 2
         _steps(third_order, n_steps, nb, start_rows, end_rows, mid_rows, spreads, field, scratch,
                rows)  # fmt: skip
         for i in range(nb):
@@ -375,10 +383,12 @@ def _first_pass(
         if evaluations.shape[0]:  # (an empty array: not counted)
             for i in range(nb):
                 evaluations[start + i] = 3 if third_order else 4 * n_steps
+        n_bad = 0  # (a count, not a flag set in the loop: it vectorizes)
         for k in range(3):
             for i in range(nb):
-                if not math.isfinite(end_rows[k, i]):
-                    bad[blk] = True
+                n_bad += 0 if math.isfinite(end_rows[k, i]) else 1
+        if n_bad:
+            bad[blk] = True
         if not adaptive:
             continue
         for i in range(nb):
