@@ -447,8 +447,10 @@ def _refine_pass(
                 row = indices[picked[j]] if indexed else picked[j]
                 for k in range(3):
                     start_rows[k, j] = points[row, k]
-            _steps(False, n_steps, count, start_rows, end_rows, end_rows, spreads, field, scratch,
-                   rows)  # fmt: skip
+            # RK4 (n_steps ≥ 2): a run-time False, as the other callers' flag (a literal False
+            # would compile another ``_steps``, 4 s on an empty cache)
+            _steps(bool(n_steps < 2), n_steps, count, start_rows, end_rows, end_rows, spreads,
+                   field, scratch, rows)  # fmt: skip
             kept = 0
             for j in range(count):
                 n = picked[j]
