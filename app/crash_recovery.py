@@ -94,7 +94,9 @@ class CrashRecovery(QObject):
         if journal.maybe_checkpoint():
             self._idle_timer.start()  # then: a checkpoint that could not be written is said
         last, records = self._thumbnail_at
-        if journal.active and journal.records != records:
+        # none before the first operation: a journal without one is never offered, and the
+        # picture (a render, ~0.3 s) would delay the first stroke of a newly opened model
+        if journal.active and journal.records != records and journal.records > 0:
             if records < 0 or time.monotonic() - last >= THUMBNAIL_SECONDS:
                 self._write_thumbnail(journal)
         for problem in journal.take_problems():

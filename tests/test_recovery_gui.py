@@ -178,3 +178,20 @@ def test_a_journal_that_cannot_be_written_is_said_once_and_sculpting_goes_on(win
     window.crash_recovery.idle()
     assert window.message_label.text() == "something else"  # said once
     assert len(window.document.sculptor.operations) == 2  # sculpting went on
+
+
+def test_the_recovery_picture_waits_for_the_first_operation(window):
+    """A journal without an operation is never offered: no picture of it (a render that would
+    delay the first stroke of a newly opened model); the first idle after an operation takes
+    one."""
+    from gui_helpers import center_of, drag
+
+    from gogreen_core.journal import THUMBNAIL_FILE
+
+    journal = window.document.journal
+    picture = journal.directory / THUMBNAIL_FILE
+    window.crash_recovery.idle()  # what the idle timer does
+    assert journal.flush() and journal.records == 0 and not picture.exists()
+    drag(window, center_of(window))
+    window.crash_recovery.idle()
+    assert journal.flush() and journal.records == 1 and picture.exists()
