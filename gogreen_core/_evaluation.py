@@ -87,12 +87,11 @@ class Parity:
         if n_out == 3 and self.l_last <= _unrolled.UNROLLED_L_MAX:
             _compiled.request((self.l_first, self.l_last))
 
-    def single(self, coeffs: np.ndarray) -> tuple[np.ndarray, float]:
-        """Evaluation 3's single precision coefficients: (``folded(coeffs)`` divided by the
-        largest magnitude of its rows of degree above l_first, as float32 (n_terms, K); that
-        magnitude). All zeros and 0 when there is none; NaN rows (and the field) when it is
-        not finite, as the double precision ones would overflow."""
-        folded = self.folded(coeffs)
+    def single(self, folded: np.ndarray) -> tuple[np.ndarray, float]:
+        """Evaluation 3's single precision coefficients from the ``folded`` ones (n_terms, K):
+        (``folded`` divided by the largest magnitude of its rows of degree above l_first, as
+        float32; that magnitude). All zeros and 0 when there is none; NaN rows (and the field)
+        when it is not finite, as the double precision ones would overflow."""
         upper = np.abs(folded[2 * self.l_first + 1 :])
         scale = float(upper.max(initial=0.0))
         if scale == 0.0:
@@ -179,7 +178,7 @@ def stream(
 ) -> int:
     """The streamlines of the load ``coeffs`` (n_terms, 3); see ``_stream.stream`` for the
     arguments and the status returned. ``single_tables``: evaluation 3's tables of the degrees
-    above the parity's lowest (``RadialProfile.single_table``)."""
+    above the parity's lowest (``radial_tables.single_tables``)."""
     inner, outer = cutoff
     if evaluation == 1:
         from gogreen_core._legacy.stream import stream as legacy_stream
@@ -199,16 +198,17 @@ def stream(
     compiled = _compiled.drivers()
     if not compiled:
         parity.request_angular(3)
+    folded = parity.folded(coeffs)
     single = evaluation >= 3
     if single:
-        coeffs32, cscale = parity.single(coeffs)
+        coeffs32, cscale = parity.single(folded)
         tables, tables32 = tables[:1], single_tables
     else:
         coeffs32, cscale = np.zeros((1, 3), dtype=np.float32), 0.0
         tables32 = np.zeros((1, 0, 3), dtype=np.float32)
     field = (
         center, center_step, float(eps), parity.power, parity.l_first, parity.l_last,
-        parity.base, parity.folded(coeffs), parity.beta, tables,
+        parity.base, folded, parity.beta, tables,
         *(parity.angular(3) if compiled else (None, False)), float(inner),
         1.0 / width if outer > 0.0 and width > 0.0 else 0.0, mirrors, origin,
         single, coeffs32, parity.beta_single, tables32, cscale,

@@ -279,9 +279,10 @@ def angular_cached(l_first: int, l_last: int, single: bool = False) -> bool:
     key = (*_check(l_first, l_last, single), single)
     if key in _KERNELS:
         return True
-    function, signature = _callback(_module(key[:2]), single)
+    module = _module(key[:2])
+    function, signature = _callback(module, single)
     signature = sigutils.normalize_signature(signature)
-    callback: Any = CFunc(function, signature, {}, _module(key[:2]).OPTIONS)
+    callback: Any = CFunc(function, signature, {}, module.OPTIONS)
     callback.enable_caching()
     context = callback._targetdescr.target_context
     return callback._cache.load_overload(callback._sig, context) is not None
