@@ -25,6 +25,7 @@ from gogreen_core.limits import (
     check_brush_weights,
     check_constraint_radius,
     check_degree_weights,
+    check_detail_size,
     check_falloff,
     check_l_max,
     check_material,
@@ -32,7 +33,7 @@ from gogreen_core.limits import (
 from gogreen_core.material import Material
 from gogreen_core.radial import GaussianRadial, RadialProfile
 from gogreen_core.schema import parse_falloff, parse_material
-from gogreen_core.validation import check_object
+from gogreen_core.validation import check_bool, check_object
 from gogreen_core.validation import field as field_path
 
 __all__ = [
@@ -46,11 +47,13 @@ __all__ = [
 #: ε of the pins (fraction of the model size) when a session file does not say.
 DEFAULT_CONSTRAINT_RADIUS = 0.1
 #: Fields that change together, as one undo step and one session record each: the material;
-#: the falloff with l_max and the weights (which belong to one l_max); the pins' radius.
+#: the falloff with l_max and the weights (which belong to one l_max); the pins' radius;
+#: dynamic topology with its detail size.
 SETTING_GROUPS: tuple[tuple[str, ...], ...] = (
     ("material",),
     ("falloff", "l_max", "degree_weights", "brush_weights"),
     ("constraint_radius",),
+    ("dynamic_topology", "detail_size"),
 )
 
 
@@ -109,6 +112,9 @@ class EngineSettings:
     brush_weights : per-brush degree weights ω_l (paper Fig. 7 and 10), a read-only mapping
         from a brush kind to l_max + 2 numbers (degrees 0 … l_max + 1); a brush not in it uses
         its defaults (:meth:`weights_for`).
+    dynamic_topology : remesh what each stroke moves (:mod:`gogreen_core.remesh`), default off.
+    detail_size : its target edge length as a fraction of the model size, or None (the
+        default): the median edge length the moved region had before the stroke.
 
     Change one with :meth:`replace` (checked again); compare with ``==`` (by content).
     """
@@ -121,6 +127,8 @@ class EngineSettings:
     brush_weights: Mapping[str, tuple[float, ...]] = field(
         default_factory=lambda: MappingProxyType({})
     )
+    dynamic_topology: bool = False
+    detail_size: float | None = None
 
     def __post_init__(self) -> None:
         l_max = check_l_max(self.l_max)
@@ -131,6 +139,8 @@ class EngineSettings:
             "degree_weights": check_degree_weights(self.degree_weights, l_max),
             "constraint_radius": check_constraint_radius(self.constraint_radius),
             "brush_weights": check_brush_weights(self.brush_weights, l_max),
+            "dynamic_topology": check_bool("dynamic_topology", self.dynamic_topology),
+            "detail_size": check_detail_size(self.detail_size),
         }
         for name, value in checked.items():
             object.__setattr__(self, name, value)
@@ -200,6 +210,9 @@ class EngineSettings:
         }
         if self.brush_weights:
             data["brush_weights"] = {k: list(v) for k, v in self.brush_weights.items()}
+        if self.dynamic_topology or self.detail_size is not None:  # older files stay as they were
+            data["dynamic_topology"] = self.dynamic_topology
+            data["detail_size"] = self.detail_size
         return data
 
     @classmethod
@@ -222,5 +235,11 @@ class EngineSettings:
             ),
             brush_weights=check_brush_weights(
                 values.get("brush_weights"), l_max, field_path(path, "brush_weights")
+            ),
+            dynamic_topology=check_bool(
+                field_path(path, "dynamic_topology"), values.get("dynamic_topology", False)
+            ),
+            detail_size=check_detail_size(
+                values.get("detail_size"), field_path(path, "detail_size")
             ),
         )

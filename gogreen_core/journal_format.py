@@ -78,7 +78,10 @@ def replay_work(name: str, events: int, vertices: int) -> float:
         return max(1, events) * vertices
     if name in ("material", "falloff"):
         return max(vertices, SETTINGS_WORK)
-    if name == "subdivide":  # measured: about as long as 20 strokes' events on the same mesh
+    if name in (
+        "subdivide",
+        "remesh",
+    ):  # measured: about as long as 20 strokes' events on the same mesh
         return SUBDIVIDE_WORK * vertices
     return vertices
 

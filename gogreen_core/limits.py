@@ -38,6 +38,7 @@ __all__ = [
     "check_brush_weights",
     "check_constraint_radius",
     "check_degree_weights",
+    "check_detail_size",
     "check_falloff",
     "check_l_max",
     "check_material",
@@ -128,6 +129,20 @@ def check_degree_weights(
 def check_constraint_radius(value: object, path: str = "constraint_radius") -> float:
     """ε of the pins as a fraction of the model size, in [MIN_RADIUS, MAX_RADIUS]."""
     return check_number(path, value, low=MIN_RADIUS, high=MAX_RADIUS)
+
+
+#: Dynamic topology's detail size (target edge length) as a fraction of the model size: below
+#: the smallest a 1M-vertex model's edges are already longer; above the largest a model keeps
+#: a handful of triangles.
+MIN_DETAIL_SIZE, MAX_DETAIL_SIZE = 1e-4, 0.25
+
+
+def check_detail_size(value: object, path: str = "detail_size") -> float | None:
+    """Dynamic topology's target edge length as a fraction of the model size, in
+    [MIN_DETAIL_SIZE, MAX_DETAIL_SIZE], or None (the edge length the surface had)."""
+    if value is None:
+        return None
+    return check_number(path, value, low=MIN_DETAIL_SIZE, high=MAX_DETAIL_SIZE)
 
 
 def check_brush_weights(

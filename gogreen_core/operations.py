@@ -20,7 +20,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from gogreen_core.brushes import Brush, BrushEvent
-from gogreen_core.limits import MAX_RADIUS, MIN_RADIUS, check_brush_weights
+from gogreen_core.limits import MAX_RADIUS, MIN_RADIUS, check_brush_weights, check_detail_size
 from gogreen_core.material import Material
 from gogreen_core.radial import RadialProfile
 from gogreen_core.schema import (
@@ -50,12 +50,14 @@ __all__ = [
     "ConstraintRadius",
     "ConstraintRemove",
     "ConstraintsClear",
+    "DynamicTopology",
     "FalloffChange",
     "MaskClear",
     "MaskInvert",
     "MaterialChange",
     "Operation",
     "Redo",
+    "Remesh",
     "Stroke",
     "Subdivide",
     "Undo",
@@ -331,6 +333,58 @@ class Subdivide(Operation):
 
 
 @dataclass(frozen=True)
+class DynamicTopology(Operation):
+    """Dynamic topology on or off and its detail size (a fraction of the model size, or None:
+    the edge length the surface had) from now on (an undo step)."""
+
+    name: ClassVar[str] = "dynamic_topology"
+    required: ClassVar[tuple[str, ...]] = ("enabled",)
+    optional: ClassVar[tuple[str, ...]] = ("detail_size", "continued")
+    enabled: bool
+    detail_size: float | None = None
+    continued: bool = False
+
+    def to_dict(self) -> dict[str, Any]:
+        data = {"op": self.name, "enabled": self.enabled, "detail_size": self.detail_size}
+        return _with_flag(data, self.continued)
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any], path: str) -> DynamicTopology:
+        enabled = check_bool(field_path(path, "enabled"), data["enabled"])
+        size = check_detail_size(data.get("detail_size"), field_path(path, "detail_size"))
+        return cls(enabled, size, _continued(data, path))
+
+
+@dataclass(frozen=True)
+class Remesh(Operation):
+    """Isotropic remeshing of the whole mesh, or of its faces that are not masked
+    (``unmasked_only``), to the edge length ``detail_size`` (a fraction of the model size); an
+    undo step (:mod:`gogreen_core.remesh`)."""
+
+    name: ClassVar[str] = "remesh"
+    required: ClassVar[tuple[str, ...]] = ("detail_size",)
+    optional: ClassVar[tuple[str, ...]] = ("unmasked_only",)
+    detail_size: float
+    unmasked_only: bool = False
+
+    def to_dict(self) -> dict[str, Any]:
+        data: dict[str, Any] = {"op": self.name, "detail_size": self.detail_size}
+        if self.unmasked_only:
+            data["unmasked_only"] = True
+        return data
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any], path: str) -> Remesh:
+        name = field_path(path, "detail_size")
+        size = check_detail_size(data["detail_size"], name)
+        if size is None:
+            raise ParameterError(name, f"{name} must be a number (got null)")
+        return cls(
+            size, check_bool(field_path(path, "unmasked_only"), data.get("unmasked_only", False))
+        )
+
+
+@dataclass(frozen=True)
 class Undo(Operation):
     """Undo the last step."""
 
@@ -373,6 +427,8 @@ OPERATIONS: dict[str, type[Operation]] = {
         MaskInvert,
         MaskClear,
         Subdivide,
+        DynamicTopology,
+        Remesh,
         Undo,
         Redo,
     )

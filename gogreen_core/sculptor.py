@@ -38,21 +38,24 @@ from gogreen_core.engine_settings import (
 from gogreen_core.history import History
 from gogreen_core.kernel import EVALUATION, GreenKernel
 from gogreen_core.kernel_cache import KernelCache
-from gogreen_core.limits import MAX_REACH, check_constraint_radius
+from gogreen_core.limits import MAX_REACH, check_constraint_radius, check_detail_size
 from gogreen_core.mask import Mask
 from gogreen_core.material import Material
-from gogreen_core.mesh_state import MaskRows, MeshSnapshot, MeshState
+from gogreen_core.mesh_state import MaskRows, MeshSnapshot, MeshState, compact_faces
 from gogreen_core.operations import (
     ConstraintRadius,
+    DynamicTopology,
     FalloffChange,
     MaterialChange,
     Operation,
     Redo,
+    Remesh,
     Subdivide,
     Undo,
 )
 from gogreen_core.pins import Pins
 from gogreen_core.radial import GaussianRadial, RadialProfile
+from gogreen_core.remesh import remesh as remesh_mesh
 from gogreen_core.session import (
     RENAMED_BEFORE_3,
     SESSION_FORMAT,
@@ -66,7 +69,7 @@ from gogreen_core.session import (
     version_of,
 )
 from gogreen_core.stroke import StrokeDriver
-from gogreen_core.subdivision import PreparedSubdivision, prepare_subdivision
+from gogreen_core.subdivision import MASK_THRESHOLD, PreparedSubdivision, prepare_subdivision
 from gogreen_core.validation import ParameterError, check_bool, check_vector, prefixed
 
 __all__ = [
@@ -79,8 +82,15 @@ __all__ = [
 ]
 
 #: Undo label of each settings group (a continued change joins the last of these).
-_LABELS = {"material": "material", "falloff": "falloff", "constraint_radius": "constraint radius"}
+_LABELS = {
+    "material": "material",
+    "falloff": "falloff",
+    "constraint_radius": "constraint radius",
+    "dynamic_topology": "dynamic topology",
+}
 _NO_ROWS = np.zeros((0, 3))
+#: Rounds of split, collapse, flip and relaxation of Mesh → Remesh.
+REMESH_ITERATIONS = 6
 _NO_INDEX = np.zeros(0, dtype=np.int64)
 
 
@@ -90,6 +100,8 @@ def _record(settings: EngineSettings, group: str, continued: bool) -> Operation:
         return MaterialChange(settings.material, continued)
     if group == "constraint_radius":
         return ConstraintRadius(settings.constraint_radius, continued)
+    if group == "dynamic_topology":
+        return DynamicTopology(settings.dynamic_topology, settings.detail_size, continued)
     s = settings
     return FalloffChange(s.falloff, s.l_max, s.degree_weights, continued, s.brush_weights)
 
@@ -159,6 +171,7 @@ class Sculptor:
         self._initial = settings
         self._strokes = StrokeDriver(self._mesh, self.history, self._log)
         self._pins = Pins(self._mesh, self.history, self._log, lambda: self._kernels)
+        self._strokes.pin_points = lambda: self._pins.points  # dynamic topology keeps them
         #: The vertex mask: what holds vertices still under every brush and pin drag.
         self.mask: Mask = Mask(self._mesh, self.history, self._log, self._strokes.refuse)
 
@@ -230,6 +243,12 @@ class Sculptor:
                 self.set_material(s.material, continued)
             elif group[0] == "falloff":
                 self.set_falloff(s.falloff, s.l_max, s.degree_weights, continued, s.brush_weights)
+            elif group[0] == "dynamic_topology":
+                self.change_settings(
+                    dynamic_topology=s.dynamic_topology,
+                    detail_size=s.detail_size,
+                    continued=continued,
+                )
             else:
                 self.set_constraint_radius(s.constraint_radius, continued)
 
@@ -436,6 +455,50 @@ class Sculptor:
         state = (before, prepared.result)
         self.history.record("subdivide", _NO_INDEX, _NO_ROWS, _NO_ROWS, state=state)
         self._log.record(Subdivide(unmasked_only))
+
+    def remesh(
+        self,
+        detail_size: float,
+        unmasked_only: bool = False,
+        *,
+        iterations: int = REMESH_ITERATIONS,
+    ) -> None:
+        """Isotropic remeshing (:mod:`gogreen_core.remesh`) of the whole mesh, or of its faces
+        that are not masked, to edges of about ``detail_size`` model sizes (4/5 to 4/3 of it);
+        the mask and UVs carried along, pins' vertices kept, the model's size and origin
+        unchanged. One undo step (undo gives back the previous arrays exactly) and one log
+        entry."""
+        self._strokes.refuse("remesh")
+        size = check_detail_size(detail_size)
+        if size is None:
+            raise ParameterError("detail_size", "detail_size must be a number (got None)")
+        unmasked_only = check_bool("unmasked_only", unmasked_only)
+        mesh = self._mesh
+        before = mesh.snapshot()
+        region = np.ones(len(mesh.vertices), dtype=bool)
+        if unmasked_only:
+            region = mesh.mask < MASK_THRESHOLD
+        done = remesh_mesh(
+            mesh.vertices,
+            mesh.faces,
+            region,
+            size * mesh.model_size,
+            mask=mesh.mask,
+            uv=mesh.uv,
+            uv_faces=mesh.uv_faces,
+            locked=self._strokes.pinned_vertices(),
+            iterations=iterations,
+        )
+        assert done.mask is not None
+        uv_faces = None if done.uv_faces is None else compact_faces(done.uv_faces)
+        arrays = (done.vertices, compact_faces(done.faces), done.mask, done.uv, uv_faces)
+        for array in arrays:
+            if array is not None:
+                array.setflags(write=False)
+        after = MeshSnapshot(*arrays)
+        mesh.adopt(after)
+        self.history.record("remesh", _NO_INDEX, _NO_ROWS, _NO_ROWS, state=(before, after))
+        self._log.record(Remesh(size, unmasked_only))
 
     # -- history -----------------------------------------------------------------------------
     def undo(self) -> str | None:

@@ -15,25 +15,42 @@ with a mask it writes each row itself, moved (1 − mask) of the way (a row at 1
 position bit for bit). A mask painter's values are written here too. A stroke is one undo step
 (its moved rows and, for a mask stroke, the mask values it changed) and one entry of the
 session log, recorded when it ends.
+
+Dynamic topology (``EngineSettings.dynamic_topology``): after each event that moved vertices,
+the faces around the vertices whose sides the stroke strained by more than
+:data:`STRAIN_TOLERANCE` target lengths since they were last remeshed (grown by a ring) are
+remeshed to the detail size (:mod:`gogreen_core.remesh`), the vertices nearest the pins locked.
+Such a stroke's undo step holds the whole mesh before and after it (as a subdivision's does).
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from gogreen_core.brushes import Brush, BrushEvent, Displacement, StrokeContext
+from gogreen_core.engine_settings import EngineSettings
 from gogreen_core.history import History
 from gogreen_core.kernel import GreenKernel
 from gogreen_core.kernel_cache import KernelCache
-from gogreen_core.mesh_state import MaskRows, MeshState
+from gogreen_core.mesh_state import MaskRows, MeshSnapshot, MeshState
 from gogreen_core.operations import Stroke
+from gogreen_core.remesh import grow_region, median_edge_length, remesh, strained_vertices
 from gogreen_core.session import SessionLog
 from gogreen_core.validation import ParameterError
 
-__all__ = ["StrokeDriver", "blend_by_mask"]
+__all__ = ["DYNAMIC_ITERATIONS", "STRAIN_TOLERANCE", "StrokeDriver", "blend_by_mask"]
+
+#: Dynamic topology remeshes where a side of a face changed (as a vector) by more than this
+#: many target lengths since its vertices were last remeshed: a rigid shift strains nothing.
+STRAIN_TOLERANCE = 0.1
+#: Rounds of split, collapse, flip and relaxation after each event.
+DYNAMIC_ITERATIONS = 1
+_NO_INDEX = np.zeros(0, dtype=np.int64)
+_NO_ROWS = np.zeros((0, 3))
 
 
 def blend_by_mask(old: np.ndarray, new: np.ndarray, held: np.ndarray) -> np.ndarray:
@@ -51,6 +68,11 @@ class _Stroke:
     events: list[BrushEvent] = field(default_factory=list)
     memo: dict[str, Any] = field(default_factory=dict)  # the brush's state between events
     mask_before: np.ndarray | None = None  # (N,) the mask, copied at the first mask edit
+    # dynamic topology: the whole mesh at the start (once remeshed), each vertex's position
+    # when it was last remeshed, and the target edge length (model units) of this stroke
+    start: MeshSnapshot | None = None
+    reference: np.ndarray | None = None
+    detail: float | None = None
 
 
 class StrokeDriver:
@@ -61,6 +83,8 @@ class StrokeDriver:
         self.mesh, self.history, self.log = mesh, history, log
         self._stroke: _Stroke | None = None
         self._rows = np.empty((0, 3))  # the brushes' result rows, grown as needed
+        #: The pins' points (k, 3): dynamic topology never moves nor removes their vertices.
+        self.pin_points: Callable[[], np.ndarray] = lambda: _NO_ROWS
 
     @property
     def active(self) -> bool:
@@ -114,8 +138,69 @@ class StrokeDriver:
         moved = behaviour.displace(self.context(kernels), brush, event)
         self._write(stroke, moved)
         stroke.events.append(event)
+        rows = moved.rows
+        if kernels.settings.dynamic_topology and moved.mask is None and len(rows):
+            if self._remesh(stroke, kernels.settings, rows):
+                rows = np.arange(len(self.mesh.vertices))
         self.log.event(event)  # the recovery journal serializes it now
-        return moved.rows
+        return rows
+
+    def pinned_vertices(self) -> np.ndarray:
+        """(N,) bool: the vertex nearest each pin."""
+        vertices = self.mesh.vertices
+        pinned = np.zeros(len(vertices), dtype=bool)
+        for point in self.pin_points():
+            gap = vertices - point
+            pinned[np.argmin(np.einsum("ij,ij->i", gap, gap))] = True
+        return pinned
+
+    def _remesh(self, stroke: _Stroke, settings: EngineSettings, rows: np.ndarray) -> bool:
+        """Dynamic topology after an event that moved ``rows``: remesh where the stroke
+        strained the surface (see the module docstring). True when the mesh changed."""
+        mesh = self.mesh
+        if stroke.reference is None:
+            stroke.reference = stroke.before
+        if stroke.detail is None:
+            if settings.detail_size is not None:
+                stroke.detail = settings.detail_size * mesh.model_size
+            else:  # the edges the moved region had before the stroke
+                moved = np.zeros(len(mesh.vertices), dtype=bool)
+                moved[rows] = True
+                near = mesh.faces[np.any(moved[mesh.faces], axis=1)]
+                stroke.detail = median_edge_length(stroke.before, near)
+        detail = stroke.detail
+        strained = strained_vertices(
+            stroke.reference, mesh.vertices, mesh.faces, STRAIN_TOLERANCE * detail
+        )
+        if not detail > 0 or not strained.any():
+            return False
+        if stroke.start is None:  # the topology is still the stroke's start's
+            stroke.start = MeshSnapshot(
+                stroke.before,
+                mesh.faces,
+                mesh.mask.copy(),
+                mesh.uv,
+                mesh.uv_faces,
+            )
+        done = remesh(
+            mesh.vertices,
+            mesh.faces,
+            grow_region(mesh.faces, strained),
+            detail,
+            mask=mesh.mask,
+            uv=mesh.uv,
+            uv_faces=mesh.uv_faces,
+            locked=self.pinned_vertices(),
+            iterations=DYNAMIC_ITERATIONS,
+        )
+        reference = done.vertices.copy()
+        old = np.flatnonzero(done.kept >= 0)
+        untouched = ~done.changed[done.kept[old]]
+        reference[done.kept[old[untouched]]] = stroke.reference[old[untouched]]
+        stroke.reference = reference
+        assert done.mask is not None
+        mesh.adopt(MeshSnapshot(done.vertices, done.faces, done.mask, done.uv, done.uv_faces))
+        return True
 
     def _write(self, stroke: _Stroke, moved: Displacement) -> None:
         """The one place brush results reach the mesh (unless the brush wrote them through)."""
@@ -151,6 +236,13 @@ class StrokeDriver:
         # the rows that changed, found once at the end rather than marked at every event
         # (only the stroke writes the vertices meanwhile): on a 1M-vertex mesh 6 ms at the
         # end instead of 0.5 ms an event
+        if stroke.start is not None:  # dynamic topology changed the faces: whole meshes
+            after = self.mesh.snapshot()
+            meshes = (stroke.start, after)
+            label = f"{stroke.brush.kind} stroke"
+            self.history.record(label, _NO_INDEX, _NO_ROWS, _NO_ROWS, meshes)
+            self.log.record(Stroke(stroke.brush, tuple(stroke.events)))
+            return np.arange(len(after.vertices))
         vertices, before = self.mesh.vertices, stroke.before
         changed = before[:, 0] != vertices[:, 0]
         for k in (1, 2):
@@ -175,7 +267,9 @@ class StrokeDriver:
     def cancel(self) -> None:
         """Abandon the current stroke, restoring the vertices (and mask) as they were before."""
         stroke, self._stroke = self._stroke, None
-        if stroke is not None:
+        if stroke is not None and stroke.start is not None:
+            self.mesh.adopt(stroke.start)
+        elif stroke is not None:
             self.mesh.write_rows(None, stroke.before)
             if stroke.mask_before is not None:
                 self.mesh.set_mask_rows(MaskRows(np.arange(len(stroke.before)), stroke.mask_before))
