@@ -16,6 +16,8 @@ Given a target edge length L, each iteration
    triangles as they were, whose corners' mask and texture coordinates it takes by
    barycentric interpolation.
 
+A last split pass then splits what the relaxation stretched beyond 4/3 L.
+
 The region is given as vertices whose faces may all change (``region``); the faces touching
 them form the patch worked on. Vertices outside the region keep their positions bit for bit
 (their indices shift down past removed vertices; new vertices come after the old ones); open
@@ -379,7 +381,7 @@ class _Patch:
         return True
 
     # -- 4. tangential relaxation --------------------------------------------------------------
-    def relax(self) -> None:
+    def relax(self, min_area2: float) -> None:
         free = self.free()
         points, faces = self.points, self.faces
         n = len(points)
@@ -414,6 +416,25 @@ class _Patch:
         order = np.lexsort((gap, who))
         first = order[np.r_[True, who[order][1:] != who[order][:-1]]]
         chosen_face, chosen_bary = face[first], bary[first]
+        # a vertex whose move would turn a face of its by more than 60° or degenerate it
+        # (the centroid beyond its one-ring) stays where it is
+        moved = points.copy()
+        moved[rows] = near[first]
+        stays = np.zeros(len(rows), dtype=bool)
+        for _ in range(4):
+            moved[rows[stays]] = points[rows[stays]]
+            q0, q1, q2 = moved[faces[:, 0]], moved[faces[:, 1]], moved[faces[:, 2]]
+            after = np.cross(q1 - q0, q2 - q0)
+            area2 = np.einsum("ij,ij->i", after, after)
+            facing = np.einsum("ij,ij->i", normal, after)
+            bad = (area2 <= min_area2) | (facing <= 0.5 * np.sqrt(area2) * area)
+            culprits = slot[faces[bad].ravel()]
+            culprits = culprits[culprits >= 0]
+            if not len(culprits) or stays[culprits].all():
+                break
+            stays[culprits] = True
+        go = ~stays
+        rows, chosen_face, chosen_bary = rows[go], chosen_face[go], chosen_bary[go]
         self.mask[rows] = np.einsum("ij,ij->i", self.mask[faces[chosen_face]], chosen_bary)
         if self.uv is not None:
             corner_rows = self.uv_faces[chosen_face]
@@ -423,7 +444,7 @@ class _Patch:
             own = own_row[rows]
             new_uv = np.einsum("ijk,ij->ik", self.uv[corner_rows[textured]], chosen_bary[textured])
             self.uv[own[textured]] = new_uv
-        self.points[rows] = near[first]
+        self.points[rows] = moved[rows]
 
 
 def remesh(
@@ -488,7 +509,10 @@ def remesh(
         for _round in range(2):
             if not patch.flip(min_area2):
                 break
-        patch.relax()
+        patch.relax(min_area2)
+    for _round in range(_SPLIT_ROUNDS):  # what the relaxation stretched past 4/3 L
+        if not patch.split(high):
+            break
     return _assemble(vertices, faces, mask, uv, uv_faces, in_patch, local, patch)
 
 
