@@ -98,3 +98,19 @@ def test_a_journal_restarted_after_a_subdivision_starts_from_the_finer_mesh(tmp_
     assert same(recovery.sculptor, sculptor)
     assert recovery.mesh.uv is not None and len(recovery.mesh.faces) == 4 * len(faces)
     recovery.release()
+
+
+def test_dynamic_topology_strokes_and_a_remesh_are_recovered(mesh, tmp_path):
+    sculptor, journal = journaled(mesh, tmp_path, auto_checkpoint=False)
+    sculptor.change_settings(dynamic_topology=True, detail_size=0.015)
+    stroke(sculptor, 0)
+    assert len(sculptor.faces) != len(mesh.faces)  # the stroke remeshed
+    checkpoint(journal)
+    stroke(sculptor, 1)
+    sculptor.remesh(0.04)
+    directory = crash(journal)
+    for budget in (0, np.inf):  # from the checkpoint, and from the start
+        recovery = recover(directory, budget=budget)
+        assert same(recovery.sculptor, sculptor), budget
+        assert recovery.sculptor.settings == sculptor.settings
+        recovery.release()
