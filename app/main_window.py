@@ -301,6 +301,7 @@ class MainWindow(QMainWindow):
         viewport.tool_message.connect(self.flash)
         viewport.tool_error.connect(self.show_error)
         viewport.step_timed.connect(self._step_timed)
+        viewport.faces_replaced.connect(lambda: self.mesh_edits.sync())
         viewport.stroke_ended.connect(self._stroke_ended)
         viewport.frame_rendered.connect(status.show_frame_time)
         viewport.radius_wheel.connect(self.brush_bar.scale_radius)

@@ -72,6 +72,8 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
     tool_message = Signal(str)
     tool_error = Signal(str, str)
     step_timed = Signal(float)
+    #: A tool step gave the mesh new faces (dynamic topology): show the new mesh.
+    faces_replaced = Signal()
     stroke_ended = Signal()
     radius_wheel = Signal(int)
     strength_wheel = Signal(int)
@@ -186,7 +188,9 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         """Draw what the tools changed (one render is requested for all of it) and tell the
         window about refusals, errors and step times."""
         sculptor = self.tools.sculptor if self.tools is not None else None
-        if sculptor is not None and update.all_moved:
+        if sculptor is not None and self._faces is not None and sculptor.faces is not self._faces:
+            self.faces_replaced.emit()  # the window shows the new mesh (vertices and faces)
+        elif sculptor is not None and update.all_moved:
             self.update_vertices(sculptor.vertices)
         elif sculptor is not None and update.moved is not None:
             self.update_vertices(sculptor.vertices, update.moved)

@@ -46,6 +46,7 @@ from gogreen_core.limits import (
     check_brush_weights,
     check_constraint_radius,
     check_degree_weights,
+    check_detail_size,
     check_falloff,
     check_l_max,
     check_material,
@@ -334,6 +335,14 @@ def _radius(_model: Settings, name: str, value: Any) -> float:
     return check_constraint_radius(value, name)
 
 
+def _detail_size(_model: Settings, name: str, value: Any) -> float | None:
+    return check_detail_size(value, name)
+
+
+def _switch(_model: Settings, name: str, value: Any) -> bool:
+    return check_bool(name, value)
+
+
 class Settings(EventedModel):
     """Brush, material, falloff and constraint settings: what the engine, presets and the
     app's panels share.
@@ -353,6 +362,8 @@ class Settings(EventedModel):
     constraint_radius : ε of the pins, as a fraction of the model size.
     brush_weights : per-brush degree weights ω_l (kind → l_max + 2 numbers, read-only mapping);
         changing l_max keeps the common degrees and gives new ones each brush's defaults.
+    dynamic_topology : bool, strokes remesh what they move; detail_size : its target edge
+        length as a fraction of the model size, or None (the edge length the surface had).
 
     :attr:`engine_settings` is the engine's part as one :class:`EngineSettings` value.
     ``brush`` is a :class:`BrushSettings` (a sub-model with events of its own).
@@ -364,6 +375,8 @@ class Settings(EventedModel):
     degree_weights = Field(None)  # checked in _normalize, with l_max
     constraint_radius = Field(DEFAULT_CONSTRAINT_RADIUS, _radius)
     brush_weights = Field(None)  # checked in _normalize, with l_max
+    dynamic_topology = Field(False, _switch, doc="strokes remesh what they move")
+    detail_size = Field(None, _detail_size, doc="target edge length / model size, or None")
 
     def __init__(self, **values: Any) -> None:
         self.brush = BrushSettings()
@@ -423,6 +436,8 @@ class Settings(EventedModel):
             degree_weights=self.degree_weights,
             constraint_radius=self.constraint_radius,
             brush_weights=self.brush_weights,
+            dynamic_topology=self.dynamic_topology,
+            detail_size=self.detail_size,
         )
 
     def weights_for(self, kind: str) -> np.ndarray:

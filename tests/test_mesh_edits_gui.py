@@ -9,9 +9,11 @@ from gui_helpers import activate, center_of
 from PySide6.QtCore import QPoint, QPointF, Qt
 from PySide6.QtGui import QMouseEvent
 from PySide6.QtTest import QTest
+from PySide6.QtWidgets import QInputDialog
 
 import app.mesh_edits as mesh_edits
 from app.mesh_display import COLOR_ARRAY
+from gogreen_core.remesh import median_edge_length
 
 CTRL = Qt.KeyboardModifier.ControlModifier
 ALT = Qt.KeyboardModifier.AltModifier
@@ -140,3 +142,35 @@ def test_a_big_subdivision_runs_in_the_background(window, qtbot, monkeypatch):
     assert edits.subdivide_action.isEnabled() and edits.last_seconds > 0
     window.undo()
     assert len(sculptor.faces) == faces and window.viewport.mesh.n_cells == faces
+
+
+def test_dynamic_topology_toggle_a_remeshing_drag_and_remesh(window, qtbot, monkeypatch):
+    activate(window, qtbot)
+    window.viewport.setFocus()
+    sculptor = window.document.sculptor
+    faces, vertices = sculptor.faces.copy(), sculptor.vertices.copy()
+    window.mesh_edits.dynamic_topology_action.trigger()
+    assert sculptor.settings.dynamic_topology and window.model.dynamic_topology
+    assert window.mesh_edits.dynamic_topology_action.isChecked()
+    window.model.detail_size = 0.004  # finer than the model's edges: the drag splits them
+    drag_with(window, center_of(window), steps=4)
+    assert len(sculptor.faces) > len(faces)
+    assert window.viewport.mesh.n_cells == len(sculptor.faces)  # the new faces are shown
+    assert window.viewport.mesh.n_points == len(sculptor.vertices)
+    assert np.array_equal(window.viewport.shown_vertices(), sculptor.vertices)
+    window.undo()
+    assert np.array_equal(sculptor.faces, faces) and np.array_equal(sculptor.vertices, vertices)
+    assert window.viewport.mesh.n_cells == len(faces)
+    monkeypatch.setattr(
+        QInputDialog, "getDouble", staticmethod(lambda *args, **kwargs: (1.0, True))
+    )
+    window.mesh_edits.ask_detail_size()
+    assert window.model.detail_size == 0.01 and sculptor.settings.detail_size == 0.01
+    window.mesh_edits.remesh()
+    assert "Remeshed" in window.message_label.text()
+    median = median_edge_length(sculptor.vertices, sculptor.faces)
+    assert 0.8 < median / (0.01 * sculptor.model_size) < 4.0 / 3.0
+    assert window.viewport.mesh.n_cells == len(sculptor.faces)
+    assert sculptor.history.undo_labels[-1] == "remesh"
+    window.undo()
+    assert np.array_equal(sculptor.faces, faces)
