@@ -14,6 +14,9 @@ issue, item 8): what an artist gets from the brushes and presets we ship.
   (x–y) / −0.45 (x–z) against an isotropic ν = 0.45, seen along x (the mid-section's outline)
   and from above;
 * ``fig09_truncation.png``: δ(l_max), the truncation error of each anisotropic preset (Fig. 9);
+* ``dynamic_topology.png``: the default model pulled 0.4 model sizes along its normal (grab
+  radius 0.03, 20 events, cubic material) with fixed topology and with dynamic topology (issue
+  34), in wireframe, the smallest angle of each triangle in colour;
 * ``field_preview.png``: the app's field preview (View → Field Preview) of a grab on the default
   model, soft clay against the fibre composite, dragged along and across the fibres: what
   would move and which way, before the stroke, in the app's colours and arrows.
@@ -41,6 +44,7 @@ from gogreen_core import (
     make_pattern,
 )
 from gogreen_core.brushes import fold_weights
+from gogreen_core.engine_settings import EngineSettings
 from gogreen_core.preview import field_preview
 from gogreen_core.shapes import default_model, flat_sheet, open_tube
 from gogreen_core.truncation import truncation_errors
@@ -277,15 +281,86 @@ def preview_figure(out: Path) -> None:
     plotter.close()
 
 
+def dynamic_topology_figure(out: Path) -> None:
+    vertices, faces = default_model()
+    top = int(np.argmax(vertices[:, 2]))
+    ends = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    median = float(np.median(np.linalg.norm(vertices[ends[:, 0]] - vertices[ends[:, 1]], axis=1)))
+    plotter = pv.Plotter(off_screen=True, shape=(1, 2), window_size=(1100, 1000))
+    plotter.set_background("white")
+    for column, dynamic in enumerate((False, True)):
+        settings = EngineSettings(material=Material.cubic(3.0, 1.5, 0.4), dynamic_topology=dynamic)
+        sculptor = Sculptor(vertices, faces, settings=settings)
+        step = np.array([0.0, 0.0, 0.02 * sculptor.model_size])
+        start = time.perf_counter()
+        sculptor.apply_brush(
+            Brush("grab", radius=0.03),
+            [BrushEvent(vertices[top] + k * step, step) for k in range(20)],
+        )
+        seconds = time.perf_counter() - start
+        pulled, cells = sculptor.vertices, sculptor.faces
+        corners = pulled[cells]
+        angles = []
+        for k in range(3):
+            u, v = corners[:, (k + 1) % 3] - corners[:, k], corners[:, (k + 2) % 3] - corners[:, k]
+            cos = (
+                np.einsum("ij,ij->i", u, v) / np.linalg.norm(u, axis=1) / np.linalg.norm(v, axis=1)
+            )
+            angles.append(np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
+        smallest = np.min(angles, axis=0)
+        ends = np.concatenate([cells[:, [0, 1]], cells[:, [1, 2]], cells[:, [2, 0]]])
+        longest = np.linalg.norm(pulled[ends[:, 0]] - pulled[ends[:, 1]], axis=1).max()
+        title = "dynamic topology" if dynamic else "fixed topology"
+        print(
+            f"dynamic topology figure, {title}: {len(pulled):,} vertices, longest edge "
+            f"{longest / median:.1f} x the model's median, smallest angle {smallest.min():.1f} deg "
+            f"({seconds:.1f} s)"
+        )
+        mesh = _polydata(pulled, cells)
+        mesh.cell_data["smallest angle (deg)"] = smallest
+        window = mesh.clip_box([-0.4, 0.4, -0.4, 0.4, 0.7, 3.0], invert=False)
+        plotter.subplot(0, column)
+        plotter.add_mesh(
+            window,
+            scalars="smallest angle (deg)",
+            cmap="viridis",
+            clim=(0.0, 60.0),
+            show_edges=True,
+            edge_color="black",
+            line_width=0.6,
+            show_scalar_bar=column == 1,
+            scalar_bar_args={
+                "title": "smallest angle (deg)",
+                "n_labels": 4,
+                "vertical": True,
+                "position_x": 0.8,
+                "position_y": 0.1,
+            },
+        )
+        plotter.add_text(title, font_size=11, color="black")
+        plotter.camera_position = [(0.0, -3.3, 1.72), (0.0, 0.0, 1.72), (0.0, 0.0, 1.0)]
+    plotter.screenshot(str(out / "dynamic_topology.png"))
+    plotter.close()
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("-o", "--output", default=str(HERE.parent / "docs" / "figures"))
+    parser.add_argument("--only", help="one figure's function name, e.g. dynamic_topology_figure")
     args = parser.parse_args(argv)
     out = Path(args.output)
     out.mkdir(parents=True, exist_ok=True)
-    figures = (wrinkle_figure, pinch_figure, stretch_figure, truncation_figure, preview_figure)
+    figures = (
+        wrinkle_figure,
+        pinch_figure,
+        stretch_figure,
+        truncation_figure,
+        preview_figure,
+        dynamic_topology_figure,
+    )
     for make in figures:
-        make(out)
+        if args.only in (None, make.__name__):
+            make(out)
     print(f"wrote the figures to {out}")
     return 0
 
