@@ -68,6 +68,9 @@ __all__ = [
 MAX_INDEX = 1_000_000
 #: Most events in one stroke record.
 MAX_EVENTS = 10_000_000
+#: Rounds of split, collapse, flip and relaxation of Mesh → Remesh, and the most a file may ask.
+REMESH_ITERATIONS = 6
+MAX_REMESH_ITERATIONS = 100
 
 
 class Operation:
@@ -358,19 +361,22 @@ class DynamicTopology(Operation):
 @dataclass(frozen=True)
 class Remesh(Operation):
     """Isotropic remeshing of the whole mesh, or of its faces that are not masked
-    (``unmasked_only``), to the edge length ``detail_size`` (a fraction of the model size); an
-    undo step (:mod:`gogreen_core.remesh`)."""
+    (``unmasked_only``), to the edge length ``detail_size`` (a fraction of the model size) in
+    ``iterations`` rounds; an undo step (:mod:`gogreen_core.remesh`)."""
 
     name: ClassVar[str] = "remesh"
     required: ClassVar[tuple[str, ...]] = ("detail_size",)
-    optional: ClassVar[tuple[str, ...]] = ("unmasked_only",)
+    optional: ClassVar[tuple[str, ...]] = ("unmasked_only", "iterations")
     detail_size: float
     unmasked_only: bool = False
+    iterations: int = REMESH_ITERATIONS
 
     def to_dict(self) -> dict[str, Any]:
         data: dict[str, Any] = {"op": self.name, "detail_size": self.detail_size}
         if self.unmasked_only:
             data["unmasked_only"] = True
+        if self.iterations != REMESH_ITERATIONS:
+            data["iterations"] = self.iterations
         return data
 
     @classmethod
@@ -379,9 +385,14 @@ class Remesh(Operation):
         size = check_detail_size(data["detail_size"], name)
         if size is None:
             raise ParameterError(name, f"{name} must be a number (got null)")
-        return cls(
-            size, check_bool(field_path(path, "unmasked_only"), data.get("unmasked_only", False))
+        unmasked = check_bool(field_path(path, "unmasked_only"), data.get("unmasked_only", False))
+        iterations = check_integer(
+            field_path(path, "iterations"),
+            data.get("iterations", REMESH_ITERATIONS),
+            low=1,
+            high=MAX_REMESH_ITERATIONS,
         )
+        return cls(size, unmasked, iterations)
 
 
 @dataclass(frozen=True)

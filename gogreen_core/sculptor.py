@@ -43,6 +43,8 @@ from gogreen_core.mask import Mask
 from gogreen_core.material import Material
 from gogreen_core.mesh_state import MaskRows, MeshSnapshot, MeshState, compact_faces
 from gogreen_core.operations import (
+    MAX_REMESH_ITERATIONS,
+    REMESH_ITERATIONS,
     ConstraintRadius,
     DynamicTopology,
     FalloffChange,
@@ -70,7 +72,13 @@ from gogreen_core.session import (
 )
 from gogreen_core.stroke import StrokeDriver
 from gogreen_core.subdivision import MASK_THRESHOLD, PreparedSubdivision, prepare_subdivision
-from gogreen_core.validation import ParameterError, check_bool, check_vector, prefixed
+from gogreen_core.validation import (
+    ParameterError,
+    check_bool,
+    check_integer,
+    check_vector,
+    prefixed,
+)
 
 __all__ = [
     "MAX_REACH",
@@ -89,8 +97,6 @@ _LABELS = {
     "dynamic_topology": "dynamic topology",
 }
 _NO_ROWS = np.zeros((0, 3))
-#: Rounds of split, collapse, flip and relaxation of Mesh → Remesh.
-REMESH_ITERATIONS = 6
 _NO_INDEX = np.zeros(0, dtype=np.int64)
 
 
@@ -466,13 +472,14 @@ class Sculptor:
         """Isotropic remeshing (:mod:`gogreen_core.remesh`) of the whole mesh, or of its faces
         that are not masked, to edges of about ``detail_size`` model sizes (4/5 to 4/3 of it);
         the mask and UVs carried along, pins' vertices kept, the model's size and origin
-        unchanged. One undo step (undo gives back the previous arrays exactly) and one log
-        entry."""
+        unchanged; ``iterations`` rounds of split, collapse, flip and relaxation. One undo step
+        (undo gives back the previous arrays exactly) and one log entry."""
         self._strokes.refuse("remesh")
         size = check_detail_size(detail_size)
         if size is None:
             raise ParameterError("detail_size", "detail_size must be a number (got None)")
         unmasked_only = check_bool("unmasked_only", unmasked_only)
+        iterations = check_integer("iterations", iterations, low=1, high=MAX_REMESH_ITERATIONS)
         mesh = self._mesh
         before = mesh.snapshot()
         region = np.ones(len(mesh.vertices), dtype=bool)
@@ -498,7 +505,7 @@ class Sculptor:
         after = MeshSnapshot(*arrays)
         mesh.adopt(after)
         self.history.record("remesh", _NO_INDEX, _NO_ROWS, _NO_ROWS, state=(before, after))
-        self._log.record(Remesh(size, unmasked_only))
+        self._log.record(Remesh(size, unmasked_only, iterations))
 
     # -- history -----------------------------------------------------------------------------
     def undo(self) -> str | None:

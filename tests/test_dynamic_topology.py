@@ -268,7 +268,7 @@ def test_a_session_with_dynamic_topology_and_a_remesh_replays_bit_for_bit():
     pull(sculptor, events=4)
     sculptor.undo()
     sculptor.redo()
-    sculptor.remesh(0.03)
+    sculptor.remesh(0.03, iterations=2)
     session = json.loads(json.dumps(sculptor.session()))
     ops = [op["op"] for op in session["operations"]]
     assert ops.count("dynamic_topology") == 2 and "remesh" in ops

@@ -74,7 +74,7 @@ def records():
         DynamicTopology(True),
         DynamicTopology(True, 0.01, continued=True),
         Remesh(0.02),
-        Remesh(0.005, unmasked_only=True),
+        Remesh(0.005, unmasked_only=True, iterations=2),
         Undo(),
         Redo(),
     ]

@@ -1,0 +1,166 @@
+"""Benchmark of dynamic topology and Mesh → Remesh (issue 34).
+
+    .venv/bin/python benchmarks/dynamic_topology.py [--repeats 3] [--meshes DIR] [--no-million]
+
+Prints medians of:
+* the pull of the done-when tests on the default model (grab radius 0.03, 20 events of 0.02
+  model sizes along the normal from the top vertex, cubic material) with fixed and with
+  dynamic topology (``detail_size=None``): the whole stroke, its events, and what the mesh
+  looks like after it (longest edge over the model's median edge, the spike's faces with all
+  angles >= 20°, vertices);
+* Mesh → Remesh of the default model to its own median edge length (a uniform remesh) and to
+  twice it;
+* with ``../shared/meshes/ogre.obj`` (relative to the checkout): the ogre subdivided twice
+  (992,608 vertices), a long pull on its belly (the same brush, 30 events) with and without
+  dynamic topology in events per second, and a Remesh of it (two rounds). Skipped, with the
+  reason, when the mesh is absent or with ``--no-million``.
+
+Figures only, no assertions.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+from pathlib import Path
+
+import numpy as np
+
+from gogreen_core import Brush, BrushEvent, Material, Sculptor
+from gogreen_core.engine_settings import EngineSettings
+from gogreen_core.geometry import vertex_normals
+from gogreen_core.mesh_io import load_mesh
+from gogreen_core.remesh import median_edge_length
+from gogreen_core.shapes import default_model
+from gogreen_core.topology import mesh_edges
+
+CUBIC = Material.cubic(3.0, 1.5, 0.4)
+
+
+def smallest_angles(points: np.ndarray) -> np.ndarray:
+    angles = []
+    for k in range(3):
+        u = points[:, (k + 1) % 3] - points[:, k]
+        v = points[:, (k + 2) % 3] - points[:, k]
+        cos = np.einsum("ij,ij->i", u, v) / (np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1))
+        angles.append(np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
+    return np.min(angles, axis=0)
+
+
+def pull(
+    sculptor: Sculptor, row: int, direction: np.ndarray, events: int, step: float
+) -> list[float]:
+    """A grab (radius 0.03) pulling vertex ``row`` along ``direction``; each event's seconds."""
+    center = sculptor.vertices[row].copy()
+    delta = step * sculptor.model_size * direction / np.linalg.norm(direction)
+    times = []
+    sculptor.begin_stroke(Brush("grab", radius=0.03))
+    for _ in range(events):
+        start = time.perf_counter()
+        sculptor.stroke_event(BrushEvent(center=center, delta=delta))
+        times.append(time.perf_counter() - start)
+        center = center + delta
+    sculptor.end_stroke()
+    return times
+
+
+def default_pull(repeats: int) -> None:
+    vertices, faces = default_model()
+    median = median_edge_length(vertices, faces)
+    top = int(np.argmax(vertices[:, 2]))
+    print(f"-- default model ({len(vertices):,} vertices), pull 0.4 model sizes in 20 events")
+    for dynamic in (False, True):
+        totals, events = [], []
+        for _ in range(repeats):
+            settings = EngineSettings(material=CUBIC, dynamic_topology=dynamic)
+            sculptor = Sculptor(vertices, faces, settings=settings)
+            times = pull(sculptor, top, np.array([0.0, 0.0, 1.0]), 20, 0.02)
+            totals.append(sum(times))
+            events.extend(times[1:])  # the first: kernels and compiled code loading
+        pulled, cells = sculptor.vertices, sculptor.faces
+        ends = mesh_edges(cells, len(pulled)).ends
+        longest = np.linalg.norm(pulled[ends[:, 1]] - pulled[ends[:, 0]], axis=1).max()
+        spike = pulled[cells].mean(axis=1)[:, 2] > vertices[:, 2].max() + 0.04 * sculptor.model_size
+        good = np.mean(smallest_angles(pulled[cells[spike]]) >= 20.0)
+        name = "dynamic" if dynamic else "fixed"
+        print(
+            f"{name:8s} stroke {statistics.median(totals):6.2f} s, event median "
+            f"{1e3 * statistics.median(events):6.0f} ms (max {1e3 * max(events):5.0f}); "
+            f"longest edge {longest / median:5.2f} x median, spike faces >= 20 deg "
+            f"{100 * good:5.1f} %, {len(pulled):,} vertices"
+        )
+
+
+def remesh_default(repeats: int) -> None:
+    vertices, faces = default_model()
+    for factor in (1.0, 2.0):
+        seconds = []
+        for _ in range(repeats):
+            sculptor = Sculptor(vertices, faces)
+            size = factor * median_edge_length(vertices, faces) / sculptor.model_size
+            start = time.perf_counter()
+            sculptor.remesh(size)
+            seconds.append(time.perf_counter() - start)
+        lengths = sculptor.vertices[mesh_edges(sculptor.faces, len(sculptor.vertices)).ends]
+        ratio = np.linalg.norm(lengths[:, 1] - lengths[:, 0], axis=1) / (size * sculptor.model_size)
+        angles = smallest_angles(sculptor.vertices[sculptor.faces])
+        print(
+            f"Remesh of the default model to {factor:g} x its median edge: "
+            f"{statistics.median(seconds):5.2f} s, {len(sculptor.vertices):,} vertices, "
+            f"edges {np.percentile(ratio, 5):.2f}-{np.percentile(ratio, 95):.2f} x the size "
+            f"(5-95 %), faces with all angles >= 30 deg {100 * np.mean(angles >= 30):.1f} %"
+        )
+
+
+def million(meshes: Path) -> None:
+    ogre = meshes / "ogre.obj"
+    if not ogre.exists():
+        print(f"{ogre} not found: the 1M-vertex figures need ../shared/meshes")
+        return
+    mesh = load_mesh(ogre)
+    base = Sculptor(mesh.vertices, mesh.faces)
+    base.subdivide()
+    base.subdivide()
+    vertices, faces = base.vertices.copy(), base.faces.copy()
+    normals = vertex_normals(vertices, faces)
+    belly = int(np.argmin(vertices[:, 1]))  # the front of the belly (-y)
+    print(f"-- the ogre subdivided twice ({len(vertices):,} vertices), 30-event belly pull")
+    for dynamic in (False, True):
+        settings = EngineSettings(material=CUBIC, dynamic_topology=dynamic)
+        sculptor = Sculptor(vertices, faces, settings=settings)
+        times = pull(sculptor, belly, normals[belly], 30, 0.01)
+        name = "dynamic" if dynamic else "fixed"
+        steady = times[1:]
+        print(
+            f"{name:8s} {len(steady) / sum(steady):5.2f} events/s (event median "
+            f"{1e3 * statistics.median(steady):6.0f} ms), {len(sculptor.vertices):,} vertices"
+        )
+    sculptor = Sculptor(vertices, faces)
+    size = median_edge_length(vertices, faces) / sculptor.model_size
+    start = time.perf_counter()
+    sculptor.remesh(size, iterations=2)
+    print(
+        f"Remesh of it to its median edge (2 rounds): {time.perf_counter() - start:.1f} s, "
+        f"{len(sculptor.vertices):,} vertices"
+    )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument(
+        "--meshes", default=str(Path(__file__).resolve().parents[2] / "shared" / "meshes")
+    )
+    parser.add_argument("--no-million", action="store_true", help="skip the 1M-vertex mesh")
+    args = parser.parse_args()
+    default_pull(args.repeats)
+    remesh_default(args.repeats)
+    if args.no_million:
+        print("the 1M-vertex figures skipped (--no-million)")
+    else:
+        million(Path(args.meshes))
+
+
+if __name__ == "__main__":
+    main()
