@@ -31,21 +31,11 @@ from gogreen_core import Brush, BrushEvent, Material, Sculptor
 from gogreen_core.engine_settings import EngineSettings
 from gogreen_core.geometry import vertex_normals
 from gogreen_core.mesh_io import load_mesh
-from gogreen_core.remesh import median_edge_length
+from gogreen_core.remesh import median_edge_length, smallest_angles
 from gogreen_core.shapes import default_model
 from gogreen_core.topology import mesh_edges
 
 CUBIC = Material.cubic(3.0, 1.5, 0.4)
-
-
-def smallest_angles(points: np.ndarray) -> np.ndarray:
-    angles = []
-    for k in range(3):
-        u = points[:, (k + 1) % 3] - points[:, k]
-        v = points[:, (k + 2) % 3] - points[:, k]
-        cos = np.einsum("ij,ij->i", u, v) / (np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1))
-        angles.append(np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
-    return np.min(angles, axis=0)
 
 
 def pull(

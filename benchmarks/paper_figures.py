@@ -46,6 +46,7 @@ from gogreen_core import (
 from gogreen_core.brushes import fold_weights
 from gogreen_core.engine_settings import EngineSettings
 from gogreen_core.preview import field_preview
+from gogreen_core.remesh import smallest_angles
 from gogreen_core.shapes import default_model, flat_sheet, open_tube
 from gogreen_core.truncation import truncation_errors
 
@@ -299,15 +300,7 @@ def dynamic_topology_figure(out: Path) -> None:
         )
         seconds = time.perf_counter() - start
         pulled, cells = sculptor.vertices, sculptor.faces
-        corners = pulled[cells]
-        angles = []
-        for k in range(3):
-            u, v = corners[:, (k + 1) % 3] - corners[:, k], corners[:, (k + 2) % 3] - corners[:, k]
-            cos = (
-                np.einsum("ij,ij->i", u, v) / np.linalg.norm(u, axis=1) / np.linalg.norm(v, axis=1)
-            )
-            angles.append(np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
-        smallest = np.min(angles, axis=0)
+        smallest = smallest_angles(pulled[cells])
         ends = np.concatenate([cells[:, [0, 1]], cells[:, [1, 2]], cells[:, [2, 0]]])
         longest = np.linalg.norm(pulled[ends[:, 0]] - pulled[ends[:, 1]], axis=1).max()
         title = "dynamic topology" if dynamic else "fixed topology"

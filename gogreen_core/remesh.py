@@ -60,6 +60,7 @@ __all__ = [
     "grow_region",
     "median_edge_length",
     "remesh",
+    "smallest_angles",
     "strained_vertices",
 ]
 
@@ -99,6 +100,21 @@ def median_edge_length(vertices: np.ndarray, faces: np.ndarray) -> float:
         return 0.0
     ends = mesh_edges(np.asarray(faces, dtype=np.int64), len(vertices)).ends
     return float(np.median(np.linalg.norm(vertices[ends[:, 1]] - vertices[ends[:, 0]], axis=1)))
+
+
+def smallest_angles(corners: np.ndarray) -> np.ndarray:
+    """The smallest angle (degrees) of each triangle of ``corners`` (K, 3, 3): what the
+    remeshing keeps away from 0 (a sliver or a needle has one near it)."""
+    angles = []
+    for k in range(3):
+        u = corners[:, (k + 1) % 3] - corners[:, k]
+        v = corners[:, (k + 2) % 3] - corners[:, k]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            cos = np.einsum("ij,ij->i", u, v) / (
+                np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1)
+            )
+        angles.append(np.degrees(np.arccos(np.clip(np.nan_to_num(cos, nan=1.0), -1.0, 1.0))))
+    return cast(np.ndarray, np.min(angles, axis=0))
 
 
 def grow_region(faces: np.ndarray, region: np.ndarray, rings: int = 1) -> np.ndarray:

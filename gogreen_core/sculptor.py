@@ -41,7 +41,7 @@ from gogreen_core.kernel_cache import KernelCache
 from gogreen_core.limits import MAX_REACH, check_constraint_radius, check_detail_size
 from gogreen_core.mask import Mask
 from gogreen_core.material import Material
-from gogreen_core.mesh_state import MaskRows, MeshSnapshot, MeshState, compact_faces
+from gogreen_core.mesh_state import MaskRows, MeshSnapshot, MeshState
 from gogreen_core.operations import (
     MAX_REMESH_ITERATIONS,
     REMESH_ITERATIONS,
@@ -497,12 +497,7 @@ class Sculptor:
             iterations=iterations,
         )
         assert done.mask is not None
-        uv_faces = None if done.uv_faces is None else compact_faces(done.uv_faces)
-        arrays = (done.vertices, compact_faces(done.faces), done.mask, done.uv, uv_faces)
-        for array in arrays:
-            if array is not None:
-                array.setflags(write=False)
-        after = MeshSnapshot(*arrays)
+        after = MeshSnapshot.frozen(done.vertices, done.faces, done.mask, done.uv, done.uv_faces)
         mesh.adopt(after)
         self.history.record("remesh", _NO_INDEX, _NO_ROWS, _NO_ROWS, state=(before, after))
         self._log.record(Remesh(size, unmasked_only, iterations))

@@ -30,7 +30,7 @@ from typing import cast
 
 import numpy as np
 
-from gogreen_core.mesh_state import MeshSnapshot, compact_faces
+from gogreen_core.mesh_state import MeshSnapshot
 from gogreen_core.topology import MeshEdges, mesh_edges
 
 __all__ = [
@@ -306,9 +306,5 @@ def prepare_subdivision(
         progress=progress,
     )
     assert done.mask is not None
-    uv_faces = None if done.uv_faces is None else compact_faces(done.uv_faces)
-    arrays = (done.vertices, compact_faces(done.faces), done.mask, done.uv, uv_faces)
-    for array in arrays:
-        if array is not None:
-            array.setflags(write=False)
-    return PreparedSubdivision(source, bool(unmasked_only), MeshSnapshot(*arrays))
+    result = MeshSnapshot.frozen(done.vertices, done.faces, done.mask, done.uv, done.uv_faces)
+    return PreparedSubdivision(source, bool(unmasked_only), result)

@@ -19,6 +19,7 @@ from gogreen_core.remesh import (
     closest_points_on_triangles,
     median_edge_length,
     remesh,
+    smallest_angles,
 )
 from gogreen_core.shapes import default_model, icosphere, open_tube
 from gogreen_core.topology import mesh_edges
@@ -45,17 +46,6 @@ def euler_and_check(vertices: np.ndarray, faces: np.ndarray) -> int:
 def edge_lengths(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     ends = mesh_edges(faces, len(vertices)).ends
     return np.linalg.norm(vertices[ends[:, 1]] - vertices[ends[:, 0]], axis=1)
-
-
-def smallest_angles(points: np.ndarray) -> np.ndarray:
-    """The smallest angle (degrees) of each triangle (K, 3, 3)."""
-    angles = []
-    for k in range(3):
-        u = points[:, (k + 1) % 3] - points[:, k]
-        v = points[:, (k + 2) % 3] - points[:, k]
-        cos = np.einsum("ij,ij->i", u, v) / (np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1))
-        angles.append(np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
-    return np.min(angles, axis=0)
 
 
 def distance_to_surface(points: np.ndarray, vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
