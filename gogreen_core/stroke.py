@@ -169,10 +169,12 @@ class StrokeDriver:
                 near = mesh.faces[np.any(moved[mesh.faces], axis=1)]
                 stroke.detail = median_edge_length(stroke.before, near)
         detail = stroke.detail
+        if not detail > 0:  # a region of coincident vertices: nothing to measure by
+            return False
         strained = strained_vertices(
             stroke.reference, mesh.vertices, mesh.faces, STRAIN_TOLERANCE * detail
         )
-        if not detail > 0 or not strained.any():
+        if not strained.any():
             return False
         if stroke.start is None:  # the topology is still the stroke's start's
             stroke.start = MeshSnapshot(
