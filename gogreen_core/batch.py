@@ -81,8 +81,14 @@ class ProgressBar:
 
 
 def _save(mesh: MeshData, sculptor: Sculptor, path: str) -> None:
-    """The sculptor's mesh (its faces and UVs too: a subdivision changes them) to ``path``."""
+    """The sculptor's mesh (its faces and UVs too: a subdivision changes them) to ``path``.
+
+    ``mesh`` is the file the command read: whatever it holds besides the positions (texture
+    coordinates per corner) must reach the output, so a sculptor made without them is a bug
+    here, refused rather than written without them."""
     now = sculptor.mesh
+    if mesh.uv is not None and now.uv is None:
+        raise RuntimeError("internal error: the texture coordinates of the input were dropped")
     save_mesh(MeshData(now.vertices, now.faces, now.uv, now.uv_faces, mesh.source), path)
 
 
@@ -142,7 +148,15 @@ def _deform(args: argparse.Namespace) -> int:
     mesh = load_mesh(args.input)
     material, falloff = _material(args), _falloff(args.falloff)
     l_max = parse_l_max(args.l_max, "--l-max")
-    sculptor = Sculptor(mesh.vertices, mesh.faces, material=material, l_max=l_max, falloff=falloff)
+    sculptor = Sculptor(
+        mesh.vertices,
+        mesh.faces,
+        uv=mesh.uv,
+        uv_faces=mesh.uv_faces,
+        material=material,
+        l_max=l_max,
+        falloff=falloff,
+    )
     with _option_names():
         brush = Brush(
             kind=args.brush,
