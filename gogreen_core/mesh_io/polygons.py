@@ -122,6 +122,19 @@ def _split_quads(
     # Corners 1, 2, 3 relative to corner 0, each a triple of (Q,) coordinate arrays.
     at = corners[starts + np.arange(4)[:, None]]  # (4, Q) vertex of each corner
     x, y, z = np.take(np.ascontiguousarray(points.T), at, axis=1)  # (4, Q) each
+    with np.errstate(all="ignore"):  # huge coordinates overflow: such a quad keeps its split
+        _choose_diagonals(x, y, z, starts, rows, triangles)
+
+
+def _choose_diagonals(
+    x: np.ndarray,
+    y: np.ndarray,
+    z: np.ndarray,
+    starts: np.ndarray,
+    rows: np.ndarray,
+    triangles: np.ndarray,
+) -> None:
+    """:func:`_split_quads` on the corners' coordinates ``x``, ``y``, ``z`` (4, Q)."""
     one, two, three = ((x[k] - x[0], y[k] - y[0], z[k] - z[0]) for k in (1, 2, 3))
     # Newell's normal of a quad: the cross product of its diagonals (2 - 0) x (3 - 1).
     n = _cross(two, _minus(three, one))

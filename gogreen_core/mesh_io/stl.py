@@ -34,7 +34,15 @@ def read_stl(data: bytes, name: str) -> MeshData:
         count = int(np.frombuffer(data, "<u4", 1, _HEADER)[0])
         if len(data) == _HEADER + 4 + count * TRIANGLE.itemsize:
             triangles = np.frombuffer(data, TRIANGLE, count, _HEADER + 4)
-            return _welded(triangles["corners"].reshape(-1, 3), name)
+            corners = triangles["corners"].reshape(-1, 3)
+            finite = np.isfinite(corners).all(axis=1)
+            if not finite.all():
+                bad = int(np.argmin(finite))
+                raise MeshFileError(
+                    f"{name}: triangle {bad // 3} (from 0) has a non-finite corner "
+                    f"{corners[bad].tolist()}"
+                )
+            return _welded(corners, name)
     else:
         count = None
     if data.lstrip()[:5].lower() == b"solid":
@@ -77,13 +85,22 @@ def _ascii_corners(data: bytes, name: str) -> np.ndarray:
     if not found:
         raise MeshFileError(f"{name}: no triangles could be read (an ASCII STL without facets)")
     try:
-        return parse_numbers(b" ".join(b" ".join(xyz) for xyz in found), np.float64).reshape(-1, 3)
+        corners = parse_numbers(b" ".join(b" ".join(xyz) for xyz in found), np.float64)
     except ValueError:
         bad = next(m for m in _VERTEX.finditer(text) if not _all_numbers(m.groups()))
         shown = b" ".join(bad.groups()).decode("ascii", "replace")
         raise MeshFileError(
             f"{name}, line {_line_of(text, bad.start())}: bad number in the vertex {shown!r}"
         ) from None
+    corners = corners.reshape(-1, 3)
+    finite = np.isfinite(corners).all(axis=1)
+    if not finite.all():
+        bad = list(_VERTEX.finditer(text))[int(np.argmin(finite))]
+        shown = b" ".join(bad.groups()).decode("ascii", "replace")
+        raise MeshFileError(
+            f"{name}, line {_line_of(text, bad.start())}: the vertex {shown!r} is not finite"
+        )
+    return corners
 
 
 def _check_ascii_structure(text: bytes, name: str) -> None:
