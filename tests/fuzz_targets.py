@@ -169,10 +169,11 @@ def _mesh_target(name: str, suffix: str, seeds: list[bytes]) -> Target:
         if not data or data.isspace():
             return  # load_mesh refuses an empty file before any reader sees it
         mesh = _READERS[suffix](data, file_name)
-        try:
-            validate_mesh(mesh, file_name)  # finite, indices in range, UVs consistent
-        except ValueError as exc:
-            raise Failure(f"the reader returned a mesh load_mesh refuses: {exc}") from None
+        # As load_mesh does: a mesh with a non-finite coordinate or an index out of range is
+        # refused naming the file and the vertex or face (a binary file has no lines).
+        validate_mesh(mesh, file_name)
+        if not (np.isfinite(mesh.vertices).all() and len(mesh.faces)):
+            raise Failure("a non-finite or empty mesh passed validate_mesh")
 
     return Target(name, seeds, run, (file_name,))
 
