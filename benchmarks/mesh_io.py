@@ -7,7 +7,9 @@ Writes its files into a temporary folder (nothing downloaded) and prints medians
 
 * binary PLY, 200,000 faces: all triangles, against triangles and quads mixed at random (the
   worst case for a reader that walks records: every other record changes size) and in runs
-  (Blender's order: quads with triangle fans at the poles); the same in ASCII;
+  (Blender's order: quads with triangle fans at the poles), and half triangles, half quads of
+  four random vertices each (convex, concave, non-planar and twisted: each quad's diagonal is
+  chosen by its shape, all quads at once); the same in ASCII;
 * binary PLY as Blender writes it by default (float positions, ``s, t`` with vertices split at
   UV seams, quads and n-gons) of a UV sphere, welded back at load;
 * binary STL of 520,000 triangles (26 MB), against ``trimesh.load`` on the same file (with
@@ -86,6 +88,18 @@ def mixed_faces(quads: np.ndarray, split: np.ndarray) -> list[np.ndarray]:
         else:
             faces.append(quad)
     return faces
+
+
+def random_quads(
+    vertices: np.ndarray, triangles: list[np.ndarray], rng: np.random.Generator
+) -> list[np.ndarray]:
+    """As many faces as ``triangles``: its first half, then quads of four distinct random
+    vertices (most of them non-planar; seen along their normal convex, concave or twisted)."""
+    half = len(triangles) // 2
+    quads = rng.integers(0, len(vertices), (len(triangles) - half, 4))
+    while (repeated := (np.diff(np.sort(quads, axis=1), axis=1) == 0).any(axis=1)).any():
+        quads[repeated] = rng.integers(0, len(vertices), (int(repeated.sum()), 4))
+    return triangles[:half] + list(quads)
 
 
 def ply_bytes(
@@ -209,6 +223,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--repeats", type=int, default=7)
     parser.add_argument("--cold-compile", action="store_true")
+    parser.add_argument("--ply-only", action="store_true", help="only the PLY tables")
     args = parser.parse_args()
     rng = np.random.default_rng(0)
     with tempfile.TemporaryDirectory() as folder:
@@ -225,6 +240,7 @@ def main() -> None:
             "all triangles": (vertices, all_tri),
             "tri/quad mixed at random": (vertices_m, mixed_faces(quads_m, shuffled)),
             "tri/quad mixed in runs": (vertices_m, mixed_faces(quads_m, runs)),
+            "half random quads": (vertices, random_quads(vertices, all_tri, rng)),
         }
         for kind in ("binary", "ASCII"):
             loads, notes = {}, {}
@@ -238,6 +254,8 @@ def main() -> None:
             report(interleaved(loads, args.repeats), notes, "all triangles")
         if args.cold_compile:
             print(f"warm_up() from an empty numba cache: {cold_warm_up():.2f} s")
+        if args.ply_only:
+            return
 
         sphere = tmp / "blender_uv_sphere.ply"
         sphere.write_bytes(uv_sphere_blender_ply())

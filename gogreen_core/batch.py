@@ -18,6 +18,7 @@ import argparse
 import json
 import sys
 import time
+from dataclasses import dataclass
 from datetime import datetime
 from pathlib import Path
 from types import TracebackType
@@ -81,8 +82,14 @@ class ProgressBar:
 
 
 def _save(mesh: MeshData, sculptor: Sculptor, path: str) -> None:
-    """The sculptor's mesh (its faces and UVs too: a subdivision changes them) to ``path``."""
+    """The sculptor's mesh (its faces and UVs too: a subdivision changes them) to ``path``.
+
+    ``mesh`` is the file the command read: whatever it holds besides the positions (texture
+    coordinates per corner) must reach the output, so a sculptor made without them is a bug
+    here, refused rather than written without them."""
     now = sculptor.mesh
+    if mesh.uv is not None and now.uv is None:
+        raise RuntimeError("internal error: the texture coordinates of the input were dropped")
     save_mesh(MeshData(now.vertices, now.faces, now.uv, now.uv_faces, mesh.source), path)
 
 
@@ -138,11 +145,27 @@ def _falloff(name: str) -> RadialProfile:
         return parse_falloff(data, path)
 
 
-def _deform(args: argparse.Namespace) -> int:
-    mesh = load_mesh(args.input)
+@dataclass(frozen=True)
+class _DeformOptions:
+    """The options of ``gogreen deform``, each checked under its own name."""
+
+    material: Material
+    falloff: RadialProfile
+    l_max: int
+    brush: Brush
+    center: np.ndarray
+    delta: np.ndarray
+    amount: float
+    axis: np.ndarray | None
+    direction: np.ndarray | None
+    events: int
+
+
+def _deform_options(args: argparse.Namespace) -> _DeformOptions:
+    """Every option of ``gogreen deform`` checked before anything is computed from it;
+    ValueError (a ParameterError naming the option) for a bad one."""
     material, falloff = _material(args), _falloff(args.falloff)
     l_max = parse_l_max(args.l_max, "--l-max")
-    sculptor = Sculptor(mesh.vertices, mesh.faces, material=material, l_max=l_max, falloff=falloff)
     with _option_names():
         brush = Brush(
             kind=args.brush,
@@ -152,7 +175,6 @@ def _deform(args: argparse.Namespace) -> int:
             influence=args.influence,
             symmetry=args.symmetry,
         )
-    # Each option is checked under its own name before anything is computed from it.
     center = check_vector("--center", args.center)
     delta = check_vector("--delta", args.delta)
     amount = check_number("--amount", args.amount, low=-MAX_AMOUNT, high=MAX_AMOUNT)
@@ -164,8 +186,27 @@ def _deform(args: argparse.Namespace) -> int:
         raise ParameterError("--amount", f"the {brush.kind} brush needs --amount (nonzero)")
     if not (brush.is_affine or paint) and not np.any(delta):
         raise ParameterError("--delta", f"the {brush.kind} brush needs --delta (nonzero)")
+    return _DeformOptions(
+        material, falloff, l_max, brush, center, delta, amount, axis, direction, events
+    )
+
+
+def _deform(args: argparse.Namespace) -> int:
+    mesh = load_mesh(args.input)
+    options = _deform_options(args)
+    sculptor = Sculptor(
+        mesh.vertices,
+        mesh.faces,
+        uv=mesh.uv,
+        uv_faces=mesh.uv_faces,
+        material=options.material,
+        l_max=options.l_max,
+        falloff=options.falloff,
+    )
+    brush, events, center = options.brush, options.events, options.center
+    paint = brush.type.family == "paint"
     # The drag is split into equal events, as mouse events of one stroke.
-    step = delta / events
+    step = options.delta / events
     progress = None if args.quiet else ProgressBar("deform")
     sculptor.begin_stroke(brush)
     try:
@@ -174,9 +215,9 @@ def _deform(args: argparse.Namespace) -> int:
                 event = BrushEvent(
                     center=center + k * step,
                     delta=step,
-                    amount=amount if paint else amount / events,
-                    axis=axis,
-                    direction=direction,
+                    amount=options.amount if paint else options.amount / events,
+                    axis=options.axis,
+                    direction=options.direction,
                 )
                 sculptor.stroke_event(event)
             if progress:

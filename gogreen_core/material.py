@@ -106,7 +106,7 @@ class Material:
                 f"Voigt stiffness is not symmetric: max |C - C^T| = {asym:.3g} "
                 f"(relative {asym / scale:.3g})"
             )
-        c6 = 0.5 * (c6 + c6.T)
+        c6 = 0.5 * c6 + 0.5 * c6.T  # halves first: entries near the float64 limit do not overflow
         eig = np.linalg.eigvalsh(c6)
         if eig[0] <= 1e-12 * eig[-1]:
             raise ValueError(

@@ -374,7 +374,10 @@ class Sculptor:
         self._strokes.cancel()
 
     def apply_brush(self, brush: Brush, events: Sequence[BrushEvent]) -> np.ndarray:
-        """A whole stroke at once; returns the moved indices."""
+        """A whole stroke at once; returns the moved indices. A stroke without events would
+        do nothing: it is refused (:class:`ParameterError` naming ``events``)."""
+        if len(events) == 0:
+            raise ParameterError("events", "a stroke needs at least one event (none given)")
         self.begin_stroke(brush)
         try:
             for number, event in enumerate(events):

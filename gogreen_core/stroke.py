@@ -134,6 +134,7 @@ class StrokeDriver:
         brush = event.brush(stroke.brush)
         self.mesh.check_point("center", event.center)
         behaviour = brush.type
+        event = behaviour.with_amount(event)  # recorded as it acts: a replay acts the same
         behaviour.check_event(brush, event, self.mesh.reach)
         moved = behaviour.displace(self.context(kernels), brush, event)
         self._write(stroke, moved)

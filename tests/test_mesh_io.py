@@ -390,7 +390,8 @@ BAD_FILES = [
     ("hugecoordinate.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 -1e999 0\n3 0 1 2\n",
      "line 5: vertex 2 has a non-finite"),
     # STL
-    ("text.stl", "solid x\nfacet normal 0 0 1\n", "no triangles could be read"),
+    ("text.stl", "solid x\nfacet normal 0 0 1\n",
+     "text.stl, line 3: the file ends in the facet begun on line 2 where 'outer loop' should"),
     ("binary.stl", b"\0" * 80 + struct.pack("<I", 5) + b"\0" * 60, "no triangles could be read"),
     # unknown formats
     ("mesh.xyz", "1 2 3\n", "unknown mesh format '.xyz'"),
@@ -543,6 +544,53 @@ def test_truncated_binary_stl_is_rejected(made_textured, tmp_path):
     path = write(tmp_path / "cut.stl", data[:-10])
     with pytest.raises(MeshFileError, match=r"cut\.stl: no triangles could be read"):
         load_mesh(path)
+
+
+def ascii_stl(mesh: MeshData) -> str:
+    """The mesh as an ASCII STL, written here (one statement a line, as exporters do)."""
+    facets = []
+    for corners in mesh.vertices[mesh.faces].tolist():
+        rows = "".join(f"      vertex {x!r} {y!r} {z!r}\n" for x, y, z in corners)
+        facets.append(f"  facet normal 0 0 1\n    outer loop\n{rows}    endloop\n  endfacet\n")
+    return "solid made\n" + "".join(facets) + "endsolid made\n"
+
+
+def test_truncated_ascii_stl_is_refused_naming_the_line(made_textured, tmp_path):
+    mesh = load_mesh(made_textured.path)
+    mesh = MeshData(mesh.vertices, mesh.faces[:80])
+    lines = ascii_stl(mesh).splitlines(keepends=True)
+    assert len(lines) == 2 + 7 * 80
+    whole = load_mesh(write(tmp_path / "whole.stl", "".join(lines)))
+    assert len(whole.faces) == 80
+    # Cut after 53 whole facets plus each part of the 54th: the file ends inside that facet.
+    begun = 2 + 7 * 53
+    for kept in range(1, 7):
+        path = write(tmp_path / "cut.stl", "".join(lines[: begun - 1 + kept]))
+        with pytest.raises(
+            MeshFileError,
+            match=rf"^cut\.stl, line {begun + kept}: the file ends in the facet "
+            rf"begun on line {begun} where '.*' should follow \(a truncated ASCII STL\)",
+        ):
+            load_mesh(path)
+    # Cut in the middle of a vertex line: that line is named.
+    cut = "".join(lines[: begun + 2]) + lines[begun + 2][:15]
+    with pytest.raises(MeshFileError, match=rf"^cut\.stl, line {begun + 3}: .*'vertex x y z'"):
+        load_mesh(write(tmp_path / "cut.stl", cut))
+    # All facets whole but no endsolid: refused too, at the end of the file.
+    path = write(tmp_path / "noend.stl", "".join(lines[:-1]))
+    with pytest.raises(
+        MeshFileError,
+        match=rf"^noend\.stl, line {len(lines)}: the file ends where 'facet' or 'endsolid' should",
+    ):
+        load_mesh(path)
+    # A facet that misses a corner, in the middle of the file.
+    del lines[begun + 3]
+    with pytest.raises(
+        MeshFileError,
+        match=rf"^gap\.stl, line {begun + 4}: expected 'vertex x y z' in the facet begun on "
+        rf"line {begun}, found 'endloop'",
+    ):
+        load_mesh(write(tmp_path / "gap.stl", "".join(lines)))
 
 
 @pytest.mark.parametrize(

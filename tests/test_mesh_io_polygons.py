@@ -152,3 +152,66 @@ def test_texture_coordinates_follow_the_corners_of_a_concave_face(tmp_path: Path
     mesh = load_mesh(tmp_path / "u.obj")
     assert area(mesh.vertices, mesh.faces) == 5.0
     assert np.array_equal(mesh.uv_faces, (mesh.faces + 3) % 8)
+
+
+def random_quads(count: int, seed: int) -> np.ndarray:
+    """(count, 4, 3) quads seen from +z counter-clockwise, then turned at random: a third
+    convex and planar, a third concave at a random corner (a dart), a third convex bent out of
+    their plane."""
+    rng = np.random.default_rng(seed)
+    angles = rng.uniform(0, 2 * np.pi, (count, 1)) + np.pi / 2 * np.arange(4)
+    angles += rng.uniform(-0.6, 0.6, (count, 4))  # a quarter turn apart, give or take
+    radii = rng.uniform(0.5, 1.5, (count, 1)) * np.ones(4)  # on a circle: convex
+    quads = np.stack([radii * np.cos(angles), radii * np.sin(angles), 0 * radii], axis=2)
+    dart = np.arange(count) % 3 == 1
+    notch = rng.integers(0, 4, count)
+    rows = np.flatnonzero(dart)
+    # A dart: one corner pulled past the diagonal of its two neighbours, inside the quad.
+    before, after = quads[rows, (notch[rows] - 1) % 4], quads[rows, (notch[rows] + 1) % 4]
+    opposite = quads[rows, (notch[rows] + 2) % 4]
+    quads[rows, notch[rows]] = 0.7 * 0.5 * (before + after) + 0.3 * opposite
+    bent = np.arange(count) % 3 == 2
+    quads[bent, :, 2] = rng.uniform(-0.3, 0.3, (int(bent.sum()), 4))
+    return quads @ rotation(seed).T
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_each_quad_takes_a_diagonal_inside_it(seed):
+    quads = random_quads(600, seed)
+    points = quads.reshape(-1, 3)
+    corners = np.arange(len(points))
+    triangles = triangulate(points, corners, np.full(len(quads), 4))
+    assert triangles.shape == (2 * len(quads), 3)
+    # Seen along the quad's own normal, both triangles turn the quad's way: none folds over.
+    normals = np.cross(quads[:, 2] - quads[:, 0], quads[:, 3] - quads[:, 1])
+    p = points[triangles]
+    sides = np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]),
+                      np.repeat(normals, 2, axis=0))  # fmt: skip
+    assert (sides > 0).all()
+    # Each quad's two triangles use its four corners; convex ones keep the file's fan (0-2).
+    assert (np.sort(triangles.reshape(-1, 6), axis=1) // 4 == np.arange(len(quads))[:, None]).all()
+    planar_convex = np.arange(len(quads)) % 3 == 0
+    fans = fan_of([4] * len(quads)).reshape(-1, 2, 3)
+    assert np.array_equal(triangles.reshape(-1, 2, 3)[planar_convex], fans[planar_convex])
+
+
+def test_quads_never_take_the_ear_clipping_path(monkeypatch):
+    """Four corners have two triangulations, chosen for all quads at once: ear clipping (a
+    Python loop, ~0.3 ms a polygon) is for polygons of five corners or more. Twisted quads
+    (a bow tie seen along their normal) take the diagonal that folds least."""
+    from gogreen_core.mesh_io import polygons
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("ear clipping called for a quad")
+
+    monkeypatch.setattr(polygons.mapbox_earcut, "triangulate_float64", refuse)
+    rng = np.random.default_rng(7)
+    quads = rng.normal(size=(3000, 4, 3))  # random: convex, concave, non-planar, twisted
+    bow_tie = np.array([[0, 0, 0], [1, 1, 0], [1, 0, 0], [0, 1, 0.0]])
+    points = np.concatenate([quads.reshape(-1, 3), bow_tie])
+    sizes = np.full(len(points) // 4, 4)
+    triangles = triangulate(points, np.arange(len(points)), sizes)
+    assert len(triangles) == 2 * len(sizes)
+    assert (np.sort(triangles.reshape(-1, 6), axis=1) // 4 == np.arange(len(sizes))[:, None]).all()
+    # Every corner is used by one of its quad's triangles (neighbours stay connected).
+    assert len(np.unique(triangles)) == len(points)

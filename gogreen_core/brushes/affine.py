@@ -131,6 +131,7 @@ class AffineBrush(GreenBrush):
     """An affine load of pattern ``pattern`` at the press point (see the module docstring)."""
 
     family = "affine"
+    default_amount = None  # a log strain or angle: no default
 
     def __init__(self, kind: str, pattern: Pattern) -> None:
         super().__init__(kind)
@@ -143,12 +144,12 @@ class AffineBrush(GreenBrush):
         return self._pattern(a, direction)
 
     def check_event(self, brush: Brush, event: BrushEvent, reach: float) -> None:
-        load = abs(brush.strength * event.amount)
+        load = abs(brush.strength * event.acting_amount)
         if not load <= MAX_AMOUNT:
             raise ParameterError(
                 "amount",
                 f"amount × brush strength must be ≤ {MAX_AMOUNT:g} in magnitude "
-                f"(got {event.amount:g} × {brush.strength:g})",
+                f"(got {event.acting_amount:g} × {brush.strength:g})",
             )
 
     def load(
@@ -162,7 +163,7 @@ class AffineBrush(GreenBrush):
         # the centre has component strength · amount along B: `amount` is a log strain or
         # an angle at the centre whatever the material.
         response = _response(jacobian, shape)
-        amount = brush.strength * event.amount
+        amount = brush.strength * event.acting_amount
         eps = kernel.eps
         # The largest displacement and velocity gradient of the load B anywhere: the centre's
         # response must be large enough that B · amount / response stays within the limits.

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
@@ -30,6 +30,7 @@ import numpy as np
 from gogreen_core.falloff_safety import FieldBound, field_reach
 from gogreen_core.kernel import STREAMLINE_TOLERANCE, GreenKernel, StreamlineOverflow
 from gogreen_core.radial import RadialProfile
+from gogreen_core.validation import ParameterError
 
 if TYPE_CHECKING:
     from gogreen_core.brushes.brush import Brush, BrushEvent
@@ -156,6 +157,8 @@ class BrushType(ABC):
     """
 
     family: ClassVar[str] = "vector"
+    #: The amount an event without one acts with (None: an event must carry one).
+    default_amount: ClassVar[float | None] = 0.0
 
     def __init__(self, kind: str) -> None:
         self.kind = kind
@@ -166,6 +169,20 @@ class BrushType(ABC):
     @property
     def is_affine(self) -> bool:
         return self.family == "affine"
+
+    def with_amount(self, event: BrushEvent) -> BrushEvent:
+        """``event`` with the amount it acts with: its own, else :attr:`default_amount`; an
+        event that must carry one and does not is refused (:class:`ParameterError` naming
+        ``amount``), rather than doing nothing."""
+        if event.amount is not None:
+            return event
+        if self.default_amount is None:
+            raise ParameterError(
+                "amount",
+                f"an event of the {self.kind} brush needs an amount (the log strain or angle "
+                "at the brush centre); none was given",
+            )
+        return replace(event, amount=self.default_amount)
 
     def check_event(self, brush: Brush, event: BrushEvent, reach: float) -> None:
         """Refuse an event whose magnitudes this brush cannot take (:class:`ParameterError`

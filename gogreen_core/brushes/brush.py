@@ -165,7 +165,11 @@ class BrushEvent:
     center : (3,) the cursor on the surface at the start of the event.
     delta : (3,) cursor displacement during the event (grab brushes).
     amount : affine brushes: the logarithmic strain (scale, pinch) or the angle in radians
-        (twist) at the brush centre per event, times the brush strength (see module docstring).
+        (twist) at the brush centre per event, times the brush strength (see module docstring);
+        required (an affine event without one is refused, naming ``amount``). Paint brushes
+        (smooth, mask): the pen pressure, negative to erase or invert; full pressure (1.0) when
+        not given. Grab brushes do not use it. An event is recorded with the amount it acted
+        with, so a replay acts the same.
     axis : (3,) view direction (twist axis, pinch normal), any nonzero length; +z when omitted.
     direction : (3,) stroke direction in the view plane (pinch); any vector ⟂ axis if omitted.
     radius_factor : in (0, 1], scales the stroke brush's radius ε for this event alone (pen
@@ -176,7 +180,7 @@ class BrushEvent:
 
     center: np.ndarray
     delta: np.ndarray = field(default_factory=lambda: np.zeros(3))
-    amount: float = 0.0
+    amount: float | None = None
     axis: np.ndarray | None = None
     direction: np.ndarray | None = None
     radius_factor: float = 1.0
@@ -184,8 +188,9 @@ class BrushEvent:
     def __post_init__(self) -> None:
         object.__setattr__(self, "center", _vector("center", self.center))
         object.__setattr__(self, "delta", _vector("delta", self.delta))
-        amount = check_number("amount", self.amount, low=-MAX_AMOUNT, high=MAX_AMOUNT)
-        object.__setattr__(self, "amount", amount)
+        if self.amount is not None:
+            amount = check_number("amount", self.amount, low=-MAX_AMOUNT, high=MAX_AMOUNT)
+            object.__setattr__(self, "amount", amount)
         if self.axis is not None:
             # kept as given (normalized where used): a stored unit vector renormalized on
             # reading could differ in its last bit and a replay would drift
@@ -194,6 +199,13 @@ class BrushEvent:
             object.__setattr__(self, "direction", _vector("direction", self.direction))
         factor = check_number("radius_factor", self.radius_factor, low=0.0, high=1.0, low_open=True)
         object.__setattr__(self, "radius_factor", factor)
+
+    @property
+    def acting_amount(self) -> float:
+        """The amount the event acts with: :attr:`amount`, 0 when none was given (the stroke
+        driver gives such an event its brush's default before it acts:
+        :meth:`BrushType.with_amount`)."""
+        return 0.0 if self.amount is None else self.amount
 
     def brush(self, stroke_brush: Brush) -> Brush:
         """The brush this event acts with: ``stroke_brush`` with its radius scaled by
@@ -219,6 +231,7 @@ class BrushEvent:
         """Inverse of :meth:`to_dict`, the event's schema: :class:`ParameterError` naming the
         field (``path.delta``...)."""
         fields = ("center", "delta", "amount", "axis", "direction", "radius_factor")
-        values = check_object(path, data, required=("center",), optional=fields[1:])
+        values = dict(check_object(path, data, required=("center",), optional=fields[1:]))
+        values.setdefault("amount", 0.0)  # a file leaves out a zero amount (to_dict)
         with prefixed(path):
             return cls(**values)

@@ -28,6 +28,6 @@ class MaskBrush(PaintBrush):
 
     def displace(self, ctx: StrokeContext, brush: Brush, event: BrushEvent) -> Displacement:
         rows, weight = self.region(ctx, brush, event)
-        change = brush.strength * event.amount
+        change = brush.strength * event.acting_amount
         values = np.clip(ctx.mesh.mask[rows] + change * weight, 0.0, 1.0)
         return Displacement(rows, None, mask=values)

@@ -35,6 +35,7 @@ class PaintBrush(BrushType):
     """A brush acting on the region the cursor sweeps (see the module docstring)."""
 
     family = "paint"
+    default_amount = 1.0  # full pen pressure: a script's event without one still paints
     auto_reach = PAINT_AUTO_INFLUENCE
 
     def check_event(self, brush: Brush, event: BrushEvent, reach: float) -> None:

@@ -50,7 +50,7 @@ class SmoothBrush(PaintBrush):
         rows, weight = self.region(ctx, brush, event)
         out = ctx.rows(len(rows))
         mesh = ctx.mesh
-        amount = abs(brush.strength * event.amount)
+        amount = abs(brush.strength * event.acting_amount)
         if not len(rows) or amount == 0:
             out[:] = mesh.vertices[rows]
             return Displacement(rows, out)

@@ -3,9 +3,10 @@
 Loading keeps the vertices as the file lists them: same order, and the same count except where
 the format itself made copies of a vertex: STL's triangle corners and the vertices a PLY (as
 Blender writes it) splits along UV seams are welded back into one, so the surface a brush
-deforms is in one piece. Polygons are triangulated by their shape: a convex polygon (a quad)
-by its fan (corners ``0, k, k+1``) in place, as the file orders it; a concave n-gon without
-covering its notch (:mod:`~gogreen_core.mesh_io.polygons`).
+deforms is in one piece. Polygons are triangulated by their shape: a convex polygon by its fan
+(corners ``0, k, k+1``) in place, as the file orders it; a quad that would fold by its other
+diagonal (all quads at once); a concave n-gon without covering its notch
+(:mod:`~gogreen_core.mesh_io.polygons`).
 
 Text is read as UTF-8; a leading byte-order mark is skipped and CR LF or lone CR line ends are
 accepted, so no first vertex or line is lost to them.

@@ -143,10 +143,10 @@ def warm_up() -> float:
     )
     square = np.array([[0, 0, 0, 0, 0], [1, 0, 0, 1, 0], [1, 1, 0, 1, 1], [0, 1, 0, 0, 1],
                        [0, 0, 0, 1, 1]], dtype="<f4")  # fmt: skip
-    faces = struct.pack("<B4iB3i", 4, 0, 1, 2, 3, 3, 0, 2, 4)  # a quad and a triangle
+    faces = struct.pack("<B5iB3i", 5, 0, 1, 2, 3, 4, 3, 0, 2, 4)  # a pentagon and a triangle
     ply.read_ply(header.format("binary_little_endian").encode() + square.tobytes() + faces, "")
     rows = "".join(" ".join(map(str, row)) + "\n" for row in square.tolist())
-    ply.read_ply((header.format("ascii") + rows + "4 0 1 2 3\n3 0 2 4\n").encode(), "")
+    ply.read_ply((header.format("ascii") + rows + "5 0 1 2 3 4\n3 0 2 4\n").encode(), "")
     triangle = np.zeros(1, dtype=stl.TRIANGLE)
     triangle["corners"] = square[:3, :3]
     stl.read_stl(bytes(80) + struct.pack("<I", 1) + triangle.tobytes(), "")

@@ -2,13 +2,17 @@
 
 Polygons are given as consecutive corners with their sizes (the way files list them) and come
 back as triangles of *corner positions*, so that a caller maps vertex and texture indices
-through the same triangles. A polygon whose fan from its first corner (``0, j, j+1``) covers it
-exactly (every fan triangle on the polygon's side of its best-fit plane: triangles, convex
-polygons, and many concave ones) keeps that fan, as the file order has it. The others (a
-concave n-gon, where the fan would cover the notch) are triangulated on their best-fit plane:
-by the fan from another corner when one covers the polygon, else by ear clipping
-(``mapbox_earcut``). Each polygon of k corners always gives k-2 triangles that use each of its
-corners and edges, so neighbouring faces stay connected, and the polygon's area is kept.
+through the same triangles. A quad (two triangulations: one per diagonal) keeps the file's
+diagonal (corners 0-2) unless a triangle of it folds over against the quad's normal and the
+other diagonal folds less; the choice is made for all quads at once with whole-array
+operations. A larger polygon whose fan from its first corner (``0, j, j+1``) covers it exactly
+(every fan triangle on the polygon's side of its best-fit plane: convex polygons, and many
+concave ones) keeps that fan, as the file order has it. The others (a concave n-gon, where the
+fan would cover the notch) are triangulated on their best-fit plane: by the fan from another
+corner when one covers the polygon, else by ear clipping (``mapbox_earcut``, one polygon at a
+time: only polygons of five corners or more get there). Each polygon of k corners always gives
+k-2 triangles that use each of its corners and edges, so neighbouring faces stay connected, and
+the polygon's area is kept.
 """
 
 from __future__ import annotations
@@ -75,11 +79,106 @@ def triangulate(points: np.ndarray, corners: np.ndarray, sizes: np.ndarray) -> n
         return np.arange(3 * len(sizes), dtype=np.int64).reshape(-1, 3)
     corners = np.ascontiguousarray(corners, dtype=np.int64)
     points = np.ascontiguousarray(points, dtype=np.float64)
-    triangles: np.ndarray
-    triangles, uncovered = _fans(points, corners, sizes, _FOLD_TOLERANCE, _MAX_FAN_STARTS)
-    if uncovered.any():
-        _ear_clip_all(points, corners, sizes, triangles, np.flatnonzero(uncovered))
+    corner_starts, triangle_starts = _starts(sizes), _starts(sizes - 2)
+    # Every polygon's fan from its first corner (0, j+1, j+2), then the quads' and the larger
+    # polygons' own choices over it.
+    polygon = np.repeat(np.arange(len(sizes)), sizes - 2)
+    first = corner_starts[polygon]
+    step = np.arange(len(polygon)) - triangle_starts[polygon]
+    triangles = np.stack([first, first + step + 1, first + step + 2], axis=1)
+    quads = np.flatnonzero(sizes == 4)
+    if len(quads):
+        _split_quads(points, corners, corner_starts[quads], triangle_starts[quads], triangles)
+    larger = np.flatnonzero(sizes > 4)
+    if len(larger):
+        # Positions in ``corners`` of the larger polygons' corners, and where their triangles go.
+        own = concatenated_ranges(corner_starts[larger], sizes[larger])
+        rows = concatenated_ranges(triangle_starts[larger], sizes[larger] - 2)
+        their_sizes = np.ascontiguousarray(sizes[larger])
+        their_corners = np.ascontiguousarray(corners[own])
+        found, uncovered = _fans(
+            points, their_corners, their_sizes, _FOLD_TOLERANCE, _MAX_FAN_STARTS
+        )
+        if uncovered.any():
+            _ear_clip_all(points, their_corners, their_sizes, found, np.flatnonzero(uncovered))
+        triangles[rows] = own[found]
     return triangles
+
+
+def _split_quads(
+    points: np.ndarray,
+    corners: np.ndarray,
+    starts: np.ndarray,
+    rows: np.ndarray,
+    triangles: np.ndarray,
+) -> None:
+    """Choose each quad's diagonal, all quads at once: the file's (corners 0-2, the fan kept in
+    ``triangles[rows]``, ``triangles[rows + 1]``) unless one of its two triangles folds over
+    against the quad's normal (a concave quad whose notch is at corner 1 or 3, or a non-planar
+    one bent that way) while the other diagonal (1-3) folds less; then the triangles (1, 2, 3),
+    (1, 3, 0). Of a concave quad this is the diagonal inside it; of a twisted one (a bow tie
+    seen along its normal, which no diagonal covers) the one that folds least. Convex quads
+    keep the file's split bit for bit, as Blender and the file's writer made it."""
+    # Corners 1, 2, 3 relative to corner 0, each a triple of (Q,) coordinate arrays.
+    at = corners[starts + np.arange(4)[:, None]]  # (4, Q) vertex of each corner
+    x, y, z = np.take(np.ascontiguousarray(points.T), at, axis=1)  # (4, Q) each
+    with np.errstate(all="ignore"):  # huge coordinates overflow: such a quad keeps its split
+        _choose_diagonals(x, y, z, starts, rows, triangles)
+
+
+def _choose_diagonals(
+    x: np.ndarray,
+    y: np.ndarray,
+    z: np.ndarray,
+    starts: np.ndarray,
+    rows: np.ndarray,
+    triangles: np.ndarray,
+) -> None:
+    """:func:`_split_quads` on the corners' coordinates ``x``, ``y``, ``z`` (4, Q)."""
+    one, two, three = ((x[k] - x[0], y[k] - y[0], z[k] - z[0]) for k in (1, 2, 3))
+    # Newell's normal of a quad: the cross product of its diagonals (2 - 0) x (3 - 1).
+    n = _cross(two, _minus(three, one))
+    # The fan's triangles (0, 1, 2), (0, 2, 3) turn with the normal where these are >= 0.
+    first, second = _dot(_cross(one, two), n), _dot(_cross(two, three), n)
+    maybe = np.flatnonzero((first < 0) | (second < 0))  # only these can fold
+    if len(maybe) == 0:  # every quad keeps the file's split
+        return
+    one, two, three, n = ((a[maybe], b[maybe], c[maybe]) for a, b, c in (one, two, three, n))
+    nn = _dot(n, n)
+    kept = np.maximum(_fold(one, two, n, nn), _fold(two, three, n, nn))
+    other = np.maximum(
+        _fold(_minus(two, one), _minus(three, one), n, nn),
+        _fold(_minus(three, one), _minus((0.0, 0.0, 0.0), one), n, nn),
+    )
+    flip = maybe[(kept > _FOLD_TOLERANCE) & (other < kept)]
+    start, row = starts[flip], rows[flip]
+    triangles[row] = np.stack([start + 1, start + 2, start + 3], axis=1)
+    triangles[row + 1] = np.stack([start + 1, start + 3, start], axis=1)
+
+
+#: A vector of Q points or directions, as its three (Q,) coordinate arrays (no stacked copies).
+_Vectors = tuple[np.ndarray, np.ndarray, np.ndarray]
+
+
+def _minus(u: _Vectors | tuple[float, float, float], v: _Vectors) -> _Vectors:
+    return u[0] - v[0], u[1] - v[1], u[2] - v[2]
+
+
+def _cross(u: _Vectors, v: _Vectors) -> _Vectors:
+    return u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]
+
+
+def _dot(u: _Vectors, v: _Vectors) -> np.ndarray:
+    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]  # type: ignore[no-any-return]
+
+
+def _fold(u: _Vectors, v: _Vectors, n: _Vectors, nn: np.ndarray) -> np.ndarray:
+    """(Q,) how far the triangle with edges ``u``, ``v`` from a corner turns against the
+    quads' normals ``n`` (``nn`` their squared lengths): minus the sine of its side, above 0
+    when it folds (0 for a degenerate triangle or quad), as the fan test measures it."""
+    side = _dot(_cross(u, v), n)
+    scale = np.sqrt(_dot(u, u) * _dot(v, v) * nn)
+    return np.where(scale > 0, -side / np.where(scale > 0, scale, 1.0), 0.0)
 
 
 def _starts(sizes: np.ndarray) -> np.ndarray:
