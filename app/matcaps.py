@@ -129,9 +129,9 @@ _FRAGMENT = f"""//VTK::Light::Impl
 """
 
 
-@cache
 def matcap_texture(name: str) -> Any:
-    """Matcap ``name`` as a VTK texture (linear filtering, clamped), made once."""
+    """Matcap ``name`` as a new VTK texture (linear filtering, clamped). Not shared: a texture
+    holds its render window's graphics resources."""
     texture = pv.Texture(matcap_image(name))  # pyvista flips row 0 to the top
     texture.SetInterpolate(True)
     texture.SetRepeat(False)
