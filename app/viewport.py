@@ -138,6 +138,14 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         # takes the keyboard focus when clicked, and back from fields (app.keyboard)
         self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
 
+    def close(self) -> None:
+        """Close the plotter; a matcap's texture first gives back what it holds in the render
+        window (else VTK reports the window deleted before the texture)."""
+        actor, window = self.mesh_actor, self.ren_win
+        if actor is not None and window is not None and actor.GetTexture() is not None:
+            actor.GetTexture().ReleaseGraphicsResources(window)
+        super().close()
+
     def _mute_vtk_keys(self) -> None:
         """No VTK or pyvista key binding may act (app.keymap is the app's only keymap): keys
         are not passed to the interactor (:meth:`keyPressEvent`), and should one arrive by
