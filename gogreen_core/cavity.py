@@ -20,14 +20,17 @@ from gogreen_core.topology import VertexNeighbours, mesh_edges, vertex_neighbour
 __all__ = ["CavityField", "affected_rows", "curvature"]
 
 
-def _gather(neighbours: VertexNeighbours, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(owner, neighbour) index pairs (K,), (K,) of the one-rings of ``rows`` (owner: the
-    position in ``rows``)."""
+def _gather(
+    neighbours: VertexNeighbours, rows: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The one-rings of ``rows`` (n,) one after another: their vertices (K,), each row's count
+    (n,) and where each row's ring starts (n,)."""
     starts, stops = neighbours.offsets[rows], neighbours.offsets[rows + 1]
     counts = stops - starts
-    owner = np.repeat(np.arange(len(rows)), counts)
-    first = np.repeat(starts - np.concatenate([[0], np.cumsum(counts)[:-1]]), counts)
-    return owner, neighbours.neighbours[first + np.arange(len(owner))]
+    begins = np.zeros(len(rows), dtype=np.int64)
+    np.cumsum(counts[:-1], out=begins[1:])
+    first = np.repeat(starts - begins, counts)
+    return neighbours.neighbours[first + np.arange(len(first))], counts, begins
 
 
 def curvature(
@@ -36,14 +39,18 @@ def curvature(
     """κ (n,) (1 / model units) at ``rows`` (n,) of ``vertices`` (N, 3), whose unit normals
     are ``normals`` (n, 3) (see the module docstring); 0 at a vertex without neighbours."""
     rows = np.asarray(rows, dtype=np.int64)
-    owner, other = _gather(neighbours, rows)
-    d = vertices[other] - vertices[rows][owner]
-    along = np.einsum("ij,ij->i", d, np.asarray(normals)[owner])
-    square = np.einsum("ij,ij->i", d, d)
-    bend = np.bincount(owner, weights=along, minlength=len(rows))
-    length = np.bincount(owner, weights=square, minlength=len(rows))
     out = np.zeros(len(rows))
-    np.divide(2.0 * bend, length, out=out, where=length > 0)
+    ring, counts, begins = _gather(neighbours, rows)
+    if not len(ring):
+        return out
+    edges = vertices[ring] - np.repeat(vertices[rows], counts, axis=0)  # d_ij (K, 3)
+    # sums per row (reduceat gives an empty row the next row's first term: masked out below);
+    # n_i · Σ_j d_ij: one dot product a row
+    at = np.minimum(begins, len(ring) - 1)
+    sums = np.add.reduceat(edges, at, axis=0)
+    length = np.add.reduceat(np.einsum("ij,ij->i", edges, edges), at)
+    bend = np.einsum("ij,ij->i", sums, np.asarray(normals, dtype=np.float64))
+    np.divide(2.0 * bend, length, out=out, where=(counts > 0) & (length > 0))
     return out
 
 
@@ -53,7 +60,7 @@ def affected_rows(neighbours: VertexNeighbours, moved: np.ndarray, n_vertices: i
     moved = np.asarray(moved, dtype=np.int64).ravel()
     mark = np.zeros(n_vertices, dtype=bool)
     mark[moved] = True
-    mark[_gather(neighbours, moved)[1]] = True
+    mark[_gather(neighbours, moved)[0]] = True
     return np.flatnonzero(mark)
 
 

@@ -35,7 +35,7 @@ def test_a_bump_tints_the_same_on_a_finer_mesh_and_a_hollow_is_positive():
 
     def bumped(v):
         v = v / np.linalg.norm(v, axis=1, keepdims=True)
-        height = -0.1 * np.exp(-(np.linalg.norm(v - [0, 0, 1], axis=1) / 0.3) ** 2)
+        height = -0.1 * np.exp(-((np.linalg.norm(v - [0, 0, 1], axis=1) / 0.3) ** 2))
         return v * (1 + height)[:, None]  # a dent on the top
 
     coarse_values = field_of(bumped(vertices), faces).values
