@@ -110,7 +110,8 @@ class MeshDisplay(_Base):
         self._field_rgb: np.ndarray | None = None
         self._field_on: np.ndarray | None = None
         self._field_rows = np.zeros(0, dtype=np.int64)
-        #: The cavity tint: on or off, and the curvature it shows (None while off or until the
+        #: The cavity tint: on or off, and the curvature it shows, in the surface index's
+        #: vertex order (its arrays are local in memory; None while off or until the
         #: surface index is ready), its reference κ₀ and the model size it scales by.
         self.cavity_on = False
         self.cavity: CavityField | None = None
@@ -309,16 +310,19 @@ class MeshDisplay(_Base):
 
     def _cavity_normals(self, rows: np.ndarray) -> np.ndarray:
         assert self.surface is not None
-        return self.surface.normals[self.surface.rank[rows]]
+        return self.surface.normals[rows]
 
     def _measure_cavity(self) -> None:
-        """The curvature of every vertex, its median the tint's neutral value."""
-        assert self.surface is not None and self._faces is not None
-        vertices = self.surface.vertices
-        self.cavity = CavityField(self._faces, len(vertices))
-        self.cavity.update(vertices, self._cavity_normals)
-        self._cavity_ref = float(np.median(self.cavity.values)) if len(vertices) else 0.0
-        self._cavity_size = float(np.linalg.norm(np.ptp(vertices, axis=0))) or 1.0
+        """The curvature of every vertex, its median the tint's neutral value. Computed on the
+        surface index's arrays, in its order: a brush region's rows and their neighbours are
+        near in memory there (half the time of the mesh's order on the ogre)."""
+        surface = self.surface
+        assert surface is not None
+        positions = surface.positions
+        self.cavity = CavityField(surface.faces, len(positions))
+        self.cavity.update(positions, self._cavity_normals)
+        self._cavity_ref = float(np.median(self.cavity.values)) if len(positions) else 0.0
+        self._cavity_size = float(np.linalg.norm(np.ptp(positions, axis=0))) or 1.0
 
     @property
     def field_shown(self) -> bool:
@@ -335,7 +339,9 @@ class MeshDisplay(_Base):
             shade -= MASK_SHADE * np.clip(mask if rows is None else mask[rows], 0.0, 1.0)
         if self.cavity_shown:
             assert self.cavity is not None
-            kappa = self.cavity.values if rows is None else self.cavity.values[rows]
+            assert self.surface is not None  # the curvature is in its order
+            rank = self.surface.rank
+            kappa = self.cavity.values[rank if rows is None else rank[rows]]
             bend = (kappa - self._cavity_ref) * (self._cavity_size / CAVITY_SCALE)
             shade *= 1.0 - CAVITY_CONTRAST * np.tanh(bend)
         colors = _tint(MODEL_RGB, shade)
@@ -475,7 +481,9 @@ class MeshDisplay(_Base):
                 normals.Modified()
             if self.cavity_shown and surface is not None:
                 assert self.cavity is not None
-                self._draw_colors(self.cavity.update(vertices, self._cavity_normals, indices))
+                positions, moved = surface.positions, surface.rank[indices]
+                rows = self.cavity.update(positions, self._cavity_normals, moved)
+                self._draw_colors(surface.order[rows])
 
     # -- picking -----------------------------------------------------------------------------
     def _display(self, pos: QPointF) -> tuple[float, float]:

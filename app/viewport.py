@@ -138,7 +138,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         # takes the keyboard focus when clicked, and back from fields (app.keyboard)
         self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
 
-    def close(self) -> None:
+    def close(self) -> None:  # type: ignore[override]  # pyvistaqt.QtInteractor.close
         """Close the plotter; a matcap's texture first gives back what it holds in the render
         window (else VTK reports the window deleted before the texture)."""
         actor, window = self.mesh_actor, self.ren_win
