@@ -1,11 +1,14 @@
 """The brush cursor as a 2D overlay: VTK 2D actors drawn after the scene, never hidden by it.
 
 It shows, around the screen position of the point where the brush acts: the radius ε (a solid
-ring), the influence radius (influence · ε, a thin ring: nothing beyond it moves) and the
-falloff profile (the relative motion against the distance from the centre, drawn as a curve
-over the ring's diameter, 1 at the centre rising to the top of the ε ring), plus a text label
-for a live value (F / Shift+F drags) and, while pen pressure shrinks the radius, a faint ring at
-the brush's full radius (as Blender draws it). The rings' screen sizes come from projecting the
+ring), the influence radius (influence · ε, a thin ring: nothing beyond it moves), a text label
+(a live value while F / Shift+F drags it; "scaling about the press point" while an affine
+brush acts) and, while pen pressure shrinks the radius, a faint ring at the brush's full radius
+(as Blender draws it). The falloff profile (the relative motion against the distance from the
+centre, a curve over the ring's diameter, 1 at the centre rising to the top of the ε ring) is
+drawn only while F drags the radius, or at all times when asked (:attr:`CursorOverlay.
+profile_always`, View → Falloff Profile): otherwise it would cross the model under every
+hover. The rings' screen sizes come from projecting the
 world radius at the point, so they match what the brush does at that depth; the geometry is
 rebuilt at every render (a renderer ``StartEvent``) so orbiting and zooming keep it in place.
 """
@@ -98,6 +101,8 @@ class CursorOverlay:
     and influence rings (None while hidden), for tests and the F drag; ``full_pixels`` the
     pixel radius of the full-radius ring (None unless pen pressure shrinks the radius).
     ``suspended`` hides it without forgetting its state (a screenshot of the model only).
+    ``profile_always`` draws the falloff profile at all times; ``profile_now`` draws it for the
+    time being (an F drag of the radius).
     """
 
     def __init__(self, renderer):
@@ -107,6 +112,8 @@ class CursorOverlay:
         self.full_pixels: float | None = None
         #: While True nothing is drawn; :attr:`state` is kept and drawn again once it is False.
         self.suspended = False
+        self.profile_always = False
+        self.profile_now = False
         self._influence = _Polyline2D(renderer, INFLUENCE_COLOR, 1.0, 0.6)
         self._full = _Polyline2D(renderer, CURSOR_COLOR, 1.0, 0.45)
         self._ring = _Polyline2D(renderer, CURSOR_COLOR, 2.5)
@@ -123,6 +130,16 @@ class CursorOverlay:
     @property
     def visible(self) -> bool:
         return self.state is not None
+
+    @property
+    def profile_visible(self) -> bool:
+        """The falloff profile is drawn (as of the last layout)."""
+        return bool(self._profile.actor.GetVisibility())
+
+    @property
+    def label(self) -> str | None:
+        """The label drawn beside the ring (as of the last layout), or None."""
+        return str(self._text.GetInput()) if self._text.GetVisibility() else None
 
     def show(self, state: CursorState | None) -> None:
         """Draw ``state`` at the next render (None: hide)."""
@@ -155,7 +172,8 @@ class CursorOverlay:
             self.full_pixels = eps_px * full / state.radius
             self._full.set(ring_points(xy, self.full_pixels))
         self._full.actor.SetVisibility(self.full_pixels is not None)
-        if state.profile is not None and len(state.profile) > 1 and outer_px > 0:
+        profile = self.profile_always or self.profile_now
+        if profile and state.profile is not None and len(state.profile) > 1 and outer_px > 0:
             # mirrored profile over the diameter: height eps_px · motion(|x|)
             samples = np.asarray(state.profile, dtype=float)
             r = np.linspace(0.0, outer_px, len(samples))

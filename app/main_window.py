@@ -110,7 +110,7 @@ class MainWindow(QMainWindow):
         self.document: Document | None = None
         self.viewport = SculptViewport(self)
         self.setCentralWidget(self.viewport)
-        self.look = ViewLook(self, self.viewport, self.settings, theme)
+        self.look = ViewLook(self, self.viewport, self.settings, theme, self.model.view)
         #: View → Field Preview: what the brush would move, coloured under the resting cursor.
         self.field_preview = FieldPreviewer(self, self.viewport, self.model, self.settings)
         self.files = FileActions(self)
@@ -273,7 +273,7 @@ class MainWindow(QMainWindow):
         self._action(
             views, "&Frame About the Cursor", lambda: viewport.frame_under_cursor(), "frame_cursor"
         )
-        self.navigation = NavigationPreferences(self, viewport, self.settings)
+        self.navigation = NavigationPreferences(self, viewport, self.settings, self.model.view)
         self.navigation.fill_menu(view_menu)
         self.view_actions = [self._visibility_action(w) for w in (self.panels_dock, self.brush_bar)]
         view_menu.addActions(self.view_actions)
@@ -456,6 +456,7 @@ class MainWindow(QMainWindow):
     def _constraint_mode_changed(self, on: bool) -> None:
         self.tools.cancel()
         self.tools.mode = "pin" if on else "brush"
+        self.viewport.set_pin_mode(on)
 
     def _first_pin_radius(self) -> None:
         """The first pin takes the brush radius."""

@@ -2,7 +2,9 @@
 
 Blender: middle drag orbits, Shift+middle pans, Ctrl+middle and the wheel zoom; numpad 1, 3
 and 7 look from the front, the right and the top (with Ctrl from the opposite side), numpad 5
-switches perspective and orthographic, ``.`` frames the model about the point under the cursor.
+switches perspective and orthographic, ``.`` frames the model about the point under the cursor;
+the wheel zooms towards the point under the cursor (Blender's "Zoom to Mouse Position"; View →
+Navigation → Zoom to Mouse Position off: towards the view's centre).
 A left drag that starts off the model sculpts as soon as it reaches it (Blender's habit);
 preference: it orbits, as in most viewers. "Classic" navigation (the app's first scheme, kept
 as a preference): right drag orbits, middle drag pans.
@@ -29,6 +31,7 @@ from gogreen_core.validation import ParameterError
 if TYPE_CHECKING:
     from app.mesh_display import MeshDisplay
     from app.viewport import SculptViewport
+    from gogreen_core.settings import ViewSettings
 
     _Base = MeshDisplay
 else:
@@ -40,6 +43,7 @@ __all__ = [
     "NAVIGATIONS",
     "OPPOSITE_VIEWS",
     "VIEW_TITLES",
+    "ZOOM_STEP",
     "CameraViews",
     "NavigationPreferences",
     "ViewAction",
@@ -94,6 +98,8 @@ VIEW_TITLES = {
     "view_top": "&Top",
     "view_bottom": "B&ottom",
 }
+#: How much one wheel notch zooms (VTK's trackball style's step: 1.1 ** 2).
+ZOOM_STEP = 1.21
 #: The keymap's view keys (numpad 1, 3, 7): the view, and the opposite one with Ctrl.
 OPPOSITE_VIEWS = {"view_front": "view_back", "view_right": "view_left", "view_top": "view_bottom"}
 
@@ -147,6 +153,35 @@ class CameraViews(_Base):
         self.request_render()
         self.rehover()
 
+    def zoom_at(self, pos: QPointF | None, factor: float) -> None:
+        """Zoom in by ``factor`` (> 1; < 1 zooms out) towards the model's point under widget
+        position ``pos`` (off the model: the point of the focal plane under it), which stays
+        under it; ``pos`` None: towards the view's centre. One render is requested.
+
+        Perspective: the camera (its position and focal point) is scaled about that point by
+        1 / ``factor``, so the ray through it keeps its direction and the point its pixel.
+        Orthographic: the view's height shrinks by ``factor`` and the camera slides across the
+        view so that the point keeps its offset from the centre in pixels."""
+        camera = self.renderer.GetActiveCamera()
+        focal, position = np.array(camera.GetFocalPoint()), np.array(camera.GetPosition())
+        target = focal
+        if pos is not None:
+            hit = self.pick(pos)
+            target = hit[0] if hit is not None else self._unproject(pos, self._depth(focal))
+        if camera.GetParallelProjection():
+            view = (focal - position) / (np.linalg.norm(focal - position) or 1.0)
+            across = (target - focal) - ((target - focal) @ view) * view
+            shift = across * (1.0 - 1.0 / factor)
+            camera.SetParallelScale(camera.GetParallelScale() / factor)
+            camera.SetFocalPoint(*(focal + shift))
+            camera.SetPosition(*(position + shift))
+        else:
+            camera.SetFocalPoint(*(target + (focal - target) / factor))
+            camera.SetPosition(*(target + (position - target) / factor))
+        self.renderer.ResetCameraClippingRange()
+        self.request_render()
+        self.rehover()
+
     def frame_under_cursor(self, pos: QPointF | None = None) -> bool:
         """Frame the whole model about the point under the cursor (``pos``, default where the
         pointer is), from the current direction; about the model's centre when no point of the
@@ -192,9 +227,17 @@ class ViewAction(QAction):
 
 class NavigationPreferences(QObject):
     """The navigation scheme and what a left drag off the model does, remembered in
-    ``settings`` and applied to ``viewport``; :meth:`fill_menu` offers them in a menu."""
+    ``settings`` and applied to ``viewport``, and the zoom's centre (the settings model's
+    ``view.zoom_to_mouse``, :class:`gogreen_core.settings.ViewSettings`); :meth:`fill_menu`
+    offers them in a menu."""
 
-    def __init__(self, parent: QObject, viewport: SculptViewport, settings: QSettings) -> None:
+    def __init__(
+        self,
+        parent: QObject,
+        viewport: SculptViewport,
+        settings: QSettings,
+        view: ViewSettings | None = None,
+    ) -> None:
         super().__init__(parent)
         self.viewport, self.settings = viewport, settings
         scheme = settings.value("navigation", "blender")
@@ -207,6 +250,16 @@ class NavigationPreferences(QObject):
         self.orbit_action.triggered.connect(
             lambda on: self.set_left_on_background("orbit" if on else "sculpt")
         )
+        self.view = view
+        self.zoom_action = QAction("&Zoom to Mouse Position", self, checkable=True)
+        self.zoom_action.setToolTip(
+            "On: the wheel zooms towards the point under the cursor (Blender's choice); "
+            "off: towards the view's centre"
+        )
+        if view is not None:
+            self.zoom_action.triggered.connect(lambda on: view.set("zoom_to_mouse", bool(on)))
+            view.events.zoom_to_mouse.connect(lambda e: self._zoom_to_mouse(e.value))
+            self._zoom_to_mouse(view.zoom_to_mouse)
         self.set_navigation(scheme if scheme in NAVIGATIONS else "blender")
         self.set_left_on_background(left if left in LEFT_ON_BACKGROUND else "sculpt")
 
@@ -223,6 +276,12 @@ class NavigationPreferences(QObject):
             self.actions[name] = action
         submenu.addSeparator()
         submenu.addAction(self.orbit_action)
+        if self.view is not None:
+            submenu.addAction(self.zoom_action)
+
+    def _zoom_to_mouse(self, on: bool) -> None:
+        self.viewport.zoom_to_mouse = on
+        self.zoom_action.setChecked(on)
 
     def set_navigation(self, name: str) -> None:
         """Use navigation scheme ``name`` (a key of :data:`NAVIGATIONS`) and remember it."""

@@ -19,7 +19,15 @@ turn applies it (:meth:`SculptViewport.flush_tools`), so a burst of moves costs 
 It renders on demand only: :meth:`SculptViewport.request_render` coalesces every request made
 before control returns to the event loop into one render (pyvistaqt's periodic
 ``auto_update`` render is off), and hover picking is coalesced the same way, so an idle window
-uses no CPU and a burst of mouse moves costs one pick and one render.
+uses no CPU and a burst of mouse moves costs one pick and one render. Camera input too: wheel
+notches add up until the event loop is idle and then zoom once (about the point under the
+cursor, :meth:`CameraViews.zoom_at`), and an orbit, pan or zoom drag hands VTK's trackball
+style only the newest move per event-loop turn, its own render held back for the one requested
+render: a burst of notches or moves that arrives while a slow frame draws costs one more frame.
+
+The brush cursor shows where the brush acts: on the surface under a hovering pointer (again as
+soon as a stroke ends, without waiting for a move), at the press point while an affine brush
+acts (labelled so); in pin mode the pointer is a pin and no brush ring is drawn.
 """
 
 from __future__ import annotations
@@ -29,12 +37,13 @@ from collections.abc import Callable
 from typing import Any
 
 from PySide6.QtCore import QEvent, QPointF, Qt, QTimer, Signal
-from PySide6.QtGui import QKeyEvent, QMouseEvent, QTabletEvent, QWheelEvent
+from PySide6.QtGui import QCursor, QKeyEvent, QMouseEvent, QTabletEvent, QWheelEvent
 from PySide6.QtWidgets import QWidget
 from pyvistaqt import QtInteractor
 
-from app.mesh_display import BACKGROUND_INDEX_FACES, HOME_VIEW_DIRECTION, MeshDisplay
-from app.navigation import CameraViews, camera_gesture, vtk_button
+from app.icons import icon_pixmap
+from app.mesh_display import BACKGROUND_INDEX_FACES, HOME_VIEW_DIRECTION, PIN_COLOR, MeshDisplay
+from app.navigation import ZOOM_STEP, CameraViews, camera_gesture, vtk_button
 from gogreen_core.tools import PointerEvent, SculptTools, ToolUpdate
 
 __all__ = ["BACKGROUND_INDEX_FACES", "HOME_VIEW_DIRECTION", "SculptViewport"]
@@ -109,6 +118,15 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         self._pressure = 1.0
         self._hover_timer = self._zero_timer(self._hover_now)
         self._flush_timer = self._zero_timer(self.flush_tools)
+        #: Wheel notches not yet applied (a sum: a touchpad gives fractions) and where the
+        #: pointer was at the newest; the newest camera drag move not yet handed to VTK.
+        self._wheel_notches = 0.0
+        self._wheel_pos = QPointF()
+        self._wheel_timer = self._zero_timer(self.apply_wheel)
+        self._camera_move: QMouseEvent | None = None
+        self._camera_timer = self._zero_timer(self.apply_camera_move)
+        #: The wheel zooms about the point under the cursor (else about the view's centre).
+        self.zoom_to_mouse = True
         #: Renders done and the duration of the last one (ms), measured by VTK's own events.
         self.frames = 0
         self.last_frame_ms = 0.0
@@ -121,6 +139,14 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         self.setMouseTracking(True)
         # takes the keyboard focus when clicked, and back from fields (app.keyboard)
         self.setFocusPolicy(Qt.FocusPolicy.StrongFocus)
+
+    def close(self) -> None:  # type: ignore[override]  # pyvistaqt.QtInteractor.close
+        """Close the plotter; a matcap's texture first gives back what it holds in the render
+        window (else VTK reports the window deleted before the texture)."""
+        actor, window = self.mesh_actor, self.ren_win
+        if actor is not None and window is not None and actor.GetTexture() is not None:
+            actor.GetTexture().ReleaseGraphicsResources(window)
+        super().close()
 
     def _mute_vtk_keys(self) -> None:
         """No VTK or pyvista key binding may act (app.keymap is the app's only keymap): keys
@@ -208,11 +234,28 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
             self.step_timed.emit(1e3 * update.step_seconds)
         if update.pins_changed:
             self.show_pins(sculptor.constraint_points, sculptor.constraint_reach)
+        drag = self.tools.value_drag if self.tools is not None else None
+        self.cursor_overlay.profile_now = drag is not None and drag.name == "radius"
         if update.cursor is not None:
-            self.show_cursor(update.cursor)
+            # pin mode: the pointer is a pin (set_pin_mode), no brush ring or profile
+            self.show_cursor(None if self.pin_mode and drag is None else update.cursor)
         elif update.hide_cursor:
             self.show_cursor(None)
         self.request_render()
+
+    @property
+    def pin_mode(self) -> bool:
+        """Presses pin (the tools' mode is "pin")."""
+        return self.tools is not None and self.tools.mode == "pin"
+
+    def set_pin_mode(self, on: bool) -> None:
+        """The pointer as a pin over the view (presses pin), the brush ring hidden; or back."""
+        if on:
+            self.setCursor(QCursor(icon_pixmap("pin", 32, PIN_COLOR), 16, 28))  # the pin's tip
+            self.show_cursor(None)
+        else:
+            self.unsetCursor()
+            self.rehover()
 
     def show_sculptor(self, indices=None) -> None:
         """Draw the tools' sculptor as it is (after undo, redo, a script): the vertices that
@@ -391,8 +434,10 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         if self._reaching:
             self._press_on_surface(ev)  # the drag reached the model: the stroke starts there
             return
-        if self._camera is not None:
-            super().mouseMoveEvent(self._as_button(ev, self._camera[1]))
+        if self._camera is not None:  # the newest move, handed to VTK when the loop is idle
+            self._camera_move = self._as_button(ev, self._camera[1])
+            if not self._camera_timer.isActive():
+                self._camera_timer.start()
             return
         super().mouseMoveEvent(ev)
         if not ev.buttons():  # hover: pick once for the newest position
@@ -454,14 +499,40 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
             if self.tools is not None:
                 self.draw(self.tools.release(), "Brush stopped")
             self.stroke_ended.emit()
+            # the ring leaves where the stroke acted for the surface under the pointer now
+            self._hover_pos = ev.position()
+            self._hover_timer.start()
             return
         if self._reaching and ev.button() == Qt.MouseButton.LeftButton:
             self._reaching = False  # the drag never reached the model
             return
         if self._camera is not None and ev.button() == self._camera[0]:
+            self.apply_camera_move()  # the drag's last move first
             button, self._camera = self._camera[1], None
-            super().mouseReleaseEvent(self._as_button(ev, button))
+            interactor = self.iren.interactor
+            interactor.EnableRenderOff()  # VTK renders as a gesture ends: one request instead
+            try:
+                super().mouseReleaseEvent(self._as_button(ev, button))
+            finally:
+                interactor.EnableRenderOn()
+            self.request_render()
             self.rehover()
+
+    def apply_camera_move(self) -> None:
+        """Hand VTK's trackball style the newest camera drag move (older ones were
+        coalesced: it turns, pans or zooms by the motion since the last move it saw); its own
+        render is held back for one requested render."""
+        self._camera_timer.stop()
+        move, self._camera_move = self._camera_move, None
+        if move is None or self._camera is None:
+            return
+        interactor = self.iren.interactor
+        interactor.EnableRenderOff()
+        try:
+            super().mouseMoveEvent(move)
+        finally:
+            interactor.EnableRenderOn()
+        self.request_render()
 
     def wheelEvent(self, ev: QWheelEvent) -> None:
         notches = 1 if ev.angleDelta().y() > 0 else -1
@@ -469,9 +540,20 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
             self.radius_wheel.emit(notches)
         elif ev.modifiers() & Qt.KeyboardModifier.ShiftModifier:
             self.strength_wheel.emit(notches)
-        else:
-            super().wheelEvent(ev)  # zoom
-            self.rehover()
+        else:  # zoom: the notches add up until the event loop is idle (apply_wheel)
+            self._wheel_notches += ev.angleDelta().y() / 120.0
+            self._wheel_pos = ev.position()
+            if not self._wheel_timer.isActive():
+                self._wheel_timer.start()
+        ev.accept()
+
+    def apply_wheel(self) -> None:
+        """Zoom by the wheel notches received since the last call, in one step: about the
+        point under the pointer (:attr:`zoom_to_mouse`) or the view's centre; one render."""
+        self._wheel_timer.stop()
+        notches, self._wheel_notches = self._wheel_notches, 0.0
+        if notches:
+            self.zoom_at(self._wheel_pos if self.zoom_to_mouse else None, ZOOM_STEP**notches)
 
     @property
     def in_stroke(self) -> bool:

@@ -54,13 +54,15 @@ from gogreen_core.limits import (
 from gogreen_core.material import Material
 from gogreen_core.presets import Preset
 from gogreen_core.radial import GaussianRadial, SplineRadial
-from gogreen_core.validation import ParameterError, check_bool, check_number
+from gogreen_core.validation import ParameterError, check_bool, check_choice, check_number
 
 if TYPE_CHECKING:
     from gogreen_core.sculptor import Sculptor
 
 __all__ = [
     "ENGINE_FIELDS",
+    "MATCAPS",
+    "SHADINGS",
     "BrushSettings",
     "ChangeEvent",
     "EngineLink",
@@ -69,6 +71,7 @@ __all__ = [
     "Field",
     "PenSettings",
     "Settings",
+    "ViewSettings",
     "needed_curves",
 ]
 
@@ -303,6 +306,47 @@ class PenSettings(EventedModel):
     spacing = Field(0.0, _pen_number(10.0), doc="minimum motion between events, in ε")
 
 
+# -- view --------------------------------------------------------------------------------------
+#: How the viewport shades the model: a matcap (a lit sphere looked up by the view-space normal,
+#: as Blender's and ZBrush's sculpt views) or studio lights (key, fill and back lights).
+SHADINGS = ("matcap", "studio")
+#: The matcaps (the app makes their pictures, app.matcaps): a grey clay, a red wax, a glossy
+#: dark one and a plain "basic" one.
+MATCAPS = ("clay", "red_wax", "glossy", "basic")
+
+
+def _view_choice(choices: tuple[str, ...]) -> Callable[[ViewSettings, str, Any], str]:
+    def validate(_model: ViewSettings, name: str, value: Any) -> str:
+        return check_choice(f"view.{name}", value, choices)
+
+    return validate
+
+
+def _view_flag(_model: ViewSettings, name: str, value: Any) -> bool:
+    return check_bool(f"view.{name}", value)
+
+
+class ViewSettings(EventedModel):
+    """How the viewport shows the model and moves its camera (the View menu; the app keeps
+    them between runs; not part of presets or sessions, which describe the model).
+
+    shading : one of :data:`SHADINGS`.
+    matcap : one of :data:`MATCAPS`, the picture of the "matcap" shading.
+    cavity : tint the surface by its curvature (darker in hollows, lighter on ridges), so that
+        small changes of shape show.
+    falloff_profile : draw the brush's falloff profile over its ring at all times (else only
+        while F drags the radius).
+    zoom_to_mouse : the wheel zooms towards the point under the cursor (Blender's "Zoom to
+        Mouse Position"); off: towards the view's centre.
+    """
+
+    shading = Field("matcap", _view_choice(SHADINGS), doc="matcap or studio lights")
+    matcap = Field("clay", _view_choice(MATCAPS), doc="the matcap's picture")
+    cavity = Field(False, _view_flag, doc="curvature tint")
+    falloff_profile = Field(False, _view_flag, doc="the falloff profile over the brush ring")
+    zoom_to_mouse = Field(True, _view_flag, doc="the wheel zooms about the cursor")
+
+
 # -- material, falloff, constraints ----------------------------------------------------------
 def needed_curves(l_max: int) -> list[tuple[str, int]]:
     """Curves a kernel of ``l_max`` uses: R_l for even l ≤ l_max, ℛ_l for odd l ≤ l_max + 1,
@@ -366,7 +410,8 @@ class Settings(EventedModel):
         length as a fraction of the model size, or None (the edge length the surface had).
 
     :attr:`engine_settings` is the engine's part as one :class:`EngineSettings` value.
-    ``brush`` is a :class:`BrushSettings` (a sub-model with events of its own).
+    ``brush`` is a :class:`BrushSettings` (a sub-model with events of its own), ``pen`` a
+    :class:`PenSettings`, ``view`` a :class:`ViewSettings`.
     """
 
     material = Field(lambda: Material.isotropic(1.0, 0.3), _material)
@@ -382,6 +427,8 @@ class Settings(EventedModel):
         self.brush = BrushSettings()
         #: Pen pressure, stabilizer and spacing (not part of presets or sessions).
         self.pen = PenSettings()
+        #: Shading, cavity tint, overlay and zoom choices of the viewport (neither).
+        self.view = ViewSettings()
         super().__init__()
         self._values.update(self._normalize({}))  # the spline and weights of the default l_max
         if values:

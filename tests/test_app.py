@@ -393,21 +393,24 @@ def test_shading_wireframe_and_orientation_gizmo(window, qtbot):
     from PySide6.QtTest import QTest
 
     prop = window.viewport.mesh_actor.prop
-    assert window.look.shading == "studio" and not window.look.wireframe and not prop.show_edges
+    assert window.look.shading == "matcap:clay" and window.model.view.shading == "matcap"
+    assert not window.look.wireframe and not prop.show_edges
     activate(window, qtbot)
     window.viewport.setFocus()
     QTest.keyClick(window.viewport, Qt.Key.Key_Z, Qt.KeyboardModifier.ShiftModifier)
     assert window.look.wireframe and window.viewport.mesh_actor.prop.show_edges
-    window.look.shading_actions["clay"].trigger()
-    assert window.look.shading == "clay" and window.settings.value("shading") == "clay"
-    assert window.viewport.mesh_actor.prop.specular == 0.0
-    lights = list(window.viewport.renderer.lights)
-    assert len(lights) == 1 and lights[0].light_type == lights[0].light_type.HEADLIGHT
+    window.look.shading_actions["studio"].trigger()
+    assert window.look.shading == "studio" and window.settings.value("view/shading") == "studio"
+    assert window.model.view.shading == "studio"
+    assert window.viewport.mesh_actor.prop.specular > 0.0
+    assert len(list(window.viewport.renderer.lights)) > 1  # key, fill, back lights
+    window.look.shading_actions["matcap:red_wax"].trigger()
+    assert window.model.view.matcap == "red_wax" and window.settings.value("view/matcap")
+    assert window.viewport.mesh_actor.GetTexture() is not None  # the matcap's picture
     assert window.files.open_file(str(window.document.path))  # a new mesh actor keeps the look
     prop = window.viewport.mesh_actor.prop
     assert prop.show_edges and prop.specular == 0.0
-    window.look.shading_actions["studio"].trigger()
-    assert len(list(window.viewport.renderer.lights)) > 1  # key, fill, back lights
+    assert window.viewport.mesh_actor.GetTexture() is not None
     assert window.look.gizmo_visible
     window.look.gizmo_action.trigger()
     assert not window.look.gizmo_visible

@@ -19,6 +19,7 @@ __all__ = [
     "PROFILE_SAMPLES",
     "CursorController",
     "ValueDrag",
+    "anchored_label",
     "brush_profile",
     "grab_motion",
 ]
@@ -29,6 +30,18 @@ PIXELS_PER_STRENGTH = 100.0
 
 #: Samples of the falloff profile drawn in the brush cursor, over [0, influence · ε].
 PROFILE_SAMPLES = 48
+
+
+#: What an affine brush does, as its anchored cursor's label says it ("scaling about the press
+#: point"); another affine brush's label is made from its name.
+_ACTING = {"scale": "scaling", "twist": "twisting", "pinch": "pinching", "stretch": "stretching"}
+
+
+def anchored_label(kind: str) -> str:
+    """The label of the cursor of affine brush ``kind`` while it acts: it stays at the press
+    point (the brush acts about it), which the ring alone does not say."""
+    acting = _ACTING.get(kind, kind.replace("_", " "))
+    return f"{acting} about the press point"
 
 
 def brush_profile(

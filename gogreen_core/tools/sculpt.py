@@ -22,6 +22,7 @@ from gogreen_core.tools.cursor import (
     PIXELS_PER_STRENGTH,
     CursorController,
     ValueDrag,
+    anchored_label,
     brush_profile,
 )
 from gogreen_core.tools.events import PointerEvent, ToolUpdate
@@ -281,11 +282,13 @@ class SculptTools:
             if self.mode == "pin":
                 added = self.pin.press(event, self.first_pin_radius)
                 return ToolUpdate(pins_changed=added)
-            moved = self.stroke.press(event, self.stroke_brush(event.modifiers))
+            brush = self.stroke_brush(event.modifiers)
+            moved = self.stroke.press(event, brush)
         except (ValueError, RuntimeError) as exc:
             self.pin.end()
             return ToolUpdate(error=str(exc))
-        return ToolUpdate(moved=moved, cursor=self.cursor.place(event.point, event.normal))
+        label = anchored_label(brush.kind) if brush.is_affine else None
+        return ToolUpdate(moved=moved, cursor=self.cursor.place(event.point, event.normal, label))
 
     def move(self, event: PointerEvent) -> None:
         """Record a drag move (applied by the next :meth:`flush`; newer moves replace it)."""
@@ -314,10 +317,14 @@ class SculptTools:
             else:
                 moved = self.stroke.step(event)
                 stepped = moved is not None
-                # the cursor sits where the brush acts: affine brushes at their press point
-                affine = cast(Brush, self.stroke.brush).is_affine
-                acts = self.stroke.anchor if affine else event.point
-                update = ToolUpdate(moved=moved, cursor=self.cursor.place(acts, None))
+                # the cursor sits where the brush acts: affine brushes at their press point,
+                # labelled so (the ring then stays while the pointer moves away)
+                brush = cast(Brush, self.stroke.brush)
+                if brush.is_affine:
+                    cursor = self.cursor.place(self.stroke.anchor, None, anchored_label(brush.kind))
+                else:
+                    cursor = self.cursor.place(event.point, None)
+                update = ToolUpdate(moved=moved, cursor=cursor)
         except (ValueError, RuntimeError) as exc:
             self.stroke.cancel()
             self.pin.end()
