@@ -49,6 +49,7 @@ from app.status import StatusArea
 from app.theme import apply_theme, qt_application
 from app.viewport import SculptViewport
 from app.wrinkle_hint import WrinkleHint, material_anisotropy, wrinkle_preset
+from gogreen_core.brushes import brush_row
 from gogreen_core.material import Material
 from gogreen_core.presets import Preset
 from gogreen_core.resolution import edges_per_eps
@@ -290,7 +291,7 @@ class MainWindow(QMainWindow):
         for kind, action in self.brush_bar.kind_actions.items():
             tip = action.toolTip().rsplit("  [", 1)[0]
             self._bind_keys(action, brush_action(kind), tip)
-            set_icon(action, kind)
+            set_icon(action, brush_row(kind).icon)
         pin = self.brush_bar.constraint_action
         self._bind_keys(pin, "pin_mode", pin.toolTip().rsplit(" [", 1)[0])
         set_icon(pin, "pin")

@@ -236,7 +236,7 @@ def test_keys_typed_in_a_number_field_stay_there_and_enter_returns_focus(window,
     field.selectAll()
     QTest.keyClick(field, Qt.Key.Key_S)  # a letter in the field, not the Scale brush
     QTest.keyClick(field, Qt.Key.Key_BracketRight)  # nor radius larger
-    assert window.model.brush.kind == "grab" and window.model.brush.radius == 0.08
+    assert window.model.brush.kind == "grab_local" and window.model.brush.radius == 0.08
     assert field.lineEdit().text() == "s]"
     QTest.keyClick(field, Qt.Key.Key_Escape)  # dropped: the value in effect, keys go home
     assert field.lineEdit().text() == "1"
