@@ -13,7 +13,7 @@ end). The File menu's work is :class:`app.files.FileActions`, the View menu's lo
 from __future__ import annotations
 
 from collections.abc import Callable
-from functools import partial
+from functools import cache, partial
 
 from PySide6.QtCore import QPoint, QSettings, QSize, Qt
 from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
@@ -51,7 +51,8 @@ from app.viewport import SculptViewport
 from app.wrinkle_hint import WrinkleHint, material_anisotropy, wrinkle_preset
 from gogreen_core.brushes import brush_row
 from gogreen_core.material import Material
-from gogreen_core.presets import Preset
+from gogreen_core.material_words import material_name
+from gogreen_core.presets import Preset, builtin_presets
 from gogreen_core.resolution import edges_per_eps
 from gogreen_core.sculptor import Sculptor
 from gogreen_core.settings import ChangeEvent, EngineLink, Settings
@@ -84,6 +85,12 @@ def fit_to_screen(window: QMainWindow) -> None:
     size = QSize(round(free.width() * WINDOW_SHARE), round(free.height() * WINDOW_SHARE))
     window.resize(size)
     window.move(free.center() - QPoint(size.width() // 2, size.height() // 2))
+
+
+@cache
+def _preset_materials() -> tuple[tuple[str, Material], ...]:
+    """The built-in presets' names and materials (read once)."""
+    return tuple((preset.name, preset.material) for preset in builtin_presets())
 
 
 class MainWindow(QMainWindow):
@@ -313,6 +320,8 @@ class MainWindow(QMainWindow):
         self.brush_bar.constraint_mode_changed.connect(self._constraint_mode_changed)
         self.model.brush.events.changed.connect(lambda _c: viewport.refresh_cursor())
         self.model.events.material.connect(self._material_changed)
+        self.material_panel.form.events.angles.connect(lambda _e: self._show_material_name())
+        self._show_material_name()
         self.wrinkle_hint = WrinkleHint(
             self.model, self.brush_bar.kind_actions["wrinkle"], self.wrinkle_fix_button, self.note
         )
@@ -408,7 +417,24 @@ class MainWindow(QMainWindow):
         """Use ``material`` (through the settings: the panel and the engine follow)."""
         self.model.material = material
 
+    def material_name(self) -> str:
+        """The active material's name: a built-in preset's name when it is one's, its kind and
+        anisotropy (:func:`material_name`), and the panel's rotation of its axes when turned."""
+        material = self.model.material
+        name = material_name(material)
+        preset = next((n for n, m in _preset_materials() if m == material), None)
+        if preset is not None:
+            name = f"{preset} ({name})"
+        angles = self.material_panel.form.angles
+        if any(angles):
+            name += " · axes turned " + ", ".join(f"{a:g}°" for a in angles)
+        return name
+
+    def _show_material_name(self) -> None:
+        self.status.show_material(self.material_name())
+
     def _material_changed(self, event: ChangeEvent) -> None:
+        self._show_material_name()
         sculptor = self.sculptor
         if event.source != "engine" and sculptor is not None and sculptor.material == event.value:
             self.flash("Material applied")

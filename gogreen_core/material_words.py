@@ -30,6 +30,7 @@ __all__ = [
     "MaterialTraits",
     "describe_material",
     "direction_words",
+    "material_name",
     "material_traits",
     "young_extremes",
 ]
@@ -182,6 +183,21 @@ def _most_auxetic(material: Material, traits: MaterialTraits) -> tuple[float, st
             if nu < best[0]:
                 best = (nu, direction_words(along), direction_words(across))
     return best
+
+
+def material_name(material: Material) -> str:
+    """A short name of ``material`` for the screen ("isotropic, E 1, ν 0.30", "fibres along
+    +Z, 20.7× stiffer"): the kind and the one anisotropy figure of :func:`young_extremes`."""
+    traits = material_traits(material)
+    if traits.kind == "isotropic":
+        e_min, e_max, _, _ = young_extremes(material)
+        nu = float(np.mean(traits.poisson_stiff))
+        return f"isotropic, E {0.5 * (e_min + e_max):.3g}, ν {nu:.2f}"
+    if traits.kind == "fibres":
+        return f"fibres along {direction_words(traits.axis)}, {traits.ratio:.3g}× stiffer"
+    if traits.kind == "layers":
+        return f"layers across {direction_words(traits.axis)}, {traits.ratio:.3g}× softer"
+    return f"anisotropic, stiffest along {direction_words(traits.stiff)}, {traits.ratio:.3g}×"
 
 
 def describe_material(material: Material) -> str:

@@ -531,3 +531,25 @@ def test_wrinkle_on_an_isotropic_material_says_so_and_one_click_fixes_it(window,
     assert sculptor.material == old_material
     assert sculptor.settings == old_settings
     assert window.wrinkle_fix_button.isVisible()  # wrinkle still picked: offered again
+
+
+def test_the_active_material_is_named_on_screen_and_stays_when_another_model_opens(
+    window, made_textured, tmp_path
+):
+    """Hidden state no more: the status bar names the material at all times; opening another
+    model keeps it (the documented behaviour), named as before."""
+    from gogreen_core import builtin_presets
+
+    label = window.status.material_label
+    assert label.isVisible() and label.text() == "Material: Soft clay (isotropic, E 1, ν 0.30)"
+    fibres = next(p for p in builtin_presets() if p.name == "Fibre composite").material
+    window.apply_material(fibres)
+    assert label.text().startswith("Material: Fibre composite (fibres along Z, 20.")
+    window.material_panel.rotation.set_angles((30.0, 0.0, 0.0))
+    assert label.text().endswith("· axes turned 30°, 0°, 0°")
+    named = label.text()
+    other = tmp_path / "other.obj"
+    other.write_bytes(made_textured.path.read_bytes())
+    assert window.files.open_file(str(other))
+    assert window.document.sculptor.material == window.model.material
+    assert label.text() == named and label.isVisible()
