@@ -541,6 +541,11 @@ class MainWindow(QMainWindow):
         self.statusBar().clearMessage()
         self.flash(text)
 
+    def report_refusal(self, message: str) -> None:
+        """A number field refused what was typed (:mod:`app.fields`): say it in the status bar
+        too, naming the field and the allowed values."""
+        self.note(f"Refused: {message}")
+
     def show_error(self, title: str, message: str) -> None:
         self.flash(f"{title}: {message}")
         QMessageBox.warning(self, title, message)
