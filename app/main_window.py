@@ -457,7 +457,10 @@ class MainWindow(QMainWindow):
     def _compiling(self, busy: bool) -> None:
         self.status.compile_progress.setVisible(busy)
         if busy:
-            self.flash("Compiling the brush kernels (first start only)…")
+            self.flash(
+                "Preparing the brush kernels (compiled on the first start only): strokes run on "
+                "the NumPy path meanwhile"
+            )
 
     def _stroke_refusal(self) -> str | None:
         """Why a stroke may not start now (kernels still compiling, a subdivision running), or
@@ -473,10 +476,14 @@ class MainWindow(QMainWindow):
             "strokes start as soon as they are ready"
         )
 
-    def _kernels_ready(self, l_max: int, seconds: float) -> None:
+    def _kernels_ready(self, l_max: int, seconds: float, compiled: bool) -> None:
         if l_max in self._announced_warmups:
-            # more than a load from the disk cache: say that it compiled, once
-            note = f" (compiled in {seconds:.1f} s, kept for next time)" if seconds > 0.5 else ""
+            # say what happened: compiled (once per machine) or only loaded from the cache
+            note = (
+                f" (compiled in {seconds:.1f} s, kept for next time)"
+                if compiled
+                else f" (loaded in {seconds:.1f} s)"
+            )
             self.flash(f"l_max = {l_max} kernels ready{note}")
 
     def _constraint_mode_changed(self, on: bool) -> None:

@@ -28,7 +28,8 @@ class StatusArea:
         self.compile_progress = self.add_progress(
             0,
             "",
-            "Compiling the brush kernels (once per machine and l_max); strokes start after it",
+            "Compiling the brush kernels (once per machine and l_max); strokes run on the "
+            "slower NumPy path meanwhile",
         )
         # Progress of the background build of a big mesh's surface index (picking, shading)
         self.surface_progress = self.add_progress(

@@ -72,6 +72,9 @@ def test_changing_l_max_prepares_its_kernels_in_the_background(window, qtbot):
         window.falloff_panel.l_max_spin.setValue(5)
     assert ready.args[0] == 5
     assert window.message_label.text().startswith("l_max = 5 kernels ready")
+    # it says what happened: "loaded" from the disk cache (as here, warm), "compiled" when it was
+    word = "compiled in" if ready.args[2] else "loaded in"
+    assert word in window.message_label.text()
     assert window.document.sculptor.l_max == 5
     assert not window.kernel_warmer.request(5)  # once per degree
     drag(window, center_of(window))  # sculpts with the prepared kernels
