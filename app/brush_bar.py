@@ -17,36 +17,13 @@ from PySide6.QtWidgets import QDoubleSpinBox, QLabel, QToolBar, QWidget
 
 from app.bindings import bind, bind_spin
 from app.fields import DecimalField, IntegerField
-from gogreen_core.brushes import AUTO_INFLUENCE, BRUSH_KINDS, Brush
+from gogreen_core.brushes import AUTO_INFLUENCE, BRUSH_KINDS, BRUSH_ROWS, Brush
 from gogreen_core.settings import BrushSettings, PenSettings
 
 __all__ = ["BRUSH_LABELS", "BrushBar"]
 
-#: Toolbar text, shortcut and tooltip of each brush.
-BRUSH_LABELS = {
-    "grab": ("Grab", "G", "Grab: the point under the cursor follows the cursor"),
-    "grab_biscale": ("Bi-scale", "B", "Bi-scale grab: sharper falloff (two radii)"),
-    "grab_triscale": ("Tri-scale", "T", "Tri-scale grab: sharpest falloff (three radii)"),
-    "scale": ("Scale", "S", "Scale: inflate (drag right or up) or deflate (left or down)"),
-    "twist": ("Twist", "W", "Twist about the view axis: drag right or up, left or down"),
-    "pinch": ("Pinch", "P", "Pinch: stretch along the drag (right or up), squeeze (left or down)"),
-    "stretch": (
-        "Stretch",
-        "E",
-        "Stretch along the drag: the material decides whether the sides narrow or widen",
-    ),
-    "wrinkle": (
-        "Wrinkle",
-        "R",
-        "Wrinkle: a pull that folds the surface around the cursor (folds: Falloff panel)",
-    ),
-    "smooth": (
-        "Smooth",
-        "Shift+S",
-        "Smooth: relaxes bumps and facets without shrinking (Shift+drag with any brush)",
-    ),
-    "mask": ("Mask", "M", "Mask: paint what no brush moves; Ctrl+drag erases, Ctrl+I inverts"),
-}
+#: Toolbar text, shortcut and tooltip of each brush (from its row, :data:`BRUSH_ROWS`).
+BRUSH_LABELS = {row.kind: (row.label, row.letter, row.tooltip) for row in BRUSH_ROWS}
 
 
 class BrushBar(QToolBar):

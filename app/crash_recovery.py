@@ -15,10 +15,14 @@ history.
 from __future__ import annotations
 
 import contextlib
+import json
 import os
 import time
+from dataclasses import asdict
 from pathlib import Path
+from typing import Any
 
+import numpy as np
 from PySide6.QtCore import QBuffer, QIODevice, QObject, Qt, QTimer
 from PySide6.QtGui import QImage
 from PySide6.QtWidgets import QLabel, QMessageBox, QProgressBar
@@ -27,6 +31,7 @@ from app.background import BackgroundRunner, Task
 from app.document import Document
 from app.recovery_dialog import THUMBNAIL, RecoveryDialog
 from app.theme import active_theme
+from gogreen_core.brushes import Brush
 from gogreen_core.journal import THUMBNAIL_FILE
 from gogreen_core.recovery import JournalInfo, Recovery, discard, list_journals, recover
 
@@ -36,6 +41,35 @@ __all__ = ["CrashRecovery"]
 IDLE_MS = 400
 #: Seconds between two pictures of the model for the recovery dialog.
 THUMBNAIL_SECONDS = 20.0
+#: The journal's file of the app's own settings, which the engine's records do not hold: the
+#: brush (kind, radius, strength, steps, influence, mirror), the pen, and the Material panel's
+#: inputs (its mode, numbers and the rotation angles, not only the rotated 6×6 matrix).
+APP_SETTINGS_FILE = "app_settings.json"
+
+
+def app_settings(window) -> dict[str, Any]:
+    """What :data:`APP_SETTINGS_FILE` holds for ``window`` (plain JSON values)."""
+    inputs = {
+        name: value.tolist() if isinstance(value, np.ndarray) else value
+        for name, value in window.material_panel.form.values().items()
+    }
+    return {
+        "brush": asdict(window.model.brush.brush),
+        "pen": window.model.pen.values(),
+        "material_inputs": inputs,
+    }
+
+
+def restore_app_settings(window, saved: dict[str, Any]) -> None:
+    """Give ``window`` the settings :func:`app_settings` wrote (after the engine's own were
+    pulled from the recovered sculptor: the material inputs then show the same material, with
+    the angles it was made with)."""
+    window.model.brush.set_brush(Brush(**saved["brush"]))
+    window.model.pen.update(saved["pen"])
+    inputs = dict(saved["material_inputs"])
+    inputs["voigt"] = np.asarray(inputs["voigt"], dtype=np.float64)
+    inputs["angles"] = tuple(inputs["angles"])
+    window.material_panel.show_inputs(inputs)
 
 
 class CrashRecovery(QObject):
@@ -50,6 +84,11 @@ class CrashRecovery(QObject):
         self._idle_timer.setInterval(IDLE_MS)
         self._idle_timer.timeout.connect(self.idle)
         self._thumbnail_at = (0.0, -1)  # time and journal records of the last picture
+        self._settings_written: str | None = None  # the app settings the journal holds
+        # a change of the app's own settings is written at the next idle moment
+        for events in (window.model.brush.events, window.model.pen.events):
+            events.changed.connect(lambda _c: self._idle_timer.start())
+        window.material_panel.form.events.changed.connect(lambda _c: self._idle_timer.start())
         self._runner = BackgroundRunner(self)
         self.progress: QProgressBar
         self._runner.progress.connect(lambda _id, done: self.progress.setValue(round(100 * done)))
@@ -72,6 +111,7 @@ class CrashRecovery(QObject):
             previous.close()
         document.start_journal(wake=self._idle_timer.start)
         self._thumbnail_at = (0.0, -1)
+        self._settings_written = None
         self.idle()  # says at once when no journal can be written
 
     def close(self) -> None:
@@ -99,10 +139,20 @@ class CrashRecovery(QObject):
         if journal.active and journal.records != records and journal.records > 0:
             if records < 0 or time.monotonic() - last >= THUMBNAIL_SECONDS:
                 self._write_thumbnail(journal)
+        self._write_settings(journal)
         for problem in journal.take_problems():
             self.window.flash(problem)
             self.warning.setToolTip(problem)
         self.warning.setVisible(not journal.active)
+
+    def _write_settings(self, journal) -> None:
+        """The app's settings into the journal when they changed since last written."""
+        if not journal.active:
+            return
+        text = json.dumps(app_settings(self.window), sort_keys=True)
+        if text != self._settings_written:
+            self._settings_written = text
+            journal.write_file(APP_SETTINGS_FILE, text.encode("utf-8"))
 
     def _write_thumbnail(self, journal) -> None:
         self._thumbnail_at = (time.monotonic(), journal.records)
@@ -174,7 +224,10 @@ class CrashRecovery(QObject):
         if not window.files.maybe_save():  # changes made while it was rebuilt: keep them
             recovery.release()
             return
+        saved = self._saved_settings(recovery)
         window.set_document(Document.recovered_from(recovery))
+        if saved is not None:
+            restore_app_settings(window, saved)
         steps = len(recovery.sculptor.history.undo_labels)
         window.flash(
             f"Recovered {recovery.title}: {recovery.operations} operations, as at the last one "
@@ -187,6 +240,20 @@ class CrashRecovery(QObject):
                 "The journal was damaged; everything before the damage was recovered.\n\n"
                 + "\n".join(f"• {note}" for note in recovery.notes),
             )
+
+    def _saved_settings(self, recovery: Recovery) -> dict[str, Any] | None:
+        """The app settings the recovered journal holds (None: none, e.g. an older journal, or
+        unreadable: then the recovered document keeps the current ones, and says so)."""
+        path = recovery.contents.directory / APP_SETTINGS_FILE
+        try:
+            saved = json.loads(path.read_text(encoding="utf-8"))
+            Brush(**saved["brush"])  # refused before anything changes
+            return dict(saved)
+        except FileNotFoundError:
+            return None
+        except (OSError, ValueError, KeyError, TypeError) as exc:
+            self.window.flash(f"The recovered brush and material inputs were not restored: {exc}")
+            return None
 
     def _failed(self, exc: Exception) -> None:
         self.progress.hide()

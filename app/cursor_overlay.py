@@ -1,15 +1,16 @@
 """The brush cursor as a 2D overlay: VTK 2D actors drawn after the scene, never hidden by it.
 
-It shows, around the screen position of the point where the brush acts: the radius ε (a solid
-ring), the influence radius (influence · ε, a thin ring: nothing beyond it moves), a text label
-(a live value while F / Shift+F drags it; "scaling about the press point" while an affine
-brush acts) and, while pen pressure shrinks the radius, a faint ring at the brush's full radius
-(as Blender draws it). The falloff profile (the relative motion against the distance from the
-centre, a curve over the ring's diameter, 1 at the centre rising to the top of the ε ring) is
-drawn only while F drags the radius, or at all times when asked (:attr:`CursorOverlay.
-profile_always`, View → Falloff Profile): otherwise it would cross the model under every
-hover. The rings' screen sizes come from projecting the
-world radius at the point, so they match what the brush does at that depth; the geometry is
+It shows, around the screen position of the point where the brush acts: the region that moves
+by a tenth of the motion or more (a solid ring, :func:`gogreen_core.tools.moving_radius`; about
+ε for the grab of key 1, many ε for the wide grab), the influence radius (influence · ε, a thin
+ring: nothing beyond it moves), a text label (a live value while F / Shift+F drags it; "scaling
+about the press point" while an affine brush acts) and, while pen pressure shrinks the radius, a
+faint ring at the brush's full radius (as Blender draws it). The falloff profile (the relative
+motion against the distance from the centre, a curve over the ε ring's diameter, 1 at the centre
+rising to ε) is drawn only while F drags the radius, or at all times when asked
+(:attr:`CursorOverlay.profile_always`, View → Falloff Profile): otherwise it would cross the
+model under every hover. The rings' screen sizes come from projecting the world radius at the
+point, so they match what the brush does at that depth; the geometry is
 rebuilt at every render (a renderer ``StartEvent``) so orbiting and zooming keep it in place.
 """
 
@@ -110,6 +111,9 @@ class CursorOverlay:
         self.state: CursorState | None = None
         self.screen: tuple[tuple[float, float], float, float] | None = None
         self.full_pixels: float | None = None
+        #: Pixel radius of the solid ring: the region that moves by a tenth of the motion or
+        #: more (:attr:`CursorState.moving_radius`; ε when unknown). None while hidden.
+        self.ring_pixels: float | None = None
         #: While True nothing is drawn; :attr:`state` is kept and drawn again once it is False.
         self.suspended = False
         self.profile_always = False
@@ -154,7 +158,7 @@ class CursorOverlay:
             for part in parts:
                 part.actor.SetVisibility(False)
             self._text.SetVisibility(False)
-            self.screen = None
+            self.screen = self.ring_pixels = None
             return
         state = self.state
         center = np.asarray(state.center, dtype=float)
@@ -163,13 +167,17 @@ class CursorOverlay:
         eps_px = pixel_radius(self.renderer, center, state.radius)
         influence = state.influence if np.isfinite(state.influence) else 4.0
         outer_px = eps_px * influence
-        self._ring.set(ring_points(xy, eps_px))
+        # the ring shows the region that moves by a tenth of the motion or more
+        moving = state.moving_radius
+        ratio = moving / state.radius if moving and state.radius > 0 else 1.0
+        self.ring_pixels = eps_px * ratio
+        self._ring.set(ring_points(xy, self.ring_pixels))
         self._influence.set(ring_points(xy, outer_px))
         for part in (self._ring, self._influence):
             part.actor.SetVisibility(True)
         full = state.full_radius
         if full is not None and np.isfinite(full) and full > state.radius:
-            self.full_pixels = eps_px * full / state.radius
+            self.full_pixels = self.ring_pixels * full / state.radius
             self._full.set(ring_points(xy, self.full_pixels))
         self._full.actor.SetVisibility(self.full_pixels is not None)
         profile = self.profile_always or self.profile_now
@@ -185,7 +193,7 @@ class CursorOverlay:
             self._profile.actor.SetVisibility(False)
         if state.label:
             self._text.SetInput(state.label)
-            self._text.SetPosition(xy[0] + eps_px + 8, xy[1] + 8)
+            self._text.SetPosition(xy[0] + self.ring_pixels + 8, xy[1] + 8)
             self._text.SetVisibility(True)
         else:
             self._text.SetVisibility(False)

@@ -4,10 +4,12 @@ A Qt spin box silently changes what was typed: a key that cannot lead to a value
 is dropped ("-0.5" in a field of 0.005 … 1 becomes "0.5", "99" in 0 … 30 becomes "9") and a
 half-typed value is replaced by the last one when the field loses the focus. The fields here
 take every key (so letters never reach the window's hotkeys either) and judge the text when
-it is committed (Enter): a number in range is taken; anything else is refused visibly (the
-field turns red and its tool tip, shown at once, says the allowed range with the field's name
-as the panel shows it, its accessible name), the text stays for the artist to mend, and when
-the field loses the focus (or on Escape) it shows the value in effect again.
+it is committed (Enter, or the focus leaving): a number in range is taken; anything else is
+refused visibly (the field turns red, its tool tip, shown at once, says the allowed range with
+the field's name as the panel shows it, its accessible name, and the window's status bar says
+it too: :meth:`report_refusal` of the field's window, when it has one), and the text stays, red,
+for the artist to mend, also after the focus has left, until a number in range is entered or
+Escape cancels it (the value in effect again).
 
 :class:`DecimalField` (fixed decimals), :class:`IntegerField` and :class:`NumberField` (any
 magnitude, ``%g``, scientific input) share that behaviour. ``left`` is emitted when a refused
@@ -128,13 +130,17 @@ class _FieldBehaviour(_SpinBox):
 
     # -- showing a refusal -------------------------------------------------------------------
     def refuse(self, message: str) -> None:
-        """Red, with ``message`` as tool tip, shown at once."""
+        """Red, with ``message`` as tool tip, shown at once, and said in the window's status
+        bar (its ``report_refusal``, when it has one)."""
         if not is_marked_invalid(self):
             self._tip = self.toolTip()
         mark_invalid(self, True)
         self.setToolTip(message)
-        if self.isVisible():
+        if self.isVisible() and self.hasFocus():
             QToolTip.showText(self.mapToGlobal(self.rect().bottomLeft()), message, self)
+        report = getattr(self.window(), "report_refusal", None)
+        if callable(report):
+            report(message)
 
     def revert(self) -> None:
         """Drop a refused text: the value in effect again (``left`` lets a binding show the
@@ -171,15 +177,23 @@ class _FieldBehaviour(_SpinBox):
                 self.refuse(message)
                 event.accept()
                 return
+            self._unmark()  # mended: taken now
         elif key == Qt.Key.Key_Escape:
             self.revert()
         super().keyPressEvent(event)
 
     def focusOutEvent(self, event: QFocusEvent) -> None:
+        """A text in range is taken (Qt's commit); a refused one stays, red and named (the spin
+        box would put the previous value back silently), until mended or cancelled."""
         text = self.lineEdit().text()
-        if self.refusal(text) is not None or is_marked_invalid(self):
-            self.revert()
+        message = self.refusal(text)
         super().focusOutEvent(event)
+        if message is None:
+            self._unmark()  # mended: taken now
+        else:
+            if self.lineEdit().text() != text:
+                self.lineEdit().setText(text)
+            self.refuse(message)
 
 
 class DecimalField(_FieldBehaviour, QDoubleSpinBox):

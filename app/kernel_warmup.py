@@ -52,12 +52,13 @@ class KernelWarmer(QObject):
 
     Signals (emitted on the GUI thread, after the call that requested them returned)
     -------
-    ready(int, float) : l_max and the seconds it took to be compiled or loaded.
+    ready(int, float, bool) : l_max, the seconds it took, and whether it was compiled (False:
+        only loaded from the disk cache).
     failed(int, str) : l_max and the error (its strokes keep running in NumPy).
     busy_changed(bool) : some requested l_max is not ready yet.
     """
 
-    ready = Signal(int, float)
+    ready = Signal(int, float, bool)
     failed = Signal(int, str)
     busy_changed = Signal(bool)
 
@@ -120,6 +121,6 @@ class KernelWarmer(QObject):
         if error:
             self.failed.emit(l_max, error)
         else:
-            self.ready.emit(l_max, seconds)
+            self.ready.emit(l_max, seconds, _compiled.compiled_here(self._requested[l_max]))
         if not self._waiting:
             self.busy_changed.emit(False)

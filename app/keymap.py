@@ -26,8 +26,7 @@ from PySide6.QtGui import (
     QKeySequence,
 )
 
-from gogreen_core.brushes import BRUSH_KINDS
-from gogreen_core.tools import NUMBER_KEYS
+from gogreen_core.brushes import BRUSH_KINDS, BRUSH_ROWS
 from gogreen_core.validation import ParameterError
 
 __all__ = [
@@ -93,42 +92,20 @@ def _is_gesture(keys: str) -> bool:
     return keys.rsplit("+", 1)[-1] in GESTURES or keys in GESTURES
 
 
-#: Display names of the brushes, in the number-key order of ``BRUSH_KINDS``.
-_BRUSH_NAMES = {
-    "grab": "Grab brush",
-    "grab_biscale": "Bi-scale grab brush (sharper falloff)",
-    "grab_triscale": "Tri-scale grab brush (sharpest falloff)",
-    "wrinkle": "Wrinkle brush: a pull that folds the surface (needs an anisotropic material)",
-    "scale": "Scale brush: inflate / deflate",
-    "twist": "Twist brush",
-    "pinch": "Pinch brush",
-    "stretch": "Stretch brush: pull along the drag; the material moves the sides (Poisson)",
-    "smooth": "Smooth brush",
-    "mask": "Mask brush (Ctrl erases)",
-}
-#: The letter each brush had before number keys (kept as a second key).
-_BRUSH_LETTERS = {
-    "grab": "G",
-    "grab_biscale": "B",
-    "grab_triscale": "T",
-    "wrinkle": "R",
-    "scale": "S",
-    "twist": "W",
-    "pinch": "P",
-    "stretch": "E",
-    "smooth": "Shift+S",
-    "mask": "M",
-}
 #: Action identifier of each brush kind (``"brush_grab"`` …).
-BRUSH_ACTIONS = {kind: f"brush_{kind}" for kind in BRUSH_KINDS}
+BRUSH_ACTIONS = {row.kind: f"brush_{row.kind}" for row in BRUSH_ROWS}
 
 
 def _brush_bindings() -> tuple[Binding, ...]:
-    """A number key (in table order, "0" the tenth) and a letter per brush."""
-    numbers = [(key,) for key in NUMBER_KEYS] + [()] * max(len(BRUSH_KINDS) - len(NUMBER_KEYS), 0)
+    """Each brush row's fixed number key (if it has one) and its letter."""
     return tuple(
-        Binding((*number, _BRUSH_LETTERS[kind]), BRUSH_ACTIONS[kind], _BRUSH_NAMES[kind], "Brushes")
-        for number, kind in zip(numbers, BRUSH_KINDS, strict=False)
+        Binding(
+            tuple(key for key in (row.number, row.letter) if key),
+            BRUSH_ACTIONS[row.kind],
+            row.title,
+            "Brushes",
+        )
+        for row in BRUSH_ROWS
     )
 
 
@@ -300,7 +277,7 @@ def _numlock_off(sequence: QKeySequence) -> QKeySequence | None:
 
 
 def brush_action(kind: str) -> str:
-    """Action identifier of brush ``kind`` (its number key is its place in ``BRUSH_KINDS``)."""
+    """Action identifier of brush ``kind`` (its keys are its row's, :data:`BRUSH_ROWS`)."""
     try:
         return BRUSH_ACTIONS[kind]
     except KeyError:

@@ -75,7 +75,7 @@ class KeymapOverlay(QWidget):
     COLUMN_GAP = 36.0
     KEY_GAP = 14.0
     MAX_DESCRIPTION_WIDTH = 330.0
-    MIN_POINT_SIZE = 5.0
+    MIN_POINT_SIZE = 4.5
     MIN_DESCRIPTION_CHARS = 16
     PREFERRED_POINT_SIZE = 10.0
     KEY_LINE_GAP = 0.2  # between lines of one row's key caps, in line heights

@@ -13,7 +13,7 @@ end). The File menu's work is :class:`app.files.FileActions`, the View menu's lo
 from __future__ import annotations
 
 from collections.abc import Callable
-from functools import partial
+from functools import cache, partial
 
 from PySide6.QtCore import QPoint, QSettings, QSize, Qt
 from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
@@ -49,8 +49,10 @@ from app.status import StatusArea
 from app.theme import apply_theme, qt_application
 from app.viewport import SculptViewport
 from app.wrinkle_hint import WrinkleHint, material_anisotropy, wrinkle_preset
+from gogreen_core.brushes import brush_row
 from gogreen_core.material import Material
-from gogreen_core.presets import Preset
+from gogreen_core.material_words import material_name
+from gogreen_core.presets import Preset, builtin_presets
 from gogreen_core.resolution import edges_per_eps
 from gogreen_core.sculptor import Sculptor
 from gogreen_core.settings import ChangeEvent, EngineLink, Settings
@@ -83,6 +85,12 @@ def fit_to_screen(window: QMainWindow) -> None:
     size = QSize(round(free.width() * WINDOW_SHARE), round(free.height() * WINDOW_SHARE))
     window.resize(size)
     window.move(free.center() - QPoint(size.width() // 2, size.height() // 2))
+
+
+@cache
+def _preset_materials() -> tuple[tuple[str, Material], ...]:
+    """The built-in presets' names and materials (read once)."""
+    return tuple((preset.name, preset.material) for preset in builtin_presets())
 
 
 class MainWindow(QMainWindow):
@@ -290,7 +298,7 @@ class MainWindow(QMainWindow):
         for kind, action in self.brush_bar.kind_actions.items():
             tip = action.toolTip().rsplit("  [", 1)[0]
             self._bind_keys(action, brush_action(kind), tip)
-            set_icon(action, kind)
+            set_icon(action, brush_row(kind).icon)
         pin = self.brush_bar.constraint_action
         self._bind_keys(pin, "pin_mode", pin.toolTip().rsplit(" [", 1)[0])
         set_icon(pin, "pin")
@@ -313,6 +321,8 @@ class MainWindow(QMainWindow):
         self.brush_bar.constraint_mode_changed.connect(self._constraint_mode_changed)
         self.model.brush.events.changed.connect(lambda _c: viewport.refresh_cursor())
         self.model.events.material.connect(self._material_changed)
+        self.material_panel.form.events.angles.connect(lambda _e: self._show_material_name())
+        self._show_material_name()
         self.wrinkle_hint = WrinkleHint(
             self.model, self.brush_bar.kind_actions["wrinkle"], self.wrinkle_fix_button, self.note
         )
@@ -408,7 +418,24 @@ class MainWindow(QMainWindow):
         """Use ``material`` (through the settings: the panel and the engine follow)."""
         self.model.material = material
 
+    def material_name(self) -> str:
+        """The active material's name: a built-in preset's name when it is one's, its kind and
+        anisotropy (:func:`material_name`), and the panel's rotation of its axes when turned."""
+        material = self.model.material
+        name = material_name(material)
+        preset = next((n for n, m in _preset_materials() if m == material), None)
+        if preset is not None:
+            name = f"{preset} ({name})"
+        angles = self.material_panel.form.angles
+        if any(angles):
+            name += " · axes turned " + ", ".join(f"{a:g}°" for a in angles)
+        return name
+
+    def _show_material_name(self) -> None:
+        self.status.show_material(self.material_name())
+
     def _material_changed(self, event: ChangeEvent) -> None:
+        self._show_material_name()
         sculptor = self.sculptor
         if event.source != "engine" and sculptor is not None and sculptor.material == event.value:
             self.flash("Material applied")
@@ -431,7 +458,10 @@ class MainWindow(QMainWindow):
     def _compiling(self, busy: bool) -> None:
         self.status.compile_progress.setVisible(busy)
         if busy:
-            self.flash("Compiling the brush kernels (first start only)…")
+            self.flash(
+                "Preparing the brush kernels (compiled on the first start only): strokes run on "
+                "the NumPy path meanwhile"
+            )
 
     def _stroke_refusal(self) -> str | None:
         """Why a stroke may not start now (kernels still compiling, a subdivision running), or
@@ -447,10 +477,14 @@ class MainWindow(QMainWindow):
             "strokes start as soon as they are ready"
         )
 
-    def _kernels_ready(self, l_max: int, seconds: float) -> None:
+    def _kernels_ready(self, l_max: int, seconds: float, compiled: bool) -> None:
         if l_max in self._announced_warmups:
-            # more than a load from the disk cache: say that it compiled, once
-            note = f" (compiled in {seconds:.1f} s, kept for next time)" if seconds > 0.5 else ""
+            # say what happened: compiled (once per machine) or only loaded from the cache
+            note = (
+                f" (compiled in {seconds:.1f} s, kept for next time)"
+                if compiled
+                else f" (loaded in {seconds:.1f} s)"
+            )
             self.flash(f"l_max = {l_max} kernels ready{note}")
 
     def _constraint_mode_changed(self, on: bool) -> None:
@@ -515,6 +549,11 @@ class MainWindow(QMainWindow):
         """Say ``text`` in the status bar now, over a temporary hint shown there."""
         self.statusBar().clearMessage()
         self.flash(text)
+
+    def report_refusal(self, message: str) -> None:
+        """A number field refused what was typed (:mod:`app.fields`): say it in the status bar
+        too, naming the field and the allowed values."""
+        self.note(f"Refused: {message}")
 
     def show_error(self, title: str, message: str) -> None:
         self.flash(f"{title}: {message}")

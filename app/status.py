@@ -18,11 +18,18 @@ class StatusArea:
         self.step_label = QLabel("brush step: –")
         self.frame_label = QLabel("render: –")
         self.message_label = QLabel()
+        # the active material, named at all times (it stays when another model is opened)
+        self.material_label = QLabel()
+        self.material_label.setToolTip(
+            "The active material: every brush uses it. It stays when another model is opened "
+            "or a new one made; the Material panel or a preset changes it"
+        )
         # Busy indicator while kernels compile (first start, a new l_max): never a silent wait.
         self.compile_progress = self.add_progress(
             0,
             "",
-            "Compiling the brush kernels (once per machine and l_max); strokes start after it",
+            "Compiling the brush kernels (once per machine and l_max); strokes run on the "
+            "slower NumPy path meanwhile",
         )
         # Progress of the background build of a big mesh's surface index (picking, shading)
         self.surface_progress = self.add_progress(
@@ -30,6 +37,7 @@ class StatusArea:
             "preparing %p%",
             "Preparing the opened mesh for picking and smooth shading; strokes start after it",
         )
+        bar.addPermanentWidget(self.material_label)
         for label in (self.vertex_label, self.step_label, self.frame_label):
             label.setMinimumWidth(150)
             bar.addPermanentWidget(label)
@@ -55,6 +63,10 @@ class StatusArea:
         progress.hide()
         self.bar.addPermanentWidget(progress)
         return progress
+
+    def show_material(self, name: str) -> None:
+        """Name the active material (``name``: what it is, e.g. a preset's name and its kind)."""
+        self.material_label.setText(f"Material: {name}")
 
     def show_counts(self, vertices: int | None, step_ms: float) -> None:
         """The vertex count (None: keep it) and the last brush step's time."""

@@ -309,8 +309,9 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         if pos is None:
             pos = QPointF(self.mapFromGlobal(self.cursor().pos()))
         center, ring = None, None
-        if self.cursor_overlay.screen is not None:
-            (x, y), ring, _ = self.cursor_overlay.screen
+        if self.cursor_overlay.screen is not None and self.cursor_overlay.ring_pixels:
+            (x, y), _, _ = self.cursor_overlay.screen
+            ring = self.cursor_overlay.ring_pixels  # the drawn ring's edge follows the pointer
             ratio = self.devicePixelRatioF() or 1.0
             center, ring = (x / ratio, self.height() - 1 - y / ratio), ring / ratio
         self._hover_timer.stop()

@@ -81,6 +81,9 @@ CHILD_TIMEOUT = 900.0
 _ready: set[Unit] = set()
 _pending: list[Unit] = []
 _failed: dict[Unit, Exception] = {}
+#: Units this process found missing from numba's disk cache and had compiled (the others were
+#: only loaded from it): what the app's status says ("compiled" or "loaded").
+_compiled_units: set[Unit] = set()
 #: (units, callback) waiting for their units (see :func:`when_ready`).
 _callbacks: list[tuple[tuple[Unit, ...], ReadyCallback]] = []
 _condition = threading.Condition()
@@ -199,6 +202,13 @@ def when_ready(units: Iterable[Unit], callback: ReadyCallback) -> None:
     callback([_failed[u] for u in units if u in _failed])
 
 
+def compiled_here(units: Iterable[Unit]) -> bool:
+    """Whether any of ``units`` had to be compiled by this process (a child of it), rather
+    than only loaded from numba's disk cache."""
+    with _condition:
+        return any(u in _compiled_units for u in units)
+
+
 def _settled(units: Iterable[Unit]) -> bool:
     return all(u in _ready or u in _failed for u in units)
 
@@ -248,6 +258,8 @@ def _work() -> None:
                 _worker = None
                 return
         missing = [u for u in units if not _cached(u)]
+        with _condition:
+            _compiled_units.update(missing)
         if missing and _can_spawn():
             _compile_in_child(missing)
         for unit in units:

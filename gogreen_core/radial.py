@@ -533,7 +533,23 @@ class MultiscaleRadial(RadialProfile):
 
         The default ratio 1.25 is this project's choice (Blender uses 2, libigl 1.1).
         """
-        e1, e2, e3 = 1.0, ratio, ratio * ratio
+        return cls._three(base, 1.0, ratio)
+
+    @classmethod
+    def local(cls, base: RadialProfile) -> MultiscaleRadial:
+        """The tri-scale falloff at 0.4 ε, 0.8 ε, 1.6 ε: the local grab (key 1).
+
+        Blender's Elastic Deform ratio 2, started below the radius so that the region that
+        moves by a tenth of the cursor motion or more is the brush circle (ε for the Gaussian
+        falloff and an isotropic material; 1.6 ε for :meth:`triscale`, 11 ε for the single
+        Gaussian: :func:`gogreen_core.tools.moving_radius`).
+        """
+        return cls._three(base, 0.4, 2.0)
+
+    @classmethod
+    def _three(cls, base: RadialProfile, first: float, ratio: float) -> MultiscaleRadial:
+        """Tri-scale weights (de Goes & James 2017, Sec. 5) at ε_k = ε · first · ratio^(k-1)."""
+        e1, e2, e3 = first, first * ratio, first * ratio * ratio
         w2 = -(e3**2 - e1**2) / (e3**2 - e2**2)
         w3 = (e2**2 - e1**2) / (e3**2 - e2**2)
         return cls(base, (e1, e2, e3), (1.0, w2, w3))

@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
-from gogreen_core.brushes import AUTO_INFLUENCE, Brush, default_wrinkle_weights
+from gogreen_core.brushes import AUTO_INFLUENCE, DEFAULT_BRUSH, Brush, default_wrinkle_weights
 from gogreen_core.engine_settings import (
     DEFAULT_CONSTRAINT_RADIUS,
     SETTING_GROUPS,
@@ -252,7 +252,7 @@ def _brush_value(model: BrushSettings, name: str, value: Any) -> Any:
 class BrushSettings(EventedModel):
     """The brush of the next stroke; :attr:`brush` is it as an immutable :class:`Brush`."""
 
-    kind = Field("grab", _brush_value, doc="one of BRUSH_KINDS")
+    kind = Field(DEFAULT_BRUSH, _brush_value, doc="one of BRUSH_KINDS (key 1's at first)")
     radius = Field(0.08, _brush_value, doc="ε as a fraction of the model size")
     strength = Field(1.0, _brush_value, doc="multiplies the cursor motion or amount")
     substeps = Field(0, _brush_value, doc="RK4 steps per mouse event (0: adaptive)")

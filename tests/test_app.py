@@ -72,6 +72,9 @@ def test_changing_l_max_prepares_its_kernels_in_the_background(window, qtbot):
         window.falloff_panel.l_max_spin.setValue(5)
     assert ready.args[0] == 5
     assert window.message_label.text().startswith("l_max = 5 kernels ready")
+    # it says what happened: "loaded" from the disk cache (as here, warm), "compiled" when it was
+    word = "compiled in" if ready.args[2] else "loaded in"
+    assert word in window.message_label.text()
     assert window.document.sculptor.l_max == 5
     assert not window.kernel_warmer.request(5)  # once per degree
     drag(window, center_of(window))  # sculpts with the prepared kernels
@@ -236,7 +239,7 @@ def test_keys_typed_in_a_number_field_stay_there_and_enter_returns_focus(window,
     field.selectAll()
     QTest.keyClick(field, Qt.Key.Key_S)  # a letter in the field, not the Scale brush
     QTest.keyClick(field, Qt.Key.Key_BracketRight)  # nor radius larger
-    assert window.model.brush.kind == "grab" and window.model.brush.radius == 0.08
+    assert window.model.brush.kind == "grab_local" and window.model.brush.radius == 0.08
     assert field.lineEdit().text() == "s]"
     QTest.keyClick(field, Qt.Key.Key_Escape)  # dropped: the value in effect, keys go home
     assert field.lineEdit().text() == "1"
@@ -534,3 +537,25 @@ def test_wrinkle_on_an_isotropic_material_says_so_and_one_click_fixes_it(window,
     assert sculptor.material == old_material
     assert sculptor.settings == old_settings
     assert window.wrinkle_fix_button.isVisible()  # wrinkle still picked: offered again
+
+
+def test_the_active_material_is_named_on_screen_and_stays_when_another_model_opens(
+    window, made_textured, tmp_path
+):
+    """Hidden state no more: the status bar names the material at all times; opening another
+    model keeps it (the documented behaviour), named as before."""
+    from gogreen_core import builtin_presets
+
+    label = window.status.material_label
+    assert label.isVisible() and label.text() == "Material: Soft clay (isotropic, E 1, ν 0.30)"
+    fibres = next(p for p in builtin_presets() if p.name == "Fibre composite").material
+    window.apply_material(fibres)
+    assert label.text().startswith("Material: Fibre composite (fibres along Z, 20.")
+    window.material_panel.rotation.set_angles((30.0, 0.0, 0.0))
+    assert label.text().endswith("· axes turned 30°, 0°, 0°")
+    named = label.text()
+    other = tmp_path / "other.obj"
+    other.write_bytes(made_textured.path.read_bytes())
+    assert window.files.open_file(str(other))
+    assert window.document.sculptor.material == window.model.material
+    assert label.text() == named and label.isVisible()

@@ -20,8 +20,8 @@ from gogreen_core.shapes import icosphere
 def test_every_kind_is_one_row_in_key_order():
     assert BRUSH_KINDS == tuple(row.kind for row in BRUSH_TABLE)
     assert len(set(BRUSH_KINDS)) == len(BRUSH_KINDS)
-    assert BRUSH_KINDS[:4] == GRAB_BRUSHES and BRUSH_KINDS[4:8] == AFFINE_BRUSHES
-    assert BRUSH_KINDS[8:] == PAINT_BRUSHES
+    assert BRUSH_KINDS[:5] == GRAB_BRUSHES and BRUSH_KINDS[5:9] == AFFINE_BRUSHES
+    assert BRUSH_KINDS[9:] == PAINT_BRUSHES
     assert set(BRUSH_KINDS) == {*GRAB_BRUSHES, *AFFINE_BRUSHES, *PAINT_BRUSHES}
     for kind in BRUSH_KINDS:
         assert Brush(kind).type is brush_type(kind)

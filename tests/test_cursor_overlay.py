@@ -73,7 +73,7 @@ def test_number_keys_and_a_click_confirming_a_radius_drag(window):
     key(window, Qt.Key.Key_5, text="5")
     assert window.model.brush.kind == "scale"
     key(window, Qt.Key.Key_1, text="1")
-    assert window.model.brush.kind == "grab"
+    assert window.model.brush.kind == "grab_local"
     hover(window, center_of(window))
     before = window.document.sculptor.vertices.copy()
     vp.start_value_drag("radius", QPointF(center_of(window)) + QPointF(30, 0))

@@ -1,9 +1,9 @@
 """Focus and keys, fields that never lie (issue 21, items 1, 2 and 4), with real Qt key and
 mouse events sent where the keyboard focus is: the sculpting keys act on the viewport after any
 panel button, menu or dialog; letters typed into a number field stay there and are refused
-visibly, as is a value out of range, named as the panel names it; a refused value gives way to
-the one in effect when the field loses the focus; every panel shows the settings in effect
-after undo, redo, opening a model or a preset."""
+visibly, as is a value out of range, named as the panel names it and in the status bar; a
+refused value stays, red, after the focus leaves, until mended or cancelled (Esc); every panel
+shows the settings in effect after undo, redo, opening a model or a preset."""
 
 from __future__ import annotations
 
@@ -128,7 +128,7 @@ def test_the_keys_go_back_to_the_viewport_after_a_menu_and_a_dialog(window, qtbo
     activate(window, qtbot)
     assert window.viewport.hasFocus()
     press_key(Qt.Key.Key_2)
-    assert window.model.brush.kind == "grab_biscale"
+    assert window.model.brush.kind == "grab"  # key 2: the wide grab
 
 
 # -- number fields -----------------------------------------------------------------------------
@@ -202,7 +202,9 @@ def test_letters_and_values_out_of_range_are_refused_in_every_number_field(windo
                 # the letters did not reach the hotkeys: b is bi-scale, c is pin mode
                 assert window.model.brush.kind == "grab"
                 assert not window.brush_bar.constraint_action.isChecked()
-                click(qtbot, window.viewport)  # the focus leaves: the value in effect again
+                assert window.message_label.text() == f"Refused: {field.toolTip()}"
+                press_key(Qt.Key.Key_Escape)  # cancelled: the value in effect again
+                qtbot.wait(10)  # (and the keys go home)
                 assert not is_marked_invalid(field)
                 assert field.lineEdit().text() == field.textFromValue(field.value()) or (
                     field.lineEdit().text() in (field.specialValueText(), field.text())
@@ -220,9 +222,15 @@ def test_radius_minus_half_and_l_max_99_say_the_allowed_range(window, qtbot):
     l_max = window.falloff_panel.l_max_spin
     _refuses(window, qtbot, l_max, "99")
     assert l_max.toolTip() == "Truncation l_max: enter a whole number from 0 to 30 (got '99')"
+    # the radius refused before is still red, its text shown, after the focus went to l_max
+    assert is_marked_invalid(radius) and radius.lineEdit().text() == "-0.5"
+    assert window.message_label.text() == f"Refused: {l_max.toolTip()}"  # the status bar too
     press_key(Qt.Key.Key_Escape)  # drops it at once, and the keys go home
     assert l_max.lineEdit().text() == "8" and not is_marked_invalid(l_max)
     qtbot.waitUntil(window.viewport.hasFocus, timeout=2000)
+    click(qtbot, window.viewport)  # a click elsewhere: the refused radius stays, named
+    assert is_marked_invalid(radius) and radius.lineEdit().text() == "-0.5"
+    assert window.model.brush.radius == 0.08
     # a good value is taken and hands the keys back
     click(qtbot, radius.lineEdit())
     radius.selectAll()

@@ -21,8 +21,7 @@ from app.keymap import (
     shortcuts,
 )
 from app.keymap_overlay import KeymapOverlay
-from gogreen_core.brushes import BRUSH_KINDS
-from gogreen_core.tools import NUMBER_KEYS
+from gogreen_core.brushes import BRUSH_KINDS, BRUSH_ROWS
 from gogreen_core.validation import ParameterError
 
 PORTABLE = QKeySequence.SequenceFormat.PortableText
@@ -91,13 +90,16 @@ def test_blender_sculpt_habits():
     assert binding("pressure").keys == ("Pen pressure",)
 
 
-def test_number_keys_pick_the_brushes_in_order():
+def test_each_brush_has_its_rows_number_key_and_letter():
     assert set(BRUSH_ACTIONS) == set(BRUSH_KINDS)
-    for number, kind in enumerate(BRUSH_KINDS):
-        entry = binding(brush_action(kind))
-        if number < len(NUMBER_KEYS):  # 1 … 9, then 0
-            assert entry.keys[0] == NUMBER_KEYS[number]
-        assert entry.group == "Brushes"
+    for row in BRUSH_ROWS:
+        entry = binding(brush_action(row.kind))
+        assert entry.keys == tuple(k for k in (row.number, row.letter) if k)
+        assert entry.description == row.title and entry.group == "Brushes"
+    # fixed per brush: the local grab on 1 and G, the wide one a key away, mask on 0
+    assert binding("brush_grab_local").keys == ("1", "G")
+    assert binding("brush_grab").keys == ("2", "Shift+G")
+    assert binding("brush_mask").keys == ("0", "M")
 
 
 def test_smooth_mask_and_subdivide_keys():
@@ -119,7 +121,7 @@ def test_shortcuts_the_window_had_are_kept():
         "screenshot": "F12",
         "save_as": "Ctrl+Shift+S",
         "pin_mode": "C",
-        "brush_grab": "G",
+        "brush_grab_local": "G",
         "brush_twist": "W",
     }
     for action, keys in kept.items():
@@ -128,7 +130,7 @@ def test_shortcuts_the_window_had_are_kept():
 
 def test_shortcuts_returns_key_sequences(qapp):
     assert shortcuts("undo") == [QKeySequence("Ctrl+Z")]
-    assert shortcuts("brush_grab") == [QKeySequence("1"), QKeySequence("G")]
+    assert shortcuts("brush_grab_local") == [QKeySequence("1"), QKeySequence("G")]
     assert shortcuts("keymap") == [QKeySequence("?"), QKeySequence("F1")]
 
 

@@ -64,3 +64,26 @@ def test_negative_poisson_ratios_are_named():
 )
 def test_directions_in_words(direction, signed, words):
     assert direction_words(np.array(direction, dtype=float), signed) == words
+
+
+def test_one_anisotropy_figure_whatever_the_rotation(qtbot):
+    """The glyph's legend and the words give the same E_max / E_min, from one function, for
+    a fibre material turned between any fixed sample directions (it read "max/min 13.7" and
+    "17.8× stiffer" for one material)."""
+    from scipy.spatial.transform import Rotation
+
+    from app.panels.glyph import YoungModulusGlyph
+    from gogreen_core.material_words import young_extremes
+
+    fibres = next(p.material for p in builtin_presets() if p.name == "Fibre composite")
+    turn = Rotation.from_euler("xyz", [30.0, 17.0, 41.0], degrees=True).as_matrix()
+    ratios = []
+    for material in (fibres, fibres.rotated(turn)):
+        e_min, e_max, _, _ = young_extremes(material)
+        glyph = YoungModulusGlyph(material)
+        qtbot.addWidget(glyph)
+        assert glyph.young_range == (e_min, e_max)
+        assert material_traits(material).ratio == pytest.approx(e_max / e_min, rel=1e-12)
+        assert f"{e_max / e_min:.3g}× stiffer" in describe_material(material)
+        ratios.append(e_max / e_min)
+    assert ratios[1] == pytest.approx(ratios[0], rel=1e-4)  # the same material, turned

@@ -448,8 +448,9 @@ def test_l_max_and_degree_weights(qtbot, falloff_panel):
     changes and the buttons reach the settings."""
     panel = falloff_panel
     settings = panel.settings
-    assert panel.l_max == 8 and settings.brush.kind == "grab"
-    assert panel.degree_weights.title() == "Degree weights: Grab brush"
+    settings.brush.kind = "grab"
+    assert panel.l_max == 8
+    assert panel.degree_weights.title() == "Degree weights: Wide grab brush"
     assert len(panel.weight_spins) == 5  # R0 R2 R4 R6 R8
     assert np.array_equal(panel.weight_grid.values, np.ones(5))
     panel.l_max_spin.setValue(12)
@@ -834,3 +835,29 @@ def test_the_falloff_preview_has_tick_labels_in_both_themes(qtbot, app_look, nam
     assert text_pixels(0, rect.top() - 6, rect.left() - 4, rect.bottom() + 6) > 40
     assert text_pixels(rect.left() - 6, rect.bottom() + 4, rect.right() + 6, image.height()) > 80
     assert preview.values is not None and preview.values.max() == pytest.approx(1.0)
+
+
+def test_degree_weight_labels_and_hint_are_the_selected_brushs(qtbot, falloff_panel):
+    """Grab (R0, R2 … even) then Scale (ℛ1, ℛ3 … odd) at l_max 8: as many fields, other
+    labels (they kept the grab's); the pinch hint only for the brushes it applies to; the
+    wrinkle's fold degrees labelled as folds."""
+    panel = falloff_panel
+    settings = panel.settings
+    grid = panel.degree_weights.grid
+
+    def labels():
+        return [label.text() for label in grid.labels]
+
+    settings.brush.kind = "grab_local"
+    assert labels() == ["R0", "R2", "R4", "R6", "R8"]
+    assert "pinch" not in panel.degree_weights.caption.text()
+    settings.brush.kind = "scale"
+    assert labels() == ["ℛ1", "ℛ3", "ℛ5", "ℛ7", "ℛ9"]
+    assert "pinch" not in panel.degree_weights.caption.text()
+    settings.brush.kind = "pinch"
+    assert "16 × ℛ₁ makes a pinch local" in panel.degree_weights.caption.text()
+    settings.brush.kind = "wrinkle"
+    assert labels() == ["R0", "R2", "fold R4", "fold R6", "fold R8"]
+    assert "folds" in panel.degree_weights.caption.text()
+    settings.brush.kind = "grab"
+    assert labels()[0] == "R0" and grid.spins[0].accessibleName() == "Degree weight R0"

@@ -16,7 +16,9 @@ import pytest
 from PySide6.QtCore import Qt, QTimer
 from PySide6.QtWidgets import QApplication
 
+from gogreen_core.radial import KelvinletRadial
 from gogreen_core.recovery import list_journals
+from gogreen_core.settings import Settings
 
 #: A window that opens a mesh, sculpts (drags, a pin, an undo), saves its vertices, then waits.
 SCULPTING_WINDOW = """
@@ -52,10 +54,13 @@ time.sleep(120)
 """
 
 
-def sculpt_and_kill(tmp_path: Path, mesh: Path, name: str) -> tuple[int, np.ndarray]:
-    """Run a sculpting window in a process and SIGKILL it; its operations and last vertices."""
+def sculpt_and_kill(
+    tmp_path: Path, mesh: Path, name: str, script: str | None = None
+) -> tuple[int, np.ndarray | None]:
+    """Run a sculpting window (``script``, default :data:`SCULPTING_WINDOW`) in a process and
+    SIGKILL it; its operations and last vertices (None when the script saves none)."""
     files = {"vertices": str(tmp_path / f"{name}-vertices.npy")}
-    code = SCULPTING_WINDOW.format(
+    code = (script or SCULPTING_WINDOW).format(
         tests=str(Path(__file__).parent),
         settings=str(tmp_path / f"{name}.ini"),
         mesh=str(mesh),
@@ -71,7 +76,8 @@ def sculpt_and_kill(tmp_path: Path, mesh: Path, name: str) -> tuple[int, np.ndar
     finally:
         child.kill()
         child.wait(30)
-    return int(line.split()[1]), np.load(files["vertices"])
+    saved = Path(files["vertices"])
+    return int(line.split()[1]), np.load(saved) if saved.exists() else None
 
 
 def answer_the_dialog(qtbot, button: str) -> None:
@@ -195,3 +201,70 @@ def test_the_recovery_picture_waits_for_the_first_operation(window):
     drag(window, center_of(window))
     window.crash_recovery.idle()
     assert journal.flush() and journal.records == 1 and picture.exists()
+
+
+#: A window that sculpts, then changes every setting an artist tunes, then waits to be killed.
+TUNING_WINDOW = """
+import sys, time
+sys.path.insert(0, {tests!r})
+from PySide6.QtCore import QSettings
+from PySide6.QtWidgets import QApplication
+from gui_helpers import center_of, drag
+from app.main_window import MainWindow
+from gogreen_core.radial import KelvinletRadial
+
+app = QApplication(sys.argv[:1])
+window = MainWindow(QSettings({settings!r}, QSettings.Format.IniFormat))
+window.show()
+assert window.files.open_file({mesh!r})
+assert window.kernel_warmer.wait(120_000)
+while window.viewport.surface_building:
+    app.processEvents()
+window.viewport.render()
+drag(window, center_of(window))
+model = window.model
+model.brush.update(dict(kind="pinch", radius=0.06, strength=1.7, influence=5.0, symmetry="xz"))
+model.pen.update(dict(pressure_radius=True, pressure_strength=False, lazy_radius=12.0,
+                      spacing=0.3))
+window.material_panel.set_mode("transversely_isotropic")
+window.material_panel.rotation.set_angles((30.0, 0.0, 15.0))
+model.falloff = KelvinletRadial(1.0)
+model.set_brush_weights("pinch", [1.0, 16.0, 1.0, 1.0, 1.0, 0.5, 1.0, 1.0, 1.0, 1.0])
+end = time.monotonic() + 1.5
+while time.monotonic() < end:  # idle: the window writes its settings into the journal
+    app.processEvents()
+    time.sleep(0.01)
+assert window.document.journal.flush()
+print("SCULPTED", len(window.document.sculptor.operations), flush=True)
+time.sleep(120)
+"""
+
+
+def test_recovery_brings_back_every_setting(window, qtbot, tmp_path, made_file):
+    """Brush (kind, radius, strength, influence, mirror), pen, material with its rotation
+    angles (not folded into the 6×6 matrix), falloff and degree weights: as before the crash
+    (the radius came back 0.080 instead of 0.060, the angles 0°)."""
+    sculpt_and_kill(tmp_path, made_file, "tuned", TUNING_WINDOW)
+    answer_the_dialog(qtbot, "recover")
+    assert window.crash_recovery.offer() is not None
+    assert window.crash_recovery.wait(60_000)
+    qtbot.waitUntil(lambda: window.document.recovered, timeout=60_000)
+    model = window.model
+    brush = model.brush
+    assert (brush.kind, brush.radius, brush.strength) == ("pinch", 0.06, 1.7)
+    assert (brush.influence, brush.symmetry) == (5.0, "xz")
+    assert window.brush_bar.radius.value() == 0.06
+    pen = model.pen
+    assert (pen.pressure_radius, pen.pressure_strength) == (True, False)
+    assert (pen.lazy_radius, pen.spacing) == (12.0, 0.3)
+    panel = window.material_panel
+    assert panel.mode == "transversely_isotropic"
+    assert panel.form.angles == (30.0, 0.0, 15.0)
+    assert panel.rotation.angles == (30.0, 0.0, 15.0)
+    assert panel.form.material == model.material == window.document.sculptor.material
+    expected = Settings()
+    expected.falloff = KelvinletRadial(1.0)
+    assert model.falloff == expected.falloff
+    weights = model.weights_for("pinch")
+    assert weights[1] == 16.0 and weights[5] == 0.5
+    assert "axes turned 30°, 0°, 15°" in window.status.material_label.text()

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from gogreen_core.brushes import Brush, default_wrinkle_weights
+from gogreen_core.brushes import DEFAULT_BRUSH, Brush, default_wrinkle_weights
 from gogreen_core.material import Material
 from gogreen_core.presets import Preset
 from gogreen_core.radial import GaussianRadial, KelvinletRadial, SplineRadial
@@ -27,7 +27,7 @@ def test_a_field_change_emits_once_with_old_and_new_values():
     settings.brush.radius = 0.05  # same value: no event
     assert [(e.old, e.value) for e in radius] == [(0.08, 0.05)]
     assert [c.names for c in changed] == [frozenset({"radius"})]
-    assert settings.brush.brush == Brush(radius=0.05)
+    assert settings.brush.brush == Brush(DEFAULT_BRUSH, radius=0.05)
 
 
 @pytest.mark.parametrize(
@@ -46,7 +46,7 @@ def test_bad_brush_values_name_their_parameter_and_change_nothing(name, value, p
     with pytest.raises(ParameterError) as info:
         settings.brush.set(name, value)
     assert info.value.parameter == parameter
-    assert settings.brush.brush == Brush(radius=0.08) and not events
+    assert settings.brush.brush == Brush(DEFAULT_BRUSH, radius=0.08) and not events
 
 
 def test_update_is_all_or_nothing_and_names_the_bad_field():

@@ -258,16 +258,17 @@ def test_shift_f_drags_the_strength_and_clips(sculptor):
     assert settings.strength == 0.0
 
 
-def test_number_keys_pick_brushes_in_order(sculptor):
-    from gogreen_core.brushes import BRUSH_KINDS
+def test_number_keys_pick_the_brush_whose_row_has_them(sculptor):
+    from gogreen_core.brushes import BRUSH_ROWS
     from gogreen_core.tools import NUMBER_KEYS, brush_for_key
 
     tools, settings = settings_tools(sculptor)
-    for key, kind in zip(NUMBER_KEYS, BRUSH_KINDS, strict=False):
-        assert tools.pick_brush(key) and settings.kind == kind
-    for key in NUMBER_KEYS[len(BRUSH_KINDS) :]:  # keys past the table pick nothing
-        assert brush_for_key(key) is None and not tools.pick_brush(key)
-    assert NUMBER_KEYS[:3] == "123" and NUMBER_KEYS[9] == "0"
+    for row in BRUSH_ROWS:
+        if row.number:
+            assert tools.pick_brush(row.number) and settings.kind == row.kind
+    # fixed per brush, not by table position: key 1 the local grab, 2 the wide one, 0 the mask
+    assert [brush_for_key(k) for k in "120"] == ["grab_local", "grab", "mask"]
+    assert set(NUMBER_KEYS) == set("1234567890")
     assert brush_for_key("a") is None and brush_for_key("11") is None
 
 

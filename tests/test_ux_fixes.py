@@ -132,7 +132,7 @@ def test_vtk_keys_do_nothing_in_the_window_and_the_apps_keys_still_work(window, 
             assert not vp.value_dragging
     assert window.isVisible() and window.document is not None
     QTest.keyClick(vp, Qt.Key.Key_2)
-    assert window.model.brush.kind == "grab_biscale"
+    assert window.model.brush.kind == "grab"  # the wide grab: one key from the local one
     QTest.keyClick(vp, Qt.Key.Key_Z, Qt.KeyboardModifier.ShiftModifier)
     assert window.look.wireframe and window.look.wireframe_action.isChecked()
     QTest.keyClick(vp, Qt.Key.Key_Z, Qt.KeyboardModifier.ShiftModifier)

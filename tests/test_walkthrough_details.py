@@ -78,7 +78,8 @@ def test_a_fibre_composites_glyph_is_no_needle(qtbot):
     assert high / low > 10  # a strong anisotropy: E along the fibres over E across
     radii = glyph.shape_radii
     assert radii.max() == pytest.approx(1.0)
-    assert radii.min() == pytest.approx(1.0 / MAX_SHAPE_RATIO)  # a spindle, not a needle
+    # a spindle, not a needle (the grid need not sample the very softest direction)
+    assert radii.min() == pytest.approx(1.0 / MAX_SHAPE_RATIO, rel=1e-2)
     order = np.argsort(glyph.radii)
     assert np.all(np.diff(radii[order]) >= -1e-12)  # stiffer directions still reach farther
     # a mild anisotropy keeps its true shape, an isotropic material is a sphere

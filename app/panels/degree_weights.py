@@ -21,22 +21,10 @@ from app.bindings import bind, bind_view
 from app.fields import DecimalField
 from app.panels.number_grid import NumberGrid
 from app.panels.widgets import set_text_role
-from gogreen_core.brushes import FOLD_DEGREES, FOLD_DEPTH, brush_type, fold_weights
+from gogreen_core.brushes import FOLD_DEGREES, FOLD_DEPTH, brush_row, brush_type, fold_weights
 from gogreen_core.settings import Settings
 
 __all__ = ["DegreeWeights", "shown_degrees"]
-
-#: Display names of the brushes in the group's title.
-_TITLES = {
-    "grab": "Grab",
-    "grab_biscale": "Bi-scale grab",
-    "grab_triscale": "Tri-scale grab",
-    "wrinkle": "Wrinkle",
-    "scale": "Scale",
-    "twist": "Twist",
-    "pinch": "Pinch",
-    "stretch": "Stretch",
-}
 
 
 def shown_degrees(kind: str, l_max: int) -> list[int]:
@@ -125,7 +113,9 @@ class DegreeWeights(QGroupBox):
         if index >= len(degrees):
             return ""
         degree = degrees[index]
-        return f"R{degree}" if degree % 2 == 0 else f"ℛ{degree}"
+        if degree % 2:
+            return f"ℛ{degree}"
+        return f"fold R{degree}" if self.kind == "wrinkle" and degree >= 4 else f"R{degree}"
 
     def _omega(self) -> np.ndarray:
         return self.settings.weights_for(self.kind)
@@ -134,17 +124,14 @@ class DegreeWeights(QGroupBox):
         """The current brush's weights in the grid (the title and caption say whose)."""
         kind = self.kind
         degrees = self.degrees
-        self.setTitle(f"Degree weights: {_TITLES.get(kind, kind)} brush")
+        row = brush_row(kind)
+        self.setTitle(f"Degree weights: {row.label} brush")
         self.setEnabled(bool(degrees))
         if not degrees:
             self.caption.setText("This brush has no Green's function field to weight.")
             self.grid.set_values([])
         else:
-            family = "ℛ_l of ∇G (odd degrees)" if degrees[0] == 1 else "R_l of G (even degrees)"
-            self.caption.setText(
-                f"Each degree's share of the brush's field, {family}: 1 is the expansion as "
-                "it is, 0 removes a degree, 16 × ℛ₁ makes a pinch local (paper Fig. 7)"
-            )
+            self.caption.setText(f"Each degree's share of the brush's field, {row.weights_hint}")
             self.grid.set_values(self._omega()[degrees])
         wrinkle = kind == "wrinkle"
         for widget in (self.fold_label, self.fold_combo, self.depth_label, self.depth_field):

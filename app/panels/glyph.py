@@ -26,6 +26,7 @@ from PySide6.QtWidgets import QSizePolicy, QWidget
 from app.panels.plot_axes import plot_font
 from app.panels.widgets import plot_colors
 from gogreen_core.material import Material
+from gogreen_core.material_words import young_extremes
 
 __all__ = ["YoungModulusGlyph"]
 
@@ -75,6 +76,7 @@ class YoungModulusGlyph(QWidget):
         super().__init__(parent)
         self._dirs, self._quads = _sphere_grid(18, 36)
         self._radii = np.ones(len(self._dirs))
+        self._range = (1.0, 1.0)
         self._revision = 0
         self._azimuth = np.radians(35.0)
         self._elevation = np.radians(22.0)
@@ -92,6 +94,8 @@ class YoungModulusGlyph(QWidget):
     def set_material(self, material: Material) -> None:
         """Show ``material``'s directional Young's modulus."""
         self._radii = np.asarray(material.directional_young(self._dirs), dtype=np.float64)
+        e_min, e_max, _, _ = young_extremes(material)
+        self._range = (e_min, e_max)
         self._revision += 1
         self.update()
 
@@ -102,8 +106,8 @@ class YoungModulusGlyph(QWidget):
 
     @property
     def young_range(self) -> tuple[float, float]:
-        """(min E, max E) over the sampled directions."""
-        return float(self._radii.min()), float(self._radii.max())
+        """(min E, max E) over all directions (:func:`young_extremes`: the words' figure too)."""
+        return self._range
 
     @property
     def shape_exponent(self) -> float:

@@ -265,6 +265,17 @@ class MaterialPanel(QWidget):
         self.bindings["voigt"].refresh()  # its zero colours, when the values did not change
         self._hide_error()
 
+    def show_inputs(self, values: dict) -> None:
+        """Show the inputs ``values`` (:meth:`MaterialForm.values`, e.g. recovered after a
+        crash) when they make the active material: its mode, numbers and rotation angles;
+        else the active material as :meth:`_show_material` does (the settings win)."""
+        self.form.update(values, source="settings")
+        if self.form.material == self.settings.material:
+            self._remember(self.form.material)
+            self._hide_error()
+        else:
+            self._show_material(self.settings.material)
+
     def _remember(self, material: Material) -> None:
         self._made[material] = self.form.values()
         self._made.move_to_end(material)

@@ -45,6 +45,8 @@ class NumberGrid(QWidget):
         self._grid.setHorizontalSpacing(4)
         self._grid.setVerticalSpacing(2)
         self.spins: list[DecimalField] = []
+        #: The label of each field, in order.
+        self.labels: list[QLabel] = []
 
     @property
     def values(self) -> np.ndarray:
@@ -56,7 +58,12 @@ class NumberGrid(QWidget):
         values = np.asarray(values, dtype=np.float64).ravel()
         if len(values) != len(self.spins):
             self._rebuild(len(values))
-        for spin, value in zip(self.spins, values, strict=True):
+        for index, (spin, value) in enumerate(zip(self.spins, values, strict=True)):
+            # the labels follow what is shown (another brush's degrees: as many, others)
+            self.labels[index].setText(self._label(index))
+            spin.setAccessibleName(f"{self._name} {self._label(index)}".strip())
+            if self._tooltip is not None:
+                spin.setToolTip(self._tooltip(index))
             spin.setValue(float(value))
 
     def _rebuild(self, count: int) -> None:
@@ -66,19 +73,17 @@ class NumberGrid(QWidget):
             if widget is not None:
                 widget.hide()  # gone now, not only when the event loop runs the deletion
                 widget.deleteLater()
-        self.spins = []
+        self.spins, self.labels = [], []
         for index in range(count):
             row, col = divmod(index, self._columns)
-            label = QLabel(self._label(index))
+            label = QLabel()
             label.setAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
             spin = DecimalField(*self._range, decimals=self._decimals, step=self._step)
-            spin.setAccessibleName(f"{self._name} {self._label(index)}".strip())
-            if self._tooltip is not None:
-                spin.setToolTip(self._tooltip(index))
             spin.valueChanged.connect(self._spin_changed)
             self._grid.addWidget(label, row, 2 * col)
             self._grid.addWidget(spin, row, 2 * col + 1)
             self.spins.append(spin)
+            self.labels.append(label)
         for col in range(self._columns):
             self._grid.setColumnStretch(2 * col + 1, 1)
 

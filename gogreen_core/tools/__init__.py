@@ -16,12 +16,14 @@ ends the stroke. The counters :attr:`SculptTools.received` and :attr:`SculptTool
 
 from gogreen_core.constraints import smooth_cutoff
 from gogreen_core.tools.cursor import (
+    MOVING_FRACTION,
     PIXELS_PER_STRENGTH,
     PROFILE_SAMPLES,
     CursorController,
     ValueDrag,
     brush_profile,
     grab_motion,
+    moving_radius,
 )
 from gogreen_core.tools.events import CursorState, PointerEvent, ToolUpdate
 from gogreen_core.tools.pins import PIN_PICK_FRACTION, PinController
@@ -30,11 +32,13 @@ from gogreen_core.tools.stroke import (
     MIN_PRESSURE_RADIUS,
     PIXELS_PER_UNIT_AMOUNT,
     StrokeController,
+    brush_drag,
     pressure_radius_factor,
 )
 
 __all__ = [
     "MIN_PRESSURE_RADIUS",
+    "MOVING_FRACTION",
     "NUMBER_KEYS",
     "PIN_PICK_FRACTION",
     "PIXELS_PER_STRENGTH",
@@ -48,9 +52,11 @@ __all__ = [
     "StrokeController",
     "ToolUpdate",
     "ValueDrag",
+    "brush_drag",
     "brush_for_key",
     "brush_profile",
     "grab_motion",
+    "moving_radius",
     "pressure_radius_factor",
     "smooth_cutoff",
 ]

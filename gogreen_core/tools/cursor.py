@@ -15,6 +15,7 @@ from gogreen_core.threads import threads_at_most
 from gogreen_core.tools.events import CursorState
 
 __all__ = [
+    "MOVING_FRACTION",
     "PIXELS_PER_STRENGTH",
     "PROFILE_SAMPLES",
     "CursorController",
@@ -22,6 +23,7 @@ __all__ = [
     "anchored_label",
     "brush_profile",
     "grab_motion",
+    "moving_radius",
 ]
 
 #: Screen distance (pixels) from the cursor centre that means strength 1 when F-dragging the
@@ -30,6 +32,13 @@ PIXELS_PER_STRENGTH = 100.0
 
 #: Samples of the falloff profile drawn in the brush cursor, over [0, influence · ε].
 PROFILE_SAMPLES = 48
+#: The cursor's ring shows the region that moves by at least this fraction of the motion.
+MOVING_FRACTION = 0.1
+#: Samples over [0, influence · ε] that :func:`moving_radius` finds the ring on (ε/100 apart
+#: at the multi-scale grabs' influence 4).
+_RING_SAMPLES = 400
+#: The reach (in ε) searched for the ring of a brush without a finite influence.
+_UNBOUNDED_REACH = 32.0
 
 
 #: What an affine brush does, as its anchored cursor's label says it ("scaling about the press
@@ -61,6 +70,64 @@ def brush_profile(
     motion = grab_motion(kernel, r) * cutoff
     peak = motion.max()
     return motion / peak if peak > 0 and np.isfinite(peak) else np.zeros(samples)
+
+
+def moving_radius(
+    kernel: GreenKernel | None, influence: float, eps: float, anchored: bool = False
+) -> float:
+    """Radius (model units) of the region that moves by at least :data:`MOVING_FRACTION` of
+    the motion: the largest distance r ≤ influence · ε from the brush centre where the relative
+    motion of ``kernel`` at ε = ``eps`` (a grab's, relative to the cursor motion, or for an
+    ``anchored`` brush an affine load's, relative to its largest; the largest over 13
+    directions, times the smooth cutoff of an ``influence`` of that many ε) is at least that
+    fraction. What the brush cursor's ring shows. With ``kernel``
+    None (a paint brush, or kernels not ready) the cutoff alone."""
+    reach = influence if np.isfinite(influence) else _UNBOUNDED_REACH
+    outer = reach * eps
+    r = np.linspace(0.0, outer, _RING_SAMPLES)
+    cutoff = smooth_cutoff(r, CUTOFF_START * outer, outer) if np.isfinite(influence) else 1.0
+    motion = np.broadcast_to(cutoff, r.shape).astype(float)
+    if kernel is not None:
+        motion = motion * _motion_envelope(kernel, r, anchored)
+    peak = float(motion.max())
+    if not (peak > 0 and np.isfinite(peak)):
+        return float(eps)
+    above = np.flatnonzero(motion >= MOVING_FRACTION * peak)
+    last = int(above[-1])
+    if last + 1 >= len(r):
+        return float(r[-1])
+    # where the motion crosses the level, between the last sample above and the next
+    a, b = motion[last], motion[last + 1]
+    t = (a - MOVING_FRACTION * peak) / (a - b) if a > b else 0.0
+    return float(r[last] + t * (r[last + 1] - r[last]))
+
+
+def _directions() -> np.ndarray:
+    """(13, 3) unit directions up to sign: the cube's axes, face and body diagonals."""
+    steps = np.array(np.meshgrid([-1, 0, 1], [-1, 0, 1], [-1, 0, 1])).reshape(3, -1).T
+    halves = np.array([d for d in steps if tuple(d) > (0, 0, 0)], dtype=float)
+    return cast(np.ndarray, halves / np.linalg.norm(halves, axis=1)[:, None])
+
+
+def _motion_envelope(kernel: GreenKernel, distances: np.ndarray, anchored: bool) -> np.ndarray:
+    """The largest relative motion (n,) at ``distances`` over :func:`_directions`: a unit grab
+    (‖G(r d̂) G(0)⁻¹‖₂, the worst load direction) or an affine load (‖∇G(r d̂)‖, divided by
+    its largest value); so the ring bounds what moves, whichever way the brush pulls."""
+    directions = _directions()
+    points = (distances[:, None, None] * directions[None]).reshape(-1, 3)
+    with threads_at_most(1):
+        if anchored:
+            values = kernel.green_gradient(points).reshape(len(distances), len(directions), -1)
+            size = np.linalg.norm(values, axis=2).max(axis=1)
+            peak = size.max()
+            return cast(np.ndarray, size / peak if peak > 0 and np.isfinite(peak) else size)
+        green = kernel.green(points).reshape(len(distances), len(directions), 3, 3)
+        centre = kernel.green(np.zeros((1, 3)))[0]
+    try:
+        normalized = green @ np.linalg.inv(centre)
+    except np.linalg.LinAlgError:  # R₀(0) = 0: relative to the largest entry instead
+        normalized = green / (np.abs(green).max() or 1.0)
+    return cast(np.ndarray, np.linalg.norm(normalized, ord=2, axis=(2, 3)).max(axis=1))
 
 
 def grab_motion(kernel: GreenKernel, distances: np.ndarray) -> np.ndarray:
@@ -124,8 +191,10 @@ class ValueDrag:
 class CursorController:
     """The brush cursor: on the surface under the hovering cursor, where the brush acts while
     dragging, hidden off the model. Callables give the current brush's ε in model units
-    (``radius``), influence factor, falloff samples (``profile``, or None) and, during a pen
-    stroke whose pressure shrinks ε, the full ε (``full_radius``, else None)."""
+    (``radius``), influence factor, falloff samples (``profile``, or None), during a pen
+    stroke whose pressure shrinks ε, the full ε (``full_radius``, else None) and the radius of
+    the region that moves by a tenth of the motion or more (``moving``, :func:`moving_radius`;
+    None: unknown)."""
 
     def __init__(
         self,
@@ -133,11 +202,13 @@ class CursorController:
         influence: Callable[[], float],
         profile: Callable[[], np.ndarray | None],
         full_radius: Callable[[], float | None],
+        moving: Callable[[], float | None] | None = None,
     ) -> None:
         self.radius = radius
         self.influence = influence
         self.profile = profile
         self.full_radius = full_radius
+        self.moving = moving or (lambda: None)
         self.state: CursorState | None = None
         self._normal: np.ndarray | None = None
 
@@ -158,6 +229,7 @@ class CursorController:
             self.profile(),
             label,
             self.full_radius(),
+            self.moving(),
         )
         return self.state
 

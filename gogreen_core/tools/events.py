@@ -41,7 +41,9 @@ class CursorState:
     (samples over [0, influence · ε] of the relative motion, :func:`brush_profile`, or None),
     ``label`` (a live value shown while F / Shift+F drags it, else None) and ``full_radius``
     (during a pen stroke whose pressure shrinks the radius: the brush's own ε, model units,
-    drawn faintly around the pressed one; else None)."""
+    drawn faintly around the pressed one; else None) and ``moving_radius`` (model units: the
+    region that moves by a tenth of the motion or more, :func:`gogreen_core.tools.moving_radius`;
+    what the ring shows, None when unknown)."""
 
     center: np.ndarray
     normal: np.ndarray
@@ -50,6 +52,7 @@ class CursorState:
     profile: np.ndarray | None = None
     label: str | None = None
     full_radius: float | None = None
+    moving_radius: float | None = None
 
     def ring_matrix(self) -> np.ndarray:
         """(4, 4) transform placing the unit circle of the xy plane on the surface (lifted by

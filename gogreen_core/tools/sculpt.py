@@ -10,12 +10,13 @@ from typing import TYPE_CHECKING, Any, cast
 import numpy as np
 
 from gogreen_core.brushes import (
-    BRUSH_KINDS,
     DEFAULT_INFLUENCE,
     MAX_RADIUS,
     MAX_STRENGTH,
     MIN_RADIUS,
     Brush,
+    brush_for_key,
+    brush_row,
 )
 from gogreen_core.settings import BrushSettings, PenSettings
 from gogreen_core.tools.cursor import (
@@ -24,6 +25,7 @@ from gogreen_core.tools.cursor import (
     ValueDrag,
     anchored_label,
     brush_profile,
+    moving_radius,
 )
 from gogreen_core.tools.events import PointerEvent, ToolUpdate
 from gogreen_core.tools.pins import PinController
@@ -61,16 +63,9 @@ class _Coalescer:
         return event
 
 
-#: The number keys in brush order: "1" picks the first of :data:`BRUSH_KINDS`, "0" the tenth.
+#: The number keys brushes may have (each brush row's ``number`` is fixed: see
+#: :data:`gogreen_core.brushes.BRUSH_ROWS`).
 NUMBER_KEYS = "1234567890"
-
-
-def brush_for_key(key: str) -> str | None:
-    """The brush a number key picks ("1" → the first of :data:`BRUSH_KINDS`, "0" → the
-    tenth), else None."""
-    if len(key) == 1 and key in NUMBER_KEYS and NUMBER_KEYS.index(key) < len(BRUSH_KINDS):
-        return BRUSH_KINDS[NUMBER_KEYS.index(key)]
-    return None
 
 
 class SculptTools:
@@ -114,9 +109,12 @@ class SculptTools:
             self._cursor_influence,
             self._cursor_profile,
             self._cursor_full_radius,
+            self._cursor_moving_radius,
         )
         self._profile_key: tuple[Any, ...] | None = None
         self._profile: np.ndarray | None = None
+        #: The cached profile's moving radius (:func:`moving_radius`) in units of its ε.
+        self._moving_ratio = 1.0
         self._profile_settings: EngineSettings | None = None
         self.set_sculptor(sculptor)
 
@@ -172,13 +170,24 @@ class SculptTools:
         key = (id(self.sculptor), brush.kind, brush.influence, eps, ready)
         if key != self._profile_key or settings is not self._profile_settings:
             influence = self._cursor_influence()
+            anchored = brush_row(brush.kind).drag == "anchored"
             try:
                 kernel = self.sculptor.kernel(brush) if ready else None
                 self._profile = brush_profile(kernel, influence, eps)
+                moving = moving_radius(kernel, influence, eps, anchored)
             except (ValueError, RuntimeError, np.linalg.LinAlgError):
                 self._profile = brush_profile(None, influence, eps)
+                moving = moving_radius(None, influence, eps)
+            self._moving_ratio = moving / eps if eps > 0 else 1.0
             self._profile_key, self._profile_settings = key, settings
         return self._profile
+
+    def _cursor_moving_radius(self) -> float | None:
+        """The region that moves by a tenth of the motion or more (model units,
+        :func:`moving_radius`) at the cursor's ε (pen pressure scales it with ε)."""
+        if self.sculptor is None or self._cursor_profile() is None:
+            return None
+        return self._moving_ratio * self._cursor_radius()
 
     # -- state -------------------------------------------------------------------------------
     @property
@@ -201,7 +210,8 @@ class SculptTools:
 
     # -- keys --------------------------------------------------------------------------------
     def pick_brush(self, key: str) -> bool:
-        """Number keys pick brushes in :data:`BRUSH_KINDS` order; True if ``key`` did."""
+        """A number key picks the brush whose row has it (:func:`brush_for_key`); True if
+        ``key`` did."""
         kind = brush_for_key(key)
         if kind is None or self.settings is None or self.dragging:
             return False
@@ -319,9 +329,10 @@ class SculptTools:
                 stepped = moved is not None
                 # the cursor sits where the brush acts: affine brushes at their press point,
                 # labelled so (the ring then stays while the pointer moves away)
-                brush = cast(Brush, self.stroke.brush)
-                if brush.is_affine:
-                    cursor = self.cursor.place(self.stroke.anchor, None, anchored_label(brush.kind))
+                if self.stroke.anchored:
+                    brush = cast(Brush, self.stroke.brush)
+                    label = anchored_label(brush.kind)
+                    cursor = self.cursor.place(self.stroke.anchor, None, label)
                 else:
                     cursor = self.cursor.place(event.point, None)
                 update = ToolUpdate(moved=moved, cursor=cursor)

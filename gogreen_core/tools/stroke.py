@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
-from gogreen_core.brushes import Brush, BrushEvent
+from gogreen_core.brushes import Brush, BrushEvent, brush_row
 from gogreen_core.settings import PenSettings
 from gogreen_core.tools.events import PointerEvent
 
@@ -20,11 +20,12 @@ __all__ = [
     "MIN_PRESSURE_RADIUS",
     "PIXELS_PER_UNIT_AMOUNT",
     "StrokeController",
+    "brush_drag",
     "pressure_radius_factor",
 ]
 
 #: Screen drag (pixels) that makes an affine brush's amount 1 (strain, or radians for twist).
-PIXELS_PER_UNIT_AMOUNT = 250.0
+PIXELS_PER_UNIT_AMOUNT = 100.0
 #: An affine stroke's sign is set once its drag is this long (pixels), and set again when the
 #: drag comes back within it of the press point.
 AFFINE_SIGN_PIXELS = 3.0
@@ -40,6 +41,12 @@ def pressure_radius_factor(pressure: float) -> float:
     p = float(pressure)
     p = 1.0 if not np.isfinite(p) else min(max(p, 0.0), 1.0)
     return max(p, MIN_PRESSURE_RADIUS)
+
+
+def brush_drag(brush: Brush) -> str:
+    """How a drag becomes ``brush``'s events: its row's ``drag`` (one of
+    :data:`gogreen_core.brushes.DRAGS`)."""
+    return brush_row(brush.kind).drag
 
 
 class StrokeController:
@@ -78,6 +85,13 @@ class StrokeController:
         #: Radius factor of the latest pen sample of the stroke (pressure → radius), 1 when
         #: off or between strokes: what the brush cursor draws.
         self.radius_factor = 1.0
+        #: The stroke's :func:`brush_drag`.
+        self._drag = ""
+
+    @property
+    def anchored(self) -> bool:
+        """True during a stroke whose brush stays at the press point (affine brushes)."""
+        return self.brush is not None and self._drag == "anchored"
 
     @property
     def active(self) -> bool:
@@ -102,7 +116,8 @@ class StrokeController:
         self._lazy = (event.screen, self._anchor.copy())
         self._applied = self._anchor.copy()
         self.radius_factor = self._radius_factor(event)
-        if brush.type.family != "paint":
+        self._drag = brush_drag(brush)
+        if self._drag != "sweep":
             return None
         dab = BrushEvent(
             center=self._anchor, amount=self._pressure(event), radius_factor=self.radius_factor
@@ -137,14 +152,14 @@ class StrokeController:
         self._last_screen = event.screen
         pressure = self._pressure(event)
         factor = self._radius_factor(event)
-        if self.brush.is_affine:
+        if self._drag == "anchored":
             return self._affine_event(event, pressure, factor)
         point = np.asarray(event.point, dtype=float)
         delta = point - self._last_point
         if not np.any(delta):
             return None
         center, self._last_point = cast(np.ndarray, self._last_point), point
-        if self.brush.type.family == "paint":  # the swept segment, the pressure apart
+        if self._drag == "sweep":  # the swept segment, the pressure apart
             return BrushEvent(center=center, delta=delta, amount=pressure, radius_factor=factor)
         return BrushEvent(center=center, delta=pressure * delta, radius_factor=factor)
 
