@@ -312,6 +312,93 @@ def test_an_unsuitable_object_is_reported(ico):
         stroke_op("grab", EVENTS)
 
 
+@pytest.mark.parametrize("kind", ["camera", "empty", "none"])
+def test_the_poll_message_says_what_is_wrong(ico, kind):
+    if kind == "none":
+        bpy.context.view_layer.objects.active = None
+        message = "needs an active mesh object"
+    else:
+        add = bpy.ops.object.camera_add if kind == "camera" else bpy.ops.object.empty_add
+        add("EXEC_DEFAULT", True)
+        message = f"sculpts meshes; the active object '{bpy.context.active_object.name}' is a"
+    assert not bpy.ops.gogreen.apply_stroke.poll()
+    with pytest.raises(RuntimeError, match=message):
+        stroke_op("grab", EVENTS)
+
+
+def _set_point_attribute(mesh, name: str, kind: str, values) -> None:
+    attribute = mesh.attributes.get(name) or mesh.attributes.new(name, kind, "POINT")
+    attribute.data.foreach_set("value", np.asarray(values).ravel())
+
+
+def test_blenders_sculpt_mask_and_hidden_vertices_hold(ico):
+    """Blender's own mask (``.sculpt_mask``) and hidden vertices (``.hide_vert``): a vertex
+    moves by (1 - mask) of what it would, a hidden one not at all (in object and sculpt mode)."""
+    bpy.context.scene.gogreen.influence = float("inf")  # every free vertex moves
+    bpy.data.objects.remove(ico)
+    bpy.ops.mesh.primitive_ico_sphere_add("EXEC_DEFAULT", True, subdivisions=4, radius=1.0)
+    ico = bpy.context.active_object  # 642 vertices, as the issue's
+    free = ico.copy()
+    free.data = ico.data.copy()
+    bpy.context.collection.objects.link(free)
+    start = positions(ico)
+    mask = np.where(start[:, 0] > 0.0, 1.0, 0.0).astype(np.float32)  # one half masked
+    partial = np.flatnonzero(start[:, 0] <= 0.0)[::7]
+    mask[partial] = 0.25
+    hidden = (start[:, 2] < -0.6) & (start[:, 0] <= 0.0)
+    _set_point_attribute(ico.data, ".sculpt_mask", "FLOAT", mask)
+    _set_point_attribute(ico.data, ".hide_vert", "BOOLEAN", hidden)
+    assert np.count_nonzero(mask == 1.0) == 320 and hidden.any()
+    stroke_op("grab", EVENTS[:1])  # one event: the held vertices move by exactly (1 - mask)
+    bpy.context.view_layer.objects.active = free
+    stroke_op("grab", EVENTS[:1])
+    moved = positions(ico) - start
+    free_moved = positions(free) - start
+    assert np.all(np.any(free_moved != 0.0, axis=1))  # without the mask every vertex moves
+    assert not np.any(moved[mask == 1.0]) and not np.any(moved[hidden])
+    scaled = partial[~hidden[partial]]
+    np.testing.assert_allclose(moved[scaled], 0.75 * free_moved[scaled], rtol=0, atol=3e-7)
+    # in sculpt mode, with the mask changed between strokes (Blender's mask brush)
+    bpy.context.view_layer.objects.active = ico
+    bpy.ops.object.mode_set("EXEC_DEFAULT", True, mode="SCULPT")
+    _set_point_attribute(ico.data, ".sculpt_mask", "FLOAT", 1.0 - mask)
+    before = positions(ico)
+    stroke_op("grab", EVENTS)
+    moved = positions(ico) - before
+    assert not np.any(moved[mask == 0.0]) and not np.any(moved[hidden])
+    assert np.all(np.any(moved[(mask == 1.0) & ~hidden] != 0.0, axis=1))
+
+
+def test_a_change_made_in_blender_reaches_the_link(ico):
+    """Positions changed outside GoGreen (Blender's brushes, undo) reach the sculptor and the
+    surface index before the next pick or stroke; the link itself is kept."""
+    mesh_access = sub(sys.modules[MODULE], "mesh_access")
+    properties = sub(sys.modules[MODULE], "properties")
+    settings = properties.read_settings(bpy.context.scene, ico)
+    link = mesh_access.link_for(ico, settings)
+    stroke_op("grab", EVENTS[:1])
+    raised = positions(ico)
+    cap = raised[:, 2] > 0.8
+    raised[cap, 2] += 0.5  # as a Blender brush would
+    ico.data.attributes["position"].data.foreach_set("vector", raised.ravel())
+    assert mesh_access.link_for(ico, settings, check_topology=False) is link
+    assert np.array_equal(link.positions, raised)
+    assert np.array_equal(link.sculptor.vertices, raised.astype(np.float64))
+    hit = link.pick(np.array([0.0, 0.0, 5.0]), np.array([0.0, 0.0, -1.0]))
+    assert hit[2] == pytest.approx(raised[cap, 2].max(), abs=0.05)
+    # a stroke from there is what a new sculptor on Blender's positions makes
+    before = positions(ico)
+    stroke_op("twist", EVENTS[1:2])
+    sculptor = Sculptor(before.astype(np.float64), triangles(ico), l_max=settings.l_max)
+    sculptor.origin = np.zeros(3)
+    assert sculptor.model_size != link.model_size  # the link keeps the size it began with
+    # a new topology: a new link
+    bpy.ops.object.mode_set(mode="EDIT")
+    bpy.ops.mesh.subdivide()
+    bpy.ops.object.mode_set(mode="OBJECT")
+    assert mesh_access.link_for(ico, settings) is not link
+
+
 # -- the modal tool ---------------------------------------------------------------------------
 def _view3d(context):
     """The 3D view of Blender's startup screen, as saved (a perspective view from above the
