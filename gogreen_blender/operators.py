@@ -390,29 +390,80 @@ class GOGREEN_OT_hover(bpy.types.Operator):
 
 
 # -- presets --------------------------------------------------------------------------------
-def apply_preset(scene, preset: Preset) -> None:
-    """Set the scene's material, falloff, l_max, wrinkle weights and brush from ``preset``."""
-    s = scene.gogreen
-    s.material_mode = "CUSTOM"
-    s.custom_material = engine.material_to_json(preset.material)
-    s.custom_name = preset.name
-    s.rotation = (0.0, 0.0, 0.0)
+def preset_values(preset: Preset, current_kind: str) -> tuple[dict[str, object], str]:
+    """The scene settings ``preset`` sets, by name, and a note of what it could not (empty
+    when none): a preset of the mask brush keeps ``current_kind`` (Blender paints its own
+    sculpt mask, which GoGreen's strokes respect)."""
     falloff = preset.falloff
+    values: dict[str, object] = {
+        "material_mode": "CUSTOM",
+        "custom_material": engine.material_to_json(preset.material),
+        "custom_name": preset.name,
+        "rotation": (0.0, 0.0, 0.0),
+    }
     if type(falloff) is GaussianRadial:
-        s.falloff = "GAUSSIAN"
+        values["falloff"] = "GAUSSIAN"
     elif type(falloff) is KelvinletRadial:
-        s.falloff = "KELVINLET"
+        values["falloff"] = "KELVINLET"
     else:
-        s.falloff = "CUSTOM"
-        s.custom_falloff = json.dumps(falloff.to_dict())
-    s.l_max = preset.l_max
-    s.degree_weights = json.dumps([float(w) for w in preset.weights])
-    s.brush_weights = json.dumps({k: list(w) for k, w in preset.brush_weights.items()})
+        values["falloff"] = "CUSTOM"
+        values["custom_falloff"] = json.dumps(falloff.to_dict())
+    values["l_max"] = preset.l_max
+    values["degree_weights"] = json.dumps([float(w) for w in preset.weights])
+    values["brush_weights"] = json.dumps({k: list(w) for k, w in preset.brush_weights.items()})
     brush = preset.brush
-    s.brush, s.radius, s.strength = brush.kind, brush.radius, brush.strength
-    s.substeps = brush.substeps
+    if brush.kind not in engine.ADDON_BRUSH_KINDS:
+        label = engine.brush_label(brush.kind)
+        note = (
+            f"the preset's brush is the {label} brush, which GoGreen leaves to Blender (paint "
+            f"with Blender's own Mask brush: GoGreen's strokes respect its mask); the "
+            f"{engine.brush_label(current_kind)} brush stays"
+        )
+        return values, note
+    values.update(brush=brush.kind, radius=brush.radius, strength=brush.strength)
+    values["substeps"] = brush.substeps
     # an automatic influence is stored as 0, an infinite one as the largest float
-    s.influence = 0.0 if brush.auto_influence else brush.influence
+    values["influence"] = 0.0 if brush.auto_influence else brush.influence
+    return values, ""
+
+
+def apply_preset(scene, preset: Preset) -> str:
+    """Set the scene's material, falloff, l_max, weights and brush from ``preset``, all or
+    nothing: a value Blender refuses, or settings that do not make a valid engine setting,
+    leave the scene as it was (ParameterError naming the preset). Returns the note of what it
+    could not set (see :func:`preset_values`), empty when none."""
+    s = scene.gogreen
+    values, note = preset_values(preset, s.brush)
+    saved = {name: _plain(getattr(s, name)) for name in values}
+    try:
+        for name, value in values.items():
+            setattr(s, name, value)
+        properties.read_settings(scene)
+    except (TypeError, ValueError) as exc:
+        for name, value in saved.items():
+            setattr(s, name, value)
+        message = f"preset {preset.name!r} was not applied: {exc}"
+        raise ParameterError("preset", message) from None
+    return note
+
+
+def _plain(value):
+    """A property's value as a plain Python value (vectors as tuples)."""
+    return tuple(value) if hasattr(value, "__len__") and not isinstance(value, str) else value
+
+
+def _applied(operator, context, preset: Preset) -> set[str]:
+    """Apply ``preset`` for ``operator`` and report what it could not set."""
+    try:
+        note = apply_preset(context.scene, preset)
+    except ValueError as exc:
+        return _report_error(operator, exc)
+    compile_status.request_warm_up(context.scene)
+    if note:
+        operator.report({"WARNING"}, f"GoGreen: loaded preset {preset.name!r}; {note}")
+    else:
+        operator.report({"INFO"}, f"GoGreen: loaded preset {preset.name!r}")
+    return {"FINISHED"}
 
 
 def preset_from_scene(scene, name: str) -> Preset:
@@ -463,9 +514,7 @@ class GOGREEN_OT_load_preset(bpy.types.Operator):
         if chosen is None:
             self.report({"ERROR"}, f"GoGreen: no preset named {self.preset!r}")
             return {"CANCELLED"}
-        apply_preset(context.scene, chosen)
-        compile_status.request_warm_up(context.scene)
-        return {"FINISHED"}
+        return _applied(self, context, chosen)
 
 
 class GOGREEN_OT_load_preset_file(bpy.types.Operator, ImportHelper):
@@ -483,10 +532,7 @@ class GOGREEN_OT_load_preset_file(bpy.types.Operator, ImportHelper):
             preset = load_preset(self.filepath)
         except (OSError, ValueError) as exc:
             return _report_error(self, exc)
-        apply_preset(context.scene, preset)
-        compile_status.request_warm_up(context.scene)
-        self.report({"INFO"}, f"GoGreen: loaded preset {preset.name!r}")
-        return {"FINISHED"}
+        return _applied(self, context, preset)
 
 
 class GOGREEN_OT_save_preset(bpy.types.Operator, ExportHelper):

@@ -44,6 +44,7 @@ from gogreen_core import (  # noqa: E402
     homogenize,
     load_preset,
     make_pattern,
+    save_preset,
 )
 from gogreen_core.brushes import default_wrinkle_weights  # noqa: E402
 
@@ -616,6 +617,45 @@ def test_presets_are_shared_with_the_desktop_app(ico, tmp_path):
     broken.write_text('{"format": "gogreen-preset", "material": {}}')
     with pytest.raises(RuntimeError, match=r"broken\.json"):
         bpy.ops.gogreen.load_preset_file(filepath=str(broken))
+
+
+def _scene_settings() -> dict:
+    s = bpy.context.scene.gogreen
+    names = [p.identifier for p in s.bl_rna.properties if p.identifier not in {"rna_type", "name"}]
+    return {name: _plain(getattr(s, name)) for name in names}
+
+
+def test_a_mask_brush_preset_loads_and_keeps_the_brush(ico, tmp_path, capfd):
+    """A preset the desktop app saved with its Mask brush active: everything but the brush
+    applies, the GoGreen brush stays and a message says why (Blender paints its own mask)."""
+    import dataclasses
+
+    wood = {p.name: p for p in builtin_presets()}["Wood grain"]
+    masking = dataclasses.replace(wood, name="Masking", brush=Brush("mask", radius=0.2))
+    path = tmp_path / "masking.json"
+    save_preset(masking, path)
+    s = bpy.context.scene.gogreen
+    s.brush, s.radius = "twist", 0.05
+    assert bpy.ops.gogreen.load_preset_file(filepath=str(path)) == {"FINISHED"}
+    assert s.brush == "twist" and s.radius == pytest.approx(0.05)
+    assert s.material_mode == "CUSTOM" and s.custom_name == "Masking"
+    assert Material.from_dict(json.loads(s.custom_material)) == wood.material
+    assert s.l_max == wood.l_max
+    assert "Mask brush" in capfd.readouterr().out
+    assert stroke_op("SCENE", EVENTS[:1]) == {"FINISHED"}
+
+
+def test_a_preset_applies_all_or_nothing(ico, monkeypatch):
+    properties = sub(sys.modules[MODULE], "properties")
+    before = _scene_settings()
+
+    def refuse(*_args, **_kwargs):
+        raise ValueError("no such material here")
+
+    monkeypatch.setattr(properties, "read_settings", refuse)
+    with pytest.raises(RuntimeError, match="'Wood grain' was not applied: no such material"):
+        bpy.ops.gogreen.load_preset(preset="Wood grain")
+    assert _scene_settings() == before
 
 
 def test_compiling_in_background_mode_is_synchronous(ico):
