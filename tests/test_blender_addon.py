@@ -505,6 +505,57 @@ def test_the_operator_handles_window_events(ico):
     assert sub(sys.modules[MODULE], "drawing").cursor() is None
 
 
+def test_a_stroke_during_compilation_moves_the_mesh(ico, monkeypatch):
+    """Before the kernels are compiled the tool's stroke runs on the engine's NumPy path (as
+    the desktop app's), and the panel says "ready" only once the compiled code is in."""
+    from gogreen_core import _compiled
+
+    module = sys.modules[MODULE]
+    operators, compile_status = sub(module, "operators"), sub(module, "compile_status")
+    # a new machine: nothing compiled in this process, the compiler busy elsewhere
+    monkeypatch.setattr(_compiled, "_ready", set())
+    monkeypatch.setattr(_compiled, "_callbacks", [])
+    monkeypatch.setattr(_compiled, "_mode", lambda: "off")
+    compile_status.forget()
+    context = bpy.context
+    area, region, rv3d = _view3d(context)
+    x, y = view3d_utils.location_3d_to_region_2d(region, rv3d, Vector((0.0, 0.0, 1.0)))
+    op = StandInOperator()
+    start = positions(ico)
+    with context.temp_override(area=area, region=region):
+        assert (
+            operators.GOGREEN_OT_sculpt.begin(op, context, FakeEvent("LEFTMOUSE", "PRESS", x, y))
+            is None
+        )
+        event = operators.input_event
+        op._stroke.handle(event(FakeEvent("MOUSEMOVE", x=x + 12, y=y)))
+        op._stroke.handle(event(FakeEvent("TIMER")))
+        assert op._stroke.handle(event(FakeEvent("LEFTMOUSE", "RELEASE", x + 12, y))) == "FINISHED"
+    assert not op.reports
+    assert np.abs(positions(ico) - start).max() > 0.01  # the stroke moved the mesh
+    assert not _compiled.drivers()  # in NumPy: nothing compiled yet
+    l_max = context.scene.gogreen.l_max
+    assert not compile_status.is_warm(l_max)
+    assert compile_status.status_line().startswith(f"Compiling brush kernels for l_max {l_max}")
+    # the compiled code comes in: only now "ready"
+    ((units, settled),) = _compiled._callbacks
+    assert set(units) >= set(_compiled.units_for(l_max))
+    settled([])
+    assert compile_status.is_warm(l_max)
+    assert compile_status.status_line().startswith(f"Brush kernels ready (l_max {l_max}")
+    compile_status.forget()
+
+
+class StandInOperator:
+    """Stands in for the operator instance Blender would make (its reports recorded)."""
+
+    def __init__(self):
+        self.reports = []
+
+    def report(self, kind, message):
+        self.reports.append((kind, message))
+
+
 def test_invoking_the_tool_off_the_mesh_passes_the_click_through(ico):
     context = bpy.context
     area, region, _rv3d = _view3d(context)
