@@ -74,7 +74,10 @@ class MeshLink:
         self.sculptor: Sculptor = engine.make_sculptor(vertices, faces, settings, history_bytes=1)
         self.index = SurfaceIndex(vertices, faces)
         MeshLink.builds += 1
-        self._touched: list[np.ndarray] = []
+        # the rows the current stroke moved (marks: a union of each event's rows, without the
+        # sort a union of index arrays needs, seconds for a stroke of 20 events on 500k)
+        self._touched = np.zeros(len(self.positions), dtype=np.bool_)
+        self._any_touched = False
 
     @property
     def model_size(self) -> float:
@@ -109,25 +112,25 @@ class MeshLink:
         return None if hit is None else hit[1]
 
     # -- a stroke's writes -------------------------------------------------------------------
-    def moved(self, rows: np.ndarray | None) -> None:
-        """The sculptor moved ``rows`` (None: any row may have): copy them into
-        :attr:`positions` (rounded to float32) for Blender."""
-        vertices = self.sculptor.vertices
-        if rows is None:
-            self.positions[:] = vertices
-            rows = np.arange(len(vertices))
-        elif len(rows):
-            self.positions[rows] = vertices[rows]
-        self._touched.append(np.asarray(rows, dtype=np.int64))
+    def moved(self, rows: np.ndarray) -> None:
+        """The sculptor moved ``rows`` (K,): copy them into :attr:`positions` (rounded to
+        float32) for Blender."""
+        if len(rows):
+            # the whole array: a plain copy (0.5 ms for 500k rows) beats a gather of the rows
+            # (40 ms for 500k, 2.4 ms for 10k); the others hold what they held
+            np.copyto(self.positions, self.sculptor.vertices, casting="same_kind")
+            self._touched[rows] = True
+            self._any_touched = True
 
     def stroke_done(self) -> None:
         """After a stroke ended or was cancelled: :attr:`positions` takes the rows it touched
         from the sculptor (as they ended, or back as they were), the sculptor the float32
         values Blender keeps, the index those rows. The caller writes :attr:`positions`."""
-        if not self._touched:
+        if not self._any_touched:
             return
-        rows = np.unique(np.concatenate(self._touched))
-        self._touched.clear()
+        rows = np.flatnonzero(self._touched)
+        self._touched[rows] = False
+        self._any_touched = False
         self.positions[rows] = self.sculptor.vertices[rows]
         vertices = self.positions.astype(np.float64)
         self.sculptor.adopt_vertices(vertices)
