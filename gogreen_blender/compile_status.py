@@ -1,19 +1,26 @@
-"""Blender's side of the background jobs: kernel warm-up and homogenization, with a status.
+"""Blender's side of the background work: the compiled kernels and homogenization, with a
+status.
 
-numba compiles the brush kernels the first time they run on a machine (tens of seconds; then
-they load from its disk cache in well under a second). With a window, the add-on compiles them
-on a worker thread as soon as it is enabled and whenever l_max changes, and shows the progress
-in the GoGreen panel; the modal tool refuses to start a stroke until they are ready (a message
-says so) instead of freezing the window. In background mode (scripts, tests, render farms)
-nothing runs on its own: a stroke compiles what it needs when it runs, and a homogenization
-runs to its end before the operator returns.
+Strokes never wait for a compiler: until numba's compiled code of an l_max is in, the engine
+runs the same arithmetic in NumPy (``gogreen_core._compiled``: same results bit for bit) and
+asks for the code in the background itself, as in the desktop app. The add-on asks for the
+current l_max's kernels (with the surface index's and the paint brushes' loops) as soon as it
+is enabled and whenever l_max changes, and says "ready" in the GoGreen panel when they are
+compiled or loaded from numba's disk cache (not when a first stroke ran: that one may run in
+NumPy). On a new machine a child process compiles them (tens of seconds, once per machine).
+
+A homogenization (seconds) runs on a worker thread while a timer on the main thread shows its
+progress; in background mode (scripts, tests, render farms) it runs to its end before the
+operator returns.
 """
 
 from __future__ import annotations
 
+import time
+
 import bpy
 
-from gogreen_core import ParameterError
+from gogreen_core import _compiled
 
 from . import engine, properties
 from .jobs import RUNNER, Job
@@ -26,30 +33,67 @@ __all__ = [
     "status_line",
 ]
 
-#: Truncation degrees whose kernels are compiled in this session.
-_warm: set[int] = set()
-#: The last job's outcome for the panel ("Kernels ready (2.1 s)", or an error).
+#: l_max -> when its kernels were asked for (monotonic seconds).
+_requested: dict[int, float] = {}
+#: (l_max, seconds, error) of requests settled on the compiling thread, for the main thread.
+_settled: list[tuple[int, float, str]] = []
+#: The last outcome for the panel ("Brush kernels ready (2.1 s)", or an error).
 _message = ""
 _POLL_SECONDS = 0.2
 
 
+def kernel_units(l_max: int) -> tuple:
+    """The compiled units strokes of ``l_max`` use: the drivers, the angular kernels of its
+    degree, the surface index (picks) and the paint brushes' loops."""
+    return (*_compiled.units_for(int(l_max)), _compiled.GEOMETRY, _compiled.BRUSHES)
+
+
 def is_warm(l_max: int) -> bool:
-    return int(l_max) in _warm
+    """The compiled kernels of ``l_max`` are in use (strokes run at full speed)."""
+    return int(l_max) in _requested and int(l_max) not in _waiting()
 
 
-def mark_warm(l_max: int) -> None:
-    """Strokes of ``l_max`` ran (so its kernels are compiled)."""
-    _warm.add(int(l_max))
+def _waiting() -> set[int]:
+    """l_max values asked for whose kernels are not settled yet."""
+    _deliver()
+    return {l_max for l_max in _requested if l_max not in _done}
+
+
+_done: set[int] = set()
+
+
+def _deliver() -> None:
+    """On the main thread: take the settled requests (the panel's message)."""
+    global _message
+    while _settled:
+        l_max, seconds, error = _settled.pop(0)
+        _done.add(l_max)
+        if error:
+            _message = f"Compiling the brush kernels failed (strokes run in NumPy): {error}"
+        else:
+            _message = f"Brush kernels ready (l_max {l_max}, {seconds:.1f} s)"
 
 
 def last_message() -> str:
+    _deliver()
     return _message
 
 
 def status_line() -> str:
-    """What the panel shows: the running job's progress, else the last outcome."""
+    """What the panel shows: the running job's progress, the compilation, else the last
+    outcome."""
     job = RUNNER.busy
-    return job.status() if job is not None else _message
+    if job is not None:
+        return job.status()
+    waiting = _waiting()
+    if waiting:
+        l_max = max(waiting, key=lambda k: _requested[k])
+        seconds = time.monotonic() - _requested[l_max]
+        return (
+            f"Compiling brush kernels for l_max {l_max} (first use only; strokes run "
+            f"meanwhile): {seconds:.0f} s"
+        )
+    return _message
 
 
 def _redraw() -> None:
@@ -61,10 +105,17 @@ def _redraw() -> None:
 
 
 def _poll() -> float | None:
-    """Timer on the main thread: redraw the progress, deliver a finished job."""
+    """Timer on the main thread: redraw the progress, deliver a finished job or
+    compilation."""
     _redraw()
     RUNNER.poll()
-    return _POLL_SECONDS if RUNNER.current is not None else None
+    busy = RUNNER.current is not None or bool(_waiting())
+    return _POLL_SECONDS if busy else None
+
+
+def _watch() -> None:
+    if not bpy.app.background and not bpy.app.timers.is_registered(_poll):
+        bpy.app.timers.register(_poll, first_interval=_POLL_SECONDS)
 
 
 def _submit(job: Job) -> bool:
@@ -72,48 +123,38 @@ def _submit(job: Job) -> bool:
     if not RUNNER.submit(job, threaded=threaded):
         return False
     if threaded:
-        if not bpy.app.timers.is_registered(_poll):
-            bpy.app.timers.register(_poll, first_interval=_POLL_SECONDS)
+        _watch()
     else:
         RUNNER.poll()
     return True
 
 
 def request_warm_up(scene) -> bool:
-    """Compile the kernels of the scene's settings on a worker thread (with a window only;
-    True if a warm-up started)."""
-    global _message
-    if bpy.app.background or scene is None:
+    """Ask for the compiled kernels of the scene's l_max (True if asked now; returns at once:
+    the compilation runs in the background, strokes run in NumPy meanwhile)."""
+    if scene is None:
         return False
     l_max = int(scene.gogreen.l_max)
-    if is_warm(l_max) or RUNNER.busy is not None:
+    if l_max in _requested:
         return False
-    try:
-        settings = properties.read_settings(scene)
-    except ParameterError:
-        # a bad material or falloff: compile with the engine's defaults (the code is the same)
-        settings = engine.default_settings(l_max)
+    _requested[l_max] = start = time.monotonic()
+    units = kernel_units(l_max)
 
-    def done(job: Job) -> None:
-        global _message
-        if job.error is None:
-            mark_warm(l_max)
-            _message = f"Brush kernels ready (l_max {l_max}, {job.elapsed:.1f} s)"
-        else:
-            _message = f"Compiling the brush kernels failed: {job.error}"
-        _redraw()
+    def settled(failures: list) -> None:  # on the compiling thread
+        error = "; ".join(f"{type(e).__name__}: {e}" for e in failures)
+        _settled.append((l_max, time.monotonic() - start, error))
 
-    _message = ""
-    return _submit(
-        Job(f"Compiling brush kernels for l_max {l_max} (first use only)", _warm_up(settings), done)
-    )
+    _compiled.when_ready(units, settled)
+    _watch()
+    return True
 
 
-def _warm_up(settings):
-    def work(_progress) -> None:
-        engine.warm_up(settings)
-
-    return work
+def compile_now(l_max: int) -> float:
+    """Compile (or load) the kernels of ``l_max`` and wait for them; the seconds it took."""
+    seconds = _compiled.prepare(*kernel_units(l_max))
+    _requested.setdefault(int(l_max), time.monotonic() - seconds)
+    _done.add(int(l_max))
+    return seconds
 
 
 def start_homogenization(scene) -> str | None:
@@ -153,6 +194,13 @@ def register() -> None:
     if not bpy.app.background:
         # after the add-on (and the startup file) finished loading
         bpy.app.timers.register(_start_warm_up, first_interval=1.0)
+
+
+def forget() -> None:
+    """Forget the requests (tests: a fresh start)."""
+    _requested.clear()
+    _settled.clear()
+    _done.clear()
 
 
 def _start_warm_up() -> None:

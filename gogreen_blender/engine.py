@@ -63,7 +63,6 @@ __all__ = [
     "orthotropic_material",
     "rotated_material",
     "stroke",
-    "warm_up",
 ]
 
 #: The engine's brushes the add-on offers: all but the mask brush, whose mask would live for one
@@ -277,11 +276,13 @@ def mirror_axes(x: bool, y: bool, z: bool) -> str:
     return "".join(axis for axis, on in zip("xyz", (x, y, z), strict=True) if on)
 
 
-def make_sculptor(vertices: np.ndarray, faces: np.ndarray, settings: SculptSettings) -> Sculptor:
+def make_sculptor(
+    vertices: np.ndarray, faces: np.ndarray, settings: SculptSettings, **options: int
+) -> Sculptor:
     """A :class:`gogreen_core.Sculptor` on the mesh (object space, float64) with the settings;
-    mirror planes through the object's origin. Its errors (:class:`ParameterError`, a
-    ``ValueError``) name the bad setting."""
-    sculptor = Sculptor(vertices, faces, settings=settings.engine_settings())
+    mirror planes through the object's origin. ``options``: the sculptor's (``history_bytes``).
+    Its errors (:class:`ParameterError`, a ``ValueError``) name the bad setting."""
+    sculptor = Sculptor(vertices, faces, settings=settings.engine_settings(), **options)
     # Blender mirrors sculpting about the object's local axes through its origin
     sculptor.origin = np.zeros(3)
     return sculptor
@@ -312,20 +313,6 @@ def stroke(
     sculptor = make_sculptor(vertices, faces, settings)
     sculptor.apply_brush(settings.brush, events)
     return np.array(sculptor.vertices)
-
-
-def warm_up(settings: SculptSettings, kinds: Sequence[str] = ADDON_BRUSH_KINDS) -> None:
-    """Compile (or load from numba's disk cache) what strokes of these settings run: one tiny
-    mirrored stroke of every brush kind on a small sphere. Seconds to tens of seconds the first
-    time on a machine, well under a second afterwards."""
-    vertices, faces = icosphere(1)
-    top = vertices[int(np.argmax(vertices[:, 2]))]
-    event = BrushEvent(
-        center=top, delta=np.array([0.0, 0.0, 0.01]), amount=0.01, axis=np.array([0, 0, 1.0])
-    )
-    for kind in kinds:
-        brush = Brush(kind, radius=0.3, symmetry="x")
-        stroke(vertices, faces, _with_brush(settings, brush), [event])
 
 
 def default_settings(l_max: int = 8) -> SculptSettings:

@@ -90,6 +90,7 @@ class ModalStroke:
         self.center: np.ndarray | None = None
         self.changed = False
         self.events_applied = 0
+        self._rows: list[np.ndarray] = []  # rows moved since the caller last took them
 
     def _pointer(self, event: InputEvent, point: np.ndarray | None) -> PointerEvent:
         view_dir, screen_x = self.view.axes()
@@ -107,7 +108,12 @@ class ModalStroke:
         point = self.view.pick(event.x, event.y)
         if point is None:
             return False
-        self.controller.press(self._pointer(event, np.asarray(point, dtype=float)), self.brush)
+        rows = self.controller.press(
+            self._pointer(event, np.asarray(point, dtype=float)), self.brush
+        )
+        if rows is not None:  # a paint brush's dab
+            self._rows.append(rows)
+            self.changed = True
         self.center = np.array(point, dtype=float)
         return True
 
@@ -118,6 +124,7 @@ class ModalStroke:
         if moved is not None:
             self.events_applied += 1
             self.changed = True
+            self._rows.append(moved)
             if not self.brush.is_affine:
                 self.center = point  # grab brushes: the grabbed point follows the cursor
 
@@ -154,3 +161,8 @@ class ModalStroke:
         """Whether the vertices moved since the last call (and forget it)."""
         changed, self.changed = self.changed, False
         return changed
+
+    def take_rows(self) -> np.ndarray:
+        """(K,) int64 the rows events moved since the last call (not those a cancel put back)."""
+        rows, self._rows = self._rows, []
+        return np.concatenate(rows) if rows else np.zeros(0, dtype=np.int64)

@@ -7,7 +7,7 @@ Errors in the user's settings or input (a :class:`gogreen_core.ParameterError`, 
 
 from __future__ import annotations
 
-import contextlib
+import dataclasses
 import json
 import time
 from pathlib import Path
@@ -21,6 +21,7 @@ from mathutils import Vector
 from gogreen_core import (
     GaussianRadial,
     KelvinletRadial,
+    ParameterError,
     Preset,
     builtin_presets,
     load_preset,
@@ -51,27 +52,6 @@ _KIND_ITEMS = [("SCENE", "Scene's brush", "The brush chosen in the GoGreen panel
 ]
 
 
-@contextlib.contextmanager
-def _compile_progress(context, settings):
-    """Around an engine call on the main thread that may compile kernels: with a window, the
-    mouse cursor shows progress and the status bar says why Blender waits."""
-    cold = not bpy.app.background and not compile_status.is_warm(settings.l_max)
-    workspace = context.workspace
-    if cold:
-        context.window_manager.progress_begin(0, 1)
-        if workspace is not None:
-            workspace.status_text_set(
-                "GoGreen: compiling the brush kernels (first use only, about 30 s)..."
-            )
-    try:
-        yield
-    finally:
-        if cold:
-            context.window_manager.progress_end()
-            if workspace is not None:
-                workspace.status_text_set(None)
-
-
 class GOGREEN_OT_apply_stroke(bpy.types.Operator):
     """Apply one GoGreen stroke to the active mesh (events in object space), as the tool would"""
 
@@ -90,8 +70,7 @@ class GOGREEN_OT_apply_stroke(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        obj = context.active_object
-        return obj is not None and obj.type == "MESH" and obj.mode in {"OBJECT", "SCULPT"}
+        return _poll_sculptable(cls, context)
 
     def execute(self, context):
         obj = context.active_object
@@ -100,18 +79,23 @@ class GOGREEN_OT_apply_stroke(bpy.types.Operator):
             kind = None if self.kind == "SCENE" else self.kind
             settings = properties.read_settings(context.scene, obj, kind)
             events = engine.events_from_json(self.events)
+            if not events:
+                raise ParameterError("events", "a stroke needs at least one event")
         except ValueError as exc:
             return _report_error(self, exc)
-        RUNNER.wait()  # a background job (compilation, homogenization) ends first
-        vertices, faces = mesh_access.read_mesh(obj.data)
+        RUNNER.wait()  # a background job (homogenization) ends first
         start = time.perf_counter()
-        try:
-            with ENGINE_LOCK, _compile_progress(context, settings):
-                result = engine.stroke(vertices, faces, settings, events)
-        except ValueError as exc:
-            return _report_error(self, exc)
+        with ENGINE_LOCK:
+            link = mesh_access.link_for(obj, settings)
+            try:
+                link.use(settings)
+                link.moved(link.sculptor.apply_brush(settings.brush, events))
+            except ValueError as exc:
+                return _report_error(self, exc)
+            finally:
+                link.stroke_done()
         mesh_access.prepare_undo(obj)
-        mesh_access.write_vertices(obj, result)
+        mesh_access.write_positions(obj, link.positions)
         mesh_access.stroke_done(obj)
         self.report(
             {"INFO"},
@@ -121,27 +105,56 @@ class GOGREEN_OT_apply_stroke(bpy.types.Operator):
         return {"FINISHED"}
 
 
+def _poll_sculptable(cls, context, need_view: bool = False) -> bool:
+    """An operator's poll: a mesh in object or sculpt mode is active (and, with
+    ``need_view``, the mouse is in a 3D view); else Blender shows why not."""
+    if need_view and (context.area is None or context.area.type != "VIEW_3D"):
+        cls.poll_message_set("GoGreen sculpts in a 3D view")
+        return False
+    obj = context.active_object
+    if obj is None:
+        cls.poll_message_set("GoGreen needs an active mesh object: select one")
+        return False
+    if obj.type != "MESH":
+        cls.poll_message_set(f"GoGreen sculpts meshes; the active object {obj.name!r} is a "
+                             f"{obj.type.lower()}")  # fmt: skip
+        return False
+    if obj.mode not in {"OBJECT", "SCULPT"}:
+        cls.poll_message_set("GoGreen sculpts in object or sculpt mode")
+        return False
+    return True
+
+
 class RegionView:
     """:class:`~.modal.View` of a 3D view region on an object (object-space picks)."""
 
-    def __init__(self, context, region, rv3d, obj) -> None:
+    def __init__(self, context, region, rv3d, obj, link) -> None:
         from bpy_extras import view3d_utils
 
         self._utils = view3d_utils
-        self.region, self.rv3d, self.obj = region, rv3d, obj
-        self.depsgraph = context.evaluated_depsgraph_get()
+        self.region, self.rv3d, self.obj, self.link = region, rv3d, obj, link
         self.matrix = obj.matrix_world.copy()
         self.inverse = self.matrix.inverted()
 
     def pick(self, x: float, y: float) -> np.ndarray | None:
+        """The base mesh's surface under (x, y), through the link's surface index (Blender's
+        ``ray_cast`` would rebuild its search tree after every stroke)."""
         origin = self._utils.region_2d_to_origin_3d(self.region, self.rv3d, (x, y))
         direction = self._utils.region_2d_to_vector_3d(self.region, self.rv3d, (x, y))
-        local_origin = self.inverse @ origin
-        local_direction = self.inverse.to_3x3() @ direction
-        hit, location, _normal, _index = self.obj.ray_cast(
-            local_origin, local_direction, depsgraph=self.depsgraph
+        local_origin = np.array(self.inverse @ origin, dtype=float)
+        local_direction = np.array(self.inverse.to_3x3() @ direction, dtype=float)
+        return self.link.pick(local_origin, local_direction)
+
+    def units_per_pixel(self, point: np.ndarray) -> float:
+        """Object-space length of one region pixel at the depth of ``point`` (3,)."""
+        world = self.matrix @ Vector(point)
+        at = self._utils.location_3d_to_region_2d(self.region, self.rv3d, world)
+        if at is None:  # behind the view
+            return 0.0
+        beside = self._utils.region_2d_to_location_3d(
+            self.region, self.rv3d, (at.x + 1.0, at.y), world
         )
-        return np.array(location, dtype=float) if hit else None
+        return float(np.linalg.norm(np.array(self.inverse @ beside) - np.asarray(point)))
 
     def drag_point(self, x: float, y: float, depth: np.ndarray) -> np.ndarray:
         world_depth = self.matrix @ Vector(depth)
@@ -201,21 +214,31 @@ class ObjectStroke:
     engine refuses cancels the stroke (the mesh as before it) and is re-raised.
     """
 
-    def __init__(self, obj, stroke: ModalStroke, view) -> None:
-        self.obj, self.stroke, self.view = obj, stroke, view
+    def __init__(self, obj, stroke: ModalStroke, view, link) -> None:
+        self.obj, self.stroke, self.view, self.link = obj, stroke, view, link
 
     @classmethod
     def begin(cls, context, obj, view, event: InputEvent) -> ObjectStroke | None:
+        """``view``'s link is the object's (:func:`mesh_access.link_for`), synced."""
         mesh_access.check_sculptable(obj)
         settings = properties.read_settings(context.scene, obj)
-        vertices, faces = mesh_access.read_mesh(obj.data)
-        sculptor = engine.make_sculptor(vertices, faces, settings)
-        stroke = ModalStroke(sculptor, settings.brush, view)
+        link = view.link
+        brush = settings.brush
         with ENGINE_LOCK:
+            link.use(settings)
+            if context.scene.gogreen.radius_unit == "VIEW":
+                point = view.pick(event.x, event.y)
+                if point is None:
+                    return None
+                brush = dataclasses.replace(
+                    brush, radius=properties.view_radius(context.scene, view, point, link)
+                )
+            stroke = ModalStroke(link.sculptor, brush, view)
             if not stroke.start(event):
                 return None
         mesh_access.prepare_undo(obj)
-        self = cls(obj, stroke, view)
+        self = cls(obj, stroke, view, link)
+        self._write()  # a paint brush's dab
         self.show_cursor()
         return self
 
@@ -230,17 +253,40 @@ class ObjectStroke:
                 state = self.stroke.handle(event)
         except ValueError:
             self.stroke.cancel()
-            self._write()
+            self._end()
             raise
-        if self.stroke.take_changed():
+        if state in (FINISHED, CANCELLED):
+            self._end()
+            if state == FINISHED:
+                mesh_access.stroke_done(self.obj)
+        elif self.stroke.take_changed():
             self._write()
             self.show_cursor()
-        if state == FINISHED:
-            mesh_access.stroke_done(self.obj)
         return state
 
     def _write(self) -> None:
-        mesh_access.write_vertices(self.obj, self.stroke.sculptor.vertices)
+        """The rows moved since the last write, to the mesh."""
+        rows = self.stroke.take_rows()
+        if len(rows):
+            self.link.moved(rows)
+            mesh_access.write_positions(self.obj, self.link.positions)
+
+    def _end(self) -> None:
+        """The stroke ended or was cancelled: the mesh as the sculptor has it (float32)."""
+        self.link.moved(self.stroke.take_rows())
+        self.link.stroke_done()
+        mesh_access.write_positions(self.obj, self.link.positions)
+
+
+def object_view(context, obj, settings, check_topology: bool = True) -> RegionView | None:
+    """The :class:`RegionView` of the context's 3D view on ``obj``, whose link is in step with
+    the mesh (None outside a 3D view)."""
+    region, rv3d = _window_region(context)
+    if region is None or rv3d is None:
+        return None
+    with ENGINE_LOCK:
+        link = mesh_access.link_for(obj, settings, check_topology)
+    return RegionView(context, region, rv3d, obj, link)
 
 
 def _window_region(context):
@@ -264,46 +310,44 @@ class GOGREEN_OT_sculpt(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        obj = context.active_object
-        return (
-            context.area is not None
-            and context.area.type == "VIEW_3D"
-            and obj is not None
-            and obj.type == "MESH"
-            and obj.mode in {"OBJECT", "SCULPT"}
-        )
+        return _poll_sculptable(cls, context, need_view=True)
 
     def invoke(self, context, event):
+        ended = self.begin(context, event)
+        if ended is not None:
+            return ended
+        wm = context.window_manager
+        self._timer = wm.event_timer_add(TICK_SECONDS, window=context.window)
+        wm.modal_handler_add(self)
+        context.area.tag_redraw()
+        return {"RUNNING_MODAL"}
+
+    def begin(self, context, event) -> set[str] | None:
+        """Start the stroke at the press ``event`` (``self._stroke``); None if it started,
+        else the operator's result."""
         busy = RUNNER.busy
-        if busy is not None:
+        if busy is not None:  # a homogenization (compilation never blocks a stroke)
             self.report({"WARNING"}, f"GoGreen: wait a moment, {busy.status()}")
             return {"CANCELLED"}
-        scene = context.scene
-        if not bpy.app.background and not compile_status.is_warm(scene.gogreen.l_max):
-            compile_status.request_warm_up(scene)
-            self.report(
-                {"WARNING"},
-                "GoGreen: compiling the brush kernels first (once per machine, about 30 s); "
-                "the panel shows the progress",
-            )
-            return {"CANCELLED"}
-        region, rv3d = _window_region(context)
-        if region is None or rv3d is None:
+        # Before the kernels are compiled the engine runs the same arithmetic in NumPy (and
+        # asks for them in the background): a stroke never waits for the compiler.
+        compile_status.request_warm_up(context.scene)
+        obj = context.active_object
+        try:
+            mesh_access.check_sculptable(obj)
+            view = object_view(context, obj, properties.read_settings(context.scene, obj))
+        except ValueError as exc:
+            return _report_error(self, exc)
+        if view is None:
             self.report({"ERROR"}, "GoGreen: sculpt in a 3D view")
             return {"CANCELLED"}
-        obj = context.active_object
-        view = RegionView(context, region, rv3d, obj)
         try:
             self._stroke = ObjectStroke.begin(context, obj, view, input_event(event))
         except ValueError as exc:
             return _report_error(self, exc)
         if self._stroke is None:
             return {"PASS_THROUGH"}  # not on the mesh: let the click do what it would
-        wm = context.window_manager
-        self._timer = wm.event_timer_add(TICK_SECONDS, window=context.window)
-        wm.modal_handler_add(self)
-        context.area.tag_redraw()
-        return {"RUNNING_MODAL"}
+        return None
 
     def modal(self, context, event):
         try:
@@ -328,19 +372,17 @@ class GOGREEN_OT_hover(bpy.types.Operator):
 
     def invoke(self, context, event):
         obj = context.active_object
-        region, rv3d = _window_region(context)
         state = None
-        if obj is not None and obj.type == "MESH" and region is not None and rv3d is not None:
-            view = RegionView(context, region, rv3d, obj)
-            point = view.pick(event.mouse_region_x, event.mouse_region_y)
+        if obj is not None and obj.type == "MESH" and obj.mode in {"OBJECT", "SCULPT"}:
+            try:
+                settings = properties.read_settings(context.scene, obj)
+            except ValueError:  # said at the press; the circle shows the defaults' reach
+                settings = engine.default_settings(context.scene.gogreen.l_max)
+            view = object_view(context, obj, settings, check_topology=False)
+            point = None if view is None else view.pick(event.mouse_region_x, event.mouse_region_y)
             if point is not None:
-                s = context.scene.gogreen
-                corners = np.array(obj.bound_box, dtype=float)
-                size = float(np.linalg.norm(corners.max(axis=0) - corners.min(axis=0)))
-                eps = s.radius * size
-                state = view.cursor(
-                    point, eps, engine.influence_of(properties.read_settings(context.scene)) * eps
-                )
+                eps = properties.eps_at(context.scene, view, point, view.link)
+                state = view.cursor(point, eps, engine.influence_of(settings) * eps)
         if state is not None or drawing.cursor() is not None:
             drawing.set_cursor(state)
             context.area.tag_redraw()
@@ -348,29 +390,80 @@ class GOGREEN_OT_hover(bpy.types.Operator):
 
 
 # -- presets --------------------------------------------------------------------------------
-def apply_preset(scene, preset: Preset) -> None:
-    """Set the scene's material, falloff, l_max, wrinkle weights and brush from ``preset``."""
-    s = scene.gogreen
-    s.material_mode = "CUSTOM"
-    s.custom_material = engine.material_to_json(preset.material)
-    s.custom_name = preset.name
-    s.rotation = (0.0, 0.0, 0.0)
+def preset_values(preset: Preset, current_kind: str) -> tuple[dict[str, object], str]:
+    """The scene settings ``preset`` sets, by name, and a note of what it could not (empty
+    when none): a preset of the mask brush keeps ``current_kind`` (Blender paints its own
+    sculpt mask, which GoGreen's strokes respect)."""
     falloff = preset.falloff
+    values: dict[str, object] = {
+        "material_mode": "CUSTOM",
+        "custom_material": engine.material_to_json(preset.material),
+        "custom_name": preset.name,
+        "rotation": (0.0, 0.0, 0.0),
+    }
     if type(falloff) is GaussianRadial:
-        s.falloff = "GAUSSIAN"
+        values["falloff"] = "GAUSSIAN"
     elif type(falloff) is KelvinletRadial:
-        s.falloff = "KELVINLET"
+        values["falloff"] = "KELVINLET"
     else:
-        s.falloff = "CUSTOM"
-        s.custom_falloff = json.dumps(falloff.to_dict())
-    s.l_max = preset.l_max
-    s.degree_weights = json.dumps([float(w) for w in preset.weights])
-    s.brush_weights = json.dumps({k: list(w) for k, w in preset.brush_weights.items()})
+        values["falloff"] = "CUSTOM"
+        values["custom_falloff"] = json.dumps(falloff.to_dict())
+    values["l_max"] = preset.l_max
+    values["degree_weights"] = json.dumps([float(w) for w in preset.weights])
+    values["brush_weights"] = json.dumps({k: list(w) for k, w in preset.brush_weights.items()})
     brush = preset.brush
-    s.brush, s.radius, s.strength = brush.kind, brush.radius, brush.strength
-    s.substeps = brush.substeps
+    if brush.kind not in engine.ADDON_BRUSH_KINDS:
+        label = engine.brush_label(brush.kind)
+        note = (
+            f"the preset's brush is the {label} brush, which GoGreen leaves to Blender (paint "
+            f"with Blender's own Mask brush: GoGreen's strokes respect its mask); the "
+            f"{engine.brush_label(current_kind)} brush stays"
+        )
+        return values, note
+    values.update(brush=brush.kind, radius=brush.radius, strength=brush.strength)
+    values["substeps"] = brush.substeps
     # an automatic influence is stored as 0, an infinite one as the largest float
-    s.influence = 0.0 if brush.auto_influence else brush.influence
+    values["influence"] = 0.0 if brush.auto_influence else brush.influence
+    return values, ""
+
+
+def apply_preset(scene, preset: Preset) -> str:
+    """Set the scene's material, falloff, l_max, weights and brush from ``preset``, all or
+    nothing: a value Blender refuses, or settings that do not make a valid engine setting,
+    leave the scene as it was (ParameterError naming the preset). Returns the note of what it
+    could not set (see :func:`preset_values`), empty when none."""
+    s = scene.gogreen
+    values, note = preset_values(preset, s.brush)
+    saved = {name: _plain(getattr(s, name)) for name in values}
+    try:
+        for name, value in values.items():
+            setattr(s, name, value)
+        properties.read_settings(scene)
+    except (TypeError, ValueError) as exc:
+        for name, value in saved.items():
+            setattr(s, name, value)
+        message = f"preset {preset.name!r} was not applied: {exc}"
+        raise ParameterError("preset", message) from None
+    return note
+
+
+def _plain(value):
+    """A property's value as a plain Python value (vectors as tuples)."""
+    return tuple(value) if hasattr(value, "__len__") and not isinstance(value, str) else value
+
+
+def _applied(operator, context, preset: Preset) -> set[str]:
+    """Apply ``preset`` for ``operator`` and report what it could not set."""
+    try:
+        note = apply_preset(context.scene, preset)
+    except ValueError as exc:
+        return _report_error(operator, exc)
+    compile_status.request_warm_up(context.scene)
+    if note:
+        operator.report({"WARNING"}, f"GoGreen: loaded preset {preset.name!r}; {note}")
+    else:
+        operator.report({"INFO"}, f"GoGreen: loaded preset {preset.name!r}")
+    return {"FINISHED"}
 
 
 def preset_from_scene(scene, name: str) -> Preset:
@@ -421,9 +514,7 @@ class GOGREEN_OT_load_preset(bpy.types.Operator):
         if chosen is None:
             self.report({"ERROR"}, f"GoGreen: no preset named {self.preset!r}")
             return {"CANCELLED"}
-        apply_preset(context.scene, chosen)
-        compile_status.request_warm_up(context.scene)
-        return {"FINISHED"}
+        return _applied(self, context, chosen)
 
 
 class GOGREEN_OT_load_preset_file(bpy.types.Operator, ImportHelper):
@@ -441,10 +532,7 @@ class GOGREEN_OT_load_preset_file(bpy.types.Operator, ImportHelper):
             preset = load_preset(self.filepath)
         except (OSError, ValueError) as exc:
             return _report_error(self, exc)
-        apply_preset(context.scene, preset)
-        compile_status.request_warm_up(context.scene)
-        self.report({"INFO"}, f"GoGreen: loaded preset {preset.name!r}")
-        return {"FINISHED"}
+        return _applied(self, context, preset)
 
 
 class GOGREEN_OT_save_preset(bpy.types.Operator, ExportHelper):
@@ -495,17 +583,13 @@ class GOGREEN_OT_compile_kernels(bpy.types.Operator):
     bl_label = "Compile GoGreen Kernels"
 
     def execute(self, context):
-        if bpy.app.background:
-            try:
-                settings = properties.read_settings(context.scene)
-            except ValueError as exc:
-                return _report_error(self, exc)
+        l_max = context.scene.gogreen.l_max
+        if bpy.app.background:  # scripts: wait for them
             with ENGINE_LOCK:
-                engine.warm_up(settings)
-            compile_status.mark_warm(settings.l_max)
+                compile_status.compile_now(l_max)
             return {"FINISHED"}
-        if not compile_status.request_warm_up(context.scene):
-            self.report({"INFO"}, f"GoGreen: {compile_status.status_line() or 'kernels ready'}")
+        compile_status.request_warm_up(context.scene)
+        self.report({"INFO"}, f"GoGreen: {compile_status.status_line() or 'kernels ready'}")
         return {"FINISHED"}
 
 

@@ -32,6 +32,11 @@ __all__ = ["GoGreenSettings", "pattern_prop", "read_settings", "register", "unre
 _DEFAULT_BRUSH = Brush()
 #: An influence at least this large means every vertex (math.inf in the engine).
 INFINITE_INFLUENCE = 1e30
+#: How the brush radius is measured: identifier, label, description.
+RADIUS_UNITS = (
+    ("MODEL", "Model", "A fraction of the mesh's bounding-box diagonal (as in the desktop app)"),
+    ("VIEW", "View", "Pixels on screen (Blender's brushes' default)"),
+)
 #: Resolution of the homogenization cell (voxels per side).
 DEFAULT_RESOLUTION = 16
 
@@ -97,6 +102,21 @@ def _settings_class() -> type:
             soft_max=0.5,
             precision=3,
             step=0.5,
+        ),
+        # -- the radius on screen (Blender artists size brushes in pixels) ------------------
+        "radius_unit": EnumProperty(
+            name="Radius Unit",
+            description="How the brush radius is measured",
+            items=RADIUS_UNITS,
+            default="MODEL",
+        ),
+        "radius_pixels": IntProperty(
+            name="Radius",
+            description="Brush radius ε in pixels on screen, at the point where a stroke starts",
+            default=50,
+            min=1,
+            soft_max=500,
+            subtype="PIXEL",
         ),
         "strength": FloatProperty(
             name="Strength",
@@ -291,6 +311,25 @@ def read_settings(scene, obj=None, kind: str | None = None) -> engine.SculptSett
         degree_weights=engine.degree_weights_from(s.degree_weights, l_max),
         brush_weights=engine.brush_weights_from(s.brush_weights, l_max),
     )
+
+
+def eps_at(scene, view, point, link) -> float:
+    """The brush radius ε (object units) for a stroke at ``point`` (3,) in ``view``: the
+    scene's fraction of the model's size, or its pixels at that point's depth."""
+    s = scene.gogreen
+    if s.radius_unit == "VIEW":
+        return s.radius_pixels * view.units_per_pixel(point)
+    return s.radius * link.model_size
+
+
+def view_radius(scene, view, point, link) -> float:
+    """The brush radius as the fraction of the model's size (what the engine takes) that the
+    scene's radius gives at ``point`` (3,) in ``view``; ParameterError when it is none (the
+    point behind the view)."""
+    radius = eps_at(scene, view, point, link) / link.model_size
+    if not radius > 0.0:
+        raise ParameterError("radius", "the brush radius in pixels has no size at this point")
+    return radius
 
 
 def register() -> None:

@@ -52,8 +52,9 @@ class VIEW3D_PT_gogreen_brush(_GoGreenPanel, bpy.types.Panel):
         s = context.scene.gogreen
         layout = self.layout
         layout.prop(s, "brush", text="")
+        layout.row(align=True).prop(s, "radius_unit", expand=True)
         col = layout.column(align=True)
-        col.prop(s, "radius")
+        col.prop(s, _radius_prop(s))
         col.prop(s, "strength")
         col.prop(s, "influence")
         layout.prop(s, "substeps")
@@ -126,10 +127,16 @@ PANELS = (
 )
 
 
+def _radius_prop(s) -> str:
+    """The radius field of the scene's radius unit."""
+    return "radius_pixels" if s.radius_unit == "VIEW" else "radius"
+
+
 def _draw_tool_settings(context, layout, _tool):
     s = context.scene.gogreen
     layout.prop(s, "brush", text="")
-    layout.prop(s, "radius")
+    layout.prop(s, _radius_prop(s))
+    layout.prop(s, "radius_unit", text="")
     layout.prop(s, "strength")
 
 

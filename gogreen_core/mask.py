@@ -19,6 +19,7 @@ from gogreen_core.history import History
 from gogreen_core.mesh_state import MaskRows, MeshState
 from gogreen_core.operations import MaskClear, MaskInvert
 from gogreen_core.session import SessionLog
+from gogreen_core.validation import ParameterError
 
 __all__ = ["Mask"]
 
@@ -61,6 +62,25 @@ class Mask:
         after = MaskRows(before.rows, values)
         mesh.set_mask_rows(after)
         self._history.record(label, _NO_INDICES, _NO_ROWS, _NO_ROWS, state=(before, after))
+
+    def adopt(self, values: np.ndarray) -> np.ndarray:
+        """Take the mask a host application keeps (Blender's sculpt mask): ``values`` (N,) in
+        [0, 1] replace the mask. No undo step and no session record: the host keeps its own
+        undo, and the undo history is cleared when a value changed (its steps would bring back
+        a mask the host no longer has). Returns the indices (K,) int64 of the changed values.
+        ValueError names ``mask`` for a wrong shape or a value outside [0, 1]."""
+        self._refuse("adopt a mask")
+        mask = self._mesh.mask
+        held = np.asarray(values, dtype=np.float64)
+        if held.shape != mask.shape:
+            raise ParameterError("mask", f"mask must have shape {mask.shape} (got {held.shape})")
+        if not np.all((held >= 0.0) & (held <= 1.0)):  # NaN fails too
+            raise ParameterError("mask", "mask values must lie in [0, 1]")
+        rows = np.flatnonzero(held != mask)
+        if len(rows):
+            self._mesh.set_mask_rows(MaskRows(rows, held[rows]))
+            self._history.clear()
+        return rows
 
     def invert(self) -> None:
         """m → 1 − m for every vertex: one undo step."""

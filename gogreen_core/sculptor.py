@@ -231,6 +231,32 @@ class Sculptor:
     def in_stroke(self) -> bool:
         return self._strokes.active
 
+    def adopt_vertices(self, vertices: np.ndarray) -> np.ndarray:
+        """Take positions a host application changed outside the engine (Blender's own
+        brushes, its undo, the rounding of its single precision positions): the rows of
+        ``vertices`` (N, 3) that differ from :attr:`vertices` are written. No undo step and no
+        session record: the host keeps its own undo, and the undo history is cleared when a
+        row changed (its steps would bring back positions the host no longer has). Returns the
+        indices (K,) int64 of the changed rows. Refused during a stroke; ParameterError names
+        ``vertices`` for a wrong shape or a coordinate that is not finite."""
+        self._strokes.refuse("adopt vertices")
+        mesh = self._mesh
+        new = np.asarray(vertices, dtype=np.float64)
+        if new.shape != mesh.vertices.shape:
+            raise ParameterError(
+                "vertices", f"vertices must have shape {mesh.vertices.shape} (got {new.shape})"
+            )
+        changed = new[:, 0] != mesh.vertices[:, 0]
+        for k in (1, 2):
+            changed |= new[:, k] != mesh.vertices[:, k]
+        rows = np.flatnonzero(changed)
+        if not np.all(np.isfinite(new[rows])):
+            raise ParameterError("vertices", "vertices must be finite")
+        if len(rows):
+            mesh.write_rows(rows, new[rows])
+            self.history.clear()
+        return rows
+
     # -- settings ----------------------------------------------------------------------------
     def apply_settings(self, settings: EngineSettings, *, continued: bool = False) -> None:
         """Compute with ``settings`` from now on: for each group of fields that differs, its

@@ -44,6 +44,7 @@ from gogreen_core import (  # noqa: E402
     homogenize,
     load_preset,
     make_pattern,
+    save_preset,
 )
 from gogreen_core.brushes import default_wrinkle_weights  # noqa: E402
 
@@ -312,6 +313,93 @@ def test_an_unsuitable_object_is_reported(ico):
         stroke_op("grab", EVENTS)
 
 
+@pytest.mark.parametrize("kind", ["camera", "empty", "none"])
+def test_the_poll_message_says_what_is_wrong(ico, kind):
+    if kind == "none":
+        bpy.context.view_layer.objects.active = None
+        message = "needs an active mesh object"
+    else:
+        add = bpy.ops.object.camera_add if kind == "camera" else bpy.ops.object.empty_add
+        add("EXEC_DEFAULT", True)
+        message = f"sculpts meshes; the active object '{bpy.context.active_object.name}' is a"
+    assert not bpy.ops.gogreen.apply_stroke.poll()
+    with pytest.raises(RuntimeError, match=message):
+        stroke_op("grab", EVENTS)
+
+
+def _set_point_attribute(mesh, name: str, kind: str, values) -> None:
+    attribute = mesh.attributes.get(name) or mesh.attributes.new(name, kind, "POINT")
+    attribute.data.foreach_set("value", np.asarray(values).ravel())
+
+
+def test_blenders_sculpt_mask_and_hidden_vertices_hold(ico):
+    """Blender's own mask (``.sculpt_mask``) and hidden vertices (``.hide_vert``): a vertex
+    moves by (1 - mask) of what it would, a hidden one not at all (in object and sculpt mode)."""
+    bpy.context.scene.gogreen.influence = float("inf")  # every free vertex moves
+    bpy.data.objects.remove(ico)
+    bpy.ops.mesh.primitive_ico_sphere_add("EXEC_DEFAULT", True, subdivisions=4, radius=1.0)
+    ico = bpy.context.active_object  # 642 vertices, as the issue's
+    free = ico.copy()
+    free.data = ico.data.copy()
+    bpy.context.collection.objects.link(free)
+    start = positions(ico)
+    mask = np.where(start[:, 0] > 0.0, 1.0, 0.0).astype(np.float32)  # one half masked
+    partial = np.flatnonzero(start[:, 0] <= 0.0)[::7]
+    mask[partial] = 0.25
+    hidden = (start[:, 2] < -0.6) & (start[:, 0] <= 0.0)
+    _set_point_attribute(ico.data, ".sculpt_mask", "FLOAT", mask)
+    _set_point_attribute(ico.data, ".hide_vert", "BOOLEAN", hidden)
+    assert np.count_nonzero(mask == 1.0) == 320 and hidden.any()
+    stroke_op("grab", EVENTS[:1])  # one event: the held vertices move by exactly (1 - mask)
+    bpy.context.view_layer.objects.active = free
+    stroke_op("grab", EVENTS[:1])
+    moved = positions(ico) - start
+    free_moved = positions(free) - start
+    assert np.all(np.any(free_moved != 0.0, axis=1))  # without the mask every vertex moves
+    assert not np.any(moved[mask == 1.0]) and not np.any(moved[hidden])
+    scaled = partial[~hidden[partial]]
+    np.testing.assert_allclose(moved[scaled], 0.75 * free_moved[scaled], rtol=0, atol=3e-7)
+    # in sculpt mode, with the mask changed between strokes (Blender's mask brush)
+    bpy.context.view_layer.objects.active = ico
+    bpy.ops.object.mode_set("EXEC_DEFAULT", True, mode="SCULPT")
+    _set_point_attribute(ico.data, ".sculpt_mask", "FLOAT", 1.0 - mask)
+    before = positions(ico)
+    stroke_op("grab", EVENTS)
+    moved = positions(ico) - before
+    assert not np.any(moved[mask == 0.0]) and not np.any(moved[hidden])
+    assert np.all(np.any(moved[(mask == 1.0) & ~hidden] != 0.0, axis=1))
+
+
+def test_a_change_made_in_blender_reaches_the_link(ico):
+    """Positions changed outside GoGreen (Blender's brushes, undo) reach the sculptor and the
+    surface index before the next pick or stroke; the link itself is kept."""
+    mesh_access = sub(sys.modules[MODULE], "mesh_access")
+    properties = sub(sys.modules[MODULE], "properties")
+    settings = properties.read_settings(bpy.context.scene, ico)
+    link = mesh_access.link_for(ico, settings)
+    stroke_op("grab", EVENTS[:1])
+    raised = positions(ico)
+    cap = raised[:, 2] > 0.8
+    raised[cap, 2] += 0.5  # as a Blender brush would
+    ico.data.attributes["position"].data.foreach_set("vector", raised.ravel())
+    assert mesh_access.link_for(ico, settings, check_topology=False) is link
+    assert np.array_equal(link.positions, raised)
+    assert np.array_equal(link.sculptor.vertices, raised.astype(np.float64))
+    hit = link.pick(np.array([0.0, 0.0, 5.0]), np.array([0.0, 0.0, -1.0]))
+    assert hit[2] == pytest.approx(raised[cap, 2].max(), abs=0.05)
+    # a stroke from there is what a new sculptor on Blender's positions makes
+    before = positions(ico)
+    stroke_op("twist", EVENTS[1:2])
+    sculptor = Sculptor(before.astype(np.float64), triangles(ico), l_max=settings.l_max)
+    sculptor.origin = np.zeros(3)
+    assert sculptor.model_size != link.model_size  # the link keeps the size it began with
+    # a new topology: a new link
+    bpy.ops.object.mode_set(mode="EDIT")
+    bpy.ops.mesh.subdivide()
+    bpy.ops.object.mode_set(mode="OBJECT")
+    assert mesh_access.link_for(ico, settings) is not link
+
+
 # -- the modal tool ---------------------------------------------------------------------------
 def _view3d(context):
     """The 3D view of Blender's startup screen, as saved (a perspective view from above the
@@ -319,6 +407,15 @@ def _view3d(context):
     area = next(a for a in context.screen.areas if a.type == "VIEW_3D")
     region = next(r for r in area.regions if r.type == "WINDOW")
     return area, region, area.spaces.active.region_3d
+
+
+def object_view(context, obj):
+    """The operators' view of the startup screen's 3D view on ``obj`` (its link synced)."""
+    module = sys.modules[MODULE]
+    settings = sub(module, "properties").read_settings(context.scene, obj)
+    link = sub(module, "mesh_access").link_for(obj, settings)
+    _area, region, rv3d = _view3d(context)
+    return sub(module, "operators").RegionView(context, region, rv3d, obj, link)
 
 
 class FakeEvent:
@@ -341,7 +438,7 @@ def test_the_modal_stroke_sculpts_through_the_3d_view(ico):
     top = ico.matrix_world @ Vector((0.0, 0.0, 1.0))
     x, y = view3d_utils.location_3d_to_region_2d(region, rv3d, top)
     before = positions(ico)
-    view = operators.RegionView(context, region, rv3d, ico)
+    view = object_view(context, ico)
     event = operators.input_event
     press = event(FakeEvent("LEFTMOUSE", "PRESS", x, y))
     stroke = operators.ObjectStroke.begin(context, ico, view, press)
@@ -379,7 +476,7 @@ def test_the_operator_handles_window_events(ico):
     context = bpy.context
     area, region, rv3d = _view3d(context)
     x, y = view3d_utils.location_3d_to_region_2d(region, rv3d, Vector((0.0, 0.0, 1.0)))
-    view = operators.RegionView(context, region, rv3d, ico)
+    view = object_view(context, ico)
     wm = context.window_manager
 
     class Operator:  # stands in for the operator instance Blender would make
@@ -406,6 +503,57 @@ def test_the_operator_handles_window_events(ico):
     assert op.reports[-1][0] == {"ERROR"} and "delta" in op.reports[-1][1]
     assert np.array_equal(positions(ico), start)
     assert sub(sys.modules[MODULE], "drawing").cursor() is None
+
+
+def test_a_stroke_during_compilation_moves_the_mesh(ico, monkeypatch):
+    """Before the kernels are compiled the tool's stroke runs on the engine's NumPy path (as
+    the desktop app's), and the panel says "ready" only once the compiled code is in."""
+    from gogreen_core import _compiled
+
+    module = sys.modules[MODULE]
+    operators, compile_status = sub(module, "operators"), sub(module, "compile_status")
+    # a new machine: nothing compiled in this process, the compiler busy elsewhere
+    monkeypatch.setattr(_compiled, "_ready", set())
+    monkeypatch.setattr(_compiled, "_callbacks", [])
+    monkeypatch.setattr(_compiled, "_mode", lambda: "off")
+    compile_status.forget()
+    context = bpy.context
+    area, region, rv3d = _view3d(context)
+    x, y = view3d_utils.location_3d_to_region_2d(region, rv3d, Vector((0.0, 0.0, 1.0)))
+    op = StandInOperator()
+    start = positions(ico)
+    with context.temp_override(area=area, region=region):
+        assert (
+            operators.GOGREEN_OT_sculpt.begin(op, context, FakeEvent("LEFTMOUSE", "PRESS", x, y))
+            is None
+        )
+        event = operators.input_event
+        op._stroke.handle(event(FakeEvent("MOUSEMOVE", x=x + 12, y=y)))
+        op._stroke.handle(event(FakeEvent("TIMER")))
+        assert op._stroke.handle(event(FakeEvent("LEFTMOUSE", "RELEASE", x + 12, y))) == "FINISHED"
+    assert not op.reports
+    assert np.abs(positions(ico) - start).max() > 0.01  # the stroke moved the mesh
+    assert not _compiled.drivers()  # in NumPy: nothing compiled yet
+    l_max = context.scene.gogreen.l_max
+    assert not compile_status.is_warm(l_max)
+    assert compile_status.status_line().startswith(f"Compiling brush kernels for l_max {l_max}")
+    # the compiled code comes in: only now "ready"
+    ((units, settled),) = _compiled._callbacks
+    assert set(units) >= set(_compiled.units_for(l_max))
+    settled([])
+    assert compile_status.is_warm(l_max)
+    assert compile_status.status_line().startswith(f"Brush kernels ready (l_max {l_max}")
+    compile_status.forget()
+
+
+class StandInOperator:
+    """Stands in for the operator instance Blender would make (its reports recorded)."""
+
+    def __init__(self):
+        self.reports = []
+
+    def report(self, kind, message):
+        self.reports.append((kind, message))
 
 
 def test_invoking_the_tool_off_the_mesh_passes_the_click_through(ico):
@@ -522,12 +670,50 @@ def test_presets_are_shared_with_the_desktop_app(ico, tmp_path):
         bpy.ops.gogreen.load_preset_file(filepath=str(broken))
 
 
+def _scene_settings() -> dict:
+    s = bpy.context.scene.gogreen
+    names = [p.identifier for p in s.bl_rna.properties if p.identifier not in {"rna_type", "name"}]
+    return {name: _plain(getattr(s, name)) for name in names}
+
+
+def test_a_mask_brush_preset_loads_and_keeps_the_brush(ico, tmp_path, capfd):
+    """A preset the desktop app saved with its Mask brush active: everything but the brush
+    applies, the GoGreen brush stays and a message says why (Blender paints its own mask)."""
+    import dataclasses
+
+    wood = {p.name: p for p in builtin_presets()}["Wood grain"]
+    masking = dataclasses.replace(wood, name="Masking", brush=Brush("mask", radius=0.2))
+    path = tmp_path / "masking.json"
+    save_preset(masking, path)
+    s = bpy.context.scene.gogreen
+    s.brush, s.radius = "twist", 0.05
+    assert bpy.ops.gogreen.load_preset_file(filepath=str(path)) == {"FINISHED"}
+    assert s.brush == "twist" and s.radius == pytest.approx(0.05)
+    assert s.material_mode == "CUSTOM" and s.custom_name == "Masking"
+    assert Material.from_dict(json.loads(s.custom_material)) == wood.material
+    assert s.l_max == wood.l_max
+    assert "Mask brush" in capfd.readouterr().out
+    assert stroke_op("SCENE", EVENTS[:1]) == {"FINISHED"}
+
+
+def test_a_preset_applies_all_or_nothing(ico, monkeypatch):
+    properties = sub(sys.modules[MODULE], "properties")
+    before = _scene_settings()
+
+    def refuse(*_args, **_kwargs):
+        raise ValueError("no such material here")
+
+    monkeypatch.setattr(properties, "read_settings", refuse)
+    with pytest.raises(RuntimeError, match="'Wood grain' was not applied: no such material"):
+        bpy.ops.gogreen.load_preset(preset="Wood grain")
+    assert _scene_settings() == before
+
+
 def test_compiling_in_background_mode_is_synchronous(ico):
     compile_status = sub(sys.modules[MODULE], "compile_status")
     s = bpy.context.scene.gogreen
     s.l_max = 3
-    assert not compile_status.request_warm_up(bpy.context.scene)  # no thread without a window
-    assert bpy.ops.gogreen.compile_kernels() == {"FINISHED"}
+    assert bpy.ops.gogreen.compile_kernels() == {"FINISHED"}  # a script waits for them
     assert compile_status.is_warm(3)
 
 

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from gogreen_core import BRUSH_KINDS, Brush, BrushEvent, Material, ParameterError, Sculptor
+from gogreen_core import Brush, BrushEvent, Material, ParameterError, Sculptor
 from gogreen_core.brushes import default_wrinkle_weights
 from gogreen_core.shapes import icosphere
 from gogreen_core.tools import PIXELS_PER_UNIT_AMOUNT
@@ -420,13 +420,6 @@ def test_mirror_planes_go_through_the_object_origin():
     ]
     assert np.abs(moved).max() > 0.04
     np.testing.assert_allclose(moved[mirror], moved * flip, atol=1e-12)
-
-
-def test_warm_up_runs_every_brush_kind_the_add_on_offers(monkeypatch):
-    seen = []
-    monkeypatch.setattr(engine, "stroke", lambda v, f, s, e: seen.append(s.brush.kind))
-    engine.warm_up(engine.default_settings(2))
-    assert seen == [k for k in BRUSH_KINDS if k != "mask"]  # what the add-on offers
 
 
 def test_ring_points_draw_a_closed_circle_in_the_view_plane():
