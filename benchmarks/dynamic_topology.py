@@ -90,7 +90,7 @@ def remesh_default(repeats: int) -> None:
             sculptor = Sculptor(vertices, faces)
             size = factor * median_edge_length(vertices, faces) / sculptor.model_size
             start = time.perf_counter()
-            sculptor.remesh(size)
+            sculptor.remesher.remesh(size)
             seconds.append(time.perf_counter() - start)
         lengths = sculptor.vertices[mesh_edges(sculptor.faces, len(sculptor.vertices)).ends]
         ratio = np.linalg.norm(lengths[:, 1] - lengths[:, 0], axis=1) / (size * sculptor.model_size)
@@ -129,7 +129,7 @@ def million(meshes: Path) -> None:
     sculptor = Sculptor(vertices, faces)
     size = median_edge_length(vertices, faces) / sculptor.model_size
     start = time.perf_counter()
-    sculptor.remesh(size, iterations=2)
+    sculptor.remesher.remesh(size, iterations=2)
     print(
         f"Remesh of it to its median edge (2 rounds): {time.perf_counter() - start:.1f} s, "
         f"{len(sculptor.vertices):,} vertices"

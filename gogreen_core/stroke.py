@@ -37,12 +37,18 @@ from gogreen_core.history import History
 from gogreen_core.kernel import GreenKernel
 from gogreen_core.kernel_cache import KernelCache
 from gogreen_core.mesh_state import MaskRows, MeshSnapshot, MeshState
-from gogreen_core.operations import Stroke
-from gogreen_core.remesh import grow_region, median_edge_length, remesh, strained_vertices
+from gogreen_core.operations import REMESH_ITERATIONS, Remesh, Stroke
+from gogreen_core.remesh import (
+    grow_region,
+    median_edge_length,
+    remesh,
+    remesh_snapshot,
+    strained_vertices,
+)
 from gogreen_core.session import SessionLog
 from gogreen_core.validation import ParameterError
 
-__all__ = ["DYNAMIC_ITERATIONS", "STRAIN_TOLERANCE", "StrokeDriver", "blend_by_mask"]
+__all__ = ["DYNAMIC_ITERATIONS", "STRAIN_TOLERANCE", "Remesher", "StrokeDriver", "blend_by_mask"]
 
 #: Dynamic topology remeshes where a side of a face changed (as a vector) by more than this
 #: many target lengths since its vertices were last remeshed: a rigid shift strains nothing.
@@ -275,3 +281,30 @@ class StrokeDriver:
             self.mesh.write_rows(None, stroke.before)
             if stroke.mask_before is not None:
                 self.mesh.set_mask_rows(MaskRows(np.arange(len(stroke.before)), stroke.mask_before))
+
+
+class Remesher:
+    """Mesh → Remesh on the mesh of ``strokes`` (whose pins it keeps): one undo step in
+    ``history`` and one :class:`Remesh` record in ``log`` each."""
+
+    def __init__(
+        self, mesh: MeshState, history: History, log: SessionLog, strokes: StrokeDriver
+    ) -> None:
+        self.mesh, self.history, self.log, self.strokes = mesh, history, log, strokes
+
+    def remesh(
+        self, detail_size: float, unmasked_only: bool = False, iterations: int = REMESH_ITERATIONS
+    ) -> None:
+        """Remesh the whole mesh, or its faces not masked, to edges of about ``detail_size``
+        model sizes (:mod:`gogreen_core.remesh`; ``iterations`` rounds), mask and UVs carried
+        along, the pins' vertices kept, the model's size and origin unchanged: one undo step
+        (undo gives back the previous arrays exactly) and one log entry."""
+        self.strokes.refuse("remesh")
+        op = Remesh(detail_size, unmasked_only, iterations)  # checked
+        mesh = self.mesh
+        before = mesh.snapshot()
+        length, locked = op.detail_size * mesh.model_size, self.strokes.pinned_vertices()
+        after = remesh_snapshot(before, length, op.unmasked_only, locked, op.iterations)
+        mesh.adopt(after)
+        self.history.record("remesh", _NO_INDEX, _NO_ROWS, _NO_ROWS, state=(before, after))
+        self.log.record(op)
