@@ -122,15 +122,18 @@ def strained_vertices(
     reference: np.ndarray, vertices: np.ndarray, faces: np.ndarray, tolerance: float
 ) -> np.ndarray:
     """(N,) bool: the corners of faces one of whose sides changed, as a vector, by more than
-    ``tolerance`` (model units) from ``reference`` (N, 3) to ``vertices`` (N, 3): where a
-    motion stretched, sheared or turned the surface (a rigid shift strains nothing)."""
+    ``tolerance`` times its length from ``reference`` (N, 3) to ``vertices`` (N, 3): where a
+    motion stretched, sheared or turned the surface (a rigid shift strains nothing; the measure
+    does not depend on how fine the mesh is)."""
     shift = vertices - reference
-    worst = np.zeros(len(faces))
+    strained = np.zeros(len(faces), dtype=bool)
     for k in range(3):
-        side = shift[faces[:, (k + 1) % 3]] - shift[faces[:, k]]
-        worst = np.maximum(worst, np.einsum("ij,ij->i", side, side))
+        a, b = faces[:, k], faces[:, (k + 1) % 3]
+        change, side = shift[b] - shift[a], reference[b] - reference[a]
+        changed = np.einsum("ij,ij->i", change, change)
+        strained |= changed > tolerance * tolerance * np.einsum("ij,ij->i", side, side)
     out = np.zeros(len(vertices), dtype=bool)
-    out[faces[worst > tolerance * tolerance].ravel()] = True
+    out[faces[strained].ravel()] = True
     return out
 
 
