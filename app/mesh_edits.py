@@ -204,7 +204,7 @@ class MeshEdits(QObject):
         self._job_started = time.perf_counter()
         QGuiApplication.setOverrideCursor(Qt.CursorShape.WaitCursor)
         try:
-            sculptor.remesh(size, unmasked_only)
+            sculptor.remesher.remesh(size, unmasked_only)
         except (ValueError, RuntimeError) as exc:
             self.window.show_error("Cannot remesh", str(exc))
             return

@@ -13,7 +13,8 @@ Prints medians of:
 * with ``../shared/meshes/ogre.obj`` (relative to the checkout): the ogre subdivided twice
   (992,608 vertices), a long pull on its belly (the same brush, 30 events) with and without
   dynamic topology in events per second, and a Remesh of it (two rounds). Skipped, with the
-  reason, when the mesh is absent or with ``--no-million``.
+  reason, when the mesh is absent or with ``--no-million``; ``--million-events``,
+  ``--no-million-remesh`` and ``--million-only`` shorten it.
 
 Figures only, no assertions.
 """
@@ -90,7 +91,7 @@ def remesh_default(repeats: int) -> None:
             sculptor = Sculptor(vertices, faces)
             size = factor * median_edge_length(vertices, faces) / sculptor.model_size
             start = time.perf_counter()
-            sculptor.remesh(size)
+            sculptor.remesher.remesh(size)
             seconds.append(time.perf_counter() - start)
         lengths = sculptor.vertices[mesh_edges(sculptor.faces, len(sculptor.vertices)).ends]
         ratio = np.linalg.norm(lengths[:, 1] - lengths[:, 0], axis=1) / (size * sculptor.model_size)
@@ -103,7 +104,7 @@ def remesh_default(repeats: int) -> None:
         )
 
 
-def million(meshes: Path) -> None:
+def million(meshes: Path, events: int, remesh_too: bool) -> None:
     ogre = meshes / "ogre.obj"
     if not ogre.exists():
         print(f"{ogre} not found: the 1M-vertex figures need ../shared/meshes")
@@ -115,21 +116,23 @@ def million(meshes: Path) -> None:
     vertices, faces = base.vertices.copy(), base.faces.copy()
     normals = vertex_normals(vertices, faces)
     belly = int(np.argmin(vertices[:, 1]))  # the front of the belly (-y)
-    print(f"-- the ogre subdivided twice ({len(vertices):,} vertices), 30-event belly pull")
+    print(f"-- the ogre subdivided twice ({len(vertices):,} vertices), {events}-event belly pull")
     for dynamic in (False, True):
         settings = EngineSettings(material=CUBIC, dynamic_topology=dynamic)
         sculptor = Sculptor(vertices, faces, settings=settings)
-        times = pull(sculptor, belly, normals[belly], 30, 0.01)
+        times = pull(sculptor, belly, normals[belly], events, 0.01)
         name = "dynamic" if dynamic else "fixed"
         steady = times[1:]
         print(
             f"{name:8s} {len(steady) / sum(steady):5.2f} events/s (event median "
             f"{1e3 * statistics.median(steady):6.0f} ms), {len(sculptor.vertices):,} vertices"
         )
+    if not remesh_too:
+        return
     sculptor = Sculptor(vertices, faces)
     size = median_edge_length(vertices, faces) / sculptor.model_size
     start = time.perf_counter()
-    sculptor.remesh(size, iterations=2)
+    sculptor.remesher.remesh(size, iterations=2)
     print(
         f"Remesh of it to its median edge (2 rounds): {time.perf_counter() - start:.1f} s, "
         f"{len(sculptor.vertices):,} vertices"
@@ -143,13 +146,17 @@ def main() -> None:
         "--meshes", default=str(Path(__file__).resolve().parents[2] / "shared" / "meshes")
     )
     parser.add_argument("--no-million", action="store_true", help="skip the 1M-vertex mesh")
+    parser.add_argument("--million-events", type=int, default=30, help="events of its pull")
+    parser.add_argument("--no-million-remesh", action="store_true", help="skip its Remesh")
+    parser.add_argument("--million-only", action="store_true", help="only the 1M-vertex mesh")
     args = parser.parse_args()
-    default_pull(args.repeats)
-    remesh_default(args.repeats)
+    if not args.million_only:
+        default_pull(args.repeats)
+        remesh_default(args.repeats)
     if args.no_million:
         print("the 1M-vertex figures skipped (--no-million)")
     else:
-        million(Path(args.meshes))
+        million(Path(args.meshes), args.million_events, not args.no_million_remesh)
 
 
 if __name__ == "__main__":

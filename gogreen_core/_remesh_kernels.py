@@ -1,5 +1,6 @@
-"""The sequential parts of local isotropic remeshing (:mod:`gogreen_core.remesh`): choosing
-which short edges to collapse and which edges to flip in one pass.
+"""The sequential parts of local isotropic remeshing (:mod:`gogreen_core.remesh`), choosing
+which short edges to collapse and which edges to flip in one pass, and its per-triangle
+arithmetic (nearest points, smallest angles).
 
 Each pass is computed on the connectivity of the pass's start (edges, each vertex's neighbours
 and faces in compressed rows) and picks operations whose neighbourhoods do not overlap (every
@@ -10,10 +11,12 @@ the choice is reproducible bit for bit.
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 from numba import njit
 
-__all__ = ["pick_collapses", "pick_flips"]
+__all__ = ["closest_points_on_triangles", "pick_collapses", "pick_flips", "smallest_angles"]
 
 
 @njit(cache=True, nogil=True, boundscheck=False)
@@ -291,3 +294,58 @@ def pick_flips(
         out[count, 0], out[count, 1], out[count, 2], out[count, 3] = f0, f1, a, b
         count += 1
     return out[:count]
+
+
+def closest_points_on_triangles(
+    points: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The point of triangle (a, b, c) nearest to each of ``points``, all (K, 3): the points
+    (K, 3) and their barycentric coordinates (K, 3) (Ericson, "Real-Time Collision Detection",
+    5.1.5). A degenerate triangle answers with one of its corners or sides."""
+
+    def dot(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+        return cast(np.ndarray, np.einsum("ij,ij->i", u, v))
+
+    ab, ac, ap = b - a, c - a, points - a
+    bp, cp = points - b, points - c
+    d1, d2 = dot(ab, ap), dot(ac, ap)
+    d3, d4 = dot(ab, bp), dot(ac, bp)
+    d5, d6 = dot(ab, cp), dot(ac, cp)
+    va, vb, vc = d3 * d6 - d5 * d4, d5 * d2 - d1 * d6, d1 * d4 - d3 * d2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t_ab = d1 / (d1 - d3)
+        t_ac = d2 / (d2 - d6)
+        t_bc = (d4 - d3) / ((d4 - d3) + (d5 - d6))
+        total = va + vb + vc
+        v_in, w_in = vb / total, vc / total
+    zero, one = np.zeros_like(d1), np.ones_like(d1)
+    cases = [
+        (d1 <= 0) & (d2 <= 0),
+        (d3 >= 0) & (d4 <= d3),
+        (vc <= 0) & (d1 >= 0) & (d3 <= 0),
+        (d6 >= 0) & (d5 <= d6),
+        (vb <= 0) & (d2 >= 0) & (d6 <= 0),
+        (va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0),
+    ]
+    v = np.select(cases, [zero, one, t_ab, zero, zero, 1.0 - t_bc], v_in)
+    w = np.select(cases, [zero, zero, zero, one, t_ac, t_bc], w_in)
+    bad = ~np.isfinite(v) | ~np.isfinite(w)  # a degenerate triangle inside: its first corner
+    v[bad], w[bad] = 0.0, 0.0
+    u = 1.0 - v - w
+    weights = np.stack([u, v, w], axis=1)
+    return a * u[:, None] + b * v[:, None] + c * w[:, None], weights
+
+
+def smallest_angles(corners: np.ndarray) -> np.ndarray:
+    """The smallest angle (degrees) of each triangle of ``corners`` (K, 3, 3): what the
+    remeshing keeps away from 0 (a sliver or a needle has one near it)."""
+    angles = []
+    for k in range(3):
+        u = corners[:, (k + 1) % 3] - corners[:, k]
+        v = corners[:, (k + 2) % 3] - corners[:, k]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            cos = np.einsum("ij,ij->i", u, v) / (
+                np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1)
+            )
+        angles.append(np.degrees(np.arccos(np.clip(np.nan_to_num(cos, nan=1.0), -1.0, 1.0))))
+    return cast(np.ndarray, np.min(angles, axis=0))

@@ -20,6 +20,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from gogreen_core.brushes import Brush, BrushEvent
+from gogreen_core.engine_settings import EngineSettings
 from gogreen_core.limits import MAX_RADIUS, MIN_RADIUS, check_brush_weights, check_detail_size
 from gogreen_core.material import Material
 from gogreen_core.radial import RadialProfile
@@ -38,6 +39,7 @@ from gogreen_core.validation import (
     check_list,
     check_number,
     check_object,
+    prefixed,
 )
 from gogreen_core.validation import (
     field as field_path,
@@ -62,6 +64,7 @@ __all__ = [
     "Subdivide",
     "Undo",
     "operation_from_dict",
+    "settings_record",
 ]
 
 #: Largest constraint index a file may name (far beyond any pin count an artist places).
@@ -379,20 +382,23 @@ class Remesh(Operation):
             data["iterations"] = self.iterations
         return data
 
+    def __post_init__(self) -> None:
+        size = check_detail_size(self.detail_size)
+        if size is None:
+            raise ParameterError("detail_size", "detail_size must be a number (got None)")
+        object.__setattr__(self, "detail_size", size)
+        object.__setattr__(self, "unmasked_only", check_bool("unmasked_only", self.unmasked_only))
+        rounds = check_integer("iterations", self.iterations, low=1, high=MAX_REMESH_ITERATIONS)
+        object.__setattr__(self, "iterations", rounds)
+
     @classmethod
     def from_dict(cls, data: dict[str, Any], path: str) -> Remesh:
-        name = field_path(path, "detail_size")
-        size = check_detail_size(data["detail_size"], name)
-        if size is None:
-            raise ParameterError(name, f"{name} must be a number (got null)")
-        unmasked = check_bool(field_path(path, "unmasked_only"), data.get("unmasked_only", False))
-        iterations = check_integer(
-            field_path(path, "iterations"),
-            data.get("iterations", REMESH_ITERATIONS),
-            low=1,
-            high=MAX_REMESH_ITERATIONS,
-        )
-        return cls(size, unmasked, iterations)
+        with prefixed(path):
+            return cls(
+                data["detail_size"],
+                data.get("unmasked_only", False),
+                data.get("iterations", REMESH_ITERATIONS),
+            )
 
 
 @dataclass(frozen=True)
@@ -444,6 +450,19 @@ OPERATIONS: dict[str, type[Operation]] = {
         Redo,
     )
 }
+
+
+def settings_record(settings: EngineSettings, group: str, continued: bool) -> Operation:
+    """The log record of a change of the settings group named ``group`` (its first field, see
+    :data:`~gogreen_core.engine_settings.SETTING_GROUPS`) to ``settings``."""
+    s = settings
+    if group == "material":
+        return MaterialChange(s.material, continued)
+    if group == "constraint_radius":
+        return ConstraintRadius(s.constraint_radius, continued)
+    if group == "dynamic_topology":
+        return DynamicTopology(s.dynamic_topology, s.detail_size, continued)
+    return FalloffChange(s.falloff, s.l_max, s.degree_weights, continued, s.brush_weights)
 
 
 def operation_from_dict(data: object, path: str = "operation") -> Operation:

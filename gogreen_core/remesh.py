@@ -41,7 +41,13 @@ from typing import cast
 
 import numpy as np
 
-from gogreen_core._remesh_kernels import pick_collapses, pick_flips
+from gogreen_core._remesh_kernels import (
+    closest_points_on_triangles,
+    pick_collapses,
+    pick_flips,
+    smallest_angles,
+)
+from gogreen_core.mesh_state import MeshSnapshot
 from gogreen_core.subdivision import MASK_THRESHOLD, _split_faces, _subdivided_uv
 from gogreen_core.topology import (
     BOUNDARY,
@@ -60,6 +66,7 @@ __all__ = [
     "grow_region",
     "median_edge_length",
     "remesh",
+    "remesh_snapshot",
     "smallest_angles",
     "strained_vertices",
 ]
@@ -102,21 +109,6 @@ def median_edge_length(vertices: np.ndarray, faces: np.ndarray) -> float:
     return float(np.median(np.linalg.norm(vertices[ends[:, 1]] - vertices[ends[:, 0]], axis=1)))
 
 
-def smallest_angles(corners: np.ndarray) -> np.ndarray:
-    """The smallest angle (degrees) of each triangle of ``corners`` (K, 3, 3): what the
-    remeshing keeps away from 0 (a sliver or a needle has one near it)."""
-    angles = []
-    for k in range(3):
-        u = corners[:, (k + 1) % 3] - corners[:, k]
-        v = corners[:, (k + 2) % 3] - corners[:, k]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            cos = np.einsum("ij,ij->i", u, v) / (
-                np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1)
-            )
-        angles.append(np.degrees(np.arccos(np.clip(np.nan_to_num(cos, nan=1.0), -1.0, 1.0))))
-    return cast(np.ndarray, np.min(angles, axis=0))
-
-
 def grow_region(faces: np.ndarray, region: np.ndarray, rings: int = 1) -> np.ndarray:
     """(N,) bool: ``region`` (N,) bool and every vertex within ``rings`` edges of it."""
     grown = np.asarray(region, dtype=bool).copy()
@@ -130,56 +122,19 @@ def strained_vertices(
     reference: np.ndarray, vertices: np.ndarray, faces: np.ndarray, tolerance: float
 ) -> np.ndarray:
     """(N,) bool: the corners of faces one of whose sides changed, as a vector, by more than
-    ``tolerance`` (model units) from ``reference`` (N, 3) to ``vertices`` (N, 3): where a
-    motion stretched, sheared or turned the surface (a rigid shift strains nothing)."""
+    ``tolerance`` times its length from ``reference`` (N, 3) to ``vertices`` (N, 3): where a
+    motion stretched, sheared or turned the surface (a rigid shift strains nothing; the measure
+    does not depend on how fine the mesh is)."""
     shift = vertices - reference
-    worst = np.zeros(len(faces))
+    strained = np.zeros(len(faces), dtype=bool)
     for k in range(3):
-        side = shift[faces[:, (k + 1) % 3]] - shift[faces[:, k]]
-        worst = np.maximum(worst, np.einsum("ij,ij->i", side, side))
+        a, b = faces[:, k], faces[:, (k + 1) % 3]
+        change, side = shift[b] - shift[a], reference[b] - reference[a]
+        changed = np.einsum("ij,ij->i", change, change)
+        strained |= changed > tolerance * tolerance * np.einsum("ij,ij->i", side, side)
     out = np.zeros(len(vertices), dtype=bool)
-    out[faces[worst > tolerance * tolerance].ravel()] = True
+    out[faces[strained].ravel()] = True
     return out
-
-
-def closest_points_on_triangles(
-    points: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """The point of triangle (a, b, c) nearest to each of ``points``, all (K, 3): the points
-    (K, 3) and their barycentric coordinates (K, 3) (Ericson, "Real-Time Collision Detection",
-    5.1.5). A degenerate triangle answers with one of its corners or sides."""
-
-    def dot(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-        return cast(np.ndarray, np.einsum("ij,ij->i", u, v))
-
-    ab, ac, ap = b - a, c - a, points - a
-    bp, cp = points - b, points - c
-    d1, d2 = dot(ab, ap), dot(ac, ap)
-    d3, d4 = dot(ab, bp), dot(ac, bp)
-    d5, d6 = dot(ab, cp), dot(ac, cp)
-    va, vb, vc = d3 * d6 - d5 * d4, d5 * d2 - d1 * d6, d1 * d4 - d3 * d2
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t_ab = d1 / (d1 - d3)
-        t_ac = d2 / (d2 - d6)
-        t_bc = (d4 - d3) / ((d4 - d3) + (d5 - d6))
-        total = va + vb + vc
-        v_in, w_in = vb / total, vc / total
-    zero, one = np.zeros_like(d1), np.ones_like(d1)
-    cases = [
-        (d1 <= 0) & (d2 <= 0),
-        (d3 >= 0) & (d4 <= d3),
-        (vc <= 0) & (d1 >= 0) & (d3 <= 0),
-        (d6 >= 0) & (d5 <= d6),
-        (vb <= 0) & (d2 >= 0) & (d6 <= 0),
-        (va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0),
-    ]
-    v = np.select(cases, [zero, one, t_ab, zero, zero, 1.0 - t_bc], v_in)
-    w = np.select(cases, [zero, zero, zero, one, t_ac, t_bc], w_in)
-    bad = ~np.isfinite(v) | ~np.isfinite(w)  # a degenerate triangle inside: its first corner
-    v[bad], w[bad] = 0.0, 0.0
-    u = 1.0 - v - w
-    weights = np.stack([u, v, w], axis=1)
-    return a * u[:, None] + b * v[:, None] + c * w[:, None], weights
 
 
 class _Patch:
@@ -575,3 +530,30 @@ def _assemble(
     changed[kept[local[patch.closed[:n_local] & keep[local]]]] = True
     changed[n_kept:] = True
     return RemeshedMesh(out_vertices, out_faces, out_mask, out_uv, out_uv_faces, kept, changed)
+
+
+def remesh_snapshot(
+    source: MeshSnapshot,
+    target_length: float,
+    unmasked_only: bool,
+    locked: np.ndarray | None,
+    iterations: int,
+) -> MeshSnapshot:
+    """Mesh → Remesh: the whole mesh of ``source`` (or its faces not masked, corners below
+    :data:`~gogreen_core.subdivision.MASK_THRESHOLD`) remeshed to ``target_length`` (model
+    units) with its mask and UVs; read-only and compact, the after-side of its undo step."""
+    mask = np.asarray(source.mask, dtype=np.float64)
+    region = mask < MASK_THRESHOLD if unmasked_only else np.ones(len(mask), dtype=bool)
+    done = remesh(
+        source.vertices,
+        np.asarray(source.faces, dtype=np.int64),
+        region,
+        target_length,
+        mask=mask,
+        uv=source.uv,
+        uv_faces=None if source.uv_faces is None else np.asarray(source.uv_faces, np.int64),
+        locked=locked,
+        iterations=iterations,
+    )
+    assert done.mask is not None
+    return MeshSnapshot.frozen(done.vertices, done.faces, done.mask, done.uv, done.uv_faces)

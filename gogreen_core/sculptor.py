@@ -38,26 +38,13 @@ from gogreen_core.engine_settings import (
 from gogreen_core.history import History
 from gogreen_core.kernel import EVALUATION, GreenKernel
 from gogreen_core.kernel_cache import KernelCache
-from gogreen_core.limits import MAX_REACH, check_constraint_radius, check_detail_size
+from gogreen_core.limits import MAX_REACH, check_constraint_radius
 from gogreen_core.mask import Mask
 from gogreen_core.material import Material
 from gogreen_core.mesh_state import MaskRows, MeshSnapshot, MeshState
-from gogreen_core.operations import (
-    MAX_REMESH_ITERATIONS,
-    REMESH_ITERATIONS,
-    ConstraintRadius,
-    DynamicTopology,
-    FalloffChange,
-    MaterialChange,
-    Operation,
-    Redo,
-    Remesh,
-    Subdivide,
-    Undo,
-)
+from gogreen_core.operations import Operation, Redo, Subdivide, Undo, settings_record
 from gogreen_core.pins import Pins
 from gogreen_core.radial import GaussianRadial, RadialProfile
-from gogreen_core.remesh import remesh as remesh_mesh
 from gogreen_core.session import (
     RENAMED_BEFORE_3,
     SESSION_FORMAT,
@@ -70,15 +57,9 @@ from gogreen_core.session import (
     replay,
     version_of,
 )
-from gogreen_core.stroke import StrokeDriver
-from gogreen_core.subdivision import MASK_THRESHOLD, PreparedSubdivision, prepare_subdivision
-from gogreen_core.validation import (
-    ParameterError,
-    check_bool,
-    check_integer,
-    check_vector,
-    prefixed,
-)
+from gogreen_core.stroke import Remesher, StrokeDriver
+from gogreen_core.subdivision import PreparedSubdivision, prepare_subdivision
+from gogreen_core.validation import ParameterError, check_bool, check_vector, prefixed
 
 __all__ = [
     "MAX_REACH",
@@ -90,26 +71,9 @@ __all__ = [
 ]
 
 #: Undo label of each settings group (a continued change joins the last of these).
-_LABELS = {
-    "material": "material",
-    "falloff": "falloff",
-    "constraint_radius": "constraint radius",
-    "dynamic_topology": "dynamic topology",
-}
+_LABELS = {group[0]: group[0].replace("_", " ") for group in SETTING_GROUPS}
 _NO_ROWS = np.zeros((0, 3))
 _NO_INDEX = np.zeros(0, dtype=np.int64)
-
-
-def _record(settings: EngineSettings, group: str, continued: bool) -> Operation:
-    """The log record of a change of ``group`` to ``settings``."""
-    if group == "material":
-        return MaterialChange(settings.material, continued)
-    if group == "constraint_radius":
-        return ConstraintRadius(settings.constraint_radius, continued)
-    if group == "dynamic_topology":
-        return DynamicTopology(settings.dynamic_topology, settings.detail_size, continued)
-    s = settings
-    return FalloffChange(s.falloff, s.l_max, s.degree_weights, continued, s.brush_weights)
 
 
 class Sculptor:
@@ -178,6 +142,8 @@ class Sculptor:
         self._strokes = StrokeDriver(self._mesh, self.history, self._log)
         self._pins = Pins(self._mesh, self.history, self._log, lambda: self._kernels)
         self._strokes.pin_points = lambda: self._pins.points  # dynamic topology keeps them
+        #: Mesh → Remesh (:meth:`Remesher.remesh`).
+        self.remesher: Remesher = Remesher(self._mesh, self.history, self._log, self._strokes)
         #: The vertex mask: what holds vertices still under every brush and pin drag.
         self.mask: Mask = Mask(self._mesh, self.history, self._log, self._strokes.refuse)
 
@@ -261,8 +227,8 @@ class Sculptor:
     def apply_settings(self, settings: EngineSettings, *, continued: bool = False) -> None:
         """Compute with ``settings`` from now on: for each group of fields that differs, its
         setter (:meth:`set_material`; :meth:`set_falloff` with l_max and weights;
-        :meth:`set_constraint_radius`), with ``continued``: one undo step per group. What the
-        evented settings model calls."""
+        :meth:`set_constraint_radius`; else :meth:`change_settings`), with ``continued``: one
+        undo step per group. What the evented settings model calls."""
         if not isinstance(settings, EngineSettings):
             raise ParameterError(
                 "settings", f"settings must be EngineSettings (got {type(settings).__name__})"
@@ -275,14 +241,10 @@ class Sculptor:
                 self.set_material(s.material, continued)
             elif group[0] == "falloff":
                 self.set_falloff(s.falloff, s.l_max, s.degree_weights, continued, s.brush_weights)
-            elif group[0] == "dynamic_topology":
-                self.change_settings(
-                    dynamic_topology=s.dynamic_topology,
-                    detail_size=s.detail_size,
-                    continued=continued,
-                )
-            else:
+            elif group[0] == "constraint_radius":
                 self.set_constraint_radius(s.constraint_radius, continued)
+            else:
+                self.change_settings(continued=continued, **{n: getattr(s, n) for n in group})
 
     def change_settings(
         self, *, continued: bool = False, replaying: bool = False, **changes: Any
@@ -318,7 +280,7 @@ class Sculptor:
             return  # nothing to do, nothing to undo
         self._kernels = self._pins.follow(KernelCache(after, self._kernels))
         if not self._settings_undoable:  # a version-1 session: settings were no undo steps
-            self._log.record(_record(after, group[0], continued), replace_last=True)
+            self._log.record(settings_record(after, group[0], continued), replace_last=True)
             return
         last = self.history.undo_labels[-1] if self.history.can_undo else None
         merge = continued and last in _LABELS.values() and not self.history.can_redo
@@ -330,7 +292,7 @@ class Sculptor:
             state=(before, after),
         )
         # A collapsed drag is logged as its last value; the replay makes the same one step.
-        self._log.record(_record(after, group[0], continued), replace_last=merge)
+        self._log.record(settings_record(after, group[0], continued), replace_last=merge)
 
     def set_material(self, material: Material, continued: bool = False) -> None:
         """Use ``material`` for the next operations (see :meth:`change_settings`)."""
@@ -490,46 +452,6 @@ class Sculptor:
         state = (before, prepared.result)
         self.history.record("subdivide", _NO_INDEX, _NO_ROWS, _NO_ROWS, state=state)
         self._log.record(Subdivide(unmasked_only))
-
-    def remesh(
-        self,
-        detail_size: float,
-        unmasked_only: bool = False,
-        *,
-        iterations: int = REMESH_ITERATIONS,
-    ) -> None:
-        """Isotropic remeshing (:mod:`gogreen_core.remesh`) of the whole mesh, or of its faces
-        that are not masked, to edges of about ``detail_size`` model sizes (4/5 to 4/3 of it);
-        the mask and UVs carried along, pins' vertices kept, the model's size and origin
-        unchanged; ``iterations`` rounds of split, collapse, flip and relaxation. One undo step
-        (undo gives back the previous arrays exactly) and one log entry."""
-        self._strokes.refuse("remesh")
-        size = check_detail_size(detail_size)
-        if size is None:
-            raise ParameterError("detail_size", "detail_size must be a number (got None)")
-        unmasked_only = check_bool("unmasked_only", unmasked_only)
-        iterations = check_integer("iterations", iterations, low=1, high=MAX_REMESH_ITERATIONS)
-        mesh = self._mesh
-        before = mesh.snapshot()
-        region = np.ones(len(mesh.vertices), dtype=bool)
-        if unmasked_only:
-            region = mesh.mask < MASK_THRESHOLD
-        done = remesh_mesh(
-            mesh.vertices,
-            mesh.faces,
-            region,
-            size * mesh.model_size,
-            mask=mesh.mask,
-            uv=mesh.uv,
-            uv_faces=mesh.uv_faces,
-            locked=self._strokes.pinned_vertices(),
-            iterations=iterations,
-        )
-        assert done.mask is not None
-        after = MeshSnapshot.frozen(done.vertices, done.faces, done.mask, done.uv, done.uv_faces)
-        mesh.adopt(after)
-        self.history.record("remesh", _NO_INDEX, _NO_ROWS, _NO_ROWS, state=(before, after))
-        self._log.record(Remesh(size, unmasked_only, iterations))
 
     # -- history -----------------------------------------------------------------------------
     def undo(self) -> str | None:

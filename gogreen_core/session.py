@@ -285,7 +285,7 @@ _ACTIONS: dict[type[Operation], Callable[[Sculptor, Any], object]] = {
         continued=op.continued,
         replaying=True,
     ),
-    Remesh: lambda s, op: s.remesh(op.detail_size, op.unmasked_only, iterations=op.iterations),
+    Remesh: lambda s, op: s.remesher.remesh(op.detail_size, op.unmasked_only, op.iterations),
     Undo: lambda s, op: s.undo(),
     Redo: lambda s, op: s.redo(),
 }

@@ -18,7 +18,8 @@ session log, recorded when it ends.
 
 Dynamic topology (``EngineSettings.dynamic_topology``): after each event that moved vertices,
 the faces around the vertices whose sides the stroke strained by more than
-:data:`STRAIN_TOLERANCE` target lengths since they were last remeshed (grown by a ring) are
+:data:`STRAIN_TOLERANCE` of their length since they were last remeshed, or that moved at least
+:data:`CORE_MOTION` of the most any vertex did (the brush's core), grown by a ring, are
 remeshed to the detail size (:mod:`gogreen_core.remesh`), the vertices nearest the pins locked.
 Such a stroke's undo step holds the whole mesh before and after it (as a subdivision's does).
 """
@@ -37,16 +38,31 @@ from gogreen_core.history import History
 from gogreen_core.kernel import GreenKernel
 from gogreen_core.kernel_cache import KernelCache
 from gogreen_core.mesh_state import MaskRows, MeshSnapshot, MeshState
-from gogreen_core.operations import Stroke
-from gogreen_core.remesh import grow_region, median_edge_length, remesh, strained_vertices
+from gogreen_core.operations import REMESH_ITERATIONS, Remesh, Stroke
+from gogreen_core.remesh import (
+    grow_region,
+    median_edge_length,
+    remesh,
+    remesh_snapshot,
+    strained_vertices,
+)
 from gogreen_core.session import SessionLog
 from gogreen_core.validation import ParameterError
 
-__all__ = ["DYNAMIC_ITERATIONS", "STRAIN_TOLERANCE", "StrokeDriver", "blend_by_mask"]
+__all__ = [
+    "CORE_MOTION",
+    "DYNAMIC_ITERATIONS",
+    "STRAIN_TOLERANCE",
+    "Remesher",
+    "StrokeDriver",
+    "blend_by_mask",
+]
 
 #: Dynamic topology remeshes where a side of a face changed (as a vector) by more than this
-#: many target lengths since its vertices were last remeshed: a rigid shift strains nothing.
+#: fraction of its length since its vertices were last remeshed: a rigid shift strains nothing.
 STRAIN_TOLERANCE = 0.1
+#: ... and where a vertex moved at least this fraction of the most any vertex did since.
+CORE_MOTION = 0.25
 #: Rounds of split, collapse, flip and relaxation after each event.
 DYNAMIC_ITERATIONS = 1
 _NO_INDEX = np.zeros(0, dtype=np.int64)
@@ -172,9 +188,12 @@ class StrokeDriver:
         detail = stroke.detail
         if not detail > 0:  # a region of coincident vertices: nothing to measure by
             return False
-        strained = strained_vertices(
-            stroke.reference, mesh.vertices, mesh.faces, STRAIN_TOLERANCE * detail
-        )
+        strained = strained_vertices(stroke.reference, mesh.vertices, mesh.faces, STRAIN_TOLERANCE)
+        # and the brush's core: what moved at least CORE_MOTION of the most any vertex did
+        # (refined to a detail size finer than the surface even where nothing stretches)
+        shift = mesh.vertices - stroke.reference
+        moved2 = np.einsum("ij,ij->i", shift, shift)
+        strained |= (moved2 > 0) & (moved2 >= CORE_MOTION**2 * moved2.max())
         if not strained.any():
             return False
         if stroke.start is None:  # the topology is still the stroke's start's
@@ -276,3 +295,30 @@ class StrokeDriver:
             self.mesh.write_rows(None, stroke.before)
             if stroke.mask_before is not None:
                 self.mesh.set_mask_rows(MaskRows(np.arange(len(stroke.before)), stroke.mask_before))
+
+
+class Remesher:
+    """Mesh → Remesh on the mesh of ``strokes`` (whose pins it keeps): one undo step in
+    ``history`` and one :class:`Remesh` record in ``log`` each."""
+
+    def __init__(
+        self, mesh: MeshState, history: History, log: SessionLog, strokes: StrokeDriver
+    ) -> None:
+        self.mesh, self.history, self.log, self.strokes = mesh, history, log, strokes
+
+    def remesh(
+        self, detail_size: float, unmasked_only: bool = False, iterations: int = REMESH_ITERATIONS
+    ) -> None:
+        """Remesh the whole mesh, or its faces not masked, to edges of about ``detail_size``
+        model sizes (:mod:`gogreen_core.remesh`; ``iterations`` rounds), mask and UVs carried
+        along, the pins' vertices kept, the model's size and origin unchanged: one undo step
+        (undo gives back the previous arrays exactly) and one log entry."""
+        self.strokes.refuse("remesh")
+        op = Remesh(detail_size, unmasked_only, iterations)  # checked
+        mesh = self.mesh
+        before = mesh.snapshot()
+        length, locked = op.detail_size * mesh.model_size, self.strokes.pinned_vertices()
+        after = remesh_snapshot(before, length, op.unmasked_only, locked, op.iterations)
+        mesh.adopt(after)
+        self.history.record("remesh", _NO_INDEX, _NO_ROWS, _NO_ROWS, state=(before, after))
+        self.log.record(op)

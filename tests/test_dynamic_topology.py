@@ -258,7 +258,7 @@ def test_a_session_with_dynamic_topology_and_a_remesh_replays_bit_for_bit():
     pull(sculptor, events=4)
     sculptor.undo()
     sculptor.redo()
-    sculptor.remesh(0.03, iterations=2)
+    sculptor.remesher.remesh(0.03, iterations=2)
     session = json.loads(json.dumps(sculptor.session()))
     ops = [op["op"] for op in session["operations"]]
     assert ops.count("dynamic_topology") == 2 and "remesh" in ops
@@ -295,7 +295,7 @@ def test_mesh_remesh_makes_edges_the_detail_size_and_undoes_exactly():
     sculptor = Sculptor(vertices, faces)
     chi = euler_and_check(vertices, faces)
     size = 0.6 * median_edge_length(vertices, faces) / sculptor.model_size
-    sculptor.remesh(size)
+    sculptor.remesher.remesh(size)
     target = size * sculptor.model_size
     lengths = edge_lengths(sculptor.vertices, sculptor.faces) / target
     assert 0.85 < np.median(lengths) < 1.15
@@ -310,7 +310,7 @@ def test_remesh_of_the_unmasked_part_leaves_the_masked_part_alone():
     sculptor = Sculptor(vertices, faces)
     held = vertices[:, 0] > 0.2
     sculptor._mesh.set_mask_rows(MaskRows(np.flatnonzero(held), np.ones(held.sum())))
-    sculptor.remesh(0.5 * median_edge_length(vertices, faces) / sculptor.model_size, True)
+    sculptor.remesher.remesh(0.5 * median_edge_length(vertices, faces) / sculptor.model_size, True)
     assert len(sculptor.vertices) > len(vertices)
     mask = sculptor.mesh.mask
     kept_held = sculptor.vertices[mask == 1.0]
@@ -335,4 +335,4 @@ def test_settings_round_trip_and_old_files_stay_as_they_were():
     data = json.loads(json.dumps(settings.to_dict()))
     assert EngineSettings.from_dict(data) == settings
     with pytest.raises(ParameterError):
-        Sculptor(*icosphere(2)).remesh(None)  # type: ignore[arg-type]
+        Sculptor(*icosphere(2)).remesher.remesh(None)  # type: ignore[arg-type]

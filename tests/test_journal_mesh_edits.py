@@ -107,7 +107,7 @@ def test_dynamic_topology_strokes_and_a_remesh_are_recovered(mesh, tmp_path):
     assert len(sculptor.faces) != len(mesh.faces)  # the stroke remeshed
     checkpoint(journal)
     stroke(sculptor, 1)
-    sculptor.remesh(0.04)
+    sculptor.remesher.remesh(0.04)
     directory = crash(journal)
     for budget in (0, np.inf):  # from the checkpoint, and from the start
         recovery = recover(directory, budget=budget)
