@@ -593,6 +593,20 @@ def test_truncated_ascii_stl_is_refused_naming_the_line(made_textured, tmp_path)
         load_mesh(write(tmp_path / "gap.stl", "".join(lines)))
 
 
+def test_ascii_stl_numbers_found_by_fuzzing(tmp_path):
+    """A non-finite vertex names its line (not only the safety net's vertex number); digits
+    grouped by '_' read as ASCII PLY reads them (the search for a bad number found none)."""
+    facet = "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex {} 0 0\n"
+    facet += "vertex 0 1 0\nendloop\nendfacet\nendsolid s\n"
+    with pytest.raises(MeshFileError, match=r"^inf\.stl, line 5: the vertex '1e999 0 0' is not"):
+        load_mesh(write(tmp_path / "inf.stl", facet.format("1e999")))
+    assert load_mesh(write(tmp_path / "u.stl", facet.format("1_0"))).vertices[1].tolist() == [
+        10,
+        0,
+        0,
+    ]
+
+
 @pytest.mark.parametrize(
     ("name", "content"),
     [

@@ -19,7 +19,7 @@ from typing import BinaryIO, NoReturn
 import numpy as np
 
 from gogreen_core.mesh_io.data import MeshData, MeshFileError
-from gogreen_core.mesh_io.text import parse_numbers, without_dos_eof
+from gogreen_core.mesh_io.text import is_number, parse_numbers, without_dos_eof
 from gogreen_core.mesh_io.weld import weld
 
 __all__ = ["TRIANGLE", "read_stl", "write_stl"]
@@ -84,14 +84,17 @@ def _ascii_corners(data: bytes, name: str) -> np.ndarray:
     found = _VERTEX.findall(text)
     if not found:
         raise MeshFileError(f"{name}: no triangles could be read (an ASCII STL without facets)")
+    flat = b" ".join(b" ".join(xyz) for xyz in found)
     try:
-        corners = parse_numbers(b" ".join(b" ".join(xyz) for xyz in found), np.float64)
-    except ValueError:
-        bad = next(m for m in _VERTEX.finditer(text) if not _all_numbers(m.groups()))
-        shown = b" ".join(bad.groups()).decode("ascii", "replace")
-        raise MeshFileError(
-            f"{name}, line {_line_of(text, bad.start())}: bad number in the vertex {shown!r}"
-        ) from None
+        corners = parse_numbers(flat, np.float64)
+    except ValueError:  # numbers the C parser does not take ('1_0'), read as ASCII PLY's are
+        bad = next((m for m in _VERTEX.finditer(text) if not _all_numbers(m.groups())), None)
+        if bad is not None:
+            shown = b" ".join(bad.groups()).decode("ascii", "replace")
+            raise MeshFileError(
+                f"{name}, line {_line_of(text, bad.start())}: bad number in the vertex {shown!r}"
+            ) from None
+        corners = np.array([float(t) for t in flat.split()])
     corners = corners.reshape(-1, 3)
     finite = np.isfinite(corners).all(axis=1)
     if not finite.all():
@@ -150,11 +153,7 @@ def _line_of(text: bytes, position: int) -> int:
 
 
 def _all_numbers(tokens: tuple[bytes, ...]) -> bool:
-    try:
-        [float(t) for t in tokens]
-    except ValueError:
-        return False
-    return True
+    return all(is_number(t.decode("ascii", "replace")) for t in tokens)
 
 
 def _welded(corners: np.ndarray, name: str) -> MeshData:
