@@ -308,10 +308,8 @@ class PenSettings(EventedModel):
 
 # -- view --------------------------------------------------------------------------------------
 #: How the viewport shades the model: a matcap (a lit sphere looked up by the view-space normal,
-#: as Blender's and ZBrush's sculpt views) or studio lights (key, fill and back lights).
+#: as in Blender and ZBrush) or studio lights; the matcaps (their pictures: app.matcaps).
 SHADINGS = ("matcap", "studio")
-#: The matcaps (the app makes their pictures, app.matcaps): a grey clay, a red wax, a glossy
-#: dark one and a plain "basic" one.
 MATCAPS = ("clay", "red_wax", "glossy", "basic")
 
 
@@ -328,8 +326,7 @@ def _view_flag(_model: ViewSettings, name: str, value: Any) -> bool:
 
 class ViewSettings(EventedModel):
     """How the viewport shows the model and moves its camera (the View menu; the app keeps
-    them between runs; not part of presets or sessions, which describe the model).
-
+    them between runs; not part of presets or sessions, which describe the model):
     shading : one of :data:`SHADINGS`.
     matcap : one of :data:`MATCAPS`, the picture of the "matcap" shading.
     cavity : tint the surface by its curvature (darker in hollows, lighter on ridges), so that

@@ -166,7 +166,8 @@ def test_screenshot_leaves_the_brush_cursor_out_and_restores_it(window, qtbot, t
     hover(window, center_of(window))
     overlay = vp.cursor_overlay
     state, screen = overlay.state, overlay.screen
-    assert vp.cursor_visible and state.profile is not None  # ring, influence ring, profile
+    # ring and influence ring (the profile is drawn only while F drags the radius)
+    assert vp.cursor_visible and state.profile is not None and not overlay.profile_visible
     on_screen = np.ascontiguousarray(vp.screenshot(return_img=True)[:, :, :3])
     assert cursor_pixels(on_screen) > 100  # what the test looks for is there to find
     qtbot.waitUntil(lambda: not vp.render_pending)
@@ -181,7 +182,7 @@ def test_screenshot_leaves_the_brush_cursor_out_and_restores_it(window, qtbot, t
     qtbot.wait(50)
     assert vp.frames - frames <= 2
     assert overlay.screen == screen and overlay._ring.actor.GetVisibility()
-    assert overlay._profile.actor.GetVisibility() and overlay._influence.actor.GetVisibility()
+    assert not overlay.profile_visible and overlay._influence.actor.GetVisibility()
     # the shot is the view with the cursor hidden
     vp.show_cursor(None)
     vp.render_now()
