@@ -208,9 +208,9 @@ def test_panels_and_engine_follow_the_settings_model(window):
     assert window.document.sculptor.l_max == 6
     window.falloff_panel.weight_spins[2].setValue(3.0)  # R4
     assert (
-        model.weights_for("grab")[4]
+        model.weights_for("grab_local")[4]
         == 3.0
-        == window.document.sculptor.settings.weights_for("grab")[4]
+        == window.document.sculptor.settings.weights_for("grab_local")[4]
     )
     window.brush_bar.radius.setValue(0.2)
     assert model.brush.radius == 0.2
@@ -291,9 +291,11 @@ def test_shortcuts_and_tool_tips_come_from_the_keymap(window):
         assert keyboard[action_id].keys[0].replace("Ctrl+", "") in action.toolTip().replace(
             "Ctrl+", ""
         )
-    grab = window.brush_bar.kind_actions["grab"]
+    grab = window.brush_bar.kind_actions["grab_local"]
     assert [k.toString() for k in grab.shortcuts()] == ["1", "G"]
     assert grab.toolTip().startswith("Grab: the point under the cursor")
+    wide = window.brush_bar.kind_actions["grab"]
+    assert [k.toString() for k in wide.shortcuts()] == ["2", "Shift+G"]
     assert [k.toString() for k in window.keymap_action.shortcuts()] == ["?", "F1"]
     keys = window._shortcut_keys()  # what number fields hand over to the window
     assert all(k in keys for k in grab.shortcuts())

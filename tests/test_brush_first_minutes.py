@@ -132,3 +132,28 @@ def test_every_offered_brush_has_one_row_with_a_fixed_number_key():
     numbers = [row.number for row in BRUSH_ROWS if row.number]
     assert sorted(numbers) == sorted(set(numbers))
     assert {brush_for_key(n) for n in numbers} == {row.kind for row in BRUSH_ROWS if row.number}
+
+
+def test_the_ring_follows_the_radius_without_recomputing_the_field(model, monkeypatch):
+    """The moved region is the same number of ε at any radius: an F drag of the radius (a new
+    radius at every pointer move) scales the ring, it does not sample the field again."""
+    import gogreen_core.tools.sculpt as sculpt
+
+    settings, sculptor, tools = default_tools(model, "1")
+    point, normal, _ = side_point(sculptor)
+    first = tools.cursor.place(point, normal)
+    calls = []
+    real = sculpt.moving_radius
+    monkeypatch.setattr(sculpt, "moving_radius", lambda *a: calls.append(a) or real(*a))
+    for radius in (0.05, 0.06, 0.07):
+        settings.brush.radius = radius
+        state = tools.cursor.place(point, normal)
+        assert state.moving_radius / state.radius == pytest.approx(
+            first.moving_radius / first.radius
+        )
+    assert calls == []
+    settings.brush.kind = "grab"  # another brush: its own field
+    assert tools.cursor.place(point, normal).moving_radius > 5 * settings.brush.brush.eps(
+        sculptor.model_size
+    )
+    assert len(calls) == 1

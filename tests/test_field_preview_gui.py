@@ -61,6 +61,8 @@ def test_the_preview_colours_what_the_brush_would_move_and_goes_during_a_stroke(
     activate(window, qtbot)
     vp = window.viewport
     sculptor = window.document.sculptor
+    # the wide grab (key 1's is sharper: its vertex nearest the cursor moves 0.9 of it)
+    window.model.brush.kind = "grab"
     window.model.brush.influence = 4.0  # a ball smaller than the model: some vertices stay
     assert not window.field_preview.enabled and shown_colors(window) is None
     QTest.keyClick(vp, Qt.Key.Key_V, Qt.KeyboardModifier.ShiftModifier)

@@ -861,3 +861,28 @@ def test_degree_weight_labels_and_hint_are_the_selected_brushs(qtbot, falloff_pa
     assert "folds" in panel.degree_weights.caption.text()
     settings.brush.kind = "grab"
     assert labels()[0] == "R0" and grid.spins[0].accessibleName() == "Degree weight R0"
+
+
+def test_unfolding_rotate_the_result_moves_no_field_under_the_pointer(qtbot, homogenization_panel):
+    """The walkthrough: expanding "Rotate the result" moved the fields under the cursor, and a
+    click meant for one missed ("45" went to the hotkeys)."""
+    from PySide6.QtWidgets import QAbstractSpinBox, QPushButton
+
+    panel = homogenization_panel
+    panel.resize(420, 1200)
+    panel.show()
+    qtbot.waitExposed(panel)
+    section = panel.rotation_section
+    assert not section.expanded
+    widgets = [
+        w
+        for kind in (QAbstractSpinBox, QPushButton)
+        for w in panel.findChildren(kind)
+        if w.isVisible() and not section.isAncestorOf(w)
+    ]
+    assert len(widgets) > 5
+    before = [w.mapTo(panel, w.rect().topLeft()) for w in widgets]
+    section.set_expanded(True)
+    qtbot.wait(10)
+    assert [w.mapTo(panel, w.rect().topLeft()) for w in widgets] == before
+    assert panel.rotation.isVisible()

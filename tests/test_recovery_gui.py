@@ -20,8 +20,8 @@ from gogreen_core.radial import KelvinletRadial
 from gogreen_core.recovery import list_journals
 from gogreen_core.settings import Settings
 
-#: A window that opens a mesh, sculpts (drags, a pin, an undo), saves its vertices, then waits.
-SCULPTING_WINDOW = """
+#: The start of a window script: the window, a mesh opened, kernels and surface ready.
+_WINDOW_READY = """
 import sys, time
 import numpy as np
 sys.path.insert(0, {tests!r})
@@ -29,6 +29,7 @@ from PySide6.QtCore import QSettings, QPoint
 from PySide6.QtWidgets import QApplication
 from gui_helpers import center_of, drag
 from app.main_window import MainWindow
+from gogreen_core.radial import KelvinletRadial
 
 app = QApplication(sys.argv[:1])
 window = MainWindow(QSettings({settings!r}, QSettings.Format.IniFormat))
@@ -38,6 +39,12 @@ assert window.kernel_warmer.wait(120_000)
 while window.viewport.surface_building:
     app.processEvents()
 window.viewport.render()
+"""
+
+#: A window that opens a mesh, sculpts (drags, a pin, an undo), saves its vertices, then waits.
+SCULPTING_WINDOW = (
+    _WINDOW_READY
+    + """
 for k in range(3):
     drag(window, center_of(window) + QPoint(20 * k - 20, 10 * k))
 window.undo()
@@ -52,6 +59,7 @@ assert window.document.journal.flush()
 print("SCULPTED", len(window.document.sculptor.operations), flush=True)
 time.sleep(120)
 """
+)
 
 
 def sculpt_and_kill(
@@ -204,23 +212,9 @@ def test_the_recovery_picture_waits_for_the_first_operation(window):
 
 
 #: A window that sculpts, then changes every setting an artist tunes, then waits to be killed.
-TUNING_WINDOW = """
-import sys, time
-sys.path.insert(0, {tests!r})
-from PySide6.QtCore import QSettings
-from PySide6.QtWidgets import QApplication
-from gui_helpers import center_of, drag
-from app.main_window import MainWindow
-from gogreen_core.radial import KelvinletRadial
-
-app = QApplication(sys.argv[:1])
-window = MainWindow(QSettings({settings!r}, QSettings.Format.IniFormat))
-window.show()
-assert window.files.open_file({mesh!r})
-assert window.kernel_warmer.wait(120_000)
-while window.viewport.surface_building:
-    app.processEvents()
-window.viewport.render()
+TUNING_WINDOW = (
+    _WINDOW_READY
+    + """
 drag(window, center_of(window))
 model = window.model
 model.brush.update(dict(kind="pinch", radius=0.06, strength=1.7, influence=5.0, symmetry="xz"))
@@ -238,6 +232,7 @@ assert window.document.journal.flush()
 print("SCULPTED", len(window.document.sculptor.operations), flush=True)
 time.sleep(120)
 """
+)
 
 
 def test_recovery_brings_back_every_setting(window, qtbot, tmp_path, made_file):

@@ -139,9 +139,12 @@ class HomogenizationPanel(QWidget):
         layout = scrolled_column(self)
         layout.addWidget(self._pattern_group())
         layout.addWidget(self._phase_group())
-        layout.addWidget(self._rotation_group())
+        rotation = self._rotation_group()
         layout.addLayout(self._compute_row())
         layout.addWidget(self._result_group())
+        # last: unfolding it adds its fields below everything else, so nothing moves under
+        # the pointer (above the result it pushed the fields aimed at away)
+        layout.addWidget(rotation)
         layout.addStretch(1)
 
         self._bind()

@@ -34,9 +34,10 @@ PIXELS_PER_STRENGTH = 100.0
 PROFILE_SAMPLES = 48
 #: The cursor's ring shows the region that moves by at least this fraction of the motion.
 MOVING_FRACTION = 0.1
-#: Samples over [0, influence · ε] that :func:`moving_radius` finds the ring on (ε/100 apart
-#: at the multi-scale grabs' influence 4).
-_RING_SAMPLES = 400
+#: Samples over [0, influence · ε] that :func:`moving_radius` finds the ring between, and
+#: samples between the two around it (ε/1000 apart at the multi-scale grabs' influence 4).
+_RING_SAMPLES = 96
+_FINE_SAMPLES = 24
 #: The reach (in ε) searched for the ring of a brush without a finite influence.
 _UNBOUNDED_REACH = 32.0
 
@@ -80,26 +81,38 @@ def moving_radius(
     motion of ``kernel`` at ε = ``eps`` (a grab's, relative to the cursor motion, or for an
     ``anchored`` brush an affine load's, relative to its largest; the largest over 13
     directions, times the smooth cutoff of an ``influence`` of that many ε) is at least that
-    fraction. What the brush cursor's ring shows. With ``kernel``
-    None (a paint brush, or kernels not ready) the cutoff alone."""
+    fraction. What the brush cursor's ring shows. With ``kernel`` None (a paint brush, or
+    kernels not ready) the cutoff alone. Sampled coarsely over the reach, then finely between
+    the two samples around the crossing (~1,600 field evaluations)."""
     reach = influence if np.isfinite(influence) else _UNBOUNDED_REACH
     outer = reach * eps
+
+    def motion(r: np.ndarray) -> np.ndarray:
+        cutoff = smooth_cutoff(r, CUTOFF_START * outer, outer) if np.isfinite(influence) else 1.0
+        relative = np.broadcast_to(cutoff, r.shape).astype(float)
+        if kernel is not None:
+            relative = relative * _motion_envelope(kernel, r, anchored)
+        return relative
+
     r = np.linspace(0.0, outer, _RING_SAMPLES)
-    cutoff = smooth_cutoff(r, CUTOFF_START * outer, outer) if np.isfinite(influence) else 1.0
-    motion = np.broadcast_to(cutoff, r.shape).astype(float)
-    if kernel is not None:
-        motion = motion * _motion_envelope(kernel, r, anchored)
-    peak = float(motion.max())
+    coarse = motion(r)
+    peak = float(coarse.max())
     if not (peak > 0 and np.isfinite(peak)):
         return float(eps)
-    above = np.flatnonzero(motion >= MOVING_FRACTION * peak)
-    last = int(above[-1])
+    level = MOVING_FRACTION * peak
+    last = int(np.flatnonzero(coarse >= level)[-1])
     if last + 1 >= len(r):
         return float(r[-1])
+    fine_r = np.linspace(r[last], r[last + 1], _FINE_SAMPLES)
+    fine = motion(fine_r)
+    above = np.flatnonzero(fine >= level)
+    i = int(above[-1]) if len(above) else 0
+    if i + 1 >= len(fine_r):
+        return float(fine_r[-1])
     # where the motion crosses the level, between the last sample above and the next
-    a, b = motion[last], motion[last + 1]
-    t = (a - MOVING_FRACTION * peak) / (a - b) if a > b else 0.0
-    return float(r[last] + t * (r[last + 1] - r[last]))
+    a, b = fine[i], fine[i + 1]
+    t = (a - level) / (a - b) if a > b else 0.0
+    return float(fine_r[i] + t * (fine_r[i + 1] - fine_r[i]))
 
 
 def _directions() -> np.ndarray:
@@ -110,17 +123,15 @@ def _directions() -> np.ndarray:
 
 
 def _motion_envelope(kernel: GreenKernel, distances: np.ndarray, anchored: bool) -> np.ndarray:
-    """The largest relative motion (n,) at ``distances`` over :func:`_directions`: a unit grab
-    (‖G(r d̂) G(0)⁻¹‖₂, the worst load direction) or an affine load (‖∇G(r d̂)‖, divided by
-    its largest value); so the ring bounds what moves, whichever way the brush pulls."""
+    """The largest motion (n,) at ``distances`` over :func:`_directions`: of a unit grab
+    relative to the cursor's (‖G(r d̂) G(0)⁻¹‖₂, the worst load direction) or of an affine
+    load (‖∇G(r d̂)‖, unnormalized); so the ring bounds what moves, whichever way it pulls."""
     directions = _directions()
     points = (distances[:, None, None] * directions[None]).reshape(-1, 3)
     with threads_at_most(1):
         if anchored:
             values = kernel.green_gradient(points).reshape(len(distances), len(directions), -1)
-            size = np.linalg.norm(values, axis=2).max(axis=1)
-            peak = size.max()
-            return cast(np.ndarray, size / peak if peak > 0 and np.isfinite(peak) else size)
+            return cast(np.ndarray, np.linalg.norm(values, axis=2).max(axis=1))
         green = kernel.green(points).reshape(len(distances), len(directions), 3, 3)
         centre = kernel.green(np.zeros((1, 3)))[0]
     try:

@@ -113,8 +113,10 @@ class SculptTools:
         )
         self._profile_key: tuple[Any, ...] | None = None
         self._profile: np.ndarray | None = None
-        #: The cached profile's moving radius (:func:`moving_radius`) in units of its ε.
+        #: The cached profile's moving radius (:func:`moving_radius`) in units of its ε, and
+        #: what it was computed for.
         self._moving_ratio = 1.0
+        self._moving_key: tuple[Any, ...] | None = None
         self._profile_settings: EngineSettings | None = None
         self.set_sculptor(sculptor)
 
@@ -170,15 +172,20 @@ class SculptTools:
         key = (id(self.sculptor), brush.kind, brush.influence, eps, ready)
         if key != self._profile_key or settings is not self._profile_settings:
             influence = self._cursor_influence()
+            # the moved region in units of ε: the same at any ε (the kernel only scales), so an
+            # F drag of the radius does not recompute it (~0.1 s) at every pointer move
+            moving_key = (key[:3], ready, settings)
             anchored = brush_row(brush.kind).drag == "anchored"
             try:
                 kernel = self.sculptor.kernel(brush) if ready else None
                 self._profile = brush_profile(kernel, influence, eps)
-                moving = moving_radius(kernel, influence, eps, anchored)
+                if moving_key != self._moving_key:
+                    moving = moving_radius(kernel, influence, eps, anchored)
+                    self._moving_ratio = moving / eps if eps > 0 else 1.0
             except (ValueError, RuntimeError, np.linalg.LinAlgError):
                 self._profile = brush_profile(None, influence, eps)
-                moving = moving_radius(None, influence, eps)
-            self._moving_ratio = moving / eps if eps > 0 else 1.0
+                self._moving_ratio = moving_radius(None, influence, 1.0)
+            self._moving_key = moving_key
             self._profile_key, self._profile_settings = key, settings
         return self._profile
 
