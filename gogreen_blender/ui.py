@@ -143,6 +143,17 @@ def _draw_tool_settings(context, layout, _tool):
 _KEYMAP = (
     ("gogreen.sculpt", {"type": "LEFTMOUSE", "value": "PRESS", "any": True}, None),
     ("gogreen.hover", {"type": "MOUSEMOVE", "value": "ANY", "any": True}, None),
+    # as in Blender's sculpt mode: F the radius, Shift+F the strength
+    (
+        "gogreen.radial_control",
+        {"type": "F", "value": "PRESS"},
+        {"properties": [("target", "RADIUS")]},
+    ),
+    (
+        "gogreen.radial_control",
+        {"type": "F", "value": "PRESS", "shift": True},
+        {"properties": [("target", "STRENGTH")]},
+    ),
 )
 
 
@@ -156,7 +167,8 @@ def _tool_class(mode: str) -> type:
             "bl_idname": TOOL_ID,
             "bl_label": "GoGreen Sculpt",
             "bl_description": "Elastic sculpting with any material: drag on the mesh "
-            "(Ctrl inverts, Esc or right click cancels the stroke)",
+            "(Ctrl inverts, Esc or right click cancels the stroke); F sets the radius, Shift+F "
+            "the strength",
             "bl_icon": "brush.uv_sculpt.grab",
             "bl_keymap": _KEYMAP,
             "draw_settings": staticmethod(_draw_tool_settings),

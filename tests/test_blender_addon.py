@@ -589,6 +589,45 @@ def test_a_second_stroke_on_a_500k_mesh_starts_without_a_stall(addon):
     print(f"\n500k-vertex UV sphere: first press {first:.3f} s, second press {second:.3f} s")
 
 
+@pytest.mark.parametrize("unit", ["VIEW", "MODEL"])
+def test_f_sets_the_radius_on_screen_and_shift_f_the_strength(ico, unit):
+    """The tool's F / Shift+F (as in Blender's sculpt mode): a drag sets the value, a click
+    keeps it, Esc puts it back; the radius in pixels, or as the model fraction whose circle
+    the drag draws at the surface under the mouse."""
+    module = sys.modules[MODULE]
+    operators, ui = sub(module, "operators"), sub(module, "ui")
+    keys = {(op, event["type"], event.get("shift", False)) for op, event, _ in ui._KEYMAP}
+    assert {("gogreen.radial_control", "F", False), ("gogreen.radial_control", "F", True)} <= keys
+    s = bpy.context.scene.gogreen
+    s.radius_unit, s.radius_pixels, s.radius, s.strength = unit, 40, 0.1, 0.5
+    context = bpy.context
+    area, region, rv3d = _view3d(context)
+    x, y = view3d_utils.location_3d_to_region_2d(region, rv3d, Vector((0.0, 0.0, 1.0)))
+    modal = operators.GOGREEN_OT_radial_control.modal
+
+    def drag(target: str, dx: float, end: str):
+        op = StandInOperator()
+        op.target = target
+        with context.temp_override(area=area, region=region):
+            operators.GOGREEN_OT_radial_control.start(op, context, FakeEvent("F", "PRESS", x, y))
+            assert modal(op, context, FakeEvent("MOUSEMOVE", x=x + dx, y=y)) == {"RUNNING_MODAL"}
+            return op, modal(op, context, FakeEvent(end, "PRESS"))
+
+    op, state = drag("RADIUS", 20, "LEFTMOUSE")
+    assert state == {"FINISHED"}
+    if unit == "VIEW":
+        assert s.radius_pixels == 60 and s.radius == pytest.approx(0.1)
+    else:  # the circle was the model radius on screen: 20 pixels more
+        first = op._control.initial * op._control.scale
+        assert s.radius_pixels == 40 and op._control.pixels == pytest.approx(first + 20.0)
+        assert s.radius == pytest.approx(0.1 * (first + 20.0) / first, rel=1e-5)
+    radius = (s.radius_pixels, s.radius)
+    assert drag("RADIUS", 50, "ESC")[1] == {"CANCELLED"}
+    assert (s.radius_pixels, s.radius) == radius
+    assert drag("STRENGTH", 40, "RET")[1] == {"FINISHED"}
+    assert s.strength == pytest.approx(0.7)  # 200 pixels a unit of strength
+
+
 class StandInOperator:
     """Stands in for the operator instance Blender would make (its reports recorded)."""
 
