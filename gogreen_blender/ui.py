@@ -30,8 +30,10 @@ class VIEW3D_PT_gogreen(_GoGreenPanel, bpy.types.Panel):
                 layout.progress(factor=job.progress, type="BAR", text=job.status())
             else:
                 layout.label(text=job.status(), icon="TIME")
-        elif compile_status.last_message():
-            layout.label(text=compile_status.last_message(), icon="INFO")
+        elif compile_status.status_line():  # the compilation, else the last outcome
+            compiling = not compile_status.is_warm(context.scene.gogreen.l_max)
+            icon = "TIME" if compiling else "INFO"
+            layout.label(text=compile_status.status_line(), icon=icon)
         row = layout.row(align=True)
         row.operator("wm.tool_set_by_id", text="Sculpt Tool", icon="BRUSH_DATA").name = TOOL_ID
         row.operator("gogreen.compile_kernels", text="", icon="FILE_REFRESH")
