@@ -92,6 +92,10 @@ class MeshLink:
         (N,)): the rows that changed since the link last saw them go to the sculptor and the
         index. Returns how many rows changed."""
         positions = np.asarray(positions, dtype=np.float32).reshape(-1, 3)
+        if self.sculptor.in_stroke:  # its operator ended without a release: Blender's rows hold
+            self.sculptor.cancel_stroke()
+            self._touched[:] = False
+            self._any_touched = False
         if held is not None:
             self.sculptor.mask.adopt(held)
         if np.array_equal(positions, self.positions):
