@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["CursorState", "cursor", "draw_cursor", "ring_points", "set_cursor"]
+__all__ = ["CursorState", "cursor", "draw_cursor", "draw_radial", "ring_points", "set_cursor"]
 
 #: Identifier of the GoGreen Sculpt tool (the circle shows while it is active).
 TOOL_ID = "gogreen.sculpt_tool"
@@ -87,4 +87,23 @@ def draw_cursor() -> None:
         shader.uniform_float("lineWidth", width)
         shader.uniform_float("color", color)
         batch.draw(shader)
+    gpu.state.blend_set("NONE")
+
+
+def draw_radial(control) -> None:
+    """SpaceView3D POST_PIXEL draw handler of an F / Shift+F drag: its circle in region
+    pixels (a :class:`~.radial.RadialControl`)."""
+    import gpu
+    from gpu_extras.batch import batch_for_shader
+
+    shader = gpu.shader.from_builtin("POLYLINE_UNIFORM_COLOR")
+    viewport = gpu.state.viewport_get()
+    shader.uniform_float("viewportSize", (viewport[2], viewport[3]))
+    gpu.state.blend_set("ALPHA")
+    center = np.array([control.center[0], control.center[1], 0.0])
+    points = ring_points(center, np.array([1.0, 0, 0]), np.array([0, 1.0, 0]), control.pixels)
+    batch = batch_for_shader(shader, "LINE_STRIP", {"pos": points[:, :2].astype(np.float32)})
+    shader.uniform_float("lineWidth", 2.0)
+    shader.uniform_float("color", RING_COLOR)
+    batch.draw(shader)
     gpu.state.blend_set("NONE")

@@ -92,9 +92,14 @@ class MeshLink:
         (N,)): the rows that changed since the link last saw them go to the sculptor and the
         index. Returns how many rows changed."""
         positions = np.asarray(positions, dtype=np.float32).reshape(-1, 3)
+        left_open = self.sculptor.in_stroke  # its operator ended without a release
+        if left_open:  # Blender's rows hold: the sculptor takes them below
+            self.sculptor.cancel_stroke()
+            self._touched[:] = False
+            self._any_touched = False
         if held is not None:
             self.sculptor.mask.adopt(held)
-        if np.array_equal(positions, self.positions):
+        if not left_open and np.array_equal(positions, self.positions):
             return 0
         self.positions[:] = positions
         vertices = positions.astype(np.float64)

@@ -28,7 +28,7 @@ from gogreen_core import (
     save_preset,
 )
 
-from . import compile_status, drawing, engine, mesh_access, properties
+from . import compile_status, drawing, engine, mesh_access, properties, radial
 from .jobs import ENGINE_LOCK, RUNNER
 from .modal import CANCELLED, FINISHED, RUNNING, InputEvent, ModalStroke
 
@@ -389,6 +389,72 @@ class GOGREEN_OT_hover(bpy.types.Operator):
         return {"PASS_THROUGH"}
 
 
+class GOGREEN_OT_radial_control(bpy.types.Operator):
+    """Drag the GoGreen brush's radius (F) or strength (Shift+F) on screen: click or Enter
+    keeps it, Esc or right click puts it back"""
+
+    bl_idname = "gogreen.radial_control"
+    bl_label = "GoGreen Radius / Strength"
+    bl_options = {"REGISTER", "UNDO", "BLOCKING"}
+
+    target: EnumProperty(
+        name="Set",
+        items=[("RADIUS", "Radius", "The brush radius"), ("STRENGTH", "Strength", "")],
+    )
+
+    @classmethod
+    def poll(cls, context):
+        return _poll_sculptable(cls, context, need_view=True)
+
+    def invoke(self, context, event):
+        try:
+            self.start(context, event)
+        except ValueError as exc:
+            return _report_error(self, exc)
+        if not bpy.app.background:
+            self._draw = bpy.types.SpaceView3D.draw_handler_add(
+                drawing.draw_radial, (self._control,), "WINDOW", "POST_PIXEL"
+            )
+        context.window_manager.modal_handler_add(self)
+        context.area.tag_redraw()
+        return {"RUNNING_MODAL"}
+
+    def start(self, context, event) -> None:
+        """The :class:`~.radial.RadialControl` of the target (``self._control``)."""
+        s = context.scene.gogreen
+        x, y = float(event.mouse_region_x), float(event.mouse_region_y)
+        if self.target == "STRENGTH":
+            self._prop, low, high, scale = "strength", 0.0, 10.0, radial.STRENGTH_PIXELS
+        elif s.radius_unit == "VIEW":
+            self._prop, low, high, scale = "radius_pixels", 1.0, 5000.0, 1.0
+        else:  # the model fraction's pixels at the surface under the mouse (or the origin)
+            obj = context.active_object
+            view = object_view(context, obj, properties.read_settings(context.scene, obj))
+            if view is None:
+                raise ParameterError("radius", "set the radius in a 3D view")
+            point = view.pick(x, y)
+            if point is None:
+                point = np.zeros(3)
+            per_pixel = view.units_per_pixel(point)
+            if not per_pixel > 0.0:
+                raise ParameterError("radius", "the object is behind the view")
+            self._prop, low, high = "radius", 0.001, 1.0
+            scale = view.link.model_size / per_pixel
+        self._control = radial.RadialControl(getattr(s, self._prop), low, high, scale, x, y)
+
+    def modal(self, context, event):
+        control = self._control
+        state = control.handle(input_event(event))
+        value = round(control.value) if self._prop == "radius_pixels" else control.value
+        setattr(context.scene.gogreen, self._prop, value)
+        if context.area is not None:
+            context.area.tag_redraw()
+        if state != RUNNING and getattr(self, "_draw", None) is not None:
+            bpy.types.SpaceView3D.draw_handler_remove(self._draw, "WINDOW")
+            self._draw = None
+        return {state}
+
+
 # -- presets --------------------------------------------------------------------------------
 def preset_values(preset: Preset, current_kind: str) -> tuple[dict[str, object], str]:
     """The scene settings ``preset`` sets, by name, and a note of what it could not (empty
@@ -597,6 +663,7 @@ CLASSES = (
     GOGREEN_OT_apply_stroke,
     GOGREEN_OT_sculpt,
     GOGREEN_OT_hover,
+    GOGREEN_OT_radial_control,
     GOGREEN_OT_load_preset,
     GOGREEN_OT_load_preset_file,
     GOGREEN_OT_save_preset,

@@ -30,8 +30,10 @@ class VIEW3D_PT_gogreen(_GoGreenPanel, bpy.types.Panel):
                 layout.progress(factor=job.progress, type="BAR", text=job.status())
             else:
                 layout.label(text=job.status(), icon="TIME")
-        elif compile_status.last_message():
-            layout.label(text=compile_status.last_message(), icon="INFO")
+        elif compile_status.status_line():  # the compilation, else the last outcome
+            compiling = not compile_status.is_warm(context.scene.gogreen.l_max)
+            icon = "TIME" if compiling else "INFO"
+            layout.label(text=compile_status.status_line(), icon=icon)
         row = layout.row(align=True)
         row.operator("wm.tool_set_by_id", text="Sculpt Tool", icon="BRUSH_DATA").name = TOOL_ID
         row.operator("gogreen.compile_kernels", text="", icon="FILE_REFRESH")
@@ -143,6 +145,17 @@ def _draw_tool_settings(context, layout, _tool):
 _KEYMAP = (
     ("gogreen.sculpt", {"type": "LEFTMOUSE", "value": "PRESS", "any": True}, None),
     ("gogreen.hover", {"type": "MOUSEMOVE", "value": "ANY", "any": True}, None),
+    # as in Blender's sculpt mode: F the radius, Shift+F the strength
+    (
+        "gogreen.radial_control",
+        {"type": "F", "value": "PRESS"},
+        {"properties": [("target", "RADIUS")]},
+    ),
+    (
+        "gogreen.radial_control",
+        {"type": "F", "value": "PRESS", "shift": True},
+        {"properties": [("target", "STRENGTH")]},
+    ),
 )
 
 
@@ -156,7 +169,8 @@ def _tool_class(mode: str) -> type:
             "bl_idname": TOOL_ID,
             "bl_label": "GoGreen Sculpt",
             "bl_description": "Elastic sculpting with any material: drag on the mesh "
-            "(Ctrl inverts, Esc or right click cancels the stroke)",
+            "(Ctrl inverts, Esc or right click cancels the stroke); F sets the radius, Shift+F "
+            "the strength",
             "bl_icon": "brush.uv_sculpt.grab",
             "bl_keymap": _KEYMAP,
             "draw_settings": staticmethod(_draw_tool_settings),

@@ -455,6 +455,9 @@ def _compile_in_child(units: Iterable[Unit]) -> bool:
     """Compile ``units`` into numba's disk cache in a child process; True if it succeeded."""
     args = [u if isinstance(u, str) else f"{u[0]}:{u[1]}" for u in units]
     env = dict(os.environ, **{_MODE_VARIABLE: "thread"})
+    # the child imports what this process does: an application embedding Python (Blender)
+    # adds folders to sys.path at run time (its extensions' wheels) that no child would know
+    env["PYTHONPATH"] = os.pathsep.join(p for p in sys.path if p)
     try:
         result = subprocess.run(
             [sys.executable, "-c", _CHILD_SCRIPT, *args],

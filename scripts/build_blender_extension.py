@@ -1,4 +1,5 @@
-"""Build the GoGreen Sculpt extension for Blender 4.2+: one installable .zip per platform.
+"""Build the GoGreen Sculpt extension for Blender 4.2+: one installable .zip per platform and
+Blender Python.
 
 Usage (``bash scripts/build_blender_extension.sh`` runs it with .venv's Python, or any
 Python >= 3.11 with pip)::
@@ -9,9 +10,12 @@ Python >= 3.11 with pip)::
 Each package holds ``gogreen_blender/`` (the add-on), its ``blender_manifest.toml`` with the
 ``platforms`` and ``wheels`` entries filled in, and ``wheels/``: ``gogreen_core`` built from
 this checkout (with the built-in presets) and, from the package index, numba, llvmlite, scipy,
-trimesh and mapbox_earcut for that platform, for each Python that Blender versions ship (3.11:
+trimesh and mapbox_earcut for that platform and one Python that Blender versions ship (3.11:
 Blender 4.2 to 5.0; 3.13: 5.1 on), resolved against the numpy that Blender bundles (so numpy
-itself is not included). Blender installs only the wheels that match its platform and Python.
+itself is not included). A package holds one Python's wheels only (half the download and the
+install of one holding both) and its manifest names the Blender versions of that Python
+(``blender_version_min`` / ``blender_version_max``), so Blender refuses the other one:
+``dist/gogreen_sculpt-<version>-<platform>-cp311.zip`` and ``...-cp313.zip``.
 
 The packages are then checked with Blender's own validator (``blender_ext.py validate`` from
 the ``bpy`` package of ``.venv-blender``, ``--blender-ext PATH``, or a ``blender`` on the
@@ -25,6 +29,7 @@ from __future__ import annotations
 import argparse
 import glob
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -48,6 +53,8 @@ PLATFORMS = {
 #: package of that Python requires: bpy 4.2-5.0 numpy<2 on 3.11, bpy 5.1+ numpy>=2.2 on 3.13),
 #: resolved at its lowest so that the chosen scipy and numba accept it.
 PYTHONS = {"3.11": "numpy==1.26.4", "3.13": "numpy==2.2.6"}
+#: Python version -> the Blender versions that ship it: (first, first after; None: open).
+BLENDER_VERSIONS = {"3.11": ("4.2.0", "5.1.0"), "3.13": ("5.1.0", None)}
 #: What the add-on needs besides numpy (gogreen_core's dependencies).
 REQUIREMENTS = ("numba>=0.60", "scipy>=1.15", "trimesh>=4.0", "mapbox-earcut>=1.0.3")
 #: Files of the add-on folder that go into the package.
@@ -168,17 +175,29 @@ def _toml_list(values: list[str]) -> str:
     return "[\n" + "".join(f'  "{v}",\n' for v in values) + "]"
 
 
-def package(platform: str, wheels: list[Path], out: Path, project_version: str) -> Path:
-    """Write ``dist/gogreen_sculpt-<version>-<platform>.zip``."""
+def python_tag(python: str) -> str:
+    """'3.11' -> 'cp311' (the wheels' tag, and the package name's)."""
+    return "cp" + python.replace(".", "")
+
+
+def package(
+    platform: str, python: str, wheels: list[Path], out: Path, project_version: str
+) -> Path:
+    """Write ``dist/gogreen_sculpt-<version>-<platform>-<cpXY>.zip``: the wheels of one
+    platform and Python, the Blender versions of that Python in its manifest."""
     manifest = (SOURCE / MANIFEST).read_text()
+    first, after = BLENDER_VERSIONS[python]
     head, sep, tail = manifest.partition("[permissions]")
+    head = re.sub(r'(?m)^blender_version_min = ".*"$', f'blender_version_min = "{first}"', head)
+    versions = f'blender_version_max = "{after}"\n' if after else ""
     names = [f"./wheels/{w.name}" for w in wheels]
     manifest = (
-        f"{head.rstrip()}\n\nplatforms = {_toml_list([platform])}\nwheels = {_toml_list(names)}"
-        f"\n\n{sep}{tail}"
+        f"{head.rstrip()}\n{versions}\nplatforms = {_toml_list([platform])}\n"
+        f"wheels = {_toml_list(names)}\n\n{sep}{tail}"
     )
     out.mkdir(parents=True, exist_ok=True)
-    target = out / f"gogreen_sculpt-{project_version}-{platform.replace('-', '_')}.zip"
+    name = f"gogreen_sculpt-{project_version}-{platform.replace('-', '_')}-{python_tag(python)}"
+    target = out / f"{name}.zip"
     partial = target.with_name(target.name + ".partial")
     with zipfile.ZipFile(partial, "w", compression=zipfile.ZIP_DEFLATED) as zf:
         zf.writestr(MANIFEST, manifest)
@@ -239,7 +258,7 @@ def main(argv: list[str] | None = None) -> int:
         "--python",
         action="append",
         choices=sorted(PYTHONS),
-        help="bundle wheels for this Python only (repeatable; default: all)",
+        help="build the package of this Blender Python only (repeatable; default: all)",
     )
     parser.add_argument("--output", type=Path, default=ROOT / "dist", help="default: dist/")
     parser.add_argument(
@@ -255,10 +274,9 @@ def main(argv: list[str] | None = None) -> int:
     log(f"built {core.name}")
     packages = []
     for platform in platforms:
-        deps = [w for python in pythons for w in download(platform, python, args.cache)]
-        packages.append(
-            package(platform, [core, *newest_per_project(deps)], args.output, project_version)
-        )
+        for python in pythons:
+            deps = newest_per_project(download(platform, python, args.cache))
+            packages.append(package(platform, python, [core, *deps], args.output, project_version))
     validate(packages, find_blender_validator(args.blender_ext))
     return 0
 

@@ -546,6 +546,88 @@ def test_a_stroke_during_compilation_moves_the_mesh(ico, monkeypatch):
     compile_status.forget()
 
 
+def test_a_second_stroke_on_a_500k_mesh_starts_without_a_stall(addon):
+    """After a stroke the next hover and press reuse the mesh's link (sculptor and our surface
+    index, kept in step with the rows the stroke moved): nothing is rebuilt, Blender's search
+    tree is not asked for. The times are printed (figures: benchmarks/blender_stroke.py)."""
+    import time
+
+    module = sys.modules[MODULE]
+    operators, mesh_link = sub(module, "operators"), sub(module, "mesh_link")
+    bpy.ops.wm.read_homefile(use_empty=True)
+    # the compiled kernels (from numba's disk cache): NumPy on 500k rows would take minutes
+    sub(module, "compile_status").compile_now(bpy.context.scene.gogreen.l_max)
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=1000, ring_count=500, radius=1.0)
+    obj = bpy.context.active_object
+    assert len(obj.data.vertices) >= 499_000
+    context = bpy.context
+    _area, region, rv3d = _view3d(context)
+    x, y = view3d_utils.location_3d_to_region_2d(region, rv3d, Vector((0.0, 0.0, 1.0)))
+    event = operators.input_event
+
+    def drag(dx: float) -> float:
+        """One stroke through the tool; returns its press's seconds."""
+        start = time.perf_counter()
+        tool = operators.ObjectStroke.begin(
+            context, obj, object_view(context, obj), event(FakeEvent("LEFTMOUSE", "PRESS", x, y))
+        )
+        press = time.perf_counter() - start
+        tool.handle(event(FakeEvent("MOUSEMOVE", x=x + dx, y=y)))
+        tool.handle(event(FakeEvent("TIMER")))
+        assert tool.handle(event(FakeEvent("LEFTMOUSE", "RELEASE", x + dx, y))) == "FINISHED"
+        return press
+
+    first = drag(10)
+    link = object_view(context, obj).link
+    builds = mesh_link.MeshLink.builds
+    moved = positions(obj)
+    assert np.array_equal(link.positions, moved)  # the link holds what Blender holds
+    assert link.sync(moved) == 0  # nothing to take in: the stroke's rows are in already
+    second = drag(-10)
+    assert mesh_link.MeshLink.builds == builds and object_view(context, obj).link is link
+    assert not np.array_equal(positions(obj), moved)
+    print(f"\n500k-vertex UV sphere: first press {first:.3f} s, second press {second:.3f} s")
+
+
+@pytest.mark.parametrize("unit", ["VIEW", "MODEL"])
+def test_f_sets_the_radius_on_screen_and_shift_f_the_strength(ico, unit):
+    """The tool's F / Shift+F (as in Blender's sculpt mode): a drag sets the value, a click
+    keeps it, Esc puts it back; the radius in pixels, or as the model fraction whose circle
+    the drag draws at the surface under the mouse."""
+    module = sys.modules[MODULE]
+    operators, ui = sub(module, "operators"), sub(module, "ui")
+    keys = {(op, event["type"], event.get("shift", False)) for op, event, _ in ui._KEYMAP}
+    assert {("gogreen.radial_control", "F", False), ("gogreen.radial_control", "F", True)} <= keys
+    s = bpy.context.scene.gogreen
+    s.radius_unit, s.radius_pixels, s.radius, s.strength = unit, 40, 0.1, 0.5
+    context = bpy.context
+    area, region, rv3d = _view3d(context)
+    x, y = view3d_utils.location_3d_to_region_2d(region, rv3d, Vector((0.0, 0.0, 1.0)))
+    modal = operators.GOGREEN_OT_radial_control.modal
+
+    def drag(target: str, dx: float, end: str):
+        op = StandInOperator()
+        op.target = target
+        with context.temp_override(area=area, region=region):
+            operators.GOGREEN_OT_radial_control.start(op, context, FakeEvent("F", "PRESS", x, y))
+            assert modal(op, context, FakeEvent("MOUSEMOVE", x=x + dx, y=y)) == {"RUNNING_MODAL"}
+            return op, modal(op, context, FakeEvent(end, "PRESS"))
+
+    op, state = drag("RADIUS", 20, "LEFTMOUSE")
+    assert state == {"FINISHED"}
+    if unit == "VIEW":
+        assert s.radius_pixels == 60 and s.radius == pytest.approx(0.1)
+    else:  # the circle was the model radius on screen: 20 pixels more
+        first = op._control.initial * op._control.scale
+        assert s.radius_pixels == 40 and op._control.pixels == pytest.approx(first + 20.0)
+        assert s.radius == pytest.approx(0.1 * (first + 20.0) / first, rel=1e-5)
+    radius = (s.radius_pixels, s.radius)
+    assert drag("RADIUS", 50, "ESC")[1] == {"CANCELLED"}
+    assert (s.radius_pixels, s.radius) == radius
+    assert drag("STRENGTH", 40, "RET")[1] == {"FINISHED"}
+    assert s.strength == pytest.approx(0.7)  # 200 pixels a unit of strength
+
+
 class StandInOperator:
     """Stands in for the operator instance Blender would make (its reports recorded)."""
 
@@ -758,7 +840,19 @@ def test_the_package_builds_installs_and_sculpts(tmp_path):
     )  # fmt: skip
     assert build.returncode == 0, build.stdout + build.stderr
     assert "validated by Blender" in build.stdout
-    (package,) = out.glob("gogreen_sculpt-*-linux_x64.zip")
+    (package,) = out.glob("gogreen_sculpt-*-linux_x64-cp311.zip")  # one package: 3.11's
+    # one Python's wheels (half the size of a package holding 3.11's and 3.13's)
+    assert package.stat().st_size < 110 * 2**20, package.stat().st_size
+    import tomllib
+    import zipfile
+
+    with zipfile.ZipFile(package) as zf:
+        wheels = [name for name in zf.namelist() if name.endswith(".whl")]
+        manifest = tomllib.loads(zf.read("blender_manifest.toml").decode())
+    tags = {name.split("-")[-3] for name in wheels}
+    assert tags <= {"cp311", "py3"} and "cp311" in tags, tags
+    assert manifest["blender_version_min"] == "4.2.0"
+    assert manifest["blender_version_max"] == "5.1.0"  # Blender 5.1 on ships Python 3.13
     env = dict(os.environ, BLENDER_USER_RESOURCES=str(tmp_path / "user"))
     env.pop("PYTHONPATH", None)
     for script, args in ((_INSTALL, [str(package)]), (_SCULPT, [])):

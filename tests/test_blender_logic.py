@@ -430,3 +430,23 @@ def test_ring_points_draw_a_closed_circle_in_the_view_plane():
     np.testing.assert_allclose(np.linalg.norm(ring - center, axis=1), 0.5)
     np.testing.assert_allclose(ring[0], ring[-1])
     np.testing.assert_allclose(ring[:, 0], 1.0)  # in the plane of right and up
+
+
+def test_f_drags_a_value_on_screen_and_esc_puts_it_back():
+    from gogreen_blender.radial import RadialControl
+
+    control = RadialControl(50.0, 1.0, 500.0, 1.0, x=300.0, y=200.0)  # radius 50 px
+    assert control.center == (250.0, 200.0) and control.pixels == 50.0  # the mouse on the rim
+    assert control.handle(move(250.0, 280.0)) == RUNNING
+    assert control.value == pytest.approx(80.0)
+    assert control.handle(move(250.0, 200.0)) == RUNNING
+    assert control.value == 1.0  # kept in its range
+    assert control.handle(InputEvent("ESC", "PRESS")) == CANCELLED
+    assert control.value == 50.0
+    strength = RadialControl(0.5, 0.0, 10.0, 200.0, x=100.0, y=100.0)
+    strength.handle(move(100.0 - 100.0 + 150.0, 100.0))  # 150 px from the centre
+    assert strength.value == pytest.approx(0.75)
+    for confirm in ("LEFTMOUSE", "RET"):
+        assert strength.handle(InputEvent(confirm, "PRESS")) == FINISHED
+    with pytest.raises(ValueError, match="pixels_per_unit"):
+        RadialControl(1.0, 0.0, 1.0, 0.0, 0.0, 0.0)

@@ -4,6 +4,8 @@ changed by its own tools or undo (:meth:`Sculptor.adopt_vertices`) and its sculp
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 
@@ -74,3 +76,24 @@ def test_an_adopted_mask_holds_and_scales_the_motion(sculptor):
         sculptor.mask.adopt(np.full(len(vertices), 1.5))
     with pytest.raises(ParameterError, match="shape"):
         sculptor.mask.adopt(np.zeros(4))
+
+
+def test_the_compiling_child_imports_what_this_process_does(monkeypatch, tmp_path):
+    """An application embedding Python (Blender) puts its extensions' wheels on sys.path at run
+    time: the child that compiles the kernels gets the same path."""
+    import subprocess
+    import sys
+
+    from gogreen_core import _compiled
+
+    seen = {}
+
+    def run(args, env, **_kwargs):
+        seen.update(env)
+        return subprocess.CompletedProcess(args, 0)
+
+    wheels = str(tmp_path / "extensions" / "site-packages")
+    monkeypatch.setattr(sys, "path", [*sys.path, wheels])
+    monkeypatch.setattr(subprocess, "run", run)
+    assert _compiled._compile_in_child([_compiled.GEOMETRY])
+    assert wheels in seen["PYTHONPATH"].split(os.pathsep)
