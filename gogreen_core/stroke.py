@@ -30,7 +30,7 @@ from gogreen_core.kernel import GreenKernel
 from gogreen_core.kernel_cache import KernelCache
 from gogreen_core.mesh_state import MaskRows, MeshState
 from gogreen_core.operations import Stroke
-from gogreen_core.session import SessionLog
+from gogreen_core.session_log import SessionLog
 from gogreen_core.validation import ParameterError
 
 __all__ = ["StrokeDriver", "blend_by_mask"]
