@@ -20,7 +20,8 @@ from typing import Any, ClassVar
 import numpy as np
 
 from gogreen_core.brushes import Brush, BrushEvent
-from gogreen_core.limits import MAX_RADIUS, MIN_RADIUS, check_brush_weights
+from gogreen_core.brushes.weights import check_brush_weights
+from gogreen_core.limits import MAX_RADIUS, MIN_RADIUS
 from gogreen_core.material import Material
 from gogreen_core.radial import RadialProfile
 from gogreen_core.schema import (
