@@ -19,7 +19,7 @@ import time
 
 from PySide6.QtCore import QObject, Qt, Signal
 
-from gogreen_core import _compiled
+from gogreen_core import _compiled, _drivers
 
 __all__ = ["KernelWarmer"]
 
@@ -75,7 +75,7 @@ class KernelWarmer(QObject):
         now. Returns at once; :attr:`ready` follows."""
         if l_max in self._requested:
             return False
-        units = _compiled.units_for(l_max)
+        units = _drivers.units_for(l_max)
         if not self._requested:  # with the kernels, in one child process on a new machine
             _compiled.request(*units, _compiled.GEOMETRY, _compiled.MESH_IO, _compiled.BRUSHES)
         self._requested[l_max] = units

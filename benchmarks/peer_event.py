@@ -50,7 +50,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from gogreen_core import Brush, BrushEvent, Material, Sculptor  # noqa: E402
-from gogreen_core._expansion import near_segment  # noqa: E402
+from gogreen_core._evaluation import near_segment  # noqa: E402
 from gogreen_core._stream import probe_rows  # noqa: E402
 from gogreen_core.brushes import mirror_signs  # noqa: E402
 from gogreen_core.influence import VertexBlocks, plain_rows_near  # noqa: E402
@@ -247,14 +247,14 @@ import time
 start = time.perf_counter()
 import numpy as np
 from gogreen_core import Brush, BrushEvent, Material, Sculptor
-from gogreen_core import _compiled
+from gogreen_core import _compiled, _drivers
 from gogreen_core.shapes import default_model
 vertices, faces = default_model()
 sculptor = Sculptor(vertices, faces, material=Material.cubic(3.0, 1.5, 0.4))
 top = vertices[int(np.argmax(vertices[:, 2]))]
 sculptor.apply_brush(Brush("grab"), [BrushEvent(top, [0.0, 0.01, 0.0])])
 first = time.perf_counter() - start
-_compiled.wait(_compiled.units_for(8))  # the background compilation's end
+_compiled.wait(_drivers.units_for(8))  # the background compilation's end
 print(first, time.perf_counter() - start)
 """
 

@@ -29,7 +29,7 @@ import numpy as np
 import trimesh
 
 from gogreen_core import Brush, BrushEvent, Material, Sculptor, _compiled
-from gogreen_core._expansion import near_segment
+from gogreen_core._evaluation import near_segment
 from gogreen_core.brushes import mirror_signs
 from gogreen_core.geometry import SurfaceIndex, vertex_normals
 from gogreen_core.kernel import prepare_degree

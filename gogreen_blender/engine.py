@@ -39,8 +39,8 @@ from gogreen_core import (
     radial_from_dict,
 )
 from gogreen_core.brushes import default_wrinkle_weights
+from gogreen_core.brushes.weights import check_brush_weights
 from gogreen_core.engine_settings import EngineSettings, resized_brush_weights
-from gogreen_core.limits import check_brush_weights
 from gogreen_core.shapes import icosphere
 
 __all__ = [

@@ -1,10 +1,16 @@
 """The compiled evaluation, brought into the process without making anyone wait for a compiler.
 
 Compiled code comes in units: the drivers of the current evaluation (``_expansion``,
-``_integrator``: one unit, :data:`DRIVERS`) and the generated angular kernel of each parity and
-highest degree (``(l_first, l_last)``, see ``_unrolled``). Until a unit is ready the evaluation
-runs in NumPy (``_numpy_eval``) or with the generic angular kernel, with the same results bit
-for bit, so nothing waits for it: :func:`request` queues units and returns at once.
+``_integrator``: one unit, :data:`DRIVERS`), the generated angular kernel of each parity and
+highest degree (``(l_first, l_last)``, see ``_unrolled``), the surface index's functions, the
+paint brushes' and the mesh readers' loops. Until a unit is ready the evaluation runs in NumPy
+(``_numpy_eval``) or with the generic angular kernel, with the same results bit for bit, so
+nothing waits for it: :func:`request` queues units and returns at once.
+
+This module imports none of them: each module with compiled code registers its unit
+(:func:`register`: how to compile or load it, how to tell whether numba's disk cache holds it)
+when it is imported, and asks here whether it is ready. A unit several modules compile (the
+drivers) has a part from each.
 
 A worker thread then brings them in: units already in numba's disk cache are loaded
 (milliseconds); the others are compiled by a child Python process (``_main``), which fills
@@ -29,35 +35,33 @@ import threading
 import time
 import traceback
 from collections.abc import Callable, Iterable
-from typing import TYPE_CHECKING, Any
-
-import numpy as np
-
-from gogreen_core import _expansion, _influence_compiled, _integrator, _unrolled
-
-if TYPE_CHECKING:
-    from numba.core.ccallback import CFunc
+from dataclasses import dataclass
+from types import ModuleType
+from typing import Any
 
 #: A unit of compilation: DRIVERS, GEOMETRY, BRUSHES, MESH_IO or (l_first, l_last) of an
-#: angular kernel.
+#: angular kernel (registered as :data:`ANGULAR`).
 Unit = str | tuple[int, ...]
 #: What :func:`when_ready` calls with the errors of the units that failed.
 ReadyCallback = Callable[[list[Exception]], None]
 
 __all__ = [
+    "ANGULAR",
     "BRUSHES",
     "DRIVERS",
     "GEOMETRY",
     "MESH_IO",
-    "angular",
+    "CompiledModule",
     "brushes",
     "drivers",
-    "ensure_drivers",
     "forced",
+    "forced_code",
     "geometry",
+    "mark_ready",
+    "modules_cached",
     "prepare",
+    "register",
     "request",
-    "units_for",
     "wait",
     "when_ready",
 ]
@@ -72,6 +76,8 @@ BRUSHES = "brushes"
 #: The unit of the mesh readers' compiled loops (``mesh_io.warm_up``): opening a file then
 #: never compiles on the calling thread.
 MESH_IO = "mesh_io"
+#: What the (l_first, l_last) units of the generated angular kernels register as.
+ANGULAR = "angular"
 #: How compilation runs (see the module docstring), and the value a compiling child gets.
 _MODE_VARIABLE = "GOGREEN_COMPILE"
 MODES = ("child", "thread", "off")
@@ -88,20 +94,74 @@ _compiled_units: set[Unit] = set()
 _callbacks: list[tuple[tuple[Unit, ...], ReadyCallback]] = []
 _condition = threading.Condition()
 _worker: threading.Thread | None = None
-_markers: dict[bool, CFunc[Any]] = {}
 
 
-def generic_marker(single: bool = False) -> CFunc[Any]:
-    """The C callback passed as ``angular`` (``single``: as ``angular32``, evaluation 3's
-    single precision kernel) with ``unrolled=False`` (never called): the drivers then run the
-    generic ``_expansion._angular``. Compiled with the drivers."""
-    marker = _markers.get(single)
-    if marker is None:
-        from numba import cfunc
+@dataclass(frozen=True)
+class _Part:
+    """What one module contributes to a unit: ``load(unit)`` compiles it (or loads it from
+    numba's disk cache) on the calling thread, ``cached(unit)`` tells whether the disk cache
+    holds it; ``module`` is imported by a compiling child to register it there too."""
 
-        signature = _expansion.ANGULAR_SINGLE_SIGNATURE if single else _expansion.ANGULAR_SIGNATURE
-        marker = _markers[single] = cfunc(signature, cache=True)(_expansion.generic_marker)
-    return marker
+    module: str
+    name: str
+    load: Callable[[Unit], object]
+    cached: Callable[[Unit], bool]
+
+
+#: The registered units (ANGULAR for every (l_first, l_last)), each with its parts.
+_units: dict[str, list[_Part]] = {}
+
+
+def register(
+    unit: str, module: str, load: Callable[[Unit], object], cached: Callable[[Unit], bool]
+) -> None:
+    """Register ``module``'s part of ``unit`` (called by the module when it is imported; see
+    :class:`_Part`). Registering again replaces the part (a reloaded module). A part added to
+    a unit that is ready already makes it not ready until the part is loaded too."""
+    part = _Part(module, getattr(load, "__qualname__", repr(load)), load, cached)
+    with _condition:
+        parts = _units.setdefault(unit, [])
+        parts[:] = [p for p in parts if (p.module, p.name) != (part.module, part.name)]
+        parts.append(part)
+        _ready.difference_update([u for u in _ready if _kind(u) == unit])
+
+
+class CompiledModule:
+    """The compiled functions of module ``module`` once they are ready, else their NumPy twins
+    (module ``twin``: the same results), so that nothing waits for the compiler: the module
+    registers them as ``unit``, which ``exercise`` compiles (or loads from numba's disk cache)
+    by calling each of them once, typed as the module calls them."""
+
+    def __init__(
+        self, unit: str, module: str, twin: ModuleType, exercise: Callable[[], object]
+    ) -> None:
+        self.unit, self.module, self.twin, self._exercise = unit, module, twin, exercise
+        self._compiling = threading.local()  # ``now``: this thread runs ``exercise``
+        register(unit, module, lambda _: self.compile_now(), lambda _: modules_cached(module))
+
+    def kernels(self) -> ModuleType:
+        """The module once its compiled functions are ready (else they are requested; on the
+        thread compiling them, the module), else the twin."""
+        if getattr(self._compiling, "now", False) or _in_use(self.unit):
+            return sys.modules[self.module]
+        return self.twin
+
+    def compile_now(self) -> None:
+        """Compile (or load from numba's disk cache) the module's functions, on this thread."""
+        self._compiling.now = True
+        try:
+            self._exercise()
+        finally:
+            self._compiling.now = False
+
+
+def _kind(unit: Unit) -> str:
+    return unit if isinstance(unit, str) else ANGULAR
+
+
+def _parts(unit: Unit) -> list[_Part]:
+    with _condition:
+        return list(_units.get(_kind(unit), ()))
 
 
 #: Tests and benchmarks only (:func:`forced`): None, or which code evaluates.
@@ -123,6 +183,18 @@ def brushes() -> bool:
     return _in_use(BRUSHES)
 
 
+def forced_code() -> str | None:
+    """The code :class:`forced` chose ("numpy", "generic", "unrolled"), or None."""
+    return _forced
+
+
+def mark_ready(unit: Unit) -> None:
+    """Note that ``unit`` was compiled or loaded on this thread (outside the worker)."""
+    with _condition:
+        _ready.add(unit)
+        _condition.notify_all()
+
+
 def _in_use(unit: Unit) -> bool:
     if _forced is not None:
         if _forced == "numpy":
@@ -132,19 +204,6 @@ def _in_use(unit: Unit) -> bool:
         return True
     request(unit)
     return False
-
-
-def angular(l_first: int, l_last: int, single: bool = False) -> CFunc[Any] | None:
-    """The generated angular kernel (``single``: its single precision one) if it is ready,
-    else None (its unit is requested)."""
-    if _forced == "generic":
-        return None
-    if _forced == "unrolled":
-        prepare((l_first, l_last))
-    kernel = _unrolled._KERNELS.get((l_first, l_last, single))
-    if kernel is None:
-        request((l_first, l_last))
-    return kernel
 
 
 class forced:
@@ -263,6 +322,11 @@ def _work() -> None:
         if missing and _can_spawn():
             _compile_in_child(missing)
         for unit in units:
+            if not _parts(unit):  # its module is not imported yet: asked for again later
+                with _condition:
+                    _pending.remove(unit)
+                    _condition.notify_all()
+                continue
             try:
                 _load(unit)  # from the disk cache now; compiled here if the child could not
             except Exception as exc:  # the NumPy / generic evaluation keeps serving
@@ -284,120 +348,12 @@ def _work() -> None:
                     traceback.print_exc()
 
 
-def units_for(l_max: int) -> tuple[Unit, ...]:
-    """The units vector and affine loads of truncation degree ``l_max`` evaluate with: the
-    drivers and the generated angular kernel of each parity (when one is generated)."""
-    parities = ((0, l_max - l_max % 2), (1, l_max + 1 - l_max % 2))
-    return (DRIVERS, *(p for p in parities if p[1] <= _unrolled.UNROLLED_L_MAX))
-
-
-def _compile_geometry() -> None:
-    """Compile (or load from numba's disk cache) every compiled function of ``geometry.py``,
-    on this thread: a small surface index built, updated, compared and picked with them."""
-    from gogreen_core import geometry
-
-    geometry._compiling.now = True
-    try:
-        vertices = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
-        faces = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
-        index = geometry.SurfaceIndex(vertices, faces)
-        moved = vertices.copy()
-        moved[3, 2] = 1.5
-        index.update(moved, np.array([3]))
-        index.changed_rows(vertices)
-        index.pick(np.array([0.2, 0.2, 3.0]), np.array([0.0, 0.0, -1.0]))
-    finally:
-        geometry._compiling.now = False
-
-
-def _compile_mesh_io() -> None:
-    from gogreen_core import mesh_io
-
-    mesh_io.warm_up()
-
-
-def _compile_brushes() -> None:
-    from gogreen_core.brushes import paint_kernels
-
-    paint_kernels.compile_now()
-
-
-#: Units named by a string (but DRIVERS), each with the function that compiles or loads it.
-_NAMED = {GEOMETRY: _compile_geometry, MESH_IO: _compile_mesh_io, BRUSHES: _compile_brushes}
-
-
 def _load(unit: Unit) -> None:
-    if unit == DRIVERS:
-        ensure_drivers()
-    elif unit in _NAMED:
-        _NAMED[unit]()
-    else:
-        for first, last, single in _angular_kernels(unit):
-            _unrolled.unrolled_angular(first, last, single)
-
-
-def _angular_kernels(unit: Unit) -> list[tuple[int, int, bool]]:
-    """(l_first, l_last, single) of the kernels of an angular unit: double precision, and
-    single where the parity has more than one degree (evaluation 3's degrees above the
-    lowest)."""
-    first, last = int(unit[0]), int(unit[1])
-    return [(first, last, single) for single in ((False, True) if last > first else (False,))]
-
-
-def _driver_calls() -> list[tuple[Any, tuple[Any, ...]]]:
-    """(dispatcher, arguments) of every driver, typed as the real calls are (float64
-    C-contiguous writable arrays, int64 rows and bases, bool flags, the C callback type of
-    ``angular``), with empty ranges: calling them compiles and returns."""
-    f3, f33 = np.zeros(3), np.zeros((1, 3))
-    rows, base = np.zeros(1, dtype=np.int64), np.zeros(2, dtype=np.int64)
-    tables = np.zeros((1, 2, _expansion.SEGMENT_DEGREE + 1))
-    beta, blocks, flags = np.zeros((2, 2)), np.zeros(1), np.zeros(1, dtype=np.bool_)
-    marker = generic_marker()
-    single = (f33.astype(np.float32), beta.astype(np.float32), np.zeros((2, 0, 3), np.float32))
-    field = (
-        f3,
-        f3,
-        1.0,
-        1,
-        0,
-        0,
-        base,
-        f33,
-        beta,
-        tables,
-        marker,
-        False,
-        0.0,
-        0.0,
-        f33,
-        f3,
-        False,
-        *single,
-        0.0,
-        generic_marker(single=True),
-        False,
-    )
-    return [
-        (_expansion.expand_blocks,
-         (f33, f3, 1.0, 1, 0, 0, base, f33, beta, tables, marker, False, f33, 0, 0)),
-        (_integrator._probe_pass,
-         (f33, rows, True, 1.0, field, rows, blocks, blocks, blocks, 0, 0)),
-        (_integrator._first_pass,
-         (f33, rows, True, 1.0, 1, True, True, 0.0, field, f33, rows, blocks, blocks, blocks,
-          rows, flags, 0, 0)),
-        (_integrator._refine_pass, (f33, rows, True, field, 1.0, rows, f33, rows, flags, 0, 0)),
-        (_integrator._write_back, (f33, rows, True, f33, 0, 0)),
-        *_influence_compiled.compile_calls(),
-    ]  # fmt: skip
-
-
-def ensure_drivers() -> None:
-    """Compile (or load from numba's disk cache) every driver in this thread, now."""
-    for dispatcher, args in _driver_calls():
-        dispatcher(*args)
-    with _condition:
-        _ready.add(DRIVERS)
-        _condition.notify_all()
+    parts = _parts(unit)
+    if not parts:
+        raise LookupError(f"no compile unit {unit!r} is registered (its module is not imported)")
+    for part in parts:
+        part.load(unit)
 
 
 def _cached(unit: Unit) -> bool:
@@ -406,31 +362,34 @@ def _cached(unit: Unit) -> bool:
     callback marker is compiled or loaded on the way, a fraction of a second): any doubt counts
     as not cached, which only costs a child process that finds everything cached."""
     try:
-        if unit in _NAMED:
-            return _modules_cached(unit)
-        if unit != DRIVERS:
-            return all(_unrolled.angular_cached(*kernel) for kernel in _angular_kernels(unit))
-        from numba import typeof
-
-        for dispatcher, args in _driver_calls():
-            signature = tuple(typeof(a) for a in args)
-            if dispatcher._cache.load_overload(signature, dispatcher.targetctx) is None:
-                return False
-        return True
+        parts = _parts(unit)
+        return bool(parts) and all(part.cached(unit) for part in parts)
     except Exception:
         return False
 
 
-def _modules_cached(unit: str) -> bool:
+def dispatchers_cached(calls: Iterable[tuple[Any, tuple[Any, ...]]]) -> bool:
+    """Whether numba's disk cache holds every (dispatcher, arguments) call of ``calls``,
+    typed as they are (numba's ``_cache.load_overload``, not public API)."""
+    from numba import typeof
+
+    for dispatcher, args in calls:
+        signature = tuple(typeof(a) for a in args)
+        if dispatcher._cache.load_overload(signature, dispatcher.targetctx) is None:
+            return False
+    return True
+
+
+def modules_cached(name: str) -> bool:
     """Whether numba's disk cache holds machine code for this machine of every compiled
-    function of the modules of ``unit`` (their cache index is read, not the code: numba's
-    ``_cache._cache_file``, not public API)."""
+    function of module ``name`` (of a package: of its modules too; their cache index is read,
+    not the code: numba's ``_cache._cache_file``, not public API)."""
     import importlib
     import pkgutil
 
     from numba.core.dispatcher import Dispatcher
 
-    module = importlib.import_module(f"gogreen_core.{unit}")
+    module = importlib.import_module(name)
     modules = [module]
     for info in pkgutil.iter_modules(getattr(module, "__path__", [])):
         modules.append(importlib.import_module(f"{module.__name__}.{info.name}"))
@@ -452,8 +411,13 @@ def _can_spawn() -> bool:
 
 
 def _compile_in_child(units: Iterable[Unit]) -> bool:
-    """Compile ``units`` into numba's disk cache in a child process; True if it succeeded."""
-    args = [u if isinstance(u, str) else f"{u[0]}:{u[1]}" for u in units]
+    """Compile ``units`` into numba's disk cache in a child process; True if it succeeded.
+    Each argument names the modules that register the unit, then the unit:
+    ``module,module=unit``."""
+    args = []
+    for unit in units:
+        modules = ",".join(dict.fromkeys(part.module for part in _parts(unit)))
+        args.append(f"{modules}=" + (unit if isinstance(unit, str) else f"{unit[0]}:{unit[1]}"))
     env = dict(os.environ, **{_MODE_VARIABLE: "thread"})
     # the child imports what this process does: an application embedding Python (Blender)
     # adds folders to sys.path at run time (its extensions' wheels) that no child would know
@@ -479,7 +443,13 @@ _CHILD_SCRIPT = (
 
 
 def _main(argv: list[str]) -> int:
-    """The child: compile (into numba's disk cache) the units named on its command line."""
+    """The child: compile (into numba's disk cache) the units named on its command line
+    (``module,module=unit``: the modules are imported first, which registers the unit)."""
+    import importlib
+
     for arg in argv:
-        _load(arg if arg == DRIVERS or arg in _NAMED else tuple(int(v) for v in arg.split(":")))
+        modules, _, name = arg.rpartition("=")
+        for module in filter(None, modules.split(",")):
+            importlib.import_module(module)
+        _load(tuple(int(v) for v in name.split(":")) if ":" in name else name)
     return 0

@@ -25,12 +25,14 @@ from __future__ import annotations
 from functools import partial
 
 import numpy as np
+from numpy.typing import NDArray
 
-from gogreen_core import _compiled, _expansion, _numpy_eval, _stream, _unrolled
+from gogreen_core import _compiled, _drivers, _expansion, _numpy_eval, _stream, _unrolled
 from gogreen_core._expansion import BLOCK
+from gogreen_core._influence_compiled import near_segment_rows
 from gogreen_core._parallel import run_ranges
 
-__all__ = ["EVALUATION", "EVALUATIONS", "Parity", "expand", "stream"]
+__all__ = ["EVALUATION", "EVALUATIONS", "Parity", "expand", "near_segment", "stream"]
 
 #: The evaluation new kernels use.
 EVALUATION = 3
@@ -68,19 +70,19 @@ class Parity:
         vector and affine loads up to ``UNROLLED_L_MAX`` once it is compiled (it is requested
         otherwise), else the generic ``_angular`` (the same results, bit for bit)."""
         if n_out == 3 and self.l_last <= _unrolled.UNROLLED_L_MAX:
-            kernel = _compiled.angular(self.l_first, self.l_last)
+            kernel = _drivers.angular(self.l_first, self.l_last)
             if kernel is not None:
                 return kernel, True
-        return _compiled.generic_marker(), False
+        return _drivers.generic_marker(), False
 
     def angular_single(self) -> tuple[object, bool]:
         """``angular`` for evaluation 3's single precision degrees (those above l_first):
         the generated ``angular_single`` kernel once compiled, else the generic ``_angular``."""
         if self.l_first < self.l_last <= _unrolled.UNROLLED_L_MAX:
-            kernel = _compiled.angular(self.l_first, self.l_last, single=True)
+            kernel = _drivers.angular(self.l_first, self.l_last, single=True)
             if kernel is not None:
                 return kernel, True
-        return _compiled.generic_marker(single=True), False
+        return _drivers.generic_marker(single=True), False
 
     def request_angular(self, n_out: int) -> None:
         """Ask for the generated kernel ``angular`` would use (compiled with the drivers)."""
@@ -218,3 +220,22 @@ def stream(
     return run(
         points, rows, indexed, in_place, limit, field, substeps, tolerance, single, out, steps
     )
+
+
+def near_segment(
+    points: NDArray[np.float64],  # (N, 3) float64
+    start: NDArray[np.float64],  # (3,) segment start
+    step: NDArray[np.float64],  # (3,) segment end - start
+    radius: float,
+    mirrors: NDArray[np.float64],  # (n_m, 3) ±1 signs
+    origin: NDArray[np.float64],  # (3,)
+    out: NDArray[np.bool_],  # (N,): some mirror image of the point is within radius of the segment
+    compiled: bool | None = None,  # the compiled pass or NumPy's; None: compiled once ready
+) -> None:
+    """Which points some mirror image of which lies within ``radius`` of the segment (the
+    vertices a brush event can reach), on the thread pool; in NumPy until compiled."""
+    if not (_drivers.ready() if compiled is None else compiled):
+        _numpy_eval.near_segment(points, start, step, radius, mirrors, origin, out)
+        return
+    work = partial(near_segment_rows, points, start, step, float(radius), mirrors, origin, out)
+    run_ranges(work, points.shape[0], 1 << 16)

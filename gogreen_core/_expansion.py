@@ -31,16 +31,12 @@ from __future__ import annotations
 
 import math
 import os
-from functools import partial
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numba import njit, types
 from numba.np.numpy_support import carray
 from numpy.typing import NDArray
-
-from gogreen_core._influence_compiled import near_segment_rows
-from gogreen_core._parallel import run_ranges
 
 if TYPE_CHECKING:
     from gogreen_core._jit_options import NogilJitOptions
@@ -73,7 +69,7 @@ ANGULAR_SINGLE_SIGNATURE = types.void(types.int64, _F4P, _F4P, _F4P, _F4P)
 def generic_marker(  # pragma: no cover - never called
     nb: int, geo: Any, rad: Any, coeffs: Any, acc: Any
 ) -> None:
-    """Made a C callback by ``_compiled.generic_marker`` (when the drivers compile, not at
+    """Made a C callback by ``_drivers.generic_marker`` (when the drivers compile, not at
     import; one of each signature) and passed as ``angular`` with ``unrolled=False``: the
     drivers then run ``_angular``."""
     carray(acc, (3, BLOCK))[0, 0] = np.nan
@@ -303,24 +299,3 @@ def expand_blocks(
         for i in range(nb):
             for k in range(n_out):
                 out[start + i, k] = acc[k, i]
-
-
-def near_segment(
-    points: NDArray[np.float64],  # (N, 3) float64
-    start: NDArray[np.float64],  # (3,) segment start
-    step: NDArray[np.float64],  # (3,) segment end - start
-    radius: float,
-    mirrors: NDArray[np.float64],  # (n_m, 3) ±1 signs
-    origin: NDArray[np.float64],  # (3,)
-    out: NDArray[np.bool_],  # (N,): some mirror image of the point is within radius of the segment
-    compiled: bool | None = None,  # the compiled pass or NumPy's; None: compiled once ready
-) -> None:
-    """Which points some mirror image of which lies within ``radius`` of the segment (the
-    vertices a brush event can reach), on the thread pool; in NumPy until compiled."""
-    from gogreen_core import _compiled, _numpy_eval
-
-    if not (_compiled.drivers() if compiled is None else compiled):
-        _numpy_eval.near_segment(points, start, step, radius, mirrors, origin, out)
-        return
-    work = partial(near_segment_rows, points, start, step, float(radius), mirrors, origin, out)
-    run_ranges(work, points.shape[0], 1 << 16)

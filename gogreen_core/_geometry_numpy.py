@@ -13,9 +13,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from gogreen_core.geometry import _BLOCK_SHIFT, _MORTON_BITS, LEAF_SIZE
+__all__ = ["LEAF_SIZE"]
 
-__all__ = []
+#: Faces per leaf of the surface index (one bounding box each; ``geometry.SurfaceIndex``).
+LEAF_SIZE = 32
+#: Vertices per block (2**_BLOCK_SHIFT) of the per-event flags.
+_BLOCK_SHIFT = 6
+#: Bits per axis of the Z-order (Morton) codes; a code leaves 31 bits for the item's index.
+_MORTON_BITS = 10
 
 
 def _morton_keys(

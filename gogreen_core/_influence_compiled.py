@@ -46,7 +46,7 @@ def near_segment_rows(
     segment start → start + step. (The arithmetic of evaluation 1, contractions included, per
     point: which vertices an event reaches must not change for old sessions. The loop over the
     points is the inner one, so that it vectorizes.) The one per-point influence test: over
-    every row (``_expansion.near_segment``) and over the rows of the blocks a capsule meets
+    every row (``_evaluation.near_segment``) and over the rows of the blocks a capsule meets
     (``_test_blocks``), so both give the same rows bit for bit."""
     length2 = step[0] * step[0] + step[1] * step[1] + step[2] * step[2]
     inv = 1.0 / length2 if length2 > 0.0 else 0.0

@@ -68,7 +68,7 @@ __all__ = ["CUTOFF_END", "MAX_ADAPTIVE_STEPS"]
 #: of this module's compiled code on this file alone, yet compiles their functions and constants
 #: into it: a change there must change this file, or a stale machine code (another BLOCK,
 #: another arithmetic) would be loaded.
-COMPILED_SOURCES = "014c9c9e7086cce1"
+COMPILED_SOURCES = "30c722287248ae57"
 
 #: Largest number of RK4 steps the adaptive streamlines give one vertex in one event.
 MAX_ADAPTIVE_STEPS = 256

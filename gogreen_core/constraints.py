@@ -24,7 +24,7 @@ from typing import Any, cast
 
 import numpy as np
 
-from gogreen_core._expansion import near_segment
+from gogreen_core._evaluation import near_segment
 from gogreen_core.brushes import CUTOFF_START, DEFAULT_INFLUENCE, smooth_cutoff
 from gogreen_core.kernel import GreenKernel
 

@@ -21,8 +21,9 @@ from typing import Any
 
 import numpy as np
 
+from gogreen_core.brushes.weights import check_brush_weights, default_weights, resized_brush_weights
+from gogreen_core.brushes.wrinkle_legacy import legacy_wrinkle_weights
 from gogreen_core.limits import (
-    check_brush_weights,
     check_constraint_radius,
     check_degree_weights,
     check_detail_size,
@@ -55,37 +56,6 @@ SETTING_GROUPS: tuple[tuple[str, ...], ...] = (
     ("constraint_radius",),
     ("dynamic_topology", "detail_size"),
 )
-
-
-def legacy_wrinkle_weights(l_max: int) -> np.ndarray:
-    """The wrinkle weights max(1, l/2) (l_max + 1,) that ``degree_weights = None`` means in
-    the engine: sessions and presets recorded ``null`` for them before
-    :func:`~gogreen_core.brushes.default_wrinkle_weights` changed, so None keeps this meaning
-    and they replay exactly; new code records the weights it uses explicitly."""
-    l_max = check_l_max(l_max)
-    return np.maximum(1.0, np.arange(l_max + 1) / 2.0)
-
-
-def _default_weights(kind: str, l_max: int) -> np.ndarray:
-    """The degree weights (l_max + 2,) brush ``kind`` starts with (its table row's)."""
-    from gogreen_core.brushes.table import brush_type  # the table imports this module
-
-    weights: np.ndarray = brush_type(kind).default_weights(l_max)
-    return weights
-
-
-def resized_brush_weights(
-    weights: Mapping[str, tuple[float, ...]], l_max: int
-) -> Mapping[str, tuple[float, ...]]:
-    """``weights`` for another ``l_max``: each brush keeps the degrees both have, and new
-    degrees get the brush's defaults."""
-    out = {}
-    for kind, values in weights.items():
-        padded = _default_weights(kind, l_max)
-        keep = min(len(values), l_max + 2)
-        padded[:keep] = values[:keep]
-        out[kind] = tuple(float(x) for x in padded)
-    return MappingProxyType(out)
 
 
 def _default_material() -> Material:
@@ -161,7 +131,7 @@ class EngineSettings:
         :attr:`brush_weights`, else its defaults (a new array)."""
         stored = self.brush_weights.get(kind)
         if stored is None:
-            return _default_weights(kind, self.l_max)
+            return default_weights(kind, self.l_max)
         return np.array(stored)
 
     def with_brush_weights(self, kind: str, weights: Iterable[float] | None) -> EngineSettings:

@@ -11,16 +11,15 @@ whole mesh.
 from __future__ import annotations
 
 import math
-import sys
-import threading
 from collections.abc import Callable
 from contextlib import AbstractContextManager
-from types import ModuleType
 
 import numba
 import numpy as np
 from numba import njit, prange
 
+from gogreen_core import _compiled, _geometry_numpy
+from gogreen_core._geometry_numpy import _BLOCK_SHIFT, _MORTON_BITS, LEAF_SIZE
 from gogreen_core._jit_options import NogilJitOptions
 from gogreen_core.threads import threads_at_most
 
@@ -82,17 +81,12 @@ class FaceAdjacency:
         self.n_vertices = int(n_vertices)
 
 
-#: Faces per leaf of the surface index (one bounding box each).
-LEAF_SIZE = 32
 #: Work items per chunk of the per-event kernels: chunks are dealt to the threads in turn, so a
 #: brush region (contiguous in the index's spatial order) is shared by all threads.
 _VERTEX_CHUNK = 4096
 _LEAF_CHUNK = 128
-#: Vertices per block (2**_BLOCK_SHIFT) of the per-event flags; blocks per chunk.
-_BLOCK_SHIFT = 6
+#: Blocks (of 2**_BLOCK_SHIFT vertices, see ``_geometry_numpy``) per chunk.
 _BLOCK_CHUNK = _VERTEX_CHUNK >> _BLOCK_SHIFT
-#: Bits per axis of the Z-order (Morton) codes; a code leaves 31 bits for the item's index.
-_MORTON_BITS = 10
 
 
 @njit(parallel=True, **_JIT)
@@ -581,19 +575,21 @@ def _curve_order(points: np.ndarray, groups: np.ndarray, low: np.ndarray,
     return (keys & np.int64(2**31 - 1)).astype(np.int32)
 
 
-#: ``now`` True on a thread that compiles this module's functions (``_compiled``).
-_compiling = threading.local()
+def _exercise() -> None:
+    """Call every compiled function of this module once: a small surface index built, updated,
+    compared and picked."""
+    vertices = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    index = SurfaceIndex(vertices, np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]))
+    moved = vertices.copy()
+    moved[3, 2] = 1.5
+    index.update(moved, np.array([3]))
+    index.changed_rows(vertices)
+    index.pick(np.array([0.2, 0.2, 3.0]), np.array([0.0, 0.0, -1.0]))
 
 
-def _kernels() -> ModuleType:
-    """This module, whose compiled functions serve once numba has them (compiled in the
-    background, see ``gogreen_core._compiled``), else their NumPy twins
-    (``gogreen_core._geometry_numpy``: the same results), so that a new machine need not wait
-    for the compiler to pick and shade."""
-    from gogreen_core import _compiled
-
-    if getattr(_compiling, "now", False) or _compiled.geometry():
-        return sys.modules[__name__]
-    from gogreen_core import _geometry_numpy
-
-    return _geometry_numpy
+#: This module's compiled functions once numba has them (compiled in the background, see
+#: ``gogreen_core._compiled``), else their NumPy twins (``_geometry_numpy``: the same results),
+#: so that a new machine need not wait for the compiler to pick and shade.
+_COMPILED = _compiled.CompiledModule(_compiled.GEOMETRY, __name__, _geometry_numpy, _exercise)
+_kernels = _COMPILED.kernels
+compile_now = _COMPILED.compile_now

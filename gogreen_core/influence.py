@@ -1,7 +1,7 @@
 """Which vertices a brush event can reach, without a pass over every vertex.
 
 An event reaches the vertices p some mirror image o + M (p - o) of which lies within ``radius``
-of the segment from ``start`` to ``start + step`` (``_expansion.near_segment``, the influence
+of the segment from ``start`` to ``start + step`` (``_evaluation.near_segment``, the influence
 test; which vertices an event reaches must not change for old sessions). Over every vertex of a
 1M-vertex mesh that test, and the list of the reached ones, cost 5-9 ms an event here.
 
@@ -20,7 +20,7 @@ and are the plain pass's bit for bit:
   hundred units in the last place of that largest value), so no vertex the test would keep is
   skipped and every vertex of a block taken whole passes it;
 * the per-point test is the plain pass's own compiled function
-  (``_influence_compiled.near_segment_rows``, which ``_expansion.near_segment`` runs over every
+  (``_influence_compiled.near_segment_rows``, which ``_evaluation.near_segment`` runs over every
   row) or, before the compiled code is ready, ``_numpy_eval.near_segment`` itself;
 * inputs where that margin argument does not hold (a radius or coordinates near the float
   range's ends, a step whose squared length overflows or underflows, signs other than ±1, more
@@ -44,7 +44,7 @@ from functools import partial
 import numpy as np
 from numpy.typing import NDArray
 
-from gogreen_core import _expansion
+from gogreen_core import _drivers, _evaluation
 from gogreen_core import _influence_numpy as numpy_twin
 from gogreen_core._influence_compiled import (
     BLOCK,
@@ -88,9 +88,7 @@ Query = tuple[
 def _compiled_ready() -> bool:
     """Whether the compiled drivers (these functions among them) are ready; else they are
     requested and NumPy serves."""
-    from gogreen_core import _compiled
-
-    return _compiled.drivers()
+    return _drivers.ready()
 
 
 def plain_rows_near(
@@ -103,10 +101,10 @@ def plain_rows_near(
     compiled: bool,
 ) -> NDArray[np.int64]:
     """The rows (n,) int64 of ``points`` (N, 3) the influence test keeps, by a pass over all of
-    them: ``_expansion.near_segment`` (compiled, or its NumPy twin when ``compiled`` is
+    them: ``_evaluation.near_segment`` (compiled, or its NumPy twin when ``compiled`` is
     False), then ``np.flatnonzero``."""
     out = np.empty(len(points), dtype=np.bool_)
-    _expansion.near_segment(points, start, step, radius, mirrors, origin, out, compiled)
+    _evaluation.near_segment(points, start, step, radius, mirrors, origin, out, compiled)
     return np.flatnonzero(out)
 
 

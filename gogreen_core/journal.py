@@ -293,7 +293,7 @@ class Journal:
         return int(self.sculptor.history.done)
 
     def _on_log(self, kind: str, item: object, length: int) -> None:
-        """The sculptor's log changed (see :data:`gogreen_core.session.LogListener`)."""
+        """The sculptor's log changed (see :data:`gogreen_core.session_log.LogListener`)."""
         if self._stopped:
             return
         try:

@@ -20,7 +20,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from gogreen_core import _compiled, _evaluation
+from gogreen_core import _compiled, _drivers, _evaluation
 from gogreen_core._evaluation import EVALUATION, EVALUATIONS, Parity
 from gogreen_core._expansion import SEGMENT_DEGREE
 from gogreen_core.coefficients import (
@@ -78,7 +78,7 @@ def prepare_degree(l_max: int) -> float:
     evaluation on. The compilation itself runs in a child process where it can (see
     ``_compiled``), so the other threads of this one are not slowed. Thread safe.
     """
-    return _compiled.prepare(*_compiled.units_for(l_max))
+    return _compiled.prepare(*_drivers.units_for(l_max))
 
 
 #: Largest coordinate magnitude of points, offsets and centers: differences of two such values
@@ -191,7 +191,7 @@ class GreenKernel:
             raise ValueError(f"radial must be a RadialProfile (got {type(radial).__name__})")
         weights = checked_weights(degree_weights, l_max)
         if evaluation != EVALUATION:
-            # its strokes must see the compiled influence test (``_expansion.near_segment``)
+            # its strokes must see the compiled influence test (``_evaluation.near_segment``)
             _compiled.prepare(_compiled.DRIVERS)
         self._material = material
         self._evaluation = int(evaluation)

@@ -8,9 +8,6 @@ model, brushes, presets and session files all call these. Each check takes the p
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from types import MappingProxyType
-
 import numpy as np
 
 from gogreen_core.kernel import L_MAX_LIMIT
@@ -35,7 +32,6 @@ __all__ = [
     "MAX_SUBSTEPS",
     "MIN_RADIUS",
     "MIN_STIFFNESS",
-    "check_brush_weights",
     "check_constraint_radius",
     "check_degree_weights",
     "check_detail_size",
@@ -144,41 +140,3 @@ def check_detail_size(value: object, path: str = "detail_size") -> float | None:
         return None
     return check_number(path, value, low=MIN_DETAIL_SIZE, high=MAX_DETAIL_SIZE)
 
-
-def check_brush_weights(
-    value: object, l_max: int, path: str = "brush_weights"
-) -> Mapping[str, tuple[float, ...]]:
-    """Per-brush degree weights ω_l: a mapping from a Green's-function brush kind to l_max + 2
-    finite numbers within ±:data:`MAX_DEGREE_WEIGHT` (ω_0 … ω_{l_max+1}: vector brushes read
-    the even degrees of G, affine brushes the odd degrees of ∇G), as a read-only mapping of
-    tuples; None or {} leaves every brush at its defaults."""
-    from gogreen_core.brushes.table import weighted_kinds  # the table imports this module
-
-    if value is None:
-        return MappingProxyType({})
-    if not isinstance(value, Mapping):
-        raise ParameterError(
-            path, f"{path} must map brush kinds to weights (got {type(value).__name__})"
-        )
-    kinds = weighted_kinds()
-    out: dict[str, tuple[float, ...]] = {}
-    for kind in sorted(value):
-        at = f"{path}.{kind}"
-        if kind not in kinds:
-            raise ParameterError(
-                at, f"{at}: no brush {kind!r} with degree weights (expected {', '.join(kinds)})"
-            )
-        weights = value[kind]
-        if isinstance(weights, (list, tuple)):
-            weights = check_list(at, weights, max_length=L_MAX_LIMIT + 2)
-        array = np.asarray(check_finite(at, weights), dtype=np.float64)
-        if array.shape != (l_max + 2,):
-            raise ParameterError(
-                at,
-                f"{at} must hold l_max + 2 = {l_max + 2} numbers, one per degree 0 … "
-                f"{l_max + 1} (got shape {array.shape})",
-            )
-        if not np.abs(array).max() <= MAX_DEGREE_WEIGHT:
-            raise ParameterError(at, f"{at} must be within ±{MAX_DEGREE_WEIGHT:g}")
-        out[kind] = tuple(float(x) for x in array)
-    return MappingProxyType(out)

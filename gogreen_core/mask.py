@@ -18,7 +18,7 @@ import numpy as np
 from gogreen_core.history import History
 from gogreen_core.mesh_state import MaskRows, MeshState
 from gogreen_core.operations import MaskClear, MaskInvert
-from gogreen_core.session import SessionLog
+from gogreen_core.session_log import SessionLog
 from gogreen_core.validation import ParameterError
 
 __all__ = ["Mask"]

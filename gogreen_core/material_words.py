@@ -23,8 +23,8 @@ from typing import cast
 import numpy as np
 from scipy.optimize import minimize
 
-from gogreen_core.kernel import lebedev_points
 from gogreen_core.material import Material
+from gogreen_core.quadrature import lebedev_points
 
 __all__ = [
     "MaterialTraits",

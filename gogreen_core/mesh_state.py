@@ -230,7 +230,7 @@ class MeshState:
         """Indices (n,) int64, ascending, of the vertices within ``radius`` of the segment from
         ``center`` to ``center + step``, or of its mirror images (``signs`` (2^k, 3), see
         :func:`~gogreen_core.brushes.mirror_signs`); every vertex for None. The rows a pass
-        over every vertex with ``_expansion.near_segment`` gives, bit for bit."""
+        over every vertex with ``_evaluation.near_segment`` gives, bit for bit."""
         if radius is None:
             return np.arange(len(self.vertices))
         return self._blocks.rows_near(self.vertices, center, step, radius, signs, self.origin)

@@ -20,8 +20,9 @@ from typing import Any, ClassVar
 import numpy as np
 
 from gogreen_core.brushes import Brush, BrushEvent
+from gogreen_core.brushes.weights import check_brush_weights
 from gogreen_core.engine_settings import EngineSettings
-from gogreen_core.limits import MAX_RADIUS, MIN_RADIUS, check_brush_weights, check_detail_size
+from gogreen_core.limits import MAX_RADIUS, MIN_RADIUS, check_detail_size
 from gogreen_core.material import Material
 from gogreen_core.radial import RadialProfile
 from gogreen_core.schema import (

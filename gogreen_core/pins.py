@@ -26,7 +26,7 @@ from gogreen_core.operations import (
     ConstraintRemove,
     ConstraintsClear,
 )
-from gogreen_core.session import SessionLog
+from gogreen_core.session_log import SessionLog
 from gogreen_core.validation import ParameterError, check_bool, check_integer, check_vector
 
 __all__ = ["Pins"]

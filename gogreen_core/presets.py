@@ -28,8 +28,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from gogreen_core.brushes import Brush, default_wrinkle_weights
+from gogreen_core.brushes.weights import check_brush_weights
 from gogreen_core.engine_settings import EngineSettings
-from gogreen_core.limits import check_brush_weights
 from gogreen_core.material import Material
 from gogreen_core.mesh_io import write_text_atomic
 from gogreen_core.radial import GaussianRadial, RadialProfile

@@ -49,14 +49,13 @@ from gogreen_core.session import (
     RENAMED_BEFORE_3,
     SESSION_FORMAT,
     VERSION_EVALUATIONS,
-    LogListener,
     Session,
-    SessionLog,
     mesh_fingerprint,
     parse_session,
     replay,
     version_of,
 )
+from gogreen_core.session_log import LogListener, SessionLog
 from gogreen_core.stroke import Remesher, StrokeDriver
 from gogreen_core.subdivision import PreparedSubdivision, prepare_subdivision
 from gogreen_core.validation import ParameterError, check_bool, check_vector, prefixed
@@ -504,7 +503,7 @@ class Sculptor:
     # -- session log -------------------------------------------------------------------------
     def subscribe(self, listener: LogListener) -> Callable[[], None]:
         """Call ``listener`` after each change of the operation log and each mouse event of a
-        stroke (:data:`~gogreen_core.session.LogListener`; the recovery journal). Returns the
+        stroke (:data:`~gogreen_core.session_log.LogListener`; the recovery journal). Returns the
         function that unsubscribes it."""
         return self._log.subscribe(listener)
 

@@ -36,6 +36,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 
 from gogreen_core.brushes import AUTO_INFLUENCE, DEFAULT_BRUSH, Brush, default_wrinkle_weights
+from gogreen_core.brushes.weights import check_brush_weights
 from gogreen_core.engine_settings import (
     DEFAULT_CONSTRAINT_RADIUS,
     SETTING_GROUPS,
@@ -43,7 +44,6 @@ from gogreen_core.engine_settings import (
     resized_brush_weights,
 )
 from gogreen_core.limits import (
-    check_brush_weights,
     check_constraint_radius,
     check_degree_weights,
     check_detail_size,

@@ -46,7 +46,7 @@ from gogreen_core.remesh import (
     remesh_snapshot,
     strained_vertices,
 )
-from gogreen_core.session import SessionLog
+from gogreen_core.session_log import SessionLog
 from gogreen_core.validation import ParameterError
 
 __all__ = [

@@ -1,5 +1,5 @@
 """The influence test answered with the boxes of vertex blocks (``gogreen_core.influence``) gives
-the rows of the plain pass over every vertex (``_expansion.near_segment`` + ``np.flatnonzero``)
+the rows of the plain pass over every vertex (``_evaluation.near_segment`` + ``np.flatnonzero``)
 exactly, for every query and after every kind of vertex write, with the NumPy and the compiled
 code. (The conftest also checks every ``rows_near`` answer of every test against the plain pass.)
 """
@@ -16,7 +16,7 @@ from gogreen_core import (
     BrushEvent,
     Sculptor,
     _compiled,
-    _expansion,
+    _evaluation,
     _influence_compiled,
     _influence_numpy,
     influence,
@@ -33,7 +33,7 @@ SYMMETRIES = ("", "x", "xz", "xyz")
 def plain(mesh, center, step, radius, signs):
     """The rows of the plain pass, as ``MeshState.rows_near`` gave them before the blocks."""
     reach = np.empty(len(mesh.vertices), dtype=bool)
-    _expansion.near_segment(mesh.vertices, center, step, radius, signs, mesh.origin, reach)
+    _evaluation.near_segment(mesh.vertices, center, step, radius, signs, mesh.origin, reach)
     return np.flatnonzero(reach)
 
 

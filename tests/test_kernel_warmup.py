@@ -29,7 +29,7 @@ def _call_on_a_thread(callback) -> list[BaseException]:
 
 def test_a_compilation_ending_after_its_warmer_was_deleted_reports_nowhere(qtbot, monkeypatch):
     callbacks = []
-    monkeypatch.setattr(kernel_warmup._compiled, "units_for", lambda l_max: (("unit", l_max),))
+    monkeypatch.setattr(kernel_warmup._drivers, "units_for", lambda l_max: (("unit", l_max),))
     monkeypatch.setattr(kernel_warmup._compiled, "request", lambda *units: None)
     monkeypatch.setattr(kernel_warmup._compiled, "when_ready", lambda u, cb: callbacks.append(cb))
     parent = QObject()

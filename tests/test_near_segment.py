@@ -1,4 +1,4 @@
-"""The influence test of brush events (``_expansion.near_segment``) decides as evaluation 1's did:
+"""The influence test of brush events (``_evaluation.near_segment``) decides as evaluation 1's did:
 the vertices an old session's events reach must not change (sessions replay bit for bit)."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ import pytest
 from numba import njit, prange
 
 from gogreen_core._compiled import forced
-from gogreen_core._expansion import near_segment
+from gogreen_core._evaluation import near_segment
 from gogreen_core.brushes import mirror_signs
 
 

@@ -1,5 +1,6 @@
 """Generated angular kernels: their source files, compilation and caching."""
 
+import importlib
 import inspect
 import os
 import subprocess
@@ -17,8 +18,7 @@ from gogreen_core.kernel import prepare_degree
 def test_shipped_kernels_are_fresh(generator):
     """The committed modules equal what scripts/make_kernels.py writes now, and no stale module
     is left (run the script after changing the generator, BLOCK or the compile options)."""
-    package = generator.GENERATED_PACKAGE.removeprefix("gogreen_core.").replace(".", "/")
-    folder = Path(_unrolled.__file__).parent / package
+    folder = Path(importlib.import_module(generator.GENERATED_PACKAGE).__path__[0])
     expected = generator.generated_modules()
     shipped = {path.stem: path.read_text(encoding="utf-8") for path in folder.glob("*.py")}
     assert shipped.pop("__init__", None) is not None

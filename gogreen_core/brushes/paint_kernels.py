@@ -7,49 +7,35 @@ the compiler. On a new machine they are compiled in the background with the kern
 
 from __future__ import annotations
 
-import sys
-import threading
-from types import ModuleType
-
 import numpy as np
 from numba import njit, prange
 
+from gogreen_core import _compiled
+from gogreen_core.brushes import _paint_numpy
 from gogreen_core.topology import BOUNDARY, FIXED
 
 __all__ = ["compile_now", "cutoff_weights", "kernels", "relax"]
 
-#: ``now`` True on a thread that compiles this module's functions (``_compiled``).
-_compiling = threading.local()
+
+def _exercise() -> None:
+    """Call both loops once, typed as the brushes call them."""
+    points = np.zeros((2, 3))
+    rows = np.arange(2, dtype=np.int64)
+    out = np.empty(2)
+    f3 = np.zeros(3)
+    cutoff_weights(points, rows, f3, f3, np.ones((1, 3)), f3, 0.5, 1.0, out)
+    offsets = np.array([0, 1, 2], dtype=np.int64)
+    neighbours = np.array([1, 0], dtype=np.int64)
+    flags = np.zeros(2, dtype=np.bool_)
+    mode = np.zeros(2, dtype=np.int8)
+    relax(points, rows, rows, points, out, offsets, neighbours, flags, mode, np.empty((2, 3)))
 
 
-def kernels() -> ModuleType:
-    """This module once its functions are compiled (or loaded from numba's cache), else
-    ``_paint_numpy`` (they are requested meanwhile)."""
-    from gogreen_core import _compiled
-
-    if getattr(_compiling, "now", False) or _compiled.brushes():
-        return sys.modules[__name__]
-    from gogreen_core.brushes import _paint_numpy
-
-    return _paint_numpy
-
-
-def compile_now() -> None:
-    """Compile (or load from numba's disk cache) both loops, typed as the brushes call them."""
-    _compiling.now = True
-    try:
-        points = np.zeros((2, 3))
-        rows = np.arange(2, dtype=np.int64)
-        out = np.empty(2)
-        f3 = np.zeros(3)
-        cutoff_weights(points, rows, f3, f3, np.ones((1, 3)), f3, 0.5, 1.0, out)
-        offsets = np.array([0, 1, 2], dtype=np.int64)
-        neighbours = np.array([1, 0], dtype=np.int64)
-        flags = np.zeros(2, dtype=np.bool_)
-        mode = np.zeros(2, dtype=np.int8)
-        relax(points, rows, rows, points, out, offsets, neighbours, flags, mode, np.empty((2, 3)))
-    finally:
-        _compiling.now = False
+#: These loops once numba has them (compiled in the background with the kernels), else
+#: ``_paint_numpy``'s (they are requested meanwhile).
+_COMPILED = _compiled.CompiledModule(_compiled.BRUSHES, __name__, _paint_numpy, _exercise)
+kernels = _COMPILED.kernels
+compile_now = _COMPILED.compile_now
 
 
 @njit(parallel=True, cache=True, nogil=True, boundscheck=False)

@@ -15,12 +15,17 @@ none in the surface's normal direction, by symmetry).
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from gogreen_core.brushes.grab import GrabBrush
-from gogreen_core.engine_settings import EngineSettings, legacy_wrinkle_weights
+from gogreen_core.limits import check_l_max
 from gogreen_core.radial import GaussianRadial
 from gogreen_core.validation import check_integer
+
+if TYPE_CHECKING:
+    from gogreen_core.engine_settings import EngineSettings
 
 __all__ = [
     "WRINKLE_LEVEL",
@@ -30,6 +35,16 @@ __all__ = [
     "default_wrinkle_weights",
     "legacy_wrinkle_weights",
 ]
+
+
+def legacy_wrinkle_weights(l_max: int) -> np.ndarray:
+    """The wrinkle weights max(1, l/2) (l_max + 1,) that ``degree_weights = None`` means in
+    the engine: sessions and presets recorded ``null`` for them before
+    :func:`~gogreen_core.brushes.default_wrinkle_weights` changed, so None keeps this meaning
+    and they replay exactly; new code records the weights it uses explicitly."""
+    l_max = check_l_max(l_max)
+    return np.maximum(1.0, np.arange(l_max + 1) / 2.0)
+
 
 #: Radius (in ε) at which :func:`default_wrinkle_weights` equalizes the degrees' radial terms.
 WRINKLE_RING = 2.5
