@@ -7,7 +7,7 @@ take every key (so letters never reach the window's hotkeys either) and judge th
 it is committed (Enter, or the focus leaving): a number in range is taken; anything else is
 refused visibly (the field turns red, its tool tip, shown at once, says the allowed range with
 the field's name as the panel shows it, its accessible name, and the window's status bar says
-it too: :meth:`report_refusal` of the field's window, when it has one), and the text stays, red,
+it too: the ``note`` of the field's window, when it has one), and the text stays, red,
 for the artist to mend, also after the focus has left, until a number in range is entered or
 Escape cancels it (the value in effect again).
 
@@ -131,16 +131,16 @@ class _FieldBehaviour(_SpinBox):
     # -- showing a refusal -------------------------------------------------------------------
     def refuse(self, message: str) -> None:
         """Red, with ``message`` as tool tip, shown at once, and said in the window's status
-        bar (its ``report_refusal``, when it has one)."""
+        bar (its ``note``, when it has one)."""
         if not is_marked_invalid(self):
             self._tip = self.toolTip()
         mark_invalid(self, True)
         self.setToolTip(message)
         if self.isVisible() and self.hasFocus():
             QToolTip.showText(self.mapToGlobal(self.rect().bottomLeft()), message, self)
-        report = getattr(self.window(), "report_refusal", None)
-        if callable(report):
-            report(message)
+        note = getattr(self.window(), "note", None)
+        if callable(note):
+            note(f"Refused: {message}")
 
     def revert(self) -> None:
         """Drop a refused text: the value in effect again (``left`` lets a binding show the

@@ -93,6 +93,20 @@ def _preset_materials() -> tuple[tuple[str, Material], ...]:
     return tuple((preset.name, preset.material) for preset in builtin_presets())
 
 
+def active_material_name(window: MainWindow) -> str:
+    """The active material's name: a built-in preset's name when it is one's, its kind and
+    anisotropy (:func:`material_name`), and the Material panel's rotation of its axes."""
+    material = window.model.material
+    name = material_name(material)
+    preset = next((n for n, m in _preset_materials() if m == material), None)
+    if preset is not None:
+        name = f"{preset} ({name})"
+    angles = window.material_panel.form.angles
+    if any(angles):
+        name += " · axes turned " + ", ".join(f"{a:g}°" for a in angles)
+    return name
+
+
 class MainWindow(QMainWindow):
     """GoGreen Sculpt's main window.
 
@@ -321,8 +335,10 @@ class MainWindow(QMainWindow):
         self.brush_bar.constraint_mode_changed.connect(self._constraint_mode_changed)
         self.model.brush.events.changed.connect(lambda _c: viewport.refresh_cursor())
         self.model.events.material.connect(self._material_changed)
-        self.material_panel.form.events.angles.connect(lambda _e: self._show_material_name())
-        self._show_material_name()
+        self.material_panel.form.events.angles.connect(
+            lambda _e: status.show_material(active_material_name(self))
+        )
+        status.show_material(active_material_name(self))
         self.wrinkle_hint = WrinkleHint(
             self.model, self.brush_bar.kind_actions["wrinkle"], self.wrinkle_fix_button, self.note
         )
@@ -418,24 +434,8 @@ class MainWindow(QMainWindow):
         """Use ``material`` (through the settings: the panel and the engine follow)."""
         self.model.material = material
 
-    def material_name(self) -> str:
-        """The active material's name: a built-in preset's name when it is one's, its kind and
-        anisotropy (:func:`material_name`), and the panel's rotation of its axes when turned."""
-        material = self.model.material
-        name = material_name(material)
-        preset = next((n for n, m in _preset_materials() if m == material), None)
-        if preset is not None:
-            name = f"{preset} ({name})"
-        angles = self.material_panel.form.angles
-        if any(angles):
-            name += " · axes turned " + ", ".join(f"{a:g}°" for a in angles)
-        return name
-
-    def _show_material_name(self) -> None:
-        self.status.show_material(self.material_name())
-
     def _material_changed(self, event: ChangeEvent) -> None:
-        self._show_material_name()
+        self.status.show_material(active_material_name(self))
         sculptor = self.sculptor
         if event.source != "engine" and sculptor is not None and sculptor.material == event.value:
             self.flash("Material applied")
@@ -549,11 +549,6 @@ class MainWindow(QMainWindow):
         """Say ``text`` in the status bar now, over a temporary hint shown there."""
         self.statusBar().clearMessage()
         self.flash(text)
-
-    def report_refusal(self, message: str) -> None:
-        """A number field refused what was typed (:mod:`app.fields`): say it in the status bar
-        too, naming the field and the allowed values."""
-        self.note(f"Refused: {message}")
 
     def show_error(self, title: str, message: str) -> None:
         self.flash(f"{title}: {message}")

@@ -520,39 +520,27 @@ class MultiscaleRadial(RadialProfile):
 
     @classmethod
     def biscale(cls, base: RadialProfile, ratio: float = 1.25) -> MultiscaleRadial:
-        """u_ε − u_{ε·ratio}.
-
-        The default 1.25 is this project's choice, not a standard: Blender's Elastic Deform
-        brush scales each radius by 2 (ε, 2ε, 4ε) and libigl's Kelvinlets by 1.1.
-        """
+        """u_ε − u_{ε·ratio}. The default 1.25 is this project's choice, not a standard:
+        Blender's Elastic Deform brush scales each radius by 2 (ε, 2ε, 4ε), libigl's by 1.1."""
         return cls(base, (1.0, ratio), (1.0, -1.0))
 
     @classmethod
-    def triscale(cls, base: RadialProfile, ratio: float = 1.25) -> MultiscaleRadial:
-        """u_ε1 − (ε3² − ε1²)/(ε3² − ε2²) u_ε2 + (ε2² − ε1²)/(ε3² − ε2²) u_ε3, ε_k = ε ratio^(k-1).
-
-        The default ratio 1.25 is this project's choice (Blender uses 2, libigl 1.1).
+    def triscale(
+        cls, base: RadialProfile, ratio: float = 1.25, first: float = 1.0
+    ) -> MultiscaleRadial:
+        """u_ε1 − (ε3² − ε1²)/(ε3² − ε2²) u_ε2 + (ε2² − ε1²)/(ε3² − ε2²) u_ε3, ε_k = ε first
+        ratio^(k-1). The default ratio 1.25 is this project's choice (Blender uses 2, libigl 1.1).
         """
-        return cls._three(base, 1.0, ratio)
-
-    @classmethod
-    def local(cls, base: RadialProfile) -> MultiscaleRadial:
-        """The tri-scale falloff at 0.4 ε, 0.8 ε, 1.6 ε: the local grab (key 1).
-
-        Blender's Elastic Deform ratio 2, started below the radius so that the region that
-        moves by a tenth of the cursor motion or more is the brush circle (ε for the Gaussian
-        falloff and an isotropic material; 1.6 ε for :meth:`triscale`, 11 ε for the single
-        Gaussian: :func:`gogreen_core.tools.moving_radius`).
-        """
-        return cls._three(base, 0.4, 2.0)
-
-    @classmethod
-    def _three(cls, base: RadialProfile, first: float, ratio: float) -> MultiscaleRadial:
-        """Tri-scale weights (de Goes & James 2017, Sec. 5) at ε_k = ε · first · ratio^(k-1)."""
         e1, e2, e3 = first, first * ratio, first * ratio * ratio
         w2 = -(e3**2 - e1**2) / (e3**2 - e2**2)
         w3 = (e2**2 - e1**2) / (e3**2 - e2**2)
         return cls(base, (e1, e2, e3), (1.0, w2, w3))
+
+    @classmethod
+    def local(cls, base: RadialProfile) -> MultiscaleRadial:
+        """Key 1's grab: tri-scale at 0.4, 0.8, 1.6 ε (ratio 2, Blender's), so that what moves
+        by a tenth of the motion or more is the brush circle (triscale: 1.6 ε; Gaussian: 11 ε)."""
+        return cls.triscale(base, 2.0, 0.4)
 
     @property
     def base(self) -> RadialProfile:

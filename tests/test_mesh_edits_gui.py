@@ -106,7 +106,7 @@ def test_ctrl_d_subdivides_and_undo_gives_the_mesh_back(window, qtbot):
     assert "Subdivided" in window.message_label.text()
     assert window.viewport.pick(QPointF(center_of(window))) is not None  # picking on it
     drag_with(window, center_of(window))  # and sculpting
-    assert sculptor.history.undo_labels[-2:] == ["subdivide", "grab stroke"]
+    assert sculptor.history.undo_labels[-2:] == ["subdivide", "grab_local stroke"]
     window.undo()
     window.undo()
     assert np.array_equal(sculptor.faces, faces) and np.array_equal(sculptor.vertices, vertices)
