@@ -11,7 +11,9 @@ failure. Mutations are plain byte and token edits, the same in both runs.
 
 from __future__ import annotations
 
+import argparse
 import contextlib
+import functools
 import io
 import json
 import math
@@ -220,15 +222,24 @@ def _journal_target(seeds: list[bytes]) -> Target:
     return Target("journal", seeds, run, ("fuzz-journal",))
 
 
+@functools.cache
+def _cli_parser() -> argparse.ArgumentParser:
+    """The command line's parser, made once (parsing leaves it as it was)."""
+    from gogreen_core import batch
+
+    return batch._parser()
+
+
 def _cli_run(data: bytes, folder: Path) -> None:
     from gogreen_core import batch
 
     argv = data.decode("utf-8", "replace").split(" ")
     with contextlib.redirect_stderr(io.StringIO()), contextlib.redirect_stdout(io.StringIO()):
         try:
-            args = batch._parser().parse_args(argv)
-        except SystemExit as exc:  # argparse's refusal: usage and the option, status 2
-            if exc.code != 2:
+            args = _cli_parser().parse_args(argv)
+        except SystemExit as exc:  # argparse's refusal (status 2), or the help asked for (0)
+            asked = any(a == "--help" or (a[:1] == "-" != a[1:2] and "h" in a) for a in argv)
+            if exc.code != (0 if asked and exc.code == 0 else 2):
                 raise Failure(f"argparse exited with {exc.code!r}") from None
             return
     if args.command == "deform":
