@@ -238,7 +238,11 @@ def _cli_run(data: bytes, folder: Path) -> None:
         try:
             args = _cli_parser().parse_args(argv)
         except SystemExit as exc:  # argparse's refusal (status 2), or the help asked for (0)
-            asked = any(a == "--help" or (a[:1] == "-" != a[1:2] and "h" in a) for a in argv)
+            asked = any(
+                (len(a) > 2 and "--help".startswith(a))  # --h, --he: argparse's abbreviations
+                or (a[:1] == "-" != a[1:2] and "h" in a)  # -h, or in a cluster: -qh
+                for a in argv
+            )
             if exc.code != (0 if asked and exc.code == 0 else 2):
                 raise Failure(f"argparse exited with {exc.code!r}") from None
             return
