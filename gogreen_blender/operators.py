@@ -364,7 +364,6 @@ def apply_preset(scene, preset: Preset) -> None:
         s.falloff = "CUSTOM"
         s.custom_falloff = json.dumps(falloff.to_dict())
     s.l_max = preset.l_max
-    s.degree_weights = json.dumps([float(w) for w in preset.weights])
     s.brush_weights = json.dumps({k: list(w) for k, w in preset.brush_weights.items()})
     brush = preset.brush
     s.brush, s.radius, s.strength = brush.kind, brush.radius, brush.strength
@@ -381,7 +380,6 @@ def preset_from_scene(scene, name: str) -> Preset:
         material=settings.material,
         falloff=settings.falloff,
         l_max=settings.l_max,
-        degree_weights=settings.degree_weights,
         brush_weights=settings.brush_weights,
         brush=settings.brush,
         description="Saved from Blender",

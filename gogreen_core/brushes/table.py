@@ -2,8 +2,7 @@
 
 Adding a brush: a module with its :class:`BrushType` (or a member of an existing family: a
 pattern for the affine family) and one row here. The row's position is the brush's number key
-in the app (1 = the first row); :data:`BRUSH_KINDS` follows this order. :data:`LEGACY_TABLE`
-holds the kinds only old sessions use (not offered, still replayed).
+in the app (1 = the first row); :data:`BRUSH_KINDS` follows this order.
 """
 
 from __future__ import annotations
@@ -22,16 +21,13 @@ from gogreen_core.brushes.grab import GrabBrush
 from gogreen_core.brushes.mask import MaskBrush
 from gogreen_core.brushes.smooth import SmoothBrush
 from gogreen_core.brushes.wrinkle import WrinkleBrush
-from gogreen_core.brushes.wrinkle_legacy import LegacyWrinkleBrush
 from gogreen_core.radial import MultiscaleRadial
 
 __all__ = [
     "AFFINE_BRUSHES",
-    "ALL_KINDS",
     "BRUSH_KINDS",
     "BRUSH_TABLE",
     "GRAB_BRUSHES",
-    "LEGACY_TABLE",
     "PAINT_BRUSHES",
     "affine_load_shape",
     "brush_type",
@@ -50,14 +46,10 @@ BRUSH_TABLE: tuple[BrushType, ...] = (
     SmoothBrush("smooth"),
     MaskBrush("mask"),
 )
-#: Brushes old sessions use under names the table now gives to others.
-LEGACY_TABLE: tuple[BrushType, ...] = (LegacyWrinkleBrush("wrinkle_legacy"),)
 
-_BY_KIND = {brush.kind: brush for brush in BRUSH_TABLE + LEGACY_TABLE}
+_BY_KIND = {brush.kind: brush for brush in BRUSH_TABLE}
 #: Every brush kind an artist is offered, in the table's order.
 BRUSH_KINDS = tuple(brush.kind for brush in BRUSH_TABLE)
-#: Every kind a brush or a session may name (the offered ones, then the legacy ones).
-ALL_KINDS = tuple(_BY_KIND)
 #: Vector-load brushes (the cursor point follows the cursor).
 GRAB_BRUSHES = tuple(b.kind for b in BRUSH_TABLE if b.family == "vector")
 #: Affine-load brushes.
