@@ -5,16 +5,19 @@ largest motion, or are refused naming the operation that cannot be replayed."""
 from __future__ import annotations
 
 import json
+import shutil
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from gogreen_core.recovery import journal_session, read_journal, recover
 from gogreen_core.sculptor import Sculptor
 from gogreen_core.session import SESSION_VERSION, parse_session, upgrade_session
 from gogreen_core.validation import ParameterError
 
 FIXTURES = Path(__file__).parent / "fixtures" / "sessions"
+JOURNAL = Path(__file__).parent / "fixtures" / "journal_v1"
 
 
 def _session(name: str) -> dict:
@@ -91,4 +94,26 @@ def test_a_current_session_naming_the_legacy_weights_is_refused():
 
 
 def test_fixtures_are_small():
-    assert all(path.stat().st_size < 200_000 for path in FIXTURES.iterdir())
+    paths = [*FIXTURES.iterdir(), *JOURNAL.iterdir()]
+    assert all(path.stat().st_size < 200_000 for path in paths)
+
+
+@pytest.mark.parametrize("budget", [0.0, float("inf")], ids=["from its checkpoint", "from start"])
+def test_a_journal_of_the_previous_version_recovers_within_its_tolerance(tmp_path, budget):
+    """A journal written by the previous version (tests/fixtures/journal_v1, recorded with
+    70b041d by record.py there: grab, falloff, twist, checkpoint, wrinkle, pin, drag,
+    biscale) recovers with today's arithmetic, from its checkpoint or from its start."""
+    directory = tmp_path / "journal"
+    shutil.copytree(JOURNAL, directory)
+    (directory / "final.npz").unlink()
+    (directory / "record.py").unlink()
+    recorded = np.load(JOURNAL / "final.npz")
+    recovery = recover(directory, budget=budget)
+    assert not recovery.notes
+    motion = np.abs(recorded["final"] - recorded["start"]).max()
+    assert np.abs(recovery.mesh.vertices - recorded["final"]).max() <= 1e-4 * motion
+    assert len(recovery.sculptor.constraint_points) == 1
+    session = journal_session(read_journal(directory))
+    assert session["version"] == SESSION_VERSION
+    assert "degree_weights" not in session["settings"]
+    assert len(parse_session(session).operations) == 7
