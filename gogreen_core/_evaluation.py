@@ -158,13 +158,16 @@ def stream(
     single = True  # (``_integrator`` keeps a double precision field for its tests)
     coeffs32, cscale = parity.single(folded)
     tables, tables32 = tables[:1], single_tables
-    field = (
-        center, center_step, float(eps), parity.power, parity.l_first, parity.l_last,
-        parity.base, folded, parity.beta, tables,
-        *(parity.angular(3) if compiled else (None, False)), float(inner),
-        1.0 / width if outer > 0.0 and width > 0.0 else 0.0, mirrors, origin,
-        single, coeffs32, parity.beta_single, tables32, cscale,
-        *(parity.angular_single() if compiled else (None, False)),
+    angular, unrolled = parity.angular(3) if compiled else (None, False)
+    angular32, unrolled32 = parity.angular_single() if compiled else (None, False)
+    field = _stream.StreamField(
+        center0=center, center_step=center_step, eps=float(eps), power=parity.power,
+        l_first=parity.l_first, l_last=parity.l_last, base=parity.base, coeffs=folded,
+        beta=parity.beta, tables=tables, angular=angular, unrolled=unrolled,
+        cutoff_inner=float(inner), inv_width=1.0 / width if outer > 0.0 and width > 0.0 else 0.0,
+        mirrors=mirrors, origin=origin, single=single, coeffs32=coeffs32,
+        beta32=parity.beta_single, tables32=tables32, cscale=cscale, angular32=angular32,
+        unrolled32=unrolled32,
     )  # fmt: skip
     run = _stream.stream if compiled else _numpy_eval.stream
     return run(
