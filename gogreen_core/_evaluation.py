@@ -24,7 +24,7 @@ from gogreen_core import _compiled, _expansion, _numpy_eval, _stream, _unrolled
 from gogreen_core._expansion import BLOCK
 from gogreen_core._parallel import run_ranges
 
-__all__ = ["Parity", "expand", "stream"]
+__all__ = ["Parity", "expand", "stream", "stream_field"]
 #: Blocks per range handed to a thread by ``expand``.
 _MIN_BLOCKS = 32
 
@@ -124,52 +124,59 @@ def expand(
     return out
 
 
-def stream(
+def stream_field(
     parity: Parity,
     tables: np.ndarray,
     single_tables: np.ndarray,
     eps: float,
-    recurrence: tuple[np.ndarray, np.ndarray, np.ndarray],
     coeffs: np.ndarray,
-    points: np.ndarray,
-    rows: np.ndarray,
-    indexed: bool,
-    in_place: bool,
-    limit: float,
     center: np.ndarray,
     center_step: np.ndarray,
     cutoff: tuple[float, float],
     mirrors: np.ndarray,
     origin: np.ndarray,
-    substeps: int,
-    tolerance: float,
-    out: np.ndarray,
-    steps: np.ndarray,
-) -> int:
-    """The streamlines of the load ``coeffs`` (n_terms, 3); see ``_stream.stream`` for the
-    arguments and the status returned. ``single_tables``: the single precision tables of the
-    degrees above the parity's lowest (``radial_tables.single_tables``)."""
+) -> _stream.StreamField:
+    """The velocity field of the load ``coeffs`` (n_terms, 3) of ``parity`` moving from
+    ``center`` by ``center_step``, faded between the ``cutoff`` radii, mirrored by ``mirrors``
+    about ``origin``. ``tables``: the parity's radial tables (the lowest degree's is used);
+    ``single_tables``: the single precision ones of the degrees above it
+    (``radial_tables.single_tables``). The backend is chosen here, once for the field: the
+    compiled code's angular kernels when the drivers are ready, else none (the NumPy
+    reference serves, and the generated kernels are requested)."""
     inner, outer = cutoff
     width = outer - inner
     compiled = _compiled.drivers()
     if not compiled:
         parity.request_angular(3)
     folded = parity.folded(coeffs)
-    single = True  # (``_integrator`` keeps a double precision field for its tests)
     coeffs32, cscale = parity.single(folded)
-    tables, tables32 = tables[:1], single_tables
     angular, unrolled = parity.angular(3) if compiled else (None, False)
     angular32, unrolled32 = parity.angular_single() if compiled else (None, False)
-    field = _stream.StreamField(
+    return _stream.StreamField(
         center0=center, center_step=center_step, eps=float(eps), power=parity.power,
         l_first=parity.l_first, l_last=parity.l_last, base=parity.base, coeffs=folded,
-        beta=parity.beta, tables=tables, angular=angular, unrolled=unrolled,
+        beta=parity.beta, tables=tables[:1], angular=angular, unrolled=unrolled,
         cutoff_inner=float(inner), inv_width=1.0 / width if outer > 0.0 and width > 0.0 else 0.0,
-        mirrors=mirrors, origin=origin, single=single, coeffs32=coeffs32,
-        beta32=parity.beta_single, tables32=tables32, cscale=cscale, angular32=angular32,
+        mirrors=mirrors, origin=origin, single=True, coeffs32=coeffs32,
+        beta32=parity.beta_single, tables32=single_tables, cscale=cscale, angular32=angular32,
         unrolled32=unrolled32,
     )  # fmt: skip
-    run = _stream.stream if compiled else _numpy_eval.stream
-    return run(
-        points, rows, indexed, in_place, limit, field, substeps, tolerance, single, out, steps
-    )
+
+
+def stream(
+    field: _stream.StreamField,
+    points: np.ndarray,
+    rows: np.ndarray,
+    indexed: bool,
+    in_place: bool,
+    limit: float,
+    substeps: int,
+    tolerance: float,
+    out: np.ndarray,
+    steps: np.ndarray,
+) -> int:
+    """The streamlines of ``field`` (:func:`stream_field`) from ``points``; see
+    ``_stream.stream`` for the arguments and the status returned. The compiled code runs them
+    when the field was made for it, the NumPy reference otherwise."""
+    run = _numpy_eval.stream if field.angular is None else _stream.stream
+    return run(points, rows, indexed, in_place, limit, field, substeps, tolerance, True, out, steps)

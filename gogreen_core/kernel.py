@@ -475,10 +475,12 @@ class GreenKernel:
         evaluations = np.empty(n if count else 0, dtype=np.int64)
         if n == 0:
             return result, evaluations
+        field = _evaluation.stream_field(
+            parity, tables, single, self._radial.eps, coeffs, c, step, (inner, outer), signs, o
+        )
         status = _evaluation.stream(
-            parity, tables, single, self._radial.eps, self._recurrence, coeffs,
-            pts, rows, indices is not None, in_place, COORDINATE_LIMIT, c, step,
-            (inner, outer), signs, o, int(substeps), tol, result, evaluations,
+            field, pts, rows, indices is not None, in_place, COORDINATE_LIMIT, int(substeps),
+            tol, result, evaluations,
         )  # fmt: skip
         if status == 1:
             raise ParameterError("indices", f"indices must be rows 0 to {len(pts) - 1}")
