@@ -131,7 +131,7 @@ def test_engine_link_feeds_the_sculptor_one_call_per_group(sculptor, monkeypatch
     link = EngineLink(settings, sculptor)
     calls = []
     real = sculptor.set_falloff
-    monkeypatch.setattr(sculptor, "set_falloff", lambda *a: (calls.append(a), real(*a)))
+    monkeypatch.setattr(sculptor, "set_falloff", lambda *a, **k: (calls.append(a), real(*a, **k)))
     settings.material = Material.isotropic(1.0, 0.45)
     assert sculptor.material == Material.isotropic(1.0, 0.45)
     settings.update({"l_max": 4, "falloff": GaussianRadial(1.0)})
