@@ -67,7 +67,6 @@ SETTING_NAMES = {
     "material": "Material",
     "falloff": "Falloff",
     "l_max": "Truncation l_max",
-    "degree_weights": "Wrinkle weights",
     "brush_weights": "Degree weights",
     "constraint_radius": "Pin radius",
 }

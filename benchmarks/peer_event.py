@@ -19,8 +19,7 @@ Prints, in one run (figures only, no assertions):
   report of its moved rows, and the refit of their blocks' boxes at the next query);
 * the event's accuracy: max vertex error against 64 RK4 substeps over the cursor motion, its
   velocity evaluations a vertex (third-order steps take 3, RK4 steps 4, the probes that choose
-  between them 15 each), and the same event with evaluations 2 and 1 (the code before issue
-  23 and before evaluation 3, which version 3 and version 1-2 sessions replay with);
+  between them 15 each);
 * the first grab event in a fresh process with an empty numba cache (NUMBA_CACHE_DIR a new
   temporary directory; numba would also use ``__pycache__`` beside the sources, which this
   overrides): imports, default model (40,962 vertices), one event, and how long the compiled
@@ -195,18 +194,6 @@ def peer_event(vertices: np.ndarray, faces: np.ndarray, repeats: int) -> None:
         vertices[rows], center, np.linalg.solve(g0, delta), center_step=delta, cutoff=cutoff
     )
     probes = 15 * len(probe_rows(len(rows)))
-    # evaluations 2 and 1 (kept for old sessions: versions 3, and 1-2) on the same event
-    old_events: dict[int, list[float]] = {}
-    for version, evaluation in ((3, 2), (2, 1)):
-        old = Sculptor.from_session(dict(sculptor.session(), version=version), vertices, faces)
-        old.kernel(brush).warm_up()
-        for _ in range(max(3, repeats // 3)):
-            old.begin_stroke(brush)
-            start = time.perf_counter()
-            old.stroke_event(BrushEvent(center, delta))
-            old_events.setdefault(evaluation, []).append(time.perf_counter() - start)
-            old.end_stroke()
-            old.undo()
     # where the event's time goes: one fixed RK4 step on the ball's rows (the influence ball
     # itself: ``influence_ball`` below)
     passes, passes_cpu = [], []
@@ -236,8 +223,6 @@ def peer_event(vertices: np.ndarray, faces: np.ndarray, repeats: int) -> None:
     ns_event = 1e9 * statistics.median(passes_cpu) / n_evaluations
     ns_peer = 1e9 * statistics.median(peers_cpu) / n_evaluations
     print(f"  CPU a field evaluation, expansion / Kelvinlet: {ns_event:5.1f} / {ns_peer:.1f} ns")
-    print(f"  evaluation 2 (version 3 sessions), wall:     {median_ms(old_events[2])}")
-    print(f"  evaluation 1 (versions 1-2), wall:           {median_ms(old_events[1])}")
     print(f"  max error vs 64 RK4 substeps / cursor motion: {error:.2e}")
     influence_ball(sculptor, center, delta, cutoff[1], repeats)
 

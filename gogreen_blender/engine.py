@@ -38,7 +38,6 @@ from gogreen_core import (
     make_pattern,
     radial_from_dict,
 )
-from gogreen_core.brushes import default_wrinkle_weights
 from gogreen_core.brushes.weights import check_brush_weights
 from gogreen_core.engine_settings import EngineSettings, resized_brush_weights
 from gogreen_core.shapes import icosphere
@@ -98,7 +97,6 @@ class SculptSettings:
     material : the elastic material (any :class:`gogreen_core.Material`).
     falloff : the falloff shape (its ε is ignored: each brush sets it).
     l_max : truncation degree of the spherical-harmonic expansion.
-    degree_weights : the legacy wrinkle brush's per-degree weights (l_max + 1,).
     brush_weights : each brush kind's degree weights ω_0 … ω_{l_max+1} (a kind not listed has
         its defaults).
     """
@@ -107,7 +105,6 @@ class SculptSettings:
     material: Material
     falloff: RadialProfile
     l_max: int
-    degree_weights: np.ndarray
     brush_weights: Mapping[str, tuple[float, ...]] = dataclasses.field(default_factory=dict)
 
     def engine_settings(self) -> EngineSettings:
@@ -116,7 +113,6 @@ class SculptSettings:
             material=self.material,
             falloff=self.falloff,
             l_max=self.l_max,
-            degree_weights=self.degree_weights,
             brush_weights=self.brush_weights,
         )
 
@@ -179,20 +175,6 @@ def falloff_from(kind: str, custom_json: str = "") -> RadialProfile:
         except (ValueError, TypeError, KeyError) as exc:
             raise ParameterError("falloff", f"the stored falloff is not valid: {exc}") from None
     raise ParameterError("falloff", f"unknown falloff {kind!r}")
-
-
-def degree_weights_from(text: str, l_max: int) -> np.ndarray:
-    """The wrinkle weights: those stored as JSON (a preset's), else the default for l_max."""
-    if not text:
-        return default_wrinkle_weights(l_max)
-    try:
-        weights = np.array(json.loads(text), dtype=np.float64)
-    except (ValueError, TypeError) as exc:
-        raise ParameterError("degree_weights", f"stored weights are not numbers: {exc}") from None
-    if weights.shape != (l_max + 1,):
-        # the weights belong to another l_max (changed since the preset): the default ones
-        return default_wrinkle_weights(l_max)
-    return weights
 
 
 def brush_weights_from(text: str, l_max: int) -> Mapping[str, tuple[float, ...]]:
@@ -323,7 +305,6 @@ def default_settings(l_max: int = 8) -> SculptSettings:
         Material.isotropic(1.0, 0.3),
         GaussianRadial(1.0),
         l_max,
-        default_wrinkle_weights(l_max),
         {},
     )
 

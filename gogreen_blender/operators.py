@@ -475,7 +475,6 @@ def preset_values(preset: Preset, current_kind: str) -> tuple[dict[str, object],
         values["falloff"] = "CUSTOM"
         values["custom_falloff"] = json.dumps(falloff.to_dict())
     values["l_max"] = preset.l_max
-    values["degree_weights"] = json.dumps([float(w) for w in preset.weights])
     values["brush_weights"] = json.dumps({k: list(w) for k, w in preset.brush_weights.items()})
     brush = preset.brush
     if brush.kind not in engine.ADDON_BRUSH_KINDS:
@@ -540,7 +539,6 @@ def preset_from_scene(scene, name: str) -> Preset:
         material=settings.material,
         falloff=settings.falloff,
         l_max=settings.l_max,
-        degree_weights=settings.degree_weights,
         brush_weights=settings.brush_weights,
         brush=settings.brush,
         description="Saved from Blender",

@@ -208,11 +208,6 @@ def _settings_class() -> type:
             soft_max=16,
             update=_changed_l_max,
         ),
-        "degree_weights": StringProperty(
-            name="Legacy wrinkle weights",
-            description="Per-degree weights of the wrinkle brush of sessions before version 3 "
-            "(JSON)",
-        ),
         "brush_weights": StringProperty(
             name="Degree weights",
             description="Each brush kind's per-degree weights ω_0 … ω_(l_max+1) (JSON object; "
@@ -308,7 +303,6 @@ def read_settings(scene, obj=None, kind: str | None = None) -> engine.SculptSett
         material=read_material(s),
         falloff=engine.falloff_from(s.falloff, s.custom_falloff),
         l_max=l_max,
-        degree_weights=engine.degree_weights_from(s.degree_weights, l_max),
         brush_weights=engine.brush_weights_from(s.brush_weights, l_max),
     )
 

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from gogreen_core import _compiled, _expansion, _influence_compiled, _integrator, _unrolled
+from gogreen_core import _compiled, _expansion, _influence_compiled, _integrator, _stream, _unrolled
 
 if TYPE_CHECKING:
     from numba.core.ccallback import CFunc
@@ -24,7 +24,7 @@ _markers: dict[bool, CFunc[Any]] = {}
 
 
 def generic_marker(single: bool = False) -> CFunc[Any]:
-    """The C callback passed as ``angular`` (``single``: as ``angular32``, evaluation 3's
+    """The C callback passed as ``angular`` (``single``: as ``angular32``, the streamlines'
     single precision kernel) with ``unrolled=False`` (never called): the drivers then run the
     generic ``_expansion._angular``. Compiled with the drivers."""
     marker = _markers.get(single)
@@ -64,7 +64,7 @@ def units_for(l_max: int) -> tuple[_compiled.Unit, ...]:
 
 def _angular_kernels(unit: _compiled.Unit) -> list[tuple[int, int, bool]]:
     """(l_first, l_last, single) of the kernels of an angular unit: double precision, and
-    single where the parity has more than one degree (evaluation 3's degrees above the
+    single where the parity has more than one degree (the degrees above the
     lowest)."""
     first, last = int(unit[0]), int(unit[1])
     return [(first, last, single) for single in ((False, True) if last > first else (False,))]
@@ -89,29 +89,14 @@ def _driver_calls() -> list[tuple[Any, tuple[Any, ...]]]:
     beta, blocks, flags = np.zeros((2, 2)), np.zeros(1), np.zeros(1, dtype=np.bool_)
     marker = generic_marker()
     single = (f33.astype(np.float32), beta.astype(np.float32), np.zeros((2, 0, 3), np.float32))
-    field = (
-        f3,
-        f3,
-        1.0,
-        1,
-        0,
-        0,
-        base,
-        f33,
-        beta,
-        tables,
-        marker,
-        False,
-        0.0,
-        0.0,
-        f33,
-        f3,
-        False,
-        *single,
-        0.0,
-        generic_marker(single=True),
-        False,
-    )
+    coeffs32, beta32, tables32 = single
+    field = _stream.StreamField(
+        center0=f3, center_step=f3, eps=1.0, power=1, l_first=0, l_last=0, base=base,
+        coeffs=f33, beta=beta, tables=tables, angular=marker, unrolled=False,
+        cutoff_inner=0.0, inv_width=0.0, mirrors=f33, origin=f3, single=False,
+        coeffs32=coeffs32, beta32=beta32, tables32=tables32, cscale=0.0,
+        angular32=generic_marker(single=True), unrolled32=False,
+    )  # fmt: skip
     return [
         (_expansion.expand_blocks,
          (f33, f3, 1.0, 1, 0, 0, base, f33, beta, tables, marker, False, f33, 0, 0)),

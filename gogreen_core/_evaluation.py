@@ -1,23 +1,17 @@
 """The compiled code a :class:`~gogreen_core.kernel.GreenKernel` evaluates with.
 
-Three evaluations, each deterministic bit for bit:
+``_expansion`` and ``_integrator``: serial GIL-free numba functions run on a thread pool, and the
+generated angular kernels of ``_unrolled``, in double precision, but for the streamlines (the
+brushes' strokes), whose field sums the degrees above each parity's lowest in single precision
+(``_single_field``: twice the arithmetic rate, ~1e-8 of the field off double precision, 1e-4
+below the integrator's tolerance) and whose adaptive steps are third-order ones where probes
+show they are within the tolerance (``_integrator``). Deterministic bit for bit whatever the
+number of threads.
 
-* **3** (current, :data:`EVALUATION`): evaluation 2's, but for the streamlines (the brushes'
-  strokes), whose field sums the degrees above each parity's lowest in single precision
-  (``_single_field``: twice the arithmetic rate, ~1e-8 of the field off evaluation 2, 1e-4
-  below the integrator's tolerance) and whose adaptive steps are third-order ones where probes
-  show they are within the tolerance (``_integrator``). G, ∇G and the loads' displacements stay
-  evaluation 2's.
-* **2**: ``_expansion`` and ``_integrator`` in double precision, serial GIL-free numba
-  functions run on a thread pool, and the generated angular kernels of ``_unrolled``; session
-  files of version 3 replay with it.
-* **1**: the code that produced session files of versions 1 and 2 (``_legacy``), kept
-  unchanged so that they replay bit for bit; compiled when first used.
-
-Until the compiled code of evaluations 2 and 3 is ready (``_compiled``: in a child process,
-once per machine) the same arithmetic runs in NumPy (``_numpy_eval``), with equal results bit
-for bit, so the first evaluation on a new machine takes milliseconds, not the compiler's tens
-of seconds.
+Until the compiled code is ready (``_compiled``: in a child process, once per machine) the same
+arithmetic runs in NumPy (``_numpy_eval``, the reference, within 1e-12 relative of the compiled
+code), so the first evaluation on a new machine takes milliseconds, not the compiler's tens of
+seconds.
 """
 
 from __future__ import annotations
@@ -32,12 +26,7 @@ from gogreen_core._expansion import BLOCK
 from gogreen_core._influence_compiled import near_segment_rows
 from gogreen_core._parallel import run_ranges
 
-__all__ = ["EVALUATION", "EVALUATIONS", "Parity", "expand", "near_segment", "stream"]
-
-#: The evaluation new kernels use.
-EVALUATION = 3
-#: Evaluations a kernel can use (1: sessions recorded before session version 3; 2: version 3).
-EVALUATIONS = (1, 2, 3)
+__all__ = ["Parity", "expand", "near_segment", "stream", "stream_field"]
 #: Blocks per range handed to a thread by ``expand``.
 _MIN_BLOCKS = 32
 
@@ -46,7 +35,7 @@ class Parity:
     """Packed material coefficients of one parity (even: G, odd: ∇G).
 
     ``matrices`` (n_terms, 3, 3) or (n_terms, 3, 3, 3), rows of degree l from ``base[l]``;
-    ``scales`` (n_terms,) the Legendre scales evaluation 2 folds into the coefficients."""
+    ``scales`` (n_terms,) the Legendre scales folded into the coefficients."""
 
     def __init__(self, l_first: int, l_last: int, matrices: np.ndarray, base: np.ndarray):
         self.l_first = l_first
@@ -56,7 +45,7 @@ class Parity:
         self.base = base  # (l_last+1,) int64, row of Y_l,-l
         self.scales = _unrolled.row_scales(l_first, l_last)
         self.beta = np.array(_unrolled.angular_constants(l_last)[0])  # writable: one type
-        #: evaluation 3's single precision recurrence constants
+        #: the streamlines' single precision recurrence constants
         self.beta_single = self.beta.astype(np.float32)
 
     @property
@@ -76,7 +65,7 @@ class Parity:
         return _drivers.generic_marker(), False
 
     def angular_single(self) -> tuple[object, bool]:
-        """``angular`` for evaluation 3's single precision degrees (those above l_first):
+        """``angular`` for the streamlines' single precision degrees (those above l_first):
         the generated ``angular_single`` kernel once compiled, else the generic ``_angular``."""
         if self.l_first < self.l_last <= _unrolled.UNROLLED_L_MAX:
             kernel = _drivers.angular(self.l_first, self.l_last, single=True)
@@ -90,7 +79,7 @@ class Parity:
             _compiled.request((self.l_first, self.l_last))
 
     def single(self, folded: np.ndarray) -> tuple[np.ndarray, float]:
-        """Evaluation 3's single precision coefficients from the ``folded`` ones (n_terms, K):
+        """The streamlines' single precision coefficients from the ``folded`` ones (n_terms, K):
         (``folded`` divided by the largest magnitude of its rows of degree above l_first, as
         float32; that magnitude). All zeros and 0 when there is none; NaN rows (and the field)
         when it is not finite, as the double precision ones would overflow."""
@@ -101,21 +90,12 @@ class Parity:
         with np.errstate(invalid="ignore"):
             return np.ascontiguousarray(folded / scale, dtype=np.float32), scale
 
-    def legacy_angular(self, n_out: int) -> tuple[object, bool]:
-        """``angular`` of evaluation 1: its generated kernel whenever there is one."""
-        from gogreen_core._legacy import expansion, unrolled
-
-        if n_out == 3 and self.l_last <= unrolled.UNROLLED_L_MAX:
-            return unrolled.unrolled_angular(self.l_first, self.l_last), True
-        return expansion.generic_marker, False
-
     def folded(self, coeffs: np.ndarray) -> np.ndarray:
-        """``coeffs`` (n_terms, K) with the Legendre scales folded in (evaluation 2)."""
+        """``coeffs`` (n_terms, K) with the Legendre scales folded in."""
         return np.ascontiguousarray(coeffs * self.scales[:, None])
 
 
 def expand(
-    evaluation: int,
     parity: Parity,
     tables: np.ndarray,
     eps: float,
@@ -128,15 +108,6 @@ def expand(
     → (N, K)."""
     out = np.empty((points.shape[0], coeffs.shape[1]))
     if points.shape[0] == 0:
-        return out
-    if evaluation == 1:
-        from gogreen_core._legacy.expansion import expand as legacy_expand
-
-        legacy_expand(
-            points, center, eps, parity.power, parity.l_first, parity.l_last, parity.base,
-            np.ascontiguousarray(coeffs), tables, *recurrence,
-            *parity.legacy_angular(coeffs.shape[1]), out,
-        )  # fmt: skip
         return out
     folded = parity.folded(coeffs)
     if not _compiled.drivers():
@@ -155,71 +126,62 @@ def expand(
     return out
 
 
-def stream(
-    evaluation: int,
+def stream_field(
     parity: Parity,
     tables: np.ndarray,
     single_tables: np.ndarray,
     eps: float,
-    recurrence: tuple[np.ndarray, np.ndarray, np.ndarray],
     coeffs: np.ndarray,
-    points: np.ndarray,
-    rows: np.ndarray,
-    indexed: bool,
-    in_place: bool,
-    limit: float,
     center: np.ndarray,
     center_step: np.ndarray,
     cutoff: tuple[float, float],
     mirrors: np.ndarray,
     origin: np.ndarray,
-    substeps: int,
-    tolerance: float,
-    out: np.ndarray,
-    steps: np.ndarray,
-) -> int:
-    """The streamlines of the load ``coeffs`` (n_terms, 3); see ``_stream.stream`` for the
-    arguments and the status returned. ``single_tables``: evaluation 3's tables of the degrees
-    above the parity's lowest (``radial_tables.single_tables``)."""
+) -> _stream.StreamField:
+    """The velocity field of the load ``coeffs`` (n_terms, 3) of ``parity`` moving from
+    ``center`` by ``center_step``, faded between the ``cutoff`` radii, mirrored by ``mirrors``
+    about ``origin``. ``tables``: the parity's radial tables (the lowest degree's is used);
+    ``single_tables``: the single precision ones of the degrees above it
+    (``radial_tables.single_tables``). The backend is chosen here, once for the field: the
+    compiled code's angular kernels when the drivers are ready, else none (the NumPy
+    reference serves, and the generated kernels are requested)."""
     inner, outer = cutoff
-    if evaluation == 1:
-        from gogreen_core._legacy.stream import stream as legacy_stream
-
-        # it counts RK4 steps, for every point: n steps took 4 (2n - 1) evaluations if adaptive
-        n_steps = np.empty(len(out), dtype=np.int64)
-        status = legacy_stream(
-            points, rows, indexed, in_place, limit, center, center_step, eps, parity.power,
-            parity.l_first, parity.l_last, parity.base, np.ascontiguousarray(coeffs), tables,
-            *recurrence, *parity.legacy_angular(3), inner, outer, mirrors, origin, substeps,
-            tolerance, out, n_steps,
-        )  # fmt: skip
-        if len(steps):
-            steps[:] = 4 * (2 * n_steps - 1) if tolerance > 0.0 else 4 * n_steps
-        return int(status)
     width = outer - inner
     compiled = _compiled.drivers()
     if not compiled:
         parity.request_angular(3)
     folded = parity.folded(coeffs)
-    single = evaluation >= 3
-    if single:
-        coeffs32, cscale = parity.single(folded)
-        tables, tables32 = tables[:1], single_tables
-    else:
-        coeffs32, cscale = np.zeros((1, 3), dtype=np.float32), 0.0
-        tables32 = np.zeros((1, 0, 3), dtype=np.float32)
-    field = (
-        center, center_step, float(eps), parity.power, parity.l_first, parity.l_last,
-        parity.base, folded, parity.beta, tables,
-        *(parity.angular(3) if compiled else (None, False)), float(inner),
-        1.0 / width if outer > 0.0 and width > 0.0 else 0.0, mirrors, origin,
-        single, coeffs32, parity.beta_single, tables32, cscale,
-        *(parity.angular_single() if compiled else (None, False)),
+    coeffs32, cscale = parity.single(folded)
+    angular, unrolled = parity.angular(3) if compiled else (None, False)
+    angular32, unrolled32 = parity.angular_single() if compiled else (None, False)
+    return _stream.StreamField(
+        center0=center, center_step=center_step, eps=float(eps), power=parity.power,
+        l_first=parity.l_first, l_last=parity.l_last, base=parity.base, coeffs=folded,
+        beta=parity.beta, tables=tables[:1], angular=angular, unrolled=unrolled,
+        cutoff_inner=float(inner), inv_width=1.0 / width if outer > 0.0 and width > 0.0 else 0.0,
+        mirrors=mirrors, origin=origin, single=True, coeffs32=coeffs32,
+        beta32=parity.beta_single, tables32=single_tables, cscale=cscale, angular32=angular32,
+        unrolled32=unrolled32,
     )  # fmt: skip
-    run = _stream.stream if compiled else _numpy_eval.stream
-    return run(
-        points, rows, indexed, in_place, limit, field, substeps, tolerance, single, out, steps
-    )
+
+
+def stream(
+    field: _stream.StreamField,
+    points: np.ndarray,
+    rows: np.ndarray,
+    indexed: bool,
+    in_place: bool,
+    limit: float,
+    substeps: int,
+    tolerance: float,
+    out: np.ndarray,
+    steps: np.ndarray,
+) -> int:
+    """The streamlines of ``field`` (:func:`stream_field`) from ``points``; see
+    ``_stream.stream`` for the arguments and the status returned. The compiled code runs them
+    when the field was made for it, the NumPy reference otherwise."""
+    run = _numpy_eval.stream if field.angular is None else _stream.stream
+    return run(points, rows, indexed, in_place, limit, field, substeps, tolerance, True, out, steps)
 
 
 def near_segment(

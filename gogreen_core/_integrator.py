@@ -44,7 +44,7 @@ replays are bit-identical whatever the threads or the kernels compiled so far.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numba import njit
@@ -53,8 +53,9 @@ from gogreen_core._expansion import _JIT, BLOCK, CUTOFF_END, _angular, _geometry
 from gogreen_core._single_field import _single_velocity
 
 if TYPE_CHECKING:
-    #: The velocity field's tuple (see below), the scratch rows of ``_scratch``.
-    Field = tuple[Any, ...]
+    from gogreen_core._stream import StreamField as Field
+
+    #: The scratch rows of ``_scratch``.
     Scratch = tuple[
         np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
         np.ndarray, np.ndarray, np.ndarray, np.ndarray,
@@ -68,17 +69,15 @@ __all__ = ["CUTOFF_END", "MAX_ADAPTIVE_STEPS"]
 #: of this module's compiled code on this file alone, yet compiles their functions and constants
 #: into it: a change there must change this file, or a stale machine code (another BLOCK,
 #: another arithmetic) would be loaded.
-COMPILED_SOURCES = "30c722287248ae57"
+COMPILED_SOURCES = "21b859c7242fe850"
 
 #: Largest number of RK4 steps the adaptive streamlines give one vertex in one event.
 MAX_ADAPTIVE_STEPS = 256
 _SIXTH = 1.0 / 6.0
 _THIRD = 1.0 / 3.0
 
-# The velocity field travels as one tuple through the functions below:
-# (center0, center_step, eps, power, l_first, l_last, base, coeffs, beta, tables, angular,
-#  unrolled, cutoff_inner, inv_width, mirrors, origin, single, coeffs32, beta32, tables32,
-#  cscale, angular32, unrolled32); see ``_evaluation.stream``.
+# The velocity field travels as one record (``_stream.StreamField``, a named tuple) through the
+# functions below; see ``_evaluation.stream``.
 
 
 @njit(**_JIT)
@@ -106,11 +105,16 @@ def _velocity(
     pos: np.ndarray, nb: int, t: float, field: Field, scratch: Scratch, vel: np.ndarray
 ) -> None:
     """vel[:, :nb] = v(pos[:, :nb], t) (rows x, y, z)."""
-    (center0, center_step, eps, power, l_first, l_last, base, coeffs, beta, tables, angular,
-     unrolled, cutoff_inner, inv_width, mirrors, origin, single) = field[:17]  # fmt: skip
-    if single:
+    if field.single:
         _single_velocity(pos, nb, t, field, scratch, vel)
         return
+    center0, center_step, eps, power = field.center0, field.center_step, field.eps, field.power
+    l_first, l_last, base, coeffs, beta = (
+        field.l_first, field.l_last, field.base, field.coeffs, field.beta
+    )  # fmt: skip
+    tables, angular, unrolled = field.tables, field.angular, field.unrolled
+    cutoff_inner, inv_width = field.cutoff_inner, field.inv_width
+    mirrors, origin = field.mirrors, field.origin
     geo, seg, rad, work, total = scratch[:5]
     weight = geo[7]
     for mi in range(mirrors.shape[0]):
@@ -287,7 +291,7 @@ def _probe_pass(
     bad (the first pass reports it) gets an infinite error."""
     n_probes = probes.shape[0]
     n_rows = points.shape[0]
-    scratch, rows = _scratch(field[9].shape[0], field[19].shape[1])
+    scratch, rows = _scratch(field.tables.shape[0], field.tables32.shape[1])
     start_rows = np.empty((3, BLOCK))
     third = np.empty((3, BLOCK))
     fourth = np.empty((3, BLOCK))
@@ -348,7 +352,7 @@ def _first_pass(
     """The first pass of ``stream`` over blocks [first_block, last_block)."""
     n_points = indices.shape[0] if indexed else points.shape[0]
     n_rows = points.shape[0]
-    scratch, rows = _scratch(field[9].shape[0], field[19].shape[1])
+    scratch, rows = _scratch(field.tables.shape[0], field.tables32.shape[1])
     start_rows = np.empty((3, BLOCK))
     end_rows = np.empty((3, BLOCK))
     mid_rows = np.empty((6, BLOCK))
@@ -427,7 +431,7 @@ def _refine_pass(
     RK4 steps until Richardson's estimate is under ``bound`` (blocks [first, last) of them);
     ``evaluations`` counts them."""
     n_refine = refine.shape[0]
-    scratch, rows = _scratch(field[9].shape[0], field[19].shape[1])
+    scratch, rows = _scratch(field.tables.shape[0], field.tables32.shape[1])
     start_rows = np.empty((3, BLOCK))
     end_rows = np.empty((3, BLOCK))
     previous = np.empty((3, BLOCK))

@@ -1,6 +1,6 @@
 """The types of the compile options modules pass to numba's ``njit`` as ``**options`` (for the
 type checker: numba's own annotations then keep each compiled function's signature). Options a
-module also passes one by one next to them (``parallel``, ``nogil`` in ``_legacy``) are no keys
+module also passes one by one next to them (``parallel``, ``nogil``) are no keys
 here, so that the type checker sees that no keyword is given twice."""
 
 from __future__ import annotations

@@ -22,7 +22,7 @@ import numpy as np
 
 from gogreen_core._expansion import _HUGE, _TINY
 from gogreen_core._integrator import _SIXTH, _THIRD, CUTOFF_END, MAX_ADAPTIVE_STEPS
-from gogreen_core._stream import probe_rows, refinement_bound, third_order_limit
+from gogreen_core._stream import StreamField, probe_rows, refinement_bound, third_order_limit
 
 __all__ = ["expand", "near_segment", "stream"]
 
@@ -147,13 +147,13 @@ def expand(
     return out
 
 
-def _single_field(field: tuple[Any, ...], geometry: tuple[Any, ...]) -> np.ndarray:
+def _single_field(field: StreamField, geometry: tuple[Any, ...]) -> np.ndarray:
     """``_integrator._single_velocity``'s field before the weight (K, n): the parity's lowest
     degree in float64 plus the degrees above it in float32."""
-    l_first, l_last, base, coeffs = field[4:8]
-    coeffs32, beta32, tables32, cscale = field[17:21]
+    l_first, l_last, base, coeffs = field.l_first, field.l_last, field.base, field.coeffs
+    coeffs32, beta32, tables32, cscale = field.coeffs32, field.beta32, field.tables32, field.cscale
     x, y, z = geometry[:3]
-    t = _radial(field[9], l_first, geometry)[0]
+    t = _radial(field.tables, l_first, geometry)[0]
     c0, c1, c2 = (coeffs[j][:, None] for j in ((0, 1, 2) if l_first else (0, 0, 0)))
     low = t * c0 if l_first == 0 else ((t * z) * c1 + x * (t * c2)) + y * (t * c0)
     if l_last > l_first:
@@ -169,10 +169,14 @@ def _single_field(field: tuple[Any, ...], geometry: tuple[Any, ...]) -> np.ndarr
     return cast(np.ndarray, low + (geometry[7] * cscale) * total)
 
 
-def _velocity(pos: np.ndarray, t: float, field: tuple[Any, ...]) -> np.ndarray:
+def _velocity(pos: np.ndarray, t: float, field: StreamField) -> np.ndarray:
     """``_integrator._velocity`` at positions (3, n) → (3, n)."""
-    (center0, center_step, eps, power, l_first, l_last, base, coeffs, beta, tables, _, _,
-     cutoff_inner, inv_width, mirrors, origin, single) = field[:17]  # fmt: skip
+    center0, center_step, eps, power = field.center0, field.center_step, field.eps, field.power
+    l_first, l_last, base, coeffs, beta = (
+        field.l_first, field.l_last, field.base, field.coeffs, field.beta
+    )  # fmt: skip
+    tables, cutoff_inner, inv_width = field.tables, field.cutoff_inner, field.inv_width
+    mirrors, origin, single = field.mirrors, field.origin, field.single
     vel: Any = None
     for mi in range(mirrors.shape[0]):
         offsets = np.empty_like(pos)
@@ -199,7 +203,7 @@ def _velocity(pos: np.ndarray, t: float, field: tuple[Any, ...]) -> np.ndarray:
 
 
 def _rk4(
-    n_steps: int, start: np.ndarray, field: tuple[Any, ...], want_mid: bool
+    n_steps: int, start: np.ndarray, field: StreamField, want_mid: bool
 ) -> tuple[np.ndarray, Any]:
     """``_integrator._steps`` (RK4) from start (3, n) → (end, mid (6, n) or None)."""
     h = 1.0 / n_steps
@@ -225,7 +229,7 @@ def _rk4(
     return end, mid
 
 
-def _rk3(start: np.ndarray, field: tuple[Any, ...]) -> tuple[np.ndarray, np.ndarray]:
+def _rk3(start: np.ndarray, field: StreamField) -> tuple[np.ndarray, np.ndarray]:
     """``_integrator._steps`` (third order) from start (3, n) → (end, squared spread (n,))."""
     k1 = _velocity(start, 0.0, field)
     ksum = k1 + _velocity(start + k1, 1.0, field)
@@ -241,7 +245,7 @@ def _norm2(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _probes(
-    points: np.ndarray, indices: np.ndarray, indexed: bool, field: tuple[Any, ...],
+    points: np.ndarray, indices: np.ndarray, indexed: bool, field: StreamField,
     tolerance: float,
 ) -> float:  # fmt: skip
     """``_integrator``'s probes and their verdict (``third_order_limit``): the largest squared
@@ -259,7 +263,7 @@ def _probes(
     if not found:
         return -1.0
     error, spread, motion = (np.concatenate(part) for part in zip(*found, strict=True))
-    return third_order_limit(field[1], tolerance, error, spread, motion)
+    return third_order_limit(field.center_step, tolerance, error, spread, motion)
 
 
 def stream(
@@ -268,7 +272,7 @@ def stream(
     indexed: bool,
     write_back: bool,
     limit: float,
-    field: tuple[Any, ...],
+    field: StreamField,
     substeps: int,
     tolerance: float,
     third_order: bool,
@@ -314,7 +318,9 @@ def stream(
                     reach2 > 0.0, e * e * e * e * e / reach2, 0.0
                 )
         refined_bad = False
-        bound = refinement_bound(field[1], math.sqrt(motion2), tolerance) if adaptive else 0.0
+        bound = (
+            refinement_bound(field.center_step, math.sqrt(motion2), tolerance) if adaptive else 0.0
+        )
         if bound > 0.0:
             refine = np.flatnonzero(rank > bound * bound * bound)
             for first in range(0, refine.shape[0], CHUNK):

@@ -64,9 +64,9 @@ def _type_key(value: Any) -> Any:
         flags = value.flags
         layout = "C" if flags.c_contiguous else ("F" if flags.f_contiguous else "A")
         return (value.dtype.str, value.ndim, layout, flags.writeable, flags.aligned)
-    if isinstance(value, tuple):
+    if isinstance(value, tuple):  # (a named tuple's type is part of numba's)
         keys = tuple(_type_key(v) for v in value)
-        return None if None in keys else keys
+        return None if None in keys else (type(value), keys)
     if isinstance(value, (bool, float)):
         return type(value)
     if isinstance(value, int):

@@ -18,7 +18,7 @@ same precisions, so the switch from one to the other changes no bit.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numba import njit
@@ -26,8 +26,9 @@ from numba import njit
 from gogreen_core._expansion import _HUGE, _JIT, _TINY, CUTOFF_END, _angular, _radial
 
 if TYPE_CHECKING:
-    #: The velocity field's tuple and the scratch rows (see ``_integrator``).
-    Field = tuple[Any, ...]
+    #: The velocity field's record and the scratch rows (see ``_integrator``).
+    from gogreen_core._stream import StreamField as Field
+
     Scratch = tuple[
         np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
         np.ndarray, np.ndarray, np.ndarray, np.ndarray,
@@ -46,9 +47,10 @@ def _single_geometry(
     lowest degree needs it) and the table variable also as float32 (geo32 rows 0-2 and 4), and
     the cutoff weight (geo row 7). Returns how many points it reaches."""
     center0, center_step, eps, power, l_first, tables = (
-        field[0], field[1], field[2], field[3], field[4], field[9]
+        field.center0, field.center_step, field.eps, field.power, field.l_first, field.tables
     )  # fmt: skip
-    cutoff_inner, inv_width, mirrors, origin = field[12], field[13], field[14], field[15]
+    cutoff_inner, inv_width = field.cutoff_inner, field.inv_width
+    mirrors, origin = field.mirrors, field.origin
     n_seg = tables.shape[1]
     geo, seg, geo32 = scratch[0], scratch[1], scratch[5]
     x, y, z, rr, loc, scale0, scale1, weight = (
@@ -160,9 +162,12 @@ def _single_velocity(
     variables, ``tables32``, coefficients ``coeffs32`` over their scale ``cscale``; the
     generated ``angular32`` or the generic ``_angular`` on float32 rows), weighted and summed
     over the mirror images as ``_velocity`` does."""
-    l_first, l_last, base, coeffs, _, tables = field[4:10]
-    mirrors = field[14]
-    coeffs32, beta32, tables32, cscale, angular32, unrolled32 = field[17:23]
+    l_first, l_last, base, coeffs, tables = (
+        field.l_first, field.l_last, field.base, field.coeffs, field.tables
+    )  # fmt: skip
+    mirrors = field.mirrors
+    coeffs32, beta32, tables32, cscale = field.coeffs32, field.beta32, field.tables32, field.cscale
+    angular32, unrolled32 = field.angular32, field.unrolled32
     geo, seg, rad, _, _, geo32, rad32, work32, total32 = scratch
     x, y, z, scale1, weight = geo[0], geo[1], geo[2], geo[6], geo[7]
     upper = l_last > l_first

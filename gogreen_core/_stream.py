@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 from functools import partial
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -23,6 +23,7 @@ __all__ = [
     "MIN_PROBES",
     "POINTS_PER_PROBE",
     "THIRD_ORDER_POINTS",
+    "StreamField",
     "probe_rows",
     "refinement_bound",
     "stream",
@@ -43,6 +44,45 @@ THIRD_ORDER_POINTS = 1024
 #: each, 3 % of the evaluation a point they can save.
 POINTS_PER_PROBE = 512
 MIN_PROBES = 256
+
+
+class StreamField(NamedTuple):
+    """The streamlines' velocity field, one record through the compiled functions (numba types
+    it as a named tuple: the attributes below in njit code, fixed at the call).
+
+    The load moves from ``center0`` by ``center_step`` over pseudo-time [0, 1]; ``coeffs``
+    (n_terms, 3) is its folded expansion of the parity ``l_first`` … ``l_last`` (rows of degree
+    l from ``base[l]``, Legendre constants ``beta``), ``tables`` the radial table of the lowest
+    degree; the degrees above it are summed in single precision when ``single`` (``coeffs32``
+    over their scale ``cscale``, ``beta32``, ``tables32``); ``angular``/``angular32`` the
+    generated angular kernels (``unrolled``/``unrolled32`` whether to call them) or the generic
+    markers; the smooth cutoff fades from ``cutoff_inner`` over 1 / ``inv_width``; ``mirrors``
+    (n_m, 3) signs of the mirror images about ``origin``.
+    """
+
+    center0: np.ndarray
+    center_step: np.ndarray
+    eps: float
+    power: int
+    l_first: int
+    l_last: int
+    base: np.ndarray
+    coeffs: np.ndarray
+    beta: np.ndarray
+    tables: np.ndarray
+    angular: Any
+    unrolled: bool
+    cutoff_inner: float
+    inv_width: float
+    mirrors: np.ndarray
+    origin: np.ndarray
+    single: bool
+    coeffs32: np.ndarray
+    beta32: np.ndarray
+    tables32: np.ndarray
+    cscale: float
+    angular32: Any
+    unrolled32: bool
 
 
 def refinement_bound(center_step: np.ndarray, motion: float, tolerance: float) -> float:
@@ -95,7 +135,7 @@ def stream(
     indexed: bool,
     write_back: bool,
     limit: float,
-    field: tuple[Any, ...],
+    field: StreamField,
     substeps: int,
     tolerance: float,
     third_order: bool,
@@ -125,7 +165,7 @@ def stream(
         found = (np.empty(len(probes)), np.empty(len(probes)), np.empty(len(probes)))
         probe_pass = partial(_probe_pass, points, indices, indexed, limit, field, probes, *found)
         run_ranges(probe_pass, (len(probes) + BLOCK - 1) // BLOCK, 1)
-        limit3 = third_order_limit(field[1], tolerance, *found)
+        limit3 = third_order_limit(field.center_step, tolerance, *found)
     rank = np.empty(n_points)
     block_motion, block_rank = np.zeros(n_blocks), np.zeros(n_blocks)
     problem = np.zeros(n_blocks, dtype=np.int64)
@@ -140,7 +180,7 @@ def stream(
         if np.any(problem == code):
             return code
     if adaptive:
-        bound = refinement_bound(field[1], float(block_motion.max(initial=0.0)), tolerance)
+        bound = refinement_bound(field.center_step, float(block_motion.max(initial=0.0)), tolerance)
         if bound > 0.0:
             refine = _above(rank, block_rank, bound * bound * bound)
             n_packed = (len(refine) + BLOCK - 1) // BLOCK

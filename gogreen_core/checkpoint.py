@@ -32,16 +32,16 @@ from typing import Any, BinaryIO, cast
 
 import numpy as np
 
-from gogreen_core._evaluation import EVALUATION as CURRENT_EVALUATION
-from gogreen_core._evaluation import EVALUATIONS
 from gogreen_core.engine_settings import EngineSettings
 from gogreen_core.mesh_io.atomic import atomic_write
+from gogreen_core.session import upgrade_session
 
 __all__ = ["CHECKPOINT_VERSION", "CheckpointError", "SculptState", "read_checkpoint"]
 
 CHECKPOINT_MAGIC = b"GOGREEN-CHECKPOINT\n"
-#: 2: the mask, faces and UVs may follow the pins (version 1 files are read as before).
-CHECKPOINT_VERSION = 2
+#: 3: no ``evaluation``, settings as in session version 5; 2: the mask, faces and UVs may follow
+#: the pins (version 1 files are read as before).
+CHECKPOINT_VERSION = 3
 #: Largest header a checkpoint may have (settings with a spline falloff are a few kB).
 _MAX_HEADER = 1 << 20
 _CHUNK = 1 << 22  # bytes per write and checksum step
@@ -64,8 +64,6 @@ class SculptState:
     mask : (N,) float64 or None (nothing masked)
     faces : (M, 3) int64 or None (the faces of the journal's start); uv : (T, 2) and
         uv_faces : (M, 3) with them, or None.
-    evaluation : the kernels' evaluation (``GreenKernel``'s) its operations compute with; a
-        header without one was written when evaluation 2 was the current one.
     """
 
     vertices: np.ndarray
@@ -77,7 +75,6 @@ class SculptState:
     faces: np.ndarray | None = None
     uv: np.ndarray | None = None
     uv_faces: np.ndarray | None = None
-    evaluation: int = CURRENT_EVALUATION
 
     def arrays(self) -> list[np.ndarray]:
         """The arrays a checkpoint file stores, in order (contiguous float64)."""
@@ -96,13 +93,14 @@ class SculptState:
             "mask": self.mask is not None,
             "faces": None if self.faces is None else len(self.faces),
             "uv": None if self.uv is None else len(self.uv),
-            "evaluation": self.evaluation,
         }
 
     @classmethod
     def from_header(cls, header: dict[str, Any], arrays: list[np.ndarray]) -> SculptState:
-        """Inverse of :meth:`header` with the arrays read back (ValueError if malformed)."""
-        settings = EngineSettings.from_dict(header["settings"], "settings")
+        """Inverse of :meth:`header` with the arrays read back (ValueError if malformed). A
+        header of an older version (its ``evaluation``, the settings' ``degree_weights``) is
+        read as the settings of a session of that time (:func:`upgrade_session`)."""
+        settings = EngineSettings.from_dict(_upgraded_settings(header), "settings")
         origin = np.array(header["origin"], dtype=np.float64)
         size = float(header["model_size"])
         if origin.shape != (3,) or not np.isfinite(origin).all() or not size > 0:
@@ -119,10 +117,16 @@ class SculptState:
             faces = next(rest).astype(np.int64)
             if header.get("uv") is not None:
                 uv, uv_faces = next(rest), next(rest).astype(np.int64)
-        evaluation = header.get("evaluation", 2)
-        if evaluation not in EVALUATIONS or isinstance(evaluation, bool):
-            raise ValueError(f"evaluation malformed ({evaluation!r})")
-        return cls(arrays[0], settings, pins, size, origin, mask, faces, uv, uv_faces, evaluation)
+        return cls(arrays[0], settings, pins, size, origin, mask, faces, uv, uv_faces)
+
+
+def _upgraded_settings(header: dict[str, Any]) -> object:
+    """The settings of a checkpoint header or a journal's start, those of an older version
+    (whose ``evaluation`` or settings' ``degree_weights`` say so) upgraded like a session's."""
+    settings = header["settings"]
+    if "evaluation" in header or (isinstance(settings, dict) and "degree_weights" in settings):
+        return upgrade_session({"version": 4, "settings": settings})["settings"]
+    return settings
 
 
 def _shapes(header: dict[str, Any]) -> list[tuple[int, ...]]:

@@ -22,10 +22,8 @@ from typing import Any
 import numpy as np
 
 from gogreen_core.brushes.weights import check_brush_weights, default_weights, resized_brush_weights
-from gogreen_core.brushes.wrinkle_legacy import legacy_wrinkle_weights
 from gogreen_core.limits import (
     check_constraint_radius,
-    check_degree_weights,
     check_detail_size,
     check_falloff,
     check_l_max,
@@ -41,18 +39,17 @@ __all__ = [
     "DEFAULT_CONSTRAINT_RADIUS",
     "SETTING_GROUPS",
     "EngineSettings",
-    "legacy_wrinkle_weights",
     "resized_brush_weights",
 ]
 
 #: ε of the pins (fraction of the model size) when a session file does not say.
 DEFAULT_CONSTRAINT_RADIUS = 0.1
 #: Fields that change together, as one undo step and one session record each: the material;
-#: the falloff with l_max and the weights (which belong to one l_max); the pins' radius;
+#: the falloff with l_max and the brushes' weights (which belong to one l_max); the pins' radius;
 #: dynamic topology with its detail size.
 SETTING_GROUPS: tuple[tuple[str, ...], ...] = (
     ("material",),
-    ("falloff", "l_max", "degree_weights", "brush_weights"),
+    ("falloff", "l_max", "brush_weights"),
     ("constraint_radius",),
     ("dynamic_topology", "detail_size"),
 )
@@ -74,10 +71,6 @@ class EngineSettings:
     falloff : the falloff shape, a single :class:`RadialProfile` held as an immutable value at
         ε = 1 (each brush sets its ε = radius · model size).
     l_max : SH truncation degree, 0 … ``L_MAX_LIMIT``.
-    degree_weights : per-degree weights (l_max + 1,) of the legacy wrinkle brush
-        (``wrinkle_legacy``: what sessions before version 3 call ``wrinkle``; read-only), or None
-        for :func:`legacy_wrinkle_weights` (what sessions recorded as null, so they replay
-        exactly).
     constraint_radius : ε of the pins as a fraction of the model size.
     brush_weights : per-brush degree weights ω_l (paper Fig. 7 and 10), a read-only mapping
         from a brush kind to l_max + 2 numbers (degrees 0 … l_max + 1); a brush not in it uses
@@ -92,7 +85,6 @@ class EngineSettings:
     material: Material = field(default_factory=_default_material)
     falloff: RadialProfile = field(default_factory=_default_falloff)
     l_max: int = 8
-    degree_weights: np.ndarray | None = None
     constraint_radius: float = DEFAULT_CONSTRAINT_RADIUS
     brush_weights: Mapping[str, tuple[float, ...]] = field(
         default_factory=lambda: MappingProxyType({})
@@ -106,7 +98,6 @@ class EngineSettings:
             "material": check_material(self.material),
             "falloff": check_falloff(self.falloff),
             "l_max": l_max,
-            "degree_weights": check_degree_weights(self.degree_weights, l_max),
             "constraint_radius": check_constraint_radius(self.constraint_radius),
             "brush_weights": check_brush_weights(self.brush_weights, l_max),
             "dynamic_topology": check_bool("dynamic_topology", self.dynamic_topology),
@@ -118,13 +109,6 @@ class EngineSettings:
     def replace(self, **changes: Any) -> EngineSettings:
         """This value with some fields changed (checked like a new one)."""
         return replace(self, **changes)
-
-    @property
-    def wrinkle_weights(self) -> np.ndarray:
-        """The wrinkle brush's weights (l_max + 1,): :attr:`degree_weights`, or the legacy
-        ones when None."""
-        weights = self.degree_weights
-        return legacy_wrinkle_weights(self.l_max) if weights is None else weights
 
     def weights_for(self, kind: str) -> np.ndarray:
         """The degree weights ω_l (l_max + 2,) of brush ``kind``: its own in
@@ -147,14 +131,7 @@ class EngineSettings:
 
     def agrees(self, other: EngineSettings, names: Iterable[str]) -> bool:
         """True when the fields ``names`` are equal in both (by content)."""
-        for name in names:
-            a, b = getattr(self, name), getattr(other, name)
-            if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
-                if a is None or b is None or not np.array_equal(a, b):
-                    return False
-            elif a != b:
-                return False
-        return True
+        return all(getattr(self, name) == getattr(other, name) for name in names)
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, EngineSettings):
@@ -170,12 +147,10 @@ class EngineSettings:
     def to_dict(self) -> dict[str, Any]:
         """The session's ``settings`` object (constraint radius included; brush weights when
         some brush has its own)."""
-        w = self.degree_weights
-        data = {
+        data: dict[str, Any] = {
             "material": self.material.to_dict(),
             "falloff": self.falloff.to_dict(),
             "l_max": self.l_max,
-            "degree_weights": None if w is None else [float(x) for x in w],
             "constraint_radius": self.constraint_radius,
         }
         if self.brush_weights:
@@ -196,9 +171,6 @@ class EngineSettings:
             material=parse_material(values["material"], field_path(path, "material")),
             falloff=parse_falloff(values["falloff"], field_path(path, "falloff")),
             l_max=l_max,
-            degree_weights=check_degree_weights(
-                values.get("degree_weights"), l_max, field_path(path, "degree_weights")
-            ),
             constraint_radius=check_constraint_radius(
                 values.get("constraint_radius", DEFAULT_CONSTRAINT_RADIUS),
                 field_path(path, "constraint_radius"),

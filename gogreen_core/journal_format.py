@@ -26,6 +26,7 @@ from typing import Any, cast
 import numpy as np
 
 from gogreen_core.operations import Operation, operation_from_dict
+from gogreen_core.session import SESSION_VERSION, upgrade_session
 from gogreen_core.validation import ParameterError
 
 fcntl: ModuleType | None  # None where there is no fcntl
@@ -57,7 +58,10 @@ __all__ = [
 ]
 
 JOURNAL_FORMAT = "gogreen-journal"
-JOURNAL_VERSION = 1
+JOURNAL_VERSION = 2
+#: The session version of a version-1 journal's records by its start's kernel evaluation (2 when
+#: it does not say).
+_V1_SESSION_VERSIONS = {1: 2, 2: 3, 3: 4}
 JOURNAL_FILE = "journal.jsonl"
 LOCK_FILE = "lock"
 THUMBNAIL_FILE = "thumbnail.png"
@@ -327,6 +331,13 @@ def read_journal(directory: str | os.PathLike[str], validate: bool = True) -> Jo
         raise JournalError(f"{directory.name}: the journal's header is cut off or corrupt")
     header = _check_header(header, directory.name)
     contents = JournalContents(directory, header, [])
+    version = SESSION_VERSION
+    if header["version"] < 2:  # records of an older session version: upgraded as read
+        start = header["start"]
+        version = _V1_SESSION_VERSIONS.get(start.get("evaluation", 2), 4)
+        with contextlib.suppress(ParameterError):  # (left for the start's reader to name)
+            settings = upgrade_session({"version": version, "settings": start.get("settings")})
+            header["start"] = {**start, "settings": settings["settings"]}
     if header["version"] > JOURNAL_VERSION:
         contents.notes.append(
             f"written by a newer GoGreen Sculpt (journal version {header['version']}; this one "
@@ -341,7 +352,7 @@ def read_journal(directory: str | os.PathLike[str], validate: bool = True) -> Jo
         problem = "was cut off (its write did not finish)" if last else None
         record = None
         if problem is None:
-            record, problem = _parse_record(line, seq, validate)
+            record, problem = _parse_record(line, seq, validate, version)
         if problem is not None:
             dropped = len(body) - index - (0 if body[-1] else 1)
             size = sum(len(x) + 1 for x in body[index:]) - 1
@@ -356,7 +367,11 @@ def read_journal(directory: str | os.PathLike[str], validate: bool = True) -> Jo
     return contents
 
 
-def _parse_record(line: bytes, seq: int, validate: bool) -> tuple[Record | None, str | None]:
+def _parse_record(
+    line: bytes, seq: int, validate: bool, version: int = SESSION_VERSION
+) -> tuple[Record | None, str | None]:
+    """One record; ``version``: the session version its operation is written in (upgraded to
+    the current one: :func:`~gogreen_core.session.upgrade_session`)."""
     payload = _frame_payload(line)
     if payload is None:
         return None, "is corrupt (checksum mismatch)"
@@ -377,6 +392,8 @@ def _parse_record(line: bytes, seq: int, validate: bool) -> tuple[Record | None,
     typed = None
     if validate:
         try:
+            if version < SESSION_VERSION:
+                op = upgrade_session({"version": version, "operations": [op]})["operations"][0]
             typed = operation_from_dict(op, "op")
         except ParameterError as exc:
             return None, f"holds an operation this version cannot read ({exc})"

@@ -21,7 +21,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from gogreen_core import _compiled, _drivers, _evaluation
-from gogreen_core._evaluation import EVALUATION, EVALUATIONS, Parity
+from gogreen_core._evaluation import Parity
 from gogreen_core._expansion import SEGMENT_DEGREE
 from gogreen_core.coefficients import (
     checked_weights,
@@ -45,7 +45,6 @@ from gogreen_core.validation import ParameterError, check_number
 __all__ = [
     "CHECK_ORDER",
     "COORDINATE_LIMIT",
-    "EVALUATION",
     "L_MAX_LIMIT",
     "QUADRATURE_ORDER",
     "QUADRATURE_RTOL",
@@ -154,14 +153,6 @@ class GreenKernel:
         Scales the degree-l term of G (the paper's wrinkle brush: truncation or reweighting).
         The odd degree l of ∇G uses ``degree_weights[l - 1]``, so zero weights above degree L
         make ∇G the gradient truncated as G is. Default all ones.
-    evaluation : int, default :data:`EVALUATION` (3)
-        Which compiled arithmetic evaluates the kernel: 3; 2 for the code that recorded
-        session files of version 3, 1 for versions 1 and 2, kept so that they replay bit for
-        bit. Evaluation 3 differs from 2 only in :meth:`streamlines`, whose field sums the
-        degrees above each parity's lowest in single precision (about twice as fast, ~1e-8
-        of the field apart); evaluation 1 agrees with 2 to rounding and, for streamlines,
-        within the step tolerance. All are deterministic bit for bit whatever the number of
-        threads.
 
     Building a kernel takes milliseconds (the radial tables are cached per profile shape), so
     rebuild it whenever the material changes; :meth:`with_radial` changes the falloff or the
@@ -174,11 +165,7 @@ class GreenKernel:
         l_max: int = 8,
         radial: RadialProfile | None = None,
         degree_weights: Sequence[float] | np.ndarray | None = None,
-        *,
-        evaluation: int = EVALUATION,
     ):
-        if evaluation not in EVALUATIONS or isinstance(evaluation, bool):
-            raise ValueError(f"evaluation must be one of {EVALUATIONS} (got {evaluation!r})")
         if not isinstance(material, Material):
             raise ValueError(f"material must be a Material (got {type(material).__name__})")
         if isinstance(l_max, bool) or not isinstance(l_max, (int, np.integer)):
@@ -190,11 +177,7 @@ class GreenKernel:
         if not isinstance(radial, RadialProfile):
             raise ValueError(f"radial must be a RadialProfile (got {type(radial).__name__})")
         weights = checked_weights(degree_weights, l_max)
-        if evaluation != EVALUATION:
-            # its strokes must see the compiled influence test (``_evaluation.near_segment``)
-            _compiled.prepare(_compiled.DRIVERS)
         self._material = material
-        self._evaluation = int(evaluation)
         self._l_max = l_max
         self._weights = weights
         self._sums = material_sums(material, l_max)
@@ -212,7 +195,7 @@ class GreenKernel:
         self._radial = radial
         self._even_tables = _evaluation_tables(radial.table("R", self._even.degrees))
         self._odd_tables = _evaluation_tables(radial.table("dR", self._odd.degrees))
-        # evaluation 3's streamlines: the degrees above each parity's lowest
+        # the streamlines' single precision degrees: those above each parity's lowest
         self._even_single = single_tables(radial, "R", self._even.degrees[1:])
         self._odd_single = single_tables(radial, "dR", self._odd.degrees[1:])
 
@@ -272,11 +255,6 @@ class GreenKernel:
     def degree_weights(self) -> np.ndarray:
         return self._weights
 
-    @property
-    def evaluation(self) -> int:
-        """The compiled arithmetic this kernel evaluates with (see the class docstring)."""
-        return self._evaluation
-
     # -- evaluation --------------------------------------------------------------------------
     def _run(
         self,
@@ -287,7 +265,7 @@ class GreenKernel:
         coeffs: np.ndarray,
     ) -> np.ndarray:
         return _evaluation.expand(
-            self._evaluation, parity, tables, self._radial.eps, self._recurrence, points,
+            parity, tables, self._radial.eps, self._recurrence, points,
             center, coeffs,
         )  # fmt: skip
 
@@ -369,8 +347,8 @@ class GreenKernel:
           takes one RK4 step; an error estimate per point (the midpoint rule that shares RK4's
           first two stages, see ``_integrator``) sends the points whose predicted error
           exceeds a safe fraction of ``tolerance`` times the motion scale (the largest of
-          |center_step| and every point's motion) back for 2, 4, ... up to 256 RK4 steps. With
-          evaluation 3, on 1024 points or more, probes spread over the points first measure a
+          |center_step| and every point's motion) back for 2, 4, ... up to 256 RK4 steps. On
+          1024 points or more, probes spread over the points first measure a
           third-order step's error: where it is within that fraction everywhere they look,
           the points take it instead (three evaluations, not four). The target: every point
           within ``tolerance`` · scale of the fixed 64-step result. ``substeps`` is then not
@@ -497,10 +475,12 @@ class GreenKernel:
         evaluations = np.empty(n if count else 0, dtype=np.int64)
         if n == 0:
             return result, evaluations
+        field = _evaluation.stream_field(
+            parity, tables, single, self._radial.eps, coeffs, c, step, (inner, outer), signs, o
+        )
         status = _evaluation.stream(
-            self._evaluation, parity, tables, single, self._radial.eps, self._recurrence, coeffs,
-            pts, rows, indices is not None, in_place, COORDINATE_LIMIT, c, step,
-            (inner, outer), signs, o, int(substeps), tol, result, evaluations,
+            field, pts, rows, indices is not None, in_place, COORDINATE_LIMIT, int(substeps),
+            tol, result, evaluations,
         )  # fmt: skip
         if status == 1:
             raise ParameterError("indices", f"indices must be rows 0 to {len(pts) - 1}")
@@ -524,8 +504,7 @@ class GreenKernel:
         want the compiled speed from the next evaluation on.
         """
         start = time.perf_counter()
-        if self._evaluation == EVALUATION:
-            prepare_degree(self._l_max)
+        prepare_degree(self._l_max)
         points = np.zeros((2, 3))
         points[1] = 1.0
         origin = np.zeros(3)
@@ -536,5 +515,4 @@ class GreenKernel:
         return time.perf_counter() - start
 
     def __repr__(self) -> str:
-        note = "" if self._evaluation == EVALUATION else f", evaluation={self._evaluation}"
-        return f"GreenKernel(l_max={self._l_max}, radial={self._radial!r}{note})"
+        return f"GreenKernel(l_max={self._l_max}, radial={self._radial!r})"

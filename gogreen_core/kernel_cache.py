@@ -17,7 +17,7 @@ import numpy as np
 
 from gogreen_core.engine_settings import EngineSettings
 from gogreen_core.falloff_safety import mean_green_direction
-from gogreen_core.kernel import EVALUATION, GreenKernel
+from gogreen_core.kernel import GreenKernel
 
 __all__ = ["KernelCache"]
 
@@ -32,20 +32,9 @@ class KernelCache:
 
     previous : the cache of the settings before, whose quadrature is reused when the
         material and l_max are the same (a falloff edit builds new radial tables only).
-    evaluation : the kernels' compiled arithmetic (``GreenKernel``'s), by default that of
-        ``previous``, else the current one; 1 replays sessions of versions 1 and 2.
     """
 
-    def __init__(
-        self,
-        settings: EngineSettings,
-        previous: KernelCache | None = None,
-        evaluation: int | None = None,
-    ) -> None:
-        if evaluation is None:
-            evaluation = EVALUATION if previous is None else previous.evaluation
-        #: The kernels' evaluation (see ``GreenKernel``).
-        self.evaluation: int = evaluation
+    def __init__(self, settings: EngineSettings, previous: KernelCache | None = None) -> None:
         self.settings = settings
         old = None if previous is None else previous.settings
         if (
@@ -53,15 +42,12 @@ class KernelCache:
             and old is not None
             and old.l_max == settings.l_max
             and old.material == settings.material
-            and previous.evaluation == evaluation
         ):
             self.full: GreenKernel = previous.full.with_radial(
                 settings.falloff
             )  # no new quadrature
         else:
-            self.full = GreenKernel(
-                settings.material, settings.l_max, settings.falloff, evaluation=evaluation
-            )
+            self.full = GreenKernel(settings.material, settings.l_max, settings.falloff)
         self._weighted: dict[bytes, GreenKernel] = {}
         self._derived: dict[Hashable, Any] = {}
 
@@ -74,9 +60,7 @@ class KernelCache:
         kernel = self._weighted.get(key)
         if kernel is None:
             s = self.settings
-            kernel = GreenKernel(
-                s.material, s.l_max, s.falloff, weights, evaluation=self.evaluation
-            )
+            kernel = GreenKernel(s.material, s.l_max, s.falloff, weights)
             self._weighted[key] = kernel
         return kernel
 

@@ -15,9 +15,7 @@ from gogreen_core.material import Material
 from gogreen_core.radial import MultiscaleRadial, RadialProfile, SplineRadial
 from gogreen_core.validation import (
     ParameterError,
-    check_finite,
     check_integer,
-    check_list,
     check_number,
 )
 
@@ -33,7 +31,6 @@ __all__ = [
     "MIN_RADIUS",
     "MIN_STIFFNESS",
     "check_constraint_radius",
-    "check_degree_weights",
     "check_detail_size",
     "check_falloff",
     "check_l_max",
@@ -99,27 +96,6 @@ def check_falloff(falloff: object, path: str = "falloff") -> RadialProfile:
 def check_l_max(value: object, path: str = "l_max") -> int:
     """Truncation degree: an integer in [0, :data:`L_MAX_LIMIT`]."""
     return check_integer(path, value, low=0, high=L_MAX_LIMIT)
-
-
-def check_degree_weights(
-    value: object, l_max: int, path: str = "degree_weights"
-) -> np.ndarray | None:
-    """None, or l_max + 1 finite numbers within ±:data:`MAX_DEGREE_WEIGHT` as a read-only
-    (l_max + 1,) array."""
-    if value is None:
-        return None
-    if isinstance(value, (list, tuple)):
-        value = check_list(path, value, max_length=L_MAX_LIMIT + 1)
-    weights = np.array(check_finite(path, value), dtype=np.float64)
-    if weights.shape != (l_max + 1,):
-        raise ParameterError(
-            path,
-            f"{path} must hold l_max + 1 = {l_max + 1} numbers (got shape {weights.shape})",
-        )
-    if not np.abs(weights).max() <= MAX_DEGREE_WEIGHT:
-        raise ParameterError(path, f"{path} must be within ±{MAX_DEGREE_WEIGHT:g}")
-    weights.setflags(write=False)
-    return weights
 
 
 def check_constraint_radius(value: object, path: str = "constraint_radius") -> float:

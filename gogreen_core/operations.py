@@ -26,7 +26,6 @@ from gogreen_core.limits import MAX_RADIUS, MIN_RADIUS, check_detail_size
 from gogreen_core.material import Material
 from gogreen_core.radial import RadialProfile
 from gogreen_core.schema import (
-    parse_degree_weights,
     parse_falloff,
     parse_l_max,
     parse_material,
@@ -161,27 +160,23 @@ class MaterialChange(Operation):
 @dataclass(frozen=True, eq=False)
 class FalloffChange(Operation):
     """Falloff shape, truncation degree and degree weights from now on (an undo step):
-    ``degree_weights`` of the legacy wrinkle brush, ``brush_weights`` of every brush that has
-    its own (absent in sessions before version 3: every brush at its defaults)."""
+    ``brush_weights`` of every brush that has its own (absent: every brush at its defaults)."""
 
     name: ClassVar[str] = "falloff"
     required: ClassVar[tuple[str, ...]] = ("falloff", "l_max")
-    optional: ClassVar[tuple[str, ...]] = ("degree_weights", "brush_weights", "continued")
+    optional: ClassVar[tuple[str, ...]] = ("brush_weights", "continued")
     falloff: RadialProfile
     l_max: int
-    degree_weights: np.ndarray | None = None
     continued: bool = False
     brush_weights: Mapping[str, tuple[float, ...]] = field(
         default_factory=lambda: MappingProxyType({})
     )
 
     def to_dict(self) -> dict[str, Any]:
-        w = self.degree_weights
-        data = {
+        data: dict[str, Any] = {
             "op": self.name,
             "falloff": self.falloff.to_dict(),
             "l_max": int(self.l_max),
-            "degree_weights": None if w is None else [float(x) for x in w],
         }
         if self.brush_weights:
             data["brush_weights"] = {k: list(v) for k, v in self.brush_weights.items()}
@@ -191,13 +186,10 @@ class FalloffChange(Operation):
     def from_dict(cls, data: dict[str, Any], path: str) -> FalloffChange:
         falloff = parse_falloff(data["falloff"], field_path(path, "falloff"))
         l_max = parse_l_max(data["l_max"], field_path(path, "l_max"))
-        weights = parse_degree_weights(
-            data.get("degree_weights"), l_max, field_path(path, "degree_weights")
-        )
         brush_weights = check_brush_weights(
             data.get("brush_weights"), l_max, field_path(path, "brush_weights")
         )
-        return cls(falloff, l_max, weights, _continued(data, path), brush_weights)
+        return cls(falloff, l_max, _continued(data, path), brush_weights)
 
 
 @dataclass(frozen=True)
@@ -463,7 +455,7 @@ def settings_record(settings: EngineSettings, group: str, continued: bool) -> Op
         return ConstraintRadius(s.constraint_radius, continued)
     if group == "dynamic_topology":
         return DynamicTopology(s.dynamic_topology, s.detail_size, continued)
-    return FalloffChange(s.falloff, s.l_max, s.degree_weights, continued, s.brush_weights)
+    return FalloffChange(s.falloff, s.l_max, continued, s.brush_weights)
 
 
 def operation_from_dict(data: object, path: str = "operation") -> Operation:

@@ -1,4 +1,4 @@
-"""Presets: a material, a falloff (with l_max and wrinkle weights) and a brush, saved as JSON.
+"""Presets: a material, a falloff (with l_max and the brushes' weights) and a brush, as JSON.
 
 The app's Presets menu lists :func:`builtin_presets` (JSON files shipped in ``resources/presets``)
 and loads or saves any other file; a script does the same::
@@ -7,11 +7,11 @@ and loads or saves any other file; a script does the same::
     preset.apply(sculptor)                      # material and falloff
     sculptor.apply_brush(preset.brush, events)
 
-File format (``"format": "gogreen-preset"``, ``"version": 1``): ``name``, ``description``,
+File format (``"format": "gogreen-preset"``, ``"version": 3``): ``name``, ``description``,
 ``material`` (:meth:`Material.to_dict`), ``falloff`` (a radial profile's ``to_dict``),
-``l_max``, ``degree_weights`` (l_max + 1 numbers, or null: :func:`default_wrinkle_weights` of
-l_max when applied, by the app and by :meth:`Preset.apply` alike), ``brush``
-(:meth:`Brush.to_dict`).
+``l_max``, ``brush_weights`` (optional: per brush kind, l_max + 2 numbers), ``brush``
+(:meth:`Brush.to_dict`). Files of versions 1-2 may hold ``degree_weights`` (of the wrinkle brush
+of sessions before version 3, which no longer exists): ignored.
 """
 
 from __future__ import annotations
@@ -25,16 +25,13 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
-from gogreen_core.brushes import Brush, default_wrinkle_weights
+from gogreen_core.brushes import Brush
 from gogreen_core.brushes.weights import check_brush_weights
 from gogreen_core.engine_settings import EngineSettings
 from gogreen_core.material import Material
 from gogreen_core.mesh_io import write_text_atomic
 from gogreen_core.radial import GaussianRadial, RadialProfile
 from gogreen_core.schema import (
-    parse_degree_weights,
     parse_falloff,
     parse_file,
     parse_l_max,
@@ -48,15 +45,14 @@ if TYPE_CHECKING:
 __all__ = ["PRESET_FORMAT", "Preset", "builtin_presets", "load_preset", "save_preset"]
 
 PRESET_FORMAT = "gogreen-preset"
-PRESET_VERSION = 2
+PRESET_VERSION = 3
 
 
-@dataclass(frozen=True, eq=False)  # eq: the weights array has no single truth value
+@dataclass(frozen=True)
 class Preset:
     """Everything an artist tunes before a stroke, as one named, shareable unit.
 
-    ``degree_weights`` is None for :func:`default_wrinkle_weights` of ``l_max``, else
-    (l_max + 1,). The material, falloff, l_max and weights are checked as the engine's settings
+    The material, falloff, l_max and weights are checked as the engine's settings
     are (:class:`EngineSettings`, a :class:`ParameterError` naming the field); the falloff is
     held as an immutable value at ε = 1.
     """
@@ -65,7 +61,6 @@ class Preset:
     material: Material
     falloff: RadialProfile = field(default_factory=lambda: GaussianRadial(1.0))
     l_max: int = 8
-    degree_weights: np.ndarray | None = None
     brush: Brush = field(default_factory=Brush)
     description: str = ""
     brush_weights: Mapping[str, tuple[float, ...]] = field(
@@ -77,8 +72,6 @@ class Preset:
         object.__setattr__(self, "material", checked.material)
         object.__setattr__(self, "falloff", checked.falloff)
         object.__setattr__(self, "l_max", checked.l_max)
-        if self.degree_weights is not None:
-            object.__setattr__(self, "degree_weights", checked.degree_weights)
         object.__setattr__(self, "brush_weights", checked.brush_weights)
         if not isinstance(self.brush, Brush):
             raise ParameterError(
@@ -87,24 +80,14 @@ class Preset:
 
     def engine_settings(self, base: EngineSettings | None = None) -> EngineSettings:
         """``base`` (default: the engine's defaults) with this preset's material, falloff, l_max
-        and weights (:attr:`weights`, always explicit)."""
+        and brushes' weights."""
         values: dict[str, Any] = {
             "material": self.material,
             "falloff": self.falloff,
             "l_max": self.l_max,
-            "degree_weights": self.weights,
             "brush_weights": self.brush_weights,
         }
         return EngineSettings(**values) if base is None else base.replace(**values)
-
-    @property
-    def weights(self) -> np.ndarray:
-        """The wrinkle weights (l_max + 1,) applying this preset gives, always explicit: the
-        sculptor's None means the old weights of sessions that recorded null
-        (:func:`~gogreen_core.brushes.legacy_wrinkle_weights`)."""
-        if self.degree_weights is None:
-            return default_wrinkle_weights(self.l_max)
-        return self.degree_weights
 
     def apply(self, sculptor: Sculptor) -> None:
         """Give ``sculptor`` this material and falloff, as one undo step (the brush is the
@@ -114,13 +97,11 @@ class Preset:
         sculptor.set_falloff(
             self.falloff,
             self.l_max,
-            self.weights,
             continued=joined,
             brush_weights=self.brush_weights,
         )
 
     def to_dict(self) -> dict[str, Any]:
-        weights = self.degree_weights
         return {
             "format": PRESET_FORMAT,
             "version": PRESET_VERSION,
@@ -129,7 +110,6 @@ class Preset:
             "material": self.material.to_dict(),
             "falloff": self.falloff.to_dict(),
             "l_max": int(self.l_max),
-            "degree_weights": None if weights is None else [float(w) for w in weights],
             "brush": self.brush.to_dict(),
             **(
                 {"brush_weights": {k: list(v) for k, v in self.brush_weights.items()}}
@@ -157,13 +137,14 @@ class Preset:
             raise ParameterError(
                 "version", f"preset version {version} is newer than this program's"
             )
+        if version >= 3 and "degree_weights" in data:
+            raise ParameterError("degree_weights", "degree_weights is not a preset field")
         l_max = parse_l_max(data.get("l_max", 8))
         return cls(
             name=check_string("name", data.get("name", ""), max_length=1000),
             material=parse_material(data["material"]),
             falloff=parse_falloff(data["falloff"]),
             l_max=l_max,
-            degree_weights=parse_degree_weights(data.get("degree_weights"), l_max),
             brush=Brush.from_dict(data["brush"]),
             description=check_string("description", data.get("description", "")),
             brush_weights=check_brush_weights(data.get("brush_weights"), l_max),

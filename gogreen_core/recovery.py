@@ -51,7 +51,7 @@ from gogreen_core.journal_format import (
 from gogreen_core.mesh_io import MeshData, load_mesh
 from gogreen_core.operations import Operation
 from gogreen_core.sculptor import Sculptor, restore_state
-from gogreen_core.session import SESSION_FORMAT, replay, version_of
+from gogreen_core.session import SESSION_FORMAT, SESSION_VERSION, replay
 
 __all__ = [
     "RECOVERY_WORK",
@@ -287,7 +287,7 @@ def journal_session(contents: JournalContents) -> dict[str, Any]:
     mesh = header["mesh"]
     return {
         "format": SESSION_FORMAT,
-        "version": version_of(start.get("evaluation", 2)),
+        "version": SESSION_VERSION,  # (an older journal's records upgraded as read)
         "mesh": {"vertices": mesh["vertices"], "faces": mesh["faces"], "sha256": mesh["sha256"]},
         "settings": start["settings"],
         "operations": adds + contents.operations,

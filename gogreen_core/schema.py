@@ -32,7 +32,6 @@ from gogreen_core.limits import (
     MAX_DEGREE_WEIGHT,
     MAX_STIFFNESS,
     MIN_STIFFNESS,
-    check_degree_weights,
     check_l_max,
     check_material,
 )
@@ -67,7 +66,6 @@ __all__ = [
     "MAX_STIFFNESS",
     "MIN_STIFFNESS",
     "check_material",
-    "parse_degree_weights",
     "parse_falloff",
     "parse_file",
     "parse_l_max",
@@ -136,9 +134,6 @@ def parse_falloff(data: object, path: str = "falloff") -> RadialProfile:
 
 #: Truncation degree: an integer in [0, ``L_MAX_LIMIT``] (``parse_l_max(value, path)``).
 parse_l_max = check_l_max
-#: ``null`` or l_max + 1 finite numbers → None or a read-only (l_max + 1,) array
-#: (``parse_degree_weights(value, l_max, path)``).
-parse_degree_weights = check_degree_weights
 
 
 def _get(data: object, path: str, key: str) -> object:

@@ -20,7 +20,6 @@ scaled down to that bound, and a zero one is refused (:mod:`gogreen_core.brushes
 from __future__ import annotations
 
 import contextlib
-import dataclasses
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from typing import Any
 
@@ -36,7 +35,7 @@ from gogreen_core.engine_settings import (
     resized_brush_weights,
 )
 from gogreen_core.history import History
-from gogreen_core.kernel import EVALUATION, GreenKernel
+from gogreen_core.kernel import GreenKernel
 from gogreen_core.kernel_cache import KernelCache
 from gogreen_core.limits import MAX_REACH, check_constraint_radius
 from gogreen_core.mask import Mask
@@ -46,14 +45,12 @@ from gogreen_core.operations import Operation, Redo, Subdivide, Undo, settings_r
 from gogreen_core.pins import Pins
 from gogreen_core.radial import GaussianRadial, RadialProfile
 from gogreen_core.session import (
-    RENAMED_BEFORE_3,
     SESSION_FORMAT,
-    VERSION_EVALUATIONS,
+    SESSION_VERSION,
     Session,
     mesh_fingerprint,
     parse_session,
     replay,
-    version_of,
 )
 from gogreen_core.session_log import LogListener, SessionLog
 from gogreen_core.stroke import Remesher, StrokeDriver
@@ -86,9 +83,9 @@ class Sculptor:
         Texture coordinates per face corner (rows of -1: untextured faces), carried through a
         subdivision (see :attr:`mesh`).
     settings : EngineSettings, optional
-        Material, falloff, l_max, wrinkle weights and pins' radius in one value; or give them
-        one by one (``material``, ``l_max``, ``falloff``, ``degree_weights``,
-        ``constraint_radius``, the fields of :class:`EngineSettings` with its defaults).
+        Material, falloff, l_max, brushes' weights and pins' radius in one value; or give them
+        one by one (``material``, ``l_max``, ``falloff``, ``constraint_radius``, the fields of
+        :class:`EngineSettings` with its defaults).
     history_bytes : memory cap of the undo history.
 
     The parts: undo steps in :attr:`history` (:class:`History`); the vertex mask in
@@ -108,7 +105,6 @@ class Sculptor:
         material: Material | None = None,
         l_max: int = 8,
         falloff: RadialProfile | None = None,
-        degree_weights: np.ndarray | None = None,
         constraint_radius: float = DEFAULT_CONSTRAINT_RADIUS,
         history_bytes: int = 512 * 2**20,
     ) -> None:
@@ -117,22 +113,19 @@ class Sculptor:
         self._loaded = (len(self._mesh.vertices), len(self._mesh.faces))  # the session's mesh
         self.history = History(history_bytes)
         self._log = SessionLog()
-        #: False for a sculptor replaying a version-1 session: settings are no undo steps.
-        self._settings_undoable = True
         self._fingerprint = mesh_fingerprint(self._mesh.vertices)
         if settings is None:
             settings = EngineSettings(
                 material=Material.isotropic(1.0, 0.3) if material is None else material,
                 falloff=falloff or GaussianRadial(1.0),
                 l_max=l_max,
-                degree_weights=degree_weights,
                 constraint_radius=constraint_radius,
             )
         elif not isinstance(settings, EngineSettings):
             raise ParameterError(
                 "settings", f"settings must be EngineSettings (got {type(settings).__name__})"
             )
-        elif any(x is not None for x in (material, falloff, degree_weights)) or (
+        elif any(x is not None for x in (material, falloff)) or (
             (l_max, constraint_radius) != (8, DEFAULT_CONSTRAINT_RADIUS)
         ):
             raise TypeError("Sculptor() takes settings or their fields one by one, not both")
@@ -239,7 +232,9 @@ class Sculptor:
             if group[0] == "material":
                 self.set_material(s.material, continued)
             elif group[0] == "falloff":
-                self.set_falloff(s.falloff, s.l_max, s.degree_weights, continued, s.brush_weights)
+                self.set_falloff(
+                    s.falloff, s.l_max, continued=continued, brush_weights=s.brush_weights
+                )
             elif group[0] == "constraint_radius":
                 self.set_constraint_radius(s.constraint_radius, continued)
             else:
@@ -249,7 +244,7 @@ class Sculptor:
         self, *, continued: bool = False, replaying: bool = False, **changes: Any
     ) -> None:
         """Change some of :attr:`settings` (``material``, ``falloff``, ``l_max``,
-        ``degree_weights``, ``constraint_radius``): one undo step and one log entry, or part of
+        ``brush_weights``, ``constraint_radius``): one undo step and one log entry, or part of
         the last settings step when ``continued`` (every value of one slider or curve drag but
         the first). Undo puts the previous settings back exactly.
 
@@ -262,25 +257,18 @@ class Sculptor:
         if group is None:
             raise TypeError(
                 "change_settings() takes material, constraint_radius, or falloff / l_max / "
-                f"degree_weights, one group at a time (got {sorted(keys)})"
+                f"brush_weights, one group at a time (got {sorted(keys)})"
             )
         continued = check_bool("continued", continued)
         before = self.settings
-        if "l_max" in keys:  # weights belong to one l_max
-            changes.setdefault("degree_weights", None)
-            if "brush_weights" not in keys:
-                changes["brush_weights"] = resized_brush_weights(
-                    before.brush_weights, changes["l_max"]
-                )
+        if "l_max" in keys and "brush_weights" not in keys:  # weights belong to one l_max
+            changes["brush_weights"] = resized_brush_weights(before.brush_weights, changes["l_max"])
         after = before.replace(**changes)
         label = _LABELS[group[0]]
         self._strokes.refuse(f"change the {label}")
         if after == before and not (continued or replaying):
             return  # nothing to do, nothing to undo
         self._kernels = self._pins.follow(KernelCache(after, self._kernels))
-        if not self._settings_undoable:  # a version-1 session: settings were no undo steps
-            self._log.record(settings_record(after, group[0], continued), replace_last=True)
-            return
         last = self.history.undo_labels[-1] if self.history.can_undo else None
         merge = continued and last in _LABELS.values() and not self.history.can_redo
         self.history.record_change(
@@ -301,17 +289,16 @@ class Sculptor:
         self,
         falloff: RadialProfile,
         l_max: int | None = None,
-        degree_weights: np.ndarray | None = None,
+        *,
         continued: bool = False,
         brush_weights: Mapping[str, Sequence[float]] | None = None,
     ) -> None:
-        """Use this falloff shape (and truncation degree, legacy wrinkle weights, per-brush
-        weights: kept, or resized to a new l_max, when None) from now on (see
+        """Use this falloff shape (and truncation degree, per-brush weights: kept, or resized
+        to a new l_max, when None) from now on (see
         :meth:`change_settings`)."""
         changes: dict[str, Any] = {
             "falloff": falloff,
             "l_max": self.l_max if l_max is None else l_max,
-            "degree_weights": degree_weights,
         }
         if brush_weights is not None:
             changes["brush_weights"] = brush_weights
@@ -335,11 +322,8 @@ class Sculptor:
         return self._strokes.reach(self._kernels, brush)
 
     def begin_stroke(self, brush: Brush) -> None:
-        """Start a stroke with ``brush``; events follow, then :meth:`end_stroke`. Replaying a
-        session before version 3, a brush's name means what it did then (``wrinkle_legacy``)."""
+        """Start a stroke with ``brush``; events follow, then :meth:`end_stroke`."""
         self._strokes.refuse("begin a stroke")
-        if self._kernels.evaluation == 1 and brush.kind in RENAMED_BEFORE_3:
-            brush = dataclasses.replace(brush, kind=RENAMED_BEFORE_3[brush.kind])
         self._strokes.begin(brush)
 
     def stroke_event(self, event: BrushEvent) -> np.ndarray:
@@ -516,7 +500,7 @@ class Sculptor:
         """The session so far as a JSON-ready dict (see README, "Session files")."""
         return {
             "format": SESSION_FORMAT,
-            "version": version_of(self._kernels.evaluation, self._settings_undoable),
+            "version": SESSION_VERSION,
             "mesh": {  # the mesh it started from (a subdivision changes the sculptor's)
                 "vertices": self._loaded[0],
                 "faces": self._loaded[1],
@@ -544,12 +528,7 @@ class Sculptor:
                 f"the session was recorded on a mesh with {parsed.vertices} vertices and "
                 f"{parsed.faces} faces; this one has {len(vertices)} and {len(faces)}"
             )
-        sculptor = cls(vertices, faces, uv=uv, uv_faces=uv_faces, settings=parsed.settings)
-        sculptor._settings_undoable = parsed.version >= 2
-        evaluation = VERSION_EVALUATIONS[parsed.version]
-        if evaluation != EVALUATION:  # replayed with the arithmetic it was recorded with
-            sculptor._kernels = KernelCache(parsed.settings, evaluation=evaluation)
-        return sculptor
+        return cls(vertices, faces, uv=uv, uv_faces=uv_faces, settings=parsed.settings)
 
     def replay(
         self,
@@ -557,7 +536,8 @@ class Sculptor:
         progress: Callable[[int, int], None] | None = None,
     ) -> None:
         """Apply logged operations in order (:func:`gogreen_core.session.replay`: all checked
-        first, bit for bit the recorded result on the same machine, rolled back as a whole if
+        first, bit for bit the recorded result for a session of this version on the same machine
+        (an older one's within 1e-4 of its motion), rolled back as a whole if
         one fails). ``progress(done, total)`` is called after each mouse event and each other
         operation."""
         replay(self, operations, progress)
@@ -567,7 +547,7 @@ class Sculptor:
 def capture_state(sculptor: Sculptor, faces: np.ndarray | None = None) -> SculptState:
     """A copy of what ``sculptor``'s next operations compute from (a checkpoint of the recovery
     journal): vertices, settings, pins' solver state, mask (None when nothing is masked), model
-    size, mirror origin, kernels' evaluation; its faces and UVs unless they are the array
+    size, mirror origin; its faces and UVs unless they are the array
     ``faces`` (the journal's start's: a checkpoint needs not hold them then). The engine never
     edits a face array in place (a subdivision makes new ones): they are held, not copied."""
     pins = sculptor._pins.constraints
@@ -583,7 +563,6 @@ def capture_state(sculptor: Sculptor, faces: np.ndarray | None = None) -> Sculpt
         mesh.faces if topology else None,
         mesh.uv if topology else None,
         mesh.uv_faces if topology else None,
-        sculptor._kernels.evaluation,
     )
 
 
@@ -603,8 +582,6 @@ def restore_state(
     sculptor = Sculptor(
         state.vertices, faces, uv=uv, uv_faces=uv_faces, settings=state.settings, **options
     )
-    if state.evaluation != EVALUATION:  # a replayed old session's arithmetic goes on
-        sculptor._kernels = KernelCache(state.settings, evaluation=state.evaluation)
     if state.mask is not None:
         sculptor._mesh.set_mask_rows(MaskRows(np.arange(len(state.mask)), state.mask))
     sculptor.model_size = sculptor._mesh.model_size = float(state.model_size)

@@ -1,23 +1,21 @@
 """Session files: the log of a sculptor's operations, their schema, and replay.
 
-A session (README, "Session files") is ``{"format": "gogreen-session", "version": 4, "mesh":
+A session (README, "Session files") is ``{"format": "gogreen-session", "version": 5, "mesh":
 {vertices, faces, sha256}, "settings": {...}, "operations": [...]}``. :func:`parse_session`
 checks all of it before anything is applied (every field's type and range; errors name the field,
 e.g. ``operations[3].events[0].delta``), :func:`load_session` reads a file, and :func:`replay`
 (:meth:`Sculptor.replay`) applies the typed operations through the sculptor's public methods,
 which record them again in its own log, so replaying a session records the same session.
 
-Older files still replay as recorded, bit for bit: every version replays with the kernels'
-evaluation it was recorded with (:data:`VERSION_EVALUATIONS`: 3 for version 4, 2 for version 3,
-1 before); in version 1 files (written before settings changes were undo steps) material,
-falloff and constraint-radius changes are not undo steps; in version 1 and 2 files the
-``wrinkle`` brush is the one of that time (``wrinkle_legacy`` now; its weights are the
-settings' ``degree_weights``) and a stroke that gives no influence had 4 ε.
+A file of an older version is upgraded as it is read (:func:`upgrade_session`, one function a
+version step) and replayed with today's arithmetic: within 1e-4 of its largest motion of what
+it recorded, or refused with a :class:`ParameterError` naming the operation that cannot be
+(a stroke of a brush that no longer exists). Bit for bit only within one version on one
+machine.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import hashlib
 import os
 from collections.abc import Callable, Sequence
@@ -63,42 +61,27 @@ if TYPE_CHECKING:
     from gogreen_core.sculptor import Sculptor
 
 __all__ = [
-    "RENAMED_BEFORE_3",
     "SESSION_FORMAT",
     "SESSION_VERSION",
-    "VERSION_EVALUATIONS",
     "Session",
     "SessionLog",
     "load_session",
     "mesh_fingerprint",
     "parse_session",
     "replay",
-    "version_of",
+    "upgrade_session",
 ]
 
 SESSION_FORMAT = "gogreen-session"
-#: 4: computed with the kernels' evaluation 3 (``GreenKernel(evaluation=3)``: the strokes'
-#: fields partly in single precision); 3: evaluation 2, ``wrinkle`` is the folding wrinkle brush,
-#: brushes have their own degree weights (``brush_weights``) and an automatic influence;
-#: 2: settings changes are undo steps (``continued`` joins one to the previous), evaluation 1;
-#: 1: they were not. Every version replays with its evaluation, bit for bit.
-SESSION_VERSION = 4
-#: The kernels' evaluation the sessions of each version were recorded, and replay, with.
-VERSION_EVALUATIONS = {1: 1, 2: 1, 3: 2, 4: 3}
+#: 5: no ``degree_weights`` (the weights of the wrinkle brush of versions 1-2); 4: the strokes'
+#: fields partly in single precision; 3: ``wrinkle`` is the folding wrinkle brush, brushes have
+#: their own degree weights (``brush_weights``) and an automatic influence; 2: settings changes
+#: are undo steps (``continued`` joins one to the previous); 1: they were not.
+SESSION_VERSION = 5
 #: The brush influence (in ε) of a session before version 3 that does not give one.
 OLD_DEFAULT_INFLUENCE = 4.0
-#: The brush kinds a session before version 3 names differently: what they are now.
-RENAMED_BEFORE_3 = {"wrinkle": "wrinkle_legacy"}
 #: Most operations one session file may hold.
 MAX_OPERATIONS = 10_000_000
-
-
-def version_of(evaluation: int, settings_undoable: bool = True) -> int:
-    """The session version that records what a sculptor with the kernels' ``evaluation`` does
-    (1 where settings changes are no undo steps, as in the version-1 file it replays)."""
-    if not settings_undoable:
-        return 1
-    return max(v for v, e in VERSION_EVALUATIONS.items() if e == evaluation)
 
 
 def mesh_fingerprint(vertices: np.ndarray) -> str:
@@ -125,11 +108,13 @@ class Session:
 
 
 def parse_session(data: object) -> Session:
-    """The schema of a session file: every field checked before anything is applied;
-    :class:`ParameterError` naming the first bad field."""
+    """The schema of a session file: every field checked before anything is applied (an older
+    version's upgraded first: :func:`upgrade_session`); :class:`ParameterError` naming the
+    first bad field or the operation that cannot be replayed."""
     data = check_object("", data, required=("format", "version", "mesh", "settings", "operations"))
     check_choice("format", data["format"], (SESSION_FORMAT,))
     version = check_integer("version", data["version"], low=1, high=SESSION_VERSION)
+    data = upgrade_session(data)
     mesh = check_object("mesh", data["mesh"], required=("vertices", "faces"), optional=("sha256",))
     vertices = check_integer("mesh.vertices", mesh["vertices"], low=1)
     faces = check_integer("mesh.faces", mesh["faces"], low=0)
@@ -138,31 +123,136 @@ def parse_session(data: object) -> Session:
         sha = check_string("mesh.sha256", sha, max_length=64)
     settings = EngineSettings.from_dict(data["settings"], "settings")
     operations = check_list("operations", data["operations"], max_length=MAX_OPERATIONS)
-    if version < 3:  # the brush influence was 4 ε when a file did not say
-        operations = [_old_influence(op) for op in operations]
     ops = tuple(operation_from_dict(op, field("operations", i)) for i, op in enumerate(operations))
-    if version < 3:
-        ops = tuple(_renamed(op) for op in ops)
     return Session(vertices, faces, sha, settings, ops, version)
 
 
-def _old_influence(op: object) -> object:
-    """A stroke record of a session before version 3 with its brush's influence made explicit:
-    4 ε (:data:`OLD_DEFAULT_INFLUENCE`), the default then (now "auto")."""
-    if not (isinstance(op, dict) and isinstance(op.get("brush"), dict)):
-        return op
-    if "influence" in op["brush"]:
-        return op
-    return {**op, "brush": {**op["brush"], "influence": OLD_DEFAULT_INFLUENCE}}
+# -- upgrades: each takes a session (a checked object whose version is the step's first) and
+# returns it in the next version, leaving whatever it does not recognize for the schema to name.
+def _operations(data: dict[str, Any]) -> list[Any]:
+    operations = data.get("operations")
+    return operations if isinstance(operations, list) else []
 
 
-def _renamed(op: Operation) -> Operation:
-    """``op`` with the brush kind its name meant before version 3 (:data:`RENAMED_BEFORE_3`)."""
-    if isinstance(op, Stroke) and op.brush.kind in RENAMED_BEFORE_3:
-        return dataclasses.replace(
-            op, brush=dataclasses.replace(op.brush, kind=RENAMED_BEFORE_3[op.brush.kind])
-        )
-    return op
+#: The operations each version 1 file's undo steps were (settings changes were none).
+_STEPS_V1 = frozenset({"stroke", "constraint_drag"})
+#: Settings changes, undo steps from version 2 on.
+_SETTINGS_OPS = frozenset({"material", "falloff", "constraint_radius"})
+#: Pins: undo steps from version 2 on.
+_PIN_OPS = frozenset({"constraint_add", "constraint_remove", "constraints_clear"})
+
+
+#: What version-1 operations meant then and do not now: an affine brush's ``amount`` (the
+#: velocity gradient then, the log strain or angle now), a pin drag (it moved every vertex).
+_CHANGED_V1 = {
+    "scale": "the scale brush's amount measured another strain",
+    "twist": "the twist brush's amount measured another angle",
+    "pinch": "the pinch brush's amount measured another strain",
+    "constraint_drag": "a pin drag moved every vertex (pins hold only nearby ones now)",
+}
+
+
+def _upgrade_v1_to_v2(data: dict[str, Any]) -> dict[str, Any]:
+    """Settings changes and pin edits became undo steps: an undo or redo that would now take
+    another step than it did is refused, as are the strokes and drags that meant something
+    else then (:data:`_CHANGED_V1`)."""
+    done: list[bool] = []  # per undo step of today: was it one in version 1
+    undone: list[bool] = []
+    for number, op in enumerate(_operations(data)):
+        kind = op.get("op") if isinstance(op, dict) else None
+        brush = op.get("brush") if isinstance(op, dict) else None
+        changed = brush.get("kind") if kind == "stroke" and isinstance(brush, dict) else kind
+        if isinstance(changed, str) and changed in _CHANGED_V1:
+            raise ParameterError(
+                field("operations", number),
+                f"operations[{number}] ({changed}) of this version-1 session cannot be "
+                f"replayed: {_CHANGED_V1[changed]} when it was recorded",
+            )
+        if kind in ("undo", "redo"):
+            source, target = (done, undone) if kind == "undo" else (undone, done)
+            if source and not source[-1]:
+                raise ParameterError(
+                    field("operations", number),
+                    f"operations[{number}] ({kind}) of this version-1 session would {kind} a "
+                    "settings change or a pin edit today (they are undo steps since version 2), "
+                    "not what it did when it was recorded: it cannot be replayed",
+                )
+            if source:
+                target.append(source.pop())
+            continue
+        if kind == "constraint_drag" and op.get("continued") and done and done[-1]:
+            continue  # the same step
+        if kind in _STEPS_V1 or kind in _SETTINGS_OPS or kind in _PIN_OPS:
+            done.append(kind in _STEPS_V1)
+            undone.clear()
+    return {**data, "version": 2}
+
+
+def _upgrade_v2_to_v3(data: dict[str, Any]) -> dict[str, Any]:
+    """The brush influence became automatic when a stroke does not give one (it was 4 ε), and
+    ``wrinkle`` became another brush: a stroke of the old one is refused."""
+    operations = []
+    for number, op in enumerate(_operations(data)):
+        brush = op.get("brush") if isinstance(op, dict) else None
+        if isinstance(brush, dict):
+            if brush.get("kind") == "wrinkle":
+                raise ParameterError(
+                    field("operations", number),
+                    f"operations[{number}] is a stroke of the wrinkle brush of version-"
+                    f"{data['version']} sessions, which no longer exists (today's wrinkle "
+                    "brush folds the surface instead): this session cannot be replayed",
+                )
+            if "influence" not in brush:
+                op = {**op, "brush": {**brush, "influence": OLD_DEFAULT_INFLUENCE}}
+        operations.append(op)
+    return {**data, "version": 3, "operations": operations}
+
+
+def _upgrade_v3_to_v4(data: dict[str, Any]) -> dict[str, Any]:
+    """Only the arithmetic of the strokes changed (within 1e-4 of their motion)."""
+    return {**data, "version": 4}
+
+
+def _upgrade_v4_to_v5(data: dict[str, Any]) -> dict[str, Any]:
+    """``degree_weights`` (of the wrinkle brush of versions 1-2 only) went."""
+
+    def without(value: object) -> object:
+        if isinstance(value, dict):
+            return {k: v for k, v in value.items() if k != "degree_weights"}
+        return value
+
+    operations = [
+        without(op) if isinstance(op, dict) and op.get("op") == "falloff" else op
+        for op in _operations(data)
+    ]
+    return {
+        **data,
+        "version": 5,
+        "settings": without(data.get("settings")),
+        "operations": operations,
+    }
+
+
+#: The upgrade from each version to the next.
+_UPGRADES: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {
+    1: _upgrade_v1_to_v2,
+    2: _upgrade_v2_to_v3,
+    3: _upgrade_v3_to_v4,
+    4: _upgrade_v4_to_v5,
+}
+
+
+def upgrade_session(data: dict[str, Any]) -> dict[str, Any]:
+    """A session object of any version as one of :data:`SESSION_VERSION` (a new object; the
+    same one when it is current). ``data["version"]`` must be an integer 1 … SESSION_VERSION;
+    :class:`ParameterError` naming the operation an older file holds that cannot be replayed
+    today. Only the ``settings`` and ``operations`` are read (a journal's records upgrade as a
+    session of them)."""
+    version = data["version"]
+    while version < SESSION_VERSION:
+        data = _UPGRADES[version](data)
+        version = data["version"]
+    return data
 
 
 def load_session(path: str | os.PathLike[str]) -> Session:
@@ -194,7 +284,6 @@ def _falloff(sculptor: Sculptor, op: FalloffChange) -> None:
     sculptor.change_settings(
         falloff=op.falloff,
         l_max=op.l_max,
-        degree_weights=op.degree_weights,
         brush_weights=op.brush_weights,
         continued=op.continued,
         replaying=True,

@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
-from gogreen_core.brushes import AUTO_INFLUENCE, DEFAULT_BRUSH, Brush, default_wrinkle_weights
+from gogreen_core.brushes import AUTO_INFLUENCE, DEFAULT_BRUSH, Brush
 from gogreen_core.brushes.weights import check_brush_weights
 from gogreen_core.engine_settings import (
     DEFAULT_CONSTRAINT_RADIUS,
@@ -45,7 +45,6 @@ from gogreen_core.engine_settings import (
 )
 from gogreen_core.limits import (
     check_constraint_radius,
-    check_degree_weights,
     check_detail_size,
     check_falloff,
     check_l_max,
@@ -397,9 +396,6 @@ class Settings(EventedModel):
         replacing the current ones; an edit (the curve editor's) assigns a new value. It always
         has the curves :func:`needed_curves` of ``l_max`` (missing ones: Gaussian); curves above
         l_max are kept.
-    degree_weights : (l_max + 1,) weights of the legacy wrinkle brush of old sessions
-        (read-only); changing l_max keeps the common degrees and gives new ones
-        :func:`default_wrinkle_weights`.
     constraint_radius : ε of the pins, as a fraction of the model size.
     brush_weights : per-brush degree weights ω_l (kind → l_max + 2 numbers, read-only mapping);
         changing l_max keeps the common degrees and gives new ones each brush's defaults.
@@ -414,7 +410,6 @@ class Settings(EventedModel):
     material = Field(lambda: Material.isotropic(1.0, 0.3), _material)
     l_max = Field(8, _l_max)
     falloff = Field(None)  # checked in _normalize, with l_max
-    degree_weights = Field(None)  # checked in _normalize, with l_max
     constraint_radius = Field(DEFAULT_CONSTRAINT_RADIUS, _radius)
     brush_weights = Field(None)  # checked in _normalize, with l_max
     dynamic_topology = Field(False, _switch, doc="strokes remesh what they move")
@@ -437,8 +432,6 @@ class Settings(EventedModel):
         first = self._values.get("falloff") is None  # construction
         if "falloff" in out or "l_max" in out or first:
             out["falloff"] = self._spline(out.get("falloff"), l_max)
-        if "degree_weights" in out or "l_max" in out or first:
-            out["degree_weights"] = self._weights(out.get("degree_weights"), l_max)
         if "brush_weights" in out or "l_max" in out or first:
             given = out.get("brush_weights")
             if given is None:
@@ -457,19 +450,6 @@ class Settings(EventedModel):
             spline = shape if current is None else current.with_curves(shape)
         return _with_needed_curves(spline, l_max)
 
-    def _weights(self, weights: Any, l_max: int) -> np.ndarray:
-        if weights is not None:
-            checked = check_degree_weights(weights, l_max, "degree_weights")
-            assert checked is not None
-            return checked
-        current = self._values.get("degree_weights")
-        padded = default_wrinkle_weights(l_max)
-        if current is not None:
-            keep = min(len(current), l_max + 1)
-            padded[:keep] = current[:keep]
-        padded.setflags(write=False)
-        return padded
-
     @property
     def engine_settings(self) -> EngineSettings:
         """Material, falloff, l_max, weights and the pins' radius as one engine value."""
@@ -477,7 +457,6 @@ class Settings(EventedModel):
             material=self.material,
             falloff=self.falloff,
             l_max=self.l_max,
-            degree_weights=self.degree_weights,
             constraint_radius=self.constraint_radius,
             brush_weights=self.brush_weights,
             dynamic_topology=self.dynamic_topology,
@@ -504,7 +483,6 @@ class Settings(EventedModel):
             material=self.material,
             falloff=self.falloff,
             l_max=self.l_max,
-            degree_weights=self.degree_weights,
             brush=self.brush.brush,
             description=description,
             brush_weights=self.brush_weights,
@@ -517,7 +495,6 @@ class Settings(EventedModel):
                 "material": preset.material,
                 "l_max": preset.l_max,
                 "falloff": preset.falloff,
-                "degree_weights": preset.weights,
                 "brush_weights": preset.brush_weights,
             }
         )
@@ -602,10 +579,6 @@ class EngineLink:
             for name in ENGINE_FIELDS
             if not engine.agrees(model, (name,))
         }
-        if engine.degree_weights is None:  # the legacy weights, made explicit
-            values.pop("degree_weights", None)
-            if not np.array_equal(engine.wrinkle_weights, model.wrinkle_weights):
-                values["degree_weights"] = engine.wrinkle_weights
         if values:
             self._pulling = True
             try:

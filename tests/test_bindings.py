@@ -21,9 +21,15 @@ from app.bindings import (
 )
 from app.panels.number_grid import NumberGrid
 from app.panels.widgets import is_marked_invalid
-from gogreen_core.settings import BrushSettings, PenSettings, Settings
+from gogreen_core.settings import BrushSettings, EventedModel, Field, PenSettings, Settings
 
 ROOT = Path(__file__).resolve().parent.parent
+
+
+class Weights(EventedModel):
+    """A model with an array field."""
+
+    values = Field(lambda: np.ones(9), lambda model, name, value: np.array(value, dtype=float))
 
 
 def test_a_spin_box_follows_the_model_and_edits_it(qtbot):
@@ -66,7 +72,7 @@ def test_a_refused_value_is_named_as_the_panel_names_it_and_reverts(qtbot):
 
 
 def test_check_choice_readout_and_a_grid(qtbot):
-    pen, settings = PenSettings(), Settings()
+    pen = PenSettings()
     from PySide6.QtWidgets import QCheckBox
 
     check = QCheckBox()
@@ -91,13 +97,14 @@ def test_check_choice_readout_and_a_grid(qtbot):
     bind_readout(pen, "spacing", label, "{:.2f} ε".format)
     pen.spacing = 0.5
     assert label.text() == "0.50 ε"
-    bind(settings, "degree_weights", grid, grid.set_values, grid.edited)
-    assert len(grid.spins) == settings.l_max + 1
+    weights = Weights()
+    bind(weights, "values", grid, grid.set_values, grid.edited)
+    assert len(grid.spins) == 9
     grid.spins[2].setValue(3.5)
-    assert settings.degree_weights[2] == 3.5
-    settings.l_max = 4  # fewer degrees: fewer fields
+    assert weights.values[2] == 3.5
+    weights.values = np.ones(5)  # fewer entries: fewer fields
     assert len(grid.spins) == 5
-    np.testing.assert_array_equal(grid.values, settings.degree_weights)
+    np.testing.assert_array_equal(grid.values, weights.values)
 
 
 def test_a_drag_is_one_first_step_then_continued_ones(qtbot):

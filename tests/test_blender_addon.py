@@ -46,7 +46,6 @@ from gogreen_core import (  # noqa: E402
     make_pattern,
     save_preset,
 )
-from gogreen_core.brushes import default_wrinkle_weights  # noqa: E402
 
 REPO_MODULE = "gogreen_test"
 MODULE = f"bl_ext.{REPO_MODULE}.gogreen_sculpt"
@@ -188,7 +187,6 @@ def test_apply_stroke_is_bit_identical_to_the_sculptor(ico, kind):
         material=material,
         l_max=6,
         falloff=GaussianRadial(1.0),
-        degree_weights=default_wrinkle_weights(6),
     )
     sculptor.origin = np.zeros(3)  # mirror planes through the object's origin
     brush = Brush(kind, radius=settings.radius, strength=settings.strength, symmetry="x")
@@ -754,7 +752,9 @@ def test_presets_are_shared_with_the_desktop_app(ico, tmp_path):
     assert bpy.ops.gogreen.load_preset(preset="Wood grain") == {"FINISHED"}
     assert Material.from_dict(json.loads(s.custom_material)) == wood.material  # every bit
     assert s.l_max == wood.l_max and s.brush == wood.brush.kind
-    assert json.loads(s.degree_weights) == [float(w) for w in wood.weights]
+    assert json.loads(s.brush_weights or "{}") == {
+        k: list(w) for k, w in wood.brush_weights.items()
+    }
     assert s.influence == 0.0  # the preset's automatic influence
     properties = sub(sys.modules[MODULE], "properties")
     layered = {p.name: p for p in builtin_presets()}["Layered sheet wrinkles"]

@@ -18,7 +18,6 @@ import numpy as np
 import pytest
 
 from gogreen_core import Brush, BrushEvent, Material, ParameterError, Sculptor
-from gogreen_core.brushes import default_wrinkle_weights
 from gogreen_core.shapes import icosphere
 from gogreen_core.tools import PIXELS_PER_UNIT_AMOUNT
 
@@ -331,15 +330,11 @@ def test_orthotropic_errors_name_the_material():
     assert info.value.parameter == "material"
 
 
-def test_falloffs_and_wrinkle_weights():
+def test_falloffs_and_mirrors():
     assert engine.falloff_from("GAUSSIAN").kind_name == "gaussian"
     assert engine.falloff_from("KELVINLET").kind_name == "kelvinlet"
     with pytest.raises(ParameterError, match="no falloff curve"):
         engine.falloff_from("CUSTOM", "")
-    assert np.array_equal(engine.degree_weights_from("", 6), default_wrinkle_weights(6))
-    assert engine.degree_weights_from("[1, 2, 3]", 2).tolist() == [1, 2, 3]
-    # weights of another l_max (set before l_max changed): the default ones of the new l_max
-    assert np.array_equal(engine.degree_weights_from("[1, 2, 3]", 4), default_wrinkle_weights(4))
     assert engine.mirror_axes(True, False, True) == "xz"
 
 
@@ -383,7 +378,6 @@ def test_stroke_is_the_engines_apply_brush(sphere):
         Material.cubic(3.0, 1.5, 0.4),
         engine.falloff_from("KELVINLET"),
         4,
-        default_wrinkle_weights(4),
     )
     events = [BrushEvent(center=vertices[0], amount=0.3, axis=np.array([0.0, 0.2, 1.0]))]
     result = engine.stroke(vertices, faces, settings, events)
@@ -393,7 +387,6 @@ def test_stroke_is_the_engines_apply_brush(sphere):
         material=settings.material,
         l_max=4,
         falloff=settings.falloff,
-        degree_weights=settings.degree_weights,
     )
     reference.origin = np.zeros(3)
     reference.apply_brush(settings.brush, events)

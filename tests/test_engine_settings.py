@@ -21,8 +21,8 @@ CUBIC = Material.cubic(3.0, 1.5, 0.4)
         ({"material": "steel"}, "material"),
         ({"falloff": 1.0}, "falloff"),
         ({"l_max": -1}, "l_max"),
-        ({"l_max": 4, "degree_weights": [1.0, 2.0]}, "degree_weights"),
-        ({"degree_weights": [float("nan")] * 9}, "degree_weights"),
+        ({"l_max": 4, "brush_weights": {"grab": [1.0, 2.0]}}, "brush_weights.grab"),
+        ({"brush_weights": {"grab": [float("nan")] * 10}}, "brush_weights.grab"),
         ({"constraint_radius": 0.0}, "constraint_radius"),
     ],
 )
@@ -37,16 +37,18 @@ def test_every_field_is_checked_by_the_constructor(changes, parameter):
 
 def test_values_compare_by_content_and_do_not_change():
     spline = SplineRadial.from_profile(KelvinletRadial(2.0), 6)
-    weights = np.linspace(1.0, 2.0, 7)
-    a = EngineSettings(CUBIC, spline, 6, weights, 0.2)
-    b = EngineSettings(CUBIC, SplineRadial.from_profile(KelvinletRadial(1.0), 6), 6, weights, 0.2)
+    weights = np.linspace(1.0, 2.0, 8)
+    a = EngineSettings(CUBIC, spline, 6, 0.2, {"pinch": weights})
+    b = EngineSettings(
+        CUBIC, SplineRadial.from_profile(KelvinletRadial(1.0), 6), 6, 0.2, {"pinch": weights}
+    )
     assert a == b and a is not b and a != a.replace(constraint_radius=0.3)
     assert a.falloff.eps == 1.0  # the shape, at ε = 1
     spline.set_curve("R", 0, *spline.curve("R", 2))  # the caller's profile: not the value's
     weights[0] = 5.0
-    assert a == b and a.degree_weights[0] == 1.0
-    with pytest.raises(ValueError):
-        a.degree_weights[0] = 3.0  # read-only
+    assert a == b and a.weights_for("pinch")[0] == 1.0
+    with pytest.raises(TypeError):
+        a.brush_weights["pinch"] = (3.0,)  # type: ignore[index]  # read-only
     with pytest.raises(TypeError, match="immutable"):
         a.falloff.set_curve("R", 0, *a.falloff.curve("R", 2))
     assert EngineSettings.from_dict(json.loads(json.dumps(a.to_dict()))) == a

@@ -1,10 +1,9 @@
 """Sculpting at once on a new machine: the NumPy evaluation serves until the compiled code is
-ready, with the same results bit for bit; old sessions replay with the arithmetic they were
-recorded with (issue "Performance: sculpt at once on a fresh install")."""
+ready, a reference the compiled code is held to within 1e-12 relative (issue "Performance:
+sculpt at once on a fresh install"; the lean-core issue)."""
 
 from __future__ import annotations
 
-import hashlib
 import json
 import os
 import subprocess
@@ -17,7 +16,6 @@ from gogreen_core import Brush, BrushEvent, GreenKernel, Material, Sculptor
 from gogreen_core._compiled import forced
 from gogreen_core.brushes import mirror_signs
 from gogreen_core.radial import GaussianRadial, KelvinletRadial, SplineRadial
-from gogreen_core.session import parse_session
 from gogreen_core.shapes import default_model, icosphere
 
 CODES = ("numpy", "generic", "unrolled")
@@ -25,6 +23,15 @@ CUBIC = Material.cubic(3.0, 1.5, 0.4).rotated(
     np.array([[0.36, 0.48, -0.8], [-0.8, 0.6, 0.0], [0.48, 0.64, 0.6]])
 )
 ORTHOTROPIC = Material.orthotropic((50.0, 5.0, 1.0), (2.0, 0.5, 3.0), (0.1, 0.2, 0.3))
+#: How close the NumPy reference and the compiled code are, relative to a result's largest size
+RELATIVE = 1e-12
+
+
+def assert_close(a: np.ndarray, b: np.ndarray, scale: float | None = None) -> None:
+    """``a`` and ``b`` within :data:`RELATIVE` of ``scale`` (default: ``a``'s largest entry)."""
+    assert a.shape == b.shape and a.dtype == b.dtype
+    size = float(np.abs(a).max(initial=0.0)) if scale is None else scale
+    assert np.abs(a - b).max(initial=0.0) <= RELATIVE * size
 
 
 def points(n: int = 2000, seed: int = 3) -> np.ndarray:
@@ -50,8 +57,9 @@ def evaluations(kernel: GreenKernel, x: np.ndarray) -> list[np.ndarray]:
 
 @pytest.mark.parametrize("l_max", [0, 1, 2, 5, 8, 13, 15])
 @pytest.mark.parametrize("falloff", ["gaussian", "kelvinlet", "spline"])
-def test_the_three_codes_evaluate_the_same_bits(l_max, falloff):
-    """NumPy, the compiled generic kernel and the generated one (up to degree 13): equal."""
+def test_the_three_codes_evaluate_alike(l_max, falloff):
+    """NumPy, the compiled generic kernel and the generated one (up to degree 13): within
+    1e-12 of each other."""
     radial = {
         "gaussian": GaussianRadial(0.7),
         "kelvinlet": KelvinletRadial(0.4),
@@ -65,13 +73,13 @@ def test_the_three_codes_evaluate_the_same_bits(l_max, falloff):
             results[code] = evaluations(kernel, x)
     for code in CODES[1:]:
         for a, b in zip(results["numpy"], results[code], strict=True):
-            assert np.array_equal(a, b), code
+            assert_close(a, b)
     assert np.isfinite(results["numpy"][2]).all()
 
 
 def streamline_runs(kernel: GreenKernel, x: np.ndarray) -> list[np.ndarray]:
     """Grab and affine events, adaptive (with refinement) and fixed steps, with a mirror and
-    the smooth cutoff, then a gentle grab (evaluation 3's third-order steps, a few refined);
+    the smooth cutoff, then a gentle grab (third-order steps, a few refined);
     the results and the evaluations each point took."""
     rng = np.random.default_rng(5)
     force, load = rng.normal(size=3), rng.normal(size=(3, 3)) * 0.5
@@ -90,7 +98,10 @@ def streamline_runs(kernel: GreenKernel, x: np.ndarray) -> list[np.ndarray]:
 
 
 @pytest.mark.parametrize("l_max", [2, 8, 15])
-def test_the_three_codes_integrate_the_same_bits(l_max):
+def test_the_three_codes_integrate_alike(l_max):
+    """The same step choices (but where a point's error estimate is within rounding of the
+    bound: at most one point in a thousand) and the same ends within 1e-12 of the motion where
+    they chose alike, within the tolerance where not."""
     kernel = GreenKernel(CUBIC, l_max, GaussianRadial(0.5))
     x = points(1500)[3:]
     results = {}
@@ -101,8 +112,15 @@ def test_the_three_codes_integrate_the_same_bits(l_max):
     assert evaluations.max() > 4 and np.mean(evaluations == 4) > 0.3  # refined, not everywhere
     assert np.mean(gentle == 3) > 0.9 and gentle.max() > 4  # third order, a few refined
     for code in CODES[1:]:
-        for a, b in zip(results["numpy"], results[code], strict=True):
-            assert np.array_equal(a, b), code
+        ours, theirs = results["numpy"], results[code]
+        for ends, counts, other_ends, other_counts in zip(
+            ours[::2], ours[1::2], theirs[::2], theirs[1::2], strict=True
+        ):
+            alike = counts == other_counts
+            assert np.mean(alike) >= 0.999
+            motion = float(np.abs(ends - x).max())
+            assert_close(ends[alike], other_ends[alike], motion)
+            assert np.abs(ends - other_ends).max() <= 1e-4 * motion
 
 
 def test_in_place_rows_agree_between_codes():
@@ -121,12 +139,13 @@ def test_in_place_rows_agree_between_codes():
             )  # fmt: skip
         meshes.append(mesh)
     assert not np.array_equal(meshes[0], vertices)
+    motion = float(np.abs(meshes[0] - vertices).max())
     for mesh in meshes[1:]:
-        assert np.array_equal(mesh, meshes[0])
+        assert_close(meshes[0], mesh, motion)
 
 
 FRESH_PROCESS = r"""
-import hashlib, json, sys, threading, time
+import json, sys, threading, time
 from numba.core import event
 compiled_on = []
 
@@ -156,34 +175,40 @@ def stroke():
     for kind in ("grab", "twist"):
         event = BrushEvent(top, [0.02, 0.05, 0.0], amount=0.1, axis=[0.0, 0.3, 1.0])
         sculptor.apply_brush(Brush(kind, radius=0.2, symmetry="x"), [event])
-    return hashlib.sha256(sculptor.vertices.tobytes()).hexdigest()
+    return sculptor.vertices.copy()
 
 
 first = stroke()
+np.save(sys.argv[1], first)
 seconds = time.perf_counter() - start
 ready = _compiled.DRIVERS in _compiled._ready
 main_thread_compilations = compiled_on.count("MainThread")
 from gogreen_core.kernel import prepare_degree
 prepare_degree(6)
 compiled = stroke()
-print(json.dumps(dict(first=first, compiled=compiled, ready_before=ready, seconds=seconds,
-                      main=main_thread_compilations, here=len(compiled_on))))
+motion = float(np.abs(first - default_model(4)[0]).max())
+print(json.dumps(dict(gap=float(np.abs(first - compiled).max()) / motion, ready_before=ready,
+                      seconds=seconds, main=main_thread_compilations, here=len(compiled_on))))
 """
 
 
 def test_a_new_machine_sculpts_at_once_and_the_switch_changes_nothing(tmp_path):
     """A fresh process with an empty numba cache: its first strokes compile nothing on the
     calling thread (the NumPy evaluation serves), the compilation runs in a child process
-    (this one only loads its result), and the compiled strokes give the same bits."""
+    (this one only loads its result), and the compiled strokes agree within 1e-12."""
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), GOGREEN_COMPILE="child")
     result = subprocess.run(
-        [sys.executable, "-c", FRESH_PROCESS], env=env, capture_output=True, text=True, check=True
+        [sys.executable, "-c", FRESH_PROCESS, str(tmp_path / "first.npy")],
+        env=env,
+        capture_output=True,
+        text=True,
+        check=True,
     )
     report = json.loads(result.stdout.strip().splitlines()[-1])
     assert not report["ready_before"]  # the first strokes did not wait for the compiler
     assert report["main"] == 0
     assert report["here"] == 0, "compiled our code in this process rather than in the child"
-    assert report["first"] == report["compiled"]
+    assert report["gap"] <= RELATIVE
     assert any(tmp_path.rglob("*.nbi"))  # the child left its work in the cache
     # and this process (compiled code, its own cache) agrees
     vertices, faces = default_model(4)
@@ -193,50 +218,5 @@ def test_a_new_machine_sculpts_at_once_and_the_switch_changes_nothing(tmp_path):
         for kind in ("grab", "twist"):
             event = BrushEvent(top, [0.02, 0.05, 0.0], amount=0.1, axis=[0.0, 0.3, 1.0])
             sculptor.apply_brush(Brush(kind, radius=0.2, symmetry="x"), [event])
-    assert hashlib.sha256(sculptor.vertices.tobytes()).hexdigest() == report["first"]
-
-
-def sculpt_session(sculptor: Sculptor) -> np.ndarray:
-    # brushes whose names mean the same in sessions of every version (a version-2 file's
-    # wrinkle is the legacy brush)
-    top = sculptor.vertices[int(np.argmax(sculptor.vertices[:, 2]))].copy()
-    for kind in ("grab", "grab_biscale", "grab_triscale"):
-        events = [BrushEvent(top, np.array([0.0, 0.05, 0.1])), BrushEvent(top, [0.05, 0, 0.05])]
-        sculptor.apply_brush(Brush(kind, radius=0.2, symmetry="x"), events)
-    for kind in ("scale", "twist", "pinch"):
-        event = BrushEvent(top, amount=0.1, axis=np.array([0.0, 0.3, 1.0]), direction=[1, 0, 0])
-        sculptor.apply_brush(Brush(kind, radius=0.2), [event])
-    pin = sculptor.add_constraint(top)
-    sculptor.add_constraint(-top)
-    sculptor.drag_constraint(pin, np.array([0.0, 0.0, 0.05]))
-    return sculptor.vertices.copy()
-
-
-def test_sessions_replay_with_the_evaluation_they_were_recorded_with():
-    """Version 4 files replay with evaluation 3, version 3 with evaluation 2, versions 1-2 with
-    evaluation 1, each bit for bit, and a sculptor replaying one records its own version again;
-    the three arithmetics agree to rounding and to the integrator's tolerance."""
-    vertices, faces = default_model(3)
-    current = Sculptor(vertices, faces, material=CUBIC, l_max=6)
-    after = sculpt_session(current)
-    session = current.session()
-    assert session["version"] == 4
-    replayed = Sculptor.from_session(session, vertices, faces)
-    replayed.replay(parse_session(session))
-    assert np.array_equal(replayed.vertices, after)
-    results = {3: after}
-    for version, evaluation in ((3, 2), (2, 1)):
-        old = dict(session, version=version)
-        sculptor = Sculptor.from_session(old, vertices, faces)
-        sculptor.replay(parse_session(old))
-        assert sculptor.kernel(Brush("grab")).evaluation == evaluation
-        recorded = sculptor.session()
-        assert recorded["version"] == version  # what it records replays the same way
-        again = Sculptor.from_session(recorded, vertices, faces)
-        again.replay(parse_session(recorded))
-        assert np.array_equal(again.vertices, sculptor.vertices)
-        results[evaluation] = sculptor.vertices
-    motion = np.abs(after - vertices).max()
-    for a, b in ((3, 2), (2, 1)):
-        assert not np.array_equal(results[a], results[b])
-        assert np.abs(results[a] - results[b]).max() < 1e-6 * motion
+    first = np.load(tmp_path / "first.npy")
+    assert_close(first, sculptor.vertices, float(np.abs(first - vertices).max()))

@@ -51,7 +51,7 @@ def settings_in_effect(window) -> tuple:
         model.material,
         model.l_max,
         model.falloff,
-        model.degree_weights.tobytes(),
+        tuple(model.brush_weights.items()),
         tuple(model.brush.values().items()),
         tuple(model.pen.values().items()),
         window.homogenization_panel.inputs.values().__repr__(),

@@ -33,7 +33,7 @@ def recorded(sphere):
     vertices, faces = sphere
     s = Sculptor(vertices, faces)
     s.set_material(ANISOTROPIC)
-    s.set_falloff(SplineRadial.from_profile(GaussianRadial(1.0), 4), 4, np.ones(5))
+    s.set_falloff(SplineRadial.from_profile(GaussianRadial(1.0), 4), 4)
     s.apply_brush(Brush("grab"), [BrushEvent(vertices[0], [0.0, 0.05, 0.0], radius_factor=0.5)])
     s.apply_brush(Brush("twist"), [BrushEvent(vertices[5], amount=0.2, axis=[0, 1, 0])])
     s.set_constraint_radius(0.2)
@@ -144,8 +144,8 @@ def hostile_sessions(session: dict):
     )
     yield (
         "weights huge",
-        edited(session, ("operations", falloff, "degree_weights"), [HUGE] * 5),
-        f"operations[{falloff}].degree_weights",
+        edited(session, ("operations", falloff, "brush_weights"), {"grab": [HUGE] * 5}),
+        f"operations[{falloff}].brush_weights.grab",
     )
     yield (
         "material huge",
@@ -217,8 +217,10 @@ def test_the_recorded_session_itself_replays(sphere, recorded):
         (lambda s, v: s.set_constraint_radius(HUGE), "radius"),
         (lambda s, v: s.set_material(Material.isotropic(HUGE, 0.3)), "material"),
         (
-            lambda s, v: s.set_falloff(GaussianRadial(1.0), 2, [1.0, HUGE, 1.0]),
-            "degree_weights",
+            lambda s, v: s.set_falloff(
+                GaussianRadial(1.0), 2, brush_weights={"grab": [1.0, HUGE, 1.0, 1.0]}
+            ),
+            "grab",  # brush_weights.grab
         ),
     ],
 )

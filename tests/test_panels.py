@@ -488,8 +488,8 @@ def test_l_max_and_degree_weights(qtbot, falloff_panel):
     # Loading a falloff: any profile and l_max, one update of the settings
     changes = _count(settings.events.changed)
     panel.set_falloff(KelvinletRadial(0.3), 6)
-    # the weights follow l_max (the legacy wrinkle brush's too)
-    assert [c.names for c in changes] == [{"falloff", "l_max", "brush_weights", "degree_weights"}]
+    # the weights follow l_max
+    assert [c.names for c in changes] == [{"falloff", "l_max", "brush_weights"}]
     assert panel.l_max == 6 and panel.radial.eps == 1.0
     rho = np.array([0.5, 1.0, 3.0])
     assert np.allclose(

@@ -49,13 +49,13 @@ def test_preset_round_trip_and_apply():
         Material.cubic(3.0, 1.5, 0.4),
         KelvinletRadial(1.0),
         l_max=6,
-        degree_weights=np.arange(7.0),
+        brush_weights={"pinch": tuple(np.arange(8.0))},
         brush=Brush("twist", radius=0.05, symmetry="x"),
         description="d",
     )
     again = Preset.from_dict(json.loads(json.dumps(preset.to_dict())))
     assert again.material == preset.material and again.brush == preset.brush
-    assert np.array_equal(again.degree_weights, preset.degree_weights)
+    assert again.brush_weights == preset.brush_weights
     assert again.falloff.to_dict() == preset.falloff.to_dict()
 
 

@@ -10,7 +10,6 @@ from gogreen_core.brushes import (
     Brush,
     BrushEvent,
     affine_load_shape,
-    default_wrinkle_weights,
     mirror_signs,
 )
 from gogreen_core.brushes.affine import centre_jacobian
@@ -162,7 +161,6 @@ def test_the_wrinkle_brush_with_its_default_weights_never_wrecks_the_mesh(sphere
         faces,
         material=materials[material],
         falloff=GaussianRadial(1.0) if curve is None else _edited(CURVES[curve]),
-        degree_weights=default_wrinkle_weights(L_MAX),
     )
     _assert_safe_events(sculptor, "wrinkle", RADIUS, [7, 40])
 

@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from gogreen_core.brushes import DEFAULT_BRUSH, Brush, default_wrinkle_weights
+from gogreen_core.brushes import DEFAULT_BRUSH, Brush
+from gogreen_core.engine_settings import EngineSettings
 from gogreen_core.material import Material
 from gogreen_core.presets import Preset
 from gogreen_core.radial import GaussianRadial, KelvinletRadial, SplineRadial
@@ -56,20 +57,20 @@ def test_update_is_all_or_nothing_and_names_the_bad_field():
     assert info.value.parameter == "l_max"
     assert settings.constraint_radius == 0.1 and settings.l_max == 8
     with pytest.raises(ParameterError) as info:
-        settings.degree_weights = [1.0, 2.0]
-    assert info.value.parameter == "degree_weights"
+        settings.brush_weights = {"grab": [1.0, 2.0]}
+    assert info.value.parameter == "brush_weights.grab"
 
 
 def test_l_max_keeps_curves_and_common_weights_and_adds_defaults():
     settings = Settings()
     spline = settings.falloff
-    settings.degree_weights = np.arange(9.0)
+    settings.set_brush_weights("pinch", np.arange(10.0))
     settings.l_max = 4
-    assert np.array_equal(settings.degree_weights, np.arange(5.0))
+    assert np.array_equal(settings.weights_for("pinch"), np.arange(6.0))
     settings.l_max = 6
-    expected = default_wrinkle_weights(6)
-    expected[:5] = np.arange(5.0)
-    assert np.array_equal(settings.degree_weights, expected)
+    expected = EngineSettings(l_max=6).weights_for("pinch")
+    expected[:6] = np.arange(6.0)
+    assert np.array_equal(settings.weights_for("pinch"), expected)
     assert settings.falloff is spline  # it had the curves of l_max 4 and 6: unchanged
     assert set(needed_curves(10)) - set(spline.curve_keys())  # not yet there
     settings.l_max = 10
@@ -109,13 +110,11 @@ def test_presets_round_trip_through_the_model():
         Material.isotropic(2.0, 0.4),
         KelvinletRadial(1.0),
         6,
-        None,
         Brush("wrinkle", radius=0.05, influence=2.5, symmetry="x"),
     )
     settings.apply_preset(preset)
     assert settings.material == preset.material and settings.l_max == 6
     assert settings.brush.influence == 2.5 and settings.brush.kind == "wrinkle"
-    assert np.array_equal(settings.degree_weights, default_wrinkle_weights(6))
     again = Preset.from_dict(settings.preset("again").to_dict())
     assert again.brush == preset.brush and again.material == preset.material
     assert isinstance(again.falloff, SplineRadial)
@@ -132,12 +131,12 @@ def test_engine_link_feeds_the_sculptor_one_call_per_group(sculptor, monkeypatch
     link = EngineLink(settings, sculptor)
     calls = []
     real = sculptor.set_falloff
-    monkeypatch.setattr(sculptor, "set_falloff", lambda *a: (calls.append(a), real(*a)))
+    monkeypatch.setattr(sculptor, "set_falloff", lambda *a, **k: (calls.append(a), real(*a, **k)))
     settings.material = Material.isotropic(1.0, 0.45)
     assert sculptor.material == Material.isotropic(1.0, 0.45)
     settings.update({"l_max": 4, "falloff": GaussianRadial(1.0)})
     assert len(calls) == 1 and sculptor.l_max == 4
-    assert np.array_equal(sculptor.settings.wrinkle_weights, settings.degree_weights)
+    assert sculptor.settings.brush_weights == settings.brush_weights
     settings.constraint_radius = 0.2
     assert sculptor.constraint_radius == 0.2
     # a curve edit (a drag step: a new falloff value) reaches the engine

@@ -10,14 +10,13 @@ from pathlib import Path
 import pytest
 
 from gogreen_core import _expansion, _unrolled
-from gogreen_core._legacy import unrolled as legacy_unrolled
 from gogreen_core.kernel import prepare_degree
 
 
-@pytest.mark.parametrize("generator", [_unrolled, legacy_unrolled], ids=["current", "legacy"])
-def test_shipped_kernels_are_fresh(generator):
+def test_shipped_kernels_are_fresh():
     """The committed modules equal what scripts/make_kernels.py writes now, and no stale module
     is left (run the script after changing the generator, BLOCK or the compile options)."""
+    generator = _unrolled
     folder = Path(importlib.import_module(generator.GENERATED_PACKAGE).__path__[0])
     expected = generator.generated_modules()
     shipped = {path.stem: path.read_text(encoding="utf-8") for path in folder.glob("*.py")}

@@ -105,13 +105,13 @@ def test_engine_refusals_use_the_panels_names(window, monkeypatch):
     sculptor = window.document.sculptor
 
     def refuse(settings, continued=False):
-        raise ParameterError("degree_weights", "degree_weights: 99 entries for l_max 8")
+        raise ParameterError("brush_weights", "brush_weights: 99 entries for l_max 8")
 
     monkeypatch.setattr(sculptor, "apply_settings", refuse)
-    window.model.degree_weights = np.full(window.model.l_max + 1, 2.0)
+    window.model.set_brush_weights("grab", np.full(window.model.l_max + 2, 2.0))
     text = window.message_label.text()
-    assert text.startswith("Wrinkle weights not applied: Wrinkle weights: 99 entries"), text
-    assert "degree_weights" not in text
+    assert text.startswith("Degree weights not applied: Degree weights: 99 entries"), text
+    assert "brush_weights" not in text
 
 
 def test_the_window_opens_over_most_of_the_screen(window):

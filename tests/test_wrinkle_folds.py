@@ -2,8 +2,8 @@
 with the shipped "Layered sheet wrinkles" preset a pull of 2 ε folds the surface (sign changes
 of the normal displacement between lobes deeper than 10 % of the pull), the grabbed point
 follows, the fold count grows with the fold degree, a grab with the same settings folds
-nothing, an isotropic material folds nothing, and sessions before version 3 still replay their
-``wrinkle`` strokes with the legacy brush, bit for bit."""
+nothing, an isotropic material folds nothing, and sessions before version 3, whose ``wrinkle``
+was another brush, are refused naming the stroke."""
 
 import json
 
@@ -14,6 +14,7 @@ from gogreen_core import Brush, BrushEvent, Material, Sculptor, builtin_presets
 from gogreen_core.brushes import FOLD_DEPTH, fold_weights
 from gogreen_core.session import parse_session
 from gogreen_core.shapes import flat_sheet, icosphere
+from gogreen_core.validation import ParameterError
 
 SHEET = flat_sheet()
 RADIUS = 0.05  # ε as a fraction of the model size, as in the issue
@@ -157,28 +158,18 @@ def test_fold_weights_pick_one_degree():
     assert fold_weights(10, 8, depth=1.5)[8] == 1.5
 
 
-def test_old_sessions_replay_their_wrinkle_strokes_with_the_legacy_brush():
-    """A version-2 session's ``wrinkle`` stroke is the legacy brush's: recorded by a sculptor
-    of that time (one replaying a version-2 file: the legacy arithmetic and names), it replays
-    bit for bit, and a sculptor of now folds instead."""
+def test_an_old_sessions_wrinkle_stroke_is_refused_naming_it():
+    """A version-2 session's ``wrinkle`` stroke was the brush of that time, which no longer
+    exists: the file is refused naming the stroke, not replayed with the folding brush."""
     vertices, faces = icosphere(2)
-    empty = Sculptor(vertices, faces, material=PRESET.material).session()
-    old = dict(json.loads(json.dumps(empty)), version=2)
-    recorded = Sculptor.from_session(old, vertices, faces)  # a version-2 sculptor
-    event = BrushEvent(vertices[5], [0.0, 0.02, 0.01])
-    recorded.apply_brush(Brush("wrinkle", radius=0.2, influence=4.0), [event])
-    session = json.loads(json.dumps(recorded.session()))
-    assert session["version"] == 2
-    assert session["operations"][0]["brush"]["kind"] == "wrinkle_legacy"
-    session["operations"][0]["brush"]["kind"] = "wrinkle"  # as the old program wrote it
-    del session["operations"][0]["brush"]["influence"]  # 4 ε when a version-2 file does not say
-    replayed = Sculptor.from_session(session, vertices, faces)
-    replayed.replay(parse_session(session))
-    assert np.array_equal(replayed.vertices, recorded.vertices)
-    # a sculptor of now on the same input: the folding brush moves the mesh differently
-    folding = Sculptor(vertices, faces, material=PRESET.material)
-    folding.apply_brush(Brush("wrinkle", radius=0.2, influence=4.0), [event])
-    assert not np.array_equal(folding.vertices, recorded.vertices)
+    sculptor = Sculptor(vertices, faces, material=PRESET.material)
+    sculptor.apply_brush(Brush("grab", radius=0.2), [BrushEvent(vertices[5], [0.0, 0.02, 0.0])])
+    sculptor.apply_brush(Brush("wrinkle", radius=0.2), [BrushEvent(vertices[5], [0.0, 0.02, 0.0])])
+    session = json.loads(json.dumps(sculptor.session()))
+    assert Sculptor.from_session(session, vertices, faces) is not None  # today's: replayed
+    old = dict(session, version=2)
+    with pytest.raises(ParameterError, match=r"operations\[1\] is a stroke of the wrinkle"):
+        Sculptor.from_session(old, vertices, faces)
 
 
 def test_wrinkle_weights_live_in_the_settings_and_replay():

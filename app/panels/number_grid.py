@@ -20,7 +20,7 @@ class NumberGrid(QWidget):
     after the user changes one entry. Bind it to an array field with :func:`app.bindings.bind`::
 
         grid = NumberGrid(lambda l: f"l {l}", (-100.0, 100.0), decimals=2)
-        bind(settings, "degree_weights", grid, grid.set_values, grid.edited)
+        bind(model, "weights", grid, grid.set_values, grid.edited)
     """
 
     edited = Signal(object)

@@ -7,8 +7,7 @@ regularized Green's function of ``kernel.py``, is a row of the brush table
 * :mod:`~gogreen_core.brushes.grab`: ``grab``, ``grab_biscale``, ``grab_triscale``, a vector load
   the grabbed point follows exactly (multi-scale falloffs decay faster);
 * :mod:`~gogreen_core.brushes.wrinkle`: ``wrinkle``, a pull that folds the surface around the
-  cursor with the material's high SH degrees (paper Fig. 10); ``wrinkle_legacy``
-  (:mod:`~gogreen_core.brushes.wrinkle_legacy`), the one of sessions before version 3;
+  cursor with the material's high SH degrees (paper Fig. 10);
 * :mod:`~gogreen_core.brushes.affine`: ``scale``, ``twist``, ``pinch``, ``stretch``, an affine
   load at the press point whose ``amount`` is a log strain or an angle at the centre, whatever
   the material;
@@ -54,13 +53,6 @@ from gogreen_core.brushes.table import (
     brush_type,
 )
 from gogreen_core.brushes.wrinkle import FOLD_DEGREES, FOLD_DEPTH, fold_weights
-from gogreen_core.brushes.wrinkle_legacy import (
-    WRINKLE_LEVEL,
-    WRINKLE_RING,
-    WRINKLE_TOP_DEGREE,
-    default_wrinkle_weights,
-    legacy_wrinkle_weights,
-)
 from gogreen_core.limits import MAX_AMOUNT, MAX_RADIUS, MAX_STRENGTH, MAX_SUBSTEPS, MIN_RADIUS
 
 __all__ = [
@@ -82,9 +74,6 @@ __all__ = [
     "MAX_SUBSTEPS",
     "MIN_RADIUS",
     "PAINT_BRUSHES",
-    "WRINKLE_LEVEL",
-    "WRINKLE_RING",
-    "WRINKLE_TOP_DEGREE",
     "Brush",
     "BrushEvent",
     "BrushRow",
@@ -97,9 +86,7 @@ __all__ = [
     "brush_for_key",
     "brush_row",
     "brush_type",
-    "default_wrinkle_weights",
     "fold_weights",
-    "legacy_wrinkle_weights",
     "mirror_signs",
     "smooth_cutoff",
 ]

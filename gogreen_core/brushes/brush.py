@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from gogreen_core.brushes.base import AUTO_INFLUENCE, CUTOFF_START, BrushType
-from gogreen_core.brushes.table import ALL_KINDS, BRUSH_KINDS, brush_type
+from gogreen_core.brushes.table import BRUSH_KINDS, brush_type
 from gogreen_core.limits import MAX_AMOUNT, MAX_RADIUS, MAX_STRENGTH, MAX_SUBSTEPS, MIN_RADIUS
 from gogreen_core.validation import (
     ParameterError,
@@ -34,8 +34,7 @@ __all__ = ["Brush", "BrushEvent"]
 class Brush:
     """Settings of one brush (immutable; use :func:`dataclasses.replace` to change one).
 
-    kind : one of :data:`BRUSH_KINDS` (or a kind only old sessions use, e.g.
-        ``wrinkle_legacy``).
+    kind : one of :data:`BRUSH_KINDS`.
     radius : regularization radius ε as a fraction of the model size (bounding-box diagonal).
     strength : multiplies the cursor displacement (grab) or the amount (affine brushes).
     substeps : how each event is integrated over pseudo-time [0, 1]. 0 (the default): adaptive
@@ -59,7 +58,7 @@ class Brush:
     symmetry: str = ""
 
     def __post_init__(self) -> None:
-        if not isinstance(self.kind, str) or self.kind not in ALL_KINDS:
+        if not isinstance(self.kind, str) or self.kind not in BRUSH_KINDS:
             raise ParameterError(
                 "kind", f"unknown brush {self.kind!r}; expected one of {', '.join(BRUSH_KINDS)}"
             )

@@ -43,13 +43,10 @@ class GrabBrush(GreenBrush):
 
     The force solves G(0) f = Δ with the brush's own kernel: only degree 0 is nonzero at the
     centre, so its weight ω_0 divides out and the grabbed point follows the cursor whatever the
-    weights (:attr:`force_from_full`: the legacy wrinkle brush took G(0) of the full kernel,
-    which is the same number with ω_0 = 1).
+    weights.
     """
 
     family = "vector"
-    #: Solve for the force with the full (unweighted) kernel.
-    force_from_full = False
 
     def __init__(
         self, kind: str, multiscale: Callable[[RadialProfile], RadialProfile] | None = None
@@ -76,9 +73,7 @@ class GrabBrush(GreenBrush):
     ) -> tuple[np.ndarray, np.ndarray]:
         """(f, Δ): the force (3,) and the cursor motion, along which the load travels."""
         delta = brush.strength * event.delta
-        weighted = self.force_from_full and self.degree_weights(ctx.settings) is not None
-        full = ctx.kernels.full.with_radial(kernel.radial) if weighted else kernel
-        g0 = full.green(np.zeros((1, 3)))[0]
+        g0 = kernel.green(np.zeros((1, 3)))[0]
         with np.errstate(all="ignore"):
             try:
                 force = np.linalg.solve(g0, delta)

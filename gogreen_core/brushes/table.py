@@ -7,8 +7,7 @@ brush bar and panels derive their dictionaries from :data:`BRUSH_ROWS`.
 
 Adding a brush: a module with its :class:`BrushType` (or a member of an existing family: a
 pattern for the affine family), one row here and an icon in ``resources/icons``. Number keys
-belong to the brush (a new row does not move the others'). :data:`LEGACY_TABLE` holds the kinds
-only old sessions use (not offered, still replayed).
+belong to the brush (a new row does not move the others').
 """
 
 from __future__ import annotations
@@ -29,19 +28,16 @@ from gogreen_core.brushes.grab import GrabBrush
 from gogreen_core.brushes.mask import MaskBrush
 from gogreen_core.brushes.smooth import SmoothBrush
 from gogreen_core.brushes.wrinkle import WrinkleBrush
-from gogreen_core.brushes.wrinkle_legacy import LegacyWrinkleBrush
 from gogreen_core.radial import MultiscaleRadial
 
 __all__ = [
     "AFFINE_BRUSHES",
-    "ALL_KINDS",
     "BRUSH_KINDS",
     "BRUSH_ROWS",
     "BRUSH_TABLE",
     "DEFAULT_BRUSH",
     "DRAGS",
     "GRAB_BRUSHES",
-    "LEGACY_TABLE",
     "PAINT_BRUSHES",
     "BrushRow",
     "affine_load_shape",
@@ -223,16 +219,12 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
 #: The brush of key 1, what a new session starts with.
 DEFAULT_BRUSH = "grab_local"
 BRUSH_TABLE: tuple[BrushType, ...] = tuple(row.type for row in BRUSH_ROWS)
-#: Brushes old sessions use under names the table now gives to others.
-LEGACY_TABLE: tuple[BrushType, ...] = (LegacyWrinkleBrush("wrinkle_legacy"),)
 
-_BY_KIND = {brush.kind: brush for brush in BRUSH_TABLE + LEGACY_TABLE}
+_BY_KIND = {brush.kind: brush for brush in BRUSH_TABLE}
 _ROWS = {row.kind: row for row in BRUSH_ROWS}
 _BY_NUMBER = {row.number: row.kind for row in BRUSH_ROWS if row.number}
 #: Every brush kind an artist is offered, in the table's order.
 BRUSH_KINDS = tuple(brush.kind for brush in BRUSH_TABLE)
-#: Every kind a brush or a session may name (the offered ones, then the legacy ones).
-ALL_KINDS = tuple(_BY_KIND)
 #: Vector-load brushes (the cursor point follows the cursor).
 GRAB_BRUSHES = tuple(b.kind for b in BRUSH_TABLE if b.family == "vector")
 #: Affine-load brushes.
