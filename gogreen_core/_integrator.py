@@ -69,7 +69,7 @@ __all__ = ["CUTOFF_END", "MAX_ADAPTIVE_STEPS"]
 #: of this module's compiled code on this file alone, yet compiles their functions and constants
 #: into it: a change there must change this file, or a stale machine code (another BLOCK,
 #: another arithmetic) would be loaded.
-COMPILED_SOURCES = "21b859c7242fe850"
+COMPILED_SOURCES = "6e1f6041f9154e85"
 
 #: Largest number of RK4 steps the adaptive streamlines give one vertex in one event.
 MAX_ADAPTIVE_STEPS = 256

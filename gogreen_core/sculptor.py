@@ -366,11 +366,6 @@ class Sculptor:
         return self._pins.points
 
     @property
-    def constraint_radius(self) -> float:
-        """ε of the constraints as a fraction of the model size."""
-        return self.settings.constraint_radius
-
-    @property
     def constraint_reach(self) -> float:
         """Distance (model units) beyond which a pin moves nothing:
         :data:`gogreen_core.constraints.CONSTRAINT_INFLUENCE` constraint radii."""

@@ -160,7 +160,7 @@ def test_settings_changes_are_undo_steps_restored_exactly(sphere):
     assert sculptor.history.undo_labels == ["material", "falloff", "constraint radius"]
     after = sculptor.settings
     assert sculptor.undo() == "constraint radius"
-    assert sculptor.constraint_radius == 0.1
+    assert sculptor.settings.constraint_radius == 0.1
     assert sculptor.undo() == "falloff"
     assert sculptor.falloff.to_dict() == first.falloff.to_dict()
     assert sculptor.l_max == 8 and not sculptor.settings.brush_weights

@@ -138,7 +138,7 @@ def test_engine_link_feeds_the_sculptor_one_call_per_group(sculptor, monkeypatch
     assert len(calls) == 1 and sculptor.l_max == 4
     assert sculptor.settings.brush_weights == settings.brush_weights
     settings.constraint_radius = 0.2
-    assert sculptor.constraint_radius == 0.2
+    assert sculptor.settings.constraint_radius == 0.2
     # a curve edit (a drag step: a new falloff value) reaches the engine
     rho, value = settings.falloff.curve("R", 0)
     edited = settings.falloff.with_point_moved("R", 0, 2, float(rho[2]), float(value[2]) * 2)

@@ -39,7 +39,7 @@ class PinController:
             return None
         dist = np.linalg.norm(points - np.asarray(point), axis=1)
         nearest = int(np.argmin(dist))
-        eps = self.sculptor.constraint_radius * self.sculptor.model_size
+        eps = self.sculptor.settings.constraint_radius * self.sculptor.model_size
         return nearest if dist[nearest] < PIN_PICK_FRACTION * eps else None
 
     def press(self, event: PointerEvent, first_pin_radius: Callable[[], None] | None) -> bool:
