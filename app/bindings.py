@@ -11,10 +11,11 @@ another edit of the same model succeeds, then the widget shows the value in effe
 (:meth:`Binding.refresh`). :func:`refresh` re-shows every widget bound to a model (after undo,
 redo, opening a model or a preset). A binding ends when its widget is destroyed.
 
-The models are :class:`gogreen_core.settings.Settings` (and its ``brush`` and ``pen``
-sub-models) for what the engine uses, and small :class:`~gogreen_core.settings.EventedModel`
-subclasses of the panels for what a panel only shows (the curve being edited, the material's
-input form), so that every widget of a panel is bound the same way.
+The models are :class:`gogreen_core.interaction.settings.Settings` (and its ``brush`` and ``pen``
+sub-models) for what the engine uses, and small
+:class:`~gogreen_core.interaction.settings.EventedModel` subclasses of the panels for what a panel
+only shows (the curve being edited, the material's input form), so that every widget of a panel is
+bound the same way.
 
 Adding a bound widget to a panel is one call (number fields are :mod:`app.fields`' own,
 which never change what was typed; the label is the name refusals use)::
@@ -53,7 +54,7 @@ from PySide6.QtWidgets import (
 from shiboken6 import isValid
 
 from app.theme import active_theme
-from gogreen_core.settings import ChangeEvent, EventedModel
+from gogreen_core.interaction.settings import ChangeEvent, EventedModel
 
 __all__ = [
     "Binding",

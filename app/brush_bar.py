@@ -2,8 +2,8 @@
 influence, mirror symmetry) plus the constraint (pin) mode of the pointer tools.
 
 The bar holds no brush of its own: every widget is bound to a field of
-:class:`gogreen_core.settings.BrushSettings` (see :mod:`app.bindings`), so presets, the wheel
-shortcuts and scripts that change the model show here, and edits here reach the model.
+:class:`gogreen_core.interaction.settings.BrushSettings` (see :mod:`app.bindings`), so presets, the
+wheel shortcuts and scripts that change the model show here, and edits here reach the model.
 """
 
 from __future__ import annotations
@@ -17,8 +17,8 @@ from PySide6.QtWidgets import QDoubleSpinBox, QLabel, QToolBar, QWidget
 
 from app.bindings import bind, bind_spin
 from app.fields import DecimalField, IntegerField
-from gogreen_core.brushes import AUTO_INFLUENCE, BRUSH_KINDS, BRUSH_ROWS, Brush
-from gogreen_core.settings import BrushSettings, PenSettings
+from gogreen_core.interaction.settings import BrushSettings, PenSettings
+from gogreen_core.sculpt.brushes import AUTO_INFLUENCE, BRUSH_KINDS, BRUSH_ROWS, Brush
 
 __all__ = ["BRUSH_LABELS", "BrushBar"]
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-#: The headless subcommands (gogreen_core.batch), one help line each.
+#: The headless subcommands (gogreen_core.interaction.batch), one help line each.
 COMMANDS = {
     "deform": "apply one brush stroke to a mesh and write the result",
     "replay": "replay a session file on a mesh (bit for bit the recorded result)",
@@ -16,7 +16,8 @@ COMMANDS = {
 
 def _parser() -> argparse.ArgumentParser:
     """The parser of ``gogreen [mesh]``; its help also lists the subcommands, which
-    :mod:`gogreen_core.batch` parses (``gogreen COMMAND --help`` shows their options)."""
+    :mod:`gogreen_core.interaction.batch` parses (``gogreen COMMAND --help`` shows their
+    options)."""
     width = max(len(name) for name in COMMANDS)
     commands = "\n".join(f"  {name:<{width}}  {text}" for name, text in COMMANDS.items())
     each_help = " or ".join(f"`gogreen {name} --help`" for name in COMMANDS)
@@ -39,7 +40,7 @@ def main(argv: list[str] | None = None) -> int:
     headless."""
     argv = sys.argv[1:] if argv is None else argv
     if argv and argv[0] in COMMANDS:
-        from gogreen_core.batch import main as batch_main  # no Qt for batch work
+        from gogreen_core.interaction.batch import main as batch_main  # no Qt for batch work
 
         return batch_main(argv)
     args = _parser().parse_args(argv)

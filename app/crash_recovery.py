@@ -6,7 +6,7 @@ window shows (:meth:`Document.start_journal`) and closes the previous one's (a c
 removed); when the window is idle after an operation it takes a due checkpoint (the copy of the
 vertices is the one cost on the GUI thread), writes a small picture of the model for the
 recovery dialog, and shows each journal problem once in the status bar. :meth:`offer` lists the
-journals earlier sessions left (:func:`gogreen_core.recovery.list_journals`) in a
+journals earlier sessions left (:func:`gogreen_core.files.recovery.list_journals`) in a
 :class:`~app.recovery_dialog.RecoveryDialog`; :meth:`recover` rebuilds one off the GUI thread,
 with progress in the status bar, and shows it: unsaved, titled "(recovered)", with its undo
 history.
@@ -31,9 +31,9 @@ from app.background import BackgroundRunner, Task
 from app.document import Document
 from app.recovery_dialog import THUMBNAIL, RecoveryDialog
 from app.theme import active_theme
-from gogreen_core.brushes import Brush
-from gogreen_core.journal import THUMBNAIL_FILE
-from gogreen_core.recovery import JournalInfo, Recovery, discard, list_journals, recover
+from gogreen_core.files.journal import THUMBNAIL_FILE
+from gogreen_core.files.recovery import JournalInfo, Recovery, discard, list_journals, recover
+from gogreen_core.sculpt.brushes import Brush
 
 __all__ = ["CrashRecovery"]
 

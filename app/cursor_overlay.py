@@ -1,16 +1,16 @@
 """The brush cursor as a 2D overlay: VTK 2D actors drawn after the scene, never hidden by it.
 
 It shows, around the screen position of the point where the brush acts: the region that moves
-by a tenth of the motion or more (a solid ring, :func:`gogreen_core.tools.moving_radius`; about
-ε for the grab of key 1, many ε for the wide grab), the influence radius (influence · ε, a thin
-ring: nothing beyond it moves), a text label (a live value while F / Shift+F drags it; "scaling
-about the press point" while an affine brush acts) and, while pen pressure shrinks the radius, a
-faint ring at the brush's full radius (as Blender draws it). The falloff profile (the relative
-motion against the distance from the centre, a curve over the ε ring's diameter, 1 at the centre
-rising to ε) is drawn only while F drags the radius, or at all times when asked
-(:attr:`CursorOverlay.profile_always`, View → Falloff Profile): otherwise it would cross the
-model under every hover. The rings' screen sizes come from projecting the world radius at the
-point, so they match what the brush does at that depth; the geometry is
+by a tenth of the motion or more (a solid ring,
+:func:`gogreen_core.interaction.tools.moving_radius`; about ε for the grab of key 1, many ε for the
+wide grab), the influence radius (influence · ε, a thin ring: nothing beyond it moves), a text label
+(a live value while F / Shift+F drags it; "scaling about the press point" while an affine brush
+acts) and, while pen pressure shrinks the radius, a faint ring at the brush's full radius (as
+Blender draws it). The falloff profile (the relative motion against the distance from the centre, a
+curve over the ε ring's diameter, 1 at the centre rising to ε) is drawn only while F drags the
+radius, or at all times when asked (:attr:`CursorOverlay.profile_always`, View → Falloff Profile):
+otherwise it would cross the model under every hover. The rings' screen sizes come from projecting
+the world radius at the point, so they match what the brush does at that depth; the geometry is
 rebuilt at every render (a renderer ``StartEvent``) so orbiting and zooming keep it in place.
 """
 
@@ -20,7 +20,7 @@ import numpy as np
 import vtk
 from vtkmodules.util.numpy_support import numpy_to_vtk
 
-from gogreen_core.tools import CursorState
+from gogreen_core.interaction.tools import CursorState
 
 __all__ = ["CursorOverlay", "PinOverlay", "pixel_radius", "ring_points", "to_display"]
 

@@ -11,11 +11,11 @@ from pathlib import Path
 
 import numpy as np
 
-from gogreen_core.journal import Journal
-from gogreen_core.mesh_io import MeshData, load_mesh, save_mesh
-from gogreen_core.recovery import Recovery
-from gogreen_core.sculptor import Sculptor
-from gogreen_core.shapes import default_model
+from gogreen_core.files.journal import Journal
+from gogreen_core.files.recovery import Recovery
+from gogreen_core.mesh.mesh_io import MeshData, load_mesh, save_mesh
+from gogreen_core.mesh.shapes import default_model
+from gogreen_core.sculpt.sculptor import Sculptor
 
 __all__ = ["SAVE_FORMATS", "Document"]
 

@@ -3,7 +3,7 @@
 With a grab, an isotropic and a fibre composite differ by a few percent of the motion: invisible
 until the stroke is done. While the preview is on, each time the pointer rests over the model
 (and after each stroke) the brush's velocity field for a unit drag is evaluated once at the
-vertices it would move (:func:`gogreen_core.preview.field_preview`) and those vertices are
+vertices it would move (:func:`gogreen_core.sculpt.preview.field_preview`) and those vertices are
 coloured by how far they would go: from the model's colour where nothing moves, through blue to
 yellow where a vertex follows the cursor entirely (grab brushes; affine brushes are scaled to
 their largest motion), in bands of a tenth, so the shape of the region (stretched along fibres,
@@ -30,8 +30,8 @@ from PySide6.QtGui import QAction
 
 from app.background import BackgroundRunner, Task
 from app.mesh_display import MODEL_COLOR
-from gogreen_core.preview import FieldPreview, field_preview
-from gogreen_core.settings import Settings
+from gogreen_core.interaction.settings import Settings
+from gogreen_core.sculpt.preview import FieldPreview, field_preview
 
 if TYPE_CHECKING:
     from app.viewport import SculptViewport

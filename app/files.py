@@ -16,9 +16,9 @@ from PySide6.QtGui import QImage
 from PySide6.QtWidgets import QFileDialog, QMenu, QMessageBox
 
 from app.document import SAVE_FORMATS, Document
-from gogreen_core.material_words import describe_material
-from gogreen_core.mesh_io import write_bytes_atomic, write_text_atomic
-from gogreen_core.presets import builtin_presets, load_preset, save_preset
+from gogreen_core.files.presets import builtin_presets, load_preset, save_preset
+from gogreen_core.mesh.mesh_io import write_bytes_atomic, write_text_atomic
+from gogreen_core.physics.material_words import describe_material
 
 if TYPE_CHECKING:
     from app.main_window import MainWindow

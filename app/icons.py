@@ -6,8 +6,8 @@ renders the SVG at the sizes tool bars and menus ask for. The files are found th
 ``gogreen_resources`` package (:mod:`importlib.resources`), never by an absolute path, so they
 work from a checkout, an editable install and a wheel alike.
 
-Names: one icon per brush kind of :data:`gogreen_core.brushes.BRUSH_KINDS`, ``pin`` (constraint
-mode) and the actions in :data:`ACTION_ICONS`. ``icon_names()`` lists what is installed.
+Names: one icon per brush kind of :data:`gogreen_core.sculpt.brushes.BRUSH_KINDS`, ``pin``
+(constraint mode) and the actions in :data:`ACTION_ICONS`. ``icon_names()`` lists what is installed.
 """
 
 from __future__ import annotations

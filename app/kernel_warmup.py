@@ -19,7 +19,8 @@ import time
 
 from PySide6.QtCore import QObject, Qt, Signal
 
-from gogreen_core import _compiled, _drivers
+from gogreen_core import _compiled
+from gogreen_core.field import _drivers
 
 __all__ = ["KernelWarmer"]
 

@@ -26,7 +26,7 @@ from PySide6.QtGui import (
     QKeySequence,
 )
 
-from gogreen_core.brushes import BRUSH_KINDS, BRUSH_ROWS
+from gogreen_core.sculpt.brushes import BRUSH_KINDS, BRUSH_ROWS
 from gogreen_core.validation import ParameterError
 
 __all__ = [

@@ -2,8 +2,8 @@
 tint, falloff profile, wireframe, orientation gizmo.
 
 :class:`ViewLook` fills the View menu's look entries. The shading, cavity, profile and zoom
-choices live in the settings model (:class:`gogreen_core.settings.ViewSettings`, the menu's
-actions bound to it); :class:`ViewLook` applies them to the viewport and keeps them, with the
+choices live in the settings model (:class:`gogreen_core.interaction.settings.ViewSettings`, the
+menu's actions bound to it); :class:`ViewLook` applies them to the viewport and keeps them, with the
 theme, in the window's QSettings between runs.
 """
 
@@ -20,7 +20,7 @@ from app.icons import set_icon
 from app.matcaps import MATCAP_RECIPES, matcap_image, use_matcap
 from app.theme import DEFAULT_THEME, THEMES, Theme, apply_theme, qt_application, theme
 from app.viewport import SculptViewport
-from gogreen_core.settings import ChangeEvent, ViewSettings
+from gogreen_core.interaction.settings import ChangeEvent, ViewSettings
 from gogreen_core.validation import ParameterError
 
 __all__ = ["SHADINGS", "ViewLook", "load_view_settings"]

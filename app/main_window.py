@@ -1,10 +1,10 @@
 """Main window: viewport, brush bar, side panels, menus, status bar.
 
 The window wires menus and documents. It owns the open :class:`app.document.Document` and one
-:class:`gogreen_core.settings.Settings` (brush, material, falloff, constraints) that the brush
-bar and the panels are bound to; an :class:`gogreen_core.settings.EngineLink` feeds the
-settings to the engine. Pointer events never pass through it: the viewport hands them to the
-Qt-free :class:`gogreen_core.tools.SculptTools` and draws what they give back
+:class:`gogreen_core.interaction.settings.Settings` (brush, material, falloff, constraints) that the
+brush bar and the panels are bound to; an :class:`gogreen_core.interaction.settings.EngineLink`
+feeds the settings to the engine. Pointer events never pass through it: the viewport hands them to
+the Qt-free :class:`gogreen_core.interaction.tools.SculptTools` and draws what they give back
 (:mod:`app.viewport`); the window hears only what it reports (a message, an error, a stroke's
 end). The File menu's work is :class:`app.files.FileActions`, the View menu's look
 :class:`app.look.ViewLook`; every failure is a message that leaves the model as it was.
@@ -49,14 +49,14 @@ from app.status import StatusArea
 from app.theme import apply_theme, qt_application
 from app.viewport import SculptViewport
 from app.wrinkle_hint import WrinkleHint, material_anisotropy, wrinkle_preset
-from gogreen_core.brushes import brush_row
-from gogreen_core.material import Material
-from gogreen_core.material_words import material_name
-from gogreen_core.presets import Preset, builtin_presets
-from gogreen_core.resolution import edges_per_eps
-from gogreen_core.sculptor import Sculptor
-from gogreen_core.settings import ChangeEvent, EngineLink, Settings
-from gogreen_core.tools import SculptTools
+from gogreen_core.files.presets import Preset, builtin_presets
+from gogreen_core.interaction.settings import ChangeEvent, EngineLink, Settings
+from gogreen_core.interaction.tools import SculptTools
+from gogreen_core.mesh.resolution import edges_per_eps
+from gogreen_core.physics.material import Material
+from gogreen_core.physics.material_words import material_name
+from gogreen_core.sculpt.brushes import brush_row
+from gogreen_core.sculpt.sculptor import Sculptor
 
 __all__ = ["FIRST_RUN_HINT", "SHADINGS", "MainWindow", "material_anisotropy", "wrinkle_preset"]
 

@@ -20,7 +20,7 @@ import numpy as np
 import pyvista as pv
 
 from app.mesh_display import MODEL_RGB
-from gogreen_core.settings import MATCAPS
+from gogreen_core.interaction.settings import MATCAPS
 
 __all__ = ["MATCAP_RECIPES", "MATCAP_SIZE", "MatcapRecipe", "matcap_image", "use_matcap"]
 
@@ -78,7 +78,9 @@ MATCAP_RECIPES: dict[str, MatcapRecipe] = {
     ),
 }  # fmt: skip
 if set(MATCAP_RECIPES) != set(MATCAPS):  # the settings model declares the names
-    raise RuntimeError("app.matcaps: a recipe for each of gogreen_core.settings.MATCAPS")
+    raise RuntimeError(
+        "app.matcaps: a recipe for each of gogreen_core.interaction.settings.MATCAPS"
+    )
 
 
 def _unit(v: tuple[float, float, float]) -> np.ndarray:

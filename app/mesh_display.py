@@ -4,14 +4,14 @@ The mesh's colours: the model colour (a matcap divides it out: its picture's col
 darkened
 where the vertex mask holds vertices, the field preview's colours (:mod:`app.field_preview`)
 over the vertices the brush would move, and when the cavity tint is on, each vertex darker in
-hollows and lighter on ridges (its curvature, :mod:`gogreen_core.cavity`, recomputed for the
+hollows and lighter on ridges (its curvature, :mod:`gogreen_core.mesh.cavity`, recomputed for the
 moved vertices and their one-ring only); all one direct-RGB point array, updated in place for
 the rows that change.
 
 :class:`MeshDisplay` is a part of :class:`app.viewport.SculptViewport` (a mixin over its
 pyvista plotter): the mesh actor is created once; each brush event writes new positions and
 normals into its arrays in place; picking is a ray cast on the mesh's
-:class:`gogreen_core.geometry.SurfaceIndex`, which a big mesh builds on the background thread.
+:class:`gogreen_core.mesh.geometry.SurfaceIndex`, which a big mesh builds on the background thread.
 """
 
 from __future__ import annotations
@@ -24,14 +24,14 @@ from PySide6.QtCore import QPointF
 
 from app.background import BackgroundRunner
 from app.cursor_overlay import CursorOverlay, PinOverlay, to_display
-from gogreen_core.cavity import CavityField
-from gogreen_core.geometry import SurfaceIndex
-from gogreen_core.tools import CursorState
+from gogreen_core.interaction.tools import CursorState
+from gogreen_core.mesh.cavity import CavityField
+from gogreen_core.mesh.geometry import SurfaceIndex
 
 if TYPE_CHECKING:
     from pyvistaqt import QtInteractor
 
-    from gogreen_core.sculptor import Sculptor
+    from gogreen_core.sculpt.sculptor import Sculptor
 
     _Base = QtInteractor
 else:
@@ -119,7 +119,7 @@ class MeshDisplay(_Base):
         self._cavity_size = 1.0
         #: The field preview's arrows (one actor, its geometry replaced), None until first shown.
         self.field_arrow_actor: Any = None
-        #: Per-mesh index: incremental normals and ray picking (gogreen_core.geometry).
+        #: Per-mesh index: incremental normals and ray picking (gogreen_core.mesh.geometry).
         self.surface: SurfaceIndex | None = None
         self._arrays_shared = False
         # the index of a big mesh is built on the background thread (app.background)

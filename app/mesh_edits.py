@@ -20,12 +20,12 @@ from PySide6.QtGui import QGuiApplication
 from PySide6.QtWidgets import QInputDialog, QMenu, QMenuBar
 
 from app.background import BackgroundRunner
-from gogreen_core.remesh import median_edge_length
-from gogreen_core.subdivision import PreparedSubdivision, prepare_subdivision
+from gogreen_core.mesh.remesh import median_edge_length
+from gogreen_core.mesh.subdivision import PreparedSubdivision, prepare_subdivision
 
 if TYPE_CHECKING:
     from app.main_window import MainWindow
-    from gogreen_core.sculptor import Sculptor
+    from gogreen_core.sculpt.sculptor import Sculptor
 
 __all__ = ["BACKGROUND_SUBDIVISION_FACES", "MeshEdits"]
 

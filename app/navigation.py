@@ -31,7 +31,7 @@ from gogreen_core.validation import ParameterError
 if TYPE_CHECKING:
     from app.mesh_display import MeshDisplay
     from app.viewport import SculptViewport
-    from gogreen_core.settings import ViewSettings
+    from gogreen_core.interaction.settings import ViewSettings
 
     _Base = MeshDisplay
 else:
@@ -228,8 +228,8 @@ class ViewAction(QAction):
 class NavigationPreferences(QObject):
     """The navigation scheme and what a left drag off the model does, remembered in
     ``settings`` and applied to ``viewport``, and the zoom's centre (the settings model's
-    ``view.zoom_to_mouse``, :class:`gogreen_core.settings.ViewSettings`); :meth:`fill_menu`
-    offers them in a menu."""
+    ``view.zoom_to_mouse``, :class:`gogreen_core.interaction.settings.ViewSettings`);
+    :meth:`fill_menu` offers them in a menu."""
 
     def __init__(
         self,

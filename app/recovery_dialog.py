@@ -2,7 +2,7 @@
 picture, file name, time of the last change, number of operations and what they were, and any
 damage), with Recover, Discard and Later.
 
-A thin view over :func:`gogreen_core.recovery.list_journals`: Discard deletes the journal at
+A thin view over :func:`gogreen_core.files.recovery.list_journals`: Discard deletes the journal at
 once (after a confirmation), Recover closes the dialog with :attr:`RecoveryDialog.chosen` set
 (the window then rebuilds the document off the GUI thread), Later keeps every journal for the
 next start.
@@ -29,7 +29,7 @@ from PySide6.QtWidgets import (
 
 from app.icons import icon
 from app.theme import active_theme
-from gogreen_core.recovery import JournalError, JournalInfo, discard
+from gogreen_core.files.recovery import JournalError, JournalInfo, discard
 
 __all__ = ["RecoveryDialog", "describe", "when"]
 

@@ -8,13 +8,14 @@ Ctrl+wheel changes the brush radius and Shift+wheel the strength. Keys are the w
 (and pyvista's) would act behind the app's back.
 
 The stroke loop: the viewport translates Qt mouse events into plain
-:class:`gogreen_core.tools.PointerEvent` (the world point under the cursor, picked on press and
-hover, on the drag plane through the press point while dragging), hands them to its Qt-free
-:class:`gogreen_core.tools.SculptTools` (:meth:`SculptViewport.set_tools`) and draws the
-:class:`~gogreen_core.tools.ToolUpdate` each call gives back (:meth:`SculptViewport.draw`);
-what the window must know (a message, an error, a step's time, a stroke's end) leaves as
-signals. Drag moves are coalesced: the tools keep the newest and one zero-timer per event-loop
-turn applies it (:meth:`SculptViewport.flush_tools`), so a burst of moves costs one brush step.
+:class:`gogreen_core.interaction.tools.PointerEvent` (the world point under the cursor, picked on
+press and hover, on the drag plane through the press point while dragging), hands them to its
+Qt-free :class:`gogreen_core.interaction.tools.SculptTools` (:meth:`SculptViewport.set_tools`) and
+draws the :class:`~gogreen_core.interaction.tools.ToolUpdate` each call gives back
+(:meth:`SculptViewport.draw`); what the window must know (a message, an error, a step's time, a
+stroke's end) leaves as signals. Drag moves are coalesced: the tools keep the newest and one
+zero-timer per event-loop turn applies it (:meth:`SculptViewport.flush_tools`), so a burst of moves
+costs one brush step.
 
 It renders on demand only: :meth:`SculptViewport.request_render` coalesces every request made
 before control returns to the event loop into one render (pyvistaqt's periodic
@@ -44,7 +45,7 @@ from pyvistaqt import QtInteractor
 from app.icons import icon_pixmap
 from app.mesh_display import BACKGROUND_INDEX_FACES, HOME_VIEW_DIRECTION, PIN_COLOR, MeshDisplay
 from app.navigation import ZOOM_STEP, CameraViews, camera_gesture, vtk_button
-from gogreen_core.tools import PointerEvent, SculptTools, ToolUpdate
+from gogreen_core.interaction.tools import PointerEvent, SculptTools, ToolUpdate
 
 __all__ = ["BACKGROUND_INDEX_FACES", "HOME_VIEW_DIRECTION", "SculptViewport"]
 

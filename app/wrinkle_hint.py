@@ -10,9 +10,9 @@ from PySide6.QtCore import QObject
 from PySide6.QtGui import QAction
 from PySide6.QtWidgets import QPushButton
 
-from gogreen_core.material import Material
-from gogreen_core.presets import Preset, builtin_presets
-from gogreen_core.settings import Settings
+from gogreen_core.files.presets import Preset, builtin_presets
+from gogreen_core.interaction.settings import Settings
+from gogreen_core.physics.material import Material
 
 __all__ = [
     "WRINKLE_MIN_ANISOTROPY",

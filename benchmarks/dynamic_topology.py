@@ -29,12 +29,12 @@ from pathlib import Path
 import numpy as np
 
 from gogreen_core import Brush, BrushEvent, Material, Sculptor
-from gogreen_core.engine_settings import EngineSettings
-from gogreen_core.geometry import vertex_normals
-from gogreen_core.mesh_io import load_mesh
-from gogreen_core.remesh import median_edge_length, smallest_angles
-from gogreen_core.shapes import default_model
-from gogreen_core.topology import mesh_edges
+from gogreen_core.mesh.geometry import vertex_normals
+from gogreen_core.mesh.mesh_io import load_mesh
+from gogreen_core.mesh.remesh import median_edge_length, smallest_angles
+from gogreen_core.mesh.shapes import default_model
+from gogreen_core.mesh.topology import mesh_edges
+from gogreen_core.sculpt.engine_settings import EngineSettings
 
 CUBIC = Material.cubic(3.0, 1.5, 0.4)
 

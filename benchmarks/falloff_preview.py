@@ -26,10 +26,10 @@ from app.panels.falloff_panel import (
     PreviewRequest,
     felt_falloff,
 )
-from gogreen_core.kernel import GreenKernel
-from gogreen_core.material import Material
-from gogreen_core.settings import Settings
-from gogreen_core.tools import grab_motion
+from gogreen_core.field.kernel import GreenKernel
+from gogreen_core.interaction.settings import Settings
+from gogreen_core.interaction.tools import grab_motion
+from gogreen_core.physics.material import Material
 
 MATERIALS = [Material.isotropic(1.0, 0.3), Material.cubic(3.0, 1.5, 0.4)]
 

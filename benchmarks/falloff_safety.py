@@ -20,11 +20,11 @@ from functools import partial
 import numpy as np
 
 from gogreen_core import Brush, BrushEvent, Material, Sculptor
-from gogreen_core.brushes import affine_load_shape
-from gogreen_core.brushes.affine import centre_jacobian
-from gogreen_core.falloff_safety import FieldBound
-from gogreen_core.radial import GaussianRadial, SplineRadial
-from gogreen_core.shapes import icosphere
+from gogreen_core.mesh.shapes import icosphere
+from gogreen_core.physics.radial import GaussianRadial, SplineRadial
+from gogreen_core.sculpt.brushes import affine_load_shape
+from gogreen_core.sculpt.brushes.affine import centre_jacobian
+from gogreen_core.sculpt.falloff_safety import FieldBound
 
 MATERIAL = Material.cubic(3.0, 1.5, 0.4).rotated(
     np.array([[0.36, 0.48, -0.8], [-0.8, 0.6, 0.0], [0.48, 0.64, 0.6]])

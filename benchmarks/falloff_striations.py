@@ -25,10 +25,10 @@ import numpy as np
 from scipy.interpolate import PchipInterpolator
 
 from gogreen_core import Brush, BrushEvent, Material, Sculptor
-from gogreen_core.geometry import vertex_normals
-from gogreen_core.kernel import GreenKernel
-from gogreen_core.radial import GaussianRadial, SplineRadial
-from gogreen_core.tools import grab_motion
+from gogreen_core.field.kernel import GreenKernel
+from gogreen_core.interaction.tools import grab_motion
+from gogreen_core.mesh.geometry import vertex_normals
+from gogreen_core.physics.radial import GaussianRadial, SplineRadial
 
 L_MAX = 8
 RAISE = 0.3

@@ -21,8 +21,8 @@ from scale import L_MAX, MATERIAL, million_vertex_mesh
 
 from app.field_preview import field_arrows, field_colors  # numpy only (Qt is not shown)
 from gogreen_core import Brush, BrushEvent, Sculptor
-from gogreen_core.preview import field_preview
-from gogreen_core.shapes import default_model
+from gogreen_core.mesh.shapes import default_model
+from gogreen_core.sculpt.preview import field_preview
 
 SHARED = Path(__file__).resolve().parents[2] / "shared" / "meshes"
 

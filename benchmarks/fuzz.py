@@ -1,12 +1,13 @@
 """The long fuzz run: every parser (the mesh readers, the session, preset and journal parsers,
 the command line's arguments) on ≥ 100,000 mutated inputs each; the rule each input must keep
-is in tests/fuzz_targets.py (load into a finite, in-range value, or be refused with a
+is in tests/helpers/fuzz_targets.py (load into a finite, in-range value, or be refused with a
 ValueError naming the file or option; nothing else, no hang).
 
     nice python benchmarks/fuzz.py [--inputs 100000] [--seed 0] [--only NAME ...]
 
 Prints, per parser: inputs, seconds, failures (and the first few failing inputs). Deterministic
-for a given seed. Figures only; the short seeded run in the suite is tests/test_fuzz.py.
+for a given seed. Figures only; the short seeded run in the suite is
+tests/core/interaction/test_fuzz_parsers.py.
 """
 
 from __future__ import annotations

@@ -1,4 +1,5 @@
-"""Benchmark of gogreen_core.homogenization: median wall time per pattern, grid size and contrast.
+"""Benchmark of gogreen_core.physics.homogenization: median wall time per pattern, grid size and
+contrast.
 
 Targets (issue "Bimaterial homogenization"): 16^3 <= 300 ms so the contrast slider feels live,
 32^3 <= 5 s, on a 2-core machine, up to contrast 1e4. Prints figures, never asserts.
@@ -16,9 +17,9 @@ import time
 
 import numpy as np
 
-from gogreen_core.homogenization import bimaterial, homogenize_detailed
-from gogreen_core.patterns import make_pattern
-from gogreen_core.symmetry import describe_symmetry
+from gogreen_core.physics.homogenization import bimaterial, homogenize_detailed
+from gogreen_core.physics.patterns import make_pattern
+from gogreen_core.physics.symmetry import describe_symmetry
 
 CASES: list[tuple[str, dict]] = [
     ("layered", {"normal": "z", "fraction": 0.5}),

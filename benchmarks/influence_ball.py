@@ -1,5 +1,5 @@
 """The influence test of a brush event (which vertices it may move) by the vertex blocks
-(``gogreen_core.influence``) and by the plain pass over every vertex, on meshes whose vertex
+(``gogreen_core.mesh.influence``) and by the plain pass over every vertex, on meshes whose vertex
 order has more or less locality (issue 23).
 
     python benchmarks/influence_ball.py [--repeats 7] [--meshes DIR]
@@ -24,10 +24,10 @@ import numpy as np
 from peer_event import ogre
 
 from gogreen_core import _compiled
-from gogreen_core.brushes import mirror_signs
-from gogreen_core.mesh_state import MeshState
-from gogreen_core.shapes import default_model
-from gogreen_core.subdivision import prepare_subdivision
+from gogreen_core.mesh.mesh_state import MeshState
+from gogreen_core.mesh.shapes import default_model
+from gogreen_core.mesh.subdivision import prepare_subdivision
+from gogreen_core.sculpt.brushes import mirror_signs
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -37,7 +37,7 @@ def median_ms(samples: list[float]) -> float:
 
 
 def figures(name: str, mesh: MeshState, repeats: int) -> None:
-    from gogreen_core.influence import plain_rows_near
+    from gogreen_core.mesh.influence import plain_rows_near
 
     blocks = mesh._blocks
     vertices = mesh.vertices

@@ -31,10 +31,10 @@ from pathlib import Path
 import numpy as np
 
 from gogreen_core import Brush, BrushEvent, Sculptor
-from gogreen_core.journal import JOURNAL_FILE, Journal
-from gogreen_core.mesh_io import MeshData
-from gogreen_core.recovery import read_journal, recover
-from gogreen_core.shapes import default_model, icosphere
+from gogreen_core.files.journal import JOURNAL_FILE, Journal
+from gogreen_core.files.recovery import read_journal, recover
+from gogreen_core.mesh.mesh_io import MeshData
+from gogreen_core.mesh.shapes import default_model, icosphere
 
 EVENTS = 30
 

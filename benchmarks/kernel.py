@@ -31,11 +31,11 @@ import numba
 import numpy as np
 
 from gogreen_core import GaussianRadial, GreenKernel, KelvinletRadial, Material
-from gogreen_core import kernel as kernel_module
-from gogreen_core import radial as radial_module
-from gogreen_core._expansion import SEGMENT_DEGREE
-from gogreen_core._unrolled import UNROLLED_L_MAX, angular_source
-from gogreen_core.kernel import prepare_degree
+from gogreen_core.field import kernel as kernel_module
+from gogreen_core.field._expansion import SEGMENT_DEGREE
+from gogreen_core.field._unrolled import UNROLLED_L_MAX, angular_source
+from gogreen_core.field.kernel import prepare_degree
+from gogreen_core.physics import radial as radial_module
 
 
 @numba.njit(parallel=True, cache=True, fastmath=True)
@@ -85,7 +85,7 @@ _FIRST_CALL = """
 import time, numpy as np
 start = time.perf_counter()
 from gogreen_core import GreenKernel, Material
-from gogreen_core.kernel import prepare_degree
+from gogreen_core.field.kernel import prepare_degree
 k = GreenKernel(Material.cubic(3.0, 1.5, 0.4), l_max=8)
 k.displacement(np.ones((4, 3)), np.zeros(3), np.ones(3))
 k.affine_displacement(np.ones((4, 3)), np.zeros(3), np.eye(3))
@@ -97,7 +97,7 @@ print(first, 1e3 * (time.perf_counter() - start))
 
 _DEGREE_COMPILE = """
 import sys
-from gogreen_core.kernel import prepare_degree
+from gogreen_core.field.kernel import prepare_degree
 print(1e3 * prepare_degree(int(sys.argv[1])))
 """
 

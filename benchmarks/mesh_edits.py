@@ -24,17 +24,17 @@ from pathlib import Path
 import numpy as np
 
 from gogreen_core import Brush, BrushEvent, Sculptor
-from gogreen_core.geometry import mesh_volume
-from gogreen_core.mesh_io import load_mesh
-from gogreen_core.shapes import icosphere
-from gogreen_core.subdivision import prepare_subdivision
+from gogreen_core.mesh.geometry import mesh_volume
+from gogreen_core.mesh.mesh_io import load_mesh
+from gogreen_core.mesh.shapes import icosphere
+from gogreen_core.mesh.subdivision import prepare_subdivision
 
 FIRST_SMOOTH = """
 import time
 start = time.perf_counter()
 import numpy as np
 from gogreen_core import Brush, BrushEvent, Sculptor
-from gogreen_core.shapes import icosphere
+from gogreen_core.mesh.shapes import icosphere
 vertices, faces = icosphere(2)
 sculptor = Sculptor(vertices, faces)
 sculptor.apply_brush(Brush("smooth"), [BrushEvent(vertices[0], amount=1.0)])

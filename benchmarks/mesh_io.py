@@ -38,7 +38,7 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
-from gogreen_core.mesh_io import load_mesh
+from gogreen_core.mesh.mesh_io import load_mesh
 
 FACES = 200_000
 
@@ -190,7 +190,7 @@ def uv_sphere_blender_ply(rings: int = 400, segments: int = 800) -> bytes:
 def cold_warm_up() -> float:
     """Seconds of ``mesh_io.warm_up()`` (compiling every loop the readers run) in a fresh
     process whose numba cache directory is empty: the first file opened on a new machine."""
-    code = "from gogreen_core.mesh_io import warm_up\nprint(warm_up())\n"
+    code = "from gogreen_core.mesh.mesh_io import warm_up\nprint(warm_up())\n"
     with tempfile.TemporaryDirectory() as cache:
         env = dict(os.environ, NUMBA_CACHE_DIR=cache)
         result = subprocess.run(

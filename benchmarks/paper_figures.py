@@ -43,12 +43,12 @@ from gogreen_core import (
     homogenize,
     make_pattern,
 )
-from gogreen_core.brushes import fold_weights
-from gogreen_core.engine_settings import EngineSettings
-from gogreen_core.preview import field_preview
-from gogreen_core.remesh import smallest_angles
-from gogreen_core.shapes import default_model, flat_sheet, open_tube
-from gogreen_core.truncation import truncation_errors
+from gogreen_core.field.truncation import truncation_errors
+from gogreen_core.mesh.remesh import smallest_angles
+from gogreen_core.mesh.shapes import default_model, flat_sheet, open_tube
+from gogreen_core.sculpt.brushes import fold_weights
+from gogreen_core.sculpt.engine_settings import EngineSettings
+from gogreen_core.sculpt.preview import field_preview
 
 HERE = Path(__file__).resolve().parent
 PANEL = (520, 460)

@@ -14,7 +14,7 @@ Prints, in one run (figures only, no assertions):
   like the mesh rows of the event; event and peer alternate, so that the load of the shared
   cores falls on both; medians, minima and the ratio of the medians;
 * the event's influence ball (which vertices it may move): answered by the vertex blocks
-  (``gogreen_core.influence``) against the plain pass over every vertex it replaced, the
+  (``gogreen_core.mesh.influence``) against the plain pass over every vertex it replaced, the
   blocks' build (the first query on a new vertex array) and their upkeep after the event (the
   report of its moved rows, and the refit of their blocks' boxes at the next query);
 * the event's accuracy: max vertex error against 64 RK4 substeps over the cursor motion, its
@@ -49,11 +49,11 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from gogreen_core import Brush, BrushEvent, Material, Sculptor  # noqa: E402
-from gogreen_core._evaluation import near_segment  # noqa: E402
-from gogreen_core._stream import probe_rows  # noqa: E402
-from gogreen_core.brushes import mirror_signs  # noqa: E402
-from gogreen_core.influence import VertexBlocks, plain_rows_near  # noqa: E402
-from gogreen_core.kernel import prepare_degree  # noqa: E402
+from gogreen_core.field._evaluation import near_segment  # noqa: E402
+from gogreen_core.field._stream import probe_rows  # noqa: E402
+from gogreen_core.field.kernel import prepare_degree  # noqa: E402
+from gogreen_core.mesh.influence import VertexBlocks, plain_rows_near  # noqa: E402
+from gogreen_core.sculpt.brushes import mirror_signs  # noqa: E402
 
 MATERIAL = Material.cubic(3.0, 1.5, 0.4)
 L_MAX = 8
@@ -232,8 +232,9 @@ import time
 start = time.perf_counter()
 import numpy as np
 from gogreen_core import Brush, BrushEvent, Material, Sculptor
-from gogreen_core import _compiled, _drivers
-from gogreen_core.shapes import default_model
+from gogreen_core import _compiled
+from gogreen_core.field import _drivers
+from gogreen_core.mesh.shapes import default_model
 vertices, faces = default_model()
 sculptor = Sculptor(vertices, faces, material=Material.cubic(3.0, 1.5, 0.4))
 top = vertices[int(np.argmax(vertices[:, 2]))]

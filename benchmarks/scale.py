@@ -29,12 +29,12 @@ import numpy as np
 import trimesh
 
 from gogreen_core import Brush, BrushEvent, Material, Sculptor, _compiled
-from gogreen_core._evaluation import near_segment
-from gogreen_core.brushes import mirror_signs
-from gogreen_core.geometry import SurfaceIndex, vertex_normals
-from gogreen_core.kernel import prepare_degree
-from gogreen_core.mesh_io import MeshData, load_mesh, save_mesh
-from gogreen_core.shapes import icosphere
+from gogreen_core.field._evaluation import near_segment
+from gogreen_core.field.kernel import prepare_degree
+from gogreen_core.mesh.geometry import SurfaceIndex, vertex_normals
+from gogreen_core.mesh.mesh_io import MeshData, load_mesh, save_mesh
+from gogreen_core.mesh.shapes import icosphere
+from gogreen_core.sculpt.brushes import mirror_signs
 from gogreen_core.threads import threads_at_most
 
 MATERIAL = Material.cubic(3.0, 1.5, 0.4)
@@ -47,7 +47,7 @@ import time
 start = time.perf_counter()
 import numpy as np
 from gogreen_core import Brush, BrushEvent, Material, Sculptor, _compiled
-from gogreen_core.shapes import icosphere
+from gogreen_core.mesh.shapes import icosphere
 vertices, faces = icosphere(2)
 sculptor = Sculptor(vertices, faces, material=Material.cubic(3.0, 1.5, 0.4))
 sculptor.apply_brush(Brush("grab"), [BrushEvent(vertices[0], [0.0, 0.01, 0.0])])

@@ -38,9 +38,9 @@ from gogreen_core import (
     make_pattern,
     radial_from_dict,
 )
-from gogreen_core.brushes.weights import check_brush_weights
-from gogreen_core.engine_settings import EngineSettings, resized_brush_weights
-from gogreen_core.shapes import icosphere
+from gogreen_core.mesh.shapes import icosphere
+from gogreen_core.sculpt.brushes.weights import check_brush_weights
+from gogreen_core.sculpt.engine_settings import EngineSettings, resized_brush_weights
 
 __all__ = [
     "ADDON_BRUSH_KINDS",

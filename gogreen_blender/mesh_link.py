@@ -8,9 +8,9 @@ stroke or hover, the first press or hover after a stroke would stall. A :class:`
 made once per mesh and topology; before a hover or a stroke :meth:`MeshLink.sync` compares the
 positions Blender holds (float32, read in a fraction of a millisecond) with the ones it last
 saw, and hands the rows that differ (Blender's own brushes, its undo) to the sculptor and the
-index; picks go through :class:`gogreen_core.geometry.SurfaceIndex`, updated with the rows a
+index; picks go through :class:`gogreen_core.mesh.geometry.SurfaceIndex`, updated with the rows a
 stroke moved. Blender's sculpt mask and hidden vertices hold vertices through the engine's
-vertex mask (:meth:`gogreen_core.mask.Mask.adopt`): a vertex moves by (1 − mask) of what it
+vertex mask (:meth:`gogreen_core.sculpt.mask.Mask.adopt`): a vertex moves by (1 − mask) of what it
 would, a hidden one not at all.
 
 Positions: Blender stores float32; the sculptor works in float64 and at the end of a stroke
@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from gogreen_core import Sculptor
-from gogreen_core.geometry import SurfaceIndex
+from gogreen_core.mesh.geometry import SurfaceIndex
 
 from . import engine
 

@@ -2,8 +2,8 @@
 add-on and by synthetic ones in the tests.
 
 :class:`ModalStroke` turns window events into one stroke of a :class:`gogreen_core.Sculptor`
-through :class:`gogreen_core.tools.StrokeController` (the desktop app's stroke logic: grab
-brushes follow the cursor on the drag plane through the press point, affine brushes take their
+through :class:`gogreen_core.interaction.tools.StrokeController` (the desktop app's stroke logic:
+grab brushes follow the cursor on the drag plane through the press point, affine brushes take their
 amount from the signed length of the drag in any direction, Ctrl inverts, pen pressure scales
 the step). What
 it needs from the viewport is a :class:`View` (object-space ray picks and projections), which
@@ -22,7 +22,7 @@ from typing import Protocol
 import numpy as np
 
 from gogreen_core import Brush, Sculptor
-from gogreen_core.tools import PointerEvent, StrokeController
+from gogreen_core.interaction.tools import PointerEvent, StrokeController
 
 __all__ = ["CANCELLED", "FINISHED", "RUNNING", "InputEvent", "ModalStroke", "View"]
 

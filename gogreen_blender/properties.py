@@ -22,7 +22,7 @@ from bpy.props import (
 )
 
 from gogreen_core import PATTERNS, Brush, Material, ParameterError
-from gogreen_core.brushes import AUTO_INFLUENCE
+from gogreen_core.sculpt.brushes import AUTO_INFLUENCE
 
 from . import engine
 

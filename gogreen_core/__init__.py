@@ -6,11 +6,13 @@ bimaterial homogenization that turns a voxel pattern into an anisotropic materia
 sculpting engine built on them.
 """
 
-from gogreen_core.brushes import BRUSH_KINDS, Brush, BrushEvent
-from gogreen_core.constraints import ConstraintSet
-from gogreen_core.engine_settings import EngineSettings
-from gogreen_core.history import History
-from gogreen_core.homogenization import (
+from gogreen_core.field import kernel
+from gogreen_core.field.kernel import GreenKernel, lebedev_points
+from gogreen_core.files import presets
+from gogreen_core.files.presets import Preset, builtin_presets, load_preset, save_preset
+from gogreen_core.interaction import settings, tools
+from gogreen_core.mesh import mesh_io, shapes
+from gogreen_core.physics.homogenization import (
     HomogenizationResult,
     bimaterial,
     check_phases,
@@ -19,11 +21,9 @@ from gogreen_core.homogenization import (
     reuss_bound,
     voigt_bound,
 )
-from gogreen_core.kernel import GreenKernel, lebedev_points
-from gogreen_core.material import Material
-from gogreen_core.patterns import PATTERNS, PatternParameter, PatternSpec, make_pattern
-from gogreen_core.presets import Preset, builtin_presets, load_preset, save_preset
-from gogreen_core.radial import (
+from gogreen_core.physics.material import Material
+from gogreen_core.physics.patterns import PATTERNS, PatternParameter, PatternSpec, make_pattern
+from gogreen_core.physics.radial import (
     GaussianRadial,
     KelvinletRadial,
     MultiscaleRadial,
@@ -31,9 +31,14 @@ from gogreen_core.radial import (
     SplineRadial,
     radial_from_dict,
 )
-from gogreen_core.sculptor import Sculptor
-from gogreen_core.session import load_session
-from gogreen_core.symmetry import SYMMETRY_CLASSES, SymmetryDescription, describe_symmetry
+from gogreen_core.physics.symmetry import SYMMETRY_CLASSES, SymmetryDescription, describe_symmetry
+from gogreen_core.sculpt import session
+from gogreen_core.sculpt.brushes import BRUSH_KINDS, Brush, BrushEvent
+from gogreen_core.sculpt.constraints import ConstraintSet
+from gogreen_core.sculpt.engine_settings import EngineSettings
+from gogreen_core.sculpt.history import History
+from gogreen_core.sculpt.sculptor import Sculptor
+from gogreen_core.sculpt.session import load_session
 from gogreen_core.validation import ParameterError
 
 __all__ = [
@@ -65,12 +70,19 @@ __all__ = [
     "describe_symmetry",
     "homogenize",
     "homogenize_detailed",
+    "kernel",
     "lebedev_points",
     "load_preset",
     "load_session",
     "make_pattern",
+    "mesh_io",
+    "presets",
     "radial_from_dict",
     "reuss_bound",
     "save_preset",
+    "session",
+    "settings",
+    "shapes",
+    "tools",
     "voigt_bound",
 ]

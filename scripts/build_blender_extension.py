@@ -78,7 +78,7 @@ def version() -> str:
 
 def core_packages() -> list[str]:
     """The packages of ``gogreen_core`` and its presets, as pyproject.toml lists them (so that a
-    new subpackage of the core, such as ``gogreen_core.mesh_io``, is in the wheel too)."""
+    new subpackage of the core, such as ``gogreen_core.mesh.mesh_io``, is in the wheel too)."""
     with open(ROOT / "pyproject.toml", "rb") as fh:
         listed = tomllib.load(fh)["tool"]["setuptools"]["packages"]
     wanted = ("gogreen_core", "gogreen_resources", "gogreen_resources.presets")

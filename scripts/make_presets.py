@@ -3,7 +3,8 @@
     python scripts/make_presets.py
 
 Every preset is built from gogreen_core objects, so a shipped file is always one the program
-accepts (tests/test_presets.py loads each and checks this script would write the same files).
+accepts (tests/core/files/test_presets.py loads each and checks this script would write the same
+files).
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ from gogreen_core import (
     make_pattern,
     save_preset,
 )
-from gogreen_core.brushes import fold_weights
+from gogreen_core.sculpt.brushes import fold_weights
 
 FOLDER = Path(__file__).resolve().parents[1] / "resources" / "presets"
 

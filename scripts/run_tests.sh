@@ -36,7 +36,7 @@ if [ $# -eq 0 ] || [ "${GOGREEN_BLENDER_TESTS:-0}" = "1" ]; then
         echo "[gogreen] Blender extension and mesh file tests (bpy, numpy 1.26 in .venv-blender)"
         # numba's cache of the kernels compiled with .venv-blender's numba, apart from .venv's
         NUMBA_CACHE_DIR="$root/.venv-blender/numba-cache" .venv-blender/bin/python -m pytest -q \
-            tests/test_blender_*.py tests/test_mesh_io*.py || status=$?
+            tests/blender tests/core/mesh/test_mesh_io*.py || status=$?
     elif [ "$blender_status" -eq 3 ]; then
         echo "[gogreen] Blender extension tests SKIPPED: bpy could not be installed (see above)"
     else

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from gogreen_core.shapes import default_model, icosphere
+from gogreen_core.mesh.shapes import default_model, icosphere
 
 #: ``shared/meshes`` in the checkout's parent directory (absent in a user's clone).
 SHARED_MESHES = Path(__file__).resolve().parent.parent.parent / "shared" / "meshes"
@@ -244,7 +244,7 @@ def _influence_answers_checked():
     """Every influence test answered by the vertex blocks (``MeshState.rows_near``) is checked
     against the plain pass over every vertex, in every test: a path that writes vertices
     without reporting them fails the test that takes it."""
-    from gogreen_core import influence
+    from gogreen_core.mesh import influence
 
     saved, influence.VERIFY = influence.VERIFY, True
     influence.mismatches.clear()

@@ -34,7 +34,7 @@ from PySide6.QtWidgets import QSizePolicy, QWidget
 
 from app.panels.plot_axes import draw_plot_axes, plot_font
 from app.panels.widgets import plot_colors
-from gogreen_core.radial import SplineRadial
+from gogreen_core.physics.radial import SplineRadial
 
 __all__ = ["CurveEditor", "curve_color", "curve_label"]
 

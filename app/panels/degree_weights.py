@@ -5,8 +5,8 @@ Fig. 7 and 10): a grab brush's field is Σ ω_l R_l … over the even degrees of
 brush's Σ ω_l ℛ_l … over the odd degrees of ∇G. The group shows the weights of the brush picked
 in the brush bar (the degrees its field has) and edits them; for the wrinkle brush its degrees
 ≥ 4 are the folds, which the fold degree and depth fields set in one go
-(:func:`gogreen_core.brushes.fold_weights`). Everything is bound through :mod:`app.bindings` to
-the settings: an edit is one undo step, sessions and presets carry it.
+(:func:`gogreen_core.sculpt.brushes.fold_weights`). Everything is bound through :mod:`app.bindings`
+to the settings: an edit is one undo step, sessions and presets carry it.
 """
 
 from __future__ import annotations
@@ -21,8 +21,14 @@ from app.bindings import bind, bind_view
 from app.fields import DecimalField
 from app.panels.number_grid import NumberGrid
 from app.panels.widgets import set_text_role
-from gogreen_core.brushes import FOLD_DEGREES, FOLD_DEPTH, brush_row, brush_type, fold_weights
-from gogreen_core.settings import Settings
+from gogreen_core.interaction.settings import Settings
+from gogreen_core.sculpt.brushes import (
+    FOLD_DEGREES,
+    FOLD_DEPTH,
+    brush_row,
+    brush_type,
+    fold_weights,
+)
 
 __all__ = ["DegreeWeights", "shown_degrees"]
 

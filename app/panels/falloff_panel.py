@@ -1,7 +1,7 @@
 """Falloff panel: edit the brush falloff curves, the SH truncation degree and the brushes'
 degree weights.
 
-A view of the falloff fields of :class:`gogreen_core.settings.Settings` (``falloff``,
+A view of the falloff fields of :class:`gogreen_core.interaction.settings.Settings` (``falloff``,
 ``l_max``, ``brush_weights``): the panel owns none of them. The falloff is the settings'
 :class:`gogreen_core.SplineRadial` in the dimensionless variable ρ = r/ε (its ε stays 1; the
 consumer calls ``with_eps``). Even degrees carry R_l, the falloff of the Green's function G used
@@ -49,9 +49,9 @@ from app.panels.falloff_preview import (
 from app.panels.number_grid import NumberGrid
 from app.panels.truncation_readout import TruncationReadout
 from app.panels.widgets import scrolled_column, set_text_role
-from gogreen_core.radial import GaussianRadial, KelvinletRadial, RadialProfile, SplineRadial
-from gogreen_core.resolution import spline_abscissae
-from gogreen_core.settings import EventedModel, Field, Settings, needed_curves
+from gogreen_core.interaction.settings import EventedModel, Field, Settings, needed_curves
+from gogreen_core.mesh.resolution import spline_abscissae
+from gogreen_core.physics.radial import GaussianRadial, KelvinletRadial, RadialProfile, SplineRadial
 from gogreen_core.validation import ParameterError, check_number
 
 __all__ = [
@@ -325,7 +325,7 @@ class FalloffPanel(QWidget):
 
     def _abscissae(self) -> np.ndarray:
         """Control points (ρ) of a curve sampled for the current mesh and brush: one every two
-        edges (:func:`gogreen_core.resolution.spline_abscissae`), the default 17 when the
+        edges (:func:`gogreen_core.mesh.resolution.spline_abscissae`), the default 17 when the
         panel does not know the mesh."""
         edges = self.resolution() if self.resolution is not None else None
         return spline_abscissae(edges)

@@ -18,11 +18,11 @@ from app.background import BackgroundRunner, Cancelled, Task
 from app.panels.curve_editor import curve_color
 from app.panels.plot_axes import draw_plot_axes, plot_font
 from app.panels.widgets import plot_colors
-from gogreen_core.kernel import GreenKernel, prepare_degree
-from gogreen_core.material import Material
-from gogreen_core.radial import SplineRadial
-from gogreen_core.settings import Settings
-from gogreen_core.tools import grab_motion
+from gogreen_core.field.kernel import GreenKernel, prepare_degree
+from gogreen_core.interaction.settings import Settings
+from gogreen_core.interaction.tools import grab_motion
+from gogreen_core.physics.material import Material
+from gogreen_core.physics.radial import SplineRadial
 
 __all__ = [
     "PREVIEW_INTERVAL_MS",

@@ -25,8 +25,8 @@ from PySide6.QtWidgets import QSizePolicy, QWidget
 
 from app.panels.plot_axes import plot_font
 from app.panels.widgets import plot_colors
-from gogreen_core.material import Material
-from gogreen_core.material_words import young_extremes
+from gogreen_core.physics.material import Material
+from gogreen_core.physics.material_words import young_extremes
 
 __all__ = ["YoungModulusGlyph"]
 

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 
 from gogreen_core import PATTERNS, bimaterial, make_pattern
-from gogreen_core.settings import EventedModel, Field
+from gogreen_core.interaction.settings import EventedModel, Field
 from gogreen_core.validation import ParameterError
 
 __all__ = ["CELL_SIZE", "HomogenizationInputs"]

@@ -63,8 +63,8 @@ from gogreen_core import (
     describe_symmetry,
     homogenize_detailed,
 )
-from gogreen_core.material_words import describe_material
-from gogreen_core.settings import Changes
+from gogreen_core.interaction.settings import Changes
+from gogreen_core.physics.material_words import describe_material
 
 __all__ = ["CELL_SIZE", "HomogenizationInputs", "HomogenizationPanel"]
 _VOIGT_LABELS = ("11", "22", "33", "23", "13", "12")

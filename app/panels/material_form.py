@@ -21,8 +21,8 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from app.bindings import panel_words
-from gogreen_core.material import Material
-from gogreen_core.settings import EventedModel, Field
+from gogreen_core.interaction.settings import EventedModel, Field
+from gogreen_core.physics.material import Material
 from gogreen_core.validation import ParameterError
 
 __all__ = [

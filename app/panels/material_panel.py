@@ -70,9 +70,9 @@ from app.panels.widgets import (
     set_text_role,
     zero_cell_colors,
 )
-from gogreen_core.material import Material
-from gogreen_core.material_words import describe_material
-from gogreen_core.settings import ChangeEvent, Changes, Settings
+from gogreen_core.interaction.settings import ChangeEvent, Changes, Settings
+from gogreen_core.physics.material import Material
+from gogreen_core.physics.material_words import describe_material
 from gogreen_core.validation import ParameterError
 
 __all__ = ["MODES", "TINY_VOIGT", "VOIGT_LABELS", "MaterialPanel", "displayed_voigt"]

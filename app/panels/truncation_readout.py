@@ -1,6 +1,6 @@
 """How accurate the current l_max is for the current material (paper Fig. 9), in the Falloff
 panel: δ(l_max) computed off the GUI thread whenever the material changes
-(:func:`gogreen_core.truncation.truncation_errors`, 0.2–1 s), the l_max that keeps it under
+(:func:`gogreen_core.field.truncation.truncation_errors`, 0.2–1 s), the l_max that keeps it under
 0.1 %, and a button that picks it."""
 
 from __future__ import annotations
@@ -10,9 +10,9 @@ from PySide6.QtWidgets import QHBoxLayout, QLabel, QPushButton, QVBoxLayout, QWi
 from app.background import BackgroundRunner, Task
 from app.bindings import bind_view
 from app.panels.widgets import set_text_role
-from gogreen_core.material import Material
-from gogreen_core.settings import Settings
-from gogreen_core.truncation import DEFAULT_TOLERANCE, TruncationReport, truncation_errors
+from gogreen_core.field.truncation import DEFAULT_TOLERANCE, TruncationReport, truncation_errors
+from gogreen_core.interaction.settings import Settings
+from gogreen_core.physics.material import Material
 
 __all__ = ["TruncationReadout"]
 

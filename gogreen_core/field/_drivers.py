@@ -1,0 +1,128 @@
+"""The field's compile units, registered with :mod:`gogreen_core._compiled` when this module is
+imported: the drivers (``_expansion``, ``_integrator`` and the influence loops of
+``_influence_compiled``: one unit, :data:`~gogreen_core._compiled.DRIVERS`) and the generated
+angular kernel of each parity and highest degree (``(l_first, l_last)``, see ``_unrolled``).
+
+The evaluation asks here whether they are ready (:func:`ready`, :func:`angular`); until they
+are, it runs in NumPy or with the generic angular kernel, with the same results bit for bit.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from gogreen_core import _compiled
+from gogreen_core.field import _expansion, _influence_compiled, _integrator, _stream, _unrolled
+
+if TYPE_CHECKING:
+    from numba.core.ccallback import CFunc
+
+__all__ = ["angular", "ensure_drivers", "generic_marker", "ready", "units_for"]
+
+_markers: dict[bool, CFunc[Any]] = {}
+
+
+def generic_marker(single: bool = False) -> CFunc[Any]:
+    """The C callback passed as ``angular`` (``single``: as ``angular32``, the streamlines'
+    single precision kernel) with ``unrolled=False`` (never called): the drivers then run the
+    generic ``_expansion._angular``. Compiled with the drivers."""
+    marker = _markers.get(single)
+    if marker is None:
+        from numba import cfunc
+
+        signature = _expansion.ANGULAR_SINGLE_SIGNATURE if single else _expansion.ANGULAR_SIGNATURE
+        marker = _markers[single] = cfunc(signature, cache=True)(_expansion.generic_marker)
+    return marker
+
+
+def ready() -> bool:
+    """Whether the compiled drivers are ready (else they are requested; use NumPy)."""
+    return _compiled.drivers()
+
+
+def angular(l_first: int, l_last: int, single: bool = False) -> CFunc[Any] | None:
+    """The generated angular kernel (``single``: its single precision one) if it is ready,
+    else None (its unit is requested)."""
+    code = _compiled.forced_code()
+    if code == "generic":
+        return None
+    if code == "unrolled":
+        _compiled.prepare((l_first, l_last))
+    kernel = _unrolled._KERNELS.get((l_first, l_last, single))
+    if kernel is None:
+        _compiled.request((l_first, l_last))
+    return kernel
+
+
+def units_for(l_max: int) -> tuple[_compiled.Unit, ...]:
+    """The units vector and affine loads of truncation degree ``l_max`` evaluate with: the
+    drivers and the generated angular kernel of each parity (when one is generated)."""
+    parities = ((0, l_max - l_max % 2), (1, l_max + 1 - l_max % 2))
+    return (_compiled.DRIVERS, *(p for p in parities if p[1] <= _unrolled.UNROLLED_L_MAX))
+
+
+def _angular_kernels(unit: _compiled.Unit) -> list[tuple[int, int, bool]]:
+    """(l_first, l_last, single) of the kernels of an angular unit: double precision, and
+    single where the parity has more than one degree (the degrees above the
+    lowest)."""
+    first, last = int(unit[0]), int(unit[1])
+    return [(first, last, single) for single in ((False, True) if last > first else (False,))]
+
+
+def _load_angular(unit: _compiled.Unit) -> None:
+    for first, last, single in _angular_kernels(unit):
+        _unrolled.unrolled_angular(first, last, single)
+
+
+def _angular_cached(unit: _compiled.Unit) -> bool:
+    return all(_unrolled.angular_cached(*kernel) for kernel in _angular_kernels(unit))
+
+
+def _driver_calls() -> list[tuple[Any, tuple[Any, ...]]]:
+    """(dispatcher, arguments) of every driver, typed as the real calls are (float64
+    C-contiguous writable arrays, int64 rows and bases, bool flags, the C callback type of
+    ``angular``), with empty ranges: calling them compiles and returns."""
+    f3, f33 = np.zeros(3), np.zeros((1, 3))
+    rows, base = np.zeros(1, dtype=np.int64), np.zeros(2, dtype=np.int64)
+    tables = np.zeros((1, 2, _expansion.SEGMENT_DEGREE + 1))
+    beta, blocks, flags = np.zeros((2, 2)), np.zeros(1), np.zeros(1, dtype=np.bool_)
+    marker = generic_marker()
+    single = (f33.astype(np.float32), beta.astype(np.float32), np.zeros((2, 0, 3), np.float32))
+    coeffs32, beta32, tables32 = single
+    field = _stream.StreamField(
+        center0=f3, center_step=f3, eps=1.0, power=1, l_first=0, l_last=0, base=base,
+        coeffs=f33, beta=beta, tables=tables, angular=marker, unrolled=False,
+        cutoff_inner=0.0, inv_width=0.0, mirrors=f33, origin=f3, single=False,
+        coeffs32=coeffs32, beta32=beta32, tables32=tables32, cscale=0.0,
+        angular32=generic_marker(single=True), unrolled32=False,
+    )  # fmt: skip
+    return [
+        (_expansion.expand_blocks,
+         (f33, f3, 1.0, 1, 0, 0, base, f33, beta, tables, marker, False, f33, 0, 0)),
+        (_integrator._probe_pass,
+         (f33, rows, True, 1.0, field, rows, blocks, blocks, blocks, 0, 0)),
+        (_integrator._first_pass,
+         (f33, rows, True, 1.0, 1, True, True, 0.0, field, f33, rows, blocks, blocks, blocks,
+          rows, flags, 0, 0)),
+        (_integrator._refine_pass, (f33, rows, True, field, 1.0, rows, f33, rows, flags, 0, 0)),
+        (_integrator._write_back, (f33, rows, True, f33, 0, 0)),
+        *_influence_compiled.compile_calls(),
+    ]  # fmt: skip
+
+
+def ensure_drivers() -> None:
+    """Compile (or load from numba's disk cache) every driver in this thread, now."""
+    for dispatcher, args in _driver_calls():
+        dispatcher(*args)
+    _compiled.mark_ready(_compiled.DRIVERS)
+
+
+_compiled.register(
+    _compiled.DRIVERS,
+    __name__,
+    lambda unit: ensure_drivers(),
+    lambda unit: _compiled.dispatchers_cached(_driver_calls()),
+)
+_compiled.register(_compiled.ANGULAR, __name__, _load_angular, _angular_cached)

@@ -1,0 +1,204 @@
+"""The compiled code a :class:`~gogreen_core.field.kernel.GreenKernel` evaluates with.
+
+``_expansion`` and ``_integrator``: serial GIL-free numba functions run on a thread pool, and the
+generated angular kernels of ``_unrolled``, in double precision, but for the streamlines (the
+brushes' strokes), whose field sums the degrees above each parity's lowest in single precision
+(``_single_field``: twice the arithmetic rate, ~1e-8 of the field off double precision, 1e-4
+below the integrator's tolerance) and whose adaptive steps are third-order ones where probes
+show they are within the tolerance (``_integrator``). Deterministic bit for bit whatever the
+number of threads.
+
+Until the compiled code is ready (``_compiled``: in a child process, once per machine) the same
+arithmetic runs in NumPy (``_numpy_eval``, the reference, within 1e-12 relative of the compiled
+code), so the first evaluation on a new machine takes milliseconds, not the compiler's tens of
+seconds.
+"""
+
+from __future__ import annotations
+
+from functools import partial
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gogreen_core import _compiled
+from gogreen_core._parallel import run_ranges
+from gogreen_core.field import _drivers, _expansion, _numpy_eval, _stream, _unrolled
+from gogreen_core.field._expansion import BLOCK
+from gogreen_core.field._influence_compiled import near_segment_rows
+
+__all__ = ["Parity", "expand", "near_segment", "stream", "stream_field"]
+#: Blocks per range handed to a thread by ``expand``.
+_MIN_BLOCKS = 32
+
+
+class Parity:
+    """Packed material coefficients of one parity (even: G, odd: ∇G).
+
+    ``matrices`` (n_terms, 3, 3) or (n_terms, 3, 3, 3), rows of degree l from ``base[l]``;
+    ``scales`` (n_terms,) the Legendre scales folded into the coefficients."""
+
+    def __init__(self, l_first: int, l_last: int, matrices: np.ndarray, base: np.ndarray):
+        self.l_first = l_first
+        self.l_last = l_last
+        self.degrees = list(range(l_first, l_last + 1, 2))
+        self.matrices = matrices
+        self.base = base  # (l_last+1,) int64, row of Y_l,-l
+        self.scales = _unrolled.row_scales(l_first, l_last)
+        self.beta = np.array(_unrolled.angular_constants(l_last)[0])  # writable: one type
+        #: the streamlines' single precision recurrence constants
+        self.beta_single = self.beta.astype(np.float32)
+
+    @property
+    def power(self) -> int:
+        """1 for G (R_l ~ 1/r), 2 for ∇G (ℛ_l ~ 1/r²)."""
+        return 1 if self.l_first == 0 else 2
+
+    def angular(self, n_out: int) -> tuple[object, bool]:
+        """(angular kernel, whether to use it) for ``n_out`` outputs, once the drivers are
+        ready: the kernel generated for these degrees (``_unrolled``) for the three outputs of
+        vector and affine loads up to ``UNROLLED_L_MAX`` once it is compiled (it is requested
+        otherwise), else the generic ``_angular`` (the same results, bit for bit)."""
+        if n_out == 3 and self.l_last <= _unrolled.UNROLLED_L_MAX:
+            kernel = _drivers.angular(self.l_first, self.l_last)
+            if kernel is not None:
+                return kernel, True
+        return _drivers.generic_marker(), False
+
+    def angular_single(self) -> tuple[object, bool]:
+        """``angular`` for the streamlines' single precision degrees (those above l_first):
+        the generated ``angular_single`` kernel once compiled, else the generic ``_angular``."""
+        if self.l_first < self.l_last <= _unrolled.UNROLLED_L_MAX:
+            kernel = _drivers.angular(self.l_first, self.l_last, single=True)
+            if kernel is not None:
+                return kernel, True
+        return _drivers.generic_marker(single=True), False
+
+    def request_angular(self, n_out: int) -> None:
+        """Ask for the generated kernel ``angular`` would use (compiled with the drivers)."""
+        if n_out == 3 and self.l_last <= _unrolled.UNROLLED_L_MAX:
+            _compiled.request((self.l_first, self.l_last))
+
+    def single(self, folded: np.ndarray) -> tuple[np.ndarray, float]:
+        """The streamlines' single precision coefficients from the ``folded`` ones (n_terms, K):
+        (``folded`` divided by the largest magnitude of its rows of degree above l_first, as
+        float32; that magnitude). All zeros and 0 when there is none; NaN rows (and the field)
+        when it is not finite, as the double precision ones would overflow."""
+        upper = np.abs(folded[2 * self.l_first + 1 :])
+        scale = float(upper.max(initial=0.0))
+        if scale == 0.0:
+            return np.zeros(folded.shape, dtype=np.float32), 0.0
+        with np.errstate(invalid="ignore"):
+            return np.ascontiguousarray(folded / scale, dtype=np.float32), scale
+
+    def folded(self, coeffs: np.ndarray) -> np.ndarray:
+        """``coeffs`` (n_terms, K) with the Legendre scales folded in."""
+        return np.ascontiguousarray(coeffs * self.scales[:, None])
+
+
+def expand(
+    parity: Parity,
+    tables: np.ndarray,
+    eps: float,
+    recurrence: tuple[np.ndarray, np.ndarray, np.ndarray],
+    points: np.ndarray,
+    center: np.ndarray,
+    coeffs: np.ndarray,
+) -> np.ndarray:
+    """out[n, k] = the expansion of ``parity`` with ``coeffs`` (n_terms, K) at points - center
+    → (N, K)."""
+    out = np.empty((points.shape[0], coeffs.shape[1]))
+    if points.shape[0] == 0:
+        return out
+    folded = parity.folded(coeffs)
+    if not _compiled.drivers():
+        parity.request_angular(coeffs.shape[1])
+        out[:] = _numpy_eval.expand(
+            points, center, eps, parity.power, parity.l_first, parity.l_last, parity.base,
+            folded, parity.beta, tables,
+        )  # fmt: skip
+        return out
+    angular, unrolled = parity.angular(coeffs.shape[1])
+    work = partial(
+        _expansion.expand_blocks, points, center, eps, parity.power, parity.l_first,
+        parity.l_last, parity.base, folded, parity.beta, tables, angular, unrolled, out,
+    )  # fmt: skip
+    run_ranges(work, (points.shape[0] + BLOCK - 1) // BLOCK, _MIN_BLOCKS)
+    return out
+
+
+def stream_field(
+    parity: Parity,
+    tables: np.ndarray,
+    single_tables: np.ndarray,
+    eps: float,
+    coeffs: np.ndarray,
+    center: np.ndarray,
+    center_step: np.ndarray,
+    cutoff: tuple[float, float],
+    mirrors: np.ndarray,
+    origin: np.ndarray,
+) -> _stream.StreamField:
+    """The velocity field of the load ``coeffs`` (n_terms, 3) of ``parity`` moving from
+    ``center`` by ``center_step``, faded between the ``cutoff`` radii, mirrored by ``mirrors``
+    about ``origin``. ``tables``: the parity's radial tables (the lowest degree's is used);
+    ``single_tables``: the single precision ones of the degrees above it
+    (``radial_tables.single_tables``). The backend is chosen here, once for the field: the
+    compiled code's angular kernels when the drivers are ready, else none (the NumPy
+    reference serves, and the generated kernels are requested)."""
+    inner, outer = cutoff
+    width = outer - inner
+    compiled = _compiled.drivers()
+    if not compiled:
+        parity.request_angular(3)
+    folded = parity.folded(coeffs)
+    coeffs32, cscale = parity.single(folded)
+    angular, unrolled = parity.angular(3) if compiled else (None, False)
+    angular32, unrolled32 = parity.angular_single() if compiled else (None, False)
+    return _stream.StreamField(
+        center0=center, center_step=center_step, eps=float(eps), power=parity.power,
+        l_first=parity.l_first, l_last=parity.l_last, base=parity.base, coeffs=folded,
+        beta=parity.beta, tables=tables[:1], angular=angular, unrolled=unrolled,
+        cutoff_inner=float(inner), inv_width=1.0 / width if outer > 0.0 and width > 0.0 else 0.0,
+        mirrors=mirrors, origin=origin, single=True, coeffs32=coeffs32,
+        beta32=parity.beta_single, tables32=single_tables, cscale=cscale, angular32=angular32,
+        unrolled32=unrolled32,
+    )  # fmt: skip
+
+
+def stream(
+    field: _stream.StreamField,
+    points: np.ndarray,
+    rows: np.ndarray,
+    indexed: bool,
+    in_place: bool,
+    limit: float,
+    substeps: int,
+    tolerance: float,
+    out: np.ndarray,
+    steps: np.ndarray,
+) -> int:
+    """The streamlines of ``field`` (:func:`stream_field`) from ``points``; see
+    ``_stream.stream`` for the arguments and the status returned. The compiled code runs them
+    when the field was made for it, the NumPy reference otherwise."""
+    run = _numpy_eval.stream if field.angular is None else _stream.stream
+    return run(points, rows, indexed, in_place, limit, field, substeps, tolerance, True, out, steps)
+
+
+def near_segment(
+    points: NDArray[np.float64],  # (N, 3) float64
+    start: NDArray[np.float64],  # (3,) segment start
+    step: NDArray[np.float64],  # (3,) segment end - start
+    radius: float,
+    mirrors: NDArray[np.float64],  # (n_m, 3) ±1 signs
+    origin: NDArray[np.float64],  # (3,)
+    out: NDArray[np.bool_],  # (N,): some mirror image of the point is within radius of the segment
+    compiled: bool | None = None,  # the compiled pass or NumPy's; None: compiled once ready
+) -> None:
+    """Which points some mirror image of which lies within ``radius`` of the segment (the
+    vertices a brush event can reach), on the thread pool; in NumPy until compiled."""
+    if not (_drivers.ready() if compiled is None else compiled):
+        _numpy_eval.near_segment(points, start, step, radius, mirrors, origin, out)
+        return
+    work = partial(near_segment_rows, points, start, step, float(radius), mirrors, origin, out)
+    run_ranges(work, points.shape[0], 1 << 16)

@@ -1,0 +1,487 @@
+"""Streamlines of a brush's velocity field: RK4 over pseudo-time [0, 1] (paper Sec. 3.2).
+
+    v(x, t) = Σ_M M s(|y - c(t)|) u(y - c(t)),   y = origin + M (x - origin),  c(t) = c₀ + t Δc
+
+u is the expansion of ``_expansion`` with the load contracted into its coefficients (K = 3), s
+the C² smooth cutoff (1 up to ``cutoff_inner``, a quintic smoothstep down to 0 over
+1 / inv_width), M the mirror reflections about ``origin`` (row 0 is the brush itself).
+
+Two arithmetics of u, chosen by the field's ``single`` flag (see ``_evaluation``):
+
+* evaluation 2 (``single`` false): u as ``_expansion`` evaluates it, in double precision;
+* evaluation 3 (``single``): ``_single_field``'s, the parity's lowest degree in double
+  precision and the degrees above it in single precision: the higher degrees' arithmetic twice
+  as fast, off evaluation 2 by ~1e-8 of the field, and the grabbed point at the brush centre
+  still follows the cursor to rounding.
+
+``_stream.stream`` runs the passes below over blocks of points on the thread pool
+(``_parallel``):
+
+* fixed steps (``tolerance <= 0``): ``substeps`` classical RK4 steps for every point;
+* adaptive: one RK4 step for every point, whose stages also give the ends of two second-order
+  rules (midpoint x₀ + k₂, trapezoid x₀ + (k₁ + k₄)/2); the larger distance e of the RK4 end to
+  them estimates a second-order error (order h³), and the RK4 error (order h⁵) is predicted as
+  e (e / max(m, e))^(2/3), m the point's motion. Points whose prediction exceeds
+  ``_stream.ESTIMATE_SAFETY`` · tolerance · scale (scale = the largest of |Δc| and every
+  motion m) are packed into blocks of their own and integrated again with 2, 4, ... RK4 steps
+  until Richardson's estimate |x_n - x_(n/2)| / 15 is under that bound (at most
+  MAX_ADAPTIVE_STEPS);
+* adaptive with ``third_order`` (evaluation 3), on ``_stream.THIRD_ORDER_POINTS`` points or
+  more: first the probes, ``_stream.probe_rows`` evenly spread over the points, each
+  integrated with one third-order step (SSPRK3, three evaluations) and with one and two RK4
+  steps. Where the third-order step's error they show (its distance to the two-step end, plus
+  that end's Richardson estimate) is within the bound above at every probe, every point takes
+  the third-order step instead of RK4's, and keeps it if its spread (the distance of its end
+  to the second-order Heun end made of the same stages) is within the probes' range: a point
+  the probes did not speak for goes to the refinement above (its first end a third-order one,
+  which only makes Richardson's estimate larger). Elsewhere the RK4 pass above runs.
+
+Every point's result depends only on the input (blocks are fixed by the point order, never by
+the thread count), and the generic and generated angular kernels compute the same bits, so
+replays are bit-identical whatever the threads or the kernels compiled so far.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numba import njit
+
+from gogreen_core.field._expansion import _JIT, BLOCK, CUTOFF_END, _angular, _geometry, _radial
+from gogreen_core.field._single_field import _single_velocity
+
+if TYPE_CHECKING:
+    from gogreen_core.field._stream import StreamField as Field
+
+    #: The scratch rows of ``_scratch``.
+    Scratch = tuple[
+        np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+        np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+    ]  # fmt: skip
+    Rows = tuple[np.ndarray, np.ndarray, np.ndarray]
+
+__all__ = ["CUTOFF_END", "MAX_ADAPTIVE_STEPS"]
+
+#: SHA-256 (first 16 hex digits) of ``_expansion.py`` and ``_single_field.py``, written by
+#: ``scripts/make_kernels.py`` (checked by ``tests/core/field/test_generated_kernels.py``). numba
+#: keys the disk cache #: of this module's compiled code on this file alone, yet compiles their
+#: functions and constants #: into it: a change there must change this file, or a stale machine code
+#: (another BLOCK, #: another arithmetic) would be loaded.
+COMPILED_SOURCES = "8267d6dd71cc623d"
+
+#: Largest number of RK4 steps the adaptive streamlines give one vertex in one event.
+MAX_ADAPTIVE_STEPS = 256
+_SIXTH = 1.0 / 6.0
+_THIRD = 1.0 / 3.0
+
+# The velocity field travels as one record (``_stream.StreamField``, a named tuple) through the
+# functions below; see ``_evaluation.stream``.
+
+
+@njit(**_JIT)
+def _scratch(n_deg: int, n_single: int) -> tuple[Scratch, Rows]:
+    """Scratch rows of ``_velocity`` (geometry, segments, radial terms, angular work, the
+    angular sum, and their float32 twins for the single precision degrees) and of ``_steps``
+    (position, stage position, velocity)."""
+    scratch = (
+        np.empty((8, BLOCK)),
+        np.empty(BLOCK, dtype=np.int64),
+        np.empty((n_deg, BLOCK)),
+        np.empty((10, BLOCK)),
+        np.empty((3, BLOCK)),
+        np.empty((8, BLOCK), dtype=np.float32),
+        np.empty((max(n_single, 1), BLOCK), dtype=np.float32),
+        np.empty((10, BLOCK), dtype=np.float32),
+        np.empty((3, BLOCK), dtype=np.float32),
+    )
+    rows = (np.empty((3, BLOCK)), np.empty((3, BLOCK)), np.empty((3, BLOCK)))
+    return scratch, rows
+
+
+@njit(**_JIT)
+def _velocity(
+    pos: np.ndarray, nb: int, t: float, field: Field, scratch: Scratch, vel: np.ndarray
+) -> None:
+    """vel[:, :nb] = v(pos[:, :nb], t) (rows x, y, z)."""
+    if field.single:
+        _single_velocity(pos, nb, t, field, scratch, vel)
+        return
+    center0, center_step, eps, power = field.center0, field.center_step, field.eps, field.power
+    l_first, l_last, base, coeffs, beta = (
+        field.l_first, field.l_last, field.base, field.coeffs, field.beta
+    )  # fmt: skip
+    tables, angular, unrolled = field.tables, field.angular, field.unrolled
+    cutoff_inner, inv_width = field.cutoff_inner, field.inv_width
+    mirrors, origin = field.mirrors, field.origin
+    geo, seg, rad, work, total = scratch[:5]
+    weight = geo[7]
+    for mi in range(mirrors.shape[0]):
+        for k in range(3):
+            sgn = mirrors[mi, k]
+            o = origin[k]
+            c = center0[k] + t * center_step[k]
+            offset = geo[k]
+            for i in range(nb):
+                # the brush itself (sgn = 1) sees exactly its own positions
+                offset[i] = (pos[k, i] if sgn > 0 else o - (pos[k, i] - o)) - c
+        _geometry(eps, power, tables.shape[1], nb, geo, seg)
+        rr = geo[3]
+        reached = 0
+        for i in range(nb):
+            u = min(max((rr[i] - cutoff_inner) * inv_width, 0.0), 1.0)
+            w = 1.0 - u * u * u * (10.0 + u * (6.0 * u - 15.0))
+            weight[i] = w if u < CUTOFF_END else 0.0
+            reached += 1 if u < CUTOFF_END else 0
+        if reached == 0:  # the whole block is beyond the cutoff (a far mirror image): v += 0
+            if mi == 0:
+                for k in range(3):
+                    for i in range(nb):
+                        vel[k, i] = 0.0
+            continue
+        _radial(tables, l_first, nb, geo, seg, rad)
+        if unrolled:
+            angular(nb, geo.ctypes, rad.ctypes, coeffs.ctypes, total.ctypes)
+        else:
+            _angular(l_first, l_last, base, coeffs, beta, nb, geo, rad, work, total)
+        # a zero weight contributes exactly nothing (not ±0 · u): the skip above is then exact
+        for k in range(3):
+            sgn = mirrors[mi, k]
+            v_k = vel[k]
+            t_k = total[k]
+            if mi == 0:
+                for i in range(nb):
+                    v_k[i] = weight[i] * t_k[i] if weight[i] != 0.0 else 0.0
+            else:
+                for i in range(nb):
+                    v_k[i] = v_k[i] + (sgn * weight[i]) * t_k[i] if weight[i] != 0.0 else v_k[i]
+
+
+@njit(**_JIT)
+def _norm2(a: np.ndarray, b: np.ndarray, i: int, row: int) -> float:
+    """|a[row:row+3, i] - b[0:3, i]|², summed x, y, z in that order."""
+    d0: float = a[row, i] - b[0, i]
+    d1: float = a[row + 1, i] - b[1, i]
+    d2: float = a[row + 2, i] - b[2, i]
+    return d0 * d0 + d1 * d1 + d2 * d2
+
+
+@njit(**_JIT)
+def _steps(
+    third_order: bool,
+    n_steps: int | np.int64,
+    nb: int,
+    start: np.ndarray,
+    end: np.ndarray,
+    mid: np.ndarray,
+    spread: np.ndarray,
+    field: Field,
+    scratch: Scratch,
+    rows: Rows,
+) -> None:
+    """end[:, :nb] = ``n_steps`` classical RK4 steps over t ∈ [0, 1] from start[:, :nb], or
+    (``third_order``) one third-order step.
+
+    RK4 with one step: mid (6, BLOCK) also gets the ends of two second-order rules made of its
+    stages, the midpoint rule x₀ + k₂ (rows 0-2) and the trapezoid x₀ + (k₁ + k₄)/2 (rows
+    3-5): the adaptive pass's error estimates.
+
+    Third order: Shu and Osher's strong-stability-preserving RK3, stages k₁ at (x₀, 0), k₂ at
+    (x₀ + k₁, 1), k₃ at (x₀ + (k₁ + k₂)/4, ½), end x₀ + (k₁ + k₂ + 4 k₃)/6; spread[i] =
+    |(2 k₃ - k₁ - k₂)/3|², the squared distance of that end to the second-order Heun end
+    x₀ + (k₁ + k₂)/2 (mid rows 3-5 hold k₁ + k₂).
+
+    One call of the velocity for all stages: each is compiled into its caller, and fewer copies
+    compile faster.
+    """
+    pos, stage_pos, vel = rows
+    h = 1.0 / n_steps
+    if third_order or n_steps == 1:  # one step: it starts from ``start`` itself
+        pos = start
+    else:  # (element loops rather than slice assignments, whose shape checks compile slowly)
+        for k in range(3):
+            for i in range(nb):
+                pos[k, i] = start[k, i]
+    ksum = mid[3:6]
+    for step in range(n_steps):
+        t0 = step * h
+        for stage in range(3 if third_order else 4):
+            if third_order:
+                t = 0.0 if stage == 0 else (1.0 if stage == 1 else 0.5)
+            else:  # classical RK4: stage offsets 0, h/2, h/2, h and weights 1, 2, 2, 1
+                t = t0 + (0.0 if stage == 0 else (h if stage == 3 else 0.5 * h))
+            _velocity(pos if stage == 0 else stage_pos, nb, t, field, scratch, vel)
+            # one loop per stage (a branch on the stage inside the loop kept it from
+            # vectorizing); each makes the next stage's position
+            if third_order and stage == 0:
+                for k in range(3):
+                    for i in range(nb):
+                        ksum[k, i] = vel[k, i]
+                        stage_pos[k, i] = pos[k, i] + vel[k, i]
+            elif third_order and stage == 1:
+                for k in range(3):
+                    for i in range(nb):
+                        ksum[k, i] = ksum[k, i] + vel[k, i]
+                        stage_pos[k, i] = pos[k, i] + 0.25 * ksum[k, i]
+            elif third_order:
+                for k in range(3):
+                    for i in range(nb):
+                        end[k, i] = pos[k, i] + (ksum[k, i] + 4.0 * vel[k, i]) * _SIXTH
+                for i in range(nb):
+                    d0 = (2.0 * vel[0, i] - ksum[0, i]) * _THIRD
+                    d1 = (2.0 * vel[1, i] - ksum[1, i]) * _THIRD
+                    d2 = (2.0 * vel[2, i] - ksum[2, i]) * _THIRD
+                    spread[i] = d0 * d0 + d1 * d1 + d2 * d2
+            else:
+                if n_steps == 1 and stage == 0:
+                    for k in range(3):
+                        for i in range(nb):
+                            mid[3 + k, i] = pos[k, i] + 0.5 * vel[k, i]
+                elif n_steps == 1 and stage == 1:
+                    for k in range(3):
+                        for i in range(nb):
+                            mid[k, i] = pos[k, i] + vel[k, i]
+                elif n_steps == 1 and stage == 3:
+                    for k in range(3):
+                        for i in range(nb):
+                            mid[3 + k, i] = mid[3 + k, i] + 0.5 * vel[k, i]
+                weight = h / 6.0 if stage == 0 or stage == 3 else h / 3.0
+                for k in range(3):
+                    for i in range(nb):
+                        end[k, i] = (end[k, i] if stage > 0 else pos[k, i]) + weight * vel[k, i]
+                if stage < 3:
+                    a = h if stage == 2 else 0.5 * h
+                    for k in range(3):
+                        for i in range(nb):
+                            stage_pos[k, i] = pos[k, i] + a * vel[k, i]
+        if not third_order and step + 1 < n_steps:
+            for k in range(3):
+                for i in range(nb):
+                    pos[k, i] = end[k, i]
+
+
+@njit(**_JIT)
+def _predicted_error(end: np.ndarray, start: np.ndarray, mid: np.ndarray, i: int) -> float:
+    """The cube of one RK4 step's predicted error at point i, e⁵ / max(m, e)² (module
+    docstring), from its end, start and second-order ends ``mid`` (``_steps``)."""
+    m2 = _norm2(end, start, i, 0)
+    e = math.sqrt(max(_norm2(mid, end, i, 0), _norm2(mid, end, i, 3)))
+    reach2 = max(m2, e * e)
+    return e * e * e * e * e / reach2 if reach2 > 0.0 else 0.0
+
+
+@njit(**_JIT)
+def _probe_pass(
+    points: np.ndarray,
+    indices: np.ndarray,
+    indexed: bool,
+    limit: float,
+    field: Field,
+    probes: np.ndarray,  # (P,) int64 points probed (rows of ``indices`` if indexed)
+    error: np.ndarray,  # (P,) the third-order step's error (see below)
+    spread: np.ndarray,  # (P,) the third-order step's squared spread (``_steps``)
+    motion: np.ndarray,  # (P,) the squared motion |x₄ - x₀|² of the two RK4 steps
+    first_block: int,
+    last_block: int,
+) -> None:
+    """The probes of the third-order pass (blocks [first, last) of them; see the module
+    docstring): the third-order end x₃'s error is measured against two RK4 steps x₄, whose own
+    is Richardson's estimate against one: |x₃ - x₄| + |x₄ - x₄'| / 15. A probe whose start is
+    bad (the first pass reports it) gets an infinite error."""
+    n_probes = probes.shape[0]
+    n_rows = points.shape[0]
+    scratch, rows = _scratch(field.tables.shape[0], field.tables32.shape[1])
+    start_rows = np.empty((3, BLOCK))
+    third = np.empty((3, BLOCK))
+    fourth = np.empty((3, BLOCK))
+    coarse = np.empty((3, BLOCK))
+    mid_rows = np.empty((6, BLOCK))
+    spreads = np.empty(BLOCK)
+    for blk in range(first_block, last_block):
+        start = blk * BLOCK
+        nb = min(BLOCK, n_probes - start)
+        good = True
+        for j in range(nb):
+            row = probes[start + j]
+            if indexed:
+                row = indices[row]
+                if row < 0 or row >= n_rows:
+                    good = False
+                    row = 0
+            for k in range(3):
+                value = points[row, k]
+                good = good and (abs(value) <= limit or not indexed)
+                start_rows[k, j] = value
+        if not good:
+            for j in range(nb):
+                error[start + j] = np.inf
+            continue
+        for method in range(3):  # one call site (see ``_steps``)
+            ends = third if method == 0 else (coarse if method == 1 else fourth)
+            _steps(method == 0, max(method, 1), nb, start_rows, ends, mid_rows, spreads, field,
+                   scratch, rows)  # fmt: skip
+        for j in range(nb):
+            richardson = math.sqrt(_norm2(fourth, coarse, j, 0)) / 15.0
+            error[start + j] = math.sqrt(_norm2(third, fourth, j, 0)) + richardson
+            spread[start + j] = spreads[j]
+            motion[start + j] = _norm2(fourth, start_rows, j, 0)
+
+
+@njit(**_JIT)
+def _first_pass(
+    points: np.ndarray,  # (N_all, 3) float64, start positions (the rows ``indices`` if indexed)
+    indices: np.ndarray,  # (N,) int64 rows of ``points`` to move if ``indexed``
+    indexed: bool,  # False: move every row of ``points`` (``indices`` is not read)
+    limit: float,  # largest coordinate magnitude accepted in an indexed start position
+    n_steps: int,  # RK4 steps (1 when adaptive)
+    adaptive: bool,  # also estimate the errors (``rank``, ``block_motion``)
+    third_order: bool,  # one SSPRK3 step (adaptive), kept where its spread is within the limit
+    spread_limit: float,  # the largest squared spread (``_steps``) the probes spoke for
+    field: Field,
+    out: np.ndarray,  # (N, 3) end positions
+    evaluations: np.ndarray,  # (N,) int64 velocity evaluations each point took
+    rank: np.ndarray,  # (N,) e⁵ / max(m, e)²: the cube of the predicted error (module docstring)
+    block_motion: np.ndarray,  # (n_blocks,) the largest motion m in each block
+    block_rank: np.ndarray,  # (n_blocks,) the largest rank in each block
+    problem: np.ndarray,  # (n_blocks,) int64: 1 an index out of range, 2 a bad start
+    bad: np.ndarray,  # (n_blocks,) bool: an end position not finite
+    first_block: int,
+    last_block: int,
+) -> None:
+    """The first pass of ``stream`` over blocks [first_block, last_block)."""
+    n_points = indices.shape[0] if indexed else points.shape[0]
+    n_rows = points.shape[0]
+    scratch, rows = _scratch(field.tables.shape[0], field.tables32.shape[1])
+    start_rows = np.empty((3, BLOCK))
+    end_rows = np.empty((3, BLOCK))
+    mid_rows = np.empty((6, BLOCK))
+    motion2 = np.empty(BLOCK)
+    spreads = np.empty(BLOCK)
+    for blk in range(first_block, last_block):
+        start = blk * BLOCK
+        nb = min(BLOCK, n_points - start)
+        # the gather, then the checks counted in loops that vectorize (no store in a branch)
+        n_outside = 0
+        for i in range(nb):
+            row = start + i
+            if indexed:
+                row = indices[start + i]
+                inside = 0 <= row < n_rows
+                n_outside += 0 if inside else 1
+                row = row if inside else 0
+            for k in range(3):
+                start_rows[k, i] = points[row, k]
+        if indexed:
+            n_bad_starts = 0
+            for k in range(3):
+                for i in range(nb):
+                    n_bad_starts += 0 if abs(start_rows[k, i]) <= limit else 1  # or NaN
+            if n_outside or n_bad_starts:
+                problem[blk] = 1 if n_outside else 2
+        _steps(third_order, n_steps, nb, start_rows, end_rows, mid_rows, spreads, field, scratch,
+               rows)  # fmt: skip
+        for i in range(nb):
+            for k in range(3):
+                out[start + i, k] = end_rows[k, i]
+        if evaluations.shape[0]:  # (an empty array: not counted)
+            for i in range(nb):
+                evaluations[start + i] = 3 if third_order else 4 * n_steps
+        n_bad = 0  # (a count, not a flag set in the loop: it vectorizes)
+        for k in range(3):
+            for i in range(nb):
+                n_bad += 0 if math.isfinite(end_rows[k, i]) else 1
+        if n_bad:
+            bad[blk] = True
+        if not adaptive:
+            continue
+        for i in range(nb):
+            motion2[i] = _norm2(end_rows, start_rows, i, 0)
+        if third_order:  # kept (rank 0), or refined (its spread is beyond the probes')
+            kept = 0
+            for i in range(nb):
+                kept += 1 if spreads[i] <= spread_limit else 0
+            block_rank[blk] = 0.0 if kept == nb else np.inf
+            if kept < nb:  # only such blocks' ranks are read (``_above``)
+                for i in range(nb):
+                    rank[start + i] = 0.0 if spreads[i] <= spread_limit else np.inf
+        else:
+            for i in range(nb):
+                # prediction e (e/reach)^(2/3) > bound  ⇔  e⁵ / reach² > bound³
+                rank[start + i] = _predicted_error(end_rows, start_rows, mid_rows, i)
+            largest = 0.0
+            for i in range(nb):
+                largest = max(largest, rank[start + i])
+            block_rank[blk] = largest
+        # the block's largest motion in a loop of its own: a max reduction inside the loops
+        # above kept them (square roots and divisions) from vectorizing
+        most = 0.0
+        for i in range(nb):
+            most = max(most, motion2[i])
+        block_motion[blk] = math.sqrt(most)
+
+
+@njit(**_JIT)
+def _refine_pass(
+    points: np.ndarray, indices: np.ndarray, indexed: bool, field: Field, bound: float,
+    refine: np.ndarray, out: np.ndarray, evaluations: np.ndarray, bad: np.ndarray,
+    first_block: int, last_block: int,
+) -> None:  # fmt: skip
+    """The points ``refine`` (indices into ``out``), packed BLOCK at a time, again with 2, 4, …
+    RK4 steps until Richardson's estimate is under ``bound`` (blocks [first, last) of them);
+    ``evaluations`` counts them."""
+    n_refine = refine.shape[0]
+    scratch, rows = _scratch(field.tables.shape[0], field.tables32.shape[1])
+    start_rows = np.empty((3, BLOCK))
+    end_rows = np.empty((3, BLOCK))
+    previous = np.empty((3, BLOCK))
+    picked = np.empty(BLOCK, dtype=np.int64)
+    spreads = np.empty(BLOCK)
+    for blk in range(first_block, last_block):
+        start = blk * BLOCK
+        count = min(BLOCK, n_refine - start)
+        for j in range(count):
+            picked[j] = refine[start + j]
+            for k in range(3):
+                previous[k, j] = out[picked[j], k]
+        n_steps = np.int64(1)
+        while count > 0:
+            n_steps *= 2
+            for j in range(count):
+                row = indices[picked[j]] if indexed else picked[j]
+                for k in range(3):
+                    start_rows[k, j] = points[row, k]
+            # RK4 (n_steps ≥ 2): a run-time False, as the other callers' flag (a literal False
+            # would compile another ``_steps``, 4 s on an empty cache)
+            _steps(bool(n_steps < 2), n_steps, count, start_rows, end_rows, end_rows, spreads,
+                   field, scratch, rows)  # fmt: skip
+            kept = 0
+            for j in range(count):
+                n = picked[j]
+                d2 = _norm2(end_rows, previous, j, 0)
+                for k in range(3):
+                    out[n, k] = end_rows[k, j]
+                if evaluations.shape[0]:
+                    evaluations[n] += 4 * n_steps
+                # Richardson: the n-step result's error is about |x_n - x_(n/2)| / (2⁴ - 1)
+                if math.sqrt(d2) > 15.0 * bound and n_steps < MAX_ADAPTIVE_STEPS:
+                    picked[kept] = n
+                    for k in range(3):
+                        previous[k, kept] = end_rows[k, j]
+                    kept += 1
+                else:  # its final end position
+                    for k in range(3):
+                        if not math.isfinite(end_rows[k, j]):
+                            bad[blk] = True
+            count = kept
+
+
+@njit(**_JIT)
+def _write_back(
+    points: np.ndarray, indices: np.ndarray, indexed: bool, out: np.ndarray, first: int, last: int
+) -> None:
+    """points[indices[n]] (or points[n]) = out[n] for n in [first, last)."""
+    for n in range(first, last):
+        row = indices[n] if indexed else n
+        for k in range(3):
+            points[row, k] = out[n, k]

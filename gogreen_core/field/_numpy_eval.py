@@ -1,0 +1,367 @@
+"""The current evaluation in NumPy: no compilation, the same bits as the compiled code.
+
+On a new machine the compiled functions of ``_expansion`` and ``_integrator`` take seconds to
+tens of seconds to compile (once; numba keeps them on disk). Until they are ready
+(``_compiled``), evaluations run here: the same IEEE operations in the same order as the numba
+code, element-wise over arrays of points, so every result is equal bit for bit (no fused
+multiply-add anywhere, the cutoff's exact zeros, per-point refinement decisions; see
+``_expansion`` and ``_integrator``, whose docstrings define the arithmetic). Several times
+slower than the compiled code, fast enough for the first strokes: a grab event on a
+40k-vertex model takes milliseconds.
+
+Points are processed in chunks of CHUNK, which bounds the temporaries; each point's result does
+not depend on the chunk it is in.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, cast
+
+import numpy as np
+
+from gogreen_core.field._expansion import _HUGE, _TINY
+from gogreen_core.field._integrator import _SIXTH, _THIRD, CUTOFF_END, MAX_ADAPTIVE_STEPS
+from gogreen_core.field._stream import StreamField, probe_rows, refinement_bound, third_order_limit
+
+__all__ = ["expand", "near_segment", "stream"]
+
+#: Points evaluated at once (a few MB of temporaries).
+CHUNK = 4096
+
+
+def _geometry(offsets: np.ndarray, eps: float, power: int, n_seg: int) -> tuple[Any, ...]:
+    """``_expansion._geometry`` for offsets (3, n): (x̂, ŷ, ẑ, r, loc, seg, scale0, scale1) and
+    evaluation 3's table variable σ = loc + 1 ∈ [0, 2] (as computed, not from loc)."""
+    x, y, z = offsets
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        r2 = x * x + y * y + z * z
+        r = np.sqrt(r2)
+        huge = ~(r2 < 1e300)
+        if huge.any():
+            xs, ys, zs = x[huge] * _TINY, y[huge] * _TINY, z[huge] * _TINY
+            r[huge] = np.sqrt(xs * xs + ys * ys + zs * zs) * _HUGE
+        positive = r > 0.0
+        inv = np.where(positive, 1.0 / r, 0.0)
+        inv_re = 1.0 / (r + eps)
+    u = np.minimum(r * inv_re, 1.0) * n_seg
+    fj = np.minimum(np.floor(u), n_seg - 1.0)
+    scale = inv_re if power == 1 else inv_re * inv_re
+    sigma = 2.0 * (u - fj)
+    return (
+        x * inv,
+        y * inv,
+        z * inv,
+        r,
+        sigma - 1.0,
+        fj.astype(np.int64),
+        scale,
+        np.where(positive, scale, 0.0),
+        sigma,
+    )
+
+
+def _radial(tables: np.ndarray, l_first: int, geometry: tuple[Any, ...]) -> list[np.ndarray]:
+    """``_expansion._radial``: the radial term of each degree of the parity (n,)."""
+    loc, seg, scale0, scale1 = geometry[4:8]
+    s2 = loc * loc
+    rows = []
+    for d in range(tables.shape[0]):
+        c = tables[d][seg]  # (n, 6): each point's segment
+        p01 = c[:, 0] + c[:, 1] * loc
+        p23 = c[:, 2] + c[:, 3] * loc
+        p45 = c[:, 4] + c[:, 5] * loc
+        rows.append((p01 + (p23 + p45 * s2) * s2) * (scale0 if d == 0 and l_first == 0 else scale1))
+    return rows
+
+
+def _angular(
+    l_first: int,
+    l_last: int,
+    base: np.ndarray,
+    coeffs: np.ndarray,
+    beta: np.ndarray,
+    geometry: tuple[Any, ...],
+    rad: list[np.ndarray],
+) -> np.ndarray:
+    """``_expansion._angular`` for all points at once: (K, n)."""
+    x, y, z = geometry[:3]
+    # None until the first term is added (so typed Any, as are the sums of numpy operands)
+    u: Any = None
+    cos_m: Any
+    sin_m: Any
+    cos_m = sin_m = None
+    for m in range(l_last + 1):
+        if m == 1:
+            cos_m, sin_m = x, y
+        elif m > 1:
+            cos_m, sin_m = cos_m * x - sin_m * y, cos_m * y + sin_m * x
+        part_a: Any
+        part_b: Any
+        prev: Any
+        cur: Any
+        part_a = part_b = None
+        prev = cur = None
+        for l in range(m, l_last + 1):
+            if l == m + 1:
+                prev, cur = np.ones_like(z), z
+            elif l > m + 1:
+                prev, cur = cur, z * cur - beta[l, m] * prev
+            if (l - l_first) % 2 != 0 or l < l_first:
+                continue
+            row = rad[(l - l_first) // 2]
+            t = row if l == m else row * cur
+            ca = coeffs[base[l] + l + m][:, None]
+            cs = coeffs[base[l] + l - m][:, None]
+            if part_a is None:
+                part_a = t * ca
+                part_b = t * cs if m > 0 else None
+            else:
+                part_a = part_a + t * ca
+                if m > 0:
+                    part_b = part_b + t * cs
+        u = part_a if m == 0 else (u + cos_m * part_a) + sin_m * part_b
+    return cast(np.ndarray, u)
+
+
+def expand(
+    points: np.ndarray,
+    center: np.ndarray,
+    eps: float,
+    power: int,
+    l_first: int,
+    l_last: int,
+    base: np.ndarray,
+    coeffs: np.ndarray,
+    beta: np.ndarray,
+    tables: np.ndarray,
+) -> np.ndarray:
+    """``_expansion.expand_blocks`` over all ``points`` (N, 3) → (N, K)."""
+    out = np.empty((points.shape[0], coeffs.shape[1]))
+    for start in range(0, points.shape[0], CHUNK):
+        part = points[start : start + CHUNK]
+        offsets = np.stack([part[:, k] - center[k] for k in range(3)])
+        geometry = _geometry(offsets, eps, power, tables.shape[1])
+        rad = _radial(tables, l_first, geometry)
+        out[start : start + CHUNK] = _angular(l_first, l_last, base, coeffs, beta, geometry, rad).T
+    return out
+
+
+def _single_field(field: StreamField, geometry: tuple[Any, ...]) -> np.ndarray:
+    """``_integrator._single_velocity``'s field before the weight (K, n): the parity's lowest
+    degree in float64 plus the degrees above it in float32."""
+    l_first, l_last, base, coeffs = field.l_first, field.l_last, field.base, field.coeffs
+    coeffs32, beta32, tables32, cscale = field.coeffs32, field.beta32, field.tables32, field.cscale
+    x, y, z = geometry[:3]
+    t = _radial(field.tables, l_first, geometry)[0]
+    c0, c1, c2 = (coeffs[j][:, None] for j in ((0, 1, 2) if l_first else (0, 0, 0)))
+    low = t * c0 if l_first == 0 else ((t * z) * c1 + x * (t * c2)) + y * (t * c0)
+    if l_last > l_first:
+        single = tuple(v.astype(np.float32) for v in geometry[:3])
+        loc, seg = geometry[8].astype(np.float32), geometry[5]
+        rad = []
+        for d in range(tables32.shape[1]):
+            c = tables32[seg, d]  # (n, 3): each point's segment
+            rad.append(c[:, 0] + (c[:, 1] + c[:, 2] * loc) * loc)
+        total = _angular(l_first + 2, l_last, base, coeffs32, beta32, single, rad)
+    else:
+        total = np.zeros((3, len(x)), dtype=np.float32)
+    return cast(np.ndarray, low + (geometry[7] * cscale) * total)
+
+
+def _velocity(pos: np.ndarray, t: float, field: StreamField) -> np.ndarray:
+    """``_integrator._velocity`` at positions (3, n) → (3, n)."""
+    center0, center_step, eps, power = field.center0, field.center_step, field.eps, field.power
+    l_first, l_last, base, coeffs, beta = (
+        field.l_first, field.l_last, field.base, field.coeffs, field.beta
+    )  # fmt: skip
+    tables, cutoff_inner, inv_width = field.tables, field.cutoff_inner, field.inv_width
+    mirrors, origin, single = field.mirrors, field.origin, field.single
+    vel: Any = None
+    for mi in range(mirrors.shape[0]):
+        offsets = np.empty_like(pos)
+        for k in range(3):
+            sgn, o = mirrors[mi, k], origin[k]
+            c = center0[k] + t * center_step[k]
+            offsets[k] = (pos[k] if sgn > 0 else o - (pos[k] - o)) - c
+        geometry = _geometry(offsets, eps, power, tables.shape[1])
+        u = np.minimum(np.maximum((geometry[3] - cutoff_inner) * inv_width, 0.0), 1.0)
+        reached = u < CUTOFF_END
+        weight = np.where(reached, 1.0 - u * u * u * (10.0 + u * (6.0 * u - 15.0)), 0.0)
+        if single:  # evaluation 3: the lowest degree in float64, the others in float32
+            total = _single_field(field, geometry)
+        else:
+            total = _angular(
+                l_first, l_last, base, coeffs, beta, geometry, _radial(tables, l_first, geometry)
+            )
+        nonzero = weight != 0.0
+        if mi == 0:
+            vel = np.where(nonzero, weight * total, 0.0)
+        else:
+            vel = np.where(nonzero, vel + (mirrors[mi][:, None] * weight) * total, vel)
+    return cast(np.ndarray, vel)
+
+
+def _rk4(
+    n_steps: int, start: np.ndarray, field: StreamField, want_mid: bool
+) -> tuple[np.ndarray, Any]:
+    """``_integrator._steps`` (RK4) from start (3, n) → (end, mid (6, n) or None)."""
+    h = 1.0 / n_steps
+    pos = start
+    mid: Any = np.empty((6, start.shape[1])) if want_mid else None
+    end: Any = None
+    for step in range(n_steps):
+        t0 = step * h
+        vel: Any = None
+        for stage in range(4):
+            a = 0.0 if stage == 0 else (h if stage == 3 else 0.5 * h)
+            vel = _velocity(pos if stage == 0 else pos + a * vel, t0 + a, field)
+            if want_mid and n_steps == 1:
+                if stage == 0:
+                    mid[3:] = pos + 0.5 * vel
+                elif stage == 1:
+                    mid[:3] = pos + vel
+                elif stage == 3:
+                    mid[3:] = mid[3:] + 0.5 * vel
+            weight = h / 6.0 if stage == 0 or stage == 3 else h / 3.0
+            end = (pos if stage == 0 else end) + weight * vel
+        pos = end
+    return end, mid
+
+
+def _rk3(start: np.ndarray, field: StreamField) -> tuple[np.ndarray, np.ndarray]:
+    """``_integrator._steps`` (third order) from start (3, n) → (end, squared spread (n,))."""
+    k1 = _velocity(start, 0.0, field)
+    ksum = k1 + _velocity(start + k1, 1.0, field)
+    k3 = _velocity(start + 0.25 * ksum, 0.5, field)
+    end = start + (ksum + 4.0 * k3) * _SIXTH
+    d = (2.0 * k3 - ksum) * _THIRD
+    return end, d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
+
+
+def _norm2(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    d0, d1, d2 = a[0] - b[0], a[1] - b[1], a[2] - b[2]
+    return cast(np.ndarray, d0 * d0 + d1 * d1 + d2 * d2)
+
+
+def _probes(
+    points: np.ndarray, indices: np.ndarray, indexed: bool, field: StreamField,
+    tolerance: float,
+) -> float:  # fmt: skip
+    """``_integrator``'s probes and their verdict (``third_order_limit``): the largest squared
+    spread of the third-order steps kept, or -1 for none (starts already checked)."""
+    probes = probe_rows(indices.shape[0] if indexed else points.shape[0])
+    found = []
+    for first in range(0, probes.shape[0], CHUNK):
+        picked = probes[first : first + CHUNK]
+        start = np.ascontiguousarray(points[indices[picked] if indexed else picked].T)
+        third, spread = _rk3(start, field)
+        coarse, _ = _rk4(1, start, field, False)
+        fourth, _ = _rk4(2, start, field, False)
+        richardson = np.sqrt(_norm2(fourth, coarse)) / 15.0
+        found.append((np.sqrt(_norm2(third, fourth)) + richardson, spread, _norm2(fourth, start)))
+    if not found:
+        return -1.0
+    error, spread, motion = (np.concatenate(part) for part in zip(*found, strict=True))
+    return third_order_limit(field.center_step, tolerance, error, spread, motion)
+
+
+def stream(
+    points: np.ndarray,
+    indices: np.ndarray,
+    indexed: bool,
+    write_back: bool,
+    limit: float,
+    field: StreamField,
+    substeps: int,
+    tolerance: float,
+    third_order: bool,
+    out: np.ndarray,
+    evaluations: np.ndarray,
+) -> int:
+    """``_stream.stream`` (same arguments, same status codes, same bits)."""
+    n_rows = points.shape[0]
+    if indexed:
+        if n_rows == 0 or (indices.size and (indices.min() < 0 or indices.max() >= n_rows)):
+            return 1
+        if not np.all(np.abs(points[indices]) <= limit):
+            return 2
+    n_points = indices.shape[0] if indexed else n_rows
+    adaptive = tolerance > 0.0
+    rank = np.empty(n_points)
+    motion2, bad = 0.0, False
+    with np.errstate(all="ignore"):  # overflows are reported (status 3), as compiled
+        limit3 = -1.0
+        if adaptive and third_order:
+            limit3 = _probes(points, indices, indexed, field, tolerance)
+        for first in range(0, n_points, CHUNK):
+            rows = indices[first : first + CHUNK] if indexed else slice(first, first + CHUNK)
+            start = np.ascontiguousarray(points[rows].T)
+            if limit3 >= 0.0:
+                end, spread = _rk3(start, field)
+                rank[first : first + CHUNK] = np.where(spread <= limit3, 0.0, np.inf)
+            else:
+                end, mid = _rk4(1 if adaptive else substeps, start, field, adaptive)
+            out[first : first + CHUNK] = end.T
+            if len(evaluations):  # (an empty array: not counted)
+                evaluations[first : first + CHUNK] = (
+                    3 if limit3 >= 0.0 else 4 * (1 if adaptive else substeps)
+                )
+            bad = bad or not np.isfinite(end).all()
+            if adaptive:
+                m2 = _norm2(end, start)
+                motion2 = max(motion2, float(m2.max(initial=0.0)))
+            if adaptive and limit3 < 0.0:
+                e = np.sqrt(np.maximum(_norm2(mid[:3], end), _norm2(mid[3:], end)))
+                reach2 = np.maximum(m2, e * e)
+                rank[first : first + CHUNK] = np.where(
+                    reach2 > 0.0, e * e * e * e * e / reach2, 0.0
+                )
+        refined_bad = False
+        bound = (
+            refinement_bound(field.center_step, math.sqrt(motion2), tolerance) if adaptive else 0.0
+        )
+        if bound > 0.0:
+            refine = np.flatnonzero(rank > bound * bound * bound)
+            for first in range(0, refine.shape[0], CHUNK):
+                picked = refine[first : first + CHUNK]
+                previous = out[picked].T
+                n_steps = 2
+                while picked.size:
+                    rows = indices[picked] if indexed else picked
+                    end, _ = _rk4(n_steps, np.ascontiguousarray(points[rows].T), field, False)
+                    out[picked] = end.T
+                    if len(evaluations):
+                        evaluations[picked] += 4 * n_steps
+                    again = np.sqrt(_norm2(end, previous)) > 15.0 * bound
+                    again &= n_steps < MAX_ADAPTIVE_STEPS
+                    refined_bad = refined_bad or not np.isfinite(end[:, ~again]).all()
+                    picked, previous = picked[again], end[:, again]
+                    n_steps *= 2
+        if write_back and (refined_bad or bad):
+            return 3
+    if write_back:
+        points[indices if indexed else slice(None)] = out[:n_points]
+    return 0
+
+
+def near_segment(
+    points: np.ndarray,
+    start: np.ndarray,
+    step: np.ndarray,
+    radius: float,
+    mirrors: np.ndarray,
+    origin: np.ndarray,
+    out: np.ndarray,
+) -> None:
+    """``_expansion.near_segment`` (without its contractions: the vertices at rounding distance
+    from the ball's surface may differ, which changes nothing, see ``_integrator``)."""
+    length2 = step[0] * step[0] + step[1] * step[1] + step[2] * step[2]
+    inv = 1.0 / length2 if length2 > 0.0 else 0.0
+    hit = np.zeros(points.shape[0], dtype=bool)
+    for signs in mirrors:
+        y = [origin[k] + signs[k] * (points[:, k] - origin[k]) - start[k] for k in range(3)]
+        t = np.clip((y[0] * step[0] + y[1] * step[1] + y[2] * step[2]) * inv, 0.0, 1.0)
+        d = [y[k] - t * step[k] for k in range(3)]
+        hit |= d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < radius * radius
+    out[:] = hit

@@ -1,0 +1,201 @@
+"""The streamlines' passes (``_integrator``'s compiled ones, see there) run over the thread pool,
+and the choices between them: third-order steps or RK4's, which points to refine.
+
+:func:`stream` runs in Python around the compiled passes (the probes, the first pass, the
+refinement, the write-back); ``_numpy_eval.stream`` is its NumPy twin, with the same choices
+from the same numbers.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import partial
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from gogreen_core._parallel import run_ranges
+from gogreen_core.field._expansion import BLOCK
+from gogreen_core.field._integrator import _first_pass, _probe_pass, _refine_pass, _write_back
+
+__all__ = [
+    "ESTIMATE_SAFETY",
+    "MIN_PROBES",
+    "POINTS_PER_PROBE",
+    "THIRD_ORDER_POINTS",
+    "StreamField",
+    "probe_rows",
+    "refinement_bound",
+    "stream",
+    "third_order_limit",
+]
+
+#: The adaptive streamlines accept a result where its estimated error is at most this fraction
+#: of the tolerance. The one-step prediction is a model; calibrated on the ogre (cubic material,
+#: l_max 8) with grab, twist, scale and pinch events of 0.1 ε to 0.8 ε against 64 fixed steps:
+#: max error / motion scale 2e-6 (grab of 0.2 ε) up to 9.8e-5 (grab of 0.8 ε), affine brushes
+#: below 2e-6; 0.1 refined 5x more vertices for no needed gain.
+ESTIMATE_SAFETY = 0.25
+#: Blocks per range handed to a thread (each a fraction of a millisecond of work).
+_MIN_BLOCKS = 8
+#: Fewest points an adaptive pass probes for third-order steps (below, RK4 serves them all).
+THIRD_ORDER_POINTS = 1024
+#: Points a probe stands for (at least MIN_PROBES probes): the probes cost 15 evaluations
+#: each, 3 % of the evaluation a point they can save.
+POINTS_PER_PROBE = 512
+MIN_PROBES = 256
+
+
+class StreamField(NamedTuple):
+    """The streamlines' velocity field, one record through the compiled functions (numba types
+    it as a named tuple: the attributes below in njit code, fixed at the call).
+
+    The load moves from ``center0`` by ``center_step`` over pseudo-time [0, 1]; ``coeffs``
+    (n_terms, 3) is its folded expansion of the parity ``l_first`` … ``l_last`` (rows of degree
+    l from ``base[l]``, Legendre constants ``beta``), ``tables`` the radial table of the lowest
+    degree; the degrees above it are summed in single precision when ``single`` (``coeffs32``
+    over their scale ``cscale``, ``beta32``, ``tables32``); ``angular``/``angular32`` the
+    generated angular kernels (``unrolled``/``unrolled32`` whether to call them) or the generic
+    markers; the smooth cutoff fades from ``cutoff_inner`` over 1 / ``inv_width``; ``mirrors``
+    (n_m, 3) signs of the mirror images about ``origin``.
+    """
+
+    center0: np.ndarray
+    center_step: np.ndarray
+    eps: float
+    power: int
+    l_first: int
+    l_last: int
+    base: np.ndarray
+    coeffs: np.ndarray
+    beta: np.ndarray
+    tables: np.ndarray
+    angular: Any
+    unrolled: bool
+    cutoff_inner: float
+    inv_width: float
+    mirrors: np.ndarray
+    origin: np.ndarray
+    single: bool
+    coeffs32: np.ndarray
+    beta32: np.ndarray
+    tables32: np.ndarray
+    cscale: float
+    angular32: Any
+    unrolled32: bool
+
+
+def refinement_bound(center_step: np.ndarray, motion: float, tolerance: float) -> float:
+    """ESTIMATE_SAFETY · tolerance · scale, scale the larger of |center_step| and the largest
+    motion of a first step (the same float wherever it is computed)."""
+    s0, s1, s2 = (float(v) for v in center_step)
+    return ESTIMATE_SAFETY * tolerance * max(math.sqrt(s0 * s0 + s1 * s1 + s2 * s2), motion)
+
+
+def _above(rank: np.ndarray, block_rank: np.ndarray, level: float) -> np.ndarray:
+    """The points (n,) int64, ascending, whose rank is above ``level``: looked for in the
+    blocks whose largest is (``np.flatnonzero(rank > level)`` without a pass over them all)."""
+    blocks = np.flatnonzero(block_rank > level)
+    if not len(blocks):
+        return blocks
+    points = (blocks[:, None] * BLOCK + np.arange(BLOCK)).ravel()
+    points = points[points < len(rank)]
+    above: np.ndarray = points[rank[points] > level]
+    return above
+
+
+def probe_rows(n_points: int) -> np.ndarray:
+    """The points (n,) int64 an adaptive third-order pass over ``n_points`` probes first: one
+    in :data:`POINTS_PER_PROBE` (at least :data:`MIN_PROBES`), evenly spread; none below
+    :data:`THIRD_ORDER_POINTS` points."""
+    if n_points < THIRD_ORDER_POINTS:
+        return np.zeros(0, dtype=np.int64)
+    n_probes = max(MIN_PROBES, n_points // POINTS_PER_PROBE)
+    return (2 * np.arange(n_probes, dtype=np.int64) + 1) * n_points // (2 * n_probes)
+
+
+def third_order_limit(
+    center_step: np.ndarray, tolerance: float, error: np.ndarray, spread: np.ndarray,
+    motion: np.ndarray,
+) -> float:  # fmt: skip
+    """The largest squared spread of the third-order steps kept, from the probes' findings
+    (``_probe_pass``), or -1 where the probes showed an error beyond the bound (or none was
+    made): no third-order step then."""
+    if not len(error):
+        return -1.0
+    bound = refinement_bound(center_step, math.sqrt(float(motion.max())), tolerance)
+    if not (bound > 0.0 and float(error.max()) <= bound):  # NaN: no
+        return -1.0
+    return float(spread.max())
+
+
+def stream(
+    points: np.ndarray,
+    indices: np.ndarray,
+    indexed: bool,
+    write_back: bool,
+    limit: float,
+    field: StreamField,
+    substeps: int,
+    tolerance: float,
+    third_order: bool,
+    out: np.ndarray,
+    evaluations: np.ndarray,
+) -> int:
+    """Move points along the streamlines of ``field`` (see the module docstring).
+
+    ``points`` (N_all, 3): start positions, the rows ``indices`` (N,) int64 if ``indexed``
+    (read in place, no gathered copy), written back in place with ``write_back`` and only if
+    every end position is finite. ``field``: the velocity (see ``_velocity``). ``substeps``
+    fixed RK4 steps if ``tolerance <= 0``, else adaptive steps within ``tolerance`` times the
+    motion scale, third-order ones where probes show they are enough if ``third_order``.
+    ``out`` (N, 3) gets the end positions, ``evaluations`` (N,) int64 the velocity evaluations
+    each point took (not counted if it is empty). Returns 0 when done, 1 if an index is out of
+    range, 2 if an indexed start position is not finite or beyond ``limit`` (nothing
+    integrated), 3 if an end position is not finite (nothing written back).
+    """
+    n_points = indices.shape[0] if indexed else points.shape[0]
+    if indexed and points.shape[0] == 0:
+        return 1
+    n_blocks = (n_points + BLOCK - 1) // BLOCK
+    adaptive = tolerance > 0.0
+    limit3 = -1.0
+    if adaptive and third_order:
+        probes = probe_rows(n_points)
+        found = (np.empty(len(probes)), np.empty(len(probes)), np.empty(len(probes)))
+        probe_pass = partial(_probe_pass, points, indices, indexed, limit, field, probes, *found)
+        run_ranges(probe_pass, (len(probes) + BLOCK - 1) // BLOCK, 1)
+        limit3 = third_order_limit(field.center_step, tolerance, *found)
+    rank = np.empty(n_points)
+    block_motion, block_rank = np.zeros(n_blocks), np.zeros(n_blocks)
+    problem = np.zeros(n_blocks, dtype=np.int64)
+    bad = np.zeros(n_blocks, dtype=np.bool_)
+    first_pass = partial(
+        _first_pass, points, indices, indexed, limit, 1 if adaptive else substeps, adaptive,
+        limit3 >= 0.0, max(limit3, 0.0), field, out, evaluations, rank, block_motion,
+        block_rank, problem, bad,
+    )  # fmt: skip
+    run_ranges(first_pass, n_blocks, _MIN_BLOCKS)
+    for code in (1, 2):
+        if np.any(problem == code):
+            return code
+    if adaptive:
+        bound = refinement_bound(field.center_step, float(block_motion.max(initial=0.0)), tolerance)
+        if bound > 0.0:
+            refine = _above(rank, block_rank, bound * bound * bound)
+            n_packed = (len(refine) + BLOCK - 1) // BLOCK
+            refined_bad = np.zeros(n_packed, dtype=np.bool_)
+            refine_pass = partial(
+                _refine_pass, points, indices, indexed, field, bound, refine, out, evaluations,
+                refined_bad,
+            )  # fmt: skip
+            run_ranges(refine_pass, n_packed, 1)
+            # a first step that overflowed fails the event even where refinement might not
+            if write_back and (refined_bad.any() or bad.any()):
+                return 3
+    if not write_back:
+        return 0
+    if bad.any():
+        return 3
+    run_ranges(partial(_write_back, points, indices, indexed, out), n_points, 1 << 16)
+    return 0

@@ -1,0 +1,288 @@
+"""Angular kernels generated per truncation degree (three outputs: vector and affine loads).
+
+The generic ``_expansion._angular`` runs the Legendre recurrence over scratch rows, one pass per
+(l, m): its loads and stores of those rows, not arithmetic, bound it. Here the angular sum of
+one point (paper Eq. 10 or 12 up to a given degree) is written out as straight-line code, so
+every intermediate stays in a register and LLVM vectorizes the one loop left, over points.
+
+Both compute the same thing with the same IEEE operations in the same order (nothing
+contracted into fused multiply-adds), as does the NumPy evaluation of ``_numpy_eval``, so they
+agree bit for bit and any of them may serve a call (see ``_expansion``).
+
+The sources are generated at build time: ``scripts/make_kernels.py`` writes one module per
+(parity, highest degree) with the recurrence constants as literals into the package
+``gogreen_core.field._angular`` (committed and shipped, checked fresh by
+``tests/core/field/test_generated_kernels.py``). Each defines the function ``angular`` and its
+compile ``OPTIONS``; :func:`unrolled_angular` makes it a C callback of
+``_expansion.ANGULAR_SIGNATURE`` with ``cache=True``, so numba keeps its machine code like any other
+module's: in ``__pycache__`` beside the source, or numba's own per-user cache when that is read-only
+(``NUMBA_CACHE_DIR`` overrides both). Nothing is generated or written at run time. The drivers take
+the callback as a first-class function, so only it is compiled per degree, on first use, by
+``_compiled`` (in the background, while the generic kernel serves).
+
+Rescaled recurrence: with P_l = Q_l^m / S_l, S_m = Q_m^m and S_l = a_lm S_{l-1}, the normalized
+recurrence Q_l = a_lm (z Q_{l-1} - b_lm Q_{l-2}) of ``sph.py`` becomes
+P_l = z P_{l-1} - β_lm P_{l-2} with β_lm = b_lm / a_{l-1,m}, P_m = 1 and P_{m+1} = z; the scales
+S_l are folded into the coefficients once per call (:func:`row_scales`). Per order m the degree
+sums A_k = Σ_l R_l P_l C_lmk (and B_k with the sine coefficients) are combined as
+cos mφ A_k + sin mφ B_k.
+"""
+
+from __future__ import annotations
+
+import importlib
+import threading
+from functools import lru_cache
+from types import ModuleType
+from typing import Any
+
+import numpy as np
+from numba import cfunc
+from numba.core import sigutils
+from numba.core.ccallback import CFunc
+
+from gogreen_core.field import _expansion
+from gogreen_core.physics.sph import legendre_recurrence
+
+__all__ = [
+    "GENERATED_PACKAGE",
+    "UNROLLED_L_MAX",
+    "angular_cached",
+    "angular_constants",
+    "angular_source",
+    "generated_modules",
+    "module_source",
+    "row_scales",
+    "unrolled_angular",
+]
+
+#: Highest degree for which kernels are generated; above it the generic kernel serves (the
+#: straight-line code, and its compile time, grow as l²).
+UNROLLED_L_MAX = 13
+
+
+@lru_cache(maxsize=8)
+def angular_constants(l_last: int) -> tuple[np.ndarray, np.ndarray]:
+    """(β, S), each (L+1, L+1) with L = max(l_last, 1): the rescaled recurrence constants
+    β[l, m] = b_lm / a_{l-1,m} (l ≥ m + 2) and the scales S[l, m] = Q_m^m Π_{j=m+1..l} a_jm
+    (l ≥ m), as the generated kernels have them written in (read-only arrays)."""
+    size = max(l_last, 1) + 1
+    rec = legendre_recurrence(size - 1)
+    beta = np.zeros((size, size))
+    scales = np.zeros((size, size))
+    for m in range(size):
+        scale = float(rec.qmm[m])
+        scales[m, m] = scale
+        for l in range(m + 1, size):
+            scale *= float(rec.a[l, m])
+            scales[l, m] = scale
+            if l >= m + 2:
+                beta[l, m] = float(rec.b[l, m] / rec.a[l - 1, m])
+    beta.setflags(write=False)
+    scales.setflags(write=False)
+    return beta, scales
+
+
+def row_scales(l_first: int, l_last: int) -> np.ndarray:
+    """S for each coefficient row of the parity (rows of degree l: m = -l … l), to fold into
+    the coefficients: (Σ (2l+1),)."""
+    _, scales = angular_constants(l_last)
+    return np.concatenate(
+        [[scales[l, abs(m)] for m in range(-l, l + 1)] for l in range(l_first, l_last + 1, 2)]
+    )
+
+
+def angular_source(l_first: int, l_last: int, single: bool = False) -> str:
+    """Source of the angular kernel for degrees l_first, l_first + 2, …, l_last (K = 3).
+
+    The operations of ``_expansion._angular`` (see there), unrolled; every name is assigned
+    once (numba's SSA pass is slow on reassigned names).
+
+    ``single``: the kernel ``angular_single`` of evaluation 3's streamlines, in single
+    precision (float32 rows, coefficients and recurrence constants) and without the terms of
+    degree l_first (the velocity adds them in double precision): degrees l_first + 2 … l_last,
+    rows of ``rad`` from 0, coefficient rows as in the whole parity's table.
+    """
+    beta, _ = angular_constants(l_last)
+    degrees = list(range(l_first, l_last + 1, 2))
+    base, n_terms = {}, 0
+    for l in degrees:
+        base[l] = n_terms
+        n_terms += 2 * l + 1
+    summed = degrees[1:] if single else degrees
+    name, what = ("angular_single", "single precision, ") if single else ("angular", "")
+    low = summed[0] if summed else l_first
+
+    def constant(value: float) -> str:
+        return f"F({value!r})" if single else repr(value)
+
+    doc = f"Degrees {l_first}..{l_last} step 2: acc[k, i] = Σ_lm R_l Y_lm coeffs[lm, k]."
+    if single:
+        doc = (
+            f"Degrees {low}..{l_last} step 2 ({what}coefficient rows of degrees "
+            f"{l_first}..{l_last}):\n    acc[k, i] = Σ_lm R_l Y_lm coeffs[lm, k]."
+        )
+    head = [
+        f"def {name}(nb, geo_ptr, rad_ptr, coeffs_ptr, acc_ptr):",
+        f'    """{doc}"""',
+        f"    rad = carray(rad_ptr, ({len(summed)}, BLOCK))",
+        f"    coeffs = carray(coeffs_ptr, ({n_terms}, 3))",
+        "    acc = carray(acc_ptr, (3, BLOCK))",
+    ]
+    body = ["    for i in range(nb):"]
+    if l_last >= 1:  # degree 0 alone does not depend on the direction
+        head.insert(3, "    geo = carray(geo_ptr, (8, BLOCK))")
+        body += ["        x = geo[0, i]", "        y = geo[1, i]", "        z = geo[2, i]"]
+    body += [f"        w{d} = rad[{d}, i]" for d in range(len(summed))]
+    for m in range(l_last + 1):
+        for l in range(m + 1, l_last + 1):
+            if l == m + 1:
+                chain = "z"
+            elif l == m + 2:  # P_m = 1, and β · 1 = β exactly
+                chain = f"z * p{l - 1}_{m} - {constant(float(beta[l, m]))}"
+            else:
+                chain = f"z * p{l - 1}_{m} - {constant(float(beta[l, m]))} * p{l - 2}_{m}"
+            body.append(f"        p{l}_{m} = {chain}")
+        terms = [l for l in summed if l >= m]
+        parts = (("a", 1),) if m == 0 else (("a", 1), ("b", -1))
+        for n, l in enumerate(terms):
+            d = summed.index(l)
+            body.append(f"        t{l}_{m} = " + (f"w{d}" if l == m else f"w{d} * p{l}_{m}"))
+            for k in range(3):
+                for part, sign in parts:
+                    coeff = f"{part}c{l}_{m}_{k}"
+                    head.append(f"    {coeff} = coeffs[{base[l] + l + sign * m}, {k}]")
+                    value = (
+                        f"{part}{m}_{k}_{n - 1} + t{l}_{m} * {coeff}"
+                        if n
+                        else f"t{l}_{m} * {coeff}"
+                    )
+                    body.append(f"        {part}{m}_{k}_{n} = {value}")
+        last = len(terms) - 1
+        if m == 1:
+            body += ["        cm1 = x", "        sm1 = y"]
+        elif m > 1:
+            body.append(f"        cm{m} = cm{m - 1} * x - sm{m - 1} * y")
+            body.append(f"        sm{m} = cm{m - 1} * y + sm{m - 1} * x")
+        for k in range(3):
+            total = (
+                f"a0_{k}_{last}"
+                if m == 0
+                else f"(u{k}_{m - 1} + cm{m} * a{m}_{k}_{last}) + sm{m} * b{m}_{k}_{last}"
+            )
+            body.append(f"        u{k}_{m} = {total}")
+    body += [f"        acc[{k}, i] = u{k}_{l_last}" for k in range(3)]
+    return "\n".join(head + body) + "\n"
+
+
+#: Package holding the generated kernel modules (written by ``scripts/make_kernels.py``).
+GENERATED_PACKAGE = f"{__name__.rpartition('.')[0]}._angular"  # beside this module
+
+
+def _module_name(l_first: int, l_last: int) -> str:
+    return f"degrees_{l_first}_{l_last}"
+
+
+def generated_modules() -> dict[str, str]:
+    """Module name → source text of every generated kernel: each parity (first degree 0 or 1)
+    with each highest degree up to :data:`UNROLLED_L_MAX`."""
+    return {
+        _module_name(l_first, l_last): module_source(l_first, l_last)
+        for l_first in (0, 1)
+        for l_last in range(l_first, UNROLLED_L_MAX + 1, 2)
+    }
+
+
+def module_source(l_first: int, l_last: int) -> str:
+    """Text of the generated module for degrees l_first, l_first + 2, …, l_last: ``angular``,
+    and where the parity has more than one degree ``angular_single`` (see
+    :func:`angular_source`).
+
+    The block size and compile options of ``_expansion`` are written in as literals, so the
+    module's text (which numba's disk cache follows) changes whenever they do, and the freshness
+    test catches a module not regenerated since.
+    """
+    # options are bools and strings: their repr with double quotes is what ruff format writes
+    options = ", ".join(f"{k}={v!r}".replace("'", '"') for k, v in _CALLBACK_OPTIONS.items())
+    single = l_last > l_first
+    return (
+        f'"""Angular kernels for degrees {l_first}..{l_last} step 2. Generated by '
+        f'scripts/make_kernels.py\nfrom {__name__}.angular_source: do not edit."""\n\n'
+        "from numba import carray\n"
+        + ("from numpy import float32 as F\n" if single else "")
+        + f"\nBLOCK = {_expansion.BLOCK}\n"
+        f"#: Options of the C callbacks {__name__} makes of the kernels.\n"
+        f"OPTIONS = dict({options})\n\n\n"
+        + angular_source(l_first, l_last)
+        + ("\n\n" + angular_source(l_first, l_last, single=True) if single else "")
+    )
+
+
+#: Compile options of the generated C callbacks: those of the drivers (no fastmath); cached.
+_CALLBACK_OPTIONS = {
+    k: v for k, v in _expansion._JIT.items() if k in ("boundscheck", "error_model")
+}
+
+
+#: Compiled kernels by (l_first, l_last, single).
+_KERNELS: dict[tuple[int, int, bool], CFunc[Any]] = {}
+#: Held while a generated kernel is compiled (or loaded); never while only looking one up.
+_COMPILE_LOCK = threading.Lock()
+
+
+def _check(l_first: int, l_last: int, single: bool = False) -> tuple[int, int]:
+    if not (l_first in (0, 1) and l_first <= l_last <= UNROLLED_L_MAX and l_last % 2 == l_first):
+        raise ValueError(
+            f"no generated angular kernel for degrees {l_first}..{l_last} "
+            f"(first degree 0 or 1, last of the same parity, at most {UNROLLED_L_MAX})"
+        )
+    if single and l_last == l_first:
+        raise ValueError(f"no single precision angular kernel for degree {l_first} alone")
+    return l_first, l_last
+
+
+def _module(key: tuple[int, int]) -> ModuleType:
+    return importlib.import_module(f"{GENERATED_PACKAGE}.{_module_name(*key)}")
+
+
+def _callback(module: ModuleType, single: bool) -> tuple[Any, Any]:
+    """(the module's kernel function, its C signature)."""
+    if single:
+        return module.angular_single, _expansion.ANGULAR_SINGLE_SIGNATURE
+    return module.angular, _expansion.ANGULAR_SIGNATURE
+
+
+def unrolled_angular(l_first: int, l_last: int, single: bool = False) -> CFunc[Any]:
+    """The compiled angular kernel (a numba cfunc) for one parity and highest degree, in double
+    precision or (``single``) evaluation 3's single precision one.
+
+    Compiles it on first use, or loads it from numba's disk cache (seconds the first time on
+    a machine, then milliseconds); thread safe. ``_compiled`` calls it off the evaluating
+    threads.
+    """
+    key = (*_check(l_first, l_last, single), single)
+    kernel = _KERNELS.get(key)
+    if kernel is None:
+        with _COMPILE_LOCK:
+            kernel = _KERNELS.get(key)
+            if kernel is None:
+                module = _module(key[:2])
+                function, signature = _callback(module, single)
+                make = cfunc(signature, cache=True, **module.OPTIONS)
+                kernel = _KERNELS[key] = make(function)
+    return kernel
+
+
+def angular_cached(l_first: int, l_last: int, single: bool = False) -> bool:
+    """Whether numba's disk cache holds the compiled kernel (nothing is compiled). Uses
+    numba's cache of C callbacks directly (``CFunc._cache``, not public API)."""
+    key = (*_check(l_first, l_last, single), single)
+    if key in _KERNELS:
+        return True
+    module = _module(key[:2])
+    function, signature = _callback(module, single)
+    signature = sigutils.normalize_signature(signature)
+    callback: Any = CFunc(function, signature, {}, module.OPTIONS)
+    callback.enable_caching()
+    context = callback._targetdescr.target_context
+    return callback._cache.load_overload(callback._sig, context) is not None

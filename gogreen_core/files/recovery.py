@@ -1,0 +1,525 @@
+"""Crash recovery: list the journals :mod:`gogreen_core.files.journal` leaves behind after an
+unclean exit, and rebuild a document from one (bit for bit the state after its last complete
+record).
+
+    journals = list_journals()                 # newest first; in_use: a running app writes it
+    recovery = recover(journals[0].directory)  # locks it, replays it
+    recovery.mesh, recovery.sculptor           # the mesh as it was, a sculptor to go on with
+
+How: the journal's start (its base copy and start state) or one of its checkpoints, then the
+records after it replayed (:func:`gogreen_core.sculpt.session.replay`, one record at a time).
+Recovery starts from the oldest checkpoint whose replay fits :data:`RECOVERY_WORK` (estimated from
+the mouse events to replay × the vertices), so the recovered undo history (the replayed records)
+is as deep as that budget allows and recovery stays within about 1 to 2 s here; a
+checkpoint whose later records undo past it (``d``, the undo steps done, disagrees) is skipped
+for an older one, down to the start, which always replays.
+
+Damage is never fatal: every complete record before it is kept and the notes say what was
+dropped: a record cut off by the crash or corrupt (checksum), an operation this version cannot
+read (a newer version's journal), a checkpoint cut short or corrupt (an older one, or the start,
+is used), a missing base copy (the document's own file is used if it still has the same
+vertices, its faces otherwise with a checkpoint).
+
+``gogreen recover`` (:mod:`gogreen_core.interaction.batch`) does it from the command line.
+"""
+
+from __future__ import annotations
+
+import collections
+import contextlib
+import os
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any, cast
+
+import numpy as np
+
+from gogreen_core.files.journal_format import (
+    JOURNAL_FILE,
+    THUMBNAIL_FILE,
+    JournalContents,
+    JournalError,
+    JournalLock,
+    Record,
+    lock_owner,
+    read_journal,
+    recovery_root,
+    vertex_hash,
+)
+from gogreen_core.mesh.mesh_io import MeshData, load_mesh
+from gogreen_core.sculpt.checkpoint import CheckpointError, SculptState, read_checkpoint
+from gogreen_core.sculpt.operations import Operation
+from gogreen_core.sculpt.sculptor import Sculptor, restore_state
+from gogreen_core.sculpt.session import SESSION_FORMAT, SESSION_VERSION, replay
+
+__all__ = [
+    "RECOVERY_WORK",
+    "JournalContents",
+    "JournalError",
+    "JournalInfo",
+    "Recovery",
+    "discard",
+    "find_journal",
+    "journal_session",
+    "list_journals",
+    "read_journal",
+    "recover",
+]
+
+#: Most replay work (:func:`~gogreen_core.files.journal.replay_work`) recovery replays when it can
+#: choose: about 1 s on this project's test machine, 2 s on a busy one.
+RECOVERY_WORK = 3e7
+#: Names of the operations in summaries (singular, plural).
+_KINDS = {
+    "stroke": ("stroke", "strokes"),
+    "constraint_add": ("pin edit", "pin edits"),
+    "constraint_remove": ("pin edit", "pin edits"),
+    "constraints_clear": ("pin edit", "pin edits"),
+    "constraint_drag": ("pin drag", "pin drags"),
+    "material": ("settings change", "settings changes"),
+    "falloff": ("settings change", "settings changes"),
+    "constraint_radius": ("settings change", "settings changes"),
+    "undo": ("undo", "undos"),
+    "redo": ("redo", "redos"),
+}
+
+
+# -- listing ---------------------------------------------------------------------------------
+@dataclass
+class JournalInfo:
+    """A journal as the recovery dialog and ``gogreen recover --list`` show it."""
+
+    directory: Path
+    title: str
+    document: str | None
+    created: float
+    modified: float
+    operations: int
+    kinds: dict[str, int]
+    vertices: int
+    faces: int
+    in_use: bool
+    owner: dict[str, Any]
+    notes: list[str]
+    size: int
+    thumbnail: Path | None
+    readable: bool = True
+
+    @property
+    def id(self) -> str:
+        return self.directory.name
+
+    def summary(self) -> str:
+        """``"20 strokes, 2 pin edits, 1 undo"`` (or ``"no operations"``)."""
+        counts: dict[str, int] = collections.Counter()
+        names: dict[str, str] = {}
+        for op, count in self.kinds.items():
+            one, many = _KINDS.get(op, (op, op + "s"))
+            counts[one] += count
+            names[one] = many
+        parts = [f"{c} {one if c == 1 else names[one]}" for one, c in counts.items()]
+        return ", ".join(parts) or "no operations"
+
+    def status(self) -> str:
+        """Who holds it or what is wrong with it ("" when nothing)."""
+        if self.in_use:
+            who = self.owner
+            process = f"process {who['pid']}" if "pid" in who else "another process"
+            host = f" on {who['host']}" if who.get("host") else ""
+            return f"in use by a running GoGreen Sculpt ({process}{host})"
+        return "; ".join(self.notes)
+
+
+def journal_info(directory: str | os.PathLike[str]) -> JournalInfo:
+    """What :func:`list_journals` shows of one journal folder (never raises)."""
+    directory = Path(directory)
+    lock = None
+    try:
+        lock = JournalLock.acquire(directory)
+    except OSError:
+        pass
+    in_use = lock is None
+    if lock is not None:
+        lock.release()
+    size = 0
+    with contextlib.suppress(OSError):  # another app may be removing it right now
+        size = sum(p.stat().st_size for p in directory.iterdir() if p.is_file())
+    thumbnail_path = directory / THUMBNAIL_FILE
+    thumbnail = thumbnail_path if thumbnail_path.is_file() else None
+    try:
+        contents = read_journal(directory, validate=False)
+    except JournalError as exc:
+        mtime = directory.stat().st_mtime if directory.exists() else 0.0
+        return JournalInfo(
+            directory, directory.name, None, mtime, mtime, 0, {}, 0, 0, in_use,
+            lock_owner(directory), [str(exc)], size, thumbnail, readable=False,
+        )  # fmt: skip
+    header = contents.header
+    document = header.get("document") or {}
+    kinds = collections.Counter(op.get("op", "?") for op in contents.operations)
+    return JournalInfo(
+        directory,
+        str(document.get("title") or directory.name),
+        document.get("path"),
+        float(header.get("created", 0)),
+        contents.modified,
+        len(contents.operations),
+        dict(kinds),
+        header["mesh"]["vertices"],
+        header["mesh"]["faces"],
+        in_use,
+        lock_owner(directory),
+        contents.notes,
+        size,
+        thumbnail,
+    )
+
+
+def list_journals(root: str | os.PathLike[str] | None = None) -> list[JournalInfo]:
+    """The journals under ``root`` (:func:`~gogreen_core.files.journal.recovery_root`), last changed
+    first, the ones running apps write included (``in_use``). Folders a crash left half-made
+    are deleted."""
+    root = Path(root) if root is not None else recovery_root()
+    if not root.is_dir():
+        return []
+    infos = []
+    for folder in root.iterdir():
+        if not folder.is_dir():
+            continue
+        if folder.name.startswith(".new-"):  # a crash while a journal was being created
+            with contextlib.suppress(OSError):
+                lock = JournalLock.acquire(folder)
+                if lock is not None and time.time() - folder.stat().st_mtime > 60:
+                    lock.remove()
+                elif lock is not None:
+                    lock.release()
+            continue
+        if not folder.name.startswith(".") and folder.is_dir():
+            infos.append(journal_info(folder))
+    return sorted(infos, key=lambda info: info.modified, reverse=True)
+
+
+def find_journal(name: str, root: str | os.PathLike[str] | None = None) -> Path:
+    """The journal folder called ``name`` (or the only one starting with it, or a path to
+    one); :class:`JournalError` naming the candidates otherwise."""
+    root = Path(root) if root is not None else recovery_root()
+    if os.sep in name and (Path(name) / JOURNAL_FILE).is_file():
+        return Path(name)
+    if (root / name / JOURNAL_FILE).is_file():
+        return root / name
+    matches = sorted(p for p in root.glob(f"{name}*") if (p / JOURNAL_FILE).is_file())
+    if len(matches) == 1:
+        return matches[0]
+    if not matches:
+        raise JournalError(f"no journal {name!r} in {root} (`gogreen recover --list`)")
+    raise JournalError(f"{name!r} names several journals: {', '.join(p.name for p in matches)}")
+
+
+def discard(directory: str | os.PathLike[str]) -> None:
+    """Delete a journal (not one a running app writes: :class:`JournalError`)."""
+    directory = Path(directory)
+    lock = _lock(directory)
+    lock.remove()
+
+
+def _lock(directory: Path) -> JournalLock:
+    try:
+        lock = JournalLock.acquire(directory)
+    except OSError as exc:
+        raise JournalError(f"{directory.name}: cannot open ({exc.strerror})") from None
+    if lock is None:
+        info = journal_info(directory)
+        raise JournalError(f"{directory.name}: {info.status()}")
+    return lock
+
+
+# -- recovering ------------------------------------------------------------------------------
+@dataclass
+class Recovery:
+    """A recovered journal: ``mesh`` (the document's mesh with the recovered vertices),
+    ``sculptor`` (continues bit for bit; its undo history holds the ``replayed`` records),
+    ``records`` and ``operations`` recovered, ``start`` (0: the journal's start, k: the
+    checkpoint after record k), ``notes`` (what was dropped), and the journal's ``lock``
+    (held until :meth:`release`, or handed to the journal that continues it)."""
+
+    contents: JournalContents
+    mesh: MeshData
+    sculptor: Sculptor
+    records: int
+    replayed: int
+    start: int
+    notes: list[str]
+    lock: JournalLock | None
+    seconds: float = 0.0
+
+    @property
+    def operations(self) -> int:
+        return len(self.contents.operations)
+
+    @property
+    def title(self) -> str:
+        document = self.contents.header.get("document") or {}
+        return str(document.get("title") or self.contents.directory.name)
+
+    @property
+    def document(self) -> str | None:
+        return (self.contents.header.get("document") or {}).get("path")
+
+    def session(self) -> dict[str, Any]:
+        """The session of the recovered records (:func:`journal_session`)."""
+        return journal_session(self.contents)
+
+    def release(self) -> None:
+        if self.lock is not None:
+            self.lock.release()
+            self.lock = None
+
+
+def journal_session(contents: JournalContents) -> dict[str, Any]:
+    """The journal's complete records as a session file (README, "Session files") starting
+    from the journal's start mesh; pins the journal started with come first as
+    ``constraint_add`` operations."""
+    header = contents.header
+    start = header["start"]
+    pins = start.get("pins")
+    adds = [{"op": "constraint_add", "point": p} for p in (pins or {}).get("points", [])]
+    mesh = header["mesh"]
+    return {
+        "format": SESSION_FORMAT,
+        "version": SESSION_VERSION,  # (an older journal's records upgraded as read)
+        "mesh": {"vertices": mesh["vertices"], "faces": mesh["faces"], "sha256": mesh["sha256"]},
+        "settings": start["settings"],
+        "operations": adds + contents.operations,
+    }
+
+
+def _start_state(header: dict[str, Any], base: MeshData, mask: np.ndarray | None) -> SculptState:
+    """The journal's start state: its header's settings and pins, the base copy's vertices,
+    faces, UVs and mask."""
+    start = header["start"]
+    pins = start.get("pins")
+    arrays = [base.vertices.copy()]
+    if pins is not None:
+        arrays += [np.array(pins[key], dtype=np.float64) for key in ("points", "matrix", "inverse")]
+    if start.get("mask"):
+        if mask is None or mask.shape != (len(base.vertices),):
+            raise CheckpointError("the start's mask is missing from the copy of the start mesh")
+        arrays.append(np.array(mask, dtype=np.float64))
+    head = {**start, "pins": None if pins is None else len(pins["points"])}
+    if start.get("faces") is not None:  # the base copy's faces: no second copy of them
+        head["faces"] = head["uv"] = None
+    return SculptState.from_header(head, arrays)
+
+
+def _load_base(
+    contents: JournalContents, notes: list[str]
+) -> tuple[MeshData | None, bool, np.ndarray | None]:
+    """The journal's start mesh, whether its vertices are the start's (False: only the faces
+    of the document's file could be had, for use with a checkpoint), and the start's mask
+    (None when nothing was masked, or the copy is missing)."""
+    header = contents.header
+    mesh = header["mesh"]
+    name = mesh["base"]
+    document = (header.get("document") or {}).get("path")
+    try:
+        with np.load(contents.directory / name, allow_pickle=False) as arrays:
+            data = {key: arrays[key] for key in arrays.files}
+        base = MeshData(
+            vertices=data["vertices"],
+            faces=data["faces"].astype(np.int64),
+            uv=data.get("uv"),
+            uv_faces=None if "uv_faces" not in data else data["uv_faces"].astype(np.int64),
+            source=document,
+        )
+        problem = _base_mismatch(base, mesh)
+    except FileNotFoundError:
+        problem = "is missing"
+    except Exception as exc:  # a zip cut short, a bad CRC, missing arrays
+        problem = f"is unreadable ({exc})"
+    if problem is None:
+        return base, True, data.get("mask")
+    note = f"the copy of the start mesh ({name}) {problem}"
+    if document:
+        try:
+            mesh_file = load_mesh(document)
+        except (ValueError, OSError) as exc:
+            notes.append(f"{note}, and the document's file cannot be read ({exc})")
+            return None, False, None
+        if _base_mismatch(mesh_file, mesh) is None:
+            notes.append(f"{note}: the document's file {document} has the same mesh and was used")
+            return mesh_file, True, None
+        if len(mesh_file.vertices) == mesh["vertices"] and len(mesh_file.faces) == mesh["faces"]:
+            notes.append(
+                f"{note}, and {document} changed since: only a checkpoint can be recovered, on "
+                "the file's faces"
+            )
+            return mesh_file, False, None
+        notes.append(f"{note}, and {document} is another mesh now")
+        return None, False, None
+    notes.append(note)
+    return None, False, None
+
+
+def _base_mismatch(base: MeshData, mesh: dict[str, Any]) -> str | None:
+    if len(base.vertices) != mesh["vertices"] or len(base.faces) != mesh["faces"]:
+        return (
+            f"has {len(base.vertices)} vertices and {len(base.faces)} faces, not "
+            f"{mesh['vertices']} and {mesh['faces']}"
+        )
+    if vertex_hash(base.vertices) != mesh["sha256"]:
+        return "has other vertices (hash mismatch)"
+    return None
+
+
+def _checkpoints(contents: JournalContents) -> list[tuple[int, Path]]:
+    """(record, path) of the checkpoints that could apply, newest first."""
+    last = len(contents.records)
+    found = []
+    for path in contents.directory.glob("checkpoint-*.bin"):
+        with contextlib.suppress(ValueError):
+            seq = int(path.stem.split("-", 1)[1])
+            if 0 < seq <= last:
+                found.append((seq, path))
+    return sorted(found, reverse=True)
+
+
+def _plan(records: list[Record]) -> list[Record]:
+    """The records to apply: of a run of ``replace`` records only the last (each merges into
+    the same operation)."""
+    plan: list[Record] = []
+    for record in records:
+        if record.kind == "replace" and plan and plan[-1].kind == "replace":
+            plan[-1] = record
+        else:
+            plan.append(record)
+    return plan
+
+
+class _Diverged(Exception):
+    """A replay from a checkpoint undid something from before it."""
+
+
+def _replay(
+    sculptor: Sculptor,
+    records: list[Record],
+    done: int,
+    progress: Callable[[int, int], None] | None,
+) -> tuple[int, str | None]:
+    """Apply ``records`` to ``sculptor`` (whose ``history.done`` stands for ``done``); returns
+    how many were applied and the error that stopped it (None). Raises :class:`_Diverged`.
+    ``progress(done, total)`` in mouse events."""
+    offset = done - sculptor.history.done
+    total = sum(r.steps for r in records)
+    steps = applied = 0
+    for record in _plan(records):
+        op = cast(Operation, record.op)  # (the records were read with validation)
+        if record.kind == "replace" and hasattr(op, "continued"):
+            op = replace(cast(Any, op), continued=True)  # merges into the last step, as it did
+        try:
+            replay(sculptor, [op])  # one record at a time: a failure undoes that record alone
+        except (ValueError, RuntimeError) as exc:
+            return applied, f"record {record.seq} ({record.data.get('op')}) failed: {exc}"
+        if sculptor.history.done + offset != record.d:
+            raise _Diverged(record.seq)
+        applied = record.seq - records[0].seq + 1
+        steps += record.steps
+        if progress:
+            progress(steps, total)
+    return applied, None
+
+
+def recover(
+    directory: str | os.PathLike[str],
+    *,
+    budget: float = RECOVERY_WORK,
+    progress: Callable[[int, int], None] | None = None,
+    lock: bool = True,
+) -> Recovery:
+    """Rebuild the document a journal was recording (see the module docstring).
+
+    ``budget``: most replay work when a checkpoint allows less (mouse events × vertices:
+    :func:`~gogreen_core.files.journal.replay_work`; 0 always starts from the newest usable
+    checkpoint, ``inf`` from the start).
+    ``progress(done, total)`` in mouse events. The journal stays locked by the returned
+    :class:`Recovery` (``lock=False``: not locked, for reading a copy).
+    :class:`JournalError` when nothing can be recovered or a running app holds it.
+    """
+    began = time.perf_counter()
+    directory = Path(directory)
+    held = _lock(directory) if lock else None
+    try:
+        contents = read_journal(directory)
+        notes = list(contents.notes)
+        base, exact, mask = _load_base(contents, notes)
+        if base is None:
+            raise JournalError(
+                f"{directory.name}: nothing to rebuild the mesh from ({notes[-1]}); "
+                "`gogreen recover ID --session OUT.json` still writes its operations"
+            )
+        records = contents.records
+        vertices = contents.header["mesh"]["vertices"]
+        cost = np.cumsum([0] + [r.work(vertices) for r in reversed(records)])[::-1]
+        starts: list[tuple[int, Path | None]] = [(0, None)] if exact else []
+        starts += _checkpoints(contents)
+        fits = sorted(s for s in starts if cost[s[0]] <= budget)
+        order = fits + sorted((s for s in starts if cost[s[0]] > budget), reverse=True)
+        best = None
+        for seq, path in order:
+            try:
+                state, done = _state_at(contents, base, mask, seq, path)
+            except CheckpointError as exc:
+                notes.append(f"checkpoint after record {seq} not used: {exc}")
+                continue
+            sculptor = restore_state(state, base.faces, base.uv, base.uv_faces)
+            tail = records[seq:]
+            try:
+                applied, error = _replay(sculptor, tail, done, progress)
+            except _Diverged:
+                continue  # undoes past this checkpoint: an older start replays it right
+            result = (seq + applied, seq, sculptor, applied, error)
+            if best is None or result[0] > best[0]:
+                best = result
+            if error is None:
+                break
+        if best is None:
+            raise JournalError(f"{directory.name}: no usable start ({'; '.join(notes)})")
+        kept, seq, sculptor, replayed, error = best
+        if error is not None:
+            rest = len(records) - kept - 1
+            what = f"it and the {rest} after it were" if rest else "it was"
+            notes.append(f"{error}: {what} dropped")
+            contents.records = records[:kept]
+        now = sculptor.mesh  # a subdivision replayed: its faces and UVs
+        document = (contents.header.get("document") or {}).get("path")
+        mesh = MeshData(now.vertices, now.faces, now.uv, now.uv_faces, source=document)
+        return Recovery(
+            contents, mesh, sculptor, kept, replayed, seq, notes, held,
+            time.perf_counter() - began,
+        )  # fmt: skip
+    except BaseException:
+        if held is not None:
+            held.release()
+        raise
+
+
+def _state_at(
+    contents: JournalContents,
+    base: MeshData,
+    mask: np.ndarray | None,
+    seq: int,
+    path: Path | None,
+) -> tuple[SculptState, int]:
+    """The state to replay from (the start or a checkpoint) and its undo steps done."""
+    header = contents.header
+    if path is None:
+        return _start_state(header, base, mask), int(header["start"].get("done", 0))
+    state, meta = read_checkpoint(path)
+    if meta.get("token") != header.get("token") or meta.get("seq") != seq:
+        raise CheckpointError(f"{path.name}: belongs to an older journal in this folder")
+    if state.faces is None and len(state.vertices) != header["mesh"]["vertices"]:
+        raise CheckpointError(f"{path.name}: has {len(state.vertices)} vertices")
+    if state.faces is not None and state.faces.size and state.faces.max() >= len(state.vertices):
+        raise CheckpointError(f"{path.name}: its faces name vertices it does not have")
+    return state, int(meta.get("done", 0))

@@ -1,0 +1,456 @@
+"""Headless command line: ``gogreen replay``, ``gogreen deform``, ``gogreen truncation`` and
+``gogreen recover`` (no Qt imported).
+
+    gogreen replay SESSION.json IN -o OUT
+    gogreen deform IN -o OUT --brush grab --center X Y Z --delta DX DY DZ [--radius R] ...
+    gogreen truncation [--material FILE | --young E --poisson NU] [--l-max L] [--max-degree D]
+    gogreen recover --list | ID [-o OUT] [--session OUT.json] [--discard]
+
+They print a progress bar on stderr and exit with status 2 and a one-line message naming the
+problem on bad input (a broken file, an inadmissible material, a zero radius, a journal in use);
+the output file is written atomically, so a failure never leaves a half-written or clobbered
+file.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from dataclasses import dataclass
+from datetime import datetime
+from pathlib import Path
+from types import TracebackType
+from typing import Literal, TextIO
+
+import numpy as np
+
+from gogreen_core.field.truncation import truncation_errors
+from gogreen_core.files.journal import recovery_root
+from gogreen_core.files.recovery import (
+    discard,
+    find_journal,
+    journal_session,
+    list_journals,
+    read_journal,
+    recover,
+)
+from gogreen_core.mesh.mesh_io import MeshData, load_mesh, save_mesh, write_text_atomic
+from gogreen_core.physics.material import Material
+from gogreen_core.physics.radial import GaussianRadial, KelvinletRadial, RadialProfile
+from gogreen_core.sculpt.brushes import (
+    BRUSH_KINDS,
+    DEFAULT_INFLUENCE,
+    MAX_AMOUNT,
+    Brush,
+    BrushEvent,
+)
+from gogreen_core.sculpt.operations import MAX_EVENTS
+from gogreen_core.sculpt.schema import parse_falloff, parse_l_max, parse_material, read_json
+from gogreen_core.sculpt.sculptor import Sculptor
+from gogreen_core.sculpt.session import load_session
+from gogreen_core.validation import (
+    ParameterError,
+    check_integer,
+    check_number,
+    check_vector,
+    prefixed,
+)
+
+__all__ = ["BATCH_COMMANDS", "main"]
+
+BATCH_COMMANDS = ("replay", "deform", "truncation", "recover")
+
+
+class ProgressBar:
+    """A text progress bar on a stream (redrawn in place on a terminal, else every 10%)."""
+
+    def __init__(self, label: str, stream: TextIO | None = None, width: int = 30) -> None:
+        self.label, self.width = label, width
+        self.stream = sys.stderr if stream is None else stream
+        self.start = time.perf_counter()
+        self._last_decile = -1
+
+    def __call__(self, done: int, total: int) -> None:
+        fraction = done / total if total else 1.0
+        filled = round(self.width * fraction)
+        text = (
+            f"{self.label} [{'#' * filled}{'.' * (self.width - filled)}] {done}/{total} "
+            f"{time.perf_counter() - self.start:.1f} s"
+        )
+        if self.stream.isatty():
+            self.stream.write("\r" + text + ("\n" if done >= total else ""))
+        elif int(10 * fraction) != self._last_decile:
+            self._last_decile = int(10 * fraction)
+            self.stream.write(text + "\n")
+        self.stream.flush()
+
+
+def _save(mesh: MeshData, sculptor: Sculptor, path: str) -> None:
+    """The sculptor's mesh (its faces and UVs too: a subdivision changes them) to ``path``.
+
+    ``mesh`` is the file the command read: whatever it holds besides the positions (texture
+    coordinates per corner) must reach the output, so a sculptor made without them is a bug
+    here, refused rather than written without them."""
+    now = sculptor.mesh
+    if mesh.uv is not None and now.uv is None:
+        raise RuntimeError("internal error: the texture coordinates of the input were dropped")
+    save_mesh(MeshData(now.vertices, now.faces, now.uv, now.uv_faces, mesh.source), path)
+
+
+def _replay(args: argparse.Namespace) -> int:
+    session = load_session(args.session)  # every field checked before the mesh is read
+    mesh = load_mesh(args.input)
+    sculptor = Sculptor.from_session(session, mesh.vertices, mesh.faces, mesh.uv, mesh.uv_faces)
+    if session.sha256 is not None and session.sha256 != sculptor.session()["mesh"]["sha256"]:
+        print(
+            f"gogreen: warning: {args.input} differs from the mesh the session was recorded on",
+            file=sys.stderr,
+        )
+    try:
+        sculptor.replay(session, ProgressBar("replay") if not args.quiet else None)
+    except ParameterError as exc:  # found while applying (a pin index that does not exist)
+        name = Path(args.session).name
+        raise ParameterError(exc.parameter, f"{name}: {exc}") from None
+    _save(mesh, sculptor, args.output)
+    return 0
+
+
+def _read_json(path: str, option: str) -> object:
+    """The JSON value in file ``path`` given to ``option``; ValueError naming both."""
+    try:
+        return read_json(path)
+    except ValueError as exc:
+        raise ValueError(f"{option} {exc}") from None
+
+
+def _section(data: object, key: str) -> tuple[object, str]:
+    """A preset's ``key`` section, or ``data`` itself (a bare material / falloff file)."""
+    if isinstance(data, dict) and key in data and data.get("format") == "gogreen-preset":
+        return data[key], key
+    return data, ""
+
+
+def _material(args: argparse.Namespace) -> Material:
+    if args.material:
+        data, path = _section(_read_json(args.material, "--material"), "material")
+        with prefixed("--material"):
+            return parse_material(data, path)
+    with prefixed("--young/--poisson"):
+        return Material.isotropic(args.young, args.poisson)
+
+
+def _falloff(name: str) -> RadialProfile:
+    if name == "gaussian":
+        return GaussianRadial(1.0)
+    if name == "kelvinlet":
+        return KelvinletRadial(1.0)
+    data, path = _section(_read_json(name, "--falloff"), "falloff")
+    with prefixed("--falloff"):
+        return parse_falloff(data, path)
+
+
+@dataclass(frozen=True)
+class _DeformOptions:
+    """The options of ``gogreen deform``, each checked under its own name."""
+
+    material: Material
+    falloff: RadialProfile
+    l_max: int
+    brush: Brush
+    center: np.ndarray
+    delta: np.ndarray
+    amount: float
+    axis: np.ndarray | None
+    direction: np.ndarray | None
+    events: int
+
+
+def _deform_options(args: argparse.Namespace) -> _DeformOptions:
+    """Every option of ``gogreen deform`` checked before anything is computed from it;
+    ValueError (a ParameterError naming the option) for a bad one."""
+    material, falloff = _material(args), _falloff(args.falloff)
+    l_max = parse_l_max(args.l_max, "--l-max")
+    with _option_names():
+        brush = Brush(
+            kind=args.brush,
+            radius=args.radius,
+            strength=args.strength,
+            substeps=args.substeps,
+            influence=args.influence,
+            symmetry=args.symmetry,
+        )
+    center = check_vector("--center", args.center)
+    delta = check_vector("--delta", args.delta)
+    amount = check_number("--amount", args.amount, low=-MAX_AMOUNT, high=MAX_AMOUNT)
+    axis = None if args.axis is None else check_vector("--axis", args.axis)
+    direction = None if args.direction is None else check_vector("--direction", args.direction)
+    events = check_integer("--events", args.events, low=1, high=MAX_EVENTS)
+    paint = brush.type.family == "paint"  # smooth, mask: --amount is each event's pressure
+    if (brush.is_affine or paint) and amount == 0:
+        raise ParameterError("--amount", f"the {brush.kind} brush needs --amount (nonzero)")
+    if not (brush.is_affine or paint) and not np.any(delta):
+        raise ParameterError("--delta", f"the {brush.kind} brush needs --delta (nonzero)")
+    return _DeformOptions(
+        material, falloff, l_max, brush, center, delta, amount, axis, direction, events
+    )
+
+
+def _deform(args: argparse.Namespace) -> int:
+    mesh = load_mesh(args.input)
+    options = _deform_options(args)
+    sculptor = Sculptor(
+        mesh.vertices,
+        mesh.faces,
+        uv=mesh.uv,
+        uv_faces=mesh.uv_faces,
+        material=options.material,
+        l_max=options.l_max,
+        falloff=options.falloff,
+    )
+    brush, events, center = options.brush, options.events, options.center
+    paint = brush.type.family == "paint"
+    # The drag is split into equal events, as mouse events of one stroke.
+    step = options.delta / events
+    progress = None if args.quiet else ProgressBar("deform")
+    sculptor.begin_stroke(brush)
+    try:
+        for k in range(events):
+            with _option_names():
+                event = BrushEvent(
+                    center=center + k * step,
+                    delta=step,
+                    amount=options.amount if paint else options.amount / events,
+                    axis=options.axis,
+                    direction=options.direction,
+                )
+                sculptor.stroke_event(event)
+            if progress:
+                progress(k + 1, events)
+    except Exception:
+        sculptor.cancel_stroke()
+        raise
+    sculptor.end_stroke()
+    _save(mesh, sculptor, args.output)
+    if args.session_out:
+        write_text_atomic(args.session_out, json.dumps(sculptor.session(), indent=1))
+    return 0
+
+
+def _truncation(args: argparse.Namespace) -> int:
+    """Print δ(l_max) of the material, one line per even l_max, then the summary."""
+    material = _material(args)
+    l_max = parse_l_max(args.l_max, "--l-max")
+    max_degree = check_integer("--max-degree", args.max_degree, low=0, high=44)
+    progress = None if args.quiet else ProgressBar("truncation")
+    report = truncation_errors(material, max_degree, progress=progress)
+    print("relative error of the Green's function within 6 ε, by l_max:")
+    print(report.table())
+    print(report.summary(l_max))
+    return 0
+
+
+def _recover(args: argparse.Namespace) -> int:
+    root = recovery_root()
+    if args.list:
+        _print_journals(root)
+        return 0
+    if not args.journal:
+        raise ValueError("name a journal (see --list), or give --list")
+    if not (args.output or args.session or args.discard):
+        raise ValueError("say what to do: -o OUT.obj, --session OUT.json and/or --discard")
+    directory = find_journal(args.journal, root)
+    if args.output or args.session:
+        _write_recovered(directory, args)
+    if args.discard:
+        discard(directory)
+        print(f"discarded {directory.name}", file=sys.stderr)
+    else:
+        print(
+            f"the journal stays in {directory} (`gogreen recover {directory.name} --discard` "
+            "deletes it)",
+            file=sys.stderr,
+        )
+    return 0
+
+
+def _print_journals(root: Path) -> None:
+    infos = list_journals(root)
+    if not infos:
+        print(f"no recovery journals in {root}")
+        return
+    print(f"{'ID':<24} {'LAST CHANGE':<19} {'OPS':>5}  DOCUMENT")
+    for info in infos:
+        when = datetime.fromtimestamp(info.modified).strftime("%Y-%m-%d %H:%M:%S")
+        document = info.document or "(no file: the default model)"
+        print(f"{info.id:<24} {when:<19} {info.operations:>5}  {info.title} — {document}")
+        print(f"{'':<24} {info.vertices:,} vertices; {info.summary()}")
+        if info.status():
+            print(f"{'':<24} {info.status()}")
+    print(f"\njournals live in {root}")
+
+
+def _write_recovered(directory: Path, args: argparse.Namespace) -> None:
+    if args.output:
+        recovery = recover(directory, progress=None if args.quiet else ProgressBar("recover"))
+        try:
+            _save(recovery.mesh, recovery.sculptor, args.output)
+        finally:
+            recovery.release()
+        print(
+            f"recovered {recovery.title}: {recovery.operations} operations ({recovery.records} "
+            f"records; {recovery.replayed} replayed in {recovery.seconds:.1f} s) -> {args.output}",
+            file=sys.stderr,
+        )
+        contents, notes = recovery.contents, recovery.notes
+    else:
+        contents = read_journal(directory)
+        notes = contents.notes
+    for note in notes:
+        print(f"gogreen recover: warning: {note}", file=sys.stderr)
+    if args.session:
+        session = journal_session(contents)
+        write_text_atomic(args.session, json.dumps(session, indent=1))
+        count = len(session["operations"])
+        print(f"wrote the session ({count} operations) -> {args.session}", file=sys.stderr)
+
+
+class _option_names:
+    """Re-raise a ParameterError of a brush or event field under its option's name
+    (``delta`` → ``--delta``), so the message names what the user typed."""
+
+    def __enter__(self) -> None:
+        return None
+
+    def __exit__(
+        self,
+        kind: type[BaseException] | None,
+        exc: BaseException | None,
+        tb: TracebackType | None,
+    ) -> Literal[False]:
+        if isinstance(exc, ParameterError) and exc.parameter.isidentifier():
+            option = "--" + exc.parameter.replace("_", "-")
+            message = str(exc)
+            if message.startswith(exc.parameter):
+                message = option + message[len(exc.parameter) :]
+            else:
+                message = f"{option}: {message}"
+            raise ParameterError(option, message) from None
+        return False
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="gogreen", description="GoGreen Sculpt, headless")
+    sub = parser.add_subparsers(dest="command", required=True)
+    replay = sub.add_parser("replay", help="replay a session file on a mesh")
+    replay.add_argument("session", help="session JSON written by the app or `deform`")
+    replay.add_argument("input", help="mesh the session starts from (OBJ, PLY, STL, OFF)")
+    replay.add_argument("-o", "--output", required=True, help="where to write the result")
+    replay.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+
+    deform = sub.add_parser("deform", help="apply one brush stroke to a mesh")
+    deform.add_argument("input")
+    deform.add_argument("-o", "--output", required=True)
+    deform.add_argument("--brush", choices=BRUSH_KINDS, default="grab")
+    deform.add_argument("--center", type=float, nargs=3, required=True, metavar=("X", "Y", "Z"))
+    deform.add_argument(
+        "--delta",
+        type=float,
+        nargs=3,
+        default=[0.0, 0.0, 0.0],
+        metavar=("DX", "DY", "DZ"),
+        help="grab displacement (model units)",
+    )
+    deform.add_argument(
+        "--amount",
+        type=float,
+        default=0.0,
+        help="affine brushes: log strain (scale, pinch) or angle in radians (twist) at the "
+        "brush centre, split over --events; smooth and mask: each event's pressure "
+        "(negative: the mask brush erases)",
+    )
+    deform.add_argument(
+        "--axis",
+        type=float,
+        nargs=3,
+        default=None,
+        metavar=("X", "Y", "Z"),
+        help="twist axis / pinch normal (default +z)",
+    )
+    deform.add_argument(
+        "--direction",
+        type=float,
+        nargs=3,
+        default=None,
+        metavar=("X", "Y", "Z"),
+        help="pinch stretch direction",
+    )
+    deform.add_argument("--radius", type=float, default=0.1, help="ε / model size")
+    deform.add_argument("--strength", type=float, default=1.0)
+    deform.add_argument(
+        "--substeps",
+        type=int,
+        default=0,
+        help="RK4 steps per event (0, the default: adaptive, within 1e-4 of the cursor motion)",
+    )
+    deform.add_argument(
+        "--influence",
+        type=float,
+        default=DEFAULT_INFLUENCE,
+        help="influence radius in multiples of ε ('inf' for all vertices)",
+    )
+    deform.add_argument("--symmetry", default="", help="mirror planes, e.g. x or xz")
+    deform.add_argument("--events", type=int, default=1, help="split the stroke into N events")
+    deform.add_argument("--young", type=float, default=1.0)
+    deform.add_argument("--poisson", type=float, default=0.3)
+    deform.add_argument("--material", help="material JSON (Material.to_dict or a preset)")
+    deform.add_argument("--l-max", type=int, default=8)
+    deform.add_argument(
+        "--falloff", default="gaussian", help="gaussian, kelvinlet, or a falloff/preset JSON file"
+    )
+    deform.add_argument("--session-out", help="also write the session JSON here")
+    deform.add_argument("-q", "--quiet", action="store_true")
+
+    truncation = sub.add_parser(
+        "truncation", help="how accurate each l_max is for a material (paper Fig. 9)"
+    )
+    truncation.add_argument("--material", help="material JSON (Material.to_dict or a preset)")
+    truncation.add_argument("--young", type=float, default=1.0)
+    truncation.add_argument("--poisson", type=float, default=0.3)
+    truncation.add_argument("--l-max", type=int, default=8, help="the l_max to assess")
+    truncation.add_argument("--max-degree", type=int, default=20, help="largest l_max measured")
+    truncation.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    recover_ = sub.add_parser(
+        "recover",
+        help="list the crash-recovery journals, or rebuild what one recorded",
+        description=(
+            "List the crash-recovery journals, or rebuild the mesh (and session) one recorded. "
+            f"Journals live in {recovery_root()}."
+        ),
+    )
+    recover_.add_argument("journal", nargs="?", help="journal ID (or its first characters)")
+    recover_.add_argument("--list", action="store_true", help="list the journals")
+    recover_.add_argument(
+        "-o", "--output", help="write the recovered mesh (.obj, .ply, .stl, .off)"
+    )
+    recover_.add_argument("--session", help="write the journal's operations as a session JSON")
+    recover_.add_argument("--discard", action="store_true", help="delete the journal")
+    recover_.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run a batch command; returns the exit status (2 on bad input)."""
+    args = _parser().parse_args(argv)
+    commands = {
+        "replay": _replay,
+        "deform": _deform,
+        "truncation": _truncation,
+        "recover": _recover,
+    }
+    try:
+        return commands[args.command](args)
+    except (ValueError, RuntimeError, OSError) as exc:  # MeshFileError, JournalError: ValueError
+        print(f"gogreen {args.command}: error: {exc}", file=sys.stderr)
+        return 2

@@ -1,0 +1,255 @@
+"""The brush cursor: where the ring is drawn, the falloff profile it shows, and the on-screen
+drags of the radius and strength (Blender's F / Shift+F)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import cast
+
+import numpy as np
+
+from gogreen_core.field.kernel import GreenKernel
+from gogreen_core.interaction.tools.events import CursorState
+from gogreen_core.sculpt.brushes import CUTOFF_START, DEFAULT_INFLUENCE
+from gogreen_core.sculpt.constraints import smooth_cutoff
+from gogreen_core.threads import threads_at_most
+
+__all__ = [
+    "MOVING_FRACTION",
+    "PIXELS_PER_STRENGTH",
+    "PROFILE_SAMPLES",
+    "CursorController",
+    "ValueDrag",
+    "anchored_label",
+    "brush_profile",
+    "grab_motion",
+    "moving_radius",
+]
+
+#: Screen distance (pixels) from the cursor centre that means strength 1 when F-dragging the
+#: strength with no cursor shown.
+PIXELS_PER_STRENGTH = 100.0
+
+#: Samples of the falloff profile drawn in the brush cursor, over [0, influence · ε].
+PROFILE_SAMPLES = 48
+#: The cursor's ring shows the region that moves by at least this fraction of the motion.
+MOVING_FRACTION = 0.1
+#: Samples over [0, influence · ε] that :func:`moving_radius` finds the ring between, and
+#: samples between the two around it (ε/1000 apart at the multi-scale grabs' influence 4).
+_RING_SAMPLES = 96
+_FINE_SAMPLES = 24
+#: The reach (in ε) searched for the ring of a brush without a finite influence.
+_UNBOUNDED_REACH = 32.0
+
+
+#: What an affine brush does, as its anchored cursor's label says it ("scaling about the press
+#: point"); another affine brush's label is made from its name.
+_ACTING = {"scale": "scaling", "twist": "twisting", "pinch": "pinching", "stretch": "stretching"}
+
+
+def anchored_label(kind: str) -> str:
+    """The label of the cursor of affine brush ``kind`` while it acts: it stays at the press
+    point (the brush acts about it), which the ring alone does not say."""
+    acting = _ACTING.get(kind, kind.replace("_", " "))
+    return f"{acting} about the press point"
+
+
+def brush_profile(
+    kernel: GreenKernel | None, influence: float, eps: float, samples: int = PROFILE_SAMPLES
+) -> np.ndarray:
+    """Relative motion (samples,) in [0, 1] at distances ``linspace(0, influence · ε)`` from a
+    grab of ``kernel`` (a :class:`GreenKernel` at ε = ``eps``): |G(r x̂) G(0)⁻¹ e| averaged over
+    the three axes e, times the brush's smooth cutoff, divided by its largest value, for an
+    ``influence`` of that many ε (the brush's, resolved: :meth:`Sculptor.influence`). With
+    ``kernel`` None (kernels not ready) only the cutoff is drawn."""
+    finite = np.isfinite(influence)
+    outer = (influence if finite else DEFAULT_INFLUENCE) * eps
+    r = np.linspace(0.0, outer, samples)
+    cutoff = smooth_cutoff(r, CUTOFF_START * outer, outer) if finite else 1.0
+    if kernel is None:
+        return np.broadcast_to(cutoff, r.shape).astype(float)
+    motion = grab_motion(kernel, r) * cutoff
+    peak = motion.max()
+    return motion / peak if peak > 0 and np.isfinite(peak) else np.zeros(samples)
+
+
+def moving_radius(
+    kernel: GreenKernel | None, influence: float, eps: float, anchored: bool = False
+) -> float:
+    """Radius (model units) of the region that moves by at least :data:`MOVING_FRACTION` of
+    the motion: the largest distance r ≤ influence · ε from the brush centre where the relative
+    motion of ``kernel`` at ε = ``eps`` (a grab's, relative to the cursor motion, or for an
+    ``anchored`` brush an affine load's, relative to its largest; the largest over 13
+    directions, times the smooth cutoff of an ``influence`` of that many ε) is at least that
+    fraction. What the brush cursor's ring shows. With ``kernel`` None (a paint brush, or
+    kernels not ready) the cutoff alone. Sampled coarsely over the reach, then finely between
+    the two samples around the crossing (~1,600 field evaluations)."""
+    reach = influence if np.isfinite(influence) else _UNBOUNDED_REACH
+    outer = reach * eps
+
+    def motion(r: np.ndarray) -> np.ndarray:
+        cutoff = smooth_cutoff(r, CUTOFF_START * outer, outer) if np.isfinite(influence) else 1.0
+        relative = np.broadcast_to(cutoff, r.shape).astype(float)
+        if kernel is not None:
+            relative = relative * _motion_envelope(kernel, r, anchored)
+        return relative
+
+    r = np.linspace(0.0, outer, _RING_SAMPLES)
+    coarse = motion(r)
+    peak = float(coarse.max())
+    if not (peak > 0 and np.isfinite(peak)):
+        return float(eps)
+    level = MOVING_FRACTION * peak
+    last = int(np.flatnonzero(coarse >= level)[-1])
+    if last + 1 >= len(r):
+        return float(r[-1])
+    fine_r = np.linspace(r[last], r[last + 1], _FINE_SAMPLES)
+    fine = motion(fine_r)
+    above = np.flatnonzero(fine >= level)
+    i = int(above[-1]) if len(above) else 0
+    if i + 1 >= len(fine_r):
+        return float(fine_r[-1])
+    # where the motion crosses the level, between the last sample above and the next
+    a, b = fine[i], fine[i + 1]
+    t = (a - level) / (a - b) if a > b else 0.0
+    return float(fine_r[i] + t * (fine_r[i + 1] - fine_r[i]))
+
+
+def _directions() -> np.ndarray:
+    """(13, 3) unit directions up to sign: the cube's axes, face and body diagonals."""
+    steps = np.array(np.meshgrid([-1, 0, 1], [-1, 0, 1], [-1, 0, 1])).reshape(3, -1).T
+    halves = np.array([d for d in steps if tuple(d) > (0, 0, 0)], dtype=float)
+    return cast(np.ndarray, halves / np.linalg.norm(halves, axis=1)[:, None])
+
+
+def _motion_envelope(kernel: GreenKernel, distances: np.ndarray, anchored: bool) -> np.ndarray:
+    """The largest motion (n,) at ``distances`` over :func:`_directions`: of a unit grab
+    relative to the cursor's (‖G(r d̂) G(0)⁻¹‖₂, the worst load direction) or of an affine
+    load (‖∇G(r d̂)‖, unnormalized); so the ring bounds what moves, whichever way it pulls."""
+    directions = _directions()
+    points = (distances[:, None, None] * directions[None]).reshape(-1, 3)
+    with threads_at_most(1):
+        if anchored:
+            values = kernel.green_gradient(points).reshape(len(distances), len(directions), -1)
+            return cast(np.ndarray, np.linalg.norm(values, axis=2).max(axis=1))
+        green = kernel.green(points).reshape(len(distances), len(directions), 3, 3)
+        centre = kernel.green(np.zeros((1, 3)))[0]
+    try:
+        normalized = green @ np.linalg.inv(centre)
+    except np.linalg.LinAlgError:  # R₀(0) = 0: relative to the largest entry instead
+        normalized = green / (np.abs(green).max() or 1.0)
+    return cast(np.ndarray, np.linalg.norm(normalized, ord=2, axis=(2, 3)).max(axis=1))
+
+
+def grab_motion(kernel: GreenKernel, distances: np.ndarray) -> np.ndarray:
+    """Motion (n,) at ``distances`` (n,) along x̂ from a unit grab of ``kernel`` (a
+    :class:`GreenKernel`): |G(r x̂) G(0)⁻¹ e| averaged over the three axes e, so 1 at the centre
+    (G(0) singular, a falloff with R₀(0) = 0: G divided by its largest entry instead). What the
+    brush cursor and the falloff panel's preview draw.
+
+    Evaluated on the calling thread alone: for a few dozen samples (~0.2 ms) a second numba
+    thread only adds its wake-up, measured at 3-7 ms median on this 2-core machine right after
+    numpy's BLAS threads ran (0.24 ms with one thread)."""
+    offsets = np.zeros((len(distances), 3))
+    offsets[:, 0] = distances
+    with threads_at_most(1):
+        green = kernel.green(offsets)  # (n, 3, 3)
+    try:
+        normalized = green @ np.linalg.inv(green[0])
+    except np.linalg.LinAlgError:
+        normalized = green / (np.abs(green).max() or 1.0)
+    return cast(np.ndarray, np.linalg.norm(normalized, axis=1).mean(axis=1))
+
+
+class ValueDrag:
+    """An on-screen drag of the brush radius or strength (Blender's F / Shift+F).
+
+    The value is proportional to the screen distance from the cursor centre ``center``
+    (pixels): ``value = start · distance / start_distance``, so the ring's edge follows the
+    pointer for the radius. ``start_distance`` is the distance that means the starting value
+    (the ring's pixel radius for the radius; the pointer's distance when the drag starts for the
+    strength). Values are clipped to ``[low, high]``.
+    """
+
+    def __init__(
+        self,
+        name: str,
+        start: float,
+        center: tuple[float, float],
+        start_distance: float,
+        low: float,
+        high: float,
+    ) -> None:
+        if name not in ("radius", "strength"):
+            raise ValueError(f"a value drag is of radius or strength (got {name!r})")
+        self.name, self.start, self.center = name, float(start), center
+        self.start_distance = max(float(start_distance), 1.0)
+        self.low, self.high = low, high
+        self.value = self.start
+
+    def move(self, screen: tuple[float, float]) -> float:
+        distance = float(np.hypot(screen[0] - self.center[0], screen[1] - self.center[1]))
+        self.value = float(
+            np.clip(self.start * distance / self.start_distance, self.low, self.high)
+        )
+        return self.value
+
+    @property
+    def label(self) -> str:
+        return f"{self.name.capitalize()} {self.value:.3g}"
+
+
+class CursorController:
+    """The brush cursor: on the surface under the hovering cursor, where the brush acts while
+    dragging, hidden off the model. Callables give the current brush's ε in model units
+    (``radius``), influence factor, falloff samples (``profile``, or None), during a pen
+    stroke whose pressure shrinks ε, the full ε (``full_radius``, else None) and the radius of
+    the region that moves by a tenth of the motion or more (``moving``, :func:`moving_radius`;
+    None: unknown)."""
+
+    def __init__(
+        self,
+        radius: Callable[[], float],
+        influence: Callable[[], float],
+        profile: Callable[[], np.ndarray | None],
+        full_radius: Callable[[], float | None],
+        moving: Callable[[], float | None] | None = None,
+    ) -> None:
+        self.radius = radius
+        self.influence = influence
+        self.profile = profile
+        self.full_radius = full_radius
+        self.moving = moving or (lambda: None)
+        self.state: CursorState | None = None
+        self._normal: np.ndarray | None = None
+
+    def place(
+        self, point: np.ndarray | None, normal: np.ndarray | None, label: str | None = None
+    ) -> CursorState | None:
+        if point is None:
+            self.state = None
+            return None
+        if normal is not None:
+            self._normal = np.asarray(normal, dtype=float)
+        n = self._normal if self._normal is not None else np.array([0.0, 0.0, 1.0])
+        self.state = CursorState(
+            np.array(point, dtype=float),
+            n,
+            float(self.radius()),
+            float(self.influence()),
+            self.profile(),
+            label,
+            self.full_radius(),
+            self.moving(),
+        )
+        return self.state
+
+    def refresh(self) -> CursorState | None:
+        """The same place with the current radius, influence and profile (None if hidden)."""
+        if self.state is None:
+            return None
+        return self.place(self.state.center, self.state.normal, self.state.label)
+
+    def hide(self) -> None:
+        """Hidden until the pointer moves again (after undo, or a newly opened file)."""
+        self.state = None

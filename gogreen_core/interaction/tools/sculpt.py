@@ -1,0 +1,393 @@
+"""The sculpt tools: pointer events routed to the stroke or pin controller and the cursor."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import replace
+from typing import TYPE_CHECKING, Any, cast
+
+import numpy as np
+
+from gogreen_core.interaction.settings import BrushSettings, PenSettings
+from gogreen_core.interaction.tools.cursor import (
+    PIXELS_PER_STRENGTH,
+    CursorController,
+    ValueDrag,
+    anchored_label,
+    brush_profile,
+    moving_radius,
+)
+from gogreen_core.interaction.tools.events import PointerEvent, ToolUpdate
+from gogreen_core.interaction.tools.pins import PinController
+from gogreen_core.interaction.tools.stroke import StrokeController
+from gogreen_core.sculpt.brushes import (
+    DEFAULT_INFLUENCE,
+    MAX_RADIUS,
+    MAX_STRENGTH,
+    MIN_RADIUS,
+    Brush,
+    brush_for_key,
+    brush_row,
+)
+
+if TYPE_CHECKING:
+    from gogreen_core.sculpt.engine_settings import EngineSettings
+    from gogreen_core.sculpt.sculptor import Sculptor
+
+__all__ = ["NUMBER_KEYS", "SMOOTH", "SculptTools", "brush_for_key"]
+
+#: The brush a stroke begun with Shift held uses.
+SMOOTH = "smooth"
+
+
+class _Coalescer:
+    """Keeps only the newest pending event; counts received and processed ones."""
+
+    def __init__(self) -> None:
+        self.pending: PointerEvent | None = None
+        self.received = 0
+        self.processed = 0
+
+    def reset(self) -> None:
+        self.pending, self.received, self.processed = None, 0, 0
+
+    def push(self, event: PointerEvent) -> None:
+        self.pending = event
+        self.received += 1
+
+    def take(self) -> PointerEvent | None:
+        event, self.pending = self.pending, None
+        if event is not None:
+            self.processed += 1
+        return event
+
+
+#: The number keys brushes may have (each brush row's ``number`` is fixed: see
+#: :data:`gogreen_core.sculpt.brushes.BRUSH_ROWS`).
+NUMBER_KEYS = "1234567890"
+
+
+class SculptTools:
+    """Routes pointer events to the stroke or the pin controller and the cursor.
+
+    Parameters
+    ----------
+    sculptor : Sculptor, the engine the tools act on (replace with :meth:`set_sculptor`).
+    brush : callable returning the :class:`Brush` a new stroke uses (the settings model's).
+    first_pin_radius : callable run before the first pin is added, optional.
+    ready : callable returning None when strokes may start, else the reason they may not
+        (e.g. kernels still compiling): a refused press reports it as ``error``.
+
+    ``mode`` is ``"brush"`` (presses sculpt) or ``"pin"`` (presses pin and drag pins).
+    """
+
+    def __init__(
+        self,
+        sculptor: Sculptor | None,
+        brush: Callable[[], Brush],
+        first_pin_radius: Callable[[], None] | None = None,
+        ready: Callable[[], str | None] | None = None,
+        settings: BrushSettings | None = None,
+        pen: Callable[[], PenSettings] | None = None,
+    ) -> None:
+        self.brush = brush
+        #: Pressure, stabilizer and spacing options (:class:`PenSettings`; defaults if None).
+        defaults = PenSettings()
+        self.pen = pen or (lambda: defaults)
+        #: The brush settings model (``kind``, ``radius``, ``strength``) that keys and value
+        #: drags change (a :class:`gogreen_core.interaction.settings.BrushSettings`), optional.
+        self.settings = settings
+        self.value_drag: ValueDrag | None = None
+        self.first_pin_radius = first_pin_radius
+        self.ready = ready or (lambda: None)
+        self.mode = "brush"
+        self._moves = _Coalescer()
+        self._hover: PointerEvent | None = None
+        self.cursor = CursorController(
+            self._cursor_radius,
+            self._cursor_influence,
+            self._cursor_profile,
+            self._cursor_full_radius,
+            self._cursor_moving_radius,
+        )
+        self._profile_key: tuple[Any, ...] | None = None
+        self._profile: np.ndarray | None = None
+        #: The cached profile's moving radius (:func:`moving_radius`) in units of its ε, and
+        #: what it was computed for.
+        self._moving_ratio = 1.0
+        self._moving_key: tuple[Any, ...] | None = None
+        self._profile_settings: EngineSettings | None = None
+        self.set_sculptor(sculptor)
+
+    def set_sculptor(self, sculptor: Sculptor | None) -> None:
+        """Act on another engine (a newly opened mesh); drops any stroke in progress."""
+        if getattr(self, "stroke", None) is not None:
+            self.stroke.cancel()
+        self.sculptor = sculptor
+        # (the controllers act only once there is a sculptor)
+        self.stroke: StrokeController = StrokeController(
+            cast("Sculptor", sculptor), lambda: self.pen()
+        )
+        self.pin: PinController = PinController(cast("Sculptor", sculptor))
+
+    def _cursor_radius(self) -> float:
+        """ε of the cursor (model units): during a stroke the radius its events act with (the
+        pen's pressure-scaled one), else the current brush's."""
+        if self.sculptor is None:
+            return 0.0
+        radius = self.stroke.radius if self.stroke.active else None
+        if radius is None:
+            return self.brush().eps(self.sculptor.model_size)
+        return radius * self.sculptor.model_size
+
+    def _cursor_influence(self) -> float:
+        """The brush's influence in ε: its own number, or what ``"auto"`` gives with the
+        engine's settings (:data:`DEFAULT_INFLUENCE` while the kernels are not ready)."""
+        brush = self.brush()
+        if not brush.auto_influence:
+            return float(brush.influence)
+        if self.sculptor is None or self.ready():
+            return DEFAULT_INFLUENCE
+        try:
+            return self.sculptor.influence(brush)
+        except (ValueError, RuntimeError, np.linalg.LinAlgError):
+            return DEFAULT_INFLUENCE
+
+    def _cursor_full_radius(self) -> float | None:
+        """The brush's own ε (model units) while pen pressure shrinks the stroke's, else None."""
+        if self.sculptor is None or not self.stroke.active or self.stroke.radius_factor >= 1.0:
+            return None
+        return self.brush().eps(self.sculptor.model_size)
+
+    def _cursor_profile(self) -> np.ndarray | None:
+        """The current brush's falloff samples (:func:`brush_profile`), cached per engine
+        settings (material, falloff, l_max) and brush shape."""
+        if self.sculptor is None:
+            return None
+        brush = self.brush()
+        eps = brush.eps(self.sculptor.model_size)
+        ready = not self.ready()
+        settings = self.sculptor.settings
+        key = (id(self.sculptor), brush.kind, brush.influence, eps, ready)
+        if key != self._profile_key or settings is not self._profile_settings:
+            influence = self._cursor_influence()
+            # the moved region in units of ε: the same at any ε (the kernel only scales), so an
+            # F drag of the radius does not recompute it (~0.1 s) at every pointer move
+            moving_key = (key[:3], ready, settings)
+            anchored = brush_row(brush.kind).drag == "anchored"
+            try:
+                kernel = self.sculptor.kernel(brush) if ready else None
+                self._profile = brush_profile(kernel, influence, eps)
+                if moving_key != self._moving_key:
+                    moving = moving_radius(kernel, influence, eps, anchored)
+                    self._moving_ratio = moving / eps if eps > 0 else 1.0
+            except (ValueError, RuntimeError, np.linalg.LinAlgError):
+                self._profile = brush_profile(None, influence, eps)
+                self._moving_ratio = moving_radius(None, influence, 1.0)
+            self._moving_key = moving_key
+            self._profile_key, self._profile_settings = key, settings
+        return self._profile
+
+    def _cursor_moving_radius(self) -> float | None:
+        """The region that moves by a tenth of the motion or more (model units,
+        :func:`moving_radius`) at the cursor's ε (pen pressure scales it with ε)."""
+        if self.sculptor is None or self._cursor_profile() is None:
+            return None
+        return self._moving_ratio * self._cursor_radius()
+
+    # -- state -------------------------------------------------------------------------------
+    @property
+    def dragging(self) -> bool:
+        return self.stroke.active or self.pin.active
+
+    @property
+    def received(self) -> int:
+        """Move events received during the current (or last) drag."""
+        return self._moves.received
+
+    @property
+    def processed(self) -> int:
+        """Move events applied during the current (or last) drag (the rest were coalesced)."""
+        return self._moves.processed
+
+    @property
+    def has_pending(self) -> bool:
+        return self._moves.pending is not None or self._hover is not None
+
+    # -- keys --------------------------------------------------------------------------------
+    def pick_brush(self, key: str) -> bool:
+        """A number key picks the brush whose row has it (:func:`brush_for_key`); True if
+        ``key`` did."""
+        kind = brush_for_key(key)
+        if kind is None or self.settings is None or self.dragging:
+            return False
+        self.settings.kind = kind
+        return True
+
+    def start_value_drag(
+        self,
+        name: str,
+        screen: tuple[float, float],
+        cursor_center: tuple[float, float] | None,
+        ring_pixels: float | None,
+    ) -> ToolUpdate:
+        """Begin an F (``"radius"``) or Shift+F (``"strength"``) drag with the pointer at
+        ``screen``; the cursor's screen centre and ε ring radius (pixels) if it is shown."""
+        if self.settings is None or self.dragging or self.value_drag is not None:
+            return ToolUpdate()
+        start = float(getattr(self.settings, name))
+        if name == "radius":
+            low, high = MIN_RADIUS, MAX_RADIUS
+            if cursor_center is None or not ring_pixels:
+                ring_pixels = 100.0
+                cursor_center = (screen[0] - ring_pixels, screen[1])
+            distance = ring_pixels
+        else:
+            low, high = 0.0, MAX_STRENGTH
+            if cursor_center is None:
+                cursor_center = (screen[0] - PIXELS_PER_STRENGTH * start, screen[1])
+            distance = float(np.hypot(screen[0] - cursor_center[0], screen[1] - cursor_center[1]))
+            distance = distance if distance >= 1.0 else PIXELS_PER_STRENGTH
+        self.value_drag = ValueDrag(name, start, cursor_center, distance, low, high)
+        return self._value_update()
+
+    def _value_update(self) -> ToolUpdate:
+        state = self.cursor.state
+        if state is None:
+            return ToolUpdate()
+        label = self.value_drag.label if self.value_drag is not None else None
+        return ToolUpdate(cursor=self.cursor.place(state.center, state.normal, label))
+
+    def move_value_drag(self, screen: tuple[float, float]) -> ToolUpdate:
+        """The pointer moved during a value drag: the setting follows at once."""
+        if self.value_drag is None:
+            return ToolUpdate()
+        value = self.value_drag.move(screen)
+        setattr(self.settings, self.value_drag.name, value)
+        return self._value_update()
+
+    def finish_value_drag(self, confirm: bool) -> ToolUpdate:
+        """Click or Enter (``confirm``) keeps the value; Escape or right click restores it."""
+        drag, self.value_drag = self.value_drag, None
+        if drag is None:
+            return ToolUpdate()
+        if not confirm:
+            setattr(self.settings, drag.name, drag.start)
+        return self._value_update()
+
+    # -- events ------------------------------------------------------------------------------
+    def stroke_brush(self, modifiers: frozenset[str] = frozenset()) -> Brush:
+        """The brush a stroke begun with ``modifiers`` held uses: the current one, or with
+        Shift the smooth brush at its radius, influence and symmetry (Blender's habit)."""
+        brush = self.brush()
+        if "shift" in modifiers and brush.kind != SMOOTH:
+            return replace(brush, kind=SMOOTH, substeps=0)
+        return brush
+
+    def press(self, event: PointerEvent) -> ToolUpdate:
+        """Start a stroke (a smoothing one with Shift held), or add/grab a pin, at the picked
+        ``event.point``."""
+        if self.sculptor is None or self.dragging:
+            return ToolUpdate()
+        reason = self.ready() if self.mode == "brush" else None
+        if reason:
+            return ToolUpdate(error=reason, refused=True)
+        self._moves.reset()
+        self._hover = None
+        try:
+            if self.mode == "pin":
+                added = self.pin.press(event, self.first_pin_radius)
+                return ToolUpdate(pins_changed=added)
+            brush = self.stroke_brush(event.modifiers)
+            moved = self.stroke.press(event, brush)
+        except (ValueError, RuntimeError) as exc:
+            self.pin.end()
+            return ToolUpdate(error=str(exc))
+        label = anchored_label(brush.kind) if brush.is_affine else None
+        return ToolUpdate(moved=moved, cursor=self.cursor.place(event.point, event.normal, label))
+
+    def move(self, event: PointerEvent) -> None:
+        """Record a drag move (applied by the next :meth:`flush`; newer moves replace it)."""
+        if self.dragging:
+            self._moves.push(event)
+
+    def hover(self, event: PointerEvent) -> None:
+        """Record a hover sample (no button): the ring follows at the next :meth:`flush`."""
+        if not self.dragging:
+            self._hover = event
+
+    def flush(self) -> ToolUpdate:
+        """Apply the newest recorded move (or hover): one engine step at most."""
+        if self._hover is not None and not self.dragging:
+            hover, self._hover = self._hover, None
+            state = self.cursor.place(hover.point, hover.normal)
+            return ToolUpdate(cursor=state, hide_cursor=state is None)
+        event = self._moves.take()
+        if event is None:
+            return ToolUpdate()
+        start = time.perf_counter()
+        try:
+            if self.pin.active:
+                stepped = self.pin.step(event)
+                update = ToolUpdate(all_moved=stepped, pins_changed=stepped)
+            else:
+                moved = self.stroke.step(event)
+                stepped = moved is not None
+                # the cursor sits where the brush acts: affine brushes at their press point,
+                # labelled so (the ring then stays while the pointer moves away)
+                if self.stroke.anchored:
+                    brush = cast(Brush, self.stroke.brush)
+                    label = anchored_label(brush.kind)
+                    cursor = self.cursor.place(self.stroke.anchor, None, label)
+                else:
+                    cursor = self.cursor.place(event.point, None)
+                update = ToolUpdate(moved=moved, cursor=cursor)
+        except (ValueError, RuntimeError) as exc:
+            self.stroke.cancel()
+            self.pin.end()
+            return ToolUpdate(all_moved=True, error=str(exc))
+        if stepped:
+            update.step_seconds = time.perf_counter() - start
+        return update
+
+    def release(self) -> ToolUpdate:
+        """Apply the last recorded move (if not yet applied), then end the stroke (one undo
+        step; ``note`` says so when it changed nothing, which is recorded nowhere) or the pin
+        drag."""
+        update = self.flush() if self._moves.pending is not None else ToolUpdate()
+        brush = self.stroke.brush
+        history = self.sculptor.history if self.sculptor is not None else None
+        steps = history.done if history is not None else 0
+        moved = self.stroke.end()
+        self.pin.end()
+        # recorded nothing: no vertex moved and no mask value painted (a mask stroke moves none)
+        recorded = history is not None and history.done != steps
+        if brush is not None and moved is not None and not recorded:
+            hint = "drag away from where you press" if brush.is_affine else "drag farther"
+            mask = " and changed no mask value" if brush.type.family == "paint" else ""
+            update.note = (
+                f"Nothing changed: the {brush.kind.replace('_', '-')} stroke moved no vertex"
+                f"{mask}, so it is not recorded ({hint})"
+            )
+        return update
+
+    def remove_pin(self, event: PointerEvent) -> ToolUpdate:
+        """Remove the pin near ``event.point`` (a right click in pin mode; an undo step);
+        nothing when no pin is near."""
+        if self.sculptor is None or self.dragging or event.point is None:
+            return ToolUpdate()
+        index = self.pin.nearest_pin(np.asarray(event.point, dtype=float))
+        if index is None:
+            return ToolUpdate()
+        try:
+            self.sculptor.remove_constraint(index)
+        except (ValueError, RuntimeError) as exc:
+            return ToolUpdate(error=str(exc))
+        return ToolUpdate(pins_changed=True)
+
+    def cancel(self) -> None:
+        """Abandon a stroke in progress (restoring the mesh) or a pin drag."""
+        self._moves.pending = None
+        self.stroke.cancel()
+        self.pin.end()

@@ -1,0 +1,225 @@
+"""NumPy twins of ``geometry.py``'s compiled functions: a new machine picks and shades at once.
+
+On a new machine numba takes seconds to compile :class:`~gogreen_core.mesh.geometry.SurfaceIndex`'s
+functions (``_update`` alone 3-10 s), which the window needs before the first stroke (picking)
+and after every event (normals). Until they are compiled (in the background, see
+``_compiled``), these functions serve: the same arguments, the same outputs, the same bits
+(``geometry.py`` uses no fused multiply-add; integer bookkeeping is reproduced exactly, sums
+run in the same order), so an index built or updated here is the one the compiled code builds
+and the two may take turns. ``n_threads`` arguments are accepted and ignored.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["LEAF_SIZE"]
+
+#: Faces per leaf of the surface index (one bounding box each; ``geometry.SurfaceIndex``).
+LEAF_SIZE = 32
+#: Vertices per block (2**_BLOCK_SHIFT) of the per-event flags.
+_BLOCK_SHIFT = 6
+#: Bits per axis of the Z-order (Morton) codes; a code leaves 31 bits for the item's index.
+_MORTON_BITS = 10
+
+
+def _morton_keys(
+    points: np.ndarray, groups: np.ndarray, low: np.ndarray, scale: np.ndarray, keys: np.ndarray
+) -> None:
+    n, k = groups.shape
+    code = np.zeros(n, dtype=np.int64)
+    top = (1 << _MORTON_BITS) - 1
+    for axis in range(3):
+        s = np.zeros(n)
+        for j in range(k):
+            s = s + points[groups[:, j], axis]
+        cell = np.trunc((s / k - low[axis]) * scale[axis])
+        cell = np.clip(cell, -(2.0**62), 2.0**62).astype(np.int64)  # int() of a finite float
+        cell = np.minimum(np.maximum(cell, 0), top)
+        for bit in range(_MORTON_BITS):
+            code |= ((cell >> bit) & 1) << (3 * bit + axis)
+    keys[:] = (code << 31) | np.arange(n, dtype=np.int64)
+
+
+def _connect(
+    faces: np.ndarray, rank: np.ndarray, face_order: np.ndarray, face_rank: np.ndarray,
+    index_faces: np.ndarray, offsets: np.ndarray, leaf_ids: np.ndarray,
+    block_offsets: np.ndarray, block_leaves: np.ndarray,
+) -> int:  # fmt: skip
+    n = offsets.shape[0] - 1
+    corners = rank[faces].astype(np.int64)  # (M, 3) index vertex of each corner
+    index_faces[:] = corners[face_order]
+    flat = corners.ravel()  # faces in original order, corners in order: the summation order
+    counts = np.bincount(flat, minlength=n)
+    offsets[0] = 0
+    np.cumsum(counts, out=offsets[1:])
+    by_vertex = np.argsort(flat, kind="stable")
+    leaf_ids[: flat.size] = face_rank[by_vertex // 3]
+    # per block of vertices, its distinct leaves in order of first appearance
+    entry_block = np.repeat(np.arange(n, dtype=np.int64) >> _BLOCK_SHIFT, counts)
+    entry_leaf = leaf_ids[: flat.size].astype(np.int64) // LEAF_SIZE
+    n_leaves = max(1, (faces.shape[0] + LEAF_SIZE - 1) // LEAF_SIZE)
+    _, first = np.unique(entry_block * n_leaves + entry_leaf, return_index=True)
+    keep = np.zeros(flat.size, dtype=bool)
+    keep[first] = True
+    used = int(keep.sum())
+    block_leaves[:used] = entry_leaf[keep]
+    n_blocks = block_offsets.shape[0] - 1
+    block_offsets[0] = 0
+    np.cumsum(np.bincount(entry_block[keep], minlength=n_blocks), out=block_offsets[1:])
+    return used
+
+
+def _ranges(offsets: np.ndarray, starts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(positions, owner): every index in [offsets[s], offsets[s + 1]) for s in ``starts``, in
+    order, and the position in ``starts`` it came from."""
+    begin = offsets[starts].astype(np.int64)
+    length = offsets[starts + 1].astype(np.int64) - begin
+    owner = np.repeat(np.arange(len(starts)), length)
+    within = np.arange(owner.size) - np.repeat(np.cumsum(length) - length, length)
+    return begin[owner] + within, owner
+
+
+def _update(
+    vertices: np.ndarray, seeds: np.ndarray, rank: np.ndarray, offsets: np.ndarray,
+    leaf_ids: np.ndarray, block_offsets: np.ndarray, block_leaves: np.ndarray,
+    faces: np.ndarray, positions: np.ndarray, moved: np.ndarray, ring: np.ndarray,
+    block_moved: np.ndarray, block_ring: np.ndarray, leaf_mark: np.ndarray,
+    leaf_dirty: np.ndarray, face_normals: np.ndarray, normals: np.ndarray, n_threads: int,
+) -> int:  # fmt: skip
+    n = positions.shape[0]
+    rows = rank[seeds].astype(np.int64)
+    positions[rows] = vertices[seeds]
+    moved[rows] = True
+    block_moved[rows >> _BLOCK_SHIFT] = True
+    blocks = np.flatnonzero(block_moved)
+    block_moved[blocks] = False
+    block_ring[blocks] = True
+    entries, _ = _ranges(block_offsets, blocks)
+    leaf_mark[block_leaves[entries]] = True
+    leaves = np.flatnonzero(leaf_mark)
+    leaf_mark[leaves] = False
+    leaf_dirty[leaves] = True
+    n_faces = faces.shape[0]
+    face = (leaves[:, None] * LEAF_SIZE + np.arange(LEAF_SIZE)).ravel()
+    face = face[face < n_faces]
+    a, b, c = (faces[face, k] for k in range(3))
+    face = face[moved[a] | moved[b] | moved[c]]
+    a, b, c = (faces[face, k] for k in range(3))
+    u = [positions[b, k] - positions[a, k] for k in range(3)]
+    w = [positions[c, k] - positions[a, k] for k in range(3)]
+    face_normals[face, 0] = u[1] * w[2] - u[2] * w[1]
+    face_normals[face, 1] = u[2] * w[0] - u[0] * w[2]
+    face_normals[face, 2] = u[0] * w[1] - u[1] * w[0]
+    for corner in (a, b, c):
+        ring[corner] = True
+        block_ring[corner >> _BLOCK_SHIFT] = True
+    blocks = np.flatnonzero(block_ring)
+    block_ring[blocks] = False
+    vertex = (blocks[:, None] * (1 << _BLOCK_SHIFT) + np.arange(1 << _BLOCK_SHIFT)).ravel()
+    vertex = vertex[vertex < n]
+    vertex = vertex[moved[vertex] | ring[vertex]]
+    moved[vertex] = False
+    ring[vertex] = False
+    entries, owner = _ranges(offsets, vertex)
+    sums = [
+        np.bincount(owner, face_normals[leaf_ids[entries], k].astype(np.float64), len(vertex))
+        for k in range(3)
+    ]  # in face order, each from 0.0, as the compiled loop adds them
+    norm = np.sqrt(sums[0] * sums[0] + sums[1] * sums[1] + sums[2] * sums[2])
+    zero = norm == 0.0
+    with np.errstate(divide="ignore", invalid="ignore"):  # the zero norms take (0, 0, 1)
+        inverse = 1.0 / norm
+        for k in range(3):
+            normals[vertex, k] = np.where(zero, 1.0 if k == 2 else 0.0, sums[k] * inverse)
+    return len(vertex)
+
+
+def _differ(
+    vertices: np.ndarray, rank: np.ndarray, positions: np.ndarray, mask: np.ndarray, n_threads: int
+) -> None:
+    mask[:] = np.any(positions[rank] != vertices, axis=1)
+
+
+def _refit(
+    positions: np.ndarray,
+    index_faces: np.ndarray,
+    leaf_dirty: np.ndarray,
+    boxes: np.ndarray,
+    n_threads: int,
+) -> None:
+    leaves = np.flatnonzero(leaf_dirty)
+    if not leaves.size:
+        return
+    leaf_dirty[leaves] = False
+    n_faces = index_faces.shape[0]
+    starts = leaves * LEAF_SIZE
+    counts = np.minimum(starts + LEAF_SIZE, n_faces) - starts
+    face = np.repeat(starts, counts) + (
+        np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+    )
+    corners = positions[index_faces[face]]  # (f, 3, 3): the faces' corners of the leaves
+    bounds = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    boxes[leaves, :3] = np.minimum.reduceat(corners.min(axis=1), bounds, axis=0)
+    boxes[leaves, 3:] = np.maximum.reduceat(corners.max(axis=1), bounds, axis=0)
+
+
+def _leaf_hits(
+    boxes: np.ndarray, origin: np.ndarray, inv_dir: np.ndarray, near: np.ndarray
+) -> None:
+    t0 = np.zeros(boxes.shape[0])
+    t1 = np.full(boxes.shape[0], np.inf)
+    with np.errstate(invalid="ignore"):
+        for k in range(3):
+            a = (boxes[:, k] - origin[k]) * inv_dir[k]
+            b = (boxes[:, 3 + k] - origin[k]) * inv_dir[k]
+            a, b = np.where(a > b, b, a), np.where(a > b, a, b)
+            flat = ~(a <= b)  # NaN from 0·inf: the ray lies in the slab plane
+            a = np.where(flat, -np.inf, a)
+            b = np.where(flat, np.inf, b)
+            t0 = np.maximum(t0, a)
+            t1 = np.minimum(t1, b)
+    near[:] = np.where(t0 <= t1, t0, np.inf)
+
+
+def _closest_hit(
+    vertices: np.ndarray,
+    leaf_faces: np.ndarray,
+    order: np.ndarray,
+    candidates: np.ndarray,
+    near: np.ndarray,
+    origin: np.ndarray,
+    direction: np.ndarray,
+) -> tuple[int, float]:
+    n_faces = order.shape[0]
+    ox, oy, oz = origin
+    dx, dy, dz = direction
+    best_t, best_f = np.inf, -1
+    for c in candidates:
+        if near[c] > best_t:
+            break
+        j = np.arange(c * LEAF_SIZE, min((c + 1) * LEAF_SIZE, n_faces))
+        a, b, cc = (leaf_faces[j, k] for k in range(3))
+        ax, ay, az = vertices[a, 0], vertices[a, 1], vertices[a, 2]
+        e1x, e1y, e1z = vertices[b, 0] - ax, vertices[b, 1] - ay, vertices[b, 2] - az
+        e2x, e2y, e2z = vertices[cc, 0] - ax, vertices[cc, 1] - ay, vertices[cc, 2] - az
+        px = dy * e2z - dz * e2y
+        py = dz * e2x - dx * e2z
+        pz = dx * e2y - dy * e2x
+        det = e1x * px + e1y * py + e1z * pz
+        with np.errstate(divide="ignore", invalid="ignore"):
+            inv = 1.0 / det
+            sx, sy, sz = ox - ax, oy - ay, oz - az
+            u = (sx * px + sy * py + sz * pz) * inv
+            qx = sy * e1z - sz * e1y
+            qy = sz * e1x - sx * e1z
+            qz = sx * e1y - sy * e1x
+            v = (dx * qx + dy * qy + dz * qz) * inv
+            t = (e2x * qx + e2y * qy + e2z * qz) * inv
+        hit = (det != 0.0) & (u >= 0.0) & (u <= 1.0) & (v >= 0.0) & (u + v <= 1.0) & (t >= 0.0)
+        if hit.any():
+            t = np.where(hit, t, np.inf)
+            first = int(np.argmin(t))  # the first of equal values, as the loop's strict <
+            if t[first] < best_t:
+                best_t, best_f = float(t[first]), int(order[j[first]])
+    return best_f, best_t

@@ -1,0 +1,351 @@
+"""The sequential parts of local isotropic remeshing (:mod:`gogreen_core.mesh.remesh`), choosing
+which short edges to collapse and which edges to flip in one pass, and its per-triangle
+arithmetic (nearest points, smallest angles).
+
+Each pass is computed on the connectivity of the pass's start (edges, each vertex's neighbours
+and faces in compressed rows) and picks operations whose neighbourhoods do not overlap (every
+vertex an operation reads is claimed by it), so every check made here still holds when the
+caller applies all picked operations at once. Candidates are visited in the order given, so
+the choice is reproducible bit for bit.
+"""
+
+from __future__ import annotations
+
+from typing import cast
+
+import numpy as np
+from numba import njit
+
+__all__ = ["closest_points_on_triangles", "pick_collapses", "pick_flips", "smallest_angles"]
+
+
+@njit(cache=True, nogil=True, boundscheck=False)
+def _normal(p: np.ndarray, q: np.ndarray, r: np.ndarray) -> np.ndarray:
+    return np.cross(q - p, r - p)
+
+
+@njit(cache=True, nogil=True, boundscheck=False)
+def _faces_keep_facing(
+    points: np.ndarray,
+    faces: np.ndarray,
+    vf_offsets: np.ndarray,
+    vf_faces: np.ndarray,
+    v: int,
+    a: int,
+    b: int,
+    position: np.ndarray,
+    min_area2: float,
+) -> bool:
+    """The faces of ``v`` that do not hold both ``a`` and ``b`` still face the way they did,
+    and are not degenerate, once ``a`` and ``b`` sit at ``position``."""
+    for j in range(vf_offsets[v], vf_offsets[v + 1]):
+        f = vf_faces[j]
+        has_a = faces[f, 0] == a or faces[f, 1] == a or faces[f, 2] == a
+        has_b = faces[f, 0] == b or faces[f, 1] == b or faces[f, 2] == b
+        if has_a and has_b:
+            continue
+        corners = np.empty((3, 3))
+        for k in range(3):
+            w = faces[f, k]
+            corners[k] = position if (w == a or w == b) else points[w]
+        before = _normal(points[faces[f, 0]], points[faces[f, 1]], points[faces[f, 2]])
+        after = _normal(corners[0], corners[1], corners[2])
+        area2 = after[0] ** 2 + after[1] ** 2 + after[2] ** 2
+        if area2 <= min_area2:
+            return False
+        dot = before[0] * after[0] + before[1] * after[1] + before[2] * after[2]
+        before2 = before[0] ** 2 + before[1] ** 2 + before[2] ** 2
+        if dot <= 0.5 * np.sqrt(area2 * before2):  # turned by more than 60°: refused
+            return False
+    return True
+
+
+@njit(cache=True, nogil=True, boundscheck=False)
+def pick_collapses(
+    candidates: np.ndarray,
+    ends: np.ndarray,
+    edge_faces: np.ndarray,
+    points: np.ndarray,
+    faces: np.ndarray,
+    uv_faces: np.ndarray,
+    offsets: np.ndarray,
+    neighbours: np.ndarray,
+    vf_offsets: np.ndarray,
+    vf_faces: np.ndarray,
+    closed: np.ndarray,
+    free: np.ndarray,
+    high: float,
+    min_area2: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Short edges to collapse, in ``candidates`` (K,) order: (removed, kept) vertex pairs
+    (k, 2) int64, the kept vertex's new position (k, 3) and whether it is the midpoint (k,)
+    (else the kept vertex stays where it is).
+
+    An edge is collapsed when both ends are ``closed`` (all their faces are here), one of them
+    may move (``free``: the one removed; the midpoint when both may), the two ends share exactly
+    the two neighbours opposite the edge (the link condition: the result is a manifold), no new
+    edge is longer than ``high``, no face turns over or degenerates (twice its area² above
+    ``min_area2``), the edge is no texture seam, and no vertex of either one-ring is claimed.
+    """
+    n = len(closed)
+    claimed = np.zeros(n, dtype=np.bool_)
+    mark = np.zeros(n, dtype=np.int64)  # stamp: neighbours of the candidate's first end
+    pairs = np.empty((len(candidates), 2), dtype=np.int64)
+    positions = np.empty((len(candidates), 3))
+    middle = np.empty(len(candidates), dtype=np.bool_)
+    count = 0
+    stamp = 0
+    for e in candidates:
+        a, b = ends[e, 0], ends[e, 1]
+        if not (closed[a] and closed[b]) or not (free[a] or free[b]):
+            continue
+        if not free[a]:
+            a, b = b, a
+        if claimed[a] or claimed[b]:
+            continue
+        busy = False
+        for v in (a, b):
+            for j in range(offsets[v], offsets[v + 1]):
+                if claimed[neighbours[j]]:
+                    busy = True
+        if busy:
+            continue
+        stamp += 1
+        for j in range(offsets[a], offsets[a + 1]):
+            mark[neighbours[j]] = stamp
+        shared = 0
+        for j in range(offsets[b], offsets[b + 1]):
+            if mark[neighbours[j]] == stamp:
+                shared += 1
+        if shared != 2:
+            continue
+        f0, f1 = edge_faces[e, 0], edge_faces[e, 1]
+        # the kept end's texture corner must be one row on both sides of the edge
+        ub0 = ub1 = -1
+        for k in range(3):
+            if faces[f0, k] == b:
+                ub0 = uv_faces[f0, k]
+            if faces[f1, k] == b:
+                ub1 = uv_faces[f1, k]
+        if ub0 != ub1:
+            continue
+        both = free[b]
+        position = 0.5 * (points[a] + points[b]) if both else points[b].copy()
+        too_long = False
+        for v in (a, b):
+            for j in range(offsets[v], offsets[v + 1]):
+                w = neighbours[j]
+                if w == a or w == b:
+                    continue
+                d = points[w] - position
+                if d[0] ** 2 + d[1] ** 2 + d[2] ** 2 > high * high:
+                    too_long = True
+        if too_long:
+            continue
+        if not _faces_keep_facing(
+            points, faces, vf_offsets, vf_faces, a, a, b, position, min_area2
+        ) or not _faces_keep_facing(
+            points, faces, vf_offsets, vf_faces, b, a, b, position, min_area2
+        ):
+            continue
+        claimed[a] = claimed[b] = True
+        for v in (a, b):
+            for j in range(offsets[v], offsets[v + 1]):
+                claimed[neighbours[j]] = True
+        pairs[count, 0], pairs[count, 1] = a, b
+        positions[count] = position
+        middle[count] = both
+        count += 1
+    return pairs[:count], positions[:count], middle[:count]
+
+
+@njit(cache=True, nogil=True, boundscheck=False)
+def _min_angle_cos(p: np.ndarray, q: np.ndarray, r: np.ndarray) -> float:
+    """The largest cosine of the three angles of triangle p q r (of its smallest angle)."""
+    worst = -1.0
+    corners = (p, q, r)
+    for k in range(3):
+        o = corners[k]
+        u = corners[(k + 1) % 3] - o
+        v = corners[(k + 2) % 3] - o
+        nu = np.sqrt(u[0] ** 2 + u[1] ** 2 + u[2] ** 2)
+        nv = np.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2)
+        if nu == 0.0 or nv == 0.0:
+            return 1.0
+        c = (u[0] * v[0] + u[1] * v[1] + u[2] * v[2]) / (nu * nv)
+        if c > worst:
+            worst = c
+    return worst
+
+
+@njit(cache=True, nogil=True, boundscheck=False)
+def pick_flips(
+    candidates: np.ndarray,
+    ends: np.ndarray,
+    edge_faces: np.ndarray,
+    points: np.ndarray,
+    faces: np.ndarray,
+    uv_faces: np.ndarray,
+    offsets: np.ndarray,
+    neighbours: np.ndarray,
+    closed: np.ndarray,
+    valence: np.ndarray,
+    target: np.ndarray,
+    min_area2: float,
+) -> np.ndarray:
+    """Edges to flip, in ``candidates`` (K,) order: rows (k, 4) int64 of the first face, the
+    second face, and the edge's two ends a, b such that the first face runs a → b.
+
+    An edge is flipped when its ends and the two opposite corners are ``closed``, the flip
+    brings the four valences nearer to their ``target`` (6 inside, 4 on an open rim: the sum
+    of squared deviations drops), no end falls below valence 3, the new edge does not exist,
+    both new faces face the way the old ones did without degenerating, the smallest angle of
+    the pair does not drop below half of what it was nor below 10° when it was above, the
+    edge is no texture seam, and none of the four vertices is claimed by another flip.
+    """
+    n = len(closed)
+    claimed = np.zeros(n, dtype=np.bool_)
+    out = np.empty((len(candidates), 4), dtype=np.int64)
+    count = 0
+    cos10 = np.cos(np.radians(10.0))
+    for e in candidates:
+        f0, f1 = edge_faces[e, 0], edge_faces[e, 1]
+        a, b = ends[e, 0], ends[e, 1]
+        # orient: f0 holds the side a → b
+        k0 = 0
+        for k in range(3):
+            if faces[f0, k] == a:
+                k0 = k
+        if faces[f0, (k0 + 1) % 3] != b:
+            f0, f1 = f1, f0
+            for k in range(3):
+                if faces[f0, k] == a:
+                    k0 = k
+        c = faces[f0, (k0 + 2) % 3]
+        k1 = 0
+        for k in range(3):
+            if faces[f1, k] == b:
+                k1 = k
+        d = faces[f1, (k1 + 2) % 3]
+        if faces[f1, (k1 + 1) % 3] != a or c == d:
+            continue
+        if not (closed[a] and closed[b] and closed[c] and closed[d]):
+            continue
+        if claimed[a] or claimed[b] or claimed[c] or claimed[d]:
+            continue
+        if valence[a] <= 3 or valence[b] <= 3:
+            continue
+        before = (
+            (valence[a] - target[a]) ** 2
+            + (valence[b] - target[b]) ** 2
+            + (valence[c] - target[c]) ** 2
+            + (valence[d] - target[d]) ** 2
+        )
+        after = (
+            (valence[a] - 1 - target[a]) ** 2
+            + (valence[b] - 1 - target[b]) ** 2
+            + (valence[c] + 1 - target[c]) ** 2
+            + (valence[d] + 1 - target[d]) ** 2
+        )
+        if after >= before:
+            continue
+        exists = False
+        for j in range(offsets[c], offsets[c + 1]):
+            if neighbours[j] == d:
+                exists = True
+        if exists:
+            continue
+        # a texture seam along the edge: the two faces' corners at a (and at b) differ
+        ua0 = ub0 = ua1 = ub1 = -2
+        for k in range(3):
+            if faces[f0, k] == a:
+                ua0 = uv_faces[f0, k]
+            if faces[f0, k] == b:
+                ub0 = uv_faces[f0, k]
+            if faces[f1, k] == a:
+                ua1 = uv_faces[f1, k]
+            if faces[f1, k] == b:
+                ub1 = uv_faces[f1, k]
+        if ua0 != ua1 or ub0 != ub1:
+            continue
+        pa, pb, pc, pd = points[a], points[b], points[c], points[d]
+        old = _normal(pa, pb, pc) + _normal(pb, pa, pd)
+        n0 = _normal(pa, pd, pc)
+        n1 = _normal(pd, pb, pc)
+        if (n0[0] ** 2 + n0[1] ** 2 + n0[2] ** 2) <= min_area2 or (
+            n1[0] ** 2 + n1[1] ** 2 + n1[2] ** 2
+        ) <= min_area2:
+            continue
+        if (old[0] * n0[0] + old[1] * n0[1] + old[2] * n0[2]) <= 0.0 or (
+            old[0] * n1[0] + old[1] * n1[1] + old[2] * n1[2]
+        ) <= 0.0:
+            continue
+        worst_before = max(_min_angle_cos(pa, pb, pc), _min_angle_cos(pb, pa, pd))
+        worst_after = max(_min_angle_cos(pa, pd, pc), _min_angle_cos(pd, pb, pc))
+        angle_before = np.arccos(min(1.0, worst_before))
+        angle_after = np.arccos(min(1.0, worst_after))
+        if angle_after < 0.5 * angle_before or (worst_after > cos10 and worst_before <= cos10):
+            continue
+        claimed[a] = claimed[b] = claimed[c] = claimed[d] = True
+        valence[a] -= 1
+        valence[b] -= 1
+        valence[c] += 1
+        valence[d] += 1
+        out[count, 0], out[count, 1], out[count, 2], out[count, 3] = f0, f1, a, b
+        count += 1
+    return out[:count]
+
+
+def closest_points_on_triangles(
+    points: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The point of triangle (a, b, c) nearest to each of ``points``, all (K, 3): the points
+    (K, 3) and their barycentric coordinates (K, 3) (Ericson, "Real-Time Collision Detection",
+    5.1.5). A degenerate triangle answers with one of its corners or sides."""
+
+    def dot(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+        return cast(np.ndarray, np.einsum("ij,ij->i", u, v))
+
+    ab, ac, ap = b - a, c - a, points - a
+    bp, cp = points - b, points - c
+    d1, d2 = dot(ab, ap), dot(ac, ap)
+    d3, d4 = dot(ab, bp), dot(ac, bp)
+    d5, d6 = dot(ab, cp), dot(ac, cp)
+    va, vb, vc = d3 * d6 - d5 * d4, d5 * d2 - d1 * d6, d1 * d4 - d3 * d2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t_ab = d1 / (d1 - d3)
+        t_ac = d2 / (d2 - d6)
+        t_bc = (d4 - d3) / ((d4 - d3) + (d5 - d6))
+        total = va + vb + vc
+        v_in, w_in = vb / total, vc / total
+    zero, one = np.zeros_like(d1), np.ones_like(d1)
+    cases = [
+        (d1 <= 0) & (d2 <= 0),
+        (d3 >= 0) & (d4 <= d3),
+        (vc <= 0) & (d1 >= 0) & (d3 <= 0),
+        (d6 >= 0) & (d5 <= d6),
+        (vb <= 0) & (d2 >= 0) & (d6 <= 0),
+        (va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0),
+    ]
+    v = np.select(cases, [zero, one, t_ab, zero, zero, 1.0 - t_bc], v_in)
+    w = np.select(cases, [zero, zero, zero, one, t_ac, t_bc], w_in)
+    bad = ~np.isfinite(v) | ~np.isfinite(w)  # a degenerate triangle inside: its first corner
+    v[bad], w[bad] = 0.0, 0.0
+    u = 1.0 - v - w
+    weights = np.stack([u, v, w], axis=1)
+    return a * u[:, None] + b * v[:, None] + c * w[:, None], weights
+
+
+def smallest_angles(corners: np.ndarray) -> np.ndarray:
+    """The smallest angle (degrees) of each triangle of ``corners`` (K, 3, 3): what the
+    remeshing keeps away from 0 (a sliver or a needle has one near it)."""
+    angles = []
+    for k in range(3):
+        u = corners[:, (k + 1) % 3] - corners[:, k]
+        v = corners[:, (k + 2) % 3] - corners[:, k]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            cos = np.einsum("ij,ij->i", u, v) / (
+                np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1)
+            )
+        angles.append(np.degrees(np.arccos(np.clip(np.nan_to_num(cos, nan=1.0), -1.0, 1.0))))
+    return cast(np.ndarray, np.min(angles, axis=0))

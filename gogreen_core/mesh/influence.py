@@ -1,0 +1,289 @@
+"""Which vertices a brush event can reach, without a pass over every vertex.
+
+An event reaches the vertices p some mirror image o + M (p - o) of which lies within ``radius``
+of the segment from ``start`` to ``start + step`` (``_evaluation.near_segment``, the influence
+test; which vertices an event reaches must not change for old sessions). Over every vertex of a
+1M-vertex mesh that test, and the list of the reached ones, cost 5-9 ms an event here.
+
+:class:`VertexBlocks` keeps the bounding box of every block of :data:`BLOCK` consecutive vertex
+rows. Mesh files list their vertices with locality (on the twice-subdivided ogre half the blocks
+span under 1.3 % of the model, 90 % under 7 %); the icosphere's order has less (the default model
+subdivided twice: 10 % and 37 %), and the blocks then save less. A query tests the boxes against
+its capsules (the segment dilated by the radius, one per mirror image M: the segment
+o + M (start - o) → + M step, since M is its own inverse and keeps distances): a block out of
+every capsule is skipped, a block inside one is taken whole, and only the rows of the others get
+the per-point test. The rows come out in ascending order with no sort (blocks are runs of rows),
+and are the plain pass's bit for bit:
+
+* the box tests are conservative by a margin ``SLACK`` (2⁻³⁶) times the largest coordinate,
+  radius or step in play, a thousand times the rounding of the per-point test (at most about a
+  hundred units in the last place of that largest value), so no vertex the test would keep is
+  skipped and every vertex of a block taken whole passes it;
+* the per-point test is the plain pass's own compiled function
+  (``_influence_compiled.near_segment_rows``, which ``_evaluation.near_segment`` runs over every
+  row) or, before the compiled code is ready, ``_numpy_eval.near_segment`` itself;
+* inputs where that margin argument does not hold (a radius or coordinates near the float
+  range's ends, a step whose squared length overflows or underflows, signs other than ±1, more
+  than 8 images) and queries where most rows would need the test go to the plain pass, and so
+  does every query on an array whose order has no locality at all (:data:`DORMANT_EXTENT`: its
+  writes are then not even tracked).
+
+The boxes follow the vertices: every write reports its rows (:meth:`VertexBlocks.changed`,
+through ``MeshState``), which marks their blocks; the next query refits the marked boxes from
+the current positions (exact minima and maxima, so a box shrinks back too). An index serves the
+one array it was built on (held by a weak reference): a mesh given a new array is indexed anew.
+:data:`VERIFY` checks every answer against the plain pass (the tests turn it on).
+"""
+
+from __future__ import annotations
+
+import threading
+import weakref
+from functools import partial
+
+import numpy as np
+from numpy.typing import NDArray
+
+from gogreen_core._parallel import run_ranges
+from gogreen_core.field import _drivers, _evaluation
+from gogreen_core.field import _influence_numpy as numpy_twin
+from gogreen_core.field._influence_compiled import (
+    BLOCK,
+    BLOCK_SHIFT,
+    MAX_SCALE,
+    _classify,
+    _emit,
+    _mark,
+    _refit,
+    _test_blocks,
+)
+
+__all__ = ["BLOCK", "VERIFY", "VertexBlocks", "plain_rows_near"]
+
+#: The range of squared step lengths where the test's 1 / |step|² is finite and accurate.
+STEP2_RANGE = (1e-250, 1e250)
+#: Most mirror images (one bit each in a block's mask).
+MAX_IMAGES = 8
+#: Above this fraction of the rows needing the per-point test, the plain pass serves.
+PLAIN_FRACTION = 0.5
+#: An array whose median block spans more than this fraction of its bounding box's diagonal
+#: (a vertex order without locality) is left to the plain pass: the blocks would cost their
+#: upkeep and save nothing.
+DORMANT_EXTENT = 0.25
+#: Check every answer against the plain pass; record mismatches in :data:`mismatches` and raise.
+#: The blocks then answer for every vertex order (none is left dormant), so that the tests
+#: check them on every mesh.
+VERIFY = False
+#: What :data:`VERIFY` found (descriptions), for a test harness to assert empty.
+mismatches: list[str] = []
+#: Fewest blocks a thread of the pool takes at once (each block 64 rows).
+MIN_BLOCKS = 256
+
+#: (start (3,), step (3,), radius, mirrors (k, 3), origin (3,)): what a query asks.
+Query = tuple[
+    NDArray[np.float64], NDArray[np.float64], float, NDArray[np.float64], NDArray[np.float64]
+]
+
+
+def _compiled_ready() -> bool:
+    """Whether the compiled drivers (these functions among them) are ready; else they are
+    requested and NumPy serves."""
+    return _drivers.ready()
+
+
+def plain_rows_near(
+    points: NDArray[np.float64],
+    start: NDArray[np.float64],
+    step: NDArray[np.float64],
+    radius: float,
+    mirrors: NDArray[np.float64],
+    origin: NDArray[np.float64],
+    compiled: bool,
+) -> NDArray[np.int64]:
+    """The rows (n,) int64 of ``points`` (N, 3) the influence test keeps, by a pass over all of
+    them: ``_evaluation.near_segment`` (compiled, or its NumPy twin when ``compiled`` is
+    False), then ``np.flatnonzero``."""
+    out = np.empty(len(points), dtype=np.bool_)
+    _evaluation.near_segment(points, start, step, radius, mirrors, origin, out, compiled)
+    return np.flatnonzero(out)
+
+
+class VertexBlocks:
+    """The influence test of one vertex array, answered with the bounding boxes of its blocks
+    of :data:`BLOCK` consecutive rows (see the module docstring).
+
+    State, for the array it serves (built on the first query, refitted block by block):
+    lo, hi (n_blocks, 3) float64, model units: each block's box (lo > hi: no finite row);
+    dirty (n_blocks,) bool: blocks written since their box was fitted; dormant: the array's
+    order has no locality (:data:`DORMANT_EXTENT`), the plain pass answers and writes are not
+    tracked. One lock guards it, so a background query and the writes of another thread may
+    interleave.
+    """
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._array: weakref.ref[NDArray[np.float64]] | None = None
+        self._n = 0
+        self._lo = np.empty((0, 3))
+        self._hi = np.empty((0, 3))
+        self._dirty = np.empty(0, dtype=np.bool_)
+        self._near = np.empty(0, dtype=np.bool_)
+        self._dormant: bool | None = None  # decided with the first boxes
+        #: Answers given by the blocks and by the plain pass (what a benchmark reports).
+        self.answers = {"blocks": 0, "plain": 0}
+
+    def _serves(self, vertices: NDArray[np.float64]) -> bool:
+        return self._array is not None and self._array() is vertices and len(vertices) == self._n
+
+    def _index(self, vertices: NDArray[np.float64]) -> None:
+        """Serve ``vertices`` from now on: every box to be fitted (at the next query)."""
+        self._array = weakref.ref(vertices)
+        self._n = n = len(vertices)
+        n_blocks = -(-n // BLOCK)
+        self._lo, self._hi = np.empty((n_blocks, 3)), np.empty((n_blocks, 3))
+        self._dirty = np.ones(n_blocks, dtype=np.bool_)
+        self._near = np.empty(n, dtype=np.bool_)
+        self._dormant = None
+
+    def changed(self, vertices: NDArray[np.float64], rows: NDArray[np.integer] | None) -> None:
+        """Rows ``rows`` (k,) of ``vertices`` (N, 3) were written (None: any row may have been):
+        their boxes are refitted before the next answer. Nothing to do for another array."""
+        compiled = _compiled_ready()
+        with self._lock:
+            if not self._serves(vertices) or self._dormant:
+                return
+            if rows is None:
+                self._dirty[:] = True
+                return
+            rows = np.asarray(rows)
+            if rows.dtype == np.bool_:
+                rows = np.flatnonzero(rows)
+            rows = np.ascontiguousarray(rows, dtype=np.int64).ravel()
+            if compiled:
+                _mark(rows, self._n, self._dirty)
+            else:
+                numpy_twin.mark(rows, self._n, self._dirty)
+
+    def rows_near(
+        self,
+        vertices: NDArray[np.float64],
+        start: NDArray[np.float64],
+        step: NDArray[np.float64],
+        radius: float,
+        mirrors: NDArray[np.float64],
+        origin: NDArray[np.float64],
+    ) -> NDArray[np.int64]:
+        """The rows (n,) int64, ascending, of ``vertices`` (N, 3) some mirror image of which
+        (``mirrors`` (k, 3) ±1 signs about ``origin`` (3,)) lies within ``radius`` (model
+        units) of the segment ``start`` (3,) → ``start + step`` (3,): exactly the plain pass's
+        (:func:`plain_rows_near`)."""
+        query: Query = (
+            np.ascontiguousarray(start, dtype=np.float64),
+            np.ascontiguousarray(step, dtype=np.float64),
+            float(radius),
+            np.ascontiguousarray(mirrors, dtype=np.float64),
+            np.ascontiguousarray(origin, dtype=np.float64),
+        )
+        compiled = _compiled_ready()
+        with self._lock:
+            rows = None
+            if not self._serves(vertices):
+                self._index(vertices)
+            if _usable(*query[:4]) and not self._dormant:
+                self._refit(vertices, compiled)
+                if self._dormant is None:
+                    self._dormant = not VERIFY and self._without_locality()
+                if not self._dormant:
+                    by = self._by_compiled if compiled else self._by_numpy
+                    rows = by(vertices, query)
+            self.answers["plain" if rows is None else "blocks"] += 1
+            # (other threads may see the GUI thread's writes mid-way: the main thread checks)
+            main = threading.current_thread() is threading.main_thread()
+            if rows is not None and VERIFY and main:
+                _verify(rows, plain_rows_near(vertices, *query, compiled))
+        return plain_rows_near(vertices, *query, compiled) if rows is None else rows
+
+    def _refit(self, vertices: NDArray[np.float64], compiled: bool) -> None:
+        """Fit the boxes of the blocks written since they were fitted."""
+        dirty = np.flatnonzero(self._dirty)
+        if not len(dirty):
+            return
+        if compiled:
+            run_ranges(partial(_refit, vertices, dirty, self._lo, self._hi), len(dirty), MIN_BLOCKS)
+        else:
+            numpy_twin.refit(vertices, dirty, self._lo, self._hi)
+        self._dirty[dirty] = False
+
+    def _without_locality(self) -> bool:
+        """Whether the median block spans more than :data:`DORMANT_EXTENT` of the diagonal of
+        the vertices' bounding box (then the plain pass serves this array)."""
+        lo, hi = self._lo, self._hi
+        valid = np.all(lo <= hi, axis=1)
+        if not valid.any():
+            return True
+        lo, hi = lo[valid], hi[valid]
+        diagonal = float(np.linalg.norm(hi.max(axis=0) - lo.min(axis=0)))
+        return bool(np.median((hi - lo).max(axis=1)) > DORMANT_EXTENT * diagonal)
+
+    def _by_compiled(self, vertices: NDArray[np.float64], query: Query) -> NDArray[np.int64] | None:
+        """The answer by the blocks with the compiled loops, or None for the plain pass."""
+        n, n_blocks = len(vertices), len(self._lo)
+        status = np.empty(n_blocks, dtype=np.uint8)
+        images = np.empty(n_blocks, dtype=np.uint8)
+        hits = np.empty(n_blocks, dtype=np.int64)
+        n_hits, tested_rows = _classify(self._lo, self._hi, n, *query, status, images, hits)
+        if n_hits < 0 or tested_rows > PLAIN_FRACTION * n:
+            return None
+        hits = hits[:n_hits]
+        counts = np.empty(n_hits, dtype=np.int64)
+        near = self._near
+        test = partial(_test_blocks, vertices, *query, hits, status, images, near, counts)
+        run_ranges(test, n_hits, MIN_BLOCKS)
+        ends = np.cumsum(counts)
+        out = np.empty(int(ends[-1]) if n_hits else 0, dtype=np.int64)
+        run_ranges(partial(_emit, n, hits, status, near, ends - counts, out), n_hits, MIN_BLOCKS)
+        return out
+
+    def _by_numpy(self, vertices: NDArray[np.float64], query: Query) -> NDArray[np.int64] | None:
+        """The answer by the blocks in NumPy, or None for the plain pass."""
+        classified = numpy_twin.classify(self._lo, self._hi, *query)
+        if classified is None:
+            return None
+        blocks = np.flatnonzero(classified[0])
+        inside = classified[1][blocks]
+        tested = blocks[~inside] << BLOCK_SHIFT
+        n = len(vertices)
+        if np.minimum(tested + BLOCK, n).sum() - tested.sum() > PLAIN_FRACTION * n:
+            return None
+        return numpy_twin.rows_near(vertices, *query, blocks, inside)
+
+
+def _verify(rows: NDArray[np.int64], plain: NDArray[np.int64]) -> None:
+    """Record and raise a difference between the blocks' answer and the plain pass's."""
+    if not np.array_equal(rows, plain):
+        missing, extra = np.setdiff1d(plain, rows)[:5], np.setdiff1d(rows, plain)[:5]
+        mismatches.append(
+            f"{len(rows)} rows by the blocks, {len(plain)} by the plain pass; missing "
+            f"{missing.tolist()}, extra {extra.tolist()}"
+        )
+        raise AssertionError(f"stale vertex blocks: {mismatches[-1]}")
+
+
+def _usable(
+    start: NDArray[np.float64],
+    step: NDArray[np.float64],
+    radius: float,
+    mirrors: NDArray[np.float64],
+) -> bool:
+    """Whether the blocks may answer (see the module docstring; the coordinates are checked
+    with the boxes)."""
+    if not (start.shape == step.shape == (3,) and mirrors.ndim == 2 and mirrors.shape[1] == 3):
+        return False
+    if not (1 <= len(mirrors) <= MAX_IMAGES and np.all(np.abs(mirrors) == 1.0)):
+        return False
+    r = abs(radius)
+    with np.errstate(over="ignore", under="ignore"):
+        length2 = float(step[0] * step[0] + step[1] * step[1] + step[2] * step[2])
+    return (r == 0.0 or 1e-150 <= r <= MAX_SCALE) and (  # NaN fails both
+        length2 == 0.0 or STEP2_RANGE[0] <= length2 <= STEP2_RANGE[1]
+    )

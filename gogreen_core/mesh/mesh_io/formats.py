@@ -1,0 +1,163 @@
+"""Loading and saving by file extension: :func:`load_mesh` and :func:`save_mesh` pick the reader
+or writer of the format, check the mesh, and report every problem as a :class:`MeshFileError`
+naming the file."""
+
+from __future__ import annotations
+
+import os
+import struct
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import BinaryIO
+
+import numpy as np
+
+from gogreen_core import _compiled
+from gogreen_core.mesh.mesh_io import obj, off, ply, stl
+from gogreen_core.mesh.mesh_io.atomic import atomic_write
+from gogreen_core.mesh.mesh_io.data import MeshData, MeshFileError, validate_mesh
+
+__all__ = ["MESH_FORMATS", "load_mesh", "save_mesh", "warm_up"]
+
+#: File extensions :func:`load_mesh` and :func:`save_mesh` understand (lower case).
+MESH_FORMATS = (".obj", ".ply", ".stl", ".off")
+
+# Looked up at call time (module attributes), so that a test can replace one.
+_READERS: dict[str, Callable[[bytes, str], MeshData]] = {
+    ".obj": lambda data, name: obj.read_obj(data, name),
+    ".ply": lambda data, name: ply.read_ply(data, name),
+    ".stl": lambda data, name: stl.read_stl(data, name),
+    ".off": lambda data, name: off.read_off(data, name),
+}
+
+
+def load_mesh(path: str | os.PathLike[str]) -> MeshData:
+    """Read a triangle mesh, keeping its vertices' count and order as in the file.
+
+    Vertices that the format made copies of are joined back (STL's triangle corners, a PLY's
+    vertices split along UV seams), so that a closed model loads closed; OBJ and OFF vertices
+    and those of a PLY without such splits stay exactly as listed. Polygons are triangulated by
+    their shape (convex ones by the fan from their first corner, in file order).
+
+    Parameters
+    ----------
+    path : str or PathLike
+        A ``.obj``, ``.ply`` (ASCII or binary), ``.stl`` (binary or ASCII) or ``.off`` file
+        (case-insensitive).
+
+    Returns
+    -------
+    MeshData
+        vertices (N, 3) float64 in file units, faces (M, 3) int64, ``uv``/``uv_faces`` for an
+        OBJ or PLY with texture coordinates, ``source`` = ``str(path)``.
+
+    Raises
+    ------
+    MeshFileError
+        Unknown extension, missing or unreadable file, empty, broken or truncated content, no
+        faces, non-finite coordinates, or an index out of range; the message names the file.
+    """
+    p = Path(path)
+    suffix = p.suffix.lower()
+    if suffix not in _READERS:
+        raise MeshFileError(
+            f"{p.name}: unknown mesh format {suffix or '(no extension)'!r}; "
+            f"use {', '.join(MESH_FORMATS)}"
+        )
+    if not p.exists():
+        raise MeshFileError(f"{p.name}: no such file ({p})")
+    if not p.is_file():
+        raise MeshFileError(f"{p.name}: not a file ({p})")
+    try:
+        data = p.read_bytes()
+    except OSError as exc:
+        raise MeshFileError(f"{p.name}: cannot read ({exc.strerror or exc})") from None
+    if not data or data.isspace():
+        raise MeshFileError(f"{p.name}: the file is empty")
+    mesh = _READERS[suffix](data, p.name)
+    validate_mesh(mesh, p.name)  # a safety net: the readers already report problems precisely
+    mesh.source = str(p)
+    return mesh
+
+
+def save_mesh(mesh: MeshData, path: str | os.PathLike[str], *, ascii: bool = False) -> None:
+    """Write ``mesh`` to ``path`` atomically; the extension chooses the format.
+
+    Parameters
+    ----------
+    mesh : MeshData
+        vertices (N, 3) float64 (must be finite), faces (M, 3) int64; ``uv``/``uv_faces`` are
+        written to OBJ (per corner) and PLY (``s, t`` per vertex: a vertex whose corners have
+        several is written once per texture coordinate, which loading joins back).
+    path : str or PathLike
+        ``.obj``, ``.ply``, ``.stl`` or ``.off``. A symbolic link is written through (the
+        link stays); an existing file keeps its permission bits.
+    ascii : bool
+        PLY only: ASCII instead of binary little-endian.
+
+    Raises
+    ------
+    MeshFileError
+        Unknown extension, a mesh that cannot be saved (checked before anything is written),
+        a missing folder, or an OS error while writing. The destination is then untouched.
+    """
+    p = Path(path)
+    suffix = p.suffix.lower()
+    writers: dict[str, Callable[[BinaryIO], None]] = {
+        ".obj": lambda out: obj.write_obj(mesh, out),
+        ".ply": lambda out: ply.write_ply(mesh, out, ascii),
+        ".stl": lambda out: stl.write_stl(mesh, out),
+        ".off": lambda out: off.write_off(mesh, out),
+    }
+    if suffix not in writers:
+        raise MeshFileError(
+            f"{p.name}: cannot save as {suffix or '(no extension)'!r}; "
+            f"use {', '.join(MESH_FORMATS)}"
+        )
+    validate_mesh(mesh, p.name)
+    if suffix == ".ply" and len(mesh.vertices) > np.iinfo(np.int32).max:
+        raise MeshFileError(f"{p.name}: too many vertices for 32-bit PLY indices")
+    if suffix == ".stl" and np.abs(mesh.vertices).max() > np.finfo(np.float32).max:
+        raise MeshFileError(f"{p.name}: coordinates too large for STL (float32)")
+    try:
+        atomic_write(p, writers[suffix])
+    except MeshFileError as exc:
+        if str(exc).startswith(p.name):
+            raise
+        raise MeshFileError(f"{p.name}: {exc}") from None
+    except OSError as exc:
+        raise MeshFileError(f"{p.name}: cannot write ({exc.strerror or exc})") from exc
+
+
+def warm_up() -> float:
+    """Compile (or load from numba's disk cache) the loops the readers run as compiled code,
+    by reading a few tiny files made here: the PLY record walks (binary and ASCII), the fan
+    test, the welds. Seconds, about 3 from an empty cache and milliseconds from the cache: the
+    app calls it off the GUI thread at start, so that opening a file never waits on a
+    compiler."""
+    start = time.perf_counter()
+    header = (
+        "ply\nformat {} 1.0\nelement vertex 5\nproperty float x\nproperty float y\n"
+        "property float z\nproperty float s\nproperty float t\nelement face 2\n"
+        "property list uchar int vertex_indices\nend_header\n"
+    )
+    square = np.array([[0, 0, 0, 0, 0], [1, 0, 0, 1, 0], [1, 1, 0, 1, 1], [0, 1, 0, 0, 1],
+                       [0, 0, 0, 1, 1]], dtype="<f4")  # fmt: skip
+    faces = struct.pack("<B5iB3i", 5, 0, 1, 2, 3, 4, 3, 0, 2, 4)  # a pentagon and a triangle
+    ply.read_ply(header.format("binary_little_endian").encode() + square.tobytes() + faces, "")
+    rows = "".join(" ".join(map(str, row)) + "\n" for row in square.tolist())
+    ply.read_ply((header.format("ascii") + rows + "5 0 1 2 3 4\n3 0 2 4\n").encode(), "")
+    triangle = np.zeros(1, dtype=stl.TRIANGLE)
+    triangle["corners"] = square[:3, :3]
+    stl.read_stl(bytes(80) + struct.pack("<I", 1) + triangle.tobytes(), "")
+    return time.perf_counter() - start
+
+
+# The readers' loops are a compile unit of their own (the whole package's compiled functions).
+_compiled.register(
+    _compiled.MESH_IO,
+    __name__,
+    lambda unit: warm_up(),
+    lambda unit: _compiled.modules_cached(__name__.rpartition(".")[0]),
+)

@@ -1,0 +1,54 @@
+"""OBJ (Wavefront): reading (the fast reader, else the strict one) and writing.
+
+Positions stay as listed; texture coordinates are kept per face corner (``MeshData.uv``,
+``MeshData.uv_faces``) so they survive a load/save round trip. trimesh's OBJ loader is not used:
+it splits vertices that carry several texture coordinates (UV seams), which changes the vertex
+count and order that a sculpting session and its replay rely on. Normals (``vn``), materials
+and groups are not kept: normals are recomputed after sculpting.
+"""
+
+from __future__ import annotations
+
+import io
+from typing import BinaryIO
+
+import numpy as np
+
+from gogreen_core.mesh.mesh_io.data import MeshData
+from gogreen_core.mesh.mesh_io.obj_fast import read_obj_fast
+from gogreen_core.mesh.mesh_io.obj_strict import read_obj_strict
+from gogreen_core.mesh.mesh_io.text import write_int_rows, write_rows
+
+__all__ = ["read_obj", "write_obj"]
+
+
+def read_obj(data: bytes, name: str) -> MeshData:
+    """OBJ: the fast whole-array reader when the file is regular, else the strict one."""
+    mesh = read_obj_fast(data)
+    return read_obj_strict(data, name) if mesh is None else mesh
+
+
+def write_obj(mesh: MeshData, out: BinaryIO) -> None:
+    out.write(b"# written by GoGreen Sculpt\n")
+    write_rows(out, "v %.17g %.17g %.17g\n", mesh.vertices)
+    if mesh.uv is None:
+        write_int_rows(out, b"f ", mesh.faces + 1, b"  \n")
+        return
+    write_rows(out, "vt %.17g %.17g\n", mesh.uv)
+    uv_faces = mesh.uv_faces
+    assert uv_faces is not None  # set together with uv
+    has_uv = uv_faces[:, 0] >= 0
+    if has_uv.all():
+        corners = np.stack([mesh.faces + 1, uv_faces + 1], axis=2).reshape(-1, 6)
+        write_int_rows(out, b"f ", corners, b"/ / /\n")
+        return
+    text = io.StringIO()  # some faces without texture coordinates: keep them so, in order
+    for face, tex, textured in zip(
+        (mesh.faces + 1).tolist(), (uv_faces + 1).tolist(), has_uv, strict=True
+    ):
+        if textured:
+            text.write("f " + " ".join(f"{a}/{b}" for a, b in zip(face, tex, strict=True)))
+        else:
+            text.write("f {} {} {}".format(*face))
+        text.write("\n")
+    out.write(text.getvalue().encode("ascii"))

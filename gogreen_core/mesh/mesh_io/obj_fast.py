@@ -1,0 +1,320 @@
+"""OBJ, the fast reader: whole-array parsing of a regular file.
+
+:func:`read_obj_fast` returns None as soon as anything is unusual (a comment after data, a tab
+after a tag, mixed corner forms, a bad number, an index out of range, ...); the strict reader
+(:mod:`~gogreen_core.mesh.mesh_io.obj_strict`) then either accepts the file the same way or names
+the line at fault. :func:`~gogreen_core.mesh.mesh_io.text.parse_numbers` raises on any token it
+cannot read whole, and rounds decimals correctly like ``float()``.
+
+The lines of one kind (v, vt or f) are handled as a "piece": their contents joined by
+``b"\n" + tag``, i.e. the file's bytes from after the first line's tag to the end of the last
+line, when they form one block.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+import numpy as np
+
+from gogreen_core.mesh.mesh_io.data import MeshData
+from gogreen_core.mesh.mesh_io.obj_strict import OBJ_STATEMENTS
+from gogreen_core.mesh.mesh_io.polygons import triangulate
+from gogreen_core.mesh.mesh_io.text import parse_numbers, without_dos_eof
+
+__all__ = [
+    "ObjSections",
+    "mesh_from_sections",
+    "read_obj_fast",
+    "sections_by_blocks",
+    "sections_by_lines",
+]
+
+_SPACE = 32  # bytes <= 32 separate tokens (space, tab, line ends, control characters)
+_MAX_RUNS = 10_000  # more runs of same-kind lines than this: gather them with a byte mask
+_MAX_OTHER = 1 << 20  # bytes of other lines checked one by one in Python
+
+
+@dataclass
+class ObjSections:
+    """The v, vt and f lines of an OBJ file as pieces (see above; None when there are no such
+    lines), and per face line the count of v and vt lines before it (an int when the same for
+    all, None when unknown: relative indices then go to the strict reader)."""
+
+    v: bytes | None
+    vt: bytes | None
+    f: bytes | None
+    v_before: np.ndarray | int | None
+    vt_before: np.ndarray | int | None
+
+
+def _other_lines_are_fine(text: bytes) -> bool:
+    """Whether lines other than v, vt and f are comments, blank, or known OBJ statements."""
+    for line in text.decode("utf-8", "replace").split("\n"):
+        words = line.split()
+        if not words or line.startswith("#"):
+            continue
+        if "#" in line or words[0] not in OBJ_STATEMENTS or words[0] in ("v", "vt", "f", "fo"):
+            return False
+    return True
+
+
+def _block(data: bytes, tag: bytes, lo: int, hi: int) -> tuple[int, int] | None:
+    """[start, end) from the first line starting with ``tag`` in data[lo:hi] (``lo`` a line
+    start) to the '\\n' of the last one; None when there is none."""
+    if data.startswith(tag, lo):
+        start = lo
+    else:
+        found = data.find(b"\n" + tag, lo, hi)
+        if found < 0:
+            return None
+        start = found + 1
+    last = data.rfind(b"\n" + tag, start, hi)
+    return start, data.find(b"\n", start if last < 0 else last + 1, hi)
+
+
+def sections_by_blocks(data: bytes) -> ObjSections | None:
+    """Sections of the usual layout: one block of each of v, vt, vn and f lines and a few
+    other lines (comments, g, s, usemtl...) around them; None otherwise. Found with bytes
+    find/count alone, without an array over every byte."""
+    blocks: dict[bytes, tuple[int, int]] = {}
+    for tag in (b"v ", b"f "):
+        found = _block(data, tag, 0, len(data))
+        if found is None:
+            return None
+        blocks[tag] = found
+    spans = sorted(blocks.values())
+    if spans[0][1] >= spans[1][0]:
+        return None  # interleaved (a v line after a face, ...)
+    gaps = [(0, spans[0][0]), (spans[0][1] + 1, spans[1][0]), (spans[1][1] + 1, len(data))]
+    for tag in (b"vt ", b"vn "):  # each within one gap
+        for k, (lo, hi) in enumerate(gaps):
+            found = _block(data, tag, lo, hi)
+            if found is not None:
+                blocks[tag] = found
+                gaps[k : k + 1] = [(lo, found[0]), (found[1] + 1, hi)]
+                break
+    if b"vn " in blocks:
+        start, end = blocks.pop(b"vn ")
+        if data.count(b"\n", start, end) != data.count(b"\nvn ", start, end):
+            return None
+    if sum(hi - lo for lo, hi in gaps) > _MAX_OTHER:
+        return None
+    if not all(_other_lines_are_fine(data[lo:hi]) for lo, hi in gaps):
+        return None
+    pieces = {tag: data[start + len(tag) : end] for tag, (start, end) in blocks.items()}
+    faces_start = blocks[b"f "][0]
+
+    def before(tag: bytes) -> int | None:
+        if tag not in blocks:
+            return 0
+        return pieces[tag].count(b"\n") + 1 if blocks[tag][1] < faces_start else None
+
+    return ObjSections(
+        pieces[b"v "], pieces.get(b"vt "), pieces[b"f "], before(b"v "), before(b"vt ")
+    )
+
+
+def sections_by_lines(data: bytes) -> ObjSections | None:
+    """Sections of any layout, by classifying every line with whole-array operations."""
+    arr = np.frombuffer(data + b"   ", dtype=np.uint8)
+    ends = np.flatnonzero(arr == ord("\n"))
+    starts = np.concatenate([[0], ends[:-1] + 1])
+    c0, c1, c2 = arr[starts], arr[starts + 1], arr[starts + 2]
+    kinds = {
+        b"v ": (c0 == ord("v")) & (c1 == ord(" ")),
+        b"vt ": (c0 == ord("v")) & (c1 == ord("t")) & (c2 == ord(" ")),
+        b"f ": (c0 == ord("f")) & (c1 == ord(" ")),
+    }
+    if b"#" in data:  # a comment is fine only on a line of its own
+        hashes = np.flatnonzero(arr == ord("#"))
+        if (c0[np.searchsorted(starts, hashes, side="right") - 1] != ord("#")).any():
+            return None
+    ignored = (c0 == ord("#")) | (starts == ends)
+    ignored |= (c0 == ord("v")) & (c1 == ord("n")) & (c2 == ord(" "))  # normals: not kept
+    others = np.flatnonzero(~(kinds[b"v "] | kinds[b"vt "] | kinds[b"f "] | ignored))
+    for line in others.tolist():  # g, s, usemtl...
+        if not _other_lines_are_fine(data[starts[line] : ends[line]]):
+            return None
+    pieces: dict[bytes, bytes | None] = {}
+    for tag, keep in kinds.items():
+        if not keep.any():
+            pieces[tag] = None
+            continue
+        edges = np.diff(np.concatenate([[0], keep.view(np.int8), [0]]))
+        first, last = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
+        if len(first) <= _MAX_RUNS:  # runs of lines of this kind: copy them whole
+            bounds = zip(starts[first].tolist(), (ends[last] + 1).tolist(), strict=True)
+            text = b"".join([data[a:b] for a, b in bounds])
+        else:
+            mask = np.repeat(keep, ends - starts + 1)
+            text = arr[: len(mask)][mask].tobytes()
+        pieces[tag] = text[len(tag) : -1]
+    face_lines = np.flatnonzero(kinds[b"f "])
+    return ObjSections(
+        pieces[b"v "],
+        pieces[b"vt "],
+        pieces[b"f "],
+        np.cumsum(kinds[b"v "])[face_lines],
+        np.cumsum(kinds[b"vt "])[face_lines],
+    )
+
+
+def _numbers_per_line(
+    piece: bytes, tag: bytes, sentinel: bytes, dtype: type[np.generic]
+) -> tuple[np.ndarray, np.ndarray] | None:
+    """All numbers of a piece and how many each line has, or None if a token is not a number
+    or a line of another kind is among them. A ``sentinel`` that the data cannot hold (NaN
+    among finite floats, 0 among 1-based indices) replaces each line break to count them."""
+    lines = piece.count(b"\n") + 1
+    between = b" " + sentinel + b" " * max(1, len(tag) + 2 - len(sentinel))
+    text = piece.replace(b"\n" + tag, between)
+    if len(text) - len(piece) != (lines - 1) * (len(between) - len(tag) - 1):
+        return None  # a line without the tag among them
+    try:
+        values = parse_numbers(text + b" " + sentinel, dtype)
+    except ValueError:
+        return None
+    marks = np.flatnonzero(np.isnan(values) if sentinel == b"nan" else values == 0)
+    if len(marks) != lines:
+        return None  # a NaN or 0 in the data itself: the strict reader reports it
+    counts = np.diff(marks, prepend=-1) - 1
+    return np.delete(values, marks), counts
+
+
+def _first_columns(values: np.ndarray, counts: np.ndarray, columns: int) -> np.ndarray:
+    """The first ``columns`` values of each line, from line-major ``values`` (counts per line
+    all >= columns), as a contiguous (lines, columns) array."""
+    if counts.min() == counts.max():
+        return np.ascontiguousarray(values.reshape(len(counts), -1)[:, :columns])
+    firsts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    return values[firsts[:, None] + np.arange(columns)]
+
+
+def _face_corners(piece: bytes) -> tuple[np.ndarray, np.ndarray, bool] | None:
+    """Corner numbers (C, fields), corners per face line, and whether the corners are
+    ``a//c`` (no texture), from the f piece; None unless every corner has the same form."""
+    n_slashes = piece.count(b"/")
+    if n_slashes == 0:
+        parsed = _numbers_per_line(piece, b"f ", b"0", np.int64)
+        return None if parsed is None else (parsed[0][:, None], parsed[1], False)
+    text = piece.replace(b"\nf ", b"\n  ")
+    if len(text) != len(piece) or text.count(b"\n") != piece.count(b"\nf "):
+        return None
+    buffer = np.frombuffer(text, dtype=np.uint8)
+    word = buffer > _SPACE
+    first = word.copy()
+    first[1:] &= ~word[:-1]
+    corner_starts = np.flatnonzero(first)
+    line_starts = np.concatenate([[0], np.flatnonzero(buffer == ord("\n")) + 1, [len(text)]])
+    corners = np.diff(np.searchsorted(corner_starts, line_starts))
+    n_corners = len(corner_starts)
+    per_corner = n_slashes // n_corners  # 1: "a/b"; 2: "a/b/c" or "a//c"
+    doubled = text.count(b"//")
+    if n_slashes % n_corners or per_corner > 2 or doubled not in (0, n_corners):
+        return None
+    if doubled and per_corner != 2:
+        return None
+    # Every corner must have the same number of slashes as the others.
+    before = np.searchsorted(np.flatnonzero(buffer == ord("/")), corner_starts)
+    if (np.diff(np.append(before, n_slashes)) != per_corner).any():
+        return None
+    fields = 2 if per_corner == 1 or doubled else 3
+    try:
+        numbers = parse_numbers(text.replace(b"/", b" "), np.int64)
+    except ValueError:
+        return None
+    if len(numbers) != fields * n_corners:
+        return None  # an empty field such as "1/ 2/ 3/"
+    return numbers.reshape(-1, fields), corners, bool(doubled)
+
+
+def read_obj_fast(data: bytes) -> MeshData | None:
+    """The mesh of a regular OBJ file, else None (the strict reader then reads it)."""
+    data = without_dos_eof(data.removeprefix(b"\xef\xbb\xbf"))
+    if b"\r" in data:
+        data = data.replace(b"\r\n", b"\n")
+        if b"\r" in data:
+            return None
+    if b"\\" in data:  # lines continued by a backslash
+        continued = [m.start() for m in re.finditer(rb"\\[ \t]*\n", data)]
+        if any(b"#" in data[data.rfind(b"\n", 0, at) + 1 : at] for at in continued):
+            return None  # a comment never continues: the strict reader knows that
+        data = re.sub(rb"\\[ \t]*\n", b" ", data)
+    if not data.endswith(b"\n"):
+        data += b"\n"
+    sections = sections_by_blocks(data)
+    mesh = None if sections is None else mesh_from_sections(sections)
+    if mesh is None:  # not the usual layout (faces grouped by material, ...), or a bad file
+        sections = sections_by_lines(data)
+        mesh = None if sections is None else mesh_from_sections(sections)
+    return mesh
+
+
+def mesh_from_sections(sections: ObjSections) -> MeshData | None:
+    if sections.v is None or sections.f is None:
+        return None
+
+    parsed = _numbers_per_line(sections.v, b"v ", b"nan", np.float64)
+    if parsed is None or parsed[1].min() < 3:
+        return None
+    vertices = _first_columns(*parsed, 3)
+    if not np.isfinite(vertices).all():
+        return None
+
+    uv = np.zeros((0, 2))
+    if sections.vt is not None:
+        parsed = _numbers_per_line(sections.vt, b"vt ", b"nan", np.float64)
+        if parsed is None or parsed[1].min() < 1:
+            return None
+        values, counts = parsed
+        if counts.max() == 1:
+            uv = np.stack([values, np.zeros_like(values)], axis=1)
+        elif counts.min() >= 2:
+            uv = _first_columns(values, counts, 2)
+        else:
+            return None  # a mix of 1- and 2-value lines: left to the strict reader
+        if not np.isfinite(uv).all():
+            return None
+
+    found = _face_corners(sections.f)
+    if found is None:
+        return None
+    numbers, corners, doubled = found
+    if corners.min() < 3:
+        return None
+
+    def indices(
+        column: np.ndarray, counted: np.ndarray | int | None, total: int
+    ) -> np.ndarray | None:
+        """0-based indices from 1-based or relative ones (``counted``: entries read before each
+        face line, see ObjSections); None when one is 0, before the first entry, or past the
+        last."""
+        if (column == 0).any():
+            return None
+        relative = column < 0
+        if relative.any():
+            if counted is None:
+                return None
+            if not isinstance(counted, int):
+                counted = counted[np.repeat(np.arange(len(corners)), corners)[relative]]
+            column = column.copy()
+            column[relative] += counted + 1
+            if (column[relative] < 1).any():
+                return None
+        if column.max() > total:  # also catches indices too large for int64 (saturated)
+            return None
+        return column - 1
+
+    position = indices(numbers[:, 0], sections.v_before, len(vertices))
+    if position is None:
+        return None
+    triangles = triangulate(vertices, position, corners)
+    mesh = MeshData(vertices, position[triangles])
+    if numbers.shape[1] >= 2 and not doubled:
+        texture = indices(numbers[:, 1], sections.vt_before, len(uv))
+        if texture is None:
+            return None
+        mesh.uv, mesh.uv_faces = uv, texture[triangles]
+    return mesh

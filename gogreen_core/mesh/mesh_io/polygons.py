@@ -1,0 +1,330 @@
+"""Polygons to triangles by their shape, and the index check that names the polygon at fault.
+
+Polygons are given as consecutive corners with their sizes (the way files list them) and come
+back as triangles of *corner positions*, so that a caller maps vertex and texture indices
+through the same triangles. A quad (two triangulations: one per diagonal) keeps the file's
+diagonal (corners 0-2) unless a triangle of it folds over against the quad's normal and the
+other diagonal folds less; the choice is made for all quads at once with whole-array
+operations. A larger polygon whose fan from its first corner (``0, j, j+1``) covers it exactly
+(every fan triangle on the polygon's side of its best-fit plane: convex polygons, and many
+concave ones) keeps that fan, as the file order has it. The others (a concave n-gon, where the
+fan would cover the notch) are triangulated on their best-fit plane: by the fan from another
+corner when one covers the polygon, else by ear clipping (``mapbox_earcut``, one polygon at a
+time: only polygons of five corners or more get there). Each polygon of k corners always gives
+k-2 triangles that use each of its corners and edges, so neighbouring faces stay connected, and
+the polygon's area is kept.
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Callable
+
+import mapbox_earcut
+import numba
+import numpy as np
+
+from gogreen_core.mesh.mesh_io.data import MeshFileError
+
+__all__ = ["check_corner_indices", "concatenated_ranges", "triangulate"]
+
+#: A fan triangle whose turn against the polygon's normal is below -this (the sine of the
+#: angle between the triangle's and the polygon's sides) folds over: the polygon is concave
+#: there. The tolerance lets nearly straight corners (three points in a row) keep the fan.
+_FOLD_TOLERANCE = 1e-9
+#: Polygons of up to this many corners try the fan from each of their corners (k² work each)
+#: before ear clipping.
+_MAX_FAN_STARTS = 32
+
+
+def concatenated_ranges(starts: np.ndarray, counts: np.ndarray) -> np.ndarray:
+    """The ranges ``starts[i] : starts[i] + counts[i]`` (int64), concatenated."""
+    return np.repeat(starts - _starts(counts), counts) + np.arange(int(counts.sum()))
+
+
+def check_corner_indices(
+    corners: np.ndarray, sizes: np.ndarray, n_vertices: int, where: Callable[[int], str]
+) -> None:
+    """Raise MeshFileError for the first corner (in file order) whose vertex index is not in
+    [0, n_vertices); ``where(polygon)`` starts the message (the file, and its line if known)."""
+    outside = (corners < 0) | (corners >= n_vertices)
+    if outside.any():
+        corner = int(np.argmax(outside))
+        polygon = int(np.searchsorted(np.cumsum(sizes), corner, side="right"))
+        raise MeshFileError(
+            f"{where(polygon)}: face {polygon} references vertex {int(corners[corner])} "
+            f"but the file has {n_vertices} vertices"
+        )
+
+
+def triangulate(points: np.ndarray, corners: np.ndarray, sizes: np.ndarray) -> np.ndarray:
+    """Triangles of polygons by their shape (see the module's description).
+
+    Parameters
+    ----------
+    points : (N, 3) float64
+        Vertex positions.
+    corners : (C,) int
+        Vertex index of each corner (all in [0, N)), polygon after polygon.
+    sizes : (P,) int
+        Corners of each polygon (≥ 3), summing to C.
+
+    Returns
+    -------
+    (T, 3) int64
+        Positions in ``corners`` of each triangle's corners, T = Σ(k-2), polygon after polygon.
+    """
+    sizes = np.ascontiguousarray(sizes, dtype=np.int64)
+    if len(sizes) == 0 or sizes.max() == 3:
+        return np.arange(3 * len(sizes), dtype=np.int64).reshape(-1, 3)
+    corners = np.ascontiguousarray(corners, dtype=np.int64)
+    points = np.ascontiguousarray(points, dtype=np.float64)
+    corner_starts, triangle_starts = _starts(sizes), _starts(sizes - 2)
+    # Every polygon's fan from its first corner (0, j+1, j+2), then the quads' and the larger
+    # polygons' own choices over it.
+    polygon = np.repeat(np.arange(len(sizes)), sizes - 2)
+    first = corner_starts[polygon]
+    step = np.arange(len(polygon)) - triangle_starts[polygon]
+    triangles = np.stack([first, first + step + 1, first + step + 2], axis=1)
+    quads = np.flatnonzero(sizes == 4)
+    if len(quads):
+        _split_quads(points, corners, corner_starts[quads], triangle_starts[quads], triangles)
+    larger = np.flatnonzero(sizes > 4)
+    if len(larger):
+        # Positions in ``corners`` of the larger polygons' corners, and where their triangles go.
+        own = concatenated_ranges(corner_starts[larger], sizes[larger])
+        rows = concatenated_ranges(triangle_starts[larger], sizes[larger] - 2)
+        their_sizes = np.ascontiguousarray(sizes[larger])
+        their_corners = np.ascontiguousarray(corners[own])
+        found, uncovered = _fans(
+            points, their_corners, their_sizes, _FOLD_TOLERANCE, _MAX_FAN_STARTS
+        )
+        if uncovered.any():
+            _ear_clip_all(points, their_corners, their_sizes, found, np.flatnonzero(uncovered))
+        triangles[rows] = own[found]
+    return triangles
+
+
+def _split_quads(
+    points: np.ndarray,
+    corners: np.ndarray,
+    starts: np.ndarray,
+    rows: np.ndarray,
+    triangles: np.ndarray,
+) -> None:
+    """Choose each quad's diagonal, all quads at once: the file's (corners 0-2, the fan kept in
+    ``triangles[rows]``, ``triangles[rows + 1]``) unless one of its two triangles folds over
+    against the quad's normal (a concave quad whose notch is at corner 1 or 3, or a non-planar
+    one bent that way) while the other diagonal (1-3) folds less; then the triangles (1, 2, 3),
+    (1, 3, 0). Of a concave quad this is the diagonal inside it; of a twisted one (a bow tie
+    seen along its normal, which no diagonal covers) the one that folds least. Convex quads
+    keep the file's split bit for bit, as Blender and the file's writer made it."""
+    # Corners 1, 2, 3 relative to corner 0, each a triple of (Q,) coordinate arrays.
+    at = corners[starts + np.arange(4)[:, None]]  # (4, Q) vertex of each corner
+    x, y, z = np.take(np.ascontiguousarray(points.T), at, axis=1)  # (4, Q) each
+    with np.errstate(all="ignore"):  # huge coordinates overflow: such a quad keeps its split
+        _choose_diagonals(x, y, z, starts, rows, triangles)
+
+
+def _choose_diagonals(
+    x: np.ndarray,
+    y: np.ndarray,
+    z: np.ndarray,
+    starts: np.ndarray,
+    rows: np.ndarray,
+    triangles: np.ndarray,
+) -> None:
+    """:func:`_split_quads` on the corners' coordinates ``x``, ``y``, ``z`` (4, Q)."""
+    one, two, three = ((x[k] - x[0], y[k] - y[0], z[k] - z[0]) for k in (1, 2, 3))
+    # Newell's normal of a quad: the cross product of its diagonals (2 - 0) x (3 - 1).
+    n = _cross(two, _minus(three, one))
+    # The fan's triangles (0, 1, 2), (0, 2, 3) turn with the normal where these are >= 0.
+    first, second = _dot(_cross(one, two), n), _dot(_cross(two, three), n)
+    maybe = np.flatnonzero((first < 0) | (second < 0))  # only these can fold
+    if len(maybe) == 0:  # every quad keeps the file's split
+        return
+    one, two, three, n = ((a[maybe], b[maybe], c[maybe]) for a, b, c in (one, two, three, n))
+    nn = _dot(n, n)
+    kept = np.maximum(_fold(one, two, n, nn), _fold(two, three, n, nn))
+    other = np.maximum(
+        _fold(_minus(two, one), _minus(three, one), n, nn),
+        _fold(_minus(three, one), _minus((0.0, 0.0, 0.0), one), n, nn),
+    )
+    flip = maybe[(kept > _FOLD_TOLERANCE) & (other < kept)]
+    start, row = starts[flip], rows[flip]
+    triangles[row] = np.stack([start + 1, start + 2, start + 3], axis=1)
+    triangles[row + 1] = np.stack([start + 1, start + 3, start], axis=1)
+
+
+#: A vector of Q points or directions, as its three (Q,) coordinate arrays (no stacked copies).
+_Vectors = tuple[np.ndarray, np.ndarray, np.ndarray]
+
+
+def _minus(u: _Vectors | tuple[float, float, float], v: _Vectors) -> _Vectors:
+    return u[0] - v[0], u[1] - v[1], u[2] - v[2]
+
+
+def _cross(u: _Vectors, v: _Vectors) -> _Vectors:
+    return u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]
+
+
+def _dot(u: _Vectors, v: _Vectors) -> np.ndarray:
+    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]  # type: ignore[no-any-return]
+
+
+def _fold(u: _Vectors, v: _Vectors, n: _Vectors, nn: np.ndarray) -> np.ndarray:
+    """(Q,) how far the triangle with edges ``u``, ``v`` from a corner turns against the
+    quads' normals ``n`` (``nn`` their squared lengths): minus the sine of its side, above 0
+    when it folds (0 for a degenerate triangle or quad), as the fan test measures it."""
+    side = _dot(_cross(u, v), n)
+    scale = np.sqrt(_dot(u, u) * _dot(v, v) * nn)
+    return np.where(scale > 0, -side / np.where(scale > 0, scale, 1.0), 0.0)
+
+
+def _starts(sizes: np.ndarray) -> np.ndarray:
+    """Offset of each run of ``sizes`` items in their concatenation."""
+    return np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int64)
+
+
+@numba.njit(cache=True, nogil=True)
+def _fans(
+    points: np.ndarray, corners: np.ndarray, sizes: np.ndarray, tolerance: float, max_starts: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """Fan triangles of each polygon (T, 3) (positions in ``corners``): from its first corner
+    when that fan covers it, else from the first other corner whose fan does (polygons of up to
+    ``max_starts`` corners); and which polygons no fan covers (P,), for ear clipping."""
+    n_triangles = 0
+    for p in range(len(sizes)):
+        n_triangles += sizes[p] - 2
+    triangles = np.empty((n_triangles, 3), dtype=np.int64)
+    uncovered = np.zeros(len(sizes), dtype=np.bool_)
+    c = 0
+    t = 0
+    for p in range(len(sizes)):
+        k = sizes[p]
+        for j in range(k - 2):
+            triangles[t + j, 0] = c
+            triangles[t + j, 1] = c + j + 1
+            triangles[t + j, 2] = c + j + 2
+        if k > 3:
+            # The Newell normal: the sum of the cross products of any fan's triangles.
+            nx = ny = nz = 0.0
+            o = corners[c]
+            for j in range(1, k - 1):
+                ax, ay, az = _edge(points, o, corners[c + j])
+                bx, by, bz = _edge(points, o, corners[c + j + 1])
+                nx += ay * bz - az * by
+                ny += az * bx - ax * bz
+                nz += ax * by - ay * bx
+            length = np.sqrt(nx * nx + ny * ny + nz * nz)
+            covered = False
+            for start in range(k if k <= max_starts else 1):
+                if _fan_covers(points, corners, c, k, start, nx, ny, nz, length, tolerance):
+                    for j in range(k - 2):
+                        triangles[t + j, 0] = c + start
+                        triangles[t + j, 1] = c + (start + j + 1) % k
+                        triangles[t + j, 2] = c + (start + j + 2) % k
+                    covered = True
+                    break
+            uncovered[p] = not covered
+        c += k
+        t += k - 2
+    return triangles, uncovered
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _edge(points: np.ndarray, a: int, b: int) -> tuple[float, float, float]:
+    return points[b, 0] - points[a, 0], points[b, 1] - points[a, 1], points[b, 2] - points[a, 2]
+
+
+@numba.njit(cache=True, nogil=True)
+def _fan_covers(
+    points: np.ndarray,
+    corners: np.ndarray,
+    c: int,
+    k: int,
+    start: int,
+    nx: float,
+    ny: float,
+    nz: float,
+    length: float,
+    tolerance: float,
+) -> bool:
+    """Whether every triangle of the fan from corner ``start`` of the polygon at ``c`` turns
+    with the normal (within ``tolerance``: the sine of its angle against the plane)."""
+    o = corners[c + start]
+    for j in range(1, k - 1):
+        ax, ay, az = _edge(points, o, corners[c + (start + j) % k])
+        bx, by, bz = _edge(points, o, corners[c + (start + j + 1) % k])
+        side = (ay * bz - az * by) * nx + (az * bx - ax * bz) * ny + (ax * by - ay * bx) * nz
+        scale = np.sqrt((ax * ax + ay * ay + az * az) * (bx * bx + by * by + bz * bz))
+        if side < -tolerance * scale * length:
+            return False
+    return True
+
+
+def _ear_clip_all(
+    points: np.ndarray,
+    corners: np.ndarray,
+    sizes: np.ndarray,
+    triangles: np.ndarray,
+    polygons: np.ndarray,
+) -> None:
+    """Replace, in ``triangles``, the fans of ``polygons`` (which no fan covers) by ear
+    clipping; a polygon it fails on (degenerate, twisted) keeps its fan."""
+    corner_starts, triangle_starts = _starts(sizes), _starts(sizes - 2)
+    for p in polygons.tolist():
+        k = int(sizes[p])
+        positions = points[corners[corner_starts[p] : corner_starts[p] + k]]
+        clipped = _ear_clip(positions)
+        if clipped is not None:
+            triangles[triangle_starts[p] : triangle_starts[p] + k - 2] = corner_starts[p] + clipped
+
+
+def _ear_clip(positions: np.ndarray) -> np.ndarray | None:
+    """Triangles (k-2, 3) of corner numbers covering one polygon (k, 3), by ear clipping on its
+    best-fit plane; None when that fails (a twisted polygon)."""
+    k = len(positions)
+    edges = positions[1:] - positions[0]
+    normal = np.cross(edges[:-1], edges[1:]).sum(axis=0)  # Newell's
+    length = np.linalg.norm(normal)
+    if not length > 0:
+        return None
+    w = normal / length
+    u = np.cross(w, [1.0, 0.0, 0.0] if abs(w[0]) < 0.9 else [0.0, 1.0, 0.0])
+    u /= np.linalg.norm(u)
+    v = np.cross(w, u)  # (u, v, w) right-handed: the polygon runs counter-clockwise in (u, v)
+    flat = np.ascontiguousarray((positions - positions[0]) @ np.stack([u, v], axis=1))
+    found = mapbox_earcut.triangulate_float64(flat, np.array([k], dtype=np.uint32))
+    tri = np.asarray(found, dtype=np.int64).reshape(-1, 3)
+    if len(tri) == 0:
+        return None
+    a, b = flat[tri[:, 1]] - flat[tri[:, 0]], flat[tri[:, 2]] - flat[tri[:, 0]]
+    area = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+    if area.sum() < 0:
+        tri = tri[:, ::-1]
+    whole = tri if len(tri) == k - 2 else _put_back_dropped_corners(tri, k)
+    if whole is None or len(whole) != k - 2 or len(np.unique(whole)) != k:
+        return None
+    return whole
+
+
+def _put_back_dropped_corners(tri: np.ndarray, k: int) -> np.ndarray | None:
+    """Ear clipping drops corners that lie on a straight line between their neighbours (or
+    repeat one); a neighbouring face may still use such a corner, so split the triangle on the
+    edge that skips them into a fan through them. None when no such triangle is found."""
+    kept = np.flatnonzero(np.isin(np.arange(k), tri))
+    rows = [list(t) for t in tri.tolist()]
+    for a, b in zip(kept.tolist(), np.roll(kept, -1).tolist(), strict=True):
+        dropped = [(a + i) % k for i in range(1, (b - a) % k)]
+        if not dropped:
+            continue
+        for r, t in enumerate(rows):
+            if (a, b) in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0])):
+                c = t[(t.index(b) + 1) % 3]
+                chain = [a, *dropped, b]
+                rows[r : r + 1] = [[p, q, c] for p, q in itertools.pairwise(chain)]
+                break
+        else:
+            return None
+    return np.array(rows, dtype=np.int64)

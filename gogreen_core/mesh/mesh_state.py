@@ -1,0 +1,253 @@
+"""The mesh being sculpted: its vertices (edited in place), faces, texture corners, vertex mask
+and the sizes tools use.
+
+Brush radii, pins and the reach of every point are relative to the model's size (the
+bounding-box diagonal at load), so the same settings act alike on a 0.15-unit bunny and a
+30-unit ogre. A subdivision replaces the arrays (:meth:`MeshState.adopt`) but keeps the model's
+size and origin, so brush sizes do not jump.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from gogreen_core.field.limits import MAX_REACH
+from gogreen_core.mesh.influence import VertexBlocks
+from gogreen_core.mesh.topology import MeshEdges, VertexNeighbours, mesh_edges, vertex_neighbours
+from gogreen_core.validation import ParameterError, check_vector, vector_norm
+
+__all__ = ["MaskRows", "MeshSnapshot", "MeshState", "check_mesh", "check_uv", "compact_faces"]
+
+
+def check_mesh(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Copies of ``vertices`` (N, 3) float64 and ``faces`` (M, 3) int64, or ValueError: empty,
+    not finite, the wrong shape, a face naming a vertex that does not exist."""
+    v = np.array(vertices, dtype=np.float64)
+    f = np.array(faces, dtype=np.int64)
+    if v.ndim != 2 or v.shape[1] != 3 or len(v) == 0:
+        raise ValueError(f"vertices must be a non-empty (N, 3) array (got shape {v.shape})")
+    if not np.all(np.isfinite(v)):
+        raise ValueError("vertices contain NaN or infinite coordinates")
+    if f.ndim != 2 or f.shape[1] != 3:
+        raise ValueError(f"faces must be an (M, 3) array (got shape {f.shape})")
+    if f.size and (f.min() < 0 or f.max() >= len(v)):
+        raise ValueError(f"faces reference vertices outside 0..{len(v) - 1}")
+    return v, f
+
+
+def check_uv(
+    uv: np.ndarray | None, uv_faces: np.ndarray | None, n_faces: int
+) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """Copies of texture coordinates ``uv`` (T, 2) float64 and their face corners ``uv_faces``
+    (M, 3) int64 (rows of -1 for untextured faces), both or neither; ValueError otherwise."""
+    if uv is None and uv_faces is None:
+        return None, None
+    if uv is None or uv_faces is None:
+        raise ValueError("uv and uv_faces go together")
+    t = np.array(uv, dtype=np.float64)
+    c = np.array(uv_faces, dtype=np.int64)
+    if t.ndim != 2 or t.shape[1] != 2 or not np.all(np.isfinite(t)):
+        raise ValueError(f"uv must be a finite (T, 2) array (got shape {t.shape})")
+    if c.shape != (n_faces, 3):
+        raise ValueError(f"uv_faces must have shape ({n_faces}, 3) (got {c.shape})")
+    if c.size and (c.min() < -1 or c.max() >= len(t)):
+        raise ValueError(f"uv_faces must hold -1 or rows below {len(t)} of uv")
+    return t, c
+
+
+class MaskRows(NamedTuple):
+    """Mask values (K,) of the vertices ``rows`` (K,) int64: one side of a mask undo step."""
+
+    rows: np.ndarray
+    values: np.ndarray
+
+    @property
+    def nbytes(self) -> int:
+        return int(self.rows.nbytes + self.values.nbytes)
+
+
+def compact_faces(faces: np.ndarray) -> np.ndarray:
+    """Faces as int32 when the vertex count allows (half the memory of a kept snapshot)."""
+    return faces.astype(np.int32) if len(faces) and faces.max() < 2**31 else faces.copy()
+
+
+@dataclass(frozen=True)
+class MeshSnapshot:
+    """Copies of all of a mesh's arrays (one side of a subdivision's undo step); faces are kept
+    as int32 where they fit and come back as int64, equal."""
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    mask: np.ndarray
+    uv: np.ndarray | None = None
+    uv_faces: np.ndarray | None = None
+
+    @property
+    def nbytes(self) -> int:
+        arrays = (self.vertices, self.faces, self.mask, self.uv, self.uv_faces)
+        return sum(int(a.nbytes) for a in arrays if a is not None)
+
+    @classmethod
+    def frozen(
+        cls,
+        vertices: np.ndarray,
+        faces: np.ndarray,
+        mask: np.ndarray,
+        uv: np.ndarray | None = None,
+        uv_faces: np.ndarray | None = None,
+    ) -> MeshSnapshot:
+        """A snapshot of a new mesh (a subdivision's or a remesh's, the after-side of its undo
+        step): the arrays themselves, read-only, face arrays compact."""
+        corners = None if uv_faces is None else compact_faces(uv_faces)
+        arrays = (vertices, compact_faces(faces), mask, uv, corners)
+        for array in arrays:
+            if array is not None:
+                array.setflags(write=False)
+        return cls(*arrays)
+
+
+class MeshState:
+    """Vertices (N, 3) float64, edited in place by the engine alone, and only through
+    :meth:`write_rows` or with a report of the rows written (:meth:`moved`); faces (M, 3) int64;
+    optional texture coordinates ``uv`` (T, 2) and their face corners ``uv_faces`` (M, 3)
+    (rows of -1: untextured faces); the vertex :attr:`mask` (N,) float64 in [0, 1] (how much each
+    vertex is held: 1 does not move); :attr:`model_size` (bounding-box diagonal at load, model
+    units) and :attr:`origin` (its centre: the point of the mirror planes).
+
+    :attr:`topology` counts the changes of the face array (a view rebuilds what depends on it);
+    :attr:`edges` and :attr:`neighbours` are built on first use for the current faces.
+
+    :meth:`rows_near` answers with the boxes of blocks of vertex rows
+    (:class:`~gogreen_core.mesh.influence.VertexBlocks`), which the reports of written rows keep
+    right; a new vertex array (:meth:`adopt`) is indexed anew by itself.
+    """
+
+    def __init__(
+        self,
+        vertices: np.ndarray,
+        faces: np.ndarray,
+        uv: np.ndarray | None = None,
+        uv_faces: np.ndarray | None = None,
+    ) -> None:
+        self.vertices, self.faces = check_mesh(vertices, faces)
+        self.uv, self.uv_faces = check_uv(uv, uv_faces, len(self.faces))
+        low, high = self.vertices.min(axis=0), self.vertices.max(axis=0)
+        self.model_size = float(np.linalg.norm(high - low))
+        if not self.model_size > 0:
+            raise ValueError("the mesh has zero size (all vertices coincide)")
+        if not np.isfinite(self.model_size):
+            raise ValueError("the mesh is too large (its size overflows a float)")
+        self.origin: np.ndarray = 0.5 * (low + high)
+        self.mask = np.zeros(len(self.vertices))
+        #: Some vertex is masked (mask > 0): brushes' results are blended by the driver.
+        self.masked = False
+        #: Counts the changes of the mask (a view redraws its tint when it changes).
+        self.mask_version = 0
+        self.topology = 0
+        self._edges: MeshEdges | None = None
+        self._neighbours: VertexNeighbours | None = None
+        self._blocks = VertexBlocks()
+
+    # -- connectivity ------------------------------------------------------------------------
+    @property
+    def edges(self) -> MeshEdges:
+        """The edges of the current faces (built once per face array)."""
+        if self._edges is None:
+            self._edges = mesh_edges(self.faces, len(self.vertices))
+        return self._edges
+
+    @property
+    def neighbours(self) -> VertexNeighbours:
+        """Each vertex's neighbours for the current faces (built once per face array)."""
+        if self._neighbours is None:
+            self._neighbours = vertex_neighbours(self.edges, len(self.vertices))
+        return self._neighbours
+
+    # -- mask --------------------------------------------------------------------------------
+    def mask_rows(self, rows: np.ndarray) -> MaskRows:
+        """The mask values of ``rows`` (copies)."""
+        rows = np.asarray(rows, dtype=np.int64)
+        return MaskRows(rows, self.mask[rows].copy())
+
+    def set_mask_rows(self, change: MaskRows) -> None:
+        """Write mask values (an edit, or one side of an undo step)."""
+        self.mask[change.rows] = change.values
+        self.masked = bool(np.any(self.mask))
+        self.mask_version += 1
+
+    # -- whole arrays ------------------------------------------------------------------------
+    def snapshot(self) -> MeshSnapshot:
+        """Copies of the arrays (a subdivision's undo step, a replay's rollback)."""
+        return MeshSnapshot(
+            self.vertices.copy(),
+            compact_faces(self.faces),
+            self.mask.copy(),
+            None if self.uv is None else self.uv.copy(),
+            None if self.uv_faces is None else compact_faces(self.uv_faces),
+        )
+
+    def adopt(self, mesh: MeshSnapshot) -> None:
+        """Take the arrays of ``mesh`` (copies; a new face array, a new :attr:`topology`);
+        the model's size and origin stay."""
+        faces = np.array(mesh.faces, dtype=np.int64)
+        same = faces.shape == self.faces.shape and np.array_equal(faces, self.faces)
+        self.vertices = np.array(mesh.vertices, dtype=np.float64)
+        self.faces = self.faces if same else faces
+        self.mask = np.array(mesh.mask, dtype=np.float64)
+        self.masked = bool(np.any(self.mask))
+        self.mask_version += 1
+        self.uv = None if mesh.uv is None else np.array(mesh.uv, dtype=np.float64)
+        self.uv_faces = None if mesh.uv_faces is None else np.array(mesh.uv_faces, np.int64)
+        if not same:
+            self.topology += 1
+            self._edges = self._neighbours = None
+
+    # -- places ------------------------------------------------------------------------------
+    @property
+    def reach(self) -> float:
+        """How far (model units) a point, a brush centre or a motion may go from the model's
+        centre: :data:`~gogreen_core.field.limits.MAX_REACH` model sizes."""
+        return MAX_REACH * self.model_size
+
+    def check_point(self, name: str, point: object) -> np.ndarray:
+        """``point`` (3,) if finite and within :attr:`reach` of the model's centre."""
+        p = check_vector(name, point)
+        distance = vector_norm(p - self.origin)
+        if not distance <= self.reach:
+            raise ParameterError(
+                name,
+                f"{name} is too far from the model: {distance:.4g} from its centre, more than "
+                f"{MAX_REACH:g} model sizes ({self.reach:.4g})",
+            )
+        return p
+
+    def rows_near(
+        self, center: np.ndarray, step: np.ndarray, radius: float | None, signs: np.ndarray
+    ) -> np.ndarray:
+        """Indices (n,) int64, ascending, of the vertices within ``radius`` of the segment from
+        ``center`` to ``center + step``, or of its mirror images (``signs`` (2^k, 3), see
+        :func:`~gogreen_core.sculpt.brushes.mirror_signs`); every vertex for None. The rows a pass
+        over every vertex with ``_evaluation.near_segment`` gives, bit for bit."""
+        if radius is None:
+            return np.arange(len(self.vertices))
+        return self._blocks.rows_near(self.vertices, center, step, radius, signs, self.origin)
+
+    # -- vertex writes -----------------------------------------------------------------------
+    def write_rows(self, rows: np.ndarray | None, positions: np.ndarray) -> None:
+        """vertices[rows] = positions ((k, 3), or (N, 3) for every row when ``rows`` is None)."""
+        try:
+            if rows is None:
+                self.vertices[:] = positions
+            else:
+                self.vertices[rows] = positions
+        finally:  # a write that failed part-way is reported too
+            self.moved(rows)
+
+    def moved(self, rows: np.ndarray | None) -> None:
+        """Report vertex rows (k,) written in place by someone else (None: any row may have
+        been), after the write: every path that writes :attr:`vertices` in place calls this
+        or :meth:`write_rows`, or :meth:`rows_near` may miss moved vertices."""
+        self._blocks.changed(self.vertices, rows)

@@ -1,0 +1,559 @@
+"""Local isotropic remeshing (Botsch & Kobbelt 2004, "A remeshing approach to multiresolution
+modeling", Sec. 4), of a region of a triangle mesh or of all of it.
+
+Given a target edge length L, each iteration
+1. splits the edges longer than 4/3 L at their midpoints (all at once, red-green: a face with
+   one long side becomes two, with two three, with three four, as in
+   :mod:`gogreen_core.mesh.subdivision`), until none is left;
+2. collapses the edges shorter than 4/5 L (into their midpoint, or into the end that may not
+   move), unless that makes an edge longer than 4/3 L, turns a face over or degenerates it,
+   breaks the link condition (the result would not be a manifold), removes a held vertex, or
+   crosses a texture seam;
+3. flips edges where that brings the valences of the four vertices nearer to 6 (4 on an
+   open rim) without worsening the pair's smallest angle much;
+4. moves each free vertex towards the area-weighted centroid of its one-ring, within its
+   tangent plane, and puts it back on the surface: the nearest point of its one-ring's
+   triangles as they were, whose corners' mask and texture coordinates it takes by
+   barycentric interpolation.
+
+A last split pass then splits what the relaxation stretched beyond 4/3 L.
+
+The region is given as vertices whose faces may all change (``region``); the faces touching
+them form the patch worked on. Vertices outside the region keep their positions bit for bit
+(their indices shift down past removed vertices; new vertices come after the old ones); open
+rims and non-manifold edges are never split, collapsed or flipped and their vertices never
+move; a closed surface stays closed, of the same Euler characteristic, consistently oriented.
+Held vertices (``locked``: pins, masked vertices) never move and are never removed.
+
+Texture coordinates are per face corner (``uv`` rows, ``uv_faces`` (M, 3), -1 for a face
+without): a split gives each face its own midpoint of its two corners (seams stay seams), a
+collapse or a flip never crosses a seam, and seam vertices do not move.
+
+Every step is a numpy pass or a compiled loop over candidates in a fixed order
+(:mod:`gogreen_core.mesh._remesh_kernels`): the result depends on the input arrays alone and a
+remesh replays bit for bit.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import cast
+
+import numpy as np
+
+from gogreen_core.mesh._remesh_kernels import (
+    closest_points_on_triangles,
+    pick_collapses,
+    pick_flips,
+    smallest_angles,
+)
+from gogreen_core.mesh.mesh_state import MeshSnapshot
+from gogreen_core.mesh.subdivision import MASK_THRESHOLD, _split_faces, _subdivided_uv
+from gogreen_core.mesh.topology import (
+    BOUNDARY,
+    INTERIOR,
+    MeshEdges,
+    VertexNeighbours,
+    mesh_edges,
+    vertex_neighbours,
+)
+
+__all__ = [
+    "COLLAPSE_BELOW",
+    "SPLIT_ABOVE",
+    "RemeshedMesh",
+    "closest_points_on_triangles",
+    "grow_region",
+    "median_edge_length",
+    "remesh",
+    "remesh_snapshot",
+    "smallest_angles",
+    "strained_vertices",
+]
+
+#: Edges longer than this many target lengths are split (Botsch & Kobbelt's 4/3).
+SPLIT_ABOVE = 4.0 / 3.0
+#: Edges shorter than this many target lengths are collapsed (their 4/5).
+COLLAPSE_BELOW = 4.0 / 5.0
+#: Split passes per iteration at most (each halves the long edges: 2^8 × L is plenty).
+_SPLIT_ROUNDS = 8
+#: A face is degenerate below this area, in target lengths squared.
+_MIN_AREA = 1e-4
+
+
+@dataclass(frozen=True)
+class RemeshedMesh:
+    """The result of :func:`remesh`.
+
+    vertices (N', 3) float64, faces (M', 3) int64, mask (N',) float64 (None without one), uv
+    (T', 2) and uv_faces (M', 3) (None without); kept (N,) int64: the new index of each old
+    vertex, -1 where it was collapsed away; changed (N',) bool: the vertices of the region and
+    the new ones (all others are old vertices at their old positions, bit for bit).
+    """
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    mask: np.ndarray | None
+    uv: np.ndarray | None
+    uv_faces: np.ndarray | None
+    kept: np.ndarray
+    changed: np.ndarray
+
+
+def median_edge_length(vertices: np.ndarray, faces: np.ndarray) -> float:
+    """The median length of the edges of ``faces`` (M, 3) over ``vertices`` (N, 3) (each
+    edge once); 0 without faces."""
+    if not len(faces):
+        return 0.0
+    ends = mesh_edges(np.asarray(faces, dtype=np.int64), len(vertices)).ends
+    return float(np.median(np.linalg.norm(vertices[ends[:, 1]] - vertices[ends[:, 0]], axis=1)))
+
+
+def grow_region(faces: np.ndarray, region: np.ndarray, rings: int = 1) -> np.ndarray:
+    """(N,) bool: ``region`` (N,) bool and every vertex within ``rings`` edges of it."""
+    grown = np.asarray(region, dtype=bool).copy()
+    for _ in range(rings):
+        touching = np.any(grown[faces], axis=1)
+        grown[faces[touching].ravel()] = True
+    return grown
+
+
+def strained_vertices(
+    reference: np.ndarray, vertices: np.ndarray, faces: np.ndarray, tolerance: float
+) -> np.ndarray:
+    """(N,) bool: the corners of faces one of whose sides changed, as a vector, by more than
+    ``tolerance`` times its length from ``reference`` (N, 3) to ``vertices`` (N, 3): where a
+    motion stretched, sheared or turned the surface (a rigid shift strains nothing; the measure
+    does not depend on how fine the mesh is)."""
+    shift = vertices - reference
+    strained = np.zeros(len(faces), dtype=bool)
+    for k in range(3):
+        a, b = faces[:, k], faces[:, (k + 1) % 3]
+        change, side = shift[b] - shift[a], reference[b] - reference[a]
+        changed = np.einsum("ij,ij->i", change, change)
+        strained |= changed > tolerance * tolerance * np.einsum("ij,ij->i", side, side)
+    out = np.zeros(len(vertices), dtype=bool)
+    out[faces[strained].ravel()] = True
+    return out
+
+
+class _Patch:
+    """The faces being remeshed with their own vertex numbering (the patch's vertices first,
+    ascending by their mesh index, then new ones), mask and texture corners."""
+
+    def __init__(
+        self,
+        vertices: np.ndarray,
+        faces: np.ndarray,
+        closed: np.ndarray,
+        locked: np.ndarray,
+        mask: np.ndarray,
+        uv: np.ndarray | None,
+        uv_faces: np.ndarray | None,
+    ) -> None:
+        self.points = vertices
+        self.faces = faces
+        self.closed = closed  # all the vertex's faces are here (it may change)
+        self.locked = locked  # never moves, never removed
+        self.mask = mask
+        self.uv = uv
+        self.uv_faces = uv_faces if uv_faces is not None else np.full(faces.shape, -1, np.int64)
+        # how each vertex may move (topology.INTERIOR, BOUNDARY, FIXED): right for the closed
+        # vertices (all their edges are here), kept through the passes (only edges with two
+        # faces are split, collapsed or flipped; new vertices are interior)
+        self.mode = vertex_neighbours(mesh_edges(faces, len(vertices)), len(vertices)).mode
+
+    def connectivity(
+        self, edges: MeshEdges | None = None
+    ) -> tuple[MeshEdges, np.ndarray, VertexNeighbours]:
+        """The edges, each edge's two faces ((E, 2), -1 unless it has two) and each vertex's
+        neighbours."""
+        n = len(self.points)
+        if edges is None:
+            edges = mesh_edges(self.faces, n)
+        sides = edges.face_edges.ravel()
+        order = np.argsort(sides, kind="stable")
+        starts = np.zeros(len(edges) + 1, dtype=np.int64)
+        np.cumsum(edges.face_count, out=starts[1:])
+        edge_faces = np.full((len(edges), 2), -1, dtype=np.int64)
+        two = edges.face_count == 2
+        edge_faces[two, 0] = order[starts[:-1][two]] // 3
+        edge_faces[two, 1] = order[starts[:-1][two] + 1] // 3
+        neighbours = vertex_neighbours(edges, n)
+        return edges, edge_faces, neighbours
+
+    def vertex_faces(self) -> tuple[np.ndarray, np.ndarray]:
+        corners = self.faces.ravel()
+        order = np.argsort(corners, kind="stable")
+        offsets = np.zeros(len(self.points) + 1, dtype=np.int64)
+        np.cumsum(np.bincount(corners, minlength=len(self.points)), out=offsets[1:])
+        return offsets, order // 3
+
+    def seams(self) -> np.ndarray:
+        """(n,) bool: vertices whose corners name more than one texture row (or some none)."""
+        n = len(self.points)
+        corners, rows = self.faces.ravel(), self.uv_faces.ravel()
+        low = np.full(n, np.iinfo(np.int64).max)
+        high = np.full(n, np.iinfo(np.int64).min)
+        np.minimum.at(low, corners, rows)
+        np.maximum.at(high, corners, rows)
+        return cast(np.ndarray, low != high)
+
+    def free(self) -> np.ndarray:
+        """Vertices that may move or be collapsed away."""
+        free = self.closed & ~self.locked & (self.mode == INTERIOR)
+        if self.uv is not None:
+            free &= ~self.seams()
+        return cast(np.ndarray, free)
+
+    # -- 1. split ------------------------------------------------------------------------------
+    def split(self, high: float) -> bool:
+        edges = mesh_edges(self.faces, len(self.points))
+        a, b = edges.ends[:, 0], edges.ends[:, 1]
+        length2 = np.einsum(
+            "ij,ij->i", self.points[b] - self.points[a], self.points[b] - self.points[a]
+        )
+        split = (
+            (edges.face_count == 2) & (self.closed[a] | self.closed[b]) & (length2 > high * high)
+        )
+        if not split.any():
+            return False
+        split_sides = split[edges.face_edges]
+        refine = split_sides.all(axis=1)
+        number = np.cumsum(split) - 1 + len(self.points)
+        middles = np.where(split_sides, number[edges.face_edges], -1)
+        counts = split_sides.sum(axis=1)
+        ends = edges.ends[split]
+        self.points = np.concatenate(
+            [self.points, 0.5 * (self.points[ends[:, 0]] + self.points[ends[:, 1]])]
+        )
+        self.mask = np.concatenate(
+            [self.mask, 0.5 * (self.mask[ends[:, 0]] + self.mask[ends[:, 1]])]
+        )
+        grown = len(ends)
+        self.closed = np.concatenate([self.closed, np.ones(grown, dtype=bool)])
+        self.locked = np.concatenate([self.locked, np.zeros(grown, dtype=bool)])
+        self.mode = np.concatenate([self.mode, np.full(grown, INTERIOR, dtype=self.mode.dtype)])
+        if self.uv is not None:
+            self.uv, self.uv_faces = _subdivided_uv(self.uv, self.uv_faces, split_sides, refine)
+        else:
+            self.uv_faces = np.full((int((np.where(refine, 4, counts + 1)).sum()), 3), -1, np.int64)
+        self.faces = _split_faces(self.faces, middles, refine, counts)
+        return True
+
+    # -- 2. collapse ---------------------------------------------------------------------------
+    def collapse(self, low: float, high: float, min_area2: float) -> bool:
+        edges = mesh_edges(self.faces, len(self.points))
+        a, b = edges.ends[:, 0], edges.ends[:, 1]
+        length = np.linalg.norm(self.points[b] - self.points[a], axis=1)
+        free = self.free()
+        short = (
+            (edges.face_count == 2)
+            & (length < low)
+            & self.closed[a]
+            & self.closed[b]
+            & (free[a] | free[b])
+        )
+        candidates = np.flatnonzero(short)
+        if not len(candidates):
+            return False
+        candidates = candidates[np.argsort(length[candidates], kind="stable")]
+        edges, edge_faces, neighbours = self.connectivity(edges)
+        vf_offsets, vf_faces = self.vertex_faces()
+        pairs, positions, middle = pick_collapses(
+            candidates,
+            edges.ends,
+            edge_faces,
+            self.points,
+            self.faces,
+            self.uv_faces,
+            neighbours.offsets,
+            neighbours.neighbours,
+            vf_offsets,
+            vf_faces,
+            self.closed,
+            free,
+            high,
+            min_area2,
+        )
+        if not len(pairs):
+            return False
+        gone, kept = pairs[:, 0], pairs[:, 1]
+        if self.uv is not None:
+            # the kept end's row (one on both sides of the edge) replaces the removed end's
+            face = edge_faces[self._edge_of(edges, gone, kept), 0]
+            kept_row = self.uv_faces[face, np.argmax(self.faces[face] == kept[:, None], axis=1)]
+            gone_row = self.uv_faces[face, np.argmax(self.faces[face] == gone[:, None], axis=1)]
+            textured = (kept_row >= 0) & (gone_row >= 0)
+            both = middle & textured
+            self.uv[kept_row[both]] = 0.5 * (self.uv[gone_row[both]] + self.uv[kept_row[both]])
+            row_of = np.full(len(self.points), -1, dtype=np.int64)
+            row_of[gone] = kept_row
+            at_gone = np.isin(self.faces, gone)
+            self.uv_faces = np.where(at_gone, row_of[self.faces], self.uv_faces)
+        self.mask[kept[middle]] = 0.5 * (self.mask[gone[middle]] + self.mask[kept[middle]])
+        self.points[kept] = positions
+        target = np.arange(len(self.points))
+        target[gone] = kept
+        faces = target[self.faces]
+        alive = (
+            (faces[:, 0] != faces[:, 1])
+            & (faces[:, 1] != faces[:, 2])
+            & (faces[:, 2] != faces[:, 0])
+        )
+        self.faces, self.uv_faces = faces[alive], self.uv_faces[alive]
+        self.closed[gone] = False
+        return True
+
+    @staticmethod
+    def _edge_of(edges: MeshEdges, u: np.ndarray, v: np.ndarray) -> np.ndarray:
+        ends = edges.ends
+        n = int(ends.max()) + 1
+        key = ends[:, 0] * n + ends[:, 1]
+        return cast(np.ndarray, np.searchsorted(key, np.minimum(u, v) * n + np.maximum(u, v)))
+
+    # -- 3. flip -------------------------------------------------------------------------------
+    def flip(self, min_area2: float) -> bool:
+        edges, edge_faces, neighbours = self.connectivity()
+        a, b = edges.ends[:, 0], edges.ends[:, 1]
+        candidates = np.flatnonzero((edges.face_count == 2) & self.closed[a] & self.closed[b])
+        if not len(candidates):
+            return False
+        valence = np.diff(neighbours.offsets)
+        target = np.where(self.mode == BOUNDARY, 4, 6).astype(np.int64)
+        flips = pick_flips(
+            candidates,
+            edges.ends,
+            edge_faces,
+            self.points,
+            self.faces,
+            self.uv_faces,
+            neighbours.offsets,
+            neighbours.neighbours,
+            self.closed,
+            valence.astype(np.int64),
+            target,
+            min_area2,
+        )
+        if not len(flips):
+            return False
+        f0, f1, va, vb = flips.T
+        faces, rows = self.faces, self.uv_faces
+        k0 = np.argmax(faces[f0] == va[:, None], axis=1)
+        k1 = np.argmax(faces[f1] == vb[:, None], axis=1)
+        vc = faces[f0, (k0 + 2) % 3]
+        vd = faces[f1, (k1 + 2) % 3]
+        ua, uc = rows[f0, k0], rows[f0, (k0 + 2) % 3]
+        ub, ud = rows[f1, k1], rows[f1, (k1 + 2) % 3]
+        faces[f0] = np.stack([va, vd, vc], axis=1)
+        faces[f1] = np.stack([vd, vb, vc], axis=1)
+        rows[f0] = np.stack([ua, ud, uc], axis=1)
+        rows[f1] = np.stack([ud, ub, uc], axis=1)
+        return True
+
+    # -- 4. tangential relaxation --------------------------------------------------------------
+    def relax(self, min_area2: float) -> None:
+        free = self.free()
+        points, faces = self.points, self.faces
+        n = len(points)
+        p0, p1, p2 = points[faces[:, 0]], points[faces[:, 1]], points[faces[:, 2]]
+        normal = np.cross(p1 - p0, p2 - p0)  # twice the area times the unit normal
+        area = np.linalg.norm(normal, axis=1)
+        centroid = (p0 + p1 + p2) / 3.0
+        corners = faces.ravel()
+        face_of = np.repeat(np.arange(len(faces)), 3)
+        weight = np.bincount(corners, area[face_of], minlength=n)
+        moving = free & (weight > 0)
+        if not moving.any():
+            return
+        centre = np.empty((n, 3))
+        vertex_normal = np.empty((n, 3))
+        for axis in range(3):
+            centre[:, axis] = np.bincount(corners, (area * centroid[:, axis])[face_of], minlength=n)
+            vertex_normal[:, axis] = np.bincount(corners, normal[face_of, axis], minlength=n)
+        rows = np.flatnonzero(moving)
+        centre = centre[rows] / weight[rows, None]
+        unit = vertex_normal[rows] / np.linalg.norm(vertex_normal[rows], axis=1)[:, None]
+        step = centre - points[rows]
+        step -= np.einsum("ij,ij->i", step, unit)[:, None] * unit
+        goal = points[rows] + step
+        # back onto the surface: the nearest point of the one-ring's triangles (as they were)
+        slot = np.full(n, -1, dtype=np.int64)
+        slot[rows] = np.arange(len(rows))
+        pick = slot[corners] >= 0
+        who, face = slot[corners[pick]], face_of[pick]
+        near, bary = closest_points_on_triangles(goal[who], p0[face], p1[face], p2[face])
+        gap = np.einsum("ij,ij->i", near - goal[who], near - goal[who])
+        order = np.lexsort((gap, who))
+        first = order[np.r_[True, who[order][1:] != who[order][:-1]]]
+        chosen_face, chosen_bary = face[first], bary[first]
+        # a vertex whose move would turn a face of its by more than 60° or degenerate it
+        # (the centroid beyond its one-ring) stays where it is
+        moved = points.copy()
+        moved[rows] = near[first]
+        stays = np.zeros(len(rows), dtype=bool)
+        for _ in range(4):
+            moved[rows[stays]] = points[rows[stays]]
+            q0, q1, q2 = moved[faces[:, 0]], moved[faces[:, 1]], moved[faces[:, 2]]
+            after = np.cross(q1 - q0, q2 - q0)
+            area2 = np.einsum("ij,ij->i", after, after)
+            facing = np.einsum("ij,ij->i", normal, after)
+            bad = (area2 <= min_area2) | (facing <= 0.5 * np.sqrt(area2) * area)
+            culprits = slot[faces[bad].ravel()]
+            culprits = culprits[culprits >= 0]
+            if not len(culprits) or stays[culprits].all():
+                break
+            stays[culprits] = True
+        go = ~stays
+        rows, chosen_face, chosen_bary = rows[go], chosen_face[go], chosen_bary[go]
+        self.mask[rows] = np.einsum("ij,ij->i", self.mask[faces[chosen_face]], chosen_bary)
+        if self.uv is not None:
+            corner_rows = self.uv_faces[chosen_face]
+            textured = corner_rows[:, 0] >= 0
+            own_row = np.empty(n, dtype=np.int64)  # a free vertex's one texture row
+            own_row[corners] = self.uv_faces.ravel()
+            own = own_row[rows]
+            new_uv = np.einsum("ijk,ij->ik", self.uv[corner_rows[textured]], chosen_bary[textured])
+            self.uv[own[textured]] = new_uv
+        self.points[rows] = moved[rows]
+
+
+def remesh(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    region: np.ndarray,
+    target_length: float,
+    *,
+    mask: np.ndarray | None = None,
+    uv: np.ndarray | None = None,
+    uv_faces: np.ndarray | None = None,
+    locked: np.ndarray | None = None,
+    iterations: int = 3,
+) -> RemeshedMesh:
+    """Isotropic remeshing of the faces around ``region`` (see the module docstring).
+
+    Parameters
+    ----------
+    vertices : (N, 3) float64, model units; faces : (M, 3) int64.
+    region : (N,) bool, the vertices whose faces may change (e.g. what a stroke moved, grown
+        by a ring: :func:`grow_region`); every vertex for the whole mesh.
+    target_length : L, model units (> 0): edges end between 4/5 L and 4/3 L where they can.
+    mask : (N,) float64 in [0, 1], optional: carried onto new vertices (interpolated); a
+        vertex held at :data:`~gogreen_core.mesh.subdivision.MASK_THRESHOLD` or more is locked.
+    uv : (T, 2) float64 and uv_faces : (M, 3) int64 (-1 rows: untextured faces), optional.
+    locked : (N,) bool, optional: vertices that never move and are never removed (pins).
+    iterations : rounds of split, collapse, flip and relaxation.
+    """
+    vertices = np.asarray(vertices, dtype=np.float64)
+    faces = np.asarray(faces, dtype=np.int64)
+    n = len(vertices)
+    if not (np.isfinite(target_length) and target_length > 0):
+        raise ValueError(f"target_length must be a positive length (got {target_length!r})")
+    region = np.asarray(region, dtype=bool)
+    if region.shape != (n,):
+        raise ValueError(f"region must have shape ({n},) (got {region.shape})")
+    held = np.zeros(n, dtype=bool) if locked is None else np.asarray(locked, dtype=bool).copy()
+    mask_in = np.zeros(n) if mask is None else np.asarray(mask, dtype=np.float64)
+    held |= mask_in >= MASK_THRESHOLD
+    in_patch = np.any(region[faces], axis=1)
+    local = np.unique(faces[in_patch])  # the patch's vertices, ascending
+    patch_faces = np.searchsorted(local, faces[in_patch])
+    patch = _Patch(
+        vertices[local].copy(),
+        patch_faces,
+        region[local].copy(),
+        held[local].copy(),
+        mask_in[local].copy(),
+        None if uv is None else np.asarray(uv, dtype=np.float64).copy(),
+        None if uv_faces is None else np.asarray(uv_faces, dtype=np.int64)[in_patch].copy(),
+    )
+    L = float(target_length)
+    high, low = SPLIT_ABOVE * L, COLLAPSE_BELOW * L
+    min_area2 = (2.0 * _MIN_AREA * L * L) ** 2
+    for _ in range(iterations):
+        for _round in range(_SPLIT_ROUNDS):
+            if not patch.split(high):
+                break
+        for _round in range(2):
+            if not patch.collapse(low, high, min_area2):
+                break
+        for _round in range(2):
+            if not patch.flip(min_area2):
+                break
+        patch.relax(min_area2)
+    for _round in range(_SPLIT_ROUNDS):  # what the relaxation stretched past 4/3 L
+        if not patch.split(high):
+            break
+    return _assemble(vertices, faces, mask, uv, uv_faces, in_patch, local, patch)
+
+
+def _assemble(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    mask: np.ndarray | None,
+    uv: np.ndarray | None,
+    uv_faces: np.ndarray | None,
+    in_patch: np.ndarray,
+    local: np.ndarray,
+    patch: _Patch,
+) -> RemeshedMesh:
+    """The whole mesh again: old vertices in order (less the removed), then new ones; faces
+    outside the patch in order, then the patch's."""
+    n, n_local = len(vertices), len(local)
+    used = np.zeros(len(patch.points), dtype=bool)
+    used[patch.faces.ravel()] = True
+    keep = np.ones(n, dtype=bool)
+    keep[local[~used[:n_local]]] = False
+    kept = np.cumsum(keep) - 1
+    kept[~keep] = -1
+    n_kept = int(keep.sum())
+    added = np.flatnonzero(used[n_local:]) + n_local
+    number = np.full(len(patch.points), -1, dtype=np.int64)
+    number[:n_local] = kept[local]
+    number[added] = n_kept + np.arange(len(added))
+    out_vertices = vertices.copy()
+    out_vertices[local] = patch.points[:n_local]
+    out_vertices = np.concatenate([out_vertices[keep], patch.points[added]])
+    out_faces = np.concatenate([kept[faces[~in_patch]], number[patch.faces]])
+    out_mask = None
+    if mask is not None:
+        m = np.asarray(mask, dtype=np.float64).copy()
+        m[local] = patch.mask[:n_local]
+        out_mask = np.concatenate([m[keep], patch.mask[added]])
+    out_uv = out_uv_faces = None
+    if uv is not None and uv_faces is not None and patch.uv is not None:
+        corners = np.concatenate([np.asarray(uv_faces, dtype=np.int64)[~in_patch], patch.uv_faces])
+        rows = np.unique(corners[corners >= 0])
+        out_uv = patch.uv[rows]
+        out_uv_faces = np.where(corners >= 0, np.searchsorted(rows, corners), -1)
+    changed = np.zeros(len(out_vertices), dtype=bool)
+    changed[kept[local[patch.closed[:n_local] & keep[local]]]] = True
+    changed[n_kept:] = True
+    return RemeshedMesh(out_vertices, out_faces, out_mask, out_uv, out_uv_faces, kept, changed)
+
+
+def remesh_snapshot(
+    source: MeshSnapshot,
+    target_length: float,
+    unmasked_only: bool,
+    locked: np.ndarray | None,
+    iterations: int,
+) -> MeshSnapshot:
+    """Mesh → Remesh: the whole mesh of ``source`` (or its faces not masked, corners below
+    :data:`~gogreen_core.mesh.subdivision.MASK_THRESHOLD`) remeshed to ``target_length`` (model
+    units) with its mask and UVs; read-only and compact, the after-side of its undo step."""
+    mask = np.asarray(source.mask, dtype=np.float64)
+    region = mask < MASK_THRESHOLD if unmasked_only else np.ones(len(mask), dtype=bool)
+    done = remesh(
+        source.vertices,
+        np.asarray(source.faces, dtype=np.int64),
+        region,
+        target_length,
+        mask=mask,
+        uv=source.uv,
+        uv_faces=None if source.uv_faces is None else np.asarray(source.uv_faces, np.int64),
+        locked=locked,
+        iterations=iterations,
+    )
+    assert done.mask is not None
+    return MeshSnapshot.frozen(done.vertices, done.faces, done.mask, done.uv, done.uv_faces)

@@ -1,0 +1,103 @@
+"""Connectivity of a triangle mesh: its edges and each vertex's neighbours (plain arrays).
+
+Built once per face array (the sculptor keeps them until the topology changes: a subdivision)
+and used by Loop subdivision (:mod:`gogreen_core.mesh.subdivision`) and the smooth brush
+(:mod:`gogreen_core.sculpt.brushes.smooth`). Edge and neighbour orders are fixed by the face array
+alone, so everything computed from them is reproducible bit for bit.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["MeshEdges", "VertexNeighbours", "mesh_edges", "vertex_neighbours"]
+
+#: :attr:`VertexNeighbours.mode` values: relax towards all neighbours, along the boundary
+#: (its two boundary neighbours), or not at all (a vertex where the surface is not a manifold).
+INTERIOR, BOUNDARY, FIXED = 0, 1, 2
+
+
+@dataclass(frozen=True)
+class MeshEdges:
+    """The undirected edges of a triangle mesh.
+
+    ends : (E, 2) int64, the two vertices of each edge, smaller first; edges are sorted by
+        (ends[:, 0], ends[:, 1]).
+    face_edges : (M, 3) int64, the edge of each face's side k, from corner k to corner k + 1.
+    face_count : (E,) int64, how many faces share each edge (1: a boundary edge, 2: an interior
+        one, more: a non-manifold edge).
+    """
+
+    ends: np.ndarray
+    face_edges: np.ndarray
+    face_count: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.ends)
+
+
+def mesh_edges(faces: np.ndarray, n_vertices: int) -> MeshEdges:
+    """The edges of ``faces`` (M, 3) int64 on ``n_vertices`` vertices (see :class:`MeshEdges`).
+
+    One sort of the 3M face sides by their vertex pair: ~40 ms for the 124k-face ogre.
+    """
+    faces = np.ascontiguousarray(faces, dtype=np.int64)
+    nxt = np.roll(faces, -1, axis=1)
+    low = np.minimum(faces, nxt).ravel()
+    high = np.maximum(faces, nxt).ravel()
+    key = low * np.int64(max(n_vertices, 1)) + high
+    order = np.argsort(key, kind="stable")
+    ordered = key[order]
+    first = np.empty(len(ordered), dtype=bool)
+    first[:1] = True
+    np.not_equal(ordered[1:], ordered[:-1], out=first[1:])
+    edge = np.cumsum(first) - 1
+    face_edges = np.empty(len(key), dtype=np.int64)
+    face_edges[order] = edge
+    starts = np.flatnonzero(first)
+    ends = np.stack([low[order[starts]], high[order[starts]]], axis=1)
+    face_count = np.diff(np.append(starts, len(ordered)))
+    return MeshEdges(ends, face_edges.reshape(-1, 3), face_count)
+
+
+@dataclass(frozen=True)
+class VertexNeighbours:
+    """Each vertex's neighbours along the mesh edges, in compressed rows.
+
+    offsets : (N + 1,) int64; the neighbours of vertex v are
+        ``neighbours[offsets[v]:offsets[v + 1]]`` (increasing).
+    neighbours : (2E,) int64.
+    on_boundary : (2E,) bool, the edge to that neighbour is a boundary edge (one face).
+    mode : (N,) int8, how a relaxation moves the vertex: :data:`INTERIOR` (towards the mean of
+        its neighbours), :data:`BOUNDARY` (towards the mean of its two boundary neighbours, so an
+        open rim slides along itself and does not shrink) or :data:`FIXED` (a vertex on a
+        non-manifold edge, with other than two boundary edges, or in no face).
+    """
+
+    offsets: np.ndarray
+    neighbours: np.ndarray
+    on_boundary: np.ndarray
+    mode: np.ndarray
+
+
+def vertex_neighbours(edges: MeshEdges, n_vertices: int) -> VertexNeighbours:
+    """The neighbours of every vertex (see :class:`VertexNeighbours`) from ``edges``."""
+    a, b = edges.ends[:, 0], edges.ends[:, 1]
+    source = np.concatenate([a, b])
+    target = np.concatenate([b, a])
+    boundary = np.concatenate([edges.face_count == 1] * 2)
+    order = np.lexsort((target, source))
+    counts = np.bincount(source, minlength=n_vertices)
+    offsets = np.zeros(n_vertices + 1, dtype=np.int64)
+    np.cumsum(counts, out=offsets[1:])
+    on_boundary = boundary[order]
+    boundary_count = np.bincount(source[order][on_boundary], minlength=n_vertices)
+    odd = np.zeros(n_vertices, dtype=bool)
+    odd[edges.ends[edges.face_count > 2].ravel()] = True
+    mode = np.full(n_vertices, INTERIOR, dtype=np.int8)
+    mode[boundary_count == 2] = BOUNDARY
+    mode[(boundary_count != 0) & (boundary_count != 2)] = FIXED
+    mode[odd | (counts == 0)] = FIXED
+    return VertexNeighbours(offsets, target[order], on_boundary, mode)

@@ -1,0 +1,599 @@
+"""Radial terms of the SH-regularized Green's function (the brush falloff).
+
+For a radial load g_ε with Fourier transform ĝ, the kernel needs, for each degree l,
+
+* ``R_l(r) = ∫₀^∞ ĝ(k) j_l(kr) dk``    (even l, for G; paper Eq. 10)
+* ``ℛ_l(r) = ∫₀^∞ ĝ(k) j_l(kr) k dk``  (odd l, for ∇G; paper Eq. 12)
+
+All profiles here are scale-free in ρ = r/ε: ``R_l(r) = F_l(ρ)/ε`` and ``ℛ_l(r) = F'_l(ρ)/ε²``,
+where F_l, F'_l are dimensionless. Far away R_l ~ 1/r and ℛ_l ~ 1/r², so the kernel tabulates
+the bounded functions ``F_l(ρ)(1+ρ)`` and ``F'_l(ρ)(1+ρ)²`` on t = ρ/(1+ρ) ∈ [0, 1], which
+covers every r including r → ∞ (see :func:`radial_table`). The tables depend only on the shape
+of the profile, not on ε, so changing the brush radius costs nothing.
+
+Profiles:
+
+* :class:`GaussianRadial`: g_ε = exp(-r²/ε²)/(ε³π^{3/2}), ĝ = exp(-ε²k²/4) (paper Eq. 13).
+* :class:`KelvinletRadial`: g_ε = 15ε⁴/(8π)(r²+ε²)^{-7/2} of de Goes & James 2017, whose
+  transform is ĝ(k) = (εk)² K₂(εk)/2 (ĝ(0) = 1). With GR 6.576.3,
+  R_l = (√π/2) ρ^l Γ((l+5)/2) Γ((l+1)/2)/Γ(l+3/2) ₂F₁((l+5)/2, (l+1)/2; l+3/2; -ρ²)/ε and
+  ℛ_l = √π ρ^l Γ(l/2+3) Γ(l/2+1)/Γ(l+3/2) ₂F₁(l/2+3, l/2+1; l+3/2; -ρ²)/ε².
+  An isotropic material then reproduces the closed-form regularized Kelvinlet.
+* :class:`SplineRadial`: per-degree curves through editable control points (the artist's
+  falloff curves), with R_l(0) = ℛ_l(0) = 0 for l ≥ 1 as in the paper; shape-preserving for new
+  curves, interpolating cubic splines for those saved before (:data:`INTERPOLATIONS`).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from abc import ABC, abstractmethod
+from collections.abc import Iterable, Sequence
+from typing import Any, cast
+
+import numpy as np
+from scipy import special
+from scipy.interpolate import PPoly
+
+from gogreen_core.physics.falloff_curves import INTERPOLATIONS, interpolant, monotone_hermite
+from gogreen_core.physics.radial_tables import _TABLE_CACHE as _TABLE_CACHE  # benchmarks empty it
+from gogreen_core.physics.radial_tables import (
+    DECAY,
+    TABLE_DEGREE,
+    TABLE_SEGMENTS,
+    cached_table,
+    radial_table,
+)
+
+__all__ = [
+    "INTERPOLATIONS",
+    "TABLE_DEGREE",
+    "TABLE_SEGMENTS",
+    "GaussianRadial",
+    "KelvinletRadial",
+    "MultiscaleRadial",
+    "RadialProfile",
+    "SplineRadial",
+    "monotone_hermite",
+    "radial_from_dict",
+    "radial_table",
+]
+
+#: Kinds of radial term: "R" (R_l, even l, for G) and "dR" (ℛ_l, odd l, for ∇G).
+KINDS = ("R", "dR")
+_DECAY = DECAY  # far-field decay power of each kind (see radial_tables)
+
+
+def _check_eps(eps: float) -> float:
+    try:
+        value = float(eps)
+    except (TypeError, ValueError):
+        raise ValueError(f"eps (regularization radius) must be a number (got {eps!r})") from None
+    if not np.isfinite(value) or value <= 0:
+        raise ValueError(f"eps (regularization radius) must be finite and > 0 (got {eps!r})")
+    return value
+
+
+def _check_degree(kind: str, l: int) -> int:
+    if kind not in KINDS:
+        raise ValueError(f"radial kind must be one of {KINDS} (got {kind!r})")
+    l = int(l)
+    if l < 0:
+        raise ValueError(f"degree l must be >= 0 (got {l})")
+    return l
+
+
+def far_field_constant(kind: str, l: int) -> float:
+    """lim r^p R(r) for the singular (unregularized) Green's function, ε = 1:
+    ∫₀^∞ j_l(x) dx for "R" and ∫₀^∞ j_l(x) x dx for "dR"."""
+    if kind == "R":
+        return float(np.sqrt(np.pi) / 2 * special.gamma((l + 1) / 2) / special.gamma(l / 2 + 1))
+    return float(np.sqrt(np.pi) * special.gamma(l / 2 + 1) / special.gamma((l + 1) / 2))
+
+
+class RadialProfile(ABC):
+    """A radial load profile: gives R_l and ℛ_l for every degree the kernel needs."""
+
+    #: Name used in JSON ("type") and the GUI.
+    kind_name: str = ""
+
+    def __init__(self, eps: float):
+        self._eps = _check_eps(eps)
+
+    @property
+    def eps(self) -> float:
+        """Regularization radius ε (model units)."""
+        return self._eps
+
+    @abstractmethod
+    def dimensionless(self, kind: str, l: int, rho: np.ndarray) -> np.ndarray:
+        """F_l(ρ) ("R") or F'_l(ρ) ("dR") at ρ = r/ε (any shape), float64."""
+
+    def radial(self, l: int, r: np.ndarray) -> np.ndarray:
+        """R_l(r) (model units⁻¹) at distances r (any shape)."""
+        r = np.asarray(r, dtype=np.float64)
+        return self.dimensionless("R", l, r / self._eps) / self._eps
+
+    def radial_gradient(self, l: int, r: np.ndarray) -> np.ndarray:
+        """ℛ_l(r) (model units⁻²) at distances r (any shape)."""
+        r = np.asarray(r, dtype=np.float64)
+        return self.dimensionless("dR", l, r / self._eps) / self._eps**2
+
+    def with_eps(self, eps: float) -> RadialProfile:
+        """The same falloff shape with another radius ε (shares cached tables)."""
+        clone = object.__new__(type(self))
+        clone.__dict__.update(self.__dict__)
+        clone._eps = _check_eps(eps)
+        return clone
+
+    def as_value(self) -> RadialProfile:
+        """This shape at ε = 1 as an immutable value (what settings hold and compare by
+        content): itself when it is one already."""
+        return self if self._eps == 1.0 else self.with_eps(1.0)
+
+    @abstractmethod
+    def table_key(self) -> tuple[Any, ...]:
+        """Hashable identity of the shape (not ε): equal keys give equal tables."""
+
+    def table(self, kind: str, degrees: Iterable[int]) -> np.ndarray:
+        """Piecewise polynomial tables (n_degrees, TABLE_SEGMENTS, TABLE_DEGREE+1), see
+        :func:`radial_table`."""
+        return np.stack([self._degree_table(kind, int(l)) for l in degrees])
+
+    def _degree_table(self, kind: str, l: int) -> np.ndarray:
+        return cached_table(self.table_key(), kind, l, self)
+
+    @abstractmethod
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready description; :func:`radial_from_dict` inverts it."""
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}(eps={self._eps:g})"
+
+
+class _ClosedFormRadial(RadialProfile):
+    def table_key(self) -> tuple[Any, ...]:
+        return (self.kind_name,)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"type": self.kind_name, "eps": self._eps}
+
+    def __eq__(self, other: object) -> bool:
+        return type(other) is type(self) and other.eps == self.eps
+
+    def __hash__(self) -> int:
+        return hash((self.kind_name, self._eps))
+
+
+class GaussianRadial(_ClosedFormRadial):
+    """Gaussian load g_ε = exp(-r²/ε²)/(ε³π^{3/2}): the paper's Eq. 13 (regularized ₁F̃₁).
+
+    Large ρ is safe: scipy's ₁F₁ stays accurate at large negative arguments (checked against
+    quadrature of the radial integrals to ~1e-13 for l ≤ 31, ρ ≤ 10⁵).
+    """
+
+    kind_name = "gaussian"
+
+    def dimensionless(self, kind: str, l: int, rho: np.ndarray) -> np.ndarray:
+        l = _check_degree(kind, l)
+        rho = np.asarray(rho, dtype=np.float64)
+        if kind == "R":
+            a, c = (l + 1) / 2, np.sqrt(np.pi) / 2
+        else:
+            a, c = l / 2 + 1, np.sqrt(np.pi)
+        b = l + 1.5
+        scale = c * special.gamma(a) / special.gamma(b)
+        return cast(np.ndarray, scale * rho**l * special.hyp1f1(a, b, -(rho**2)))
+
+
+class KelvinletRadial(_ClosedFormRadial):
+    """Regularized Kelvinlet load g_ε = 15ε⁴/(8π)(r²+ε²)^{-7/2} (de Goes & James 2017).
+
+    For an isotropic material the kernel then equals their closed form
+    u = [(a-b)/r_ε I + b/r_ε³ r rᵀ + a ε²/(2 r_ε³) I] f with a = 1/(4πμ), b = a/(4(1-ν)).
+    """
+
+    kind_name = "kelvinlet"
+
+    def dimensionless(self, kind: str, l: int, rho: np.ndarray) -> np.ndarray:
+        l = _check_degree(kind, l)
+        rho = np.asarray(rho, dtype=np.float64)
+        if kind == "R":
+            a, b, c = (l + 5) / 2, (l + 1) / 2, np.sqrt(np.pi) / 2
+        else:
+            a, b, c = l / 2 + 3, l / 2 + 1, np.sqrt(np.pi)
+        g = l + 1.5
+        scale = c * special.gamma(a) * special.gamma(b) / special.gamma(g)
+        return cast(np.ndarray, scale * rho**l * special.hyp2f1(a, b, g, -(rho**2)))
+
+
+#: Default control abscissae (ρ = r/ε) of a spline falloff: dense where the falloff bends.
+DEFAULT_SPLINE_RHO = np.array(
+    [0.0, 0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0, 2.5, 3.0, 3.5, 4.0, 5.0, 6.0, 8.0, 10.0]
+)
+
+
+class SplineRadial(RadialProfile):
+    """Per-degree curves through control points (ρ_i, F(ρ_i)), ρ = r/ε, interpolated by
+    :attr:`interpolation` (one of :data:`INTERPOLATIONS`; ``"cubic"`` unless given, as files
+    without the key mean).
+
+    Each curve is keyed by (kind, l): kind "R" for R_l (even l) and "dR" for ℛ_l (odd l).
+    Control abscissae start at ρ = 0 and increase; for l ≥ 1 the value at ρ = 0 is pinned to 0
+    (R_l(0) = 0, as the paper does). Beyond the last control point ρ_n the curve continues as
+    the far-field decay F(ρ_n)(ρ_n/ρ)^p (p = 1 for R, 2 for ℛ). Edits bump :attr:`version`.
+
+    A value compared by content (``==``). Settings hold frozen ones (:meth:`as_value`) and an
+    edit makes a new one (:meth:`with_curves`, :meth:`with_point_moved`, ...); a profile a
+    script builds may also be edited in place (:meth:`set_curve`, ...) before it is handed over.
+    Tables are keyed by a digest of the control points, so a kernel built after an edit sees
+    the new shape, and equal curves share tables whichever object holds them.
+    """
+
+    kind_name = "spline"
+
+    def __init__(
+        self,
+        eps: float,
+        curves: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]],
+        interpolation: str = "cubic",
+    ):
+        super().__init__(eps)
+        if interpolation not in INTERPOLATIONS:
+            raise ValueError(
+                f"spline interpolation must be one of {', '.join(INTERPOLATIONS)} "
+                f"(got {interpolation!r})"
+            )
+        self._interpolation = interpolation
+        self._curves: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]] = {}
+        self._splines: dict[tuple[str, int], PPoly] = {}
+        self._digest: str | None = None
+        self._version = 0
+        self._frozen = False
+        if not curves:
+            raise ValueError("a spline falloff needs at least one curve")
+        for (kind, l), (rho, value) in curves.items():
+            self._store(kind, l, rho, value)
+
+    @classmethod
+    def from_profile(
+        cls,
+        profile: RadialProfile,
+        l_max: int,
+        rho: np.ndarray | None = None,
+        interpolation: str = "monotone",
+    ) -> SplineRadial:
+        """Sample ``profile`` at control points ``rho`` (default :data:`DEFAULT_SPLINE_RHO`)
+        for every degree a kernel of ``l_max`` needs (even l ≤ l_max, odd l ≤ l_max + 1): new
+        curves, shape-preserving unless ``interpolation`` says otherwise."""
+        rho = DEFAULT_SPLINE_RHO if rho is None else np.asarray(rho, dtype=np.float64)
+        curves = {}
+        for l in range(0, l_max + 1, 2):
+            curves[("R", l)] = (rho, profile.dimensionless("R", l, rho))
+        for l in range(1, l_max + 2, 2):
+            curves[("dR", l)] = (rho, profile.dimensionless("dR", l, rho))
+        return cls(profile.eps, curves, interpolation)
+
+    # -- editing ----------------------------------------------------------------------------
+    @property
+    def interpolation(self) -> str:
+        """How the curves pass through their points (see :data:`INTERPOLATIONS`)."""
+        return self._interpolation
+
+    def with_interpolation(self, interpolation: str) -> SplineRadial:
+        """The same control points through another interpolant (a new value)."""
+        clone = SplineRadial(self.eps, self._curves, interpolation)
+        clone._frozen, clone._version = self._frozen, self._version + 1
+        return clone
+
+    @property
+    def version(self) -> int:
+        """Incremented by every edit (an edited value has its source's version + 1)."""
+        return self._version
+
+    def curve_keys(self) -> list[tuple[str, int]]:
+        """(kind, degree) of every stored curve, sorted."""
+        return sorted(self._curves)
+
+    def curve(self, kind: str, l: int) -> tuple[np.ndarray, np.ndarray]:
+        """Copies of the control points (ρ (n,), value (n,)) of one curve."""
+        rho, value = self._curves[self._key(kind, l)]
+        return rho.copy(), value.copy()
+
+    # Values: each edit makes a new profile (frozen when this one is), this one stays.
+    def with_curves(
+        self, curves: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]] | SplineRadial
+    ) -> SplineRadial:
+        """This falloff with the given curves (or another spline's, with its interpolation)
+        replacing or adding to its own (a new value; the others are kept)."""
+        if isinstance(curves, SplineRadial):
+            if curves.interpolation != self.interpolation:
+                return self.with_interpolation(curves.interpolation).with_curves(curves)
+            curves = curves._curves
+        clone = object.__new__(SplineRadial)
+        clone.__dict__.update(self.__dict__)
+        # the other curves' (read-only) points and splines are shared, not rebuilt
+        clone._curves, clone._splines = dict(self._curves), dict(self._splines)
+        for (kind, l), (rho, value) in curves.items():
+            clone._store(kind, l, rho, value)
+        clone._version = self._version + 1
+        return clone
+
+    def with_point_moved(
+        self, kind: str, l: int, index: int, rho: float, value: float
+    ) -> SplineRadial:
+        """This falloff with control point ``index`` at (rho, value) (see :meth:`move_point`)."""
+        return self.with_curves({(kind, l): self._moved(kind, l, index, rho, value)})
+
+    def with_point_added(
+        self, kind: str, l: int, rho: float, value: float
+    ) -> tuple[SplineRadial, int]:
+        """This falloff with a control point inserted, and the point's index."""
+        xs, ys, index = self._added(kind, l, rho, value)
+        return self.with_curves({(kind, l): (xs, ys)}), index
+
+    def without_point(self, kind: str, l: int, index: int) -> SplineRadial:
+        """This falloff without control point ``index`` (see :meth:`remove_point`)."""
+        return self.with_curves({(kind, l): self._removed(kind, l, index)})
+
+    def as_value(self) -> SplineRadial:
+        """This shape at ε = 1 as an immutable value: itself when it is one already, else a
+        frozen copy (later edits of this profile do not reach it)."""
+        if self._frozen and self.eps == 1.0:
+            return self
+        clone = self.with_eps(1.0)
+        clone._frozen = True
+        return clone
+
+    # In place: for a profile a script builds before handing it over (settings freeze theirs).
+    def set_curve(self, kind: str, l: int, rho: np.ndarray, value: np.ndarray) -> None:
+        """Replace one curve's control points (in place; refused on a frozen value)."""
+        if self._frozen:
+            raise TypeError(
+                "this falloff is an immutable value (settings hold it): make an edited one "
+                "with with_curves, with_point_moved, with_point_added or without_point"
+            )
+        self._store(kind, l, rho, value)
+        self._version += 1
+
+    def move_point(self, kind: str, l: int, index: int, rho: float, value: float) -> None:
+        """Move control point ``index`` to (rho, value); it must stay between its neighbours."""
+        self.set_curve(kind, l, *self._moved(kind, l, index, rho, value))
+
+    def add_point(self, kind: str, l: int, rho: float, value: float) -> int:
+        """Insert a control point; returns its index."""
+        xs, ys, index = self._added(kind, l, rho, value)
+        self.set_curve(kind, l, xs, ys)
+        return index
+
+    def remove_point(self, kind: str, l: int, index: int) -> None:
+        """Remove a control point (the first one, at ρ = 0, and the last two stay)."""
+        self.set_curve(kind, l, *self._removed(kind, l, index))
+
+    def _moved(
+        self, kind: str, l: int, index: int, rho: float, value: float
+    ) -> tuple[np.ndarray, np.ndarray]:
+        xs, ys = self.curve(kind, l)
+        xs[index], ys[index] = rho, value
+        return xs, ys
+
+    def _added(
+        self, kind: str, l: int, rho: float, value: float
+    ) -> tuple[np.ndarray, np.ndarray, int]:
+        xs, ys = self.curve(kind, l)
+        index = int(np.searchsorted(xs, rho))
+        return np.insert(xs, index, rho), np.insert(ys, index, value), index
+
+    def _removed(self, kind: str, l: int, index: int) -> tuple[np.ndarray, np.ndarray]:
+        xs, ys = self.curve(kind, l)
+        if index == 0 or index % len(xs) == 0:
+            raise ValueError("the control point at rho = 0 cannot be removed")
+        if len(xs) <= 3:
+            raise ValueError("a falloff curve needs at least 3 control points")
+        return np.delete(xs, index), np.delete(ys, index)
+
+    def _key(self, kind: str, l: int) -> tuple[str, int]:
+        l = _check_degree(kind, l)
+        key = (kind, l)
+        if key not in self._curves:
+            have = ", ".join(f"{k}{d}" for k, d in sorted(self._curves))
+            raise ValueError(f"spline falloff has no curve {kind}{l} (it has {have})")
+        return key
+
+    def _store(self, kind: str, l: int, rho: np.ndarray, value: np.ndarray) -> None:
+        l = _check_degree(kind, l)
+        rho = np.array(rho, dtype=np.float64)
+        value = np.array(value, dtype=np.float64)
+        name = f"falloff curve {kind}{l}"
+        if rho.ndim != 1 or rho.shape != value.shape:
+            raise ValueError(f"{name}: rho and value must be 1-D of equal length")
+        if len(rho) < 3:
+            raise ValueError(f"{name}: needs at least 3 control points (got {len(rho)})")
+        if not (np.all(np.isfinite(rho)) and np.all(np.isfinite(value))):
+            raise ValueError(f"{name}: control points must be finite")
+        if rho[0] != 0.0:
+            raise ValueError(f"{name}: the first control point must be at rho = 0 (got {rho[0]})")
+        if np.any(np.diff(rho) <= 0):
+            raise ValueError(f"{name}: control abscissae rho must be strictly increasing")
+        if l >= 1:
+            value[0] = 0.0  # R_l(0) = 0 for l >= 1 (paper); pinned, not an error
+        rho.setflags(write=False)
+        value.setflags(write=False)
+        self._curves[(kind, l)] = (rho, value)
+        self._splines[(kind, l)] = interpolant(self._interpolation, rho, value)
+        self._digest = None
+
+    # -- evaluation --------------------------------------------------------------------------
+    def dimensionless(self, kind: str, l: int, rho: np.ndarray) -> np.ndarray:
+        key = self._key(kind, l)
+        xs, ys = self._curves[key]
+        rho = np.asarray(rho, dtype=np.float64)
+        out = np.empty_like(rho)
+        inside = rho <= xs[-1]
+        out[inside] = self._splines[key](rho[inside])
+        out[~inside] = ys[-1] * (xs[-1] / rho[~inside]) ** _DECAY[kind]
+        return out
+
+    def table_key(self) -> tuple[Any, ...]:
+        # Keyed by content, never by id(): a new profile may reuse a dead one's id (measured:
+        # 40 falloffs built and dropped, one got a dead one's table).
+        if self._digest is None:
+            digest = hashlib.sha256()
+            if self._interpolation != "cubic":  # cubic digests as they were
+                digest.update(f"{self._interpolation};".encode())
+            for (kind, l), (rho, value) in sorted(self._curves.items()):
+                digest.update(f"{kind}{l}:{len(rho)};".encode())
+                digest.update(rho.tobytes())
+                digest.update(value.tobytes())
+            self._digest = digest.hexdigest()
+        return ("spline", self._digest)
+
+    def with_eps(self, eps: float) -> SplineRadial:
+        if self._frozen:  # immutable curves: shared
+            return super().with_eps(eps)  # type: ignore[return-value]
+        # Curves are copied (not shared) so that editing one profile never changes another.
+        clone = SplineRadial(eps, dict(self._curves), self._interpolation)
+        clone._version = self._version
+        return clone
+
+    def __eq__(self, other: object) -> bool:
+        """Equal by content: the same ε and the same control points."""
+        if not isinstance(other, SplineRadial):
+            return NotImplemented
+        return self.eps == other.eps and self.table_key() == other.table_key()
+
+    def __hash__(self) -> int:
+        return hash((self.eps, self.table_key()))
+
+    # -- serialization -----------------------------------------------------------------------
+    def to_dict(self) -> dict[str, Any]:
+        data = {
+            "type": "spline",
+            "eps": self.eps,
+            "curves": [
+                {"kind": k, "degree": l, "rho": rho.tolist(), "value": value.tolist()}
+                for (k, l), (rho, value) in sorted(self._curves.items())
+            ],
+        }
+        if self._interpolation != "cubic":  # absent: the cubic of files written before
+            data["interpolation"] = self._interpolation
+        return data
+
+    def to_json(self) -> str:
+        """JSON text of :meth:`to_dict`."""
+        return json.dumps(self.to_dict())
+
+    @classmethod
+    def from_json(cls, text: str) -> SplineRadial:
+        """Inverse of :meth:`to_json`."""
+        profile = radial_from_dict(json.loads(text))
+        if not isinstance(profile, SplineRadial):
+            raise ValueError("JSON does not describe a spline falloff")
+        return profile
+
+
+class MultiscaleRadial(RadialProfile):
+    """Weighted sum of one falloff shape at several radii: Kelvinlets' multi-scale brushes.
+
+    R_l(r) = Σ_k w_k R_l^{ε s_k}(r), so F_l(ρ) = Σ_k w_k s_k^{-p} F_l^base(ρ/s_k) with p = 1 for
+    R_l and 2 for ℛ_l. The weights of :meth:`biscale` and :meth:`triscale` (de Goes & James
+    2017, Sec. 5) cancel the leading far-field terms, so the brush decays faster than 1/r. One
+    table serves the whole sum: a multi-scale brush costs what a single one does.
+    """
+
+    kind_name = "multiscale"
+
+    def __init__(self, base: RadialProfile, scales: Sequence[float], weights: Sequence[float]):
+        if not isinstance(base, RadialProfile) or isinstance(base, MultiscaleRadial):
+            raise ValueError("the base of a multi-scale falloff must be a single RadialProfile")
+        scales = tuple(float(v) for v in scales)
+        weights = tuple(float(v) for v in weights)
+        if len(scales) != len(weights) or not scales:
+            raise ValueError("multi-scale falloff needs as many weights as scales (at least one)")
+        if not all(np.isfinite(v) and v > 0 for v in scales):
+            raise ValueError(f"multi-scale falloff scales must be finite and > 0 (got {scales})")
+        if not all(np.isfinite(v) for v in weights):
+            raise ValueError(f"multi-scale falloff weights must be finite (got {weights})")
+        super().__init__(base.eps)
+        self._base, self._scales, self._weights = base, scales, weights
+
+    @classmethod
+    def biscale(cls, base: RadialProfile, ratio: float = 1.25) -> MultiscaleRadial:
+        """u_ε − u_{ε·ratio}. The default 1.25 is this project's choice, not a standard:
+        Blender's Elastic Deform brush scales each radius by 2 (ε, 2ε, 4ε), libigl's by 1.1."""
+        return cls(base, (1.0, ratio), (1.0, -1.0))
+
+    @classmethod
+    def triscale(
+        cls, base: RadialProfile, ratio: float = 1.25, first: float = 1.0
+    ) -> MultiscaleRadial:
+        """u_ε1 − (ε3² − ε1²)/(ε3² − ε2²) u_ε2 + (ε2² − ε1²)/(ε3² − ε2²) u_ε3, ε_k = ε first
+        ratio^(k-1). The default ratio 1.25 is this project's choice (Blender uses 2, libigl 1.1).
+        """
+        e1, e2, e3 = first, first * ratio, first * ratio * ratio
+        w2 = -(e3**2 - e1**2) / (e3**2 - e2**2)
+        w3 = (e2**2 - e1**2) / (e3**2 - e2**2)
+        return cls(base, (e1, e2, e3), (1.0, w2, w3))
+
+    @classmethod
+    def local(cls, base: RadialProfile) -> MultiscaleRadial:
+        """Key 1's grab: tri-scale at 0.4, 0.8, 1.6 ε (ratio 2, Blender's), so that what moves
+        by a tenth of the motion or more is the brush circle (triscale: 1.6 ε; Gaussian: 11 ε)."""
+        return cls.triscale(base, 2.0, 0.4)
+
+    @property
+    def base(self) -> RadialProfile:
+        return self._base
+
+    def dimensionless(self, kind: str, l: int, rho: np.ndarray) -> np.ndarray:
+        rho = np.asarray(rho, dtype=np.float64)
+        p = _DECAY[kind]
+        return cast(
+            np.ndarray,
+            sum(
+                w * s**-p * self._base.dimensionless(kind, l, rho / s)
+                for s, w in zip(self._scales, self._weights, strict=True)
+            ),
+        )
+
+    def table_key(self) -> tuple[Any, ...]:
+        return ("multiscale", self._base.table_key(), self._scales, self._weights)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "type": self.kind_name,
+            "eps": self.eps,
+            "base": self._base.to_dict(),
+            "scales": list(self._scales),
+            "weights": list(self._weights),
+        }
+
+
+def radial_from_dict(data: dict[str, Any]) -> RadialProfile:
+    """Rebuild a profile from :meth:`RadialProfile.to_dict` output."""
+    if not isinstance(data, dict) or "type" not in data or "eps" not in data:
+        raise ValueError("a falloff description needs 'type' and 'eps'")
+    kind = data["type"]
+    if kind == "gaussian":
+        return GaussianRadial(data["eps"])
+    if kind == "kelvinlet":
+        return KelvinletRadial(data["eps"])
+    if kind == "multiscale":
+        try:
+            base = radial_from_dict(data["base"])
+            return MultiscaleRadial(base.with_eps(data["eps"]), data["scales"], data["weights"])
+        except (KeyError, TypeError) as exc:
+            raise ValueError(f"malformed multi-scale falloff description: {exc}") from None
+    if kind == "spline":
+        try:
+            curves = {
+                (c["kind"], int(c["degree"])): (np.asarray(c["rho"]), np.asarray(c["value"]))
+                for c in data["curves"]
+            }
+        except (KeyError, TypeError) as exc:
+            raise ValueError(f"malformed spline falloff description: {exc}") from None
+        return SplineRadial(data["eps"], curves, data.get("interpolation", "cubic"))
+    raise ValueError(
+        f"unknown falloff type {kind!r} (expected gaussian, kelvinlet, spline or multiscale)"
+    )

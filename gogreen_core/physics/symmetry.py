@@ -1,0 +1,154 @@
+"""Describe the symmetry of a stiffness for display: equal Voigt coefficients and the class.
+
+Go Green's Fig. 12 colours equal coefficients of the homogenized 6x6 stiffness alike.
+:func:`describe_symmetry` labels the coefficients that are equal (within a tolerance) with the
+same group number, zeros with -1, and names the symmetry class *in the axes of the given Voigt
+matrix* (the grid axes for a homogenized pattern): isotropic, cubic, transversely isotropic (with
+its axis), tetragonal (square symmetry about an axis, e.g. fibres on a square array), orthotropic,
+or other. A material rotated off its symmetry axes reads as "other"
+(its matrix is full), which is what the displayed matrix shows; describe the unrotated material
+to name the class of a rotated pattern.
+
+Conditions (Voigt order 11, 22, 33, 23, 13, 12, engineering shear), all within
+``rtol * max|C|``:
+
+- orthotropic: the 3x3 normal/shear coupling block and the shear off-diagonals vanish;
+- transversely isotropic about z: orthotropic, C11 = C22, C13 = C23, C44 = C55 and
+  C66 = (C11 − C12) / 2 (likewise about x or y);
+- tetragonal about z: orthotropic, C11 = C22, C13 = C23, C44 = C55 (square fibre arrays);
+- cubic: orthotropic, C11 = C22 = C33, C12 = C13 = C23, C44 = C55 = C66;
+- isotropic: cubic and C44 = (C11 − C12) / 2.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from gogreen_core.physics.material import Material
+
+__all__ = ["SYMMETRY_CLASSES", "SymmetryDescription", "describe_symmetry"]
+
+#: Class names, from most to least symmetric.
+SYMMETRY_CLASSES = (
+    "isotropic",
+    "cubic",
+    "transversely isotropic",
+    "tetragonal",
+    "orthotropic",
+    "other",
+)
+
+
+@dataclass(frozen=True)
+class SymmetryDescription:
+    """Result of :func:`describe_symmetry`.
+
+    groups : (6, 6) int array; equal coefficients share a label 0, 1, 2, ... (numbered in
+        row-major order of first appearance), zero coefficients are -1. Symmetric.
+    symmetry_class : one of :data:`SYMMETRY_CLASSES`.
+    axis : "x", "y" or "z", the symmetry axis of a transversely isotropic or tetragonal class,
+        else None.
+    values : (6, 6) float, the group mean of each coefficient (0 for zeros), handy for display.
+    """
+
+    groups: np.ndarray
+    symmetry_class: str
+    axis: str | None
+    values: np.ndarray
+
+    @property
+    def group_count(self) -> int:
+        """Number of distinct nonzero coefficient values."""
+        return int(self.groups.max() + 1)
+
+
+def _group_coefficients(c6: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray]:
+    rows, cols = np.triu_indices(6)
+    vals = c6[rows, cols]
+    groups = np.full((6, 6), -1, dtype=np.int64)
+    means = np.zeros((6, 6))
+    nonzero = np.abs(vals) > tol
+    # Cluster sorted values: consecutive values closer than tol join one group.
+    order = np.argsort(vals[nonzero], kind="stable")
+    sorted_vals = vals[nonzero][order]
+    cluster = np.concatenate([[0], np.cumsum(np.diff(sorted_vals) > tol)])
+    raw = np.empty(len(order), dtype=np.int64)
+    raw[order] = cluster
+    raw_full = np.full(len(vals), -1, dtype=np.int64)
+    raw_full[nonzero] = raw
+    # Relabel in row-major order of first appearance.
+    relabel: dict[int, int] = {}
+    for idx, (r, c) in enumerate(zip(rows, cols, strict=True)):
+        lab = raw_full[idx]
+        if lab < 0:
+            continue
+        lab = relabel.setdefault(int(lab), len(relabel))
+        groups[r, c] = groups[c, r] = lab
+    for lab in range(len(relabel)):
+        mask = groups == lab
+        means[mask] = c6[mask].mean()
+    return groups, means
+
+
+def describe_symmetry(material: Material | np.ndarray, rtol: float = 1e-5) -> SymmetryDescription:
+    """Equal-coefficient groups and symmetry class of a stiffness, in its own axes.
+
+    Parameters
+    ----------
+    material : Material or (6, 6) Voigt stiffness (order 11, 22, 33, 23, 13, 12).
+    rtol : two coefficients are equal (and a coefficient is zero) when they differ by at most
+        ``rtol * max|C|``. The homogenizer's results are accurate to better than 1e-6 relative
+        (~1e-10 at moderate contrast), so the default 1e-5 is safe; raise it to group nearly
+        equal values.
+    """
+    c6 = material.voigt if isinstance(material, Material) else np.asarray(material, dtype=float)
+    if c6.shape != (6, 6):
+        raise ValueError(f"Voigt stiffness must be 6x6 (got shape {c6.shape})")
+    if not np.all(np.isfinite(c6)):
+        raise ValueError("Voigt stiffness must be finite")
+    rtol = float(rtol)
+    if not 0.0 <= rtol < 1.0:
+        raise ValueError(f"rtol must lie in [0, 1) (got {rtol})")
+    c6 = 0.5 * (c6 + c6.T)
+    tol = rtol * float(np.abs(c6).max())
+    groups, means = _group_coefficients(c6, tol)
+
+    def eq(a: float, b: float) -> bool:
+        return abs(a - b) <= tol
+
+    off = np.concatenate([c6[:3, 3:].ravel(), [c6[3, 4], c6[3, 5], c6[4, 5]]])
+    orthotropic = bool(np.all(np.abs(off) <= tol))
+    cls, axis = "other", None
+    if orthotropic:
+        cls = "orthotropic"
+        d = np.diag(c6)
+        c12, c13, c23 = c6[0, 1], c6[0, 2], c6[1, 2]
+        cubic = (
+            eq(d[0], d[1])
+            and eq(d[1], d[2])
+            and eq(c12, c13)
+            and eq(c13, c23)
+            and eq(d[3], d[4])
+            and eq(d[4], d[5])
+        )
+        if cubic:
+            cls = "isotropic" if eq(d[3], 0.5 * (d[0] - c12)) else "cubic"
+        else:
+            # Axis z: 1 = 2 plane; axis x: 2 = 3 plane; axis y: 1 = 3 plane.
+            candidates = (
+                ("x", (1, 2), (0, 1), (0, 2), (5, 4), 3),
+                ("y", (0, 2), (0, 1), (1, 2), (5, 3), 4),
+                ("z", (0, 1), (0, 2), (1, 2), (4, 3), 5),
+            )
+            for name, (p, q), (a1, b1), (a2, b2), (s1, s2), s_plane in candidates:
+                if eq(d[p], d[q]) and eq(c6[a1, b1], c6[a2, b2]) and eq(d[s1], d[s2]):
+                    if eq(d[s_plane], 0.5 * (d[p] - c6[p, q])):
+                        cls, axis = "transversely isotropic", name
+                        break
+                    if cls == "orthotropic":
+                        cls, axis = "tetragonal", name
+    groups.setflags(write=False)
+    means.setflags(write=False)
+    return SymmetryDescription(groups=groups, symmetry_class=cls, axis=axis, values=means)

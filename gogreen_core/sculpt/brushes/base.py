@@ -1,0 +1,349 @@
+"""The brush interface: one :class:`BrushType` per row of the brush table.
+
+A brush type says what one mouse event of its kind does to the mesh: :meth:`BrushType.displace`
+returns the rows it moves and their new positions (a :class:`Displacement`), and the stroke
+driver (:mod:`gogreen_core.sculpt.stroke`) writes them, records the stroke and its undo step. A
+brush writes the mesh only when the driver lets it (:attr:`StrokeContext.write_through`: nothing to
+apply to the rows on their way, so a brush whose integrator can write its end positions in place
+saves the driver's scatter; a vertex mask turns it off: the driver blends the rows by it). A
+brush type may have a Green's function kernel (:meth:`BrushType.kernel`, None otherwise: the
+smooth brush's relaxation and the mask painter have none). A mask painter returns new mask
+values instead of positions (:attr:`Displacement.mask`).
+
+:class:`GreenBrush` is the family of brushes of the paper: a load at the cursor (a force or an
+affine load) whose regularized Green's function field is taken as a velocity over pseudo-time
+[0, 1] (paper Sec. 3.2). A member says which kernel it uses (:meth:`GreenBrush.radial`, its
+falloff at its radius; :meth:`GreenBrush.degree_weights`, its ω_l) and how its load is
+normalized and bounded (:meth:`GreenBrush.load`); the integration, the influence ball and the
+mirror images are common.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Any, ClassVar
+
+import numpy as np
+
+from gogreen_core.field.kernel import STREAMLINE_TOLERANCE, GreenKernel, StreamlineOverflow
+from gogreen_core.physics.radial import RadialProfile
+from gogreen_core.sculpt.falloff_safety import FieldBound, field_reach
+from gogreen_core.validation import ParameterError
+
+if TYPE_CHECKING:
+    from gogreen_core.mesh.mesh_state import MeshState
+    from gogreen_core.sculpt.brushes.brush import Brush, BrushEvent
+    from gogreen_core.sculpt.engine_settings import EngineSettings
+    from gogreen_core.sculpt.kernel_cache import KernelCache
+
+__all__ = [
+    "AUTO_INFLUENCE",
+    "CUTOFF_START",
+    "DEFAULT_INFLUENCE",
+    "BrushType",
+    "Displacement",
+    "EventField",
+    "GreenBrush",
+    "StrokeContext",
+    "mirror_signs",
+    "smooth_cutoff",
+]
+
+#: Where the smooth cutoff starts, as a fraction of the influence radius.
+CUTOFF_START = 0.5
+#: Radius of the moved region in multiples of ε before it was automatic (also the pins' reach,
+#: the extent the cursor draws for a brush of infinite influence, and the least an automatic
+#: influence is).
+DEFAULT_INFLUENCE = 4.0
+#: A brush's ``influence`` that follows its field's own decay (:meth:`GreenBrush.reach`): the
+#: default.
+AUTO_INFLUENCE = "auto"
+#: A field smaller than this fraction of the material's G scale (‖A‖/ε) is zero everywhere.
+ZERO_FIELD = 1e-9
+
+
+def smooth_cutoff(distance: np.ndarray, inner: float, outer: float) -> np.ndarray:
+    """The brushes' C² cutoff (quintic smoothstep) of ``distance`` (any shape): 1 up to
+    ``inner``, 0 from ``outer`` on."""
+    distance = np.asarray(distance, dtype=float)
+    width = outer - inner
+    if width <= 0:
+        return (distance < outer).astype(float)
+    u = np.clip((distance - inner) / width, 0.0, 1.0)
+    return 1.0 - u**3 * (10.0 - 15.0 * u + 6.0 * u**2)
+
+
+def mirror_signs(symmetry: str) -> np.ndarray:
+    """Sign rows (2^k, 3) of the mirror group of ``symmetry`` ("", "x", "xz", ...); row 0 is the
+    identity."""
+    rows = [np.ones(3)]
+    for axis in symmetry:
+        flip = np.ones(3)
+        flip["xyz".index(axis)] = -1.0
+        rows += [r * flip for r in rows]
+    return np.array(rows)
+
+
+@dataclass(frozen=True)
+class StrokeContext:
+    """What a brush sees of the engine during one event: the mesh (read it; write it only with
+    ``write_through``), the kernels of the current settings, and ``rows``: n → a writable
+    C-contiguous (n, 3) float64 buffer for the new positions (the driver's, reused between
+    events).
+
+    write_through : the driver applies nothing to the new positions, so a brush may also write
+        them into ``mesh.vertices`` itself (all or none: only if every one is finite) and say so
+        in its :class:`Displacement`.
+    stroke : a dict the brush may keep state in from one event of the stroke to the next (the
+        wrinkle brush's surface frame); None outside a stroke.
+    """
+
+    mesh: MeshState
+    kernels: KernelCache
+    rows: Callable[[int], np.ndarray]
+    write_through: bool = False
+    stroke: dict[str, Any] | None = None
+
+    @property
+    def settings(self) -> EngineSettings:
+        return self.kernels.settings
+
+    @property
+    def model_size(self) -> float:
+        return self.mesh.model_size
+
+
+@dataclass(frozen=True)
+class EventField:
+    """The velocity field of one event of a Green's function brush: ``kernel`` (at the brush's
+    ε) with ``load`` (a force (3,) or an affine load (3, 3)) at ``center`` (3,), which moves by
+    ``step`` (3,) over the event; only within ``reach`` ε of it (a smooth cutoff from half
+    that), mirrored across the brush's ``symmetry`` planes."""
+
+    kernel: GreenKernel
+    center: np.ndarray
+    load: np.ndarray
+    step: np.ndarray
+    reach: float
+
+
+@dataclass(frozen=True)
+class Displacement:
+    """What one event does: vertex ``rows`` (n,) int64 go to ``positions`` (n, 3) (model
+    units; may be the driver's buffer, valid until the next event); ``written``: the brush has
+    written them into the mesh already (:attr:`StrokeContext.write_through`).
+
+    mask : a mask painter's new mask values (n,) in [0, 1] of ``rows`` (``positions`` is then
+        None: no vertex moves).
+    """
+
+    rows: np.ndarray
+    positions: np.ndarray | None
+    written: bool = False
+    mask: np.ndarray | None = None
+
+
+class BrushType(ABC):
+    """One row of the brush table: how a brush of kind :attr:`kind` acts.
+
+    family : ``"vector"`` (the event carries the cursor's motion ``delta``; the grab family),
+        ``"affine"`` (the brush stays at the press point and the event carries an ``amount``;
+        the tools read it through :attr:`Brush.is_affine`) or ``"paint"`` (the brush acts
+        where the cursor passes: the event carries the segment from ``center`` to
+        ``center + delta`` and ``amount`` ± the pen pressure, negative to erase or invert; the
+        smooth brush and the mask painter).
+    """
+
+    family: ClassVar[str] = "vector"
+    #: The amount an event without one acts with (None: an event must carry one).
+    default_amount: ClassVar[float | None] = 0.0
+
+    def __init__(self, kind: str) -> None:
+        self.kind = kind
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}({self.kind!r})"
+
+    @property
+    def is_affine(self) -> bool:
+        return self.family == "affine"
+
+    def with_amount(self, event: BrushEvent) -> BrushEvent:
+        """``event`` with the amount it acts with: its own, else :attr:`default_amount`; an
+        event that must carry one and does not is refused (:class:`ParameterError` naming
+        ``amount``), rather than doing nothing."""
+        if event.amount is not None:
+            return event
+        if self.default_amount is None:
+            raise ParameterError(
+                "amount",
+                f"an event of the {self.kind} brush needs an amount (the log strain or angle "
+                "at the brush centre); none was given",
+            )
+        return replace(event, amount=self.default_amount)
+
+    def check_event(self, brush: Brush, event: BrushEvent, reach: float) -> None:
+        """Refuse an event whose magnitudes this brush cannot take (:class:`ParameterError`
+        naming the event field); ``reach`` is the farthest motion in model units. The centre is
+        checked by the driver. Default: every event is accepted."""
+        return None
+
+    def default_weights(self, l_max: int) -> np.ndarray:
+        """The degree weights ω_l (l_max + 2,) this brush starts with: all ones (the field of
+        the paper's expansion as it is)."""
+        return np.ones(l_max + 2)
+
+    #: Whether the brush's field has per-degree weights an artist can edit (in
+    #: :attr:`EngineSettings.brush_weights`).
+    weighted: ClassVar[bool] = False
+    #: The influence (ε) an automatic one means for a brush without a field of its own.
+    auto_reach: ClassVar[float] = DEFAULT_INFLUENCE
+
+    def reach(self, ctx: StrokeContext, brush: Brush) -> float:
+        """The brush's influence radius in multiples of ε (``inf`` for every vertex): its
+        ``influence``, or :attr:`auto_reach` for an automatic one."""
+        if brush.influence == AUTO_INFLUENCE:
+            return self.auto_reach
+        return float(brush.influence)
+
+    def cutoff(self, ctx: StrokeContext, brush: Brush) -> tuple[float, float] | None:
+        """(inner, outer) radii (model units) of the smooth cutoff of the brush's reach, None
+        for none."""
+        return brush.cutoff(ctx.model_size, self.reach(ctx, brush))
+
+    def kernel(self, ctx: StrokeContext, brush: Brush) -> GreenKernel | None:
+        """The brush's Green's function kernel at its radius (what the cursor's profile
+        draws), or None for a brush without one."""
+        return None
+
+    @abstractmethod
+    def displace(self, ctx: StrokeContext, brush: Brush, event: BrushEvent) -> Displacement:
+        """The rows ``event`` moves with ``brush`` (``event``'s radius factor already applied)
+        and their new positions; ValueError, nothing moved, for an event that cannot be made."""
+
+
+class GreenBrush(BrushType):
+    """A brush whose field is a regularized Green's function's: the common stroke step.
+
+    Members give :meth:`load` (the load and how the centre moves during the event, normalized
+    and bounded: "safe falloffs", :mod:`gogreen_core.sculpt.falloff_safety`) and may change
+    :meth:`radial` (the falloff at the brush radius), :meth:`degree_weights` (ω_l of the field)
+    and :meth:`cutoff` (the influence ball).
+    """
+
+    #: Names the brush's falloff variant: brushes with equal keys, family and weights share
+    #: one sampled field bound per influence radius.
+    radial_key: str = ""
+    weighted = True
+
+    def radial(self, falloff: RadialProfile) -> RadialProfile:
+        """The brush's falloff from the settings' shape ``falloff`` at the brush's ε."""
+        return falloff
+
+    def degree_weights(self, settings: EngineSettings) -> np.ndarray | None:
+        """The kernel's degree weights (l_max + 1,) from the brush's ω_l
+        (:meth:`EngineSettings.weights_for`), None when they are all ones (the full kernel):
+        a vector load's field has the even degrees of G, ω_l scaling R_l; an affine load's the
+        odd degrees of ∇G, ω_l scaling ℛ_l (the kernel's weight l − 1)."""
+        omega = settings.weights_for(self.kind)
+        if np.all(omega == 1.0):
+            return None
+        weights: np.ndarray = omega[1:] if self.is_affine else omega[:-1]
+        return weights
+
+    def reach(self, ctx: StrokeContext, brush: Brush) -> float:
+        """The influence radius in multiples of ε: the brush's ``influence``, or for
+        ``"auto"`` twice the radius beyond which the field stays below a tenth of its peak
+        (:func:`~gogreen_core.sculpt.falloff_safety.field_reach`, at least
+        :data:`DEFAULT_INFLUENCE`), so the cutoff starts where the field has faded and every
+        control of the falloff shows (cached per settings and brush shape)."""
+        if brush.influence != AUTO_INFLUENCE:
+            return float(brush.influence)
+        weights = self.degree_weights(ctx.settings)
+        key = (
+            "reach",
+            self.family,
+            self.radial_key,
+            None if weights is None else weights.tobytes(),
+        )
+        return ctx.kernels.derived(key, lambda: field_reach(self._unit_kernel(ctx), self.is_affine))
+
+    def _unit_kernel(self, ctx: StrokeContext) -> GreenKernel:
+        """The brush's kernel at ε = 1."""
+        radial = self.radial(ctx.settings.falloff.with_eps(1.0))
+        return ctx.kernels.weighted(self.degree_weights(ctx.settings)).with_radial(radial)
+
+    def kernel(self, ctx: StrokeContext, brush: Brush) -> GreenKernel:
+        radial = self.radial(ctx.settings.falloff.with_eps(brush.eps(ctx.model_size)))
+        return ctx.kernels.weighted(self.degree_weights(ctx.settings)).with_radial(radial)
+
+    def field_bound(self, ctx: StrokeContext, brush: Brush, kernel: GreenKernel) -> FieldBound:
+        """The sampled bound of this brush's field (cached per settings, brush shape and
+        influence; the brush radius does not matter: the samples are in units of ε)."""
+        weights = self.degree_weights(ctx.settings)
+        reach = self.reach(ctx, brush)
+        key = (
+            "field bound",
+            self.family,
+            self.radial_key,
+            None if weights is None else weights.tobytes(),
+            reach,
+        )
+        return ctx.kernels.derived(key, lambda: FieldBound(kernel, reach, self.is_affine))
+
+    @abstractmethod
+    def load(
+        self, ctx: StrokeContext, brush: Brush, kernel: GreenKernel, event: BrushEvent
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """(load, centre step) of one event: a force (3,) or an affine load (3, 3), and the
+        centre's motion (3,) over the event (the load travels with the cursor)."""
+
+    def field(self, ctx: StrokeContext, brush: Brush, event: BrushEvent) -> EventField:
+        """The field ``event`` moves the mesh along (normalized and bounded: :meth:`load`)."""
+        kernel = self.kernel(ctx, brush)
+        load, step = self.load(ctx, brush, kernel, event)
+        return EventField(kernel, event.center, load, step, self.reach(ctx, brush))
+
+    def displace(self, ctx: StrokeContext, brush: Brush, event: BrushEvent) -> Displacement:
+        return self.integrate(ctx, brush, self.field(ctx, brush, event))
+
+    def integrate(self, ctx: StrokeContext, brush: Brush, field: EventField) -> Displacement:
+        """Move the rows within the field's reach of its load and of the load's mirror images
+        along the field (paper Sec. 3.2)."""
+        kernel, center, load, step = field.kernel, field.center, field.load, field.step
+        cutoff = brush.cutoff(ctx.model_size, field.reach)
+        signs = mirror_signs(brush.symmetry)
+        mesh = ctx.mesh
+        rows = mesh.rows_near(center, step, None if cutoff is None else cutoff[1], signs)
+        out = ctx.rows(len(rows))
+        if len(rows):
+            try:
+                # written through only if every end position is finite (the kernel checks)
+                kernel._streamlines(
+                    mesh.vertices,
+                    center,
+                    load,
+                    center_step=step,
+                    cutoff=cutoff,
+                    mirror_signs=signs,
+                    origin=mesh.origin,
+                    substeps=max(brush.substeps, 1),
+                    tolerance=None if brush.substeps else STREAMLINE_TOLERANCE,
+                    indices=rows,
+                    in_place=ctx.write_through,
+                    out=out,
+                    count=False,
+                )
+            except StreamlineOverflow:
+                raise ValueError(self._overflow()) from None
+            if not ctx.write_through and not np.isfinite(out).all():  # never NaN in the mesh
+                raise ValueError(self._overflow())
+        return Displacement(rows, out, written=ctx.write_through)
+
+    def _overflow(self) -> str:
+        return (
+            f"the {self.kind} event would move vertices to infinity; "
+            "lower the strength, amount or delta"
+        )

@@ -1,0 +1,292 @@
+"""The brush table: every brush, declared once, with the :class:`BrushType` that does it.
+
+Each :class:`BrushRow` carries what does the brush (its :class:`BrushType`) and everything the
+app shows of it: toolbar label, title, key letter, fixed number key, tooltip, icon name, how a
+drag becomes its events (:data:`DRAGS`) and the hint of its degree weights. The app's keymap,
+brush bar and panels derive their dictionaries from :data:`BRUSH_ROWS`.
+
+Adding a brush: a module with its :class:`BrushType` (or a member of an existing family: a
+pattern for the affine family), one row here and an icon in ``resources/icons``. Number keys
+belong to the brush (a new row does not move the others').
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from gogreen_core.physics.radial import MultiscaleRadial
+from gogreen_core.sculpt.brushes.affine import (
+    AffineBrush,
+    pinch_pattern,
+    scale_pattern,
+    stretch_pattern,
+    twist_pattern,
+)
+from gogreen_core.sculpt.brushes.base import BrushType
+from gogreen_core.sculpt.brushes.grab import GrabBrush
+from gogreen_core.sculpt.brushes.mask import MaskBrush
+from gogreen_core.sculpt.brushes.smooth import SmoothBrush
+from gogreen_core.sculpt.brushes.wrinkle import WrinkleBrush
+
+__all__ = [
+    "AFFINE_BRUSHES",
+    "BRUSH_KINDS",
+    "BRUSH_ROWS",
+    "BRUSH_TABLE",
+    "DEFAULT_BRUSH",
+    "DRAGS",
+    "GRAB_BRUSHES",
+    "PAINT_BRUSHES",
+    "BrushRow",
+    "affine_load_shape",
+    "brush_for_key",
+    "brush_row",
+    "brush_type",
+    "weighted_kinds",
+]
+
+#: How a drag becomes a brush's events (:class:`gogreen_core.interaction.tools.StrokeController`):
+#: ``"follow"``: the point under the cursor follows the cursor (each event the world motion on
+#: the drag plane); ``"anchored"``: the brush stays at the press point and takes its amount from
+#: the signed screen length of the drag, its direction from the drag's; ``"sweep"``: the brush
+#: acts where the cursor passes (a dab at the press point, then each swept segment).
+DRAGS = ("follow", "anchored", "sweep")
+
+_ODD_HINT = (
+    "ℛ_l of ∇G (odd degrees): 1 is the expansion as it is, 0 removes a degree, "
+    "16 × ℛ₁ makes a pinch local (paper Fig. 7)"
+)
+_EVEN_HINT = "R_l of G (even degrees): 1 is the expansion as it is, 0 removes a degree"
+
+
+@dataclass(frozen=True)
+class BrushRow:
+    """One brush, declared once.
+
+    type : the :class:`BrushType` that does it (its ``kind`` names the brush everywhere).
+    label : toolbar text ("Grab").
+    title : one line for the keymap and the panels ("Wide grab (elastic, whole body)").
+    letter : its letter key in Qt's portable text ("G", "Shift+S").
+    number : its number key ("1" … "9", "0"), fixed per brush; "" for none.
+    tooltip : what it does, for the toolbar button.
+    icon : name of its icon in ``resources/icons`` (without ``.svg``).
+    drag : how a drag becomes its events, one of :data:`DRAGS`.
+    weights_hint : the caption of its degree weights (what they are, what to try); "" for a
+        brush without weights.
+    """
+
+    type: BrushType
+    label: str
+    title: str
+    letter: str
+    number: str
+    tooltip: str
+    icon: str
+    drag: str
+    weights_hint: str = ""
+
+    @property
+    def kind(self) -> str:
+        return self.type.kind
+
+
+BRUSH_ROWS: tuple[BrushRow, ...] = (
+    BrushRow(
+        GrabBrush("grab_local", MultiscaleRadial.local),
+        "Grab",
+        "Grab brush: moves what is inside its ring",
+        "G",
+        "1",
+        "Grab: the point under the cursor follows it, the ring shows what moves (elastic, "
+        "local; tri-scale at 0.4, 0.8 and 1.6 ε)",
+        "grab_local",
+        "follow",
+        _EVEN_HINT,
+    ),
+    BrushRow(
+        GrabBrush("grab"),
+        "Wide grab",
+        "Wide grab (elastic, whole body)",
+        "Shift+G",
+        "2",
+        "Wide grab (elastic, whole body): the regularized Kelvinlet grab; the whole body "
+        "follows softly",
+        "grab",
+        "follow",
+        _EVEN_HINT,
+    ),
+    BrushRow(
+        GrabBrush("grab_biscale", MultiscaleRadial.biscale),
+        "Bi-scale",
+        "Bi-scale grab brush (sharper falloff)",
+        "B",
+        "",
+        "Bi-scale grab: sharper falloff (two radii)",
+        "grab_biscale",
+        "follow",
+        _EVEN_HINT,
+    ),
+    BrushRow(
+        GrabBrush("grab_triscale", MultiscaleRadial.triscale),
+        "Tri-scale",
+        "Tri-scale grab brush (sharpest falloff)",
+        "T",
+        "3",
+        "Tri-scale grab: sharpest falloff (three radii)",
+        "grab_triscale",
+        "follow",
+        _EVEN_HINT,
+    ),
+    BrushRow(
+        WrinkleBrush("wrinkle"),
+        "Wrinkle",
+        "Wrinkle brush: a pull that folds the surface (needs an anisotropic material)",
+        "R",
+        "4",
+        "Wrinkle: a pull that folds the surface around the cursor (folds: Falloff panel)",
+        "wrinkle",
+        "follow",
+        "R_l of G (even degrees): R0 and R2 are the pull, the degrees from 4 up are the folds "
+        "(set them with the fold degree and depth below)",
+    ),
+    BrushRow(
+        AffineBrush("scale", scale_pattern),
+        "Scale",
+        "Scale brush: inflate / deflate",
+        "S",
+        "5",
+        "Scale: inflate (drag right or up) or deflate (left or down)",
+        "scale",
+        "anchored",
+        "ℛ_l of ∇G (odd degrees): 1 is the expansion as it is, 0 removes a degree",
+    ),
+    BrushRow(
+        AffineBrush("twist", twist_pattern),
+        "Twist",
+        "Twist brush",
+        "W",
+        "6",
+        "Twist about the view axis: drag right or up, left or down",
+        "twist",
+        "anchored",
+        "ℛ_l of ∇G (odd degrees): 1 is the expansion as it is, 0 removes a degree",
+    ),
+    BrushRow(
+        AffineBrush("pinch", pinch_pattern),
+        "Pinch",
+        "Pinch brush",
+        "P",
+        "7",
+        "Pinch: stretch along the drag (right or up), squeeze (left or down)",
+        "pinch",
+        "anchored",
+        _ODD_HINT,
+    ),
+    BrushRow(
+        AffineBrush("stretch", stretch_pattern),
+        "Stretch",
+        "Stretch brush: pull along the drag; the material moves the sides (Poisson)",
+        "E",
+        "8",
+        "Stretch along the drag: the material decides whether the sides narrow or widen",
+        "stretch",
+        "anchored",
+        _ODD_HINT,
+    ),
+    BrushRow(
+        SmoothBrush("smooth"),
+        "Smooth",
+        "Smooth brush",
+        "Shift+S",
+        "9",
+        "Smooth: relaxes bumps and facets without shrinking (Shift+drag with any brush)",
+        "smooth",
+        "sweep",
+    ),
+    BrushRow(
+        MaskBrush("mask"),
+        "Mask",
+        "Mask brush (Ctrl erases)",
+        "M",
+        "0",
+        "Mask: paint what no brush moves; Ctrl+drag erases, Ctrl+I inverts",
+        "mask",
+        "sweep",
+    ),
+)
+#: The brush of key 1, what a new session starts with.
+DEFAULT_BRUSH = "grab_local"
+BRUSH_TABLE: tuple[BrushType, ...] = tuple(row.type for row in BRUSH_ROWS)
+
+_BY_KIND = {brush.kind: brush for brush in BRUSH_TABLE}
+_ROWS = {row.kind: row for row in BRUSH_ROWS}
+_BY_NUMBER = {row.number: row.kind for row in BRUSH_ROWS if row.number}
+#: Every brush kind an artist is offered, in the table's order.
+BRUSH_KINDS = tuple(brush.kind for brush in BRUSH_TABLE)
+#: Vector-load brushes (the cursor point follows the cursor).
+GRAB_BRUSHES = tuple(b.kind for b in BRUSH_TABLE if b.family == "vector")
+#: Affine-load brushes.
+AFFINE_BRUSHES = tuple(b.kind for b in BRUSH_TABLE if b.family == "affine")
+#: Brushes acting where the cursor passes, without a Green's function (smooth, mask).
+PAINT_BRUSHES = tuple(b.kind for b in BRUSH_TABLE if b.family == "paint")
+
+
+def _check_rows() -> None:
+    """Rows that cannot be told apart are a programming error: found at import."""
+    for name in ("kind", "label", "letter", "icon"):
+        values = [getattr(row, name) for row in BRUSH_ROWS]
+        if len(set(values)) != len(values):
+            raise RuntimeError(f"two brush rows share a {name}: {values}")
+    numbers = [row.number for row in BRUSH_ROWS if row.number]
+    if len(set(numbers)) != len(numbers) or not set(numbers) <= set("1234567890"):
+        raise RuntimeError(f"brush number keys must be distinct digits: {numbers}")
+    drags = {row.drag for row in BRUSH_ROWS}
+    if not drags <= set(DRAGS):
+        raise RuntimeError(f"unknown drag in the brush rows: {sorted(drags - set(DRAGS))}")
+
+
+_check_rows()
+
+
+def brush_row(kind: str) -> BrushRow:
+    """The row of offered brush ``kind``; ValueError naming the kinds for another one."""
+    try:
+        return _ROWS[kind]
+    except (KeyError, TypeError):
+        raise ValueError(
+            f"unknown brush {kind!r}; expected one of {', '.join(BRUSH_KINDS)}"
+        ) from None
+
+
+def brush_for_key(key: str) -> str | None:
+    """The brush number key ``key`` picks (its row's fixed ``number``), else None."""
+    return _BY_NUMBER.get(key) if isinstance(key, str) else None
+
+
+def weighted_kinds() -> tuple[str, ...]:
+    """The offered kinds whose field has per-degree weights ω_l an artist can edit."""
+    return tuple(brush.kind for brush in BRUSH_TABLE if brush.weighted)
+
+
+def brush_type(kind: str) -> BrushType:
+    """The table row of ``kind``; ValueError naming the kinds for an unknown one."""
+    try:
+        return _BY_KIND[kind]
+    except (KeyError, TypeError):
+        raise ValueError(
+            f"unknown brush {kind!r}; expected one of {', '.join(BRUSH_KINDS)}"
+        ) from None
+
+
+def affine_load_shape(
+    kind: str, axis: np.ndarray | None, direction: np.ndarray | None
+) -> np.ndarray:
+    """Pattern B (3, 3) of the affine brush ``kind``: the velocity gradient that ``amount`` 1
+    asks for at the brush centre (:mod:`gogreen_core.sculpt.brushes.affine`) for a view ``axis`` and
+    stroke ``direction``."""
+    brush = _BY_KIND.get(kind)
+    if not isinstance(brush, AffineBrush):
+        raise ValueError(f"{kind!r} is not an affine brush ({', '.join(AFFINE_BRUSHES)})")
+    return brush.shape(axis, direction)

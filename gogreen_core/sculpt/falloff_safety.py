@@ -1,0 +1,311 @@
+"""Safe falloffs: bounds on how far one brush event can move a vertex, whatever the falloff.
+
+A brush event moves vertices along the load's field taken as a velocity over pseudo-time
+[0, 1] (``Sculptor``), with a cutoff s ≤ 1, so no vertex moves farther than sup_x |u(x)|, the
+largest displacement the load's field makes anywhere in the influence ball. Normalizing the
+load by the field at the centre (grab: f = G(0)⁻¹ Δ; affine brushes: the velocity gradient at
+the centre) is safe when the field peaks there, as every closed-form falloff does, but an
+edited falloff whose centre is small (a dip of R₀ near 0, R₀(0) = 0, a negative R₀ near 0)
+made that normalization explode (10¹⁶ × the cursor motion was measured).
+
+:class:`FieldBound` samples one kernel's field once (directions × radii, in units of ε, so
+the radius of the brush does not matter) and answers sup_k |D_k h| for a load h per event,
+visiting the samples in decreasing order of their spectral norm and stopping as soon as no
+other sample can beat the best so far (a few hundred 3×3 products on smooth fields).
+The sculptor keeps one per kernel (material, l_max, weights and falloff shape) and influence
+radius: tens of milliseconds once, then free for every event and every brush radius.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+from typing import cast
+
+import numpy as np
+from scipy.integrate import lebedev_rule
+
+from gogreen_core.field.kernel import GreenKernel, lebedev_points
+from gogreen_core.physics.material import Material
+
+__all__ = [
+    "AFFINE_FALLBACK",
+    "AFFINE_MARGIN",
+    "AUTO_LEVEL",
+    "MAX_GRAB_RATIO",
+    "MAX_GRAB_STRAIN",
+    "FieldBound",
+    "field_reach",
+    "mean_green_direction",
+]
+
+#: Largest motion of any vertex in one grab event, in multiples of the cursor motion |Δ|: the
+#: load is f = G(0)⁻¹ Δ as long as its field stays below this anywhere (every closed-form
+#: falloff peaks at the centre, ratio 1; the fibre preset's wrinkle tri-scale grab measures
+#: 1.08), and is scaled down to it otherwise.
+MAX_GRAB_RATIO = 1.5
+#: Affine brushes have no single natural scale (their field's reach depends on the material
+#: far more than a grab's: closed-form falloffs move vertices 0.36-0.7 |amount| ε on
+#: isotropic materials and 3.9 on a 1000:1 laminate), so a load normalized at the centre is
+#: kept while it moves and shears vertices at most this many times what the Gaussian falloff
+#: does with the same material and pattern, and is scaled down to that otherwise.
+AFFINE_MARGIN = 1.5
+#: Fallback bounds (motion in |amount| ε, velocity gradient in |amount|) where no pattern of
+#: the Gaussian reference has an effect (an incompressible material's scale brush).
+AFFINE_FALLBACK = (4.0, 8.0)
+#: Largest velocity gradient ‖∇u‖_F of one grab event, in multiples of |Δ|/ε: an edited curve
+#: that rises steeply from the centre shears faces over even when its motion is bounded (the
+#: flow of a velocity field with ‖∇v‖ ≤ L turns no face over while e^L − 1 < 1). Closed-form
+#: falloffs measure 0.4-1.1 (Gaussian to tri-scale) on isotropic materials, up to 1.77 on a
+#: 100:1 laminate's wrinkle tri-scale grab, and keep f = G(0)⁻¹ Δ.
+MAX_GRAB_STRAIN = 2.0
+#: Finite-difference step (in ε) of the sampled velocity gradient.
+_GRADIENT_STEP = 1e-4
+#: Radial samples per ε (uniform in ρ = r/ε up to the influence radius, capped below).
+_SAMPLES_PER_EPS = 16
+#: Beyond this radius (in ε) the field is sampled geometrically (unbounded influence).
+_DENSE_RHO = 10.0
+#: Lebedev orders scipy provides (odd up to 31, then every 6th).
+_LEBEDEV_ORDERS = (*range(3, 32, 2), *range(35, 132, 6))
+
+
+@lru_cache(maxsize=8)
+def _directions(l_max: int) -> tuple[np.ndarray, np.ndarray]:
+    """Lebedev nodes (n, 3) and weights (n,) for angular degree ``l_max + 1``: order
+    ≥ 2 (l_max + 1) + 1, so neighbouring nodes are ≲ a quarter of the shortest angular
+    wavelength apart (capped at order 41, 590 nodes, for very high l_max)."""
+    wanted = min(2 * (l_max + 1) + 1, 41)
+    order = next(o for o in _LEBEDEV_ORDERS if o >= wanted)
+    nodes, weights = lebedev_rule(order)
+    return np.ascontiguousarray(nodes.T), weights
+
+
+def _radii(influence: float) -> np.ndarray:
+    """Sample radii ρ = r/ε (increasing, starting at 0) covering the influence ball."""
+    reach = min(influence, _DENSE_RHO)
+    dense = np.linspace(0.0, reach, max(2, math.ceil(reach * _SAMPLES_PER_EPS) + 1))
+    if influence <= _DENSE_RHO:
+        return dense
+    # the far field decays like 1/ρ (G) or 1/ρ² (∇G): a geometric tail catches late bumps
+    far = min(influence, 1e4)
+    return np.concatenate([dense, np.geomspace(reach, far, 40)[1:]])
+
+
+#: An automatic influence (:func:`field_reach`) keeps the field at full strength out to where
+#: its envelope falls below this fraction of its peak.
+AUTO_LEVEL = 0.1
+#: Bounds (in ε) of an automatic influence: at least the old default 4 (the multi-scale
+#: falloffs have faded by then), at most 32 (a 1/r far field never fades: beyond 16 ε it is
+#: below 6 % of the peak for every closed-form falloff).
+AUTO_INFLUENCE_RANGE = (4.0, 32.0)
+
+
+def field_reach(kernel: GreenKernel, affine: bool) -> float:
+    """Automatic influence radius (in ε) of a kernel's field: 2 ρ₁₀, ρ₁₀ the radius beyond
+    which the envelope max_|x|=ρ ‖G(x)‖ (‖∇G(x)‖ for affine loads) stays below
+    :data:`AUTO_LEVEL` of its peak, clipped to :data:`AUTO_INFLUENCE_RANGE`; the smooth cutoff
+    (which starts at half the influence) then fades only what is already faint, whatever the
+    falloff, its weights or the material (measured: Gaussian grab 18.2, affine 10.4-11.2,
+    Kelvinlet grab 13.8, multi-scale 4). Sampled on the kernel at ε = 1 (any ε: the result is in
+    units of ε): geometric radii to 64 ε, the field bound's directions."""
+    unit = kernel.with_eps(1.0)
+    nodes, _ = _directions(kernel.l_max)
+    rho = np.geomspace(0.05, 2 * AUTO_INFLUENCE_RANGE[1], 160)
+    points = (rho[:, None, None] * nodes[None]).reshape(-1, 3)
+    values = unit.green_gradient(points) if affine else unit.green(points)
+    size = np.linalg.norm(values.reshape(len(rho), len(nodes), -1), axis=2).max(axis=1)
+    above = np.flatnonzero(size > AUTO_LEVEL * size.max())
+    if not len(above):
+        return AUTO_INFLUENCE_RANGE[0]
+    last = above[-1]
+    if last + 1 >= len(rho):
+        return AUTO_INFLUENCE_RANGE[1]
+    # where the envelope crosses the level between the last sample above it and the next
+    a, b = np.log(size[last]), np.log(size[last + 1])
+    t = (a - np.log(AUTO_LEVEL * size.max())) / (a - b) if a > b else 0.0
+    crossing = float(np.exp(np.log(rho[last]) + t * (np.log(rho[last + 1]) - np.log(rho[last]))))
+    low, high = AUTO_INFLUENCE_RANGE
+    return float(np.clip(2.0 * crossing, low, high))
+
+
+@lru_cache(maxsize=16)
+def mean_green_direction(material: Material) -> np.ndarray:
+    """A (3, 3), the material part of G(0): G(0) = c R₀(0) A with A = ∫_S² M(ξ̂)⁻¹ dS / 4π for
+    every falloff (only the l = 0 term of paper Eq. 10 survives at x = 0), so A⁻¹ Δ is the
+    direction of the grab force even where R₀(0) vanishes (read-only, positive definite)."""
+    nodes, weights = lebedev_points()  # the kernel's own rule: exact for its P_00
+    m_inv = np.linalg.inv(material.acoustic_tensor(nodes))
+    mean = np.einsum("q,qij->ij", weights, m_inv) / (4 * np.pi)
+    mean = 0.5 * (mean + mean.T)
+    mean.setflags(write=False)
+    return cast(np.ndarray, mean)
+
+
+def _largest_eigenvalue(s: np.ndarray) -> np.ndarray:
+    """Largest eigenvalue (K,) of symmetric positive semi-definite 3×3 matrices s (K, 3, 3),
+    in closed form (the trigonometric solution of the characteristic cubic; ~10× faster than
+    a batched eigvalsh)."""
+    q = np.trace(s, axis1=1, axis2=2) / 3
+    off = s[:, 0, 1] ** 2 + s[:, 0, 2] ** 2 + s[:, 1, 2] ** 2
+    diag = (s[:, 0, 0] - q) ** 2 + (s[:, 1, 1] - q) ** 2 + (s[:, 2, 2] - q) ** 2
+    p = np.sqrt((diag + 2 * off) / 6)
+    safe = np.where(p > 0, p, 1.0)
+    b = (s - q[:, None, None] * np.eye(3)) / safe[:, None, None]
+    half_det = np.clip(np.linalg.det(b) / 2, -1.0, 1.0)
+    largest = q + 2 * p * np.cos(np.arccos(half_det) / 3)
+    return cast(np.ndarray, np.maximum(largest, 0.0))
+
+
+class _SupTable:
+    """sup_k |D_k h| over sampled linear maps D_k (K, m, n), visited in decreasing order of
+    ‖D_k‖₂ and stopping as soon as no unvisited sample can beat the best so far."""
+
+    def __init__(self, points: np.ndarray, operators: np.ndarray):
+        if not np.all(np.isfinite(operators)):
+            raise ValueError("the falloff's field is not finite")
+        # ‖D‖₂² is the largest eigenvalue of the smaller Gram matrix, D Dᵀ or Dᵀ D
+        if operators.shape[1] <= operators.shape[2]:
+            gram = operators @ operators.transpose(0, 2, 1)
+        else:
+            gram = operators.transpose(0, 2, 1) @ operators
+        if gram.shape[1] == 3:
+            largest = _largest_eigenvalue(gram)
+        elif gram.shape[1] == 1:
+            largest = gram[:, 0, 0]
+        else:
+            largest = np.linalg.eigvalsh(gram)[:, -1]
+        norms = np.sqrt(np.maximum(largest, 0.0)) * (1 + 1e-9)  # margin for rounding
+        order = np.argsort(-norms, kind="stable")
+        self.points = points[order]  # (K, 3)
+        self.operators = np.ascontiguousarray(operators[order])  # (K, m, n)
+        self.norms = np.append(norms[order], 0.0)  # (K + 1,) decreasing, then a sentinel
+
+    def sup(self, h: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
+        """(sup_k |D_k h|, x_k (3,), D_k h (m,)) at the best sample."""
+        size = float(np.linalg.norm(h))
+        count, total = 64, len(self.points)
+        while True:
+            values = self.operators[:count] @ h  # (count, m)
+            lengths = np.einsum("ki,ki->k", values, values)
+            best = int(np.argmax(lengths))
+            top = math.sqrt(lengths[best])
+            if count >= total or top >= self.norms[count] * size:
+                return top, self.points[best], values[best]
+            count = min(4 * count, total)
+
+
+class FieldBound:
+    """Sampled sup of a load's field and of its gradient over the influence ball of one
+    kernel shape.
+
+    Parameters
+    ----------
+    kernel : GreenKernel
+        Any radius: the samples are taken at ε = 1 (G_ε(x) = G₁(x/ε)/ε, ∇G_ε(x) = ∇G₁(x/ε)/ε²).
+    influence : float
+        Influence radius in multiples of ε (``inf`` for none).
+    affine : bool
+        Sample ∇G (affine loads, h = H (3, 3)) instead of G (vector loads, h (3,)).
+
+    The gradient of a vector load's field is taken by forward differences of G (step 10⁻⁴ ε),
+    not from ∇G: a spline falloff's R_l and ℛ_l are separate curves, and the vertices move
+    along G f, so only the derivative of G itself bounds how much a face is sheared (and
+    likewise forward differences of ∇G for affine loads).
+    """
+
+    def __init__(self, kernel: GreenKernel, influence: float, affine: bool):
+        unit = kernel.with_eps(1.0)
+        nodes, _ = _directions(kernel.l_max)
+        rho = _radii(influence)
+        points = (rho[1:, None, None] * nodes[None]).reshape(-1, 3)
+        points = np.concatenate([np.zeros((1, 3)), points])  # the centre itself
+        self.affine = bool(affine)
+        h = _GRADIENT_STEP
+        shifted = (points[:, None, :] + h * np.eye(3)[None]).reshape(-1, 3)  # x_k + h e_p
+        if self.affine:
+            # [k, i, (j, q)] = ∂_q G_ij: u_i = Σ_jq ∂_q G_ij H_jq = (D_k h)_i, h = H.ravel()
+            values = unit.green_gradient(points).reshape(-1, 3, 9)
+            ahead = unit.green_gradient(shifted).reshape(len(points), 3, 3, 9)
+        else:
+            values = unit.green(points)  # [k, i, j]
+            ahead = unit.green(shifted).reshape(len(points), 3, 3, 3)  # [k, p, i, j]
+        # forward differences (error O(h) ~ 1e-4): [k, p, i, n] = ∂_p of the map at x_k
+        gradient = (ahead - values[:, None]) / h
+        # [k, (i, p), n]: (∇u)_ip = Σ_n ∂_p D_in h_n
+        n = values.shape[2]
+        self._points = points
+        self._maps = (values, gradient.transpose(0, 2, 1, 3).reshape(-1, 9, n))
+        self._tables: dict[str, tuple[np.ndarray | None, _SupTable, _SupTable]] = {}
+
+    def _table(self, load: np.ndarray) -> tuple[np.ndarray, _SupTable, _SupTable]:
+        """(coefficients of ``load`` in the subspace it lies in, motion table, strain table):
+        affine patterns are a multiple of I (scale), skew (twist) or symmetric traceless
+        (pinch), 1, 3 and 5 dimensions of the 9, and tables restricted to that subspace
+        (built on first use) prune far better than the full ones."""
+        h = np.asarray(load, dtype=np.float64)
+        name = "vector" if h.shape == (3,) else _subspace(h)
+        basis = _BASES[name] if name in _BASES else None
+        if name not in self._tables:
+            maps = self._maps if basis is None else tuple(m @ basis for m in self._maps)
+            self._tables[name] = (
+                basis,
+                _SupTable(self._points, maps[0]),
+                _SupTable(self._points, maps[1]),
+            )
+        basis, motion, strain = self._tables[name]
+        return (h.ravel() if basis is None else basis.T @ h.ravel()), motion, strain
+
+    def motion_sup(self, load: np.ndarray, eps: float) -> tuple[float, np.ndarray, np.ndarray]:
+        """(sup |u|, the point (3,) relative to the centre, u there (3,)) for ``load`` (3,) or
+        (3, 3) on the kernel of radius ``eps`` (model units)."""
+        coefficients, motion, _ = self._table(load)
+        top, point, value = motion.sup(coefficients)
+        scale = eps ** -(2 if self.affine else 1)
+        return top * scale, point * eps, value * scale
+
+    def strain_sup(self, load: np.ndarray, eps: float) -> float:
+        """sup ‖∇u‖_F (dimensionless) of the load's field u (force (3,) or affine (3, 3)) on
+        the kernel of radius ``eps``."""
+        coefficients, _, strain = self._table(load)
+        return strain.sup(coefficients)[0] / eps ** (3 if self.affine else 2)
+
+
+def _orthonormal(matrices: list[np.ndarray]) -> np.ndarray:
+    """(9, r) orthonormal basis (columns) of the span of 3×3 ``matrices``."""
+    q, _ = np.linalg.qr(np.array([m.ravel() for m in matrices]).T)
+    return q
+
+
+def _unit_matrix(i: int, j: int) -> np.ndarray:
+    e = np.zeros((3, 3))
+    e[i, j] = 1.0
+    return e
+
+
+_PAIRS = ((1, 2), (0, 2), (0, 1))
+_BASES = {
+    "scale": _orthonormal([np.eye(3)]),
+    "twist": _orthonormal([_unit_matrix(i, j) - _unit_matrix(j, i) for i, j in _PAIRS]),
+    "pinch": _orthonormal(
+        [_unit_matrix(0, 0) - _unit_matrix(1, 1), _unit_matrix(1, 1) - _unit_matrix(2, 2)]
+        + [_unit_matrix(i, j) + _unit_matrix(j, i) for i, j in _PAIRS]
+    ),
+    "symmetric": _orthonormal(
+        [_unit_matrix(i, i) for i in range(3)]
+        + [_unit_matrix(i, j) + _unit_matrix(j, i) for i, j in _PAIRS]
+    ),
+}
+
+
+def _subspace(load: np.ndarray) -> str:
+    """Which of the pattern subspaces of :data:`_BASES` a (3, 3) load lies in ("general" for
+    none)."""
+    size = np.abs(load).max()
+    tol = 1e-12 * size
+    if np.abs(load - load[0, 0] * np.eye(3)).max() <= tol:
+        return "scale"
+    if np.abs(load + load.T).max() <= tol:
+        return "twist"
+    if np.abs(load - load.T).max() <= tol:
+        return "pinch" if abs(np.trace(load)) <= 3 * tol else "symmetric"
+    return "general"

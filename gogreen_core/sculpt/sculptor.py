@@ -1,0 +1,588 @@
+"""The sculpting engine: a mesh, its settings, strokes, pins, undo and the session log.
+
+Everything the app does with the mouse goes through :class:`Sculptor`, so a script (or
+``gogreen replay``) can do it too. Data flows one way: material → kernel → brush → integrator →
+new vertex positions. The parts live in modules of their own: the mesh in
+:mod:`~gogreen_core.mesh.mesh_state`, the settings value in
+:mod:`~gogreen_core.sculpt.engine_settings` and its kernels in
+:mod:`~gogreen_core.sculpt.kernel_cache`, the brushes in :mod:`~gogreen_core.sculpt.brushes`, the
+stroke driver in :mod:`~gogreen_core.sculpt.stroke`, pins in :mod:`~gogreen_core.sculpt.pins`, the
+log and replay in :mod:`~gogreen_core.sculpt.session`. The sculptor holds them together and keeps
+undo consistent across them.
+
+Safe falloffs: each brush normalizes its load at the centre (the grabbed point follows the
+cursor) only while no vertex can then move more than
+:data:`~gogreen_core.sculpt.falloff_safety.MAX_GRAB_RATIO` × the cursor motion in one event (nor
+shear faces over); a falloff an artist edited so that its field is weak at the centre gets its load
+scaled down to that bound, and a zero one is refused (:mod:`gogreen_core.sculpt.brushes.grab`,
+:mod:`gogreen_core.sculpt.brushes.affine`).
+"""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from typing import Any
+
+import numpy as np
+
+from gogreen_core.field.kernel import GreenKernel
+from gogreen_core.field.limits import MAX_REACH, check_constraint_radius
+from gogreen_core.mesh.mesh_state import MaskRows, MeshSnapshot, MeshState
+from gogreen_core.mesh.subdivision import PreparedSubdivision, prepare_subdivision
+from gogreen_core.physics.material import Material
+from gogreen_core.physics.radial import GaussianRadial, RadialProfile
+from gogreen_core.sculpt.brushes import Brush, BrushEvent
+from gogreen_core.sculpt.checkpoint import SculptState
+from gogreen_core.sculpt.constraints import ConstraintSet
+from gogreen_core.sculpt.engine_settings import (
+    DEFAULT_CONSTRAINT_RADIUS,
+    SETTING_GROUPS,
+    EngineSettings,
+    resized_brush_weights,
+)
+from gogreen_core.sculpt.history import History
+from gogreen_core.sculpt.kernel_cache import KernelCache
+from gogreen_core.sculpt.mask import Mask
+from gogreen_core.sculpt.operations import Operation, Redo, Subdivide, Undo, settings_record
+from gogreen_core.sculpt.pins import Pins
+from gogreen_core.sculpt.session import (
+    SESSION_FORMAT,
+    SESSION_VERSION,
+    Session,
+    mesh_fingerprint,
+    parse_session,
+    replay,
+)
+from gogreen_core.sculpt.session_log import LogListener, SessionLog
+from gogreen_core.sculpt.stroke import Remesher, StrokeDriver
+from gogreen_core.validation import ParameterError, check_bool, check_vector, prefixed
+
+__all__ = [
+    "MAX_REACH",
+    "SESSION_FORMAT",
+    "Sculptor",
+    "capture_state",
+    "mesh_fingerprint",
+    "restore_state",
+]
+
+#: Undo label of each settings group (a continued change joins the last of these).
+_LABELS = {group[0]: group[0].replace("_", " ") for group in SETTING_GROUPS}
+_NO_ROWS = np.zeros((0, 3))
+_NO_INDEX = np.zeros(0, dtype=np.int64)
+
+
+class Sculptor:
+    """Sculpting state and operations (no GUI).
+
+    Parameters
+    ----------
+    vertices : (N, 3) float64, faces : (M, 3) int64
+        The mesh; vertices are copied and then edited in place (see :attr:`vertices`).
+    uv : (T, 2) float64 and uv_faces : (M, 3) int64, optional
+        Texture coordinates per face corner (rows of -1: untextured faces), carried through a
+        subdivision (see :attr:`mesh`).
+    settings : EngineSettings, optional
+        Material, falloff, l_max, brushes' weights and pins' radius in one value; or give them
+        one by one (``material``, ``l_max``, ``falloff``, ``constraint_radius``, the fields of
+        :class:`EngineSettings` with its defaults).
+    history_bytes : memory cap of the undo history.
+
+    The parts: undo steps in :attr:`history` (:class:`History`); the vertex mask in
+    :attr:`mask` (:class:`~gogreen_core.sculpt.mask.Mask`: painted by the mask brush, inverted,
+    cleared); the session log of typed operation records (:mod:`gogreen_core.sculpt.operations`),
+    exported by :meth:`session` and applied by :meth:`replay`.
+    """
+
+    def __init__(
+        self,
+        vertices: np.ndarray,
+        faces: np.ndarray,
+        *,
+        uv: np.ndarray | None = None,
+        uv_faces: np.ndarray | None = None,
+        settings: EngineSettings | None = None,
+        material: Material | None = None,
+        l_max: int = 8,
+        falloff: RadialProfile | None = None,
+        constraint_radius: float = DEFAULT_CONSTRAINT_RADIUS,
+        history_bytes: int = 512 * 2**20,
+    ) -> None:
+        self._mesh = MeshState(vertices, faces, uv, uv_faces)
+        self.model_size = self._mesh.model_size
+        self._loaded = (len(self._mesh.vertices), len(self._mesh.faces))  # the session's mesh
+        self.history = History(history_bytes)
+        self._log = SessionLog()
+        self._fingerprint = mesh_fingerprint(self._mesh.vertices)
+        if settings is None:
+            settings = EngineSettings(
+                material=Material.isotropic(1.0, 0.3) if material is None else material,
+                falloff=falloff or GaussianRadial(1.0),
+                l_max=l_max,
+                constraint_radius=constraint_radius,
+            )
+        elif not isinstance(settings, EngineSettings):
+            raise ParameterError(
+                "settings", f"settings must be EngineSettings (got {type(settings).__name__})"
+            )
+        elif any(x is not None for x in (material, falloff)) or (
+            (l_max, constraint_radius) != (8, DEFAULT_CONSTRAINT_RADIUS)
+        ):
+            raise TypeError("Sculptor() takes settings or their fields one by one, not both")
+        self._kernels = KernelCache(settings)
+        self._initial = settings
+        self._strokes = StrokeDriver(self._mesh, self.history, self._log)
+        self._pins = Pins(self._mesh, self.history, self._log, lambda: self._kernels)
+        self._strokes.pin_points = lambda: self._pins.points  # dynamic topology keeps them
+        #: Mesh → Remesh (:meth:`Remesher.remesh`).
+        self.remesher: Remesher = Remesher(self._mesh, self.history, self._log, self._strokes)
+        #: The vertex mask: what holds vertices still under every brush and pin drag.
+        self.mask: Mask = Mask(self._mesh, self.history, self._log, self._strokes.refuse)
+
+    # -- state -------------------------------------------------------------------------------
+    @property
+    def vertices(self) -> np.ndarray:
+        """(N, 3) current positions (read-only view; the engine edits the array in place)."""
+        view = self._mesh.vertices.view()
+        view.setflags(write=False)
+        return view
+
+    @property
+    def faces(self) -> np.ndarray:
+        """(M, 3) int64 faces (a subdivision, and its undo, give the sculptor new ones)."""
+        return self._mesh.faces
+
+    @property
+    def mesh(self) -> MeshSnapshot:
+        """Copies of the mesh's arrays: vertices, faces, mask, UVs and their corners (what a
+        file is saved from, or a subdivision is prepared from off the GUI thread)."""
+        return self._mesh.snapshot()
+
+    @property
+    def origin(self) -> np.ndarray:
+        """(3,) point of the mirror planes: the centre of the bounding box at load, unless set
+        (Blender mirrors about the object's origin)."""
+        return self._mesh.origin
+
+    @origin.setter
+    def origin(self, point: np.ndarray) -> None:
+        self._mesh.origin = check_vector("origin", point)
+
+    @property
+    def settings(self) -> EngineSettings:
+        """Material, falloff, l_max, wrinkle weights and constraint radius (immutable)."""
+        return self._kernels.settings
+
+    @property
+    def material(self) -> Material:
+        return self.settings.material
+
+    @property
+    def falloff(self) -> RadialProfile:
+        return self.settings.falloff
+
+    @property
+    def l_max(self) -> int:
+        return self.settings.l_max
+
+    @property
+    def in_stroke(self) -> bool:
+        return self._strokes.active
+
+    def adopt_vertices(self, vertices: np.ndarray) -> np.ndarray:
+        """Take positions a host application changed outside the engine (Blender's own
+        brushes, its undo, the rounding of its single precision positions): the rows of
+        ``vertices`` (N, 3) that differ from :attr:`vertices` are written. No undo step and no
+        session record: the host keeps its own undo, and the undo history is cleared when a
+        row changed (its steps would bring back positions the host no longer has). Returns the
+        indices (K,) int64 of the changed rows. Refused during a stroke; ParameterError names
+        ``vertices`` for a wrong shape or a coordinate that is not finite."""
+        self._strokes.refuse("adopt vertices")
+        mesh = self._mesh
+        new = np.asarray(vertices, dtype=np.float64)
+        if new.shape != mesh.vertices.shape:
+            raise ParameterError(
+                "vertices", f"vertices must have shape {mesh.vertices.shape} (got {new.shape})"
+            )
+        changed = new[:, 0] != mesh.vertices[:, 0]
+        for k in (1, 2):
+            changed |= new[:, k] != mesh.vertices[:, k]
+        rows = np.flatnonzero(changed)
+        if not np.all(np.isfinite(new[rows])):
+            raise ParameterError("vertices", "vertices must be finite")
+        if len(rows):
+            mesh.write_rows(rows, new[rows])
+            self.history.clear()
+        return rows
+
+    # -- settings ----------------------------------------------------------------------------
+    def apply_settings(self, settings: EngineSettings, *, continued: bool = False) -> None:
+        """Compute with ``settings`` from now on: for each group of fields that differs, its
+        setter (:meth:`set_material`; :meth:`set_falloff` with l_max and weights;
+        :meth:`set_constraint_radius`; else :meth:`change_settings`), with ``continued``: one
+        undo step per group. What the evented settings model calls."""
+        if not isinstance(settings, EngineSettings):
+            raise ParameterError(
+                "settings", f"settings must be EngineSettings (got {type(settings).__name__})"
+            )
+        s = settings
+        for group in SETTING_GROUPS:
+            if self.settings.agrees(s, group):
+                continue
+            if group[0] == "material":
+                self.set_material(s.material, continued)
+            elif group[0] == "falloff":
+                self.set_falloff(
+                    s.falloff, s.l_max, continued=continued, brush_weights=s.brush_weights
+                )
+            elif group[0] == "constraint_radius":
+                self.set_constraint_radius(s.constraint_radius, continued)
+            else:
+                self.change_settings(continued=continued, **{n: getattr(s, n) for n in group})
+
+    def change_settings(
+        self, *, continued: bool = False, replaying: bool = False, **changes: Any
+    ) -> None:
+        """Change some of :attr:`settings` (``material``, ``falloff``, ``l_max``,
+        ``brush_weights``, ``constraint_radius``): one undo step and one log entry, or part of
+        the last settings step when ``continued`` (every value of one slider or curve drag but
+        the first). Undo puts the previous settings back exactly.
+
+        A value equal to the current one is ignored unless ``continued`` (a drag may come back
+        to where it started) or ``replaying`` (a logged change is always replayed, as the drag it
+        stands for was a step).
+        """
+        keys = set(changes)
+        group = next((g for g in SETTING_GROUPS if keys and keys <= set(g)), None)
+        if group is None:
+            raise TypeError(
+                "change_settings() takes material, constraint_radius, or falloff / l_max / "
+                f"brush_weights, one group at a time (got {sorted(keys)})"
+            )
+        continued = check_bool("continued", continued)
+        before = self.settings
+        if "l_max" in keys and "brush_weights" not in keys:  # weights belong to one l_max
+            changes["brush_weights"] = resized_brush_weights(before.brush_weights, changes["l_max"])
+        after = before.replace(**changes)
+        label = _LABELS[group[0]]
+        self._strokes.refuse(f"change the {label}")
+        if after == before and not (continued or replaying):
+            return  # nothing to do, nothing to undo
+        self._kernels = self._pins.follow(KernelCache(after, self._kernels))
+        last = self.history.undo_labels[-1] if self.history.can_undo else None
+        merge = continued and last in _LABELS.values() and not self.history.can_redo
+        self.history.record_change(
+            last if merge and last else label,
+            _NO_ROWS,
+            _NO_ROWS,
+            merge=merge,
+            state=(before, after),
+        )
+        # A collapsed drag is logged as its last value; the replay makes the same one step.
+        self._log.record(settings_record(after, group[0], continued), replace_last=merge)
+
+    def set_material(self, material: Material, continued: bool = False) -> None:
+        """Use ``material`` for the next operations (see :meth:`change_settings`)."""
+        self.change_settings(material=material, continued=continued)
+
+    def set_falloff(
+        self,
+        falloff: RadialProfile,
+        l_max: int | None = None,
+        *,
+        continued: bool = False,
+        brush_weights: Mapping[str, Sequence[float]] | None = None,
+    ) -> None:
+        """Use this falloff shape (and truncation degree, per-brush weights: kept, or resized
+        to a new l_max, when None) from now on (see
+        :meth:`change_settings`)."""
+        changes: dict[str, Any] = {
+            "falloff": falloff,
+            "l_max": self.l_max if l_max is None else l_max,
+        }
+        if brush_weights is not None:
+            changes["brush_weights"] = brush_weights
+        self.change_settings(continued=continued, **changes)
+
+    def set_constraint_radius(self, radius: float, continued: bool = False) -> None:
+        """ε of the constraints, relative to the model size (see :meth:`change_settings`)."""
+        radius = check_constraint_radius(radius, "radius")
+        self.change_settings(constraint_radius=radius, continued=continued)
+
+    # -- strokes -----------------------------------------------------------------------------
+    def kernel(self, brush: Brush) -> GreenKernel | None:
+        """The kernel of ``brush`` on this model: its falloff, ε and degree weights (None for
+        a brush without a Green's function)."""
+        return self._strokes.kernel(self._kernels, brush)
+
+    def influence(self, brush: Brush) -> float:
+        """``brush``'s influence radius in multiples of ε (``inf``: every vertex): its own
+        number, or the one ``"auto"`` gives with the current settings (what the cursor's
+        influence ring shows)."""
+        return self._strokes.reach(self._kernels, brush)
+
+    def begin_stroke(self, brush: Brush) -> None:
+        """Start a stroke with ``brush``; events follow, then :meth:`end_stroke`."""
+        self._strokes.refuse("begin a stroke")
+        self._strokes.begin(brush)
+
+    def stroke_event(self, event: BrushEvent) -> np.ndarray:
+        """Apply one mouse event of the current stroke; returns the indices of moved vertices.
+
+        Refused (:class:`ParameterError` naming the event field, nothing moved): a centre
+        farther than :data:`MAX_REACH` model sizes from the model's centre, a grab displacement
+        |strength · delta| beyond that, an affine |strength · amount| above ``MAX_AMOUNT``.
+        The event acts with the stroke's brush at radius × ``event.radius_factor``.
+        """
+        return self._strokes.event(self._kernels, event)
+
+    def end_stroke(self) -> np.ndarray:
+        """Finish the stroke: one undo step and one log entry. Returns the moved indices."""
+        return self._strokes.end()
+
+    def cancel_stroke(self) -> None:
+        """Abandon the current stroke, restoring the vertices as they were before it."""
+        self._strokes.cancel()
+
+    def apply_brush(self, brush: Brush, events: Sequence[BrushEvent]) -> np.ndarray:
+        """A whole stroke at once; returns the moved indices. A stroke without events would
+        do nothing: it is refused (:class:`ParameterError` naming ``events``)."""
+        if len(events) == 0:
+            raise ParameterError("events", "a stroke needs at least one event (none given)")
+        self.begin_stroke(brush)
+        try:
+            for number, event in enumerate(events):
+                with prefixed(f"events[{number}]"):
+                    self.stroke_event(event)
+        except Exception:
+            self.cancel_stroke()
+            raise
+        return self.end_stroke()
+
+    # -- pins --------------------------------------------------------------------------------
+    @property
+    def constraint_points(self) -> np.ndarray:
+        """(k, 3) positions of the constraints."""
+        return self._pins.points
+
+    @property
+    def constraint_reach(self) -> float:
+        """Distance (model units) beyond which a pin moves nothing:
+        :data:`gogreen_core.sculpt.constraints.CONSTRAINT_INFLUENCE` constraint radii."""
+        return self._pins.reach
+
+    def add_constraint(self, point: np.ndarray) -> int:
+        """Pin a point (3,) (model units, within :data:`MAX_REACH` model sizes of the model's
+        centre); returns its index. An undo step (the vertices do not move)."""
+        self._strokes.refuse("add a constraint")
+        return self._pins.add(point)
+
+    def remove_constraint(self, index: int) -> None:
+        """Remove pin ``index`` (an undo step)."""
+        self._strokes.refuse("remove a constraint")
+        self._pins.remove(index)
+
+    def clear_constraints(self) -> None:
+        """Remove every pin (an undo step when there were any)."""
+        self._strokes.refuse("clear the constraints")
+        self._pins.clear()
+
+    def drag_constraint(self, index: int, delta: np.ndarray, continued: bool = False) -> np.ndarray:
+        """Move constraint ``index`` by ``delta`` (3,) while the others stay: every vertex moves
+        by u = Σ_j G(x − p_j) f_j with u(p_index) = delta and u(p_j) = 0. Returns (N, 3) u.
+
+        ``continued``: this step continues the previous drag (one mouse drag = one undo step).
+        """
+        self._strokes.refuse("drag a constraint")
+        return self._pins.drag(index, delta, continued)
+
+    # -- topology ----------------------------------------------------------------------------
+    def subdivide(
+        self,
+        unmasked_only: bool = False,
+        *,
+        progress: Callable[[float], None] | None = None,
+        prepared: PreparedSubdivision | None = None,
+    ) -> None:
+        """One step of Loop subdivision (:mod:`gogreen_core.mesh.subdivision`) of the whole mesh,
+        or of its faces that are not masked: about 4× the vertices and faces, old vertices keep
+        their numbers, the mask and UVs carried along; the model's size and origin stay (brush
+        sizes do not change). One undo step (undo gives back the previous arrays exactly,
+        faces included) and one log entry.
+
+        ``prepared``: the same subdivision computed ahead from :attr:`mesh`
+        (:func:`~gogreen_core.mesh.subdivision.prepare_subdivision`, e.g. off the GUI thread); a
+        ValueError, nothing changed, if the mesh is no longer the one it was made from.
+        ``progress(fraction)`` is called while computing here.
+        """
+        self._strokes.refuse("subdivide")
+        unmasked_only = check_bool("unmasked_only", unmasked_only)
+        mesh = self._mesh
+        before = mesh.snapshot()
+        if prepared is None:
+            prepared = prepare_subdivision(before, unmasked_only, progress, mesh.edges)
+        elif prepared.unmasked_only != unmasked_only or not prepared.made_from(before):
+            raise ValueError(
+                "the prepared subdivision was made from another mesh (it changed since, or "
+                "another part was asked for): subdivide again"
+            )
+        mesh.adopt(prepared.result)  # copies: the read-only result is the step's after-side
+        state = (before, prepared.result)
+        self.history.record("subdivide", _NO_INDEX, _NO_ROWS, _NO_ROWS, state=state)
+        self._log.record(Subdivide(unmasked_only))
+
+    # -- history -----------------------------------------------------------------------------
+    def undo(self) -> str | None:
+        """Undo the last step (bit for bit; a settings step puts the previous settings back
+        exactly); returns its label or None."""
+        self._strokes.refuse("undo")
+        return self._history_step(self.history.undo, Undo())
+
+    def redo(self) -> str | None:
+        self._strokes.refuse("redo")
+        return self._history_step(self.history.redo, Redo())
+
+    def _history_step(
+        self, step: Callable[[np.ndarray], str | None], record: Operation
+    ) -> str | None:
+        """Undo or redo: the vertices, then the settings, mask, mesh or pins the step had."""
+        label = step(self._mesh.vertices)
+        if label is not None:
+            self._mesh.moved(self.history.restored_indices)  # written in place
+            state = self.history.restored_state
+            if isinstance(state, EngineSettings):
+                self._kernels = self._pins.follow(KernelCache(state, self._kernels))
+            elif isinstance(state, MaskRows):
+                self._mesh.set_mask_rows(state)
+            elif isinstance(state, MeshSnapshot):
+                self._mesh.adopt(state)
+            else:
+                self._pins.restore(state)
+            self._log.record(record)
+        return label
+
+    @contextlib.contextmanager
+    def all_or_nothing(self) -> Iterator[None]:
+        """A block whose failure puts back the mesh, settings, pins, history and log as they
+        were (a replay that fails part-way)."""
+        mesh = self._mesh.snapshot()
+        kernels, points = self._kernels, None if not len(self._pins) else self._pins.points
+        history, log_length = self.history.snapshot(), len(self._log)
+        try:
+            yield
+        except BaseException:
+            self.cancel_stroke()
+            self._mesh.adopt(mesh)
+            self._kernels = kernels
+            self._pins.adopt(None if points is None else self._pins.built(kernels, points))
+            self.history.restore(history)
+            self._log.truncate(log_length)
+            raise
+
+    # -- session log -------------------------------------------------------------------------
+    def subscribe(self, listener: LogListener) -> Callable[[], None]:
+        """Call ``listener`` after each change of the operation log and each mouse event of a
+        stroke (:data:`~gogreen_core.sculpt.session_log.LogListener`; the recovery journal). Returns
+        the function that unsubscribes it."""
+        return self._log.subscribe(listener)
+
+    @property
+    def operations(self) -> list[Operation]:
+        """The typed operation records so far (see :mod:`gogreen_core.sculpt.operations`)."""
+        return list(self._log)
+
+    def session(self) -> dict[str, Any]:
+        """The session so far as a JSON-ready dict (see README, "Session files")."""
+        return {
+            "format": SESSION_FORMAT,
+            "version": SESSION_VERSION,
+            "mesh": {  # the mesh it started from (a subdivision changes the sculptor's)
+                "vertices": self._loaded[0],
+                "faces": self._loaded[1],
+                "sha256": self._fingerprint,
+            },
+            "settings": self._initial.to_dict(),
+            "operations": self._log.to_list(),
+        }
+
+    @classmethod
+    def from_session(
+        cls,
+        session: dict[str, Any] | Session,
+        vertices: np.ndarray,
+        faces: np.ndarray,
+        uv: np.ndarray | None = None,
+        uv_faces: np.ndarray | None = None,
+    ) -> Sculptor:
+        """A sculptor on ``vertices``/``faces`` (and texture corners ``uv``, ``uv_faces``)
+        with the session's initial settings (no operations applied yet; see :meth:`replay`).
+        The whole session is checked first (:func:`~gogreen_core.sculpt.session.parse_session`)."""
+        parsed = session if isinstance(session, Session) else parse_session(session)
+        if parsed.vertices != len(vertices) or parsed.faces != len(faces):
+            raise ValueError(
+                f"the session was recorded on a mesh with {parsed.vertices} vertices and "
+                f"{parsed.faces} faces; this one has {len(vertices)} and {len(faces)}"
+            )
+        return cls(vertices, faces, uv=uv, uv_faces=uv_faces, settings=parsed.settings)
+
+    def replay(
+        self,
+        operations: Sequence[dict[str, Any]] | Sequence[Operation] | Session,
+        progress: Callable[[int, int], None] | None = None,
+    ) -> None:
+        """Apply logged operations in order (:func:`gogreen_core.sculpt.session.replay`: all checked
+        first, bit for bit the recorded result for a session of this version on the same machine
+        (an older one's within 1e-4 of its motion), rolled back as a whole if
+        one fails). ``progress(done, total)`` is called after each mouse event and each other
+        operation."""
+        replay(self, operations, progress)
+
+
+# -- crash recovery ----------------------------------------------------------------------------
+def capture_state(sculptor: Sculptor, faces: np.ndarray | None = None) -> SculptState:
+    """A copy of what ``sculptor``'s next operations compute from (a checkpoint of the recovery
+    journal): vertices, settings, pins' solver state, mask (None when nothing is masked), model
+    size, mirror origin; its faces and UVs unless they are the array
+    ``faces`` (the journal's start's: a checkpoint needs not hold them then). The engine never
+    edits a face array in place (a subdivision makes new ones): they are held, not copied."""
+    pins = sculptor._pins.constraints
+    mesh = sculptor._mesh
+    topology = mesh.faces is not faces
+    return SculptState(
+        mesh.vertices.copy(),
+        sculptor.settings,
+        None if pins is None else (pins.points, pins.matrix.copy(), pins.inverse.copy()),
+        mesh.model_size,
+        mesh.origin.copy(),
+        mesh.mask.copy() if mesh.masked else None,
+        mesh.faces if topology else None,
+        mesh.uv if topology else None,
+        mesh.uv_faces if topology else None,
+    )
+
+
+def restore_state(
+    state: SculptState,
+    faces: np.ndarray,
+    uv: np.ndarray | None = None,
+    uv_faces: np.ndarray | None = None,
+    **options: Any,
+) -> Sculptor:
+    """A sculptor whose next operations give bit for bit what the one that took ``state``
+    (:func:`capture_state`) would have; its undo history and log start empty. ``faces`` (and
+    ``uv``, ``uv_faces``): the journal start's, for a state that does not hold its own.
+    ``options``: ``history_bytes``."""
+    if state.faces is not None:
+        faces, uv, uv_faces = state.faces, state.uv, state.uv_faces
+    sculptor = Sculptor(
+        state.vertices, faces, uv=uv, uv_faces=uv_faces, settings=state.settings, **options
+    )
+    if state.mask is not None:
+        sculptor._mesh.set_mask_rows(MaskRows(np.arange(len(state.mask)), state.mask))
+    sculptor.model_size = sculptor._mesh.model_size = float(state.model_size)
+    sculptor._mesh.origin = state.origin.copy()
+    if state.pins is not None:
+        kernel = sculptor._pins.built(sculptor._kernels, np.zeros((0, 3))).kernel
+        sculptor._pins.adopt(ConstraintSet.restored(kernel, *state.pins))
+    return sculptor

@@ -1,0 +1,324 @@
+"""The stroke driver: begin a stroke, one event per mouse event, end it.
+
+How a stroke accumulates: each event moves the current (already deformed) vertices with the
+stroke's brush (its row of the brush table, :mod:`gogreen_core.sculpt.brushes`), whose Green's
+function brushes take their field as a velocity over pseudo-time [0, 1] (adaptive RK4, or
+``brush.substeps`` fixed steps; paper Sec. 3.2); successive events compose, so a stroke is the
+composition of the flows of its events. For grab brushes the load center travels with the
+cursor during each event, so the point under the cursor follows the cursor path exactly.
+
+The driver is the one place that decides how a brush's per-vertex results reach the mesh
+(:meth:`StrokeDriver._write`). Without a vertex mask nothing is applied to them on the way, so
+it lets brushes write through (the integrator's in-place write, which saves a scatter of every
+moved row: 8-15 ms of CPU for a 0.5-1M-vertex ball, measured with ``benchmarks/scale.py``);
+with a mask it writes each row itself, moved (1 − mask) of the way (a row at 1 keeps its
+position bit for bit). A mask painter's values are written here too. A stroke is one undo step
+(its moved rows and, for a mask stroke, the mask values it changed) and one entry of the
+session log, recorded when it ends.
+
+Dynamic topology (``EngineSettings.dynamic_topology``): after each event that moved vertices,
+the faces around the vertices whose sides the stroke strained by more than
+:data:`STRAIN_TOLERANCE` of their length since they were last remeshed, or that moved at least
+:data:`CORE_MOTION` of the most any vertex did (the brush's core), grown by a ring, are
+remeshed to the detail size (:mod:`gogreen_core.mesh.remesh`), the vertices nearest the pins locked.
+Such a stroke's undo step holds the whole mesh before and after it (as a subdivision's does).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from gogreen_core.field.kernel import GreenKernel
+from gogreen_core.mesh.mesh_state import MaskRows, MeshSnapshot, MeshState
+from gogreen_core.mesh.remesh import (
+    grow_region,
+    median_edge_length,
+    remesh,
+    remesh_snapshot,
+    strained_vertices,
+)
+from gogreen_core.sculpt.brushes import Brush, BrushEvent, Displacement, StrokeContext
+from gogreen_core.sculpt.engine_settings import EngineSettings
+from gogreen_core.sculpt.history import History
+from gogreen_core.sculpt.kernel_cache import KernelCache
+from gogreen_core.sculpt.operations import REMESH_ITERATIONS, Remesh, Stroke
+from gogreen_core.sculpt.session_log import SessionLog
+from gogreen_core.validation import ParameterError
+
+__all__ = [
+    "CORE_MOTION",
+    "DYNAMIC_ITERATIONS",
+    "STRAIN_TOLERANCE",
+    "Remesher",
+    "StrokeDriver",
+    "blend_by_mask",
+]
+
+#: Dynamic topology remeshes where a side of a face changed (as a vector) by more than this
+#: fraction of its length since its vertices were last remeshed: a rigid shift strains nothing.
+STRAIN_TOLERANCE = 0.1
+#: ... and where a vertex moved at least this fraction of the most any vertex did since.
+CORE_MOTION = 0.25
+#: Rounds of split, collapse, flip and relaxation after each event.
+DYNAMIC_ITERATIONS = 1
+_NO_INDEX = np.zeros(0, dtype=np.int64)
+_NO_ROWS = np.zeros((0, 3))
+
+
+def blend_by_mask(old: np.ndarray, new: np.ndarray, held: np.ndarray) -> np.ndarray:
+    """Rows (n, 3) moved (1 − ``held``) of the way from ``old`` to ``new`` (both (n, 3));
+    exactly ``old`` where ``held`` (n,) is 1 and exactly ``new`` where it is 0."""
+    held = held[:, None]
+    blended = old + (1.0 - held) * (new - old)
+    return np.where(held >= 1.0, old, np.where(held <= 0.0, new, blended))
+
+
+@dataclass
+class _Stroke:
+    brush: Brush
+    before: np.ndarray  # (N, 3) the vertices when the stroke began
+    events: list[BrushEvent] = field(default_factory=list)
+    memo: dict[str, Any] = field(default_factory=dict)  # the brush's state between events
+    mask_before: np.ndarray | None = None  # (N,) the mask, copied at the first mask edit
+    # dynamic topology: the whole mesh at the start (once remeshed), each vertex's position
+    # when it was last remeshed, and the target edge length (model units) of this stroke
+    start: MeshSnapshot | None = None
+    reference: np.ndarray | None = None
+    detail: float | None = None
+
+
+class StrokeDriver:
+    """Strokes on ``mesh``: each ends as one undo step in ``history`` and one :class:`Stroke`
+    record in ``log``."""
+
+    def __init__(self, mesh: MeshState, history: History, log: SessionLog) -> None:
+        self.mesh, self.history, self.log = mesh, history, log
+        self._stroke: _Stroke | None = None
+        self._rows = np.empty((0, 3))  # the brushes' result rows, grown as needed
+        #: The pins' points (k, 3): dynamic topology never moves nor removes their vertices.
+        self.pin_points: Callable[[], np.ndarray] = lambda: _NO_ROWS
+
+    @property
+    def active(self) -> bool:
+        return self._stroke is not None
+
+    def refuse(self, what: str) -> None:
+        """RuntimeError naming ``what`` while a stroke runs (what may not happen then)."""
+        if self._stroke is not None:
+            raise RuntimeError(f"cannot {what} during a stroke; end the stroke first")
+
+    def context(self, kernels: KernelCache) -> StrokeContext:
+        """What a brush sees of the engine (the mesh, ``kernels``, the result buffer, its state
+        in the current stroke)."""
+        memo = None if self._stroke is None else self._stroke.memo
+        return StrokeContext(
+            self.mesh, kernels, self._buffer, write_through=not self.mesh.masked, stroke=memo
+        )
+
+    def kernel(self, kernels: KernelCache, brush: Brush) -> GreenKernel | None:
+        """``brush``'s Green's function kernel at its radius (None for a brush without one)."""
+        return brush.type.kernel(self.context(kernels), brush)
+
+    def reach(self, kernels: KernelCache, brush: Brush) -> float:
+        """``brush``'s influence radius in ε, resolved (:meth:`BrushType.reach`)."""
+        if not isinstance(brush, Brush):
+            raise ParameterError("brush", f"brush must be a Brush (got {type(brush).__name__})")
+        return brush.type.reach(self.context(kernels), brush)
+
+    def begin(self, brush: Brush) -> None:
+        if not isinstance(brush, Brush):
+            raise ParameterError("brush", f"brush must be a Brush (got {type(brush).__name__})")
+        vertices = self.mesh.vertices
+        self._stroke = _Stroke(brush, vertices.copy())
+
+    def event(self, kernels: KernelCache, event: BrushEvent) -> np.ndarray:
+        """Apply one event of the current stroke; the indices (n,) of the rows it moved (or
+        whose mask it painted)."""
+        stroke = self._stroke
+        if stroke is None:
+            raise RuntimeError("stroke_event outside a stroke: call begin_stroke first")
+        if not isinstance(event, BrushEvent):
+            raise ParameterError(
+                "event", f"a stroke event must be a BrushEvent (got {type(event).__name__})"
+            )
+        # pen pressure → radius: this event's ε, influence ball and load normalization use the
+        # scaled radius (the field bound is cached in units of ε, valid for every radius)
+        brush = event.brush(stroke.brush)
+        self.mesh.check_point("center", event.center)
+        behaviour = brush.type
+        event = behaviour.with_amount(event)  # recorded as it acts: a replay acts the same
+        behaviour.check_event(brush, event, self.mesh.reach)
+        moved = behaviour.displace(self.context(kernels), brush, event)
+        self._write(stroke, moved)
+        stroke.events.append(event)
+        rows = moved.rows
+        if kernels.settings.dynamic_topology and moved.mask is None and len(rows):
+            if self._remesh(stroke, kernels.settings, rows):
+                rows = np.arange(len(self.mesh.vertices))
+        self.log.event(event)  # the recovery journal serializes it now
+        return rows
+
+    def pinned_vertices(self) -> np.ndarray:
+        """(N,) bool: the vertex nearest each pin."""
+        vertices = self.mesh.vertices
+        pinned = np.zeros(len(vertices), dtype=bool)
+        for point in self.pin_points():
+            gap = vertices - point
+            pinned[np.argmin(np.einsum("ij,ij->i", gap, gap))] = True
+        return pinned
+
+    def _remesh(self, stroke: _Stroke, settings: EngineSettings, rows: np.ndarray) -> bool:
+        """Dynamic topology after an event that moved ``rows``: remesh where the stroke
+        strained the surface (see the module docstring). True when the mesh changed."""
+        mesh = self.mesh
+        if stroke.reference is None:
+            stroke.reference = stroke.before
+        if stroke.detail is None:
+            if settings.detail_size is not None:
+                stroke.detail = settings.detail_size * mesh.model_size
+            else:  # the edges the moved region had before the stroke
+                moved = np.zeros(len(mesh.vertices), dtype=bool)
+                moved[rows] = True
+                near = mesh.faces[np.any(moved[mesh.faces], axis=1)]
+                stroke.detail = median_edge_length(stroke.before, near)
+        detail = stroke.detail
+        if not detail > 0:  # a region of coincident vertices: nothing to measure by
+            return False
+        strained = strained_vertices(stroke.reference, mesh.vertices, mesh.faces, STRAIN_TOLERANCE)
+        # and the brush's core: what moved at least CORE_MOTION of the most any vertex did
+        # (refined to a detail size finer than the surface even where nothing stretches)
+        shift = mesh.vertices - stroke.reference
+        moved2 = np.einsum("ij,ij->i", shift, shift)
+        strained |= (moved2 > 0) & (moved2 >= CORE_MOTION**2 * moved2.max())
+        if not strained.any():
+            return False
+        if stroke.start is None:  # the topology is still the stroke's start's
+            stroke.start = MeshSnapshot(
+                stroke.before,
+                mesh.faces,
+                mesh.mask.copy(),
+                mesh.uv,
+                mesh.uv_faces,
+            )
+        done = remesh(
+            mesh.vertices,
+            mesh.faces,
+            grow_region(mesh.faces, strained),
+            detail,
+            mask=mesh.mask,
+            uv=mesh.uv,
+            uv_faces=mesh.uv_faces,
+            locked=self.pinned_vertices(),
+            iterations=DYNAMIC_ITERATIONS,
+        )
+        reference = done.vertices.copy()
+        old = np.flatnonzero(done.kept >= 0)
+        untouched = ~done.changed[done.kept[old]]
+        reference[done.kept[old[untouched]]] = stroke.reference[old[untouched]]
+        stroke.reference = reference
+        assert done.mask is not None
+        mesh.adopt(MeshSnapshot(done.vertices, done.faces, done.mask, done.uv, done.uv_faces))
+        return True
+
+    def _write(self, stroke: _Stroke, moved: Displacement) -> None:
+        """The one place brush results reach the mesh (unless the brush wrote them through)."""
+        mesh = self.mesh
+        if moved.mask is not None:
+            if stroke.mask_before is None:
+                stroke.mask_before = mesh.mask.copy()
+            mesh.set_mask_rows(MaskRows(moved.rows, moved.mask))
+            return
+        if moved.written:
+            mesh.moved(moved.rows)  # the brush wrote them in place
+            return
+        if moved.positions is None:
+            return
+        positions = moved.positions
+        if mesh.masked:
+            positions = blend_by_mask(mesh.vertices[moved.rows], positions, mesh.mask[moved.rows])
+        mesh.write_rows(moved.rows, positions)
+
+    def _buffer(self, n: int) -> np.ndarray:
+        """A C-contiguous (n, 3) float64 buffer, kept between events (no per-event
+        allocation)."""
+        if len(self._rows) < n:
+            self._rows = np.empty((n, 3))
+        return self._rows[:n]
+
+    def end(self) -> np.ndarray:
+        """Finish the stroke: one undo step and one log entry, unless it changed nothing.
+        Returns the moved indices."""
+        stroke, self._stroke = self._stroke, None
+        if stroke is None:
+            return np.zeros(0, dtype=np.int64)
+        # the rows that changed, found once at the end rather than marked at every event
+        # (only the stroke writes the vertices meanwhile): on a 1M-vertex mesh 6 ms at the
+        # end instead of 0.5 ms an event
+        if stroke.start is not None:  # dynamic topology changed the faces: whole meshes
+            after = self.mesh.snapshot()
+            meshes = (stroke.start, after)
+            label = f"{stroke.brush.kind} stroke"
+            self.history.record(label, _NO_INDEX, _NO_ROWS, _NO_ROWS, meshes)
+            self.log.record(Stroke(stroke.brush, tuple(stroke.events)))
+            return np.arange(len(after.vertices))
+        vertices, before = self.mesh.vertices, stroke.before
+        changed = before[:, 0] != vertices[:, 0]
+        for k in (1, 2):
+            changed |= before[:, k] != vertices[:, k]
+        idx = np.flatnonzero(changed)
+        state = None
+        if stroke.mask_before is not None:
+            painted = np.flatnonzero(stroke.mask_before != self.mesh.mask)
+            if len(painted):
+                state = (
+                    MaskRows(painted, stroke.mask_before[painted]),
+                    self.mesh.mask_rows(painted),
+                )
+        # a stroke that changed nothing (no vertex, no mask value) is no undo step, no log entry
+        if len(idx) or state is not None:
+            self.history.record(
+                f"{stroke.brush.kind} stroke", idx, stroke.before[idx], vertices[idx], state
+            )
+            self.log.record(Stroke(stroke.brush, tuple(stroke.events)))
+        return idx
+
+    def cancel(self) -> None:
+        """Abandon the current stroke, restoring the vertices (and mask) as they were before."""
+        stroke, self._stroke = self._stroke, None
+        if stroke is not None and stroke.start is not None:
+            self.mesh.adopt(stroke.start)
+        elif stroke is not None:
+            self.mesh.write_rows(None, stroke.before)
+            if stroke.mask_before is not None:
+                self.mesh.set_mask_rows(MaskRows(np.arange(len(stroke.before)), stroke.mask_before))
+
+
+class Remesher:
+    """Mesh → Remesh on the mesh of ``strokes`` (whose pins it keeps): one undo step in
+    ``history`` and one :class:`Remesh` record in ``log`` each."""
+
+    def __init__(
+        self, mesh: MeshState, history: History, log: SessionLog, strokes: StrokeDriver
+    ) -> None:
+        self.mesh, self.history, self.log, self.strokes = mesh, history, log, strokes
+
+    def remesh(
+        self, detail_size: float, unmasked_only: bool = False, iterations: int = REMESH_ITERATIONS
+    ) -> None:
+        """Remesh the whole mesh, or its faces not masked, to edges of about ``detail_size``
+        model sizes (:mod:`gogreen_core.mesh.remesh`; ``iterations`` rounds), mask and UVs carried
+        along, the pins' vertices kept, the model's size and origin unchanged: one undo step
+        (undo gives back the previous arrays exactly) and one log entry."""
+        self.strokes.refuse("remesh")
+        op = Remesh(detail_size, unmasked_only, iterations)  # checked
+        mesh = self.mesh
+        before = mesh.snapshot()
+        length, locked = op.detail_size * mesh.model_size, self.strokes.pinned_vertices()
+        after = remesh_snapshot(before, length, op.unmasked_only, locked, op.iterations)
+        mesh.adopt(after)
+        self.history.record("remesh", _NO_INDEX, _NO_ROWS, _NO_ROWS, state=(before, after))
+        self.log.record(op)

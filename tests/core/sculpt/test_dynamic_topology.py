@@ -1,0 +1,338 @@
+"""Dynamic topology (issue 34): the stroke remeshes what it moves (gogreen_core.mesh.remesh), and
+Mesh → Remesh."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from scipy.spatial import cKDTree
+
+import gogreen_core.sculpt.stroke as stroke_module
+from gogreen_core import Sculptor
+from gogreen_core.mesh.mesh_state import MaskRows
+from gogreen_core.mesh.remesh import (
+    closest_points_on_triangles,
+    median_edge_length,
+    remesh,
+    smallest_angles,
+)
+from gogreen_core.mesh.shapes import default_model, icosphere, open_tube
+from gogreen_core.mesh.topology import mesh_edges
+from gogreen_core.physics.material import Material
+from gogreen_core.sculpt.brushes import Brush, BrushEvent
+from gogreen_core.sculpt.engine_settings import EngineSettings
+from gogreen_core.validation import ParameterError
+
+CUBIC = Material.cubic(3.0, 1.5, 0.4)
+PULL_EVENTS, PULL_STEP, PULL_RADIUS = 20, 0.02, 0.03
+
+
+# -- helpers -------------------------------------------------------------------------------------
+def euler_and_check(vertices: np.ndarray, faces: np.ndarray) -> int:
+    """The Euler characteristic of a closed, consistently oriented 2-manifold (asserted)."""
+    edges = mesh_edges(faces, len(vertices))
+    assert np.all(edges.face_count == 2), "not closed, or not a manifold"
+    following = np.roll(faces, -1, axis=1)
+    directed = faces.ravel() * len(vertices) + following.ravel()
+    assert len(np.unique(directed)) == len(directed), "faces not consistently oriented"
+    used = np.zeros(len(vertices), dtype=bool)
+    used[faces.ravel()] = True
+    assert used.all(), "a vertex in no face"
+    return len(vertices) - len(edges) + len(faces)
+
+
+def edge_lengths(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    ends = mesh_edges(faces, len(vertices)).ends
+    return np.linalg.norm(vertices[ends[:, 1]] - vertices[ends[:, 0]], axis=1)
+
+
+def distance_to_surface(points: np.ndarray, vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """Each point's distance to the triangles (the 64 whose centroids are nearest)."""
+    tree = cKDTree(vertices[faces].mean(axis=1))
+    _, candidates = tree.query(points, k=64)
+    best = np.full(len(points), np.inf)
+    for column in candidates.T:
+        corners = vertices[faces[column]]
+        near, _ = closest_points_on_triangles(points, corners[:, 0], corners[:, 1], corners[:, 2])
+        best = np.minimum(best, np.linalg.norm(near - points, axis=1))
+    return best
+
+
+def pull(sculptor: Sculptor, events: int = PULL_EVENTS) -> None:
+    """Grab the top vertex and pull it out along +z (the normal there)."""
+    vertices = sculptor.vertices
+    center = vertices[int(np.argmax(vertices[:, 2]))].copy()
+    step = np.array([0.0, 0.0, PULL_STEP * sculptor.model_size])
+    sculptor.begin_stroke(Brush("grab", radius=PULL_RADIUS))
+    for _ in range(events):
+        sculptor.stroke_event(BrushEvent(center=center, delta=step))
+        center = center + step
+    sculptor.end_stroke()
+
+
+@pytest.fixture(scope="module")
+def pulls() -> dict[str, object]:
+    vertices, faces = default_model()
+    fixed = Sculptor(vertices, faces, settings=EngineSettings(material=CUBIC))
+    pull(fixed)
+    dynamic = Sculptor(
+        vertices, faces, settings=EngineSettings(material=CUBIC, dynamic_topology=True)
+    )
+    pull(dynamic)
+    return {
+        "vertices": vertices,
+        "faces": faces,
+        "fixed": (fixed.vertices.copy(), fixed.faces.copy()),
+        "dynamic": (dynamic.vertices.copy(), dynamic.faces.copy()),
+        "sculptor": dynamic,
+        "size": dynamic.model_size,
+    }
+
+
+# -- the pull on the default model ----------------------------------------------------------------
+def test_the_pull_keeps_its_edges_near_the_surfaces_own(pulls):
+    median = median_edge_length(pulls["vertices"], pulls["faces"])
+    assert edge_lengths(*pulls["dynamic"]).max() <= 2.0 * median
+    assert edge_lengths(*pulls["fixed"]).max() > 10.0 * median  # what it was without
+
+
+def spike_angles(pulls, which: str) -> np.ndarray:
+    vertices, faces = pulls[which]
+    top = pulls["vertices"][:, 2].max()
+    length = PULL_EVENTS * PULL_STEP * pulls["size"]
+    spike = vertices[faces].mean(axis=1)[:, 2] > top + 0.1 * length
+    assert spike.sum() > 50
+    return smallest_angles(vertices[faces[spike]])
+
+
+def test_the_spike_is_made_of_well_shaped_triangles(pulls):
+    assert np.mean(spike_angles(pulls, "dynamic") >= 20.0) >= 0.99
+    assert np.mean(spike_angles(pulls, "fixed") >= 20.0) < 0.9
+
+
+def test_the_pulled_mesh_stays_a_closed_oriented_manifold_without_degenerate_faces(pulls):
+    vertices, faces = pulls["dynamic"]
+    before = euler_and_check(pulls["vertices"], pulls["faces"])
+    assert euler_and_check(vertices, faces) == before
+    median = median_edge_length(pulls["vertices"], pulls["faces"])
+    corners = vertices[faces]
+    doubled = np.linalg.norm(
+        np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1
+    )
+    assert doubled.min() > 1e-3 * median**2
+    assert smallest_angles(corners).min() > 5.0
+
+
+def test_the_pull_lands_where_the_fixed_topology_pull_does(pulls):
+    length = PULL_EVENTS * PULL_STEP * pulls["size"]
+    fixed, dynamic = pulls["fixed"][0], pulls["dynamic"][0]
+    tip_fixed = fixed[np.argmax(fixed[:, 2])]
+    tip_dynamic = dynamic[np.argmax(dynamic[:, 2])]
+    assert np.linalg.norm(tip_dynamic - tip_fixed) <= 0.03 * length
+    median = median_edge_length(pulls["vertices"], pulls["faces"])
+    gap = distance_to_surface(dynamic, *pulls["fixed"])
+    assert gap.max() <= median
+
+
+def test_one_undo_gives_back_the_mesh_bit_for_bit(pulls):
+    sculptor = pulls["sculptor"]
+    assert sculptor.undo() == "grab stroke"
+    assert np.array_equal(sculptor.vertices, pulls["vertices"])
+    assert np.array_equal(sculptor.faces, pulls["faces"])
+    assert sculptor.faces.dtype == np.int64
+    sculptor.redo()
+    assert np.array_equal(sculptor.vertices, pulls["dynamic"][0])
+    assert np.array_equal(sculptor.faces, pulls["dynamic"][1])
+
+
+# -- what the remesh carries over ----------------------------------------------------------------
+def textured_sphere() -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """An icosphere with texture corners per face: faces with x > 0 use the chart (y, z), the
+    others (y + 10, z), so the vertices where they meet are on a seam; a mask 0.2 + 0.1 x."""
+    vertices, faces = icosphere(3)
+    east = vertices[faces].mean(axis=1)[:, 0] > 0
+    uv = np.concatenate([vertices[:, 1:], vertices[:, 1:] + [10.0, 0.0]])
+    uv_faces = np.where(east[:, None], faces, faces + len(vertices))
+    uv_faces[:3] = -1  # a few faces without texture
+    mask = 0.2 + 0.1 * vertices[:, 0]
+    return vertices, faces, uv, uv_faces, mask
+
+
+@pytest.mark.parametrize("scale", [0.55, 1.7])
+def test_texture_corners_and_the_mask_are_interpolated_and_seams_stay(scale):
+    vertices, faces, uv, uv_faces, mask = textured_sphere()
+    target = scale * median_edge_length(vertices, faces)
+    done = remesh(
+        vertices, faces, np.ones(len(vertices), bool), target, mask=mask, uv=uv, uv_faces=uv_faces
+    )
+    assert len(done.faces) != len(faces)
+    euler_and_check(done.vertices, done.faces)
+    # everything made by midpoints and barycentric interpolation on the surface: still linear
+    assert np.allclose(done.mask, 0.2 + 0.1 * done.vertices[:, 0], atol=1e-12)
+    textured = done.uv_faces[:, 0] >= 0
+    assert (~textured).sum() >= 1
+    corner_uv = done.uv[done.uv_faces[textured]]  # (K, 3, 2)
+    corner_xyz = done.vertices[done.faces[textured]]
+    chart = np.where(corner_uv[:, :, 0] > 5.0, 10.0, 0.0)
+    assert np.allclose(corner_uv[:, :, 0] - chart, corner_xyz[:, :, 1], atol=1e-9)
+    assert np.allclose(corner_uv[:, :, 1], corner_xyz[:, :, 2], atol=1e-9)
+    assert np.all(chart == chart[:, :1])  # one chart per face: the seam is still a seam
+    # the seam's vertices (in faces of both charts) lie on the old seam's edges
+    seam = np.zeros(len(done.vertices), dtype=int)
+    for value, bit in ((0.0, 1), (10.0, 2)):
+        np.bitwise_or.at(seam, done.faces[textured][chart[:, 0] == value].ravel(), bit)
+    on_seam = done.vertices[seam == 3]
+    assert len(on_seam) >= 10
+    old = mesh_edges(faces, len(vertices))
+    east = vertices[faces].mean(axis=1)[:, 0] > 0
+    sides = np.zeros(len(old), dtype=int)
+    np.bitwise_or.at(sides, old.face_edges[east].ravel(), 1)
+    np.bitwise_or.at(sides, old.face_edges[~east].ravel(), 2)
+    a, b = (vertices[old.ends[sides == 3, k]] for k in (0, 1))
+    t = np.clip(
+        np.einsum("pij,ij->pi", on_seam[:, None] - a, b - a) / np.sum((b - a) ** 2, 1), 0, 1
+    )
+    gap = np.linalg.norm(a + t[:, :, None] * (b - a) - on_seam[:, None], axis=2).min(axis=1)
+    assert gap.max() < 1e-12
+
+
+def test_locked_vertices_rims_and_the_outside_stay_bit_for_bit():
+    vertices, faces = open_tube(rings=40, around=24, length=6.0)
+    n = len(vertices)
+    region = np.abs(vertices[:, 2]) < 2.0
+    region |= vertices[:, 2] < -2.9  # the rim at the bottom
+    locked = np.zeros(n, bool)
+    locked[np.flatnonzero(region & (np.abs(vertices[:, 2]) < 1.0))[::7]] = True
+    target = 0.5 * median_edge_length(vertices, faces)
+    done = remesh(vertices, faces, region, target, locked=locked)
+    assert len(done.vertices) > n
+    keep = done.kept >= 0
+    assert np.all(keep[~region]) and np.all(keep[locked])
+    stay = ~region | locked
+    assert np.array_equal(done.vertices[done.kept[stay]], vertices[stay])
+
+    def rim(v: np.ndarray, f: np.ndarray) -> set[tuple[int, int]]:
+        edges = mesh_edges(f, len(v))
+        return {(int(p), int(q)) for p, q in edges.ends[edges.face_count == 1]}
+
+    old_rim = {tuple(sorted(int(done.kept[i]) for i in e)) for e in rim(vertices, faces)}
+    assert rim(done.vertices, done.faces) == old_rim
+    assert np.all(~done.changed[done.kept[~region]])
+
+
+def test_pins_are_never_collapsed_away_nor_moved(monkeypatch):
+    vertices, faces = default_model(4)
+    sculptor = Sculptor(vertices, faces, settings=EngineSettings(dynamic_topology=True))
+    top = int(np.argmax(vertices[:, 2]))
+    near_top = np.argsort(np.linalg.norm(vertices - vertices[top], axis=1))[3:30:6]
+    for row in near_top:
+        sculptor.add_constraint(vertices[row])
+    calls = []
+    real = stroke_module.remesh
+
+    def spy(points, f, region, length, **options):
+        done = real(points, f, region, length, **options)
+        held = np.flatnonzero(options["locked"])
+        calls.append(len(held))
+        assert np.all(done.kept[held] >= 0)
+        assert np.array_equal(done.vertices[done.kept[held]], points[held])
+        return done
+
+    monkeypatch.setattr(stroke_module, "remesh", spy)
+    points = sculptor.constraint_points.copy()
+    pull(sculptor, events=6)
+    assert calls and all(count == len(near_top) for count in calls)
+    assert np.array_equal(sculptor.constraint_points, points)
+    assert len(sculptor.faces) != len(faces)
+
+
+# -- sessions, cancel, settings ------------------------------------------------------------------
+def test_a_session_with_dynamic_topology_and_a_remesh_replays_bit_for_bit():
+    vertices, faces = default_model(4)
+    sculptor = Sculptor(vertices, faces, settings=EngineSettings(material=CUBIC))
+    sculptor.change_settings(dynamic_topology=True, detail_size=0.02)
+    pull(sculptor, events=5)
+    sculptor.change_settings(dynamic_topology=True, detail_size=None)
+    pull(sculptor, events=4)
+    sculptor.undo()
+    sculptor.redo()
+    sculptor.remesher.remesh(0.03, iterations=2)
+    session = json.loads(json.dumps(sculptor.session()))
+    ops = [op["op"] for op in session["operations"]]
+    assert ops.count("dynamic_topology") == 2 and "remesh" in ops
+    again = Sculptor.from_session(session, vertices, faces)
+    again.replay(session["operations"])
+    assert np.array_equal(again.vertices, sculptor.vertices)
+    assert np.array_equal(again.faces, sculptor.faces)
+    assert again.settings == sculptor.settings
+    for _ in range(4):  # remesh, stroke, stroke, the setting
+        again.undo()
+    assert again.settings.dynamic_topology and again.settings.detail_size == 0.02
+    again.undo()
+    again.undo()
+    assert np.array_equal(again.vertices, vertices) and np.array_equal(again.faces, faces)
+    assert not again.settings.dynamic_topology
+
+
+def test_a_cancelled_stroke_puts_the_mesh_back():
+    vertices, faces = default_model(4)
+    sculptor = Sculptor(vertices, faces, settings=EngineSettings(dynamic_topology=True))
+    sculptor.begin_stroke(Brush("grab", radius=PULL_RADIUS))
+    top = vertices[int(np.argmax(vertices[:, 2]))]
+    for k in range(4):
+        step = np.array([0.0, 0.0, 0.03 * sculptor.model_size])
+        sculptor.stroke_event(BrushEvent(center=top + k * step, delta=step))
+    assert len(sculptor.faces) != len(faces)
+    sculptor.cancel_stroke()
+    assert np.array_equal(sculptor.vertices, vertices) and np.array_equal(sculptor.faces, faces)
+    assert not sculptor.history.can_undo
+
+
+def test_mesh_remesh_makes_edges_the_detail_size_and_undoes_exactly():
+    vertices, faces = default_model(4)
+    sculptor = Sculptor(vertices, faces)
+    chi = euler_and_check(vertices, faces)
+    size = 0.6 * median_edge_length(vertices, faces) / sculptor.model_size
+    sculptor.remesher.remesh(size)
+    target = size * sculptor.model_size
+    lengths = edge_lengths(sculptor.vertices, sculptor.faces) / target
+    assert 0.85 < np.median(lengths) < 1.15
+    assert lengths.max() <= 4.0 / 3.0 + 1e-9
+    assert euler_and_check(sculptor.vertices, sculptor.faces) == chi
+    assert sculptor.undo() == "remesh"
+    assert np.array_equal(sculptor.vertices, vertices) and np.array_equal(sculptor.faces, faces)
+
+
+def test_remesh_of_the_unmasked_part_leaves_the_masked_part_alone():
+    vertices, faces = default_model(4)
+    sculptor = Sculptor(vertices, faces)
+    held = vertices[:, 0] > 0.2
+    sculptor._mesh.set_mask_rows(MaskRows(np.flatnonzero(held), np.ones(held.sum())))
+    sculptor.remesher.remesh(0.5 * median_edge_length(vertices, faces) / sculptor.model_size, True)
+    assert len(sculptor.vertices) > len(vertices)
+    mask = sculptor.mesh.mask
+    kept_held = sculptor.vertices[mask == 1.0]
+    assert len(kept_held) == held.sum()
+    assert np.array_equal(np.sort(kept_held, axis=0), np.sort(vertices[held], axis=0))
+
+
+@pytest.mark.parametrize(
+    ("changes", "parameter"),
+    [({"detail_size": 0.0}, "detail_size"), ({"detail_size": 1.0}, "detail_size"),
+     ({"dynamic_topology": 1}, "dynamic_topology")],
+)  # fmt: skip
+def test_bad_settings_are_refused_by_name(changes, parameter):
+    with pytest.raises(ParameterError) as info:
+        EngineSettings(**changes)
+    assert info.value.parameter == parameter
+
+
+def test_settings_round_trip_and_old_files_stay_as_they_were():
+    assert "dynamic_topology" not in EngineSettings().to_dict()
+    settings = EngineSettings(dynamic_topology=True, detail_size=0.01)
+    data = json.loads(json.dumps(settings.to_dict()))
+    assert EngineSettings.from_dict(data) == settings
+    with pytest.raises(ParameterError):
+        Sculptor(*icosphere(2)).remesher.remesh(None)  # type: ignore[arg-type]
