@@ -21,6 +21,7 @@ import time
 import bpy
 
 from gogreen_core import _compiled
+from gogreen_core.field import _drivers
 
 from . import engine, properties
 from .jobs import RUNNER, Job
@@ -45,7 +46,7 @@ _POLL_SECONDS = 0.2
 def kernel_units(l_max: int) -> tuple:
     """The compiled units strokes of ``l_max`` use: the drivers, the angular kernels of its
     degree, the surface index (picks) and the paint brushes' loops."""
-    return (*_compiled.units_for(int(l_max)), _compiled.GEOMETRY, _compiled.BRUSHES)
+    return (*_drivers.units_for(int(l_max)), _compiled.GEOMETRY, _compiled.BRUSHES)
 
 
 def is_warm(l_max: int) -> bool:

@@ -507,6 +507,7 @@ def test_a_stroke_during_compilation_moves_the_mesh(ico, monkeypatch):
     """Before the kernels are compiled the tool's stroke runs on the engine's NumPy path (as
     the desktop app's), and the panel says "ready" only once the compiled code is in."""
     from gogreen_core import _compiled
+    from gogreen_core.field import _drivers
 
     module = sys.modules[MODULE]
     operators, compile_status = sub(module, "operators"), sub(module, "compile_status")
@@ -537,7 +538,7 @@ def test_a_stroke_during_compilation_moves_the_mesh(ico, monkeypatch):
     assert compile_status.status_line().startswith(f"Compiling brush kernels for l_max {l_max}")
     # the compiled code comes in: only now "ready"
     ((units, settled),) = _compiled._callbacks
-    assert set(units) >= set(_compiled.units_for(l_max))
+    assert set(units) >= set(_drivers.units_for(l_max))
     settled([])
     assert compile_status.is_warm(l_max)
     assert compile_status.status_line().startswith(f"Brush kernels ready (l_max {l_max}")
@@ -837,9 +838,10 @@ import addon_utils  # importable once bpy is
 assert addon_utils.enable("bl_ext.user_default.gogreen_sculpt", default_set=True) is not None
 import gogreen_core, gogreen_core.mesh.mesh_io, gogreen_core.sculpt.brushes, numba, scipy, llvmlite
 local = "/extensions/.local/"
-for module in (gogreen_core, gogreen_core.mesh.mesh_io, gogreen_core.sculpt.brushes, numba, scipy,
-    llvmlite): # from the package's wheels (a subpackage missing from the core's wheel would come
-    from the # checkout's editable install in this environment, so each one is checked)
+core_packages = (gogreen_core, gogreen_core.mesh.mesh_io, gogreen_core.sculpt.brushes)
+for module in (*core_packages, numba, scipy, llvmlite):
+    # from the package's wheels (a subpackage missing from the core's wheel would come from the
+    # checkout's editable install in this environment, so each one is checked)
     assert local in module.__file__, module.__file__
 bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=2)
 obj = bpy.context.active_object
