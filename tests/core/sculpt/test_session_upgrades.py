@@ -16,8 +16,8 @@ from gogreen_core.sculpt.sculptor import Sculptor
 from gogreen_core.sculpt.session import SESSION_VERSION, parse_session, upgrade_session
 from gogreen_core.validation import ParameterError
 
-FIXTURES = Path(__file__).parent / "fixtures" / "sessions"
-JOURNAL = Path(__file__).parent / "fixtures" / "journal_v1"
+FIXTURES = Path(__file__).parents[2] / "fixtures" / "sessions"
+JOURNAL = Path(__file__).parents[2] / "fixtures" / "journal_v1"
 
 
 def _session(name: str) -> dict:
