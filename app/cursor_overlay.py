@@ -193,11 +193,30 @@ class CursorOverlay:
             self._profile.actor.SetVisibility(False)
         if state.label:
             self._text.SetInput(state.label)
-            self._text.SetPosition(xy[0] + self.ring_pixels + 8, xy[1] + 8)
+            self._text.SetPosition(*self._label_position(xy))
             self._text.SetVisibility(True)
         else:
             self._text.SetVisibility(False)
         self.screen = (xy, eps_px, outer_px)
+
+
+    def _label_position(self, xy: tuple[float, float]) -> tuple[float, float]:
+        """Where the label goes: right of the ring, else left of it, else above its centre
+        (an affine brush's ring can be wider than the view), always inside the view."""
+        box = [0.0] * 4
+        self._text.GetBoundingBox(self.renderer, box)
+        width, height = box[1] - box[0], box[3] - box[2]
+        view_w, view_h = self.renderer.GetSize()
+        ring = self.ring_pixels or 0.0
+        x, y = xy[0] + ring + 8, xy[1] + 8
+        if x + width > view_w - 4:
+            x = xy[0] - ring - 8 - width
+        if x < 4:
+            x, y = xy[0] - width / 2, xy[1] + ring + 8
+        return (
+            float(np.clip(x, 4, max(4.0, view_w - width - 4))),
+            float(np.clip(y, 4, max(4.0, view_h - height - 4))),
+        )
 
 
 class PinOverlay:

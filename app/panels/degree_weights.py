@@ -64,6 +64,7 @@ class DegreeWeights(QGroupBox):
         self.grid = NumberGrid(
             self._label,
             (-100.0, 100.0),
+            columns=2,  # "fold R4" and its field thrice a row are wider than the dock
             name="Degree weight",
             tooltip=lambda index: f"Weight of {self._label(index)} in the brush's field",
         )

@@ -140,6 +140,10 @@ def test_after_a_stroke_the_ring_follows_the_pointer_and_an_affine_one_says_wher
     if kind == "scale":  # at the press point, and says so
         assert np.allclose(center, display_of(window, start), atol=2.0)
         assert overlay.label == "scaling about the press point"
+        box = [0.0] * 4  # the whole label inside the view, however wide the ring
+        overlay._text.GetBoundingBox(vp.renderer, box)
+        view_w, view_h = vp.renderer.GetSize()
+        assert 0 <= box[0] and box[1] <= view_w and 0 <= box[2] and box[3] <= view_h
     else:
         assert overlay.label is None
     send(vp, QMouseEvent.Type.MouseButtonRelease, end, buttons=B.NoButton)
