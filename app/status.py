@@ -4,7 +4,22 @@ from __future__ import annotations
 
 from PySide6.QtWidgets import QLabel, QProgressBar, QPushButton, QStatusBar
 
-__all__ = ["StatusArea"]
+__all__ = ["StatusArea", "compile_progress_text"]
+
+
+def compile_progress_text(done: int, total: int, seconds_left: float | None) -> str:
+    """What the status bar says while the brush kernels compile: the units compiled of how
+    many, about how long is left (None: not measured yet) and that strokes run meanwhile."""
+    if seconds_left is None:
+        left = "estimating the time left"
+    elif seconds_left < 60:
+        left = f"about {max(5, 5 * round(seconds_left / 5))} s left"
+    else:
+        left = f"about {round(seconds_left / 60)} min left"
+    return (
+        f"Compiling brush kernels: {done} of {total} units, {left} — strokes run on the NumPy "
+        "path meanwhile"
+    )
 
 
 class StatusArea:
@@ -63,6 +78,14 @@ class StatusArea:
         progress.hide()
         self.bar.addPermanentWidget(progress)
         return progress
+
+    def show_compile_progress(self, done: int, total: int, seconds_left: float | None) -> str:
+        """The compilation's bar at ``done`` of ``total`` units; returns the label to say
+        (:func:`compile_progress_text`)."""
+        self.compile_progress.setRange(0, total)
+        self.compile_progress.setValue(done)
+        self.compile_progress.setFormat(f"kernels {done}/{total}")
+        return compile_progress_text(done, total, seconds_left)
 
     def show_material(self, name: str) -> None:
         """Name the active material (``name``: what it is, e.g. a preset's name and its kind)."""
