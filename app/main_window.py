@@ -556,6 +556,12 @@ class MainWindow(QMainWindow):
         """Say ``text`` in the status bar (until the next message)."""
         self.message_label.setText(text)
 
+    def unsay(self, text: str) -> None:
+        """Take ``text`` from the status bar if it still says it (a refusal mended or
+        cancelled)."""
+        if self.message_label.text() == text:
+            self.message_label.clear()
+
     def note(self, text: str) -> None:
         """Say ``text`` in the status bar now, over a temporary hint shown there."""
         self.statusBar().clearMessage()
