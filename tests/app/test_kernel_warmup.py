@@ -63,4 +63,6 @@ def test_the_status_bar_names_the_units_compiled_and_the_time_left(window, qtbot
         assert window.status.compile_progress.isVisible()
         assert window.status.compile_progress.value() == progress.done
     assert "about 25 s left" in text  # 8 s a unit, three units left
+    bar = window.status.compile_progress
+    assert bar.text() == "kernels 2/5, about 25 s left" and bar.toolTip() == text
     assert "estimating" not in text
