@@ -53,6 +53,7 @@ class _FieldBehaviour(_SpinBox):
         self.setKeyboardTracking(False)
         self.setCorrectionMode(QAbstractSpinBox.CorrectionMode.CorrectToPreviousValue)
         self._tip = ""
+        self._said = ""  # what refuse() said in the status bar
         line = self.lineEdit()
         line.textChanged.connect(self._text_changed)
 
@@ -140,7 +141,8 @@ class _FieldBehaviour(_SpinBox):
             QToolTip.showText(self.mapToGlobal(self.rect().bottomLeft()), message, self)
         note = getattr(self.window(), "note", None)
         if callable(note):
-            note(f"Refused: {message}")
+            self._said = f"Refused: {message}"
+            note(self._said)
 
     def revert(self) -> None:
         """Drop a refused text: the value in effect again (``left`` lets a binding show the
@@ -161,6 +163,11 @@ class _FieldBehaviour(_SpinBox):
             mark_invalid(self, False)
             self.setToolTip(self._tip)
             QToolTip.hideText()
+            # cancelled or mended: the refusal goes from the status bar too (if still shown)
+            unsay = getattr(self.window(), "unsay", None)
+            if self._said and callable(unsay):
+                unsay(self._said)
+            self._said = ""
 
     def _text_changed(self, text: str) -> None:
         """The value in effect is on screen again (set by a binding, the arrows): not red."""

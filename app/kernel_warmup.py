@@ -34,6 +34,8 @@ class _Relay(QObject):
     CI). Each warmer listens with a connection Qt drops when the warmer is deleted."""
 
     settled = Signal(int, int, float, str)  # warmer token, l_max, seconds, error
+    # units compiled, units to compile, about how many seconds are left (-1: not known yet)
+    progressed = Signal(int, int, float)
 
 
 _relay: _Relay | None = None
@@ -44,7 +46,13 @@ def _the_relay() -> _Relay:
     """The process's relay, made on the GUI thread by the first warmer."""
     global _relay
     if _relay is None:
-        _relay = _Relay()
+        relay = _relay = _Relay()
+
+        def progressed(progress: _compiled.Progress) -> None:
+            left = progress.seconds_left
+            relay.progressed.emit(progress.done, progress.total, -1.0 if left is None else left)
+
+        _compiled.add_progress_listener(progressed)
     return _relay
 
 
@@ -57,9 +65,12 @@ class KernelWarmer(QObject):
         only loaded from the disk cache).
     failed(int, str) : l_max and the error (its strokes keep running in NumPy).
     busy_changed(bool) : some requested l_max is not ready yet.
+    progress(int, int, float) : units compiled, units to compile (missing from the disk cache),
+        and about how many seconds are left (-1: not known until the first unit is in).
     """
 
     ready = Signal(int, float, bool)
+    progress = Signal(int, int, float)
     failed = Signal(int, str)
     busy_changed = Signal(bool)
 
@@ -68,6 +79,7 @@ class KernelWarmer(QObject):
         self._token = next(_tokens)
         self._relay = _the_relay()
         self._relay.settled.connect(self._settled, Qt.ConnectionType.QueuedConnection)
+        self._relay.progressed.connect(self.progress, Qt.ConnectionType.QueuedConnection)
         self._requested: dict[int, tuple] = {}  # l_max -> its compiled units
         self._waiting: set[int] = set()
 

@@ -347,6 +347,7 @@ class MainWindow(QMainWindow):
         self.homogenization_panel.material_ready.connect(self._use_homogenized)
         self.kernel_warmer.ready.connect(self._kernels_ready)
         self.kernel_warmer.busy_changed.connect(self._compiling)
+        self.kernel_warmer.progress.connect(self._compile_progress)
         self.kernel_warmer.failed.connect(
             lambda l_max, error: self.flash(f"Kernels for l_max = {l_max} failed: {error}")
         )
@@ -456,11 +457,22 @@ class MainWindow(QMainWindow):
 
     def _compiling(self, busy: bool) -> None:
         self.status.compile_progress.setVisible(busy)
-        if busy:
+        if busy:  # a busy bar until the driver counts units missing from the cache
+            self.status.compile_progress.setRange(0, 0)
             self.flash(
                 "Preparing the brush kernels (compiled on the first start only): strokes run on "
                 "the NumPy path meanwhile"
             )
+
+    def _compile_progress(self, done: int, total: int, seconds_left: float) -> None:
+        """Units missing from the compile cache are compiling: say which count and about how
+        long is left (``seconds_left`` < 0: not known yet)."""
+        self.status.compile_progress.setVisible(done < total)
+        self.flash(
+            self.status.show_compile_progress(
+                done, total, None if seconds_left < 0 else seconds_left
+            )
+        )
 
     def _stroke_refusal(self) -> str | None:
         """Why a stroke may not start now (kernels still compiling, a subdivision running), or
@@ -543,6 +555,12 @@ class MainWindow(QMainWindow):
     def flash(self, text: str) -> None:
         """Say ``text`` in the status bar (until the next message)."""
         self.message_label.setText(text)
+
+    def unsay(self, text: str) -> None:
+        """Take ``text`` from the status bar if it still says it (a refusal mended or
+        cancelled)."""
+        if self.message_label.text() == text:
+            self.message_label.clear()
 
     def note(self, text: str) -> None:
         """Say ``text`` in the status bar now, over a temporary hint shown there."""

@@ -4,7 +4,25 @@ from __future__ import annotations
 
 from PySide6.QtWidgets import QLabel, QProgressBar, QPushButton, QStatusBar
 
-__all__ = ["StatusArea"]
+__all__ = ["StatusArea", "compile_progress_text"]
+
+
+def _time_left(seconds_left: float | None) -> str:
+    """The time left, "about 25 s left" (None: not measured yet)."""
+    if seconds_left is None:
+        return "estimating the time left"
+    if seconds_left < 60:
+        return f"about {max(5, 5 * round(seconds_left / 5))} s left"
+    return f"about {round(seconds_left / 60)} min left"
+
+
+def compile_progress_text(done: int, total: int, seconds_left: float | None) -> str:
+    """What the status bar says while the brush kernels compile: the units compiled of how
+    many, about how long is left (None: not measured yet) and that strokes run meanwhile."""
+    return (
+        f"Compiling brush kernels: {done} of {total} units, {_time_left(seconds_left)} — "
+        "strokes run on the NumPy path meanwhile"
+    )
 
 
 class StatusArea:
@@ -31,6 +49,7 @@ class StatusArea:
             "Compiling the brush kernels (once per machine and l_max); strokes run on the "
             "slower NumPy path meanwhile",
         )
+        self.compile_progress.setMaximumWidth(240)  # "kernels 2/5, about 25 s left"
         # Progress of the background build of a big mesh's surface index (picking, shading)
         self.surface_progress = self.add_progress(
             100,
@@ -63,6 +82,18 @@ class StatusArea:
         progress.hide()
         self.bar.addPermanentWidget(progress)
         return progress
+
+    def show_compile_progress(self, done: int, total: int, seconds_left: float | None) -> str:
+        """The compilation's bar at ``done`` of ``total`` units; returns the label to say
+        (:func:`compile_progress_text`)."""
+        text = compile_progress_text(done, total, seconds_left)
+        self.compile_progress.setRange(0, total)
+        self.compile_progress.setValue(done)
+        # the bar says it in short too: a temporary hint (the first-run one) may cover the line
+        left = "" if seconds_left is None else f", {_time_left(seconds_left)}"
+        self.compile_progress.setFormat(f"kernels {done}/{total}{left}")
+        self.compile_progress.setToolTip(text)
+        return text
 
     def show_material(self, name: str) -> None:
         """Name the active material (``name``: what it is, e.g. a preset's name and its kind)."""

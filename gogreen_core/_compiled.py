@@ -52,6 +52,8 @@ __all__ = [
     "GEOMETRY",
     "MESH_IO",
     "CompiledModule",
+    "Progress",
+    "add_progress_listener",
     "brushes",
     "drivers",
     "forced",
@@ -61,6 +63,7 @@ __all__ = [
     "modules_cached",
     "prepare",
     "register",
+    "remove_progress_listener",
     "request",
     "wait",
     "when_ready",
@@ -90,10 +93,55 @@ _failed: dict[Unit, Exception] = {}
 #: Units this process found missing from numba's disk cache and had compiled (the others were
 #: only loaded from it): what the app's status says ("compiled" or "loaded").
 _compiled_units: set[Unit] = set()
+#: What :func:`add_progress_listener` listeners are called with, on the worker thread.
+ProgressCallback = Callable[["Progress"], None]
+_progress_listeners: list[ProgressCallback] = []
 #: (units, callback) waiting for their units (see :func:`when_ready`).
 _callbacks: list[tuple[tuple[Unit, ...], ReadyCallback]] = []
 _condition = threading.Condition()
 _worker: threading.Thread | None = None
+
+
+@dataclass(frozen=True)
+class Progress:
+    """Where a compilation stands: ``done`` of ``total`` units compiled, ``elapsed`` seconds
+    since it started, and the units still to compile (``left``)."""
+
+    done: int
+    total: int
+    elapsed: float
+    left: tuple[Unit, ...]
+
+    @property
+    def seconds_left(self) -> float | None:
+        """About how long the rest takes, from the time per unit compiled so far (None before
+        the first unit is in: nothing measured yet)."""
+        if not self.done:
+            return None
+        return self.elapsed / self.done * (self.total - self.done)
+
+
+def add_progress_listener(callback: ProgressCallback) -> None:
+    """Call ``callback(progress)`` (on the compiling worker thread) when a compilation of
+    units missing from the disk cache starts and after each of its units is compiled."""
+    with _condition:
+        _progress_listeners.append(callback)
+
+
+def remove_progress_listener(callback: ProgressCallback) -> None:
+    with _condition:
+        if callback in _progress_listeners:
+            _progress_listeners.remove(callback)
+
+
+def _tell_progress(progress: Progress) -> None:
+    with _condition:
+        listeners = list(_progress_listeners)
+    for listener in listeners:
+        try:
+            listener(progress)
+        except Exception:  # one listener's error must not stop the compilation
+            traceback.print_exc()
 
 
 @dataclass(frozen=True)
@@ -308,6 +356,24 @@ def prepare(*units: Unit) -> float:
     return time.perf_counter() - start
 
 
+class _UnitCount:
+    """Counts one compilation's units as they are compiled, telling the progress listeners."""
+
+    def __init__(self, missing: list[Unit]) -> None:
+        self.missing, self.done = missing, list[Unit]()
+        self.start = time.perf_counter()
+        if missing:
+            _tell_progress(Progress(0, len(missing), 0.0, tuple(missing)))
+
+    def compiled(self, unit: Unit) -> None:
+        if unit in self.done:
+            return
+        self.done.append(unit)
+        left = tuple(u for u in self.missing if u not in self.done)
+        elapsed = time.perf_counter() - self.start
+        _tell_progress(Progress(len(self.done), len(self.missing), elapsed, left))
+
+
 def _work() -> None:
     global _worker
     while True:
@@ -319,8 +385,9 @@ def _work() -> None:
         missing = [u for u in units if not _cached(u)]
         with _condition:
             _compiled_units.update(missing)
+        count = _UnitCount(missing)
         if missing and _can_spawn():
-            _compile_in_child(missing)
+            _compile_in_child(missing, count.compiled)
         for unit in units:
             if not _parts(unit):  # its module is not imported yet: asked for again later
                 with _condition:
@@ -333,6 +400,8 @@ def _work() -> None:
                 with _condition:
                     _failed[unit] = exc
             else:
+                if unit in missing:  # told before a waiter sees it ready; compiled here if
+                    count.compiled(unit)  # the child did not
                 with _condition:
                     _ready.add(unit)
             with _condition:
@@ -410,31 +479,43 @@ def _can_spawn() -> bool:
     return _mode() == "child" and name.startswith("python")
 
 
-def _compile_in_child(units: Iterable[Unit]) -> bool:
+def _compile_in_child(
+    units: Iterable[Unit], unit_compiled: Callable[[Unit], None] = lambda unit: None
+) -> bool:
     """Compile ``units`` into numba's disk cache in a child process; True if it succeeded.
     Each argument names the modules that register the unit, then the unit:
-    ``module,module=unit``."""
-    args = []
+    ``module,module=unit``; the child prints each argument once its unit is compiled, and
+    ``unit_compiled(unit)`` is called then (the status bar's count and time left)."""
+    by_arg: dict[str, Unit] = {}
     for unit in units:
         modules = ",".join(dict.fromkeys(part.module for part in _parts(unit)))
-        args.append(f"{modules}=" + (unit if isinstance(unit, str) else f"{unit[0]}:{unit[1]}"))
+        by_arg[f"{modules}=" + (unit if isinstance(unit, str) else f"{unit[0]}:{unit[1]}")] = unit
     env = dict(os.environ, **{_MODE_VARIABLE: "thread"})
     # the child imports what this process does: an application embedding Python (Blender)
     # adds folders to sys.path at run time (its extensions' wheels) that no child would know
     env["PYTHONPATH"] = os.pathsep.join(p for p in sys.path if p)
     try:
-        result = subprocess.run(
-            [sys.executable, "-c", _CHILD_SCRIPT, *args],
+        child = subprocess.Popen(
+            [sys.executable, "-c", _CHILD_SCRIPT, *by_arg],
             env=env,
             stdin=subprocess.DEVNULL,
-            stdout=subprocess.DEVNULL,
+            stdout=subprocess.PIPE,
             stderr=subprocess.DEVNULL,
-            timeout=CHILD_TIMEOUT,
-            check=False,
+            text=True,
         )
     except (OSError, subprocess.SubprocessError):
         return False
-    return result.returncode == 0
+    timer = threading.Timer(CHILD_TIMEOUT, child.kill)
+    timer.daemon = True
+    timer.start()
+    try:
+        assert child.stdout is not None
+        for line in child.stdout:  # anything else the child prints is not a unit's name
+            if line.strip() in by_arg:
+                unit_compiled(by_arg[line.strip()])
+        return child.wait() == 0
+    finally:
+        timer.cancel()
 
 
 _CHILD_SCRIPT = (
@@ -452,4 +533,5 @@ def _main(argv: list[str]) -> int:
         for module in filter(None, modules.split(",")):
             importlib.import_module(module)
         _load(tuple(int(v) for v in name.split(":")) if ":" in name else name)
+        print(arg, flush=True)  # the parent counts the units compiled
     return 0

@@ -31,24 +31,29 @@ def local_slopes(rho: np.ndarray, value: np.ndarray) -> np.ndarray:
     min(5, n) points): 4th-order accurate on smooth values. Moving one point changes the slopes
     of the points whose five points hold it: its two neighbours on each side, and more within
     four points of an end (whose stencils are shifted). Lagrange's formula on the given
-    abscissae."""
+    abscissae, all points at once (n × width × width arrays, no Python loop per point: a
+    falloff reset rebuilds 30 curves on the GUI thread)."""
+    rho = np.asarray(rho, dtype=np.float64)
+    value = np.asarray(value, dtype=np.float64)
     n = len(rho)
     width = min(2 * _STENCIL + 1, n)
-    slopes = np.empty(n)
-    for i in range(n):
-        start = min(max(i - _STENCIL, 0), n - width)
-        x, y = rho[start : start + width], value[start : start + width]
-        at = i - start
-        gaps = x[at] - np.delete(x, at)  # x_i − x_k, k ≠ i
-        total = np.sum(1.0 / gaps) * y[at]
-        for j in range(width):
-            if j == at:
-                continue
-            others = np.delete(np.arange(width), [at, j])
-            weight = np.prod((x[at] - x[others]) / (x[j] - x[others])) / (x[j] - x[at])
-            total += weight * y[j]
-        slopes[i] = total
-    return slopes
+    point = np.arange(n)
+    start = np.clip(point - _STENCIL, 0, n - width)
+    window = start[:, None] + np.arange(width)  # (n, width) indices of each point's stencil
+    x, y = rho[window], value[window]
+    at = point - start  # the point's place in its stencil
+    own = np.arange(width)[None, :] == at[:, None]  # (n, width)
+    x_at = rho[:, None, None]
+    # (x_i − x_k) / (x_j − x_k) over k ∉ {i, j}: the derivative at x_i of the j-th Lagrange
+    # basis polynomial, ℓ_j′(x_i) = Π_k≠i,j (x_i − x_k) / Π_k≠j (x_j − x_k)
+    skip = np.eye(width, dtype=bool)[None] | own[:, None, :]  # (n, j, k)
+    gap_jk = np.where(skip, 1.0, x[:, :, None] - x[:, None, :])
+    ratio = np.where(skip, 1.0, (x_at - x[:, None, :]) / gap_jk)
+    gap_ji = np.where(own, 1.0, x - rho[:, None])
+    weight = np.prod(ratio, axis=2) / gap_ji
+    # ℓ_i′(x_i) = Σ_k≠i 1 / (x_i − x_k)
+    weight[own] = np.sum(np.where(own, 0.0, 1.0 / np.where(own, 1.0, rho[:, None] - x)), axis=1)
+    return np.asarray(np.sum(weight * y, axis=1))
 
 
 def monotone_hermite(rho: np.ndarray, value: np.ndarray) -> CubicHermiteSpline:

@@ -126,7 +126,7 @@ class History:
         Parameters
         ----------
         label : str
-            Name of the operation, returned by undo/redo (e.g. ``"grab stroke"``).
+            Name of the operation, returned by undo/redo (e.g. ``"Grab stroke"``).
         indices : (K,) int
             Distinct, non-negative vertex indices.
         before, after : (K, 3) float

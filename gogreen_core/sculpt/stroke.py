@@ -42,6 +42,7 @@ from gogreen_core.mesh.remesh import (
     strained_vertices,
 )
 from gogreen_core.sculpt.brushes import Brush, BrushEvent, Displacement, StrokeContext
+from gogreen_core.sculpt.brushes.table import brush_row
 from gogreen_core.sculpt.engine_settings import EngineSettings
 from gogreen_core.sculpt.history import History
 from gogreen_core.sculpt.kernel_cache import KernelCache
@@ -261,7 +262,7 @@ class StrokeDriver:
         if stroke.start is not None:  # dynamic topology changed the faces: whole meshes
             after = self.mesh.snapshot()
             meshes = (stroke.start, after)
-            label = f"{stroke.brush.kind} stroke"
+            label = _undo_label(stroke.brush.kind)
             self.history.record(label, _NO_INDEX, _NO_ROWS, _NO_ROWS, meshes)
             self.log.record(Stroke(stroke.brush, tuple(stroke.events)))
             return np.arange(len(after.vertices))
@@ -281,7 +282,7 @@ class StrokeDriver:
         # a stroke that changed nothing (no vertex, no mask value) is no undo step, no log entry
         if len(idx) or state is not None:
             self.history.record(
-                f"{stroke.brush.kind} stroke", idx, stroke.before[idx], vertices[idx], state
+                _undo_label(stroke.brush.kind), idx, stroke.before[idx], vertices[idx], state
             )
             self.log.record(Stroke(stroke.brush, tuple(stroke.events)))
         return idx
@@ -322,3 +323,11 @@ class Remesher:
         mesh.adopt(after)
         self.history.record("remesh", _NO_INDEX, _NO_ROWS, _NO_ROWS, state=(before, after))
         self.log.record(op)
+
+
+def _undo_label(kind: str) -> str:
+    """A stroke's undo step, in the brush bar's words ("Grab stroke" for ``grab_local``)."""
+    try:
+        return f"{brush_row(kind).label} stroke"
+    except ValueError:  # a brush no row offers (scripts): its kind
+        return f"{kind} stroke"

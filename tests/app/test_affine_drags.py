@@ -35,13 +35,13 @@ def test_vertical_drags_drive_the_affine_brushes(window, qtbot, kind):
         real_drag(window, qtbot, [QPoint(0, sign * 10 * k) for k in range(1, 15)])
         moved = np.linalg.norm(sculptor.vertices - before, axis=1)
         assert moved.max() > 1e-3 * sculptor.model_size, (kind, sign)
-        assert sculptor.history.undo_labels[-1] == f"{kind} stroke"
-        assert window.undo_action.text() == f"&Undo {kind} stroke"
+        assert sculptor.history.undo_labels[-1] == f"{kind.capitalize()} stroke"
+        assert window.undo_action.text() == f"&Undo {kind.capitalize()} stroke"
         assert np.array_equal(window.viewport.shown_vertices(), sculptor.vertices)
         results.append(sculptor.vertices - before)
         window.undo()
         assert np.array_equal(sculptor.vertices, before)
-        assert window.redo_action.text() == f"&Redo {kind} stroke"
+        assert window.redo_action.text() == f"&Redo {kind.capitalize()} stroke"
     # up (+) and down (−) act in opposite senses: inflate / deflate, twist one way / the
     # other, stretch / squeeze along the drag
     up, down = results

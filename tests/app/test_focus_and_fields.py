@@ -206,6 +206,7 @@ def test_letters_and_values_out_of_range_are_refused_in_every_number_field(windo
                 press_key(Qt.Key.Key_Escape)  # cancelled: the value in effect again
                 qtbot.wait(10)  # (and the keys go home)
                 assert not is_marked_invalid(field)
+                assert "Refused" not in window.message_label.text()  # said no more
                 assert field.lineEdit().text() == field.textFromValue(field.value()) or (
                     field.lineEdit().text() in (field.specialValueText(), field.text())
                 )
@@ -227,6 +228,7 @@ def test_radius_minus_half_and_l_max_99_say_the_allowed_range(window, qtbot):
     assert window.message_label.text() == f"Refused: {l_max.toolTip()}"  # the status bar too
     press_key(Qt.Key.Key_Escape)  # drops it at once, and the keys go home
     assert l_max.lineEdit().text() == "8" and not is_marked_invalid(l_max)
+    assert "Refused" not in window.message_label.text()  # nor says it any more
     qtbot.waitUntil(window.viewport.hasFocus, timeout=2000)
     click(qtbot, window.viewport)  # a click elsewhere: the refused radius stays, named
     assert is_marked_invalid(radius) and radius.lineEdit().text() == "-0.5"
@@ -234,9 +236,13 @@ def test_radius_minus_half_and_l_max_99_say_the_allowed_range(window, qtbot):
     # a good value is taken and hands the keys back
     click(qtbot, radius.lineEdit())
     radius.selectAll()
+    _refuses(window, qtbot, radius, "500")  # said again, then mended
+    assert window.message_label.text() == f"Refused: {radius.toolTip()}"
+    radius.selectAll()
     type_text("0.25")
     press_key(Qt.Key.Key_Return)
     assert window.model.brush.radius == 0.25
+    assert "Refused" not in window.message_label.text()
     qtbot.waitUntil(window.viewport.hasFocus, timeout=2000)
 
 

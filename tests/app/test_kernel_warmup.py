@@ -44,3 +44,25 @@ def test_a_compilation_ending_after_its_warmer_was_deleted_reports_nowhere(qtbot
         assert _call_on_a_thread(callbacks[1]) == []
     assert ready.args[0] == 7  # only the live warmer's own report reached it
     assert not live.busy and live.compiled(7)
+
+
+def test_the_status_bar_names_the_units_compiled_and_the_time_left(window, qtbot):
+    """On an empty compile cache (issue 32 item 8): a labelled count, the time left and the
+    NumPy path named, from the compile driver's own progress reports (sent from its thread)."""
+    window.kernel_warmer.wait(120_000)
+    reports = [
+        kernel_warmup._compiled.Progress(0, 5, 0.0, ()),
+        kernel_warmup._compiled.Progress(2, 5, 16.0, ()),
+    ]
+    for progress in reports:
+        with qtbot.waitSignal(window.kernel_warmer.progress, timeout=5_000):
+            report = kernel_warmup._compiled._tell_progress
+            threading.Thread(target=report, args=(progress,)).start()
+        text = window.message_label.text()
+        assert f"{progress.done} of 5 units" in text and "NumPy path meanwhile" in text
+        assert window.status.compile_progress.isVisible()
+        assert window.status.compile_progress.value() == progress.done
+    assert "about 25 s left" in text  # 8 s a unit, three units left
+    bar = window.status.compile_progress
+    assert bar.text() == "kernels 2/5, about 25 s left" and bar.toolTip() == text
+    assert "estimating" not in text

@@ -71,7 +71,7 @@ def test_mask_brush_tint_and_the_mask_keys(window, qtbot):
     assert shown_colors(window) is None
     QTest.keyClick(window.viewport, Qt.Key.Key_Z, CTRL)  # undo the clear
     assert np.array_equal(sculptor.mask.values, 1.0 - mask) and window.viewport.mask_shown
-    assert sculptor.history.undo_labels[-2:] == ["mask stroke", "invert mask"]
+    assert sculptor.history.undo_labels[-2:] == ["Mask stroke", "invert mask"]
     # a grab over the held region moves the free vertices only
     QTest.keyClick(window.viewport, Qt.Key.Key_1)
     drag_with(window, center_of(window))
@@ -87,7 +87,7 @@ def test_shift_drag_smooths_with_any_brush(window, qtbot):
     drag_with(window, center_of(window), SHIFT)
     assert sculptor.operations[-1].brush.kind == "smooth"
     assert sculptor.operations[-1].brush.radius == window.model.brush.radius
-    assert sculptor.history.undo_labels[-1] == "smooth stroke"
+    assert sculptor.history.undo_labels[-1] == "Smooth stroke"
     assert np.any(sculptor.vertices != start)
     window.undo()
     assert np.array_equal(sculptor.vertices, start)
@@ -106,7 +106,7 @@ def test_ctrl_d_subdivides_and_undo_gives_the_mesh_back(window, qtbot):
     assert "Subdivided" in window.message_label.text()
     assert window.viewport.pick(QPointF(center_of(window))) is not None  # picking on it
     drag_with(window, center_of(window))  # and sculpting
-    assert sculptor.history.undo_labels[-2:] == ["subdivide", "grab_local stroke"]
+    assert sculptor.history.undo_labels[-2:] == ["subdivide", "Grab stroke"]
     window.undo()
     window.undo()
     assert np.array_equal(sculptor.faces, faces) and np.array_equal(sculptor.vertices, vertices)

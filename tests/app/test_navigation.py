@@ -116,7 +116,7 @@ def test_a_left_drag_begun_off_the_model_sculpts_from_where_it_reaches_it(window
     assert window.viewport.pick(QPointF(corner)) is None  # off the model
     mouse_drag(window, B.LeftButton, start=corner, offset=center_of(window) - corner)
     assert not np.array_equal(sculptor.vertices, vertices)
-    assert sculptor.history.undo_labels == ["grab_local stroke"]
+    assert sculptor.history.undo_labels == ["Grab stroke"]
     assert np.allclose(camera(window)["position"], before["position"])  # no orbit
     window.undo()
     # the preference: it orbits, and sculpts nothing

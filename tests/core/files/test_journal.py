@@ -269,7 +269,7 @@ def test_recovery_from_a_checkpoint_is_exact_and_keeps_the_history_after_it(mesh
     recovery.release()
     recovery = recover(directory, budget=SETTINGS_WORK + 6 * len(mesh.vertices))
     assert recovery.start == 4 and recovery.replayed == 2  # the oldest that fits the budget
-    assert recovery.sculptor.history.undo_labels == ["material", "grab stroke"]
+    assert recovery.sculptor.history.undo_labels == ["material", "Wide grab stroke"]
     for s in (sculptor, recovery.sculptor):
         s.undo()
         s.undo()

@@ -175,7 +175,7 @@ def test_every_broken_session_field_is_named_and_the_mesh_survives(sphere, recor
                 target.replay(data["operations"])
             assert info.value.parameter.startswith(parameter), (name, info.value.parameter)
         assert np.array_equal(target.vertices, before), name
-        assert target.history.undo_labels == ["grab stroke"], name
+        assert target.history.undo_labels == ["Wide grab stroke"], name
 
 
 def test_the_recorded_session_itself_replays(sphere, recorded):
@@ -236,7 +236,7 @@ def test_extreme_values_are_refused_naming_the_field(sphere, make, parameter):
     assert np.array_equal(sculptor.vertices, before)
     assert np.all(np.isfinite(sculptor.vertices))
     # a pin added before the refused step is an undo step of its own
-    assert [k for k in sculptor.history.undo_labels if k != "add pin"] == ["grab stroke"]
+    assert [k for k in sculptor.history.undo_labels if k != "add pin"] == ["Wide grab stroke"]
     assert not sculptor.in_stroke
 
 

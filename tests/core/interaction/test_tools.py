@@ -464,5 +464,5 @@ def test_a_stroke_that_changes_nothing_says_so_and_records_nothing(sculptor):
     tools.move(at(top, screen=(50.0, 10.0)))  # 40 px straight up
     update = tools.release()
     assert update.note is None and update.moved is not None
-    assert sculptor.history.undo_labels == ["pinch stroke"]
+    assert sculptor.history.undo_labels == ["Pinch stroke"]
     assert len(sculptor.operations) == operations + 1

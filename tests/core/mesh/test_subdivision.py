@@ -117,9 +117,9 @@ def test_subdivide_is_an_undo_step_that_gives_the_mesh_back_exactly():
     subdivided = sculptor.mesh
     assert sculptor.undo() == "subdivide"
     assert np.array_equal(sculptor.vertices, sculpted) and np.array_equal(sculptor.faces, faces)
-    assert sculptor.undo() == "grab stroke"
+    assert sculptor.undo() == "Wide grab stroke"
     assert np.array_equal(sculptor.vertices, vertices)
-    assert sculptor.redo() == "grab stroke" and sculptor.redo() == "subdivide"
+    assert sculptor.redo() == "Wide grab stroke" and sculptor.redo() == "subdivide"
     assert np.array_equal(sculptor.vertices, subdivided.vertices)
     assert np.array_equal(sculptor.faces, subdivided.faces)
     # sculpting goes on on the finer mesh; the mask carries over

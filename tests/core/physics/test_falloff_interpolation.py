@@ -2,6 +2,7 @@
 of saved ones (bit for bit), and the rim striations the cubic's ringing made."""
 
 import json
+import sys
 
 import numpy as np
 import pytest
@@ -66,6 +67,52 @@ def test_local_slopes_are_fourth_order():
     rho = np.array([0.0, 0.3, 0.5, 1.1, 1.2, 2.0])
     quartic = np.poly1d([0.5, -1.0, 2.0, 3.0, -1.0])
     np.testing.assert_allclose(local_slopes(rho, quartic(rho)), quartic.deriv()(rho), atol=1e-12)
+
+
+def _python_calls(fn, *args):
+    """How many Python and C functions ``fn(*args)`` calls (sys.setprofile events)."""
+    calls = 0
+
+    def count(frame, event, arg):
+        nonlocal calls
+        calls += event in ("call", "c_call")
+
+    sys.setprofile(count)
+    try:
+        fn(*args)
+    finally:
+        sys.setprofile(None)
+    return calls
+
+
+def test_local_slopes_do_not_loop_in_python_per_point():
+    """A falloff reset rebuilds 30 curves on the GUI thread (issue 32: the per-point Lagrange
+    loops took 0.4 s under load): the slopes cost the same number of calls at 10 or 200
+    points."""
+    few = np.linspace(0.0, 6.0, 10)
+    many = np.linspace(0.0, 6.0, 200)
+    assert _python_calls(local_slopes, many, np.exp(-0.5 * many**2)) == _python_calls(
+        local_slopes, few, np.exp(-0.5 * few**2)
+    )
+
+
+@pytest.mark.parametrize("n", [3, 4, 5, 6, 9, 25])
+def test_local_slopes_are_the_lagrange_slopes_of_each_stencil(n):
+    """Each point's slope is the derivative there of the polynomial through its stencil (an
+    exact polynomial fit of the same points), within 1e-12 relative."""
+    rng = np.random.default_rng(n)
+    rho = np.sort(rng.uniform(0.0, 8.0, n)) + np.arange(n) * 0.05
+    value = np.exp(-0.5 * rho**2) + rng.normal(0.0, 0.1, n)
+    width = min(5, n)
+    expected = []
+    for i in range(n):
+        start = min(max(i - 2, 0), n - width)
+        x, y = rho[start : start + width], value[start : start + width]
+        fit = np.polynomial.Polynomial.fit(x, y, width - 1)
+        expected.append(fit.deriv()(rho[i]))
+    got = local_slopes(rho, value)
+    scale = np.max(np.abs(expected))
+    np.testing.assert_allclose(got, expected, rtol=0, atol=1e-10 * scale)
 
 
 def test_the_issues_edit_dips_with_the_cubic_and_not_with_the_monotone_curve():

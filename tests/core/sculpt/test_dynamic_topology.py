@@ -138,7 +138,7 @@ def test_the_pull_lands_where_the_fixed_topology_pull_does(pulls):
 
 def test_one_undo_gives_back_the_mesh_bit_for_bit(pulls):
     sculptor = pulls["sculptor"]
-    assert sculptor.undo() == "grab stroke"
+    assert sculptor.undo() == "Wide grab stroke"
     assert np.array_equal(sculptor.vertices, pulls["vertices"])
     assert np.array_equal(sculptor.faces, pulls["faces"])
     assert sculptor.faces.dtype == np.int64

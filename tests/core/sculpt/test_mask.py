@@ -49,7 +49,7 @@ def test_the_mask_brush_paints_with_the_cutoff_weight_and_ctrl_erases(sphere):
     assert np.all(mask[distance >= reach] == 0.0)
     rim = (distance > 0.5 * reach) & (distance < reach)
     assert np.any((mask[rim] > 0) & (mask[rim] < 1))  # soft at the rim
-    assert sculptor.mask.any and sculptor.history.undo_labels == ["mask stroke"]
+    assert sculptor.mask.any and sculptor.history.undo_labels == ["Mask stroke"]
     # a negative amount (Ctrl) erases, clipped at 0
     sculptor.apply_brush(Brush("mask", radius=0.3), [BrushEvent(top_of(vertices), amount=-2.0)])
     assert not sculptor.mask.any and np.all(sculptor.mask.values == 0.0)
@@ -111,17 +111,17 @@ def test_mask_edits_are_undo_steps_that_leave_the_vertices(sphere):
     sculptor.mask.clear()
     assert not sculptor.mask.any
     sculptor.mask.clear()  # nothing masked: no step
-    assert sculptor.history.undo_labels == ["mask stroke", "invert mask", "clear mask"]
+    assert sculptor.history.undo_labels == ["Mask stroke", "invert mask", "clear mask"]
     versions = [sculptor.mask.version]
     assert sculptor.undo() == "clear mask"
     assert np.array_equal(sculptor.mask.values, 1.0 - painted)
     assert sculptor.undo() == "invert mask"
     assert np.array_equal(sculptor.mask.values, painted)
-    assert sculptor.undo() == "mask stroke"
+    assert sculptor.undo() == "Mask stroke"
     assert not sculptor.mask.any
     versions.append(sculptor.mask.version)
     assert versions[1] > versions[0]
-    for label in ("mask stroke", "invert mask", "clear mask"):
+    for label in ("Mask stroke", "invert mask", "clear mask"):
         assert sculptor.redo() == label
     assert not sculptor.mask.any and sculptor.redo() is None
     assert np.array_equal(sculptor.vertices, vertices)
@@ -159,7 +159,7 @@ def test_a_failed_replay_rolls_the_mask_back(sphere):
     with pytest.raises(ValueError, match="operations\\[1\\]"):
         sculptor.replay(bad)
     assert np.array_equal(sculptor.mask.values, painted)
-    assert sculptor.history.undo_labels == ["mask stroke"]
+    assert sculptor.history.undo_labels == ["Mask stroke"]
 
 
 def test_a_cancelled_mask_stroke_puts_the_mask_back(sphere):
@@ -188,7 +188,7 @@ def test_the_tools_paint_a_dab_at_the_press_and_ctrl_erases(sphere):
     tools.flush()
     assert tools.release().note is None  # recorded: no "nothing changed" though no vertex moved
     painted = sculptor.mask.values.copy()
-    assert sculptor.history.undo_labels == ["mask stroke"]
+    assert sculptor.history.undo_labels == ["Mask stroke"]
     ctrl = frozenset({"ctrl"})
     tools.press(PointerEvent((100.0, 100.0), top, top, modifiers=ctrl))
     tools.release()

@@ -188,7 +188,7 @@ def test_a_slider_drag_is_one_step_and_replays(sphere):
         sculptor.set_material(Material.isotropic(1.0, poisson), continued=k > 0)
     for k, radius in enumerate((0.12, 0.15, 0.2)):
         sculptor.set_constraint_radius(radius, continued=k > 0)
-    assert sculptor.history.undo_labels == ["grab stroke", "material", "constraint radius"]
+    assert sculptor.history.undo_labels == ["Wide grab stroke", "material", "constraint radius"]
     ops = sculptor.session()["operations"]
     assert [op["op"] for op in ops] == ["stroke", "material", "constraint_radius"]
     assert ops[1]["material"] == Material.isotropic(1.0, 0.45).to_dict()
@@ -200,7 +200,7 @@ def test_a_slider_drag_is_one_step_and_replays(sphere):
     # a continued change after an undo starts a new step: it never joins an undone one
     sculptor.set_material(CUBIC, continued=True)
     sculptor.set_falloff(KelvinletRadial(1.0), continued=True)  # joins the material's step
-    assert sculptor.history.undo_labels == ["grab stroke", "material"]
+    assert sculptor.history.undo_labels == ["Wide grab stroke", "material"]
     session = session_of(sculptor)
     assert session["version"] == SESSION_VERSION == 5
     again = Sculptor.from_session(session, vertices, faces)

@@ -176,12 +176,12 @@ def test_undo_redo_restore_bit_for_bit(bunny):
     after_first = sculptor.vertices.copy()
     sculptor.apply_brush(Brush("pinch"), [BrushEvent(vertices[9], amount=0.2)])
     after_second = sculptor.vertices.copy()
-    assert sculptor.undo() == "pinch stroke"
+    assert sculptor.undo() == "Pinch stroke"
     assert np.array_equal(sculptor.vertices, after_first)
-    assert sculptor.undo() == "grab stroke"
+    assert sculptor.undo() == "Wide grab stroke"
     assert np.array_equal(sculptor.vertices, vertices)
-    assert sculptor.redo() == "grab stroke"
-    assert sculptor.redo() == "pinch stroke"
+    assert sculptor.redo() == "Wide grab stroke"
+    assert sculptor.redo() == "Pinch stroke"
     assert np.array_equal(sculptor.vertices, after_second)
 
 
@@ -258,9 +258,9 @@ def test_a_continued_settings_drag_is_one_step_and_one_log_entry(bunny):
     assert sculptor.history.undo_labels == [
         "falloff",
         "material",
-        "grab stroke",
+        "Wide grab stroke",
         "material",
-        "grab stroke",
+        "Wide grab stroke",
     ]
     session = json.loads(json.dumps(sculptor.session()))
     again = Sculptor.from_session(session, vertices, faces)

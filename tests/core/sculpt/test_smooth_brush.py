@@ -77,8 +77,8 @@ def test_only_the_brush_reach_moves_with_the_cutoff_weight(noisy_sphere):
     distance = np.linalg.norm(vertices - top, axis=1)
     outer = 4 * 0.05 * sculptor.model_size
     assert moved.sum() > 20 and not np.any(moved & (distance >= outer))
-    assert sculptor.history.undo_labels == ["smooth stroke"]
-    assert sculptor.undo() == "smooth stroke"
+    assert sculptor.history.undo_labels == ["Smooth stroke"]
+    assert sculptor.undo() == "Smooth stroke"
     assert np.array_equal(sculptor.vertices, vertices)
     # pressure (the amount) scales the step; no amount, no smoothing
     light = Sculptor(vertices, faces)
