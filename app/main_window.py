@@ -156,10 +156,14 @@ class MainWindow(QMainWindow):
         self.surface_progress = self.status.surface_progress
         self.wrinkle_fix_button = self.status.wrinkle_fix_button
         self._build_menus()
+
+        def first_pin_radius() -> None:  # the first pin takes the brush radius
+            self.model.constraint_radius = self.model.brush.radius
+
         self.tools = SculptTools(
             None,
             brush=lambda: self.model.brush.brush,
-            first_pin_radius=self._first_pin_radius,
+            first_pin_radius=first_pin_radius,
             ready=self._stroke_refusal,
             settings=self.model.brush,
             pen=lambda: self.model.pen,
@@ -282,7 +286,7 @@ class MainWindow(QMainWindow):
         self.mesh_edits = MeshEdits(self)
         self.mesh_menu = self.mesh_edits.build_menu(bar)
         view_menu = bar.addMenu("&View")
-        self._action(view_menu, "Reset &Camera", self.reset_camera, "reset_camera", "home")
+        self._action(view_menu, "Reset &Camera", self.viewport.home_view, "reset_camera", "home")
         views, viewport = view_menu.addMenu("Camera &Views"), self.viewport
         for key, opposite in OPPOSITE_VIEWS.items():
             # numpad 1, 3, 7: one side, and with Ctrl the opposite one (Blender's keys)
@@ -503,10 +507,6 @@ class MainWindow(QMainWindow):
         self.tools.mode = "pin" if on else "brush"
         self.viewport.set_pin_mode(on)
 
-    def _first_pin_radius(self) -> None:
-        """The first pin takes the brush radius."""
-        self.model.constraint_radius = self.model.brush.radius
-
     # -- edit --------------------------------------------------------------------------------
     def undo(self) -> None:
         self._history_step("undo")
@@ -536,9 +536,6 @@ class MainWindow(QMainWindow):
         if self.sculptor is not None:
             self.sculptor.clear_constraints()
             self.viewport.show_sculptor()
-
-    def reset_camera(self) -> None:
-        self.viewport.home_view()
 
     # -- presets -----------------------------------------------------------------------------
     def preset(self, name: str = "") -> Preset:

@@ -88,12 +88,19 @@ def test_the_compiling_child_imports_what_this_process_does(monkeypatch, tmp_pat
 
     seen = {}
 
-    def run(args, env, **_kwargs):
-        seen.update(env)
-        return subprocess.CompletedProcess(args, 0)
+    class Child:  # the compiling child, as far as _compile_in_child reads it
+        def __init__(self, args, env, **_kwargs):
+            seen.update(env)
+            self.stdout = iter(())
+
+        def wait(self):
+            return 0
+
+        def kill(self):
+            pass
 
     wheels = str(tmp_path / "extensions" / "site-packages")
     monkeypatch.setattr(sys, "path", [*sys.path, wheels])
-    monkeypatch.setattr(subprocess, "run", run)
+    monkeypatch.setattr(subprocess, "Popen", Child)
     assert _compiled._compile_in_child([_compiled.GEOMETRY])
     assert wheels in seen["PYTHONPATH"].split(os.pathsep)
