@@ -11,6 +11,7 @@ import numpy as np
 from gogreen_core.field.kernel import GreenKernel
 from gogreen_core.interaction.tools.events import CursorState
 from gogreen_core.sculpt.brushes import CUTOFF_START, DEFAULT_INFLUENCE
+from gogreen_core.sculpt.brushes.table import brush_row
 from gogreen_core.sculpt.constraints import smooth_cutoff
 from gogreen_core.threads import threads_at_most
 
@@ -42,15 +43,10 @@ _FINE_SAMPLES = 24
 _UNBOUNDED_REACH = 32.0
 
 
-#: What an affine brush does, as its anchored cursor's label says it ("scaling about the press
-#: point"); another affine brush's label is made from its name.
-_ACTING = {"scale": "scaling", "twist": "twisting", "pinch": "pinching", "stretch": "stretching"}
-
-
 def anchored_label(kind: str) -> str:
-    """The label of the cursor of affine brush ``kind`` while it acts: it stays at the press
-    point (the brush acts about it), which the ring alone does not say."""
-    acting = _ACTING.get(kind, kind.replace("_", " "))
+    """The label of the cursor of anchored brush ``kind`` while it acts (its row's ``acting``,
+    else its name): it stays at the press point, which the ring alone does not say."""
+    acting = brush_row(kind).acting or kind.replace("_", " ")
     return f"{acting} about the press point"
 
 

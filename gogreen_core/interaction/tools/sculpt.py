@@ -304,7 +304,7 @@ class SculptTools:
         except (ValueError, RuntimeError) as exc:
             self.pin.end()
             return ToolUpdate(error=str(exc))
-        label = anchored_label(brush.kind) if brush.is_affine else None
+        label = anchored_label(brush.kind) if self.stroke.anchored else None
         return ToolUpdate(moved=moved, cursor=self.cursor.place(event.point, event.normal, label))
 
     def move(self, event: PointerEvent) -> None:

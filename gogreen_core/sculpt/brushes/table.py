@@ -75,6 +75,7 @@ class BrushRow:
     drag : how a drag becomes its events, one of :data:`DRAGS`.
     weights_hint : the caption of its degree weights (what they are, what to try); "" for a
         brush without weights.
+    acting : what an anchored brush does, for its cursor's label while it acts ("scaling").
     """
 
     type: BrushType
@@ -86,6 +87,7 @@ class BrushRow:
     icon: str
     drag: str
     weights_hint: str = ""
+    acting: str = ""
 
     @property
     def kind(self) -> str:
@@ -161,6 +163,7 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         "scale",
         "anchored",
         "ℛ_l of ∇G (odd degrees): 1 is the expansion as it is, 0 removes a degree",
+        acting="scaling",
     ),
     BrushRow(
         AffineBrush("twist", twist_pattern),
@@ -172,6 +175,7 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         "twist",
         "anchored",
         "ℛ_l of ∇G (odd degrees): 1 is the expansion as it is, 0 removes a degree",
+        acting="twisting",
     ),
     BrushRow(
         AffineBrush("pinch", pinch_pattern),
@@ -183,6 +187,7 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         "pinch",
         "anchored",
         _ODD_HINT,
+        acting="pinching",
     ),
     BrushRow(
         AffineBrush("stretch", stretch_pattern),
@@ -194,6 +199,7 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         "stretch",
         "anchored",
         _ODD_HINT,
+        acting="stretching",
     ),
     BrushRow(
         SmoothBrush("smooth"),
