@@ -3,8 +3,8 @@ imported: the drivers (``_expansion``, ``_integrator`` and the influence loops o
 ``_influence_compiled``: one unit, :data:`~gogreen_core._compiled.DRIVERS`) and the generated
 angular kernel of each parity and highest degree (``(l_first, l_last)``, see ``_unrolled``).
 
-The evaluation asks here whether they are ready (:func:`ready`, :func:`angular`); until they
-are, it runs in NumPy or with the generic angular kernel, with the same results bit for bit.
+The evaluation asks here whether they are ready (:func:`angular`; ``_compiled.drivers``); until
+they are, it runs in NumPy or with the generic angular kernel (``_evaluation.Parity.backend``).
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ from gogreen_core.field import _expansion, _influence_compiled, _integrator, _st
 if TYPE_CHECKING:
     from numba.core.ccallback import CFunc
 
-__all__ = ["angular", "ensure_drivers", "generic_marker", "ready", "units_for"]
+__all__ = ["angular", "ensure_drivers", "generic_marker", "units_for"]
 
 _markers: dict[bool, CFunc[Any]] = {}
 
@@ -35,11 +35,6 @@ def generic_marker(single: bool = False) -> CFunc[Any]:
         signature = _expansion.ANGULAR_SINGLE_SIGNATURE if single else _expansion.ANGULAR_SIGNATURE
         marker = _markers[single] = cfunc(signature, cache=True)(_expansion.generic_marker)
     return marker
-
-
-def ready() -> bool:
-    """Whether the compiled drivers are ready (else they are requested; use NumPy)."""
-    return _compiled.drivers()
 
 
 def angular(l_first: int, l_last: int, single: bool = False) -> CFunc[Any] | None:
@@ -89,13 +84,11 @@ def _driver_calls() -> list[tuple[Any, tuple[Any, ...]]]:
     tables = np.zeros((1, 2, _expansion.SEGMENT_DEGREE + 1))
     beta, blocks, flags = np.zeros((2, 2)), np.zeros(1), np.zeros(1, dtype=np.bool_)
     marker = generic_marker()
-    single = (f33.astype(np.float32), beta.astype(np.float32), np.zeros((2, 0, 3), np.float32))
-    coeffs32, beta32, tables32 = single
     field = _stream.StreamField(
         center0=f3, center_step=f3, eps=1.0, power=1, l_first=0, l_last=0, base=base,
-        coeffs=f33, beta=beta, tables=tables, angular=marker, unrolled=False,
-        cutoff_inner=0.0, inv_width=0.0, mirrors=f33, origin=f3, single=False,
-        coeffs32=coeffs32, beta32=beta32, tables32=tables32, cscale=0.0,
+        coeffs=f33, tables=tables, cutoff_inner=0.0, inv_width=0.0, mirrors=f33, origin=f3,
+        coeffs32=f33.astype(np.float32), beta32=beta.astype(np.float32),
+        tables32=np.zeros((2, 0, 3), np.float32), cscale=0.0,
         angular32=generic_marker(single=True), unrolled32=False,
     )  # fmt: skip
     return [

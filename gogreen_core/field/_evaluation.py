@@ -11,12 +11,14 @@ number of threads.
 Until the compiled code is ready (``_compiled``: in a child process, once per machine) the same
 arithmetic runs in NumPy (``_numpy_eval``, the reference, within 1e-12 relative of the compiled
 code), so the first evaluation on a new machine takes milliseconds, not the compiler's tens of
-seconds.
+seconds. Each parity chooses its :class:`Backend` once (:meth:`Parity.backend`), when the code
+it evaluates with is ready, not at every call.
 """
 
 from __future__ import annotations
 
 from functools import partial
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -27,9 +29,26 @@ from gogreen_core.field import _drivers, _expansion, _numpy_eval, _stream, _unro
 from gogreen_core.field._expansion import BLOCK
 from gogreen_core.field._influence_compiled import near_segment_rows
 
-__all__ = ["Parity", "expand", "near_segment", "stream", "stream_field"]
+__all__ = ["Backend", "Parity", "expand", "near_segment", "stream", "stream_field"]
 #: Blocks per range handed to a thread by ``expand``.
 _MIN_BLOCKS = 32
+
+
+class Backend(NamedTuple):
+    """The code a parity evaluates with: the compiled drivers (``compiled``) with the angular
+    kernel ``angular`` of its degrees (double precision, three outputs; the generated one if
+    ``unrolled``, else the generic marker) and ``angular32`` (the streamlines' single precision
+    degrees, likewise ``unrolled32``), or the NumPy reference (``compiled`` false)."""
+
+    compiled: bool
+    angular: Any = None
+    unrolled: bool = False
+    angular32: Any = None
+    unrolled32: bool = False
+
+
+#: The NumPy reference's backend.
+NUMPY = Backend(False)
 
 
 class Parity:
@@ -48,36 +67,39 @@ class Parity:
         self.beta = np.array(_unrolled.angular_constants(l_last)[0])  # writable: one type
         #: the streamlines' single precision recurrence constants
         self.beta_single = self.beta.astype(np.float32)
+        self._backend: Backend | None = None
 
     @property
     def power(self) -> int:
         """1 for G (R_l ~ 1/r), 2 for ∇G (ℛ_l ~ 1/r²)."""
         return 1 if self.l_first == 0 else 2
 
-    def angular(self, n_out: int) -> tuple[object, bool]:
-        """(angular kernel, whether to use it) for ``n_out`` outputs, once the drivers are
-        ready: the kernel generated for these degrees (``_unrolled``) for the three outputs of
-        vector and affine loads up to ``UNROLLED_L_MAX`` once it is compiled (it is requested
-        otherwise), else the generic ``_angular`` (the same results, bit for bit)."""
-        if n_out == 3 and self.l_last <= _unrolled.UNROLLED_L_MAX:
-            kernel = _drivers.angular(self.l_first, self.l_last)
-            if kernel is not None:
-                return kernel, True
-        return _drivers.generic_marker(), False
-
-    def angular_single(self) -> tuple[object, bool]:
-        """``angular`` for the streamlines' single precision degrees (those above l_first):
-        the generated ``angular_single`` kernel once compiled, else the generic ``_angular``."""
-        if self.l_first < self.l_last <= _unrolled.UNROLLED_L_MAX:
-            kernel = _drivers.angular(self.l_first, self.l_last, single=True)
-            if kernel is not None:
-                return kernel, True
-        return _drivers.generic_marker(single=True), False
-
-    def request_angular(self, n_out: int) -> None:
-        """Ask for the generated kernel ``angular`` would use (compiled with the drivers)."""
-        if n_out == 3 and self.l_last <= _unrolled.UNROLLED_L_MAX:
-            _compiled.request((self.l_first, self.l_last))
+    def backend(self) -> Backend:
+        """The code this parity evaluates with, chosen once it is final: NumPy until the
+        compiled drivers are ready (they and the generated kernels of these degrees are
+        requested), then the drivers with the generic angular kernel until the generated ones
+        (``_unrolled``, up to ``UNROLLED_L_MAX``) are ready too. Within ``_compiled.forced``
+        (tests, benchmarks) it is chosen at every call."""
+        if self._backend is not None and _compiled.forced_code() is None:
+            return self._backend
+        generated = self.l_last <= _unrolled.UNROLLED_L_MAX
+        if not _compiled.drivers():
+            if generated:
+                _compiled.request((self.l_first, self.l_last))
+            return NUMPY
+        kernel = _drivers.angular(self.l_first, self.l_last) if generated else None
+        upper = generated and self.l_last > self.l_first
+        kernel32 = _drivers.angular(self.l_first, self.l_last, single=True) if upper else None
+        backend = Backend(
+            True,
+            kernel if kernel is not None else _drivers.generic_marker(),
+            kernel is not None,
+            kernel32 if kernel32 is not None else _drivers.generic_marker(single=True),
+            kernel32 is not None,
+        )
+        if not generated or (kernel is not None and (kernel32 is not None or not upper)):
+            self._backend = backend
+        return backend
 
     def single(self, folded: np.ndarray) -> tuple[np.ndarray, float]:
         """The streamlines' single precision coefficients from the ``folded`` ones (n_terms, K):
@@ -100,7 +122,6 @@ def expand(
     parity: Parity,
     tables: np.ndarray,
     eps: float,
-    recurrence: tuple[np.ndarray, np.ndarray, np.ndarray],
     points: np.ndarray,
     center: np.ndarray,
     coeffs: np.ndarray,
@@ -111,14 +132,13 @@ def expand(
     if points.shape[0] == 0:
         return out
     folded = parity.folded(coeffs)
-    if not _compiled.drivers():
-        parity.request_angular(coeffs.shape[1])
-        out[:] = _numpy_eval.expand(
-            points, center, eps, parity.power, parity.l_first, parity.l_last, parity.base,
-            folded, parity.beta, tables,
-        )  # fmt: skip
+    backend = parity.backend()
+    if not backend.compiled:
+        args = (points, center, eps, parity.power, parity.l_first, parity.l_last, parity.base)
+        out[:] = _numpy_eval.expand(*args, folded, parity.beta, tables)
         return out
-    angular, unrolled = parity.angular(coeffs.shape[1])
+    unrolled = backend.unrolled and coeffs.shape[1] == 3  # generated for three outputs
+    angular = backend.angular if unrolled else _drivers.generic_marker()
     work = partial(
         _expansion.expand_blocks, points, center, eps, parity.power, parity.l_first,
         parity.l_last, parity.base, folded, parity.beta, tables, angular, unrolled, out,
@@ -138,36 +158,31 @@ def stream_field(
     cutoff: tuple[float, float],
     mirrors: np.ndarray,
     origin: np.ndarray,
-) -> _stream.StreamField:
+) -> tuple[_stream.StreamField, Backend]:
     """The velocity field of the load ``coeffs`` (n_terms, 3) of ``parity`` moving from
     ``center`` by ``center_step``, faded between the ``cutoff`` radii, mirrored by ``mirrors``
-    about ``origin``. ``tables``: the parity's radial tables (the lowest degree's is used);
-    ``single_tables``: the single precision ones of the degrees above it
-    (``radial_tables.single_tables``). The backend is chosen here, once for the field: the
-    compiled code's angular kernels when the drivers are ready, else none (the NumPy
-    reference serves, and the generated kernels are requested)."""
+    about ``origin``, and the backend that integrates it. ``tables``: the parity's radial
+    tables (the lowest degree's is used); ``single_tables``: the single precision ones of the
+    degrees above it (``radial_tables.single_tables``)."""
     inner, outer = cutoff
     width = outer - inner
-    compiled = _compiled.drivers()
-    if not compiled:
-        parity.request_angular(3)
+    backend = parity.backend()
     folded = parity.folded(coeffs)
     coeffs32, cscale = parity.single(folded)
-    angular, unrolled = parity.angular(3) if compiled else (None, False)
-    angular32, unrolled32 = parity.angular_single() if compiled else (None, False)
-    return _stream.StreamField(
+    field = _stream.StreamField(
         center0=center, center_step=center_step, eps=float(eps), power=parity.power,
         l_first=parity.l_first, l_last=parity.l_last, base=parity.base, coeffs=folded,
-        beta=parity.beta, tables=tables[:1], angular=angular, unrolled=unrolled,
-        cutoff_inner=float(inner), inv_width=1.0 / width if outer > 0.0 and width > 0.0 else 0.0,
-        mirrors=mirrors, origin=origin, single=True, coeffs32=coeffs32,
-        beta32=parity.beta_single, tables32=single_tables, cscale=cscale, angular32=angular32,
-        unrolled32=unrolled32,
+        tables=tables[:1], cutoff_inner=float(inner),
+        inv_width=1.0 / width if outer > 0.0 and width > 0.0 else 0.0, mirrors=mirrors,
+        origin=origin, coeffs32=coeffs32, beta32=parity.beta_single, tables32=single_tables,
+        cscale=cscale, angular32=backend.angular32, unrolled32=backend.unrolled32,
     )  # fmt: skip
+    return field, backend
 
 
 def stream(
     field: _stream.StreamField,
+    backend: Backend,
     points: np.ndarray,
     rows: np.ndarray,
     indexed: bool,
@@ -178,11 +193,10 @@ def stream(
     out: np.ndarray,
     steps: np.ndarray,
 ) -> int:
-    """The streamlines of ``field`` (:func:`stream_field`) from ``points``; see
-    ``_stream.stream`` for the arguments and the status returned. The compiled code runs them
-    when the field was made for it, the NumPy reference otherwise."""
-    run = _numpy_eval.stream if field.angular is None else _stream.stream
-    return run(points, rows, indexed, in_place, limit, field, substeps, tolerance, True, out, steps)
+    """The streamlines of ``field`` (:func:`stream_field`) from ``points`` with ``backend``; see
+    ``_stream.stream`` for the arguments and the status returned."""
+    run = _stream.stream if backend.compiled else _numpy_eval.stream
+    return run(points, rows, indexed, in_place, limit, field, substeps, tolerance, out, steps)
 
 
 def near_segment(
@@ -197,7 +211,7 @@ def near_segment(
 ) -> None:
     """Which points some mirror image of which lies within ``radius`` of the segment (the
     vertices a brush event can reach), on the thread pool; in NumPy until compiled."""
-    if not (_drivers.ready() if compiled is None else compiled):
+    if not (_compiled.drivers() if compiled is None else compiled):
         _numpy_eval.near_segment(points, start, step, radius, mirrors, origin, out)
         return
     work = partial(near_segment_rows, points, start, step, float(radius), mirrors, origin, out)

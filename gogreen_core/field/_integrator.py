@@ -6,13 +6,10 @@ u is the expansion of ``_expansion`` with the load contracted into its coefficie
 the C² smooth cutoff (1 up to ``cutoff_inner``, a quintic smoothstep down to 0 over
 1 / inv_width), M the mirror reflections about ``origin`` (row 0 is the brush itself).
 
-Two arithmetics of u, chosen by the field's ``single`` flag (see ``_evaluation``):
-
-* evaluation 2 (``single`` false): u as ``_expansion`` evaluates it, in double precision;
-* evaluation 3 (``single``): ``_single_field``'s, the parity's lowest degree in double
-  precision and the degrees above it in single precision: the higher degrees' arithmetic twice
-  as fast, off evaluation 2 by ~1e-8 of the field, and the grabbed point at the brush centre
-  still follows the cursor to rounding.
+u is evaluated as ``_single_field`` says: the parity's lowest degree in double precision, the
+degrees above it in single precision (their arithmetic twice as fast, ~1e-8 of the field off
+double precision, and the grabbed point at the brush centre still follows the cursor to
+rounding).
 
 ``_stream.stream`` runs the passes below over blocks of points on the thread pool
 (``_parallel``):
@@ -26,15 +23,15 @@ Two arithmetics of u, chosen by the field's ``single`` flag (see ``_evaluation``
   motion m) are packed into blocks of their own and integrated again with 2, 4, ... RK4 steps
   until Richardson's estimate |x_n - x_(n/2)| / 15 is under that bound (at most
   MAX_ADAPTIVE_STEPS);
-* adaptive with ``third_order`` (evaluation 3), on ``_stream.THIRD_ORDER_POINTS`` points or
-  more: first the probes, ``_stream.probe_rows`` evenly spread over the points, each
-  integrated with one third-order step (SSPRK3, three evaluations) and with one and two RK4
-  steps. Where the third-order step's error they show (its distance to the two-step end, plus
-  that end's Richardson estimate) is within the bound above at every probe, every point takes
-  the third-order step instead of RK4's, and keeps it if its spread (the distance of its end
-  to the second-order Heun end made of the same stages) is within the probes' range: a point
-  the probes did not speak for goes to the refinement above (its first end a third-order one,
-  which only makes Richardson's estimate larger). Elsewhere the RK4 pass above runs.
+* adaptive, on ``_stream.THIRD_ORDER_POINTS`` points or more: first the probes,
+  ``_stream.probe_rows`` evenly spread over the points, each integrated with one third-order
+  step (SSPRK3, three evaluations) and with one and two RK4 steps. Where the third-order step's
+  error they show (its distance to the two-step end, plus that end's Richardson estimate) is
+  within the bound above at every probe, every point takes the third-order step instead of
+  RK4's, and keeps it if its spread (the distance of its end to the second-order Heun end made
+  of the same stages) is within the probes' range: a point the probes did not speak for goes to
+  the refinement above (its first end a third-order one, which only makes Richardson's estimate
+  larger). Elsewhere the RK4 pass above runs.
 
 Every point's result depends only on the input (blocks are fixed by the point order, never by
 the thread count), and the generic and generated angular kernels compute the same bits, so
@@ -49,7 +46,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
-from gogreen_core.field._expansion import _JIT, BLOCK, CUTOFF_END, _angular, _geometry, _radial
+from gogreen_core.field._expansion import _JIT, BLOCK, CUTOFF_END
 from gogreen_core.field._single_field import _single_velocity
 
 if TYPE_CHECKING:
@@ -57,40 +54,32 @@ if TYPE_CHECKING:
 
     #: The scratch rows of ``_scratch``.
     Scratch = tuple[
-        np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
-        np.ndarray, np.ndarray, np.ndarray, np.ndarray,
-    ]  # fmt: skip
+        np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray
+    ]
     Rows = tuple[np.ndarray, np.ndarray, np.ndarray]
 
 __all__ = ["CUTOFF_END", "MAX_ADAPTIVE_STEPS"]
 
 #: SHA-256 (first 16 hex digits) of ``_expansion.py`` and ``_single_field.py``, written by
-#: ``scripts/make_kernels.py`` (checked by ``tests/core/field/test_generated_kernels.py``). numba
-#: keys the disk cache #: of this module's compiled code on this file alone, yet compiles their
-#: functions and constants #: into it: a change there must change this file, or a stale machine code
-#: (another BLOCK, #: another arithmetic) would be loaded.
-COMPILED_SOURCES = "8267d6dd71cc623d"
+#: ``scripts/make_kernels.py``. numba keys the disk cache of this module's compiled code on this
+#: file alone, yet compiles their functions into it: a change there must change this file.
+COMPILED_SOURCES = "41bc4c164f5f8990"
 
 #: Largest number of RK4 steps the adaptive streamlines give one vertex in one event.
 MAX_ADAPTIVE_STEPS = 256
 _SIXTH = 1.0 / 6.0
 _THIRD = 1.0 / 3.0
 
-# The velocity field travels as one record (``_stream.StreamField``, a named tuple) through the
-# functions below; see ``_evaluation.stream``.
-
 
 @njit(**_JIT)
-def _scratch(n_deg: int, n_single: int) -> tuple[Scratch, Rows]:
-    """Scratch rows of ``_velocity`` (geometry, segments, radial terms, angular work, the
-    angular sum, and their float32 twins for the single precision degrees) and of ``_steps``
+def _scratch(n_single: int) -> tuple[Scratch, Rows]:
+    """Scratch rows of the velocity (``_single_field``: geometry, segments, the lowest degree's
+    radial term; float32 geometry, radial terms, angular work and sum) and of ``_steps``
     (position, stage position, velocity)."""
     scratch = (
         np.empty((8, BLOCK)),
         np.empty(BLOCK, dtype=np.int64),
-        np.empty((n_deg, BLOCK)),
-        np.empty((10, BLOCK)),
-        np.empty((3, BLOCK)),
+        np.empty((1, BLOCK)),
         np.empty((8, BLOCK), dtype=np.float32),
         np.empty((max(n_single, 1), BLOCK), dtype=np.float32),
         np.empty((10, BLOCK), dtype=np.float32),
@@ -98,64 +87,6 @@ def _scratch(n_deg: int, n_single: int) -> tuple[Scratch, Rows]:
     )
     rows = (np.empty((3, BLOCK)), np.empty((3, BLOCK)), np.empty((3, BLOCK)))
     return scratch, rows
-
-
-@njit(**_JIT)
-def _velocity(
-    pos: np.ndarray, nb: int, t: float, field: Field, scratch: Scratch, vel: np.ndarray
-) -> None:
-    """vel[:, :nb] = v(pos[:, :nb], t) (rows x, y, z)."""
-    if field.single:
-        _single_velocity(pos, nb, t, field, scratch, vel)
-        return
-    center0, center_step, eps, power = field.center0, field.center_step, field.eps, field.power
-    l_first, l_last, base, coeffs, beta = (
-        field.l_first, field.l_last, field.base, field.coeffs, field.beta
-    )  # fmt: skip
-    tables, angular, unrolled = field.tables, field.angular, field.unrolled
-    cutoff_inner, inv_width = field.cutoff_inner, field.inv_width
-    mirrors, origin = field.mirrors, field.origin
-    geo, seg, rad, work, total = scratch[:5]
-    weight = geo[7]
-    for mi in range(mirrors.shape[0]):
-        for k in range(3):
-            sgn = mirrors[mi, k]
-            o = origin[k]
-            c = center0[k] + t * center_step[k]
-            offset = geo[k]
-            for i in range(nb):
-                # the brush itself (sgn = 1) sees exactly its own positions
-                offset[i] = (pos[k, i] if sgn > 0 else o - (pos[k, i] - o)) - c
-        _geometry(eps, power, tables.shape[1], nb, geo, seg)
-        rr = geo[3]
-        reached = 0
-        for i in range(nb):
-            u = min(max((rr[i] - cutoff_inner) * inv_width, 0.0), 1.0)
-            w = 1.0 - u * u * u * (10.0 + u * (6.0 * u - 15.0))
-            weight[i] = w if u < CUTOFF_END else 0.0
-            reached += 1 if u < CUTOFF_END else 0
-        if reached == 0:  # the whole block is beyond the cutoff (a far mirror image): v += 0
-            if mi == 0:
-                for k in range(3):
-                    for i in range(nb):
-                        vel[k, i] = 0.0
-            continue
-        _radial(tables, l_first, nb, geo, seg, rad)
-        if unrolled:
-            angular(nb, geo.ctypes, rad.ctypes, coeffs.ctypes, total.ctypes)
-        else:
-            _angular(l_first, l_last, base, coeffs, beta, nb, geo, rad, work, total)
-        # a zero weight contributes exactly nothing (not ±0 · u): the skip above is then exact
-        for k in range(3):
-            sgn = mirrors[mi, k]
-            v_k = vel[k]
-            t_k = total[k]
-            if mi == 0:
-                for i in range(nb):
-                    v_k[i] = weight[i] * t_k[i] if weight[i] != 0.0 else 0.0
-            else:
-                for i in range(nb):
-                    v_k[i] = v_k[i] + (sgn * weight[i]) * t_k[i] if weight[i] != 0.0 else v_k[i]
 
 
 @njit(**_JIT)
@@ -211,7 +142,7 @@ def _steps(
                 t = 0.0 if stage == 0 else (1.0 if stage == 1 else 0.5)
             else:  # classical RK4: stage offsets 0, h/2, h/2, h and weights 1, 2, 2, 1
                 t = t0 + (0.0 if stage == 0 else (h if stage == 3 else 0.5 * h))
-            _velocity(pos if stage == 0 else stage_pos, nb, t, field, scratch, vel)
+            _single_velocity(pos if stage == 0 else stage_pos, nb, t, field, scratch, vel)
             # one loop per stage (a branch on the stage inside the loop kept it from
             # vectorizing); each makes the next stage's position
             if third_order and stage == 0:
@@ -291,7 +222,7 @@ def _probe_pass(
     bad (the first pass reports it) gets an infinite error."""
     n_probes = probes.shape[0]
     n_rows = points.shape[0]
-    scratch, rows = _scratch(field.tables.shape[0], field.tables32.shape[1])
+    scratch, rows = _scratch(field.tables32.shape[1])
     start_rows = np.empty((3, BLOCK))
     third = np.empty((3, BLOCK))
     fourth = np.empty((3, BLOCK))
@@ -352,7 +283,7 @@ def _first_pass(
     """The first pass of ``stream`` over blocks [first_block, last_block)."""
     n_points = indices.shape[0] if indexed else points.shape[0]
     n_rows = points.shape[0]
-    scratch, rows = _scratch(field.tables.shape[0], field.tables32.shape[1])
+    scratch, rows = _scratch(field.tables32.shape[1])
     start_rows = np.empty((3, BLOCK))
     end_rows = np.empty((3, BLOCK))
     mid_rows = np.empty((6, BLOCK))
@@ -431,7 +362,7 @@ def _refine_pass(
     RK4 steps until Richardson's estimate is under ``bound`` (blocks [first, last) of them);
     ``evaluations`` counts them."""
     n_refine = refine.shape[0]
-    scratch, rows = _scratch(field.tables.shape[0], field.tables32.shape[1])
+    scratch, rows = _scratch(field.tables32.shape[1])
     start_rows = np.empty((3, BLOCK))
     end_rows = np.empty((3, BLOCK))
     previous = np.empty((3, BLOCK))

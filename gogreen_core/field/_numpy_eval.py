@@ -1,13 +1,12 @@
-"""The current evaluation in NumPy: no compilation, the same bits as the compiled code.
+"""The evaluation in NumPy: no compilation, the reference the compiled code is held to.
 
 On a new machine the compiled functions of ``_expansion`` and ``_integrator`` take seconds to
 tens of seconds to compile (once; numba keeps them on disk). Until they are ready
-(``_compiled``), evaluations run here: the same IEEE operations in the same order as the numba
-code, element-wise over arrays of points, so every result is equal bit for bit (no fused
-multiply-add anywhere, the cutoff's exact zeros, per-point refinement decisions; see
-``_expansion`` and ``_integrator``, whose docstrings define the arithmetic). Several times
-slower than the compiled code, fast enough for the first strokes: a grab event on a
-40k-vertex model takes milliseconds.
+(``_compiled``), evaluations run here, element-wise over arrays of points, within 1e-12
+relative of the compiled code (the float32 sums of the streamlines' upper degrees in the
+compiled code's order: their rounding would differ by ~1e-9; the arithmetic is defined in
+``_expansion``, ``_single_field`` and ``_integrator``). Several times slower than the compiled
+code, fast enough for the first strokes: a grab event on a 40k-vertex model takes milliseconds.
 
 Points are processed in chunks of CHUNK, which bounds the temporaries; each point's result does
 not depend on the chunk it is in.
@@ -32,7 +31,7 @@ CHUNK = 4096
 
 def _geometry(offsets: np.ndarray, eps: float, power: int, n_seg: int) -> tuple[Any, ...]:
     """``_expansion._geometry`` for offsets (3, n): (x̂, ŷ, ẑ, r, loc, seg, scale0, scale1) and
-    evaluation 3's table variable σ = loc + 1 ∈ [0, 2] (as computed, not from loc)."""
+    the single precision table variable σ = loc + 1 ∈ [0, 2] (as computed, not from loc)."""
     x, y, z = offsets
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         r2 = x * x + y * y + z * z
@@ -148,7 +147,7 @@ def expand(
 
 
 def _single_field(field: StreamField, geometry: tuple[Any, ...]) -> np.ndarray:
-    """``_integrator._single_velocity``'s field before the weight (K, n): the parity's lowest
+    """``_single_field._single_velocity``'s field before the weight (K, n): the parity's lowest
     degree in float64 plus the degrees above it in float32."""
     l_first, l_last, base, coeffs = field.l_first, field.l_last, field.base, field.coeffs
     coeffs32, beta32, tables32, cscale = field.coeffs32, field.beta32, field.tables32, field.cscale
@@ -170,35 +169,20 @@ def _single_field(field: StreamField, geometry: tuple[Any, ...]) -> np.ndarray:
 
 
 def _velocity(pos: np.ndarray, t: float, field: StreamField) -> np.ndarray:
-    """``_integrator._velocity`` at positions (3, n) → (3, n)."""
-    center0, center_step, eps, power = field.center0, field.center_step, field.eps, field.power
-    l_first, l_last, base, coeffs, beta = (
-        field.l_first, field.l_last, field.base, field.coeffs, field.beta
-    )  # fmt: skip
-    tables, cutoff_inner, inv_width = field.tables, field.cutoff_inner, field.inv_width
-    mirrors, origin, single = field.mirrors, field.origin, field.single
+    """``_single_field._single_velocity`` at positions (3, n) → (3, n)."""
     vel: Any = None
-    for mi in range(mirrors.shape[0]):
-        offsets = np.empty_like(pos)
-        for k in range(3):
-            sgn, o = mirrors[mi, k], origin[k]
-            c = center0[k] + t * center_step[k]
-            offsets[k] = (pos[k] if sgn > 0 else o - (pos[k] - o)) - c
-        geometry = _geometry(offsets, eps, power, tables.shape[1])
-        u = np.minimum(np.maximum((geometry[3] - cutoff_inner) * inv_width, 0.0), 1.0)
-        reached = u < CUTOFF_END
-        weight = np.where(reached, 1.0 - u * u * u * (10.0 + u * (6.0 * u - 15.0)), 0.0)
-        if single:  # evaluation 3: the lowest degree in float64, the others in float32
-            total = _single_field(field, geometry)
-        else:
-            total = _angular(
-                l_first, l_last, base, coeffs, beta, geometry, _radial(tables, l_first, geometry)
-            )
-        nonzero = weight != 0.0
-        if mi == 0:
-            vel = np.where(nonzero, weight * total, 0.0)
-        else:
-            vel = np.where(nonzero, vel + (mirrors[mi][:, None] * weight) * total, vel)
+    for mi, signs in enumerate(field.mirrors):
+        c = field.center0 + t * field.center_step
+        image = np.where(
+            signs[:, None] > 0, pos, field.origin[:, None] - (pos - field.origin[:, None])
+        )
+        geometry = _geometry(image - c[:, None], field.eps, field.power, field.tables.shape[1])
+        u = np.clip((geometry[3] - field.cutoff_inner) * field.inv_width, 0.0, 1.0)
+        weight = np.where(u < CUTOFF_END, 1.0 - u * u * u * (10.0 + u * (6.0 * u - 15.0)), 0.0)
+        term = np.where(
+            weight != 0.0, (signs[:, None] * weight) * _single_field(field, geometry), 0.0
+        )
+        vel = term if mi == 0 else vel + term
     return cast(np.ndarray, vel)
 
 
@@ -275,11 +259,10 @@ def stream(
     field: StreamField,
     substeps: int,
     tolerance: float,
-    third_order: bool,
     out: np.ndarray,
     evaluations: np.ndarray,
 ) -> int:
-    """``_stream.stream`` (same arguments, same status codes, same bits)."""
+    """``_stream.stream`` (same arguments, same status codes)."""
     n_rows = points.shape[0]
     if indexed:
         if n_rows == 0 or (indices.size and (indices.min() < 0 or indices.max() >= n_rows)):
@@ -292,7 +275,7 @@ def stream(
     motion2, bad = 0.0, False
     with np.errstate(all="ignore"):  # overflows are reported (status 3), as compiled
         limit3 = -1.0
-        if adaptive and third_order:
+        if adaptive:
             limit3 = _probes(points, indices, indexed, field, tolerance)
         for first in range(0, n_points, CHUNK):
             rows = indices[first : first + CHUNK] if indexed else slice(first, first + CHUNK)

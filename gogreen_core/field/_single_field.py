@@ -1,18 +1,18 @@
-"""Evaluation 3's velocity field of the streamlines (``_integrator``): the parity's lowest degree
-in double precision, the degrees above it in single precision.
+"""The velocity field of the streamlines (``_integrator``): the parity's lowest degree in double
+precision, the degrees above it in single precision.
 
 The lowest degree (l = 0 for G, 1 for ∇G) carries most of the field and all of it at the brush
-centre; it is evaluated as evaluation 2 does, so the grabbed point follows the cursor to
+centre; it is evaluated in double precision, so the grabbed point follows the cursor to
 rounding. The others, a correction of a few to a few tens of percent, are summed in float32:
 float32 directions and table variables, the tables of ``radial_tables.single_table``,
 coefficients scaled by their largest magnitude (``cscale``), and the generated
 ``angular_single`` kernels or the generic ``_expansion._angular`` on float32 rows, whose float32
 arithmetic is twice as fast (8 lanes a vector instead of 4). The sum is scaled and added in
-double precision. Off evaluation 2 by ~1e-8 of the field, 1e-4 below the integrator's
+double precision. Off double precision by ~1e-8 of the field, 1e-4 below the integrator's
 tolerance.
 
-The NumPy twin (``_numpy_eval``) performs the same IEEE operations in the same order, in the
-same precisions, so the switch from one to the other changes no bit.
+The NumPy reference (``_numpy_eval``) performs the float32 operations in the same order (within
+1e-12 of the field: float32 rounding differences would be ~1e-9), so no fastmath here.
 """
 
 from __future__ import annotations
@@ -30,9 +30,8 @@ if TYPE_CHECKING:
     from gogreen_core.field._stream import StreamField as Field
 
     Scratch = tuple[
-        np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
-        np.ndarray, np.ndarray, np.ndarray, np.ndarray,
-    ]  # fmt: skip
+        np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray
+    ]
 
 __all__ = ["_single_velocity"]
 
@@ -41,8 +40,8 @@ __all__ = ["_single_velocity"]
 def _single_geometry(
     pos: np.ndarray, mi: int, nb: int, t: float, field: Field, scratch: Scratch
 ) -> int:
-    """Evaluation 3's geometry of mirror image ``mi`` of the points ``pos``: as ``_velocity``'s
-    offsets and ``_expansion._geometry`` (the same r, direction, segment, table variable and
+    """The geometry of mirror image ``mi`` of the points ``pos``: the offsets and
+    ``_expansion._geometry`` (the same r, direction, segment, table variable and
     scales, in fewer passes), the direction (in double precision only for an odd parity, whose
     lowest degree needs it) and the table variable also as float32 (geo32 rows 0-2 and 4), and
     the cutoff weight (geo row 7). Returns how many points it reaches."""
@@ -52,7 +51,7 @@ def _single_geometry(
     cutoff_inner, inv_width = field.cutoff_inner, field.inv_width
     mirrors, origin = field.mirrors, field.origin
     n_seg = tables.shape[1]
-    geo, seg, geo32 = scratch[0], scratch[1], scratch[5]
+    geo, seg, geo32 = scratch[0], scratch[1], scratch[3]
     x, y, z, rr, loc, scale0, scale1, weight = (
         geo[0], geo[1], geo[2], geo[3], geo[4], geo[5], geo[6], geo[7]
     )  # fmt: skip
@@ -157,18 +156,18 @@ def _single_radial(
 def _single_velocity(
     pos: np.ndarray, nb: int, t: float, field: Field, scratch: Scratch, vel: np.ndarray
 ) -> None:
-    """Evaluation 3's ``_velocity``: the parity's lowest degree in double precision (its table
-    alone in ``tables``), the degrees above it in single precision (float32 directions, table
-    variables, ``tables32``, coefficients ``coeffs32`` over their scale ``cscale``; the
-    generated ``angular32`` or the generic ``_angular`` on float32 rows), weighted and summed
-    over the mirror images as ``_velocity`` does."""
+    """vel[:, :nb] = v(pos[:, :nb], t) (rows x, y, z; ``_integrator``): the parity's lowest
+    degree in double precision (its table alone in ``tables``), the degrees above it in single
+    precision (float32 directions, table variables, ``tables32``, coefficients ``coeffs32`` over
+    their scale ``cscale``; the generated ``angular32`` or the generic ``_angular`` on float32
+    rows), weighted by the cutoff and summed over the mirror images."""
     l_first, l_last, base, coeffs, tables = (
         field.l_first, field.l_last, field.base, field.coeffs, field.tables
     )  # fmt: skip
     mirrors = field.mirrors
     coeffs32, beta32, tables32, cscale = field.coeffs32, field.beta32, field.tables32, field.cscale
     angular32, unrolled32 = field.angular32, field.unrolled32
-    geo, seg, rad, _, _, geo32, rad32, work32, total32 = scratch
+    geo, seg, rad, geo32, rad32, work32, total32 = scratch
     x, y, z, scale1, weight = geo[0], geo[1], geo[2], geo[6], geo[7]
     upper = l_last > l_first
     for mi in range(mirrors.shape[0]):

@@ -2,8 +2,7 @@
 and the choices between them: third-order steps or RK4's, which points to refine.
 
 :func:`stream` runs in Python around the compiled passes (the probes, the first pass, the
-refinement, the write-back); ``_numpy_eval.stream`` is its NumPy twin, with the same choices
-from the same numbers.
+refinement, the write-back); ``_numpy_eval.stream`` is its NumPy reference.
 """
 
 from __future__ import annotations
@@ -52,12 +51,12 @@ class StreamField(NamedTuple):
 
     The load moves from ``center0`` by ``center_step`` over pseudo-time [0, 1]; ``coeffs``
     (n_terms, 3) is its folded expansion of the parity ``l_first`` … ``l_last`` (rows of degree
-    l from ``base[l]``, Legendre constants ``beta``), ``tables`` the radial table of the lowest
-    degree; the degrees above it are summed in single precision when ``single`` (``coeffs32``
-    over their scale ``cscale``, ``beta32``, ``tables32``); ``angular``/``angular32`` the
-    generated angular kernels (``unrolled``/``unrolled32`` whether to call them) or the generic
-    markers; the smooth cutoff fades from ``cutoff_inner`` over 1 / ``inv_width``; ``mirrors``
-    (n_m, 3) signs of the mirror images about ``origin``.
+    l from ``base[l]``), ``tables`` the radial table of the lowest degree, evaluated in double
+    precision; the degrees above it are summed in single precision (``coeffs32`` over their
+    scale ``cscale``, Legendre constants ``beta32``, tables ``tables32``) by ``angular32``, the
+    generated kernel if ``unrolled32``, else the generic one; the smooth cutoff fades from
+    ``cutoff_inner`` over 1 / ``inv_width``; ``mirrors`` (n_m, 3) signs of the mirror images
+    about ``origin``.
     """
 
     center0: np.ndarray
@@ -68,15 +67,11 @@ class StreamField(NamedTuple):
     l_last: int
     base: np.ndarray
     coeffs: np.ndarray
-    beta: np.ndarray
     tables: np.ndarray
-    angular: Any
-    unrolled: bool
     cutoff_inner: float
     inv_width: float
     mirrors: np.ndarray
     origin: np.ndarray
-    single: bool
     coeffs32: np.ndarray
     beta32: np.ndarray
     tables32: np.ndarray
@@ -138,7 +133,6 @@ def stream(
     field: StreamField,
     substeps: int,
     tolerance: float,
-    third_order: bool,
     out: np.ndarray,
     evaluations: np.ndarray,
 ) -> int:
@@ -148,7 +142,7 @@ def stream(
     (read in place, no gathered copy), written back in place with ``write_back`` and only if
     every end position is finite. ``field``: the velocity (see ``_velocity``). ``substeps``
     fixed RK4 steps if ``tolerance <= 0``, else adaptive steps within ``tolerance`` times the
-    motion scale, third-order ones where probes show they are enough if ``third_order``.
+    motion scale, third-order ones where probes show they are enough.
     ``out`` (N, 3) gets the end positions, ``evaluations`` (N,) int64 the velocity evaluations
     each point took (not counted if it is empty). Returns 0 when done, 1 if an index is out of
     range, 2 if an indexed start position is not finite or beyond ``limit`` (nothing
@@ -160,7 +154,7 @@ def stream(
     n_blocks = (n_points + BLOCK - 1) // BLOCK
     adaptive = tolerance > 0.0
     limit3 = -1.0
-    if adaptive and third_order:
+    if adaptive:
         probes = probe_rows(n_points)
         found = (np.empty(len(probes)), np.empty(len(probes)), np.empty(len(probes)))
         probe_pass = partial(_probe_pass, points, indices, indexed, limit, field, probes, *found)

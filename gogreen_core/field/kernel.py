@@ -40,7 +40,6 @@ from gogreen_core.physics.quadrature import (
 )
 from gogreen_core.physics.radial import TABLE_DEGREE, GaussianRadial, RadialProfile
 from gogreen_core.physics.radial_tables import single_tables
-from gogreen_core.physics.sph import legendre_recurrence
 from gogreen_core.validation import ParameterError, check_number
 
 __all__ = [
@@ -183,12 +182,6 @@ class GreenKernel:
         self._weights = weights
         self._sums = material_sums(material, l_max)
         self._even, self._odd = pack_terms(self._sums, l_max, weights)
-        rec = legendre_recurrence(l_max + 1)
-        self._recurrence = (
-            np.ascontiguousarray(rec.qmm),
-            np.ascontiguousarray(rec.a),
-            np.ascontiguousarray(rec.b),
-        )
         self._set_radial(radial)
 
     # -- precompute --------------------------------------------------------------------------
@@ -265,10 +258,7 @@ class GreenKernel:
         center: np.ndarray,
         coeffs: np.ndarray,
     ) -> np.ndarray:
-        return _evaluation.expand(
-            parity, tables, self._radial.eps, self._recurrence, points,
-            center, coeffs,
-        )  # fmt: skip
+        return _evaluation.expand(parity, tables, self._radial.eps, points, center, coeffs)
 
     def green(self, offsets: np.ndarray) -> np.ndarray:
         """G(x) at offsets x (N, 3) → (N, 3, 3), symmetric (units: 1/(stiffness·length)).
@@ -476,12 +466,12 @@ class GreenKernel:
         evaluations = np.empty(n if count else 0, dtype=np.int64)
         if n == 0:
             return result, evaluations
-        field = _evaluation.stream_field(
+        field, backend = _evaluation.stream_field(
             parity, tables, single, self._radial.eps, coeffs, c, step, (inner, outer), signs, o
         )
         status = _evaluation.stream(
-            field, pts, rows, indices is not None, in_place, COORDINATE_LIMIT, int(substeps),
-            tol, result, evaluations,
+            field, backend, pts, rows, indices is not None, in_place, COORDINATE_LIMIT,
+            int(substeps), tol, result, evaluations,
         )  # fmt: skip
         if status == 1:
             raise ParameterError("indices", f"indices must be rows 0 to {len(pts) - 1}")

@@ -21,7 +21,8 @@ and are the plain pass's bit for bit:
   skipped and every vertex of a block taken whole passes it;
 * the per-point test is the plain pass's own compiled function
   (``_influence_compiled.near_segment_rows``, which ``_evaluation.near_segment`` runs over every
-  row) or, before the compiled code is ready, ``_numpy_eval.near_segment`` itself;
+  row); before the compiled code is ready the plain pass in NumPy answers every query (the
+  blocks only mark their writes meanwhile);
 * inputs where that margin argument does not hold (a radius or coordinates near the float
   range's ends, a step whose squared length overflows or underflows, signs other than ±1, more
   than 8 images) and queries where most rows would need the test go to the plain pass, and so
@@ -44,9 +45,9 @@ from functools import partial
 import numpy as np
 from numpy.typing import NDArray
 
+from gogreen_core import _compiled
 from gogreen_core._parallel import run_ranges
-from gogreen_core.field import _drivers, _evaluation
-from gogreen_core.field import _influence_numpy as numpy_twin
+from gogreen_core.field import _evaluation
 from gogreen_core.field._influence_compiled import (
     BLOCK,
     BLOCK_SHIFT,
@@ -85,12 +86,6 @@ Query = tuple[
 ]
 
 
-def _compiled_ready() -> bool:
-    """Whether the compiled drivers (these functions among them) are ready; else they are
-    requested and NumPy serves."""
-    return _drivers.ready()
-
-
 def plain_rows_near(
     points: NDArray[np.float64],
     start: NDArray[np.float64],
@@ -101,8 +96,8 @@ def plain_rows_near(
     compiled: bool,
 ) -> NDArray[np.int64]:
     """The rows (n,) int64 of ``points`` (N, 3) the influence test keeps, by a pass over all of
-    them: ``_evaluation.near_segment`` (compiled, or its NumPy twin when ``compiled`` is
-    False), then ``np.flatnonzero``."""
+    them: ``_evaluation.near_segment`` (compiled, or NumPy's when ``compiled`` is False), then
+    ``np.flatnonzero``."""
     out = np.empty(len(points), dtype=np.bool_)
     _evaluation.near_segment(points, start, step, radius, mirrors, origin, out, compiled)
     return np.flatnonzero(out)
@@ -148,7 +143,7 @@ class VertexBlocks:
     def changed(self, vertices: NDArray[np.float64], rows: NDArray[np.integer] | None) -> None:
         """Rows ``rows`` (k,) of ``vertices`` (N, 3) were written (None: any row may have been):
         their boxes are refitted before the next answer. Nothing to do for another array."""
-        compiled = _compiled_ready()
+        compiled = _compiled.drivers()
         with self._lock:
             if not self._serves(vertices) or self._dormant:
                 return
@@ -161,8 +156,9 @@ class VertexBlocks:
             rows = np.ascontiguousarray(rows, dtype=np.int64).ravel()
             if compiled:
                 _mark(rows, self._n, self._dirty)
-            else:
-                numpy_twin.mark(rows, self._n, self._dirty)
+            else:  # as ``_mark``: negative rows count from the end, others out of range none
+                rows = rows[(rows >= -self._n) & (rows < self._n)] % max(self._n, 1)
+                self._dirty[rows >> BLOCK_SHIFT] = True
 
     def rows_near(
         self,
@@ -184,18 +180,17 @@ class VertexBlocks:
             np.ascontiguousarray(mirrors, dtype=np.float64),
             np.ascontiguousarray(origin, dtype=np.float64),
         )
-        compiled = _compiled_ready()
+        compiled = _compiled.drivers()
         with self._lock:
             rows = None
             if not self._serves(vertices):
                 self._index(vertices)
-            if _usable(*query[:4]) and not self._dormant:
-                self._refit(vertices, compiled)
+            if compiled and _usable(*query[:4]) and not self._dormant:
+                self._refit(vertices)
                 if self._dormant is None:
                     self._dormant = not VERIFY and self._without_locality()
                 if not self._dormant:
-                    by = self._by_compiled if compiled else self._by_numpy
-                    rows = by(vertices, query)
+                    rows = self._by_blocks(vertices, query)
             self.answers["plain" if rows is None else "blocks"] += 1
             # (other threads may see the GUI thread's writes mid-way: the main thread checks)
             main = threading.current_thread() is threading.main_thread()
@@ -203,16 +198,12 @@ class VertexBlocks:
                 _verify(rows, plain_rows_near(vertices, *query, compiled))
         return plain_rows_near(vertices, *query, compiled) if rows is None else rows
 
-    def _refit(self, vertices: NDArray[np.float64], compiled: bool) -> None:
+    def _refit(self, vertices: NDArray[np.float64]) -> None:
         """Fit the boxes of the blocks written since they were fitted."""
         dirty = np.flatnonzero(self._dirty)
-        if not len(dirty):
-            return
-        if compiled:
+        if len(dirty):
             run_ranges(partial(_refit, vertices, dirty, self._lo, self._hi), len(dirty), MIN_BLOCKS)
-        else:
-            numpy_twin.refit(vertices, dirty, self._lo, self._hi)
-        self._dirty[dirty] = False
+            self._dirty[dirty] = False
 
     def _without_locality(self) -> bool:
         """Whether the median block spans more than :data:`DORMANT_EXTENT` of the diagonal of
@@ -225,8 +216,8 @@ class VertexBlocks:
         diagonal = float(np.linalg.norm(hi.max(axis=0) - lo.min(axis=0)))
         return bool(np.median((hi - lo).max(axis=1)) > DORMANT_EXTENT * diagonal)
 
-    def _by_compiled(self, vertices: NDArray[np.float64], query: Query) -> NDArray[np.int64] | None:
-        """The answer by the blocks with the compiled loops, or None for the plain pass."""
+    def _by_blocks(self, vertices: NDArray[np.float64], query: Query) -> NDArray[np.int64] | None:
+        """The answer by the blocks (compiled loops), or None for the plain pass."""
         n, n_blocks = len(vertices), len(self._lo)
         status = np.empty(n_blocks, dtype=np.uint8)
         images = np.empty(n_blocks, dtype=np.uint8)
@@ -243,19 +234,6 @@ class VertexBlocks:
         out = np.empty(int(ends[-1]) if n_hits else 0, dtype=np.int64)
         run_ranges(partial(_emit, n, hits, status, near, ends - counts, out), n_hits, MIN_BLOCKS)
         return out
-
-    def _by_numpy(self, vertices: NDArray[np.float64], query: Query) -> NDArray[np.int64] | None:
-        """The answer by the blocks in NumPy, or None for the plain pass."""
-        classified = numpy_twin.classify(self._lo, self._hi, *query)
-        if classified is None:
-            return None
-        blocks = np.flatnonzero(classified[0])
-        inside = classified[1][blocks]
-        tested = blocks[~inside] << BLOCK_SHIFT
-        n = len(vertices)
-        if np.minimum(tested + BLOCK, n).sum() - tested.sum() > PLAIN_FRACTION * n:
-            return None
-        return numpy_twin.rows_near(vertices, *query, blocks, inside)
 
 
 def _verify(rows: NDArray[np.int64], plain: NDArray[np.int64]) -> None:

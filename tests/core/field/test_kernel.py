@@ -182,10 +182,35 @@ def test_loads_agree_with_green_and_gradient(l_max):
     # Vector and affine loads run the angular kernel generated for their degree (up to degree
     # 13) or the generic one; G and ∇G (9 and 27 outputs) always run the generic one.
     kernel = GreenKernel(MATERIALS["general21"], l_max=l_max, radial=GaussianRadial(EPS))
-    with forced("unrolled"):  # the compiled code (the NumPy evaluation gives the same bits)
-        assert kernel._even.angular(3)[1] == (l_max <= 13)
-        assert kernel._odd.angular(3)[1] == (l_max <= 13)
+    with forced("unrolled"):  # the compiled code (NumPy's is within 1e-12 of it)
+        assert kernel._even.backend().unrolled == (l_max <= 13)
+        assert kernel._odd.backend().unrolled == (l_max <= 13)
         _check_loads_against_green(kernel)
+
+
+def test_the_backend_is_chosen_once_it_is_final(monkeypatch):
+    """NumPy while the compiled code is not ready; once it is (drivers and generated kernels),
+    each parity keeps its backend and no call asks the compile driver again."""
+    from gogreen_core import _compiled
+
+    kernel = GreenKernel(MATERIALS["cubic"], l_max=6, radial=GaussianRadial(EPS))
+    x = sample_offsets(50, seed=3)
+    with forced("numpy"):
+        assert not kernel._even.backend().compiled
+        assert kernel._even._backend is None  # not final: asked again at the next call
+    with forced("unrolled"):
+        kernel.displacement(x, np.zeros(3), np.ones(3))  # compiled and loaded
+    first = kernel._even.backend()
+    assert first.compiled and first.unrolled and first.unrolled32
+    assert kernel._even._backend is first
+
+    def asked(*args):
+        raise AssertionError("the backend was chosen again")
+
+    monkeypatch.setattr(_compiled, "drivers", asked)
+    kernel.displacement(x, np.zeros(3), np.ones(3))
+    kernel.streamlines(x, np.zeros(3), np.ones(3), cutoff=(0.5, 1.0))
+    assert kernel._even.backend() is first
 
 
 def _check_loads_against_green(kernel):

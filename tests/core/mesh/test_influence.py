@@ -1,7 +1,8 @@
 """The influence test answered with the boxes of vertex blocks (``gogreen_core.mesh.influence``)
 gives the rows of the plain pass over every vertex (``_evaluation.near_segment`` +
 ``np.flatnonzero``) exactly, for every query and after every kind of vertex write, with the NumPy
-and the compiled code. (The conftest also checks every ``rows_near`` answer of every test against
+with the compiled code (NumPy, until it is ready, answers by the plain pass and marks the
+writes). (The conftest also checks every ``rows_near`` answer of every test against
 the plain pass.)
 """
 
@@ -13,14 +14,14 @@ import numpy as np
 import pytest
 
 from gogreen_core import Brush, BrushEvent, Sculptor, _compiled
-from gogreen_core.field import _evaluation, _influence_compiled, _influence_numpy
+from gogreen_core.field import _evaluation, _influence_compiled
 from gogreen_core.mesh import influence
 from gogreen_core.mesh.mesh_state import MeshState
 from gogreen_core.mesh.shapes import icosphere
 from gogreen_core.sculpt.brushes import mirror_signs
 from gogreen_core.sculpt.sculptor import capture_state, restore_state
 
-CODES = ("numpy", "unrolled")
+CODES = ("unrolled",)
 SYMMETRIES = ("", "x", "xz", "xyz")
 
 
@@ -84,17 +85,17 @@ def assert_rows_right(mesh, rng, queries=12, around=None):
     assert mesh._blocks.answers["blocks"] > used  # the blocks answered, not only the plain pass
 
 
-def classified(mesh, start, step, radius, signs, code):
-    """(blocks a capsule may reach, blocks taken whole) (n_blocks,) by the box tests of
-    ``code``, on the boxes of ``mesh``'s last query."""
+def classified(mesh, start, step, radius, signs, python=False):
+    """(blocks a capsule may reach, blocks taken whole) (n_blocks,) by the box tests (their
+    Python source if ``python``: it reads a patched SLACK), on the boxes of ``mesh``'s last
+    query."""
     blocks = mesh._blocks
     query = (start, step, radius, signs, mesh.origin)
-    if code == "numpy":
-        return _influence_numpy.classify(blocks._lo, blocks._hi, *query)
     n_blocks = len(blocks._lo)
     status, images = np.empty(n_blocks, np.uint8), np.empty(n_blocks, np.uint8)
     hits = np.empty(n_blocks, np.int64)
-    _influence_compiled._classify(
+    classify = _influence_compiled._classify
+    (classify.py_func if python else classify)(
         blocks._lo, blocks._hi, len(mesh.vertices), *query, status, images, hits
     )
     return status != _influence_compiled.OUT, status == _influence_compiled.INSIDE
@@ -148,14 +149,15 @@ def test_points_at_rounding_distance_from_the_capsule(code):
         assert mesh._blocks.answers == {"blocks": 8, "plain": 0}
     # the blocks of the patches: 8 inside, then 8 outside
     patches = np.arange(len(shells) * 4096 // 64, len(points) // 64)
-    reached, whole = classified(mesh, start, zero, radius, signs, code)
+    reached, whole = classified(mesh, start, zero, radius, signs)
     assert whole[patches[:8]].all()
     assert not reached[patches[8:]].any()
 
 
 def test_the_margin_is_what_keeps_the_rows_exact(monkeypatch):
-    """Without its margin, the NumPy box test takes whole a block of points within rounding of
-    the capsule's surface, some of which fail the per-point test: the tests above can fail."""
+    """Without its margin, the box test skips (or takes whole) a block of points within
+    rounding of the capsule's surface, some of which pass (fail) the per-point test: the tests
+    above can fail."""
     start, radius = np.array([1.0e4, 1.0e4, 1.0e4]), 1.0
     direction = np.array([1.0, 2.0, 2.0]) / 3.0
     ulp = np.spacing(1.0e4)
@@ -164,12 +166,35 @@ def test_the_margin_is_what_keeps_the_rows_exact(monkeypatch):
     signs, zero = mirror_signs(""), np.zeros(3)
     expected = plain(mesh, start, zero, radius, signs)
     assert 0 < len(expected) < 64
-    with _compiled.forced("numpy"):
+    with _compiled.forced("unrolled"):
         np.testing.assert_array_equal(mesh.rows_near(start, zero, radius, signs), expected)
         assert mesh._blocks.answers == {"blocks": 1, "plain": 0}
-        monkeypatch.setattr(_influence_numpy, "SLACK", -1e-14)  # a margin of -1e-10 here
-        monkeypatch.setattr(influence, "VERIFY", False)
-        assert not np.array_equal(mesh.rows_near(start, zero, radius, signs), expected)
+    reached, whole = classified(mesh, start, zero, radius, signs, python=True)
+    assert reached[0] and not whole[0]  # tested point by point
+    monkeypatch.setattr(_influence_compiled, "SLACK", -1e-14)  # a margin of -1e-10 here
+    reached, whole = classified(mesh, start, zero, radius, signs, python=True)
+    assert not reached[0] or whole[0]
+
+
+def test_writes_while_numpy_serves_are_marked_for_the_compiled_blocks():
+    """Before the compiled code is ready the plain pass answers and writes only mark their
+    blocks (negative rows from the end); the compiled blocks then answer right."""
+    rng = np.random.default_rng(13)
+    mesh = MeshState(*bumpy_sphere(4))
+    n = len(mesh.vertices)
+    with _compiled.forced("unrolled"):
+        assert_rows_right(mesh, rng, queries=3)
+    by_blocks = mesh._blocks.answers["blocks"]
+    with _compiled.forced("numpy"):
+        for rows in (np.arange(5), np.arange(-40, -10)):
+            mesh.vertices[rows] = mesh.vertices[rng.integers(n)] + 0.01  # in place, reported
+            mesh.moved(rows)
+            center, step, radius, signs = random_query(rng, mesh)
+            got = mesh.rows_near(center, step, radius, signs)
+            np.testing.assert_array_equal(got, plain(mesh, center, step, radius, signs))
+        assert mesh._blocks.answers["blocks"] == by_blocks and mesh._blocks._dirty.sum() >= 2
+    with _compiled.forced("unrolled"):
+        assert_rows_right(mesh, rng, queries=8, around=np.arange(5))
 
 
 @pytest.mark.filterwarnings("ignore:overflow encountered:RuntimeWarning")  # |step|² = inf
