@@ -7,15 +7,15 @@ with x = points[n] - center, r = |x|, t = r/(r+ε), T_l the piecewise polynomial
 (``coeffs`` arrive with the Legendre scales folded in). One set of compiled functions serves
 every use (G, ∇G, vector and affine loads): they differ only in ``coeffs`` (n_terms, K).
 
-One arithmetic, three implementations: the generic ``_angular`` here (loops over (l, m) on
-rows of a block; compiled with the drivers), the straight-line kernels ``_unrolled`` generates
-per truncation degree (everything in registers, 2-3x faster) and the NumPy evaluation of
-``_numpy_eval`` (no compilation at all: it serves on a new machine until the compiled code is
-ready). All three perform the same IEEE operations in the same order, with no fused
-multiply-add and no other contraction (no ``fastmath``: NumPy has none), so their results are
-equal bit for bit and the switch from one to another changes nothing
-(``tests/core/field/test_numpy_until_compiled.py`` checks it). The order of every operation below is
-part of that contract: change it in all three or in none.
+Two compiled implementations of one arithmetic: the generic ``_angular`` here (loops over
+(l, m) on rows of a block; compiled with the drivers) and the straight-line kernels
+``_unrolled`` generates per truncation degree (everything in registers, 2-3x faster). They
+perform the same IEEE operations in the same order, with no fused multiply-add and no other
+contraction (no ``fastmath``: LLVM would contract the two code shapes differently), so a replay
+gives the same bits whichever of them was compiled when the stroke was made. The NumPy
+evaluation of ``_numpy_eval`` (no compilation at all: it serves on a new machine until the
+compiled code is ready) is held to them within 1e-12 relative
+(``tests/core/field/test_numpy_until_compiled.py``).
 
 The functions here are serial and release the GIL; ``_parallel`` runs them over ranges of
 blocks on a thread pool. Serial numba functions compile in a fraction of the time of

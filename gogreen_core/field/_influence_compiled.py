@@ -43,11 +43,9 @@ def near_segment_rows(
     last: int,
 ) -> None:
     """out[n] for n in [first, last): some mirror image of points[n] is within ``radius`` of the
-    segment start → start + step. (The arithmetic of evaluation 1, contractions included, per
-    point: which vertices an event reaches must not change for old sessions. The loop over the
-    points is the inner one, so that it vectorizes.) The one per-point influence test: over
-    every row (``_evaluation.near_segment``) and over the rows of the blocks a capsule meets
-    (``_test_blocks``), so both give the same rows bit for bit."""
+    segment start → start + step (the loop over the points inner, so that it vectorizes). The
+    one per-point influence test: over every row (``_evaluation.near_segment``) and over the
+    rows of the blocks a capsule meets (``_test_blocks``), so both give the same rows."""
     length2 = step[0] * step[0] + step[1] * step[1] + step[2] * step[2]
     inv = 1.0 / length2 if length2 > 0.0 else 0.0
     r2 = radius * radius

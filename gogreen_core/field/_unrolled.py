@@ -6,8 +6,8 @@ one point (paper Eq. 10 or 12 up to a given degree) is written out as straight-l
 every intermediate stays in a register and LLVM vectorizes the one loop left, over points.
 
 Both compute the same thing with the same IEEE operations in the same order (nothing
-contracted into fused multiply-adds), as does the NumPy evaluation of ``_numpy_eval``, so they
-agree bit for bit and any of them may serve a call (see ``_expansion``).
+contracted into fused multiply-adds), so they agree bit for bit and either may serve a call
+(see ``_expansion``).
 
 The sources are generated at build time: ``scripts/make_kernels.py`` writes one module per
 (parity, highest degree) with the recurrence constants as literals into the package

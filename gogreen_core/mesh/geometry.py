@@ -26,7 +26,8 @@ from gogreen_core.threads import threads_at_most
 
 __all__ = ["FaceAdjacency", "SurfaceIndex", "mesh_volume", "vertex_normals"]
 
-# No fastmath (normals round as numpy.cross does, sums in face order); nogil: a background build.
+# No fastmath: an incremental update gives the bits of a new build (sums in face order); nogil: a
+# background build.
 _JIT: NogilJitOptions = {"cache": True, "boundscheck": False, "nogil": True}
 
 
@@ -589,7 +590,7 @@ def _exercise() -> None:
 
 
 #: This module's compiled functions once numba has them (compiled in the background, see
-#: ``gogreen_core._compiled``), else their NumPy twins (``_geometry_numpy``: the same results),
+#: ``gogreen_core._compiled``), else their NumPy twins (``_geometry_numpy``: within 1e-12),
 #: so that a new machine need not wait for the compiler to pick and shade.
 _COMPILED = _compiled.CompiledModule(_compiled.GEOMETRY, __name__, _geometry_numpy, _exercise)
 _kernels = _COMPILED.kernels

@@ -1,6 +1,7 @@
 """geometry.py's NumPy twins (``_geometry_numpy``) against its compiled functions: the same
-index, normals, boxes and picks, bit for bit, so that the window picks and shades at once on a
-new machine and hands over to the compiled code without a visible change."""
+index, the same faces picked, normals, boxes and hit points within 1e-12 relative, so that the
+window picks and shades at once on a new machine and hands over to the compiled code without a
+visible change."""
 
 from __future__ import annotations
 
@@ -50,7 +51,7 @@ def lifecycle(vertices, faces):
 
 
 @pytest.mark.parametrize("name", ["sphere", "model", "loose"])
-def test_numpy_twins_build_update_and_pick_the_same_bits(name):
+def test_numpy_twins_build_update_and_pick_alike(name):
     vertices, faces = meshes()[name]
     runs = {}
     for code in ("numpy", "unrolled"):
@@ -58,7 +59,13 @@ def test_numpy_twins_build_update_and_pick_the_same_bits(name):
             runs[code] = lifecycle(vertices, faces)
     assert len(runs["numpy"]) == len(runs["unrolled"])
     for a, b in zip(runs["numpy"], runs["unrolled"], strict=True):
-        assert a.dtype == b.dtype and np.array_equal(a, b)
+        assert a.dtype == b.dtype and a.shape == b.shape
+        if a.dtype.kind == "f":  # float32 face normals: within their own rounding
+            size = max(float(np.abs(a).max(initial=0.0)), 1.0)
+            relative = 1e-6 if a.dtype == np.float32 else 1e-12
+            assert np.abs(a - b).max(initial=0.0) <= relative * size
+        else:
+            assert np.array_equal(a, b)
 
 
 def test_an_index_built_in_numpy_serves_the_compiled_code():
@@ -71,4 +78,4 @@ def test_an_index_built_in_numpy_serves_the_compiled_code():
     with forced("unrolled"):
         index.update(moved, np.arange(500))
         reference.update(moved, np.arange(500))
-    assert np.array_equal(index.normals, reference.normals)
+    assert np.abs(index.normals - reference.normals).max() <= 1e-12
