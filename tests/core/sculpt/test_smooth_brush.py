@@ -147,7 +147,7 @@ def test_shift_drag_smooths_with_the_current_brush_radius(noisy_sphere):
 @pytest.mark.parametrize("symmetry", ["", "xz"])
 def test_paint_strokes_are_the_same_before_the_loops_are_compiled(noisy_sphere, symmetry):
     """Until numba has the paint loops (compiled in the background on a new machine) their
-    NumPy twins run: the same smooth and mask strokes, bit for bit, open rims included."""
+    NumPy twins run: the same smooth and mask strokes within 1e-12, open rims included."""
     from gogreen_core._compiled import forced
 
     vertices, faces = noisy_sphere
@@ -165,6 +165,7 @@ def test_paint_strokes_are_the_same_before_the_loops_are_compiled(noisy_sphere, 
             sculptor.apply_brush(brush, events)
             sculptor.apply_brush(Brush("smooth", radius=0.2, influence=np.inf), events[:1])
             results.append((sculptor.vertices.copy(), sculptor.mask.values.copy()))
-    assert np.array_equal(results[0][0], results[1][0])
-    assert np.array_equal(results[0][1], results[1][1])
-    assert np.any(results[0][0] != vertices)
+    motion = float(np.abs(results[0][0] - vertices).max())
+    assert motion > 0.0
+    assert np.abs(results[0][0] - results[1][0]).max() <= 1e-12 * motion
+    assert np.abs(results[0][1] - results[1][1]).max() <= 1e-12
