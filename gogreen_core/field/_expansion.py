@@ -61,7 +61,7 @@ _JIT: NogilJitOptions = {"cache": True, "boundscheck": False, "error_model": "nu
 #: are compiled (and cached on disk) once, whatever the degree.
 _F8P = types.CPointer(types.float64)
 ANGULAR_SIGNATURE = types.void(types.int64, _F8P, _F8P, _F8P, _F8P)
-#: The same for the single precision kernels of evaluation 3's streamlines (float32 rows).
+#: The same for the single precision kernels of the streamlines (float32 rows).
 _F4P = types.CPointer(types.float32)
 ANGULAR_SINGLE_SIGNATURE = types.void(types.int64, _F4P, _F4P, _F4P, _F4P)
 

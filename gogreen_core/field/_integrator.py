@@ -63,7 +63,7 @@ __all__ = ["CUTOFF_END", "MAX_ADAPTIVE_STEPS"]
 #: SHA-256 (first 16 hex digits) of ``_expansion.py`` and ``_single_field.py``, written by
 #: ``scripts/make_kernels.py``. numba keys the disk cache of this module's compiled code on this
 #: file alone, yet compiles their functions into it: a change there must change this file.
-COMPILED_SOURCES = "2327c06609aecb4c"
+COMPILED_SOURCES = "6559c9e5fe23270d"
 
 #: Largest number of RK4 steps the adaptive streamlines give one vertex in one event.
 MAX_ADAPTIVE_STEPS = 256

@@ -98,7 +98,7 @@ def angular_source(l_first: int, l_last: int, single: bool = False) -> str:
     The operations of ``_expansion._angular`` (see there), unrolled; every name is assigned
     once (numba's SSA pass is slow on reassigned names).
 
-    ``single``: the kernel ``angular_single`` of evaluation 3's streamlines, in single
+    ``single``: the kernel ``angular_single`` of the streamlines, in single
     precision (float32 rows, coefficients and recurrence constants) and without the terms of
     degree l_first (the velocity adds them in double precision): degrees l_first + 2 … l_last,
     rows of ``rad`` from 0, coefficient rows as in the whole parity's table.
@@ -254,7 +254,7 @@ def _callback(module: ModuleType, single: bool) -> tuple[Any, Any]:
 
 def unrolled_angular(l_first: int, l_last: int, single: bool = False) -> CFunc[Any]:
     """The compiled angular kernel (a numba cfunc) for one parity and highest degree, in double
-    precision or (``single``) evaluation 3's single precision one.
+    precision or (``single``) the streamlines' single precision one.
 
     Compiles it on first use, or loads it from numba's disk cache (seconds the first time on
     a machine, then milliseconds); thread safe. ``_compiled`` calls it off the evaluating

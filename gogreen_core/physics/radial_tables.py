@@ -79,7 +79,7 @@ def radial_table(profile: RadialProfile, kind: str, l: int) -> np.ndarray:
 
 
 def single_table(table: np.ndarray) -> np.ndarray:
-    """The single precision table of evaluation 3's streamlines from a :func:`radial_table`
+    """The single precision table of the streamlines from a :func:`radial_table`
     (S, TABLE_DEGREE + 1) of a degree l ≥ 1: on each segment the polynomial of degree
     :data:`SINGLE_DEGREE` in σ = s + 1 ∈ [0, 2] interpolating it at Chebyshev nodes,
     c₀ + (c₁ + c₂ σ) σ, as float32 (S, 3). On the first segment it interpolates at σ = 0 the
@@ -89,7 +89,7 @@ def single_table(table: np.ndarray) -> np.ndarray:
 
     Off the double precision table by ~1e-8 of its largest value (1e-7 at degree 13), below
     the single precision rounding of the terms it serves: the degrees above a parity's lowest,
-    which evaluation 3 sums in float32.
+    which the streamlines sum in float32.
     """
     nodes, _ = _chebyshev_to_monomial(SINGLE_DEGREE)
     values = table @ (nodes[:, None] ** np.arange(table.shape[1])).T  # each segment at the nodes
@@ -125,8 +125,8 @@ def cached_single_table(
 
 
 def single_tables(profile: RadialProfile, kind: str, degrees: Iterable[int]) -> np.ndarray:
-    """Evaluation 3's tables of ``profile`` for ``degrees``, segment by segment: (S, n_degrees,
-    SINGLE_DEGREE + 1) float32 (:func:`single_table`, cached)."""
+    """The streamlines' single precision tables of ``profile`` for ``degrees``, segment by
+    segment: (S, n_degrees, SINGLE_DEGREE + 1) float32 (:func:`single_table`, cached)."""
     key = profile.table_key()
     tables = [cached_single_table(key, kind, int(l), profile) for l in degrees]
     if not tables:
