@@ -23,7 +23,7 @@ from gogreen_core.field._expansion import _HUGE, _TINY
 from gogreen_core.field._integrator import _SIXTH, _THIRD, CUTOFF_END, MAX_ADAPTIVE_STEPS
 from gogreen_core.field._stream import StreamField, probe_rows, refinement_bound, third_order_limit
 
-__all__ = ["expand", "near_segment", "stream"]
+__all__ = ["expand", "near_segment", "segment_distance2", "stream"]
 
 #: Points evaluated at once (a few MB of temporaries).
 CHUNK = 4096
@@ -328,6 +328,19 @@ def stream(
     return 0
 
 
+def segment_distance2(
+    points: np.ndarray, start: np.ndarray, step: np.ndarray, mirrors: np.ndarray, origin: np.ndarray
+) -> np.ndarray:
+    """(N,) the squared distance of the nearest mirror image of each of ``points`` (N, 3)
+    (``mirrors`` (m, 3) signs about ``origin``) to the segment ``start`` → ``start + step``, in
+    the operations of the compiled loops (``_expansion.near_segment``, the paint brushes')."""
+    length2 = step[0] * step[0] + step[1] * step[1] + step[2] * step[2]
+    y = origin + mirrors[:, None] * (points - origin) - start  # (m, N, 3) images
+    along = y[..., 0] * step[0] + y[..., 1] * step[1] + y[..., 2] * step[2]
+    t = np.clip(along * (1.0 / length2 if length2 > 0.0 else 0.0), 0.0, 1.0)
+    return cast(np.ndarray, np.square(y - t[..., None] * step).sum(axis=2).min(axis=0))
+
+
 def near_segment(
     points: np.ndarray,
     start: np.ndarray,
@@ -337,14 +350,7 @@ def near_segment(
     origin: np.ndarray,
     out: np.ndarray,
 ) -> None:
-    """``_expansion.near_segment`` (without its contractions: the vertices at rounding distance
-    from the ball's surface may differ, which changes nothing, see ``_integrator``)."""
-    length2 = step[0] * step[0] + step[1] * step[1] + step[2] * step[2]
-    inv = 1.0 / length2 if length2 > 0.0 else 0.0
-    hit = np.zeros(points.shape[0], dtype=bool)
-    for signs in mirrors:
-        y = [origin[k] + signs[k] * (points[:, k] - origin[k]) - start[k] for k in range(3)]
-        t = np.clip((y[0] * step[0] + y[1] * step[1] + y[2] * step[2]) * inv, 0.0, 1.0)
-        d = [y[k] - t * step[k] for k in range(3)]
-        hit |= d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < radius * radius
-    out[:] = hit
+    """``_influence_compiled.near_segment_rows`` over every point (without its contractions:
+    the vertices at rounding distance from the ball's surface may differ, which changes
+    nothing, see ``_integrator``)."""
+    out[:] = segment_distance2(points, start, step, mirrors, origin) < radius * radius

@@ -27,7 +27,6 @@ Profiles:
 from __future__ import annotations
 
 import hashlib
-import json
 from abc import ABC, abstractmethod
 from collections.abc import Iterable, Sequence
 from typing import Any, cast
@@ -82,14 +81,6 @@ def _check_degree(kind: str, l: int) -> int:
     if l < 0:
         raise ValueError(f"degree l must be >= 0 (got {l})")
     return l
-
-
-def far_field_constant(kind: str, l: int) -> float:
-    """lim r^p R(r) for the singular (unregularized) Green's function, ε = 1:
-    ∫₀^∞ j_l(x) dx for "R" and ∫₀^∞ j_l(x) x dx for "dR"."""
-    if kind == "R":
-        return float(np.sqrt(np.pi) / 2 * special.gamma((l + 1) / 2) / special.gamma(l / 2 + 1))
-    return float(np.sqrt(np.pi) * special.gamma(l / 2 + 1) / special.gamma((l + 1) / 2))
 
 
 class RadialProfile(ABC):
@@ -479,18 +470,6 @@ class SplineRadial(RadialProfile):
         if self._interpolation != "cubic":  # absent: the cubic of files written before
             data["interpolation"] = self._interpolation
         return data
-
-    def to_json(self) -> str:
-        """JSON text of :meth:`to_dict`."""
-        return json.dumps(self.to_dict())
-
-    @classmethod
-    def from_json(cls, text: str) -> SplineRadial:
-        """Inverse of :meth:`to_json`."""
-        profile = radial_from_dict(json.loads(text))
-        if not isinstance(profile, SplineRadial):
-            raise ValueError("JSON does not describe a spline falloff")
-        return profile
 
 
 class MultiscaleRadial(RadialProfile):

@@ -1,13 +1,14 @@
-"""The NumPy twins of :mod:`~gogreen_core.sculpt.brushes.paint_kernels`, within 1e-12 relative of
-them (a stroke made before the compiled loops were in replays within that after). Slower: they
-serve only until numba has compiled the loops."""
+"""The NumPy twins of :mod:`~gogreen_core.sculpt.brushes.paint_kernels`, held to them within 1e-12
+relative (a stroke made before the compiled loops were in replays within that after; the
+operations are the loops', so in practice to the bit). Slower: they serve only until numba has
+compiled the loops."""
 
 from __future__ import annotations
 
 import numpy as np
 
+from gogreen_core.field._numpy_eval import segment_distance2
 from gogreen_core.mesh.topology import BOUNDARY, FIXED
-from gogreen_core.sculpt.brushes.base import smooth_cutoff
 
 __all__ = ["cutoff_weights", "relax"]
 
@@ -24,11 +25,12 @@ def cutoff_weights(
     out: np.ndarray,
 ) -> None:
     """See :func:`gogreen_core.sculpt.brushes.paint_kernels.cutoff_weights`."""
-    length2 = float(step @ step)
-    y = origin + mirrors[:, None] * (points[rows] - origin) - start  # (m, n, 3) images
-    t = np.clip((y @ step) * (1.0 / length2 if length2 > 0.0 else 0.0), 0.0, 1.0)
-    nearest = np.square(y - t[..., None] * step).sum(axis=2).min(axis=0, initial=np.inf)
-    out[:] = smooth_cutoff(np.sqrt(nearest), inner, outer)
+    distance = np.sqrt(segment_distance2(points[rows], start, step, mirrors, origin))
+    if outer - inner <= 0.0:
+        out[:] = np.where(distance < outer, 1.0, 0.0)
+    else:
+        u = np.clip((distance - inner) / (outer - inner), 0.0, 1.0)
+        out[:] = 1.0 - u * u * u * (10.0 - 15.0 * u + 6.0 * u * u)
 
 
 def relax(
