@@ -1,0 +1,31 @@
+"""The flatten brush: levels the surface towards the area plane where the cursor passes
+(Blender's Flatten); Ctrl pushes away from it (Blender's contrast).
+
+Each dab (:mod:`~gogreen_core.sculpt.brushes.dabs`) takes the plane through the area centre ``C``
+⟂ the area normal ``N`` and moves each vertex ``p`` the fraction
+``k = b · f · FLATTEN_RATE ·`` :data:`DAB_SPACING` (at most 1: never past the plane) of its way
+to it, ``k ((C − p)·N) N`` (``b`` strength × pressure, ``f`` the falloff): bumps and dents both
+go, and at strength 1 one pass leaves about e^−FLATTEN_RATE of a straight stroke's centre
+line's height over the plane.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from gogreen_core.sculpt.brushes.dabs import DAB_SPACING, Dab, DetailBrush
+
+__all__ = ["FLATTEN_RATE", "FlattenBrush"]
+
+#: How fast one full-strength pass levels (the height left: about e^−FLATTEN_RATE).
+FLATTEN_RATE = 2.0
+
+
+class FlattenBrush(DetailBrush):
+    """Moves towards the area plane (see the module docstring)."""
+
+    def offsets(self, dab: Dab) -> np.ndarray:
+        fraction = np.minimum(dab.amount * FLATTEN_RATE * DAB_SPACING * dab.weight, 1.0)
+        height = (dab.area_center - dab.points) @ dab.area_normal
+        motion: np.ndarray = np.outer(fraction * height, dab.area_normal)
+        return motion
