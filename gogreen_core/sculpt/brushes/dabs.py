@@ -23,9 +23,11 @@ Rates are per unit of stroke length: a member's rate ``r`` per radius of stroke 
 ``r · DAB_SPACING`` per dab, so a straight stroke at full strength raises its centre line by
 about ``r · R`` whatever the spacing (the falloff integrates to R across the line).
 
-Mirror symmetry: one pass per mirror image (Blender's symmetry passes), each seeing the surface
-as the previous pass left it: the vertices are mapped into the stroke's side of the planes
-(signs ``S``: ``origin + S (p − origin)``), moved there, and the offsets mapped back.
+Mirror symmetry: one pass per mirror image (Blender's symmetry passes), all of a dab's from the
+surface the previous dab left, so a symmetric model stays symmetric: the vertices are mapped
+into the stroke's side of the planes (signs ``S``: ``origin + S (p − origin)``), their offsets
+found there and mapped back, and the passes' offsets added (a vertex within reach of two images,
+near a mirror plane, takes both, as in Blender).
 
 The mask holds vertices as for every brush: the stroke driver moves each vertex by
 (1 − mask) of what the event would (:func:`~gogreen_core.sculpt.stroke.blend_by_mask`). All
@@ -153,9 +155,11 @@ class DetailBrush(PaintBrush):
         slot[rows] = np.arange(len(rows))
         unit = event.delta / length if length > 0 else np.zeros(3)
         origin = mesh.origin
+        motion = np.empty_like(out)
         for s in at:
             center = event.center + s * unit
-            for sign in signs:
+            motion[:] = 0.0
+            for sign in signs:  # every pass sees the surface the previous dab left
                 points = origin + sign * (out - origin)
                 gap = points - center
                 weight = falloff(np.sqrt(np.einsum("ij,ij->i", gap, gap)), radius)
@@ -180,7 +184,8 @@ class DetailBrush(PaintBrush):
                     radius,
                     amount,
                 )
-                out += sign * self.offsets(dab)
+                motion += sign * self.offsets(dab)
+            out += motion
         return Displacement(rows, out)
 
 
