@@ -25,9 +25,9 @@ __all__ = ["CLAY_OFFSET", "CLAY_PLATEAU", "CLAY_RATE", "ClayStripsBrush", "squar
 #: How far (in R) above the area centre the plane is (Blender: 0.18 of the radius).
 CLAY_OFFSET = 0.18
 #: How fast a full-strength pass reaches the plane (the height left: about e^−CLAY_RATE).
-CLAY_RATE = 2.0
+CLAY_RATE = 1.0
 #: Where (in R) the square footprint starts to fall off.
-CLAY_PLATEAU = 0.5
+CLAY_PLATEAU = 0.25
 
 
 def square_axes(normal: np.ndarray, direction: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -6,7 +6,9 @@ Each dab (:mod:`~gogreen_core.sculpt.brushes.dabs`) takes the plane through the 
 ``k = b · f · FLATTEN_RATE ·`` :data:`DAB_SPACING` (at most 1: never past the plane) of its way
 to it, ``k ((C − p)·N) N`` (``b`` strength × pressure, ``f`` the falloff): bumps and dents both
 go, and at strength 1 one pass leaves about e^−FLATTEN_RATE of a straight stroke's centre
-line's height over the plane.
+line's height over the plane. Pushing away grows what it pushes (each dab more, the farther a
+point is), so a dab's push is also at most ``|b| · f · CONTRAST_RATE · R ·`` :data:`DAB_SPACING`:
+a pass moves a point at most ``CONTRAST_RATE · R``, however long the brush stays.
 """
 
 from __future__ import annotations
@@ -15,10 +17,12 @@ import numpy as np
 
 from gogreen_core.sculpt.brushes.dabs import DAB_SPACING, Dab, DetailBrush
 
-__all__ = ["FLATTEN_RATE", "FlattenBrush"]
+__all__ = ["CONTRAST_RATE", "FLATTEN_RATE", "FlattenBrush"]
 
 #: How fast one full-strength pass levels (the height left: about e^−FLATTEN_RATE).
 FLATTEN_RATE = 2.0
+#: The most (in R) one full-strength pass of Ctrl pushes a point from the plane.
+CONTRAST_RATE = 0.1
 
 
 class FlattenBrush(DetailBrush):
@@ -26,6 +30,9 @@ class FlattenBrush(DetailBrush):
 
     def offsets(self, dab: Dab) -> np.ndarray:
         fraction = np.minimum(dab.amount * FLATTEN_RATE * DAB_SPACING * dab.weight, 1.0)
-        height = (dab.area_center - dab.points) @ dab.area_normal
-        motion: np.ndarray = np.outer(fraction * height, dab.area_normal)
+        push = fraction * ((dab.area_center - dab.points) @ dab.area_normal)
+        if dab.amount < 0:  # contrast: bounded, not a runaway
+            most = -dab.amount * CONTRAST_RATE * DAB_SPACING * dab.radius * dab.weight
+            push = np.clip(push, -most, most)
+        motion: np.ndarray = np.outer(push, dab.area_normal)
         return motion
