@@ -17,6 +17,7 @@ from gogreen_core.mesh.topology import mesh_edges
 from gogreen_core.sculpt.brushes.clay_strips import CLAY_OFFSET
 from gogreen_core.sculpt.brushes.dabs import DAB_SPACING, dab_offsets, falloff
 from gogreen_core.sculpt.brushes.draw import DRAW_RATE
+from gogreen_core.sculpt.brushes.flatten import CONTRAST_RATE
 from gogreen_core.sculpt.engine_settings import EngineSettings
 
 DETAIL = ("draw", "clay_strips", "crease", "flatten", "inflate")
@@ -169,6 +170,11 @@ def test_flatten_levels_towards_the_area_plane_and_ctrl_adds_contrast(sheet):
     before = spread(Sculptor(*mesh))
     assert spread(flat) < 0.2 * before
     assert spread(contrast) > 1.5 * before
+    # contrast pushes the farther the more, but a pass at most CONTRAST_RATE R (strength 1)
+    strong = stroke(mesh, "flatten", [-0.2, 0.0, 0.0], [0.02, 0.0, 0.0], 20, amount=-1.0,
+                    strength=10.0)  # fmt: skip
+    most = 10.0 * CONTRAST_RATE * brush_radius(strong)
+    assert np.abs(strong.vertices - bumpy).max() <= most
 
 
 @pytest.mark.parametrize("kind", DETAIL)
