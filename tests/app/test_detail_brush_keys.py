@@ -54,3 +54,45 @@ def test_a_draw_drag_raises_the_surface_under_the_cursor(window, qtbot):
     assert np.all(outward[most] > 0.9 * np.linalg.norm(motion[most], axis=1))
     assert np.mean(outward[moved] > 0) > 0.9
     assert sculptor.history.undo_labels[-1] == "Draw stroke"
+
+
+def test_a_paint_stroke_follows_the_surface_under_the_cursor(window, qtbot, monkeypatch):
+    """A sweep's moves are picked on the surface (as Blender casts each dab onto it), not on
+    the drag plane through the press point, which leaves a curved model behind it."""
+    from gui_helpers import send
+    from PySide6.QtCore import QPoint
+    from PySide6.QtGui import QMouseEvent
+
+    activate(window, qtbot)
+    window.viewport.setFocus()
+    QTest.keyClick(window.viewport, Qt.Key.Key_M)  # the mask: it paints, nothing moves
+    tools = window.viewport.tools
+    points = []
+    move = tools.move
+    monkeypatch.setattr(tools, "move", lambda event: (points.append(event.point), move(event)))
+    vp, start = window.viewport, center_of(window) - QPoint(150, 0)
+    send(vp, QMouseEvent.Type.MouseButtonPress, start)
+    for k in range(1, 16):
+        pos = start + QPoint(20 * k, 0)
+        send(
+            vp, QMouseEvent.Type.MouseMove, pos, Qt.MouseButton.NoButton, Qt.MouseButton.LeftButton
+        )
+    send(vp, QMouseEvent.Type.MouseButtonRelease, pos, buttons=Qt.MouseButton.NoButton)
+    sculptor = window.document.sculptor
+    gap = [surface_gap(sculptor.vertices, sculptor.faces, point) for point in points]
+    assert len(points) >= 10 and max(gap) < 1e-6 * sculptor.model_size
+    assert window.model.brush.kind == "mask" and sculptor.mask.any
+
+
+def surface_gap(vertices: np.ndarray, faces: np.ndarray, point: np.ndarray) -> float:
+    """How far ``point`` is from the faces it projects into (inf when it projects into none)."""
+    a, b, c = (vertices[faces[:, k]] for k in range(3))
+    normal = np.cross(b - a, c - a)
+    normal /= np.linalg.norm(normal, axis=1)[:, None]
+    height = np.einsum("ij,ij->i", point - a, normal)
+    foot = point - height[:, None] * normal
+    inside = np.ones(len(faces), dtype=bool)
+    for p, q in ((a, b), (b, c), (c, a)):
+        turn = np.einsum("ij,ij->i", np.cross(q - p, foot - p), normal)
+        inside &= turn >= -1e-9
+    return float(np.abs(height[inside]).min()) if inside.any() else np.inf
