@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from gogreen_core.sculpt.brushes.base import smooth_cutoff
-from gogreen_core.sculpt.brushes.dabs import DAB_SPACING, Dab, DetailBrush
+from gogreen_core.sculpt.brushes.dabs import DAB_SPACING, Dab, DetailBrush, dot3
 
 __all__ = ["CLAY_OFFSET", "CLAY_PLATEAU", "CLAY_RATE", "ClayStripsBrush", "square_axes"]
 
@@ -33,7 +33,7 @@ CLAY_PLATEAU = 0.25
 def square_axes(normal: np.ndarray, direction: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Unit axes (3,) along and across the stroke in the plane ⟂ unit ``normal``:
     ``direction`` projected on the plane (any direction in it when there is none)."""
-    along = direction - (direction @ normal) * normal
+    along = direction - dot3(direction, normal) * normal
     size = float(np.linalg.norm(along))
     if not size > 1e-9:
         helper = np.eye(3)[int(np.argmin(np.abs(normal)))]
@@ -54,9 +54,9 @@ class ClayStripsBrush(DetailBrush):
         plane = dab.area_center + side * CLAY_OFFSET * radius * normal
         along, across = square_axes(normal, dab.direction)
         gap = dab.points - dab.center
-        square = np.maximum(np.abs(gap @ along), np.abs(gap @ across))
+        square = np.maximum(np.abs(dot3(gap, along)), np.abs(dot3(gap, across)))
         footprint = smooth_cutoff(square, CLAY_PLATEAU * radius, radius)
-        height = (plane - dab.points) @ normal  # how far the plane is above each point
+        height = dot3(plane - dab.points, normal)  # how far the plane is above each point
         footprint[(side * height <= 0) | (np.abs(height) > radius)] = 0.0
         fraction = np.minimum(abs(dab.amount) * CLAY_RATE * DAB_SPACING * footprint, 1.0)
         motion: np.ndarray = np.outer(fraction * height, normal)

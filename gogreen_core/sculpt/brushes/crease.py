@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from gogreen_core.sculpt.brushes.dabs import DAB_SPACING, Dab, DetailBrush
+from gogreen_core.sculpt.brushes.dabs import DAB_SPACING, Dab, DetailBrush, dot3
 
 __all__ = ["CREASE_DEPTH", "CREASE_PINCH", "CreaseBrush"]
 
@@ -31,12 +31,12 @@ class CreaseBrush(DetailBrush):
     def offsets(self, dab: Dab) -> np.ndarray:
         normal = dab.area_normal
         lateral = dab.center - dab.points
-        lateral -= np.outer(lateral @ normal, normal)
-        along = dab.direction - (dab.direction @ normal) * normal
+        lateral -= np.outer(dot3(lateral, normal), normal)
+        along = dab.direction - dot3(dab.direction, normal) * normal
         size = float(np.linalg.norm(along))
         if size > 1e-9:
             along = along / size
-            lateral -= np.outer(lateral @ along, along)
+            lateral -= np.outer(dot3(lateral, along), along)
         pinch = np.minimum(abs(dab.amount) * CREASE_PINCH * DAB_SPACING * dab.weight, 1.0)
         depth = -dab.amount * CREASE_DEPTH * DAB_SPACING * dab.radius
         motion: np.ndarray = pinch[:, None] * lateral + np.outer(depth * dab.weight, normal)

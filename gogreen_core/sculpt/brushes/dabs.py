@@ -51,7 +51,7 @@ if TYPE_CHECKING:
     from gogreen_core.mesh.mesh_state import MeshState
     from gogreen_core.sculpt.brushes.brush import Brush, BrushEvent
 
-__all__ = ["DAB_SPACING", "MAX_DABS", "Dab", "DetailBrush", "dab_offsets", "falloff"]
+__all__ = ["DAB_SPACING", "MAX_DABS", "Dab", "DetailBrush", "dab_offsets", "dot3", "falloff"]
 
 #: Distance between dabs along a stroke, as a fraction of the brush radius R (Blender's
 #: default spacing, 10 %).
@@ -61,6 +61,14 @@ MAX_DABS = 256
 #: Where the stroke's dab spacing is kept between events (:attr:`StrokeContext.stroke`).
 _TRAVEL = "detail travel"
 _DIRECTION = "detail direction"
+
+
+def dot3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Dot products over the last axis (of length 3) of ``a`` and ``b`` ((n, 3) or (3,)),
+    written out rather than by BLAS, whose sums' order may change with the machine or the
+    threads: a replay must round the same."""
+    out: np.ndarray = a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2]
+    return out
 
 
 def falloff(distance: np.ndarray, radius: float) -> np.ndarray:
@@ -162,14 +170,14 @@ class DetailBrush(PaintBrush):
             for sign in signs:  # every pass sees the surface the previous dab left
                 points = origin + sign * (out - origin)
                 gap = points - center
-                weight = falloff(np.sqrt(np.einsum("ij,ij->i", gap, gap)), radius)
+                weight = falloff(np.sqrt(dot3(gap, gap)), radius)
                 inside = np.flatnonzero(weight > 0)
                 if not len(inside):
                     continue
                 normals = np.zeros_like(points)
                 normals[inside] = sign * _vertex_normals(mesh, rows[inside], slot, out)
                 w = weight[inside]
-                area = w @ normals[inside]
+                area = (w[:, None] * normals[inside]).sum(axis=0)
                 size = float(np.linalg.norm(area))
                 if not size > 0:
                     continue
@@ -179,7 +187,7 @@ class DetailBrush(PaintBrush):
                     normals,
                     center,
                     area / size,
-                    (w @ points[inside]) / w.sum(),
+                    (w[:, None] * points[inside]).sum(axis=0) / w.sum(),
                     direction,
                     radius,
                     amount,

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from gogreen_core.sculpt.brushes.dabs import DAB_SPACING, Dab, DetailBrush
+from gogreen_core.sculpt.brushes.dabs import DAB_SPACING, Dab, DetailBrush, dot3
 
 __all__ = ["CONTRAST_RATE", "FLATTEN_RATE", "FlattenBrush"]
 
@@ -30,7 +30,7 @@ class FlattenBrush(DetailBrush):
 
     def offsets(self, dab: Dab) -> np.ndarray:
         fraction = np.minimum(dab.amount * FLATTEN_RATE * DAB_SPACING * dab.weight, 1.0)
-        push = fraction * ((dab.area_center - dab.points) @ dab.area_normal)
+        push = fraction * dot3(dab.area_center - dab.points, dab.area_normal)
         if dab.amount < 0:  # contrast: bounded, not a runaway
             most = -dab.amount * CONTRAST_RATE * DAB_SPACING * dab.radius * dab.weight
             push = np.clip(push, -most, most)
