@@ -244,6 +244,36 @@ def test_a_session_replays_bit_for_bit(sphere, kind):
     assert np.array_equal(sculptor.vertices, vertices)
 
 
+def test_the_recovery_journal_brings_back_every_detail_stroke(sphere, tmp_path):
+    from gogreen_core.files.journal import Journal
+    from gogreen_core.files.recovery import recover
+    from gogreen_core.mesh.mesh_io import MeshData
+
+    vertices, faces = sphere
+    sculptor = Sculptor(vertices, faces)
+    journal = Journal(sculptor, MeshData(vertices=vertices, faces=faces), root=tmp_path)
+    for k, kind in enumerate(DETAIL):
+        start = np.array([0.2 * k - 0.4, -0.3, 0.9])
+        brush = Brush(kind, radius=0.06, symmetry="x" if k % 2 else "")
+        events = [BrushEvent(start, amount=1.0)]
+        events += [
+            BrushEvent(start + np.array([0, 0.03 * i, 0]), [0, 0.03, 0], amount=-0.6)
+            for i in range(5)
+        ]
+        sculptor.apply_brush(brush, events)
+    sculptor.undo()
+    journal.flush()
+    directory = journal.directory
+    journal.close(remove=False)  # as a killed process leaves it
+    recovered = recover(directory, budget=float("inf")).sculptor
+    assert np.array_equal(recovered.vertices, sculptor.vertices)
+    assert recovered.history.undo_labels == sculptor.history.undo_labels
+    for s in (sculptor, recovered):
+        s.redo()
+    assert np.array_equal(recovered.vertices, sculptor.vertices)
+    assert sculptor.history.undo_labels[-1] == "Inflate stroke"
+
+
 def test_draw_with_dynamic_topology_keeps_edges_within_bounds(sphere):
     vertices, faces = sphere
     median = median_edge_length(vertices, faces)
