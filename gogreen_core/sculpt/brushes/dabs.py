@@ -38,6 +38,7 @@ positions bit for bit on any machine.
 from __future__ import annotations
 
 import math
+from abc import abstractmethod
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -139,9 +140,9 @@ class DetailBrush(PaintBrush):
             reach = PAINT_AUTO_INFLUENCE
         return reach * brush.eps(ctx.model_size)
 
+    @abstractmethod
     def offsets(self, dab: Dab) -> np.ndarray:
         """The motion (n, 3) one dab gives ``dab.points`` (in the dab's mirror frame)."""
-        raise NotImplementedError
 
     def displace(self, ctx: StrokeContext, brush: Brush, event: BrushEvent) -> Displacement:
         mesh = ctx.mesh
