@@ -9,7 +9,8 @@ Ctrl+wheel changes the brush radius and Shift+wheel the strength. Keys are the w
 
 The stroke loop: the viewport translates Qt mouse events into plain
 :class:`gogreen_core.interaction.tools.PointerEvent` (the world point under the cursor, picked on
-press and hover, on the drag plane through the press point while dragging), hands them to its
+press and hover, on the drag plane through the press point while dragging, or on the surface
+under the cursor while a paint brush sweeps over it), hands them to its
 Qt-free :class:`gogreen_core.interaction.tools.SculptTools` (:meth:`SculptViewport.set_tools`) and
 draws the :class:`~gogreen_core.interaction.tools.ToolUpdate` each call gives back
 (:meth:`SculptViewport.draw`); what the window must know (a message, an error, a step's time, a
@@ -429,6 +430,9 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
             return
         if self._drag_depth is not None:
             point = self._unproject(ev.position(), self._drag_depth)
+            if self.tools is not None and self.tools.stroke.sweeping:
+                hit = self.pick(ev.position())  # a paint stroke follows the surface
+                point = point if hit is None else hit[0]
             if self.tools is not None:
                 self.tools.move(self.pointer_event(ev.position(), point, None, ev.modifiers()))
                 self._schedule_flush()

@@ -3,9 +3,9 @@ add-on and by synthetic ones in the tests.
 
 :class:`ModalStroke` turns window events into one stroke of a :class:`gogreen_core.Sculptor`
 through :class:`gogreen_core.interaction.tools.StrokeController` (the desktop app's stroke logic:
-grab brushes follow the cursor on the drag plane through the press point, affine brushes take their
-amount from the signed length of the drag in any direction, Ctrl inverts, pen pressure scales
-the step). What
+grab brushes follow the cursor on the drag plane through the press point, paint brushes act on
+the surface under it, affine brushes take their amount from the signed length of the drag in any
+direction, Ctrl inverts, pen pressure scales the step). What
 it needs from the viewport is a :class:`View` (object-space ray picks and projections), which
 the operator implements with ``bpy_extras.view3d_utils`` and the tests with a fake.
 
@@ -118,8 +118,12 @@ class ModalStroke:
         return True
 
     def _apply(self, event: InputEvent) -> None:
-        # the drag plane faces the view through the press point (as in the desktop app)
-        point = np.asarray(self.view.drag_point(event.x, event.y, self.controller.anchor), float)
+        # a paint brush acts on the surface under the cursor (Blender casts each dab onto it),
+        # the others on the drag plane facing the view through the press point (as in the app)
+        hit = self.view.pick(event.x, event.y) if self.controller.sweeping else None
+        if hit is None:
+            hit = self.view.drag_point(event.x, event.y, self.controller.anchor)
+        point = np.asarray(hit, dtype=float)
         moved = self.controller.step(self._pointer(event, point))
         if moved is not None:
             self.events_applied += 1

@@ -101,6 +101,22 @@ def test_a_drag_is_one_stroke_whose_grabbed_point_follows_the_cursor(sphere):
     np.testing.assert_allclose(stroke.center, [20 / SCALE, 0, 1.0])
 
 
+def test_a_draw_stroke_follows_the_surface_not_the_drag_plane(sphere):
+    """A paint brush's moves are picked on the surface: across the top of the sphere the
+    drag plane through the press point (z = 0.6) would leave it a brush radius behind."""
+    sculptor = _sculptor(sphere)
+    before = sculptor.vertices.copy()
+    stroke = ModalStroke(sculptor, Brush("draw", radius=0.05), TopView())
+    assert stroke.start(press(CX - 160, CY))
+    for dx in range(10, 330, 10):
+        stroke.handle(move(CX - 160 + dx, CY))
+        stroke.handle(TICK)
+    assert stroke.handle(release(CX + 160, CY)) == FINISHED
+    raised = np.linalg.norm(sculptor.vertices, axis=1) - np.linalg.norm(before, axis=1)
+    top = int(np.argmax(before[:, 2]))  # the pole, halfway along the stroke
+    assert raised[top] > 0.01
+
+
 def test_moves_are_coalesced_the_newest_applies_at_the_tick(sphere):
     sculptor = _sculptor(sphere)
     stroke = ModalStroke(sculptor, Brush("grab", radius=0.1), TopView())

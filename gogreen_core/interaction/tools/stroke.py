@@ -94,6 +94,13 @@ class StrokeController:
         return self.brush is not None and self._drag == "anchored"
 
     @property
+    def sweeping(self) -> bool:
+        """True during a stroke whose brush acts where the cursor passes (paint brushes): its
+        moves belong on the surface under the cursor (Blender casts each dab onto it), not on
+        the drag plane a grab follows."""
+        return self.brush is not None and self._drag == "sweep"
+
+    @property
     def active(self) -> bool:
         return self.brush is not None
 

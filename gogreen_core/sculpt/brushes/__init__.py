@@ -13,8 +13,10 @@ regularized Green's function of ``kernel.py``, is a row of the brush table
   whatever the material;
 * the paint family (:mod:`~gogreen_core.sculpt.brushes.paint`), acting where the cursor passes
   without a Green's function: ``smooth`` (:mod:`~gogreen_core.sculpt.brushes.smooth`, Taubin
-  relaxation) and ``mask`` (:mod:`~gogreen_core.sculpt.brushes.mask`, paints the vertex mask that
-  holds vertices).
+  relaxation), ``mask`` (:mod:`~gogreen_core.sculpt.brushes.mask`, paints the vertex mask that
+  holds vertices) and the detail brushes, Blender's, in dabs along the stroke
+  (:mod:`~gogreen_core.sculpt.brushes.dabs`): ``draw``, ``clay_strips``, ``crease``,
+  ``flatten``, ``inflate`` (one module each).
 
 The interface (:mod:`~gogreen_core.sculpt.brushes.base`): a :class:`BrushType` turns one event into
 the rows it moves and their new positions; the stroke driver (:mod:`gogreen_core.sculpt.stroke`)

@@ -8,8 +8,9 @@ smooth cutoff at its distance: 1 up to half the influence radius, a C² fall to 
 of the same radius and influence moves. An automatic influence is
 :data:`PAINT_AUTO_INFLUENCE`: full strength within the brush circle (ε), none beyond 2ε, where
 Blender's mask and smooth brushes act. Members: the smooth brush
-(:mod:`~gogreen_core.sculpt.brushes.smooth`) and the mask painter
-(:mod:`~gogreen_core.sculpt.brushes.mask`).
+(:mod:`~gogreen_core.sculpt.brushes.smooth`), the mask painter
+(:mod:`~gogreen_core.sculpt.brushes.mask`) and the detail brushes, which act in dabs along the
+segment (:mod:`~gogreen_core.sculpt.brushes.dabs`): draw, clay strips, crease, flatten, inflate.
 """
 
 from __future__ import annotations

@@ -25,7 +25,12 @@ from gogreen_core.sculpt.brushes.affine import (
     twist_pattern,
 )
 from gogreen_core.sculpt.brushes.base import BrushType
+from gogreen_core.sculpt.brushes.clay_strips import ClayStripsBrush
+from gogreen_core.sculpt.brushes.crease import CreaseBrush
+from gogreen_core.sculpt.brushes.draw import DrawBrush
+from gogreen_core.sculpt.brushes.flatten import FlattenBrush
 from gogreen_core.sculpt.brushes.grab import GrabBrush
+from gogreen_core.sculpt.brushes.inflate import InflateBrush
 from gogreen_core.sculpt.brushes.mask import MaskBrush
 from gogreen_core.sculpt.brushes.smooth import SmoothBrush
 from gogreen_core.sculpt.brushes.wrinkle import WrinkleBrush
@@ -221,6 +226,61 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         "mask",
         "sweep",
     ),
+    # the detail brushes: Blender's keys, but Clay Strips' C is our pin mode (L: Blender's
+    # Layer, the nearest brush it has that we do not)
+    BrushRow(
+        DrawBrush("draw"),
+        "Draw",
+        "Draw brush: raise the surface where you stroke (Ctrl carves)",
+        "X",
+        "",
+        "Draw: raises the surface along its mean normal where you stroke; Ctrl+drag carves",
+        "draw",
+        "sweep",
+    ),
+    BrushRow(
+        ClayStripsBrush("clay_strips"),
+        "Clay Strips",
+        "Clay strips brush: lay flat strips of clay (Ctrl digs)",
+        "L",
+        "",
+        "Clay Strips: lays flat-topped square strips of clay along the stroke that build up "
+        "as they cross; Ctrl+drag digs",
+        "clay_strips",
+        "sweep",
+    ),
+    BrushRow(
+        CreaseBrush("crease"),
+        "Crease",
+        "Crease brush: cut a sharp crease (Ctrl: a sharp ridge)",
+        "Shift+C",
+        "",
+        "Crease: cuts a sharp groove, pinching the surface towards the stroke; Ctrl+drag "
+        "raises a sharp ridge",
+        "crease",
+        "sweep",
+    ),
+    BrushRow(
+        FlattenBrush("flatten"),
+        "Flatten",
+        "Flatten brush: level towards the mean plane (Ctrl: contrast)",
+        "Shift+T",
+        "",
+        "Flatten: levels bumps and dents towards the mean plane under the brush; Ctrl+drag "
+        "pushes away from it",
+        "flatten",
+        "sweep",
+    ),
+    BrushRow(
+        InflateBrush("inflate"),
+        "Inflate",
+        "Inflate brush: swell along the normals (Ctrl deflates)",
+        "I",
+        "",
+        "Inflate: swells the surface, each point along its own normal; Ctrl+drag deflates",
+        "inflate",
+        "sweep",
+    ),
 )
 #: The brush of key 1, what a new session starts with.
 DEFAULT_BRUSH = "grab_local"
@@ -235,7 +295,8 @@ BRUSH_KINDS = tuple(brush.kind for brush in BRUSH_TABLE)
 GRAB_BRUSHES = tuple(b.kind for b in BRUSH_TABLE if b.family == "vector")
 #: Affine-load brushes.
 AFFINE_BRUSHES = tuple(b.kind for b in BRUSH_TABLE if b.family == "affine")
-#: Brushes acting where the cursor passes, without a Green's function (smooth, mask).
+#: Brushes acting where the cursor passes, without a Green's function (smooth, mask and the
+#: detail brushes).
 PAINT_BRUSHES = tuple(b.kind for b in BRUSH_TABLE if b.family == "paint")
 
 

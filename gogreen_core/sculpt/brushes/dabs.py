@@ -1,0 +1,237 @@
+"""The detail brushes' common step: dabs along the swept segment, as Blender's sculpt brushes.
+
+The detail brushes (:mod:`~gogreen_core.sculpt.brushes.draw`, ``clay_strips``, ``crease``,
+``flatten``, ``inflate``) are members of the paint family
+(:mod:`~gogreen_core.sculpt.brushes.paint`): an event is the segment the cursor swept and
+``amount`` the pen pressure, negative with Ctrl.
+Where the smooth brush and the mask painter act once on the whole segment, a detail brush adds
+material, so it acts in *dabs* spaced :data:`DAB_SPACING` of its radius along the stroke (the
+spacing carried from one event to the next, a dab at the press point first), as Blender's
+"space" stroke does: how much a stroke raises does not depend on how fast the mouse moves or how
+often it reports.
+
+Each dab, as in Blender's ``do_*_brush``, sees the surface as the previous dabs left it:
+
+* its vertices are those within the brush radius ``R`` (the influence: 2 ε for an automatic
+  one), weighted by a smooth falloff ``f`` = 1 − smoothstep(d / R) (1 at the centre, 0 at R);
+* the **area normal** ``N`` is the f-weighted mean of their vertex normals, the **area centre**
+  ``C`` the f-weighted mean of their positions (Blender's ``calc_area_normal_and_center``);
+* the member brush turns these into offsets (:meth:`DetailBrush.offsets`), scaled by the signed
+  ``b`` = strength × amount (the pressure; negative inverts the brush).
+
+Rates are per unit of stroke length: a member's rate ``r`` per radius of stroke becomes
+``r · DAB_SPACING`` per dab, so a straight stroke at full strength raises its centre line by
+about ``r · R`` whatever the spacing (the falloff integrates to R across the line).
+
+Mirror symmetry: one pass per mirror image (Blender's symmetry passes), all of a dab's from the
+surface the previous dab left, so a symmetric model stays symmetric: the vertices are mapped
+into the stroke's side of the planes (signs ``S``: ``origin + S (p − origin)``), their offsets
+found there and mapped back, and the passes' offsets added (a vertex within reach of two images,
+near a mirror plane, takes both, as in Blender).
+
+The mask holds vertices as for every brush: the stroke driver moves each vertex by
+(1 − mask) of what the event would (:func:`~gogreen_core.sculpt.stroke.blend_by_mask`). All
+arithmetic is NumPy in a fixed order (no threads, no compiler), so a replay gives the same
+positions bit for bit on any machine.
+"""
+
+from __future__ import annotations
+
+import math
+from abc import abstractmethod
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from gogreen_core.mesh.geometry import FaceAdjacency
+from gogreen_core.sculpt.brushes.base import Displacement, StrokeContext, mirror_signs
+from gogreen_core.sculpt.brushes.paint import PAINT_AUTO_INFLUENCE, PaintBrush
+
+if TYPE_CHECKING:
+    from gogreen_core.mesh.mesh_state import MeshState
+    from gogreen_core.sculpt.brushes.brush import Brush, BrushEvent
+
+__all__ = ["DAB_SPACING", "MAX_DABS", "Dab", "DetailBrush", "dab_offsets", "dot3", "falloff"]
+
+#: Distance between dabs along a stroke, as a fraction of the brush radius R (Blender's
+#: default spacing, 10 %).
+DAB_SPACING = 0.1
+#: Most dabs one event makes (a longer segment spaces them further apart).
+MAX_DABS = 256
+#: Where the stroke's dab spacing is kept between events (:attr:`StrokeContext.stroke`).
+_TRAVEL = "detail travel"
+_DIRECTION = "detail direction"
+
+
+def dot3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Dot products over the last axis (of length 3) of ``a`` and ``b`` ((n, 3) or (3,)),
+    written out rather than by BLAS, whose sums' order may change with the machine or the
+    threads: a replay must round the same."""
+    out: np.ndarray = a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2]
+    return out
+
+
+def falloff(distance: np.ndarray, radius: float) -> np.ndarray:
+    """The detail brushes' falloff (n,) of ``distance`` (n,): 1 − smoothstep₅(d / R), 1 at the
+    centre, 0 from ``radius`` on, C² (Blender's "smooth" curve, one degree smoother)."""
+    u = np.minimum(distance / radius, 1.0)
+    return 1.0 - u * u * u * (10.0 - 15.0 * u + 6.0 * u * u)
+
+
+def dab_offsets(length: float, spacing: float, travel: float | None) -> tuple[np.ndarray, float]:
+    """Where the dabs of a segment of ``length`` fall (distances along it, ascending), and
+    the distance travelled since the last one at its end. ``travel``: the distance since the
+    previous dab (None: the stroke's first event, whose start is a dab). At most
+    :data:`MAX_DABS` (spaced further apart on a longer segment)."""
+    if travel is None:
+        first, travel = 0.0, spacing
+    else:
+        first = spacing - travel
+    if length < first:
+        return np.zeros(0), travel + length
+    count = min(int((length - first) // spacing) + 1, MAX_DABS)
+    if count == MAX_DABS:
+        spacing = max(spacing, (length - first) / (MAX_DABS - 1))
+    at = first + spacing * np.arange(count)
+    at = at[at <= length]
+    return at, float(length - at[-1])
+
+
+@dataclass(frozen=True)
+class Dab:
+    """What one dab of one mirror pass sees, in the stroke's side of the mirror planes.
+
+    points : (n, 3) the region's vertices (the whole event's candidates).
+    weight : (n,) the falloff of their distance to the dab centre, 0 beyond ``radius``.
+    normals : (n, 3) unit vertex normals where ``weight`` > 0 (zero rows elsewhere).
+    center : (3,) the dab's centre (on the swept segment).
+    area_normal : (3,) unit, the weighted mean of the normals (Blender's area normal).
+    area_center : (3,) the weighted mean of the points.
+    direction : (3,) unit stroke direction (zero before the cursor has moved).
+    radius : R, model units.
+    amount : strength × pen pressure, negative inverted (Ctrl).
+    """
+
+    points: np.ndarray
+    weight: np.ndarray
+    normals: np.ndarray
+    center: np.ndarray
+    area_normal: np.ndarray
+    area_center: np.ndarray
+    direction: np.ndarray
+    radius: float
+    amount: float
+
+
+class DetailBrush(PaintBrush):
+    """A paint brush acting in dabs (see the module docstring); members give
+    :meth:`offsets`."""
+
+    #: Candidate vertices lie within this many R of the segment (clay strips' square reaches
+    #: its corners).
+    select_factor: float = 1.0
+
+    def radius(self, ctx: StrokeContext, brush: Brush) -> float:
+        """R (model units): the brush's influence radius (2 ε automatic; an infinite influence
+        counts as the automatic one: a dab is local)."""
+        reach = self.reach(ctx, brush)
+        if math.isinf(reach):
+            reach = PAINT_AUTO_INFLUENCE
+        return reach * brush.eps(ctx.model_size)
+
+    @abstractmethod
+    def offsets(self, dab: Dab) -> np.ndarray:
+        """The motion (n, 3) one dab gives ``dab.points`` (in the dab's mirror frame)."""
+
+    def displace(self, ctx: StrokeContext, brush: Brush, event: BrushEvent) -> Displacement:
+        mesh = ctx.mesh
+        radius = self.radius(ctx, brush)
+        signs = mirror_signs(brush.symmetry)
+        rows = mesh.rows_near(event.center, event.delta, self.select_factor * radius, signs)
+        out = ctx.rows(len(rows))
+        out[:] = mesh.vertices[rows]
+        amount = brush.strength * event.acting_amount
+        memo: dict[str, Any] = {} if ctx.stroke is None else ctx.stroke
+        length = float(np.linalg.norm(event.delta))
+        at, memo[_TRAVEL] = dab_offsets(length, DAB_SPACING * radius, memo.get(_TRAVEL))
+        if length > 0:
+            memo[_DIRECTION] = event.delta / length
+        direction = np.asarray(memo.get(_DIRECTION, np.zeros(3)), dtype=np.float64)
+        if not len(rows) or amount == 0 or not len(at):
+            return Displacement(rows, out)
+        slot = np.full(len(mesh.vertices), -1, dtype=np.int64)
+        slot[rows] = np.arange(len(rows))
+        unit = event.delta / length if length > 0 else np.zeros(3)
+        origin = mesh.origin
+        motion = np.empty_like(out)
+        for s in at:
+            center = event.center + s * unit
+            motion[:] = 0.0
+            for sign in signs:  # every pass sees the surface the previous dab left
+                points = origin + sign * (out - origin)
+                gap = points - center
+                weight = falloff(np.sqrt(dot3(gap, gap)), radius)
+                inside = np.flatnonzero(weight > 0)
+                if not len(inside):
+                    continue
+                normals = np.zeros_like(points)
+                normals[inside] = sign * _vertex_normals(mesh, rows[inside], slot, out)
+                w = weight[inside]
+                area = (w[:, None] * normals[inside]).sum(axis=0)
+                size = float(np.linalg.norm(area))
+                if not size > 0:
+                    continue
+                dab = Dab(
+                    points,
+                    weight,
+                    normals,
+                    center,
+                    area / size,
+                    (w[:, None] * points[inside]).sum(axis=0) / w.sum(),
+                    direction,
+                    radius,
+                    amount,
+                )
+                motion += sign * self.offsets(dab)
+            out += motion
+        return Displacement(rows, out)
+
+
+def _vertex_normals(
+    mesh: MeshState, rows: np.ndarray, slot: np.ndarray, current: np.ndarray
+) -> np.ndarray:
+    """Area-weighted unit normals (k, 3) of vertices ``rows`` (k,), from the faces around them
+    with the positions ``current[slot[v]]`` where ``slot[v]`` ≥ 0, else ``mesh.vertices[v]``
+    (:func:`~gogreen_core.mesh.geometry.vertex_normals`' sums, restricted to these rows)."""
+    adjacency = _face_adjacency(mesh)
+    start = adjacency.offsets[rows]
+    count = adjacency.offsets[rows + 1] - start
+    owner = np.repeat(np.arange(len(rows)), count)
+    within = np.arange(len(owner)) - np.repeat(np.cumsum(count) - count, count)
+    corners = mesh.faces[adjacency.face_ids[np.repeat(start, count) + within]]
+    where = slot[corners]
+    p = np.where((where >= 0)[..., None], current[np.maximum(where, 0)], mesh.vertices[corners])
+    face = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    out = np.empty((len(rows), 3))
+    for axis in range(3):
+        out[:, axis] = np.bincount(owner, face[:, axis], minlength=len(rows))
+    norm = np.linalg.norm(out, axis=1)
+    norm[norm == 0] = 1.0
+    normals: np.ndarray = out / norm[:, None]
+    return normals
+
+
+_ADJACENCY: list[tuple[np.ndarray, FaceAdjacency]] = []
+
+
+def _face_adjacency(mesh: MeshState) -> FaceAdjacency:
+    """The faces around each vertex of ``mesh``'s current face array (built once per face
+    array: strokes on the same faces share it)."""
+    if _ADJACENCY:
+        faces, adjacency = _ADJACENCY[0]
+        if faces is mesh.faces and adjacency.n_vertices == len(mesh.vertices):
+            return adjacency
+    adjacency = FaceAdjacency(mesh.faces, len(mesh.vertices))
+    _ADJACENCY[:] = [(mesh.faces, adjacency)]
+    return adjacency

@@ -1,0 +1,28 @@
+"""The inflate brush: swells the surface where the cursor passes, each vertex along its own
+normal (Blender's Inflate); Ctrl deflates.
+
+Each dab (:mod:`~gogreen_core.sculpt.brushes.dabs`) moves vertex ``i`` along its vertex normal
+``nᵢ`` by ``b · f · INFLATE_RATE · R ·`` :data:`DAB_SPACING` (``b`` strength × pressure, ``f``
+the falloff, ``R`` the radius). Unlike :mod:`~gogreen_core.sculpt.brushes.draw`, the directions
+spread over a curved surface: a finger grows thicker, a dent opens up.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from gogreen_core.sculpt.brushes.dabs import DAB_SPACING, Dab, DetailBrush
+
+__all__ = ["INFLATE_RATE", "InflateBrush"]
+
+#: Distance (in R) one full-strength pass moves a straight stroke's centre line.
+INFLATE_RATE = 0.25
+
+
+class InflateBrush(DetailBrush):
+    """Moves along each vertex normal (see the module docstring)."""
+
+    def offsets(self, dab: Dab) -> np.ndarray:
+        scale = dab.amount * INFLATE_RATE * DAB_SPACING * dab.radius
+        motion: np.ndarray = (scale * dab.weight)[:, None] * dab.normals
+        return motion
