@@ -367,7 +367,7 @@ class SculptTools:
             hint = "drag away from where you press" if brush.is_affine else "drag farther"
             mask = " and changed no mask value" if brush.type.family == "paint" else ""
             update.note = (
-                f"Nothing changed: the {brush.kind.replace('_', '-')} stroke moved no vertex"
+                f"Nothing changed: the {brush_row(brush.kind).label} stroke moved no vertex"
                 f"{mask}, so it is not recorded ({hint})"
             )
         return update

@@ -30,7 +30,7 @@ import numpy as np
 
 from gogreen_core.field.kernel import GreenKernel
 from gogreen_core.field.limits import MAX_AMOUNT
-from gogreen_core.physics.radial import GaussianRadial
+from gogreen_core.physics.radial import GaussianRadial, RadialProfile
 from gogreen_core.sculpt.brushes.base import ZERO_FIELD, GreenBrush, StrokeContext
 from gogreen_core.sculpt.falloff_safety import AFFINE_FALLBACK, AFFINE_MARGIN, FieldBound
 from gogreen_core.validation import ParameterError
@@ -133,9 +133,20 @@ class AffineBrush(GreenBrush):
     family = "affine"
     default_amount = None  # a log strain or angle: no default
 
-    def __init__(self, kind: str, pattern: Pattern) -> None:
-        super().__init__(kind)
+    def __init__(
+        self,
+        kind: str,
+        pattern: Pattern,
+        multiscale: Callable[[RadialProfile], RadialProfile] | None = None,
+        weights_of: str | None = None,
+    ) -> None:
+        super().__init__(kind, multiscale, weights_of)
         self._pattern = pattern
+
+    def wide(self) -> AffineBrush:
+        """This brush with the settings' falloff itself (no multi-scale combination), under
+        the kind ``<kind>_wide``, reading this brush's degree weights."""
+        return AffineBrush(f"{self.kind}_wide", self._pattern, None, self.kind)
 
     def shape(self, axis: np.ndarray | None, direction: np.ndarray | None) -> np.ndarray:
         """Pattern B (3, 3) for a view ``axis`` (any nonzero length; +z when None) and a stroke

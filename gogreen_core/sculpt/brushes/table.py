@@ -39,6 +39,7 @@ __all__ = [
     "DRAGS",
     "GRAB_BRUSHES",
     "PAINT_BRUSHES",
+    "REPLAY_KINDS",
     "BrushRow",
     "affine_load_shape",
     "brush_for_key",
@@ -154,7 +155,7 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         "(set them with the fold degree and depth below)",
     ),
     BrushRow(
-        AffineBrush("scale", scale_pattern),
+        AffineBrush("scale", scale_pattern, MultiscaleRadial.local_affine),
         "Scale",
         "Scale brush: inflate / deflate",
         "S",
@@ -166,7 +167,7 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         acting="scaling",
     ),
     BrushRow(
-        AffineBrush("twist", twist_pattern),
+        AffineBrush("twist", twist_pattern, MultiscaleRadial.local_affine),
         "Twist",
         "Twist brush",
         "W",
@@ -178,7 +179,7 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         acting="twisting",
     ),
     BrushRow(
-        AffineBrush("pinch", pinch_pattern),
+        AffineBrush("pinch", pinch_pattern, MultiscaleRadial.local_affine),
         "Pinch",
         "Pinch brush",
         "P",
@@ -190,7 +191,7 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         acting="pinching",
     ),
     BrushRow(
-        AffineBrush("stretch", stretch_pattern),
+        AffineBrush("stretch", stretch_pattern, MultiscaleRadial.local_affine),
         "Stretch",
         "Stretch brush: pull along the drag; the material moves the sides (Poisson)",
         "E",
@@ -225,9 +226,18 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
 #: The brush of key 1, what a new session starts with.
 DEFAULT_BRUSH = "grab_local"
 BRUSH_TABLE: tuple[BrushType, ...] = tuple(row.type for row in BRUSH_ROWS)
+#: Not offered, no row: the affine brushes with the settings' falloff itself, as sessions
+#: before version 6 made them; their strokes are renamed to these kinds when such a session is
+#: read (:func:`gogreen_core.sculpt.session.upgrade_session`), so they replay as recorded.
+_REPLAY_BRUSHES = {
+    row.kind: row.type.wide() for row in BRUSH_ROWS if isinstance(row.type, AffineBrush)
+}
+#: The kind each replay-only brush has, by the offered kind it replays.
+REPLAY_KINDS = {kind: brush.kind for kind, brush in _REPLAY_BRUSHES.items()}
 
-_BY_KIND = {brush.kind: brush for brush in BRUSH_TABLE}
+_BY_KIND = {brush.kind: brush for brush in (*BRUSH_TABLE, *_REPLAY_BRUSHES.values())}
 _ROWS = {row.kind: row for row in BRUSH_ROWS}
+_ROWS.update({wide: _ROWS[kind] for kind, wide in REPLAY_KINDS.items()})
 _BY_NUMBER = {row.number: row.kind for row in BRUSH_ROWS if row.number}
 #: Every brush kind an artist is offered, in the table's order.
 BRUSH_KINDS = tuple(brush.kind for brush in BRUSH_TABLE)
@@ -257,7 +267,8 @@ _check_rows()
 
 
 def brush_row(kind: str) -> BrushRow:
-    """The row of offered brush ``kind``; ValueError naming the kinds for another one."""
+    """The row of offered brush ``kind`` (a replay-only kind: its offered brush's); ValueError
+    naming the kinds for another one."""
     try:
         return _ROWS[kind]
     except (KeyError, TypeError):
