@@ -542,15 +542,6 @@ class MultiscaleRadial(RadialProfile):
         by a tenth of the motion or more is the brush circle (triscale: 1.6 ε; Gaussian: 11 ε)."""
         return cls.triscale(base, 2.0, 0.4)
 
-    @classmethod
-    def local_affine(cls, base: RadialProfile) -> MultiscaleRadial:
-        """The affine brushes' falloff: tri-scale at ε, 2 ε, 4 ε (Blender's Elastic Deform
-        radii). The far field (∇ of the 1/r and ε²/r³ terms) cancels, so what moves by a tenth
-        of the largest motion is 2.8 ε instead of the Gaussian's 5 ε, while the strain stays
-        spread over the brush circle: a unit amount still moves the points at ε by ~0.4-0.5 ε
-        (the sharper :meth:`local`, at 0.4 ε, would move them by 0.03 ε)."""
-        return cls.triscale(base, 2.0, 1.0)
-
     @property
     def base(self) -> RadialProfile:
         return self._base

@@ -19,6 +19,7 @@ import numpy as np
 from gogreen_core.physics.radial import MultiscaleRadial
 from gogreen_core.sculpt.brushes.affine import (
     AffineBrush,
+    local_affine,
     pinch_pattern,
     scale_pattern,
     stretch_pattern,
@@ -155,7 +156,7 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         "(set them with the fold degree and depth below)",
     ),
     BrushRow(
-        AffineBrush("scale", scale_pattern, MultiscaleRadial.local_affine),
+        AffineBrush("scale", scale_pattern, local_affine),
         "Scale",
         "Scale brush: inflate / deflate",
         "S",
@@ -167,7 +168,7 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         acting="scaling",
     ),
     BrushRow(
-        AffineBrush("twist", twist_pattern, MultiscaleRadial.local_affine),
+        AffineBrush("twist", twist_pattern, local_affine),
         "Twist",
         "Twist brush",
         "W",
@@ -179,7 +180,7 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         acting="twisting",
     ),
     BrushRow(
-        AffineBrush("pinch", pinch_pattern, MultiscaleRadial.local_affine),
+        AffineBrush("pinch", pinch_pattern, local_affine),
         "Pinch",
         "Pinch brush",
         "P",
@@ -191,7 +192,7 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         acting="pinching",
     ),
     BrushRow(
-        AffineBrush("stretch", stretch_pattern, MultiscaleRadial.local_affine),
+        AffineBrush("stretch", stretch_pattern, local_affine),
         "Stretch",
         "Stretch brush: pull along the drag; the material moves the sides (Poisson)",
         "E",

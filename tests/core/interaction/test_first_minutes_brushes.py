@@ -165,3 +165,37 @@ def test_the_ring_follows_the_radius_without_recomputing_the_field(model, monkey
         sculptor.model_size
     )
     assert len(calls) == 1
+
+
+def test_new_settings_do_not_stall_the_pointer_the_ring_comes_from_a_worker(model, monkeypatch):
+    """After "Reset to Gaussian" (new engine settings) the first pointer move computed the
+    ring's reach (~30-75 ms) on the calling thread; with ``ring_in_background`` it shows the
+    previous ring at once and the new one once the worker has it."""
+    import threading
+
+    import gogreen_core.interaction.tools.sculpt as sculpt
+    from gogreen_core.interaction.settings import EngineLink
+    from gogreen_core.physics.radial import KelvinletRadial, SplineRadial
+
+    settings, sculptor, tools = default_tools(model, "1")
+    EngineLink(settings, sculptor)
+    tools.ring_in_background = True
+    ready = threading.Event()
+    tools.ring_ready = ready.set
+    point, normal, _ = side_point(sculptor)
+    before = tools.cursor.place(point, normal).moving_radius
+    threads = []
+    real = sculpt.moving_radius
+    monkeypatch.setattr(
+        sculpt, "moving_radius", lambda *a: threads.append(threading.get_ident()) or real(*a)
+    )
+    settings.falloff = SplineRadial.from_profile(KelvinletRadial(1.0), settings.l_max)
+    assert tools.cursor.place(point, normal).moving_radius == before  # at once: the old ring
+    assert ready.wait(60) and tools.wait_ring(60)
+    assert threads and threading.get_ident() not in threads
+    after = tools.cursor.place(point, normal).moving_radius
+    assert after != before  # the Kelvinlet's ring, computed on the worker
+    expected, engine, fresh = default_tools(model, "1")  # computed on the calling thread
+    EngineLink(expected, engine)
+    expected.falloff = settings.falloff
+    assert fresh.cursor.place(point, normal).moving_radius == pytest.approx(after)
