@@ -196,7 +196,10 @@ class SculptTools:
         if key == self._profile_key and settings is self._profile_settings:
             return self._profile
         if moving_key != self._moving_key:
-            if self.ring_in_background and self._profile is not None and ready:
+            # only new settings go to the worker (a new mesh, brush or kernels' readiness is
+            # computed here, as it always was: no extra render after a first stroke)
+            same = self._moving_key is not None and self._moving_key[:2] == moving_key[:2]
+            if self.ring_in_background and self._profile is not None and ready and same:
                 self._ring_start(moving_key, brush, eps)
                 return self._profile  # the previous ring meanwhile
             self._moving_ratio = self._ring_ratio(brush, eps, ready)
