@@ -78,6 +78,10 @@ class BrushRow:
     weights_hint : the caption of its degree weights (what they are, what to try); "" for a
         brush without weights.
     acting : what an anchored brush does, for its cursor's label while it acts ("scaling").
+    depth : an anchored brush's load centre lies this many ε below the press point (along the
+        surface normal, into the body): the scale brush then inflates the surface from inside
+        (a bulge along the normal, 0.25 ε on average within 1.5 ε at a unit amount) instead of
+        spreading it along itself, which shading hardly shows. 0: at the press point.
     """
 
     type: BrushType
@@ -90,6 +94,7 @@ class BrushRow:
     drag: str
     weights_hint: str = ""
     acting: str = ""
+    depth: float = 0.0
 
     @property
     def kind(self) -> str:
@@ -166,6 +171,7 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         "anchored",
         "ℛ_l of ∇G (odd degrees): 1 is the expansion as it is, 0 removes a degree",
         acting="scaling",
+        depth=0.5,
     ),
     BrushRow(
         AffineBrush("twist", twist_pattern, local_affine),

@@ -134,6 +134,12 @@ def test_a_100_px_affine_drag_reads(model, kind):
     else:
         moved = np.linalg.norm(after[ring] - before[ring], axis=1)
         assert moved.mean() >= 0.35 * eps  # 0.16-0.23 ε at 250 px an amount
+    if kind == "scale":  # a bulge along the normal, which shading shows (its load centre lies
+        # half a brush radius inside): not only a spreading along the surface (0.02 ε)
+        inner = distance <= 1.5 * eps
+        outward = before[inner] / np.linalg.norm(before[inner], axis=1)[:, None]
+        rise = np.einsum("ij,ij->i", after[inner] - before[inner], outward)
+        assert rise.mean() >= 0.2 * eps and rise.max() >= 0.4 * eps
 
 
 def test_every_offered_brush_has_one_row_with_a_fixed_number_key():
