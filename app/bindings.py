@@ -79,21 +79,27 @@ def _same(value: Any) -> Any:
 
 
 def mark_invalid(widget: QWidget, invalid: bool) -> None:
-    """Show ``widget`` as holding an invalid value (red background and text) or restore its
-    normal look.
+    """Show ``widget`` as holding an invalid value (red text on a red-tinted background: the
+    refused text itself reads as refused, not only the field's frame) or restore its normal
+    look.
 
     Uses the palette, not a style sheet, so spin box arrows keep the platform style. Sets the
     dynamic property ``invalid`` too, so tests can query it.
     """
     widget.setProperty("invalid", bool(invalid))
-    if invalid:
-        current = active_theme()
-        palette = widget.palette()
-        palette.setColor(QPalette.ColorRole.Base, QColor(current.invalid_base))
-        palette.setColor(QPalette.ColorRole.Text, QColor(current.text))
-        widget.setPalette(palette)
-    else:
-        widget.setPalette(QPalette())  # back to the inherited palette
+    # a spin box's text is its line edit's, which does not take the box's palette
+    line = widget.lineEdit() if isinstance(widget, QAbstractSpinBox) else None
+    for target in (widget, line):
+        if target is None:
+            continue
+        if invalid:
+            current = active_theme()
+            palette = target.palette()
+            palette.setColor(QPalette.ColorRole.Base, QColor(current.invalid_base))
+            palette.setColor(QPalette.ColorRole.Text, QColor(current.error_text))
+            target.setPalette(palette)
+        else:
+            target.setPalette(QPalette())  # back to the inherited palette
 
 
 def is_marked_invalid(widget: QWidget) -> bool:

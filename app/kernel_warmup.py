@@ -34,8 +34,9 @@ class _Relay(QObject):
     CI). Each warmer listens with a connection Qt drops when the warmer is deleted."""
 
     settled = Signal(int, int, float, str)  # warmer token, l_max, seconds, error
-    # units compiled, units to compile, about how many seconds are left (-1: not known yet)
-    progressed = Signal(int, int, float)
+    # units compiled, units to compile, about how many seconds are left (-1: not known yet),
+    # what is compiling now
+    progressed = Signal(int, int, float, str)
 
 
 _relay: _Relay | None = None
@@ -50,7 +51,8 @@ def _the_relay() -> _Relay:
 
         def progressed(progress: _compiled.Progress) -> None:
             left = progress.seconds_left
-            relay.progressed.emit(progress.done, progress.total, -1.0 if left is None else left)
+            seconds = -1.0 if left is None else left
+            relay.progressed.emit(progress.done, progress.total, seconds, progress.compiling)
 
         _compiled.add_progress_listener(progressed)
     return _relay
@@ -65,12 +67,12 @@ class KernelWarmer(QObject):
         only loaded from the disk cache).
     failed(int, str) : l_max and the error (its strokes keep running in NumPy).
     busy_changed(bool) : some requested l_max is not ready yet.
-    progress(int, int, float) : units compiled, units to compile (missing from the disk cache),
-        and about how many seconds are left (-1: not known until the first unit is in).
+    progress(int, int, float, str) : units compiled, units to compile (missing from the disk
+        cache), about how many seconds are left (-1: not known) and what is compiling now.
     """
 
     ready = Signal(int, float, bool)
-    progress = Signal(int, int, float)
+    progress = Signal(int, int, float, str)
     failed = Signal(int, str)
     busy_changed = Signal(bool)
 

@@ -468,15 +468,12 @@ class MainWindow(QMainWindow):
                 "the NumPy path meanwhile"
             )
 
-    def _compile_progress(self, done: int, total: int, seconds_left: float) -> None:
-        """Units missing from the compile cache are compiling: say which count and about how
-        long is left (``seconds_left`` < 0: not known yet)."""
+    def _compile_progress(self, done: int, total: int, seconds_left: float, now: str) -> None:
+        """Units missing from the compile cache are compiling: say what (``now``), which count
+        and about how long is left (``seconds_left`` < 0: not known yet)."""
         self.status.compile_progress.setVisible(done < total)
-        self.flash(
-            self.status.show_compile_progress(
-                done, total, None if seconds_left < 0 else seconds_left
-            )
-        )
+        left = None if seconds_left < 0 else seconds_left
+        self.flash(self.status.show_compile_progress(done, total, left, now))
 
     def _stroke_refusal(self) -> str | None:
         """Why a stroke may not start now (kernels still compiling, a subdivision running), or

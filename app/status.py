@@ -16,11 +16,15 @@ def _time_left(seconds_left: float | None) -> str:
     return f"about {round(seconds_left / 60)} min left"
 
 
-def compile_progress_text(done: int, total: int, seconds_left: float | None) -> str:
-    """What the status bar says while the brush kernels compile: the units compiled of how
-    many, about how long is left (None: not measured yet) and that strokes run meanwhile."""
+def compile_progress_text(
+    done: int, total: int, seconds_left: float | None, compiling: str = ""
+) -> str:
+    """What the status bar says while the brush kernels compile: what is compiling now, the
+    units compiled of how many, about how long is left (None: not known) and that strokes run
+    on the NumPy path meanwhile."""
+    now = f" (now the {compiling})" if compiling else ""
     return (
-        f"Compiling brush kernels: {done} of {total} units, {_time_left(seconds_left)} — "
+        f"Compiling brush kernels{now}: {done} of {total} units, {_time_left(seconds_left)} — "
         "strokes run on the NumPy path meanwhile"
     )
 
@@ -83,10 +87,12 @@ class StatusArea:
         self.bar.addPermanentWidget(progress)
         return progress
 
-    def show_compile_progress(self, done: int, total: int, seconds_left: float | None) -> str:
+    def show_compile_progress(
+        self, done: int, total: int, seconds_left: float | None, compiling: str = ""
+    ) -> str:
         """The compilation's bar at ``done`` of ``total`` units; returns the label to say
         (:func:`compile_progress_text`)."""
-        text = compile_progress_text(done, total, seconds_left)
+        text = compile_progress_text(done, total, seconds_left, compiling)
         self.compile_progress.setRange(0, total)
         self.compile_progress.setValue(done)
         # the bar says it in short too: a temporary hint (the first-run one) may cover the line

@@ -80,6 +80,8 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
 
     pointer_pressed = Signal(object)
     hovered = Signal()
+    #: The tools' worker has the ring of new settings (emitted on its thread).
+    _ring_computed = Signal()
     tool_message = Signal(str)
     tool_error = Signal(str, str)
     step_timed = Signal(float)
@@ -119,6 +121,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         #: Pen pressure of the latest tablet event (1 for a mouse), given to the tools.
         self._pressure = 1.0
         self._hover_timer = self._zero_timer(self._hover_now)
+        self._ring_computed.connect(self.refresh_cursor)
         self._flush_timer = self._zero_timer(self.flush_tools)
         #: Wheel notches not yet applied (a sum: a touchpad gives fractions) and where the
         #: pointer was at the newest; the newest camera drag move not yet handed to VTK.
@@ -201,6 +204,9 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
     def set_tools(self, tools: SculptTools | None) -> None:
         """Hand pointer events (and the F / Shift+F drags, number keys) to ``tools``."""
         self.tools = tools
+        if tools is not None:  # new settings' ring on a worker: the pointer never waits for it
+            tools.ring_in_background = True
+            tools.ring_ready = self._ring_computed.emit  # queued to the GUI thread
 
     def flush_tools(self) -> None:
         """Apply the newest recorded move or hover (older ones were coalesced) and draw it."""

@@ -39,6 +39,8 @@ from dataclasses import dataclass
 from types import ModuleType
 from typing import Any
 
+from gogreen_core import compile_times
+
 #: A unit of compilation: DRIVERS, GEOMETRY, BRUSHES, MESH_IO or (l_first, l_last) of an
 #: angular kernel (registered as :data:`ANGULAR`).
 Unit = str | tuple[int, ...]
@@ -111,14 +113,24 @@ class Progress:
     total: int
     elapsed: float
     left: tuple[Unit, ...]
+    #: Seconds left from each unit's expected time (:mod:`gogreen_core.compile_times`), None
+    #: when a unit has none.
+    estimate: float | None = None
 
     @property
     def seconds_left(self) -> float | None:
-        """About how long the rest takes, from the time per unit compiled so far (None before
-        the first unit is in: nothing measured yet)."""
+        """About how long the rest takes: :attr:`estimate`, else from the time per unit
+        compiled so far (None before the first unit is in: nothing measured yet)."""
+        if self.estimate is not None:
+            return self.estimate
         if not self.done:
             return None
         return self.elapsed / self.done * (self.total - self.done)
+
+    @property
+    def compiling(self) -> str:
+        """What is compiling now ("field drivers"; "" when nothing is left)."""
+        return compile_times.unit_name(self.left[0]) if self.left else ""
 
 
 def add_progress_listener(callback: ProgressCallback) -> None:
@@ -361,17 +373,27 @@ class _UnitCount:
 
     def __init__(self, missing: list[Unit]) -> None:
         self.missing, self.done = missing, list[Unit]()
-        self.start = time.perf_counter()
+        self.start = self.last = time.perf_counter()
+        self.seconds: dict[Unit, float] = {}  # measured per unit, recorded when all are in
+        self.known = compile_times.recorded() if missing else {}
         if missing:
-            _tell_progress(Progress(0, len(missing), 0.0, tuple(missing)))
+            left = tuple(missing)
+            estimate = compile_times.seconds_left({}, left, 0.0, self.known)
+            _tell_progress(Progress(0, len(missing), 0.0, left, estimate))
 
     def compiled(self, unit: Unit) -> None:
         if unit in self.done:
             return
         self.done.append(unit)
+        now = time.perf_counter()
+        self.seconds[unit], self.last = now - self.last, now
         left = tuple(u for u in self.missing if u not in self.done)
-        elapsed = time.perf_counter() - self.start
-        _tell_progress(Progress(len(self.done), len(self.missing), elapsed, left))
+        estimate = compile_times.seconds_left(self.seconds, left, 0.0, self.known)
+        _tell_progress(
+            Progress(len(self.done), len(self.missing), now - self.start, left, estimate)
+        )
+        if not left:
+            compile_times.record(self.seconds)
 
 
 def _work() -> None:

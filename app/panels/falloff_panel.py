@@ -263,6 +263,7 @@ class FalloffPanel(QWidget):
         bind_view(view, "rho_max", self.preview, self.preview.set_rho_max)
         emitter, callback = settings.events.changed, self._schedule_preview
         emitter.connect(callback)
+        bind_view(settings.brush, "kind", self.preview, lambda _kind: self.preview.schedule())
         self.destroyed.connect(lambda *_: emitter.disconnect(callback))
 
     # -- public API --------------------------------------------------------------------------
@@ -374,7 +375,7 @@ class FalloffPanel(QWidget):
         self.editor.set_visible_keys([k for k in self.view.shown_curves if k in needed])
 
     def _schedule_preview(self, changes) -> None:
-        if changes.names & {"material", "falloff", "l_max"}:
+        if changes.names & {"material", "falloff", "l_max", "brush_weights"}:
             self.preview.schedule()
 
     def _show_message(self, text: str | None) -> None:

@@ -1,8 +1,10 @@
-"""The falloff preview: what a grab brush's falloff feels like, computed off the GUI thread.
+"""The falloff preview: what the selected brush's falloff feels like, computed off the GUI
+thread.
 
-:class:`FalloffPreview` plots the felt falloff (:func:`felt_falloff`) of the settings'
-material, falloff and l_max; :class:`PreviewComputer` builds its kernels on the app's background
-thread (:mod:`app.background`).
+:class:`FalloffPreview` plots the felt falloff (:func:`felt_falloff`) of the selected brush
+with the settings' material, falloff, l_max and the brush's degree weights;
+:class:`PreviewComputer` builds its kernels on the app's background thread
+(:mod:`app.background`).
 """
 
 from __future__ import annotations
@@ -20,9 +22,11 @@ from app.panels.plot_axes import draw_plot_axes, plot_font
 from app.panels.widgets import plot_colors
 from gogreen_core.field.kernel import GreenKernel, prepare_degree
 from gogreen_core.interaction.settings import Settings
-from gogreen_core.interaction.tools import grab_motion
-from gogreen_core.physics.material import Material
-from gogreen_core.physics.radial import SplineRadial
+from gogreen_core.interaction.tools import felt_profile
+from gogreen_core.sculpt.brushes import brush_row, brush_type
+from gogreen_core.sculpt.brushes.base import GreenBrush
+from gogreen_core.sculpt.engine_settings import EngineSettings
+from gogreen_core.sculpt.kernel_cache import KernelCache
 
 __all__ = [
     "PREVIEW_INTERVAL_MS",
@@ -45,21 +49,16 @@ PREVIEW_STALE_MS = 400
 
 @dataclass(frozen=True)
 class PreviewRequest:
-    """What one preview shows: a snapshot taken on the GUI thread (copies of the control points
-    of the settings' falloff)."""
+    """What one preview shows: a snapshot taken on the GUI thread (the engine settings, an
+    immutable value: material, frozen falloff, l_max, degree weights) and the brush kind."""
 
-    material: Material
-    l_max: int
-    curves: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]]
+    engine: EngineSettings
+    kind: str
     rho: np.ndarray
-    interpolation: str = "monotone"
 
     @classmethod
     def of(cls, settings: Settings, rho: np.ndarray) -> PreviewRequest:
-        falloff = settings.falloff
-        curves = {key: falloff.curve(*key) for key in falloff.curve_keys()}  # copies, ~20 µs
-        rho = np.array(rho, dtype=float)
-        return cls(settings.material, settings.l_max, curves, rho, falloff.interpolation)
+        return cls(settings.engine_settings, settings.brush.kind, np.array(rho, dtype=float))
 
 
 class PreviewComputer:
@@ -75,35 +74,38 @@ class PreviewComputer:
     from two threads at once (measured: "Concurrent access has been detected")."""
 
     def __init__(self) -> None:
-        self._key: tuple | None = None
-        self._kernel: GreenKernel | None = None
+        self._kernels: KernelCache | None = None
 
-    def kernel(self, request: PreviewRequest) -> GreenKernel:
-        """The kernel of ``request``'s material, l_max and falloff (ε = 1)."""
-        radial = SplineRadial(1.0, request.curves, request.interpolation)
-        key = (request.material, request.l_max)
-        if self._kernel is None or self._key != key:
-            prepare_degree(request.l_max)  # compiled here, not when the GUI thread evaluates
-            self._kernel, self._key = GreenKernel(request.material, request.l_max, radial), key
-        return self._kernel.with_radial(radial)
+    def kernel(self, request: PreviewRequest) -> GreenKernel | None:
+        """The kernel of ``request``'s brush (ε = 1: its falloff variant and degree weights,
+        :meth:`GreenBrush.unit_kernel`) with its material, l_max and falloff; None for a brush
+        without one (smooth, mask)."""
+        engine = request.engine
+        if self._kernels is None or self._kernels.settings != engine:
+            prepare_degree(engine.l_max)  # compiled here, not when the GUI thread evaluates
+            self._kernels = KernelCache(engine, self._kernels)  # same quadrature if it can
+        brush = brush_type(request.kind)
+        return brush.unit_kernel(self._kernels) if isinstance(brush, GreenBrush) else None
 
     def __call__(self, request: PreviewRequest) -> np.ndarray | None:
         """Both steps on the calling thread (scripts, tests, benchmarks)."""
-        return felt_falloff(self.kernel(request), request.rho)
+        return felt_falloff(self.kernel(request), request.rho, request.kind)
 
 
-def felt_falloff(kernel: GreenKernel, rho: np.ndarray) -> np.ndarray | None:
-    """The felt falloff (:func:`grab_motion`) of ``kernel`` (ε = 1) at ``rho`` (n,), normalized
-    to 1 at its peak; None if it is zero or not finite."""
-    magnitude = grab_motion(kernel, rho)
-    peak = magnitude.max()
-    return magnitude / peak if np.isfinite(peak) and peak > 0 else None
+def felt_falloff(
+    kernel: GreenKernel | None, rho: np.ndarray, kind: str = "grab"
+) -> np.ndarray | None:
+    """The felt falloff of brush ``kind`` (:func:`felt_profile`) with its ``kernel`` (ε = 1)
+    at ``rho`` (n,), normalized to 1 at its peak; None if it is zero or not finite."""
+    return felt_profile(kind, kernel, rho)
 
 
 class FalloffPreview(QWidget):
-    """What the artist feels: a grab's motion along a radius (:func:`grab_motion`, the curve
-    the brush cursor draws), normalized to 1 at its peak, for the settings' material, falloff
-    and l_max, at ρ = r/ε in [0, ``rho_max``], with tick labels on both axes.
+    """What the artist feels: the selected brush's motion along a radius (:func:`felt_profile`:
+    a grab's relative to the cursor's, an affine brush's about its fixed centre, a paint
+    brush's weight), normalized to 1 at its peak, for the settings' material, falloff, l_max
+    and the brush's degree weights, at ρ = r/ε in [0, ``rho_max``], with tick labels on both
+    axes and a title naming the brush.
 
     Changes are coalesced: at most one request per :data:`PREVIEW_INTERVAL_MS`
     (:meth:`schedule`; :meth:`recompute` requests at once). The kernel is built on the app's
@@ -125,6 +127,8 @@ class FalloffPreview(QWidget):
         self.rho_max = 4.0
         self.rho = np.linspace(0.0, self.rho_max, PREVIEW_SAMPLES)
         self.values: np.ndarray | None = None
+        #: The brush whose curve is shown.
+        self.kind = str(settings.brush.kind)
         #: Requests sent and results shown (the rest were skipped as superseded), for tests.
         self.requested = 0
         self.shown = 0
@@ -148,8 +152,9 @@ class FalloffPreview(QWidget):
         self._stale_timer.timeout.connect(self._mark_stale)
         self.setMinimumHeight(130)
         self.setToolTip(
-            "Falloff felt by a grab brush: displacement along a radius, in brush radii "
-            "(ρ = r/ε), normalized to 1 at its peak, for this material, falloff and l_max"
+            "Falloff felt by the selected brush: displacement along a radius, in brush radii "
+            "(ρ = r/ε), normalized to 1 at its peak, for this material, falloff, l_max and "
+            "the brush's degree weights (an affine brush's centre stays: its curve starts at 0)"
         )
 
     def sizeHint(self) -> QSize:
@@ -187,7 +192,7 @@ class FalloffPreview(QWidget):
         def compute(_task: Task) -> tuple:
             if latest[0] != number:  # a newer request was sent while this one waited
                 raise Cancelled
-            return number, request.rho, computer.kernel(request)
+            return number, request.rho, computer.kernel(request), request.kind
 
         self._job = self._runner.submit(compute)
         if not self._stale_timer.isActive():
@@ -201,10 +206,11 @@ class FalloffPreview(QWidget):
         return self._runner.wait(msecs) and self._job is None
 
     def _finished(self, job: int, result: tuple) -> None:
-        number, rho, kernel = result
+        number, rho, kernel, kind = result
         if number > self._shown_number:  # jobs end in order: never older than the shown one
+            self.kind = kind
             try:
-                values = felt_falloff(kernel, rho)
+                values = felt_falloff(kernel, rho, kind)
             except (ValueError, RuntimeError):
                 values = None
             self._shown_number = number
@@ -237,6 +243,10 @@ class FalloffPreview(QWidget):
         self._latest[0] = -1  # queued requests are skipped
         super().closeEvent(event)
 
+    def title(self) -> str:
+        """The plot's title: whose felt falloff it is ("felt falloff of Scale")."""
+        return f"felt falloff of {brush_row(self.kind).label}"
+
     # -- drawing -----------------------------------------------------------------------------
     def plot_rect(self) -> QRectF:
         """The plot area inside the axes' tick labels and titles (widget pixels)."""
@@ -258,7 +268,7 @@ class FalloffPreview(QWidget):
         painter.drawText(
             QRectF(rect.left(), 2, rect.width(), metrics.height()),
             Qt.AlignmentFlag.AlignHCenter,
-            "felt falloff of a grab" + ("  (updating…)" if self._stale else ""),
+            self.title() + ("  (updating…)" if self._stale else ""),
         )
         rho_max = float(self.rho[-1]) if len(self.rho) > 1 and self.rho[-1] > 0 else 1.0
         self._draw_axes(painter, rect, rho_max, colors)

@@ -1,6 +1,6 @@
 """Session files: the log of a sculptor's operations, their schema, and replay.
 
-A session (README, "Session files") is ``{"format": "gogreen-session", "version": 5, "mesh":
+A session (README, "Session files") is ``{"format": "gogreen-session", "version": 6, "mesh":
 {vertices, faces, sha256}, "settings": {...}, "operations": [...]}``. :func:`parse_session`
 checks all of it before anything is applied (every field's type and range; errors name the field,
 e.g. ``operations[3].events[0].delta``), :func:`load_session` reads a file, and :func:`replay`
@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from gogreen_core.sculpt.brushes.table import REPLAY_KINDS
 from gogreen_core.sculpt.engine_settings import EngineSettings
 from gogreen_core.sculpt.operations import (
     ConstraintAdd,
@@ -73,11 +74,13 @@ __all__ = [
 ]
 
 SESSION_FORMAT = "gogreen-session"
+#: 6: the affine brushes (scale, twist, pinch, stretch) act with a local multi-scale
+#: falloff (older strokes of theirs replay with the replay-only ``<kind>_wide`` brushes);
 #: 5: no ``degree_weights`` (the weights of the wrinkle brush of versions 1-2); 4: the strokes'
 #: fields partly in single precision; 3: ``wrinkle`` is the folding wrinkle brush, brushes have
 #: their own degree weights (``brush_weights``) and an automatic influence; 2: settings changes
 #: are undo steps (``continued`` joins one to the previous); 1: they were not.
-SESSION_VERSION = 5
+SESSION_VERSION = 6
 #: The brush influence (in ε) of a session before version 3 that does not give one.
 OLD_DEFAULT_INFLUENCE = 4.0
 #: Most operations one session file may hold.
@@ -233,12 +236,26 @@ def _upgrade_v4_to_v5(data: dict[str, Any]) -> dict[str, Any]:
     }
 
 
+def _upgrade_v5_to_v6(data: dict[str, Any]) -> dict[str, Any]:
+    """The affine brushes became local (a multi-scale falloff): their older strokes are
+    renamed to the replay-only brushes with the settings' falloff itself (:data:`REPLAY_KINDS`),
+    which do what those strokes did."""
+    operations = []
+    for op in _operations(data):
+        brush = op.get("brush") if isinstance(op, dict) else None
+        if isinstance(brush, dict) and brush.get("kind") in REPLAY_KINDS:
+            op = {**op, "brush": {**brush, "kind": REPLAY_KINDS[brush["kind"]]}}
+        operations.append(op)
+    return {**data, "version": 6, "operations": operations}
+
+
 #: The upgrade from each version to the next.
 _UPGRADES: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {
     1: _upgrade_v1_to_v2,
     2: _upgrade_v2_to_v3,
     3: _upgrade_v3_to_v4,
     4: _upgrade_v4_to_v5,
+    5: _upgrade_v5_to_v6,
 }
 
 

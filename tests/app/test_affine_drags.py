@@ -59,7 +59,7 @@ def test_a_click_that_changes_nothing_says_so_and_undo_says_there_is_nothing(win
     vp = window.viewport
     QTest.mouseClick(vp, Qt.MouseButton.LeftButton, pos=center_of(window))
     qtbot.wait(5)
-    assert window.message_label.text().startswith("Nothing changed: the scale stroke")
+    assert window.message_label.text().startswith("Nothing changed: the Scale stroke")
     assert not sculptor.history.can_undo and len(sculptor.operations) == operations
     assert not window.document.dirty
     QTest.keyClick(window.viewport, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)

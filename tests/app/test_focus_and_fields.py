@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 from gui_helpers import activate
 from PySide6.QtCore import QPoint, Qt, QTimer
+from PySide6.QtGui import QColor, QPalette
 from PySide6.QtTest import QTest
 from PySide6.QtWidgets import (
     QAbstractButton,
@@ -23,6 +24,7 @@ from PySide6.QtWidgets import (
 from app.bindings import is_marked_invalid
 from app.fields import DecimalField, IntegerField, NumberField
 from app.panels.material_form import MODES
+from app.theme import active_theme
 from gogreen_core import Material
 
 
@@ -219,6 +221,9 @@ def test_radius_minus_half_and_l_max_99_say_the_allowed_range(window, qtbot):
     radius = window.brush_bar.radius
     _refuses(window, qtbot, radius, "-0.5")
     assert radius.toolTip() == "Radius: enter a number from 0.005 to 1 (got '-0.5')"
+    # the refused text itself is red (the theme's error colour), not only the field's tint
+    red = QColor(active_theme().error_text)
+    assert radius.lineEdit().palette().color(QPalette.ColorRole.Text) == red
     window.panel_tabs.setCurrentWidget(window.falloff_panel)
     l_max = window.falloff_panel.l_max_spin
     _refuses(window, qtbot, l_max, "99")
@@ -228,6 +233,7 @@ def test_radius_minus_half_and_l_max_99_say_the_allowed_range(window, qtbot):
     assert window.message_label.text() == f"Refused: {l_max.toolTip()}"  # the status bar too
     press_key(Qt.Key.Key_Escape)  # drops it at once, and the keys go home
     assert l_max.lineEdit().text() == "8" and not is_marked_invalid(l_max)
+    assert l_max.lineEdit().palette().color(QPalette.ColorRole.Text) != red  # black again
     assert "Refused" not in window.message_label.text()  # nor says it any more
     qtbot.waitUntil(window.viewport.hasFocus, timeout=2000)
     click(qtbot, window.viewport)  # a click elsewhere: the refused radius stays, named

@@ -52,7 +52,7 @@ def test_the_status_bar_names_the_units_compiled_and_the_time_left(window, qtbot
     window.kernel_warmer.wait(120_000)
     reports = [
         kernel_warmup._compiled.Progress(0, 5, 0.0, ()),
-        kernel_warmup._compiled.Progress(2, 5, 16.0, ()),
+        kernel_warmup._compiled.Progress(2, 5, 16.0, ("geometry", "mesh_io", "brushes")),
     ]
     for progress in reports:
         with qtbot.waitSignal(window.kernel_warmer.progress, timeout=5_000):
@@ -63,6 +63,7 @@ def test_the_status_bar_names_the_units_compiled_and_the_time_left(window, qtbot
         assert window.status.compile_progress.isVisible()
         assert window.status.compile_progress.value() == progress.done
     assert "about 25 s left" in text  # 8 s a unit, three units left
+    assert "Compiling brush kernels (now the surface index): 2 of 5 units" in text
     bar = window.status.compile_progress
     assert bar.text() == "kernels 2/5, about 25 s left" and bar.toolTip() == text
     assert "estimating" not in text

@@ -676,7 +676,8 @@ def test_plots_are_drawn_on_the_themes_paper(qtbot, app_look, name):
 def test_the_falloff_preview_follows_a_curve_edit(qtbot, falloff_panel):
     panel = falloff_panel
     preview = panel.preview
-    qtbot.waitUntil(lambda: preview.values is not None, timeout=20_000)
+    panel.settings.brush.kind = "grab"  # the falloff itself (no multi-scale combination)
+    assert preview.wait() and preview.kind == "grab"
     before = preview.values.copy()
     assert len(before) == 64 and before.max() == pytest.approx(1.0)
     editor = panel.editor
@@ -695,6 +696,35 @@ def test_the_falloff_preview_follows_a_curve_edit(qtbot, falloff_panel):
     edited = preview.values.copy()
     panel.settings.material = Material.cubic(1.0, 0.5, 0.1)  # the material counts too
     qtbot.waitUntil(lambda: not np.array_equal(preview.values, edited), timeout=5_000)
+
+
+def test_the_falloff_preview_shows_the_selected_brushes_own_felt_falloff(qtbot, falloff_panel):
+    """Not the grab's curve for every brush: each brush's own profile, named in the title (an
+    affine brush's centre stays, so its curve starts at 0; a paint brush's is flat within ε)."""
+    preview = falloff_panel.preview
+    settings = falloff_panel.settings
+    curves = {}
+    for kind, label in (
+        ("grab_local", "Grab"),
+        ("grab", "Wide grab"),
+        ("scale", "Scale"),
+        ("twist", "Twist"),
+        ("pinch", "Pinch"),
+        ("wrinkle", "Wrinkle"),
+        ("smooth", "Smooth"),
+    ):
+        settings.brush.kind = kind
+        assert preview.wait()
+        assert preview.kind == kind and preview.title() == f"felt falloff of {label}"
+        curves[kind] = preview.values.copy()
+        assert curves[kind].max() == pytest.approx(1.0)
+    at = {r: int(np.searchsorted(preview.rho, r)) for r in (0.0, 0.9, 3.0)}
+    assert curves["scale"][at[0.0]] == 0.0 and curves["twist"][at[0.0]] == 0.0
+    assert curves["grab_local"][at[0.0]] == pytest.approx(1.0)
+    assert curves["grab"][at[3.0]] > 5 * curves["grab_local"][at[3.0]]  # wide vs local
+    assert curves["smooth"][at[0.9]] == pytest.approx(1.0) and curves["smooth"][at[3.0]] == 0.0
+    assert not np.allclose(curves["wrinkle"], curves["grab"])
+    preview.repaint()
 
 
 # ---------------------------------------------------------------------------------------------
@@ -733,9 +763,9 @@ def test_the_falloff_preview_computes_off_the_gui_thread_and_the_latest_request_
         threads.append(threading.get_ident())
         return build(self, request)
 
-    def recording_evaluation(kernel, rho):
+    def recording_evaluation(kernel, rho, kind):
         evaluated.append(threading.get_ident())
-        return evaluate(kernel, rho)
+        return evaluate(kernel, rho, kind)
 
     monkeypatch.setattr(PreviewComputer, "kernel", recording)
     monkeypatch.setattr(falloff_module, "felt_falloff", recording_evaluation)

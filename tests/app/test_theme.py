@@ -89,7 +89,7 @@ def test_text_contrasts_with_its_background(name):
         (t.tooltip_text, t.tooltip_base),
         (t.muted_text, t.window),
         (t.error_text, t.window),
-        (t.text, t.invalid_base),
+        (t.error_text, t.invalid_base),  # a refused number's text
         (t.text, t.zero_cell),
     ]
     for fg, bg in pairs:

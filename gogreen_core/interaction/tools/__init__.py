@@ -21,6 +21,7 @@ from gogreen_core.interaction.tools.cursor import (
     CursorController,
     ValueDrag,
     brush_profile,
+    felt_profile,
     grab_motion,
     moving_radius,
 )
@@ -55,6 +56,7 @@ __all__ = [
     "brush_drag",
     "brush_for_key",
     "brush_profile",
+    "felt_profile",
     "grab_motion",
     "moving_radius",
     "pressure_radius_factor",

@@ -4,16 +4,19 @@ drags of the radius and strength (Blender's F / Shift+F)."""
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import cast
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
 from gogreen_core.field.kernel import GreenKernel
 from gogreen_core.interaction.tools.events import CursorState
 from gogreen_core.sculpt.brushes import CUTOFF_START, DEFAULT_INFLUENCE
-from gogreen_core.sculpt.brushes.table import brush_row
+from gogreen_core.sculpt.brushes.table import brush_row, brush_type
 from gogreen_core.sculpt.constraints import smooth_cutoff
 from gogreen_core.threads import threads_at_most
+
+if TYPE_CHECKING:
+    from gogreen_core.sculpt.brushes.affine import AffineBrush
 
 __all__ = [
     "MOVING_FRACTION",
@@ -23,6 +26,7 @@ __all__ = [
     "ValueDrag",
     "anchored_label",
     "brush_profile",
+    "felt_profile",
     "grab_motion",
     "moving_radius",
 ]
@@ -155,6 +159,40 @@ def grab_motion(kernel: GreenKernel, distances: np.ndarray) -> np.ndarray:
     except np.linalg.LinAlgError:
         normalized = green / (np.abs(green).max() or 1.0)
     return cast(np.ndarray, np.linalg.norm(normalized, axis=1).mean(axis=1))
+
+
+#: Directions (in the plane ⟂ the view axis) an affine brush's felt profile averages over.
+_FELT_DIRECTIONS = 8
+
+
+def felt_profile(kind: str, kernel: GreenKernel | None, rho: np.ndarray) -> np.ndarray | None:
+    """What brush ``kind`` feels like along a radius: its motion (n,) at ``rho`` (n,) brush
+    radii from its centre, normalized to 1 at its peak; None when it is zero or not finite.
+
+    ``kernel``: the brush's own kernel at ε = 1 (:meth:`GreenBrush.unit_kernel`: its falloff
+    variant and degree weights; None for a paint brush). A grab-family brush: a unit grab's
+    motion relative to the cursor's (:func:`grab_motion`, 1 at the centre). An affine brush:
+    |u| of its load (pattern B for a view along z and a drag along x) averaged over directions
+    in the view plane: 0 at the centre, which stays, rising to where it scales, twists, pinches
+    or stretches most. A paint brush: its weight, the smooth cutoff of its automatic influence
+    (full within ε, none from 2 ε)."""
+    rho = np.asarray(rho, dtype=np.float64)
+    brush = brush_type(kind)
+    if brush.family == "paint" or kernel is None:
+        outer = brush.auto_reach
+        values = smooth_cutoff(rho, CUTOFF_START * outer, outer)
+    elif brush.is_affine:
+        load = cast("AffineBrush", brush).shape(None, np.array([1.0, 0.0, 0.0]))
+        angles = np.linspace(0.0, np.pi, _FELT_DIRECTIONS, endpoint=False)
+        directions = np.stack([np.cos(angles), np.sin(angles), np.zeros_like(angles)], axis=1)
+        points = (rho[:, None, None] * directions[None]).reshape(-1, 3)
+        with threads_at_most(1):
+            motion = kernel.affine_displacement(points, np.zeros(3), load)
+        values = np.linalg.norm(motion, axis=1).reshape(len(rho), -1).mean(axis=1)
+    else:
+        values = grab_motion(kernel, rho)
+    peak = values.max() if len(values) else 0.0
+    return values / peak if np.isfinite(peak) and peak > 0 else None
 
 
 class ValueDrag:

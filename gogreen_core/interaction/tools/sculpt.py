@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import threading
 import time
 from collections.abc import Callable
 from dataclasses import replace
@@ -30,6 +31,7 @@ from gogreen_core.sculpt.brushes import (
     brush_for_key,
     brush_row,
 )
+from gogreen_core.threads import threads_at_most
 
 if TYPE_CHECKING:
     from gogreen_core.sculpt.engine_settings import EngineSettings
@@ -118,6 +120,14 @@ class SculptTools:
         self._moving_ratio = 1.0
         self._moving_key: tuple[Any, ...] | None = None
         self._profile_settings: EngineSettings | None = None
+        #: Compute the ring of new settings on a worker thread, showing the previous one
+        #: meanwhile (the app's choice; False: on the calling thread, at once).
+        self.ring_in_background = False
+        #: Called (on the worker thread) when a ring computed there is ready, optional.
+        self.ring_ready: Callable[[], None] | None = None
+        self._ring_thread: threading.Thread | None = None
+        self._ring_wanted: tuple[tuple[Any, ...], Brush, float] | None = None
+        self._ring_done: tuple[tuple[Any, ...], float] | None = None
         self.set_sculptor(sculptor)
 
     def set_sculptor(self, sculptor: Sculptor | None) -> None:
@@ -141,10 +151,11 @@ class SculptTools:
             return self.brush().eps(self.sculptor.model_size)
         return radius * self.sculptor.model_size
 
-    def _cursor_influence(self) -> float:
-        """The brush's influence in ε: its own number, or what ``"auto"`` gives with the
-        engine's settings (:data:`DEFAULT_INFLUENCE` while the kernels are not ready)."""
-        brush = self.brush()
+    def _cursor_influence(self, brush: Brush | None = None) -> float:
+        """The influence in ε of ``brush`` (the current one when None): its own number, or
+        what ``"auto"`` gives with the engine's settings (:data:`DEFAULT_INFLUENCE` while the
+        kernels are not ready)."""
+        brush = self.brush() if brush is None else brush
         if not brush.auto_influence:
             return float(brush.influence)
         if self.sculptor is None or self.ready():
@@ -162,7 +173,11 @@ class SculptTools:
 
     def _cursor_profile(self) -> np.ndarray | None:
         """The current brush's falloff samples (:func:`brush_profile`), cached per engine
-        settings (material, falloff, l_max) and brush shape."""
+        settings (material, falloff, l_max) and brush shape.
+
+        With :attr:`ring_in_background`, new settings (a falloff reset, a new material) do not
+        stall the pointer: the ring of the new settings (its reach, ~30-75 ms) is computed on a
+        worker thread and the previous ring shown meanwhile (:attr:`ring_pending`)."""
         if self.sculptor is None:
             return None
         brush = self.brush()
@@ -170,24 +185,82 @@ class SculptTools:
         ready = not self.ready()
         settings = self.sculptor.settings
         key = (id(self.sculptor), brush.kind, brush.influence, eps, ready)
-        if key != self._profile_key or settings is not self._profile_settings:
-            influence = self._cursor_influence()
-            # the moved region in units of ε: the same at any ε (the kernel only scales), so an
-            # F drag of the radius does not recompute it (~0.1 s) at every pointer move
-            moving_key = (key[:3], ready, settings)
-            anchored = brush_row(brush.kind).drag == "anchored"
-            try:
-                kernel = self.sculptor.kernel(brush) if ready else None
-                self._profile = brush_profile(kernel, influence, eps)
-                if moving_key != self._moving_key:
-                    moving = moving_radius(kernel, influence, eps, anchored)
-                    self._moving_ratio = moving / eps if eps > 0 else 1.0
-            except (ValueError, RuntimeError, np.linalg.LinAlgError):
-                self._profile = brush_profile(None, influence, eps)
-                self._moving_ratio = moving_radius(None, influence, 1.0)
+        # the moved region in units of ε: the same at any ε (the kernel only scales), so an F
+        # drag of the radius does not recompute it (~0.1 s) at every pointer move
+        moving_key = (key[:3], ready, settings)
+        done = self._ring_done
+        if done is not None and done[0] == moving_key:  # computed on the worker thread
+            self._ring_done = None
+            self._moving_ratio, self._moving_key = done[1], moving_key
+            self._profile_key = None  # the profile with the new influence, below
+        if key == self._profile_key and settings is self._profile_settings:
+            return self._profile
+        if moving_key != self._moving_key:
+            # only new settings go to the worker (a new mesh, brush or kernels' readiness is
+            # computed here, as it always was: no extra render after a first stroke)
+            same = self._moving_key is not None and self._moving_key[:2] == moving_key[:2]
+            if self.ring_in_background and self._profile is not None and ready and same:
+                self._ring_start(moving_key, brush, eps)
+                return self._profile  # the previous ring meanwhile
+            self._moving_ratio = self._ring_ratio(brush, eps, ready)
             self._moving_key = moving_key
-            self._profile_key, self._profile_settings = key, settings
+        influence = self._cursor_influence()
+        try:
+            kernel = self.sculptor.kernel(brush) if ready else None
+            self._profile = brush_profile(kernel, influence, eps)
+        except (ValueError, RuntimeError, np.linalg.LinAlgError):
+            self._profile = brush_profile(None, influence, eps)
+        self._profile_key, self._profile_settings = key, settings
         return self._profile
+
+    def _ring_ratio(self, brush: Brush, eps: float, ready: bool) -> float:
+        """The moved region's radius in units of ε (:func:`moving_radius`) of ``brush`` with
+        the engine's settings (and its automatic influence: computed and cached by the engine
+        here too)."""
+        assert self.sculptor is not None
+        influence = self._cursor_influence(brush)
+        anchored = brush_row(brush.kind).drag == "anchored"
+        try:
+            kernel = self.sculptor.kernel(brush) if ready else None
+            moving = moving_radius(kernel, influence, eps, anchored)
+            return moving / eps if eps > 0 else 1.0
+        except (ValueError, RuntimeError, np.linalg.LinAlgError):
+            return moving_radius(None, influence, 1.0)
+
+    def _ring_start(self, moving_key: tuple[Any, ...], brush: Brush, eps: float) -> None:
+        """Compute the ring of ``moving_key`` on a worker thread (one at a time; a newer key
+        is computed once the running one ends)."""
+        self._ring_wanted = (moving_key, brush, eps)
+        if self._ring_thread is not None and self._ring_thread.is_alive():
+            return
+
+        def work() -> None:
+            while True:
+                wanted = self._ring_wanted
+                if wanted is None:
+                    return
+                key, wanted_brush, wanted_eps = wanted
+                with threads_at_most(1):
+                    ratio = self._ring_ratio(wanted_brush, wanted_eps, True)
+                self._ring_done = (key, ratio)
+                if self._ring_wanted is wanted:
+                    self._ring_wanted = None
+                if self.ring_ready is not None:
+                    self.ring_ready()
+
+        self._ring_thread = threading.Thread(target=work, name="cursor ring", daemon=True)
+        self._ring_thread.start()
+
+    @property
+    def ring_pending(self) -> bool:
+        """A ring is being computed on the worker thread (:attr:`ring_in_background`)."""
+        return self._ring_thread is not None and self._ring_thread.is_alive()
+
+    def wait_ring(self, timeout: float | None = None) -> bool:
+        """Block until the worker's ring is computed (tests, scripts); False on time-out."""
+        if self._ring_thread is not None:
+            self._ring_thread.join(timeout)
+        return not self.ring_pending
 
     def _cursor_moving_radius(self) -> float | None:
         """The region that moves by a tenth of the motion or more (model units,
@@ -367,7 +440,7 @@ class SculptTools:
             hint = "drag away from where you press" if brush.is_affine else "drag farther"
             mask = " and changed no mask value" if brush.type.family == "paint" else ""
             update.note = (
-                f"Nothing changed: the {brush.kind.replace('_', '-')} stroke moved no vertex"
+                f"Nothing changed: the {brush_row(brush.kind).label} stroke moved no vertex"
                 f"{mask}, so it is not recorded ({hint})"
             )
         return update

@@ -71,6 +71,8 @@ class StrokeController:
         self.pen = pen or (lambda: defaults)
         self.brush: Brush | None = None
         self._anchor: np.ndarray | None = None
+        #: Where an anchored brush's load acts: the press point, or its row's depth below it.
+        self._load_centre = np.zeros(3)
         self._last_point: np.ndarray | None = None
         self._last_screen: tuple[float, float] | None = None
         #: Affine strokes: the press point on screen, the sign of the drag (0 undecided) and
@@ -106,7 +108,8 @@ class StrokeController:
 
     @property
     def anchor(self) -> np.ndarray | None:
-        """(3,) the press point of the stroke (where affine brushes act), None between strokes."""
+        """(3,) the press point of the stroke (where affine brushes act and their ring stays;
+        a row's ``depth`` puts the load below it), None between strokes."""
         return self._anchor
 
     def press(self, event: PointerEvent, brush: Brush) -> np.ndarray | None:
@@ -117,6 +120,7 @@ class StrokeController:
         self.sculptor.begin_stroke(brush)
         self.brush = brush
         self._anchor = np.array(event.point, dtype=float)
+        self._load_centre = self._anchor - self._depth(event, brush)
         self._last_point = self._anchor.copy()
         self._last_screen = event.screen
         self._press_screen, self._sign, self._applied_drag = event.screen, 0, 0.0
@@ -170,6 +174,23 @@ class StrokeController:
             return BrushEvent(center=center, delta=delta, amount=pressure, radius_factor=factor)
         return BrushEvent(center=center, delta=pressure * delta, radius_factor=factor)
 
+    def _depth(self, event: PointerEvent, brush: Brush) -> np.ndarray:
+        """How far (3,) below the press point an anchored brush's load centre lies: its row's
+        ``depth`` ε along the surface normal turned away from the viewer (none without a
+        normal)."""
+        depth = brush_row(brush.kind).depth if brush_drag(brush) == "anchored" else 0.0
+        if not depth or event.normal is None:
+            return np.zeros(3)
+        normal = np.asarray(event.normal, dtype=float)
+        size = float(np.linalg.norm(normal))
+        if not size > 0 or not np.isfinite(size):
+            return np.zeros(3)
+        normal = normal / size
+        if event.view_dir is not None and normal @ np.asarray(event.view_dir, dtype=float) > 0:
+            normal = -normal  # the side facing the viewer is outside
+        eps = brush.eps(self.sculptor.model_size) * self._radius_factor(event)
+        return depth * eps * normal
+
     def _affine_event(
         self, event: PointerEvent, pressure: float, factor: float
     ) -> BrushEvent | None:
@@ -191,7 +212,7 @@ class StrokeController:
         right = np.asarray(event.screen_x, dtype=float)
         up = np.cross(right, view)
         return BrushEvent(
-            center=self._anchor,
+            center=self._load_centre,
             amount=pressure * change / PIXELS_PER_UNIT_AMOUNT,
             axis=view,
             direction=dx * right + dy * up if length > 0 else None,

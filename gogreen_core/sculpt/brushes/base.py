@@ -238,16 +238,31 @@ class GreenBrush(BrushType):
     radial_key: str = ""
     weighted = True
 
+    def __init__(
+        self,
+        kind: str,
+        multiscale: Callable[[RadialProfile], RadialProfile] | None = None,
+        weights_of: str | None = None,
+    ) -> None:
+        """``multiscale`` makes the brush's falloff from the settings' one at its radius (e.g.
+        :meth:`MultiscaleRadial.local`: a combination of the same regularized solution at
+        several radii); None for the falloff itself. ``weights_of``: the brush whose degree
+        weights it reads (its own kind when None)."""
+        super().__init__(kind)
+        self._multiscale = multiscale
+        self.radial_key = "" if multiscale is None else kind
+        self.weights_kind = kind if weights_of is None else weights_of
+
     def radial(self, falloff: RadialProfile) -> RadialProfile:
         """The brush's falloff from the settings' shape ``falloff`` at the brush's ε."""
-        return falloff
+        return falloff if self._multiscale is None else self._multiscale(falloff)
 
     def degree_weights(self, settings: EngineSettings) -> np.ndarray | None:
         """The kernel's degree weights (l_max + 1,) from the brush's ω_l
         (:meth:`EngineSettings.weights_for`), None when they are all ones (the full kernel):
         a vector load's field has the even degrees of G, ω_l scaling R_l; an affine load's the
         odd degrees of ∇G, ω_l scaling ℛ_l (the kernel's weight l − 1)."""
-        omega = settings.weights_for(self.kind)
+        omega = settings.weights_for(self.weights_kind)
         if np.all(omega == 1.0):
             return None
         weights: np.ndarray = omega[1:] if self.is_affine else omega[:-1]
@@ -268,12 +283,15 @@ class GreenBrush(BrushType):
             self.radial_key,
             None if weights is None else weights.tobytes(),
         )
-        return ctx.kernels.derived(key, lambda: field_reach(self._unit_kernel(ctx), self.is_affine))
+        return ctx.kernels.derived(
+            key, lambda: field_reach(self.unit_kernel(ctx.kernels), self.is_affine)
+        )
 
-    def _unit_kernel(self, ctx: StrokeContext) -> GreenKernel:
-        """The brush's kernel at ε = 1."""
-        radial = self.radial(ctx.settings.falloff.with_eps(1.0))
-        return ctx.kernels.weighted(self.degree_weights(ctx.settings)).with_radial(radial)
+    def unit_kernel(self, kernels: KernelCache) -> GreenKernel:
+        """The brush's kernel at ε = 1 for the settings of ``kernels`` (what its field is made
+        of, in units of ε)."""
+        radial = self.radial(kernels.settings.falloff.with_eps(1.0))
+        return kernels.weighted(self.degree_weights(kernels.settings)).with_radial(radial)
 
     def kernel(self, ctx: StrokeContext, brush: Brush) -> GreenKernel:
         radial = self.radial(ctx.settings.falloff.with_eps(brush.eps(ctx.model_size)))

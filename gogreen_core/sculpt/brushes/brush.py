@@ -16,7 +16,7 @@ import numpy as np
 
 from gogreen_core.field.limits import MAX_AMOUNT, MAX_RADIUS, MAX_STRENGTH, MAX_SUBSTEPS, MIN_RADIUS
 from gogreen_core.sculpt.brushes.base import AUTO_INFLUENCE, CUTOFF_START, BrushType
-from gogreen_core.sculpt.brushes.table import BRUSH_KINDS, brush_type
+from gogreen_core.sculpt.brushes.table import BRUSH_KINDS, REPLAY_KINDS, brush_type
 from gogreen_core.validation import (
     ParameterError,
     check_finite,
@@ -58,7 +58,8 @@ class Brush:
     symmetry: str = ""
 
     def __post_init__(self) -> None:
-        if not isinstance(self.kind, str) or self.kind not in BRUSH_KINDS:
+        known = self.kind in BRUSH_KINDS or self.kind in REPLAY_KINDS.values()
+        if not isinstance(self.kind, str) or not known:
             raise ParameterError(
                 "kind", f"unknown brush {self.kind!r}; expected one of {', '.join(BRUSH_KINDS)}"
             )

@@ -17,14 +17,12 @@ going along the cursor; a field that is zero everywhere is refused.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from gogreen_core.field.kernel import GreenKernel
 from gogreen_core.field.limits import MAX_REACH
-from gogreen_core.physics.radial import RadialProfile
 from gogreen_core.sculpt.brushes.base import ZERO_FIELD, GreenBrush, StrokeContext
 from gogreen_core.sculpt.falloff_safety import MAX_GRAB_RATIO, MAX_GRAB_STRAIN, mean_green_direction
 from gogreen_core.validation import ParameterError, check_vector, vector_norm
@@ -47,16 +45,6 @@ class GrabBrush(GreenBrush):
     """
 
     family = "vector"
-
-    def __init__(
-        self, kind: str, multiscale: Callable[[RadialProfile], RadialProfile] | None = None
-    ) -> None:
-        super().__init__(kind)
-        self._multiscale = multiscale
-        self.radial_key = "" if multiscale is None else kind
-
-    def radial(self, falloff: RadialProfile) -> RadialProfile:
-        return falloff if self._multiscale is None else self._multiscale(falloff)
 
     def check_event(self, brush: Brush, event: BrushEvent, reach: float) -> None:
         check_vector("delta", event.delta, max_norm=reach)

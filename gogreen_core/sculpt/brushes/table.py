@@ -19,6 +19,7 @@ import numpy as np
 from gogreen_core.physics.radial import MultiscaleRadial
 from gogreen_core.sculpt.brushes.affine import (
     AffineBrush,
+    local_affine,
     pinch_pattern,
     scale_pattern,
     stretch_pattern,
@@ -44,6 +45,7 @@ __all__ = [
     "DRAGS",
     "GRAB_BRUSHES",
     "PAINT_BRUSHES",
+    "REPLAY_KINDS",
     "BrushRow",
     "affine_load_shape",
     "brush_for_key",
@@ -81,6 +83,10 @@ class BrushRow:
     weights_hint : the caption of its degree weights (what they are, what to try); "" for a
         brush without weights.
     acting : what an anchored brush does, for its cursor's label while it acts ("scaling").
+    depth : an anchored brush's load centre lies this many ε below the press point (along the
+        surface normal, into the body): the scale brush then inflates the surface from inside
+        (a bulge along the normal, 0.25 ε on average within 1.5 ε at a unit amount) instead of
+        spreading it along itself, which shading hardly shows. 0: at the press point.
     """
 
     type: BrushType
@@ -93,6 +99,7 @@ class BrushRow:
     drag: str
     weights_hint: str = ""
     acting: str = ""
+    depth: float = 0.0
 
     @property
     def kind(self) -> str:
@@ -159,7 +166,7 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         "(set them with the fold degree and depth below)",
     ),
     BrushRow(
-        AffineBrush("scale", scale_pattern),
+        AffineBrush("scale", scale_pattern, local_affine),
         "Scale",
         "Scale brush: inflate / deflate",
         "S",
@@ -169,9 +176,10 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         "anchored",
         "ℛ_l of ∇G (odd degrees): 1 is the expansion as it is, 0 removes a degree",
         acting="scaling",
+        depth=0.5,
     ),
     BrushRow(
-        AffineBrush("twist", twist_pattern),
+        AffineBrush("twist", twist_pattern, local_affine),
         "Twist",
         "Twist brush",
         "W",
@@ -183,7 +191,7 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         acting="twisting",
     ),
     BrushRow(
-        AffineBrush("pinch", pinch_pattern),
+        AffineBrush("pinch", pinch_pattern, local_affine),
         "Pinch",
         "Pinch brush",
         "P",
@@ -195,7 +203,7 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         acting="pinching",
     ),
     BrushRow(
-        AffineBrush("stretch", stretch_pattern),
+        AffineBrush("stretch", stretch_pattern, local_affine),
         "Stretch",
         "Stretch brush: pull along the drag; the material moves the sides (Poisson)",
         "E",
@@ -285,9 +293,18 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
 #: The brush of key 1, what a new session starts with.
 DEFAULT_BRUSH = "grab_local"
 BRUSH_TABLE: tuple[BrushType, ...] = tuple(row.type for row in BRUSH_ROWS)
+#: Not offered, no row: the affine brushes with the settings' falloff itself, as sessions
+#: before version 6 made them; their strokes are renamed to these kinds when such a session is
+#: read (:func:`gogreen_core.sculpt.session.upgrade_session`), so they replay as recorded.
+_REPLAY_BRUSHES = {
+    row.kind: row.type.wide() for row in BRUSH_ROWS if isinstance(row.type, AffineBrush)
+}
+#: The kind each replay-only brush has, by the offered kind it replays.
+REPLAY_KINDS = {kind: brush.kind for kind, brush in _REPLAY_BRUSHES.items()}
 
-_BY_KIND = {brush.kind: brush for brush in BRUSH_TABLE}
+_BY_KIND = {brush.kind: brush for brush in (*BRUSH_TABLE, *_REPLAY_BRUSHES.values())}
 _ROWS = {row.kind: row for row in BRUSH_ROWS}
+_ROWS.update({wide: _ROWS[kind] for kind, wide in REPLAY_KINDS.items()})
 _BY_NUMBER = {row.number: row.kind for row in BRUSH_ROWS if row.number}
 #: Every brush kind an artist is offered, in the table's order.
 BRUSH_KINDS = tuple(brush.kind for brush in BRUSH_TABLE)
@@ -318,7 +335,8 @@ _check_rows()
 
 
 def brush_row(kind: str) -> BrushRow:
-    """The row of offered brush ``kind``; ValueError naming the kinds for another one."""
+    """The row of offered brush ``kind`` (a replay-only kind: its offered brush's); ValueError
+    naming the kinds for another one."""
     try:
         return _ROWS[kind]
     except (KeyError, TypeError):

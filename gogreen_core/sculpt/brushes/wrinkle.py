@@ -62,6 +62,7 @@ from gogreen_core.sculpt.falloff_safety import (
 if TYPE_CHECKING:
     from gogreen_core.sculpt.brushes.brush import Brush, BrushEvent
     from gogreen_core.sculpt.engine_settings import EngineSettings
+    from gogreen_core.sculpt.kernel_cache import KernelCache
 
 __all__ = [
     "FOLD_DEGREES",
@@ -188,24 +189,29 @@ class WrinkleBrush(GrabBrush):
         folds[1::2] = 0.0
         return pull, folds
 
-    def _fold_kernels(self, ctx: StrokeContext, eps: float) -> tuple[GreenKernel, np.ndarray]:
+    def _fold_kernels(self, kernels: KernelCache, eps: float) -> tuple[GreenKernel, np.ndarray]:
         """The kernel of the brush's radial terms at ``eps`` (unit weights) and the degrees'
         material scale factors ‖P₀‖/‖P_l‖ (l_max + 1,; 0 where the material has no term)."""
 
         def scales() -> np.ndarray:
-            norms = ctx.kernels.full.degree_norms()[: ctx.settings.l_max + 1]
+            norms = kernels.full.degree_norms()[: kernels.settings.l_max + 1]
             has = norms > _NO_TERM * norms[0]
             return np.where(has, norms[0] / np.where(has, norms, 1.0), 0.0)
 
-        factors = ctx.kernels.derived(("fold scales",), scales)
-        radial = FoldRadial(eps, ctx.settings.falloff)
-        return ctx.kernels.full.with_radial(radial), factors
+        factors = kernels.derived(("fold scales",), scales)
+        radial = FoldRadial(eps, kernels.settings.falloff)
+        return kernels.full.with_radial(radial), factors
 
     def kernel(self, ctx: StrokeContext, brush: Brush) -> GreenKernel:
         """The pull part at the brush's ε (what the cursor's profile draws: the folds depend on
         the surface under the cursor)."""
-        unit, _ = self._fold_kernels(ctx, brush.eps(ctx.model_size))
+        unit, _ = self._fold_kernels(ctx.kernels, brush.eps(ctx.model_size))
         return unit.with_degree_weights(self._parts(ctx.settings)[0])
+
+    def unit_kernel(self, kernels: KernelCache) -> GreenKernel:
+        """The pull part at ε = 1 (the folds depend on the surface under the cursor)."""
+        unit, _ = self._fold_kernels(kernels, 1.0)
+        return unit.with_degree_weights(self._parts(kernels.settings)[0])
 
     def reach(self, ctx: StrokeContext, brush: Brush) -> float:
         """``influence``, or for ``"auto"`` the reach of the pull and unit folds together
@@ -214,7 +220,7 @@ class WrinkleBrush(GrabBrush):
             return float(brush.influence)
 
         def reach() -> float:
-            unit, factors = self._fold_kernels(ctx, 1.0)
+            unit, factors = self._fold_kernels(ctx.kernels, 1.0)
             pull, folds = self._parts(ctx.settings)
             depth = folds.max() if folds.max() > 0 else 1.0
             return field_reach(unit.with_degree_weights(pull + folds * factors / depth), False)
@@ -229,7 +235,7 @@ class WrinkleBrush(GrabBrush):
         reach = self.reach(ctx, brush)
         memo: dict[str, Any] = ctx.stroke if ctx.stroke is not None else {}
         center, normal = self._surface_frame(ctx, memo, event.center, eps)
-        unit, factors = self._fold_kernels(ctx, eps)
+        unit, factors = self._fold_kernels(ctx.kernels, eps)
         pull, folds = self._parts(ctx.settings)
         g0 = unit.with_degree_weights(pull).green(np.zeros((1, 3)))[0]
         force = np.linalg.solve(g0, delta) if size > 0 else np.zeros(3)

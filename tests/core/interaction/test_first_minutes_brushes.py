@@ -114,10 +114,18 @@ def test_a_100_px_affine_drag_reads(model, kind):
     settings.brush.kind = kind
     point, normal, right = side_point(sculptor)
     eps = settings.brush.brush.eps(sculptor.model_size)
+    shown = tools.cursor.place(point, normal).moving_radius
     before = sculptor.vertices.copy()
     affine_drag(tools, point, normal, right)
-    ring = np.abs(np.linalg.norm(before - point, axis=1) - eps) <= 0.15 * eps
+    distance = np.linalg.norm(before - point, axis=1)
+    ring = np.abs(distance - eps) <= 0.15 * eps
     after = sculptor.vertices
+    # local: the change sits where the ring is (the Gaussian's ring was 5.1 ε, and beyond 4 ε
+    # 12-15 % of the largest motion still moved)
+    moved_all = np.linalg.norm(after - before, axis=1)
+    assert shown <= 3.0 * eps
+    assert distance[moved_all >= MOVING_FRACTION * moved_all.max()].max() <= 1.15 * shown
+    assert moved_all[distance > 4 * eps].max() <= 0.05 * moved_all.max()
     if kind == "twist":
         a, b = before[ring] - point, after[ring] - point
         a, b = a - np.outer(a @ normal, normal), b - np.outer(b @ normal, normal)
@@ -126,6 +134,12 @@ def test_a_100_px_affine_drag_reads(model, kind):
     else:
         moved = np.linalg.norm(after[ring] - before[ring], axis=1)
         assert moved.mean() >= 0.35 * eps  # 0.16-0.23 ε at 250 px an amount
+    if kind == "scale":  # a bulge along the normal, which shading shows (its load centre lies
+        # half a brush radius inside): not only a spreading along the surface (0.02 ε)
+        inner = distance <= 1.5 * eps
+        outward = before[inner] / np.linalg.norm(before[inner], axis=1)[:, None]
+        rise = np.einsum("ij,ij->i", after[inner] - before[inner], outward)
+        assert rise.mean() >= 0.2 * eps and rise.max() >= 0.4 * eps
 
 
 def test_every_offered_brush_has_one_row_with_a_fixed_number_key():
@@ -157,3 +171,37 @@ def test_the_ring_follows_the_radius_without_recomputing_the_field(model, monkey
         sculptor.model_size
     )
     assert len(calls) == 1
+
+
+def test_new_settings_do_not_stall_the_pointer_the_ring_comes_from_a_worker(model, monkeypatch):
+    """After "Reset to Gaussian" (new engine settings) the first pointer move computed the
+    ring's reach (~30-75 ms) on the calling thread; with ``ring_in_background`` it shows the
+    previous ring at once and the new one once the worker has it."""
+    import threading
+
+    import gogreen_core.interaction.tools.sculpt as sculpt
+    from gogreen_core.interaction.settings import EngineLink
+    from gogreen_core.physics.radial import KelvinletRadial, SplineRadial
+
+    settings, sculptor, tools = default_tools(model, "1")
+    EngineLink(settings, sculptor)
+    tools.ring_in_background = True
+    ready = threading.Event()
+    tools.ring_ready = ready.set
+    point, normal, _ = side_point(sculptor)
+    before = tools.cursor.place(point, normal).moving_radius
+    threads = []
+    real = sculpt.moving_radius
+    monkeypatch.setattr(
+        sculpt, "moving_radius", lambda *a: threads.append(threading.get_ident()) or real(*a)
+    )
+    settings.falloff = SplineRadial.from_profile(KelvinletRadial(1.0), settings.l_max)
+    assert tools.cursor.place(point, normal).moving_radius == before  # at once: the old ring
+    assert ready.wait(60) and tools.wait_ring(60)
+    assert threads and threading.get_ident() not in threads
+    after = tools.cursor.place(point, normal).moving_radius
+    assert after != before  # the Kelvinlet's ring, computed on the worker
+    expected, engine, fresh = default_tools(model, "1")  # computed on the calling thread
+    EngineLink(expected, engine)
+    expected.falloff = settings.falloff
+    assert fresh.cursor.place(point, normal).moving_radius == pytest.approx(after)

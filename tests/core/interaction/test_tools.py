@@ -458,7 +458,7 @@ def test_a_stroke_that_changes_nothing_says_so_and_records_nothing(sculptor):
     operations = len(sculptor.operations)
     tools.press(at(top, screen=(50.0, 50.0)))
     update = tools.release()  # a click: no drag
-    assert update.note is not None and update.note.startswith("Nothing changed: the pinch")
+    assert update.note is not None and update.note.startswith("Nothing changed: the Pinch stroke")
     assert not sculptor.history.can_undo and len(sculptor.operations) == operations
     tools.press(at(top, screen=(50.0, 50.0)))
     tools.move(at(top, screen=(50.0, 10.0)))  # 40 px straight up
@@ -466,3 +466,15 @@ def test_a_stroke_that_changes_nothing_says_so_and_records_nothing(sculptor):
     assert update.note is None and update.moved is not None
     assert sculptor.history.undo_labels == ["Pinch stroke"]
     assert len(sculptor.operations) == operations + 1
+
+
+def test_nothing_changed_names_the_brush_by_its_row_label(sculptor):
+    """The note names the brush as its toolbar button does ("Grab", "Wide grab"), not by its
+    kind ("grab-local", "grab")."""
+    top = sculptor.vertices[int(np.argmax(sculptor.vertices[:, 2]))].copy()
+    for kind, label in (("grab_local", "Grab"), ("grab", "Wide grab")):
+        tools = tools_for(sculptor, Brush(kind, radius=0.2))
+        tools.press(at(top, screen=(50.0, 50.0)))
+        update = tools.release()
+        assert update.note is not None
+        assert update.note.startswith(f"Nothing changed: the {label} stroke moved no vertex")

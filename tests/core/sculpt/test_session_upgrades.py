@@ -117,3 +117,22 @@ def test_a_journal_of_the_previous_version_recovers_within_its_tolerance(tmp_pat
     assert session["version"] == SESSION_VERSION
     assert "degree_weights" not in session["settings"]
     assert len(parse_session(session).operations) == 7
+
+
+def test_an_affine_stroke_of_a_version_5_session_replays_with_the_falloff_it_had():
+    """Version 6 made the affine brushes local: a stroke recorded before is renamed to the
+    replay-only brush with the settings' falloff itself, and its ω are the offered brush's."""
+    from gogreen_core.sculpt.brushes import REPLAY_KINDS, brush_type
+
+    data = {
+        "version": 5,
+        "operations": [
+            {"op": "stroke", "brush": {"kind": "scale"}},
+            {"op": "stroke", "brush": {"kind": "grab"}},
+        ],
+    }
+    upgraded = upgrade_session(data)["operations"]
+    assert upgraded[0]["brush"]["kind"] == REPLAY_KINDS["scale"] == "scale_wide"
+    assert upgraded[1]["brush"]["kind"] == "grab"
+    wide, local = brush_type("scale_wide"), brush_type("scale")
+    assert wide.weights_kind == "scale" and wide.radial_key == "" and local.radial_key == "scale"

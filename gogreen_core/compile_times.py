@@ -1,0 +1,143 @@
+"""How long each compile unit takes: the start-up status's "about 25 s left".
+
+One unit (the field drivers) is most of a first start's compilation, so a time per unit
+compiled so far says little. Each unit instead has an expected time: what it took when it was
+last compiled on this machine (a small JSON file beside numba's disk cache, written when a
+compilation finishes), else its built-in weight (relative compile times measured on the
+project's 2-core machine, weight 1 the drivers) times :data:`SECONDS_PER_WEIGHT`. The units
+compiled so far give the pace (their measured over their expected seconds: a busy machine is
+slower), which scales the rest.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+__all__ = [
+    "BUILT_IN_WEIGHTS",
+    "SECONDS_PER_WEIGHT",
+    "record",
+    "recorded",
+    "seconds_left",
+    "times_path",
+    "unit_name",
+    "weight",
+]
+
+#: Relative compile times of the named units, the drivers 1 (measured one unit at a time on an
+#: empty cache on the project's 2-core machine: drivers 454 s, geometry 101 s, mesh readers
+#: 47 s, paint brushes 17 s, under load from other processes).
+BUILT_IN_WEIGHTS = {"drivers": 1.0, "geometry": 0.22, "mesh_io": 0.10, "brushes": 0.04}
+#: An angular kernel (l_first, l_last): this weight per degree up to l_last (0…8: 42 s, 1…9:
+#: 49 s in the same run).
+ANGULAR_WEIGHT_PER_DEGREE = 0.0115
+#: Seconds of weight 1 when nothing was measured: a first start on a quiet machine took 40 s
+#: at l_max 8 (issue 32), of total weight 1.57.
+SECONDS_PER_WEIGHT = 25.0
+#: The file of measured seconds per unit, in numba's cache folder.
+FILE_NAME = "gogreen-compile-times.json"
+
+_NAMES = {
+    "drivers": "field drivers",
+    "geometry": "surface index",
+    "mesh_io": "mesh readers",
+    "brushes": "paint brushes",
+}
+
+
+def _key(unit: str | tuple[int, ...]) -> str:
+    return unit if isinstance(unit, str) else "angular " + "-".join(str(v) for v in unit)
+
+
+def unit_name(unit: str | tuple[int, ...]) -> str:
+    """What ``unit`` is, for the status bar: "field drivers", "angular kernel, degrees 0–8"."""
+    if isinstance(unit, str):
+        return _NAMES.get(unit, unit.replace("_", " "))
+    return f"angular kernel, degrees {unit[0]}–{unit[-1]}"
+
+
+def weight(unit: str | tuple[int, ...]) -> float | None:
+    """The built-in relative compile time of ``unit`` (None for a unit it does not know)."""
+    if isinstance(unit, str):
+        return BUILT_IN_WEIGHTS.get(unit)
+    return ANGULAR_WEIGHT_PER_DEGREE * (unit[-1] + 1)
+
+
+def times_path() -> Path:
+    """The JSON file of measured seconds per unit: in ``NUMBA_CACHE_DIR`` when set, else in
+    the package's ``__pycache__`` (where numba keeps its cache beside the sources)."""
+    folder = os.environ.get("NUMBA_CACHE_DIR") or str(Path(__file__).parent / "__pycache__")
+    return Path(folder) / FILE_NAME
+
+
+def recorded() -> dict[str, float]:
+    """Seconds each unit took when last compiled here ({} when none were recorded or the file
+    cannot be read)."""
+    try:
+        data = json.loads(times_path().read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return {}
+    if not isinstance(data, dict):
+        return {}
+    return {
+        str(k): float(v)
+        for k, v in data.items()
+        if isinstance(v, (int, float)) and 0 < v < float("inf")
+    }
+
+
+def record(seconds: Mapping[str | tuple[int, ...], float]) -> None:
+    """Add the measured ``seconds`` per unit to the file (written whole, then renamed: never
+    half-written); nothing when its folder cannot be written."""
+    path = times_path()
+    data = recorded()
+    known = {unit: s for unit, s in seconds.items() if weight(unit) is not None and s > 0}
+    if not known:  # only the units of this table (not a test's, a plug-in's)
+        return
+    data.update({_key(unit): round(float(s), 3) for unit, s in known.items()})
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with tempfile.NamedTemporaryFile(
+            "w", dir=path.parent, suffix=".tmp", delete=False, encoding="utf-8"
+        ) as out:
+            json.dump(data, out, indent=1, sort_keys=True)
+        os.replace(out.name, path)
+    except OSError:
+        return
+
+
+def seconds_left(
+    done: Mapping[str | tuple[int, ...], float],
+    left: Sequence[str | tuple[int, ...]],
+    running: float,
+    known: Mapping[str, float],
+) -> float | None:
+    """About how long the units ``left`` take (the first is compiling, for ``running`` seconds
+    now), at the pace of the units ``done`` (unit → measured seconds) against their expected
+    times (``known``: :func:`recorded`, else the built-in weights); None when a unit has no
+    expected time (a unit this table does not know)."""
+
+    def expected(unit: str | tuple[int, ...]) -> float | None:
+        if _key(unit) in known:
+            return known[_key(unit)]
+        w = weight(unit)
+        return None if w is None else w * SECONDS_PER_WEIGHT
+
+    rest = [expected(u) for u in left]
+    if any(e is None for e in rest):
+        return None
+    before = [expected(u) for u in done]
+    pace = 1.0
+    if done and all(e is not None for e in before):
+        planned = sum(e for e in before if e is not None)
+        pace = sum(done.values()) / planned if planned > 0 else 1.0
+    times = [pace * (e or 0.0) for e in rest]
+    if not times:
+        return 0.0
+    # the running unit: what it should still take, or a tenth of it if it overruns
+    current = max(times[0] - running, 0.1 * times[0])
+    return float(current + sum(times[1:]))
