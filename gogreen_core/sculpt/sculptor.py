@@ -218,28 +218,17 @@ class Sculptor:
 
     # -- settings ----------------------------------------------------------------------------
     def apply_settings(self, settings: EngineSettings, *, continued: bool = False) -> None:
-        """Compute with ``settings`` from now on: for each group of fields that differs, its
-        setter (:meth:`set_material`; :meth:`set_falloff` with l_max and weights;
-        :meth:`set_constraint_radius`; else :meth:`change_settings`), with ``continued``: one
-        undo step per group. What the evented settings model calls."""
+        """Compute with ``settings`` from now on: each group of fields that differs changes
+        (:meth:`change_settings`) with ``continued``: one undo step per group. What the evented
+        settings model calls."""
         if not isinstance(settings, EngineSettings):
             raise ParameterError(
                 "settings", f"settings must be EngineSettings (got {type(settings).__name__})"
             )
-        s = settings
         for group in SETTING_GROUPS:
-            if self.settings.agrees(s, group):
-                continue
-            if group[0] == "material":
-                self.set_material(s.material, continued)
-            elif group[0] == "falloff":
-                self.set_falloff(
-                    s.falloff, s.l_max, continued=continued, brush_weights=s.brush_weights
-                )
-            elif group[0] == "constraint_radius":
-                self.set_constraint_radius(s.constraint_radius, continued)
-            else:
-                self.change_settings(continued=continued, **{n: getattr(s, n) for n in group})
+            if not self.settings.agrees(settings, group):
+                values = {name: getattr(settings, name) for name in group}
+                self.change_settings(continued=continued, **values)
 
     def change_settings(
         self, *, continued: bool = False, replaying: bool = False, **changes: Any
@@ -256,9 +245,9 @@ class Sculptor:
         keys = set(changes)
         group = next((g for g in SETTING_GROUPS if keys and keys <= set(g)), None)
         if group is None:
+            groups = ", ".join(" / ".join(group) for group in SETTING_GROUPS)
             raise TypeError(
-                "change_settings() takes material, constraint_radius, or falloff / l_max / "
-                f"brush_weights, one group at a time (got {sorted(keys)})"
+                f"change_settings() takes one group of {groups} at a time (got {sorted(keys)})"
             )
         continued = check_bool("continued", continued)
         before = self.settings
