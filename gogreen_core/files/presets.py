@@ -47,9 +47,9 @@ class Preset:
 
     Its settings are the ``"preset"`` rows of the setting table
     (:data:`~gogreen_core.sculpt.setting_table.SETTINGS`), given by keyword or in the table's
-    order, read as attributes (``preset.l_max``) and held in :attr:`settings` (an
-    :class:`EngineSettings`, so checked as the engine's are: a :class:`ParameterError` naming
-    the field; the other rows at their defaults).
+    order (or taken from ``settings``), read as attributes (``preset.l_max``) and held in
+    :attr:`settings` (an :class:`EngineSettings`, so checked as the engine's are: a
+    :class:`ParameterError` naming the field; the other rows at their defaults).
     """
 
     name: str
@@ -60,14 +60,16 @@ class Preset:
     def __init__(
         self,
         name: str,
-        *values: Any,
+        *ordered: Any,
         brush: Brush | None = None,
         description: str = "",
-        **settings: Any,
+        settings: EngineSettings | None = None,
+        **values: Any,
     ) -> None:
         names = [s.name for s in rows("preset")]
-        given = {**dict(zip(names, values, strict=False)), **settings}
-        if len(values) > len(names) or set(given) - set(names):
+        given = {n: getattr(settings, n) for n in names} if settings is not None else {}
+        given.update({**dict(zip(names, ordered, strict=False)), **values})
+        if len(ordered) > len(names) or set(given) - set(names):
             raise TypeError(f"Preset() takes the settings {', '.join(names)} (got {sorted(given)})")
         brush = Brush() if brush is None else brush
         if not isinstance(brush, Brush):

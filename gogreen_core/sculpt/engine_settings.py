@@ -124,11 +124,11 @@ class EngineSettings:
 
     @classmethod
     def from_dict(
-        cls, data: object, path: str = "settings", place: str = "session", **others: Any
+        cls, data: object, path: str = "settings", place: str = "session"
     ) -> EngineSettings:
         """Inverse of :meth:`to_dict`: :class:`ParameterError` naming the field
-        (``settings.l_max``...); rows that ``data`` does not give are ``others`` or defaults.
-        ``data`` must hold nothing else when ``path`` is a settings object of its own."""
+        (``settings.l_max``...); rows that ``data`` does not give take their defaults. With a
+        ``path``, ``data`` must hold nothing else (a preset's is its file: ``path=""``)."""
         table = rows(place)
         if path != "":
             required = tuple(s.name for s in table if place in s.required)
@@ -138,7 +138,7 @@ class EngineSettings:
         for s in table:
             if s.name in values:
                 checked[s.name] = s.from_json(values[s.name], field_path(path, s.name), checked)
-        return cls(**{**others, **checked})
+        return cls(**checked)
 
 
 def _check_fields(table: Iterable[Setting]) -> None:

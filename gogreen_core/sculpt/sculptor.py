@@ -31,12 +31,11 @@ from gogreen_core.field.limits import MAX_REACH, check_constraint_radius
 from gogreen_core.mesh.mesh_state import MaskRows, MeshSnapshot, MeshState
 from gogreen_core.mesh.subdivision import PreparedSubdivision, prepare_subdivision
 from gogreen_core.physics.material import Material
-from gogreen_core.physics.radial import GaussianRadial, RadialProfile
+from gogreen_core.physics.radial import RadialProfile
 from gogreen_core.sculpt.brushes import Brush, BrushEvent
 from gogreen_core.sculpt.checkpoint import SculptState
 from gogreen_core.sculpt.constraints import ConstraintSet
 from gogreen_core.sculpt.engine_settings import (
-    DEFAULT_CONSTRAINT_RADIUS,
     SETTING_GROUPS,
     EngineSettings,
     resized_brush_weights,
@@ -84,9 +83,9 @@ class Sculptor:
         Texture coordinates per face corner (rows of -1: untextured faces), carried through a
         subdivision (see :attr:`mesh`).
     settings : EngineSettings, optional
-        Material, falloff, l_max, brushes' weights and pins' radius in one value; or give them
-        one by one (``material``, ``l_max``, ``falloff``, ``constraint_radius``, the fields of
-        :class:`EngineSettings` with its defaults).
+        Material, falloff, l_max, brushes' weights, pins' radius... in one value; or give
+        some of its fields one by one as keywords (``material=``, ``l_max=``..., the others at
+        their defaults; an unknown one is refused).
     history_bytes : memory cap of the undo history.
 
     The parts: undo steps in :attr:`history` (:class:`History`); the vertex mask in
@@ -103,11 +102,8 @@ class Sculptor:
         uv: np.ndarray | None = None,
         uv_faces: np.ndarray | None = None,
         settings: EngineSettings | None = None,
-        material: Material | None = None,
-        l_max: int = 8,
-        falloff: RadialProfile | None = None,
-        constraint_radius: float = DEFAULT_CONSTRAINT_RADIUS,
         history_bytes: int = 512 * 2**20,
+        **values: Any,
     ) -> None:
         self._mesh = MeshState(vertices, faces, uv, uv_faces)
         self.model_size = self._mesh.model_size
@@ -116,19 +112,12 @@ class Sculptor:
         self._log = SessionLog()
         self._fingerprint = mesh_fingerprint(self._mesh.vertices)
         if settings is None:
-            settings = EngineSettings(
-                material=Material.isotropic(1.0, 0.3) if material is None else material,
-                falloff=falloff or GaussianRadial(1.0),
-                l_max=l_max,
-                constraint_radius=constraint_radius,
-            )
+            settings = EngineSettings(**values)
         elif not isinstance(settings, EngineSettings):
             raise ParameterError(
                 "settings", f"settings must be EngineSettings (got {type(settings).__name__})"
             )
-        elif any(x is not None for x in (material, falloff)) or (
-            (l_max, constraint_radius) != (8, DEFAULT_CONSTRAINT_RADIUS)
-        ):
+        elif values:
             raise TypeError("Sculptor() takes settings or their fields one by one, not both")
         self._kernels = KernelCache(settings)
         self._initial = settings

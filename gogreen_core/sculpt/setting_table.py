@@ -1,18 +1,10 @@
-"""The engine's settings, each declared once: :data:`SETTINGS`.
+"""The engine's settings, each declared once: :data:`SETTINGS`, one :class:`Setting` a row.
 
-A :class:`Setting` says a setting's name, type, default, bounds or choices, group, one line of
-documentation, the session version it appeared in and where it applies (:data:`PLACES`).
-Everything else is made from the table: :class:`~gogreen_core.sculpt.engine_settings.EngineSettings`
-checks, writes and reads its fields by it (a session's ``settings`` and its change records),
-the app's evented :class:`~gogreen_core.interaction.settings.Settings` has one field per
-``"app"`` row, :class:`~gogreen_core.files.presets.Preset` holds and reads the ``"preset"`` rows,
-``gogreen deform`` has one flag per ``"cli"`` row and the Blender extension one scene property
-per ``"blender"`` row (material and falloff, whose values are not numbers, keep widgets of
-their own there).
-
-Adding an engine setting: one row here, its typed line on ``EngineSettings`` (checked against
-the table when the module loads) and the engine code that reads it; a widget where one is
-wanted.
+:class:`~gogreen_core.sculpt.engine_settings.EngineSettings` (its checks, its JSON in sessions
+and their change records), the app's evented ``Settings``, ``Preset``, the flags of ``gogreen
+deform`` and the Blender extension's scene properties are made from the rows that apply there
+(:data:`PLACES`). Adding an engine setting: one row, its typed line on ``EngineSettings``
+(checked against the table at import) and the engine code that reads it.
 """
 
 from __future__ import annotations
@@ -138,82 +130,36 @@ class Setting:
         return self.since == 1 or value != self.initial()
 
 
-def rows(place: str, table: tuple[Setting, ...] | None = None) -> tuple[Setting, ...]:
-    """The rows of ``table`` (default :data:`SETTINGS`) that apply in ``place``."""
-    return tuple(s for s in (SETTINGS if table is None else table) if place in s.places)
+def rows(place: str) -> tuple[Setting, ...]:
+    """The rows of :data:`SETTINGS` that apply in ``place``."""
+    return tuple(s for s in SETTINGS if place in s.places)
 
 
-_EVERYWHERE = ("engine", "app", "preset", "session", "blender", "cli")
+_ALL = PLACES
+_NOT_BLENDER = ("engine", "app", "session", "cli")
 #: Every setting of the engine, in the order files list them (a row's check may read the
 #: rows above it).
 SETTINGS: tuple[Setting, ...] = (
-    Setting(
-        "material",
-        "material",
-        lambda: Material.isotropic(1.0, 0.3),
-        "the elastic material (default isotropic, E 1, ν 0.3)",
-        places=_EVERYWHERE,
-        required=("session", "preset"),
-    ),
-    Setting(
-        "falloff",
-        "falloff",
-        lambda: GaussianRadial(1.0),
-        "the falloff shape at ε = 1 (each brush sets its ε)",
-        group="falloff",
-        places=_EVERYWHERE,
-        required=("session", "preset"),
-    ),
-    Setting(
-        "l_max",
-        "int",
-        8,
-        "truncation degree of the spherical-harmonic expansion (higher: finer, slower)",
-        group="falloff",
-        places=_EVERYWHERE,
-        low=0,
-        high=L_MAX_LIMIT,
-        soft_high=16,
-        required=("session",),
-    ),
-    Setting(
-        "constraint_radius",
-        "float",
-        DEFAULT_CONSTRAINT_RADIUS,
-        "ε of the pins as a fraction of the model size",
-        low=MIN_RADIUS,
-        high=MAX_RADIUS,
-        soft_high=0.5,
-        key="radius",
-    ),
-    Setting(
-        "brush_weights",
-        "weights",
-        lambda: MappingProxyType({}),
-        "per-brush degree weights ω_0 … ω_(l_max+1) (a brush not listed has its defaults)",
-        group="falloff",
-        since=3,
-        places=("engine", "app", "preset", "session", "blender"),
-    ),
-    Setting(
-        "dynamic_topology",
-        "bool",
-        False,
-        "strokes remesh what they move",
-        since=5,
-        places=("engine", "app", "session", "cli"),
-        key="enabled",
-    ),
-    Setting(
-        "detail_size",
-        "float",
-        None,
-        "dynamic topology's edge length as a fraction of the model size (none: the surface's)",
-        group="dynamic_topology",
-        since=5,
-        places=("engine", "app", "session", "cli"),
-        low=MIN_DETAIL_SIZE,
-        high=MAX_DETAIL_SIZE,
-        none=True,
-    ),
-)
+    Setting("material", "material", lambda: Material.isotropic(1.0, 0.3),
+            "the elastic material (default isotropic, E 1, ν 0.3)",
+            places=_ALL, required=("session", "preset")),
+    Setting("falloff", "falloff", lambda: GaussianRadial(1.0),
+            "the falloff shape at ε = 1 (each brush sets its ε)",
+            places=_ALL, required=("session", "preset")),
+    Setting("l_max", "int", 8,
+            "truncation degree of the spherical-harmonic expansion (higher: finer, slower)",
+            group="falloff", places=_ALL, low=0, high=L_MAX_LIMIT, soft_high=16,
+            required=("session",)),
+    Setting("constraint_radius", "float", DEFAULT_CONSTRAINT_RADIUS,
+            "ε of the pins as a fraction of the model size",
+            low=MIN_RADIUS, high=MAX_RADIUS, soft_high=0.5, key="radius"),
+    Setting("brush_weights", "weights", lambda: MappingProxyType({}),
+            "per-brush degree weights ω_0 … ω_(l_max+1) (a brush not listed has its defaults)",
+            group="falloff", since=3, places=("engine", "app", "preset", "session", "blender")),
+    Setting("dynamic_topology", "bool", False, "strokes remesh what they move",
+            since=5, places=_NOT_BLENDER, key="enabled"),
+    Setting("detail_size", "float", None,
+            "dynamic topology's edge length as a fraction of the model size (none: the surface's)",
+            group="dynamic_topology", since=5, places=_NOT_BLENDER,
+            low=MIN_DETAIL_SIZE, high=MAX_DETAIL_SIZE, none=True),
+)  # fmt: skip

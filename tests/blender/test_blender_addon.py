@@ -748,6 +748,22 @@ def test_homogenize_computes_the_pattern_material(ico):
         stroke_op("SCENE", EVENTS[:1])
 
 
+def test_the_scene_properties_of_settings_come_from_the_setting_table():
+    """Each number, switch or choice setting of the table that applies in Blender is a scene
+    property with the table's label, documentation, default and bounds."""
+    from gogreen_core.sculpt.setting_table import rows
+
+    properties = sub(sys.modules[MODULE], "properties")
+    scalar = [r for r in rows("blender") if r.type in ("int", "float", "bool", "choice")]
+    assert scalar and list(properties.table_rows()) == scalar
+    rna = bpy.context.scene.gogreen.bl_rna.properties
+    for row in scalar:
+        prop = rna[row.name]
+        assert (prop.name, prop.description, prop.default) == (row.title, row.doc, row.initial())
+        if row.high is not None:
+            assert prop.hard_max == row.high
+
+
 def test_presets_are_shared_with_the_desktop_app(ico, tmp_path):
     s = bpy.context.scene.gogreen
     wood = {p.name: p for p in builtin_presets()}["Wood grain"]

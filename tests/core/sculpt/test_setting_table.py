@@ -53,9 +53,7 @@ ADDED_ROW = """    Setting(
         since=6,
         places=("engine", "app", "preset", "session", "cli"),
         choices=("world", "surface"),
-    ),
-)
-"""
+    ),"""
 ADDED_LINE = '    grain: str = field(default_factory=_initial("grain"))\n'
 
 CHECKS = """
@@ -126,8 +124,8 @@ def test_a_new_setting_is_one_row_and_its_typed_line(tmp_path):
     shutil.copytree(ROOT / "gogreen_core", copy, ignore=shutil.ignore_patterns("__pycache__"))
     table = copy / "sculpt" / "setting_table.py"
     text = table.read_text()
-    end = text.index("\n)\n", text.index("SETTINGS: tuple[Setting, ...] = ("))
-    table.write_text(text[: end + 1] + ADDED_ROW + text[end + 3 :])
+    end = text.index("\n)", text.index("SETTINGS: tuple[Setting, ...] = ("))  # the table's end
+    table.write_text(text[:end] + "\n" + ADDED_ROW + text[end:])
     settings_module = copy / "sculpt" / "engine_settings.py"
     text = settings_module.read_text()
     anchor = text.index("\n", text.index("    detail_size: float | None = ")) + 1
