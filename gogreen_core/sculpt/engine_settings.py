@@ -109,10 +109,6 @@ class EngineSettings:
 
     __hash__ = None  # type: ignore[assignment]  # equal by content, holds an array
 
-    def same_as(self, other: EngineSettings) -> bool:
-        """True when both compute the same thing (``==``)."""
-        return self == other
-
     def to_dict(self, place: str = "session") -> dict[str, Any]:
         """The JSON form of the settings of ``place`` (a session's ``settings``, a preset's):
         the table's rows, a later one only when not at its default."""

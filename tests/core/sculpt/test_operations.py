@@ -172,7 +172,7 @@ def test_settings_changes_are_undo_steps_restored_exactly(sphere):
     assert sculptor.material == first.material
     for _ in range(3):
         sculptor.redo()
-    assert sculptor.settings.same_as(after)
+    assert sculptor.settings == after
     assert sculptor.falloff.to_dict() == spline.with_eps(1.0).to_dict()
     # the engine computes with the restored settings: the same stroke as a fresh sculptor's
     brush, event = Brush("twist", radius=0.3), BrushEvent(vertices[0], amount=0.2)
@@ -210,7 +210,7 @@ def test_a_slider_drag_is_one_step_and_replays(sphere):
     again = Sculptor.from_session(session, vertices, faces)
     again.replay(session["operations"])
     assert np.array_equal(again.vertices, sculptor.vertices)
-    assert again.settings.same_as(sculptor.settings)
+    assert again.settings == sculptor.settings
     assert again.history.undo_labels == sculptor.history.undo_labels
     assert again.session()["operations"] == session["operations"]
     again.undo()
