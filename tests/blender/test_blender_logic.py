@@ -354,11 +354,9 @@ def test_degree_weights_of_every_brush_and_the_automatic_influence(sphere):
         engine.brush_weights_from("[1, 2]", 4)
     vertices, faces = sphere
     default = engine.default_settings(6).engine_settings
-    settings = engine.SculptSettings(
-        Brush("pinch", radius=0.2), default.replace(brush_weights=weights)
-    )
     stored = engine.brush_weights_from('{"pinch": [1, 16, 1, 1, 1, 1, 1, 1]}', 6)
-    settings = engine.SculptSettings(settings.brush, default.replace(brush_weights=stored))
+    pinch = Brush("pinch", radius=0.2)
+    settings = engine.SculptSettings(pinch, default.replace(brush_weights=stored))
     events = [BrushEvent(center=vertices[0], amount=0.3, axis=np.array([0.0, 0.2, 1.0]))]
     reference = Sculptor(vertices, faces, settings=settings.engine_settings)
     reference.origin = np.zeros(3)
