@@ -155,7 +155,7 @@ def main() -> None:
     print(f"before: reading the mesh for each stroke (triangles and positions): {ms(read_old)}")
     vertices, faces = mesh_access.read_mesh(mesh)
     settings = properties.read_settings(scene, obj)
-    fresh = timed(lambda: Sculptor(vertices, faces, settings=settings.engine_settings()))[0]
+    fresh = timed(lambda: Sculptor(vertices, faces, settings=settings.engine_settings))[0]
     print(f"before: a new sculptor for each stroke: {ms(fresh)}")
 
     events = json.dumps([{"center": [0.0, 0.0, 1.0], "delta": [0.0, 0.0, 0.01]}])

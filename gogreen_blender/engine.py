@@ -94,27 +94,13 @@ class SculptSettings:
 
     brush : the :class:`gogreen_core.Brush` (kind, radius as a fraction of the model size,
         strength, substeps, influence in ε, symmetry letters).
-    material : the elastic material (any :class:`gogreen_core.Material`).
-    falloff : the falloff shape (its ε is ignored: each brush sets it).
-    l_max : truncation degree of the spherical-harmonic expansion.
-    brush_weights : each brush kind's degree weights ω_0 … ω_{l_max+1} (a kind not listed has
-        its defaults).
+    engine_settings : the engine's settings (material, falloff, l_max, the brushes' degree
+        weights... the rows of :data:`gogreen_core.sculpt.setting_table.SETTINGS`; its
+        falloff's ε is ignored: each brush sets it).
     """
 
     brush: Brush
-    material: Material
-    falloff: RadialProfile
-    l_max: int
-    brush_weights: Mapping[str, tuple[float, ...]] = dataclasses.field(default_factory=dict)
-
-    def engine_settings(self) -> EngineSettings:
-        """The engine's settings value of these (checked: ParameterError names a bad one)."""
-        return EngineSettings(
-            material=self.material,
-            falloff=self.falloff,
-            l_max=self.l_max,
-            brush_weights=self.brush_weights,
-        )
+    engine_settings: EngineSettings
 
 
 def euler_matrix(angles: Sequence[float]) -> np.ndarray:
@@ -211,14 +197,7 @@ def influence_of(settings: SculptSettings) -> float:
     if not brush.auto_influence:
         return float(brush.influence)
     key = json.dumps(
-        [
-            brush.kind,
-            brush.substeps,
-            settings.material.to_dict(),
-            settings.falloff.to_dict(),
-            settings.l_max,
-            {k: list(w) for k, w in settings.brush_weights.items()},
-        ],
+        [brush.kind, brush.substeps, settings.engine_settings.to_dict()],
         sort_keys=True,
         default=float,
     )
@@ -264,7 +243,7 @@ def make_sculptor(
     """A :class:`gogreen_core.Sculptor` on the mesh (object space, float64) with the settings;
     mirror planes through the object's origin. ``options``: the sculptor's (``history_bytes``).
     Its errors (:class:`ParameterError`, a ``ValueError``) name the bad setting."""
-    sculptor = Sculptor(vertices, faces, settings=settings.engine_settings(), **options)
+    sculptor = Sculptor(vertices, faces, settings=settings.engine_settings, **options)
     # Blender mirrors sculpting about the object's local axes through its origin
     sculptor.origin = np.zeros(3)
     return sculptor
@@ -298,15 +277,9 @@ def stroke(
 
 
 def default_settings(l_max: int = 8) -> SculptSettings:
-    """The engine's defaults: a grab brush, an isotropic material (E 1, ν 0.3), a Gaussian
-    falloff."""
-    return SculptSettings(
-        Brush(),
-        Material.isotropic(1.0, 0.3),
-        GaussianRadial(1.0),
-        l_max,
-        {},
-    )
+    """The engine's defaults (a grab brush, an isotropic material E 1, ν 0.3, a Gaussian
+    falloff) with truncation degree ``l_max``."""
+    return SculptSettings(Brush(), EngineSettings(l_max=l_max))
 
 
 def _with_brush(settings: SculptSettings, brush: Brush) -> SculptSettings:

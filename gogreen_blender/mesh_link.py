@@ -109,7 +109,7 @@ class MeshLink:
 
     def use(self, settings: engine.SculptSettings) -> None:
         """Compute with ``settings`` from now on (the scene's, read at each stroke)."""
-        self.sculptor.apply_settings(settings.engine_settings())
+        self.sculptor.apply_settings(settings.engine_settings)
 
     def pick(self, origin: np.ndarray, direction: np.ndarray) -> np.ndarray | None:
         """(3,) the first surface point on the ray (object space), or None."""

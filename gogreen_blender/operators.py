@@ -27,6 +27,7 @@ from gogreen_core import (
     load_preset,
     save_preset,
 )
+from gogreen_core.sculpt.setting_table import rows
 
 from . import compile_status, drawing, engine, mesh_access, properties, radial
 from .jobs import ENGINE_LOCK, RUNNER
@@ -456,6 +457,11 @@ class GOGREEN_OT_radial_control(bpy.types.Operator):
 
 
 # -- presets --------------------------------------------------------------------------------
+def preset_rows() -> tuple:
+    """The scene properties of the setting table that a preset sets."""
+    return tuple(r for r in properties.table_rows() if "preset" in r.places)
+
+
 def preset_values(preset: Preset, current_kind: str) -> tuple[dict[str, object], str]:
     """The scene settings ``preset`` sets, by name, and a note of what it could not (empty
     when none): a preset of the mask brush keeps ``current_kind`` (Blender paints its own
@@ -474,7 +480,7 @@ def preset_values(preset: Preset, current_kind: str) -> tuple[dict[str, object],
     else:
         values["falloff"] = "CUSTOM"
         values["custom_falloff"] = json.dumps(falloff.to_dict())
-    values["l_max"] = preset.l_max
+    values.update({r.name: getattr(preset.settings, r.name) for r in preset_rows()})
     values["brush_weights"] = json.dumps({k: list(w) for k, w in preset.brush_weights.items()})
     brush = preset.brush
     if brush.kind not in engine.ADDON_BRUSH_KINDS:
@@ -534,15 +540,8 @@ def _applied(operator, context, preset: Preset) -> set[str]:
 def preset_from_scene(scene, name: str) -> Preset:
     """The scene's settings as a :class:`gogreen_core.Preset` (ParameterError if invalid)."""
     settings = properties.read_settings(scene)
-    return Preset(
-        name=name,
-        material=settings.material,
-        falloff=settings.falloff,
-        l_max=settings.l_max,
-        brush_weights=settings.brush_weights,
-        brush=settings.brush,
-        description="Saved from Blender",
-    )
+    values = {r.name: getattr(settings.engine_settings, r.name) for r in rows("preset")}
+    return Preset(name, brush=settings.brush, description="Saved from Blender", **values)
 
 
 _builtin: list[Preset] | None = None

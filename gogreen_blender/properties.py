@@ -13,6 +13,7 @@ import math
 
 import bpy
 from bpy.props import (
+    BoolProperty,
     EnumProperty,
     FloatProperty,
     FloatVectorProperty,
@@ -23,6 +24,8 @@ from bpy.props import (
 
 from gogreen_core import PATTERNS, Brush, Material, ParameterError
 from gogreen_core.sculpt.brushes import AUTO_INFLUENCE
+from gogreen_core.sculpt.engine_settings import EngineSettings
+from gogreen_core.sculpt.setting_table import rows
 
 from . import engine
 
@@ -79,6 +82,36 @@ def _pattern_annotations() -> dict:
                     min=float(p.low),
                     max=float(p.high),
                 )
+    return props
+
+
+#: What a scene property of the setting table calls when it changes (the warm-up follows l_max).
+_ON_CHANGE = {"l_max": _changed_l_max}
+
+
+def table_rows() -> tuple:
+    """The setting table's rows that are one scene property each (the material, falloff and
+    weights, which are not numbers, have properties of their own below)."""
+    return tuple(r for r in rows("blender") if r.type in ("int", "float", "bool", "choice"))
+
+
+def _table_annotations() -> dict:
+    """One scene property per :func:`table_rows` row: its label, documentation, default and
+    bounds from the table (the core checks the value and names the problem)."""
+    props = {}
+    for r in table_rows():
+        common = {"name": r.title, "description": r.doc, "default": r.initial()}
+        if r.name in _ON_CHANGE:
+            common["update"] = _ON_CHANGE[r.name]
+        if r.type == "bool":
+            props[r.name] = BoolProperty(**common)
+        elif r.type == "choice":
+            items = [(c, c.replace("_", " ").title(), "") for c in r.choices]
+            props[r.name] = EnumProperty(items=items, **common)
+        else:
+            bounds = {"min": r.low, "max": r.high, "soft_max": r.soft_high}
+            common.update({k: v for k, v in bounds.items() if v is not None})
+            props[r.name] = (IntProperty if r.type == "int" else FloatProperty)(**common)
     return props
 
 
@@ -198,16 +231,6 @@ def _settings_class() -> type:
         # -- falloff -------------------------------------------------------------------
         "falloff": EnumProperty(name="Falloff", items=engine.FALLOFF_KINDS, default="GAUSSIAN"),
         "custom_falloff": StringProperty(name="Falloff curves", description="JSON (presets)"),
-        "l_max": IntProperty(
-            name="l max",
-            description="Truncation degree of the spherical-harmonic expansion (higher: finer "
-            "anisotropic detail, slower)",
-            default=8,
-            min=0,
-            max=60,
-            soft_max=16,
-            update=_changed_l_max,
-        ),
         "brush_weights": StringProperty(
             name="Degree weights",
             description="Each brush kind's per-degree weights ω_0 … ω_(l_max+1) (JSON object; "
@@ -215,6 +238,7 @@ def _settings_class() -> type:
         ),
     }
     annotations.update(_pattern_annotations())
+    annotations.update(_table_annotations())
     return type("GoGreenSettings", (bpy.types.PropertyGroup,), {"__annotations__": annotations})
 
 
@@ -297,14 +321,14 @@ def read_settings(scene, obj=None, kind: str | None = None) -> engine.SculptSett
         )
     except ParameterError as exc:
         raise ParameterError(f"brush.{exc.parameter}", f"brush {exc}") from None
-    l_max = int(s.l_max)
-    return engine.SculptSettings(
-        brush=brush,
+    values = {r.name: getattr(s, r.name) for r in table_rows()}
+    settings = EngineSettings(
         material=read_material(s),
         falloff=engine.falloff_from(s.falloff, s.custom_falloff),
-        l_max=l_max,
-        brush_weights=engine.brush_weights_from(s.brush_weights, l_max),
+        brush_weights=engine.brush_weights_from(s.brush_weights, int(s.l_max)),
+        **values,
     )
+    return engine.SculptSettings(brush, settings)
 
 
 def eps_at(scene, view, point, link) -> float:

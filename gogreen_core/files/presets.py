@@ -8,35 +8,27 @@ and loads or saves any other file; a script does the same::
     sculptor.apply_brush(preset.brush, events)
 
 File format (``"format": "gogreen-preset"``, ``"version": 3``): ``name``, ``description``,
-``material`` (:meth:`Material.to_dict`), ``falloff`` (a radial profile's ``to_dict``),
-``l_max``, ``brush_weights`` (optional: per brush kind, l_max + 2 numbers), ``brush``
-(:meth:`Brush.to_dict`). Files of versions 1-2 may hold ``degree_weights`` (of the wrinkle brush
-of sessions before version 3, which no longer exists): ignored.
+the ``"preset"`` settings of the setting table (``material`` as :meth:`Material.to_dict`,
+``falloff`` a radial profile's ``to_dict``, ``l_max``, ``brush_weights``: per brush kind,
+l_max + 2 numbers, when some brush has its own), ``brush`` (:meth:`Brush.to_dict`). Files of
+versions 1-2 may hold ``degree_weights`` (of the wrinkle brush of sessions before version 3,
+which no longer exists): ignored.
 """
 
 from __future__ import annotations
 
 import json
 import os
-from collections.abc import Mapping
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass
 from importlib.resources import files
 from pathlib import Path
-from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
 
 from gogreen_core.mesh.mesh_io import write_text_atomic
-from gogreen_core.physics.material import Material
-from gogreen_core.physics.radial import GaussianRadial, RadialProfile
 from gogreen_core.sculpt.brushes import Brush
-from gogreen_core.sculpt.brushes.weights import check_brush_weights
-from gogreen_core.sculpt.engine_settings import EngineSettings
-from gogreen_core.sculpt.schema import (
-    parse_falloff,
-    parse_file,
-    parse_l_max,
-    parse_material,
-)
+from gogreen_core.sculpt.engine_settings import SETTING_GROUPS, EngineSettings
+from gogreen_core.sculpt.schema import parse_file
+from gogreen_core.sculpt.setting_table import rows
 from gogreen_core.validation import ParameterError, check_integer, check_object, check_string
 
 if TYPE_CHECKING:
@@ -48,58 +40,63 @@ PRESET_FORMAT = "gogreen-preset"
 PRESET_VERSION = 3
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class Preset:
-    """Everything an artist tunes before a stroke, as one named, shareable unit.
+    """Everything an artist tunes before a stroke, as one named, shareable unit:
+    ``Preset(name, material, falloff, l_max, brush_weights=..., brush=..., description=...)``.
 
-    The material, falloff, l_max and weights are checked as the engine's settings
-    are (:class:`EngineSettings`, a :class:`ParameterError` naming the field); the falloff is
-    held as an immutable value at ε = 1.
+    Its settings are the ``"preset"`` rows of the setting table
+    (:data:`~gogreen_core.sculpt.setting_table.SETTINGS`), given by keyword or in the table's
+    order (or taken from ``settings``), read as attributes (``preset.l_max``) and held in
+    :attr:`settings` (an :class:`EngineSettings`, so checked as the engine's are: a
+    :class:`ParameterError` naming the field; the other rows at their defaults).
     """
 
     name: str
-    material: Material
-    falloff: RadialProfile = field(default_factory=lambda: GaussianRadial(1.0))
-    l_max: int = 8
-    brush: Brush = field(default_factory=Brush)
-    description: str = ""
-    brush_weights: Mapping[str, tuple[float, ...]] = field(
-        default_factory=lambda: MappingProxyType({})
-    )
+    settings: EngineSettings
+    brush: Brush
+    description: str
 
-    def __post_init__(self) -> None:
-        checked = self.engine_settings()
-        object.__setattr__(self, "material", checked.material)
-        object.__setattr__(self, "falloff", checked.falloff)
-        object.__setattr__(self, "l_max", checked.l_max)
-        object.__setattr__(self, "brush_weights", checked.brush_weights)
-        if not isinstance(self.brush, Brush):
-            raise ParameterError(
-                "brush", f"brush must be a Brush (got {type(self.brush).__name__})"
-            )
+    def __init__(
+        self,
+        name: str,
+        *ordered: Any,
+        brush: Brush | None = None,
+        description: str = "",
+        settings: EngineSettings | None = None,
+        **values: Any,
+    ) -> None:
+        names = [s.name for s in rows("preset")]
+        given = {n: getattr(settings, n) for n in names} if settings is not None else {}
+        given.update({**dict(zip(names, ordered, strict=False)), **values})
+        if len(ordered) > len(names) or set(given) - set(names):
+            raise TypeError(f"Preset() takes the settings {', '.join(names)} (got {sorted(given)})")
+        brush = Brush() if brush is None else brush
+        if not isinstance(brush, Brush):
+            raise ParameterError("brush", f"brush must be a Brush (got {type(brush).__name__})")
+        for attribute, value in (("name", name), ("brush", brush), ("description", description)):
+            object.__setattr__(self, attribute, value)
+        object.__setattr__(self, "settings", EngineSettings(**given))
+
+    def __getattr__(self, name: str) -> Any:
+        if name in _NAMES:  # a setting of the preset
+            return getattr(self.settings, name)
+        raise AttributeError(f"Preset has no attribute {name!r}")
 
     def engine_settings(self, base: EngineSettings | None = None) -> EngineSettings:
-        """``base`` (default: the engine's defaults) with this preset's material, falloff, l_max
-        and brushes' weights."""
-        values: dict[str, Any] = {
-            "material": self.material,
-            "falloff": self.falloff,
-            "l_max": self.l_max,
-            "brush_weights": self.brush_weights,
-        }
+        """``base`` (default: the engine's defaults) with this preset's settings."""
+        values = {name: getattr(self.settings, name) for name in _NAMES}
         return EngineSettings(**values) if base is None else base.replace(**values)
 
     def apply(self, sculptor: Sculptor) -> None:
-        """Give ``sculptor`` this material and falloff, as one undo step (the brush is the
+        """Give ``sculptor`` this preset's settings, as one undo step (the brush is the
         caller's to use)."""
-        joined = sculptor.material != self.material  # a new step the falloff joins
-        sculptor.set_material(self.material)  # ignored when unchanged
-        sculptor.set_falloff(
-            self.falloff,
-            self.l_max,
-            continued=joined,
-            brush_weights=self.brush_weights,
-        )
+        target, joined = self.engine_settings(sculptor.settings), False
+        for group in SETTING_GROUPS:
+            if not sculptor.settings.agrees(target, group):
+                values = {name: getattr(target, name) for name in group}
+                sculptor.change_settings(continued=joined, **values)
+                joined = True
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -107,30 +104,25 @@ class Preset:
             "version": PRESET_VERSION,
             "name": self.name,
             "description": self.description,
-            "material": self.material.to_dict(),
-            "falloff": self.falloff.to_dict(),
-            "l_max": int(self.l_max),
+            **self.settings.to_dict("preset"),
             "brush": self.brush.to_dict(),
-            **(
-                {"brush_weights": {k: list(v) for k, v in self.brush_weights.items()}}
-                if self.brush_weights
-                else {}
-            ),
         }
 
     @classmethod
-    def from_dict(cls, data: object) -> Preset:
+    def from_dict(cls, data: object, name: str = "") -> Preset:
         """Inverse of :meth:`to_dict`, the preset schema: :class:`ParameterError` (a
-        ``ValueError``) naming the missing, unknown, mistyped or out-of-range field."""
+        ``ValueError``) naming the missing, unknown, mistyped or out-of-range field. ``name``:
+        the preset's when the file gives none."""
         if not isinstance(data, dict) or data.get("format") != PRESET_FORMAT:
             raise ParameterError(
                 "format", f"not a GoGreen preset (expected format {PRESET_FORMAT!r})"
             )
+        table = rows("preset")
         check_object(
             "",
             data,
-            required=("format", "material", "falloff", "brush"),
-            optional=("version", "name", "description", "l_max", "degree_weights", "brush_weights"),
+            required=("format", *(s.name for s in table if "preset" in s.required), "brush"),
+            optional=("version", "name", "description", "degree_weights", *_NAMES),
         )
         version = data.get("version", PRESET_VERSION)
         if check_integer("version", version, low=1) > PRESET_VERSION:
@@ -139,23 +131,23 @@ class Preset:
             )
         if version >= 3 and "degree_weights" in data:
             raise ParameterError("degree_weights", "degree_weights is not a preset field")
-        l_max = parse_l_max(data.get("l_max", 8))
+        settings = EngineSettings.from_dict(data, "", "preset")
         return cls(
-            name=check_string("name", data.get("name", ""), max_length=1000),
-            material=parse_material(data["material"]),
-            falloff=parse_falloff(data["falloff"]),
-            l_max=l_max,
+            check_string("name", data.get("name", ""), max_length=1000) or name,
             brush=Brush.from_dict(data["brush"]),
             description=check_string("description", data.get("description", "")),
-            brush_weights=check_brush_weights(data.get("brush_weights"), l_max),
+            **{s: getattr(settings, s) for s in _NAMES},
         )
+
+
+#: The settings a preset holds.
+_NAMES = frozenset(s.name for s in rows("preset"))
 
 
 def load_preset(path: str | os.PathLike[str]) -> Preset:
     """Read a preset file; ``ValueError`` (a :class:`ParameterError` for a bad field) whose
     message starts with the file's name."""
-    preset = parse_file(path, Preset.from_dict, "preset file")
-    return preset if preset.name else replace(preset, name=Path(path).stem)
+    return parse_file(path, lambda data: Preset.from_dict(data, Path(path).stem), "preset file")
 
 
 def save_preset(preset: Preset, path: str | os.PathLike[str]) -> None:

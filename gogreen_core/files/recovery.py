@@ -50,7 +50,7 @@ from gogreen_core.files.journal_format import (
 )
 from gogreen_core.mesh.mesh_io import MeshData, load_mesh
 from gogreen_core.sculpt.checkpoint import CheckpointError, SculptState, read_checkpoint
-from gogreen_core.sculpt.operations import Operation
+from gogreen_core.sculpt.operations import SETTINGS_CHANGES, Operation
 from gogreen_core.sculpt.sculptor import Sculptor, restore_state
 from gogreen_core.sculpt.session import SESSION_FORMAT, SESSION_VERSION, replay
 
@@ -78,9 +78,7 @@ _KINDS = {
     "constraint_remove": ("pin edit", "pin edits"),
     "constraints_clear": ("pin edit", "pin edits"),
     "constraint_drag": ("pin drag", "pin drags"),
-    "material": ("settings change", "settings changes"),
-    "falloff": ("settings change", "settings changes"),
-    "constraint_radius": ("settings change", "settings changes"),
+    **dict.fromkeys(SETTINGS_CHANGES, ("settings change", "settings changes")),
     "undo": ("undo", "undos"),
     "redo": ("redo", "redos"),
 }

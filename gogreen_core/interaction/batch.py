@@ -46,10 +46,12 @@ from gogreen_core.sculpt.brushes import (
     Brush,
     BrushEvent,
 )
+from gogreen_core.sculpt.engine_settings import EngineSettings
 from gogreen_core.sculpt.operations import MAX_EVENTS
 from gogreen_core.sculpt.schema import parse_falloff, parse_l_max, parse_material, read_json
 from gogreen_core.sculpt.sculptor import Sculptor
 from gogreen_core.sculpt.session import load_session
+from gogreen_core.sculpt.setting_table import Setting, rows
 from gogreen_core.validation import (
     ParameterError,
     check_integer,
@@ -155,9 +157,7 @@ def _falloff(name: str) -> RadialProfile:
 class _DeformOptions:
     """The options of ``gogreen deform``, each checked under its own name."""
 
-    material: Material
-    falloff: RadialProfile
-    l_max: int
+    settings: EngineSettings
     brush: Brush
     center: np.ndarray
     delta: np.ndarray
@@ -170,8 +170,8 @@ class _DeformOptions:
 def _deform_options(args: argparse.Namespace) -> _DeformOptions:
     """Every option of ``gogreen deform`` checked before anything is computed from it;
     ValueError (a ParameterError naming the option) for a bad one."""
-    material, falloff = _material(args), _falloff(args.falloff)
-    l_max = parse_l_max(args.l_max, "--l-max")
+    values = {s.name: s.check(getattr(args, s.name), s.flag) for s in _flag_rows()}
+    settings = EngineSettings(material=_material(args), falloff=_falloff(args.falloff), **values)
     with _option_names():
         brush = Brush(
             kind=args.brush,
@@ -192,9 +192,7 @@ def _deform_options(args: argparse.Namespace) -> _DeformOptions:
         raise ParameterError("--amount", f"the {brush.kind} brush needs --amount (nonzero)")
     if not (brush.is_affine or paint) and not np.any(delta):
         raise ParameterError("--delta", f"the {brush.kind} brush needs --delta (nonzero)")
-    return _DeformOptions(
-        material, falloff, l_max, brush, center, delta, amount, axis, direction, events
-    )
+    return _DeformOptions(settings, brush, center, delta, amount, axis, direction, events)
 
 
 def _deform(args: argparse.Namespace) -> int:
@@ -205,9 +203,7 @@ def _deform(args: argparse.Namespace) -> int:
         mesh.faces,
         uv=mesh.uv,
         uv_faces=mesh.uv_faces,
-        material=options.material,
-        l_max=options.l_max,
-        falloff=options.falloff,
+        settings=options.settings,
     )
     brush, events, center = options.brush, options.events, options.center
     paint = brush.type.family == "paint"
@@ -340,6 +336,25 @@ class _option_names:
         return False
 
 
+def _flag_rows() -> tuple[Setting, ...]:
+    """The setting table's ``"cli"`` rows that are one flag each (the material and falloff
+    have flags of their own: ``--material``, ``--young``, ``--poisson``, ``--falloff``)."""
+    return tuple(s for s in rows("cli") if s.type in ("int", "float", "bool", "choice"))
+
+
+def _add_setting_flags(parser: argparse.ArgumentParser) -> None:
+    """One flag per :func:`_flag_rows` row, its default and help from the table (checked, and
+    named as the flag, in :func:`_deform_options`)."""
+    for s in _flag_rows():
+        if s.type == "bool":
+            action = argparse.BooleanOptionalAction
+            parser.add_argument(s.flag, action=action, default=s.initial(), help=s.doc)
+        else:
+            kind = {"int": int, "float": float}.get(s.type, str)
+            choices = s.choices or None
+            parser.add_argument(s.flag, type=kind, choices=choices, default=s.initial(), help=s.doc)
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="gogreen", description="GoGreen Sculpt, headless")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -405,10 +420,10 @@ def _parser() -> argparse.ArgumentParser:
     deform.add_argument("--young", type=float, default=1.0)
     deform.add_argument("--poisson", type=float, default=0.3)
     deform.add_argument("--material", help="material JSON (Material.to_dict or a preset)")
-    deform.add_argument("--l-max", type=int, default=8)
     deform.add_argument(
         "--falloff", default="gaussian", help="gaussian, kelvinlet, or a falloff/preset JSON file"
     )
+    _add_setting_flags(deform)
     deform.add_argument("--session-out", help="also write the session JSON here")
     deform.add_argument("-q", "--quiet", action="store_true")
 

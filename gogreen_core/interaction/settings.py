@@ -16,11 +16,10 @@ presets are made from and applied to it::
 Every value is immutable (a new one per change; the falloff too, compared by content), so a
 change is an assignment and an equal value is no change.
 
-Adding a setting: declare one ``Field`` on the model (with its validator) and bind one widget
-to it; a brush field also needs the same name on :class:`gogreen_core.sculpt.brushes.Brush` (which
-already carries it into strokes, sessions and presets); an engine field also needs the same
-name on :class:`gogreen_core.sculpt.engine_settings.EngineSettings` (which carries it to the
-sculptor, sessions and undo).
+Adding a setting: an engine setting is one row of the setting table
+(:mod:`gogreen_core.sculpt.setting_table`), which makes its field here; a brush field is a
+field of :class:`gogreen_core.sculpt.brushes.Brush` and of :class:`BrushSettings`; other
+fields (pen, view) are declared on their model. Bind one widget to it where one is wanted.
 
 Drags: a slider or curve drag sets its field once per step with ``continued=True`` after the
 first step; :class:`EngineLink` forwards that flag to the engine in its one typed call
@@ -29,30 +28,23 @@ first step; :class:`EngineLink` forwards that flag to the engine in its one type
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Sequence
-from dataclasses import asdict, dataclass, fields, replace
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import asdict, dataclass, replace
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
-from gogreen_core.field.limits import (
-    check_constraint_radius,
-    check_detail_size,
-    check_falloff,
-    check_l_max,
-    check_material,
-)
+from gogreen_core.field.limits import check_falloff
 from gogreen_core.files.presets import Preset
-from gogreen_core.physics.material import Material
 from gogreen_core.physics.radial import GaussianRadial, SplineRadial
 from gogreen_core.sculpt.brushes import AUTO_INFLUENCE, DEFAULT_BRUSH, Brush
 from gogreen_core.sculpt.brushes.weights import check_brush_weights
 from gogreen_core.sculpt.engine_settings import (
-    DEFAULT_CONSTRAINT_RADIUS,
     SETTING_GROUPS,
     EngineSettings,
     resized_brush_weights,
 )
+from gogreen_core.sculpt.setting_table import Setting, rows
 from gogreen_core.validation import ParameterError, check_bool, check_choice, check_number
 
 if TYPE_CHECKING:
@@ -182,8 +174,12 @@ class EventedModel:
 
     fields: ClassVar[dict[str, Field]] = {}
 
-    def __init_subclass__(cls, **kwargs: Any) -> None:
+    def __init_subclass__(cls, made: Mapping[str, Field] | None = None, **kwargs: Any) -> None:
+        """``made``: fields made elsewhere (from the setting table), before the class's own."""
         super().__init_subclass__(**kwargs)
+        for name, made_field in (made or {}).items():
+            made_field.__set_name__(cls, name)
+            setattr(cls, name, made_field)
         fields: dict[str, Field] = {}
         for klass in reversed(cls.__mro__):
             fields.update({k: v for k, v in vars(klass).items() if isinstance(v, Field)})
@@ -362,58 +358,44 @@ def _with_needed_curves(spline: SplineRadial, l_max: int) -> SplineRadial:
     return spline.with_curves({key: gaussian.curve(*key) for key in missing})
 
 
-# Each field is checked by the engine's own checks (gogreen_core.field.limits), named as the field.
-def _material(_model: Settings, name: str, value: Any) -> Material:
-    return check_material(value, name)
+def _table_fields() -> dict[str, Field]:
+    """One field per ``"app"`` row of the setting table, checked by the row (named as the
+    field); the falloff and the brushes' weights are checked in :meth:`Settings._normalize`,
+    with l_max."""
+
+    def checked(row: Setting) -> Callable[[Settings, str, Any], Any] | None:
+        if row.type in ("falloff", "weights"):
+            return None
+        return lambda _model, name, value: row.check(value, name)
+
+    return {
+        s.name: Field(None if checked(s) is None else s.default, checked(s), doc=s.doc)
+        for s in rows("app")
+    }
 
 
-def _l_max(_model: Settings, name: str, value: Any) -> int:
-    return check_l_max(value, name)
-
-
-def _radius(_model: Settings, name: str, value: Any) -> float:
-    return check_constraint_radius(value, name)
-
-
-def _detail_size(_model: Settings, name: str, value: Any) -> float | None:
-    return check_detail_size(value, name)
-
-
-def _switch(_model: Settings, name: str, value: Any) -> bool:
-    return check_bool(name, value)
-
-
-class Settings(EventedModel):
+class Settings(EventedModel, made=_table_fields()):
     """Brush, material, falloff and constraint settings: what the engine, presets and the
     app's panels share.
 
-    Fields
-    ------
-    material : :class:`Material`
-    l_max : int, SH truncation degree (0 … ``L_MAX_LIMIT``)
-    falloff : :class:`SplineRadial`, an immutable value at ε = 1 (compared by content): assigning
-        any single radial profile gives a spline with its curves (sampled when not a spline)
-        replacing the current ones; an edit (the curve editor's) assigns a new value. It always
-        has the curves :func:`needed_curves` of ``l_max`` (missing ones: Gaussian); curves above
-        l_max are kept.
-    constraint_radius : ε of the pins, as a fraction of the model size.
-    brush_weights : per-brush degree weights ω_l (kind → l_max + 2 numbers, read-only mapping);
-        changing l_max keeps the common degrees and gives new ones each brush's defaults.
-    dynamic_topology : bool, strokes remesh what they move; detail_size : its target edge
-        length as a fraction of the model size, or None (the edge length the surface had).
+    Fields: one per ``"app"`` row of the setting table
+    (:data:`~gogreen_core.sculpt.setting_table.SETTINGS`: material, falloff, l_max, the pins'
+    radius, the brushes' weights, dynamic topology...), checked by it. The falloff is a
+    :class:`SplineRadial`, an immutable value at ε = 1 (compared by content): assigning any
+    single radial profile gives a spline with its curves (sampled when not a spline) replacing
+    the current ones; it always has the curves :func:`needed_curves` of ``l_max`` (missing
+    ones: Gaussian; those above l_max are kept). Changing l_max keeps the weights' common
+    degrees and gives new ones each brush's defaults.
 
     :attr:`engine_settings` is the engine's part as one :class:`EngineSettings` value.
     ``brush`` is a :class:`BrushSettings` (a sub-model with events of its own), ``pen`` a
     :class:`PenSettings`, ``view`` a :class:`ViewSettings`.
     """
 
-    material = Field(lambda: Material.isotropic(1.0, 0.3), _material)
-    l_max = Field(8, _l_max)
-    falloff = Field(None)  # checked in _normalize, with l_max
-    constraint_radius = Field(DEFAULT_CONSTRAINT_RADIUS, _radius)
-    brush_weights = Field(None)  # checked in _normalize, with l_max
-    dynamic_topology = Field(False, _switch, doc="strokes remesh what they move")
-    detail_size = Field(None, _detail_size, doc="target edge length / model size, or None")
+    if TYPE_CHECKING:  # the fields are made from the setting table (values of any type)
+
+        def __getattr__(self, name: str) -> Any: ...
+        def __setattr__(self, name: str, value: Any) -> None: ...
 
     def __init__(self, **values: Any) -> None:
         self.brush = BrushSettings()
@@ -452,16 +434,8 @@ class Settings(EventedModel):
 
     @property
     def engine_settings(self) -> EngineSettings:
-        """Material, falloff, l_max, weights and the pins' radius as one engine value."""
-        return EngineSettings(
-            material=self.material,
-            falloff=self.falloff,
-            l_max=self.l_max,
-            constraint_radius=self.constraint_radius,
-            brush_weights=self.brush_weights,
-            dynamic_topology=self.dynamic_topology,
-            detail_size=self.detail_size,
-        )
+        """The engine's settings as one value (rows the app does not show at their defaults)."""
+        return EngineSettings(**{name: self._values[name] for name in ENGINE_FIELDS})
 
     def weights_for(self, kind: str) -> np.ndarray:
         """Brush ``kind``'s degree weights ω_l (l_max + 2,) (its defaults when it has none of its
@@ -478,26 +452,12 @@ class Settings(EventedModel):
     # -- presets and the engine's options ----------------------------------------------------
     def preset(self, name: str = "", description: str = "") -> Preset:
         """The current settings as a :class:`Preset` (values: later edits do not reach it)."""
-        return Preset(
-            name=name,
-            material=self.material,
-            falloff=self.falloff,
-            l_max=self.l_max,
-            brush=self.brush.brush,
-            description=description,
-            brush_weights=self.brush_weights,
-        )
+        values = {s.name: self._values[s.name] for s in rows("preset")}
+        return Preset(name, brush=self.brush.brush, description=description, **values)
 
     def apply_preset(self, preset: Preset) -> None:
         """Take every setting of ``preset`` (one update of this model, then the brush)."""
-        self.update(
-            {
-                "material": preset.material,
-                "l_max": preset.l_max,
-                "falloff": preset.falloff,
-                "brush_weights": preset.brush_weights,
-            }
-        )
+        self.update({s.name: getattr(preset.settings, s.name) for s in rows("preset")})
         self.brush.set_brush(preset.brush)
 
     def sculptor_options(self) -> dict[str, Any]:
@@ -507,7 +467,7 @@ class Settings(EventedModel):
 
 
 #: The model's fields that are the engine's settings.
-ENGINE_FIELDS = tuple(f.name for f in fields(EngineSettings))
+ENGINE_FIELDS = tuple(s.name for s in rows("engine") if "app" in s.places)
 
 
 class EngineLink:

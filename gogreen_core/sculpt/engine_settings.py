@@ -4,40 +4,28 @@
 and the brush. The evented model (:class:`gogreen_core.interaction.settings.Settings`) hands one to
 the engine in one typed call (:meth:`Sculptor.apply_settings`), presets make one
 (:meth:`Preset.engine_settings`), a session file stores one (its ``settings``) and undo steps hold
-the one before and the one after. Its constructor checks every field
-(:mod:`gogreen_core.field.limits`: :class:`ParameterError` naming it), so a value that exists is
-valid; equality is by content.
+the one before and the one after. Its fields, their checks (:class:`ParameterError` naming the
+field), defaults and file form are the rows of :data:`~gogreen_core.sculpt.setting_table.SETTINGS`,
+so a value that exists is valid; equality is by content.
 
-Adding an engine setting: one field here (its default, its check in ``__post_init__``, its
-``to_dict`` / ``from_dict`` entry), one field on the evented model, and the engine reads it from
-:attr:`Sculptor.settings`.
+Adding an engine setting: one row in the table and its typed line here (the class is checked
+against the table as this module loads: mypy sees the fields, the table says everything else);
+the engine reads it from :attr:`Sculptor.settings`.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field, fields, replace
-from types import MappingProxyType
 from typing import Any
 
 import numpy as np
 
-from gogreen_core.field.limits import (
-    check_constraint_radius,
-    check_detail_size,
-    check_falloff,
-    check_l_max,
-    check_material,
-)
 from gogreen_core.physics.material import Material
-from gogreen_core.physics.radial import GaussianRadial, RadialProfile
-from gogreen_core.sculpt.brushes.weights import (
-    check_brush_weights,
-    default_weights,
-    resized_brush_weights,
-)
-from gogreen_core.sculpt.schema import parse_falloff, parse_material
-from gogreen_core.validation import check_bool, check_object
+from gogreen_core.physics.radial import RadialProfile
+from gogreen_core.sculpt.brushes.weights import default_weights, resized_brush_weights
+from gogreen_core.sculpt.setting_table import DEFAULT_CONSTRAINT_RADIUS, SETTINGS, Setting, rows
+from gogreen_core.validation import check_object
 from gogreen_core.validation import field as field_path
 
 __all__ = [
@@ -47,69 +35,45 @@ __all__ = [
     "resized_brush_weights",
 ]
 
-#: ε of the pins (fraction of the model size) when a session file does not say.
-DEFAULT_CONSTRAINT_RADIUS = 0.1
-#: Fields that change together, as one undo step and one session record each: the material;
-#: the falloff with l_max and the brushes' weights (which belong to one l_max); the pins' radius;
-#: dynamic topology with its detail size.
-SETTING_GROUPS: tuple[tuple[str, ...], ...] = (
-    ("material",),
-    ("falloff", "l_max", "brush_weights"),
-    ("constraint_radius",),
-    ("dynamic_topology", "detail_size"),
+#: Fields that change together, as one undo step and one session record each (the table's
+#: groups, in its order): the material; the falloff with l_max and the brushes' weights (which
+#: belong to one l_max); the pins' radius; dynamic topology with its detail size.
+SETTING_GROUPS: tuple[tuple[str, ...], ...] = tuple(
+    tuple(s.name for s in rows("engine") if s.group_name == group)
+    for group in dict.fromkeys(s.group_name for s in rows("engine"))
 )
 
 
-def _default_material() -> Material:
-    return Material.isotropic(1.0, 0.3)
+_Weights = Mapping[str, tuple[float, ...]]
 
 
-def _default_falloff() -> RadialProfile:
-    return GaussianRadial(1.0)
+def _initial(name: str) -> Callable[[], Any]:
+    """What makes the default of setting ``name`` (a new value each time)."""
+    return next(s for s in SETTINGS if s.name == name).initial
 
 
 @dataclass(frozen=True, eq=False)  # eq: by content, below (the weights are an array)
 class EngineSettings:
-    """What the engine computes with besides the mesh and the brush (immutable, checked).
-
-    material : :class:`Material`, default isotropic E = 1, ν = 0.3.
-    falloff : the falloff shape, a single :class:`RadialProfile` held as an immutable value at
-        ε = 1 (each brush sets its ε = radius · model size).
-    l_max : SH truncation degree, 0 … ``L_MAX_LIMIT``.
-    constraint_radius : ε of the pins as a fraction of the model size.
-    brush_weights : per-brush degree weights ω_l (paper Fig. 7 and 10), a read-only mapping
-        from a brush kind to l_max + 2 numbers (degrees 0 … l_max + 1); a brush not in it uses
-        its defaults (:meth:`weights_for`).
-    dynamic_topology : remesh what each stroke moves (:mod:`gogreen_core.mesh.remesh`), default off.
-    detail_size : its target edge length as a fraction of the model size, or None (the
-        default): the median edge length the moved region had before the stroke.
+    """What the engine computes with besides the mesh and the brush (immutable, checked): one
+    field per ``"engine"`` row of :data:`~gogreen_core.sculpt.setting_table.SETTINGS` (its
+    documentation there), in the table's order.
 
     Change one with :meth:`replace` (checked again); compare with ``==`` (by content).
     """
 
-    material: Material = field(default_factory=_default_material)
-    falloff: RadialProfile = field(default_factory=_default_falloff)
-    l_max: int = 8
-    constraint_radius: float = DEFAULT_CONSTRAINT_RADIUS
-    brush_weights: Mapping[str, tuple[float, ...]] = field(
-        default_factory=lambda: MappingProxyType({})
-    )
-    dynamic_topology: bool = False
-    detail_size: float | None = None
+    material: Material = field(default_factory=_initial("material"))
+    falloff: RadialProfile = field(default_factory=_initial("falloff"))
+    l_max: int = field(default_factory=_initial("l_max"))
+    constraint_radius: float = field(default_factory=_initial("constraint_radius"))
+    brush_weights: _Weights = field(default_factory=_initial("brush_weights"))
+    dynamic_topology: bool = field(default_factory=_initial("dynamic_topology"))
+    detail_size: float | None = field(default_factory=_initial("detail_size"))
 
     def __post_init__(self) -> None:
-        l_max = check_l_max(self.l_max)
-        checked = {
-            "material": check_material(self.material),
-            "falloff": check_falloff(self.falloff),
-            "l_max": l_max,
-            "constraint_radius": check_constraint_radius(self.constraint_radius),
-            "brush_weights": check_brush_weights(self.brush_weights, l_max),
-            "dynamic_topology": check_bool("dynamic_topology", self.dynamic_topology),
-            "detail_size": check_detail_size(self.detail_size),
-        }
-        for name, value in checked.items():
-            object.__setattr__(self, name, value)
+        checked: dict[str, Any] = {}
+        for s in rows("engine"):
+            checked[s.name] = s.check(getattr(self, s.name), s.name, checked)
+            object.__setattr__(self, s.name, checked[s.name])
 
     def replace(self, **changes: Any) -> EngineSettings:
         """This value with some fields changed (checked like a new one)."""
@@ -145,48 +109,44 @@ class EngineSettings:
 
     __hash__ = None  # type: ignore[assignment]  # equal by content, holds an array
 
-    def same_as(self, other: EngineSettings) -> bool:
-        """True when both compute the same thing (``==``)."""
-        return self == other
-
-    def to_dict(self) -> dict[str, Any]:
-        """The session's ``settings`` object (constraint radius included; brush weights when
-        some brush has its own)."""
-        data: dict[str, Any] = {
-            "material": self.material.to_dict(),
-            "falloff": self.falloff.to_dict(),
-            "l_max": self.l_max,
-            "constraint_radius": self.constraint_radius,
+    def to_dict(self, place: str = "session") -> dict[str, Any]:
+        """The JSON form of the settings of ``place`` (a session's ``settings``, a preset's):
+        the table's rows, a later one only when not at its default."""
+        return {
+            s.name: s.to_json(getattr(self, s.name))
+            for s in rows(place)
+            if s.written(getattr(self, s.name))
         }
-        if self.brush_weights:
-            data["brush_weights"] = {k: list(v) for k, v in self.brush_weights.items()}
-        if self.dynamic_topology or self.detail_size is not None:  # older files stay as they were
-            data["dynamic_topology"] = self.dynamic_topology
-            data["detail_size"] = self.detail_size
-        return data
 
     @classmethod
-    def from_dict(cls, data: object, path: str = "settings") -> EngineSettings:
-        """Inverse of :meth:`to_dict`, the schema of a session's ``settings``:
-        :class:`ParameterError` naming the field (``settings.l_max``...)."""
-        names = tuple(f.name for f in fields(cls))
-        values = check_object(path, data, required=names[:3], optional=names[3:])
-        l_max = check_l_max(values["l_max"], field_path(path, "l_max"))
-        return cls(
-            material=parse_material(values["material"], field_path(path, "material")),
-            falloff=parse_falloff(values["falloff"], field_path(path, "falloff")),
-            l_max=l_max,
-            constraint_radius=check_constraint_radius(
-                values.get("constraint_radius", DEFAULT_CONSTRAINT_RADIUS),
-                field_path(path, "constraint_radius"),
-            ),
-            brush_weights=check_brush_weights(
-                values.get("brush_weights"), l_max, field_path(path, "brush_weights")
-            ),
-            dynamic_topology=check_bool(
-                field_path(path, "dynamic_topology"), values.get("dynamic_topology", False)
-            ),
-            detail_size=check_detail_size(
-                values.get("detail_size"), field_path(path, "detail_size")
-            ),
+    def from_dict(
+        cls, data: object, path: str = "settings", place: str = "session"
+    ) -> EngineSettings:
+        """Inverse of :meth:`to_dict`: :class:`ParameterError` naming the field
+        (``settings.l_max``...); rows that ``data`` does not give take their defaults. With a
+        ``path``, ``data`` must hold nothing else (a preset's is its file: ``path=""``)."""
+        table = rows(place)
+        if path != "":
+            required = tuple(s.name for s in table if place in s.required)
+            check_object(path, data, required, tuple(s.name for s in table))
+        values = dict(data) if isinstance(data, dict) else {}
+        checked: dict[str, Any] = {}
+        for s in table:
+            if s.name in values:
+                checked[s.name] = s.from_json(values[s.name], field_path(path, s.name), checked)
+        return cls(**checked)
+
+
+def _check_fields(table: Iterable[Setting]) -> None:
+    """Raise at import when :class:`EngineSettings` lacks a field of the table, has one the
+    table does not declare, or lists them in another order."""
+    declared = [s.name for s in table if "engine" in s.places]
+    present = [f.name for f in fields(EngineSettings)]
+    if declared != present:
+        raise TypeError(
+            f"EngineSettings declares {present}, the setting table {declared}: add the "
+            "missing typed line to EngineSettings (in the table's order)"
         )
+
+
+_check_fields(SETTINGS)

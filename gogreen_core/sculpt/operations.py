@@ -19,17 +19,10 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from gogreen_core.field.limits import MAX_RADIUS, MIN_RADIUS, check_detail_size
-from gogreen_core.physics.material import Material
-from gogreen_core.physics.radial import RadialProfile
+from gogreen_core.field.limits import check_detail_size
 from gogreen_core.sculpt.brushes import Brush, BrushEvent
-from gogreen_core.sculpt.brushes.weights import check_brush_weights
-from gogreen_core.sculpt.engine_settings import EngineSettings
-from gogreen_core.sculpt.schema import (
-    parse_falloff,
-    parse_l_max,
-    parse_material,
-)
+from gogreen_core.sculpt.engine_settings import SETTING_GROUPS, EngineSettings
+from gogreen_core.sculpt.setting_table import Setting, rows
 from gogreen_core.validation import (
     ParameterError,
     check_bool,
@@ -37,7 +30,6 @@ from gogreen_core.validation import (
     check_finite,
     check_integer,
     check_list,
-    check_number,
     check_object,
     prefixed,
 )
@@ -47,19 +39,17 @@ from gogreen_core.validation import (
 
 __all__ = [
     "OPERATIONS",
+    "SETTINGS_CHANGES",
     "ConstraintAdd",
     "ConstraintDrag",
-    "ConstraintRadius",
     "ConstraintRemove",
     "ConstraintsClear",
-    "DynamicTopology",
-    "FalloffChange",
     "MaskClear",
     "MaskInvert",
-    "MaterialChange",
     "Operation",
     "Redo",
     "Remesh",
+    "SettingsChange",
     "Stroke",
     "Subdivide",
     "Undo",
@@ -139,77 +129,60 @@ class Stroke(Operation):
 
 
 @dataclass(frozen=True, eq=False)
-class MaterialChange(Operation):
-    """The material from now on (an undo step; ``continued`` joins the previous setting)."""
+class SettingsChange(Operation):
+    """A settings group's values from now on (an undo step; ``continued`` joins the previous
+    change of settings): one subclass per group of the setting table (:data:`SETTINGS_CHANGES`),
+    whose ``"op"`` is the group's name and whose fields are the group's rows (by their record
+    key: ``{"op": "constraint_radius", "radius": 0.1}``). The group's first row and the rows a
+    session must give are required; a later row is written when not at its default."""
 
-    name: ClassVar[str] = "material"
-    required: ClassVar[tuple[str, ...]] = ("material",)
-    optional: ClassVar[tuple[str, ...]] = ("continued",)
-    material: Material
+    values: Mapping[str, Any]  # the group's settings by name (checked values)
     continued: bool = False
-
-    def to_dict(self) -> dict[str, Any]:
-        return _with_flag({"op": self.name, "material": self.material.to_dict()}, self.continued)
 
     @classmethod
-    def from_dict(cls, data: dict[str, Any], path: str) -> MaterialChange:
-        material = parse_material(data["material"], field_path(path, "material"))
-        return cls(material, _continued(data, path))
-
-
-@dataclass(frozen=True, eq=False)
-class FalloffChange(Operation):
-    """Falloff shape, truncation degree and degree weights from now on (an undo step):
-    ``brush_weights`` of every brush that has its own (absent: every brush at its defaults)."""
-
-    name: ClassVar[str] = "falloff"
-    required: ClassVar[tuple[str, ...]] = ("falloff", "l_max")
-    optional: ClassVar[tuple[str, ...]] = ("brush_weights", "continued")
-    falloff: RadialProfile
-    l_max: int
-    continued: bool = False
-    brush_weights: Mapping[str, tuple[float, ...]] = field(
-        default_factory=lambda: MappingProxyType({})
-    )
+    def group_rows(cls) -> tuple[Setting, ...]:
+        return tuple(s for s in rows("session") if s.group_name == cls.name)
 
     def to_dict(self) -> dict[str, Any]:
-        data: dict[str, Any] = {
-            "op": self.name,
-            "falloff": self.falloff.to_dict(),
-            "l_max": int(self.l_max),
-        }
-        if self.brush_weights:
-            data["brush_weights"] = {k: list(v) for k, v in self.brush_weights.items()}
+        data: dict[str, Any] = {"op": self.name}
+        for s in self.group_rows():
+            value = self.values[s.name]
+            if s.record_key in self.required or s.written(value):
+                data[s.record_key] = s.to_json(value)
         return _with_flag(data, self.continued)
 
     @classmethod
-    def from_dict(cls, data: dict[str, Any], path: str) -> FalloffChange:
-        falloff = parse_falloff(data["falloff"], field_path(path, "falloff"))
-        l_max = parse_l_max(data["l_max"], field_path(path, "l_max"))
-        brush_weights = check_brush_weights(
-            data.get("brush_weights"), l_max, field_path(path, "brush_weights")
-        )
-        return cls(falloff, l_max, _continued(data, path), brush_weights)
+    def from_dict(cls, data: dict[str, Any], path: str) -> SettingsChange:
+        values: dict[str, Any] = {}
+        for s in cls.group_rows():
+            at, given = field_path(path, s.record_key), s.record_key in data
+            values[s.name] = s.from_json(data[s.record_key], at, values) if given else s.initial()
+        return cls(MappingProxyType(values), _continued(data, path))
 
 
-@dataclass(frozen=True)
-class ConstraintRadius(Operation):
-    """ε of the pins as a fraction of the model size (an undo step)."""
+def _change_class(group: tuple[Setting, ...]) -> type[SettingsChange]:
+    """The record class of a settings group (``MaterialChange``, ``FalloffChange``...)."""
+    first = group[0]
+    required = tuple(s.record_key for s in group if s is first or "session" in s.required)
+    return type(
+        first.name.title().replace("_", "") + "Change",
+        (SettingsChange,),
+        {
+            "name": first.group_name,
+            "required": required,
+            "optional": (
+                *(s.record_key for s in group if s.record_key not in required),
+                "continued",
+            ),
+        },
+    )
 
-    name: ClassVar[str] = "constraint_radius"
-    required: ClassVar[tuple[str, ...]] = ("radius",)
-    optional: ClassVar[tuple[str, ...]] = ("continued",)
-    radius: float
-    continued: bool = False
 
-    def to_dict(self) -> dict[str, Any]:
-        return _with_flag({"op": self.name, "radius": self.radius}, self.continued)
-
-    @classmethod
-    def from_dict(cls, data: dict[str, Any], path: str) -> ConstraintRadius:
-        name = field_path(path, "radius")
-        radius = check_number(name, data["radius"], low=MIN_RADIUS, high=MAX_RADIUS)
-        return cls(radius, _continued(data, path))
+#: The change record of each settings group, by the group's name.
+SETTINGS_CHANGES: dict[str, type[SettingsChange]] = {
+    group[0]: _change_class(tuple(s for s in rows("session") if s.name in group))
+    for group in SETTING_GROUPS
+}
 
 
 @dataclass(frozen=True, eq=False)
@@ -332,29 +305,6 @@ class Subdivide(Operation):
 
 
 @dataclass(frozen=True)
-class DynamicTopology(Operation):
-    """Dynamic topology on or off and its detail size (a fraction of the model size, or None:
-    the edge length the surface had) from now on (an undo step)."""
-
-    name: ClassVar[str] = "dynamic_topology"
-    required: ClassVar[tuple[str, ...]] = ("enabled",)
-    optional: ClassVar[tuple[str, ...]] = ("detail_size", "continued")
-    enabled: bool
-    detail_size: float | None = None
-    continued: bool = False
-
-    def to_dict(self) -> dict[str, Any]:
-        data = {"op": self.name, "enabled": self.enabled, "detail_size": self.detail_size}
-        return _with_flag(data, self.continued)
-
-    @classmethod
-    def from_dict(cls, data: dict[str, Any], path: str) -> DynamicTopology:
-        enabled = check_bool(field_path(path, "enabled"), data["enabled"])
-        size = check_detail_size(data.get("detail_size"), field_path(path, "detail_size"))
-        return cls(enabled, size, _continued(data, path))
-
-
-@dataclass(frozen=True)
 class Remesh(Operation):
     """Isotropic remeshing of the whole mesh, or of its faces that are not masked
     (``unmasked_only``), to the edge length ``detail_size`` (a fraction of the model size) in
@@ -422,40 +372,29 @@ class Redo(Operation):
         return cls()
 
 
+_RECORDS: tuple[type[Operation], ...] = (
+    Stroke,
+    *SETTINGS_CHANGES.values(),
+    ConstraintAdd,
+    ConstraintRemove,
+    ConstraintsClear,
+    ConstraintDrag,
+    MaskInvert,
+    MaskClear,
+    Subdivide,
+    Remesh,
+    Undo,
+    Redo,
+)
 #: ``"op"`` name → record class.
-OPERATIONS: dict[str, type[Operation]] = {
-    cls.name: cls
-    for cls in (
-        Stroke,
-        MaterialChange,
-        FalloffChange,
-        ConstraintRadius,
-        ConstraintAdd,
-        ConstraintRemove,
-        ConstraintsClear,
-        ConstraintDrag,
-        MaskInvert,
-        MaskClear,
-        Subdivide,
-        DynamicTopology,
-        Remesh,
-        Undo,
-        Redo,
-    )
-}
+OPERATIONS: dict[str, type[Operation]] = {cls.name: cls for cls in _RECORDS}
 
 
-def settings_record(settings: EngineSettings, group: str, continued: bool) -> Operation:
+def settings_record(settings: EngineSettings, group: str, continued: bool) -> SettingsChange:
     """The log record of a change of the settings group named ``group`` (its first field, see
     :data:`~gogreen_core.sculpt.engine_settings.SETTING_GROUPS`) to ``settings``."""
-    s = settings
-    if group == "material":
-        return MaterialChange(s.material, continued)
-    if group == "constraint_radius":
-        return ConstraintRadius(s.constraint_radius, continued)
-    if group == "dynamic_topology":
-        return DynamicTopology(s.dynamic_topology, s.detail_size, continued)
-    return FalloffChange(s.falloff, s.l_max, continued, s.brush_weights)
+    record = SETTINGS_CHANGES[group]
+    return record({s.name: getattr(settings, s.name) for s in record.group_rows()}, continued)
 
 
 def operation_from_dict(data: object, path: str = "operation") -> Operation:

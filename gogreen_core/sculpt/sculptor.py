@@ -31,12 +31,11 @@ from gogreen_core.field.limits import MAX_REACH, check_constraint_radius
 from gogreen_core.mesh.mesh_state import MaskRows, MeshSnapshot, MeshState
 from gogreen_core.mesh.subdivision import PreparedSubdivision, prepare_subdivision
 from gogreen_core.physics.material import Material
-from gogreen_core.physics.radial import GaussianRadial, RadialProfile
+from gogreen_core.physics.radial import RadialProfile
 from gogreen_core.sculpt.brushes import Brush, BrushEvent
 from gogreen_core.sculpt.checkpoint import SculptState
 from gogreen_core.sculpt.constraints import ConstraintSet
 from gogreen_core.sculpt.engine_settings import (
-    DEFAULT_CONSTRAINT_RADIUS,
     SETTING_GROUPS,
     EngineSettings,
     resized_brush_weights,
@@ -84,9 +83,9 @@ class Sculptor:
         Texture coordinates per face corner (rows of -1: untextured faces), carried through a
         subdivision (see :attr:`mesh`).
     settings : EngineSettings, optional
-        Material, falloff, l_max, brushes' weights and pins' radius in one value; or give them
-        one by one (``material``, ``l_max``, ``falloff``, ``constraint_radius``, the fields of
-        :class:`EngineSettings` with its defaults).
+        Material, falloff, l_max, brushes' weights, pins' radius... in one value; or give
+        some of its fields one by one as keywords (``material=``, ``l_max=``..., the others at
+        their defaults; an unknown one is refused).
     history_bytes : memory cap of the undo history.
 
     The parts: undo steps in :attr:`history` (:class:`History`); the vertex mask in
@@ -103,11 +102,8 @@ class Sculptor:
         uv: np.ndarray | None = None,
         uv_faces: np.ndarray | None = None,
         settings: EngineSettings | None = None,
-        material: Material | None = None,
-        l_max: int = 8,
-        falloff: RadialProfile | None = None,
-        constraint_radius: float = DEFAULT_CONSTRAINT_RADIUS,
         history_bytes: int = 512 * 2**20,
+        **values: Any,
     ) -> None:
         self._mesh = MeshState(vertices, faces, uv, uv_faces)
         self.model_size = self._mesh.model_size
@@ -116,19 +112,12 @@ class Sculptor:
         self._log = SessionLog()
         self._fingerprint = mesh_fingerprint(self._mesh.vertices)
         if settings is None:
-            settings = EngineSettings(
-                material=Material.isotropic(1.0, 0.3) if material is None else material,
-                falloff=falloff or GaussianRadial(1.0),
-                l_max=l_max,
-                constraint_radius=constraint_radius,
-            )
+            settings = EngineSettings(**values)
         elif not isinstance(settings, EngineSettings):
             raise ParameterError(
                 "settings", f"settings must be EngineSettings (got {type(settings).__name__})"
             )
-        elif any(x is not None for x in (material, falloff)) or (
-            (l_max, constraint_radius) != (8, DEFAULT_CONSTRAINT_RADIUS)
-        ):
+        elif values:
             raise TypeError("Sculptor() takes settings or their fields one by one, not both")
         self._kernels = KernelCache(settings)
         self._initial = settings
@@ -218,28 +207,17 @@ class Sculptor:
 
     # -- settings ----------------------------------------------------------------------------
     def apply_settings(self, settings: EngineSettings, *, continued: bool = False) -> None:
-        """Compute with ``settings`` from now on: for each group of fields that differs, its
-        setter (:meth:`set_material`; :meth:`set_falloff` with l_max and weights;
-        :meth:`set_constraint_radius`; else :meth:`change_settings`), with ``continued``: one
-        undo step per group. What the evented settings model calls."""
+        """Compute with ``settings`` from now on: each group of fields that differs changes
+        (:meth:`change_settings`) with ``continued``: one undo step per group. What the evented
+        settings model calls."""
         if not isinstance(settings, EngineSettings):
             raise ParameterError(
                 "settings", f"settings must be EngineSettings (got {type(settings).__name__})"
             )
-        s = settings
         for group in SETTING_GROUPS:
-            if self.settings.agrees(s, group):
-                continue
-            if group[0] == "material":
-                self.set_material(s.material, continued)
-            elif group[0] == "falloff":
-                self.set_falloff(
-                    s.falloff, s.l_max, continued=continued, brush_weights=s.brush_weights
-                )
-            elif group[0] == "constraint_radius":
-                self.set_constraint_radius(s.constraint_radius, continued)
-            else:
-                self.change_settings(continued=continued, **{n: getattr(s, n) for n in group})
+            if not self.settings.agrees(settings, group):
+                values = {name: getattr(settings, name) for name in group}
+                self.change_settings(continued=continued, **values)
 
     def change_settings(
         self, *, continued: bool = False, replaying: bool = False, **changes: Any
@@ -256,9 +234,9 @@ class Sculptor:
         keys = set(changes)
         group = next((g for g in SETTING_GROUPS if keys and keys <= set(g)), None)
         if group is None:
+            groups = ", ".join(" / ".join(group) for group in SETTING_GROUPS)
             raise TypeError(
-                "change_settings() takes material, constraint_radius, or falloff / l_max / "
-                f"brush_weights, one group at a time (got {sorted(keys)})"
+                f"change_settings() takes one group of {groups} at a time (got {sorted(keys)})"
             )
         continued = check_bool("continued", continued)
         before = self.settings

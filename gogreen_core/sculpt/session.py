@@ -27,19 +27,17 @@ import numpy as np
 from gogreen_core.sculpt.brushes.table import REPLAY_KINDS
 from gogreen_core.sculpt.engine_settings import EngineSettings
 from gogreen_core.sculpt.operations import (
+    SETTINGS_CHANGES,
     ConstraintAdd,
     ConstraintDrag,
-    ConstraintRadius,
     ConstraintRemove,
     ConstraintsClear,
-    DynamicTopology,
-    FalloffChange,
     MaskClear,
     MaskInvert,
-    MaterialChange,
     Operation,
     Redo,
     Remesh,
+    SettingsChange,
     Stroke,
     Subdivide,
     Undo,
@@ -297,26 +295,14 @@ def _stroke(sculptor: Sculptor, op: Stroke, step: Step) -> None:
         step()
 
 
-def _falloff(sculptor: Sculptor, op: FalloffChange) -> None:
-    sculptor.change_settings(
-        falloff=op.falloff,
-        l_max=op.l_max,
-        brush_weights=op.brush_weights,
-        continued=op.continued,
-        replaying=True,
-    )
+def _settings(sculptor: Sculptor, op: SettingsChange) -> None:
+    sculptor.change_settings(continued=op.continued, replaying=True, **op.values)
 
 
 #: How each record is done: through the sculptor's public methods (a logged settings change is
 #: always replayed, as the drag it stands for was a step).
 _ACTIONS: dict[type[Operation], Callable[[Sculptor, Any], object]] = {
-    MaterialChange: lambda s, op: s.change_settings(
-        material=op.material, continued=op.continued, replaying=True
-    ),
-    FalloffChange: _falloff,
-    ConstraintRadius: lambda s, op: s.change_settings(
-        constraint_radius=op.radius, continued=op.continued, replaying=True
-    ),
+    **dict.fromkeys(SETTINGS_CHANGES.values(), _settings),
     ConstraintAdd: lambda s, op: s.add_constraint(op.point),
     ConstraintRemove: lambda s, op: s.remove_constraint(op.index),
     ConstraintsClear: lambda s, op: s.clear_constraints(),
@@ -324,12 +310,6 @@ _ACTIONS: dict[type[Operation], Callable[[Sculptor, Any], object]] = {
     MaskInvert: lambda s, op: s.mask.invert(),
     MaskClear: lambda s, op: s.mask.clear(),
     Subdivide: lambda s, op: s.subdivide(op.unmasked_only),
-    DynamicTopology: lambda s, op: s.change_settings(
-        dynamic_topology=op.enabled,
-        detail_size=op.detail_size,
-        continued=op.continued,
-        replaying=True,
-    ),
     Remesh: lambda s, op: s.remesher.remesh(op.detail_size, op.unmasked_only, op.iterations),
     Undo: lambda s, op: s.undo(),
     Redo: lambda s, op: s.redo(),

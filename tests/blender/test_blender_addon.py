@@ -388,7 +388,8 @@ def test_a_change_made_in_blender_reaches_the_link(ico):
     # a stroke from there is what a new sculptor on Blender's positions makes
     before = positions(ico)
     stroke_op("twist", EVENTS[1:2])
-    sculptor = Sculptor(before.astype(np.float64), triangles(ico), l_max=settings.l_max)
+    l_max = settings.engine_settings.l_max
+    sculptor = Sculptor(before.astype(np.float64), triangles(ico), l_max=l_max)
     sculptor.origin = np.zeros(3)
     assert sculptor.model_size != link.model_size  # the link keeps the size it began with
     # a new topology: a new link
@@ -747,6 +748,22 @@ def test_homogenize_computes_the_pattern_material(ico):
         stroke_op("SCENE", EVENTS[:1])
 
 
+def test_the_scene_properties_of_settings_come_from_the_setting_table():
+    """Each number, switch or choice setting of the table that applies in Blender is a scene
+    property with the table's label, documentation, default and bounds."""
+    from gogreen_core.sculpt.setting_table import rows
+
+    properties = sub(sys.modules[MODULE], "properties")
+    scalar = [r for r in rows("blender") if r.type in ("int", "float", "bool", "choice")]
+    assert scalar and list(properties.table_rows()) == scalar
+    rna = bpy.context.scene.gogreen.bl_rna.properties
+    for row in scalar:
+        prop = rna[row.name]
+        assert (prop.name, prop.description, prop.default) == (row.title, row.doc, row.initial())
+        if row.high is not None:
+            assert prop.hard_max == row.high
+
+
 def test_presets_are_shared_with_the_desktop_app(ico, tmp_path):
     s = bpy.context.scene.gogreen
     wood = {p.name: p for p in builtin_presets()}["Wood grain"]
@@ -760,7 +777,9 @@ def test_presets_are_shared_with_the_desktop_app(ico, tmp_path):
     properties = sub(sys.modules[MODULE], "properties")
     layered = {p.name: p for p in builtin_presets()}["Layered sheet wrinkles"]
     assert bpy.ops.gogreen.load_preset(preset="Layered sheet wrinkles") == {"FINISHED"}
-    assert properties.read_settings(bpy.context.scene).brush_weights == layered.brush_weights
+    assert properties.read_settings(bpy.context.scene).engine_settings.brush_weights == (
+        layered.brush_weights
+    )
     assert bpy.ops.gogreen.load_preset(preset="Wood grain") == {"FINISHED"}
     path = tmp_path / "mine.json"
     assert bpy.ops.gogreen.save_preset(filepath=str(path)) == {"FINISHED"}

@@ -20,6 +20,7 @@ import pytest
 from gogreen_core import Brush, BrushEvent, Material, ParameterError, Sculptor
 from gogreen_core.interaction.tools import PIXELS_PER_UNIT_AMOUNT
 from gogreen_core.mesh.shapes import icosphere
+from gogreen_core.sculpt.engine_settings import EngineSettings
 
 ROOT = Path(__file__).resolve().parents[2]
 if str(ROOT) not in sys.path:  # the extension's folder is no installed package
@@ -368,18 +369,16 @@ def test_degree_weights_of_every_brush_and_the_automatic_influence(sphere):
     with pytest.raises(ParameterError, match="stored weights"):
         engine.brush_weights_from("[1, 2]", 4)
     vertices, faces = sphere
-    settings = dataclasses.replace(
-        engine.default_settings(6), brush=Brush("pinch", radius=0.2), brush_weights=weights
-    )
-    settings = dataclasses.replace(
-        settings, brush_weights=engine.brush_weights_from('{"pinch": [1, 16, 1, 1, 1, 1, 1, 1]}', 6)
-    )
+    default = engine.default_settings(6).engine_settings
+    stored = engine.brush_weights_from('{"pinch": [1, 16, 1, 1, 1, 1, 1, 1]}', 6)
+    pinch = Brush("pinch", radius=0.2)
+    settings = engine.SculptSettings(pinch, default.replace(brush_weights=stored))
     events = [BrushEvent(center=vertices[0], amount=0.3, axis=np.array([0.0, 0.2, 1.0]))]
-    reference = Sculptor(vertices, faces, settings=settings.engine_settings())
+    reference = Sculptor(vertices, faces, settings=settings.engine_settings)
     reference.origin = np.zeros(3)
     reference.apply_brush(settings.brush, events)
     assert np.array_equal(engine.stroke(vertices, faces, settings, events), reference.vertices)
-    plain = dataclasses.replace(settings, brush_weights={})
+    plain = engine.SculptSettings(settings.brush, default)
     assert not np.array_equal(engine.stroke(vertices, faces, plain, events), reference.vertices)
     # the cursor's reach: the engine's automatic influence, or the brush's own number
     assert engine.influence_of(settings) == reference.influence(settings.brush) > 4.0
@@ -389,20 +388,19 @@ def test_degree_weights_of_every_brush_and_the_automatic_influence(sphere):
 
 def test_stroke_is_the_engines_apply_brush(sphere):
     vertices, faces = sphere
+    material, falloff = Material.cubic(3.0, 1.5, 0.4), engine.falloff_from("KELVINLET")
     settings = engine.SculptSettings(
         Brush("twist", radius=0.2, symmetry="x"),
-        Material.cubic(3.0, 1.5, 0.4),
-        engine.falloff_from("KELVINLET"),
-        4,
+        EngineSettings(material=material, falloff=falloff, l_max=4),
     )
     events = [BrushEvent(center=vertices[0], amount=0.3, axis=np.array([0.0, 0.2, 1.0]))]
     result = engine.stroke(vertices, faces, settings, events)
     reference = Sculptor(
         vertices,
         faces,
-        material=settings.material,
+        material=material,
         l_max=4,
-        falloff=settings.falloff,
+        falloff=falloff,
     )
     reference.origin = np.zeros(3)
     reference.apply_brush(settings.brush, events)

@@ -1,5 +1,6 @@
 """Presets: built-in files load and apply, round trips, bad files, atomic save."""
 
+import dataclasses
 import importlib.util
 import json
 from pathlib import Path
@@ -93,3 +94,10 @@ def test_a_failed_save_keeps_the_old_file(tmp_path, monkeypatch):
         save_preset(builtin_presets()[1], path)
     assert path.read_bytes() == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["p.json"]
+
+
+def test_a_preset_is_replaced_like_a_dataclass():
+    preset = builtin_presets()[0]
+    renamed = dataclasses.replace(preset, name="mine", brush=Brush("twist"))
+    assert renamed.name == "mine" and renamed.brush == Brush("twist")
+    assert renamed.settings == preset.settings and renamed.l_max == preset.l_max

@@ -110,7 +110,7 @@ def test_presets_round_trip_through_the_model():
         Material.isotropic(2.0, 0.4),
         KelvinletRadial(1.0),
         6,
-        Brush("wrinkle", radius=0.05, influence=2.5, symmetry="x"),
+        brush=Brush("wrinkle", radius=0.05, influence=2.5, symmetry="x"),
     )
     settings.apply_preset(preset)
     assert settings.material == preset.material and settings.l_max == 6
@@ -130,12 +130,13 @@ def test_engine_link_feeds_the_sculptor_one_call_per_group(sculptor, monkeypatch
     settings = Settings()
     link = EngineLink(settings, sculptor)
     calls = []
-    real = sculptor.set_falloff
-    monkeypatch.setattr(sculptor, "set_falloff", lambda *a, **k: (calls.append(a), real(*a, **k)))
+    real = sculptor.change_settings
+    monkeypatch.setattr(sculptor, "change_settings", lambda **k: (calls.append(k), real(**k)))
     settings.material = Material.isotropic(1.0, 0.45)
-    assert sculptor.material == Material.isotropic(1.0, 0.45)
+    assert sculptor.material == Material.isotropic(1.0, 0.45) and len(calls) == 1
     settings.update({"l_max": 4, "falloff": GaussianRadial(1.0)})
-    assert len(calls) == 1 and sculptor.l_max == 4
+    assert len(calls) == 2 and sculptor.l_max == 4
+    assert set(calls[-1]) == {"falloff", "l_max", "brush_weights", "continued"}
     assert sculptor.settings.brush_weights == settings.brush_weights
     settings.constraint_radius = 0.2
     assert sculptor.settings.constraint_radius == 0.2
@@ -143,7 +144,7 @@ def test_engine_link_feeds_the_sculptor_one_call_per_group(sculptor, monkeypatch
     rho, value = settings.falloff.curve("R", 0)
     edited = settings.falloff.with_point_moved("R", 0, 2, float(rho[2]), float(value[2]) * 2)
     settings.set("falloff", edited, continued=True)
-    assert len(calls) == 2
+    assert len(calls) == 4 and calls[-1]["continued"]
     assert np.isclose(sculptor.falloff.curve("R", 0)[1][2], value[2] * 2)
     link.attach(None)
     settings.material = Material.isotropic(1.0, 0.2)  # no engine: nothing to feed

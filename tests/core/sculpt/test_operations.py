@@ -12,16 +12,13 @@ from gogreen_core.physics.radial import GaussianRadial, KelvinletRadial, SplineR
 from gogreen_core.sculpt.brushes import Brush, BrushEvent
 from gogreen_core.sculpt.operations import (
     OPERATIONS,
+    SETTINGS_CHANGES,
     ConstraintAdd,
     ConstraintDrag,
-    ConstraintRadius,
     ConstraintRemove,
     ConstraintsClear,
-    DynamicTopology,
-    FalloffChange,
     MaskClear,
     MaskInvert,
-    MaterialChange,
     Redo,
     Remesh,
     Stroke,
@@ -34,6 +31,13 @@ from gogreen_core.sculpt.session import SESSION_VERSION, parse_session
 from gogreen_core.validation import ParameterError
 
 CUBIC = Material.cubic(3.0, 1.5, 0.4)
+
+
+def change(group, continued=False, **values):
+    """The change record of settings ``group`` (its other fields at their defaults)."""
+    record = SETTINGS_CHANGES[group]
+    full = {s.name: values.get(s.name, s.initial()) for s in record.group_rows()}
+    return record(full, continued)
 
 
 @pytest.fixture(scope="module")
@@ -57,11 +61,11 @@ def records():
                 BrushEvent([0, 0.1, 1], [0, 0.1, 0], radius_factor=0.3),
             ),
         ),
-        MaterialChange(CUBIC),
-        MaterialChange(Material.isotropic(2.0, 0.2), continued=True),
-        FalloffChange(spline, 4, brush_weights={"pinch": tuple(np.arange(6.0))}),
-        FalloffChange(KelvinletRadial(1.0), 6, continued=True),
-        ConstraintRadius(0.2, continued=True),
+        change("material", material=CUBIC),
+        change("material", True, material=Material.isotropic(2.0, 0.2)),
+        change("falloff", falloff=spline, l_max=4, brush_weights={"pinch": tuple(np.arange(6.0))}),
+        change("falloff", True, falloff=KelvinletRadial(1.0), l_max=6),
+        change("constraint_radius", True, constraint_radius=0.2),
         ConstraintAdd(np.array([0.0, 0.0, 1.0])),
         ConstraintDrag(0, np.array([0.0, 0.05, 0.0]), continued=True),
         ConstraintRemove(0),
@@ -71,8 +75,8 @@ def records():
         MaskClear(),
         Subdivide(),
         Subdivide(unmasked_only=True),
-        DynamicTopology(True),
-        DynamicTopology(True, 0.01, continued=True),
+        change("dynamic_topology", dynamic_topology=True),
+        change("dynamic_topology", True, dynamic_topology=True, detail_size=0.01),
         Remesh(0.02),
         Remesh(0.005, unmasked_only=True, iterations=2),
         Undo(),
@@ -168,7 +172,7 @@ def test_settings_changes_are_undo_steps_restored_exactly(sphere):
     assert sculptor.material == first.material
     for _ in range(3):
         sculptor.redo()
-    assert sculptor.settings.same_as(after)
+    assert sculptor.settings == after
     assert sculptor.falloff.to_dict() == spline.with_eps(1.0).to_dict()
     # the engine computes with the restored settings: the same stroke as a fresh sculptor's
     brush, event = Brush("twist", radius=0.3), BrushEvent(vertices[0], amount=0.2)
@@ -206,7 +210,7 @@ def test_a_slider_drag_is_one_step_and_replays(sphere):
     again = Sculptor.from_session(session, vertices, faces)
     again.replay(session["operations"])
     assert np.array_equal(again.vertices, sculptor.vertices)
-    assert again.settings.same_as(sculptor.settings)
+    assert again.settings == sculptor.settings
     assert again.history.undo_labels == sculptor.history.undo_labels
     assert again.session()["operations"] == session["operations"]
     again.undo()
