@@ -57,6 +57,7 @@ def test_the_readme_calls_commands_through_the_venv():
     assert [c.split()[1] for c in _venv_commands() if c.startswith(".venv/bin/gogreen")] == [
         "deform",
         "deform",
+        "deform",
         "replay",
     ]
 
