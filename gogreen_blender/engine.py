@@ -99,6 +99,8 @@ class SculptSettings:
     l_max : truncation degree of the spherical-harmonic expansion.
     brush_weights : each brush kind's degree weights ω_0 … ω_{l_max+1} (a kind not listed has
         its defaults).
+    material_frame : "world" (the material's axes fixed to the object) or "surface" (they
+        follow the surface where each stroke starts).
     """
 
     brush: Brush
@@ -106,6 +108,7 @@ class SculptSettings:
     falloff: RadialProfile
     l_max: int
     brush_weights: Mapping[str, tuple[float, ...]] = dataclasses.field(default_factory=dict)
+    material_frame: str = "world"
 
     def engine_settings(self) -> EngineSettings:
         """The engine's settings value of these (checked: ParameterError names a bad one)."""
@@ -114,6 +117,7 @@ class SculptSettings:
             falloff=self.falloff,
             l_max=self.l_max,
             brush_weights=self.brush_weights,
+            material_frame=self.material_frame,
         )
 
 

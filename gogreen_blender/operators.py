@@ -466,6 +466,7 @@ def preset_values(preset: Preset, current_kind: str) -> tuple[dict[str, object],
         "custom_material": engine.material_to_json(preset.material),
         "custom_name": preset.name,
         "rotation": (0.0, 0.0, 0.0),
+        "material_frame": preset.material_frame.upper(),
     }
     if type(falloff) is GaussianRadial:
         values["falloff"] = "GAUSSIAN"
@@ -541,6 +542,7 @@ def preset_from_scene(scene, name: str) -> Preset:
         l_max=settings.l_max,
         brush_weights=settings.brush_weights,
         brush=settings.brush,
+        material_frame=settings.material_frame,
         description="Saved from Blender",
     )
 

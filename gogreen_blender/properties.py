@@ -164,6 +164,24 @@ def _settings_class() -> type:
             unit="ROTATION",
             size=3,
         ),
+        "material_frame": EnumProperty(
+            name="Material frame",
+            description="Where the material's axes are",
+            items=[
+                (
+                    "WORLD",
+                    "World",
+                    "The material's axes fixed to the object (turned by Material axes)",
+                ),
+                (
+                    "SURFACE",
+                    "Surface",
+                    "Each stroke turns the material's axes onto the surface where it starts: "
+                    "third axis along the normal, first along the stroke",
+                ),
+            ],
+            default="WORLD",
+        ),
         "custom_material": StringProperty(
             name="Stiffness", description="6x6 Voigt stiffness as JSON (set by presets)"
         ),
@@ -304,6 +322,7 @@ def read_settings(scene, obj=None, kind: str | None = None) -> engine.SculptSett
         falloff=engine.falloff_from(s.falloff, s.custom_falloff),
         l_max=l_max,
         brush_weights=engine.brush_weights_from(s.brush_weights, l_max),
+        material_frame=s.material_frame.lower(),
     )
 
 

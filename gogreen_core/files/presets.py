@@ -10,8 +10,9 @@ and loads or saves any other file; a script does the same::
 File format (``"format": "gogreen-preset"``, ``"version": 3``): ``name``, ``description``,
 ``material`` (:meth:`Material.to_dict`), ``falloff`` (a radial profile's ``to_dict``),
 ``l_max``, ``brush_weights`` (optional: per brush kind, l_max + 2 numbers), ``brush``
-(:meth:`Brush.to_dict`). Files of versions 1-2 may hold ``degree_weights`` (of the wrinkle brush
-of sessions before version 3, which no longer exists): ignored.
+(:meth:`Brush.to_dict`), ``material_frame`` (optional: "world", the default, or "surface").
+Files of versions 1-2 may hold ``degree_weights`` (of the wrinkle brush of sessions before
+version 3, which no longer exists): ignored.
 """
 
 from __future__ import annotations
@@ -30,14 +31,20 @@ from gogreen_core.physics.material import Material
 from gogreen_core.physics.radial import GaussianRadial, RadialProfile
 from gogreen_core.sculpt.brushes import Brush
 from gogreen_core.sculpt.brushes.weights import check_brush_weights
-from gogreen_core.sculpt.engine_settings import EngineSettings
+from gogreen_core.sculpt.engine_settings import MATERIAL_FRAMES, EngineSettings
 from gogreen_core.sculpt.schema import (
     parse_falloff,
     parse_file,
     parse_l_max,
     parse_material,
 )
-from gogreen_core.validation import ParameterError, check_integer, check_object, check_string
+from gogreen_core.validation import (
+    ParameterError,
+    check_choice,
+    check_integer,
+    check_object,
+    check_string,
+)
 
 if TYPE_CHECKING:
     from gogreen_core.sculpt.sculptor import Sculptor
@@ -66,6 +73,7 @@ class Preset:
     brush_weights: Mapping[str, tuple[float, ...]] = field(
         default_factory=lambda: MappingProxyType({})
     )
+    material_frame: str = "world"
 
     def __post_init__(self) -> None:
         checked = self.engine_settings()
@@ -73,16 +81,18 @@ class Preset:
         object.__setattr__(self, "falloff", checked.falloff)
         object.__setattr__(self, "l_max", checked.l_max)
         object.__setattr__(self, "brush_weights", checked.brush_weights)
+        object.__setattr__(self, "material_frame", checked.material_frame)
         if not isinstance(self.brush, Brush):
             raise ParameterError(
                 "brush", f"brush must be a Brush (got {type(self.brush).__name__})"
             )
 
     def engine_settings(self, base: EngineSettings | None = None) -> EngineSettings:
-        """``base`` (default: the engine's defaults) with this preset's material, falloff, l_max
-        and brushes' weights."""
+        """``base`` (default: the engine's defaults) with this preset's material and its frame,
+        falloff, l_max and brushes' weights."""
         values: dict[str, Any] = {
             "material": self.material,
+            "material_frame": self.material_frame,
             "falloff": self.falloff,
             "l_max": self.l_max,
             "brush_weights": self.brush_weights,
@@ -90,10 +100,12 @@ class Preset:
         return EngineSettings(**values) if base is None else base.replace(**values)
 
     def apply(self, sculptor: Sculptor) -> None:
-        """Give ``sculptor`` this material and falloff, as one undo step (the brush is the
-        caller's to use)."""
-        joined = sculptor.material != self.material  # a new step the falloff joins
-        sculptor.set_material(self.material)  # ignored when unchanged
+        """Give ``sculptor`` this material (and frame) and falloff, as one undo step (the brush
+        is the caller's to use)."""
+        before = sculptor.settings
+        joined = not before.agrees(self.engine_settings(), ("material", "material_frame"))
+        # ignored when unchanged; a new step the falloff joins
+        sculptor.change_settings(material=self.material, material_frame=self.material_frame)
         sculptor.set_falloff(
             self.falloff,
             self.l_max,
@@ -111,6 +123,7 @@ class Preset:
             "falloff": self.falloff.to_dict(),
             "l_max": int(self.l_max),
             "brush": self.brush.to_dict(),
+            **({"material_frame": self.material_frame} if self.material_frame != "world" else {}),
             **(
                 {"brush_weights": {k: list(v) for k, v in self.brush_weights.items()}}
                 if self.brush_weights
@@ -130,7 +143,15 @@ class Preset:
             "",
             data,
             required=("format", "material", "falloff", "brush"),
-            optional=("version", "name", "description", "l_max", "degree_weights", "brush_weights"),
+            optional=(
+                "version",
+                "name",
+                "description",
+                "l_max",
+                "degree_weights",
+                "brush_weights",
+                "material_frame",
+            ),
         )
         version = data.get("version", PRESET_VERSION)
         if check_integer("version", version, low=1) > PRESET_VERSION:
@@ -148,6 +169,9 @@ class Preset:
             brush=Brush.from_dict(data["brush"]),
             description=check_string("description", data.get("description", "")),
             brush_weights=check_brush_weights(data.get("brush_weights"), l_max),
+            material_frame=check_choice(
+                "material_frame", data.get("material_frame", "world"), MATERIAL_FRAMES
+            ),
         )
 
 

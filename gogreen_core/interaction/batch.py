@@ -46,12 +46,14 @@ from gogreen_core.sculpt.brushes import (
     Brush,
     BrushEvent,
 )
+from gogreen_core.sculpt.engine_settings import MATERIAL_FRAMES, EngineSettings
 from gogreen_core.sculpt.operations import MAX_EVENTS
 from gogreen_core.sculpt.schema import parse_falloff, parse_l_max, parse_material, read_json
 from gogreen_core.sculpt.sculptor import Sculptor
 from gogreen_core.sculpt.session import load_session
 from gogreen_core.validation import (
     ParameterError,
+    check_choice,
     check_integer,
     check_number,
     check_vector,
@@ -165,6 +167,7 @@ class _DeformOptions:
     axis: np.ndarray | None
     direction: np.ndarray | None
     events: int
+    material_frame: str = "world"
 
 
 def _deform_options(args: argparse.Namespace) -> _DeformOptions:
@@ -192,22 +195,23 @@ def _deform_options(args: argparse.Namespace) -> _DeformOptions:
         raise ParameterError("--amount", f"the {brush.kind} brush needs --amount (nonzero)")
     if not (brush.is_affine or paint) and not np.any(delta):
         raise ParameterError("--delta", f"the {brush.kind} brush needs --delta (nonzero)")
+    frame = check_choice("--material-frame", args.material_frame, MATERIAL_FRAMES)
     return _DeformOptions(
-        material, falloff, l_max, brush, center, delta, amount, axis, direction, events
+        material, falloff, l_max, brush, center, delta, amount, axis, direction, events, frame
     )
 
 
 def _deform(args: argparse.Namespace) -> int:
     mesh = load_mesh(args.input)
     options = _deform_options(args)
-    sculptor = Sculptor(
-        mesh.vertices,
-        mesh.faces,
-        uv=mesh.uv,
-        uv_faces=mesh.uv_faces,
+    settings = EngineSettings(
         material=options.material,
-        l_max=options.l_max,
         falloff=options.falloff,
+        l_max=options.l_max,
+        material_frame=options.material_frame,
+    )
+    sculptor = Sculptor(
+        mesh.vertices, mesh.faces, uv=mesh.uv, uv_faces=mesh.uv_faces, settings=settings
     )
     brush, events, center = options.brush, options.events, options.center
     paint = brush.type.family == "paint"
@@ -406,6 +410,12 @@ def _parser() -> argparse.ArgumentParser:
     deform.add_argument("--poisson", type=float, default=0.3)
     deform.add_argument("--material", help="material JSON (Material.to_dict or a preset)")
     deform.add_argument("--l-max", type=int, default=8)
+    deform.add_argument(
+        "--material-frame",
+        default="world",
+        help="world (the material's axes fixed) or surface (they follow the surface where "
+        "the stroke starts)",
+    )
     deform.add_argument(
         "--falloff", default="gaussian", help="gaussian, kelvinlet, or a falloff/preset JSON file"
     )

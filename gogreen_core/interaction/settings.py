@@ -49,6 +49,7 @@ from gogreen_core.sculpt.brushes import AUTO_INFLUENCE, DEFAULT_BRUSH, Brush
 from gogreen_core.sculpt.brushes.weights import check_brush_weights
 from gogreen_core.sculpt.engine_settings import (
     DEFAULT_CONSTRAINT_RADIUS,
+    MATERIAL_FRAMES,
     SETTING_GROUPS,
     EngineSettings,
     resized_brush_weights,
@@ -383,6 +384,10 @@ def _switch(_model: Settings, name: str, value: Any) -> bool:
     return check_bool(name, value)
 
 
+def _frame(_model: Settings, name: str, value: Any) -> str:
+    return check_choice(name, value, MATERIAL_FRAMES)
+
+
 class Settings(EventedModel):
     """Brush, material, falloff and constraint settings: what the engine, presets and the
     app's panels share.
@@ -401,6 +406,8 @@ class Settings(EventedModel):
         changing l_max keeps the common degrees and gives new ones each brush's defaults.
     dynamic_topology : bool, strokes remesh what they move; detail_size : its target edge
         length as a fraction of the model size, or None (the edge length the surface had).
+    material_frame : "world" or "surface" (the material's axes follow the surface where each
+        stroke starts).
 
     :attr:`engine_settings` is the engine's part as one :class:`EngineSettings` value.
     ``brush`` is a :class:`BrushSettings` (a sub-model with events of its own), ``pen`` a
@@ -414,6 +421,7 @@ class Settings(EventedModel):
     brush_weights = Field(None)  # checked in _normalize, with l_max
     dynamic_topology = Field(False, _switch, doc="strokes remesh what they move")
     detail_size = Field(None, _detail_size, doc="target edge length / model size, or None")
+    material_frame = Field("world", _frame, doc="world or surface: where the material's axes are")
 
     def __init__(self, **values: Any) -> None:
         self.brush = BrushSettings()
@@ -461,6 +469,7 @@ class Settings(EventedModel):
             brush_weights=self.brush_weights,
             dynamic_topology=self.dynamic_topology,
             detail_size=self.detail_size,
+            material_frame=self.material_frame,
         )
 
     def weights_for(self, kind: str) -> np.ndarray:
@@ -486,6 +495,7 @@ class Settings(EventedModel):
             brush=self.brush.brush,
             description=description,
             brush_weights=self.brush_weights,
+            material_frame=self.material_frame,
         )
 
     def apply_preset(self, preset: Preset) -> None:
@@ -496,6 +506,7 @@ class Settings(EventedModel):
                 "l_max": preset.l_max,
                 "falloff": preset.falloff,
                 "brush_weights": preset.brush_weights,
+                "material_frame": preset.material_frame,
             }
         )
         self.brush.set_brush(preset.brush)

@@ -37,11 +37,12 @@ from gogreen_core.sculpt.brushes.weights import (
     resized_brush_weights,
 )
 from gogreen_core.sculpt.schema import parse_falloff, parse_material
-from gogreen_core.validation import check_bool, check_object
+from gogreen_core.validation import check_bool, check_choice, check_object
 from gogreen_core.validation import field as field_path
 
 __all__ = [
     "DEFAULT_CONSTRAINT_RADIUS",
+    "MATERIAL_FRAMES",
     "SETTING_GROUPS",
     "EngineSettings",
     "resized_brush_weights",
@@ -49,11 +50,16 @@ __all__ = [
 
 #: ε of the pins (fraction of the model size) when a session file does not say.
 DEFAULT_CONSTRAINT_RADIUS = 0.1
-#: Fields that change together, as one undo step and one session record each: the material;
+#: Where a material's axes are: "world" (fixed in the model's axes, its own rotation applied;
+#: the default, as before this setting existed) or "surface" (each stroke turns them onto the
+#: surface where it starts: :mod:`gogreen_core.sculpt.material_frame`).
+MATERIAL_FRAMES = ("world", "surface")
+#: Fields that change together, as one undo step and one session record each: the material
+#: with its frame;
 #: the falloff with l_max and the brushes' weights (which belong to one l_max); the pins' radius;
 #: dynamic topology with its detail size.
 SETTING_GROUPS: tuple[tuple[str, ...], ...] = (
-    ("material",),
+    ("material", "material_frame"),
     ("falloff", "l_max", "brush_weights"),
     ("constraint_radius",),
     ("dynamic_topology", "detail_size"),
@@ -83,6 +89,8 @@ class EngineSettings:
     dynamic_topology : remesh what each stroke moves (:mod:`gogreen_core.mesh.remesh`), default off.
     detail_size : its target edge length as a fraction of the model size, or None (the
         default): the median edge length the moved region had before the stroke.
+    material_frame : one of :data:`MATERIAL_FRAMES`: "world" (the default) or "surface" (the
+        material's axes follow the surface where each stroke starts).
 
     Change one with :meth:`replace` (checked again); compare with ``==`` (by content).
     """
@@ -96,6 +104,7 @@ class EngineSettings:
     )
     dynamic_topology: bool = False
     detail_size: float | None = None
+    material_frame: str = "world"
 
     def __post_init__(self) -> None:
         l_max = check_l_max(self.l_max)
@@ -107,6 +116,7 @@ class EngineSettings:
             "brush_weights": check_brush_weights(self.brush_weights, l_max),
             "dynamic_topology": check_bool("dynamic_topology", self.dynamic_topology),
             "detail_size": check_detail_size(self.detail_size),
+            "material_frame": check_choice("material_frame", self.material_frame, MATERIAL_FRAMES),
         }
         for name, value in checked.items():
             object.__setattr__(self, name, value)
@@ -163,6 +173,8 @@ class EngineSettings:
         if self.dynamic_topology or self.detail_size is not None:  # older files stay as they were
             data["dynamic_topology"] = self.dynamic_topology
             data["detail_size"] = self.detail_size
+        if self.material_frame != "world":  # older files (world) stay as they were
+            data["material_frame"] = self.material_frame
         return data
 
     @classmethod
@@ -188,5 +200,10 @@ class EngineSettings:
             ),
             detail_size=check_detail_size(
                 values.get("detail_size"), field_path(path, "detail_size")
+            ),
+            material_frame=check_choice(
+                field_path(path, "material_frame"),
+                values.get("material_frame", "world"),
+                MATERIAL_FRAMES,
             ),
         )

@@ -24,7 +24,7 @@ from gogreen_core.physics.material import Material
 from gogreen_core.physics.radial import RadialProfile
 from gogreen_core.sculpt.brushes import Brush, BrushEvent
 from gogreen_core.sculpt.brushes.weights import check_brush_weights
-from gogreen_core.sculpt.engine_settings import EngineSettings
+from gogreen_core.sculpt.engine_settings import MATERIAL_FRAMES, EngineSettings
 from gogreen_core.sculpt.schema import (
     parse_falloff,
     parse_l_max,
@@ -140,21 +140,31 @@ class Stroke(Operation):
 
 @dataclass(frozen=True, eq=False)
 class MaterialChange(Operation):
-    """The material from now on (an undo step; ``continued`` joins the previous setting)."""
+    """The material and its frame from now on (an undo step; ``continued`` joins the previous
+    setting). ``material_frame`` is written when it is not "world" (older files: "world")."""
 
     name: ClassVar[str] = "material"
     required: ClassVar[tuple[str, ...]] = ("material",)
-    optional: ClassVar[tuple[str, ...]] = ("continued",)
+    optional: ClassVar[tuple[str, ...]] = ("continued", "material_frame")
     material: Material
     continued: bool = False
+    material_frame: str = "world"
 
     def to_dict(self) -> dict[str, Any]:
-        return _with_flag({"op": self.name, "material": self.material.to_dict()}, self.continued)
+        data: dict[str, Any] = {"op": self.name, "material": self.material.to_dict()}
+        if self.material_frame != "world":
+            data["material_frame"] = self.material_frame
+        return _with_flag(data, self.continued)
 
     @classmethod
     def from_dict(cls, data: dict[str, Any], path: str) -> MaterialChange:
         material = parse_material(data["material"], field_path(path, "material"))
-        return cls(material, _continued(data, path))
+        frame = check_choice(
+            field_path(path, "material_frame"),
+            data.get("material_frame", "world"),
+            MATERIAL_FRAMES,
+        )
+        return cls(material, _continued(data, path), frame)
 
 
 @dataclass(frozen=True, eq=False)
@@ -450,7 +460,7 @@ def settings_record(settings: EngineSettings, group: str, continued: bool) -> Op
     :data:`~gogreen_core.sculpt.engine_settings.SETTING_GROUPS`) to ``settings``."""
     s = settings
     if group == "material":
-        return MaterialChange(s.material, continued)
+        return MaterialChange(s.material, continued, s.material_frame)
     if group == "constraint_radius":
         return ConstraintRadius(s.constraint_radius, continued)
     if group == "dynamic_topology":

@@ -231,7 +231,9 @@ class Sculptor:
             if self.settings.agrees(s, group):
                 continue
             if group[0] == "material":
-                self.set_material(s.material, continued)
+                self.change_settings(
+                    material=s.material, material_frame=s.material_frame, continued=continued
+                )
             elif group[0] == "falloff":
                 self.set_falloff(
                     s.falloff, s.l_max, continued=continued, brush_weights=s.brush_weights

@@ -294,7 +294,10 @@ def _falloff(sculptor: Sculptor, op: FalloffChange) -> None:
 #: always replayed, as the drag it stands for was a step).
 _ACTIONS: dict[type[Operation], Callable[[Sculptor, Any], object]] = {
     MaterialChange: lambda s, op: s.change_settings(
-        material=op.material, continued=op.continued, replaying=True
+        material=op.material,
+        material_frame=op.material_frame,
+        continued=op.continued,
+        replaying=True,
     ),
     FalloffChange: _falloff,
     ConstraintRadius: lambda s, op: s.change_settings(
