@@ -157,12 +157,22 @@ def _surface_normal(vertices: np.ndarray, rows: np.ndarray) -> np.ndarray | None
     return normal
 
 
-def _disk(normal: np.ndarray, reach: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _disk(
+    normal: np.ndarray, reach: float, frame: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Offsets (n, 3) in ε units on the disk ⟂ ``normal`` (the centre first), their radii (n,),
-    and the two tangent directions (2, 3)."""
-    helper = np.eye(3)[np.argmin(np.abs(normal))]
-    t1 = np.cross(normal, helper)
-    t1 /= np.linalg.norm(t1)
+    and the two tangent directions (2, 3): with the stroke's surface ``frame`` (3, 3), its first
+    axis projected on the disk and the normal's side its third's (so that the samples and their
+    one-sided differences turn with the model), else ⟂ the world axis least aligned with
+    ``normal``."""
+    t1 = None
+    if frame is not None:
+        normal = normal if normal @ frame[:, 2] >= 0 else -normal
+        t1 = frame[:, 0] - (frame[:, 0] @ normal) * normal
+        t1 = t1 if np.linalg.norm(t1) > 1e-6 else None
+    if t1 is None:
+        t1 = np.cross(normal, np.eye(3)[np.argmin(np.abs(normal))])
+    t1 = t1 / np.linalg.norm(t1)
     t2 = np.cross(normal, t1)
     radii = np.linspace(0.0, min(reach, 8.0), _DISK_RADII + 1)[1:]
     angles = np.linspace(0.0, 2 * np.pi, _DISK_ANGLES, endpoint=False)
@@ -245,6 +255,7 @@ class WrinkleBrush(GrabBrush):
                 fold_kernel = unit.with_degree_weights(folds * factors, maps)
                 pull_kernel = unit.with_degree_weights(pull)
                 weights, scale = self._balance(
+                    getattr(ctx.kernels, "frame", None),  # the stroke's surface frame, if any
                     pull_kernel,
                     fold_kernel,
                     force,
@@ -307,6 +318,7 @@ class WrinkleBrush(GrabBrush):
 
     @staticmethod
     def _balance(
+        frame: np.ndarray | None,
         pull_kernel: GreenKernel,
         fold_kernel: GreenKernel,
         force: np.ndarray,
@@ -321,7 +333,7 @@ class WrinkleBrush(GrabBrush):
     ) -> tuple[np.ndarray, float]:
         """(kernel weights, force scale) of one event: the folds at their depth on the tangent
         disk, the whole held to the safe-falloff bounds there."""
-        offsets, radii, tangents = _disk(normal, reach)
+        offsets, radii, tangents = _disk(normal, reach, frame)
         h = _DISK_STEP
         points = center + eps * np.vstack(
             [offsets, offsets + h * tangents[0], offsets + h * tangents[1]]
