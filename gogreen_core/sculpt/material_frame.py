@@ -99,7 +99,9 @@ class FramedKernels(KernelCache):
     """The kernels of ``base``'s settings with the material turned by ``frame`` F (3, 3): what a
     stroke with the surface frame computes with. The full kernel is turned once (Wigner-D, no
     quadrature); weighted ones are repacked from it; values derived from the kernels (field
-    bounds, reach) are computed for this frame, kept as long as the stroke."""
+    bounds, reach) are the unturned kernels' (:attr:`unturned`), turned where they turn
+    (:class:`~gogreen_core.sculpt.falloff_safety.TurnedFieldBound`), so a new frame computes
+    none of them again."""
 
     def __init__(self, base: KernelCache, frame: np.ndarray) -> None:
         self.settings = base.settings
@@ -109,6 +111,10 @@ class FramedKernels(KernelCache):
         self.full: GreenKernel = base.full.turned(self.frame)
         self._weighted: dict[bytes, GreenKernel] = {}
         self._derived = {}
+
+    @property
+    def unturned(self) -> KernelCache:
+        return self.base
 
     def weighted(self, weights: np.ndarray | None) -> GreenKernel:
         if weights is None:

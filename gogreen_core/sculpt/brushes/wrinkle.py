@@ -55,13 +55,13 @@ from gogreen_core.sculpt.brushes.grab import GrabBrush
 from gogreen_core.sculpt.falloff_safety import (
     MAX_GRAB_RATIO,
     MAX_GRAB_STRAIN,
-    FieldBound,
     field_reach,
 )
 
 if TYPE_CHECKING:
     from gogreen_core.sculpt.brushes.brush import Brush, BrushEvent
     from gogreen_core.sculpt.engine_settings import EngineSettings
+    from gogreen_core.sculpt.kernel_cache import KernelCache
 
 __all__ = [
     "FOLD_DEGREES",
@@ -198,23 +198,25 @@ class WrinkleBrush(GrabBrush):
         folds[1::2] = 0.0
         return pull, folds
 
-    def _fold_kernels(self, ctx: StrokeContext, eps: float) -> tuple[GreenKernel, np.ndarray]:
-        """The kernel of the brush's radial terms at ``eps`` (unit weights) and the degrees'
-        material scale factors ‖P₀‖/‖P_l‖ (l_max + 1,; 0 where the material has no term)."""
+    def _fold_kernels(self, kernels: KernelCache, eps: float) -> tuple[GreenKernel, np.ndarray]:
+        """The kernel of the brush's radial terms at ``eps`` (unit weights) of ``kernels`` and
+        the degrees' material scale factors ‖P₀‖/‖P_l‖ (l_max + 1,; 0 where the material has
+        no term; the same in every frame: a turn mixes the terms of a degree orthogonally)."""
+        base = kernels.unturned
 
         def scales() -> np.ndarray:
-            norms = ctx.kernels.full.degree_norms()[: ctx.settings.l_max + 1]
+            norms = base.full.degree_norms()[: base.settings.l_max + 1]
             has = norms > _NO_TERM * norms[0]
             return np.where(has, norms[0] / np.where(has, norms, 1.0), 0.0)
 
-        factors = ctx.kernels.derived(("fold scales",), scales)
-        radial = FoldRadial(eps, ctx.settings.falloff)
-        return ctx.kernels.full.with_radial(radial), factors
+        factors = base.derived(("fold scales",), scales)
+        radial = FoldRadial(eps, kernels.settings.falloff)
+        return kernels.full.with_radial(radial), factors
 
     def kernel(self, ctx: StrokeContext, brush: Brush) -> GreenKernel:
         """The pull part at the brush's ε (what the cursor's profile draws: the folds depend on
         the surface under the cursor)."""
-        unit, _ = self._fold_kernels(ctx, brush.eps(ctx.model_size))
+        unit, _ = self._fold_kernels(ctx.kernels, brush.eps(ctx.model_size))
         return unit.with_degree_weights(self._parts(ctx.settings)[0])
 
     def reach(self, ctx: StrokeContext, brush: Brush) -> float:
@@ -223,14 +225,16 @@ class WrinkleBrush(GrabBrush):
         if brush.influence != AUTO_INFLUENCE:
             return float(brush.influence)
 
+        kernels = ctx.kernels.unturned  # the same for every frame the material takes
+
         def reach() -> float:
-            unit, factors = self._fold_kernels(ctx, 1.0)
-            pull, folds = self._parts(ctx.settings)
+            unit, factors = self._fold_kernels(kernels, 1.0)
+            pull, folds = self._parts(kernels.settings)
             depth = folds.max() if folds.max() > 0 else 1.0
             return field_reach(unit.with_degree_weights(pull + folds * factors / depth), False)
 
         key = ("wrinkle reach", ctx.settings.weights_for(self.kind).tobytes())
-        return ctx.kernels.derived(key, reach)
+        return kernels.derived(key, reach)
 
     def field(self, ctx: StrokeContext, brush: Brush, event: BrushEvent) -> EventField:
         eps = brush.eps(ctx.model_size)
@@ -239,7 +243,7 @@ class WrinkleBrush(GrabBrush):
         reach = self.reach(ctx, brush)
         memo: dict[str, Any] = ctx.stroke if ctx.stroke is not None else {}
         center, normal = self._surface_frame(ctx, memo, event.center, eps)
-        unit, factors = self._fold_kernels(ctx, eps)
+        unit, factors = self._fold_kernels(ctx.kernels, eps)
         pull, folds = self._parts(ctx.settings)
         g0 = unit.with_degree_weights(pull).green(np.zeros((1, 3)))[0]
         force = np.linalg.solve(g0, delta) if size > 0 else np.zeros(3)
@@ -305,7 +309,14 @@ class WrinkleBrush(GrabBrush):
         the influence ball, as a grab of its falloff is (an edited falloff whose centre is weak
         would otherwise move faces far off the tangent disk)."""
         key = ("wrinkle pull bound", pull.degree_weights.tobytes(), reach)
-        bound = ctx.kernels.derived(key, lambda: FieldBound(pull, reach, False))
+        weights = pull.degree_weights
+        bound = self.cached_bound(
+            ctx,
+            key,
+            pull,
+            lambda kernels: self._fold_kernels(kernels, 1.0)[0].with_degree_weights(weights),
+            reach,
+        )
         eps = pull.eps
         motion = bound.motion_sup(force, eps)[0]
         strain = bound.strain_sup(force, eps) * eps
