@@ -100,3 +100,37 @@ def test_surface_frame_rule() -> None:
     tilted = surface_frame(np.array([0.1, 0.9, 0.3]), None)
     assert tilted[:, 0] @ np.array([1.0, 0.0, 0.0]) > 0.9
     assert np.allclose(tilted.T @ tilted, np.eye(3))
+
+
+@pytest.mark.parametrize("frame", ["surface", "world"])
+def test_preview_and_pins_use_the_frame(frame: str) -> None:
+    """The field preview and a pin drag turn with the model with the surface frame (and not
+    with the world frame)."""
+    from gogreen_core.sculpt.preview import field_preview
+
+    vertices, faces = default_model(4)
+    settings = _layered(frame)
+    index = int(np.argmax(vertices @ np.array([0.3, 0.5, 0.8])))
+    center = vertices[index]
+    normal = center / np.linalg.norm(center)
+    drag = np.cross(normal, [1.0, 0.0, 0.0])
+    gaps = []
+    results = []
+    for turn in (np.eye(3), TURN):
+        sculptor = Sculptor(vertices @ turn.T, faces, settings=settings)
+        preview = field_preview(
+            sculptor, Brush("grab", radius=0.06), turn @ center, turn @ normal, turn @ drag
+        )
+        assert preview is not None
+        sculptor.add_constraint(turn @ center)
+        sculptor.add_constraint(turn @ vertices[int(np.argmin(vertices @ normal))])
+        moved = sculptor.drag_constraint(0, turn @ (0.02 * drag + 0.01 * normal))
+        results.append((preview, moved))
+    (p0, m0), (p1, m1) = results
+    assert np.array_equal(p0.rows, p1.rows)
+    gaps.append(np.abs(p0.velocity @ TURN.T - p1.velocity).max() / p0.motion.max())
+    gaps.append(np.abs(m0 @ TURN.T - m1).max() / np.abs(m0).max())
+    if frame == "surface":
+        assert max(gaps) < 1e-6, gaps
+    else:
+        assert min(gaps) > 1e-3, gaps
