@@ -119,6 +119,11 @@ class StrokeDriver:
     def active(self) -> bool:
         return self._stroke is not None
 
+    @property
+    def current_kernels(self) -> KernelCache | None:
+        """The kernels the current stroke has fixed (its surface frame's), else None."""
+        return None if self._stroke is None else self._stroke.kernels
+
     def refuse(self, what: str) -> None:
         """RuntimeError naming ``what`` while a stroke runs (what may not happen then)."""
         if self._stroke is not None:

@@ -19,6 +19,7 @@ from gogreen_core.interaction.tools.cursor import (
     moving_radius,
 )
 from gogreen_core.interaction.tools.events import PointerEvent, ToolUpdate
+from gogreen_core.interaction.tools.material_axes import cursor_axes
 from gogreen_core.interaction.tools.pins import PinController
 from gogreen_core.interaction.tools.stroke import StrokeController
 from gogreen_core.sculpt.brushes import (
@@ -27,6 +28,7 @@ from gogreen_core.sculpt.brushes import (
     MAX_STRENGTH,
     MIN_RADIUS,
     Brush,
+    GreenBrush,
     brush_for_key,
     brush_row,
 )
@@ -110,6 +112,7 @@ class SculptTools:
             self._cursor_profile,
             self._cursor_full_radius,
             self._cursor_moving_radius,
+            self._cursor_axes,
         )
         self._profile_key: tuple[Any, ...] | None = None
         self._profile: np.ndarray | None = None
@@ -188,6 +191,16 @@ class SculptTools:
             self._moving_key = moving_key
             self._profile_key, self._profile_settings = key, settings
         return self._profile
+
+    def _cursor_axes(self, point: np.ndarray) -> np.ndarray | None:
+        """The material's main directions where the cursor rests (:func:`cursor_axes`),
+        None for an isotropic material or a brush without a Green's function field."""
+        if self.sculptor is None or not isinstance(self.brush().type, GreenBrush):
+            return None
+        try:
+            return cursor_axes(self.sculptor, point, self._cursor_radius())
+        except ValueError:  # no surface to follow under the cursor
+            return None
 
     def _cursor_moving_radius(self) -> float | None:
         """The region that moves by a tenth of the motion or more (model units,
