@@ -761,11 +761,22 @@ def test_presets_are_shared_with_the_desktop_app(ico, tmp_path):
     layered = {p.name: p for p in builtin_presets()}["Layered sheet wrinkles"]
     assert bpy.ops.gogreen.load_preset(preset="Layered sheet wrinkles") == {"FINISHED"}
     assert properties.read_settings(bpy.context.scene).brush_weights == layered.brush_weights
+    # the layered preset's material follows the surface: the scene says so, strokes use it
+    assert layered.material_frame == "surface" and s.material_frame == "SURFACE"
+    assert properties.read_settings(bpy.context.scene).engine_settings().material_frame == (
+        "surface"
+    )
     assert bpy.ops.gogreen.load_preset(preset="Wood grain") == {"FINISHED"}
+    assert s.material_frame == "WORLD"
     path = tmp_path / "mine.json"
     assert bpy.ops.gogreen.save_preset(filepath=str(path)) == {"FINISHED"}
     mine = load_preset(path)  # what the desktop app reads
     assert mine.name == "mine" and mine.material == wood.material and mine.l_max == wood.l_max
+    assert mine.material_frame == "world"
+    s.material_frame = "SURFACE"
+    assert bpy.ops.gogreen.save_preset(filepath=str(path)) == {"FINISHED"}
+    assert load_preset(path).material_frame == "surface"
+    s.material_frame = "WORLD"
     assert mine.falloff.to_dict() == wood.falloff.to_dict()
     s.material_mode = "ISOTROPIC"
     assert bpy.ops.gogreen.load_preset_file(filepath=str(path)) == {"FINISHED"}
