@@ -121,6 +121,8 @@ class SculptTools:
         self._moving_ratio = 1.0
         self._moving_key: tuple[Any, ...] | None = None
         self._profile_settings: EngineSettings | None = None
+        #: The material's axes last drawn: (what they were for, the point, the axes).
+        self._axes_at: tuple[tuple[Any, ...], np.ndarray, np.ndarray | None] | None = None
         self.set_sculptor(sculptor)
 
     def set_sculptor(self, sculptor: Sculptor | None) -> None:
@@ -197,10 +199,18 @@ class SculptTools:
         None for an isotropic material or a brush without a Green's function field."""
         if self.sculptor is None or not isinstance(self.brush().type, GreenBrush):
             return None
+        radius = self._cursor_radius()
+        key = (id(self.sculptor), self.sculptor.settings, self.stroke.active)
+        last = self._axes_at
+        # the frame changes little over a fifth of ε: no new surface sample on every hover
+        if last is not None and last[0] == key and np.linalg.norm(point - last[1]) < 0.2 * radius:
+            return last[2]
         try:
-            return cursor_axes(self.sculptor, point, self._cursor_radius())
+            axes = cursor_axes(self.sculptor, point, radius)
         except ValueError:  # no surface to follow under the cursor
-            return None
+            axes = None
+        self._axes_at = (key, np.array(point, dtype=float), axes)
+        return axes
 
     def _cursor_moving_radius(self) -> float | None:
         """The region that moves by a tenth of the motion or more (model units,
