@@ -33,6 +33,7 @@ of the turned material, so the result is the mirror image of the stroke.
 from __future__ import annotations
 
 import weakref
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -40,7 +41,10 @@ from gogreen_core.field.kernel import GreenKernel
 from gogreen_core.mesh.mesh_state import MeshState
 from gogreen_core.sculpt.kernel_cache import KernelCache
 
-__all__ = ["FramedKernels", "area_normal", "frame_at", "surface_frame"]
+if TYPE_CHECKING:
+    from gogreen_core.sculpt.sculptor import Sculptor
+
+__all__ = ["FramedKernels", "area_normal", "frame_at", "material_frame_at", "surface_frame"]
 
 #: Below this fraction of its length a motion has no part along the surface.
 _TANGENTIAL = 1e-9
@@ -115,6 +119,22 @@ def frame_at(
     """The surface frame (3, 3) of a stroke starting at ``center`` with a brush of ``radius``
     (model units) and first ``motion`` (3,) or None (see the module docstring)."""
     return surface_frame(area_normal(mesh, center, radius), motion)
+
+
+def material_frame_at(
+    sculptor: Sculptor, point: np.ndarray, radius: float, motion: np.ndarray | None = None
+) -> np.ndarray:
+    """The rotation (3, 3) ``sculptor``'s material is turned by for a stroke starting at
+    ``point`` (3,) with a brush of ``radius`` (model units) and first ``motion`` (3,) or None:
+    the identity with the "world" material frame; with "surface", the surface frame there
+    (:func:`frame_at`), or during a stroke the one it took."""
+    if sculptor.settings.material_frame != "surface":
+        return np.eye(3)
+    strokes = sculptor._strokes  # the engine's own stroke driver
+    current = strokes.current_kernels
+    if current is not None and current.frame is not None:
+        return current.frame
+    return frame_at(strokes.mesh, np.asarray(point, dtype=np.float64), radius, motion)
 
 
 class FramedKernels(KernelCache):

@@ -44,7 +44,6 @@ from gogreen_core.sculpt.engine_settings import (
 from gogreen_core.sculpt.history import History
 from gogreen_core.sculpt.kernel_cache import KernelCache
 from gogreen_core.sculpt.mask import Mask
-from gogreen_core.sculpt.material_frame import frame_at
 from gogreen_core.sculpt.operations import Operation, Redo, Subdivide, Undo, settings_record
 from gogreen_core.sculpt.pins import Pins
 from gogreen_core.sculpt.session import (
@@ -324,21 +323,6 @@ class Sculptor:
         number, or the one ``"auto"`` gives with the current settings (what the cursor's
         influence ring shows)."""
         return self._strokes.reach(self._kernels, brush)
-
-    def material_frame_at(
-        self, point: np.ndarray, radius: float, motion: np.ndarray | None = None
-    ) -> np.ndarray:
-        """The rotation (3, 3) the material is turned by for a stroke starting at ``point``
-        (3,) with a brush of ``radius`` (model units) and first ``motion`` (3,) or None: the
-        identity with the "world" material frame; with "surface", the surface frame there
-        (:func:`~gogreen_core.sculpt.material_frame.frame_at`), or during a stroke the one it
-        took."""
-        if self.settings.material_frame != "surface":
-            return np.eye(3)
-        current = self._strokes.current_kernels
-        if current is not None and current.frame is not None:
-            return current.frame
-        return frame_at(self._mesh, np.asarray(point, dtype=np.float64), radius, motion)
 
     def begin_stroke(self, brush: Brush) -> None:
         """Start a stroke with ``brush``; events follow, then :meth:`end_stroke`."""

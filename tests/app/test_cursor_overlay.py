@@ -212,6 +212,7 @@ def test_cursor_shows_the_material_axes_only_for_an_anisotropic_material(window)
     import numpy as np
 
     from gogreen_core.files.presets import builtin_presets
+    from gogreen_core.sculpt.material_frame import material_frame_at
 
     vp = window.viewport
     hover(window, center_of(window))
@@ -224,7 +225,7 @@ def test_cursor_shows_the_material_axes_only_for_an_anisotropic_material(window)
     state = vp.cursor_overlay.state
     assert state.axes is not None and vp.cursor_overlay.axes_screen is not None
     # the material's axes turned onto the surface: the frame's normal is the surface's
-    frame = window.document.sculptor.material_frame_at(state.center, state.radius)
+    frame = material_frame_at(window.document.sculptor, state.center, state.radius)
     assert abs(frame[:, 2] @ state.normal) > 0.9
     assert np.allclose(np.linalg.det(frame), 1.0)
     # the material panel's combo shows (and sets) the frame
@@ -233,4 +234,4 @@ def test_cursor_shows_the_material_axes_only_for_an_anisotropic_material(window)
     combo.setCurrentIndex(combo.findData("world"))
     assert window.document.sculptor.settings.material_frame == "world"
     hover(window, center_of(window))
-    assert np.allclose(window.document.sculptor.material_frame_at(state.center, 1.0), np.eye(3))
+    assert np.allclose(material_frame_at(window.document.sculptor, state.center, 1.0), np.eye(3))

@@ -8,7 +8,8 @@ and the third completing them (the layers' normal); each scaled by E along it ov
 largest E, at least :data:`MIN_AXIS` so a soft axis still shows. An isotropic material (E the
 same every way to 1e-6) has none: the cursor draws no axes. :func:`cursor_axes` puts them where
 the cursor rests: turned by the frame a stroke starting there would take
-(:meth:`Sculptor.material_frame_at`: the world's, or the surface's with the "surface" frame).
+(:func:`~gogreen_core.sculpt.material_frame.material_frame_at`: the world's, or the surface's
+with the "surface" frame).
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ import numpy as np
 from scipy.integrate import lebedev_rule
 
 from gogreen_core.physics.material import Material
+from gogreen_core.sculpt.material_frame import material_frame_at
 
 if TYPE_CHECKING:
     from gogreen_core.sculpt.sculptor import Sculptor
@@ -68,6 +70,6 @@ def cursor_axes(sculptor: Sculptor, point: np.ndarray, radius: float) -> np.ndar
     axes = main_axes(sculptor.settings.material)
     if axes is None:
         return None
-    frame = sculptor.material_frame_at(point, radius)
+    frame = material_frame_at(sculptor, point, radius)
     turned: np.ndarray = axes @ frame.T
     return turned
