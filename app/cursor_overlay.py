@@ -15,10 +15,10 @@ rebuilt at every render (a renderer ``StartEvent``) so orbiting and zooming keep
 
 An anisotropic material also shows its main directions where the cursor rests (the material
 panel's glyph put on the surface, :attr:`CursorState.axes`): three short lines through the
-centre, red, green and blue for its first (stiffest), second and third axes, each as long as
-the ε ring times E along it over the largest E, so an artist sees which way the fibres, grain or
-layers will run before the stroke (with the "surface" material frame they turn with the
-surface).
+centre, red, green and blue for its first (stiffest), second and third axes, each reaching
+:data:`AXIS_REACH` of the solid ring (at most 3 ε) times E along it over the largest E, so an
+artist sees which way the fibres, grain or layers will run before the stroke (with the
+"surface" material frame they turn with the surface).
 """
 
 from __future__ import annotations
@@ -35,6 +35,8 @@ CURSOR_COLOR = (1.0, 0.55, 0.1)
 INFLUENCE_COLOR = (1.0, 0.8, 0.55)
 PROFILE_COLOR = (1.0, 1.0, 1.0)
 PIN_COLOR = (1.0, 0.2, 0.33)
+#: How far the material's axes reach, as a fraction of the solid ring's radius.
+AXIS_REACH = 0.8
 #: The material's first, second and third axes (Blender's x, y, z colours).
 AXIS_COLORS = ((0.95, 0.25, 0.3), (0.45, 0.85, 0.2), (0.25, 0.55, 1.0))
 SEGMENTS = 96
@@ -215,15 +217,18 @@ class CursorOverlay:
 
     def _layout_axes(self, state: CursorState, center: np.ndarray, xy: tuple[float, float]) -> None:
         """The material's axes: a line through the centre along each (±d: an axis has no
-        sign), as long as the ε ring times its length (E along it over the largest E)."""
+        sign), reaching :data:`AXIS_REACH` of the solid ring times its length (E along it over
+        the largest E)."""
         axes = state.axes
         if axes is None:
             for part in self._axes:
                 part.actor.SetVisibility(False)
             return
+        # the solid ring's world radius, at most 3 ε (a wrinkle brush's ring is many ε wide)
+        ring = min(state.moving_radius or state.radius, 3.0 * state.radius)
         ends = []
         for part, axis in zip(self._axes, np.asarray(axes, dtype=float), strict=True):
-            tip = to_display(self.renderer, center + state.radius * axis)[:2]
+            tip = to_display(self.renderer, center + AXIS_REACH * ring * axis)[:2]
             tail = 2 * np.asarray(xy) - tip
             ends.append([tail, tip])
             line = np.array([[*tail, 0.0], [*tip, 0.0]])
