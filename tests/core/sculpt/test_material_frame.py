@@ -134,3 +134,27 @@ def test_preview_and_pins_use_the_frame(frame: str) -> None:
         assert max(gaps) < 1e-6, gaps
     else:
         assert min(gaps) > 1e-3, gaps
+
+
+def test_a_surface_frame_session_replays_bit_for_bit() -> None:
+    """The frame comes from the mesh and the stroke's first event, so a replay takes the same
+    frames: same vertices to the bit (and the session says "surface")."""
+    import json
+
+    vertices, faces = icosphere(3)
+    sculptor = Sculptor(vertices, faces, settings=_layered("world"))
+    sculptor.change_settings(material=sculptor.settings.material, material_frame="surface")
+    for kind, place in (("grab", 0), ("pinch", 40), ("wrinkle", 80)):
+        center = vertices[place]
+        normal = center / np.linalg.norm(center)
+        tangent = np.cross(normal, [0.3, 1.0, 0.2])
+        if kind == "pinch":
+            event = BrushEvent(center, amount=0.05, axis=normal, direction=tangent)
+        else:
+            event = BrushEvent(center, delta=0.05 * (tangent + normal))
+        sculptor.apply_brush(Brush(kind, radius=0.08), [event, event])
+    session = json.loads(json.dumps(sculptor.session()))
+    assert any(op.get("material_frame") == "surface" for op in session["operations"])
+    again = Sculptor.from_session(session, vertices, faces)
+    again.replay(session["operations"])
+    assert np.array_equal(again.vertices, sculptor.vertices)
