@@ -12,6 +12,13 @@ radius, or at all times when asked (:attr:`CursorOverlay.profile_always`, View �
 otherwise it would cross the model under every hover. The rings' screen sizes come from projecting
 the world radius at the point, so they match what the brush does at that depth; the geometry is
 rebuilt at every render (a renderer ``StartEvent``) so orbiting and zooming keep it in place.
+
+An anisotropic material also shows its main directions where the cursor rests (the material
+panel's glyph put on the surface, :attr:`CursorState.axes`): three short lines through the
+centre, red, green and blue for its first (stiffest), second and third axes, each reaching
+:data:`AXIS_REACH` of the solid ring (at most 3 ε) times E along it over the largest E, so an
+artist sees which way the fibres, grain or layers will run before the stroke (with the
+"surface" material frame they turn with the surface).
 """
 
 from __future__ import annotations
@@ -28,6 +35,10 @@ CURSOR_COLOR = (1.0, 0.55, 0.1)
 INFLUENCE_COLOR = (1.0, 0.8, 0.55)
 PROFILE_COLOR = (1.0, 1.0, 1.0)
 PIN_COLOR = (1.0, 0.2, 0.33)
+#: How far the material's axes reach, as a fraction of the solid ring's radius.
+AXIS_REACH = 0.8
+#: The material's first, second and third axes (Blender's x, y, z colours).
+AXIS_COLORS = ((0.95, 0.25, 0.3), (0.45, 0.85, 0.2), (0.25, 0.55, 1.0))
 SEGMENTS = 96
 
 
@@ -122,6 +133,9 @@ class CursorOverlay:
         self._full = _Polyline2D(renderer, CURSOR_COLOR, 1.0, 0.45)
         self._ring = _Polyline2D(renderer, CURSOR_COLOR, 2.5)
         self._profile = _Polyline2D(renderer, PROFILE_COLOR, 1.5, 0.85)
+        self._axes = [_Polyline2D(renderer, color, 2.0, 0.95) for color in AXIS_COLORS]
+        #: Display points (3, 2, 2) of the material's axes' ends after the last layout, or None.
+        self.axes_screen: np.ndarray | None = None
         self._text = vtk.vtkTextActor()
         self._text.GetTextProperty().SetFontSize(16)
         self._text.GetTextProperty().SetColor(*CURSOR_COLOR)
@@ -152,8 +166,9 @@ class CursorOverlay:
 
     def layout(self) -> None:
         """Rebuild the 2D geometry for the current camera (cheap: a few hundred points)."""
-        parts = (self._influence, self._ring, self._profile, self._full)
+        parts = (self._influence, self._ring, self._profile, self._full, *self._axes)
         self.full_pixels = None
+        self.axes_screen = None
         if self.state is None or self.suspended:
             for part in parts:
                 part.actor.SetVisibility(False)
@@ -191,6 +206,7 @@ class CursorOverlay:
             self._profile.actor.SetVisibility(True)
         else:
             self._profile.actor.SetVisibility(False)
+        self._layout_axes(state, center, xy)
         if state.label:
             self._text.SetInput(state.label)
             self._text.SetPosition(*self._label_position(xy))
@@ -198,6 +214,27 @@ class CursorOverlay:
         else:
             self._text.SetVisibility(False)
         self.screen = (xy, eps_px, outer_px)
+
+    def _layout_axes(self, state: CursorState, center: np.ndarray, xy: tuple[float, float]) -> None:
+        """The material's axes: a line through the centre along each (±d: an axis has no
+        sign), reaching :data:`AXIS_REACH` of the solid ring times its length (E along it over
+        the largest E)."""
+        axes = state.axes
+        if axes is None:
+            for part in self._axes:
+                part.actor.SetVisibility(False)
+            return
+        # the solid ring's world radius, at most 3 ε (a wrinkle brush's ring is many ε wide)
+        ring = min(state.moving_radius or state.radius, 3.0 * state.radius)
+        ends = []
+        for part, axis in zip(self._axes, np.asarray(axes, dtype=float), strict=True):
+            tip = to_display(self.renderer, center + AXIS_REACH * ring * axis)[:2]
+            tail = 2 * np.asarray(xy) - tip
+            ends.append([tail, tip])
+            line = np.array([[*tail, 0.0], [*tip, 0.0]])
+            part.set(line)
+            part.actor.SetVisibility(True)
+        self.axes_screen = np.array(ends)
 
     def _label_position(self, xy: tuple[float, float]) -> tuple[float, float]:
         """Where the label goes: right of the ring, else left of it, else above its centre

@@ -77,7 +77,7 @@ def wrinkle_figure(out: Path) -> None:
     plotter = _plotter(len(panels), len(rows))
     for row, (how, direction) in enumerate(rows):
         for column, (kind, degree) in enumerate(panels):
-            settings = preset.engine_settings()
+            settings = preset.engine_settings().replace(material_frame="world")  # as measured
             if degree is not None:
                 settings = settings.with_brush_weights("wrinkle", fold_weights(10, degree))
             sculptor = Sculptor(vertices, faces, settings=settings)
@@ -243,7 +243,9 @@ def preview_figure(out: Path) -> None:
     for row, (how, drag) in enumerate(drags):
         for column, name in enumerate(names):
             preset = next(p for p in builtin_presets() if p.name == name)
-            sculptor = Sculptor(vertices, faces, settings=preset.engine_settings())
+            sculptor = Sculptor(
+                vertices, faces, settings=preset.engine_settings().replace(material_frame="world")
+            )
             brush = Brush("grab", radius=0.08)
             eps = brush.eps(sculptor.model_size)
             start = time.perf_counter()

@@ -472,6 +472,7 @@ def preset_values(preset: Preset, current_kind: str) -> tuple[dict[str, object],
         "custom_material": engine.material_to_json(preset.material),
         "custom_name": preset.name,
         "rotation": (0.0, 0.0, 0.0),
+        "material_frame": preset.material_frame,
     }
     if type(falloff) is GaussianRadial:
         values["falloff"] = "GAUSSIAN"

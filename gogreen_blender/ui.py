@@ -107,6 +107,7 @@ class VIEW3D_PT_gogreen_material(_GoGreenPanel, bpy.types.Panel):
         else:
             col.label(text=s.custom_name or "No preset loaded", icon="MATERIAL")
         if s.material_mode != "ISOTROPIC":
+            layout.prop(s, "material_frame")
             layout.prop(s, "rotation")
 
 

@@ -124,6 +124,9 @@ class MaterialPanel(QWidget):
     lame_radio : QRadioButton checked when the isotropic mode uses λ, μ.
     voigt_table : QTableWidget, 6×6, kept symmetric.
     rotation : EulerAnglesEditor
+    frame_combo : QComboBox (data: "world" or "surface"), bound to the settings'
+        ``material_frame``: whether the material's axes stay in the world or follow the surface
+        where each stroke starts (the rotation then turns them within that frame).
     glyph : YoungModulusGlyph
     error_label : QLabel showing the last refused input (hidden when the input is valid).
     """
@@ -190,6 +193,19 @@ class MaterialPanel(QWidget):
         )
         rotation_layout = QVBoxLayout(rotation_box)
         rotation_layout.setContentsMargins(6, 4, 6, 6)
+        frame_row = QHBoxLayout()
+        frame_row.addWidget(QLabel("Axes"))
+        self.frame_combo = QComboBox()
+        self.frame_combo.addItem("Fixed in the world", "world")
+        self.frame_combo.addItem("Follow the surface", "surface")
+        self.frame_combo.setToolTip(
+            "Follow the surface: each stroke turns the material onto the surface where it "
+            "starts (third axis along the normal, first along the stroke), so fibres, grain "
+            "and layers act the same anywhere on the model; the rotation below turns them "
+            "within that frame"
+        )
+        frame_row.addWidget(self.frame_combo, 1)
+        rotation_layout.addLayout(frame_row)
         self.rotation = EulerAnglesEditor()
         rotation_layout.addWidget(self.rotation)
         layout.addWidget(rotation_box)
@@ -233,6 +249,7 @@ class MaterialPanel(QWidget):
             drag_ended=self.rotation.drag_finished,
             on_error=error,
         )
+        bind_choice(self.settings, "material_frame", self.frame_combo, label="Material axes")
         form.events.changed.connect(self._form_changed)
         bind_view(self.settings, "material", self.glyph, self.glyph.set_material)
         bind_readout(self.settings, "material", self.words_label, describe_material)

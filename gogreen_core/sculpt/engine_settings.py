@@ -68,6 +68,7 @@ class EngineSettings:
     brush_weights: _Weights = field(default_factory=_initial("brush_weights"))
     dynamic_topology: bool = field(default_factory=_initial("dynamic_topology"))
     detail_size: float | None = field(default_factory=_initial("detail_size"))
+    material_frame: str = field(default_factory=_initial("material_frame"))
 
     def __post_init__(self) -> None:
         checked: dict[str, Any] = {}

@@ -35,6 +35,7 @@ __all__ = [
     "MAX_GRAB_RATIO",
     "MAX_GRAB_STRAIN",
     "FieldBound",
+    "TurnedFieldBound",
     "field_reach",
     "mean_green_direction",
 ]
@@ -268,6 +269,29 @@ class FieldBound:
         the kernel of radius ``eps``."""
         coefficients, _, strain = self._table(load)
         return strain.sup(coefficients)[0] / eps ** (3 if self.affine else 2)
+
+
+class TurnedFieldBound(FieldBound):
+    """The field bound of a kernel whose material is turned by the rotation F (3, 3), from the
+    unturned kernel's ``bound``: G'(x) = F G(Fᵀx) Fᵀ, so a force h moves x as the unturned
+    kernel's force Fᵀh moves Fᵀx, turned by F (an affine load H as FᵀHF does), and ‖∇u‖_F is
+    the same: no new sampling for a new frame (the samples turn with it)."""
+
+    def __init__(self, bound: FieldBound, frame: np.ndarray) -> None:  # no sampling
+        self.affine = bound.affine
+        self._bound = bound
+        self._frame = np.asarray(frame, dtype=np.float64)
+
+    def _local(self, load: np.ndarray) -> np.ndarray:
+        f, h = self._frame, np.asarray(load, dtype=np.float64)
+        return cast(np.ndarray, f.T @ h @ f if h.shape == (3, 3) else f.T @ h)
+
+    def motion_sup(self, load: np.ndarray, eps: float) -> tuple[float, np.ndarray, np.ndarray]:
+        top, point, value = self._bound.motion_sup(self._local(load), eps)
+        return top, self._frame @ point, self._frame @ value
+
+    def strain_sup(self, load: np.ndarray, eps: float) -> float:
+        return self._bound.strain_sup(self._local(load), eps)
 
 
 def _orthonormal(matrices: list[np.ndarray]) -> np.ndarray:

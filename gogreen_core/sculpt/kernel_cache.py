@@ -51,6 +51,17 @@ class KernelCache:
         self._weighted: dict[bytes, GreenKernel] = {}
         self._derived: dict[Hashable, Any] = {}
 
+    #: The rotation F (3, 3) these kernels' material is turned by from the settings' (a stroke's
+    #: surface frame, :class:`~gogreen_core.sculpt.material_frame.FramedKernels`); None here.
+    frame: np.ndarray | None = None
+
+    @property
+    def unturned(self) -> KernelCache:
+        """The kernels of the settings' material as it is (these): what values that turn with
+        the material (field bounds) or do not depend on its orientation (reach) are computed on,
+        once for every frame."""
+        return self
+
     def weighted(self, weights: np.ndarray | None) -> GreenKernel:
         """The kernel with per-degree ``weights`` (l_max + 1,) on its field (paper Fig. 10),
         or :attr:`full` for None."""

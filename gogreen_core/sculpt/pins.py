@@ -20,6 +20,7 @@ from gogreen_core.mesh.mesh_state import MeshState
 from gogreen_core.sculpt.constraints import CONSTRAINT_INFLUENCE, ConstraintSet
 from gogreen_core.sculpt.history import History
 from gogreen_core.sculpt.kernel_cache import KernelCache
+from gogreen_core.sculpt.material_frame import FramedKernels, frame_at
 from gogreen_core.sculpt.operations import (
     ConstraintAdd,
     ConstraintDrag,
@@ -63,6 +64,9 @@ class Pins:
     ) -> None:
         self.mesh, self.history, self.log, self._kernels = mesh, history, log, kernels
         self.constraints: ConstraintSet | None = None
+        #: With the "surface" material frame: the pins solved with the material turned onto
+        #: the surface where the current drag started (kept while the drag continues).
+        self._framed: ConstraintSet | None = None
 
     @property
     def points(self) -> np.ndarray:
@@ -165,15 +169,18 @@ class Pins:
         self.mesh.check_point("delta", start + d)  # the pin stays within reach of the model
         targets = np.zeros((len(constraints), 3))
         targets[i] = d
-        forces = constraints.solve(targets)
+        solver = self._solver(constraints, start, d, continued)
+        forces = solver.solve(targets)
         # only the rows within the pins' reach move: no pass over the whole mesh
         vertices = self.mesh.vertices
-        rows, moved = constraints.displacement_rows(vertices, forces, self._near)
+        rows, moved = solver.displacement_rows(vertices, forces, self._near)
         if not np.all(np.isfinite(moved)):
             raise ParameterError("delta", "the pin drag would move vertices to infinity")
         if self.mesh.masked:  # masked vertices move (1 − mask) of the way: held ones not at all
             moved *= (1.0 - self.mesh.mask[rows])[:, None]
         constraints.move(i, start + d)
+        if solver is not constraints:
+            solver.move(i, start + d)
         before = vertices[rows]
         self.mesh.write_rows(rows, before + moved)
         # the pin's own move is undone with the vertices: (index, position) before and after
@@ -185,6 +192,25 @@ class Pins:
         u = np.zeros_like(vertices)
         u[rows] = moved
         return u
+
+    def _solver(
+        self, constraints: ConstraintSet, start: np.ndarray, delta: np.ndarray, continued: bool
+    ) -> ConstraintSet:
+        """The pins a drag of the pin at ``start`` by ``delta`` solves with: ``constraints``,
+        or with the "surface" material frame the pins with the material turned onto the surface
+        under the dragged pin (area normal within the pins' ε, first axis along the drag's
+        first motion: :mod:`~gogreen_core.sculpt.material_frame`), made when a drag starts and
+        kept while it continues, as a stroke keeps its frame."""
+        kernels = self._kernels()
+        if kernels.settings.material_frame != "surface":
+            self._framed = None
+            return constraints
+        framed = self._framed
+        if not continued or framed is None or not np.array_equal(framed.points, constraints.points):
+            radius = kernels.settings.constraint_radius * self.mesh.model_size
+            frame = frame_at(self.mesh, start, radius, delta)
+            framed = self._framed = self.built(FramedKernels(kernels, frame))
+        return framed
 
     def restore(self, state: object) -> None:
         """Put back the pins an undone or redone step had (its ``restored_state``)."""

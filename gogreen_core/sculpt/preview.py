@@ -19,6 +19,8 @@ import numpy as np
 
 from gogreen_core.sculpt.brushes import Brush, BrushEvent, GreenBrush, mirror_signs
 from gogreen_core.sculpt.constraints import smooth_cutoff
+from gogreen_core.sculpt.material_frame import FramedKernels
+from gogreen_core.sculpt.stroke import surface_frame_of
 
 if TYPE_CHECKING:
     from gogreen_core.sculpt.sculptor import Sculptor
@@ -65,6 +67,8 @@ def field_preview(
     unit = eps if not behaviour.is_affine else 1.0
     event = BrushEvent(center, delta=eps * drag, amount=1.0, axis=axis, direction=drag)
     driver, kernels = sculptor._strokes, sculptor._kernels  # the engine's own stroke step
+    if kernels.settings.material_frame == "surface":  # as a stroke starting here would turn it
+        kernels = FramedKernels(kernels, surface_frame_of(driver.mesh, brush, event))
     ctx = driver.context(kernels)
     field = behaviour.field(ctx, brush, event)
     cutoff = brush.cutoff(sculptor.model_size, field.reach)

@@ -162,4 +162,8 @@ SETTINGS: tuple[Setting, ...] = (
             "dynamic topology's edge length as a fraction of the model size (none: the surface's)",
             group="dynamic_topology", since=5, places=_NOT_BLENDER,
             low=MIN_DETAIL_SIZE, high=MAX_DETAIL_SIZE, none=True),
+    Setting("material_frame", "choice", "world",
+            "where the material's axes are: fixed in the world, or turned onto the surface where "
+            "each stroke starts (third axis along the normal, first along the stroke)",
+            group="material", since=6, places=_ALL, choices=("world", "surface")),
 )  # fmt: skip

@@ -16,6 +16,10 @@ position bit for bit). A mask painter's values are written here too. A stroke is
 (its moved rows and, for a mask stroke, the mask values it changed) and one entry of the
 session log, recorded when it ends.
 
+The material's frame (``EngineSettings.material_frame``): with "surface", a Green's function
+brush's stroke computes with the kernels turned onto the surface where it starts, fixed at its
+first event (:mod:`gogreen_core.sculpt.material_frame`).
+
 Dynamic topology (``EngineSettings.dynamic_topology``): after each event that moved vertices,
 the faces around the vertices whose sides the stroke strained by more than
 :data:`STRAIN_TOLERANCE` of their length since they were last remeshed, or that moved at least
@@ -41,11 +45,18 @@ from gogreen_core.mesh.remesh import (
     remesh_snapshot,
     strained_vertices,
 )
-from gogreen_core.sculpt.brushes import Brush, BrushEvent, Displacement, StrokeContext
+from gogreen_core.sculpt.brushes import (
+    Brush,
+    BrushEvent,
+    Displacement,
+    GreenBrush,
+    StrokeContext,
+)
 from gogreen_core.sculpt.brushes.table import brush_row
 from gogreen_core.sculpt.engine_settings import EngineSettings
 from gogreen_core.sculpt.history import History
 from gogreen_core.sculpt.kernel_cache import KernelCache
+from gogreen_core.sculpt.material_frame import FramedKernels, frame_at
 from gogreen_core.sculpt.operations import REMESH_ITERATIONS, Remesh, Stroke
 from gogreen_core.sculpt.session_log import SessionLog
 from gogreen_core.validation import ParameterError
@@ -90,6 +101,7 @@ class _Stroke:
     start: MeshSnapshot | None = None
     reference: np.ndarray | None = None
     detail: float | None = None
+    kernels: KernelCache | None = None  # the surface frame's, fixed at the first event
 
 
 class StrokeDriver:
@@ -106,6 +118,11 @@ class StrokeDriver:
     @property
     def active(self) -> bool:
         return self._stroke is not None
+
+    @property
+    def current_kernels(self) -> KernelCache | None:
+        """The kernels the current stroke has fixed (its surface frame's), else None."""
+        return None if self._stroke is None else self._stroke.kernels
 
     def refuse(self, what: str) -> None:
         """RuntimeError naming ``what`` while a stroke runs (what may not happen then)."""
@@ -153,6 +170,7 @@ class StrokeDriver:
         behaviour = brush.type
         event = behaviour.with_amount(event)  # recorded as it acts: a replay acts the same
         behaviour.check_event(brush, event, self.mesh.reach)
+        kernels = self._stroke_kernels(stroke, kernels, brush, event)
         moved = behaviour.displace(self.context(kernels), brush, event)
         self._write(stroke, moved)
         stroke.events.append(event)
@@ -162,6 +180,18 @@ class StrokeDriver:
                 rows = np.arange(len(self.mesh.vertices))
         self.log.event(event)  # the recovery journal serializes it now
         return rows
+
+    def _stroke_kernels(
+        self, stroke: _Stroke, kernels: KernelCache, brush: Brush, event: BrushEvent
+    ) -> KernelCache:
+        """The kernels the stroke computes with: ``kernels``, or with the "surface" material
+        frame those turned onto the surface at the stroke's first event (then kept)."""
+        if kernels.settings.material_frame != "surface" or not isinstance(brush.type, GreenBrush):
+            return kernels
+        if stroke.kernels is None:
+            frame = surface_frame_of(self.mesh, brush, event)
+            stroke.kernels = FramedKernels(kernels, frame)
+        return stroke.kernels
 
     def pinned_vertices(self) -> np.ndarray:
         """(N,) bool: the vertex nearest each pin."""
@@ -323,6 +353,14 @@ class Remesher:
         mesh.adopt(after)
         self.history.record("remesh", _NO_INDEX, _NO_ROWS, _NO_ROWS, state=(before, after))
         self.log.record(op)
+
+
+def surface_frame_of(mesh: MeshState, brush: Brush, event: BrushEvent) -> np.ndarray:
+    """The surface frame (3, 3) of a stroke of ``brush`` whose first event is ``event``: the
+    area normal within the brush's ε of its centre, the first axis along its motion (an affine
+    brush's stroke direction, another's cursor motion; :func:`frame_at`)."""
+    motion = event.direction if brush.type.is_affine else event.delta
+    return frame_at(mesh, event.center, brush.eps(mesh.model_size), motion)
 
 
 def _undo_label(kind: str) -> str:

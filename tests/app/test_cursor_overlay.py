@@ -204,3 +204,34 @@ def test_pen_pressure_drives_the_radius_along_one_stroke_and_the_cursor_shows_it
     hover(window, start)
     assert vp.cursor_overlay.screen[1] == pytest.approx(ring_px[0], rel=0.1)
     assert vp.cursor_overlay.full_pixels is None
+
+
+def test_cursor_shows_the_material_axes_only_for_an_anisotropic_material(window):
+    """Isotropic: no axes. The layered preset with the surface frame: three lines through the
+    centre, the third (the material's z) along the surface normal under the cursor."""
+    import numpy as np
+
+    from gogreen_core.files.presets import builtin_presets
+    from gogreen_core.sculpt.material_frame import material_frame_at
+
+    vp = window.viewport
+    hover(window, center_of(window))
+    assert vp.cursor_overlay.state.axes is None and vp.cursor_overlay.axes_screen is None
+    layered = next(p for p in builtin_presets() if p.name == "Layered sheet wrinkles")
+    window.model.apply_preset(layered)
+    assert window.document.sculptor.settings.material_frame == "surface"
+    hover(window, center_of(window))
+    vp.render_now()
+    state = vp.cursor_overlay.state
+    assert state.axes is not None and vp.cursor_overlay.axes_screen is not None
+    # the material's axes turned onto the surface: the frame's normal is the surface's
+    frame = material_frame_at(window.document.sculptor, state.center, state.radius)
+    assert abs(frame[:, 2] @ state.normal) > 0.9
+    assert np.allclose(np.linalg.det(frame), 1.0)
+    # the material panel's combo shows (and sets) the frame
+    combo = window.material_panel.frame_combo
+    assert combo.currentData() == "surface"
+    combo.setCurrentIndex(combo.findData("world"))
+    assert window.document.sculptor.settings.material_frame == "world"
+    hover(window, center_of(window))
+    assert np.allclose(material_frame_at(window.document.sculptor, state.center, 1.0), np.eye(3))

@@ -781,10 +781,16 @@ def test_presets_are_shared_with_the_desktop_app(ico, tmp_path):
         layered.brush_weights
     )
     assert bpy.ops.gogreen.load_preset(preset="Wood grain") == {"FINISHED"}
+    assert s.material_frame == "world"
     path = tmp_path / "mine.json"
     assert bpy.ops.gogreen.save_preset(filepath=str(path)) == {"FINISHED"}
     mine = load_preset(path)  # what the desktop app reads
     assert mine.name == "mine" and mine.material == wood.material and mine.l_max == wood.l_max
+    assert mine.material_frame == "world"
+    s.material_frame = "surface"
+    assert bpy.ops.gogreen.save_preset(filepath=str(path)) == {"FINISHED"}
+    assert load_preset(path).material_frame == "surface"
+    s.material_frame = "world"
     assert mine.falloff.to_dict() == wood.falloff.to_dict()
     s.material_mode = "ISOTROPIC"
     assert bpy.ops.gogreen.load_preset_file(filepath=str(path)) == {"FINISHED"}

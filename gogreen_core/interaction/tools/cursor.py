@@ -239,7 +239,8 @@ class CursorController:
     (``radius``), influence factor, falloff samples (``profile``, or None), during a pen
     stroke whose pressure shrinks ε, the full ε (``full_radius``, else None) and the radius of
     the region that moves by a tenth of the motion or more (``moving``, :func:`moving_radius`;
-    None: unknown)."""
+    None: unknown) and the material's main directions at a point (``axes``,
+    :func:`~gogreen_core.interaction.tools.material_axes.cursor_axes`; None: none drawn)."""
 
     def __init__(
         self,
@@ -248,12 +249,14 @@ class CursorController:
         profile: Callable[[], np.ndarray | None],
         full_radius: Callable[[], float | None],
         moving: Callable[[], float | None] | None = None,
+        axes: Callable[[np.ndarray], np.ndarray | None] | None = None,
     ) -> None:
         self.radius = radius
         self.influence = influence
         self.profile = profile
         self.full_radius = full_radius
         self.moving = moving or (lambda: None)
+        self.axes = axes or (lambda point: None)
         self.state: CursorState | None = None
         self._normal: np.ndarray | None = None
 
@@ -266,8 +269,9 @@ class CursorController:
         if normal is not None:
             self._normal = np.asarray(normal, dtype=float)
         n = self._normal if self._normal is not None else np.array([0.0, 0.0, 1.0])
+        center = np.array(point, dtype=float)
         self.state = CursorState(
-            np.array(point, dtype=float),
+            center,
             n,
             float(self.radius()),
             float(self.influence()),
@@ -275,6 +279,7 @@ class CursorController:
             label,
             self.full_radius(),
             self.moving(),
+            self.axes(center),
         )
         return self.state
 

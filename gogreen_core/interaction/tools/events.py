@@ -44,7 +44,9 @@ class CursorState:
     drawn faintly around the pressed one; else None) and ``moving_radius`` (model units: the
     region that moves by a tenth of the motion or more,
     :func:`gogreen_core.interaction.tools.moving_radius`; what the ring shows, None when
-    unknown)."""
+    unknown) and ``axes`` (3, 3), rows: the material's main directions where the cursor rests,
+    scaled 0-1 (:func:`~gogreen_core.interaction.tools.material_axes.cursor_axes`), None for an
+    isotropic material."""
 
     center: np.ndarray
     normal: np.ndarray
@@ -54,6 +56,7 @@ class CursorState:
     label: str | None = None
     full_radius: float | None = None
     moving_radius: float | None = None
+    axes: np.ndarray | None = None
 
     def ring_matrix(self) -> np.ndarray:
         """(4, 4) transform placing the unit circle of the xy plane on the surface (lifted by

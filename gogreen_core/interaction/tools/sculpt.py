@@ -20,6 +20,7 @@ from gogreen_core.interaction.tools.cursor import (
     moving_radius,
 )
 from gogreen_core.interaction.tools.events import PointerEvent, ToolUpdate
+from gogreen_core.interaction.tools.material_axes import cursor_axes
 from gogreen_core.interaction.tools.pins import PinController
 from gogreen_core.interaction.tools.stroke import StrokeController
 from gogreen_core.sculpt.brushes import (
@@ -28,6 +29,7 @@ from gogreen_core.sculpt.brushes import (
     MAX_STRENGTH,
     MIN_RADIUS,
     Brush,
+    GreenBrush,
     brush_for_key,
     brush_row,
 )
@@ -112,6 +114,7 @@ class SculptTools:
             self._cursor_profile,
             self._cursor_full_radius,
             self._cursor_moving_radius,
+            self._cursor_axes,
         )
         self._profile_key: tuple[Any, ...] | None = None
         self._profile: np.ndarray | None = None
@@ -128,6 +131,8 @@ class SculptTools:
         self._ring_thread: threading.Thread | None = None
         self._ring_wanted: tuple[tuple[Any, ...], Brush, float] | None = None
         self._ring_done: tuple[tuple[Any, ...], float] | None = None
+        #: The material's axes last drawn: (what they were for, the point, the axes).
+        self._axes_at: tuple[tuple[Any, ...], np.ndarray, np.ndarray | None] | None = None
         self.set_sculptor(sculptor)
 
     def set_sculptor(self, sculptor: Sculptor | None) -> None:
@@ -261,6 +266,24 @@ class SculptTools:
         if self._ring_thread is not None:
             self._ring_thread.join(timeout)
         return not self.ring_pending
+
+    def _cursor_axes(self, point: np.ndarray) -> np.ndarray | None:
+        """The material's main directions where the cursor rests (:func:`cursor_axes`),
+        None for an isotropic material or a brush without a Green's function field."""
+        if self.sculptor is None or not isinstance(self.brush().type, GreenBrush):
+            return None
+        radius = self._cursor_radius()
+        key = (id(self.sculptor), self.sculptor.settings, self.stroke.active)
+        last = self._axes_at
+        # the frame changes little over a fifth of ε: no new surface sample on every hover
+        if last is not None and last[0] == key and np.linalg.norm(point - last[1]) < 0.2 * radius:
+            return last[2]
+        try:
+            axes = cursor_axes(self.sculptor, point, radius)
+        except ValueError:  # no surface to follow under the cursor
+            axes = None
+        self._axes_at = (key, np.array(point, dtype=float), axes)
+        return axes
 
     def _cursor_moving_radius(self) -> float | None:
         """The region that moves by a tenth of the motion or more (model units,

@@ -221,7 +221,11 @@ class AffineBrush(GreenBrush):
         may reach: AFFINE_MARGIN × what the Gaussian falloff reaches with the same material,
         l_max, weights, influence and pattern (its field bound is cached per settings)."""
         weights = self.degree_weights(ctx.settings)
-        base = ctx.kernels.weighted(weights)
+        frame = ctx.kernels.frame  # a turned material: the unturned one with the pattern turned
+        if frame is not None:
+            shape = frame.T @ shape @ frame
+        kernels = ctx.kernels.unturned
+        base = kernels.weighted(weights)
         reach = self.reach(ctx, brush)
 
         def reference() -> tuple[GreenKernel, FieldBound]:
@@ -229,7 +233,7 @@ class AffineBrush(GreenBrush):
             return gaussian, FieldBound(gaussian, reach, True)
 
         key = ("gaussian", None if weights is None else weights.tobytes(), reach)
-        gaussian, bound = ctx.kernels.derived(key, reference)
+        gaussian, bound = kernels.derived(key, reference)
         jacobian = centre_jacobian(gaussian, np.zeros(3), shape)
         response = _response(jacobian, shape)
         if not abs(response) * np.linalg.norm(shape) > 1e-3 * np.linalg.norm(jacobian):

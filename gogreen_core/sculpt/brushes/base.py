@@ -29,7 +29,7 @@ import numpy as np
 
 from gogreen_core.field.kernel import STREAMLINE_TOLERANCE, GreenKernel, StreamlineOverflow
 from gogreen_core.physics.radial import RadialProfile
-from gogreen_core.sculpt.falloff_safety import FieldBound, field_reach
+from gogreen_core.sculpt.falloff_safety import FieldBound, TurnedFieldBound, field_reach
 from gogreen_core.validation import ParameterError
 
 if TYPE_CHECKING:
@@ -283,9 +283,8 @@ class GreenBrush(BrushType):
             self.radial_key,
             None if weights is None else weights.tobytes(),
         )
-        return ctx.kernels.derived(
-            key, lambda: field_reach(self.unit_kernel(ctx.kernels), self.is_affine)
-        )
+        kernels = ctx.kernels.unturned  # the same for every frame the material takes
+        return kernels.derived(key, lambda: field_reach(self.unit_kernel(kernels), self.is_affine))
 
     def unit_kernel(self, kernels: KernelCache) -> GreenKernel:
         """The brush's kernel at ε = 1 for the settings of ``kernels`` (what its field is made
@@ -309,7 +308,28 @@ class GreenBrush(BrushType):
             None if weights is None else weights.tobytes(),
             reach,
         )
-        return ctx.kernels.derived(key, lambda: FieldBound(kernel, reach, self.is_affine))
+        return self.cached_bound(ctx, key, kernel, self.unit_kernel, reach)
+
+    def cached_bound(
+        self,
+        ctx: StrokeContext,
+        key: tuple[Any, ...],
+        kernel: GreenKernel,
+        unturned: Callable[[KernelCache], GreenKernel],
+        reach: float,
+        affine: bool | None = None,
+    ) -> FieldBound:
+        """The field bound of ``kernel`` (any ε) with ``reach``, cached per settings under
+        ``key``; for kernels turned onto a stroke's surface frame, the bound of the unturned
+        kernels' equivalent (``unturned(kernels)``) turned (:class:`TurnedFieldBound`), so no
+        frame samples its field again."""
+        affine = self.is_affine if affine is None else affine
+        frame = ctx.kernels.frame
+        if frame is None:
+            return ctx.kernels.derived(key, lambda: FieldBound(kernel, reach, affine))
+        base = ctx.kernels.unturned
+        bound = base.derived((*key, "unturned"), lambda: FieldBound(unturned(base), reach, affine))
+        return TurnedFieldBound(bound, frame)
 
     @abstractmethod
     def load(

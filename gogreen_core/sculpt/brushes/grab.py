@@ -81,7 +81,11 @@ class GrabBrush(GreenBrush):
             return force, delta
         # A weak centre: G(0) = c R₀(0) A whatever the falloff, so A⁻¹ Δ is the direction of
         # G(0)⁻¹ Δ even where R₀(0) = 0; scale it to the bounds.
-        direction = np.linalg.solve(mean_green_direction(ctx.settings.material), delta)
+        mean = mean_green_direction(ctx.settings.material)
+        frame = ctx.kernels.frame  # the material turned onto a stroke's surface frame
+        if frame is not None:
+            mean = frame @ mean @ frame.T
+        direction = np.linalg.solve(mean, delta)
         peak, _, moved = bound.motion_sup(direction, eps)
         if not peak * eps > ZERO_FIELD * vector_norm(direction) * ctx.kernels.green_scale:
             raise ParameterError(

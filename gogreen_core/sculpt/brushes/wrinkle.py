@@ -55,7 +55,6 @@ from gogreen_core.sculpt.brushes.grab import GrabBrush
 from gogreen_core.sculpt.falloff_safety import (
     MAX_GRAB_RATIO,
     MAX_GRAB_STRAIN,
-    FieldBound,
     field_reach,
 )
 
@@ -158,12 +157,22 @@ def _surface_normal(vertices: np.ndarray, rows: np.ndarray) -> np.ndarray | None
     return normal
 
 
-def _disk(normal: np.ndarray, reach: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _disk(
+    normal: np.ndarray, reach: float, frame: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Offsets (n, 3) in ε units on the disk ⟂ ``normal`` (the centre first), their radii (n,),
-    and the two tangent directions (2, 3)."""
-    helper = np.eye(3)[np.argmin(np.abs(normal))]
-    t1 = np.cross(normal, helper)
-    t1 /= np.linalg.norm(t1)
+    and the two tangent directions (2, 3): with the stroke's surface ``frame`` (3, 3), its first
+    axis projected on the disk and the normal's side its third's (so that the samples and their
+    one-sided differences turn with the model), else ⟂ the world axis least aligned with
+    ``normal``."""
+    t1 = None
+    if frame is not None:
+        normal = normal if normal @ frame[:, 2] >= 0 else -normal
+        t1 = frame[:, 0] - (frame[:, 0] @ normal) * normal
+        t1 = t1 if np.linalg.norm(t1) > 1e-6 else None
+    if t1 is None:
+        t1 = np.cross(normal, np.eye(3)[np.argmin(np.abs(normal))])
+    t1 = t1 / np.linalg.norm(t1)
     t2 = np.cross(normal, t1)
     radii = np.linspace(0.0, min(reach, 8.0), _DISK_RADII + 1)[1:]
     angles = np.linspace(0.0, 2 * np.pi, _DISK_ANGLES, endpoint=False)
@@ -190,15 +199,17 @@ class WrinkleBrush(GrabBrush):
         return pull, folds
 
     def _fold_kernels(self, kernels: KernelCache, eps: float) -> tuple[GreenKernel, np.ndarray]:
-        """The kernel of the brush's radial terms at ``eps`` (unit weights) and the degrees'
-        material scale factors ‖P₀‖/‖P_l‖ (l_max + 1,; 0 where the material has no term)."""
+        """The kernel of the brush's radial terms at ``eps`` (unit weights) of ``kernels`` and
+        the degrees' material scale factors ‖P₀‖/‖P_l‖ (l_max + 1,; 0 where the material has
+        no term; the same in every frame: a turn mixes the terms of a degree orthogonally)."""
+        base = kernels.unturned
 
         def scales() -> np.ndarray:
-            norms = kernels.full.degree_norms()[: kernels.settings.l_max + 1]
+            norms = base.full.degree_norms()[: base.settings.l_max + 1]
             has = norms > _NO_TERM * norms[0]
             return np.where(has, norms[0] / np.where(has, norms, 1.0), 0.0)
 
-        factors = kernels.derived(("fold scales",), scales)
+        factors = base.derived(("fold scales",), scales)
         radial = FoldRadial(eps, kernels.settings.falloff)
         return kernels.full.with_radial(radial), factors
 
@@ -219,14 +230,16 @@ class WrinkleBrush(GrabBrush):
         if brush.influence != AUTO_INFLUENCE:
             return float(brush.influence)
 
+        kernels = ctx.kernels.unturned  # the same for every frame the material takes
+
         def reach() -> float:
-            unit, factors = self._fold_kernels(ctx.kernels, 1.0)
-            pull, folds = self._parts(ctx.settings)
+            unit, factors = self._fold_kernels(kernels, 1.0)
+            pull, folds = self._parts(kernels.settings)
             depth = folds.max() if folds.max() > 0 else 1.0
             return field_reach(unit.with_degree_weights(pull + folds * factors / depth), False)
 
         key = ("wrinkle reach", ctx.settings.weights_for(self.kind).tobytes())
-        return ctx.kernels.derived(key, reach)
+        return kernels.derived(key, reach)
 
     def field(self, ctx: StrokeContext, brush: Brush, event: BrushEvent) -> EventField:
         eps = brush.eps(ctx.model_size)
@@ -251,6 +264,7 @@ class WrinkleBrush(GrabBrush):
                 fold_kernel = unit.with_degree_weights(folds * factors, maps)
                 pull_kernel = unit.with_degree_weights(pull)
                 weights, scale = self._balance(
+                    getattr(ctx.kernels, "frame", None),  # the stroke's surface frame, if any
                     pull_kernel,
                     fold_kernel,
                     force,
@@ -300,7 +314,14 @@ class WrinkleBrush(GrabBrush):
         the influence ball, as a grab of its falloff is (an edited falloff whose centre is weak
         would otherwise move faces far off the tangent disk)."""
         key = ("wrinkle pull bound", pull.degree_weights.tobytes(), reach)
-        bound = ctx.kernels.derived(key, lambda: FieldBound(pull, reach, False))
+        weights = pull.degree_weights
+        bound = self.cached_bound(
+            ctx,
+            key,
+            pull,
+            lambda kernels: self._fold_kernels(kernels, 1.0)[0].with_degree_weights(weights),
+            reach,
+        )
         eps = pull.eps
         motion = bound.motion_sup(force, eps)[0]
         strain = bound.strain_sup(force, eps) * eps
@@ -313,6 +334,7 @@ class WrinkleBrush(GrabBrush):
 
     @staticmethod
     def _balance(
+        frame: np.ndarray | None,
         pull_kernel: GreenKernel,
         fold_kernel: GreenKernel,
         force: np.ndarray,
@@ -327,7 +349,7 @@ class WrinkleBrush(GrabBrush):
     ) -> tuple[np.ndarray, float]:
         """(kernel weights, force scale) of one event: the folds at their depth on the tangent
         disk, the whole held to the safe-falloff bounds there."""
-        offsets, radii, tangents = _disk(normal, reach)
+        offsets, radii, tangents = _disk(normal, reach, frame)
         h = _DISK_STEP
         points = center + eps * np.vstack(
             [offsets, offsets + h * tangents[0], offsets + h * tangents[1]]

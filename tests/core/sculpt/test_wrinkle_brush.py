@@ -25,7 +25,9 @@ def _pull(kind: str, degree: int | None = None, direction=(0.0, 0.0, 1.0), mater
     """Displacement (N, 3) and ε of a 10-event stroke moving the cursor 2 ε from the sheet's
     centre along ``direction``, with the preset's settings (and folds of ``degree``)."""
     vertices, faces = SHEET
-    settings = PRESET.engine_settings()
+    # measured with the material's axes fixed in the world (the preset's own frame, "surface",
+    # would turn the layers with each drag's direction: tests/core/sculpt/test_material_frame.py)
+    settings = PRESET.engine_settings().replace(material_frame="world")
     if material is not None:
         settings = settings.replace(material=material)
     if degree is not None:

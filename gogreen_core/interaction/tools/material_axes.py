@@ -1,0 +1,75 @@
+"""The material's axes under the brush cursor: which way the fibres, grain or layers will run
+before the stroke (the directions of the material panel's glyph, put on the surface).
+
+:func:`main_axes` finds a material's main directions once (cached per material): the stiffest
+direction of its directional Young's modulus E(d) (the glyph's longest bulge; the fibres of a
+fibre composite, a direction in the layers of a laminate), the stiffest direction across it,
+and the third completing them (the layers' normal); each scaled by E along it over the
+largest E, at least :data:`MIN_AXIS` so a soft axis still shows. An isotropic material (E the
+same every way to 1e-6) has none: the cursor draws no axes. :func:`cursor_axes` puts them where
+the cursor rests: turned by the frame a stroke starting there would take
+(:func:`~gogreen_core.sculpt.material_frame.material_frame_at`: the world's, or the surface's
+with the "surface" frame).
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from typing import TYPE_CHECKING
+
+import numpy as np
+from scipy.integrate import lebedev_rule
+
+from gogreen_core.physics.material import Material
+from gogreen_core.sculpt.material_frame import material_frame_at
+
+if TYPE_CHECKING:
+    from gogreen_core.sculpt.sculptor import Sculptor
+
+__all__ = ["MIN_AXIS", "cursor_axes", "main_axes"]
+
+#: The shortest an axis is drawn, as a fraction of the longest.
+MIN_AXIS = 0.3
+#: E the same every way within this fraction: isotropic, no axes.
+_ISOTROPIC = 1e-6
+_ANGLES = 720
+
+
+@lru_cache(maxsize=8)
+def main_axes(material: Material) -> np.ndarray | None:
+    """The material's main directions (3, 3), rows: unit directions scaled by E along them
+    over the largest E (at least :data:`MIN_AXIS`), right-handed; None for an isotropic
+    material. Read-only (cached per material)."""
+    points, _ = lebedev_rule(41)
+    nodes = np.ascontiguousarray(points.T)
+    young = material.directional_young(nodes)
+    top = float(young.max())
+    if not young.max() - young.min() > _ISOTROPIC * top:
+        return None
+    first = nodes[int(np.argmax(young))]
+    helper = np.eye(3)[int(np.argmin(np.abs(first)))]
+    u = np.cross(first, helper)
+    u /= np.linalg.norm(u)
+    v = np.cross(first, u)
+    angles = np.linspace(0.0, np.pi, _ANGLES, endpoint=False)  # ±d is one direction
+    ring = np.outer(np.cos(angles), u) + np.outer(np.sin(angles), v)
+    second = ring[int(np.argmax(material.directional_young(ring)))]
+    third = np.cross(first, second)
+    axes = np.array([first, second, third])
+    lengths = np.maximum(material.directional_young(axes) / top, MIN_AXIS)
+    scaled: np.ndarray = axes * lengths[:, None]
+    scaled.setflags(write=False)
+    return scaled
+
+
+def cursor_axes(sculptor: Sculptor, point: np.ndarray, radius: float) -> np.ndarray | None:
+    """The material's main directions (3, 3, rows, world units of direction, scaled as
+    :func:`main_axes`) at ``point`` (3,) on ``sculptor``'s surface for a brush of ``radius``
+    (model units), in the frame a stroke starting there would take; None for an isotropic
+    material."""
+    axes = main_axes(sculptor.settings.material)
+    if axes is None:
+        return None
+    frame = material_frame_at(sculptor, point, radius)
+    turned: np.ndarray = axes @ frame.T
+    return turned

@@ -1,0 +1,169 @@
+"""Materials that follow the surface: each stroke turns the material's axes onto the surface
+where it starts (``EngineSettings.material_frame == "surface"``).
+
+An artist thinks of fibres, grain and layers relative to the surface they touch (a cheek's
+skin, a sleeve's cloth), not to the world. With the "surface" frame a stroke takes a frame
+F = [t₁ t₂ n] (columns, a proper rotation) at its first event:
+
+* n, the third axis: the area normal under the brush, the sum of the area-weighted normals of
+  the faces with a vertex within ε of the stroke's start (as Blender's brushes sample their
+  plane), of the faces around the nearest vertex when none is that close;
+* t₁, the first axis: the stroke's first motion projected on the plane ⟂ n (a grab's or the
+  wrinkle brush's cursor motion, an affine brush's stroke direction);
+* a stroke with no motion along the surface (a pull straight along n, an affine brush without
+  a direction) takes the world axis least aligned with n (the first of equals, x before y
+  before z) projected on the plane: stable, and the same on every such stroke at one place;
+* t₂ = n × t₁.
+
+The material as set, its own rotation included, is then turned by F (C' = F·C): its first axis
+runs along t₁, its third along n. The frame holds for the whole stroke, not event by event: the
+stroke itself bends the surface under the brush (a grab pulls it round), and a frame re-read per
+event would feed the stroke's own deformation back into the material, making the result depend
+on the event rate; fixed, the stroke is one material acting, the same on every replay, and the
+kernel is turned once (:meth:`GreenKernel.turned`, Wigner-D matrices: about a millisecond).
+
+Mirror symmetry mirrors the frame: the integrator evaluates a mirrored stroke's field as
+M u(M x) (``GreenKernel.streamlines``, ``mirror_signs``), which is exactly the field of the
+reflected material M·(F·C) with the mirrored loads. A reflection is not a rotation, so the
+mirrored stroke does not take a right-handed frame of its own (that would be M F diag(1, −1, 1),
+a different material unless it is symmetric across its second axis); it takes the reflection
+of the turned material, so the result is the mirror image of the stroke.
+"""
+
+from __future__ import annotations
+
+import weakref
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from gogreen_core.field.kernel import GreenKernel
+from gogreen_core.mesh.mesh_state import MeshState
+from gogreen_core.sculpt.kernel_cache import KernelCache
+
+if TYPE_CHECKING:
+    from gogreen_core.sculpt.sculptor import Sculptor
+
+__all__ = ["FramedKernels", "area_normal", "frame_at", "material_frame_at", "surface_frame"]
+
+#: Below this fraction of its length a motion has no part along the surface.
+_TANGENTIAL = 1e-9
+_NO_MIRROR = np.ones((1, 3))
+
+
+def area_normal(mesh: MeshState, center: np.ndarray, radius: float) -> np.ndarray:
+    """The unit area normal (3,) of ``mesh`` under a brush of ``radius`` (model units) at
+    ``center`` (3,): the sum of the area-weighted normals (cross products) of the faces with a
+    vertex within ``radius`` of ``center``, or of the faces around the nearest vertex when no
+    vertex is that close. ValueError when those faces have no area (nothing to face)."""
+    vertices, faces = mesh.vertices, mesh.faces
+    rows = mesh.rows_near(center, np.zeros(3), radius, _NO_MIRROR)
+    if not len(rows):
+        gap = vertices - center
+        rows = np.array([np.argmin(np.einsum("ij,ij->i", gap, gap))])
+    starts, face_ids = _vertex_faces(faces, len(vertices))
+    around = [face_ids[starts[r] : starts[r + 1]] for r in rows]
+    chosen = faces[np.unique(np.concatenate(around))]
+    a, b, c = (vertices[chosen[:, k]] for k in range(3))
+    total = np.cross(b - a, c - a).sum(axis=0)
+    length = float(np.linalg.norm(total))
+    if not length > 0:
+        raise ValueError("the surface under the brush has no area: no normal to follow")
+    normal: np.ndarray = total / length
+    return normal
+
+
+#: The faces around each vertex of the last face array asked for: (a weak reference to the
+#: faces, CSR starts (N + 1,), face numbers (3F,)); built once per topology, not kept alive.
+_AROUND: list[tuple[weakref.ref[np.ndarray], np.ndarray, np.ndarray]] = []
+
+
+def _vertex_faces(faces: np.ndarray, n_vertices: int) -> tuple[np.ndarray, np.ndarray]:
+    """(starts (n_vertices + 1,), face numbers (3F,)): the faces around vertex v are
+    ``numbers[starts[v]:starts[v + 1]]`` (no pass over every face per stroke: a 1.3M-face mesh
+    took 50-300 ms to scan)."""
+    if _AROUND and _AROUND[0][0]() is faces and len(_AROUND[0][1]) == n_vertices + 1:
+        return _AROUND[0][1], _AROUND[0][2]
+    flat = faces.ravel()
+    order = np.argsort(flat, kind="stable")
+    numbers = (order // 3).astype(np.int64)
+    starts = np.zeros(n_vertices + 1, dtype=np.int64)
+    np.cumsum(np.bincount(flat, minlength=n_vertices), out=starts[1:])
+    _AROUND[:] = [(weakref.ref(faces), starts, numbers)]
+    return starts, numbers
+
+
+def surface_frame(normal: np.ndarray, motion: np.ndarray | None) -> np.ndarray:
+    """The frame F (3, 3), columns (t₁, t₂, n), a proper rotation: n the unit ``normal`` (3,),
+    t₁ ``motion`` (3,) projected on the plane ⟂ n, or, when it has no part there (or is None),
+    the world axis least aligned with n (the first of equals) projected on it; t₂ = n × t₁."""
+    n = np.asarray(normal, dtype=np.float64)
+    n = n / np.linalg.norm(n)
+    t = None
+    if motion is not None:
+        m = np.asarray(motion, dtype=np.float64)
+        t = m - (m @ n) * n
+        if not np.linalg.norm(t) > _TANGENTIAL * np.linalg.norm(m):
+            t = None
+    if t is None:
+        axis = np.eye(3)[int(np.argmin(np.abs(n)))]
+        t = axis - (axis @ n) * n
+    t1 = t / np.linalg.norm(t)
+    t2 = np.cross(n, t1)
+    return np.column_stack([t1, t2, n])
+
+
+def frame_at(
+    mesh: MeshState, center: np.ndarray, radius: float, motion: np.ndarray | None
+) -> np.ndarray:
+    """The surface frame (3, 3) of a stroke starting at ``center`` with a brush of ``radius``
+    (model units) and first ``motion`` (3,) or None (see the module docstring)."""
+    return surface_frame(area_normal(mesh, center, radius), motion)
+
+
+def material_frame_at(
+    sculptor: Sculptor, point: np.ndarray, radius: float, motion: np.ndarray | None = None
+) -> np.ndarray:
+    """The rotation (3, 3) ``sculptor``'s material is turned by for a stroke starting at
+    ``point`` (3,) with a brush of ``radius`` (model units) and first ``motion`` (3,) or None:
+    the identity with the "world" material frame; with "surface", the surface frame there
+    (:func:`frame_at`), or during a stroke the one it took."""
+    if sculptor.settings.material_frame != "surface":
+        return np.eye(3)
+    strokes = sculptor._strokes  # the engine's own stroke driver
+    current = strokes.current_kernels
+    if current is not None and current.frame is not None:
+        return current.frame
+    return frame_at(strokes.mesh, np.asarray(point, dtype=np.float64), radius, motion)
+
+
+class FramedKernels(KernelCache):
+    """The kernels of ``base``'s settings with the material turned by ``frame`` F (3, 3): what a
+    stroke with the surface frame computes with. The full kernel is turned once (Wigner-D, no
+    quadrature); weighted ones are repacked from it; values derived from the kernels (field
+    bounds, reach) are the unturned kernels' (:attr:`unturned`), turned where they turn
+    (:class:`~gogreen_core.sculpt.falloff_safety.TurnedFieldBound`), so a new frame computes
+    none of them again."""
+
+    def __init__(self, base: KernelCache, frame: np.ndarray) -> None:
+        self.settings = base.settings
+        self.base = base
+        self.frame = np.array(frame, dtype=np.float64)
+        self.frame.setflags(write=False)
+        self.full: GreenKernel = base.full.turned(self.frame)
+        self._weighted: dict[bytes, GreenKernel] = {}
+        self._derived = {}
+
+    @property
+    def unturned(self) -> KernelCache:
+        return self.base
+
+    def weighted(self, weights: np.ndarray | None) -> GreenKernel:
+        if weights is None:
+            return self.full
+        key = np.asarray(weights, dtype=np.float64).tobytes()
+        kernel = self._weighted.get(key)
+        if kernel is None:
+            kernel = self.full.with_degree_weights(weights)
+            self._weighted[key] = kernel
+        return kernel
