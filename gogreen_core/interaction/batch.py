@@ -421,12 +421,6 @@ def _parser() -> argparse.ArgumentParser:
     deform.add_argument("--poisson", type=float, default=0.3)
     deform.add_argument("--material", help="material JSON (Material.to_dict or a preset)")
     deform.add_argument(
-        "--material-frame",
-        default="world",
-        help="world (the material's axes fixed) or surface (they follow the surface where "
-        "the stroke starts)",
-    )
-    deform.add_argument(
         "--falloff", default="gaussian", help="gaussian, kelvinlet, or a falloff/preset JSON file"
     )
     _add_setting_flags(deform)

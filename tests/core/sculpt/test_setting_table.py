@@ -3,6 +3,7 @@ value, the app's settings model, presets, session files and the command line are
 table, so that a new setting is one row (plus its typed line on EngineSettings)."""
 
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -128,7 +129,8 @@ def test_a_new_setting_is_one_row_and_its_typed_line(tmp_path):
     table.write_text(text[:end] + "\n" + ADDED_ROW + text[end:])
     settings_module = copy / "sculpt" / "engine_settings.py"
     text = settings_module.read_text()
-    anchor = text.index("\n", text.index("    detail_size: float | None = ")) + 1
+    typed = re.finditer(r"^    \w+: .*_initial\(\"\w+\"\)\)$", text, re.M)
+    anchor = max(m.end() for m in typed) + 1  # after the last typed line: the table's order
     settings_module.write_text(text[:anchor] + ADDED_LINE + text[anchor:])
     mesh = tmp_path / "ico.obj"
     trimesh.creation.icosphere(2).export(mesh)
