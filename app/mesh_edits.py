@@ -64,10 +64,8 @@ class MeshEdits(QObject):
             "subdivide_unmasked",
         )
         menu.addSeparator()
-        # no key yet: Blender's (Ctrl+D) is our Subdivide, and the keymap overlay has no room
-        # for another line at 640 × 420
         self.dynamic_topology_action = action(
-            menu, "D&ynamic Topology", self.toggle_dynamic_topology
+            menu, "D&ynamic Topology", self.toggle_dynamic_topology, "dynamic_topology"
         )
         self.dynamic_topology_action.setCheckable(True)
         model = self.window.model
@@ -75,7 +73,7 @@ class MeshEdits(QObject):
             lambda event: self.dynamic_topology_action.setChecked(bool(event.value))
         )
         action(menu, "Detail Si&ze…", self.ask_detail_size)
-        action(menu, "&Remesh", self.remesh)
+        self.remesh_action = action(menu, "&Remesh", self.remesh, "remesh")
         action(menu, "Remesh Un&masked", lambda: self.remesh(unmasked_only=True))
         menu.addSeparator()
         action(menu, "&Invert Mask", self.invert_mask, "mask_invert")
