@@ -149,9 +149,10 @@ def test_dynamic_topology_toggle_a_remeshing_drag_and_remesh(window, qtbot, monk
     window.viewport.setFocus()
     sculptor = window.document.sculptor
     faces, vertices = sculptor.faces.copy(), sculptor.vertices.copy()
-    window.mesh_edits.dynamic_topology_action.trigger()
+    QTest.keyClick(window.viewport, Qt.Key.Key_D, CTRL | ALT)  # Ctrl+Alt+D (Ctrl+D subdivides)
     assert sculptor.settings.dynamic_topology and window.model.dynamic_topology
     assert window.mesh_edits.dynamic_topology_action.isChecked()
+    assert len(sculptor.faces) == len(faces)  # not subdivided
     window.model.detail_size = 0.004  # finer than the model's edges: the drag splits them
     drag_with(window, center_of(window), steps=4)
     assert len(sculptor.faces) > len(faces)
@@ -166,8 +167,9 @@ def test_dynamic_topology_toggle_a_remeshing_drag_and_remesh(window, qtbot, monk
     )
     window.mesh_edits.ask_detail_size()
     assert window.model.detail_size == 0.01 and sculptor.settings.detail_size == 0.01
-    window.mesh_edits.remesh()
-    assert "Remeshed" in window.message_label.text()
+    QTest.keyClick(window.viewport, Qt.Key.Key_R, CTRL)  # Ctrl+R: Remesh (Blender's key)
+    window.mesh_edits.wait()
+    qtbot.waitUntil(lambda: "Remeshed" in window.message_label.text())
     median = median_edge_length(sculptor.vertices, sculptor.faces)
     assert 0.8 < median / (0.01 * sculptor.model_size) < 4.0 / 3.0
     assert window.viewport.mesh.n_cells == len(sculptor.faces)
