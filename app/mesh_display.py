@@ -183,6 +183,27 @@ class MeshDisplay(_Base):
             self.home_view(render=False)
         self.request_render()
 
+    def show_new_faces(self, vertices: np.ndarray, faces: np.ndarray) -> None:
+        """The mesh got new faces during a stroke (dynamic topology): draw them at once into
+        the same actor, camera, cursor and pins kept. Below :data:`BACKGROUND_INDEX_FACES`
+        faces with a new :class:`SurfaceIndex` (smooth shading, about 25 ms); above,
+        flat-shaded without one (no index build per event: a stroke picks only at its press),
+        the index built by :meth:`set_mesh` when the stroke ends."""
+        self._index_runner.cancel()
+        self._index_job = None
+        self._mask_version = -1  # the tint drawn again for the new vertices
+        self._field_rgb = self._field_on = None
+        self._field_rows = np.zeros(0, dtype=np.int64)
+        self.cavity = None
+        vertices = np.array(vertices, dtype=np.float64)  # our copy: VTK draws it
+        self._faces = faces
+        if len(faces) < BACKGROUND_INDEX_FACES:
+            self._use_index(SurfaceIndex(vertices, faces))
+        else:
+            self.surface = None
+            self._show(pv.PolyData.from_regular_faces(vertices, faces))
+        self.request_render()
+
     def _show(self, mesh: pv.PolyData) -> None:
         """Draw ``mesh`` with the model's look: a new actor, or the current one's input."""
         self.mesh = mesh

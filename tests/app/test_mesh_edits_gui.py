@@ -176,3 +176,33 @@ def test_dynamic_topology_toggle_a_remeshing_drag_and_remesh(window, qtbot, monk
     assert sculptor.history.undo_labels[-1] == "remesh"
     window.undo()
     assert np.array_equal(sculptor.faces, faces)
+
+
+def test_a_dynamic_topology_drag_draws_new_faces_without_rebuilding_the_view(
+    window, qtbot, monkeypatch
+):
+    """Each event's new faces go into the same actor (no new mesh shown, camera and pins
+    kept); the whole mesh is shown and indexed anew once, when the stroke ends."""
+    activate(window, qtbot)
+    window.viewport.setFocus()
+    sculptor = window.document.sculptor
+    window.model.dynamic_topology = True
+    window.model.detail_size = 0.004
+    viewport = window.viewport
+    rebuilt, drawn = [], []
+    set_mesh, show_new_faces = viewport.set_mesh, viewport.show_new_faces
+    monkeypatch.setattr(
+        viewport, "set_mesh", lambda *a, **k: rebuilt.append(1) or set_mesh(*a, **k)
+    )
+
+    def new_faces(vertices, faces):
+        show_new_faces(vertices, faces)
+        drawn.append(viewport.mesh.n_cells == len(faces))
+        assert not rebuilt  # nothing rebuilt during the stroke
+
+    monkeypatch.setattr(viewport, "show_new_faces", new_faces)
+    drag_with(window, center_of(window), steps=4)
+    assert drawn and all(drawn)  # each event's faces drawn as they came
+    assert len(rebuilt) == 1  # once, at the end
+    assert viewport.mesh.n_cells == len(sculptor.faces)
+    assert np.array_equal(viewport.shown_vertices(), sculptor.vertices)
