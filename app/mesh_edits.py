@@ -78,6 +78,9 @@ class MeshEdits(QObject):
         model.events.dynamic_topology.connect(
             lambda event: self.dynamic_topology_action.setChecked(bool(event.value))
         )
+        # the cursor's detail circle follows (once the engine has the new settings)
+        for event in (model.events.dynamic_topology, model.events.detail_size):
+            event.connect(lambda _event: QTimer.singleShot(0, self.window.viewport.refresh_cursor))
         action(menu, "Detail Si&ze…", self.ask_detail_size)
         self.remesh_action = action(menu, "&Remesh", self.remesh, "remesh")
         action(menu, "Remesh Un&masked", lambda: self.remesh(unmasked_only=True))

@@ -201,7 +201,7 @@ class CursorController:
     (``radius``), influence factor, falloff samples (``profile``, or None), during a pen
     stroke whose pressure shrinks ε, the full ε (``full_radius``, else None) and the radius of
     the region that moves by a tenth of the motion or more (``moving``, :func:`moving_radius`;
-    None: unknown)."""
+    None: unknown) and dynamic topology's edge length (``detail``, None while it is off)."""
 
     def __init__(
         self,
@@ -210,12 +210,14 @@ class CursorController:
         profile: Callable[[], np.ndarray | None],
         full_radius: Callable[[], float | None],
         moving: Callable[[], float | None] | None = None,
+        detail: Callable[[], float | None] | None = None,
     ) -> None:
         self.radius = radius
         self.influence = influence
         self.profile = profile
         self.full_radius = full_radius
         self.moving = moving or (lambda: None)
+        self.detail = detail or (lambda: None)
         self.state: CursorState | None = None
         self._normal: np.ndarray | None = None
 
@@ -237,6 +239,7 @@ class CursorController:
             label,
             self.full_radius(),
             self.moving(),
+            self.detail(),
         )
         return self.state
 

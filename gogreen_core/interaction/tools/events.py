@@ -44,7 +44,8 @@ class CursorState:
     drawn faintly around the pressed one; else None) and ``moving_radius`` (model units: the
     region that moves by a tenth of the motion or more,
     :func:`gogreen_core.interaction.tools.moving_radius`; what the ring shows, None when
-    unknown)."""
+    unknown) and ``detail`` (model units: while dynamic topology is on, the edge length it
+    remeshes to, drawn as a small circle of that diameter at the centre; else None)."""
 
     center: np.ndarray
     normal: np.ndarray
@@ -54,6 +55,7 @@ class CursorState:
     label: str | None = None
     full_radius: float | None = None
     moving_radius: float | None = None
+    detail: float | None = None
 
     def ring_matrix(self) -> np.ndarray:
         """(4, 4) transform placing the unit circle of the xy plane on the surface (lifted by

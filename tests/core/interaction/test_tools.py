@@ -466,3 +466,21 @@ def test_a_stroke_that_changes_nothing_says_so_and_records_nothing(sculptor):
     assert update.note is None and update.moved is not None
     assert sculptor.history.undo_labels == ["Pinch stroke"]
     assert len(sculptor.operations) == operations + 1
+
+
+def test_the_cursor_carries_the_detail_size_while_dynamic_topology_is_on(sculptor):
+    """Dynamic topology off: no detail; on: the detail size in model units, or without one
+    the surface's own edge length (what a stroke remeshes to)."""
+    from dataclasses import replace
+
+    from gogreen_core.mesh.remesh import median_edge_length
+
+    tools = tools_for(sculptor)
+    tools.hover(at(NORTH, normal=NORTH))
+    assert tools.flush().cursor.detail is None
+    sculptor.apply_settings(replace(sculptor.settings, dynamic_topology=True))
+    state = tools.cursor.refresh()
+    own = median_edge_length(sculptor.vertices, sculptor.faces)
+    assert state.detail == pytest.approx(own)
+    sculptor.apply_settings(replace(sculptor.settings, detail_size=0.01))
+    assert tools.cursor.refresh().detail == pytest.approx(0.01 * sculptor.model_size)
