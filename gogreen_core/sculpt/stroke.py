@@ -193,10 +193,12 @@ class StrokeDriver:
         if not detail > 0:  # a region of coincident vertices: nothing to measure by
             return False
         # every other vertex is where it was last remeshed (or where the stroke began): the
-        # measures below read the rows moved since and their faces, not the whole mesh
+        # measures below read the rows moved since and their faces, not the whole mesh. A face
+        # this event did not move strains as it did after the last event: not enough (else it
+        # was remeshed, which settled its corners), so only this event's faces are measured.
         unsettled = stroke.unsettled = np.union1d(stroke.unsettled, rows)
         around = np.zeros(len(mesh.vertices), dtype=bool)
-        around[unsettled] = True
+        around[rows] = True
         faces = mesh.faces[np.flatnonzero(np.any(around[mesh.faces], axis=1))]
         strained = strained_vertices(stroke.reference, mesh.vertices, faces, STRAIN_TOLERANCE)
         # and the brush's core: what moved at least CORE_MOTION of the most any vertex did

@@ -410,3 +410,37 @@ def test_a_prepared_remesh_reports_progress_cancels_cleanly_and_refuses_a_change
     with pytest.raises(ValueError, match="changed since"):
         sculptor.remesher.remesh(size, prepared=stale)
     assert np.array_equal(sculptor.vertices, moved) and np.array_equal(sculptor.faces, faces)
+
+
+# -- per-event cost: the region's, not the mesh's -------------------------------------------------
+def test_each_event_measures_strain_only_on_the_faces_it_moved(monkeypatch):
+    """Dynamic topology reads the faces around the rows an event moved, not every face, and
+    takes the remeshed arrays without copying them again."""
+    vertices, faces = icosphere(5)
+    sculptor = Sculptor(
+        vertices, faces, settings=EngineSettings(material=CUBIC, dynamic_topology=True)
+    )
+    measured: list[int] = []
+    strained = stroke_module.strained_vertices
+
+    def spy(reference, points, cells, tolerance):
+        measured.append(len(cells))
+        return strained(reference, points, cells, tolerance)
+
+    monkeypatch.setattr(stroke_module, "strained_vertices", spy)
+    adopted = []
+    state = sculptor._mesh
+    adopt = state.adopt
+    monkeypatch.setattr(
+        state, "adopt", lambda mesh, owned=False: adopted.append(mesh) or adopt(mesh, owned)
+    )
+    center = vertices[int(np.argmax(vertices[:, 2]))].copy()
+    step = np.array([0.0, 0.0, 0.01 * sculptor.model_size])
+    sculptor.begin_stroke(Brush("grab", radius=0.03, influence=2.0))
+    for _ in range(6):
+        sculptor.stroke_event(BrushEvent(center=center, delta=step))
+        center = center + step
+    sculptor.end_stroke()
+    assert measured and max(measured) < 0.1 * len(faces)
+    assert adopted and state.vertices is adopted[-1].vertices  # no copy
+    assert state.faces is adopted[-1].faces
