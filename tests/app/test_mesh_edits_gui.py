@@ -190,17 +190,17 @@ def test_a_dynamic_topology_drag_draws_new_faces_without_rebuilding_the_view(
     window.model.detail_size = 0.004
     viewport = window.viewport
     rebuilt, drawn = [], []
-    set_mesh, show_new_faces = viewport.set_mesh, viewport.show_new_faces
-    monkeypatch.setattr(
-        viewport, "set_mesh", lambda *a, **k: rebuilt.append(1) or set_mesh(*a, **k)
-    )
+    set_mesh = viewport.set_mesh
 
-    def new_faces(vertices, faces):
-        show_new_faces(vertices, faces)
-        drawn.append(viewport.mesh.n_cells == len(faces))
-        assert not rebuilt  # nothing rebuilt during the stroke
+    def spy(vertices, faces, *args, in_stroke=False, **kwargs):
+        set_mesh(vertices, faces, *args, in_stroke=in_stroke, **kwargs)
+        if in_stroke:
+            drawn.append(viewport.mesh.n_cells == len(faces))
+            assert not rebuilt  # nothing rebuilt during the stroke
+        else:
+            rebuilt.append(1)
 
-    monkeypatch.setattr(viewport, "show_new_faces", new_faces)
+    monkeypatch.setattr(viewport, "set_mesh", spy)
     drag_with(window, center_of(window), steps=4)
     assert drawn and all(drawn)  # each event's faces drawn as they came
     assert len(rebuilt) == 1  # once, at the end
