@@ -21,6 +21,9 @@ the faces around the vertices whose sides the stroke strained by more than
 :data:`STRAIN_TOLERANCE` of their length since they were last remeshed, or that moved at least
 :data:`CORE_MOTION` of the most any vertex did (the brush's core), grown by a ring, are
 remeshed to the detail size (:mod:`gogreen_core.mesh.remesh`), the vertices nearest the pins locked.
+The measures read only the rows moved since they were last remeshed and the faces this event
+moved, the remesh only its patch; what remains per event over the whole mesh is a few
+memory-bound passes (finding the faces of the moved rows, writing the new arrays).
 Such a stroke's undo step holds the whole mesh before and after it (as a subdivision's does).
 """
 
