@@ -530,7 +530,8 @@ def _assemble(
     out_vertices[n_kept:] = patch.points[added]
     out_faces = np.empty((len(faces) - int(in_patch.sum()) + len(patch.faces), 3), np.int64)
     n_outside = len(out_faces) - len(patch.faces)
-    out_faces[:n_outside] = kept[faces[~in_patch]]
+    outside = faces[~in_patch]  # renumbered only when a vertex was removed
+    out_faces[:n_outside] = outside if n_kept == n else kept[outside]
     out_faces[n_outside:] = number[patch.faces]
     out_mask = None
     if mask is not None:
