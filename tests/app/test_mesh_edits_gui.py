@@ -206,3 +206,19 @@ def test_a_dynamic_topology_drag_draws_new_faces_without_rebuilding_the_view(
     assert len(rebuilt) == 1  # once, at the end
     assert viewport.mesh.n_cells == len(sculptor.faces)
     assert np.array_equal(viewport.shown_vertices(), sculptor.vertices)
+
+
+def test_remesh_runs_in_the_background_and_ctrl_r_again_cancels_it(window, qtbot):
+    activate(window, qtbot)
+    window.viewport.setFocus()
+    sculptor = window.document.sculptor
+    faces, steps = sculptor.faces.copy(), len(sculptor.history.undo_labels)
+    edits = window.mesh_edits
+    QTest.keyClick(window.viewport, Qt.Key.Key_R, CTRL)
+    assert edits.busy and "remeshed" in edits.refusal()  # strokes and edits wait for it
+    QTest.keyClick(window.viewport, Qt.Key.Key_R, CTRL)  # again: cancelled
+    assert not edits.busy and "cancelled" in window.message_label.text()
+    edits.wait()
+    qtbot.wait(50)
+    assert np.array_equal(sculptor.faces, faces)  # the mesh untouched, no undo step
+    assert len(sculptor.history.undo_labels) == steps
