@@ -40,6 +40,8 @@ AXIS_REACH = 0.8
 #: The material's first, second and third axes (Blender's x, y, z colours).
 AXIS_COLORS = ((0.95, 0.25, 0.3), (0.45, 0.85, 0.2), (0.25, 0.55, 1.0))
 SEGMENTS = 96
+#: The detail circle is drawn at least this wide (pixels of radius), however fine the edges.
+MIN_DETAIL_PIXELS = 2.0
 
 
 def ring_points(center: tuple[float, float], radius: float, segments: int = SEGMENTS) -> np.ndarray:
@@ -125,6 +127,9 @@ class CursorOverlay:
         #: Pixel radius of the solid ring: the region that moves by a tenth of the motion or
         #: more (:attr:`CursorState.moving_radius`; ε when unknown). None while hidden.
         self.ring_pixels: float | None = None
+        #: Pixel radius of the detail circle (dynamic topology's edge length as its diameter,
+        #: at least :data:`MIN_DETAIL_PIXELS`), None unless dynamic topology is on.
+        self.detail_pixels: float | None = None
         #: While True nothing is drawn; :attr:`state` is kept and drawn again once it is False.
         self.suspended = False
         self.profile_always = False
@@ -136,6 +141,7 @@ class CursorOverlay:
         self._axes = [_Polyline2D(renderer, color, 2.0, 0.95) for color in AXIS_COLORS]
         #: Display points (3, 2, 2) of the material's axes' ends after the last layout, or None.
         self.axes_screen: np.ndarray | None = None
+        self._detail = _Polyline2D(renderer, CURSOR_COLOR, 1.5, 0.9)
         self._text = vtk.vtkTextActor()
         self._text.GetTextProperty().SetFontSize(16)
         self._text.GetTextProperty().SetColor(*CURSOR_COLOR)
@@ -166,8 +172,8 @@ class CursorOverlay:
 
     def layout(self) -> None:
         """Rebuild the 2D geometry for the current camera (cheap: a few hundred points)."""
-        parts = (self._influence, self._ring, self._profile, self._full, *self._axes)
-        self.full_pixels = None
+        parts = (self._influence, self._ring, self._profile, self._full, self._detail, *self._axes)
+        self.full_pixels = self.detail_pixels = None
         self.axes_screen = None
         if self.state is None or self.suspended:
             for part in parts:
@@ -195,6 +201,14 @@ class CursorOverlay:
             self.full_pixels = self.ring_pixels * full / state.radius
             self._full.set(ring_points(xy, self.full_pixels))
         self._full.actor.SetVisibility(self.full_pixels is not None)
+        # dynamic topology: a small circle as wide as the edges it remeshes to (Blender draws
+        # its detail size on the cursor too)
+        detail = state.detail
+        if detail is not None and np.isfinite(detail) and detail > 0:
+            edge_px = pixel_radius(self.renderer, center, detail)
+            self.detail_pixels = max(MIN_DETAIL_PIXELS, 0.5 * edge_px)
+            self._detail.set(ring_points(xy, self.detail_pixels, 24))
+        self._detail.actor.SetVisibility(self.detail_pixels is not None)
         profile = self.profile_always or self.profile_now
         if profile and state.profile is not None and len(state.profile) > 1 and outer_px > 0:
             # mirrored profile over the diameter: height eps_px · motion(|x|)

@@ -175,6 +175,14 @@ KEYMAP: tuple[Binding, ...] = (
         "Subdivide the unmasked part",
         "Mask and mesh",
     ),
+    # Blender's dynamic topology key (Ctrl+D) is our Subdivide: Ctrl+Alt+D toggles it here
+    Binding(
+        ("Ctrl+Alt+D",),
+        "dynamic_topology",
+        "Dynamic topology on / off (strokes remesh what they move)",
+        "Mask and mesh",
+    ),
+    Binding(("Ctrl+R",), "remesh", "Remesh the mesh to the detail size", "Mask and mesh"),
     Binding(
         ("Middle drag", "Shift+Middle drag", "Ctrl+Middle drag"),
         "orbit",

@@ -142,6 +142,7 @@ class MeshDisplay(_Base):
         faces: np.ndarray,
         reset_camera: bool = True,
         background: bool | None = None,
+        in_stroke: bool = False,
     ) -> None:
         """Show a new mesh (one actor, replaced only when the mesh itself changes), without
         pins.
@@ -152,17 +153,23 @@ class MeshDisplay(_Base):
         flat-shaded in its own order, vertex updates are drawn, picks find nothing and a left
         press emits ``surface_pending`` instead of starting a stroke.
         ``surface_progress`` and then ``surface_ready`` report the build.
+
+        ``in_stroke``: new faces during a stroke (dynamic topology), drawn into the same actor
+        (cursor, pins, mask tint kept); a big mesh flat-shaded without an index (a stroke
+        picks only at its press) until the stroke ends and shows the mesh again.
         """
-        if self.mesh_actor is not None:
+        if self.mesh_actor is not None and not in_stroke:
             self.remove_actor(self.mesh_actor, render=False)
             self.mesh_actor = None
-        self.show_cursor(None)  # sized for the old mesh; it would also widen the home view
-        self.show_pins(np.zeros((0, 3)), 0.0)
-        self._mask, self._mask_version = None, -1  # the new mesh's tint comes with show_mask
+        if not in_stroke:
+            self.show_cursor(None)  # sized for the old mesh; it would also widen the home view
+            self.show_pins(np.zeros((0, 3)), 0.0)
+            self._mask = None  # the new mesh's tint comes with show_mask
+            self._show_arrows(None)
+        self._mask_version = -1
         self._field_rgb = self._field_on = None
         self._field_rows = np.zeros(0, dtype=np.int64)
         self.cavity = None  # the new mesh's, once its index is ready
-        self._show_arrows(None)
         self._index_runner.cancel()
         self._index_job = None
         self.surface = None
@@ -172,11 +179,12 @@ class MeshDisplay(_Base):
             background = len(self._faces) >= BACKGROUND_INDEX_FACES
         if background:
             self._show(pv.PolyData.from_regular_faces(vertices, self._faces))
-            built_from = vertices.copy()  # the build reads this; the view's copy may move
-            faces = self._faces
-            self._index_job = self._index_runner.submit(
-                lambda task: SurfaceIndex(built_from, faces, task.progress), supersede=True
-            )
+            if not in_stroke:
+                built_from = vertices.copy()  # the build reads this; the view's copy may move
+                faces = self._faces
+                self._index_job = self._index_runner.submit(
+                    lambda task: SurfaceIndex(built_from, faces, task.progress), supersede=True
+                )
         else:
             self._use_index(SurfaceIndex(vertices, self._faces))
         if reset_camera:

@@ -1,10 +1,11 @@
 """The Mesh menu: subdivide, remesh, dynamic topology and its detail size, invert and clear the
 mask; and the view kept in step with them.
 
-A subdivision of a big mesh runs off the GUI thread (:func:`prepare_subdivision` on copies of
-the mesh, with progress in the status bar); the window refuses strokes, undo and mask edits
-meanwhile, and the result is adopted on the GUI thread (:meth:`Sculptor.subdivide` with
-``prepared``: one undo step, one session record). Whenever the sculptor's face array or mask
+A subdivision of a big mesh and every remesh run off the GUI thread
+(:func:`prepare_subdivision`, :meth:`Remesher.prepare` on copies of the mesh, with progress in
+the status bar; a remesh can be cancelled); the window refuses strokes, undo and mask edits
+meanwhile, and the result is adopted on the GUI thread (``prepared``: one undo step, one
+session record). Whenever the sculptor's face array or mask
 changed (a subdivision, its undo, a mask stroke), :meth:`MeshEdits.sync` redraws the mesh
 (a new surface index for picking and normals, the pins, the mask's tint).
 """
@@ -12,6 +13,7 @@ changed (a subdivision, its undo, a mask stroke), :meth:`MeshEdits.sync` redraws
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -19,9 +21,10 @@ from PySide6.QtCore import QObject, Qt, QTimer
 from PySide6.QtGui import QGuiApplication
 from PySide6.QtWidgets import QInputDialog, QMenu, QMenuBar
 
-from app.background import BackgroundRunner
+from app.background import BackgroundRunner, Task
 from gogreen_core.mesh.remesh import median_edge_length
 from gogreen_core.mesh.subdivision import PreparedSubdivision, prepare_subdivision
+from gogreen_core.sculpt.stroke import PreparedRemesh
 
 if TYPE_CHECKING:
     from app.main_window import MainWindow
@@ -32,6 +35,8 @@ __all__ = ["BACKGROUND_SUBDIVISION_FACES", "MeshEdits"]
 #: Meshes with at least this many faces are subdivided off the GUI thread: the 124k-face ogre
 #: took 0.26-0.37 s here (a loaded machine), the 2M-face one 2.3 s.
 BACKGROUND_SUBDIVISION_FACES = 50_000
+_WORKING = {"subdivide": "subdividing", "remesh": "remeshing"}
+_DONE_TO = {"subdivide": "subdivided", "remesh": "remeshed"}
 
 
 class MeshEdits(QObject):
@@ -46,6 +51,7 @@ class MeshEdits(QObject):
         self._runner.failed.connect(self._failed)
         self._runner.cancelled.connect(lambda _job: self._end_job())
         self._job: int | None = None
+        self._job_kind = "subdivide"  # what the running job does ("subdivide" or "remesh")
         self._job_started = 0.0
         self._progress_bar = None
         self._shown_faces: np.ndarray | None = None
@@ -64,18 +70,19 @@ class MeshEdits(QObject):
             "subdivide_unmasked",
         )
         menu.addSeparator()
-        # no key yet: Blender's (Ctrl+D) is our Subdivide, and the keymap overlay has no room
-        # for another line at 640 × 420
         self.dynamic_topology_action = action(
-            menu, "D&ynamic Topology", self.toggle_dynamic_topology
+            menu, "D&ynamic Topology", self.toggle_dynamic_topology, "dynamic_topology"
         )
         self.dynamic_topology_action.setCheckable(True)
         model = self.window.model
         model.events.dynamic_topology.connect(
             lambda event: self.dynamic_topology_action.setChecked(bool(event.value))
         )
+        # the cursor's detail circle follows (once the engine has the new settings)
+        for event in (model.events.dynamic_topology, model.events.detail_size):
+            event.connect(lambda _event: QTimer.singleShot(0, self.window.viewport.refresh_cursor))
         action(menu, "Detail Si&ze…", self.ask_detail_size)
-        action(menu, "&Remesh", self.remesh)
+        self.remesh_action = action(menu, "&Remesh", self.remesh, "remesh")
         action(menu, "Remesh Un&masked", lambda: self.remesh(unmasked_only=True))
         menu.addSeparator()
         action(menu, "&Invert Mask", self.invert_mask, "mask_invert")
@@ -92,13 +99,16 @@ class MeshEdits(QObject):
 
     @property
     def busy(self) -> bool:
-        """A subdivision is being computed."""
+        """A subdivision or a remesh is being computed."""
         return self._job is not None
 
     def refusal(self) -> str | None:
         """Why the mesh may not change now (a subdivision runs), or None."""
         if self.busy:
-            return "the mesh is being subdivided (see the status bar); wait until it is done"
+            return (
+                f"the mesh is being {_DONE_TO[self._job_kind]} (see the status bar); wait until "
+                "it is done"
+            )
         return None
 
     def attach(self) -> None:
@@ -111,11 +121,11 @@ class MeshEdits(QObject):
         self.window.viewport.show_mask_of(sculptor)
 
     def cancel(self) -> None:
-        """Drop a running subdivision (closing the window)."""
+        """Drop a running subdivision or remesh (closing the window)."""
         self._runner.cancel()
 
     def wait(self, msecs: int = -1) -> bool:
-        """Block until a running subdivision is computed and adopted (tests)."""
+        """Block until a running subdivision or remesh is computed and adopted (tests)."""
         return self._runner.wait(msecs)
 
     # -- view --------------------------------------------------------------------------------
@@ -191,8 +201,15 @@ class MeshEdits(QObject):
             model.detail_size = None if value < 0.01 else value / 100.0
 
     def remesh(self, unmasked_only: bool = False) -> None:
-        """Mesh → Remesh or Remesh Unmasked: edges of the detail size (or, without
-        one, of the mesh's median edge length) all over, one undo step."""
+        """Mesh → Remesh (Ctrl+R) or Remesh Unmasked: edges of the detail size (or, without
+        one, of the mesh's median edge length) all over, one undo step. Computed off the GUI
+        thread on a copy of the mesh, with progress in the status bar; Ctrl+R again (or Remesh
+        Unmasked) while it runs cancels it, the mesh untouched."""
+        if self._job is not None and self._job_kind == "remesh":
+            self._runner.cancel(self._job)
+            self._end_job()
+            self.window.flash("Remesh cancelled: the mesh is unchanged")
+            return
         if not self._ready("remesh"):
             return
         sculptor = self._sculptor
@@ -201,19 +218,33 @@ class MeshEdits(QObject):
         size = self.window.model.detail_size
         if size is None:
             size = median_edge_length(sculptor.vertices, sculptor.faces) / sculptor.model_size
-        self._job_started = time.perf_counter()
-        QGuiApplication.setOverrideCursor(Qt.CursorShape.WaitCursor)
         try:
-            sculptor.remesher.remesh(size, unmasked_only)
+            prepared = sculptor.remesher.prepare(size, unmasked_only)
         except (ValueError, RuntimeError) as exc:
             self.window.show_error("Cannot remesh", str(exc))
             return
-        finally:
-            QGuiApplication.restoreOverrideCursor()
-        seconds = time.perf_counter() - self._job_started
+        self._job_started = time.perf_counter()
+        self._start_job("remesh", lambda task: prepared.compute(task.progress))
+        self.window.flash(
+            f"Remeshing {len(sculptor.faces):,} faces to {100 * size:.3g} % of the model size… "
+            "(Ctrl+R again cancels)"
+        )
+
+    def _remeshed(self, prepared: PreparedRemesh) -> None:
+        sculptor = self._sculptor
+        op = prepared.op
+        try:
+            sculptor.remesher.remesh(
+                op.detail_size, op.unmasked_only, op.iterations, prepared=prepared
+            )
+        except (ValueError, RuntimeError) as exc:
+            self.window.show_error("Cannot remesh", str(exc))
+            return
+        self.last_seconds = time.perf_counter() - self._job_started
         self._edited(
-            f"Remeshed to {100 * size:.3g} % of the model size: {len(sculptor.vertices):,} "
-            f"vertices, {len(sculptor.faces):,} faces in {seconds:.1f} s (Ctrl+Z undoes it)"
+            f"Remeshed to {100 * op.detail_size:.3g} % of the model size: "
+            f"{len(sculptor.vertices):,} vertices, {len(sculptor.faces):,} faces in "
+            f"{self.last_seconds:.1f} s (Ctrl+Z undoes it)"
         )
 
     def subdivide(self, unmasked_only: bool = False) -> None:
@@ -232,19 +263,26 @@ class MeshEdits(QObject):
             self._subdivided()
             return
         source = sculptor.mesh
-        self._job = self._runner.submit(
-            lambda task: prepare_subdivision(source, unmasked_only, task.progress)
+        self._start_job(
+            "subdivide", lambda task: prepare_subdivision(source, unmasked_only, task.progress)
         )
+        self.window.flash(f"Subdividing {len(source.faces):,} faces…")
+
+    def _start_job(self, kind: str, work: Callable[[Task], object]) -> None:
+        """Run ``work`` off the GUI thread, its progress in the status bar; the mesh actions
+        wait (except the remesh keys, which cancel a remesh)."""
+        self._job_kind = kind
+        self._job = self._runner.submit(work)
         bar = self._bar()
+        bar.setFormat(f"{_WORKING[kind]} %p%")
         bar.setValue(0)
         bar.show()
         self._enable(False)
-        self.window.flash(f"Subdividing {len(source.faces):,} faces…")
 
     def _bar(self):
         if self._progress_bar is None:
             self._progress_bar = self.window.status.add_progress(
-                100, "subdividing %p%", "Loop subdivision of the mesh; sculpting waits for it"
+                100, "subdividing %p%", "The mesh is being rebuilt; sculpting waits for it"
             )
         return self._progress_bar
 
@@ -256,7 +294,7 @@ class MeshEdits(QObject):
         if job == self._job:
             self._bar().setValue(round(100 * fraction))
 
-    def _prepared(self, job: int, prepared: PreparedSubdivision) -> None:
+    def _prepared(self, job: int, prepared: PreparedSubdivision | PreparedRemesh) -> None:
         """The background job ended: say that the new mesh is being shown (adopting it and the
         first frame of a 4M-vertex mesh take seconds on the GUI thread here, measured 0.4 s
         and 3 s), let the message and a busy cursor paint, then adopt it."""
@@ -264,6 +302,10 @@ class MeshEdits(QObject):
             return
         self._bar().setFormat("showing the mesh…")
         self._bar().setValue(100)
+        if isinstance(prepared, PreparedRemesh):
+            self._end_job()
+            self._remeshed(prepared)
+            return
         vertices = len(prepared.result.vertices)
         self.window.flash(f"Showing the subdivided mesh ({vertices:,} vertices)…")
         QGuiApplication.setOverrideCursor(Qt.CursorShape.WaitCursor)
@@ -287,14 +329,14 @@ class MeshEdits(QObject):
 
     def _failed(self, job: int, error: Exception) -> None:
         if job == self._job:
+            title = f"Cannot {self._job_kind}"
             self._end_job()
-            self.window.show_error("Cannot subdivide", f"{type(error).__name__}: {error}")
+            self.window.show_error(title, f"{type(error).__name__}: {error}")
 
     def _end_job(self) -> None:
         self._job = None
         if self._progress_bar is not None:
             self._progress_bar.hide()
-            self._progress_bar.setFormat("subdividing %p%")
         self._enable(True)
 
     def _subdivided(self) -> None:

@@ -113,6 +113,8 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         self.left_on_background = "sculpt"
         #: Depth (display z) of the drag plane while the left button drags on the model.
         self._drag_depth: float | None = None
+        #: The stroke gave the mesh new faces (dynamic topology), drawn without a full rebuild.
+        self._faces_in_stroke = False
         #: The camera drag going on: (the Qt button held, VTK's button doing the gesture).
         self._camera: tuple[Qt.MouseButton, Qt.MouseButton] | None = None
         #: A left drag that started off the model, waiting to reach it (Blender's habit).
@@ -223,7 +225,12 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         window about refusals, errors and step times."""
         sculptor = self.tools.sculptor if self.tools is not None else None
         if sculptor is not None and self._faces is not None and sculptor.faces is not self._faces:
-            self.faces_replaced.emit()  # the window shows the new mesh (vertices and faces)
+            if self.in_stroke:  # dynamic topology: drawn at once, indexed when the stroke ends
+                self.set_mesh(sculptor.vertices, sculptor.faces, False, in_stroke=True)
+                self.show_mask_of(sculptor)
+                self._faces_in_stroke = True
+            else:
+                self.faces_replaced.emit()  # the window shows the new mesh (vertices and faces)
         elif sculptor is not None and update.all_moved:
             self.update_vertices(sculptor.vertices)
         elif sculptor is not None and update.moved is not None:
@@ -510,6 +517,9 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
             self._flush_timer.stop()
             if self.tools is not None:
                 self.draw(self.tools.release(), "Brush stopped")
+            if self._faces_in_stroke:  # the whole new mesh shown and indexed, once
+                self._faces_in_stroke = False
+                self.faces_replaced.emit()
             self.stroke_ended.emit()
             # the ring leaves where the stroke acted for the surface under the pointer now
             self._hover_pos = ev.position()

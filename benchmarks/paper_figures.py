@@ -327,9 +327,11 @@ def dynamic_topology_figure(out: Path) -> None:
             scalar_bar_args={
                 "title": "smallest angle (deg)",
                 "n_labels": 4,
-                "vertical": True,
-                "position_x": 0.8,
-                "position_y": 0.1,
+                "vertical": False,  # top right, clear of the spike in the middle
+                "position_x": 0.58,
+                "position_y": 0.86,
+                "width": 0.38,
+                "height": 0.08,
             },
         )
         plotter.add_text(title, font_size=11, color="black")

@@ -189,18 +189,20 @@ class MeshState:
             None if self.uv_faces is None else compact_faces(self.uv_faces),
         )
 
-    def adopt(self, mesh: MeshSnapshot) -> None:
+    def adopt(self, mesh: MeshSnapshot, owned: bool = False) -> None:
         """Take the arrays of ``mesh`` (copies; a new face array, a new :attr:`topology`);
-        the model's size and origin stay."""
-        faces = np.array(mesh.faces, dtype=np.int64)
+        the model's size and origin stay. ``owned``: its arrays are new, writable, float64 and
+        int64, nobody else's (dynamic topology's): taken as they are, no copy."""
+        take = np.asarray if owned else np.array
+        faces = take(mesh.faces, dtype=np.int64)
         same = faces.shape == self.faces.shape and np.array_equal(faces, self.faces)
-        self.vertices = np.array(mesh.vertices, dtype=np.float64)
+        self.vertices = take(mesh.vertices, dtype=np.float64)
         self.faces = self.faces if same else faces
-        self.mask = np.array(mesh.mask, dtype=np.float64)
+        self.mask = take(mesh.mask, dtype=np.float64)
         self.masked = bool(np.any(self.mask))
         self.mask_version += 1
-        self.uv = None if mesh.uv is None else np.array(mesh.uv, dtype=np.float64)
-        self.uv_faces = None if mesh.uv_faces is None else np.array(mesh.uv_faces, np.int64)
+        self.uv = None if mesh.uv is None else take(mesh.uv, dtype=np.float64)
+        self.uv_faces = None if mesh.uv_faces is None else take(mesh.uv_faces, dtype=np.int64)
         if not same:
             self.topology += 1
             self._edges = self._neighbours = None

@@ -36,6 +36,7 @@ remesh replays bit for bit.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import cast
 
@@ -124,12 +125,13 @@ def strained_vertices(
     """(N,) bool: the corners of faces one of whose sides changed, as a vector, by more than
     ``tolerance`` times its length from ``reference`` (N, 3) to ``vertices`` (N, 3): where a
     motion stretched, sheared or turned the surface (a rigid shift strains nothing; the measure
-    does not depend on how fine the mesh is)."""
-    shift = vertices - reference
+    does not depend on how fine the mesh is). Its cost is that of ``faces``: pass the faces
+    around the vertices that moved, not every face, to measure a small region of a big mesh."""
     strained = np.zeros(len(faces), dtype=bool)
     for k in range(3):
         a, b = faces[:, k], faces[:, (k + 1) % 3]
-        change, side = shift[b] - shift[a], reference[b] - reference[a]
+        change = (vertices[b] - reference[b]) - (vertices[a] - reference[a])
+        side = reference[b] - reference[a]
         changed = np.einsum("ij,ij->i", change, change)
         strained |= changed > tolerance * tolerance * np.einsum("ij,ij->i", side, side)
     out = np.zeros(len(vertices), dtype=bool)
@@ -429,6 +431,7 @@ def remesh(
     uv_faces: np.ndarray | None = None,
     locked: np.ndarray | None = None,
     iterations: int = 3,
+    progress: Callable[[float], None] | None = None,
 ) -> RemeshedMesh:
     """Isotropic remeshing of the faces around ``region`` (see the module docstring).
 
@@ -443,6 +446,8 @@ def remesh(
     uv : (T, 2) float64 and uv_faces : (M, 3) int64 (-1 rows: untextured faces), optional.
     locked : (N,) bool, optional: vertices that never move and are never removed (pins).
     iterations : rounds of split, collapse, flip and relaxation.
+    progress : called with the fraction done (0 < fraction < 1) after each round, optional; it
+        may raise to cancel (nothing of the input is changed).
     """
     vertices = np.asarray(vertices, dtype=np.float64)
     faces = np.asarray(faces, dtype=np.int64)
@@ -452,25 +457,29 @@ def remesh(
     region = np.asarray(region, dtype=bool)
     if region.shape != (n,):
         raise ValueError(f"region must have shape ({n},) (got {region.shape})")
-    held = np.zeros(n, dtype=bool) if locked is None else np.asarray(locked, dtype=bool).copy()
-    mask_in = np.zeros(n) if mask is None else np.asarray(mask, dtype=np.float64)
-    held |= mask_in >= MASK_THRESHOLD
     in_patch = np.any(region[faces], axis=1)
     local = np.unique(faces[in_patch])  # the patch's vertices, ascending
     patch_faces = np.searchsorted(local, faces[in_patch])
+    # only the patch's rows are read: the cost is the region's, not the mesh's
+    mask_local = np.zeros(len(local)) if mask is None else np.asarray(mask, np.float64)[local]
+    held = mask_local >= MASK_THRESHOLD
+    if locked is not None:
+        held |= np.asarray(locked, dtype=bool)[local]
     patch = _Patch(
-        vertices[local].copy(),
+        vertices[local],
         patch_faces,
-        region[local].copy(),
-        held[local].copy(),
-        mask_in[local].copy(),
+        region[local],
+        held,
+        mask_local,
         None if uv is None else np.asarray(uv, dtype=np.float64).copy(),
         None if uv_faces is None else np.asarray(uv_faces, dtype=np.int64)[in_patch].copy(),
     )
     L = float(target_length)
     high, low = SPLIT_ABOVE * L, COLLAPSE_BELOW * L
     min_area2 = (2.0 * _MIN_AREA * L * L) ** 2
-    for _ in range(iterations):
+    for done in range(iterations):
+        if progress is not None:
+            progress(done / (iterations + 1))
         for _round in range(_SPLIT_ROUNDS):
             if not patch.split(high):
                 break
@@ -481,6 +490,8 @@ def remesh(
             if not patch.flip(min_area2):
                 break
         patch.relax(min_area2)
+    if progress is not None:
+        progress(iterations / (iterations + 1))
     for _round in range(_SPLIT_ROUNDS):  # what the relaxation stretched past 4/3 L
         if not patch.split(high):
             break
@@ -511,15 +522,24 @@ def _assemble(
     number = np.full(len(patch.points), -1, dtype=np.int64)
     number[:n_local] = kept[local]
     number[added] = n_kept + np.arange(len(added))
-    out_vertices = vertices.copy()
-    out_vertices[local] = patch.points[:n_local]
-    out_vertices = np.concatenate([out_vertices[keep], patch.points[added]])
-    out_faces = np.concatenate([kept[faces[~in_patch]], number[patch.faces]])
+    # each output array written once (no whole-mesh temporaries)
+    out_vertices = np.empty((n_kept + len(added), 3))
+    out_vertices[:n_kept] = vertices[keep] if n_kept < n else vertices
+    moved = keep[local]
+    out_vertices[kept[local[moved]]] = patch.points[:n_local][moved]
+    out_vertices[n_kept:] = patch.points[added]
+    out_faces = np.empty((len(faces) - int(in_patch.sum()) + len(patch.faces), 3), np.int64)
+    n_outside = len(out_faces) - len(patch.faces)
+    outside = faces[~in_patch]  # renumbered only when a vertex was removed
+    out_faces[:n_outside] = outside if n_kept == n else kept[outside]
+    out_faces[n_outside:] = number[patch.faces]
     out_mask = None
     if mask is not None:
-        m = np.asarray(mask, dtype=np.float64).copy()
-        m[local] = patch.mask[:n_local]
-        out_mask = np.concatenate([m[keep], patch.mask[added]])
+        out_mask = np.empty(len(out_vertices))
+        m = np.asarray(mask, dtype=np.float64)
+        out_mask[:n_kept] = m[keep] if n_kept < n else m
+        out_mask[kept[local[moved]]] = patch.mask[:n_local][moved]
+        out_mask[n_kept:] = patch.mask[added]
     out_uv = out_uv_faces = None
     if uv is not None and uv_faces is not None and patch.uv is not None:
         corners = np.concatenate([np.asarray(uv_faces, dtype=np.int64)[~in_patch], patch.uv_faces])
@@ -538,10 +558,12 @@ def remesh_snapshot(
     unmasked_only: bool,
     locked: np.ndarray | None,
     iterations: int,
+    progress: Callable[[float], None] | None = None,
 ) -> MeshSnapshot:
     """Mesh → Remesh: the whole mesh of ``source`` (or its faces not masked, corners below
     :data:`~gogreen_core.mesh.subdivision.MASK_THRESHOLD`) remeshed to ``target_length`` (model
-    units) with its mask and UVs; read-only and compact, the after-side of its undo step."""
+    units) with its mask and UVs; read-only and compact, the after-side of its undo step.
+    ``progress``: as for :func:`remesh`."""
     mask = np.asarray(source.mask, dtype=np.float64)
     region = mask < MASK_THRESHOLD if unmasked_only else np.ones(len(mask), dtype=bool)
     done = remesh(
@@ -554,6 +576,7 @@ def remesh_snapshot(
         uv_faces=None if source.uv_faces is None else np.asarray(source.uv_faces, np.int64),
         locked=locked,
         iterations=iterations,
+        progress=progress,
     )
     assert done.mask is not None
     return MeshSnapshot.frozen(done.vertices, done.faces, done.mask, done.uv, done.uv_faces)

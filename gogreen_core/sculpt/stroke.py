@@ -25,6 +25,9 @@ the faces around the vertices whose sides the stroke strained by more than
 :data:`STRAIN_TOLERANCE` of their length since they were last remeshed, or that moved at least
 :data:`CORE_MOTION` of the most any vertex did (the brush's core), grown by a ring, are
 remeshed to the detail size (:mod:`gogreen_core.mesh.remesh`), the vertices nearest the pins locked.
+The measures read only the rows moved since they were last remeshed and the faces this event
+moved, the remesh only its patch; what remains per event over the whole mesh is a few
+memory-bound passes (finding the faces of the moved rows, writing the new arrays).
 Such a stroke's undo step holds the whole mesh before and after it (as a subdivision's does).
 """
 
@@ -65,6 +68,7 @@ __all__ = [
     "CORE_MOTION",
     "DYNAMIC_ITERATIONS",
     "STRAIN_TOLERANCE",
+    "PreparedRemesh",
     "Remesher",
     "StrokeDriver",
     "blend_by_mask",
@@ -102,6 +106,8 @@ class _Stroke:
     reference: np.ndarray | None = None
     detail: float | None = None
     kernels: KernelCache | None = None  # the surface frame's, fixed at the first event
+    # the rows (ascending) moved since they were last remeshed: only their faces can be strained
+    unsettled: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
 
 
 class StrokeDriver:
@@ -219,12 +225,20 @@ class StrokeDriver:
         detail = stroke.detail
         if not detail > 0:  # a region of coincident vertices: nothing to measure by
             return False
-        strained = strained_vertices(stroke.reference, mesh.vertices, mesh.faces, STRAIN_TOLERANCE)
+        # every other vertex is where it was last remeshed (or where the stroke began): the
+        # measures below read the rows moved since and their faces, not the whole mesh. A face
+        # this event did not move strains as it did after the last event: not enough (else it
+        # was remeshed, which settled its corners), so only this event's faces are measured.
+        unsettled = stroke.unsettled = np.union1d(stroke.unsettled, rows)
+        around = np.zeros(len(mesh.vertices), dtype=bool)
+        around[rows] = True
+        faces = mesh.faces[np.flatnonzero(np.any(around[mesh.faces], axis=1))]
+        strained = strained_vertices(stroke.reference, mesh.vertices, faces, STRAIN_TOLERANCE)
         # and the brush's core: what moved at least CORE_MOTION of the most any vertex did
         # (refined to a detail size finer than the surface even where nothing stretches)
-        shift = mesh.vertices - stroke.reference
+        shift = mesh.vertices[unsettled] - stroke.reference[unsettled]
         moved2 = np.einsum("ij,ij->i", shift, shift)
-        strained |= (moved2 > 0) & (moved2 >= CORE_MOTION**2 * moved2.max())
+        strained[unsettled] |= (moved2 > 0) & (moved2 >= CORE_MOTION**2 * moved2.max())
         if not strained.any():
             return False
         if stroke.start is None:  # the topology is still the stroke's start's
@@ -246,13 +260,17 @@ class StrokeDriver:
             locked=self.pinned_vertices(),
             iterations=DYNAMIC_ITERATIONS,
         )
+        # the remeshed vertices settle where they are now; the others keep their references
+        # (only the unsettled rows have one that is not their position)
         reference = done.vertices.copy()
-        old = np.flatnonzero(done.kept >= 0)
-        untouched = ~done.changed[done.kept[old]]
-        reference[done.kept[old[untouched]]] = stroke.reference[old[untouched]]
-        stroke.reference = reference
+        now = done.kept[unsettled]
+        still = now >= 0
+        still[still] = ~done.changed[now[still]]
+        reference[now[still]] = stroke.reference[unsettled[still]]
+        stroke.reference, stroke.unsettled = reference, now[still]
         assert done.mask is not None
-        mesh.adopt(MeshSnapshot(done.vertices, done.faces, done.mask, done.uv, done.uv_faces))
+        new_mesh = MeshSnapshot(done.vertices, done.faces, done.mask, done.uv, done.uv_faces)
+        mesh.adopt(new_mesh, owned=True)
         return True
 
     def _write(self, stroke: _Stroke, moved: Displacement) -> None:
@@ -328,6 +346,36 @@ class StrokeDriver:
                 self.mesh.set_mask_rows(MaskRows(np.arange(len(stroke.before)), stroke.mask_before))
 
 
+@dataclass(frozen=True)
+class PreparedRemesh:
+    """A Mesh → Remesh computed ahead (:meth:`Remesher.prepare`, :meth:`compute` on any thread),
+    adopted by :meth:`Remesher.remesh` if the mesh is still ``before``."""
+
+    op: Remesh
+    before: MeshSnapshot
+    length: float  # the target edge length, model units
+    locked: np.ndarray  # (N,) bool: the pins' vertices
+    result: list[MeshSnapshot] = field(default_factory=list)  # the after-side, once computed
+
+    def compute(self, progress: Callable[[float], None] | None = None) -> PreparedRemesh:
+        """Remesh ``before`` (``progress(fraction)`` may raise to cancel); returns itself."""
+        op = self.op
+        after = remesh_snapshot(
+            self.before, self.length, op.unmasked_only, self.locked, op.iterations, progress
+        )
+        self.result[:] = [after]
+        return self
+
+    def made_from(self, mesh: MeshSnapshot | MeshState) -> bool:
+        """``mesh`` has the arrays this remesh was computed from."""
+        b = self.before
+        return bool(
+            np.array_equal(b.vertices, mesh.vertices)
+            and np.array_equal(b.faces, mesh.faces)
+            and np.array_equal(b.mask, mesh.mask)
+        )
+
+
 class Remesher:
     """Mesh → Remesh on the mesh of ``strokes`` (whose pins it keeps): one undo step in
     ``history`` and one :class:`Remesh` record in ``log`` each."""
@@ -337,20 +385,41 @@ class Remesher:
     ) -> None:
         self.mesh, self.history, self.log, self.strokes = mesh, history, log, strokes
 
-    def remesh(
+    def prepare(
         self, detail_size: float, unmasked_only: bool = False, iterations: int = REMESH_ITERATIONS
+    ) -> PreparedRemesh:
+        """What :meth:`remesh` with these arguments computes, to compute on another thread
+        (:meth:`PreparedRemesh.compute`, on a copy of the mesh) and adopt with ``prepared``."""
+        self.strokes.refuse("remesh")
+        op = Remesh(detail_size, unmasked_only, iterations)  # checked
+        mesh = self.mesh
+        length, locked = op.detail_size * mesh.model_size, self.strokes.pinned_vertices()
+        return PreparedRemesh(op, mesh.snapshot(), length, locked)
+
+    def remesh(
+        self,
+        detail_size: float,
+        unmasked_only: bool = False,
+        iterations: int = REMESH_ITERATIONS,
+        *,
+        prepared: PreparedRemesh | None = None,
     ) -> None:
         """Remesh the whole mesh, or its faces not masked, to edges of about ``detail_size``
         model sizes (:mod:`gogreen_core.mesh.remesh`; ``iterations`` rounds), mask and UVs carried
         along, the pins' vertices kept, the model's size and origin unchanged: one undo step
-        (undo gives back the previous arrays exactly) and one log entry."""
+        (undo gives back the previous arrays exactly) and one log entry. ``prepared``: the
+        same remesh computed ahead (:meth:`prepare`); a ValueError, nothing changed, if the
+        mesh changed since."""
         self.strokes.refuse("remesh")
-        op = Remesh(detail_size, unmasked_only, iterations)  # checked
-        mesh = self.mesh
-        before = mesh.snapshot()
-        length, locked = op.detail_size * mesh.model_size, self.strokes.pinned_vertices()
-        after = remesh_snapshot(before, length, op.unmasked_only, locked, op.iterations)
-        mesh.adopt(after)
+        if prepared is None:
+            prepared = self.prepare(detail_size, unmasked_only, iterations).compute()
+        op, before = prepared.op, prepared.before
+        if op != Remesh(detail_size, unmasked_only, iterations) or not prepared.result:
+            raise ValueError("the prepared remesh is another one, or not computed: remesh again")
+        if not prepared.made_from(self.mesh):
+            raise ValueError("the mesh changed since the remesh was prepared: remesh again")
+        after = prepared.result[0]
+        self.mesh.adopt(after)
         self.history.record("remesh", _NO_INDEX, _NO_ROWS, _NO_ROWS, state=(before, after))
         self.log.record(op)
 

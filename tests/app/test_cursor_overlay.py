@@ -4,6 +4,7 @@ import pytest
 from gui_helpers import center_of, drag, hover, send
 from PySide6.QtCore import QPoint, QPointF, Qt
 from PySide6.QtGui import QMouseEvent
+from PySide6.QtWidgets import QApplication
 
 
 def test_cursor_shows_radius_and_influence_and_updates_without_a_move(window):
@@ -235,3 +236,22 @@ def test_cursor_shows_the_material_axes_only_for_an_anisotropic_material(window)
     assert window.document.sculptor.settings.material_frame == "world"
     hover(window, center_of(window))
     assert np.allclose(material_frame_at(window.document.sculptor, state.center, 1.0), np.eye(3))
+
+
+def test_cursor_draws_the_detail_size_while_dynamic_topology_is_on(window):
+    vp = window.viewport
+    hover(window, center_of(window))
+    vp.render_now()
+    assert vp.cursor_visible and vp.cursor_overlay.detail_pixels is None
+    window.model.detail_size = 0.02
+    window.model.dynamic_topology = True  # no mouse move: the cursor follows
+    QApplication.processEvents()
+    vp.render_now()
+    eps_px = vp.cursor_overlay.screen[1]
+    radius = window.model.brush.brush.radius  # ε in model sizes
+    # a circle as wide as the edges dynamic topology makes (0.02 model sizes)
+    assert vp.cursor_overlay.detail_pixels == pytest.approx(0.5 * eps_px * 0.02 / radius, rel=0.1)
+    window.model.dynamic_topology = False
+    QApplication.processEvents()
+    vp.render_now()
+    assert vp.cursor_overlay.detail_pixels is None

@@ -149,9 +149,10 @@ def test_dynamic_topology_toggle_a_remeshing_drag_and_remesh(window, qtbot, monk
     window.viewport.setFocus()
     sculptor = window.document.sculptor
     faces, vertices = sculptor.faces.copy(), sculptor.vertices.copy()
-    window.mesh_edits.dynamic_topology_action.trigger()
+    QTest.keyClick(window.viewport, Qt.Key.Key_D, CTRL | ALT)  # Ctrl+Alt+D (Ctrl+D subdivides)
     assert sculptor.settings.dynamic_topology and window.model.dynamic_topology
     assert window.mesh_edits.dynamic_topology_action.isChecked()
+    assert len(sculptor.faces) == len(faces)  # not subdivided
     window.model.detail_size = 0.004  # finer than the model's edges: the drag splits them
     drag_with(window, center_of(window), steps=4)
     assert len(sculptor.faces) > len(faces)
@@ -166,11 +167,58 @@ def test_dynamic_topology_toggle_a_remeshing_drag_and_remesh(window, qtbot, monk
     )
     window.mesh_edits.ask_detail_size()
     assert window.model.detail_size == 0.01 and sculptor.settings.detail_size == 0.01
-    window.mesh_edits.remesh()
-    assert "Remeshed" in window.message_label.text()
+    QTest.keyClick(window.viewport, Qt.Key.Key_R, CTRL)  # Ctrl+R: Remesh (Blender's key)
+    window.mesh_edits.wait()
+    qtbot.waitUntil(lambda: "Remeshed" in window.message_label.text())
     median = median_edge_length(sculptor.vertices, sculptor.faces)
     assert 0.8 < median / (0.01 * sculptor.model_size) < 4.0 / 3.0
     assert window.viewport.mesh.n_cells == len(sculptor.faces)
     assert sculptor.history.undo_labels[-1] == "remesh"
     window.undo()
     assert np.array_equal(sculptor.faces, faces)
+
+
+def test_a_dynamic_topology_drag_draws_new_faces_without_rebuilding_the_view(
+    window, qtbot, monkeypatch
+):
+    """Each event's new faces go into the same actor (no new mesh shown, camera and pins
+    kept); the whole mesh is shown and indexed anew once, when the stroke ends."""
+    activate(window, qtbot)
+    window.viewport.setFocus()
+    sculptor = window.document.sculptor
+    window.model.dynamic_topology = True
+    window.model.detail_size = 0.004
+    viewport = window.viewport
+    rebuilt, drawn = [], []
+    set_mesh = viewport.set_mesh
+
+    def spy(vertices, faces, *args, in_stroke=False, **kwargs):
+        set_mesh(vertices, faces, *args, in_stroke=in_stroke, **kwargs)
+        if in_stroke:
+            drawn.append(viewport.mesh.n_cells == len(faces))
+            assert not rebuilt  # nothing rebuilt during the stroke
+        else:
+            rebuilt.append(1)
+
+    monkeypatch.setattr(viewport, "set_mesh", spy)
+    drag_with(window, center_of(window), steps=4)
+    assert drawn and all(drawn)  # each event's faces drawn as they came
+    assert len(rebuilt) == 1  # once, at the end
+    assert viewport.mesh.n_cells == len(sculptor.faces)
+    assert np.array_equal(viewport.shown_vertices(), sculptor.vertices)
+
+
+def test_remesh_runs_in_the_background_and_ctrl_r_again_cancels_it(window, qtbot):
+    activate(window, qtbot)
+    window.viewport.setFocus()
+    sculptor = window.document.sculptor
+    faces, steps = sculptor.faces.copy(), len(sculptor.history.undo_labels)
+    edits = window.mesh_edits
+    QTest.keyClick(window.viewport, Qt.Key.Key_R, CTRL)
+    assert edits.busy and "remeshed" in edits.refusal()  # strokes and edits wait for it
+    QTest.keyClick(window.viewport, Qt.Key.Key_R, CTRL)  # again: cancelled
+    assert not edits.busy and "cancelled" in window.message_label.text()
+    edits.wait()
+    qtbot.wait(50)
+    assert np.array_equal(sculptor.faces, faces)  # the mesh untouched, no undo step
+    assert len(sculptor.history.undo_labels) == steps

@@ -240,7 +240,8 @@ class CursorController:
     stroke whose pressure shrinks ε, the full ε (``full_radius``, else None) and the radius of
     the region that moves by a tenth of the motion or more (``moving``, :func:`moving_radius`;
     None: unknown) and the material's main directions at a point (``axes``,
-    :func:`~gogreen_core.interaction.tools.material_axes.cursor_axes`; None: none drawn)."""
+    :func:`~gogreen_core.interaction.tools.material_axes.cursor_axes`; None: none drawn) and
+    dynamic topology's edge length (``detail``, None while it is off)."""
 
     def __init__(
         self,
@@ -250,6 +251,7 @@ class CursorController:
         full_radius: Callable[[], float | None],
         moving: Callable[[], float | None] | None = None,
         axes: Callable[[np.ndarray], np.ndarray | None] | None = None,
+        detail: Callable[[], float | None] | None = None,
     ) -> None:
         self.radius = radius
         self.influence = influence
@@ -257,6 +259,7 @@ class CursorController:
         self.full_radius = full_radius
         self.moving = moving or (lambda: None)
         self.axes = axes or (lambda point: None)
+        self.detail = detail or (lambda: None)
         self.state: CursorState | None = None
         self._normal: np.ndarray | None = None
 
@@ -280,6 +283,7 @@ class CursorController:
             self.full_radius(),
             self.moving(),
             self.axes(center),
+            self.detail(),
         )
         return self.state
 

@@ -46,7 +46,8 @@ class CursorState:
     :func:`gogreen_core.interaction.tools.moving_radius`; what the ring shows, None when
     unknown) and ``axes`` (3, 3), rows: the material's main directions where the cursor rests,
     scaled 0-1 (:func:`~gogreen_core.interaction.tools.material_axes.cursor_axes`), None for an
-    isotropic material."""
+    isotropic material; ``detail`` (model units: while dynamic topology is on, the edge length it
+    remeshes to, drawn as a small circle of that diameter at the centre; else None)."""
 
     center: np.ndarray
     normal: np.ndarray
@@ -57,6 +58,7 @@ class CursorState:
     full_radius: float | None = None
     moving_radius: float | None = None
     axes: np.ndarray | None = None
+    detail: float | None = None
 
     def ring_matrix(self) -> np.ndarray:
         """(4, 4) transform placing the unit circle of the xy plane on the surface (lifted by

@@ -478,3 +478,21 @@ def test_nothing_changed_names_the_brush_by_its_row_label(sculptor):
         update = tools.release()
         assert update.note is not None
         assert update.note.startswith(f"Nothing changed: the {label} stroke moved no vertex")
+
+
+def test_the_cursor_carries_the_detail_size_while_dynamic_topology_is_on(sculptor):
+    """Dynamic topology off: no detail; on: the detail size in model units, or without one
+    the surface's own edge length (what a stroke remeshes to)."""
+    from dataclasses import replace
+
+    from gogreen_core.mesh.remesh import median_edge_length
+
+    tools = tools_for(sculptor)
+    tools.hover(at(NORTH, normal=NORTH))
+    assert tools.flush().cursor.detail is None
+    sculptor.apply_settings(replace(sculptor.settings, dynamic_topology=True))
+    state = tools.cursor.refresh()
+    own = median_edge_length(sculptor.vertices, sculptor.faces)
+    assert state.detail == pytest.approx(own)
+    sculptor.apply_settings(replace(sculptor.settings, detail_size=0.01))
+    assert tools.cursor.refresh().detail == pytest.approx(0.01 * sculptor.model_size)

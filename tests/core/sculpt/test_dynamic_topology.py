@@ -336,3 +336,111 @@ def test_settings_round_trip_and_old_files_stay_as_they_were():
     assert EngineSettings.from_dict(data) == settings
     with pytest.raises(ParameterError):
         Sculptor(*icosphere(2)).remesher.remesh(None)  # type: ignore[arg-type]
+
+
+# -- mirror symmetry ------------------------------------------------------------------------------
+def test_a_mirrored_pull_stays_mirror_symmetric_to_within_an_edge():
+    """What holds with mirror symmetry (issue 34): both pulled sides are remeshed alike, each
+    to the detail size, and the shape stays symmetric to within a fraction of the edge length
+    (each vertex's mirror image lies that near the surface); the triangulations of the two
+    sides are not mirror images of each other (the remesh visits edges in index order)."""
+    vertices, faces = icosphere(4)  # symmetric across x = 0
+    median = median_edge_length(vertices, faces)
+    sculptor = Sculptor(
+        vertices, faces, settings=EngineSettings(material=CUBIC, dynamic_topology=True)
+    )
+    direction = np.array([0.6, 0.0, 0.8])
+    row = int(np.argmax(vertices @ direction))
+    center = vertices[row].copy()
+    step = 0.02 * sculptor.model_size * direction
+    sculptor.begin_stroke(Brush("grab", radius=0.08, symmetry="x"))
+    for _ in range(12):
+        sculptor.stroke_event(BrushEvent(center=center, delta=step))
+        center = center + step
+    sculptor.end_stroke()
+    pulled, cells = sculptor.vertices, sculptor.faces
+    assert len(pulled) > len(vertices)  # remeshed
+    euler_and_check(pulled, cells)
+    assert edge_lengths(pulled, cells).max() <= 2.0 * median
+    mirrored = pulled * np.array([-1.0, 1.0, 1.0])
+    gap = distance_to_surface(mirrored, pulled, cells)
+    assert gap.max() <= 0.5 * median, gap.max() / median
+    # both spikes are there and alike: as many vertices on each side of the plane, nearly
+    right, left = np.sum(pulled[:, 0] > 0.05), np.sum(pulled[:, 0] < -0.05)
+    assert abs(right - left) <= 0.05 * right
+    tip = pulled[np.argmax(pulled @ direction)]
+    other = pulled[np.argmax(pulled @ (direction * [-1.0, 1.0, 1.0]))]
+    assert np.linalg.norm(tip * [-1.0, 1.0, 1.0] - other) <= 0.5 * median
+
+
+# -- Mesh → Remesh computed ahead (off the GUI thread) ------------------------------------------
+def test_a_prepared_remesh_reports_progress_cancels_cleanly_and_refuses_a_changed_mesh():
+    vertices, faces = icosphere(3)
+    sculptor = Sculptor(vertices, faces)
+    size = 1.5 * median_edge_length(vertices, faces) / sculptor.model_size
+    prepared = sculptor.remesher.prepare(size)
+    assert np.array_equal(sculptor.faces, faces)  # preparing changes nothing
+
+    def cancel(fraction: float) -> None:
+        raise KeyboardInterrupt  # what a cancelled background task raises
+
+    with pytest.raises(KeyboardInterrupt):
+        prepared.compute(cancel)
+    with pytest.raises(ValueError, match="not computed"):
+        sculptor.remesher.remesh(size, prepared=prepared)
+    fractions: list[float] = []
+    prepared.compute(fractions.append)
+    assert fractions == sorted(fractions) and 0 <= fractions[0] and fractions[-1] < 1
+    assert len(fractions) > 1
+    assert np.array_equal(sculptor.faces, faces)  # computing on its copy changes nothing
+    direct = Sculptor(vertices, faces)
+    direct.remesher.remesh(size)
+    sculptor.remesher.remesh(size, prepared=prepared)
+    assert np.array_equal(sculptor.faces, direct.faces)
+    assert np.array_equal(sculptor.vertices, direct.vertices)
+    assert sculptor.history.undo_labels[-1] == "remesh"
+    sculptor.undo()
+    assert np.array_equal(sculptor.faces, faces) and np.array_equal(sculptor.vertices, vertices)
+    # the mesh changed since it was prepared: refused, nothing changed
+    stale = sculptor.remesher.prepare(size).compute()
+    sculptor.begin_stroke(Brush("grab", radius=0.1))
+    sculptor.stroke_event(BrushEvent(center=vertices[0], delta=np.array([0.0, 0.0, 0.05])))
+    sculptor.end_stroke()
+    moved = sculptor.vertices.copy()
+    with pytest.raises(ValueError, match="changed since"):
+        sculptor.remesher.remesh(size, prepared=stale)
+    assert np.array_equal(sculptor.vertices, moved) and np.array_equal(sculptor.faces, faces)
+
+
+# -- per-event cost: the region's, not the mesh's -------------------------------------------------
+def test_each_event_measures_strain_only_on_the_faces_it_moved(monkeypatch):
+    """Dynamic topology reads the faces around the rows an event moved, not every face, and
+    takes the remeshed arrays without copying them again."""
+    vertices, faces = icosphere(5)
+    sculptor = Sculptor(
+        vertices, faces, settings=EngineSettings(material=CUBIC, dynamic_topology=True)
+    )
+    measured: list[int] = []
+    strained = stroke_module.strained_vertices
+
+    def spy(reference, points, cells, tolerance):
+        measured.append(len(cells))
+        return strained(reference, points, cells, tolerance)
+
+    monkeypatch.setattr(stroke_module, "strained_vertices", spy)
+    adopted = []
+    state = sculptor._mesh
+    adopt = state.adopt
+    monkeypatch.setattr(
+        state, "adopt", lambda mesh, owned=False: adopted.append(mesh) or adopt(mesh, owned)
+    )
+    center = vertices[int(np.argmax(vertices[:, 2]))].copy()
+    step = np.array([0.0, 0.0, 0.01 * sculptor.model_size])
+    sculptor.begin_stroke(Brush("grab", radius=0.03, influence=2.0))
+    for _ in range(6):
+        sculptor.stroke_event(BrushEvent(center=center, delta=step))
+        center = center + step
+    sculptor.end_stroke()
+    assert measured and max(measured) < 0.1 * len(faces)
+    assert adopted and state.vertices is adopted[-1].vertices  # no copy
+    assert state.faces is adopted[-1].faces
