@@ -25,23 +25,11 @@ The environment variable ``GOGREEN_COMPILE`` chooses: ``child`` (the default), `
 NumPy evaluation serves everything not compiled by an explicit :func:`prepare`; for tests and
 for machines where numba cannot compile).
 
-One compilation per cache at a time, across processes: before compiling units missing from the
-disk cache, the worker takes an exclusive lock on ``gogreen-compile.lock`` beside numba's cache
-(:func:`cache_folder`; ``fcntl.flock``) and hands it to the compiling child, which holds it to
-its end. A second process finding the lock held keeps evaluating in NumPy and waits for it (on
-its worker thread), then loads what the holder compiled and compiles only what is still missing:
-never the same code twice at once. The kernel frees the lock of a holder that died, so a stale
-lock is taken over at once. The lock file names the holder (its pid, its parent, its units) and
-``gogreen-compile.log`` beside it keeps a line per compilation started.
-
-A process exiting while its child compiles does not wait: the child runs on detached (its own
-session, so a closed terminal or Ctrl+C does not stop it), keeps the lock, finishes the numba
-disk cache for the next run, and the exiting process says so on stderr (its pid, the units).
+One compilation per cache at a time, across processes: see ``_compile_lock``.
 """
 
 from __future__ import annotations
 
-import atexit
 import os
 import subprocess
 import sys
@@ -50,9 +38,10 @@ import time
 import traceback
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
-from pathlib import Path
 from types import ModuleType
 from typing import Any
+
+from gogreen_core._compile_lock import LOCK_HELD_VARIABLE, CacheLock, compile_holder, running
 
 #: A unit of compilation: DRIVERS, GEOMETRY, BRUSHES, MESH_IO or (l_first, l_last) of an
 #: angular kernel (registered as :data:`ANGULAR`).
@@ -70,7 +59,6 @@ __all__ = [
     "Progress",
     "add_progress_listener",
     "brushes",
-    "cache_folder",
     "compile_holder",
     "drivers",
     "forced",
@@ -401,7 +389,7 @@ def _work() -> None:
                 return
         missing = [u for u in units if not _cached(u)]
         # waits while another process compiles; what it compiled is loaded, not compiled again
-        lock = _CacheLock.take() if missing else None
+        lock = CacheLock.take() if missing else None
         try:
             if lock is not None and lock.waited:
                 missing = [u for u in missing if not _cached(u)]
@@ -411,7 +399,7 @@ def _work() -> None:
                 lock.release()
 
 
-def _bring_in(units: list[Unit], missing: list[Unit], lock: _CacheLock | None) -> None:
+def _bring_in(units: list[Unit], missing: list[Unit], lock: CacheLock | None) -> None:
     """Compile ``missing`` (in a child where one can run, each unit loaded here as soon as the
     child has it in the disk cache: the first ones serve while it compiles the rest), then
     load the other ``units``."""
@@ -528,7 +516,7 @@ def _can_spawn() -> bool:
 def _compile_in_child(
     units: Iterable[Unit],
     unit_compiled: Callable[[Unit], None] = lambda unit: None,
-    lock: _CacheLock | None = None,
+    lock: CacheLock | None = None,
 ) -> bool:
     """Compile ``units`` into numba's disk cache in a child process; True if it succeeded.
     Each argument names the modules that register the unit, then the unit:
@@ -539,7 +527,7 @@ def _compile_in_child(
     for unit in units:
         modules = ",".join(dict.fromkeys(part.module for part in _parts(unit)))
         by_arg[f"{modules}=" + (unit if isinstance(unit, str) else f"{unit[0]}:{unit[1]}")] = unit
-    env = dict(os.environ, **{_MODE_VARIABLE: "thread", _LOCK_HELD_VARIABLE: "1"})
+    env = dict(os.environ, **{_MODE_VARIABLE: "thread", LOCK_HELD_VARIABLE: "1"})
     # the child imports what this process does: an application embedding Python (Blender)
     # adds folders to sys.path at run time (its extensions' wheels) that no child would know
     env["PYTHONPATH"] = os.pathsep.join(p for p in sys.path if p)
@@ -558,7 +546,7 @@ def _compile_in_child(
         return False
     if lock is not None:
         lock.note_holder(child.pid, list(by_arg))
-    _children.add(child)
+    running.add(child)
     timer = threading.Timer(CHILD_TIMEOUT, child.kill)
     timer.daemon = True
     timer.start()
@@ -570,111 +558,7 @@ def _compile_in_child(
         return child.wait() == 0
     finally:
         timer.cancel()
-        _children.discard(child)
-
-
-#: Compiling children of this process still running (said on stderr at exit).
-_children: set[subprocess.Popen[str]] = set()
-#: Set in a compiling child's environment: its parent's lock is its own (it takes none).
-_LOCK_HELD_VARIABLE = "GOGREEN_COMPILE_LOCK_HELD"
-LOCK_NAME = "gogreen-compile.lock"
-LOG_NAME = "gogreen-compile.log"
-
-
-def cache_folder() -> Path:
-    """The folder of numba's disk cache of gogreen_core, where the compile lock lives:
-    ``NUMBA_CACHE_DIR`` when set, else the package's ``__pycache__`` (numba's cache beside the
-    sources) when writable, else a folder of the system's temporary directory."""
-    configured = os.environ.get("NUMBA_CACHE_DIR", "").strip()
-    if configured:
-        return Path(configured)
-    beside = Path(__file__).resolve().parent / "__pycache__"
-    if os.access(beside if beside.is_dir() else beside.parent, os.W_OK):
-        return beside
-    import tempfile
-
-    return Path(tempfile.gettempdir()) / f"gogreen-numba-{os.getuid()}"
-
-
-class _CacheLock:
-    """The exclusive ``flock`` on ``cache_folder() / LOCK_NAME`` of the process (or its
-    compiling child) compiling into numba's disk cache. ``waited``: another process held it
-    when asked (it may have compiled what was missing)."""
-
-    def __init__(self, fd: int, waited: bool) -> None:
-        self.fd, self.waited = fd, waited
-
-    @classmethod
-    def take(cls) -> _CacheLock | None:
-        """Take the lock, waiting while another process holds it (polling, so a holder's death
-        or end is seen within a quarter second); None where no lock can be taken (no fcntl, a
-        folder that cannot be written, or a compiling child: its parent's lock is its own)."""
-        if os.environ.get(_LOCK_HELD_VARIABLE):
-            return None
-        try:
-            import fcntl
-
-            folder = cache_folder()
-            folder.mkdir(parents=True, exist_ok=True)
-            fd = os.open(folder / LOCK_NAME, os.O_RDWR | os.O_CREAT, 0o666)
-        except (ImportError, OSError):
-            return None
-        waited = False
-        while True:
-            try:
-                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-                return cls(fd, waited)
-            except BlockingIOError:
-                waited = True
-                time.sleep(0.25)
-            except OSError:  # a file system without locks: compile as if alone
-                os.close(fd)
-                return None
-
-    def note_holder(self, pid: int, units: list[str]) -> None:
-        """Write who holds the lock into the lock file, and a line into the log beside it."""
-        line = f"{time.strftime('%Y-%m-%dT%H:%M:%S')} pid {pid} (parent {os.getpid()}) "
-        line += f"compiling {' '.join(units)}\n"
-        try:
-            os.ftruncate(self.fd, 0)
-            os.pwrite(self.fd, line.encode(), 0)
-            with open(cache_folder() / LOG_NAME, "a", encoding="utf-8") as log:
-                log.write(line)
-        except OSError:  # the note is for people; the lock holds without it
-            pass
-
-    def release(self) -> None:
-        os.close(self.fd)  # a child holding the inherited lock keeps it until it ends
-
-
-def compile_holder() -> str | None:
-    """Who compiles into the disk cache now (the lock file's line), or None if nobody does."""
-    try:
-        import fcntl
-
-        fd = os.open(cache_folder() / LOCK_NAME, os.O_RDONLY)
-    except (ImportError, OSError):
-        return None
-    try:
-        fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
-    except OSError:
-        with open(fd, encoding="utf-8", closefd=False) as file:
-            return file.read().strip() or "another process"
-    finally:
-        os.close(fd)
-    return None
-
-
-@atexit.register
-def _say_what_runs_on() -> None:
-    """At exit, name the compiling children left running (they finish on their own)."""
-    for child in list(_children):
-        if child.poll() is None:
-            print(
-                f"gogreen: compiling process {child.pid} runs on to finish numba's disk cache "
-                f"in {cache_folder()} (the next run loads its kernels from there)",
-                file=sys.stderr,
-            )
+        running.discard(child)
 
 
 _CHILD_SCRIPT = (

@@ -15,14 +15,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from gogreen_core import Brush, BrushEvent, Material, Sculptor, _compiled
+from gogreen_core import Brush, BrushEvent, Material, Sculptor, _compile_lock, _compiled
 from gogreen_core.mesh.shapes import default_model
 
 ONE_EVENT = """
 import sys
 import time
 import numpy as np
-from gogreen_core import Brush, BrushEvent, Material, Sculptor, _compiled
+from gogreen_core import Brush, BrushEvent, Material, Sculptor, _compile_lock, _compiled
 from gogreen_core.mesh.shapes import default_model
 
 vertices, faces = default_model(4)
@@ -76,7 +76,7 @@ def test_three_scripts_in_a_row_on_an_empty_cache_run_one_compilation(tmp_path):
             results.append(np.load(out))
             errors.append(run.stderr)
         children = compiling_children(cache)
-        log = (cache / _compiled.LOG_NAME).read_text().splitlines()
+        log = (cache / _compile_lock.LOG_NAME).read_text().splitlines()
     finally:
         for pid in compiling_children(cache):  # not left compiling after the test
             os.kill(pid, signal.SIGKILL)
@@ -114,7 +114,7 @@ def lock_holder(tmp_path, monkeypatch):
     monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
     monkeypatch.delenv("GOGREEN_COMPILE_LOCK_HELD", raising=False)
     holder = subprocess.Popen(
-        [sys.executable, "-c", HOLD_THE_LOCK, str(tmp_path / _compiled.LOCK_NAME)],
+        [sys.executable, "-c", HOLD_THE_LOCK, str(tmp_path / _compile_lock.LOCK_NAME)],
         stdout=subprocess.PIPE,
         text=True,
     )
@@ -159,13 +159,13 @@ def test_a_process_waits_for_the_holder_and_loads_what_it_compiled(lock_holder, 
 def test_the_lock_is_free_when_nobody_compiles(tmp_path, monkeypatch):
     monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
     assert _compiled.compile_holder() is None
-    lock = _compiled._CacheLock.take()
+    lock = _compile_lock.CacheLock.take()
     assert lock is not None and not lock.waited
     try:
         taken = threading.Event()
 
         def other() -> None:  # a second lock in this process is refused like another's
-            second = _compiled._CacheLock.take()
+            second = _compile_lock.CacheLock.take()
             taken.set()
             assert second is not None
             second.release()
