@@ -67,6 +67,12 @@ def probe_rss(meshes: Path) -> dict[str, object]:
     from PySide6.QtTest import QTest
     from PySide6.QtWidgets import QApplication
 
+    try:  # as app.cli.main does (not in the code before issue 36)
+        from app.memory import use_own_pages_for_big_blocks
+    except ImportError:
+        pass
+    else:
+        use_own_pages_for_big_blocks()
     app = QApplication.instance() or QApplication(sys.argv[:1])
     from app.main_window import MainWindow
 
@@ -95,8 +101,10 @@ def probe_rss(meshes: Path) -> dict[str, object]:
     settle(3.0)
     result["vertices"] = len(window.document.sculptor.vertices)
     result["big"] = rss_mb()
-    window.document.dirty = False  # no "save changes?" question
-    QTest.keyClick(window, Qt.Key.Key_N, Qt.KeyboardModifier.ControlModifier)
+    assert not window.document.dirty  # Ctrl+N then asks nothing
+    window.activateWindow()  # the shortcut fires in the active window
+    QTest.qWaitForWindowActive(window, 5000)
+    QTest.keyClick(window.viewport, Qt.Key.Key_N, Qt.KeyboardModifier.ControlModifier)
     settle(3.0)
     result["back"] = rss_mb()
     result["back_vertices"] = len(window.document.sculptor.vertices)
