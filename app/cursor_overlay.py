@@ -199,6 +199,7 @@ class CursorOverlay:
             self._text.SetVisibility(False)
         self.screen = (xy, eps_px, outer_px)
 
+
     def _label_position(self, xy: tuple[float, float]) -> tuple[float, float]:
         """Where the label goes: right of the ring, else left of it, else above its centre
         (an affine brush's ring can be wider than the view), always inside the view."""
