@@ -415,6 +415,8 @@ def _bring_in(units: list[Unit], missing: list[Unit], lock: CacheLock | None) ->
 
     if missing and _can_spawn():
         _compile_in_child(missing, compiled_by_child, lock)
+    elif missing and lock is not None:  # compiled by this process (in _settle)
+        lock.note_holder(os.getpid(), [str(u) for u in missing])
     for unit in units:
         if unit not in settled:
             _settle(unit, missing, count)
