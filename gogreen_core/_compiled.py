@@ -488,7 +488,8 @@ def dispatchers_cached(calls: Iterable[tuple[Any, tuple[Any, ...]]]) -> bool:
 def modules_cached(name: str) -> bool:
     """Whether numba's disk cache holds machine code for this machine of every compiled
     function of module ``name`` (of a package: of its modules too; their cache index is read,
-    not the code: numba's ``_cache._cache_file``, not public API)."""
+    not the code: numba's ``_cache._cache_file``, not public API). A function without any cache
+    entry is one only compiled code calls (it has none of its own), once another has one."""
     import importlib
     import pkgutil
 
@@ -498,14 +499,18 @@ def modules_cached(name: str) -> bool:
     modules = [module]
     for info in pkgutil.iter_modules(getattr(module, "__path__", [])):
         modules.append(importlib.import_module(f"{module.__name__}.{info.name}"))
+    found = False
     for dispatcher in (v for m in modules for v in vars(m).values()):
         if isinstance(dispatcher, Dispatcher) and dispatcher.__module__.startswith(module.__name__):
             internals: Any = dispatcher  # numba's cache and code generator carry no types
             magic = internals.targetctx.codegen().magic_tuple()
             index = internals._cache._cache_file._load_index()
+            if not index:  # never compiled on its own: called only from compiled code (inlined)
+                continue
             if not any(key[1] == magic for key in index):
                 return False
-    return True
+            found = True
+    return found
 
 
 def _can_spawn() -> bool:
