@@ -119,6 +119,8 @@ from gogreen_core import _compiled
 from gogreen_core.field import _drivers
 try:
     from gogreen_core.interaction.compile_kernels import UNIT_MODULES, units_for_app
+    for module in UNIT_MODULES:  # importing them registers their units
+        __import__(module)
     units = units_for_app(8)
 except ImportError:  # before the install step compiled them: the app's request of then
     import gogreen_core.mesh.geometry, gogreen_core.sculpt.brushes.paint_kernels
