@@ -74,15 +74,18 @@ class _Job(QRunnable):
     def __init__(self, fn: Callable[[Task], Any], task: Task, signals: _Signals) -> None:
         super().__init__()
         self.setAutoDelete(False)  # Python owns the job (kept by the runner until it reports)
-        self._fn, self.task, self._signals = fn, task, signals
+        self._fn: Callable[[Task], Any] | None = fn
+        self.task, self._signals = task, signals
 
     def run(self) -> None:
-        task = self.task
-        if task.cancelled:
+        # the function and what it captured (a mesh's arrays) are let go once it ran: the pool
+        # keeps the job's Python object alive (PySide takes it over in ``start``)
+        task, fn, self._fn = self.task, self._fn, None
+        if task.cancelled or fn is None:
             self._signals.done.emit(task.id, "cancelled", None)
             return
         try:
-            result = self._fn(task)
+            result = fn(task)
         except Cancelled:
             self._signals.done.emit(task.id, "cancelled", None)
         except Exception as exc:  # reported on the GUI thread

@@ -48,6 +48,9 @@ def main(argv: list[str] | None = None) -> int:
     from PySide6.QtWidgets import QApplication
 
     from app.main_window import MainWindow
+    from app.memory import use_own_pages_for_big_blocks
+
+    use_own_pages_for_big_blocks()  # a replaced big mesh gives its memory back (app.memory)
 
     app = QApplication.instance() or QApplication(sys.argv[:1])
     app.setApplicationName("GoGreen Sculpt")

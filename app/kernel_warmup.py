@@ -5,8 +5,8 @@ the same arithmetic in NumPy, with the same results bit for bit (``gogreen_core.
 and so do the viewport's surface index (picking, normals). The window asks for the current
 l_max at start and whenever it changes; on a new machine a child process compiles it, with the
 surface index, the mesh readers' and the paint brushes' loops (seconds to tens of seconds, once
-per machine: numba keeps them on disk), elsewhere they load from the disk cache in
-milliseconds.
+per machine: numba keeps them on disk; the install step, ``scripts/setup_env.sh``, compiles
+them already), elsewhere they load from the disk cache in milliseconds.
 :class:`KernelWarmer` reports when the kernels are in, to say so in the status bar and stop its
 progress indicator; it runs nothing on the app's background thread, which stays free for mesh
 indexing and homogenization.
@@ -21,6 +21,7 @@ from PySide6.QtCore import QObject, Qt, Signal
 
 from gogreen_core import _compiled
 from gogreen_core.field import _drivers
+from gogreen_core.interaction.compile_kernels import units_for_app
 
 __all__ = ["KernelWarmer"]
 
@@ -91,8 +92,8 @@ class KernelWarmer(QObject):
         if l_max in self._requested:
             return False
         units = _drivers.units_for(l_max)
-        if not self._requested:  # with the kernels, in one child process on a new machine
-            _compiled.request(*units, _compiled.GEOMETRY, _compiled.MESH_IO, _compiled.BRUSHES)
+        if not self._requested:  # with the kernels, in one child process on a new machine,
+            _compiled.request(*units_for_app(l_max))  # in the order the first stroke needs
         self._requested[l_max] = units
         self._waiting.add(l_max)
         if len(self._waiting) == 1:

@@ -15,7 +15,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from functools import cache, partial
 
-from PySide6.QtCore import QPoint, QSettings, QSize, Qt
+from PySide6.QtCore import QPoint, QSettings, QSize, Qt, QTimer
 from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
 from PySide6.QtWidgets import (
     QApplication,
@@ -40,6 +40,7 @@ from app.keyboard import FocusKeys
 from app.keymap import binding, brush_action, display_keys, shortcuts
 from app.keymap_overlay import KeymapOverlay
 from app.look import SHADINGS, ViewLook, stored_theme
+from app.memory import release_freed_memory
 from app.mesh_edits import MeshEdits
 from app.navigation import OPPOSITE_VIEWS, VIEW_TITLES, NavigationPreferences, ViewAction
 from app.panels.falloff_panel import FalloffPanel
@@ -398,6 +399,9 @@ class MainWindow(QMainWindow):
         self.refresh_title()
         self._refresh_status()
         self.crash_recovery.document_changed(previous, document)
+        if previous is not None:  # once its last queued reports are delivered
+            del previous
+            QTimer.singleShot(0, release_freed_memory)
 
     def _surface_ready(self) -> None:
         """The background build of the mesh's surface index ended: strokes can start."""

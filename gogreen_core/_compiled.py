@@ -24,6 +24,8 @@ The environment variable ``GOGREEN_COMPILE`` chooses: ``child`` (the default), `
 (compile in a background thread of this process) or ``off`` (never in the background: the
 NumPy evaluation serves everything not compiled by an explicit :func:`prepare`; for tests and
 for machines where numba cannot compile).
+
+One compilation per cache at a time, across processes: see ``_compile_lock``.
 """
 
 from __future__ import annotations
@@ -40,6 +42,7 @@ from types import ModuleType
 from typing import Any
 
 from gogreen_core import compile_times
+from gogreen_core._compile_lock import LOCK_HELD_VARIABLE, CacheLock, compile_holder, running
 
 #: A unit of compilation: DRIVERS, GEOMETRY, BRUSHES, MESH_IO or (l_first, l_last) of an
 #: angular kernel (registered as :data:`ANGULAR`).
@@ -57,6 +60,7 @@ __all__ = [
     "Progress",
     "add_progress_listener",
     "brushes",
+    "compile_holder",
     "drivers",
     "forced",
     "forced_code",
@@ -405,38 +409,69 @@ def _work() -> None:
                 _worker = None
                 return
         missing = [u for u in units if not _cached(u)]
+        # waits while another process compiles; what it compiled is loaded, not compiled again
+        lock = CacheLock.take() if missing else None
+        try:
+            if lock is not None and lock.waited:
+                missing = [u for u in missing if not _cached(u)]
+            _bring_in(units, missing, lock)
+        finally:
+            if lock is not None:
+                lock.release()
+
+
+def _bring_in(units: list[Unit], missing: list[Unit], lock: CacheLock | None) -> None:
+    """Compile ``missing`` (in a child where one can run, each unit loaded here as soon as the
+    child has it in the disk cache: the first ones serve while it compiles the rest), then
+    load the other ``units``."""
+    with _condition:
+        _compiled_units.update(missing)
+    count = _UnitCount(missing)
+    settled: set[Unit] = set()
+
+    def compiled_by_child(unit: Unit) -> None:
+        if unit in units and unit not in settled:
+            settled.add(unit)
+            _settle(unit, missing, count)
+
+    if missing and _can_spawn():
+        _compile_in_child(missing, compiled_by_child, lock)
+    elif missing and lock is not None:  # compiled by this process (in _settle)
+        lock.note_holder(os.getpid(), [str(u) for u in missing])
+    for unit in units:
+        if unit not in settled:
+            _settle(unit, missing, count)
+
+
+def _settle(unit: Unit, missing: list[Unit], count: _UnitCount) -> None:
+    """Load ``unit`` (from the disk cache; compiled here if no child did), mark it ready or
+    failed, take it off the queue and call the callbacks now due."""
+    if not _parts(unit):  # its module is not imported yet: asked for again later
         with _condition:
-            _compiled_units.update(missing)
-        count = _UnitCount(missing)
-        if missing and _can_spawn():
-            _compile_in_child(missing, count.compiled)
-        for unit in units:
-            if not _parts(unit):  # its module is not imported yet: asked for again later
-                with _condition:
-                    _pending.remove(unit)
-                    _condition.notify_all()
-                continue
-            try:
-                _load(unit)  # from the disk cache now; compiled here if the child could not
-            except Exception as exc:  # the NumPy / generic evaluation keeps serving
-                with _condition:
-                    _failed[unit] = exc
-            else:
-                if unit in missing:  # told before a waiter sees it ready; compiled here if
-                    count.compiled(unit)  # the child did not
-                with _condition:
-                    _ready.add(unit)
-            with _condition:
-                _pending.remove(unit)
-                _condition.notify_all()
-                due = [entry for entry in _callbacks if _settled(entry[0])]
-                for entry in due:
-                    _callbacks.remove(entry)
-            for waited, callback in due:
-                try:
-                    callback([_failed[u] for u in waited if u in _failed])
-                except Exception:  # one listener's error must not starve the others
-                    traceback.print_exc()
+            _pending.remove(unit)
+            _condition.notify_all()
+        return
+    try:
+        _load(unit)  # from the disk cache now; compiled here if the child could not
+    except Exception as exc:  # the NumPy / generic evaluation keeps serving
+        with _condition:
+            _failed[unit] = exc
+    else:
+        if unit in missing:  # told before a waiter sees it ready; compiled here if
+            count.compiled(unit)  # the child did not
+        with _condition:
+            _ready.add(unit)
+    with _condition:
+        _pending.remove(unit)
+        _condition.notify_all()
+        due = [entry for entry in _callbacks if _settled(entry[0])]
+        for entry in due:
+            _callbacks.remove(entry)
+    for waited, callback in due:
+        try:
+            callback([_failed[u] for u in waited if u in _failed])
+        except Exception:  # one listener's error must not starve the others
+            traceback.print_exc()
 
 
 def _load(unit: Unit) -> None:
@@ -474,7 +509,8 @@ def dispatchers_cached(calls: Iterable[tuple[Any, tuple[Any, ...]]]) -> bool:
 def modules_cached(name: str) -> bool:
     """Whether numba's disk cache holds machine code for this machine of every compiled
     function of module ``name`` (of a package: of its modules too; their cache index is read,
-    not the code: numba's ``_cache._cache_file``, not public API)."""
+    not the code: numba's ``_cache._cache_file``, not public API). A function without any cache
+    entry is one only compiled code calls (it has none of its own), once another has one."""
     import importlib
     import pkgutil
 
@@ -484,14 +520,18 @@ def modules_cached(name: str) -> bool:
     modules = [module]
     for info in pkgutil.iter_modules(getattr(module, "__path__", [])):
         modules.append(importlib.import_module(f"{module.__name__}.{info.name}"))
+    found = False
     for dispatcher in (v for m in modules for v in vars(m).values()):
         if isinstance(dispatcher, Dispatcher) and dispatcher.__module__.startswith(module.__name__):
             internals: Any = dispatcher  # numba's cache and code generator carry no types
             magic = internals.targetctx.codegen().magic_tuple()
             index = internals._cache._cache_file._load_index()
+            if not index:  # never compiled on its own: called only from compiled code (inlined)
+                continue
             if not any(key[1] == magic for key in index):
                 return False
-    return True
+            found = True
+    return found
 
 
 def _can_spawn() -> bool:
@@ -502,17 +542,20 @@ def _can_spawn() -> bool:
 
 
 def _compile_in_child(
-    units: Iterable[Unit], unit_compiled: Callable[[Unit], None] = lambda unit: None
+    units: Iterable[Unit],
+    unit_compiled: Callable[[Unit], None] = lambda unit: None,
+    lock: CacheLock | None = None,
 ) -> bool:
     """Compile ``units`` into numba's disk cache in a child process; True if it succeeded.
     Each argument names the modules that register the unit, then the unit:
     ``module,module=unit``; the child prints each argument once its unit is compiled, and
-    ``unit_compiled(unit)`` is called then (the status bar's count and time left)."""
+    ``unit_compiled(unit)`` is called then (the status bar's count and time left). The child
+    inherits ``lock`` (it holds it until it ends, even if this process ends first)."""
     by_arg: dict[str, Unit] = {}
     for unit in units:
         modules = ",".join(dict.fromkeys(part.module for part in _parts(unit)))
         by_arg[f"{modules}=" + (unit if isinstance(unit, str) else f"{unit[0]}:{unit[1]}")] = unit
-    env = dict(os.environ, **{_MODE_VARIABLE: "thread"})
+    env = dict(os.environ, **{_MODE_VARIABLE: "thread", LOCK_HELD_VARIABLE: "1"})
     # the child imports what this process does: an application embedding Python (Blender)
     # adds folders to sys.path at run time (its extensions' wheels) that no child would know
     env["PYTHONPATH"] = os.pathsep.join(p for p in sys.path if p)
@@ -524,9 +567,14 @@ def _compile_in_child(
             stdout=subprocess.PIPE,
             stderr=subprocess.DEVNULL,
             text=True,
+            pass_fds=() if lock is None else (lock.fd,),
+            start_new_session=True,  # runs on if this process ends (see the module docstring)
         )
     except (OSError, subprocess.SubprocessError):
         return False
+    if lock is not None:
+        lock.note_holder(child.pid, list(by_arg))
+    running.add(child)
     timer = threading.Timer(CHILD_TIMEOUT, child.kill)
     timer.daemon = True
     timer.start()
@@ -538,6 +586,7 @@ def _compile_in_child(
         return child.wait() == 0
     finally:
         timer.cancel()
+        running.discard(child)
 
 
 _CHILD_SCRIPT = (
@@ -547,13 +596,20 @@ _CHILD_SCRIPT = (
 
 def _main(argv: list[str]) -> int:
     """The child: compile (into numba's disk cache) the units named on its command line
-    (``module,module=unit``: the modules are imported first, which registers the unit)."""
+    (``module,module=unit``: the modules are imported first, which registers the unit). It
+    outlives a parent that ends meanwhile (then its lines go nowhere) but not CHILD_TIMEOUT."""
     import importlib
 
+    quit_timer = threading.Timer(CHILD_TIMEOUT, os._exit, (3,))
+    quit_timer.daemon = True
+    quit_timer.start()
     for arg in argv:
         modules, _, name = arg.rpartition("=")
         for module in filter(None, modules.split(",")):
             importlib.import_module(module)
         _load(tuple(int(v) for v in name.split(":")) if ":" in name else name)
-        print(arg, flush=True)  # the parent counts the units compiled
+        try:
+            print(arg, flush=True)  # the parent counts the units compiled
+        except (BrokenPipeError, ValueError):  # the parent is gone: compile the rest anyway
+            sys.stdout = open(os.devnull, "w")  # for the rest of this process
     return 0

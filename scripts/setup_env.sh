@@ -41,3 +41,16 @@ if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
     .venv/bin/python -W "ignore:Editable installation:UserWarning" -m pip install -q -e ".[test]"
     touch "$stamp"
 fi
+
+# The kernels the app's first stroke needs, compiled once into numba's disk cache (a line per
+# unit), so that the first window sculpts compiled. Skipped while the stamp is newer than every
+# source of gogreen_core (numba recompiles what changed; otherwise the check alone would cost
+# the seconds of importing numba on every start). A failure leaves the app working: it
+# evaluates in NumPy and compiles in the background. GOGREEN_COMPILE=off skips this step.
+kernels_stamp=.venv/.gogreen-kernels
+if [ "${GOGREEN_COMPILE:-}" != "off" ] && { [ ! -f "$kernels_stamp" ] ||
+    [ -n "$(find gogreen_core -name '*.py' -newer "$kernels_stamp" -print -quit)" ]; }; then
+    if .venv/bin/python -m gogreen_core.interaction.compile_kernels; then
+        touch "$kernels_stamp"
+    fi
+fi

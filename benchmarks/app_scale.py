@@ -1,0 +1,262 @@
+"""The app's cost around the engine: memory, compile start-up, one compilation per cache.
+
+    xvfb-run -a -s "-screen 0 1600x1000x24" python benchmarks/app_scale.py [--meshes DIR]
+
+Prints (figures only; nothing is asserted; issue 36, items 2 and 4):
+
+* RSS of the app (the real main window, in a process of its own): idle on the default model
+  after a fresh start; after opening the ~1M-vertex mesh (the ogre of ``../shared/meshes``
+  Loop-subdivided twice: 992,608 vertices; skipped with the reason when the meshes are absent);
+  and idle again after Ctrl+N (a key event posted to the window) back to the default model;
+* on an empty numba cache (a temporary ``NUMBA_CACHE_DIR``): seconds from the app's first
+  request of its kernels until the field's compiled drivers serve (the first stroke runs
+  compiled), and until every unit of the request is in;
+* three short scripts (one brush event each) started one after another on an empty cache: how
+  many compiling child processes they started (one: the lock beside the cache).
+
+Goals: idle ≤ 500 MB; after Ctrl+N within 10 % of the fresh start; drivers ≤ 20 s after the
+request; one compilation. On a busy machine the compile figures grow with the load (printed).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve()
+
+
+def rss_mb(pid: int | str = "self") -> float:
+    """Resident set size of process ``pid`` in MB (/proc/<pid>/status VmRSS)."""
+    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+        if line.startswith("VmRSS:"):
+            return int(line.split()[1]) / 1024
+    raise RuntimeError("no VmRSS")
+
+
+# -- the app's RSS (run in a process of its own: --probe-rss) ------------------------------------
+def big_mesh(meshes: Path) -> Path | str:
+    """The ogre subdivided twice, as a PLY file in the temporary directory (made once), or why
+    not."""
+    ogre = meshes / "ogre.obj"
+    if not ogre.is_file():
+        return f"no {ogre} (../shared/meshes beside the checkout)"
+    out = Path(tempfile.gettempdir()) / f"gogreen-ogre-1m-{int(ogre.stat().st_mtime)}.ply"
+    if not out.is_file():
+        from gogreen_core.mesh.mesh_io import MeshData, load_mesh, save_mesh
+        from gogreen_core.mesh.subdivision import loop_subdivide
+
+        mesh = load_mesh(str(ogre))
+        vertices, faces = mesh.vertices, mesh.faces
+        for _ in range(2):
+            step = loop_subdivide(vertices, faces)
+            vertices, faces = step.vertices, step.faces
+        save_mesh(MeshData(vertices, faces), str(out))
+    return out
+
+
+def probe_rss(meshes: Path) -> dict[str, object]:
+    from PySide6.QtCore import QSettings, Qt
+    from PySide6.QtTest import QTest
+    from PySide6.QtWidgets import QApplication
+
+    try:  # as app.cli.main does (not in the code before issue 36)
+        from app.memory import use_own_pages_for_big_blocks
+    except ImportError:
+        pass
+    else:
+        use_own_pages_for_big_blocks()
+    app = QApplication.instance() or QApplication(sys.argv[:1])
+    from app.main_window import MainWindow
+
+    def settle(seconds: float) -> None:
+        end = time.perf_counter() + seconds
+        while time.perf_counter() < end or window.viewport.surface_building:
+            app.processEvents()
+            time.sleep(0.01)
+
+    settings = QSettings(str(Path(tempfile.mkdtemp()) / "s.ini"), QSettings.Format.IniFormat)
+    window = MainWindow(settings)
+    window.show()
+    window.files.open_default()
+    window.kernel_warmer.wait()
+    while window.homogenization_panel.is_busy:
+        settle(0.1)
+    settle(3.0)
+    result: dict[str, object] = {"idle": rss_mb()}
+    path = big_mesh(meshes)
+    if isinstance(path, str):
+        result["skipped"] = path
+        return result
+    if not window.files.open_file(str(path)):
+        result["skipped"] = f"could not open {path}"
+        return result
+    settle(3.0)
+    result["vertices"] = len(window.document.sculptor.vertices)
+    result["big"] = rss_mb()
+    assert not window.document.dirty  # Ctrl+N then asks nothing
+    window.activateWindow()  # the shortcut fires in the active window
+    QTest.qWaitForWindowActive(window, 5000)
+    QTest.keyClick(window.viewport, Qt.Key.Key_N, Qt.KeyboardModifier.ControlModifier)
+    settle(3.0)
+    result["back"] = rss_mb()
+    result["back_vertices"] = len(window.document.sculptor.vertices)
+    window.close()
+    return result
+
+
+# -- compile figures -----------------------------------------------------------------------------
+FIRST_REQUEST = """
+import json, time
+from gogreen_core import _compiled
+from gogreen_core.field import _drivers
+try:
+    from gogreen_core.interaction.compile_kernels import UNIT_MODULES, units_for_app
+    for module in UNIT_MODULES:  # importing them registers their units
+        __import__(module)
+    units = units_for_app(8)
+except ImportError:  # before the install step compiled them: the app's request of then
+    import gogreen_core.mesh.geometry, gogreen_core.sculpt.brushes.paint_kernels
+    import gogreen_core.mesh.mesh_io.formats
+    units = (*_drivers.units_for(8), _compiled.GEOMETRY, _compiled.MESH_IO, _compiled.BRUSHES)
+import os
+from pathlib import Path
+
+def compile_cpu():
+    # CPU seconds of this process's compiling children: running, and ended (reaped)
+    ticks = 0
+    for entry in Path("/proc").iterdir():
+        try:
+            fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
+        except (OSError, IndexError):
+            continue
+        if entry.name.isdigit() and int(fields[1]) == os.getpid():
+            ticks += int(fields[11]) + int(fields[12])
+    ended = os.times()
+    return ticks / os.sysconf("SC_CLK_TCK") + ended.children_user + ended.children_system
+
+start = time.perf_counter()
+_compiled.request(*units)
+_compiled.wait([_compiled.DRIVERS])
+drivers, drivers_cpu = time.perf_counter() - start, compile_cpu()
+_compiled.wait(units)
+print(json.dumps({"drivers": drivers, "drivers_cpu": drivers_cpu,
+                  "all": time.perf_counter() - start, "all_cpu": compile_cpu()}))
+"""
+
+ONE_EVENT = """
+import sys, time
+import numpy as np
+from gogreen_core import Brush, BrushEvent, Material, Sculptor
+from gogreen_core.mesh.shapes import default_model
+vertices, faces = default_model(4)
+sculptor = Sculptor(vertices, faces, material=Material.cubic(3.0, 1.5, 0.4), l_max=6)
+top = vertices[int(np.argmax(vertices[:, 2]))]
+sculptor.apply_brush(Brush("grab", radius=0.2), [BrushEvent(top, [0.02, 0.05, 0.0])])
+time.sleep(8)  # the rest of a script: long enough for a compile to be started
+"""
+
+
+def compiling_children(cache: Path) -> set[int]:
+    """Pids of the compiling children (``_compiled._main``) working for the cache ``cache``."""
+    pids = set()
+    needle = f"NUMBA_CACHE_DIR={cache}".encode()
+    for entry in Path("/proc").iterdir():
+        try:
+            if (
+                entry.name.isdigit()
+                and b"_compiled import _main" in (entry / "cmdline").read_bytes()
+            ):
+                if needle in (entry / "environ").read_bytes().split(b"\0"):
+                    pids.add(int(entry.name))
+        except OSError:
+            continue
+    return pids
+
+
+def compile_ready() -> dict[str, float]:
+    with tempfile.TemporaryDirectory() as cache:
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache, GOGREEN_COMPILE="child")
+        run = subprocess.run(
+            [sys.executable, "-c", FIRST_REQUEST], env=env, capture_output=True, text=True
+        )
+        if run.returncode:
+            raise RuntimeError(run.stderr)
+        return json.loads(run.stdout.strip().splitlines()[-1])
+
+
+def three_scripts() -> int:
+    with tempfile.TemporaryDirectory() as folder:
+        cache = Path(folder)
+        env = dict(os.environ, NUMBA_CACHE_DIR=str(cache), GOGREEN_COMPILE="child")
+        seen: set[int] = set()
+        try:
+            for _ in range(3):
+                script = subprocess.Popen(
+                    [sys.executable, "-c", ONE_EVENT], env=env, stderr=subprocess.DEVNULL
+                )
+                while script.poll() is None:
+                    seen |= compiling_children(cache)
+                    time.sleep(0.2)
+            seen |= compiling_children(cache)
+        finally:
+            for pid in compiling_children(cache):
+                os.kill(pid, signal.SIGKILL)
+        return len(seen)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--meshes", default=str(HERE.parents[2] / "shared/meshes"))
+    parser.add_argument("--probe-rss", action="store_true", help=argparse.SUPPRESS)
+    parser.add_argument("--skip-compile", action="store_true", help="RSS figures only")
+    parser.add_argument("--skip-rss", action="store_true", help="compile figures only")
+    args = parser.parse_args()
+    if args.probe_rss:
+        print(json.dumps(probe_rss(Path(args.meshes))))
+        return
+    import gogreen_core
+
+    print(f"code: {Path(gogreen_core.__file__).parent.parent}")
+    if not args.skip_rss:
+        run = subprocess.run(
+            [sys.executable, str(HERE), "--probe-rss", "--meshes", args.meshes],
+            capture_output=True,
+            text=True,
+        )
+        if run.returncode:
+            print(run.stderr[-3000:])
+            raise SystemExit("the RSS probe failed")
+        rss = json.loads(run.stdout.strip().splitlines()[-1])
+        print(f"RSS idle, default model, fresh start: {rss['idle']:.0f} MB")
+        if "skipped" in rss:
+            print(f"1M-vertex mesh: skipped ({rss['skipped']})")
+        else:
+            print(f"RSS with the {rss['vertices']:,}-vertex mesh open: {rss['big']:.0f} MB")
+            change = 100 * (rss["back"] / rss["idle"] - 1)
+            print(
+                f"RSS after Ctrl+N back to the default model: {rss['back']:.0f} MB "
+                f"({change:+.0f} % of the fresh start)"
+            )
+    if args.skip_compile:
+        return
+    load = os.getloadavg()[0]
+    ready = compile_ready()
+    print(
+        f"empty cache: compiled drivers serve {ready['drivers']:.1f} s after the first request "
+        f"({ready['drivers_cpu']:.1f} s of compiling CPU by then), every unit in after "
+        f"{ready['all']:.1f} s ({ready['all_cpu']:.1f} s CPU); load average {load:.1f} on "
+        f"{os.cpu_count()} cores (the CPU seconds are the wall time of a quiet machine)"
+    )
+    print(f"three one-event scripts in a row, empty cache: {three_scripts()} compilation(s)")
+
+
+if __name__ == "__main__":
+    main()
