@@ -39,10 +39,10 @@ import traceback
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from types import ModuleType
-from typing import Any
 
 from gogreen_core import compile_times
 from gogreen_core._compile_lock import LOCK_HELD_VARIABLE, CacheLock, compile_holder, running
+from gogreen_core._numba_cache import modules_cached
 
 #: A unit of compilation: DRIVERS, GEOMETRY, BRUSHES, MESH_IO or (l_first, l_last) of an
 #: angular kernel (registered as :data:`ANGULAR`).
@@ -492,46 +492,6 @@ def _cached(unit: Unit) -> bool:
         return bool(parts) and all(part.cached(unit) for part in parts)
     except Exception:
         return False
-
-
-def dispatchers_cached(calls: Iterable[tuple[Any, tuple[Any, ...]]]) -> bool:
-    """Whether numba's disk cache holds every (dispatcher, arguments) call of ``calls``,
-    typed as they are (numba's ``_cache.load_overload``, not public API)."""
-    from numba import typeof
-
-    for dispatcher, args in calls:
-        signature = tuple(typeof(a) for a in args)
-        if dispatcher._cache.load_overload(signature, dispatcher.targetctx) is None:
-            return False
-    return True
-
-
-def modules_cached(name: str) -> bool:
-    """Whether numba's disk cache holds machine code for this machine of every compiled
-    function of module ``name`` (of a package: of its modules too; their cache index is read,
-    not the code: numba's ``_cache._cache_file``, not public API). A function without any cache
-    entry is one only compiled code calls (it has none of its own), once another has one."""
-    import importlib
-    import pkgutil
-
-    from numba.core.dispatcher import Dispatcher
-
-    module = importlib.import_module(name)
-    modules = [module]
-    for info in pkgutil.iter_modules(getattr(module, "__path__", [])):
-        modules.append(importlib.import_module(f"{module.__name__}.{info.name}"))
-    found = False
-    for dispatcher in (v for m in modules for v in vars(m).values()):
-        if isinstance(dispatcher, Dispatcher) and dispatcher.__module__.startswith(module.__name__):
-            internals: Any = dispatcher  # numba's cache and code generator carry no types
-            magic = internals.targetctx.codegen().magic_tuple()
-            index = internals._cache._cache_file._load_index()
-            if not index:  # never compiled on its own: called only from compiled code (inlined)
-                continue
-            if not any(key[1] == magic for key in index):
-                return False
-            found = True
-    return found
 
 
 def _can_spawn() -> bool:

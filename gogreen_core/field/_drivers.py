@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from gogreen_core import _compiled
+from gogreen_core import _compiled, _numba_cache
 from gogreen_core.field import _expansion, _influence_compiled, _integrator, _stream, _unrolled
 
 if TYPE_CHECKING:
@@ -116,6 +116,6 @@ _compiled.register(
     _compiled.DRIVERS,
     __name__,
     lambda unit: ensure_drivers(),
-    lambda unit: _compiled.dispatchers_cached(_driver_calls()),
+    lambda unit: _numba_cache.dispatchers_cached(_driver_calls()),
 )
 _compiled.register(_compiled.ANGULAR, __name__, _load_angular, _angular_cached)

@@ -192,11 +192,17 @@ def test_new_settings_do_not_stall_the_pointer_the_ring_comes_from_a_worker(mode
     before = tools.cursor.place(point, normal).moving_radius
     threads = []
     real = sculpt.moving_radius
-    monkeypatch.setattr(
-        sculpt, "moving_radius", lambda *a: threads.append(threading.get_ident()) or real(*a)
-    )
+    go = threading.Event()  # the worker waits until the old ring has been asked for
+
+    def moving_radius(*args):
+        threads.append(threading.get_ident())
+        go.wait(60)
+        return real(*args)
+
+    monkeypatch.setattr(sculpt, "moving_radius", moving_radius)
     settings.falloff = SplineRadial.from_profile(KelvinletRadial(1.0), settings.l_max)
     assert tools.cursor.place(point, normal).moving_radius == before  # at once: the old ring
+    go.set()
     assert ready.wait(60) and tools.wait_ring(60)
     assert threads and threading.get_ident() not in threads
     after = tools.cursor.place(point, normal).moving_radius
