@@ -47,7 +47,11 @@ class CursorState:
     unknown) and ``axes`` (3, 3), rows: the material's main directions where the cursor rests,
     scaled 0-1 (:func:`~gogreen_core.interaction.tools.material_axes.cursor_axes`), None for an
     isotropic material; ``detail`` (model units: while dynamic topology is on, the edge length it
-    remeshes to, drawn as a small circle of that diameter at the centre; else None)."""
+    remeshes to, drawn as a small circle of that diameter at the centre; else None);
+    ``gauge`` (K, 3) and ``gauge_spokes`` (S, P, 3) (model units: while an anchored brush acts,
+    where the marks set at the press on the circle of radius ε about the press point, and along
+    a few spokes from it, are now: they move with the surface,
+    :class:`~gogreen_core.interaction.tools.gauge.DeformationGauge`; else None)."""
 
     center: np.ndarray
     normal: np.ndarray
@@ -59,6 +63,8 @@ class CursorState:
     moving_radius: float | None = None
     axes: np.ndarray | None = None
     detail: float | None = None
+    gauge: np.ndarray | None = None
+    gauge_spokes: np.ndarray | None = None
 
     def ring_matrix(self) -> np.ndarray:
         """(4, 4) transform placing the unit circle of the xy plane on the surface (lifted by
