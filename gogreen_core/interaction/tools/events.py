@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from gogreen_core.interaction.tools.gauge import tangent_frame
 from gogreen_core.sculpt.brushes import DEFAULT_INFLUENCE
 
 __all__ = ["CursorState", "PointerEvent", "ToolUpdate"]
@@ -69,12 +70,7 @@ class CursorState:
     def ring_matrix(self) -> np.ndarray:
         """(4, 4) transform placing the unit circle of the xy plane on the surface (lifted by
         1e-3 radius along the normal so the surface does not hide it)."""
-        n = np.asarray(self.normal, dtype=float)
-        n = n / (np.linalg.norm(n) or 1.0)
-        helper = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-        t1 = np.cross(n, helper)
-        t1 /= np.linalg.norm(t1)
-        t2 = np.cross(n, t1)
+        n, t1, t2 = tangent_frame(self.normal)
         matrix = np.eye(4)
         matrix[:3, 0], matrix[:3, 1], matrix[:3, 2] = t1 * self.radius, t2 * self.radius, n
         matrix[:3, 2] *= self.radius

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["GAUGE_POINTS", "GAUGE_SPOKES", "SPOKE_SAMPLES", "DeformationGauge"]
+__all__ = ["GAUGE_POINTS", "GAUGE_SPOKES", "SPOKE_SAMPLES", "DeformationGauge", "tangent_frame"]
 
 #: Marks on the gauge's loop (the circle of radius ε about the press point).
 GAUGE_POINTS = 32
@@ -24,7 +24,7 @@ _NEIGHBOURS = 3
 _SEARCH = 1.6
 
 
-def _tangent_frame(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def tangent_frame(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Unit ``normal`` (3,) and two unit tangents completing a right-handed frame: the same
     frame :meth:`CursorState.ring_matrix` draws the ring in."""
     n = np.asarray(normal, dtype=float)
@@ -70,7 +70,7 @@ class DeformationGauge:
         )
         if len(near) == 0:
             return None
-        n, t1, t2 = _tangent_frame(normal)
+        n, t1, t2 = tangent_frame(normal)
         angles = np.linspace(0.0, 2 * np.pi, GAUGE_POINTS, endpoint=False)
         loop = np.cos(angles)[:, None] * t1 + np.sin(angles)[:, None] * t2
         spoke_angles = angles[:: GAUGE_POINTS // GAUGE_SPOKES]
