@@ -19,6 +19,12 @@ centre, red, green and blue for its first (stiffest), second and third axes, eac
 :data:`AXIS_REACH` of the solid ring (at most 3 ε) times E along it over the largest E, so an
 artist sees which way the fibres, grain or layers will run before the stroke (with the
 "surface" material frame they turn with the surface).
+
+While an anchored (affine) brush acts, its deformation gauge (:attr:`CursorState.gauge`): marks
+set at the press on the circle of radius ε about the press point, and four spokes, drawn where
+the surface has taken them (a loop of dots and the spokes, bright on any matcap), over a faint
+copy of that circle as it was: a twist turns the spokes, a stretch elongates the loop, a scale
+grows it and a pinch draws it in, motions along the surface that shading hardly shows.
 """
 
 from __future__ import annotations
@@ -40,6 +46,9 @@ AXIS_REACH = 0.8
 #: The material's first, second and third axes (Blender's x, y, z colours).
 AXIS_COLORS = ((0.95, 0.25, 0.3), (0.45, 0.85, 0.2), (0.25, 0.55, 1.0))
 SEGMENTS = 96
+GAUGE_COLOR = (0.2, 0.95, 1.0)
+#: Pixel radius of the gauge's dots.
+GAUGE_DOT_PIXELS = 3.0
 #: The detail circle is drawn at least this wide (pixels of radius), however fine the edges.
 MIN_DETAIL_PIXELS = 2.0
 
@@ -142,6 +151,10 @@ class CursorOverlay:
         #: Display points (3, 2, 2) of the material's axes' ends after the last layout, or None.
         self.axes_screen: np.ndarray | None = None
         self._detail = _Polyline2D(renderer, CURSOR_COLOR, 1.5, 0.9)
+        self._gauge_rest = _Polyline2D(renderer, PROFILE_COLOR, 1.0, 0.55)
+        self._gauge = _Polyline2D(renderer, GAUGE_COLOR, 2.0)
+        #: Display points (K, 2) of the gauge's loop after the last layout, or None.
+        self.gauge_screen: np.ndarray | None = None
         self._text = vtk.vtkTextActor()
         self._text.GetTextProperty().SetFontSize(16)
         self._text.GetTextProperty().SetColor(*CURSOR_COLOR)
@@ -173,7 +186,9 @@ class CursorOverlay:
     def layout(self) -> None:
         """Rebuild the 2D geometry for the current camera (cheap: a few hundred points)."""
         parts = (self._influence, self._ring, self._profile, self._full, self._detail, *self._axes)
+        parts = (*parts, self._gauge, self._gauge_rest)
         self.full_pixels = self.detail_pixels = None
+        self.gauge_screen = None
         self.axes_screen = None
         if self.state is None or self.suspended:
             for part in parts:
@@ -221,6 +236,7 @@ class CursorOverlay:
         else:
             self._profile.actor.SetVisibility(False)
         self._layout_axes(state, center, xy)
+        self._layout_gauge(state)
         if state.label:
             self._text.SetInput(state.label)
             self._text.SetPosition(*self._label_position(xy))
@@ -249,6 +265,33 @@ class CursorOverlay:
             part.set(line)
             part.actor.SetVisibility(True)
         self.axes_screen = np.array(ends)
+
+    def _layout_gauge(self, state: CursorState) -> None:
+        """The deformation gauge: the loop through its marks (a dot at each) and the spokes
+        where the surface has taken them, over the press-time circle of radius ε (faint)."""
+        loop, spokes = state.gauge, state.gauge_spokes
+        if loop is None or spokes is None or not len(loop):
+            self._gauge.actor.SetVisibility(False)
+            self._gauge_rest.actor.SetVisibility(False)
+            return
+
+        def project(points: np.ndarray) -> np.ndarray:
+            shown = np.array([to_display(self.renderer, p) for p in points])
+            shown[:, 2] = 0.0
+            return shown
+
+        marks = project(np.asarray(loop, dtype=float))
+        self.gauge_screen = marks[:, :2].copy()
+        lines = [np.concatenate([marks, marks[:1]])]
+        lines += [project(np.asarray(spoke, dtype=float)) for spoke in spokes]
+        lines += [ring_points((m[0], m[1]), GAUGE_DOT_PIXELS, 8) for m in marks]
+        self._gauge.set_many(lines)
+        circle = ring_points((0.0, 0.0), 1.0, SEGMENTS // 2)
+        circle[:, 2] = 0.0
+        world = np.column_stack([circle, np.ones(len(circle))]) @ state.ring_matrix().T
+        self._gauge_rest.set(project(world[:, :3]))
+        self._gauge.actor.SetVisibility(True)
+        self._gauge_rest.actor.SetVisibility(True)
 
     def _label_position(self, xy: tuple[float, float]) -> tuple[float, float]:
         """Where the label goes: right of the ring, else left of it, else above its centre

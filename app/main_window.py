@@ -531,7 +531,9 @@ class MainWindow(QMainWindow):
         # a subdivision undone or redone shows its whole mesh
         self.mesh_edits.sync(sculptor.history.restored_indices)
         self.refresh_title()
-        self.flash(f"{name.capitalize()}: {label}")
+        # past tense: "Undo: Scale stroke" read as what the next undo would do, and stayed
+        # on while later strokes were made
+        self.flash(f"{'Undone' if name == 'undo' else 'Redone'}: {label}")
 
     def clear_constraints(self) -> None:
         if self.sculptor is not None:

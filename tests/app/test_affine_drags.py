@@ -41,6 +41,7 @@ def test_vertical_drags_drive_the_affine_brushes(window, qtbot, kind):
         results.append(sculptor.vertices - before)
         window.undo()
         assert np.array_equal(sculptor.vertices, before)
+        assert window.message_label.text() == f"Undone: {kind.capitalize()} stroke"
         assert window.redo_action.text() == f"&Redo {kind.capitalize()} stroke"
     # up (+) and down (−) act in opposite senses: inflate / deflate, twist one way / the
     # other, stretch / squeeze along the drag

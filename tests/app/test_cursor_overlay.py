@@ -1,9 +1,11 @@
 """The brush cursor overlay in the main window: where it sits, when it updates and hides."""
 
+import numpy as np
 import pytest
-from gui_helpers import center_of, drag, hover, send
+from gui_helpers import activate, center_of, drag, hover, send
 from PySide6.QtCore import QPoint, QPointF, Qt
 from PySide6.QtGui import QMouseEvent
+from PySide6.QtTest import QTest
 from PySide6.QtWidgets import QApplication
 
 
@@ -255,3 +257,43 @@ def test_cursor_draws_the_detail_size_while_dynamic_topology_is_on(window):
     QApplication.processEvents()
     vp.render_now()
     assert vp.cursor_overlay.detail_pixels is None
+
+
+@pytest.mark.parametrize("kind", ["twist", "grab"])
+def test_the_gauge_is_drawn_while_an_affine_stroke_acts_only(window, qtbot, kind):
+    """A twist's gauge: the loop of marks around the press point, turning as the drag goes on,
+    gone after the release; a grab draws none."""
+    activate(window, qtbot)
+    window.model.brush.kind = kind
+    vp = window.viewport
+    start = center_of(window)
+    QTest.mousePress(vp, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, start)
+    vp.render_now()
+    overlay = vp.cursor_overlay
+    if kind == "grab":
+        assert overlay.gauge_screen is None
+        for k in range(1, 6):
+            QTest.mouseMove(vp, start + QPoint(6 * k, 0))
+            vp.flush_tools()
+        vp.render_now()
+        assert overlay.visible and overlay.gauge_screen is None
+        QTest.mouseRelease(vp, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, start)
+        return
+    pressed = overlay.gauge_screen.copy()
+    (cx, cy), eps_px, _ = overlay.screen
+    radii = np.hypot(pressed[:, 0] - cx, pressed[:, 1] - cy)
+    assert pressed.shape == (32, 2) and np.median(radii) == pytest.approx(eps_px, rel=0.25)
+    for k in range(1, 11):
+        QTest.mouseMove(vp, start + QPoint(10 * k, 0))
+        vp.flush_tools()
+    vp.render_now()
+    now = overlay.gauge_screen
+    a, b = pressed - (cx, cy), now - (cx, cy)
+    turn = np.degrees(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], np.sum(a * b, axis=1)))
+    assert abs(np.median(turn)) >= 15.0  # the spokes and marks turn on screen
+    QTest.mouseRelease(
+        vp, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, start + QPoint(100, 0)
+    )
+    qtbot.wait(5)
+    vp.render_now()
+    assert overlay.gauge_screen is None

@@ -26,6 +26,7 @@ from gogreen_core.interaction.tools.cursor import (
     moving_radius,
 )
 from gogreen_core.interaction.tools.events import CursorState, PointerEvent, ToolUpdate
+from gogreen_core.interaction.tools.gauge import DeformationGauge
 from gogreen_core.interaction.tools.pins import PIN_PICK_FRACTION, PinController
 from gogreen_core.interaction.tools.sculpt import NUMBER_KEYS, SculptTools, brush_for_key
 from gogreen_core.interaction.tools.stroke import (
@@ -47,6 +48,7 @@ __all__ = [
     "PROFILE_SAMPLES",
     "CursorController",
     "CursorState",
+    "DeformationGauge",
     "PinController",
     "PointerEvent",
     "SculptTools",

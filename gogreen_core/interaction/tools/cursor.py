@@ -264,8 +264,14 @@ class CursorController:
         self._normal: np.ndarray | None = None
 
     def place(
-        self, point: np.ndarray | None, normal: np.ndarray | None, label: str | None = None
+        self,
+        point: np.ndarray | None,
+        normal: np.ndarray | None,
+        label: str | None = None,
+        gauge: tuple[np.ndarray, np.ndarray] | None = None,
     ) -> CursorState | None:
+        """The cursor at ``point`` (None hides it), ``normal`` (None: the last one), with a
+        ``label`` and an anchored stroke's ``gauge``: its loop (K, 3) and spokes (S, P, 3)."""
         if point is None:
             self.state = None
             return None
@@ -284,14 +290,20 @@ class CursorController:
             self.moving(),
             self.axes(center),
             self.detail(),
+            None if gauge is None else gauge[0],
+            None if gauge is None else gauge[1],
         )
         return self.state
 
     def refresh(self) -> CursorState | None:
         """The same place with the current radius, influence and profile (None if hidden)."""
-        if self.state is None:
+        state = self.state
+        if state is None:
             return None
-        return self.place(self.state.center, self.state.normal, self.state.label)
+        gauge = None
+        if state.gauge is not None and state.gauge_spokes is not None:
+            gauge = (state.gauge, state.gauge_spokes)
+        return self.place(state.center, state.normal, state.label, gauge)
 
     def hide(self) -> None:
         """Hidden until the pointer moves again (after undo, or a newly opened file)."""

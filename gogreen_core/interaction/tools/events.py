@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from gogreen_core.interaction.tools.gauge import tangent_frame
 from gogreen_core.sculpt.brushes import DEFAULT_INFLUENCE
 
 __all__ = ["CursorState", "PointerEvent", "ToolUpdate"]
@@ -47,7 +48,11 @@ class CursorState:
     unknown) and ``axes`` (3, 3), rows: the material's main directions where the cursor rests,
     scaled 0-1 (:func:`~gogreen_core.interaction.tools.material_axes.cursor_axes`), None for an
     isotropic material; ``detail`` (model units: while dynamic topology is on, the edge length it
-    remeshes to, drawn as a small circle of that diameter at the centre; else None)."""
+    remeshes to, drawn as a small circle of that diameter at the centre; else None);
+    ``gauge`` (K, 3) and ``gauge_spokes`` (S, P, 3) (model units: while an anchored brush acts,
+    where the marks set at the press on the circle of radius ε about the press point, and along
+    a few spokes from it, are now: they move with the surface,
+    :class:`~gogreen_core.interaction.tools.gauge.DeformationGauge`; else None)."""
 
     center: np.ndarray
     normal: np.ndarray
@@ -59,16 +64,13 @@ class CursorState:
     moving_radius: float | None = None
     axes: np.ndarray | None = None
     detail: float | None = None
+    gauge: np.ndarray | None = None
+    gauge_spokes: np.ndarray | None = None
 
     def ring_matrix(self) -> np.ndarray:
         """(4, 4) transform placing the unit circle of the xy plane on the surface (lifted by
         1e-3 radius along the normal so the surface does not hide it)."""
-        n = np.asarray(self.normal, dtype=float)
-        n = n / (np.linalg.norm(n) or 1.0)
-        helper = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-        t1 = np.cross(n, helper)
-        t1 /= np.linalg.norm(t1)
-        t2 = np.cross(n, t1)
+        n, t1, t2 = tangent_frame(self.normal)
         matrix = np.eye(4)
         matrix[:3, 0], matrix[:3, 1], matrix[:3, 2] = t1 * self.radius, t2 * self.radius, n
         matrix[:3, 2] *= self.radius

@@ -20,6 +20,7 @@ from gogreen_core.interaction.tools.cursor import (
     moving_radius,
 )
 from gogreen_core.interaction.tools.events import PointerEvent, ToolUpdate
+from gogreen_core.interaction.tools.gauge import DeformationGauge
 from gogreen_core.interaction.tools.material_axes import cursor_axes
 from gogreen_core.interaction.tools.pins import PinController
 from gogreen_core.interaction.tools.stroke import StrokeController
@@ -140,12 +141,16 @@ class SculptTools:
         self._ring_done: tuple[tuple[Any, ...], float] | None = None
         #: The material's axes last drawn: (what they were for, the point, the axes).
         self._axes_at: tuple[tuple[Any, ...], np.ndarray, np.ndarray | None] | None = None
+        #: The marks an anchored stroke's cursor draws moving with the surface, None between
+        #: anchored strokes.
+        self._gauge: DeformationGauge | None = None
         self.set_sculptor(sculptor)
 
     def set_sculptor(self, sculptor: Sculptor | None) -> None:
         """Act on another engine (a newly opened mesh); drops any stroke in progress."""
         if getattr(self, "stroke", None) is not None:
             self.stroke.cancel()
+        self._gauge = None
         self.sculptor = sculptor
         # (the controllers act only once there is a sculptor)
         self.stroke: StrokeController = StrokeController(
@@ -423,8 +428,26 @@ class SculptTools:
         except (ValueError, RuntimeError) as exc:
             self.pin.end()
             return ToolUpdate(error=str(exc))
-        label = anchored_label(brush.kind) if self.stroke.anchored else None
-        return ToolUpdate(moved=moved, cursor=self.cursor.place(event.point, event.normal, label))
+        if not self.stroke.anchored:
+            return ToolUpdate(moved=moved, cursor=self.cursor.place(event.point, event.normal))
+        placed = self.cursor.place(event.point, event.normal)
+        assert placed is not None and self.sculptor is not None  # (a stroke started)
+        self._gauge = DeformationGauge.at_press(
+            self.sculptor.vertices, placed.center, placed.normal, placed.radius
+        )
+        cursor = self.cursor.place(event.point, None, anchored_label(brush.kind), self._gauge_now())
+        return ToolUpdate(moved=moved, cursor=cursor)
+
+    def _gauge_now(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """The anchored stroke's gauge where the surface has taken its marks: loop (K, 3) and
+        spokes (S, P, 3); None without one."""
+        if self._gauge is None or self.sculptor is None:
+            return None
+        positions = self._gauge.positions(self.sculptor.vertices)
+        if positions is None:  # remeshed: the marks have nothing left to follow
+            self._gauge = None
+            return None
+        return DeformationGauge.loop(positions), DeformationGauge.spokes(positions)
 
     def move(self, event: PointerEvent) -> None:
         """Record a drag move (applied by the next :meth:`flush`; newer moves replace it)."""
@@ -458,11 +481,12 @@ class SculptTools:
                 if self.stroke.anchored:
                     brush = cast(Brush, self.stroke.brush)
                     label = anchored_label(brush.kind)
-                    cursor = self.cursor.place(self.stroke.anchor, None, label)
+                    cursor = self.cursor.place(self.stroke.anchor, None, label, self._gauge_now())
                 else:
                     cursor = self.cursor.place(event.point, None)
                 update = ToolUpdate(moved=moved, cursor=cursor)
         except (ValueError, RuntimeError) as exc:
+            self._gauge = None
             self.stroke.cancel()
             self.pin.end()
             return ToolUpdate(all_moved=True, error=str(exc))
@@ -480,6 +504,11 @@ class SculptTools:
         steps = history.done if history is not None else 0
         moved = self.stroke.end()
         self.pin.end()
+        if self._gauge is not None:  # the gauge shows the stroke acting: gone with it
+            self._gauge = None
+            state = self.cursor.state
+            if state is not None:
+                update.cursor = self.cursor.place(state.center, state.normal, state.label)
         # recorded nothing: no vertex moved and no mask value painted (a mask stroke moves none)
         recorded = history is not None and history.done != steps
         if brush is not None and moved is not None and not recorded:
@@ -508,5 +537,6 @@ class SculptTools:
     def cancel(self) -> None:
         """Abandon a stroke in progress (restoring the mesh) or a pin drag."""
         self._moves.pending = None
+        self._gauge = None
         self.stroke.cancel()
         self.pin.end()

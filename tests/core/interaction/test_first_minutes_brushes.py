@@ -211,3 +211,80 @@ def test_new_settings_do_not_stall_the_pointer_the_ring_comes_from_a_worker(mode
     EngineLink(expected, engine)
     expected.falloff = settings.falloff
     assert fresh.cursor.place(point, normal).moving_radius == pytest.approx(after)
+
+
+def _turn(before, after, point, normal):
+    """Signed angles (degrees) about ``normal`` through ``point`` from ``before`` to ``after``."""
+    a, b = before - point, after - point
+    a, b = a - np.outer(a @ normal, normal), b - np.outer(b @ normal, normal)
+    return np.degrees(np.arctan2(np.cross(a, b) @ normal, np.einsum("ij,ij->i", a, b)))
+
+
+def test_an_affine_stroke_shows_a_gauge_that_moves_with_the_surface(model):
+    """The gauge: at the press the circle of radius ε about the press point on the surface;
+    during a twist its marks turn as the surface does; gone after the release."""
+    settings, sculptor, tools = default_tools(model)
+    settings.brush.kind = "twist"
+    point, normal, right = side_point(sculptor)
+    eps = settings.brush.brush.eps(sculptor.model_size)
+    start = (500.0, 500.0)
+    state = tools.press(PointerEvent(start, point, normal, view_dir=-normal, screen_x=right)).cursor
+    loop, spokes = state.gauge, state.gauge_spokes
+    assert loop.shape == (32, 3) and spokes.shape == (4, 5, 3)
+    offsets = loop - point
+    planar = offsets - np.outer(offsets @ normal, normal)
+    np.testing.assert_allclose(np.linalg.norm(planar, axis=1), eps, rtol=1e-9)
+    gaps = np.linalg.norm(loop[:, None] - sculptor.vertices[None], axis=2).min(axis=1)
+    assert gaps.max() <= 0.1 * eps  # on the surface (it curves away from the tangent plane)
+    np.testing.assert_allclose(spokes[:, 0], np.broadcast_to(point, (4, 3)))
+    np.testing.assert_allclose(spokes[:, -1], loop[::8])
+    before = sculptor.vertices.copy()
+    for k in range(1, 11):
+        screen = (start[0] + 10.0 * k, start[1])
+        tools.move(PointerEvent(screen, point, None, view_dir=-normal, screen_x=right))
+        state = tools.flush().cursor
+    after = sculptor.vertices
+    ring = np.abs(np.linalg.norm(before - point, axis=1) - eps) <= 0.1 * eps
+    surface_turn = np.mean(_turn(before[ring], after[ring], point, normal))
+    gauge_turn = _turn(loop, state.gauge, point, normal)
+    assert abs(surface_turn) >= 20.0
+    np.testing.assert_allclose(gauge_turn, surface_turn, atol=4.0)  # every mark, one angle
+    spoke_turn = _turn(spokes[:, -1], state.gauge_spokes[:, -1], point, normal)
+    np.testing.assert_allclose(spoke_turn, surface_turn, atol=4.0)
+    assert tools.release().cursor.gauge is None
+    assert tools.cursor.state.gauge is None
+
+
+@pytest.mark.parametrize("kind", ["scale", "pinch", "stretch"])
+def test_the_gauge_changes_as_the_brush_does(model, kind):
+    """Scale grows the loop, pinch draws part of it in, stretch elongates it (100 px)."""
+    settings, sculptor, tools = default_tools(model)
+    settings.brush.kind = kind
+    point, normal, right = side_point(sculptor)
+    start = (500.0, 500.0)
+    loop = tools.press(PointerEvent(start, point, normal, view_dir=-normal, screen_x=right))
+    loop = loop.cursor.gauge
+    tools.move(PointerEvent((600.0, 500.0), point, None, view_dir=-normal, screen_x=right))
+    now = tools.flush().cursor.gauge
+    tools.release()
+
+    def radii(marks):
+        offsets = marks - point
+        return np.linalg.norm(offsets - np.outer(offsets @ normal, normal), axis=1)
+
+    ratio = radii(now) / radii(loop)
+    if kind == "scale":
+        assert ratio.mean() >= 1.2
+    elif kind == "pinch":  # pulled in across the drag (and out along it)
+        assert ratio.min() <= 0.7
+    else:
+        assert ratio.max() / ratio.min() >= 1.3
+
+
+def test_a_grab_stroke_has_no_gauge(model):
+    _, sculptor, tools = default_tools(model, "1")
+    point, normal, _ = side_point(sculptor)
+    assert tools.press(PointerEvent((0.0, 0.0), point, normal)).cursor.gauge is None
+    tools.move(PointerEvent((5.0, 0.0), point + 0.01 * normal))
+    assert tools.flush().cursor.gauge is None
+    tools.release()
