@@ -16,7 +16,36 @@ from typing import cast
 import numpy as np
 from numba import njit
 
-__all__ = ["closest_points_on_triangles", "pick_collapses", "pick_flips", "smallest_angles"]
+__all__ = [
+    "closest_points_on_triangles",
+    "pick_collapses",
+    "pick_flips",
+    "smallest_angles",
+    "strained_faces",
+]
+
+
+@njit(cache=True, nogil=True, boundscheck=False)
+def strained_faces(
+    reference: np.ndarray, vertices: np.ndarray, faces: np.ndarray, tolerance2: float
+) -> np.ndarray:
+    """(M,) bool: the faces (M, 3) one of whose sides changed, as a vector, by more than
+    sqrt(``tolerance2``) times its length from ``reference`` (N, 3) to ``vertices`` (N, 3).
+    One pass, no (M, 3) temporaries: a grab's faint far field moves most of a big mesh."""
+    out = np.zeros(len(faces), dtype=np.bool_)
+    for f in range(len(faces)):
+        for k in range(3):
+            a, b = faces[f, k], faces[f, (k + 1) % 3]
+            changed = side = 0.0
+            for x in range(3):
+                c = (vertices[b, x] - reference[b, x]) - (vertices[a, x] - reference[a, x])
+                d = reference[b, x] - reference[a, x]
+                changed += c * c
+                side += d * d
+            if changed > tolerance2 * side:
+                out[f] = True
+                break
+    return out
 
 
 @njit(cache=True, nogil=True, boundscheck=False)

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from gogreen_core.mesh._remesh_kernels import strained_faces
 from gogreen_core.mesh.topology import mesh_edges
 
 __all__ = ["grow_region", "local_edge_lengths", "median_edge_length", "strained_vertices"]
@@ -23,7 +24,8 @@ def median_edge_length(vertices: np.ndarray, faces: np.ndarray) -> float:
 def local_edge_lengths(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """(N,) float64: the mean length of each vertex's edges in ``faces`` (M, 3) over
     ``vertices`` (N, 3), model units: the edge length the surface has there (a sizing field
-    for :func:`remesh`). A vertex of no face gets the median of the others (1 without any)."""
+    for :func:`remesh`). A vertex of no face (or only of edges of length 0) gets the median
+    of the others (1 without any): every length is positive."""
     faces = np.asarray(faces, dtype=np.int64)
     n = len(vertices)
     total, count = np.zeros(n), np.zeros(n)
@@ -33,7 +35,7 @@ def local_edge_lengths(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
         total += np.bincount(a, length, minlength=n) + np.bincount(b, length, minlength=n)
         count += np.bincount(a, minlength=n) + np.bincount(b, minlength=n)
     lengths = np.divide(total, count, out=np.zeros(n), where=count > 0)
-    alone = count == 0
+    alone = ~(lengths > 0)
     if alone.any():
         lengths[alone] = float(np.median(lengths[~alone])) if (~alone).any() else 1.0
     return lengths
@@ -56,13 +58,13 @@ def strained_vertices(
     motion stretched, sheared or turned the surface (a rigid shift strains nothing; the measure
     does not depend on how fine the mesh is). Its cost is that of ``faces``: pass the faces
     around the vertices that moved, not every face, to measure a small region of a big mesh."""
-    strained = np.zeros(len(faces), dtype=bool)
-    for k in range(3):
-        a, b = faces[:, k], faces[:, (k + 1) % 3]
-        change = (vertices[b] - reference[b]) - (vertices[a] - reference[a])
-        side = reference[b] - reference[a]
-        changed = np.einsum("ij,ij->i", change, change)
-        strained |= changed > tolerance * tolerance * np.einsum("ij,ij->i", side, side)
+    faces = np.ascontiguousarray(faces, dtype=np.int64)
+    strained = strained_faces(
+        np.ascontiguousarray(reference, dtype=np.float64),
+        np.ascontiguousarray(vertices, dtype=np.float64),
+        faces,
+        float(tolerance) ** 2,
+    )
     out = np.zeros(len(vertices), dtype=bool)
     out[faces[strained].ravel()] = True
     return out

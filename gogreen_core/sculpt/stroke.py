@@ -226,14 +226,17 @@ class StrokeDriver:
             else:  # each vertex's edges before the stroke (coarse parts stay coarse)
                 stroke.detail = local_edge_lengths(stroke.before, mesh.faces)
         detail = stroke.detail
-        if not np.all(detail > 0):  # coincident vertices: nothing to measure by
+        if not np.all(detail > 0):  # a model of size 0: nothing to measure by
             return False
         # every other vertex is where it was last remeshed (or where the stroke began): the
         # measures below read the rows moved since and their faces, not the whole mesh. A face
         # this event did not move strains as it did after the last event: not enough (else it
         # was remeshed, which settled its corners), so only this event's faces are measured.
-        unsettled = stroke.unsettled = np.union1d(stroke.unsettled, rows)
         around = np.zeros(len(mesh.vertices), dtype=bool)
+        around[stroke.unsettled] = True  # a mark, not np.union1d: no sort of ~N rows
+        around[rows] = True
+        unsettled = stroke.unsettled = np.flatnonzero(around)
+        around[:] = False
         around[rows] = True
         faces = mesh.faces[np.flatnonzero(np.any(around[mesh.faces], axis=1))]
         strained = strained_vertices(stroke.reference, mesh.vertices, faces, STRAIN_TOLERANCE)
