@@ -16,7 +16,36 @@ from typing import cast
 import numpy as np
 from numba import njit
 
-__all__ = ["closest_points_on_triangles", "pick_collapses", "pick_flips", "smallest_angles"]
+__all__ = [
+    "closest_points_on_triangles",
+    "pick_collapses",
+    "pick_flips",
+    "smallest_angles",
+    "strained_faces",
+]
+
+
+@njit(cache=True, nogil=True, boundscheck=False)
+def strained_faces(
+    reference: np.ndarray, vertices: np.ndarray, faces: np.ndarray, tolerance2: float
+) -> np.ndarray:
+    """(M,) bool: the faces (M, 3) one of whose sides changed, as a vector, by more than
+    sqrt(``tolerance2``) times its length from ``reference`` (N, 3) to ``vertices`` (N, 3).
+    One pass, no (M, 3) temporaries: a grab's faint far field moves most of a big mesh."""
+    out = np.zeros(len(faces), dtype=np.bool_)
+    for f in range(len(faces)):
+        for k in range(3):
+            a, b = faces[f, k], faces[f, (k + 1) % 3]
+            changed = side = 0.0
+            for x in range(3):
+                c = (vertices[b, x] - reference[b, x]) - (vertices[a, x] - reference[a, x])
+                d = reference[b, x] - reference[a, x]
+                changed += c * c
+                side += d * d
+            if changed > tolerance2 * side:
+                out[f] = True
+                break
+    return out
 
 
 @njit(cache=True, nogil=True, boundscheck=False)
@@ -74,7 +103,7 @@ def pick_collapses(
     vf_faces: np.ndarray,
     closed: np.ndarray,
     free: np.ndarray,
-    high: float,
+    high: np.ndarray,
     min_area2: float,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Short edges to collapse, in ``candidates`` (K,) order: (removed, kept) vertex pairs
@@ -84,8 +113,10 @@ def pick_collapses(
     An edge is collapsed when both ends are ``closed`` (all their faces are here), one of them
     may move (``free``: the one removed; the midpoint when both may), the two ends share exactly
     the two neighbours opposite the edge (the link condition: the result is a manifold), no new
-    edge is longer than ``high``, no face turns over or degenerates (twice its area² above
-    ``min_area2``), the edge is no texture seam, and no vertex of either one-ring is claimed.
+    edge is longer than the mean of its ends' ``high`` (n,) (the kept end's: the mean of the
+    pair's when it moves to the midpoint, else its own), no face turns over or degenerates
+    (twice its area² above ``min_area2``), the edge is no texture seam, and no vertex of either
+    one-ring is claimed.
     """
     n = len(closed)
     claimed = np.zeros(n, dtype=np.bool_)
@@ -131,6 +162,7 @@ def pick_collapses(
             continue
         both = free[b]
         position = 0.5 * (points[a] + points[b]) if both else points[b].copy()
+        high_kept = 0.5 * (high[a] + high[b]) if both else high[b]
         too_long = False
         for v in (a, b):
             for j in range(offsets[v], offsets[v + 1]):
@@ -138,7 +170,8 @@ def pick_collapses(
                 if w == a or w == b:
                     continue
                 d = points[w] - position
-                if d[0] ** 2 + d[1] ** 2 + d[2] ** 2 > high * high:
+                limit = 0.5 * (high[w] + high_kept)
+                if d[0] ** 2 + d[1] ** 2 + d[2] ** 2 > limit * limit:
                     too_long = True
         if too_long:
             continue

@@ -1,7 +1,8 @@
 """Local isotropic remeshing (Botsch & Kobbelt 2004, "A remeshing approach to multiresolution
 modeling", Sec. 4), of a region of a triangle mesh or of all of it.
 
-Given a target edge length L, each iteration
+Given a target edge length L (one for the mesh, or one per vertex: a sizing field, an edge
+then measured against the mean of its ends', as in adaptive remeshing), each iteration
 1. splits the edges longer than 4/3 L at their midpoints (all at once, red-green: a face with
    one long side becomes two, with two three, with three four, as in
    :mod:`gogreen_core.mesh.subdivision`), until none is left;
@@ -49,6 +50,12 @@ from gogreen_core.mesh._remesh_kernels import (
     smallest_angles,
 )
 from gogreen_core.mesh.mesh_state import MeshSnapshot
+from gogreen_core.mesh.remesh_region import (
+    grow_region,
+    local_edge_lengths,
+    median_edge_length,
+    strained_vertices,
+)
 from gogreen_core.mesh.subdivision import MASK_THRESHOLD, _split_faces, _subdivided_uv
 from gogreen_core.mesh.topology import (
     BOUNDARY,
@@ -65,6 +72,7 @@ __all__ = [
     "RemeshedMesh",
     "closest_points_on_triangles",
     "grow_region",
+    "local_edge_lengths",
     "median_edge_length",
     "remesh",
     "remesh_snapshot",
@@ -87,9 +95,11 @@ class RemeshedMesh:
     """The result of :func:`remesh`.
 
     vertices (N', 3) float64, faces (M', 3) int64, mask (N',) float64 (None without one), uv
-    (T', 2) and uv_faces (M', 3) (None without); kept (N,) int64: the new index of each old
-    vertex, -1 where it was collapsed away; changed (N',) bool: the vertices of the region and
-    the new ones (all others are old vertices at their old positions, bit for bit).
+    (T', 2) and uv_faces (M', 3) (None without); sizes (N',) float64, each vertex's target
+    edge length (interpolated onto new vertices; None for one target length); kept (N,)
+    int64: the new index of each old vertex, -1 where it was collapsed away; changed (N',)
+    bool: the vertices of the region and the new ones (all others are old vertices at their
+    old positions, bit for bit).
     """
 
     vertices: np.ndarray
@@ -99,44 +109,7 @@ class RemeshedMesh:
     uv_faces: np.ndarray | None
     kept: np.ndarray
     changed: np.ndarray
-
-
-def median_edge_length(vertices: np.ndarray, faces: np.ndarray) -> float:
-    """The median length of the edges of ``faces`` (M, 3) over ``vertices`` (N, 3) (each
-    edge once); 0 without faces."""
-    if not len(faces):
-        return 0.0
-    ends = mesh_edges(np.asarray(faces, dtype=np.int64), len(vertices)).ends
-    return float(np.median(np.linalg.norm(vertices[ends[:, 1]] - vertices[ends[:, 0]], axis=1)))
-
-
-def grow_region(faces: np.ndarray, region: np.ndarray, rings: int = 1) -> np.ndarray:
-    """(N,) bool: ``region`` (N,) bool and every vertex within ``rings`` edges of it."""
-    grown = np.asarray(region, dtype=bool).copy()
-    for _ in range(rings):
-        touching = np.any(grown[faces], axis=1)
-        grown[faces[touching].ravel()] = True
-    return grown
-
-
-def strained_vertices(
-    reference: np.ndarray, vertices: np.ndarray, faces: np.ndarray, tolerance: float
-) -> np.ndarray:
-    """(N,) bool: the corners of faces one of whose sides changed, as a vector, by more than
-    ``tolerance`` times its length from ``reference`` (N, 3) to ``vertices`` (N, 3): where a
-    motion stretched, sheared or turned the surface (a rigid shift strains nothing; the measure
-    does not depend on how fine the mesh is). Its cost is that of ``faces``: pass the faces
-    around the vertices that moved, not every face, to measure a small region of a big mesh."""
-    strained = np.zeros(len(faces), dtype=bool)
-    for k in range(3):
-        a, b = faces[:, k], faces[:, (k + 1) % 3]
-        change = (vertices[b] - reference[b]) - (vertices[a] - reference[a])
-        side = reference[b] - reference[a]
-        changed = np.einsum("ij,ij->i", change, change)
-        strained |= changed > tolerance * tolerance * np.einsum("ij,ij->i", side, side)
-    out = np.zeros(len(vertices), dtype=bool)
-    out[faces[strained].ravel()] = True
-    return out
+    sizes: np.ndarray | None = None
 
 
 class _Patch:
@@ -150,10 +123,12 @@ class _Patch:
         closed: np.ndarray,
         locked: np.ndarray,
         mask: np.ndarray,
+        sizes: np.ndarray,
         uv: np.ndarray | None,
         uv_faces: np.ndarray | None,
     ) -> None:
         self.points = vertices
+        self.sizes = sizes  # each vertex's target edge length L
         self.faces = faces
         self.closed = closed  # all the vertex's faces are here (it may change)
         self.locked = locked  # never moves, never removed
@@ -209,12 +184,13 @@ class _Patch:
         return cast(np.ndarray, free)
 
     # -- 1. split ------------------------------------------------------------------------------
-    def split(self, high: float) -> bool:
+    def split(self) -> bool:
         edges = mesh_edges(self.faces, len(self.points))
         a, b = edges.ends[:, 0], edges.ends[:, 1]
         length2 = np.einsum(
             "ij,ij->i", self.points[b] - self.points[a], self.points[b] - self.points[a]
         )
+        high = SPLIT_ABOVE * 0.5 * (self.sizes[a] + self.sizes[b])
         split = (
             (edges.face_count == 2) & (self.closed[a] | self.closed[b]) & (length2 > high * high)
         )
@@ -232,6 +208,9 @@ class _Patch:
         self.mask = np.concatenate(
             [self.mask, 0.5 * (self.mask[ends[:, 0]] + self.mask[ends[:, 1]])]
         )
+        self.sizes = np.concatenate(
+            [self.sizes, 0.5 * (self.sizes[ends[:, 0]] + self.sizes[ends[:, 1]])]
+        )
         grown = len(ends)
         self.closed = np.concatenate([self.closed, np.ones(grown, dtype=bool)])
         self.locked = np.concatenate([self.locked, np.zeros(grown, dtype=bool)])
@@ -244,14 +223,14 @@ class _Patch:
         return True
 
     # -- 2. collapse ---------------------------------------------------------------------------
-    def collapse(self, low: float, high: float, min_area2: float) -> bool:
+    def collapse(self, min_area2: float) -> bool:
         edges = mesh_edges(self.faces, len(self.points))
         a, b = edges.ends[:, 0], edges.ends[:, 1]
         length = np.linalg.norm(self.points[b] - self.points[a], axis=1)
         free = self.free()
         short = (
             (edges.face_count == 2)
-            & (length < low)
+            & (length < COLLAPSE_BELOW * 0.5 * (self.sizes[a] + self.sizes[b]))
             & self.closed[a]
             & self.closed[b]
             & (free[a] | free[b])
@@ -275,7 +254,7 @@ class _Patch:
             vf_faces,
             self.closed,
             free,
-            high,
+            SPLIT_ABOVE * self.sizes,
             min_area2,
         )
         if not len(pairs):
@@ -294,6 +273,7 @@ class _Patch:
             at_gone = np.isin(self.faces, gone)
             self.uv_faces = np.where(at_gone, row_of[self.faces], self.uv_faces)
         self.mask[kept[middle]] = 0.5 * (self.mask[gone[middle]] + self.mask[kept[middle]])
+        self.sizes[kept[middle]] = 0.5 * (self.sizes[gone[middle]] + self.sizes[kept[middle]])
         self.points[kept] = positions
         target = np.arange(len(self.points))
         target[gone] = kept
@@ -424,7 +404,7 @@ def remesh(
     vertices: np.ndarray,
     faces: np.ndarray,
     region: np.ndarray,
-    target_length: float,
+    target_length: float | np.ndarray,
     *,
     mask: np.ndarray | None = None,
     uv: np.ndarray | None = None,
@@ -440,7 +420,9 @@ def remesh(
     vertices : (N, 3) float64, model units; faces : (M, 3) int64.
     region : (N,) bool, the vertices whose faces may change (e.g. what a stroke moved, grown
         by a ring: :func:`grow_region`); every vertex for the whole mesh.
-    target_length : L, model units (> 0): edges end between 4/5 L and 4/3 L where they can.
+    target_length : L, model units (> 0): edges end between 4/5 L and 4/3 L where they can;
+        or (N,) float64, each vertex's L (a sizing field: an edge against the mean of its
+        ends'; new vertices interpolate it, returned as ``sizes``).
     mask : (N,) float64 in [0, 1], optional: carried onto new vertices (interpolated); a
         vertex held at :data:`~gogreen_core.mesh.subdivision.MASK_THRESHOLD` or more is locked.
     uv : (T, 2) float64 and uv_faces : (M, 3) int64 (-1 rows: untextured faces), optional.
@@ -452,7 +434,11 @@ def remesh(
     vertices = np.asarray(vertices, dtype=np.float64)
     faces = np.asarray(faces, dtype=np.int64)
     n = len(vertices)
-    if not (np.isfinite(target_length) and target_length > 0):
+    sizing = np.ndim(target_length) > 0
+    target = np.asarray(target_length, dtype=np.float64)
+    if sizing and target.shape != (n,):
+        raise ValueError(f"target_length must be one length or ({n},) (got {target.shape})")
+    if not sizing and not (np.isfinite(target) and target > 0):
         raise ValueError(f"target_length must be a positive length (got {target_length!r})")
     region = np.asarray(region, dtype=bool)
     if region.shape != (n,):
@@ -462,6 +448,9 @@ def remesh(
     patch_faces = np.searchsorted(local, faces[in_patch])
     # only the patch's rows are read: the cost is the region's, not the mesh's
     mask_local = np.zeros(len(local)) if mask is None else np.asarray(mask, np.float64)[local]
+    sizes_local = target[local] if sizing else np.full(len(local), float(target))
+    if sizing and not (np.isfinite(sizes_local).all() and (sizes_local > 0).all()):
+        raise ValueError("target_length must be positive lengths around the region")
     held = mask_local >= MASK_THRESHOLD
     if locked is not None:
         held |= np.asarray(locked, dtype=bool)[local]
@@ -471,20 +460,20 @@ def remesh(
         region[local],
         held,
         mask_local,
+        sizes_local.copy(),
         None if uv is None else np.asarray(uv, dtype=np.float64).copy(),
         None if uv_faces is None else np.asarray(uv_faces, dtype=np.int64)[in_patch].copy(),
     )
-    L = float(target_length)
-    high, low = SPLIT_ABOVE * L, COLLAPSE_BELOW * L
+    L = float(sizes_local.min()) if len(local) else 1.0
     min_area2 = (2.0 * _MIN_AREA * L * L) ** 2
     for done in range(iterations):
         if progress is not None:
             progress(done / (iterations + 1))
         for _round in range(_SPLIT_ROUNDS):
-            if not patch.split(high):
+            if not patch.split():
                 break
         for _round in range(2):
-            if not patch.collapse(low, high, min_area2):
+            if not patch.collapse(min_area2):
                 break
         for _round in range(2):
             if not patch.flip(min_area2):
@@ -493,15 +482,18 @@ def remesh(
     if progress is not None:
         progress(iterations / (iterations + 1))
     for _round in range(_SPLIT_ROUNDS):  # what the relaxation stretched past 4/3 L
-        if not patch.split(high):
+        if not patch.split():
             break
-    return _assemble(vertices, faces, mask, uv, uv_faces, in_patch, local, patch)
+    return _assemble(
+        vertices, faces, mask, target if sizing else None, uv, uv_faces, in_patch, local, patch
+    )
 
 
 def _assemble(
     vertices: np.ndarray,
     faces: np.ndarray,
     mask: np.ndarray | None,
+    sizes: np.ndarray | None,
     uv: np.ndarray | None,
     uv_faces: np.ndarray | None,
     in_patch: np.ndarray,
@@ -533,13 +525,16 @@ def _assemble(
     outside = faces[~in_patch]  # renumbered only when a vertex was removed
     out_faces[:n_outside] = outside if n_kept == n else kept[outside]
     out_faces[n_outside:] = number[patch.faces]
-    out_mask = None
-    if mask is not None:
-        out_mask = np.empty(len(out_vertices))
-        m = np.asarray(mask, dtype=np.float64)
-        out_mask[:n_kept] = m[keep] if n_kept < n else m
-        out_mask[kept[local[moved]]] = patch.mask[:n_local][moved]
-        out_mask[n_kept:] = patch.mask[added]
+
+    def per_vertex(old: np.ndarray, new: np.ndarray) -> np.ndarray:
+        out = np.empty(len(out_vertices))
+        out[:n_kept] = old[keep] if n_kept < n else old
+        out[kept[local[moved]]] = new[:n_local][moved]
+        out[n_kept:] = new[added]
+        return out
+
+    out_mask = None if mask is None else per_vertex(np.asarray(mask, np.float64), patch.mask)
+    out_sizes = None if sizes is None else per_vertex(sizes, patch.sizes)
     out_uv = out_uv_faces = None
     if uv is not None and uv_faces is not None and patch.uv is not None:
         corners = np.concatenate([np.asarray(uv_faces, dtype=np.int64)[~in_patch], patch.uv_faces])
@@ -549,7 +544,9 @@ def _assemble(
     changed = np.zeros(len(out_vertices), dtype=bool)
     changed[kept[local[patch.closed[:n_local] & keep[local]]]] = True
     changed[n_kept:] = True
-    return RemeshedMesh(out_vertices, out_faces, out_mask, out_uv, out_uv_faces, kept, changed)
+    return RemeshedMesh(
+        out_vertices, out_faces, out_mask, out_uv, out_uv_faces, kept, changed, out_sizes
+    )
 
 
 def remesh_snapshot(

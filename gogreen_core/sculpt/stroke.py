@@ -22,9 +22,12 @@ first event (:mod:`gogreen_core.sculpt.material_frame`).
 
 Dynamic topology (``EngineSettings.dynamic_topology``): after each event that moved vertices,
 the faces around the vertices whose sides the stroke strained by more than
-:data:`STRAIN_TOLERANCE` of their length since they were last remeshed, or that moved at least
-:data:`CORE_MOTION` of the most any vertex did (the brush's core), grown by a ring, are
-remeshed to the detail size (:mod:`gogreen_core.mesh.remesh`), the vertices nearest the pins locked.
+:data:`STRAIN_TOLERANCE` of their length since they were last remeshed, or that moved (per
+event since then) at least :data:`CORE_MOTION` of the most any vertex did (the brush's core),
+grown by a ring, are remeshed to the detail size (:mod:`gogreen_core.mesh.remesh`), the vertices
+nearest the pins locked. Without a detail size each vertex keeps the edge length its surface had
+before the stroke (a sizing field carried onto new vertices): a pull by a fine part does not
+refine the coarse parts it reaches to the fine part's edges.
 The measures read only the rows moved since they were last remeshed and the faces this event
 moved, the remesh only its patch; what remains per event over the whole mesh is a few
 memory-bound passes (finding the faces of the moved rows, writing the new arrays).
@@ -43,7 +46,7 @@ from gogreen_core.field.kernel import GreenKernel
 from gogreen_core.mesh.mesh_state import MaskRows, MeshSnapshot, MeshState
 from gogreen_core.mesh.remesh import (
     grow_region,
-    median_edge_length,
+    local_edge_lengths,
     remesh,
     remesh_snapshot,
     strained_vertices,
@@ -101,10 +104,12 @@ class _Stroke:
     memo: dict[str, Any] = field(default_factory=dict)  # the brush's state between events
     mask_before: np.ndarray | None = None  # (N,) the mask, copied at the first mask edit
     # dynamic topology: the whole mesh at the start (once remeshed), each vertex's position
-    # when it was last remeshed, and the target edge length (model units) of this stroke
+    # when it was last remeshed and the event after which it was (0: none yet), and the
+    # target edge length (model units) of this stroke: one, or each vertex's (N,)
     start: MeshSnapshot | None = None
     reference: np.ndarray | None = None
-    detail: float | None = None
+    settled_at: np.ndarray | None = None
+    detail: float | np.ndarray | None = None
     kernels: KernelCache | None = None  # the surface frame's, fixed at the first event
     # the rows (ascending) moved since they were last remeshed: only their faces can be strained
     unsettled: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
@@ -214,30 +219,36 @@ class StrokeDriver:
         mesh = self.mesh
         if stroke.reference is None:
             stroke.reference = stroke.before
+            stroke.settled_at = np.zeros(len(stroke.before), dtype=np.int64)
         if stroke.detail is None:
             if settings.detail_size is not None:
                 stroke.detail = settings.detail_size * mesh.model_size
-            else:  # the edges the moved region had before the stroke
-                moved = np.zeros(len(mesh.vertices), dtype=bool)
-                moved[rows] = True
-                near = mesh.faces[np.any(moved[mesh.faces], axis=1)]
-                stroke.detail = median_edge_length(stroke.before, near)
+            else:  # each vertex's edges before the stroke (coarse parts stay coarse)
+                stroke.detail = local_edge_lengths(stroke.before, mesh.faces)
         detail = stroke.detail
-        if not detail > 0:  # a region of coincident vertices: nothing to measure by
+        if not np.all(detail > 0):  # a model of size 0: nothing to measure by
             return False
         # every other vertex is where it was last remeshed (or where the stroke began): the
         # measures below read the rows moved since and their faces, not the whole mesh. A face
         # this event did not move strains as it did after the last event: not enough (else it
         # was remeshed, which settled its corners), so only this event's faces are measured.
-        unsettled = stroke.unsettled = np.union1d(stroke.unsettled, rows)
         around = np.zeros(len(mesh.vertices), dtype=bool)
+        around[stroke.unsettled] = True  # a mark, not np.union1d: no sort of ~N rows
+        around[rows] = True
+        unsettled = stroke.unsettled = np.flatnonzero(around)
+        around[:] = False
         around[rows] = True
         faces = mesh.faces[np.flatnonzero(np.any(around[mesh.faces], axis=1))]
         strained = strained_vertices(stroke.reference, mesh.vertices, faces, STRAIN_TOLERANCE)
-        # and the brush's core: what moved at least CORE_MOTION of the most any vertex did
-        # (refined to a detail size finer than the surface even where nothing stretches)
+        # and the brush's core: what moved, per event since it was last remeshed, at least
+        # CORE_MOTION of the most any vertex did (refined to a detail size finer than the
+        # surface even where nothing stretches). Per event: a vertex remeshed at the last event
+        # has moved by one event, one never remeshed by all of them; against the total, the
+        # latter would pass the bar ever further out, event after event
+        assert stroke.settled_at is not None
         shift = mesh.vertices[unsettled] - stroke.reference[unsettled]
-        moved2 = np.einsum("ij,ij->i", shift, shift)
+        elapsed = len(stroke.events) - stroke.settled_at[unsettled]
+        moved2 = np.einsum("ij,ij->i", shift, shift) / (elapsed * elapsed)
         strained[unsettled] |= (moved2 > 0) & (moved2 >= CORE_MOTION**2 * moved2.max())
         if not strained.any():
             return False
@@ -268,6 +279,11 @@ class StrokeDriver:
         still[still] = ~done.changed[now[still]]
         reference[now[still]] = stroke.reference[unsettled[still]]
         stroke.reference, stroke.unsettled = reference, now[still]
+        settled_at = np.full(len(done.vertices), len(stroke.events), dtype=np.int64)
+        settled_at[now[still]] = stroke.settled_at[unsettled[still]]
+        stroke.settled_at = settled_at
+        if done.sizes is not None:
+            stroke.detail = done.sizes
         assert done.mask is not None
         new_mesh = MeshSnapshot(done.vertices, done.faces, done.mask, done.uv, done.uv_faces)
         mesh.adopt(new_mesh, owned=True)
