@@ -2,7 +2,7 @@
 
 Run with the Blender tests' environment (``bash scripts/setup_blender_env.sh`` makes it)::
 
-    .venv-blender/bin/python scripts/blender_demo.py /tmp/gogreen_blender.png
+    .venv-blender/bin/python scripts/blender_demo.py gogreen_blender.png
 
 Three sheets get the same pull through ``bpy.ops.gogreen.apply_stroke``: "Soft clay"
 (isotropic: a round bump), "Wood grain" (orthotropic, the grain tilted 30°: a lopsided bump) and
@@ -84,4 +84,4 @@ def main(path: str) -> None:
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else "/tmp/gogreen_blender.png")
+    main(sys.argv[1] if len(sys.argv) > 1 else "gogreen_blender.png")

@@ -24,7 +24,7 @@ from gogreen_core.mesh import _geometry_numpy
 from gogreen_core.mesh._geometry_numpy import _BLOCK_SHIFT, _MORTON_BITS, LEAF_SIZE
 from gogreen_core.threads import threads_at_most
 
-__all__ = ["FaceAdjacency", "SurfaceIndex", "mesh_volume", "vertex_normals"]
+__all__ = ["SurfaceIndex", "mesh_volume", "vertex_normals"]
 
 # No fastmath: an incremental update gives the bits of a new build (sums in face order); nogil: a
 # background build.
@@ -53,34 +53,6 @@ def mesh_volume(vertices: np.ndarray, faces: np.ndarray) -> float:
     """Signed volume enclosed by a closed, consistently oriented triangle mesh."""
     a, b, c = (vertices[faces[:, k]] for k in range(3))
     return float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0)
-
-
-class FaceAdjacency:
-    """The faces around each vertex, built once per mesh (connectivity only, so it stays valid
-    while the vertices move).
-
-    Attributes
-    ----------
-    offsets : (N + 1,) int64
-        The faces of vertex v are ``face_ids[offsets[v]:offsets[v + 1]]``.
-    face_ids : (3M,) int64
-        In increasing face order (a face listing v twice appears twice), the order in which
-        :func:`vertex_normals` sums them, so updates round identically.
-    """
-
-    def __init__(self, faces: np.ndarray, n_vertices: int):
-        faces = np.ascontiguousarray(faces, dtype=np.int64)
-        if faces.ndim != 2 or faces.shape[1] != 3:
-            raise ValueError(f"faces must have shape (M, 3) (got {faces.shape})")
-        flat = faces.ravel()
-        if flat.size and (flat.min() < 0 or flat.max() >= n_vertices):
-            raise ValueError(f"faces must index vertices 0 to {n_vertices - 1}")
-        order = np.argsort(flat, kind="stable")
-        self.face_ids = order // 3
-        counts = np.bincount(flat, minlength=n_vertices)
-        self.offsets = np.zeros(n_vertices + 1, dtype=np.int64)
-        np.cumsum(counts, out=self.offsets[1:])
-        self.n_vertices = int(n_vertices)
 
 
 #: Work items per chunk of the per-event kernels: chunks are dealt to the threads in turn, so a

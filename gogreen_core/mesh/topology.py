@@ -8,11 +8,12 @@ alone, so everything computed from them is reproducible bit for bit.
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["MeshEdges", "VertexNeighbours", "mesh_edges", "vertex_neighbours"]
+__all__ = ["FaceAdjacency", "MeshEdges", "VertexNeighbours", "mesh_edges", "vertex_neighbours"]
 
 #: :attr:`VertexNeighbours.mode` values: relax towards all neighbours, along the boundary
 #: (its two boundary neighbours), or not at all (a vertex where the surface is not a manifold).
@@ -101,3 +102,57 @@ def vertex_neighbours(edges: MeshEdges, n_vertices: int) -> VertexNeighbours:
     mode[(boundary_count != 0) & (boundary_count != 2)] = FIXED
     mode[odd | (counts == 0)] = FIXED
     return VertexNeighbours(offsets, target[order], on_boundary, mode)
+
+
+class FaceAdjacency:
+    """The faces around each vertex, built once per mesh (connectivity only, so it stays valid
+    while the vertices move).
+
+    Attributes
+    ----------
+    offsets : (N + 1,) int64
+        The faces of vertex v are ``face_ids[offsets[v]:offsets[v + 1]]``.
+    face_ids : (3M,) int64
+        In increasing face order (a face listing v twice appears twice), the order in which
+        :func:`~gogreen_core.mesh.geometry.vertex_normals` sums them, so updates round identically.
+    """
+
+    def __init__(self, faces: np.ndarray, n_vertices: int):
+        faces = np.ascontiguousarray(faces, dtype=np.int64)
+        if faces.ndim != 2 or faces.shape[1] != 3:
+            raise ValueError(f"faces must have shape (M, 3) (got {faces.shape})")
+        flat = faces.ravel()
+        if flat.size and (flat.min() < 0 or flat.max() >= n_vertices):
+            raise ValueError(f"faces must index vertices 0 to {n_vertices - 1}")
+        order = np.argsort(flat, kind="stable")
+        self.face_ids = order // 3
+        counts = np.bincount(flat, minlength=n_vertices)
+        self.offsets = np.zeros(n_vertices + 1, dtype=np.int64)
+        np.cumsum(counts, out=self.offsets[1:])
+        self.n_vertices = int(n_vertices)
+
+    @classmethod
+    def of(cls, faces: np.ndarray, n_vertices: int) -> FaceAdjacency:
+        """The adjacency of the face array ``faces`` (that array object): built once per
+        topology and shared by its callers (no pass over every face per stroke: a 1.3M-face
+        mesh takes 50-300 ms), held by a weak reference so a replaced mesh is freed."""
+        if _LAST_ADJACENCY:
+            held, adjacency = _LAST_ADJACENCY[0]
+            if held() is faces and adjacency.n_vertices == n_vertices:
+                return adjacency
+        adjacency = cls(faces, n_vertices)
+        _LAST_ADJACENCY[:] = [(weakref.ref(faces), adjacency)]
+        return adjacency
+
+    def around(self, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(owner (K,), face numbers (K,)): the faces around each vertex of ``rows`` (k,), in
+        this adjacency's order; ``owner`` is the vertex's position in ``rows``."""
+        start = self.offsets[rows]
+        count = self.offsets[rows + 1] - start
+        owner = np.repeat(np.arange(len(rows)), count)
+        within = np.arange(len(owner)) - np.repeat(np.cumsum(count) - count, count)
+        return owner, self.face_ids[np.repeat(start, count) + within]
+
+
+#: The last :meth:`FaceAdjacency.of`: (a weak reference to its face array, the adjacency).
+_LAST_ADJACENCY: list[tuple[weakref.ref[np.ndarray], FaceAdjacency]] = []

@@ -32,13 +32,13 @@ of the turned material, so the result is the mirror image of the stroke.
 
 from __future__ import annotations
 
-import weakref
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from gogreen_core.field.kernel import GreenKernel
 from gogreen_core.mesh.mesh_state import MeshState
+from gogreen_core.mesh.topology import FaceAdjacency
 from gogreen_core.sculpt.kernel_cache import KernelCache
 
 if TYPE_CHECKING:
@@ -61,9 +61,8 @@ def area_normal(mesh: MeshState, center: np.ndarray, radius: float) -> np.ndarra
     if not len(rows):
         gap = vertices - center
         rows = np.array([np.argmin(np.einsum("ij,ij->i", gap, gap))])
-    starts, face_ids = _vertex_faces(faces, len(vertices))
-    around = [face_ids[starts[r] : starts[r + 1]] for r in rows]
-    chosen = faces[np.unique(np.concatenate(around))]
+    _, around = FaceAdjacency.of(faces, len(vertices)).around(rows)
+    chosen = faces[np.unique(around)]
     a, b, c = (vertices[chosen[:, k]] for k in range(3))
     total = np.cross(b - a, c - a).sum(axis=0)
     length = float(np.linalg.norm(total))
@@ -71,26 +70,6 @@ def area_normal(mesh: MeshState, center: np.ndarray, radius: float) -> np.ndarra
         raise ValueError("the surface under the brush has no area: no normal to follow")
     normal: np.ndarray = total / length
     return normal
-
-
-#: The faces around each vertex of the last face array asked for: (a weak reference to the
-#: faces, CSR starts (N + 1,), face numbers (3F,)); built once per topology, not kept alive.
-_AROUND: list[tuple[weakref.ref[np.ndarray], np.ndarray, np.ndarray]] = []
-
-
-def _vertex_faces(faces: np.ndarray, n_vertices: int) -> tuple[np.ndarray, np.ndarray]:
-    """(starts (n_vertices + 1,), face numbers (3F,)): the faces around vertex v are
-    ``numbers[starts[v]:starts[v + 1]]`` (no pass over every face per stroke: a 1.3M-face mesh
-    took 50-300 ms to scan)."""
-    if _AROUND and _AROUND[0][0]() is faces and len(_AROUND[0][1]) == n_vertices + 1:
-        return _AROUND[0][1], _AROUND[0][2]
-    flat = faces.ravel()
-    order = np.argsort(flat, kind="stable")
-    numbers = (order // 3).astype(np.int64)
-    starts = np.zeros(n_vertices + 1, dtype=np.int64)
-    np.cumsum(np.bincount(flat, minlength=n_vertices), out=starts[1:])
-    _AROUND[:] = [(weakref.ref(faces), starts, numbers)]
-    return starts, numbers
 
 
 def surface_frame(normal: np.ndarray, motion: np.ndarray | None) -> np.ndarray:

@@ -44,7 +44,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from gogreen_core.mesh.geometry import FaceAdjacency
+from gogreen_core.mesh.topology import FaceAdjacency
 from gogreen_core.sculpt.brushes.base import Displacement, StrokeContext, mirror_signs
 from gogreen_core.sculpt.brushes.paint import PAINT_AUTO_INFLUENCE, PaintBrush
 
@@ -204,12 +204,8 @@ def _vertex_normals(
     """Area-weighted unit normals (k, 3) of vertices ``rows`` (k,), from the faces around them
     with the positions ``current[slot[v]]`` where ``slot[v]`` ≥ 0, else ``mesh.vertices[v]``
     (:func:`~gogreen_core.mesh.geometry.vertex_normals`' sums, restricted to these rows)."""
-    adjacency = _face_adjacency(mesh)
-    start = adjacency.offsets[rows]
-    count = adjacency.offsets[rows + 1] - start
-    owner = np.repeat(np.arange(len(rows)), count)
-    within = np.arange(len(owner)) - np.repeat(np.cumsum(count) - count, count)
-    corners = mesh.faces[adjacency.face_ids[np.repeat(start, count) + within]]
+    owner, around = FaceAdjacency.of(mesh.faces, len(mesh.vertices)).around(rows)
+    corners = mesh.faces[around]
     where = slot[corners]
     p = np.where((where >= 0)[..., None], current[np.maximum(where, 0)], mesh.vertices[corners])
     face = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
@@ -220,18 +216,3 @@ def _vertex_normals(
     norm[norm == 0] = 1.0
     normals: np.ndarray = out / norm[:, None]
     return normals
-
-
-_ADJACENCY: list[tuple[np.ndarray, FaceAdjacency]] = []
-
-
-def _face_adjacency(mesh: MeshState) -> FaceAdjacency:
-    """The faces around each vertex of ``mesh``'s current face array (built once per face
-    array: strokes on the same faces share it)."""
-    if _ADJACENCY:
-        faces, adjacency = _ADJACENCY[0]
-        if faces is mesh.faces and adjacency.n_vertices == len(mesh.vertices):
-            return adjacency
-    adjacency = FaceAdjacency(mesh.faces, len(mesh.vertices))
-    _ADJACENCY[:] = [(mesh.faces, adjacency)]
-    return adjacency
