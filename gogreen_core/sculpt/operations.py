@@ -12,16 +12,17 @@ whole slider drag, curve drag or pin drag is one undo step.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from dataclasses import dataclass, field
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field, fields
 from types import MappingProxyType
-from typing import Any, ClassVar
+from typing import Any, ClassVar, cast
 
 import numpy as np
 
 from gogreen_core.field.limits import check_detail_size
 from gogreen_core.sculpt.brushes import Brush, BrushEvent
 from gogreen_core.sculpt.engine_settings import SETTING_GROUPS, EngineSettings
+from gogreen_core.sculpt.schema import member
 from gogreen_core.sculpt.setting_table import Setting, rows
 from gogreen_core.validation import (
     ParameterError,
@@ -67,7 +68,8 @@ MAX_REMESH_ITERATIONS = 100
 
 
 class Operation:
-    """Base of the operation records (immutable dataclasses)."""
+    """Base of the operation records (immutable dataclasses): a field is written to the file
+    when it is required or not at its default; a record checks its fields when made."""
 
     #: The ``"op"`` value in a session file.
     name: ClassVar[str]
@@ -82,20 +84,23 @@ class Operation:
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready ``{"op": name, ...}``."""
-        raise NotImplementedError
+        data: dict[str, Any] = {"op": self.name}
+        for f in fields(cast(Any, self)):
+            value = getattr(self, f.name)
+            if f.name in self.required or value != f.default:
+                data[f.name] = value.tolist() if isinstance(value, np.ndarray) else value
+        return data
 
     @classmethod
     def from_dict(cls, data: dict[str, Any], path: str) -> Operation:
         """Read the fields of a checked ``data`` (``op`` and keys already checked)."""
-        raise NotImplementedError
+        given = {k: data[k] for k in (*cls.required, *cls.optional) if k in data}
+        with prefixed(path):
+            return cast("Callable[..., Operation]", cls)(**given)
 
 
-def _continued(data: dict[str, Any], path: str) -> bool:
-    return check_bool(field_path(path, "continued"), data.get("continued", False))
-
-
-def _with_flag(data: dict[str, Any], continued: bool) -> dict[str, Any]:
-    return {**data, "continued": True} if continued else data
+def _set(record: Operation, name: str, value: object) -> None:
+    object.__setattr__(record, name, value)
 
 
 @dataclass(frozen=True, eq=False)
@@ -149,7 +154,7 @@ class SettingsChange(Operation):
             value = self.values[s.name]
             if s.record_key in self.required or s.written(value):
                 data[s.record_key] = s.to_json(value)
-        return _with_flag(data, self.continued)
+        return {**data, "continued": True} if self.continued else data
 
     @classmethod
     def from_dict(cls, data: dict[str, Any], path: str) -> SettingsChange:
@@ -157,7 +162,8 @@ class SettingsChange(Operation):
         for s in cls.group_rows():
             at, given = field_path(path, s.record_key), s.record_key in data
             values[s.name] = s.from_json(data[s.record_key], at, values) if given else s.initial()
-        return cls(MappingProxyType(values), _continued(data, path))
+        continued = check_bool(field_path(path, "continued"), data.get("continued", False))
+        return cls(MappingProxyType(values), continued)
 
 
 def _change_class(group: tuple[Setting, ...]) -> type[SettingsChange]:
@@ -193,12 +199,8 @@ class ConstraintAdd(Operation):
     required: ClassVar[tuple[str, ...]] = ("point",)
     point: np.ndarray
 
-    def to_dict(self) -> dict[str, Any]:
-        return {"op": self.name, "point": np.asarray(self.point, float).tolist()}
-
-    @classmethod
-    def from_dict(cls, data: dict[str, Any], path: str) -> ConstraintAdd:
-        return cls(check_finite(field_path(path, "point"), data["point"], (3,)))
+    def __post_init__(self) -> None:
+        _set(self, "point", check_finite("point", self.point, (3,)))
 
 
 @dataclass(frozen=True)
@@ -209,27 +211,8 @@ class ConstraintRemove(Operation):
     required: ClassVar[tuple[str, ...]] = ("index",)
     index: int
 
-    def to_dict(self) -> dict[str, Any]:
-        return {"op": self.name, "index": int(self.index)}
-
-    @classmethod
-    def from_dict(cls, data: dict[str, Any], path: str) -> ConstraintRemove:
-        name = field_path(path, "index")
-        return cls(check_integer(name, data["index"], low=0, high=MAX_INDEX))
-
-
-@dataclass(frozen=True)
-class ConstraintsClear(Operation):
-    """Remove every pin."""
-
-    name: ClassVar[str] = "constraints_clear"
-
-    def to_dict(self) -> dict[str, Any]:
-        return {"op": self.name}
-
-    @classmethod
-    def from_dict(cls, data: dict[str, Any], path: str) -> ConstraintsClear:
-        return cls()
+    def __post_init__(self) -> None:
+        _set(self, "index", check_integer("index", self.index, low=0, high=MAX_INDEX))
 
 
 @dataclass(frozen=True, eq=False)
@@ -244,43 +227,10 @@ class ConstraintDrag(Operation):
     delta: np.ndarray
     continued: bool = False
 
-    def to_dict(self) -> dict[str, Any]:
-        data = {"op": self.name, "index": int(self.index), "delta": self.delta.tolist()}
-        return _with_flag(data, self.continued)
-
-    @classmethod
-    def from_dict(cls, data: dict[str, Any], path: str) -> ConstraintDrag:
-        index = check_integer(field_path(path, "index"), data["index"], low=0, high=MAX_INDEX)
-        delta = check_finite(field_path(path, "delta"), data["delta"], (3,))
-        return cls(index, delta, _continued(data, path))
-
-
-@dataclass(frozen=True)
-class MaskInvert(Operation):
-    """Invert the vertex mask, m → 1 − m (an undo step; the vertices do not move)."""
-
-    name: ClassVar[str] = "mask_invert"
-
-    def to_dict(self) -> dict[str, Any]:
-        return {"op": self.name}
-
-    @classmethod
-    def from_dict(cls, data: dict[str, Any], path: str) -> MaskInvert:
-        return cls()
-
-
-@dataclass(frozen=True)
-class MaskClear(Operation):
-    """Clear the vertex mask (an undo step when anything was masked)."""
-
-    name: ClassVar[str] = "mask_clear"
-
-    def to_dict(self) -> dict[str, Any]:
-        return {"op": self.name}
-
-    @classmethod
-    def from_dict(cls, data: dict[str, Any], path: str) -> MaskClear:
-        return cls()
+    def __post_init__(self) -> None:
+        _set(self, "index", check_integer("index", self.index, low=0, high=MAX_INDEX))
+        _set(self, "delta", check_finite("delta", self.delta, (3,)))
+        _set(self, "continued", check_bool("continued", self.continued))
 
 
 @dataclass(frozen=True)
@@ -292,16 +242,8 @@ class Subdivide(Operation):
     optional: ClassVar[tuple[str, ...]] = ("unmasked_only",)
     unmasked_only: bool = False
 
-    def to_dict(self) -> dict[str, Any]:
-        data: dict[str, Any] = {"op": self.name}
-        if self.unmasked_only:
-            data["unmasked_only"] = True
-        return data
-
-    @classmethod
-    def from_dict(cls, data: dict[str, Any], path: str) -> Subdivide:
-        name = field_path(path, "unmasked_only")
-        return cls(check_bool(name, data.get("unmasked_only", False)))
+    def __post_init__(self) -> None:
+        _set(self, "unmasked_only", check_bool("unmasked_only", self.unmasked_only))
 
 
 @dataclass(frozen=True)
@@ -317,31 +259,35 @@ class Remesh(Operation):
     unmasked_only: bool = False
     iterations: int = REMESH_ITERATIONS
 
-    def to_dict(self) -> dict[str, Any]:
-        data: dict[str, Any] = {"op": self.name, "detail_size": self.detail_size}
-        if self.unmasked_only:
-            data["unmasked_only"] = True
-        if self.iterations != REMESH_ITERATIONS:
-            data["iterations"] = self.iterations
-        return data
-
     def __post_init__(self) -> None:
         size = check_detail_size(self.detail_size)
         if size is None:
             raise ParameterError("detail_size", "detail_size must be a number (got None)")
-        object.__setattr__(self, "detail_size", size)
-        object.__setattr__(self, "unmasked_only", check_bool("unmasked_only", self.unmasked_only))
+        _set(self, "detail_size", size)
+        _set(self, "unmasked_only", check_bool("unmasked_only", self.unmasked_only))
         rounds = check_integer("iterations", self.iterations, low=1, high=MAX_REMESH_ITERATIONS)
-        object.__setattr__(self, "iterations", rounds)
+        _set(self, "iterations", rounds)
 
-    @classmethod
-    def from_dict(cls, data: dict[str, Any], path: str) -> Remesh:
-        with prefixed(path):
-            return cls(
-                data["detail_size"],
-                data.get("unmasked_only", False),
-                data.get("iterations", REMESH_ITERATIONS),
-            )
+
+@dataclass(frozen=True)
+class ConstraintsClear(Operation):
+    """Remove every pin."""
+
+    name: ClassVar[str] = "constraints_clear"
+
+
+@dataclass(frozen=True)
+class MaskInvert(Operation):
+    """Invert the vertex mask, m → 1 − m (an undo step; the vertices do not move)."""
+
+    name: ClassVar[str] = "mask_invert"
+
+
+@dataclass(frozen=True)
+class MaskClear(Operation):
+    """Clear the vertex mask (an undo step when anything was masked)."""
+
+    name: ClassVar[str] = "mask_clear"
 
 
 @dataclass(frozen=True)
@@ -350,26 +296,12 @@ class Undo(Operation):
 
     name: ClassVar[str] = "undo"
 
-    def to_dict(self) -> dict[str, Any]:
-        return {"op": self.name}
-
-    @classmethod
-    def from_dict(cls, data: dict[str, Any], path: str) -> Undo:
-        return cls()
-
 
 @dataclass(frozen=True)
 class Redo(Operation):
     """Redo the last undone step."""
 
     name: ClassVar[str] = "redo"
-
-    def to_dict(self) -> dict[str, Any]:
-        return {"op": self.name}
-
-    @classmethod
-    def from_dict(cls, data: dict[str, Any], path: str) -> Redo:
-        return cls()
 
 
 _RECORDS: tuple[type[Operation], ...] = (
@@ -402,9 +334,7 @@ def operation_from_dict(data: object, path: str = "operation") -> Operation:
     the field (``path.op``, ``path.events[0].delta``...) for anything missing, unknown,
     mistyped or out of range."""
     data = check_object(path, data)
-    if "op" not in data:
-        raise ParameterError(field_path(path, "op"), f"{field_path(path, 'op')} is missing")
-    name = check_choice(field_path(path, "op"), data["op"], tuple(OPERATIONS))
+    name = check_choice(field_path(path, "op"), member(data, path, "op"), tuple(OPERATIONS))
     cls = OPERATIONS[name]
     check_object(path, data, required=("op", *cls.required), optional=cls.optional)
     return cls.from_dict(data, path)

@@ -96,7 +96,7 @@ def parse_material(data: object, path: str = "material") -> Material:
 
 def parse_falloff(data: object, path: str = "falloff") -> RadialProfile:
     """A falloff's ``to_dict`` → Gaussian, Kelvinlet or spline profile."""
-    kind = check_choice(field(path, "type"), _get(data, path, "type"), FALLOFF_TYPES)
+    kind = check_choice(field(path, "type"), member(data, path, "type"), FALLOFF_TYPES)
     if kind == "spline":
         data = check_object(
             path, data, required=("type", "eps", "curves"), optional=("interpolation",)
@@ -136,7 +136,9 @@ def parse_falloff(data: object, path: str = "falloff") -> RadialProfile:
 parse_l_max = check_l_max
 
 
-def _get(data: object, path: str, key: str) -> object:
+def member(data: object, path: str, key: str) -> object:
+    """``data[key]`` of the JSON object ``data`` at ``path``; ParameterError naming the
+    missing field or the non-object."""
     if not isinstance(data, dict):
         data = check_object(path, data)  # raises, naming the path
     if key not in data:
