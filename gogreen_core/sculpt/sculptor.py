@@ -1,21 +1,9 @@
 """The sculpting engine: a mesh, its settings, strokes, pins, undo and the session log.
 
 Everything the app does with the mouse goes through :class:`Sculptor`, so a script (or
-``gogreen replay``) can do it too. Data flows one way: material → kernel → brush → integrator →
-new vertex positions. The parts live in modules of their own: the mesh in
-:mod:`~gogreen_core.mesh.mesh_state`, the settings value in
-:mod:`~gogreen_core.sculpt.engine_settings` and its kernels in
-:mod:`~gogreen_core.sculpt.kernel_cache`, the brushes in :mod:`~gogreen_core.sculpt.brushes`, the
-stroke driver in :mod:`~gogreen_core.sculpt.stroke`, pins in :mod:`~gogreen_core.sculpt.pins`, the
-log and replay in :mod:`~gogreen_core.sculpt.session`. The sculptor holds them together and keeps
-undo consistent across them.
-
-Safe falloffs: each brush normalizes its load at the centre (the grabbed point follows the
-cursor) only while no vertex can then move more than
-:data:`~gogreen_core.sculpt.falloff_safety.MAX_GRAB_RATIO` × the cursor motion in one event (nor
-shear faces over); a falloff an artist edited so that its field is weak at the centre gets its load
-scaled down to that bound, and a zero one is refused (:mod:`gogreen_core.sculpt.brushes.grab`,
-:mod:`gogreen_core.sculpt.brushes.affine`).
+``gogreen replay``) can do it too. The parts live in the modules they import (mesh state,
+settings and kernels, brushes, stroke driver, pins, session); the sculptor holds them together and
+keeps undo consistent across them.
 """
 
 from __future__ import annotations
@@ -83,15 +71,9 @@ class Sculptor:
         Texture coordinates per face corner (rows of -1: untextured faces), carried through a
         subdivision (see :attr:`mesh`).
     settings : EngineSettings, optional
-        Material, falloff, l_max, brushes' weights, pins' radius... in one value; or give
-        some of its fields one by one as keywords (``material=``, ``l_max=``..., the others at
-        their defaults; an unknown one is refused).
-    history_bytes : memory cap of the undo history.
-
-    The parts: undo steps in :attr:`history` (:class:`History`); the vertex mask in
-    :attr:`mask` (:class:`~gogreen_core.sculpt.mask.Mask`: painted by the mask brush, inverted,
-    cleared); the session log of typed operation records (:mod:`gogreen_core.sculpt.operations`),
-    exported by :meth:`session` and applied by :meth:`replay`.
+        Material, falloff, l_max, brushes' weights, pins' radius... in one value; or some of
+        its fields as keywords (``material=``, ``l_max=``...; an unknown one is refused).
+    history_bytes : memory cap of the undo history (:attr:`history`).
     """
 
     def __init__(
@@ -113,13 +95,9 @@ class Sculptor:
         self._fingerprint = mesh_fingerprint(self._mesh.vertices)
         if settings is None:
             settings = EngineSettings(**values)
-        elif not isinstance(settings, EngineSettings):
-            raise ParameterError(
-                "settings", f"settings must be EngineSettings (got {type(settings).__name__})"
-            )
         elif values:
             raise TypeError("Sculptor() takes settings or their fields one by one, not both")
-        self._kernels = KernelCache(settings)
+        self._kernels = KernelCache(_checked(settings))
         self._initial = settings
         self._strokes = StrokeDriver(self._mesh, self.history, self._log)
         self._pins = Pins(self._mesh, self.history, self._log, lambda: self._kernels)
@@ -144,14 +122,12 @@ class Sculptor:
 
     @property
     def mesh(self) -> MeshSnapshot:
-        """Copies of the mesh's arrays: vertices, faces, mask, UVs and their corners (what a
-        file is saved from, or a subdivision is prepared from off the GUI thread)."""
+        """Copies of the mesh's arrays: vertices, faces, mask, UVs and their corners."""
         return self._mesh.snapshot()
 
     @property
     def origin(self) -> np.ndarray:
-        """(3,) point of the mirror planes: the centre of the bounding box at load, unless set
-        (Blender mirrors about the object's origin)."""
+        """(3,) point of the mirror planes: the bounding box's centre at load, unless set."""
         return self._mesh.origin
 
     @origin.setter
@@ -180,13 +156,11 @@ class Sculptor:
         return self._strokes.active
 
     def adopt_vertices(self, vertices: np.ndarray) -> np.ndarray:
-        """Take positions a host application changed outside the engine (Blender's own
-        brushes, its undo, the rounding of its single precision positions): the rows of
-        ``vertices`` (N, 3) that differ from :attr:`vertices` are written. No undo step and no
-        session record: the host keeps its own undo, and the undo history is cleared when a
-        row changed (its steps would bring back positions the host no longer has). Returns the
-        indices (K,) int64 of the changed rows. Refused during a stroke; ParameterError names
-        ``vertices`` for a wrong shape or a coordinate that is not finite."""
+        """Take positions a host application (Blender) changed outside the engine: the rows of
+        ``vertices`` (N, 3) that differ are written, with no undo step or session record (the
+        host keeps its own undo; ours is cleared when a row changed). Returns the indices (K,)
+        of the changed rows; ParameterError naming ``vertices`` for a wrong shape or a
+        coordinate that is not finite."""
         self._strokes.refuse("adopt vertices")
         mesh = self._mesh
         new = np.asarray(vertices, dtype=np.float64)
@@ -194,10 +168,7 @@ class Sculptor:
             raise ParameterError(
                 "vertices", f"vertices must have shape {mesh.vertices.shape} (got {new.shape})"
             )
-        changed = new[:, 0] != mesh.vertices[:, 0]
-        for k in (1, 2):
-            changed |= new[:, k] != mesh.vertices[:, k]
-        rows = np.flatnonzero(changed)
+        rows = np.flatnonzero((new != mesh.vertices).any(axis=1))
         if not np.all(np.isfinite(new[rows])):
             raise ParameterError("vertices", "vertices must be finite")
         if len(rows):
@@ -208,12 +179,8 @@ class Sculptor:
     # -- settings ----------------------------------------------------------------------------
     def apply_settings(self, settings: EngineSettings, *, continued: bool = False) -> None:
         """Compute with ``settings`` from now on: each group of fields that differs changes
-        (:meth:`change_settings`) with ``continued``: one undo step per group. What the evented
-        settings model calls."""
-        if not isinstance(settings, EngineSettings):
-            raise ParameterError(
-                "settings", f"settings must be EngineSettings (got {type(settings).__name__})"
-            )
+        (:meth:`change_settings`, one undo step per group)."""
+        settings = _checked(settings)
         for group in SETTING_GROUPS:
             if not self.settings.agrees(settings, group):
                 values = {name: getattr(settings, name) for name in group}
@@ -222,15 +189,10 @@ class Sculptor:
     def change_settings(
         self, *, continued: bool = False, replaying: bool = False, **changes: Any
     ) -> None:
-        """Change some of :attr:`settings` (``material``, ``falloff``, ``l_max``,
-        ``brush_weights``, ``constraint_radius``): one undo step and one log entry, or part of
-        the last settings step when ``continued`` (every value of one slider or curve drag but
-        the first). Undo puts the previous settings back exactly.
-
-        A value equal to the current one is ignored unless ``continued`` (a drag may come back
-        to where it started) or ``replaying`` (a logged change is always replayed, as the drag it
-        stands for was a step).
-        """
+        """Change one group of :attr:`settings` (``material``, ``falloff``...): one undo step
+        and log entry, or part of the last settings step when ``continued`` (a slider or curve
+        drag's later values). A value equal to the current one is ignored unless ``continued``
+        or ``replaying`` (the logged drag it stands for was a step)."""
         keys = set(changes)
         group = next((g for g in SETTING_GROUPS if keys and keys <= set(g)), None)
         if group is None:
@@ -272,9 +234,8 @@ class Sculptor:
         continued: bool = False,
         brush_weights: Mapping[str, Sequence[float]] | None = None,
     ) -> None:
-        """Use this falloff shape (and truncation degree, per-brush weights: kept, or resized
-        to a new l_max, when None) from now on (see
-        :meth:`change_settings`)."""
+        """Use this falloff shape (and l_max, brush weights: kept, or resized to a new l_max,
+        when None) from now on (see :meth:`change_settings`)."""
         changes: dict[str, Any] = {
             "falloff": falloff,
             "l_max": self.l_max if l_max is None else l_max,
@@ -307,12 +268,9 @@ class Sculptor:
 
     def stroke_event(self, event: BrushEvent) -> np.ndarray:
         """Apply one mouse event of the current stroke; returns the indices of moved vertices.
-
-        Refused (:class:`ParameterError` naming the event field, nothing moved): a centre
-        farther than :data:`MAX_REACH` model sizes from the model's centre, a grab displacement
-        |strength · delta| beyond that, an affine |strength · amount| above ``MAX_AMOUNT``.
-        The event acts with the stroke's brush at radius × ``event.radius_factor``.
-        """
+        Refused (:class:`ParameterError` naming the event field, nothing moved): a centre or
+        motion beyond :data:`MAX_REACH` model sizes, an affine |strength · amount| above
+        ``MAX_AMOUNT``."""
         return self._strokes.event(self._kernels, event)
 
     def end_stroke(self) -> np.ndarray:
@@ -324,8 +282,7 @@ class Sculptor:
         self._strokes.cancel()
 
     def apply_brush(self, brush: Brush, events: Sequence[BrushEvent]) -> np.ndarray:
-        """A whole stroke at once; returns the moved indices. A stroke without events would
-        do nothing: it is refused (:class:`ParameterError` naming ``events``)."""
+        """A whole stroke at once; returns the moved indices (no events: ParameterError)."""
         if len(events) == 0:
             raise ParameterError("events", "a stroke needs at least one event (none given)")
         self.begin_stroke(brush)
@@ -367,11 +324,8 @@ class Sculptor:
         self._pins.clear()
 
     def drag_constraint(self, index: int, delta: np.ndarray, continued: bool = False) -> np.ndarray:
-        """Move constraint ``index`` by ``delta`` (3,) while the others stay: every vertex moves
-        by u = Σ_j G(x − p_j) f_j with u(p_index) = delta and u(p_j) = 0. Returns (N, 3) u.
-
-        ``continued``: this step continues the previous drag (one mouse drag = one undo step).
-        """
+        """Move pin ``index`` by ``delta`` (3,) while the others stay (:meth:`Pins.drag`);
+        ``continued`` joins the previous drag's undo step. Returns (N, 3) u."""
         self._strokes.refuse("drag a constraint")
         return self._pins.drag(index, delta, continued)
 
@@ -383,17 +337,10 @@ class Sculptor:
         progress: Callable[[float], None] | None = None,
         prepared: PreparedSubdivision | None = None,
     ) -> None:
-        """One step of Loop subdivision (:mod:`gogreen_core.mesh.subdivision`) of the whole mesh,
-        or of its faces that are not masked: about 4× the vertices and faces, old vertices keep
-        their numbers, the mask and UVs carried along; the model's size and origin stay (brush
-        sizes do not change). One undo step (undo gives back the previous arrays exactly,
-        faces included) and one log entry.
-
-        ``prepared``: the same subdivision computed ahead from :attr:`mesh`
-        (:func:`~gogreen_core.mesh.subdivision.prepare_subdivision`, e.g. off the GUI thread); a
-        ValueError, nothing changed, if the mesh is no longer the one it was made from.
-        ``progress(fraction)`` is called while computing here.
-        """
+        """One step of Loop subdivision (:mod:`gogreen_core.mesh.subdivision`) of the whole mesh
+        or its unmasked faces; one undo step and log entry. ``prepared``: the same subdivision
+        computed ahead from :attr:`mesh` (ValueError if the mesh changed since);
+        ``progress(fraction)`` is called while computing here."""
         self._strokes.refuse("subdivide")
         unmasked_only = check_bool("unmasked_only", unmasked_only)
         mesh = self._mesh
@@ -412,8 +359,7 @@ class Sculptor:
 
     # -- history -----------------------------------------------------------------------------
     def undo(self) -> str | None:
-        """Undo the last step (bit for bit; a settings step puts the previous settings back
-        exactly); returns its label or None."""
+        """Undo the last step (bit for bit); returns its label or None."""
         self._strokes.refuse("undo")
         return self._history_step(self.history.undo, Undo())
 
@@ -460,8 +406,7 @@ class Sculptor:
 
     # -- session log -------------------------------------------------------------------------
     def subscribe(self, listener: LogListener) -> Callable[[], None]:
-        """Call ``listener`` after each change of the operation log and each mouse event of a
-        stroke (:data:`~gogreen_core.sculpt.session_log.LogListener`; the recovery journal). Returns
+        """Call ``listener`` after each change of the log (:meth:`SessionLog.subscribe`); returns
         the function that unsubscribes it."""
         return self._log.subscribe(listener)
 
@@ -493,9 +438,8 @@ class Sculptor:
         uv: np.ndarray | None = None,
         uv_faces: np.ndarray | None = None,
     ) -> Sculptor:
-        """A sculptor on ``vertices``/``faces`` (and texture corners ``uv``, ``uv_faces``)
-        with the session's initial settings (no operations applied yet; see :meth:`replay`).
-        The whole session is checked first (:func:`~gogreen_core.sculpt.session.parse_session`)."""
+        """A sculptor on this mesh with the (checked) session's initial settings, no operations
+        applied yet (see :meth:`replay`)."""
         parsed = session if isinstance(session, Session) else parse_session(session)
         if parsed.vertices != len(vertices) or parsed.faces != len(faces):
             raise ValueError(
@@ -509,21 +453,23 @@ class Sculptor:
         operations: Sequence[dict[str, Any]] | Sequence[Operation] | Session,
         progress: Callable[[int, int], None] | None = None,
     ) -> None:
-        """Apply logged operations in order (:func:`gogreen_core.sculpt.session.replay`: all checked
-        first, bit for bit the recorded result for a session of this version on the same machine
-        (an older one's within 1e-4 of its motion), rolled back as a whole if
-        one fails). ``progress(done, total)`` is called after each mouse event and each other
-        operation."""
+        """Apply logged operations in order (:func:`gogreen_core.sculpt.session.replay`)."""
         replay(self, operations, progress)
+
+
+def _checked(settings: object) -> EngineSettings:
+    if not isinstance(settings, EngineSettings):
+        raise ParameterError(
+            "settings", f"settings must be EngineSettings (got {type(settings).__name__})"
+        )
+    return settings
 
 
 # -- crash recovery ----------------------------------------------------------------------------
 def capture_state(sculptor: Sculptor, faces: np.ndarray | None = None) -> SculptState:
-    """A copy of what ``sculptor``'s next operations compute from (a checkpoint of the recovery
-    journal): vertices, settings, pins' solver state, mask (None when nothing is masked), model
-    size, mirror origin; its faces and UVs unless they are the array
-    ``faces`` (the journal's start's: a checkpoint needs not hold them then). The engine never
-    edits a face array in place (a subdivision makes new ones): they are held, not copied."""
+    """A copy of what ``sculptor``'s next operations compute from (:class:`SculptState`); its
+    faces and UVs unless they are the array ``faces`` (the journal's start's). Face arrays are
+    never edited in place: held, not copied."""
     pins = sculptor._pins.constraints
     mesh = sculptor._mesh
     topology = mesh.faces is not faces
@@ -548,9 +494,8 @@ def restore_state(
     **options: Any,
 ) -> Sculptor:
     """A sculptor whose next operations give bit for bit what the one that took ``state``
-    (:func:`capture_state`) would have; its undo history and log start empty. ``faces`` (and
-    ``uv``, ``uv_faces``): the journal start's, for a state that does not hold its own.
-    ``options``: ``history_bytes``."""
+    (:func:`capture_state`) would have, with empty history and log. ``faces`` (``uv``,
+    ``uv_faces``): for a state without its own. ``options``: ``history_bytes``."""
     if state.faces is not None:
         faces, uv, uv_faces = state.faces, state.uv, state.uv_faces
     sculptor = Sculptor(

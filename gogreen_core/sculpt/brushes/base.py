@@ -1,21 +1,10 @@
 """The brush interface: one :class:`BrushType` per row of the brush table.
 
-A brush type says what one mouse event of its kind does to the mesh: :meth:`BrushType.displace`
-returns the rows it moves and their new positions (a :class:`Displacement`), and the stroke
-driver (:mod:`gogreen_core.sculpt.stroke`) writes them, records the stroke and its undo step. A
-brush writes the mesh only when the driver lets it (:attr:`StrokeContext.write_through`: nothing to
-apply to the rows on their way, so a brush whose integrator can write its end positions in place
-saves the driver's scatter; a vertex mask turns it off: the driver blends the rows by it). A
-brush type may have a Green's function kernel (:meth:`BrushType.kernel`, None otherwise: the
-smooth brush's relaxation and the mask painter have none). A mask painter returns new mask
-values instead of positions (:attr:`Displacement.mask`).
-
-:class:`GreenBrush` is the family of brushes of the paper: a load at the cursor (a force or an
-affine load) whose regularized Green's function field is taken as a velocity over pseudo-time
-[0, 1] (paper Sec. 3.2). A member says which kernel it uses (:meth:`GreenBrush.radial`, its
-falloff at its radius; :meth:`GreenBrush.degree_weights`, its ω_l) and how its load is
-normalized and bounded (:meth:`GreenBrush.load`); the integration, the influence ball and the
-mirror images are common.
+:meth:`BrushType.displace` turns one mouse event into the rows it moves and their new positions
+(a :class:`Displacement`); the stroke driver (:mod:`gogreen_core.sculpt.stroke`) writes them and
+records the undo step. :class:`GreenBrush` is the family of the paper: a load at the cursor whose
+regularized Green's function field is taken as a velocity over pseudo-time [0, 1] (paper
+Sec. 3.2); members give its kernel and how its load is normalized and bounded.
 """
 
 from __future__ import annotations
@@ -53,12 +42,10 @@ __all__ = [
 
 #: Where the smooth cutoff starts, as a fraction of the influence radius.
 CUTOFF_START = 0.5
-#: Radius of the moved region in multiples of ε before it was automatic (also the pins' reach,
-#: the extent the cursor draws for a brush of infinite influence, and the least an automatic
-#: influence is).
+#: Influence in ε of a brush without a field of its own (also the pins' reach and the least an
+#: automatic influence is).
 DEFAULT_INFLUENCE = 4.0
-#: A brush's ``influence`` that follows its field's own decay (:meth:`GreenBrush.reach`): the
-#: default.
+#: The default ``influence``: follows the field's own decay (:meth:`GreenBrush.reach`).
 AUTO_INFLUENCE = "auto"
 #: A field smaller than this fraction of the material's G scale (‖A‖/ε) is zero everywhere.
 ZERO_FIELD = 1e-9
@@ -88,16 +75,12 @@ def mirror_signs(symmetry: str) -> np.ndarray:
 
 @dataclass(frozen=True)
 class StrokeContext:
-    """What a brush sees of the engine during one event: the mesh (read it; write it only with
-    ``write_through``), the kernels of the current settings, and ``rows``: n → a writable
-    C-contiguous (n, 3) float64 buffer for the new positions (the driver's, reused between
-    events).
+    """What a brush sees of the engine during one event: the mesh, the kernels of the current
+    settings, and ``rows``: n → a writable (n, 3) float64 buffer for the new positions.
 
-    write_through : the driver applies nothing to the new positions, so a brush may also write
-        them into ``mesh.vertices`` itself (all or none: only if every one is finite) and say so
-        in its :class:`Displacement`.
-    stroke : a dict the brush may keep state in from one event of the stroke to the next (the
-        wrinkle brush's surface frame); None outside a stroke.
+    write_through : a brush may write the new positions into ``mesh.vertices`` itself (all or
+        none, only if all are finite; not with a mask, which the driver blends by).
+    stroke : a dict the brush may keep state in between the events of a stroke; None outside.
     """
 
     mesh: MeshState
@@ -117,10 +100,8 @@ class StrokeContext:
 
 @dataclass(frozen=True)
 class EventField:
-    """The velocity field of one event of a Green's function brush: ``kernel`` (at the brush's
-    ε) with ``load`` (a force (3,) or an affine load (3, 3)) at ``center`` (3,), which moves by
-    ``step`` (3,) over the event; only within ``reach`` ε of it (a smooth cutoff from half
-    that), mirrored across the brush's ``symmetry`` planes."""
+    """The velocity field of one event: ``kernel`` with ``load`` (a force (3,) or an affine
+    load (3, 3)) at ``center`` (3,), which moves by ``step`` (3,); within ``reach`` ε."""
 
     kernel: GreenKernel
     center: np.ndarray
@@ -131,13 +112,9 @@ class EventField:
 
 @dataclass(frozen=True)
 class Displacement:
-    """What one event does: vertex ``rows`` (n,) int64 go to ``positions`` (n, 3) (model
-    units; may be the driver's buffer, valid until the next event); ``written``: the brush has
-    written them into the mesh already (:attr:`StrokeContext.write_through`).
-
-    mask : a mask painter's new mask values (n,) in [0, 1] of ``rows`` (``positions`` is then
-        None: no vertex moves).
-    """
+    """What one event does: vertex ``rows`` (n,) int64 go to ``positions`` (n, 3) (may be
+    the driver's buffer); ``written``: already written into the mesh; ``mask``: a mask
+    painter's new mask values (n,) of ``rows`` instead (``positions`` None)."""
 
     rows: np.ndarray
     positions: np.ndarray | None
@@ -148,12 +125,9 @@ class Displacement:
 class BrushType(ABC):
     """One row of the brush table: how a brush of kind :attr:`kind` acts.
 
-    family : ``"vector"`` (the event carries the cursor's motion ``delta``; the grab family),
-        ``"affine"`` (the brush stays at the press point and the event carries an ``amount``;
-        the tools read it through :attr:`Brush.is_affine`) or ``"paint"`` (the brush acts
-        where the cursor passes: the event carries the segment from ``center`` to
-        ``center + delta`` and ``amount`` ± the pen pressure, negative to erase or invert; the
-        smooth brush and the mask painter).
+    family : ``"vector"`` (events carry the cursor's motion ``delta``), ``"affine"`` (the brush
+        stays at the press point, events carry an ``amount``) or ``"paint"`` (acts along the
+        segment ``center`` → ``center + delta`` with ``amount`` ± the pen pressure).
     """
 
     family: ClassVar[str] = "vector"
@@ -171,9 +145,7 @@ class BrushType(ABC):
         return self.family == "affine"
 
     def with_amount(self, event: BrushEvent) -> BrushEvent:
-        """``event`` with the amount it acts with: its own, else :attr:`default_amount`; an
-        event that must carry one and does not is refused (:class:`ParameterError` naming
-        ``amount``), rather than doing nothing."""
+        """``event`` with its amount, else :attr:`default_amount` (None: ParameterError)."""
         if event.amount is not None:
             return event
         if self.default_amount is None:
@@ -186,52 +158,40 @@ class BrushType(ABC):
 
     def check_event(self, brush: Brush, event: BrushEvent, reach: float) -> None:
         """Refuse an event whose magnitudes this brush cannot take (:class:`ParameterError`
-        naming the event field); ``reach`` is the farthest motion in model units. The centre is
-        checked by the driver. Default: every event is accepted."""
+        naming the field); ``reach``: the farthest motion allowed, model units."""
         return None
 
     def default_weights(self, l_max: int) -> np.ndarray:
-        """The degree weights ω_l (l_max + 2,) this brush starts with: all ones (the field of
-        the paper's expansion as it is)."""
+        """The degree weights ω_l (l_max + 2,) this brush starts with: all ones."""
         return np.ones(l_max + 2)
 
-    #: Whether the brush's field has per-degree weights an artist can edit (in
-    #: :attr:`EngineSettings.brush_weights`).
+    #: Whether the brush's field has per-degree weights an artist can edit.
     weighted: ClassVar[bool] = False
     #: The influence (ε) an automatic one means for a brush without a field of its own.
     auto_reach: ClassVar[float] = DEFAULT_INFLUENCE
 
     def reach(self, ctx: StrokeContext, brush: Brush) -> float:
-        """The brush's influence radius in multiples of ε (``inf`` for every vertex): its
-        ``influence``, or :attr:`auto_reach` for an automatic one."""
+        """Influence radius in ε (``inf``: every vertex): ``influence`` or :attr:`auto_reach`."""
         if brush.influence == AUTO_INFLUENCE:
             return self.auto_reach
         return float(brush.influence)
 
     def cutoff(self, ctx: StrokeContext, brush: Brush) -> tuple[float, float] | None:
-        """(inner, outer) radii (model units) of the smooth cutoff of the brush's reach, None
-        for none."""
+        """(inner, outer) radii (model units) of the smooth cutoff; None for none."""
         return brush.cutoff(ctx.model_size, self.reach(ctx, brush))
 
     def kernel(self, ctx: StrokeContext, brush: Brush) -> GreenKernel | None:
-        """The brush's Green's function kernel at its radius (what the cursor's profile
-        draws), or None for a brush without one."""
+        """The brush's Green's function kernel at its radius, or None."""
         return None
 
     @abstractmethod
     def displace(self, ctx: StrokeContext, brush: Brush, event: BrushEvent) -> Displacement:
-        """The rows ``event`` moves with ``brush`` (``event``'s radius factor already applied)
-        and their new positions; ValueError, nothing moved, for an event that cannot be made."""
+        """The rows ``event`` moves and their new positions (ValueError: nothing moved)."""
 
 
 class GreenBrush(BrushType):
-    """A brush whose field is a regularized Green's function's: the common stroke step.
-
-    Members give :meth:`load` (the load and how the centre moves during the event, normalized
-    and bounded: "safe falloffs", :mod:`gogreen_core.sculpt.falloff_safety`) and may change
-    :meth:`radial` (the falloff at the brush radius), :meth:`degree_weights` (ω_l of the field)
-    and :meth:`cutoff` (the influence ball).
-    """
+    """A brush whose field is a regularized Green's function's: members give :meth:`load`
+    (normalized and bounded, :mod:`~gogreen_core.sculpt.falloff_safety`)."""
 
     #: Names the brush's falloff variant: brushes with equal keys, family and weights share
     #: one sampled field bound per influence radius.
@@ -244,10 +204,9 @@ class GreenBrush(BrushType):
         multiscale: Callable[[RadialProfile], RadialProfile] | None = None,
         weights_of: str | None = None,
     ) -> None:
-        """``multiscale`` makes the brush's falloff from the settings' one at its radius (e.g.
-        :meth:`MultiscaleRadial.local`: a combination of the same regularized solution at
-        several radii); None for the falloff itself. ``weights_of``: the brush whose degree
-        weights it reads (its own kind when None)."""
+        """``multiscale`` makes the brush's falloff from the settings' one (e.g.
+        :meth:`MultiscaleRadial.local`; None: that one). ``weights_of``: the brush whose
+        degree weights it reads (None: its own)."""
         super().__init__(kind)
         self._multiscale = multiscale
         self.radial_key = "" if multiscale is None else kind
@@ -258,10 +217,8 @@ class GreenBrush(BrushType):
         return falloff if self._multiscale is None else self._multiscale(falloff)
 
     def degree_weights(self, settings: EngineSettings) -> np.ndarray | None:
-        """The kernel's degree weights (l_max + 1,) from the brush's ω_l
-        (:meth:`EngineSettings.weights_for`), None when they are all ones (the full kernel):
-        a vector load's field has the even degrees of G, ω_l scaling R_l; an affine load's the
-        odd degrees of ∇G, ω_l scaling ℛ_l (the kernel's weight l − 1)."""
+        """The kernel's degree weights (l_max + 1,) from the brush's ω_l, None when all ones;
+        an affine load's ω_l scales ℛ_l of ∇G (the kernel's weight l − 1)."""
         omega = settings.weights_for(self.weights_kind)
         if np.all(omega == 1.0):
             return None
@@ -269,26 +226,21 @@ class GreenBrush(BrushType):
         return weights
 
     def reach(self, ctx: StrokeContext, brush: Brush) -> float:
-        """The influence radius in multiples of ε: the brush's ``influence``, or for
-        ``"auto"`` twice the radius beyond which the field stays below a tenth of its peak
-        (:func:`~gogreen_core.sculpt.falloff_safety.field_reach`, at least
-        :data:`DEFAULT_INFLUENCE`), so the cutoff starts where the field has faded and every
-        control of the falloff shows (cached per settings and brush shape)."""
+        """Influence radius in ε: ``influence``, or for ``"auto"``
+        :func:`~gogreen_core.sculpt.falloff_safety.field_reach` (cached per settings)."""
         if brush.influence != AUTO_INFLUENCE:
             return float(brush.influence)
-        weights = self.degree_weights(ctx.settings)
-        key = (
-            "reach",
-            self.family,
-            self.radial_key,
-            None if weights is None else weights.tobytes(),
-        )
         kernels = ctx.kernels.unturned  # the same for every frame the material takes
+        key = ("reach", *self._shape_key(ctx.settings))
         return kernels.derived(key, lambda: field_reach(self.unit_kernel(kernels), self.is_affine))
 
+    def _shape_key(self, settings: EngineSettings) -> tuple[Any, ...]:
+        """What the brush's field at ε = 1 depends on besides the settings' kernels."""
+        weights = self.degree_weights(settings)
+        return self.family, self.radial_key, None if weights is None else weights.tobytes()
+
     def unit_kernel(self, kernels: KernelCache) -> GreenKernel:
-        """The brush's kernel at ε = 1 for the settings of ``kernels`` (what its field is made
-        of, in units of ε)."""
+        """The brush's kernel at ε = 1 for the settings of ``kernels``."""
         radial = self.radial(kernels.settings.falloff.with_eps(1.0))
         return kernels.weighted(self.degree_weights(kernels.settings)).with_radial(radial)
 
@@ -297,17 +249,9 @@ class GreenBrush(BrushType):
         return ctx.kernels.weighted(self.degree_weights(ctx.settings)).with_radial(radial)
 
     def field_bound(self, ctx: StrokeContext, brush: Brush, kernel: GreenKernel) -> FieldBound:
-        """The sampled bound of this brush's field (cached per settings, brush shape and
-        influence; the brush radius does not matter: the samples are in units of ε)."""
-        weights = self.degree_weights(ctx.settings)
+        """The sampled bound of this brush's field (cached per settings and influence)."""
         reach = self.reach(ctx, brush)
-        key = (
-            "field bound",
-            self.family,
-            self.radial_key,
-            None if weights is None else weights.tobytes(),
-            reach,
-        )
+        key = ("field bound", *self._shape_key(ctx.settings), reach)
         return self.cached_bound(ctx, key, kernel, self.unit_kernel, reach)
 
     def cached_bound(
@@ -319,10 +263,8 @@ class GreenBrush(BrushType):
         reach: float,
         affine: bool | None = None,
     ) -> FieldBound:
-        """The field bound of ``kernel`` (any ε) with ``reach``, cached per settings under
-        ``key``; for kernels turned onto a stroke's surface frame, the bound of the unturned
-        kernels' equivalent (``unturned(kernels)``) turned (:class:`TurnedFieldBound`), so no
-        frame samples its field again."""
+        """The field bound of ``kernel`` with ``reach``, cached under ``key``; in a stroke's
+        surface frame, the unturned equivalent's (``unturned(kernels)``) turned."""
         affine = self.is_affine if affine is None else affine
         frame = ctx.kernels.frame
         if frame is None:
@@ -335,11 +277,10 @@ class GreenBrush(BrushType):
     def load(
         self, ctx: StrokeContext, brush: Brush, kernel: GreenKernel, event: BrushEvent
     ) -> tuple[np.ndarray, np.ndarray]:
-        """(load, centre step) of one event: a force (3,) or an affine load (3, 3), and the
-        centre's motion (3,) over the event (the load travels with the cursor)."""
+        """(load, centre step) of one event: a force (3,) or affine load (3, 3), and (3,)."""
 
     def field(self, ctx: StrokeContext, brush: Brush, event: BrushEvent) -> EventField:
-        """The field ``event`` moves the mesh along (normalized and bounded: :meth:`load`)."""
+        """The field ``event`` moves the mesh along."""
         kernel = self.kernel(ctx, brush)
         load, step = self.load(ctx, brush, kernel, event)
         return EventField(kernel, event.center, load, step, self.reach(ctx, brush))
@@ -348,8 +289,7 @@ class GreenBrush(BrushType):
         return self.integrate(ctx, brush, self.field(ctx, brush, event))
 
     def integrate(self, ctx: StrokeContext, brush: Brush, field: EventField) -> Displacement:
-        """Move the rows within the field's reach of its load and of the load's mirror images
-        along the field (paper Sec. 3.2)."""
+        """Move the rows within reach of the load and its mirror images (paper Sec. 3.2)."""
         kernel, center, load, step = field.kernel, field.center, field.load, field.step
         cutoff = brush.cutoff(ctx.model_size, field.reach)
         signs = mirror_signs(brush.symmetry)
