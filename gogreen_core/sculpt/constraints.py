@@ -5,16 +5,13 @@ u(x) = Σ_j G(x − p_j) f_j takes the prescribed values d_i at the points:
 
     Σ_j G(p_i − p_j) f_j = d_i,   a dense symmetric positive definite 3k × 3k system K f = d.
 
-The inverse of K is kept and updated when one constraint is added (block bordering with the
-3 × 3 Schur complement) or removed (the inverse of the complementary block), O(k²) each instead
-of the O(k³) refactorization; one step of iterative refinement with K itself makes the solve
-accurate to machine precision, so constrained points land on their targets to ~1e-14 relative.
+K⁻¹ is kept and updated when one constraint is added (block bordering with the 3 × 3 Schur
+complement) or removed, O(k²) each; one step of iterative refinement with K makes the points land
+on their targets to ~1e-14 relative.
 
-Pins act locally: each term carries the brushes' C² smooth cutoff s (quintic smoothstep, 1 up
-to half the influence radius, 0 from it on; influence radius :data:`CONSTRAINT_INFLUENCE` · ε),
-u(x) = Σ_j s(|x − p_j|) G(x − p_j) f_j, and K uses the same cut-off blocks, so the pins still
-get exactly their prescribed displacements while nothing beyond the influence radius of every
-pin moves. Without it G decays only as 1/r and dragging one pin moved the whole model.
+Pins act locally: each term carries the brushes' smooth cutoff s over
+:data:`CONSTRAINT_INFLUENCE` ε, u(x) = Σ_j s(|x − p_j|) G(x − p_j) f_j, and K uses the same
+blocks, so the pins still get exactly their displacements (G alone decays only as 1/r).
 """
 
 from __future__ import annotations
@@ -24,7 +21,6 @@ from typing import Any, cast
 
 import numpy as np
 
-from gogreen_core.field._evaluation import near_segment
 from gogreen_core.field.kernel import GreenKernel
 from gogreen_core.sculpt.brushes import CUTOFF_START, DEFAULT_INFLUENCE, smooth_cutoff
 
@@ -32,37 +28,20 @@ __all__ = ["CONSTRAINT_INFLUENCE", "ConstraintSet", "smooth_cutoff"]
 
 #: Reach of a pin's displacement in multiples of its ε (the brushes' default influence).
 CONSTRAINT_INFLUENCE = DEFAULT_INFLUENCE
-# a pin's reach is a ball: a segment of length 0 (near_segment) with no mirror images
-_NO_STEP = np.zeros(3)
-_NO_MIRRORS = np.ones((1, 3))
 
 
 class ConstraintSet:
-    """Constraint points for one kernel (material, falloff and radius).
-
-    Parameters
-    ----------
-    kernel : GreenKernel
-        Its ε sets how far each constraint's influence reaches.
-    min_separation : float
-        Two constraints closer than this (model units) are rejected as coincident; default
-        1e-6 ε.
-    influence : float
-        Reach of each pin in multiples of ε (smooth cutoff from half of it); ``inf``: none.
+    """Constraint points for one ``kernel`` (material, falloff and ε: the pins' reach is
+    :data:`CONSTRAINT_INFLUENCE` ε; two closer than 1e-6 ε are refused as coincident).
 
     State: ``points`` (k, 3), ``matrix`` K (3k, 3k), ``inverse`` K⁻¹ (3k, 3k).
     """
 
-    def __init__(
-        self,
-        kernel: GreenKernel,
-        min_separation: float | None = None,
-        influence: float = CONSTRAINT_INFLUENCE,
-    ):
+    def __init__(self, kernel: GreenKernel):
         self._kernel = kernel
-        outer = float(influence) * kernel.eps
-        self._cutoff = None if not np.isfinite(outer) else (CUTOFF_START * outer, outer)
-        self._min_sep = 1e-6 * kernel.eps if min_separation is None else float(min_separation)
+        outer = CONSTRAINT_INFLUENCE * kernel.eps
+        self._cutoff = (CUTOFF_START * outer, outer)
+        self._min_sep = 1e-6 * kernel.eps
         self._points = np.zeros((0, 3))
         self._matrix = np.zeros((0, 0))
         self._inverse = np.zeros((0, 0))
@@ -72,9 +51,7 @@ class ConstraintSet:
         cls, kernel: GreenKernel, points: np.ndarray, matrix: np.ndarray, inverse: np.ndarray
     ) -> ConstraintSet:
         """A set in exactly the state another one had: its ``points`` (k, 3), ``matrix`` and
-        ``inverse`` (3k, 3k), as a recovery checkpoint saved them. The inverse is kept bit for
-        bit: adding the points again would round differently once pins were moved or removed
-        (each move updates the inverse in place), and later drags would differ."""
+        ``inverse`` (3k, 3k) bit for bit (adding the points again would round differently)."""
         points = np.array(points, dtype=np.float64).reshape(-1, 3)
         size = 3 * len(points)
         matrix = np.array(matrix, dtype=np.float64).reshape(size, size)
@@ -105,18 +82,14 @@ class ConstraintSet:
 
     @property
     def reach(self) -> float:
-        """Distance (model units) beyond which a pin moves nothing (``inf``: no cutoff)."""
-        return np.inf if self._cutoff is None else self._cutoff[1]
-
-    def _weights(self, offsets: np.ndarray) -> np.ndarray:
-        if self._cutoff is None:
-            return np.ones(len(offsets))
-        return smooth_cutoff(np.linalg.norm(offsets, axis=1), *self._cutoff)
+        """Distance (model units) beyond which a pin moves nothing."""
+        return self._cutoff[1]
 
     def _blocks(self, p: np.ndarray, others: np.ndarray) -> np.ndarray:
         """s G(others − p) as a (3k, 3) column block."""
         offsets = others - p
-        blocks = self._kernel.green(offsets) * self._weights(offsets)[:, None, None]
+        weights = smooth_cutoff(np.linalg.norm(offsets, axis=1), *self._cutoff)
+        blocks = self._kernel.green(offsets) * weights[:, None, None]
         return cast(np.ndarray, blocks.reshape(-1, 3))
 
     def add(self, point: np.ndarray) -> int:
@@ -202,44 +175,23 @@ class ConstraintSet:
         f += self._inverse @ (d - self._matrix @ f)  # one refinement step
         return f.reshape(-1, 3)
 
-    def displacement(self, points: np.ndarray, forces: np.ndarray) -> np.ndarray:
-        """u(points) = Σ_j s(|points − p_j|) G(points − p_j) f_j → (N, 3); only the points
-        within :attr:`reach` of a pin are evaluated (:meth:`displacement_rows`)."""
-        points = np.asarray(points, dtype=np.float64)
-        out = np.zeros((len(points), 3))
-        rows, u = self.displacement_rows(points, forces)
-        out[rows] = u
-        return out
-
     def displacement_rows(
         self,
         points: np.ndarray,
         forces: np.ndarray,
-        near: Callable[[np.ndarray, float], np.ndarray] | None = None,
+        near: Callable[[np.ndarray, float], np.ndarray],
     ) -> tuple[np.ndarray, np.ndarray]:
         """The rows (K,) int64, sorted, of ``points`` (N, 3) within :attr:`reach` of a pin
-        whose force is not zero, and u (K, 3) there (u is zero at every other row).
-
+        whose force is not zero, and u(x) = Σ_j s G(x − p_j) f_j (K, 3) there (zero elsewhere).
         ``near(point (3,), radius)``: the rows (k,) int64, ascending, of ``points`` within
-        ``radius`` of ``point`` or a superset of them (e.g. ``MeshState.rows_near``, which
-        answers without a pass over every row); by default a pass over all of them."""
+        ``radius`` of ``point`` or a superset of them (``MeshState.rows_near``)."""
         points = np.asarray(points, dtype=np.float64)
-        # (p, f, its rows, their weights)
-        pins: list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]] = []
+        pins: list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = []
         for p, f in zip(self._points, forces, strict=True):
             if not np.any(f):
                 continue
-            if self._cutoff is None:
-                pins.append((p, f, np.arange(len(points)), None))
-                continue
             # candidates a hair wider (rounding never drops one), then the exact test on them
-            wider = self._cutoff[1] * (1.0 + 1e-9)
-            if near is None:
-                mask = np.empty(len(points), dtype=np.bool_)
-                near_segment(points, p, _NO_STEP, wider, _NO_MIRRORS, p, mask)
-                candidates = np.flatnonzero(mask)
-            else:
-                candidates = near(p, wider)
+            candidates = near(p, self._cutoff[1] * (1.0 + 1e-9))
             distance = np.linalg.norm(points[candidates] - p, axis=1)
             inside = distance < self._cutoff[1]
             pins.append((p, f, candidates[inside], smooth_cutoff(distance[inside], *self._cutoff)))
@@ -252,7 +204,5 @@ class ConstraintSet:
         for p, f, pin_rows, weights in pins:
             if len(pin_rows):
                 displacement = self._kernel.displacement(points[pin_rows], p, f)
-                if weights is not None:
-                    displacement *= weights[:, None]
-                u[slot[pin_rows]] += displacement
+                u[slot[pin_rows]] += displacement * weights[:, None]
         return rows, u

@@ -1,19 +1,14 @@
 """Safe falloffs: bounds on how far one brush event can move a vertex, whatever the falloff.
 
-A brush event moves vertices along the load's field taken as a velocity over pseudo-time
-[0, 1] (``Sculptor``), with a cutoff s ≤ 1, so no vertex moves farther than sup_x |u(x)|, the
-largest displacement the load's field makes anywhere in the influence ball. Normalizing the
-load by the field at the centre (grab: f = G(0)⁻¹ Δ; affine brushes: the velocity gradient at
-the centre) is safe when the field peaks there, as every closed-form falloff does, but an
-edited falloff whose centre is small (a dip of R₀ near 0, R₀(0) = 0, a negative R₀ near 0)
-made that normalization explode (10¹⁶ × the cursor motion was measured).
+A brush event moves vertices along the load's field over pseudo-time [0, 1], so no vertex moves
+farther than sup_x |u(x)| over the influence ball. Normalizing the load by the field at the
+centre (grab: f = G(0)⁻¹ Δ) is safe when the field peaks there, as every closed-form falloff
+does, but an edited falloff weak at its centre made it explode; the brushes then scale the
+load down to the bounds below.
 
-:class:`FieldBound` samples one kernel's field once (directions × radii, in units of ε, so
-the radius of the brush does not matter) and answers sup_k |D_k h| for a load h per event,
-visiting the samples in decreasing order of their spectral norm and stopping as soon as no
-other sample can beat the best so far (a few hundred 3×3 products on smooth fields).
-The sculptor keeps one per kernel (material, l_max, weights and falloff shape) and influence
-radius: tens of milliseconds once, then free for every event and every brush radius.
+:class:`FieldBound` samples one kernel's field once (in units of ε, so for every brush radius)
+and answers sup_k |D_k h| for a load h per event, visiting the samples in decreasing order of
+their norm until none can beat the best so far.
 """
 
 from __future__ import annotations
@@ -40,25 +35,18 @@ __all__ = [
     "mean_green_direction",
 ]
 
-#: Largest motion of any vertex in one grab event, in multiples of the cursor motion |Δ|: the
-#: load is f = G(0)⁻¹ Δ as long as its field stays below this anywhere (every closed-form
-#: falloff peaks at the centre, ratio 1; the fibre preset's wrinkle tri-scale grab measures
-#: 1.08), and is scaled down to it otherwise.
+#: Largest motion of any vertex in one grab event, in multiples of the cursor motion |Δ|
+#: (closed-form falloffs: 1, the fibre preset's tri-scale grab 1.08).
 MAX_GRAB_RATIO = 1.5
-#: Affine brushes have no single natural scale (their field's reach depends on the material
-#: far more than a grab's: closed-form falloffs move vertices 0.36-0.7 |amount| ε on
-#: isotropic materials and 3.9 on a 1000:1 laminate), so a load normalized at the centre is
-#: kept while it moves and shears vertices at most this many times what the Gaussian falloff
-#: does with the same material and pattern, and is scaled down to that otherwise.
+#: Affine brushes have no natural scale (their reach depends on the material), so their load
+#: may move and shear vertices at most this many times what the Gaussian falloff's does with
+#: the same material and pattern.
 AFFINE_MARGIN = 1.5
 #: Fallback bounds (motion in |amount| ε, velocity gradient in |amount|) where no pattern of
 #: the Gaussian reference has an effect (an incompressible material's scale brush).
 AFFINE_FALLBACK = (4.0, 8.0)
-#: Largest velocity gradient ‖∇u‖_F of one grab event, in multiples of |Δ|/ε: an edited curve
-#: that rises steeply from the centre shears faces over even when its motion is bounded (the
-#: flow of a velocity field with ‖∇v‖ ≤ L turns no face over while e^L − 1 < 1). Closed-form
-#: falloffs measure 0.4-1.1 (Gaussian to tri-scale) on isotropic materials, up to 1.77 on a
-#: 100:1 laminate's wrinkle tri-scale grab, and keep f = G(0)⁻¹ Δ.
+#: Largest velocity gradient ‖∇u‖_F of one grab event, in multiples of |Δ|/ε (the flow of a
+#: field with ‖∇v‖ ≤ L turns no face over while e^L − 1 < 1; closed-form falloffs: 0.4-1.77).
 MAX_GRAB_STRAIN = 2.0
 #: Finite-difference step (in ε) of the sampled velocity gradient.
 _GRADIENT_STEP = 1e-4
@@ -72,9 +60,7 @@ _LEBEDEV_ORDERS = (*range(3, 32, 2), *range(35, 132, 6))
 
 @lru_cache(maxsize=8)
 def _directions(l_max: int) -> tuple[np.ndarray, np.ndarray]:
-    """Lebedev nodes (n, 3) and weights (n,) for angular degree ``l_max + 1``: order
-    ≥ 2 (l_max + 1) + 1, so neighbouring nodes are ≲ a quarter of the shortest angular
-    wavelength apart (capped at order 41, 590 nodes, for very high l_max)."""
+    """Lebedev nodes (n, 3) and weights (n,) of order ≥ 2 (l_max + 1) + 1 (at most 41)."""
     wanted = min(2 * (l_max + 1) + 1, 41)
     order = next(o for o in _LEBEDEV_ORDERS if o >= wanted)
     nodes, weights = lebedev_rule(order)
@@ -95,20 +81,15 @@ def _radii(influence: float) -> np.ndarray:
 #: An automatic influence (:func:`field_reach`) keeps the field at full strength out to where
 #: its envelope falls below this fraction of its peak.
 AUTO_LEVEL = 0.1
-#: Bounds (in ε) of an automatic influence: at least the old default 4 (the multi-scale
-#: falloffs have faded by then), at most 32 (a 1/r far field never fades: beyond 16 ε it is
-#: below 6 % of the peak for every closed-form falloff).
+#: Bounds (in ε) of an automatic influence (a 1/r far field never fades: capped).
 AUTO_INFLUENCE_RANGE = (4.0, 32.0)
 
 
 def field_reach(kernel: GreenKernel, affine: bool) -> float:
-    """Automatic influence radius (in ε) of a kernel's field: 2 ρ₁₀, ρ₁₀ the radius beyond
-    which the envelope max_|x|=ρ ‖G(x)‖ (‖∇G(x)‖ for affine loads) stays below
-    :data:`AUTO_LEVEL` of its peak, clipped to :data:`AUTO_INFLUENCE_RANGE`; the smooth cutoff
-    (which starts at half the influence) then fades only what is already faint, whatever the
-    falloff, its weights or the material (measured: Gaussian grab 18.2, affine 10.4-11.2,
-    Kelvinlet grab 13.8, multi-scale 4). Sampled on the kernel at ε = 1 (any ε: the result is in
-    units of ε): geometric radii to 64 ε, the field bound's directions."""
+    """Automatic influence radius (in ε) of a kernel's field: twice the radius beyond which
+    the envelope max_|x|=ρ ‖G(x)‖ (‖∇G(x)‖ for affine loads) stays below :data:`AUTO_LEVEL` of
+    its peak, within :data:`AUTO_INFLUENCE_RANGE` (the cutoff, from half the influence, then
+    fades only what is faint)."""
     unit = kernel.with_eps(1.0)
     nodes, _ = _directions(kernel.l_max)
     rho = np.geomspace(0.05, 2 * AUTO_INFLUENCE_RANGE[1], 160)
@@ -143,9 +124,8 @@ def mean_green_direction(material: Material) -> np.ndarray:
 
 
 def _largest_eigenvalue(s: np.ndarray) -> np.ndarray:
-    """Largest eigenvalue (K,) of symmetric positive semi-definite 3×3 matrices s (K, 3, 3),
-    in closed form (the trigonometric solution of the characteristic cubic; ~10× faster than
-    a batched eigvalsh)."""
+    """Largest eigenvalue (K,) of symmetric positive semi-definite s (K, 3, 3), in closed form
+    (trigonometric; ~10× faster than a batched eigvalsh)."""
     q = np.trace(s, axis1=1, axis2=2) / 3
     off = s[:, 0, 1] ** 2 + s[:, 0, 2] ** 2 + s[:, 1, 2] ** 2
     diag = (s[:, 0, 0] - q) ** 2 + (s[:, 1, 1] - q) ** 2 + (s[:, 2, 2] - q) ** 2
@@ -208,10 +188,8 @@ class FieldBound:
     affine : bool
         Sample ∇G (affine loads, h = H (3, 3)) instead of G (vector loads, h (3,)).
 
-    The gradient of a vector load's field is taken by forward differences of G (step 10⁻⁴ ε),
-    not from ∇G: a spline falloff's R_l and ℛ_l are separate curves, and the vertices move
-    along G f, so only the derivative of G itself bounds how much a face is sheared (and
-    likewise forward differences of ∇G for affine loads).
+    Gradients by forward differences of what moves the vertices (G, or ∇G for affine loads):
+    a spline falloff's R_l and ℛ_l are separate curves.
     """
 
     def __init__(self, kernel: GreenKernel, influence: float, affine: bool):
@@ -239,10 +217,8 @@ class FieldBound:
         self._tables: dict[str, tuple[np.ndarray | None, _SupTable, _SupTable]] = {}
 
     def _table(self, load: np.ndarray) -> tuple[np.ndarray, _SupTable, _SupTable]:
-        """(coefficients of ``load`` in the subspace it lies in, motion table, strain table):
-        affine patterns are a multiple of I (scale), skew (twist) or symmetric traceless
-        (pinch), 1, 3 and 5 dimensions of the 9, and tables restricted to that subspace
-        (built on first use) prune far better than the full ones."""
+        """(coefficients of ``load`` in the pattern subspace it lies in, motion table, strain
+        table): tables restricted to the subspace (built on first use) prune far better."""
         h = np.asarray(load, dtype=np.float64)
         name = "vector" if h.shape == (3,) else _subspace(h)
         basis = _BASES[name] if name in _BASES else None
@@ -273,9 +249,7 @@ class FieldBound:
 
 class TurnedFieldBound(FieldBound):
     """The field bound of a kernel whose material is turned by the rotation F (3, 3), from the
-    unturned kernel's ``bound``: G'(x) = F G(Fᵀx) Fᵀ, so a force h moves x as the unturned
-    kernel's force Fᵀh moves Fᵀx, turned by F (an affine load H as FᵀHF does), and ‖∇u‖_F is
-    the same: no new sampling for a new frame (the samples turn with it)."""
+    unturned kernel's ``bound`` without new samples: G'(x) = F G(Fᵀx) Fᵀ."""
 
     def __init__(self, bound: FieldBound, frame: np.ndarray) -> None:  # no sampling
         self.affine = bound.affine

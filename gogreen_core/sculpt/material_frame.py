@@ -1,33 +1,15 @@
 """Materials that follow the surface: each stroke turns the material's axes onto the surface
 where it starts (``EngineSettings.material_frame == "surface"``).
 
-An artist thinks of fibres, grain and layers relative to the surface they touch (a cheek's
-skin, a sleeve's cloth), not to the world. With the "surface" frame a stroke takes a frame
-F = [t₁ t₂ n] (columns, a proper rotation) at its first event:
+An artist thinks of fibres and layers relative to the surface they touch, not to the world. With
+the "surface" frame a stroke takes a frame F = [t₁ t₂ n] (a proper rotation) at its first event:
+n the area normal under the brush (:func:`area_normal`); t₁ the stroke's first motion projected
+on the plane ⟂ n (without one: the world axis least aligned with n, projected); t₂ = n × t₁. The
+material is turned by F (C' = F·C) once for the whole stroke: re-read per event, the stroke's
+own deformation would feed back into the material and the result depend on the event rate.
 
-* n, the third axis: the area normal under the brush, the sum of the area-weighted normals of
-  the faces with a vertex within ε of the stroke's start (as Blender's brushes sample their
-  plane), of the faces around the nearest vertex when none is that close;
-* t₁, the first axis: the stroke's first motion projected on the plane ⟂ n (a grab's or the
-  wrinkle brush's cursor motion, an affine brush's stroke direction);
-* a stroke with no motion along the surface (a pull straight along n, an affine brush without
-  a direction) takes the world axis least aligned with n (the first of equals, x before y
-  before z) projected on the plane: stable, and the same on every such stroke at one place;
-* t₂ = n × t₁.
-
-The material as set, its own rotation included, is then turned by F (C' = F·C): its first axis
-runs along t₁, its third along n. The frame holds for the whole stroke, not event by event: the
-stroke itself bends the surface under the brush (a grab pulls it round), and a frame re-read per
-event would feed the stroke's own deformation back into the material, making the result depend
-on the event rate; fixed, the stroke is one material acting, the same on every replay, and the
-kernel is turned once (:meth:`GreenKernel.turned`, Wigner-D matrices: about a millisecond).
-
-Mirror symmetry mirrors the frame: the integrator evaluates a mirrored stroke's field as
-M u(M x) (``GreenKernel.streamlines``, ``mirror_signs``), which is exactly the field of the
-reflected material M·(F·C) with the mirrored loads. A reflection is not a rotation, so the
-mirrored stroke does not take a right-handed frame of its own (that would be M F diag(1, −1, 1),
-a different material unless it is symmetric across its second axis); it takes the reflection
-of the turned material, so the result is the mirror image of the stroke.
+Mirror symmetry mirrors the frame: a mirrored stroke's field M u(M x) is exactly that of the
+reflected turned material, so the result is the mirror image of the stroke.
 """
 
 from __future__ import annotations

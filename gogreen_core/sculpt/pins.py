@@ -1,11 +1,9 @@
 """Pins (paper Fig. 1): points of the surface held in place, one of which can be dragged.
 
-A drag moves every vertex by a direct displacement u(x) = Σ_j G(x − p_j) f_j (no pseudo-time)
-with u(p_dragged) = delta and u(p_j) = 0 at the other pins, so the pins land exactly on their
-targets (:class:`~gogreen_core.sculpt.constraints.ConstraintSet`), unless the vertex mask holds them
-(each vertex moves (1 − mask) of u). Adding, removing or clearing pins is
-an undo step of its own (the vertices do not move); a drag is one, joined across the mouse
-events of one drag (``continued``). Each is one entry of the session log.
+A drag moves the vertices by a direct displacement u(x) = Σ_j G(x − p_j) f_j (no pseudo-time)
+with u(p_dragged) = delta and u = 0 at the other pins
+(:class:`~gogreen_core.sculpt.constraints.ConstraintSet`), times (1 − mask). Each edit is an
+undo step and a log entry; a drag's mouse events join one step (``continued``).
 """
 
 from __future__ import annotations
@@ -93,24 +91,14 @@ class Pins:
             constraints.add(p)
         return constraints
 
-    def rebuilt(self, kernels: KernelCache) -> ConstraintSet | None:
-        """The pins for new settings' ``kernels`` (None without pins), to :meth:`adopt` once
-        everything else about the settings change has succeeded."""
-        return None if self.constraints is None else self.built(kernels)
-
     def follow(self, kernels: KernelCache) -> KernelCache:
-        """Rebuild the pins for new settings' ``kernels`` and keep them; returns ``kernels``,
-        for the sculptor to compute with from now on. A failure (pins the new radius cannot
-        separate, an inadmissible falloff) raises before anything changed."""
-        self.adopt(self.rebuilt(kernels))
+        """Rebuild the pins for new settings' ``kernels`` and keep them; returns ``kernels``.
+        A failure (pins the new radius cannot separate) raises before anything changed."""
+        self.adopt(None if self.constraints is None else self.built(kernels))
         return kernels
 
     def adopt(self, constraints: ConstraintSet | None) -> None:
         self.constraints = constraints
-
-    def _set(self, points: np.ndarray) -> None:
-        """Rebuild the pins at ``points`` (k, 3)."""
-        self.constraints = self.built(self._kernels(), points) if len(points) else None
 
     # -- edits -------------------------------------------------------------------------------
     def add(self, point: object) -> int:
@@ -198,9 +186,8 @@ class Pins:
     ) -> ConstraintSet:
         """The pins a drag of the pin at ``start`` by ``delta`` solves with: ``constraints``,
         or with the "surface" material frame the pins with the material turned onto the surface
-        under the dragged pin (area normal within the pins' ε, first axis along the drag's
-        first motion: :mod:`~gogreen_core.sculpt.material_frame`), made when a drag starts and
-        kept while it continues, as a stroke keeps its frame."""
+        under the dragged pin (:mod:`~gogreen_core.sculpt.material_frame`), kept while the drag
+        continues."""
         kernels = self._kernels()
         if kernels.settings.material_frame != "surface":
             self._framed = None
@@ -215,7 +202,8 @@ class Pins:
     def restore(self, state: object) -> None:
         """Put back the pins an undone or redone step had (its ``restored_state``)."""
         if isinstance(state, _Points):
-            self._set(state.points)
+            points = state.points
+            self.constraints = self.built(self._kernels(), points) if len(points) else None
             return
         if not isinstance(state, _Pin) or self.constraints is None:
             return

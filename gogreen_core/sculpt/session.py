@@ -1,17 +1,10 @@
-"""Session files: the log of a sculptor's operations, their schema, and replay.
+"""Session files (README, "Session files"): their schema, upgrades and replay.
 
-A session (README, "Session files") is ``{"format": "gogreen-session", "version": 6, "mesh":
-{vertices, faces, sha256}, "settings": {...}, "operations": [...]}``. :func:`parse_session`
-checks all of it before anything is applied (every field's type and range; errors name the field,
-e.g. ``operations[3].events[0].delta``), :func:`load_session` reads a file, and :func:`replay`
-(:meth:`Sculptor.replay`) applies the typed operations through the sculptor's public methods,
-which record them again in its own log, so replaying a session records the same session.
-
-A file of an older version is upgraded as it is read (:func:`upgrade_session`, one function a
-version step) and replayed with today's arithmetic: within 1e-4 of its largest motion of what
-it recorded, or refused with a :class:`ParameterError` naming the operation that cannot be
-(a stroke of a brush that no longer exists). Bit for bit only within one version on one
-machine.
+:func:`parse_session` checks all of a session before anything is applied (errors name the
+field, e.g. ``operations[3].events[0].delta``); :func:`replay` applies the typed operations
+through the sculptor's public methods, which log them again. A file of an older version is
+upgraded as it is read (:func:`upgrade_session`, one function a version step) and replayed with
+today's arithmetic (within 1e-4 of its motion), or refused naming the operation that cannot be.
 """
 
 from __future__ import annotations
@@ -92,8 +85,7 @@ def mesh_fingerprint(vertices: np.ndarray) -> str:
 
 @dataclass(frozen=True)
 class Session:
-    """A checked session file: mesh sizes and fingerprint, initial settings, typed operations,
-    format version."""
+    """A checked session file."""
 
     vertices: int
     faces: int
@@ -109,9 +101,8 @@ class Session:
 
 
 def parse_session(data: object) -> Session:
-    """The schema of a session file: every field checked before anything is applied (an older
-    version's upgraded first: :func:`upgrade_session`); :class:`ParameterError` naming the
-    first bad field or the operation that cannot be replayed."""
+    """The checked :class:`Session` of a decoded session file (an older version's upgraded
+    first); :class:`ParameterError` naming the first bad field."""
     data = check_object("", data, required=("format", "version", "mesh", "settings", "operations"))
     check_choice("format", data["format"], (SESSION_FORMAT,))
     version = check_integer("version", data["version"], low=1, high=SESSION_VERSION)
@@ -258,11 +249,9 @@ _UPGRADES: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {
 
 
 def upgrade_session(data: dict[str, Any]) -> dict[str, Any]:
-    """A session object of any version as one of :data:`SESSION_VERSION` (a new object; the
-    same one when it is current). ``data["version"]`` must be an integer 1 … SESSION_VERSION;
-    :class:`ParameterError` naming the operation an older file holds that cannot be replayed
-    today. Only the ``settings`` and ``operations`` are read (a journal's records upgrade as a
-    session of them)."""
+    """A session object of version 1 … :data:`SESSION_VERSION` as one of today's (reading only
+    its ``settings`` and ``operations``); :class:`ParameterError` naming an operation that cannot
+    be replayed today."""
     version = data["version"]
     while version < SESSION_VERSION:
         data = _UPGRADES[version](data)
@@ -271,8 +260,7 @@ def upgrade_session(data: dict[str, Any]) -> dict[str, Any]:
 
 
 def load_session(path: str | os.PathLike[str]) -> Session:
-    """Read and check a session file; ``ValueError`` (a :class:`ParameterError` for a bad
-    field) whose message starts with the file's name."""
+    """Read and check a session file (:func:`~gogreen_core.sculpt.schema.parse_file`)."""
     return parse_file(path, parse_session, "session file")
 
 
@@ -321,14 +309,10 @@ def replay(
     operations: Sequence[dict[str, Any]] | Sequence[Operation] | Session,
     progress: Callable[[int, int], None] | None = None,
 ) -> None:
-    """Apply logged operations to ``sculptor`` in order (the result is bit for bit the recorded
-    one on the same machine). ``progress(done, total)`` is called after each mouse event and
-    each other operation.
-
-    All of them are checked before any is applied (ParameterError naming the field, e.g.
-    ``operations[3].events[0].delta``), and a replay that fails part-way is rolled back
-    (:meth:`Sculptor.all_or_nothing`): the mesh, settings, pins, history and log are as before.
-    """
+    """Apply logged operations to ``sculptor`` in order, bit for bit as recorded on the same
+    machine; all checked first, and rolled back as a whole if one fails
+    (:meth:`Sculptor.all_or_nothing`). ``progress(done, total)`` is called after each mouse
+    event and each other operation."""
     if isinstance(operations, Session):
         ops = list(operations.operations)
     else:

@@ -1,30 +1,10 @@
-"""Brushes: their settings, their events, and a table of what each kind does.
+"""Brushes: their settings and events (:mod:`~gogreen_core.sculpt.brushes.brush`), the
+interface (:mod:`~gogreen_core.sculpt.brushes.base`) and the table of what each kind does
+(:mod:`~gogreen_core.sculpt.brushes.table`), one module per brush or family.
 
 Every brush of Regularized Kelvinlets (de Goes & James 2017), extended to any material by the
-regularized Green's function of ``kernel.py``, is a row of the brush table
-(:mod:`gogreen_core.sculpt.brushes.table`), one module per family:
-
-* :mod:`~gogreen_core.sculpt.brushes.grab`: ``grab``, ``grab_biscale``, ``grab_triscale``, a vector
-  load the grabbed point follows exactly (multi-scale falloffs decay faster);
-* :mod:`~gogreen_core.sculpt.brushes.wrinkle`: ``wrinkle``, a pull that folds the surface around the
-  cursor with the material's high SH degrees (paper Fig. 10);
-* :mod:`~gogreen_core.sculpt.brushes.affine`: ``scale``, ``twist``, ``pinch``, ``stretch``, an
-  affine load at the press point whose ``amount`` is a log strain or an angle at the centre,
-  whatever the material;
-* the paint family (:mod:`~gogreen_core.sculpt.brushes.paint`), acting where the cursor passes
-  without a Green's function: ``smooth`` (:mod:`~gogreen_core.sculpt.brushes.smooth`, Taubin
-  relaxation), ``mask`` (:mod:`~gogreen_core.sculpt.brushes.mask`, paints the vertex mask that
-  holds vertices) and the detail brushes, Blender's, in dabs along the stroke
-  (:mod:`~gogreen_core.sculpt.brushes.dabs`): ``draw``, ``clay_strips``, ``crease``,
-  ``flatten``, ``inflate`` (one module each).
-
-The interface (:mod:`~gogreen_core.sculpt.brushes.base`): a :class:`BrushType` turns one event into
-the rows it moves and their new positions; the stroke driver (:mod:`gogreen_core.sculpt.stroke`)
-writes them. :class:`Brush` and :class:`BrushEvent` (:mod:`~gogreen_core.sculpt.brushes.brush`) are
-the immutable settings and events that strokes, sessions and presets carry.
-
-Adding a brush: one module (a :class:`BrushType`, usually a :class:`GreenBrush`) and one row in
-:data:`BRUSH_TABLE`.
+regularized Green's function of ``kernel.py``, is a row of the table; so are the paint family's
+(smooth, mask and the detail brushes), which act where the cursor passes without one.
 """
 
 from gogreen_core.field.limits import MAX_AMOUNT, MAX_RADIUS, MAX_STRENGTH, MAX_SUBSTEPS, MIN_RADIUS
@@ -32,9 +12,7 @@ from gogreen_core.sculpt.brushes.base import (
     AUTO_INFLUENCE,
     CUTOFF_START,
     DEFAULT_INFLUENCE,
-    BrushType,
     Displacement,
-    EventField,
     GreenBrush,
     StrokeContext,
     mirror_signs,
@@ -51,7 +29,6 @@ from gogreen_core.sculpt.brushes.table import (
     GRAB_BRUSHES,
     PAINT_BRUSHES,
     REPLAY_KINDS,
-    BrushRow,
     affine_load_shape,
     brush_for_key,
     brush_row,
@@ -81,10 +58,7 @@ __all__ = [
     "REPLAY_KINDS",
     "Brush",
     "BrushEvent",
-    "BrushRow",
-    "BrushType",
     "Displacement",
-    "EventField",
     "GreenBrush",
     "StrokeContext",
     "affine_load_shape",

@@ -37,17 +37,11 @@ class Brush:
     kind : one of :data:`BRUSH_KINDS`.
     radius : regularization radius ε as a fraction of the model size (bounding-box diagonal).
     strength : multiplies the cursor displacement (grab) or the amount (affine brushes).
-    substeps : how each event is integrated over pseudo-time [0, 1]. 0 (the default): adaptive
-        RK4 with a per-vertex error estimate, within 1e-4 of the cursor motion of a 64-step
-        reference (:meth:`GreenKernel.streamlines`); n ≥ 1: exactly n RK4 steps for every
-        vertex (what sessions recorded before adaptive integration used, so they replay bit for
-        bit).
-    influence : radius of the influence ball in multiples of ε (``inf``: every vertex), or
-        ``"auto"`` (the default): where the brush's own field has faded
-        (:meth:`~gogreen_core.sculpt.brushes.GreenBrush.reach`; :meth:`Sculptor.influence` gives the
-        number).
-    symmetry : mirror planes, any of "x", "y", "z" (e.g. "xz"): the brush is applied mirrored
-        across the planes through the model's center normal to those axes.
+    substeps : RK4 steps of each event over pseudo-time [0, 1]; 0 (the default): adaptive, within
+        1e-4 of the cursor motion (:meth:`GreenKernel.streamlines`).
+    influence : radius of the influence ball in ε (``inf``: every vertex), or ``"auto"`` (the
+        default): where the brush's field has faded (:meth:`Sculptor.influence` gives it).
+    symmetry : mirror planes, any of "x", "y", "z" (e.g. "xz"), through the model's origin.
     """
 
     kind: str = "grab"
@@ -82,13 +76,8 @@ class Brush:
             raise ParameterError(
                 "symmetry", f"brush symmetry must use the letters x, y, z (got {self.symmetry!r})"
             )
-        for name, value in [
-            ("radius", radius),
-            ("strength", strength),
-            ("substeps", substeps),
-            ("influence", influence),
-            ("symmetry", axes),
-        ]:
+        checked = dict(radius=radius, strength=strength, substeps=substeps, influence=influence)
+        for name, value in {**checked, "symmetry": axes}.items():
             object.__setattr__(self, name, value)
 
     @property
@@ -118,9 +107,8 @@ class Brush:
         return self.influence == AUTO_INFLUENCE
 
     def cutoff(self, model_size: float, reach: float | None = None) -> tuple[float, float] | None:
-        """(inner, outer) cutoff radii in model units, or None for no cutoff: for an influence
-        of ``reach`` ε (the brush's own number when None; an automatic one needs the engine's:
-        :meth:`Sculptor.influence`)."""
+        """(inner, outer) cutoff radii in model units (None: no cutoff) for an influence of
+        ``reach`` ε (None: the brush's own number)."""
         if reach is None:
             if self.auto_influence:
                 raise ValueError(
@@ -141,8 +129,7 @@ class Brush:
 
     @classmethod
     def from_dict(cls, data: object, path: str = "brush") -> Brush:
-        """Inverse of :meth:`to_dict`, the brush's schema: :class:`ParameterError` naming the
-        field (``path.radius``...) for a missing, unknown, mistyped or out-of-range one."""
+        """Inverse of :meth:`to_dict`: :class:`ParameterError` naming a bad field."""
         fields = ("kind", "radius", "strength", "substeps", "influence", "symmetry")
         values = dict(check_object(path, data, optional=fields))
         if "influence" in values and values["influence"] is None:
@@ -164,18 +151,12 @@ class BrushEvent:
 
     center : (3,) the cursor on the surface at the start of the event.
     delta : (3,) cursor displacement during the event (grab brushes).
-    amount : affine brushes: the logarithmic strain (scale, pinch) or the angle in radians
-        (twist) at the brush centre per event, times the brush strength (see module docstring);
-        required (an affine event without one is refused, naming ``amount``). Paint brushes
-        (smooth, mask): the pen pressure, negative to erase or invert; full pressure (1.0) when
-        not given. Grab brushes do not use it. An event is recorded with the amount it acted
-        with, so a replay acts the same.
+    amount : affine brushes (required): the log strain or angle (radians) at the brush centre
+        per event, times the strength. Paint brushes: the pen pressure, negative to erase or
+        invert (1.0 when not given).
     axis : (3,) view direction (twist axis, pinch normal), any nonzero length; +z when omitted.
     direction : (3,) stroke direction in the view plane (pinch); any vector ⟂ axis if omitted.
-    radius_factor : in (0, 1], scales the stroke brush's radius ε for this event alone (pen
-        pressure → radius along a stroke); its kernel ε, influence ball and safety bound use
-        max(radius · radius_factor, MIN_RADIUS). 1 (the default) is not written by
-        :meth:`to_dict`, so sessions without pressure read and write as before.
+    radius_factor : in (0, 1], scales the brush's radius for this event (pen pressure).
     """
 
     center: np.ndarray
@@ -202,14 +183,11 @@ class BrushEvent:
 
     @property
     def acting_amount(self) -> float:
-        """The amount the event acts with: :attr:`amount`, 0 when none was given (the stroke
-        driver gives such an event its brush's default before it acts:
-        :meth:`BrushType.with_amount`)."""
+        """:attr:`amount`, 0 when none was given (:meth:`BrushType.with_amount`)."""
         return 0.0 if self.amount is None else self.amount
 
     def brush(self, stroke_brush: Brush) -> Brush:
-        """The brush this event acts with: ``stroke_brush`` with its radius scaled by
-        :attr:`radius_factor` (:meth:`Brush.scaled`)."""
+        """``stroke_brush`` with its radius scaled by :attr:`radius_factor`."""
         return stroke_brush.scaled(self.radius_factor)
 
     def to_dict(self) -> dict[str, Any]:
@@ -228,8 +206,7 @@ class BrushEvent:
 
     @classmethod
     def from_dict(cls, data: object, path: str = "event") -> BrushEvent:
-        """Inverse of :meth:`to_dict`, the event's schema: :class:`ParameterError` naming the
-        field (``path.delta``...)."""
+        """Inverse of :meth:`to_dict`: :class:`ParameterError` naming a bad field."""
         fields = ("center", "delta", "amount", "axis", "direction", "radius_factor")
         values = dict(check_object(path, data, required=("center",), optional=fields[1:]))
         values.setdefault("amount", 0.0)  # a file leaves out a zero amount (to_dict)

@@ -1,38 +1,20 @@
 """The detail brushes' common step: dabs along the swept segment, as Blender's sculpt brushes.
 
-The detail brushes (:mod:`~gogreen_core.sculpt.brushes.draw`, ``clay_strips``, ``crease``,
-``flatten``, ``inflate``) are members of the paint family
-(:mod:`~gogreen_core.sculpt.brushes.paint`): an event is the segment the cursor swept and
-``amount`` the pen pressure, negative with Ctrl.
-Where the smooth brush and the mask painter act once on the whole segment, a detail brush adds
-material, so it acts in *dabs* spaced :data:`DAB_SPACING` of its radius along the stroke (the
-spacing carried from one event to the next, a dab at the press point first), as Blender's
-"space" stroke does: how much a stroke raises does not depend on how fast the mouse moves or how
-often it reports.
+The detail brushes (draw, clay_strips, crease, flatten, inflate) are members of the paint family
+(:mod:`~gogreen_core.sculpt.brushes.paint`) that add material, so they act in *dabs* spaced
+:data:`DAB_SPACING` of their radius along the stroke (carried from one event to the next), as
+Blender's "space" stroke: how much a stroke raises does not depend on the mouse's speed or rate.
 
-Each dab, as in Blender's ``do_*_brush``, sees the surface as the previous dabs left it:
+Each dab, as in Blender's ``do_*_brush``, sees the surface as the previous dabs left it: the
+vertices within the brush radius ``R`` (the influence: 2 ε for an automatic one) weighted by
+``f`` = 1 − smoothstep(d / R); their f-weighted mean normal ``N`` and position ``C`` (Blender's
+``calc_area_normal_and_center``); the member turns these into offsets
+(:meth:`DetailBrush.offsets`) scaled by ``b`` = strength × pressure. A member's rate ``r`` per
+radius of stroke is ``r · DAB_SPACING`` per dab.
 
-* its vertices are those within the brush radius ``R`` (the influence: 2 ε for an automatic
-  one), weighted by a smooth falloff ``f`` = 1 − smoothstep(d / R) (1 at the centre, 0 at R);
-* the **area normal** ``N`` is the f-weighted mean of their vertex normals, the **area centre**
-  ``C`` the f-weighted mean of their positions (Blender's ``calc_area_normal_and_center``);
-* the member brush turns these into offsets (:meth:`DetailBrush.offsets`), scaled by the signed
-  ``b`` = strength × amount (the pressure; negative inverts the brush).
-
-Rates are per unit of stroke length: a member's rate ``r`` per radius of stroke becomes
-``r · DAB_SPACING`` per dab, so a straight stroke at full strength raises its centre line by
-about ``r · R`` whatever the spacing (the falloff integrates to R across the line).
-
-Mirror symmetry: one pass per mirror image (Blender's symmetry passes), all of a dab's from the
-surface the previous dab left, so a symmetric model stays symmetric: the vertices are mapped
-into the stroke's side of the planes (signs ``S``: ``origin + S (p − origin)``), their offsets
-found there and mapped back, and the passes' offsets added (a vertex within reach of two images,
-near a mirror plane, takes both, as in Blender).
-
-The mask holds vertices as for every brush: the stroke driver moves each vertex by
-(1 − mask) of what the event would (:func:`~gogreen_core.sculpt.stroke.blend_by_mask`). All
-arithmetic is NumPy in a fixed order (no threads, no compiler), so a replay gives the same
-positions bit for bit on any machine.
+Mirror symmetry: one pass per mirror image, each from the surface the previous left, mapped into
+the stroke's side of the planes and back, so a symmetric model stays symmetric. All arithmetic
+is NumPy in a fixed order (no threads, no BLAS sums): a replay is bit for bit on any machine.
 """
 
 from __future__ import annotations

@@ -78,7 +78,6 @@ class BrushRow:
     letter : its letter key in Qt's portable text ("G", "Shift+S").
     number : its number key ("1" … "9", "0"), fixed per brush; "" for none.
     tooltip : what it does, for the toolbar button.
-    icon : name of its icon in ``resources/icons`` (without ``.svg``).
     drag : how a drag becomes its events, one of :data:`DRAGS`.
     weights_hint : the caption of its degree weights (what they are, what to try); "" for a
         brush without weights.
@@ -95,7 +94,6 @@ class BrushRow:
     letter: str
     number: str
     tooltip: str
-    icon: str
     drag: str
     weights_hint: str = ""
     acting: str = ""
@@ -103,6 +101,11 @@ class BrushRow:
 
     @property
     def kind(self) -> str:
+        return self.type.kind
+
+    @property
+    def icon(self) -> str:
+        """Name of its icon in ``resources/icons`` (without ``.svg``): its kind."""
         return self.type.kind
 
 
@@ -115,7 +118,6 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         "1",
         "Grab: the point under the cursor follows it, the ring shows what moves (elastic, "
         "local; tri-scale at 0.4, 0.8 and 1.6 ε)",
-        "grab_local",
         "follow",
         _EVEN_HINT,
     ),
@@ -127,7 +129,6 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         "2",
         "Wide grab (elastic, whole body): the regularized Kelvinlet grab; the whole body "
         "follows softly",
-        "grab",
         "follow",
         _EVEN_HINT,
     ),
@@ -138,7 +139,6 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         "B",
         "",
         "Bi-scale grab: sharper falloff (two radii)",
-        "grab_biscale",
         "follow",
         _EVEN_HINT,
     ),
@@ -149,7 +149,6 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         "T",
         "3",
         "Tri-scale grab: sharpest falloff (three radii)",
-        "grab_triscale",
         "follow",
         _EVEN_HINT,
     ),
@@ -160,7 +159,6 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         "R",
         "4",
         "Wrinkle: a pull that folds the surface around the cursor (folds: Falloff panel)",
-        "wrinkle",
         "follow",
         "R_l of G (even degrees): R0 and R2 are the pull, the degrees from 4 up are the folds "
         "(set them with the fold degree and depth below)",
@@ -172,7 +170,6 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         "S",
         "5",
         "Scale: inflate (drag right or up) or deflate (left or down)",
-        "scale",
         "anchored",
         "ℛ_l of ∇G (odd degrees): 1 is the expansion as it is, 0 removes a degree",
         acting="scaling",
@@ -185,7 +182,6 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         "W",
         "6",
         "Twist about the view axis: drag right or up, left or down",
-        "twist",
         "anchored",
         "ℛ_l of ∇G (odd degrees): 1 is the expansion as it is, 0 removes a degree",
         acting="twisting",
@@ -197,7 +193,6 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         "P",
         "7",
         "Pinch: stretch along the drag (right or up), squeeze (left or down)",
-        "pinch",
         "anchored",
         _ODD_HINT,
         acting="pinching",
@@ -209,7 +204,6 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         "E",
         "8",
         "Stretch along the drag: the material decides whether the sides narrow or widen",
-        "stretch",
         "anchored",
         _ODD_HINT,
         acting="stretching",
@@ -221,7 +215,6 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         "Shift+S",
         "9",
         "Smooth: relaxes bumps and facets without shrinking (Shift+drag with any brush)",
-        "smooth",
         "sweep",
     ),
     BrushRow(
@@ -231,7 +224,6 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         "M",
         "0",
         "Mask: paint what no brush moves; Ctrl+drag erases, Ctrl+I inverts",
-        "mask",
         "sweep",
     ),
     # the detail brushes: Blender's keys, but Clay Strips' C is our pin mode (L: Blender's
@@ -243,7 +235,6 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         "X",
         "",
         "Draw: raises the surface along its mean normal where you stroke; Ctrl+drag carves",
-        "draw",
         "sweep",
     ),
     BrushRow(
@@ -254,7 +245,6 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         "",
         "Clay Strips: lays flat-topped square strips of clay along the stroke that build up "
         "as they cross; Ctrl+drag digs",
-        "clay_strips",
         "sweep",
     ),
     BrushRow(
@@ -265,7 +255,6 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         "",
         "Crease: cuts a sharp groove, pinching the surface towards the stroke; Ctrl+drag "
         "raises a sharp ridge",
-        "crease",
         "sweep",
     ),
     BrushRow(
@@ -276,7 +265,6 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         "",
         "Flatten: levels bumps and dents towards the mean plane under the brush; Ctrl+drag "
         "pushes away from it",
-        "flatten",
         "sweep",
     ),
     BrushRow(
@@ -286,7 +274,6 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
         "I",
         "",
         "Inflate: swells the surface, each point along its own normal; Ctrl+drag deflates",
-        "inflate",
         "sweep",
     ),
 )
@@ -319,7 +306,7 @@ PAINT_BRUSHES = tuple(b.kind for b in BRUSH_TABLE if b.family == "paint")
 
 def _check_rows() -> None:
     """Rows that cannot be told apart are a programming error: found at import."""
-    for name in ("kind", "label", "letter", "icon"):
+    for name in ("kind", "label", "letter"):
         values = [getattr(row, name) for row in BRUSH_ROWS]
         if len(set(values)) != len(values):
             raise RuntimeError(f"two brush rows share a {name}: {values}")
@@ -334,15 +321,16 @@ def _check_rows() -> None:
 _check_rows()
 
 
+def _known(kind: object) -> str:
+    if not isinstance(kind, str) or kind not in _BY_KIND:
+        raise ValueError(f"unknown brush {kind!r}; expected one of {', '.join(BRUSH_KINDS)}")
+    return kind
+
+
 def brush_row(kind: str) -> BrushRow:
-    """The row of offered brush ``kind`` (a replay-only kind: its offered brush's); ValueError
-    naming the kinds for another one."""
-    try:
-        return _ROWS[kind]
-    except (KeyError, TypeError):
-        raise ValueError(
-            f"unknown brush {kind!r}; expected one of {', '.join(BRUSH_KINDS)}"
-        ) from None
+    """The row of brush ``kind`` (a replay-only kind: its offered brush's); ValueError naming
+    the kinds for another one."""
+    return _ROWS[_known(kind)]
 
 
 def brush_for_key(key: str) -> str | None:
@@ -357,12 +345,7 @@ def weighted_kinds() -> tuple[str, ...]:
 
 def brush_type(kind: str) -> BrushType:
     """The table row of ``kind``; ValueError naming the kinds for an unknown one."""
-    try:
-        return _BY_KIND[kind]
-    except (KeyError, TypeError):
-        raise ValueError(
-            f"unknown brush {kind!r}; expected one of {', '.join(BRUSH_KINDS)}"
-        ) from None
+    return _BY_KIND[_known(kind)]
 
 
 def affine_load_shape(

@@ -15,25 +15,12 @@ R₁₀/R₀ = 0.004 at 2.5 ε for a Gaussian), so this brush builds its field f
   :meth:`GreenKernel.with_degree_weights`): folds lift and lower the surface, while the
   in-plane part of these degrees only compressed faces until they folded over.
 
-Per event, on the surface: the load sits on the surface under the cursor (the event centre
-projected along n onto the plane of the previous event's load, so a pull away from the surface
-leaves it where the stroke grabbed and the folds stay in place while they grow), and moves
-with the cursor's motion along the surface; the folds are scaled so that their largest normal
-displacement on the tangent disk around the load is max_l ω_l × |Δ| (the fold depth: 0.8 by
-default; steep ones held to a slope of :data:`FOLD_SLOPE` |Δ| / ε per event, as the events of
-a pull stack them), and the whole field, sampled on that disk (where the surface is, not the 3D
-ball where a tilted laminate's folds peak off the surface), is held to the safe-falloff bounds:
-no vertex moving more than :data:`MAX_GRAB_RATIO` |Δ| nor sheared more than
-:data:`MAX_GRAB_STRAIN` |Δ| / ε in one event. The grabbed point follows the cursor by the
-pull's share (0.68-0.79 in the sheet measurements below).
-
-Measured on a flat 201 × 201 sheet, ε = 0.05 of the model size, the "Layered sheet wrinkles"
-material (1:100 laminate, layers tilted 45°), strokes of 10 events moving the cursor 2 ε (tests
-in ``tests/core/sculpt/test_wrinkle_brush.py``): pulled along the normal, folds of degree 6, 8, 10
-give 8, 8, 6 sign changes of the normal displacement on rings around the brush, lobes down to −0.61,
-−0.16, −0.43 of the pull, the grabbed point following 0.68-0.70; dragged along the surface
-across the layers 6, 8, 10; no face turned over but 5 of 80,000 in degree 10's pull; a grab
-with the same settings folds nothing.
+Per event the load sits on the surface under the cursor (projected along n onto the plane of
+the previous event's load, so the folds stay in place while they grow) and moves along the
+surface; the folds are scaled to a normal depth of max_l ω_l × |Δ| on the tangent disk around
+the load (at most :data:`FOLD_SLOPE` steep), and the whole field, sampled on that disk, is held
+to the safe-falloff bounds (:mod:`~gogreen_core.sculpt.falloff_safety`). Measured on a flat
+sheet of a 1:100 laminate: see ``tests/core/sculpt/test_wrinkle_brush.py``.
 """
 
 from __future__ import annotations
@@ -80,10 +67,8 @@ MOUND_SCALE = 1.5
 #: The fold depth of a new wrinkle brush: its folds' largest normal displacement per event, in
 #: units of the cursor motion.
 FOLD_DEPTH = 0.8
-#: Steepest slope the folds may add in one event, in units of |Δ| / ε (the tangential
-#: gradient of their normal displacement): the events of a pull stack the same folds (the load
-#: stays put) and steeper ones turned faces over (measured on the sheet, 2 ε pulls: degree 10
-#: turned 42 faces over at 1.2, 5 at 0.9; degrees 6 and 8 none, and they keep their depth).
+#: Steepest slope the folds may add in one event, in units of |Δ| / ε: the events of a pull
+#: stack the same folds, and steeper ones turned faces over (degree 10 on the test sheet).
 FOLD_SLOPE = 0.9
 #: The fold degrees the app offers (more folds around the brush for a higher degree).
 FOLD_DEGREES = (6, 8, 10)
@@ -104,9 +89,8 @@ _NORMAL_REFRESH = 1.0
 def fold_weights(
     l_max: int, degree: int = DEFAULT_FOLD_DEGREE, depth: float = FOLD_DEPTH
 ) -> np.ndarray:
-    """The wrinkle brush's ω_l (l_max + 2,) for folds of one ``degree``: ω₀ = ω₂ = 1 (the pull),
-    ω_degree = ``depth`` (the folds), the rest 0. A ``degree`` above l_max gives the highest
-    even degree ≥ 4 there is (none below l_max 4: no folds)."""
+    """The wrinkle brush's ω_l (l_max + 2,): ω₀ = ω₂ = 1 (the pull), ω_degree = ``depth`` (the
+    folds; a ``degree`` above l_max: the highest even one ≥ 4 there is), the rest 0."""
     omega = np.zeros(l_max + 2)
     omega[0] = 1.0
     if l_max >= 2:
@@ -146,8 +130,7 @@ class FoldRadial(RadialProfile):
 
 
 def _surface_normal(vertices: np.ndarray, rows: np.ndarray) -> np.ndarray | None:
-    """The unit normal (3,) of the least-squares plane of ``vertices[rows]`` (its axis of least
-    spread), None for fewer than 3 points."""
+    """The unit normal (3,) of the least-squares plane of ``vertices[rows]`` (None: < 3)."""
     if len(rows) < 3:
         return None
     points = vertices[rows]
@@ -160,11 +143,8 @@ def _surface_normal(vertices: np.ndarray, rows: np.ndarray) -> np.ndarray | None
 def _disk(
     normal: np.ndarray, reach: float, frame: np.ndarray | None = None
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Offsets (n, 3) in ε units on the disk ⟂ ``normal`` (the centre first), their radii (n,),
-    and the two tangent directions (2, 3): with the stroke's surface ``frame`` (3, 3), its first
-    axis projected on the disk and the normal's side its third's (so that the samples and their
-    one-sided differences turn with the model), else ⟂ the world axis least aligned with
-    ``normal``."""
+    """Offsets (n, 3) in ε on the disk ⟂ ``normal`` (the centre first), their radii (n,), and
+    the two tangent directions (2, 3), turning with the stroke's surface ``frame`` if any."""
     t1 = None
     if frame is not None:
         normal = normal if normal @ frame[:, 2] >= 0 else -normal
@@ -189,8 +169,7 @@ class WrinkleBrush(GrabBrush):
         return fold_weights(l_max)
 
     def _parts(self, settings: EngineSettings) -> tuple[np.ndarray, np.ndarray]:
-        """The kernel weights (l_max + 1,) of the pull and of the folds (the latter with each
-        degree's material term brought to degree 0's size)."""
+        """The kernel weights (l_max + 1,) of the pull and of the folds."""
         omega = settings.weights_for(self.kind)[: settings.l_max + 1]
         pull = np.where(np.arange(len(omega)) < 4, omega, 0.0)
         pull[1::2] = 0.0
@@ -199,9 +178,8 @@ class WrinkleBrush(GrabBrush):
         return pull, folds
 
     def _fold_kernels(self, kernels: KernelCache, eps: float) -> tuple[GreenKernel, np.ndarray]:
-        """The kernel of the brush's radial terms at ``eps`` (unit weights) of ``kernels`` and
-        the degrees' material scale factors ‖P₀‖/‖P_l‖ (l_max + 1,; 0 where the material has
-        no term; the same in every frame: a turn mixes the terms of a degree orthogonally)."""
+        """The kernel of the brush's radial terms at ``eps`` (unit weights) and the degrees'
+        material scale factors ‖P₀‖/‖P_l‖ (l_max + 1,; 0: no term; the same in every frame)."""
         base = kernels.unturned
 
         def scales() -> np.ndarray:
@@ -214,8 +192,7 @@ class WrinkleBrush(GrabBrush):
         return kernels.full.with_radial(radial), factors
 
     def kernel(self, ctx: StrokeContext, brush: Brush) -> GreenKernel:
-        """The pull part at the brush's ε (what the cursor's profile draws: the folds depend on
-        the surface under the cursor)."""
+        """The pull part at the brush's ε (the folds depend on the surface)."""
         unit, _ = self._fold_kernels(ctx.kernels, brush.eps(ctx.model_size))
         return unit.with_degree_weights(self._parts(ctx.settings)[0])
 
@@ -225,8 +202,7 @@ class WrinkleBrush(GrabBrush):
         return unit.with_degree_weights(self._parts(kernels.settings)[0])
 
     def reach(self, ctx: StrokeContext, brush: Brush) -> float:
-        """``influence``, or for ``"auto"`` the reach of the pull and unit folds together
-        (:func:`field_reach`): about 9 ε, past the fold ring."""
+        """``influence``, or for ``"auto"`` the reach of the pull and unit folds (about 9 ε)."""
         if brush.influence != AUTO_INFLUENCE:
             return float(brush.influence)
 
@@ -285,9 +261,8 @@ class WrinkleBrush(GrabBrush):
     def _surface_frame(
         self, ctx: StrokeContext, memo: dict[str, Any], cursor: np.ndarray, eps: float
     ) -> tuple[np.ndarray, np.ndarray | None]:
-        """(the load's centre, the surface normal there or None): the cursor projected along the
-        normal onto the plane of the previous event's load; the normal measured on the mesh at
-        the first event and again when the load has moved :data:`_NORMAL_REFRESH` ε."""
+        """(the load's centre, the surface normal there or None); the normal is measured again
+        when the load has moved :data:`_NORMAL_REFRESH` ε."""
         anchor = memo.get("anchor")
         normal = memo.get("normal")
         center = (
@@ -311,8 +286,7 @@ class WrinkleBrush(GrabBrush):
         self, ctx: StrokeContext, pull: GreenKernel, force: np.ndarray, reach: float, size: float
     ) -> float:
         """The force scale that keeps the pull alone within the safe-falloff bounds anywhere in
-        the influence ball, as a grab of its falloff is (an edited falloff whose centre is weak
-        would otherwise move faces far off the tangent disk)."""
+        the influence ball (an edited falloff weak at the centre), as a grab's."""
         key = ("wrinkle pull bound", pull.degree_weights.tobytes(), reach)
         weights = pull.degree_weights
         bound = self.cached_bound(
