@@ -1,16 +1,8 @@
 """The engine's settings as one immutable value: material, falloff, l_max, weights, pins' radius.
 
-:class:`EngineSettings` is what a :class:`~gogreen_core.Sculptor` computes with besides the mesh
-and the brush. The evented model (:class:`gogreen_core.interaction.settings.Settings`) hands one to
-the engine in one typed call (:meth:`Sculptor.apply_settings`), presets make one
-(:meth:`Preset.engine_settings`), a session file stores one (its ``settings``) and undo steps hold
-the one before and the one after. Its fields, their checks (:class:`ParameterError` naming the
-field), defaults and file form are the rows of :data:`~gogreen_core.sculpt.setting_table.SETTINGS`,
-so a value that exists is valid; equality is by content.
-
-Adding an engine setting: one row in the table and its typed line here (the class is checked
-against the table as this module loads: mypy sees the fields, the table says everything else);
-the engine reads it from :attr:`Sculptor.settings`.
+Its fields, checks, defaults and file form are the rows of
+:data:`~gogreen_core.sculpt.setting_table.SETTINGS` (a value that exists is valid). Adding an
+engine setting: one row there and its typed line here (checked against the table at import).
 """
 
 from __future__ import annotations
@@ -54,12 +46,8 @@ def _initial(name: str) -> Callable[[], Any]:
 
 @dataclass(frozen=True, eq=False)  # eq: by content, below (the weights are an array)
 class EngineSettings:
-    """What the engine computes with besides the mesh and the brush (immutable, checked): one
-    field per ``"engine"`` row of :data:`~gogreen_core.sculpt.setting_table.SETTINGS` (its
-    documentation there), in the table's order.
-
-    Change one with :meth:`replace` (checked again); compare with ``==`` (by content).
-    """
+    """What the engine computes with besides the mesh and the brush: one field per ``"engine"``
+    row of the setting table, in its order. Change one with :meth:`replace` (checked again)."""
 
     material: Material = field(default_factory=_initial("material"))
     falloff: RadialProfile = field(default_factory=_initial("falloff"))
@@ -111,8 +99,7 @@ class EngineSettings:
     __hash__ = None  # type: ignore[assignment]  # equal by content, holds an array
 
     def to_dict(self, place: str = "session") -> dict[str, Any]:
-        """The JSON form of the settings of ``place`` (a session's ``settings``, a preset's):
-        the table's rows, a later one only when not at its default."""
+        """The JSON form of the settings of ``place`` (a session's, a preset's)."""
         return {
             s.name: s.to_json(getattr(self, s.name))
             for s in rows(place)
@@ -123,9 +110,8 @@ class EngineSettings:
     def from_dict(
         cls, data: object, path: str = "settings", place: str = "session"
     ) -> EngineSettings:
-        """Inverse of :meth:`to_dict`: :class:`ParameterError` naming the field
-        (``settings.l_max``...); rows that ``data`` does not give take their defaults. With a
-        ``path``, ``data`` must hold nothing else (a preset's is its file: ``path=""``)."""
+        """Inverse of :meth:`to_dict` (ParameterError naming the field; rows not given take
+        their defaults). With a ``path``, ``data`` must hold nothing else."""
         table = rows(place)
         if path != "":
             required = tuple(s.name for s in table if place in s.required)
@@ -139,8 +125,7 @@ class EngineSettings:
 
 
 def _check_fields(table: Iterable[Setting]) -> None:
-    """Raise at import when :class:`EngineSettings` lacks a field of the table, has one the
-    table does not declare, or lists them in another order."""
+    """Raise at import when :class:`EngineSettings`' fields are not the table's, in order."""
     declared = [s.name for s in table if "engine" in s.places]
     present = [f.name for f in fields(EngineSettings)]
     if declared != present:

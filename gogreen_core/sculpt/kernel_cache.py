@@ -1,12 +1,5 @@
-"""The kernels of one engine-settings value, each built once, and what brushes derive from them.
-
-A :class:`KernelCache` belongs to one :class:`~gogreen_core.sculpt.engine_settings.EngineSettings`:
-the sculptor makes a new one whenever its settings change (reusing the old one's quadrature
-when only the falloff changed) and keeps it with the settings, so an undo that puts old
-settings back gets their kernels back too. Brushes ask it for the full kernel, a kernel with
-per-degree weights, and anything else that depends only on the settings (sampled field
-bounds), memoized by a key of their choosing.
-"""
+"""The kernels of one engine-settings value, each built once, and what brushes derive from them
+(memoized by a key of their choosing: sampled field bounds, reach)."""
 
 from __future__ import annotations
 
@@ -36,16 +29,9 @@ class KernelCache:
 
     def __init__(self, settings: EngineSettings, previous: KernelCache | None = None) -> None:
         self.settings = settings
-        old = None if previous is None else previous.settings
-        if (
-            previous is not None
-            and old is not None
-            and old.l_max == settings.l_max
-            and old.material == settings.material
-        ):
-            self.full: GreenKernel = previous.full.with_radial(
-                settings.falloff
-            )  # no new quadrature
+        old = previous.settings if previous is not None else None
+        if previous is not None and old is not None and old.agrees(settings, ("l_max", "material")):
+            self.full: GreenKernel = previous.full.with_radial(settings.falloff)  # same quadrature
         else:
             self.full = GreenKernel(settings.material, settings.l_max, settings.falloff)
         self._weighted: dict[bytes, GreenKernel] = {}
@@ -58,8 +44,7 @@ class KernelCache:
     @property
     def unturned(self) -> KernelCache:
         """The kernels of the settings' material as it is (these): what values that turn with
-        the material (field bounds) or do not depend on its orientation (reach) are computed on,
-        once for every frame."""
+        the material or do not depend on its orientation are computed on."""
         return self
 
     def weighted(self, weights: np.ndarray | None) -> GreenKernel:

@@ -1,12 +1,8 @@
 """The vertex mask (Blender's sculpt mask): how much each vertex is held, 0 (free) to 1.
 
-Every brush and every pin drag moves a vertex by (1 − mask) of what it would (the stroke
-driver and the pins blend their results by it), so a vertex at 1 does not move at all. The mask
-is painted with the mask brush (:mod:`gogreen_core.sculpt.brushes.mask`; a mask stroke is an undo
-step like any stroke), inverted or cleared here; each edit is one undo step (the vertices do not
-move) and one record of the session log (:class:`~gogreen_core.sculpt.operations.MaskInvert`,
-:class:`~gogreen_core.sculpt.operations.MaskClear`). A subdivision carries the mask to the new
-vertices (:mod:`gogreen_core.mesh.subdivision`).
+Every brush and pin drag moves a vertex by (1 − mask) of what it would. The mask is painted
+with the mask brush (:mod:`gogreen_core.sculpt.brushes.mask`), inverted or cleared here (each an
+undo step and a log record).
 """
 
 from __future__ import annotations
@@ -64,11 +60,9 @@ class Mask:
         self._history.record(label, _NO_INDICES, _NO_ROWS, _NO_ROWS, state=(before, after))
 
     def adopt(self, values: np.ndarray) -> np.ndarray:
-        """Take the mask a host application keeps (Blender's sculpt mask): ``values`` (N,) in
-        [0, 1] replace the mask. No undo step and no session record: the host keeps its own
-        undo, and the undo history is cleared when a value changed (its steps would bring back
-        a mask the host no longer has). Returns the indices (K,) int64 of the changed values.
-        ValueError names ``mask`` for a wrong shape or a value outside [0, 1]."""
+        """Take the mask a host application keeps: ``values`` (N,) in [0, 1] replace it, as
+        :meth:`Sculptor.adopt_vertices` takes positions. Returns the indices (K,) of the changed
+        values; ParameterError naming ``mask`` for a wrong shape or a value outside [0, 1]."""
         self._refuse("adopt a mask")
         mask = self._mesh.mask
         held = np.asarray(values, dtype=np.float64)

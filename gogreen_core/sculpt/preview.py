@@ -1,13 +1,6 @@
-"""What the current brush would do, before the stroke: its field for a unit drag at the cursor.
-
-The paper's point is that the material shapes the deformation; with a grab the difference
-between an isotropic and a fibre composite is a few percent of the motion, invisible until the
-stroke is done. :func:`field_preview` evaluates the brush's velocity field once (no integration:
-cheaper than one brush event, which takes at least four evaluations) at the vertices it would
-move, for a drag of one ε along ``direction`` (grab brushes: |u| as a fraction of the cursor
-motion) or an ``amount`` of 1 (affine brushes: |u| in ε per unit of log strain or angle); the
-app colours the surface by it while the cursor hovers (View → Field preview). Masked vertices
-move (1 − mask) of the way in a stroke, and so in the preview.
+"""What the current brush would do, before the stroke: its field for a unit drag at the cursor
+(the app colours the surface by it while the cursor hovers: View → Field preview), so the
+material's effect shows before the stroke. One evaluation of the field, no integration.
 """
 
 from __future__ import annotations

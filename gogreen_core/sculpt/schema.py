@@ -1,22 +1,10 @@
-"""The one typed schema of the JSON the program reads: sessions, presets, the CLI's files.
+"""The typed schema of the JSON the program reads (materials, falloffs, files).
 
-Each ``parse_*`` function takes the decoded JSON value and the path of the field it sits at
-(``"settings.material"``, ``"operations[3].falloff"``) and returns the engine object, or raises
-:class:`gogreen_core.validation.ParameterError` naming the field whose type or range is wrong::
-
-    parse_falloff({"type": "gaussian", "eps": "1"}, "falloff")
-    → ParameterError: falloff.eps must be a number (got '1')
-
-Brushes and brush events have theirs in :meth:`Brush.from_dict` and :meth:`BrushEvent.from_dict`;
-engine settings in :meth:`EngineSettings.from_dict`; sessions in :mod:`gogreen_core.sculpt.session`,
-operations in :mod:`gogreen_core.sculpt.operations`. The bounds and range checks are in
-:mod:`gogreen_core.field.limits`.
-
-The schema is written by hand on top of ``validation.py`` rather than with a schema library
-(jsonschema, pydantic): the checks that matter here are numeric (finite, bounded, positive
-definite stiffness, increasing spline abscissae) and are done by the engine's own constructors,
-whose messages we keep; a library would add a dependency and a second description of the same
-rules without removing any of our code.
+Each ``parse_*`` function takes the decoded JSON value and the path of the field it sits at and
+returns the engine object, or raises a ParameterError naming the field
+(``falloff.eps must be a number (got '1')``); brushes, settings, sessions and operations have
+theirs in their own ``from_dict``. Written by hand rather than with a schema library: the
+checks that matter are numeric and done by the engine's own constructors, whose messages we keep.
 """
 
 from __future__ import annotations

@@ -1,8 +1,5 @@
-"""The log of a sculptor's operations in memory (typed records, in order) and who listens to it.
-
-The engine records here (strokes, pins, mask, settings changes); the session file's form and
-replay (:mod:`gogreen_core.sculpt.session`) and the crash-recovery journal read it.
-"""
+"""The log of a sculptor's operations in memory (typed records, in order) and who listens to it
+(the crash-recovery journal)."""
 
 from __future__ import annotations
 
@@ -22,8 +19,7 @@ LogListener = Callable[[str, object, int], None]
 
 
 class SessionLog:
-    """The operations a sculptor did, in order (typed records), and who listens to them (the
-    crash-recovery journal: :mod:`gogreen_core.files.journal`)."""
+    """The operations a sculptor did, in order, and who listens to them."""
 
     def __init__(self) -> None:
         self._operations: list[Operation] = []
@@ -51,10 +47,8 @@ class SessionLog:
         return iter(self._operations)
 
     def record(self, operation: Operation, replace_last: bool = False) -> None:
-        """Append ``operation``; with ``replace_last`` it replaces the last one when that is of
-        the same type (a slider drag's values collapse into its last one), keeping the last
-        one's ``continued`` flag, so that a replay joins it to what came before exactly as the
-        first value was."""
+        """Append ``operation``; with ``replace_last`` it replaces the last one of the same type
+        (a slider drag collapses into its last value), keeping that one's ``continued`` flag."""
         last = self._operations[-1] if self._operations else None
         if replace_last and type(last) is type(operation):
             flag = getattr(last, "continued", None)

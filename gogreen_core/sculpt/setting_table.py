@@ -1,10 +1,7 @@
 """The engine's settings, each declared once: :data:`SETTINGS`, one :class:`Setting` a row.
 
-:class:`~gogreen_core.sculpt.engine_settings.EngineSettings` (its checks, its JSON in sessions
-and their change records), the app's evented ``Settings``, ``Preset``, the flags of ``gogreen
-deform`` and the Blender extension's scene properties are made from the rows that apply there
-(:data:`PLACES`). Adding an engine setting: one row, its typed line on ``EngineSettings``
-(checked against the table at import) and the engine code that reads it.
+``EngineSettings``, the app's ``Settings``, presets, session files, the CLI's flags and the
+Blender extension's properties are made from the rows that apply there (:data:`PLACES`).
 """
 
 from __future__ import annotations

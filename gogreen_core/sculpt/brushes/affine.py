@@ -1,24 +1,13 @@
 """The affine family: an affine load H = k B at a fixed centre (scale, twist, pinch, stretch).
 
 Each member has a pattern B (3, 3), the velocity gradient that ``amount`` 1 asks for at the
-brush centre: I (scale), [a]_× (twist: rotation about the view axis a), d dᵀ − e eᵀ (pinch:
-stretch along the stroke direction d, squeeze across it, e = a × d), d dᵀ (stretch: a uniaxial
-load along d, the sides left to the material's Poisson ratios). k is set so that the
-velocity gradient J at the centre has component (J : B)/(B : B) = ``strength · amount`` along B,
-whatever the material. An event is the flow of that field over pseudo-time [0, 1] with the
-centre fixed, so the centre's deformation gradient is exp(J): per unit ``amount``, scale is a
-logarithmic strain of 1 in every direction (lengths × e), pinch a log strain of +1 along d and
-−1 across, twist a rotation of 1 radian about a; for small amounts the displacement gradient at
-the centre is ``amount · B``. Log strains and angles add up, so an amount split over several
-events gives the same result. For an isotropic material J = amount · B exactly; an anisotropic
-one adds components that are not along B (its own coupling).
-
-Safe falloffs: the load normalized at the centre is kept while it moves and shears vertices at
-most :data:`~gogreen_core.sculpt.falloff_safety.AFFINE_MARGIN` × what the Gaussian falloff does with
-the same material and pattern, and is scaled down to that otherwise.
-
-A new member is a pattern function (axis, direction) → B and a table row
-(:mod:`gogreen_core.sculpt.brushes.table`).
+brush centre: I (scale), [a]_× (twist about the view axis a), d dᵀ − e eᵀ (pinch along the
+stroke direction d, e = a × d), d dᵀ (stretch, the sides left to the material). k is set so
+that the velocity gradient J at the centre has component (J : B)/(B : B) = ``strength ·
+amount`` along B, whatever the material; the centre's deformation gradient is then exp(J): per
+unit amount a log strain of 1 or a rotation of 1 radian, which add up over events. The load is
+held to the safe-falloff bounds (:data:`~gogreen_core.sculpt.falloff_safety.AFFINE_MARGIN`).
+A new member is a pattern function (axis, direction) → B and a table row.
 """
 
 from __future__ import annotations
@@ -100,27 +89,22 @@ def pinch_pattern(axis: np.ndarray, direction: np.ndarray | None) -> np.ndarray:
 
 
 def stretch_pattern(axis: np.ndarray, direction: np.ndarray | None) -> np.ndarray:
-    """B = d dᵀ: a uniaxial load along the stroke direction d (paper Fig. 11). Only the
-    stretch along d is asked for; how the sides move is the material's (its Poisson ratios:
-    they narrow for ν > 0, widen for ν < 0), unlike pinch, which prescribes both."""
+    """B = d dᵀ: a uniaxial load along the stroke direction d (paper Fig. 11); the sides move
+    as the material's Poisson ratios say."""
     d = stroke_direction(axis, direction)
     return np.outer(d, d)
 
 
 def local_affine(base: RadialProfile) -> MultiscaleRadial:
     """The affine brushes' falloff: tri-scale at ε, 2 ε, 4 ε (Blender's Elastic Deform radii;
-    de Goes & James 2017, Sec. 5). The far field (∇ of the 1/r and ε²/r³ terms) cancels, so
-    what moves by a tenth of the largest motion is 2.8 ε instead of the falloff's own 5 ε,
-    while the strain stays spread over the brush circle: a unit amount still moves the points
-    at ε by ~0.4-0.5 ε (the grab's sharper :meth:`MultiscaleRadial.local`, at 0.4 ε, would
-    move them by 0.03 ε)."""
+    de Goes & James 2017, Sec. 5): the far field cancels (a tenth of the motion at 2.8 ε, not
+    5 ε) while the strain stays spread over the brush circle."""
     return MultiscaleRadial.triscale(base, 2.0, 1.0)
 
 
 def centre_jacobian(kernel: GreenKernel, center: np.ndarray, load: np.ndarray) -> np.ndarray:
-    """∂u_i/∂x_p (3, 3) at the load's centre of the affine load ``load``: central differences
-    at steps h = JACOBIAN_STEP · ε and h/2, Richardson-extrapolated (error O(h⁴), ~1e-12
-    relative; the O(h²) differences alone were ~1e-6 off)."""
+    """∂u_i/∂x_p (3, 3) at the centre of the affine load ``load``: central differences at
+    h = JACOBIAN_STEP · ε and h/2, Richardson-extrapolated (~1e-12 relative)."""
     h = JACOBIAN_STEP * kernel.eps
     steps = np.array([h, h, h, 0.5 * h, 0.5 * h, 0.5 * h])[:, None]
     offsets = steps * np.vstack([np.eye(3), np.eye(3)])

@@ -1,14 +1,7 @@
-"""The crease brush: cuts a sharp crease where the cursor passes (Blender's Crease); Ctrl
-raises a sharp ridge.
-
-Each dab (:mod:`~gogreen_core.sculpt.brushes.dabs`) does two things, as Blender's does: it
-draws along the area normal ``N``, inwards, by ``b · f · CREASE_DEPTH · R ·``
-:data:`DAB_SPACING` (outwards with Ctrl: ``b`` strength × pressure, ``f`` the falloff), and it
-pinches: each vertex moves the fraction ``k = |b| · f · CREASE_PINCH ·`` :data:`DAB_SPACING` (at
-most 1) of its way to the stroke line (the line through the dab centre along the stroke
-direction, in the plane ⟂ ``N``; the dab centre itself before the cursor moves), so the sides of
-the groove close in on it and its bottom stays sharp. Ctrl inverts the drawing, never the pinch
-(Blender: "we always want crease to pinch").
+"""The crease brush (Blender's Crease): each dab draws inwards along the area normal ``N`` by
+``b · f · CREASE_DEPTH · R ·`` :data:`DAB_SPACING` and pinches each vertex the fraction
+``|b| · f · CREASE_PINCH ·`` :data:`DAB_SPACING` of its way to the stroke line, so the groove stays
+sharp. Ctrl raises a ridge: it inverts the drawing, never the pinch (as Blender).
 """
 
 from __future__ import annotations

@@ -1,11 +1,6 @@
-"""The draw brush: raises the surface along the area normal where the cursor passes (Blender's
-Draw); Ctrl carves.
-
-Each dab (:mod:`~gogreen_core.sculpt.brushes.dabs`) moves its vertices along the area normal
-``N`` (the weighted mean normal under the brush) by ``b · f · DRAW_RATE · R ·`` :data:`DAB_SPACING`
-(``b`` strength × pressure, ``f`` the falloff, ``R`` the radius): at strength 1 a straight
-stroke raises its centre line by about ``DRAW_RATE · R``. All vertices of a dab move the same
-way, so a stroke raises a smooth ridge rather than swelling each bump.
+"""The draw brush (Blender's Draw): each dab moves its vertices along the area normal ``N``
+by ``b · f · DRAW_RATE · R ·`` :data:`DAB_SPACING` (:mod:`~gogreen_core.sculpt.brushes.dabs`), so
+a stroke raises a smooth ridge; Ctrl carves.
 """
 
 from __future__ import annotations

@@ -1,14 +1,7 @@
-"""The flatten brush: levels the surface towards the area plane where the cursor passes
-(Blender's Flatten); Ctrl pushes away from it (Blender's contrast).
-
-Each dab (:mod:`~gogreen_core.sculpt.brushes.dabs`) takes the plane through the area centre ``C``
-⟂ the area normal ``N`` and moves each vertex ``p`` the fraction
-``k = b · f · FLATTEN_RATE ·`` :data:`DAB_SPACING` (at most 1: never past the plane) of its way
-to it, ``k ((C − p)·N) N`` (``b`` strength × pressure, ``f`` the falloff): bumps and dents both
-go, and at strength 1 one pass leaves about e^−FLATTEN_RATE of a straight stroke's centre
-line's height over the plane. Pushing away grows what it pushes (each dab more, the farther a
-point is), so a dab's push is also at most ``|b| · f · CONTRAST_RATE · R ·`` :data:`DAB_SPACING`:
-a pass moves a point at most ``CONTRAST_RATE · R``, however long the brush stays.
+"""The flatten brush (Blender's Flatten): each dab moves each vertex ``p`` the fraction
+``k = b · f · FLATTEN_RATE ·`` :data:`DAB_SPACING` (at most 1) of its way to the plane through the
+area centre ``C`` ⟂ ``N``. Ctrl pushes away (Blender's contrast), at most
+``|b| · f · CONTRAST_RATE · R ·`` :data:`DAB_SPACING` a dab, since a push grows what it pushes.
 """
 
 from __future__ import annotations

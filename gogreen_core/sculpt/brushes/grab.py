@@ -1,18 +1,10 @@
 """The grab family: a vector load at the cursor that the grabbed point follows exactly.
 
-``grab``: a vector load f at the cursor. The center moves with the cursor during an event,
-c(t) = c₀ + tΔ, and f solves G(0) f = Δ for the anisotropic G(0), so the point under the cursor
-has velocity exactly Δ along its whole streamline and lands on the cursor.
-``grab_biscale``, ``grab_triscale``: the same with Kelvinlets' multi-scale falloff (weighted sums
-of the falloff at radii ε, 1.25ε, 1.25²ε; the ratio 1.25 is ours: Blender's Elastic Deform uses
-2), which decays faster.
-
-Safe falloffs: f = G(0)⁻¹ Δ as long as no vertex can then move more than
-:data:`~gogreen_core.sculpt.falloff_safety.MAX_GRAB_RATIO` |Δ| nor be sheared by more than
-:data:`~gogreen_core.sculpt.falloff_safety.MAX_GRAB_STRAIN` |Δ|/ε in the event; closed-form falloffs
-always are (their fields peak at the centre). An edited falloff whose centre is weak (a dip, a
-zero or a negative R₀ near 0) gets the force scaled to those bounds, with the most moved point
-going along the cursor; a field that is zero everywhere is refused.
+The centre moves with the cursor during an event, c(t) = c₀ + tΔ, and f solves G(0) f = Δ, so
+the point under the cursor lands on the cursor. ``grab_biscale``, ``grab_triscale``: the same
+with Kelvinlets' faster-decaying multi-scale falloff (radii ε, 1.25ε, 1.25²ε). An edited falloff
+weak at its centre gets the force scaled to the safe-falloff bounds
+(:mod:`~gogreen_core.sculpt.falloff_safety`); a field zero everywhere is refused.
 """
 
 from __future__ import annotations
@@ -34,15 +26,8 @@ __all__ = ["GrabBrush"]
 
 
 class GrabBrush(GreenBrush):
-    """A vector load normalized so that the grabbed point follows the cursor.
-
-    multiscale : makes the brush's falloff from the settings' one at its radius (e.g.
-        :meth:`MultiscaleRadial.biscale`); None for the falloff itself.
-
-    The force solves G(0) f = Δ with the brush's own kernel: only degree 0 is nonzero at the
-    centre, so its weight ω_0 divides out and the grabbed point follows the cursor whatever the
-    weights.
-    """
+    """A vector load normalized so that the grabbed point follows the cursor (only degree 0
+    is nonzero at the centre: its weight ω_0 divides out)."""
 
     family = "vector"
 

@@ -1,10 +1,6 @@
-"""The inflate brush: swells the surface where the cursor passes, each vertex along its own
-normal (Blender's Inflate); Ctrl deflates.
-
-Each dab (:mod:`~gogreen_core.sculpt.brushes.dabs`) moves vertex ``i`` along its vertex normal
-``nᵢ`` by ``b · f · INFLATE_RATE · R ·`` :data:`DAB_SPACING` (``b`` strength × pressure, ``f``
-the falloff, ``R`` the radius). Unlike :mod:`~gogreen_core.sculpt.brushes.draw`, the directions
-spread over a curved surface: a finger grows thicker, a dent opens up.
+"""The inflate brush (Blender's Inflate): each dab (:mod:`~gogreen_core.sculpt.brushes.dabs`)
+moves vertex ``i`` along its own normal ``nᵢ`` by ``b · f · INFLATE_RATE · R ·``
+:data:`DAB_SPACING`: unlike draw, a finger grows thicker; Ctrl deflates.
 """
 
 from __future__ import annotations
