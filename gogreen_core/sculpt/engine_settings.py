@@ -16,12 +16,11 @@ import numpy as np
 from gogreen_core.physics.material import Material
 from gogreen_core.physics.radial import RadialProfile
 from gogreen_core.sculpt.brushes.weights import default_weights, resized_brush_weights
-from gogreen_core.sculpt.setting_table import DEFAULT_CONSTRAINT_RADIUS, SETTINGS, Setting, rows
+from gogreen_core.sculpt.setting_table import SETTINGS, Setting, rows
 from gogreen_core.validation import check_object
 from gogreen_core.validation import field as field_path
 
 __all__ = [
-    "DEFAULT_CONSTRAINT_RADIUS",
     "SETTING_GROUPS",
     "EngineSettings",
     "resized_brush_weights",

@@ -16,13 +16,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, TypeVar, cast
 
 from gogreen_core.field.kernel import L_MAX_LIMIT
-from gogreen_core.field.limits import (
-    MAX_DEGREE_WEIGHT,
-    MAX_STIFFNESS,
-    MIN_STIFFNESS,
-    check_l_max,
-    check_material,
-)
+from gogreen_core.field.limits import check_l_max, check_material
 from gogreen_core.physics.material import Material
 from gogreen_core.physics.radial import (
     INTERPOLATIONS,
@@ -50,10 +44,6 @@ if TYPE_CHECKING:
 __all__ = [
     "FALLOFF_TYPES",
     "MAX_CONTROL_POINTS",
-    "MAX_DEGREE_WEIGHT",
-    "MAX_STIFFNESS",
-    "MIN_STIFFNESS",
-    "check_material",
     "parse_falloff",
     "parse_file",
     "parse_l_max",

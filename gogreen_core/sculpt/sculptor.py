@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from gogreen_core.field.kernel import GreenKernel
-from gogreen_core.field.limits import MAX_REACH, check_constraint_radius
+from gogreen_core.field.limits import check_constraint_radius
 from gogreen_core.mesh.mesh_state import MaskRows, MeshSnapshot, MeshState
 from gogreen_core.mesh.subdivision import PreparedSubdivision, prepare_subdivision
 from gogreen_core.physics.material import Material
@@ -46,11 +46,8 @@ from gogreen_core.sculpt.stroke import Remesher, StrokeDriver
 from gogreen_core.validation import ParameterError, check_bool, check_vector, prefixed
 
 __all__ = [
-    "MAX_REACH",
-    "SESSION_FORMAT",
     "Sculptor",
     "capture_state",
-    "mesh_fingerprint",
     "restore_state",
 ]
 
@@ -269,8 +266,8 @@ class Sculptor:
     def stroke_event(self, event: BrushEvent) -> np.ndarray:
         """Apply one mouse event of the current stroke; returns the indices of moved vertices.
         Refused (:class:`ParameterError` naming the event field, nothing moved): a centre or
-        motion beyond :data:`MAX_REACH` model sizes, an affine |strength · amount| above
-        ``MAX_AMOUNT``."""
+        motion beyond ``MAX_REACH`` model sizes, an affine |strength · amount| above
+        ``MAX_AMOUNT`` (:mod:`gogreen_core.field.limits`)."""
         return self._strokes.event(self._kernels, event)
 
     def end_stroke(self) -> np.ndarray:
@@ -308,7 +305,7 @@ class Sculptor:
         return self._pins.reach
 
     def add_constraint(self, point: np.ndarray) -> int:
-        """Pin a point (3,) (model units, within :data:`MAX_REACH` model sizes of the model's
+        """Pin a point (3,) (model units, within ``MAX_REACH`` model sizes of the model's
         centre); returns its index. An undo step (the vertices do not move)."""
         self._strokes.refuse("add a constraint")
         return self._pins.add(point)

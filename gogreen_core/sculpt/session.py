@@ -37,7 +37,6 @@ from gogreen_core.sculpt.operations import (
     operation_from_dict,
 )
 from gogreen_core.sculpt.schema import parse_file
-from gogreen_core.sculpt.session_log import SessionLog
 from gogreen_core.validation import (
     ParameterError,
     check_choice,
@@ -56,7 +55,6 @@ __all__ = [
     "SESSION_FORMAT",
     "SESSION_VERSION",
     "Session",
-    "SessionLog",
     "load_session",
     "mesh_fingerprint",
     "parse_session",

@@ -1,14 +1,9 @@
-"""The clay strips brush: lays strips of clay where the cursor passes (Blender's Clay Strips);
-Ctrl digs them.
+"""The clay strips brush (Blender's Clay Strips); Ctrl digs.
 
-Each dab (:mod:`~gogreen_core.sculpt.brushes.dabs`) takes the plane ⟂ the area normal ``N``
-through the area centre ``C`` raised by ``CLAY_OFFSET · R`` (lowered with Ctrl), and moves the
-vertices below it (above it with Ctrl) the fraction ``k = |b| · g · CLAY_RATE ·``
-:data:`DAB_SPACING` (at most 1: a vertex reaches the plane, never passes it) of their way to
-it. ``g`` is a square footprint aligned with the stroke: the falloff of max(|u|, |v|), the
-coordinates along and across the stroke direction in the plane, flat up to
-``CLAY_PLATEAU · R`` (and nothing farther than R from the plane), so strokes leave flat-topped
-strips with straight sides that build up as they cross.
+Each dab (:mod:`~gogreen_core.sculpt.brushes.dabs`) moves the vertices below the plane ⟂ ``N``
+through the area centre raised by ``CLAY_OFFSET · R`` the fraction ``|b| · g · CLAY_RATE ·``
+:data:`DAB_SPACING` (at most 1) of their way to it, ``g`` a square footprint aligned with the
+stroke (flat up to ``CLAY_PLATEAU · R``): strips with flat tops and straight sides.
 """
 
 from __future__ import annotations

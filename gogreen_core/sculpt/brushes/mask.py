@@ -1,11 +1,6 @@
-"""The mask painter: paints how much each vertex is held (Blender's mask brush).
-
-The mask is a value per vertex in [0, 1] (:attr:`gogreen_core.mesh.mesh_state.MeshState.mask`):
-every brush and pin drag moves a vertex by (1 − mask) of what it would (the stroke driver
-blends, :mod:`gogreen_core.sculpt.stroke`), so a vertex at 1 does not move at all. One event adds
-``strength · amount · w`` to the mask of each vertex of the swept region (``w`` the paint
-family's cutoff weight, :mod:`~gogreen_core.sculpt.brushes.paint`), clipped to [0, 1]: ``amount`` is
-the pen pressure, negative to erase (Ctrl). No vertex moves.
+"""The mask painter (Blender's mask brush): one event adds ``strength · amount · w`` to the
+mask of each vertex of the swept region (``w`` the paint family's weight), clipped to [0, 1];
+no vertex moves (:mod:`gogreen_core.sculpt.mask`).
 """
 
 from __future__ import annotations

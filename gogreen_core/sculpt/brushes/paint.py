@@ -1,16 +1,10 @@
 """The paint family: brushes that act where the cursor passes, weighted like the others' reach.
 
-A paint event is the segment the cursor swept (``center`` to ``center + delta``, nothing for a
-dab) and ``amount``: the pen pressure, negative to erase or invert (Ctrl). Each vertex within the
-brush's influence ball of the segment (or of its mirror images) gets the weight of the brushes'
-smooth cutoff at its distance: 1 up to half the influence radius, a C² fall to 0 at it
-(:func:`~gogreen_core.sculpt.brushes.base.smooth_cutoff`), so a paint brush covers the region a grab
-of the same radius and influence moves. An automatic influence is
-:data:`PAINT_AUTO_INFLUENCE`: full strength within the brush circle (ε), none beyond 2ε, where
-Blender's mask and smooth brushes act. Members: the smooth brush
-(:mod:`~gogreen_core.sculpt.brushes.smooth`), the mask painter
-(:mod:`~gogreen_core.sculpt.brushes.mask`) and the detail brushes, which act in dabs along the
-segment (:mod:`~gogreen_core.sculpt.brushes.dabs`): draw, clay strips, crease, flatten, inflate.
+A paint event is the swept segment (``center`` to ``center + delta``) and ``amount``, the pen
+pressure (negative with Ctrl). Each vertex within the influence of the segment (or its mirror
+images) gets the brushes' smooth cutoff weight at its distance, so a paint brush covers what a
+grab of the same radius and influence moves; an automatic influence is
+:data:`PAINT_AUTO_INFLUENCE` (Blender's mask and smooth brushes' reach).
 """
 
 from __future__ import annotations
@@ -51,8 +45,7 @@ class PaintBrush(BrushType):
         self, ctx: StrokeContext, brush: Brush, event: BrushEvent
     ) -> tuple[np.ndarray, np.ndarray]:
         """The rows (n,) within the brush's influence of the event's segment (or its mirror
-        images) and their weights (n,) in [0, 1]: the smooth cutoff at their distance (1 for
-        every vertex with an infinite influence)."""
+        images) and their weights (n,) in [0, 1]."""
         mesh = ctx.mesh
         cutoff = self.cutoff(ctx, brush)
         signs = mirror_signs(brush.symmetry)

@@ -1,23 +1,12 @@
 """The smooth brush: relaxes the surface where the cursor passes without shrinking it.
 
-Each event runs Taubin's λ|μ relaxation (Taubin 1995, "A signal processing approach to fair
-surface design") on the swept region (the paint family's rows and cutoff weights ``w``,
-:mod:`~gogreen_core.sculpt.brushes.paint`): a step x ← x + λ w a (x̄ − x) towards the mean x̄ of the
-neighbours, then one back, x ← x + μ w a (x̄ − x). With μ = −λ a pair multiplies a surface
-frequency k of the uniform Laplacian (k in [0, 2]) by 1 − λ²k²: the bumps (noise, facets) go,
-nothing is amplified, and the low frequencies that make the shape stay to second order, so the
-volume stays where plain Laplacian smoothing shrinks it. Measured on a noisy unit icosphere
-(2,562 vertices, 2 % radial noise), 100 full-weight events: volume −0.08 % with μ = −0.5,
-+2.5 % with Taubin's μ = −0.53 (whose pass band inflates the lowest frequencies), −35 % without
-the μ step.
-
-``a`` is |strength · amount| (the brush strength times the pen pressure), spread over ⌈a⌉ pairs
-of at most full steps. Open rims relax along themselves (their two rim neighbours), so holes do
-not widen, and their corners (a turn over 60°) stay; a vertex on a non-manifold edge stays. Ctrl
-(a negative amount) smooths too.
-
-Each pass writes new positions from the previous ones (Jacobi order), so the result does not
-depend on the order of the rows or the number of threads: a replay gives it bit for bit.
+Each event runs Taubin's λ|μ relaxation (Taubin 1995) on the swept region, with the paint
+family's weights ``w``: x ← x + λ w a (x̄ − x) towards the neighbours' mean x̄, then one back
+with μ. With μ = −λ a pair multiplies a frequency k of the uniform Laplacian by 1 − λ²k²: the
+bumps go, nothing is amplified, and the volume stays (−0.08 % after 100 events on a noisy
+sphere, −35 % without the μ step). ``a`` = |strength · amount| is spread over ⌈a⌉ pairs. Open
+rims relax along themselves (their corners stay); each pass is Jacobi order, so a replay is bit
+for bit whatever the threads.
 """
 
 from __future__ import annotations

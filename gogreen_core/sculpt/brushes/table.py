@@ -304,23 +304,6 @@ AFFINE_BRUSHES = tuple(b.kind for b in BRUSH_TABLE if b.family == "affine")
 PAINT_BRUSHES = tuple(b.kind for b in BRUSH_TABLE if b.family == "paint")
 
 
-def _check_rows() -> None:
-    """Rows that cannot be told apart are a programming error: found at import."""
-    for name in ("kind", "label", "letter"):
-        values = [getattr(row, name) for row in BRUSH_ROWS]
-        if len(set(values)) != len(values):
-            raise RuntimeError(f"two brush rows share a {name}: {values}")
-    numbers = [row.number for row in BRUSH_ROWS if row.number]
-    if len(set(numbers)) != len(numbers) or not set(numbers) <= set("1234567890"):
-        raise RuntimeError(f"brush number keys must be distinct digits: {numbers}")
-    drags = {row.drag for row in BRUSH_ROWS}
-    if not drags <= set(DRAGS):
-        raise RuntimeError(f"unknown drag in the brush rows: {sorted(drags - set(DRAGS))}")
-
-
-_check_rows()
-
-
 def _known(kind: object) -> str:
     if not isinstance(kind, str) or kind not in _BY_KIND:
         raise ValueError(f"unknown brush {kind!r}; expected one of {', '.join(BRUSH_KINDS)}")

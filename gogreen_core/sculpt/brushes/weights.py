@@ -1,8 +1,5 @@
-"""Per-brush degree weights ω_l: their check and their defaults, read from the brush table.
-
-Here rather than in :mod:`gogreen_core.field.limits` or :mod:`gogreen_core.sculpt.engine_settings`,
-which the brushes import: the weights' kinds and defaults come from the table's rows, so whatever
-checks brush weights imports the table from above it.
+"""Per-brush degree weights ω_l: their check and their defaults, read from the brush table
+(here, below the settings, since the brushes' table says which kinds have weights).
 """
 
 from __future__ import annotations
@@ -23,10 +20,8 @@ __all__ = ["check_brush_weights", "default_weights", "resized_brush_weights"]
 def check_brush_weights(
     value: object, l_max: int, path: str = "brush_weights"
 ) -> Mapping[str, tuple[float, ...]]:
-    """Per-brush degree weights ω_l: a mapping from a Green's-function brush kind to l_max + 2
-    finite numbers within ±:data:`MAX_DEGREE_WEIGHT` (ω_0 … ω_{l_max+1}: vector brushes read
-    the even degrees of G, affine brushes the odd degrees of ∇G), as a read-only mapping of
-    tuples; None or {} leaves every brush at its defaults."""
+    """Per-brush degree weights: a mapping from a weighted brush kind to l_max + 2 finite numbers
+    within ±:data:`MAX_DEGREE_WEIGHT`, as a read-only mapping of tuples (None: {})."""
     if value is None:
         return MappingProxyType({})
     if not isinstance(value, Mapping):

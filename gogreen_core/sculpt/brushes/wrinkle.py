@@ -39,11 +39,7 @@ from gogreen_core.sculpt.brushes.base import (
     smooth_cutoff,
 )
 from gogreen_core.sculpt.brushes.grab import GrabBrush
-from gogreen_core.sculpt.falloff_safety import (
-    MAX_GRAB_RATIO,
-    MAX_GRAB_STRAIN,
-    field_reach,
-)
+from gogreen_core.sculpt.falloff_safety import MAX_GRAB_RATIO, MAX_GRAB_STRAIN, field_reach
 
 if TYPE_CHECKING:
     from gogreen_core.sculpt.brushes.brush import Brush, BrushEvent

@@ -8,7 +8,9 @@ from gogreen_core.mesh.shapes import icosphere
 from gogreen_core.sculpt.brushes import (
     AFFINE_BRUSHES,
     BRUSH_KINDS,
+    BRUSH_ROWS,
     BRUSH_TABLE,
+    DRAGS,
     GRAB_BRUSHES,
     PAINT_BRUSHES,
     GreenBrush,
@@ -28,6 +30,15 @@ def test_every_kind_is_one_row_in_key_order():
         assert Brush(kind).is_affine == (kind in AFFINE_BRUSHES)
     with pytest.raises(ValueError, match="unknown brush 'smudge'"):
         brush_type("smudge")
+
+
+def test_rows_can_be_told_apart():
+    for name in ("kind", "label", "letter", "icon"):
+        values = [getattr(row, name) for row in BRUSH_ROWS]
+        assert len(set(values)) == len(values), name
+    numbers = [row.number for row in BRUSH_ROWS if row.number]
+    assert len(set(numbers)) == len(numbers) and set(numbers) <= set("1234567890")
+    assert {row.drag for row in BRUSH_ROWS} <= set(DRAGS)
 
 
 @pytest.mark.parametrize("kind", [row.kind for row in BRUSH_TABLE if isinstance(row, GreenBrush)])
