@@ -1,11 +1,8 @@
 """A sculptor's state as a file: the checkpoints of the recovery journal.
 
-:class:`SculptState` is everything a :class:`~gogreen_core.Sculptor`'s next operations compute
-from: the vertices, the settings, the pins with their solver state bit for bit, the vertex mask,
-the faces and texture corners when they are not the journal's start's (a subdivision), and the
-model size and mirror origin (both fixed when the mesh was loaded, so a state taken after
-sculpting must carry them). :func:`gogreen_core.sculpt.sculptor.capture_state` takes one,
-:func:`gogreen_core.sculpt.sculptor.restore_state` continues from it exactly.
+:class:`SculptState` is everything a sculptor's next operations compute from
+(:func:`~gogreen_core.sculpt.sculptor.capture_state` takes one,
+:func:`~gogreen_core.sculpt.sculptor.restore_state` continues from it exactly).
 
 The file (``checkpoint-<record>.bin``)::
 
@@ -17,8 +14,7 @@ The file (``checkpoint-<record>.bin``)::
     CRC-32 of everything before (4 bytes, little endian)
 
 A file cut short, or whose checksum or header does not match, is refused with
-:class:`CheckpointError` naming the problem; :func:`write_checkpoint` writes through a temporary
-file renamed over the target, so a crash in the middle leaves no half-written checkpoint.
+:class:`CheckpointError` naming the problem; a write is atomic.
 """
 
 from __future__ import annotations
@@ -97,9 +93,7 @@ class SculptState:
 
     @classmethod
     def from_header(cls, header: dict[str, Any], arrays: list[np.ndarray]) -> SculptState:
-        """Inverse of :meth:`header` with the arrays read back (ValueError if malformed). A
-        header of an older version (its ``evaluation``, the settings' ``degree_weights``) is
-        read as the settings of a session of that time (:func:`upgrade_session`)."""
+        """Inverse of :meth:`header` with the arrays read back (ValueError if malformed)."""
         settings = EngineSettings.from_dict(_upgraded_settings(header), "settings")
         origin = np.array(header["origin"], dtype=np.float64)
         size = float(header["model_size"])
@@ -121,8 +115,8 @@ class SculptState:
 
 
 def _upgraded_settings(header: dict[str, Any]) -> object:
-    """The settings of a checkpoint header or a journal's start, those of an older version
-    (whose ``evaluation`` or settings' ``degree_weights`` say so) upgraded like a session's."""
+    """The settings of a checkpoint header or a journal's start, an older version's (with an
+    ``evaluation`` or ``degree_weights``) upgraded like a session's."""
     settings = header["settings"]
     if "evaluation" in header or (isinstance(settings, dict) and "degree_weights" in settings):
         return upgrade_session({"version": 4, "settings": settings})["settings"]

@@ -177,16 +177,8 @@ class _SupTable:
 
 class FieldBound:
     """Sampled sup of a load's field and of its gradient over the influence ball of one
-    kernel shape.
-
-    Parameters
-    ----------
-    kernel : GreenKernel
-        Any radius: the samples are taken at ε = 1 (G_ε(x) = G₁(x/ε)/ε, ∇G_ε(x) = ∇G₁(x/ε)/ε²).
-    influence : float
-        Influence radius in multiples of ε (``inf`` for none).
-    affine : bool
-        Sample ∇G (affine loads, h = H (3, 3)) instead of G (vector loads, h (3,)).
+    kernel shape: ``kernel`` at any radius (sampled at ε = 1), ``influence`` in ε (``inf``:
+    none), ``affine``: sample ∇G (loads H (3, 3)) instead of G (loads h (3,)).
 
     Gradients by forward differences of what moves the vertices (G, or ∇G for affine loads):
     a spline falloff's R_l and ℛ_l are separate curves.

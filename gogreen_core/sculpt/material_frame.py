@@ -86,9 +86,8 @@ def material_frame_at(
     sculptor: Sculptor, point: np.ndarray, radius: float, motion: np.ndarray | None = None
 ) -> np.ndarray:
     """The rotation (3, 3) ``sculptor``'s material is turned by for a stroke starting at
-    ``point`` (3,) with a brush of ``radius`` (model units) and first ``motion`` (3,) or None:
-    the identity with the "world" material frame; with "surface", the surface frame there
-    (:func:`frame_at`), or during a stroke the one it took."""
+    ``point`` (3,) (:func:`frame_at`; the identity with the "world" frame; during a stroke the
+    one it took)."""
     if sculptor.settings.material_frame != "surface":
         return np.eye(3)
     strokes = sculptor._strokes  # the engine's own stroke driver
@@ -99,12 +98,9 @@ def material_frame_at(
 
 
 class FramedKernels(KernelCache):
-    """The kernels of ``base``'s settings with the material turned by ``frame`` F (3, 3): what a
-    stroke with the surface frame computes with. The full kernel is turned once (Wigner-D, no
-    quadrature); weighted ones are repacked from it; values derived from the kernels (field
-    bounds, reach) are the unturned kernels' (:attr:`unturned`), turned where they turn
-    (:class:`~gogreen_core.sculpt.falloff_safety.TurnedFieldBound`), so a new frame computes
-    none of them again."""
+    """The kernels of ``base``'s settings with the material turned by ``frame`` F (3, 3) (once,
+    Wigner-D); derived values are the unturned kernels' (:attr:`unturned`), turned where they
+    turn, so a new frame computes none of them again."""
 
     def __init__(self, base: KernelCache, frame: np.ndarray) -> None:
         self.settings = base.settings

@@ -1,13 +1,7 @@
-"""Typed records of what a sculptor did: one immutable class per operation, with ``to_dict``
-and ``from_dict``; data only (replaying them is :func:`gogreen_core.sculpt.session.replay`).
-
-A session's ``operations`` list holds their ``to_dict`` (``{"op": name, ...}``);
-:func:`operation_from_dict` is the schema that reads one back, checking every field's type and
-range and raising :class:`~gogreen_core.validation.ParameterError` naming the field
-(``operations[3].events[0].delta``).
-
-``continued`` (settings and pin drags): the change continues the previous one of its kind, so a
-whole slider drag, curve drag or pin drag is one undo step.
+"""Typed records of what a sculptor did: one immutable class per operation, whose ``to_dict``
+(``{"op": name, ...}``) a session's ``operations`` list holds; :func:`operation_from_dict` reads
+one back (ParameterError naming the field). ``continued`` (settings and pin drags) joins the
+previous change of its kind, so a whole drag is one undo step.
 """
 
 from __future__ import annotations
@@ -331,8 +325,7 @@ def settings_record(settings: EngineSettings, group: str, continued: bool) -> Se
 
 def operation_from_dict(data: object, path: str = "operation") -> Operation:
     """One session operation ``{"op": name, ...}`` → its typed record; ParameterError naming
-    the field (``path.op``, ``path.events[0].delta``...) for anything missing, unknown,
-    mistyped or out of range."""
+    the field (``path.events[0].delta``...)."""
     data = check_object(path, data)
     name = check_choice(field_path(path, "op"), member(data, path, "op"), tuple(OPERATIONS))
     cls = OPERATIONS[name]

@@ -63,12 +63,7 @@ __all__ = [
 ]
 
 SESSION_FORMAT = "gogreen-session"
-#: 6: the affine brushes (scale, twist, pinch, stretch) act with a local multi-scale
-#: falloff (older strokes of theirs replay with the replay-only ``<kind>_wide`` brushes);
-#: 5: no ``degree_weights`` (the weights of the wrinkle brush of versions 1-2); 4: the strokes'
-#: fields partly in single precision; 3: ``wrinkle`` is the folding wrinkle brush, brushes have
-#: their own degree weights (``brush_weights``) and an automatic influence; 2: settings changes
-#: are undo steps (``continued`` joins one to the previous); 1: they were not.
+#: What each version changed: see its upgrade function below.
 SESSION_VERSION = 6
 #: The brush influence (in ε) of a session before version 3 that does not give one.
 OLD_DEFAULT_INFLUENCE = 4.0
@@ -144,8 +139,7 @@ _CHANGED_V1 = {
 
 def _upgrade_v1_to_v2(data: dict[str, Any]) -> dict[str, Any]:
     """Settings changes and pin edits became undo steps: an undo or redo that would now take
-    another step than it did is refused, as are the strokes and drags that meant something
-    else then (:data:`_CHANGED_V1`)."""
+    another step is refused, as is what meant something else then (:data:`_CHANGED_V1`)."""
     done: list[bool] = []  # per undo step of today: was it one in version 1
     undone: list[bool] = []
     for number, op in enumerate(_operations(data)):
@@ -179,8 +173,8 @@ def _upgrade_v1_to_v2(data: dict[str, Any]) -> dict[str, Any]:
 
 
 def _upgrade_v2_to_v3(data: dict[str, Any]) -> dict[str, Any]:
-    """The brush influence became automatic when a stroke does not give one (it was 4 ε), and
-    ``wrinkle`` became another brush: a stroke of the old one is refused."""
+    """Brush weights, an automatic influence (it was 4 ε), and another ``wrinkle`` brush (a
+    stroke of the old one is refused)."""
     operations = []
     for number, op in enumerate(_operations(data)):
         brush = op.get("brush") if isinstance(op, dict) else None
@@ -199,7 +193,7 @@ def _upgrade_v2_to_v3(data: dict[str, Any]) -> dict[str, Any]:
 
 
 def _upgrade_v3_to_v4(data: dict[str, Any]) -> dict[str, Any]:
-    """Only the arithmetic of the strokes changed (within 1e-4 of their motion)."""
+    """The strokes' fields partly in single precision (within 1e-4 of their motion)."""
     return {**data, "version": 4}
 
 
@@ -224,9 +218,8 @@ def _upgrade_v4_to_v5(data: dict[str, Any]) -> dict[str, Any]:
 
 
 def _upgrade_v5_to_v6(data: dict[str, Any]) -> dict[str, Any]:
-    """The affine brushes became local (a multi-scale falloff): their older strokes are
-    renamed to the replay-only brushes with the settings' falloff itself (:data:`REPLAY_KINDS`),
-    which do what those strokes did."""
+    """The affine brushes became local: their older strokes are renamed to the replay-only
+    brushes that do what they did (:data:`REPLAY_KINDS`)."""
     operations = []
     for op in _operations(data):
         brush = op.get("brush") if isinstance(op, dict) else None

@@ -1,7 +1,5 @@
 """The NumPy twins of :mod:`~gogreen_core.sculpt.brushes.paint_kernels`, held to them within 1e-12
-relative (a stroke made before the compiled loops were in replays within that after; the
-operations are the loops', so in practice to the bit). Slower: they serve only until numba has
-compiled the loops."""
+relative; they serve only until numba has compiled the loops."""
 
 from __future__ import annotations
 

@@ -1,8 +1,6 @@
-"""The compiled loops of the paint family (:mod:`~gogreen_core.sculpt.brushes.paint`), and the
-module that runs them: these once numba has them, else their NumPy twins (``_paint_numpy``: the same
-arithmetic in the same order, the same results bit for bit), so that a stroke never waits for
-the compiler. On a new machine they are compiled in the background with the kernels
-(``gogreen_core._compiled``, unit ``"brushes"``), 2.3 s measured from an empty cache.
+"""The compiled loops of the paint family: these once numba has them (compiled in the
+background with the kernels, unit ``"brushes"``), else their NumPy twins (``_paint_numpy``, the
+same arithmetic in the same order), so that a stroke never waits for the compiler.
 """
 
 from __future__ import annotations
@@ -31,8 +29,6 @@ def _exercise() -> None:
     relax(points, rows, rows, points, out, offsets, neighbours, flags, mode, np.empty((2, 3)))
 
 
-#: These loops once numba has them (compiled in the background with the kernels), else
-#: ``_paint_numpy``'s (they are requested meanwhile).
 _COMPILED = _compiled.CompiledModule(_compiled.BRUSHES, __name__, _paint_numpy, _exercise)
 kernels = _COMPILED.kernels
 compile_now = _COMPILED.compile_now
@@ -50,11 +46,9 @@ def cutoff_weights(
     outer: float,
     out: np.ndarray,
 ) -> None:
-    """out[k] = the brushes' quintic cutoff
-    (:func:`~gogreen_core.sculpt.brushes.base.smooth_cutoff`: 1 up to ``inner``, 0 from ``outer``
-    on; 8 ms for half a million rows here, 90 ms in numpy) of the
-    distance from points[rows[k]], or its nearest mirror image (``mirrors`` (m, 3) signs about
-    ``origin``), to the segment from ``start`` to ``start + step``."""
+    """out[k] = the brushes' cutoff (:func:`~gogreen_core.sculpt.brushes.base.smooth_cutoff`)
+    of the distance from points[rows[k]], or its nearest mirror image (``mirrors`` (m, 3) signs
+    about ``origin``), to the segment from ``start`` to ``start + step``."""
     length2 = step[0] * step[0] + step[1] * step[1] + step[2] * step[2]
     inv = 1.0 / length2 if length2 > 0.0 else 0.0
     width = outer - inner

@@ -1,13 +1,7 @@
-"""The brush table: every brush, declared once, with the :class:`BrushType` that does it.
-
-Each :class:`BrushRow` carries what does the brush (its :class:`BrushType`) and everything the
-app shows of it: toolbar label, title, key letter, fixed number key, tooltip, icon name, how a
-drag becomes its events (:data:`DRAGS`) and the hint of its degree weights. The app's keymap,
-brush bar and panels derive their dictionaries from :data:`BRUSH_ROWS`.
-
-Adding a brush: a module with its :class:`BrushType` (or a member of an existing family: a
-pattern for the affine family), one row here and an icon in ``resources/icons``. Number keys
-belong to the brush (a new row does not move the others').
+"""The brush table: every brush, declared once, with the :class:`BrushType` that does it and
+everything the app shows of it (the app's keymap, brush bar and panels derive from
+:data:`BRUSH_ROWS`). Adding a brush: a module with its :class:`BrushType` (or a pattern of the
+affine family), one row here and an icon in ``resources/icons``.
 """
 
 from __future__ import annotations
@@ -82,10 +76,8 @@ class BrushRow:
     weights_hint : the caption of its degree weights (what they are, what to try); "" for a
         brush without weights.
     acting : what an anchored brush does, for its cursor's label while it acts ("scaling").
-    depth : an anchored brush's load centre lies this many ε below the press point (along the
-        surface normal, into the body): the scale brush then inflates the surface from inside
-        (a bulge along the normal, 0.25 ε on average within 1.5 ε at a unit amount) instead of
-        spreading it along itself, which shading hardly shows. 0: at the press point.
+    depth : an anchored brush's load centre lies this many ε below the press point, into the
+        body (the scale brush then bulges the surface instead of spreading it along itself).
     """
 
     type: BrushType
@@ -280,9 +272,8 @@ BRUSH_ROWS: tuple[BrushRow, ...] = (
 #: The brush of key 1, what a new session starts with.
 DEFAULT_BRUSH = "grab_local"
 BRUSH_TABLE: tuple[BrushType, ...] = tuple(row.type for row in BRUSH_ROWS)
-#: Not offered, no row: the affine brushes with the settings' falloff itself, as sessions
-#: before version 6 made them; their strokes are renamed to these kinds when such a session is
-#: read (:func:`gogreen_core.sculpt.session.upgrade_session`), so they replay as recorded.
+#: Not offered, no row: the affine brushes with the settings' falloff itself, which strokes of
+#: sessions before version 6 are renamed to (:func:`~gogreen_core.sculpt.session.upgrade_session`).
 _REPLAY_BRUSHES = {
     row.kind: row.type.wide() for row in BRUSH_ROWS if isinstance(row.type, AffineBrush)
 }
@@ -334,9 +325,8 @@ def brush_type(kind: str) -> BrushType:
 def affine_load_shape(
     kind: str, axis: np.ndarray | None, direction: np.ndarray | None
 ) -> np.ndarray:
-    """Pattern B (3, 3) of the affine brush ``kind``: the velocity gradient that ``amount`` 1
-    asks for at the brush centre (:mod:`gogreen_core.sculpt.brushes.affine`) for a view ``axis`` and
-    stroke ``direction``."""
+    """Pattern B (3, 3) of the affine brush ``kind`` for a view ``axis`` and stroke
+    ``direction`` (:mod:`gogreen_core.sculpt.brushes.affine`)."""
     brush = _BY_KIND.get(kind)
     if not isinstance(brush, AffineBrush):
         raise ValueError(f"{kind!r} is not an affine brush ({', '.join(AFFINE_BRUSHES)})")
