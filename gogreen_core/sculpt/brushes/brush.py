@@ -16,7 +16,7 @@ import numpy as np
 
 from gogreen_core.field.limits import MAX_AMOUNT, MAX_RADIUS, MAX_STRENGTH, MAX_SUBSTEPS, MIN_RADIUS
 from gogreen_core.sculpt.brushes.base import AUTO_INFLUENCE, CUTOFF_START, BrushType
-from gogreen_core.sculpt.brushes.table import BRUSH_KINDS, REPLAY_KINDS, brush_type
+from gogreen_core.sculpt.brushes.table import brush_type
 from gogreen_core.validation import (
     ParameterError,
     check_finite,
@@ -52,11 +52,8 @@ class Brush:
     symmetry: str = ""
 
     def __post_init__(self) -> None:
-        known = self.kind in BRUSH_KINDS or self.kind in REPLAY_KINDS.values()
-        if not isinstance(self.kind, str) or not known:
-            raise ParameterError(
-                "kind", f"unknown brush {self.kind!r}; expected one of {', '.join(BRUSH_KINDS)}"
-            )
+        with prefixed("kind"):
+            brush_type(self.kind)  # an offered or a replay-only kind
         radius = check_number("radius", self.radius, low=MIN_RADIUS, high=MAX_RADIUS)
         strength = check_number("strength", self.strength, low=-MAX_STRENGTH, high=MAX_STRENGTH)
         substeps = check_integer("substeps", self.substeps, low=0, high=MAX_SUBSTEPS)
