@@ -15,7 +15,12 @@ from collections.abc import Callable
 
 import numpy as np
 
-from gogreen_core.mesh.topology import VertexNeighbours, mesh_edges, vertex_neighbours
+from gogreen_core.mesh.topology import (
+    VertexNeighbours,
+    concatenated_ranges,
+    mesh_edges,
+    vertex_neighbours,
+)
 
 __all__ = ["CavityField", "affected_rows", "curvature"]
 
@@ -25,12 +30,10 @@ def _gather(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The one-rings of ``rows`` (n,) one after another: their vertices (K,), each row's count
     (n,) and where each row's ring starts (n,)."""
-    starts, stops = neighbours.offsets[rows], neighbours.offsets[rows + 1]
-    counts = stops - starts
-    begins = np.zeros(len(rows), dtype=np.int64)
-    np.cumsum(counts[:-1], out=begins[1:])
-    first = np.repeat(starts - begins, counts)
-    return neighbours.neighbours[first + np.arange(len(first))], counts, begins
+    starts = neighbours.offsets[rows]
+    counts = neighbours.offsets[rows + 1] - starts
+    ring = neighbours.neighbours[concatenated_ranges(starts, counts)]
+    return ring, counts, np.cumsum(counts) - counts
 
 
 def curvature(

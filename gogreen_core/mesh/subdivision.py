@@ -1,25 +1,17 @@
 """Loop subdivision of a triangle mesh (Loop 1987), of all of it or of some of its faces.
 
-Each refined face becomes four; every edge of a refined face gets a new vertex, numbered after
-the old ones (old vertices keep their numbers, so a vertex mask carries over). Positions follow
-Loop's rules: an edge vertex at 3/8 (a + b) + 1/8 (c + d) inside the refined region, the
-midpoint on a boundary or at the rim of the region; an old vertex at (1 − nβ) v + β Σ neighbours
-(β = (5/8 − (3/8 + cos(2π/n)/4)²)/n), or 3/4 v + 1/8 (b₁ + b₂) on a boundary, when all its faces
-are refined; otherwise it stays. A vertex mask m ∈ [0, 1] holds vertices as it holds them under
-a brush: an old vertex moves (1 − m) of its Loop step, an edge vertex (1 − max(m_a, m_b)) of
-its step away from the midpoint, so a fully masked region keeps its exact shape.
+Each refined face becomes four; each split edge gets a new vertex numbered after the old ones
+(old vertices keep their numbers). Loop's rules: an edge vertex at 3/8 (a + b) + 1/8 (c + d)
+inside the refined region, the midpoint on a boundary or the region's rim; an old vertex whose
+faces are all refined at (1 − nβ) v + β Σ neighbours, β = (5/8 − (3/8 + cos(2π/n)/4)²)/n, or
+3/4 v + 1/8 (b₁ + b₂) on a boundary; others stay. A vertex mask m ∈ [0, 1] holds vertices as a
+brush does: an old vertex moves (1 − m) of its step, an edge vertex (1 − max(m_a, m_b)).
 
-Refining part of a mesh (the unmasked part) keeps it watertight: a face next to the region
-with one split side becomes two triangles, with two split sides three, and one with all three
-split is refined with the region (red-green refinement).
-
-Texture coordinates are per face corner (``uv`` rows, ``uv_faces`` (M, 3), -1 for a face
-without): each split side of a textured face gets the midpoint of its own two corners' UVs, so
-seams stay seams; a per-vertex layout (``uv_faces`` equal to ``faces``, one UV row per vertex)
-stays per-vertex, rows numbered as the vertices.
-
-The result depends on the input arrays alone (numpy's sorts and ordered sums): a subdivision
-replays bit for bit.
+A partial refinement stays watertight (red-green): a face next to the region with one split
+side becomes two triangles, with two three, with three it is refined. Texture coordinates are
+per face corner: a split side gets the midpoint of its own corners' UVs, so seams stay seams.
+The result depends on the input arrays alone (numpy's sorts, ordered sums): it replays bit for
+bit.
 """
 
 from __future__ import annotations
@@ -254,10 +246,8 @@ def loop_subdivide(
 
 
 def _same_bits(a: np.ndarray | None, b: np.ndarray | None) -> bool:
-    if a is None or b is None:
-        return a is None and b is None
-    if a.dtype != b.dtype or a.shape != b.shape:
-        return False
+    if a is None or b is None or a.dtype != b.dtype or a.shape != b.shape:
+        return a is b
     return np.array_equal(
         np.ascontiguousarray(a).view(np.uint8), np.ascontiguousarray(b).view(np.uint8)
     )

@@ -13,11 +13,24 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["FaceAdjacency", "MeshEdges", "VertexNeighbours", "mesh_edges", "vertex_neighbours"]
+__all__ = [
+    "FaceAdjacency",
+    "MeshEdges",
+    "VertexNeighbours",
+    "concatenated_ranges",
+    "mesh_edges",
+    "vertex_neighbours",
+]
 
 #: :attr:`VertexNeighbours.mode` values: relax towards all neighbours, along the boundary
 #: (its two boundary neighbours), or not at all (a vertex where the surface is not a manifold).
 INTERIOR, BOUNDARY, FIXED = 0, 1, 2
+
+
+def concatenated_ranges(starts: np.ndarray, counts: np.ndarray) -> np.ndarray:
+    """The ranges ``starts[i] : starts[i] + counts[i]`` (int64), concatenated."""
+    starts, counts = np.asarray(starts, dtype=np.int64), np.asarray(counts, dtype=np.int64)
+    return np.repeat(starts - (np.cumsum(counts) - counts), counts) + np.arange(int(counts.sum()))
 
 
 @dataclass(frozen=True)
@@ -150,8 +163,7 @@ class FaceAdjacency:
         start = self.offsets[rows]
         count = self.offsets[rows + 1] - start
         owner = np.repeat(np.arange(len(rows)), count)
-        within = np.arange(len(owner)) - np.repeat(np.cumsum(count) - count, count)
-        return owner, self.face_ids[np.repeat(start, count) + within]
+        return owner, self.face_ids[concatenated_ranges(start, count)]
 
 
 #: The last :meth:`FaceAdjacency.of`: (a weak reference to its face array, the adjacency).

@@ -16,8 +16,8 @@ import numba
 import numpy as np
 
 from gogreen_core.mesh.mesh_io.data import MeshFileError
-from gogreen_core.mesh.mesh_io.polygons import concatenated_ranges
 from gogreen_core.mesh.mesh_io.text import is_number, parse_numbers
+from gogreen_core.mesh.topology import concatenated_ranges
 
 __all__ = [
     "PLY_TYPES",

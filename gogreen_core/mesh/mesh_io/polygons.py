@@ -1,18 +1,12 @@
 """Polygons to triangles by their shape, and the index check that names the polygon at fault.
 
-Polygons are given as consecutive corners with their sizes (the way files list them) and come
-back as triangles of *corner positions*, so that a caller maps vertex and texture indices
-through the same triangles. A quad (two triangulations: one per diagonal) keeps the file's
-diagonal (corners 0-2) unless a triangle of it folds over against the quad's normal and the
-other diagonal folds less; the choice is made for all quads at once with whole-array
-operations. A larger polygon whose fan from its first corner (``0, j, j+1``) covers it exactly
-(every fan triangle on the polygon's side of its best-fit plane: convex polygons, and many
-concave ones) keeps that fan, as the file order has it. The others (a concave n-gon, where the
-fan would cover the notch) are triangulated on their best-fit plane: by the fan from another
-corner when one covers the polygon, else by ear clipping (``mapbox_earcut``, one polygon at a
-time: only polygons of five corners or more get there). Each polygon of k corners always gives
-k-2 triangles that use each of its corners and edges, so neighbouring faces stay connected, and
-the polygon's area is kept.
+Polygons come as consecutive corners with their sizes (as files list them) and go back as
+triangles of *corner positions*, so vertex and texture indices map through the same triangles.
+A quad keeps the file's diagonal (0-2) unless a triangle of it folds over against the quad's
+normal and the other diagonal folds less (all quads at once). A larger polygon keeps the fan
+from its first corner when every fan triangle lies on the polygon's side of its best-fit plane;
+else the fan from another corner that does, else ear clipping (``mapbox_earcut``). A polygon of
+k corners always gives k-2 triangles using all its corners and edges, so neighbours stay joined.
 """
 
 from __future__ import annotations
@@ -25,8 +19,9 @@ import numba
 import numpy as np
 
 from gogreen_core.mesh.mesh_io.data import MeshFileError
+from gogreen_core.mesh.topology import concatenated_ranges
 
-__all__ = ["check_corner_indices", "concatenated_ranges", "triangulate"]
+__all__ = ["check_corner_indices", "triangulate"]
 
 #: A fan triangle whose turn against the polygon's normal is below -this (the sine of the
 #: angle between the triangle's and the polygon's sides) folds over: the polygon is concave
@@ -35,11 +30,6 @@ _FOLD_TOLERANCE = 1e-9
 #: Polygons of up to this many corners try the fan from each of their corners (k² work each)
 #: before ear clipping.
 _MAX_FAN_STARTS = 32
-
-
-def concatenated_ranges(starts: np.ndarray, counts: np.ndarray) -> np.ndarray:
-    """The ranges ``starts[i] : starts[i] + counts[i]`` (int64), concatenated."""
-    return np.repeat(starts - _starts(counts), counts) + np.arange(int(counts.sum()))
 
 
 def check_corner_indices(
@@ -105,6 +95,7 @@ def triangulate(points: np.ndarray, corners: np.ndarray, sizes: np.ndarray) -> n
     return triangles
 
 
+@np.errstate(all="ignore")  # huge coordinates overflow: such a quad keeps its split
 def _split_quads(
     points: np.ndarray,
     corners: np.ndarray,
@@ -113,28 +104,11 @@ def _split_quads(
     triangles: np.ndarray,
 ) -> None:
     """Choose each quad's diagonal, all quads at once: the file's (corners 0-2, the fan kept in
-    ``triangles[rows]``, ``triangles[rows + 1]``) unless one of its two triangles folds over
-    against the quad's normal (a concave quad whose notch is at corner 1 or 3, or a non-planar
-    one bent that way) while the other diagonal (1-3) folds less; then the triangles (1, 2, 3),
-    (1, 3, 0). Of a concave quad this is the diagonal inside it; of a twisted one (a bow tie
-    seen along its normal, which no diagonal covers) the one that folds least. Convex quads
-    keep the file's split bit for bit, as Blender and the file's writer made it."""
-    # Corners 1, 2, 3 relative to corner 0, each a triple of (Q,) coordinate arrays.
+    ``triangles[rows]``, ``triangles[rows + 1]``) unless one of its triangles folds over against
+    the quad's normal while the other diagonal (1-3) folds less; then (1, 2, 3), (1, 3, 0).
+    Convex quads keep the file's split bit for bit, as Blender and the file's writer made it."""
     at = corners[starts + np.arange(4)[:, None]]  # (4, Q) vertex of each corner
     x, y, z = np.take(np.ascontiguousarray(points.T), at, axis=1)  # (4, Q) each
-    with np.errstate(all="ignore"):  # huge coordinates overflow: such a quad keeps its split
-        _choose_diagonals(x, y, z, starts, rows, triangles)
-
-
-def _choose_diagonals(
-    x: np.ndarray,
-    y: np.ndarray,
-    z: np.ndarray,
-    starts: np.ndarray,
-    rows: np.ndarray,
-    triangles: np.ndarray,
-) -> None:
-    """:func:`_split_quads` on the corners' coordinates ``x``, ``y``, ``z`` (4, Q)."""
     one, two, three = ((x[k] - x[0], y[k] - y[0], z[k] - z[0]) for k in (1, 2, 3))
     # Newell's normal of a quad: the cross product of its diagonals (2 - 0) x (3 - 1).
     n = _cross(two, _minus(three, one))
