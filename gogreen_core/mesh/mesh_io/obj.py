@@ -17,7 +17,7 @@ import numpy as np
 from gogreen_core.mesh.mesh_io.data import MeshData
 from gogreen_core.mesh.mesh_io.obj_fast import read_obj_fast
 from gogreen_core.mesh.mesh_io.obj_strict import read_obj_strict
-from gogreen_core.mesh.mesh_io.text import write_int_rows, write_rows
+from gogreen_core.mesh.mesh_io.text import write_rows
 
 __all__ = ["read_obj", "write_obj"]
 
@@ -32,7 +32,7 @@ def write_obj(mesh: MeshData, out: BinaryIO) -> None:
     out.write(b"# written by GoGreen Sculpt\n")
     write_rows(out, "v %.17g %.17g %.17g\n", mesh.vertices)
     if mesh.uv is None:
-        write_int_rows(out, b"f ", mesh.faces + 1, b"  \n")
+        write_rows(out, "f %d %d %d\n", mesh.faces + 1)
         return
     write_rows(out, "vt %.17g %.17g\n", mesh.uv)
     uv_faces = mesh.uv_faces
@@ -40,7 +40,7 @@ def write_obj(mesh: MeshData, out: BinaryIO) -> None:
     has_uv = uv_faces[:, 0] >= 0
     if has_uv.all():
         corners = np.stack([mesh.faces + 1, uv_faces + 1], axis=2).reshape(-1, 6)
-        write_int_rows(out, b"f ", corners, b"/ / /\n")
+        write_rows(out, "f %d/%d %d/%d %d/%d\n", corners)
         return
     text = io.StringIO()  # some faces without texture coordinates: keep them so, in order
     for face, tex, textured in zip(

@@ -12,7 +12,7 @@ import numpy as np
 
 from gogreen_core.mesh.mesh_io.data import MeshData, MeshFileError
 from gogreen_core.mesh.mesh_io.polygons import check_corner_indices, triangulate
-from gogreen_core.mesh.mesh_io.text import is_number, text_lines, write_int_rows, write_rows
+from gogreen_core.mesh.mesh_io.text import is_number, text_lines, write_rows
 
 __all__ = ["read_off", "write_off"]
 
@@ -144,4 +144,4 @@ def write_off(mesh: MeshData, out: BinaryIO) -> None:
     header = f"OFF\n# written by GoGreen Sculpt\n{len(mesh.vertices)} {len(mesh.faces)} 0\n"
     out.write(header.encode("ascii"))
     write_rows(out, "%.17g %.17g %.17g\n", mesh.vertices)
-    write_int_rows(out, b"3 ", mesh.faces, b"  \n")
+    write_rows(out, "3 %d %d %d\n", mesh.faces)

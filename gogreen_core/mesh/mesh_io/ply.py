@@ -37,7 +37,6 @@ from gogreen_core.mesh.mesh_io.text import (
     DOS_EOF,
     show_number,
     without_dos_eof,
-    write_int_rows,
     write_rows,
 )
 from gogreen_core.mesh.mesh_io.weld import split_at_seams, weld
@@ -211,7 +210,7 @@ def write_ply(mesh: MeshData, out: BinaryIO, ascii: bool) -> None:
     out.write(header.encode("ascii"))
     if ascii:
         write_rows(out, " ".join(["%.17g"] * len(columns)) + "\n", vertices)
-        write_int_rows(out, b"3 ", faces, b"  \n")
+        write_rows(out, "3 %d %d %d\n", faces)
         return
     out.write(np.ascontiguousarray(vertices, dtype="<f8").tobytes())
     record = np.dtype([("n", "u1"), ("i", "<i4", 3)])

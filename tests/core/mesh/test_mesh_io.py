@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import io
 import os
 import struct
 from pathlib import Path
@@ -149,18 +148,6 @@ def test_awkward_floats_reload_bit_for_bit(tmp_path, suffix, options):
     again = load_mesh(tmp_path / f"a{suffix}")
     assert same_bits(again.vertices, vertices)
     assert np.array_equal(again.faces, faces)
-
-
-@pytest.mark.parametrize("columns", [1, 3, 6])
-def test_integer_rows_match_python_formatting(columns):
-    rng = np.random.default_rng(columns)
-    table = rng.integers(0, 10 ** rng.integers(1, 12, size=(250_001, 1)), size=(250_001, columns))
-    table[:4] = [[0] * columns, [9] * columns, [10] * columns, [10**11] * columns]
-    separators = (b"/ " * columns)[: columns - 1] + b"\n"
-    out = io.BytesIO()
-    text.write_int_rows(out, b"f ", table, separators)
-    fmt = "f " + "".join(f"%d{chr(c)}" for c in separators)
-    assert out.getvalue() == ((fmt * len(table)) % tuple(table.ravel().tolist())).encode()
 
 
 # -- OBJ details -------------------------------------------------------------------------------
