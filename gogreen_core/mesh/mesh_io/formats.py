@@ -1,6 +1,5 @@
 """Loading and saving by file extension: :func:`load_mesh` and :func:`save_mesh` pick the reader
-or writer of the format, check the mesh, and report every problem as a :class:`MeshFileError`
-naming the file."""
+or writer, check the mesh, and report every problem as a :class:`MeshFileError` naming the file."""
 
 from __future__ import annotations
 
@@ -23,22 +22,20 @@ __all__ = ["MESH_FORMATS", "load_mesh", "save_mesh", "warm_up"]
 #: File extensions :func:`load_mesh` and :func:`save_mesh` understand (lower case).
 MESH_FORMATS = (".obj", ".ply", ".stl", ".off")
 
-# Looked up at call time (module attributes), so that a test can replace one.
 _READERS: dict[str, Callable[[bytes, str], MeshData]] = {
-    ".obj": lambda data, name: obj.read_obj(data, name),
-    ".ply": lambda data, name: ply.read_ply(data, name),
-    ".stl": lambda data, name: stl.read_stl(data, name),
-    ".off": lambda data, name: off.read_off(data, name),
+    ".obj": obj.read_obj,
+    ".ply": ply.read_ply,
+    ".stl": stl.read_stl,
+    ".off": off.read_off,
 }
 
 
 def load_mesh(path: str | os.PathLike[str]) -> MeshData:
-    """Read a triangle mesh, keeping its vertices' count and order as in the file.
-
-    Vertices that the format made copies of are joined back (STL's triangle corners, a PLY's
-    vertices split along UV seams), so that a closed model loads closed; OBJ and OFF vertices
-    and those of a PLY without such splits stay exactly as listed. Polygons are triangulated by
-    their shape (convex ones by the fan from their first corner, in file order).
+    """Read a triangle mesh, keeping its vertices' count and order as in the file, except those
+    the format made copies of (STL's triangle corners, a PLY's vertices split along UV seams),
+    joined back so that a closed model loads closed. Polygons are triangulated by their shape
+    (:mod:`~gogreen_core.mesh.mesh_io.polygons`). Text is UTF-8 (a byte-order mark skipped,
+    CR LF or lone CR line ends accepted).
 
     Parameters
     ----------
@@ -131,11 +128,9 @@ def save_mesh(mesh: MeshData, path: str | os.PathLike[str], *, ascii: bool = Fal
 
 
 def warm_up() -> float:
-    """Compile (or load from numba's disk cache) the loops the readers run as compiled code,
-    by reading a few tiny files made here: the PLY record walks (binary and ASCII), the fan
-    test, the welds. Seconds, about 3 from an empty cache and milliseconds from the cache: the
-    app calls it off the GUI thread at start, so that opening a file never waits on a
-    compiler."""
+    """Compile (or load from numba's disk cache) the readers' compiled loops by reading a few
+    tiny files made here; seconds (about 3) from an empty cache, milliseconds from it. The app
+    calls it off the GUI thread at start, so that opening a file never waits on a compiler."""
     start = time.perf_counter()
     header = (
         "ply\nformat {} 1.0\nelement vertex 5\nproperty float x\nproperty float y\n"

@@ -31,7 +31,7 @@ from gogreen_core.mesh.mesh_io.ply_elements import (
     read_header,
     row_problem,
 )
-from gogreen_core.mesh.mesh_io.polygons import check_corner_indices, triangulate
+from gogreen_core.mesh.mesh_io.polygons import triangulate
 from gogreen_core.mesh.mesh_io.text import (
     BOM,
     DOS_EOF,
@@ -124,7 +124,6 @@ def _polygons(tables: dict[str, Columns], n_vertices: int, name: str) -> tuple[n
         if len(short):
             raise MeshFileError(f"{name}: face {int(short[0])} has fewer than 3 corners")
         corners = _whole_indices(lists, n_vertices, name, "face")
-        check_corner_indices(corners, lists.sizes, n_vertices, lambda _p: name)
         sizes = lists.sizes.astype(np.int64)
     if strips is not None:
         triangles = _strip_triangles(strips, n_vertices, name)
@@ -136,30 +135,24 @@ def _polygons(tables: dict[str, Columns], n_vertices: int, name: str) -> tuple[n
 
 
 def _whole_indices(lists: PlyList, n_vertices: int, name: str, what: str) -> np.ndarray:
-    """The items of ``lists`` as int64. Float-typed ones (ASCII data, or float indices in a
-    binary file) are checked before the cast, which would make a meaningless int64 of 1e30 or
-    NaN: MeshFileError naming the record of one that is not a whole number, or not in
-    [0, n_vertices) (-1 allowed in strips, where it separates them)."""
+    """The items of ``lists`` as int64; MeshFileError naming the record of one that is not a
+    whole number (checked before the cast, which would make a meaningless int64 of 1e30 or
+    NaN) or not in [0, n_vertices) (-1 allowed in strips, where it separates them)."""
     values = lists.values
-    if values.dtype.kind != "f":  # integer types: range checked by the caller
-        return values.astype(np.int64)
-    record = np.searchsorted(np.cumsum(lists.sizes), np.arange(len(values)), side="right")
+
+    def refuse(wrong: np.ndarray, problem: str) -> None:
+        if wrong.any():
+            bad = int(np.argmax(wrong))
+            record = int(np.searchsorted(np.cumsum(lists.sizes), bad, side="right"))
+            shown = show_number(values[bad])
+            raise MeshFileError(f"{name}: {what} {record} {problem.format(shown)}")
+
     whole = np.isfinite(values) & (values == np.round(values))
-    if not whole.all():
-        bad = int(np.argmin(whole))
-        raise MeshFileError(
-            f"{name}: {what} {int(record[bad])} has vertex index {show_number(values[bad])}, "
-            "which is not a whole number"
-        )
+    refuse(~whole, "has vertex index {}, which is not a whole number")
     outside = (values < 0) | (values >= n_vertices)
     if what == "tristrip":
         outside &= values != -1
-    if outside.any():
-        bad = int(np.argmax(outside))
-        raise MeshFileError(
-            f"{name}: {what} {int(record[bad])} references vertex {show_number(values[bad])} "
-            f"but the file has {n_vertices} vertices"
-        )
+    refuse(outside, f"references vertex {{}} but the file has {n_vertices} vertices")
     return values.astype(np.int64)
 
 
@@ -168,14 +161,6 @@ def _strip_triangles(strips: PlyList, n_vertices: int, name: str) -> np.ndarray:
     -1; every other triangle is flipped so that all turn the same way, and the degenerate
     ones (strips repeat a vertex to turn or to join) are dropped."""
     indices = _whole_indices(strips, n_vertices, name, "tristrip")
-    outside = (indices < -1) | (indices >= n_vertices)
-    if outside.any():
-        bad = int(np.argmax(outside))
-        record = int(np.searchsorted(np.cumsum(strips.sizes), bad, side="right"))
-        raise MeshFileError(
-            f"{name}: tristrip {record} references vertex {int(indices[bad])} but the file has "
-            f"{n_vertices} vertices"
-        )
     # One -1 after each record, so that strips never run from one record into the next.
     ends = np.cumsum(strips.sizes)
     flat = np.insert(indices, ends, -1)

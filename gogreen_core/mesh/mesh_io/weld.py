@@ -1,12 +1,10 @@
 """Vertices that a file split only for its format, joined back (and split again to save).
 
 STL lists three corners per triangle, and Blender's PLY exporter writes one vertex per distinct
-(vertex, UV) pair, so a UV seam or an STL triangle soup loads as pieces that a brush would tear
-apart. :func:`weld` joins vertices at exactly the same position (bit for bit, as the exporter
-wrote the same float twice); the welded vertices keep the order of their first appearance, so
-a file without splits keeps its vertex order. It is an open-addressing hash table in numba
-code: one pass, where sorting the positions would take several times longer.
-:func:`split_at_seams` does the opposite for a format with one texture coordinate per vertex.
+(vertex, UV) pair, so such files load in pieces a brush would tear apart. :func:`weld` joins
+vertices at exactly the same position (bit for bit), in order of first appearance, with a hash
+table in numba code (one pass; sorting took several times longer). :func:`split_at_seams` does
+the opposite for a format with one texture coordinate per vertex.
 """
 
 from __future__ import annotations
@@ -45,10 +43,8 @@ def split_at_seams(
     """One texture coordinate per vertex, for a format that has no per-corner ones (PLY).
 
     A vertex keeps its number and the texture coordinate of its first textured corner; each
-    other (vertex, texture coordinate) pair of its corners becomes a new vertex after the
-    ``n_vertices`` originals, in order of first appearance. Corners without one (rows of -1
-    in ``uv_faces``) use the vertex's own. Loading the file welds them back (:func:`weld`) in
-    the same order.
+    other (vertex, texture coordinate) pair becomes a new vertex after the ``n_vertices``
+    originals, in order of first appearance (corners without one use the vertex's own).
 
     Returns
     -------
@@ -96,8 +92,8 @@ def _bits(values: np.ndarray) -> np.ndarray:
 @numba.njit(cache=True, nogil=True)
 def _first_equal_rows(keys: np.ndarray) -> np.ndarray:
     """For each row of ``keys`` (N, W) unsigned ints, the first row equal to it (N,) int64: one
-    pass through an open-addressing hash table. It has 2N slots or more, so that probe chains
-    stay short even when every row is distinct (a growing table measured 1.4x slower)."""
+    pass through an open-addressing hash table of 2N slots or more (short probe chains even
+    when every row is distinct; a growing table measured 1.4x slower)."""
     n = keys.shape[0]
     size = 16
     while size < 2 * n:
