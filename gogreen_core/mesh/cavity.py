@@ -1,12 +1,9 @@
 """Per-vertex curvature for the viewport's cavity tint (darker in hollows, lighter on ridges).
 
-The curvature at vertex i is the average normal curvature of its edges weighted by their
-squared lengths: κ_i = 2 n_i · Σ_j (x_j − x_i) / Σ_j |x_j − x_i|², over the one-ring j, with
-n_i the unit vertex normal. Each edge's normal curvature is 2 n·d / |d|² (exact for a chord of
-a sphere), so κ is −1/R on a sphere of radius R whatever the sampling, positive in a hollow
-and negative on a ridge, and independent of the mesh's resolution: a dent of a given size
-tints the same on a coarse and on a subdivided mesh. An event updates the moved vertices and
-their one-ring only (:func:`affected_rows`, :meth:`CavityField.update`).
+κ_i = 2 n_i · Σ_j (x_j − x_i) / Σ_j |x_j − x_i|² over the one-ring j (n_i the unit vertex
+normal): the edges' normal curvatures 2 n·d / |d|² (exact for a sphere's chords) weighted by
+their squared lengths. So κ = −1/R on a sphere whatever the sampling: a dent tints the same on a
+coarse and on a subdivided mesh. An event updates the moved vertices and their one-ring only.
 """
 
 from __future__ import annotations

@@ -1,11 +1,7 @@
-"""Procedural meshes as plain arrays: icospheres, the model the app opens on start, and the
-flat sheet and long tube the paper's effects are measured and pictured on.
-
-The default model is generated, not shipped as a file: a subdivided icosahedron pushed along
-its radii by a few smooth, low-frequency bumps into an organic pebble, then stretched a little.
-It takes about 0.02 s, so a script writing ``resources/default_model.ply`` would only add a
-file to keep in sync. The icosphere is built here rather than taken from trimesh so that the
-default model (whose SHA-256 a recorded session stores) cannot change with a trimesh release.
+"""Procedural meshes as plain arrays: icospheres, the model the app opens on start (generated
+in 0.02 s rather than shipped), and the flat sheet and long tube of the paper's figures. The
+icosphere is built here, not by trimesh, so that the default model (whose SHA-256 a recorded
+session stores) cannot change with a trimesh release.
 """
 
 from __future__ import annotations
@@ -35,11 +31,8 @@ def _icosahedron() -> tuple[np.ndarray, np.ndarray]:
 
 
 def _subdivide(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Split each triangle in four at its edge midpoints, projected onto the unit sphere.
-
-    Old vertices keep their indices; each edge's midpoint is shared by its two triangles.
-    Orientation is kept: corner triangles and the middle one turn the same way as the parent.
-    """
+    """Split each triangle in four at its edge midpoints, projected onto the unit sphere (old
+    vertices keep their indices, orientation is kept)."""
     n, m = len(vertices), len(faces)
     edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
     ends = np.sort(edges, axis=1)
@@ -99,12 +92,9 @@ _STRETCH = (1.15, 1.0, 0.9)
 
 
 def default_model(subdivisions: int = 6) -> tuple[np.ndarray, np.ndarray]:
-    """The smooth pebble the app opens on start.
-
-    Each vertex of an icosphere moves along its radius by a sum of smooth Gaussian bumps of
-    the angle to a few fixed directions; the radius stays above 0.9, so the surface is
-    star-shaped and cannot self-intersect. The result is stretched by (1.15, 1, 0.9) and its
-    bounding box centred at the origin. Deterministic: same arrays on every call.
+    """The smooth pebble the app opens on start: an icosphere's vertices moved along their radii
+    by smooth Gaussian bumps around a few fixed directions (the radius stays above 0.9: no
+    self-intersection), stretched by (1.15, 1, 0.9), its bounding box centred at the origin.
 
     Parameters
     ----------

@@ -1,9 +1,6 @@
-"""Connectivity of a triangle mesh: its edges and each vertex's neighbours (plain arrays).
-
-Built once per face array (the sculptor keeps them until the topology changes: a subdivision)
-and used by Loop subdivision (:mod:`gogreen_core.mesh.subdivision`) and the smooth brush
-(:mod:`gogreen_core.sculpt.brushes.smooth`). Edge and neighbour orders are fixed by the face array
-alone, so everything computed from them is reproducible bit for bit.
+"""Connectivity of a triangle mesh: its edges, each vertex's neighbours and faces (plain arrays),
+built once per face array. Their orders are fixed by the face array alone, so everything
+computed from them is reproducible bit for bit.
 """
 
 from __future__ import annotations
@@ -53,10 +50,7 @@ class MeshEdges:
 
 
 def mesh_edges(faces: np.ndarray, n_vertices: int) -> MeshEdges:
-    """The edges of ``faces`` (M, 3) int64 on ``n_vertices`` vertices (see :class:`MeshEdges`).
-
-    One sort of the 3M face sides by their vertex pair: ~40 ms for the 124k-face ogre.
-    """
+    """The edges of ``faces`` (M, 3) int64 on ``n_vertices`` vertices (see :class:`MeshEdges`)."""
     faces = np.ascontiguousarray(faces, dtype=np.int64)
     nxt = np.roll(faces, -1, axis=1)
     low = np.minimum(faces, nxt).ravel()

@@ -1,10 +1,8 @@
 """OBJ (Wavefront): reading (the fast reader, else the strict one) and writing.
 
-Positions stay as listed; texture coordinates are kept per face corner (``MeshData.uv``,
-``MeshData.uv_faces``) so they survive a load/save round trip. trimesh's OBJ loader is not used:
-it splits vertices that carry several texture coordinates (UV seams), which changes the vertex
-count and order that a sculpting session and its replay rely on. Normals (``vn``), materials
-and groups are not kept: normals are recomputed after sculpting.
+Positions stay as listed (trimesh's loader splits vertices at UV seams, changing the vertex
+count and order that sessions rely on); texture coordinates are kept per face corner. Normals,
+materials and groups are not kept.
 """
 
 from __future__ import annotations

@@ -2,13 +2,10 @@
 
 :func:`read_obj_fast` returns None as soon as anything is unusual (a comment after data, a tab
 after a tag, mixed corner forms, a bad number, an index out of range, ...); the strict reader
-(:mod:`~gogreen_core.mesh.mesh_io.obj_strict`) then either accepts the file the same way or names
-the line at fault. :func:`~gogreen_core.mesh.mesh_io.text.parse_numbers` raises on any token it
-cannot read whole, and rounds decimals correctly like ``float()``.
-
-The lines of one kind (v, vt or f) are handled as a "piece": their contents joined by
-``b"\n" + tag``, i.e. the file's bytes from after the first line's tag to the end of the last
-line, when they form one block.
+(:mod:`~gogreen_core.mesh.mesh_io.obj_strict`) then accepts the file the same way or names the
+line at fault. The lines of one kind (v, vt or f) are parsed as one "piece": their contents
+joined by ``b"\n" + tag`` (when they form one block, the file's bytes from after the first
+line's tag to the end of the last line).
 """
 
 from __future__ import annotations
@@ -38,9 +35,9 @@ _MAX_OTHER = 1 << 20  # bytes of other lines checked one by one in Python
 
 @dataclass
 class ObjSections:
-    """The v, vt and f lines of an OBJ file as pieces (see above; None when there are no such
-    lines), and per face line the count of v and vt lines before it (an int when the same for
-    all, None when unknown: relative indices then go to the strict reader)."""
+    """The v, vt and f pieces (None without such lines), and per face line the count of v and
+    vt lines before it (an int when the same for all; None when unknown: relative indices then
+    go to the strict reader)."""
 
     v: bytes | None
     vt: bytes | None
@@ -76,8 +73,8 @@ def _block(data: bytes, tag: bytes, lo: int, hi: int) -> tuple[int, int] | None:
 
 def sections_by_blocks(data: bytes) -> ObjSections | None:
     """Sections of the usual layout: one block of each of v, vt, vn and f lines and a few
-    other lines (comments, g, s, usemtl...) around them; None otherwise. Found with bytes
-    find/count alone, without an array over every byte."""
+    other lines around them; None otherwise. Found with bytes find/count alone (several times
+    faster than an array over every byte)."""
     blocks: dict[bytes, tuple[int, int]] = {}
     for tag in (b"v ", b"f "):
         found = _block(data, tag, 0, len(data))
@@ -165,8 +162,8 @@ def _numbers_per_line(
     piece: bytes, tag: bytes, sentinel: bytes, dtype: type[np.generic]
 ) -> tuple[np.ndarray, np.ndarray] | None:
     """All numbers of a piece and how many each line has, or None if a token is not a number
-    or a line of another kind is among them. A ``sentinel`` that the data cannot hold (NaN
-    among finite floats, 0 among 1-based indices) replaces each line break to count them."""
+    or a line of another kind is among them. A ``sentinel`` the data cannot hold (NaN, or 0
+    among 1-based indices) replaces each line break to count them."""
     lines = piece.count(b"\n") + 1
     between = b" " + sentinel + b" " * max(1, len(tag) + 2 - len(sentinel))
     text = piece.replace(b"\n" + tag, between)
@@ -288,9 +285,8 @@ def mesh_from_sections(sections: ObjSections) -> MeshData | None:
     def indices(
         column: np.ndarray, counted: np.ndarray | int | None, total: int
     ) -> np.ndarray | None:
-        """0-based indices from 1-based or relative ones (``counted``: entries read before each
-        face line, see ObjSections); None when one is 0, before the first entry, or past the
-        last."""
+        """0-based indices from 1-based or relative ones (``counted``: see ObjSections); None
+        when one is 0, before the first entry, or past the last."""
         if (column == 0).any():
             return None
         relative = column < 0

@@ -1,9 +1,5 @@
-"""OBJ, the strict reader: line by line, naming the line of any problem.
-
-It accepts exactly what the fast reader (:mod:`~gogreen_core.mesh.mesh_io.obj_fast`) accepts, with
-the same result; the fast one hands it every file that is not regular, so that each error message
-comes from here.
-"""
+"""OBJ, the strict reader: line by line, naming the line of any problem. It accepts what the
+fast reader accepts, with the same result, and reads every file that one hands over."""
 
 from __future__ import annotations
 
@@ -28,8 +24,6 @@ OBJ_STATEMENTS = frozenset(
 
 
 def read_obj_strict(data: bytes, name: str) -> MeshData:
-    """Line by line: accepts what the fast reader accepts, the same way, and names the line of
-    any problem."""
     vertices: list[tuple[float, ...]] = []
     vertex_lines: list[int] = []
     uvs: list[tuple[float, float]] = []

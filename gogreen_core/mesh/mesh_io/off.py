@@ -1,6 +1,5 @@
-"""OFF (Object File Format), read and written here: trimesh silently drops the faces of a
-truncated file instead of reporting it. Polygons are triangulated by their shape; colours after
-a vertex's or a face's numbers are ignored."""
+"""OFF (Object File Format), read here rather than by trimesh (which silently drops the faces of
+a truncated file) and written. Colours after a vertex's or a face's numbers are ignored."""
 
 from __future__ import annotations
 

@@ -1,18 +1,12 @@
 """PLY (Stanford polygon files), ASCII and binary, read and written here rather than by trimesh,
-which silently drops the faces of a truncated binary file instead of reporting it.
+which silently drops the faces of a truncated binary file and writes float32 positions.
 
-Reading: positions ``x, y, z``; texture coordinates ``s, t`` (Blender), ``u, v``,
-``texture_u, texture_v`` or ``texture_s, texture_t``; faces (``vertex_indices`` or
-``vertex_index`` lists, triangulated by their shape) and triangle strips (element
-``tristrips``). In a file whose vertices carry attributes besides their position, vertices at
-the same position are welded (:mod:`~gogreen_core.mesh.mesh_io.weld`): exporters split vertices for
-their attributes (Blender along UV seams), and the surface must be one piece. ``MeshData.uv``
-holds the file's per-vertex texture coordinates and ``uv_faces`` the file's vertex of each
-corner. Other vertex properties (normals, colours) are read and dropped. A file with positions
-only keeps its vertices exactly as listed.
-
-Writing: float64 positions (trimesh writes float32, which would round sculpted positions),
-int32 indices, and ``s, t`` when the mesh has texture coordinates, split at the seams.
+Reading: positions ``x, y, z``; texture coordinates (:data:`UV_PROPERTIES`); faces
+(``vertex_indices`` or ``vertex_index`` lists) and triangle strips (element ``tristrips``).
+Vertices that carry attributes besides their position are welded where their positions are
+equal (exporters split them for their attributes, Blender along UV seams); ``MeshData.uv`` holds
+the file's per-vertex texture coordinates and ``uv_faces`` the file's vertex of each corner.
+Writing: float64 positions, int32 indices, ``s, t`` split at the seams.
 """
 
 from __future__ import annotations
@@ -87,12 +81,7 @@ def read_ply(data: bytes, name: str) -> MeshData:
         _check_finite(uv, name, "a non-finite texture coordinate")
     if set(vertex) == {"x", "y", "z"}:
         mesh = MeshData(points, file_faces)
-    else:
-        # Per-vertex attributes (UVs, normals, colours): exporters split a vertex for each
-        # value its corners have (Blender along UV seams). Vertices at the same position are
-        # joined back, whether their attributes differ or not (an exporter that writes a
-        # vertex per corner, or UVs that differ only before rounding to float32), so that the
-        # surface is one piece.
+    else:  # joined whether their attributes differ or not (UVs equal but for rounding...)
         _check_finite(points, name, "a non-finite coordinate")  # named as the file counts
         index, kept = weld(points)
         mesh = MeshData(points[kept], index[file_faces])

@@ -1,14 +1,7 @@
-"""STL, binary and ASCII, read and written here (numpy views of the file, no copies beyond the
-float64 positions).
-
-An STL file has no shared vertices: each triangle lists its own three corners (float32). They
-are welded at load (:func:`~gogreen_core.mesh.mesh_io.weld.weld`: corners at exactly the same
-position are one vertex, in order of first appearance), so a closed model loads closed, as it
-was in the program that wrote it; saving writes each triangle's corners again. STL stores
-float32, so saving to STL rounds positions. Normals in the file are ignored (the corners' order
-gives the orientation); the attribute word of each binary triangle too. A truncated file is
-refused, binary or ASCII: an ASCII facet missing a part or a solid without ``endsolid`` gives a
-MeshFileError naming the line.
+"""STL, binary and ASCII. Each triangle lists its own corners; they are welded at load
+(:func:`~gogreen_core.mesh.mesh_io.weld.weld`), so a closed model loads closed. Saving writes
+float32 corners (rounding positions). Normals and attribute words are ignored. A truncated file
+is refused; an ASCII one names the line where it leaves the grammar.
 """
 
 from __future__ import annotations
@@ -54,10 +47,9 @@ def read_stl(data: bytes, name: str) -> MeshData:
     )
 
 
-# The grammar of an ASCII STL (lower-cased, any whitespace between words): solids, each
-# ``solid [name]``, facets, ``endsolid [name]``. A whole solid's facets are matched by one regular
-# expression run (C speed); only where it stops is the file walked piece by piece, to name the
-# line at fault.
+# An ASCII STL (lower-cased, any whitespace between words): solids, each ``solid [name]``,
+# facets, ``endsolid [name]``. A solid's facets are matched by one regular expression run; only
+# where it stops is the file walked piece by piece, to name the line at fault.
 _NUMBER = rb"\s+\S+"
 _FACET_PARTS = (
     ("facet normal nx ny nz", rb"\s*facet\s+normal" + 3 * _NUMBER + rb"(?=\s|\Z)"),
@@ -76,9 +68,7 @@ _VERTEX = re.compile(rb"\bvertex\s+(\S+)\s+(\S+)\s+(\S+)")
 
 
 def _ascii_corners(data: bytes, name: str) -> np.ndarray:
-    """(3·M, 3) corner positions of an ASCII STL (every solid of the file); MeshFileError
-    naming the line of an incomplete facet, a solid without ``endsolid`` or anything else
-    out of place (a truncated file is refused, as a truncated binary STL is)."""
+    """(3·M, 3) corner positions of an ASCII STL (every solid of the file)."""
     text = without_dos_eof(data).lower().replace(b"\r\n", b"\n").replace(b"\r", b"\n")
     _check_ascii_structure(text, name)
     found = _VERTEX.findall(text)
