@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["MAX_INDEX", "MeshData", "MeshFileError", "validate_mesh"]
+__all__ = ["MAX_INDEX", "MeshData", "MeshFileError", "first_non_finite", "validate_mesh"]
 
 #: Larger 1-based indices cannot be real (and would overflow int64 arrays).
 MAX_INDEX = 2**53
@@ -69,6 +69,12 @@ class MeshData:
         )
 
 
+def first_non_finite(rows: np.ndarray) -> int | None:
+    """The first row of ``rows`` (N, k) with a non-finite value, or None."""
+    finite = np.isfinite(rows).all(axis=1)
+    return None if finite.all() else int(np.argmin(finite))
+
+
 def validate_mesh(mesh: MeshData, name: str) -> None:
     """Raise MeshFileError unless ``mesh`` is a usable triangle mesh."""
     v, f = mesh.vertices, mesh.faces
@@ -76,9 +82,7 @@ def validate_mesh(mesh: MeshData, name: str) -> None:
         raise MeshFileError(f"{name}: no vertices")
     if f.ndim != 2 or f.shape[1] != 3 or len(f) == 0:
         raise MeshFileError(f"{name}: no faces")
-    finite = np.isfinite(v).all(axis=1)
-    if not finite.all():
-        bad = int(np.flatnonzero(~finite)[0])
+    if (bad := first_non_finite(v)) is not None:
         raise MeshFileError(f"{name}: vertex {bad} has a non-finite coordinate {v[bad].tolist()}")
     outside = (f < 0) | (f >= len(v))
     if outside.any():

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from gogreen_core.mesh.mesh_io.data import MAX_INDEX, MeshData, MeshFileError
+from gogreen_core.mesh.mesh_io.data import MAX_INDEX, MeshData, MeshFileError, first_non_finite
 from gogreen_core.mesh.mesh_io.polygons import triangulate
 from gogreen_core.mesh.mesh_io.text import text_lines
 
@@ -115,9 +115,7 @@ def read_obj_strict(data: bytes, name: str) -> MeshData:
     def polygon_of(corner: int) -> int:
         return int(np.searchsorted(ends, corner, side="right"))
 
-    finite = np.isfinite(v).all(axis=1)
-    if not finite.all():
-        bad = int(np.flatnonzero(~finite)[0])
+    if (bad := first_non_finite(v)) is not None:
         raise MeshFileError(
             f"{name}, line {vertex_lines[bad]}: vertex {bad + 1} has a non-finite coordinate "
             f"{v[bad].tolist()}"

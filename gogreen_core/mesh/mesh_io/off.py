@@ -9,7 +9,7 @@ from typing import BinaryIO
 
 import numpy as np
 
-from gogreen_core.mesh.mesh_io.data import MeshData, MeshFileError
+from gogreen_core.mesh.mesh_io.data import MeshData, MeshFileError, first_non_finite
 from gogreen_core.mesh.mesh_io.polygons import check_corner_indices, triangulate
 from gogreen_core.mesh.mesh_io.text import is_number, text_lines, write_rows
 
@@ -61,9 +61,7 @@ def read_off(data: bytes, name: str) -> MeshData:
             "(the header's counts do not match the file)"
         )
     v = _off_vertices(vertex_rows, name)
-    finite = np.isfinite(v).all(axis=1)
-    if not finite.all():
-        bad = int(np.flatnonzero(~finite)[0])
+    if (bad := first_non_finite(v)) is not None:
         raise MeshFileError(
             f"{name}, line {vertex_rows[bad][0]}: vertex {bad} has a non-finite coordinate"
         )

@@ -15,7 +15,7 @@ from typing import BinaryIO
 
 import numpy as np
 
-from gogreen_core.mesh.mesh_io.data import MeshData, MeshFileError
+from gogreen_core.mesh.mesh_io.data import MeshData, MeshFileError, first_non_finite
 from gogreen_core.mesh.mesh_io.ply_elements import (
     Columns,
     PlyList,
@@ -91,9 +91,7 @@ def read_ply(data: bytes, name: str) -> MeshData:
 
 
 def _check_finite(values: np.ndarray, name: str, what: str) -> None:
-    finite = np.isfinite(values).all(axis=1)
-    if not finite.all():
-        bad = int(np.flatnonzero(~finite)[0])
+    if (bad := first_non_finite(values)) is not None:
         raise MeshFileError(f"{name}: vertex {bad} has {what} {values[bad].tolist()}")
 
 

@@ -1,10 +1,8 @@
 """PLY elements: the header, and each element's records as arrays, binary or ASCII.
 
-A record whose lists all have the length of the first record's (a file of triangles only) is
-read as one structured array, without a copy. Lists of varying lengths (triangles and quads
-mixed, as most Blender meshes are) are walked record by record in compiled code, then each
-property is gathered with whole-array operations. ASCII data is parsed into float64 numbers
-whose bytes are then read the same way, as a binary element of float64 properties.
+The records are walked in compiled code, which finds where each starts (lists vary in length:
+triangles and quads mixed, as most Blender meshes are), then each property is gathered. ASCII
+data is parsed into float64 numbers whose bytes are read the same way, as float64 properties.
 """
 
 from __future__ import annotations
@@ -128,14 +126,6 @@ def _bad_length(value: float | int, element: PlyElement, name: str) -> MeshFileE
     return MeshFileError(f"{name}: bad list length {value!r} in element '{element.name}'")
 
 
-def _list_length(value: np.generic | float, element: PlyElement, name: str) -> int:
-    """A list's item count read from the data: a whole number ≥ 0, else MeshFileError."""
-    number = value.item() if isinstance(value, np.generic) else value
-    if not (np.isfinite(number) and number >= 0 and number == int(number)):
-        raise _bad_length(number, element, name)
-    return int(number)
-
-
 # -- binary ------------------------------------------------------------------------------------
 def read_binary_element(
     data: bytes | np.ndarray, offset: int, element: PlyElement, endian: str, name: str
@@ -145,57 +135,13 @@ def read_binary_element(
     props, count = element.properties, element.count
     if not props:
         return {}, offset
-    least = sum(np.dtype(p.count_dtype or p.dtype).itemsize for p in props)
-    if count * least > len(data) - offset:  # (also a count too large for any array)
-        raise _truncated(element, name)
-    # Guess the layout from the first record (lists of a fixed length), then verify it.
-    pos = offset
-    lengths = []
-    for p in props:
-        if p.count_dtype is None:
-            pos += np.dtype(p.dtype).itemsize
-            continue
-        if count == 0:
-            lengths.append(0)
-            continue
-        if pos + np.dtype(p.count_dtype).itemsize > len(data):
-            raise _truncated(element, name)
-        k = _list_length(np.frombuffer(data, endian + p.count_dtype, 1, pos)[0], element, name)
-        lengths.append(k)
-        pos += np.dtype(p.count_dtype).itemsize + k * np.dtype(p.dtype).itemsize
-    if pos > len(data):  # (a first record longer than the file cannot make a record type)
-        return _walk_binary_element(data, offset, element, endian, name)
-    fields: list[tuple[str, str] | tuple[str, str, int]] = []
-    lists = iter(lengths)
-    for i, p in enumerate(props):
-        if p.count_dtype is None:
-            fields.append((f"s{i}", endian + p.dtype))
-        else:
-            fields += [(f"n{i}", endian + p.count_dtype), (f"l{i}", endian + p.dtype, next(lists))]
-    record = np.dtype(fields)
-    if offset + count * record.itemsize <= len(data):
-        table = np.frombuffer(data, record, count, offset)
-        listed = [i for i, p in enumerate(props) if p.count_dtype]
-        if all(np.all(table[f"n{i}"] == k) for i, k in zip(listed, lengths, strict=True)):
-            columns: Columns = {}
-            for i, p in enumerate(props):
-                if p.count_dtype is None:
-                    columns[p.name] = table[f"s{i}"]
-                else:
-                    items = table[f"l{i}"]
-                    columns[p.name] = PlyList(
-                        items.reshape(-1), np.full(count, items.shape[1] if count else 0)
-                    )
-            return columns, offset + count * record.itemsize
-    return _walk_binary_element(data, offset, element, endian, name)
-
-
-def _walk_binary_element(
-    data: bytes | np.ndarray, offset: int, element: PlyElement, endian: str, name: str
-) -> tuple[Columns, int]:
-    """Lists of varying lengths: find the records with compiled code, then gather."""
-    props = element.properties
     size = [np.dtype(p.count_dtype or p.dtype).itemsize for p in props]
+    if count * sum(size) > len(data) - offset:  # (also a count too large for any array)
+        raise _truncated(element, name)
+    if not any(p.count_dtype for p in props):  # records of one size: a view of the file
+        record = np.dtype([(f"s{i}", endian + p.dtype) for i, p in enumerate(props)])
+        table = np.frombuffer(data, record, count, offset)
+        return {p.name: table[f"s{i}"] for i, p in enumerate(props)}, offset + sum(size) * count
     item = [np.dtype(p.dtype).itemsize if p.count_dtype else 0 for p in props]
     buffer = np.frombuffer(data, dtype=np.uint8)
     ascii = any(p.count_dtype == "f8" for p in props)  # (binary list lengths are integers)

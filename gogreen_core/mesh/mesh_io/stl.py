@@ -11,7 +11,7 @@ from typing import BinaryIO, NoReturn
 
 import numpy as np
 
-from gogreen_core.mesh.mesh_io.data import MeshData, MeshFileError
+from gogreen_core.mesh.mesh_io.data import MeshData, MeshFileError, first_non_finite
 from gogreen_core.mesh.mesh_io.text import is_number, parse_numbers, without_dos_eof
 from gogreen_core.mesh.mesh_io.weld import weld
 
@@ -28,9 +28,7 @@ def read_stl(data: bytes, name: str) -> MeshData:
         if len(data) == _HEADER + 4 + count * TRIANGLE.itemsize:
             triangles = np.frombuffer(data, TRIANGLE, count, _HEADER + 4)
             corners = triangles["corners"].reshape(-1, 3)
-            finite = np.isfinite(corners).all(axis=1)
-            if not finite.all():
-                bad = int(np.argmin(finite))
+            if (bad := first_non_finite(corners)) is not None:
                 raise MeshFileError(
                     f"{name}: triangle {bad // 3} (from 0) has a non-finite corner "
                     f"{corners[bad].tolist()}"
@@ -86,9 +84,8 @@ def _ascii_corners(data: bytes, name: str) -> np.ndarray:
             ) from None
         corners = np.array([float(t) for t in flat.split()])
     corners = corners.reshape(-1, 3)
-    finite = np.isfinite(corners).all(axis=1)
-    if not finite.all():
-        bad = list(_VERTEX.finditer(text))[int(np.argmin(finite))]
+    if (row := first_non_finite(corners)) is not None:
+        bad = list(_VERTEX.finditer(text))[row]
         shown = b" ".join(bad.groups()).decode("ascii", "replace")
         raise MeshFileError(
             f"{name}, line {_line_of(text, bad.start())}: the vertex {shown!r} is not finite"
