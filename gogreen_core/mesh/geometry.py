@@ -15,6 +15,7 @@ from gogreen_core import _compiled
 from gogreen_core._jit_options import NogilJitOptions
 from gogreen_core.mesh import _geometry_numpy
 from gogreen_core.mesh._geometry_numpy import _BLOCK_SHIFT, _MORTON_BITS, LEAF_SIZE
+from gogreen_core.mesh.topology import checked_faces
 from gogreen_core.threads import threads_at_most
 
 __all__ = ["SurfaceIndex", "mesh_volume", "vertex_normals"]
@@ -334,29 +335,13 @@ class SurfaceIndex:
     boxes the ray hits, nearest first. :attr:`positions`, :attr:`normals` and :attr:`faces` are
     what a renderer draws directly (the viewport's VTK arrays share their memory).
 
-    Parameters
-    ----------
-    vertices : (N, 3) float64
-    faces : (M, 3) int, indices into ``vertices``
-    progress : callable(fraction), optional
-        Called with 0 < fraction ≤ 1 between the build's stages; a background build reports
-        it, and cancels the build by raising from it.
+    Parameters: vertices (N, 3) float64; faces (M, 3) int; progress: called with the fraction
+    done (0, 1] between the build's stages (raising from it cancels the build).
 
-    Attributes
-    ----------
-    order : (N,) int32
-        Row i of :attr:`positions` and :attr:`normals` is vertex ``order[i]``.
-    rank : (N,) int32
-        The inverse of :attr:`order`: vertex v is row ``rank[v]``.
-    positions : (N, 3) float64
-        The positions as of the last :meth:`update`, in index order.
-    normals : (N, 3) float64
-        The unit vertex normals, in index order (updated in place by :meth:`update`).
-    faces : (M, 3) int32
-        The faces in leaf order, as rows of :attr:`positions`: ``faces[c]`` is face
-        ``face_order[c]`` of the mesh, corners in its order.
-    face_order : (M,) int32
-        The mesh face of each row of :attr:`faces`.
+    Attributes: order (N,) int32, the vertex of each row of :attr:`positions` and
+    :attr:`normals` (rank (N,) its inverse); positions (N, 3) and normals (N, 3) float64 as of
+    the last :meth:`update`, in index order; faces (M, 3) int32 in leaf order, as rows of
+    :attr:`positions` (face_order (M,) int32: the mesh face of each).
     """
 
     def __init__(
@@ -369,12 +354,8 @@ class SurfaceIndex:
         vertices = np.ascontiguousarray(vertices, dtype=np.float64)
         if vertices.ndim != 2 or vertices.shape[1] != 3:
             raise ValueError(f"vertices must have shape (N, 3) (got {vertices.shape})")
-        faces = np.asarray(faces)
-        if faces.ndim != 2 or faces.shape[1] != 3:
-            raise ValueError(f"faces must have shape (M, 3) (got {faces.shape})")
         n = len(vertices)
-        if faces.size and (faces.min() < 0 or faces.max() >= n):
-            raise ValueError(f"faces must index vertices 0 to {n - 1}")
+        faces = checked_faces(faces, n)
         if n >= 2**31 or 3 * len(faces) >= 2**31:  # int32 rows and face-corner offsets
             raise ValueError(
                 "meshes of 2**31 vertices or 2**31 / 3 faces or more are not supported"

@@ -14,6 +14,7 @@ __all__ = [
     "FaceAdjacency",
     "MeshEdges",
     "VertexNeighbours",
+    "checked_faces",
     "concatenated_ranges",
     "mesh_edges",
     "vertex_neighbours",
@@ -22,6 +23,16 @@ __all__ = [
 #: :attr:`VertexNeighbours.mode` values: relax towards all neighbours, along the boundary
 #: (its two boundary neighbours), or not at all (a vertex where the surface is not a manifold).
 INTERIOR, BOUNDARY, FIXED = 0, 1, 2
+
+
+def checked_faces(faces: np.ndarray, n_vertices: int) -> np.ndarray:
+    """``faces`` as a contiguous (M, 3) int64 array; ValueError unless it indexes vertices."""
+    faces = np.ascontiguousarray(faces, dtype=np.int64)
+    if faces.ndim != 2 or faces.shape[1] != 3:
+        raise ValueError(f"faces must have shape (M, 3) (got {faces.shape})")
+    if faces.size and (faces.min() < 0 or faces.max() >= n_vertices):
+        raise ValueError(f"faces must index vertices 0 to {n_vertices - 1}")
+    return faces
 
 
 def concatenated_ranges(starts: np.ndarray, counts: np.ndarray) -> np.ndarray:
@@ -125,12 +136,7 @@ class FaceAdjacency:
     """
 
     def __init__(self, faces: np.ndarray, n_vertices: int):
-        faces = np.ascontiguousarray(faces, dtype=np.int64)
-        if faces.ndim != 2 or faces.shape[1] != 3:
-            raise ValueError(f"faces must have shape (M, 3) (got {faces.shape})")
-        flat = faces.ravel()
-        if flat.size and (flat.min() < 0 or flat.max() >= n_vertices):
-            raise ValueError(f"faces must index vertices 0 to {n_vertices - 1}")
+        flat = checked_faces(faces, n_vertices).ravel()
         order = np.argsort(flat, kind="stable")
         self.face_ids = order // 3
         counts = np.bincount(flat, minlength=n_vertices)

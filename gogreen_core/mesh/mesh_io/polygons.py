@@ -48,30 +48,16 @@ def check_corner_indices(
 
 
 def triangulate(points: np.ndarray, corners: np.ndarray, sizes: np.ndarray) -> np.ndarray:
-    """Triangles of polygons by their shape (see the module's description).
-
-    Parameters
-    ----------
-    points : (N, 3) float64
-        Vertex positions.
-    corners : (C,) int
-        Vertex index of each corner (all in [0, N)), polygon after polygon.
-    sizes : (P,) int
-        Corners of each polygon (≥ 3), summing to C.
-
-    Returns
-    -------
-    (T, 3) int64
-        Positions in ``corners`` of each triangle's corners, T = Σ(k-2), polygon after polygon.
-    """
+    """Triangles (T = Σ(k-2), 3) int64 of polygons by their shape (see the module's
+    description), as positions in ``corners`` (C,) (each polygon's vertex indices into
+    ``points`` (N, 3), polygon after polygon; ``sizes`` (P,) ≥ 3 corners each)."""
     sizes = np.ascontiguousarray(sizes, dtype=np.int64)
     if len(sizes) == 0 or sizes.max() == 3:
         return np.arange(3 * len(sizes), dtype=np.int64).reshape(-1, 3)
     corners = np.ascontiguousarray(corners, dtype=np.int64)
     points = np.ascontiguousarray(points, dtype=np.float64)
     corner_starts, triangle_starts = _starts(sizes), _starts(sizes - 2)
-    # Every polygon's fan from its first corner (0, j+1, j+2), then the quads' and the larger
-    # polygons' own choices over it.
+    # Every polygon's fan from its first corner, then the quads' and larger polygons' choices.
     polygon = np.repeat(np.arange(len(sizes)), sizes - 2)
     first = corner_starts[polygon]
     step = np.arange(len(polygon)) - triangle_starts[polygon]
@@ -81,7 +67,6 @@ def triangulate(points: np.ndarray, corners: np.ndarray, sizes: np.ndarray) -> n
         _split_quads(points, corners, corner_starts[quads], triangle_starts[quads], triangles)
     larger = np.flatnonzero(sizes > 4)
     if len(larger):
-        # Positions in ``corners`` of the larger polygons' corners, and where their triangles go.
         own = concatenated_ranges(corner_starts[larger], sizes[larger])
         rows = concatenated_ranges(triangle_starts[larger], sizes[larger] - 2)
         their_sizes = np.ascontiguousarray(sizes[larger])
@@ -147,9 +132,8 @@ def _dot(u: _Vectors, v: _Vectors) -> np.ndarray:
 
 
 def _fold(u: _Vectors, v: _Vectors, n: _Vectors, nn: np.ndarray) -> np.ndarray:
-    """(Q,) how far the triangle with edges ``u``, ``v`` from a corner turns against the
-    quads' normals ``n`` (``nn`` their squared lengths): minus the sine of its side, above 0
-    when it folds (0 for a degenerate triangle or quad), as the fan test measures it."""
+    """(Q,) minus the sine of the side of the triangle with edges ``u``, ``v`` against the
+    quads' normals ``n`` (``nn`` their squared lengths): above 0 when it folds."""
     side = _dot(_cross(u, v), n)
     scale = np.sqrt(_dot(u, u) * _dot(v, v) * nn)
     return np.where(scale > 0, -side / np.where(scale > 0, scale, 1.0), 0.0)
@@ -164,9 +148,8 @@ def _starts(sizes: np.ndarray) -> np.ndarray:
 def _fans(
     points: np.ndarray, corners: np.ndarray, sizes: np.ndarray, tolerance: float, max_starts: int
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Fan triangles of each polygon (T, 3) (positions in ``corners``): from its first corner
-    when that fan covers it, else from the first other corner whose fan does (polygons of up to
-    ``max_starts`` corners); and which polygons no fan covers (P,), for ear clipping."""
+    """Fan triangles of each polygon (T, 3): from the first of its corners (up to
+    ``max_starts``) whose fan covers it; and which polygons no fan covers (P,)."""
     n_triangles = 0
     for p in range(len(sizes)):
         n_triangles += sizes[p] - 2
@@ -225,7 +208,7 @@ def _fan_covers(
     tolerance: float,
 ) -> bool:
     """Whether every triangle of the fan from corner ``start`` of the polygon at ``c`` turns
-    with the normal (within ``tolerance``: the sine of its angle against the plane)."""
+    with the normal (within ``tolerance``, a sine)."""
     o = corners[c + start]
     for j in range(1, k - 1):
         ax, ay, az = _edge(points, o, corners[c + (start + j) % k])
@@ -244,8 +227,7 @@ def _ear_clip_all(
     triangles: np.ndarray,
     polygons: np.ndarray,
 ) -> None:
-    """Replace, in ``triangles``, the fans of ``polygons`` (which no fan covers) by ear
-    clipping; a polygon it fails on (degenerate, twisted) keeps its fan."""
+    """Ear-clip ``polygons`` in ``triangles``; one it fails on (twisted) keeps its fan."""
     corner_starts, triangle_starts = _starts(sizes), _starts(sizes - 2)
     for p in polygons.tolist():
         k = int(sizes[p])
@@ -257,7 +239,7 @@ def _ear_clip_all(
 
 def _ear_clip(positions: np.ndarray) -> np.ndarray | None:
     """Triangles (k-2, 3) of corner numbers covering one polygon (k, 3), by ear clipping on its
-    best-fit plane; None when that fails (a twisted polygon)."""
+    best-fit plane; None when that fails."""
     k = len(positions)
     edges = positions[1:] - positions[0]
     normal = np.cross(edges[:-1], edges[1:]).sum(axis=0)  # Newell's
@@ -284,9 +266,9 @@ def _ear_clip(positions: np.ndarray) -> np.ndarray | None:
 
 
 def _put_back_dropped_corners(tri: np.ndarray, k: int) -> np.ndarray | None:
-    """Ear clipping drops corners that lie on a straight line between their neighbours (or
-    repeat one); a neighbouring face may still use such a corner, so split the triangle on the
-    edge that skips them into a fan through them. None when no such triangle is found."""
+    """Ear clipping drops corners on a straight line between their neighbours (or repeated);
+    a neighbouring face may use one, so the triangle on the edge skipping them is split into
+    a fan through them. None when no such triangle is found."""
     kept = np.flatnonzero(np.isin(np.arange(k), tri))
     rows = [list(t) for t in tri.tolist()]
     for a, b in zip(kept.tolist(), np.roll(kept, -1).tolist(), strict=True):
