@@ -65,17 +65,8 @@ def affected_rows(neighbours: VertexNeighbours, moved: np.ndarray, n_vertices: i
 
 
 class CavityField:
-    """The curvature of a mesh's vertices, kept up to date event by event.
-
-    Parameters
-    ----------
-    faces : (M, 3) int, the mesh's triangles (their connectivity is kept).
-    n_vertices : int
-
-    Attributes
-    ----------
-    values : (N,) float64, κ of every vertex after the last :meth:`update` (zeros before).
-    """
+    """The curvature ``values`` (N,) float64 of the vertices of a mesh of triangles ``faces``
+    (M, 3), kept up to date event by event by :meth:`update` (zeros before)."""
 
     def __init__(self, faces: np.ndarray, n_vertices: int) -> None:
         faces = np.asarray(faces, dtype=np.int64)

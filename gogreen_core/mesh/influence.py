@@ -50,12 +50,10 @@ MAX_IMAGES = 8
 #: Above this fraction of the rows needing the per-point test, the plain pass serves.
 PLAIN_FRACTION = 0.5
 #: An array whose median block spans more than this fraction of its bounding box's diagonal
-#: (a vertex order without locality) is left to the plain pass: the blocks would cost their
-#: upkeep and save nothing.
+#: (no locality) is left to the plain pass: the blocks would save nothing.
 DORMANT_EXTENT = 0.25
-#: Check every answer against the plain pass; record mismatches in :data:`mismatches` and raise.
-#: The blocks then answer for every vertex order (none is left dormant), so that the tests
-#: check them on every mesh.
+#: Check every answer against the plain pass (recorded in :data:`mismatches`, raised); the
+#: blocks then answer for every vertex order, so the tests check them on every mesh.
 VERIFY = False
 #: What :data:`VERIFY` found (descriptions), for a test harness to assert empty.
 mismatches: list[str] = []
@@ -87,14 +85,9 @@ def plain_rows_near(
 
 class VertexBlocks:
     """The influence test of one vertex array, answered with the bounding boxes of its blocks
-    of :data:`BLOCK` consecutive rows (see the module docstring).
-
-    State, for the array it serves (built on the first query, refitted block by block):
-    lo, hi (n_blocks, 3) float64, model units: each block's box (lo > hi: no finite row);
-    dirty (n_blocks,) bool: blocks written since their box was fitted; dormant: the array's
-    order has no locality (:data:`DORMANT_EXTENT`), the plain pass answers and writes are not
-    tracked. One lock guards it, so a background query and the writes of another thread may
-    interleave.
+    of :data:`BLOCK` consecutive rows (see the module docstring): lo, hi (n_blocks, 3) (lo > hi:
+    no finite row), dirty (n_blocks,) (written since fitted). One lock guards them, so a
+    background query and another thread's writes may interleave.
     """
 
     def __init__(self) -> None:

@@ -54,22 +54,9 @@ def _subdivide(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.
 
 
 def icosphere(subdivisions: int = 4, radius: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
-    """A closed, outward-oriented sphere of near-equilateral triangles.
-
-    Parameters
-    ----------
-    subdivisions : int
-        Times each triangle of an icosahedron is split in four, 0 to 8.
-    radius : float
-        Sphere radius (length units), finite and > 0.
-
-    Returns
-    -------
-    vertices : (10·4^s + 2, 3) float64
-        All at distance ``radius`` from the origin.
-    faces : (20·4^s, 3) int64
-        Counter-clockwise seen from outside (normals point away from the origin).
-    """
+    """A closed sphere of near-equilateral triangles: an icosahedron whose triangles are split
+    in four ``subdivisions`` times (0 to 8), of ``radius`` (> 0). Returns vertices
+    (10·4^s + 2, 3) float64 and faces (20·4^s, 3) int64, counter-clockwise seen from outside."""
     if int(subdivisions) != subdivisions or not 0 <= subdivisions <= 8:
         raise ValueError(f"subdivisions must be an integer in [0, 8] (got {subdivisions!r})")
     if not (np.isfinite(radius) and radius > 0):
@@ -95,19 +82,8 @@ def default_model(subdivisions: int = 6) -> tuple[np.ndarray, np.ndarray]:
     """The smooth pebble the app opens on start: an icosphere's vertices moved along their radii
     by smooth Gaussian bumps around a few fixed directions (the radius stays above 0.9: no
     self-intersection), stretched by (1.15, 1, 0.9), its bounding box centred at the origin.
-
-    Parameters
-    ----------
-    subdivisions : int
-        Icosphere subdivisions; 6 (the default) gives 40,962 vertices and 81,920 faces.
-
-    Returns
-    -------
-    vertices : (N, 3) float64
-        About 2.4 × 2.1 × 1.9 units across, centred at the origin.
-    faces : (M, 3) int64
-        Closed, outward oriented.
-    """
+    Returns vertices (N, 3) float64, about 2.4 × 2.1 × 1.9 units across, and closed, outward
+    faces (M, 3) int64; 6 subdivisions (the default) give 40,962 vertices and 81,920 faces."""
     sphere, faces = icosphere(subdivisions)
     radius = np.ones(len(sphere))
     for direction, amplitude, width in _BUMPS:

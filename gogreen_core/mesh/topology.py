@@ -43,14 +43,9 @@ def concatenated_ranges(starts: np.ndarray, counts: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True)
 class MeshEdges:
-    """The undirected edges of a triangle mesh.
-
-    ends : (E, 2) int64, the two vertices of each edge, smaller first; edges are sorted by
-        (ends[:, 0], ends[:, 1]).
-    face_edges : (M, 3) int64, the edge of each face's side k, from corner k to corner k + 1.
-    face_count : (E,) int64, how many faces share each edge (1: a boundary edge, 2: an interior
-        one, more: a non-manifold edge).
-    """
+    """The undirected edges of a triangle mesh: ``ends`` (E, 2) int64, the two vertices of each
+    (smaller first, edges sorted by them); ``face_edges`` (M, 3) int64, the edge of each face's
+    side k (corner k to k + 1); ``face_count`` (E,) int64, the faces sharing each edge."""
 
     ends: np.ndarray
     face_edges: np.ndarray
@@ -83,16 +78,12 @@ def mesh_edges(faces: np.ndarray, n_vertices: int) -> MeshEdges:
 
 @dataclass(frozen=True)
 class VertexNeighbours:
-    """Each vertex's neighbours along the mesh edges, in compressed rows.
-
-    offsets : (N + 1,) int64; the neighbours of vertex v are
-        ``neighbours[offsets[v]:offsets[v + 1]]`` (increasing).
-    neighbours : (2E,) int64.
-    on_boundary : (2E,) bool, the edge to that neighbour is a boundary edge (one face).
-    mode : (N,) int8, how a relaxation moves the vertex: :data:`INTERIOR` (towards the mean of
-        its neighbours), :data:`BOUNDARY` (towards the mean of its two boundary neighbours, so an
-        open rim slides along itself and does not shrink) or :data:`FIXED` (a vertex on a
-        non-manifold edge, with other than two boundary edges, or in no face).
+    """Each vertex's neighbours, in compressed rows: those of vertex v are
+    ``neighbours[offsets[v]:offsets[v + 1]]`` (increasing; ``offsets`` (N + 1,), ``neighbours``
+    (2E,) int64), ``on_boundary`` (2E,) bool when their edge has one face. ``mode`` (N,) int8:
+    how a relaxation moves the vertex, :data:`INTERIOR` (towards its neighbours' mean),
+    :data:`BOUNDARY` (towards its two boundary neighbours', so an open rim does not shrink) or
+    :data:`FIXED` (on a non-manifold edge, other than two boundary edges, or in no face).
     """
 
     offsets: np.ndarray
@@ -123,17 +114,10 @@ def vertex_neighbours(edges: MeshEdges, n_vertices: int) -> VertexNeighbours:
 
 
 class FaceAdjacency:
-    """The faces around each vertex, built once per mesh (connectivity only, so it stays valid
-    while the vertices move).
-
-    Attributes
-    ----------
-    offsets : (N + 1,) int64
-        The faces of vertex v are ``face_ids[offsets[v]:offsets[v + 1]]``.
-    face_ids : (3M,) int64
-        In increasing face order (a face listing v twice appears twice), the order in which
-        :func:`~gogreen_core.mesh.geometry.vertex_normals` sums them, so updates round identically.
-    """
+    """The faces around each vertex (connectivity only: valid while the vertices move): those
+    of vertex v are ``face_ids[offsets[v]:offsets[v + 1]]`` (``offsets`` (N + 1,), ``face_ids``
+    (3M,) int64), in increasing face order, the order in which
+    :func:`~gogreen_core.mesh.geometry.vertex_normals` sums them."""
 
     def __init__(self, faces: np.ndarray, n_vertices: int):
         flat = checked_faces(faces, n_vertices).ravel()
@@ -146,9 +130,9 @@ class FaceAdjacency:
 
     @classmethod
     def of(cls, faces: np.ndarray, n_vertices: int) -> FaceAdjacency:
-        """The adjacency of the face array ``faces`` (that array object): built once per
-        topology and shared by its callers (no pass over every face per stroke: a 1.3M-face
-        mesh takes 50-300 ms), held by a weak reference so a replaced mesh is freed."""
+        """The adjacency of the face array ``faces`` (that array object), built once and shared
+        (a 1.3M-face mesh takes 50-300 ms), held by a weak reference so a replaced mesh is
+        freed."""
         if _LAST_ADJACENCY:
             held, adjacency = _LAST_ADJACENCY[0]
             if held() is faces and adjacency.n_vertices == n_vertices:

@@ -1,8 +1,8 @@
-"""The mesh as plain arrays, the error every reader and writer raises, and the final check of a
-loaded or to-be-saved mesh."""
+"""The mesh as plain arrays, the error every reader and writer raises, and the mesh's checks."""
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass
 
 import numpy as np
@@ -24,17 +24,14 @@ class MeshData:
     Attributes
     ----------
     vertices : (N, 3) float64
-        Positions, in the file's units and order (vertices that STL or a PLY split only for
-        their format are one vertex, at its first appearance).
+        Positions, in the file's units and order.
     faces : (M, 3) int64
-        Vertex indices (from 0) of each triangle, counter-clockwise seen from outside when the
-        file is consistently oriented.
+        Vertex indices (from 0) of each triangle, counter-clockwise seen from outside.
     uv : (T, 2) float64 or None
-        Texture coordinates: OBJ ``vt`` records, shared between corners like the file shares
-        them; a PLY's per-vertex ``s, t`` (one row per vertex of the file).
+        Texture coordinates (OBJ ``vt`` records; a PLY's per-vertex ``s, t``).
     uv_faces : (M, 3) int64 or None
-        Per face corner, the row of ``uv`` it uses; a row of -1 marks a face that has no
-        texture coordinates (allowed in OBJ). Set together with ``uv``.
+        Per face corner, the row of ``uv`` it uses (a row of -1: a face without); set with
+        ``uv``.
     source : str or None
         Path of the file the mesh was loaded from.
     """
@@ -59,14 +56,8 @@ class MeshData:
             self.uv_faces = np.asarray(self.uv_faces, dtype=np.int64)
 
     def copy(self) -> MeshData:
-        """A deep copy (arrays are copied, ``source`` is shared)."""
-        return MeshData(
-            vertices=self.vertices.copy(),
-            faces=self.faces.copy(),
-            uv=None if self.uv is None else self.uv.copy(),
-            uv_faces=None if self.uv_faces is None else self.uv_faces.copy(),
-            source=self.source,
-        )
+        """A deep copy."""
+        return copy.deepcopy(self)
 
 
 def first_non_finite(rows: np.ndarray) -> int | None:

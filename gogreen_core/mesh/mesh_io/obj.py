@@ -7,7 +7,6 @@ materials and groups are not kept.
 
 from __future__ import annotations
 
-import io
 from typing import BinaryIO
 
 import numpy as np
@@ -36,17 +35,12 @@ def write_obj(mesh: MeshData, out: BinaryIO) -> None:
     uv_faces = mesh.uv_faces
     assert uv_faces is not None  # set together with uv
     has_uv = uv_faces[:, 0] >= 0
+    corners = np.stack([mesh.faces + 1, uv_faces + 1], axis=2).reshape(-1, 6)
     if has_uv.all():
-        corners = np.stack([mesh.faces + 1, uv_faces + 1], axis=2).reshape(-1, 6)
         write_rows(out, "f %d/%d %d/%d %d/%d\n", corners)
         return
-    text = io.StringIO()  # some faces without texture coordinates: keep them so, in order
-    for face, tex, textured in zip(
-        (mesh.faces + 1).tolist(), (uv_faces + 1).tolist(), has_uv, strict=True
-    ):
-        if textured:
-            text.write("f " + " ".join(f"{a}/{b}" for a, b in zip(face, tex, strict=True)))
-        else:
-            text.write("f {} {} {}".format(*face))
-        text.write("\n")
-    out.write(text.getvalue().encode("ascii"))
+    lines = [  # some faces without texture coordinates: keep them so, in order
+        "f {}/{} {}/{} {}/{}\n".format(*row) if textured else "f {} {} {}\n".format(*row[::2])
+        for row, textured in zip(corners.tolist(), has_uv.tolist(), strict=True)
+    ]
+    out.write("".join(lines).encode("ascii"))

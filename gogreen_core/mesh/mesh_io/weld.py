@@ -16,20 +16,9 @@ __all__ = ["split_at_seams", "weld"]
 
 
 def weld(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Join vertices at the same position (bit for bit, -0.0 as 0.0).
-
-    Parameters
-    ----------
-    points : (N, 3) float32 or float64
-        Positions as the file has them (float32 ones are compared as float32).
-
-    Returns
-    -------
-    index : (N,) int64
-        The welded vertex of each file vertex.
-    kept : (W,) int64
-        The file vertex that each welded vertex comes from (its first appearance), increasing.
-    """
+    """Join vertices at the same position (bit for bit, -0.0 as 0.0; float32 ``points`` (N, 3)
+    compared as float32): the welded vertex of each vertex (N,) int64, and the vertex each
+    welded one comes from (W,) int64 (its first appearance, increasing)."""
     if len(points) >= 2**31:
         raise ValueError(f"too many vertices to weld ({len(points)})")
     first = _first_equal_rows(_bits(points))
@@ -40,21 +29,11 @@ def weld(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def split_at_seams(
     faces: np.ndarray, uv: np.ndarray, uv_faces: np.ndarray, n_vertices: int
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """One texture coordinate per vertex, for a format that has no per-corner ones (PLY).
-
-    A vertex keeps its number and the texture coordinate of its first textured corner; each
-    other (vertex, texture coordinate) pair becomes a new vertex after the ``n_vertices``
-    originals, in order of first appearance (corners without one use the vertex's own).
-
-    Returns
-    -------
-    source : (V,) int64
-        The vertex each written vertex is a copy of (``arange(n_vertices)`` first).
-    vertex_uv : (V, 2) float64
-        Its texture coordinate ((0, 0) for a vertex without a textured corner).
-    written_faces : (M, 3) int64
-        The faces on the written vertices.
-    """
+    """One texture coordinate per vertex, for a format without per-corner ones (PLY): a vertex
+    keeps its number and its first textured corner's; each other (vertex, texture coordinate)
+    pair becomes a new vertex after the originals, in order of first appearance. Returns the
+    vertex each written vertex copies (V,) (``arange(n_vertices)`` first), its texture
+    coordinate (V, 2) ((0, 0) without one) and the faces (M, 3) on the written vertices."""
     corner_vertex = faces.ravel()
     corner_uv = uv_faces.ravel()
     textured = np.flatnonzero(corner_uv >= 0)
