@@ -37,23 +37,11 @@ def load_mesh(path: str | os.PathLike[str]) -> MeshData:
     (:mod:`~gogreen_core.mesh.mesh_io.polygons`). Text is UTF-8 (a byte-order mark skipped,
     CR LF or lone CR line ends accepted).
 
-    Parameters
-    ----------
-    path : str or PathLike
-        A ``.obj``, ``.ply`` (ASCII or binary), ``.stl`` (binary or ASCII) or ``.off`` file
-        (case-insensitive).
-
-    Returns
-    -------
-    MeshData
-        vertices (N, 3) float64 in file units, faces (M, 3) int64, ``uv``/``uv_faces`` for an
-        OBJ or PLY with texture coordinates, ``source`` = ``str(path)``.
-
-    Raises
-    ------
-    MeshFileError
-        Unknown extension, missing or unreadable file, empty, broken or truncated content, no
-        faces, non-finite coordinates, or an index out of range; the message names the file.
+    ``path``: a ``.obj``, ``.ply`` (ASCII or binary), ``.stl`` (binary or ASCII) or ``.off``
+    file. Returns its :class:`MeshData` (``source`` = ``str(path)``). Raises
+    :class:`MeshFileError` naming the file for an unknown extension, a missing or unreadable
+    file, empty, broken or truncated content, no faces, non-finite coordinates or an index out
+    of range.
     """
     p = Path(path)
     suffix = p.suffix.lower()
@@ -79,25 +67,13 @@ def load_mesh(path: str | os.PathLike[str]) -> MeshData:
 
 
 def save_mesh(mesh: MeshData, path: str | os.PathLike[str], *, ascii: bool = False) -> None:
-    """Write ``mesh`` to ``path`` atomically; the extension chooses the format.
-
-    Parameters
-    ----------
-    mesh : MeshData
-        vertices (N, 3) float64 (must be finite), faces (M, 3) int64; ``uv``/``uv_faces`` are
-        written to OBJ (per corner) and PLY (``s, t`` per vertex: a vertex whose corners have
-        several is written once per texture coordinate, which loading joins back).
-    path : str or PathLike
-        ``.obj``, ``.ply``, ``.stl`` or ``.off``. A symbolic link is written through (the
-        link stays); an existing file keeps its permission bits.
-    ascii : bool
-        PLY only: ASCII instead of binary little-endian.
-
-    Raises
-    ------
-    MeshFileError
-        Unknown extension, a mesh that cannot be saved (checked before anything is written),
-        a missing folder, or an OS error while writing. The destination is then untouched.
+    """Write ``mesh`` to ``path`` (``.obj``, ``.ply``, ``.stl`` or ``.off``) atomically; a
+    symbolic link is written through, an existing file keeps its permission bits. Texture
+    coordinates go to OBJ (per corner) and PLY (``s, t`` per vertex, a vertex written once per
+    texture coordinate of its corners, joined back at load). ``ascii``: ASCII PLY instead of
+    binary little-endian. Raises :class:`MeshFileError` for an unknown extension, a mesh that
+    cannot be saved (checked before anything is written), a missing folder or an OS error
+    while writing; the destination is then untouched.
     """
     p = Path(path)
     suffix = p.suffix.lower()
