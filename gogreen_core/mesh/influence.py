@@ -92,28 +92,22 @@ class VertexBlocks:
 
     def __init__(self) -> None:
         self._lock = threading.Lock()
-        self._array: weakref.ref[NDArray[np.float64]] | None = None
-        self._n = 0
-        self._lo = np.empty((0, 3))
-        self._hi = np.empty((0, 3))
-        self._dirty = np.empty(0, dtype=np.bool_)
-        self._near = np.empty(0, dtype=np.bool_)
-        self._dormant: bool | None = None  # decided with the first boxes
         #: Answers given by the blocks and by the plain pass (what a benchmark reports).
         self.answers = {"blocks": 0, "plain": 0}
+        self._index(np.empty((0, 3)))  # an array freed at once: no array is served yet
 
     def _serves(self, vertices: NDArray[np.float64]) -> bool:
-        return self._array is not None and self._array() is vertices and len(vertices) == self._n
+        return self._array() is vertices and len(vertices) == self._n
 
     def _index(self, vertices: NDArray[np.float64]) -> None:
         """Serve ``vertices`` from now on: every box to be fitted (at the next query)."""
-        self._array = weakref.ref(vertices)
+        self._array: weakref.ref[NDArray[np.float64]] = weakref.ref(vertices)
         self._n = n = len(vertices)
         n_blocks = -(-n // BLOCK)
         self._lo, self._hi = np.empty((n_blocks, 3)), np.empty((n_blocks, 3))
         self._dirty = np.ones(n_blocks, dtype=np.bool_)
         self._near = np.empty(n, dtype=np.bool_)
-        self._dormant = None
+        self._dormant: bool | None = None  # decided with the first boxes
 
     def changed(self, vertices: NDArray[np.float64], rows: NDArray[np.integer] | None) -> None:
         """Rows ``rows`` (k,) of ``vertices`` (N, 3) were written (None: any row may have been):

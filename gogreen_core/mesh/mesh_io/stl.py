@@ -76,7 +76,8 @@ def _ascii_corners(data: bytes, name: str) -> np.ndarray:
     try:
         corners = parse_numbers(flat, np.float64)
     except ValueError:  # numbers the C parser does not take ('1_0'), read as ASCII PLY's are
-        bad = next((m for m in _VERTEX.finditer(text) if not _all_numbers(m.groups())), None)
+        words = (m for m in _VERTEX.finditer(text) if not all(map(is_number, m.groups())))
+        bad = next(words, None)
         if bad is not None:
             shown = b" ".join(bad.groups()).decode("ascii", "replace")
             raise MeshFileError(
@@ -137,10 +138,6 @@ def _skip_space(text: bytes, position: int) -> int:
 
 def _line_of(text: bytes, position: int) -> int:
     return text.count(b"\n", 0, position) + 1
-
-
-def _all_numbers(tokens: tuple[bytes, ...]) -> bool:
-    return all(is_number(t.decode("ascii", "replace")) for t in tokens)
 
 
 def _welded(corners: np.ndarray, name: str) -> MeshData:

@@ -73,7 +73,7 @@ def show_number(value: np.floating) -> str:
     return str(value)
 
 
-def is_number(token: str) -> bool:
+def is_number(token: str | bytes) -> bool:
     try:
         float(token)
     except ValueError:
