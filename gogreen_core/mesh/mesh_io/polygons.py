@@ -56,7 +56,7 @@ def triangulate(points: np.ndarray, corners: np.ndarray, sizes: np.ndarray) -> n
         return np.arange(3 * len(sizes), dtype=np.int64).reshape(-1, 3)
     corners = np.ascontiguousarray(corners, dtype=np.int64)
     points = np.ascontiguousarray(points, dtype=np.float64)
-    corner_starts, triangle_starts = _starts(sizes), _starts(sizes - 2)
+    corner_starts, triangle_starts = np.cumsum(sizes) - sizes, np.cumsum(sizes - 2) - (sizes - 2)
     # Every polygon's fan from its first corner, then the quads' and larger polygons' choices.
     polygon = np.repeat(np.arange(len(sizes)), sizes - 2)
     first = corner_starts[polygon]
@@ -74,8 +74,12 @@ def triangulate(points: np.ndarray, corners: np.ndarray, sizes: np.ndarray) -> n
         found, uncovered = _fans(
             points, their_corners, their_sizes, _FOLD_TOLERANCE, _MAX_FAN_STARTS
         )
-        if uncovered.any():
-            _ear_clip_all(points, their_corners, their_sizes, found, np.flatnonzero(uncovered))
+        starts, firsts = np.cumsum(their_sizes) - their_sizes, np.cumsum(their_sizes - 2)
+        for p in np.flatnonzero(uncovered).tolist():  # ear clipping (a twisted one keeps its fan)
+            k, c = int(their_sizes[p]), int(starts[p])
+            clipped = _ear_clip(points[their_corners[c : c + k]])
+            if clipped is not None:
+                found[int(firsts[p]) - k + 2 : int(firsts[p])] = c + clipped
         triangles[rows] = own[found]
     return triangles
 
@@ -137,11 +141,6 @@ def _fold(u: _Vectors, v: _Vectors, n: _Vectors, nn: np.ndarray) -> np.ndarray:
     side = _dot(_cross(u, v), n)
     scale = np.sqrt(_dot(u, u) * _dot(v, v) * nn)
     return np.where(scale > 0, -side / np.where(scale > 0, scale, 1.0), 0.0)
-
-
-def _starts(sizes: np.ndarray) -> np.ndarray:
-    """Offset of each run of ``sizes`` items in their concatenation."""
-    return np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int64)
 
 
 @numba.njit(cache=True, nogil=True)
@@ -218,23 +217,6 @@ def _fan_covers(
         if side < -tolerance * scale * length:
             return False
     return True
-
-
-def _ear_clip_all(
-    points: np.ndarray,
-    corners: np.ndarray,
-    sizes: np.ndarray,
-    triangles: np.ndarray,
-    polygons: np.ndarray,
-) -> None:
-    """Ear-clip ``polygons`` in ``triangles``; one it fails on (twisted) keeps its fan."""
-    corner_starts, triangle_starts = _starts(sizes), _starts(sizes - 2)
-    for p in polygons.tolist():
-        k = int(sizes[p])
-        positions = points[corners[corner_starts[p] : corner_starts[p] + k]]
-        clipped = _ear_clip(positions)
-        if clipped is not None:
-            triangles[triangle_starts[p] : triangle_starts[p] + k - 2] = corner_starts[p] + clipped
 
 
 def _ear_clip(positions: np.ndarray) -> np.ndarray | None:
