@@ -81,12 +81,10 @@ def _connect(
     faces: np.ndarray, rank: np.ndarray, face_order: np.ndarray, face_rank: np.ndarray,
     index_faces: np.ndarray, offsets: np.ndarray, leaf_ids: np.ndarray, block_offsets: np.ndarray,
     block_leaves: np.ndarray) -> int:  # fmt: skip
-    """The faces in index order with index-numbered corners (index_faces); for each index
-    vertex its faces as leaf positions in increasing original face order (the order in which
-    :func:`vertex_normals` sums them), ``leaf_ids[offsets[i]:offsets[i + 1]]``; for each
-    block of 2**_BLOCK_SHIFT index vertices the distinct leaves holding their faces,
-    ``block_leaves[block_offsets[b]:block_offsets[b + 1]]`` (returns how many entries of
-    ``block_leaves`` that uses)."""
+    """Fill index_faces (index order, index-numbered corners); each index vertex's faces as
+    leaf positions in original face order (as :func:`vertex_normals` sums them) in leaf_ids by
+    offsets; each vertex block's distinct leaves in block_leaves by block_offsets (returns how
+    many entries that uses)."""
     n_faces = faces.shape[0]
     for p in range(n_faces):
         f = face_order[p]
@@ -506,8 +504,7 @@ def _curve_order(points: np.ndarray, groups: np.ndarray, low: np.ndarray,
 
 
 def _exercise() -> None:
-    """Call every compiled function of this module once: a small surface index built, updated,
-    compared and picked."""
+    """Call every compiled function of this module once, on a small surface index."""
     vertices = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
     index = SurfaceIndex(vertices, np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]))
     moved = vertices.copy()

@@ -287,11 +287,9 @@ def read_ascii_element(
 def row_problem(
     data: bytes, offset: int, elements: list[PlyElement], name: str
 ) -> MeshFileError | None:
-    """The first data line of an ASCII PLY with more values than the header declares for it,
-    or a line without lists with fewer: when a record's values run into the next one, this
-    names the line at fault instead of the misread value further on. Only for a file of one
-    record per line (as writers do) with as many lines as the header's counts; else None, as
-    when every line matches."""
+    """The error naming the first data line of an ASCII PLY with more values than the header
+    declares (or fewer, without lists), rather than the misread value further on; None unless
+    the file has one record per line, as many as the header's counts."""
     lines = [
         (number, line.split())
         for number, line in enumerate(
