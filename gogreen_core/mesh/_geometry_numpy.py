@@ -1,16 +1,14 @@
-"""NumPy twins of ``geometry.py``'s compiled functions: a new machine picks and shades at once.
-
-On a new machine numba takes seconds to compile :class:`~gogreen_core.mesh.geometry.SurfaceIndex`'s
-functions (``_update`` alone 3-10 s), which the window needs before the first stroke (picking)
-and after every event (normals). Until they are compiled (in the background, see
-``_compiled``), these functions serve: the same arguments and outputs, the integer bookkeeping
-exactly, the normals, boxes and hits within 1e-12 relative, so an index built or updated here
-serves the compiled code and the two may take turns. ``n_threads`` arguments are ignored.
+"""NumPy twins of ``geometry.py``'s compiled functions, serving until numba has compiled those
+in the background (``_compiled``), so a new machine picks and shades at once: same arguments and
+outputs, integer bookkeeping exact, normals, boxes and hits within 1e-12 relative, so the two
+may take turns on one index. ``n_threads`` arguments are ignored.
 """
 
 from __future__ import annotations
 
 import numpy as np
+
+from gogreen_core.mesh.topology import concatenated_ranges
 
 __all__ = ["LEAF_SIZE"]
 
@@ -69,14 +67,9 @@ def _connect(
     return used
 
 
-def _ranges(offsets: np.ndarray, starts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(positions, owner): every index in [offsets[s], offsets[s + 1]) for s in ``starts``, in
-    order, and the position in ``starts`` it came from."""
-    begin = offsets[starts].astype(np.int64)
-    length = offsets[starts + 1].astype(np.int64) - begin
-    owner = np.repeat(np.arange(len(starts)), length)
-    within = np.arange(owner.size) - np.repeat(np.cumsum(length) - length, length)
-    return begin[owner] + within, owner
+def _ranges(offsets: np.ndarray, starts: np.ndarray) -> np.ndarray:
+    """Every index in [offsets[s], offsets[s + 1]) for s in ``starts``, in order."""
+    return concatenated_ranges(offsets[starts], offsets[starts + 1] - offsets[starts])
 
 
 def _update(
@@ -94,7 +87,7 @@ def _update(
     blocks = np.flatnonzero(block_moved)
     block_moved[blocks] = False
     block_ring[blocks] = True
-    entries, _ = _ranges(block_offsets, blocks)
+    entries = _ranges(block_offsets, blocks)
     leaf_mark[block_leaves[entries]] = True
     leaves = np.flatnonzero(leaf_mark)
     leaf_mark[leaves] = False
@@ -116,7 +109,8 @@ def _update(
     vertex = vertex[moved[vertex] | ring[vertex]]
     moved[vertex] = False
     ring[vertex] = False
-    entries, owner = _ranges(offsets, vertex)
+    entries = _ranges(offsets, vertex)
+    owner = np.repeat(np.arange(len(vertex)), offsets[vertex + 1] - offsets[vertex])
     sums = np.zeros((len(vertex), 3))
     np.add.at(sums, owner, face_normals[leaf_ids[entries]])  # in face order, as compiled
     norm = np.sqrt(np.sum(sums * sums, axis=1))
@@ -146,9 +140,7 @@ def _refit(
     n_faces = index_faces.shape[0]
     starts = leaves * LEAF_SIZE
     counts = np.minimum(starts + LEAF_SIZE, n_faces) - starts
-    face = np.repeat(starts, counts) + (
-        np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
-    )
+    face = concatenated_ranges(starts, counts)
     corners = positions[index_faces[face]]  # (f, 3, 3): the faces' corners of the leaves
     bounds = np.concatenate([[0], np.cumsum(counts)[:-1]])
     boxes[leaves, :3] = np.minimum.reduceat(corners.min(axis=1), bounds, axis=0)

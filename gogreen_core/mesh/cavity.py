@@ -1,12 +1,9 @@
 """Per-vertex curvature for the viewport's cavity tint (darker in hollows, lighter on ridges).
 
-The curvature at vertex i is the average normal curvature of its edges weighted by their
-squared lengths: κ_i = 2 n_i · Σ_j (x_j − x_i) / Σ_j |x_j − x_i|², over the one-ring j, with
-n_i the unit vertex normal. Each edge's normal curvature is 2 n·d / |d|² (exact for a chord of
-a sphere), so κ is −1/R on a sphere of radius R whatever the sampling, positive in a hollow
-and negative on a ridge, and independent of the mesh's resolution: a dent of a given size
-tints the same on a coarse and on a subdivided mesh. An event updates the moved vertices and
-their one-ring only (:func:`affected_rows`, :meth:`CavityField.update`).
+κ_i = 2 n_i · Σ_j (x_j − x_i) / Σ_j |x_j − x_i|² over the one-ring j (n_i the unit vertex
+normal): the edges' normal curvatures 2 n·d / |d|² (exact for a sphere's chords) weighted by
+their squared lengths. So κ = −1/R on a sphere whatever the sampling: a dent tints the same on a
+coarse and on a subdivided mesh. An event updates the moved vertices and their one-ring only.
 """
 
 from __future__ import annotations
@@ -15,7 +12,12 @@ from collections.abc import Callable
 
 import numpy as np
 
-from gogreen_core.mesh.topology import VertexNeighbours, mesh_edges, vertex_neighbours
+from gogreen_core.mesh.topology import (
+    VertexNeighbours,
+    concatenated_ranges,
+    mesh_edges,
+    vertex_neighbours,
+)
 
 __all__ = ["CavityField", "affected_rows", "curvature"]
 
@@ -25,12 +27,10 @@ def _gather(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The one-rings of ``rows`` (n,) one after another: their vertices (K,), each row's count
     (n,) and where each row's ring starts (n,)."""
-    starts, stops = neighbours.offsets[rows], neighbours.offsets[rows + 1]
-    counts = stops - starts
-    begins = np.zeros(len(rows), dtype=np.int64)
-    np.cumsum(counts[:-1], out=begins[1:])
-    first = np.repeat(starts - begins, counts)
-    return neighbours.neighbours[first + np.arange(len(first))], counts, begins
+    starts = neighbours.offsets[rows]
+    counts = neighbours.offsets[rows + 1] - starts
+    ring = neighbours.neighbours[concatenated_ranges(starts, counts)]
+    return ring, counts, np.cumsum(counts) - counts
 
 
 def curvature(
@@ -65,17 +65,8 @@ def affected_rows(neighbours: VertexNeighbours, moved: np.ndarray, n_vertices: i
 
 
 class CavityField:
-    """The curvature of a mesh's vertices, kept up to date event by event.
-
-    Parameters
-    ----------
-    faces : (M, 3) int, the mesh's triangles (their connectivity is kept).
-    n_vertices : int
-
-    Attributes
-    ----------
-    values : (N,) float64, κ of every vertex after the last :meth:`update` (zeros before).
-    """
+    """The curvature ``values`` (N,) float64 of the vertices of a mesh of triangles ``faces``
+    (M, 3), kept up to date event by event by :meth:`update` (zeros before)."""
 
     def __init__(self, faces: np.ndarray, n_vertices: int) -> None:
         faces = np.asarray(faces, dtype=np.int64)

@@ -1,12 +1,5 @@
-"""Small mesh computations the viewport needs every frame (plain arrays in, arrays out).
-
-Per-event work stays proportional to the change: a :class:`SurfaceIndex`, built once per mesh,
-recomputes after each event only the faces around the moved vertices and the normals of those
-vertices and their one-ring (bit for bit what a build on the moved mesh gives, and within
-float32 rounding of :func:`vertex_normals`), refits the boxes of the face groups they touch when
-it next picks, and finds the surface point under the mouse without a locator built over the
-whole mesh.
-"""
+"""Small mesh computations the viewport needs every frame (plain arrays in, arrays out), and
+:class:`SurfaceIndex`: normals and picking at a per-event cost proportional to the change."""
 
 from __future__ import annotations
 
@@ -22,6 +15,7 @@ from gogreen_core import _compiled
 from gogreen_core._jit_options import NogilJitOptions
 from gogreen_core.mesh import _geometry_numpy
 from gogreen_core.mesh._geometry_numpy import _BLOCK_SHIFT, _MORTON_BITS, LEAF_SIZE
+from gogreen_core.mesh.topology import checked_faces
 from gogreen_core.threads import threads_at_most
 
 __all__ = ["SurfaceIndex", "mesh_volume", "vertex_normals"]
@@ -87,12 +81,10 @@ def _connect(
     faces: np.ndarray, rank: np.ndarray, face_order: np.ndarray, face_rank: np.ndarray,
     index_faces: np.ndarray, offsets: np.ndarray, leaf_ids: np.ndarray, block_offsets: np.ndarray,
     block_leaves: np.ndarray) -> int:  # fmt: skip
-    """The faces in index order with index-numbered corners (index_faces); for each index
-    vertex its faces as leaf positions in increasing original face order (the order in which
-    :func:`vertex_normals` sums them), ``leaf_ids[offsets[i]:offsets[i + 1]]``; for each
-    block of 2**_BLOCK_SHIFT index vertices the distinct leaves holding their faces,
-    ``block_leaves[block_offsets[b]:block_offsets[b + 1]]`` (returns how many entries of
-    ``block_leaves`` that uses)."""
+    """Fill index_faces (index order, index-numbered corners); each index vertex's faces as
+    leaf positions in original face order (as :func:`vertex_normals` sums them) in leaf_ids by
+    offsets; each vertex block's distinct leaves in block_leaves by block_offsets (returns how
+    many entries that uses)."""
     n_faces = faces.shape[0]
     for p in range(n_faces):
         f = face_order[p]
@@ -132,24 +124,13 @@ def _update(
     positions: np.ndarray, moved: np.ndarray, ring: np.ndarray, block_moved: np.ndarray,
     block_ring: np.ndarray, leaf_mark: np.ndarray, leaf_dirty: np.ndarray, face_normals: np.ndarray,
     normals: np.ndarray, n_threads: int) -> np.int64:  # fmt: skip
-    """One event: the seed vertices (original numbers) moved to ``vertices``; the arrays of
-    the index are in its own order. Four passes, each dealing chunks to the threads in turn;
-    returns how many vertex normals were recomputed.
-
-    1. copy the seeds' rows into ``positions``, flag them in ``moved`` and their blocks in
-       ``block_moved``;
-    2. for each flagged block: mark the leaves holding its vertices' faces, flag the block in
-       ``block_ring`` (a moved vertex in no face still gets its (0, 0, 1));
-    3. for each face of a marked leaf with a moved corner: (b - a) × (c - a) with numpy.cross's
-       operations (no fused multiply-add, see _JIT) rounded to float32, its corners flagged in
-       ``ring`` and their blocks in ``block_ring``;
-    4. for each vertex of a ``block_ring`` block flagged in ``moved`` or ``ring``: its faces'
-       normals summed in float64 in original face order (as np.bincount does), scaled by the
-       inverse of their norm, (0, 0, 1) if zero.
-
-    Flags are per vertex and per block of 2**_BLOCK_SHIFT vertices, so that passes 2 and 4
-    scan the blocks rather than every vertex. Every flag is cleared by the pass that reads it
-    last: no per-event allocation."""
+    """One event: the seed vertices (original numbers) moved to ``vertices``; returns how many
+    vertex normals were recomputed. Four passes, chunks dealt to the threads in turn: copy the
+    seeds (flag them and their blocks); mark the leaves of the flagged blocks' faces; recompute
+    (as numpy.cross, rounded to float32) the faces of marked leaves with a moved corner, flag
+    their corners; renormalize the flagged vertices (face normals summed in original face
+    order, as np.bincount). Flags per block of 2**_BLOCK_SHIFT vertices let passes 2 and 4 scan
+    blocks, not vertices; each pass clears what it reads last: no per-event allocation."""
     n = positions.shape[0]
     n_seeds = seeds.shape[0]
     for t in prange(n_threads):
@@ -343,45 +324,22 @@ def _closest_hit(vertices: np.ndarray, leaf_faces: np.ndarray, order: np.ndarray
 class SurfaceIndex:
     """What the viewport needs per event, at a cost proportional to the change.
 
-    Built once per mesh, in an order of its own so that the work on a brush region reads
-    neighbouring memory: the vertices renumbered along a Z-order curve (:attr:`order`), the
-    faces grouped in Z-order of their centroids into leaves of :data:`LEAF_SIZE` faces
-    (:attr:`face_order`), each leaf with a bounding box. After an event, :meth:`update`
-    copies the moved rows into :attr:`positions`, recomputes the faces around them and the
-    normals of those vertices and their one-ring (bit for bit what a new index of the moved
-    mesh gives; :func:`vertex_normals` to the float32 rounding of the face normals, ~1e-7)
-    and marks the boxes of the leaves they touch stale. :meth:`pick` refits the stale boxes
-    first (a stroke picks only at its press, so none of its events pays for boxes), tests a
-    ray against every box, then the faces of the boxes hit, nearest box first, until no box
-    can hold a nearer hit. The leaves depend only on the mesh at build time; they stay correct
-    however far vertices move (only less tight).
+    Built once per mesh in an order of its own, so a brush region reads neighbouring memory:
+    vertices along a Z-order curve (:attr:`order`), faces in Z-order of their centroids in
+    leaves of :data:`LEAF_SIZE` faces (:attr:`face_order`), each leaf with a bounding box.
+    :meth:`update` recomputes the faces around the moved vertices and the normals of their
+    one-ring (bit for bit a new build's; :func:`vertex_normals` within float32 rounding, ~1e-7)
+    and marks their leaves' boxes stale; :meth:`pick` refits those, then tests the faces of the
+    boxes the ray hits, nearest first. :attr:`positions`, :attr:`normals` and :attr:`faces` are
+    what a renderer draws directly (the viewport's VTK arrays share their memory).
 
-    :attr:`positions`, :attr:`normals` and :attr:`faces` are the arrays a renderer can draw
-    directly (the viewport's VTK arrays share their memory): no copy per event.
+    Parameters: vertices (N, 3) float64; faces (M, 3) int; progress: called with the fraction
+    done (0, 1] between the build's stages (raising from it cancels the build).
 
-    Parameters
-    ----------
-    vertices : (N, 3) float64
-    faces : (M, 3) int, indices into ``vertices``
-    progress : callable(fraction), optional
-        Called with 0 < fraction ≤ 1 between the build's stages; a background build reports
-        it, and cancels the build by raising from it.
-
-    Attributes
-    ----------
-    order : (N,) int32
-        Row i of :attr:`positions` and :attr:`normals` is vertex ``order[i]``.
-    rank : (N,) int32
-        The inverse of :attr:`order`: vertex v is row ``rank[v]``.
-    positions : (N, 3) float64
-        The positions as of the last :meth:`update`, in index order.
-    normals : (N, 3) float64
-        The unit vertex normals, in index order (updated in place by :meth:`update`).
-    faces : (M, 3) int32
-        The faces in leaf order, as rows of :attr:`positions`: ``faces[c]`` is face
-        ``face_order[c]`` of the mesh, corners in its order.
-    face_order : (M,) int32
-        The mesh face of each row of :attr:`faces`.
+    Attributes: order (N,) int32, the vertex of each row of :attr:`positions` and
+    :attr:`normals` (rank (N,) its inverse); positions (N, 3) and normals (N, 3) float64 as of
+    the last :meth:`update`, in index order; faces (M, 3) int32 in leaf order, as rows of
+    :attr:`positions` (face_order (M,) int32: the mesh face of each).
     """
 
     def __init__(
@@ -394,12 +352,8 @@ class SurfaceIndex:
         vertices = np.ascontiguousarray(vertices, dtype=np.float64)
         if vertices.ndim != 2 or vertices.shape[1] != 3:
             raise ValueError(f"vertices must have shape (N, 3) (got {vertices.shape})")
-        faces = np.asarray(faces)
-        if faces.ndim != 2 or faces.shape[1] != 3:
-            raise ValueError(f"faces must have shape (M, 3) (got {faces.shape})")
         n = len(vertices)
-        if faces.size and (faces.min() < 0 or faces.max() >= n):
-            raise ValueError(f"faces must index vertices 0 to {n - 1}")
+        faces = checked_faces(faces, n)
         if n >= 2**31 or 3 * len(faces) >= 2**31:  # int32 rows and face-corner offsets
             raise ValueError(
                 "meshes of 2**31 vertices or 2**31 / 3 faces or more are not supported"
@@ -460,11 +414,7 @@ class SurfaceIndex:
         only the rows ``changed`` are read): update :attr:`positions` and :attr:`normals`,
         mark the boxes they touch stale. Returns how many normals were recomputed (the moved
         vertices and their one-ring)."""
-        vertices = np.ascontiguousarray(vertices, dtype=np.float64)
-        if vertices.shape != (self._n_vertices, 3):
-            raise ValueError(
-                f"vertices must have shape ({self._n_vertices}, 3) (got {vertices.shape})"
-            )
+        vertices = self._checked(vertices)
         seeds = np.ascontiguousarray(changed, dtype=np.int64).ravel()
         if not seeds.size:
             return 0
@@ -482,14 +432,18 @@ class SurfaceIndex:
                 )
             )  # fmt: skip
 
-    def changed_rows(self, vertices: np.ndarray) -> np.ndarray:
-        """The sorted indices of the rows of ``vertices`` (N, 3, the mesh's order) that
-        differ from the positions of the last :meth:`update` (what an undo moved)."""
+    def _checked(self, vertices: np.ndarray) -> np.ndarray:
         vertices = np.ascontiguousarray(vertices, dtype=np.float64)
         if vertices.shape != (self._n_vertices, 3):
             raise ValueError(
                 f"vertices must have shape ({self._n_vertices}, 3) (got {vertices.shape})"
             )
+        return vertices
+
+    def changed_rows(self, vertices: np.ndarray) -> np.ndarray:
+        """The sorted indices of the rows of ``vertices`` (N, 3, the mesh's order) that
+        differ from the positions of the last :meth:`update` (what an undo moved)."""
+        vertices = self._checked(vertices)
         mask = np.empty(self._n_vertices, dtype=np.bool_)
         with _threads_for(self._n_vertices) as threads:
             _kernels()._differ(vertices, self.rank, self.positions, mask, threads)
@@ -550,8 +504,7 @@ def _curve_order(points: np.ndarray, groups: np.ndarray, low: np.ndarray,
 
 
 def _exercise() -> None:
-    """Call every compiled function of this module once: a small surface index built, updated,
-    compared and picked."""
+    """Call every compiled function of this module once, on a small surface index."""
     vertices = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
     index = SurfaceIndex(vertices, np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]))
     moved = vertices.copy()

@@ -1,39 +1,21 @@
 """Which vertices a brush event can reach, without a pass over every vertex.
 
 An event reaches the vertices p some mirror image o + M (p - o) of which lies within ``radius``
-of the segment from ``start`` to ``start + step`` (``_evaluation.near_segment``, the influence
-test; which vertices an event reaches must not change for old sessions). Over every vertex of a
-1M-vertex mesh that test, and the list of the reached ones, cost 5-9 ms an event here.
+of the segment ``start`` → ``start + step`` (``_evaluation.near_segment``, the influence test;
+it must not change for old sessions). Over every vertex of a 1M-vertex mesh that costs 5-9 ms.
 
-:class:`VertexBlocks` keeps the bounding box of every block of :data:`BLOCK` consecutive vertex
-rows. Mesh files list their vertices with locality (on the twice-subdivided ogre half the blocks
-span under 1.3 % of the model, 90 % under 7 %); the icosphere's order has less (the default model
-subdivided twice: 10 % and 37 %), and the blocks then save less. A query tests the boxes against
-its capsules (the segment dilated by the radius, one per mirror image M: the segment
-o + M (start - o) → + M step, since M is its own inverse and keeps distances): a block out of
-every capsule is skipped, a block inside one is taken whole, and only the rows of the others get
-the per-point test. The rows come out in ascending order with no sort (blocks are runs of rows),
-and are the plain pass's bit for bit:
-
-* the box tests are conservative by a margin ``SLACK`` (2⁻³⁶) times the largest coordinate,
-  radius or step in play, a thousand times the rounding of the per-point test (at most about a
-  hundred units in the last place of that largest value), so no vertex the test would keep is
-  skipped and every vertex of a block taken whole passes it;
-* the per-point test is the plain pass's own compiled function
-  (``_influence_compiled.near_segment_rows``, which ``_evaluation.near_segment`` runs over every
-  row); before the compiled code is ready the plain pass in NumPy answers every query (the
-  blocks only mark their writes meanwhile);
-* inputs where that margin argument does not hold (a radius or coordinates near the float
-  range's ends, a step whose squared length overflows or underflows, signs other than ±1, more
-  than 8 images) and queries where most rows would need the test go to the plain pass, and so
-  does every query on an array whose order has no locality at all (:data:`DORMANT_EXTENT`: its
-  writes are then not even tracked).
-
-The boxes follow the vertices: every write reports its rows (:meth:`VertexBlocks.changed`,
-through ``MeshState``), which marks their blocks; the next query refits the marked boxes from
-the current positions (exact minima and maxima, so a box shrinks back too). An index serves the
-one array it was built on (held by a weak reference): a mesh given a new array is indexed anew.
-:data:`VERIFY` checks every answer against the plain pass (the tests turn it on).
+:class:`VertexBlocks` keeps the bounding box of every block of :data:`BLOCK` consecutive rows
+(mesh files list vertices with locality: on the twice-subdivided ogre half the blocks span under
+1.3 % of the model). A query tests the boxes against its capsules (the segment dilated by the
+radius, one per mirror image): a block out of every capsule is skipped, one inside a capsule is
+taken whole, the rows of the others get the plain pass's own compiled per-point test. The rows
+come out ascending and equal to the plain pass's bit for bit: the box tests are conservative by
+``SLACK`` (2⁻³⁶) times the largest coordinate, radius or step in play, a thousand times the
+per-point test's rounding. Inputs where that argument fails (values near the float range's ends,
+signs other than ±1, more than 8 images), queries where most rows need the test, arrays without
+locality (:data:`DORMANT_EXTENT`) and a machine whose compiled code is not ready yet go to the
+plain pass. Writes report their rows (:meth:`VertexBlocks.changed`, through ``MeshState``); the
+next query refits those boxes. :data:`VERIFY` checks every answer (the tests turn it on).
 """
 
 from __future__ import annotations
@@ -68,12 +50,10 @@ MAX_IMAGES = 8
 #: Above this fraction of the rows needing the per-point test, the plain pass serves.
 PLAIN_FRACTION = 0.5
 #: An array whose median block spans more than this fraction of its bounding box's diagonal
-#: (a vertex order without locality) is left to the plain pass: the blocks would cost their
-#: upkeep and save nothing.
+#: (no locality) is left to the plain pass: the blocks would save nothing.
 DORMANT_EXTENT = 0.25
-#: Check every answer against the plain pass; record mismatches in :data:`mismatches` and raise.
-#: The blocks then answer for every vertex order (none is left dormant), so that the tests
-#: check them on every mesh.
+#: Check every answer against the plain pass (recorded in :data:`mismatches`, raised); the
+#: blocks then answer for every vertex order, so the tests check them on every mesh.
 VERIFY = False
 #: What :data:`VERIFY` found (descriptions), for a test harness to assert empty.
 mismatches: list[str] = []
@@ -105,40 +85,29 @@ def plain_rows_near(
 
 class VertexBlocks:
     """The influence test of one vertex array, answered with the bounding boxes of its blocks
-    of :data:`BLOCK` consecutive rows (see the module docstring).
-
-    State, for the array it serves (built on the first query, refitted block by block):
-    lo, hi (n_blocks, 3) float64, model units: each block's box (lo > hi: no finite row);
-    dirty (n_blocks,) bool: blocks written since their box was fitted; dormant: the array's
-    order has no locality (:data:`DORMANT_EXTENT`), the plain pass answers and writes are not
-    tracked. One lock guards it, so a background query and the writes of another thread may
-    interleave.
+    of :data:`BLOCK` consecutive rows (see the module docstring): lo, hi (n_blocks, 3) (lo > hi:
+    no finite row), dirty (n_blocks,) (written since fitted). One lock guards them, so a
+    background query and another thread's writes may interleave.
     """
 
     def __init__(self) -> None:
         self._lock = threading.Lock()
-        self._array: weakref.ref[NDArray[np.float64]] | None = None
-        self._n = 0
-        self._lo = np.empty((0, 3))
-        self._hi = np.empty((0, 3))
-        self._dirty = np.empty(0, dtype=np.bool_)
-        self._near = np.empty(0, dtype=np.bool_)
-        self._dormant: bool | None = None  # decided with the first boxes
         #: Answers given by the blocks and by the plain pass (what a benchmark reports).
         self.answers = {"blocks": 0, "plain": 0}
+        self._index(np.empty((0, 3)))  # an array freed at once: no array is served yet
 
     def _serves(self, vertices: NDArray[np.float64]) -> bool:
-        return self._array is not None and self._array() is vertices and len(vertices) == self._n
+        return self._array() is vertices and len(vertices) == self._n
 
     def _index(self, vertices: NDArray[np.float64]) -> None:
         """Serve ``vertices`` from now on: every box to be fitted (at the next query)."""
-        self._array = weakref.ref(vertices)
+        self._array: weakref.ref[NDArray[np.float64]] = weakref.ref(vertices)
         self._n = n = len(vertices)
         n_blocks = -(-n // BLOCK)
         self._lo, self._hi = np.empty((n_blocks, 3)), np.empty((n_blocks, 3))
         self._dirty = np.ones(n_blocks, dtype=np.bool_)
         self._near = np.empty(n, dtype=np.bool_)
-        self._dormant = None
+        self._dormant: bool | None = None  # decided with the first boxes
 
     def changed(self, vertices: NDArray[np.float64], rows: NDArray[np.integer] | None) -> None:
         """Rows ``rows`` (k,) of ``vertices`` (N, 3) were written (None: any row may have been):

@@ -1,11 +1,7 @@
-"""Procedural meshes as plain arrays: icospheres, the model the app opens on start, and the
-flat sheet and long tube the paper's effects are measured and pictured on.
-
-The default model is generated, not shipped as a file: a subdivided icosahedron pushed along
-its radii by a few smooth, low-frequency bumps into an organic pebble, then stretched a little.
-It takes about 0.02 s, so a script writing ``resources/default_model.ply`` would only add a
-file to keep in sync. The icosphere is built here rather than taken from trimesh so that the
-default model (whose SHA-256 a recorded session stores) cannot change with a trimesh release.
+"""Procedural meshes as plain arrays: icospheres, the model the app opens on start (generated
+in 0.02 s rather than shipped), and the flat sheet and long tube of the paper's figures. The
+icosphere is built here, not by trimesh, so that the default model (whose SHA-256 a recorded
+session stores) cannot change with a trimesh release.
 """
 
 from __future__ import annotations
@@ -35,11 +31,8 @@ def _icosahedron() -> tuple[np.ndarray, np.ndarray]:
 
 
 def _subdivide(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Split each triangle in four at its edge midpoints, projected onto the unit sphere.
-
-    Old vertices keep their indices; each edge's midpoint is shared by its two triangles.
-    Orientation is kept: corner triangles and the middle one turn the same way as the parent.
-    """
+    """Split each triangle in four at its edge midpoints, projected onto the unit sphere (old
+    vertices keep their indices, orientation is kept)."""
     n, m = len(vertices), len(faces)
     edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
     ends = np.sort(edges, axis=1)
@@ -61,22 +54,9 @@ def _subdivide(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.
 
 
 def icosphere(subdivisions: int = 4, radius: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
-    """A closed, outward-oriented sphere of near-equilateral triangles.
-
-    Parameters
-    ----------
-    subdivisions : int
-        Times each triangle of an icosahedron is split in four, 0 to 8.
-    radius : float
-        Sphere radius (length units), finite and > 0.
-
-    Returns
-    -------
-    vertices : (10·4^s + 2, 3) float64
-        All at distance ``radius`` from the origin.
-    faces : (20·4^s, 3) int64
-        Counter-clockwise seen from outside (normals point away from the origin).
-    """
+    """A closed sphere of near-equilateral triangles: an icosahedron whose triangles are split
+    in four ``subdivisions`` times (0 to 8), of ``radius`` (> 0). Returns vertices
+    (10·4^s + 2, 3) float64 and faces (20·4^s, 3) int64, counter-clockwise seen from outside."""
     if int(subdivisions) != subdivisions or not 0 <= subdivisions <= 8:
         raise ValueError(f"subdivisions must be an integer in [0, 8] (got {subdivisions!r})")
     if not (np.isfinite(radius) and radius > 0):
@@ -99,25 +79,11 @@ _STRETCH = (1.15, 1.0, 0.9)
 
 
 def default_model(subdivisions: int = 6) -> tuple[np.ndarray, np.ndarray]:
-    """The smooth pebble the app opens on start.
-
-    Each vertex of an icosphere moves along its radius by a sum of smooth Gaussian bumps of
-    the angle to a few fixed directions; the radius stays above 0.9, so the surface is
-    star-shaped and cannot self-intersect. The result is stretched by (1.15, 1, 0.9) and its
-    bounding box centred at the origin. Deterministic: same arrays on every call.
-
-    Parameters
-    ----------
-    subdivisions : int
-        Icosphere subdivisions; 6 (the default) gives 40,962 vertices and 81,920 faces.
-
-    Returns
-    -------
-    vertices : (N, 3) float64
-        About 2.4 × 2.1 × 1.9 units across, centred at the origin.
-    faces : (M, 3) int64
-        Closed, outward oriented.
-    """
+    """The smooth pebble the app opens on start: an icosphere's vertices moved along their radii
+    by smooth Gaussian bumps around a few fixed directions (the radius stays above 0.9: no
+    self-intersection), stretched by (1.15, 1, 0.9), its bounding box centred at the origin.
+    Returns vertices (N, 3) float64, about 2.4 × 2.1 × 1.9 units across, and closed, outward
+    faces (M, 3) int64; 6 subdivisions (the default) give 40,962 vertices and 81,920 faces."""
     sphere, faces = icosphere(subdivisions)
     radius = np.ones(len(sphere))
     for direction, amplitude, width in _BUMPS:

@@ -1,25 +1,17 @@
 """Loop subdivision of a triangle mesh (Loop 1987), of all of it or of some of its faces.
 
-Each refined face becomes four; every edge of a refined face gets a new vertex, numbered after
-the old ones (old vertices keep their numbers, so a vertex mask carries over). Positions follow
-Loop's rules: an edge vertex at 3/8 (a + b) + 1/8 (c + d) inside the refined region, the
-midpoint on a boundary or at the rim of the region; an old vertex at (1 − nβ) v + β Σ neighbours
-(β = (5/8 − (3/8 + cos(2π/n)/4)²)/n), or 3/4 v + 1/8 (b₁ + b₂) on a boundary, when all its faces
-are refined; otherwise it stays. A vertex mask m ∈ [0, 1] holds vertices as it holds them under
-a brush: an old vertex moves (1 − m) of its Loop step, an edge vertex (1 − max(m_a, m_b)) of
-its step away from the midpoint, so a fully masked region keeps its exact shape.
+Each refined face becomes four; each split edge gets a new vertex numbered after the old ones
+(old vertices keep their numbers). Loop's rules: an edge vertex at 3/8 (a + b) + 1/8 (c + d)
+inside the refined region, the midpoint on a boundary or the region's rim; an old vertex whose
+faces are all refined at (1 − nβ) v + β Σ neighbours, β = (5/8 − (3/8 + cos(2π/n)/4)²)/n, or
+3/4 v + 1/8 (b₁ + b₂) on a boundary; others stay. A vertex mask m ∈ [0, 1] holds vertices as a
+brush does: an old vertex moves (1 − m) of its step, an edge vertex (1 − max(m_a, m_b)).
 
-Refining part of a mesh (the unmasked part) keeps it watertight: a face next to the region
-with one split side becomes two triangles, with two split sides three, and one with all three
-split is refined with the region (red-green refinement).
-
-Texture coordinates are per face corner (``uv`` rows, ``uv_faces`` (M, 3), -1 for a face
-without): each split side of a textured face gets the midpoint of its own two corners' UVs, so
-seams stay seams; a per-vertex layout (``uv_faces`` equal to ``faces``, one UV row per vertex)
-stays per-vertex, rows numbered as the vertices.
-
-The result depends on the input arrays alone (numpy's sorts and ordered sums): a subdivision
-replays bit for bit.
+A partial refinement stays watertight (red-green): a face next to the region with one split
+side becomes two triangles, with two three, with three it is refined. Texture coordinates are
+per face corner: a split side gets the midpoint of its own corners' UVs, so seams stay seams.
+The result depends on the input arrays alone (numpy's sorts, ordered sums): it replays bit for
+bit.
 """
 
 from __future__ import annotations
@@ -139,12 +131,9 @@ def _edge_positions(
 def _split_faces(
     corners: np.ndarray, middles: np.ndarray, refine: np.ndarray, splits: np.ndarray
 ) -> np.ndarray:
-    """Child triangles of each face, grouped by parent in face order: 4 for a refined face
-    (three corners and the middle one), 1 + the number of split sides for the others.
-
-    corners : (M, 3) corner indices (vertices, or UV rows); middles : (M, 3) the index of the
-    new point of side k (corner k to k + 1), where it is split.
-    """
+    """Child triangles of each face (``corners`` (M, 3): vertices or UV rows), grouped by
+    parent: 4 for a refined face, 1 + its split sides for the others; ``middles`` (M, 3): the
+    new point of side k (corner k to k + 1) where it is split."""
     count = np.where(refine, 4, splits + 1)
     start = np.cumsum(count) - count
     out = np.empty((int(count.sum()), 3), dtype=np.int64)
@@ -175,8 +164,8 @@ def _split_faces(
 def _subdivided_uv(
     uv: np.ndarray, uv_faces: np.ndarray, split_sides: np.ndarray, refine: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
-    """New UV rows (the midpoints of each split side's two corner UVs, one per distinct pair)
-    and the children's UV corners."""
+    """New UV rows (one midpoint per distinct pair of a split side's corner UVs) and the
+    children's UV corners."""
     rows = len(uv)
     textured = uv_faces[:, 0] >= 0
     following = np.roll(uv_faces, -1, axis=1)
@@ -202,18 +191,11 @@ def loop_subdivide(
     edges: MeshEdges | None = None,
     progress: Callable[[float], None] | None = None,
 ) -> SubdividedMesh:
-    """One step of Loop subdivision (see the module docstring).
-
-    Parameters
-    ----------
-    vertices : (N, 3) float64; faces : (M, 3) int64.
-    refine : (M,) bool, the faces to refine (default all; e.g. :func:`unmasked_faces`).
-    mask : (N,) float64 in [0, 1], optional: how much each vertex is held; the result's mask
-        gives each edge vertex the mean of its two ends'.
-    uv : (T, 2) float64 and uv_faces : (M, 3) int64 (-1 rows: untextured faces), optional.
-    edges : the :func:`~gogreen_core.mesh.topology.mesh_edges` of ``faces`` when known.
-    progress : called with the fraction done at each stage (it may raise to cancel).
-    """
+    """One step of Loop subdivision (see the module docstring) of ``vertices`` (N, 3) float64,
+    ``faces`` (M, 3) int64: the faces ``refine`` (M,) bool (default all), ``mask`` (N,) in
+    [0, 1] (an edge vertex gets the mean of its ends'), ``uv`` (T, 2) with ``uv_faces`` (M, 3)
+    (-1 rows: untextured), ``edges`` (their :func:`~gogreen_core.mesh.topology.mesh_edges` when
+    known); ``progress`` is called with the fraction done (it may raise to cancel)."""
     vertices = np.asarray(vertices, dtype=np.float64)
     faces = np.asarray(faces, dtype=np.int64)
     n = len(vertices)
@@ -254,10 +236,8 @@ def loop_subdivide(
 
 
 def _same_bits(a: np.ndarray | None, b: np.ndarray | None) -> bool:
-    if a is None or b is None:
-        return a is None and b is None
-    if a.dtype != b.dtype or a.shape != b.shape:
-        return False
+    if a is None or b is None or a.dtype != b.dtype or a.shape != b.shape:
+        return a is b
     return np.array_equal(
         np.ascontiguousarray(a).view(np.uint8), np.ascontiguousarray(b).view(np.uint8)
     )
@@ -289,9 +269,8 @@ def prepare_subdivision(
     progress: Callable[[float], None] | None = None,
     edges: MeshEdges | None = None,
 ) -> PreparedSubdivision:
-    """Loop subdivision of a whole mesh (its arrays in ``source``), or of its unmasked faces
-    (:func:`unmasked_faces`), mask and UVs carried along. The result is read-only and compact
-    (faces as int32 where they fit): the sculptor keeps it as its undo step's after-side."""
+    """Loop subdivision of the mesh ``source``, or of its unmasked faces, mask and UVs carried
+    along; the result is read-only and compact (the sculptor keeps it for undo)."""
     faces = np.asarray(source.faces, dtype=np.int64)
     uv_faces = None if source.uv_faces is None else np.asarray(source.uv_faces, dtype=np.int64)
     refine = unmasked_faces(faces, source.mask) if unmasked_only else None

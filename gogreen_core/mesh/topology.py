@@ -1,9 +1,6 @@
-"""Connectivity of a triangle mesh: its edges and each vertex's neighbours (plain arrays).
-
-Built once per face array (the sculptor keeps them until the topology changes: a subdivision)
-and used by Loop subdivision (:mod:`gogreen_core.mesh.subdivision`) and the smooth brush
-(:mod:`gogreen_core.sculpt.brushes.smooth`). Edge and neighbour orders are fixed by the face array
-alone, so everything computed from them is reproducible bit for bit.
+"""Connectivity of a triangle mesh: its edges, each vertex's neighbours and faces (plain arrays),
+built once per face array. Their orders are fixed by the face array alone, so everything
+computed from them is reproducible bit for bit.
 """
 
 from __future__ import annotations
@@ -13,23 +10,42 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["FaceAdjacency", "MeshEdges", "VertexNeighbours", "mesh_edges", "vertex_neighbours"]
+__all__ = [
+    "FaceAdjacency",
+    "MeshEdges",
+    "VertexNeighbours",
+    "checked_faces",
+    "concatenated_ranges",
+    "mesh_edges",
+    "vertex_neighbours",
+]
 
 #: :attr:`VertexNeighbours.mode` values: relax towards all neighbours, along the boundary
 #: (its two boundary neighbours), or not at all (a vertex where the surface is not a manifold).
 INTERIOR, BOUNDARY, FIXED = 0, 1, 2
 
 
+def checked_faces(faces: np.ndarray, n_vertices: int) -> np.ndarray:
+    """``faces`` as a contiguous (M, 3) int64 array; ValueError unless it indexes vertices."""
+    faces = np.ascontiguousarray(faces, dtype=np.int64)
+    if faces.ndim != 2 or faces.shape[1] != 3:
+        raise ValueError(f"faces must have shape (M, 3) (got {faces.shape})")
+    if faces.size and (faces.min() < 0 or faces.max() >= n_vertices):
+        raise ValueError(f"faces must index vertices 0 to {n_vertices - 1}")
+    return faces
+
+
+def concatenated_ranges(starts: np.ndarray, counts: np.ndarray) -> np.ndarray:
+    """The ranges ``starts[i] : starts[i] + counts[i]`` (int64), concatenated."""
+    starts, counts = np.asarray(starts, dtype=np.int64), np.asarray(counts, dtype=np.int64)
+    return np.repeat(starts - (np.cumsum(counts) - counts), counts) + np.arange(int(counts.sum()))
+
+
 @dataclass(frozen=True)
 class MeshEdges:
-    """The undirected edges of a triangle mesh.
-
-    ends : (E, 2) int64, the two vertices of each edge, smaller first; edges are sorted by
-        (ends[:, 0], ends[:, 1]).
-    face_edges : (M, 3) int64, the edge of each face's side k, from corner k to corner k + 1.
-    face_count : (E,) int64, how many faces share each edge (1: a boundary edge, 2: an interior
-        one, more: a non-manifold edge).
-    """
+    """The undirected edges of a triangle mesh: ``ends`` (E, 2) int64, the two vertices of each
+    (smaller first, edges sorted by them); ``face_edges`` (M, 3) int64, the edge of each face's
+    side k (corner k to k + 1); ``face_count`` (E,) int64, the faces sharing each edge."""
 
     ends: np.ndarray
     face_edges: np.ndarray
@@ -40,10 +56,7 @@ class MeshEdges:
 
 
 def mesh_edges(faces: np.ndarray, n_vertices: int) -> MeshEdges:
-    """The edges of ``faces`` (M, 3) int64 on ``n_vertices`` vertices (see :class:`MeshEdges`).
-
-    One sort of the 3M face sides by their vertex pair: ~40 ms for the 124k-face ogre.
-    """
+    """The edges of ``faces`` (M, 3) int64 on ``n_vertices`` vertices (see :class:`MeshEdges`)."""
     faces = np.ascontiguousarray(faces, dtype=np.int64)
     nxt = np.roll(faces, -1, axis=1)
     low = np.minimum(faces, nxt).ravel()
@@ -65,16 +78,12 @@ def mesh_edges(faces: np.ndarray, n_vertices: int) -> MeshEdges:
 
 @dataclass(frozen=True)
 class VertexNeighbours:
-    """Each vertex's neighbours along the mesh edges, in compressed rows.
-
-    offsets : (N + 1,) int64; the neighbours of vertex v are
-        ``neighbours[offsets[v]:offsets[v + 1]]`` (increasing).
-    neighbours : (2E,) int64.
-    on_boundary : (2E,) bool, the edge to that neighbour is a boundary edge (one face).
-    mode : (N,) int8, how a relaxation moves the vertex: :data:`INTERIOR` (towards the mean of
-        its neighbours), :data:`BOUNDARY` (towards the mean of its two boundary neighbours, so an
-        open rim slides along itself and does not shrink) or :data:`FIXED` (a vertex on a
-        non-manifold edge, with other than two boundary edges, or in no face).
+    """Each vertex's neighbours, in compressed rows: those of vertex v are
+    ``neighbours[offsets[v]:offsets[v + 1]]`` (increasing; ``offsets`` (N + 1,), ``neighbours``
+    (2E,) int64), ``on_boundary`` (2E,) bool when their edge has one face. ``mode`` (N,) int8:
+    how a relaxation moves the vertex, :data:`INTERIOR` (towards its neighbours' mean),
+    :data:`BOUNDARY` (towards its two boundary neighbours', so an open rim does not shrink) or
+    :data:`FIXED` (on a non-manifold edge, other than two boundary edges, or in no face).
     """
 
     offsets: np.ndarray
@@ -105,25 +114,13 @@ def vertex_neighbours(edges: MeshEdges, n_vertices: int) -> VertexNeighbours:
 
 
 class FaceAdjacency:
-    """The faces around each vertex, built once per mesh (connectivity only, so it stays valid
-    while the vertices move).
-
-    Attributes
-    ----------
-    offsets : (N + 1,) int64
-        The faces of vertex v are ``face_ids[offsets[v]:offsets[v + 1]]``.
-    face_ids : (3M,) int64
-        In increasing face order (a face listing v twice appears twice), the order in which
-        :func:`~gogreen_core.mesh.geometry.vertex_normals` sums them, so updates round identically.
-    """
+    """The faces around each vertex (connectivity only: valid while the vertices move): those
+    of vertex v are ``face_ids[offsets[v]:offsets[v + 1]]`` (``offsets`` (N + 1,), ``face_ids``
+    (3M,) int64), in increasing face order, the order in which
+    :func:`~gogreen_core.mesh.geometry.vertex_normals` sums them."""
 
     def __init__(self, faces: np.ndarray, n_vertices: int):
-        faces = np.ascontiguousarray(faces, dtype=np.int64)
-        if faces.ndim != 2 or faces.shape[1] != 3:
-            raise ValueError(f"faces must have shape (M, 3) (got {faces.shape})")
-        flat = faces.ravel()
-        if flat.size and (flat.min() < 0 or flat.max() >= n_vertices):
-            raise ValueError(f"faces must index vertices 0 to {n_vertices - 1}")
+        flat = checked_faces(faces, n_vertices).ravel()
         order = np.argsort(flat, kind="stable")
         self.face_ids = order // 3
         counts = np.bincount(flat, minlength=n_vertices)
@@ -133,9 +130,9 @@ class FaceAdjacency:
 
     @classmethod
     def of(cls, faces: np.ndarray, n_vertices: int) -> FaceAdjacency:
-        """The adjacency of the face array ``faces`` (that array object): built once per
-        topology and shared by its callers (no pass over every face per stroke: a 1.3M-face
-        mesh takes 50-300 ms), held by a weak reference so a replaced mesh is freed."""
+        """The adjacency of the face array ``faces`` (that array object), built once and shared
+        (a 1.3M-face mesh takes 50-300 ms), held by a weak reference so a replaced mesh is
+        freed."""
         if _LAST_ADJACENCY:
             held, adjacency = _LAST_ADJACENCY[0]
             if held() is faces and adjacency.n_vertices == n_vertices:
@@ -150,8 +147,7 @@ class FaceAdjacency:
         start = self.offsets[rows]
         count = self.offsets[rows + 1] - start
         owner = np.repeat(np.arange(len(rows)), count)
-        within = np.arange(len(owner)) - np.repeat(np.cumsum(count) - count, count)
-        return owner, self.face_ids[np.repeat(start, count) + within]
+        return owner, self.face_ids[concatenated_ranges(start, count)]
 
 
 #: The last :meth:`FaceAdjacency.of`: (a weak reference to its face array, the adjacency).

@@ -1,13 +1,13 @@
-"""The mesh as plain arrays, the error every reader and writer raises, and the final check of a
-loaded or to-be-saved mesh."""
+"""The mesh as plain arrays, the error every reader and writer raises, and the mesh's checks."""
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["MAX_INDEX", "MeshData", "MeshFileError", "validate_mesh"]
+__all__ = ["MAX_INDEX", "MeshData", "MeshFileError", "first_non_finite", "validate_mesh"]
 
 #: Larger 1-based indices cannot be real (and would overflow int64 arrays).
 MAX_INDEX = 2**53
@@ -24,17 +24,14 @@ class MeshData:
     Attributes
     ----------
     vertices : (N, 3) float64
-        Positions, in the file's units and order (vertices that STL or a PLY split only for
-        their format are one vertex, at its first appearance).
+        Positions, in the file's units and order.
     faces : (M, 3) int64
-        Vertex indices (from 0) of each triangle, counter-clockwise seen from outside when the
-        file is consistently oriented.
+        Vertex indices (from 0) of each triangle, counter-clockwise seen from outside.
     uv : (T, 2) float64 or None
-        Texture coordinates: OBJ ``vt`` records, shared between corners like the file shares
-        them; a PLY's per-vertex ``s, t`` (one row per vertex of the file).
+        Texture coordinates (OBJ ``vt`` records; a PLY's per-vertex ``s, t``).
     uv_faces : (M, 3) int64 or None
-        Per face corner, the row of ``uv`` it uses; a row of -1 marks a face that has no
-        texture coordinates (allowed in OBJ). Set together with ``uv``.
+        Per face corner, the row of ``uv`` it uses (a row of -1: a face without); set with
+        ``uv``.
     source : str or None
         Path of the file the mesh was loaded from.
     """
@@ -59,14 +56,14 @@ class MeshData:
             self.uv_faces = np.asarray(self.uv_faces, dtype=np.int64)
 
     def copy(self) -> MeshData:
-        """A deep copy (arrays are copied, ``source`` is shared)."""
-        return MeshData(
-            vertices=self.vertices.copy(),
-            faces=self.faces.copy(),
-            uv=None if self.uv is None else self.uv.copy(),
-            uv_faces=None if self.uv_faces is None else self.uv_faces.copy(),
-            source=self.source,
-        )
+        """A deep copy."""
+        return copy.deepcopy(self)
+
+
+def first_non_finite(rows: np.ndarray) -> int | None:
+    """The first row of ``rows`` (N, k) with a non-finite value, or None."""
+    finite = np.isfinite(rows).all(axis=1)
+    return None if finite.all() else int(np.argmin(finite))
 
 
 def validate_mesh(mesh: MeshData, name: str) -> None:
@@ -76,9 +73,7 @@ def validate_mesh(mesh: MeshData, name: str) -> None:
         raise MeshFileError(f"{name}: no vertices")
     if f.ndim != 2 or f.shape[1] != 3 or len(f) == 0:
         raise MeshFileError(f"{name}: no faces")
-    finite = np.isfinite(v).all(axis=1)
-    if not finite.all():
-        bad = int(np.flatnonzero(~finite)[0])
+    if (bad := first_non_finite(v)) is not None:
         raise MeshFileError(f"{name}: vertex {bad} has a non-finite coordinate {v[bad].tolist()}")
     outside = (f < 0) | (f >= len(v))
     if outside.any():

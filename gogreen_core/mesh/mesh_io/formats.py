@@ -1,6 +1,5 @@
 """Loading and saving by file extension: :func:`load_mesh` and :func:`save_mesh` pick the reader
-or writer of the format, check the mesh, and report every problem as a :class:`MeshFileError`
-naming the file."""
+or writer, check the mesh, and report every problem as a :class:`MeshFileError` naming the file."""
 
 from __future__ import annotations
 
@@ -23,40 +22,26 @@ __all__ = ["MESH_FORMATS", "load_mesh", "save_mesh", "warm_up"]
 #: File extensions :func:`load_mesh` and :func:`save_mesh` understand (lower case).
 MESH_FORMATS = (".obj", ".ply", ".stl", ".off")
 
-# Looked up at call time (module attributes), so that a test can replace one.
 _READERS: dict[str, Callable[[bytes, str], MeshData]] = {
-    ".obj": lambda data, name: obj.read_obj(data, name),
-    ".ply": lambda data, name: ply.read_ply(data, name),
-    ".stl": lambda data, name: stl.read_stl(data, name),
-    ".off": lambda data, name: off.read_off(data, name),
+    ".obj": obj.read_obj,
+    ".ply": ply.read_ply,
+    ".stl": stl.read_stl,
+    ".off": off.read_off,
 }
 
 
 def load_mesh(path: str | os.PathLike[str]) -> MeshData:
-    """Read a triangle mesh, keeping its vertices' count and order as in the file.
+    """Read a triangle mesh, keeping its vertices' count and order as in the file, except those
+    the format made copies of (STL's triangle corners, a PLY's vertices split along UV seams),
+    joined back so that a closed model loads closed. Polygons are triangulated by their shape
+    (:mod:`~gogreen_core.mesh.mesh_io.polygons`). Text is UTF-8 (a byte-order mark skipped,
+    CR LF or lone CR line ends accepted).
 
-    Vertices that the format made copies of are joined back (STL's triangle corners, a PLY's
-    vertices split along UV seams), so that a closed model loads closed; OBJ and OFF vertices
-    and those of a PLY without such splits stay exactly as listed. Polygons are triangulated by
-    their shape (convex ones by the fan from their first corner, in file order).
-
-    Parameters
-    ----------
-    path : str or PathLike
-        A ``.obj``, ``.ply`` (ASCII or binary), ``.stl`` (binary or ASCII) or ``.off`` file
-        (case-insensitive).
-
-    Returns
-    -------
-    MeshData
-        vertices (N, 3) float64 in file units, faces (M, 3) int64, ``uv``/``uv_faces`` for an
-        OBJ or PLY with texture coordinates, ``source`` = ``str(path)``.
-
-    Raises
-    ------
-    MeshFileError
-        Unknown extension, missing or unreadable file, empty, broken or truncated content, no
-        faces, non-finite coordinates, or an index out of range; the message names the file.
+    ``path``: a ``.obj``, ``.ply`` (ASCII or binary), ``.stl`` (binary or ASCII) or ``.off``
+    file. Returns its :class:`MeshData` (``source`` = ``str(path)``). Raises
+    :class:`MeshFileError` naming the file for an unknown extension, a missing or unreadable
+    file, empty, broken or truncated content, no faces, non-finite coordinates or an index out
+    of range.
     """
     p = Path(path)
     suffix = p.suffix.lower()
@@ -82,25 +67,13 @@ def load_mesh(path: str | os.PathLike[str]) -> MeshData:
 
 
 def save_mesh(mesh: MeshData, path: str | os.PathLike[str], *, ascii: bool = False) -> None:
-    """Write ``mesh`` to ``path`` atomically; the extension chooses the format.
-
-    Parameters
-    ----------
-    mesh : MeshData
-        vertices (N, 3) float64 (must be finite), faces (M, 3) int64; ``uv``/``uv_faces`` are
-        written to OBJ (per corner) and PLY (``s, t`` per vertex: a vertex whose corners have
-        several is written once per texture coordinate, which loading joins back).
-    path : str or PathLike
-        ``.obj``, ``.ply``, ``.stl`` or ``.off``. A symbolic link is written through (the
-        link stays); an existing file keeps its permission bits.
-    ascii : bool
-        PLY only: ASCII instead of binary little-endian.
-
-    Raises
-    ------
-    MeshFileError
-        Unknown extension, a mesh that cannot be saved (checked before anything is written),
-        a missing folder, or an OS error while writing. The destination is then untouched.
+    """Write ``mesh`` to ``path`` (``.obj``, ``.ply``, ``.stl`` or ``.off``) atomically; a
+    symbolic link is written through, an existing file keeps its permission bits. Texture
+    coordinates go to OBJ (per corner) and PLY (``s, t`` per vertex, a vertex written once per
+    texture coordinate of its corners, joined back at load). ``ascii``: ASCII PLY instead of
+    binary little-endian. Raises :class:`MeshFileError` for an unknown extension, a mesh that
+    cannot be saved (checked before anything is written), a missing folder or an OS error
+    while writing; the destination is then untouched.
     """
     p = Path(path)
     suffix = p.suffix.lower()
@@ -131,11 +104,9 @@ def save_mesh(mesh: MeshData, path: str | os.PathLike[str], *, ascii: bool = Fal
 
 
 def warm_up() -> float:
-    """Compile (or load from numba's disk cache) the loops the readers run as compiled code,
-    by reading a few tiny files made here: the PLY record walks (binary and ASCII), the fan
-    test, the welds. Seconds, about 3 from an empty cache and milliseconds from the cache: the
-    app calls it off the GUI thread at start, so that opening a file never waits on a
-    compiler."""
+    """Compile (or load from numba's disk cache) the readers' compiled loops by reading a few
+    tiny files made here; seconds (about 3) from an empty cache, milliseconds from it. The app
+    calls it off the GUI thread at start, so that opening a file never waits on a compiler."""
     start = time.perf_counter()
     header = (
         "ply\nformat {} 1.0\nelement vertex 5\nproperty float x\nproperty float y\n"

@@ -1,15 +1,12 @@
 """OBJ (Wavefront): reading (the fast reader, else the strict one) and writing.
 
-Positions stay as listed; texture coordinates are kept per face corner (``MeshData.uv``,
-``MeshData.uv_faces``) so they survive a load/save round trip. trimesh's OBJ loader is not used:
-it splits vertices that carry several texture coordinates (UV seams), which changes the vertex
-count and order that a sculpting session and its replay rely on. Normals (``vn``), materials
-and groups are not kept: normals are recomputed after sculpting.
+Positions stay as listed (trimesh's loader splits vertices at UV seams, changing the vertex
+count and order that sessions rely on); texture coordinates are kept per face corner. Normals,
+materials and groups are not kept.
 """
 
 from __future__ import annotations
 
-import io
 from typing import BinaryIO
 
 import numpy as np
@@ -17,7 +14,7 @@ import numpy as np
 from gogreen_core.mesh.mesh_io.data import MeshData
 from gogreen_core.mesh.mesh_io.obj_fast import read_obj_fast
 from gogreen_core.mesh.mesh_io.obj_strict import read_obj_strict
-from gogreen_core.mesh.mesh_io.text import write_int_rows, write_rows
+from gogreen_core.mesh.mesh_io.text import write_rows
 
 __all__ = ["read_obj", "write_obj"]
 
@@ -32,23 +29,18 @@ def write_obj(mesh: MeshData, out: BinaryIO) -> None:
     out.write(b"# written by GoGreen Sculpt\n")
     write_rows(out, "v %.17g %.17g %.17g\n", mesh.vertices)
     if mesh.uv is None:
-        write_int_rows(out, b"f ", mesh.faces + 1, b"  \n")
+        write_rows(out, "f %d %d %d\n", mesh.faces + 1)
         return
     write_rows(out, "vt %.17g %.17g\n", mesh.uv)
     uv_faces = mesh.uv_faces
     assert uv_faces is not None  # set together with uv
     has_uv = uv_faces[:, 0] >= 0
+    corners = np.stack([mesh.faces + 1, uv_faces + 1], axis=2).reshape(-1, 6)
     if has_uv.all():
-        corners = np.stack([mesh.faces + 1, uv_faces + 1], axis=2).reshape(-1, 6)
-        write_int_rows(out, b"f ", corners, b"/ / /\n")
+        write_rows(out, "f %d/%d %d/%d %d/%d\n", corners)
         return
-    text = io.StringIO()  # some faces without texture coordinates: keep them so, in order
-    for face, tex, textured in zip(
-        (mesh.faces + 1).tolist(), (uv_faces + 1).tolist(), has_uv, strict=True
-    ):
-        if textured:
-            text.write("f " + " ".join(f"{a}/{b}" for a, b in zip(face, tex, strict=True)))
-        else:
-            text.write("f {} {} {}".format(*face))
-        text.write("\n")
-    out.write(text.getvalue().encode("ascii"))
+    lines = [  # some faces without texture coordinates: keep them so, in order
+        "f {}/{} {}/{} {}/{}\n".format(*row) if textured else "f {} {} {}\n".format(*row[::2])
+        for row, textured in zip(corners.tolist(), has_uv.tolist(), strict=True)
+    ]
+    out.write("".join(lines).encode("ascii"))

@@ -2,19 +2,14 @@
 
 :func:`read_obj_fast` returns None as soon as anything is unusual (a comment after data, a tab
 after a tag, mixed corner forms, a bad number, an index out of range, ...); the strict reader
-(:mod:`~gogreen_core.mesh.mesh_io.obj_strict`) then either accepts the file the same way or names
-the line at fault. :func:`~gogreen_core.mesh.mesh_io.text.parse_numbers` raises on any token it
-cannot read whole, and rounds decimals correctly like ``float()``.
-
-The lines of one kind (v, vt or f) are handled as a "piece": their contents joined by
-``b"\n" + tag``, i.e. the file's bytes from after the first line's tag to the end of the last
-line, when they form one block.
+(:mod:`~gogreen_core.mesh.mesh_io.obj_strict`) then accepts the file the same way or names the
+line at fault. The lines of one kind (v, vt or f), found with whole-array operations, are parsed
+as one "piece": their contents joined by ``b"\n" + tag``.
 """
 
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -24,100 +19,24 @@ from gogreen_core.mesh.mesh_io.polygons import triangulate
 from gogreen_core.mesh.mesh_io.text import parse_numbers, without_dos_eof
 
 __all__ = [
-    "ObjSections",
     "mesh_from_sections",
     "read_obj_fast",
-    "sections_by_blocks",
     "sections_by_lines",
 ]
 
 _SPACE = 32  # bytes <= 32 separate tokens (space, tab, line ends, control characters)
 _MAX_RUNS = 10_000  # more runs of same-kind lines than this: gather them with a byte mask
-_MAX_OTHER = 1 << 20  # bytes of other lines checked one by one in Python
 
 
-@dataclass
-class ObjSections:
-    """The v, vt and f lines of an OBJ file as pieces (see above; None when there are no such
-    lines), and per face line the count of v and vt lines before it (an int when the same for
-    all, None when unknown: relative indices then go to the strict reader)."""
-
-    v: bytes | None
-    vt: bytes | None
-    f: bytes | None
-    v_before: np.ndarray | int | None
-    vt_before: np.ndarray | int | None
+#: The v, vt and f pieces (None without such lines), and per face line the count of v and vt
+#: lines before it (for relative indices).
+Sections = tuple[dict[bytes, bytes | None], np.ndarray, np.ndarray]
 
 
-def _other_lines_are_fine(text: bytes) -> bool:
-    """Whether lines other than v, vt and f are comments, blank, or known OBJ statements."""
-    for line in text.decode("utf-8", "replace").split("\n"):
-        words = line.split()
-        if not words or line.startswith("#"):
-            continue
-        if "#" in line or words[0] not in OBJ_STATEMENTS or words[0] in ("v", "vt", "f", "fo"):
-            return False
-    return True
-
-
-def _block(data: bytes, tag: bytes, lo: int, hi: int) -> tuple[int, int] | None:
-    """[start, end) from the first line starting with ``tag`` in data[lo:hi] (``lo`` a line
-    start) to the '\\n' of the last one; None when there is none."""
-    if data.startswith(tag, lo):
-        start = lo
-    else:
-        found = data.find(b"\n" + tag, lo, hi)
-        if found < 0:
-            return None
-        start = found + 1
-    last = data.rfind(b"\n" + tag, start, hi)
-    return start, data.find(b"\n", start if last < 0 else last + 1, hi)
-
-
-def sections_by_blocks(data: bytes) -> ObjSections | None:
-    """Sections of the usual layout: one block of each of v, vt, vn and f lines and a few
-    other lines (comments, g, s, usemtl...) around them; None otherwise. Found with bytes
-    find/count alone, without an array over every byte."""
-    blocks: dict[bytes, tuple[int, int]] = {}
-    for tag in (b"v ", b"f "):
-        found = _block(data, tag, 0, len(data))
-        if found is None:
-            return None
-        blocks[tag] = found
-    spans = sorted(blocks.values())
-    if spans[0][1] >= spans[1][0]:
-        return None  # interleaved (a v line after a face, ...)
-    gaps = [(0, spans[0][0]), (spans[0][1] + 1, spans[1][0]), (spans[1][1] + 1, len(data))]
-    for tag in (b"vt ", b"vn "):  # each within one gap
-        for k, (lo, hi) in enumerate(gaps):
-            found = _block(data, tag, lo, hi)
-            if found is not None:
-                blocks[tag] = found
-                gaps[k : k + 1] = [(lo, found[0]), (found[1] + 1, hi)]
-                break
-    if b"vn " in blocks:
-        start, end = blocks.pop(b"vn ")
-        if data.count(b"\n", start, end) != data.count(b"\nvn ", start, end):
-            return None
-    if sum(hi - lo for lo, hi in gaps) > _MAX_OTHER:
-        return None
-    if not all(_other_lines_are_fine(data[lo:hi]) for lo, hi in gaps):
-        return None
-    pieces = {tag: data[start + len(tag) : end] for tag, (start, end) in blocks.items()}
-    faces_start = blocks[b"f "][0]
-
-    def before(tag: bytes) -> int | None:
-        if tag not in blocks:
-            return 0
-        return pieces[tag].count(b"\n") + 1 if blocks[tag][1] < faces_start else None
-
-    return ObjSections(
-        pieces[b"v "], pieces.get(b"vt "), pieces[b"f "], before(b"v "), before(b"vt ")
-    )
-
-
-def sections_by_lines(data: bytes) -> ObjSections | None:
-    """Sections of any layout, by classifying every line with whole-array operations."""
+def sections_by_lines(data: bytes) -> Sections | None:
+    """The sections of an OBJ text ('\n' line ends), by classifying every line with
+    whole-array operations; None unless every other line is a comment, blank, or a known
+    statement other than v, vt and f."""
     arr = np.frombuffer(data + b"   ", dtype=np.uint8)
     ends = np.flatnonzero(arr == ord("\n"))
     starts = np.concatenate([[0], ends[:-1] + 1])
@@ -135,7 +54,8 @@ def sections_by_lines(data: bytes) -> ObjSections | None:
     ignored |= (c0 == ord("v")) & (c1 == ord("n")) & (c2 == ord(" "))  # normals: not kept
     others = np.flatnonzero(~(kinds[b"v "] | kinds[b"vt "] | kinds[b"f "] | ignored))
     for line in others.tolist():  # g, s, usemtl...
-        if not _other_lines_are_fine(data[starts[line] : ends[line]]):
+        words = data[starts[line] : ends[line]].decode("utf-8", "replace").split()
+        if words and (words[0] not in OBJ_STATEMENTS or words[0] in ("v", "vt", "f", "fo")):
             return None
     pieces: dict[bytes, bytes | None] = {}
     for tag, keep in kinds.items():
@@ -152,21 +72,15 @@ def sections_by_lines(data: bytes) -> ObjSections | None:
             text = arr[: len(mask)][mask].tobytes()
         pieces[tag] = text[len(tag) : -1]
     face_lines = np.flatnonzero(kinds[b"f "])
-    return ObjSections(
-        pieces[b"v "],
-        pieces[b"vt "],
-        pieces[b"f "],
-        np.cumsum(kinds[b"v "])[face_lines],
-        np.cumsum(kinds[b"vt "])[face_lines],
-    )
+    return pieces, np.cumsum(kinds[b"v "])[face_lines], np.cumsum(kinds[b"vt "])[face_lines]
 
 
 def _numbers_per_line(
     piece: bytes, tag: bytes, sentinel: bytes, dtype: type[np.generic]
 ) -> tuple[np.ndarray, np.ndarray] | None:
     """All numbers of a piece and how many each line has, or None if a token is not a number
-    or a line of another kind is among them. A ``sentinel`` that the data cannot hold (NaN
-    among finite floats, 0 among 1-based indices) replaces each line break to count them."""
+    or a line of another kind is among them. A ``sentinel`` the data cannot hold (NaN, or 0
+    among 1-based indices) replaces each line break to count them."""
     lines = piece.count(b"\n") + 1
     between = b" " + sentinel + b" " * max(1, len(tag) + 2 - len(sentinel))
     text = piece.replace(b"\n" + tag, between)
@@ -244,19 +158,17 @@ def read_obj_fast(data: bytes) -> MeshData | None:
         data = re.sub(rb"\\[ \t]*\n", b" ", data)
     if not data.endswith(b"\n"):
         data += b"\n"
-    sections = sections_by_blocks(data)
-    mesh = None if sections is None else mesh_from_sections(sections)
-    if mesh is None:  # not the usual layout (faces grouped by material, ...), or a bad file
-        sections = sections_by_lines(data)
-        mesh = None if sections is None else mesh_from_sections(sections)
-    return mesh
+    sections = sections_by_lines(data)
+    return None if sections is None else mesh_from_sections(*sections)
 
 
-def mesh_from_sections(sections: ObjSections) -> MeshData | None:
-    if sections.v is None or sections.f is None:
+def mesh_from_sections(
+    pieces: dict[bytes, bytes | None], v_before: np.ndarray, vt_before: np.ndarray
+) -> MeshData | None:
+    if pieces[b"v "] is None or pieces[b"f "] is None:
         return None
 
-    parsed = _numbers_per_line(sections.v, b"v ", b"nan", np.float64)
+    parsed = _numbers_per_line(pieces[b"v "], b"v ", b"nan", np.float64)
     if parsed is None or parsed[1].min() < 3:
         return None
     vertices = _first_columns(*parsed, 3)
@@ -264,8 +176,8 @@ def mesh_from_sections(sections: ObjSections) -> MeshData | None:
         return None
 
     uv = np.zeros((0, 2))
-    if sections.vt is not None:
-        parsed = _numbers_per_line(sections.vt, b"vt ", b"nan", np.float64)
+    if pieces[b"vt "] is not None:
+        parsed = _numbers_per_line(pieces[b"vt "], b"vt ", b"nan", np.float64)
         if parsed is None or parsed[1].min() < 1:
             return None
         values, counts = parsed
@@ -278,42 +190,35 @@ def mesh_from_sections(sections: ObjSections) -> MeshData | None:
         if not np.isfinite(uv).all():
             return None
 
-    found = _face_corners(sections.f)
+    found = _face_corners(pieces[b"f "])
     if found is None:
         return None
     numbers, corners, doubled = found
     if corners.min() < 3:
         return None
 
-    def indices(
-        column: np.ndarray, counted: np.ndarray | int | None, total: int
-    ) -> np.ndarray | None:
-        """0-based indices from 1-based or relative ones (``counted``: entries read before each
-        face line, see ObjSections); None when one is 0, before the first entry, or past the
-        last."""
+    def indices(column: np.ndarray, counted: np.ndarray, total: int) -> np.ndarray | None:
+        """0-based indices from 1-based or relative ones (``counted``: entries before each face
+        line); None when one is 0, before the first entry, or past the last."""
         if (column == 0).any():
             return None
         relative = column < 0
         if relative.any():
-            if counted is None:
-                return None
-            if not isinstance(counted, int):
-                counted = counted[np.repeat(np.arange(len(corners)), corners)[relative]]
             column = column.copy()
-            column[relative] += counted + 1
+            column[relative] += counted[np.repeat(np.arange(len(corners)), corners)[relative]] + 1
             if (column[relative] < 1).any():
                 return None
         if column.max() > total:  # also catches indices too large for int64 (saturated)
             return None
         return column - 1
 
-    position = indices(numbers[:, 0], sections.v_before, len(vertices))
+    position = indices(numbers[:, 0], v_before, len(vertices))
     if position is None:
         return None
     triangles = triangulate(vertices, position, corners)
     mesh = MeshData(vertices, position[triangles])
     if numbers.shape[1] >= 2 and not doubled:
-        texture = indices(numbers[:, 1], sections.vt_before, len(uv))
+        texture = indices(numbers[:, 1], vt_before, len(uv))
         if texture is None:
             return None
         mesh.uv, mesh.uv_faces = uv, texture[triangles]

@@ -1,9 +1,5 @@
-"""OBJ, the strict reader: line by line, naming the line of any problem.
-
-It accepts exactly what the fast reader (:mod:`~gogreen_core.mesh.mesh_io.obj_fast`) accepts, with
-the same result; the fast one hands it every file that is not regular, so that each error message
-comes from here.
-"""
+"""OBJ, the strict reader: line by line, naming the line of any problem. It accepts what the
+fast reader accepts, with the same result, and reads every file that one hands over."""
 
 from __future__ import annotations
 
@@ -11,7 +7,7 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from gogreen_core.mesh.mesh_io.data import MAX_INDEX, MeshData, MeshFileError
+from gogreen_core.mesh.mesh_io.data import MAX_INDEX, MeshData, MeshFileError, first_non_finite
 from gogreen_core.mesh.mesh_io.polygons import triangulate
 from gogreen_core.mesh.mesh_io.text import text_lines
 
@@ -28,8 +24,6 @@ OBJ_STATEMENTS = frozenset(
 
 
 def read_obj_strict(data: bytes, name: str) -> MeshData:
-    """Line by line: accepts what the fast reader accepts, the same way, and names the line of
-    any problem."""
     vertices: list[tuple[float, ...]] = []
     vertex_lines: list[int] = []
     uvs: list[tuple[float, float]] = []
@@ -121,9 +115,7 @@ def read_obj_strict(data: bytes, name: str) -> MeshData:
     def polygon_of(corner: int) -> int:
         return int(np.searchsorted(ends, corner, side="right"))
 
-    finite = np.isfinite(v).all(axis=1)
-    if not finite.all():
-        bad = int(np.flatnonzero(~finite)[0])
+    if (bad := first_non_finite(v)) is not None:
         raise MeshFileError(
             f"{name}, line {vertex_lines[bad]}: vertex {bad + 1} has a non-finite coordinate "
             f"{v[bad].tolist()}"

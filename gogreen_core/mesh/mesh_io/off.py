@@ -1,6 +1,5 @@
-"""OFF (Object File Format), read and written here: trimesh silently drops the faces of a
-truncated file instead of reporting it. Polygons are triangulated by their shape; colours after
-a vertex's or a face's numbers are ignored."""
+"""OFF (Object File Format), read here rather than by trimesh (which silently drops the faces of
+a truncated file) and written. Colours after a vertex's or a face's numbers are ignored."""
 
 from __future__ import annotations
 
@@ -10,9 +9,9 @@ from typing import BinaryIO
 
 import numpy as np
 
-from gogreen_core.mesh.mesh_io.data import MeshData, MeshFileError
+from gogreen_core.mesh.mesh_io.data import MeshData, MeshFileError, first_non_finite
 from gogreen_core.mesh.mesh_io.polygons import check_corner_indices, triangulate
-from gogreen_core.mesh.mesh_io.text import is_number, text_lines, write_int_rows, write_rows
+from gogreen_core.mesh.mesh_io.text import is_number, text_lines, write_rows
 
 __all__ = ["read_off", "write_off"]
 
@@ -62,9 +61,7 @@ def read_off(data: bytes, name: str) -> MeshData:
             "(the header's counts do not match the file)"
         )
     v = _off_vertices(vertex_rows, name)
-    finite = np.isfinite(v).all(axis=1)
-    if not finite.all():
-        bad = int(np.flatnonzero(~finite)[0])
+    if (bad := first_non_finite(v)) is not None:
         raise MeshFileError(
             f"{name}, line {vertex_rows[bad][0]}: vertex {bad} has a non-finite coordinate"
         )
@@ -144,4 +141,4 @@ def write_off(mesh: MeshData, out: BinaryIO) -> None:
     header = f"OFF\n# written by GoGreen Sculpt\n{len(mesh.vertices)} {len(mesh.faces)} 0\n"
     out.write(header.encode("ascii"))
     write_rows(out, "%.17g %.17g %.17g\n", mesh.vertices)
-    write_int_rows(out, b"3 ", mesh.faces, b"  \n")
+    write_rows(out, "3 %d %d %d\n", mesh.faces)

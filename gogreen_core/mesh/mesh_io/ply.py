@@ -1,18 +1,12 @@
 """PLY (Stanford polygon files), ASCII and binary, read and written here rather than by trimesh,
-which silently drops the faces of a truncated binary file instead of reporting it.
+which silently drops the faces of a truncated binary file and writes float32 positions.
 
-Reading: positions ``x, y, z``; texture coordinates ``s, t`` (Blender), ``u, v``,
-``texture_u, texture_v`` or ``texture_s, texture_t``; faces (``vertex_indices`` or
-``vertex_index`` lists, triangulated by their shape) and triangle strips (element
-``tristrips``). In a file whose vertices carry attributes besides their position, vertices at
-the same position are welded (:mod:`~gogreen_core.mesh.mesh_io.weld`): exporters split vertices for
-their attributes (Blender along UV seams), and the surface must be one piece. ``MeshData.uv``
-holds the file's per-vertex texture coordinates and ``uv_faces`` the file's vertex of each
-corner. Other vertex properties (normals, colours) are read and dropped. A file with positions
-only keeps its vertices exactly as listed.
-
-Writing: float64 positions (trimesh writes float32, which would round sculpted positions),
-int32 indices, and ``s, t`` when the mesh has texture coordinates, split at the seams.
+Reading: positions ``x, y, z``; texture coordinates (:data:`UV_PROPERTIES`); faces
+(``vertex_indices`` or ``vertex_index`` lists) and triangle strips (element ``tristrips``).
+Vertices that carry attributes besides their position are welded where their positions are
+equal (exporters split them for their attributes, Blender along UV seams); ``MeshData.uv`` holds
+the file's per-vertex texture coordinates and ``uv_faces`` the file's vertex of each corner.
+Writing: float64 positions, int32 indices, ``s, t`` split at the seams.
 """
 
 from __future__ import annotations
@@ -21,7 +15,7 @@ from typing import BinaryIO
 
 import numpy as np
 
-from gogreen_core.mesh.mesh_io.data import MeshData, MeshFileError
+from gogreen_core.mesh.mesh_io.data import MeshData, MeshFileError, first_non_finite
 from gogreen_core.mesh.mesh_io.ply_elements import (
     Columns,
     PlyList,
@@ -31,13 +25,12 @@ from gogreen_core.mesh.mesh_io.ply_elements import (
     read_header,
     row_problem,
 )
-from gogreen_core.mesh.mesh_io.polygons import check_corner_indices, triangulate
+from gogreen_core.mesh.mesh_io.polygons import triangulate
 from gogreen_core.mesh.mesh_io.text import (
     BOM,
     DOS_EOF,
     show_number,
     without_dos_eof,
-    write_int_rows,
     write_rows,
 )
 from gogreen_core.mesh.mesh_io.weld import split_at_seams, weld
@@ -88,12 +81,7 @@ def read_ply(data: bytes, name: str) -> MeshData:
         _check_finite(uv, name, "a non-finite texture coordinate")
     if set(vertex) == {"x", "y", "z"}:
         mesh = MeshData(points, file_faces)
-    else:
-        # Per-vertex attributes (UVs, normals, colours): exporters split a vertex for each
-        # value its corners have (Blender along UV seams). Vertices at the same position are
-        # joined back, whether their attributes differ or not (an exporter that writes a
-        # vertex per corner, or UVs that differ only before rounding to float32), so that the
-        # surface is one piece.
+    else:  # joined whether their attributes differ or not (UVs equal but for rounding...)
         _check_finite(points, name, "a non-finite coordinate")  # named as the file counts
         index, kept = weld(points)
         mesh = MeshData(points[kept], index[file_faces])
@@ -103,9 +91,7 @@ def read_ply(data: bytes, name: str) -> MeshData:
 
 
 def _check_finite(values: np.ndarray, name: str, what: str) -> None:
-    finite = np.isfinite(values).all(axis=1)
-    if not finite.all():
-        bad = int(np.flatnonzero(~finite)[0])
+    if (bad := first_non_finite(values)) is not None:
         raise MeshFileError(f"{name}: vertex {bad} has {what} {values[bad].tolist()}")
 
 
@@ -125,7 +111,6 @@ def _polygons(tables: dict[str, Columns], n_vertices: int, name: str) -> tuple[n
         if len(short):
             raise MeshFileError(f"{name}: face {int(short[0])} has fewer than 3 corners")
         corners = _whole_indices(lists, n_vertices, name, "face")
-        check_corner_indices(corners, lists.sizes, n_vertices, lambda _p: name)
         sizes = lists.sizes.astype(np.int64)
     if strips is not None:
         triangles = _strip_triangles(strips, n_vertices, name)
@@ -137,30 +122,24 @@ def _polygons(tables: dict[str, Columns], n_vertices: int, name: str) -> tuple[n
 
 
 def _whole_indices(lists: PlyList, n_vertices: int, name: str, what: str) -> np.ndarray:
-    """The items of ``lists`` as int64. Float-typed ones (ASCII data, or float indices in a
-    binary file) are checked before the cast, which would make a meaningless int64 of 1e30 or
-    NaN: MeshFileError naming the record of one that is not a whole number, or not in
-    [0, n_vertices) (-1 allowed in strips, where it separates them)."""
+    """The items of ``lists`` as int64; MeshFileError naming the record of one that is not a
+    whole number (checked before the cast, which would make a meaningless int64 of 1e30 or
+    NaN) or not in [0, n_vertices) (-1 allowed in strips, where it separates them)."""
     values = lists.values
-    if values.dtype.kind != "f":  # integer types: range checked by the caller
-        return values.astype(np.int64)
-    record = np.searchsorted(np.cumsum(lists.sizes), np.arange(len(values)), side="right")
+
+    def refuse(wrong: np.ndarray, problem: str) -> None:
+        if wrong.any():
+            bad = int(np.argmax(wrong))
+            record = int(np.searchsorted(np.cumsum(lists.sizes), bad, side="right"))
+            shown = show_number(values[bad])
+            raise MeshFileError(f"{name}: {what} {record} {problem.format(shown)}")
+
     whole = np.isfinite(values) & (values == np.round(values))
-    if not whole.all():
-        bad = int(np.argmin(whole))
-        raise MeshFileError(
-            f"{name}: {what} {int(record[bad])} has vertex index {show_number(values[bad])}, "
-            "which is not a whole number"
-        )
+    refuse(~whole, "has vertex index {}, which is not a whole number")
     outside = (values < 0) | (values >= n_vertices)
     if what == "tristrip":
         outside &= values != -1
-    if outside.any():
-        bad = int(np.argmax(outside))
-        raise MeshFileError(
-            f"{name}: {what} {int(record[bad])} references vertex {show_number(values[bad])} "
-            f"but the file has {n_vertices} vertices"
-        )
+    refuse(outside, f"references vertex {{}} but the file has {n_vertices} vertices")
     return values.astype(np.int64)
 
 
@@ -169,14 +148,6 @@ def _strip_triangles(strips: PlyList, n_vertices: int, name: str) -> np.ndarray:
     -1; every other triangle is flipped so that all turn the same way, and the degenerate
     ones (strips repeat a vertex to turn or to join) are dropped."""
     indices = _whole_indices(strips, n_vertices, name, "tristrip")
-    outside = (indices < -1) | (indices >= n_vertices)
-    if outside.any():
-        bad = int(np.argmax(outside))
-        record = int(np.searchsorted(np.cumsum(strips.sizes), bad, side="right"))
-        raise MeshFileError(
-            f"{name}: tristrip {record} references vertex {int(indices[bad])} but the file has "
-            f"{n_vertices} vertices"
-        )
     # One -1 after each record, so that strips never run from one record into the next.
     ends = np.cumsum(strips.sizes)
     flat = np.insert(indices, ends, -1)
@@ -211,7 +182,7 @@ def write_ply(mesh: MeshData, out: BinaryIO, ascii: bool) -> None:
     out.write(header.encode("ascii"))
     if ascii:
         write_rows(out, " ".join(["%.17g"] * len(columns)) + "\n", vertices)
-        write_int_rows(out, b"3 ", faces, b"  \n")
+        write_rows(out, "3 %d %d %d\n", faces)
         return
     out.write(np.ascontiguousarray(vertices, dtype="<f8").tobytes())
     record = np.dtype([("n", "u1"), ("i", "<i4", 3)])

@@ -1,10 +1,8 @@
 """PLY elements: the header, and each element's records as arrays, binary or ASCII.
 
-A record whose lists all have the length of the first record's (a file of triangles only) is
-read as one structured array, without a copy. Lists of varying lengths (triangles and quads
-mixed, as most Blender meshes are) are walked record by record in compiled code, which finds
-where each record starts, then each property is gathered with whole-array operations: within a
-few times the time of a fixed layout, instead of a Python loop over the records.
+The records are walked in compiled code, which finds where each starts (lists vary in length:
+triangles and quads mixed, as most Blender meshes are), then each property is gathered. ASCII
+data is parsed into float64 numbers whose bytes are read the same way, as float64 properties.
 """
 
 from __future__ import annotations
@@ -16,7 +14,6 @@ import numba
 import numpy as np
 
 from gogreen_core.mesh.mesh_io.data import MeshFileError
-from gogreen_core.mesh.mesh_io.polygons import concatenated_ranges
 from gogreen_core.mesh.mesh_io.text import is_number, parse_numbers
 
 __all__ = [
@@ -129,76 +126,28 @@ def _bad_length(value: float | int, element: PlyElement, name: str) -> MeshFileE
     return MeshFileError(f"{name}: bad list length {value!r} in element '{element.name}'")
 
 
-def _list_length(value: np.generic | float, element: PlyElement, name: str) -> int:
-    """A list's item count read from the data: a whole number ≥ 0, else MeshFileError."""
-    number = value.item() if isinstance(value, np.generic) else value
-    if not (np.isfinite(number) and number >= 0 and number == int(number)):
-        raise _bad_length(number, element, name)
-    return int(number)
-
-
 # -- binary ------------------------------------------------------------------------------------
 def read_binary_element(
-    data: bytes, offset: int, element: PlyElement, endian: str, name: str
+    data: bytes | np.ndarray, offset: int, element: PlyElement, endian: str, name: str
 ) -> tuple[Columns, int]:
-    """One element's records from ``data[offset:]`` (``endian`` '<' or '>'): its columns and
-    the offset after its last record."""
+    """One element's records from ``data[offset:]`` (``endian`` '<', '>' or '=' for ASCII's
+    numbers): its columns and the offset after its last record."""
     props, count = element.properties, element.count
     if not props:
         return {}, offset
-    least = sum(np.dtype(p.count_dtype or p.dtype).itemsize for p in props)
-    if count * least > len(data) - offset:  # (also a count too large for any array)
-        raise _truncated(element, name)
-    # Guess the layout from the first record (lists of a fixed length), then verify it.
-    pos = offset
-    lengths = []
-    for p in props:
-        if p.count_dtype is None:
-            pos += np.dtype(p.dtype).itemsize
-            continue
-        if count == 0:
-            lengths.append(0)
-            continue
-        if pos + np.dtype(p.count_dtype).itemsize > len(data):
-            raise _truncated(element, name)
-        k = _list_length(np.frombuffer(data, endian + p.count_dtype, 1, pos)[0], element, name)
-        lengths.append(k)
-        pos += np.dtype(p.count_dtype).itemsize + k * np.dtype(p.dtype).itemsize
-    fields: list[tuple[str, str] | tuple[str, str, int]] = []
-    lists = iter(lengths)
-    for i, p in enumerate(props):
-        if p.count_dtype is None:
-            fields.append((f"s{i}", endian + p.dtype))
-        else:
-            fields += [(f"n{i}", endian + p.count_dtype), (f"l{i}", endian + p.dtype, next(lists))]
-    record = np.dtype(fields)
-    if offset + count * record.itemsize <= len(data):
-        table = np.frombuffer(data, record, count, offset)
-        listed = [i for i, p in enumerate(props) if p.count_dtype]
-        if all(np.all(table[f"n{i}"] == k) for i, k in zip(listed, lengths, strict=True)):
-            columns: Columns = {}
-            for i, p in enumerate(props):
-                if p.count_dtype is None:
-                    columns[p.name] = table[f"s{i}"]
-                else:
-                    items = table[f"l{i}"]
-                    columns[p.name] = PlyList(
-                        items.reshape(-1), np.full(count, items.shape[1] if count else 0)
-                    )
-            return columns, offset + count * record.itemsize
-    return _walk_binary_element(data, offset, element, endian, name)
-
-
-def _walk_binary_element(
-    data: bytes, offset: int, element: PlyElement, endian: str, name: str
-) -> tuple[Columns, int]:
-    """Lists of varying lengths: find the records with compiled code, then gather."""
-    props = element.properties
     size = [np.dtype(p.count_dtype or p.dtype).itemsize for p in props]
+    if count * sum(size) > len(data) - offset:  # (also a count too large for any array)
+        raise _truncated(element, name)
+    if not any(p.count_dtype for p in props):  # records of one size: a view of the file
+        record = np.dtype([(f"s{i}", endian + p.dtype) for i, p in enumerate(props)])
+        table = np.frombuffer(data, record, count, offset)
+        return {p.name: table[f"s{i}"] for i, p in enumerate(props)}, offset + sum(size) * count
     item = [np.dtype(p.dtype).itemsize if p.count_dtype else 0 for p in props]
     buffer = np.frombuffer(data, dtype=np.uint8)
+    ascii = any(p.count_dtype == "f8" for p in props)  # (binary list lengths are integers)
     starts, lengths, status, bad = _walk_binary_records(
         buffer,
+        buffer.view(np.float64) if ascii else np.empty(0),
         offset,
         element.count,
         np.array([p.count_dtype is not None for p in props]),
@@ -210,7 +159,7 @@ def _walk_binary_element(
     if status == _TRUNCATED:
         raise _truncated(element, name)
     if status == _BAD_LENGTH:
-        raise _bad_length(int(bad), element, name)
+        raise _bad_length(bad if ascii else int(bad), element, name)
     position = starts[:-1].copy()  # where the current property starts, per record
     columns: Columns = {}
     list_number = 0
@@ -235,6 +184,7 @@ _TRUNCATED, _BAD_LENGTH = 1, 2
 @numba.njit(cache=True, nogil=True)
 def _walk_binary_records(
     buffer: np.ndarray,
+    numbers: np.ndarray,
     offset: int,
     count: int,
     is_list: np.ndarray,
@@ -242,10 +192,11 @@ def _walk_binary_records(
     item: np.ndarray,
     signed: np.ndarray,
     big_endian: bool,
-) -> tuple[np.ndarray, np.ndarray, int, int]:
+) -> tuple[np.ndarray, np.ndarray, int, float]:
     """Start of each record and the end of the last (count + 1,), and the length of each list
     (count, lists) of an element of binary records at ``buffer[offset:]``; status 0, or
-    _TRUNCATED, or _BAD_LENGTH with the bad length."""
+    _TRUNCATED, or _BAD_LENGTH with the bad length. ``numbers``: the buffer as float64 when
+    the list lengths are float64 (ASCII's numbers), else empty."""
     n_lists = 0
     for j in range(len(is_list)):
         n_lists += is_list[j]
@@ -261,24 +212,32 @@ def _walk_binary_records(
                 pos += size[j]
                 continue
             if pos + size[j] > end:
-                return starts, lengths, _TRUNCATED, 0
-            k = 0
-            for b in range(size[j]):
-                byte = buffer[pos + (b if big_endian else size[j] - 1 - b)]
-                k = k * 256 + byte
-            if signed[j] and k >= 1 << (8 * size[j] - 1):
-                k -= 1 << (8 * size[j])
-            if k < 0:
-                return starts, lengths, _BAD_LENGTH, k
+                return starts, lengths, _TRUNCATED, 0.0
+            if len(numbers):
+                value = numbers[pos >> 3]
+                if not (np.isfinite(value) and value >= 0 and value == np.floor(value)):
+                    return starts, lengths, _BAD_LENGTH, value
+                if value * item[j] > end - pos - size[j]:
+                    return starts, lengths, _TRUNCATED, 0.0
+                k = int(value)
+            else:
+                k = 0
+                for b in range(size[j]):
+                    byte = buffer[pos + (b if big_endian else size[j] - 1 - b)]
+                    k = k * 256 + byte
+                if signed[j] and k >= 1 << (8 * size[j] - 1):
+                    k -= 1 << (8 * size[j])
+                if k < 0:
+                    return starts, lengths, _BAD_LENGTH, float(k)
             lengths[r, column] = k
             column += 1
             pos += size[j] + k * item[j]
             if pos > end:
-                return starts, lengths, _TRUNCATED, 0
+                return starts, lengths, _TRUNCATED, 0.0
         if pos > end:
-            return starts, lengths, _TRUNCATED, 0
+            return starts, lengths, _TRUNCATED, 0.0
     starts[count] = pos
-    return starts, lengths, 0, 0
+    return starts, lengths, 0, 0.0
 
 
 @numba.njit(cache=True, nogil=True)
@@ -315,104 +274,22 @@ def read_ascii_element(
     values: np.ndarray, cursor: int, element: PlyElement, name: str
 ) -> tuple[Columns, int]:
     """ASCII counterpart of :func:`read_binary_element` on the file's numbers (float64) from
-    ``values[cursor]``."""
-    props, count = element.properties, element.count
-    if not props:
-        return {}, cursor
-    if count * len(props) > len(values) - cursor:  # (also a count too large for any array)
-        raise _truncated(element, name)
-    # Guess a fixed record width from the first record, then verify it.
-    width, pos, starts = 0, cursor, []
-    for p in props:
-        starts.append(width)
-        if p.count_dtype is None:
-            width += 1
-            pos += 1
-            continue
-        if count == 0:
-            continue
-        if pos >= len(values):
-            raise _truncated(element, name)
-        k = _list_length(values[pos], element, name)
-        width += 1 + k
-        pos += 1 + k
-    if count and cursor + count * width <= len(values):
-        table = values[cursor : cursor + count * width].reshape(count, width)
-        columns: Columns = {}
-        for p, start in zip(props, starts, strict=True):
-            if p.count_dtype is None:
-                columns[p.name] = table[:, start]
-                continue
-            k = int(table[0, start])
-            if not np.all(table[:, start] == k):
-                break
-            items = table[:, start + 1 : start + 1 + k].reshape(-1)
-            columns[p.name] = PlyList(items, np.full(count, k))
-        else:
-            return columns, cursor + count * width
-    record_starts, lengths, status, bad = _walk_ascii_records(
-        values, cursor, count, np.array([p.count_dtype is not None for p in props])
+    ``values[cursor]``: their bytes read as an element of float64 properties."""
+    as_numbers = PlyElement(
+        element.name,
+        element.count,
+        [PlyProperty(p.name, "f8", p.count_dtype and "f8") for p in element.properties],
     )
-    if status == _TRUNCATED:
-        raise _truncated(element, name)
-    if status == _BAD_LENGTH:
-        raise _bad_length(float(bad), element, name)
-    position = record_starts[:-1].copy()
-    columns = {}
-    list_number = 0
-    for p in props:
-        if p.count_dtype is None:
-            columns[p.name] = values[position]
-            position += 1
-            continue
-        counts = lengths[:, list_number]
-        list_number += 1
-        columns[p.name] = PlyList(values[concatenated_ranges(position + 1, counts)], counts)
-        position += 1 + counts
-    return columns, int(record_starts[-1])
-
-
-@numba.njit(cache=True, nogil=True)
-def _walk_ascii_records(
-    values: np.ndarray, cursor: int, count: int, is_list: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, int, float]:
-    """ASCII counterpart of :func:`_walk_binary_records` on the file's numbers."""
-    n_lists = 0
-    for j in range(len(is_list)):
-        n_lists += is_list[j]
-    starts = np.empty(count + 1, dtype=np.int64)
-    lengths = np.zeros((count, n_lists), dtype=np.int64)
-    pos = cursor
-    end = len(values)
-    for r in range(count):
-        starts[r] = pos
-        column = 0
-        for j in range(len(is_list)):
-            if pos >= end:
-                return starts, lengths, _TRUNCATED, 0.0
-            if not is_list[j]:
-                pos += 1
-                continue
-            k = values[pos]
-            if not (np.isfinite(k) and k >= 0 and k == np.floor(k)):
-                return starts, lengths, _BAD_LENGTH, k
-            if k > end - pos - 1:
-                return starts, lengths, _TRUNCATED, 0.0
-            lengths[r, column] = int(k)
-            column += 1
-            pos += 1 + int(k)
-    starts[count] = pos
-    return starts, lengths, 0, 0.0
+    columns, end = read_binary_element(values.view(np.uint8), 8 * cursor, as_numbers, "=", name)
+    return columns, end // 8
 
 
 def row_problem(
     data: bytes, offset: int, elements: list[PlyElement], name: str
 ) -> MeshFileError | None:
-    """The first data line of an ASCII PLY with more values than the header declares for it,
-    or a line without lists with fewer: when a record's values run into the next one, this
-    names the line at fault instead of the misread value further on. Only for a file of one
-    record per line (as writers do) with as many lines as the header's counts; else None, as
-    when every line matches."""
+    """The error naming the first data line of an ASCII PLY with more values than the header
+    declares (or fewer, without lists), rather than the misread value further on; None unless
+    the file has one record per line, as many as the header's counts."""
     lines = [
         (number, line.split())
         for number, line in enumerate(

@@ -1,18 +1,12 @@
 """Polygons to triangles by their shape, and the index check that names the polygon at fault.
 
-Polygons are given as consecutive corners with their sizes (the way files list them) and come
-back as triangles of *corner positions*, so that a caller maps vertex and texture indices
-through the same triangles. A quad (two triangulations: one per diagonal) keeps the file's
-diagonal (corners 0-2) unless a triangle of it folds over against the quad's normal and the
-other diagonal folds less; the choice is made for all quads at once with whole-array
-operations. A larger polygon whose fan from its first corner (``0, j, j+1``) covers it exactly
-(every fan triangle on the polygon's side of its best-fit plane: convex polygons, and many
-concave ones) keeps that fan, as the file order has it. The others (a concave n-gon, where the
-fan would cover the notch) are triangulated on their best-fit plane: by the fan from another
-corner when one covers the polygon, else by ear clipping (``mapbox_earcut``, one polygon at a
-time: only polygons of five corners or more get there). Each polygon of k corners always gives
-k-2 triangles that use each of its corners and edges, so neighbouring faces stay connected, and
-the polygon's area is kept.
+Polygons come as consecutive corners with their sizes (as files list them) and go back as
+triangles of *corner positions*, so vertex and texture indices map through the same triangles.
+A quad keeps the file's diagonal (0-2) unless a triangle of it folds over against the quad's
+normal and the other diagonal folds less (all quads at once). A larger polygon keeps the fan
+from its first corner when every fan triangle lies on the polygon's side of its best-fit plane;
+else the fan from another corner that does, else ear clipping (``mapbox_earcut``). A polygon of
+k corners always gives k-2 triangles using all its corners and edges, so neighbours stay joined.
 """
 
 from __future__ import annotations
@@ -25,8 +19,9 @@ import numba
 import numpy as np
 
 from gogreen_core.mesh.mesh_io.data import MeshFileError
+from gogreen_core.mesh.topology import concatenated_ranges
 
-__all__ = ["check_corner_indices", "concatenated_ranges", "triangulate"]
+__all__ = ["check_corner_indices", "triangulate"]
 
 #: A fan triangle whose turn against the polygon's normal is below -this (the sine of the
 #: angle between the triangle's and the polygon's sides) folds over: the polygon is concave
@@ -35,11 +30,6 @@ _FOLD_TOLERANCE = 1e-9
 #: Polygons of up to this many corners try the fan from each of their corners (k² work each)
 #: before ear clipping.
 _MAX_FAN_STARTS = 32
-
-
-def concatenated_ranges(starts: np.ndarray, counts: np.ndarray) -> np.ndarray:
-    """The ranges ``starts[i] : starts[i] + counts[i]`` (int64), concatenated."""
-    return np.repeat(starts - _starts(counts), counts) + np.arange(int(counts.sum()))
 
 
 def check_corner_indices(
@@ -58,30 +48,16 @@ def check_corner_indices(
 
 
 def triangulate(points: np.ndarray, corners: np.ndarray, sizes: np.ndarray) -> np.ndarray:
-    """Triangles of polygons by their shape (see the module's description).
-
-    Parameters
-    ----------
-    points : (N, 3) float64
-        Vertex positions.
-    corners : (C,) int
-        Vertex index of each corner (all in [0, N)), polygon after polygon.
-    sizes : (P,) int
-        Corners of each polygon (≥ 3), summing to C.
-
-    Returns
-    -------
-    (T, 3) int64
-        Positions in ``corners`` of each triangle's corners, T = Σ(k-2), polygon after polygon.
-    """
+    """Triangles (T = Σ(k-2), 3) int64 of polygons by their shape (see the module's
+    description), as positions in ``corners`` (C,) (each polygon's vertex indices into
+    ``points`` (N, 3), polygon after polygon; ``sizes`` (P,) ≥ 3 corners each)."""
     sizes = np.ascontiguousarray(sizes, dtype=np.int64)
     if len(sizes) == 0 or sizes.max() == 3:
         return np.arange(3 * len(sizes), dtype=np.int64).reshape(-1, 3)
     corners = np.ascontiguousarray(corners, dtype=np.int64)
     points = np.ascontiguousarray(points, dtype=np.float64)
-    corner_starts, triangle_starts = _starts(sizes), _starts(sizes - 2)
-    # Every polygon's fan from its first corner (0, j+1, j+2), then the quads' and the larger
-    # polygons' own choices over it.
+    corner_starts, triangle_starts = np.cumsum(sizes) - sizes, np.cumsum(sizes - 2) - (sizes - 2)
+    # Every polygon's fan from its first corner, then the quads' and larger polygons' choices.
     polygon = np.repeat(np.arange(len(sizes)), sizes - 2)
     first = corner_starts[polygon]
     step = np.arange(len(polygon)) - triangle_starts[polygon]
@@ -91,7 +67,6 @@ def triangulate(points: np.ndarray, corners: np.ndarray, sizes: np.ndarray) -> n
         _split_quads(points, corners, corner_starts[quads], triangle_starts[quads], triangles)
     larger = np.flatnonzero(sizes > 4)
     if len(larger):
-        # Positions in ``corners`` of the larger polygons' corners, and where their triangles go.
         own = concatenated_ranges(corner_starts[larger], sizes[larger])
         rows = concatenated_ranges(triangle_starts[larger], sizes[larger] - 2)
         their_sizes = np.ascontiguousarray(sizes[larger])
@@ -99,12 +74,17 @@ def triangulate(points: np.ndarray, corners: np.ndarray, sizes: np.ndarray) -> n
         found, uncovered = _fans(
             points, their_corners, their_sizes, _FOLD_TOLERANCE, _MAX_FAN_STARTS
         )
-        if uncovered.any():
-            _ear_clip_all(points, their_corners, their_sizes, found, np.flatnonzero(uncovered))
+        starts, firsts = np.cumsum(their_sizes) - their_sizes, np.cumsum(their_sizes - 2)
+        for p in np.flatnonzero(uncovered).tolist():  # ear clipping (a twisted one keeps its fan)
+            k, c = int(their_sizes[p]), int(starts[p])
+            clipped = _ear_clip(points[their_corners[c : c + k]])
+            if clipped is not None:
+                found[int(firsts[p]) - k + 2 : int(firsts[p])] = c + clipped
         triangles[rows] = own[found]
     return triangles
 
 
+@np.errstate(all="ignore")  # huge coordinates overflow: such a quad keeps its split
 def _split_quads(
     points: np.ndarray,
     corners: np.ndarray,
@@ -113,28 +93,11 @@ def _split_quads(
     triangles: np.ndarray,
 ) -> None:
     """Choose each quad's diagonal, all quads at once: the file's (corners 0-2, the fan kept in
-    ``triangles[rows]``, ``triangles[rows + 1]``) unless one of its two triangles folds over
-    against the quad's normal (a concave quad whose notch is at corner 1 or 3, or a non-planar
-    one bent that way) while the other diagonal (1-3) folds less; then the triangles (1, 2, 3),
-    (1, 3, 0). Of a concave quad this is the diagonal inside it; of a twisted one (a bow tie
-    seen along its normal, which no diagonal covers) the one that folds least. Convex quads
-    keep the file's split bit for bit, as Blender and the file's writer made it."""
-    # Corners 1, 2, 3 relative to corner 0, each a triple of (Q,) coordinate arrays.
+    ``triangles[rows]``, ``triangles[rows + 1]``) unless one of its triangles folds over against
+    the quad's normal while the other diagonal (1-3) folds less; then (1, 2, 3), (1, 3, 0).
+    Convex quads keep the file's split bit for bit, as Blender and the file's writer made it."""
     at = corners[starts + np.arange(4)[:, None]]  # (4, Q) vertex of each corner
     x, y, z = np.take(np.ascontiguousarray(points.T), at, axis=1)  # (4, Q) each
-    with np.errstate(all="ignore"):  # huge coordinates overflow: such a quad keeps its split
-        _choose_diagonals(x, y, z, starts, rows, triangles)
-
-
-def _choose_diagonals(
-    x: np.ndarray,
-    y: np.ndarray,
-    z: np.ndarray,
-    starts: np.ndarray,
-    rows: np.ndarray,
-    triangles: np.ndarray,
-) -> None:
-    """:func:`_split_quads` on the corners' coordinates ``x``, ``y``, ``z`` (4, Q)."""
     one, two, three = ((x[k] - x[0], y[k] - y[0], z[k] - z[0]) for k in (1, 2, 3))
     # Newell's normal of a quad: the cross product of its diagonals (2 - 0) x (3 - 1).
     n = _cross(two, _minus(three, one))
@@ -173,26 +136,19 @@ def _dot(u: _Vectors, v: _Vectors) -> np.ndarray:
 
 
 def _fold(u: _Vectors, v: _Vectors, n: _Vectors, nn: np.ndarray) -> np.ndarray:
-    """(Q,) how far the triangle with edges ``u``, ``v`` from a corner turns against the
-    quads' normals ``n`` (``nn`` their squared lengths): minus the sine of its side, above 0
-    when it folds (0 for a degenerate triangle or quad), as the fan test measures it."""
+    """(Q,) minus the sine of the side of the triangle with edges ``u``, ``v`` against the
+    quads' normals ``n`` (``nn`` their squared lengths): above 0 when it folds."""
     side = _dot(_cross(u, v), n)
     scale = np.sqrt(_dot(u, u) * _dot(v, v) * nn)
     return np.where(scale > 0, -side / np.where(scale > 0, scale, 1.0), 0.0)
-
-
-def _starts(sizes: np.ndarray) -> np.ndarray:
-    """Offset of each run of ``sizes`` items in their concatenation."""
-    return np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int64)
 
 
 @numba.njit(cache=True, nogil=True)
 def _fans(
     points: np.ndarray, corners: np.ndarray, sizes: np.ndarray, tolerance: float, max_starts: int
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Fan triangles of each polygon (T, 3) (positions in ``corners``): from its first corner
-    when that fan covers it, else from the first other corner whose fan does (polygons of up to
-    ``max_starts`` corners); and which polygons no fan covers (P,), for ear clipping."""
+    """Fan triangles of each polygon (T, 3): from the first of its corners (up to
+    ``max_starts``) whose fan covers it; and which polygons no fan covers (P,)."""
     n_triangles = 0
     for p in range(len(sizes)):
         n_triangles += sizes[p] - 2
@@ -251,7 +207,7 @@ def _fan_covers(
     tolerance: float,
 ) -> bool:
     """Whether every triangle of the fan from corner ``start`` of the polygon at ``c`` turns
-    with the normal (within ``tolerance``: the sine of its angle against the plane)."""
+    with the normal (within ``tolerance``, a sine)."""
     o = corners[c + start]
     for j in range(1, k - 1):
         ax, ay, az = _edge(points, o, corners[c + (start + j) % k])
@@ -263,27 +219,9 @@ def _fan_covers(
     return True
 
 
-def _ear_clip_all(
-    points: np.ndarray,
-    corners: np.ndarray,
-    sizes: np.ndarray,
-    triangles: np.ndarray,
-    polygons: np.ndarray,
-) -> None:
-    """Replace, in ``triangles``, the fans of ``polygons`` (which no fan covers) by ear
-    clipping; a polygon it fails on (degenerate, twisted) keeps its fan."""
-    corner_starts, triangle_starts = _starts(sizes), _starts(sizes - 2)
-    for p in polygons.tolist():
-        k = int(sizes[p])
-        positions = points[corners[corner_starts[p] : corner_starts[p] + k]]
-        clipped = _ear_clip(positions)
-        if clipped is not None:
-            triangles[triangle_starts[p] : triangle_starts[p] + k - 2] = corner_starts[p] + clipped
-
-
 def _ear_clip(positions: np.ndarray) -> np.ndarray | None:
     """Triangles (k-2, 3) of corner numbers covering one polygon (k, 3), by ear clipping on its
-    best-fit plane; None when that fails (a twisted polygon)."""
+    best-fit plane; None when that fails."""
     k = len(positions)
     edges = positions[1:] - positions[0]
     normal = np.cross(edges[:-1], edges[1:]).sum(axis=0)  # Newell's
@@ -310,9 +248,9 @@ def _ear_clip(positions: np.ndarray) -> np.ndarray | None:
 
 
 def _put_back_dropped_corners(tri: np.ndarray, k: int) -> np.ndarray | None:
-    """Ear clipping drops corners that lie on a straight line between their neighbours (or
-    repeat one); a neighbouring face may still use such a corner, so split the triangle on the
-    edge that skips them into a fan through them. None when no such triangle is found."""
+    """Ear clipping drops corners on a straight line between their neighbours (or repeated);
+    a neighbouring face may use one, so the triangle on the edge skipping them is split into
+    a fan through them. None when no such triangle is found."""
     kept = np.flatnonzero(np.isin(np.arange(k), tri))
     rows = [list(t) for t in tri.tolist()]
     for a, b in zip(kept.tolist(), np.roll(kept, -1).tolist(), strict=True):

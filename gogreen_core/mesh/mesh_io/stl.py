@@ -1,14 +1,7 @@
-"""STL, binary and ASCII, read and written here (numpy views of the file, no copies beyond the
-float64 positions).
-
-An STL file has no shared vertices: each triangle lists its own three corners (float32). They
-are welded at load (:func:`~gogreen_core.mesh.mesh_io.weld.weld`: corners at exactly the same
-position are one vertex, in order of first appearance), so a closed model loads closed, as it
-was in the program that wrote it; saving writes each triangle's corners again. STL stores
-float32, so saving to STL rounds positions. Normals in the file are ignored (the corners' order
-gives the orientation); the attribute word of each binary triangle too. A truncated file is
-refused, binary or ASCII: an ASCII facet missing a part or a solid without ``endsolid`` gives a
-MeshFileError naming the line.
+"""STL, binary and ASCII. Each triangle lists its own corners; they are welded at load
+(:func:`~gogreen_core.mesh.mesh_io.weld.weld`), so a closed model loads closed. Saving writes
+float32 corners (rounding positions). Normals and attribute words are ignored. A truncated file
+is refused; an ASCII one names the line where it leaves the grammar.
 """
 
 from __future__ import annotations
@@ -18,7 +11,7 @@ from typing import BinaryIO, NoReturn
 
 import numpy as np
 
-from gogreen_core.mesh.mesh_io.data import MeshData, MeshFileError
+from gogreen_core.mesh.mesh_io.data import MeshData, MeshFileError, first_non_finite
 from gogreen_core.mesh.mesh_io.text import is_number, parse_numbers, without_dos_eof
 from gogreen_core.mesh.mesh_io.weld import weld
 
@@ -35,9 +28,7 @@ def read_stl(data: bytes, name: str) -> MeshData:
         if len(data) == _HEADER + 4 + count * TRIANGLE.itemsize:
             triangles = np.frombuffer(data, TRIANGLE, count, _HEADER + 4)
             corners = triangles["corners"].reshape(-1, 3)
-            finite = np.isfinite(corners).all(axis=1)
-            if not finite.all():
-                bad = int(np.argmin(finite))
+            if (bad := first_non_finite(corners)) is not None:
                 raise MeshFileError(
                     f"{name}: triangle {bad // 3} (from 0) has a non-finite corner "
                     f"{corners[bad].tolist()}"
@@ -54,10 +45,9 @@ def read_stl(data: bytes, name: str) -> MeshData:
     )
 
 
-# The grammar of an ASCII STL (lower-cased, any whitespace between words): solids, each
-# ``solid [name]``, facets, ``endsolid [name]``. A whole solid's facets are matched by one regular
-# expression run (C speed); only where it stops is the file walked piece by piece, to name the
-# line at fault.
+# An ASCII STL (lower-cased, any whitespace between words): solids, each ``solid [name]``,
+# facets, ``endsolid [name]``. A solid's facets are matched by one regular expression run; only
+# where it stops is the file walked piece by piece, to name the line at fault.
 _NUMBER = rb"\s+\S+"
 _FACET_PARTS = (
     ("facet normal nx ny nz", rb"\s*facet\s+normal" + 3 * _NUMBER + rb"(?=\s|\Z)"),
@@ -76,9 +66,7 @@ _VERTEX = re.compile(rb"\bvertex\s+(\S+)\s+(\S+)\s+(\S+)")
 
 
 def _ascii_corners(data: bytes, name: str) -> np.ndarray:
-    """(3·M, 3) corner positions of an ASCII STL (every solid of the file); MeshFileError
-    naming the line of an incomplete facet, a solid without ``endsolid`` or anything else
-    out of place (a truncated file is refused, as a truncated binary STL is)."""
+    """(3·M, 3) corner positions of an ASCII STL (every solid of the file)."""
     text = without_dos_eof(data).lower().replace(b"\r\n", b"\n").replace(b"\r", b"\n")
     _check_ascii_structure(text, name)
     found = _VERTEX.findall(text)
@@ -88,7 +76,8 @@ def _ascii_corners(data: bytes, name: str) -> np.ndarray:
     try:
         corners = parse_numbers(flat, np.float64)
     except ValueError:  # numbers the C parser does not take ('1_0'), read as ASCII PLY's are
-        bad = next((m for m in _VERTEX.finditer(text) if not _all_numbers(m.groups())), None)
+        words = (m for m in _VERTEX.finditer(text) if not all(map(is_number, m.groups())))
+        bad = next(words, None)
         if bad is not None:
             shown = b" ".join(bad.groups()).decode("ascii", "replace")
             raise MeshFileError(
@@ -96,9 +85,8 @@ def _ascii_corners(data: bytes, name: str) -> np.ndarray:
             ) from None
         corners = np.array([float(t) for t in flat.split()])
     corners = corners.reshape(-1, 3)
-    finite = np.isfinite(corners).all(axis=1)
-    if not finite.all():
-        bad = list(_VERTEX.finditer(text))[int(np.argmin(finite))]
+    if (row := first_non_finite(corners)) is not None:
+        bad = list(_VERTEX.finditer(text))[row]
         shown = b" ".join(bad.groups()).decode("ascii", "replace")
         raise MeshFileError(
             f"{name}, line {_line_of(text, bad.start())}: the vertex {shown!r} is not finite"
@@ -150,10 +138,6 @@ def _skip_space(text: bytes, position: int) -> int:
 
 def _line_of(text: bytes, position: int) -> int:
     return text.count(b"\n", 0, position) + 1
-
-
-def _all_numbers(tokens: tuple[bytes, ...]) -> bool:
-    return all(is_number(t.decode("ascii", "replace")) for t in tokens)
 
 
 def _welded(corners: np.ndarray, name: str) -> MeshData:

@@ -1,6 +1,6 @@
 """Text helpers shared by the formats: decoding a file's text, parsing whole arrays of numbers
 the same way under numpy 1.26 and 2.x, showing a number the way the file wrote it, and writing
-rows of numbers with whole-array operations."""
+rows of numbers."""
 
 from __future__ import annotations
 
@@ -19,7 +19,6 @@ __all__ = [
     "show_number",
     "text_lines",
     "without_dos_eof",
-    "write_int_rows",
     "write_rows",
 ]
 
@@ -74,7 +73,7 @@ def show_number(value: np.floating) -> str:
     return str(value)
 
 
-def is_number(token: str) -> bool:
+def is_number(token: str | bytes) -> bool:
     try:
         float(token)
     except ValueError:
@@ -91,31 +90,3 @@ def write_rows(out: BinaryIO, fmt: str, table: np.ndarray) -> None:
     for start in range(0, len(table), _CHUNK):
         rows = table[start : start + _CHUNK]
         out.write(((fmt * len(rows)) % tuple(rows.ravel().tolist())).encode("ascii"))
-
-
-def write_int_rows(out: BinaryIO, prefix: bytes, table: np.ndarray, separators: bytes) -> None:
-    """Write rows ``prefix`` + the row's integers (>= 0), each followed by its separator
-    (``separators[j]`` after column j: b" ", b"/" or b"\n"), in decimal, with whole-array
-    operations: a fixed-width digit grid whose leading zeros are dropped."""
-    n, columns = table.shape
-    if n == 0:
-        return
-    width = len(str(int(table.max())))
-    kind = np.uint32 if table.max() < 2**32 else np.uint64  # 32-bit division is faster
-    row_width = len(prefix) + columns * (width + 1)
-    for start in range(0, n, _CHUNK):
-        rows = table[start : start + _CHUNK].astype(kind)
-        m = len(rows)
-        grid = np.empty((m, row_width), dtype=np.uint8)
-        grid[:, : len(prefix)] = np.frombuffer(prefix, dtype=np.uint8)
-        cells = grid[:, len(prefix) :].reshape(m, columns, width + 1)
-        cells[:, :, width] = np.frombuffer(separators, dtype=np.uint8)
-        mask = np.ones((m, row_width), dtype=bool)
-        keep = mask[:, len(prefix) :].reshape(m, columns, width + 1)
-        rest = rows.copy()
-        for digit in range(width - 1, -1, -1):  # last digit first
-            rest, cells[:, :, digit] = np.divmod(rest, kind(10))
-            keep[:, :, digit] = rows >= 10 ** (width - 1 - digit)
-        keep[:, :, width - 1] = True  # 0 keeps its one digit
-        cells[:, :, :width] += ord("0")
-        out.write(grid[mask].tobytes())

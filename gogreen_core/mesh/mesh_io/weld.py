@@ -1,12 +1,10 @@
 """Vertices that a file split only for its format, joined back (and split again to save).
 
 STL lists three corners per triangle, and Blender's PLY exporter writes one vertex per distinct
-(vertex, UV) pair, so a UV seam or an STL triangle soup loads as pieces that a brush would tear
-apart. :func:`weld` joins vertices at exactly the same position (bit for bit, as the exporter
-wrote the same float twice); the welded vertices keep the order of their first appearance, so
-a file without splits keeps its vertex order. It is an open-addressing hash table in numba
-code: one pass, where sorting the positions would take several times longer.
-:func:`split_at_seams` does the opposite for a format with one texture coordinate per vertex.
+(vertex, UV) pair, so such files load in pieces a brush would tear apart. :func:`weld` joins
+vertices at exactly the same position (bit for bit), in order of first appearance, with a hash
+table in numba code (one pass; sorting took several times longer). :func:`split_at_seams` does
+the opposite for a format with one texture coordinate per vertex.
 """
 
 from __future__ import annotations
@@ -18,20 +16,9 @@ __all__ = ["split_at_seams", "weld"]
 
 
 def weld(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Join vertices at the same position (bit for bit, -0.0 as 0.0).
-
-    Parameters
-    ----------
-    points : (N, 3) float32 or float64
-        Positions as the file has them (float32 ones are compared as float32).
-
-    Returns
-    -------
-    index : (N,) int64
-        The welded vertex of each file vertex.
-    kept : (W,) int64
-        The file vertex that each welded vertex comes from (its first appearance), increasing.
-    """
+    """Join vertices at the same position (bit for bit, -0.0 as 0.0; float32 ``points`` (N, 3)
+    compared as float32): the welded vertex of each vertex (N,) int64, and the vertex each
+    welded one comes from (W,) int64 (its first appearance, increasing)."""
     if len(points) >= 2**31:
         raise ValueError(f"too many vertices to weld ({len(points)})")
     first = _first_equal_rows(_bits(points))
@@ -42,23 +29,11 @@ def weld(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def split_at_seams(
     faces: np.ndarray, uv: np.ndarray, uv_faces: np.ndarray, n_vertices: int
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """One texture coordinate per vertex, for a format that has no per-corner ones (PLY).
-
-    A vertex keeps its number and the texture coordinate of its first textured corner; each
-    other (vertex, texture coordinate) pair of its corners becomes a new vertex after the
-    ``n_vertices`` originals, in order of first appearance. Corners without one (rows of -1
-    in ``uv_faces``) use the vertex's own. Loading the file welds them back (:func:`weld`) in
-    the same order.
-
-    Returns
-    -------
-    source : (V,) int64
-        The vertex each written vertex is a copy of (``arange(n_vertices)`` first).
-    vertex_uv : (V, 2) float64
-        Its texture coordinate ((0, 0) for a vertex without a textured corner).
-    written_faces : (M, 3) int64
-        The faces on the written vertices.
-    """
+    """One texture coordinate per vertex, for a format without per-corner ones (PLY): a vertex
+    keeps its number and its first textured corner's; each other (vertex, texture coordinate)
+    pair becomes a new vertex after the originals, in order of first appearance. Returns the
+    vertex each written vertex copies (V,) (``arange(n_vertices)`` first), its texture
+    coordinate (V, 2) ((0, 0) without one) and the faces (M, 3) on the written vertices."""
     corner_vertex = faces.ravel()
     corner_uv = uv_faces.ravel()
     textured = np.flatnonzero(corner_uv >= 0)
@@ -96,8 +71,8 @@ def _bits(values: np.ndarray) -> np.ndarray:
 @numba.njit(cache=True, nogil=True)
 def _first_equal_rows(keys: np.ndarray) -> np.ndarray:
     """For each row of ``keys`` (N, W) unsigned ints, the first row equal to it (N,) int64: one
-    pass through an open-addressing hash table. It has 2N slots or more, so that probe chains
-    stay short even when every row is distinct (a growing table measured 1.4x slower)."""
+    pass through an open-addressing hash table of 2N slots or more (short probe chains even
+    when every row is distinct; a growing table measured 1.4x slower)."""
     n = keys.shape[0]
     size = 16
     while size < 2 * n:

@@ -355,7 +355,7 @@ from gogreen_core.mesh import mesh_io
 from gogreen_core.mesh.mesh_io import ply_elements, polygons, weld
 
 loops = [ply_elements._walk_binary_records, ply_elements._copy_runs,
-         ply_elements._walk_ascii_records, polygons._fans, weld._first_equal_rows]
+         polygons._fans, weld._first_equal_rows]
 mesh_io.warm_up()
 ready = {f: set(f.signatures) for f in loops}
 for path in sys.argv[1:]:
