@@ -1,9 +1,6 @@
-"""The bounds of every value the engine accepts, and the checks that apply them.
-
-One set of range checks and messages (README, "Sculpting without the GUI"): the engine's
-settings value (:class:`gogreen_core.sculpt.engine_settings.EngineSettings`), the evented settings
-model, brushes, presets and session files all call these. Each check takes the parameter's name
-(or field path) and raises :class:`~gogreen_core.validation.ParameterError` naming it.
+"""The bounds of every value the engine accepts, and the checks that apply them: one set of
+range checks for the engine's settings, the settings model, brushes, presets and session files,
+each raising :class:`~gogreen_core.validation.ParameterError` naming the parameter.
 """
 
 from __future__ import annotations
@@ -13,11 +10,7 @@ import numpy as np
 from gogreen_core.field.kernel import L_MAX_LIMIT
 from gogreen_core.physics.material import Material
 from gogreen_core.physics.radial import MultiscaleRadial, RadialProfile, SplineRadial
-from gogreen_core.validation import (
-    ParameterError,
-    check_integer,
-    check_number,
-)
+from gogreen_core.validation import ParameterError, check_integer, check_number
 
 __all__ = [
     "L_MAX_LIMIT",
