@@ -18,11 +18,11 @@ import argparse
 import json
 import sys
 import time
-from dataclasses import dataclass
+from collections.abc import Iterator
+from contextlib import contextmanager
 from datetime import datetime
 from pathlib import Path
-from types import TracebackType
-from typing import Literal, TextIO
+from typing import TextIO
 
 import numpy as np
 
@@ -60,9 +60,7 @@ from gogreen_core.validation import (
     prefixed,
 )
 
-__all__ = ["BATCH_COMMANDS", "main"]
-
-BATCH_COMMANDS = ("replay", "deform", "truncation", "recover")
+__all__ = ["main"]
 
 
 class ProgressBar:
@@ -90,11 +88,8 @@ class ProgressBar:
 
 
 def _save(mesh: MeshData, sculptor: Sculptor, path: str) -> None:
-    """The sculptor's mesh (its faces and UVs too: a subdivision changes them) to ``path``.
-
-    ``mesh`` is the file the command read: whatever it holds besides the positions (texture
-    coordinates per corner) must reach the output, so a sculptor made without them is a bug
-    here, refused rather than written without them."""
+    """The sculptor's mesh (its faces and UVs too) to ``path``; ``mesh``, the file read: its
+    texture coordinates must reach the output (a sculptor made without them is a bug here)."""
     now = sculptor.mesh
     if mesh.uv is not None and now.uv is None:
         raise RuntimeError("internal error: the texture coordinates of the input were dropped")
@@ -153,33 +148,14 @@ def _falloff(name: str) -> RadialProfile:
         return parse_falloff(data, path)
 
 
-@dataclass(frozen=True)
-class _DeformOptions:
-    """The options of ``gogreen deform``, each checked under its own name."""
-
-    settings: EngineSettings
-    brush: Brush
-    center: np.ndarray
-    delta: np.ndarray
-    amount: float
-    axis: np.ndarray | None
-    direction: np.ndarray | None
-    events: int
-
-
-def _deform_options(args: argparse.Namespace) -> _DeformOptions:
-    """Every option of ``gogreen deform`` checked before anything is computed from it;
-    ValueError (a ParameterError naming the option) for a bad one."""
+def _deform(args: argparse.Namespace) -> int:
+    mesh = load_mesh(args.input)
+    # every option checked, under its own name, before anything is computed from it
     values = {s.name: s.check(getattr(args, s.name), s.flag) for s in _flag_rows()}
     settings = EngineSettings(material=_material(args), falloff=_falloff(args.falloff), **values)
     with _option_names():
         brush = Brush(
-            kind=args.brush,
-            radius=args.radius,
-            strength=args.strength,
-            substeps=args.substeps,
-            influence=args.influence,
-            symmetry=args.symmetry,
+            args.brush, args.radius, args.strength, args.substeps, args.influence, args.symmetry
         )
     center = check_vector("--center", args.center)
     delta = check_vector("--delta", args.delta)
@@ -192,23 +168,10 @@ def _deform_options(args: argparse.Namespace) -> _DeformOptions:
         raise ParameterError("--amount", f"the {brush.kind} brush needs --amount (nonzero)")
     if not (brush.is_affine or paint) and not np.any(delta):
         raise ParameterError("--delta", f"the {brush.kind} brush needs --delta (nonzero)")
-    return _DeformOptions(settings, brush, center, delta, amount, axis, direction, events)
-
-
-def _deform(args: argparse.Namespace) -> int:
-    mesh = load_mesh(args.input)
-    options = _deform_options(args)
     sculptor = Sculptor(
-        mesh.vertices,
-        mesh.faces,
-        uv=mesh.uv,
-        uv_faces=mesh.uv_faces,
-        settings=options.settings,
+        mesh.vertices, mesh.faces, uv=mesh.uv, uv_faces=mesh.uv_faces, settings=settings
     )
-    brush, events, center = options.brush, options.events, options.center
-    paint = brush.type.family == "paint"
-    # The drag is split into equal events, as mouse events of one stroke.
-    step = options.delta / events
+    step = delta / events  # the drag split into equal events, as mouse events of one stroke
     progress = None if args.quiet else ProgressBar("deform")
     sculptor.begin_stroke(brush)
     try:
@@ -217,9 +180,9 @@ def _deform(args: argparse.Namespace) -> int:
                 event = BrushEvent(
                     center=center + k * step,
                     delta=step,
-                    amount=options.amount if paint else options.amount / events,
-                    axis=options.axis,
-                    direction=options.direction,
+                    amount=amount if paint else amount / events,
+                    axis=axis,
+                    direction=direction,
                 )
                 sculptor.stroke_event(event)
             if progress:
@@ -312,39 +275,31 @@ def _write_recovered(directory: Path, args: argparse.Namespace) -> None:
         print(f"wrote the session ({count} operations) -> {args.session}", file=sys.stderr)
 
 
-class _option_names:
+@contextmanager
+def _option_names() -> Iterator[None]:
     """Re-raise a ParameterError of a brush or event field under its option's name
     (``delta`` → ``--delta``), so the message names what the user typed."""
-
-    def __enter__(self) -> None:
-        return None
-
-    def __exit__(
-        self,
-        kind: type[BaseException] | None,
-        exc: BaseException | None,
-        tb: TracebackType | None,
-    ) -> Literal[False]:
-        if isinstance(exc, ParameterError) and exc.parameter.isidentifier():
-            option = "--" + exc.parameter.replace("_", "-")
-            message = str(exc)
-            if message.startswith(exc.parameter):
-                message = option + message[len(exc.parameter) :]
-            else:
-                message = f"{option}: {message}"
-            raise ParameterError(option, message) from None
-        return False
+    try:
+        yield
+    except ParameterError as exc:
+        if not exc.parameter.isidentifier():
+            raise
+        option, message = "--" + exc.parameter.replace("_", "-"), str(exc)
+        if message.startswith(exc.parameter):
+            message = option + message[len(exc.parameter) :]
+        else:
+            message = f"{option}: {message}"
+        raise ParameterError(option, message) from None
 
 
 def _flag_rows() -> tuple[Setting, ...]:
-    """The setting table's ``"cli"`` rows that are one flag each (the material and falloff
-    have flags of their own: ``--material``, ``--young``, ``--poisson``, ``--falloff``)."""
+    """The setting table's ``"cli"`` rows that are one flag each (not the material and
+    falloff: ``--material``, ``--young``, ``--poisson``, ``--falloff``)."""
     return tuple(s for s in rows("cli") if s.type in ("int", "float", "bool", "choice"))
 
 
 def _add_setting_flags(parser: argparse.ArgumentParser) -> None:
-    """One flag per :func:`_flag_rows` row, its default and help from the table (checked, and
-    named as the flag, in :func:`_deform_options`)."""
+    """One flag per :func:`_flag_rows` row, its default and help from the table."""
     for s in _flag_rows():
         if s.type == "bool":
             action = argparse.BooleanOptionalAction
@@ -363,6 +318,7 @@ def _parser() -> argparse.ArgumentParser:
     replay.add_argument("input", help="mesh the session starts from (OBJ, PLY, STL, OFF)")
     replay.add_argument("-o", "--output", required=True, help="where to write the result")
     replay.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    replay.set_defaults(run=_replay)
 
     deform = sub.add_parser("deform", help="apply one brush stroke to a mesh")
     deform.add_argument("input")
@@ -426,6 +382,7 @@ def _parser() -> argparse.ArgumentParser:
     _add_setting_flags(deform)
     deform.add_argument("--session-out", help="also write the session JSON here")
     deform.add_argument("-q", "--quiet", action="store_true")
+    deform.set_defaults(run=_deform)
 
     truncation = sub.add_parser(
         "truncation", help="how accurate each l_max is for a material (paper Fig. 9)"
@@ -436,6 +393,7 @@ def _parser() -> argparse.ArgumentParser:
     truncation.add_argument("--l-max", type=int, default=8, help="the l_max to assess")
     truncation.add_argument("--max-degree", type=int, default=20, help="largest l_max measured")
     truncation.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    truncation.set_defaults(run=_truncation)
     recover_ = sub.add_parser(
         "recover",
         help="list the crash-recovery journals, or rebuild what one recorded",
@@ -452,20 +410,15 @@ def _parser() -> argparse.ArgumentParser:
     recover_.add_argument("--session", help="write the journal's operations as a session JSON")
     recover_.add_argument("--discard", action="store_true", help="delete the journal")
     recover_.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    recover_.set_defaults(run=_recover)
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
     """Run a batch command; returns the exit status (2 on bad input)."""
     args = _parser().parse_args(argv)
-    commands = {
-        "replay": _replay,
-        "deform": _deform,
-        "truncation": _truncation,
-        "recover": _recover,
-    }
     try:
-        return commands[args.command](args)
+        return int(args.run(args))
     except (ValueError, RuntimeError, OSError) as exc:  # MeshFileError, JournalError: ValueError
         print(f"gogreen {args.command}: error: {exc}", file=sys.stderr)
         return 2
