@@ -282,6 +282,8 @@ class GreenKernel:
         tolerance: float | None = STREAMLINE_TOLERANCE,
         indices: np.ndarray | None = None,
         in_place: bool = False,
+        out: np.ndarray | None = None,
+        evaluations: np.ndarray | None = None,
     ) -> np.ndarray:
         """Move ``points`` (N, 3) along the load's displacement field taken as a velocity.
 
@@ -306,55 +308,13 @@ class GreenKernel:
         ``indices`` (n,) int: move only the rows ``points[indices]``, read in place (bit for
         bit ``streamlines(points[indices], ...)``). ``in_place``: also write the end positions
         into ``points`` (a writable C-contiguous float64 (N, 3) array) at ``indices``, only if
-        all are finite (else ValueError, ``points`` unchanged).
+        all are finite (else ValueError, ``points`` unchanged). ``out``: a reused C-contiguous
+        float64 buffer of at least n rows, of which the result is a view. ``evaluations``: an
+        int64 (n,) array receiving the velocity evaluations each point took (4 per RK4 step).
         """
-        return self._streamlines(
-            points,
-            center,
-            load,
-            center_step=center_step,
-            cutoff=cutoff,
-            mirror_signs=mirror_signs,
-            origin=origin,
-            substeps=substeps,
-            tolerance=tolerance,
-            indices=indices,
-            in_place=in_place,
-        )[0]
-
-    def _streamlines(
-        self,
-        points: np.ndarray,
-        center: np.ndarray,
-        load: np.ndarray,
-        *,
-        center_step: np.ndarray | None = None,
-        cutoff: tuple[float, float] | None = None,
-        mirror_signs: np.ndarray | None = None,
-        origin: np.ndarray | None = None,
-        substeps: int = 4,
-        tolerance: float | None = STREAMLINE_TOLERANCE,
-        indices: np.ndarray | None = None,
-        in_place: bool = False,
-        out: np.ndarray | None = None,
-        count: bool = True,
-    ) -> tuple[np.ndarray, np.ndarray]:
-        """:meth:`streamlines`, also returning the velocity evaluations each point took (N,)
-        int64 (empty if not ``count``); ``out``: a reused C-contiguous float64 buffer of at
-        least n rows, of which the result is a view."""
-        if in_place:
-            if not (
-                isinstance(points, np.ndarray)
-                and points.dtype == np.float64
-                and points.ndim == 2
-                and points.shape[1] == 3
-                and points.flags.c_contiguous
-                and points.flags.writeable
-            ):
-                raise ParameterError(
-                    "points",
-                    "in_place needs points as a writable C-contiguous (N, 3) float64 array",
-                )
+        if in_place and _writable(np.asarray(points, dtype=np.float64)) is not points:
+            message = "in_place needs points as a writable C-contiguous (N, 3) float64 array"
+            raise ParameterError("points", message)
         if indices is None:
             pts = _points("points", points)  # the array itself if in_place (checked above)
             rows = np.zeros(0, dtype=np.int64)
@@ -407,9 +367,12 @@ class GreenKernel:
             result = out[:n]
             if len(result) < n or not result.flags.c_contiguous:
                 raise ValueError(f"out must be C-contiguous with at least {n} rows")
-        evaluations = np.empty(n if count else 0, dtype=np.int64)
+        if evaluations is None:
+            evaluations = np.empty(0, dtype=np.int64)
+        elif evaluations.dtype != np.int64 or evaluations.shape != (n,):
+            raise ValueError(f"evaluations must be an int64 array of {n} counts")
         if n == 0:
-            return result, evaluations
+            return result
         field, backend = _evaluation.stream_field(
             parity, tables, single, self._radial.eps, coeffs, c, step, (inner, outer), signs, o
         )
@@ -429,7 +392,7 @@ class GreenKernel:
             raise StreamlineOverflow(
                 "the streamlines would move points to infinity; nothing was moved"
             )
-        return result, evaluations
+        return result
 
     def warm_up(self) -> float:
         """:func:`prepare_degree` of this kernel's l_max, then one evaluation of each kind;
