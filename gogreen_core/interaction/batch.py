@@ -6,10 +6,8 @@
     gogreen truncation [--material FILE | --young E --poisson NU] [--l-max L] [--max-degree D]
     gogreen recover --list | ID [-o OUT] [--session OUT.json] [--discard]
 
-They print a progress bar on stderr and exit with status 2 and a one-line message naming the
-problem on bad input (a broken file, an inadmissible material, a zero radius, a journal in use);
-the output file is written atomically, so a failure never leaves a half-written or clobbered
-file.
+They print a progress bar on stderr, and on bad input exit with status 2 and a one-line message
+naming the problem; the output file is written atomically (a failure never leaves half a file).
 """
 
 from __future__ import annotations
@@ -18,11 +16,12 @@ import argparse
 import json
 import sys
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
+from dataclasses import replace
 from datetime import datetime
 from pathlib import Path
-from typing import TextIO
+from typing import Any, TextIO, TypeVar
 
 import numpy as np
 
@@ -61,6 +60,8 @@ from gogreen_core.validation import (
 )
 
 __all__ = ["main"]
+
+T = TypeVar("T")
 
 
 class ProgressBar:
@@ -114,43 +115,36 @@ def _replay(args: argparse.Namespace) -> int:
     return 0
 
 
-def _read_json(path: str, option: str) -> object:
-    """The JSON value in file ``path`` given to ``option``; ValueError naming both."""
+def _from_file(path: str, option: str, key: str, parse: Callable[[object, str], T]) -> T:
+    """``parse`` of the JSON in file ``path`` given to ``option``: a preset's ``key`` section,
+    or a bare file; ValueError naming the option."""
     try:
-        return read_json(path)
+        data = read_json(path)
     except ValueError as exc:
         raise ValueError(f"{option} {exc}") from None
-
-
-def _section(data: object, key: str) -> tuple[object, str]:
-    """A preset's ``key`` section, or ``data`` itself (a bare material / falloff file)."""
+    section = ""
     if isinstance(data, dict) and key in data and data.get("format") == "gogreen-preset":
-        return data[key], key
-    return data, ""
+        data, section = data[key], key
+    with prefixed(option):
+        return parse(data, section)
 
 
 def _material(args: argparse.Namespace) -> Material:
     if args.material:
-        data, path = _section(_read_json(args.material, "--material"), "material")
-        with prefixed("--material"):
-            return parse_material(data, path)
+        return _from_file(args.material, "--material", "material", parse_material)
     with prefixed("--young/--poisson"):
         return Material.isotropic(args.young, args.poisson)
 
 
 def _falloff(name: str) -> RadialProfile:
-    if name == "gaussian":
-        return GaussianRadial(1.0)
-    if name == "kelvinlet":
-        return KelvinletRadial(1.0)
-    data, path = _section(_read_json(name, "--falloff"), "falloff")
-    with prefixed("--falloff"):
-        return parse_falloff(data, path)
+    if name in ("gaussian", "kelvinlet"):
+        return GaussianRadial(1.0) if name == "gaussian" else KelvinletRadial(1.0)
+    return _from_file(name, "--falloff", "falloff", parse_falloff)
 
 
-def _deform(args: argparse.Namespace) -> int:
-    mesh = load_mesh(args.input)
-    # every option checked, under its own name, before anything is computed from it
+def _deform_stroke(args: argparse.Namespace) -> tuple[EngineSettings, Brush, BrushEvent, int]:
+    """The settings, brush, first event and event count of ``gogreen deform`` (the drag split
+    into equal events, as mouse events of one stroke), every option checked under its name."""
     values = {s.name: s.check(getattr(args, s.name), s.flag) for s in _flag_rows()}
     settings = EngineSettings(material=_material(args), falloff=_falloff(args.falloff), **values)
     with _option_names():
@@ -168,23 +162,23 @@ def _deform(args: argparse.Namespace) -> int:
         raise ParameterError("--amount", f"the {brush.kind} brush needs --amount (nonzero)")
     if not (brush.is_affine or paint) and not np.any(delta):
         raise ParameterError("--delta", f"the {brush.kind} brush needs --delta (nonzero)")
+    share = amount if paint else amount / events
+    with _option_names():
+        return settings, brush, BrushEvent(center, delta / events, share, axis, direction), events
+
+
+def _deform(args: argparse.Namespace) -> int:
+    mesh = load_mesh(args.input)
+    settings, brush, first, events = _deform_stroke(args)
     sculptor = Sculptor(
         mesh.vertices, mesh.faces, uv=mesh.uv, uv_faces=mesh.uv_faces, settings=settings
     )
-    step = delta / events  # the drag split into equal events, as mouse events of one stroke
     progress = None if args.quiet else ProgressBar("deform")
     sculptor.begin_stroke(brush)
     try:
         for k in range(events):
             with _option_names():
-                event = BrushEvent(
-                    center=center + k * step,
-                    delta=step,
-                    amount=amount if paint else amount / events,
-                    axis=axis,
-                    direction=direction,
-                )
-                sculptor.stroke_event(event)
+                sculptor.stroke_event(replace(first, center=first.center + k * first.delta))
             if progress:
                 progress(k + 1, events)
     except Exception:
@@ -310,6 +304,16 @@ def _add_setting_flags(parser: argparse.ArgumentParser) -> None:
             parser.add_argument(s.flag, type=kind, choices=choices, default=s.initial(), help=s.doc)
 
 
+def _vector_flag(parser: argparse.ArgumentParser, flag: str, help: str, **options: Any) -> None:
+    parser.add_argument(flag, type=float, nargs=3, metavar=("X", "Y", "Z"), help=help, **options)
+
+
+def _material_flags(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--material", help="material JSON (Material.to_dict or a preset)")
+    parser.add_argument("--young", type=float, default=1.0)
+    parser.add_argument("--poisson", type=float, default=0.3)
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="gogreen", description="GoGreen Sculpt, headless")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -324,15 +328,8 @@ def _parser() -> argparse.ArgumentParser:
     deform.add_argument("input")
     deform.add_argument("-o", "--output", required=True)
     deform.add_argument("--brush", choices=BRUSH_KINDS, default="grab")
-    deform.add_argument("--center", type=float, nargs=3, required=True, metavar=("X", "Y", "Z"))
-    deform.add_argument(
-        "--delta",
-        type=float,
-        nargs=3,
-        default=[0.0, 0.0, 0.0],
-        metavar=("DX", "DY", "DZ"),
-        help="grab displacement (model units)",
-    )
+    _vector_flag(deform, "--center", "the brush centre", required=True)
+    _vector_flag(deform, "--delta", "grab displacement (model units)", default=[0.0, 0.0, 0.0])
     deform.add_argument(
         "--amount",
         type=float,
@@ -341,30 +338,11 @@ def _parser() -> argparse.ArgumentParser:
         "brush centre, split over --events; smooth and mask: each event's pressure "
         "(negative: the mask brush erases)",
     )
-    deform.add_argument(
-        "--axis",
-        type=float,
-        nargs=3,
-        default=None,
-        metavar=("X", "Y", "Z"),
-        help="twist axis / pinch normal (default +z)",
-    )
-    deform.add_argument(
-        "--direction",
-        type=float,
-        nargs=3,
-        default=None,
-        metavar=("X", "Y", "Z"),
-        help="pinch stretch direction",
-    )
+    _vector_flag(deform, "--axis", "twist axis / pinch normal (default +z)")
+    _vector_flag(deform, "--direction", "pinch stretch direction")
     deform.add_argument("--radius", type=float, default=0.1, help="ε / model size")
     deform.add_argument("--strength", type=float, default=1.0)
-    deform.add_argument(
-        "--substeps",
-        type=int,
-        default=0,
-        help="RK4 steps per event (0, the default: adaptive, within 1e-4 of the cursor motion)",
-    )
+    deform.add_argument("--substeps", type=int, default=0, help="RK4 steps (0: adaptive)")
     deform.add_argument(
         "--influence",
         type=float,
@@ -373,9 +351,7 @@ def _parser() -> argparse.ArgumentParser:
     )
     deform.add_argument("--symmetry", default="", help="mirror planes, e.g. x or xz")
     deform.add_argument("--events", type=int, default=1, help="split the stroke into N events")
-    deform.add_argument("--young", type=float, default=1.0)
-    deform.add_argument("--poisson", type=float, default=0.3)
-    deform.add_argument("--material", help="material JSON (Material.to_dict or a preset)")
+    _material_flags(deform)
     deform.add_argument(
         "--falloff", default="gaussian", help="gaussian, kelvinlet, or a falloff/preset JSON file"
     )
@@ -387,9 +363,7 @@ def _parser() -> argparse.ArgumentParser:
     truncation = sub.add_parser(
         "truncation", help="how accurate each l_max is for a material (paper Fig. 9)"
     )
-    truncation.add_argument("--material", help="material JSON (Material.to_dict or a preset)")
-    truncation.add_argument("--young", type=float, default=1.0)
-    truncation.add_argument("--poisson", type=float, default=0.3)
+    _material_flags(truncation)
     truncation.add_argument("--l-max", type=int, default=8, help="the l_max to assess")
     truncation.add_argument("--max-degree", type=int, default=20, help="largest l_max measured")
     truncation.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
