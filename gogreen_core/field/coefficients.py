@@ -14,6 +14,7 @@ from gogreen_core.field._evaluation import Parity
 from gogreen_core.physics.material import Material
 from gogreen_core.physics.quadrature import material_rule
 from gogreen_core.physics.sph import real_sph_harm
+from gogreen_core.validation import check_finite
 
 __all__ = ["checked_weights", "degree_norms", "material_sums", "pack_terms", "parity_ranges"]
 
@@ -27,17 +28,11 @@ def parity_ranges(l_max: int) -> tuple[tuple[int, int], tuple[int, int]]:
 def checked_weights(degree_weights: Sequence[float] | np.ndarray | None, l_max: int) -> np.ndarray:
     """Degree weights (l_max + 1,), read-only: all ones for None; ValueError for the wrong
     count or a value that is not finite."""
-    if degree_weights is None:
-        weights = np.ones(l_max + 1)
-    else:
-        weights = np.array(degree_weights, dtype=np.float64)
-        if weights.shape != (l_max + 1,):
-            raise ValueError(
-                f"degree_weights must have l_max + 1 = {l_max + 1} values "
-                f"(got shape {weights.shape})"
-            )
-        if not np.all(np.isfinite(weights)):
-            raise ValueError("degree_weights must be finite")
+    weights = np.ones(l_max + 1) if degree_weights is None else np.array(degree_weights, float)
+    if weights.shape != (l_max + 1,):
+        count = f"l_max + 1 = {l_max + 1}"
+        raise ValueError(f"degree_weights must have {count} values (got shape {weights.shape})")
+    check_finite("degree_weights", weights)
     weights.setflags(write=False)
     return weights
 
@@ -76,12 +71,7 @@ def pack_terms(
     both real, the 1/(2π²) and the degree weight (the odd degree l takes ``weights[l − 1]``),
     then each degree's output map (``output_maps[l]``, l_max's for ∇G's top degree)."""
     if output_maps is not None:
-        output_maps = np.asarray(output_maps, dtype=np.float64)
-        if output_maps.shape != (l_max + 1, 3, 3) or not np.isfinite(output_maps).all():
-            raise ValueError(
-                f"output_maps must be {l_max + 1} finite 3×3 matrices "
-                f"(got shape {output_maps.shape})"
-            )
+        output_maps = check_finite("output_maps", output_maps, (l_max + 1, 3, 3))
 
     def pack(l_first: int, l_last: int, sums: np.ndarray, shape: tuple[int, ...]) -> Parity:
         base = np.full(l_last + 1 if l_last >= 0 else 1, -1, dtype=np.int64)

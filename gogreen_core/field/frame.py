@@ -1,9 +1,6 @@
 """A kernel turned with its material: the material term P_lm of paper Eq. 10 and 12 rotated by
-Wigner-D matrices, degree by degree, instead of a new quadrature.
-
-For a material C turned by the rotation F (C' = F·C, C'_abcd = F_ai F_bj F_ck F_dl C_ijkl) the
-acoustic tensor turns as M'(ξ) = F M(Fᵀξ) Fᵀ, so with η = Fᵀξ and Y_l(F η) = D_l(F) Y_l(η)
-(:func:`~gogreen_core.physics.sph_rotation.real_wigner_d`):
+Wigner-D matrices instead of a new quadrature. For C' = F·C, M'(ξ) = F M(Fᵀξ) Fᵀ, so with
+Y_l(F η) = D_l(F) Y_l(η) (:func:`~gogreen_core.physics.sph_rotation.real_wigner_d`):
 
     P'_lm = F [Σ_m' D_l(F)_mm' P_lm'] Fᵀ                          (G's terms, even l)
     𝒫'_lm,ijp = Σ_m' D_l(F)_mm' F_ia F_jb F_pc 𝒫_lm',abc        (∇G's terms, odd l)

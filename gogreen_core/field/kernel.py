@@ -66,9 +66,8 @@ def prepare_degree(l_max: int) -> float:
     return _compiled.prepare(*_drivers.units_for(l_max))
 
 
-#: Largest coordinate magnitude of points, offsets and centers: differences of two such values
-#: and their norms stay finite, so every point within it, however far, gets a finite value (the
-#: far field decays as 1/r, 1/r² for gradients). Beyond it a ParameterError names the input.
+#: Largest coordinate magnitude of points, offsets and centers: differences and norms of such
+#: values stay finite, so every point within it gets a finite value (beyond: ParameterError).
 COORDINATE_LIMIT = 1e300
 
 
@@ -115,20 +114,11 @@ assert TABLE_DEGREE == SEGMENT_DEGREE
 
 
 class GreenKernel:
-    """Regularized Green's function G and its gradient for one material and falloff.
-
-    Parameters
-    ----------
-    material : Material
-    l_max : int, 0 ≤ l_max ≤ 60
-        Truncation degree: G uses even l ≤ l_max, ∇G odd l ≤ l_max + 1.
-    radial : RadialProfile, default ``GaussianRadial(1.0)``
-        The load profile (falloff), which also sets the radius ε.
-    degree_weights : sequence of l_max + 1 floats, optional
-        Scales the degree-l term of G (the paper's wrinkle brush: truncation or reweighting).
-        The odd degree l of ∇G uses ``degree_weights[l - 1]``. Default all ones.
-
-    :meth:`with_radial`, :meth:`with_degree_weights` and :meth:`turned` reuse the quadrature.
+    """Regularized Green's function G and its gradient for one ``material`` and falloff
+    ``radial`` (default ``GaussianRadial(1.0)``; it sets ε), truncated at ``l_max`` (0 to 60).
+    ``degree_weights`` (l_max + 1,), default ones, scale G's degree-l term and ∇G's degree
+    l + 1 term (the wrinkle brush). :meth:`with_radial`, :meth:`with_degree_weights` and
+    :meth:`turned` reuse the quadrature.
     """
 
     def __init__(
@@ -141,19 +131,18 @@ class GreenKernel:
         if not isinstance(material, Material):
             raise ValueError(f"material must be a Material (got {type(material).__name__})")
         l_max = check_integer("l_max", l_max, low=0, high=L_MAX_LIMIT)
-        radial = GaussianRadial(1.0) if radial is None else radial
-        if not isinstance(radial, RadialProfile):
-            raise ValueError(f"radial must be a RadialProfile (got {type(radial).__name__})")
         weights = checked_weights(degree_weights, l_max)
         self._material = material
         self._l_max = l_max
         self._weights = weights
         self._sums = material_sums(material, l_max)
         self._even, self._odd = pack_terms(self._sums, l_max, weights)
-        self._set_radial(radial)
+        self._set_radial(GaussianRadial(1.0) if radial is None else radial)
 
     # -- precompute --------------------------------------------------------------------------
     def _set_radial(self, radial: RadialProfile) -> None:
+        if not isinstance(radial, RadialProfile):
+            raise ValueError(f"radial must be a RadialProfile (got {type(radial).__name__})")
         self._radial = radial
         # (n_degrees, S, D+1), C-contiguous: the layout ``_expansion._radial`` reads
         self._even_tables = np.ascontiguousarray(radial.table("R", self._even.degrees))
@@ -164,8 +153,6 @@ class GreenKernel:
 
     def with_radial(self, radial: RadialProfile) -> GreenKernel:
         """A kernel for the same material with another falloff or radius (no quadrature)."""
-        if not isinstance(radial, RadialProfile):
-            raise ValueError(f"radial must be a RadialProfile (got {type(radial).__name__})")
         clone = copy.copy(self)
         clone._set_radial(radial)
         return clone
@@ -285,19 +272,12 @@ class GreenKernel:
         out: np.ndarray | None = None,
         evaluations: np.ndarray | None = None,
     ) -> np.ndarray:
-        """Move ``points`` (N, 3) along the load's displacement field taken as a velocity.
-
-        Integrates dx/dt = v(x, t) over pseudo-time t ∈ [0, 1] by RK4 (paper Sec. 3.2) and
-        returns the end positions (N, 3).
-
-        v(x, t) = Σ_M M s(|y - c(t)|) u(y - c(t)) with y = origin + M (x - origin):
-
-        * ``load``: a force (3,) (u = G f) or an affine load (3, 3) (u_i = ∂_p G_ij H_jp);
-        * c(t) = center + t · center_step: a moving load (a grab following the cursor);
-        * s: C² cutoff (quintic smoothstep) equal to 1 up to ``cutoff[0]`` and 0 from
-          ``cutoff[1]`` on (model units); None for no cutoff;
-        * M: diagonal reflections given by ``mirror_signs`` (n_m, 3) of ±1, the first row
-          being (1, 1, 1); None for the brush alone.
+        """The end positions (N, 3) of ``points`` (N, 3) moved along the load's displacement
+        taken as a velocity, dx/dt = v(x, t) over pseudo-time t ∈ [0, 1] by RK4 (paper
+        Sec. 3.2): v(x, t) = Σ_M M s(|y - c(t)|) u(y - c(t)) with y = origin + M (x - origin),
+        u of the ``load`` (a force (3,) or an affine load (3, 3)), c(t) = center + t ·
+        center_step, s the C² ``cutoff`` (1 up to its first radius, 0 from its second; None:
+        none), M the reflections of ``mirror_signs`` (n_m, 3) of ±1 (first row (1, 1, 1)).
 
         ``tolerance`` (default :data:`STREAMLINE_TOLERANCE`): adaptive steps, every point
         within ``tolerance`` times the motion scale (the largest of |center_step| and every

@@ -1,8 +1,5 @@
-"""How much the truncation degree l_max costs in accuracy for one material (paper Fig. 9).
-
-The spherical-harmonic expansion of G (paper Eq. 10) is exact for an isotropic material at
-l_max = 2 and converges geometrically for anisotropic ones, the slower the stronger the
-anisotropy. :func:`truncation_errors` measures, for each even l_max, the relative error
+"""How much the truncation degree l_max costs in accuracy for one material (paper Fig. 9):
+:func:`truncation_errors` measures, for each even l_max, the relative error
 
     δ(l_max) = max_x ‖G_lmax(x) − G_ref(x)‖_F / max_x ‖G_ref(x)‖_F
 
