@@ -131,12 +131,10 @@ class GreenKernel:
         if not isinstance(material, Material):
             raise ValueError(f"material must be a Material (got {type(material).__name__})")
         l_max = check_integer("l_max", l_max, low=0, high=L_MAX_LIMIT)
-        weights = checked_weights(degree_weights, l_max)
-        self._material = material
-        self._l_max = l_max
-        self._weights = weights
+        self._material, self._l_max = material, l_max
+        self._weights = checked_weights(degree_weights, l_max)
         self._sums = material_sums(material, l_max)
-        self._even, self._odd = pack_terms(self._sums, l_max, weights)
+        self._even, self._odd = pack_terms(self._sums, l_max, self._weights)
         self._set_radial(GaussianRadial(1.0) if radial is None else radial)
 
     # -- precompute --------------------------------------------------------------------------
@@ -212,10 +210,10 @@ class GreenKernel:
 
     # -- evaluation --------------------------------------------------------------------------
     def _run(
-        self, parity: Parity, points: np.ndarray, center: np.ndarray, coeffs: np.ndarray
+        self, parity: Parity, pts: np.ndarray, c: np.ndarray, coeffs: np.ndarray
     ) -> np.ndarray:
         tables = self._even_tables if parity is self._even else self._odd_tables
-        return _evaluation.expand(parity, tables, self._radial.eps, points, center, coeffs)
+        return _evaluation.expand(parity, tables, self._radial.eps, pts, c, coeffs)
 
     def green(self, offsets: np.ndarray) -> np.ndarray:
         """G(x) at offsets x (N, 3) → (N, 3, 3), symmetric (units: 1/(stiffness·length)),
@@ -244,9 +242,8 @@ class GreenKernel:
     def affine_displacement(
         self, points: np.ndarray, center: np.ndarray, load: np.ndarray
     ) -> np.ndarray:
-        """Affine load H (3, 3): u_i = Σ_jp ∂_p G_ij(points - center) H_jp → (N, 3).
-
-        Finite within :data:`COORDINATE_LIMIT` as :meth:`displacement` (decay 1/r²)."""
+        """Affine load H (3, 3): u_i = Σ_jp ∂_p G_ij(points - center) H_jp → (N, 3); finite
+        within :data:`COORDINATE_LIMIT` as :meth:`displacement` (decay 1/r²)."""
         pts = _points("points", points)
         c = _within_limit("center", _finite_array("center", center, (3,)))
         h = _finite_array("affine load", load, (3, 3))

@@ -334,9 +334,8 @@ def _parser() -> argparse.ArgumentParser:
         "--amount",
         type=float,
         default=0.0,
-        help="affine brushes: log strain (scale, pinch) or angle in radians (twist) at the "
-        "brush centre, split over --events; smooth and mask: each event's pressure "
-        "(negative: the mask brush erases)",
+        help="affine brushes: log strain or angle (radians) at the centre, split over --events; "
+        "smooth and mask: each event's pressure (negative: the mask brush erases)",
     )
     _vector_flag(deform, "--axis", "twist axis / pinch normal (default +z)")
     _vector_flag(deform, "--direction", "pinch stretch direction")
