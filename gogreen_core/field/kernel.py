@@ -300,10 +300,9 @@ class GreenKernel:
             if rows.ndim != 1 or not (rows.size == 0 or np.issubdtype(rows.dtype, np.integer)):
                 raise ParameterError("indices", f"indices must be 1-D integers (got {rows.dtype})")
             rows = _writable(rows.astype(np.int64, copy=False))
-            pts = np.asarray(points, dtype=np.float64)
+            pts = _writable(np.asarray(points, dtype=np.float64))
             if pts.ndim != 2 or pts.shape[1] != 3:
                 raise ParameterError("points", f"points must have shape (N, 3) (got {pts.shape})")
-            pts = _writable(pts)
         c = _finite_array("center", center, (3,))
         step = (
             np.zeros(3) if center_step is None else _finite_array("center_step", center_step, (3,))
@@ -330,11 +329,9 @@ class GreenKernel:
             raise ValueError("the first row of mirror_signs must be (1, 1, 1), the brush itself")
         o = np.zeros(3) if origin is None else _finite_array("origin", origin, (3,))
         substeps = check_integer("substeps", substeps, low=1)
-        tol = (
-            0.0
-            if tolerance is None
-            else check_number("tolerance", tolerance, low_open=True, low=0.0)
-        )
+        tol = 0.0
+        if tolerance is not None:
+            tol = check_number("tolerance", tolerance, low=0.0, low_open=True)
         n = pts.shape[0] if indices is None else rows.shape[0]
         if out is None:
             result = np.empty((n, 3))

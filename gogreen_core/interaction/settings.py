@@ -183,15 +183,13 @@ class EventedModel:
     ) -> frozenset[str]:
         """Validate all ``values`` first (nothing changes if one is bad), then store them and
         emit one event per changed field and one ``changed``. Returns the changed names."""
-        unknown = set(values) - set(self.fields)
+        unknown = sorted(set(values) - set(self.fields))
         if unknown:
-            name = sorted(unknown)[0]
-            raise ParameterError(name, f"{type(self).__name__} has no setting {name!r}")
+            raise ParameterError(unknown[0], f"{type(self).__name__} has no setting {unknown[0]!r}")
         new = self._normalize(dict(values))
         changed = [n for n in self.fields if n in new and not Field.equal(self._values[n], new[n])]
         old = {n: self._values[n] for n in changed}
-        for name in changed:
-            self._values[name] = new[name]
+        self._values.update({n: new[n] for n in changed})
         for name in changed:
             self.events[name].emit(ChangeEvent(name, new[name], old[name], continued, source))
         if changed:
@@ -441,11 +439,8 @@ class EngineLink:
         if self.sculptor is None:
             return
         engine, model = self.sculptor.settings, self.settings.engine_settings
-        values = {
-            name: getattr(engine, name)
-            for name in ENGINE_FIELDS
-            if not engine.agrees(model, (name,))
-        }
+        names = [name for name in ENGINE_FIELDS if not engine.agrees(model, (name,))]
+        values = {name: getattr(engine, name) for name in names}
         if values:
             self._pulling = True
             try:

@@ -222,7 +222,7 @@ class CursorController:
         point: np.ndarray | None,
         normal: np.ndarray | None,
         label: str | None = None,
-        gauge: tuple[np.ndarray, np.ndarray] | None = None,
+        gauge: tuple[np.ndarray | None, np.ndarray | None] | None = None,
     ) -> CursorState | None:
         """The cursor at ``point`` (None hides it), ``normal`` (None: the last one), with a
         ``label`` and an anchored stroke's ``gauge`` (loop, spokes)."""
@@ -253,9 +253,7 @@ class CursorController:
         state = self.state
         if state is None:
             return None
-        gauge = None
-        if state.gauge is not None and state.gauge_spokes is not None:
-            gauge = (state.gauge, state.gauge_spokes)
+        gauge = (state.gauge, state.gauge_spokes)
         return self.place(state.center, state.normal, state.label, gauge)
 
     def hide(self) -> None:

@@ -62,8 +62,7 @@ class CursorState:
         1e-3 radius along the normal so the surface does not hide it)."""
         n, t1, t2 = tangent_frame(self.normal)
         matrix = np.eye(4)
-        matrix[:3, 0], matrix[:3, 1], matrix[:3, 2] = t1 * self.radius, t2 * self.radius, n
-        matrix[:3, 2] *= self.radius
+        matrix[:3, :3] = np.stack([t1, t2, n], axis=1) * self.radius
         matrix[:3, 3] = np.asarray(self.center, dtype=float) + 1e-3 * self.radius * n
         return matrix
 
@@ -87,12 +86,5 @@ class ToolUpdate:
 
     @property
     def changed(self) -> bool:
-        return bool(
-            self.moved is not None
-            or self.all_moved
-            or self.pins_changed
-            or self.cursor is not None
-            or self.hide_cursor
-            or self.error
-            or self.note
-        )
+        flags = (self.all_moved, self.pins_changed, self.hide_cursor, self.error, self.note)
+        return self.moved is not None or self.cursor is not None or any(flags)

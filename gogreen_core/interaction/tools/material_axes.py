@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from scipy.integrate import lebedev_rule
 
+from gogreen_core.interaction.tools.gauge import tangent_frame
 from gogreen_core.physics.material import Material
 from gogreen_core.sculpt.material_frame import material_frame_at
 
@@ -32,17 +33,13 @@ def main_axes(material: Material) -> np.ndarray | None:
     """The material's main directions (3, 3), rows: unit directions scaled by E along them
     over the largest E (at least :data:`MIN_AXIS`), right-handed; None for an isotropic
     material (E the same every way). Read-only, cached."""
-    points, _ = lebedev_rule(41)
-    nodes = np.ascontiguousarray(points.T)
+    nodes = np.ascontiguousarray(lebedev_rule(41)[0].T)
     young = material.directional_young(nodes)
     top = float(young.max())
     if not young.max() - young.min() > _ISOTROPIC * top:
         return None
     first = nodes[int(np.argmax(young))]
-    helper = np.eye(3)[int(np.argmin(np.abs(first)))]
-    u = np.cross(first, helper)
-    u /= np.linalg.norm(u)
-    v = np.cross(first, u)
+    _, u, v = tangent_frame(first)  # the plane across it
     angles = np.linspace(0.0, np.pi, _ANGLES, endpoint=False)  # ±d is one direction
     ring = np.outer(np.cos(angles), u) + np.outer(np.sin(angles), v)
     second = ring[int(np.argmax(material.directional_young(ring)))]

@@ -210,8 +210,7 @@ class StrokeController:
             event = replace(event, screen=screen, point=point)
         spacing = float(pen.spacing)
         if spacing > 0 and event.point is not None and self._applied is not None:
-            brush = cast(Brush, self.brush)  # (a stroke is in progress)
-            eps = brush.eps(self.sculptor.model_size) * self._radius_factor(event)
+            eps = cast(Brush, self.brush).eps(self.sculptor.model_size) * self._radius_factor(event)
             if np.linalg.norm(np.asarray(event.point) - self._applied) < spacing * eps:
                 return None
         return event
@@ -225,9 +224,7 @@ class StrokeController:
         if stable.point is not None:
             self._applied = np.array(stable.point, dtype=float)
         brush_event = self.brush_event(stable)
-        if brush_event is None:
-            return None
-        return self.sculptor.stroke_event(brush_event)
+        return None if brush_event is None else self.sculptor.stroke_event(brush_event)
 
     def end(self) -> np.ndarray | None:
         """End the stroke (one undo step if it changed anything); the indices of the vertices
