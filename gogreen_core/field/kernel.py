@@ -59,10 +59,8 @@ STREAMLINE_TOLERANCE = 1e-4
 
 
 def prepare_degree(l_max: int) -> float:
-    """Bring in the compiled code of truncation degree ``l_max`` (drivers and angular kernels
-    of both parities) and wait for it; returns the seconds it took. Evaluations never wait for
-    it (they run in NumPy until then, with the same results): this is for callers that want
-    the compiled speed from their first evaluation on. Thread safe."""
+    """Bring in the compiled code of truncation degree ``l_max`` and wait for it (evaluations
+    never do: they run in NumPy until then); returns the seconds it took. Thread safe."""
     return _compiled.prepare(*_drivers.units_for(l_max))
 
 

@@ -209,7 +209,6 @@ class EventedModel:
         return dict(self._values)
 
 
-# -- brush -----------------------------------------------------------------------------------
 def _brush_value(model: BrushSettings, name: str, value: Any) -> Any:
     """Validated by :class:`Brush` itself, so the model and the engine accept the same."""
     base = Brush(**model._values) if len(model._values) == len(model.fields) else Brush()
@@ -293,7 +292,6 @@ class ViewSettings(_Rows, made=_row_fields(VIEW_ROWS, "view.")):
     presets or sessions, which describe the model)."""
 
 
-# -- material, falloff, constraints ----------------------------------------------------------
 def needed_curves(l_max: int) -> list[tuple[str, int]]:
     """Curves a kernel of ``l_max`` uses: R_l for even l ≤ l_max, ℛ_l for odd l ≤ l_max + 1,
     by degree."""
@@ -361,7 +359,6 @@ class Settings(_Rows, made=_row_fields(rows("app"))):
         value = self.engine_settings.with_brush_weights(kind, weights)
         self.update({"brush_weights": value.brush_weights}, continued=continued)
 
-    # -- presets and the engine's options ----------------------------------------------------
     def preset(self, name: str = "", description: str = "") -> Preset:
         """The current settings as a :class:`Preset` (values: later edits do not reach it)."""
         values = {s.name: self._values[s.name] for s in rows("preset")}

@@ -52,22 +52,20 @@ def anchored_label(kind: str) -> str:
     return f"{acting} about the press point"
 
 
-def brush_profile(
-    kernel: GreenKernel | None, influence: float, eps: float, samples: int = PROFILE_SAMPLES
-) -> np.ndarray:
-    """Relative motion (samples,) in [0, 1] at distances ``linspace(0, influence · ε)`` from a
-    grab of ``kernel`` (at ε = ``eps``): :func:`grab_motion` times the smooth cutoff of an
-    ``influence`` of that many ε, over its largest value; the cutoff alone if ``kernel`` is
+def brush_profile(kernel: GreenKernel | None, influence: float, eps: float) -> np.ndarray:
+    """Relative motion (PROFILE_SAMPLES,) in [0, 1] at distances ``linspace(0, influence · ε)``
+    from a grab of ``kernel`` (at ε = ``eps``): :func:`grab_motion` times the smooth cutoff of
+    an ``influence`` of that many ε, over its largest value; the cutoff alone if ``kernel`` is
     None (kernels not ready)."""
     finite = np.isfinite(influence)
     outer = (influence if finite else DEFAULT_INFLUENCE) * eps
-    r = np.linspace(0.0, outer, samples)
+    r = np.linspace(0.0, outer, PROFILE_SAMPLES)
     cutoff = smooth_cutoff(r, CUTOFF_START * outer, outer) if finite else 1.0
     if kernel is None:
         return np.broadcast_to(cutoff, r.shape).astype(float)
     motion = grab_motion(kernel, r) * cutoff
     peak = motion.max()
-    return motion / peak if peak > 0 and np.isfinite(peak) else np.zeros(samples)
+    return motion / peak if peak > 0 and np.isfinite(peak) else np.zeros(PROFILE_SAMPLES)
 
 
 def moving_radius(
