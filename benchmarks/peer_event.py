@@ -190,9 +190,11 @@ def peer_event(vertices: np.ndarray, faces: np.ndarray, repeats: int) -> None:
         substeps=64, tolerance=None,
     )  # fmt: skip
     error = np.linalg.norm(after - reference, axis=1).max() / np.linalg.norm(delta)
-    _, evaluations = kernel._streamlines(
-        vertices[rows], center, np.linalg.solve(g0, delta), center_step=delta, cutoff=cutoff
-    )
+    evaluations = np.empty(len(rows), dtype=np.int64)
+    kernel.streamlines(
+        vertices[rows], center, np.linalg.solve(g0, delta), center_step=delta, cutoff=cutoff,
+        evaluations=evaluations,
+    )  # fmt: skip
     probes = 15 * len(probe_rows(len(rows)))
     # where the event's time goes: one fixed RK4 step on the ball's rows (the influence ball
     # itself: ``influence_ball`` below)
@@ -201,7 +203,7 @@ def peer_event(vertices: np.ndarray, faces: np.ndarray, repeats: int) -> None:
     load = np.linalg.solve(g0, delta)
     for _ in range(repeats):
         start, start_cpu = time.perf_counter(), time.process_time()
-        kernel._streamlines(
+        kernel.streamlines(
             vertices, center, load, center_step=delta, cutoff=cutoff, substeps=1, tolerance=None,
             indices=rows, mirror_signs=signs, origin=origin,
         )  # fmt: skip

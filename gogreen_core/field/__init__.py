@@ -1,4 +1,2 @@
-"""The Green's kernel and evaluating its expansion fast: coefficients, compiled drivers
-and streamlines, the generated angular kernels, the NumPy reference, the influence loops,
-truncation errors, and the bounds of the values the engine accepts (limits).
-"""
+"""The Green's kernel and its fast evaluation (coefficients, compiled drivers, streamlines,
+NumPy reference, influence loops), truncation errors, and the engine's bounds (limits)."""

@@ -1,10 +1,7 @@
-"""The kernel's material coefficients: the quadrature sums of paper Eq. 10 and 12, and their
-packing with signs, the 1/(2π²), the degree weights and optional per-degree output maps.
-
-The sums (:func:`material_sums`) are the expensive part (a quadrature over the sphere) and do not
-depend on the weights, so a kernel keeps them and :func:`pack_terms` repacks them for other
-weights (:meth:`GreenKernel.with_degree_weights`) in microseconds, with the same arithmetic as
-when the kernel was built: a reweighted kernel equals one built with those weights, bit for bit.
+"""The kernel's material coefficients: the quadrature sums of paper Eq. 10 and 12
+(:func:`material_sums`, the expensive part, independent of the degree weights) and their packing
+with signs, 1/(2π²), weights and output maps (:func:`pack_terms`, microseconds: a kernel repacks
+for other weights with the arithmetic it was built with).
 """
 
 from __future__ import annotations
@@ -17,6 +14,7 @@ from gogreen_core.field._evaluation import Parity
 from gogreen_core.physics.material import Material
 from gogreen_core.physics.quadrature import material_rule
 from gogreen_core.physics.sph import real_sph_harm
+from gogreen_core.validation import check_finite
 
 __all__ = ["checked_weights", "degree_norms", "material_sums", "pack_terms", "parity_ranges"]
 
@@ -30,17 +28,11 @@ def parity_ranges(l_max: int) -> tuple[tuple[int, int], tuple[int, int]]:
 def checked_weights(degree_weights: Sequence[float] | np.ndarray | None, l_max: int) -> np.ndarray:
     """Degree weights (l_max + 1,), read-only: all ones for None; ValueError for the wrong
     count or a value that is not finite."""
-    if degree_weights is None:
-        weights = np.ones(l_max + 1)
-    else:
-        weights = np.array(degree_weights, dtype=np.float64)
-        if weights.shape != (l_max + 1,):
-            raise ValueError(
-                f"degree_weights must have l_max + 1 = {l_max + 1} values "
-                f"(got shape {weights.shape})"
-            )
-        if not np.all(np.isfinite(weights)):
-            raise ValueError("degree_weights must be finite")
+    weights = np.ones(l_max + 1) if degree_weights is None else np.array(degree_weights, float)
+    if weights.shape != (l_max + 1,):
+        count = f"l_max + 1 = {l_max + 1}"
+        raise ValueError(f"degree_weights must have {count} values (got shape {weights.shape})")
+    check_finite("degree_weights", weights)
     weights.setflags(write=False)
     return weights
 
@@ -53,8 +45,7 @@ def material_sums(material: Material, l_max: int) -> tuple[np.ndarray, np.ndarra
     (_, even_last), (_, odd_last) = parity_ranges(l_max)
     even_rows = [c for l in range(0, even_last + 1, 2) for c in range(l * l, (l + 1) ** 2)]
     odd_rows = [c for l in range(1, odd_last + 1, 2) for c in range(l * l, (l + 1) ** 2)]
-    # one product per parity, on the rows of the (terms, n) harmonics (contiguous rows, cheap
-    # to gather), in chunks of nodes that bound the harmonics to ~64 MB.
+    # in chunks of nodes that bound the harmonics to ~64 MB
     even_sum: np.ndarray | float = 0.0
     odd_sum: np.ndarray | float = 0.0
     chunk = max(256, 8_000_000 // (l_max + 2) ** 2)
@@ -80,12 +71,7 @@ def pack_terms(
     both real, the 1/(2π²) and the degree weight (the odd degree l takes ``weights[l − 1]``),
     then each degree's output map (``output_maps[l]``, l_max's for ∇G's top degree)."""
     if output_maps is not None:
-        output_maps = np.asarray(output_maps, dtype=np.float64)
-        if output_maps.shape != (l_max + 1, 3, 3) or not np.isfinite(output_maps).all():
-            raise ValueError(
-                f"output_maps must be {l_max + 1} finite 3×3 matrices "
-                f"(got shape {output_maps.shape})"
-            )
+        output_maps = check_finite("output_maps", output_maps, (l_max + 1, 3, 3))
 
     def pack(l_first: int, l_last: int, sums: np.ndarray, shape: tuple[int, ...]) -> Parity:
         base = np.full(l_last + 1 if l_last >= 0 else 1, -1, dtype=np.int64)
@@ -112,12 +98,8 @@ def degree_norms(sums: tuple[np.ndarray, np.ndarray], l_max: int) -> np.ndarray:
     """(l_max + 2,) the Frobenius norm of each degree's quadrature sums (Σ_m P_lm for even l,
     𝒫_lm for odd l), comparable between degrees of one parity."""
     norms = np.zeros(l_max + 2)
-    for first, parity_sums in zip((0, 1), sums, strict=True):
-        offset = 0
-        for l in range(first, l_max + 2, 2):
-            if l > l_max + first:
-                break
-            rows = parity_sums[offset : offset + 2 * l + 1]
+    for (first, last), parity_sums in zip(parity_ranges(l_max), sums, strict=True):
+        for l in range(first, last + 1, 2):
+            rows = parity_sums[l * (l - 1) // 2 : (l + 1) * (l + 2) // 2]
             norms[l] = float(np.sqrt(np.sum(rows * rows)))
-            offset += 2 * l + 1
     return norms

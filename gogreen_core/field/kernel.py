@@ -4,16 +4,15 @@ G(x) = 1/(2π²) Σ_{l even} i^l R_l(r) Σ_m Y_lm(x̂) P_lm              (paper 
 ∂_p G(x) = 1/(2π²) Σ_{l odd} i^{l+1} ℛ_l(r) Σ_m Y_lm(x̂) 𝒫_lm,p     (paper Eq. 12)
 
 with M(ξ)_ik = C_ijkl ξ_j ξ_l, P_lm = ∫_S² M(ξ̂)⁻¹ Y_lm(ξ̂) dS and 𝒫_lm,p = ∫_S² M⁻¹ Y_lm ξ̂_p dS in
-the real SH basis of ``sph.py`` (the addition theorem makes the real basis exact, so everything
-stays real). The material matrices are integrated once, by the paper's Lebedev rule where M⁻¹ is
-smooth and by a product rule graded toward the material's axis where it is sharply peaked
-(:func:`material_rule`, ``quadrature.py``); R_l and ℛ_l come from the radial profile's tables
-(``radial.py``); evaluation is the numba code of ``_expansion.py`` and ``_integrator.py``
-(see ``_evaluation.py``). G is truncated at even l ≤ l_max and ∇G at odd l ≤ l_max + 1.
+the real SH basis of ``sph.py`` (exact by the addition theorem, so everything stays real). The
+material matrices are integrated once (:func:`material_rule`); R_l and ℛ_l come from the radial
+profile's tables; evaluation is the numba code behind ``_evaluation.py``. G is truncated at even
+l ≤ l_max and ∇G at odd l ≤ l_max + 1.
 """
 
 from __future__ import annotations
 
+import copy
 import time
 from collections.abc import Sequence
 
@@ -32,23 +31,14 @@ from gogreen_core.field.coefficients import (
 )
 from gogreen_core.field.frame import turned_sums
 from gogreen_core.physics.material import Material
-from gogreen_core.physics.quadrature import (
-    CHECK_ORDER,
-    QUADRATURE_ORDER,
-    QUADRATURE_RTOL,
-    lebedev_points,
-    material_rule,
-)
+from gogreen_core.physics.quadrature import lebedev_points, material_rule
 from gogreen_core.physics.radial import TABLE_DEGREE, GaussianRadial, RadialProfile
 from gogreen_core.physics.radial_tables import single_tables
-from gogreen_core.validation import ParameterError, check_number
+from gogreen_core.validation import ParameterError, check_finite, check_integer, check_number
 
 __all__ = [
-    "CHECK_ORDER",
     "COORDINATE_LIMIT",
     "L_MAX_LIMIT",
-    "QUADRATURE_ORDER",
-    "QUADRATURE_RTOL",
     "GreenKernel",
     "StreamlineOverflow",
     "lebedev_points",
@@ -69,31 +59,18 @@ STREAMLINE_TOLERANCE = 1e-4
 
 
 def prepare_degree(l_max: int) -> float:
-    """Bring in the compiled code vector and affine loads of truncation degree ``l_max`` run
-    with (the drivers and the shipped angular kernels of both parities) and wait for it;
-    returns the seconds it took (milliseconds from numba's disk cache).
-
-    Evaluations never wait for it (they run in NumPy or with the generic kernel until then,
-    with the same results); this is for callers that want the compiled speed from their first
-    evaluation on. The compilation itself runs in a child process where it can (see
-    ``_compiled``), so the other threads of this one are not slowed. Thread safe.
-    """
+    """Bring in the compiled code of truncation degree ``l_max`` and wait for it (evaluations
+    never do: they run in NumPy until then); returns the seconds it took. Thread safe."""
     return _compiled.prepare(*_drivers.units_for(l_max))
 
 
-#: Largest coordinate magnitude of points, offsets and centers: differences of two such values
-#: and their norms stay finite, so every point within it, however far, gets a finite value (the
-#: far field decays as 1/r, 1/r² for gradients). Beyond it a ParameterError names the input.
+#: Largest coordinate magnitude of points, offsets and centers: differences and norms of such
+#: values stay finite, so every point within it gets a finite value (beyond: ParameterError).
 COORDINATE_LIMIT = 1e300
 
 
 def _finite_array(name: str, value: ArrayLike, shape: tuple[int, ...]) -> np.ndarray:
-    arr = np.array(value, dtype=np.float64)  # a writable copy: one compiled type
-    if arr.shape != shape:
-        raise ParameterError(name, f"{name} must have shape {shape} (got {arr.shape})")
-    if not np.all(np.isfinite(arr)):
-        raise ParameterError(name, f"{name} must be finite")
-    return arr
+    return np.array(check_finite(name, value, shape))  # a writable copy: one compiled type
 
 
 def _within_limit(name: str, arr: np.ndarray) -> np.ndarray:
@@ -130,34 +107,16 @@ def _load_coefficients(name: str, coeffs: np.ndarray) -> np.ndarray:
     return coeffs
 
 
-def _evaluation_tables(tables: np.ndarray) -> np.ndarray:
-    """(n_degrees, S, D+1), C-contiguous: the layout ``_expansion._radial`` reads (the D+1
-    coefficients of one degree's segment contiguous)."""
-    return np.ascontiguousarray(tables, dtype=np.float64)
-
-
 # _expansion unrolls the segment polynomial for this degree
 assert TABLE_DEGREE == SEGMENT_DEGREE
 
 
 class GreenKernel:
-    """Regularized Green's function G and its gradient for one material and falloff.
-
-    Parameters
-    ----------
-    material : Material
-    l_max : int, 0 ≤ l_max ≤ 60
-        Truncation degree: G uses even l ≤ l_max, ∇G odd l ≤ l_max + 1.
-    radial : RadialProfile, default ``GaussianRadial(1.0)``
-        The load profile (falloff), which also sets the radius ε.
-    degree_weights : sequence of l_max + 1 floats, optional
-        Scales the degree-l term of G (the paper's wrinkle brush: truncation or reweighting).
-        The odd degree l of ∇G uses ``degree_weights[l - 1]``, so zero weights above degree L
-        make ∇G the gradient truncated as G is. Default all ones.
-
-    Building a kernel takes milliseconds (the radial tables are cached per profile shape), so
-    rebuild it whenever the material changes; :meth:`with_radial` changes the falloff or the
-    radius without recomputing the material matrices.
+    """Regularized Green's function G and its gradient for one ``material`` and falloff
+    ``radial`` (default ``GaussianRadial(1.0)``; it sets ε), truncated at ``l_max`` (0 to 60).
+    ``degree_weights`` (l_max + 1,), default ones, scale G's degree-l term and ∇G's degree
+    l + 1 term (the wrinkle brush). :meth:`with_radial`, :meth:`with_degree_weights` and
+    :meth:`turned` reuse the quadrature.
     """
 
     def __init__(
@@ -169,37 +128,28 @@ class GreenKernel:
     ):
         if not isinstance(material, Material):
             raise ValueError(f"material must be a Material (got {type(material).__name__})")
-        if isinstance(l_max, bool) or not isinstance(l_max, (int, np.integer)):
-            raise ValueError(f"l_max must be an integer (got {l_max!r})")
-        l_max = int(l_max)
-        if not 0 <= l_max <= L_MAX_LIMIT:
-            raise ValueError(f"l_max must lie in [0, {L_MAX_LIMIT}] (got {l_max})")
-        radial = GaussianRadial(1.0) if radial is None else radial
-        if not isinstance(radial, RadialProfile):
-            raise ValueError(f"radial must be a RadialProfile (got {type(radial).__name__})")
-        weights = checked_weights(degree_weights, l_max)
-        self._material = material
-        self._l_max = l_max
-        self._weights = weights
+        l_max = check_integer("l_max", l_max, low=0, high=L_MAX_LIMIT)
+        self._material, self._l_max = material, l_max
+        self._weights = checked_weights(degree_weights, l_max)
         self._sums = material_sums(material, l_max)
-        self._even, self._odd = pack_terms(self._sums, l_max, weights)
-        self._set_radial(radial)
+        self._even, self._odd = pack_terms(self._sums, l_max, self._weights)
+        self._set_radial(GaussianRadial(1.0) if radial is None else radial)
 
     # -- precompute --------------------------------------------------------------------------
     def _set_radial(self, radial: RadialProfile) -> None:
+        if not isinstance(radial, RadialProfile):
+            raise ValueError(f"radial must be a RadialProfile (got {type(radial).__name__})")
         self._radial = radial
-        self._even_tables = _evaluation_tables(radial.table("R", self._even.degrees))
-        self._odd_tables = _evaluation_tables(radial.table("dR", self._odd.degrees))
+        # (n_degrees, S, D+1), C-contiguous: the layout ``_expansion._radial`` reads
+        self._even_tables = np.ascontiguousarray(radial.table("R", self._even.degrees))
+        self._odd_tables = np.ascontiguousarray(radial.table("dR", self._odd.degrees))
         # the streamlines' single precision degrees: those above each parity's lowest
         self._even_single = single_tables(radial, "R", self._even.degrees[1:])
         self._odd_single = single_tables(radial, "dR", self._odd.degrees[1:])
 
     def with_radial(self, radial: RadialProfile) -> GreenKernel:
         """A kernel for the same material with another falloff or radius (no quadrature)."""
-        if not isinstance(radial, RadialProfile):
-            raise ValueError(f"radial must be a RadialProfile (got {type(radial).__name__})")
-        clone = object.__new__(GreenKernel)
-        clone.__dict__.update(self.__dict__)
+        clone = copy.copy(self)
         clone._set_radial(radial)
         return clone
 
@@ -210,26 +160,20 @@ class GreenKernel:
     def with_degree_weights(
         self, degree_weights: Sequence[float] | np.ndarray, output_maps: np.ndarray | None = None
     ) -> GreenKernel:
-        """The same kernel with other ``degree_weights`` (see the class docstring): no new
-        quadrature, bit for bit ``GreenKernel(material, l_max, radial, degree_weights)``.
+        """The same kernel with other ``degree_weights``, bit for bit a new one built with them.
         ``output_maps`` (l_max + 1, 3, 3), optional: a linear map A_l applied to each degree's
-        displacement, u = Σ_l A_l u_l (:func:`~gogreen_core.field.coefficients.pack_terms`; the
-        wrinkle brush keeps only the normal part of its high degrees)."""
+        displacement, u = Σ_l A_l u_l (:func:`~gogreen_core.field.coefficients.pack_terms`)."""
         weights = checked_weights(degree_weights, self._l_max)
-        clone = object.__new__(GreenKernel)
-        clone.__dict__.update(self.__dict__)
+        clone = copy.copy(self)
         clone._weights = weights
         clone._even, clone._odd = pack_terms(self._sums, self._l_max, weights, output_maps)
         return clone
 
     def turned(self, rotation: np.ndarray) -> GreenKernel:
         """The kernel of the material turned by the proper rotation ``rotation`` F (3, 3):
-        G'(x) = F G(Fᵀx) Fᵀ, its material term rotated by Wigner-D matrices
-        (:func:`~gogreen_core.field.frame.turned_sums`; no new quadrature, well under a
-        millisecond at l_max 8); same falloff and degree weights."""
+        G'(x) = F G(Fᵀx) Fᵀ (:func:`~gogreen_core.field.frame.turned_sums`)."""
         material = self._material.rotated(rotation)  # checks the rotation
-        clone = object.__new__(GreenKernel)
-        clone.__dict__.update(self.__dict__)
+        clone = copy.copy(self)
         clone._material = material
         clone._sums = turned_sums(self._sums, self._l_max, rotation)
         clone._even, clone._odd = pack_terms(clone._sums, self._l_max, self._weights)
@@ -237,8 +181,7 @@ class GreenKernel:
 
     def degree_norms(self) -> np.ndarray:
         """(l_max + 2,) the size of each degree's material term, unweighted
-        (:func:`~gogreen_core.field.coefficients.degree_norms`): 0 for a degree the material does
-        not have (l > 2 of an isotropic one, up to rounding)."""
+        (:func:`~gogreen_core.field.coefficients.degree_norms`)."""
         return degree_norms(self._sums, self._l_max)
 
     # -- properties --------------------------------------------------------------------------
@@ -265,57 +208,47 @@ class GreenKernel:
 
     # -- evaluation --------------------------------------------------------------------------
     def _run(
-        self,
-        parity: Parity,
-        tables: np.ndarray,
-        points: np.ndarray,
-        center: np.ndarray,
-        coeffs: np.ndarray,
+        self, parity: Parity, pts: np.ndarray, c: np.ndarray, coeffs: np.ndarray
     ) -> np.ndarray:
-        return _evaluation.expand(parity, tables, self._radial.eps, points, center, coeffs)
+        tables = self._even_tables if parity is self._even else self._odd_tables
+        return _evaluation.expand(parity, tables, self._radial.eps, pts, c, coeffs)
 
     def green(self, offsets: np.ndarray) -> np.ndarray:
-        """G(x) at offsets x (N, 3) → (N, 3, 3), symmetric (units: 1/(stiffness·length)).
-
-        Offsets beyond :data:`COORDINATE_LIMIT` raise ParameterError; within it G is finite."""
+        """G(x) at offsets x (N, 3) → (N, 3, 3), symmetric (units: 1/(stiffness·length)),
+        finite within :data:`COORDINATE_LIMIT` (beyond: ParameterError)."""
         pts = _points("offsets", offsets)
         coeffs = self._even.matrices.reshape(-1, 9)
-        return self._run(self._even, self._even_tables, pts, np.zeros(3), coeffs).reshape(-1, 3, 3)
+        return self._run(self._even, pts, np.zeros(3), coeffs).reshape(-1, 3, 3)
 
     def green_gradient(self, offsets: np.ndarray) -> np.ndarray:
         """∇G at offsets (N, 3) → (N, 3, 3, 3) with ``[n, i, j, p] = ∂G_ij/∂x_p``."""
         pts = _points("offsets", offsets)
         coeffs = self._odd.matrices.reshape(-1, 27)
-        out = self._run(self._odd, self._odd_tables, pts, np.zeros(3), coeffs)
-        return out.reshape(-1, 3, 3, 3)
+        return self._run(self._odd, pts, np.zeros(3), coeffs).reshape(-1, 3, 3, 3)
 
     def displacement(self, points: np.ndarray, center: np.ndarray, force: np.ndarray) -> np.ndarray:
-        """Vector load: u = G(points - center) · force → (N, 3).
-
-        Finite for every point and center with coordinates within :data:`COORDINATE_LIMIT`
-        (far away u decays as 1/r); beyond it, or for a force so large that u overflows, a
-        :class:`~gogreen_core.validation.ParameterError` names the input.
-        """
+        """Vector load: u = G(points - center) · force → (N, 3). Finite within
+        :data:`COORDINATE_LIMIT` (decay 1/r); beyond it, or for a force so large that u
+        overflows, a :class:`~gogreen_core.validation.ParameterError` names the input."""
         pts = _points("points", points)
         c = _within_limit("center", _finite_array("center", center, (3,)))
         f = _finite_array("force", force, (3,))
         with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported below
             coeffs = _load_coefficients("force", self._even.matrices @ f)  # (n_terms, 3)
-        return self._run(self._even, self._even_tables, pts, c, coeffs)
+        return self._run(self._even, pts, c, coeffs)
 
     def affine_displacement(
         self, points: np.ndarray, center: np.ndarray, load: np.ndarray
     ) -> np.ndarray:
-        """Affine load H (3, 3): u_i = Σ_jp ∂_p G_ij(points - center) H_jp → (N, 3).
-
-        Finite within :data:`COORDINATE_LIMIT` as :meth:`displacement` (decay 1/r²)."""
+        """Affine load H (3, 3): u_i = Σ_jp ∂_p G_ij(points - center) H_jp → (N, 3); finite
+        within :data:`COORDINATE_LIMIT` as :meth:`displacement` (decay 1/r²)."""
         pts = _points("points", points)
         c = _within_limit("center", _finite_array("center", center, (3,)))
         h = _finite_array("affine load", load, (3, 3))
         with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported below
             coeffs = np.einsum("tijp,jp->ti", self._odd.matrices, h)
         coeffs = _load_coefficients("affine load", coeffs)
-        return self._run(self._odd, self._odd_tables, pts, c, coeffs)
+        return self._run(self._odd, pts, c, coeffs)
 
     def streamlines(
         self,
@@ -331,96 +264,32 @@ class GreenKernel:
         tolerance: float | None = STREAMLINE_TOLERANCE,
         indices: np.ndarray | None = None,
         in_place: bool = False,
-    ) -> np.ndarray:
-        """Move ``points`` (N, 3) along the load's displacement field taken as a velocity.
-
-        Integrates dx/dt = v(x, t) over pseudo-time t ∈ [0, 1] by RK4 (paper Sec. 3.2) and
-        returns the end positions (N, 3).
-
-        v(x, t) = Σ_M M s(|y - c(t)|) u(y - c(t)) with y = origin + M (x - origin):
-
-        * ``load``: a force (3,) (u = G f) or an affine load (3, 3) (u_i = ∂_p G_ij H_jp);
-        * c(t) = center + t · center_step: a moving load (a grab following the cursor);
-        * s: C² cutoff (quintic smoothstep) equal to 1 up to ``cutoff[0]`` and 0 from
-          ``cutoff[1]`` on (model units); None for no cutoff;
-        * M: diagonal reflections given by ``mirror_signs`` (n_m, 3) of ±1, the first row
-          being (1, 1, 1); None for the brush alone.
-
-        Step control:
-
-        * ``tolerance`` (default :data:`STREAMLINE_TOLERANCE`, 1e-4): adaptive. Every point
-          takes one RK4 step; an error estimate per point (the midpoint rule that shares RK4's
-          first two stages, see ``_integrator``) sends the points whose predicted error
-          exceeds a safe fraction of ``tolerance`` times the motion scale (the largest of
-          |center_step| and every point's motion) back for 2, 4, ... up to 256 RK4 steps. On
-          1024 points or more, probes spread over the points first measure a
-          third-order step's error: where it is within that fraction everywhere they look,
-          the points take it instead (three evaluations, not four). The target: every point
-          within ``tolerance`` · scale of the fixed 64-step result. ``substeps`` is then not
-          used (a Brush's ``substeps`` no longer matters for grab events through the
-          Sculptor).
-        * ``tolerance=None``: ``substeps`` fixed RK4 steps for every point (the reference).
-
-        Both are deterministic: the same input gives bit-identical output whatever the number
-        of threads (points are processed in fixed blocks), so undo and replay are exact.
-
-        Rows of a larger array, without copies (a mesh being sculpted):
-
-        * ``indices`` (n,) int: move only the rows ``points[indices]``, read in place; the
-          result (n, 3) is bit for bit that of ``streamlines(points[indices], ...)``.
-        * ``in_place``: also write the end positions into ``points`` (a C-contiguous float64
-          (N, 3) array) at ``indices`` (every row if None), and only if all of them are
-          finite: otherwise ValueError and ``points`` is unchanged.
-        """
-        return self._streamlines(
-            points,
-            center,
-            load,
-            center_step=center_step,
-            cutoff=cutoff,
-            mirror_signs=mirror_signs,
-            origin=origin,
-            substeps=substeps,
-            tolerance=tolerance,
-            indices=indices,
-            in_place=in_place,
-        )[0]
-
-    def _streamlines(
-        self,
-        points: np.ndarray,
-        center: np.ndarray,
-        load: np.ndarray,
-        *,
-        center_step: np.ndarray | None = None,
-        cutoff: tuple[float, float] | None = None,
-        mirror_signs: np.ndarray | None = None,
-        origin: np.ndarray | None = None,
-        substeps: int = 4,
-        tolerance: float | None = STREAMLINE_TOLERANCE,
-        indices: np.ndarray | None = None,
-        in_place: bool = False,
         out: np.ndarray | None = None,
-        count: bool = True,
-    ) -> tuple[np.ndarray, np.ndarray]:
-        """:meth:`streamlines`, also returning the velocity evaluations each point took (N,)
-        int64 (for benchmarks and tests: 4 per RK4 step, 3 for a third-order one; empty if not
-        ``count``). ``out``: a C-contiguous float64 array of at least n rows whose first n rows
-        receive the result (a buffer the caller reuses between events; the result is a view of
-        it)."""
-        if in_place:
-            if not (
-                isinstance(points, np.ndarray)
-                and points.dtype == np.float64
-                and points.ndim == 2
-                and points.shape[1] == 3
-                and points.flags.c_contiguous
-                and points.flags.writeable
-            ):
-                raise ParameterError(
-                    "points",
-                    "in_place needs points as a writable C-contiguous (N, 3) float64 array",
-                )
+        evaluations: np.ndarray | None = None,
+    ) -> np.ndarray:
+        """The end positions (N, 3) of ``points`` (N, 3) moved along the load's displacement
+        taken as a velocity, dx/dt = v(x, t) over pseudo-time t ∈ [0, 1] by RK4 (paper
+        Sec. 3.2): v(x, t) = Σ_M M s(|y - c(t)|) u(y - c(t)) with y = origin + M (x - origin),
+        u of the ``load`` (a force (3,) or an affine load (3, 3)), c(t) = center + t ·
+        center_step, s the C² ``cutoff`` (1 up to its first radius, 0 from its second; None:
+        none), M the reflections of ``mirror_signs`` (n_m, 3) of ±1 (first row (1, 1, 1)).
+
+        ``tolerance`` (default :data:`STREAMLINE_TOLERANCE`): adaptive steps, every point
+        within ``tolerance`` times the motion scale (the largest of |center_step| and every
+        point's motion) of the fixed 64-step result (the error control: ``_integrator``);
+        ``substeps`` is then unused. ``tolerance=None``: ``substeps`` fixed RK4 steps. Either
+        way the output is bit-identical whatever the number of threads.
+
+        ``indices`` (n,) int: move only the rows ``points[indices]``, read in place (bit for
+        bit ``streamlines(points[indices], ...)``). ``in_place``: also write the end positions
+        into ``points`` (a writable C-contiguous float64 (N, 3) array) at ``indices``, only if
+        all are finite (else ValueError, ``points`` unchanged). ``out``: a reused C-contiguous
+        float64 buffer of at least n rows, of which the result is a view. ``evaluations``: an
+        int64 (n,) array receiving the velocity evaluations each point took (4 per RK4 step).
+        """
+        if in_place and _writable(np.asarray(points, dtype=np.float64)) is not points:
+            message = "in_place needs points as a writable C-contiguous (N, 3) float64 array"
+            raise ParameterError("points", message)
         if indices is None:
             pts = _points("points", points)  # the array itself if in_place (checked above)
             rows = np.zeros(0, dtype=np.int64)
@@ -429,10 +298,9 @@ class GreenKernel:
             if rows.ndim != 1 or not (rows.size == 0 or np.issubdtype(rows.dtype, np.integer)):
                 raise ParameterError("indices", f"indices must be 1-D integers (got {rows.dtype})")
             rows = _writable(rows.astype(np.int64, copy=False))
-            pts = np.asarray(points, dtype=np.float64)
+            pts = _writable(np.asarray(points, dtype=np.float64))
             if pts.ndim != 2 or pts.shape[1] != 3:
                 raise ParameterError("points", f"points must have shape (N, 3) (got {pts.shape})")
-            pts = _writable(pts)
         c = _finite_array("center", center, (3,))
         step = (
             np.zeros(3) if center_step is None else _finite_array("center_step", center_step, (3,))
@@ -458,15 +326,9 @@ class GreenKernel:
         if not np.all(signs[0] == 1):
             raise ValueError("the first row of mirror_signs must be (1, 1, 1), the brush itself")
         o = np.zeros(3) if origin is None else _finite_array("origin", origin, (3,))
-        if (
-            isinstance(substeps, bool)
-            or not isinstance(substeps, (int, np.integer))
-            or substeps < 1
-        ):
-            raise ValueError(f"substeps must be an integer >= 1 (got {substeps!r})")
-        if tolerance is None:
-            tol = 0.0
-        else:
+        substeps = check_integer("substeps", substeps, low=1)
+        tol = 0.0
+        if tolerance is not None:
             tol = check_number("tolerance", tolerance, low=0.0, low_open=True)
         n = pts.shape[0] if indices is None else rows.shape[0]
         if out is None:
@@ -477,15 +339,18 @@ class GreenKernel:
             result = out[:n]
             if len(result) < n or not result.flags.c_contiguous:
                 raise ValueError(f"out must be C-contiguous with at least {n} rows")
-        evaluations = np.empty(n if count else 0, dtype=np.int64)
+        if evaluations is None:
+            evaluations = np.empty(0, dtype=np.int64)
+        elif evaluations.dtype != np.int64 or evaluations.shape != (n,):
+            raise ValueError(f"evaluations must be an int64 array of {n} counts")
         if n == 0:
-            return result, evaluations
+            return result
         field, backend = _evaluation.stream_field(
             parity, tables, single, self._radial.eps, coeffs, c, step, (inner, outer), signs, o
         )
         status = _evaluation.stream(
             field, backend, pts, rows, indices is not None, in_place, COORDINATE_LIMIT,
-            int(substeps), tol, result, evaluations,
+            substeps, tol, result, evaluations,
         )  # fmt: skip
         if status == 1:
             raise ParameterError("indices", f"indices must be rows 0 to {len(pts) - 1}")
@@ -499,15 +364,11 @@ class GreenKernel:
             raise StreamlineOverflow(
                 "the streamlines would move points to infinity; nothing was moved"
             )
-        return result, evaluations
+        return result
 
     def warm_up(self) -> float:
-        """Compile, or load from numba's disk cache, everything this kernel's truncation degree
-        evaluates with (vector and affine loads, streamlines); returns the seconds it took.
-
-        Evaluation needs none of it (see :func:`prepare_degree`): this is for callers that
-        want the compiled speed from the next evaluation on.
-        """
+        """:func:`prepare_degree` of this kernel's l_max, then one evaluation of each kind;
+        returns the seconds it took."""
         start = time.perf_counter()
         prepare_degree(self._l_max)
         points = np.zeros((2, 3))

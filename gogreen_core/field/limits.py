@@ -1,9 +1,6 @@
-"""The bounds of every value the engine accepts, and the checks that apply them.
-
-One set of range checks and messages (README, "Sculpting without the GUI"): the engine's
-settings value (:class:`gogreen_core.sculpt.engine_settings.EngineSettings`), the evented settings
-model, brushes, presets and session files all call these. Each check takes the parameter's name
-(or field path) and raises :class:`~gogreen_core.validation.ParameterError` naming it.
+"""The bounds of every value the engine accepts, and the checks that apply them: one set of
+range checks for the engine's settings, the settings model, brushes, presets and session files,
+each raising :class:`~gogreen_core.validation.ParameterError` naming the parameter.
 """
 
 from __future__ import annotations
@@ -13,11 +10,7 @@ import numpy as np
 from gogreen_core.field.kernel import L_MAX_LIMIT
 from gogreen_core.physics.material import Material
 from gogreen_core.physics.radial import MultiscaleRadial, RadialProfile, SplineRadial
-from gogreen_core.validation import (
-    ParameterError,
-    check_integer,
-    check_number,
-)
+from gogreen_core.validation import ParameterError, check_integer, check_number
 
 __all__ = [
     "L_MAX_LIMIT",
@@ -45,13 +38,11 @@ MAX_SUBSTEPS = 1000
 #: Largest |amount| (and |strength · amount|) of an affine brush event: a strain or an angle
 #: in radians per event at the brush centre.
 MAX_AMOUNT = 100.0
-#: Farthest a brush centre, a grab displacement (times the strength), a pin or a pin drag may
-#: reach, in model sizes from the model's centre: beyond it nothing is left to sculpt, and the
-#: arithmetic stays far from overflow whatever the model's scale.
+#: Farthest a brush centre, a grab (times the strength), a pin or a pin drag may reach, in model
+#: sizes from the model's centre: nothing is left to sculpt beyond, and no overflow.
 MAX_REACH = 1e3
-#: Bounds of the largest stiffness coefficient |C_ab| (units are free: brushes are normalized by
-#: the material's own response, so only the ratios matter; beyond these the kernel over- or
-#: underflows).
+#: Bounds of the largest stiffness coefficient |C_ab| (only ratios matter: brushes are
+#: normalized by the material's response; beyond these the kernel over- or underflows).
 MIN_STIFFNESS, MAX_STIFFNESS = 1e-100, 1e100
 #: Largest |weight| of a degree.
 MAX_DEGREE_WEIGHT = 1e6
@@ -103,9 +94,7 @@ def check_constraint_radius(value: object, path: str = "constraint_radius") -> f
     return check_number(path, value, low=MIN_RADIUS, high=MAX_RADIUS)
 
 
-#: Dynamic topology's detail size (target edge length) as a fraction of the model size: below
-#: the smallest a 1M-vertex model's edges are already longer; above the largest a model keeps
-#: a handful of triangles.
+#: Dynamic topology's detail size (target edge length) as a fraction of the model size.
 MIN_DETAIL_SIZE, MAX_DETAIL_SIZE = 1e-4, 0.25
 
 

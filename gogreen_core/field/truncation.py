@@ -1,20 +1,12 @@
-"""How much the truncation degree l_max costs in accuracy for one material (paper Fig. 9).
-
-The spherical-harmonic expansion of G (paper Eq. 10) is exact for an isotropic material at
-l_max = 2 and converges geometrically for anisotropic ones, the slower the stronger the
-anisotropy. :func:`truncation_errors` measures, for each even l_max, the relative error
+"""How much the truncation degree l_max costs in accuracy for one material (paper Fig. 9):
+:func:`truncation_errors` measures, for each even l_max, the relative error
 
     δ(l_max) = max_x ‖G_lmax(x) − G_ref(x)‖_F / max_x ‖G_ref(x)‖_F
 
-over points x within ``radius`` ε of the load (Lebedev directions × radii), against the same
-expansion at a much higher ``reference_degree`` (by default l_max + 16, where the terms left
-out are orders of magnitude below δ: the test suite checks the figures against an independent
-plane-wave quadrature of G that uses no spherical harmonics). Only the even degrees of G count,
-so an odd l_max has the error of l_max − 1. The falloff does not change δ much (the radial
-terms have the same far field); the Gaussian is used.
-
-A second or so of work on two cores: the app runs it off the GUI thread
-(``progress(done, total)`` after each degree; ``cancelled()`` stops it between degrees).
+over points x within ``radius`` ε of the load, against the same expansion at a much higher
+``reference_degree`` (the tests check it against a plane-wave quadrature of G). An odd l_max has
+the error of l_max − 1. The falloff hardly changes δ; the Gaussian is used. About a second of
+work: ``progress(done, total)`` is called after each degree, ``cancelled()`` stops between them.
 """
 
 from __future__ import annotations
@@ -49,12 +41,8 @@ class TruncationCancelled(Exception):
 
 @dataclass(frozen=True)
 class TruncationReport:
-    """δ(l_max) of one material.
-
-    degrees : (n,) int, the even l_max measured (0, 2, ..., max_degree).
-    errors : (n,) float, δ at each of them (relative, dimensionless).
-    reference_degree : the degree of the reference expansion.
-    """
+    """δ(l_max) of one material: ``errors`` (n,) at the even l_max ``degrees`` (n,) (0, 2, ...,
+    max_degree), against an expansion of ``reference_degree``."""
 
     degrees: np.ndarray
     errors: np.ndarray
@@ -95,9 +83,8 @@ class TruncationReport:
 
 
 def _sample_points(reference_degree: int, radius: float) -> np.ndarray:
-    """(n, 3) points within ``radius`` (ε = 1): the centre, where G is largest, then a
-    Lebedev rule that resolves the reference degree's angular ripples (order ≥
-    reference_degree + 3, at most 131) on each radius."""
+    """(n, 3) points within ``radius`` (ε = 1): the centre, then on each radius a Lebedev rule
+    that resolves the reference degree's angular ripples."""
     order = next((o for o in _ORDERS if o >= reference_degree + 3), _ORDERS[-1])
     nodes = lebedev_rule(order)[0].T
     radii = np.array([r for r in _RADII if r < radius] + [radius])
@@ -114,14 +101,9 @@ def truncation_errors(
     progress: Callable[[int, int], None] | None = None,
     cancelled: Callable[[], bool] | None = None,
 ) -> TruncationReport:
-    """δ(l_max) for even l_max = 0, 2, ..., ``max_degree`` (see the module docstring).
-
-    material : the material.
-    max_degree : largest l_max measured (0 ... 44).
-    reference_degree : degree of the reference expansion (default max_degree + 16, ≤ 60).
-    radius : the error is measured within ``radius`` ε of the load.
-    progress, cancelled : optional callbacks (see the module docstring).
-    """
+    """δ(l_max) for even l_max = 0, 2, ..., ``max_degree`` (≤ 44) within ``radius`` ε of the
+    load, against ``reference_degree`` (default max_degree + 16, ≤ 60): see the module
+    docstring."""
     if not isinstance(material, Material):
         raise ParameterError("material", f"material must be a Material (got {material!r})")
     top = L_MAX_LIMIT - _REFERENCE_MARGIN
@@ -145,8 +127,7 @@ def truncation_errors(
     for number, degree in enumerate(degrees):
         if cancelled is not None and cancelled():
             raise TruncationCancelled("the truncation error computation was cancelled")
-        # the reference's quadrature, the degrees above `degree` weighted out: each term is the
-        # reference's own, so the difference is exactly the tail left out
+        # the reference with the degrees above `degree` weighted out: exactly the tail left out
         weights = (np.arange(reference_degree + 1) <= degree).astype(np.float64)
         approximate = reference.with_degree_weights(weights).green(points).reshape(-1, 9)
         difference = approximate - exact

@@ -1,3 +1,1 @@
-"""What a front end drives: pointer tools, the evented settings model, the
-headless command line.
-"""
+"""What a front end drives: pointer tools, the evented settings model, the command line."""

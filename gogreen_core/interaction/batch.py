@@ -6,10 +6,8 @@
     gogreen truncation [--material FILE | --young E --poisson NU] [--l-max L] [--max-degree D]
     gogreen recover --list | ID [-o OUT] [--session OUT.json] [--discard]
 
-They print a progress bar on stderr and exit with status 2 and a one-line message naming the
-problem on bad input (a broken file, an inadmissible material, a zero radius, a journal in use);
-the output file is written atomically, so a failure never leaves a half-written or clobbered
-file.
+They print a progress bar on stderr, and on bad input exit with status 2 and a one-line message
+naming the problem; the output file is written atomically (a failure never leaves half a file).
 """
 
 from __future__ import annotations
@@ -18,11 +16,12 @@ import argparse
 import json
 import sys
 import time
-from dataclasses import dataclass
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from dataclasses import replace
 from datetime import datetime
 from pathlib import Path
-from types import TracebackType
-from typing import Literal, TextIO
+from typing import Any, TextIO, TypeVar
 
 import numpy as np
 
@@ -60,9 +59,9 @@ from gogreen_core.validation import (
     prefixed,
 )
 
-__all__ = ["BATCH_COMMANDS", "main"]
+__all__ = ["main"]
 
-BATCH_COMMANDS = ("replay", "deform", "truncation", "recover")
+T = TypeVar("T")
 
 
 class ProgressBar:
@@ -90,11 +89,8 @@ class ProgressBar:
 
 
 def _save(mesh: MeshData, sculptor: Sculptor, path: str) -> None:
-    """The sculptor's mesh (its faces and UVs too: a subdivision changes them) to ``path``.
-
-    ``mesh`` is the file the command read: whatever it holds besides the positions (texture
-    coordinates per corner) must reach the output, so a sculptor made without them is a bug
-    here, refused rather than written without them."""
+    """The sculptor's mesh (its faces and UVs too) to ``path``; ``mesh``, the file read: its
+    texture coordinates must reach the output (a sculptor made without them is a bug here)."""
     now = sculptor.mesh
     if mesh.uv is not None and now.uv is None:
         raise RuntimeError("internal error: the texture coordinates of the input were dropped")
@@ -119,67 +115,41 @@ def _replay(args: argparse.Namespace) -> int:
     return 0
 
 
-def _read_json(path: str, option: str) -> object:
-    """The JSON value in file ``path`` given to ``option``; ValueError naming both."""
+def _from_file(path: str, option: str, key: str, parse: Callable[[object, str], T]) -> T:
+    """``parse`` of the JSON in file ``path`` given to ``option``: a preset's ``key`` section,
+    or a bare file; ValueError naming the option."""
     try:
-        return read_json(path)
+        data = read_json(path)
     except ValueError as exc:
         raise ValueError(f"{option} {exc}") from None
-
-
-def _section(data: object, key: str) -> tuple[object, str]:
-    """A preset's ``key`` section, or ``data`` itself (a bare material / falloff file)."""
+    section = ""
     if isinstance(data, dict) and key in data and data.get("format") == "gogreen-preset":
-        return data[key], key
-    return data, ""
+        data, section = data[key], key
+    with prefixed(option):
+        return parse(data, section)
 
 
 def _material(args: argparse.Namespace) -> Material:
     if args.material:
-        data, path = _section(_read_json(args.material, "--material"), "material")
-        with prefixed("--material"):
-            return parse_material(data, path)
+        return _from_file(args.material, "--material", "material", parse_material)
     with prefixed("--young/--poisson"):
         return Material.isotropic(args.young, args.poisson)
 
 
 def _falloff(name: str) -> RadialProfile:
-    if name == "gaussian":
-        return GaussianRadial(1.0)
-    if name == "kelvinlet":
-        return KelvinletRadial(1.0)
-    data, path = _section(_read_json(name, "--falloff"), "falloff")
-    with prefixed("--falloff"):
-        return parse_falloff(data, path)
+    if name in ("gaussian", "kelvinlet"):
+        return GaussianRadial(1.0) if name == "gaussian" else KelvinletRadial(1.0)
+    return _from_file(name, "--falloff", "falloff", parse_falloff)
 
 
-@dataclass(frozen=True)
-class _DeformOptions:
-    """The options of ``gogreen deform``, each checked under its own name."""
-
-    settings: EngineSettings
-    brush: Brush
-    center: np.ndarray
-    delta: np.ndarray
-    amount: float
-    axis: np.ndarray | None
-    direction: np.ndarray | None
-    events: int
-
-
-def _deform_options(args: argparse.Namespace) -> _DeformOptions:
-    """Every option of ``gogreen deform`` checked before anything is computed from it;
-    ValueError (a ParameterError naming the option) for a bad one."""
+def _deform_stroke(args: argparse.Namespace) -> tuple[EngineSettings, Brush, BrushEvent, int]:
+    """The settings, brush, first event and event count of ``gogreen deform`` (the drag split
+    into equal events, as mouse events of one stroke), every option checked under its name."""
     values = {s.name: s.check(getattr(args, s.name), s.flag) for s in _flag_rows()}
     settings = EngineSettings(material=_material(args), falloff=_falloff(args.falloff), **values)
     with _option_names():
         brush = Brush(
-            kind=args.brush,
-            radius=args.radius,
-            strength=args.strength,
-            substeps=args.substeps,
-            influence=args.influence,
-            symmetry=args.symmetry,
+            args.brush, args.radius, args.strength, args.substeps, args.influence, args.symmetry
         )
     center = check_vector("--center", args.center)
     delta = check_vector("--delta", args.delta)
@@ -192,36 +162,23 @@ def _deform_options(args: argparse.Namespace) -> _DeformOptions:
         raise ParameterError("--amount", f"the {brush.kind} brush needs --amount (nonzero)")
     if not (brush.is_affine or paint) and not np.any(delta):
         raise ParameterError("--delta", f"the {brush.kind} brush needs --delta (nonzero)")
-    return _DeformOptions(settings, brush, center, delta, amount, axis, direction, events)
+    share = amount if paint else amount / events
+    with _option_names():
+        return settings, brush, BrushEvent(center, delta / events, share, axis, direction), events
 
 
 def _deform(args: argparse.Namespace) -> int:
     mesh = load_mesh(args.input)
-    options = _deform_options(args)
+    settings, brush, first, events = _deform_stroke(args)
     sculptor = Sculptor(
-        mesh.vertices,
-        mesh.faces,
-        uv=mesh.uv,
-        uv_faces=mesh.uv_faces,
-        settings=options.settings,
+        mesh.vertices, mesh.faces, uv=mesh.uv, uv_faces=mesh.uv_faces, settings=settings
     )
-    brush, events, center = options.brush, options.events, options.center
-    paint = brush.type.family == "paint"
-    # The drag is split into equal events, as mouse events of one stroke.
-    step = options.delta / events
     progress = None if args.quiet else ProgressBar("deform")
     sculptor.begin_stroke(brush)
     try:
         for k in range(events):
             with _option_names():
-                event = BrushEvent(
-                    center=center + k * step,
-                    delta=step,
-                    amount=options.amount if paint else options.amount / events,
-                    axis=options.axis,
-                    direction=options.direction,
-                )
-                sculptor.stroke_event(event)
+                sculptor.stroke_event(replace(first, center=first.center + k * first.delta))
             if progress:
                 progress(k + 1, events)
     except Exception:
@@ -312,39 +269,31 @@ def _write_recovered(directory: Path, args: argparse.Namespace) -> None:
         print(f"wrote the session ({count} operations) -> {args.session}", file=sys.stderr)
 
 
-class _option_names:
+@contextmanager
+def _option_names() -> Iterator[None]:
     """Re-raise a ParameterError of a brush or event field under its option's name
     (``delta`` → ``--delta``), so the message names what the user typed."""
-
-    def __enter__(self) -> None:
-        return None
-
-    def __exit__(
-        self,
-        kind: type[BaseException] | None,
-        exc: BaseException | None,
-        tb: TracebackType | None,
-    ) -> Literal[False]:
-        if isinstance(exc, ParameterError) and exc.parameter.isidentifier():
-            option = "--" + exc.parameter.replace("_", "-")
-            message = str(exc)
-            if message.startswith(exc.parameter):
-                message = option + message[len(exc.parameter) :]
-            else:
-                message = f"{option}: {message}"
-            raise ParameterError(option, message) from None
-        return False
+    try:
+        yield
+    except ParameterError as exc:
+        if not exc.parameter.isidentifier():
+            raise
+        option, message = "--" + exc.parameter.replace("_", "-"), str(exc)
+        if message.startswith(exc.parameter):
+            message = option + message[len(exc.parameter) :]
+        else:
+            message = f"{option}: {message}"
+        raise ParameterError(option, message) from None
 
 
 def _flag_rows() -> tuple[Setting, ...]:
-    """The setting table's ``"cli"`` rows that are one flag each (the material and falloff
-    have flags of their own: ``--material``, ``--young``, ``--poisson``, ``--falloff``)."""
+    """The setting table's ``"cli"`` rows that are one flag each (not the material and
+    falloff: ``--material``, ``--young``, ``--poisson``, ``--falloff``)."""
     return tuple(s for s in rows("cli") if s.type in ("int", "float", "bool", "choice"))
 
 
 def _add_setting_flags(parser: argparse.ArgumentParser) -> None:
-    """One flag per :func:`_flag_rows` row, its default and help from the table (checked, and
-    named as the flag, in :func:`_deform_options`)."""
+    """One flag per :func:`_flag_rows` row, its default and help from the table."""
     for s in _flag_rows():
         if s.type == "bool":
             action = argparse.BooleanOptionalAction
@@ -355,6 +304,16 @@ def _add_setting_flags(parser: argparse.ArgumentParser) -> None:
             parser.add_argument(s.flag, type=kind, choices=choices, default=s.initial(), help=s.doc)
 
 
+def _vector_flag(parser: argparse.ArgumentParser, flag: str, help: str, **options: Any) -> None:
+    parser.add_argument(flag, type=float, nargs=3, metavar=("X", "Y", "Z"), help=help, **options)
+
+
+def _material_flags(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--material", help="material JSON (Material.to_dict or a preset)")
+    parser.add_argument("--young", type=float, default=1.0)
+    parser.add_argument("--poisson", type=float, default=0.3)
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="gogreen", description="GoGreen Sculpt, headless")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -363,52 +322,26 @@ def _parser() -> argparse.ArgumentParser:
     replay.add_argument("input", help="mesh the session starts from (OBJ, PLY, STL, OFF)")
     replay.add_argument("-o", "--output", required=True, help="where to write the result")
     replay.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    replay.set_defaults(run=_replay)
 
     deform = sub.add_parser("deform", help="apply one brush stroke to a mesh")
     deform.add_argument("input")
     deform.add_argument("-o", "--output", required=True)
     deform.add_argument("--brush", choices=BRUSH_KINDS, default="grab")
-    deform.add_argument("--center", type=float, nargs=3, required=True, metavar=("X", "Y", "Z"))
-    deform.add_argument(
-        "--delta",
-        type=float,
-        nargs=3,
-        default=[0.0, 0.0, 0.0],
-        metavar=("DX", "DY", "DZ"),
-        help="grab displacement (model units)",
-    )
+    _vector_flag(deform, "--center", "the brush centre", required=True)
+    _vector_flag(deform, "--delta", "grab displacement (model units)", default=[0.0, 0.0, 0.0])
     deform.add_argument(
         "--amount",
         type=float,
         default=0.0,
-        help="affine brushes: log strain (scale, pinch) or angle in radians (twist) at the "
-        "brush centre, split over --events; smooth and mask: each event's pressure "
-        "(negative: the mask brush erases)",
+        help="affine brushes: log strain or angle (radians) at the centre, split over --events; "
+        "smooth and mask: each event's pressure (negative: the mask brush erases)",
     )
-    deform.add_argument(
-        "--axis",
-        type=float,
-        nargs=3,
-        default=None,
-        metavar=("X", "Y", "Z"),
-        help="twist axis / pinch normal (default +z)",
-    )
-    deform.add_argument(
-        "--direction",
-        type=float,
-        nargs=3,
-        default=None,
-        metavar=("X", "Y", "Z"),
-        help="pinch stretch direction",
-    )
+    _vector_flag(deform, "--axis", "twist axis / pinch normal (default +z)")
+    _vector_flag(deform, "--direction", "pinch stretch direction")
     deform.add_argument("--radius", type=float, default=0.1, help="ε / model size")
     deform.add_argument("--strength", type=float, default=1.0)
-    deform.add_argument(
-        "--substeps",
-        type=int,
-        default=0,
-        help="RK4 steps per event (0, the default: adaptive, within 1e-4 of the cursor motion)",
-    )
+    deform.add_argument("--substeps", type=int, default=0, help="RK4 steps (0: adaptive)")
     deform.add_argument(
         "--influence",
         type=float,
@@ -417,25 +350,23 @@ def _parser() -> argparse.ArgumentParser:
     )
     deform.add_argument("--symmetry", default="", help="mirror planes, e.g. x or xz")
     deform.add_argument("--events", type=int, default=1, help="split the stroke into N events")
-    deform.add_argument("--young", type=float, default=1.0)
-    deform.add_argument("--poisson", type=float, default=0.3)
-    deform.add_argument("--material", help="material JSON (Material.to_dict or a preset)")
+    _material_flags(deform)
     deform.add_argument(
         "--falloff", default="gaussian", help="gaussian, kelvinlet, or a falloff/preset JSON file"
     )
     _add_setting_flags(deform)
     deform.add_argument("--session-out", help="also write the session JSON here")
     deform.add_argument("-q", "--quiet", action="store_true")
+    deform.set_defaults(run=_deform)
 
     truncation = sub.add_parser(
         "truncation", help="how accurate each l_max is for a material (paper Fig. 9)"
     )
-    truncation.add_argument("--material", help="material JSON (Material.to_dict or a preset)")
-    truncation.add_argument("--young", type=float, default=1.0)
-    truncation.add_argument("--poisson", type=float, default=0.3)
+    _material_flags(truncation)
     truncation.add_argument("--l-max", type=int, default=8, help="the l_max to assess")
     truncation.add_argument("--max-degree", type=int, default=20, help="largest l_max measured")
     truncation.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    truncation.set_defaults(run=_truncation)
     recover_ = sub.add_parser(
         "recover",
         help="list the crash-recovery journals, or rebuild what one recorded",
@@ -452,20 +383,15 @@ def _parser() -> argparse.ArgumentParser:
     recover_.add_argument("--session", help="write the journal's operations as a session JSON")
     recover_.add_argument("--discard", action="store_true", help="delete the journal")
     recover_.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    recover_.set_defaults(run=_recover)
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
     """Run a batch command; returns the exit status (2 on bad input)."""
     args = _parser().parse_args(argv)
-    commands = {
-        "replay": _replay,
-        "deform": _deform,
-        "truncation": _truncation,
-        "recover": _recover,
-    }
     try:
-        return commands[args.command](args)
+        return int(args.run(args))
     except (ValueError, RuntimeError, OSError) as exc:  # MeshFileError, JournalError: ValueError
         print(f"gogreen {args.command}: error: {exc}", file=sys.stderr)
         return 2

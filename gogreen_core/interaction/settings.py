@@ -1,11 +1,9 @@
 """The settings model: one evented source of truth for what an artist tunes (no Qt).
 
 In napari's style: a model holds plain values in declared :class:`Field` s; setting a field
-validates it (:class:`gogreen_core.validation.ParameterError` naming the field), and when the
-value changes, emits ``model.events.<field>`` with a :class:`ChangeEvent`, then
-``model.events.changed`` once per update with the set of changed names. Views (the app's
-panels and brush bar) bind to it both ways; the engine is fed from it by :class:`EngineLink`;
-presets are made from and applied to it::
+validates it (ParameterError naming it) and, when the value changes, emits
+``model.events.<field>`` (a :class:`ChangeEvent`), then ``model.events.changed`` (:class:`Changes`)
+once per update. Views bind to it both ways; :class:`EngineLink` feeds the engine from it::
 
     settings = Settings()
     settings.brush.events.radius.connect(lambda e: print("radius", e.value))
@@ -13,17 +11,9 @@ presets are made from and applied to it::
     link = EngineLink(settings, sculptor)            # material/falloff/pins reach the engine
     settings.material = Material.isotropic(1, 0.45)  # -> sculptor.apply_settings(...)
 
-Every value is immutable (a new one per change; the falloff too, compared by content), so a
-change is an assignment and an equal value is no change.
-
-Adding a setting: an engine setting is one row of the setting table
-(:mod:`gogreen_core.sculpt.setting_table`), which makes its field here; a brush field is a
-field of :class:`gogreen_core.sculpt.brushes.Brush` and of :class:`BrushSettings`; other
-fields (pen, view) are declared on their model. Bind one widget to it where one is wanted.
-
-Drags: a slider or curve drag sets its field once per step with ``continued=True`` after the
-first step; :class:`EngineLink` forwards that flag to the engine in its one typed call
-(:meth:`EngineLink.send`), so that a whole drag can be one undo step.
+Values are immutable: a change is an assignment. The fields are rows of the setting table
+(:mod:`gogreen_core.sculpt.setting_table`), :data:`PEN_ROWS` and :data:`VIEW_ROWS`. A drag sets
+its field with ``continued=True`` after its first step: one undo step in the engine.
 """
 
 from __future__ import annotations
@@ -45,7 +35,7 @@ from gogreen_core.sculpt.engine_settings import (
     resized_brush_weights,
 )
 from gogreen_core.sculpt.setting_table import Setting, rows
-from gogreen_core.validation import ParameterError, check_bool, check_choice, check_number
+from gogreen_core.validation import ParameterError
 
 if TYPE_CHECKING:
     from gogreen_core.sculpt.sculptor import Sculptor
@@ -53,7 +43,9 @@ if TYPE_CHECKING:
 __all__ = [
     "ENGINE_FIELDS",
     "MATCAPS",
+    "PEN_ROWS",
     "SHADINGS",
+    "VIEW_ROWS",
     "BrushSettings",
     "ChangeEvent",
     "EngineLink",
@@ -128,23 +120,14 @@ class _Events:
 
 
 class Field:
-    """A declared model field.
-
-    default : the value, or a zero-argument callable making it (mutable defaults).
-    validate : ``(model, name, value) -> value`` normalizing a value or raising
-        :class:`ParameterError`; None accepts anything.
-    eq : ``(a, b) -> bool``, when a new value equals the old (no event); default ``==`` (arrays
-        compared with ``np.array_equal``).
-    """
+    """A declared model field: ``default`` (a value, or a callable making one) and ``validate``
+    ``(model, name, value) -> value`` (raising :class:`ParameterError`; None accepts anything).
+    Values are compared with ``==`` (arrays with ``np.array_equal``)."""
 
     def __init__(
-        self,
-        default: Any,
-        validate: Callable[[Any, str, Any], Any] | None = None,
-        eq: Callable[[Any, Any], bool] | None = None,
-        doc: str = "",
+        self, default: Any, validate: Callable[[Any, str, Any], Any] | None = None, doc: str = ""
     ) -> None:
-        self.default, self.validate, self.eq, self.__doc__ = default, validate, eq, doc
+        self.default, self.validate, self.__doc__ = default, validate, doc
         self.name = ""
 
     def __set_name__(self, owner: type, name: str) -> None:
@@ -158,19 +141,16 @@ class Field:
     def __set__(self, model: EventedModel, value: Any) -> None:
         model.set(self.name, value)
 
-    def equal(self, a: Any, b: Any) -> bool:
-        if self.eq is not None:
-            return bool(self.eq(a, b))
+    @staticmethod
+    def equal(a: Any, b: Any) -> bool:
         if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
             return a is not None and b is not None and np.array_equal(a, b)
         return bool(a == b)
 
 
 class EventedModel:
-    """Base of the evented models: declared :class:`Field` s, validated, with change events.
-
-    Subclasses may override :meth:`_normalize` to validate fields that depend on each other.
-    """
+    """Base of the evented models: declared :class:`Field` s, validated, with change events
+    (:meth:`_normalize` may validate fields that depend on each other)."""
 
     fields: ClassVar[dict[str, Field]] = {}
 
@@ -203,23 +183,18 @@ class EventedModel:
     ) -> frozenset[str]:
         """Validate all ``values`` first (nothing changes if one is bad), then store them and
         emit one event per changed field and one ``changed``. Returns the changed names."""
-        unknown = set(values) - set(self.fields)
+        unknown = sorted(set(values) - set(self.fields))
         if unknown:
-            name = sorted(unknown)[0]
-            raise ParameterError(name, f"{type(self).__name__} has no setting {name!r}")
+            raise ParameterError(unknown[0], f"{type(self).__name__} has no setting {unknown[0]!r}")
         new = self._normalize(dict(values))
-        changed = [n for n in self.fields if n in new and not self._same(n, new[n])]
+        changed = [n for n in self.fields if n in new and not Field.equal(self._values[n], new[n])]
         old = {n: self._values[n] for n in changed}
-        for name in changed:
-            self._values[name] = new[name]
+        self._values.update({n: new[n] for n in changed})
         for name in changed:
             self.events[name].emit(ChangeEvent(name, new[name], old[name], continued, source))
         if changed:
             self.events.changed.emit(Changes(frozenset(changed), continued, source))
         return frozenset(changed)
-
-    def _same(self, name: str, value: Any) -> bool:
-        return self.fields[name].equal(self._values[name], value)
 
     def _normalize(self, values: dict[str, Any]) -> dict[str, Any]:
         """Validated ``values`` (field order); may add dependent fields."""
@@ -234,7 +209,6 @@ class EventedModel:
         return dict(self._values)
 
 
-# -- brush -----------------------------------------------------------------------------------
 def _brush_value(model: BrushSettings, name: str, value: Any) -> Any:
     """Validated by :class:`Brush` itself, so the model and the engine accept the same."""
     base = Brush(**model._values) if len(model._values) == len(model.fields) else Brush()
@@ -251,11 +225,7 @@ class BrushSettings(EventedModel):
     radius = Field(0.08, _brush_value, doc="ε as a fraction of the model size")
     strength = Field(1.0, _brush_value, doc="multiplies the cursor motion or amount")
     substeps = Field(0, _brush_value, doc="RK4 steps per mouse event (0: adaptive)")
-    influence = Field(
-        AUTO_INFLUENCE,
-        _brush_value,
-        doc='radius of the moved region, in multiples of ε, or "auto" (where the field fades)',
-    )
+    influence = Field(AUTO_INFLUENCE, _brush_value, doc='moved region in ε, or "auto"')
     symmetry = Field("", _brush_value, doc='mirror planes, any of "x", "y", "z"')
 
     @property
@@ -268,78 +238,60 @@ class BrushSettings(EventedModel):
         self.update(asdict(brush), continued=continued)
 
 
-# -- pen ---------------------------------------------------------------------------------------
-def _flag(_model: PenSettings, name: str, value: Any) -> bool:
-    return check_bool(f"pen.{name}", value)
+def _row_fields(table: Iterable[Setting], prefix: str = "") -> dict[str, Field]:
+    """One field per row, checked by the row (named ``prefix`` + the field's name); falloff and
+    weights rows are checked with l_max in :meth:`Settings._normalize`."""
+
+    def field(row: Setting) -> Field:
+        if row.type in ("falloff", "weights"):
+            return Field(None, doc=row.doc)
+        return Field(
+            row.default, lambda _model, name, value: row.check(value, prefix + name), doc=row.doc
+        )
+
+    return {row.name: field(row) for row in table}
 
 
-def _pen_number(high: float) -> Callable[[PenSettings, str, Any], float]:
-    def validate(_model: PenSettings, name: str, value: Any) -> float:
-        return check_number(f"pen.{name}", value, low=0.0, high=high)
+class _Rows(EventedModel):
+    if TYPE_CHECKING:  # the fields are made from rows (values of any type)
 
-    return validate
-
-
-class PenSettings(EventedModel):
-    """How a pen (or the mouse) drives a stroke, as in Blender: pressure toggles for the
-    strength and the radius, a stabilizer and event spacing (the stroke controller reads them,
-    :class:`gogreen_core.interaction.tools.StrokeController`).
-
-    pressure_strength : pressure scales each event's step (the strength).
-    pressure_radius : pressure scales each event's radius ε along the stroke (Blender's habit):
-        the event's :attr:`BrushEvent.radius_factor` is the pressure, at least
-        :data:`gogreen_core.interaction.tools.MIN_PRESSURE_RADIUS`.
-    lazy_radius : stabilizer, screen pixels: the brush follows the pointer at this distance
-        behind it (a rope of that length), smoothing jitter; 0: off.
-    spacing : a move is applied only once the brush point has gone this many ε from the last
-        applied one; 0: every move.
-    """
-
-    pressure_strength = Field(True, _flag, doc="pen pressure scales each event's step")
-    pressure_radius = Field(False, _flag, doc="pen pressure scales the radius along the stroke")
-    lazy_radius = Field(0.0, _pen_number(1000.0), doc="stabilizer: lag in screen pixels")
-    spacing = Field(0.0, _pen_number(10.0), doc="minimum motion between events, in ε")
+        def __getattr__(self, name: str) -> Any: ...
+        def __setattr__(self, name: str, value: Any) -> None: ...
 
 
-# -- view --------------------------------------------------------------------------------------
+#: How a pen (or the mouse) drives a stroke, as in Blender (read by
+#: :class:`gogreen_core.interaction.tools.StrokeController`).
+PEN_ROWS = (
+    Setting("pressure_strength", "bool", True, "pen pressure scales each event's step"),
+    Setting("pressure_radius", "bool", False, "pen pressure scales ε (down to 0.1 ε)"),
+    Setting("lazy_radius", "float", 0.0, "stabilizer: lag in screen pixels", low=0, high=1e3),
+    Setting("spacing", "float", 0.0, "minimum motion between events, in ε", low=0, high=10),
+)
+
+
+class PenSettings(_Rows, made=_row_fields(PEN_ROWS, "pen.")):
+    """The pen's settings (:data:`PEN_ROWS`; not part of presets or sessions)."""
+
+
 #: How the viewport shades the model: a matcap (a lit sphere looked up by the view-space normal,
 #: as in Blender and ZBrush) or studio lights; the matcaps (their pictures: app.matcaps).
 SHADINGS = ("matcap", "studio")
 MATCAPS = ("clay", "red_wax", "glossy", "basic")
+#: How the viewport shows the model and moves its camera (the View menu).
+VIEW_ROWS = (
+    Setting("shading", "choice", "matcap", "matcap or studio lights", choices=SHADINGS),
+    Setting("matcap", "choice", "clay", "the matcap's picture", choices=MATCAPS),
+    Setting("cavity", "bool", False, "tint the surface by its curvature (darker in hollows)"),
+    Setting("falloff_profile", "bool", False, "the falloff profile over the brush ring always"),
+    Setting("zoom_to_mouse", "bool", True, "the wheel zooms about the cursor, not the centre"),
+)
 
 
-def _view_choice(choices: tuple[str, ...]) -> Callable[[ViewSettings, str, Any], str]:
-    def validate(_model: ViewSettings, name: str, value: Any) -> str:
-        return check_choice(f"view.{name}", value, choices)
-
-    return validate
+class ViewSettings(_Rows, made=_row_fields(VIEW_ROWS, "view.")):
+    """The viewport's settings (:data:`VIEW_ROWS`; the app keeps them between runs, not in
+    presets or sessions, which describe the model)."""
 
 
-def _view_flag(_model: ViewSettings, name: str, value: Any) -> bool:
-    return check_bool(f"view.{name}", value)
-
-
-class ViewSettings(EventedModel):
-    """How the viewport shows the model and moves its camera (the View menu; the app keeps
-    them between runs; not part of presets or sessions, which describe the model):
-    shading : one of :data:`SHADINGS`.
-    matcap : one of :data:`MATCAPS`, the picture of the "matcap" shading.
-    cavity : tint the surface by its curvature (darker in hollows, lighter on ridges), so that
-        small changes of shape show.
-    falloff_profile : draw the brush's falloff profile over its ring at all times (else only
-        while F drags the radius).
-    zoom_to_mouse : the wheel zooms towards the point under the cursor (Blender's "Zoom to
-        Mouse Position"); off: towards the view's centre.
-    """
-
-    shading = Field("matcap", _view_choice(SHADINGS), doc="matcap or studio lights")
-    matcap = Field("clay", _view_choice(MATCAPS), doc="the matcap's picture")
-    cavity = Field(False, _view_flag, doc="curvature tint")
-    falloff_profile = Field(False, _view_flag, doc="the falloff profile over the brush ring")
-    zoom_to_mouse = Field(True, _view_flag, doc="the wheel zooms about the cursor")
-
-
-# -- material, falloff, constraints ----------------------------------------------------------
 def needed_curves(l_max: int) -> list[tuple[str, int]]:
     """Curves a kernel of ``l_max`` uses: R_l for even l ≤ l_max, ℛ_l for odd l ≤ l_max + 1,
     by degree."""
@@ -347,61 +299,15 @@ def needed_curves(l_max: int) -> list[tuple[str, int]]:
     return sorted(keys, key=lambda k: (k[1], k[0]))
 
 
-def _with_needed_curves(spline: SplineRadial, l_max: int) -> SplineRadial:
-    """``spline`` with the curves of ``l_max`` it lacks taken from the Gaussian falloff (itself
-    when it has them all)."""
-    have = set(spline.curve_keys())
-    missing = [key for key in needed_curves(l_max) if key not in have]
-    if not missing:
-        return spline
-    gaussian = SplineRadial.from_profile(GaussianRadial(1.0), l_max)
-    return spline.with_curves({key: gaussian.curve(*key) for key in missing})
-
-
-def _table_fields() -> dict[str, Field]:
-    """One field per ``"app"`` row of the setting table, checked by the row (named as the
-    field); the falloff and the brushes' weights are checked in :meth:`Settings._normalize`,
-    with l_max."""
-
-    def checked(row: Setting) -> Callable[[Settings, str, Any], Any] | None:
-        if row.type in ("falloff", "weights"):
-            return None
-        return lambda _model, name, value: row.check(value, name)
-
-    return {
-        s.name: Field(None if checked(s) is None else s.default, checked(s), doc=s.doc)
-        for s in rows("app")
-    }
-
-
-class Settings(EventedModel, made=_table_fields()):
-    """Brush, material, falloff and constraint settings: what the engine, presets and the
-    app's panels share.
-
-    Fields: one per ``"app"`` row of the setting table
-    (:data:`~gogreen_core.sculpt.setting_table.SETTINGS`: material, falloff, l_max, the pins'
-    radius, the brushes' weights, dynamic topology...), checked by it. The falloff is a
-    :class:`SplineRadial`, an immutable value at ε = 1 (compared by content): assigning any
-    single radial profile gives a spline with its curves (sampled when not a spline) replacing
-    the current ones; it always has the curves :func:`needed_curves` of ``l_max`` (missing
-    ones: Gaussian; those above l_max are kept). Changing l_max keeps the weights' common
-    degrees and gives new ones each brush's defaults.
-
-    :attr:`engine_settings` is the engine's part as one :class:`EngineSettings` value.
-    ``brush`` is a :class:`BrushSettings` (a sub-model with events of its own), ``pen`` a
-    :class:`PenSettings`, ``view`` a :class:`ViewSettings`.
-    """
-
-    if TYPE_CHECKING:  # the fields are made from the setting table (values of any type)
-
-        def __getattr__(self, name: str) -> Any: ...
-        def __setattr__(self, name: str, value: Any) -> None: ...
+class Settings(_Rows, made=_row_fields(rows("app"))):
+    """What the engine, presets and the app's panels share: one field per ``"app"`` row of the
+    setting table, and the sub-models ``brush`` (:class:`BrushSettings`), ``pen`` and ``view``.
+    The falloff is a :class:`SplineRadial` at ε = 1 with the curves :func:`needed_curves` of
+    ``l_max`` (missing ones: Gaussian); a profile assigned replaces the curves it has."""
 
     def __init__(self, **values: Any) -> None:
         self.brush = BrushSettings()
-        #: Pen pressure, stabilizer and spacing (not part of presets or sessions).
         self.pen = PenSettings()
-        #: Shading, cavity tint, overlay and zoom choices of the viewport (neither).
         self.view = ViewSettings()
         super().__init__()
         self._values.update(self._normalize({}))  # the spline and weights of the default l_max
@@ -430,7 +336,11 @@ class Settings(EventedModel, made=_table_fields()):
             if not isinstance(shape, SplineRadial):
                 shape = SplineRadial.from_profile(shape, l_max).as_value()
             spline = shape if current is None else current.with_curves(shape)
-        return _with_needed_curves(spline, l_max)
+        missing = [key for key in needed_curves(l_max) if key not in set(spline.curve_keys())]
+        if not missing:
+            return spline
+        gaussian = SplineRadial.from_profile(GaussianRadial(1.0), l_max)
+        return spline.with_curves({key: gaussian.curve(*key) for key in missing})
 
     @property
     def engine_settings(self) -> EngineSettings:
@@ -449,7 +359,6 @@ class Settings(EventedModel, made=_table_fields()):
         value = self.engine_settings.with_brush_weights(kind, weights)
         self.update({"brush_weights": value.brush_weights}, continued=continued)
 
-    # -- presets and the engine's options ----------------------------------------------------
     def preset(self, name: str = "", description: str = "") -> Preset:
         """The current settings as a :class:`Preset` (values: later edits do not reach it)."""
         values = {s.name: self._values[s.name] for s in rows("preset")}
@@ -471,17 +380,10 @@ ENGINE_FIELDS = tuple(s.name for s in rows("engine") if "app" in s.places)
 
 
 class EngineLink:
-    """Feeds a :class:`gogreen_core.Sculptor` from a :class:`Settings` and pulls back.
-
-    Every update of the engine's fields reaches the engine as one typed call,
-    ``sculptor.apply_settings(value, continued=...)``: ``value`` is the engine's settings with
-    the updated fields' groups (:data:`SETTING_GROUPS`) taken from the model, one undo step per
-    group, joined to the step before while a drag is ``continued``. An
-    engine that refuses (``ValueError``, ``RuntimeError``) is left as it was; the link then
-    restores the settings from the engine and calls ``on_error(parameter, exc)``, so model and
-    engine never disagree. :meth:`pull` copies the engine's values into the settings (after
-    undo/redo) without sending them back.
-    """
+    """Feeds a :class:`gogreen_core.Sculptor` from a :class:`Settings` (one
+    ``apply_settings`` per update, with the updated fields' :data:`SETTING_GROUPS`) and pulls
+    back (:meth:`pull`, after undo/redo). An engine that refuses is left as it was; the link
+    restores the settings from it and calls ``on_error(parameter, exc)``."""
 
     def __init__(
         self,
@@ -534,11 +436,8 @@ class EngineLink:
         if self.sculptor is None:
             return
         engine, model = self.sculptor.settings, self.settings.engine_settings
-        values = {
-            name: getattr(engine, name)
-            for name in ENGINE_FIELDS
-            if not engine.agrees(model, (name,))
-        }
+        names = [name for name in ENGINE_FIELDS if not engine.agrees(model, (name,))]
+        values = {name: getattr(engine, name) for name in names}
         if values:
             self._pulling = True
             try:

@@ -247,8 +247,8 @@ def _cli_run(data: bytes, folder: Path) -> None:
                 raise Failure(f"argparse exited with {exc.code!r}") from None
             return
     if args.command == "deform":
-        options = batch._deform_options(args)
-        for value in (options.center, options.delta, options.amount):
+        first = batch._deform_stroke(args)[2]
+        for value in (first.center, first.delta, first.amount):
             _finite("deform", value)
     elif args.command == "truncation":
         batch._material(args)

@@ -3,7 +3,7 @@ drags of the radius and strength (Blender's F / Shift+F)."""
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, cast
 
 import numpy as np
@@ -16,6 +16,7 @@ from gogreen_core.sculpt.constraints import smooth_cutoff
 from gogreen_core.threads import threads_at_most
 
 if TYPE_CHECKING:
+    from gogreen_core.interaction.tools.sculpt import SculptTools
     from gogreen_core.sculpt.brushes.affine import AffineBrush
 
 __all__ = [
@@ -31,16 +32,14 @@ __all__ = [
     "moving_radius",
 ]
 
-#: Screen distance (pixels) from the cursor centre that means strength 1 when F-dragging the
-#: strength with no cursor shown.
+#: Pixels from the cursor centre that mean strength 1 in a Shift+F drag with no cursor shown.
 PIXELS_PER_STRENGTH = 100.0
 
 #: Samples of the falloff profile drawn in the brush cursor, over [0, influence · ε].
 PROFILE_SAMPLES = 48
 #: The cursor's ring shows the region that moves by at least this fraction of the motion.
 MOVING_FRACTION = 0.1
-#: Samples over [0, influence · ε] that :func:`moving_radius` finds the ring between, and
-#: samples between the two around it (ε/1000 apart at the multi-scale grabs' influence 4).
+#: Samples of :func:`moving_radius` over [0, influence · ε], then between the two around it.
 _RING_SAMPLES = 96
 _FINE_SAMPLES = 24
 #: The reach (in ε) searched for the ring of a brush without a finite influence.
@@ -48,42 +47,34 @@ _UNBOUNDED_REACH = 32.0
 
 
 def anchored_label(kind: str) -> str:
-    """The label of the cursor of anchored brush ``kind`` while it acts (its row's ``acting``,
-    else its name): it stays at the press point, which the ring alone does not say."""
+    """The label of anchored brush ``kind``'s cursor while it acts (its row's ``acting``)."""
     acting = brush_row(kind).acting or kind.replace("_", " ")
     return f"{acting} about the press point"
 
 
-def brush_profile(
-    kernel: GreenKernel | None, influence: float, eps: float, samples: int = PROFILE_SAMPLES
-) -> np.ndarray:
-    """Relative motion (samples,) in [0, 1] at distances ``linspace(0, influence · ε)`` from a
-    grab of ``kernel`` (a :class:`GreenKernel` at ε = ``eps``): |G(r x̂) G(0)⁻¹ e| averaged over
-    the three axes e, times the brush's smooth cutoff, divided by its largest value, for an
-    ``influence`` of that many ε (the brush's, resolved: :meth:`Sculptor.influence`). With
-    ``kernel`` None (kernels not ready) only the cutoff is drawn."""
+def brush_profile(kernel: GreenKernel | None, influence: float, eps: float) -> np.ndarray:
+    """Relative motion (PROFILE_SAMPLES,) in [0, 1] at distances ``linspace(0, influence · ε)``
+    from a grab of ``kernel`` (at ε = ``eps``): :func:`grab_motion` times the smooth cutoff of
+    an ``influence`` of that many ε, over its largest value; the cutoff alone if ``kernel`` is
+    None (kernels not ready)."""
     finite = np.isfinite(influence)
     outer = (influence if finite else DEFAULT_INFLUENCE) * eps
-    r = np.linspace(0.0, outer, samples)
+    r = np.linspace(0.0, outer, PROFILE_SAMPLES)
     cutoff = smooth_cutoff(r, CUTOFF_START * outer, outer) if finite else 1.0
     if kernel is None:
         return np.broadcast_to(cutoff, r.shape).astype(float)
     motion = grab_motion(kernel, r) * cutoff
     peak = motion.max()
-    return motion / peak if peak > 0 and np.isfinite(peak) else np.zeros(samples)
+    return motion / peak if peak > 0 and np.isfinite(peak) else np.zeros(PROFILE_SAMPLES)
 
 
 def moving_radius(
     kernel: GreenKernel | None, influence: float, eps: float, anchored: bool = False
 ) -> float:
     """Radius (model units) of the region that moves by at least :data:`MOVING_FRACTION` of
-    the motion: the largest distance r ≤ influence · ε from the brush centre where the relative
-    motion of ``kernel`` at ε = ``eps`` (a grab's, relative to the cursor motion, or for an
-    ``anchored`` brush an affine load's, relative to its largest; the largest over 13
-    directions, times the smooth cutoff of an ``influence`` of that many ε) is at least that
-    fraction. What the brush cursor's ring shows. With ``kernel`` None (a paint brush, or
-    kernels not ready) the cutoff alone. Sampled coarsely over the reach, then finely between
-    the two samples around the crossing (~1,600 field evaluations)."""
+    the motion (what the cursor's ring shows): the largest r ≤ influence · ε where
+    :func:`_motion_envelope` of ``kernel`` at ε = ``eps`` times the smooth cutoff is at least
+    that fraction of its peak; the cutoff alone if ``kernel`` is None."""
     reach = influence if np.isfinite(influence) else _UNBOUNDED_REACH
     outer = reach * eps
 
@@ -124,8 +115,7 @@ def _directions() -> np.ndarray:
 
 def _motion_envelope(kernel: GreenKernel, distances: np.ndarray, anchored: bool) -> np.ndarray:
     """The largest motion (n,) at ``distances`` over :func:`_directions`: of a unit grab
-    relative to the cursor's (‖G(r d̂) G(0)⁻¹‖₂, the worst load direction) or of an affine
-    load (‖∇G(r d̂)‖, unnormalized); so the ring bounds what moves, whichever way it pulls."""
+    (‖G(r d̂) G(0)⁻¹‖₂) or, ``anchored``, of an affine load (‖∇G(r d̂)‖)."""
     directions = _directions()
     points = (distances[:, None, None] * directions[None]).reshape(-1, 3)
     with threads_at_most(1):
@@ -134,31 +124,28 @@ def _motion_envelope(kernel: GreenKernel, distances: np.ndarray, anchored: bool)
             return cast(np.ndarray, np.linalg.norm(values, axis=2).max(axis=1))
         green = kernel.green(points).reshape(len(distances), len(directions), 3, 3)
         centre = kernel.green(np.zeros((1, 3)))[0]
-    try:
-        normalized = green @ np.linalg.inv(centre)
-    except np.linalg.LinAlgError:  # R₀(0) = 0: relative to the largest entry instead
-        normalized = green / (np.abs(green).max() or 1.0)
+    normalized = _relative(green, centre)
     return cast(np.ndarray, np.linalg.norm(normalized, ord=2, axis=(2, 3)).max(axis=1))
 
 
-def grab_motion(kernel: GreenKernel, distances: np.ndarray) -> np.ndarray:
-    """Motion (n,) at ``distances`` (n,) along x̂ from a unit grab of ``kernel`` (a
-    :class:`GreenKernel`): |G(r x̂) G(0)⁻¹ e| averaged over the three axes e, so 1 at the centre
-    (G(0) singular, a falloff with R₀(0) = 0: G divided by its largest entry instead). What the
-    brush cursor and the falloff panel's preview draw.
+def _relative(green: np.ndarray, centre: np.ndarray) -> np.ndarray:
+    """``green`` (..., 3, 3) times G(0)⁻¹ = ``centre``⁻¹, or (R₀(0) = 0) over its largest entry."""
+    try:
+        return green @ np.linalg.inv(centre)
+    except np.linalg.LinAlgError:
+        return cast(np.ndarray, green / (np.abs(green).max() or 1.0))
 
-    Evaluated on the calling thread alone: for a few dozen samples (~0.2 ms) a second numba
-    thread only adds its wake-up, measured at 3-7 ms median on this 2-core machine right after
-    numpy's BLAS threads ran (0.24 ms with one thread)."""
+
+def grab_motion(kernel: GreenKernel, distances: np.ndarray) -> np.ndarray:
+    """Motion (n,) at ``distances`` (n,) along x̂ from a unit grab of ``kernel``:
+    |G(r x̂) G(0)⁻¹ e| averaged over the three axes e, 1 at the centre (G(0) singular: G over
+    its largest entry). On the calling thread alone: for a few dozen samples a second numba
+    thread only adds its wake-up (3-7 ms)."""
     offsets = np.zeros((len(distances), 3))
     offsets[:, 0] = distances
     with threads_at_most(1):
         green = kernel.green(offsets)  # (n, 3, 3)
-    try:
-        normalized = green @ np.linalg.inv(green[0])
-    except np.linalg.LinAlgError:
-        normalized = green / (np.abs(green).max() or 1.0)
-    return cast(np.ndarray, np.linalg.norm(normalized, axis=1).mean(axis=1))
+    return cast(np.ndarray, np.linalg.norm(_relative(green, green[0]), axis=1).mean(axis=1))
 
 
 #: Directions (in the plane ⟂ the view axis) an affine brush's felt profile averages over.
@@ -167,15 +154,10 @@ _FELT_DIRECTIONS = 8
 
 def felt_profile(kind: str, kernel: GreenKernel | None, rho: np.ndarray) -> np.ndarray | None:
     """What brush ``kind`` feels like along a radius: its motion (n,) at ``rho`` (n,) brush
-    radii from its centre, normalized to 1 at its peak; None when it is zero or not finite.
-
-    ``kernel``: the brush's own kernel at ε = 1 (:meth:`GreenBrush.unit_kernel`: its falloff
-    variant and degree weights; None for a paint brush). A grab-family brush: a unit grab's
-    motion relative to the cursor's (:func:`grab_motion`, 1 at the centre). An affine brush:
-    |u| of its load (pattern B for a view along z and a drag along x) averaged over directions
-    in the view plane: 0 at the centre, which stays, rising to where it scales, twists, pinches
-    or stretches most. A paint brush: its weight, the smooth cutoff of its automatic influence
-    (full within ε, none from 2 ε)."""
+    radii from its centre, 1 at its peak; None when it is zero or not finite. ``kernel``: the
+    brush's own at ε = 1 (:meth:`GreenBrush.unit_kernel`; None for a paint brush). Grab
+    brushes: :func:`grab_motion`; affine ones: |u| of their load (a view along z, a drag along
+    x) averaged over directions in the view plane; paint ones: their cutoff weight."""
     rho = np.asarray(rho, dtype=np.float64)
     brush = brush_type(kind)
     if brush.family == "paint" or kernel is None:
@@ -195,37 +177,28 @@ def felt_profile(kind: str, kernel: GreenKernel | None, rho: np.ndarray) -> np.n
     return values / peak if np.isfinite(peak) and peak > 0 else None
 
 
+@dataclass
 class ValueDrag:
-    """An on-screen drag of the brush radius or strength (Blender's F / Shift+F).
+    """An on-screen drag of the brush radius or strength (Blender's F / Shift+F): ``value =
+    start · distance / start_distance`` (screen pixels from the cursor centre ``center``),
+    clipped to ``[low, high]``, so the ring's edge follows the pointer for the radius."""
 
-    The value is proportional to the screen distance from the cursor centre ``center``
-    (pixels): ``value = start · distance / start_distance``, so the ring's edge follows the
-    pointer for the radius. ``start_distance`` is the distance that means the starting value
-    (the ring's pixel radius for the radius; the pointer's distance when the drag starts for the
-    strength). Values are clipped to ``[low, high]``.
-    """
+    name: str
+    start: float
+    center: tuple[float, float]
+    start_distance: float
+    low: float
+    high: float
 
-    def __init__(
-        self,
-        name: str,
-        start: float,
-        center: tuple[float, float],
-        start_distance: float,
-        low: float,
-        high: float,
-    ) -> None:
-        if name not in ("radius", "strength"):
-            raise ValueError(f"a value drag is of radius or strength (got {name!r})")
-        self.name, self.start, self.center = name, float(start), center
-        self.start_distance = max(float(start_distance), 1.0)
-        self.low, self.high = low, high
-        self.value = self.start
+    def __post_init__(self) -> None:
+        if self.name not in ("radius", "strength"):
+            raise ValueError(f"a value drag is of radius or strength (got {self.name!r})")
+        self.start_distance = max(float(self.start_distance), 1.0)
+        self.value = float(self.start)
 
     def move(self, screen: tuple[float, float]) -> float:
         distance = float(np.hypot(screen[0] - self.center[0], screen[1] - self.center[1]))
-        self.value = float(
-            np.clip(self.start * distance / self.start_distance, self.low, self.high)
-        )
+        self.value = min(max(self.start * distance / self.start_distance, self.low), self.high)
         return self.value
 
     @property
@@ -234,32 +207,11 @@ class ValueDrag:
 
 
 class CursorController:
-    """The brush cursor: on the surface under the hovering cursor, where the brush acts while
-    dragging, hidden off the model. Callables give the current brush's ε in model units
-    (``radius``), influence factor, falloff samples (``profile``, or None), during a pen
-    stroke whose pressure shrinks ε, the full ε (``full_radius``, else None) and the radius of
-    the region that moves by a tenth of the motion or more (``moving``, :func:`moving_radius`;
-    None: unknown) and the material's main directions at a point (``axes``,
-    :func:`~gogreen_core.interaction.tools.material_axes.cursor_axes`; None: none drawn) and
-    dynamic topology's edge length (``detail``, None while it is off)."""
+    """The brush cursor of ``tools``: on the surface under the hovering cursor, where the brush
+    acts while dragging, hidden off the model; its measures are the tools' ``_cursor_*``."""
 
-    def __init__(
-        self,
-        radius: Callable[[], float],
-        influence: Callable[[], float],
-        profile: Callable[[], np.ndarray | None],
-        full_radius: Callable[[], float | None],
-        moving: Callable[[], float | None] | None = None,
-        axes: Callable[[np.ndarray], np.ndarray | None] | None = None,
-        detail: Callable[[], float | None] | None = None,
-    ) -> None:
-        self.radius = radius
-        self.influence = influence
-        self.profile = profile
-        self.full_radius = full_radius
-        self.moving = moving or (lambda: None)
-        self.axes = axes or (lambda point: None)
-        self.detail = detail or (lambda: None)
+    def __init__(self, tools: SculptTools) -> None:
+        self.tools = tools
         self.state: CursorState | None = None
         self._normal: np.ndarray | None = None
 
@@ -268,30 +220,29 @@ class CursorController:
         point: np.ndarray | None,
         normal: np.ndarray | None,
         label: str | None = None,
-        gauge: tuple[np.ndarray, np.ndarray] | None = None,
+        gauge: tuple[np.ndarray | None, np.ndarray | None] | None = None,
     ) -> CursorState | None:
         """The cursor at ``point`` (None hides it), ``normal`` (None: the last one), with a
-        ``label`` and an anchored stroke's ``gauge``: its loop (K, 3) and spokes (S, P, 3)."""
+        ``label`` and an anchored stroke's ``gauge`` (loop, spokes)."""
         if point is None:
             self.state = None
             return None
         if normal is not None:
             self._normal = np.asarray(normal, dtype=float)
         n = self._normal if self._normal is not None else np.array([0.0, 0.0, 1.0])
-        center = np.array(point, dtype=float)
+        center, tools = np.array(point, dtype=float), self.tools
         self.state = CursorState(
             center,
             n,
-            float(self.radius()),
-            float(self.influence()),
-            self.profile(),
+            float(tools._cursor_radius()),
+            float(tools._cursor_influence()),
+            tools._cursor_profile(),
             label,
-            self.full_radius(),
-            self.moving(),
-            self.axes(center),
-            self.detail(),
-            None if gauge is None else gauge[0],
-            None if gauge is None else gauge[1],
+            tools._cursor_full_radius(),
+            tools._cursor_moving_radius(),
+            tools._cursor_axes(center),
+            tools._cursor_detail(),
+            *(gauge or (None, None)),
         )
         return self.state
 
@@ -300,9 +251,7 @@ class CursorController:
         state = self.state
         if state is None:
             return None
-        gauge = None
-        if state.gauge is not None and state.gauge_spokes is not None:
-            gauge = (state.gauge, state.gauge_spokes)
+        gauge = (state.gauge, state.gauge_spokes)
         return self.place(state.center, state.normal, state.label, gauge)
 
     def hide(self) -> None:

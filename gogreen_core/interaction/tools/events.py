@@ -14,17 +14,11 @@ __all__ = ["CursorState", "PointerEvent", "ToolUpdate"]
 
 @dataclass(frozen=True)
 class PointerEvent:
-    """One pointer sample in plain numbers.
-
-    screen : (x, y) widget pixels, x right, y down.
-    point : (3,) world point: the picked surface point (press, hover), or the cursor on the
-        drag plane through the press point (moves during a drag); None when nothing is hit.
-    normal : (3,) surface normal at ``point`` when it was picked, else None.
-    view_dir : (3,) unit direction from the camera into the screen.
-    screen_x : (3,) unit world direction of the screen's x axis.
-    pressure : pen pressure in [0, 1] (1 for a mouse); scales the step of a stroke.
-    modifiers : names of held modifier keys ("shift", "ctrl", "alt").
-    """
+    """One pointer sample: ``screen`` (x, y) widget pixels (y down); ``point`` (3,) the picked
+    surface point, or during a drag the cursor on the drag plane (None: nothing hit);
+    ``normal`` (3,) the surface normal when picked; ``view_dir`` (3,) unit, camera into the
+    screen; ``screen_x`` (3,) the screen's x axis in the world; ``pressure`` in [0, 1] (1 for a
+    mouse); ``modifiers`` held ("shift", "ctrl", "alt")."""
 
     screen: tuple[float, float]
     point: np.ndarray | None = None
@@ -37,22 +31,18 @@ class PointerEvent:
 
 @dataclass(frozen=True)
 class CursorState:
-    """Where the brush cursor is drawn: ``center`` (3,), unit ``normal`` (3,), ``radius`` ε
-    (model units), ``influence`` (the moved region's radius in multiples of ε), ``profile``
-    (samples over [0, influence · ε] of the relative motion, :func:`brush_profile`, or None),
-    ``label`` (a live value shown while F / Shift+F drags it, else None) and ``full_radius``
-    (during a pen stroke whose pressure shrinks the radius: the brush's own ε, model units,
-    drawn faintly around the pressed one; else None) and ``moving_radius`` (model units: the
-    region that moves by a tenth of the motion or more,
-    :func:`gogreen_core.interaction.tools.moving_radius`; what the ring shows, None when
-    unknown) and ``axes`` (3, 3), rows: the material's main directions where the cursor rests,
-    scaled 0-1 (:func:`~gogreen_core.interaction.tools.material_axes.cursor_axes`), None for an
-    isotropic material; ``detail`` (model units: while dynamic topology is on, the edge length it
-    remeshes to, drawn as a small circle of that diameter at the centre; else None);
-    ``gauge`` (K, 3) and ``gauge_spokes`` (S, P, 3) (model units: while an anchored brush acts,
-    where the marks set at the press on the circle of radius ε about the press point, and along
-    a few spokes from it, are now: they move with the surface,
-    :class:`~gogreen_core.interaction.tools.gauge.DeformationGauge`; else None)."""
+    """Where the brush cursor is drawn (lengths in model units; None: not drawn):
+
+    center, normal : (3,) and unit (3,). radius : ε. influence : in multiples of ε.
+    profile : relative motion over [0, influence · ε] (:func:`brush_profile`).
+    label : the live value of an F / Shift+F drag, or an anchored brush's action.
+    full_radius : the brush's own ε while pen pressure shrinks it.
+    moving_radius : the region moving by a tenth of the motion or more (:func:`moving_radius`).
+    axes : (3, 3) rows, the material's main directions, scaled 0-1 (``cursor_axes``).
+    detail : dynamic topology's edge length while it is on.
+    gauge, gauge_spokes : (K, 3) and (S, P, 3), an anchored stroke's marks moving with the
+        surface (:class:`~gogreen_core.interaction.tools.gauge.DeformationGauge`).
+    """
 
     center: np.ndarray
     normal: np.ndarray
@@ -72,24 +62,17 @@ class CursorState:
         1e-3 radius along the normal so the surface does not hide it)."""
         n, t1, t2 = tangent_frame(self.normal)
         matrix = np.eye(4)
-        matrix[:3, 0], matrix[:3, 1], matrix[:3, 2] = t1 * self.radius, t2 * self.radius, n
-        matrix[:3, 2] *= self.radius
+        matrix[:3, :3] = np.stack([t1, t2, n], axis=1) * self.radius
         matrix[:3, 3] = np.asarray(self.center, dtype=float) + 1e-3 * self.radius * n
         return matrix
 
 
 @dataclass
 class ToolUpdate:
-    """What one call of the tools changed, for the view to draw.
-
-    moved : indices of moved vertices (None: none moved; ``all_moved``: redraw every vertex).
-    pins_changed : the constraint points changed.
-    cursor : new brush-ring placement, or None to keep it (``hide_cursor`` hides it).
-    step_seconds : wall time of the engine call, 0 if none ran.
-    error : message of an engine error (the stroke was cancelled and the mesh restored).
-    refused : the press was refused before reaching the engine (``error`` says why).
-    note : what the artist should know that is no error (a stroke that changed nothing).
-    """
+    """What one call of the tools changed, for the view to draw: ``moved`` vertex indices
+    (``all_moved``: every vertex), ``pins_changed``, a new ``cursor`` placement (None: keep it;
+    ``hide_cursor``), ``step_seconds`` of the engine call, an engine ``error`` (the stroke was
+    cancelled), ``refused`` (the press never reached the engine), a ``note`` for the artist."""
 
     moved: np.ndarray | None = None
     all_moved: bool = False
@@ -103,12 +86,5 @@ class ToolUpdate:
 
     @property
     def changed(self) -> bool:
-        return bool(
-            self.moved is not None
-            or self.all_moved
-            or self.pins_changed
-            or self.cursor is not None
-            or self.hide_cursor
-            or self.error
-            or self.note
-        )
+        flags = (self.all_moved, self.pins_changed, self.hide_cursor, self.error, self.note)
+        return self.moved is not None or self.cursor is not None or any(flags)

@@ -1,8 +1,6 @@
-"""The deformation gauge of an anchored (affine) stroke: marks on the surface, placed at the
-press on the circle of radius ε around the press point and along a few spokes, that move with
-the surface while the stroke acts. Scale, twist, pinch and stretch move the surface mostly
-along itself, which shading hardly shows; the gauge's loop grows, turns, shrinks or stretches
-with it, so the change reads on any material."""
+"""The deformation gauge of an anchored (affine) stroke: marks set at the press on the circle of
+radius ε around the press point and along a few spokes, moving with the surface. Affine brushes
+move the surface mostly along itself, which shading hardly shows; the gauge shows it."""
 
 from __future__ import annotations
 
@@ -14,7 +12,7 @@ __all__ = ["GAUGE_POINTS", "GAUGE_SPOKES", "SPOKE_SAMPLES", "DeformationGauge", 
 
 #: Marks on the gauge's loop (the circle of radius ε about the press point).
 GAUGE_POINTS = 32
-#: Spokes from the press point to the loop (evenly spaced; one every GAUGE_POINTS / 4 marks).
+#: Spokes from the press point to the loop (evenly spaced).
 GAUGE_SPOKES = 4
 #: Points along a spoke, the press point and its loop mark included.
 SPOKE_SAMPLES = 5
@@ -25,8 +23,7 @@ _SEARCH = 1.6
 
 
 def tangent_frame(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Unit ``normal`` (3,) and two unit tangents completing a right-handed frame: the same
-    frame :meth:`CursorState.ring_matrix` draws the ring in."""
+    """Unit ``normal`` (3,) and two unit tangents completing a right-handed frame."""
     n = np.asarray(normal, dtype=float)
     n = n / (np.linalg.norm(n) or 1.0)
     helper = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
@@ -37,15 +34,10 @@ def tangent_frame(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarra
 
 @dataclass(frozen=True)
 class DeformationGauge:
-    """Marks that move with the surface: each the blend of its nearest vertices' motion.
-
-    rest : (M, 3) where the marks were at the press (model units): the press point, then the
-        loop's :data:`GAUGE_POINTS` marks, then the spokes' inner points.
-    vertices : (M, k) indices of the vertices each mark follows.
-    weights : (M, k) their weights (rows sum to 1).
-    base : (M, k, 3) those vertices' positions at the press.
-    count : the mesh's vertex count at the press (a remesh that changes it ends the gauge).
-    """
+    """Marks that move with the surface, each by the blend of its nearest vertices' motion:
+    ``rest`` (M, 3) the marks at the press (the press point, the loop's, the spokes' inner
+    points), following ``vertices`` (M, k) with ``weights`` (M, k) from their positions
+    ``base`` (M, k, 3) at the press on a mesh of ``count`` vertices."""
 
     rest: np.ndarray
     vertices: np.ndarray
@@ -58,9 +50,8 @@ class DeformationGauge:
         cls, vertices: np.ndarray, center: np.ndarray, normal: np.ndarray, eps: float
     ) -> DeformationGauge | None:
         """The gauge around the press point ``center`` (3,) with surface ``normal`` (3,) at
-        radius ``eps`` (model units) on the mesh's ``vertices`` (N, 3): the loop's marks on the
-        circle of radius ε in the tangent plane, each set onto the surface by the height of
-        the vertices it follows. None when no vertex lies within 1.6 ε (nothing to follow)."""
+        radius ``eps`` on the mesh's ``vertices`` (N, 3), its marks set onto the surface by
+        the height of the vertices they follow; None when no vertex lies within 1.6 ε."""
         vertices = np.asarray(vertices, dtype=float)
         center = np.asarray(center, dtype=float)
         if not (eps > 0 and np.isfinite(eps)) or len(vertices) == 0:
@@ -73,12 +64,8 @@ class DeformationGauge:
         n, t1, t2 = tangent_frame(normal)
         angles = np.linspace(0.0, 2 * np.pi, GAUGE_POINTS, endpoint=False)
         loop = np.cos(angles)[:, None] * t1 + np.sin(angles)[:, None] * t2
-        spoke_angles = angles[:: GAUGE_POINTS // GAUGE_SPOKES]
         inner = np.linspace(0.0, 1.0, SPOKE_SAMPLES)[1:-1]
-        spokes = (
-            inner[None, :, None]
-            * (np.cos(spoke_angles)[:, None] * t1 + np.sin(spoke_angles)[:, None] * t2)[:, None]
-        ).reshape(-1, 3)
+        spokes = (inner[None, :, None] * loop[:: GAUGE_POINTS // GAUGE_SPOKES, None]).reshape(-1, 3)
         planar = center + eps * np.concatenate([np.zeros((1, 3)), loop, spokes])
         k = min(_NEIGHBOURS, len(near))
         gaps = np.linalg.norm(planar[:, None, :] - vertices[near][None], axis=2)  # (M, n)
@@ -95,8 +82,7 @@ class DeformationGauge:
         return cls(rest, followed, weights, base.copy(), len(vertices))
 
     def positions(self, vertices: np.ndarray) -> np.ndarray | None:
-        """(M, 3) the marks now, on the mesh's current ``vertices`` (N, 3); None once the mesh
-        has other vertices than at the press (dynamic topology remeshed it)."""
+        """(M, 3) the marks now on the mesh's ``vertices`` (N, 3); None once it was remeshed."""
         if len(vertices) != self.count:
             return None
         moved = np.asarray(vertices, dtype=float)[self.vertices] - self.base
@@ -110,8 +96,7 @@ class DeformationGauge:
 
     @staticmethod
     def spokes(positions: np.ndarray) -> np.ndarray:
-        """(GAUGE_SPOKES, SPOKE_SAMPLES, 3) the spokes of :meth:`positions`: each from the
-        press point through its inner points to its loop mark."""
+        """(GAUGE_SPOKES, SPOKE_SAMPLES, 3) the spokes of :meth:`positions`, press point out."""
         centre = positions[0]
         ends = positions[1 : 1 + GAUGE_POINTS : GAUGE_POINTS // GAUGE_SPOKES]
         inner = positions[1 + GAUGE_POINTS :].reshape(GAUGE_SPOKES, SPOKE_SAMPLES - 2, 3)

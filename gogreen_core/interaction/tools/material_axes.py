@@ -1,15 +1,7 @@
 """The material's axes under the brush cursor: which way the fibres, grain or layers will run
-before the stroke (the directions of the material panel's glyph, put on the surface).
-
-:func:`main_axes` finds a material's main directions once (cached per material): the stiffest
-direction of its directional Young's modulus E(d) (the glyph's longest bulge; the fibres of a
-fibre composite, a direction in the layers of a laminate), the stiffest direction across it,
-and the third completing them (the layers' normal); each scaled by E along it over the
-largest E, at least :data:`MIN_AXIS` so a soft axis still shows. An isotropic material (E the
-same every way to 1e-6) has none: the cursor draws no axes. :func:`cursor_axes` puts them where
-the cursor rests: turned by the frame a stroke starting there would take
-(:func:`~gogreen_core.sculpt.material_frame.material_frame_at`: the world's, or the surface's
-with the "surface" frame).
+before the stroke. :func:`main_axes`: the stiffest direction of the directional Young's modulus
+E(d), the stiffest across it, and the third; :func:`cursor_axes` turns them by the frame a
+stroke starting there would take (:func:`~gogreen_core.sculpt.material_frame.material_frame_at`).
 """
 
 from __future__ import annotations
@@ -20,6 +12,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from scipy.integrate import lebedev_rule
 
+from gogreen_core.interaction.tools.gauge import tangent_frame
 from gogreen_core.physics.material import Material
 from gogreen_core.sculpt.material_frame import material_frame_at
 
@@ -39,18 +32,14 @@ _ANGLES = 720
 def main_axes(material: Material) -> np.ndarray | None:
     """The material's main directions (3, 3), rows: unit directions scaled by E along them
     over the largest E (at least :data:`MIN_AXIS`), right-handed; None for an isotropic
-    material. Read-only (cached per material)."""
-    points, _ = lebedev_rule(41)
-    nodes = np.ascontiguousarray(points.T)
+    material (E the same every way). Read-only, cached."""
+    nodes = np.ascontiguousarray(lebedev_rule(41)[0].T)
     young = material.directional_young(nodes)
     top = float(young.max())
     if not young.max() - young.min() > _ISOTROPIC * top:
         return None
     first = nodes[int(np.argmax(young))]
-    helper = np.eye(3)[int(np.argmin(np.abs(first)))]
-    u = np.cross(first, helper)
-    u /= np.linalg.norm(u)
-    v = np.cross(first, u)
+    _, u, v = tangent_frame(first)  # the plane across it
     angles = np.linspace(0.0, np.pi, _ANGLES, endpoint=False)  # ±d is one direction
     ring = np.outer(np.cos(angles), u) + np.outer(np.sin(angles), v)
     second = ring[int(np.argmax(material.directional_young(ring)))]
@@ -63,10 +52,8 @@ def main_axes(material: Material) -> np.ndarray | None:
 
 
 def cursor_axes(sculptor: Sculptor, point: np.ndarray, radius: float) -> np.ndarray | None:
-    """The material's main directions (3, 3, rows, world units of direction, scaled as
-    :func:`main_axes`) at ``point`` (3,) on ``sculptor``'s surface for a brush of ``radius``
-    (model units), in the frame a stroke starting there would take; None for an isotropic
-    material."""
+    """:func:`main_axes` (3, 3) at ``point`` (3,) on ``sculptor``'s surface for a brush of
+    ``radius`` (model units), in the frame a stroke starting there would take, or None."""
     axes = main_axes(sculptor.settings.material)
     if axes is None:
         return None

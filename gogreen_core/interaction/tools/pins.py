@@ -43,10 +43,8 @@ class PinController:
         return nearest if dist[nearest] < PIN_PICK_FRACTION * eps else None
 
     def press(self, event: PointerEvent, first_pin_radius: Callable[[], None] | None) -> bool:
-        """Grab the pin near ``event.point`` (False) or add a pin there (True: pins changed).
-
-        ``first_pin_radius`` is called before the first pin is added (the app gives the
-        constraints the brush radius then)."""
+        """Grab the pin near ``event.point`` (False) or add a pin there (True: pins changed),
+        calling ``first_pin_radius`` before the first pin is added."""
         if event.point is None:
             raise ValueError("a pin goes on the surface (no point under the cursor)")
         point = np.array(event.point, dtype=float)
@@ -60,8 +58,7 @@ class PinController:
         return added
 
     def step(self, event: PointerEvent) -> bool:
-        """Move the grabbed pin to ``event.point`` (every vertex may move); False if it did
-        not move."""
+        """Move the grabbed pin to ``event.point``; False if it did not move."""
         point = np.asarray(event.point, dtype=float)
         delta = point - self._last_point
         if not np.any(delta):

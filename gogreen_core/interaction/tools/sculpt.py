@@ -43,38 +43,11 @@ if TYPE_CHECKING:
 
 __all__ = ["DETAIL_SAMPLE_FACES", "NUMBER_KEYS", "SMOOTH", "SculptTools", "brush_for_key"]
 
-#: The cursor's detail circle measures the surface's own edge length on at most this many faces
-#: (evenly spread through the face array): a few ms on a 2M-face mesh.
+#: The cursor's detail circle measures the surface's edge length on at most this many faces.
 DETAIL_SAMPLE_FACES = 20_000
-
 #: The brush a stroke begun with Shift held uses.
 SMOOTH = "smooth"
-
-
-class _Coalescer:
-    """Keeps only the newest pending event; counts received and processed ones."""
-
-    def __init__(self) -> None:
-        self.pending: PointerEvent | None = None
-        self.received = 0
-        self.processed = 0
-
-    def reset(self) -> None:
-        self.pending, self.received, self.processed = None, 0, 0
-
-    def push(self, event: PointerEvent) -> None:
-        self.pending = event
-        self.received += 1
-
-    def take(self) -> PointerEvent | None:
-        event, self.pending = self.pending, None
-        if event is not None:
-            self.processed += 1
-        return event
-
-
-#: The number keys brushes may have (each brush row's ``number`` is fixed: see
-#: :data:`gogreen_core.sculpt.brushes.BRUSH_ROWS`).
+#: The number keys brushes may have (each brush row's ``number``).
 NUMBER_KEYS = "1234567890"
 
 
@@ -84,12 +57,14 @@ class SculptTools:
     Parameters
     ----------
     sculptor : Sculptor, the engine the tools act on (replace with :meth:`set_sculptor`).
-    brush : callable returning the :class:`Brush` a new stroke uses (the settings model's).
+    brush : callable returning the :class:`Brush` a new stroke uses.
     first_pin_radius : callable run before the first pin is added, optional.
-    ready : callable returning None when strokes may start, else the reason they may not
-        (e.g. kernels still compiling): a refused press reports it as ``error``.
+    ready : callable returning None when strokes may start, else the reason they may not.
+    settings : the brush settings model that number keys and value drags change, optional.
+    pen : callable returning the :class:`PenSettings` (defaults if None).
 
-    ``mode`` is ``"brush"`` (presses sculpt) or ``"pin"`` (presses pin and drag pins).
+    ``mode`` is ``"brush"`` or ``"pin"``. :attr:`received` and :attr:`processed` count the
+    current (or last) drag's move events received and applied (the rest were coalesced).
     """
 
     def __init__(
@@ -102,48 +77,33 @@ class SculptTools:
         pen: Callable[[], PenSettings] | None = None,
     ) -> None:
         self.brush = brush
-        #: Pressure, stabilizer and spacing options (:class:`PenSettings`; defaults if None).
         defaults = PenSettings()
         self.pen = pen or (lambda: defaults)
-        #: The brush settings model (``kind``, ``radius``, ``strength``) that keys and value
-        #: drags change (a :class:`gogreen_core.interaction.settings.BrushSettings`), optional.
         self.settings = settings
         self.value_drag: ValueDrag | None = None
         self.first_pin_radius = first_pin_radius
         self.ready = ready or (lambda: None)
         self.mode = "brush"
-        self._moves = _Coalescer()
+        self._pending: PointerEvent | None = None  # the newest move not yet applied
+        self.received = self.processed = 0
         self._hover: PointerEvent | None = None
-        self.cursor = CursorController(
-            self._cursor_radius,
-            self._cursor_influence,
-            self._cursor_profile,
-            self._cursor_full_radius,
-            self._cursor_moving_radius,
-            self._cursor_axes,
-            self._cursor_detail,
-        )
+        self.cursor = CursorController(self)
         self._detail_of: tuple[np.ndarray | None, float] = (None, 0.0)
         self._profile_key: tuple[Any, ...] | None = None
         self._profile: np.ndarray | None = None
-        #: The cached profile's moving radius (:func:`moving_radius`) in units of its ε, and
-        #: what it was computed for.
-        self._moving_ratio = 1.0
+        self._moving_ratio = 1.0  # the cached ring's moving_radius in units of its ε
         self._moving_key: tuple[Any, ...] | None = None
         self._profile_settings: EngineSettings | None = None
         #: Compute the ring of new settings on a worker thread, showing the previous one
-        #: meanwhile (the app's choice; False: on the calling thread, at once).
+        #: meanwhile, and call :attr:`ring_ready` (there) when it is done.
         self.ring_in_background = False
-        #: Called (on the worker thread) when a ring computed there is ready, optional.
         self.ring_ready: Callable[[], None] | None = None
         self._ring_thread: threading.Thread | None = None
         self._ring_wanted: tuple[tuple[Any, ...], Brush, float] | None = None
         self._ring_done: tuple[tuple[Any, ...], float] | None = None
         #: The material's axes last drawn: (what they were for, the point, the axes).
         self._axes_at: tuple[tuple[Any, ...], np.ndarray, np.ndarray | None] | None = None
-        #: The marks an anchored stroke's cursor draws moving with the surface, None between
-        #: anchored strokes.
-        self._gauge: DeformationGauge | None = None
+        self._gauge: DeformationGauge | None = None  # during an anchored stroke
         self.set_sculptor(sculptor)
 
     def set_sculptor(self, sculptor: Sculptor | None) -> None:
@@ -152,26 +112,22 @@ class SculptTools:
             self.stroke.cancel()
         self._gauge = None
         self.sculptor = sculptor
-        # (the controllers act only once there is a sculptor)
         self.stroke: StrokeController = StrokeController(
             cast("Sculptor", sculptor), lambda: self.pen()
         )
         self.pin: PinController = PinController(cast("Sculptor", sculptor))
 
     def _cursor_radius(self) -> float:
-        """ε of the cursor (model units): during a stroke the radius its events act with (the
-        pen's pressure-scaled one), else the current brush's."""
+        """ε of the cursor (model units): the stroke's (pressure-scaled), else the brush's."""
         if self.sculptor is None:
             return 0.0
-        radius = self.stroke.radius if self.stroke.active else None
-        if radius is None:
+        if self.stroke.radius is None:  # between strokes: the brush's
             return self.brush().eps(self.sculptor.model_size)
-        return radius * self.sculptor.model_size
+        return self.stroke.radius * self.sculptor.model_size
 
     def _cursor_influence(self, brush: Brush | None = None) -> float:
-        """The influence in ε of ``brush`` (the current one when None): its own number, or
-        what ``"auto"`` gives with the engine's settings (:data:`DEFAULT_INFLUENCE` while the
-        kernels are not ready)."""
+        """The influence in ε of ``brush`` (the current one when None), ``"auto"`` resolved
+        (:data:`DEFAULT_INFLUENCE` while the kernels are not ready)."""
         brush = self.brush() if brush is None else brush
         if not brush.auto_influence:
             return float(brush.influence)
@@ -190,11 +146,8 @@ class SculptTools:
 
     def _cursor_profile(self) -> np.ndarray | None:
         """The current brush's falloff samples (:func:`brush_profile`), cached per engine
-        settings (material, falloff, l_max) and brush shape.
-
-        With :attr:`ring_in_background`, new settings (a falloff reset, a new material) do not
-        stall the pointer: the ring of the new settings (its reach, ~30-75 ms) is computed on a
-        worker thread and the previous ring shown meanwhile (:attr:`ring_pending`)."""
+        settings and brush; with :attr:`ring_in_background` the ring of new settings (~30-75
+        ms) is computed on a worker thread, the previous one shown meanwhile."""
         if self.sculptor is None:
             return None
         brush = self.brush()
@@ -202,8 +155,7 @@ class SculptTools:
         ready = not self.ready()
         settings = self.sculptor.settings
         key = (id(self.sculptor), brush.kind, brush.influence, eps, ready)
-        # the moved region in units of ε: the same at any ε (the kernel only scales), so an F
-        # drag of the radius does not recompute it (~0.1 s) at every pointer move
+        # the moved region in units of ε is the same at any ε: an F drag does not recompute it
         moving_key = (key[:3], ready, settings)
         done = self._ring_done
         if done is not None and done[0] == moving_key:  # computed on the worker thread
@@ -213,8 +165,7 @@ class SculptTools:
         if key == self._profile_key and settings is self._profile_settings:
             return self._profile
         if moving_key != self._moving_key:
-            # only new settings go to the worker (a new mesh, brush or kernels' readiness is
-            # computed here, as it always was: no extra render after a first stroke)
+            # only new settings go to the worker (a new mesh, brush or readiness: here)
             same = self._moving_key is not None and self._moving_key[:2] == moving_key[:2]
             if self.ring_in_background and self._profile is not None and ready and same:
                 self._ring_start(moving_key, brush, eps)
@@ -231,9 +182,7 @@ class SculptTools:
         return self._profile
 
     def _ring_ratio(self, brush: Brush, eps: float, ready: bool) -> float:
-        """The moved region's radius in units of ε (:func:`moving_radius`) of ``brush`` with
-        the engine's settings (and its automatic influence: computed and cached by the engine
-        here too)."""
+        """The moved region's radius in units of ε (:func:`moving_radius`) of ``brush``."""
         assert self.sculptor is not None
         influence = self._cursor_influence(brush)
         anchored = brush_row(brush.kind).drag == "anchored"
@@ -245,8 +194,7 @@ class SculptTools:
             return moving_radius(None, influence, 1.0)
 
     def _ring_start(self, moving_key: tuple[Any, ...], brush: Brush, eps: float) -> None:
-        """Compute the ring of ``moving_key`` on a worker thread (one at a time; a newer key
-        is computed once the running one ends)."""
+        """Compute the ring of ``moving_key`` on a worker thread (one at a time)."""
         self._ring_wanted = (moving_key, brush, eps)
         if self._ring_thread is not None and self._ring_thread.is_alive():
             return
@@ -268,20 +216,16 @@ class SculptTools:
         self._ring_thread = threading.Thread(target=work, name="cursor ring", daemon=True)
         self._ring_thread.start()
 
-    @property
-    def ring_pending(self) -> bool:
-        """A ring is being computed on the worker thread (:attr:`ring_in_background`)."""
-        return self._ring_thread is not None and self._ring_thread.is_alive()
-
     def wait_ring(self, timeout: float | None = None) -> bool:
         """Block until the worker's ring is computed (tests, scripts); False on time-out."""
         if self._ring_thread is not None:
             self._ring_thread.join(timeout)
-        return not self.ring_pending
+            return not self._ring_thread.is_alive()
+        return True
 
     def _cursor_axes(self, point: np.ndarray) -> np.ndarray | None:
-        """The material's main directions where the cursor rests (:func:`cursor_axes`),
-        None for an isotropic material or a brush without a Green's function field."""
+        """:func:`cursor_axes` where the cursor rests (None for a brush without a Green's
+        function field)."""
         if self.sculptor is None or not isinstance(self.brush().type, GreenBrush):
             return None
         radius = self._cursor_radius()
@@ -298,16 +242,14 @@ class SculptTools:
         return axes
 
     def _cursor_moving_radius(self) -> float | None:
-        """The region that moves by a tenth of the motion or more (model units,
-        :func:`moving_radius`) at the cursor's ε (pen pressure scales it with ε)."""
+        """:func:`moving_radius` (model units) at the cursor's ε."""
         if self.sculptor is None or self._cursor_profile() is None:
             return None
         return self._moving_ratio * self._cursor_radius()
 
     def _cursor_detail(self) -> float | None:
-        """Dynamic topology's edge length (model units) while it is on: the detail size, or
-        without one the surface's own edge length (the median of up to
-        :data:`DETAIL_SAMPLE_FACES` faces' sides, measured once per face array); else None."""
+        """Dynamic topology's edge length (model units) while it is on: the detail size, else
+        the surface's median edge length (measured once per face array); None when off."""
         sculptor = self.sculptor
         if sculptor is None or not sculptor.settings.dynamic_topology:
             return None
@@ -326,23 +268,12 @@ class SculptTools:
         return self.stroke.active or self.pin.active
 
     @property
-    def received(self) -> int:
-        """Move events received during the current (or last) drag."""
-        return self._moves.received
-
-    @property
-    def processed(self) -> int:
-        """Move events applied during the current (or last) drag (the rest were coalesced)."""
-        return self._moves.processed
-
-    @property
     def has_pending(self) -> bool:
-        return self._moves.pending is not None or self._hover is not None
+        return self._pending is not None or self._hover is not None
 
     # -- keys --------------------------------------------------------------------------------
     def pick_brush(self, key: str) -> bool:
-        """A number key picks the brush whose row has it (:func:`brush_for_key`); True if
-        ``key`` did."""
+        """A number key picks the brush whose row has it; True if ``key`` did."""
         kind = brush_for_key(key)
         if kind is None or self.settings is None or self.dragging:
             return False
@@ -357,7 +288,7 @@ class SculptTools:
         ring_pixels: float | None,
     ) -> ToolUpdate:
         """Begin an F (``"radius"``) or Shift+F (``"strength"``) drag with the pointer at
-        ``screen``; the cursor's screen centre and ε ring radius (pixels) if it is shown."""
+        ``screen``, the cursor's screen centre and ring radius (pixels) if it is shown."""
         if self.settings is None or self.dragging or self.value_drag is not None:
             return ToolUpdate()
         start = float(getattr(self.settings, name))
@@ -402,22 +333,21 @@ class SculptTools:
 
     # -- events ------------------------------------------------------------------------------
     def stroke_brush(self, modifiers: frozenset[str] = frozenset()) -> Brush:
-        """The brush a stroke begun with ``modifiers`` held uses: the current one, or with
-        Shift the smooth brush at its radius, influence and symmetry (Blender's habit)."""
+        """The brush a stroke begun with ``modifiers`` held uses: with Shift the smooth brush
+        at the current one's radius, influence and symmetry (Blender's habit)."""
         brush = self.brush()
         if "shift" in modifiers and brush.kind != SMOOTH:
             return replace(brush, kind=SMOOTH, substeps=0)
         return brush
 
     def press(self, event: PointerEvent) -> ToolUpdate:
-        """Start a stroke (a smoothing one with Shift held), or add/grab a pin, at the picked
-        ``event.point``."""
+        """Start a stroke, or add/grab a pin, at the picked ``event.point``."""
         if self.sculptor is None or self.dragging:
             return ToolUpdate()
         reason = self.ready() if self.mode == "brush" else None
         if reason:
             return ToolUpdate(error=reason, refused=True)
-        self._moves.reset()
+        self._pending, self.received, self.processed = None, 0, 0
         self._hover = None
         try:
             if self.mode == "pin":
@@ -428,19 +358,16 @@ class SculptTools:
         except (ValueError, RuntimeError) as exc:
             self.pin.end()
             return ToolUpdate(error=str(exc))
-        if not self.stroke.anchored:
-            return ToolUpdate(moved=moved, cursor=self.cursor.place(event.point, event.normal))
-        placed = self.cursor.place(event.point, event.normal)
-        assert placed is not None and self.sculptor is not None  # (a stroke started)
-        self._gauge = DeformationGauge.at_press(
-            self.sculptor.vertices, placed.center, placed.normal, placed.radius
-        )
-        cursor = self.cursor.place(event.point, None, anchored_label(brush.kind), self._gauge_now())
+        cursor = self.cursor.place(event.point, event.normal)
+        if self.stroke.anchored and cursor is not None:  # the gauge, and the label
+            at = (cursor.center, cursor.normal, cursor.radius)
+            self._gauge = DeformationGauge.at_press(self.sculptor.vertices, *at)
+            label = anchored_label(brush.kind)
+            cursor = self.cursor.place(event.point, None, label, self._gauge_now())
         return ToolUpdate(moved=moved, cursor=cursor)
 
     def _gauge_now(self) -> tuple[np.ndarray, np.ndarray] | None:
-        """The anchored stroke's gauge where the surface has taken its marks: loop (K, 3) and
-        spokes (S, P, 3); None without one."""
+        """The anchored stroke's gauge now: loop (K, 3) and spokes (S, P, 3); None without."""
         if self._gauge is None or self.sculptor is None:
             return None
         positions = self._gauge.positions(self.sculptor.vertices)
@@ -452,7 +379,8 @@ class SculptTools:
     def move(self, event: PointerEvent) -> None:
         """Record a drag move (applied by the next :meth:`flush`; newer moves replace it)."""
         if self.dragging:
-            self._moves.push(event)
+            self._pending = event
+            self.received += 1
 
     def hover(self, event: PointerEvent) -> None:
         """Record a hover sample (no button): the ring follows at the next :meth:`flush`."""
@@ -465,9 +393,10 @@ class SculptTools:
             hover, self._hover = self._hover, None
             state = self.cursor.place(hover.point, hover.normal)
             return ToolUpdate(cursor=state, hide_cursor=state is None)
-        event = self._moves.take()
+        event, self._pending = self._pending, None
         if event is None:
             return ToolUpdate()
+        self.processed += 1
         start = time.perf_counter()
         try:
             if self.pin.active:
@@ -476,11 +405,9 @@ class SculptTools:
             else:
                 moved = self.stroke.step(event)
                 stepped = moved is not None
-                # the cursor sits where the brush acts: affine brushes at their press point,
-                # labelled so (the ring then stays while the pointer moves away)
+                # the cursor sits where the brush acts: affine brushes at their press point
                 if self.stroke.anchored:
-                    brush = cast(Brush, self.stroke.brush)
-                    label = anchored_label(brush.kind)
+                    label = anchored_label(cast(Brush, self.stroke.brush).kind)
                     cursor = self.cursor.place(self.stroke.anchor, None, label, self._gauge_now())
                 else:
                     cursor = self.cursor.place(event.point, None)
@@ -495,10 +422,9 @@ class SculptTools:
         return update
 
     def release(self) -> ToolUpdate:
-        """Apply the last recorded move (if not yet applied), then end the stroke (one undo
-        step; ``note`` says so when it changed nothing, which is recorded nowhere) or the pin
-        drag."""
-        update = self.flush() if self._moves.pending is not None else ToolUpdate()
+        """Apply the last recorded move, then end the stroke (one undo step; ``note`` says
+        when it changed nothing) or the pin drag."""
+        update = self.flush() if self._pending is not None else ToolUpdate()
         brush = self.stroke.brush
         history = self.sculptor.history if self.sculptor is not None else None
         steps = history.done if history is not None else 0
@@ -521,8 +447,7 @@ class SculptTools:
         return update
 
     def remove_pin(self, event: PointerEvent) -> ToolUpdate:
-        """Remove the pin near ``event.point`` (a right click in pin mode; an undo step);
-        nothing when no pin is near."""
+        """Remove the pin near ``event.point`` (a right click in pin mode), if any."""
         if self.sculptor is None or self.dragging or event.point is None:
             return ToolUpdate()
         index = self.pin.nearest_pin(np.asarray(event.point, dtype=float))
@@ -536,7 +461,7 @@ class SculptTools:
 
     def cancel(self) -> None:
         """Abandon a stroke in progress (restoring the mesh) or a pin drag."""
-        self._moves.pending = None
+        self._pending = None
         self._gauge = None
         self.stroke.cancel()
         self.pin.end()

@@ -21,48 +21,31 @@ __all__ = [
     "PIXELS_PER_UNIT_AMOUNT",
     "StrokeController",
     "brush_drag",
-    "pressure_radius_factor",
 ]
 
 #: Screen drag (pixels) that makes an affine brush's amount 1 (strain, or radians for twist).
 PIXELS_PER_UNIT_AMOUNT = 100.0
-#: An affine stroke's sign is set once its drag is this long (pixels), and set again when the
-#: drag comes back within it of the press point.
+#: An affine stroke's sign is set once its drag is this long (pixels).
 AFFINE_SIGN_PIXELS = 3.0
-
-
 #: Smallest radius factor pen pressure gives (a feather touch still sculpts).
 MIN_PRESSURE_RADIUS = 0.1
 
 
-def pressure_radius_factor(pressure: float) -> float:
-    """The radius factor in [:data:`MIN_PRESSURE_RADIUS`, 1] of a pen ``pressure`` (clipped to
-    [0, 1]; NaN counts as a full press)."""
-    p = float(pressure)
-    p = 1.0 if not np.isfinite(p) else min(max(p, 0.0), 1.0)
-    return max(p, MIN_PRESSURE_RADIUS)
-
-
 def brush_drag(brush: Brush) -> str:
-    """How a drag becomes ``brush``'s events: its row's ``drag`` (one of
-    :data:`gogreen_core.sculpt.brushes.DRAGS`)."""
+    """How a drag becomes ``brush``'s events: its row's ``drag`` (one of ``DRAGS``)."""
     return brush_row(brush.kind).drag
 
 
 class StrokeController:
     """One brush stroke at a time: press begins it, moves step it, release ends it.
 
-    Grab brushes move the surface by the cursor's world motion on the drag plane (the point
-    under the cursor follows the cursor). Affine brushes (scale, twist, pinch) stay at the press
-    point and, as Blender's Elastic Deform does, take their amount from the signed length of
-    the drag from the press point, in any direction (:data:`PIXELS_PER_UNIT_AMOUNT` pixels =
-    amount 1), and their direction (pinch) from the drag: the sign is + when the drag sets off
-    right or up, − left or down (Blender: right or left of the press point, so that a vertical
-    drag there always deflates), set once the drag is :data:`AFFINE_SIGN_PIXELS` long and again
-    whenever it comes back that close to the press point, so the amount never jumps. Paint
-    brushes (smooth, mask) act where the cursor passes, a dab at the press point first: each
-    event is the segment the cursor moved along the drag plane and the pen pressure (negative
-    with Ctrl: the mask brush erases).
+    Grab brushes move the surface by the cursor's world motion on the drag plane. Affine
+    brushes stay at the press point and, as Blender's Elastic Deform, take their amount from
+    the signed length of the drag (:data:`PIXELS_PER_UNIT_AMOUNT` pixels = 1) and their
+    direction from the drag: + when it sets off right or up, − left or down, set once the drag
+    is :data:`AFFINE_SIGN_PIXELS` long and again whenever it comes back that close, so the
+    amount never jumps. Paint brushes act where the cursor passes, a dab at the press first:
+    each event is the segment the cursor moved and the pen pressure (negative with Ctrl).
     """
 
     def __init__(self, sculptor: Sculptor, pen: Callable[[], PenSettings] | None = None) -> None:
@@ -70,11 +53,9 @@ class StrokeController:
         defaults = PenSettings()
         self.pen = pen or (lambda: defaults)
         self.brush: Brush | None = None
-        self._anchor: np.ndarray | None = None
-        #: Where an anchored brush's load acts: the press point, or its row's depth below it.
-        self._load_centre = np.zeros(3)
+        self.anchor: np.ndarray | None = None  # (3,) the press point (affine brushes' ring)
+        self._load_centre = np.zeros(3)  # where an anchored brush's load acts
         self._last_point: np.ndarray | None = None
-        self._last_screen: tuple[float, float] | None = None
         #: Affine strokes: the press point on screen, the sign of the drag (0 undecided) and
         #: the signed drag length (pixels) already applied.
         self._press_screen: tuple[float, float] = (0.0, 0.0)
@@ -82,13 +63,10 @@ class StrokeController:
         self._applied_drag = 0.0
         #: Stabilized pointer: screen (x, y) and world point where the brush is.
         self._lazy: tuple[tuple[float, float], np.ndarray | None] | None = None
-        #: World point of the last applied event (spacing is measured from it).
-        self._applied: np.ndarray | None = None
-        #: Radius factor of the latest pen sample of the stroke (pressure → radius), 1 when
-        #: off or between strokes: what the brush cursor draws.
+        self._applied: np.ndarray | None = None  # the last applied event's point (spacing)
+        #: The latest pen sample's radius factor (1 when off or between strokes).
         self.radius_factor = 1.0
-        #: The stroke's :func:`brush_drag`.
-        self._drag = ""
+        self._drag = ""  # the stroke's brush_drag
 
     @property
     def anchored(self) -> bool:
@@ -98,40 +76,32 @@ class StrokeController:
     @property
     def sweeping(self) -> bool:
         """True during a stroke whose brush acts where the cursor passes (paint brushes): its
-        moves belong on the surface under the cursor (Blender casts each dab onto it), not on
-        the drag plane a grab follows."""
+        moves belong on the surface under the cursor, not on the drag plane."""
         return self.brush is not None and self._drag == "sweep"
 
     @property
     def active(self) -> bool:
         return self.brush is not None
 
-    @property
-    def anchor(self) -> np.ndarray | None:
-        """(3,) the press point of the stroke (where affine brushes act and their ring stays;
-        a row's ``depth`` puts the load below it), None between strokes."""
-        return self._anchor
-
     def press(self, event: PointerEvent, brush: Brush) -> np.ndarray | None:
-        """Begin a stroke at the picked ``event.point`` (engine errors propagate, nothing
-        starts); a paint brush's dab there: the rows it changed (None for other brushes)."""
+        """Begin a stroke at the picked ``event.point`` (engine errors propagate); the rows a
+        paint brush's dab there changed (None for other brushes)."""
         if event.point is None:
             raise ValueError("a stroke starts on the surface (no point under the cursor)")
         self.sculptor.begin_stroke(brush)
         self.brush = brush
-        self._anchor = np.array(event.point, dtype=float)
-        self._load_centre = self._anchor - self._depth(event, brush)
-        self._last_point = self._anchor.copy()
-        self._last_screen = event.screen
+        self.anchor = np.array(event.point, dtype=float)
+        self._load_centre = self.anchor - self._depth(event, brush)
+        self._last_point = self.anchor.copy()
         self._press_screen, self._sign, self._applied_drag = event.screen, 0, 0.0
-        self._lazy = (event.screen, self._anchor.copy())
-        self._applied = self._anchor.copy()
+        self._lazy = (event.screen, self.anchor.copy())
+        self._applied = self.anchor.copy()
         self.radius_factor = self._radius_factor(event)
         self._drag = brush_drag(brush)
         if self._drag != "sweep":
             return None
         dab = BrushEvent(
-            center=self._anchor, amount=self._pressure(event), radius_factor=self.radius_factor
+            center=self.anchor, amount=self._pressure(event), radius_factor=self.radius_factor
         )
         try:
             return self.sculptor.stroke_event(dab)
@@ -141,18 +111,21 @@ class StrokeController:
 
     def _pressure(self, event: PointerEvent) -> float:
         """The pen pressure the step takes (1 unless pressure → strength is on), negative
-        with Ctrl held (the brush inverted, as in Blender)."""
+        with Ctrl held."""
         pressure = float(np.clip(event.pressure, 0.0, 1.0)) if self.pen().pressure_strength else 1.0
         return -pressure if "ctrl" in event.modifiers else pressure
 
     def _radius_factor(self, event: PointerEvent) -> float:
-        """The radius factor of ``event``'s pressure (1 unless pressure → radius is on)."""
-        return pressure_radius_factor(event.pressure) if self.pen().pressure_radius else 1.0
+        """The radius factor in [:data:`MIN_PRESSURE_RADIUS`, 1] of ``event``'s pressure (1
+        unless pressure → radius is on; NaN: 1)."""
+        p = float(event.pressure)
+        if not self.pen().pressure_radius or not np.isfinite(p):
+            return 1.0
+        return min(max(p, MIN_PRESSURE_RADIUS), 1.0)
 
     @property
     def radius(self) -> float | None:
-        """The radius (fraction of the model size) the stroke's next event acts with: the
-        brush's times the pen's :attr:`radius_factor`; None between strokes."""
+        """The radius (fraction of the model size) of the stroke's next event, or None."""
         if self.brush is None:
             return None
         return self.brush.scaled(self.radius_factor).radius
@@ -160,7 +133,6 @@ class StrokeController:
     def brush_event(self, event: PointerEvent) -> BrushEvent | None:
         """The engine event of moving to ``event`` (None when the cursor did not move)."""
         assert self.brush is not None
-        self._last_screen = event.screen
         pressure = self._pressure(event)
         factor = self._radius_factor(event)
         if self._drag == "anchored":
@@ -176,8 +148,7 @@ class StrokeController:
 
     def _depth(self, event: PointerEvent, brush: Brush) -> np.ndarray:
         """How far (3,) below the press point an anchored brush's load centre lies: its row's
-        ``depth`` ε along the surface normal turned away from the viewer (none without a
-        normal)."""
+        ``depth`` ε along the normal turned away from the viewer."""
         depth = brush_row(brush.kind).depth if brush_drag(brush) == "anchored" else 0.0
         if not depth or event.normal is None:
             return np.zeros(3)
@@ -194,9 +165,8 @@ class StrokeController:
     def _affine_event(
         self, event: PointerEvent, pressure: float, factor: float
     ) -> BrushEvent | None:
-        """The affine event of the drag reaching ``event`` (see the class docstring): the
-        change of the signed drag length since the last event, along the drag's direction."""
-        assert self._anchor is not None
+        """The affine event of the drag reaching ``event`` (see the class docstring)."""
+        assert self.anchor is not None
         dx = event.screen[0] - self._press_screen[0]
         dy = self._press_screen[1] - event.screen[1]  # y up
         length = float(np.hypot(dx, dy))
@@ -221,10 +191,8 @@ class StrokeController:
 
     def stabilized(self, event: PointerEvent) -> PointerEvent | None:
         """``event`` after the stabilizer and spacing (:class:`PenSettings`): the brush point
-        trails the pointer by ``lazy_radius`` pixels (the world point interpolated on the drag
-        plane), and None while it has moved less than ``spacing`` · ε since the last applied
-        event or not left the lazy radius (ε at the event's pressure when pressure → radius is
-        on, as the spacing is relative to the brush size)."""
+        trails the pointer by ``lazy_radius`` pixels; None while it has moved less than
+        ``spacing`` · ε since the last applied event or not left the lazy radius."""
         pen = self.pen()
         lazy = float(pen.lazy_radius)
         if lazy > 0 and self._lazy is not None:
@@ -242,15 +210,13 @@ class StrokeController:
             event = replace(event, screen=screen, point=point)
         spacing = float(pen.spacing)
         if spacing > 0 and event.point is not None and self._applied is not None:
-            brush = cast(Brush, self.brush)  # (a stroke is in progress)
-            eps = brush.eps(self.sculptor.model_size) * self._radius_factor(event)
+            eps = cast(Brush, self.brush).eps(self.sculptor.model_size) * self._radius_factor(event)
             if np.linalg.norm(np.asarray(event.point) - self._applied) < spacing * eps:
                 return None
         return event
 
     def step(self, event: PointerEvent) -> np.ndarray | None:
-        """Apply one move (after :meth:`stabilized`); the indices of moved vertices, or None
-        when nothing moved."""
+        """Apply one move (after :meth:`stabilized`); the indices of moved vertices, or None."""
         self.radius_factor = self._radius_factor(event)  # the cursor follows the pen at once
         stable = self.stabilized(event)
         if stable is None:
@@ -258,13 +224,11 @@ class StrokeController:
         if stable.point is not None:
             self._applied = np.array(stable.point, dtype=float)
         brush_event = self.brush_event(stable)
-        if brush_event is None:
-            return None
-        return self.sculptor.stroke_event(brush_event)
+        return None if brush_event is None else self.sculptor.stroke_event(brush_event)
 
     def end(self) -> np.ndarray | None:
         """End the stroke (one undo step if it changed anything); the indices of the vertices
-        it moved, None when no stroke was going on."""
+        it moved, None without a stroke."""
         moved = self.sculptor.end_stroke() if self.brush is not None else None
         self.brush, self.radius_factor = None, 1.0
         return moved

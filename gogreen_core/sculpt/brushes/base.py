@@ -299,7 +299,7 @@ class GreenBrush(BrushType):
         if len(rows):
             try:
                 # written through only if every end position is finite (the kernel checks)
-                kernel._streamlines(
+                kernel.streamlines(
                     mesh.vertices,
                     center,
                     load,
@@ -312,7 +312,6 @@ class GreenBrush(BrushType):
                     indices=rows,
                     in_place=ctx.write_through,
                     out=out,
-                    count=False,
                 )
             except StreamlineOverflow:
                 raise ValueError(self._overflow()) from None

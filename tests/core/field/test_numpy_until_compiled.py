@@ -11,6 +11,7 @@ import sys
 
 import numpy as np
 import pytest
+from streamline_counts import counted
 
 from gogreen_core import Brush, BrushEvent, GreenKernel, Material, Sculptor
 from gogreen_core._compiled import forced
@@ -90,8 +91,15 @@ def streamline_runs(kernel: GreenKernel, x: np.ndarray) -> list[np.ndarray]:
         (force, grab, 1e-4), (force, grab, None), (load, None, 1e-4), (load, None, None),
         (0.02 * force, 0.02 * grab, 1e-4),
     ):  # fmt: skip
-        out, evaluations = kernel._streamlines(
-            x, np.zeros(3), value, center_step=step, tolerance=tolerance, substeps=3, **common
+        out, evaluations = counted(
+            kernel,
+            x,
+            np.zeros(3),
+            value,
+            center_step=step,
+            tolerance=tolerance,
+            substeps=3,
+            **common,
         )
         runs += [out, evaluations]
     return runs
@@ -133,7 +141,7 @@ def test_in_place_rows_agree_between_codes():
     for code in CODES:
         mesh = vertices.copy()
         with forced(code):
-            kernel._streamlines(
+            kernel.streamlines(
                 mesh, vertices[0], force, center_step=np.array([0.0, 0.1, 0.05]),
                 cutoff=(0.6, 1.2), indices=rows, in_place=True,
             )  # fmt: skip

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from streamline_counts import counted
 
 from gogreen_core import GreenKernel, Material
 from gogreen_core.mesh.shapes import default_model
@@ -37,8 +38,8 @@ def test_indexed_rows_match_the_gathered_points_bit_for_bit(setup, tolerance, af
     )
     # unsorted rows, some far apart: the blocks hold other points than the gathered ones would
     rows = np.random.default_rng(0).permutation(len(vertices))[: len(vertices) // 2 + 7]
-    gathered, steps = kernel._streamlines(vertices[rows], center, load, **common)
-    indexed, steps_indexed = kernel._streamlines(vertices, center, load, indices=rows, **common)
+    gathered, steps = counted(kernel, vertices[rows], center, load, **common)
+    indexed, steps_indexed = counted(kernel, vertices, center, load, indices=rows, **common)
     assert np.array_equal(indexed, gathered)
     assert np.array_equal(steps_indexed, steps)
     if tolerance is not None:
@@ -50,7 +51,7 @@ def test_indexed_rows_match_the_gathered_points_bit_for_bit(setup, tolerance, af
     others = np.setdiff1d(np.arange(len(vertices)), rows)
     assert np.array_equal(mesh[others], vertices[others])
     assert np.array_equal(result, gathered)
-    reused, _ = kernel._streamlines(vertices, center, load, indices=rows, out=buffer, **common)
+    reused, _ = counted(kernel, vertices, center, load, indices=rows, out=buffer, **common)
     assert np.shares_memory(reused, buffer) and np.array_equal(reused, gathered)
     # in place over every row
     whole = vertices.copy()

@@ -1,6 +1,8 @@
 """The material's axes at the cursor (issue 35): none for an isotropic material; the glyph's
 main directions, turned onto the surface with the "surface" frame."""
 
+from types import SimpleNamespace
+
 import numpy as np
 
 from gogreen_core.files.presets import builtin_presets
@@ -39,8 +41,11 @@ def test_the_axes_follow_the_surface_with_the_surface_frame() -> None:
             assert abs(fibre @ normal) > 0.99
         else:
             assert abs(fibre @ [0.0, 0.0, 1.0]) > 0.999
-    cursor = CursorController(
-        lambda: 0.1, lambda: 4.0, lambda: None, lambda: None, axes=lambda p: np.eye(3)
+    measures = dict(radius=0.1, influence=4.0, profile=None, full_radius=None)
+    measures |= dict(moving_radius=None, axes=np.eye(3), detail=None)
+    tools = SimpleNamespace(
+        **{f"_cursor_{name}": lambda *point, v=value: v for name, value in measures.items()}
     )
+    cursor = CursorController(tools)
     state = cursor.place(point, normal)
     assert state is not None and np.array_equal(state.axes, np.eye(3))

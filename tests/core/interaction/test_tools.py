@@ -181,7 +181,8 @@ def test_cursor_carries_influence_and_a_falloff_profile(sculptor):
 
 
 def test_smooth_cutoff_and_profile_without_kernels():
-    from gogreen_core.interaction.tools import brush_profile, smooth_cutoff
+    from gogreen_core.interaction.tools import brush_profile
+    from gogreen_core.sculpt.constraints import smooth_cutoff
 
     r = np.array([0.0, 0.5, 0.75, 1.0, 2.0])
     np.testing.assert_allclose(smooth_cutoff(r, 0.5, 1.0), [1.0, 1.0, 0.5, 0.0, 0.0])
