@@ -1,42 +1,13 @@
 """The recovery journal: every completed operation of a sculptor, on disk before the next one.
 
-While a document is open, :class:`Journal` listens to its sculptor's operation log
-(:meth:`Sculptor.subscribe`) and appends each completed operation (a stroke, a pin edit, a
-settings change, an undo, a redo) to a file, so that a crash loses nothing that completed:
-``gogreen_core.files.recovery`` rebuilds the mesh bit for bit from it.
-
-Where: one folder per open document under :func:`recovery_root`
-(``$XDG_STATE_HOME/gogreen-sculpt/recovery``, ``~/.local/state/gogreen-sculpt/recovery`` when
-the variable is unset), private to the user (mode 0700)::
-
-    <id>/lock                 an flock held by the running app that writes the journal
-    <id>/journal.jsonl        a header, then one record per operation
-    <id>/base-<sha256>.npz    the mesh the journal starts from (vertices, faces, uv): a copy,
-                              named by the SHA-256 of its vertices, since any file can change
-    <id>/checkpoint-<k>.bin   the state after record k (:mod:`gogreen_core.sculpt.checkpoint`)
-    <id>/thumbnail.png        a small picture of the model (written by the app)
-
-Records: each line is ``<CRC-32 of the JSON, 8 hex digits> <JSON>\\n``, so a line cut short by
-a crash (or a full disk) is detected and dropped, with everything before it kept. The header
-(line 1) holds the format and version, the document's file and title, the mesh's sizes and
-hash, and the start state (settings, pins, model size and mirror origin). Each record is
-``{"seq": k, "kind": "append" | "replace", "n": operations, "t": unix time, "d": undo steps
-done, "op": {...}}``: ``op`` is the operation's session form (README, "Session files");
-``replace`` stands for a continued slider or curve drag that the session log merges into its
-last operation; ``d`` (:attr:`History.done`) lets recovery check that a replay from a checkpoint
-undoes exactly what the session undid.
-
-When: the record is written (one ``write``) before the operation's call returns, so a killed
-process loses nothing that completed; the mouse events of a stroke are serialized as they come,
-so ending a stroke only joins them. ``fsync`` (against a power cut) follows at once on the
-journal's worker thread, which also writes the base copy and the checkpoints: the full vertex
-array, taken when enough brush work has piled up since the last one (:attr:`checkpoint_due`) so
-that recovery replays little. The app takes them when it is idle (the copy of the vertices is
-the one cost on its thread); scripts let the journal take them after each operation.
-
-Never in the way: no error of the journal reaches the sculptor. A journal that cannot be
-written (a full disk, a read-only folder) stops, keeps what it wrote, and says so once through
-:meth:`take_problems`; a failed checkpoint only makes recovery replay longer.
+:class:`Journal` listens to a sculptor's operation log (:meth:`Sculptor.subscribe`) and appends
+each completed operation to its folder under :func:`recovery_root`, so that a crash loses
+nothing that completed (:mod:`gogreen_core.files.recovery` rebuilds the mesh from it). The
+folder's files and the line format: README, "Crash recovery", and
+:mod:`gogreen_core.files.journal_format`. A record is written (one ``write``) before the
+operation's call returns; ``fsync``, the base copy and the checkpoints follow on the journal's
+worker thread. No error of the journal reaches the sculptor: it stops and says so once
+(:meth:`Journal.take_problems`).
 """
 
 from __future__ import annotations
@@ -59,15 +30,14 @@ from gogreen_core.files.journal_format import (
     JOURNAL_FILE,
     JOURNAL_FORMAT,
     JOURNAL_VERSION,
-    SETTINGS_WORK,
     THUMBNAIL_FILE,
     JournalLock,
+    checkpoint_files,
     frame,
     new_folder,
     owner,
     recovery_root,
     replay_work,
-    state_home,
     vertex_hash,
     write_all,
 )
@@ -78,21 +48,7 @@ from gogreen_core.sculpt.checkpoint import SculptState, write_checkpoint
 from gogreen_core.sculpt.operations import Operation, Stroke
 from gogreen_core.sculpt.sculptor import Sculptor, capture_state
 
-__all__ = [
-    "CHECKPOINT_WORK",
-    "JOURNAL_FILE",
-    "JOURNAL_FORMAT",
-    "JOURNAL_VERSION",
-    "SETTINGS_WORK",
-    "THUMBNAIL_FILE",
-    "Journal",
-    "JournalLock",
-    "frame",
-    "recovery_root",
-    "replay_work",
-    "state_home",
-    "write_all",
-]
+__all__ = ["CHECKPOINT_WORK", "JOURNAL_FILE", "THUMBNAIL_FILE", "Journal", "recovery_root"]
 
 #: Replay work (see :func:`replay_work`) after which a checkpoint is due: about 0.5 s of
 #: replay on this project's 2-core test machine (a 1M-vertex event: 25 to 80 ms).
@@ -120,32 +76,15 @@ def operation_json(op: Operation, events: list[tuple[object, str]] | None = None
 class Journal:
     """The recovery journal of one open document (see the module docstring).
 
-    Parameters
-    ----------
-    sculptor : Sculptor
-        Whose operations are journaled, from its current state on.
-    mesh : MeshData
-        The document's mesh as loaded (not used for the base copy: the journal starts from
-        ``sculptor``'s vertices, faces, texture coordinates and mask, which a subdivision
-        changes).
-    document : str, optional
-        The document's file (shown by recovery, tried when the base copy is missing).
-    title : str, optional
-        What recovery calls the document (the file's name by default).
-    root : path, optional
-        The folder of the journals (:func:`recovery_root` by default).
-    auto_checkpoint : bool
-        Take due checkpoints right after an operation (scripts); the app passes False and
-        calls :meth:`checkpoint` when idle.
-    checkpoint_work : float
-        Replay work (:func:`replay_work`) after which a checkpoint is due.
-    replaces : JournalLock, optional
-        The lock of a journal this one continues (a recovered document's): that folder is
-        removed once this journal's base copy is on disk.
-    wake : callable, optional
-        Called (on the sculptor's thread) after each record: the app restarts its idle timer.
-
-    Never raises for a disk problem: see :meth:`take_problems`.
+    ``sculptor``'s operations are journaled from its current state on (its vertices, faces,
+    UVs and mask are the base copy); ``mesh`` is the document's as loaded. ``document`` (its
+    file, tried when the base copy is missing) and ``title`` are what recovery shows; ``root``
+    the journals' folder (:func:`recovery_root`). ``auto_checkpoint``: take due checkpoints
+    right after an operation (scripts; the app calls :meth:`checkpoint` when idle), due after
+    ``checkpoint_work`` of replay work (:func:`replay_work`). ``replaces``: the lock of a
+    journal this one continues (a recovered document's), removed once this base copy is on
+    disk. ``wake``: called after each record (the app restarts its idle timer). Never raises
+    for a disk problem: see :meth:`take_problems`.
     """
 
     def __init__(
@@ -484,11 +423,7 @@ class Journal:
         """Delete all but the newest :data:`KEEP_CHECKPOINTS` checkpoints, the checkpoints of
         an older generation (``keep_base`` given: a restart) and other base copies."""
         directory = cast(Path, self.directory)  # (tasks are queued once the folder was made)
-        numbered = []
-        for path in directory.glob("checkpoint-*.bin"):
-            with contextlib.suppress(ValueError):
-                numbered.append((int(path.stem.split("-", 1)[1]), path))
-        numbered.sort()
+        numbered = checkpoint_files(directory)
         drop = numbered if keep_base is not None else numbered[:-KEEP_CHECKPOINTS]
         for _, path in drop:
             path.unlink(missing_ok=True)

@@ -45,6 +45,7 @@ __all__ = [
     "JournalError",
     "JournalLock",
     "Record",
+    "checkpoint_files",
     "frame",
     "lock_owner",
     "new_folder",
@@ -123,6 +124,15 @@ def write_all(fd: int, data: bytes) -> None:
         if written <= 0:
             raise OSError(errno.EIO, "write wrote nothing")
         view = view[written:]
+
+
+def checkpoint_files(directory: Path) -> list[tuple[int, Path]]:
+    """(record, path) of the ``checkpoint-<record>.bin`` files in ``directory``, oldest first."""
+    found = []
+    for path in directory.glob("checkpoint-*.bin"):
+        with contextlib.suppress(ValueError):
+            found.append((int(path.stem.split("-", 1)[1]), path))
+    return sorted(found)
 
 
 def vertex_hash(vertices: np.ndarray) -> str:
@@ -272,6 +282,15 @@ class JournalContents:
             else:
                 ops.append(record.data)
         return ops
+
+    @property
+    def document(self) -> str | None:
+        """The document's file, when it had one."""
+        return (self.header.get("document") or {}).get("path")
+
+    @property
+    def title(self) -> str:
+        return str((self.header.get("document") or {}).get("title") or self.directory.name)
 
     @property
     def modified(self) -> float:

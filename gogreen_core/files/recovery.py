@@ -1,26 +1,15 @@
 """Crash recovery: list the journals :mod:`gogreen_core.files.journal` leaves behind after an
-unclean exit, and rebuild a document from one (bit for bit the state after its last complete
-record).
+unclean exit, and rebuild a document from one, bit for bit the state after its last complete
+record (README, "Crash recovery")::
 
     journals = list_journals()                 # newest first; in_use: a running app writes it
     recovery = recover(journals[0].directory)  # locks it, replays it
     recovery.mesh, recovery.sculptor           # the mesh as it was, a sculptor to go on with
 
-How: the journal's start (its base copy and start state) or one of its checkpoints, then the
-records after it replayed (:func:`gogreen_core.sculpt.session.replay`, one record at a time).
-Recovery starts from the oldest checkpoint whose replay fits :data:`RECOVERY_WORK` (estimated from
-the mouse events to replay × the vertices), so the recovered undo history (the replayed records)
-is as deep as that budget allows and recovery stays within about 1 to 2 s here; a
-checkpoint whose later records undo past it (``d``, the undo steps done, disagrees) is skipped
-for an older one, down to the start, which always replays.
-
-Damage is never fatal: every complete record before it is kept and the notes say what was
-dropped: a record cut off by the crash or corrupt (checksum), an operation this version cannot
-read (a newer version's journal), a checkpoint cut short or corrupt (an older one, or the start,
-is used), a missing base copy (the document's own file is used if it still has the same
-vertices, its faces otherwise with a checkpoint).
-
-``gogreen recover`` (:mod:`gogreen_core.interaction.batch`) does it from the command line.
+Recovery starts from the oldest checkpoint (or the journal's start) whose replay fits
+:data:`RECOVERY_WORK`, so the recovered undo history is as deep as that allows; a checkpoint
+whose later records undo past it is skipped for an older one. Damage is never fatal: every
+complete record before it is kept and the notes say what was dropped.
 """
 
 from __future__ import annotations
@@ -43,6 +32,7 @@ from gogreen_core.files.journal_format import (
     JournalError,
     JournalLock,
     Record,
+    checkpoint_files,
     lock_owner,
     read_journal,
     recovery_root,
@@ -155,12 +145,11 @@ def journal_info(directory: str | os.PathLike[str]) -> JournalInfo:
             lock_owner(directory), [str(exc)], size, thumbnail, readable=False,
         )  # fmt: skip
     header = contents.header
-    document = header.get("document") or {}
     kinds = collections.Counter(op.get("op", "?") for op in contents.operations)
     return JournalInfo(
         directory,
-        str(document.get("title") or directory.name),
-        document.get("path"),
+        contents.title,
+        contents.document,
         float(header.get("created", 0)),
         contents.modified,
         len(contents.operations),
@@ -258,12 +247,11 @@ class Recovery:
 
     @property
     def title(self) -> str:
-        document = self.contents.header.get("document") or {}
-        return str(document.get("title") or self.contents.directory.name)
+        return self.contents.title
 
     @property
     def document(self) -> str | None:
-        return (self.contents.header.get("document") or {}).get("path")
+        return self.contents.document
 
     def session(self) -> dict[str, Any]:
         """The session of the recovered records (:func:`journal_session`)."""
@@ -320,7 +308,7 @@ def _load_base(
     header = contents.header
     mesh = header["mesh"]
     name = mesh["base"]
-    document = (header.get("document") or {}).get("path")
+    document = contents.document
     try:
         with np.load(contents.directory / name, allow_pickle=False) as arrays:
             data = {key: arrays[key] for key in arrays.files}
@@ -369,18 +357,6 @@ def _base_mismatch(base: MeshData, mesh: dict[str, Any]) -> str | None:
     if vertex_hash(base.vertices) != mesh["sha256"]:
         return "has other vertices (hash mismatch)"
     return None
-
-
-def _checkpoints(contents: JournalContents) -> list[tuple[int, Path]]:
-    """(record, path) of the checkpoints that could apply, newest first."""
-    last = len(contents.records)
-    found = []
-    for path in contents.directory.glob("checkpoint-*.bin"):
-        with contextlib.suppress(ValueError):
-            seq = int(path.stem.split("-", 1)[1])
-            if 0 < seq <= last:
-                found.append((seq, path))
-    return sorted(found, reverse=True)
 
 
 def _plan(records: list[Record]) -> list[Record]:
@@ -460,7 +436,7 @@ def recover(
         vertices = contents.header["mesh"]["vertices"]
         cost = np.cumsum([0] + [r.work(vertices) for r in reversed(records)])[::-1]
         starts: list[tuple[int, Path | None]] = [(0, None)] if exact else []
-        starts += _checkpoints(contents)
+        starts += [c for c in checkpoint_files(directory)[::-1] if 0 < c[0] <= len(records)]
         fits = sorted(s for s in starts if cost[s[0]] <= budget)
         order = fits + sorted((s for s in starts if cost[s[0]] > budget), reverse=True)
         best = None
@@ -490,8 +466,7 @@ def recover(
             notes.append(f"{error}: {what} dropped")
             contents.records = records[:kept]
         now = sculptor.mesh  # a subdivision replayed: its faces and UVs
-        document = (contents.header.get("document") or {}).get("path")
-        mesh = MeshData(now.vertices, now.faces, now.uv, now.uv_faces, source=document)
+        mesh = MeshData(now.vertices, now.faces, now.uv, now.uv_faces, source=contents.document)
         return Recovery(
             contents, mesh, sculptor, kept, replayed, seq, notes, held,
             time.perf_counter() - began,

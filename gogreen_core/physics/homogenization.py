@@ -1,60 +1,30 @@
 """Periodic homogenization of two-phase voxel patterns into one effective anisotropic material.
 
-Go Green (Chen & Desbrun 2022, Fig. 12) lets an artist pick anisotropy by choosing a periodic
-pattern of two isotropic materials instead of typing 21 coefficients; the pattern is coarsened
-into its effective stiffness (numerical coarsening, Kharevych et al. 2009). This module computes
-that effective stiffness.
+Go Green (Chen & Desbrun 2022, Fig. 12) picks anisotropy by a periodic pattern of two isotropic
+materials, coarsened into its effective stiffness (numerical coarsening, Kharevych et al. 2009).
 
-Problem
--------
-One periodic cell, the unit cube split into n x n x n voxels (axis order x, y, z), each voxel of
-phase 0 or 1 with stiffness ``C(x)``. For each of the six macroscopic unit strains ``E_j``
-(Voigt order 11, 22, 33, 23, 13, 12 with engineering shear, so ``E_3`` is gamma_23 = 1, i.e.
-eps_23 = eps_32 = 1/2) the displacement is ``u = E_j x + w_j(x)`` with a periodic fluctuation
-``w_j`` solving ``div C (E_j + eps(w_j)) = 0``. The effective stiffness is the energy average
+Problem: one periodic unit cell of n^3 voxels (axis order x, y, z) of phase 0 or 1. For each of
+the six unit macro strains ``E_j`` (Voigt order 11, 22, 33, 23, 13, 12, engineering shear) the
+periodic fluctuation ``w_j`` solves ``div C (E_j + eps(w_j)) = 0``, and
+``C_eff[i, j] = 1/|Y| ∫_Y (E_i + eps(w_i)) : C : (E_j + eps(w_j)) dx``.
 
-    C_eff[i, j] = 1/|Y| ∫_Y (E_i + eps(w_i)) : C : (E_j + eps(w_j)) dx,
+Method and why:
 
-which equals the volume average of the stress of load case j contracted with ``E_i``.
+- Q1 (trilinear) voxel finite elements with periodic node numbering (3 n^3 unknowns): conforming,
+  so the result converges from the Voigt side and is exact for grid-aligned laminates (the Backus
+  formula of ``../shared/MATH.md`` to ~1e-14); an FFT (Moulinec–Suquet) scheme is neither.
+- Matrix-free: a node's stencil row depends only on the phases of its 8 voxels (an 8-bit code),
+  so one compiled kernel applies K from a 256-entry table, all six load cases at once.
+- Conjugate gradients preconditioned by the exact inverse of the periodic Q1 stiffness of an
+  isotropic reference (geometric-mean bulk and shear moduli), diagonalised by the FFT (zero
+  frequency projected out). Iterations at rtol 1e-5: laminates 1, lattices/fibres 8–16,
+  spheres 13–22, random blobs up to 150 at contrast 1e4. A sparse direct solve was rejected:
+  SuperLU takes 13.6 s and 1 GB at 16^3.
+- The energy form makes the error in ``C_eff`` quadratic in the CG error: about rtol^2 times a
+  contrast factor (≤ 1e-8 at contrast 100, ≤ 3e-7 at 1e4 with the default rtol).
 
-Method and why
---------------
-*Q1 (trilinear hexahedral) voxel finite elements* with periodic node numbering: one node per
-voxel corner, 3 n^3 unknowns. Reasons:
-
-- Accuracy: Q1 elements are conforming, so the discrete effective tensor is a variational
-  (upper, Voigt-side) approximation that converges under grid refinement and is *exact* for
-  grid-aligned laminates, whose fluctuation is continuous and piecewise linear across the
-  layers. The Backus formula of ``../shared/MATH.md`` is therefore reproduced to solver
-  precision (tested to 1e-6, observed ~1e-14). A Moulinec–Suquet FFT scheme has neither
-  property, and its basic fixed-point iteration needs O(contrast) iterations.
-- Speed: two phases mean a node's stencil row (27 neighbours x 3x3 blocks) depends only on the
-  phases of its 8 surrounding voxels, an 8-bit code. The operator is applied matrix-free from a
-  256-entry table of stencil rows (< 0.5 MB, stays in cache) by one compiled (numba) kernel, for
-  all six load cases at once. No global matrix is assembled and nothing loops over voxels in
-  Python.
-- Solver: conjugate gradients preconditioned by the *exact inverse of the periodic Q1 stiffness
-  of a homogeneous isotropic reference material*. That operator is block-circulant, so the FFT
-  diagonalises it into one 3x3 symbol per frequency (inverted once and cached; the zero
-  frequency, the rigid translations, is projected out, which removes the null space without
-  pinning a node). The preconditioned spectrum lies in [c_min / c_ref, c_max / c_ref]; the
-  reference has the phases' geometric-mean bulk and shear moduli (its Poisson ratio is what
-  matters; other choices measured 1.5–2.5x more iterations). Measured iteration counts at
-  rtol 1e-5: laminates 1, checkerboard/lattice/fibres 8–16, spheres 13–22, a 50 % random voxel
-  mix 15–60, stiff random blobs in a soft matrix up to 150 at contrast 1e4.
-  A sparse direct factorisation was measured and rejected: SuperLU on the 16^3 system (12 285
-  unknowns, 27-point 3D stencil) takes 13.6 s and 1 GB, 24^3 131 s and 5.5 GB; the CG
-  iteration costs ~2 ms at 16^3 and ~20 ms at 32^3.
-- The energy form above is used with the computed fluctuations, so the error in ``C_eff`` is
-  quadratic in the CG error (and the result is symmetric by construction): the stopping
-  tolerance ``rtol`` on the preconditioned residual gives a relative error of about rtol^2
-  times a factor that grows with the contrast (measured with the default rtol = 1e-5:
-  ≤ 1e-8 at contrast 100, ≤ 3e-7 at contrast 1e4 for stiff spheres in a soft matrix).
-
-Units: the stiffness units of the phases (the cell size drops out). Median run times on this
-2-core machine (``benchmarks/homogenize.py``, contrasts 10 to 1e4): 16^3 7–100 ms for every
-family of the pattern library (≈ 300 ms for the hardest case, 30 % stiff random blobs at
-contrast 1e4), 32^3 0.06–1.9 s.
+Units: those of the phases. Median times (``benchmarks/homogenize.py``): 16^3 7–100 ms, 32^3
+0.06–1.9 s.
 """
 
 from __future__ import annotations
@@ -278,13 +248,10 @@ def _reference_lame(a: Material, b: Material) -> tuple[float, float]:
 
 @functools.lru_cache(maxsize=8)
 def _inverse_symbol(n: int, lam_over_mu: float) -> np.ndarray:
-    """Inverse Fourier symbol of the periodic Q1 stiffness of the homogeneous isotropic reference
-    (λ = lam_over_mu, μ = 1): real (n, n, n//2+1, 3, 3), zero at the zero frequency.
-
-    The reference operator is (K0 u)(p) = Σ_o A_o u(p + o) over the 27 offsets o, so its symbol
-    is S(k) = Σ_o A_o exp(2πi k·o / n), separable in the three offset components. The isotropic
-    Q1 stencil is reflection invariant, so S(k) is real symmetric. CG is invariant to scaling the
-    preconditioner, so only λ/μ matters (cached per grid size for the contrast slider)."""
+    """Inverse Fourier symbol of the periodic Q1 stiffness of the isotropic reference
+    (λ = lam_over_mu, μ = 1): real (n, n, n//2+1, 3, 3), zero at the zero frequency. The
+    stencil is reflection invariant, so S(k) = Σ_o A_o exp(2πi k·o / n) is real symmetric; CG
+    ignores the preconditioner's scale, so only λ/μ matters."""
     ref = Material.from_lame(lam_over_mu, 1.0)
     blocks0 = _stencil_blocks(_element_stiffness(ref.voigt)).sum(axis=0).reshape(3, 3, 3, 3, 3)
     theta = 2.0 * np.pi / n
@@ -308,10 +275,8 @@ def _inverse_symbol(n: int, lam_over_mu: float) -> np.ndarray:
 def _apply_stiffness(  # pragma: no cover - compiled
     table: np.ndarray, code: np.ndarray, x: np.ndarray, out: np.ndarray, xdot: np.ndarray
 ) -> None:
-    """out = K x for the periodic Q1 stiffness given per node by its stencil row
-    ``table[code[i, j, k]]`` (27, 3, 3), for six load cases at once; x, out: (n, n, n, 18)
-    (3 components x 6 cases per node). Also xdot[i * n + j, c] = partial sums of x_c . (K x)_c
-    over k, so that x . K x = xdot.sum(0)."""
+    """out = K x (stencil row ``table[code[i, j, k]]`` (27, 3, 3) per node) for the six load
+    cases at once, x, out (n, n, n, 18); xdot[i * n + j, c]: partial sums of x_c . (K x)_c."""
     n = x.shape[0]
     for ij in nb.prange(n * n):
         i = ij // n
@@ -547,18 +512,13 @@ def homogenize(
     progress : callable(fraction) or None
         Called with a non-decreasing fraction in [0, 1] (setup, each CG iteration, 1.0 at the
         end) for a GUI progress bar. Its return value is ignored.
-    rtol : relative tolerance on the preconditioned CG residual of each load case. The
-        effective tensor's relative error is about rtol^2 times a contrast-dependent factor
-        (≲ 3e-7 for the default at contrast 1e4, see the module docstring).
+    rtol : relative tolerance on the preconditioned CG residual of each load case (the
+        result's error is about rtol^2 times a contrast factor, see the module docstring).
     max_iter : CG iteration limit (RuntimeError if reached).
 
     Returns
     -------
-    Material with the (6, 6) effective stiffness in the same units as the phases, in the axes of
-    the grid. Rotate it with ``Material.rotated(R)``.
-
-    Method: periodic Q1 voxel finite elements, FFT-preconditioned conjugate gradients, energy
-    average (see the module docstring). Raises ValueError for invalid ``phases`` (see
-    :func:`check_phases`).
+    Material with the (6, 6) effective stiffness in the phases' units, in the grid's axes.
+    ValueError for invalid ``phases`` (:func:`check_phases`).
     """
     return homogenize_detailed(phases, materials, progress, rtol=rtol, max_iter=max_iter).material

@@ -101,16 +101,6 @@ class RadialProfile(ABC):
     def dimensionless(self, kind: str, l: int, rho: np.ndarray) -> np.ndarray:
         """F_l(ρ) ("R") or F'_l(ρ) ("dR") at ρ = r/ε (any shape), float64."""
 
-    def radial(self, l: int, r: np.ndarray) -> np.ndarray:
-        """R_l(r) (model units⁻¹) at distances r (any shape)."""
-        r = np.asarray(r, dtype=np.float64)
-        return self.dimensionless("R", l, r / self._eps) / self._eps
-
-    def radial_gradient(self, l: int, r: np.ndarray) -> np.ndarray:
-        """ℛ_l(r) (model units⁻²) at distances r (any shape)."""
-        r = np.asarray(r, dtype=np.float64)
-        return self.dimensionless("dR", l, r / self._eps) / self._eps**2
-
     def with_eps(self, eps: float) -> RadialProfile:
         """The same falloff shape with another radius ε (shares cached tables)."""
         clone = object.__new__(type(self))
@@ -206,20 +196,15 @@ DEFAULT_SPLINE_RHO = np.array(
 
 
 class SplineRadial(RadialProfile):
-    """Per-degree curves through control points (ρ_i, F(ρ_i)), ρ = r/ε, interpolated by
-    :attr:`interpolation` (one of :data:`INTERPOLATIONS`; ``"cubic"`` unless given, as files
-    without the key mean).
+    """Per-degree curves through control points (ρ_i, F(ρ_i)), ρ = r/ε, keyed by (kind, l)
+    ("R" for R_l, even l; "dR" for ℛ_l, odd l), interpolated by :attr:`interpolation` (one of
+    :data:`INTERPOLATIONS`; ``"cubic"`` unless given, as files without the key mean).
 
-    Each curve is keyed by (kind, l): kind "R" for R_l (even l) and "dR" for ℛ_l (odd l).
     Control abscissae start at ρ = 0 and increase; for l ≥ 1 the value at ρ = 0 is pinned to 0
-    (R_l(0) = 0, as the paper does). Beyond the last control point ρ_n the curve continues as
-    the far-field decay F(ρ_n)(ρ_n/ρ)^p (p = 1 for R, 2 for ℛ). Edits bump :attr:`version`.
-
-    A value compared by content (``==``). Settings hold frozen ones (:meth:`as_value`) and an
-    edit makes a new one (:meth:`with_curves`, :meth:`with_point_moved`, ...); a profile a
-    script builds may also be edited in place (:meth:`set_curve`, ...) before it is handed over.
-    Tables are keyed by a digest of the control points, so a kernel built after an edit sees
-    the new shape, and equal curves share tables whichever object holds them.
+    (R_l(0) = 0, as the paper does). Beyond the last point ρ_n the curve decays as
+    F(ρ_n)(ρ_n/ρ)^p (p = 1 for R, 2 for ℛ). A value compared by content: settings hold frozen
+    ones (:meth:`as_value`), an edit makes a new one (:meth:`with_curves`, ...) and bumps
+    :attr:`version`; tables are keyed by a digest of the points.
     """
 
     kind_name = "spline"
@@ -292,7 +277,6 @@ class SplineRadial(RadialProfile):
         rho, value = self._curves[self._key(kind, l)]
         return rho.copy(), value.copy()
 
-    # Values: each edit makes a new profile (frozen when this one is), this one stays.
     def with_curves(
         self, curves: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]] | SplineRadial
     ) -> SplineRadial:
@@ -314,19 +298,30 @@ class SplineRadial(RadialProfile):
     def with_point_moved(
         self, kind: str, l: int, index: int, rho: float, value: float
     ) -> SplineRadial:
-        """This falloff with control point ``index`` at (rho, value) (see :meth:`move_point`)."""
-        return self.with_curves({(kind, l): self._moved(kind, l, index, rho, value)})
+        """This falloff with control point ``index`` at (rho, value), between its neighbours."""
+        xs, ys = self.curve(kind, l)
+        xs[index], ys[index] = rho, value
+        return self.with_curves({(kind, l): (xs, ys)})
 
     def with_point_added(
         self, kind: str, l: int, rho: float, value: float
     ) -> tuple[SplineRadial, int]:
         """This falloff with a control point inserted, and the point's index."""
-        xs, ys, index = self._added(kind, l, rho, value)
-        return self.with_curves({(kind, l): (xs, ys)}), index
+        xs, ys = self.curve(kind, l)
+        index = int(np.searchsorted(xs, rho))
+        return self.with_curves(
+            {(kind, l): (np.insert(xs, index, rho), np.insert(ys, index, value))}
+        ), index
 
     def without_point(self, kind: str, l: int, index: int) -> SplineRadial:
-        """This falloff without control point ``index`` (see :meth:`remove_point`)."""
-        return self.with_curves({(kind, l): self._removed(kind, l, index)})
+        """This falloff without control point ``index`` (the first one, at ρ = 0, and the last
+        two stay)."""
+        xs, ys = self.curve(kind, l)
+        if index == 0 or index % len(xs) == 0:
+            raise ValueError("the control point at rho = 0 cannot be removed")
+        if len(xs) <= 3:
+            raise ValueError("a falloff curve needs at least 3 control points")
+        return self.with_curves({(kind, l): (np.delete(xs, index), np.delete(ys, index))})
 
     def as_value(self) -> SplineRadial:
         """This shape at ε = 1 as an immutable value: itself when it is one already, else a
@@ -337,9 +332,9 @@ class SplineRadial(RadialProfile):
         clone._frozen = True
         return clone
 
-    # In place: for a profile a script builds before handing it over (settings freeze theirs).
     def set_curve(self, kind: str, l: int, rho: np.ndarray, value: np.ndarray) -> None:
-        """Replace one curve's control points (in place; refused on a frozen value)."""
+        """Replace one curve's control points in place, for a profile a script builds before
+        handing it over (refused on a frozen value: settings hold those)."""
         if self._frozen:
             raise TypeError(
                 "this falloff is an immutable value (settings hold it): make an edited one "
@@ -347,42 +342,6 @@ class SplineRadial(RadialProfile):
             )
         self._store(kind, l, rho, value)
         self._version += 1
-
-    def move_point(self, kind: str, l: int, index: int, rho: float, value: float) -> None:
-        """Move control point ``index`` to (rho, value); it must stay between its neighbours."""
-        self.set_curve(kind, l, *self._moved(kind, l, index, rho, value))
-
-    def add_point(self, kind: str, l: int, rho: float, value: float) -> int:
-        """Insert a control point; returns its index."""
-        xs, ys, index = self._added(kind, l, rho, value)
-        self.set_curve(kind, l, xs, ys)
-        return index
-
-    def remove_point(self, kind: str, l: int, index: int) -> None:
-        """Remove a control point (the first one, at ρ = 0, and the last two stay)."""
-        self.set_curve(kind, l, *self._removed(kind, l, index))
-
-    def _moved(
-        self, kind: str, l: int, index: int, rho: float, value: float
-    ) -> tuple[np.ndarray, np.ndarray]:
-        xs, ys = self.curve(kind, l)
-        xs[index], ys[index] = rho, value
-        return xs, ys
-
-    def _added(
-        self, kind: str, l: int, rho: float, value: float
-    ) -> tuple[np.ndarray, np.ndarray, int]:
-        xs, ys = self.curve(kind, l)
-        index = int(np.searchsorted(xs, rho))
-        return np.insert(xs, index, rho), np.insert(ys, index, value), index
-
-    def _removed(self, kind: str, l: int, index: int) -> tuple[np.ndarray, np.ndarray]:
-        xs, ys = self.curve(kind, l)
-        if index == 0 or index % len(xs) == 0:
-            raise ValueError("the control point at rho = 0 cannot be removed")
-        if len(xs) <= 3:
-            raise ValueError("a falloff curve needs at least 3 control points")
-        return np.delete(xs, index), np.delete(ys, index)
 
     def _key(self, kind: str, l: int) -> tuple[str, int]:
         l = _check_degree(kind, l)
