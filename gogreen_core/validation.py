@@ -1,15 +1,13 @@
-"""Input validation that names the offending parameter.
-
-Every check raises :class:`ParameterError`, a :class:`ValueError` that carries the parameter's
-name in :attr:`ParameterError.parameter`, so callers (the app's panels, the command line, session
-and preset readers) can point at the field without parsing the message text.
+"""Input validation that names the offending parameter: every check raises
+:class:`ParameterError`, a :class:`ValueError` carrying the parameter's name.
 """
 
 from __future__ import annotations
 
 import math
-from types import TracebackType
-from typing import Any, Literal
+from collections.abc import Iterator
+from contextlib import contextmanager
+from typing import Any
 
 import numpy as np
 
@@ -31,16 +29,8 @@ __all__ = [
 
 
 class ParameterError(ValueError):
-    """A bad value for one named parameter.
-
-    Parameters
-    ----------
-    parameter : str
-        The parameter's name as the user sees it (``"radius"``, ``"brush.strength"``,
-        ``"operations[3].events[0].delta"``).
-    message : str
-        The whole message; it should name the parameter and the value received.
-    """
+    """A bad value for one named ``parameter`` as the user sees it (``"radius"``,
+    ``"operations[3].events[0].delta"``); ``message`` names it and the value received."""
 
     def __init__(self, parameter: str, message: str):
         super().__init__(message)
@@ -68,33 +58,19 @@ def field(path: str, name: str | int) -> str:
     return f"{path}.{name}" if path else name
 
 
-def prefixed(prefix: str) -> _Prefixed:
-    """Context manager re-raising any :class:`ParameterError` as seen from ``prefix`` (see
+@contextmanager
+def prefixed(prefix: str) -> Iterator[None]:
+    """Re-raise any :class:`ParameterError` as seen from ``prefix`` (see
     :meth:`ParameterError.within`), and any other ``ValueError`` as a :class:`ParameterError`
     of ``prefix`` itself."""
-    return _Prefixed(prefix)
-
-
-class _Prefixed:
-    def __init__(self, prefix: str) -> None:
-        self.prefix = prefix
-
-    def __enter__(self) -> None:
-        return None
-
-    def __exit__(
-        self,
-        kind: type[BaseException] | None,
-        exc: BaseException | None,
-        tb: TracebackType | None,
-    ) -> Literal[False]:
-        if exc is None:
-            return False
-        if isinstance(exc, ParameterError):
-            raise exc.within(self.prefix) from None
-        if isinstance(exc, ValueError) and self.prefix:
-            raise ParameterError(self.prefix, f"{self.prefix}: {exc}") from None
-        return False
+    try:
+        yield
+    except ParameterError as exc:
+        raise exc.within(prefix) from None
+    except ValueError as exc:
+        if not prefix:
+            raise
+        raise ParameterError(prefix, f"{prefix}: {exc}") from None
 
 
 def check_number(

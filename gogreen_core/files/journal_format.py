@@ -1,7 +1,12 @@
-"""The recovery journal's files: where they live, their lock, their line format, and reading
-them back (:func:`read_journal`). :mod:`gogreen_core.files.journal` writes journals,
-:mod:`gogreen_core.files.recovery` lists and recovers them; the folder and the line format are
-described there and in the README ("Crash recovery").
+"""The recovery journal's files (README, "Crash recovery"): where they live, their lock, their
+line format, and reading them back (:func:`read_journal`).
+
+Each line is ``<CRC-32 of the JSON, 8 hex digits> <JSON>\n``, so a line cut short by a crash
+is detected and dropped. Line 1, the header, holds the format and version, the document, the
+mesh's sizes and hash and the start state; each record ``{"seq": k, "kind": "append" |
+"replace", "n": operations, "t": unix time, "d": undo steps done, "op": {...}}`` (``replace``:
+a continued drag the session log merged into its last operation; ``d`` lets recovery check
+that a replay from a checkpoint undoes what the session undid).
 """
 
 from __future__ import annotations
@@ -68,10 +73,8 @@ LOCK_FILE = "lock"
 THUMBNAIL_FILE = "thumbnail.png"
 #: Replay work of a material or falloff change (a new kernel: ~50 ms).
 SETTINGS_WORK = 1.5e6
-
-
-#: A subdivision's replay work in vertex passes (1M vertices: 2.6-4.4 s; one grab event at
-#: radius 0.05 there, 0.11-0.2 s).
+#: A subdivision's or remesh's replay work in vertex passes (1M vertices: 2.6-4.4 s, about 20
+#: strokes' events).
 SUBDIVIDE_WORK = 20
 
 
@@ -83,10 +86,7 @@ def replay_work(name: str, events: int, vertices: int) -> float:
         return max(1, events) * vertices
     if name in ("material", "falloff"):
         return max(vertices, SETTINGS_WORK)
-    if name in (
-        "subdivide",
-        "remesh",
-    ):  # measured: about as long as 20 strokes' events on the same mesh
+    if name in ("subdivide", "remesh"):
         return SUBDIVIDE_WORK * vertices
     return vertices
 
@@ -239,9 +239,8 @@ class JournalError(ValueError):
 
 @dataclass(frozen=True)
 class Record:
-    """One complete journal record: ``seq`` (1, 2, ...), ``kind`` (``append``/``replace``),
-    ``n`` operations after it, ``t`` unix time, ``d`` undo steps done, the operation's session
-    form ``data`` and its typed ``op`` (None when read without validation)."""
+    """One complete journal record (see the module docstring): the operation's session form
+    ``data`` and its typed ``op`` (None when read without validation)."""
 
     seq: int
     kind: str

@@ -1,18 +1,12 @@
-"""Presets: a material, a falloff (with l_max and the brushes' weights) and a brush, as JSON.
-
-The app's Presets menu lists :func:`builtin_presets` (JSON files shipped in ``resources/presets``)
-and loads or saves any other file; a script does the same::
+"""Presets: a material, a falloff (with l_max and the brushes' weights) and a brush, as JSON::
 
     preset = load_preset("my_clay.json")
     preset.apply(sculptor)                      # material and falloff
     sculptor.apply_brush(preset.brush, events)
 
 File format (``"format": "gogreen-preset"``, ``"version": 3``): ``name``, ``description``,
-the ``"preset"`` settings of the setting table (``material`` as :meth:`Material.to_dict`,
-``falloff`` a radial profile's ``to_dict``, ``l_max``, ``brush_weights``: per brush kind,
-l_max + 2 numbers, when some brush has its own), ``brush`` (:meth:`Brush.to_dict`). Files of
-versions 1-2 may hold ``degree_weights`` (of the wrinkle brush of sessions before version 3,
-which no longer exists): ignored.
+the ``"preset"`` settings of the setting table, ``brush`` (:meth:`Brush.to_dict`). The
+``degree_weights`` of versions 1-2 (a wrinkle brush that no longer exists) are ignored.
 """
 
 from __future__ import annotations
@@ -44,12 +38,9 @@ PRESET_VERSION = 3
 class Preset:
     """Everything an artist tunes before a stroke, as one named, shareable unit:
     ``Preset(name, material, falloff, l_max, brush_weights=..., brush=..., description=...)``.
-
-    Its settings are the ``"preset"`` rows of the setting table
-    (:data:`~gogreen_core.sculpt.setting_table.SETTINGS`), given by keyword or in the table's
-    order (or taken from ``settings``), read as attributes (``preset.l_max``) and held in
-    :attr:`settings` (an :class:`EngineSettings`, so checked as the engine's are: a
-    :class:`ParameterError` naming the field; the other rows at their defaults).
+    Its settings are the ``"preset"`` rows of the setting table, given by keyword, in the
+    table's order or from ``settings``, read as attributes and held (checked) in
+    :attr:`settings` (an :class:`EngineSettings`, the other rows at their defaults).
     """
 
     name: str

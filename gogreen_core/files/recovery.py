@@ -253,10 +253,6 @@ class Recovery:
     def document(self) -> str | None:
         return self.contents.document
 
-    def session(self) -> dict[str, Any]:
-        """The session of the recovered records (:func:`journal_session`)."""
-        return journal_session(self.contents)
-
     def release(self) -> None:
         if self.lock is not None:
             self.lock.release()

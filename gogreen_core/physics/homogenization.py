@@ -42,6 +42,7 @@ import numpy as np
 import scipy.fft as sfft
 
 from gogreen_core.physics.material import Material
+from gogreen_core.validation import check_number
 
 __all__ = [
     "MAX_CONTRAST",
@@ -77,26 +78,15 @@ def _unit_strains() -> np.ndarray:
     return eps
 
 
-# ---------------------------------------------------------------------------------------------
-# Input checks and small helpers
-# ---------------------------------------------------------------------------------------------
 def check_phases(phases: np.ndarray) -> np.ndarray:
-    """Validate a periodic two-phase cell and return it as an (n, n, n) int8 array.
-
-    Raises ValueError (with the reason) for: not 3-dimensional, a non-cubic grid, n < 2,
-    NaN/inf, or values other than 0 and 1. Booleans and integer or float arrays holding exactly
-    0/1 are accepted.
-    """
+    """A periodic two-phase cell (booleans, integers or floats, exactly 0/1) as an (n, n, n)
+    int8 array; ValueError saying why not."""
     try:
         arr = np.asarray(phases)
     except Exception as exc:  # ragged nested lists and the like
         raise ValueError(f"phases must be an (n, n, n) array of 0/1 ({exc})") from None
-    if arr.dtype == object or not (
-        np.issubdtype(arr.dtype, np.number) or np.issubdtype(arr.dtype, np.bool_)
-    ):
-        raise ValueError(f"phases must be a numeric array of 0/1 (got dtype {arr.dtype})")
-    if np.iscomplexobj(arr):
-        raise ValueError("phases must be real 0/1 values (got a complex array)")
+    if arr.dtype.kind not in "biuf":  # booleans, integers, floats
+        raise ValueError(f"phases must be a real numeric array of 0/1 (got dtype {arr.dtype})")
     if arr.ndim != 3:
         raise ValueError(
             f"phases must be a 3D (n, n, n) array (axis order x, y, z); got {arr.ndim} "
@@ -132,17 +122,10 @@ def _check_pair(materials: Sequence[Material]) -> tuple[Material, Material]:
     return pair[0], pair[1]
 
 
-def _check_fraction(fraction_b: float) -> float:
-    f = float(fraction_b)
-    if not 0.0 <= f <= 1.0:
-        raise ValueError(f"fraction_b must lie in [0, 1] (got {fraction_b})")
-    return f
-
-
 def voigt_bound(fraction_b: float, materials: Sequence[Material]) -> Material:
     """Voigt (upper, uniform strain) bound ⟨C⟩ = (1 − f) C_a + f C_b for volume fraction f of
     phase b. Every effective stiffness C satisfies C ≤ ⟨C⟩ in the Loewner order."""
-    f = _check_fraction(fraction_b)
+    f = check_number("fraction_b", fraction_b, low=0.0, high=1.0)
     a, b = _check_pair(materials)
     return Material((1.0 - f) * a.voigt + f * b.voigt)
 
@@ -150,7 +133,7 @@ def voigt_bound(fraction_b: float, materials: Sequence[Material]) -> Material:
 def reuss_bound(fraction_b: float, materials: Sequence[Material]) -> Material:
     """Reuss (lower, uniform stress) bound ⟨S⟩⁻¹ = ((1 − f) S_a + f S_b)⁻¹ (Voigt form,
     engineering shear). Every effective stiffness C satisfies C ≥ ⟨S⟩⁻¹."""
-    f = _check_fraction(fraction_b)
+    f = check_number("fraction_b", fraction_b, low=0.0, high=1.0)
     a, b = _check_pair(materials)
     s = (1.0 - f) * a.compliance + f * b.compliance
     c = np.linalg.inv(0.5 * (s + s.T))
@@ -179,9 +162,6 @@ def bimaterial(
     return Material.isotropic(young, poisson), Material.isotropic(c * float(young), nu_b)
 
 
-# ---------------------------------------------------------------------------------------------
-# Q1 element matrices and stencil tables
-# ---------------------------------------------------------------------------------------------
 def _strain_operator() -> np.ndarray:
     """B at the 8 Gauss points of the unit voxel: (8, 6, 24), Voigt engineering strain from the
     24 nodal displacements (node-major, xyz per node)."""
@@ -268,9 +248,6 @@ def _inverse_symbol(n: int, lam_over_mu: float) -> np.ndarray:
     return inv
 
 
-# ---------------------------------------------------------------------------------------------
-# Compiled kernels
-# ---------------------------------------------------------------------------------------------
 @nb.njit(parallel=True, cache=True, fastmath=True)
 def _apply_stiffness(  # pragma: no cover - compiled
     table: np.ndarray, code: np.ndarray, x: np.ndarray, out: np.ndarray, xdot: np.ndarray
@@ -347,9 +324,6 @@ def _xpay_columns(  # pragma: no cover - compiled
             y[i, c] = x[i, c] + a[c] * y[i, c]
 
 
-# ---------------------------------------------------------------------------------------------
-# Solver
-# ---------------------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class HomogenizationResult:
     """Effective material and solver diagnostics of :func:`homogenize_detailed`.

@@ -13,6 +13,8 @@ from typing import Any, cast
 
 import numpy as np
 
+from gogreen_core.validation import check_finite, check_number
+
 __all__ = ["VOIGT_PAIRS", "Material", "tensor_to_voigt", "voigt_to_tensor"]
 
 #: Index pair (i, j) of each Voigt position, in the order 11, 22, 33, 23, 13, 12.
@@ -38,35 +40,10 @@ def tensor_to_voigt(tensor: np.ndarray) -> np.ndarray:
     return cast(np.ndarray, tensor[rows[:, None], cols[:, None], rows[None, :], cols[None, :]])
 
 
-def _finite(name: str, value: np.ndarray) -> None:
-    if not np.all(np.isfinite(value)):
-        raise ValueError(f"{name} must be finite (got {np.asarray(value).tolist()})")
-
-
-def _scalar(name: str, value: float) -> float:
-    try:
-        out = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a real number (got {value!r})") from None
-    _finite(name, np.array(out))
-    return out
-
-
-def _triple(name: str, value: Sequence[float]) -> np.ndarray:
-    arr = np.asarray(value, dtype=np.float64)
-    if arr.shape != (3,):
-        raise ValueError(f"{name} must have 3 values (got shape {arr.shape})")
-    _finite(name, arr)
-    return arr
-
-
 def check_rotation(rotation: np.ndarray, tol: float = 1e-9) -> np.ndarray:
     """Return ``rotation`` as a float (3, 3) array, or raise ValueError if it is not a proper
     rotation (orthonormal with determinant +1, within ``tol``)."""
-    rot = np.asarray(rotation, dtype=np.float64)
-    if rot.shape != (3, 3):
-        raise ValueError(f"rotation must be a 3x3 matrix (got shape {rot.shape})")
-    _finite("rotation", rot)
+    rot = check_finite("rotation", rotation, (3, 3))
     err = np.abs(rot @ rot.T - np.eye(3)).max()
     if err > tol:
         raise ValueError(f"rotation is not orthonormal: max |R R^T - I| = {err:.3g}")
@@ -96,7 +73,8 @@ class Material:
         c6 = np.asarray(voigt, dtype=np.float64)
         if c6.shape != (6, 6):
             raise ValueError(f"Voigt stiffness must be a 6x6 matrix (got shape {c6.shape})")
-        _finite("Voigt stiffness", c6)
+        if not np.all(np.isfinite(c6)):
+            raise ValueError("Voigt stiffness must be finite")
         scale = np.abs(c6).max()
         if scale == 0:
             raise ValueError("Voigt stiffness is all zeros: not positive definite")
@@ -128,22 +106,18 @@ class Material:
     @classmethod
     def from_lame(cls, lam: float, mu: float) -> Material:
         """Isotropic material from the Lamé parameters λ and μ (admissible: μ > 0, 3λ + 2μ > 0)."""
-        lam, mu = _scalar("lam", lam), _scalar("mu", mu)
+        lam, mu = check_number("lam", lam), check_number("mu", mu)
         if mu <= 0:
             raise ValueError(f"shear modulus mu must be > 0 (got {mu})")
         if 3 * lam + 2 * mu <= 0:
             bulk3 = 3 * lam + 2 * mu
             raise ValueError(f"bulk modulus must be > 0: need 3*lam + 2*mu > 0 (got {bulk3})")
-        c6 = np.zeros((6, 6))
-        c6[:3, :3] = lam
-        c6[[0, 1, 2], [0, 1, 2]] = lam + 2 * mu
-        c6[[3, 4, 5], [3, 4, 5]] = mu
-        return cls(c6)
+        return cls.cubic(lam + 2 * mu, lam, mu)
 
     @classmethod
     def isotropic(cls, young: float, poisson: float) -> Material:
         """Isotropic material from Young's modulus E > 0 and Poisson ratio -1 < ν < 1/2."""
-        young, poisson = _scalar("young", young), _scalar("poisson", poisson)
+        young, poisson = check_number("young", young), check_number("poisson", poisson)
         if young <= 0:
             raise ValueError(f"young (Young's modulus) must be > 0 (got {young})")
         if not -1.0 < poisson < 0.5:
@@ -155,7 +129,7 @@ class Material:
     @classmethod
     def cubic(cls, c11: float, c12: float, c44: float) -> Material:
         """Cubic material with axes x, y, z (admissible: c11 > |c12|, c11 + 2 c12 > 0, c44 > 0)."""
-        c11, c12, c44 = _scalar("c11", c11), _scalar("c12", c12), _scalar("c44", c44)
+        c11, c12, c44 = check_number("c11", c11), check_number("c12", c12), check_number("c44", c44)
         c6 = np.zeros((6, 6))
         c6[:3, :3] = c12
         c6[[0, 1, 2], [0, 1, 2]] = c11
@@ -177,9 +151,9 @@ class Material:
         shear : (G23, G13, G12), shear moduli, all > 0.
         poisson : (ν12, ν13, ν23), with ν_ij = -ε_j / ε_i under uniaxial stress along i.
         """
-        e = _triple("young", young)
-        g = _triple("shear", shear)
-        nu12, nu13, nu23 = _triple("poisson", poisson)
+        e = check_finite("young", young, (3,))
+        g = check_finite("shear", shear, (3,))
+        nu12, nu13, nu23 = check_finite("poisson", poisson, (3,))
         for name, val in zip(("E1", "E2", "E3"), e, strict=True):
             if val <= 0:
                 raise ValueError(f"Young's modulus {name} must be > 0 (got {val})")
@@ -235,8 +209,8 @@ class Material:
 
         The in-plane shear modulus is G12 = E_p / (2 (1 + ν_p)).
         """
-        ep = _scalar("young_plane", young_plane)
-        nup = _scalar("poisson_plane", poisson_plane)
+        ep = check_number("young_plane", young_plane)
+        nup = check_number("poisson_plane", poisson_plane)
         if not -1.0 < nup < 1.0:
             raise ValueError(f"poisson_plane must lie in (-1, 1) (got {nup})")
         g12 = ep / (2 * (1 + nup))

@@ -1,19 +1,10 @@
-"""Library of periodic two-phase voxel patterns for :func:`gogreen_core.homogenize`.
+"""Periodic two-phase voxel patterns for :func:`gogreen_core.homogenize` (the families of Go
+Green's Fig. 12): each returns one periodic cell as an (n, n, n) ``int8`` array of 0/1, axis
+order x, y, z; 0 is phase a (the matrix), 1 phase b (inclusions, fibres, bars, odd layers).
 
-Every pattern is a plain function returning an (n, n, n) ``int8`` array of 0/1 in axis order
-x, y, z that describes one periodic cell: 0 is phase a (the matrix), 1 is phase b (the
-inclusions, fibres, bars, or odd layers). They include the families of Go Green's Fig. 12
-(Chen & Desbrun 2022): layered, fibre-reinforced, checkerboard, spotted (spherical inclusions),
-cross/lattice and random.
-
-Conventions: the cell is the unit cube, voxel (i, j, k) has centre ((i, j, k) + 1/2) / n and is
-phase b when its centre lies inside the shape (so volume fractions are met up to the voxel
-size; :func:`volume_fraction` gives the realised one). ``periods`` repeats the motif that many
-times along each axis inside the cell. Axes are given as ``"x"``, ``"y"``, ``"z"`` or 0, 1, 2.
-
-:data:`PATTERNS` maps each name to a :class:`PatternSpec` (function, description and the typed
-parameter list) so that a GUI can list the families and build widgets; :func:`make_pattern`
-builds one by name.
+The cell is the unit cube; voxel (i, j, k) is phase b when its centre ((i, j, k) + 1/2) / n lies
+inside the shape. ``periods`` repeats the motif along each axis; axes are ``"x"``, ``"y"``,
+``"z"`` or 0, 1, 2. :data:`PATTERNS` lists each family with its typed parameters (for a GUI).
 """
 
 from __future__ import annotations
@@ -23,6 +14,8 @@ from dataclasses import dataclass
 from typing import Any, cast
 
 import numpy as np
+
+from gogreen_core.validation import check_integer
 
 __all__ = [
     "PATTERNS",
@@ -35,7 +28,6 @@ __all__ = [
     "make_pattern",
     "random_pattern",
     "spheres",
-    "volume_fraction",
 ]
 
 _AXES = {"x": 0, "y": 1, "z": 2, 0: 0, 1: 1, 2: 2}
@@ -53,16 +45,8 @@ _SPHERE_LATTICES: dict[str, tuple[np.ndarray, float]] = {
 }
 
 
-# ---------------------------------------------------------------------------------------------
-# Checks and coordinates
-# ---------------------------------------------------------------------------------------------
 def _check_n(n: int) -> int:
-    if isinstance(n, bool) or int(n) != n:
-        raise ValueError(f"n must be an integer (got {n!r})")
-    n = int(n)
-    if n < 2:
-        raise ValueError(f"n must be >= 2 voxels per axis (got {n})")
-    return n
+    return check_integer("n", n, low=2)
 
 
 def _check_fraction(fraction: float, upper: float = 1.0, what: str = "") -> float:
@@ -74,11 +58,7 @@ def _check_fraction(fraction: float, upper: float = 1.0, what: str = "") -> floa
 
 
 def _check_periods(periods: int, n: int, per_period: int = 1) -> int:
-    if isinstance(periods, bool) or int(periods) != periods:
-        raise ValueError(f"periods must be an integer (got {periods!r})")
-    periods = int(periods)
-    if periods < 1:
-        raise ValueError(f"periods must be >= 1 (got {periods})")
+    periods = check_integer("periods", periods, low=1)
     if periods * per_period > n:
         raise ValueError(
             f"periods = {periods} is too many for n = {n}: need periods * {per_period} <= n"
@@ -104,22 +84,11 @@ def _periodic_distance(t: np.ndarray, centre: float) -> np.ndarray:
     return np.minimum(d, 1.0 - d)
 
 
-def volume_fraction(phases: np.ndarray) -> float:
-    """Realised volume fraction of phase b (the mean of a 0/1 grid)."""
-    return float(np.mean(np.asarray(phases), dtype=np.float64))
-
-
-# ---------------------------------------------------------------------------------------------
-# Pattern families
-# ---------------------------------------------------------------------------------------------
 def layered(
     n: int = 16, normal: str | int = "z", fraction: float = 0.5, periods: int = 1
 ) -> np.ndarray:
     """Laminate: layers of phase b (thickness ``fraction`` of each period) stacked along
-    ``normal``. Result is transversely isotropic about ``normal`` (exact Backus tensor).
-
-    Shape (n, n, n) int8. ``periods`` layer pairs per cell (periods <= n).
-    """
+    ``normal``: transversely isotropic about it (exact Backus tensor)."""
     n = _check_n(n)
     ax = _check_axis(normal, "normal")
     f = _check_fraction(fraction)
@@ -140,10 +109,7 @@ def fibers(
 ) -> np.ndarray:
     """Fibre-reinforced: straight rods of phase b along ``axis`` on a square array, one rod per
     motif centre. ``shape`` "round" (circular section, fraction <= pi/4) or "square" (fraction
-    <= 1). Transversely isotropic-like (tetragonal) about ``axis``.
-
-    Shape (n, n, n) int8.
-    """
+    <= 1): tetragonal about ``axis``."""
     n = _check_n(n)
     ax = _check_axis(axis)
     periods = _check_periods(periods, n)
@@ -164,7 +130,7 @@ def fibers(
 
 def checkerboard(n: int = 16, periods: int = 1) -> np.ndarray:
     """3D checkerboard: 2 x 2 x 2 blocks per motif, phase b where the block indices sum to an
-    odd number. Fraction 1/2, cubic symmetry. Shape (n, n, n) int8; needs 2 * periods <= n."""
+    odd number. Fraction 1/2, cubic symmetry; needs 2 * periods <= n."""
     n = _check_n(n)
     periods = _check_periods(periods, n, per_period=2)
     x, y, z = _motif_coords(n, periods)
@@ -177,10 +143,7 @@ def spheres(
 ) -> np.ndarray:
     """Spotted: spherical inclusions of phase b on a simple cubic ("sc"), body-centred ("bcc")
     or face-centred ("fcc") lattice, radius from ``fraction`` (at most the touching-sphere
-    packing: pi/6 for sc, 0.680 for bcc, 0.740 for fcc). Cubic symmetry.
-
-    Shape (n, n, n) int8.
-    """
+    packing: pi/6 for sc, 0.680 for bcc, 0.740 for fcc). Cubic symmetry."""
     n = _check_n(n)
     if arrangement not in _SPHERE_LATTICES:
         raise ValueError(
@@ -216,10 +179,7 @@ def _bar_width(fraction: float, count: int) -> float:
 def lattice(n: int = 16, fraction: float = 0.3, periods: int = 1, axes: str = "xyz") -> np.ndarray:
     """Cross / lattice: square bars of phase b through the motif centre along each axis in
     ``axes`` ("xyz": a 3D cubic lattice/frame, cubic symmetry; "xy", "xz", "yz": a 2D cross of
-    bars; one letter: square fibres). Bar width from ``fraction``.
-
-    Shape (n, n, n) int8.
-    """
+    bars; one letter: square fibres). Bar width from ``fraction``."""
     n = _check_n(n)
     f = _check_fraction(fraction)
     periods = _check_periods(periods, n)
@@ -243,8 +203,7 @@ def random_pattern(
 
     ``correlation`` = 0 draws voxels independently; > 0 thresholds periodic Gaussian-smoothed
     noise (standard deviation ``correlation`` in cell units, e.g. 0.05) into blobs.
-    Statistically isotropic. Deterministic for a given ``seed``. Shape (n, n, n) int8.
-    """
+    Statistically isotropic, deterministic for a given ``seed``."""
     n = _check_n(n)
     f = _check_fraction(fraction)
     corr = float(correlation)
@@ -267,16 +226,10 @@ def random_pattern(
     return out.reshape(n, n, n)
 
 
-# ---------------------------------------------------------------------------------------------
-# Registry
-# ---------------------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class PatternParameter:
-    """One parameter of a pattern family, for building GUI widgets.
-
-    kind : "int", "float" or "choice"; ``low``/``high`` bound numbers, ``choices`` lists the
-    allowed values of a "choice".
-    """
+    """One parameter of a pattern family, for GUI widgets: ``kind`` "int", "float" or
+    "choice"; ``low``/``high`` bound numbers, ``choices`` lists a "choice"'s values."""
 
     name: str
     kind: str
@@ -381,10 +334,8 @@ PATTERNS: dict[str, PatternSpec] = {
 
 
 def make_pattern(name: str, n: int = 16, **params: Any) -> np.ndarray:
-    """Build the pattern ``name`` of :data:`PATTERNS` on an n^3 grid: (n, n, n) int8.
-
-    Unknown names or parameters raise ValueError listing the valid ones.
-    """
+    """Build the pattern ``name`` of :data:`PATTERNS` on an n^3 grid (ValueError listing the
+    valid names or parameters)."""
     if name not in PATTERNS:
         raise ValueError(f"unknown pattern {name!r}; choose one of {list(PATTERNS)}")
     spec = PATTERNS[name]

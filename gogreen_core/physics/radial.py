@@ -1,27 +1,18 @@
 """Radial terms of the SH-regularized Green's function (the brush falloff).
 
-For a radial load g_ε with Fourier transform ĝ, the kernel needs, for each degree l,
-
-* ``R_l(r) = ∫₀^∞ ĝ(k) j_l(kr) dk``    (even l, for G; paper Eq. 10)
-* ``ℛ_l(r) = ∫₀^∞ ĝ(k) j_l(kr) k dk``  (odd l, for ∇G; paper Eq. 12)
-
-All profiles here are scale-free in ρ = r/ε: ``R_l(r) = F_l(ρ)/ε`` and ``ℛ_l(r) = F'_l(ρ)/ε²``,
-where F_l, F'_l are dimensionless. Far away R_l ~ 1/r and ℛ_l ~ 1/r², so the kernel tabulates
-the bounded functions ``F_l(ρ)(1+ρ)`` and ``F'_l(ρ)(1+ρ)²`` on t = ρ/(1+ρ) ∈ [0, 1], which
-covers every r including r → ∞ (see :func:`radial_table`). The tables depend only on the shape
-of the profile, not on ε, so changing the brush radius costs nothing.
-
-Profiles:
+For a radial load g_ε with Fourier transform ĝ the kernel needs, per degree l,
+``R_l(r) = ∫₀^∞ ĝ(k) j_l(kr) dk`` (even l, for G; paper Eq. 10) and
+``ℛ_l(r) = ∫₀^∞ ĝ(k) j_l(kr) k dk`` (odd l, for ∇G; paper Eq. 12). All profiles are scale-free:
+``R_l(r) = F_l(ρ)/ε``, ``ℛ_l(r) = F'_l(ρ)/ε²`` with ρ = r/ε, so their tables
+(:mod:`~gogreen_core.physics.radial_tables`) do not depend on ε.
 
 * :class:`GaussianRadial`: g_ε = exp(-r²/ε²)/(ε³π^{3/2}), ĝ = exp(-ε²k²/4) (paper Eq. 13).
-* :class:`KelvinletRadial`: g_ε = 15ε⁴/(8π)(r²+ε²)^{-7/2} of de Goes & James 2017, whose
-  transform is ĝ(k) = (εk)² K₂(εk)/2 (ĝ(0) = 1). With GR 6.576.3,
+* :class:`KelvinletRadial`: g_ε = 15ε⁴/(8π)(r²+ε²)^{-7/2} (de Goes & James 2017),
+  ĝ(k) = (εk)² K₂(εk)/2; with GR 6.576.3,
   R_l = (√π/2) ρ^l Γ((l+5)/2) Γ((l+1)/2)/Γ(l+3/2) ₂F₁((l+5)/2, (l+1)/2; l+3/2; -ρ²)/ε and
   ℛ_l = √π ρ^l Γ(l/2+3) Γ(l/2+1)/Γ(l+3/2) ₂F₁(l/2+3, l/2+1; l+3/2; -ρ²)/ε².
-  An isotropic material then reproduces the closed-form regularized Kelvinlet.
-* :class:`SplineRadial`: per-degree curves through editable control points (the artist's
-  falloff curves), with R_l(0) = ℛ_l(0) = 0 for l ≥ 1 as in the paper; shape-preserving for new
-  curves, interpolating cubic splines for those saved before (:data:`INTERPOLATIONS`).
+* :class:`SplineRadial`: the artist's per-degree curves through control points.
+* :class:`MultiscaleRadial`: a weighted sum of one shape at several radii.
 """
 
 from __future__ import annotations
@@ -29,7 +20,7 @@ from __future__ import annotations
 import hashlib
 from abc import ABC, abstractmethod
 from collections.abc import Iterable, Sequence
-from typing import Any, cast
+from typing import Any, Self, cast
 
 import numpy as np
 from scipy import special
@@ -44,6 +35,7 @@ from gogreen_core.physics.radial_tables import (
     cached_table,
     radial_table,
 )
+from gogreen_core.validation import check_number
 
 __all__ = [
     "INTERPOLATIONS",
@@ -65,13 +57,7 @@ _DECAY = DECAY  # far-field decay power of each kind (see radial_tables)
 
 
 def _check_eps(eps: float) -> float:
-    try:
-        value = float(eps)
-    except (TypeError, ValueError):
-        raise ValueError(f"eps (regularization radius) must be a number (got {eps!r})") from None
-    if not np.isfinite(value) or value <= 0:
-        raise ValueError(f"eps (regularization radius) must be finite and > 0 (got {eps!r})")
-    return value
+    return check_number("eps", eps, low=0.0, low_open=True)
 
 
 def _check_degree(kind: str, l: int) -> int:
@@ -101,16 +87,15 @@ class RadialProfile(ABC):
     def dimensionless(self, kind: str, l: int, rho: np.ndarray) -> np.ndarray:
         """F_l(ρ) ("R") or F'_l(ρ) ("dR") at ρ = r/ε (any shape), float64."""
 
-    def with_eps(self, eps: float) -> RadialProfile:
+    def with_eps(self, eps: float) -> Self:
         """The same falloff shape with another radius ε (shares cached tables)."""
         clone = object.__new__(type(self))
         clone.__dict__.update(self.__dict__)
         clone._eps = _check_eps(eps)
         return clone
 
-    def as_value(self) -> RadialProfile:
-        """This shape at ε = 1 as an immutable value (what settings hold and compare by
-        content): itself when it is one already."""
+    def as_value(self) -> Self:
+        """This shape at ε = 1 (what settings hold and compare by content)."""
         return self if self._eps == 1.0 else self.with_eps(1.0)
 
     @abstractmethod
@@ -148,32 +133,22 @@ class _ClosedFormRadial(RadialProfile):
 
 
 class GaussianRadial(_ClosedFormRadial):
-    """Gaussian load g_ε = exp(-r²/ε²)/(ε³π^{3/2}): the paper's Eq. 13 (regularized ₁F̃₁).
-
-    Large ρ is safe: scipy's ₁F₁ stays accurate at large negative arguments (checked against
-    quadrature of the radial integrals to ~1e-13 for l ≤ 31, ρ ≤ 10⁵).
-    """
+    """Gaussian load: the paper's Eq. 13 (regularized ₁F̃₁); scipy's ₁F₁ stays accurate at
+    large negative arguments (~1e-13 against quadrature for l ≤ 31, ρ ≤ 10⁵)."""
 
     kind_name = "gaussian"
 
     def dimensionless(self, kind: str, l: int, rho: np.ndarray) -> np.ndarray:
         l = _check_degree(kind, l)
         rho = np.asarray(rho, dtype=np.float64)
-        if kind == "R":
-            a, c = (l + 1) / 2, np.sqrt(np.pi) / 2
-        else:
-            a, c = l / 2 + 1, np.sqrt(np.pi)
-        b = l + 1.5
-        scale = c * special.gamma(a) / special.gamma(b)
-        return cast(np.ndarray, scale * rho**l * special.hyp1f1(a, b, -(rho**2)))
+        a, c = ((l + 1) / 2, np.sqrt(np.pi) / 2) if kind == "R" else (l / 2 + 1, np.sqrt(np.pi))
+        scale = c * special.gamma(a) / special.gamma(l + 1.5)
+        return cast(np.ndarray, scale * rho**l * special.hyp1f1(a, l + 1.5, -(rho**2)))
 
 
 class KelvinletRadial(_ClosedFormRadial):
-    """Regularized Kelvinlet load g_ε = 15ε⁴/(8π)(r²+ε²)^{-7/2} (de Goes & James 2017).
-
-    For an isotropic material the kernel then equals their closed form
-    u = [(a-b)/r_ε I + b/r_ε³ r rᵀ + a ε²/(2 r_ε³) I] f with a = 1/(4πμ), b = a/(4(1-ν)).
-    """
+    """Regularized Kelvinlet load: with an isotropic material the kernel is de Goes & James'
+    closed form u = [(a-b)/r_ε I + b/r_ε³ r rᵀ + a ε²/(2 r_ε³) I] f, a = 1/(4πμ), b = a/(4(1-ν))."""
 
     kind_name = "kelvinlet"
 
@@ -184,9 +159,8 @@ class KelvinletRadial(_ClosedFormRadial):
             a, b, c = (l + 5) / 2, (l + 1) / 2, np.sqrt(np.pi) / 2
         else:
             a, b, c = l / 2 + 3, l / 2 + 1, np.sqrt(np.pi)
-        g = l + 1.5
-        scale = c * special.gamma(a) * special.gamma(b) / special.gamma(g)
-        return cast(np.ndarray, scale * rho**l * special.hyp2f1(a, b, g, -(rho**2)))
+        scale = c * special.gamma(a) * special.gamma(b) / special.gamma(l + 1.5)
+        return cast(np.ndarray, scale * rho**l * special.hyp2f1(a, b, l + 1.5, -(rho**2)))
 
 
 #: Default control abscissae (ρ = r/ε) of a spline falloff: dense where the falloff bends.
@@ -202,9 +176,9 @@ class SplineRadial(RadialProfile):
 
     Control abscissae start at ρ = 0 and increase; for l ≥ 1 the value at ρ = 0 is pinned to 0
     (R_l(0) = 0, as the paper does). Beyond the last point ρ_n the curve decays as
-    F(ρ_n)(ρ_n/ρ)^p (p = 1 for R, 2 for ℛ). A value compared by content: settings hold frozen
-    ones (:meth:`as_value`), an edit makes a new one (:meth:`with_curves`, ...) and bumps
-    :attr:`version`; tables are keyed by a digest of the points.
+    F(ρ_n)(ρ_n/ρ)^p (p = 1 for R, 2 for ℛ). An immutable value compared by content: an edit
+    makes a new one (:meth:`with_curves`, ...) and bumps :attr:`version`; tables are keyed by a
+    digest of the points.
     """
 
     kind_name = "spline"
@@ -226,7 +200,6 @@ class SplineRadial(RadialProfile):
         self._splines: dict[tuple[str, int], PPoly] = {}
         self._digest: str | None = None
         self._version = 0
-        self._frozen = False
         if not curves:
             raise ValueError("a spline falloff needs at least one curve")
         for (kind, l), (rho, value) in curves.items():
@@ -260,7 +233,7 @@ class SplineRadial(RadialProfile):
     def with_interpolation(self, interpolation: str) -> SplineRadial:
         """The same control points through another interpolant (a new value)."""
         clone = SplineRadial(self.eps, self._curves, interpolation)
-        clone._frozen, clone._version = self._frozen, self._version + 1
+        clone._version = self._version + 1
         return clone
 
     @property
@@ -323,26 +296,6 @@ class SplineRadial(RadialProfile):
             raise ValueError("a falloff curve needs at least 3 control points")
         return self.with_curves({(kind, l): (np.delete(xs, index), np.delete(ys, index))})
 
-    def as_value(self) -> SplineRadial:
-        """This shape at ε = 1 as an immutable value: itself when it is one already, else a
-        frozen copy (later edits of this profile do not reach it)."""
-        if self._frozen and self.eps == 1.0:
-            return self
-        clone = self.with_eps(1.0)
-        clone._frozen = True
-        return clone
-
-    def set_curve(self, kind: str, l: int, rho: np.ndarray, value: np.ndarray) -> None:
-        """Replace one curve's control points in place, for a profile a script builds before
-        handing it over (refused on a frozen value: settings hold those)."""
-        if self._frozen:
-            raise TypeError(
-                "this falloff is an immutable value (settings hold it): make an edited one "
-                "with with_curves, with_point_moved, with_point_added or without_point"
-            )
-        self._store(kind, l, rho, value)
-        self._version += 1
-
     def _key(self, kind: str, l: int) -> tuple[str, int]:
         l = _check_degree(kind, l)
         key = (kind, l)
@@ -398,14 +351,6 @@ class SplineRadial(RadialProfile):
                 digest.update(value.tobytes())
             self._digest = digest.hexdigest()
         return ("spline", self._digest)
-
-    def with_eps(self, eps: float) -> SplineRadial:
-        if self._frozen:  # immutable curves: shared
-            return super().with_eps(eps)  # type: ignore[return-value]
-        # Curves are copied (not shared) so that editing one profile never changes another.
-        clone = SplineRadial(eps, dict(self._curves), self._interpolation)
-        clone._version = self._version
-        return clone
 
     def __eq__(self, other: object) -> bool:
         """Equal by content: the same ε and the same control points."""

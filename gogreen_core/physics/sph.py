@@ -1,20 +1,13 @@
 """Real spherical harmonics by the normalized associated-Legendre recurrence.
 
-The real, orthonormal basis used everywhere in the kernel (no Condon–Shortley phase):
-
-* ``Y_l0 = Q_l^0(z)``
-* ``Y_lm = Q_l^m(z) Re[(x + i y)^m]`` and ``Y_l,-m = Q_l^m(z) Im[(x + i y)^m]`` for m > 0,
-
-for a unit vector (x, y, z), where ``Q_l^m(z) (1 - z²)^(m/2)`` is the associated Legendre
-function times its normalization (and √2 for m > 0). Writing the azimuthal part as
-``(x + i y)^m`` avoids any trigonometry. ``Q`` follows the stable three-term recurrence
+The real orthonormal basis of the kernel (no Condon–Shortley phase), for a unit (x, y, z):
+``Y_l0 = Q_l^0(z)``, ``Y_lm = Q_l^m(z) Re[(x + i y)^m]``, ``Y_l,-m = Q_l^m(z) Im[(x + i y)^m]``
+(m > 0), with the stable recurrence
 
     Q_m^m = sqrt((2m+1)/(2m)) Q_{m-1}^{m-1},    Q_0^0 = 1/sqrt(4π)  (√2 folded in at m = 1)
     Q_l^m = a_lm (z Q_{l-1}^m - b_lm Q_{l-2}^m)  for l > m   (Q_{m-1}^m = 0).
 
-The same constants drive the numba evaluation kernel (``kernel.py``) and the NumPy basis below,
-so precompute and evaluation agree to rounding. Terms of degree l are stored at index
-``l*l + l + m`` (m from -l to l) in a full basis.
+The compiled kernels use the same constants. Y_lm is stored at index ``l*l + l + m``.
 """
 
 from __future__ import annotations

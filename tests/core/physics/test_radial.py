@@ -77,7 +77,7 @@ def test_spline_sampled_from_gaussian_approximates_it():
 def test_spline_keeps_zero_at_origin_and_edits_change_the_kernel():
     spline = SplineRadial.from_profile(GaussianRadial(1.0), l_max=4)
     rho, value = spline.curve("R", 2)
-    spline.set_curve("R", 2, rho, value + 0.5)
+    spline = spline.with_curves({("R", 2): (rho, value + 0.5)})
     assert spline.curve("R", 2)[1][0] == 0.0  # pinned for l >= 1
     assert spline.dimensionless("dR", 1, np.array([0.0]))[0] == 0.0
     material = Material.cubic(3.0, 1.5, 0.4)
