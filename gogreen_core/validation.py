@@ -37,8 +37,8 @@ class ParameterError(ValueError):
         self.parameter = parameter
 
     def within(self, prefix: str) -> ParameterError:
-        """The same error for the parameter seen from an enclosing object: ``prefix`` is the
-        enclosing path (``"operations[3]"``), so ``delta`` becomes ``operations[3].delta``."""
+        """The same error seen from the enclosing path ``prefix``: ``delta`` within
+        ``"operations[3]"`` is ``operations[3].delta``."""
         if not prefix:
             return self
         path = field(prefix, self.parameter) if self.parameter else prefix
@@ -82,11 +82,8 @@ def check_number(
     low_open: bool = False,
     high_open: bool = False,
 ) -> float:
-    """``value`` as a finite float within the given bounds, else :class:`ParameterError`.
-
-    ``bool`` is refused (``True`` is not a radius). Bounds are closed unless ``low_open`` /
-    ``high_open``.
-    """
+    """``value`` as a finite float within the bounds (closed unless ``low_open`` /
+    ``high_open``); ``bool`` is refused (``True`` is not a radius)."""
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
         raise ParameterError(name, f"{name} must be a number (got {value!r})")
     try:
@@ -118,8 +115,7 @@ def check_finite(name: str, value: object, shape: tuple[int, ...] | None = None)
 
 
 def vector_norm(vector: np.ndarray) -> float:
-    """Euclidean length of a finite vector without overflow or underflow of the squares
-    (``np.linalg.norm([0, 1e200, 0])`` is inf)."""
+    """Euclidean length without overflow of the squares (``norm([0, 1e200, 0])`` is inf)."""
     v = np.asarray(vector, dtype=np.float64)
     peak = float(np.abs(v).max()) if v.size else 0.0
     if peak == 0.0 or not math.isfinite(peak):
@@ -196,9 +192,8 @@ def check_object(
     required: tuple[str, ...] = (),
     optional: tuple[str, ...] | None = None,
 ) -> dict[str, Any]:
-    """``value`` if it is a dict (a JSON object) with every ``required`` key and no key outside
-    ``required + optional``; :class:`ParameterError` naming the missing or unknown field.
-    With neither given, only the type is checked."""
+    """``value`` if it is a dict (a JSON object) with every ``required`` key and, when either
+    is given, no key outside ``required + optional``."""
     if not isinstance(value, dict):
         what = "null" if value is None else type(value).__name__
         raise ParameterError(name, f"{name or 'the file'} must be an object (got {what})")

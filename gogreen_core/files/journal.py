@@ -21,6 +21,7 @@ import threading
 import time
 from collections.abc import Callable
 from dataclasses import replace
+from functools import partial
 from pathlib import Path
 from typing import Any, cast
 
@@ -56,6 +57,8 @@ CHECKPOINT_WORK = 1.5e7
 #: Checkpoints kept per journal (recovery may start from an older one for a deeper undo).
 KEEP_CHECKPOINTS = 3
 _COMPACT = (",", ":")
+#: A task of the journal's worker: (kind, the file of an fsync, the action; None to stop).
+_Task = tuple[str, object, Callable[[], object] | None]
 
 
 def operation_json(op: Operation, events: list[tuple[object, str]] | None = None) -> str:
@@ -124,7 +127,7 @@ class Journal:
         self._problems: list[str] = []
         self._reported = 0
         self._lock_problems = threading.Lock()
-        self._tasks: collections.deque[tuple[Any, ...]] = collections.deque()
+        self._tasks: collections.deque[_Task] = collections.deque()
         self._busy = False
         self._cond = threading.Condition()
         self._thread = threading.Thread(target=self._run, name="gogreen-journal", daemon=True)
@@ -133,12 +136,6 @@ class Journal:
         self._retire = replaces
         self._base_written = False
         self._start()
-
-    # -- state -------------------------------------------------------------------------------
-    @property
-    def id(self) -> str | None:
-        """The journal's name (its folder's), or None."""
-        return None if self.directory is None else self.directory.name
 
     @property
     def active(self) -> bool:
@@ -163,7 +160,6 @@ class Journal:
             if text not in self._problems:
                 self._problems.append(text)
 
-    # -- writing -----------------------------------------------------------------------------
     def _start(self) -> None:
         """Begin a journal of the sculptor's current state (a new folder, or a new generation
         in the same folder): header now, base copy on the worker thread."""
@@ -206,12 +202,12 @@ class Journal:
         self._work = 0.0
         self._stopped = False
         if old is not None:
-            self._submit(("close", old))
-        self._submit(("base", state, base))
-        self._submit(("fsync", fd, 0))
-        self._submit(("prune", base))
+            self._submit("close", partial(os.close, old))
+        self._submit("base", partial(self._write_base, state, base))
+        self._submit("fsync", partial(self._fsync, fd, 0), fd)
+        self._submit("prune", partial(self._prune, base))
         if self._retire is not None:
-            self._submit(("retire", self._retire))
+            self._submit("retire", partial(self._retire_journal, self._retire))
             self._retire = None
 
     def _write_header(self, header: bytes) -> int:
@@ -257,11 +253,12 @@ class Journal:
             f'{{"seq":{seq},"kind":"{kind}","n":{length},"t":{time.time():.3f},'
             f'"d":{self._done()},"op":{text}}}'
         )
-        write_all(cast(int, self._fd), frame(record.encode()))
+        fd = cast(int, self._fd)
+        write_all(fd, frame(record.encode()))
         self.records = seq
         events = len(op.events) if isinstance(op, Stroke) else 0
         self._work += replay_work(op.name, events, len(self.sculptor.vertices))
-        self._submit(("fsync", self._fd, seq))
+        self._submit("fsync", partial(self._fsync, fd, seq), fd)
         if self.wake is not None:
             self.wake()
         if self.auto_checkpoint and self.checkpoint_due:
@@ -283,7 +280,9 @@ class Journal:
         state = capture_state(self.sculptor, self._base_faces)  # faces only if subdivided
         extra = {"token": self._token, "seq": self.records, "done": self._done()}
         self._work = 0.0
-        self._submit(("checkpoint", state, {**extra, "time": time.time()}))
+        self._submit(
+            "checkpoint", partial(self._write_checkpoint, state, {**extra, "time": time.time()})
+        )
         return True
 
     def maybe_checkpoint(self) -> bool:
@@ -294,7 +293,9 @@ class Journal:
         """Write a small file into the journal's folder on the worker thread (the app's
         thumbnail), atomically."""
         if self.active:
-            self._submit(("file", name, data))
+            self._submit(
+                "file", partial(write_bytes_atomic, cast(Path, self.directory) / name, data)
+            )
 
     def restart(self, document: str | None = None, title: str | None = None) -> None:
         """Start a fresh journal from the sculptor's current state (after a save: the saved
@@ -323,7 +324,7 @@ class Journal:
         flushed first). Waits at most ``timeout`` seconds for the disk."""
         self._unsubscribe()
         self._stopped = True
-        self._submit(("stop",))
+        self._submit("stop", None)
         self._thread.join(timeout)
         if self._fd is not None:
             with contextlib.suppress(OSError):
@@ -339,13 +340,13 @@ class Journal:
             self._retire.release()
             self._retire = None
 
-    # -- worker thread -----------------------------------------------------------------------
-    def _submit(self, task: tuple[Any, ...]) -> None:
+    def _submit(self, kind: str, action: Callable[[], object] | None, key: object = None) -> None:
+        """Queue ``action`` (None: stop the worker); ``key``: the file of an fsync."""
         with self._cond:
-            self._tasks.append(task)
+            self._tasks.append((kind, key, action))
             self._cond.notify_all()
 
-    def _next_task(self) -> tuple[Any, ...]:
+    def _next_task(self) -> _Task:
         """The next task; runs of fsyncs of one file collapse into the last, and a checkpoint
         with a newer one queued is skipped."""
         with self._cond:
@@ -364,36 +365,25 @@ class Journal:
 
     def _run(self) -> None:
         while True:
-            task = self._next_task()
-            kind = task[0]
+            kind, _, action = self._next_task()
+            if action is None:
+                return
             try:
-                if kind == "stop":
-                    return
-                self._do(task)
+                action()
             except Exception as exc:
                 if kind != "file":  # a picture protects nothing: not worth a message
                     self._problem(_task_problem(kind, exc))
 
-    def _do(self, task: tuple[Any, ...]) -> None:
-        kind = task[0]
-        if kind == "fsync":
-            os.fsync(task[1])
-            self.durable = max(self.durable, task[2]) if task[1] == self._fd else self.durable
-        elif kind == "close":
-            os.close(task[1])
-        elif kind == "base":
-            self._write_base(task[1], task[2])
-        elif kind == "checkpoint":
-            self._write_checkpoint(task[1], task[2])
-        elif kind == "prune":
-            self._prune(keep_base=task[1])
-        elif kind == "file":
-            write_bytes_atomic(cast(Path, self.directory) / task[1], task[2])
-        elif kind == "retire":
-            if self._base_written:
-                task[1].remove()
-            else:  # this journal has no base copy: the recovered one stays for next time
-                task[1].release()
+    def _fsync(self, fd: int, seq: int) -> None:
+        os.fsync(fd)
+        if fd == self._fd:
+            self.durable = max(self.durable, seq)
+
+    def _retire_journal(self, lock: JournalLock) -> None:
+        if self._base_written:
+            lock.remove()
+        else:  # this journal has no base copy: the recovered one stays for next time
+            lock.release()
 
     def _write_base(self, state: SculptState, name: str) -> None:
         faces = state.faces

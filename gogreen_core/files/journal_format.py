@@ -173,10 +173,6 @@ class JournalLock:
                 write_all(fd, json.dumps(owner()).encode())
         return cls(directory, fd)
 
-    @property
-    def held(self) -> bool:
-        return self._fd is not None
-
     def release(self) -> None:
         """Let go (the folder stays)."""
         if self._fd is not None:

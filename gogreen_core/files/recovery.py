@@ -74,7 +74,6 @@ _KINDS = {
 }
 
 
-# -- listing ---------------------------------------------------------------------------------
 @dataclass
 class JournalInfo:
     """A journal as the recovery dialog and ``gogreen recover --list`` show it."""
@@ -82,16 +81,13 @@ class JournalInfo:
     directory: Path
     title: str
     document: str | None
-    created: float
     modified: float
     operations: int
     kinds: dict[str, int]
     vertices: int
-    faces: int
     in_use: bool
     owner: dict[str, Any]
     notes: list[str]
-    size: int
     thumbnail: Path | None
     readable: bool = True
 
@@ -124,43 +120,33 @@ def journal_info(directory: str | os.PathLike[str]) -> JournalInfo:
     """What :func:`list_journals` shows of one journal folder (never raises)."""
     directory = Path(directory)
     lock = None
-    try:
+    with contextlib.suppress(OSError):
         lock = JournalLock.acquire(directory)
-    except OSError:
-        pass
-    in_use = lock is None
     if lock is not None:
         lock.release()
-    size = 0
-    with contextlib.suppress(OSError):  # another app may be removing it right now
-        size = sum(p.stat().st_size for p in directory.iterdir() if p.is_file())
-    thumbnail_path = directory / THUMBNAIL_FILE
-    thumbnail = thumbnail_path if thumbnail_path.is_file() else None
+    thumbnail = directory / THUMBNAIL_FILE
+    picture = thumbnail if thumbnail.is_file() else None
     try:
         contents = read_journal(directory, validate=False)
     except JournalError as exc:
         mtime = directory.stat().st_mtime if directory.exists() else 0.0
         return JournalInfo(
-            directory, directory.name, None, mtime, mtime, 0, {}, 0, 0, in_use,
-            lock_owner(directory), [str(exc)], size, thumbnail, readable=False,
+            directory, directory.name, None, mtime, 0, {}, 0, lock is None,
+            lock_owner(directory), [str(exc)], picture, readable=False,
         )  # fmt: skip
-    header = contents.header
-    kinds = collections.Counter(op.get("op", "?") for op in contents.operations)
+    ops = contents.operations
     return JournalInfo(
         directory,
         contents.title,
         contents.document,
-        float(header.get("created", 0)),
         contents.modified,
-        len(contents.operations),
-        dict(kinds),
-        header["mesh"]["vertices"],
-        header["mesh"]["faces"],
-        in_use,
+        len(ops),
+        dict(collections.Counter(op.get("op", "?") for op in ops)),
+        contents.header["mesh"]["vertices"],
+        lock is None,
         lock_owner(directory),
         contents.notes,
-        size,
-        thumbnail,
+        picture,
     )
 
 
@@ -183,7 +169,7 @@ def list_journals(root: str | os.PathLike[str] | None = None) -> list[JournalInf
                 elif lock is not None:
                     lock.release()
             continue
-        if not folder.name.startswith(".") and folder.is_dir():
+        if not folder.name.startswith("."):
             infos.append(journal_info(folder))
     return sorted(infos, key=lambda info: info.modified, reverse=True)
 
@@ -206,9 +192,7 @@ def find_journal(name: str, root: str | os.PathLike[str] | None = None) -> Path:
 
 def discard(directory: str | os.PathLike[str]) -> None:
     """Delete a journal (not one a running app writes: :class:`JournalError`)."""
-    directory = Path(directory)
-    lock = _lock(directory)
-    lock.remove()
+    _lock(Path(directory)).remove()
 
 
 def _lock(directory: Path) -> JournalLock:
@@ -217,12 +201,10 @@ def _lock(directory: Path) -> JournalLock:
     except OSError as exc:
         raise JournalError(f"{directory.name}: cannot open ({exc.strerror})") from None
     if lock is None:
-        info = journal_info(directory)
-        raise JournalError(f"{directory.name}: {info.status()}")
+        raise JournalError(f"{directory.name}: {journal_info(directory).status()}")
     return lock
 
 
-# -- recovering ------------------------------------------------------------------------------
 @dataclass
 class Recovery:
     """A recovered journal: ``mesh`` (the document's mesh with the recovered vertices),

@@ -41,7 +41,7 @@ import numba as nb
 import numpy as np
 import scipy.fft as sfft
 
-from gogreen_core.physics.material import Material
+from gogreen_core.physics.material import VOIGT_PAIRS, Material
 from gogreen_core.validation import check_number
 
 __all__ = [
@@ -66,13 +66,12 @@ ProgressCallback = Callable[[float], object]
 _CORNERS = np.array(list(product((0, 1), repeat=3)), dtype=np.int64)
 # _BITS[code, a] = phase of the voxel that has the node as its local corner a.
 _BITS = ((np.arange(256)[:, None] >> np.arange(8)[None, :]) & 1).astype(np.int64)
-# Unit macroscopic strains as symmetric 3x3 tensors, Voigt order with engineering shear.
-_VOIGT_PAIRS = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))
 
 
 def _unit_strains() -> np.ndarray:
+    """Unit macroscopic strains as symmetric 3x3 tensors, Voigt order, engineering shear."""
     eps = np.zeros((6, 3, 3))
-    for j, (p, q) in enumerate(_VOIGT_PAIRS):
+    for j, (p, q) in enumerate(VOIGT_PAIRS):
         eps[j, p, q] += 0.5
         eps[j, q, p] += 0.5
     return eps
@@ -177,7 +176,7 @@ def _strain_operator() -> np.ndarray:
     b = np.zeros((8, 6, 8, 3))
     for comp in range(3):
         b[:, comp, :, comp] = grad[..., comp]
-    for row, (p, q) in enumerate(_VOIGT_PAIRS[3:], start=3):
+    for row, (p, q) in enumerate(VOIGT_PAIRS[3:], start=3):
         b[:, row, :, p] = grad[..., q]
         b[:, row, :, q] = grad[..., p]
     return b.reshape(8, 6, 24)
@@ -326,14 +325,9 @@ def _xpay_columns(  # pragma: no cover - compiled
 
 @dataclass(frozen=True)
 class HomogenizationResult:
-    """Effective material and solver diagnostics of :func:`homogenize_detailed`.
-
-    material : the effective (homogenized) Material.
-    fraction_b : volume fraction of phase b (voxels equal to 1).
-    iterations : preconditioned CG iterations (0 for a homogeneous grid).
-    residual : largest final relative preconditioned residual over the six load cases.
-    seconds : wall time of the call.
-    """
+    """The effective ``material`` of :func:`homogenize_detailed`, the ``fraction_b`` of phase
+    b, the CG ``iterations`` (0 for a homogeneous grid), the largest final relative ``residual``
+    of the six load cases and the call's wall time in ``seconds``."""
 
     material: Material
     fraction_b: float
@@ -473,26 +467,11 @@ def homogenize(
     rtol: float = 1e-5,
     max_iter: int = 2000,
 ) -> Material:
-    """Effective (homogenized) stiffness of a periodic two-phase voxel cell.
-
-    Parameters
-    ----------
-    phases : (n, n, n) array of 0/1, axis order x, y, z, n >= 2
-        One periodic cell; voxels equal to 0 are ``materials[0]``, equal to 1 ``materials[1]``.
-        The cell size drops out (only the pattern matters).
-    materials : (material_a, material_b)
-        The two phases (any anisotropic ``Material`` works; the GUI uses two isotropic ones,
-        see :func:`bimaterial`).
-    progress : callable(fraction) or None
-        Called with a non-decreasing fraction in [0, 1] (setup, each CG iteration, 1.0 at the
-        end) for a GUI progress bar. Its return value is ignored.
-    rtol : relative tolerance on the preconditioned CG residual of each load case (the
-        result's error is about rtol^2 times a contrast factor, see the module docstring).
-    max_iter : CG iteration limit (RuntimeError if reached).
-
-    Returns
-    -------
-    Material with the (6, 6) effective stiffness in the phases' units, in the grid's axes.
-    ValueError for invalid ``phases`` (:func:`check_phases`).
+    """Effective stiffness (a Material in the phases' units and the grid's axes) of one
+    periodic cell ``phases`` (n, n, n) of 0/1 (axis order x, y, z, n >= 2: :func:`check_phases`)
+    whose voxels 0 are ``materials[0]`` and 1 ``materials[1]`` (any Materials; the GUI's come
+    from :func:`bimaterial`). ``progress(fraction)``: non-decreasing in [0, 1], for a progress
+    bar. ``rtol``: the CG tolerance of each load case (the result's error is about rtol^2 times
+    a contrast factor); RuntimeError after ``max_iter`` iterations.
     """
     return homogenize_detailed(phases, materials, progress, rtol=rtol, max_iter=max_iter).material

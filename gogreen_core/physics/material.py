@@ -15,10 +15,11 @@ import numpy as np
 
 from gogreen_core.validation import check_finite, check_number
 
-__all__ = ["VOIGT_PAIRS", "Material", "tensor_to_voigt", "voigt_to_tensor"]
+__all__ = ["VOIGT_PAIRS", "Material", "tensor_to_voigt", "uniaxial_stress", "voigt_to_tensor"]
 
 #: Index pair (i, j) of each Voigt position, in the order 11, 22, 33, 23, 13, 12.
 VOIGT_PAIRS: tuple[tuple[int, int], ...] = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))
+_ROWS, _COLS = np.array(VOIGT_PAIRS).T
 
 # VOIGT_INDEX[i, j] -> Voigt position of the symmetric pair (i, j).
 VOIGT_INDEX = np.array([[0, 5, 4], [5, 1, 3], [4, 3, 2]])
@@ -35,9 +36,12 @@ def voigt_to_tensor(voigt: np.ndarray) -> np.ndarray:
 def tensor_to_voigt(tensor: np.ndarray) -> np.ndarray:
     """Contract a (3, 3, 3, 3) stiffness tensor with minor symmetries into (6, 6) Voigt form."""
     tensor = np.asarray(tensor, dtype=np.float64)
-    row_list, col_list = zip(*VOIGT_PAIRS, strict=True)
-    rows, cols = np.array(row_list), np.array(col_list)
-    return cast(np.ndarray, tensor[rows[:, None], cols[:, None], rows[None, :], cols[None, :]])
+    return cast(np.ndarray, tensor[_ROWS[:, None], _COLS[:, None], _ROWS[None, :], _COLS[None, :]])
+
+
+def uniaxial_stress(directions: np.ndarray) -> np.ndarray:
+    """The unit uniaxial stress d⊗d along unit ``directions`` (..., 3) in Voigt form (..., 6)."""
+    return np.ascontiguousarray(directions[..., _ROWS] * directions[..., _COLS])
 
 
 def check_rotation(rotation: np.ndarray, tol: float = 1e-9) -> np.ndarray:
@@ -54,18 +58,9 @@ def check_rotation(rotation: np.ndarray, tol: float = 1e-9) -> np.ndarray:
 
 
 class Material:
-    """A homogeneous linear elastic material, defined by its stiffness.
-
-    Build one with a named constructor (``isotropic``, ``from_lame``, ``cubic``,
-    ``orthotropic``, ``transversely_isotropic``, ``from_voigt``). Instances are immutable.
-
-    Attributes
-    ----------
-    voigt : (6, 6) float64
-        Stiffness in Voigt order 11, 22, 33, 23, 13, 12 (engineering shear).
-    tensor : (3, 3, 3, 3) float64
-        The same stiffness as C_ijkl with minor and major symmetries.
-    """
+    """A homogeneous linear elastic material, immutable, defined by its stiffness: build one
+    with a named constructor (``isotropic``, ``from_lame``, ``cubic``, ``orthotropic``,
+    ``transversely_isotropic``, ``from_voigt``)."""
 
     __slots__ = ("_tensor", "_voigt")
 
@@ -197,18 +192,10 @@ class Material:
         poisson_axial: float,
         shear_axial: float,
     ) -> Material:
-        """Transversely isotropic material, symmetry axis z (isotropic in the xy plane).
-
-        Parameters
-        ----------
-        young_plane : E_p = E1 = E2, Young's modulus in the xy plane.
-        young_axial : E_z = E3, Young's modulus along z.
-        poisson_plane : ν_p = ν12, in-plane contraction under in-plane stress (|ν_p| < 1).
-        poisson_axial : ν_pz = ν13 = ν23, contraction along z under in-plane stress.
-        shear_axial : G_z = G13 = G23, shear modulus of planes containing z.
-
-        The in-plane shear modulus is G12 = E_p / (2 (1 + ν_p)).
-        """
+        """Transversely isotropic material about z: Young's moduli E1 = E2 (``young_plane``)
+        and E3 (``young_axial``), Poisson ratios ν12 (``poisson_plane``, |ν12| < 1) and
+        ν13 = ν23 (``poisson_axial``), shear modulus G13 = G23 (``shear_axial``);
+        G12 = E1 / (2 (1 + ν12))."""
         ep = check_number("young_plane", young_plane)
         nup = check_number("poisson_plane", poisson_plane)
         if not -1.0 < nup < 1.0:
@@ -251,20 +238,8 @@ class Material:
     def directional_young(self, directions: np.ndarray) -> np.ndarray:
         """Young's modulus along unit directions (N, 3) → (N,): 1 / (d⊗d : S : d⊗d)."""
         d = np.asarray(directions, dtype=np.float64)
-        d = d / np.linalg.norm(d, axis=1, keepdims=True)
-        # Unit uniaxial stress d⊗d in Voigt form; S maps it to engineering strain, so
-        # σ·(Sσ) is the strain energy density and 1/E(d) = d⊗d : S : d⊗d.
-        sig = np.stack(
-            [
-                d[:, 0] ** 2,
-                d[:, 1] ** 2,
-                d[:, 2] ** 2,
-                d[:, 1] * d[:, 2],
-                d[:, 0] * d[:, 2],
-                d[:, 0] * d[:, 1],
-            ],
-            axis=1,
-        )
+        # S maps the uniaxial stress σ to engineering strain: 1/E(d) = σ·(Sσ)
+        sig = uniaxial_stress(d / np.linalg.norm(d, axis=1, keepdims=True))
         return cast(np.ndarray, 1.0 / np.einsum("na,ab,nb->n", sig, self.compliance, sig))
 
     # -- serialization ------------------------------------------------------------------------

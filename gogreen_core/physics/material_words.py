@@ -15,7 +15,7 @@ from typing import cast
 import numpy as np
 from scipy.optimize import minimize
 
-from gogreen_core.physics.material import Material
+from gogreen_core.physics.material import VOIGT_INDEX, Material, uniaxial_stress
 from gogreen_core.physics.quadrature import lebedev_points
 
 __all__ = [
@@ -54,12 +54,8 @@ class MaterialTraits:
 
 def _poisson(material: Material, along: np.ndarray, across: np.ndarray) -> float:
     """ν = −ε_across / ε_along under a uniaxial stress along ``along`` (unit vectors)."""
-    a = along
-    stress = np.array([a[0] ** 2, a[1] ** 2, a[2] ** 2, a[1] * a[2], a[0] * a[2], a[0] * a[1]])
-    e = material.compliance @ stress  # Voigt 11, 22, 33, 23, 13, 12, engineering shear
-    strain = np.array(
-        [[e[0], e[5] / 2, e[4] / 2], [e[5] / 2, e[1], e[3] / 2], [e[4] / 2, e[3] / 2, e[2]]]
-    )
+    e = material.compliance @ uniaxial_stress(along)  # engineering shear: halved off the diagonal
+    strain = e[VOIGT_INDEX] * np.where(np.eye(3) > 0, 1.0, 0.5)
     return float(-(across @ strain @ across) / (along @ strain @ along))
 
 

@@ -249,12 +249,18 @@ class PatternSpec:
     description: str
     parameters: tuple[PatternParameter, ...]
 
-    def __call__(self, n: int = 16, **params: Any) -> np.ndarray:
-        return self.function(n=n, **params)
-
 
 _AXIS_CHOICES = ("x", "y", "z")
 _PERIODS = PatternParameter("periods", "int", 1, "motif repeats along each axis", 1, 8)
+
+
+def _fraction(default: float, what: str, high: float = 1.0) -> PatternParameter:
+    return PatternParameter("fraction", "float", default, what, 0.0, high)
+
+
+def _choice(name: str, default: str, what: str, choices: tuple[str, ...]) -> PatternParameter:
+    return PatternParameter(name, "choice", default, what, choices=choices)
+
 
 #: Name -> PatternSpec of every pattern family (GUI order).
 PATTERNS: dict[str, PatternSpec] = {
@@ -265,8 +271,8 @@ PATTERNS: dict[str, PatternSpec] = {
             layered,
             "Laminate of alternating layers (transversely isotropic about the normal)",
             (
-                PatternParameter("normal", "choice", "z", "layer normal", choices=_AXIS_CHOICES),
-                PatternParameter("fraction", "float", 0.5, "phase-b layer fraction", 0.0, 1.0),
+                _choice("normal", "z", "layer normal", _AXIS_CHOICES),
+                _fraction(0.5, "phase-b layer fraction"),
                 _PERIODS,
             ),
         ),
@@ -275,14 +281,10 @@ PATTERNS: dict[str, PatternSpec] = {
             fibers,
             "Straight fibres / rods along an axis on a square array",
             (
-                PatternParameter("axis", "choice", "z", "fibre direction", choices=_AXIS_CHOICES),
-                PatternParameter(
-                    "fraction", "float", 0.3, "fibre volume fraction", 0.0, _MAX_FIBER_FRACTION
-                ),
+                _choice("axis", "z", "fibre direction", _AXIS_CHOICES),
+                _fraction(0.3, "fibre volume fraction", _MAX_FIBER_FRACTION),
                 _PERIODS,
-                PatternParameter(
-                    "shape", "choice", "round", "fibre section", choices=("round", "square")
-                ),
+                _choice("shape", "round", "fibre section", ("round", "square")),
             ),
         ),
         PatternSpec(
@@ -296,13 +298,9 @@ PATTERNS: dict[str, PatternSpec] = {
             spheres,
             "Spotted: spherical inclusions on a cubic lattice (cubic symmetry)",
             (
-                PatternParameter(
-                    "fraction", "float", 0.2, "inclusion volume fraction", 0.0, np.pi / 6.0
-                ),
+                _fraction(0.2, "inclusion volume fraction", np.pi / 6.0),
                 _PERIODS,
-                PatternParameter(
-                    "arrangement", "choice", "sc", "sphere lattice", choices=("sc", "bcc", "fcc")
-                ),
+                _choice("arrangement", "sc", "sphere lattice", ("sc", "bcc", "fcc")),
             ),
         ),
         PatternSpec(
@@ -310,11 +308,9 @@ PATTERNS: dict[str, PatternSpec] = {
             lattice,
             "Cross / lattice of square bars along the chosen axes",
             (
-                PatternParameter("fraction", "float", 0.3, "bar volume fraction", 0.0, 1.0),
+                _fraction(0.3, "bar volume fraction"),
                 _PERIODS,
-                PatternParameter(
-                    "axes", "choice", "xyz", "bar directions", choices=("xyz", "xy", "xz", "yz")
-                ),
+                _choice("axes", "xyz", "bar directions", ("xyz", "xy", "xz", "yz")),
             ),
         ),
         PatternSpec(
@@ -322,7 +318,7 @@ PATTERNS: dict[str, PatternSpec] = {
             random_pattern,
             "Random voxels or blobs (statistically isotropic)",
             (
-                PatternParameter("fraction", "float", 0.5, "phase-b volume fraction", 0.0, 1.0),
+                _fraction(0.5, "phase-b volume fraction"),
                 PatternParameter("seed", "int", 0, "random seed", 0, 2**31 - 1),
                 PatternParameter(
                     "correlation", "float", 0.0, "blob size (cell units, 0 = voxels)", 0.0, 0.25

@@ -63,15 +63,10 @@ def _product_rule(
     l_max: int, level: int, frame: np.ndarray, finest: float
 ) -> tuple[np.ndarray, np.ndarray]:
     """Gauss–Legendre in the polar angle θ × trapezoid in φ, in ``frame``: nodes (n, 3) and
-    weights (n,) summing to 4π.
-
-    θ panels: uniform ones with enough points for Y_lm up to l_max + 1 (GL with p points
-    resolves e^{ilθ} on a panel of width h for p ≳ lh/2 + 8), refined geometrically (ratio 2)
-    toward the equator and the poles down to width ``finest``, where the integrand M⁻¹ of a
-    strongly anisotropic material has its ridges and peaks: composite Gauss–Legendre on
-    geometrically graded panels converges exponentially however sharp the feature. ``level``
-    ≥ 0 raises the points per panel and in φ.
-    """
+    weights (n,) summing to 4π. Uniform θ panels resolve Y_lm up to l_max + 1 (p ≳ lh/2 + 8
+    points on width h), graded geometrically toward the equator and the poles down to width
+    ``finest``, where M⁻¹ has its ridges and peaks (exponential convergence however sharp);
+    ``level`` raises the points per panel and in φ."""
     coarse_points, fine_points = 16 + 4 * level, 8 + 4 * level
     n_uniform = int(np.ceil(np.pi * (l_max + 2) / (4 * (coarse_points - 8))))
     uniform_width = np.pi / (2 * n_uniform)
@@ -107,14 +102,10 @@ def material_rule(
     """Quadrature nodes (n, 3) and weights (n,) on the unit sphere for the material matrices
     P_lm = ∫ M(ξ̂)⁻¹ Y_lm dS of truncation ``l_max``, accurate to ``rtol`` (relative).
 
-    M⁻¹ is smooth for mild anisotropy, and the paper's Lebedev rule (order 131) serves; for
-    strong anisotropy it is sharply peaked (fibres at contrast 10⁴: a ridge 0.016 rad wide, and
-    the Lebedev rule's l = 0 coefficient is off by 1.5e-3). The Lebedev rule is kept when a lower
-    one (order 71) agrees with it on the moments of M⁻¹ up to degree 2, i.e. when M⁻¹ has no
-    content the rule would alias; otherwise a product rule graded toward the material's axis
-    (:func:`_product_rule`) is refined until two successive levels agree to ``rtol``, and the
-    coarser of the two is returned (at most four levels: past them the finest serves).
-    """
+    The paper's Lebedev rule (order 131) when the order-71 rule agrees with it on the moments
+    of M⁻¹ up to degree 2 (nothing to alias); for strong anisotropy M⁻¹ is sharply peaked
+    (fibres at contrast 10⁴: Lebedev's l = 0 term off by 1.5e-3), and a product rule graded
+    toward the material's axis is refined until two levels agree (at most four)."""
     nodes, weights = lebedev_points()
     reference = _low_moments(material, nodes, weights)
     scale = np.abs(reference).max()

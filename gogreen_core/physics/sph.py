@@ -27,13 +27,8 @@ def sh_index(l: int, m: int) -> int:
 
 @dataclass(frozen=True)
 class LegendreRecurrence:
-    """Constants of the normalized Legendre recurrence up to degree ``l_max``.
-
-    Attributes
-    ----------
-    qmm : (L+1,) float64, Q_m^m (constant in z).
-    a, b : (L+1, L+1) float64, a[l, m], b[l, m] for l > m (zero elsewhere).
-    """
+    """Constants of the normalized Legendre recurrence up to degree ``l_max``: ``qmm`` (L+1,)
+    the Q_m^m, ``a``, ``b`` (L+1, L+1) a[l, m], b[l, m] for l > m (zero elsewhere)."""
 
     l_max: int
     qmm: np.ndarray

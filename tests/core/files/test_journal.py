@@ -581,7 +581,7 @@ def test_gogreen_recover_lists_writes_and_discards(mesh, tmp_path, capsys):
     replayed.replay(load_session(session))
     assert np.array_equal(replayed.vertices, sculptor.vertices)
 
-    assert main(["recover", running.id, "-o", str(output)]) == 2
+    assert main(["recover", running.directory.name, "-o", str(output)]) == 2
     assert "in use by a running GoGreen Sculpt" in capsys.readouterr().err
     assert main(["recover", "nope", "-o", str(output)]) == 2
     assert "no journal 'nope'" in capsys.readouterr().err

@@ -148,7 +148,7 @@ def test_registry_entries_match_their_functions(name):
         assert p.description
     ph = make_pattern(name, 8)
     assert is_binary_cell(ph, 8)
-    assert np.array_equal(ph, spec(8))
+    assert np.array_equal(ph, spec.function(n=8))
 
 
 def test_make_pattern_errors():
