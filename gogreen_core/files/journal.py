@@ -290,8 +290,7 @@ class Journal:
         return self.checkpoint() if self.checkpoint_due else False
 
     def write_file(self, name: str, data: bytes) -> None:
-        """Write a small file into the journal's folder on the worker thread (the app's
-        thumbnail), atomically."""
+        """Write a small file (the thumbnail) into the folder, atomically, in the background."""
         if self.active:
             self._submit(
                 "file", partial(write_bytes_atomic, cast(Path, self.directory) / name, data)
@@ -347,8 +346,7 @@ class Journal:
             self._cond.notify_all()
 
     def _next_task(self) -> _Task:
-        """The next task; runs of fsyncs of one file collapse into the last, and a checkpoint
-        with a newer one queued is skipped."""
+        """The next task: a run of fsyncs of one file as one, a checkpoint only if the newest."""
         with self._cond:
             while not self._tasks:
                 self._busy = False

@@ -208,8 +208,7 @@ def lock_owner(directory: str | os.PathLike[str]) -> dict[str, Any]:
 
 
 def new_folder(root: Path) -> tuple[Path, JournalLock]:
-    """A new journal folder, locked before it gets its final name (so no other instance ever
-    sees it unlocked)."""
+    """A new journal folder, locked before it gets its final name (never seen unlocked)."""
     _private_folder(root)
     staging = Path(tempfile.mkdtemp(prefix=".new-", dir=root))  # mode 0700
     lock = JournalLock.acquire(staging, create=True)

@@ -80,8 +80,7 @@ class Preset:
         return EngineSettings(**values) if base is None else base.replace(**values)
 
     def apply(self, sculptor: Sculptor) -> None:
-        """Give ``sculptor`` this preset's settings, as one undo step (the brush is the
-        caller's to use)."""
+        """Give ``sculptor`` this preset's settings (not the brush), as one undo step."""
         target, joined = self.engine_settings(sculptor.settings), False
         for group in SETTING_GROUPS:
             if not sculptor.settings.agrees(target, group):

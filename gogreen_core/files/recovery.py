@@ -260,8 +260,7 @@ def journal_session(contents: JournalContents) -> dict[str, Any]:
 
 
 def _start_state(header: dict[str, Any], base: MeshData, mask: np.ndarray | None) -> SculptState:
-    """The journal's start state: its header's settings and pins, the base copy's vertices,
-    faces, UVs and mask."""
+    """The start state: the header's settings and pins, the base copy's arrays."""
     start = header["start"]
     pins = start.get("pins")
     arrays = [base.vertices.copy()]
@@ -338,8 +337,7 @@ def _base_mismatch(base: MeshData, mesh: dict[str, Any]) -> str | None:
 
 
 def _plan(records: list[Record]) -> list[Record]:
-    """The records to apply: of a run of ``replace`` records only the last (each merges into
-    the same operation)."""
+    """The records to apply: of a run of ``replace`` records (one operation) only the last."""
     plan: list[Record] = []
     for record in records:
         if record.kind == "replace" and plan and plan[-1].kind == "replace":
@@ -387,20 +385,17 @@ def recover(
     *,
     budget: float = RECOVERY_WORK,
     progress: Callable[[int, int], None] | None = None,
-    lock: bool = True,
 ) -> Recovery:
-    """Rebuild the document a journal was recording (see the module docstring).
+    """Rebuild the document a journal was recording, locked by the returned :class:`Recovery`.
 
-    ``budget``: most replay work when a checkpoint allows less (mouse events × vertices:
-    :func:`~gogreen_core.files.journal.replay_work`; 0 always starts from the newest usable
-    checkpoint, ``inf`` from the start).
-    ``progress(done, total)`` in mouse events. The journal stays locked by the returned
-    :class:`Recovery` (``lock=False``: not locked, for reading a copy).
-    :class:`JournalError` when nothing can be recovered or a running app holds it.
+    ``budget``: most replay work (:func:`~gogreen_core.files.journal.replay_work`) when a
+    checkpoint allows less (0: the newest usable checkpoint, ``inf``: the start).
+    ``progress(done, total)`` in mouse events. :class:`JournalError` when nothing can be
+    recovered or a running app holds it.
     """
     began = time.perf_counter()
     directory = Path(directory)
-    held = _lock(directory) if lock else None
+    held = _lock(directory)
     try:
         contents = read_journal(directory)
         notes = list(contents.notes)
@@ -450,8 +445,7 @@ def recover(
             time.perf_counter() - began,
         )  # fmt: skip
     except BaseException:
-        if held is not None:
-            held.release()
+        held.release()
         raise
 
 

@@ -45,8 +45,7 @@ def uniaxial_stress(directions: np.ndarray) -> np.ndarray:
 
 
 def check_rotation(rotation: np.ndarray, tol: float = 1e-9) -> np.ndarray:
-    """Return ``rotation`` as a float (3, 3) array, or raise ValueError if it is not a proper
-    rotation (orthonormal with determinant +1, within ``tol``)."""
+    """``rotation`` as a float (3, 3) array; ValueError unless a proper rotation (within tol)."""
     rot = check_finite("rotation", rotation, (3, 3))
     err = np.abs(rot @ rot.T - np.eye(3)).max()
     if err > tol:
@@ -224,8 +223,7 @@ class Material:
         return np.linalg.inv(self._voigt)
 
     def rotated(self, rotation: np.ndarray) -> Material:
-        """The material with its axes rotated by the proper rotation R (3, 3):
-        C'_abcd = R_ai R_bj R_ck R_dl C_ijkl."""
+        """The material turned by the rotation R (3, 3): C'_abcd = R_ai R_bj R_ck R_dl C_ijkl."""
         rot = check_rotation(rotation)
         c = np.einsum("ai,bj,ck,dl,ijkl->abcd", rot, rot, rot, rot, self._tensor, optimize=True)
         return Material(tensor_to_voigt(c))

@@ -103,12 +103,8 @@ class RadialProfile(ABC):
         """Hashable identity of the shape (not ε): equal keys give equal tables."""
 
     def table(self, kind: str, degrees: Iterable[int]) -> np.ndarray:
-        """Piecewise polynomial tables (n_degrees, TABLE_SEGMENTS, TABLE_DEGREE+1), see
-        :func:`radial_table`."""
-        return np.stack([self._degree_table(kind, int(l)) for l in degrees])
-
-    def _degree_table(self, kind: str, l: int) -> np.ndarray:
-        return cached_table(self.table_key(), kind, l, self)
+        """Tables (n_degrees, TABLE_SEGMENTS, TABLE_DEGREE+1) of :func:`radial_table`."""
+        return np.stack([cached_table(self.table_key(), kind, int(l), self) for l in degrees])
 
     @abstractmethod
     def to_dict(self) -> dict[str, Any]:
@@ -287,8 +283,7 @@ class SplineRadial(RadialProfile):
         ), index
 
     def without_point(self, kind: str, l: int, index: int) -> SplineRadial:
-        """This falloff without control point ``index`` (the first one, at ρ = 0, and the last
-        two stay)."""
+        """This falloff without control point ``index`` (not the one at ρ = 0)."""
         xs, ys = self.curve(kind, l)
         if index == 0 or index % len(xs) == 0:
             raise ValueError("the control point at rho = 0 cannot be removed")
