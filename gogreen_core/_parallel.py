@@ -24,9 +24,8 @@ from numba.core.ccallback import CFunc
 
 __all__ = ["run_ranges"]
 
-#: Ranges per thread: many, handed out as threads ask for them, so that a thread slowed by
-#: other programs on the shared cores does not hold the others up, and the last ranges of the
-#: threads end together.
+#: Ranges per thread: many, handed out as threads ask, so a thread slowed by other programs
+#: does not hold the others up.
 RANGES_PER_THREAD = 32
 
 _pool: ThreadPoolExecutor | None = None
@@ -70,10 +69,9 @@ def _type_key(value: Any) -> Any:
 
 
 def _entry_point(work: Callable[[int, int], None]) -> Callable[[int, int], None]:
-    """``work``, a ``partial`` of a numba dispatcher, as a ``partial`` of the machine code the
-    dispatcher would choose for these arguments and two int ranges (its compiled entry point,
-    which skips the typing of the arguments); ``work`` itself when there is none yet (the
-    dispatcher then compiles) or it cannot be told (numba's ``overloads``, not public API)."""
+    """``work``, a ``partial`` of a numba dispatcher, as a ``partial`` of the compiled entry
+    point it would choose (no typing of the arguments); ``work`` itself when there is none yet
+    or it cannot be told (numba's ``overloads`` is not public API)."""
     if not isinstance(work, partial) or work.keywords:
         return work
     overloads = getattr(work.func, "overloads", None)

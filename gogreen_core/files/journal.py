@@ -161,8 +161,7 @@ class Journal:
                 self._problems.append(text)
 
     def _start(self) -> None:
-        """Begin a journal of the sculptor's current state (a new folder, or a new generation
-        in the same folder): header now, base copy on the worker thread."""
+        """Begin a journal (or a new generation of it) from the sculptor's current state."""
         try:
             if self.directory is None:
                 self.directory, self._lock = new_folder(self.root)
@@ -211,8 +210,7 @@ class Journal:
             self._retire = None
 
     def _write_header(self, header: bytes) -> int:
-        """Write a new ``journal.jsonl`` holding the header alone (renamed over the old one, so
-        there is always a whole journal); returns its descriptor, open for appending."""
+        """A new ``journal.jsonl`` of the header alone, renamed over the old one: its fd."""
         directory = cast(Path, self.directory)  # (started: the folder was made)
         tmp = directory / f".{JOURNAL_FILE}.tmp"
         fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_APPEND, 0o600)
@@ -408,8 +406,8 @@ class Journal:
         self._prune()
 
     def _prune(self, keep_base: str | None = None) -> None:
-        """Delete all but the newest :data:`KEEP_CHECKPOINTS` checkpoints, the checkpoints of
-        an older generation (``keep_base`` given: a restart) and other base copies."""
+        """Keep the newest :data:`KEEP_CHECKPOINTS` checkpoints (``keep_base``: a restart, none
+        of them, nor other base copies)."""
         directory = cast(Path, self.directory)  # (tasks are queued once the folder was made)
         numbered = checkpoint_files(directory)
         drop = numbered if keep_base is not None else numbered[:-KEEP_CHECKPOINTS]

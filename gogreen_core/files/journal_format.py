@@ -308,14 +308,10 @@ def _check_header(header: object, name: str) -> dict[str, Any]:
     if not isinstance(header, dict) or header.get("format") != JOURNAL_FORMAT:
         raise JournalError(f"{name}: not a GoGreen Sculpt journal")
     try:
-        mesh, start = header["mesh"], header["start"]
-        ok = (
-            isinstance(header["version"], int)
-            and isinstance(mesh["vertices"], int)
-            and isinstance(mesh["faces"], int)
-            and isinstance(mesh["sha256"], str)
-            and isinstance(mesh["base"], str)
-            and isinstance(start, dict)
+        mesh = header["mesh"]
+        values = (header["version"], mesh["vertices"], mesh["faces"], mesh["sha256"], mesh["base"])
+        ok = isinstance(header["start"], dict) and all(
+            isinstance(v, t) for v, t in zip(values, (int, int, int, str, str), strict=True)
         )
     except (KeyError, TypeError):
         ok = False
@@ -335,9 +331,8 @@ def read_journal(directory: str | os.PathLike[str], validate: bool = True) -> Jo
     except OSError as exc:
         raise JournalError(f"{directory.name}: cannot read the journal ({exc.strerror})") from None
     lines = data.split(b"\n")
-    payload = _frame_payload(lines[0]) if len(lines) > 1 else None
-    try:
-        header = json.loads(payload) if payload is not None else None
+    try:  # (a bad checksum: no payload, no JSON)
+        header = json.loads(_frame_payload(lines[0]) or b"") if len(lines) > 1 else None
     except ValueError:
         header = None
     if header is None:
@@ -362,11 +357,12 @@ def read_journal(directory: str | os.PathLike[str], validate: bool = True) -> Jo
         if last and not line:
             break
         seq = index + 1
-        problem = "was cut off (its write did not finish)" if last else None
-        record = None
-        if problem is None:
-            record, problem = _parse_record(line, seq, validate, version)
-        if problem is not None:
+        record, problem = (
+            _parse_record(line, seq, validate, version)
+            if not last
+            else (None, "was cut off (its write did not finish)")
+        )
+        if record is None:
             dropped = len(body) - index - (0 if body[-1] else 1)
             size = sum(len(x) + 1 for x in body[index:]) - 1
             what = f"it and the {dropped - 1} after it were" if dropped > 1 else "it was"
@@ -375,7 +371,6 @@ def read_journal(directory: str | os.PathLike[str], validate: bool = True) -> Jo
                 "records before it are kept"
             )
             break
-        assert record is not None  # parsed without a problem
         contents.records.append(record)
     return contents
 

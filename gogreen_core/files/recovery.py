@@ -207,11 +207,9 @@ def _lock(directory: Path) -> JournalLock:
 
 @dataclass
 class Recovery:
-    """A recovered journal: ``mesh`` (the document's mesh with the recovered vertices),
-    ``sculptor`` (continues bit for bit; its undo history holds the ``replayed`` records),
-    ``records`` and ``operations`` recovered, ``start`` (0: the journal's start, k: the
-    checkpoint after record k), ``notes`` (what was dropped), and the journal's ``lock``
-    (held until :meth:`release`, or handed to the journal that continues it)."""
+    """A recovered journal: the document's ``mesh``, a ``sculptor`` that continues bit for bit
+    (its undo history holds the ``replayed`` records), ``start`` (0, or the checkpoint's
+    record), ``notes`` on what was dropped, and the ``lock`` (held until :meth:`release`)."""
 
     contents: JournalContents
     mesh: MeshData
@@ -279,9 +277,8 @@ def _start_state(header: dict[str, Any], base: MeshData, mask: np.ndarray | None
 def _load_base(
     contents: JournalContents, notes: list[str]
 ) -> tuple[MeshData | None, bool, np.ndarray | None]:
-    """The journal's start mesh, whether its vertices are the start's (False: only the faces
-    of the document's file could be had, for use with a checkpoint), and the start's mask
-    (None when nothing was masked, or the copy is missing)."""
+    """The start mesh, whether its vertices are the start's (False: only the document's faces,
+    for a checkpoint), and the start's mask (None if unmasked or lost)."""
     header = contents.header
     mesh = header["mesh"]
     name = mesh["base"]
@@ -357,9 +354,8 @@ def _replay(
     done: int,
     progress: Callable[[int, int], None] | None,
 ) -> tuple[int, str | None]:
-    """Apply ``records`` to ``sculptor`` (whose ``history.done`` stands for ``done``); returns
-    how many were applied and the error that stopped it (None). Raises :class:`_Diverged`.
-    ``progress(done, total)`` in mouse events."""
+    """Apply ``records`` to ``sculptor`` (whose ``history.done`` stands for ``done``): how many
+    were applied and the error that stopped it, or :class:`_Diverged`."""
     offset = done - sculptor.history.done
     total = sum(r.steps for r in records)
     steps = applied = 0
@@ -420,9 +416,8 @@ def recover(
                 notes.append(f"checkpoint after record {seq} not used: {exc}")
                 continue
             sculptor = restore_state(state, base.faces, base.uv, base.uv_faces)
-            tail = records[seq:]
             try:
-                applied, error = _replay(sculptor, tail, done, progress)
+                applied, error = _replay(sculptor, records[seq:], done, progress)
             except _Diverged:
                 continue  # undoes past this checkpoint: an older start replays it right
             result = (seq + applied, seq, sculptor, applied, error)

@@ -137,23 +137,15 @@ class Material:
         shear: Sequence[float],
         poisson: Sequence[float],
     ) -> Material:
-        """Orthotropic material with axes x, y, z.
-
-        Parameters
-        ----------
-        young : (E1, E2, E3), Young's moduli along x, y, z, all > 0.
-        shear : (G23, G13, G12), shear moduli, all > 0.
-        poisson : (ν12, ν13, ν23), with ν_ij = -ε_j / ε_i under uniaxial stress along i.
-        """
+        """Orthotropic material with axes x, y, z: Young's moduli ``young`` (E1, E2, E3) and
+        shear moduli ``shear`` (G23, G13, G12), all > 0, and ``poisson`` (ν12, ν13, ν23), with
+        ν_ij = -ε_j / ε_i under uniaxial stress along i."""
         e = check_finite("young", young, (3,))
         g = check_finite("shear", shear, (3,))
         nu12, nu13, nu23 = check_finite("poisson", poisson, (3,))
-        for name, val in zip(("E1", "E2", "E3"), e, strict=True):
+        for name, val in zip(("E1", "E2", "E3", "G23", "G13", "G12"), (*e, *g), strict=True):
             if val <= 0:
-                raise ValueError(f"Young's modulus {name} must be > 0 (got {val})")
-        for name, val in zip(("G23", "G13", "G12"), g, strict=True):
-            if val <= 0:
-                raise ValueError(f"shear modulus {name} must be > 0 (got {val})")
+                raise ValueError(f"modulus {name} must be > 0 (got {val})")
         e1, e2, e3 = e
         nu21, nu31, nu32 = nu12 * e2 / e1, nu13 * e3 / e1, nu23 * e3 / e2
         for name, nu, bound in (

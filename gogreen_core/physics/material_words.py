@@ -151,8 +151,7 @@ def direction_words(direction: np.ndarray, signed: bool = False) -> str:
 
 
 def _most_auxetic(material: Material, traits: MaterialTraits) -> tuple[float, str, str]:
-    """(ν, along, across) of the most negative Poisson ratio among the model axes and the
-    material's stiffest and softest directions."""
+    """(ν, along, across) of the most negative Poisson ratio among the axes, stiff and soft."""
     candidates = [*_AXES, traits.stiff, traits.soft]
     best = (np.inf, "", "")
     for i, along in enumerate(candidates):

@@ -166,8 +166,7 @@ def spheres(
 
 
 def _bar_width(fraction: float, count: int) -> float:
-    """Side w of square bars such that ``count`` (1, 2 or 3) orthogonal bars through the motif
-    centre cover ``fraction`` of the motif: w^2, 2w^2 - w^3 or 3w^2 - 2w^3."""
+    """Side w of ``count`` orthogonal square bars covering ``fraction``: w², 2w² - w³, 3w² - 2w³."""
     if count == 1:
         return float(np.sqrt(fraction))
     coef = {2: [-1.0, 2.0, 0.0, -fraction], 3: [-2.0, 3.0, 0.0, -fraction]}[count]

@@ -47,10 +47,9 @@ def _low_moments(material: Material, nodes: np.ndarray, weights: np.ndarray) -> 
 
 
 def _material_frame(material: Material) -> np.ndarray:
-    """Rotation (3, 3) whose last column is the material's most distinct axis: the eigenvector
-    of A_ij = C_ikjk whose eigenvalue stands farthest (in ratio) from the other two. Stiff
-    fibres along it put the ridge of M⁻¹ on the frame's equator, a stiff plane normal to it puts
-    the peaks of M⁻¹ at the frame's poles: both where the product rule grades its nodes."""
+    """Rotation (3, 3) whose last column is the eigenvector of A_ij = C_ikjk farthest (in
+    ratio) from the other two: M⁻¹'s ridge (fibres) or peaks (a stiff plane) then lie on the
+    frame's equator or poles, where the product rule grades its nodes."""
     values, vectors = np.linalg.eigh(np.einsum("ikjk->ij", material.tensor))
     logs = np.log(np.maximum(values, values[-1] * 1e-300))
     axis = 0 if logs[1] - logs[0] > logs[2] - logs[1] else 2

@@ -372,13 +372,10 @@ class SplineRadial(RadialProfile):
 
 
 class MultiscaleRadial(RadialProfile):
-    """Weighted sum of one falloff shape at several radii: Kelvinlets' multi-scale brushes.
-
-    R_l(r) = Σ_k w_k R_l^{ε s_k}(r), so F_l(ρ) = Σ_k w_k s_k^{-p} F_l^base(ρ/s_k) with p = 1 for
-    R_l and 2 for ℛ_l. The weights of :meth:`biscale` and :meth:`triscale` (de Goes & James
-    2017, Sec. 5) cancel the leading far-field terms, so the brush decays faster than 1/r. One
-    table serves the whole sum: a multi-scale brush costs what a single one does.
-    """
+    """Weighted sum of one falloff shape at several radii (Kelvinlets' multi-scale brushes):
+    F_l(ρ) = Σ_k w_k s_k^{-p} F_l^base(ρ/s_k), p = 1 for R_l, 2 for ℛ_l; :meth:`biscale` and
+    :meth:`triscale` (de Goes & James 2017, Sec. 5) cancel the leading far-field terms. One
+    table serves the sum."""
 
     kind_name = "multiscale"
 
