@@ -51,8 +51,7 @@ from gogreen_core.sculpt.sculptor import Sculptor, capture_state
 
 __all__ = ["CHECKPOINT_WORK", "JOURNAL_FILE", "THUMBNAIL_FILE", "Journal", "recovery_root"]
 
-#: Replay work (see :func:`replay_work`) after which a checkpoint is due: about 0.5 s of
-#: replay on this project's 2-core test machine (a 1M-vertex event: 25 to 80 ms).
+#: Replay work (see :func:`replay_work`) after which a checkpoint is due: about 0.5 s here.
 CHECKPOINT_WORK = 1.5e7
 #: Checkpoints kept per journal (recovery may start from an older one for a deeper undo).
 KEEP_CHECKPOINTS = 3
@@ -276,11 +275,14 @@ class Journal:
         if not self.active or self.sculptor.in_stroke:
             return False
         state = capture_state(self.sculptor, self._base_faces)  # faces only if subdivided
-        extra = {"token": self._token, "seq": self.records, "done": self._done()}
+        extra = {
+            "token": self._token,
+            "seq": self.records,
+            "done": self._done(),
+            "time": time.time(),
+        }
         self._work = 0.0
-        self._submit(
-            "checkpoint", partial(self._write_checkpoint, state, {**extra, "time": time.time()})
-        )
+        self._submit("checkpoint", partial(self._write_checkpoint, state, extra))
         return True
 
     def maybe_checkpoint(self) -> bool:
@@ -306,14 +308,8 @@ class Journal:
 
     def flush(self, timeout: float | None = 30.0) -> bool:
         """Wait until everything queued is written and on disk; False on timeout."""
-        deadline = None if timeout is None else time.monotonic() + timeout
         with self._cond:
-            while self._tasks or self._busy:
-                left = None if deadline is None else deadline - time.monotonic()
-                if left is not None and left <= 0:
-                    return False
-                self._cond.wait(left)
-        return True
+            return self._cond.wait_for(lambda: not self._tasks and not self._busy, timeout)
 
     def close(self, remove: bool = True, timeout: float = 10.0) -> None:
         """Stop journaling. ``remove`` (a clean close: saved, or changes discarded): delete

@@ -65,16 +65,14 @@ __all__ = [
 
 JOURNAL_FORMAT = "gogreen-journal"
 JOURNAL_VERSION = 2
-#: The session version of a version-1 journal's records by its start's kernel evaluation (2 when
-#: it does not say).
+#: The session version of a version-1 journal's records by its start's kernel evaluation.
 _V1_SESSION_VERSIONS = {1: 2, 2: 3, 3: 4}
 JOURNAL_FILE = "journal.jsonl"
 LOCK_FILE = "lock"
 THUMBNAIL_FILE = "thumbnail.png"
 #: Replay work of a material or falloff change (a new kernel: ~50 ms).
 SETTINGS_WORK = 1.5e6
-#: A subdivision's or remesh's replay work in vertex passes (1M vertices: 2.6-4.4 s, about 20
-#: strokes' events).
+#: A subdivision's or remesh's replay work in vertex passes (about 20 strokes' events).
 SUBDIVIDE_WORK = 20
 
 

@@ -59,7 +59,7 @@ __all__ = [
 ]
 
 #: Most replay work (:func:`~gogreen_core.files.journal.replay_work`) recovery replays when it can
-#: choose: about 1 s on this project's test machine, 2 s on a busy one.
+#: choose: about 1 s here.
 RECOVERY_WORK = 3e7
 #: Names of the operations in summaries (singular, plural).
 _KINDS = {

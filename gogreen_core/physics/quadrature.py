@@ -17,12 +17,10 @@ from gogreen_core.physics.material import Material
 
 __all__ = ["CHECK_ORDER", "QUADRATURE_ORDER", "QUADRATURE_RTOL", "lebedev_points", "material_rule"]
 
-#: Lebedev rule used for the material matrices when M(ξ̂)⁻¹ is smooth enough for it (5,810
-#: nodes, exact to degree 131: the paper's).
+#: The paper's Lebedev rule (5,810 nodes, exact to degree 131), when M(ξ̂)⁻¹ is smooth enough.
 QUADRATURE_ORDER = 131
-#: Lower Lebedev rule whose disagreement with QUADRATURE_ORDER on the low moments of M⁻¹ measures
-#: M⁻¹'s content between degrees ~70 and 131, which is what would alias into the coefficients of
-#: degree ≤ 61 under the 131 rule.
+#: Lower rule whose disagreement on the low moments of M⁻¹ measures M⁻¹'s content between
+#: degrees ~70 and 131, which would alias into the coefficients of degree ≤ 61.
 CHECK_ORDER = 71
 #: Relative accuracy asked of the material matrices (against their largest entry).
 QUADRATURE_RTOL = 1e-11

@@ -26,34 +26,23 @@ import numpy as np
 from scipy import special
 from scipy.interpolate import PPoly
 
-from gogreen_core.physics.falloff_curves import INTERPOLATIONS, interpolant, monotone_hermite
-from gogreen_core.physics.radial_tables import _TABLE_CACHE as _TABLE_CACHE  # benchmarks empty it
-from gogreen_core.physics.radial_tables import (
-    DECAY,
-    TABLE_DEGREE,
-    TABLE_SEGMENTS,
-    cached_table,
-    radial_table,
-)
+from gogreen_core.physics.falloff_curves import INTERPOLATIONS, interpolant
+from gogreen_core.physics.radial_tables import DECAY, TABLE_DEGREE, cached_table
 from gogreen_core.validation import check_number
 
 __all__ = [
     "INTERPOLATIONS",
     "TABLE_DEGREE",
-    "TABLE_SEGMENTS",
     "GaussianRadial",
     "KelvinletRadial",
     "MultiscaleRadial",
     "RadialProfile",
     "SplineRadial",
-    "monotone_hermite",
     "radial_from_dict",
-    "radial_table",
 ]
 
 #: Kinds of radial term: "R" (R_l, even l, for G) and "dR" (ℛ_l, odd l, for ∇G).
 KINDS = ("R", "dR")
-_DECAY = DECAY  # far-field decay power of each kind (see radial_tables)
 
 
 def _check_eps(eps: float) -> float:
@@ -330,7 +319,7 @@ class SplineRadial(RadialProfile):
         out = np.empty_like(rho)
         inside = rho <= xs[-1]
         out[inside] = self._splines[key](rho[inside])
-        out[~inside] = ys[-1] * (xs[-1] / rho[~inside]) ** _DECAY[kind]
+        out[~inside] = ys[-1] * (xs[-1] / rho[~inside]) ** DECAY[kind]
         return out
 
     def table_key(self) -> tuple[Any, ...]:
@@ -423,7 +412,7 @@ class MultiscaleRadial(RadialProfile):
 
     def dimensionless(self, kind: str, l: int, rho: np.ndarray) -> np.ndarray:
         rho = np.asarray(rho, dtype=np.float64)
-        p = _DECAY[kind]
+        p = DECAY[kind]
         return cast(
             np.ndarray,
             sum(

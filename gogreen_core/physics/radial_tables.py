@@ -92,8 +92,7 @@ def single_table(table: np.ndarray) -> np.ndarray:
 
 _TABLE_CACHE: dict[tuple[Any, ...], np.ndarray] = {}
 _TABLE_CACHE_LIMIT = 1024
-#: Kernels are built on the app's background thread too: evicting (iterating the dict) while
-#: another thread inserts would raise.
+#: Kernels are built on a background thread too: evicting while another thread inserts raises.
 _TABLE_CACHE_LOCK = threading.Lock()
 
 

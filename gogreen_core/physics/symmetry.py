@@ -56,25 +56,18 @@ def _group_coefficients(c6: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndar
     vals = c6[rows, cols]
     groups = np.full((6, 6), -1, dtype=np.int64)
     means = np.zeros((6, 6))
-    nonzero = np.abs(vals) > tol
-    # Cluster sorted values: consecutive values closer than tol join one group.
-    order = np.argsort(vals[nonzero], kind="stable")
-    sorted_vals = vals[nonzero][order]
-    cluster = np.concatenate([[0], np.cumsum(np.diff(sorted_vals) > tol)])
-    raw = np.empty(len(order), dtype=np.int64)
-    raw[order] = cluster
-    raw_full = np.full(len(vals), -1, dtype=np.int64)
-    raw_full[nonzero] = raw
-    # Relabel in row-major order of first appearance.
+    # Cluster sorted nonzero values: consecutive values closer than tol join one group ...
+    nonzero = np.flatnonzero(np.abs(vals) > tol)
+    order = nonzero[np.argsort(vals[nonzero], kind="stable")]
+    raw = np.full(len(vals), -1, dtype=np.int64)
+    raw[order] = np.concatenate([[0], np.cumsum(np.diff(vals[order]) > tol)])
+    # ... labelled in row-major order of first appearance.
     relabel: dict[int, int] = {}
-    for idx, (r, c) in enumerate(zip(rows, cols, strict=True)):
-        lab = raw_full[idx]
-        if lab < 0:
-            continue
-        lab = relabel.setdefault(int(lab), len(relabel))
-        groups[r, c] = groups[c, r] = lab
-    for lab in range(len(relabel)):
-        mask = groups == lab
+    for r, c, lab in zip(rows, cols, raw, strict=True):
+        if lab >= 0:
+            groups[r, c] = groups[c, r] = relabel.setdefault(int(lab), len(relabel))
+    for label in range(len(relabel)):
+        mask = groups == label
         means[mask] = c6[mask].mean()
     return groups, means
 
@@ -105,15 +98,8 @@ def describe_symmetry(material: Material | np.ndarray, rtol: float = 1e-5) -> Sy
         cls = "orthotropic"
         d = np.diag(c6)
         c12, c13, c23 = c6[0, 1], c6[0, 2], c6[1, 2]
-        cubic = (
-            eq(d[0], d[1])
-            and eq(d[1], d[2])
-            and eq(c12, c13)
-            and eq(c13, c23)
-            and eq(d[3], d[4])
-            and eq(d[4], d[5])
-        )
-        if cubic:
+        pairs = ((d[0], d[1]), (d[1], d[2]), (c12, c13), (c13, c23), (d[3], d[4]), (d[4], d[5]))
+        if all(eq(a, b) for a, b in pairs):  # cubic
             cls = "isotropic" if eq(d[3], 0.5 * (d[0] - c12)) else "cubic"
         else:
             # Axis z: 1 = 2 plane; axis x: 2 = 3 plane; axis y: 1 = 3 plane.

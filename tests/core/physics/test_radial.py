@@ -8,7 +8,8 @@ import pytest
 from scipy import special
 
 from gogreen_core import GaussianRadial, GreenKernel, KelvinletRadial, Material, SplineRadial
-from gogreen_core.physics.radial import radial_from_dict, radial_table
+from gogreen_core.physics.radial import radial_from_dict
+from gogreen_core.physics.radial_tables import radial_table
 
 
 @functools.cache
