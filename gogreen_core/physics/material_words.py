@@ -129,8 +129,7 @@ def _other(vector: np.ndarray) -> np.ndarray:
 
 def direction_words(direction: np.ndarray, signed: bool = False) -> str:
     """A direction in words: "Z" (within 10° of an axis; "+Z"/"−Z" when ``signed``), else
-    "Z tilted 45° toward −Y" (the nearest axis and the one it leans to, or the two when it
-    leans to both alike)."""
+    "Z tilted 45° toward −Y" (the nearest axis and the one or two it leans to)."""
     d = np.asarray(direction, dtype=float)
     d = d / np.linalg.norm(d)
     if not signed and d[np.argmax(np.abs(d))] < 0:

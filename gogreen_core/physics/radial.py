@@ -45,10 +45,6 @@ __all__ = [
 KINDS = ("R", "dR")
 
 
-def _check_eps(eps: float) -> float:
-    return check_number("eps", eps, low=0.0, low_open=True)
-
-
 def _check_degree(kind: str, l: int) -> int:
     if kind not in KINDS:
         raise ValueError(f"radial kind must be one of {KINDS} (got {kind!r})")
@@ -65,7 +61,7 @@ class RadialProfile(ABC):
     kind_name: str = ""
 
     def __init__(self, eps: float):
-        self._eps = _check_eps(eps)
+        self._eps = check_number("eps", eps, low=0.0, low_open=True)
 
     @property
     def eps(self) -> float:
@@ -80,7 +76,7 @@ class RadialProfile(ABC):
         """The same falloff shape with another radius ε (shares cached tables)."""
         clone = object.__new__(type(self))
         clone.__dict__.update(self.__dict__)
-        clone._eps = _check_eps(eps)
+        clone._eps = check_number("eps", eps, low=0.0, low_open=True)
         return clone
 
     def as_value(self) -> Self:
@@ -199,8 +195,7 @@ class SplineRadial(RadialProfile):
         interpolation: str = "monotone",
     ) -> SplineRadial:
         """Sample ``profile`` at control points ``rho`` (default :data:`DEFAULT_SPLINE_RHO`)
-        for every degree a kernel of ``l_max`` needs (even l ≤ l_max, odd l ≤ l_max + 1): new
-        curves, shape-preserving unless ``interpolation`` says otherwise."""
+        for every degree a kernel of ``l_max`` needs (even l ≤ l_max, odd l ≤ l_max + 1)."""
         rho = DEFAULT_SPLINE_RHO if rho is None else np.asarray(rho, dtype=np.float64)
         curves = {}
         for l in range(0, l_max + 1, 2):

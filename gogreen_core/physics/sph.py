@@ -58,15 +58,12 @@ def legendre_recurrence(l_max: int) -> LegendreRecurrence:
 
 
 def real_sph_harm(directions: np.ndarray, l_max: int) -> np.ndarray:
-    """Real orthonormal spherical harmonics of unit ``directions`` (N, 3).
-
-    Returns (N, (l_max+1)²) float64 with Y_lm at column ``sh_index(l, m)``. Used at
-    precompute time (Lebedev nodes); the evaluation kernel inlines the same recurrence.
-    """
+    """Real orthonormal spherical harmonics (N, (l_max+1)²) of unit ``directions`` (N, 3), Y_lm
+    at column ``sh_index(l, m)`` (precompute time; the kernels inline the same recurrence)."""
     d = np.asarray(directions, dtype=np.float64)
     x, y, z = d[:, 0], d[:, 1], d[:, 2]
     rec = legendre_recurrence(l_max)
-    # Filled row by row (contiguous), returned transposed: (N, terms) as documented.
+    # filled row by row (contiguous), returned transposed
     out = np.empty(((l_max + 1) ** 2, d.shape[0]))
     cos_m, sin_m = np.ones_like(x), np.zeros_like(x)
     for m in range(l_max + 1):
