@@ -45,10 +45,6 @@ _SPHERE_LATTICES: dict[str, tuple[np.ndarray, float]] = {
 }
 
 
-def _check_n(n: int) -> int:
-    return check_integer("n", n, low=2)
-
-
 def _check_fraction(fraction: float, upper: float = 1.0, what: str = "") -> float:
     f = float(fraction)
     if not np.isfinite(f) or not 0.0 <= f <= upper:
@@ -89,7 +85,7 @@ def layered(
 ) -> np.ndarray:
     """Laminate: layers of phase b (thickness ``fraction`` of each period) stacked along
     ``normal``: transversely isotropic about it (exact Backus tensor)."""
-    n = _check_n(n)
+    n = check_integer("n", n, low=2)
     ax = _check_axis(normal, "normal")
     f = _check_fraction(fraction)
     periods = _check_periods(periods, n)
@@ -110,7 +106,7 @@ def fibers(
     """Fibre-reinforced: straight rods of phase b along ``axis`` on a square array, one rod per
     motif centre. ``shape`` "round" (circular section, fraction <= pi/4) or "square" (fraction
     <= 1): tetragonal about ``axis``."""
-    n = _check_n(n)
+    n = check_integer("n", n, low=2)
     ax = _check_axis(axis)
     periods = _check_periods(periods, n)
     coords = _motif_coords(n, periods)
@@ -131,7 +127,7 @@ def fibers(
 def checkerboard(n: int = 16, periods: int = 1) -> np.ndarray:
     """3D checkerboard: 2 x 2 x 2 blocks per motif, phase b where the block indices sum to an
     odd number. Fraction 1/2, cubic symmetry; needs 2 * periods <= n."""
-    n = _check_n(n)
+    n = check_integer("n", n, low=2)
     periods = _check_periods(periods, n, per_period=2)
     x, y, z = _motif_coords(n, periods)
     blocks = np.floor(2 * x) + np.floor(2 * y) + np.floor(2 * z)
@@ -144,7 +140,7 @@ def spheres(
     """Spotted: spherical inclusions of phase b on a simple cubic ("sc"), body-centred ("bcc")
     or face-centred ("fcc") lattice, radius from ``fraction`` (at most the touching-sphere
     packing: pi/6 for sc, 0.680 for bcc, 0.740 for fcc). Cubic symmetry."""
-    n = _check_n(n)
+    n = check_integer("n", n, low=2)
     if arrangement not in _SPHERE_LATTICES:
         raise ValueError(
             f"arrangement must be one of {sorted(_SPHERE_LATTICES)} (got {arrangement!r})"
@@ -179,7 +175,7 @@ def lattice(n: int = 16, fraction: float = 0.3, periods: int = 1, axes: str = "x
     """Cross / lattice: square bars of phase b through the motif centre along each axis in
     ``axes`` ("xyz": a 3D cubic lattice/frame, cubic symmetry; "xy", "xz", "yz": a 2D cross of
     bars; one letter: square fibres). Bar width from ``fraction``."""
-    n = _check_n(n)
+    n = check_integer("n", n, low=2)
     f = _check_fraction(fraction)
     periods = _check_periods(periods, n)
     letters = sorted({_check_axis(a, "axes") for a in axes}) if isinstance(axes, str) else []
@@ -203,7 +199,7 @@ def random_pattern(
     ``correlation`` = 0 draws voxels independently; > 0 thresholds periodic Gaussian-smoothed
     noise (standard deviation ``correlation`` in cell units, e.g. 0.05) into blobs.
     Statistically isotropic, deterministic for a given ``seed``."""
-    n = _check_n(n)
+    n = check_integer("n", n, low=2)
     f = _check_fraction(fraction)
     corr = float(correlation)
     if not np.isfinite(corr) or corr < 0:

@@ -10,8 +10,8 @@ from __future__ import annotations
 from functools import lru_cache
 
 import numpy as np
-from scipy.integrate import lebedev_rule
 
+from gogreen_core.physics.quadrature import lebedev_points
 from gogreen_core.physics.sph import real_sph_harm
 
 __all__ = ["real_wigner_d"]
@@ -29,11 +29,9 @@ def _rule(l_top: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     order = next((o for o in _LEBEDEV_ORDERS if o >= 2 * l_top + 1), None)
     if order is None:
         raise ValueError(f"degree {l_top} is beyond the Lebedev rules available (65)")
-    points, weights = lebedev_rule(order)
-    nodes = np.ascontiguousarray(points.T)
+    nodes, weights = lebedev_points(order)
     weighted = np.ascontiguousarray(real_sph_harm(nodes, l_top).T * weights)
-    for arr in (nodes, weights, weighted):
-        arr.setflags(write=False)
+    weighted.setflags(write=False)
     return nodes, weights, weighted
 
 
