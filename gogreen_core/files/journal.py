@@ -238,7 +238,12 @@ class Journal:
             else:
                 self._append(kind, cast(Operation, item), length)
         except Exception as exc:  # nothing may stop the sculpting
-            self._stop(exc)
+            self._stopped = True
+            self._pending.clear()
+            self._problem(
+                f"The crash-recovery journal stopped: {_reason(exc)}. Work from now on is not "
+                "protected until you save."
+            )
             if self.wake is not None:
                 self.wake()  # the app says so
 
@@ -260,14 +265,6 @@ class Journal:
             self.wake()
         if self.auto_checkpoint and self.checkpoint_due:
             self.checkpoint()
-
-    def _stop(self, exc: Exception) -> None:
-        self._stopped = True
-        self._pending.clear()
-        self._problem(
-            f"The crash-recovery journal stopped: {_reason(exc)}. Work from now on is not "
-            "protected until you save."
-        )
 
     def checkpoint(self) -> bool:
         """Copy the sculptor's state now (the vertices: ~8 ms for 1M) and write it on the

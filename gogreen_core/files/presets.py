@@ -107,11 +107,14 @@ class Preset:
             raise ParameterError(
                 "format", f"not a GoGreen preset (expected format {PRESET_FORMAT!r})"
             )
-        table = rows("preset")
         check_object(
             "",
             data,
-            required=("format", *(s.name for s in table if "preset" in s.required), "brush"),
+            required=(
+                "format",
+                *(s.name for s in rows("preset") if "preset" in s.required),
+                "brush",
+            ),
             optional=("version", "name", "description", "degree_weights", *_NAMES),
         )
         version = data.get("version", PRESET_VERSION)
@@ -148,8 +151,5 @@ def save_preset(preset: Preset, path: str | os.PathLike[str]) -> None:
 def builtin_presets() -> list[Preset]:
     """The presets shipped with the program (``resources/presets/*.json``), by file name."""
     folder = files("gogreen_resources").joinpath("presets")
-    paths = sorted(
-        (entry for entry in folder.iterdir() if entry.name.endswith(".json")),
-        key=lambda e: e.name,
-    )
-    return [load_preset(str(entry)) for entry in paths]
+    paths = sorted(e.name for e in folder.iterdir() if e.name.endswith(".json"))
+    return [load_preset(str(folder.joinpath(name))) for name in paths]
