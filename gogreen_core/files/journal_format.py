@@ -1,12 +1,7 @@
-"""The recovery journal's files (README, "Crash recovery"): where they live, their lock, their
-line format, and reading them back (:func:`read_journal`).
-
-Each line is ``<CRC-32 of the JSON, 8 hex digits> <JSON>\n``, so a line cut short by a crash
-is detected and dropped. Line 1, the header, holds the format and version, the document, the
-mesh's sizes and hash and the start state; each record ``{"seq": k, "kind": "append" |
-"replace", "n": operations, "t": unix time, "d": undo steps done, "op": {...}}`` (``replace``:
-a continued drag the session log merged into its last operation; ``d`` lets recovery check
-that a replay from a checkpoint undoes what the session undid).
+"""The recovery journal's files (README, "Crash recovery": the folder and the line format):
+where they live, their lock, their lines, and reading them back (:func:`read_journal`). Besides
+``seq``, ``kind`` and ``op`` a record holds ``n`` (operations after it), ``t`` (unix time) and
+``d`` (undo steps done: recovery checks a replay from a checkpoint against it).
 """
 
 from __future__ import annotations
