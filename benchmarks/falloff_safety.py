@@ -51,8 +51,7 @@ def edited(l_max: int, kind: str, l: int, count: int) -> SplineRadial:
     falloff = SplineRadial.from_profile(GaussianRadial(1.0), l_max)
     rho, value = falloff.curve(kind, l)
     value[:count] = 0.0
-    falloff.set_curve(kind, l, rho, value)
-    return falloff
+    return falloff.with_curves({(kind, l): (rho, value)})
 
 
 def main() -> None:

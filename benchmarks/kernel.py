@@ -35,7 +35,7 @@ from gogreen_core.field import kernel as kernel_module
 from gogreen_core.field._expansion import SEGMENT_DEGREE
 from gogreen_core.field._unrolled import UNROLLED_L_MAX, angular_source
 from gogreen_core.field.kernel import prepare_degree
-from gogreen_core.physics import radial as radial_module
+from gogreen_core.physics import radial_tables as radial_module
 
 
 @numba.njit(parallel=True, cache=True, fastmath=True)

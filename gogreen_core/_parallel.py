@@ -1,20 +1,12 @@
 """Serial numba functions run over ranges of work on a small thread pool.
 
-The evaluation functions of ``_expansion`` and ``_integrator`` are serial and release the GIL
-(``nogil=True``); :func:`run_ranges` splits their work into ranges and runs them on up to
-``numba.get_num_threads()`` threads, the calling thread being one of them. Compared with numba's
-``parallel=True`` (which the drivers used before): the functions compile several times faster
-(a parfor is lowered through extra passes and outlined into a gufunc per loop), two threads may
-evaluate at once (the app's GUI and background threads) whatever numba's threading layer, and
-no OpenMP worker spins on cores shared with other programs. Each range is computed
-independently of the split, so results do not depend on the thread count.
-
-A call of a numba function from Python types its arguments first, each element of a tuple
-argument in Python (the streamlines' velocity field: 23 of them, about 0.2 ms a call, holding
-the GIL). :func:`run_ranges` calls the compiled code's entry point for every range instead,
-found once per call of its own from a key of the arguments' types it remembers (about 25 µs):
-15 µs a range, so ranges can be many and small (measured on the 1M-vertex ogre: a grab event's
-first pass 24.7 ms in 8 ranges, 20.2 ms in 128).
+:func:`run_ranges` splits the work of the serial, GIL-releasing evaluation functions into
+ranges run on up to ``numba.get_num_threads()`` threads, the caller among them. Unlike numba's
+``parallel=True`` they compile several times faster, two threads (GUI and background) may
+evaluate at once, and no OpenMP worker spins on shared cores; each range is computed
+independently, so results do not depend on the thread count. Each range calls the compiled
+entry point directly (found once per call from a key of the argument types): typing a
+23-element tuple argument in Python costs ~0.2 ms a call, this ~15 µs a range.
 """
 
 from __future__ import annotations
@@ -32,9 +24,8 @@ from numba.core.ccallback import CFunc
 
 __all__ = ["run_ranges"]
 
-#: Ranges per thread: many, handed out as threads ask for them, so that a thread slowed by
-#: other programs on the shared cores does not hold the others up, and the last ranges of the
-#: threads end together.
+#: Ranges per thread: many, handed out as threads ask, so a thread slowed by other programs
+#: does not hold the others up.
 RANGES_PER_THREAD = 32
 
 _pool: ThreadPoolExecutor | None = None
@@ -78,10 +69,9 @@ def _type_key(value: Any) -> Any:
 
 
 def _entry_point(work: Callable[[int, int], None]) -> Callable[[int, int], None]:
-    """``work``, a ``partial`` of a numba dispatcher, as a ``partial`` of the machine code the
-    dispatcher would choose for these arguments and two int ranges (its compiled entry point,
-    which skips the typing of the arguments); ``work`` itself when there is none yet (the
-    dispatcher then compiles) or it cannot be told (numba's ``overloads``, not public API)."""
+    """``work``, a ``partial`` of a numba dispatcher, as a ``partial`` of the compiled entry
+    point it would choose (no typing of the arguments); ``work`` itself when there is none yet
+    or it cannot be told (numba's ``overloads`` is not public API)."""
     if not isinstance(work, partial) or work.keywords:
         return work
     overloads = getattr(work.func, "overloads", None)

@@ -12,10 +12,8 @@ __all__ = ["threads_at_most"]
 
 @contextmanager
 def threads_at_most(limit: int) -> Iterator[int]:
-    """Run the block with at most ``limit`` numba threads; yields the count in force.
-
-    For small work a second thread only adds its wake-up (several ms on a busy 2-core
-    machine). The setting is per calling thread: other threads keep theirs."""
+    """Run the block with at most ``limit`` numba threads (this thread's setting); yields the
+    count in force. For small work a second thread only adds its wake-up."""
     threads = numba.get_num_threads()
     if limit >= threads:
         yield threads

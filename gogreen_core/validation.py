@@ -1,15 +1,13 @@
-"""Input validation that names the offending parameter.
-
-Every check raises :class:`ParameterError`, a :class:`ValueError` that carries the parameter's
-name in :attr:`ParameterError.parameter`, so callers (the app's panels, the command line, session
-and preset readers) can point at the field without parsing the message text.
+"""Input validation that names the offending parameter: every check raises
+:class:`ParameterError`, a :class:`ValueError` carrying the parameter's name.
 """
 
 from __future__ import annotations
 
 import math
-from types import TracebackType
-from typing import Any, Literal
+from collections.abc import Iterator
+from contextlib import contextmanager
+from typing import Any
 
 import numpy as np
 
@@ -31,24 +29,16 @@ __all__ = [
 
 
 class ParameterError(ValueError):
-    """A bad value for one named parameter.
-
-    Parameters
-    ----------
-    parameter : str
-        The parameter's name as the user sees it (``"radius"``, ``"brush.strength"``,
-        ``"operations[3].events[0].delta"``).
-    message : str
-        The whole message; it should name the parameter and the value received.
-    """
+    """A bad value for one named ``parameter`` as the user sees it (``"radius"``,
+    ``"operations[3].events[0].delta"``); ``message`` names it and the value received."""
 
     def __init__(self, parameter: str, message: str):
         super().__init__(message)
         self.parameter = parameter
 
     def within(self, prefix: str) -> ParameterError:
-        """The same error for the parameter seen from an enclosing object: ``prefix`` is the
-        enclosing path (``"operations[3]"``), so ``delta`` becomes ``operations[3].delta``."""
+        """The same error seen from the enclosing path ``prefix``: ``delta`` within
+        ``"operations[3]"`` is ``operations[3].delta``."""
         if not prefix:
             return self
         path = field(prefix, self.parameter) if self.parameter else prefix
@@ -68,33 +58,19 @@ def field(path: str, name: str | int) -> str:
     return f"{path}.{name}" if path else name
 
 
-def prefixed(prefix: str) -> _Prefixed:
-    """Context manager re-raising any :class:`ParameterError` as seen from ``prefix`` (see
+@contextmanager
+def prefixed(prefix: str) -> Iterator[None]:
+    """Re-raise any :class:`ParameterError` as seen from ``prefix`` (see
     :meth:`ParameterError.within`), and any other ``ValueError`` as a :class:`ParameterError`
     of ``prefix`` itself."""
-    return _Prefixed(prefix)
-
-
-class _Prefixed:
-    def __init__(self, prefix: str) -> None:
-        self.prefix = prefix
-
-    def __enter__(self) -> None:
-        return None
-
-    def __exit__(
-        self,
-        kind: type[BaseException] | None,
-        exc: BaseException | None,
-        tb: TracebackType | None,
-    ) -> Literal[False]:
-        if exc is None:
-            return False
-        if isinstance(exc, ParameterError):
-            raise exc.within(self.prefix) from None
-        if isinstance(exc, ValueError) and self.prefix:
-            raise ParameterError(self.prefix, f"{self.prefix}: {exc}") from None
-        return False
+    try:
+        yield
+    except ParameterError as exc:
+        raise exc.within(prefix) from None
+    except ValueError as exc:
+        if not prefix:
+            raise
+        raise ParameterError(prefix, f"{prefix}: {exc}") from None
 
 
 def check_number(
@@ -106,11 +82,8 @@ def check_number(
     low_open: bool = False,
     high_open: bool = False,
 ) -> float:
-    """``value`` as a finite float within the given bounds, else :class:`ParameterError`.
-
-    ``bool`` is refused (``True`` is not a radius). Bounds are closed unless ``low_open`` /
-    ``high_open``.
-    """
+    """``value`` as a finite float within the bounds (closed unless ``low_open`` /
+    ``high_open``); ``bool`` is refused (``True`` is not a radius)."""
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
         raise ParameterError(name, f"{name} must be a number (got {value!r})")
     try:
@@ -142,8 +115,7 @@ def check_finite(name: str, value: object, shape: tuple[int, ...] | None = None)
 
 
 def vector_norm(vector: np.ndarray) -> float:
-    """Euclidean length of a finite vector without overflow or underflow of the squares
-    (``np.linalg.norm([0, 1e200, 0])`` is inf)."""
+    """Euclidean length without overflow of the squares (``norm([0, 1e200, 0])`` is inf)."""
     v = np.asarray(vector, dtype=np.float64)
     peak = float(np.abs(v).max()) if v.size else 0.0
     if peak == 0.0 or not math.isfinite(peak):
@@ -220,9 +192,8 @@ def check_object(
     required: tuple[str, ...] = (),
     optional: tuple[str, ...] | None = None,
 ) -> dict[str, Any]:
-    """``value`` if it is a dict (a JSON object) with every ``required`` key and no key outside
-    ``required + optional``; :class:`ParameterError` naming the missing or unknown field.
-    With neither given, only the type is checked."""
+    """``value`` if it is a dict (a JSON object) with every ``required`` key and, when either
+    is given, no key outside ``required + optional``."""
     if not isinstance(value, dict):
         what = "null" if value is None else type(value).__name__
         raise ParameterError(name, f"{name or 'the file'} must be an object (got {what})")

@@ -1,42 +1,13 @@
 """The recovery journal: every completed operation of a sculptor, on disk before the next one.
 
-While a document is open, :class:`Journal` listens to its sculptor's operation log
-(:meth:`Sculptor.subscribe`) and appends each completed operation (a stroke, a pin edit, a
-settings change, an undo, a redo) to a file, so that a crash loses nothing that completed:
-``gogreen_core.files.recovery`` rebuilds the mesh bit for bit from it.
-
-Where: one folder per open document under :func:`recovery_root`
-(``$XDG_STATE_HOME/gogreen-sculpt/recovery``, ``~/.local/state/gogreen-sculpt/recovery`` when
-the variable is unset), private to the user (mode 0700)::
-
-    <id>/lock                 an flock held by the running app that writes the journal
-    <id>/journal.jsonl        a header, then one record per operation
-    <id>/base-<sha256>.npz    the mesh the journal starts from (vertices, faces, uv): a copy,
-                              named by the SHA-256 of its vertices, since any file can change
-    <id>/checkpoint-<k>.bin   the state after record k (:mod:`gogreen_core.sculpt.checkpoint`)
-    <id>/thumbnail.png        a small picture of the model (written by the app)
-
-Records: each line is ``<CRC-32 of the JSON, 8 hex digits> <JSON>\\n``, so a line cut short by
-a crash (or a full disk) is detected and dropped, with everything before it kept. The header
-(line 1) holds the format and version, the document's file and title, the mesh's sizes and
-hash, and the start state (settings, pins, model size and mirror origin). Each record is
-``{"seq": k, "kind": "append" | "replace", "n": operations, "t": unix time, "d": undo steps
-done, "op": {...}}``: ``op`` is the operation's session form (README, "Session files");
-``replace`` stands for a continued slider or curve drag that the session log merges into its
-last operation; ``d`` (:attr:`History.done`) lets recovery check that a replay from a checkpoint
-undoes exactly what the session undid.
-
-When: the record is written (one ``write``) before the operation's call returns, so a killed
-process loses nothing that completed; the mouse events of a stroke are serialized as they come,
-so ending a stroke only joins them. ``fsync`` (against a power cut) follows at once on the
-journal's worker thread, which also writes the base copy and the checkpoints: the full vertex
-array, taken when enough brush work has piled up since the last one (:attr:`checkpoint_due`) so
-that recovery replays little. The app takes them when it is idle (the copy of the vertices is
-the one cost on its thread); scripts let the journal take them after each operation.
-
-Never in the way: no error of the journal reaches the sculptor. A journal that cannot be
-written (a full disk, a read-only folder) stops, keeps what it wrote, and says so once through
-:meth:`take_problems`; a failed checkpoint only makes recovery replay longer.
+:class:`Journal` listens to a sculptor's operation log (:meth:`Sculptor.subscribe`) and appends
+each completed operation to its folder under :func:`recovery_root`, so that a crash loses
+nothing that completed (:mod:`gogreen_core.files.recovery` rebuilds the mesh from it). The
+folder's files and the line format: README, "Crash recovery", and
+:mod:`gogreen_core.files.journal_format`. A record is written (one ``write``) before the
+operation's call returns; ``fsync``, the base copy and the checkpoints follow on the journal's
+worker thread. No error of the journal reaches the sculptor: it stops and says so once
+(:meth:`Journal.take_problems`).
 """
 
 from __future__ import annotations
@@ -50,6 +21,7 @@ import threading
 import time
 from collections.abc import Callable
 from dataclasses import replace
+from functools import partial
 from pathlib import Path
 from typing import Any, cast
 
@@ -59,15 +31,14 @@ from gogreen_core.files.journal_format import (
     JOURNAL_FILE,
     JOURNAL_FORMAT,
     JOURNAL_VERSION,
-    SETTINGS_WORK,
     THUMBNAIL_FILE,
     JournalLock,
+    checkpoint_files,
     frame,
     new_folder,
     owner,
     recovery_root,
     replay_work,
-    state_home,
     vertex_hash,
     write_all,
 )
@@ -78,28 +49,15 @@ from gogreen_core.sculpt.checkpoint import SculptState, write_checkpoint
 from gogreen_core.sculpt.operations import Operation, Stroke
 from gogreen_core.sculpt.sculptor import Sculptor, capture_state
 
-__all__ = [
-    "CHECKPOINT_WORK",
-    "JOURNAL_FILE",
-    "JOURNAL_FORMAT",
-    "JOURNAL_VERSION",
-    "SETTINGS_WORK",
-    "THUMBNAIL_FILE",
-    "Journal",
-    "JournalLock",
-    "frame",
-    "recovery_root",
-    "replay_work",
-    "state_home",
-    "write_all",
-]
+__all__ = ["CHECKPOINT_WORK", "JOURNAL_FILE", "THUMBNAIL_FILE", "Journal", "recovery_root"]
 
-#: Replay work (see :func:`replay_work`) after which a checkpoint is due: about 0.5 s of
-#: replay on this project's 2-core test machine (a 1M-vertex event: 25 to 80 ms).
+#: Replay work (see :func:`replay_work`) after which a checkpoint is due: about 0.5 s here.
 CHECKPOINT_WORK = 1.5e7
 #: Checkpoints kept per journal (recovery may start from an older one for a deeper undo).
 KEEP_CHECKPOINTS = 3
 _COMPACT = (",", ":")
+#: A task of the journal's worker: (kind, the file of an fsync, the action; None to stop).
+_Task = tuple[str, object, Callable[[], object] | None]
 
 
 def operation_json(op: Operation, events: list[tuple[object, str]] | None = None) -> str:
@@ -120,32 +78,15 @@ def operation_json(op: Operation, events: list[tuple[object, str]] | None = None
 class Journal:
     """The recovery journal of one open document (see the module docstring).
 
-    Parameters
-    ----------
-    sculptor : Sculptor
-        Whose operations are journaled, from its current state on.
-    mesh : MeshData
-        The document's mesh as loaded (not used for the base copy: the journal starts from
-        ``sculptor``'s vertices, faces, texture coordinates and mask, which a subdivision
-        changes).
-    document : str, optional
-        The document's file (shown by recovery, tried when the base copy is missing).
-    title : str, optional
-        What recovery calls the document (the file's name by default).
-    root : path, optional
-        The folder of the journals (:func:`recovery_root` by default).
-    auto_checkpoint : bool
-        Take due checkpoints right after an operation (scripts); the app passes False and
-        calls :meth:`checkpoint` when idle.
-    checkpoint_work : float
-        Replay work (:func:`replay_work`) after which a checkpoint is due.
-    replaces : JournalLock, optional
-        The lock of a journal this one continues (a recovered document's): that folder is
-        removed once this journal's base copy is on disk.
-    wake : callable, optional
-        Called (on the sculptor's thread) after each record: the app restarts its idle timer.
-
-    Never raises for a disk problem: see :meth:`take_problems`.
+    ``sculptor``'s operations are journaled from its current state on (its vertices, faces,
+    UVs and mask are the base copy); ``mesh`` is the document's as loaded. ``document`` (its
+    file, tried when the base copy is missing) and ``title`` are what recovery shows; ``root``
+    the journals' folder (:func:`recovery_root`). ``auto_checkpoint``: take due checkpoints
+    right after an operation (scripts; the app calls :meth:`checkpoint` when idle), due after
+    ``checkpoint_work`` of replay work (:func:`replay_work`). ``replaces``: the lock of a
+    journal this one continues (a recovered document's), removed once this base copy is on
+    disk. ``wake``: called after each record (the app restarts its idle timer). Never raises
+    for a disk problem: see :meth:`take_problems`.
     """
 
     def __init__(
@@ -185,7 +126,7 @@ class Journal:
         self._problems: list[str] = []
         self._reported = 0
         self._lock_problems = threading.Lock()
-        self._tasks: collections.deque[tuple[Any, ...]] = collections.deque()
+        self._tasks: collections.deque[_Task] = collections.deque()
         self._busy = False
         self._cond = threading.Condition()
         self._thread = threading.Thread(target=self._run, name="gogreen-journal", daemon=True)
@@ -194,12 +135,6 @@ class Journal:
         self._retire = replaces
         self._base_written = False
         self._start()
-
-    # -- state -------------------------------------------------------------------------------
-    @property
-    def id(self) -> str | None:
-        """The journal's name (its folder's), or None."""
-        return None if self.directory is None else self.directory.name
 
     @property
     def active(self) -> bool:
@@ -224,10 +159,8 @@ class Journal:
             if text not in self._problems:
                 self._problems.append(text)
 
-    # -- writing -----------------------------------------------------------------------------
     def _start(self) -> None:
-        """Begin a journal of the sculptor's current state (a new folder, or a new generation
-        in the same folder): header now, base copy on the worker thread."""
+        """Begin a journal (or a new generation of it) from the sculptor's current state."""
         try:
             if self.directory is None:
                 self.directory, self._lock = new_folder(self.root)
@@ -267,17 +200,16 @@ class Journal:
         self._work = 0.0
         self._stopped = False
         if old is not None:
-            self._submit(("close", old))
-        self._submit(("base", state, base))
-        self._submit(("fsync", fd, 0))
-        self._submit(("prune", base))
+            self._submit("close", partial(os.close, old))
+        self._submit("base", partial(self._write_base, state, base))
+        self._submit("fsync", partial(self._fsync, fd, 0), fd)
+        self._submit("prune", partial(self._prune, base))
         if self._retire is not None:
-            self._submit(("retire", self._retire))
+            self._submit("retire", partial(self._retire_journal, self._retire))
             self._retire = None
 
     def _write_header(self, header: bytes) -> int:
-        """Write a new ``journal.jsonl`` holding the header alone (renamed over the old one, so
-        there is always a whole journal); returns its descriptor, open for appending."""
+        """A new ``journal.jsonl`` of the header alone, renamed over the old one: its fd."""
         directory = cast(Path, self.directory)  # (started: the folder was made)
         tmp = directory / f".{JOURNAL_FILE}.tmp"
         fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_APPEND, 0o600)
@@ -306,7 +238,12 @@ class Journal:
             else:
                 self._append(kind, cast(Operation, item), length)
         except Exception as exc:  # nothing may stop the sculpting
-            self._stop(exc)
+            self._stopped = True
+            self._pending.clear()
+            self._problem(
+                f"The crash-recovery journal stopped: {_reason(exc)}. Work from now on is not "
+                "protected until you save."
+            )
             if self.wake is not None:
                 self.wake()  # the app says so
 
@@ -318,23 +255,16 @@ class Journal:
             f'{{"seq":{seq},"kind":"{kind}","n":{length},"t":{time.time():.3f},'
             f'"d":{self._done()},"op":{text}}}'
         )
-        write_all(cast(int, self._fd), frame(record.encode()))
+        fd = cast(int, self._fd)
+        write_all(fd, frame(record.encode()))
         self.records = seq
         events = len(op.events) if isinstance(op, Stroke) else 0
         self._work += replay_work(op.name, events, len(self.sculptor.vertices))
-        self._submit(("fsync", self._fd, seq))
+        self._submit("fsync", partial(self._fsync, fd, seq), fd)
         if self.wake is not None:
             self.wake()
         if self.auto_checkpoint and self.checkpoint_due:
             self.checkpoint()
-
-    def _stop(self, exc: Exception) -> None:
-        self._stopped = True
-        self._pending.clear()
-        self._problem(
-            f"The crash-recovery journal stopped: {_reason(exc)}. Work from now on is not "
-            "protected until you save."
-        )
 
     def checkpoint(self) -> bool:
         """Copy the sculptor's state now (the vertices: ~8 ms for 1M) and write it on the
@@ -342,9 +272,14 @@ class Journal:
         if not self.active or self.sculptor.in_stroke:
             return False
         state = capture_state(self.sculptor, self._base_faces)  # faces only if subdivided
-        extra = {"token": self._token, "seq": self.records, "done": self._done()}
+        extra = {
+            "token": self._token,
+            "seq": self.records,
+            "done": self._done(),
+            "time": time.time(),
+        }
         self._work = 0.0
-        self._submit(("checkpoint", state, {**extra, "time": time.time()}))
+        self._submit("checkpoint", partial(self._write_checkpoint, state, extra))
         return True
 
     def maybe_checkpoint(self) -> bool:
@@ -352,10 +287,11 @@ class Journal:
         return self.checkpoint() if self.checkpoint_due else False
 
     def write_file(self, name: str, data: bytes) -> None:
-        """Write a small file into the journal's folder on the worker thread (the app's
-        thumbnail), atomically."""
+        """Write a small file (the thumbnail) into the folder, atomically, in the background."""
         if self.active:
-            self._submit(("file", name, data))
+            self._submit(
+                "file", partial(write_bytes_atomic, cast(Path, self.directory) / name, data)
+            )
 
     def restart(self, document: str | None = None, title: str | None = None) -> None:
         """Start a fresh journal from the sculptor's current state (after a save: the saved
@@ -369,14 +305,8 @@ class Journal:
 
     def flush(self, timeout: float | None = 30.0) -> bool:
         """Wait until everything queued is written and on disk; False on timeout."""
-        deadline = None if timeout is None else time.monotonic() + timeout
         with self._cond:
-            while self._tasks or self._busy:
-                left = None if deadline is None else deadline - time.monotonic()
-                if left is not None and left <= 0:
-                    return False
-                self._cond.wait(left)
-        return True
+            return self._cond.wait_for(lambda: not self._tasks and not self._busy, timeout)
 
     def close(self, remove: bool = True, timeout: float = 10.0) -> None:
         """Stop journaling. ``remove`` (a clean close: saved, or changes discarded): delete
@@ -384,7 +314,7 @@ class Journal:
         flushed first). Waits at most ``timeout`` seconds for the disk."""
         self._unsubscribe()
         self._stopped = True
-        self._submit(("stop",))
+        self._submit("stop", None)
         self._thread.join(timeout)
         if self._fd is not None:
             with contextlib.suppress(OSError):
@@ -400,15 +330,14 @@ class Journal:
             self._retire.release()
             self._retire = None
 
-    # -- worker thread -----------------------------------------------------------------------
-    def _submit(self, task: tuple[Any, ...]) -> None:
+    def _submit(self, kind: str, action: Callable[[], object] | None, key: object = None) -> None:
+        """Queue ``action`` (None: stop the worker); ``key``: the file of an fsync."""
         with self._cond:
-            self._tasks.append(task)
+            self._tasks.append((kind, key, action))
             self._cond.notify_all()
 
-    def _next_task(self) -> tuple[Any, ...]:
-        """The next task; runs of fsyncs of one file collapse into the last, and a checkpoint
-        with a newer one queued is skipped."""
+    def _next_task(self) -> _Task:
+        """The next task: a run of fsyncs of one file as one, a checkpoint only if the newest."""
         with self._cond:
             while not self._tasks:
                 self._busy = False
@@ -425,36 +354,25 @@ class Journal:
 
     def _run(self) -> None:
         while True:
-            task = self._next_task()
-            kind = task[0]
+            kind, _, action = self._next_task()
+            if action is None:
+                return
             try:
-                if kind == "stop":
-                    return
-                self._do(task)
+                action()
             except Exception as exc:
                 if kind != "file":  # a picture protects nothing: not worth a message
                     self._problem(_task_problem(kind, exc))
 
-    def _do(self, task: tuple[Any, ...]) -> None:
-        kind = task[0]
-        if kind == "fsync":
-            os.fsync(task[1])
-            self.durable = max(self.durable, task[2]) if task[1] == self._fd else self.durable
-        elif kind == "close":
-            os.close(task[1])
-        elif kind == "base":
-            self._write_base(task[1], task[2])
-        elif kind == "checkpoint":
-            self._write_checkpoint(task[1], task[2])
-        elif kind == "prune":
-            self._prune(keep_base=task[1])
-        elif kind == "file":
-            write_bytes_atomic(cast(Path, self.directory) / task[1], task[2])
-        elif kind == "retire":
-            if self._base_written:
-                task[1].remove()
-            else:  # this journal has no base copy: the recovered one stays for next time
-                task[1].release()
+    def _fsync(self, fd: int, seq: int) -> None:
+        os.fsync(fd)
+        if fd == self._fd:
+            self.durable = max(self.durable, seq)
+
+    def _retire_journal(self, lock: JournalLock) -> None:
+        if self._base_written:
+            lock.remove()
+        else:  # this journal has no base copy: the recovered one stays for next time
+            lock.release()
 
     def _write_base(self, state: SculptState, name: str) -> None:
         faces = state.faces
@@ -481,14 +399,10 @@ class Journal:
         self._prune()
 
     def _prune(self, keep_base: str | None = None) -> None:
-        """Delete all but the newest :data:`KEEP_CHECKPOINTS` checkpoints, the checkpoints of
-        an older generation (``keep_base`` given: a restart) and other base copies."""
+        """Keep the newest :data:`KEEP_CHECKPOINTS` checkpoints (``keep_base``: a restart, none
+        of them, nor other base copies)."""
         directory = cast(Path, self.directory)  # (tasks are queued once the folder was made)
-        numbered = []
-        for path in directory.glob("checkpoint-*.bin"):
-            with contextlib.suppress(ValueError):
-                numbered.append((int(path.stem.split("-", 1)[1]), path))
-        numbered.sort()
+        numbered = checkpoint_files(directory)
         drop = numbered if keep_base is not None else numbered[:-KEEP_CHECKPOINTS]
         for _, path in drop:
             path.unlink(missing_ok=True)

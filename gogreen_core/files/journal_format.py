@@ -1,7 +1,7 @@
-"""The recovery journal's files: where they live, their lock, their line format, and reading
-them back (:func:`read_journal`). :mod:`gogreen_core.files.journal` writes journals,
-:mod:`gogreen_core.files.recovery` lists and recovers them; the folder and the line format are
-described there and in the README ("Crash recovery").
+"""The recovery journal's files (README, "Crash recovery": the folder and the line format):
+where they live, their lock, their lines, and reading them back (:func:`read_journal`). Besides
+``seq``, ``kind`` and ``op`` a record holds ``n`` (operations after it), ``t`` (unix time) and
+``d`` (undo steps done: recovery checks a replay from a checkpoint against it).
 """
 
 from __future__ import annotations
@@ -45,6 +45,7 @@ __all__ = [
     "JournalError",
     "JournalLock",
     "Record",
+    "checkpoint_files",
     "frame",
     "lock_owner",
     "new_folder",
@@ -59,18 +60,14 @@ __all__ = [
 
 JOURNAL_FORMAT = "gogreen-journal"
 JOURNAL_VERSION = 2
-#: The session version of a version-1 journal's records by its start's kernel evaluation (2 when
-#: it does not say).
+#: The session version of a version-1 journal's records by its start's kernel evaluation.
 _V1_SESSION_VERSIONS = {1: 2, 2: 3, 3: 4}
 JOURNAL_FILE = "journal.jsonl"
 LOCK_FILE = "lock"
 THUMBNAIL_FILE = "thumbnail.png"
 #: Replay work of a material or falloff change (a new kernel: ~50 ms).
 SETTINGS_WORK = 1.5e6
-
-
-#: A subdivision's replay work in vertex passes (1M vertices: 2.6-4.4 s; one grab event at
-#: radius 0.05 there, 0.11-0.2 s).
+#: A subdivision's or remesh's replay work in vertex passes (about 20 strokes' events).
 SUBDIVIDE_WORK = 20
 
 
@@ -82,10 +79,7 @@ def replay_work(name: str, events: int, vertices: int) -> float:
         return max(1, events) * vertices
     if name in ("material", "falloff"):
         return max(vertices, SETTINGS_WORK)
-    if name in (
-        "subdivide",
-        "remesh",
-    ):  # measured: about as long as 20 strokes' events on the same mesh
+    if name in ("subdivide", "remesh"):
         return SUBDIVIDE_WORK * vertices
     return vertices
 
@@ -123,6 +117,15 @@ def write_all(fd: int, data: bytes) -> None:
         if written <= 0:
             raise OSError(errno.EIO, "write wrote nothing")
         view = view[written:]
+
+
+def checkpoint_files(directory: Path) -> list[tuple[int, Path]]:
+    """(record, path) of the ``checkpoint-<record>.bin`` files in ``directory``, oldest first."""
+    found = []
+    for path in directory.glob("checkpoint-*.bin"):
+        with contextlib.suppress(ValueError):
+            found.append((int(path.stem.split("-", 1)[1]), path))
+    return sorted(found)
 
 
 def vertex_hash(vertices: np.ndarray) -> str:
@@ -163,10 +166,6 @@ class JournalLock:
                 write_all(fd, json.dumps(owner()).encode())
         return cls(directory, fd)
 
-    @property
-    def held(self) -> bool:
-        return self._fd is not None
-
     def release(self) -> None:
         """Let go (the folder stays)."""
         if self._fd is not None:
@@ -202,8 +201,7 @@ def lock_owner(directory: str | os.PathLike[str]) -> dict[str, Any]:
 
 
 def new_folder(root: Path) -> tuple[Path, JournalLock]:
-    """A new journal folder, locked before it gets its final name (so no other instance ever
-    sees it unlocked)."""
+    """A new journal folder, locked before it gets its final name (never seen unlocked)."""
     _private_folder(root)
     staging = Path(tempfile.mkdtemp(prefix=".new-", dir=root))  # mode 0700
     lock = JournalLock.acquire(staging, create=True)
@@ -229,9 +227,8 @@ class JournalError(ValueError):
 
 @dataclass(frozen=True)
 class Record:
-    """One complete journal record: ``seq`` (1, 2, ...), ``kind`` (``append``/``replace``),
-    ``n`` operations after it, ``t`` unix time, ``d`` undo steps done, the operation's session
-    form ``data`` and its typed ``op`` (None when read without validation)."""
+    """One complete journal record (see the module docstring): the operation's session form
+    ``data`` and its typed ``op`` (None when read without validation)."""
 
     seq: int
     kind: str
@@ -274,6 +271,15 @@ class JournalContents:
         return ops
 
     @property
+    def document(self) -> str | None:
+        """The document's file, when it had one."""
+        return (self.header.get("document") or {}).get("path")
+
+    @property
+    def title(self) -> str:
+        return str((self.header.get("document") or {}).get("title") or self.directory.name)
+
+    @property
     def modified(self) -> float:
         """Time of the last complete record (of the header when there is none)."""
         return self.records[-1].t if self.records else float(self.header.get("created", 0))
@@ -295,14 +301,10 @@ def _check_header(header: object, name: str) -> dict[str, Any]:
     if not isinstance(header, dict) or header.get("format") != JOURNAL_FORMAT:
         raise JournalError(f"{name}: not a GoGreen Sculpt journal")
     try:
-        mesh, start = header["mesh"], header["start"]
-        ok = (
-            isinstance(header["version"], int)
-            and isinstance(mesh["vertices"], int)
-            and isinstance(mesh["faces"], int)
-            and isinstance(mesh["sha256"], str)
-            and isinstance(mesh["base"], str)
-            and isinstance(start, dict)
+        mesh = header["mesh"]
+        values = (header["version"], mesh["vertices"], mesh["faces"], mesh["sha256"], mesh["base"])
+        ok = isinstance(header["start"], dict) and all(
+            isinstance(v, t) for v, t in zip(values, (int, int, int, str, str), strict=True)
         )
     except (KeyError, TypeError):
         ok = False
@@ -322,9 +324,8 @@ def read_journal(directory: str | os.PathLike[str], validate: bool = True) -> Jo
     except OSError as exc:
         raise JournalError(f"{directory.name}: cannot read the journal ({exc.strerror})") from None
     lines = data.split(b"\n")
-    payload = _frame_payload(lines[0]) if len(lines) > 1 else None
-    try:
-        header = json.loads(payload) if payload is not None else None
+    try:  # (a bad checksum: no payload, no JSON)
+        header = json.loads(_frame_payload(lines[0]) or b"") if len(lines) > 1 else None
     except ValueError:
         header = None
     if header is None:
@@ -349,11 +350,12 @@ def read_journal(directory: str | os.PathLike[str], validate: bool = True) -> Jo
         if last and not line:
             break
         seq = index + 1
-        problem = "was cut off (its write did not finish)" if last else None
-        record = None
-        if problem is None:
-            record, problem = _parse_record(line, seq, validate, version)
-        if problem is not None:
+        record, problem = (
+            _parse_record(line, seq, validate, version)
+            if not last
+            else (None, "was cut off (its write did not finish)")
+        )
+        if record is None:
             dropped = len(body) - index - (0 if body[-1] else 1)
             size = sum(len(x) + 1 for x in body[index:]) - 1
             what = f"it and the {dropped - 1} after it were" if dropped > 1 else "it was"
@@ -362,7 +364,6 @@ def read_journal(directory: str | os.PathLike[str], validate: bool = True) -> Jo
                 "records before it are kept"
             )
             break
-        assert record is not None  # parsed without a problem
         contents.records.append(record)
     return contents
 

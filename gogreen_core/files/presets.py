@@ -1,18 +1,12 @@
-"""Presets: a material, a falloff (with l_max and the brushes' weights) and a brush, as JSON.
-
-The app's Presets menu lists :func:`builtin_presets` (JSON files shipped in ``resources/presets``)
-and loads or saves any other file; a script does the same::
+"""Presets: a material, a falloff (with l_max and the brushes' weights) and a brush, as JSON::
 
     preset = load_preset("my_clay.json")
     preset.apply(sculptor)                      # material and falloff
     sculptor.apply_brush(preset.brush, events)
 
 File format (``"format": "gogreen-preset"``, ``"version": 3``): ``name``, ``description``,
-the ``"preset"`` settings of the setting table (``material`` as :meth:`Material.to_dict`,
-``falloff`` a radial profile's ``to_dict``, ``l_max``, ``brush_weights``: per brush kind,
-l_max + 2 numbers, when some brush has its own), ``brush`` (:meth:`Brush.to_dict`). Files of
-versions 1-2 may hold ``degree_weights`` (of the wrinkle brush of sessions before version 3,
-which no longer exists): ignored.
+the ``"preset"`` settings of the setting table, ``brush`` (:meth:`Brush.to_dict`). The
+``degree_weights`` of versions 1-2 (a wrinkle brush that no longer exists) are ignored.
 """
 
 from __future__ import annotations
@@ -44,12 +38,9 @@ PRESET_VERSION = 3
 class Preset:
     """Everything an artist tunes before a stroke, as one named, shareable unit:
     ``Preset(name, material, falloff, l_max, brush_weights=..., brush=..., description=...)``.
-
-    Its settings are the ``"preset"`` rows of the setting table
-    (:data:`~gogreen_core.sculpt.setting_table.SETTINGS`), given by keyword or in the table's
-    order (or taken from ``settings``), read as attributes (``preset.l_max``) and held in
-    :attr:`settings` (an :class:`EngineSettings`, so checked as the engine's are: a
-    :class:`ParameterError` naming the field; the other rows at their defaults).
+    Its settings are the ``"preset"`` rows of the setting table, given by keyword, in the
+    table's order or from ``settings``, read as attributes and held (checked) in
+    :attr:`settings` (an :class:`EngineSettings`, the other rows at their defaults).
     """
 
     name: str
@@ -89,8 +80,7 @@ class Preset:
         return EngineSettings(**values) if base is None else base.replace(**values)
 
     def apply(self, sculptor: Sculptor) -> None:
-        """Give ``sculptor`` this preset's settings, as one undo step (the brush is the
-        caller's to use)."""
+        """Give ``sculptor`` this preset's settings (not the brush), as one undo step."""
         target, joined = self.engine_settings(sculptor.settings), False
         for group in SETTING_GROUPS:
             if not sculptor.settings.agrees(target, group):
@@ -117,11 +107,14 @@ class Preset:
             raise ParameterError(
                 "format", f"not a GoGreen preset (expected format {PRESET_FORMAT!r})"
             )
-        table = rows("preset")
         check_object(
             "",
             data,
-            required=("format", *(s.name for s in table if "preset" in s.required), "brush"),
+            required=(
+                "format",
+                *(s.name for s in rows("preset") if "preset" in s.required),
+                "brush",
+            ),
             optional=("version", "name", "description", "degree_weights", *_NAMES),
         )
         version = data.get("version", PRESET_VERSION)
@@ -158,8 +151,5 @@ def save_preset(preset: Preset, path: str | os.PathLike[str]) -> None:
 def builtin_presets() -> list[Preset]:
     """The presets shipped with the program (``resources/presets/*.json``), by file name."""
     folder = files("gogreen_resources").joinpath("presets")
-    paths = sorted(
-        (entry for entry in folder.iterdir() if entry.name.endswith(".json")),
-        key=lambda e: e.name,
-    )
-    return [load_preset(str(entry)) for entry in paths]
+    paths = sorted(e.name for e in folder.iterdir() if e.name.endswith(".json"))
+    return [load_preset(str(folder.joinpath(name))) for name in paths]

@@ -1,26 +1,15 @@
 """Crash recovery: list the journals :mod:`gogreen_core.files.journal` leaves behind after an
-unclean exit, and rebuild a document from one (bit for bit the state after its last complete
-record).
+unclean exit, and rebuild a document from one, bit for bit the state after its last complete
+record (README, "Crash recovery")::
 
     journals = list_journals()                 # newest first; in_use: a running app writes it
     recovery = recover(journals[0].directory)  # locks it, replays it
     recovery.mesh, recovery.sculptor           # the mesh as it was, a sculptor to go on with
 
-How: the journal's start (its base copy and start state) or one of its checkpoints, then the
-records after it replayed (:func:`gogreen_core.sculpt.session.replay`, one record at a time).
-Recovery starts from the oldest checkpoint whose replay fits :data:`RECOVERY_WORK` (estimated from
-the mouse events to replay × the vertices), so the recovered undo history (the replayed records)
-is as deep as that budget allows and recovery stays within about 1 to 2 s here; a
-checkpoint whose later records undo past it (``d``, the undo steps done, disagrees) is skipped
-for an older one, down to the start, which always replays.
-
-Damage is never fatal: every complete record before it is kept and the notes say what was
-dropped: a record cut off by the crash or corrupt (checksum), an operation this version cannot
-read (a newer version's journal), a checkpoint cut short or corrupt (an older one, or the start,
-is used), a missing base copy (the document's own file is used if it still has the same
-vertices, its faces otherwise with a checkpoint).
-
-``gogreen recover`` (:mod:`gogreen_core.interaction.batch`) does it from the command line.
+Recovery starts from the oldest checkpoint (or the journal's start) whose replay fits
+:data:`RECOVERY_WORK`, so the recovered undo history is as deep as that allows; a checkpoint
+whose later records undo past it is skipped for an older one. Damage is never fatal: every
+complete record before it is kept and the notes say what was dropped.
 """
 
 from __future__ import annotations
@@ -43,6 +32,7 @@ from gogreen_core.files.journal_format import (
     JournalError,
     JournalLock,
     Record,
+    checkpoint_files,
     lock_owner,
     read_journal,
     recovery_root,
@@ -69,7 +59,7 @@ __all__ = [
 ]
 
 #: Most replay work (:func:`~gogreen_core.files.journal.replay_work`) recovery replays when it can
-#: choose: about 1 s on this project's test machine, 2 s on a busy one.
+#: choose: about 1 s here.
 RECOVERY_WORK = 3e7
 #: Names of the operations in summaries (singular, plural).
 _KINDS = {
@@ -84,7 +74,6 @@ _KINDS = {
 }
 
 
-# -- listing ---------------------------------------------------------------------------------
 @dataclass
 class JournalInfo:
     """A journal as the recovery dialog and ``gogreen recover --list`` show it."""
@@ -92,16 +81,13 @@ class JournalInfo:
     directory: Path
     title: str
     document: str | None
-    created: float
     modified: float
     operations: int
     kinds: dict[str, int]
     vertices: int
-    faces: int
     in_use: bool
     owner: dict[str, Any]
     notes: list[str]
-    size: int
     thumbnail: Path | None
     readable: bool = True
 
@@ -134,44 +120,33 @@ def journal_info(directory: str | os.PathLike[str]) -> JournalInfo:
     """What :func:`list_journals` shows of one journal folder (never raises)."""
     directory = Path(directory)
     lock = None
-    try:
+    with contextlib.suppress(OSError):
         lock = JournalLock.acquire(directory)
-    except OSError:
-        pass
-    in_use = lock is None
     if lock is not None:
         lock.release()
-    size = 0
-    with contextlib.suppress(OSError):  # another app may be removing it right now
-        size = sum(p.stat().st_size for p in directory.iterdir() if p.is_file())
-    thumbnail_path = directory / THUMBNAIL_FILE
-    thumbnail = thumbnail_path if thumbnail_path.is_file() else None
+    thumbnail = directory / THUMBNAIL_FILE
+    picture = thumbnail if thumbnail.is_file() else None
     try:
         contents = read_journal(directory, validate=False)
     except JournalError as exc:
         mtime = directory.stat().st_mtime if directory.exists() else 0.0
         return JournalInfo(
-            directory, directory.name, None, mtime, mtime, 0, {}, 0, 0, in_use,
-            lock_owner(directory), [str(exc)], size, thumbnail, readable=False,
+            directory, directory.name, None, mtime, 0, {}, 0, lock is None,
+            lock_owner(directory), [str(exc)], picture, readable=False,
         )  # fmt: skip
-    header = contents.header
-    document = header.get("document") or {}
-    kinds = collections.Counter(op.get("op", "?") for op in contents.operations)
+    ops = contents.operations
     return JournalInfo(
         directory,
-        str(document.get("title") or directory.name),
-        document.get("path"),
-        float(header.get("created", 0)),
+        contents.title,
+        contents.document,
         contents.modified,
-        len(contents.operations),
-        dict(kinds),
-        header["mesh"]["vertices"],
-        header["mesh"]["faces"],
-        in_use,
+        len(ops),
+        dict(collections.Counter(op.get("op", "?") for op in ops)),
+        contents.header["mesh"]["vertices"],
+        lock is None,
         lock_owner(directory),
         contents.notes,
-        size,
-        thumbnail,
+        picture,
     )
 
 
@@ -194,7 +169,7 @@ def list_journals(root: str | os.PathLike[str] | None = None) -> list[JournalInf
                 elif lock is not None:
                     lock.release()
             continue
-        if not folder.name.startswith(".") and folder.is_dir():
+        if not folder.name.startswith("."):
             infos.append(journal_info(folder))
     return sorted(infos, key=lambda info: info.modified, reverse=True)
 
@@ -217,9 +192,7 @@ def find_journal(name: str, root: str | os.PathLike[str] | None = None) -> Path:
 
 def discard(directory: str | os.PathLike[str]) -> None:
     """Delete a journal (not one a running app writes: :class:`JournalError`)."""
-    directory = Path(directory)
-    lock = _lock(directory)
-    lock.remove()
+    _lock(Path(directory)).remove()
 
 
 def _lock(directory: Path) -> JournalLock:
@@ -228,19 +201,15 @@ def _lock(directory: Path) -> JournalLock:
     except OSError as exc:
         raise JournalError(f"{directory.name}: cannot open ({exc.strerror})") from None
     if lock is None:
-        info = journal_info(directory)
-        raise JournalError(f"{directory.name}: {info.status()}")
+        raise JournalError(f"{directory.name}: {journal_info(directory).status()}")
     return lock
 
 
-# -- recovering ------------------------------------------------------------------------------
 @dataclass
 class Recovery:
-    """A recovered journal: ``mesh`` (the document's mesh with the recovered vertices),
-    ``sculptor`` (continues bit for bit; its undo history holds the ``replayed`` records),
-    ``records`` and ``operations`` recovered, ``start`` (0: the journal's start, k: the
-    checkpoint after record k), ``notes`` (what was dropped), and the journal's ``lock``
-    (held until :meth:`release`, or handed to the journal that continues it)."""
+    """A recovered journal: the document's ``mesh``, a ``sculptor`` that continues bit for bit
+    (its undo history holds the ``replayed`` records), ``start`` (0, or the checkpoint's
+    record), ``notes`` on what was dropped, and the ``lock`` (held until :meth:`release`)."""
 
     contents: JournalContents
     mesh: MeshData
@@ -258,16 +227,11 @@ class Recovery:
 
     @property
     def title(self) -> str:
-        document = self.contents.header.get("document") or {}
-        return str(document.get("title") or self.contents.directory.name)
+        return self.contents.title
 
     @property
     def document(self) -> str | None:
-        return (self.contents.header.get("document") or {}).get("path")
-
-    def session(self) -> dict[str, Any]:
-        """The session of the recovered records (:func:`journal_session`)."""
-        return journal_session(self.contents)
+        return self.contents.document
 
     def release(self) -> None:
         if self.lock is not None:
@@ -294,8 +258,7 @@ def journal_session(contents: JournalContents) -> dict[str, Any]:
 
 
 def _start_state(header: dict[str, Any], base: MeshData, mask: np.ndarray | None) -> SculptState:
-    """The journal's start state: its header's settings and pins, the base copy's vertices,
-    faces, UVs and mask."""
+    """The start state: the header's settings and pins, the base copy's arrays."""
     start = header["start"]
     pins = start.get("pins")
     arrays = [base.vertices.copy()]
@@ -314,13 +277,12 @@ def _start_state(header: dict[str, Any], base: MeshData, mask: np.ndarray | None
 def _load_base(
     contents: JournalContents, notes: list[str]
 ) -> tuple[MeshData | None, bool, np.ndarray | None]:
-    """The journal's start mesh, whether its vertices are the start's (False: only the faces
-    of the document's file could be had, for use with a checkpoint), and the start's mask
-    (None when nothing was masked, or the copy is missing)."""
+    """The start mesh, whether its vertices are the start's (False: only the document's faces,
+    for a checkpoint), and the start's mask (None if unmasked or lost)."""
     header = contents.header
     mesh = header["mesh"]
     name = mesh["base"]
-    document = (header.get("document") or {}).get("path")
+    document = contents.document
     try:
         with np.load(contents.directory / name, allow_pickle=False) as arrays:
             data = {key: arrays[key] for key in arrays.files}
@@ -371,21 +333,8 @@ def _base_mismatch(base: MeshData, mesh: dict[str, Any]) -> str | None:
     return None
 
 
-def _checkpoints(contents: JournalContents) -> list[tuple[int, Path]]:
-    """(record, path) of the checkpoints that could apply, newest first."""
-    last = len(contents.records)
-    found = []
-    for path in contents.directory.glob("checkpoint-*.bin"):
-        with contextlib.suppress(ValueError):
-            seq = int(path.stem.split("-", 1)[1])
-            if 0 < seq <= last:
-                found.append((seq, path))
-    return sorted(found, reverse=True)
-
-
 def _plan(records: list[Record]) -> list[Record]:
-    """The records to apply: of a run of ``replace`` records only the last (each merges into
-    the same operation)."""
+    """The records to apply: of a run of ``replace`` records (one operation) only the last."""
     plan: list[Record] = []
     for record in records:
         if record.kind == "replace" and plan and plan[-1].kind == "replace":
@@ -405,9 +354,8 @@ def _replay(
     done: int,
     progress: Callable[[int, int], None] | None,
 ) -> tuple[int, str | None]:
-    """Apply ``records`` to ``sculptor`` (whose ``history.done`` stands for ``done``); returns
-    how many were applied and the error that stopped it (None). Raises :class:`_Diverged`.
-    ``progress(done, total)`` in mouse events."""
+    """Apply ``records`` to ``sculptor`` (whose ``history.done`` stands for ``done``): how many
+    were applied and the error that stopped it, or :class:`_Diverged`."""
     offset = done - sculptor.history.done
     total = sum(r.steps for r in records)
     steps = applied = 0
@@ -433,20 +381,17 @@ def recover(
     *,
     budget: float = RECOVERY_WORK,
     progress: Callable[[int, int], None] | None = None,
-    lock: bool = True,
 ) -> Recovery:
-    """Rebuild the document a journal was recording (see the module docstring).
+    """Rebuild the document a journal was recording, locked by the returned :class:`Recovery`.
 
-    ``budget``: most replay work when a checkpoint allows less (mouse events × vertices:
-    :func:`~gogreen_core.files.journal.replay_work`; 0 always starts from the newest usable
-    checkpoint, ``inf`` from the start).
-    ``progress(done, total)`` in mouse events. The journal stays locked by the returned
-    :class:`Recovery` (``lock=False``: not locked, for reading a copy).
-    :class:`JournalError` when nothing can be recovered or a running app holds it.
+    ``budget``: most replay work (:func:`~gogreen_core.files.journal.replay_work`) when a
+    checkpoint allows less (0: the newest usable checkpoint, ``inf``: the start).
+    ``progress(done, total)`` in mouse events. :class:`JournalError` when nothing can be
+    recovered or a running app holds it.
     """
     began = time.perf_counter()
     directory = Path(directory)
-    held = _lock(directory) if lock else None
+    held = _lock(directory)
     try:
         contents = read_journal(directory)
         notes = list(contents.notes)
@@ -460,7 +405,7 @@ def recover(
         vertices = contents.header["mesh"]["vertices"]
         cost = np.cumsum([0] + [r.work(vertices) for r in reversed(records)])[::-1]
         starts: list[tuple[int, Path | None]] = [(0, None)] if exact else []
-        starts += _checkpoints(contents)
+        starts += [c for c in checkpoint_files(directory)[::-1] if 0 < c[0] <= len(records)]
         fits = sorted(s for s in starts if cost[s[0]] <= budget)
         order = fits + sorted((s for s in starts if cost[s[0]] > budget), reverse=True)
         best = None
@@ -471,9 +416,8 @@ def recover(
                 notes.append(f"checkpoint after record {seq} not used: {exc}")
                 continue
             sculptor = restore_state(state, base.faces, base.uv, base.uv_faces)
-            tail = records[seq:]
             try:
-                applied, error = _replay(sculptor, tail, done, progress)
+                applied, error = _replay(sculptor, records[seq:], done, progress)
             except _Diverged:
                 continue  # undoes past this checkpoint: an older start replays it right
             result = (seq + applied, seq, sculptor, applied, error)
@@ -490,15 +434,13 @@ def recover(
             notes.append(f"{error}: {what} dropped")
             contents.records = records[:kept]
         now = sculptor.mesh  # a subdivision replayed: its faces and UVs
-        document = (contents.header.get("document") or {}).get("path")
-        mesh = MeshData(now.vertices, now.faces, now.uv, now.uv_faces, source=document)
+        mesh = MeshData(now.vertices, now.faces, now.uv, now.uv_faces, source=contents.document)
         return Recovery(
             contents, mesh, sculptor, kept, replayed, seq, notes, held,
             time.perf_counter() - began,
         )  # fmt: skip
     except BaseException:
-        if held is not None:
-            held.release()
+        held.release()
         raise
 
 

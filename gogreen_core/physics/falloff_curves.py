@@ -9,16 +9,10 @@ from scipy.interpolate import CubicHermiteSpline, CubicSpline, PPoly
 
 __all__ = ["INTERPOLATIONS", "interpolant", "local_slopes", "monotone_hermite"]
 
-#: How a spline falloff passes through its control points.
-#:
-#: ``"monotone"`` (new curves, :func:`monotone_hermite`): a piecewise cubic monotone between
-#: control points and flat at their local extrema, whose shape depends on nearby points alone.
-#: ``"cubic"``: the interpolating C² cubic spline (not-a-knot) of the sessions and presets
-#: saved before (no ``"interpolation"`` in their JSON), kept so they replay bit for bit. It
-#: overshoots and rings: raising the default R₀ at ρ = 2 by 0.3 gives it new minima at
-#: ρ ≈ 1.72 and 2.80 and a maximum at 3.01, and its curvature changes all the way along (by up
-#: to 1.27 on [3, 4]); a stroke with that edit shows the ringing as lines along its rim
-#: (``benchmarks/falloff_striations.py``).
+#: How a spline falloff passes through its control points: ``"monotone"`` (new curves,
+#: :func:`monotone_hermite`), or ``"cubic"``, the not-a-knot C² spline of files saved before
+#: (no ``"interpolation"`` key), kept for them; it overshoots and rings, which a stroke shows
+#: as lines along its rim (``benchmarks/falloff_striations.py``).
 INTERPOLATIONS = ("monotone", "cubic")
 
 #: Points on each side whose polynomial gives a point's slope (4th-order slopes).
@@ -27,12 +21,9 @@ _STENCIL = 2
 
 def local_slopes(rho: np.ndarray, value: np.ndarray) -> np.ndarray:
     """At each point (n ≥ 3), the slope of the polynomial through it and its
-    :data:`_STENCIL` neighbours on each side (shifted inwards at the ends, so always
-    min(5, n) points): 4th-order accurate on smooth values. Moving one point changes the slopes
-    of the points whose five points hold it: its two neighbours on each side, and more within
-    four points of an end (whose stencils are shifted). Lagrange's formula on the given
-    abscissae, all points at once (n × width × width arrays, no Python loop per point: a
-    falloff reset rebuilds 30 curves on the GUI thread)."""
+    :data:`_STENCIL` neighbours on each side (shifted inwards at the ends): 4th-order accurate.
+    Lagrange's formula for all points at once (a falloff reset rebuilds 30 curves on the GUI
+    thread)."""
     rho = np.asarray(rho, dtype=np.float64)
     value = np.asarray(value, dtype=np.float64)
     n = len(rho)
@@ -57,19 +48,13 @@ def local_slopes(rho: np.ndarray, value: np.ndarray) -> np.ndarray:
 
 
 def monotone_hermite(rho: np.ndarray, value: np.ndarray) -> CubicHermiteSpline:
-    """The C¹ piecewise cubic through (ρ_i, value_i) (n ≥ 3) that is monotone on every
-    interval: at each point the :func:`local_slopes`, limited as Fritsch & Carlson (1980) do:
-    0 at a local extremum of the values, else of the secants' sign and at most 3× the smaller
-    neighbouring secant slope. Moving one point changes the curve between its third
-    neighbours alone (farther near the ends, :func:`local_slopes`), and never gives it a new
-    extremum.
+    """The C¹ piecewise cubic through (ρ_i, value_i) (n ≥ 3), monotone on every interval: the
+    :func:`local_slopes` limited as Fritsch & Carlson (1980) do (0 at a local extremum, else at
+    most 3× the smaller neighbouring secant). Moving a point changes the curve near it alone.
 
-    Why these slopes and not SciPy's PCHIP (the same limiting, slopes from weighted harmonic
-    means of the secants, 2nd order): on the default curves sampled from the Gaussian, PCHIP's
-    curvature jumps at every control point, max |F″ − G″| on R₀ 1.41 against 0.05 here (0.10
-    for the cubic spline), which showed in a stroke's shading at each control radius; and on a
-    Kelvinlet-sampled curve the tri-scale grab's strain rose above the safety bound
-    (:mod:`gogreen_core.sculpt.falloff_safety`), 2.03 against 1.61 here and 1.65 for the cubic."""
+    Not SciPy's PCHIP (2nd-order slopes): its curvature jumps at every control point (max
+    |F″ − G″| on R₀ 1.41 against 0.05 here), which shows in a stroke's shading, and a tri-scale
+    grab on it strains past the safety bound (2.03 against 1.61)."""
     rho = np.asarray(rho, dtype=np.float64)
     value = np.asarray(value, dtype=np.float64)
     secant = np.diff(value) / np.diff(rho)

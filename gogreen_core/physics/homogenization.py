@@ -1,60 +1,20 @@
-"""Periodic homogenization of two-phase voxel patterns into one effective anisotropic material.
+"""Periodic homogenization of two-phase voxel patterns into one effective anisotropic material
+(Go Green, Chen & Desbrun 2022, Fig. 12; numerical coarsening, Kharevych et al. 2009).
 
-Go Green (Chen & Desbrun 2022, Fig. 12) lets an artist pick anisotropy by choosing a periodic
-pattern of two isotropic materials instead of typing 21 coefficients; the pattern is coarsened
-into its effective stiffness (numerical coarsening, Kharevych et al. 2009). This module computes
-that effective stiffness.
+For each of the six unit macro strains ``E_j`` (Voigt order, engineering shear) the periodic
+fluctuation ``w_j`` of the cell solves ``div C (E_j + eps(w_j)) = 0``, and
+``C_eff[i, j] = 1/|Y| ∫_Y (E_i + eps(w_i)) : C : (E_j + eps(w_j)) dx``. Why this method:
 
-Problem
--------
-One periodic cell, the unit cube split into n x n x n voxels (axis order x, y, z), each voxel of
-phase 0 or 1 with stiffness ``C(x)``. For each of the six macroscopic unit strains ``E_j``
-(Voigt order 11, 22, 33, 23, 13, 12 with engineering shear, so ``E_3`` is gamma_23 = 1, i.e.
-eps_23 = eps_32 = 1/2) the displacement is ``u = E_j x + w_j(x)`` with a periodic fluctuation
-``w_j`` solving ``div C (E_j + eps(w_j)) = 0``. The effective stiffness is the energy average
+- Q1 voxel finite elements, periodic: conforming, so exact for grid-aligned laminates (the
+  Backus formula of ``../shared/MATH.md`` to ~1e-14), which an FFT scheme is not.
+- Matrix-free: a node's stencil row depends on the phases of its 8 voxels alone (an 8-bit
+  code), so one compiled kernel applies K from a 256-entry table, six load cases at once.
+- CG preconditioned by the FFT-diagonalised periodic stiffness of an isotropic reference (the
+  phases' geometric-mean moduli): 1 to 150 iterations at rtol 1e-5 up to contrast 1e4 (SuperLU
+  at 16^3: 13.6 s and 1 GB).
+- The energy form makes ``C_eff``'s error quadratic in the CG error (≤ 3e-7 at contrast 1e4).
 
-    C_eff[i, j] = 1/|Y| ∫_Y (E_i + eps(w_i)) : C : (E_j + eps(w_j)) dx,
-
-which equals the volume average of the stress of load case j contracted with ``E_i``.
-
-Method and why
---------------
-*Q1 (trilinear hexahedral) voxel finite elements* with periodic node numbering: one node per
-voxel corner, 3 n^3 unknowns. Reasons:
-
-- Accuracy: Q1 elements are conforming, so the discrete effective tensor is a variational
-  (upper, Voigt-side) approximation that converges under grid refinement and is *exact* for
-  grid-aligned laminates, whose fluctuation is continuous and piecewise linear across the
-  layers. The Backus formula of ``../shared/MATH.md`` is therefore reproduced to solver
-  precision (tested to 1e-6, observed ~1e-14). A Moulinec–Suquet FFT scheme has neither
-  property, and its basic fixed-point iteration needs O(contrast) iterations.
-- Speed: two phases mean a node's stencil row (27 neighbours x 3x3 blocks) depends only on the
-  phases of its 8 surrounding voxels, an 8-bit code. The operator is applied matrix-free from a
-  256-entry table of stencil rows (< 0.5 MB, stays in cache) by one compiled (numba) kernel, for
-  all six load cases at once. No global matrix is assembled and nothing loops over voxels in
-  Python.
-- Solver: conjugate gradients preconditioned by the *exact inverse of the periodic Q1 stiffness
-  of a homogeneous isotropic reference material*. That operator is block-circulant, so the FFT
-  diagonalises it into one 3x3 symbol per frequency (inverted once and cached; the zero
-  frequency, the rigid translations, is projected out, which removes the null space without
-  pinning a node). The preconditioned spectrum lies in [c_min / c_ref, c_max / c_ref]; the
-  reference has the phases' geometric-mean bulk and shear moduli (its Poisson ratio is what
-  matters; other choices measured 1.5–2.5x more iterations). Measured iteration counts at
-  rtol 1e-5: laminates 1, checkerboard/lattice/fibres 8–16, spheres 13–22, a 50 % random voxel
-  mix 15–60, stiff random blobs in a soft matrix up to 150 at contrast 1e4.
-  A sparse direct factorisation was measured and rejected: SuperLU on the 16^3 system (12 285
-  unknowns, 27-point 3D stencil) takes 13.6 s and 1 GB, 24^3 131 s and 5.5 GB; the CG
-  iteration costs ~2 ms at 16^3 and ~20 ms at 32^3.
-- The energy form above is used with the computed fluctuations, so the error in ``C_eff`` is
-  quadratic in the CG error (and the result is symmetric by construction): the stopping
-  tolerance ``rtol`` on the preconditioned residual gives a relative error of about rtol^2
-  times a factor that grows with the contrast (measured with the default rtol = 1e-5:
-  ≤ 1e-8 at contrast 100, ≤ 3e-7 at contrast 1e4 for stiff spheres in a soft matrix).
-
-Units: the stiffness units of the phases (the cell size drops out). Median run times on this
-2-core machine (``benchmarks/homogenize.py``, contrasts 10 to 1e4): 16^3 7–100 ms for every
-family of the pattern library (≈ 300 ms for the hardest case, 30 % stiff random blobs at
-contrast 1e4), 32^3 0.06–1.9 s.
+Median times (``benchmarks/homogenize.py``): 16^3 7–100 ms, 32^3 0.06–1.9 s.
 """
 
 from __future__ import annotations
@@ -71,7 +31,8 @@ import numba as nb
 import numpy as np
 import scipy.fft as sfft
 
-from gogreen_core.physics.material import Material
+from gogreen_core.physics.material import VOIGT_PAIRS, Material
+from gogreen_core.validation import check_number
 
 __all__ = [
     "MAX_CONTRAST",
@@ -95,38 +56,26 @@ ProgressCallback = Callable[[float], object]
 _CORNERS = np.array(list(product((0, 1), repeat=3)), dtype=np.int64)
 # _BITS[code, a] = phase of the voxel that has the node as its local corner a.
 _BITS = ((np.arange(256)[:, None] >> np.arange(8)[None, :]) & 1).astype(np.int64)
-# Unit macroscopic strains as symmetric 3x3 tensors, Voigt order with engineering shear.
-_VOIGT_PAIRS = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))
 
 
 def _unit_strains() -> np.ndarray:
+    """Unit macroscopic strains as symmetric 3x3 tensors, Voigt order, engineering shear."""
     eps = np.zeros((6, 3, 3))
-    for j, (p, q) in enumerate(_VOIGT_PAIRS):
+    for j, (p, q) in enumerate(VOIGT_PAIRS):
         eps[j, p, q] += 0.5
         eps[j, q, p] += 0.5
     return eps
 
 
-# ---------------------------------------------------------------------------------------------
-# Input checks and small helpers
-# ---------------------------------------------------------------------------------------------
 def check_phases(phases: np.ndarray) -> np.ndarray:
-    """Validate a periodic two-phase cell and return it as an (n, n, n) int8 array.
-
-    Raises ValueError (with the reason) for: not 3-dimensional, a non-cubic grid, n < 2,
-    NaN/inf, or values other than 0 and 1. Booleans and integer or float arrays holding exactly
-    0/1 are accepted.
-    """
+    """A periodic two-phase cell (booleans, integers or floats, exactly 0/1) as an (n, n, n)
+    int8 array; ValueError saying why not."""
     try:
         arr = np.asarray(phases)
     except Exception as exc:  # ragged nested lists and the like
         raise ValueError(f"phases must be an (n, n, n) array of 0/1 ({exc})") from None
-    if arr.dtype == object or not (
-        np.issubdtype(arr.dtype, np.number) or np.issubdtype(arr.dtype, np.bool_)
-    ):
-        raise ValueError(f"phases must be a numeric array of 0/1 (got dtype {arr.dtype})")
-    if np.iscomplexobj(arr):
-        raise ValueError("phases must be real 0/1 values (got a complex array)")
+    if arr.dtype.kind not in "biuf":  # booleans, integers, floats
+        raise ValueError(f"phases must be a real numeric array of 0/1 (got dtype {arr.dtype})")
     if arr.ndim != 3:
         raise ValueError(
             f"phases must be a 3D (n, n, n) array (axis order x, y, z); got {arr.ndim} "
@@ -162,17 +111,10 @@ def _check_pair(materials: Sequence[Material]) -> tuple[Material, Material]:
     return pair[0], pair[1]
 
 
-def _check_fraction(fraction_b: float) -> float:
-    f = float(fraction_b)
-    if not 0.0 <= f <= 1.0:
-        raise ValueError(f"fraction_b must lie in [0, 1] (got {fraction_b})")
-    return f
-
-
 def voigt_bound(fraction_b: float, materials: Sequence[Material]) -> Material:
     """Voigt (upper, uniform strain) bound ⟨C⟩ = (1 − f) C_a + f C_b for volume fraction f of
     phase b. Every effective stiffness C satisfies C ≤ ⟨C⟩ in the Loewner order."""
-    f = _check_fraction(fraction_b)
+    f = check_number("fraction_b", fraction_b, low=0.0, high=1.0)
     a, b = _check_pair(materials)
     return Material((1.0 - f) * a.voigt + f * b.voigt)
 
@@ -180,7 +122,7 @@ def voigt_bound(fraction_b: float, materials: Sequence[Material]) -> Material:
 def reuss_bound(fraction_b: float, materials: Sequence[Material]) -> Material:
     """Reuss (lower, uniform stress) bound ⟨S⟩⁻¹ = ((1 − f) S_a + f S_b)⁻¹ (Voigt form,
     engineering shear). Every effective stiffness C satisfies C ≥ ⟨S⟩⁻¹."""
-    f = _check_fraction(fraction_b)
+    f = check_number("fraction_b", fraction_b, low=0.0, high=1.0)
     a, b = _check_pair(materials)
     s = (1.0 - f) * a.compliance + f * b.compliance
     c = np.linalg.inv(0.5 * (s + s.T))
@@ -193,12 +135,8 @@ def bimaterial(
     contrast: float = 100.0,
     poisson_b: float | None = None,
 ) -> tuple[Material, Material]:
-    """The two isotropic phases of a pattern from a stiffness contrast.
-
-    Phase a (voxels equal to 0) is ``Material.isotropic(young, poisson)``; phase b (voxels equal
-    to 1) is ``Material.isotropic(contrast * young, poisson_b or poisson)``. ``contrast`` must lie
-    in [MIN_CONTRAST, MAX_CONTRAST] = [1, 1e4] (swap the phases of the pattern for a softer b).
-    """
+    """The two isotropic phases of a pattern: a (voxels 0) ``Material.isotropic(young,
+    poisson)``, b (voxels 1) ``contrast`` ∈ [1, 1e4] times stiffer, of ``poisson_b`` if given."""
     c = float(contrast)
     if not np.isfinite(c) or not MIN_CONTRAST <= c <= MAX_CONTRAST:
         raise ValueError(
@@ -209,9 +147,6 @@ def bimaterial(
     return Material.isotropic(young, poisson), Material.isotropic(c * float(young), nu_b)
 
 
-# ---------------------------------------------------------------------------------------------
-# Q1 element matrices and stencil tables
-# ---------------------------------------------------------------------------------------------
 def _strain_operator() -> np.ndarray:
     """B at the 8 Gauss points of the unit voxel: (8, 6, 24), Voigt engineering strain from the
     24 nodal displacements (node-major, xyz per node)."""
@@ -227,7 +162,7 @@ def _strain_operator() -> np.ndarray:
     b = np.zeros((8, 6, 8, 3))
     for comp in range(3):
         b[:, comp, :, comp] = grad[..., comp]
-    for row, (p, q) in enumerate(_VOIGT_PAIRS[3:], start=3):
+    for row, (p, q) in enumerate(VOIGT_PAIRS[3:], start=3):
         b[:, row, :, p] = grad[..., q]
         b[:, row, :, q] = grad[..., p]
     return b.reshape(8, 6, 24)
@@ -278,13 +213,9 @@ def _reference_lame(a: Material, b: Material) -> tuple[float, float]:
 
 @functools.lru_cache(maxsize=8)
 def _inverse_symbol(n: int, lam_over_mu: float) -> np.ndarray:
-    """Inverse Fourier symbol of the periodic Q1 stiffness of the homogeneous isotropic reference
-    (λ = lam_over_mu, μ = 1): real (n, n, n//2+1, 3, 3), zero at the zero frequency.
-
-    The reference operator is (K0 u)(p) = Σ_o A_o u(p + o) over the 27 offsets o, so its symbol
-    is S(k) = Σ_o A_o exp(2πi k·o / n), separable in the three offset components. The isotropic
-    Q1 stencil is reflection invariant, so S(k) is real symmetric. CG is invariant to scaling the
-    preconditioner, so only λ/μ matters (cached per grid size for the contrast slider)."""
+    """Inverse Fourier symbol (n, n, n//2+1, 3, 3), zero at frequency 0, of the periodic Q1
+    stiffness of the isotropic reference λ = lam_over_mu, μ = 1 (CG ignores its scale): real
+    symmetric, as the stencil is reflection invariant."""
     ref = Material.from_lame(lam_over_mu, 1.0)
     blocks0 = _stencil_blocks(_element_stiffness(ref.voigt)).sum(axis=0).reshape(3, 3, 3, 3, 3)
     theta = 2.0 * np.pi / n
@@ -301,17 +232,12 @@ def _inverse_symbol(n: int, lam_over_mu: float) -> np.ndarray:
     return inv
 
 
-# ---------------------------------------------------------------------------------------------
-# Compiled kernels
-# ---------------------------------------------------------------------------------------------
 @nb.njit(parallel=True, cache=True, fastmath=True)
 def _apply_stiffness(  # pragma: no cover - compiled
     table: np.ndarray, code: np.ndarray, x: np.ndarray, out: np.ndarray, xdot: np.ndarray
 ) -> None:
-    """out = K x for the periodic Q1 stiffness given per node by its stencil row
-    ``table[code[i, j, k]]`` (27, 3, 3), for six load cases at once; x, out: (n, n, n, 18)
-    (3 components x 6 cases per node). Also xdot[i * n + j, c] = partial sums of x_c . (K x)_c
-    over k, so that x . K x = xdot.sum(0)."""
+    """out = K x (stencil row ``table[code[i, j, k]]`` (27, 3, 3) per node) for the six load
+    cases at once, x, out (n, n, n, 18); xdot[i * n + j, c]: partial sums of x_c . (K x)_c."""
     n = x.shape[0]
     for ij in nb.prange(n * n):
         i = ij // n
@@ -382,19 +308,11 @@ def _xpay_columns(  # pragma: no cover - compiled
             y[i, c] = x[i, c] + a[c] * y[i, c]
 
 
-# ---------------------------------------------------------------------------------------------
-# Solver
-# ---------------------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class HomogenizationResult:
-    """Effective material and solver diagnostics of :func:`homogenize_detailed`.
-
-    material : the effective (homogenized) Material.
-    fraction_b : volume fraction of phase b (voxels equal to 1).
-    iterations : preconditioned CG iterations (0 for a homogeneous grid).
-    residual : largest final relative preconditioned residual over the six load cases.
-    seconds : wall time of the call.
-    """
+    """The effective ``material`` of :func:`homogenize_detailed`, the ``fraction_b`` of phase
+    b, the CG ``iterations`` (0 for a homogeneous grid), the largest final relative ``residual``
+    of the six load cases and the call's wall time in ``seconds``."""
 
     material: Material
     fraction_b: float
@@ -534,31 +452,11 @@ def homogenize(
     rtol: float = 1e-5,
     max_iter: int = 2000,
 ) -> Material:
-    """Effective (homogenized) stiffness of a periodic two-phase voxel cell.
-
-    Parameters
-    ----------
-    phases : (n, n, n) array of 0/1, axis order x, y, z, n >= 2
-        One periodic cell; voxels equal to 0 are ``materials[0]``, equal to 1 ``materials[1]``.
-        The cell size drops out (only the pattern matters).
-    materials : (material_a, material_b)
-        The two phases (any anisotropic ``Material`` works; the GUI uses two isotropic ones,
-        see :func:`bimaterial`).
-    progress : callable(fraction) or None
-        Called with a non-decreasing fraction in [0, 1] (setup, each CG iteration, 1.0 at the
-        end) for a GUI progress bar. Its return value is ignored.
-    rtol : relative tolerance on the preconditioned CG residual of each load case. The
-        effective tensor's relative error is about rtol^2 times a contrast-dependent factor
-        (≲ 3e-7 for the default at contrast 1e4, see the module docstring).
-    max_iter : CG iteration limit (RuntimeError if reached).
-
-    Returns
-    -------
-    Material with the (6, 6) effective stiffness in the same units as the phases, in the axes of
-    the grid. Rotate it with ``Material.rotated(R)``.
-
-    Method: periodic Q1 voxel finite elements, FFT-preconditioned conjugate gradients, energy
-    average (see the module docstring). Raises ValueError for invalid ``phases`` (see
-    :func:`check_phases`).
+    """Effective stiffness (a Material in the phases' units and the grid's axes) of one
+    periodic cell ``phases`` (n, n, n) of 0/1 (axis order x, y, z, n >= 2: :func:`check_phases`)
+    whose voxels 0 are ``materials[0]`` and 1 ``materials[1]`` (any Materials; the GUI's come
+    from :func:`bimaterial`). ``progress(fraction)``: non-decreasing in [0, 1], for a progress
+    bar. ``rtol``: the CG tolerance of each load case (the result's error is about rtol^2 times
+    a contrast factor); RuntimeError after ``max_iter`` iterations.
     """
     return homogenize_detailed(phases, materials, progress, rtol=rtol, max_iter=max_iter).material

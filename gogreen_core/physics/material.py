@@ -13,10 +13,13 @@ from typing import Any, cast
 
 import numpy as np
 
-__all__ = ["VOIGT_PAIRS", "Material", "tensor_to_voigt", "voigt_to_tensor"]
+from gogreen_core.validation import check_finite, check_number
+
+__all__ = ["VOIGT_PAIRS", "Material", "tensor_to_voigt", "uniaxial_stress", "voigt_to_tensor"]
 
 #: Index pair (i, j) of each Voigt position, in the order 11, 22, 33, 23, 13, 12.
 VOIGT_PAIRS: tuple[tuple[int, int], ...] = ((0, 0), (1, 1), (2, 2), (1, 2), (0, 2), (0, 1))
+_ROWS, _COLS = np.array(VOIGT_PAIRS).T
 
 # VOIGT_INDEX[i, j] -> Voigt position of the symmetric pair (i, j).
 VOIGT_INDEX = np.array([[0, 5, 4], [5, 1, 3], [4, 3, 2]])
@@ -33,40 +36,17 @@ def voigt_to_tensor(voigt: np.ndarray) -> np.ndarray:
 def tensor_to_voigt(tensor: np.ndarray) -> np.ndarray:
     """Contract a (3, 3, 3, 3) stiffness tensor with minor symmetries into (6, 6) Voigt form."""
     tensor = np.asarray(tensor, dtype=np.float64)
-    row_list, col_list = zip(*VOIGT_PAIRS, strict=True)
-    rows, cols = np.array(row_list), np.array(col_list)
-    return cast(np.ndarray, tensor[rows[:, None], cols[:, None], rows[None, :], cols[None, :]])
+    return cast(np.ndarray, tensor[_ROWS[:, None], _COLS[:, None], _ROWS[None, :], _COLS[None, :]])
 
 
-def _finite(name: str, value: np.ndarray) -> None:
-    if not np.all(np.isfinite(value)):
-        raise ValueError(f"{name} must be finite (got {np.asarray(value).tolist()})")
-
-
-def _scalar(name: str, value: float) -> float:
-    try:
-        out = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a real number (got {value!r})") from None
-    _finite(name, np.array(out))
-    return out
-
-
-def _triple(name: str, value: Sequence[float]) -> np.ndarray:
-    arr = np.asarray(value, dtype=np.float64)
-    if arr.shape != (3,):
-        raise ValueError(f"{name} must have 3 values (got shape {arr.shape})")
-    _finite(name, arr)
-    return arr
+def uniaxial_stress(directions: np.ndarray) -> np.ndarray:
+    """The unit uniaxial stress d⊗d along unit ``directions`` (..., 3) in Voigt form (..., 6)."""
+    return np.ascontiguousarray(directions[..., _ROWS] * directions[..., _COLS])
 
 
 def check_rotation(rotation: np.ndarray, tol: float = 1e-9) -> np.ndarray:
-    """Return ``rotation`` as a float (3, 3) array, or raise ValueError if it is not a proper
-    rotation (orthonormal with determinant +1, within ``tol``)."""
-    rot = np.asarray(rotation, dtype=np.float64)
-    if rot.shape != (3, 3):
-        raise ValueError(f"rotation must be a 3x3 matrix (got shape {rot.shape})")
-    _finite("rotation", rot)
+    """``rotation`` as a float (3, 3) array; ValueError unless a proper rotation (within tol)."""
+    rot = check_finite("rotation", rotation, (3, 3))
     err = np.abs(rot @ rot.T - np.eye(3)).max()
     if err > tol:
         raise ValueError(f"rotation is not orthonormal: max |R R^T - I| = {err:.3g}")
@@ -77,18 +57,9 @@ def check_rotation(rotation: np.ndarray, tol: float = 1e-9) -> np.ndarray:
 
 
 class Material:
-    """A homogeneous linear elastic material, defined by its stiffness.
-
-    Build one with a named constructor (``isotropic``, ``from_lame``, ``cubic``,
-    ``orthotropic``, ``transversely_isotropic``, ``from_voigt``). Instances are immutable.
-
-    Attributes
-    ----------
-    voigt : (6, 6) float64
-        Stiffness in Voigt order 11, 22, 33, 23, 13, 12 (engineering shear).
-    tensor : (3, 3, 3, 3) float64
-        The same stiffness as C_ijkl with minor and major symmetries.
-    """
+    """A homogeneous linear elastic material, immutable, defined by its stiffness: build one
+    with a named constructor (``isotropic``, ``from_lame``, ``cubic``, ``orthotropic``,
+    ``transversely_isotropic``, ``from_voigt``)."""
 
     __slots__ = ("_tensor", "_voigt")
 
@@ -96,7 +67,8 @@ class Material:
         c6 = np.asarray(voigt, dtype=np.float64)
         if c6.shape != (6, 6):
             raise ValueError(f"Voigt stiffness must be a 6x6 matrix (got shape {c6.shape})")
-        _finite("Voigt stiffness", c6)
+        if not np.all(np.isfinite(c6)):
+            raise ValueError("Voigt stiffness must be finite")
         scale = np.abs(c6).max()
         if scale == 0:
             raise ValueError("Voigt stiffness is all zeros: not positive definite")
@@ -128,22 +100,18 @@ class Material:
     @classmethod
     def from_lame(cls, lam: float, mu: float) -> Material:
         """Isotropic material from the Lamé parameters λ and μ (admissible: μ > 0, 3λ + 2μ > 0)."""
-        lam, mu = _scalar("lam", lam), _scalar("mu", mu)
+        lam, mu = check_number("lam", lam), check_number("mu", mu)
         if mu <= 0:
             raise ValueError(f"shear modulus mu must be > 0 (got {mu})")
         if 3 * lam + 2 * mu <= 0:
             bulk3 = 3 * lam + 2 * mu
             raise ValueError(f"bulk modulus must be > 0: need 3*lam + 2*mu > 0 (got {bulk3})")
-        c6 = np.zeros((6, 6))
-        c6[:3, :3] = lam
-        c6[[0, 1, 2], [0, 1, 2]] = lam + 2 * mu
-        c6[[3, 4, 5], [3, 4, 5]] = mu
-        return cls(c6)
+        return cls.cubic(lam + 2 * mu, lam, mu)
 
     @classmethod
     def isotropic(cls, young: float, poisson: float) -> Material:
         """Isotropic material from Young's modulus E > 0 and Poisson ratio -1 < ν < 1/2."""
-        young, poisson = _scalar("young", young), _scalar("poisson", poisson)
+        young, poisson = check_number("young", young), check_number("poisson", poisson)
         if young <= 0:
             raise ValueError(f"young (Young's modulus) must be > 0 (got {young})")
         if not -1.0 < poisson < 0.5:
@@ -155,7 +123,7 @@ class Material:
     @classmethod
     def cubic(cls, c11: float, c12: float, c44: float) -> Material:
         """Cubic material with axes x, y, z (admissible: c11 > |c12|, c11 + 2 c12 > 0, c44 > 0)."""
-        c11, c12, c44 = _scalar("c11", c11), _scalar("c12", c12), _scalar("c44", c44)
+        c11, c12, c44 = check_number("c11", c11), check_number("c12", c12), check_number("c44", c44)
         c6 = np.zeros((6, 6))
         c6[:3, :3] = c12
         c6[[0, 1, 2], [0, 1, 2]] = c11
@@ -169,23 +137,15 @@ class Material:
         shear: Sequence[float],
         poisson: Sequence[float],
     ) -> Material:
-        """Orthotropic material with axes x, y, z.
-
-        Parameters
-        ----------
-        young : (E1, E2, E3), Young's moduli along x, y, z, all > 0.
-        shear : (G23, G13, G12), shear moduli, all > 0.
-        poisson : (ν12, ν13, ν23), with ν_ij = -ε_j / ε_i under uniaxial stress along i.
-        """
-        e = _triple("young", young)
-        g = _triple("shear", shear)
-        nu12, nu13, nu23 = _triple("poisson", poisson)
-        for name, val in zip(("E1", "E2", "E3"), e, strict=True):
+        """Orthotropic material with axes x, y, z: Young's moduli ``young`` (E1, E2, E3) and
+        shear moduli ``shear`` (G23, G13, G12), all > 0, and ``poisson`` (ν12, ν13, ν23), with
+        ν_ij = -ε_j / ε_i under uniaxial stress along i."""
+        e = check_finite("young", young, (3,))
+        g = check_finite("shear", shear, (3,))
+        nu12, nu13, nu23 = check_finite("poisson", poisson, (3,))
+        for name, val in zip(("E1", "E2", "E3", "G23", "G13", "G12"), (*e, *g), strict=True):
             if val <= 0:
-                raise ValueError(f"Young's modulus {name} must be > 0 (got {val})")
-        for name, val in zip(("G23", "G13", "G12"), g, strict=True):
-            if val <= 0:
-                raise ValueError(f"shear modulus {name} must be > 0 (got {val})")
+                raise ValueError(f"modulus {name} must be > 0 (got {val})")
         e1, e2, e3 = e
         nu21, nu31, nu32 = nu12 * e2 / e1, nu13 * e3 / e1, nu23 * e3 / e2
         for name, nu, bound in (
@@ -223,20 +183,12 @@ class Material:
         poisson_axial: float,
         shear_axial: float,
     ) -> Material:
-        """Transversely isotropic material, symmetry axis z (isotropic in the xy plane).
-
-        Parameters
-        ----------
-        young_plane : E_p = E1 = E2, Young's modulus in the xy plane.
-        young_axial : E_z = E3, Young's modulus along z.
-        poisson_plane : ν_p = ν12, in-plane contraction under in-plane stress (|ν_p| < 1).
-        poisson_axial : ν_pz = ν13 = ν23, contraction along z under in-plane stress.
-        shear_axial : G_z = G13 = G23, shear modulus of planes containing z.
-
-        The in-plane shear modulus is G12 = E_p / (2 (1 + ν_p)).
-        """
-        ep = _scalar("young_plane", young_plane)
-        nup = _scalar("poisson_plane", poisson_plane)
+        """Transversely isotropic material about z: Young's moduli E1 = E2 (``young_plane``)
+        and E3 (``young_axial``), Poisson ratios ν12 (``poisson_plane``, |ν12| < 1) and
+        ν13 = ν23 (``poisson_axial``), shear modulus G13 = G23 (``shear_axial``);
+        G12 = E1 / (2 (1 + ν12))."""
+        ep = check_number("young_plane", young_plane)
+        nup = check_number("poisson_plane", poisson_plane)
         if not -1.0 < nup < 1.0:
             raise ValueError(f"poisson_plane must lie in (-1, 1) (got {nup})")
         g12 = ep / (2 * (1 + nup))
@@ -263,8 +215,7 @@ class Material:
         return np.linalg.inv(self._voigt)
 
     def rotated(self, rotation: np.ndarray) -> Material:
-        """The material with its axes rotated by the proper rotation R (3, 3):
-        C'_abcd = R_ai R_bj R_ck R_dl C_ijkl."""
+        """The material turned by the rotation R (3, 3): C'_abcd = R_ai R_bj R_ck R_dl C_ijkl."""
         rot = check_rotation(rotation)
         c = np.einsum("ai,bj,ck,dl,ijkl->abcd", rot, rot, rot, rot, self._tensor, optimize=True)
         return Material(tensor_to_voigt(c))
@@ -277,20 +228,8 @@ class Material:
     def directional_young(self, directions: np.ndarray) -> np.ndarray:
         """Young's modulus along unit directions (N, 3) → (N,): 1 / (d⊗d : S : d⊗d)."""
         d = np.asarray(directions, dtype=np.float64)
-        d = d / np.linalg.norm(d, axis=1, keepdims=True)
-        # Unit uniaxial stress d⊗d in Voigt form; S maps it to engineering strain, so
-        # σ·(Sσ) is the strain energy density and 1/E(d) = d⊗d : S : d⊗d.
-        sig = np.stack(
-            [
-                d[:, 0] ** 2,
-                d[:, 1] ** 2,
-                d[:, 2] ** 2,
-                d[:, 1] * d[:, 2],
-                d[:, 0] * d[:, 2],
-                d[:, 0] * d[:, 1],
-            ],
-            axis=1,
-        )
+        # S maps the uniaxial stress σ to engineering strain: 1/E(d) = σ·(Sσ)
+        sig = uniaxial_stress(d / np.linalg.norm(d, axis=1, keepdims=True))
         return cast(np.ndarray, 1.0 / np.einsum("na,ab,nb->n", sig, self.compliance, sig))
 
     # -- serialization ------------------------------------------------------------------------

@@ -1,18 +1,10 @@
 """What a material does, in an artist's words: stiff along, soft across, how the sides move.
 
-:func:`describe_material` reads the directional Young's modulus E(d) (how hard the material is
-to stretch along d) over the sphere and the Poisson ratios of its stiffest and softest
-directions, and says in two short sentences what a brush will show:
-
-* isotropic: the same in every direction, and how much pulls thin the sides;
-* fibres (one stiff axis): stiff along it, soft across, so a grab slides across the fibres
-  and a pinch creases along them;
-* layers (one soft axis): stiff within the layers, soft across them, so strokes ripple along
-  the layers (the wrinkle brush);
-* otherwise: its stiffest and softest directions and the ratio.
-
-Directions are named by the nearest model axis when within 10°, else by the axis pair they
-lie between ("tilted 45° from +Z toward −Y").
+:func:`describe_material` reads the directional Young's modulus E(d) over the sphere and the
+Poisson ratios of its stiffest direction, and says in two short sentences what a brush will
+show for the kind it finds: isotropic, fibres (one stiff axis), layers (one soft axis) or
+general. Directions are named by the nearest model axis within 10°, else by the axis pair
+they lie between ("tilted 45° from +Z toward −Y").
 """
 
 from __future__ import annotations
@@ -23,7 +15,7 @@ from typing import cast
 import numpy as np
 from scipy.optimize import minimize
 
-from gogreen_core.physics.material import Material
+from gogreen_core.physics.material import VOIGT_INDEX, Material, uniaxial_stress
 from gogreen_core.physics.quadrature import lebedev_points
 
 __all__ = [
@@ -46,15 +38,11 @@ _AXIS_NAMES = ("X", "Y", "Z")
 
 @dataclass(frozen=True)
 class MaterialTraits:
-    """The measured traits :func:`describe_material` puts in words.
-
-    kind : "isotropic", "fibres", "layers" or "general".
-    stiff, soft : unit directions (3,) of the largest and smallest E(d).
-    ratio : E_max / E_min.
-    poisson_stiff : the Poisson ratios (2,) of a stretch along ``stiff`` on the two directions
-        across it (the softest one first): > 0 the sides narrow, < 0 they widen.
-    axis : the fibre axis (fibres) or the layers' normal (layers), else ``stiff``.
-    """
+    """What :func:`describe_material` puts in words: ``kind`` ("isotropic", "fibres",
+    "layers", "general"), unit directions (3,) ``stiff`` and ``soft`` of the largest and smallest
+    E(d), their ``ratio``, ``poisson_stiff`` (2,) of a stretch along ``stiff`` on the two
+    directions across it (the softest first), and ``axis`` (fibre axis, layers' normal, else
+    ``stiff``)."""
 
     kind: str
     stiff: np.ndarray
@@ -66,12 +54,8 @@ class MaterialTraits:
 
 def _poisson(material: Material, along: np.ndarray, across: np.ndarray) -> float:
     """ν = −ε_across / ε_along under a uniaxial stress along ``along`` (unit vectors)."""
-    a = along
-    stress = np.array([a[0] ** 2, a[1] ** 2, a[2] ** 2, a[1] * a[2], a[0] * a[2], a[0] * a[1]])
-    e = material.compliance @ stress  # Voigt 11, 22, 33, 23, 13, 12, engineering shear
-    strain = np.array(
-        [[e[0], e[5] / 2, e[4] / 2], [e[5] / 2, e[1], e[3] / 2], [e[4] / 2, e[3] / 2, e[2]]]
-    )
+    e = material.compliance @ uniaxial_stress(along)  # engineering shear: halved off the diagonal
+    strain = e[VOIGT_INDEX] * np.where(np.eye(3) > 0, 1.0, 0.5)
     return float(-(across @ strain @ across) / (along @ strain @ along))
 
 
@@ -90,11 +74,9 @@ def _unit(angles: np.ndarray) -> np.ndarray:
 
 
 def young_extremes(material: Material) -> tuple[float, float, np.ndarray, np.ndarray]:
-    """(E_min, E_max, softest, stiffest): the extremes of the directional Young's modulus
-    E(d) over all directions and where they are (unit (3,)). The one definition of a
-    material's anisotropy, E_max / E_min, that the glyph's legend and the words share:
-    4,000 near-uniform directions, then each extreme refined by a local search (the fibres of
-    a rotated material lie between any fixed samples)."""
+    """(E_min, E_max, softest, stiffest): the extremes of the directional Young's modulus and
+    their unit directions (3,), the anisotropy E_max / E_min the glyph's legend and the words
+    share: 4,000 directions, each extreme refined by a local search."""
     directions = _sphere(4000)
     young = material.directional_young(directions)
     found = []
@@ -147,8 +129,7 @@ def _other(vector: np.ndarray) -> np.ndarray:
 
 def direction_words(direction: np.ndarray, signed: bool = False) -> str:
     """A direction in words: "Z" (within 10° of an axis; "+Z"/"−Z" when ``signed``), else
-    "Z tilted 45° toward −Y" (the nearest axis and the one it leans to, or the two when it
-    leans to both alike)."""
+    "Z tilted 45° toward −Y" (the nearest axis and the one or two it leans to)."""
     d = np.asarray(direction, dtype=float)
     d = d / np.linalg.norm(d)
     if not signed and d[np.argmax(np.abs(d))] < 0:
@@ -169,8 +150,7 @@ def direction_words(direction: np.ndarray, signed: bool = False) -> str:
 
 
 def _most_auxetic(material: Material, traits: MaterialTraits) -> tuple[float, str, str]:
-    """(ν, along, across) of the most negative Poisson ratio among the model axes and the
-    material's stiffest and softest directions."""
+    """(ν, along, across) of the most negative Poisson ratio among the axes, stiff and soft."""
     candidates = [*_AXES, traits.stiff, traits.soft]
     best = (np.inf, "", "")
     for i, along in enumerate(candidates):

@@ -1,19 +1,10 @@
-"""Library of periodic two-phase voxel patterns for :func:`gogreen_core.homogenize`.
+"""Periodic two-phase voxel patterns for :func:`gogreen_core.homogenize` (the families of Go
+Green's Fig. 12): each returns one periodic cell as an (n, n, n) ``int8`` array of 0/1, axis
+order x, y, z; 0 is phase a (the matrix), 1 phase b (inclusions, fibres, bars, odd layers).
 
-Every pattern is a plain function returning an (n, n, n) ``int8`` array of 0/1 in axis order
-x, y, z that describes one periodic cell: 0 is phase a (the matrix), 1 is phase b (the
-inclusions, fibres, bars, or odd layers). They include the families of Go Green's Fig. 12
-(Chen & Desbrun 2022): layered, fibre-reinforced, checkerboard, spotted (spherical inclusions),
-cross/lattice and random.
-
-Conventions: the cell is the unit cube, voxel (i, j, k) has centre ((i, j, k) + 1/2) / n and is
-phase b when its centre lies inside the shape (so volume fractions are met up to the voxel
-size; :func:`volume_fraction` gives the realised one). ``periods`` repeats the motif that many
-times along each axis inside the cell. Axes are given as ``"x"``, ``"y"``, ``"z"`` or 0, 1, 2.
-
-:data:`PATTERNS` maps each name to a :class:`PatternSpec` (function, description and the typed
-parameter list) so that a GUI can list the families and build widgets; :func:`make_pattern`
-builds one by name.
+The cell is the unit cube; voxel (i, j, k) is phase b when its centre ((i, j, k) + 1/2) / n lies
+inside the shape. ``periods`` repeats the motif along each axis; axes are ``"x"``, ``"y"``,
+``"z"`` or 0, 1, 2. :data:`PATTERNS` lists each family with its typed parameters (for a GUI).
 """
 
 from __future__ import annotations
@@ -23,6 +14,8 @@ from dataclasses import dataclass
 from typing import Any, cast
 
 import numpy as np
+
+from gogreen_core.validation import check_integer
 
 __all__ = [
     "PATTERNS",
@@ -35,7 +28,6 @@ __all__ = [
     "make_pattern",
     "random_pattern",
     "spheres",
-    "volume_fraction",
 ]
 
 _AXES = {"x": 0, "y": 1, "z": 2, 0: 0, 1: 1, 2: 2}
@@ -53,18 +45,6 @@ _SPHERE_LATTICES: dict[str, tuple[np.ndarray, float]] = {
 }
 
 
-# ---------------------------------------------------------------------------------------------
-# Checks and coordinates
-# ---------------------------------------------------------------------------------------------
-def _check_n(n: int) -> int:
-    if isinstance(n, bool) or int(n) != n:
-        raise ValueError(f"n must be an integer (got {n!r})")
-    n = int(n)
-    if n < 2:
-        raise ValueError(f"n must be >= 2 voxels per axis (got {n})")
-    return n
-
-
 def _check_fraction(fraction: float, upper: float = 1.0, what: str = "") -> float:
     f = float(fraction)
     if not np.isfinite(f) or not 0.0 <= f <= upper:
@@ -74,11 +54,7 @@ def _check_fraction(fraction: float, upper: float = 1.0, what: str = "") -> floa
 
 
 def _check_periods(periods: int, n: int, per_period: int = 1) -> int:
-    if isinstance(periods, bool) or int(periods) != periods:
-        raise ValueError(f"periods must be an integer (got {periods!r})")
-    periods = int(periods)
-    if periods < 1:
-        raise ValueError(f"periods must be >= 1 (got {periods})")
+    periods = check_integer("periods", periods, low=1)
     if periods * per_period > n:
         raise ValueError(
             f"periods = {periods} is too many for n = {n}: need periods * {per_period} <= n"
@@ -104,23 +80,12 @@ def _periodic_distance(t: np.ndarray, centre: float) -> np.ndarray:
     return np.minimum(d, 1.0 - d)
 
 
-def volume_fraction(phases: np.ndarray) -> float:
-    """Realised volume fraction of phase b (the mean of a 0/1 grid)."""
-    return float(np.mean(np.asarray(phases), dtype=np.float64))
-
-
-# ---------------------------------------------------------------------------------------------
-# Pattern families
-# ---------------------------------------------------------------------------------------------
 def layered(
     n: int = 16, normal: str | int = "z", fraction: float = 0.5, periods: int = 1
 ) -> np.ndarray:
     """Laminate: layers of phase b (thickness ``fraction`` of each period) stacked along
-    ``normal``. Result is transversely isotropic about ``normal`` (exact Backus tensor).
-
-    Shape (n, n, n) int8. ``periods`` layer pairs per cell (periods <= n).
-    """
-    n = _check_n(n)
+    ``normal``: transversely isotropic about it (exact Backus tensor)."""
+    n = check_integer("n", n, low=2)
     ax = _check_axis(normal, "normal")
     f = _check_fraction(fraction)
     periods = _check_periods(periods, n)
@@ -140,11 +105,8 @@ def fibers(
 ) -> np.ndarray:
     """Fibre-reinforced: straight rods of phase b along ``axis`` on a square array, one rod per
     motif centre. ``shape`` "round" (circular section, fraction <= pi/4) or "square" (fraction
-    <= 1). Transversely isotropic-like (tetragonal) about ``axis``.
-
-    Shape (n, n, n) int8.
-    """
-    n = _check_n(n)
+    <= 1): tetragonal about ``axis``."""
+    n = check_integer("n", n, low=2)
     ax = _check_axis(axis)
     periods = _check_periods(periods, n)
     coords = _motif_coords(n, periods)
@@ -164,8 +126,8 @@ def fibers(
 
 def checkerboard(n: int = 16, periods: int = 1) -> np.ndarray:
     """3D checkerboard: 2 x 2 x 2 blocks per motif, phase b where the block indices sum to an
-    odd number. Fraction 1/2, cubic symmetry. Shape (n, n, n) int8; needs 2 * periods <= n."""
-    n = _check_n(n)
+    odd number. Fraction 1/2, cubic symmetry; needs 2 * periods <= n."""
+    n = check_integer("n", n, low=2)
     periods = _check_periods(periods, n, per_period=2)
     x, y, z = _motif_coords(n, periods)
     blocks = np.floor(2 * x) + np.floor(2 * y) + np.floor(2 * z)
@@ -177,11 +139,8 @@ def spheres(
 ) -> np.ndarray:
     """Spotted: spherical inclusions of phase b on a simple cubic ("sc"), body-centred ("bcc")
     or face-centred ("fcc") lattice, radius from ``fraction`` (at most the touching-sphere
-    packing: pi/6 for sc, 0.680 for bcc, 0.740 for fcc). Cubic symmetry.
-
-    Shape (n, n, n) int8.
-    """
-    n = _check_n(n)
+    packing: pi/6 for sc, 0.680 for bcc, 0.740 for fcc). Cubic symmetry."""
+    n = check_integer("n", n, low=2)
     if arrangement not in _SPHERE_LATTICES:
         raise ValueError(
             f"arrangement must be one of {sorted(_SPHERE_LATTICES)} (got {arrangement!r})"
@@ -203,8 +162,7 @@ def spheres(
 
 
 def _bar_width(fraction: float, count: int) -> float:
-    """Side w of square bars such that ``count`` (1, 2 or 3) orthogonal bars through the motif
-    centre cover ``fraction`` of the motif: w^2, 2w^2 - w^3 or 3w^2 - 2w^3."""
+    """Side w of ``count`` orthogonal square bars covering ``fraction``: w², 2w² - w³, 3w² - 2w³."""
     if count == 1:
         return float(np.sqrt(fraction))
     coef = {2: [-1.0, 2.0, 0.0, -fraction], 3: [-2.0, 3.0, 0.0, -fraction]}[count]
@@ -216,11 +174,8 @@ def _bar_width(fraction: float, count: int) -> float:
 def lattice(n: int = 16, fraction: float = 0.3, periods: int = 1, axes: str = "xyz") -> np.ndarray:
     """Cross / lattice: square bars of phase b through the motif centre along each axis in
     ``axes`` ("xyz": a 3D cubic lattice/frame, cubic symmetry; "xy", "xz", "yz": a 2D cross of
-    bars; one letter: square fibres). Bar width from ``fraction``.
-
-    Shape (n, n, n) int8.
-    """
-    n = _check_n(n)
+    bars; one letter: square fibres). Bar width from ``fraction``."""
+    n = check_integer("n", n, low=2)
     f = _check_fraction(fraction)
     periods = _check_periods(periods, n)
     letters = sorted({_check_axis(a, "axes") for a in axes}) if isinstance(axes, str) else []
@@ -243,9 +198,8 @@ def random_pattern(
 
     ``correlation`` = 0 draws voxels independently; > 0 thresholds periodic Gaussian-smoothed
     noise (standard deviation ``correlation`` in cell units, e.g. 0.05) into blobs.
-    Statistically isotropic. Deterministic for a given ``seed``. Shape (n, n, n) int8.
-    """
-    n = _check_n(n)
+    Statistically isotropic, deterministic for a given ``seed``."""
+    n = check_integer("n", n, low=2)
     f = _check_fraction(fraction)
     corr = float(correlation)
     if not np.isfinite(corr) or corr < 0:
@@ -267,16 +221,10 @@ def random_pattern(
     return out.reshape(n, n, n)
 
 
-# ---------------------------------------------------------------------------------------------
-# Registry
-# ---------------------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class PatternParameter:
-    """One parameter of a pattern family, for building GUI widgets.
-
-    kind : "int", "float" or "choice"; ``low``/``high`` bound numbers, ``choices`` lists the
-    allowed values of a "choice".
-    """
+    """One parameter of a pattern family, for GUI widgets: ``kind`` "int", "float" or
+    "choice"; ``low``/``high`` bound numbers, ``choices`` lists a "choice"'s values."""
 
     name: str
     kind: str
@@ -296,12 +244,18 @@ class PatternSpec:
     description: str
     parameters: tuple[PatternParameter, ...]
 
-    def __call__(self, n: int = 16, **params: Any) -> np.ndarray:
-        return self.function(n=n, **params)
-
 
 _AXIS_CHOICES = ("x", "y", "z")
 _PERIODS = PatternParameter("periods", "int", 1, "motif repeats along each axis", 1, 8)
+
+
+def _fraction(default: float, what: str, high: float = 1.0) -> PatternParameter:
+    return PatternParameter("fraction", "float", default, what, 0.0, high)
+
+
+def _choice(name: str, default: str, what: str, choices: tuple[str, ...]) -> PatternParameter:
+    return PatternParameter(name, "choice", default, what, choices=choices)
+
 
 #: Name -> PatternSpec of every pattern family (GUI order).
 PATTERNS: dict[str, PatternSpec] = {
@@ -312,8 +266,8 @@ PATTERNS: dict[str, PatternSpec] = {
             layered,
             "Laminate of alternating layers (transversely isotropic about the normal)",
             (
-                PatternParameter("normal", "choice", "z", "layer normal", choices=_AXIS_CHOICES),
-                PatternParameter("fraction", "float", 0.5, "phase-b layer fraction", 0.0, 1.0),
+                _choice("normal", "z", "layer normal", _AXIS_CHOICES),
+                _fraction(0.5, "phase-b layer fraction"),
                 _PERIODS,
             ),
         ),
@@ -322,14 +276,10 @@ PATTERNS: dict[str, PatternSpec] = {
             fibers,
             "Straight fibres / rods along an axis on a square array",
             (
-                PatternParameter("axis", "choice", "z", "fibre direction", choices=_AXIS_CHOICES),
-                PatternParameter(
-                    "fraction", "float", 0.3, "fibre volume fraction", 0.0, _MAX_FIBER_FRACTION
-                ),
+                _choice("axis", "z", "fibre direction", _AXIS_CHOICES),
+                _fraction(0.3, "fibre volume fraction", _MAX_FIBER_FRACTION),
                 _PERIODS,
-                PatternParameter(
-                    "shape", "choice", "round", "fibre section", choices=("round", "square")
-                ),
+                _choice("shape", "round", "fibre section", ("round", "square")),
             ),
         ),
         PatternSpec(
@@ -343,13 +293,9 @@ PATTERNS: dict[str, PatternSpec] = {
             spheres,
             "Spotted: spherical inclusions on a cubic lattice (cubic symmetry)",
             (
-                PatternParameter(
-                    "fraction", "float", 0.2, "inclusion volume fraction", 0.0, np.pi / 6.0
-                ),
+                _fraction(0.2, "inclusion volume fraction", np.pi / 6.0),
                 _PERIODS,
-                PatternParameter(
-                    "arrangement", "choice", "sc", "sphere lattice", choices=("sc", "bcc", "fcc")
-                ),
+                _choice("arrangement", "sc", "sphere lattice", ("sc", "bcc", "fcc")),
             ),
         ),
         PatternSpec(
@@ -357,11 +303,9 @@ PATTERNS: dict[str, PatternSpec] = {
             lattice,
             "Cross / lattice of square bars along the chosen axes",
             (
-                PatternParameter("fraction", "float", 0.3, "bar volume fraction", 0.0, 1.0),
+                _fraction(0.3, "bar volume fraction"),
                 _PERIODS,
-                PatternParameter(
-                    "axes", "choice", "xyz", "bar directions", choices=("xyz", "xy", "xz", "yz")
-                ),
+                _choice("axes", "xyz", "bar directions", ("xyz", "xy", "xz", "yz")),
             ),
         ),
         PatternSpec(
@@ -369,7 +313,7 @@ PATTERNS: dict[str, PatternSpec] = {
             random_pattern,
             "Random voxels or blobs (statistically isotropic)",
             (
-                PatternParameter("fraction", "float", 0.5, "phase-b volume fraction", 0.0, 1.0),
+                _fraction(0.5, "phase-b volume fraction"),
                 PatternParameter("seed", "int", 0, "random seed", 0, 2**31 - 1),
                 PatternParameter(
                     "correlation", "float", 0.0, "blob size (cell units, 0 = voxels)", 0.0, 0.25
@@ -381,10 +325,8 @@ PATTERNS: dict[str, PatternSpec] = {
 
 
 def make_pattern(name: str, n: int = 16, **params: Any) -> np.ndarray:
-    """Build the pattern ``name`` of :data:`PATTERNS` on an n^3 grid: (n, n, n) int8.
-
-    Unknown names or parameters raise ValueError listing the valid ones.
-    """
+    """Build the pattern ``name`` of :data:`PATTERNS` on an n^3 grid (ValueError listing the
+    valid names or parameters)."""
     if name not in PATTERNS:
         raise ValueError(f"unknown pattern {name!r}; choose one of {list(PATTERNS)}")
     spec = PATTERNS[name]

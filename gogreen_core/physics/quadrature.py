@@ -17,12 +17,10 @@ from gogreen_core.physics.material import Material
 
 __all__ = ["CHECK_ORDER", "QUADRATURE_ORDER", "QUADRATURE_RTOL", "lebedev_points", "material_rule"]
 
-#: Lebedev rule used for the material matrices when M(ξ̂)⁻¹ is smooth enough for it (5,810
-#: nodes, exact to degree 131: the paper's).
+#: The paper's Lebedev rule (5,810 nodes, exact to degree 131), when M(ξ̂)⁻¹ is smooth enough.
 QUADRATURE_ORDER = 131
-#: Lower Lebedev rule whose disagreement with QUADRATURE_ORDER on the low moments of M⁻¹ measures
-#: M⁻¹'s content between degrees ~70 and 131, which is what would alias into the coefficients of
-#: degree ≤ 61 under the 131 rule.
+#: Lower rule whose disagreement on the low moments of M⁻¹ measures M⁻¹'s content between
+#: degrees ~70 and 131, which would alias into the coefficients of degree ≤ 61.
 CHECK_ORDER = 71
 #: Relative accuracy asked of the material matrices (against their largest entry).
 QUADRATURE_RTOL = 1e-11
@@ -47,10 +45,9 @@ def _low_moments(material: Material, nodes: np.ndarray, weights: np.ndarray) -> 
 
 
 def _material_frame(material: Material) -> np.ndarray:
-    """Rotation (3, 3) whose last column is the material's most distinct axis: the eigenvector
-    of A_ij = C_ikjk whose eigenvalue stands farthest (in ratio) from the other two. Stiff
-    fibres along it put the ridge of M⁻¹ on the frame's equator, a stiff plane normal to it puts
-    the peaks of M⁻¹ at the frame's poles: both where the product rule grades its nodes."""
+    """Rotation (3, 3) whose last column is the eigenvector of A_ij = C_ikjk farthest (in
+    ratio) from the other two: M⁻¹'s ridge (fibres) or peaks (a stiff plane) then lie on the
+    frame's equator or poles, where the product rule grades its nodes."""
     values, vectors = np.linalg.eigh(np.einsum("ikjk->ij", material.tensor))
     logs = np.log(np.maximum(values, values[-1] * 1e-300))
     axis = 0 if logs[1] - logs[0] > logs[2] - logs[1] else 2
@@ -63,15 +60,10 @@ def _product_rule(
     l_max: int, level: int, frame: np.ndarray, finest: float
 ) -> tuple[np.ndarray, np.ndarray]:
     """Gauss–Legendre in the polar angle θ × trapezoid in φ, in ``frame``: nodes (n, 3) and
-    weights (n,) summing to 4π.
-
-    θ panels: uniform ones with enough points for Y_lm up to l_max + 1 (GL with p points
-    resolves e^{ilθ} on a panel of width h for p ≳ lh/2 + 8), refined geometrically (ratio 2)
-    toward the equator and the poles down to width ``finest``, where the integrand M⁻¹ of a
-    strongly anisotropic material has its ridges and peaks: composite Gauss–Legendre on
-    geometrically graded panels converges exponentially however sharp the feature. ``level``
-    ≥ 0 raises the points per panel and in φ.
-    """
+    weights (n,) summing to 4π. Uniform θ panels resolve Y_lm up to l_max + 1 (p ≳ lh/2 + 8
+    points on width h), graded geometrically toward the equator and the poles down to width
+    ``finest``, where M⁻¹ has its ridges and peaks (exponential convergence however sharp);
+    ``level`` raises the points per panel and in φ."""
     coarse_points, fine_points = 16 + 4 * level, 8 + 4 * level
     n_uniform = int(np.ceil(np.pi * (l_max + 2) / (4 * (coarse_points - 8))))
     uniform_width = np.pi / (2 * n_uniform)
@@ -107,14 +99,10 @@ def material_rule(
     """Quadrature nodes (n, 3) and weights (n,) on the unit sphere for the material matrices
     P_lm = ∫ M(ξ̂)⁻¹ Y_lm dS of truncation ``l_max``, accurate to ``rtol`` (relative).
 
-    M⁻¹ is smooth for mild anisotropy, and the paper's Lebedev rule (order 131) serves; for
-    strong anisotropy it is sharply peaked (fibres at contrast 10⁴: a ridge 0.016 rad wide, and
-    the Lebedev rule's l = 0 coefficient is off by 1.5e-3). The Lebedev rule is kept when a lower
-    one (order 71) agrees with it on the moments of M⁻¹ up to degree 2, i.e. when M⁻¹ has no
-    content the rule would alias; otherwise a product rule graded toward the material's axis
-    (:func:`_product_rule`) is refined until two successive levels agree to ``rtol``, and the
-    coarser of the two is returned (at most four levels: past them the finest serves).
-    """
+    The paper's Lebedev rule (order 131) when the order-71 rule agrees with it on the moments
+    of M⁻¹ up to degree 2 (nothing to alias); for strong anisotropy M⁻¹ is sharply peaked
+    (fibres at contrast 10⁴: Lebedev's l = 0 term off by 1.5e-3), and a product rule graded
+    toward the material's axis is refined until two levels agree (at most four)."""
     nodes, weights = lebedev_points()
     reference = _low_moments(material, nodes, weights)
     scale = np.abs(reference).max()

@@ -1,27 +1,18 @@
 """Radial terms of the SH-regularized Green's function (the brush falloff).
 
-For a radial load g_ε with Fourier transform ĝ, the kernel needs, for each degree l,
-
-* ``R_l(r) = ∫₀^∞ ĝ(k) j_l(kr) dk``    (even l, for G; paper Eq. 10)
-* ``ℛ_l(r) = ∫₀^∞ ĝ(k) j_l(kr) k dk``  (odd l, for ∇G; paper Eq. 12)
-
-All profiles here are scale-free in ρ = r/ε: ``R_l(r) = F_l(ρ)/ε`` and ``ℛ_l(r) = F'_l(ρ)/ε²``,
-where F_l, F'_l are dimensionless. Far away R_l ~ 1/r and ℛ_l ~ 1/r², so the kernel tabulates
-the bounded functions ``F_l(ρ)(1+ρ)`` and ``F'_l(ρ)(1+ρ)²`` on t = ρ/(1+ρ) ∈ [0, 1], which
-covers every r including r → ∞ (see :func:`radial_table`). The tables depend only on the shape
-of the profile, not on ε, so changing the brush radius costs nothing.
-
-Profiles:
+For a radial load g_ε with Fourier transform ĝ the kernel needs, per degree l,
+``R_l(r) = ∫₀^∞ ĝ(k) j_l(kr) dk`` (even l, for G; paper Eq. 10) and
+``ℛ_l(r) = ∫₀^∞ ĝ(k) j_l(kr) k dk`` (odd l, for ∇G; paper Eq. 12). All profiles are scale-free:
+``R_l(r) = F_l(ρ)/ε``, ``ℛ_l(r) = F'_l(ρ)/ε²`` with ρ = r/ε, so their tables
+(:mod:`~gogreen_core.physics.radial_tables`) do not depend on ε.
 
 * :class:`GaussianRadial`: g_ε = exp(-r²/ε²)/(ε³π^{3/2}), ĝ = exp(-ε²k²/4) (paper Eq. 13).
-* :class:`KelvinletRadial`: g_ε = 15ε⁴/(8π)(r²+ε²)^{-7/2} of de Goes & James 2017, whose
-  transform is ĝ(k) = (εk)² K₂(εk)/2 (ĝ(0) = 1). With GR 6.576.3,
+* :class:`KelvinletRadial`: g_ε = 15ε⁴/(8π)(r²+ε²)^{-7/2} (de Goes & James 2017),
+  ĝ(k) = (εk)² K₂(εk)/2; with GR 6.576.3,
   R_l = (√π/2) ρ^l Γ((l+5)/2) Γ((l+1)/2)/Γ(l+3/2) ₂F₁((l+5)/2, (l+1)/2; l+3/2; -ρ²)/ε and
   ℛ_l = √π ρ^l Γ(l/2+3) Γ(l/2+1)/Γ(l+3/2) ₂F₁(l/2+3, l/2+1; l+3/2; -ρ²)/ε².
-  An isotropic material then reproduces the closed-form regularized Kelvinlet.
-* :class:`SplineRadial`: per-degree curves through editable control points (the artist's
-  falloff curves), with R_l(0) = ℛ_l(0) = 0 for l ≥ 1 as in the paper; shape-preserving for new
-  curves, interpolating cubic splines for those saved before (:data:`INTERPOLATIONS`).
+* :class:`SplineRadial`: the artist's per-degree curves through control points.
+* :class:`MultiscaleRadial`: a weighted sum of one shape at several radii.
 """
 
 from __future__ import annotations
@@ -29,49 +20,29 @@ from __future__ import annotations
 import hashlib
 from abc import ABC, abstractmethod
 from collections.abc import Iterable, Sequence
-from typing import Any, cast
+from typing import Any, Self, cast
 
 import numpy as np
 from scipy import special
 from scipy.interpolate import PPoly
 
-from gogreen_core.physics.falloff_curves import INTERPOLATIONS, interpolant, monotone_hermite
-from gogreen_core.physics.radial_tables import _TABLE_CACHE as _TABLE_CACHE  # benchmarks empty it
-from gogreen_core.physics.radial_tables import (
-    DECAY,
-    TABLE_DEGREE,
-    TABLE_SEGMENTS,
-    cached_table,
-    radial_table,
-)
+from gogreen_core.physics.falloff_curves import INTERPOLATIONS, interpolant
+from gogreen_core.physics.radial_tables import DECAY, TABLE_DEGREE, cached_table
+from gogreen_core.validation import check_number
 
 __all__ = [
     "INTERPOLATIONS",
     "TABLE_DEGREE",
-    "TABLE_SEGMENTS",
     "GaussianRadial",
     "KelvinletRadial",
     "MultiscaleRadial",
     "RadialProfile",
     "SplineRadial",
-    "monotone_hermite",
     "radial_from_dict",
-    "radial_table",
 ]
 
 #: Kinds of radial term: "R" (R_l, even l, for G) and "dR" (ℛ_l, odd l, for ∇G).
 KINDS = ("R", "dR")
-_DECAY = DECAY  # far-field decay power of each kind (see radial_tables)
-
-
-def _check_eps(eps: float) -> float:
-    try:
-        value = float(eps)
-    except (TypeError, ValueError):
-        raise ValueError(f"eps (regularization radius) must be a number (got {eps!r})") from None
-    if not np.isfinite(value) or value <= 0:
-        raise ValueError(f"eps (regularization radius) must be finite and > 0 (got {eps!r})")
-    return value
 
 
 def _check_degree(kind: str, l: int) -> int:
@@ -90,7 +61,7 @@ class RadialProfile(ABC):
     kind_name: str = ""
 
     def __init__(self, eps: float):
-        self._eps = _check_eps(eps)
+        self._eps = check_number("eps", eps, low=0.0, low_open=True)
 
     @property
     def eps(self) -> float:
@@ -101,26 +72,15 @@ class RadialProfile(ABC):
     def dimensionless(self, kind: str, l: int, rho: np.ndarray) -> np.ndarray:
         """F_l(ρ) ("R") or F'_l(ρ) ("dR") at ρ = r/ε (any shape), float64."""
 
-    def radial(self, l: int, r: np.ndarray) -> np.ndarray:
-        """R_l(r) (model units⁻¹) at distances r (any shape)."""
-        r = np.asarray(r, dtype=np.float64)
-        return self.dimensionless("R", l, r / self._eps) / self._eps
-
-    def radial_gradient(self, l: int, r: np.ndarray) -> np.ndarray:
-        """ℛ_l(r) (model units⁻²) at distances r (any shape)."""
-        r = np.asarray(r, dtype=np.float64)
-        return self.dimensionless("dR", l, r / self._eps) / self._eps**2
-
-    def with_eps(self, eps: float) -> RadialProfile:
+    def with_eps(self, eps: float) -> Self:
         """The same falloff shape with another radius ε (shares cached tables)."""
         clone = object.__new__(type(self))
         clone.__dict__.update(self.__dict__)
-        clone._eps = _check_eps(eps)
+        clone._eps = check_number("eps", eps, low=0.0, low_open=True)
         return clone
 
-    def as_value(self) -> RadialProfile:
-        """This shape at ε = 1 as an immutable value (what settings hold and compare by
-        content): itself when it is one already."""
+    def as_value(self) -> Self:
+        """This shape at ε = 1 (what settings hold and compare by content)."""
         return self if self._eps == 1.0 else self.with_eps(1.0)
 
     @abstractmethod
@@ -128,12 +88,8 @@ class RadialProfile(ABC):
         """Hashable identity of the shape (not ε): equal keys give equal tables."""
 
     def table(self, kind: str, degrees: Iterable[int]) -> np.ndarray:
-        """Piecewise polynomial tables (n_degrees, TABLE_SEGMENTS, TABLE_DEGREE+1), see
-        :func:`radial_table`."""
-        return np.stack([self._degree_table(kind, int(l)) for l in degrees])
-
-    def _degree_table(self, kind: str, l: int) -> np.ndarray:
-        return cached_table(self.table_key(), kind, l, self)
+        """Tables (n_degrees, TABLE_SEGMENTS, TABLE_DEGREE+1) of :func:`radial_table`."""
+        return np.stack([cached_table(self.table_key(), kind, int(l), self) for l in degrees])
 
     @abstractmethod
     def to_dict(self) -> dict[str, Any]:
@@ -158,32 +114,22 @@ class _ClosedFormRadial(RadialProfile):
 
 
 class GaussianRadial(_ClosedFormRadial):
-    """Gaussian load g_ε = exp(-r²/ε²)/(ε³π^{3/2}): the paper's Eq. 13 (regularized ₁F̃₁).
-
-    Large ρ is safe: scipy's ₁F₁ stays accurate at large negative arguments (checked against
-    quadrature of the radial integrals to ~1e-13 for l ≤ 31, ρ ≤ 10⁵).
-    """
+    """Gaussian load: the paper's Eq. 13 (regularized ₁F̃₁); scipy's ₁F₁ stays accurate at
+    large negative arguments (~1e-13 against quadrature for l ≤ 31, ρ ≤ 10⁵)."""
 
     kind_name = "gaussian"
 
     def dimensionless(self, kind: str, l: int, rho: np.ndarray) -> np.ndarray:
         l = _check_degree(kind, l)
         rho = np.asarray(rho, dtype=np.float64)
-        if kind == "R":
-            a, c = (l + 1) / 2, np.sqrt(np.pi) / 2
-        else:
-            a, c = l / 2 + 1, np.sqrt(np.pi)
-        b = l + 1.5
-        scale = c * special.gamma(a) / special.gamma(b)
-        return cast(np.ndarray, scale * rho**l * special.hyp1f1(a, b, -(rho**2)))
+        a, c = ((l + 1) / 2, np.sqrt(np.pi) / 2) if kind == "R" else (l / 2 + 1, np.sqrt(np.pi))
+        scale = c * special.gamma(a) / special.gamma(l + 1.5)
+        return cast(np.ndarray, scale * rho**l * special.hyp1f1(a, l + 1.5, -(rho**2)))
 
 
 class KelvinletRadial(_ClosedFormRadial):
-    """Regularized Kelvinlet load g_ε = 15ε⁴/(8π)(r²+ε²)^{-7/2} (de Goes & James 2017).
-
-    For an isotropic material the kernel then equals their closed form
-    u = [(a-b)/r_ε I + b/r_ε³ r rᵀ + a ε²/(2 r_ε³) I] f with a = 1/(4πμ), b = a/(4(1-ν)).
-    """
+    """Regularized Kelvinlet load: with an isotropic material the kernel is de Goes & James'
+    closed form u = [(a-b)/r_ε I + b/r_ε³ r rᵀ + a ε²/(2 r_ε³) I] f, a = 1/(4πμ), b = a/(4(1-ν))."""
 
     kind_name = "kelvinlet"
 
@@ -194,9 +140,8 @@ class KelvinletRadial(_ClosedFormRadial):
             a, b, c = (l + 5) / 2, (l + 1) / 2, np.sqrt(np.pi) / 2
         else:
             a, b, c = l / 2 + 3, l / 2 + 1, np.sqrt(np.pi)
-        g = l + 1.5
-        scale = c * special.gamma(a) * special.gamma(b) / special.gamma(g)
-        return cast(np.ndarray, scale * rho**l * special.hyp2f1(a, b, g, -(rho**2)))
+        scale = c * special.gamma(a) * special.gamma(b) / special.gamma(l + 1.5)
+        return cast(np.ndarray, scale * rho**l * special.hyp2f1(a, b, l + 1.5, -(rho**2)))
 
 
 #: Default control abscissae (ρ = r/ε) of a spline falloff: dense where the falloff bends.
@@ -206,20 +151,15 @@ DEFAULT_SPLINE_RHO = np.array(
 
 
 class SplineRadial(RadialProfile):
-    """Per-degree curves through control points (ρ_i, F(ρ_i)), ρ = r/ε, interpolated by
-    :attr:`interpolation` (one of :data:`INTERPOLATIONS`; ``"cubic"`` unless given, as files
-    without the key mean).
+    """Per-degree curves through control points (ρ_i, F(ρ_i)), ρ = r/ε, keyed by (kind, l)
+    ("R" for R_l, even l; "dR" for ℛ_l, odd l), interpolated by :attr:`interpolation` (one of
+    :data:`INTERPOLATIONS`; ``"cubic"`` unless given, as files without the key mean).
 
-    Each curve is keyed by (kind, l): kind "R" for R_l (even l) and "dR" for ℛ_l (odd l).
     Control abscissae start at ρ = 0 and increase; for l ≥ 1 the value at ρ = 0 is pinned to 0
-    (R_l(0) = 0, as the paper does). Beyond the last control point ρ_n the curve continues as
-    the far-field decay F(ρ_n)(ρ_n/ρ)^p (p = 1 for R, 2 for ℛ). Edits bump :attr:`version`.
-
-    A value compared by content (``==``). Settings hold frozen ones (:meth:`as_value`) and an
-    edit makes a new one (:meth:`with_curves`, :meth:`with_point_moved`, ...); a profile a
-    script builds may also be edited in place (:meth:`set_curve`, ...) before it is handed over.
-    Tables are keyed by a digest of the control points, so a kernel built after an edit sees
-    the new shape, and equal curves share tables whichever object holds them.
+    (R_l(0) = 0, as the paper does). Beyond the last point ρ_n the curve decays as
+    F(ρ_n)(ρ_n/ρ)^p (p = 1 for R, 2 for ℛ). An immutable value compared by content: an edit
+    makes a new one (:meth:`with_curves`, ...) and bumps :attr:`version`; tables are keyed by a
+    digest of the points.
     """
 
     kind_name = "spline"
@@ -241,7 +181,6 @@ class SplineRadial(RadialProfile):
         self._splines: dict[tuple[str, int], PPoly] = {}
         self._digest: str | None = None
         self._version = 0
-        self._frozen = False
         if not curves:
             raise ValueError("a spline falloff needs at least one curve")
         for (kind, l), (rho, value) in curves.items():
@@ -256,8 +195,7 @@ class SplineRadial(RadialProfile):
         interpolation: str = "monotone",
     ) -> SplineRadial:
         """Sample ``profile`` at control points ``rho`` (default :data:`DEFAULT_SPLINE_RHO`)
-        for every degree a kernel of ``l_max`` needs (even l ≤ l_max, odd l ≤ l_max + 1): new
-        curves, shape-preserving unless ``interpolation`` says otherwise."""
+        for every degree a kernel of ``l_max`` needs (even l ≤ l_max, odd l ≤ l_max + 1)."""
         rho = DEFAULT_SPLINE_RHO if rho is None else np.asarray(rho, dtype=np.float64)
         curves = {}
         for l in range(0, l_max + 1, 2):
@@ -275,7 +213,7 @@ class SplineRadial(RadialProfile):
     def with_interpolation(self, interpolation: str) -> SplineRadial:
         """The same control points through another interpolant (a new value)."""
         clone = SplineRadial(self.eps, self._curves, interpolation)
-        clone._frozen, clone._version = self._frozen, self._version + 1
+        clone._version = self._version + 1
         return clone
 
     @property
@@ -292,7 +230,6 @@ class SplineRadial(RadialProfile):
         rho, value = self._curves[self._key(kind, l)]
         return rho.copy(), value.copy()
 
-    # Values: each edit makes a new profile (frozen when this one is), this one stays.
     def with_curves(
         self, curves: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]] | SplineRadial
     ) -> SplineRadial:
@@ -314,75 +251,29 @@ class SplineRadial(RadialProfile):
     def with_point_moved(
         self, kind: str, l: int, index: int, rho: float, value: float
     ) -> SplineRadial:
-        """This falloff with control point ``index`` at (rho, value) (see :meth:`move_point`)."""
-        return self.with_curves({(kind, l): self._moved(kind, l, index, rho, value)})
+        """This falloff with control point ``index`` at (rho, value), between its neighbours."""
+        xs, ys = self.curve(kind, l)
+        xs[index], ys[index] = rho, value
+        return self.with_curves({(kind, l): (xs, ys)})
 
     def with_point_added(
         self, kind: str, l: int, rho: float, value: float
     ) -> tuple[SplineRadial, int]:
         """This falloff with a control point inserted, and the point's index."""
-        xs, ys, index = self._added(kind, l, rho, value)
-        return self.with_curves({(kind, l): (xs, ys)}), index
-
-    def without_point(self, kind: str, l: int, index: int) -> SplineRadial:
-        """This falloff without control point ``index`` (see :meth:`remove_point`)."""
-        return self.with_curves({(kind, l): self._removed(kind, l, index)})
-
-    def as_value(self) -> SplineRadial:
-        """This shape at ε = 1 as an immutable value: itself when it is one already, else a
-        frozen copy (later edits of this profile do not reach it)."""
-        if self._frozen and self.eps == 1.0:
-            return self
-        clone = self.with_eps(1.0)
-        clone._frozen = True
-        return clone
-
-    # In place: for a profile a script builds before handing it over (settings freeze theirs).
-    def set_curve(self, kind: str, l: int, rho: np.ndarray, value: np.ndarray) -> None:
-        """Replace one curve's control points (in place; refused on a frozen value)."""
-        if self._frozen:
-            raise TypeError(
-                "this falloff is an immutable value (settings hold it): make an edited one "
-                "with with_curves, with_point_moved, with_point_added or without_point"
-            )
-        self._store(kind, l, rho, value)
-        self._version += 1
-
-    def move_point(self, kind: str, l: int, index: int, rho: float, value: float) -> None:
-        """Move control point ``index`` to (rho, value); it must stay between its neighbours."""
-        self.set_curve(kind, l, *self._moved(kind, l, index, rho, value))
-
-    def add_point(self, kind: str, l: int, rho: float, value: float) -> int:
-        """Insert a control point; returns its index."""
-        xs, ys, index = self._added(kind, l, rho, value)
-        self.set_curve(kind, l, xs, ys)
-        return index
-
-    def remove_point(self, kind: str, l: int, index: int) -> None:
-        """Remove a control point (the first one, at ρ = 0, and the last two stay)."""
-        self.set_curve(kind, l, *self._removed(kind, l, index))
-
-    def _moved(
-        self, kind: str, l: int, index: int, rho: float, value: float
-    ) -> tuple[np.ndarray, np.ndarray]:
-        xs, ys = self.curve(kind, l)
-        xs[index], ys[index] = rho, value
-        return xs, ys
-
-    def _added(
-        self, kind: str, l: int, rho: float, value: float
-    ) -> tuple[np.ndarray, np.ndarray, int]:
         xs, ys = self.curve(kind, l)
         index = int(np.searchsorted(xs, rho))
-        return np.insert(xs, index, rho), np.insert(ys, index, value), index
+        return self.with_curves(
+            {(kind, l): (np.insert(xs, index, rho), np.insert(ys, index, value))}
+        ), index
 
-    def _removed(self, kind: str, l: int, index: int) -> tuple[np.ndarray, np.ndarray]:
+    def without_point(self, kind: str, l: int, index: int) -> SplineRadial:
+        """This falloff without control point ``index`` (not the one at ρ = 0)."""
         xs, ys = self.curve(kind, l)
         if index == 0 or index % len(xs) == 0:
             raise ValueError("the control point at rho = 0 cannot be removed")
         if len(xs) <= 3:
             raise ValueError("a falloff curve needs at least 3 control points")
-        return np.delete(xs, index), np.delete(ys, index)
+        return self.with_curves({(kind, l): (np.delete(xs, index), np.delete(ys, index))})
 
     def _key(self, kind: str, l: int) -> tuple[str, int]:
         l = _check_degree(kind, l)
@@ -423,7 +314,7 @@ class SplineRadial(RadialProfile):
         out = np.empty_like(rho)
         inside = rho <= xs[-1]
         out[inside] = self._splines[key](rho[inside])
-        out[~inside] = ys[-1] * (xs[-1] / rho[~inside]) ** _DECAY[kind]
+        out[~inside] = ys[-1] * (xs[-1] / rho[~inside]) ** DECAY[kind]
         return out
 
     def table_key(self) -> tuple[Any, ...]:
@@ -439,14 +330,6 @@ class SplineRadial(RadialProfile):
                 digest.update(value.tobytes())
             self._digest = digest.hexdigest()
         return ("spline", self._digest)
-
-    def with_eps(self, eps: float) -> SplineRadial:
-        if self._frozen:  # immutable curves: shared
-            return super().with_eps(eps)  # type: ignore[return-value]
-        # Curves are copied (not shared) so that editing one profile never changes another.
-        clone = SplineRadial(eps, dict(self._curves), self._interpolation)
-        clone._version = self._version
-        return clone
 
     def __eq__(self, other: object) -> bool:
         """Equal by content: the same ε and the same control points."""
@@ -473,13 +356,10 @@ class SplineRadial(RadialProfile):
 
 
 class MultiscaleRadial(RadialProfile):
-    """Weighted sum of one falloff shape at several radii: Kelvinlets' multi-scale brushes.
-
-    R_l(r) = Σ_k w_k R_l^{ε s_k}(r), so F_l(ρ) = Σ_k w_k s_k^{-p} F_l^base(ρ/s_k) with p = 1 for
-    R_l and 2 for ℛ_l. The weights of :meth:`biscale` and :meth:`triscale` (de Goes & James
-    2017, Sec. 5) cancel the leading far-field terms, so the brush decays faster than 1/r. One
-    table serves the whole sum: a multi-scale brush costs what a single one does.
-    """
+    """Weighted sum of one falloff shape at several radii (Kelvinlets' multi-scale brushes):
+    F_l(ρ) = Σ_k w_k s_k^{-p} F_l^base(ρ/s_k), p = 1 for R_l, 2 for ℛ_l; :meth:`biscale` and
+    :meth:`triscale` (de Goes & James 2017, Sec. 5) cancel the leading far-field terms. One
+    table serves the sum."""
 
     kind_name = "multiscale"
 
@@ -527,7 +407,7 @@ class MultiscaleRadial(RadialProfile):
 
     def dimensionless(self, kind: str, l: int, rho: np.ndarray) -> np.ndarray:
         rho = np.asarray(rho, dtype=np.float64)
-        p = _DECAY[kind]
+        p = DECAY[kind]
         return cast(
             np.ndarray,
             sum(

@@ -24,7 +24,6 @@ __all__ = [
     "SINGLE_DEGREE",
     "TABLE_DEGREE",
     "TABLE_SEGMENTS",
-    "cached_single_table",
     "cached_table",
     "radial_table",
     "single_table",
@@ -61,13 +60,8 @@ def _chebyshev_to_monomial(degree: int = TABLE_DEGREE) -> tuple[np.ndarray, np.n
 
 
 def radial_table(profile: RadialProfile, kind: str, l: int) -> np.ndarray:
-    """Tabulate one radial term as a piecewise polynomial in t = ρ/(1+ρ).
-
-    Segment j covers t ∈ [j/S, (j+1)/S] (S = TABLE_SEGMENTS) with local variable
-    s = 2(tS - j) - 1 ∈ [-1, 1]; row j holds monomial coefficients c_0..c_D of
-    F(ρ)(1+ρ)^p in s (p = 1 for "R", 2 for "dR"), interpolated at Chebyshev nodes.
-    Returns (S, D+1) float64.
-    """
+    """One radial term as (S, D+1) float64: row j, on t ∈ [j/S, (j+1)/S] (S = TABLE_SEGMENTS),
+    holds the monomial coefficients in s = 2(tS - j) - 1 ∈ [-1, 1] of F(ρ)(1+ρ)^p."""
     nodes, to_mono = _chebyshev_to_monomial()
     t = (np.arange(TABLE_SEGMENTS)[:, None] + 0.5 * (nodes[None, :] + 1)) / TABLE_SEGMENTS
     rho = t / (1 - t)
@@ -79,18 +73,11 @@ def radial_table(profile: RadialProfile, kind: str, l: int) -> np.ndarray:
 
 
 def single_table(table: np.ndarray) -> np.ndarray:
-    """The single precision table of the streamlines from a :func:`radial_table`
-    (S, TABLE_DEGREE + 1) of a degree l ≥ 1: on each segment the polynomial of degree
-    :data:`SINGLE_DEGREE` in σ = s + 1 ∈ [0, 2] interpolating it at Chebyshev nodes,
-    c₀ + (c₁ + c₂ σ) σ, as float32 (S, 3). On the first segment it interpolates at σ = 0 the
-    exact R_l(0) = ℛ_l(0) = 0 instead of the node nearest it: c₀ = 0, so a point at rounding
-    distance from the brush centre gets no spurious higher degree (the grabbed point follows
-    the cursor).
-
-    Off the double precision table by ~1e-8 of its largest value (1e-7 at degree 13), below
-    the single precision rounding of the terms it serves: the degrees above a parity's lowest,
-    which the streamlines sum in float32.
-    """
+    """The streamlines' float32 table (S, 3) from a :func:`radial_table` of a degree l ≥ 1: on
+    each segment the quadratic c₀ + (c₁ + c₂ σ) σ in σ = s + 1 ∈ [0, 2] through its values at
+    Chebyshev nodes, except that the first segment's goes through the exact R_l(0) = 0 (c₀ = 0:
+    the grabbed point follows the cursor). Off by ~1e-8 of the table's largest value, below
+    the float32 rounding of the degrees it serves."""
     nodes, _ = _chebyshev_to_monomial(SINGLE_DEGREE)
     values = table @ (nodes[:, None] ** np.arange(table.shape[1])).T  # each segment at the nodes
     sigma = nodes + 1.0
@@ -105,8 +92,7 @@ def single_table(table: np.ndarray) -> np.ndarray:
 
 _TABLE_CACHE: dict[tuple[Any, ...], np.ndarray] = {}
 _TABLE_CACHE_LIMIT = 1024
-#: Kernels are built on the app's background thread too: evicting (iterating the dict) while
-#: another thread inserts would raise.
+#: Kernels are built on a background thread too: evicting while another thread inserts raises.
 _TABLE_CACHE_LOCK = threading.Lock()
 
 
@@ -115,10 +101,7 @@ def cached_table(key: tuple[Any, ...], kind: str, l: int, profile: RadialProfile
     return _cached((key, kind, l), lambda: radial_table(profile, kind, l))
 
 
-def cached_single_table(
-    key: tuple[Any, ...], kind: str, l: int, profile: RadialProfile
-) -> np.ndarray:
-    """:func:`single_table` of :func:`cached_table`, cached (read-only)."""
+def _cached_single(key: tuple[Any, ...], kind: str, l: int, profile: RadialProfile) -> np.ndarray:
     return _cached(
         (key, kind, l, "single"), lambda: single_table(cached_table(key, kind, l, profile))
     )
@@ -128,7 +111,7 @@ def single_tables(profile: RadialProfile, kind: str, degrees: Iterable[int]) -> 
     """The streamlines' single precision tables of ``profile`` for ``degrees``, segment by
     segment: (S, n_degrees, SINGLE_DEGREE + 1) float32 (:func:`single_table`, cached)."""
     key = profile.table_key()
-    tables = [cached_single_table(key, kind, int(l), profile) for l in degrees]
+    tables = [_cached_single(key, kind, int(l), profile) for l in degrees]
     if not tables:
         return np.zeros((TABLE_SEGMENTS, 0, SINGLE_DEGREE + 1), dtype=np.float32)
     return np.stack(tables, axis=1)

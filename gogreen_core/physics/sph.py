@@ -1,20 +1,13 @@
 """Real spherical harmonics by the normalized associated-Legendre recurrence.
 
-The real, orthonormal basis used everywhere in the kernel (no Condon–Shortley phase):
-
-* ``Y_l0 = Q_l^0(z)``
-* ``Y_lm = Q_l^m(z) Re[(x + i y)^m]`` and ``Y_l,-m = Q_l^m(z) Im[(x + i y)^m]`` for m > 0,
-
-for a unit vector (x, y, z), where ``Q_l^m(z) (1 - z²)^(m/2)`` is the associated Legendre
-function times its normalization (and √2 for m > 0). Writing the azimuthal part as
-``(x + i y)^m`` avoids any trigonometry. ``Q`` follows the stable three-term recurrence
+The real orthonormal basis of the kernel (no Condon–Shortley phase), for a unit (x, y, z):
+``Y_l0 = Q_l^0(z)``, ``Y_lm = Q_l^m(z) Re[(x + i y)^m]``, ``Y_l,-m = Q_l^m(z) Im[(x + i y)^m]``
+(m > 0), with the stable recurrence
 
     Q_m^m = sqrt((2m+1)/(2m)) Q_{m-1}^{m-1},    Q_0^0 = 1/sqrt(4π)  (√2 folded in at m = 1)
     Q_l^m = a_lm (z Q_{l-1}^m - b_lm Q_{l-2}^m)  for l > m   (Q_{m-1}^m = 0).
 
-The same constants drive the numba evaluation kernel (``kernel.py``) and the NumPy basis below,
-so precompute and evaluation agree to rounding. Terms of degree l are stored at index
-``l*l + l + m`` (m from -l to l) in a full basis.
+The compiled kernels use the same constants. Y_lm is stored at index ``l*l + l + m``.
 """
 
 from __future__ import annotations
@@ -34,13 +27,8 @@ def sh_index(l: int, m: int) -> int:
 
 @dataclass(frozen=True)
 class LegendreRecurrence:
-    """Constants of the normalized Legendre recurrence up to degree ``l_max``.
-
-    Attributes
-    ----------
-    qmm : (L+1,) float64, Q_m^m (constant in z).
-    a, b : (L+1, L+1) float64, a[l, m], b[l, m] for l > m (zero elsewhere).
-    """
+    """Constants of the normalized Legendre recurrence up to degree ``l_max``: ``qmm`` (L+1,)
+    the Q_m^m, ``a``, ``b`` (L+1, L+1) a[l, m], b[l, m] for l > m (zero elsewhere)."""
 
     l_max: int
     qmm: np.ndarray
@@ -70,15 +58,12 @@ def legendre_recurrence(l_max: int) -> LegendreRecurrence:
 
 
 def real_sph_harm(directions: np.ndarray, l_max: int) -> np.ndarray:
-    """Real orthonormal spherical harmonics of unit ``directions`` (N, 3).
-
-    Returns (N, (l_max+1)²) float64 with Y_lm at column ``sh_index(l, m)``. Used at
-    precompute time (Lebedev nodes); the evaluation kernel inlines the same recurrence.
-    """
+    """Real orthonormal spherical harmonics (N, (l_max+1)²) of unit ``directions`` (N, 3), Y_lm
+    at column ``sh_index(l, m)`` (precompute time; the kernels inline the same recurrence)."""
     d = np.asarray(directions, dtype=np.float64)
     x, y, z = d[:, 0], d[:, 1], d[:, 2]
     rec = legendre_recurrence(l_max)
-    # Filled row by row (contiguous), returned transposed: (N, terms) as documented.
+    # filled row by row (contiguous), returned transposed
     out = np.empty(((l_max + 1) ** 2, d.shape[0]))
     cos_m, sin_m = np.ones_like(x), np.zeros_like(x)
     for m in range(l_max + 1):

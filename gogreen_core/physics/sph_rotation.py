@@ -1,18 +1,8 @@
-"""Turning real spherical harmonics: the real Wigner-D matrices of an orthogonal 3×3 map.
-
-For an orthogonal Q (a rotation, or a reflection: det −1) the degree-l harmonics of the turned
-direction are a linear mix of the degree-l harmonics of the direction itself,
-
-    Y_l(Q η) = D_l(Q) Y_l(η),      D_l(Q) (2l+1, 2l+1) orthogonal,
-
-in the real orthonormal basis of :mod:`~gogreen_core.physics.sph` (rows m = −l … l). Because
-that basis is orthonormal on the sphere, D_l(Q) = ∫ Y_l(Q η) Y_l(η)ᵀ dη, and a Lebedev rule
-exact for degree 2 l gives it to rounding: one evaluation of the harmonics at the turned nodes
-(the unturned ones are cached per degree), a few hundred nodes for l ≤ 13. This is the
-"rotate the coefficients degree by degree" route of Chen & Desbrun's expansion (paper Eq. 10):
-the material term P_lm of a turned material is a Wigner-D mix of the unturned one's
-(:mod:`gogreen_core.field.frame`). Unlike a recurrence in Euler angles it needs no angles (no
-gimbal cases) and takes reflections as they are.
+"""The real Wigner-D matrices of an orthogonal 3×3 map Q (a rotation or a reflection):
+Y_l(Q η) = D_l(Q) Y_l(η), D_l (2l+1, 2l+1) orthogonal, in the basis of
+:mod:`~gogreen_core.physics.sph`. As that basis is orthonormal, D_l(Q) = ∫ Y_l(Q η) Y_l(η)ᵀ dη,
+exact to rounding by a Lebedev rule of degree 2 l: the material term P_lm of a turned material
+is a Wigner-D mix of the unturned one's (paper Eq. 10), with no Euler angles or gimbal cases.
 """
 
 from __future__ import annotations
@@ -20,8 +10,8 @@ from __future__ import annotations
 from functools import lru_cache
 
 import numpy as np
-from scipy.integrate import lebedev_rule
 
+from gogreen_core.physics.quadrature import lebedev_points
 from gogreen_core.physics.sph import real_sph_harm
 
 __all__ = ["real_wigner_d"]
@@ -39,11 +29,9 @@ def _rule(l_top: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     order = next((o for o in _LEBEDEV_ORDERS if o >= 2 * l_top + 1), None)
     if order is None:
         raise ValueError(f"degree {l_top} is beyond the Lebedev rules available (65)")
-    points, weights = lebedev_rule(order)
-    nodes = np.ascontiguousarray(points.T)
+    nodes, weights = lebedev_points(order)
     weighted = np.ascontiguousarray(real_sph_harm(nodes, l_top).T * weights)
-    for arr in (nodes, weights, weighted):
-        arr.setflags(write=False)
+    weighted.setflags(write=False)
     return nodes, weights, weighted
 
 

@@ -1,21 +1,13 @@
-"""Describe the symmetry of a stiffness for display: equal Voigt coefficients and the class.
+"""The symmetry of a stiffness for display (Go Green's Fig. 12 colours equal coefficients of
+the homogenized 6x6 stiffness alike): :func:`describe_symmetry` groups equal coefficients and
+names the class *in the axes of the given Voigt matrix* (a rotated material reads as "other").
 
-Go Green's Fig. 12 colours equal coefficients of the homogenized 6x6 stiffness alike.
-:func:`describe_symmetry` labels the coefficients that are equal (within a tolerance) with the
-same group number, zeros with -1, and names the symmetry class *in the axes of the given Voigt
-matrix* (the grid axes for a homogenized pattern): isotropic, cubic, transversely isotropic (with
-its axis), tetragonal (square symmetry about an axis, e.g. fibres on a square array), orthotropic,
-or other. A material rotated off its symmetry axes reads as "other"
-(its matrix is full), which is what the displayed matrix shows; describe the unrotated material
-to name the class of a rotated pattern.
+Conditions (Voigt order 11, 22, 33, 23, 13, 12), all within ``rtol * max|C|``:
 
-Conditions (Voigt order 11, 22, 33, 23, 13, 12, engineering shear), all within
-``rtol * max|C|``:
-
-- orthotropic: the 3x3 normal/shear coupling block and the shear off-diagonals vanish;
+- orthotropic: the normal/shear coupling block and the shear off-diagonals vanish;
 - transversely isotropic about z: orthotropic, C11 = C22, C13 = C23, C44 = C55 and
   C66 = (C11 − C12) / 2 (likewise about x or y);
-- tetragonal about z: orthotropic, C11 = C22, C13 = C23, C44 = C55 (square fibre arrays);
+- tetragonal about z: the same without the C66 condition (square fibre arrays);
 - cubic: orthotropic, C11 = C22 = C33, C12 = C13 = C23, C44 = C55 = C66;
 - isotropic: cubic and C44 = (C11 − C12) / 2.
 """
@@ -43,15 +35,10 @@ SYMMETRY_CLASSES = (
 
 @dataclass(frozen=True)
 class SymmetryDescription:
-    """Result of :func:`describe_symmetry`.
-
-    groups : (6, 6) int array; equal coefficients share a label 0, 1, 2, ... (numbered in
-        row-major order of first appearance), zero coefficients are -1. Symmetric.
-    symmetry_class : one of :data:`SYMMETRY_CLASSES`.
-    axis : "x", "y" or "z", the symmetry axis of a transversely isotropic or tetragonal class,
-        else None.
-    values : (6, 6) float, the group mean of each coefficient (0 for zeros), handy for display.
-    """
+    """Result of :func:`describe_symmetry`: ``groups`` (6, 6) int, equal coefficients share a
+    label 0, 1, ... (row-major order of first appearance), zeros -1; ``symmetry_class`` one of
+    :data:`SYMMETRY_CLASSES`; ``axis`` "x", "y" or "z" of a transversely isotropic or tetragonal
+    class, else None; ``values`` (6, 6) the group mean of each coefficient (0 for zeros)."""
 
     groups: np.ndarray
     symmetry_class: str
@@ -69,40 +56,26 @@ def _group_coefficients(c6: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndar
     vals = c6[rows, cols]
     groups = np.full((6, 6), -1, dtype=np.int64)
     means = np.zeros((6, 6))
-    nonzero = np.abs(vals) > tol
-    # Cluster sorted values: consecutive values closer than tol join one group.
-    order = np.argsort(vals[nonzero], kind="stable")
-    sorted_vals = vals[nonzero][order]
-    cluster = np.concatenate([[0], np.cumsum(np.diff(sorted_vals) > tol)])
-    raw = np.empty(len(order), dtype=np.int64)
-    raw[order] = cluster
-    raw_full = np.full(len(vals), -1, dtype=np.int64)
-    raw_full[nonzero] = raw
-    # Relabel in row-major order of first appearance.
+    # Cluster sorted nonzero values: consecutive values closer than tol join one group ...
+    nonzero = np.flatnonzero(np.abs(vals) > tol)
+    order = nonzero[np.argsort(vals[nonzero], kind="stable")]
+    raw = np.full(len(vals), -1, dtype=np.int64)
+    raw[order] = np.concatenate([[0], np.cumsum(np.diff(vals[order]) > tol)])
+    # ... labelled in row-major order of first appearance.
     relabel: dict[int, int] = {}
-    for idx, (r, c) in enumerate(zip(rows, cols, strict=True)):
-        lab = raw_full[idx]
-        if lab < 0:
-            continue
-        lab = relabel.setdefault(int(lab), len(relabel))
-        groups[r, c] = groups[c, r] = lab
-    for lab in range(len(relabel)):
-        mask = groups == lab
+    for r, c, lab in zip(rows, cols, raw, strict=True):
+        if lab >= 0:
+            groups[r, c] = groups[c, r] = relabel.setdefault(int(lab), len(relabel))
+    for label in range(len(relabel)):
+        mask = groups == label
         means[mask] = c6[mask].mean()
     return groups, means
 
 
 def describe_symmetry(material: Material | np.ndarray, rtol: float = 1e-5) -> SymmetryDescription:
-    """Equal-coefficient groups and symmetry class of a stiffness, in its own axes.
-
-    Parameters
-    ----------
-    material : Material or (6, 6) Voigt stiffness (order 11, 22, 33, 23, 13, 12).
-    rtol : two coefficients are equal (and a coefficient is zero) when they differ by at most
-        ``rtol * max|C|``. The homogenizer's results are accurate to better than 1e-6 relative
-        (~1e-10 at moderate contrast), so the default 1e-5 is safe; raise it to group nearly
-        equal values.
-    """
+    """Equal-coefficient groups and symmetry class of a :class:`Material` or (6, 6) Voigt
+    stiffness, in its own axes. Two coefficients are equal (a coefficient zero) when they differ
+    by at most ``rtol * max|C|`` (the homogenizer is accurate to better than 1e-6)."""
     c6 = material.voigt if isinstance(material, Material) else np.asarray(material, dtype=float)
     if c6.shape != (6, 6):
         raise ValueError(f"Voigt stiffness must be 6x6 (got shape {c6.shape})")
@@ -125,15 +98,8 @@ def describe_symmetry(material: Material | np.ndarray, rtol: float = 1e-5) -> Sy
         cls = "orthotropic"
         d = np.diag(c6)
         c12, c13, c23 = c6[0, 1], c6[0, 2], c6[1, 2]
-        cubic = (
-            eq(d[0], d[1])
-            and eq(d[1], d[2])
-            and eq(c12, c13)
-            and eq(c13, c23)
-            and eq(d[3], d[4])
-            and eq(d[4], d[5])
-        )
-        if cubic:
+        pairs = ((d[0], d[1]), (d[1], d[2]), (c12, c13), (c13, c23), (d[3], d[4]), (d[4], d[5]))
+        if all(eq(a, b) for a, b in pairs):  # cubic
             cls = "isotropic" if eq(d[3], 0.5 * (d[0] - c12)) else "cubic"
         else:
             # Axis z: 1 = 2 plane; axis x: 2 = 3 plane; axis y: 1 = 3 plane.

@@ -55,7 +55,7 @@ def edited_spline(eps: float) -> SplineRadial:
     spline = SplineRadial.from_profile(GaussianRadial(eps), L_MAX, interpolation="cubic")
     for kind, l in (("R", 0), ("dR", 1)):
         rho, value = spline.curve(kind, l)
-        spline.move_point(kind, l, 2, rho[2], 1.3 * value[2])
+        spline = spline.with_point_moved(kind, l, 2, rho[2], 1.3 * value[2])
     return spline
 
 
@@ -76,7 +76,7 @@ def weak_centre(eps: float, interpolation: str = "cubic") -> SplineRadial:
     for kind, l, factor in (("R", 0, 0.5), ("dR", 1, 2.0)):
         rho, value = spline.curve(kind, l)
         for index in (0, 1):
-            spline.move_point(kind, l, index, rho[index], factor * value[index])
+            spline = spline.with_point_moved(kind, l, index, rho[index], factor * value[index])
     return spline
 
 

@@ -19,14 +19,9 @@ import numpy as np
 import pytest
 
 from gogreen_core import Brush, BrushEvent, Material, Sculptor
-from gogreen_core.files.journal import (
-    JOURNAL_FILE,
-    SETTINGS_WORK,
-    Journal,
-    JournalLock,
-    recovery_root,
-)
-from gogreen_core.files.journal import state_home as journal_state_home
+from gogreen_core.files.journal import JOURNAL_FILE, Journal, recovery_root
+from gogreen_core.files.journal_format import SETTINGS_WORK, JournalLock
+from gogreen_core.files.journal_format import state_home as journal_state_home
 from gogreen_core.files.recovery import (
     JournalError,
     discard,
@@ -423,7 +418,7 @@ def test_a_journal_from_a_newer_version_is_read_as_far_as_understood(mesh, tmp_p
     header = json.loads(lines[0].split(b" ", 1)[1])
     header["version"] = 7
     future = {"seq": 4, "kind": "append", "n": 4, "t": 0.0, "d": 4, "op": {"op": "smooth"}}
-    from gogreen_core.files.journal import frame
+    from gogreen_core.files.journal_format import frame
 
     lines[0] = frame(json.dumps(header).encode())[:-1]
     lines[-1] = frame(json.dumps(future).encode())
@@ -586,7 +581,7 @@ def test_gogreen_recover_lists_writes_and_discards(mesh, tmp_path, capsys):
     replayed.replay(load_session(session))
     assert np.array_equal(replayed.vertices, sculptor.vertices)
 
-    assert main(["recover", running.id, "-o", str(output)]) == 2
+    assert main(["recover", running.directory.name, "-o", str(output)]) == 2
     assert "in use by a running GoGreen Sculpt" in capsys.readouterr().err
     assert main(["recover", "nope", "-o", str(output)]) == 2
     assert "no journal 'nope'" in capsys.readouterr().err

@@ -85,11 +85,11 @@ def test_serialization_round_trip():
             "|nu12| < sqrt(E1/E2)",
         ),
         (lambda: Material.orthotropic((1, 1, 1), (1, 1, 0), (0.1, 0.1, 0.1)), "G12"),
-        (lambda: Material.orthotropic((1, 1), (1, 1, 1), (0.1, 0.1, 0.1)), "3 values"),
+        (lambda: Material.orthotropic((1, 1), (1, 1, 1), (0.1, 0.1, 0.1)), "shape (3,)"),
         (lambda: Material.transversely_isotropic(1, 1, 1.2, 0.1, 1), "poisson_plane"),
         (lambda: Material.isotropic(1, 0.3).rotated(np.diag([1, 1, -1.0])), "determinant -1"),
         (lambda: Material.isotropic(1, 0.3).rotated(2 * np.eye(3)), "not orthonormal"),
-        (lambda: Material.isotropic(1, 0.3).rotated(np.eye(2)), "3x3"),
+        (lambda: Material.isotropic(1, 0.3).rotated(np.eye(2)), "(3, 3)"),
         (lambda: Material.isotropic(1, 0.3).rotated(np.full((3, 3), np.nan)), "finite"),
     ],
 )

@@ -60,8 +60,7 @@ def _edited(edit) -> SplineRadial:
     """The Gaussian falloff as splines, with its R₀ control values edited by ``edit``."""
     falloff = _spline()
     rho, value = falloff.curve("R", 0)
-    falloff.set_curve("R", 0, rho, edit(rho, value.copy()))
-    return falloff
+    return falloff.with_curves({("R", 0): (rho, edit(rho, value.copy()))})
 
 
 def _dip(rho, value):
@@ -226,7 +225,7 @@ def test_affine_brushes_with_a_vanishing_centre_response_stay_bounded(sphere, ki
     vertices, faces = sphere
     falloff = _spline()
     rho, value = falloff.curve("dR", 1)
-    falloff.set_curve("dR", 1, rho, _flat_centre_gradient(rho, value))
+    falloff = falloff.with_curves({("dR", 1): (rho, _flat_centre_gradient(rho, value))})
     sculptor = Sculptor(vertices, faces, material=MATERIALS[material], falloff=falloff)
     gaussian = Sculptor(vertices, faces, material=MATERIALS[material])
     eps = RADIUS * sculptor.model_size
@@ -263,7 +262,7 @@ def test_a_falloff_that_is_zero_everywhere_is_refused(sphere):
     falloff = _spline(4)
     for kind, l in falloff.curve_keys():
         rho, value = falloff.curve(kind, l)
-        falloff.set_curve(kind, l, rho, 0 * value)
+        falloff = falloff.with_curves({(kind, l): (rho, 0 * value)})
     with pytest.raises(ParameterError, match="zero everywhere") as info:
         sculptor.set_falloff(falloff, l_max=4)
     assert info.value.parameter == "falloff"
@@ -275,7 +274,7 @@ def test_a_grab_whose_field_is_zero_is_refused_and_moves_nothing(sphere):
     falloff = _spline(4)
     for l in (0, 2, 4):  # G vanishes; ∇G (affine brushes) does not
         rho, value = falloff.curve("R", l)
-        falloff.set_curve("R", l, rho, 0 * value)
+        falloff = falloff.with_curves({("R", l): (rho, 0 * value)})
     sculptor = Sculptor(vertices, faces, l_max=4, falloff=falloff)
     event = BrushEvent(vertices[0], np.array([0.01, 0.0, 0.0]))
     with pytest.raises(ParameterError, match="zero everywhere") as info:
