@@ -558,7 +558,7 @@ def _assemble(
 
 def remesh_snapshot(
     source: MeshSnapshot,
-    target_length: float,
+    target_length: float | np.ndarray,
     unmasked_only: bool,
     locked: np.ndarray | None,
     iterations: int,
@@ -566,8 +566,8 @@ def remesh_snapshot(
 ) -> MeshSnapshot:
     """Mesh → Remesh: the whole mesh of ``source`` (or its faces not masked, corners below
     :data:`~gogreen_core.mesh.subdivision.MASK_THRESHOLD`) remeshed to ``target_length`` (model
-    units) with its mask and UVs; read-only and compact, the after-side of its undo step.
-    ``progress``: as for :func:`remesh`."""
+    units; one, or each vertex's) with its mask and UVs; read-only and compact, the after-side
+    of its undo step. ``progress``: as for :func:`remesh`."""
     mask = np.asarray(source.mask, dtype=np.float64)
     region = mask < MASK_THRESHOLD if unmasked_only else np.ones(len(mask), dtype=bool)
     done = remesh(

@@ -370,15 +370,20 @@ class PreparedRemesh:
 
     op: Remesh
     before: MeshSnapshot
-    length: float  # the target edge length, model units
+    length: float | None  # the target edge length, model units (None: each vertex's own)
     locked: np.ndarray  # (N,) bool: the pins' vertices
     result: list[MeshSnapshot] = field(default_factory=list)  # the after-side, once computed
 
     def compute(self, progress: Callable[[float], None] | None = None) -> PreparedRemesh:
         """Remesh ``before`` (``progress(fraction)`` may raise to cancel); returns itself."""
-        op = self.op
+        op, before = self.op, self.before
+        length: float | np.ndarray  # without a detail size each vertex's own edges' mean:
+        if self.length is None:  # about as many vertices as before, fine parts stay fine
+            length = local_edge_lengths(before.vertices, before.faces)
+        else:
+            length = self.length
         after = remesh_snapshot(
-            self.before, self.length, op.unmasked_only, self.locked, op.iterations, progress
+            before, length, op.unmasked_only, self.locked, op.iterations, progress
         )
         self.result[:] = [after]
         return self
@@ -403,30 +408,33 @@ class Remesher:
         self.mesh, self.history, self.log, self.strokes = mesh, history, log, strokes
 
     def prepare(
-        self, detail_size: float, unmasked_only: bool = False, iterations: int = REMESH_ITERATIONS
+        self,
+        detail_size: float | None,
+        unmasked_only: bool = False,
+        iterations: int = REMESH_ITERATIONS,
     ) -> PreparedRemesh:
         """What :meth:`remesh` with these arguments computes, to compute on another thread
         (:meth:`PreparedRemesh.compute`, on a copy of the mesh) and adopt with ``prepared``."""
         self.strokes.refuse("remesh")
         op = Remesh(detail_size, unmasked_only, iterations)  # checked
         mesh = self.mesh
-        length, locked = op.detail_size * mesh.model_size, self.strokes.pinned_vertices()
-        return PreparedRemesh(op, mesh.snapshot(), length, locked)
+        length = None if op.detail_size is None else op.detail_size * mesh.model_size
+        return PreparedRemesh(op, mesh.snapshot(), length, self.strokes.pinned_vertices())
 
     def remesh(
         self,
-        detail_size: float,
+        detail_size: float | None,
         unmasked_only: bool = False,
         iterations: int = REMESH_ITERATIONS,
         *,
         prepared: PreparedRemesh | None = None,
     ) -> None:
         """Remesh the whole mesh, or its faces not masked, to edges of about ``detail_size``
-        model sizes (:mod:`gogreen_core.mesh.remesh`; ``iterations`` rounds), mask and UVs carried
-        along, the pins' vertices kept, the model's size and origin unchanged: one undo step
-        (undo gives back the previous arrays exactly) and one log entry. ``prepared``: the
-        same remesh computed ahead (:meth:`prepare`); a ValueError, nothing changed, if the
-        mesh changed since."""
+        model sizes (None: each vertex's own, its edges' mean; :mod:`gogreen_core.mesh.remesh`;
+        ``iterations`` rounds), mask and UVs carried along, the pins' vertices kept, the
+        model's size and origin unchanged: one undo step (undo gives back the previous arrays
+        exactly) and one log entry. ``prepared``: the same remesh computed ahead
+        (:meth:`prepare`); a ValueError, nothing changed, if the mesh changed since."""
         self.strokes.refuse("remesh")
         if prepared is None:
             prepared = self.prepare(detail_size, unmasked_only, iterations).compute()
