@@ -19,7 +19,16 @@ from gogreen_core.mesh.influence import VertexBlocks
 from gogreen_core.mesh.topology import MeshEdges, VertexNeighbours, mesh_edges, vertex_neighbours
 from gogreen_core.validation import ParameterError, check_vector, vector_norm
 
-__all__ = ["MaskRows", "MeshSnapshot", "MeshState", "check_mesh", "check_uv", "compact_faces"]
+__all__ = [
+    "MaskRows",
+    "MeshEdit",
+    "MeshSnapshot",
+    "MeshState",
+    "check_mesh",
+    "check_uv",
+    "compact_faces",
+    "topology_edit",
+]
 
 
 def check_mesh(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -109,6 +118,105 @@ class MeshSnapshot:
         return cls(*arrays)
 
 
+@dataclass(frozen=True)
+class MeshEdit:
+    """One side of a topology edit's undo step (dynamic topology's stroke), holding only what
+    changed: applied to the other side's mesh it gives this side's arrays bit for bit. The rows
+    of the other mesh not in ``gone`` (vertices, faces) are carried over in order to this
+    side's rows not in ``new``, carried faces renumbered; ``rows`` (the new rows and the
+    carried rows that moved) take ``vertices``, ``mask_rows`` ``mask``, the ``new_faces`` rows
+    ``faces``. Sizes: n_vertices and n_faces, this side's; no texture coordinates."""
+
+    n_vertices: int
+    gone: np.ndarray
+    new: np.ndarray
+    rows: np.ndarray
+    vertices: np.ndarray
+    mask_rows: np.ndarray
+    mask: np.ndarray
+    n_faces: int
+    gone_faces: np.ndarray
+    new_faces: np.ndarray
+    faces: np.ndarray
+
+    @property
+    def nbytes(self) -> int:
+        return sum(
+            int(getattr(self, name).nbytes) for name in self.__dataclass_fields__ if name[0] != "n"
+        )
+
+    def applied(self, other: MeshSnapshot | MeshState) -> MeshSnapshot:
+        """This side's arrays (new, writable) from ``other``, the other side's mesh."""
+        source = _complement(self.gone, len(other.vertices))
+        target = _complement(self.new, self.n_vertices)
+        vertices, mask = np.empty((self.n_vertices, 3)), np.empty(self.n_vertices)
+        vertices[target], mask[target] = other.vertices[source], other.mask[source]
+        vertices[self.rows], mask[self.mask_rows] = self.vertices, self.mask
+        number = np.full(len(other.vertices), -1, dtype=np.int64)
+        number[source] = target
+        faces = np.empty((self.n_faces, 3), dtype=np.int64)
+        carried = _complement(self.gone_faces, len(other.faces))
+        faces[_complement(self.new_faces, self.n_faces)] = number[other.faces[carried]]
+        faces[self.new_faces] = self.faces
+        return MeshSnapshot(vertices, faces, mask)
+
+
+def _complement(rows: np.ndarray, n: int) -> np.ndarray:
+    """The rows (ascending) of range(n) not in ``rows``."""
+    kept = np.ones(n, dtype=bool)
+    kept[rows] = False
+    return np.flatnonzero(kept)
+
+
+def topology_edit(
+    before: MeshSnapshot, after: MeshSnapshot, origin: np.ndarray, face_origin: np.ndarray
+) -> tuple[MeshEdit, MeshEdit]:
+    """The two sides (before, after) of the undo step of an edit that turned ``before`` into
+    ``after`` (both without texture coordinates) keeping the order of the vertices and faces
+    it did not remove and appending new ones: ``origin`` (N',) and ``face_origin`` (M',) int,
+    each row of ``after``'s row in ``before`` (-1 for a new one, all after the others)."""
+    carried, carried_faces = origin[origin >= 0], face_origin[face_origin >= 0]
+    n, m = len(carried), len(carried_faces)
+    gone = _complement(carried, len(before.vertices))
+    gone_faces = _complement(carried_faces, len(before.faces))
+    bits = before.vertices[carried].view(np.uint64) != after.vertices[:n].view(np.uint64)
+    moved = np.flatnonzero(bits.any(axis=1))
+    painted = np.flatnonzero(before.mask[carried].view(np.uint64) != after.mask[:n].view(np.uint64))
+    added = np.arange(n, len(after.vertices))
+    added_faces = np.arange(m, len(after.faces))
+
+    def side(
+        mesh: MeshSnapshot,
+        gone: np.ndarray,
+        new: np.ndarray,
+        rows: np.ndarray,
+        mask_rows: np.ndarray,
+        gone_faces: np.ndarray,
+        new_faces: np.ndarray,
+    ) -> MeshEdit:
+        # compact_faces: int32 rows, as a snapshot's faces
+        return MeshEdit(
+            len(mesh.vertices),
+            compact_faces(gone),
+            compact_faces(new),
+            compact_faces(rows),
+            mesh.vertices[rows],
+            compact_faces(mask_rows),
+            mesh.mask[mask_rows],
+            len(mesh.faces),
+            compact_faces(gone_faces),
+            compact_faces(new_faces),
+            compact_faces(mesh.faces[new_faces]),
+        )
+
+    back, back_mask = np.union1d(gone, carried[moved]), np.union1d(gone, carried[painted])
+    forth, forth_mask = np.concatenate([moved, added]), np.concatenate([painted, added])
+    return (
+        side(before, added, gone, back, back_mask, added_faces, gone_faces),
+        side(after, gone, added, forth, forth_mask, gone_faces, added_faces),
+    )
+
+
 class MeshState:
     """Vertices (N, 3) float64, edited in place by the engine alone, and only through
     :meth:`write_rows` or with a report of the rows written (:meth:`moved`); faces (M, 3) int64;
@@ -189,10 +297,13 @@ class MeshState:
             None if self.uv_faces is None else compact_faces(self.uv_faces),
         )
 
-    def adopt(self, mesh: MeshSnapshot, owned: bool = False) -> None:
-        """Take the arrays of ``mesh`` (copies; a new face array, a new :attr:`topology`);
-        the model's size and origin stay. ``owned``: its arrays are new, writable, float64 and
-        int64, nobody else's (dynamic topology's): taken as they are, no copy."""
+    def adopt(self, mesh: MeshSnapshot | MeshEdit, owned: bool = False) -> None:
+        """Take the arrays of ``mesh`` (copies; a new face array, a new :attr:`topology`), or
+        of a :class:`MeshEdit` side applied to these; the model's size and origin stay.
+        ``owned``: its arrays are new, writable, float64 and int64, nobody else's (dynamic
+        topology's): taken as they are, no copy."""
+        if isinstance(mesh, MeshEdit):
+            mesh, owned = mesh.applied(self), True
         take = np.asarray if owned else np.array
         faces = take(mesh.faces, dtype=np.int64)
         same = faces.shape == self.faces.shape and np.array_equal(faces, self.faces)

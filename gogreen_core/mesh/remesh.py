@@ -101,7 +101,8 @@ class RemeshedMesh:
     edge length (interpolated onto new vertices; None for one target length); kept (N,)
     int64: the new index of each old vertex, -1 where it was collapsed away; changed (N',)
     bool: the vertices of the region and the new ones (all others are old vertices at their
-    old positions, bit for bit).
+    old positions, bit for bit); kept_faces (M,) bool: the old faces kept, in order, before the
+    new ones.
     """
 
     vertices: np.ndarray
@@ -111,6 +112,7 @@ class RemeshedMesh:
     uv_faces: np.ndarray | None
     kept: np.ndarray
     changed: np.ndarray
+    kept_faces: np.ndarray
     sizes: np.ndarray | None = None
 
 
@@ -552,7 +554,7 @@ def _assemble(
     changed[kept[local[patch.closed[:n_local] & keep[local]]]] = True
     changed[n_kept:] = True
     return RemeshedMesh(
-        out_vertices, out_faces, out_mask, out_uv, out_uv_faces, kept, changed, out_sizes
+        out_vertices, out_faces, out_mask, out_uv, out_uv_faces, kept, changed, ~in_patch, out_sizes
     )
 
 

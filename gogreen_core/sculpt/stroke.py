@@ -43,7 +43,7 @@ from typing import Any
 import numpy as np
 
 from gogreen_core.field.kernel import GreenKernel
-from gogreen_core.mesh.mesh_state import MaskRows, MeshSnapshot, MeshState
+from gogreen_core.mesh.mesh_state import MaskRows, MeshSnapshot, MeshState, topology_edit
 from gogreen_core.mesh.remesh import (
     faces_touching,
     grow_region,
@@ -104,10 +104,13 @@ class _Stroke:
     events: list[BrushEvent] = field(default_factory=list)
     memo: dict[str, Any] = field(default_factory=dict)  # the brush's state between events
     mask_before: np.ndarray | None = None  # (N,) the mask, copied at the first mask edit
-    # dynamic topology: the whole mesh at the start (once remeshed), each vertex's position
-    # when it was last remeshed and the event after which it was (0: none yet), and the
-    # target edge length (model units) of this stroke: one, or each vertex's (N,)
+    # dynamic topology: the whole mesh at the start (once remeshed) and each vertex's and
+    # face's row in it (-1: new), each vertex's position when it was last remeshed and the
+    # event after which it was (0: none yet), and the target edge length (model units) of
+    # this stroke: one, or each vertex's (N,)
     start: MeshSnapshot | None = None
+    origin: np.ndarray = field(default_factory=lambda: _NO_INDEX)
+    face_origin: np.ndarray = field(default_factory=lambda: _NO_INDEX)
     reference: np.ndarray | None = None
     settled_at: np.ndarray | None = None
     detail: float | np.ndarray | None = None
@@ -261,6 +264,8 @@ class StrokeDriver:
                 mesh.uv,
                 mesh.uv_faces,
             )
+            stroke.origin = np.arange(len(mesh.vertices))
+            stroke.face_origin = np.arange(len(mesh.faces))
         done = remesh(
             mesh.vertices,
             mesh.faces,
@@ -285,6 +290,14 @@ class StrokeDriver:
         stroke.settled_at = settled_at
         if done.sizes is not None:
             stroke.detail = done.sizes
+        for name, kept, n in (
+            ("origin", done.kept >= 0, len(done.vertices)),
+            ("face_origin", done.kept_faces, len(done.faces)),
+        ):  # the kept rows come first, in order
+            origin = np.full(n, -1, dtype=np.int64)
+            carried = np.compress(kept, getattr(stroke, name))
+            origin[: len(carried)] = carried
+            setattr(stroke, name, origin)
         assert done.mask is not None
         new_mesh = MeshSnapshot(done.vertices, done.faces, done.mask, done.uv, done.uv_faces)
         mesh.adopt(new_mesh, owned=True)
@@ -324,13 +337,18 @@ class StrokeDriver:
         # the rows that changed, found once at the end rather than marked at every event
         # (only the stroke writes the vertices meanwhile): on a 1M-vertex mesh 6 ms at the
         # end instead of 0.5 ms an event
-        if stroke.start is not None:  # dynamic topology changed the faces: whole meshes
-            after = self.mesh.snapshot()
-            meshes = (stroke.start, after)
+        if stroke.start is not None:  # dynamic topology changed the faces
+            mesh = self.mesh
+            if mesh.uv is None:  # what changed (the rows it touched)
+                after = MeshSnapshot(mesh.vertices, mesh.faces, mesh.mask)
+                sides = topology_edit(stroke.start, after, stroke.origin, stroke.face_origin)
+                meshes: tuple[object, object] = sides
+            else:  # texture rows are renumbered: the whole meshes
+                meshes = (stroke.start, mesh.snapshot())
             label = _undo_label(stroke.brush.kind)
             self.history.record(label, _NO_INDEX, _NO_ROWS, _NO_ROWS, meshes)
             self.log.record(Stroke(stroke.brush, tuple(stroke.events)))
-            return np.arange(len(after.vertices))
+            return np.arange(len(mesh.vertices))
         vertices, before = self.mesh.vertices, stroke.before
         changed = before[:, 0] != vertices[:, 0]
         for k in (1, 2):
