@@ -1,13 +1,9 @@
-"""The sequential parts of local isotropic remeshing (:mod:`gogreen_core.mesh.remesh`), choosing
-which short edges to collapse and which edges to flip in one pass, and its per-triangle
-arithmetic (nearest points, smallest angles).
+"""The sequential parts of local isotropic remeshing (:mod:`gogreen_core.mesh.remesh`): which
+short edges to collapse and which edges to flip in one pass; per-triangle arithmetic.
 
-Each pass is computed on the connectivity of the pass's start (edges, each vertex's neighbours
-and faces in compressed rows) and picks operations whose neighbourhoods do not overlap (every
-vertex an operation reads is claimed by it), so every check made here still holds when the
-caller applies all picked operations at once. Candidates are visited in the order given, so
-the choice is reproducible bit for bit.
-"""
+Each pass reads the connectivity of its start (compressed rows) and picks operations whose
+neighbourhoods do not overlap (each claims every vertex it reads), so every check still holds
+when all are applied at once; candidates are visited in the order given (bit for bit)."""
 
 from __future__ import annotations
 
@@ -106,18 +102,10 @@ def pick_collapses(
     high: np.ndarray,
     min_area2: float,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Short edges to collapse, in ``candidates`` (K,) order: (removed, kept) vertex pairs
-    (k, 2) int64, the kept vertex's new position (k, 3) and whether it is the midpoint (k,)
-    (else the kept vertex stays where it is).
-
-    An edge is collapsed when both ends are ``closed`` (all their faces are here), one of them
-    may move (``free``: the one removed; the midpoint when both may), the two ends share exactly
-    the two neighbours opposite the edge (the link condition: the result is a manifold), no new
-    edge is longer than the mean of its ends' ``high`` (n,) (the kept end's: the mean of the
-    pair's when it moves to the midpoint, else its own), no face turns over or degenerates
-    (twice its area² above ``min_area2``), the edge is no texture seam, and no vertex of either
-    one-ring is claimed.
-    """
+    """Short edges to collapse (the conditions of :mod:`gogreen_core.mesh.remesh`, step 2; both
+    ends ``closed``, the removed one ``free``; ``high`` (n,): each vertex's longest edge), in
+    ``candidates`` (K,) order: (removed, kept) vertex pairs (k, 2) int64, the kept vertex's new
+    position (k, 3) and whether it is the midpoint (k,) (else the kept vertex stays)."""
     n = len(closed)
     claimed = np.zeros(n, dtype=np.bool_)
     mark = np.zeros(n, dtype=np.int64)  # stamp: neighbours of the candidate's first end
@@ -226,16 +214,11 @@ def pick_flips(
     target: np.ndarray,
     min_area2: float,
 ) -> np.ndarray:
-    """Edges to flip, in ``candidates`` (K,) order: rows (k, 4) int64 of the first face, the
-    second face, and the edge's two ends a, b such that the first face runs a → b.
-
-    An edge is flipped when its ends and the two opposite corners are ``closed``, the flip
-    brings the four valences nearer to their ``target`` (6 inside, 4 on an open rim: the sum
-    of squared deviations drops), no end falls below valence 3, the new edge does not exist,
-    both new faces face the way the old ones did without degenerating, the smallest angle of
-    the pair does not drop below half of what it was nor below 10° when it was above, the
-    edge is no texture seam, and none of the four vertices is claimed by another flip.
-    """
+    """Edges to flip (:mod:`gogreen_core.mesh.remesh`, step 3: the four valences' squared
+    deviations from ``target`` drop, none below 3, the smallest angle not below half of what
+    it was nor below 10° when it was above, the faces not turned over, no seam), in
+    ``candidates`` (K,) order: rows (k, 4) int64 of the two faces and the edge's ends a, b,
+    the first face running a → b."""
     n = len(closed)
     claimed = np.zeros(n, dtype=np.bool_)
     out = np.empty((len(candidates), 4), dtype=np.int64)

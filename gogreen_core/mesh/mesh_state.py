@@ -218,20 +218,13 @@ def topology_edit(
 
 
 class MeshState:
-    """Vertices (N, 3) float64, edited in place by the engine alone, and only through
-    :meth:`write_rows` or with a report of the rows written (:meth:`moved`); faces (M, 3) int64;
-    optional texture coordinates ``uv`` (T, 2) and their face corners ``uv_faces`` (M, 3)
-    (rows of -1: untextured faces); the vertex :attr:`mask` (N,) float64 in [0, 1] (how much each
-    vertex is held: 1 does not move); :attr:`model_size` (bounding-box diagonal at load, model
-    units) and :attr:`origin` (its centre: the point of the mirror planes).
-
-    :attr:`topology` counts the changes of the face array (a view rebuilds what depends on it);
-    :attr:`edges` and :attr:`neighbours` are built on first use for the current faces.
-
-    :meth:`rows_near` answers with the boxes of blocks of vertex rows
-    (:class:`~gogreen_core.mesh.influence.VertexBlocks`), which the reports of written rows keep
-    right; a new vertex array (:meth:`adopt`) is indexed anew by itself.
-    """
+    """Vertices (N, 3) float64, edited in place by the engine alone, through :meth:`write_rows`
+    or with a report of the rows written (:meth:`moved`: :meth:`rows_near`'s blocks of rows
+    stay right); faces (M, 3) int64; texture corners ``uv`` (T, 2), ``uv_faces`` (M, 3) (-1:
+    untextured) or None; the :attr:`mask` (N,) float64 in [0, 1] (1 does not move);
+    :attr:`model_size` (bounding-box diagonal at load, model units) and :attr:`origin` (its
+    centre: the point of the mirror planes). :attr:`topology` counts the changes of the face
+    array; :attr:`edges` and :attr:`neighbours` are built on first use for the current faces."""
 
     def __init__(
         self,

@@ -1,38 +1,28 @@
 """Local isotropic remeshing (Botsch & Kobbelt 2004, "A remeshing approach to multiresolution
 modeling", Sec. 4), of a region of a triangle mesh or of all of it.
 
-Given a target edge length L (one for the mesh, or one per vertex: a sizing field, an edge
-then measured against the mean of its ends', as in adaptive remeshing), each iteration
-1. splits the edges longer than 4/3 L at their midpoints (all at once, red-green: a face with
-   one long side becomes two, with two three, with three four, as in
+Given a target edge length L (one, or each vertex's: a sizing field, an edge measured against
+the mean of its ends'), each iteration
+1. splits the edges longer than 4/3 L at their midpoints (all at once, red-green as in
    :mod:`gogreen_core.mesh.subdivision`), until none is left;
 2. collapses the edges shorter than 4/5 L (into their midpoint, or into the end that may not
    move), unless that makes an edge longer than 4/3 L, turns a face over or degenerates it,
-   breaks the link condition (the result would not be a manifold), removes a held vertex, or
-   crosses a texture seam;
-3. flips edges where that brings the valences of the four vertices nearer to 6 (4 on an
-   open rim) without worsening the pair's smallest angle much;
-4. moves each free vertex towards the area-weighted centroid of its one-ring, within its
-   tangent plane, and puts it back on the surface: the nearest point of its one-ring's
-   triangles as they were, whose corners' mask and texture coordinates it takes by
-   barycentric interpolation.
+   breaks the link condition (manifold), removes a held vertex, or crosses a texture seam;
+3. flips edges where that brings the four valences nearer to 6 (4 on an open rim) without
+   worsening the pair's smallest angle much;
+4. moves each free vertex towards the area-weighted centroid of its one-ring in its tangent
+   plane, back onto the nearest point of its one-ring's triangles as they were, whose mask and
+   texture coordinates it interpolates;
+then a last split pass splits what the relaxation stretched beyond 4/3 L.
 
-A last split pass then splits what the relaxation stretched beyond 4/3 L.
-
-The region is given as vertices whose faces may all change (``region``); the faces touching
-them form the patch worked on. Vertices outside the region keep their positions bit for bit
-(their indices shift down past removed vertices; new vertices come after the old ones); open
-rims and non-manifold edges are never split, collapsed or flipped and their vertices never
-move; a closed surface stays closed, of the same Euler characteristic, consistently oriented.
-Held vertices (``locked``: pins, masked vertices) never move and are never removed.
-
-Texture coordinates are per face corner (``uv`` rows, ``uv_faces`` (M, 3), -1 for a face
-without): a split gives each face its own midpoint of its two corners (seams stay seams), a
-collapse or a flip never crosses a seam, and seam vertices do not move.
-
-Every step is a numpy pass or a compiled loop over candidates in a fixed order
-(:mod:`gogreen_core.mesh._remesh_kernels`): the result depends on the input arrays alone and a
-remesh replays bit for bit.
+Only the faces touching ``region`` change: the other vertices keep their positions bit for bit
+(their indices shift down past removed vertices; new ones come after the old); open rims and
+non-manifold edges are never split, collapsed or flipped nor their vertices moved; a closed
+surface stays closed, of the same Euler characteristic, consistently oriented. Held vertices
+(``locked``: pins, masked vertices) never move nor go. Texture coordinates are per face corner:
+a split gives each face its own midpoint (seams stay seams), nothing crosses a seam, seam
+vertices do not move. Every step is a numpy pass or a compiled loop over candidates in a fixed
+order (:mod:`gogreen_core.mesh._remesh_kernels`): a remesh replays bit for bit.
 """
 
 from __future__ import annotations
@@ -61,6 +51,7 @@ from gogreen_core.mesh.subdivision import MASK_THRESHOLD, _split_faces, _subdivi
 from gogreen_core.mesh.topology import (
     BOUNDARY,
     INTERIOR,
+    FaceAdjacency,
     MeshEdges,
     VertexNeighbours,
     mesh_edges,
@@ -94,16 +85,10 @@ _MIN_AREA = 1e-4
 
 @dataclass(frozen=True)
 class RemeshedMesh:
-    """The result of :func:`remesh`.
-
-    vertices (N', 3) float64, faces (M', 3) int64, mask (N',) float64 (None without one), uv
-    (T', 2) and uv_faces (M', 3) (None without); sizes (N',) float64, each vertex's target
-    edge length (interpolated onto new vertices; None for one target length); kept (N,)
-    int64: the new index of each old vertex, -1 where it was collapsed away; changed (N',)
-    bool: the vertices of the region and the new ones (all others are old vertices at their
-    old positions, bit for bit); kept_faces (M,) bool: the old faces kept, in order, before the
-    new ones.
-    """
+    """The result of :func:`remesh`: the new arrays (mask, uv and sizes None without; sizes
+    (N',): each vertex's target length); kept (N,) int64: each old vertex's new index, -1 when
+    collapsed away; changed (N',) bool: the region's vertices and the new ones (the others are
+    bit for bit as they were); kept_faces (M,) bool: the old faces kept, in order, first."""
 
     vertices: np.ndarray
     faces: np.ndarray
@@ -163,13 +148,6 @@ class _Patch:
         neighbours = vertex_neighbours(edges, n)
         return edges, edge_faces, neighbours
 
-    def vertex_faces(self) -> tuple[np.ndarray, np.ndarray]:
-        corners = self.faces.ravel()
-        order = np.argsort(corners, kind="stable")
-        offsets = np.zeros(len(self.points) + 1, dtype=np.int64)
-        np.cumsum(np.bincount(corners, minlength=len(self.points)), out=offsets[1:])
-        return offsets, order // 3
-
     def seams(self) -> np.ndarray:
         """(n,) bool: vertices whose corners name more than one texture row (or some none)."""
         n = len(self.points)
@@ -206,19 +184,12 @@ class _Patch:
         middles = np.where(split_sides, number[edges.face_edges], -1)
         counts = split_sides.sum(axis=1)
         ends = edges.ends[split]
-        self.points = np.concatenate(
-            [self.points, 0.5 * (self.points[ends[:, 0]] + self.points[ends[:, 1]])]
-        )
-        self.mask = np.concatenate(
-            [self.mask, 0.5 * (self.mask[ends[:, 0]] + self.mask[ends[:, 1]])]
-        )
-        self.sizes = np.concatenate(
-            [self.sizes, 0.5 * (self.sizes[ends[:, 0]] + self.sizes[ends[:, 1]])]
-        )
-        grown = len(ends)
-        self.closed = np.concatenate([self.closed, np.ones(grown, dtype=bool)])
-        self.locked = np.concatenate([self.locked, np.zeros(grown, dtype=bool)])
-        self.mode = np.concatenate([self.mode, np.full(grown, INTERIOR, dtype=self.mode.dtype)])
+        for name in ("points", "mask", "sizes"):  # the midpoints'
+            old = getattr(self, name)
+            setattr(self, name, np.concatenate([old, 0.5 * (old[ends[:, 0]] + old[ends[:, 1]])]))
+        for name, value in (("closed", True), ("locked", False), ("mode", INTERIOR)):
+            old = getattr(self, name)
+            setattr(self, name, np.concatenate([old, np.full(len(ends), value, old.dtype)]))
         if self.uv is not None:
             self.uv, self.uv_faces = _subdivided_uv(self.uv, self.uv_faces, split_sides, refine)
         else:
@@ -244,7 +215,7 @@ class _Patch:
             return False
         candidates = candidates[np.argsort(length[candidates], kind="stable")]
         edges, edge_faces, neighbours = self.connectivity(edges)
-        vf_offsets, vf_faces = self.vertex_faces()
+        around = FaceAdjacency(self.faces, len(self.points))
         pairs, positions, middle = pick_collapses(
             candidates,
             edges.ends,
@@ -254,8 +225,8 @@ class _Patch:
             self.uv_faces,
             neighbours.offsets,
             neighbours.neighbours,
-            vf_offsets,
-            vf_faces,
+            around.offsets,
+            around.face_ids,
             self.closed,
             free,
             SPLIT_ABOVE * self.sizes,
@@ -432,8 +403,7 @@ def remesh(
     uv : (T, 2) float64 and uv_faces : (M, 3) int64 (-1 rows: untextured faces), optional.
     locked : (N,) bool, optional: vertices that never move and are never removed (pins).
     iterations : rounds of split, collapse, flip and relaxation.
-    progress : called with the fraction done (0 < fraction < 1) after each round, optional; it
-        may raise to cancel (nothing of the input is changed).
+    progress : called with the fraction done after each round, optional; may raise to cancel.
     """
     vertices = np.asarray(vertices, dtype=np.float64)
     faces = np.asarray(faces, dtype=np.int64)
@@ -519,13 +489,18 @@ def _assemble(
     number = np.full(len(patch.points), -1, dtype=np.int64)
     number[:n_local] = kept[local]
     number[added] = n_kept + np.arange(len(added))
-    # each output array written once (no whole-mesh temporaries)
-    out_vertices = np.empty((n_kept + len(added), 3))
-    # np.compress: a quarter of the time of boolean indexing on a 1M-vertex mesh
-    out_vertices[:n_kept] = np.compress(keep, vertices, axis=0) if n_kept < n else vertices
     moved = keep[local]
-    out_vertices[kept[local[moved]]] = patch.points[:n_local][moved]
-    out_vertices[n_kept:] = patch.points[added]
+
+    def per_vertex(old: np.ndarray, new: np.ndarray) -> np.ndarray:
+        # written once, no whole-mesh temporaries; np.compress: a quarter of the time of
+        # boolean indexing on a 1M-vertex mesh
+        out = np.empty((n_kept + len(added), *old.shape[1:]))
+        out[:n_kept] = np.compress(keep, old, axis=0) if n_kept < n else old
+        out[kept[local[moved]]] = new[:n_local][moved]
+        out[n_kept:] = new[added]
+        return out
+
+    out_vertices = per_vertex(vertices, patch.points)
     out_faces = np.empty((len(faces) - int(in_patch.sum()) + len(patch.faces), 3), np.int64)
     n_outside = len(out_faces) - len(patch.faces)
     outside = np.compress(~in_patch, faces, axis=0)  # renumbered only when a vertex was removed
@@ -534,13 +509,6 @@ def _assemble(
     else:  # no temporary: a 2M-face gather writes straight into place
         np.take(kept, outside, out=out_faces[:n_outside], mode="clip")
     out_faces[n_outside:] = number[patch.faces]
-
-    def per_vertex(old: np.ndarray, new: np.ndarray) -> np.ndarray:
-        out = np.empty(len(out_vertices))
-        out[:n_kept] = np.compress(keep, old) if n_kept < n else old
-        out[kept[local[moved]]] = new[:n_local][moved]
-        out[n_kept:] = new[added]
-        return out
 
     out_mask = None if mask is None else per_vertex(np.asarray(mask, np.float64), patch.mask)
     out_sizes = None if sizes is None else per_vertex(sizes, patch.sizes)

@@ -8,13 +8,10 @@ composition of the flows of its events. For grab brushes the load center travels
 cursor during each event, so the point under the cursor follows the cursor path exactly.
 
 The driver is the one place that decides how a brush's per-vertex results reach the mesh
-(:meth:`StrokeDriver._write`). Without a vertex mask nothing is applied to them on the way, so
-it lets brushes write through (the integrator's in-place write, which saves a scatter of every
-moved row: 8-15 ms of CPU for a 0.5-1M-vertex ball, measured with ``benchmarks/scale.py``);
-with a mask it writes each row itself, moved (1 − mask) of the way (a row at 1 keeps its
-position bit for bit). A mask painter's values are written here too. A stroke is one undo step
-(its moved rows and, for a mask stroke, the mask values it changed) and one entry of the
-session log, recorded when it ends.
+(:meth:`StrokeDriver._write`): without a vertex mask brushes write through (no scatter of every
+moved row); with one it moves each row (1 − mask) of the way (a row at 1 keeps its position bit
+for bit); a mask painter's values too. A stroke is one undo step (its moved rows and changed
+mask values) and one entry of the session log, recorded when it ends.
 
 The material's frame (``EngineSettings.material_frame``): with "surface", a Green's function
 brush's stroke computes with the kernels turned onto the surface where it starts, fixed at its
@@ -27,11 +24,10 @@ event since then) at least :data:`CORE_MOTION` of the most any vertex did (the b
 grown by a ring, are remeshed to the detail size (:mod:`gogreen_core.mesh.remesh`), the vertices
 nearest the pins locked. Without a detail size each vertex keeps the edge length its surface had
 before the stroke (a sizing field carried onto new vertices): a pull by a fine part does not
-refine the coarse parts it reaches to the fine part's edges.
-The measures read only the rows moved since they were last remeshed and the faces this event
-moved, the remesh only its patch; what remains per event over the whole mesh is a few
-memory-bound passes (finding the faces of the moved rows, writing the new arrays).
-Such a stroke's undo step holds the whole mesh before and after it (as a subdivision's does).
+refine the coarse parts it reaches to the fine part's edges. The measures read only the rows
+moved since they were last remeshed and the faces this event moved, the remesh only its patch
+(and a few whole-mesh passes). The undo step holds what the stroke changed
+(:class:`~gogreen_core.mesh.mesh_state.MeshEdit`).
 """
 
 from __future__ import annotations
@@ -232,10 +228,8 @@ class StrokeDriver:
         detail = stroke.detail
         if not np.all(detail > 0):  # a model of size 0: nothing to measure by
             return False
-        # every other vertex is where it was last remeshed (or where the stroke began): the
-        # measures below read the rows moved since and their faces, not the whole mesh. A face
-        # this event did not move strains as it did after the last event: not enough (else it
-        # was remeshed, which settled its corners), so only this event's faces are measured.
+        # the other vertices are where they were last remeshed; a face this event did not move
+        # strains as after the last event: not enough (else it was remeshed and settled)
         around = np.zeros(len(mesh.vertices), dtype=bool)
         around[stroke.unsettled] = True  # a mark, not np.union1d: no sort of ~N rows
         around[rows] = True
@@ -244,11 +238,9 @@ class StrokeDriver:
         around[rows] = True
         faces = mesh.faces[np.flatnonzero(faces_touching(mesh.faces, around))]
         strained = strained_vertices(stroke.reference, mesh.vertices, faces, STRAIN_TOLERANCE)
-        # and the brush's core: what moved, per event since it was last remeshed, at least
-        # CORE_MOTION of the most any vertex did (refined to a detail size finer than the
-        # surface even where nothing stretches). Per event: a vertex remeshed at the last event
-        # has moved by one event, one never remeshed by all of them; against the total, the
-        # latter would pass the bar ever further out, event after event
+        # and the brush's core (refined to a detail size finer than the surface even where
+        # nothing stretches), per event: against the total motion, the bar would pass ever
+        # further out, event after event
         assert stroke.settled_at is not None
         shift = mesh.vertices[unsettled] - stroke.reference[unsettled]
         elapsed = len(stroke.events) - stroke.settled_at[unsettled]
@@ -337,16 +329,16 @@ class StrokeDriver:
         # the rows that changed, found once at the end rather than marked at every event
         # (only the stroke writes the vertices meanwhile): on a 1M-vertex mesh 6 ms at the
         # end instead of 0.5 ms an event
-        if stroke.start is not None:  # dynamic topology changed the faces
-            mesh = self.mesh
-            if mesh.uv is None:  # what changed (the rows it touched)
-                after = MeshSnapshot(mesh.vertices, mesh.faces, mesh.mask)
-                sides = topology_edit(stroke.start, after, stroke.origin, stroke.face_origin)
-                meshes: tuple[object, object] = sides
-            else:  # texture rows are renumbered: the whole meshes
-                meshes = (stroke.start, mesh.snapshot())
-            label = _undo_label(stroke.brush.kind)
-            self.history.record(label, _NO_INDEX, _NO_ROWS, _NO_ROWS, meshes)
+        mesh, label = self.mesh, _undo_label(stroke.brush.kind)
+        if stroke.start is not None:  # dynamic topology changed the faces: what changed, or
+            # with texture rows (renumbered) the whole meshes
+            now = MeshSnapshot(mesh.vertices, mesh.faces, mesh.mask)
+            sides: tuple[object, object] = (
+                topology_edit(stroke.start, now, stroke.origin, stroke.face_origin)
+                if mesh.uv is None
+                else (stroke.start, mesh.snapshot())
+            )
+            self.history.record(label, _NO_INDEX, _NO_ROWS, _NO_ROWS, sides)
             self.log.record(Stroke(stroke.brush, tuple(stroke.events)))
             return np.arange(len(mesh.vertices))
         vertices, before = self.mesh.vertices, stroke.before
@@ -364,9 +356,7 @@ class StrokeDriver:
                 )
         # a stroke that changed nothing (no vertex, no mask value) is no undo step, no log entry
         if len(idx) or state is not None:
-            self.history.record(
-                _undo_label(stroke.brush.kind), idx, stroke.before[idx], vertices[idx], state
-            )
+            self.history.record(label, idx, stroke.before[idx], vertices[idx], state)
             self.log.record(Stroke(stroke.brush, tuple(stroke.events)))
         return idx
 
@@ -395,11 +385,8 @@ class PreparedRemesh:
     def compute(self, progress: Callable[[float], None] | None = None) -> PreparedRemesh:
         """Remesh ``before`` (``progress(fraction)`` may raise to cancel); returns itself."""
         op, before = self.op, self.before
-        length: float | np.ndarray  # without a detail size each vertex's own edges' mean:
-        if self.length is None:  # about as many vertices as before, fine parts stay fine
-            length = local_edge_lengths(before.vertices, before.faces)
-        else:
-            length = self.length
+        # without a detail size each vertex's own: about as many vertices, fine parts fine
+        length = self.length or local_edge_lengths(before.vertices, before.faces)
         after = remesh_snapshot(
             before, length, op.unmasked_only, self.locked, op.iterations, progress
         )
