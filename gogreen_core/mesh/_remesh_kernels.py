@@ -200,6 +200,17 @@ def _min_angle_cos(p: np.ndarray, q: np.ndarray, r: np.ndarray) -> float:
 
 
 @njit(cache=True, nogil=True, boundscheck=False)
+def smallest_angles(corners: np.ndarray) -> np.ndarray:
+    """The smallest angle (degrees) of each triangle of ``corners`` (K, 3, 3) (0 for a
+    degenerate one): what the remeshing keeps away from 0."""
+    out = np.empty(len(corners))
+    for i in range(len(corners)):
+        worst = _min_angle_cos(corners[i, 0], corners[i, 1], corners[i, 2])
+        out[i] = np.degrees(np.arccos(min(1.0, worst)))
+    return out
+
+
+@njit(cache=True, nogil=True, boundscheck=False)
 def pick_flips(
     candidates: np.ndarray,
     ends: np.ndarray,
@@ -350,18 +361,3 @@ def closest_points_on_triangles(
     u = 1.0 - v - w
     weights = np.stack([u, v, w], axis=1)
     return a * u[:, None] + b * v[:, None] + c * w[:, None], weights
-
-
-def smallest_angles(corners: np.ndarray) -> np.ndarray:
-    """The smallest angle (degrees) of each triangle of ``corners`` (K, 3, 3): what the
-    remeshing keeps away from 0 (a sliver or a needle has one near it)."""
-    angles = []
-    for k in range(3):
-        u = corners[:, (k + 1) % 3] - corners[:, k]
-        v = corners[:, (k + 2) % 3] - corners[:, k]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            cos = np.einsum("ij,ij->i", u, v) / (
-                np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1)
-            )
-        angles.append(np.degrees(np.arccos(np.clip(np.nan_to_num(cos, nan=1.0), -1.0, 1.0))))
-    return cast(np.ndarray, np.min(angles, axis=0))

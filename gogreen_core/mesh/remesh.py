@@ -101,33 +101,26 @@ class RemeshedMesh:
     sizes: np.ndarray | None = None
 
 
+@dataclass
 class _Patch:
     """The faces being remeshed with their own vertex numbering (the patch's vertices first,
     ascending by their mesh index, then new ones), mask and texture corners."""
 
-    def __init__(
-        self,
-        vertices: np.ndarray,
-        faces: np.ndarray,
-        closed: np.ndarray,
-        locked: np.ndarray,
-        mask: np.ndarray,
-        sizes: np.ndarray,
-        uv: np.ndarray | None,
-        uv_faces: np.ndarray | None,
-    ) -> None:
-        self.points = vertices
-        self.sizes = sizes  # each vertex's target edge length L
-        self.faces = faces
-        self.closed = closed  # all the vertex's faces are here (it may change)
-        self.locked = locked  # never moves, never removed
-        self.mask = mask
-        self.uv = uv
-        self.uv_faces = uv_faces if uv_faces is not None else np.full(faces.shape, -1, np.int64)
+    points: np.ndarray
+    faces: np.ndarray
+    closed: np.ndarray  # all the vertex's faces are here (it may change)
+    locked: np.ndarray  # never moves, never removed
+    mask: np.ndarray
+    sizes: np.ndarray  # each vertex's target edge length L
+    uv: np.ndarray | None
+    uv_faces: np.ndarray  # -1 rows: untextured
+
+    def __post_init__(self) -> None:
         # how each vertex may move (topology.INTERIOR, BOUNDARY, FIXED): right for the closed
         # vertices (all their edges are here), kept through the passes (only edges with two
         # faces are split, collapsed or flipped; new vertices are interior)
-        self.mode = vertex_neighbours(mesh_edges(faces, len(vertices)), len(vertices)).mode
+        n = len(self.points)
+        self.mode = vertex_neighbours(mesh_edges(self.faces, n), n).mode
 
     def connectivity(
         self, edges: MeshEdges | None = None
@@ -437,31 +430,32 @@ def remesh(
         mask_local,
         sizes_local.copy(),
         None if uv is None else np.asarray(uv, dtype=np.float64).copy(),
-        None if uv_faces is None else np.asarray(uv_faces, dtype=np.int64)[inside],
+        np.full((len(inside), 3), -1)
+        if uv_faces is None
+        else np.asarray(uv_faces, np.int64)[inside],
     )
     L = float(sizes_local.min()) if len(local) else 1.0
     min_area2 = (2.0 * _MIN_AREA * L * L) ** 2
     for done in range(iterations):
         if progress is not None:
             progress(done / (iterations + 1))
-        for _round in range(_SPLIT_ROUNDS):
-            if not patch.split():
-                break
-        for _round in range(2):
-            if not patch.collapse(min_area2):
-                break
-        for _round in range(2):
-            if not patch.flip(min_area2):
-                break
+        _repeat(patch.split, _SPLIT_ROUNDS)
+        _repeat(lambda: patch.collapse(min_area2), 2)
+        _repeat(lambda: patch.flip(min_area2), 2)
         patch.relax(min_area2)
     if progress is not None:
         progress(iterations / (iterations + 1))
-    for _round in range(_SPLIT_ROUNDS):  # what the relaxation stretched past 4/3 L
-        if not patch.split():
-            break
+    _repeat(patch.split, _SPLIT_ROUNDS)  # what the relaxation stretched past 4/3 L
     return _assemble(
         vertices, faces, mask, target if sizing else None, uv, uv_faces, in_patch, local, patch
     )
+
+
+def _repeat(step: Callable[[], bool], rounds: int) -> None:
+    """``step`` until it changes nothing (returns False), ``rounds`` times at most."""
+    for _ in range(rounds):
+        if not step():
+            break
 
 
 def _assemble(

@@ -31,9 +31,8 @@ def median_edge_length(vertices: np.ndarray, faces: np.ndarray) -> float:
 
 def local_edge_lengths(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """(N,) float64: the mean length of each vertex's edges in ``faces`` (M, 3) over
-    ``vertices`` (N, 3), model units: the edge length the surface has there (a sizing field
-    for :func:`remesh`). A vertex of no face (or only of edges of length 0) gets the median
-    of the others (1 without any): every length is positive."""
+    ``vertices`` (N, 3), model units (a sizing field); a vertex of no face (or only of edges
+    of length 0) gets the median of the others (1 without any): every length is positive."""
     faces = np.asarray(faces, dtype=np.int64)
     n = len(vertices)
     total, count = np.zeros(n), np.zeros(n)
@@ -67,11 +66,9 @@ def grow_region(faces: np.ndarray, region: np.ndarray, rings: int = 1) -> np.nda
 def strained_vertices(
     reference: np.ndarray, vertices: np.ndarray, faces: np.ndarray, tolerance: float
 ) -> np.ndarray:
-    """(N,) bool: the corners of faces one of whose sides changed, as a vector, by more than
-    ``tolerance`` times its length from ``reference`` (N, 3) to ``vertices`` (N, 3): where a
-    motion stretched, sheared or turned the surface (a rigid shift strains nothing; the measure
-    does not depend on how fine the mesh is). Its cost is that of ``faces``: pass the faces
-    around the vertices that moved, not every face, to measure a small region of a big mesh."""
+    """(N,) bool: the corners of ``faces`` one of whose sides changed, as a vector, by more than
+    ``tolerance`` times its length from ``reference`` (N, 3) to ``vertices`` (N, 3): stretched,
+    sheared or turned (a rigid shift strains nothing). It costs a pass over ``faces`` alone."""
     faces = np.ascontiguousarray(faces, dtype=np.int64)
     strained = strained_faces(
         np.ascontiguousarray(reference, dtype=np.float64),

@@ -1,9 +1,5 @@
-"""Undo/redo of vertex edits, storing only the vertices an operation moved.
-
-Each entry keeps the indices (K,) and the positions before and after (K, 3) of the moved
-vertices. Undo and redo copy those float64 values back, so positions are restored bit for bit
-(no ``before + delta`` arithmetic). A memory cap drops the oldest entries first.
-"""
+"""Undo/redo of vertex edits, storing only the vertices an operation moved: their indices (K,)
+and positions before and after (K, 3), copied back (bit for bit, no ``before + delta``)."""
 
 from __future__ import annotations
 
@@ -129,7 +125,8 @@ class History:
         ordered = idx if np.all(idx[1:] > idx[:-1]) else np.sort(idx)
         if np.any(ordered[1:] == ordered[:-1]):
             raise ValueError(f"history record {label!r}: repeated vertex indices")
-        self._redo_drop()
+        self._bytes -= sum(e.nbytes for e in self._redo)
+        self._redo.clear()
         idx.flags.writeable = False  # shared by :attr:`restored_indices`
         entry = _Entry(str(label), idx, b, a, state)
         self._undo.append(entry)
@@ -230,11 +227,6 @@ class History:
         self.restored_state = None if entry.state is None else entry.state[side]
         target.append(source.pop())
         return entry.label
-
-    # -- helpers -------------------------------------------------------------------------------
-    def _redo_drop(self) -> None:
-        self._bytes -= sum(e.nbytes for e in self._redo)
-        self._redo.clear()
 
     @staticmethod
     def _check_target(vertices: np.ndarray, entry: _Entry) -> None:

@@ -154,15 +154,10 @@ class StrokeDriver:
 
     def reach(self, kernels: KernelCache, brush: Brush) -> float:
         """``brush``'s influence radius in ε, resolved (:meth:`BrushType.reach`)."""
-        if not isinstance(brush, Brush):
-            raise ParameterError("brush", f"brush must be a Brush (got {type(brush).__name__})")
-        return brush.type.reach(self.context(kernels), brush)
+        return _checked(brush).type.reach(self.context(kernels), brush)
 
     def begin(self, brush: Brush) -> None:
-        if not isinstance(brush, Brush):
-            raise ParameterError("brush", f"brush must be a Brush (got {type(brush).__name__})")
-        vertices = self.mesh.vertices
-        self._stroke = _Stroke(brush, vertices.copy())
+        self._stroke = _Stroke(_checked(brush), self.mesh.vertices.copy())
 
     def event(self, kernels: KernelCache, event: BrushEvent) -> np.ndarray:
         """Apply one event of the current stroke; the indices (n,) of the rows it moved (or
@@ -200,8 +195,7 @@ class StrokeDriver:
         if kernels.settings.material_frame != "surface" or not isinstance(brush.type, GreenBrush):
             return kernels
         if stroke.kernels is None:
-            frame = surface_frame_of(self.mesh, brush, event)
-            stroke.kernels = FramedKernels(kernels, frame)
+            stroke.kernels = FramedKernels(kernels, surface_frame_of(self.mesh, brush, event))
         return stroke.kernels
 
     def pinned_vertices(self) -> np.ndarray:
@@ -249,13 +243,8 @@ class StrokeDriver:
         if not strained.any():
             return False
         if stroke.start is None:  # the topology is still the stroke's start's
-            stroke.start = MeshSnapshot(
-                stroke.before,
-                mesh.faces,
-                mesh.mask.copy(),
-                mesh.uv,
-                mesh.uv_faces,
-            )
+            start = (stroke.before, mesh.faces, mesh.mask.copy(), mesh.uv, mesh.uv_faces)
+            stroke.start = MeshSnapshot(*start)
             stroke.origin = np.arange(len(mesh.vertices))
             stroke.face_origin = np.arange(len(mesh.faces))
         done = remesh(
@@ -286,10 +275,8 @@ class StrokeDriver:
             ("origin", done.kept >= 0, len(done.vertices)),
             ("face_origin", done.kept_faces, len(done.faces)),
         ):  # the kept rows come first, in order
-            origin = np.full(n, -1, dtype=np.int64)
             carried = np.compress(kept, getattr(stroke, name))
-            origin[: len(carried)] = carried
-            setattr(stroke, name, origin)
+            setattr(stroke, name, np.concatenate([carried, np.full(n - len(carried), -1)]))
         assert done.mask is not None
         new_mesh = MeshSnapshot(done.vertices, done.faces, done.mask, done.uv, done.uv_faces)
         mesh.adopt(new_mesh, owned=True)
@@ -460,6 +447,12 @@ def surface_frame_of(mesh: MeshState, brush: Brush, event: BrushEvent) -> np.nda
     brush's stroke direction, another's cursor motion; :func:`frame_at`)."""
     motion = event.direction if brush.type.is_affine else event.delta
     return frame_at(mesh, event.center, brush.eps(mesh.model_size), motion)
+
+
+def _checked(brush: object) -> Brush:
+    if not isinstance(brush, Brush):
+        raise ParameterError("brush", f"brush must be a Brush (got {type(brush).__name__})")
+    return brush
 
 
 def _undo_label(kind: str) -> str:
