@@ -104,12 +104,12 @@ def pick_collapses(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Short edges to collapse (the conditions of :mod:`gogreen_core.mesh.remesh`, step 2; both
     ends ``closed``, the removed one ``free``; ``high`` (n,): each vertex's longest edge), in
-    ``candidates`` (K,) order: (removed, kept) vertex pairs (k, 2) int64, the kept vertex's new
-    position (k, 3) and whether it is the midpoint (k,) (else the kept vertex stays)."""
+    ``candidates`` (K,) order: rows (k, 3) int64 (removed vertex, kept vertex, edge), the kept
+    vertex's new position (k, 3) and whether it is the midpoint (k,) (else it stays)."""
     n = len(closed)
     claimed = np.zeros(n, dtype=np.bool_)
     mark = np.zeros(n, dtype=np.int64)  # stamp: neighbours of the candidate's first end
-    pairs = np.empty((len(candidates), 2), dtype=np.int64)
+    pairs = np.empty((len(candidates), 3), dtype=np.int64)
     positions = np.empty((len(candidates), 3))
     middle = np.empty(len(candidates), dtype=np.bool_)
     count = 0
@@ -173,7 +173,7 @@ def pick_collapses(
         for v in (a, b):
             for j in range(offsets[v], offsets[v + 1]):
                 claimed[neighbours[j]] = True
-        pairs[count, 0], pairs[count, 1] = a, b
+        pairs[count, 0], pairs[count, 1], pairs[count, 2] = a, b, e
         positions[count] = position
         middle[count] = both
         count += 1

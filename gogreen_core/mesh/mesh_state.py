@@ -1,10 +1,7 @@
 """The mesh being sculpted: its vertices (edited in place), faces, texture corners, vertex mask
-and the sizes tools use.
-
-Brush radii, pins and the reach of every point are relative to the model's size (the
-bounding-box diagonal at load), so the same settings act alike on a 0.15-unit bunny and a
-30-unit ogre. A subdivision replaces the arrays (:meth:`MeshState.adopt`) but keeps the model's
-size and origin, so brush sizes do not jump.
+and the sizes tools use. Brush radii, pins and reaches are relative to the model's size (the
+bounding-box diagonal at load: settings act alike on a 0.15-unit bunny and a 30-unit ogre),
+which a new face array (:meth:`MeshState.adopt`) keeps, so brush sizes do not jump.
 """
 
 from __future__ import annotations

@@ -79,6 +79,8 @@ SPLIT_ABOVE = 4.0 / 3.0
 COLLAPSE_BELOW = 4.0 / 5.0
 #: Split passes per iteration at most (each halves the long edges: 2^8 × L is plenty).
 _SPLIT_ROUNDS = 8
+#: Vertex-triangle pairs per block of the relaxation's nearest points (bounds its memory).
+_BLOCK = 1 << 17
 #: A face is degenerate below this area, in target lengths squared.
 _MIN_AREA = 1e-4
 
@@ -230,7 +232,7 @@ class _Patch:
         gone, kept = pairs[:, 0], pairs[:, 1]
         if self.uv is not None:
             # the kept end's row (one on both sides of the edge) replaces the removed end's
-            face = edge_faces[self._edge_of(edges, gone, kept), 0]
+            face = edge_faces[pairs[:, 2], 0]
             kept_row = self.uv_faces[face, np.argmax(self.faces[face] == kept[:, None], axis=1)]
             gone_row = self.uv_faces[face, np.argmax(self.faces[face] == gone[:, None], axis=1)]
             textured = (kept_row >= 0) & (gone_row >= 0)
@@ -254,13 +256,6 @@ class _Patch:
         self.faces, self.uv_faces = faces[alive], self.uv_faces[alive]
         self.closed[gone] = False
         return True
-
-    @staticmethod
-    def _edge_of(edges: MeshEdges, u: np.ndarray, v: np.ndarray) -> np.ndarray:
-        ends = edges.ends
-        n = int(ends.max()) + 1
-        key = ends[:, 0] * n + ends[:, 1]
-        return cast(np.ndarray, np.searchsorted(key, np.minimum(u, v) * n + np.maximum(u, v)))
 
     # -- 3. flip -------------------------------------------------------------------------------
     def flip(self, min_area2: float) -> bool:
@@ -332,7 +327,10 @@ class _Patch:
         slot[rows] = np.arange(len(rows))
         pick = slot[corners] >= 0
         who, face = slot[corners[pick]], face_of[pick]
-        near, bary = closest_points_on_triangles(goal[who], p0[face], p1[face], p2[face])
+        near, bary = np.empty((len(who), 3)), np.empty((len(who), 3))
+        for at in range(0, len(who), _BLOCK):  # in blocks: a dozen (K, 3) temporaries each
+            s, w, f = slice(at, at + _BLOCK), who[at : at + _BLOCK], face[at : at + _BLOCK]
+            near[s], bary[s] = closest_points_on_triangles(goal[w], p0[f], p1[f], p2[f])
         gap = np.einsum("ij,ij->i", near - goal[who], near - goal[who])
         order = np.lexsort((gap, who))
         first = order[np.r_[True, who[order][1:] != who[order][:-1]]]

@@ -100,10 +100,9 @@ class _Stroke:
     events: list[BrushEvent] = field(default_factory=list)
     memo: dict[str, Any] = field(default_factory=dict)  # the brush's state between events
     mask_before: np.ndarray | None = None  # (N,) the mask, copied at the first mask edit
-    # dynamic topology: the whole mesh at the start (once remeshed) and each vertex's and
-    # face's row in it (-1: new), each vertex's position when it was last remeshed and the
-    # event after which it was (0: none yet), and the target edge length (model units) of
-    # this stroke: one, or each vertex's (N,)
+    # dynamic topology: the mesh at the start (once remeshed), each vertex's and face's row in
+    # it (-1: new), position when last remeshed and event after which it was (0: none yet);
+    # the target edge length (model units): one, or each vertex's (N,)
     start: MeshSnapshot | None = None
     origin: np.ndarray = field(default_factory=lambda: _NO_INDEX)
     face_origin: np.ndarray = field(default_factory=lambda: _NO_INDEX)
