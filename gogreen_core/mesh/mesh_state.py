@@ -144,25 +144,27 @@ class MeshEdit:
 
     def applied(self, other: MeshSnapshot | MeshState) -> MeshSnapshot:
         """This side's arrays (new, writable) from ``other``, the other side's mesh."""
-        source = _complement(self.gone, len(other.vertices))
-        target = _complement(self.new, self.n_vertices)
+        source = _marked(len(other.vertices), self.gone, inverse=True)
+        target = _marked(self.n_vertices, self.new, inverse=True)
         vertices, mask = np.empty((self.n_vertices, 3)), np.empty(self.n_vertices)
         vertices[target], mask[target] = other.vertices[source], other.mask[source]
         vertices[self.rows], mask[self.mask_rows] = self.vertices, self.mask
         number = np.full(len(other.vertices), -1, dtype=np.int64)
         number[source] = target
         faces = np.empty((self.n_faces, 3), dtype=np.int64)
-        carried = _complement(self.gone_faces, len(other.faces))
-        faces[_complement(self.new_faces, self.n_faces)] = number[other.faces[carried]]
+        carried = _marked(len(other.faces), self.gone_faces, inverse=True)
+        faces[_marked(self.n_faces, self.new_faces, inverse=True)] = number[other.faces[carried]]
         faces[self.new_faces] = self.faces
         return MeshSnapshot(vertices, faces, mask)
 
 
-def _complement(rows: np.ndarray, n: int) -> np.ndarray:
-    """The rows (ascending) of range(n) not in ``rows``."""
-    kept = np.ones(n, dtype=bool)
-    kept[rows] = False
-    return np.flatnonzero(kept)
+def _marked(n: int, *rows: np.ndarray, inverse: bool = False) -> np.ndarray:
+    """The rows (ascending) of range(n) in one of ``rows`` (``inverse``: in none); by a mark,
+    not np.union1d, which sorts (1.7 s for 1M rows)."""
+    mark = np.zeros(n, dtype=bool)
+    for some in rows:
+        mark[some] = True
+    return np.flatnonzero(~mark if inverse else mark)
 
 
 def topology_edit(
@@ -174,8 +176,9 @@ def topology_edit(
     each row of ``after``'s row in ``before`` (-1 for a new one, all after the others)."""
     carried, carried_faces = origin[origin >= 0], face_origin[face_origin >= 0]
     n, m = len(carried), len(carried_faces)
-    gone = _complement(carried, len(before.vertices))
-    gone_faces = _complement(carried_faces, len(before.faces))
+    n_before = len(before.vertices)
+    gone = _marked(n_before, carried, inverse=True)
+    gone_faces = _marked(len(before.faces), carried_faces, inverse=True)
     bits = before.vertices[carried].view(np.uint64) != after.vertices[:n].view(np.uint64)
     moved = np.flatnonzero(bits.any(axis=1))
     painted = np.flatnonzero(before.mask[carried].view(np.uint64) != after.mask[:n].view(np.uint64))
@@ -191,8 +194,7 @@ def topology_edit(
         gone_faces: np.ndarray,
         new_faces: np.ndarray,
     ) -> MeshEdit:
-        # compact_faces: int32 rows, as a snapshot's faces
-        return MeshEdit(
+        return MeshEdit(  # compact_faces: int32 rows, as a snapshot's faces
             len(mesh.vertices),
             compact_faces(gone),
             compact_faces(new),
@@ -206,7 +208,8 @@ def topology_edit(
             compact_faces(mesh.faces[new_faces]),
         )
 
-    back, back_mask = np.union1d(gone, carried[moved]), np.union1d(gone, carried[painted])
+    back = _marked(n_before, gone, carried[moved])
+    back_mask = _marked(n_before, gone, carried[painted])
     forth, forth_mask = np.concatenate([moved, added]), np.concatenate([painted, added])
     return (
         side(before, added, gone, back, back_mask, added_faces, gone_faces),

@@ -248,11 +248,7 @@ class _Patch:
         target = np.arange(len(self.points))
         target[gone] = kept
         faces = target[self.faces]
-        alive = (
-            (faces[:, 0] != faces[:, 1])
-            & (faces[:, 1] != faces[:, 2])
-            & (faces[:, 2] != faces[:, 0])
-        )
+        alive = np.all(faces != np.roll(faces, 1, axis=1), axis=1)
         self.faces, self.uv_faces = faces[alive], self.uv_faces[alive]
         self.closed[gone] = False
         return True
