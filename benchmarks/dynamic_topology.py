@@ -23,8 +23,8 @@ times, so the load inflates them less than wall times, which were 3-7x longer):
   median, spike faces >= 20 deg 100 %, 41,512 vertices); Remesh to its own edges 2.2 s
   (40,950 vertices, edges 0.85-1.23 x the median), to its median 3.0 s, to twice it 2.0 s.
 * 1M-vertex ogre, 10 events: fixed 22.1 events/s (47 ms an event), undo step 48 MiB (the
-  grab's far field moves every vertex); dynamic 0.65 events/s (1.43 s an event; was 0.56 and
-  1.76 s), 992,608 -> 1,005,321 vertices, undo step 57 MiB (was both whole meshes, ~115 MiB).
+  grab's far field moves every vertex); dynamic 0.61-0.65 events/s (1.43-1.56 s an event, two
+  runs; was 0.56 and 1.76 s), 992,608 -> 1,005,321 vertices, undo step 57 MiB (was both whole meshes, ~115 MiB).
   Each event remeshes a region of ~77k vertices (the strained faces and the brush's core):
   most of the event is that region's remesh (relaxation ~30 %, collapses ~20 %, splits and
   flips ~15 % each, much of it sorting edges); the whole-mesh passes of a remesh call (faces
