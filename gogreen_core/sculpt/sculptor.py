@@ -16,7 +16,7 @@ import numpy as np
 
 from gogreen_core.field.kernel import GreenKernel
 from gogreen_core.field.limits import check_constraint_radius
-from gogreen_core.mesh.mesh_state import MaskRows, MeshSnapshot, MeshState
+from gogreen_core.mesh.mesh_state import MaskRows, MeshEdit, MeshSnapshot, MeshState
 from gogreen_core.mesh.subdivision import PreparedSubdivision, prepare_subdivision
 from gogreen_core.physics.material import Material
 from gogreen_core.physics.radial import RadialProfile
@@ -376,7 +376,7 @@ class Sculptor:
                 self._kernels = self._pins.follow(KernelCache(state, self._kernels))
             elif isinstance(state, MaskRows):
                 self._mesh.set_mask_rows(state)
-            elif isinstance(state, MeshSnapshot):
+            elif isinstance(state, (MeshSnapshot, MeshEdit)):
                 self._mesh.adopt(state)
             else:
                 self._pins.restore(state)

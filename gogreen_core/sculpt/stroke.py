@@ -8,13 +8,10 @@ composition of the flows of its events. For grab brushes the load center travels
 cursor during each event, so the point under the cursor follows the cursor path exactly.
 
 The driver is the one place that decides how a brush's per-vertex results reach the mesh
-(:meth:`StrokeDriver._write`). Without a vertex mask nothing is applied to them on the way, so
-it lets brushes write through (the integrator's in-place write, which saves a scatter of every
-moved row: 8-15 ms of CPU for a 0.5-1M-vertex ball, measured with ``benchmarks/scale.py``);
-with a mask it writes each row itself, moved (1 − mask) of the way (a row at 1 keeps its
-position bit for bit). A mask painter's values are written here too. A stroke is one undo step
-(its moved rows and, for a mask stroke, the mask values it changed) and one entry of the
-session log, recorded when it ends.
+(:meth:`StrokeDriver._write`): without a vertex mask brushes write through (no scatter of every
+moved row); with one it moves each row (1 − mask) of the way (a row at 1 keeps its position bit
+for bit); a mask painter's values too. A stroke is one undo step (its moved rows and changed
+mask values) and one entry of the session log, recorded when it ends.
 
 The material's frame (``EngineSettings.material_frame``): with "surface", a Green's function
 brush's stroke computes with the kernels turned onto the surface where it starts, fixed at its
@@ -27,11 +24,10 @@ event since then) at least :data:`CORE_MOTION` of the most any vertex did (the b
 grown by a ring, are remeshed to the detail size (:mod:`gogreen_core.mesh.remesh`), the vertices
 nearest the pins locked. Without a detail size each vertex keeps the edge length its surface had
 before the stroke (a sizing field carried onto new vertices): a pull by a fine part does not
-refine the coarse parts it reaches to the fine part's edges.
-The measures read only the rows moved since they were last remeshed and the faces this event
-moved, the remesh only its patch; what remains per event over the whole mesh is a few
-memory-bound passes (finding the faces of the moved rows, writing the new arrays).
-Such a stroke's undo step holds the whole mesh before and after it (as a subdivision's does).
+refine the coarse parts it reaches to the fine part's edges. The measures read only the rows
+moved since they were last remeshed and the faces this event moved, the remesh only its patch
+(and a few whole-mesh passes). The undo step holds what the stroke changed
+(:class:`~gogreen_core.mesh.mesh_state.MeshEdit`).
 """
 
 from __future__ import annotations
@@ -43,8 +39,9 @@ from typing import Any
 import numpy as np
 
 from gogreen_core.field.kernel import GreenKernel
-from gogreen_core.mesh.mesh_state import MaskRows, MeshSnapshot, MeshState
+from gogreen_core.mesh.mesh_state import MaskRows, MeshSnapshot, MeshState, topology_edit
 from gogreen_core.mesh.remesh import (
+    faces_touching,
     grow_region,
     local_edge_lengths,
     remesh,
@@ -103,10 +100,12 @@ class _Stroke:
     events: list[BrushEvent] = field(default_factory=list)
     memo: dict[str, Any] = field(default_factory=dict)  # the brush's state between events
     mask_before: np.ndarray | None = None  # (N,) the mask, copied at the first mask edit
-    # dynamic topology: the whole mesh at the start (once remeshed), each vertex's position
-    # when it was last remeshed and the event after which it was (0: none yet), and the
-    # target edge length (model units) of this stroke: one, or each vertex's (N,)
+    # dynamic topology: the mesh at the start (once remeshed), each vertex's and face's row in
+    # it (-1: new), position when last remeshed and event after which it was (0: none yet);
+    # the target edge length (model units): one, or each vertex's (N,)
     start: MeshSnapshot | None = None
+    origin: np.ndarray = field(default_factory=lambda: _NO_INDEX)
+    face_origin: np.ndarray = field(default_factory=lambda: _NO_INDEX)
     reference: np.ndarray | None = None
     settled_at: np.ndarray | None = None
     detail: float | np.ndarray | None = None
@@ -154,15 +153,10 @@ class StrokeDriver:
 
     def reach(self, kernels: KernelCache, brush: Brush) -> float:
         """``brush``'s influence radius in ε, resolved (:meth:`BrushType.reach`)."""
-        if not isinstance(brush, Brush):
-            raise ParameterError("brush", f"brush must be a Brush (got {type(brush).__name__})")
-        return brush.type.reach(self.context(kernels), brush)
+        return _checked(brush).type.reach(self.context(kernels), brush)
 
     def begin(self, brush: Brush) -> None:
-        if not isinstance(brush, Brush):
-            raise ParameterError("brush", f"brush must be a Brush (got {type(brush).__name__})")
-        vertices = self.mesh.vertices
-        self._stroke = _Stroke(brush, vertices.copy())
+        self._stroke = _Stroke(_checked(brush), self.mesh.vertices.copy())
 
     def event(self, kernels: KernelCache, event: BrushEvent) -> np.ndarray:
         """Apply one event of the current stroke; the indices (n,) of the rows it moved (or
@@ -200,8 +194,7 @@ class StrokeDriver:
         if kernels.settings.material_frame != "surface" or not isinstance(brush.type, GreenBrush):
             return kernels
         if stroke.kernels is None:
-            frame = surface_frame_of(self.mesh, brush, event)
-            stroke.kernels = FramedKernels(kernels, frame)
+            stroke.kernels = FramedKernels(kernels, surface_frame_of(self.mesh, brush, event))
         return stroke.kernels
 
     def pinned_vertices(self) -> np.ndarray:
@@ -228,23 +221,19 @@ class StrokeDriver:
         detail = stroke.detail
         if not np.all(detail > 0):  # a model of size 0: nothing to measure by
             return False
-        # every other vertex is where it was last remeshed (or where the stroke began): the
-        # measures below read the rows moved since and their faces, not the whole mesh. A face
-        # this event did not move strains as it did after the last event: not enough (else it
-        # was remeshed, which settled its corners), so only this event's faces are measured.
+        # the other vertices are where they were last remeshed; a face this event did not move
+        # strains as after the last event: not enough (else it was remeshed and settled)
         around = np.zeros(len(mesh.vertices), dtype=bool)
         around[stroke.unsettled] = True  # a mark, not np.union1d: no sort of ~N rows
         around[rows] = True
         unsettled = stroke.unsettled = np.flatnonzero(around)
         around[:] = False
         around[rows] = True
-        faces = mesh.faces[np.flatnonzero(np.any(around[mesh.faces], axis=1))]
+        faces = mesh.faces[np.flatnonzero(faces_touching(mesh.faces, around))]
         strained = strained_vertices(stroke.reference, mesh.vertices, faces, STRAIN_TOLERANCE)
-        # and the brush's core: what moved, per event since it was last remeshed, at least
-        # CORE_MOTION of the most any vertex did (refined to a detail size finer than the
-        # surface even where nothing stretches). Per event: a vertex remeshed at the last event
-        # has moved by one event, one never remeshed by all of them; against the total, the
-        # latter would pass the bar ever further out, event after event
+        # and the brush's core (refined to a detail size finer than the surface even where
+        # nothing stretches), per event: against the total motion, the bar would pass ever
+        # further out, event after event
         assert stroke.settled_at is not None
         shift = mesh.vertices[unsettled] - stroke.reference[unsettled]
         elapsed = len(stroke.events) - stroke.settled_at[unsettled]
@@ -253,13 +242,10 @@ class StrokeDriver:
         if not strained.any():
             return False
         if stroke.start is None:  # the topology is still the stroke's start's
-            stroke.start = MeshSnapshot(
-                stroke.before,
-                mesh.faces,
-                mesh.mask.copy(),
-                mesh.uv,
-                mesh.uv_faces,
-            )
+            start = (stroke.before, mesh.faces, mesh.mask.copy(), mesh.uv, mesh.uv_faces)
+            stroke.start = MeshSnapshot(*start)
+            stroke.origin = np.arange(len(mesh.vertices))
+            stroke.face_origin = np.arange(len(mesh.faces))
         done = remesh(
             mesh.vertices,
             mesh.faces,
@@ -284,6 +270,12 @@ class StrokeDriver:
         stroke.settled_at = settled_at
         if done.sizes is not None:
             stroke.detail = done.sizes
+        for name, kept, n in (
+            ("origin", done.kept >= 0, len(done.vertices)),
+            ("face_origin", done.kept_faces, len(done.faces)),
+        ):  # the kept rows come first, in order
+            carried = np.compress(kept, getattr(stroke, name))
+            setattr(stroke, name, np.concatenate([carried, np.full(n - len(carried), -1)]))
         assert done.mask is not None
         new_mesh = MeshSnapshot(done.vertices, done.faces, done.mask, done.uv, done.uv_faces)
         mesh.adopt(new_mesh, owned=True)
@@ -323,13 +315,18 @@ class StrokeDriver:
         # the rows that changed, found once at the end rather than marked at every event
         # (only the stroke writes the vertices meanwhile): on a 1M-vertex mesh 6 ms at the
         # end instead of 0.5 ms an event
-        if stroke.start is not None:  # dynamic topology changed the faces: whole meshes
-            after = self.mesh.snapshot()
-            meshes = (stroke.start, after)
-            label = _undo_label(stroke.brush.kind)
-            self.history.record(label, _NO_INDEX, _NO_ROWS, _NO_ROWS, meshes)
+        mesh, label = self.mesh, _undo_label(stroke.brush.kind)
+        if stroke.start is not None:  # dynamic topology changed the faces: what changed, or
+            # with texture rows (renumbered) the whole meshes
+            now = MeshSnapshot(mesh.vertices, mesh.faces, mesh.mask)
+            sides: tuple[object, object] = (
+                topology_edit(stroke.start, now, stroke.origin, stroke.face_origin)
+                if mesh.uv is None
+                else (stroke.start, mesh.snapshot())
+            )
+            self.history.record(label, _NO_INDEX, _NO_ROWS, _NO_ROWS, sides)
             self.log.record(Stroke(stroke.brush, tuple(stroke.events)))
-            return np.arange(len(after.vertices))
+            return np.arange(len(mesh.vertices))
         vertices, before = self.mesh.vertices, stroke.before
         changed = before[:, 0] != vertices[:, 0]
         for k in (1, 2):
@@ -345,9 +342,7 @@ class StrokeDriver:
                 )
         # a stroke that changed nothing (no vertex, no mask value) is no undo step, no log entry
         if len(idx) or state is not None:
-            self.history.record(
-                _undo_label(stroke.brush.kind), idx, stroke.before[idx], vertices[idx], state
-            )
+            self.history.record(label, idx, stroke.before[idx], vertices[idx], state)
             self.log.record(Stroke(stroke.brush, tuple(stroke.events)))
         return idx
 
@@ -369,15 +364,17 @@ class PreparedRemesh:
 
     op: Remesh
     before: MeshSnapshot
-    length: float  # the target edge length, model units
+    length: float | None  # the target edge length, model units (None: each vertex's own)
     locked: np.ndarray  # (N,) bool: the pins' vertices
     result: list[MeshSnapshot] = field(default_factory=list)  # the after-side, once computed
 
     def compute(self, progress: Callable[[float], None] | None = None) -> PreparedRemesh:
         """Remesh ``before`` (``progress(fraction)`` may raise to cancel); returns itself."""
-        op = self.op
+        op, before = self.op, self.before
+        # without a detail size each vertex's own: about as many vertices, fine parts fine
+        length = self.length or local_edge_lengths(before.vertices, before.faces)
         after = remesh_snapshot(
-            self.before, self.length, op.unmasked_only, self.locked, op.iterations, progress
+            before, length, op.unmasked_only, self.locked, op.iterations, progress
         )
         self.result[:] = [after]
         return self
@@ -402,30 +399,33 @@ class Remesher:
         self.mesh, self.history, self.log, self.strokes = mesh, history, log, strokes
 
     def prepare(
-        self, detail_size: float, unmasked_only: bool = False, iterations: int = REMESH_ITERATIONS
+        self,
+        detail_size: float | None,
+        unmasked_only: bool = False,
+        iterations: int = REMESH_ITERATIONS,
     ) -> PreparedRemesh:
         """What :meth:`remesh` with these arguments computes, to compute on another thread
         (:meth:`PreparedRemesh.compute`, on a copy of the mesh) and adopt with ``prepared``."""
         self.strokes.refuse("remesh")
         op = Remesh(detail_size, unmasked_only, iterations)  # checked
         mesh = self.mesh
-        length, locked = op.detail_size * mesh.model_size, self.strokes.pinned_vertices()
-        return PreparedRemesh(op, mesh.snapshot(), length, locked)
+        length = None if op.detail_size is None else op.detail_size * mesh.model_size
+        return PreparedRemesh(op, mesh.snapshot(), length, self.strokes.pinned_vertices())
 
     def remesh(
         self,
-        detail_size: float,
+        detail_size: float | None,
         unmasked_only: bool = False,
         iterations: int = REMESH_ITERATIONS,
         *,
         prepared: PreparedRemesh | None = None,
     ) -> None:
         """Remesh the whole mesh, or its faces not masked, to edges of about ``detail_size``
-        model sizes (:mod:`gogreen_core.mesh.remesh`; ``iterations`` rounds), mask and UVs carried
-        along, the pins' vertices kept, the model's size and origin unchanged: one undo step
-        (undo gives back the previous arrays exactly) and one log entry. ``prepared``: the
-        same remesh computed ahead (:meth:`prepare`); a ValueError, nothing changed, if the
-        mesh changed since."""
+        model sizes (None: each vertex's own, its edges' mean; :mod:`gogreen_core.mesh.remesh`;
+        ``iterations`` rounds), mask and UVs carried along, the pins' vertices kept, the
+        model's size and origin unchanged: one undo step (undo gives back the previous arrays
+        exactly) and one log entry. ``prepared``: the same remesh computed ahead
+        (:meth:`prepare`); a ValueError, nothing changed, if the mesh changed since."""
         self.strokes.refuse("remesh")
         if prepared is None:
             prepared = self.prepare(detail_size, unmasked_only, iterations).compute()
@@ -446,6 +446,12 @@ def surface_frame_of(mesh: MeshState, brush: Brush, event: BrushEvent) -> np.nda
     brush's stroke direction, another's cursor motion; :func:`frame_at`)."""
     motion = event.direction if brush.type.is_affine else event.delta
     return frame_at(mesh, event.center, brush.eps(mesh.model_size), motion)
+
+
+def _checked(brush: object) -> Brush:
+    if not isinstance(brush, Brush):
+        raise ParameterError("brush", f"brush must be a Brush (got {type(brush).__name__})")
+    return brush
 
 
 def _undo_label(kind: str) -> str:

@@ -222,3 +222,19 @@ def test_remesh_runs_in_the_background_and_ctrl_r_again_cancels_it(window, qtbot
     qtbot.wait(50)
     assert np.array_equal(sculptor.faces, faces)  # the mesh untouched, no undo step
     assert len(sculptor.history.undo_labels) == steps
+
+
+def test_remesh_without_a_detail_size_keeps_the_surfaces_own_edges(window, qtbot):
+    """No detail size: each vertex keeps its own edge length (issue 34), so the vertex count
+    stays near the model's, and the status bar says so."""
+    activate(window, qtbot)
+    window.viewport.setFocus()
+    sculptor = window.document.sculptor
+    window.model.detail_size = None
+    count = len(sculptor.vertices)
+    QTest.keyClick(window.viewport, Qt.Key.Key_R, CTRL)
+    window.mesh_edits.wait()
+    qtbot.waitUntil(lambda: "Remeshed" in window.message_label.text())
+    assert "own edge lengths" in window.message_label.text()
+    assert 0.8 * count <= len(sculptor.vertices) <= 1.2 * count
+    assert sculptor.history.undo_labels[-1] == "remesh"

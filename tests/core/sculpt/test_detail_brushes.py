@@ -292,3 +292,11 @@ def test_draw_with_dynamic_topology_keeps_edges_within_bounds(sphere):
     assert longest(dynamic) <= 2.0 * median
     assert np.all(mesh_edges(dynamic.faces, len(dynamic.vertices)).face_count == 2)  # closed
     assert dynamic.vertices[:, 2].max() > 1.0 + 0.5 * (fixed.vertices[:, 2].max() - 1.0)
+    # its undo step holds what the draw changed (a local brush: a small part of the mesh)
+    whole = 2 * (vertices.nbytes + faces.nbytes)
+    assert dynamic.history.memory_bytes < 0.25 * whole
+    after = dynamic.vertices.copy(), dynamic.faces.copy()
+    dynamic.undo()
+    assert np.array_equal(dynamic.vertices, vertices) and np.array_equal(dynamic.faces, faces)
+    dynamic.redo()
+    assert np.array_equal(dynamic.vertices, after[0]) and np.array_equal(dynamic.faces, after[1])

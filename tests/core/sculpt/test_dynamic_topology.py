@@ -139,14 +139,21 @@ def test_the_pull_lands_where_the_fixed_topology_pull_does(pulls):
 
 
 def test_one_undo_gives_back_the_mesh_bit_for_bit(pulls):
+    """... and the step holds what the stroke changed, not the meshes before and after it: the
+    grab's far field moves every vertex (their positions are kept, as a fixed-topology stroke's
+    are), its remeshing touched about 40 % of the faces."""
     sculptor = pulls["sculptor"]
-    assert sculptor.undo() == "Wide grab stroke"
-    assert np.array_equal(sculptor.vertices, pulls["vertices"])
-    assert np.array_equal(sculptor.faces, pulls["faces"])
-    assert sculptor.faces.dtype == np.int64
-    sculptor.redo()
-    assert np.array_equal(sculptor.vertices, pulls["dynamic"][0])
-    assert np.array_equal(sculptor.faces, pulls["dynamic"][1])
+    vertices, faces = pulls["vertices"], pulls["faces"]
+    whole = 2 * (vertices.nbytes + faces.nbytes // 2 + vertices.nbytes // 3)  # int32 faces
+    assert sculptor.history.memory_bytes < 0.8 * whole
+    for _ in range(2):
+        assert sculptor.undo() == "Wide grab stroke"
+        assert np.array_equal(sculptor.vertices, vertices)
+        assert np.array_equal(sculptor.faces, faces)
+        assert sculptor.faces.dtype == np.int64 and not sculptor.mask.values.any()
+        sculptor.redo()
+        assert np.array_equal(sculptor.vertices, pulls["dynamic"][0])
+        assert np.array_equal(sculptor.faces, pulls["dynamic"][1])
 
 
 # -- what the remesh carries over ----------------------------------------------------------------
@@ -261,11 +268,7 @@ def test_a_pull_by_the_fine_part_leaves_the_coarse_part_coarse(monkeypatch):
     the coarse side to the fine side's edges (a single target length did: 289 coarse vertices
     became 4,786 and the mesh doubled), and each event's region stays about the last one's
     (it was 5x every other event)."""
-    vertices, faces = icosphere(3)
-    for _ in range(2):
-        fine = np.all(vertices[faces][:, :, 0] > -0.05, axis=1)
-        done = loop_subdivide(vertices, faces, refine=fine)
-        vertices, faces = done.vertices, done.faces
+    vertices, faces = two_part_sphere()
 
     def coarse_edges(v: np.ndarray, f: np.ndarray) -> np.ndarray:
         ends = mesh_edges(f, len(v)).ends
@@ -345,6 +348,48 @@ def test_a_cancelled_stroke_puts_the_mesh_back():
     assert not sculptor.history.can_undo
 
 
+def two_part_sphere() -> tuple[np.ndarray, np.ndarray]:
+    """An icosphere fine on one side (x > -0.05, edges 4x shorter), coarse on the other."""
+    vertices, faces = icosphere(3)
+    for _ in range(2):
+        fine = np.all(vertices[faces][:, :, 0] > -0.05, axis=1)
+        done = loop_subdivide(vertices, faces, refine=fine)
+        vertices, faces = done.vertices, done.faces
+    return vertices, faces
+
+
+def test_mesh_remesh_without_a_detail_size_keeps_each_parts_own_edges():
+    """Remesh with ``detail_size=None`` keeps each vertex's own edge length (issue 34): the
+    vertex count stays near the input's (one length for the whole mesh, the median, refined
+    the coarse side: 4.6M vertices from the 1M-vertex ogre), the coarse side stays coarse, the
+    fine side fine; undo and a replayed session give the arrays back bit for bit."""
+    vertices, faces = two_part_sphere()
+    sculptor = Sculptor(vertices, faces)
+    chi = euler_and_check(vertices, faces)
+    sculptor.remesher.remesh(None)
+    after_v, after_f = sculptor.vertices.copy(), sculptor.faces.copy()
+    assert euler_and_check(after_v, after_f) == chi
+    assert 0.8 * len(vertices) <= len(after_v) <= 1.2 * len(vertices)
+
+    def side_medians(v: np.ndarray, f: np.ndarray) -> tuple[float, float]:
+        ends = mesh_edges(f, len(v)).ends
+        length = np.linalg.norm(v[ends[:, 1]] - v[ends[:, 0]], axis=1)
+        x = v[ends].mean(axis=1)[:, 0]
+        return float(np.median(length[x < -0.3])), float(np.median(length[x > 0.3]))
+
+    coarse, fine = side_medians(vertices, faces)
+    coarse_after, fine_after = side_medians(after_v, after_f)
+    assert 0.75 * coarse < coarse_after < 1.25 * coarse
+    assert 0.75 * fine < fine_after < 1.25 * fine
+    assert smallest_angles(after_v[after_f]).min() > 5.0
+    session = json.loads(json.dumps(sculptor.session()))
+    replayed = Sculptor.from_session(session, vertices, faces)
+    replayed.replay(session["operations"])
+    assert np.array_equal(replayed.vertices, after_v) and np.array_equal(replayed.faces, after_f)
+    assert sculptor.undo() == "remesh"
+    assert np.array_equal(sculptor.vertices, vertices) and np.array_equal(sculptor.faces, faces)
+
+
 def test_mesh_remesh_makes_edges_the_detail_size_and_undoes_exactly():
     vertices, faces = default_model(4)
     sculptor = Sculptor(vertices, faces)
@@ -389,8 +434,8 @@ def test_settings_round_trip_and_old_files_stay_as_they_were():
     settings = EngineSettings(dynamic_topology=True, detail_size=0.01)
     data = json.loads(json.dumps(settings.to_dict()))
     assert EngineSettings.from_dict(data) == settings
-    with pytest.raises(ParameterError):
-        Sculptor(*icosphere(2)).remesher.remesh(None)  # type: ignore[arg-type]
+    with pytest.raises(ParameterError, match="detail_size"):
+        Sculptor(*icosphere(2)).remesher.remesh(float("nan"))
 
 
 # -- mirror symmetry ------------------------------------------------------------------------------

@@ -78,6 +78,7 @@ def records():
         change("dynamic_topology", dynamic_topology=True),
         change("dynamic_topology", True, dynamic_topology=True, detail_size=0.01),
         Remesh(0.02),
+        Remesh(None),
         Remesh(0.005, unmasked_only=True, iterations=2),
         Undo(),
         Redo(),
