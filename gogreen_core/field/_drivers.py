@@ -82,7 +82,7 @@ def _driver_calls() -> list[tuple[Any, tuple[Any, ...]]]:
     f3, f33 = np.zeros(3), np.zeros((1, 3))
     rows, base = np.zeros(1, dtype=np.int64), np.zeros(2, dtype=np.int64)
     tables = np.zeros((1, 2, _expansion.SEGMENT_DEGREE + 1))
-    beta, blocks, flags = np.zeros((2, 2)), np.zeros(1), np.zeros(1, dtype=np.bool_)
+    beta, flags = np.zeros((2, 2)), np.zeros(1, dtype=np.bool_)
     marker = generic_marker()
     field = _stream.StreamField(
         center0=f3, center_step=f3, eps=1.0, power=1, l_first=0, l_last=0, base=base,
@@ -94,12 +94,9 @@ def _driver_calls() -> list[tuple[Any, tuple[Any, ...]]]:
     return [
         (_expansion.expand_blocks,
          (f33, f3, 1.0, 1, 0, 0, base, f33, beta, tables, marker, False, f33, 0, 0)),
-        (_integrator._probe_pass,
-         (f33, rows, True, 1.0, field, rows, blocks, blocks, blocks, 0, 0)),
-        (_integrator._first_pass,
-         (f33, rows, True, 1.0, 1, True, True, 0.0, field, f33, rows, blocks, blocks, blocks,
-          rows, flags, 0, 0)),
-        (_integrator._refine_pass, (f33, rows, True, field, 1.0, rows, f33, rows, flags, 0, 0)),
+        (_integrator._pass,
+         (0, f33, rows, True, 1.0, field, 1, True, True, 0.0, rows, f33, rows, f33, f33, rows,
+          flags, 0, 0)),
         (_integrator._write_back, (f33, rows, True, f33, 0, 0)),
         *_influence_compiled.compile_calls(),
     ]  # fmt: skip

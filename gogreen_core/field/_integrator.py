@@ -202,116 +202,130 @@ def _predicted_error(end: np.ndarray, start: np.ndarray, mid: np.ndarray, i: int
     return e * e * e * e * e / reach2 if reach2 > 0.0 else 0.0
 
 
-@njit(**_JIT)
-def _probe_pass(
-    points: np.ndarray,
-    indices: np.ndarray,
-    indexed: bool,
-    limit: float,
-    field: Field,
-    probes: np.ndarray,  # (P,) int64 points probed (rows of ``indices`` if indexed)
-    error: np.ndarray,  # (P,) the third-order step's error (see below)
-    spread: np.ndarray,  # (P,) the third-order step's squared spread (``_steps``)
-    motion: np.ndarray,  # (P,) the squared motion |x₄ - x₀|² of the two RK4 steps
-    first_block: int,
-    last_block: int,
-) -> None:
-    """The probes of the third-order pass (blocks [first, last) of them; see the module
-    docstring): the third-order end x₃'s error is measured against two RK4 steps x₄, whose own
-    is Richardson's estimate against one: |x₃ - x₄| + |x₄ - x₄'| / 15. A probe whose start is
-    bad (the first pass reports it) gets an infinite error."""
-    n_probes = probes.shape[0]
-    n_rows = points.shape[0]
-    scratch, rows = _scratch(field.tables32.shape[1])
-    start_rows = np.empty((3, BLOCK))
-    third = np.empty((3, BLOCK))
-    fourth = np.empty((3, BLOCK))
-    coarse = np.empty((3, BLOCK))
-    mid_rows = np.empty((6, BLOCK))
-    spreads = np.empty(BLOCK)
-    for blk in range(first_block, last_block):
-        start = blk * BLOCK
-        nb = min(BLOCK, n_probes - start)
-        good = True
-        for j in range(nb):
-            row = probes[start + j]
-            if indexed:
-                row = indices[row]
-                if row < 0 or row >= n_rows:
-                    good = False
-                    row = 0
-            for k in range(3):
-                value = points[row, k]
-                good = good and (abs(value) <= limit or not indexed)
-                start_rows[k, j] = value
-        if not good:
-            for j in range(nb):
-                error[start + j] = np.inf
-            continue
-        for method in range(3):  # one call site (see ``_steps``)
-            ends = third if method == 0 else (coarse if method == 1 else fourth)
-            _steps(method == 0, max(method, 1), nb, start_rows, ends, mid_rows, spreads, field,
-                   scratch, rows)  # fmt: skip
-        for j in range(nb):
-            richardson = math.sqrt(_norm2(fourth, coarse, j, 0)) / 15.0
-            error[start + j] = math.sqrt(_norm2(third, fourth, j, 0)) + richardson
-            spread[start + j] = spreads[j]
-            motion[start + j] = _norm2(fourth, start_rows, j, 0)
+#: What ``_pass`` does with its blocks: the probes, the first pass, the refinement.
+PROBE, FIRST, REFINE = 0, 1, 2
 
 
 @njit(**_JIT)
-def _first_pass(
+def _pass(
+    kind: int,  # PROBE, FIRST or REFINE (module docstring)
     points: np.ndarray,  # (N_all, 3) float64, start positions (the rows ``indices`` if indexed)
     indices: np.ndarray,  # (N,) int64 rows of ``points`` to move if ``indexed``
     indexed: bool,  # False: move every row of ``points`` (``indices`` is not read)
     limit: float,  # largest coordinate magnitude accepted in an indexed start position
-    n_steps: int,  # RK4 steps (1 when adaptive)
-    adaptive: bool,  # also estimate the errors (``rank``, ``block_motion``)
-    third_order: bool,  # one SSPRK3 step (adaptive), kept where its spread is within the limit
-    spread_limit: float,  # the largest squared spread (``_steps``) the probes spoke for
     field: Field,
+    n_steps: int,  # FIRST: RK4 steps (1 when adaptive)
+    adaptive: bool,  # FIRST: also estimate the errors (``found``, ``block_found``)
+    third_order: bool,  # FIRST: one SSPRK3 step, kept where its spread is within ``level``
+    level: float,  # FIRST: the largest squared spread the probes spoke for; REFINE: the bound
+    picked_rows: np.ndarray,  # (P,) int64: PROBE the points probed, REFINE those refined
     out: np.ndarray,  # (N, 3) end positions
-    evaluations: np.ndarray,  # (N,) int64 velocity evaluations each point took
-    rank: np.ndarray,  # (N,) e⁵ / max(m, e)²: the cube of the predicted error (module docstring)
-    block_motion: np.ndarray,  # (n_blocks,) the largest motion m in each block
-    block_rank: np.ndarray,  # (n_blocks,) the largest rank in each block
+    evaluations: np.ndarray,  # (N,) int64 velocity evaluations each point took (empty: none)
+    found: np.ndarray,  # PROBE (3, P) float64, FIRST (1, N): see below
+    block_found: np.ndarray,  # FIRST (2, n_blocks): each block's largest motion and rank
     problem: np.ndarray,  # (n_blocks,) int64: 1 an index out of range, 2 a bad start
     bad: np.ndarray,  # (n_blocks,) bool: an end position not finite
     first_block: int,
     last_block: int,
 ) -> None:
-    """The first pass of ``stream`` over blocks [first_block, last_block)."""
+    """Blocks [first_block, last_block) of one pass of ``_stream.stream``.
+
+    PROBE: the third-order end x₃'s error, measured against two RK4 steps x₄ whose own is
+    Richardson's estimate against one, |x₃ - x₄| + |x₄ - x₄'| / 15 (found[0]; infinite for a
+    bad start, which the first pass reports), its squared spread (found[1], ``_steps``) and
+    |x₄ - x₀|² (found[2]). FIRST: found[0] the rank e⁵ / max(m, e)², the cube of the
+    predicted error. REFINE: ``picked_rows`` (indices into ``out``) packed BLOCK at a time,
+    again with 2, 4, … RK4 steps until Richardson's estimate is under ``level``.
+
+    One function for the three (one call of ``_steps``): each compiled function holding the
+    velocity costs seconds of compilation.
+    """
     n_points = indices.shape[0] if indexed else points.shape[0]
+    if kind != FIRST:
+        n_points = picked_rows.shape[0]
     n_rows = points.shape[0]
     scratch, rows = _scratch(field.tables32.shape[1])
     start_rows = np.empty((3, BLOCK))
-    end_rows = np.empty((3, BLOCK))
+    ends = np.empty((3, 3, BLOCK))  # PROBE: third-order, one and two RK4 steps
+    end_rows, previous = ends[0], ends[1]  # REFINE: the last two ends
     mid_rows = np.empty((6, BLOCK))
     motion2 = np.empty(BLOCK)
     spreads = np.empty(BLOCK)
+    picked = np.empty(BLOCK, dtype=np.int64)
     for blk in range(first_block, last_block):
         start = blk * BLOCK
         nb = min(BLOCK, n_points - start)
-        # the gather, then the checks counted in loops that vectorize (no store in a branch)
-        n_outside = 0
-        for i in range(nb):
-            row = start + i
-            if indexed:
-                row = indices[start + i]
-                inside = 0 <= row < n_rows
-                n_outside += 0 if inside else 1
-                row = row if inside else 0
-            for k in range(3):
-                start_rows[k, i] = points[row, k]
-        if indexed:
+        if kind == REFINE:
+            for j in range(nb):
+                picked[j] = picked_rows[start + j]
+                for k in range(3):
+                    previous[k, j] = out[picked[j], k]
+        else:  # the gather, then the checks counted in loops that vectorize (no store in a branch)
+            n_outside = 0
+            for i in range(nb):
+                row = start + i if kind == FIRST else picked_rows[start + i]
+                if indexed:
+                    row = indices[row]
+                    inside = 0 <= row < n_rows
+                    n_outside += 0 if inside else 1
+                    row = row if inside else 0
+                for k in range(3):
+                    start_rows[k, i] = points[row, k]
             n_bad_starts = 0
-            for k in range(3):
-                for i in range(nb):
-                    n_bad_starts += 0 if abs(start_rows[k, i]) <= limit else 1  # or NaN
+            if indexed:
+                for k in range(3):
+                    for i in range(nb):
+                        n_bad_starts += 0 if abs(start_rows[k, i]) <= limit else 1  # or NaN
+            if (n_outside or n_bad_starts) and kind == PROBE:
+                for j in range(nb):
+                    found[0, start + j] = np.inf
+                continue
             if n_outside or n_bad_starts:
                 problem[blk] = 1 if n_outside else 2
-        _steps(third_order, n_steps, nb, start_rows, end_rows, mid_rows, spreads, field, scratch,
-               rows)  # fmt: skip
+        count = nb
+        call = 0
+        while count > 0 and (kind == REFINE or call < (3 if kind == PROBE else 1)):
+            steps = n_steps if kind == FIRST else max(call, 1)
+            if kind == REFINE:
+                steps = np.int64(2) << call
+                for j in range(count):
+                    row = indices[picked[j]] if indexed else picked[j]
+                    for k in range(3):
+                        start_rows[k, j] = points[row, k]
+            third = third_order if kind == FIRST else (kind == PROBE and call == 0)
+            end = ends[call if kind == PROBE else 0]
+            _steps(third, steps, count, start_rows, end, mid_rows, spreads, field, scratch, rows)
+            call += 1
+            if kind != REFINE:
+                continue
+            kept = 0
+            for j in range(count):
+                n = picked[j]
+                d2 = _norm2(end, previous, j, 0)
+                for k in range(3):
+                    out[n, k] = end[k, j]
+                if evaluations.shape[0]:
+                    evaluations[n] += 4 * steps
+                # Richardson: the n-step result's error is about |x_n - x_(n/2)| / (2⁴ - 1)
+                if math.sqrt(d2) > 15.0 * level and steps < MAX_ADAPTIVE_STEPS:
+                    picked[kept] = n
+                    for k in range(3):
+                        previous[k, kept] = end[k, j]
+                    kept += 1
+                else:  # its final end position
+                    for k in range(3):
+                        if not math.isfinite(end[k, j]):
+                            bad[blk] = True
+            count = kept
+        if kind == PROBE:
+            third_end, coarse, fourth = ends[0], ends[1], ends[2]
+            for j in range(nb):
+                richardson = math.sqrt(_norm2(fourth, coarse, j, 0)) / 15.0
+                found[0, start + j] = math.sqrt(_norm2(third_end, fourth, j, 0)) + richardson
+                found[1, start + j] = spreads[j]
+                found[2, start + j] = _norm2(fourth, start_rows, j, 0)
+        if kind != FIRST:
+            continue
         for i in range(nb):
             for k in range(3):
                 out[start + i, k] = end_rows[k, i]
@@ -326,16 +340,17 @@ def _first_pass(
             bad[blk] = True
         if not adaptive:
             continue
+        rank = found[0]
         for i in range(nb):
             motion2[i] = _norm2(end_rows, start_rows, i, 0)
         if third_order:  # kept (rank 0), or refined (its spread is beyond the probes')
             kept = 0
             for i in range(nb):
-                kept += 1 if spreads[i] <= spread_limit else 0
-            block_rank[blk] = 0.0 if kept == nb else np.inf
+                kept += 1 if spreads[i] <= level else 0
+            block_found[1, blk] = 0.0 if kept == nb else np.inf
             if kept < nb:  # only such blocks' ranks are read (``_above``)
                 for i in range(nb):
-                    rank[start + i] = 0.0 if spreads[i] <= spread_limit else np.inf
+                    rank[start + i] = 0.0 if spreads[i] <= level else np.inf
         else:
             for i in range(nb):
                 # prediction e (e/reach)^(2/3) > bound  ⇔  e⁵ / reach² > bound³
@@ -343,68 +358,13 @@ def _first_pass(
             largest = 0.0
             for i in range(nb):
                 largest = max(largest, rank[start + i])
-            block_rank[blk] = largest
+            block_found[1, blk] = largest
         # the block's largest motion in a loop of its own: a max reduction inside the loops
         # above kept them (square roots and divisions) from vectorizing
         most = 0.0
         for i in range(nb):
             most = max(most, motion2[i])
-        block_motion[blk] = math.sqrt(most)
-
-
-@njit(**_JIT)
-def _refine_pass(
-    points: np.ndarray, indices: np.ndarray, indexed: bool, field: Field, bound: float,
-    refine: np.ndarray, out: np.ndarray, evaluations: np.ndarray, bad: np.ndarray,
-    first_block: int, last_block: int,
-) -> None:  # fmt: skip
-    """The points ``refine`` (indices into ``out``), packed BLOCK at a time, again with 2, 4, …
-    RK4 steps until Richardson's estimate is under ``bound`` (blocks [first, last) of them);
-    ``evaluations`` counts them."""
-    n_refine = refine.shape[0]
-    scratch, rows = _scratch(field.tables32.shape[1])
-    start_rows = np.empty((3, BLOCK))
-    end_rows = np.empty((3, BLOCK))
-    previous = np.empty((3, BLOCK))
-    picked = np.empty(BLOCK, dtype=np.int64)
-    spreads = np.empty(BLOCK)
-    for blk in range(first_block, last_block):
-        start = blk * BLOCK
-        count = min(BLOCK, n_refine - start)
-        for j in range(count):
-            picked[j] = refine[start + j]
-            for k in range(3):
-                previous[k, j] = out[picked[j], k]
-        n_steps = np.int64(1)
-        while count > 0:
-            n_steps *= 2
-            for j in range(count):
-                row = indices[picked[j]] if indexed else picked[j]
-                for k in range(3):
-                    start_rows[k, j] = points[row, k]
-            # RK4 (n_steps ≥ 2): a run-time False, as the other callers' flag (a literal False
-            # would compile another ``_steps``, 4 s on an empty cache)
-            _steps(bool(n_steps < 2), n_steps, count, start_rows, end_rows, end_rows, spreads,
-                   field, scratch, rows)  # fmt: skip
-            kept = 0
-            for j in range(count):
-                n = picked[j]
-                d2 = _norm2(end_rows, previous, j, 0)
-                for k in range(3):
-                    out[n, k] = end_rows[k, j]
-                if evaluations.shape[0]:
-                    evaluations[n] += 4 * n_steps
-                # Richardson: the n-step result's error is about |x_n - x_(n/2)| / (2⁴ - 1)
-                if math.sqrt(d2) > 15.0 * bound and n_steps < MAX_ADAPTIVE_STEPS:
-                    picked[kept] = n
-                    for k in range(3):
-                        previous[k, kept] = end_rows[k, j]
-                    kept += 1
-                else:  # its final end position
-                    for k in range(3):
-                        if not math.isfinite(end_rows[k, j]):
-                            bad[blk] = True
-            count = kept
+        block_found[0, blk] = math.sqrt(most)
 
 
 @njit(**_JIT)

@@ -15,7 +15,7 @@ import numpy as np
 
 from gogreen_core._parallel import run_ranges
 from gogreen_core.field._expansion import BLOCK
-from gogreen_core.field._integrator import _first_pass, _probe_pass, _refine_pass, _write_back
+from gogreen_core.field._integrator import FIRST, PROBE, REFINE, _pass, _write_back
 
 __all__ = [
     "ESTIMATE_SAFETY",
@@ -114,7 +114,7 @@ def third_order_limit(
     motion: np.ndarray,
 ) -> float:  # fmt: skip
     """The largest squared spread of the third-order steps kept, from the probes' findings
-    (``_probe_pass``), or -1 where the probes showed an error beyond the bound (or none was
+    (``_integrator._pass``), or -1 where the probes showed an error beyond the bound (or none was
     made): no third-order step then."""
     if not len(error):
         return -1.0
@@ -153,37 +153,44 @@ def stream(
         return 1
     n_blocks = (n_points + BLOCK - 1) // BLOCK
     adaptive = tolerance > 0.0
+    rank = np.empty((1, n_points))
+    blocks = np.zeros((2, n_blocks))  # each block's largest motion and rank
+    problem = np.zeros(n_blocks, dtype=np.int64)
+    bad = np.zeros(n_blocks, dtype=np.bool_)
+
+    def run(
+        kind: int,
+        picked: np.ndarray,
+        found: np.ndarray,
+        n_steps: int = 1,
+        third: bool = False,
+        level: float = 0.0,
+        bad_blocks: np.ndarray = bad,
+    ) -> None:
+        work = partial(
+            _pass, kind, points, indices, indexed, limit, field, n_steps, adaptive, third, level,
+            picked, out, evaluations, found, blocks, problem, bad_blocks,
+        )  # fmt: skip
+        n = n_blocks if kind == FIRST else (len(picked) + BLOCK - 1) // BLOCK
+        run_ranges(work, n, _MIN_BLOCKS if kind == FIRST else 1)
+
     limit3 = -1.0
     if adaptive:
         probes = probe_rows(n_points)
-        found = (np.empty(len(probes)), np.empty(len(probes)), np.empty(len(probes)))
-        probe_pass = partial(_probe_pass, points, indices, indexed, limit, field, probes, *found)
-        run_ranges(probe_pass, (len(probes) + BLOCK - 1) // BLOCK, 1)
+        found = np.empty((3, len(probes)))
+        run(PROBE, probes, found)
         limit3 = third_order_limit(field.center_step, tolerance, *found)
-    rank = np.empty(n_points)
-    block_motion, block_rank = np.zeros(n_blocks), np.zeros(n_blocks)
-    problem = np.zeros(n_blocks, dtype=np.int64)
-    bad = np.zeros(n_blocks, dtype=np.bool_)
-    first_pass = partial(
-        _first_pass, points, indices, indexed, limit, 1 if adaptive else substeps, adaptive,
-        limit3 >= 0.0, max(limit3, 0.0), field, out, evaluations, rank, block_motion,
-        block_rank, problem, bad,
-    )  # fmt: skip
-    run_ranges(first_pass, n_blocks, _MIN_BLOCKS)
+    steps = 1 if adaptive else substeps
+    run(FIRST, probe_rows(0), rank, steps, limit3 >= 0.0, max(limit3, 0.0))
     for code in (1, 2):
         if np.any(problem == code):
             return code
     if adaptive:
-        bound = refinement_bound(field.center_step, float(block_motion.max(initial=0.0)), tolerance)
+        bound = refinement_bound(field.center_step, float(blocks[0].max(initial=0.0)), tolerance)
         if bound > 0.0:
-            refine = _above(rank, block_rank, bound * bound * bound)
-            n_packed = (len(refine) + BLOCK - 1) // BLOCK
-            refined_bad = np.zeros(n_packed, dtype=np.bool_)
-            refine_pass = partial(
-                _refine_pass, points, indices, indexed, field, bound, refine, out, evaluations,
-                refined_bad,
-            )  # fmt: skip
-            run_ranges(refine_pass, n_packed, 1)
+            refine = _above(rank[0], blocks[1], bound * bound * bound)
+            refined_bad = np.zeros((len(refine) + BLOCK - 1) // BLOCK, dtype=np.bool_)
+            run(REFINE, refine, rank, level=bound, bad_blocks=refined_bad)
             # a first step that overflowed fails the event even where refinement might not
             if write_back and (refined_bad.any() or bad.any()):
                 return 3
