@@ -1,30 +1,20 @@
-"""The compiled evaluation, brought into the process without making anyone wait for a compiler.
+"""The compiled code, brought into the process without making anyone wait for a compiler.
 
-Compiled code comes in units: the drivers of the current evaluation (``_expansion``,
-``_integrator``: one unit, :data:`DRIVERS`), the generated angular kernel of each parity and
-highest degree (``(l_first, l_last)``, see ``_unrolled``), the surface index's functions, the
-paint brushes' and the mesh readers' loops. Until a unit is ready the evaluation runs in NumPy
-(``_numpy_eval``) or with the generic angular kernel, with the same results bit for bit, so
-nothing waits for it: :func:`request` queues units and returns at once.
+Compiled code comes in units: the field's drivers (:data:`DRIVERS`), the generated angular
+kernel of each parity and highest degree (``(l_first, l_last)``), the surface index, the paint
+brushes' and the mesh readers' loops. Each module with compiled code registers its part of a
+unit when imported (:func:`register`) and asks here whether it is ready; until it is, the NumPy
+twin or the generic angular kernel serves with the same results, so :func:`request` queues
+units and returns at once.
 
-This module imports none of them: each module with compiled code registers its unit
-(:func:`register`: how to compile or load it, how to tell whether numba's disk cache holds it)
-when it is imported, and asks here whether it is ready. A unit several modules compile (the
-drivers) has a part from each.
+A worker thread loads units numba's disk cache holds (milliseconds) and has the others
+compiled by a child Python process (``_main``) filling that cache, then loads them. In a thread
+of this process a compilation would hold the GIL and numba's compiler lock, slowing the GUI and
+the NumPy evaluation; a child runs on the other core. Where no child can run (Python embedded
+in an application) the worker compiles in this process.
 
-A worker thread then brings them in: units already in numba's disk cache are loaded
-(milliseconds); the others are compiled by a child Python process (``_main``), which fills
-the same disk cache, and loaded after it. A numba compilation holds the GIL most of the time
-and numba's global compiler lock all of it: in a thread of this process it would slow the GUI
-and the NumPy evaluation (a thread waiting for the GIL waits up to Python's switch interval,
-5 ms, each time) and block every other compilation; in a child it runs on the other core.
-Where no child can run (an application embedding Python), the worker compiles in this process.
-
-The environment variable ``GOGREEN_COMPILE`` chooses: ``child`` (the default), ``thread``
-(compile in a background thread of this process) or ``off`` (never in the background: the
-NumPy evaluation serves everything not compiled by an explicit :func:`prepare`; for tests and
-for machines where numba cannot compile).
-
+``GOGREEN_COMPILE`` chooses: ``child`` (default), ``thread`` (a background thread here) or
+``off`` (only an explicit :func:`prepare` compiles; tests, machines where numba cannot).
 One compilation per cache at a time, across processes: see ``_compile_lock``.
 """
 
@@ -44,8 +34,7 @@ from gogreen_core import compile_times
 from gogreen_core._compile_lock import LOCK_HELD_VARIABLE, CacheLock, compile_holder, running
 from gogreen_core._numba_cache import modules_cached
 
-#: A unit of compilation: DRIVERS, GEOMETRY, BRUSHES, MESH_IO or (l_first, l_last) of an
-#: angular kernel (registered as :data:`ANGULAR`).
+#: A unit: DRIVERS, GEOMETRY, BRUSHES, MESH_IO or (l_first, l_last) of an angular kernel.
 Unit = str | tuple[int, ...]
 #: What :func:`when_ready` calls with the errors of the units that failed.
 ReadyCallback = Callable[[list[Exception]], None]
@@ -59,12 +48,10 @@ __all__ = [
     "CompiledModule",
     "Progress",
     "add_progress_listener",
-    "brushes",
     "compile_holder",
     "drivers",
     "forced",
     "forced_code",
-    "geometry",
     "mark_ready",
     "modules_cached",
     "prepare",
@@ -75,15 +62,13 @@ __all__ = [
     "when_ready",
 ]
 
-#: The unit of the drivers (the others: (l_first, l_last) of a generated angular kernel,
-#: GEOMETRY and MESH_IO).
+#: The field's drivers (``_drivers``).
 DRIVERS = "drivers"
 #: The unit of ``geometry.py``'s compiled functions (the viewport's surface index).
 GEOMETRY = "geometry"
 #: The unit of the paint brushes' compiled loops (``brushes.paint_kernels``: smooth, mask).
 BRUSHES = "brushes"
-#: The unit of the mesh readers' compiled loops (``mesh_io.warm_up``): opening a file then
-#: never compiles on the calling thread.
+#: The unit of the mesh readers' compiled loops (``mesh_io.warm_up``).
 MESH_IO = "mesh_io"
 #: What the (l_first, l_last) units of the generated angular kernels register as.
 ANGULAR = "angular"
@@ -96,8 +81,7 @@ CHILD_TIMEOUT = 900.0
 _ready: set[Unit] = set()
 _pending: list[Unit] = []
 _failed: dict[Unit, Exception] = {}
-#: Units this process found missing from numba's disk cache and had compiled (the others were
-#: only loaded from it): what the app's status says ("compiled" or "loaded").
+#: Units this process had compiled (the others it only loaded from numba's disk cache).
 _compiled_units: set[Unit] = set()
 #: What :func:`add_progress_listener` listeners are called with, on the worker thread.
 ProgressCallback = Callable[["Progress"], None]
@@ -237,16 +221,6 @@ def drivers() -> bool:
     return _in_use(DRIVERS)
 
 
-def geometry() -> bool:
-    """Whether ``geometry.py``'s compiled functions are ready (else they are requested)."""
-    return _in_use(GEOMETRY)
-
-
-def brushes() -> bool:
-    """Whether the paint brushes' compiled loops are ready (else they are requested)."""
-    return _in_use(BRUSHES)
-
-
 def forced_code() -> str | None:
     """The code :class:`forced` chose ("numpy", "generic", "unrolled"), or None."""
     return _forced
@@ -375,9 +349,10 @@ def prepare(*units: Unit) -> float:
 class _UnitCount:
     """Counts one compilation's units as they are compiled, telling the progress listeners."""
 
-    def __init__(self, missing: list[Unit]) -> None:
-        self.missing, self.done = missing, list[Unit]()
-        self.start = self.last = time.perf_counter()
+    def __init__(self, missing: list[Unit], split: bool = False) -> None:
+        self.missing, self.done, self.split = missing, list[Unit](), split
+        self.start = time.perf_counter()
+        self.last = {False: self.start, True: self.start}  # split: the first unit's own clock
         self.seconds: dict[Unit, float] = {}  # measured per unit, recorded when all are in
         self.known = compile_times.recorded() if missing else {}
         if missing:
@@ -390,7 +365,8 @@ class _UnitCount:
             return
         self.done.append(unit)
         now = time.perf_counter()
-        self.seconds[unit], self.last = now - self.last, now
+        lane = self.split and unit == self.missing[0]
+        self.seconds[unit], self.last[lane] = now - self.last[lane], now
         left = tuple(u for u in self.missing if u not in self.done)
         estimate = compile_times.seconds_left(self.seconds, left, 0.0, self.known)
         _tell_progress(
@@ -421,12 +397,13 @@ def _work() -> None:
 
 
 def _bring_in(units: list[Unit], missing: list[Unit], lock: CacheLock | None) -> None:
-    """Compile ``missing`` (in a child where one can run, each unit loaded here as soon as the
-    child has it in the disk cache: the first ones serve while it compiles the rest), then
-    load the other ``units``."""
+    """Compile ``missing`` (in children where they can run, each unit loaded here as soon as a
+    child has it in the disk cache: the first ones serve while the rest compile), then load
+    the other ``units``."""
     with _condition:
         _compiled_units.update(missing)
-    count = _UnitCount(missing)
+    split = _can_spawn() and _splits(missing)
+    count = _UnitCount(missing, split)
     settled: set[Unit] = set()
 
     def compiled_by_child(unit: Unit) -> None:
@@ -435,9 +412,9 @@ def _bring_in(units: list[Unit], missing: list[Unit], lock: CacheLock | None) ->
             _settle(unit, missing, count)
 
     if missing and _can_spawn():
-        _compile_in_child(missing, compiled_by_child, lock)
+        _compile_in_child(missing, compiled_by_child, lock, split)
     elif missing and lock is not None:  # compiled by this process (in _settle)
-        lock.note_holder(os.getpid(), [str(u) for u in missing])
+        lock.note_holder([os.getpid()], [str(u) for u in missing])
     for unit in units:
         if unit not in settled:
             _settle(unit, missing, count)
@@ -501,52 +478,77 @@ def _can_spawn() -> bool:
     return _mode() == "child" and name.startswith("python")
 
 
+def _splits(units: list[Unit]) -> bool:
+    """Whether ``units`` compile in two children (``_compile_in_child``): two cores or more."""
+    return len(units) > 1 and (os.cpu_count() or 1) > 1
+
+
 def _compile_in_child(
-    units: Iterable[Unit],
+    units: list[Unit],
     unit_compiled: Callable[[Unit], None] = lambda unit: None,
     lock: CacheLock | None = None,
+    split: bool = False,
 ) -> bool:
     """Compile ``units`` into numba's disk cache in a child process; True if it succeeded.
     Each argument names the modules that register the unit, then the unit:
     ``module,module=unit``; the child prints each argument once its unit is compiled, and
     ``unit_compiled(unit)`` is called then (the status bar's count and time left). The child
-    inherits ``lock`` (it holds it until it ends, even if this process ends first)."""
-    by_arg: dict[str, Unit] = {}
-    for unit in units:
-        modules = ",".join(dict.fromkeys(part.module for part in _parts(unit)))
-        by_arg[f"{modules}=" + (unit if isinstance(unit, str) else f"{unit[0]}:{unit[1]}")] = unit
+    inherits ``lock`` (it holds it until it ends, even if this process ends first). ``split``
+    (with two cores or more): the first unit (what the first stroke needs) compiles alone in
+    one child, the others in a second, on another core."""
+    several = split and _splits(units)
     env = dict(os.environ, **{_MODE_VARIABLE: "thread", LOCK_HELD_VARIABLE: "1"})
     # the child imports what this process does: an application embedding Python (Blender)
     # adds folders to sys.path at run time (its extensions' wheels) that no child would know
     env["PYTHONPATH"] = os.pathsep.join(p for p in sys.path if p)
-    try:
-        child = subprocess.Popen(
-            [sys.executable, "-c", _CHILD_SCRIPT, *by_arg],
-            env=env,
-            stdin=subprocess.DEVNULL,
-            stdout=subprocess.PIPE,
-            stderr=subprocess.DEVNULL,
-            text=True,
-            pass_fds=() if lock is None else (lock.fd,),
-            start_new_session=True,  # runs on if this process ends (see the module docstring)
-        )
-    except (OSError, subprocess.SubprocessError):
-        return False
-    if lock is not None:
-        lock.note_holder(child.pid, list(by_arg))
-    running.add(child)
-    timer = threading.Timer(CHILD_TIMEOUT, child.kill)
-    timer.daemon = True
-    timer.start()
-    try:
-        assert child.stdout is not None
-        for line in child.stdout:  # anything else the child prints is not a unit's name
-            if line.strip() in by_arg:
-                unit_compiled(by_arg[line.strip()])
-        return child.wait() == 0
-    finally:
-        timer.cancel()
-        running.discard(child)
+    children: list[tuple[subprocess.Popen[str], dict[str, Unit]]] = []
+    for group in (units[:1], units[1:]) if several else (units,):
+        by_arg: dict[str, Unit] = {}
+        for unit in group:
+            modules = ",".join(dict.fromkeys(part.module for part in _parts(unit)))
+            name = unit if isinstance(unit, str) else f"{unit[0]}:{unit[1]}"
+            by_arg[f"{modules}={name}"] = unit
+        try:
+            child = subprocess.Popen(
+                [sys.executable, "-c", _CHILD_SCRIPT, *by_arg],
+                env=env,
+                stdin=subprocess.DEVNULL,
+                stdout=subprocess.PIPE,
+                stderr=subprocess.DEVNULL,
+                text=True,
+                pass_fds=() if lock is None else (lock.fd,),
+                start_new_session=True,  # runs on if this process ends (module docstring)
+            )
+        except (OSError, subprocess.SubprocessError):
+            break
+        running.add(child)
+        children.append((child, by_arg))
+    if lock is not None and children:
+        lock.note_holder([c.pid for c, _ in children], [a for _, args in children for a in args])
+    done: list[bool] = []
+
+    def follow(child: subprocess.Popen[str], by_arg: dict[str, Unit]) -> None:
+        timer = threading.Timer(CHILD_TIMEOUT, child.kill)
+        timer.daemon = True
+        timer.start()
+        try:
+            assert child.stdout is not None
+            for line in child.stdout:  # anything else the child prints is not a unit's name
+                if line.strip() in by_arg:
+                    unit_compiled(by_arg[line.strip()])
+            done.append(child.wait() == 0)
+        finally:
+            timer.cancel()
+            running.discard(child)
+
+    others = [threading.Thread(target=follow, args=child) for child in children[1:]]
+    for thread in others:
+        thread.start()
+    if children:
+        follow(*children[0])
+    for thread in others:
+        thread.join()
+    return len(done) == (2 if several else 1) and all(done)
 
 
 _CHILD_SCRIPT = (

@@ -1,10 +1,6 @@
-"""The field's compile units, registered with :mod:`gogreen_core._compiled` when this module is
-imported: the drivers (``_expansion``, ``_integrator`` and the influence loops of
-``_influence_compiled``: one unit, :data:`~gogreen_core._compiled.DRIVERS`) and the generated
-angular kernel of each parity and highest degree (``(l_first, l_last)``, see ``_unrolled``).
-
-The evaluation asks here whether they are ready (:func:`angular`; ``_compiled.drivers``); until
-they are, it runs in NumPy or with the generic angular kernel (``_evaluation.Parity.backend``).
+"""The field's compile units, registered with :mod:`gogreen_core._compiled` on import: the
+drivers (``_expansion``, ``_integrator``, ``_influence_compiled``) and the generated angular
+kernel of each parity and highest degree (``(l_first, l_last)``).
 """
 
 from __future__ import annotations
@@ -25,9 +21,8 @@ _markers: dict[bool, CFunc[Any]] = {}
 
 
 def generic_marker(single: bool = False) -> CFunc[Any]:
-    """The C callback passed as ``angular`` (``single``: as ``angular32``, the streamlines'
-    single precision kernel) with ``unrolled=False`` (never called): the drivers then run the
-    generic ``_expansion._angular``. Compiled with the drivers."""
+    """The C callback passed as ``angular`` (``single``: ``angular32``) with ``unrolled=False``
+    (never called: the drivers run the generic ``_expansion._angular``)."""
     marker = _markers.get(single)
     if marker is None:
         from numba import cfunc
@@ -59,9 +54,8 @@ def units_for(l_max: int) -> tuple[_compiled.Unit, ...]:
 
 
 def _angular_kernels(unit: _compiled.Unit) -> list[tuple[int, int, bool]]:
-    """(l_first, l_last, single) of the kernels of an angular unit: double precision, and
-    single where the parity has more than one degree (the degrees above the
-    lowest)."""
+    """(l_first, l_last, single) of the kernels of an angular unit (single precision too where
+    the parity has more than one degree)."""
     first, last = int(unit[0]), int(unit[1])
     return [(first, last, single) for single in ((False, True) if last > first else (False,))]
 

@@ -6,10 +6,14 @@ u is the expansion of ``_expansion`` with the load contracted into its coefficie
 the C² smooth cutoff (1 up to ``cutoff_inner``, a quintic smoothstep down to 0 over
 1 / inv_width), M the mirror reflections about ``origin`` (row 0 is the brush itself).
 
-u is evaluated as ``_single_field`` says: the parity's lowest degree in double precision, the
-degrees above it in single precision (their arithmetic twice as fast, ~1e-8 of the field off
-double precision, and the grabbed point at the brush centre still follows the cursor to
-rounding).
+u is evaluated with the parity's lowest degree (l = 0 for G, 1 for ∇G: most of the field, all
+of it at the brush centre) in double precision, so the grabbed point follows the cursor to
+rounding, and the degrees above it, a correction of a few to a few tens of percent, in single
+precision (float32 directions, table variables, ``radial_tables.single_table``, coefficients
+over their largest magnitude ``cscale``; the generated ``angular_single`` kernels or the generic
+``_expansion._angular`` on float32 rows: twice the arithmetic rate), summed, scaled and added in
+double precision: ~1e-8 of the field off double precision, 1e-4 below the tolerance. No
+fastmath: ``_numpy_eval`` performs the float32 operations in the same order (within 1e-12).
 
 ``_stream.stream`` runs the passes below over blocks of points on the thread pool
 (``_parallel``):
@@ -46,8 +50,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
-from gogreen_core.field._expansion import _JIT, BLOCK, CUTOFF_END
-from gogreen_core.field._single_field import _single_velocity
+from gogreen_core.field._expansion import _HUGE, _JIT, _TINY, BLOCK, CUTOFF_END, _angular, _radial
 
 if TYPE_CHECKING:
     from gogreen_core.field._stream import StreamField as Field
@@ -60,10 +63,10 @@ if TYPE_CHECKING:
 
 __all__ = ["CUTOFF_END", "MAX_ADAPTIVE_STEPS"]
 
-#: SHA-256 (first 16 hex digits) of ``_expansion.py`` and ``_single_field.py``, written by
-#: ``scripts/make_kernels.py``. numba keys the disk cache of this module's compiled code on this
-#: file alone, yet compiles their functions into it: a change there must change this file.
-COMPILED_SOURCES = "6559c9e5fe23270d"
+#: SHA-256 (first 16 hex digits) of ``_expansion.py``, written by ``scripts/make_kernels.py``.
+#: numba keys the disk cache of this module's compiled code on this file alone, yet compiles
+#: that module's functions into it: a change there must change this file.
+COMPILED_SOURCES = "5aefe960b5b0eb43"
 
 #: Largest number of RK4 steps the adaptive streamlines give one vertex in one event.
 MAX_ADAPTIVE_STEPS = 256
@@ -72,10 +75,188 @@ _THIRD = 1.0 / 3.0
 
 
 @njit(**_JIT)
+def _single_geometry(
+    pos: np.ndarray, mi: int, nb: int, t: float, field: Field, scratch: Scratch
+) -> int:
+    """``_expansion._geometry`` of mirror image ``mi`` of the points ``pos`` (fewer passes), the
+    direction and table variable also as float32 (geo32 rows 0-2 and 4), the cutoff weight (geo
+    row 7). Returns how many points it reaches."""
+    center0, center_step, eps, power, l_first, tables = (
+        field.center0, field.center_step, field.eps, field.power, field.l_first, field.tables
+    )  # fmt: skip
+    cutoff_inner, inv_width = field.cutoff_inner, field.inv_width
+    mirrors, origin = field.mirrors, field.origin
+    n_seg = tables.shape[1]
+    geo, seg, geo32 = scratch[0], scratch[1], scratch[3]
+    x, y, z, rr, loc, scale0, scale1, weight = (
+        geo[0], geo[1], geo[2], geo[3], geo[4], geo[5], geo[6], geo[7]
+    )  # fmt: skip
+    x32, y32, z32, loc32 = geo32[0], geo32[1], geo32[2], geo32[4]
+    cx = center0[0] + t * center_step[0]
+    cy = center0[1] + t * center_step[1]
+    cz = center0[2] + t * center_step[2]
+    n_huge = 0
+    if mi == 0:  # the brush itself sees exactly its own positions
+        for i in range(nb):
+            a = pos[0, i] - cx
+            b = pos[1, i] - cy
+            c = pos[2, i] - cz
+            x[i] = a
+            y[i] = b
+            z[i] = c
+            r2 = a * a + b * b + c * c
+            n_huge += 0 if r2 < 1e300 else 1
+            rr[i] = math.sqrt(r2)
+    else:
+        for k in range(3):
+            sgn = mirrors[mi, k]
+            o = origin[k]
+            c = center0[k] + t * center_step[k]
+            offset = geo[k]
+            for i in range(nb):
+                offset[i] = (pos[k, i] if sgn > 0 else o - (pos[k, i] - o)) - c
+        for i in range(nb):
+            r2 = x[i] * x[i] + y[i] * y[i] + z[i] * z[i]
+            n_huge += 0 if r2 < 1e300 else 1
+            rr[i] = math.sqrt(r2)
+    if n_huge > 0:  # rare: see ``_geometry``
+        for i in range(nb):
+            if not x[i] * x[i] + y[i] * y[i] + z[i] * z[i] < 1e300:
+                xs, ys, zs = x[i] * _TINY, y[i] * _TINY, z[i] * _TINY
+                rr[i] = math.sqrt(xs * xs + ys * ys + zs * zs) * _HUGE
+    if l_first:
+        for i in range(nb):
+            r = rr[i]
+            inv = 1.0 / r if r > 0.0 else 0.0
+            x[i] *= inv
+            y[i] *= inv
+            z[i] *= inv
+            x32[i] = x[i]
+            y32[i] = y[i]
+            z32[i] = z[i]
+    else:
+        for i in range(nb):
+            r = rr[i]
+            inv = 1.0 / r if r > 0.0 else 0.0
+            x32[i] = x[i] * inv
+            y32[i] = y[i] * inv
+            z32[i] = z[i] * inv
+    reached = 0
+    for i in range(nb):
+        r = rr[i]
+        inv_re = 1.0 / (r + eps)
+        u = min(r * inv_re, 1.0) * n_seg
+        fj = min(math.floor(u), n_seg - 1.0)
+        seg[i] = int(fj)
+        sigma = 2.0 * (u - fj)
+        loc[i] = sigma - 1.0
+        loc32[i] = sigma
+        sc = inv_re if power == 1 else inv_re * inv_re
+        scale0[i] = sc
+        scale1[i] = sc if r > 0.0 else 0.0
+        c = min(max((r - cutoff_inner) * inv_width, 0.0), 1.0)
+        w = 1.0 - c * c * c * (10.0 + c * (6.0 * c - 15.0))
+        weight[i] = w if c < CUTOFF_END else 0.0
+        reached += 1 if c < CUTOFF_END else 0
+    return reached
+
+
+@njit(**_JIT)
+def _single_radial(
+    tables32: np.ndarray, nb: int, seg: np.ndarray, sigma: np.ndarray, rad32: np.ndarray
+) -> None:
+    """rad32[d, i] = the float32 table ``tables32`` (S, n_deg - 1, 3) of degree d above the
+    lowest at point i, c₀ + (c₁ + c₂ σ) σ with σ = loc + 1, unscaled. Two degrees a loop (their
+    coefficients side by side: one index serves both, 1.3x faster)."""
+    n_deg = tables32.shape[1]
+    for d in range(0, n_deg - 1, 2):
+        row, nxt = rad32[d], rad32[d + 1]
+        for i in range(nb):
+            j = np.uint64(seg[i])
+            s = sigma[i]
+            row[i] = tables32[j, d, 0] + (tables32[j, d, 1] + tables32[j, d, 2] * s) * s
+            nxt[i] = tables32[j, d + 1, 0] + (tables32[j, d + 1, 1] + tables32[j, d + 1, 2] * s) * s
+    if n_deg % 2:
+        d = n_deg - 1
+        row = rad32[d]
+        for i in range(nb):
+            j = np.uint64(seg[i])
+            s = sigma[i]
+            row[i] = tables32[j, d, 0] + (tables32[j, d, 1] + tables32[j, d, 2] * s) * s
+
+
+@njit(**_JIT)
+def _single_velocity(
+    pos: np.ndarray, nb: int, t: float, field: Field, scratch: Scratch, vel: np.ndarray
+) -> None:
+    """vel[:, :nb] = v(pos[:, :nb], t) (rows x, y, z; module docstring)."""
+    l_first, l_last, base, coeffs, tables = (
+        field.l_first, field.l_last, field.base, field.coeffs, field.tables
+    )  # fmt: skip
+    mirrors = field.mirrors
+    coeffs32, beta32, tables32, cscale = field.coeffs32, field.beta32, field.tables32, field.cscale
+    angular32, unrolled32 = field.angular32, field.unrolled32
+    geo, seg, rad, geo32, rad32, work32, total32 = scratch
+    x, y, z, scale1, weight = geo[0], geo[1], geo[2], geo[6], geo[7]
+    upper = l_last > l_first
+    for mi in range(mirrors.shape[0]):
+        if _single_geometry(pos, mi, nb, t, field, scratch) == 0:  # beyond the cutoff: v += 0
+            if mi == 0:
+                for k in range(3):
+                    for i in range(nb):
+                        vel[k, i] = 0.0
+            continue
+        _radial(tables, l_first, nb, geo, seg, rad)  # the lowest degree's, alone in ``tables``
+        _single_radial(tables32, nb, seg, geo32[4], rad32)
+        if upper:
+            if unrolled32:
+                angular32(nb, geo32.ctypes, rad32.ctypes, coeffs32.ctypes, total32.ctypes)
+            else:
+                _angular(
+                    l_first + 2, l_last, base, coeffs32, beta32, nb, geo32, rad32, work32, total32
+                )
+        else:
+            for k in range(3):
+                for i in range(nb):
+                    total32[k, i] = 0.0
+        t0 = rad[0]
+        for k in range(3):
+            sgn = mirrors[mi, k]
+            v_k, t_k = vel[k], total32[k]
+            c0, c1, c2 = (
+                coeffs[0, k],
+                coeffs[1 if l_first else 0, k],
+                coeffs[2 if l_first else 0, k],
+            )
+            # the lowest degree: R₀ Y₀₀ C, or R₁ Σ_m Y_1m C_1m in the rescaled form of
+            # ``_expansion._angular`` (P_1^0 = z, P_1^1 = 1, cos φ = x̂, sin φ = ŷ); then the
+            # weighted sum (a zero weight adds exactly nothing; one loop per case: a branch
+            # inside kept it from vectorizing)
+            if l_first == 0 and mi == 0:
+                for i in range(nb):
+                    u = t0[i] * c0 + (scale1[i] * cscale) * t_k[i]
+                    v_k[i] = weight[i] * u if weight[i] != 0.0 else 0.0
+            elif l_first == 0:
+                for i in range(nb):
+                    u = t0[i] * c0 + (scale1[i] * cscale) * t_k[i]
+                    v_k[i] = v_k[i] + (sgn * weight[i]) * u if weight[i] != 0.0 else v_k[i]
+            elif mi == 0:
+                for i in range(nb):
+                    a = t0[i]
+                    u = ((a * z[i]) * c1 + x[i] * (a * c2)) + y[i] * (a * c0)
+                    u = u + (scale1[i] * cscale) * t_k[i]
+                    v_k[i] = weight[i] * u if weight[i] != 0.0 else 0.0
+            else:
+                for i in range(nb):
+                    a = t0[i]
+                    u = ((a * z[i]) * c1 + x[i] * (a * c2)) + y[i] * (a * c0)
+                    u = u + (scale1[i] * cscale) * t_k[i]
+                    v_k[i] = v_k[i] + (sgn * weight[i]) * u if weight[i] != 0.0 else v_k[i]
+
+
+@njit(**_JIT)
 def _scratch(n_single: int) -> tuple[Scratch, Rows]:
-    """Scratch rows of the velocity (``_single_field``: geometry, segments, the lowest degree's
-    radial term; float32 geometry, radial terms, angular work and sum) and of ``_steps``
-    (position, stage position, velocity)."""
+    """Scratch rows of the velocity and of ``_steps`` (position, stage position, velocity)."""
     scratch = (
         np.empty((8, BLOCK)),
         np.empty(BLOCK, dtype=np.int64),
@@ -112,19 +293,13 @@ def _steps(
     rows: Rows,
 ) -> None:
     """end[:, :nb] = ``n_steps`` classical RK4 steps over t ∈ [0, 1] from start[:, :nb], or
-    (``third_order``) one third-order step.
+    (``third_order``) one third-order step. One RK4 step also writes into mid (6, BLOCK) the
+    midpoint end x₀ + k₂ (rows 0-2) and the trapezoid end x₀ + (k₁ + k₄)/2 (rows 3-5).
 
-    RK4 with one step: mid (6, BLOCK) also gets the ends of two second-order rules made of its
-    stages, the midpoint rule x₀ + k₂ (rows 0-2) and the trapezoid x₀ + (k₁ + k₄)/2 (rows
-    3-5): the adaptive pass's error estimates.
-
-    Third order: Shu and Osher's strong-stability-preserving RK3, stages k₁ at (x₀, 0), k₂ at
-    (x₀ + k₁, 1), k₃ at (x₀ + (k₁ + k₂)/4, ½), end x₀ + (k₁ + k₂ + 4 k₃)/6; spread[i] =
-    |(2 k₃ - k₁ - k₂)/3|², the squared distance of that end to the second-order Heun end
-    x₀ + (k₁ + k₂)/2 (mid rows 3-5 hold k₁ + k₂).
-
-    One call of the velocity for all stages: each is compiled into its caller, and fewer copies
-    compile faster.
+    Third order: Shu and Osher's SSPRK3, stages k₁ at (x₀, 0), k₂ at (x₀ + k₁, 1), k₃ at
+    (x₀ + (k₁ + k₂)/4, ½), end x₀ + (k₁ + k₂ + 4 k₃)/6; spread[i] = |(2 k₃ - k₁ - k₂)/3|², the
+    squared distance to the Heun end x₀ + (k₁ + k₂)/2 (mid rows 3-5 hold k₁ + k₂). One call of
+    the velocity for all stages (fewer inlined copies compile faster).
     """
     pos, stage_pos, vel = rows
     h = 1.0 / n_steps
@@ -195,7 +370,7 @@ def _steps(
 @njit(**_JIT)
 def _predicted_error(end: np.ndarray, start: np.ndarray, mid: np.ndarray, i: int) -> float:
     """The cube of one RK4 step's predicted error at point i, e⁵ / max(m, e)² (module
-    docstring), from its end, start and second-order ends ``mid`` (``_steps``)."""
+    docstring)."""
     m2 = _norm2(end, start, i, 0)
     e = math.sqrt(max(_norm2(mid, end, i, 0), _norm2(mid, end, i, 3)))
     reach2 = max(m2, e * e)
@@ -230,15 +405,12 @@ def _pass(
 ) -> None:
     """Blocks [first_block, last_block) of one pass of ``_stream.stream``.
 
-    PROBE: the third-order end x₃'s error, measured against two RK4 steps x₄ whose own is
-    Richardson's estimate against one, |x₃ - x₄| + |x₄ - x₄'| / 15 (found[0]; infinite for a
-    bad start, which the first pass reports), its squared spread (found[1], ``_steps``) and
-    |x₄ - x₀|² (found[2]). FIRST: found[0] the rank e⁵ / max(m, e)², the cube of the
-    predicted error. REFINE: ``picked_rows`` (indices into ``out``) packed BLOCK at a time,
-    again with 2, 4, … RK4 steps until Richardson's estimate is under ``level``.
-
-    One function for the three (one call of ``_steps``): each compiled function holding the
-    velocity costs seconds of compilation.
+    PROBE: the third-order end x₃'s error against two RK4 steps x₄ plus their Richardson
+    estimate against one, |x₃ - x₄| + |x₄ - x₄'| / 15 (found[0]; infinite for a bad start),
+    its squared spread (found[1]) and |x₄ - x₀|² (found[2]). FIRST: found[0] the rank (the
+    cube of the predicted error). REFINE: ``picked_rows`` (indices into ``out``) packed BLOCK
+    at a time, again with 2, 4, … RK4 steps until Richardson's estimate is under ``level``.
+    One function for the three: each compiled function holding the velocity costs seconds.
     """
     n_points = indices.shape[0] if indexed else points.shape[0]
     if kind != FIRST:
@@ -287,7 +459,7 @@ def _pass(
         while count > 0 and (kind == REFINE or call < (3 if kind == PROBE else 1)):
             steps = n_steps if kind == FIRST else max(call, 1)
             if kind == REFINE:
-                steps = np.int64(2) << call
+                steps = 2 << call
                 for j in range(count):
                     row = indices[picked[j]] if indexed else picked[j]
                     for k in range(3):
