@@ -122,8 +122,8 @@ class Progress:
 
 
 def add_progress_listener(callback: ProgressCallback) -> None:
-    """Call ``callback(progress)`` (on the compiling worker thread) when a compilation of
-    units missing from the disk cache starts and after each of its units is compiled."""
+    """Call ``callback(progress)`` (on the worker thread) when a compilation starts and after
+    each of its units."""
     with _condition:
         _progress_listeners.append(callback)
 
@@ -146,9 +146,9 @@ def _tell_progress(progress: Progress) -> None:
 
 @dataclass(frozen=True)
 class _Part:
-    """What one module contributes to a unit: ``load(unit)`` compiles it (or loads it from
-    numba's disk cache) on the calling thread, ``cached(unit)`` tells whether the disk cache
-    holds it; ``module`` is imported by a compiling child to register it there too."""
+    """One module's part of a unit: ``load(unit)`` compiles or loads it on the calling thread,
+    ``cached(unit)`` tells whether the disk cache holds it; a compiling child imports
+    ``module``."""
 
     module: str
     name: str
@@ -158,16 +158,24 @@ class _Part:
 
 #: The registered units (ANGULAR for every (l_first, l_last)), each with its parts.
 _units: dict[str, list[_Part]] = {}
+#: unit → the unit that helps compile it (see :func:`register`).
+_helpers: dict[Unit, str] = {}
 
 
 def register(
-    unit: str, module: str, load: Callable[[Unit], object], cached: Callable[[Unit], bool]
+    unit: str,
+    module: str,
+    load: Callable[[Unit], object],
+    cached: Callable[[Unit], bool],
+    helps: Unit | None = None,
 ) -> None:
-    """Register ``module``'s part of ``unit`` (called by the module when it is imported; see
-    :class:`_Part`). Registering again replaces the part (a reloaded module). A part added to
-    a unit that is ready already makes it not ready until the part is loaded too."""
+    """Register ``module``'s part of ``unit`` (:class:`_Part`; again: replaced). A part added
+    to a ready unit makes it not ready until the part is loaded too. ``helps``: a unit part of
+    which ``unit`` compiles, in a second child while the first compiles that unit."""
     part = _Part(module, getattr(load, "__qualname__", repr(load)), load, cached)
     with _condition:
+        if helps is not None:
+            _helpers[helps] = unit
         parts = _units.setdefault(unit, [])
         parts[:] = [p for p in parts if (p.module, p.name) != (part.module, part.name)]
         parts.append(part)
@@ -176,9 +184,8 @@ def register(
 
 class CompiledModule:
     """The compiled functions of module ``module`` once they are ready, else their NumPy twins
-    (module ``twin``: the same results), so that nothing waits for the compiler: the module
-    registers them as ``unit``, which ``exercise`` compiles (or loads from numba's disk cache)
-    by calling each of them once, typed as the module calls them."""
+    (module ``twin``): registered as ``unit``, which ``exercise`` compiles or loads by calling
+    each of them once, typed as the module calls them."""
 
     def __init__(
         self, unit: str, module: str, twin: ModuleType, exercise: Callable[[], object]
@@ -246,8 +253,7 @@ def _in_use(unit: Unit) -> bool:
 
 class forced:
     """``with forced("numpy" | "generic" | "unrolled"):`` evaluations in the block use that
-    code (compiled first if needed; ``geometry.py`` compiled for the last two): tests comparing
-    them, benchmarks. Not thread safe."""
+    code (compiled first if needed): tests comparing them, benchmarks. Not thread safe."""
 
     def __init__(self, code: str) -> None:
         if code not in ("numpy", "generic", "unrolled"):
@@ -287,9 +293,8 @@ def request(*units: Unit) -> None:
 
 
 def when_ready(units: Iterable[Unit], callback: ReadyCallback) -> None:
-    """Call ``callback(failures)`` once every unit of ``units`` is ready or failed (failures:
-    the exceptions of those that failed), on the worker thread, or now if they already are.
-    The units are requested."""
+    """Request ``units`` and call ``callback(failures)`` (the exceptions of those that failed)
+    once each is ready or failed: on the worker thread, or now if they already are."""
     units = tuple(units)
     request(*units)
     with _condition:
@@ -300,8 +305,7 @@ def when_ready(units: Iterable[Unit], callback: ReadyCallback) -> None:
 
 
 def compiled_here(units: Iterable[Unit]) -> bool:
-    """Whether any of ``units`` had to be compiled by this process (a child of it), rather
-    than only loaded from numba's disk cache."""
+    """Whether any of ``units`` was compiled (not only loaded) by this process or its child."""
     with _condition:
         return any(u in _compiled_units for u in units)
 
@@ -328,9 +332,8 @@ def wait(units: Iterable[Unit], timeout: float | None = None) -> bool:
 
 
 def prepare(*units: Unit) -> float:
-    """Bring ``units`` in and wait for them (this thread waits; the compilation runs in a
-    child process where it can). Returns the seconds it took; raises the error of a unit that
-    could not be compiled."""
+    """Bring ``units`` in and wait for them; returns the seconds it took, raises the error of a
+    unit that could not be compiled."""
     start = time.perf_counter()
     if _mode() == "off":
         for unit in units:
@@ -421,8 +424,8 @@ def _bring_in(units: list[Unit], missing: list[Unit], lock: CacheLock | None) ->
 
 
 def _settle(unit: Unit, missing: list[Unit], count: _UnitCount) -> None:
-    """Load ``unit`` (from the disk cache; compiled here if no child did), mark it ready or
-    failed, take it off the queue and call the callbacks now due."""
+    """Load ``unit`` (compiled here if no child did), mark it ready or failed, take it off the
+    queue and call the callbacks now due."""
     if not _parts(unit):  # its module is not imported yet: asked for again later
         with _condition:
             _pending.remove(unit)
@@ -472,15 +475,16 @@ def _cached(unit: Unit) -> bool:
 
 
 def _can_spawn() -> bool:
-    """A child Python can compile for us: asked for (a child itself runs in mode ``thread``),
-    and this process is a Python interpreter (not an application embedding one, e.g. Blender)."""
+    """A child Python can compile for us: asked for, and this process is a Python interpreter
+    (not an application embedding one, e.g. Blender)."""
     name = os.path.basename(sys.executable or "").lower()
     return _mode() == "child" and name.startswith("python")
 
 
 def _splits(units: list[Unit]) -> bool:
     """Whether ``units`` compile in two children (``_compile_in_child``): two cores or more."""
-    return len(units) > 1 and (os.cpu_count() or 1) > 1
+    several = len(units) > 1 or (bool(units) and units[0] in _helpers)
+    return several and (os.cpu_count() or 1) > 1
 
 
 def _compile_in_child(
@@ -495,14 +499,15 @@ def _compile_in_child(
     ``unit_compiled(unit)`` is called then (the status bar's count and time left). The child
     inherits ``lock`` (it holds it until it ends, even if this process ends first). ``split``
     (with two cores or more): the first unit (what the first stroke needs) compiles alone in
-    one child, the others in a second, on another core."""
+    one child, the others in a second, on another core, then the first one's helper."""
     several = split and _splits(units)
     env = dict(os.environ, **{_MODE_VARIABLE: "thread", LOCK_HELD_VARIABLE: "1"})
     # the child imports what this process does: an application embedding Python (Blender)
     # adds folders to sys.path at run time (its extensions' wheels) that no child would know
     env["PYTHONPATH"] = os.pathsep.join(p for p in sys.path if p)
     children: list[tuple[subprocess.Popen[str], dict[str, Unit]]] = []
-    for group in (units[:1], units[1:]) if several else (units,):
+    helper = [_helpers[units[0]]] if units[0] in _helpers else []
+    for group in (units[:1], [*units[1:], *helper]) if several else (units,):
         by_arg: dict[str, Unit] = {}
         for unit in group:
             modules = ",".join(dict.fromkeys(part.module for part in _parts(unit)))

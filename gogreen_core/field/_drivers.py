@@ -86,13 +86,13 @@ def _driver_calls() -> list[tuple[Any, tuple[Any, ...]]]:
         angular32=generic_marker(single=True), unrolled32=False,
     )  # fmt: skip
     return [
-        (_expansion.expand_blocks,
-         (f33, f3, 1.0, 1, 0, 0, base, f33, beta, tables, marker, False, f33, 0, 0)),
         (_integrator._pass,
          (0, f33, rows, True, 1.0, field, 1, True, True, 0.0, rows, f33, rows, f33, f33, rows,
           flags, 0, 0)),
         (_integrator._write_back, (f33, rows, True, f33, 0, 0)),
         *_influence_compiled.compile_calls(),
+        (_expansion.expand_blocks,  # last: see HELPER
+         (f33, f3, 1.0, 1, 0, 0, base, f33, beta, tables, marker, False, f33, 0, 0)),
     ]  # fmt: skip
 
 
@@ -110,3 +110,13 @@ _compiled.register(
     lambda unit: _numba_cache.dispatchers_cached(_driver_calls()),
 )
 _compiled.register(_compiled.ANGULAR, __name__, _load_angular, _angular_cached)
+#: The last of the drivers (``expand_blocks``), which a second compiling child compiles after its
+#: own units: the child compiling the drivers then finds it in the disk cache.
+HELPER = "drivers_expansion"
+_compiled.register(
+    HELPER,
+    __name__,
+    lambda unit: [dispatcher(*args) for dispatcher, args in _driver_calls()[-1:]],
+    lambda unit: _numba_cache.dispatchers_cached(_driver_calls()[-1:]),
+    helps=_compiled.DRIVERS,
+)

@@ -72,9 +72,9 @@ class Parity:
         if self._backend is not None and _compiled.forced_code() is None:
             return self._backend
         generated = self.l_last <= _unrolled.UNROLLED_L_MAX
+        if generated and _compiled.forced_code() is None:  # both parities' kernels: one batch
+            _compiled.request(*_drivers.units_for(self.l_last - self.l_first))
         if not _compiled.drivers():
-            if generated:
-                _compiled.request((self.l_first, self.l_last))
             return NUMPY
         kernel = _drivers.angular(self.l_first, self.l_last) if generated else None
         upper = generated and self.l_last > self.l_first

@@ -234,87 +234,77 @@ def stream_pass(
     block_found: np.ndarray, problem: np.ndarray, bad: np.ndarray, first_block: int,
     last_block: int,
 ) -> None:  # fmt: skip
-    """``_integrator._pass`` (the same arguments), CHUNK points at a time."""
+    """``_integrator._pass`` (the same arguments), CHUNK points (whole blocks) at a time."""
     n_points = indices.shape[0] if indexed else points.shape[0]
     n_points = n_points if kind == FIRST else picked_rows.shape[0]
     last = min(last_block * BLOCK, n_points)
-    with np.errstate(all="ignore"):  # overflows are reported (status 3), as compiled
-        for first in range(first_block * BLOCK, last, CHUNK):
-            span = np.arange(first, min(first + CHUNK, last))
-            _chunk(kind, points, indices, indexed, limit, field, n_steps, adaptive,
-                   third_order, level, picked_rows, out, evaluations, found, block_found,
-                   problem, bad, span)  # fmt: skip
-
-
-def _chunk(
-    kind: int, points: np.ndarray, indices: np.ndarray, indexed: bool, limit: float,
-    field: StreamField, n_steps: int, adaptive: bool, third_order: bool, level: float,
-    picked_rows: np.ndarray, out: np.ndarray, evaluations: np.ndarray, found: np.ndarray,
-    block_found: np.ndarray, problem: np.ndarray, bad: np.ndarray, span: np.ndarray,
-) -> None:  # fmt: skip
-    """``stream_pass`` over the points ``span`` (whole blocks but the last one)."""
-    blocks = span // BLOCK
-    first_of = np.flatnonzero(np.r_[True, blocks[1:] != blocks[:-1]])  # each block's start
-    if kind == REFINE:
-        picked = picked_rows[span]
-        previous = out[picked].T
-        steps = 2
-        while picked.size:
-            start = np.ascontiguousarray(points[indices[picked] if indexed else picked].T)
-            end, _ = _rk4(steps, start, field, False)
-            out[picked] = end.T
-            if len(evaluations):
-                evaluations[picked] += 4 * steps
-            again = np.sqrt(_norm2(end, previous)) > 15.0 * level
-            again &= steps < MAX_ADAPTIVE_STEPS
-            bad[blocks[~again][~np.isfinite(end[:, ~again]).all(axis=0)]] = True
-            picked, previous, blocks = picked[again], end[:, again], blocks[again]
-            steps *= 2
-        return
-    rows = span if kind == FIRST else picked_rows[span]
-    if indexed:
-        rows = indices[rows]
-        outside = (rows < 0) | (rows >= points.shape[0])
-        rows = np.where(outside, 0, rows)
-    start = np.ascontiguousarray(points[rows].T)
-    if indexed:
-        outside = np.maximum.reduceat(outside, first_of)
-        wrong = np.maximum.reduceat(~(np.abs(start) <= limit).all(axis=0), first_of)
-        if kind == PROBE:  # the first pass reports them
-            keep = ~np.isin(blocks, blocks[first_of][outside | wrong])
-            found[0, span[~keep]] = np.inf
-            span, start = span[keep], start[:, keep]
-        else:
-            problem[blocks[first_of][wrong]] = 2
-            problem[blocks[first_of][outside]] = 1
-    if kind == PROBE:
-        third, spread = _rk3(start, field)
-        coarse, _ = _rk4(1, start, field, False)
-        fourth, _ = _rk4(2, start, field, False)
-        richardson = np.sqrt(_norm2(fourth, coarse)) / 15.0
-        error = np.sqrt(_norm2(third, fourth)) + richardson
-        found[:, span] = (error, spread, _norm2(fourth, start))
-        return
-    if third_order:
-        end, spread = _rk3(start, field)
-    else:
-        end, mid = _rk4(n_steps, start, field, adaptive)
-    out[span] = end.T
-    if len(evaluations):  # (an empty array: not counted)
-        evaluations[span] = 3 if third_order else 4 * n_steps
-    bad[blocks[first_of][np.logical_or.reduceat(~np.isfinite(end).all(axis=0), first_of)]] = True
-    if not adaptive:
-        return
-    m2 = _norm2(end, start)
-    if third_order:
-        rank = np.where(spread <= level, 0.0, np.inf)
-    else:
-        e = np.sqrt(np.maximum(_norm2(mid[:3], end), _norm2(mid[3:], end)))
-        reach2 = np.maximum(m2, e * e)
-        rank = np.where(reach2 > 0.0, e * e * e * e * e / reach2, 0.0)
-    found[0, span] = rank
-    block_found[0, blocks[first_of]] = np.sqrt(np.maximum.reduceat(m2, first_of))
-    block_found[1, blocks[first_of]] = np.maximum.reduceat(rank, first_of)
+    for first in range(first_block * BLOCK, last, CHUNK):
+        span = np.arange(first, min(first + CHUNK, last))
+        with np.errstate(all="ignore"):  # overflows are reported (status 3), as compiled
+            blocks = span // BLOCK
+            first_of = np.flatnonzero(np.r_[True, blocks[1:] != blocks[:-1]])  # blocks' starts
+            if kind == REFINE:
+                picked = picked_rows[span]
+                previous = out[picked].T
+                steps = 2
+                while picked.size:
+                    rows = indices[picked] if indexed else picked
+                    start = np.ascontiguousarray(points[rows].T)
+                    end, _ = _rk4(steps, start, field, False)
+                    out[picked] = end.T
+                    if len(evaluations):
+                        evaluations[picked] += 4 * steps
+                    again = np.sqrt(_norm2(end, previous)) > 15.0 * level
+                    again &= steps < MAX_ADAPTIVE_STEPS
+                    bad[blocks[~again][~np.isfinite(end[:, ~again]).all(axis=0)]] = True
+                    picked, previous, blocks = picked[again], end[:, again], blocks[again]
+                    steps *= 2
+                continue
+            rows = span if kind == FIRST else picked_rows[span]
+            if indexed:
+                rows = indices[rows]
+                outside = (rows < 0) | (rows >= points.shape[0])
+                rows = np.where(outside, 0, rows)
+            start = np.ascontiguousarray(points[rows].T)
+            if indexed:
+                outside = np.maximum.reduceat(outside, first_of)
+                wrong = np.maximum.reduceat(~(np.abs(start) <= limit).all(axis=0), first_of)
+                if kind == PROBE:  # the first pass reports them
+                    keep = ~np.isin(blocks, blocks[first_of][outside | wrong])
+                    found[0, span[~keep]] = np.inf
+                    span, start = span[keep], start[:, keep]
+                else:
+                    problem[blocks[first_of][wrong]] = 2
+                    problem[blocks[first_of][outside]] = 1
+            if kind == PROBE:
+                third, spread = _rk3(start, field)
+                coarse, _ = _rk4(1, start, field, False)
+                fourth, _ = _rk4(2, start, field, False)
+                richardson = np.sqrt(_norm2(fourth, coarse)) / 15.0
+                error = np.sqrt(_norm2(third, fourth)) + richardson
+                found[:, span] = (error, spread, _norm2(fourth, start))
+                continue
+            if third_order:
+                end, spread = _rk3(start, field)
+            else:
+                end, mid = _rk4(n_steps, start, field, adaptive)
+            out[span] = end.T
+            if len(evaluations):  # (an empty array: not counted)
+                evaluations[span] = 3 if third_order else 4 * n_steps
+            overflow = np.logical_or.reduceat(~np.isfinite(end).all(axis=0), first_of)
+            bad[blocks[first_of][overflow]] = True
+            if not adaptive:
+                continue
+            m2 = _norm2(end, start)
+            if third_order:
+                rank = np.where(spread <= level, 0.0, np.inf)
+            else:
+                e = np.sqrt(np.maximum(_norm2(mid[:3], end), _norm2(mid[3:], end)))
+                reach2 = np.maximum(m2, e * e)
+                rank = np.where(reach2 > 0.0, e * e * e * e * e / reach2, 0.0)
+            found[0, span] = rank
+            block_found[0, blocks[first_of]] = np.sqrt(np.maximum.reduceat(m2, first_of))
+            block_found[1, blocks[first_of]] = np.maximum.reduceat(rank, first_of)
 
 
 def segment_distance2(
