@@ -499,7 +499,7 @@ def _compile_in_child(
     ``unit_compiled(unit)`` is called then (the status bar's count and time left). The child
     inherits ``lock`` (it holds it until it ends, even if this process ends first). ``split``
     (with two cores or more): the first unit (what the first stroke needs) compiles alone in
-    one child, the others in a second, on another core, then the first one's helper."""
+    one child, the first one's helper (:func:`register`) and the others in a second."""
     several = split and _splits(units)
     env = dict(os.environ, **{_MODE_VARIABLE: "thread", LOCK_HELD_VARIABLE: "1"})
     # the child imports what this process does: an application embedding Python (Blender)
@@ -507,7 +507,7 @@ def _compile_in_child(
     env["PYTHONPATH"] = os.pathsep.join(p for p in sys.path if p)
     children: list[tuple[subprocess.Popen[str], dict[str, Unit]]] = []
     helper = [_helpers[units[0]]] if units[0] in _helpers else []
-    for group in (units[:1], [*units[1:], *helper]) if several else (units,):
+    for group in (units[:1], [*helper, *units[1:]]) if several else (units,):
         by_arg: dict[str, Unit] = {}
         for unit in group:
             modules = ",".join(dict.fromkeys(part.module for part in _parts(unit)))

@@ -90,9 +90,10 @@ def _driver_calls() -> list[tuple[Any, tuple[Any, ...]]]:
          (0, f33, rows, True, 1.0, field, 1, True, True, 0.0, rows, f33, rows, f33, f33, rows,
           flags, 0, 0)),
         (_integrator._write_back, (f33, rows, True, f33, 0, 0)),
-        *_influence_compiled.compile_calls(),
-        (_expansion.expand_blocks,  # last: see HELPER
+        # the rest: see HELPER
+        (_expansion.expand_blocks,
          (f33, f3, 1.0, 1, 0, 0, base, f33, beta, tables, marker, False, f33, 0, 0)),
+        *_influence_compiled.compile_calls(),
     ]  # fmt: skip
 
 
@@ -110,13 +111,14 @@ _compiled.register(
     lambda unit: _numba_cache.dispatchers_cached(_driver_calls()),
 )
 _compiled.register(_compiled.ANGULAR, __name__, _load_angular, _angular_cached)
-#: The last of the drivers (``expand_blocks``), which a second compiling child compiles after its
-#: own units: the child compiling the drivers then finds it in the disk cache.
-HELPER = "drivers_expansion"
+#: The drivers after the streamlines' two (the expansion, the influence loops), which a second
+#: compiling child compiles first, while the first compiles the streamlines' (the costliest):
+#: it then finds these in the disk cache.
+HELPER = "drivers_rest"
 _compiled.register(
     HELPER,
     __name__,
-    lambda unit: [dispatcher(*args) for dispatcher, args in _driver_calls()[-1:]],
-    lambda unit: _numba_cache.dispatchers_cached(_driver_calls()[-1:]),
+    lambda unit: [dispatcher(*args) for dispatcher, args in _driver_calls()[2:]],
+    lambda unit: _numba_cache.dispatchers_cached(_driver_calls()[2:]),
     helps=_compiled.DRIVERS,
 )
