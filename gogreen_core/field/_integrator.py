@@ -15,31 +15,24 @@ over their largest magnitude ``cscale``; the generated ``angular_single`` kernel
 double precision: ~1e-8 of the field off double precision, 1e-4 below the tolerance. No
 fastmath: ``_numpy_eval`` performs the float32 operations in the same order (within 1e-12).
 
-``_stream.stream`` runs the passes below over blocks of points on the thread pool
-(``_parallel``):
+``_stream.stream`` runs the passes below over blocks of points on the thread pool:
 
 * fixed steps (``tolerance <= 0``): ``substeps`` classical RK4 steps for every point;
-* adaptive: one RK4 step for every point, whose stages also give the ends of two second-order
-  rules (midpoint x₀ + k₂, trapezoid x₀ + (k₁ + k₄)/2); the larger distance e of the RK4 end to
-  them estimates a second-order error (order h³), and the RK4 error (order h⁵) is predicted as
-  e (e / max(m, e))^(2/3), m the point's motion. Points whose prediction exceeds
-  ``_stream.ESTIMATE_SAFETY`` · tolerance · scale (scale = the largest of |Δc| and every
-  motion m) are packed into blocks of their own and integrated again with 2, 4, ... RK4 steps
-  until Richardson's estimate |x_n - x_(n/2)| / 15 is under that bound (at most
-  MAX_ADAPTIVE_STEPS);
-* adaptive, on ``_stream.THIRD_ORDER_POINTS`` points or more: first the probes,
-  ``_stream.probe_rows`` evenly spread over the points, each integrated with one third-order
-  step (SSPRK3, three evaluations) and with one and two RK4 steps. Where the third-order step's
-  error they show (its distance to the two-step end, plus that end's Richardson estimate) is
-  within the bound above at every probe, every point takes the third-order step instead of
-  RK4's, and keeps it if its spread (the distance of its end to the second-order Heun end made
-  of the same stages) is within the probes' range: a point the probes did not speak for goes to
-  the refinement above (its first end a third-order one, which only makes Richardson's estimate
-  larger). Elsewhere the RK4 pass above runs.
+* adaptive: one RK4 step for every point; the larger distance e of its end to the ends of two
+  second-order rules of its stages (midpoint x₀ + k₂, trapezoid x₀ + (k₁ + k₄)/2) predicts its
+  error as e (e / max(m, e))^(2/3), m the point's motion. Points predicted beyond
+  ``_stream.ESTIMATE_SAFETY`` · tolerance · scale (scale: the largest of |Δc| and every m) are
+  packed into blocks of their own and integrated again with 2, 4, ... RK4 steps until
+  Richardson's estimate |x_n - x_(n/2)| / 15 is under that bound (at most MAX_ADAPTIVE_STEPS);
+* adaptive, on ``_stream.THIRD_ORDER_POINTS`` points or more: first the probes
+  (``_stream.probe_rows``), each integrated with one third-order step (SSPRK3, three
+  evaluations) and with one and two RK4 steps. Where the third-order error they show is within
+  the bound at every probe, every point takes the third-order step instead, and keeps it if its
+  spread (distance to the Heun end of the same stages) is within the probes' range; the others
+  go to the refinement above. Elsewhere the RK4 pass runs.
 
-Every point's result depends only on the input (blocks are fixed by the point order, never by
-the thread count), and the generic and generated angular kernels compute the same bits, so
-replays are bit-identical whatever the threads or the kernels compiled so far.
+A point's result depends only on the input (blocks follow the point order, not the threads),
+and the generic and generated angular kernels give the same bits: replays are bit-identical.
 """
 
 from __future__ import annotations

@@ -86,20 +86,17 @@ def _angular(
     x, y, z = geometry[:3]
     # None until the first term is added (so typed Any, as are the sums of numpy operands)
     u: Any = None
-    cos_m: Any
-    sin_m: Any
-    cos_m = sin_m = None
+    cos_m: Any = None
+    sin_m: Any = None
     for m in range(l_last + 1):
         if m == 1:
             cos_m, sin_m = x, y
         elif m > 1:
             cos_m, sin_m = cos_m * x - sin_m * y, cos_m * y + sin_m * x
-        part_a: Any
-        part_b: Any
-        prev: Any
-        cur: Any
-        part_a = part_b = None
-        prev = cur = None
+        part_a: Any = None
+        part_b: Any = None
+        prev: Any = None
+        cur: Any = None
         for l in range(m, l_last + 1):
             if l == m + 1:
                 prev, cur = np.ones_like(z), z
