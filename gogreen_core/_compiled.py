@@ -463,10 +463,8 @@ def _load(unit: Unit) -> None:
 
 
 def _cached(unit: Unit) -> bool:
-    """Whether numba's disk cache holds ``unit`` (then loading it takes milliseconds). Asks
-    the caches directly (numba's ``_cache.load_overload``, not public API; the drivers' C
-    callback marker is compiled or loaded on the way, a fraction of a second): any doubt counts
-    as not cached, which only costs a child process that finds everything cached."""
+    """Whether numba's disk cache holds ``unit`` (then loading it takes milliseconds); any
+    doubt counts as not cached (a child then finds everything cached)."""
     try:
         parts = _parts(unit)
         return bool(parts) and all(part.cached(unit) for part in parts)
@@ -494,12 +492,10 @@ def _compile_in_child(
     split: bool = False,
 ) -> bool:
     """Compile ``units`` into numba's disk cache in a child process; True if it succeeded.
-    Each argument names the modules that register the unit, then the unit:
-    ``module,module=unit``; the child prints each argument once its unit is compiled, and
-    ``unit_compiled(unit)`` is called then (the status bar's count and time left). The child
-    inherits ``lock`` (it holds it until it ends, even if this process ends first). ``split``
-    (with two cores or more): the first unit (what the first stroke needs) compiles alone in
-    one child, the first one's helper (:func:`register`) and the others in a second."""
+    Its arguments are ``module,module=unit`` (the modules register the unit); it prints each
+    once its unit is compiled, and ``unit_compiled(unit)`` is called then. It inherits ``lock``
+    and holds it to its end. ``split`` (two cores or more): the first unit (what the first
+    stroke needs) alone in one child, its helper (:func:`register`) and the rest in another."""
     several = split and _splits(units)
     env = dict(os.environ, **{_MODE_VARIABLE: "thread", LOCK_HELD_VARIABLE: "1"})
     # the child imports what this process does: an application embedding Python (Blender)
@@ -562,9 +558,8 @@ _CHILD_SCRIPT = (
 
 
 def _main(argv: list[str]) -> int:
-    """The child: compile (into numba's disk cache) the units named on its command line
-    (``module,module=unit``: the modules are imported first, which registers the unit). It
-    outlives a parent that ends meanwhile (then its lines go nowhere) but not CHILD_TIMEOUT."""
+    """The child: compile into numba's disk cache the units of its command line
+    (``module,module=unit``). It outlives a parent that ends meanwhile, not CHILD_TIMEOUT."""
     import importlib
 
     quit_timer = threading.Timer(CHILD_TIMEOUT, os._exit, (3,))

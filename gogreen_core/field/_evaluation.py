@@ -42,10 +42,8 @@ NUMPY = Backend(False)
 
 
 class Parity:
-    """Packed material coefficients of one parity (even: G, odd: ∇G).
-
-    ``matrices`` (n_terms, 3, 3) or (n_terms, 3, 3, 3), rows of degree l from ``base[l]``;
-    ``scales`` (n_terms,) the Legendre scales folded into the coefficients."""
+    """Packed material coefficients of one parity (even: G, odd: ∇G): ``matrices`` (n_terms, 3,
+    3) or (n_terms, 3, 3, 3), rows of degree l from ``base[l]``."""
 
     def __init__(self, l_first: int, l_last: int, matrices: np.ndarray, base: np.ndarray):
         self.l_first = l_first

@@ -308,8 +308,7 @@ def segment_distance2(
     points: np.ndarray, start: np.ndarray, step: np.ndarray, mirrors: np.ndarray, origin: np.ndarray
 ) -> np.ndarray:
     """(N,) the squared distance of the nearest mirror image of each of ``points`` (N, 3)
-    (``mirrors`` (m, 3) signs about ``origin``) to the segment ``start`` → ``start + step``, in
-    the operations of the compiled loops (``_expansion.near_segment``, the paint brushes')."""
+    (``mirrors`` (m, 3) signs about ``origin``) to the segment ``start`` → ``start + step``."""
     length2 = step[0] * step[0] + step[1] * step[1] + step[2] * step[2]
     y = origin + mirrors[:, None] * (points - origin) - start  # (m, N, 3) images
     along = y[..., 0] * step[0] + y[..., 1] * step[1] + y[..., 2] * step[2]
