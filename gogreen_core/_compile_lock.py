@@ -1,17 +1,15 @@
 """The lock beside numba's disk cache: one compilation per cache at a time, across processes.
 
-Before compiling units missing from the disk cache, ``_compiled``'s worker takes an exclusive
-lock on ``gogreen-compile.lock`` beside numba's cache (:func:`cache_folder`; ``fcntl.flock``)
-and hands it to the compiling child, which holds it to its end. A second process finding the
-lock held keeps evaluating in NumPy and waits for it (on its worker thread), then loads what
-the holder compiled and compiles only what is still missing: never the same code twice at once.
-The kernel frees the lock of a holder that died, so a stale lock is taken over at once. The lock
-file names the holder (its pid, its parent, its units) and ``gogreen-compile.log`` beside it
-keeps a line per compilation started.
+Before compiling units missing from the cache, ``_compiled``'s worker takes an exclusive
+``flock`` on ``gogreen-compile.lock`` in :func:`cache_folder` and hands it to its compiling
+children, which hold it to their end. Another process finding it held keeps evaluating in NumPy
+and waits, then loads what the holder compiled and compiles only what is still missing. The
+kernel frees the lock of a holder that died. The lock file names the holder (pids, parent,
+units); ``gogreen-compile.log`` beside it keeps a line per compilation.
 
-A process exiting while its child compiles does not wait: the child runs on detached (its own
-session, so a closed terminal or Ctrl+C does not stop it), keeps the lock, finishes the numba
-disk cache for the next run, and the exiting process says so on stderr (the child's pid).
+A process exiting while its children compile does not wait: they run on detached (their own
+session: a closed terminal or Ctrl+C does not stop them), finish the cache for the next run,
+and the exiting process says so on stderr.
 """
 
 from __future__ import annotations
@@ -34,9 +32,8 @@ LOG_NAME = "gogreen-compile.log"
 
 
 def cache_folder() -> Path:
-    """The folder of numba's disk cache of gogreen_core, where the compile lock lives:
-    ``NUMBA_CACHE_DIR`` when set, else the package's ``__pycache__`` (numba's cache beside the
-    sources) when writable, else a folder of the system's temporary directory."""
+    """The folder of numba's disk cache of gogreen_core (the lock's): ``NUMBA_CACHE_DIR``, else
+    the package's ``__pycache__`` when writable, else one in the temporary directory."""
     configured = os.environ.get("NUMBA_CACHE_DIR", "").strip()
     if configured:
         return Path(configured)
@@ -49,18 +46,16 @@ def cache_folder() -> Path:
 
 
 class CacheLock:
-    """The exclusive ``flock`` on ``cache_folder() / LOCK_NAME`` of the process (or its
-    compiling child) compiling into numba's disk cache. ``waited``: another process held it
-    when asked (it may have compiled what was missing)."""
+    """The exclusive ``flock`` on ``cache_folder() / LOCK_NAME``. ``waited``: another process
+    held it when asked (it may have compiled what was missing)."""
 
     def __init__(self, fd: int, waited: bool) -> None:
         self.fd, self.waited = fd, waited
 
     @classmethod
     def take(cls) -> CacheLock | None:
-        """Take the lock, waiting while another process holds it (polling, so a holder's death
-        or end is seen within a quarter second); None where no lock can be taken (no fcntl, a
-        folder that cannot be written, or a compiling child: its parent's lock is its own)."""
+        """Take the lock, waiting (polling every quarter second) while another process holds
+        it; None where none can be taken (no fcntl, a read-only folder, a compiling child)."""
         if os.environ.get(LOCK_HELD_VARIABLE):
             return None
         try:
@@ -83,9 +78,10 @@ class CacheLock:
                 os.close(fd)
                 return None
 
-    def note_holder(self, pid: int, units: list[str]) -> None:
+    def note_holder(self, pids: list[int], units: list[str]) -> None:
         """Write who holds the lock into the lock file, and a line into the log beside it."""
-        line = f"{time.strftime('%Y-%m-%dT%H:%M:%S')} pid {pid} (parent {os.getpid()}) "
+        holders = " ".join(map(str, pids))
+        line = f"{time.strftime('%Y-%m-%dT%H:%M:%S')} pid {holders} (parent {os.getpid()}) "
         line += f"compiling {' '.join(units)}\n"
         try:
             os.ftruncate(self.fd, 0)

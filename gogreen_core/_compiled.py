@@ -1,30 +1,20 @@
-"""The compiled evaluation, brought into the process without making anyone wait for a compiler.
+"""The compiled code, brought into the process without making anyone wait for a compiler.
 
-Compiled code comes in units: the drivers of the current evaluation (``_expansion``,
-``_integrator``: one unit, :data:`DRIVERS`), the generated angular kernel of each parity and
-highest degree (``(l_first, l_last)``, see ``_unrolled``), the surface index's functions, the
-paint brushes' and the mesh readers' loops. Until a unit is ready the evaluation runs in NumPy
-(``_numpy_eval``) or with the generic angular kernel, with the same results bit for bit, so
-nothing waits for it: :func:`request` queues units and returns at once.
+Compiled code comes in units: the field's drivers (:data:`DRIVERS`), the generated angular
+kernel of each parity and highest degree (``(l_first, l_last)``), the surface index, the paint
+brushes' and the mesh readers' loops. Each module with compiled code registers its part of a
+unit when imported (:func:`register`) and asks here whether it is ready; until it is, the NumPy
+twin or the generic angular kernel serves with the same results, so :func:`request` queues
+units and returns at once.
 
-This module imports none of them: each module with compiled code registers its unit
-(:func:`register`: how to compile or load it, how to tell whether numba's disk cache holds it)
-when it is imported, and asks here whether it is ready. A unit several modules compile (the
-drivers) has a part from each.
+A worker thread loads units numba's disk cache holds (milliseconds) and has the others
+compiled by a child Python process (``_main``) filling that cache, then loads them. In a thread
+of this process a compilation would hold the GIL and numba's compiler lock, slowing the GUI and
+the NumPy evaluation; a child runs on the other core. Where no child can run (Python embedded
+in an application) the worker compiles in this process.
 
-A worker thread then brings them in: units already in numba's disk cache are loaded
-(milliseconds); the others are compiled by a child Python process (``_main``), which fills
-the same disk cache, and loaded after it. A numba compilation holds the GIL most of the time
-and numba's global compiler lock all of it: in a thread of this process it would slow the GUI
-and the NumPy evaluation (a thread waiting for the GIL waits up to Python's switch interval,
-5 ms, each time) and block every other compilation; in a child it runs on the other core.
-Where no child can run (an application embedding Python), the worker compiles in this process.
-
-The environment variable ``GOGREEN_COMPILE`` chooses: ``child`` (the default), ``thread``
-(compile in a background thread of this process) or ``off`` (never in the background: the
-NumPy evaluation serves everything not compiled by an explicit :func:`prepare`; for tests and
-for machines where numba cannot compile).
-
+``GOGREEN_COMPILE`` chooses: ``child`` (default), ``thread`` (a background thread here) or
+``off`` (only an explicit :func:`prepare` compiles; tests, machines where numba cannot).
 One compilation per cache at a time, across processes: see ``_compile_lock``.
 """
 
@@ -44,8 +34,7 @@ from gogreen_core import compile_times
 from gogreen_core._compile_lock import LOCK_HELD_VARIABLE, CacheLock, compile_holder, running
 from gogreen_core._numba_cache import modules_cached
 
-#: A unit of compilation: DRIVERS, GEOMETRY, BRUSHES, MESH_IO or (l_first, l_last) of an
-#: angular kernel (registered as :data:`ANGULAR`).
+#: A unit: DRIVERS, GEOMETRY, BRUSHES, MESH_IO or (l_first, l_last) of an angular kernel.
 Unit = str | tuple[int, ...]
 #: What :func:`when_ready` calls with the errors of the units that failed.
 ReadyCallback = Callable[[list[Exception]], None]
@@ -59,12 +48,10 @@ __all__ = [
     "CompiledModule",
     "Progress",
     "add_progress_listener",
-    "brushes",
     "compile_holder",
     "drivers",
     "forced",
     "forced_code",
-    "geometry",
     "mark_ready",
     "modules_cached",
     "prepare",
@@ -75,15 +62,13 @@ __all__ = [
     "when_ready",
 ]
 
-#: The unit of the drivers (the others: (l_first, l_last) of a generated angular kernel,
-#: GEOMETRY and MESH_IO).
+#: The field's drivers (``_drivers``).
 DRIVERS = "drivers"
 #: The unit of ``geometry.py``'s compiled functions (the viewport's surface index).
 GEOMETRY = "geometry"
 #: The unit of the paint brushes' compiled loops (``brushes.paint_kernels``: smooth, mask).
 BRUSHES = "brushes"
-#: The unit of the mesh readers' compiled loops (``mesh_io.warm_up``): opening a file then
-#: never compiles on the calling thread.
+#: The unit of the mesh readers' compiled loops (``mesh_io.warm_up``).
 MESH_IO = "mesh_io"
 #: What the (l_first, l_last) units of the generated angular kernels register as.
 ANGULAR = "angular"
@@ -96,8 +81,7 @@ CHILD_TIMEOUT = 900.0
 _ready: set[Unit] = set()
 _pending: list[Unit] = []
 _failed: dict[Unit, Exception] = {}
-#: Units this process found missing from numba's disk cache and had compiled (the others were
-#: only loaded from it): what the app's status says ("compiled" or "loaded").
+#: Units this process had compiled (the others it only loaded from numba's disk cache).
 _compiled_units: set[Unit] = set()
 #: What :func:`add_progress_listener` listeners are called with, on the worker thread.
 ProgressCallback = Callable[["Progress"], None]
@@ -138,8 +122,8 @@ class Progress:
 
 
 def add_progress_listener(callback: ProgressCallback) -> None:
-    """Call ``callback(progress)`` (on the compiling worker thread) when a compilation of
-    units missing from the disk cache starts and after each of its units is compiled."""
+    """Call ``callback(progress)`` (on the worker thread) when a compilation starts and after
+    each of its units."""
     with _condition:
         _progress_listeners.append(callback)
 
@@ -162,9 +146,9 @@ def _tell_progress(progress: Progress) -> None:
 
 @dataclass(frozen=True)
 class _Part:
-    """What one module contributes to a unit: ``load(unit)`` compiles it (or loads it from
-    numba's disk cache) on the calling thread, ``cached(unit)`` tells whether the disk cache
-    holds it; ``module`` is imported by a compiling child to register it there too."""
+    """One module's part of a unit: ``load(unit)`` compiles or loads it on the calling thread,
+    ``cached(unit)`` tells whether the disk cache holds it; a compiling child imports
+    ``module``."""
 
     module: str
     name: str
@@ -174,16 +158,24 @@ class _Part:
 
 #: The registered units (ANGULAR for every (l_first, l_last)), each with its parts.
 _units: dict[str, list[_Part]] = {}
+#: unit → the unit that helps compile it (see :func:`register`).
+_helpers: dict[Unit, str] = {}
 
 
 def register(
-    unit: str, module: str, load: Callable[[Unit], object], cached: Callable[[Unit], bool]
+    unit: str,
+    module: str,
+    load: Callable[[Unit], object],
+    cached: Callable[[Unit], bool],
+    helps: Unit | None = None,
 ) -> None:
-    """Register ``module``'s part of ``unit`` (called by the module when it is imported; see
-    :class:`_Part`). Registering again replaces the part (a reloaded module). A part added to
-    a unit that is ready already makes it not ready until the part is loaded too."""
+    """Register ``module``'s part of ``unit`` (:class:`_Part`; again: replaced). A part added
+    to a ready unit makes it not ready until the part is loaded too. ``helps``: a unit part of
+    which ``unit`` compiles, in a second child while the first compiles that unit."""
     part = _Part(module, getattr(load, "__qualname__", repr(load)), load, cached)
     with _condition:
+        if helps is not None:
+            _helpers[helps] = unit
         parts = _units.setdefault(unit, [])
         parts[:] = [p for p in parts if (p.module, p.name) != (part.module, part.name)]
         parts.append(part)
@@ -192,9 +184,8 @@ def register(
 
 class CompiledModule:
     """The compiled functions of module ``module`` once they are ready, else their NumPy twins
-    (module ``twin``: the same results), so that nothing waits for the compiler: the module
-    registers them as ``unit``, which ``exercise`` compiles (or loads from numba's disk cache)
-    by calling each of them once, typed as the module calls them."""
+    (module ``twin``): registered as ``unit``, which ``exercise`` compiles or loads by calling
+    each of them once, typed as the module calls them."""
 
     def __init__(
         self, unit: str, module: str, twin: ModuleType, exercise: Callable[[], object]
@@ -237,16 +228,6 @@ def drivers() -> bool:
     return _in_use(DRIVERS)
 
 
-def geometry() -> bool:
-    """Whether ``geometry.py``'s compiled functions are ready (else they are requested)."""
-    return _in_use(GEOMETRY)
-
-
-def brushes() -> bool:
-    """Whether the paint brushes' compiled loops are ready (else they are requested)."""
-    return _in_use(BRUSHES)
-
-
 def forced_code() -> str | None:
     """The code :class:`forced` chose ("numpy", "generic", "unrolled"), or None."""
     return _forced
@@ -272,8 +253,7 @@ def _in_use(unit: Unit) -> bool:
 
 class forced:
     """``with forced("numpy" | "generic" | "unrolled"):`` evaluations in the block use that
-    code (compiled first if needed; ``geometry.py`` compiled for the last two): tests comparing
-    them, benchmarks. Not thread safe."""
+    code (compiled first if needed): tests comparing them, benchmarks. Not thread safe."""
 
     def __init__(self, code: str) -> None:
         if code not in ("numpy", "generic", "unrolled"):
@@ -313,9 +293,8 @@ def request(*units: Unit) -> None:
 
 
 def when_ready(units: Iterable[Unit], callback: ReadyCallback) -> None:
-    """Call ``callback(failures)`` once every unit of ``units`` is ready or failed (failures:
-    the exceptions of those that failed), on the worker thread, or now if they already are.
-    The units are requested."""
+    """Request ``units`` and call ``callback(failures)`` (the exceptions of those that failed)
+    once each is ready or failed: on the worker thread, or now if they already are."""
     units = tuple(units)
     request(*units)
     with _condition:
@@ -326,8 +305,7 @@ def when_ready(units: Iterable[Unit], callback: ReadyCallback) -> None:
 
 
 def compiled_here(units: Iterable[Unit]) -> bool:
-    """Whether any of ``units`` had to be compiled by this process (a child of it), rather
-    than only loaded from numba's disk cache."""
+    """Whether any of ``units`` was compiled (not only loaded) by this process or its child."""
     with _condition:
         return any(u in _compiled_units for u in units)
 
@@ -354,9 +332,8 @@ def wait(units: Iterable[Unit], timeout: float | None = None) -> bool:
 
 
 def prepare(*units: Unit) -> float:
-    """Bring ``units`` in and wait for them (this thread waits; the compilation runs in a
-    child process where it can). Returns the seconds it took; raises the error of a unit that
-    could not be compiled."""
+    """Bring ``units`` in and wait for them; returns the seconds it took, raises the error of a
+    unit that could not be compiled."""
     start = time.perf_counter()
     if _mode() == "off":
         for unit in units:
@@ -375,9 +352,10 @@ def prepare(*units: Unit) -> float:
 class _UnitCount:
     """Counts one compilation's units as they are compiled, telling the progress listeners."""
 
-    def __init__(self, missing: list[Unit]) -> None:
-        self.missing, self.done = missing, list[Unit]()
-        self.start = self.last = time.perf_counter()
+    def __init__(self, missing: list[Unit], split: bool = False) -> None:
+        self.missing, self.done, self.split = missing, list[Unit](), split
+        self.start = time.perf_counter()
+        self.last = {False: self.start, True: self.start}  # split: the first unit's own clock
         self.seconds: dict[Unit, float] = {}  # measured per unit, recorded when all are in
         self.known = compile_times.recorded() if missing else {}
         if missing:
@@ -390,7 +368,8 @@ class _UnitCount:
             return
         self.done.append(unit)
         now = time.perf_counter()
-        self.seconds[unit], self.last = now - self.last, now
+        lane = self.split and unit == self.missing[0]
+        self.seconds[unit], self.last[lane] = now - self.last[lane], now
         left = tuple(u for u in self.missing if u not in self.done)
         estimate = compile_times.seconds_left(self.seconds, left, 0.0, self.known)
         _tell_progress(
@@ -421,12 +400,13 @@ def _work() -> None:
 
 
 def _bring_in(units: list[Unit], missing: list[Unit], lock: CacheLock | None) -> None:
-    """Compile ``missing`` (in a child where one can run, each unit loaded here as soon as the
-    child has it in the disk cache: the first ones serve while it compiles the rest), then
-    load the other ``units``."""
+    """Compile ``missing`` (in children where they can run, each unit loaded here as soon as a
+    child has it in the disk cache: the first ones serve while the rest compile), then load
+    the other ``units``."""
     with _condition:
         _compiled_units.update(missing)
-    count = _UnitCount(missing)
+    split = _can_spawn() and _splits(missing)
+    count = _UnitCount(missing, split)
     settled: set[Unit] = set()
 
     def compiled_by_child(unit: Unit) -> None:
@@ -435,17 +415,17 @@ def _bring_in(units: list[Unit], missing: list[Unit], lock: CacheLock | None) ->
             _settle(unit, missing, count)
 
     if missing and _can_spawn():
-        _compile_in_child(missing, compiled_by_child, lock)
+        _compile_in_child(missing, compiled_by_child, lock, split)
     elif missing and lock is not None:  # compiled by this process (in _settle)
-        lock.note_holder(os.getpid(), [str(u) for u in missing])
+        lock.note_holder([os.getpid()], [str(u) for u in missing])
     for unit in units:
         if unit not in settled:
             _settle(unit, missing, count)
 
 
 def _settle(unit: Unit, missing: list[Unit], count: _UnitCount) -> None:
-    """Load ``unit`` (from the disk cache; compiled here if no child did), mark it ready or
-    failed, take it off the queue and call the callbacks now due."""
+    """Load ``unit`` (compiled here if no child did), mark it ready or failed, take it off the
+    queue and call the callbacks now due."""
     if not _parts(unit):  # its module is not imported yet: asked for again later
         with _condition:
             _pending.remove(unit)
@@ -483,10 +463,8 @@ def _load(unit: Unit) -> None:
 
 
 def _cached(unit: Unit) -> bool:
-    """Whether numba's disk cache holds ``unit`` (then loading it takes milliseconds). Asks
-    the caches directly (numba's ``_cache.load_overload``, not public API; the drivers' C
-    callback marker is compiled or loaded on the way, a fraction of a second): any doubt counts
-    as not cached, which only costs a child process that finds everything cached."""
+    """Whether numba's disk cache holds ``unit`` (then loading it takes milliseconds); any
+    doubt counts as not cached (a child then finds everything cached)."""
     try:
         parts = _parts(unit)
         return bool(parts) and all(part.cached(unit) for part in parts)
@@ -495,58 +473,83 @@ def _cached(unit: Unit) -> bool:
 
 
 def _can_spawn() -> bool:
-    """A child Python can compile for us: asked for (a child itself runs in mode ``thread``),
-    and this process is a Python interpreter (not an application embedding one, e.g. Blender)."""
+    """A child Python can compile for us: asked for, and this process is a Python interpreter
+    (not an application embedding one, e.g. Blender)."""
     name = os.path.basename(sys.executable or "").lower()
     return _mode() == "child" and name.startswith("python")
 
 
+def _splits(units: list[Unit]) -> bool:
+    """Whether ``units`` compile in two children (``_compile_in_child``): two cores or more."""
+    several = len(units) > 1 or (bool(units) and units[0] in _helpers)
+    return several and (os.cpu_count() or 1) > 1
+
+
 def _compile_in_child(
-    units: Iterable[Unit],
+    units: list[Unit],
     unit_compiled: Callable[[Unit], None] = lambda unit: None,
     lock: CacheLock | None = None,
+    split: bool = False,
 ) -> bool:
     """Compile ``units`` into numba's disk cache in a child process; True if it succeeded.
-    Each argument names the modules that register the unit, then the unit:
-    ``module,module=unit``; the child prints each argument once its unit is compiled, and
-    ``unit_compiled(unit)`` is called then (the status bar's count and time left). The child
-    inherits ``lock`` (it holds it until it ends, even if this process ends first)."""
-    by_arg: dict[str, Unit] = {}
-    for unit in units:
-        modules = ",".join(dict.fromkeys(part.module for part in _parts(unit)))
-        by_arg[f"{modules}=" + (unit if isinstance(unit, str) else f"{unit[0]}:{unit[1]}")] = unit
+    Its arguments are ``module,module=unit`` (the modules register the unit); it prints each
+    once its unit is compiled, and ``unit_compiled(unit)`` is called then. It inherits ``lock``
+    and holds it to its end. ``split`` (two cores or more): the first unit (what the first
+    stroke needs) alone in one child, its helper (:func:`register`) and the rest in another."""
+    several = split and _splits(units)
     env = dict(os.environ, **{_MODE_VARIABLE: "thread", LOCK_HELD_VARIABLE: "1"})
     # the child imports what this process does: an application embedding Python (Blender)
     # adds folders to sys.path at run time (its extensions' wheels) that no child would know
     env["PYTHONPATH"] = os.pathsep.join(p for p in sys.path if p)
-    try:
-        child = subprocess.Popen(
-            [sys.executable, "-c", _CHILD_SCRIPT, *by_arg],
-            env=env,
-            stdin=subprocess.DEVNULL,
-            stdout=subprocess.PIPE,
-            stderr=subprocess.DEVNULL,
-            text=True,
-            pass_fds=() if lock is None else (lock.fd,),
-            start_new_session=True,  # runs on if this process ends (see the module docstring)
-        )
-    except (OSError, subprocess.SubprocessError):
-        return False
-    if lock is not None:
-        lock.note_holder(child.pid, list(by_arg))
-    running.add(child)
-    timer = threading.Timer(CHILD_TIMEOUT, child.kill)
-    timer.daemon = True
-    timer.start()
-    try:
-        assert child.stdout is not None
-        for line in child.stdout:  # anything else the child prints is not a unit's name
-            if line.strip() in by_arg:
-                unit_compiled(by_arg[line.strip()])
-        return child.wait() == 0
-    finally:
-        timer.cancel()
-        running.discard(child)
+    children: list[tuple[subprocess.Popen[str], dict[str, Unit]]] = []
+    helper = [_helpers[units[0]]] if units[0] in _helpers else []
+    for group in (units[:1], [*helper, *units[1:]]) if several else (units,):
+        by_arg: dict[str, Unit] = {}
+        for unit in group:
+            modules = ",".join(dict.fromkeys(part.module for part in _parts(unit)))
+            name = unit if isinstance(unit, str) else f"{unit[0]}:{unit[1]}"
+            by_arg[f"{modules}={name}"] = unit
+        try:
+            child = subprocess.Popen(
+                [sys.executable, "-c", _CHILD_SCRIPT, *by_arg],
+                env=env,
+                stdin=subprocess.DEVNULL,
+                stdout=subprocess.PIPE,
+                stderr=subprocess.DEVNULL,
+                text=True,
+                pass_fds=() if lock is None else (lock.fd,),
+                start_new_session=True,  # runs on if this process ends (module docstring)
+            )
+        except (OSError, subprocess.SubprocessError):
+            break
+        running.add(child)
+        children.append((child, by_arg))
+    if lock is not None and children:
+        lock.note_holder([c.pid for c, _ in children], [a for _, args in children for a in args])
+    done: list[bool] = []
+
+    def follow(child: subprocess.Popen[str], by_arg: dict[str, Unit]) -> None:
+        timer = threading.Timer(CHILD_TIMEOUT, child.kill)
+        timer.daemon = True
+        timer.start()
+        try:
+            assert child.stdout is not None
+            for line in child.stdout:  # anything else the child prints is not a unit's name
+                if line.strip() in by_arg:
+                    unit_compiled(by_arg[line.strip()])
+            done.append(child.wait() == 0)
+        finally:
+            timer.cancel()
+            running.discard(child)
+
+    others = [threading.Thread(target=follow, args=child) for child in children[1:]]
+    for thread in others:
+        thread.start()
+    if children:
+        follow(*children[0])
+    for thread in others:
+        thread.join()
+    return len(done) == (2 if several else 1) and all(done)
 
 
 _CHILD_SCRIPT = (
@@ -555,9 +558,8 @@ _CHILD_SCRIPT = (
 
 
 def _main(argv: list[str]) -> int:
-    """The child: compile (into numba's disk cache) the units named on its command line
-    (``module,module=unit``: the modules are imported first, which registers the unit). It
-    outlives a parent that ends meanwhile (then its lines go nowhere) but not CHILD_TIMEOUT."""
+    """The child: compile into numba's disk cache the units of its command line
+    (``module,module=unit``). It outlives a parent that ends meanwhile, not CHILD_TIMEOUT."""
     import importlib
 
     quit_timer = threading.Timer(CHILD_TIMEOUT, os._exit, (3,))

@@ -1,7 +1,5 @@
-"""What numba's disk cache holds: whether a unit of :mod:`gogreen_core._compiled` need only be
-loaded (milliseconds) rather than compiled. These read numba's cache index (``_cache``, not
-public API); any doubt counts as not cached, which only costs a compiling child that finds
-everything cached."""
+"""Whether numba's disk cache holds a unit of :mod:`gogreen_core._compiled` (then it is only
+loaded). These read numba's cache index (``_cache``, not public API)."""
 
 from __future__ import annotations
 
@@ -25,9 +23,8 @@ def dispatchers_cached(calls: Iterable[tuple[Any, tuple[Any, ...]]]) -> bool:
 
 def modules_cached(name: str) -> bool:
     """Whether numba's disk cache holds machine code for this machine of every compiled
-    function of module ``name`` (of a package: of its modules too; their cache index is read,
-    not the code: numba's ``_cache._cache_file``, not public API). A function without any cache
-    entry is one only compiled code calls (it has none of its own), once another has one."""
+    function of module ``name`` (of a package: of its modules too), from their cache index. A
+    function without any entry is one only compiled code calls."""
     import importlib
     import pkgutil
 

@@ -1,12 +1,8 @@
 """How long each compile unit takes: the start-up status's "about 25 s left".
 
-One unit (the field drivers) is most of a first start's compilation, so a time per unit
-compiled so far says little. Each unit instead has an expected time: what it took when it was
-last compiled on this machine (a small JSON file beside numba's disk cache, written when a
-compilation finishes), else its built-in weight (relative compile times measured on the
-project's 2-core machine, weight 1 the drivers) times :data:`SECONDS_PER_WEIGHT`. The units
-compiled so far give the pace (their measured over their expected seconds: a busy machine is
-slower), which scales the rest.
+Each unit's expected time is what it took when last compiled on this machine (a JSON file beside
+numba's disk cache), else its built-in weight times :data:`SECONDS_PER_WEIGHT`; the pace of the
+units compiled so far (measured over expected seconds: a busy machine is slower) scales the rest.
 """
 
 from __future__ import annotations
@@ -29,11 +25,9 @@ __all__ = [
 ]
 
 #: Relative compile times of the named units, the drivers 1 (measured one unit at a time on an
-#: empty cache on the project's 2-core machine: drivers 454 s, geometry 101 s, mesh readers
-#: 47 s, paint brushes 17 s, under load from other processes).
+#: empty cache on the project's 2-core machine, under load).
 BUILT_IN_WEIGHTS = {"drivers": 1.0, "geometry": 0.22, "mesh_io": 0.10, "brushes": 0.04}
-#: An angular kernel (l_first, l_last): this weight per degree up to l_last (0…8: 42 s, 1…9:
-#: 49 s in the same run).
+#: An angular kernel (l_first, l_last): this weight per degree up to l_last.
 ANGULAR_WEIGHT_PER_DEGREE = 0.0115
 #: Seconds of weight 1 when nothing was measured: a first start on a quiet machine took 40 s
 #: at l_max 8 (issue 32), of total weight 1.57.
@@ -68,15 +62,14 @@ def weight(unit: str | tuple[int, ...]) -> float | None:
 
 
 def times_path() -> Path:
-    """The JSON file of measured seconds per unit: in ``NUMBA_CACHE_DIR`` when set, else in
-    the package's ``__pycache__`` (where numba keeps its cache beside the sources)."""
+    """The JSON file of measured seconds per unit, in ``NUMBA_CACHE_DIR`` or else the package's
+    ``__pycache__`` (numba's cache beside the sources)."""
     folder = os.environ.get("NUMBA_CACHE_DIR") or str(Path(__file__).parent / "__pycache__")
     return Path(folder) / FILE_NAME
 
 
 def recorded() -> dict[str, float]:
-    """Seconds each unit took when last compiled here ({} when none were recorded or the file
-    cannot be read)."""
+    """Seconds each unit took when last compiled here ({} if none or unreadable)."""
     try:
         data = json.loads(times_path().read_text(encoding="utf-8"))
     except (OSError, ValueError):
@@ -91,8 +84,8 @@ def recorded() -> dict[str, float]:
 
 
 def record(seconds: Mapping[str | tuple[int, ...], float]) -> None:
-    """Add the measured ``seconds`` per unit to the file (written whole, then renamed: never
-    half-written); nothing when its folder cannot be written."""
+    """Add the measured ``seconds`` per unit to the file (written whole, then renamed); nothing
+    when its folder cannot be written."""
     path = times_path()
     data = recorded()
     known = {unit: s for unit, s in seconds.items() if weight(unit) is not None and s > 0}
@@ -116,10 +109,9 @@ def seconds_left(
     running: float,
     known: Mapping[str, float],
 ) -> float | None:
-    """About how long the units ``left`` take (the first is compiling, for ``running`` seconds
-    now), at the pace of the units ``done`` (unit → measured seconds) against their expected
-    times (``known``: :func:`recorded`, else the built-in weights); None when a unit has no
-    expected time (a unit this table does not know)."""
+    """About how long the units ``left`` take (the first compiling for ``running`` seconds), at
+    the pace of the units ``done`` (unit → measured seconds) against their expected times
+    (``known``: :func:`recorded`, else the built-in weights); None for a unit without one."""
 
     def expected(unit: str | tuple[int, ...]) -> float | None:
         if _key(unit) in known:

@@ -1,10 +1,6 @@
-"""The field's compile units, registered with :mod:`gogreen_core._compiled` when this module is
-imported: the drivers (``_expansion``, ``_integrator`` and the influence loops of
-``_influence_compiled``: one unit, :data:`~gogreen_core._compiled.DRIVERS`) and the generated
-angular kernel of each parity and highest degree (``(l_first, l_last)``, see ``_unrolled``).
-
-The evaluation asks here whether they are ready (:func:`angular`; ``_compiled.drivers``); until
-they are, it runs in NumPy or with the generic angular kernel (``_evaluation.Parity.backend``).
+"""The field's compile units, registered with :mod:`gogreen_core._compiled` on import: the
+drivers (``_expansion``, ``_integrator``, ``_influence_compiled``) and the generated angular
+kernel of each parity and highest degree (``(l_first, l_last)``).
 """
 
 from __future__ import annotations
@@ -25,9 +21,8 @@ _markers: dict[bool, CFunc[Any]] = {}
 
 
 def generic_marker(single: bool = False) -> CFunc[Any]:
-    """The C callback passed as ``angular`` (``single``: as ``angular32``, the streamlines'
-    single precision kernel) with ``unrolled=False`` (never called): the drivers then run the
-    generic ``_expansion._angular``. Compiled with the drivers."""
+    """The C callback passed as ``angular`` (``single``: ``angular32``) with ``unrolled=False``
+    (never called: the drivers run the generic ``_expansion._angular``)."""
     marker = _markers.get(single)
     if marker is None:
         from numba import cfunc
@@ -59,9 +54,8 @@ def units_for(l_max: int) -> tuple[_compiled.Unit, ...]:
 
 
 def _angular_kernels(unit: _compiled.Unit) -> list[tuple[int, int, bool]]:
-    """(l_first, l_last, single) of the kernels of an angular unit: double precision, and
-    single where the parity has more than one degree (the degrees above the
-    lowest)."""
+    """(l_first, l_last, single) of the kernels of an angular unit (single precision too where
+    the parity has more than one degree)."""
     first, last = int(unit[0]), int(unit[1])
     return [(first, last, single) for single in ((False, True) if last > first else (False,))]
 
@@ -82,7 +76,7 @@ def _driver_calls() -> list[tuple[Any, tuple[Any, ...]]]:
     f3, f33 = np.zeros(3), np.zeros((1, 3))
     rows, base = np.zeros(1, dtype=np.int64), np.zeros(2, dtype=np.int64)
     tables = np.zeros((1, 2, _expansion.SEGMENT_DEGREE + 1))
-    beta, blocks, flags = np.zeros((2, 2)), np.zeros(1), np.zeros(1, dtype=np.bool_)
+    beta, flags = np.zeros((2, 2)), np.zeros(1, dtype=np.bool_)
     marker = generic_marker()
     field = _stream.StreamField(
         center0=f3, center_step=f3, eps=1.0, power=1, l_first=0, l_last=0, base=base,
@@ -92,15 +86,13 @@ def _driver_calls() -> list[tuple[Any, tuple[Any, ...]]]:
         angular32=generic_marker(single=True), unrolled32=False,
     )  # fmt: skip
     return [
+        (_integrator._pass,
+         (0, f33, rows, True, 1.0, field, 1, True, True, 0.0, rows, f33, rows, f33, f33, rows,
+          flags, 0, 0)),
+        (_integrator._write_back, (f33, rows, True, f33, 0, 0)),
+        # the rest: see HELPER
         (_expansion.expand_blocks,
          (f33, f3, 1.0, 1, 0, 0, base, f33, beta, tables, marker, False, f33, 0, 0)),
-        (_integrator._probe_pass,
-         (f33, rows, True, 1.0, field, rows, blocks, blocks, blocks, 0, 0)),
-        (_integrator._first_pass,
-         (f33, rows, True, 1.0, 1, True, True, 0.0, field, f33, rows, blocks, blocks, blocks,
-          rows, flags, 0, 0)),
-        (_integrator._refine_pass, (f33, rows, True, field, 1.0, rows, f33, rows, flags, 0, 0)),
-        (_integrator._write_back, (f33, rows, True, f33, 0, 0)),
         *_influence_compiled.compile_calls(),
     ]  # fmt: skip
 
@@ -119,3 +111,14 @@ _compiled.register(
     lambda unit: _numba_cache.dispatchers_cached(_driver_calls()),
 )
 _compiled.register(_compiled.ANGULAR, __name__, _load_angular, _angular_cached)
+#: The drivers after the streamlines' two (the expansion, the influence loops), which a second
+#: compiling child compiles first, while the first compiles the streamlines' (the costliest):
+#: it then finds these in the disk cache.
+HELPER = "drivers_rest"
+_compiled.register(
+    HELPER,
+    __name__,
+    lambda unit: [dispatcher(*args) for dispatcher, args in _driver_calls()[2:]],
+    lambda unit: _numba_cache.dispatchers_cached(_driver_calls()[2:]),
+    helps=_compiled.DRIVERS,
+)

@@ -1,18 +1,9 @@
-"""The compiled code a :class:`~gogreen_core.field.kernel.GreenKernel` evaluates with.
-
-``_expansion`` and ``_integrator``: serial GIL-free numba functions run on a thread pool, and the
-generated angular kernels of ``_unrolled``, in double precision, but for the streamlines (the
-brushes' strokes), whose field sums the degrees above each parity's lowest in single precision
-(``_single_field``: twice the arithmetic rate, ~1e-8 of the field off double precision, 1e-4
-below the integrator's tolerance) and whose adaptive steps are third-order ones where probes
-show they are within the tolerance (``_integrator``). Deterministic bit for bit whatever the
-number of threads.
-
-Until the compiled code is ready (``_compiled``: in a child process, once per machine) the same
-arithmetic runs in NumPy (``_numpy_eval``, the reference, within 1e-12 relative of the compiled
-code), so the first evaluation on a new machine takes milliseconds, not the compiler's tens of
-seconds. Each parity chooses its :class:`Backend` once (:meth:`Parity.backend`), when the code
-it evaluates with is ready, not at every call.
+"""The code a :class:`~gogreen_core.field.kernel.GreenKernel` evaluates with: the compiled
+drivers (``_expansion``, ``_integrator``, serial GIL-free numba functions on a thread pool, with
+the generated angular kernels of ``_unrolled``), deterministic bit for bit whatever the number
+of threads, or until they are ready (``_compiled``) the NumPy reference ``_numpy_eval``. Each
+parity chooses its :class:`Backend` once the code it evaluates with is ready
+(:meth:`Parity.backend`), not at every call.
 """
 
 from __future__ import annotations
@@ -25,7 +16,7 @@ from numpy.typing import NDArray
 
 from gogreen_core import _compiled
 from gogreen_core._parallel import run_ranges
-from gogreen_core.field import _drivers, _expansion, _numpy_eval, _stream, _unrolled
+from gogreen_core.field import _drivers, _expansion, _integrator, _numpy_eval, _stream, _unrolled
 from gogreen_core.field._expansion import BLOCK
 from gogreen_core.field._influence_compiled import near_segment_rows
 
@@ -35,10 +26,9 @@ _MIN_BLOCKS = 32
 
 
 class Backend(NamedTuple):
-    """The code a parity evaluates with: the compiled drivers (``compiled``) with the angular
-    kernel ``angular`` of its degrees (double precision, three outputs; the generated one if
-    ``unrolled``, else the generic marker) and ``angular32`` (the streamlines' single precision
-    degrees, likewise ``unrolled32``), or the NumPy reference (``compiled`` false)."""
+    """The compiled drivers (``compiled``) with the angular kernel of the parity's degrees
+    (``angular``: generated if ``unrolled``, else the generic marker; ``angular32`` the
+    streamlines' float32 one), or the NumPy reference (``compiled`` false)."""
 
     compiled: bool
     angular: Any = None
@@ -52,10 +42,8 @@ NUMPY = Backend(False)
 
 
 class Parity:
-    """Packed material coefficients of one parity (even: G, odd: ∇G).
-
-    ``matrices`` (n_terms, 3, 3) or (n_terms, 3, 3, 3), rows of degree l from ``base[l]``;
-    ``scales`` (n_terms,) the Legendre scales folded into the coefficients."""
+    """Packed material coefficients of one parity (even: G, odd: ∇G): ``matrices`` (n_terms, 3,
+    3) or (n_terms, 3, 3, 3), rows of degree l from ``base[l]``."""
 
     def __init__(self, l_first: int, l_last: int, matrices: np.ndarray, base: np.ndarray):
         self.l_first = l_first
@@ -75,17 +63,16 @@ class Parity:
         return 1 if self.l_first == 0 else 2
 
     def backend(self) -> Backend:
-        """The code this parity evaluates with, chosen once it is final: NumPy until the
-        compiled drivers are ready (they and the generated kernels of these degrees are
-        requested), then the drivers with the generic angular kernel until the generated ones
-        (``_unrolled``, up to ``UNROLLED_L_MAX``) are ready too. Within ``_compiled.forced``
-        (tests, benchmarks) it is chosen at every call."""
+        """The code this parity evaluates with: NumPy until the compiled drivers are ready (they
+        and the generated kernels are requested), then the generic angular kernel until the
+        generated ones are too (kept once final; chosen at every call within
+        ``_compiled.forced``)."""
         if self._backend is not None and _compiled.forced_code() is None:
             return self._backend
         generated = self.l_last <= _unrolled.UNROLLED_L_MAX
+        if generated and _compiled.forced_code() is None:  # both parities' kernels: one batch
+            _compiled.request(*_drivers.units_for(self.l_last - self.l_first))
         if not _compiled.drivers():
-            if generated:
-                _compiled.request((self.l_first, self.l_last))
             return NUMPY
         kernel = _drivers.angular(self.l_first, self.l_last) if generated else None
         upper = generated and self.l_last > self.l_first
@@ -102,10 +89,9 @@ class Parity:
         return backend
 
     def single(self, folded: np.ndarray) -> tuple[np.ndarray, float]:
-        """The streamlines' single precision coefficients from the ``folded`` ones (n_terms, K):
-        (``folded`` divided by the largest magnitude of its rows of degree above l_first, as
-        float32; that magnitude). All zeros and 0 when there is none; NaN rows (and the field)
-        when it is not finite, as the double precision ones would overflow."""
+        """(``folded`` (n_terms, K) over the largest magnitude of its rows above degree l_first,
+        as float32; that magnitude): the streamlines' single precision coefficients (zeros and
+        0 when there is none; NaN when it is not finite)."""
         upper = np.abs(folded[2 * self.l_first + 1 :])
         scale = float(upper.max(initial=0.0))
         if scale == 0.0:
@@ -161,9 +147,8 @@ def stream_field(
 ) -> tuple[_stream.StreamField, Backend]:
     """The velocity field of the load ``coeffs`` (n_terms, 3) of ``parity`` moving from
     ``center`` by ``center_step``, faded between the ``cutoff`` radii, mirrored by ``mirrors``
-    about ``origin``, and the backend that integrates it. ``tables``: the parity's radial
-    tables (the lowest degree's is used); ``single_tables``: the single precision ones of the
-    degrees above it (``radial_tables.single_tables``)."""
+    about ``origin`` (``tables``: the parity's radial tables; ``single_tables``: the float32
+    ones of the degrees above the lowest), and the backend that integrates it."""
     inner, outer = cutoff
     width = outer - inner
     backend = parity.backend()
@@ -195,8 +180,10 @@ def stream(
 ) -> int:
     """The streamlines of ``field`` (:func:`stream_field`) from ``points`` with ``backend``; see
     ``_stream.stream`` for the arguments and the status returned."""
-    run = _stream.stream if backend.compiled else _numpy_eval.stream
-    return run(points, rows, indexed, in_place, limit, field, substeps, tolerance, out, steps)
+    run_pass = _integrator._pass if backend.compiled else _numpy_eval.stream_pass
+    return _stream.stream(
+        points, rows, indexed, in_place, limit, field, substeps, tolerance, out, steps, run_pass
+    )
 
 
 def near_segment(

@@ -4,27 +4,18 @@
 
 with x = points[n] - center, r = |x|, t = r/(r+ε), T_l the piecewise polynomial radial tables of
 ``radial.py`` and Y_lm the real harmonics of ``sph.py`` in the rescaled form of ``_unrolled``
-(``coeffs`` arrive with the Legendre scales folded in). One set of compiled functions serves
-every use (G, ∇G, vector and affine loads): they differ only in ``coeffs`` (n_terms, K).
+(Legendre scales folded into ``coeffs``). G, ∇G, vector and affine loads differ only in ``coeffs``.
 
-Two compiled implementations of one arithmetic: the generic ``_angular`` here (loops over
-(l, m) on rows of a block; compiled with the drivers) and the straight-line kernels
-``_unrolled`` generates per truncation degree (everything in registers, 2-3x faster). They
-perform the same IEEE operations in the same order, with no fused multiply-add and no other
-contraction (no ``fastmath``: LLVM would contract the two code shapes differently), so a replay
-gives the same bits whichever of them was compiled when the stroke was made. The NumPy
-evaluation of ``_numpy_eval`` (no compilation at all: it serves on a new machine until the
-compiled code is ready) is held to them within 1e-12 relative
-(``tests/core/field/test_numpy_until_compiled.py``).
+The generic ``_angular`` here and the straight-line kernels ``_unrolled`` generates (2-3x
+faster) perform the same IEEE operations in the same order, with no contraction (no
+``fastmath``), so a replay gives the same bits whichever was compiled when the stroke was made;
+``_numpy_eval`` is held to them within 1e-12 relative.
 
-The functions here are serial and release the GIL; ``_parallel`` runs them over ranges of
-blocks on a thread pool. Serial numba functions compile in a fraction of the time of
-``parallel=True`` ones, and results do not depend on the split (each point is computed alone).
-
-Speed notes (measured on the 2-core machine): points are processed in blocks of ``BLOCK`` on
-contiguous scratch rows so that LLVM vectorizes across points; ``error_model="numpy"`` removes
-the zero-division checks that otherwise block vectorization; loops touch few arrays each (LLVM
-gives up when runtime alias checks grow too many).
+The functions are serial and release the GIL (``_parallel`` runs them over ranges of blocks:
+serial ones compile far faster than ``parallel=True``). Points go in blocks of ``BLOCK`` on
+contiguous scratch rows so that LLVM vectorizes across points; ``error_model="numpy"`` drops the
+zero-division checks that block vectorization; loops touch few arrays each (LLVM gives up when
+runtime alias checks grow too many).
 """
 
 from __future__ import annotations
@@ -41,10 +32,8 @@ from numpy.typing import NDArray
 if TYPE_CHECKING:
     from gogreen_core._jit_options import NogilJitOptions
 
-# numba's OpenMP threading layer loads libgomp at the first parallel call (``geometry.py``'s
-# drivers; after this import); its default lets idle worker threads spin, which on cores shared
-# with other programs starves the threads doing the work (measured: a grab event on the
-# 1M-vertex ogre 186-234 ms -> 83-85 ms when it still used OpenMP). A user's own setting wins.
+# numba's OpenMP layer (``geometry.py``'s parallel functions) lets idle threads spin by default,
+# starving the working ones on shared cores (a 1M-vertex grab event: 186-234 ms -> 83-85 ms).
 os.environ.setdefault("OMP_WAIT_POLICY", "passive")
 
 #: Points per block (scratch rows of BLOCK doubles stay in the L1 cache).
@@ -55,10 +44,8 @@ SEGMENT_DEGREE = 5
 _JIT: NogilJitOptions = {"cache": True, "boundscheck": False, "error_model": "numpy", "nogil": True}
 
 
-#: Signature of the angular kernels generated per degree by ``_unrolled``:
-#: (nb, geo (8, BLOCK), rad (n_deg, BLOCK), coeffs (n_terms, 3), acc (3, BLOCK)), C-contiguous
-#: arrays passed as pointers. They reach the drivers as first-class functions, so the drivers
-#: are compiled (and cached on disk) once, whatever the degree.
+#: Signature of ``_unrolled``'s kernels: (nb, geo (8, BLOCK), rad (n_deg, BLOCK), coeffs
+#: (n_terms, 3), acc (3, BLOCK)) as pointers. First-class functions: the drivers compile once.
 _F8P = types.CPointer(types.float64)
 ANGULAR_SIGNATURE = types.void(types.int64, _F8P, _F8P, _F8P, _F8P)
 #: The same for the single precision kernels of the streamlines (float32 rows).
@@ -69,9 +56,7 @@ ANGULAR_SINGLE_SIGNATURE = types.void(types.int64, _F4P, _F4P, _F4P, _F4P)
 def generic_marker(  # pragma: no cover - never called
     nb: int, geo: Any, rad: Any, coeffs: Any, acc: Any
 ) -> None:
-    """Made a C callback by ``_drivers.generic_marker`` (when the drivers compile, not at
-    import; one of each signature) and passed as ``angular`` with ``unrolled=False``: the
-    drivers then run ``_angular``."""
+    """Passed as ``angular`` with ``unrolled=False`` (``_drivers.generic_marker``)."""
     carray(acc, (3, BLOCK))[0, 0] = np.nan
 
 
@@ -80,10 +65,9 @@ _TINY = 2.0**-600
 _HUGE = 2.0**600
 
 
-#: The cutoff weight is exactly 0 from u = (d - inner) / (outer - inner) ≥ CUTOFF_END on (where
-#: the smoothstep is below 1e-26, and rounding would leave ~1e-16): a vertex whose every stage
-#: lies there does not move at all, so whether the influence test (``near_segment``) counts a
-#: vertex at rounding distance from the ball's surface in or out changes no result.
+#: The cutoff weight is exactly 0 from u = (d - inner) / (outer - inner) ≥ CUTOFF_END on (the
+#: smoothstep is below 1e-26 there): a vertex at rounding distance from the influence ball's
+#: surface does not move whether the influence test counts it in or out.
 CUTOFF_END = 1.0 - 2.0**-30
 
 
@@ -92,15 +76,11 @@ def _geometry(
     eps: float, power: int, n_seg: int, nb: int, geo: NDArray[np.float64], seg: NDArray[np.int64]
 ) -> None:
     """Rows of ``geo``: x̂, ŷ, ẑ, r, local table variable, 1/(r+ε)^p for l = 0 and for l ≥ 1,
-    from the offsets x - c the caller wrote in rows 0-2 (normalized in place); ``seg`` gets each
-    point's table segment.
+    from the offsets x - c in rows 0-2 (normalized in place); ``seg`` gets each point's segment.
 
-    At r = 0 the direction is 0 and the l ≥ 1 scale is 0: R_l(0) = ℛ_l(0) = 0 for l ≥ 1, so G(0)
-    is its exact degree-0 term and ∇G(0) = 0 with no special case downstream.
-
-    Far points: where x² + y² + z² would overflow (r ≳ 1e154) r is computed from the offsets
-    scaled by 2⁻⁶⁰⁰ (exact), so every finite offset up to ~1e300 gives a finite r, direction and
-    table variable, and the far field its 1/r (1/r² for ∇G) decay, underflowing to 0 at worst.
+    At r = 0 the direction and the l ≥ 1 scale are 0 (R_l(0) = ℛ_l(0) = 0 for l ≥ 1). Where
+    x² + y² + z² would overflow, r comes from the offsets scaled by 2⁻⁶⁰⁰ (exact): every finite
+    offset gives a finite r and the far field its decay.
     """
     x, y, z, rr, loc, scale0, scale1 = geo[0], geo[1], geo[2], geo[3], geo[4], geo[5], geo[6]
     n_huge = 0
@@ -141,12 +121,9 @@ def _radial(
     seg: NDArray[np.int64],
     rad: NDArray[np.float64],
 ) -> None:
-    """rad[d, i] = R_l(r_i) (or ℛ_l) for every degree of the parity (d = (l - l_first) / 2).
-
-    The degree-5 segment polynomial by Estrin's scheme (depth 3). Each point reads its own
-    segment; degrees outermost, so that the loop over the block's points vectorizes with
-    gathers (a segment's six coefficients are contiguous per degree).
-    """
+    """rad[d, i] = R_l(r_i) (or ℛ_l) for every degree of the parity (d = (l - l_first) / 2):
+    the degree-5 segment polynomial by Estrin's scheme, degrees outermost (the loop over the
+    points vectorizes with gathers)."""
     loc, scale0, scale1 = geo[4], geo[5], geo[6]
     for d in range(tables.shape[0]):
         c = tables[d]
@@ -177,16 +154,9 @@ def _angular(
     work: NDArray[np.float64],
     acc: NDArray[np.float64],
 ) -> None:
-    """acc[k, i] = Σ_l rad[l, i] Σ_m Y_lm(x̂_i) coeffs[row(l, m), k] for one block, K outputs.
-
-    The arithmetic of the generated kernels (``_unrolled.angular_source``), operation for
-    operation: per order m the rescaled Legendre recurrence P_m = 1, P_{m+1} = z,
-    P_l = z P_{l-1} - β_lm P_{l-2}; per degree of the parity t = R_l P_l (R_m when l = m)
-    accumulated into A_k += t C (cosine coefficients) and B_k (sine), the first term a plain
-    product; then u_k = A_k (m = 0) or (u_k + cos mφ A_k) + sin mφ B_k, with cos φ = x,
-    sin φ = y and cos mφ = cos x - sin y, sin mφ = cos y + sin x above.
-    ``work`` holds (4 + 2K, BLOCK) scratch rows.
-    """
+    """acc[k, i] = Σ_l rad[l, i] Σ_m Y_lm(x̂_i) coeffs[row(l, m), k] for one block, K outputs:
+    the arithmetic of ``_unrolled.angular_source`` (see there), operation for operation, on
+    (4 + 2K, BLOCK) scratch rows ``work``."""
     x, y, z = geo[0], geo[1], geo[2]
     cos_m, sin_m, prev, cur = work[0], work[1], work[2], work[3]
     n_out = acc.shape[0]

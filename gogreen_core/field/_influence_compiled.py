@@ -1,9 +1,7 @@
-"""The compiled loops of :mod:`gogreen_core.mesh.influence` (serial, GIL released; the thread pool
-of ``_parallel`` runs them over ranges of blocks; compiled with the drivers, see ``_compiled``).
-
-Blocks are the runs of :data:`BLOCK` consecutive vertex rows; a block's box is the exact
-minimum and maximum (3,) of its rows' coordinates. The constants the loops read are defined
-here: numba's disk cache is keyed on this file, so a change of one recompiles them.
+"""The compiled loops of :mod:`gogreen_core.mesh.influence` (serial, GIL released, run over
+ranges of blocks by ``_parallel``; compiled with the drivers). Blocks are the runs of
+:data:`BLOCK` consecutive vertex rows; a block's box is the exact minimum and maximum (3,) of
+its rows. The constants live here: numba's disk cache is keyed on this file.
 """
 
 from __future__ import annotations
@@ -43,9 +41,8 @@ def near_segment_rows(
     last: int,
 ) -> None:
     """out[n] for n in [first, last): some mirror image of points[n] is within ``radius`` of the
-    segment start → start + step (the loop over the points inner, so that it vectorizes). The
-    one per-point influence test: over every row (``_evaluation.near_segment``) and over the
-    rows of the blocks a capsule meets (``_test_blocks``), so both give the same rows."""
+    segment start → start + step. The one per-point influence test (over every row, and over
+    the blocks a capsule meets: both give the same rows)."""
     length2 = step[0] * step[0] + step[1] * step[1] + step[2] * step[2]
     inv = 1.0 / length2 if length2 > 0.0 else 0.0
     r2 = radius * radius
@@ -123,10 +120,9 @@ def _classify(
     images: NDArray[np.uint8],
     hits: NDArray[np.int64],
 ) -> tuple[int, int]:
-    """Each block's status (0: out of every capsule, 1: inside one, 2: to test) and images
-    (bit i: the capsule of mirror image i may meet its box); ``hits`` gets the blocks of status
-    1 or 2 in order. Returns (their count, the rows of status 2), or (-1, 0) where the margin
-    argument does not hold (coordinates, radius or step past :data:`MAX_SCALE`)."""
+    """Each block's status (OUT, INSIDE a capsule, TESTED) and images (bit i: the capsule of
+    mirror image i may meet its box); ``hits`` gets the blocks not OUT in order. Returns
+    (their count, the rows TESTED), or (-1, 0) past :data:`MAX_SCALE`."""
     n_blocks, n_images = lo.shape[0], mirrors.shape[0]
     r = abs(radius)
     scale = r
@@ -284,8 +280,7 @@ def _emit(
 
 
 def compile_calls() -> list[tuple[Any, tuple[Any, ...]]]:
-    """(dispatcher, arguments) of every compiled function here, typed as the real calls, with
-    empty ranges (``_compiled`` compiles them with the drivers)."""
+    """(dispatcher, arguments) of every compiled function here, typed as called, empty ranges."""
     f3, f33, rows = np.zeros(3), np.zeros((1, 3)), np.zeros(1, dtype=np.int64)
     flags, small = np.zeros(1, dtype=np.bool_), np.zeros(1, dtype=np.uint8)
     return [

@@ -6,36 +6,33 @@ u is the expansion of ``_expansion`` with the load contracted into its coefficie
 the C² smooth cutoff (1 up to ``cutoff_inner``, a quintic smoothstep down to 0 over
 1 / inv_width), M the mirror reflections about ``origin`` (row 0 is the brush itself).
 
-u is evaluated as ``_single_field`` says: the parity's lowest degree in double precision, the
-degrees above it in single precision (their arithmetic twice as fast, ~1e-8 of the field off
-double precision, and the grabbed point at the brush centre still follows the cursor to
-rounding).
+u is evaluated with the parity's lowest degree (l = 0 for G, 1 for ∇G: most of the field, all
+of it at the brush centre) in double precision, so the grabbed point follows the cursor to
+rounding, and the degrees above it, a correction of a few to a few tens of percent, in single
+precision (float32 directions, table variables, ``radial_tables.single_table``, coefficients
+over their largest magnitude ``cscale``; the generated ``angular_single`` kernels or the generic
+``_expansion._angular`` on float32 rows: twice the arithmetic rate), summed, scaled and added in
+double precision: ~1e-8 of the field off double precision, 1e-4 below the tolerance. No
+fastmath: ``_numpy_eval`` performs the float32 operations in the same order (within 1e-12).
 
-``_stream.stream`` runs the passes below over blocks of points on the thread pool
-(``_parallel``):
+``_stream.stream`` runs the passes below over blocks of points on the thread pool:
 
 * fixed steps (``tolerance <= 0``): ``substeps`` classical RK4 steps for every point;
-* adaptive: one RK4 step for every point, whose stages also give the ends of two second-order
-  rules (midpoint x₀ + k₂, trapezoid x₀ + (k₁ + k₄)/2); the larger distance e of the RK4 end to
-  them estimates a second-order error (order h³), and the RK4 error (order h⁵) is predicted as
-  e (e / max(m, e))^(2/3), m the point's motion. Points whose prediction exceeds
-  ``_stream.ESTIMATE_SAFETY`` · tolerance · scale (scale = the largest of |Δc| and every
-  motion m) are packed into blocks of their own and integrated again with 2, 4, ... RK4 steps
-  until Richardson's estimate |x_n - x_(n/2)| / 15 is under that bound (at most
-  MAX_ADAPTIVE_STEPS);
-* adaptive, on ``_stream.THIRD_ORDER_POINTS`` points or more: first the probes,
-  ``_stream.probe_rows`` evenly spread over the points, each integrated with one third-order
-  step (SSPRK3, three evaluations) and with one and two RK4 steps. Where the third-order step's
-  error they show (its distance to the two-step end, plus that end's Richardson estimate) is
-  within the bound above at every probe, every point takes the third-order step instead of
-  RK4's, and keeps it if its spread (the distance of its end to the second-order Heun end made
-  of the same stages) is within the probes' range: a point the probes did not speak for goes to
-  the refinement above (its first end a third-order one, which only makes Richardson's estimate
-  larger). Elsewhere the RK4 pass above runs.
+* adaptive: one RK4 step for every point; the larger distance e of its end to the ends of two
+  second-order rules of its stages (midpoint x₀ + k₂, trapezoid x₀ + (k₁ + k₄)/2) predicts its
+  error as e (e / max(m, e))^(2/3), m the point's motion. Points predicted beyond
+  ``_stream.ESTIMATE_SAFETY`` · tolerance · scale (scale: the largest of |Δc| and every m) are
+  packed into blocks of their own and integrated again with 2, 4, ... RK4 steps until
+  Richardson's estimate |x_n - x_(n/2)| / 15 is under that bound (at most MAX_ADAPTIVE_STEPS);
+* adaptive, on ``_stream.THIRD_ORDER_POINTS`` points or more: first the probes
+  (``_stream.probe_rows``), each integrated with one third-order step (SSPRK3, three
+  evaluations) and with one and two RK4 steps. Where the third-order error they show is within
+  the bound at every probe, every point takes the third-order step instead, and keeps it if its
+  spread (distance to the Heun end of the same stages) is within the probes' range; the others
+  go to the refinement above. Elsewhere the RK4 pass runs.
 
-Every point's result depends only on the input (blocks are fixed by the point order, never by
-the thread count), and the generic and generated angular kernels compute the same bits, so
-replays are bit-identical whatever the threads or the kernels compiled so far.
+A point's result depends only on the input (blocks follow the point order, not the threads),
+and the generic and generated angular kernels give the same bits: replays are bit-identical.
 """
 
 from __future__ import annotations
@@ -46,8 +43,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
-from gogreen_core.field._expansion import _JIT, BLOCK, CUTOFF_END
-from gogreen_core.field._single_field import _single_velocity
+from gogreen_core.field._expansion import _HUGE, _JIT, _TINY, BLOCK, CUTOFF_END, _angular, _radial
 
 if TYPE_CHECKING:
     from gogreen_core.field._stream import StreamField as Field
@@ -60,10 +56,10 @@ if TYPE_CHECKING:
 
 __all__ = ["CUTOFF_END", "MAX_ADAPTIVE_STEPS"]
 
-#: SHA-256 (first 16 hex digits) of ``_expansion.py`` and ``_single_field.py``, written by
-#: ``scripts/make_kernels.py``. numba keys the disk cache of this module's compiled code on this
-#: file alone, yet compiles their functions into it: a change there must change this file.
-COMPILED_SOURCES = "6559c9e5fe23270d"
+#: SHA-256 (first 16 hex digits) of ``_expansion.py``, written by ``scripts/make_kernels.py``.
+#: numba keys the disk cache of this module's compiled code on this file alone, yet compiles
+#: that module's functions into it: a change there must change this file.
+COMPILED_SOURCES = "5aefe960b5b0eb43"
 
 #: Largest number of RK4 steps the adaptive streamlines give one vertex in one event.
 MAX_ADAPTIVE_STEPS = 256
@@ -72,10 +68,188 @@ _THIRD = 1.0 / 3.0
 
 
 @njit(**_JIT)
+def _single_geometry(
+    pos: np.ndarray, mi: int, nb: int, t: float, field: Field, scratch: Scratch
+) -> int:
+    """``_expansion._geometry`` of mirror image ``mi`` of the points ``pos`` (fewer passes), the
+    direction and table variable also as float32 (geo32 rows 0-2 and 4), the cutoff weight (geo
+    row 7). Returns how many points it reaches."""
+    center0, center_step, eps, power, l_first, tables = (
+        field.center0, field.center_step, field.eps, field.power, field.l_first, field.tables
+    )  # fmt: skip
+    cutoff_inner, inv_width = field.cutoff_inner, field.inv_width
+    mirrors, origin = field.mirrors, field.origin
+    n_seg = tables.shape[1]
+    geo, seg, geo32 = scratch[0], scratch[1], scratch[3]
+    x, y, z, rr, loc, scale0, scale1, weight = (
+        geo[0], geo[1], geo[2], geo[3], geo[4], geo[5], geo[6], geo[7]
+    )  # fmt: skip
+    x32, y32, z32, loc32 = geo32[0], geo32[1], geo32[2], geo32[4]
+    cx = center0[0] + t * center_step[0]
+    cy = center0[1] + t * center_step[1]
+    cz = center0[2] + t * center_step[2]
+    n_huge = 0
+    if mi == 0:  # the brush itself sees exactly its own positions
+        for i in range(nb):
+            a = pos[0, i] - cx
+            b = pos[1, i] - cy
+            c = pos[2, i] - cz
+            x[i] = a
+            y[i] = b
+            z[i] = c
+            r2 = a * a + b * b + c * c
+            n_huge += 0 if r2 < 1e300 else 1
+            rr[i] = math.sqrt(r2)
+    else:
+        for k in range(3):
+            sgn = mirrors[mi, k]
+            o = origin[k]
+            c = center0[k] + t * center_step[k]
+            offset = geo[k]
+            for i in range(nb):
+                offset[i] = (pos[k, i] if sgn > 0 else o - (pos[k, i] - o)) - c
+        for i in range(nb):
+            r2 = x[i] * x[i] + y[i] * y[i] + z[i] * z[i]
+            n_huge += 0 if r2 < 1e300 else 1
+            rr[i] = math.sqrt(r2)
+    if n_huge > 0:  # rare: see ``_geometry``
+        for i in range(nb):
+            if not x[i] * x[i] + y[i] * y[i] + z[i] * z[i] < 1e300:
+                xs, ys, zs = x[i] * _TINY, y[i] * _TINY, z[i] * _TINY
+                rr[i] = math.sqrt(xs * xs + ys * ys + zs * zs) * _HUGE
+    if l_first:
+        for i in range(nb):
+            r = rr[i]
+            inv = 1.0 / r if r > 0.0 else 0.0
+            x[i] *= inv
+            y[i] *= inv
+            z[i] *= inv
+            x32[i] = x[i]
+            y32[i] = y[i]
+            z32[i] = z[i]
+    else:
+        for i in range(nb):
+            r = rr[i]
+            inv = 1.0 / r if r > 0.0 else 0.0
+            x32[i] = x[i] * inv
+            y32[i] = y[i] * inv
+            z32[i] = z[i] * inv
+    reached = 0
+    for i in range(nb):
+        r = rr[i]
+        inv_re = 1.0 / (r + eps)
+        u = min(r * inv_re, 1.0) * n_seg
+        fj = min(math.floor(u), n_seg - 1.0)
+        seg[i] = int(fj)
+        sigma = 2.0 * (u - fj)
+        loc[i] = sigma - 1.0
+        loc32[i] = sigma
+        sc = inv_re if power == 1 else inv_re * inv_re
+        scale0[i] = sc
+        scale1[i] = sc if r > 0.0 else 0.0
+        c = min(max((r - cutoff_inner) * inv_width, 0.0), 1.0)
+        w = 1.0 - c * c * c * (10.0 + c * (6.0 * c - 15.0))
+        weight[i] = w if c < CUTOFF_END else 0.0
+        reached += 1 if c < CUTOFF_END else 0
+    return reached
+
+
+@njit(**_JIT)
+def _single_radial(
+    tables32: np.ndarray, nb: int, seg: np.ndarray, sigma: np.ndarray, rad32: np.ndarray
+) -> None:
+    """rad32[d, i] = the float32 table ``tables32`` (S, n_deg - 1, 3) of degree d above the
+    lowest at point i, c₀ + (c₁ + c₂ σ) σ with σ = loc + 1, unscaled. Two degrees a loop (their
+    coefficients side by side: one index serves both, 1.3x faster)."""
+    n_deg = tables32.shape[1]
+    for d in range(0, n_deg - 1, 2):
+        row, nxt = rad32[d], rad32[d + 1]
+        for i in range(nb):
+            j = np.uint64(seg[i])
+            s = sigma[i]
+            row[i] = tables32[j, d, 0] + (tables32[j, d, 1] + tables32[j, d, 2] * s) * s
+            nxt[i] = tables32[j, d + 1, 0] + (tables32[j, d + 1, 1] + tables32[j, d + 1, 2] * s) * s
+    if n_deg % 2:
+        d = n_deg - 1
+        row = rad32[d]
+        for i in range(nb):
+            j = np.uint64(seg[i])
+            s = sigma[i]
+            row[i] = tables32[j, d, 0] + (tables32[j, d, 1] + tables32[j, d, 2] * s) * s
+
+
+@njit(**_JIT)
+def _single_velocity(
+    pos: np.ndarray, nb: int, t: float, field: Field, scratch: Scratch, vel: np.ndarray
+) -> None:
+    """vel[:, :nb] = v(pos[:, :nb], t) (rows x, y, z; module docstring)."""
+    l_first, l_last, base, coeffs, tables = (
+        field.l_first, field.l_last, field.base, field.coeffs, field.tables
+    )  # fmt: skip
+    mirrors = field.mirrors
+    coeffs32, beta32, tables32, cscale = field.coeffs32, field.beta32, field.tables32, field.cscale
+    angular32, unrolled32 = field.angular32, field.unrolled32
+    geo, seg, rad, geo32, rad32, work32, total32 = scratch
+    x, y, z, scale1, weight = geo[0], geo[1], geo[2], geo[6], geo[7]
+    upper = l_last > l_first
+    for mi in range(mirrors.shape[0]):
+        if _single_geometry(pos, mi, nb, t, field, scratch) == 0:  # beyond the cutoff: v += 0
+            if mi == 0:
+                for k in range(3):
+                    for i in range(nb):
+                        vel[k, i] = 0.0
+            continue
+        _radial(tables, l_first, nb, geo, seg, rad)  # the lowest degree's, alone in ``tables``
+        _single_radial(tables32, nb, seg, geo32[4], rad32)
+        if upper:
+            if unrolled32:
+                angular32(nb, geo32.ctypes, rad32.ctypes, coeffs32.ctypes, total32.ctypes)
+            else:
+                _angular(
+                    l_first + 2, l_last, base, coeffs32, beta32, nb, geo32, rad32, work32, total32
+                )
+        else:
+            for k in range(3):
+                for i in range(nb):
+                    total32[k, i] = 0.0
+        t0 = rad[0]
+        for k in range(3):
+            sgn = mirrors[mi, k]
+            v_k, t_k = vel[k], total32[k]
+            c0, c1, c2 = (
+                coeffs[0, k],
+                coeffs[1 if l_first else 0, k],
+                coeffs[2 if l_first else 0, k],
+            )
+            # the lowest degree: R₀ Y₀₀ C, or R₁ Σ_m Y_1m C_1m in the rescaled form of
+            # ``_expansion._angular`` (P_1^0 = z, P_1^1 = 1, cos φ = x̂, sin φ = ŷ); then the
+            # weighted sum (a zero weight adds exactly nothing; one loop per case: a branch
+            # inside kept it from vectorizing)
+            if l_first == 0 and mi == 0:
+                for i in range(nb):
+                    u = t0[i] * c0 + (scale1[i] * cscale) * t_k[i]
+                    v_k[i] = weight[i] * u if weight[i] != 0.0 else 0.0
+            elif l_first == 0:
+                for i in range(nb):
+                    u = t0[i] * c0 + (scale1[i] * cscale) * t_k[i]
+                    v_k[i] = v_k[i] + (sgn * weight[i]) * u if weight[i] != 0.0 else v_k[i]
+            elif mi == 0:
+                for i in range(nb):
+                    a = t0[i]
+                    u = ((a * z[i]) * c1 + x[i] * (a * c2)) + y[i] * (a * c0)
+                    u = u + (scale1[i] * cscale) * t_k[i]
+                    v_k[i] = weight[i] * u if weight[i] != 0.0 else 0.0
+            else:
+                for i in range(nb):
+                    a = t0[i]
+                    u = ((a * z[i]) * c1 + x[i] * (a * c2)) + y[i] * (a * c0)
+                    u = u + (scale1[i] * cscale) * t_k[i]
+                    v_k[i] = v_k[i] + (sgn * weight[i]) * u if weight[i] != 0.0 else v_k[i]
+
+
+@njit(**_JIT)
 def _scratch(n_single: int) -> tuple[Scratch, Rows]:
-    """Scratch rows of the velocity (``_single_field``: geometry, segments, the lowest degree's
-    radial term; float32 geometry, radial terms, angular work and sum) and of ``_steps``
-    (position, stage position, velocity)."""
+    """Scratch rows of the velocity and of ``_steps`` (position, stage position, velocity)."""
     scratch = (
         np.empty((8, BLOCK)),
         np.empty(BLOCK, dtype=np.int64),
@@ -112,19 +286,13 @@ def _steps(
     rows: Rows,
 ) -> None:
     """end[:, :nb] = ``n_steps`` classical RK4 steps over t ∈ [0, 1] from start[:, :nb], or
-    (``third_order``) one third-order step.
+    (``third_order``) one third-order step. One RK4 step also writes into mid (6, BLOCK) the
+    midpoint end x₀ + k₂ (rows 0-2) and the trapezoid end x₀ + (k₁ + k₄)/2 (rows 3-5).
 
-    RK4 with one step: mid (6, BLOCK) also gets the ends of two second-order rules made of its
-    stages, the midpoint rule x₀ + k₂ (rows 0-2) and the trapezoid x₀ + (k₁ + k₄)/2 (rows
-    3-5): the adaptive pass's error estimates.
-
-    Third order: Shu and Osher's strong-stability-preserving RK3, stages k₁ at (x₀, 0), k₂ at
-    (x₀ + k₁, 1), k₃ at (x₀ + (k₁ + k₂)/4, ½), end x₀ + (k₁ + k₂ + 4 k₃)/6; spread[i] =
-    |(2 k₃ - k₁ - k₂)/3|², the squared distance of that end to the second-order Heun end
-    x₀ + (k₁ + k₂)/2 (mid rows 3-5 hold k₁ + k₂).
-
-    One call of the velocity for all stages: each is compiled into its caller, and fewer copies
-    compile faster.
+    Third order: Shu and Osher's SSPRK3, stages k₁ at (x₀, 0), k₂ at (x₀ + k₁, 1), k₃ at
+    (x₀ + (k₁ + k₂)/4, ½), end x₀ + (k₁ + k₂ + 4 k₃)/6; spread[i] = |(2 k₃ - k₁ - k₂)/3|², the
+    squared distance to the Heun end x₀ + (k₁ + k₂)/2 (mid rows 3-5 hold k₁ + k₂). One call of
+    the velocity for all stages (fewer inlined copies compile faster).
     """
     pos, stage_pos, vel = rows
     h = 1.0 / n_steps
@@ -195,123 +363,134 @@ def _steps(
 @njit(**_JIT)
 def _predicted_error(end: np.ndarray, start: np.ndarray, mid: np.ndarray, i: int) -> float:
     """The cube of one RK4 step's predicted error at point i, e⁵ / max(m, e)² (module
-    docstring), from its end, start and second-order ends ``mid`` (``_steps``)."""
+    docstring)."""
     m2 = _norm2(end, start, i, 0)
     e = math.sqrt(max(_norm2(mid, end, i, 0), _norm2(mid, end, i, 3)))
     reach2 = max(m2, e * e)
     return e * e * e * e * e / reach2 if reach2 > 0.0 else 0.0
 
 
-@njit(**_JIT)
-def _probe_pass(
-    points: np.ndarray,
-    indices: np.ndarray,
-    indexed: bool,
-    limit: float,
-    field: Field,
-    probes: np.ndarray,  # (P,) int64 points probed (rows of ``indices`` if indexed)
-    error: np.ndarray,  # (P,) the third-order step's error (see below)
-    spread: np.ndarray,  # (P,) the third-order step's squared spread (``_steps``)
-    motion: np.ndarray,  # (P,) the squared motion |x₄ - x₀|² of the two RK4 steps
-    first_block: int,
-    last_block: int,
-) -> None:
-    """The probes of the third-order pass (blocks [first, last) of them; see the module
-    docstring): the third-order end x₃'s error is measured against two RK4 steps x₄, whose own
-    is Richardson's estimate against one: |x₃ - x₄| + |x₄ - x₄'| / 15. A probe whose start is
-    bad (the first pass reports it) gets an infinite error."""
-    n_probes = probes.shape[0]
-    n_rows = points.shape[0]
-    scratch, rows = _scratch(field.tables32.shape[1])
-    start_rows = np.empty((3, BLOCK))
-    third = np.empty((3, BLOCK))
-    fourth = np.empty((3, BLOCK))
-    coarse = np.empty((3, BLOCK))
-    mid_rows = np.empty((6, BLOCK))
-    spreads = np.empty(BLOCK)
-    for blk in range(first_block, last_block):
-        start = blk * BLOCK
-        nb = min(BLOCK, n_probes - start)
-        good = True
-        for j in range(nb):
-            row = probes[start + j]
-            if indexed:
-                row = indices[row]
-                if row < 0 or row >= n_rows:
-                    good = False
-                    row = 0
-            for k in range(3):
-                value = points[row, k]
-                good = good and (abs(value) <= limit or not indexed)
-                start_rows[k, j] = value
-        if not good:
-            for j in range(nb):
-                error[start + j] = np.inf
-            continue
-        for method in range(3):  # one call site (see ``_steps``)
-            ends = third if method == 0 else (coarse if method == 1 else fourth)
-            _steps(method == 0, max(method, 1), nb, start_rows, ends, mid_rows, spreads, field,
-                   scratch, rows)  # fmt: skip
-        for j in range(nb):
-            richardson = math.sqrt(_norm2(fourth, coarse, j, 0)) / 15.0
-            error[start + j] = math.sqrt(_norm2(third, fourth, j, 0)) + richardson
-            spread[start + j] = spreads[j]
-            motion[start + j] = _norm2(fourth, start_rows, j, 0)
+#: What ``_pass`` does with its blocks: the probes, the first pass, the refinement.
+PROBE, FIRST, REFINE = 0, 1, 2
 
 
 @njit(**_JIT)
-def _first_pass(
+def _pass(
+    kind: int,  # PROBE, FIRST or REFINE (module docstring)
     points: np.ndarray,  # (N_all, 3) float64, start positions (the rows ``indices`` if indexed)
     indices: np.ndarray,  # (N,) int64 rows of ``points`` to move if ``indexed``
     indexed: bool,  # False: move every row of ``points`` (``indices`` is not read)
     limit: float,  # largest coordinate magnitude accepted in an indexed start position
-    n_steps: int,  # RK4 steps (1 when adaptive)
-    adaptive: bool,  # also estimate the errors (``rank``, ``block_motion``)
-    third_order: bool,  # one SSPRK3 step (adaptive), kept where its spread is within the limit
-    spread_limit: float,  # the largest squared spread (``_steps``) the probes spoke for
     field: Field,
+    n_steps: int,  # FIRST: RK4 steps (1 when adaptive)
+    adaptive: bool,  # FIRST: also estimate the errors (``found``, ``block_found``)
+    third_order: bool,  # FIRST: one SSPRK3 step, kept where its spread is within ``level``
+    level: float,  # FIRST: the largest squared spread the probes spoke for; REFINE: the bound
+    picked_rows: np.ndarray,  # (P,) int64: PROBE the points probed, REFINE those refined
     out: np.ndarray,  # (N, 3) end positions
-    evaluations: np.ndarray,  # (N,) int64 velocity evaluations each point took
-    rank: np.ndarray,  # (N,) e⁵ / max(m, e)²: the cube of the predicted error (module docstring)
-    block_motion: np.ndarray,  # (n_blocks,) the largest motion m in each block
-    block_rank: np.ndarray,  # (n_blocks,) the largest rank in each block
+    evaluations: np.ndarray,  # (N,) int64 velocity evaluations each point took (empty: none)
+    found: np.ndarray,  # PROBE (3, P) float64, FIRST (1, N): see below
+    block_found: np.ndarray,  # FIRST (2, n_blocks): each block's largest motion and rank
     problem: np.ndarray,  # (n_blocks,) int64: 1 an index out of range, 2 a bad start
     bad: np.ndarray,  # (n_blocks,) bool: an end position not finite
     first_block: int,
     last_block: int,
 ) -> None:
-    """The first pass of ``stream`` over blocks [first_block, last_block)."""
+    """Blocks [first_block, last_block) of one pass of ``_stream.stream``.
+
+    PROBE: the third-order end x₃'s error against two RK4 steps x₄ plus their Richardson
+    estimate against one, |x₃ - x₄| + |x₄ - x₄'| / 15 (found[0]; infinite for a bad start),
+    its squared spread (found[1]) and |x₄ - x₀|² (found[2]). FIRST: found[0] the rank (the
+    cube of the predicted error). REFINE: ``picked_rows`` (indices into ``out``) packed BLOCK
+    at a time, again with 2, 4, … RK4 steps until Richardson's estimate is under ``level``.
+    One function for the three: each compiled function holding the velocity costs seconds.
+    """
     n_points = indices.shape[0] if indexed else points.shape[0]
+    if kind != FIRST:
+        n_points = picked_rows.shape[0]
     n_rows = points.shape[0]
     scratch, rows = _scratch(field.tables32.shape[1])
     start_rows = np.empty((3, BLOCK))
-    end_rows = np.empty((3, BLOCK))
+    ends = np.empty((3, 3, BLOCK))  # PROBE: third-order, one and two RK4 steps
+    end_rows, previous = ends[0], ends[1]  # REFINE: the last two ends
     mid_rows = np.empty((6, BLOCK))
     motion2 = np.empty(BLOCK)
     spreads = np.empty(BLOCK)
+    picked = np.empty(BLOCK, dtype=np.int64)
     for blk in range(first_block, last_block):
         start = blk * BLOCK
         nb = min(BLOCK, n_points - start)
-        # the gather, then the checks counted in loops that vectorize (no store in a branch)
-        n_outside = 0
-        for i in range(nb):
-            row = start + i
-            if indexed:
-                row = indices[start + i]
-                inside = 0 <= row < n_rows
-                n_outside += 0 if inside else 1
-                row = row if inside else 0
-            for k in range(3):
-                start_rows[k, i] = points[row, k]
-        if indexed:
+        if kind == REFINE:
+            for j in range(nb):
+                picked[j] = picked_rows[start + j]
+                for k in range(3):
+                    previous[k, j] = out[picked[j], k]
+        else:  # the gather, then the checks counted in loops that vectorize (no store in a branch)
+            n_outside = 0
+            for i in range(nb):
+                row = start + i if kind == FIRST else picked_rows[start + i]
+                if indexed:
+                    row = indices[row]
+                    inside = 0 <= row < n_rows
+                    n_outside += 0 if inside else 1
+                    row = row if inside else 0
+                for k in range(3):
+                    start_rows[k, i] = points[row, k]
             n_bad_starts = 0
-            for k in range(3):
-                for i in range(nb):
-                    n_bad_starts += 0 if abs(start_rows[k, i]) <= limit else 1  # or NaN
+            if indexed:
+                for k in range(3):
+                    for i in range(nb):
+                        n_bad_starts += 0 if abs(start_rows[k, i]) <= limit else 1  # or NaN
+            if (n_outside or n_bad_starts) and kind == PROBE:
+                for j in range(nb):
+                    found[0, start + j] = np.inf
+                continue
             if n_outside or n_bad_starts:
                 problem[blk] = 1 if n_outside else 2
-        _steps(third_order, n_steps, nb, start_rows, end_rows, mid_rows, spreads, field, scratch,
-               rows)  # fmt: skip
+        count = nb
+        call = 0
+        while count > 0 and (kind == REFINE or call < (3 if kind == PROBE else 1)):
+            steps = n_steps if kind == FIRST else max(call, 1)
+            if kind == REFINE:
+                steps = 2 << call
+                for j in range(count):
+                    row = indices[picked[j]] if indexed else picked[j]
+                    for k in range(3):
+                        start_rows[k, j] = points[row, k]
+            third = third_order if kind == FIRST else (kind == PROBE and call == 0)
+            end = ends[call if kind == PROBE else 0]
+            _steps(third, steps, count, start_rows, end, mid_rows, spreads, field, scratch, rows)
+            call += 1
+            if kind != REFINE:
+                continue
+            kept = 0
+            for j in range(count):
+                n = picked[j]
+                d2 = _norm2(end, previous, j, 0)
+                for k in range(3):
+                    out[n, k] = end[k, j]
+                if evaluations.shape[0]:
+                    evaluations[n] += 4 * steps
+                # Richardson: the n-step result's error is about |x_n - x_(n/2)| / (2⁴ - 1)
+                if math.sqrt(d2) > 15.0 * level and steps < MAX_ADAPTIVE_STEPS:
+                    picked[kept] = n
+                    for k in range(3):
+                        previous[k, kept] = end[k, j]
+                    kept += 1
+                else:  # its final end position
+                    for k in range(3):
+                        if not math.isfinite(end[k, j]):
+                            bad[blk] = True
+            count = kept
+        if kind == PROBE:
+            third_end, coarse, fourth = ends[0], ends[1], ends[2]
+            for j in range(nb):
+                richardson = math.sqrt(_norm2(fourth, coarse, j, 0)) / 15.0
+                found[0, start + j] = math.sqrt(_norm2(third_end, fourth, j, 0)) + richardson
+                found[1, start + j] = spreads[j]
+                found[2, start + j] = _norm2(fourth, start_rows, j, 0)
+        if kind != FIRST:
+            continue
         for i in range(nb):
             for k in range(3):
                 out[start + i, k] = end_rows[k, i]
@@ -326,16 +505,17 @@ def _first_pass(
             bad[blk] = True
         if not adaptive:
             continue
+        rank = found[0]
         for i in range(nb):
             motion2[i] = _norm2(end_rows, start_rows, i, 0)
         if third_order:  # kept (rank 0), or refined (its spread is beyond the probes')
             kept = 0
             for i in range(nb):
-                kept += 1 if spreads[i] <= spread_limit else 0
-            block_rank[blk] = 0.0 if kept == nb else np.inf
+                kept += 1 if spreads[i] <= level else 0
+            block_found[1, blk] = 0.0 if kept == nb else np.inf
             if kept < nb:  # only such blocks' ranks are read (``_above``)
                 for i in range(nb):
-                    rank[start + i] = 0.0 if spreads[i] <= spread_limit else np.inf
+                    rank[start + i] = 0.0 if spreads[i] <= level else np.inf
         else:
             for i in range(nb):
                 # prediction e (e/reach)^(2/3) > bound  ⇔  e⁵ / reach² > bound³
@@ -343,68 +523,13 @@ def _first_pass(
             largest = 0.0
             for i in range(nb):
                 largest = max(largest, rank[start + i])
-            block_rank[blk] = largest
+            block_found[1, blk] = largest
         # the block's largest motion in a loop of its own: a max reduction inside the loops
         # above kept them (square roots and divisions) from vectorizing
         most = 0.0
         for i in range(nb):
             most = max(most, motion2[i])
-        block_motion[blk] = math.sqrt(most)
-
-
-@njit(**_JIT)
-def _refine_pass(
-    points: np.ndarray, indices: np.ndarray, indexed: bool, field: Field, bound: float,
-    refine: np.ndarray, out: np.ndarray, evaluations: np.ndarray, bad: np.ndarray,
-    first_block: int, last_block: int,
-) -> None:  # fmt: skip
-    """The points ``refine`` (indices into ``out``), packed BLOCK at a time, again with 2, 4, …
-    RK4 steps until Richardson's estimate is under ``bound`` (blocks [first, last) of them);
-    ``evaluations`` counts them."""
-    n_refine = refine.shape[0]
-    scratch, rows = _scratch(field.tables32.shape[1])
-    start_rows = np.empty((3, BLOCK))
-    end_rows = np.empty((3, BLOCK))
-    previous = np.empty((3, BLOCK))
-    picked = np.empty(BLOCK, dtype=np.int64)
-    spreads = np.empty(BLOCK)
-    for blk in range(first_block, last_block):
-        start = blk * BLOCK
-        count = min(BLOCK, n_refine - start)
-        for j in range(count):
-            picked[j] = refine[start + j]
-            for k in range(3):
-                previous[k, j] = out[picked[j], k]
-        n_steps = np.int64(1)
-        while count > 0:
-            n_steps *= 2
-            for j in range(count):
-                row = indices[picked[j]] if indexed else picked[j]
-                for k in range(3):
-                    start_rows[k, j] = points[row, k]
-            # RK4 (n_steps ≥ 2): a run-time False, as the other callers' flag (a literal False
-            # would compile another ``_steps``, 4 s on an empty cache)
-            _steps(bool(n_steps < 2), n_steps, count, start_rows, end_rows, end_rows, spreads,
-                   field, scratch, rows)  # fmt: skip
-            kept = 0
-            for j in range(count):
-                n = picked[j]
-                d2 = _norm2(end_rows, previous, j, 0)
-                for k in range(3):
-                    out[n, k] = end_rows[k, j]
-                if evaluations.shape[0]:
-                    evaluations[n] += 4 * n_steps
-                # Richardson: the n-step result's error is about |x_n - x_(n/2)| / (2⁴ - 1)
-                if math.sqrt(d2) > 15.0 * bound and n_steps < MAX_ADAPTIVE_STEPS:
-                    picked[kept] = n
-                    for k in range(3):
-                        previous[k, kept] = end_rows[k, j]
-                    kept += 1
-                else:  # its final end position
-                    for k in range(3):
-                        if not math.isfinite(end_rows[k, j]):
-                            bad[blk] = True
-            count = kept
+        block_found[0, blk] = math.sqrt(most)
 
 
 @njit(**_JIT)

@@ -1,29 +1,28 @@
-"""The evaluation in NumPy: no compilation, the reference the compiled code is held to.
-
-On a new machine the compiled functions of ``_expansion`` and ``_integrator`` take seconds to
-tens of seconds to compile (once; numba keeps them on disk). Until they are ready
-(``_compiled``), evaluations run here, element-wise over arrays of points, within 1e-12
-relative of the compiled code (the float32 sums of the streamlines' upper degrees in the
-compiled code's order: their rounding would differ by ~1e-9; the arithmetic is defined in
-``_expansion``, ``_single_field`` and ``_integrator``). Several times slower than the compiled
-code, fast enough for the first strokes: a grab event on a 40k-vertex model takes milliseconds.
-
-Points are processed in chunks of CHUNK, which bounds the temporaries; each point's result does
-not depend on the chunk it is in.
+"""The evaluation in NumPy: no compilation, the reference the compiled code is held to (within
+1e-12 relative: the float32 sums of the streamlines' upper degrees in the compiled order), serving
+until the compiled code is ready (``_compiled``). Points go in chunks of CHUNK (bounded
+temporaries); a point's result does not depend on its chunk.
 """
 
 from __future__ import annotations
 
-import math
 from typing import Any, cast
 
 import numpy as np
 
-from gogreen_core.field._expansion import _HUGE, _TINY
-from gogreen_core.field._integrator import _SIXTH, _THIRD, CUTOFF_END, MAX_ADAPTIVE_STEPS
-from gogreen_core.field._stream import StreamField, probe_rows, refinement_bound, third_order_limit
+from gogreen_core.field._expansion import _HUGE, _TINY, BLOCK
+from gogreen_core.field._integrator import (
+    _SIXTH,
+    _THIRD,
+    CUTOFF_END,
+    FIRST,
+    MAX_ADAPTIVE_STEPS,
+    PROBE,
+    REFINE,
+)
+from gogreen_core.field._stream import StreamField
 
-__all__ = ["expand", "near_segment", "segment_distance2", "stream"]
+__all__ = ["expand", "near_segment", "segment_distance2", "stream_pass"]
 
 #: Points evaluated at once (a few MB of temporaries).
 CHUNK = 4096
@@ -87,20 +86,17 @@ def _angular(
     x, y, z = geometry[:3]
     # None until the first term is added (so typed Any, as are the sums of numpy operands)
     u: Any = None
-    cos_m: Any
-    sin_m: Any
-    cos_m = sin_m = None
+    cos_m: Any = None
+    sin_m: Any = None
     for m in range(l_last + 1):
         if m == 1:
             cos_m, sin_m = x, y
         elif m > 1:
             cos_m, sin_m = cos_m * x - sin_m * y, cos_m * y + sin_m * x
-        part_a: Any
-        part_b: Any
-        prev: Any
-        cur: Any
-        part_a = part_b = None
-        prev = cur = None
+        part_a: Any = None
+        part_b: Any = None
+        prev: Any = None
+        cur: Any = None
         for l in range(m, l_last + 1):
             if l == m + 1:
                 prev, cur = np.ones_like(z), z
@@ -147,7 +143,7 @@ def expand(
 
 
 def _single_field(field: StreamField, geometry: tuple[Any, ...]) -> np.ndarray:
-    """``_single_field._single_velocity``'s field before the weight (K, n): the parity's lowest
+    """``_integrator._single_velocity``'s field before the weight (K, n): the parity's lowest
     degree in float64 plus the degrees above it in float32."""
     l_first, l_last, base, coeffs = field.l_first, field.l_last, field.base, field.coeffs
     coeffs32, beta32, tables32, cscale = field.coeffs32, field.beta32, field.tables32, field.cscale
@@ -169,7 +165,7 @@ def _single_field(field: StreamField, geometry: tuple[Any, ...]) -> np.ndarray:
 
 
 def _velocity(pos: np.ndarray, t: float, field: StreamField) -> np.ndarray:
-    """``_single_field._single_velocity`` at positions (3, n) → (3, n)."""
+    """``_integrator._single_velocity`` at positions (3, n) → (3, n)."""
     vel: Any = None
     for mi, signs in enumerate(field.mirrors):
         c = field.center0 + t * field.center_step
@@ -228,112 +224,91 @@ def _norm2(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return cast(np.ndarray, d0 * d0 + d1 * d1 + d2 * d2)
 
 
-def _probes(
-    points: np.ndarray, indices: np.ndarray, indexed: bool, field: StreamField,
-    tolerance: float,
-) -> float:  # fmt: skip
-    """``_integrator``'s probes and their verdict (``third_order_limit``): the largest squared
-    spread of the third-order steps kept, or -1 for none (starts already checked)."""
-    probes = probe_rows(indices.shape[0] if indexed else points.shape[0])
-    found = []
-    for first in range(0, probes.shape[0], CHUNK):
-        picked = probes[first : first + CHUNK]
-        start = np.ascontiguousarray(points[indices[picked] if indexed else picked].T)
-        third, spread = _rk3(start, field)
-        coarse, _ = _rk4(1, start, field, False)
-        fourth, _ = _rk4(2, start, field, False)
-        richardson = np.sqrt(_norm2(fourth, coarse)) / 15.0
-        found.append((np.sqrt(_norm2(third, fourth)) + richardson, spread, _norm2(fourth, start)))
-    if not found:
-        return -1.0
-    error, spread, motion = (np.concatenate(part) for part in zip(*found, strict=True))
-    return third_order_limit(field.center_step, tolerance, error, spread, motion)
-
-
-def stream(
-    points: np.ndarray,
-    indices: np.ndarray,
-    indexed: bool,
-    write_back: bool,
-    limit: float,
-    field: StreamField,
-    substeps: int,
-    tolerance: float,
-    out: np.ndarray,
-    evaluations: np.ndarray,
-) -> int:
-    """``_stream.stream`` (same arguments, same status codes)."""
-    n_rows = points.shape[0]
-    if indexed:
-        if n_rows == 0 or (indices.size and (indices.min() < 0 or indices.max() >= n_rows)):
-            return 1
-        if not np.all(np.abs(points[indices]) <= limit):
-            return 2
-    n_points = indices.shape[0] if indexed else n_rows
-    adaptive = tolerance > 0.0
-    rank = np.empty(n_points)
-    motion2, bad = 0.0, False
-    with np.errstate(all="ignore"):  # overflows are reported (status 3), as compiled
-        limit3 = -1.0
-        if adaptive:
-            limit3 = _probes(points, indices, indexed, field, tolerance)
-        for first in range(0, n_points, CHUNK):
-            rows = indices[first : first + CHUNK] if indexed else slice(first, first + CHUNK)
-            start = np.ascontiguousarray(points[rows].T)
-            if limit3 >= 0.0:
-                end, spread = _rk3(start, field)
-                rank[first : first + CHUNK] = np.where(spread <= limit3, 0.0, np.inf)
-            else:
-                end, mid = _rk4(1 if adaptive else substeps, start, field, adaptive)
-            out[first : first + CHUNK] = end.T
-            if len(evaluations):  # (an empty array: not counted)
-                evaluations[first : first + CHUNK] = (
-                    3 if limit3 >= 0.0 else 4 * (1 if adaptive else substeps)
-                )
-            bad = bad or not np.isfinite(end).all()
-            if adaptive:
-                m2 = _norm2(end, start)
-                motion2 = max(motion2, float(m2.max(initial=0.0)))
-            if adaptive and limit3 < 0.0:
-                e = np.sqrt(np.maximum(_norm2(mid[:3], end), _norm2(mid[3:], end)))
-                reach2 = np.maximum(m2, e * e)
-                rank[first : first + CHUNK] = np.where(
-                    reach2 > 0.0, e * e * e * e * e / reach2, 0.0
-                )
-        refined_bad = False
-        bound = (
-            refinement_bound(field.center_step, math.sqrt(motion2), tolerance) if adaptive else 0.0
-        )
-        if bound > 0.0:
-            refine = np.flatnonzero(rank > bound * bound * bound)
-            for first in range(0, refine.shape[0], CHUNK):
-                picked = refine[first : first + CHUNK]
+def stream_pass(
+    kind: int, points: np.ndarray, indices: np.ndarray, indexed: bool, limit: float,
+    field: StreamField, n_steps: int, adaptive: bool, third_order: bool, level: float,
+    picked_rows: np.ndarray, out: np.ndarray, evaluations: np.ndarray, found: np.ndarray,
+    block_found: np.ndarray, problem: np.ndarray, bad: np.ndarray, first_block: int,
+    last_block: int,
+) -> None:  # fmt: skip
+    """``_integrator._pass`` (the same arguments), CHUNK points (whole blocks) at a time."""
+    n_points = indices.shape[0] if indexed else points.shape[0]
+    n_points = n_points if kind == FIRST else picked_rows.shape[0]
+    last = min(last_block * BLOCK, n_points)
+    for first in range(first_block * BLOCK, last, CHUNK):
+        span = np.arange(first, min(first + CHUNK, last))
+        with np.errstate(all="ignore"):  # overflows are reported (status 3), as compiled
+            blocks = span // BLOCK
+            first_of = np.flatnonzero(np.r_[True, blocks[1:] != blocks[:-1]])  # blocks' starts
+            if kind == REFINE:
+                picked = picked_rows[span]
                 previous = out[picked].T
-                n_steps = 2
+                steps = 2
                 while picked.size:
                     rows = indices[picked] if indexed else picked
-                    end, _ = _rk4(n_steps, np.ascontiguousarray(points[rows].T), field, False)
+                    start = np.ascontiguousarray(points[rows].T)
+                    end, _ = _rk4(steps, start, field, False)
                     out[picked] = end.T
                     if len(evaluations):
-                        evaluations[picked] += 4 * n_steps
-                    again = np.sqrt(_norm2(end, previous)) > 15.0 * bound
-                    again &= n_steps < MAX_ADAPTIVE_STEPS
-                    refined_bad = refined_bad or not np.isfinite(end[:, ~again]).all()
-                    picked, previous = picked[again], end[:, again]
-                    n_steps *= 2
-        if write_back and (refined_bad or bad):
-            return 3
-    if write_back:
-        points[indices if indexed else slice(None)] = out[:n_points]
-    return 0
+                        evaluations[picked] += 4 * steps
+                    again = np.sqrt(_norm2(end, previous)) > 15.0 * level
+                    again &= steps < MAX_ADAPTIVE_STEPS
+                    bad[blocks[~again][~np.isfinite(end[:, ~again]).all(axis=0)]] = True
+                    picked, previous, blocks = picked[again], end[:, again], blocks[again]
+                    steps *= 2
+                continue
+            rows = span if kind == FIRST else picked_rows[span]
+            if indexed:
+                rows = indices[rows]
+                outside = (rows < 0) | (rows >= points.shape[0])
+                rows = np.where(outside, 0, rows)
+            start = np.ascontiguousarray(points[rows].T)
+            if indexed:
+                outside = np.maximum.reduceat(outside, first_of)
+                wrong = np.maximum.reduceat(~(np.abs(start) <= limit).all(axis=0), first_of)
+                if kind == PROBE:  # the first pass reports them
+                    keep = ~np.isin(blocks, blocks[first_of][outside | wrong])
+                    found[0, span[~keep]] = np.inf
+                    span, start = span[keep], start[:, keep]
+                else:
+                    problem[blocks[first_of][wrong]] = 2
+                    problem[blocks[first_of][outside]] = 1
+            if kind == PROBE:
+                third, spread = _rk3(start, field)
+                coarse, _ = _rk4(1, start, field, False)
+                fourth, _ = _rk4(2, start, field, False)
+                richardson = np.sqrt(_norm2(fourth, coarse)) / 15.0
+                error = np.sqrt(_norm2(third, fourth)) + richardson
+                found[:, span] = (error, spread, _norm2(fourth, start))
+                continue
+            if third_order:
+                end, spread = _rk3(start, field)
+            else:
+                end, mid = _rk4(n_steps, start, field, adaptive)
+            out[span] = end.T
+            if len(evaluations):  # (an empty array: not counted)
+                evaluations[span] = 3 if third_order else 4 * n_steps
+            overflow = np.logical_or.reduceat(~np.isfinite(end).all(axis=0), first_of)
+            bad[blocks[first_of][overflow]] = True
+            if not adaptive:
+                continue
+            m2 = _norm2(end, start)
+            if third_order:
+                rank = np.where(spread <= level, 0.0, np.inf)
+            else:
+                e = np.sqrt(np.maximum(_norm2(mid[:3], end), _norm2(mid[3:], end)))
+                reach2 = np.maximum(m2, e * e)
+                rank = np.where(reach2 > 0.0, e * e * e * e * e / reach2, 0.0)
+            found[0, span] = rank
+            block_found[0, blocks[first_of]] = np.sqrt(np.maximum.reduceat(m2, first_of))
+            block_found[1, blocks[first_of]] = np.maximum.reduceat(rank, first_of)
 
 
 def segment_distance2(
     points: np.ndarray, start: np.ndarray, step: np.ndarray, mirrors: np.ndarray, origin: np.ndarray
 ) -> np.ndarray:
     """(N,) the squared distance of the nearest mirror image of each of ``points`` (N, 3)
-    (``mirrors`` (m, 3) signs about ``origin``) to the segment ``start`` → ``start + step``, in
-    the operations of the compiled loops (``_expansion.near_segment``, the paint brushes')."""
+    (``mirrors`` (m, 3) signs about ``origin``) to the segment ``start`` → ``start + step``."""
     length2 = step[0] * step[0] + step[1] * step[1] + step[2] * step[2]
     y = origin + mirrors[:, None] * (points - origin) - start  # (m, N, 3) images
     along = y[..., 0] * step[0] + y[..., 1] * step[1] + y[..., 2] * step[2]

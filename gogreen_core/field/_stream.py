@@ -1,13 +1,11 @@
-"""The streamlines' passes (``_integrator``'s compiled ones, see there) run over the thread pool,
-and the choices between them: third-order steps or RK4's, which points to refine.
-
-:func:`stream` runs in Python around the compiled passes (the probes, the first pass, the
-refinement, the write-back); ``_numpy_eval.stream`` is its NumPy reference.
+"""The streamlines' passes (``_integrator``, see there) run over the thread pool, and the
+choices between them.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from functools import partial
 from typing import Any, NamedTuple
 
@@ -15,7 +13,7 @@ import numpy as np
 
 from gogreen_core._parallel import run_ranges
 from gogreen_core.field._expansion import BLOCK
-from gogreen_core.field._integrator import _first_pass, _probe_pass, _refine_pass, _write_back
+from gogreen_core.field._integrator import FIRST, PROBE, REFINE, _pass, _write_back
 
 __all__ = [
     "ESTIMATE_SAFETY",
@@ -46,18 +44,13 @@ MIN_PROBES = 256
 
 
 class StreamField(NamedTuple):
-    """The streamlines' velocity field, one record through the compiled functions (numba types
-    it as a named tuple: the attributes below in njit code, fixed at the call).
-
-    The load moves from ``center0`` by ``center_step`` over pseudo-time [0, 1]; ``coeffs``
-    (n_terms, 3) is its folded expansion of the parity ``l_first`` … ``l_last`` (rows of degree
-    l from ``base[l]``), ``tables`` the radial table of the lowest degree, evaluated in double
-    precision; the degrees above it are summed in single precision (``coeffs32`` over their
-    scale ``cscale``, Legendre constants ``beta32``, tables ``tables32``) by ``angular32``, the
-    generated kernel if ``unrolled32``, else the generic one; the smooth cutoff fades from
-    ``cutoff_inner`` over 1 / ``inv_width``; ``mirrors`` (n_m, 3) signs of the mirror images
-    about ``origin``.
-    """
+    """The streamlines' velocity field (``_integrator``), one record (a named tuple in numba):
+    the load moves from ``center0`` by ``center_step``; ``coeffs`` (n_terms, 3) its folded
+    expansion of degrees ``l_first`` … ``l_last`` (rows of degree l from ``base[l]``), ``tables``
+    the lowest degree's radial table; the degrees above it in float32 (``coeffs32`` over
+    ``cscale``, ``beta32``, ``tables32``, ``angular32`` generated if ``unrolled32``); the cutoff
+    fades from ``cutoff_inner`` over 1 / ``inv_width``; ``mirrors`` (n_m, 3) signs about
+    ``origin``."""
 
     center0: np.ndarray
     center_step: np.ndarray
@@ -114,7 +107,7 @@ def third_order_limit(
     motion: np.ndarray,
 ) -> float:  # fmt: skip
     """The largest squared spread of the third-order steps kept, from the probes' findings
-    (``_probe_pass``), or -1 where the probes showed an error beyond the bound (or none was
+    (``_integrator._pass``), or -1 where the probes showed an error beyond the bound (or none was
     made): no third-order step then."""
     if not len(error):
         return -1.0
@@ -135,55 +128,63 @@ def stream(
     tolerance: float,
     out: np.ndarray,
     evaluations: np.ndarray,
+    run_pass: Callable[..., None] = _pass,
 ) -> int:
-    """Move points along the streamlines of ``field`` (see the module docstring).
+    """Move points along the streamlines of ``field`` (``_integrator``), its passes run by
+    ``run_pass`` (``_integrator._pass`` or its NumPy twin ``_numpy_eval.stream_pass``).
 
     ``points`` (N_all, 3): start positions, the rows ``indices`` (N,) int64 if ``indexed``
-    (read in place, no gathered copy), written back in place with ``write_back`` and only if
-    every end position is finite. ``field``: the velocity (see ``_velocity``). ``substeps``
-    fixed RK4 steps if ``tolerance <= 0``, else adaptive steps within ``tolerance`` times the
-    motion scale, third-order ones where probes show they are enough.
-    ``out`` (N, 3) gets the end positions, ``evaluations`` (N,) int64 the velocity evaluations
-    each point took (not counted if it is empty). Returns 0 when done, 1 if an index is out of
-    range, 2 if an indexed start position is not finite or beyond ``limit`` (nothing
-    integrated), 3 if an end position is not finite (nothing written back).
+    (read in place), written back in place with ``write_back`` if every end is finite.
+    ``substeps`` fixed RK4 steps if ``tolerance <= 0``, else adaptive steps within
+    ``tolerance`` times the motion scale. ``out`` (N, 3) gets the end positions,
+    ``evaluations`` (N,) int64 the velocity evaluations each point took (if not empty).
+    Returns 0 when done, 1 if an index is out of range, 2 if an indexed start position is not
+    finite or beyond ``limit`` (nothing integrated), 3 if an end position is not finite
+    (nothing written back).
     """
     n_points = indices.shape[0] if indexed else points.shape[0]
     if indexed and points.shape[0] == 0:
         return 1
     n_blocks = (n_points + BLOCK - 1) // BLOCK
     adaptive = tolerance > 0.0
+    rank = np.empty((1, n_points))
+    blocks = np.zeros((2, n_blocks))  # each block's largest motion and rank
+    problem = np.zeros(n_blocks, dtype=np.int64)
+    bad = np.zeros(n_blocks, dtype=np.bool_)
+
+    def run(
+        kind: int,
+        picked: np.ndarray,
+        found: np.ndarray,
+        n_steps: int = 1,
+        third: bool = False,
+        level: float = 0.0,
+        bad_blocks: np.ndarray = bad,
+    ) -> None:
+        work = partial(
+            run_pass, kind, points, indices, indexed, limit, field, n_steps, adaptive, third, level,
+            picked, out, evaluations, found, blocks, problem, bad_blocks,
+        )  # fmt: skip
+        n = n_blocks if kind == FIRST else (len(picked) + BLOCK - 1) // BLOCK
+        run_ranges(work, n, _MIN_BLOCKS if kind == FIRST else 1)
+
     limit3 = -1.0
     if adaptive:
         probes = probe_rows(n_points)
-        found = (np.empty(len(probes)), np.empty(len(probes)), np.empty(len(probes)))
-        probe_pass = partial(_probe_pass, points, indices, indexed, limit, field, probes, *found)
-        run_ranges(probe_pass, (len(probes) + BLOCK - 1) // BLOCK, 1)
+        found = np.empty((3, len(probes)))
+        run(PROBE, probes, found)
         limit3 = third_order_limit(field.center_step, tolerance, *found)
-    rank = np.empty(n_points)
-    block_motion, block_rank = np.zeros(n_blocks), np.zeros(n_blocks)
-    problem = np.zeros(n_blocks, dtype=np.int64)
-    bad = np.zeros(n_blocks, dtype=np.bool_)
-    first_pass = partial(
-        _first_pass, points, indices, indexed, limit, 1 if adaptive else substeps, adaptive,
-        limit3 >= 0.0, max(limit3, 0.0), field, out, evaluations, rank, block_motion,
-        block_rank, problem, bad,
-    )  # fmt: skip
-    run_ranges(first_pass, n_blocks, _MIN_BLOCKS)
+    steps = 1 if adaptive else substeps
+    run(FIRST, probe_rows(0), rank, steps, limit3 >= 0.0, max(limit3, 0.0))
     for code in (1, 2):
         if np.any(problem == code):
             return code
     if adaptive:
-        bound = refinement_bound(field.center_step, float(block_motion.max(initial=0.0)), tolerance)
+        bound = refinement_bound(field.center_step, float(blocks[0].max(initial=0.0)), tolerance)
         if bound > 0.0:
-            refine = _above(rank, block_rank, bound * bound * bound)
-            n_packed = (len(refine) + BLOCK - 1) // BLOCK
-            refined_bad = np.zeros(n_packed, dtype=np.bool_)
-            refine_pass = partial(
-                _refine_pass, points, indices, indexed, field, bound, refine, out, evaluations,
-                refined_bad,
-            )  # fmt: skip
-            run_ranges(refine_pass, n_packed, 1)
+            refine = _above(rank[0], blocks[1], bound * bound * bound)
+            refined_bad = np.zeros((len(refine) + BLOCK - 1) // BLOCK, dtype=np.bool_)
+            run(REFINE, refine, rank, level=bound, bad_blocks=refined_bad)
             # a first step that overflowed fails the event even where refinement might not
             if write_back and (refined_bad.any() or bad.any()):
                 return 3
@@ -191,5 +192,8 @@ def stream(
         return 0
     if bad.any():
         return 3
+    if run_pass is not _pass:  # NumPy: nothing compiled
+        points[indices if indexed else slice(None)] = out[:n_points]
+        return 0
     run_ranges(partial(_write_back, points, indices, indexed, out), n_points, 1 << 16)
     return 0

@@ -1,31 +1,24 @@
 """Angular kernels generated per truncation degree (three outputs: vector and affine loads).
 
-The generic ``_expansion._angular`` runs the Legendre recurrence over scratch rows, one pass per
-(l, m): its loads and stores of those rows, not arithmetic, bound it. Here the angular sum of
-one point (paper Eq. 10 or 12 up to a given degree) is written out as straight-line code, so
-every intermediate stays in a register and LLVM vectorizes the one loop left, over points.
+The generic ``_expansion._angular`` is bound by the loads and stores of its scratch rows; here
+the angular sum of one point (paper Eq. 10 or 12) is straight-line code, every intermediate in
+a register, vectorized over points. Same IEEE operations in the same order: the same bits.
 
-Both compute the same thing with the same IEEE operations in the same order (nothing
-contracted into fused multiply-adds), so they agree bit for bit and either may serve a call
-(see ``_expansion``).
-
-The sources are generated at build time: ``scripts/make_kernels.py`` writes one module per
-(parity, highest degree) with the recurrence constants as literals into the package
-``gogreen_core.field._angular`` (committed and shipped, checked fresh by
-``tests/core/field/test_generated_kernels.py``). Each defines the function ``angular`` and its
+``scripts/make_kernels.py`` writes one module per (parity, highest degree) into
+``gogreen_core.field._angular`` (committed, checked fresh by
+``tests/core/field/test_generated_kernels.py``), each with the function ``angular`` and its
 compile ``OPTIONS``; :func:`unrolled_angular` makes it a C callback of
-``_expansion.ANGULAR_SIGNATURE`` with ``cache=True``, so numba keeps its machine code like any other
-module's: in ``__pycache__`` beside the source, or numba's own per-user cache when that is read-only
-(``NUMBA_CACHE_DIR`` overrides both). Nothing is generated or written at run time. The drivers take
-the callback as a first-class function, so only it is compiled per degree, on first use, by
-``_compiled`` (in the background, while the generic kernel serves).
+``_expansion.ANGULAR_SIGNATURE`` cached by numba like any module's code. The drivers take it as
+a first-class function, so only it is compiled per degree (by ``_compiled``, in the background,
+while the generic kernel serves).
 
 Rescaled recurrence: with P_l = Q_l^m / S_l, S_m = Q_m^m and S_l = a_lm S_{l-1}, the normalized
 recurrence Q_l = a_lm (z Q_{l-1} - b_lm Q_{l-2}) of ``sph.py`` becomes
 P_l = z P_{l-1} - β_lm P_{l-2} with β_lm = b_lm / a_{l-1,m}, P_m = 1 and P_{m+1} = z; the scales
-S_l are folded into the coefficients once per call (:func:`row_scales`). Per order m the degree
-sums A_k = Σ_l R_l P_l C_lmk (and B_k with the sine coefficients) are combined as
-cos mφ A_k + sin mφ B_k.
+S_l are folded into the coefficients (:func:`row_scales`). Per order m the degree sums
+A_k = Σ_l R_l P_l C_lmk (B_k with the sine coefficients; the first term a plain product) give
+u_k = A_k (m = 0) or (u_k + cos mφ A_k) + sin mφ B_k, cos φ = x, sin φ = y and
+cos mφ = cos x - sin y, sin mφ = cos y + sin x above.
 """
 
 from __future__ import annotations
@@ -93,16 +86,10 @@ def row_scales(l_first: int, l_last: int) -> np.ndarray:
 
 
 def angular_source(l_first: int, l_last: int, single: bool = False) -> str:
-    """Source of the angular kernel for degrees l_first, l_first + 2, …, l_last (K = 3).
-
-    The operations of ``_expansion._angular`` (see there), unrolled; every name is assigned
-    once (numba's SSA pass is slow on reassigned names).
-
-    ``single``: the kernel ``angular_single`` of the streamlines, in single
-    precision (float32 rows, coefficients and recurrence constants) and without the terms of
-    degree l_first (the velocity adds them in double precision): degrees l_first + 2 … l_last,
-    rows of ``rad`` from 0, coefficient rows as in the whole parity's table.
-    """
+    """Source of the angular kernel for degrees l_first, l_first + 2, …, l_last (K = 3): the
+    operations of ``_expansion._angular``, unrolled, every name assigned once (numba's SSA pass
+    is slow on reassigned names). ``single``: the streamlines' ``angular_single``, in float32
+    and without degree l_first (the velocity adds it in double precision)."""
     beta, _ = angular_constants(l_last)
     degrees = list(range(l_first, l_last + 1, 2))
     base, n_terms = {}, 0
@@ -194,14 +181,9 @@ def generated_modules() -> dict[str, str]:
 
 
 def module_source(l_first: int, l_last: int) -> str:
-    """Text of the generated module for degrees l_first, l_first + 2, …, l_last: ``angular``,
-    and where the parity has more than one degree ``angular_single`` (see
-    :func:`angular_source`).
-
-    The block size and compile options of ``_expansion`` are written in as literals, so the
-    module's text (which numba's disk cache follows) changes whenever they do, and the freshness
-    test catches a module not regenerated since.
-    """
+    """Text of the generated module for degrees l_first, l_first + 2, …, l_last: ``angular``
+    and, with more than one degree, ``angular_single``. The block size and compile options are
+    literals in it, so its text (which numba's disk cache follows) changes with them."""
     # options are bools and strings: their repr with double quotes is what ruff format writes
     options = ", ".join(f"{k}={v!r}".replace("'", '"') for k, v in _CALLBACK_OPTIONS.items())
     single = l_last > l_first
@@ -253,13 +235,8 @@ def _callback(module: ModuleType, single: bool) -> tuple[Any, Any]:
 
 
 def unrolled_angular(l_first: int, l_last: int, single: bool = False) -> CFunc[Any]:
-    """The compiled angular kernel (a numba cfunc) for one parity and highest degree, in double
-    precision or (``single``) the streamlines' single precision one.
-
-    Compiles it on first use, or loads it from numba's disk cache (seconds the first time on
-    a machine, then milliseconds); thread safe. ``_compiled`` calls it off the evaluating
-    threads.
-    """
+    """The compiled angular kernel (a numba cfunc) for one parity and highest degree (``single``:
+    the streamlines' float32 one), compiled or loaded from numba's disk cache; thread safe."""
     key = (*_check(l_first, l_last, single), single)
     kernel = _KERNELS.get(key)
     if kernel is None:

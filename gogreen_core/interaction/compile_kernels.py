@@ -1,6 +1,5 @@
 """Compile the kernels the app's first stroke needs, once, with a line per unit: the install
-step (``scripts/setup_env.sh`` runs it when numba's disk cache is empty), so that the first
-window after it sculpts compiled from its first stroke.
+step (``scripts/setup_env.sh``), so that the first window after it sculpts compiled.
 
     python -m gogreen_core.interaction.compile_kernels [--l-max N]
 
@@ -17,6 +16,7 @@ import sys
 import time
 
 from gogreen_core import _compiled
+from gogreen_core.compile_times import unit_name
 
 __all__ = ["UNIT_MODULES", "compile_for_app", "main", "units_for_app"]
 
@@ -31,9 +31,8 @@ UNIT_MODULES = (
 
 def units_for_app(l_max: int) -> tuple[_compiled.Unit, ...]:
     """The units the app asks for at start, in the order its first stroke needs them: the
-    field's drivers (every brush event), the generated angular kernels of ``l_max`` (until
-    they are in, the drivers' generic kernel serves), the surface index (picking and normals;
-    its NumPy twin is fast on the default model), the paint brushes, the mesh readers."""
+    field's drivers, the generated angular kernels of ``l_max`` (the generic one serves until
+    then), the surface index, the paint brushes, the mesh readers."""
     from gogreen_core.field import _drivers
 
     drivers, *angular = _drivers.units_for(l_max)
@@ -53,13 +52,7 @@ def compile_for_app(l_max: int, say: _compiled.ProgressCallback | None = None) -
     finally:
         if say is not None:
             _compiled.remove_progress_listener(say)
-    return [_name(u) for u in units if _compiled.compiled_here([u])]
-
-
-def _name(unit: _compiled.Unit) -> str:
-    if isinstance(unit, str):
-        return unit
-    return f"angular kernel of degrees {unit[0]}..{unit[1]}"
+    return [unit_name(u) for u in units if _compiled.compiled_here([u])]
 
 
 class _Lines:
@@ -79,7 +72,7 @@ class _Lines:
             done = [u for u in self.left if u not in progress.left]
             left = progress.seconds_left
             print(
-                f"[gogreen]   {progress.done}/{progress.total} {', '.join(map(_name, done))}: "
+                f"[gogreen]   {progress.done}/{progress.total} {', '.join(map(unit_name, done))}: "
                 f"{progress.elapsed:.1f} s"
                 + (f", about {left:.0f} s left" if left and progress.left else ""),
                 flush=True,

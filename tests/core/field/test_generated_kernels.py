@@ -28,7 +28,7 @@ def test_shipped_kernels_are_fresh():
 
 def test_integrator_carries_the_stamp_of_the_sources_it_compiles():
     """_integrator's compiled code is cached on its own file's stamp, but built with
-    _expansion's and _single_field's functions: a change there must show here
+    _expansion's functions: a change there must show here
     (scripts/make_kernels.py)."""
     sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "scripts"))
     from make_kernels import sources_stamp

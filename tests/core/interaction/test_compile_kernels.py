@@ -26,9 +26,9 @@ def test_a_line_per_unit_compiled_with_the_time_left(capsys):
     lines(_compiled.Progress(3, 3, 24.0, ()))
     out = capsys.readouterr().out.splitlines()
     assert out[0] == "[gogreen] compiling the kernels once (3 units; numba keeps them on disk)"
-    assert out[1] == "[gogreen]   1/3 drivers: 10.0 s, about 20 s left"
-    assert out[2].startswith("[gogreen]   3/3 angular kernel of degrees ")
-    assert out[2].endswith(f", {compile_kernels._name(units[2])}: 24.0 s")
+    assert out[1] == "[gogreen]   1/3 field drivers: 10.0 s, about 20 s left"
+    assert out[2].startswith("[gogreen]   3/3 angular kernel, degrees ")
+    assert out[2].endswith(f", {compile_kernels.unit_name(units[2])}: 24.0 s")
 
 
 def test_the_install_step_runs_it_and_the_app_asks_in_the_same_order():
