@@ -24,6 +24,7 @@ from PySide6.QtCore import QPointF
 
 from app.background import BackgroundRunner
 from app.cursor_overlay import CursorOverlay, PinOverlay, to_display
+from app.level_of_detail import LIGHT_MIN_FACES, LightMesh, indexed_polydata
 from gogreen_core.interaction.tools import CursorState
 from gogreen_core.mesh.cavity import CavityField
 from gogreen_core.mesh.geometry import SurfaceIndex
@@ -84,6 +85,11 @@ def barycentric(a: np.ndarray, b: np.ndarray, c: np.ndarray, p: np.ndarray) -> n
     return weights / weights.sum()
 
 
+def _light_for(vertices: np.ndarray, faces: np.ndarray) -> LightMesh | None:
+    """The interaction copy of a mesh of at least :data:`LIGHT_MIN_FACES` faces, else None."""
+    return LightMesh(vertices, faces) if len(faces) >= LIGHT_MIN_FACES else None
+
+
 def _tint(base: np.ndarray, shade: np.ndarray) -> np.ndarray:
     """RGB (n, 3) uint8 of the colour ``base`` (3,) (0-255) times the factors ``shade`` (n,)."""
     return np.rint(np.clip(shade[:, None] * base, 0.0, 255.0)).astype(np.uint8)
@@ -122,6 +128,12 @@ class MeshDisplay(_Base):
         #: Per-mesh index: incremental normals and ray picking (gogreen_core.mesh.geometry).
         self.surface: SurfaceIndex | None = None
         self._arrays_shared = False
+        #: A big mesh's interaction copy (app.level_of_detail), built with its index; drawn
+        #: instead of the mesh while ``light_shown``; then the moved vertices reach the mesh's
+        #: index and arrays only when it settles: ``_deferred`` holds the newest positions.
+        self.light: LightMesh | None = None
+        self.light_shown = False
+        self._deferred: np.ndarray | None = None
         # the index of a big mesh is built on the background thread (app.background)
         self._index_runner = BackgroundRunner(self)
         self._index_runner.progress.connect(lambda _job, done: self.surface_progress.emit(done))
@@ -170,6 +182,7 @@ class MeshDisplay(_Base):
         self._field_rgb = self._field_on = None
         self._field_rows = np.zeros(0, dtype=np.int64)
         self.cavity = None  # the new mesh's, once its index is ready
+        self._drop_light()
         self._index_runner.cancel()
         self._index_job = None
         self.surface = None
@@ -183,10 +196,14 @@ class MeshDisplay(_Base):
                 built_from = vertices.copy()  # the build reads this; the view's copy may move
                 faces = self._faces
                 self._index_job = self._index_runner.submit(
-                    lambda task: SurfaceIndex(built_from, faces, task.progress), supersede=True
+                    lambda task: (
+                        SurfaceIndex(built_from, faces, task.progress),
+                        _light_for(built_from, faces),
+                    ),
+                    supersede=True,
                 )
         else:
-            self._use_index(SurfaceIndex(vertices, self._faces))
+            self._use_index(SurfaceIndex(vertices, self._faces), _light_for(vertices, self._faces))
         if reset_camera:
             self.home_view(render=False)
         self.request_render()
@@ -372,6 +389,7 @@ class MeshDisplay(_Base):
             if COLOR_ARRAY in data:
                 data.remove(COLOR_ARRAY)
             mapper.ScalarVisibilityOff()
+            self._light_colors()
             self.request_render()
             return
         rank = self.surface.rank if self.surface is not None else None
@@ -389,31 +407,31 @@ class MeshDisplay(_Base):
         mapper.SelectColorArray(COLOR_ARRAY)
         mapper.SetColorModeToDirectScalars()
         mapper.ScalarVisibilityOn()
+        self._light_colors()
         self.request_render()
 
-    def _use_index(self, surface: SurfaceIndex) -> None:
+    def _use_index(self, surface: SurfaceIndex, light: LightMesh | None = None) -> None:
         """Draw the mesh from ``surface``'s arrays (shared, in its order: the per-event
-        updates write them in place) and pick on it."""
-        mesh = pv.PolyData.from_regular_faces(surface.positions, surface.faces)  # type: ignore[arg-type]
-        mesh.point_data["Normals"] = surface.normals
-        mesh.point_data.active_normals_name = "Normals"
+        updates write them in place) and pick on it; ``light``: its interaction copy."""
         # VTK wraps the index's arrays without a copy: its updates are the actor's
-        self._arrays_shared = np.shares_memory(mesh.points, surface.positions) and (
-            np.shares_memory(mesh.point_data["Normals"], surface.normals)
-        )
+        mesh, self._arrays_shared = indexed_polydata(surface)
         self.surface = surface
         if self.cavity_on:
             self._measure_cavity()
         self._show(mesh)
+        if light is not None:
+            self.light = light
+            light.attach(self, self.mesh_actor)
 
-    def _index_built(self, job: int, surface: SurfaceIndex) -> None:
+    def _index_built(self, job: int, built: tuple[SurfaceIndex, LightMesh | None]) -> None:
         if job != self._index_job or self.mesh is None:
             return  # a mesh opened since
         self._index_job = None
+        surface, light = built
         # vertices moved while it was built (undo, a script): bring the index up to date
         shown = self.mesh.points
         surface.update(shown, surface.changed_rows(shown))
-        self._use_index(surface)
+        self._use_index(surface, light)
         self.request_render()
         self.surface_ready.emit()
 
@@ -439,6 +457,7 @@ class MeshDisplay(_Base):
 
     def shown_vertices(self) -> np.ndarray:
         """The positions (N, 3) drawn, in the mesh's vertex order (a copy)."""
+        self.catch_up()
         if self.surface is not None:
             return self.surface.vertices
         return np.array(self.mesh.points) if self.mesh is not None else np.zeros((0, 3))
@@ -467,6 +486,10 @@ class MeshDisplay(_Base):
             return
         vertices = np.asarray(vertices, dtype=np.float64)
         surface = self.surface
+        if self.light_shown and self.light is not None:
+            self.light.update(vertices[self.light.rows])  # the mesh's when it settles
+            self._deferred = vertices
+            return
         if indices is None and surface is not None:
             indices = surface.changed_rows(vertices)
         elif indices is None:
@@ -493,6 +516,60 @@ class MeshDisplay(_Base):
                 rows = self.cavity.update(positions, self._cavity_normals, moved)
                 self._draw_colors(surface.order[rows])
 
+    # -- interaction copy (app.level_of_detail) -----------------------------------------------
+    def show_light(self) -> None:
+        """Draw the interaction copy instead of the mesh (brought up to date with it) until
+        :meth:`show_full`; nothing without one."""
+        surface, light = self.surface, self.light
+        if light is None or self.light_shown or surface is None:
+            return
+        light.update(surface.positions[surface.rank[light.rows]])
+        light.show(self.mesh_actor, self._shown_colors(), surface.rank)
+        self.light_shown = True
+        self.request_render()
+
+    def show_full(self) -> None:
+        """The mesh again in place of the interaction copy, with the vertices moved meanwhile."""
+        if not self.light_shown:
+            return
+        self.light_shown = False
+        self.catch_up()
+        if self.light is not None:
+            self.light.hide(self.mesh_actor)
+        self.request_render()
+
+    def catch_up(self) -> None:
+        """Write the vertices moved while the copy was drawn into the mesh's index and arrays
+        (only the rows that changed)."""
+        if self._deferred is not None:
+            vertices, self._deferred = self._deferred, None
+            shown, self.light_shown = self.light_shown, False
+            try:
+                self.update_vertices(vertices)
+            finally:
+                self.light_shown = shown
+
+    def _shown_colors(self) -> np.ndarray | None:
+        """The mesh's direct colours (N, 3) uint8 as drawn (its index's order), or None."""
+        if self.mesh is None or not self.mesh_actor.mapper.GetScalarVisibility():
+            return None
+        data = self.mesh.point_data
+        return data[COLOR_ARRAY] if COLOR_ARRAY in data else None
+
+    def _light_colors(self) -> None:
+        if self.light_shown and self.light is not None and self.surface is not None:
+            self.light.set_colors(self._shown_colors(), self.surface.rank)
+
+    def _drop_light(self) -> None:
+        """No interaction copy (a new mesh: the moved vertices of the old one are dropped)."""
+        self._deferred = None
+        if self.light is not None:
+            self.light.detach(self)
+            self.light = None
+        if self.light_shown and self.mesh_actor is not None:
+            self.mesh_actor.SetVisibility(True)
+        self.light_shown = False
+
     # -- picking -----------------------------------------------------------------------------
     def _display(self, pos: QPointF) -> tuple[float, float]:
         ratio = self.devicePixelRatioF()
@@ -508,6 +585,7 @@ class MeshDisplay(_Base):
 
         A ray pick on the :class:`SurfaceIndex` (no locator built over the mesh); the normal is
         the vertex normals interpolated at the hit (as VTK's cell picker gives it)."""
+        self.catch_up()
         if self.mesh is None or self.surface is None or self._faces is None:
             return None
         origin, direction = self.pick_ray(pos)

@@ -48,7 +48,19 @@ from app.mesh_display import BACKGROUND_INDEX_FACES, HOME_VIEW_DIRECTION, PIN_CO
 from app.navigation import ZOOM_STEP, CameraViews, camera_gesture, vtk_button
 from gogreen_core.interaction.tools import PointerEvent, SculptTools, ToolUpdate
 
-__all__ = ["BACKGROUND_INDEX_FACES", "HOME_VIEW_DIRECTION", "SculptViewport"]
+__all__ = [
+    "BACKGROUND_INDEX_FACES",
+    "HOME_VIEW_DIRECTION",
+    "LIGHT_FRAME_MS",
+    "SETTLE_MS",
+    "SculptViewport",
+]
+
+#: A full frame slower than this (ms) makes camera and stroke frames draw the mesh's
+#: interaction copy (:mod:`app.level_of_detail`), when it has one.
+LIGHT_FRAME_MS = 100.0
+#: The full mesh is drawn again this long (ms) after the last wheel zoom (a drag: at its end).
+SETTLE_MS = 300
 
 _MODIFIER_NAMES = (
     ("shift", Qt.KeyboardModifier.ShiftModifier),
@@ -132,6 +144,10 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         self._wheel_timer = self._zero_timer(self.apply_wheel)
         self._camera_move: QMouseEvent | None = None
         self._camera_timer = self._zero_timer(self.apply_camera_move)
+        self._settle_timer = self._zero_timer(self.show_full)
+        self._settle_timer.setInterval(SETTLE_MS)
+        #: Duration (ms) of the last frame that drew the full mesh.
+        self.full_frame_ms = 0.0
         #: The wheel zooms about the point under the cursor (else about the view's centre).
         self.zoom_to_mouse = True
         #: Renders done and the duration of the last one (ms), measured by VTK's own events.
@@ -193,9 +209,18 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
 
     def _frame_ended(self, *_args) -> None:
         self.last_frame_ms = 1e3 * (time.perf_counter() - self._frame_start)
+        if not self.light_shown:
+            self.full_frame_ms = self.last_frame_ms
         self.frames += 1
         self._render_pending = False
         self.frame_rendered.emit(self.last_frame_ms)
+
+    def interaction_frames(self) -> None:
+        """The camera moves or a stroke runs: its frames from the interaction copy when full
+        frames are slow (over :data:`LIGHT_FRAME_MS`), until :meth:`show_full`."""
+        self._settle_timer.stop()
+        if self.full_frame_ms > LIGHT_FRAME_MS:
+            self.show_light()
 
     @property
     def render_pending(self) -> bool:
@@ -379,6 +404,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
     def _start_camera(self, ev: QMouseEvent, gesture: str) -> None:
         self._camera = (ev.button(), vtk_button(gesture))
         self._hover_timer.stop()
+        self.interaction_frames()
         super().mousePressEvent(self._as_button(ev, self._camera[1]))
 
     def mousePressEvent(self, ev: QMouseEvent) -> None:
@@ -416,6 +442,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         self._drag_depth = self._depth(point)
         self._reaching = False
         self._hover_timer.stop()
+        self.interaction_frames()
         event = self.pointer_event(ev.position(), point, normal, ev.modifiers())
         if self.tools is not None:
             self.draw(self.tools.press(event), "Cannot sculpt")
@@ -517,6 +544,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
             self._flush_timer.stop()
             if self.tools is not None:
                 self.draw(self.tools.release(), "Brush stopped")
+            self.show_full()
             if self._faces_in_stroke:  # the whole new mesh shown and indexed, once
                 self._faces_in_stroke = False
                 self.faces_replaced.emit()
@@ -537,6 +565,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
                 super().mouseReleaseEvent(self._as_button(ev, button))
             finally:
                 interactor.EnableRenderOn()
+            self.show_full()
             self.request_render()
             self.rehover()
 
@@ -575,7 +604,10 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         self._wheel_timer.stop()
         notches, self._wheel_notches = self._wheel_notches, 0.0
         if notches:
+            self.interaction_frames()
             self.zoom_at(self._wheel_pos if self.zoom_to_mouse else None, ZOOM_STEP**notches)
+            if self.light_shown:
+                self._settle_timer.start()
 
     @property
     def in_stroke(self) -> bool:
