@@ -59,7 +59,7 @@ def cluster_decimation(
 
     Returns ``rows`` (k,) int64, the mesh vertex each copy vertex is, and ``light_faces``
     (m, 3) int32 into ``rows``: the mesh's faces whose corners fell into three different
-    cells, each once, in the mesh's orientation.
+    cells, each once, in the mesh's orientation, unless that folds them over.
     """
     vertices = np.asarray(vertices, dtype=np.float64)
     faces = np.asarray(faces)
@@ -86,12 +86,25 @@ def cluster_decimation(
         & (corners[:, 1] != corners[:, 2])
         & (corners[:, 0] != corners[:, 2])
     )
-    corners = corners[kept]
+    source = np.flatnonzero(kept)
+    corners = corners[source]
     ordered = np.sort(corners, axis=1)
     k = np.int64(len(rows))
     key = (ordered[:, 0] * k + ordered[:, 1]) * k + ordered[:, 2]
     _, first = np.unique(key, return_index=True)
-    return rows.astype(np.int64), corners[np.sort(first)].astype(np.int32)
+    first.sort()
+    corners, source = corners[first], source[first]
+    # a face whose snapped corners fold it over (against the mesh face it comes from) is
+    # dropped: drawn, it shows as a dark speck
+    facing = np.einsum(
+        "ij,ij->i", _face_normals(vertices[rows], corners), _face_normals(vertices, faces[source])
+    )
+    return rows.astype(np.int64), corners[facing > 0].astype(np.int32)
+
+
+def _face_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    a, b, c = (vertices[faces[:, k]] for k in range(3))
+    return np.cross(b - a, c - a)
 
 
 class LightMesh:
