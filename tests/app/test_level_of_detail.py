@@ -120,3 +120,10 @@ def test_a_stroke_on_a_slow_renderer_draws_the_copy_then_the_full_mesh(window, q
     assert not vp.light_shown and vp.mesh_actor.GetVisibility()
     assert np.array_equal(vp.shown_vertices(), sculptor.vertices)
     assert np.abs(sculptor.vertices - before).max() > 1e-3  # it sculpted
+
+
+def test_software_opengl_draws_without_multisampling(big_viewport):
+    """Mesa's llvmpipe (Xvfb, offscreen): 4 samples tripled a frame and took 340 MB at 1M."""
+    vp = big_viewport
+    assert vp.software_gl is True
+    assert vp.ren_win.GetMultiSamples() == 0
