@@ -569,9 +569,10 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
                 self._faces_in_stroke = False
                 self.faces_replaced.emit()
             self.stroke_ended.emit()
-            # the ring leaves where the stroke acted for the surface under the pointer now
+            # the ring leaves where the stroke acted for the surface under the pointer now, in
+            # the same frame as the settled mesh (a frame of a big mesh is slow)
             self._hover_pos = ev.position()
-            self._hover_timer.start()
+            self._hover_now()
             return
         if self._reaching and ev.button() == Qt.MouseButton.LeftButton:
             self._reaching = False  # the drag never reached the model
