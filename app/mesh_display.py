@@ -651,9 +651,10 @@ class MeshDisplay(_Base):
             ).ravel()
         self.request_render()
 
-    def model_image(self) -> np.ndarray:
+    def model_image(self, light: bool = False) -> np.ndarray:
         """The view as drawn, without the brush cursor: (H, W, 3) uint8 RGB, H and W in device
-        pixels (screenshots).
+        pixels (screenshots); ``light``: from the interaction copy when there is one (a
+        thumbnail: a fraction of a full frame of a big mesh).
 
         The cursor is left out of one render, which is read back; it is then drawn again as it
         was (its state is kept) at the next render, requested here: one frame without it on
@@ -661,12 +662,17 @@ class MeshDisplay(_Base):
         """
         overlay = self.cursor_overlay
         overlay.suspended = True
+        copy = light and not self.light_shown and self.light is not None
+        if copy:
+            self.show_light()
         try:
             self.render()
             pixels = self.screenshot(return_img=True)
         finally:
             overlay.suspended = False
             overlay.layout()
+            if copy:
+                self.show_full()
             self.request_render()
         assert pixels is not None
         return np.ascontiguousarray(pixels[:, :, :3])

@@ -127,3 +127,14 @@ def test_software_opengl_draws_without_multisampling(big_viewport):
     vp = big_viewport
     assert vp.software_gl is True
     assert vp.ren_win.GetMultiSamples() == 0
+
+
+def test_a_thumbnail_from_the_copy_leaves_the_full_mesh_shown(big_viewport):
+    vp = big_viewport
+    frames = []
+    vp.frame_rendered.connect(lambda _ms: frames.append(vp.light_shown))
+    image = vp.model_image(light=True)
+    assert image.ndim == 3 and image.shape[2] == 3 and image.std() > 0
+    assert frames and frames[0]  # drawn from the copy
+    assert not vp.light_shown and vp.mesh_actor.GetVisibility()
+    assert not vp.light.actor.GetVisibility()
