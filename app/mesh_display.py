@@ -480,7 +480,8 @@ class MeshDisplay(_Base):
         of them and their one-ring are written (:meth:`SurfaceIndex.update`, whose arrays VTK
         draws); the arrays are marked modified, nothing is rebuilt. While the index builds in
         the background the moved rows are written (flat-shaded view) and the index catches up
-        when it is ready.
+        when it is ready. While the interaction copy is drawn (:meth:`show_light`) only its
+        rows are written; the mesh's catch up when it is shown again or picked on.
         """
         if self.mesh is None:
             return

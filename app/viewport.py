@@ -26,6 +26,10 @@ notches add up until the event loop is idle and then zoom once (about the point 
 cursor, :meth:`CameraViews.zoom_at`), and an orbit, pan or zoom drag hands VTK's trackball
 style only the newest move per event-loop turn, its own render held back for the one requested
 render: a burst of notches or moves that arrives while a slow frame draws costs one more frame.
+Where a full frame is slow (over :data:`LIGHT_FRAME_MS`: software OpenGL and a big mesh),
+camera and stroke frames draw the mesh's interaction copy (:mod:`app.level_of_detail`), and
+the full mesh is drawn again as soon as the drag ends (the wheel: :data:`SETTLE_MS` after
+its last notch).
 
 The brush cursor shows where the brush acts: on the surface under a hovering pointer (again as
 soon as a stroke ends, without waiting for a move), at the press point while an affine brush
