@@ -14,19 +14,43 @@ its rows changed.
 
 from __future__ import annotations
 
-from typing import Any
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pyvista as pv
+from PySide6.QtCore import QTimer
 
 from gogreen_core.mesh.geometry import SurfaceIndex
 
-__all__ = ["LIGHT_FACES", "LIGHT_MIN_FACES", "LightMesh", "cluster_decimation", "indexed_polydata"]
+if TYPE_CHECKING:
+    from app.mesh_display import MeshDisplay
+
+__all__ = [
+    "LIGHT_FACES",
+    "LIGHT_FRAME_MS",
+    "LIGHT_MIN_FACES",
+    "SETTLE_MS",
+    "LevelOfDetail",
+    "LightMesh",
+    "cluster_decimation",
+    "indexed",
+    "indexed_polydata",
+]
 
 #: Faces of the interaction copy (a tenth of the render cost of 2M faces here).
 LIGHT_FACES = 100_000
 #: Meshes with fewer faces draw every frame in full (their frames are cheap enough).
 LIGHT_MIN_FACES = 400_000
+#: A full frame slower than this (ms) makes camera and stroke frames draw the copy.
+LIGHT_FRAME_MS = 100.0
+#: The full mesh is drawn again this long (ms) after the last wheel zoom (a drag: at its end).
+SETTLE_MS = 300
+#: Multisampling (anti-aliased edges) on hardware OpenGL. Software OpenGL (Mesa's llvmpipe)
+#: draws without: there 4 samples tripled a frame of the 1M-vertex mesh and took 340 MB more.
+HARDWARE_MULTI_SAMPLES = 4
+_SOFTWARE_RENDERERS = ("llvmpipe", "softpipe", "swrast", "swiftshader", "software rasterizer")
 
 
 def indexed_polydata(surface: SurfaceIndex) -> tuple[pv.PolyData, bool]:
@@ -180,3 +204,145 @@ class LightMesh:
         """The mesh actor ``look`` again in place of the copy."""
         self.actor.SetVisibility(False)
         look.SetVisibility(True)
+
+
+def indexed(
+    vertices: np.ndarray, faces: np.ndarray, progress: Callable[[float], None] | None = None
+) -> tuple[SurfaceIndex, LightMesh | None]:
+    """A mesh's :class:`SurfaceIndex` (``progress`` as it takes) and its interaction copy if
+    it has at least :data:`LIGHT_MIN_FACES` faces."""
+    light = LightMesh(vertices, faces) if len(faces) >= LIGHT_MIN_FACES else None
+    return SurfaceIndex(vertices, faces, progress), light
+
+
+def _software_renderer(window: Any) -> bool:
+    """The render ``window``'s OpenGL renderer is a software one (after its first frame)."""
+    report = window.ReportCapabilities().lower()
+    renderer = next((line for line in report.splitlines() if "renderer string" in line), "")
+    return any(name in renderer for name in _SOFTWARE_RENDERERS)
+
+
+class LevelOfDetail:
+    """Which of a viewport's mesh and its interaction copy is drawn, and the vertices moved
+    while the copy was (``display``: the :class:`app.mesh_display.MeshDisplay`).
+
+    Attributes: ``light`` (the copy, None for a small mesh or until the index is built),
+    ``shown`` (the copy is drawn), ``full_frame_ms`` (the last frame that drew the full mesh),
+    ``software_gl`` (the renderer is a software one; None until the first frame).
+    """
+
+    def __init__(self, display: MeshDisplay) -> None:
+        self.display = display
+        self.light: LightMesh | None = None
+        self.shown = False
+        self.full_frame_ms = 0.0
+        self.software_gl: bool | None = None
+        #: The newest positions (N, 3) given while the copy was drawn; the mesh's index and
+        #: arrays catch up with them when it is drawn again or picked on.
+        self._deferred: np.ndarray | None = None
+        self.settle_timer = QTimer(display)
+        self.settle_timer.setSingleShot(True)
+        self.settle_timer.setInterval(SETTLE_MS)
+        self.settle_timer.timeout.connect(self.show_full)
+
+    def attach(self, light: LightMesh | None) -> None:
+        """Use ``light`` as the copy of the mesh just shown (None: none)."""
+        self.light = light
+        if light is not None:
+            light.attach(self.display, self.display.mesh_actor)
+
+    def drop(self) -> None:
+        """No copy (a new mesh: the moved vertices of the old one are dropped)."""
+        self._deferred = None
+        self.settle_timer.stop()
+        if self.light is not None:
+            self.light.detach(self.display)
+            self.light = None
+        if self.shown and self.display.mesh_actor is not None:
+            self.display.mesh_actor.SetVisibility(True)
+        self.shown = False
+
+    def frame_ended(self, ms: float) -> None:
+        """A frame took ``ms``; after the first, multisampling unless OpenGL is software."""
+        if not self.shown:
+            self.full_frame_ms = ms
+        if self.software_gl is None:
+            window: Any = self.display.ren_win
+            self.software_gl = _software_renderer(window)
+            if not self.software_gl:
+                window.SetMultiSamples(HARDWARE_MULTI_SAMPLES)
+                self.display.request_render()
+
+    def interaction_frames(self) -> None:
+        """The camera moves or a stroke runs: its frames from the copy when full frames are
+        slow (over :data:`LIGHT_FRAME_MS`), until :meth:`show_full`."""
+        self.settle_timer.stop()
+        if self.full_frame_ms > LIGHT_FRAME_MS:
+            self.show_light()
+
+    def show_light(self) -> None:
+        """Draw the copy instead of the mesh (brought up to date with it); nothing without
+        one."""
+        surface, light = self.display.surface, self.light
+        if light is None or self.shown or surface is None:
+            return
+        light.update(surface.positions[surface.rank[light.rows]])
+        light.show(self.display.mesh_actor, self._colors(), surface.rank)
+        self.shown = True
+        self.display.request_render()
+
+    def show_full(self) -> None:
+        """The mesh again in place of the copy, with the vertices moved meanwhile."""
+        if not self.shown:
+            return
+        self.shown = False
+        self.catch_up()
+        if self.light is not None:
+            self.light.hide(self.display.mesh_actor)
+        self.display.request_render()
+
+    def defer(self, vertices: np.ndarray) -> bool:
+        """New positions (N, 3): while the copy is drawn, only its rows are written (True);
+        False: the mesh's arrays are to be written now."""
+        if not self.shown or self.light is None:
+            return False
+        self.light.update(vertices[self.light.rows])
+        self._deferred = vertices
+        return True
+
+    def catch_up(self) -> None:
+        """Write the vertices moved while the copy was drawn into the mesh's index and arrays
+        (only the rows that changed)."""
+        if self._deferred is not None:
+            vertices, self._deferred = self._deferred, None
+            shown, self.shown = self.shown, False
+            try:
+                self.display.update_vertices(vertices)
+            finally:
+                self.shown = shown
+
+    def colors_changed(self) -> None:
+        """The mesh's direct colours changed: the drawn copy's follow."""
+        surface = self.display.surface
+        if self.shown and self.light is not None and surface is not None:
+            self.light.set_colors(self._colors(), surface.rank)
+
+    def _colors(self) -> np.ndarray | None:
+        """The mesh's direct colours (N, 3) uint8 as drawn (its index's order), or None."""
+        mesh, mapper = self.display.mesh, self.display.mesh_actor.mapper
+        name = mapper.GetArrayName()
+        if mesh is None or not mapper.GetScalarVisibility() or name not in mesh.point_data:
+            return None
+        return np.asarray(mesh.point_data[name])
+
+    @contextmanager
+    def drawn(self, light: bool) -> Iterator[None]:
+        """Within: the copy drawn if ``light`` and there is one (a thumbnail), else as is."""
+        copy = light and not self.shown and self.light is not None
+        if copy:
+            self.show_light()
+        try:
+            yield
+        finally:
+            if copy:
+                self.show_full()

@@ -1,12 +1,11 @@
 """What the viewport draws and picks: the mesh, its surface index, the pins, the brush cursor.
 
 The mesh's colours: the model colour (a matcap divides it out: its picture's colours show),
-darkened
-where the vertex mask holds vertices, the field preview's colours (:mod:`app.field_preview`)
-over the vertices the brush would move, and when the cavity tint is on, each vertex darker in
-hollows and lighter on ridges (its curvature, :mod:`gogreen_core.mesh.cavity`, recomputed for the
-moved vertices and their one-ring only); all one direct-RGB point array, updated in place for
-the rows that change.
+darkened where the vertex mask holds vertices, the field preview's colours
+(:mod:`app.field_preview`) over the vertices the brush would move, and when the cavity tint is
+on, each vertex darker in hollows and lighter on ridges (its curvature,
+:mod:`gogreen_core.mesh.cavity`, recomputed for the moved vertices and their one-ring only);
+all one direct-RGB point array, updated in place for the rows that change.
 
 :class:`MeshDisplay` is a part of :class:`app.viewport.SculptViewport` (a mixin over its
 pyvista plotter): the mesh actor is created once; each brush event writes new positions and
@@ -24,7 +23,7 @@ from PySide6.QtCore import QPointF
 
 from app.background import BackgroundRunner
 from app.cursor_overlay import CursorOverlay, PinOverlay, to_display
-from app.level_of_detail import LIGHT_MIN_FACES, LightMesh, indexed_polydata
+from app.level_of_detail import LevelOfDetail, LightMesh, indexed, indexed_polydata
 from gogreen_core.interaction.tools import CursorState
 from gogreen_core.mesh.cavity import CavityField
 from gogreen_core.mesh.geometry import SurfaceIndex
@@ -85,11 +84,6 @@ def barycentric(a: np.ndarray, b: np.ndarray, c: np.ndarray, p: np.ndarray) -> n
     return weights / weights.sum()
 
 
-def _light_for(vertices: np.ndarray, faces: np.ndarray) -> LightMesh | None:
-    """The interaction copy of a mesh of at least :data:`LIGHT_MIN_FACES` faces, else None."""
-    return LightMesh(vertices, faces) if len(faces) >= LIGHT_MIN_FACES else None
-
-
 def _tint(base: np.ndarray, shade: np.ndarray) -> np.ndarray:
     """RGB (n, 3) uint8 of the colour ``base`` (3,) (0-255) times the factors ``shade`` (n,)."""
     return np.rint(np.clip(shade[:, None] * base, 0.0, 255.0)).astype(np.uint8)
@@ -128,12 +122,7 @@ class MeshDisplay(_Base):
         #: Per-mesh index: incremental normals and ray picking (gogreen_core.mesh.geometry).
         self.surface: SurfaceIndex | None = None
         self._arrays_shared = False
-        #: A big mesh's interaction copy (app.level_of_detail), built with its index; drawn
-        #: instead of the mesh while ``light_shown``; then the moved vertices reach the mesh's
-        #: index and arrays only when it settles: ``_deferred`` holds the newest positions.
-        self.light: LightMesh | None = None
-        self.light_shown = False
-        self._deferred: np.ndarray | None = None
+        self.lod = LevelOfDetail(self)  # a big mesh's interaction copy, built with its index
         # the index of a big mesh is built on the background thread (app.background)
         self._index_runner = BackgroundRunner(self)
         self._index_runner.progress.connect(lambda _job, done: self.surface_progress.emit(done))
@@ -182,7 +171,7 @@ class MeshDisplay(_Base):
         self._field_rgb = self._field_on = None
         self._field_rows = np.zeros(0, dtype=np.int64)
         self.cavity = None  # the new mesh's, once its index is ready
-        self._drop_light()
+        self.lod.drop()
         self._index_runner.cancel()
         self._index_job = None
         self.surface = None
@@ -196,14 +185,10 @@ class MeshDisplay(_Base):
                 built_from = vertices.copy()  # the build reads this; the view's copy may move
                 faces = self._faces
                 self._index_job = self._index_runner.submit(
-                    lambda task: (
-                        SurfaceIndex(built_from, faces, task.progress),
-                        _light_for(built_from, faces),
-                    ),
-                    supersede=True,
+                    lambda task: indexed(built_from, faces, task.progress), supersede=True
                 )
         else:
-            self._use_index(SurfaceIndex(vertices, self._faces), _light_for(vertices, self._faces))
+            self._use_index(*indexed(vertices, self._faces))
         if reset_camera:
             self.home_view(render=False)
         self.request_render()
@@ -389,7 +374,7 @@ class MeshDisplay(_Base):
             if COLOR_ARRAY in data:
                 data.remove(COLOR_ARRAY)
             mapper.ScalarVisibilityOff()
-            self._light_colors()
+            self.lod.colors_changed()
             self.request_render()
             return
         rank = self.surface.rank if self.surface is not None else None
@@ -407,7 +392,7 @@ class MeshDisplay(_Base):
         mapper.SelectColorArray(COLOR_ARRAY)
         mapper.SetColorModeToDirectScalars()
         mapper.ScalarVisibilityOn()
-        self._light_colors()
+        self.lod.colors_changed()
         self.request_render()
 
     def _use_index(self, surface: SurfaceIndex, light: LightMesh | None = None) -> None:
@@ -419,9 +404,7 @@ class MeshDisplay(_Base):
         if self.cavity_on:
             self._measure_cavity()
         self._show(mesh)
-        if light is not None:
-            self.light = light
-            light.attach(self, self.mesh_actor)
+        self.lod.attach(light)
 
     def _index_built(self, job: int, built: tuple[SurfaceIndex, LightMesh | None]) -> None:
         if job != self._index_job or self.mesh is None:
@@ -457,7 +440,7 @@ class MeshDisplay(_Base):
 
     def shown_vertices(self) -> np.ndarray:
         """The positions (N, 3) drawn, in the mesh's vertex order (a copy)."""
-        self.catch_up()
+        self.lod.catch_up()
         if self.surface is not None:
             return self.surface.vertices
         return np.array(self.mesh.points) if self.mesh is not None else np.zeros((0, 3))
@@ -478,18 +461,14 @@ class MeshDisplay(_Base):
         ``indices``: the vertices that moved; None compares every vertex with the shown one
         (undo, a pin drag) and updates those that differ. Only the moved rows and the normals
         of them and their one-ring are written (:meth:`SurfaceIndex.update`, whose arrays VTK
-        draws); the arrays are marked modified, nothing is rebuilt. While the index builds in
-        the background the moved rows are written (flat-shaded view) and the index catches up
-        when it is ready. While the interaction copy is drawn (:meth:`show_light`) only its
-        rows are written; the mesh's catch up when it is shown again or picked on.
+        draws); the arrays are marked modified. While the index builds (a flat-shaded view) or
+        the interaction copy is drawn (``lod``), that is written; the index catches up later.
         """
         if self.mesh is None:
             return
         vertices = np.asarray(vertices, dtype=np.float64)
         surface = self.surface
-        if self.light_shown and self.light is not None:
-            self.light.update(vertices[self.light.rows])  # the mesh's when it settles
-            self._deferred = vertices
+        if self.lod.defer(vertices):  # the copy is drawn: the mesh's rows when it settles
             return
         if indices is None and surface is not None:
             indices = surface.changed_rows(vertices)
@@ -517,60 +496,6 @@ class MeshDisplay(_Base):
                 rows = self.cavity.update(positions, self._cavity_normals, moved)
                 self._draw_colors(surface.order[rows])
 
-    # -- interaction copy (app.level_of_detail) -----------------------------------------------
-    def show_light(self) -> None:
-        """Draw the interaction copy instead of the mesh (brought up to date with it) until
-        :meth:`show_full`; nothing without one."""
-        surface, light = self.surface, self.light
-        if light is None or self.light_shown or surface is None:
-            return
-        light.update(surface.positions[surface.rank[light.rows]])
-        light.show(self.mesh_actor, self._shown_colors(), surface.rank)
-        self.light_shown = True
-        self.request_render()
-
-    def show_full(self) -> None:
-        """The mesh again in place of the interaction copy, with the vertices moved meanwhile."""
-        if not self.light_shown:
-            return
-        self.light_shown = False
-        self.catch_up()
-        if self.light is not None:
-            self.light.hide(self.mesh_actor)
-        self.request_render()
-
-    def catch_up(self) -> None:
-        """Write the vertices moved while the copy was drawn into the mesh's index and arrays
-        (only the rows that changed)."""
-        if self._deferred is not None:
-            vertices, self._deferred = self._deferred, None
-            shown, self.light_shown = self.light_shown, False
-            try:
-                self.update_vertices(vertices)
-            finally:
-                self.light_shown = shown
-
-    def _shown_colors(self) -> np.ndarray | None:
-        """The mesh's direct colours (N, 3) uint8 as drawn (its index's order), or None."""
-        if self.mesh is None or not self.mesh_actor.mapper.GetScalarVisibility():
-            return None
-        data = self.mesh.point_data
-        return data[COLOR_ARRAY] if COLOR_ARRAY in data else None
-
-    def _light_colors(self) -> None:
-        if self.light_shown and self.light is not None and self.surface is not None:
-            self.light.set_colors(self._shown_colors(), self.surface.rank)
-
-    def _drop_light(self) -> None:
-        """No interaction copy (a new mesh: the moved vertices of the old one are dropped)."""
-        self._deferred = None
-        if self.light is not None:
-            self.light.detach(self)
-            self.light = None
-        if self.light_shown and self.mesh_actor is not None:
-            self.mesh_actor.SetVisibility(True)
-        self.light_shown = False
-
     # -- picking -----------------------------------------------------------------------------
     def _display(self, pos: QPointF) -> tuple[float, float]:
         ratio = self.devicePixelRatioF()
@@ -586,7 +511,7 @@ class MeshDisplay(_Base):
 
         A ray pick on the :class:`SurfaceIndex` (no locator built over the mesh); the normal is
         the vertex normals interpolated at the hit (as VTK's cell picker gives it)."""
-        self.catch_up()
+        self.lod.catch_up()
         if self.mesh is None or self.surface is None or self._faces is None:
             return None
         origin, direction = self.pick_ray(pos)
@@ -663,17 +588,13 @@ class MeshDisplay(_Base):
         """
         overlay = self.cursor_overlay
         overlay.suspended = True
-        copy = light and not self.light_shown and self.light is not None
-        if copy:
-            self.show_light()
         try:
-            self.render()
-            pixels = self.screenshot(return_img=True)
+            with self.lod.drawn(light):
+                self.render()
+                pixels = self.screenshot(return_img=True)
         finally:
             overlay.suspended = False
             overlay.layout()
-            if copy:
-                self.show_full()
             self.request_render()
         assert pixels is not None
         return np.ascontiguousarray(pixels[:, :, :3])

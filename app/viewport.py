@@ -26,10 +26,8 @@ notches add up until the event loop is idle and then zoom once (about the point 
 cursor, :meth:`CameraViews.zoom_at`), and an orbit, pan or zoom drag hands VTK's trackball
 style only the newest move per event-loop turn, its own render held back for the one requested
 render: a burst of notches or moves that arrives while a slow frame draws costs one more frame.
-Where a full frame is slow (over :data:`LIGHT_FRAME_MS`: software OpenGL and a big mesh),
-camera and stroke frames draw the mesh's interaction copy (:mod:`app.level_of_detail`), and
-the full mesh is drawn again as soon as the drag ends (the wheel: :data:`SETTLE_MS` after
-its last notch).
+Where full frames are slow, camera and stroke frames draw a lighter copy of a big mesh, the
+full mesh again once they settle (:mod:`app.level_of_detail`).
 
 The brush cursor shows where the brush acts: on the surface under a hovering pointer (again as
 soon as a stroke ends, without waiting for a move), at the press point while an affine brush
@@ -52,23 +50,7 @@ from app.mesh_display import BACKGROUND_INDEX_FACES, HOME_VIEW_DIRECTION, PIN_CO
 from app.navigation import ZOOM_STEP, CameraViews, camera_gesture, vtk_button
 from gogreen_core.interaction.tools import PointerEvent, SculptTools, ToolUpdate
 
-__all__ = [
-    "BACKGROUND_INDEX_FACES",
-    "HOME_VIEW_DIRECTION",
-    "LIGHT_FRAME_MS",
-    "SETTLE_MS",
-    "SculptViewport",
-]
-
-#: A full frame slower than this (ms) makes camera and stroke frames draw the mesh's
-#: interaction copy (:mod:`app.level_of_detail`), when it has one.
-LIGHT_FRAME_MS = 100.0
-#: Multisampling (anti-aliased edges) on hardware OpenGL. Software OpenGL (Mesa's llvmpipe)
-#: draws without: there 4 samples tripled a frame of the 1M-vertex mesh and took 340 MB more.
-HARDWARE_MULTI_SAMPLES = 4
-_SOFTWARE_RENDERERS = ("llvmpipe", "softpipe", "swrast", "swiftshader", "software rasterizer")
-#: The full mesh is drawn again this long (ms) after the last wheel zoom (a drag: at its end).
-SETTLE_MS = 300
+__all__ = ["BACKGROUND_INDEX_FACES", "HOME_VIEW_DIRECTION", "SculptViewport"]
 
 _MODIFIER_NAMES = (
     ("shift", Qt.KeyboardModifier.ShiftModifier),
@@ -119,9 +101,8 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
     def __init__(self, parent: QWidget | None = None) -> None:
         # auto_update=False: no periodic render (pyvistaqt's default re-renders 5 times a
         # second, which alone kept a core busy with software OpenGL)
+        # multisampling once the renderer is known not to be software (app.level_of_detail)
         super().__init__(parent, auto_update=False, multi_samples=0)
-        #: The OpenGL renderer is a software one (known after the first frame; None before).
-        self.software_gl: bool | None = None
         plotter: Any = self  # pyvista's argument-checking decorator hides these signatures
         plotter.set_background("#2b2f36", top="#4a5260")
         plotter.enable_trackball_style()
@@ -154,10 +135,6 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         self._wheel_timer = self._zero_timer(self.apply_wheel)
         self._camera_move: QMouseEvent | None = None
         self._camera_timer = self._zero_timer(self.apply_camera_move)
-        self._settle_timer = self._zero_timer(self.show_full)
-        self._settle_timer.setInterval(SETTLE_MS)
-        #: Duration (ms) of the last frame that drew the full mesh.
-        self.full_frame_ms = 0.0
         #: The wheel zooms about the point under the cursor (else about the view's centre).
         self.zoom_to_mouse = True
         #: Renders done and the duration of the last one (ms), measured by VTK's own events.
@@ -219,32 +196,10 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
 
     def _frame_ended(self, *_args) -> None:
         self.last_frame_ms = 1e3 * (time.perf_counter() - self._frame_start)
-        if self.software_gl is None:
-            self._check_renderer()
-        if not self.light_shown:
-            self.full_frame_ms = self.last_frame_ms
+        self.lod.frame_ended(self.last_frame_ms)
         self.frames += 1
         self._render_pending = False
         self.frame_rendered.emit(self.last_frame_ms)
-
-    def interaction_frames(self) -> None:
-        """The camera moves or a stroke runs: its frames from the interaction copy when full
-        frames are slow (over :data:`LIGHT_FRAME_MS`), until :meth:`show_full`."""
-        self._settle_timer.stop()
-        if self.full_frame_ms > LIGHT_FRAME_MS:
-            self.show_light()
-
-    def _check_renderer(self) -> None:
-        """After the first frame (the OpenGL context exists): multisampling unless the
-        renderer is a software one."""
-        window = self.ren_win
-        assert window is not None
-        report = window.ReportCapabilities().lower()
-        renderer = next((line for line in report.splitlines() if "renderer string" in line), "")
-        self.software_gl = any(name in renderer for name in _SOFTWARE_RENDERERS)
-        if not self.software_gl:
-            window.SetMultiSamples(HARDWARE_MULTI_SAMPLES)
-            self.request_render()
 
     @property
     def render_pending(self) -> bool:
@@ -428,7 +383,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
     def _start_camera(self, ev: QMouseEvent, gesture: str) -> None:
         self._camera = (ev.button(), vtk_button(gesture))
         self._hover_timer.stop()
-        self.interaction_frames()
+        self.lod.interaction_frames()
         super().mousePressEvent(self._as_button(ev, self._camera[1]))
 
     def mousePressEvent(self, ev: QMouseEvent) -> None:
@@ -466,7 +421,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         self._drag_depth = self._depth(point)
         self._reaching = False
         self._hover_timer.stop()
-        self.interaction_frames()
+        self.lod.interaction_frames()
         event = self.pointer_event(ev.position(), point, normal, ev.modifiers())
         if self.tools is not None:
             self.draw(self.tools.press(event), "Cannot sculpt")
@@ -568,7 +523,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
             self._flush_timer.stop()
             if self.tools is not None:
                 self.draw(self.tools.release(), "Brush stopped")
-            self.show_full()
+            self.lod.show_full()
             if self._faces_in_stroke:  # the whole new mesh shown and indexed, once
                 self._faces_in_stroke = False
                 self.faces_replaced.emit()
@@ -590,7 +545,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
                 super().mouseReleaseEvent(self._as_button(ev, button))
             finally:
                 interactor.EnableRenderOn()
-            self.show_full()
+            self.lod.show_full()
             self.request_render()
             self.rehover()
 
@@ -629,10 +584,10 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         self._wheel_timer.stop()
         notches, self._wheel_notches = self._wheel_notches, 0.0
         if notches:
-            self.interaction_frames()
+            self.lod.interaction_frames()
             self.zoom_at(self._wheel_pos if self.zoom_to_mouse else None, ZOOM_STEP**notches)
-            if self.light_shown:
-                self._settle_timer.start()
+            if self.lod.shown:
+                self.lod.settle_timer.start()
 
     @property
     def in_stroke(self) -> bool:

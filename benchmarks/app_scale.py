@@ -132,7 +132,7 @@ def interaction_figures(app, window) -> dict[str, object]:
 
     vp = window.viewport
     frames: list[tuple[float, bool]] = []  # (ms, drawn from the interaction copy)
-    vp.frame_rendered.connect(lambda ms: frames.append((ms, vp.light_shown)))
+    vp.frame_rendered.connect(lambda ms: frames.append((ms, vp.lod.shown)))
     app_steps: list[float] = []
     engine_steps: list[float] = []
     tools_flush = window.tools.flush
@@ -207,7 +207,7 @@ def interaction_figures(app, window) -> dict[str, object]:
     stroke, stroke_settled, stroke_full = drag(left, 20, (2.0, -1.2))
     figures: dict[str, object] = {
         "full_frame": full,
-        "light_faces": vp.light.n_faces if vp.light is not None else 0,
+        "light_faces": vp.lod.light.n_faces if vp.lod.light is not None else 0,
         "app_step": median(app_steps[1:]) if len(app_steps) > 1 else float("nan"),
         "engine_step": median(engine_steps[1:]) if len(engine_steps) > 1 else float("nan"),
         "stroke_frame": median(stroke),
@@ -227,7 +227,7 @@ def interaction_figures(app, window) -> dict[str, object]:
         until_quiet()
     zoom = [ms for ms, light in frames if light]
     waited = time.perf_counter()
-    while vp.light_shown or vp.render_pending:  # the settle timer draws the full mesh
+    while vp.lod.shown or vp.render_pending:  # the settle timer draws the full mesh
         app.processEvents()
         time.sleep(0.005)
     figures["wheel_frame"] = median(zoom) if zoom else float("nan")
