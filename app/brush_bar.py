@@ -13,7 +13,14 @@ from functools import partial
 
 from PySide6.QtCore import Signal
 from PySide6.QtGui import QAction, QActionGroup, QKeySequence
-from PySide6.QtWidgets import QDoubleSpinBox, QLabel, QToolBar, QWidget
+from PySide6.QtWidgets import (
+    QAbstractSpinBox,
+    QDoubleSpinBox,
+    QLabel,
+    QSpinBox,
+    QToolBar,
+    QWidget,
+)
 
 from app.bindings import bind, bind_spin
 from app.fields import DecimalField, IntegerField
@@ -72,13 +79,13 @@ class BrushBar(QToolBar):
             "Strength", 0.01, 10.0, 2, 0.1, "Brush strength  { } / Shift+wheel"
         )
         bind_spin(self.settings, "strength", self.strength, "Strength")
-        self.addWidget(QLabel(" Steps "))
+        self._label("Steps")
         self.substeps = IntegerField(0, 32)
         self.substeps.setSpecialValueText("auto")  # 0: adaptive, within 1e-4 of the cursor motion
         self.substeps.setToolTip(
             "RK4 steps per mouse event; auto: adaptive, within 1e-4 of the cursor motion"
         )
-        self.addWidget(self.substeps)
+        self.addWidget(_compact(self.substeps))
         bind_spin(self.settings, "substeps", self.substeps, "Steps")
         self.influence = self._spin(
             "Influence",
@@ -91,6 +98,7 @@ class BrushBar(QToolBar):
             "tenth, shown by the cursor's outer ring",
         )
         self.influence.setSpecialValueText("auto")  # 0: the field's own reach
+        _compact(self.influence)
         bind(
             self.settings,
             "influence",
@@ -168,10 +176,15 @@ class BrushBar(QToolBar):
         )
         bind_spin(pen, "spacing", self.spacing, "Spacing")
 
+    def _label(self, text: str) -> None:
+        label = QLabel(text)
+        label.setContentsMargins(6, 0, 3, 0)  # the bar fits a 1600 px window with every brush
+        self.addWidget(label)
+
     def _spin(self, label, low, high, decimals, step, tip) -> DecimalField:
-        self.addWidget(QLabel(f" {label} "))
+        self._label(label)
         spin = DecimalField(low, high, decimals, step, tip)
-        self.addWidget(spin)
+        self.addWidget(_compact(spin))
         return spin
 
     def _model_changed(self, _changes) -> None:
@@ -195,6 +208,20 @@ class BrushBar(QToolBar):
 
     def scale_strength(self, notches: int) -> None:
         self.settings.strength = _scaled(self.settings.strength, notches, self.strength)
+
+
+def _compact(spin: QAbstractSpinBox) -> QAbstractSpinBox:
+    """``spin`` no wider than its longest text and its arrows need (Qt's own size hint adds
+    room for a wider text than the field can hold)."""
+    metrics = spin.fontMetrics()
+    texts = [spin.specialValueText(), spin.text()]
+    if isinstance(spin, QDoubleSpinBox):
+        texts += [spin.textFromValue(spin.minimum()), spin.textFromValue(spin.maximum())]
+    elif isinstance(spin, QSpinBox):
+        texts += [str(spin.minimum()), str(spin.maximum())]
+    widest = max(metrics.horizontalAdvance(text) for text in texts)
+    spin.setMaximumWidth(widest + 34)  # the arrows, the frame and the text's margins
+    return spin
 
 
 def _scaled(value: float, notches: int, spin: QDoubleSpinBox) -> float:

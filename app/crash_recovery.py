@@ -157,7 +157,7 @@ class CrashRecovery(QObject):
     def _write_thumbnail(self, journal) -> None:
         self._thumbnail_at = (time.monotonic(), journal.records)
         try:
-            pixels = self.window.viewport.model_image()
+            pixels = self.window.viewport.model_image(light=True)  # a small picture
         except (RuntimeError, ValueError):
             return
         height, width = pixels.shape[:2]

@@ -30,8 +30,10 @@ grows it and a pinch draws it in, motions along the surface that shading hardly 
 from __future__ import annotations
 
 import numpy as np
-import vtk
 from vtkmodules.util.numpy_support import numpy_to_vtk
+from vtkmodules.vtkCommonCore import vtkPoints
+from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
+from vtkmodules.vtkRenderingCore import vtkActor2D, vtkPolyDataMapper2D, vtkTextActor
 
 from gogreen_core.interaction.tools import CursorState
 
@@ -85,10 +87,10 @@ class _Polyline2D:
     """One polyline actor in display coordinates (pixels, y up)."""
 
     def __init__(self, renderer, color, width: float, opacity: float = 1.0):
-        self.polydata = vtk.vtkPolyData()
-        mapper = vtk.vtkPolyDataMapper2D()
+        self.polydata = vtkPolyData()
+        mapper = vtkPolyDataMapper2D()
         mapper.SetInputData(self.polydata)
-        self.actor = vtk.vtkActor2D()
+        self.actor = vtkActor2D()
         self.actor.SetMapper(mapper)
         prop = self.actor.GetProperty()
         prop.SetColor(*color)
@@ -103,9 +105,9 @@ class _Polyline2D:
 
     def set_many(self, polylines: list[np.ndarray]) -> None:
         points = np.concatenate(polylines) if polylines else np.zeros((0, 3))
-        vtk_points = vtk.vtkPoints()
+        vtk_points = vtkPoints()
         vtk_points.SetData(numpy_to_vtk(np.ascontiguousarray(points, dtype=np.float64), deep=1))
-        lines = vtk.vtkCellArray()
+        lines = vtkCellArray()
         start = 0
         for line in polylines:
             lines.InsertNextCell(len(line))
@@ -155,7 +157,7 @@ class CursorOverlay:
         self._gauge = _Polyline2D(renderer, GAUGE_COLOR, 2.0)
         #: Display points (K, 2) of the gauge's loop after the last layout, or None.
         self.gauge_screen: np.ndarray | None = None
-        self._text = vtk.vtkTextActor()
+        self._text = vtkTextActor()
         self._text.GetTextProperty().SetFontSize(16)
         self._text.GetTextProperty().SetColor(*CURSOR_COLOR)
         self._text.GetTextProperty().BoldOn()

@@ -1,12 +1,11 @@
 """What the viewport draws and picks: the mesh, its surface index, the pins, the brush cursor.
 
 The mesh's colours: the model colour (a matcap divides it out: its picture's colours show),
-darkened
-where the vertex mask holds vertices, the field preview's colours (:mod:`app.field_preview`)
-over the vertices the brush would move, and when the cavity tint is on, each vertex darker in
-hollows and lighter on ridges (its curvature, :mod:`gogreen_core.mesh.cavity`, recomputed for the
-moved vertices and their one-ring only); all one direct-RGB point array, updated in place for
-the rows that change.
+darkened where the vertex mask holds vertices, the field preview's colours
+(:mod:`app.field_preview`) over the vertices the brush would move, and when the cavity tint is
+on, each vertex darker in hollows and lighter on ridges (its curvature,
+:mod:`gogreen_core.mesh.cavity`, recomputed for the moved vertices and their one-ring only);
+all one direct-RGB point array, updated in place for the rows that change.
 
 :class:`MeshDisplay` is a part of :class:`app.viewport.SculptViewport` (a mixin over its
 pyvista plotter): the mesh actor is created once; each brush event writes new positions and
@@ -24,6 +23,7 @@ from PySide6.QtCore import QPointF
 
 from app.background import BackgroundRunner
 from app.cursor_overlay import CursorOverlay, PinOverlay, to_display
+from app.level_of_detail import LevelOfDetail, LightMesh, indexed, indexed_polydata
 from gogreen_core.interaction.tools import CursorState
 from gogreen_core.mesh.cavity import CavityField
 from gogreen_core.mesh.geometry import SurfaceIndex
@@ -122,6 +122,7 @@ class MeshDisplay(_Base):
         #: Per-mesh index: incremental normals and ray picking (gogreen_core.mesh.geometry).
         self.surface: SurfaceIndex | None = None
         self._arrays_shared = False
+        self.lod = LevelOfDetail(self)  # a big mesh's interaction copy, built with its index
         # the index of a big mesh is built on the background thread (app.background)
         self._index_runner = BackgroundRunner(self)
         self._index_runner.progress.connect(lambda _job, done: self.surface_progress.emit(done))
@@ -170,6 +171,7 @@ class MeshDisplay(_Base):
         self._field_rgb = self._field_on = None
         self._field_rows = np.zeros(0, dtype=np.int64)
         self.cavity = None  # the new mesh's, once its index is ready
+        self.lod.drop()
         self._index_runner.cancel()
         self._index_job = None
         self.surface = None
@@ -183,10 +185,10 @@ class MeshDisplay(_Base):
                 built_from = vertices.copy()  # the build reads this; the view's copy may move
                 faces = self._faces
                 self._index_job = self._index_runner.submit(
-                    lambda task: SurfaceIndex(built_from, faces, task.progress), supersede=True
+                    lambda task: indexed(built_from, faces, task.progress), supersede=True
                 )
         else:
-            self._use_index(SurfaceIndex(vertices, self._faces))
+            self._use_index(*indexed(vertices, self._faces))
         if reset_camera:
             self.home_view(render=False)
         self.request_render()
@@ -372,6 +374,7 @@ class MeshDisplay(_Base):
             if COLOR_ARRAY in data:
                 data.remove(COLOR_ARRAY)
             mapper.ScalarVisibilityOff()
+            self.lod.colors_changed()
             self.request_render()
             return
         rank = self.surface.rank if self.surface is not None else None
@@ -389,31 +392,29 @@ class MeshDisplay(_Base):
         mapper.SelectColorArray(COLOR_ARRAY)
         mapper.SetColorModeToDirectScalars()
         mapper.ScalarVisibilityOn()
+        self.lod.colors_changed()
         self.request_render()
 
-    def _use_index(self, surface: SurfaceIndex) -> None:
+    def _use_index(self, surface: SurfaceIndex, light: LightMesh | None = None) -> None:
         """Draw the mesh from ``surface``'s arrays (shared, in its order: the per-event
-        updates write them in place) and pick on it."""
-        mesh = pv.PolyData.from_regular_faces(surface.positions, surface.faces)  # type: ignore[arg-type]
-        mesh.point_data["Normals"] = surface.normals
-        mesh.point_data.active_normals_name = "Normals"
+        updates write them in place) and pick on it; ``light``: its interaction copy."""
         # VTK wraps the index's arrays without a copy: its updates are the actor's
-        self._arrays_shared = np.shares_memory(mesh.points, surface.positions) and (
-            np.shares_memory(mesh.point_data["Normals"], surface.normals)
-        )
+        mesh, self._arrays_shared = indexed_polydata(surface)
         self.surface = surface
         if self.cavity_on:
             self._measure_cavity()
         self._show(mesh)
+        self.lod.attach(light)
 
-    def _index_built(self, job: int, surface: SurfaceIndex) -> None:
+    def _index_built(self, job: int, built: tuple[SurfaceIndex, LightMesh | None]) -> None:
         if job != self._index_job or self.mesh is None:
             return  # a mesh opened since
         self._index_job = None
+        surface, light = built
         # vertices moved while it was built (undo, a script): bring the index up to date
         shown = self.mesh.points
         surface.update(shown, surface.changed_rows(shown))
-        self._use_index(surface)
+        self._use_index(surface, light)
         self.request_render()
         self.surface_ready.emit()
 
@@ -439,6 +440,7 @@ class MeshDisplay(_Base):
 
     def shown_vertices(self) -> np.ndarray:
         """The positions (N, 3) drawn, in the mesh's vertex order (a copy)."""
+        self.lod.catch_up()
         if self.surface is not None:
             return self.surface.vertices
         return np.array(self.mesh.points) if self.mesh is not None else np.zeros((0, 3))
@@ -459,14 +461,15 @@ class MeshDisplay(_Base):
         ``indices``: the vertices that moved; None compares every vertex with the shown one
         (undo, a pin drag) and updates those that differ. Only the moved rows and the normals
         of them and their one-ring are written (:meth:`SurfaceIndex.update`, whose arrays VTK
-        draws); the arrays are marked modified, nothing is rebuilt. While the index builds in
-        the background the moved rows are written (flat-shaded view) and the index catches up
-        when it is ready.
+        draws); the arrays are marked modified. While the index builds (a flat-shaded view) or
+        the interaction copy is drawn (``lod``), that is written; the index catches up later.
         """
         if self.mesh is None:
             return
         vertices = np.asarray(vertices, dtype=np.float64)
         surface = self.surface
+        if self.lod.defer(vertices):  # the copy is drawn: the mesh's rows when it settles
+            return
         if indices is None and surface is not None:
             indices = surface.changed_rows(vertices)
         elif indices is None:
@@ -508,6 +511,7 @@ class MeshDisplay(_Base):
 
         A ray pick on the :class:`SurfaceIndex` (no locator built over the mesh); the normal is
         the vertex normals interpolated at the hit (as VTK's cell picker gives it)."""
+        self.lod.catch_up()
         if self.mesh is None or self.surface is None or self._faces is None:
             return None
         origin, direction = self.pick_ray(pos)
@@ -573,9 +577,10 @@ class MeshDisplay(_Base):
             ).ravel()
         self.request_render()
 
-    def model_image(self) -> np.ndarray:
+    def model_image(self, light: bool = False) -> np.ndarray:
         """The view as drawn, without the brush cursor: (H, W, 3) uint8 RGB, H and W in device
-        pixels (screenshots).
+        pixels (screenshots); ``light``: from the interaction copy when there is one (a
+        thumbnail: a fraction of a full frame of a big mesh).
 
         The cursor is left out of one render, which is read back; it is then drawn again as it
         was (its state is kept) at the next render, requested here: one frame without it on
@@ -584,8 +589,9 @@ class MeshDisplay(_Base):
         overlay = self.cursor_overlay
         overlay.suspended = True
         try:
-            self.render()
-            pixels = self.screenshot(return_img=True)
+            with self.lod.drawn(light):
+                self.render()
+                pixels = self.screenshot(return_img=True)
         finally:
             overlay.suspended = False
             overlay.layout()

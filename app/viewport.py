@@ -26,6 +26,8 @@ notches add up until the event loop is idle and then zoom once (about the point 
 cursor, :meth:`CameraViews.zoom_at`), and an orbit, pan or zoom drag hands VTK's trackball
 style only the newest move per event-loop turn, its own render held back for the one requested
 render: a burst of notches or moves that arrives while a slow frame draws costs one more frame.
+Where full frames are slow, camera and stroke frames draw a lighter copy of a big mesh, the
+full mesh again once they settle (:mod:`app.level_of_detail`).
 
 The brush cursor shows where the brush acts: on the surface under a hovering pointer (again as
 soon as a stroke ends, without waiting for a move), at the press point while an affine brush
@@ -99,7 +101,8 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
     def __init__(self, parent: QWidget | None = None) -> None:
         # auto_update=False: no periodic render (pyvistaqt's default re-renders 5 times a
         # second, which alone kept a core busy with software OpenGL)
-        super().__init__(parent, auto_update=False)
+        # multisampling once the renderer is known not to be software (app.level_of_detail)
+        super().__init__(parent, auto_update=False, multi_samples=0)
         plotter: Any = self  # pyvista's argument-checking decorator hides these signatures
         plotter.set_background("#2b2f36", top="#4a5260")
         plotter.enable_trackball_style()
@@ -193,6 +196,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
 
     def _frame_ended(self, *_args) -> None:
         self.last_frame_ms = 1e3 * (time.perf_counter() - self._frame_start)
+        self.lod.frame_ended(self.last_frame_ms)
         self.frames += 1
         self._render_pending = False
         self.frame_rendered.emit(self.last_frame_ms)
@@ -379,6 +383,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
     def _start_camera(self, ev: QMouseEvent, gesture: str) -> None:
         self._camera = (ev.button(), vtk_button(gesture))
         self._hover_timer.stop()
+        self.lod.interaction_frames()
         super().mousePressEvent(self._as_button(ev, self._camera[1]))
 
     def mousePressEvent(self, ev: QMouseEvent) -> None:
@@ -416,6 +421,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         self._drag_depth = self._depth(point)
         self._reaching = False
         self._hover_timer.stop()
+        self.lod.interaction_frames()
         event = self.pointer_event(ev.position(), point, normal, ev.modifiers())
         if self.tools is not None:
             self.draw(self.tools.press(event), "Cannot sculpt")
@@ -517,13 +523,15 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
             self._flush_timer.stop()
             if self.tools is not None:
                 self.draw(self.tools.release(), "Brush stopped")
+            self.lod.show_full()
             if self._faces_in_stroke:  # the whole new mesh shown and indexed, once
                 self._faces_in_stroke = False
                 self.faces_replaced.emit()
             self.stroke_ended.emit()
-            # the ring leaves where the stroke acted for the surface under the pointer now
+            # the ring leaves where the stroke acted for the surface under the pointer now, in
+            # the same frame as the settled mesh (a frame of a big mesh is slow)
             self._hover_pos = ev.position()
-            self._hover_timer.start()
+            self._hover_now()
             return
         if self._reaching and ev.button() == Qt.MouseButton.LeftButton:
             self._reaching = False  # the drag never reached the model
@@ -537,6 +545,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
                 super().mouseReleaseEvent(self._as_button(ev, button))
             finally:
                 interactor.EnableRenderOn()
+            self.lod.show_full()
             self.request_render()
             self.rehover()
 
@@ -575,7 +584,10 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         self._wheel_timer.stop()
         notches, self._wheel_notches = self._wheel_notches, 0.0
         if notches:
+            self.lod.interaction_frames()
             self.zoom_at(self._wheel_pos if self.zoom_to_mouse else None, ZOOM_STEP**notches)
+            if self.lod.shown:
+                self.lod.settle_timer.start()
 
     @property
     def in_stroke(self) -> bool:

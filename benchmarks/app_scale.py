@@ -2,19 +2,26 @@
 
     xvfb-run -a -s "-screen 0 1600x1000x24" python benchmarks/app_scale.py [--meshes DIR]
 
-Prints (figures only; nothing is asserted; issue 36, items 2 and 4):
+Prints (figures only; nothing is asserted; issue 36, items 2, 3 and 4):
 
 * RSS of the app (the real main window, in a process of its own): idle on the default model
   after a fresh start; after opening the ~1M-vertex mesh (the ogre of ``../shared/meshes``
   Loop-subdivided twice: 992,608 vertices; skipped with the reason when the meshes are absent);
   and idle again after Ctrl+N (a key event posted to the window) back to the default model;
+* on that mesh, with real events posted to the viewport (medians, ms): the brush step in the
+  app (the engine's event, the tools and the viewport's arrays, without the render) beside the
+  engine's event alone; a full frame; the frames of a left-button stroke, a middle-button
+  orbit and wheel zooms (from the interaction copy, :mod:`app.level_of_detail`, where full
+  frames take over 100 ms); from each release (and the last notch) to a settled screen and
+  that frame, at full resolution; the idle CPU after it all;
 * on an empty numba cache (a temporary ``NUMBA_CACHE_DIR``): seconds from the app's first
   request of its kernels until the field's compiled drivers serve (the first stroke runs
   compiled), and until every unit of the request is in;
 * three short scripts (one brush event each) started one after another on an empty cache: how
   many compiling child processes they started (one: the lock beside the cache).
 
-Goals: idle ≤ 500 MB; after Ctrl+N within 10 % of the fresh start; drivers ≤ 20 s after the
+Goals: brush step ≤ the engine's event + 20 ms; stroke and camera frames ≥ 3× faster than
+a full frame; idle ≤ 500 MB; after Ctrl+N within 10 % of the fresh start; drivers ≤ 20 s after the
 request; one compilation. On a busy machine the compile figures grow with the load (printed).
 """
 
@@ -101,6 +108,8 @@ def probe_rss(meshes: Path) -> dict[str, object]:
     settle(3.0)
     result["vertices"] = len(window.document.sculptor.vertices)
     result["big"] = rss_mb()
+    result.update(interaction_figures(app, window))
+    window.document._saved_vertices = window.document.sculptor.vertices.copy()  # no prompt
     assert not window.document.dirty  # Ctrl+N then asks nothing
     window.activateWindow()  # the shortcut fires in the active window
     QTest.qWaitForWindowActive(window, 5000)
@@ -110,6 +119,127 @@ def probe_rss(meshes: Path) -> dict[str, object]:
     result["back_vertices"] = len(window.document.sculptor.vertices)
     window.close()
     return result
+
+
+def interaction_figures(app, window) -> dict[str, object]:
+    """Brush steps, stroke, camera and settled frames on the open mesh, from real events
+    posted to the viewport (milliseconds, medians)."""
+    from statistics import median
+
+    from PySide6.QtCore import QEvent, QPoint, QPointF, Qt
+    from PySide6.QtGui import QMouseEvent, QWheelEvent
+    from PySide6.QtWidgets import QApplication
+
+    vp = window.viewport
+    frames: list[tuple[float, bool]] = []  # (ms, drawn from the interaction copy)
+    vp.frame_rendered.connect(lambda ms: frames.append((ms, vp.lod.shown)))
+    app_steps: list[float] = []
+    engine_steps: list[float] = []
+    tools_flush = window.tools.flush
+
+    def engine_timed():
+        update = tools_flush()
+        if update.step_seconds:
+            engine_steps.append(1e3 * update.step_seconds)
+        return update
+
+    window.tools.flush = engine_timed
+    viewport_flush = vp.flush_tools
+
+    def app_timed() -> None:  # engine + tools + the viewport's arrays, without the render
+        start = time.perf_counter()
+        viewport_flush()
+        app_steps.append(1e3 * (time.perf_counter() - start))
+
+    vp.flush_tools = app_timed
+    vp._flush_timer.timeout.disconnect()
+    vp._flush_timer.timeout.connect(app_timed)
+
+    def post(kind, pos, button, buttons) -> None:
+        event = QMouseEvent(
+            kind, pos, vp.mapToGlobal(pos), button, buttons, Qt.KeyboardModifier.NoModifier
+        )
+        QApplication.postEvent(vp, event)
+
+    def until_quiet() -> None:
+        app.processEvents()  # the posted events first
+        timers = (vp._flush_timer, vp._camera_timer, vp._wheel_timer, vp._hover_timer)
+        while vp.render_pending or any(timer.isActive() for timer in timers):
+            app.processEvents()
+        app.processEvents()
+
+    def full_frames(count: int) -> list[float]:
+        out = []
+        for _ in range(count):
+            vp.render_now()
+            out.append(vp.last_frame_ms)
+            until_quiet()
+        return out
+
+    w, h = vp.width(), vp.height()
+    start = QPointF(0.45 * w, 0.5 * h)
+    if vp.pick(start) is None:
+        return {"interaction_skipped": "no model under the view's middle"}
+    until_quiet()
+    full = median(full_frames(3))
+
+    def drag(button, moves: int, step: tuple[float, float]) -> tuple[list[float], float, float]:
+        """Frames during a drag (one move at a time, drawn before the next), then the
+        release: ms to a settled screen and the settled frame's ms."""
+        post(QEvent.Type.MouseButtonPress, start, button, button)
+        until_quiet()
+        frames.clear()
+        pos = start
+        for k in range(1, moves + 1):
+            pos = QPointF(start.x() + step[0] * k, start.y() + step[1] * k)
+            post(QEvent.Type.MouseMove, pos, Qt.MouseButton.NoButton, button)
+            until_quiet()
+        during = [ms for ms, light in frames]
+        frames.clear()
+        released = time.perf_counter()
+        post(QEvent.Type.MouseButtonRelease, pos, button, Qt.MouseButton.NoButton)
+        until_quiet()
+        settled = 1e3 * (time.perf_counter() - released)
+        after = [ms for ms, light in frames if not light]
+        return during, settled, after[-1] if after else float("nan")
+
+    left, middle = Qt.MouseButton.LeftButton, Qt.MouseButton.MiddleButton
+    stroke, stroke_settled, stroke_full = drag(left, 20, (2.0, -1.2))
+    figures: dict[str, object] = {
+        "full_frame": full,
+        "light_faces": vp.lod.light.n_faces if vp.lod.light is not None else 0,
+        "app_step": median(app_steps[1:]) if len(app_steps) > 1 else float("nan"),
+        "engine_step": median(engine_steps[1:]) if len(engine_steps) > 1 else float("nan"),
+        "stroke_frame": median(stroke),
+        "stroke_settled": stroke_settled,
+        "stroke_full": stroke_full,
+    }
+    camera, camera_settled, camera_full = drag(middle, 12, (6.0, 2.0))
+    figures.update(camera_frame=median(camera), camera_settled=camera_settled)
+    figures["camera_full"] = camera_full
+    frames.clear()
+    for _ in range(3):  # wheel notches, each drawn
+        wheel = QWheelEvent(
+            start, vp.mapToGlobal(start), QPoint(0, 0), QPoint(0, 120), Qt.MouseButton.NoButton,
+            Qt.KeyboardModifier.NoModifier, Qt.ScrollPhase.NoScrollPhase, False,
+        )  # fmt: skip
+        QApplication.postEvent(vp, wheel)
+        until_quiet()
+    zoom = [ms for ms, light in frames if light]
+    waited = time.perf_counter()
+    while vp.lod.shown or vp.render_pending:  # the settle timer draws the full mesh
+        app.processEvents()
+        time.sleep(0.005)
+    figures["wheel_frame"] = median(zoom) if zoom else float("nan")
+    figures["wheel_settled"] = 1e3 * (time.perf_counter() - waited)
+    figures["wheel_full"] = frames[-1][0] if frames and not frames[-1][1] else float("nan")
+    cpu = time.process_time()
+    idle_start = time.perf_counter()
+    while time.perf_counter() - idle_start < 3.0:
+        app.processEvents()
+        time.sleep(0.05)
+    figures["idle_cpu"] = 100 * (time.process_time() - cpu) / 3.0
+    return figures
 
 
 # -- compile figures -----------------------------------------------------------------------------
@@ -212,6 +342,31 @@ def three_scripts() -> int:
         return len(seen)
 
 
+def print_interaction(r: dict[str, object]) -> None:
+    if "interaction_skipped" in r:
+        print(f"interaction figures: skipped ({r['interaction_skipped']})")
+        return
+    f = {k: v for k, v in r.items() if isinstance(v, float)}
+    print(
+        f"brush step in the app at {r['vertices']:,} vertices (median of 19 events): "
+        f"{f['app_step']:.0f} ms, the engine's event {f['engine_step']:.0f} ms "
+        f"(+{f['app_step'] - f['engine_step']:.0f} ms; goal <= +20)"
+    )
+    print(
+        f"full frame {f['full_frame']:.0f} ms; interaction copy {r['light_faces']:,} faces: "
+        f"stroke frames {f['stroke_frame']:.0f} ms ({f['full_frame'] / f['stroke_frame']:.1f}x), "
+        f"orbit frames {f['camera_frame']:.0f} ms ({f['full_frame'] / f['camera_frame']:.1f}x), "
+        f"wheel frames {f['wheel_frame']:.0f} ms (goal >= 3x)"
+    )
+    print(
+        f"settled at full resolution: stroke release -> {f['stroke_settled']:.0f} ms "
+        f"(full frame {f['stroke_full']:.0f} ms), orbit release -> {f['camera_settled']:.0f} ms "
+        f"(frame {f['camera_full']:.0f} ms), "
+        f"last wheel notch's frame -> {f['wheel_settled']:.0f} ms "
+        f"(frame {f['wheel_full']:.0f} ms); idle CPU after it {f['idle_cpu']:.1f} % of a core"
+    )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--meshes", default=str(HERE.parents[2] / "shared/meshes"))
@@ -245,6 +400,7 @@ def main() -> None:
                 f"RSS after Ctrl+N back to the default model: {rss['back']:.0f} MB "
                 f"({change:+.0f} % of the fresh start)"
             )
+            print_interaction(rss)
     if args.skip_compile:
         return
     load = os.getloadavg()[0]

@@ -56,3 +56,16 @@ def test_no_app_module_keeps_a_table_of_brushes():
         if len(keyed) > 1:
             tables[path.name] = sorted(keyed)
     assert not tables, tables
+
+
+def test_the_brush_bar_fits_a_1600_pixel_window_with_room_to_spare(window):
+    """Every brush (the five detail brushes too) and the pen fields, Spacing the last, fit a
+    1600 px wide window with room for a wider font."""
+    bar = window.brush_bar
+    spacing = bar.widgetForAction(bar.actions()[-1])
+    assert spacing is bar.spacing
+    assert bar.sizeHint().width() <= 1500
+    window.resize(1600, 900)
+    window.show()
+    assert spacing.isVisible()
+    assert spacing.mapTo(window, spacing.rect().topRight()).x() < 1600

@@ -149,7 +149,7 @@ class GatedIndex:
     gate: the build is certainly still running while the test looks at the window."""
 
     def __init__(self, monkeypatch):
-        import app.mesh_display as viewport_module
+        import app.level_of_detail as viewport_module  # where the build runs
 
         self.gate = threading.Event()
         self.started = threading.Event()

@@ -1,0 +1,348 @@
+"""Interaction frames from a lighter copy of a big mesh (ParaView's level of detail).
+
+With software OpenGL a full frame of a 2M-triangle mesh takes most of a second; while the
+camera moves or a stroke runs the viewport draws a decimated copy instead
+(:class:`LightMesh`, about :data:`LIGHT_FACES` faces) and the full mesh again as soon as the
+interaction settles (:class:`app.viewport.SculptViewport`).
+
+The copy is a vertex clustering whose vertices are vertices of the mesh (in each cell of a
+grid, the one nearest the mean of the cell's vertices), so a stroke frame shows the brush's
+effect by copying the moved rows from the mesh: no re-decimation per event. Its normals and
+arrays are a :class:`gogreen_core.mesh.geometry.SurfaceIndex` of its own, updated only where
+its rows changed.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import pyvista as pv
+from PySide6.QtCore import QTimer
+
+from gogreen_core.mesh.geometry import SurfaceIndex
+
+if TYPE_CHECKING:
+    from app.mesh_display import MeshDisplay
+
+__all__ = [
+    "LIGHT_FACES",
+    "LIGHT_FRAME_MS",
+    "LIGHT_MIN_FACES",
+    "SETTLE_MS",
+    "LevelOfDetail",
+    "LightMesh",
+    "cluster_decimation",
+    "indexed",
+    "indexed_polydata",
+]
+
+#: Faces of the interaction copy (a tenth of the render cost of 2M faces here).
+LIGHT_FACES = 100_000
+#: Meshes with fewer faces draw every frame in full (their frames are cheap enough).
+LIGHT_MIN_FACES = 400_000
+#: A full frame slower than this (ms) makes camera and stroke frames draw the copy.
+LIGHT_FRAME_MS = 100.0
+#: The full mesh is drawn again this long (ms) after the last wheel zoom (a drag: at its end).
+SETTLE_MS = 300
+#: Multisampling (anti-aliased edges) on hardware OpenGL. Software OpenGL (Mesa's llvmpipe)
+#: draws without: there 4 samples tripled a frame of the 1M-vertex mesh and took 340 MB more.
+HARDWARE_MULTI_SAMPLES = 4
+_SOFTWARE_RENDERERS = ("llvmpipe", "softpipe", "swrast", "swiftshader", "software rasterizer")
+
+
+def indexed_polydata(surface: SurfaceIndex) -> tuple[pv.PolyData, bool]:
+    """A PolyData drawing ``surface``'s positions, faces and normals, and whether VTK shares
+    their memory (then the index's in-place updates are the PolyData's)."""
+    mesh = pv.PolyData.from_regular_faces(surface.positions, surface.faces)  # type: ignore[arg-type]
+    mesh.point_data["Normals"] = surface.normals
+    mesh.point_data.active_normals_name = "Normals"
+    shared = np.shares_memory(mesh.points, surface.positions) and np.shares_memory(
+        mesh.point_data["Normals"], surface.normals
+    )
+    return mesh, shared
+
+
+def _cells(vertices: np.ndarray, low: np.ndarray, size: float) -> np.ndarray:
+    """The grid cell (a key, int64) of each vertex, cells of side ``size`` from ``low``."""
+    ijk = ((vertices - low) / size).astype(np.int64)
+    dims = ijk.max(axis=0) + 1
+    return (ijk[:, 0] * dims[1] + ijk[:, 1]) * dims[2] + ijk[:, 2]
+
+
+def cluster_decimation(
+    vertices: np.ndarray, faces: np.ndarray, target_faces: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """A decimated copy of a mesh by vertex clustering, its vertices chosen among the mesh's.
+
+    Parameters: ``vertices`` (N, 3) float64, ``faces`` (M, 3) int, ``target_faces`` the
+    faces wanted (met within a factor of about 1.5: the grid's cell size is set from a first
+    count of occupied cells).
+
+    Returns ``rows`` (k,) int64, the mesh vertex each copy vertex is, and ``light_faces``
+    (m, 3) int32 into ``rows``: the mesh's faces whose corners fell into three different
+    cells, each once, in the mesh's orientation, unless that folds them over.
+    """
+    vertices = np.asarray(vertices, dtype=np.float64)
+    faces = np.asarray(faces)
+    low = vertices.min(axis=0)
+    diagonal = float(np.linalg.norm(vertices.max(axis=0) - low)) or 1.0
+    wanted = max(target_faces // 2, 4)  # a closed mesh has about twice as many faces as vertices
+    size = diagonal / np.sqrt(wanted)
+    occupied = len(np.unique(_cells(vertices, low, size)))  # a surface: cells ∝ 1 / size²
+    size *= np.sqrt(occupied / wanted)
+    keys = _cells(vertices, low, size)
+    order = np.argsort(keys, kind="stable")
+    starts = np.flatnonzero(np.r_[True, np.diff(keys[order]) != 0])
+    cluster = np.empty(len(vertices), dtype=np.int64)
+    cluster[order] = np.cumsum(np.r_[True, np.diff(keys[order]) != 0]) - 1
+    counts = np.diff(np.r_[starts, len(order)])
+    means = np.add.reduceat(vertices[order], starts, axis=0) / counts[:, None]
+    offset = vertices - means[cluster]
+    distance = np.einsum("ij,ij->i", offset, offset)
+    nearest = np.lexsort((distance, cluster))
+    rows = nearest[np.r_[True, np.diff(cluster[nearest]) != 0]]
+    corners = cluster[faces]
+    kept = (
+        (corners[:, 0] != corners[:, 1])
+        & (corners[:, 1] != corners[:, 2])
+        & (corners[:, 0] != corners[:, 2])
+    )
+    source = np.flatnonzero(kept)
+    corners = corners[source]
+    ordered = np.sort(corners, axis=1)
+    k = np.int64(len(rows))
+    key = (ordered[:, 0] * k + ordered[:, 1]) * k + ordered[:, 2]
+    _, first = np.unique(key, return_index=True)
+    first.sort()
+    corners, source = corners[first], source[first]
+    # a face whose snapped corners fold it over (against the mesh face it comes from) is
+    # dropped: drawn, it shows as a dark speck
+    facing = np.einsum(
+        "ij,ij->i", _face_normals(vertices[rows], corners), _face_normals(vertices, faces[source])
+    )
+    return rows.astype(np.int64), corners[facing > 0].astype(np.int32)
+
+
+def _face_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    a, b, c = (vertices[faces[:, k]] for k in range(3))
+    return np.cross(b - a, c - a)
+
+
+class LightMesh:
+    """The interaction copy of a mesh: its vertex rows in the mesh, its own index and actor.
+
+    Parameters: ``vertices`` (N, 3) and ``faces`` (M, 3) of the mesh; ``target_faces``.
+    Attributes: ``rows`` (k,) the mesh vertices it copies, ``index`` its
+    :class:`SurfaceIndex`, ``polydata`` (drawing the index's arrays), ``actor`` (None until
+    :meth:`attach`).
+    """
+
+    def __init__(self, vertices: np.ndarray, faces: np.ndarray, target_faces: int = LIGHT_FACES):
+        self.rows, light_faces = cluster_decimation(vertices, faces, target_faces)
+        self.index = SurfaceIndex(np.asarray(vertices)[self.rows], light_faces)
+        self.polydata, self._shared = indexed_polydata(self.index)
+        self.actor: Any = None
+
+    @property
+    def n_faces(self) -> int:
+        return len(self.index.faces)
+
+    def attach(self, plotter: Any, look: Any) -> None:
+        """Add the (hidden) actor to ``plotter``, with the property, texture and shader of
+        the mesh actor ``look`` (shared: a change of shading shows on both)."""
+        self.actor = pv.Actor(mapper=pv.DataSetMapper(self.polydata))
+        self.actor.SetProperty(look.GetProperty())
+        self.actor.SetShaderProperty(look.GetShaderProperty())
+        self.actor.SetPickable(False)
+        self.actor.SetVisibility(False)
+        plotter.add_actor(self.actor, reset_camera=False, render=False)
+
+    def detach(self, plotter: Any) -> None:
+        if self.actor is not None:
+            plotter.remove_actor(self.actor, render=False)
+            self.actor = None
+
+    def update(self, positions: np.ndarray) -> int:
+        """New ``positions`` (k, 3) of the copy's vertices (the mesh's rows :attr:`rows`): the
+        rows that changed and the normals around them are written; returns how many rows."""
+        light = np.ascontiguousarray(positions, dtype=np.float64)
+        changed = self.index.changed_rows(light)
+        if len(changed):
+            self.index.update(light, changed)
+            if not self._shared:
+                self.polydata.points = self.index.positions
+                self.polydata.point_data["Normals"] = self.index.normals
+            self.polydata.GetPoints().Modified()
+            self.polydata.GetPointData().GetNormals().Modified()
+        return len(changed)
+
+    def show(self, look: Any, colors: np.ndarray | None, mesh_rank: np.ndarray) -> None:
+        """Draw the copy in place of the mesh actor ``look``: its texture (a matcap) and its
+        direct colours ``colors`` (N, 3) uint8 in the order of the mesh's index, whose
+        ``mesh_rank`` places the mesh's vertices (None: the property's colour)."""
+        self.actor.SetTexture(look.GetTexture())
+        self.set_colors(colors, mesh_rank)
+        look.SetVisibility(False)
+        self.actor.SetVisibility(True)
+
+    def set_colors(self, colors: np.ndarray | None, mesh_rank: np.ndarray) -> None:
+        """The copy's direct colours from the mesh's (see :meth:`show`)."""
+        mapper = self.actor.mapper
+        if colors is None:
+            mapper.ScalarVisibilityOff()
+            return
+        self.polydata.point_data["Colors"] = colors[mesh_rank[self.rows[self.index.order]]]
+        mapper.SetScalarModeToUsePointFieldData()
+        mapper.SelectColorArray("Colors")
+        mapper.SetColorModeToDirectScalars()
+        mapper.ScalarVisibilityOn()
+
+    def hide(self, look: Any) -> None:
+        """The mesh actor ``look`` again in place of the copy."""
+        self.actor.SetVisibility(False)
+        look.SetVisibility(True)
+
+
+def indexed(
+    vertices: np.ndarray, faces: np.ndarray, progress: Callable[[float], None] | None = None
+) -> tuple[SurfaceIndex, LightMesh | None]:
+    """A mesh's :class:`SurfaceIndex` (``progress`` as it takes) and its interaction copy if
+    it has at least :data:`LIGHT_MIN_FACES` faces."""
+    light = LightMesh(vertices, faces) if len(faces) >= LIGHT_MIN_FACES else None
+    return SurfaceIndex(vertices, faces, progress), light
+
+
+def _software_renderer(window: Any) -> bool:
+    """The render ``window``'s OpenGL renderer is a software one (after its first frame)."""
+    report = window.ReportCapabilities().lower()
+    renderer = next((line for line in report.splitlines() if "renderer string" in line), "")
+    return any(name in renderer for name in _SOFTWARE_RENDERERS)
+
+
+class LevelOfDetail:
+    """Which of a viewport's mesh and its interaction copy is drawn, and the vertices moved
+    while the copy was (``display``: the :class:`app.mesh_display.MeshDisplay`).
+
+    Attributes: ``light`` (the copy, None for a small mesh or until the index is built),
+    ``shown`` (the copy is drawn), ``full_frame_ms`` (the last frame that drew the full mesh),
+    ``software_gl`` (the renderer is a software one; None until the first frame).
+    """
+
+    def __init__(self, display: MeshDisplay) -> None:
+        self.display = display
+        self.light: LightMesh | None = None
+        self.shown = False
+        self.full_frame_ms = 0.0
+        self.software_gl: bool | None = None
+        #: The newest positions (N, 3) given while the copy was drawn; the mesh's index and
+        #: arrays catch up with them when it is drawn again or picked on.
+        self._deferred: np.ndarray | None = None
+        self.settle_timer = QTimer(display)
+        self.settle_timer.setSingleShot(True)
+        self.settle_timer.setInterval(SETTLE_MS)
+        self.settle_timer.timeout.connect(self.show_full)
+
+    def attach(self, light: LightMesh | None) -> None:
+        """Use ``light`` as the copy of the mesh just shown (None: none)."""
+        self.light = light
+        if light is not None:
+            light.attach(self.display, self.display.mesh_actor)
+
+    def drop(self) -> None:
+        """No copy (a new mesh: the moved vertices of the old one are dropped)."""
+        self._deferred = None
+        self.settle_timer.stop()
+        if self.light is not None:
+            self.light.detach(self.display)
+            self.light = None
+        if self.shown and self.display.mesh_actor is not None:
+            self.display.mesh_actor.SetVisibility(True)
+        self.shown = False
+
+    def frame_ended(self, ms: float) -> None:
+        """A frame took ``ms``; after the first, multisampling unless OpenGL is software."""
+        if not self.shown:
+            self.full_frame_ms = ms
+        if self.software_gl is None:
+            window: Any = self.display.ren_win
+            self.software_gl = _software_renderer(window)
+            if not self.software_gl:
+                window.SetMultiSamples(HARDWARE_MULTI_SAMPLES)
+                self.display.request_render()
+
+    def interaction_frames(self) -> None:
+        """The camera moves or a stroke runs: its frames from the copy when full frames are
+        slow (over :data:`LIGHT_FRAME_MS`), until :meth:`show_full`."""
+        self.settle_timer.stop()
+        if self.full_frame_ms > LIGHT_FRAME_MS:
+            self.show_light()
+
+    def show_light(self) -> None:
+        """Draw the copy instead of the mesh (brought up to date with it); nothing without
+        one."""
+        surface, light = self.display.surface, self.light
+        if light is None or self.shown or surface is None:
+            return
+        light.update(surface.positions[surface.rank[light.rows]])
+        light.show(self.display.mesh_actor, self._colors(), surface.rank)
+        self.shown = True
+        self.display.request_render()
+
+    def show_full(self) -> None:
+        """The mesh again in place of the copy, with the vertices moved meanwhile."""
+        if not self.shown:
+            return
+        self.shown = False
+        self.catch_up()
+        if self.light is not None:
+            self.light.hide(self.display.mesh_actor)
+        self.display.request_render()
+
+    def defer(self, vertices: np.ndarray) -> bool:
+        """New positions (N, 3): while the copy is drawn, only its rows are written (True);
+        False: the mesh's arrays are to be written now."""
+        if not self.shown or self.light is None:
+            return False
+        self.light.update(vertices[self.light.rows])
+        self._deferred = vertices
+        return True
+
+    def catch_up(self) -> None:
+        """Write the vertices moved while the copy was drawn into the mesh's index and arrays
+        (only the rows that changed)."""
+        if self._deferred is not None:
+            vertices, self._deferred = self._deferred, None
+            shown, self.shown = self.shown, False
+            try:
+                self.display.update_vertices(vertices)
+            finally:
+                self.shown = shown
+
+    def colors_changed(self) -> None:
+        """The mesh's direct colours changed: the drawn copy's follow."""
+        surface = self.display.surface
+        if self.shown and self.light is not None and surface is not None:
+            self.light.set_colors(self._colors(), surface.rank)
+
+    def _colors(self) -> np.ndarray | None:
+        """The mesh's direct colours (N, 3) uint8 as drawn (its index's order), or None."""
+        mesh, mapper = self.display.mesh, self.display.mesh_actor.mapper
+        name = mapper.GetArrayName()
+        if mesh is None or not mapper.GetScalarVisibility() or name not in mesh.point_data:
+            return None
+        return np.asarray(mesh.point_data[name])
+
+    @contextmanager
+    def drawn(self, light: bool) -> Iterator[None]:
+        """Within: the copy drawn if ``light`` and there is one (a thumbnail), else as is."""
+        copy = light and not self.shown and self.light is not None
+        if copy:
+            self.show_light()
+        try:
+            yield
+        finally:
+            if copy:
+                self.show_full()

@@ -1,0 +1,139 @@
+"""Interaction frames from a lighter copy of a big mesh, the full mesh once it settles
+(issue 36 item 3)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from gui_helpers import activate, center_of, shown_viewport
+from PySide6.QtCore import QPoint, Qt
+from PySide6.QtTest import QTest
+
+import app.level_of_detail
+from app.level_of_detail import LIGHT_FRAME_MS, cluster_decimation
+from gogreen_core.mesh.shapes import icosphere
+
+
+def test_cluster_decimation_keeps_the_shape_with_fewer_faces():
+    vertices, faces = icosphere(5)  # 20,480 faces
+    rows, light = cluster_decimation(vertices, faces, 2000)
+    assert 1000 <= len(light) <= 3000
+    assert len(np.unique(rows)) == len(rows)  # each copy vertex a different mesh vertex
+    assert light.min() == 0 and light.max() == len(rows) - 1
+    assert np.all(light[:, 0] != light[:, 1]) and np.all(light[:, 1] != light[:, 2])
+    assert len(np.unique(np.sort(light, axis=1), axis=0)) == len(light)
+    # on the sphere, facing out as the mesh's faces do
+    a, b, c = (vertices[rows][light[:, k]] for k in range(3))
+    outward = np.einsum("ij,ij->i", np.cross(b - a, c - a), a + b + c)
+    assert np.mean(outward > 0) > 0.99
+
+
+@pytest.fixture
+def big_viewport(qtbot, monkeypatch):
+    """A viewport whose mesh counts as big (it gets an interaction copy)."""
+    monkeypatch.setattr(app.level_of_detail, "LIGHT_MIN_FACES", 1000)
+    vp = shown_viewport(qtbot)
+    vertices, faces = icosphere(4)
+    vp.set_mesh(vertices, faces)
+    vp.render_now()
+    assert vp.lod.light is not None
+    return vp
+
+
+def test_slow_frames_draw_the_copy_which_follows_the_moved_vertices(big_viewport):
+    vp = big_viewport
+    vp.lod.full_frame_ms = 0.5 * LIGHT_FRAME_MS  # a fast renderer: every frame in full
+    vp.lod.interaction_frames()
+    assert not vp.lod.shown
+    vp.lod.full_frame_ms = 5 * LIGHT_FRAME_MS
+    vp.lod.interaction_frames()
+    assert vp.lod.shown and vp.lod.light.actor.GetVisibility() and not vp.mesh_actor.GetVisibility()
+    vp.render_now()
+    assert vp.lod.full_frame_ms == 5 * LIGHT_FRAME_MS  # a frame of the copy is not a full frame
+    before = vp.surface.positions.copy()
+    vertices = vp.surface.vertices
+    moved = np.flatnonzero(vertices[:, 0] > 0.5)
+    vertices[moved] *= 1.2
+    vp.update_vertices(vertices, moved)
+    # the copy shows the brush's effect; the full mesh's arrays wait for the settle
+    light = vp.lod.light
+    assert np.array_equal(light.index.vertices, vertices[light.rows])
+    assert np.array_equal(vp.surface.positions, before)
+    vp.lod.show_full()
+    assert not vp.lod.shown and vp.mesh_actor.GetVisibility()
+    assert not vp.lod.light.actor.GetVisibility()
+    assert np.array_equal(vp.surface.vertices, vertices)
+    assert np.array_equal(np.asarray(vp.mesh.points), vp.surface.positions)
+
+
+def test_a_pick_during_copy_frames_sees_the_moved_surface(big_viewport):
+    vp = big_viewport
+    vp.lod.full_frame_ms = 5 * LIGHT_FRAME_MS
+    vp.lod.interaction_frames()
+    vertices = vp.surface.vertices * 1.5
+    vp.update_vertices(vertices, np.arange(len(vertices)))
+    pos = vp.rect().center()
+    hit = vp.pick(pos.toPointF())
+    assert hit is not None
+    assert abs(np.linalg.norm(hit[0]) - 1.5) < 0.02  # on the grown sphere
+    assert vp.lod.shown  # still drawing the copy
+
+
+def test_mask_colours_reach_the_copy(big_viewport):
+    vp = big_viewport
+    mask = np.zeros(vp.mesh.n_points)
+    mask[: len(mask) // 2] = 1.0
+    vp.show_mask(mask)
+    vp.lod.full_frame_ms = 5 * LIGHT_FRAME_MS
+    vp.lod.interaction_frames()
+    colors = np.asarray(vp.lod.light.polydata.point_data["Colors"])
+    rows = vp.lod.light.rows[vp.lod.light.index.order]  # the copy's rows as mesh vertices
+    dark = colors[:, 0] < 150
+    assert np.array_equal(dark, mask[rows] > 0)
+
+
+def test_a_stroke_on_a_slow_renderer_draws_the_copy_then_the_full_mesh(window, qtbot, monkeypatch):
+    monkeypatch.setattr(app.level_of_detail, "LIGHT_MIN_FACES", 1000)
+    activate(window, qtbot)
+    vp = window.viewport
+    sculptor = window.document.sculptor
+    vp.set_mesh(sculptor.vertices, sculptor.faces)
+    vp.render_now()
+    vp.lod.full_frame_ms = 5 * LIGHT_FRAME_MS
+    window.model.brush.kind = "grab"
+    window.model.brush.radius = 0.2
+    before = sculptor.vertices.copy()
+    start = center_of(window)
+    QTest.mousePress(vp, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, start)
+    shown_during = []
+    for k in range(1, 8):
+        QTest.mouseMove(vp, start + QPoint(6 * k, -4 * k))
+        vp.flush_tools()
+        shown_during.append(vp.lod.shown)
+        vp.render_now()
+        assert vp.lod.full_frame_ms == 5 * LIGHT_FRAME_MS  # the copy's frames are not full frames
+    light = vp.lod.light.index.vertices
+    assert np.array_equal(light, sculptor.vertices[vp.lod.light.rows])
+    QTest.mouseRelease(vp, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, start)
+    assert all(shown_during)
+    assert not vp.lod.shown and vp.mesh_actor.GetVisibility()
+    assert np.array_equal(vp.shown_vertices(), sculptor.vertices)
+    assert np.abs(sculptor.vertices - before).max() > 1e-3  # it sculpted
+
+
+def test_software_opengl_draws_without_multisampling(big_viewport):
+    """Mesa's llvmpipe (Xvfb, offscreen): 4 samples tripled a frame and took 340 MB at 1M."""
+    vp = big_viewport
+    assert vp.lod.software_gl is True
+    assert vp.ren_win.GetMultiSamples() == 0
+
+
+def test_a_thumbnail_from_the_copy_leaves_the_full_mesh_shown(big_viewport):
+    vp = big_viewport
+    frames = []
+    vp.frame_rendered.connect(lambda _ms: frames.append(vp.lod.shown))
+    image = vp.model_image(light=True)
+    assert image.ndim == 3 and image.shape[2] == 3 and image.std() > 0
+    assert frames and frames[0]  # drawn from the copy
+    assert not vp.lod.shown and vp.mesh_actor.GetVisibility()
+    assert not vp.lod.light.actor.GetVisibility()
