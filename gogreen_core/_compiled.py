@@ -360,7 +360,7 @@ class _UnitCount:
         self.known = compile_times.recorded() if missing else {}
         if missing:
             left = tuple(missing)
-            estimate = compile_times.seconds_left({}, left, 0.0, self.known)
+            estimate = compile_times.seconds_left({}, left, self.known)
             _tell_progress(Progress(0, len(missing), 0.0, left, estimate))
 
     def compiled(self, unit: Unit) -> None:
@@ -371,7 +371,7 @@ class _UnitCount:
         lane = self.split and unit == self.missing[0]
         self.seconds[unit], self.last[lane] = now - self.last[lane], now
         left = tuple(u for u in self.missing if u not in self.done)
-        estimate = compile_times.seconds_left(self.seconds, left, 0.0, self.known)
+        estimate = compile_times.seconds_left(self.seconds, left, self.known)
         _tell_progress(
             Progress(len(self.done), len(self.missing), now - self.start, left, estimate)
         )

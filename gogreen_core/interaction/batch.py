@@ -321,7 +321,6 @@ def _parser() -> argparse.ArgumentParser:
     replay.add_argument("session", help="session JSON written by the app or `deform`")
     replay.add_argument("input", help="mesh the session starts from (OBJ, PLY, STL, OFF)")
     replay.add_argument("-o", "--output", required=True, help="where to write the result")
-    replay.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     replay.set_defaults(run=_replay)
 
     deform = sub.add_parser("deform", help="apply one brush stroke to a mesh")
@@ -356,7 +355,6 @@ def _parser() -> argparse.ArgumentParser:
     )
     _add_setting_flags(deform)
     deform.add_argument("--session-out", help="also write the session JSON here")
-    deform.add_argument("-q", "--quiet", action="store_true")
     deform.set_defaults(run=_deform)
 
     truncation = sub.add_parser(
@@ -365,7 +363,6 @@ def _parser() -> argparse.ArgumentParser:
     _material_flags(truncation)
     truncation.add_argument("--l-max", type=int, default=8, help="the l_max to assess")
     truncation.add_argument("--max-degree", type=int, default=20, help="largest l_max measured")
-    truncation.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     truncation.set_defaults(run=_truncation)
     recover_ = sub.add_parser(
         "recover",
@@ -382,8 +379,9 @@ def _parser() -> argparse.ArgumentParser:
     )
     recover_.add_argument("--session", help="write the journal's operations as a session JSON")
     recover_.add_argument("--discard", action="store_true", help="delete the journal")
-    recover_.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     recover_.set_defaults(run=_recover)
+    for command in (replay, deform, truncation, recover_):
+        command.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     return parser
 
 
