@@ -26,7 +26,8 @@ import sys
 import threading
 import time
 import traceback
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from types import ModuleType
 
@@ -229,7 +230,7 @@ def drivers() -> bool:
 
 
 def forced_code() -> str | None:
-    """The code :class:`forced` chose ("numpy", "generic", "unrolled"), or None."""
+    """The code :func:`forced` chose ("numpy", "generic", "unrolled"), or None."""
     return _forced
 
 
@@ -251,23 +252,18 @@ def _in_use(unit: Unit) -> bool:
     return False
 
 
-class forced:
+@contextmanager
+def forced(code: str) -> Iterator[None]:
     """``with forced("numpy" | "generic" | "unrolled"):`` evaluations in the block use that
     code (compiled first if needed): tests comparing them, benchmarks. Not thread safe."""
-
-    def __init__(self, code: str) -> None:
-        if code not in ("numpy", "generic", "unrolled"):
-            raise ValueError(f"unknown evaluation code {code!r}")
-        self.code = code
-
-    def __enter__(self) -> forced:
-        global _forced
-        self._saved, _forced = _forced, self.code
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        global _forced
-        _forced = self._saved
+    global _forced
+    if code not in ("numpy", "generic", "unrolled"):
+        raise ValueError(f"unknown evaluation code {code!r}")
+    saved, _forced = _forced, code
+    try:
+        yield
+    finally:
+        _forced = saved
 
 
 def _mode() -> str:
@@ -321,14 +317,8 @@ def wait(units: Iterable[Unit], timeout: float | None = None) -> bool:
     request(*units)
     if _mode() == "off" and not _settled(units):
         return False
-    deadline = None if timeout is None else time.monotonic() + timeout
     with _condition:
-        while any(u not in _ready and u not in _failed for u in units):
-            left = None if deadline is None else deadline - time.monotonic()
-            if left is not None and left <= 0:
-                return False
-            _condition.wait(left)
-    return True
+        return _condition.wait_for(lambda: _settled(units), timeout)
 
 
 def prepare(*units: Unit) -> float:
