@@ -21,7 +21,7 @@ from contextlib import contextmanager
 from dataclasses import replace
 from datetime import datetime
 from pathlib import Path
-from typing import Any, TextIO, TypeVar
+from typing import Any, TypeVar
 
 import numpy as np
 
@@ -65,27 +65,28 @@ T = TypeVar("T")
 
 
 class ProgressBar:
-    """A text progress bar on a stream (redrawn in place on a terminal, else every 10%)."""
+    """A text progress bar on stderr (redrawn in place on a terminal, else every 10%)."""
 
-    def __init__(self, label: str, stream: TextIO | None = None, width: int = 30) -> None:
-        self.label, self.width = label, width
-        self.stream = sys.stderr if stream is None else stream
+    WIDTH = 30
+
+    def __init__(self, label: str) -> None:
+        self.label = label
         self.start = time.perf_counter()
         self._last_decile = -1
 
     def __call__(self, done: int, total: int) -> None:
         fraction = done / total if total else 1.0
-        filled = round(self.width * fraction)
+        filled = round(self.WIDTH * fraction)
         text = (
-            f"{self.label} [{'#' * filled}{'.' * (self.width - filled)}] {done}/{total} "
+            f"{self.label} [{'#' * filled}{'.' * (self.WIDTH - filled)}] {done}/{total} "
             f"{time.perf_counter() - self.start:.1f} s"
         )
-        if self.stream.isatty():
-            self.stream.write("\r" + text + ("\n" if done >= total else ""))
+        if sys.stderr.isatty():
+            sys.stderr.write("\r" + text + ("\n" if done >= total else ""))
         elif int(10 * fraction) != self._last_decile:
             self._last_decile = int(10 * fraction)
-            self.stream.write(text + "\n")
-        self.stream.flush()
+            sys.stderr.write(text + "\n")
+        sys.stderr.flush()
 
 
 def _save(mesh: MeshData, sculptor: Sculptor, path: str) -> None:
