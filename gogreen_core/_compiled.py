@@ -486,14 +486,13 @@ def _compile_in_child(
     once its unit is compiled, and ``unit_compiled(unit)`` is called then. It inherits ``lock``
     and holds it to its end. ``split`` (two cores or more): the first unit (what the first
     stroke needs) alone in one child, its helper (:func:`register`) and the rest in another."""
-    several = split and _splits(units)
     env = dict(os.environ, **{_MODE_VARIABLE: "thread", LOCK_HELD_VARIABLE: "1"})
     # the child imports what this process does: an application embedding Python (Blender)
     # adds folders to sys.path at run time (its extensions' wheels) that no child would know
     env["PYTHONPATH"] = os.pathsep.join(p for p in sys.path if p)
     children: list[tuple[subprocess.Popen[str], dict[str, Unit]]] = []
     helper = [_helpers[units[0]]] if units[0] in _helpers else []
-    for group in (units[:1], [*helper, *units[1:]]) if several else (units,):
+    for group in (units[:1], [*helper, *units[1:]]) if split else (units,):
         by_arg: dict[str, Unit] = {}
         for unit in group:
             modules = ",".join(dict.fromkeys(part.module for part in _parts(unit)))
@@ -539,7 +538,7 @@ def _compile_in_child(
         follow(*children[0])
     for thread in others:
         thread.join()
-    return len(done) == (2 if several else 1) and all(done)
+    return len(done) == (2 if split else 1) and all(done)
 
 
 _CHILD_SCRIPT = (
