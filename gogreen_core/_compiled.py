@@ -26,7 +26,8 @@ import sys
 import threading
 import time
 import traceback
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from types import ModuleType
 
@@ -229,7 +230,7 @@ def drivers() -> bool:
 
 
 def forced_code() -> str | None:
-    """The code :class:`forced` chose ("numpy", "generic", "unrolled"), or None."""
+    """The code :func:`forced` chose ("numpy", "generic", "unrolled"), or None."""
     return _forced
 
 
@@ -251,23 +252,18 @@ def _in_use(unit: Unit) -> bool:
     return False
 
 
-class forced:
+@contextmanager
+def forced(code: str) -> Iterator[None]:
     """``with forced("numpy" | "generic" | "unrolled"):`` evaluations in the block use that
     code (compiled first if needed): tests comparing them, benchmarks. Not thread safe."""
-
-    def __init__(self, code: str) -> None:
-        if code not in ("numpy", "generic", "unrolled"):
-            raise ValueError(f"unknown evaluation code {code!r}")
-        self.code = code
-
-    def __enter__(self) -> forced:
-        global _forced
-        self._saved, _forced = _forced, self.code
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        global _forced
-        _forced = self._saved
+    global _forced
+    if code not in ("numpy", "generic", "unrolled"):
+        raise ValueError(f"unknown evaluation code {code!r}")
+    saved, _forced = _forced, code
+    try:
+        yield
+    finally:
+        _forced = saved
 
 
 def _mode() -> str:
@@ -321,14 +317,8 @@ def wait(units: Iterable[Unit], timeout: float | None = None) -> bool:
     request(*units)
     if _mode() == "off" and not _settled(units):
         return False
-    deadline = None if timeout is None else time.monotonic() + timeout
     with _condition:
-        while any(u not in _ready and u not in _failed for u in units):
-            left = None if deadline is None else deadline - time.monotonic()
-            if left is not None and left <= 0:
-                return False
-            _condition.wait(left)
-    return True
+        return _condition.wait_for(lambda: _settled(units), timeout)
 
 
 def prepare(*units: Unit) -> float:
@@ -360,7 +350,7 @@ class _UnitCount:
         self.known = compile_times.recorded() if missing else {}
         if missing:
             left = tuple(missing)
-            estimate = compile_times.seconds_left({}, left, 0.0, self.known)
+            estimate = compile_times.seconds_left({}, left, self.known)
             _tell_progress(Progress(0, len(missing), 0.0, left, estimate))
 
     def compiled(self, unit: Unit) -> None:
@@ -371,7 +361,7 @@ class _UnitCount:
         lane = self.split and unit == self.missing[0]
         self.seconds[unit], self.last[lane] = now - self.last[lane], now
         left = tuple(u for u in self.missing if u not in self.done)
-        estimate = compile_times.seconds_left(self.seconds, left, 0.0, self.known)
+        estimate = compile_times.seconds_left(self.seconds, left, self.known)
         _tell_progress(
             Progress(len(self.done), len(self.missing), now - self.start, left, estimate)
         )
@@ -496,14 +486,13 @@ def _compile_in_child(
     once its unit is compiled, and ``unit_compiled(unit)`` is called then. It inherits ``lock``
     and holds it to its end. ``split`` (two cores or more): the first unit (what the first
     stroke needs) alone in one child, its helper (:func:`register`) and the rest in another."""
-    several = split and _splits(units)
     env = dict(os.environ, **{_MODE_VARIABLE: "thread", LOCK_HELD_VARIABLE: "1"})
     # the child imports what this process does: an application embedding Python (Blender)
     # adds folders to sys.path at run time (its extensions' wheels) that no child would know
     env["PYTHONPATH"] = os.pathsep.join(p for p in sys.path if p)
     children: list[tuple[subprocess.Popen[str], dict[str, Unit]]] = []
     helper = [_helpers[units[0]]] if units[0] in _helpers else []
-    for group in (units[:1], [*helper, *units[1:]]) if several else (units,):
+    for group in (units[:1], [*helper, *units[1:]]) if split else (units,):
         by_arg: dict[str, Unit] = {}
         for unit in group:
             modules = ",".join(dict.fromkeys(part.module for part in _parts(unit)))
@@ -549,7 +538,7 @@ def _compile_in_child(
         follow(*children[0])
     for thread in others:
         thread.join()
-    return len(done) == (2 if several else 1) and all(done)
+    return len(done) == (2 if split else 1) and all(done)
 
 
 _CHILD_SCRIPT = (

@@ -106,12 +106,11 @@ def record(seconds: Mapping[str | tuple[int, ...], float]) -> None:
 def seconds_left(
     done: Mapping[str | tuple[int, ...], float],
     left: Sequence[str | tuple[int, ...]],
-    running: float,
     known: Mapping[str, float],
 ) -> float | None:
-    """About how long the units ``left`` take (the first compiling for ``running`` seconds), at
-    the pace of the units ``done`` (unit → measured seconds) against their expected times
-    (``known``: :func:`recorded`, else the built-in weights); None for a unit without one."""
+    """About how long the units ``left`` take, at the pace of the units ``done`` (unit →
+    measured seconds) against their expected times (``known``: :func:`recorded`, else the
+    built-in weights); None for a unit without one."""
 
     def expected(unit: str | tuple[int, ...]) -> float | None:
         if _key(unit) in known:
@@ -127,9 +126,4 @@ def seconds_left(
     if done and all(e is not None for e in before):
         planned = sum(e for e in before if e is not None)
         pace = sum(done.values()) / planned if planned > 0 else 1.0
-    times = [pace * (e or 0.0) for e in rest]
-    if not times:
-        return 0.0
-    # the running unit: what it should still take, or a tenth of it if it overruns
-    current = max(times[0] - running, 0.1 * times[0])
-    return float(current + sum(times[1:]))
+    return float(sum(pace * (e or 0.0) for e in rest))

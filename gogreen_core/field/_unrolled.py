@@ -26,7 +26,6 @@ from __future__ import annotations
 import importlib
 import threading
 from functools import lru_cache
-from types import ModuleType
 from typing import Any
 
 import numpy as np
@@ -223,15 +222,12 @@ def _check(l_first: int, l_last: int, single: bool = False) -> tuple[int, int]:
     return l_first, l_last
 
 
-def _module(key: tuple[int, int]) -> ModuleType:
-    return importlib.import_module(f"{GENERATED_PACKAGE}.{_module_name(*key)}")
-
-
-def _callback(module: ModuleType, single: bool) -> tuple[Any, Any]:
-    """(the module's kernel function, its C signature)."""
+def _callback(key: tuple[int, int], single: bool) -> tuple[Any, Any, dict[str, Any]]:
+    """(the generated module's kernel function, its C signature, its compile options)."""
+    module = importlib.import_module(f"{GENERATED_PACKAGE}.{_module_name(*key)}")
     if single:
-        return module.angular_single, _expansion.ANGULAR_SINGLE_SIGNATURE
-    return module.angular, _expansion.ANGULAR_SIGNATURE
+        return module.angular_single, _expansion.ANGULAR_SINGLE_SIGNATURE, module.OPTIONS
+    return module.angular, _expansion.ANGULAR_SIGNATURE, module.OPTIONS
 
 
 def unrolled_angular(l_first: int, l_last: int, single: bool = False) -> CFunc[Any]:
@@ -243,9 +239,8 @@ def unrolled_angular(l_first: int, l_last: int, single: bool = False) -> CFunc[A
         with _COMPILE_LOCK:
             kernel = _KERNELS.get(key)
             if kernel is None:
-                module = _module(key[:2])
-                function, signature = _callback(module, single)
-                make = cfunc(signature, cache=True, **module.OPTIONS)
+                function, signature, options = _callback(key[:2], single)
+                make = cfunc(signature, cache=True, **options)
                 kernel = _KERNELS[key] = make(function)
     return kernel
 
@@ -256,10 +251,8 @@ def angular_cached(l_first: int, l_last: int, single: bool = False) -> bool:
     key = (*_check(l_first, l_last, single), single)
     if key in _KERNELS:
         return True
-    module = _module(key[:2])
-    function, signature = _callback(module, single)
-    signature = sigutils.normalize_signature(signature)
-    callback: Any = CFunc(function, signature, {}, module.OPTIONS)
+    function, signature, options = _callback(key[:2], single)
+    callback: Any = CFunc(function, sigutils.normalize_signature(signature), {}, options)
     callback.enable_caching()
     context = callback._targetdescr.target_context
     return callback._cache.load_overload(callback._sig, context) is not None

@@ -99,14 +99,6 @@ def _writable(arr: np.ndarray) -> np.ndarray:
     return arr if arr.flags.writeable else arr.copy()
 
 
-def _load_coefficients(name: str, coeffs: np.ndarray) -> np.ndarray:
-    if not np.isfinite(coeffs).all():
-        raise ParameterError(
-            name, f"{name} is too large for this material: its expansion overflows"
-        )
-    return coeffs
-
-
 # _expansion unrolls the segment polynomial for this degree
 assert TABLE_DEGREE == SEGMENT_DEGREE
 
@@ -230,25 +222,43 @@ class GreenKernel:
         """Vector load: u = G(points - center) · force → (N, 3). Finite within
         :data:`COORDINATE_LIMIT` (decay 1/r); beyond it, or for a force so large that u
         overflows, a :class:`~gogreen_core.validation.ParameterError` names the input."""
-        pts = _points("points", points)
-        c = _within_limit("center", _finite_array("center", center, (3,)))
-        f = _finite_array("force", force, (3,))
-        with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported below
-            coeffs = _load_coefficients("force", self._even.matrices @ f)  # (n_terms, 3)
-        return self._run(self._even, pts, c, coeffs)
+        return self._displace(points, center, "force", force, (3,))
 
     def affine_displacement(
         self, points: np.ndarray, center: np.ndarray, load: np.ndarray
     ) -> np.ndarray:
         """Affine load H (3, 3): u_i = Σ_jp ∂_p G_ij(points - center) H_jp → (N, 3); finite
         within :data:`COORDINATE_LIMIT` as :meth:`displacement` (decay 1/r²)."""
+        return self._displace(points, center, "affine load", load, (3, 3))
+
+    def _displace(
+        self,
+        points: np.ndarray,
+        center: np.ndarray,
+        name: str,
+        load: ArrayLike,
+        shape: tuple[int, ...],
+    ) -> np.ndarray:
         pts = _points("points", points)
         c = _within_limit("center", _finite_array("center", center, (3,)))
-        h = _finite_array("affine load", load, (3, 3))
-        with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported below
-            coeffs = np.einsum("tijp,jp->ti", self._odd.matrices, h)
-        coeffs = _load_coefficients("affine load", coeffs)
-        return self._run(self._odd, pts, c, coeffs)
+        parity, _, _, coeffs = self._loaded(name, load, shape)
+        if not np.isfinite(coeffs).all():
+            raise ParameterError(
+                name, f"{name} is too large for this material: its expansion overflows"
+            )
+        return self._run(parity, pts, c, coeffs)
+
+    def _loaded(
+        self, name: str, load: ArrayLike, shape: tuple[int, ...]
+    ) -> tuple[Parity, np.ndarray, np.ndarray, np.ndarray]:
+        """The parity of a force (3,) or an affine load (3, 3), its radial tables (double and
+        single precision) and the load's coefficients (n_terms, 3)."""
+        value = _finite_array(name, load, shape)
+        with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported by callers
+            if shape == (3,):
+                return self._even, self._even_tables, self._even_single, self._even.matrices @ value
+            coeffs = np.einsum("tijp,jp->ti", self._odd.matrices, value)
+        return self._odd, self._odd_tables, self._odd_single, coeffs
 
     def streamlines(
         self,
@@ -305,18 +315,11 @@ class GreenKernel:
         step = (
             np.zeros(3) if center_step is None else _finite_array("center_step", center_step, (3,))
         )
-        load = np.asarray(load, dtype=np.float64)
-        if load.shape == (3,):
-            parity, tables, single = self._even, self._even_tables, self._even_single
-            coeffs = self._even.matrices @ _finite_array("force", load, (3,))
-        elif load.shape == (3, 3):
-            parity, tables, single = self._odd, self._odd_tables, self._odd_single
-            h = _finite_array("affine load", load, (3, 3))
-            coeffs = np.einsum("tijp,jp->ti", self._odd.matrices, h)
-        else:
-            raise ValueError(
-                f"load must be a force (3,) or an affine load (3, 3), got {load.shape}"
-            )
+        shape = np.shape(load)
+        if shape not in ((3,), (3, 3)):
+            raise ValueError(f"load must be a force (3,) or an affine load (3, 3), got {shape}")
+        name = "force" if shape == (3,) else "affine load"
+        parity, tables, single, coeffs = self._loaded(name, load, shape)
         inner, outer = (0.0, 0.0) if cutoff is None else (float(cutoff[0]), float(cutoff[1]))
         if cutoff is not None and not (np.isfinite(outer) and 0.0 <= inner < outer):
             raise ValueError(f"cutoff must satisfy 0 <= inner < outer, finite (got {cutoff})")

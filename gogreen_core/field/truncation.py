@@ -3,10 +3,10 @@
 
     δ(l_max) = max_x ‖G_lmax(x) − G_ref(x)‖_F / max_x ‖G_ref(x)‖_F
 
-over points x within ``radius`` ε of the load, against the same expansion at a much higher
-``reference_degree`` (the tests check it against a plane-wave quadrature of G). An odd l_max has
-the error of l_max − 1. The falloff hardly changes δ; the Gaussian is used. About a second of
-work: ``progress(done, total)`` is called after each degree, ``cancelled()`` stops between them.
+over points x within 6 ε of the load, against the same expansion 16 degrees higher (the tests
+check it against a plane-wave quadrature of G). An odd l_max has the error of l_max − 1. The
+falloff hardly changes δ; the Gaussian is used. About a second of work: ``progress(done,
+total)`` is called after each degree, ``cancelled()`` stops between them.
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ __all__ = ["DEFAULT_TOLERANCE", "TruncationCancelled", "TruncationReport", "trun
 DEFAULT_TOLERANCE = 1e-3
 #: How far above the largest l_max asked for the reference expansion goes.
 _REFERENCE_MARGIN = 16
-#: Sample radii (in ε) of the error: dense near the load, where the field bends most.
+#: Sample radii (in ε) of the error, up to 6 ε: dense near the load, where the field bends most.
 _RADII = (0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.5, 6.0)
 #: Lebedev orders scipy provides above 31 (every 6th).
 _ORDERS = (*range(3, 32, 2), *range(35, 132, 6))
@@ -82,13 +82,12 @@ class TruncationReport:
         return "\n".join(lines)
 
 
-def _sample_points(reference_degree: int, radius: float) -> np.ndarray:
-    """(n, 3) points within ``radius`` (ε = 1): the centre, then on each radius a Lebedev rule
-    that resolves the reference degree's angular ripples."""
+def _sample_points(reference_degree: int) -> np.ndarray:
+    """(n, 3) points (ε = 1): the centre, then on each of :data:`_RADII` a Lebedev rule that
+    resolves the reference degree's angular ripples."""
     order = next((o for o in _ORDERS if o >= reference_degree + 3), _ORDERS[-1])
     nodes = lebedev_rule(order)[0].T
-    radii = np.array([r for r in _RADII if r < radius] + [radius])
-    shells = (radii[:, None, None] * nodes[None]).reshape(-1, 3)
+    shells = (np.array(_RADII)[:, None, None] * nodes[None]).reshape(-1, 3)
     return np.vstack([np.zeros((1, 3)), shells])
 
 
@@ -96,26 +95,17 @@ def truncation_errors(
     material: Material,
     max_degree: int = 20,
     *,
-    reference_degree: int | None = None,
-    radius: float = 6.0,
     progress: Callable[[int, int], None] | None = None,
     cancelled: Callable[[], bool] | None = None,
 ) -> TruncationReport:
-    """δ(l_max) for even l_max = 0, 2, ..., ``max_degree`` (≤ 44) within ``radius`` ε of the
-    load, against ``reference_degree`` (default max_degree + 16, ≤ 60): see the module
-    docstring."""
+    """δ(l_max) for even l_max = 0, 2, ..., ``max_degree`` (≤ 44): see the module docstring."""
     if not isinstance(material, Material):
         raise ParameterError("material", f"material must be a Material (got {material!r})")
     top = L_MAX_LIMIT - _REFERENCE_MARGIN
     max_degree = check_integer("max_degree", max_degree, low=0, high=top)
     max_degree -= max_degree % 2
-    if reference_degree is None:
-        reference_degree = max_degree + _REFERENCE_MARGIN
-    reference_degree = check_integer(
-        "reference_degree", reference_degree, low=max_degree + 2, high=L_MAX_LIMIT
-    )
-    radius = check_number("radius", radius, low=0.0, high=100.0, low_open=True)
-    points = _sample_points(reference_degree, radius)
+    reference_degree = max_degree + _REFERENCE_MARGIN
+    points = _sample_points(reference_degree)
     degrees = np.arange(0, max_degree + 1, 2)
     total = len(degrees) + 1
     reference = GreenKernel(material, reference_degree, GaussianRadial(1.0))

@@ -21,7 +21,7 @@ from contextlib import contextmanager
 from dataclasses import replace
 from datetime import datetime
 from pathlib import Path
-from typing import Any, TextIO, TypeVar
+from typing import Any, TypeVar
 
 import numpy as np
 
@@ -65,27 +65,28 @@ T = TypeVar("T")
 
 
 class ProgressBar:
-    """A text progress bar on a stream (redrawn in place on a terminal, else every 10%)."""
+    """A text progress bar on stderr (redrawn in place on a terminal, else every 10%)."""
 
-    def __init__(self, label: str, stream: TextIO | None = None, width: int = 30) -> None:
-        self.label, self.width = label, width
-        self.stream = sys.stderr if stream is None else stream
+    WIDTH = 30
+
+    def __init__(self, label: str) -> None:
+        self.label = label
         self.start = time.perf_counter()
         self._last_decile = -1
 
     def __call__(self, done: int, total: int) -> None:
         fraction = done / total if total else 1.0
-        filled = round(self.width * fraction)
+        filled = round(self.WIDTH * fraction)
         text = (
-            f"{self.label} [{'#' * filled}{'.' * (self.width - filled)}] {done}/{total} "
+            f"{self.label} [{'#' * filled}{'.' * (self.WIDTH - filled)}] {done}/{total} "
             f"{time.perf_counter() - self.start:.1f} s"
         )
-        if self.stream.isatty():
-            self.stream.write("\r" + text + ("\n" if done >= total else ""))
+        if sys.stderr.isatty():
+            sys.stderr.write("\r" + text + ("\n" if done >= total else ""))
         elif int(10 * fraction) != self._last_decile:
             self._last_decile = int(10 * fraction)
-            self.stream.write(text + "\n")
-        self.stream.flush()
+            sys.stderr.write(text + "\n")
+        sys.stderr.flush()
 
 
 def _save(mesh: MeshData, sculptor: Sculptor, path: str) -> None:
@@ -321,7 +322,6 @@ def _parser() -> argparse.ArgumentParser:
     replay.add_argument("session", help="session JSON written by the app or `deform`")
     replay.add_argument("input", help="mesh the session starts from (OBJ, PLY, STL, OFF)")
     replay.add_argument("-o", "--output", required=True, help="where to write the result")
-    replay.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     replay.set_defaults(run=_replay)
 
     deform = sub.add_parser("deform", help="apply one brush stroke to a mesh")
@@ -356,7 +356,6 @@ def _parser() -> argparse.ArgumentParser:
     )
     _add_setting_flags(deform)
     deform.add_argument("--session-out", help="also write the session JSON here")
-    deform.add_argument("-q", "--quiet", action="store_true")
     deform.set_defaults(run=_deform)
 
     truncation = sub.add_parser(
@@ -365,7 +364,6 @@ def _parser() -> argparse.ArgumentParser:
     _material_flags(truncation)
     truncation.add_argument("--l-max", type=int, default=8, help="the l_max to assess")
     truncation.add_argument("--max-degree", type=int, default=20, help="largest l_max measured")
-    truncation.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     truncation.set_defaults(run=_truncation)
     recover_ = sub.add_parser(
         "recover",
@@ -382,8 +380,9 @@ def _parser() -> argparse.ArgumentParser:
     )
     recover_.add_argument("--session", help="write the journal's operations as a session JSON")
     recover_.add_argument("--discard", action="store_true", help="delete the journal")
-    recover_.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     recover_.set_defaults(run=_recover)
+    for command in (replay, deform, truncation, recover_):
+        command.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     return parser
 
 

@@ -19,16 +19,16 @@ def cache_folder(tmp_path, monkeypatch):
 
 
 def test_the_first_time_the_built_in_weights_say_the_drivers_dominate(cache_folder):
-    total = compile_times.seconds_left({}, UNITS, 0.0, compile_times.recorded())
+    total = compile_times.seconds_left({}, UNITS, compile_times.recorded())
     assert total == pytest.approx(40.0, rel=0.1)  # a first start on a quiet machine
     # once the drivers are in, most of the time is gone (a per-unit average said 5/6 left)
-    after = compile_times.seconds_left({"drivers": 25.0}, UNITS[1:], 0.0, {})
+    after = compile_times.seconds_left({"drivers": 25.0}, UNITS[1:], {})
     assert after < 0.45 * total
     # a busy machine: the drivers took twice as long, so the rest is expected to as well
-    slow = compile_times.seconds_left({"drivers": 50.0}, UNITS[1:], 0.0, {})
+    slow = compile_times.seconds_left({"drivers": 50.0}, UNITS[1:], {})
     assert slow == pytest.approx(2 * after)
     # a unit the table does not know: no estimate (the driver's per-unit average instead)
-    assert compile_times.seconds_left({}, ["someone_else"], 0.0, {}) is None
+    assert compile_times.seconds_left({}, ["someone_else"], {}) is None
 
 
 def test_measured_times_are_recorded_beside_the_cache_and_used_next_time(cache_folder):
@@ -36,8 +36,7 @@ def test_measured_times_are_recorded_beside_the_cache_and_used_next_time(cache_f
     data = json.loads((cache_folder / compile_times.FILE_NAME).read_text())
     assert data == {"drivers": 12.0, "angular 0-8": 3.0}  # only the table's units
     known = compile_times.recorded()
-    assert compile_times.seconds_left({}, ["drivers", (0, 8)], 0.0, known) == 15.0
-    assert compile_times.seconds_left({}, ["drivers", (0, 8)], 10.0, known) == 5.0
+    assert compile_times.seconds_left({}, ["drivers", (0, 8)], known) == 15.0
 
 
 def test_a_progress_report_names_what_is_compiling_and_estimates_from_the_start(cache_folder):
