@@ -161,6 +161,7 @@ class Journal:
 
     def _start(self) -> None:
         """Begin a journal (or a new generation of it) from the sculptor's current state."""
+        self._pending.clear()
         try:
             if self.directory is None:
                 self.directory, self._lock = new_folder(self.root)
@@ -233,7 +234,6 @@ class Journal:
                 text = json.dumps(cast(BrushEvent, item).to_dict(), separators=_COMPACT)
                 self._pending.append((item, text))
             elif kind == "truncate":  # a rolled-back replay: start again from what is now
-                self._pending.clear()
                 self._start()
             else:
                 self._append(kind, cast(Operation, item), length)
@@ -300,7 +300,6 @@ class Journal:
         if document is not None:
             self.document = os.path.abspath(document)
             self.title = title or Path(document).name
-        self._pending.clear()
         self._start()
 
     def flush(self, timeout: float | None = 30.0) -> bool:

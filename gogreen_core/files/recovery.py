@@ -333,17 +333,6 @@ def _base_mismatch(base: MeshData, mesh: dict[str, Any]) -> str | None:
     return None
 
 
-def _plan(records: list[Record]) -> list[Record]:
-    """The records to apply: of a run of ``replace`` records (one operation) only the last."""
-    plan: list[Record] = []
-    for record in records:
-        if record.kind == "replace" and plan and plan[-1].kind == "replace":
-            plan[-1] = record
-        else:
-            plan.append(record)
-    return plan
-
-
 class _Diverged(Exception):
     """A replay from a checkpoint undid something from before it."""
 
@@ -358,8 +347,14 @@ def _replay(
     were applied and the error that stopped it, or :class:`_Diverged`."""
     offset = done - sculptor.history.done
     total = sum(r.steps for r in records)
+    plan: list[Record] = []  # of a run of ``replace`` records (one operation) only the last
+    for record in records:
+        if record.kind == "replace" and plan and plan[-1].kind == "replace":
+            plan[-1] = record
+        else:
+            plan.append(record)
     steps = applied = 0
-    for record in _plan(records):
+    for record in plan:
         op = cast(Operation, record.op)  # (the records were read with validation)
         if record.kind == "replace" and hasattr(op, "continued"):
             op = replace(cast(Any, op), continued=True)  # merges into the last step, as it did

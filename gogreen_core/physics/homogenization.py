@@ -321,10 +321,6 @@ class HomogenizationResult:
     seconds: float
 
 
-def _fft_workers(n: int) -> int:
-    return 1 if n <= 16 else max(1, min(os.cpu_count() or 1, 4))
-
-
 def homogenize_detailed(
     phases: np.ndarray,
     materials: Sequence[Material],
@@ -368,7 +364,7 @@ def homogenize_detailed(
 
     lam0, mu0 = _reference_lame(mat_a, mat_b)
     sinv = _inverse_symbol(n, round(lam0 / mu0, 12))
-    workers = _fft_workers(n)
+    workers = 1 if n <= 16 else max(1, min(os.cpu_count() or 1, 4))
 
     def precondition(r: np.ndarray) -> np.ndarray:
         rh = sfft.rfftn(r, axes=(0, 1, 2), workers=workers)

@@ -59,15 +59,6 @@ def _poisson(material: Material, along: np.ndarray, across: np.ndarray) -> float
     return float(-(across @ strain @ across) / (along @ strain @ along))
 
 
-def _sphere(n: int) -> np.ndarray:
-    """(n, 3) near-uniform unit directions (a Fibonacci sphere)."""
-    k = np.arange(n) + 0.5
-    z = 1.0 - 2.0 * k / n
-    phi = np.pi * (1.0 + np.sqrt(5.0)) * k
-    r = np.sqrt(1.0 - z * z)
-    return np.column_stack([r * np.cos(phi), r * np.sin(phi), z])
-
-
 def _unit(angles: np.ndarray) -> np.ndarray:
     theta, phi = angles
     return np.array([np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta)])
@@ -77,7 +68,11 @@ def young_extremes(material: Material) -> tuple[float, float, np.ndarray, np.nda
     """(E_min, E_max, softest, stiffest): the extremes of the directional Young's modulus and
     their unit directions (3,), the anisotropy E_max / E_min the glyph's legend and the words
     share: 4,000 directions, each extreme refined by a local search."""
-    directions = _sphere(4000)
+    k = np.arange(4000) + 0.5  # a Fibonacci sphere of near-uniform directions
+    z = 1.0 - 2.0 * k / 4000
+    phi = np.pi * (1.0 + np.sqrt(5.0)) * k
+    r = np.sqrt(1.0 - z * z)
+    directions = np.column_stack([r * np.cos(phi), r * np.sin(phi), z])
     young = material.directional_young(directions)
     found = []
     for sign, index in ((1.0, int(np.argmin(young))), (-1.0, int(np.argmax(young)))):

@@ -171,11 +171,6 @@ class SplineRadial(RadialProfile):
         interpolation: str = "cubic",
     ):
         super().__init__(eps)
-        if interpolation not in INTERPOLATIONS:
-            raise ValueError(
-                f"spline interpolation must be one of {', '.join(INTERPOLATIONS)} "
-                f"(got {interpolation!r})"
-            )
         self._interpolation = interpolation
         self._curves: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]] = {}
         self._splines: dict[tuple[str, int], PPoly] = {}
@@ -184,7 +179,7 @@ class SplineRadial(RadialProfile):
         if not curves:
             raise ValueError("a spline falloff needs at least one curve")
         for (kind, l), (rho, value) in curves.items():
-            self._store(kind, l, rho, value)
+            self._store(kind, l, rho, value)  # (its interpolant refuses a bad interpolation)
 
     @classmethod
     def from_profile(
