@@ -58,6 +58,11 @@ KEEP_CHECKPOINTS = 3
 _COMPACT = (",", ":")
 #: A task of the journal's worker: (kind, the file of an fsync, the action; None to stop).
 _Task = tuple[str, object, Callable[[], object] | None]
+_TASK_PROBLEMS = {
+    "checkpoint": "Crash-recovery checkpoints cannot be written",
+    "base": "The crash-recovery copy of the mesh cannot be written",
+    "fsync": "The crash-recovery journal cannot be flushed to disk",
+}
 
 
 def operation_json(op: Operation, events: list[tuple[object, str]] | None = None) -> str:
@@ -170,6 +175,8 @@ class Journal:
             sha = vertex_hash(state.vertices)
             base = f"base-{sha[:16]}.npz"
             self._token = secrets.token_hex(8)
+            names = ("points", "matrix", "inverse")
+            pins = state.pins and dict(zip(names, [a.tolist() for a in state.pins], strict=True))
             header = {
                 "format": JOURNAL_FORMAT,
                 "version": JOURNAL_VERSION,
@@ -183,7 +190,11 @@ class Journal:
                     "sha256": sha,
                     "base": base,
                 },
-                "start": {**state.header(), "pins": _pins_json(state), "done": self._done()},
+                "start": {
+                    **state.header(),
+                    "pins": pins,
+                    "done": self._done(),
+                },
             }
             if self._retire is not None:
                 header["continues"] = self._retire.directory.name
@@ -360,7 +371,8 @@ class Journal:
                 action()
             except Exception as exc:
                 if kind != "file":  # a picture protects nothing: not worth a message
-                    self._problem(_task_problem(kind, exc))
+                    what = _TASK_PROBLEMS.get(kind, "The crash-recovery journal had a problem")
+                    self._problem(f"{what} ({_reason(exc)})")
 
     def _fsync(self, fd: int, seq: int) -> None:
         os.fsync(fd)
@@ -411,13 +423,6 @@ class Journal:
                     path.unlink(missing_ok=True)
 
 
-def _pins_json(state: SculptState) -> dict[str, Any] | None:
-    if state.pins is None:
-        return None
-    points, matrix, inverse = state.pins
-    return {"points": points.tolist(), "matrix": matrix.tolist(), "inverse": inverse.tolist()}
-
-
 def _index_type(indices: np.ndarray) -> type:
     return np.int32 if indices.size == 0 or int(indices.max()) < 2**31 - 1 else np.int64
 
@@ -426,12 +431,3 @@ def _reason(exc: BaseException) -> str:
     if isinstance(exc, OSError) and exc.strerror:
         return exc.strerror + (f": {exc.filename}" if exc.filename else "")
     return str(exc) or type(exc).__name__
-
-
-def _task_problem(kind: str, exc: Exception) -> str:
-    what = {
-        "checkpoint": "Crash-recovery checkpoints cannot be written",
-        "base": "The crash-recovery copy of the mesh cannot be written",
-        "fsync": "The crash-recovery journal cannot be flushed to disk",
-    }.get(kind, "The crash-recovery journal had a problem")
-    return f"{what} ({_reason(exc)})"

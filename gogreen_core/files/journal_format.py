@@ -244,10 +244,6 @@ class Record:
         events = self.data.get("events")
         return max(1, len(events)) if isinstance(events, list) else 1
 
-    def work(self, vertices: int) -> float:
-        """Estimated replay cost (:func:`~gogreen_core.files.journal.replay_work`)."""
-        return replay_work(str(self.data.get("op")), self.steps, vertices)
-
 
 @dataclass
 class JournalContents:
@@ -297,22 +293,6 @@ def _frame_payload(line: bytes) -> bytes | None:
     return payload if zlib.crc32(payload) == crc else None
 
 
-def _check_header(header: object, name: str) -> dict[str, Any]:
-    if not isinstance(header, dict) or header.get("format") != JOURNAL_FORMAT:
-        raise JournalError(f"{name}: not a GoGreen Sculpt journal")
-    try:
-        mesh = header["mesh"]
-        values = (header["version"], mesh["vertices"], mesh["faces"], mesh["sha256"], mesh["base"])
-        ok = isinstance(header["start"], dict) and all(
-            isinstance(v, t) for v, t in zip(values, (int, int, int, str, str), strict=True)
-        )
-    except (KeyError, TypeError):
-        ok = False
-    if not ok:
-        raise JournalError(f"{name}: the journal's header is malformed")
-    return header
-
-
 def read_journal(directory: str | os.PathLike[str], validate: bool = True) -> JournalContents:
     """Read a journal folder's ``journal.jsonl`` up to its first damage. ``validate``: also
     check every operation (as session files are); listing skips that. :class:`JournalError`
@@ -330,7 +310,18 @@ def read_journal(directory: str | os.PathLike[str], validate: bool = True) -> Jo
         header = None
     if header is None:
         raise JournalError(f"{directory.name}: the journal's header is cut off or corrupt")
-    header = _check_header(header, directory.name)
+    if not isinstance(header, dict) or header.get("format") != JOURNAL_FORMAT:
+        raise JournalError(f"{directory.name}: not a GoGreen Sculpt journal")
+    try:
+        mesh = header["mesh"]
+        values = (header["version"], mesh["vertices"], mesh["faces"], mesh["sha256"], mesh["base"])
+        ok = isinstance(header["start"], dict) and all(
+            isinstance(v, t) for v, t in zip(values, (int, int, int, str, str), strict=True)
+        )
+    except (KeyError, TypeError):
+        ok = False
+    if not ok:
+        raise JournalError(f"{directory.name}: the journal's header is malformed")
     contents = JournalContents(directory, header, [])
     version = SESSION_VERSION
     if header["version"] < 2:  # records of an older session version: upgraded as read

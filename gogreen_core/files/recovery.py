@@ -36,6 +36,7 @@ from gogreen_core.files.journal_format import (
     lock_owner,
     read_journal,
     recovery_root,
+    replay_work,
     vertex_hash,
 )
 from gogreen_core.mesh.mesh_io import MeshData, load_mesh
@@ -398,7 +399,9 @@ def recover(
             )
         records = contents.records
         vertices = contents.header["mesh"]["vertices"]
-        cost = np.cumsum([0] + [r.work(vertices) for r in reversed(records)])[::-1]
+        cost = np.cumsum(
+            [0] + [replay_work(str(r.data.get("op")), r.steps, vertices) for r in reversed(records)]
+        )[::-1]
         starts: list[tuple[int, Path | None]] = [(0, None)] if exact else []
         starts += [c for c in checkpoint_files(directory)[::-1] if 0 < c[0] <= len(records)]
         fits = sorted(s for s in starts if cost[s[0]] <= budget)
