@@ -122,26 +122,25 @@ def _other(vector: np.ndarray) -> np.ndarray:
     return cast(np.ndarray, out / np.linalg.norm(out))
 
 
-def direction_words(direction: np.ndarray, signed: bool = False) -> str:
-    """A direction in words: "Z" (within 10° of an axis; "+Z"/"−Z" when ``signed``), else
-    "Z tilted 45° toward −Y" (the nearest axis and the one or two it leans to)."""
+def direction_words(direction: np.ndarray) -> str:
+    """An axis (not an arrow) in words: "Z" (within 10° of an axis), else "Z tilted 45° toward
+    −Y" (the nearest axis and the one or two it leans to)."""
     d = np.asarray(direction, dtype=float)
     d = d / np.linalg.norm(d)
-    if not signed and d[np.argmax(np.abs(d))] < 0:
-        d = -d  # an axis, not an arrow: name its positive end
+    if d[np.argmax(np.abs(d))] < 0:
+        d = -d  # name the axis's positive end
     first, second, third = np.argsort(-np.abs(d))
 
-    def name(i: int, sign_always: bool) -> str:
-        sign = "−" if d[i] < 0 else ("+" if sign_always else "")
-        return sign + _AXIS_NAMES[i]
+    def name(i: int) -> str:
+        return ("−" if d[i] < 0 else "") + _AXIS_NAMES[i]
 
     angle = float(np.degrees(np.arccos(min(1.0, abs(d[first])))))
     if angle <= 10.0:
-        return name(first, signed)
-    toward = name(second, False)
+        return name(first)
+    toward = name(second)
     if abs(d[third]) > 0.9 * abs(d[second]):
-        toward += f" and {name(third, False)}"
-    return f"{name(first, signed)} tilted {angle:.0f}° toward {toward}"
+        toward += f" and {name(third)}"
+    return f"{name(first)} tilted {angle:.0f}° toward {toward}"
 
 
 def _most_auxetic(material: Material, traits: MaterialTraits) -> tuple[float, str, str]:
