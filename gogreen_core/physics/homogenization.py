@@ -213,9 +213,8 @@ def _reference_lame(a: Material, b: Material) -> tuple[float, float]:
 
 @functools.lru_cache(maxsize=8)
 def _inverse_symbol(n: int, lam_over_mu: float) -> np.ndarray:
-    """Inverse Fourier symbol (n, n, n//2+1, 3, 3), zero at frequency 0, of the periodic Q1
-    stiffness of the isotropic reference λ = lam_over_mu, μ = 1 (CG ignores its scale): real
-    symmetric, as the stencil is reflection invariant."""
+    """Inverse Fourier symbol (n, n, n//2+1, 3, 3), zero at frequency 0 (real symmetric), of the
+    periodic Q1 stiffness of the isotropic reference λ = lam_over_mu, μ = 1."""
     ref = Material.from_lame(lam_over_mu, 1.0)
     blocks0 = _stencil_blocks(_element_stiffness(ref.voigt)).sum(axis=0).reshape(3, 3, 3, 3, 3)
     theta = 2.0 * np.pi / n

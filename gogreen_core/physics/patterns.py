@@ -104,18 +104,14 @@ def fibers(
     <= 1): tetragonal about ``axis``."""
     n, periods = _check_grid(n, periods)
     ax = _check_axis(axis)
+    if shape == "square":
+        return lattice(n, fraction, periods, "xyz"[ax])
+    if shape != "round":
+        raise ValueError(f"shape must be 'round' or 'square' (got {shape!r})")
+    f = _check_fraction(fraction, _MAX_FIBER_FRACTION, "round fibres touch at pi/4")
     coords = _motif_coords(n, periods)
     u, v = (coords[i] for i in range(3) if i != ax)
-    du, dv = _periodic_distance(u, 0.5), _periodic_distance(v, 0.5)
-    if shape == "round":
-        f = _check_fraction(fraction, _MAX_FIBER_FRACTION, "round fibres touch at pi/4")
-        inside = du**2 + dv**2 < f / np.pi
-    elif shape == "square":
-        f = _check_fraction(fraction)
-        half = 0.5 * np.sqrt(f)
-        inside = (du < half) & (dv < half)
-    else:
-        raise ValueError(f"shape must be 'round' or 'square' (got {shape!r})")
+    inside = _periodic_distance(u, 0.5) ** 2 + _periodic_distance(v, 0.5) ** 2 < f / np.pi
     return cast(np.ndarray, inside.astype(np.int8))
 
 
