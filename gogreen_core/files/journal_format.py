@@ -95,14 +95,6 @@ def recovery_root() -> Path:
     return state_home() / "gogreen-sculpt" / "recovery"
 
 
-def _private_folder(root: Path) -> None:
-    """Make ``root`` and its parent (``gogreen-sculpt``) mode 0700, creating them."""
-    for folder in (root.parent, root):
-        folder.mkdir(mode=0o700, parents=True, exist_ok=True)
-        if folder.stat().st_mode & 0o077:
-            folder.chmod(0o700)
-
-
 def frame(payload: bytes) -> bytes:
     """One journal line: the payload's CRC-32 (8 hex digits), a space, the payload, newline."""
     return b"%08x %s\n" % (zlib.crc32(payload), payload)
@@ -202,7 +194,10 @@ def lock_owner(directory: str | os.PathLike[str]) -> dict[str, Any]:
 
 def new_folder(root: Path) -> tuple[Path, JournalLock]:
     """A new journal folder, locked before it gets its final name (never seen unlocked)."""
-    _private_folder(root)
+    for folder in (root.parent, root):  # ``gogreen-sculpt`` and its ``recovery``: private
+        folder.mkdir(mode=0o700, parents=True, exist_ok=True)
+        if folder.stat().st_mode & 0o077:
+            folder.chmod(0o700)
     staging = Path(tempfile.mkdtemp(prefix=".new-", dir=root))  # mode 0700
     lock = JournalLock.acquire(staging, create=True)
     if lock is None:  # nobody else knows this folder

@@ -199,16 +199,13 @@ def _node_codes(phases: np.ndarray) -> np.ndarray:
 
 def _reference_lame(a: Material, b: Material) -> tuple[float, float]:
     """Isotropic reference (geometric mean of the phases' isotropic projections)."""
-
-    def bulk_shear(m: Material) -> tuple[float, float]:
-        c = m.voigt
-        k = (np.trace(c[:3, :3]) + 2.0 * (c[0, 1] + c[0, 2] + c[1, 2])) / 9.0
-        g = (np.trace(c[:3, :3]) - (c[0, 1] + c[0, 2] + c[1, 2]) + 3.0 * np.trace(c[3:, 3:])) / 15
-        return max(k, 1e-300), max(g, 1e-300)
-
-    (ka, ga), (kb, gb) = bulk_shear(a), bulk_shear(b)
-    k0, g0 = np.sqrt(ka * kb), np.sqrt(ga * gb)
-    return k0 - 2.0 * g0 / 3.0, g0
+    c = np.stack([a.voigt, b.voigt])
+    normal, off = np.trace(c[:, :3, :3], axis1=1, axis2=2), c[:, 0, 1] + c[:, 0, 2] + c[:, 1, 2]
+    shear = np.trace(c[:, 3:, 3:], axis1=1, axis2=2)
+    k = np.maximum((normal + 2.0 * off) / 9.0, 1e-300)  # bulk and shear moduli of each phase
+    g = np.maximum((normal - off + 3.0 * shear) / 15, 1e-300)
+    k0, g0 = np.sqrt(k[0] * k[1]), np.sqrt(g[0] * g[1])
+    return float(k0 - 2.0 * g0 / 3.0), float(g0)
 
 
 @functools.lru_cache(maxsize=8)
