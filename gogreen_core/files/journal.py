@@ -198,7 +198,14 @@ class Journal:
             }
             if self._retire is not None:
                 header["continues"] = self._retire.directory.name
-            fd = self._write_header(json.dumps(header, separators=_COMPACT).encode())
+            tmp = self.directory / f".{JOURNAL_FILE}.tmp"
+            fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_APPEND, 0o600)
+            try:  # a new journal of the header alone, renamed over the old one
+                write_all(fd, frame(json.dumps(header, separators=_COMPACT).encode()))
+                os.replace(tmp, self.directory / JOURNAL_FILE)
+            except BaseException:
+                os.close(fd)
+                raise
         except Exception as exc:
             self._stopped = True
             where = self.directory or self.root
@@ -219,19 +226,6 @@ class Journal:
         if self._retire is not None:
             self._submit("retire", partial(self._retire_journal, self._retire))
             self._retire = None
-
-    def _write_header(self, header: bytes) -> int:
-        """A new ``journal.jsonl`` of the header alone, renamed over the old one: its fd."""
-        directory = cast(Path, self.directory)  # (started: the folder was made)
-        tmp = directory / f".{JOURNAL_FILE}.tmp"
-        fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_APPEND, 0o600)
-        try:
-            write_all(fd, frame(header))
-            os.replace(tmp, directory / JOURNAL_FILE)
-        except BaseException:
-            os.close(fd)
-            raise
-        return fd
 
     def _done(self) -> int:
         return int(self.sculptor.history.done)
