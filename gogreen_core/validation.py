@@ -36,19 +36,6 @@ class ParameterError(ValueError):
         super().__init__(message)
         self.parameter = parameter
 
-    def within(self, prefix: str) -> ParameterError:
-        """The same error seen from the enclosing path ``prefix``: ``delta`` within
-        ``"operations[3]"`` is ``operations[3].delta``."""
-        if not prefix:
-            return self
-        path = field(prefix, self.parameter) if self.parameter else prefix
-        message = str(self)
-        if self.parameter and message.startswith(self.parameter):
-            message = path + message[len(self.parameter) :]
-        elif not message.startswith(path):
-            message = f"{path}: {message}"
-        return ParameterError(path, message)
-
 
 def field(path: str, name: str | int) -> str:
     """The path of a member of ``path``: ``field("brush", "radius")`` → ``"brush.radius"``,
@@ -60,17 +47,22 @@ def field(path: str, name: str | int) -> str:
 
 @contextmanager
 def prefixed(prefix: str) -> Iterator[None]:
-    """Re-raise any :class:`ParameterError` as seen from ``prefix`` (see
-    :meth:`ParameterError.within`), and any other ``ValueError`` as a :class:`ParameterError`
-    of ``prefix`` itself."""
+    """Re-raise any :class:`ParameterError` as seen from ``prefix`` (``delta`` within
+    ``"operations[3]"`` is ``operations[3].delta``), and any other ``ValueError`` as a
+    :class:`ParameterError` of ``prefix`` itself."""
     try:
         yield
-    except ParameterError as exc:
-        raise exc.within(prefix) from None
     except ValueError as exc:
         if not prefix:
             raise
-        raise ParameterError(prefix, f"{prefix}: {exc}") from None
+        name = exc.parameter if isinstance(exc, ParameterError) else ""
+        path = field(prefix, name) if name else prefix
+        message = str(exc)
+        if name and message.startswith(name):
+            message = path + message[len(name) :]
+        elif not (isinstance(exc, ParameterError) and message.startswith(path)):
+            message = f"{path}: {message}"
+        raise ParameterError(path, message) from None
 
 
 def check_number(

@@ -58,6 +58,11 @@ KEEP_CHECKPOINTS = 3
 _COMPACT = (",", ":")
 #: A task of the journal's worker: (kind, the file of an fsync, the action; None to stop).
 _Task = tuple[str, object, Callable[[], object] | None]
+_TASK_PROBLEMS = {
+    "checkpoint": "Crash-recovery checkpoints cannot be written",
+    "base": "The crash-recovery copy of the mesh cannot be written",
+    "fsync": "The crash-recovery journal cannot be flushed to disk",
+}
 
 
 def operation_json(op: Operation, events: list[tuple[object, str]] | None = None) -> str:
@@ -161,6 +166,7 @@ class Journal:
 
     def _start(self) -> None:
         """Begin a journal (or a new generation of it) from the sculptor's current state."""
+        self._pending.clear()
         try:
             if self.directory is None:
                 self.directory, self._lock = new_folder(self.root)
@@ -169,6 +175,8 @@ class Journal:
             sha = vertex_hash(state.vertices)
             base = f"base-{sha[:16]}.npz"
             self._token = secrets.token_hex(8)
+            names = ("points", "matrix", "inverse")
+            pins = state.pins and dict(zip(names, [a.tolist() for a in state.pins], strict=True))
             header = {
                 "format": JOURNAL_FORMAT,
                 "version": JOURNAL_VERSION,
@@ -182,11 +190,22 @@ class Journal:
                     "sha256": sha,
                     "base": base,
                 },
-                "start": {**state.header(), "pins": _pins_json(state), "done": self._done()},
+                "start": {
+                    **state.header(),
+                    "pins": pins,
+                    "done": self._done(),
+                },
             }
             if self._retire is not None:
                 header["continues"] = self._retire.directory.name
-            fd = self._write_header(json.dumps(header, separators=_COMPACT).encode())
+            tmp = self.directory / f".{JOURNAL_FILE}.tmp"
+            fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_APPEND, 0o600)
+            try:  # a new journal of the header alone, renamed over the old one
+                write_all(fd, frame(json.dumps(header, separators=_COMPACT).encode()))
+                os.replace(tmp, self.directory / JOURNAL_FILE)
+            except BaseException:
+                os.close(fd)
+                raise
         except Exception as exc:
             self._stopped = True
             where = self.directory or self.root
@@ -208,19 +227,6 @@ class Journal:
             self._submit("retire", partial(self._retire_journal, self._retire))
             self._retire = None
 
-    def _write_header(self, header: bytes) -> int:
-        """A new ``journal.jsonl`` of the header alone, renamed over the old one: its fd."""
-        directory = cast(Path, self.directory)  # (started: the folder was made)
-        tmp = directory / f".{JOURNAL_FILE}.tmp"
-        fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC | os.O_APPEND, 0o600)
-        try:
-            write_all(fd, frame(header))
-            os.replace(tmp, directory / JOURNAL_FILE)
-        except BaseException:
-            os.close(fd)
-            raise
-        return fd
-
     def _done(self) -> int:
         return int(self.sculptor.history.done)
 
@@ -233,7 +239,6 @@ class Journal:
                 text = json.dumps(cast(BrushEvent, item).to_dict(), separators=_COMPACT)
                 self._pending.append((item, text))
             elif kind == "truncate":  # a rolled-back replay: start again from what is now
-                self._pending.clear()
                 self._start()
             else:
                 self._append(kind, cast(Operation, item), length)
@@ -300,7 +305,6 @@ class Journal:
         if document is not None:
             self.document = os.path.abspath(document)
             self.title = title or Path(document).name
-        self._pending.clear()
         self._start()
 
     def flush(self, timeout: float | None = 30.0) -> bool:
@@ -361,7 +365,8 @@ class Journal:
                 action()
             except Exception as exc:
                 if kind != "file":  # a picture protects nothing: not worth a message
-                    self._problem(_task_problem(kind, exc))
+                    what = _TASK_PROBLEMS.get(kind, "The crash-recovery journal had a problem")
+                    self._problem(f"{what} ({_reason(exc)})")
 
     def _fsync(self, fd: int, seq: int) -> None:
         os.fsync(fd)
@@ -412,13 +417,6 @@ class Journal:
                     path.unlink(missing_ok=True)
 
 
-def _pins_json(state: SculptState) -> dict[str, Any] | None:
-    if state.pins is None:
-        return None
-    points, matrix, inverse = state.pins
-    return {"points": points.tolist(), "matrix": matrix.tolist(), "inverse": inverse.tolist()}
-
-
 def _index_type(indices: np.ndarray) -> type:
     return np.int32 if indices.size == 0 or int(indices.max()) < 2**31 - 1 else np.int64
 
@@ -427,12 +425,3 @@ def _reason(exc: BaseException) -> str:
     if isinstance(exc, OSError) and exc.strerror:
         return exc.strerror + (f": {exc.filename}" if exc.filename else "")
     return str(exc) or type(exc).__name__
-
-
-def _task_problem(kind: str, exc: Exception) -> str:
-    what = {
-        "checkpoint": "Crash-recovery checkpoints cannot be written",
-        "base": "The crash-recovery copy of the mesh cannot be written",
-        "fsync": "The crash-recovery journal cannot be flushed to disk",
-    }.get(kind, "The crash-recovery journal had a problem")
-    return f"{what} ({_reason(exc)})"

@@ -95,14 +95,6 @@ def recovery_root() -> Path:
     return state_home() / "gogreen-sculpt" / "recovery"
 
 
-def _private_folder(root: Path) -> None:
-    """Make ``root`` and its parent (``gogreen-sculpt``) mode 0700, creating them."""
-    for folder in (root.parent, root):
-        folder.mkdir(mode=0o700, parents=True, exist_ok=True)
-        if folder.stat().st_mode & 0o077:
-            folder.chmod(0o700)
-
-
 def frame(payload: bytes) -> bytes:
     """One journal line: the payload's CRC-32 (8 hex digits), a space, the payload, newline."""
     return b"%08x %s\n" % (zlib.crc32(payload), payload)
@@ -202,7 +194,10 @@ def lock_owner(directory: str | os.PathLike[str]) -> dict[str, Any]:
 
 def new_folder(root: Path) -> tuple[Path, JournalLock]:
     """A new journal folder, locked before it gets its final name (never seen unlocked)."""
-    _private_folder(root)
+    for folder in (root.parent, root):  # ``gogreen-sculpt`` and its ``recovery``: private
+        folder.mkdir(mode=0o700, parents=True, exist_ok=True)
+        if folder.stat().st_mode & 0o077:
+            folder.chmod(0o700)
     staging = Path(tempfile.mkdtemp(prefix=".new-", dir=root))  # mode 0700
     lock = JournalLock.acquire(staging, create=True)
     if lock is None:  # nobody else knows this folder
@@ -243,10 +238,6 @@ class Record:
         """Progress units of its replay: a stroke's mouse events, else 1."""
         events = self.data.get("events")
         return max(1, len(events)) if isinstance(events, list) else 1
-
-    def work(self, vertices: int) -> float:
-        """Estimated replay cost (:func:`~gogreen_core.files.journal.replay_work`)."""
-        return replay_work(str(self.data.get("op")), self.steps, vertices)
 
 
 @dataclass
@@ -297,22 +288,6 @@ def _frame_payload(line: bytes) -> bytes | None:
     return payload if zlib.crc32(payload) == crc else None
 
 
-def _check_header(header: object, name: str) -> dict[str, Any]:
-    if not isinstance(header, dict) or header.get("format") != JOURNAL_FORMAT:
-        raise JournalError(f"{name}: not a GoGreen Sculpt journal")
-    try:
-        mesh = header["mesh"]
-        values = (header["version"], mesh["vertices"], mesh["faces"], mesh["sha256"], mesh["base"])
-        ok = isinstance(header["start"], dict) and all(
-            isinstance(v, t) for v, t in zip(values, (int, int, int, str, str), strict=True)
-        )
-    except (KeyError, TypeError):
-        ok = False
-    if not ok:
-        raise JournalError(f"{name}: the journal's header is malformed")
-    return header
-
-
 def read_journal(directory: str | os.PathLike[str], validate: bool = True) -> JournalContents:
     """Read a journal folder's ``journal.jsonl`` up to its first damage. ``validate``: also
     check every operation (as session files are); listing skips that. :class:`JournalError`
@@ -330,7 +305,18 @@ def read_journal(directory: str | os.PathLike[str], validate: bool = True) -> Jo
         header = None
     if header is None:
         raise JournalError(f"{directory.name}: the journal's header is cut off or corrupt")
-    header = _check_header(header, directory.name)
+    if not isinstance(header, dict) or header.get("format") != JOURNAL_FORMAT:
+        raise JournalError(f"{directory.name}: not a GoGreen Sculpt journal")
+    try:
+        mesh = header["mesh"]
+        values = (header["version"], mesh["vertices"], mesh["faces"], mesh["sha256"], mesh["base"])
+        ok = isinstance(header["start"], dict) and all(
+            isinstance(v, t) for v, t in zip(values, (int, int, int, str, str), strict=True)
+        )
+    except (KeyError, TypeError):
+        ok = False
+    if not ok:
+        raise JournalError(f"{directory.name}: the journal's header is malformed")
     contents = JournalContents(directory, header, [])
     version = SESSION_VERSION
     if header["version"] < 2:  # records of an older session version: upgraded as read

@@ -36,6 +36,7 @@ from gogreen_core.files.journal_format import (
     lock_owner,
     read_journal,
     recovery_root,
+    replay_work,
     vertex_hash,
 )
 from gogreen_core.mesh.mesh_io import MeshData, load_mesh
@@ -333,17 +334,6 @@ def _base_mismatch(base: MeshData, mesh: dict[str, Any]) -> str | None:
     return None
 
 
-def _plan(records: list[Record]) -> list[Record]:
-    """The records to apply: of a run of ``replace`` records (one operation) only the last."""
-    plan: list[Record] = []
-    for record in records:
-        if record.kind == "replace" and plan and plan[-1].kind == "replace":
-            plan[-1] = record
-        else:
-            plan.append(record)
-    return plan
-
-
 class _Diverged(Exception):
     """A replay from a checkpoint undid something from before it."""
 
@@ -358,8 +348,14 @@ def _replay(
     were applied and the error that stopped it, or :class:`_Diverged`."""
     offset = done - sculptor.history.done
     total = sum(r.steps for r in records)
+    plan: list[Record] = []  # of a run of ``replace`` records (one operation) only the last
+    for record in records:
+        if record.kind == "replace" and plan and plan[-1].kind == "replace":
+            plan[-1] = record
+        else:
+            plan.append(record)
     steps = applied = 0
-    for record in _plan(records):
+    for record in plan:
         op = cast(Operation, record.op)  # (the records were read with validation)
         if record.kind == "replace" and hasattr(op, "continued"):
             op = replace(cast(Any, op), continued=True)  # merges into the last step, as it did
@@ -403,7 +399,9 @@ def recover(
             )
         records = contents.records
         vertices = contents.header["mesh"]["vertices"]
-        cost = np.cumsum([0] + [r.work(vertices) for r in reversed(records)])[::-1]
+        cost = np.cumsum(
+            [0] + [replay_work(str(r.data.get("op")), r.steps, vertices) for r in reversed(records)]
+        )[::-1]
         starts: list[tuple[int, Path | None]] = [(0, None)] if exact else []
         starts += [c for c in checkpoint_files(directory)[::-1] if 0 < c[0] <= len(records)]
         fits = sorted(s for s in starts if cost[s[0]] <= budget)

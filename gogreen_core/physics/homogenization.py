@@ -199,23 +199,19 @@ def _node_codes(phases: np.ndarray) -> np.ndarray:
 
 def _reference_lame(a: Material, b: Material) -> tuple[float, float]:
     """Isotropic reference (geometric mean of the phases' isotropic projections)."""
-
-    def bulk_shear(m: Material) -> tuple[float, float]:
-        c = m.voigt
-        k = (np.trace(c[:3, :3]) + 2.0 * (c[0, 1] + c[0, 2] + c[1, 2])) / 9.0
-        g = (np.trace(c[:3, :3]) - (c[0, 1] + c[0, 2] + c[1, 2]) + 3.0 * np.trace(c[3:, 3:])) / 15
-        return max(k, 1e-300), max(g, 1e-300)
-
-    (ka, ga), (kb, gb) = bulk_shear(a), bulk_shear(b)
-    k0, g0 = np.sqrt(ka * kb), np.sqrt(ga * gb)
-    return k0 - 2.0 * g0 / 3.0, g0
+    c = np.stack([a.voigt, b.voigt])
+    normal, off = np.trace(c[:, :3, :3], axis1=1, axis2=2), c[:, 0, 1] + c[:, 0, 2] + c[:, 1, 2]
+    shear = np.trace(c[:, 3:, 3:], axis1=1, axis2=2)
+    k = np.maximum((normal + 2.0 * off) / 9.0, 1e-300)  # bulk and shear moduli of each phase
+    g = np.maximum((normal - off + 3.0 * shear) / 15, 1e-300)
+    k0, g0 = np.sqrt(k[0] * k[1]), np.sqrt(g[0] * g[1])
+    return float(k0 - 2.0 * g0 / 3.0), float(g0)
 
 
 @functools.lru_cache(maxsize=8)
 def _inverse_symbol(n: int, lam_over_mu: float) -> np.ndarray:
-    """Inverse Fourier symbol (n, n, n//2+1, 3, 3), zero at frequency 0, of the periodic Q1
-    stiffness of the isotropic reference λ = lam_over_mu, μ = 1 (CG ignores its scale): real
-    symmetric, as the stencil is reflection invariant."""
+    """Inverse Fourier symbol (n, n, n//2+1, 3, 3), zero at frequency 0 (real symmetric), of the
+    periodic Q1 stiffness of the isotropic reference λ = lam_over_mu, μ = 1."""
     ref = Material.from_lame(lam_over_mu, 1.0)
     blocks0 = _stencil_blocks(_element_stiffness(ref.voigt)).sum(axis=0).reshape(3, 3, 3, 3, 3)
     theta = 2.0 * np.pi / n
@@ -321,10 +317,6 @@ class HomogenizationResult:
     seconds: float
 
 
-def _fft_workers(n: int) -> int:
-    return 1 if n <= 16 else max(1, min(os.cpu_count() or 1, 4))
-
-
 def homogenize_detailed(
     phases: np.ndarray,
     materials: Sequence[Material],
@@ -368,7 +360,7 @@ def homogenize_detailed(
 
     lam0, mu0 = _reference_lame(mat_a, mat_b)
     sinv = _inverse_symbol(n, round(lam0 / mu0, 12))
-    workers = _fft_workers(n)
+    workers = 1 if n <= 16 else max(1, min(os.cpu_count() or 1, 4))
 
     def precondition(r: np.ndarray) -> np.ndarray:
         rh = sfft.rfftn(r, axes=(0, 1, 2), workers=workers)

@@ -59,15 +59,6 @@ def _poisson(material: Material, along: np.ndarray, across: np.ndarray) -> float
     return float(-(across @ strain @ across) / (along @ strain @ along))
 
 
-def _sphere(n: int) -> np.ndarray:
-    """(n, 3) near-uniform unit directions (a Fibonacci sphere)."""
-    k = np.arange(n) + 0.5
-    z = 1.0 - 2.0 * k / n
-    phi = np.pi * (1.0 + np.sqrt(5.0)) * k
-    r = np.sqrt(1.0 - z * z)
-    return np.column_stack([r * np.cos(phi), r * np.sin(phi), z])
-
-
 def _unit(angles: np.ndarray) -> np.ndarray:
     theta, phi = angles
     return np.array([np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), np.cos(theta)])
@@ -77,7 +68,11 @@ def young_extremes(material: Material) -> tuple[float, float, np.ndarray, np.nda
     """(E_min, E_max, softest, stiffest): the extremes of the directional Young's modulus and
     their unit directions (3,), the anisotropy E_max / E_min the glyph's legend and the words
     share: 4,000 directions, each extreme refined by a local search."""
-    directions = _sphere(4000)
+    k = np.arange(4000) + 0.5  # a Fibonacci sphere of near-uniform directions
+    z = 1.0 - 2.0 * k / 4000
+    phi = np.pi * (1.0 + np.sqrt(5.0)) * k
+    r = np.sqrt(1.0 - z * z)
+    directions = np.column_stack([r * np.cos(phi), r * np.sin(phi), z])
     young = material.directional_young(directions)
     found = []
     for sign, index in ((1.0, int(np.argmin(young))), (-1.0, int(np.argmax(young)))):
@@ -127,26 +122,25 @@ def _other(vector: np.ndarray) -> np.ndarray:
     return cast(np.ndarray, out / np.linalg.norm(out))
 
 
-def direction_words(direction: np.ndarray, signed: bool = False) -> str:
-    """A direction in words: "Z" (within 10° of an axis; "+Z"/"−Z" when ``signed``), else
-    "Z tilted 45° toward −Y" (the nearest axis and the one or two it leans to)."""
+def direction_words(direction: np.ndarray) -> str:
+    """An axis (not an arrow) in words: "Z" (within 10° of an axis), else "Z tilted 45° toward
+    −Y" (the nearest axis and the one or two it leans to)."""
     d = np.asarray(direction, dtype=float)
     d = d / np.linalg.norm(d)
-    if not signed and d[np.argmax(np.abs(d))] < 0:
-        d = -d  # an axis, not an arrow: name its positive end
+    if d[np.argmax(np.abs(d))] < 0:
+        d = -d  # name the axis's positive end
     first, second, third = np.argsort(-np.abs(d))
 
-    def name(i: int, sign_always: bool) -> str:
-        sign = "−" if d[i] < 0 else ("+" if sign_always else "")
-        return sign + _AXIS_NAMES[i]
+    def name(i: int) -> str:
+        return ("−" if d[i] < 0 else "") + _AXIS_NAMES[i]
 
     angle = float(np.degrees(np.arccos(min(1.0, abs(d[first])))))
     if angle <= 10.0:
-        return name(first, signed)
-    toward = name(second, False)
+        return name(first)
+    toward = name(second)
     if abs(d[third]) > 0.9 * abs(d[second]):
-        toward += f" and {name(third, False)}"
-    return f"{name(first, signed)} tilted {angle:.0f}° toward {toward}"
+        toward += f" and {name(third)}"
+    return f"{name(first)} tilted {angle:.0f}° toward {toward}"
 
 
 def _most_auxetic(material: Material, traits: MaterialTraits) -> tuple[float, str, str]:

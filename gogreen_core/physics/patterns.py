@@ -53,13 +53,14 @@ def _check_fraction(fraction: float, upper: float = 1.0, what: str = "") -> floa
     return f
 
 
-def _check_periods(periods: int, n: int, per_period: int = 1) -> int:
+def _check_grid(n: int, periods: int, per_period: int = 1) -> tuple[int, int]:
+    n = check_integer("n", n, low=2)
     periods = check_integer("periods", periods, low=1)
     if periods * per_period > n:
         raise ValueError(
             f"periods = {periods} is too many for n = {n}: need periods * {per_period} <= n"
         )
-    return periods
+    return n, periods
 
 
 def _check_axis(axis: str | int, name: str = "axis") -> int:
@@ -85,15 +86,10 @@ def layered(
 ) -> np.ndarray:
     """Laminate: layers of phase b (thickness ``fraction`` of each period) stacked along
     ``normal``: transversely isotropic about it (exact Backus tensor)."""
-    n = check_integer("n", n, low=2)
+    n, periods = _check_grid(n, periods)
     ax = _check_axis(normal, "normal")
     f = _check_fraction(fraction)
-    periods = _check_periods(periods, n)
-    t = ((np.arange(n) + 0.5) / n * periods) % 1.0
-    line = (t < f).astype(np.int8)
-    shape = [1, 1, 1]
-    shape[ax] = n
-    return np.broadcast_to(line.reshape(shape), (n, n, n)).astype(np.int8)
+    return (_motif_coords(n, periods)[ax] < f).astype(np.int8)
 
 
 def fibers(
@@ -106,29 +102,23 @@ def fibers(
     """Fibre-reinforced: straight rods of phase b along ``axis`` on a square array, one rod per
     motif centre. ``shape`` "round" (circular section, fraction <= pi/4) or "square" (fraction
     <= 1): tetragonal about ``axis``."""
-    n = check_integer("n", n, low=2)
+    n, periods = _check_grid(n, periods)
     ax = _check_axis(axis)
-    periods = _check_periods(periods, n)
+    if shape == "square":
+        return lattice(n, fraction, periods, "xyz"[ax])
+    if shape != "round":
+        raise ValueError(f"shape must be 'round' or 'square' (got {shape!r})")
+    f = _check_fraction(fraction, _MAX_FIBER_FRACTION, "round fibres touch at pi/4")
     coords = _motif_coords(n, periods)
     u, v = (coords[i] for i in range(3) if i != ax)
-    du, dv = _periodic_distance(u, 0.5), _periodic_distance(v, 0.5)
-    if shape == "round":
-        f = _check_fraction(fraction, _MAX_FIBER_FRACTION, "round fibres touch at pi/4")
-        inside = du**2 + dv**2 < f / np.pi
-    elif shape == "square":
-        f = _check_fraction(fraction)
-        half = 0.5 * np.sqrt(f)
-        inside = (du < half) & (dv < half)
-    else:
-        raise ValueError(f"shape must be 'round' or 'square' (got {shape!r})")
+    inside = _periodic_distance(u, 0.5) ** 2 + _periodic_distance(v, 0.5) ** 2 < f / np.pi
     return cast(np.ndarray, inside.astype(np.int8))
 
 
 def checkerboard(n: int = 16, periods: int = 1) -> np.ndarray:
     """3D checkerboard: 2 x 2 x 2 blocks per motif, phase b where the block indices sum to an
     odd number. Fraction 1/2, cubic symmetry; needs 2 * periods <= n."""
-    n = check_integer("n", n, low=2)
-    periods = _check_periods(periods, n, per_period=2)
+    n, periods = _check_grid(n, periods, per_period=2)
     x, y, z = _motif_coords(n, periods)
     blocks = np.floor(2 * x) + np.floor(2 * y) + np.floor(2 * z)
     return cast(np.ndarray, (blocks.astype(np.int64) % 2).astype(np.int8))
@@ -140,14 +130,13 @@ def spheres(
     """Spotted: spherical inclusions of phase b on a simple cubic ("sc"), body-centred ("bcc")
     or face-centred ("fcc") lattice, radius from ``fraction`` (at most the touching-sphere
     packing: pi/6 for sc, 0.680 for bcc, 0.740 for fcc). Cubic symmetry."""
-    n = check_integer("n", n, low=2)
+    n, periods = _check_grid(n, periods)
     if arrangement not in _SPHERE_LATTICES:
         raise ValueError(
             f"arrangement must be one of {sorted(_SPHERE_LATTICES)} (got {arrangement!r})"
         )
     centres, f_max = _SPHERE_LATTICES[arrangement]
     f = _check_fraction(fraction, f_max, f"spheres of a {arrangement} lattice touch at {f_max:.4g}")
-    periods = _check_periods(periods, n)
     x, y, z = _motif_coords(n, periods)
     radius2 = (3.0 * f / (4.0 * np.pi * len(centres))) ** (2.0 / 3.0)
     inside = np.zeros((n, n, n), dtype=bool)
@@ -175,9 +164,8 @@ def lattice(n: int = 16, fraction: float = 0.3, periods: int = 1, axes: str = "x
     """Cross / lattice: square bars of phase b through the motif centre along each axis in
     ``axes`` ("xyz": a 3D cubic lattice/frame, cubic symmetry; "xy", "xz", "yz": a 2D cross of
     bars; one letter: square fibres). Bar width from ``fraction``."""
-    n = check_integer("n", n, low=2)
+    n, periods = _check_grid(n, periods)
     f = _check_fraction(fraction)
-    periods = _check_periods(periods, n)
     letters = sorted({_check_axis(a, "axes") for a in axes}) if isinstance(axes, str) else []
     if not letters or len(letters) != len(axes):
         raise ValueError(f"axes must be distinct letters among 'x', 'y', 'z' (got {axes!r})")

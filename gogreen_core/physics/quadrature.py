@@ -45,9 +45,8 @@ def _low_moments(material: Material, nodes: np.ndarray, weights: np.ndarray) -> 
 
 
 def _material_frame(material: Material) -> np.ndarray:
-    """Rotation (3, 3) whose last column is the eigenvector of A_ij = C_ikjk farthest (in
-    ratio) from the other two: M⁻¹'s ridge (fibres) or peaks (a stiff plane) then lie on the
-    frame's equator or poles, where the product rule grades its nodes."""
+    """Rotation (3, 3) whose last column is the eigenvector of A_ij = C_ikjk farthest (in ratio)
+    from the others: M⁻¹'s ridge or peaks then lie where the product rule grades its nodes."""
     values, vectors = np.linalg.eigh(np.einsum("ikjk->ij", material.tensor))
     logs = np.log(np.maximum(values, values[-1] * 1e-300))
     axis = 0 if logs[1] - logs[0] > logs[2] - logs[1] else 2
@@ -59,11 +58,9 @@ def _material_frame(material: Material) -> np.ndarray:
 def _product_rule(
     l_max: int, level: int, frame: np.ndarray, finest: float
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Gauss–Legendre in the polar angle θ × trapezoid in φ, in ``frame``: nodes (n, 3) and
-    weights (n,) summing to 4π. Uniform θ panels resolve Y_lm up to l_max + 1 (p ≳ lh/2 + 8
-    points on width h), graded geometrically toward the equator and the poles down to width
-    ``finest``, where M⁻¹ has its ridges and peaks (exponential convergence however sharp);
-    ``level`` raises the points per panel and in φ."""
+    """Gauss–Legendre in θ × trapezoid in φ, in ``frame``: nodes (n, 3), weights (n,). θ panels
+    resolve Y_lm to l_max + 1, graded toward the equator and poles (M⁻¹'s ridges and peaks)
+    down to width ``finest``; ``level`` raises the points per panel and in φ."""
     coarse_points, fine_points = 16 + 4 * level, 8 + 4 * level
     n_uniform = int(np.ceil(np.pi * (l_max + 2) / (4 * (coarse_points - 8))))
     uniform_width = np.pi / (2 * n_uniform)

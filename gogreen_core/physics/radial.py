@@ -95,6 +95,16 @@ class RadialProfile(ABC):
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready description; :func:`radial_from_dict` inverts it."""
 
+    def __eq__(self, other: object) -> bool:
+        """Equal by content: the same kind, ε and shape (:meth:`table_key`)."""
+        if not isinstance(other, RadialProfile):
+            return NotImplemented
+        same = type(other) is type(self) and other.eps == self.eps
+        return same and other.table_key() == self.table_key()
+
+    def __hash__(self) -> int:
+        return hash((self.eps, self.table_key()))
+
     def __repr__(self) -> str:
         return f"{type(self).__name__}(eps={self._eps:g})"
 
@@ -105,12 +115,6 @@ class _ClosedFormRadial(RadialProfile):
 
     def to_dict(self) -> dict[str, Any]:
         return {"type": self.kind_name, "eps": self._eps}
-
-    def __eq__(self, other: object) -> bool:
-        return type(other) is type(self) and other.eps == self.eps
-
-    def __hash__(self) -> int:
-        return hash((self.kind_name, self._eps))
 
 
 class GaussianRadial(_ClosedFormRadial):
@@ -171,11 +175,6 @@ class SplineRadial(RadialProfile):
         interpolation: str = "cubic",
     ):
         super().__init__(eps)
-        if interpolation not in INTERPOLATIONS:
-            raise ValueError(
-                f"spline interpolation must be one of {', '.join(INTERPOLATIONS)} "
-                f"(got {interpolation!r})"
-            )
         self._interpolation = interpolation
         self._curves: dict[tuple[str, int], tuple[np.ndarray, np.ndarray]] = {}
         self._splines: dict[tuple[str, int], PPoly] = {}
@@ -184,7 +183,7 @@ class SplineRadial(RadialProfile):
         if not curves:
             raise ValueError("a spline falloff needs at least one curve")
         for (kind, l), (rho, value) in curves.items():
-            self._store(kind, l, rho, value)
+            self._store(kind, l, rho, value)  # (its interpolant refuses a bad interpolation)
 
     @classmethod
     def from_profile(
@@ -330,15 +329,6 @@ class SplineRadial(RadialProfile):
                 digest.update(value.tobytes())
             self._digest = digest.hexdigest()
         return ("spline", self._digest)
-
-    def __eq__(self, other: object) -> bool:
-        """Equal by content: the same ε and the same control points."""
-        if not isinstance(other, SplineRadial):
-            return NotImplemented
-        return self.eps == other.eps and self.table_key() == other.table_key()
-
-    def __hash__(self) -> int:
-        return hash((self.eps, self.table_key()))
 
     # -- serialization -----------------------------------------------------------------------
     def to_dict(self) -> dict[str, Any]:

@@ -42,9 +42,8 @@ SINGLE_DEGREE = 2
 
 @lru_cache(maxsize=2)
 def _chebyshev_to_monomial(degree: int = TABLE_DEGREE) -> tuple[np.ndarray, np.ndarray]:
-    """Chebyshev nodes s_k on [-1, 1] and the matrix taking values there to monomial
-    coefficients of the interpolating polynomial of ``degree`` (via Chebyshev coefficients,
-    well conditioned)."""
+    """Chebyshev nodes s_k on [-1, 1] and the matrix taking values there to the monomial
+    coefficients of the interpolant of ``degree`` (via Chebyshev coefficients: well conditioned)."""
     n = degree + 1
     k = np.arange(n)
     nodes = np.cos((2 * k + 1) * np.pi / (2 * n))

@@ -40,12 +40,9 @@ class LegendreRecurrence:
 def legendre_recurrence(l_max: int) -> LegendreRecurrence:
     """Recurrence constants for degrees 0..``l_max`` (cached, read-only arrays)."""
     size = l_max + 1
-    qmm = np.empty(size)
-    qmm[0] = 1.0 / np.sqrt(4.0 * np.pi)
-    for m in range(1, size):
-        qmm[m] = qmm[m - 1] * np.sqrt((2.0 * m + 1.0) / (2.0 * m))
-    if size > 1:
-        qmm[1:] *= np.sqrt(2.0)
+    steps = [np.sqrt((2.0 * m + 1.0) / (2.0 * m)) for m in range(1, size)]
+    qmm = np.cumprod([1.0 / np.sqrt(4.0 * np.pi), *steps])
+    qmm[1:] *= np.sqrt(2.0)
     a = np.zeros((size, size))
     b = np.zeros((size, size))
     for m in range(size):
