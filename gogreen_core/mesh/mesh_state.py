@@ -13,7 +13,13 @@ import numpy as np
 
 from gogreen_core.field.limits import MAX_REACH
 from gogreen_core.mesh.influence import VertexBlocks
-from gogreen_core.mesh.topology import MeshEdges, VertexNeighbours, mesh_edges, vertex_neighbours
+from gogreen_core.mesh.topology import (
+    MeshEdges,
+    VertexNeighbours,
+    checked_faces,
+    mesh_edges,
+    vertex_neighbours,
+)
 from gogreen_core.validation import ParameterError, check_vector, vector_norm
 
 __all__ = [
@@ -37,11 +43,7 @@ def check_mesh(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.
         raise ValueError(f"vertices must be a non-empty (N, 3) array (got shape {v.shape})")
     if not np.all(np.isfinite(v)):
         raise ValueError("vertices contain NaN or infinite coordinates")
-    if f.ndim != 2 or f.shape[1] != 3:
-        raise ValueError(f"faces must be an (M, 3) array (got shape {f.shape})")
-    if f.size and (f.min() < 0 or f.max() >= len(v)):
-        raise ValueError(f"faces reference vertices outside 0..{len(v) - 1}")
-    return v, f
+    return v, checked_faces(f, len(v))
 
 
 def check_uv(

@@ -43,7 +43,12 @@ from gogreen_core.mesh._remesh_kernels import (
     strained_faces,
 )
 from gogreen_core.mesh.mesh_state import MeshSnapshot
-from gogreen_core.mesh.subdivision import MASK_THRESHOLD, _split_faces, _subdivided_uv
+from gogreen_core.mesh.subdivision import (
+    MASK_THRESHOLD,
+    _gathered_sum,
+    _split_faces,
+    _subdivided_uv,
+)
 from gogreen_core.mesh.topology import (
     BOUNDARY,
     INTERIOR,
@@ -159,9 +164,8 @@ class _Patch:
     def split(self) -> bool:
         edges = mesh_edges(self.faces, len(self.points))
         a, b = edges.ends[:, 0], edges.ends[:, 1]
-        length2 = np.einsum(
-            "ij,ij->i", self.points[b] - self.points[a], self.points[b] - self.points[a]
-        )
+        side = self.points[b] - self.points[a]
+        length2 = np.einsum("ij,ij->i", side, side)
         high = SPLIT_ABOVE * 0.5 * (self.sizes[a] + self.sizes[b])
         split = (
             (edges.face_count == 2) & (self.closed[a] | self.closed[b]) & (length2 > high * high)
@@ -274,17 +278,13 @@ class _Patch:
         if not len(flips):
             return False
         f0, f1, va, vb = flips.T
-        faces, rows = self.faces, self.uv_faces
-        k0 = np.argmax(faces[f0] == va[:, None], axis=1)
-        k1 = np.argmax(faces[f1] == vb[:, None], axis=1)
-        vc = faces[f0, (k0 + 2) % 3]
-        vd = faces[f1, (k1 + 2) % 3]
-        ua, uc = rows[f0, k0], rows[f0, (k0 + 2) % 3]
-        ub, ud = rows[f1, k1], rows[f1, (k1 + 2) % 3]
-        faces[f0] = np.stack([va, vd, vc], axis=1)
-        faces[f1] = np.stack([vd, vb, vc], axis=1)
-        rows[f0] = np.stack([ua, ud, uc], axis=1)
-        rows[f1] = np.stack([ud, ub, uc], axis=1)
+        k0 = np.argmax(self.faces[f0] == va[:, None], axis=1)
+        k1 = np.argmax(self.faces[f1] == vb[:, None], axis=1)
+        for table in (self.faces, self.uv_faces):  # a b c, b a d -> a d c, d b c
+            a, c = table[f0, k0], table[f0, (k0 + 2) % 3]
+            b, d = table[f1, k1], table[f1, (k1 + 2) % 3]
+            table[f0] = np.stack([a, d, c], axis=1)
+            table[f1] = np.stack([d, b, c], axis=1)
         return True
 
     # -- 4. tangential relaxation --------------------------------------------------------------
@@ -302,11 +302,9 @@ class _Patch:
         moving = free & (weight > 0)
         if not moving.any():
             return
-        centre = np.empty((n, 3))
-        vertex_normal = np.empty((n, 3))
-        for axis in range(3):
-            centre[:, axis] = np.bincount(corners, (area * centroid[:, axis])[face_of], minlength=n)
-            vertex_normal[:, axis] = np.bincount(corners, normal[face_of, axis], minlength=n)
+        columns = np.ascontiguousarray((area[:, None] * centroid).T)
+        centre = _gathered_sum(corners, columns, face_of, n)
+        vertex_normal = _gathered_sum(corners, np.ascontiguousarray(normal.T), face_of, n)
         rows = np.flatnonzero(moving)
         centre = centre[rows] / weight[rows, None]
         unit = vertex_normal[rows] / np.linalg.norm(vertex_normal[rows], axis=1)[:, None]

@@ -254,13 +254,8 @@ class PreparedSubdivision:
 
     def made_from(self, mesh: MeshSnapshot) -> bool:
         """``mesh`` holds the arrays this was made from, bit for bit."""
-        pairs = zip(
-            (self.source.vertices, self.source.faces, self.source.mask, self.source.uv,
-             self.source.uv_faces),
-            (mesh.vertices, mesh.faces, mesh.mask, mesh.uv, mesh.uv_faces),
-            strict=True,
-        )  # fmt: skip
-        return all(_same_bits(a, b) for a, b in pairs)
+        names = ("vertices", "faces", "mask", "uv", "uv_faces")
+        return all(_same_bits(getattr(self.source, k), getattr(mesh, k)) for k in names)
 
 
 def prepare_subdivision(
