@@ -23,8 +23,6 @@ surface stays closed, of the same Euler characteristic, consistently oriented. H
 a split gives each face its own midpoint (seams stay seams), nothing crosses a seam, seam
 vertices do not move. Every step is a numpy pass or a compiled loop over candidates in a fixed
 order (:mod:`gogreen_core.mesh._remesh_kernels`): a remesh replays bit for bit.
-
-Where to remesh and how finely: :func:`local_edge_lengths`, :func:`strained_vertices` and more.
 """
 
 from __future__ import annotations
@@ -143,21 +141,17 @@ class _Patch:
         neighbours = vertex_neighbours(edges, n)
         return edges, edge_faces, neighbours
 
-    def seams(self) -> np.ndarray:
-        """(n,) bool: vertices whose corners name more than one texture row (or some none)."""
-        n = len(self.points)
-        corners, rows = self.faces.ravel(), self.uv_faces.ravel()
-        low = np.full(n, np.iinfo(np.int64).max)
-        high = np.full(n, np.iinfo(np.int64).min)
-        np.minimum.at(low, corners, rows)
-        np.maximum.at(high, corners, rows)
-        return cast(np.ndarray, low != high)
-
     def free(self) -> np.ndarray:
-        """Vertices that may move or be collapsed away."""
+        """Vertices that may move or be collapsed away (not on a seam: their corners name one
+        texture row, or all none)."""
         free = self.closed & ~self.locked & (self.mode == INTERIOR)
         if self.uv is not None:
-            free &= ~self.seams()
+            corners, rows = self.faces.ravel(), self.uv_faces.ravel()
+            low = np.full(len(free), np.iinfo(np.int64).max)
+            high = np.full(len(free), np.iinfo(np.int64).min)
+            np.minimum.at(low, corners, rows)
+            np.maximum.at(high, corners, rows)
+            free &= low == high
         return cast(np.ndarray, free)
 
     # -- 1. split ------------------------------------------------------------------------------
