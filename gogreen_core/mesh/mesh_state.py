@@ -187,27 +187,14 @@ def topology_edit(
     added = np.arange(n, len(after.vertices))
     added_faces = np.arange(m, len(after.faces))
 
-    def side(
-        mesh: MeshSnapshot,
-        gone: np.ndarray,
-        new: np.ndarray,
-        rows: np.ndarray,
-        mask_rows: np.ndarray,
-        gone_faces: np.ndarray,
-        new_faces: np.ndarray,
-    ) -> MeshEdit:
-        return MeshEdit(  # compact_faces: int32 rows, as a snapshot's faces
-            len(mesh.vertices),
-            compact_faces(gone),
-            compact_faces(new),
-            compact_faces(rows),
-            mesh.vertices[rows],
-            compact_faces(mask_rows),
-            mesh.mask[mask_rows],
-            len(mesh.faces),
-            compact_faces(gone_faces),
-            compact_faces(new_faces),
-            compact_faces(mesh.faces[new_faces]),
+    def side(mesh: MeshSnapshot, *rows: np.ndarray) -> MeshEdit:
+        # the rows int32, as a snapshot's faces
+        gone, new, moved, painted, gone_faces, new_faces = map(compact_faces, rows)
+        vertices, mask = mesh.vertices[moved], mesh.mask[painted]
+        faces = compact_faces(mesh.faces[new_faces])
+        n, m = len(mesh.vertices), len(mesh.faces)
+        return MeshEdit(
+            n, gone, new, moved, vertices, painted, mask, m, gone_faces, new_faces, faces
         )
 
     back = _marked(n_before, gone, carried[moved])
