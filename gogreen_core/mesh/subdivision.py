@@ -82,9 +82,7 @@ def _old_positions(
 ) -> np.ndarray:
     """Loop's even rule for the vertices whose faces are all refined; the others stay."""
     n = len(vertices)
-    a, b = edges.ends[:, 0], edges.ends[:, 1]
-    both = np.concatenate([a, b])
-    other = np.concatenate([b, a])
+    both, other = edges.ends.T.ravel(), edges.ends[:, ::-1].T.ravel()  # each edge both ways
     columns = np.ascontiguousarray(vertices.T)
     valence = np.bincount(both, minlength=n)
     around = _gathered_sum(both, columns, other, n)
