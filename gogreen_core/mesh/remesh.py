@@ -130,14 +130,11 @@ class _Patch:
         n = len(self.points)
         if edges is None:
             edges = mesh_edges(self.faces, n)
-        sides = edges.face_edges.ravel()
-        order = np.argsort(sides, kind="stable")
-        starts = np.zeros(len(edges) + 1, dtype=np.int64)
-        np.cumsum(edges.face_count, out=starts[1:])
-        edge_faces = np.full((len(edges), 2), -1, dtype=np.int64)
+        order = np.argsort(edges.face_edges.ravel(), kind="stable")  # face sides by edge
         two = edges.face_count == 2
-        edge_faces[two, 0] = order[starts[:-1][two]] // 3
-        edge_faces[two, 1] = order[starts[:-1][two] + 1] // 3
+        first = (np.cumsum(edges.face_count) - edges.face_count)[two]
+        edge_faces = np.full((len(edges), 2), -1, dtype=np.int64)
+        edge_faces[two] = order[first[:, None] + np.arange(2)] // 3
         neighbours = vertex_neighbours(edges, n)
         return edges, edge_faces, neighbours
 
