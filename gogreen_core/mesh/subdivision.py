@@ -51,11 +51,8 @@ class SubdividedMesh:
     uv_faces: np.ndarray | None = None
 
 
-def unmasked_faces(faces: np.ndarray, mask: np.ndarray | None) -> np.ndarray:
-    """(M,) bool: the faces whose corners all have a mask value below :data:`MASK_THRESHOLD`
-    (every face without a mask)."""
-    if mask is None:
-        return np.ones(len(faces), dtype=bool)
+def unmasked_faces(faces: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    """(M,) bool: the faces whose corners all have a mask value below :data:`MASK_THRESHOLD`."""
     return cast(np.ndarray, np.all(mask[faces] < MASK_THRESHOLD, axis=1))
 
 
