@@ -7,19 +7,14 @@ which a new face array (:meth:`MeshState.adopt`) keeps, so brush sizes do not ju
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import NamedTuple
 
 import numpy as np
 
 from gogreen_core.field.limits import MAX_REACH
 from gogreen_core.mesh.influence import VertexBlocks
-from gogreen_core.mesh.topology import (
-    MeshEdges,
-    VertexNeighbours,
-    checked_faces,
-    mesh_edges,
-    vertex_neighbours,
-)
+from gogreen_core.mesh.topology import MeshEdges, VertexNeighbours, mesh_edges, vertex_neighbours
 from gogreen_core.validation import ParameterError, check_vector, vector_norm
 
 __all__ = [
@@ -43,7 +38,11 @@ def check_mesh(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.
         raise ValueError(f"vertices must be a non-empty (N, 3) array (got shape {v.shape})")
     if not np.all(np.isfinite(v)):
         raise ValueError("vertices contain NaN or infinite coordinates")
-    return v, checked_faces(f, len(v))
+    if f.ndim != 2 or f.shape[1] != 3:
+        raise ValueError(f"faces must be an (M, 3) array (got shape {f.shape})")
+    if f.size and (f.min() < 0 or f.max() >= len(v)):
+        raise ValueError(f"faces reference vertices outside 0..{len(v) - 1}")
+    return v, f
 
 
 def check_uv(
@@ -237,24 +236,18 @@ class MeshState:
         #: Counts the changes of the mask (a view redraws its tint when it changes).
         self.mask_version = 0
         self.topology = 0
-        self._edges: MeshEdges | None = None
-        self._neighbours: VertexNeighbours | None = None
         self._blocks = VertexBlocks()
 
     # -- connectivity ------------------------------------------------------------------------
-    @property
+    @cached_property
     def edges(self) -> MeshEdges:
         """The edges of the current faces (built once per face array)."""
-        if self._edges is None:
-            self._edges = mesh_edges(self.faces, len(self.vertices))
-        return self._edges
+        return mesh_edges(self.faces, len(self.vertices))
 
-    @property
+    @cached_property
     def neighbours(self) -> VertexNeighbours:
         """Each vertex's neighbours for the current faces (built once per face array)."""
-        if self._neighbours is None:
-            self._neighbours = vertex_neighbours(self.edges, len(self.vertices))
-        return self._neighbours
+        return vertex_neighbours(self.edges, len(self.vertices))
 
     # -- mask --------------------------------------------------------------------------------
     def mask_rows(self, rows: np.ndarray) -> MaskRows:
@@ -298,7 +291,8 @@ class MeshState:
         self.uv_faces = None if mesh.uv_faces is None else take(mesh.uv_faces, dtype=np.int64)
         if not same:
             self.topology += 1
-            self._edges = self._neighbours = None
+            for built in ("edges", "neighbours"):  # built again on first use
+                self.__dict__.pop(built, None)
 
     # -- places ------------------------------------------------------------------------------
     @property
