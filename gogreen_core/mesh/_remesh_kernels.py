@@ -50,6 +50,21 @@ def _normal(p: np.ndarray, q: np.ndarray, r: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True, nogil=True, boundscheck=False)
+def _corner(faces: np.ndarray, f: int, v: int) -> int:
+    """The corner (0, 1, 2) of face ``f`` at vertex ``v`` (-1: none)."""
+    for k in range(3):
+        if faces[f, k] == v:
+            return k
+    return -1
+
+
+@njit(cache=True, nogil=True, boundscheck=False)
+def _row_at(faces: np.ndarray, uv_faces: np.ndarray, f: int, v: int) -> int:
+    """The texture row of face ``f``'s corner at vertex ``v``."""
+    return int(uv_faces[f, _corner(faces, f, v)])
+
+
+@njit(cache=True, nogil=True, boundscheck=False)
 def _faces_keep_facing(
     points: np.ndarray,
     faces: np.ndarray,
@@ -65,9 +80,7 @@ def _faces_keep_facing(
     and are not degenerate, once ``a`` and ``b`` sit at ``position``."""
     for j in range(vf_offsets[v], vf_offsets[v + 1]):
         f = vf_faces[j]
-        has_a = faces[f, 0] == a or faces[f, 1] == a or faces[f, 2] == a
-        has_b = faces[f, 0] == b or faces[f, 1] == b or faces[f, 2] == b
-        if has_a and has_b:
+        if _corner(faces, f, a) >= 0 and _corner(faces, f, b) >= 0:
             continue
         corners = np.empty((3, 3))
         for k in range(3):
@@ -140,13 +153,7 @@ def pick_collapses(
             continue
         f0, f1 = edge_faces[e, 0], edge_faces[e, 1]
         # the kept end's texture corner must be one row on both sides of the edge
-        ub0 = ub1 = -1
-        for k in range(3):
-            if faces[f0, k] == b:
-                ub0 = uv_faces[f0, k]
-            if faces[f1, k] == b:
-                ub1 = uv_faces[f1, k]
-        if ub0 != ub1:
+        if _row_at(faces, uv_faces, f0, b) != _row_at(faces, uv_faces, f1, b):
             continue
         both = free[b]
         position = 0.5 * (points[a] + points[b]) if both else points[b].copy()
@@ -239,20 +246,10 @@ def pick_flips(
         f0, f1 = edge_faces[e, 0], edge_faces[e, 1]
         a, b = ends[e, 0], ends[e, 1]
         # orient: f0 holds the side a → b
-        k0 = 0
-        for k in range(3):
-            if faces[f0, k] == a:
-                k0 = k
-        if faces[f0, (k0 + 1) % 3] != b:
+        if faces[f0, (_corner(faces, f0, a) + 1) % 3] != b:
             f0, f1 = f1, f0
-            for k in range(3):
-                if faces[f0, k] == a:
-                    k0 = k
-        c = faces[f0, (k0 + 2) % 3]
-        k1 = 0
-        for k in range(3):
-            if faces[f1, k] == b:
-                k1 = k
+        c = faces[f0, (_corner(faces, f0, a) + 2) % 3]
+        k1 = _corner(faces, f1, b)
         d = faces[f1, (k1 + 2) % 3]
         if faces[f1, (k1 + 1) % 3] != a or c == d:
             continue
@@ -262,38 +259,16 @@ def pick_flips(
             continue
         if valence[a] <= 3 or valence[b] <= 3:
             continue
-        before = (
-            (valence[a] - target[a]) ** 2
-            + (valence[b] - target[b]) ** 2
-            + (valence[c] - target[c]) ** 2
-            + (valence[d] - target[d]) ** 2
-        )
-        after = (
-            (valence[a] - 1 - target[a]) ** 2
-            + (valence[b] - 1 - target[b]) ** 2
-            + (valence[c] + 1 - target[c]) ** 2
-            + (valence[d] + 1 - target[d]) ** 2
-        )
-        if after >= before:
+        # after - before of the four squared deviations, (x ∓ 1)² - x² = 1 ∓ 2x: drops
+        gain = valence[c] - target[c] + valence[d] - target[d]
+        if gain - (valence[a] - target[a]) - (valence[b] - target[b]) >= -2:
             continue
-        exists = False
-        for j in range(offsets[c], offsets[c + 1]):
-            if neighbours[j] == d:
-                exists = True
-        if exists:
+        if np.any(neighbours[offsets[c] : offsets[c + 1]] == d):  # the edge c d exists
             continue
         # a texture seam along the edge: the two faces' corners at a (and at b) differ
-        ua0 = ub0 = ua1 = ub1 = -2
-        for k in range(3):
-            if faces[f0, k] == a:
-                ua0 = uv_faces[f0, k]
-            if faces[f0, k] == b:
-                ub0 = uv_faces[f0, k]
-            if faces[f1, k] == a:
-                ua1 = uv_faces[f1, k]
-            if faces[f1, k] == b:
-                ub1 = uv_faces[f1, k]
-        if ua0 != ua1 or ub0 != ub1:
+        if _row_at(faces, uv_faces, f0, a) != _row_at(faces, uv_faces, f1, a) or _row_at(
+            faces, uv_faces, f0, b
+        ) != _row_at(faces, uv_faces, f1, b):
             continue
         pa, pb, pc, pd = points[a], points[b], points[c], points[d]
         old = _normal(pa, pb, pc) + _normal(pb, pa, pd)

@@ -124,13 +124,10 @@ def _update(
     positions: np.ndarray, moved: np.ndarray, ring: np.ndarray, block_moved: np.ndarray,
     block_ring: np.ndarray, leaf_mark: np.ndarray, leaf_dirty: np.ndarray, face_normals: np.ndarray,
     normals: np.ndarray, n_threads: int) -> np.int64:  # fmt: skip
-    """One event: the seed vertices (original numbers) moved to ``vertices``; returns how many
-    vertex normals were recomputed. Four passes, chunks dealt to the threads in turn: copy the
-    seeds (flag them and their blocks); mark the leaves of the flagged blocks' faces; recompute
-    (as numpy.cross, rounded to float32) the faces of marked leaves with a moved corner, flag
-    their corners; renormalize the flagged vertices (face normals summed in original face
-    order, as np.bincount). Flags per block of 2**_BLOCK_SHIFT vertices let passes 2 and 4 scan
-    blocks, not vertices; each pass clears what it reads last: no per-event allocation."""
+    """One event (see :meth:`SurfaceIndex.update`): copy the seeds, mark their blocks' leaves,
+    recompute those leaves' faces with a moved corner (as numpy.cross, then float32), renormalize
+    their corners (sums in face order, as np.bincount). Block flags spare scans of every vertex;
+    each pass clears what it reads last (no per-event allocation). Returns the normals redone."""
     n = positions.shape[0]
     n_seeds = seeds.shape[0]
     for t in prange(n_threads):

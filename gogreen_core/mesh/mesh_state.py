@@ -7,6 +7,7 @@ which a new face array (:meth:`MeshState.adopt`) keeps, so brush sizes do not ju
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import NamedTuple
 
 import numpy as np
@@ -185,27 +186,14 @@ def topology_edit(
     added = np.arange(n, len(after.vertices))
     added_faces = np.arange(m, len(after.faces))
 
-    def side(
-        mesh: MeshSnapshot,
-        gone: np.ndarray,
-        new: np.ndarray,
-        rows: np.ndarray,
-        mask_rows: np.ndarray,
-        gone_faces: np.ndarray,
-        new_faces: np.ndarray,
-    ) -> MeshEdit:
-        return MeshEdit(  # compact_faces: int32 rows, as a snapshot's faces
-            len(mesh.vertices),
-            compact_faces(gone),
-            compact_faces(new),
-            compact_faces(rows),
-            mesh.vertices[rows],
-            compact_faces(mask_rows),
-            mesh.mask[mask_rows],
-            len(mesh.faces),
-            compact_faces(gone_faces),
-            compact_faces(new_faces),
-            compact_faces(mesh.faces[new_faces]),
+    def side(mesh: MeshSnapshot, *rows: np.ndarray) -> MeshEdit:
+        # the rows int32, as a snapshot's faces
+        gone, new, moved, painted, gone_faces, new_faces = map(compact_faces, rows)
+        vertices, mask = mesh.vertices[moved], mesh.mask[painted]
+        faces = compact_faces(mesh.faces[new_faces])
+        n, m = len(mesh.vertices), len(mesh.faces)
+        return MeshEdit(
+            n, gone, new, moved, vertices, painted, mask, m, gone_faces, new_faces, faces
         )
 
     back = _marked(n_before, gone, carried[moved])
@@ -248,24 +236,18 @@ class MeshState:
         #: Counts the changes of the mask (a view redraws its tint when it changes).
         self.mask_version = 0
         self.topology = 0
-        self._edges: MeshEdges | None = None
-        self._neighbours: VertexNeighbours | None = None
         self._blocks = VertexBlocks()
 
     # -- connectivity ------------------------------------------------------------------------
-    @property
+    @cached_property
     def edges(self) -> MeshEdges:
         """The edges of the current faces (built once per face array)."""
-        if self._edges is None:
-            self._edges = mesh_edges(self.faces, len(self.vertices))
-        return self._edges
+        return mesh_edges(self.faces, len(self.vertices))
 
-    @property
+    @cached_property
     def neighbours(self) -> VertexNeighbours:
         """Each vertex's neighbours for the current faces (built once per face array)."""
-        if self._neighbours is None:
-            self._neighbours = vertex_neighbours(self.edges, len(self.vertices))
-        return self._neighbours
+        return vertex_neighbours(self.edges, len(self.vertices))
 
     # -- mask --------------------------------------------------------------------------------
     def mask_rows(self, rows: np.ndarray) -> MaskRows:
@@ -309,7 +291,8 @@ class MeshState:
         self.uv_faces = None if mesh.uv_faces is None else take(mesh.uv_faces, dtype=np.int64)
         if not same:
             self.topology += 1
-            self._edges = self._neighbours = None
+            for built in ("edges", "neighbours"):  # built again on first use
+                self.__dict__.pop(built, None)
 
     # -- places ------------------------------------------------------------------------------
     @property

@@ -38,16 +38,15 @@ from gogreen_core.mesh._remesh_kernels import (
     pick_collapses,
     pick_flips,
     smallest_angles,
+    strained_faces,
 )
 from gogreen_core.mesh.mesh_state import MeshSnapshot
-from gogreen_core.mesh.remesh_region import (
-    faces_touching,
-    grow_region,
-    local_edge_lengths,
-    median_edge_length,
-    strained_vertices,
+from gogreen_core.mesh.subdivision import (
+    MASK_THRESHOLD,
+    _gathered_sum,
+    _split_faces,
+    _subdivided_uv,
 )
-from gogreen_core.mesh.subdivision import MASK_THRESHOLD, _split_faces, _subdivided_uv
 from gogreen_core.mesh.topology import (
     BOUNDARY,
     INTERIOR,
@@ -118,9 +117,8 @@ class _Patch:
     uv_faces: np.ndarray  # -1 rows: untextured
 
     def __post_init__(self) -> None:
-        # how each vertex may move (topology.INTERIOR, BOUNDARY, FIXED): right for the closed
-        # vertices (all their edges are here), kept through the passes (only edges with two
-        # faces are split, collapsed or flipped; new vertices are interior)
+        # how each vertex may move (topology.INTERIOR, ...): right for the closed vertices, kept
+        # through the passes (only edges of two faces change; new vertices are interior)
         n = len(self.points)
         self.mode = vertex_neighbours(mesh_edges(self.faces, n), n).mode
 
@@ -132,41 +130,33 @@ class _Patch:
         n = len(self.points)
         if edges is None:
             edges = mesh_edges(self.faces, n)
-        sides = edges.face_edges.ravel()
-        order = np.argsort(sides, kind="stable")
-        starts = np.zeros(len(edges) + 1, dtype=np.int64)
-        np.cumsum(edges.face_count, out=starts[1:])
-        edge_faces = np.full((len(edges), 2), -1, dtype=np.int64)
+        order = np.argsort(edges.face_edges.ravel(), kind="stable")  # face sides by edge
         two = edges.face_count == 2
-        edge_faces[two, 0] = order[starts[:-1][two]] // 3
-        edge_faces[two, 1] = order[starts[:-1][two] + 1] // 3
+        first = (np.cumsum(edges.face_count) - edges.face_count)[two]
+        edge_faces = np.full((len(edges), 2), -1, dtype=np.int64)
+        edge_faces[two] = order[first[:, None] + np.arange(2)] // 3
         neighbours = vertex_neighbours(edges, n)
         return edges, edge_faces, neighbours
 
-    def seams(self) -> np.ndarray:
-        """(n,) bool: vertices whose corners name more than one texture row (or some none)."""
-        n = len(self.points)
-        corners, rows = self.faces.ravel(), self.uv_faces.ravel()
-        low = np.full(n, np.iinfo(np.int64).max)
-        high = np.full(n, np.iinfo(np.int64).min)
-        np.minimum.at(low, corners, rows)
-        np.maximum.at(high, corners, rows)
-        return cast(np.ndarray, low != high)
-
     def free(self) -> np.ndarray:
-        """Vertices that may move or be collapsed away."""
+        """Vertices that may move or be collapsed away (not on a seam: their corners name one
+        texture row, or all none)."""
         free = self.closed & ~self.locked & (self.mode == INTERIOR)
         if self.uv is not None:
-            free &= ~self.seams()
+            corners, rows = self.faces.ravel(), self.uv_faces.ravel()
+            low = np.full(len(free), np.iinfo(np.int64).max)
+            high = np.full(len(free), np.iinfo(np.int64).min)
+            np.minimum.at(low, corners, rows)
+            np.maximum.at(high, corners, rows)
+            free &= low == high
         return cast(np.ndarray, free)
 
     # -- 1. split ------------------------------------------------------------------------------
     def split(self) -> bool:
         edges = mesh_edges(self.faces, len(self.points))
         a, b = edges.ends[:, 0], edges.ends[:, 1]
-        length2 = np.einsum(
-            "ij,ij->i", self.points[b] - self.points[a], self.points[b] - self.points[a]
-        )
+        side = self.points[b] - self.points[a]
+        length2 = np.einsum("ij,ij->i", side, side)
         high = SPLIT_ABOVE * 0.5 * (self.sizes[a] + self.sizes[b])
         split = (
             (edges.face_count == 2) & (self.closed[a] | self.closed[b]) & (length2 > high * high)
@@ -279,17 +269,13 @@ class _Patch:
         if not len(flips):
             return False
         f0, f1, va, vb = flips.T
-        faces, rows = self.faces, self.uv_faces
-        k0 = np.argmax(faces[f0] == va[:, None], axis=1)
-        k1 = np.argmax(faces[f1] == vb[:, None], axis=1)
-        vc = faces[f0, (k0 + 2) % 3]
-        vd = faces[f1, (k1 + 2) % 3]
-        ua, uc = rows[f0, k0], rows[f0, (k0 + 2) % 3]
-        ub, ud = rows[f1, k1], rows[f1, (k1 + 2) % 3]
-        faces[f0] = np.stack([va, vd, vc], axis=1)
-        faces[f1] = np.stack([vd, vb, vc], axis=1)
-        rows[f0] = np.stack([ua, ud, uc], axis=1)
-        rows[f1] = np.stack([ud, ub, uc], axis=1)
+        k0 = np.argmax(self.faces[f0] == va[:, None], axis=1)
+        k1 = np.argmax(self.faces[f1] == vb[:, None], axis=1)
+        for table in (self.faces, self.uv_faces):  # a b c, b a d -> a d c, d b c
+            a, c = table[f0, k0], table[f0, (k0 + 2) % 3]
+            b, d = table[f1, k1], table[f1, (k1 + 2) % 3]
+            table[f0] = np.stack([a, d, c], axis=1)
+            table[f1] = np.stack([d, b, c], axis=1)
         return True
 
     # -- 4. tangential relaxation --------------------------------------------------------------
@@ -307,11 +293,9 @@ class _Patch:
         moving = free & (weight > 0)
         if not moving.any():
             return
-        centre = np.empty((n, 3))
-        vertex_normal = np.empty((n, 3))
-        for axis in range(3):
-            centre[:, axis] = np.bincount(corners, (area * centroid[:, axis])[face_of], minlength=n)
-            vertex_normal[:, axis] = np.bincount(corners, normal[face_of, axis], minlength=n)
+        columns = np.ascontiguousarray((area[:, None] * centroid).T)
+        centre = _gathered_sum(corners, columns, face_of, n)
+        vertex_normal = _gathered_sum(corners, np.ascontiguousarray(normal.T), face_of, n)
         rows = np.flatnonzero(moving)
         centre = centre[rows] / weight[rows, None]
         unit = vertex_normal[rows] / np.linalg.norm(vertex_normal[rows], axis=1)[:, None]
@@ -480,8 +464,7 @@ def _assemble(
     moved = keep[local]
 
     def per_vertex(old: np.ndarray, new: np.ndarray) -> np.ndarray:
-        # written once, no whole-mesh temporaries; np.compress: a quarter of the time of
-        # boolean indexing on a 1M-vertex mesh
+        # no whole-mesh temporaries; np.compress: a quarter of boolean indexing's time at 1M
         out = np.empty((n_kept + len(added), *old.shape[1:]))
         out[:n_kept] = np.compress(keep, old, axis=0) if n_kept < n else old
         out[kept[local[moved]]] = new[:n_local][moved]
@@ -542,3 +525,63 @@ def remesh_snapshot(
     )
     assert done.mask is not None
     return MeshSnapshot.frozen(done.vertices, done.faces, done.mask, done.uv, done.uv_faces)
+
+
+def median_edge_length(vertices: np.ndarray, faces: np.ndarray) -> float:
+    """The median length of the edges (each once) of ``faces`` (M, 3); 0 without faces."""
+    if not len(faces):
+        return 0.0
+    ends = mesh_edges(np.asarray(faces, dtype=np.int64), len(vertices)).ends
+    return float(np.median(np.linalg.norm(vertices[ends[:, 1]] - vertices[ends[:, 0]], axis=1)))
+
+
+def local_edge_lengths(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """(N,) float64: the mean length of each vertex's edges in ``faces`` (M, 3) over
+    ``vertices`` (N, 3), model units (a sizing field); a vertex of no face (or only of edges
+    of length 0) gets the median of the others (1 without any): every length is positive."""
+    faces = np.asarray(faces, dtype=np.int64)
+    n = len(vertices)
+    total, count = np.zeros(n), np.zeros(n)
+    for k in range(3):
+        a, b = faces[:, k], faces[:, (k + 1) % 3]
+        length = np.linalg.norm(vertices[b] - vertices[a], axis=1)
+        total += np.bincount(a, length, minlength=n) + np.bincount(b, length, minlength=n)
+        count += np.bincount(a, minlength=n) + np.bincount(b, minlength=n)
+    lengths = np.divide(total, count, out=np.zeros(n), where=count > 0)
+    alone = ~(lengths > 0)
+    if alone.any():
+        lengths[alone] = float(np.median(lengths[~alone])) if (~alone).any() else 1.0
+    return lengths
+
+
+def faces_touching(faces: np.ndarray, marked: np.ndarray) -> np.ndarray:
+    """(M,) bool: the faces (M, 3) with a corner ``marked`` (N,) bool (column by column: a
+    tenth of the time of ``np.any(marked[faces], axis=1)`` on 2M faces)."""
+    corners = marked[faces]
+    return cast(np.ndarray, corners[:, 0] | corners[:, 1] | corners[:, 2])
+
+
+def grow_region(faces: np.ndarray, region: np.ndarray, rings: int = 1) -> np.ndarray:
+    """(N,) bool: ``region`` (N,) bool and every vertex within ``rings`` edges of it."""
+    grown = np.asarray(region, dtype=bool).copy()
+    for _ in range(rings):
+        grown[faces[np.flatnonzero(faces_touching(faces, grown))].ravel()] = True
+    return grown
+
+
+def strained_vertices(
+    reference: np.ndarray, vertices: np.ndarray, faces: np.ndarray, tolerance: float
+) -> np.ndarray:
+    """(N,) bool: the corners of the ``faces`` that :func:`strained_faces` finds from
+    ``reference`` (N, 3) to ``vertices`` (N, 3) (stretched, sheared or turned: a rigid shift
+    strains nothing)."""
+    faces = np.ascontiguousarray(faces, dtype=np.int64)
+    strained = strained_faces(
+        np.ascontiguousarray(reference, dtype=np.float64),
+        np.ascontiguousarray(vertices, dtype=np.float64),
+        faces,
+        float(tolerance) ** 2,
+    )
+    out = np.zeros(len(vertices), dtype=bool)
+    out[faces[strained].ravel()] = True
+    return out

@@ -10,6 +10,9 @@ import itertools
 
 import numpy as np
 
+from gogreen_core.mesh.subdivision import _split_faces
+from gogreen_core.mesh.topology import mesh_edges
+
 __all__ = ["default_model", "flat_sheet", "icosphere", "open_tube"]
 
 
@@ -33,23 +36,11 @@ def _icosahedron() -> tuple[np.ndarray, np.ndarray]:
 def _subdivide(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Split each triangle in four at its edge midpoints, projected onto the unit sphere (old
     vertices keep their indices, orientation is kept)."""
-    n, m = len(vertices), len(faces)
-    edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    ends = np.sort(edges, axis=1)
-    keys, inverse = np.unique(ends[:, 0] * n + ends[:, 1], return_inverse=True)
-    midpoints = vertices[keys // n] + vertices[keys % n]
+    edges = mesh_edges(faces, len(vertices))
+    midpoints = vertices[edges.ends[:, 0]] + vertices[edges.ends[:, 1]]
     midpoints /= np.linalg.norm(midpoints, axis=1, keepdims=True)
-    ab, bc, ca = (n + inverse.reshape(-1)[k * m : (k + 1) * m] for k in range(3))
-    a, b, c = faces.T
-    children = np.stack(
-        [
-            np.stack([a, ab, ca], axis=1),
-            np.stack([b, bc, ab], axis=1),
-            np.stack([c, ca, bc], axis=1),
-            np.stack([ab, bc, ca], axis=1),
-        ],
-        axis=1,
-    ).reshape(-1, 3)
+    every = np.ones(len(faces), dtype=bool)
+    children = _split_faces(faces, len(vertices) + edges.face_edges, every, 3 * every)
     return np.concatenate([vertices, midpoints]), children
 
 

@@ -51,11 +51,8 @@ class SubdividedMesh:
     uv_faces: np.ndarray | None = None
 
 
-def unmasked_faces(faces: np.ndarray, mask: np.ndarray | None) -> np.ndarray:
-    """(M,) bool: the faces whose corners all have a mask value below :data:`MASK_THRESHOLD`
-    (every face without a mask)."""
-    if mask is None:
-        return np.ones(len(faces), dtype=bool)
+def unmasked_faces(faces: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    """(M,) bool: the faces whose corners all have a mask value below :data:`MASK_THRESHOLD`."""
     return cast(np.ndarray, np.all(mask[faces] < MASK_THRESHOLD, axis=1))
 
 
@@ -82,9 +79,7 @@ def _old_positions(
 ) -> np.ndarray:
     """Loop's even rule for the vertices whose faces are all refined; the others stay."""
     n = len(vertices)
-    a, b = edges.ends[:, 0], edges.ends[:, 1]
-    both = np.concatenate([a, b])
-    other = np.concatenate([b, a])
+    both, other = edges.ends.T.ravel(), edges.ends[:, ::-1].T.ravel()  # each edge both ways
     columns = np.ascontiguousarray(vertices.T)
     valence = np.bincount(both, minlength=n)
     around = _gathered_sum(both, columns, other, n)
@@ -254,13 +249,8 @@ class PreparedSubdivision:
 
     def made_from(self, mesh: MeshSnapshot) -> bool:
         """``mesh`` holds the arrays this was made from, bit for bit."""
-        pairs = zip(
-            (self.source.vertices, self.source.faces, self.source.mask, self.source.uv,
-             self.source.uv_faces),
-            (mesh.vertices, mesh.faces, mesh.mask, mesh.uv, mesh.uv_faces),
-            strict=True,
-        )  # fmt: skip
-        return all(_same_bits(a, b) for a, b in pairs)
+        names = ("vertices", "faces", "mask", "uv", "uv_faces")
+        return all(_same_bits(getattr(self.source, k), getattr(mesh, k)) for k in names)
 
 
 def prepare_subdivision(

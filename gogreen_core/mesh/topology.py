@@ -94,9 +94,7 @@ class VertexNeighbours:
 
 def vertex_neighbours(edges: MeshEdges, n_vertices: int) -> VertexNeighbours:
     """The neighbours of every vertex (see :class:`VertexNeighbours`) from ``edges``."""
-    a, b = edges.ends[:, 0], edges.ends[:, 1]
-    source = np.concatenate([a, b])
-    target = np.concatenate([b, a])
+    source, target = edges.ends.T.ravel(), edges.ends[:, ::-1].T.ravel()  # each edge both ways
     boundary = np.concatenate([edges.face_count == 1] * 2)
     order = np.lexsort((target, source))
     counts = np.bincount(source, minlength=n_vertices)

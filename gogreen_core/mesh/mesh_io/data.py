@@ -19,22 +19,11 @@ class MeshFileError(ValueError):
 
 @dataclass
 class MeshData:
-    """A triangle mesh as plain arrays.
-
-    Attributes
-    ----------
-    vertices : (N, 3) float64
-        Positions, in the file's units and order.
-    faces : (M, 3) int64
-        Vertex indices (from 0) of each triangle, counter-clockwise seen from outside.
-    uv : (T, 2) float64 or None
-        Texture coordinates (OBJ ``vt`` records; a PLY's per-vertex ``s, t``).
-    uv_faces : (M, 3) int64 or None
-        Per face corner, the row of ``uv`` it uses (a row of -1: a face without); set with
-        ``uv``.
-    source : str or None
-        Path of the file the mesh was loaded from.
-    """
+    """A triangle mesh as plain arrays: ``vertices`` (N, 3) float64 in the file's units and
+    order; ``faces`` (M, 3) int64, vertex indices from 0, counter-clockwise seen from outside;
+    ``uv`` (T, 2) float64 texture coordinates (OBJ ``vt``, a PLY's ``s, t``) with ``uv_faces``
+    (M, 3) int64, each corner's row of ``uv`` (a row of -1: a face without), or both None;
+    ``source``: the path it was loaded from, or None."""
 
     vertices: np.ndarray
     faces: np.ndarray

@@ -122,10 +122,6 @@ def _truncated(element: PlyElement, name: str) -> MeshFileError:
     )
 
 
-def _bad_length(value: float | int, element: PlyElement, name: str) -> MeshFileError:
-    return MeshFileError(f"{name}: bad list length {value!r} in element '{element.name}'")
-
-
 # -- binary ------------------------------------------------------------------------------------
 def read_binary_element(
     data: bytes | np.ndarray, offset: int, element: PlyElement, endian: str, name: str
@@ -159,7 +155,8 @@ def read_binary_element(
     if status == _TRUNCATED:
         raise _truncated(element, name)
     if status == _BAD_LENGTH:
-        raise _bad_length(bad if ascii else int(bad), element, name)
+        value = bad if ascii else int(bad)
+        raise MeshFileError(f"{name}: bad list length {value!r} in element '{element.name}'")
     position = starts[:-1].copy()  # where the current property starts, per record
     columns: Columns = {}
     list_number = 0
@@ -197,9 +194,7 @@ def _walk_binary_records(
     (count, lists) of an element of binary records at ``buffer[offset:]``; status 0, or
     _TRUNCATED, or _BAD_LENGTH with the bad length. ``numbers``: the buffer as float64 when
     the list lengths are float64 (ASCII's numbers), else empty."""
-    n_lists = 0
-    for j in range(len(is_list)):
-        n_lists += is_list[j]
+    n_lists = np.count_nonzero(is_list)
     starts = np.empty(count + 1, dtype=np.int64)
     lengths = np.zeros((count, n_lists), dtype=np.int64)
     pos = offset
@@ -243,10 +238,7 @@ def _walk_binary_records(
 @numba.njit(cache=True, nogil=True)
 def _copy_runs(buffer: np.ndarray, starts: np.ndarray, nbytes: np.ndarray) -> np.ndarray:
     """The bytes ``buffer[starts[i] : starts[i] + nbytes[i]]``, concatenated."""
-    total = 0
-    for i in range(len(starts)):
-        total += nbytes[i]
-    out = np.empty(total, dtype=np.uint8)
+    out = np.empty(nbytes.sum(), dtype=np.uint8)
     at = 0
     for i in range(len(starts)):
         start = starts[i]

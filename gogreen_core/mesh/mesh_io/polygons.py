@@ -149,19 +149,13 @@ def _fans(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Fan triangles of each polygon (T, 3): from the first of its corners (up to
     ``max_starts``) whose fan covers it; and which polygons no fan covers (P,)."""
-    n_triangles = 0
-    for p in range(len(sizes)):
-        n_triangles += sizes[p] - 2
-    triangles = np.empty((n_triangles, 3), dtype=np.int64)
+    triangles = np.empty(((sizes - 2).sum(), 3), dtype=np.int64)
     uncovered = np.zeros(len(sizes), dtype=np.bool_)
     c = 0
     t = 0
     for p in range(len(sizes)):
         k = sizes[p]
-        for j in range(k - 2):
-            triangles[t + j, 0] = c
-            triangles[t + j, 1] = c + j + 1
-            triangles[t + j, 2] = c + j + 2
+        fan = 0  # the first corner whose fan covers the polygon (else the first)
         if k > 3:
             # The Newell normal: the sum of the cross products of any fan's triangles.
             nx = ny = nz = 0.0
@@ -173,16 +167,15 @@ def _fans(
                 ny += az * bx - ax * bz
                 nz += ax * by - ay * bx
             length = np.sqrt(nx * nx + ny * ny + nz * nz)
-            covered = False
+            uncovered[p] = True
             for start in range(k if k <= max_starts else 1):
                 if _fan_covers(points, corners, c, k, start, nx, ny, nz, length, tolerance):
-                    for j in range(k - 2):
-                        triangles[t + j, 0] = c + start
-                        triangles[t + j, 1] = c + (start + j + 1) % k
-                        triangles[t + j, 2] = c + (start + j + 2) % k
-                    covered = True
+                    fan, uncovered[p] = start, False
                     break
-            uncovered[p] = not covered
+        for j in range(k - 2):
+            triangles[t + j, 0] = c + fan
+            triangles[t + j, 1] = c + (fan + j + 1) % k
+            triangles[t + j, 2] = c + (fan + j + 2) % k
         c += k
         t += k - 2
     return triangles, uncovered

@@ -49,12 +49,11 @@ def read_stl(data: bytes, name: str) -> MeshData:
 # facets, ``endsolid [name]``. A solid's facets are matched by one regular expression run; only
 # where it stops is the file walked piece by piece, to name the line at fault.
 _NUMBER = rb"\s+\S+"
+_CORNER = ("vertex x y z", rb"\s*vertex" + 3 * _NUMBER + rb"(?=\s|\Z)")
 _FACET_PARTS = (
     ("facet normal nx ny nz", rb"\s*facet\s+normal" + 3 * _NUMBER + rb"(?=\s|\Z)"),
     ("outer loop", rb"\s*outer\s+loop\b"),
-    ("vertex x y z", rb"\s*vertex" + 3 * _NUMBER + rb"(?=\s|\Z)"),
-    ("vertex x y z", rb"\s*vertex" + 3 * _NUMBER + rb"(?=\s|\Z)"),
-    ("vertex x y z", rb"\s*vertex" + 3 * _NUMBER + rb"(?=\s|\Z)"),
+    *[_CORNER] * 3,
     ("endloop", rb"\s*endloop\b"),
     ("endfacet", rb"\s*endfacet\b"),
 )
