@@ -153,6 +153,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
     def close(self) -> None:  # type: ignore[override]  # pyvistaqt.QtInteractor.close
         """Close the plotter; a matcap's texture first gives back what it holds in the render
         window (else VTK reports the window deleted before the texture)."""
+        self.lod.settle_timer.stop()
         actor, window = self.mesh_actor, self.ren_win
         if actor is not None and window is not None and actor.GetTexture() is not None:
             actor.GetTexture().ReleaseGraphicsResources(window)
@@ -586,8 +587,8 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         if notches:
             self.lod.interaction_frames()
             self.zoom_at(self._wheel_pos if self.zoom_to_mouse else None, ZOOM_STEP**notches)
-            if self.lod.shown:
-                self.lod.settle_timer.start()
+            if self.lod.shown and not self.in_stroke and self._camera is None:
+                self.lod.settle_timer.start()  # a drag's release shows the full mesh itself
 
     @property
     def in_stroke(self) -> bool:

@@ -84,7 +84,8 @@ _pending: list[Unit] = []
 _failed: dict[Unit, Exception] = {}
 #: Units this process had compiled (the others it only loaded from numba's disk cache).
 _compiled_units: set[Unit] = set()
-#: What :func:`add_progress_listener` listeners are called with, on the worker thread.
+#: What :func:`add_progress_listener` listeners are called with, on a compile thread (the
+#: worker, or the second child's follower), one call at a time.
 ProgressCallback = Callable[["Progress"], None]
 _progress_listeners: list[ProgressCallback] = []
 #: (units, callback) waiting for their units (see :func:`when_ready`).
@@ -123,8 +124,8 @@ class Progress:
 
 
 def add_progress_listener(callback: ProgressCallback) -> None:
-    """Call ``callback(progress)`` (on the worker thread) when a compilation starts and after
-    each of its units."""
+    """Call ``callback(progress)`` (on a compile thread, one call at a time) when a compilation
+    starts and after each of its units."""
     with _condition:
         _progress_listeners.append(callback)
 
@@ -290,7 +291,7 @@ def request(*units: Unit) -> None:
 
 def when_ready(units: Iterable[Unit], callback: ReadyCallback) -> None:
     """Request ``units`` and call ``callback(failures)`` (the exceptions of those that failed)
-    once each is ready or failed: on the worker thread, or now if they already are."""
+    once each is ready or failed: on a compile thread, or now if they already are."""
     units = tuple(units)
     request(*units)
     with _condition:
@@ -516,6 +517,7 @@ def _compile_in_child(
     if lock is not None and children:
         lock.note_holder([c.pid for c, _ in children], [a for _, args in children for a in args])
     done: list[bool] = []
+    one_at_a_time = threading.Lock()  # two followers: one unit's count and listeners at a time
 
     def follow(child: subprocess.Popen[str], by_arg: dict[str, Unit]) -> None:
         timer = threading.Timer(CHILD_TIMEOUT, child.kill)
@@ -525,7 +527,8 @@ def _compile_in_child(
             assert child.stdout is not None
             for line in child.stdout:  # anything else the child prints is not a unit's name
                 if line.strip() in by_arg:
-                    unit_compiled(by_arg[line.strip()])
+                    with one_at_a_time:
+                        unit_compiled(by_arg[line.strip()])
             done.append(child.wait() == 0)
         finally:
             timer.cancel()

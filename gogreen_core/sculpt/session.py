@@ -64,7 +64,7 @@ __all__ = [
 
 SESSION_FORMAT = "gogreen-session"
 #: What each version changed: see its upgrade function below.
-SESSION_VERSION = 6
+SESSION_VERSION = 7
 #: The brush influence (in ε) of a session before version 3 that does not give one.
 OLD_DEFAULT_INFLUENCE = 4.0
 #: Most operations one session file may hold.
@@ -229,6 +229,12 @@ def _upgrade_v5_to_v6(data: dict[str, Any]) -> dict[str, Any]:
     return {**data, "version": 6, "operations": operations}
 
 
+def _upgrade_v6_to_v7(data: dict[str, Any]) -> dict[str, Any]:
+    """Nothing to change: version 7 lets a ``remesh`` give ``"detail_size": null`` (each
+    vertex's own edge length), which a version-6 reader refuses."""
+    return {**data, "version": 7}
+
+
 #: The upgrade from each version to the next.
 _UPGRADES: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {
     1: _upgrade_v1_to_v2,
@@ -236,6 +242,7 @@ _UPGRADES: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {
     3: _upgrade_v3_to_v4,
     4: _upgrade_v4_to_v5,
     5: _upgrade_v5_to_v6,
+    6: _upgrade_v6_to_v7,
 }
 
 

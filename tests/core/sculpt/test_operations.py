@@ -207,7 +207,7 @@ def test_a_slider_drag_is_one_step_and_replays(sphere):
     sculptor.set_falloff(KelvinletRadial(1.0), continued=True)  # joins the material's step
     assert sculptor.history.undo_labels == ["Wide grab stroke", "material"]
     session = session_of(sculptor)
-    assert session["version"] == SESSION_VERSION == 6
+    assert session["version"] == SESSION_VERSION == 7
     again = Sculptor.from_session(session, vertices, faces)
     again.replay(session["operations"])
     assert np.array_equal(again.vertices, sculptor.vertices)
