@@ -52,10 +52,6 @@ class ConstraintSet:
     ) -> ConstraintSet:
         """A set in exactly the state another one had: its ``points`` (k, 3), ``matrix`` and
         ``inverse`` (3k, 3k) bit for bit (adding the points again would round differently)."""
-        points = np.array(points, dtype=np.float64).reshape(-1, 3)
-        size = 3 * len(points)
-        matrix = np.array(matrix, dtype=np.float64).reshape(size, size)
-        inverse = np.array(inverse, dtype=np.float64).reshape(size, size)
         constraints = cls(kernel)
         constraints._points, constraints._matrix, constraints._inverse = points, matrix, inverse
         return constraints
@@ -79,11 +75,6 @@ class ConstraintSet:
 
     def __len__(self) -> int:
         return len(self._points)
-
-    @property
-    def reach(self) -> float:
-        """Distance (model units) beyond which a pin moves nothing."""
-        return self._cutoff[1]
 
     def _blocks(self, p: np.ndarray, others: np.ndarray) -> np.ndarray:
         """s G(others − p) as a (3k, 3) column block."""

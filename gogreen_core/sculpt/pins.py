@@ -76,8 +76,7 @@ class Pins:
 
     @property
     def reach(self) -> float:
-        """Distance (model units) beyond which a pin moves nothing:
-        :data:`gogreen_core.sculpt.constraints.CONSTRAINT_INFLUENCE` constraint radii."""
+        """:attr:`Sculptor.constraint_reach`."""
         radius = self._kernels().settings.constraint_radius
         return CONSTRAINT_INFLUENCE * radius * self.mesh.model_size
 
@@ -141,10 +140,6 @@ class Pins:
             self._record("clear pins", before)
         self.log.record(ConstraintsClear())
 
-    def _near(self, point: np.ndarray, radius: float) -> np.ndarray:
-        """The mesh's vertices within ``radius`` of ``point`` (by its vertex blocks)."""
-        return self.mesh.rows_near(point, _NO_STEP, radius, _ONE_IMAGE)
-
     def drag(self, index: object, delta: object, continued: object = False) -> np.ndarray:
         """Move pin ``index`` by ``delta`` (3,) while the others stay; (N, 3) u. An undo step,
         joined to the previous drag when ``continued``."""
@@ -161,7 +156,9 @@ class Pins:
         forces = solver.solve(targets)
         # only the rows within the pins' reach move: no pass over the whole mesh
         vertices = self.mesh.vertices
-        rows, moved = solver.displacement_rows(vertices, forces, self._near)
+        rows, moved = solver.displacement_rows(
+            vertices, forces, lambda p, r: self.mesh.rows_near(p, _NO_STEP, r, _ONE_IMAGE)
+        )
         if not np.all(np.isfinite(moved)):
             raise ParameterError("delta", "the pin drag would move vertices to infinity")
         if self.mesh.masked:  # masked vertices move (1 − mask) of the way: held ones not at all
