@@ -114,13 +114,3 @@ class FramedKernels(KernelCache):
     @property
     def unturned(self) -> KernelCache:
         return self.base
-
-    def weighted(self, weights: np.ndarray | None) -> GreenKernel:
-        if weights is None:
-            return self.full
-        key = np.asarray(weights, dtype=np.float64).tobytes()
-        kernel = self._weighted.get(key)
-        if kernel is None:
-            kernel = self.full.with_degree_weights(weights)
-            self._weighted[key] = kernel
-        return kernel
