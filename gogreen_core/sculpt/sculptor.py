@@ -1,9 +1,7 @@
 """The sculpting engine: a mesh, its settings, strokes, pins, undo and the session log.
 
 Everything the app does with the mouse goes through :class:`Sculptor`, so a script (or
-``gogreen replay``) can do it too. The parts live in the modules they import (mesh state,
-settings and kernels, brushes, stroke driver, pins, session); the sculptor holds them together and
-keeps undo consistent across them.
+``gogreen replay``) can do it too; it holds the parts together and keeps undo consistent.
 """
 
 from __future__ import annotations
@@ -153,10 +151,9 @@ class Sculptor:
         return self._strokes.active
 
     def adopt_vertices(self, vertices: np.ndarray) -> np.ndarray:
-        """Take positions a host application (Blender) changed outside the engine: the rows of
-        ``vertices`` (N, 3) that differ are written, with no undo step or session record (the
-        host keeps its own undo; ours is cleared when a row changed). Returns the indices (K,)
-        of the changed rows; ParameterError naming ``vertices`` for a wrong shape or a
+        """Take positions (N, 3) a host application (Blender) changed outside the engine: the
+        rows that differ are written, no undo step or session record (our undo is cleared when
+        a row changed). Returns their indices (K,); ParameterError for a wrong shape or a
         coordinate that is not finite."""
         self._strokes.refuse("adopt vertices")
         mesh = self._mesh
@@ -187,9 +184,8 @@ class Sculptor:
         self, *, continued: bool = False, replaying: bool = False, **changes: Any
     ) -> None:
         """Change one group of :attr:`settings` (``material``, ``falloff``...): one undo step
-        and log entry, or part of the last settings step when ``continued`` (a slider or curve
-        drag's later values). A value equal to the current one is ignored unless ``continued``
-        or ``replaying`` (the logged drag it stands for was a step)."""
+        and log entry, or part of the last settings step when ``continued`` (a drag's later
+        values). An unchanged value is ignored unless ``continued`` or ``replaying``."""
         keys = set(changes)
         group = next((g for g in SETTING_GROUPS if keys and keys <= set(g)), None)
         if group is None:
@@ -253,9 +249,8 @@ class Sculptor:
         return self._strokes.kernel(self._kernels, brush)
 
     def influence(self, brush: Brush) -> float:
-        """``brush``'s influence radius in multiples of ε (``inf``: every vertex): its own
-        number, or the one ``"auto"`` gives with the current settings (what the cursor's
-        influence ring shows)."""
+        """``brush``'s influence radius in ε (``inf``: every vertex): its own number, or what
+        ``"auto"`` gives with the current settings (the cursor's influence ring)."""
         return self._strokes.reach(self._kernels, brush)
 
     def begin_stroke(self, brush: Brush) -> None:
@@ -265,9 +260,8 @@ class Sculptor:
 
     def stroke_event(self, event: BrushEvent) -> np.ndarray:
         """Apply one mouse event of the current stroke; returns the indices of moved vertices.
-        Refused (:class:`ParameterError` naming the event field, nothing moved): a centre or
-        motion beyond ``MAX_REACH`` model sizes, an affine |strength · amount| above
-        ``MAX_AMOUNT`` (:mod:`gogreen_core.field.limits`)."""
+        ParameterError naming the event field (nothing moved) beyond the limits of
+        :mod:`gogreen_core.field.limits` (``MAX_REACH``, ``MAX_AMOUNT``)."""
         return self._strokes.event(self._kernels, event)
 
     def end_stroke(self) -> np.ndarray:
@@ -300,8 +294,8 @@ class Sculptor:
 
     @property
     def constraint_reach(self) -> float:
-        """Distance (model units) beyond which a pin moves nothing:
-        :data:`gogreen_core.sculpt.constraints.CONSTRAINT_INFLUENCE` constraint radii."""
+        """Distance (model units) beyond which a pin moves nothing (``CONSTRAINT_INFLUENCE``
+        constraint radii)."""
         return self._pins.reach
 
     def add_constraint(self, point: np.ndarray) -> int:
@@ -334,10 +328,9 @@ class Sculptor:
         progress: Callable[[float], None] | None = None,
         prepared: PreparedSubdivision | None = None,
     ) -> None:
-        """One step of Loop subdivision (:mod:`gogreen_core.mesh.subdivision`) of the whole mesh
-        or its unmasked faces; one undo step and log entry. ``prepared``: the same subdivision
-        computed ahead from :attr:`mesh` (ValueError if the mesh changed since);
-        ``progress(fraction)`` is called while computing here."""
+        """One step of Loop subdivision of the whole mesh or its unmasked faces; one undo step
+        and log entry. ``prepared``: the same computed ahead from :attr:`mesh` (ValueError if
+        the mesh changed since); ``progress(fraction)`` while computing here."""
         self._strokes.refuse("subdivide")
         unmasked_only = check_bool("unmasked_only", unmasked_only)
         mesh = self._mesh
@@ -385,8 +378,7 @@ class Sculptor:
 
     @contextlib.contextmanager
     def all_or_nothing(self) -> Iterator[None]:
-        """A block whose failure puts back the mesh, settings, pins, history and log as they
-        were (a replay that fails part-way)."""
+        """A block whose failure puts back the mesh, settings, pins, history and log."""
         mesh = self._mesh.snapshot()
         kernels, points = self._kernels, None if not len(self._pins) else self._pins.points
         history, log_length = self.history.snapshot(), len(self._log)
@@ -403,8 +395,7 @@ class Sculptor:
 
     # -- session log -------------------------------------------------------------------------
     def subscribe(self, listener: LogListener) -> Callable[[], None]:
-        """Call ``listener`` after each change of the log (:meth:`SessionLog.subscribe`); returns
-        the function that unsubscribes it."""
+        """:meth:`SessionLog.subscribe`: returns the function that unsubscribes ``listener``."""
         return self._log.subscribe(listener)
 
     @property
@@ -435,8 +426,7 @@ class Sculptor:
         uv: np.ndarray | None = None,
         uv_faces: np.ndarray | None = None,
     ) -> Sculptor:
-        """A sculptor on this mesh with the (checked) session's initial settings, no operations
-        applied yet (see :meth:`replay`)."""
+        """A sculptor on this mesh with the session's initial settings (see :meth:`replay`)."""
         parsed = session if isinstance(session, Session) else parse_session(session)
         if parsed.vertices != len(vertices) or parsed.faces != len(faces):
             raise ValueError(
@@ -465,8 +455,7 @@ def _checked(settings: object) -> EngineSettings:
 # -- crash recovery ----------------------------------------------------------------------------
 def capture_state(sculptor: Sculptor, faces: np.ndarray | None = None) -> SculptState:
     """A copy of what ``sculptor``'s next operations compute from (:class:`SculptState`); its
-    faces and UVs unless they are the array ``faces`` (the journal's start's). Face arrays are
-    never edited in place: held, not copied."""
+    faces and UVs (held: never edited in place) unless they are the array ``faces``."""
     pins = sculptor._pins.constraints
     mesh = sculptor._mesh
     topology = mesh.faces is not faces
@@ -490,9 +479,9 @@ def restore_state(
     uv_faces: np.ndarray | None = None,
     **options: Any,
 ) -> Sculptor:
-    """A sculptor whose next operations give bit for bit what the one that took ``state``
-    (:func:`capture_state`) would have, with empty history and log. ``faces`` (``uv``,
-    ``uv_faces``): for a state without its own. ``options``: ``history_bytes``."""
+    """A sculptor that continues bit for bit from ``state`` (:func:`capture_state`), empty
+    history and log. ``faces``, ``uv``, ``uv_faces``: for a state without its own.
+    ``options``: ``history_bytes``."""
     if state.faces is not None:
         faces, uv, uv_faces = state.faces, state.uv, state.uv_faces
     sculptor = Sculptor(
