@@ -123,20 +123,6 @@ def mean_green_direction(material: Material) -> np.ndarray:
     return cast(np.ndarray, mean)
 
 
-def _largest_eigenvalue(s: np.ndarray) -> np.ndarray:
-    """Largest eigenvalue (K,) of symmetric positive semi-definite s (K, 3, 3), in closed form
-    (trigonometric; ~10× faster than a batched eigvalsh)."""
-    q = np.trace(s, axis1=1, axis2=2) / 3
-    off = s[:, 0, 1] ** 2 + s[:, 0, 2] ** 2 + s[:, 1, 2] ** 2
-    diag = (s[:, 0, 0] - q) ** 2 + (s[:, 1, 1] - q) ** 2 + (s[:, 2, 2] - q) ** 2
-    p = np.sqrt((diag + 2 * off) / 6)
-    safe = np.where(p > 0, p, 1.0)
-    b = (s - q[:, None, None] * np.eye(3)) / safe[:, None, None]
-    half_det = np.clip(np.linalg.det(b) / 2, -1.0, 1.0)
-    largest = q + 2 * p * np.cos(np.arccos(half_det) / 3)
-    return cast(np.ndarray, np.maximum(largest, 0.0))
-
-
 class _SupTable:
     """sup_k |D_k h| over sampled linear maps D_k (K, m, n), visited in decreasing order of
     ‖D_k‖₂ and stopping as soon as no unvisited sample can beat the best so far."""
@@ -149,12 +135,7 @@ class _SupTable:
             gram = operators @ operators.transpose(0, 2, 1)
         else:
             gram = operators.transpose(0, 2, 1) @ operators
-        if gram.shape[1] == 3:
-            largest = _largest_eigenvalue(gram)
-        elif gram.shape[1] == 1:
-            largest = gram[:, 0, 0]
-        else:
-            largest = np.linalg.eigvalsh(gram)[:, -1]
+        largest = np.linalg.eigvalsh(gram)[:, -1]
         norms = np.sqrt(np.maximum(largest, 0.0)) * (1 + 1e-9)  # margin for rounding
         order = np.argsort(-norms, kind="stable")
         self.points = points[order]  # (K, 3)
