@@ -239,14 +239,13 @@ class GreenBrush(BrushType):
         weights = self.degree_weights(settings)
         return self.family, self.radial_key, None if weights is None else weights.tobytes()
 
-    def unit_kernel(self, kernels: KernelCache) -> GreenKernel:
-        """The brush's kernel at ε = 1 for the settings of ``kernels``."""
-        radial = self.radial(kernels.settings.falloff.with_eps(1.0))
+    def unit_kernel(self, kernels: KernelCache, eps: float = 1.0) -> GreenKernel:
+        """The brush's kernel at ``eps`` (model units) for the settings of ``kernels``."""
+        radial = self.radial(kernels.settings.falloff.with_eps(eps))
         return kernels.weighted(self.degree_weights(kernels.settings)).with_radial(radial)
 
     def kernel(self, ctx: StrokeContext, brush: Brush) -> GreenKernel:
-        radial = self.radial(ctx.settings.falloff.with_eps(brush.eps(ctx.model_size)))
-        return ctx.kernels.weighted(self.degree_weights(ctx.settings)).with_radial(radial)
+        return self.unit_kernel(ctx.kernels, brush.eps(ctx.model_size))
 
     def field_bound(self, ctx: StrokeContext, brush: Brush, kernel: GreenKernel) -> FieldBound:
         """The sampled bound of this brush's field (cached per settings and influence)."""
@@ -280,7 +279,6 @@ class GreenBrush(BrushType):
         """(load, centre step) of one event: a force (3,) or affine load (3, 3), and (3,)."""
 
     def field(self, ctx: StrokeContext, brush: Brush, event: BrushEvent) -> EventField:
-        """The field ``event`` moves the mesh along."""
         kernel = self.kernel(ctx, brush)
         load, step = self.load(ctx, brush, kernel, event)
         return EventField(kernel, event.center, load, step, self.reach(ctx, brush))

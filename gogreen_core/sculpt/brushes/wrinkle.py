@@ -185,16 +185,10 @@ class WrinkleBrush(GrabBrush):
         radial = FoldRadial(eps, kernels.settings.falloff)
         return kernels.full.with_radial(radial), factors
 
-    def _pull(self, kernels: KernelCache, eps: float) -> GreenKernel:
+    def unit_kernel(self, kernels: KernelCache, eps: float = 1.0) -> GreenKernel:
         """The pull part at ``eps`` (the folds depend on the surface under the cursor)."""
         unit, _ = self._fold_kernels(kernels, eps)
         return unit.with_degree_weights(self._parts(kernels.settings)[0])
-
-    def kernel(self, ctx: StrokeContext, brush: Brush) -> GreenKernel:
-        return self._pull(ctx.kernels, brush.eps(ctx.model_size))
-
-    def unit_kernel(self, kernels: KernelCache) -> GreenKernel:
-        return self._pull(kernels, 1.0)
 
     def reach(self, ctx: StrokeContext, brush: Brush) -> float:
         """``influence``, or for ``"auto"`` the reach of the pull and unit folds (about 9 ε)."""
