@@ -12,6 +12,8 @@ __all__ = ["History"]
 
 #: Default memory cap of a :class:`History`, in bytes (512 MiB).
 DEFAULT_MAX_BYTES = 512 * 2**20
+_NO_INDEX = np.zeros(0, dtype=np.int64)
+_NO_ROWS = np.zeros((0, 3))
 
 
 @dataclass(frozen=True)
@@ -172,6 +174,11 @@ class History:
             self._merge_last(idx, b, a, state)
         else:
             self.record(label, idx, b, a, state)
+
+    def record_state(self, label: str, state: tuple[object, object], merge: bool = False) -> None:
+        """Record a step that moved no vertex, only the caller's ``state`` (before, after);
+        ``merge`` as in :meth:`record_change`."""
+        self.record_rows(label, _NO_INDEX, _NO_ROWS, _NO_ROWS, merge, state)
 
     def _merge_last(
         self,

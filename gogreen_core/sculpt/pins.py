@@ -116,7 +116,7 @@ class Pins:
     def _record(self, label: str, before: np.ndarray) -> None:
         """One undo step for a change of the pins alone (positions before and now)."""
         state = (_Points(before), _Points(self.points))
-        self.history.record(label, np.zeros(0, dtype=np.int64), _NO_ROWS, _NO_ROWS, state)
+        self.history.record_state(label, state)
 
     def _check_index(self, index: object) -> int:
         if not len(self):

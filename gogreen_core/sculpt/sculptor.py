@@ -51,8 +51,6 @@ __all__ = [
 
 #: Undo label of each settings group (a continued change joins the last of these).
 _LABELS = {group[0]: group[0].replace("_", " ") for group in SETTING_GROUPS}
-_NO_ROWS = np.zeros((0, 3))
-_NO_INDEX = np.zeros(0, dtype=np.int64)
 
 
 class Sculptor:
@@ -205,13 +203,7 @@ class Sculptor:
         self._kernels = self._pins.follow(KernelCache(after, self._kernels))
         last = self.history.undo_labels[-1] if self.history.can_undo else None
         merge = continued and last in _LABELS.values() and not self.history.can_redo
-        self.history.record_change(
-            last if merge and last else label,
-            _NO_ROWS,
-            _NO_ROWS,
-            merge=merge,
-            state=(before, after),
-        )
+        self.history.record_state(last if merge and last else label, (before, after), merge)
         # A collapsed drag is logged as its last value; the replay makes the same one step.
         self._log.record(settings_record(after, group[0], continued), replace_last=merge)
 
@@ -344,7 +336,7 @@ class Sculptor:
             )
         mesh.adopt(prepared.result)  # copies: the read-only result is the step's after-side
         state = (before, prepared.result)
-        self.history.record("subdivide", _NO_INDEX, _NO_ROWS, _NO_ROWS, state=state)
+        self.history.record_state("subdivide", state)
         self._log.record(Subdivide(unmasked_only))
 
     # -- history -----------------------------------------------------------------------------

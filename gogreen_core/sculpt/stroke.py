@@ -305,7 +305,7 @@ class StrokeDriver:
                 if mesh.uv is None
                 else (stroke.start, mesh.snapshot())
             )
-            self.history.record(label, _NO_INDEX, _NO_ROWS, _NO_ROWS, sides)
+            self.history.record_state(label, sides)
             self.log.record(Stroke(stroke.brush, tuple(stroke.events)))
             return np.arange(len(mesh.vertices))
         vertices, before = self.mesh.vertices, stroke.before
@@ -417,7 +417,7 @@ class Remesher:
             raise ValueError("the mesh changed since the remesh was prepared: remesh again")
         after = prepared.result[0]
         self.mesh.adopt(after)
-        self.history.record("remesh", _NO_INDEX, _NO_ROWS, _NO_ROWS, state=(before, after))
+        self.history.record_state("remesh", (before, after))
         self.log.record(op)
 
 
