@@ -1,10 +1,9 @@
 """Safe falloffs: bounds on how far one brush event can move a vertex, whatever the falloff.
 
 A brush event moves vertices along the load's field over pseudo-time [0, 1], so no vertex moves
-farther than sup_x |u(x)| over the influence ball. Normalizing the load by the field at the
-centre (grab: f = G(0)⁻¹ Δ) is safe when the field peaks there, as every closed-form falloff
-does, but an edited falloff weak at its centre made it explode; the brushes then scale the
-load down to the bounds below.
+farther than sup_x |u(x)| over the influence ball. A load normalized by the field at the centre
+(grab: f = G(0)⁻¹ Δ) is safe where the field peaks there; for an edited falloff weak at its
+centre the brushes scale the load down to the bounds below.
 
 :class:`FieldBound` samples one kernel's field once (in units of ε, so for every brush radius)
 and answers sup_k |D_k h| for a load h per event, visiting the samples in decreasing order of
@@ -159,10 +158,8 @@ class _SupTable:
 class FieldBound:
     """Sampled sup of a load's field and of its gradient over the influence ball of one
     kernel shape: ``kernel`` at any radius (sampled at ε = 1), ``influence`` in ε (``inf``:
-    none), ``affine``: sample ∇G (loads H (3, 3)) instead of G (loads h (3,)).
-
-    Gradients by forward differences of what moves the vertices (G, or ∇G for affine loads):
-    a spline falloff's R_l and ℛ_l are separate curves.
+    none), ``affine``: sample ∇G (loads H (3, 3)) instead of G (loads h (3,)). Gradients by
+    forward differences of what moves the vertices (a spline's R_l and ℛ_l are separate curves).
     """
 
     def __init__(self, kernel: GreenKernel, influence: float, affine: bool):
@@ -269,8 +266,7 @@ _BASES = {
 
 
 def _subspace(load: np.ndarray) -> str:
-    """Which of the pattern subspaces of :data:`_BASES` a (3, 3) load lies in ("general" for
-    none)."""
+    """The pattern subspace of :data:`_BASES` a (3, 3) load lies in, else "general"."""
     size = np.abs(load).max()
     tol = 1e-12 * size
     if np.abs(load - load[0, 0] * np.eye(3)).max() <= tol:

@@ -73,9 +73,8 @@ class History:
 
     @property
     def done(self) -> int:
-        """Undo steps recorded or redone minus those undone, counting the ones the memory cap
-        dropped: +1 for a new entry or a redo, -1 for an undo, 0 for a merge or an eviction.
-        The recovery journal compares it between a session and its replay."""
+        """Steps recorded or redone minus those undone, counting the ones the memory cap dropped
+        (the recovery journal compares it between a session and its replay)."""
         return len(self._undo) + self._evicted
 
     @property
@@ -84,8 +83,7 @@ class History:
         return self._bytes
 
     def snapshot(self) -> tuple[Any, ...]:
-        """An opaque copy of the stacks (entries are immutable, so this is cheap) for
-        :meth:`restore`: a caller that must undo a failed batch of records (a replay) uses it."""
+        """An opaque, cheap copy of the stacks (entries are immutable) for :meth:`restore`."""
         return (list(self._undo), list(self._redo), self._bytes, self._evicted, self.restored_state)
 
     def restore(self, snapshot: tuple[Any, ...]) -> None:
@@ -109,11 +107,10 @@ class History:
         state: tuple[object, object] | None = None,
     ) -> None:
         """Record that vertices ``indices`` (K,) int (distinct, >= 0) moved from ``before`` to
-        ``after`` (K, 3) float (copied), as the operation ``label`` (undo/redo return it, e.g.
-        ``"Grab stroke"``). ``state``: (before, after) of the caller's other state; after an
-        undo (redo) :attr:`restored_state` is its ``before`` (``after``). An empty change
-        without state is not recorded and leaves the redo stack alone; otherwise the redo stack
-        is dropped and the oldest entries are evicted past the memory cap."""
+        ``after`` (K, 3) float (copied), as the operation ``label`` (undo/redo return it).
+        ``state``: (before, after) of the caller's other state, :attr:`restored_state` after an
+        undo (redo). An empty change without state is not recorded; otherwise the redo stack is
+        dropped and the oldest entries are evicted past the memory cap."""
         idx = np.array(indices, dtype=np.int64).reshape(-1)
         b = np.array(before, dtype=np.float64)
         a = np.array(after, dtype=np.float64)
@@ -148,8 +145,7 @@ class History:
         """Record the rows that differ, bit for bit (``0.0`` → ``-0.0`` counts, an unchanged
         NaN does not), between all positions ``before`` and ``after`` (N, 3) float64.
         ``merge``: continue the last operation if it has the same label and nothing was undone
-        since (the steps of one pin drag become one undo step; it keeps its first ``before``
-        and ``state`` before). ``state``: as in :meth:`record`."""
+        since (one pin drag, one step; its first ``before`` kept). ``state``: see :meth:`record`."""
         self.record_rows(label, np.arange(len(before)), before, after, merge, state)
 
     def record_rows(
@@ -187,8 +183,7 @@ class History:
         after: np.ndarray,
         state: tuple[object, object] | None,
     ) -> None:
-        """Fold a change into the last entry: it keeps its own ``before`` rows and takes the
-        new ``after`` rows."""
+        """Fold a change into the last entry (its ``before`` rows, the new ``after`` rows)."""
         last = self._undo.pop()
         self._bytes -= last.nbytes
         # the union by a mask over the vertex numbers: np.union1d's sort (a hash in numpy 2)
