@@ -59,7 +59,7 @@ def smooth_cutoff(distance: np.ndarray, inner: float, outer: float) -> np.ndarra
     if width <= 0:
         return (distance < outer).astype(float)
     u = np.clip((distance - inner) / width, 0.0, 1.0)
-    return 1.0 - u**3 * (10.0 - 15.0 * u + 6.0 * u**2)
+    return 1.0 - u * u * u * (10.0 - 15.0 * u + 6.0 * u * u)  # the compiled loops' order
 
 
 def mirror_signs(symmetry: str) -> np.ndarray:

@@ -23,14 +23,19 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from gogreen_core.mesh.topology import FaceAdjacency
-from gogreen_core.sculpt.brushes.base import Displacement, StrokeContext, mirror_signs
+from gogreen_core.sculpt.brushes.base import (
+    Displacement,
+    StrokeContext,
+    mirror_signs,
+    smooth_cutoff,
+)
 from gogreen_core.sculpt.brushes.paint import PAINT_AUTO_INFLUENCE, PaintBrush
 
 if TYPE_CHECKING:
     from gogreen_core.mesh.mesh_state import MeshState
     from gogreen_core.sculpt.brushes.brush import Brush, BrushEvent
 
-__all__ = ["DAB_SPACING", "MAX_DABS", "Dab", "DetailBrush", "dab_offsets", "dot3", "falloff"]
+__all__ = ["DAB_SPACING", "MAX_DABS", "Dab", "DetailBrush", "dab_offsets", "dot3"]
 
 #: Distance between dabs along a stroke, as a fraction of the brush radius R (Blender's
 #: default spacing, 10 %).
@@ -47,13 +52,6 @@ def dot3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     written out: BLAS sums may round differently per machine (see the module docstring)."""
     out: np.ndarray = a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2]
     return out
-
-
-def falloff(distance: np.ndarray, radius: float) -> np.ndarray:
-    """The detail brushes' falloff (n,) of ``distance`` (n,): 1 − smoothstep₅(d / R), 1 at the
-    centre, 0 from ``radius`` on, C² (Blender's "smooth" curve, one degree smoother)."""
-    u = np.minimum(distance / radius, 1.0)
-    return 1.0 - u * u * u * (10.0 - 15.0 * u + 6.0 * u * u)
 
 
 def dab_offsets(length: float, spacing: float, travel: float | None) -> tuple[np.ndarray, float]:
@@ -148,7 +146,7 @@ class DetailBrush(PaintBrush):
             for sign in signs:  # every pass sees the surface the previous dab left
                 points = origin + sign * (out - origin)
                 gap = points - center
-                weight = falloff(np.sqrt(dot3(gap, gap)), radius)
+                weight = smooth_cutoff(np.sqrt(dot3(gap, gap)), 0.0, radius)
                 inside = np.flatnonzero(weight > 0)
                 if not len(inside):
                     continue
