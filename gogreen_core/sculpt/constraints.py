@@ -17,7 +17,7 @@ blocks, so the pins still get exactly their displacements (G alone decays only a
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any, cast
+from typing import cast
 
 import numpy as np
 
@@ -147,12 +147,8 @@ class ConstraintSet:
             self._points, self._matrix, self._inverse = saved
             raise
         order = list(range(new))
-        order.insert(index, new)
-        self._reorder(order)
-
-    def _reorder(self, order: list[int]) -> None:
-        idx: Any  # an array, or [] (which np.ix_ takes; numpy's annotations do not say so)
-        idx = np.concatenate([np.arange(3 * i, 3 * i + 3) for i in order]) if order else []
+        order.insert(index, new)  # the moved point back at its index
+        idx = np.concatenate([np.arange(3 * i, 3 * i + 3) for i in order])
         self._points = self._points[order]
         self._matrix = self._matrix[np.ix_(idx, idx)]
         self._inverse = self._inverse[np.ix_(idx, idx)]

@@ -244,24 +244,13 @@ def _orthonormal(matrices: list[np.ndarray]) -> np.ndarray:
     return q
 
 
-def _unit_matrix(i: int, j: int) -> np.ndarray:
-    e = np.zeros((3, 3))
-    e[i, j] = 1.0
-    return e
-
-
-_PAIRS = ((1, 2), (0, 2), (0, 1))
+_E = np.eye(9).reshape(9, 3, 3)  # _E[3 i + j]: the unit matrix of entry (i, j)
+_SYMMETRIC = [_E[3 * i + j] + _E[3 * j + i] for i, j in ((1, 2), (0, 2), (0, 1))]
 _BASES = {
     "scale": _orthonormal([np.eye(3)]),
-    "twist": _orthonormal([_unit_matrix(i, j) - _unit_matrix(j, i) for i, j in _PAIRS]),
-    "pinch": _orthonormal(
-        [_unit_matrix(0, 0) - _unit_matrix(1, 1), _unit_matrix(1, 1) - _unit_matrix(2, 2)]
-        + [_unit_matrix(i, j) + _unit_matrix(j, i) for i, j in _PAIRS]
-    ),
-    "symmetric": _orthonormal(
-        [_unit_matrix(i, i) for i in range(3)]
-        + [_unit_matrix(i, j) + _unit_matrix(j, i) for i, j in _PAIRS]
-    ),
+    "twist": _orthonormal([_E[3 * i + j] - _E[3 * j + i] for i, j in ((1, 2), (0, 2), (0, 1))]),
+    "pinch": _orthonormal([_E[0] - _E[4], _E[4] - _E[8], *_SYMMETRIC]),
+    "symmetric": _orthonormal([_E[0], _E[4], _E[8], *_SYMMETRIC]),
 }
 
 
