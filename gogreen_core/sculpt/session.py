@@ -30,7 +30,6 @@ from gogreen_core.sculpt.operations import (
     Operation,
     Redo,
     Remesh,
-    SettingsChange,
     Stroke,
     Subdivide,
     Undo,
@@ -274,14 +273,13 @@ def _stroke(sculptor: Sculptor, op: Stroke, step: Step) -> None:
         step()
 
 
-def _settings(sculptor: Sculptor, op: SettingsChange) -> None:
-    sculptor.change_settings(continued=op.continued, replaying=True, **op.values)
-
-
 #: How each record is done: through the sculptor's public methods (a logged settings change is
 #: always replayed, as the drag it stands for was a step).
 _ACTIONS: dict[type[Operation], Callable[[Sculptor, Any], object]] = {
-    **dict.fromkeys(SETTINGS_CHANGES.values(), _settings),
+    **dict.fromkeys(
+        SETTINGS_CHANGES.values(),
+        lambda s, op: s.change_settings(continued=op.continued, replaying=True, **op.values),
+    ),
     ConstraintAdd: lambda s, op: s.add_constraint(op.point),
     ConstraintRemove: lambda s, op: s.remove_constraint(op.index),
     ConstraintsClear: lambda s, op: s.clear_constraints(),
