@@ -7,7 +7,7 @@ Everything the app does with the mouse goes through :class:`Sculptor`, so a scri
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from typing import Any
 
 import numpy as np
@@ -212,22 +212,12 @@ class Sculptor:
         self.change_settings(material=material, continued=continued)
 
     def set_falloff(
-        self,
-        falloff: RadialProfile,
-        l_max: int | None = None,
-        *,
-        continued: bool = False,
-        brush_weights: Mapping[str, Sequence[float]] | None = None,
+        self, falloff: RadialProfile, l_max: int | None = None, *, continued: bool = False
     ) -> None:
-        """Use this falloff shape (and l_max, brush weights: kept, or resized to a new l_max,
-        when None) from now on (see :meth:`change_settings`)."""
-        changes: dict[str, Any] = {
-            "falloff": falloff,
-            "l_max": self.l_max if l_max is None else l_max,
-        }
-        if brush_weights is not None:
-            changes["brush_weights"] = brush_weights
-        self.change_settings(continued=continued, **changes)
+        """Use this falloff shape (and l_max; None: kept) from now on, the brushes' weights
+        resized to it (see :meth:`change_settings`)."""
+        l_max = self.l_max if l_max is None else l_max
+        self.change_settings(falloff=falloff, l_max=l_max, continued=continued)
 
     def set_constraint_radius(self, radius: float, continued: bool = False) -> None:
         """ε of the constraints, relative to the model size (see :meth:`change_settings`)."""

@@ -160,7 +160,7 @@ def test_settings_changes_are_undo_steps_restored_exactly(sphere):
     first = sculptor.settings
     spline = SplineRadial.from_profile(KelvinletRadial(1.0), 6)
     sculptor.set_material(CUBIC)
-    sculptor.set_falloff(spline, 6, brush_weights={"pinch": np.linspace(1, 2, 8)})
+    sculptor.change_settings(falloff=spline, l_max=6, brush_weights={"pinch": np.linspace(1, 2, 8)})
     sculptor.set_constraint_radius(0.25)
     assert sculptor.history.undo_labels == ["material", "falloff", "constraint radius"]
     after = sculptor.settings
@@ -314,7 +314,9 @@ def test_settings_refused_inside_a_stroke_and_bad_values_change_nothing(sphere):
         sculptor.set_constraint_radius(0.0)
     assert info.value.parameter == "radius"
     with pytest.raises(ParameterError) as info:
-        sculptor.set_falloff(GaussianRadial(1.0), l_max=4, brush_weights={"grab": [1.0, 2.0]})
+        sculptor.change_settings(
+            falloff=GaussianRadial(1.0), l_max=4, brush_weights={"grab": [1.0, 2.0]}
+        )
     assert info.value.parameter == "brush_weights.grab"
     with pytest.raises(ParameterError) as info:
         sculptor.set_material("steel")
