@@ -251,25 +251,21 @@ class GreenBrush(BrushType):
         """The sampled bound of this brush's field (cached per settings and influence)."""
         reach = self.reach(ctx, brush)
         key = ("field bound", *self._shape_key(ctx.settings), reach)
-        return self.cached_bound(ctx, key, kernel, self.unit_kernel, reach)
+        return self.cached_bound(ctx, key, kernel, reach)
 
     def cached_bound(
-        self,
-        ctx: StrokeContext,
-        key: tuple[Any, ...],
-        kernel: GreenKernel,
-        unturned: Callable[[KernelCache], GreenKernel],
-        reach: float,
-        affine: bool | None = None,
+        self, ctx: StrokeContext, key: tuple[Any, ...], kernel: GreenKernel, reach: float
     ) -> FieldBound:
         """The field bound of ``kernel`` with ``reach``, cached under ``key``; in a stroke's
-        surface frame, the unturned equivalent's (``unturned(kernels)``) turned."""
-        affine = self.is_affine if affine is None else affine
+        surface frame, the unturned :meth:`unit_kernel`'s turned."""
+        affine = self.is_affine
         frame = ctx.kernels.frame
         if frame is None:
             return ctx.kernels.derived(key, lambda: FieldBound(kernel, reach, affine))
         base = ctx.kernels.unturned
-        bound = base.derived((*key, "unturned"), lambda: FieldBound(unturned(base), reach, affine))
+        bound = base.derived(
+            (*key, "unturned"), lambda: FieldBound(self.unit_kernel(base), reach, affine)
+        )
         return TurnedFieldBound(bound, frame)
 
     @abstractmethod

@@ -273,7 +273,7 @@ class WrinkleBrush(GrabBrush):
         """The force scale that keeps the pull alone within the safe-falloff bounds anywhere in
         the influence ball (an edited falloff weak at the centre), as a grab's."""
         key = ("wrinkle pull bound", pull.degree_weights.tobytes(), reach)
-        bound = self.cached_bound(ctx, key, pull, self.unit_kernel, reach)
+        bound = self.cached_bound(ctx, key, pull, reach)
         eps = pull.eps
         strain = bound.strain_sup(force, eps) * eps
         return _bounded(size, bound.motion_sup(force, eps)[0], strain)
