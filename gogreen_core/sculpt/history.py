@@ -134,20 +134,6 @@ class History:
             self._bytes -= self._undo.pop(0).nbytes
             self._evicted += 1
 
-    def record_change(
-        self,
-        label: str,
-        before: np.ndarray,
-        after: np.ndarray,
-        merge: bool = False,
-        state: tuple[object, object] | None = None,
-    ) -> None:
-        """Record the rows that differ, bit for bit (``0.0`` → ``-0.0`` counts, an unchanged
-        NaN does not), between all positions ``before`` and ``after`` (N, 3) float64.
-        ``merge``: continue the last operation if it has the same label and nothing was undone
-        since (one pin drag, one step; its first ``before`` kept). ``state``: see :meth:`record`."""
-        self.record_rows(label, np.arange(len(before)), before, after, merge, state)
-
     def record_rows(
         self,
         label: str,
@@ -157,8 +143,10 @@ class History:
         merge: bool = False,
         state: tuple[object, object] | None = None,
     ) -> None:
-        """:meth:`record_change` for the rows ``indices`` (K,) alone (distinct), before and
-        after (K, 3): for an operation that knows which rows it may have moved."""
+        """Record the rows of ``indices`` (K,) (distinct) that differ, bit for bit (``0.0`` →
+        ``-0.0`` counts, an unchanged NaN does not), between ``before`` and ``after`` (K, 3).
+        ``merge``: continue the last operation if it has the same label and nothing was undone
+        since (one pin drag, one step; its first ``before`` kept). ``state``: see :meth:`record`."""
         idx = np.asarray(indices, dtype=np.int64).reshape(-1)
         b = np.ascontiguousarray(before, dtype=np.float64)
         a = np.ascontiguousarray(after, dtype=np.float64)
@@ -173,7 +161,7 @@ class History:
 
     def record_state(self, label: str, state: tuple[object, object], merge: bool = False) -> None:
         """Record a step that moved no vertex, only the caller's ``state`` (before, after);
-        ``merge`` as in :meth:`record_change`."""
+        ``merge`` as in :meth:`record_rows`."""
         self.record_rows(label, _NO_INDEX, _NO_ROWS, _NO_ROWS, merge, state)
 
     def _merge_last(
