@@ -1,13 +1,9 @@
 """Point constraints with prescribed displacements (paper Sec. 2.5, Fig. 1).
 
-k constraint points p_i carry forces f_j such that the displacement field
-u(x) = Σ_j G(x − p_j) f_j takes the prescribed values d_i at the points:
-
-    Σ_j G(p_i − p_j) f_j = d_i,   a dense symmetric positive definite 3k × 3k system K f = d.
-
-K⁻¹ is kept and updated when one constraint is added (block bordering with the 3 × 3 Schur
-complement) or removed, O(k²) each; one step of iterative refinement with K makes the points land
-on their targets to ~1e-14 relative.
+k constraint points p_i carry forces f_j such that u(x) = Σ_j G(x − p_j) f_j takes the prescribed
+values d_i there: Σ_j G(p_i − p_j) f_j = d_i, a dense symmetric positive definite 3k × 3k system
+K f = d. K⁻¹ is updated when one constraint is added (block bordering with the 3 × 3 Schur
+complement) or removed, O(k²) each; one refinement step with K lands the points to ~1e-14.
 
 Pins act locally: each term carries the brushes' smooth cutoff s over
 :data:`CONSTRAINT_INFLUENCE` ε, u(x) = Σ_j s(|x − p_j|) G(x − p_j) f_j, and K uses the same
