@@ -40,7 +40,7 @@ from gogreen_core.sculpt.session import (
     replay,
 )
 from gogreen_core.sculpt.session_log import LogListener, SessionLog
-from gogreen_core.sculpt.stroke import Remesher, StrokeDriver
+from gogreen_core.sculpt.stroke import Remesher, StrokeDriver, checked_brush
 from gogreen_core.validation import ParameterError, check_bool, check_vector, prefixed
 
 __all__ = [
@@ -228,12 +228,12 @@ class Sculptor:
     def kernel(self, brush: Brush) -> GreenKernel | None:
         """The kernel of ``brush`` on this model: its falloff, ε and degree weights (None for
         a brush without a Green's function)."""
-        return self._strokes.kernel(self._kernels, brush)
+        return brush.type.kernel(self._strokes.context(self._kernels), brush)
 
     def influence(self, brush: Brush) -> float:
         """``brush``'s influence radius in ε (``inf``: every vertex): its own number, or what
         ``"auto"`` gives with the current settings (the cursor's influence ring)."""
-        return self._strokes.reach(self._kernels, brush)
+        return checked_brush(brush).type.reach(self._strokes.context(self._kernels), brush)
 
     def begin_stroke(self, brush: Brush) -> None:
         """Start a stroke with ``brush``; events follow, then :meth:`end_stroke`."""

@@ -25,7 +25,6 @@ from typing import Any
 
 import numpy as np
 
-from gogreen_core.field.kernel import GreenKernel
 from gogreen_core.mesh.mesh_state import MaskRows, MeshSnapshot, MeshState, topology_edit
 from gogreen_core.mesh.remesh import (
     faces_touching,
@@ -134,16 +133,8 @@ class StrokeDriver:
             self.mesh, kernels, self._buffer, write_through=not self.mesh.masked, stroke=memo
         )
 
-    def kernel(self, kernels: KernelCache, brush: Brush) -> GreenKernel | None:
-        """``brush``'s Green's function kernel at its radius (None for a brush without one)."""
-        return brush.type.kernel(self.context(kernels), brush)
-
-    def reach(self, kernels: KernelCache, brush: Brush) -> float:
-        """``brush``'s influence radius in ε, resolved (:meth:`BrushType.reach`)."""
-        return _checked(brush).type.reach(self.context(kernels), brush)
-
     def begin(self, brush: Brush) -> None:
-        self._stroke = _Stroke(_checked(brush), self.mesh.vertices.copy())
+        self._stroke = _Stroke(checked_brush(brush), self.mesh.vertices.copy())
 
     def event(self, kernels: KernelCache, event: BrushEvent) -> np.ndarray:
         """Apply one event of the current stroke; the indices (n,) of the rows it moved (or
@@ -429,7 +420,8 @@ def surface_frame_of(mesh: MeshState, brush: Brush, event: BrushEvent) -> np.nda
     return frame_at(mesh, event.center, brush.eps(mesh.model_size), motion)
 
 
-def _checked(brush: object) -> Brush:
+def checked_brush(brush: object) -> Brush:
+    """``brush``, refused (ParameterError) unless it is a :class:`Brush`."""
     if not isinstance(brush, Brush):
         raise ParameterError("brush", f"brush must be a Brush (got {type(brush).__name__})")
     return brush
