@@ -93,11 +93,8 @@ class Pins:
     def follow(self, kernels: KernelCache) -> KernelCache:
         """Rebuild the pins for new settings' ``kernels`` and keep them; returns ``kernels``.
         A failure (pins the new radius cannot separate) raises before anything changed."""
-        self.adopt(None if self.constraints is None else self.built(kernels))
+        self.constraints = None if self.constraints is None else self.built(kernels)
         return kernels
-
-    def adopt(self, constraints: ConstraintSet | None) -> None:
-        self.constraints = constraints
 
     # -- edits -------------------------------------------------------------------------------
     def add(self, point: object) -> int:

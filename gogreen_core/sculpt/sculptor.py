@@ -370,7 +370,7 @@ class Sculptor:
             self.cancel_stroke()
             self._mesh.adopt(mesh)
             self._kernels = kernels
-            self._pins.adopt(None if points is None else self._pins.built(kernels, points))
+            self._pins.constraints = None if points is None else self._pins.built(kernels, points)
             self.history.restore(history)
             self._log.truncate(log_length)
             raise
@@ -475,5 +475,5 @@ def restore_state(
     sculptor._mesh.origin = state.origin.copy()
     if state.pins is not None:
         kernel = sculptor._pins.built(sculptor._kernels, np.zeros((0, 3))).kernel
-        sculptor._pins.adopt(ConstraintSet.restored(kernel, *state.pins))
+        sculptor._pins.constraints = ConstraintSet.restored(kernel, *state.pins)
     return sculptor
