@@ -86,11 +86,6 @@ class Session:
     operations: tuple[Operation, ...]
     version: int = SESSION_VERSION
 
-    @property
-    def steps(self) -> int:
-        """Progress units of a replay (mouse events, one per other operation)."""
-        return sum(op.steps for op in self.operations)
-
 
 def parse_session(data: object) -> Session:
     """The checked :class:`Session` of a decoded session file (an older version's upgraded

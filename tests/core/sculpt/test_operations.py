@@ -260,7 +260,7 @@ def test_parse_session_checks_everything_before_applying(sphere):
     sculptor.apply_brush(Brush("grab"), [BrushEvent(vertices[1], [0.0, 0.02, 0.0])])
     session = session_of(sculptor)
     parsed = parse_session(session)
-    assert [op.name for op in parsed.operations] == ["stroke"] and parsed.steps == 1
+    assert [op.name for op in parsed.operations] == ["stroke"] and parsed.operations[0].steps == 1
     session["operations"].append({"op": "constraint_drag", "index": 0.5, "delta": [0, 0, 0]})
     target = Sculptor(vertices, faces)
     with pytest.raises(ParameterError, match=r"operations\[1\]\.index"):
