@@ -15,7 +15,7 @@ from typing import NamedTuple
 import numpy as np
 
 from gogreen_core.mesh.mesh_state import MeshState
-from gogreen_core.sculpt.constraints import CONSTRAINT_INFLUENCE, ConstraintSet
+from gogreen_core.sculpt.constraints import ConstraintSet
 from gogreen_core.sculpt.history import History
 from gogreen_core.sculpt.kernel_cache import KernelCache
 from gogreen_core.sculpt.material_frame import FramedKernels, frame_at
@@ -73,12 +73,6 @@ class Pins:
 
     def __len__(self) -> int:
         return 0 if self.constraints is None else len(self.constraints)
-
-    @property
-    def reach(self) -> float:
-        """:attr:`Sculptor.constraint_reach`."""
-        radius = self._kernels().settings.constraint_radius
-        return CONSTRAINT_INFLUENCE * radius * self.mesh.model_size
 
     def built(self, kernels: KernelCache, points: np.ndarray | None = None) -> ConstraintSet:
         """A constraint set for ``kernels`` with ``points`` (k, 3) (default: the pins now);

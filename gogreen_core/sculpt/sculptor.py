@@ -20,7 +20,7 @@ from gogreen_core.physics.material import Material
 from gogreen_core.physics.radial import RadialProfile
 from gogreen_core.sculpt.brushes import Brush, BrushEvent
 from gogreen_core.sculpt.checkpoint import SculptState
-from gogreen_core.sculpt.constraints import ConstraintSet
+from gogreen_core.sculpt.constraints import CONSTRAINT_INFLUENCE, ConstraintSet
 from gogreen_core.sculpt.engine_settings import (
     SETTING_GROUPS,
     EngineSettings,
@@ -278,7 +278,7 @@ class Sculptor:
     def constraint_reach(self) -> float:
         """Distance (model units) beyond which a pin moves nothing (``CONSTRAINT_INFLUENCE``
         constraint radii)."""
-        return self._pins.reach
+        return CONSTRAINT_INFLUENCE * self.settings.constraint_radius * self._mesh.model_size
 
     def add_constraint(self, point: np.ndarray) -> int:
         """Pin a point (3,) (model units, within ``MAX_REACH`` model sizes of the model's
