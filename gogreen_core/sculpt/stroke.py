@@ -288,7 +288,7 @@ class StrokeDriver:
         if stroke is None:
             return np.zeros(0, dtype=np.int64)
         # the changed rows found once here, not marked every event (1M vertices: 6 ms once)
-        mesh, label = self.mesh, _undo_label(stroke.brush.kind)
+        mesh, label = self.mesh, f"{brush_row(stroke.brush.kind).label} stroke"
         if stroke.start is not None:  # new faces: what changed (with UVs the whole meshes)
             now = MeshSnapshot(mesh.vertices, mesh.faces, mesh.mask)
             sides: tuple[object, object] = (
@@ -425,11 +425,3 @@ def checked_brush(brush: object) -> Brush:
     if not isinstance(brush, Brush):
         raise ParameterError("brush", f"brush must be a Brush (got {type(brush).__name__})")
     return brush
-
-
-def _undo_label(kind: str) -> str:
-    """A stroke's undo step, in the brush bar's words ("Grab stroke" for ``grab_local``)."""
-    try:
-        return f"{brush_row(kind).label} stroke"
-    except ValueError:  # a brush no row offers (scripts): its kind
-        return f"{kind} stroke"
