@@ -210,17 +210,7 @@ class History:
     ) -> str | None:
         if not source:
             return None
-        entry = source[-1]
-        self._check_target(vertices, entry)
-        vertices[entry.indices] = entry.after if side else entry.before
-        self.restored_indices = entry.indices
-        self.restored_state = None if entry.state is None else entry.state[side]
-        target.append(source.pop())
-        return entry.label
-
-    @staticmethod
-    def _check_target(vertices: np.ndarray, entry: _Entry) -> None:
-        """Refuse (before touching anything) an array the entry cannot be restored into."""
+        entry = source[-1]  # refused before anything is touched:
         if not isinstance(vertices, np.ndarray) or vertices.dtype != np.float64:
             raise TypeError("undo/redo writes into a float64 numpy array of vertices")
         if vertices.ndim != 2 or vertices.shape[1] != 3:
@@ -230,6 +220,11 @@ class History:
                 f"{entry.label!r} moved vertex {int(entry.indices.max())} but the array has "
                 f"{len(vertices)} vertices"
             )
+        vertices[entry.indices] = entry.after if side else entry.before
+        self.restored_indices = entry.indices
+        self.restored_state = None if entry.state is None else entry.state[side]
+        target.append(source.pop())
+        return entry.label
 
 
 def _check_rows(label: str, indices: np.ndarray, before: np.ndarray, after: np.ndarray) -> None:
