@@ -231,8 +231,12 @@ class GreenBrush(BrushType):
         if brush.influence != AUTO_INFLUENCE:
             return float(brush.influence)
         kernels = ctx.kernels.unturned  # the same for every frame the material takes
-        key = ("reach", *self._shape_key(ctx.settings))
-        return kernels.derived(key, lambda: field_reach(self.unit_kernel(kernels), self.is_affine))
+        key = ("reach", type(self), *self._shape_key(ctx.settings))  # (reach_kernel per class)
+        return kernels.derived(key, lambda: field_reach(self.reach_kernel(kernels), self.is_affine))
+
+    def reach_kernel(self, kernels: KernelCache) -> GreenKernel:
+        """The kernel at ε = 1 whose field's decay sets an automatic influence."""
+        return self.unit_kernel(kernels)
 
     def _shape_key(self, settings: EngineSettings) -> tuple[Any, ...]:
         """What the brush's field at ε = 1 depends on besides the settings' kernels."""

@@ -32,14 +32,13 @@ import numpy as np
 from gogreen_core.field.kernel import GreenKernel
 from gogreen_core.physics.radial import RadialProfile
 from gogreen_core.sculpt.brushes.base import (
-    AUTO_INFLUENCE,
     EventField,
     StrokeContext,
     mirror_signs,
     smooth_cutoff,
 )
 from gogreen_core.sculpt.brushes.grab import GrabBrush
-from gogreen_core.sculpt.falloff_safety import MAX_GRAB_RATIO, MAX_GRAB_STRAIN, field_reach
+from gogreen_core.sculpt.falloff_safety import MAX_GRAB_RATIO, MAX_GRAB_STRAIN
 
 if TYPE_CHECKING:
     from gogreen_core.sculpt.brushes.brush import Brush, BrushEvent
@@ -190,21 +189,12 @@ class WrinkleBrush(GrabBrush):
         unit, _ = self._fold_kernels(kernels, eps)
         return unit.with_degree_weights(self._parts(kernels.settings)[0])
 
-    def reach(self, ctx: StrokeContext, brush: Brush) -> float:
-        """``influence``, or for ``"auto"`` the reach of the pull and unit folds (about 9 ε)."""
-        if brush.influence != AUTO_INFLUENCE:
-            return float(brush.influence)
-
-        kernels = ctx.kernels.unturned  # the same for every frame the material takes
-
-        def reach() -> float:
-            unit, factors = self._fold_kernels(kernels, 1.0)
-            pull, folds = self._parts(kernels.settings)
-            depth = folds.max() if folds.max() > 0 else 1.0
-            return field_reach(unit.with_degree_weights(pull + folds * factors / depth), False)
-
-        key = ("wrinkle reach", ctx.settings.weights_for(self.kind).tobytes())
-        return kernels.derived(key, reach)
+    def reach_kernel(self, kernels: KernelCache) -> GreenKernel:
+        """The pull and unit folds (an automatic influence of about 9 ε)."""
+        unit, factors = self._fold_kernels(kernels, 1.0)
+        pull, folds = self._parts(kernels.settings)
+        depth = folds.max() if folds.max() > 0 else 1.0
+        return unit.with_degree_weights(pull + folds * factors / depth)
 
     def field(self, ctx: StrokeContext, brush: Brush, event: BrushEvent) -> EventField:
         eps = brush.eps(ctx.model_size)
