@@ -1,13 +1,9 @@
 """Point constraints with prescribed displacements (paper Sec. 2.5, Fig. 1).
 
-k constraint points p_i carry forces f_j such that the displacement field
-u(x) = Σ_j G(x − p_j) f_j takes the prescribed values d_i at the points:
-
-    Σ_j G(p_i − p_j) f_j = d_i,   a dense symmetric positive definite 3k × 3k system K f = d.
-
-K⁻¹ is kept and updated when one constraint is added (block bordering with the 3 × 3 Schur
-complement) or removed, O(k²) each; one step of iterative refinement with K makes the points land
-on their targets to ~1e-14 relative.
+k constraint points p_i carry forces f_j such that u(x) = Σ_j G(x − p_j) f_j takes the prescribed
+values d_i there: Σ_j G(p_i − p_j) f_j = d_i, a dense symmetric positive definite 3k × 3k system
+K f = d. K⁻¹ is updated when one constraint is added (block bordering with the 3 × 3 Schur
+complement) or removed, O(k²) each; one refinement step with K lands the points to ~1e-14.
 
 Pins act locally: each term carries the brushes' smooth cutoff s over
 :data:`CONSTRAINT_INFLUENCE` ε, u(x) = Σ_j s(|x − p_j|) G(x − p_j) f_j, and K uses the same
@@ -17,7 +13,7 @@ blocks, so the pins still get exactly their displacements (G alone decays only a
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any, cast
+from typing import cast
 
 import numpy as np
 
@@ -52,10 +48,6 @@ class ConstraintSet:
     ) -> ConstraintSet:
         """A set in exactly the state another one had: its ``points`` (k, 3), ``matrix`` and
         ``inverse`` (3k, 3k) bit for bit (adding the points again would round differently)."""
-        points = np.array(points, dtype=np.float64).reshape(-1, 3)
-        size = 3 * len(points)
-        matrix = np.array(matrix, dtype=np.float64).reshape(size, size)
-        inverse = np.array(inverse, dtype=np.float64).reshape(size, size)
         constraints = cls(kernel)
         constraints._points, constraints._matrix, constraints._inverse = points, matrix, inverse
         return constraints
@@ -80,11 +72,6 @@ class ConstraintSet:
     def __len__(self) -> int:
         return len(self._points)
 
-    @property
-    def reach(self) -> float:
-        """Distance (model units) beyond which a pin moves nothing."""
-        return self._cutoff[1]
-
     def _blocks(self, p: np.ndarray, others: np.ndarray) -> np.ndarray:
         """s G(others − p) as a (3k, 3) column block."""
         offsets = others - p
@@ -93,10 +80,9 @@ class ConstraintSet:
         return cast(np.ndarray, blocks.reshape(-1, 3))
 
     def add(self, point: np.ndarray) -> int:
-        """Add a constraint at ``point`` (3,); returns its index. O(k²)."""
+        """Add a constraint at ``point`` (3,) (finite: checked by the caller); returns its
+        index. O(k²)."""
         p = np.asarray(point, dtype=np.float64)
-        if p.shape != (3,) or not np.all(np.isfinite(p)):
-            raise ValueError(f"constraint point must be 3 finite numbers (got {point!r})")
         k = len(self._points)
         if k:
             dist = np.linalg.norm(self._points - p, axis=1)
@@ -133,10 +119,8 @@ class ConstraintSet:
         return k
 
     def remove(self, index: int) -> None:
-        """Remove constraint ``index``. O(k²)."""
+        """Remove constraint ``index`` (an existing one: checked by the caller). O(k²)."""
         k = len(self._points)
-        if not 0 <= index < k:
-            raise ValueError(f"no constraint {index} (there are {k})")
         keep = np.concatenate([np.arange(3 * index), np.arange(3 * index + 3, 3 * k)])
         drop = np.arange(3 * index, 3 * index + 3)
         p = self._inverse[np.ix_(keep, keep)]
@@ -156,12 +140,8 @@ class ConstraintSet:
             self._points, self._matrix, self._inverse = saved
             raise
         order = list(range(new))
-        order.insert(index, new)
-        self._reorder(order)
-
-    def _reorder(self, order: list[int]) -> None:
-        idx: Any  # an array, or [] (which np.ix_ takes; numpy's annotations do not say so)
-        idx = np.concatenate([np.arange(3 * i, 3 * i + 3) for i in order]) if order else []
+        order.insert(index, new)  # the moved point back at its index
+        idx = np.concatenate([np.arange(3 * i, 3 * i + 3) for i in order])
         self._points = self._points[order]
         self._matrix = self._matrix[np.ix_(idx, idx)]
         self._inverse = self._inverse[np.ix_(idx, idx)]
@@ -169,8 +149,6 @@ class ConstraintSet:
     def solve(self, displacements: np.ndarray) -> np.ndarray:
         """Forces (k, 3) whose field has the prescribed ``displacements`` (k, 3) at the points."""
         d = np.asarray(displacements, dtype=np.float64).reshape(-1)
-        if d.shape != (3 * len(self._points),) or not np.all(np.isfinite(d)):
-            raise ValueError(f"need {len(self._points)} finite displacements (3 numbers each)")
         f = self._inverse @ d
         f += self._inverse @ (d - self._matrix @ f)  # one refinement step
         return f.reshape(-1, 3)

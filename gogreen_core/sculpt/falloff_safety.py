@@ -1,10 +1,9 @@
 """Safe falloffs: bounds on how far one brush event can move a vertex, whatever the falloff.
 
 A brush event moves vertices along the load's field over pseudo-time [0, 1], so no vertex moves
-farther than sup_x |u(x)| over the influence ball. Normalizing the load by the field at the
-centre (grab: f = G(0)⁻¹ Δ) is safe when the field peaks there, as every closed-form falloff
-does, but an edited falloff weak at its centre made it explode; the brushes then scale the
-load down to the bounds below.
+farther than sup_x |u(x)| over the influence ball. A load normalized by the field at the centre
+(grab: f = G(0)⁻¹ Δ) is safe where the field peaks there; for an edited falloff weak at its
+centre the brushes scale the load down to the bounds below.
 
 :class:`FieldBound` samples one kernel's field once (in units of ε, so for every brush radius)
 and answers sup_k |D_k h| for a load h per event, visiting the samples in decreasing order of
@@ -123,20 +122,6 @@ def mean_green_direction(material: Material) -> np.ndarray:
     return cast(np.ndarray, mean)
 
 
-def _largest_eigenvalue(s: np.ndarray) -> np.ndarray:
-    """Largest eigenvalue (K,) of symmetric positive semi-definite s (K, 3, 3), in closed form
-    (trigonometric; ~10× faster than a batched eigvalsh)."""
-    q = np.trace(s, axis1=1, axis2=2) / 3
-    off = s[:, 0, 1] ** 2 + s[:, 0, 2] ** 2 + s[:, 1, 2] ** 2
-    diag = (s[:, 0, 0] - q) ** 2 + (s[:, 1, 1] - q) ** 2 + (s[:, 2, 2] - q) ** 2
-    p = np.sqrt((diag + 2 * off) / 6)
-    safe = np.where(p > 0, p, 1.0)
-    b = (s - q[:, None, None] * np.eye(3)) / safe[:, None, None]
-    half_det = np.clip(np.linalg.det(b) / 2, -1.0, 1.0)
-    largest = q + 2 * p * np.cos(np.arccos(half_det) / 3)
-    return cast(np.ndarray, np.maximum(largest, 0.0))
-
-
 class _SupTable:
     """sup_k |D_k h| over sampled linear maps D_k (K, m, n), visited in decreasing order of
     ‖D_k‖₂ and stopping as soon as no unvisited sample can beat the best so far."""
@@ -149,12 +134,7 @@ class _SupTable:
             gram = operators @ operators.transpose(0, 2, 1)
         else:
             gram = operators.transpose(0, 2, 1) @ operators
-        if gram.shape[1] == 3:
-            largest = _largest_eigenvalue(gram)
-        elif gram.shape[1] == 1:
-            largest = gram[:, 0, 0]
-        else:
-            largest = np.linalg.eigvalsh(gram)[:, -1]
+        largest = np.linalg.eigvalsh(gram)[:, -1]
         norms = np.sqrt(np.maximum(largest, 0.0)) * (1 + 1e-9)  # margin for rounding
         order = np.argsort(-norms, kind="stable")
         self.points = points[order]  # (K, 3)
@@ -178,10 +158,8 @@ class _SupTable:
 class FieldBound:
     """Sampled sup of a load's field and of its gradient over the influence ball of one
     kernel shape: ``kernel`` at any radius (sampled at ε = 1), ``influence`` in ε (``inf``:
-    none), ``affine``: sample ∇G (loads H (3, 3)) instead of G (loads h (3,)).
-
-    Gradients by forward differences of what moves the vertices (G, or ∇G for affine loads):
-    a spline falloff's R_l and ℛ_l are separate curves.
+    none), ``affine``: sample ∇G (loads H (3, 3)) instead of G (loads h (3,)). Gradients by
+    forward differences of what moves the vertices (a spline's R_l and ℛ_l are separate curves).
     """
 
     def __init__(self, kernel: GreenKernel, influence: float, affine: bool):
@@ -266,30 +244,18 @@ def _orthonormal(matrices: list[np.ndarray]) -> np.ndarray:
     return q
 
 
-def _unit_matrix(i: int, j: int) -> np.ndarray:
-    e = np.zeros((3, 3))
-    e[i, j] = 1.0
-    return e
-
-
-_PAIRS = ((1, 2), (0, 2), (0, 1))
+_E = np.eye(9).reshape(9, 3, 3)  # _E[3 i + j]: the unit matrix of entry (i, j)
+_SYMMETRIC = [_E[3 * i + j] + _E[3 * j + i] for i, j in ((1, 2), (0, 2), (0, 1))]
 _BASES = {
     "scale": _orthonormal([np.eye(3)]),
-    "twist": _orthonormal([_unit_matrix(i, j) - _unit_matrix(j, i) for i, j in _PAIRS]),
-    "pinch": _orthonormal(
-        [_unit_matrix(0, 0) - _unit_matrix(1, 1), _unit_matrix(1, 1) - _unit_matrix(2, 2)]
-        + [_unit_matrix(i, j) + _unit_matrix(j, i) for i, j in _PAIRS]
-    ),
-    "symmetric": _orthonormal(
-        [_unit_matrix(i, i) for i in range(3)]
-        + [_unit_matrix(i, j) + _unit_matrix(j, i) for i, j in _PAIRS]
-    ),
+    "twist": _orthonormal([_E[3 * i + j] - _E[3 * j + i] for i, j in ((1, 2), (0, 2), (0, 1))]),
+    "pinch": _orthonormal([_E[0] - _E[4], _E[4] - _E[8], *_SYMMETRIC]),
+    "symmetric": _orthonormal([_E[0], _E[4], _E[8], *_SYMMETRIC]),
 }
 
 
 def _subspace(load: np.ndarray) -> str:
-    """Which of the pattern subspaces of :data:`_BASES` a (3, 3) load lies in ("general" for
-    none)."""
+    """The pattern subspace of :data:`_BASES` a (3, 3) load lies in, else "general"."""
     size = np.abs(load).max()
     tol = 1e-12 * size
     if np.abs(load - load[0, 0] * np.eye(3)).max() <= tol:

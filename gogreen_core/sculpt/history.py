@@ -12,6 +12,8 @@ __all__ = ["History"]
 
 #: Default memory cap of a :class:`History`, in bytes (512 MiB).
 DEFAULT_MAX_BYTES = 512 * 2**20
+_NO_INDEX = np.zeros(0, dtype=np.int64)
+_NO_ROWS = np.zeros((0, 3))
 
 
 @dataclass(frozen=True)
@@ -71,9 +73,8 @@ class History:
 
     @property
     def done(self) -> int:
-        """Undo steps recorded or redone minus those undone, counting the ones the memory cap
-        dropped: +1 for a new entry or a redo, -1 for an undo, 0 for a merge or an eviction.
-        The recovery journal compares it between a session and its replay."""
+        """Steps recorded or redone minus those undone, counting the ones the memory cap dropped
+        (the recovery journal compares it between a session and its replay)."""
         return len(self._undo) + self._evicted
 
     @property
@@ -82,8 +83,7 @@ class History:
         return self._bytes
 
     def snapshot(self) -> tuple[Any, ...]:
-        """An opaque copy of the stacks (entries are immutable, so this is cheap) for
-        :meth:`restore`: a caller that must undo a failed batch of records (a replay) uses it."""
+        """An opaque, cheap copy of the stacks (entries are immutable) for :meth:`restore`."""
         return (list(self._undo), list(self._redo), self._bytes, self._evicted, self.restored_state)
 
     def restore(self, snapshot: tuple[Any, ...]) -> None:
@@ -107,11 +107,10 @@ class History:
         state: tuple[object, object] | None = None,
     ) -> None:
         """Record that vertices ``indices`` (K,) int (distinct, >= 0) moved from ``before`` to
-        ``after`` (K, 3) float (copied), as the operation ``label`` (undo/redo return it, e.g.
-        ``"Grab stroke"``). ``state``: (before, after) of the caller's other state; after an
-        undo (redo) :attr:`restored_state` is its ``before`` (``after``). An empty change
-        without state is not recorded and leaves the redo stack alone; otherwise the redo stack
-        is dropped and the oldest entries are evicted past the memory cap."""
+        ``after`` (K, 3) float (copied), as the operation ``label`` (undo/redo return it).
+        ``state``: (before, after) of the caller's other state, :attr:`restored_state` after an
+        undo (redo). An empty change without state is not recorded; otherwise the redo stack is
+        dropped and the oldest entries are evicted past the memory cap."""
         idx = np.array(indices, dtype=np.int64).reshape(-1)
         b = np.array(before, dtype=np.float64)
         a = np.array(after, dtype=np.float64)
@@ -135,21 +134,6 @@ class History:
             self._bytes -= self._undo.pop(0).nbytes
             self._evicted += 1
 
-    def record_change(
-        self,
-        label: str,
-        before: np.ndarray,
-        after: np.ndarray,
-        merge: bool = False,
-        state: tuple[object, object] | None = None,
-    ) -> None:
-        """Record the rows that differ, bit for bit (``0.0`` → ``-0.0`` counts, an unchanged
-        NaN does not), between all positions ``before`` and ``after`` (N, 3) float64.
-        ``merge``: continue the last operation if it has the same label and nothing was undone
-        since (the steps of one pin drag become one undo step; it keeps its first ``before``
-        and ``state`` before). ``state``: as in :meth:`record`."""
-        self.record_rows(label, np.arange(len(before)), before, after, merge, state)
-
     def record_rows(
         self,
         label: str,
@@ -159,8 +143,10 @@ class History:
         merge: bool = False,
         state: tuple[object, object] | None = None,
     ) -> None:
-        """:meth:`record_change` for the rows ``indices`` (K,) alone (distinct), before and
-        after (K, 3): for an operation that knows which rows it may have moved."""
+        """Record the rows of ``indices`` (K,) (distinct) that differ, bit for bit (``0.0`` →
+        ``-0.0`` counts, an unchanged NaN does not), between ``before`` and ``after`` (K, 3).
+        ``merge``: continue the last operation if it has the same label and nothing was undone
+        since (one pin drag, one step; its first ``before`` kept). ``state``: see :meth:`record`."""
         idx = np.asarray(indices, dtype=np.int64).reshape(-1)
         b = np.ascontiguousarray(before, dtype=np.float64)
         a = np.ascontiguousarray(after, dtype=np.float64)
@@ -173,6 +159,11 @@ class History:
         else:
             self.record(label, idx, b, a, state)
 
+    def record_state(self, label: str, state: tuple[object, object], merge: bool = False) -> None:
+        """Record a step that moved no vertex, only the caller's ``state`` (before, after);
+        ``merge`` as in :meth:`record_rows`."""
+        self.record_rows(label, _NO_INDEX, _NO_ROWS, _NO_ROWS, merge, state)
+
     def _merge_last(
         self,
         indices: np.ndarray,
@@ -180,8 +171,7 @@ class History:
         after: np.ndarray,
         state: tuple[object, object] | None,
     ) -> None:
-        """Fold a change into the last entry: it keeps its own ``before`` rows and takes the
-        new ``after`` rows."""
+        """Fold a change into the last entry (its ``before`` rows, the new ``after`` rows)."""
         last = self._undo.pop()
         self._bytes -= last.nbytes
         # the union by a mask over the vertex numbers: np.union1d's sort (a hash in numpy 2)
@@ -220,17 +210,7 @@ class History:
     ) -> str | None:
         if not source:
             return None
-        entry = source[-1]
-        self._check_target(vertices, entry)
-        vertices[entry.indices] = entry.after if side else entry.before
-        self.restored_indices = entry.indices
-        self.restored_state = None if entry.state is None else entry.state[side]
-        target.append(source.pop())
-        return entry.label
-
-    @staticmethod
-    def _check_target(vertices: np.ndarray, entry: _Entry) -> None:
-        """Refuse (before touching anything) an array the entry cannot be restored into."""
+        entry = source[-1]  # refused before anything is touched:
         if not isinstance(vertices, np.ndarray) or vertices.dtype != np.float64:
             raise TypeError("undo/redo writes into a float64 numpy array of vertices")
         if vertices.ndim != 2 or vertices.shape[1] != 3:
@@ -240,6 +220,11 @@ class History:
                 f"{entry.label!r} moved vertex {int(entry.indices.max())} but the array has "
                 f"{len(vertices)} vertices"
             )
+        vertices[entry.indices] = entry.after if side else entry.before
+        self.restored_indices = entry.indices
+        self.restored_state = None if entry.state is None else entry.state[side]
+        target.append(source.pop())
+        return entry.label
 
 
 def _check_rows(label: str, indices: np.ndarray, before: np.ndarray, after: np.ndarray) -> None:

@@ -29,8 +29,7 @@ class KernelCache:
 
     def __init__(self, settings: EngineSettings, previous: KernelCache | None = None) -> None:
         self.settings = settings
-        old = previous.settings if previous is not None else None
-        if previous is not None and old is not None and old.agrees(settings, ("l_max", "material")):
+        if previous is not None and previous.settings.agrees(settings, ("l_max", "material")):
             self.full: GreenKernel = previous.full.with_radial(settings.falloff)  # same quadrature
         else:
             self.full = GreenKernel(settings.material, settings.l_max, settings.falloff)
@@ -55,9 +54,7 @@ class KernelCache:
         key = np.asarray(weights, dtype=np.float64).tobytes()
         kernel = self._weighted.get(key)
         if kernel is None:
-            s = self.settings
-            kernel = GreenKernel(s.material, s.l_max, s.falloff, weights)
-            self._weighted[key] = kernel
+            kernel = self._weighted[key] = self.full.with_degree_weights(weights)
         return kernel
 
     def derived(self, key: Hashable, make: Callable[[], T]) -> T:

@@ -19,9 +19,6 @@ from gogreen_core.validation import ParameterError
 
 __all__ = ["Mask"]
 
-_NO_ROWS = np.zeros((0, 3))
-_NO_INDICES = np.zeros(0, dtype=np.int64)
-
 
 class Mask:
     """The mask of the sculptor's mesh; ``refuse(what)`` raises while a stroke runs."""
@@ -57,7 +54,7 @@ class Mask:
         before = mesh.mask_rows(rows)
         after = MaskRows(before.rows, values)
         mesh.set_mask_rows(after)
-        self._history.record(label, _NO_INDICES, _NO_ROWS, _NO_ROWS, state=(before, after))
+        self._history.record_state(label, (before, after))
 
     def adopt(self, values: np.ndarray) -> np.ndarray:
         """Take the mask a host application keeps: ``values`` (N,) in [0, 1] replace it, as

@@ -35,9 +35,8 @@ _NO_MIRROR = np.ones((1, 3))
 
 def area_normal(mesh: MeshState, center: np.ndarray, radius: float) -> np.ndarray:
     """The unit area normal (3,) of ``mesh`` under a brush of ``radius`` (model units) at
-    ``center`` (3,): the sum of the area-weighted normals (cross products) of the faces with a
-    vertex within ``radius`` of ``center``, or of the faces around the nearest vertex when no
-    vertex is that close. ValueError when those faces have no area (nothing to face)."""
+    ``center`` (3,): the sum of the face cross products with a vertex within ``radius`` (else
+    around the nearest vertex). ValueError when those faces have no area."""
     vertices, faces = mesh.vertices, mesh.faces
     rows = mesh.rows_near(center, np.zeros(3), radius, _NO_MIRROR)
     if not len(rows):
@@ -55,9 +54,8 @@ def area_normal(mesh: MeshState, center: np.ndarray, radius: float) -> np.ndarra
 
 
 def surface_frame(normal: np.ndarray, motion: np.ndarray | None) -> np.ndarray:
-    """The frame F (3, 3), columns (t₁, t₂, n), a proper rotation: n the unit ``normal`` (3,),
-    t₁ ``motion`` (3,) projected on the plane ⟂ n, or, when it has no part there (or is None),
-    the world axis least aligned with n (the first of equals) projected on it; t₂ = n × t₁."""
+    """The frame F (3, 3), columns (t₁, t₂, n) (see the module docstring) of the unit
+    ``normal`` (3,) and ``motion`` (3,) or None; of equally aligned world axes, the first."""
     n = np.asarray(normal, dtype=np.float64)
     n = n / np.linalg.norm(n)
     t = None
@@ -77,24 +75,22 @@ def surface_frame(normal: np.ndarray, motion: np.ndarray | None) -> np.ndarray:
 def frame_at(
     mesh: MeshState, center: np.ndarray, radius: float, motion: np.ndarray | None
 ) -> np.ndarray:
-    """The surface frame (3, 3) of a stroke starting at ``center`` with a brush of ``radius``
-    (model units) and first ``motion`` (3,) or None (see the module docstring)."""
+    """The surface frame (3, 3) of a stroke at ``center`` with a brush of ``radius`` (model
+    units) and first ``motion`` (3,) or None."""
     return surface_frame(area_normal(mesh, center, radius), motion)
 
 
-def material_frame_at(
-    sculptor: Sculptor, point: np.ndarray, radius: float, motion: np.ndarray | None = None
-) -> np.ndarray:
+def material_frame_at(sculptor: Sculptor, point: np.ndarray, radius: float) -> np.ndarray:
     """The rotation (3, 3) ``sculptor``'s material is turned by for a stroke starting at
-    ``point`` (3,) (:func:`frame_at`; the identity with the "world" frame; during a stroke the
-    one it took)."""
+    ``point`` (3,) before it moves (:func:`frame_at`; the identity with the "world" frame;
+    during a stroke the one it took)."""
     if sculptor.settings.material_frame != "surface":
         return np.eye(3)
     strokes = sculptor._strokes  # the engine's own stroke driver
     current = strokes.current_kernels
     if current is not None and current.frame is not None:
         return current.frame
-    return frame_at(strokes.mesh, np.asarray(point, dtype=np.float64), radius, motion)
+    return frame_at(strokes.mesh, np.asarray(point, dtype=np.float64), radius, None)
 
 
 class FramedKernels(KernelCache):
@@ -114,13 +110,3 @@ class FramedKernels(KernelCache):
     @property
     def unturned(self) -> KernelCache:
         return self.base
-
-    def weighted(self, weights: np.ndarray | None) -> GreenKernel:
-        if weights is None:
-            return self.full
-        key = np.asarray(weights, dtype=np.float64).tobytes()
-        kernel = self._weighted.get(key)
-        if kernel is None:
-            kernel = self.full.with_degree_weights(weights)
-            self._weighted[key] = kernel
-        return kernel

@@ -15,7 +15,7 @@ from typing import NamedTuple
 import numpy as np
 
 from gogreen_core.mesh.mesh_state import MeshState
-from gogreen_core.sculpt.constraints import CONSTRAINT_INFLUENCE, ConstraintSet
+from gogreen_core.sculpt.constraints import ConstraintSet
 from gogreen_core.sculpt.history import History
 from gogreen_core.sculpt.kernel_cache import KernelCache
 from gogreen_core.sculpt.material_frame import FramedKernels, frame_at
@@ -74,13 +74,6 @@ class Pins:
     def __len__(self) -> int:
         return 0 if self.constraints is None else len(self.constraints)
 
-    @property
-    def reach(self) -> float:
-        """Distance (model units) beyond which a pin moves nothing:
-        :data:`gogreen_core.sculpt.constraints.CONSTRAINT_INFLUENCE` constraint radii."""
-        radius = self._kernels().settings.constraint_radius
-        return CONSTRAINT_INFLUENCE * radius * self.mesh.model_size
-
     def built(self, kernels: KernelCache, points: np.ndarray | None = None) -> ConstraintSet:
         """A constraint set for ``kernels`` with ``points`` (k, 3) (default: the pins now);
         ValueError when the settings cannot separate them."""
@@ -94,11 +87,8 @@ class Pins:
     def follow(self, kernels: KernelCache) -> KernelCache:
         """Rebuild the pins for new settings' ``kernels`` and keep them; returns ``kernels``.
         A failure (pins the new radius cannot separate) raises before anything changed."""
-        self.adopt(None if self.constraints is None else self.built(kernels))
+        self.constraints = None if self.constraints is None else self.built(kernels)
         return kernels
-
-    def adopt(self, constraints: ConstraintSet | None) -> None:
-        self.constraints = constraints
 
     # -- edits -------------------------------------------------------------------------------
     def add(self, point: object) -> int:
@@ -117,7 +107,7 @@ class Pins:
     def _record(self, label: str, before: np.ndarray) -> None:
         """One undo step for a change of the pins alone (positions before and now)."""
         state = (_Points(before), _Points(self.points))
-        self.history.record(label, np.zeros(0, dtype=np.int64), _NO_ROWS, _NO_ROWS, state)
+        self.history.record_state(label, state)
 
     def _check_index(self, index: object) -> int:
         if not len(self):
@@ -141,10 +131,6 @@ class Pins:
             self._record("clear pins", before)
         self.log.record(ConstraintsClear())
 
-    def _near(self, point: np.ndarray, radius: float) -> np.ndarray:
-        """The mesh's vertices within ``radius`` of ``point`` (by its vertex blocks)."""
-        return self.mesh.rows_near(point, _NO_STEP, radius, _ONE_IMAGE)
-
     def drag(self, index: object, delta: object, continued: object = False) -> np.ndarray:
         """Move pin ``index`` by ``delta`` (3,) while the others stay; (N, 3) u. An undo step,
         joined to the previous drag when ``continued``."""
@@ -161,7 +147,9 @@ class Pins:
         forces = solver.solve(targets)
         # only the rows within the pins' reach move: no pass over the whole mesh
         vertices = self.mesh.vertices
-        rows, moved = solver.displacement_rows(vertices, forces, self._near)
+        rows, moved = solver.displacement_rows(
+            vertices, forces, lambda p, r: self.mesh.rows_near(p, _NO_STEP, r, _ONE_IMAGE)
+        )
         if not np.all(np.isfinite(moved)):
             raise ParameterError("delta", "the pin drag would move vertices to infinity")
         if self.mesh.masked:  # masked vertices move (1 − mask) of the way: held ones not at all

@@ -1,15 +1,13 @@
 """The sculpting engine: a mesh, its settings, strokes, pins, undo and the session log.
 
 Everything the app does with the mouse goes through :class:`Sculptor`, so a script (or
-``gogreen replay``) can do it too. The parts live in the modules they import (mesh state,
-settings and kernels, brushes, stroke driver, pins, session); the sculptor holds them together and
-keeps undo consistent across them.
+``gogreen replay``) can do it too; it holds the parts together and keeps undo consistent.
 """
 
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from typing import Any
 
 import numpy as np
@@ -22,7 +20,7 @@ from gogreen_core.physics.material import Material
 from gogreen_core.physics.radial import RadialProfile
 from gogreen_core.sculpt.brushes import Brush, BrushEvent
 from gogreen_core.sculpt.checkpoint import SculptState
-from gogreen_core.sculpt.constraints import ConstraintSet
+from gogreen_core.sculpt.constraints import CONSTRAINT_INFLUENCE, ConstraintSet
 from gogreen_core.sculpt.engine_settings import (
     SETTING_GROUPS,
     EngineSettings,
@@ -42,7 +40,7 @@ from gogreen_core.sculpt.session import (
     replay,
 )
 from gogreen_core.sculpt.session_log import LogListener, SessionLog
-from gogreen_core.sculpt.stroke import Remesher, StrokeDriver
+from gogreen_core.sculpt.stroke import Remesher, StrokeDriver, checked_brush
 from gogreen_core.validation import ParameterError, check_bool, check_vector, prefixed
 
 __all__ = [
@@ -53,8 +51,6 @@ __all__ = [
 
 #: Undo label of each settings group (a continued change joins the last of these).
 _LABELS = {group[0]: group[0].replace("_", " ") for group in SETTING_GROUPS}
-_NO_ROWS = np.zeros((0, 3))
-_NO_INDEX = np.zeros(0, dtype=np.int64)
 
 
 class Sculptor:
@@ -153,10 +149,9 @@ class Sculptor:
         return self._strokes.active
 
     def adopt_vertices(self, vertices: np.ndarray) -> np.ndarray:
-        """Take positions a host application (Blender) changed outside the engine: the rows of
-        ``vertices`` (N, 3) that differ are written, with no undo step or session record (the
-        host keeps its own undo; ours is cleared when a row changed). Returns the indices (K,)
-        of the changed rows; ParameterError naming ``vertices`` for a wrong shape or a
+        """Take positions (N, 3) a host application (Blender) changed outside the engine: the
+        rows that differ are written, no undo step or session record (our undo is cleared when
+        a row changed). Returns their indices (K,); ParameterError for a wrong shape or a
         coordinate that is not finite."""
         self._strokes.refuse("adopt vertices")
         mesh = self._mesh
@@ -187,9 +182,8 @@ class Sculptor:
         self, *, continued: bool = False, replaying: bool = False, **changes: Any
     ) -> None:
         """Change one group of :attr:`settings` (``material``, ``falloff``...): one undo step
-        and log entry, or part of the last settings step when ``continued`` (a slider or curve
-        drag's later values). A value equal to the current one is ignored unless ``continued``
-        or ``replaying`` (the logged drag it stands for was a step)."""
+        and log entry, or part of the last settings step when ``continued`` (a drag's later
+        values). An unchanged value is ignored unless ``continued`` or ``replaying``."""
         keys = set(changes)
         group = next((g for g in SETTING_GROUPS if keys and keys <= set(g)), None)
         if group is None:
@@ -209,13 +203,7 @@ class Sculptor:
         self._kernels = self._pins.follow(KernelCache(after, self._kernels))
         last = self.history.undo_labels[-1] if self.history.can_undo else None
         merge = continued and last in _LABELS.values() and not self.history.can_redo
-        self.history.record_change(
-            last if merge and last else label,
-            _NO_ROWS,
-            _NO_ROWS,
-            merge=merge,
-            state=(before, after),
-        )
+        self.history.record_state(last if merge and last else label, (before, after), merge)
         # A collapsed drag is logged as its last value; the replay makes the same one step.
         self._log.record(settings_record(after, group[0], continued), replace_last=merge)
 
@@ -224,22 +212,12 @@ class Sculptor:
         self.change_settings(material=material, continued=continued)
 
     def set_falloff(
-        self,
-        falloff: RadialProfile,
-        l_max: int | None = None,
-        *,
-        continued: bool = False,
-        brush_weights: Mapping[str, Sequence[float]] | None = None,
+        self, falloff: RadialProfile, l_max: int | None = None, *, continued: bool = False
     ) -> None:
-        """Use this falloff shape (and l_max, brush weights: kept, or resized to a new l_max,
-        when None) from now on (see :meth:`change_settings`)."""
-        changes: dict[str, Any] = {
-            "falloff": falloff,
-            "l_max": self.l_max if l_max is None else l_max,
-        }
-        if brush_weights is not None:
-            changes["brush_weights"] = brush_weights
-        self.change_settings(continued=continued, **changes)
+        """Use this falloff shape (and l_max; None: kept) from now on, the brushes' weights
+        resized to it (see :meth:`change_settings`)."""
+        l_max = self.l_max if l_max is None else l_max
+        self.change_settings(falloff=falloff, l_max=l_max, continued=continued)
 
     def set_constraint_radius(self, radius: float, continued: bool = False) -> None:
         """ε of the constraints, relative to the model size (see :meth:`change_settings`)."""
@@ -250,13 +228,12 @@ class Sculptor:
     def kernel(self, brush: Brush) -> GreenKernel | None:
         """The kernel of ``brush`` on this model: its falloff, ε and degree weights (None for
         a brush without a Green's function)."""
-        return self._strokes.kernel(self._kernels, brush)
+        return brush.type.kernel(self._strokes.context(self._kernels), brush)
 
     def influence(self, brush: Brush) -> float:
-        """``brush``'s influence radius in multiples of ε (``inf``: every vertex): its own
-        number, or the one ``"auto"`` gives with the current settings (what the cursor's
-        influence ring shows)."""
-        return self._strokes.reach(self._kernels, brush)
+        """``brush``'s influence radius in ε (``inf``: every vertex): its own number, or what
+        ``"auto"`` gives with the current settings (the cursor's influence ring)."""
+        return checked_brush(brush).type.reach(self._strokes.context(self._kernels), brush)
 
     def begin_stroke(self, brush: Brush) -> None:
         """Start a stroke with ``brush``; events follow, then :meth:`end_stroke`."""
@@ -265,9 +242,8 @@ class Sculptor:
 
     def stroke_event(self, event: BrushEvent) -> np.ndarray:
         """Apply one mouse event of the current stroke; returns the indices of moved vertices.
-        Refused (:class:`ParameterError` naming the event field, nothing moved): a centre or
-        motion beyond ``MAX_REACH`` model sizes, an affine |strength · amount| above
-        ``MAX_AMOUNT`` (:mod:`gogreen_core.field.limits`)."""
+        ParameterError naming the event field (nothing moved) beyond the limits of
+        :mod:`gogreen_core.field.limits` (``MAX_REACH``, ``MAX_AMOUNT``)."""
         return self._strokes.event(self._kernels, event)
 
     def end_stroke(self) -> np.ndarray:
@@ -300,9 +276,9 @@ class Sculptor:
 
     @property
     def constraint_reach(self) -> float:
-        """Distance (model units) beyond which a pin moves nothing:
-        :data:`gogreen_core.sculpt.constraints.CONSTRAINT_INFLUENCE` constraint radii."""
-        return self._pins.reach
+        """Distance (model units) beyond which a pin moves nothing (``CONSTRAINT_INFLUENCE``
+        constraint radii)."""
+        return CONSTRAINT_INFLUENCE * self.settings.constraint_radius * self._mesh.model_size
 
     def add_constraint(self, point: np.ndarray) -> int:
         """Pin a point (3,) (model units, within ``MAX_REACH`` model sizes of the model's
@@ -334,10 +310,9 @@ class Sculptor:
         progress: Callable[[float], None] | None = None,
         prepared: PreparedSubdivision | None = None,
     ) -> None:
-        """One step of Loop subdivision (:mod:`gogreen_core.mesh.subdivision`) of the whole mesh
-        or its unmasked faces; one undo step and log entry. ``prepared``: the same subdivision
-        computed ahead from :attr:`mesh` (ValueError if the mesh changed since);
-        ``progress(fraction)`` is called while computing here."""
+        """One step of Loop subdivision of the whole mesh or its unmasked faces; one undo step
+        and log entry. ``prepared``: the same computed ahead from :attr:`mesh` (ValueError if
+        the mesh changed since); ``progress(fraction)`` while computing here."""
         self._strokes.refuse("subdivide")
         unmasked_only = check_bool("unmasked_only", unmasked_only)
         mesh = self._mesh
@@ -351,7 +326,7 @@ class Sculptor:
             )
         mesh.adopt(prepared.result)  # copies: the read-only result is the step's after-side
         state = (before, prepared.result)
-        self.history.record("subdivide", _NO_INDEX, _NO_ROWS, _NO_ROWS, state=state)
+        self.history.record_state("subdivide", state)
         self._log.record(Subdivide(unmasked_only))
 
     # -- history -----------------------------------------------------------------------------
@@ -385,8 +360,7 @@ class Sculptor:
 
     @contextlib.contextmanager
     def all_or_nothing(self) -> Iterator[None]:
-        """A block whose failure puts back the mesh, settings, pins, history and log as they
-        were (a replay that fails part-way)."""
+        """A block whose failure puts back the mesh, settings, pins, history and log."""
         mesh = self._mesh.snapshot()
         kernels, points = self._kernels, None if not len(self._pins) else self._pins.points
         history, log_length = self.history.snapshot(), len(self._log)
@@ -396,15 +370,14 @@ class Sculptor:
             self.cancel_stroke()
             self._mesh.adopt(mesh)
             self._kernels = kernels
-            self._pins.adopt(None if points is None else self._pins.built(kernels, points))
+            self._pins.constraints = None if points is None else self._pins.built(kernels, points)
             self.history.restore(history)
             self._log.truncate(log_length)
             raise
 
     # -- session log -------------------------------------------------------------------------
     def subscribe(self, listener: LogListener) -> Callable[[], None]:
-        """Call ``listener`` after each change of the log (:meth:`SessionLog.subscribe`); returns
-        the function that unsubscribes it."""
+        """:meth:`SessionLog.subscribe`: returns the function that unsubscribes ``listener``."""
         return self._log.subscribe(listener)
 
     @property
@@ -435,8 +408,7 @@ class Sculptor:
         uv: np.ndarray | None = None,
         uv_faces: np.ndarray | None = None,
     ) -> Sculptor:
-        """A sculptor on this mesh with the (checked) session's initial settings, no operations
-        applied yet (see :meth:`replay`)."""
+        """A sculptor on this mesh with the session's initial settings (see :meth:`replay`)."""
         parsed = session if isinstance(session, Session) else parse_session(session)
         if parsed.vertices != len(vertices) or parsed.faces != len(faces):
             raise ValueError(
@@ -465,8 +437,7 @@ def _checked(settings: object) -> EngineSettings:
 # -- crash recovery ----------------------------------------------------------------------------
 def capture_state(sculptor: Sculptor, faces: np.ndarray | None = None) -> SculptState:
     """A copy of what ``sculptor``'s next operations compute from (:class:`SculptState`); its
-    faces and UVs unless they are the array ``faces`` (the journal's start's). Face arrays are
-    never edited in place: held, not copied."""
+    faces and UVs (held: never edited in place) unless they are the array ``faces``."""
     pins = sculptor._pins.constraints
     mesh = sculptor._mesh
     topology = mesh.faces is not faces
@@ -490,9 +461,9 @@ def restore_state(
     uv_faces: np.ndarray | None = None,
     **options: Any,
 ) -> Sculptor:
-    """A sculptor whose next operations give bit for bit what the one that took ``state``
-    (:func:`capture_state`) would have, with empty history and log. ``faces`` (``uv``,
-    ``uv_faces``): for a state without its own. ``options``: ``history_bytes``."""
+    """A sculptor that continues bit for bit from ``state`` (:func:`capture_state`), empty
+    history and log. ``faces``, ``uv``, ``uv_faces``: for a state without its own.
+    ``options``: ``history_bytes``."""
     if state.faces is not None:
         faces, uv, uv_faces = state.faces, state.uv, state.uv_faces
     sculptor = Sculptor(
@@ -504,5 +475,5 @@ def restore_state(
     sculptor._mesh.origin = state.origin.copy()
     if state.pins is not None:
         kernel = sculptor._pins.built(sculptor._kernels, np.zeros((0, 3))).kernel
-        sculptor._pins.adopt(ConstraintSet.restored(kernel, *state.pins))
+        sculptor._pins.constraints = ConstraintSet.restored(kernel, *state.pins)
     return sculptor

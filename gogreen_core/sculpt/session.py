@@ -30,7 +30,6 @@ from gogreen_core.sculpt.operations import (
     Operation,
     Redo,
     Remesh,
-    SettingsChange,
     Stroke,
     Subdivide,
     Undo,
@@ -86,11 +85,6 @@ class Session:
     settings: EngineSettings
     operations: tuple[Operation, ...]
     version: int = SESSION_VERSION
-
-    @property
-    def steps(self) -> int:
-        """Progress units of a replay (mouse events, one per other operation)."""
-        return sum(op.steps for op in self.operations)
 
 
 def parse_session(data: object) -> Session:
@@ -281,14 +275,13 @@ def _stroke(sculptor: Sculptor, op: Stroke, step: Step) -> None:
         step()
 
 
-def _settings(sculptor: Sculptor, op: SettingsChange) -> None:
-    sculptor.change_settings(continued=op.continued, replaying=True, **op.values)
-
-
 #: How each record is done: through the sculptor's public methods (a logged settings change is
 #: always replayed, as the drag it stands for was a step).
 _ACTIONS: dict[type[Operation], Callable[[Sculptor, Any], object]] = {
-    **dict.fromkeys(SETTINGS_CHANGES.values(), _settings),
+    **dict.fromkeys(
+        SETTINGS_CHANGES.values(),
+        lambda s, op: s.change_settings(continued=op.continued, replaying=True, **op.values),
+    ),
     ConstraintAdd: lambda s, op: s.add_constraint(op.point),
     ConstraintRemove: lambda s, op: s.remove_constraint(op.index),
     ConstraintsClear: lambda s, op: s.clear_constraints(),

@@ -1,33 +1,20 @@
 """The stroke driver: begin a stroke, one event per mouse event, end it.
 
-How a stroke accumulates: each event moves the current (already deformed) vertices with the
-stroke's brush (its row of the brush table, :mod:`gogreen_core.sculpt.brushes`), whose Green's
-function brushes take their field as a velocity over pseudo-time [0, 1] (adaptive RK4, or
-``brush.substeps`` fixed steps; paper Sec. 3.2); successive events compose, so a stroke is the
-composition of the flows of its events. For grab brushes the load center travels with the
-cursor during each event, so the point under the cursor follows the cursor path exactly.
+Each event moves the current vertices with the stroke's brush (its row of the brush table,
+:mod:`gogreen_core.sculpt.brushes`); a Green's function brush takes its field as a velocity over
+pseudo-time [0, 1] (paper Sec. 3.2), so a stroke is the composition of its events' flows.
 
-The driver is the one place that decides how a brush's per-vertex results reach the mesh
-(:meth:`StrokeDriver._write`): without a vertex mask brushes write through (no scatter of every
-moved row); with one it moves each row (1 − mask) of the way (a row at 1 keeps its position bit
-for bit); a mask painter's values too. A stroke is one undo step (its moved rows and changed
-mask values) and one entry of the session log, recorded when it ends.
+:meth:`StrokeDriver._write` is the one place brush results reach the mesh: without a vertex mask
+brushes write through; with one each row moves (1 − mask) of the way. A stroke is one undo step
+and one session log entry, recorded when it ends.
 
-The material's frame (``EngineSettings.material_frame``): with "surface", a Green's function
-brush's stroke computes with the kernels turned onto the surface where it starts, fixed at its
-first event (:mod:`gogreen_core.sculpt.material_frame`).
+With the "surface" material frame a Green's function brush's stroke computes with the kernels
+turned onto the surface at its first event (:mod:`gogreen_core.sculpt.material_frame`).
 
-Dynamic topology (``EngineSettings.dynamic_topology``): after each event that moved vertices,
-the faces around the vertices whose sides the stroke strained by more than
-:data:`STRAIN_TOLERANCE` of their length since they were last remeshed, or that moved (per
-event since then) at least :data:`CORE_MOTION` of the most any vertex did (the brush's core),
-grown by a ring, are remeshed to the detail size (:mod:`gogreen_core.mesh.remesh`), the vertices
-nearest the pins locked. Without a detail size each vertex keeps the edge length its surface had
-before the stroke (a sizing field carried onto new vertices): a pull by a fine part does not
-refine the coarse parts it reaches to the fine part's edges. The measures read only the rows
-moved since they were last remeshed and the faces this event moved, the remesh only its patch
-(and a few whole-mesh passes). The undo step holds what the stroke changed
-(:class:`~gogreen_core.mesh.mesh_state.MeshEdit`).
+Dynamic topology (``EngineSettings.dynamic_topology``): after each event, the faces the stroke
+strained or whose vertices it moved most are remeshed (:meth:`StrokeDriver._remesh`,
+:mod:`gogreen_core.mesh.remesh`), the pins' vertices locked; the undo step holds what the
+stroke changed (:class:`~gogreen_core.mesh.mesh_state.MeshEdit`).
 """
 
 from __future__ import annotations
@@ -38,7 +25,6 @@ from typing import Any
 
 import numpy as np
 
-from gogreen_core.field.kernel import GreenKernel
 from gogreen_core.mesh.mesh_state import MaskRows, MeshSnapshot, MeshState, topology_edit
 from gogreen_core.mesh.remesh import (
     faces_touching,
@@ -147,16 +133,8 @@ class StrokeDriver:
             self.mesh, kernels, self._buffer, write_through=not self.mesh.masked, stroke=memo
         )
 
-    def kernel(self, kernels: KernelCache, brush: Brush) -> GreenKernel | None:
-        """``brush``'s Green's function kernel at its radius (None for a brush without one)."""
-        return brush.type.kernel(self.context(kernels), brush)
-
-    def reach(self, kernels: KernelCache, brush: Brush) -> float:
-        """``brush``'s influence radius in ε, resolved (:meth:`BrushType.reach`)."""
-        return _checked(brush).type.reach(self.context(kernels), brush)
-
     def begin(self, brush: Brush) -> None:
-        self._stroke = _Stroke(_checked(brush), self.mesh.vertices.copy())
+        self._stroke = _Stroke(checked_brush(brush), self.mesh.vertices.copy())
 
     def event(self, kernels: KernelCache, event: BrushEvent) -> np.ndarray:
         """Apply one event of the current stroke; the indices (n,) of the rows it moved (or
@@ -168,8 +146,7 @@ class StrokeDriver:
             raise ParameterError(
                 "event", f"a stroke event must be a BrushEvent (got {type(event).__name__})"
             )
-        # pen pressure → radius: this event's ε, influence ball and load normalization use the
-        # scaled radius (the field bound is cached in units of ε, valid for every radius)
+        # pen pressure → radius (the field bound is cached in units of ε: valid for any)
         brush = event.brush(stroke.brush)
         self.mesh.check_point("center", event.center)
         behaviour = brush.type
@@ -207,8 +184,11 @@ class StrokeDriver:
         return pinned
 
     def _remesh(self, stroke: _Stroke, settings: EngineSettings, rows: np.ndarray) -> bool:
-        """Dynamic topology after an event that moved ``rows``: remesh where the stroke
-        strained the surface (see the module docstring). True when the mesh changed."""
+        """Dynamic topology after an event that moved ``rows``: the faces (grown by a ring)
+        around vertices whose sides changed by more than :data:`STRAIN_TOLERANCE` since they
+        were last remeshed, or that moved per event at least :data:`CORE_MOTION` of the most
+        any did, are remeshed to the detail size (None: each vertex's edges before the stroke,
+        so coarse parts stay coarse). True when the mesh changed."""
         mesh = self.mesh
         if stroke.reference is None:
             stroke.reference = stroke.before
@@ -221,8 +201,7 @@ class StrokeDriver:
         detail = stroke.detail
         if not np.all(detail > 0):  # a model of size 0: nothing to measure by
             return False
-        # the other vertices are where they were last remeshed; a face this event did not move
-        # strains as after the last event: not enough (else it was remeshed and settled)
+        # a face this event did not move strains as after the last one: not enough
         around = np.zeros(len(mesh.vertices), dtype=bool)
         around[stroke.unsettled] = True  # a mark, not np.union1d: no sort of ~N rows
         around[rows] = True
@@ -231,9 +210,7 @@ class StrokeDriver:
         around[rows] = True
         faces = mesh.faces[np.flatnonzero(faces_touching(mesh.faces, around))]
         strained = strained_vertices(stroke.reference, mesh.vertices, faces, STRAIN_TOLERANCE)
-        # and the brush's core (refined to a detail size finer than the surface even where
-        # nothing stretches), per event: against the total motion, the bar would pass ever
-        # further out, event after event
+        # and the brush's core, per event (against the total motion the bar would creep out)
         assert stroke.settled_at is not None
         shift = mesh.vertices[unsettled] - stroke.reference[unsettled]
         elapsed = len(stroke.events) - stroke.settled_at[unsettled]
@@ -257,8 +234,7 @@ class StrokeDriver:
             locked=self.pinned_vertices(),
             iterations=DYNAMIC_ITERATIONS,
         )
-        # the remeshed vertices settle where they are now; the others keep their references
-        # (only the unsettled rows have one that is not their position)
+        # the remeshed vertices settle where they are now; the unsettled others keep theirs
         reference = done.vertices.copy()
         now = done.kept[unsettled]
         still = now >= 0
@@ -300,8 +276,7 @@ class StrokeDriver:
         mesh.write_rows(moved.rows, positions)
 
     def _buffer(self, n: int) -> np.ndarray:
-        """A C-contiguous (n, 3) float64 buffer, kept between events (no per-event
-        allocation)."""
+        """A C-contiguous (n, 3) float64 buffer, kept between events."""
         if len(self._rows) < n:
             self._rows = np.empty((n, 3))
         return self._rows[:n]
@@ -312,19 +287,16 @@ class StrokeDriver:
         stroke, self._stroke = self._stroke, None
         if stroke is None:
             return np.zeros(0, dtype=np.int64)
-        # the rows that changed, found once at the end rather than marked at every event
-        # (only the stroke writes the vertices meanwhile): on a 1M-vertex mesh 6 ms at the
-        # end instead of 0.5 ms an event
-        mesh, label = self.mesh, _undo_label(stroke.brush.kind)
-        if stroke.start is not None:  # dynamic topology changed the faces: what changed, or
-            # with texture rows (renumbered) the whole meshes
+        # the changed rows found once here, not marked every event (1M vertices: 6 ms once)
+        mesh, label = self.mesh, f"{brush_row(stroke.brush.kind).label} stroke"
+        if stroke.start is not None:  # new faces: what changed (with UVs the whole meshes)
             now = MeshSnapshot(mesh.vertices, mesh.faces, mesh.mask)
             sides: tuple[object, object] = (
                 topology_edit(stroke.start, now, stroke.origin, stroke.face_origin)
                 if mesh.uv is None
                 else (stroke.start, mesh.snapshot())
             )
-            self.history.record(label, _NO_INDEX, _NO_ROWS, _NO_ROWS, sides)
+            self.history.record_state(label, sides)
             self.log.record(Stroke(stroke.brush, tuple(stroke.events)))
             return np.arange(len(mesh.vertices))
         vertices, before = self.mesh.vertices, stroke.before
@@ -436,7 +408,7 @@ class Remesher:
             raise ValueError("the mesh changed since the remesh was prepared: remesh again")
         after = prepared.result[0]
         self.mesh.adopt(after)
-        self.history.record("remesh", _NO_INDEX, _NO_ROWS, _NO_ROWS, state=(before, after))
+        self.history.record_state("remesh", (before, after))
         self.log.record(op)
 
 
@@ -448,15 +420,8 @@ def surface_frame_of(mesh: MeshState, brush: Brush, event: BrushEvent) -> np.nda
     return frame_at(mesh, event.center, brush.eps(mesh.model_size), motion)
 
 
-def _checked(brush: object) -> Brush:
+def checked_brush(brush: object) -> Brush:
+    """``brush``, refused (ParameterError) unless it is a :class:`Brush`."""
     if not isinstance(brush, Brush):
         raise ParameterError("brush", f"brush must be a Brush (got {type(brush).__name__})")
     return brush
-
-
-def _undo_label(kind: str) -> str:
-    """A stroke's undo step, in the brush bar's words ("Grab stroke" for ``grab_local``)."""
-    try:
-        return f"{brush_row(kind).label} stroke"
-    except ValueError:  # a brush no row offers (scripts): its kind
-        return f"{kind} stroke"

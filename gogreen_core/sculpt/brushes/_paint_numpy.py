@@ -7,6 +7,7 @@ import numpy as np
 
 from gogreen_core.field._numpy_eval import segment_distance2
 from gogreen_core.mesh.topology import BOUNDARY, FIXED
+from gogreen_core.sculpt.brushes.base import smooth_cutoff
 
 __all__ = ["cutoff_weights", "relax"]
 
@@ -24,11 +25,7 @@ def cutoff_weights(
 ) -> None:
     """See :func:`gogreen_core.sculpt.brushes.paint_kernels.cutoff_weights`."""
     distance = np.sqrt(segment_distance2(points[rows], start, step, mirrors, origin))
-    if outer - inner <= 0.0:
-        out[:] = np.where(distance < outer, 1.0, 0.0)
-    else:
-        u = np.clip((distance - inner) / (outer - inner), 0.0, 1.0)
-        out[:] = 1.0 - u * u * u * (10.0 - 15.0 * u + 6.0 * u * u)
+    out[:] = smooth_cutoff(distance, inner, outer)
 
 
 def relax(

@@ -54,12 +54,6 @@ def _tame(vector: np.ndarray) -> np.ndarray:
     return v / peak if peak > 1e150 or 0 < peak < 1e-150 else v
 
 
-def unit(vector: np.ndarray) -> np.ndarray:
-    """``vector`` (3,) scaled to length 1."""
-    v = _tame(vector)
-    return cast(np.ndarray, v / np.linalg.norm(v))
-
-
 def stroke_direction(axis: np.ndarray, direction: np.ndarray | None) -> np.ndarray:
     """The unit stroke direction d (3,): ``direction`` projected ⟂ the unit ``axis`` (any
     vector ⟂ axis when None or along the axis)."""
@@ -146,8 +140,8 @@ class AffineBrush(GreenBrush):
     def shape(self, axis: np.ndarray | None, direction: np.ndarray | None) -> np.ndarray:
         """Pattern B (3, 3) for a view ``axis`` (any nonzero length; +z when None) and a stroke
         ``direction`` (3,) or None."""
-        a = np.array([0.0, 0.0, 1.0]) if axis is None else unit(axis)
-        return self._pattern(a, direction)
+        a = np.array([0.0, 0.0, 1.0]) if axis is None else _tame(axis)
+        return self._pattern(a / np.linalg.norm(a), direction)
 
     def check_event(self, brush: Brush, event: BrushEvent, reach: float) -> None:
         load = abs(brush.strength * event.acting_amount)

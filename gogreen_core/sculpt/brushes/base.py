@@ -59,7 +59,7 @@ def smooth_cutoff(distance: np.ndarray, inner: float, outer: float) -> np.ndarra
     if width <= 0:
         return (distance < outer).astype(float)
     u = np.clip((distance - inner) / width, 0.0, 1.0)
-    return 1.0 - u**3 * (10.0 - 15.0 * u + 6.0 * u**2)
+    return 1.0 - u * u * u * (10.0 - 15.0 * u + 6.0 * u * u)  # the compiled loops' order
 
 
 def mirror_signs(symmetry: str) -> np.ndarray:
@@ -231,46 +231,45 @@ class GreenBrush(BrushType):
         if brush.influence != AUTO_INFLUENCE:
             return float(brush.influence)
         kernels = ctx.kernels.unturned  # the same for every frame the material takes
-        key = ("reach", *self._shape_key(ctx.settings))
-        return kernels.derived(key, lambda: field_reach(self.unit_kernel(kernels), self.is_affine))
+        key = ("reach", type(self), *self._shape_key(ctx.settings))  # (reach_kernel per class)
+        return kernels.derived(key, lambda: field_reach(self.reach_kernel(kernels), self.is_affine))
+
+    def reach_kernel(self, kernels: KernelCache) -> GreenKernel:
+        """The kernel at ε = 1 whose field's decay sets an automatic influence."""
+        return self.unit_kernel(kernels)
 
     def _shape_key(self, settings: EngineSettings) -> tuple[Any, ...]:
         """What the brush's field at ε = 1 depends on besides the settings' kernels."""
         weights = self.degree_weights(settings)
         return self.family, self.radial_key, None if weights is None else weights.tobytes()
 
-    def unit_kernel(self, kernels: KernelCache) -> GreenKernel:
-        """The brush's kernel at ε = 1 for the settings of ``kernels``."""
-        radial = self.radial(kernels.settings.falloff.with_eps(1.0))
+    def unit_kernel(self, kernels: KernelCache, eps: float = 1.0) -> GreenKernel:
+        """The brush's kernel at ``eps`` (model units) for the settings of ``kernels``."""
+        radial = self.radial(kernels.settings.falloff.with_eps(eps))
         return kernels.weighted(self.degree_weights(kernels.settings)).with_radial(radial)
 
     def kernel(self, ctx: StrokeContext, brush: Brush) -> GreenKernel:
-        radial = self.radial(ctx.settings.falloff.with_eps(brush.eps(ctx.model_size)))
-        return ctx.kernels.weighted(self.degree_weights(ctx.settings)).with_radial(radial)
+        return self.unit_kernel(ctx.kernels, brush.eps(ctx.model_size))
 
     def field_bound(self, ctx: StrokeContext, brush: Brush, kernel: GreenKernel) -> FieldBound:
         """The sampled bound of this brush's field (cached per settings and influence)."""
         reach = self.reach(ctx, brush)
         key = ("field bound", *self._shape_key(ctx.settings), reach)
-        return self.cached_bound(ctx, key, kernel, self.unit_kernel, reach)
+        return self.cached_bound(ctx, key, kernel, reach)
 
     def cached_bound(
-        self,
-        ctx: StrokeContext,
-        key: tuple[Any, ...],
-        kernel: GreenKernel,
-        unturned: Callable[[KernelCache], GreenKernel],
-        reach: float,
-        affine: bool | None = None,
+        self, ctx: StrokeContext, key: tuple[Any, ...], kernel: GreenKernel, reach: float
     ) -> FieldBound:
         """The field bound of ``kernel`` with ``reach``, cached under ``key``; in a stroke's
-        surface frame, the unturned equivalent's (``unturned(kernels)``) turned."""
-        affine = self.is_affine if affine is None else affine
+        surface frame, the unturned :meth:`unit_kernel`'s turned."""
+        affine = self.is_affine
         frame = ctx.kernels.frame
         if frame is None:
             return ctx.kernels.derived(key, lambda: FieldBound(kernel, reach, affine))
         base = ctx.kernels.unturned
-        bound = base.derived((*key, "unturned"), lambda: FieldBound(unturned(base), reach, affine))
+        bound = base.derived(
+            (*key, "unturned"), lambda: FieldBound(self.unit_kernel(base), reach, affine)
+        )
         return TurnedFieldBound(bound, frame)
 
     @abstractmethod
@@ -280,7 +279,6 @@ class GreenBrush(BrushType):
         """(load, centre step) of one event: a force (3,) or affine load (3, 3), and (3,)."""
 
     def field(self, ctx: StrokeContext, brush: Brush, event: BrushEvent) -> EventField:
-        """The field ``event`` moves the mesh along."""
         kernel = self.kernel(ctx, brush)
         load, step = self.load(ctx, brush, kernel, event)
         return EventField(kernel, event.center, load, step, self.reach(ctx, brush))

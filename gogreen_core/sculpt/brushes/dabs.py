@@ -1,20 +1,16 @@
 """The detail brushes' common step: dabs along the swept segment, as Blender's sculpt brushes.
 
-The detail brushes (draw, clay_strips, crease, flatten, inflate) are members of the paint family
-(:mod:`~gogreen_core.sculpt.brushes.paint`) that add material, so they act in *dabs* spaced
-:data:`DAB_SPACING` of their radius along the stroke (carried from one event to the next), as
-Blender's "space" stroke: how much a stroke raises does not depend on the mouse's speed or rate.
+The detail brushes (draw, clay_strips, crease, flatten, inflate) act in *dabs* spaced
+:data:`DAB_SPACING` of their radius ``R`` along the stroke (carried between events: Blender's
+"space" stroke), so how much a stroke raises does not depend on the mouse's speed or rate; a
+member's rate ``r`` per radius of stroke is ``r · DAB_SPACING`` per dab.
 
-Each dab, as in Blender's ``do_*_brush``, sees the surface as the previous dabs left it: the
-vertices within the brush radius ``R`` (the influence: 2 ε for an automatic one) weighted by
-``f`` = 1 − smoothstep(d / R); their f-weighted mean normal ``N`` and position ``C`` (Blender's
-``calc_area_normal_and_center``); the member turns these into offsets
-(:meth:`DetailBrush.offsets`) scaled by ``b`` = strength × pressure. A member's rate ``r`` per
-radius of stroke is ``r · DAB_SPACING`` per dab.
-
-Mirror symmetry: one pass per mirror image, each from the surface the previous left, mapped into
-the stroke's side of the planes and back, so a symmetric model stays symmetric. All arithmetic
-is NumPy in a fixed order (no threads, no BLAS sums): a replay is bit for bit on any machine.
+Each dab sees the surface the previous dabs left: the vertices within ``R`` (2 ε automatic)
+weighted by ``f`` = 1 − smoothstep(d / R), their f-weighted mean normal ``N`` and position ``C``
+(Blender's ``calc_area_normal_and_center``); the member turns these into offsets
+(:meth:`DetailBrush.offsets`) scaled by ``b`` = strength × pressure. Mirror symmetry: one pass
+per mirror image, each from the surface the previous left. All arithmetic is NumPy in a fixed
+order (no threads, no BLAS sums): a replay is bit for bit on any machine.
 """
 
 from __future__ import annotations
@@ -27,14 +23,19 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from gogreen_core.mesh.topology import FaceAdjacency
-from gogreen_core.sculpt.brushes.base import Displacement, StrokeContext, mirror_signs
+from gogreen_core.sculpt.brushes.base import (
+    Displacement,
+    StrokeContext,
+    mirror_signs,
+    smooth_cutoff,
+)
 from gogreen_core.sculpt.brushes.paint import PAINT_AUTO_INFLUENCE, PaintBrush
 
 if TYPE_CHECKING:
     from gogreen_core.mesh.mesh_state import MeshState
     from gogreen_core.sculpt.brushes.brush import Brush, BrushEvent
 
-__all__ = ["DAB_SPACING", "MAX_DABS", "Dab", "DetailBrush", "dab_offsets", "dot3", "falloff"]
+__all__ = ["DAB_SPACING", "MAX_DABS", "Dab", "DetailBrush", "dab_offsets", "dot3"]
 
 #: Distance between dabs along a stroke, as a fraction of the brush radius R (Blender's
 #: default spacing, 10 %).
@@ -48,17 +49,9 @@ _DIRECTION = "detail direction"
 
 def dot3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Dot products over the last axis (of length 3) of ``a`` and ``b`` ((n, 3) or (3,)),
-    written out rather than by BLAS, whose sums' order may change with the machine or the
-    threads: a replay must round the same."""
+    written out: BLAS sums may round differently per machine (see the module docstring)."""
     out: np.ndarray = a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2]
     return out
-
-
-def falloff(distance: np.ndarray, radius: float) -> np.ndarray:
-    """The detail brushes' falloff (n,) of ``distance`` (n,): 1 − smoothstep₅(d / R), 1 at the
-    centre, 0 from ``radius`` on, C² (Blender's "smooth" curve, one degree smoother)."""
-    u = np.minimum(distance / radius, 1.0)
-    return 1.0 - u * u * u * (10.0 - 15.0 * u + 6.0 * u * u)
 
 
 def dab_offsets(length: float, spacing: float, travel: float | None) -> tuple[np.ndarray, float]:
@@ -153,7 +146,7 @@ class DetailBrush(PaintBrush):
             for sign in signs:  # every pass sees the surface the previous dab left
                 points = origin + sign * (out - origin)
                 gap = points - center
-                weight = falloff(np.sqrt(dot3(gap, gap)), radius)
+                weight = smooth_cutoff(np.sqrt(dot3(gap, gap)), 0.0, radius)
                 inside = np.flatnonzero(weight > 0)
                 if not len(inside):
                     continue

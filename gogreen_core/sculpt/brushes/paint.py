@@ -13,10 +13,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from gogreen_core.field.limits import MAX_REACH
 from gogreen_core.sculpt.brushes.base import BrushType, StrokeContext, mirror_signs
 from gogreen_core.sculpt.brushes.paint_kernels import kernels
-from gogreen_core.validation import ParameterError, check_vector, vector_norm
+from gogreen_core.validation import check_vector
 
 if TYPE_CHECKING:
     from gogreen_core.sculpt.brushes.brush import Brush, BrushEvent
@@ -36,10 +35,6 @@ class PaintBrush(BrushType):
 
     def check_event(self, brush: Brush, event: BrushEvent, reach: float) -> None:
         check_vector("delta", event.delta, max_norm=reach)
-        if not vector_norm(event.delta) <= reach:
-            raise ParameterError(
-                "delta", f"delta must be ≤ {MAX_REACH:g} model sizes ({reach:.4g}) long"
-            )
 
     def region(
         self, ctx: StrokeContext, brush: Brush, event: BrushEvent

@@ -32,14 +32,13 @@ import numpy as np
 from gogreen_core.field.kernel import GreenKernel
 from gogreen_core.physics.radial import RadialProfile
 from gogreen_core.sculpt.brushes.base import (
-    AUTO_INFLUENCE,
     EventField,
     StrokeContext,
     mirror_signs,
     smooth_cutoff,
 )
 from gogreen_core.sculpt.brushes.grab import GrabBrush
-from gogreen_core.sculpt.falloff_safety import MAX_GRAB_RATIO, MAX_GRAB_STRAIN, field_reach
+from gogreen_core.sculpt.falloff_safety import MAX_GRAB_RATIO, MAX_GRAB_STRAIN
 
 if TYPE_CHECKING:
     from gogreen_core.sculpt.brushes.brush import Brush, BrushEvent
@@ -166,12 +165,10 @@ class WrinkleBrush(GrabBrush):
 
     def _parts(self, settings: EngineSettings) -> tuple[np.ndarray, np.ndarray]:
         """The kernel weights (l_max + 1,) of the pull and of the folds."""
-        omega = settings.weights_for(self.kind)[: settings.l_max + 1]
-        pull = np.where(np.arange(len(omega)) < 4, omega, 0.0)
-        pull[1::2] = 0.0
-        folds = np.where(np.arange(len(omega)) >= 4, omega, 0.0)
-        folds[1::2] = 0.0
-        return pull, folds
+        omega = settings.weights_for(self.kind)[: settings.l_max + 1].copy()
+        omega[1::2] = 0.0
+        low = np.arange(len(omega)) < 4
+        return np.where(low, omega, 0.0), np.where(low, 0.0, omega)
 
     def _fold_kernels(self, kernels: KernelCache, eps: float) -> tuple[GreenKernel, np.ndarray]:
         """The kernel of the brush's radial terms at ``eps`` (unit weights) and the degrees'
@@ -187,31 +184,17 @@ class WrinkleBrush(GrabBrush):
         radial = FoldRadial(eps, kernels.settings.falloff)
         return kernels.full.with_radial(radial), factors
 
-    def kernel(self, ctx: StrokeContext, brush: Brush) -> GreenKernel:
-        """The pull part at the brush's ε (the folds depend on the surface)."""
-        unit, _ = self._fold_kernels(ctx.kernels, brush.eps(ctx.model_size))
-        return unit.with_degree_weights(self._parts(ctx.settings)[0])
-
-    def unit_kernel(self, kernels: KernelCache) -> GreenKernel:
-        """The pull part at ε = 1 (the folds depend on the surface under the cursor)."""
-        unit, _ = self._fold_kernels(kernels, 1.0)
+    def unit_kernel(self, kernels: KernelCache, eps: float = 1.0) -> GreenKernel:
+        """The pull part at ``eps`` (the folds depend on the surface under the cursor)."""
+        unit, _ = self._fold_kernels(kernels, eps)
         return unit.with_degree_weights(self._parts(kernels.settings)[0])
 
-    def reach(self, ctx: StrokeContext, brush: Brush) -> float:
-        """``influence``, or for ``"auto"`` the reach of the pull and unit folds (about 9 ε)."""
-        if brush.influence != AUTO_INFLUENCE:
-            return float(brush.influence)
-
-        kernels = ctx.kernels.unturned  # the same for every frame the material takes
-
-        def reach() -> float:
-            unit, factors = self._fold_kernels(kernels, 1.0)
-            pull, folds = self._parts(kernels.settings)
-            depth = folds.max() if folds.max() > 0 else 1.0
-            return field_reach(unit.with_degree_weights(pull + folds * factors / depth), False)
-
-        key = ("wrinkle reach", ctx.settings.weights_for(self.kind).tobytes())
-        return kernels.derived(key, reach)
+    def reach_kernel(self, kernels: KernelCache) -> GreenKernel:
+        """The pull and unit folds (an automatic influence of about 9 ε)."""
+        unit, factors = self._fold_kernels(kernels, 1.0)
+        pull, folds = self._parts(kernels.settings)
+        depth = folds.max() if folds.max() > 0 else 1.0
+        return unit.with_degree_weights(pull + folds * factors / depth)
 
     def field(self, ctx: StrokeContext, brush: Brush, event: BrushEvent) -> EventField:
         eps = brush.eps(ctx.model_size)
@@ -222,11 +205,10 @@ class WrinkleBrush(GrabBrush):
         center, normal = self._surface_frame(ctx, memo, event.center, eps)
         unit, factors = self._fold_kernels(ctx.kernels, eps)
         pull, folds = self._parts(ctx.settings)
-        g0 = unit.with_degree_weights(pull).green(np.zeros((1, 3)))[0]
+        pull_kernel = unit.with_degree_weights(pull)
+        g0 = pull_kernel.green(np.zeros((1, 3)))[0]
         force = np.linalg.solve(g0, delta) if size > 0 else np.zeros(3)
-        step = delta
-        maps = None
-        weights = pull
+        step, maps, weights = delta, None, pull
         if normal is not None:
             step = delta - (delta @ normal) * normal  # the load moves along the surface only
             maps = np.array(
@@ -234,21 +216,18 @@ class WrinkleBrush(GrabBrush):
             )
             if size > 0:
                 fold_kernel = unit.with_degree_weights(folds * factors, maps)
-                pull_kernel = unit.with_degree_weights(pull)
-                weights, scale = self._balance(
-                    getattr(ctx.kernels, "frame", None),  # the stroke's surface frame, if any
+                alpha, scale = self._balance(
+                    ctx,
                     pull_kernel,
                     fold_kernel,
                     force,
                     center,
                     normal,
-                    eps,
                     reach,
                     size,
-                    pull,
-                    folds * factors,
                     float(folds.max()),
                 )
+                weights = pull + alpha * (folds * factors)
                 force = force * min(scale, self._pull_scale(ctx, pull_kernel, force, reach, size))
         kernel = unit.with_degree_weights(weights, maps)
         memo["anchor"] = center + step
@@ -284,45 +263,29 @@ class WrinkleBrush(GrabBrush):
         """The force scale that keeps the pull alone within the safe-falloff bounds anywhere in
         the influence ball (an edited falloff weak at the centre), as a grab's."""
         key = ("wrinkle pull bound", pull.degree_weights.tobytes(), reach)
-        weights = pull.degree_weights
-        bound = self.cached_bound(
-            ctx,
-            key,
-            pull,
-            lambda kernels: self._fold_kernels(kernels, 1.0)[0].with_degree_weights(weights),
-            reach,
-        )
+        bound = self.cached_bound(ctx, key, pull, reach)
         eps = pull.eps
-        motion = bound.motion_sup(force, eps)[0]
         strain = bound.strain_sup(force, eps) * eps
-        scale = 1.0
-        if motion > 0:
-            scale = min(scale, MAX_GRAB_RATIO * size / motion)
-        if strain > 0:
-            scale = min(scale, MAX_GRAB_STRAIN * size / strain)
-        return scale
+        return _bounded(size, bound.motion_sup(force, eps)[0], strain)
 
     @staticmethod
     def _balance(
-        frame: np.ndarray | None,
+        ctx: StrokeContext,
         pull_kernel: GreenKernel,
         fold_kernel: GreenKernel,
         force: np.ndarray,
         center: np.ndarray,
         normal: np.ndarray,
-        eps: float,
         reach: float,
         size: float,
-        pull: np.ndarray,
-        folds: np.ndarray,
         depth: float,
-    ) -> tuple[np.ndarray, float]:
-        """(kernel weights, force scale) of one event: the folds at their depth on the tangent
-        disk, the whole held to the safe-falloff bounds there."""
-        offsets, radii, tangents = _disk(normal, reach, frame)
-        h = _DISK_STEP
+    ) -> tuple[float, float]:
+        """(the folds' weight α, force scale) of one event: the folds at their ``depth`` on the
+        tangent disk, the whole held to the safe-falloff bounds there."""
+        eps = pull_kernel.eps
+        offsets, radii, tangents = _disk(normal, reach, ctx.kernels.frame)
         points = center + eps * np.vstack(
-            [offsets, offsets + h * tangents[0], offsets + h * tangents[1]]
+            [offsets, offsets + _DISK_STEP * tangents[0], offsets + _DISK_STEP * tangents[1]]
         )
         n = len(offsets)
         u_pull = pull_kernel.displacement(points, center, force).reshape(3, n, 3)
@@ -334,15 +297,26 @@ class WrinkleBrush(GrabBrush):
         pull_size = float((np.linalg.norm(u_pull[0], axis=1) * cut).max())
         alpha = depth * size / fold_size if depth > 0 and fold_size > _NO_TERM * pull_size else 0.0
         if alpha > 0:  # steep folds (the high degrees') are held to a slope
-            gradient = (u_fold[1:] - u_fold[0]) / (h * eps)
-            steepest = float(np.sqrt((gradient**2).sum(axis=(0, 2))).max())
+            steepest = _steepest(u_fold, eps)
             if steepest > 0:
                 alpha = min(alpha, FOLD_SLOPE * size / (eps * steepest))
         u = u_pull + alpha * u_fold
         motion = float((np.linalg.norm(u[0], axis=1) * cut).max())
-        gradient = (u[1:] - u[0]) / (h * eps)  # (2, n, 3): ∂u/∂t1, ∂u/∂t2
-        strain = float(np.sqrt((gradient**2).sum(axis=(0, 2))).max())
-        scale = min(1.0, MAX_GRAB_RATIO * size / motion if motion > 0 else 1.0)
-        if strain > 0:
-            scale = min(scale, MAX_GRAB_STRAIN * size / (eps * strain))
-        return pull + alpha * folds, scale
+        return alpha, _bounded(size, motion, eps * _steepest(u, eps))
+
+
+def _steepest(u: np.ndarray, eps: float) -> float:
+    """Largest ‖∂u/∂t1, ∂u/∂t2‖ of the disk's samples ``u`` (3, n, 3) (centre, t1, t2 steps)."""
+    gradient = (u[1:] - u[0]) / (_DISK_STEP * eps)
+    return float(np.sqrt((gradient**2).sum(axis=(0, 2))).max())
+
+
+def _bounded(size: float, motion: float, strain: float) -> float:
+    """The force scale ≤ 1 that keeps an event's largest motion and (dimensionless) velocity
+    gradient within a grab's bounds for a cursor motion of ``size``."""
+    scale = 1.0
+    if motion > 0:
+        scale = min(scale, MAX_GRAB_RATIO * size / motion)
+    if strain > 0:
+        scale = min(scale, MAX_GRAB_STRAIN * size / strain)
+    return scale

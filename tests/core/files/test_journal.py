@@ -133,9 +133,9 @@ def test_history_done_counts_steps_not_merges_nor_evictions():
     history = History(max_bytes=2000)
     vertices = np.zeros((40, 3))
     for k in range(6):
-        history.record_change("s", vertices, vertices + k + 1)
+        history.record_rows("s", np.arange(len(vertices)), vertices, vertices + k + 1)
     assert history.done == 6 and len(history.undo_labels) < 6  # some were evicted
-    history.record_change("s", vertices, vertices + 9, merge=True)
+    history.record_rows("s", np.arange(len(vertices)), vertices, vertices + 9, merge=True)
     history.undo(vertices)
     assert history.done == 5
     history.redo(vertices)

@@ -217,8 +217,8 @@ def test_the_recorded_session_itself_replays(sphere, recorded):
         (lambda s, v: s.set_constraint_radius(HUGE), "radius"),
         (lambda s, v: s.set_material(Material.isotropic(HUGE, 0.3)), "material"),
         (
-            lambda s, v: s.set_falloff(
-                GaussianRadial(1.0), 2, brush_weights={"grab": [1.0, HUGE, 1.0, 1.0]}
+            lambda s, v: s.change_settings(
+                falloff=GaussianRadial(1.0), l_max=2, brush_weights={"grab": [1.0, HUGE, 1.0, 1.0]}
             ),
             "grab",  # brush_weights.grab
         ),

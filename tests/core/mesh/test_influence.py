@@ -448,9 +448,15 @@ def test_a_pin_drag_by_the_blocks_moves_what_the_plain_pass_would(code):
         targets = np.zeros((2, 3))
         targets[0] = 0.03 * sculptor.model_size
         forces = constraints.solve(targets)
-        by_blocks = constraints.displacement_rows(mesh.vertices, forces, pins._near)
-        every_row = np.arange(len(vertices))
-        by_plain = constraints.displacement_rows(mesh.vertices, forces, lambda p, r: every_row)
+
+        def blocks(p, r):
+            return mesh.rows_near(p, np.zeros(3), r, np.ones((1, 3)))
+
+        def plain(p, r):
+            return np.flatnonzero(np.linalg.norm(mesh.vertices - p, axis=1) <= r)
+
+        by_blocks = constraints.displacement_rows(mesh.vertices, forces, blocks)
+        by_plain = constraints.displacement_rows(mesh.vertices, forces, plain)
         assert 0 < len(by_blocks[0]) < len(vertices)  # a real ball, not every vertex
         assert mesh._blocks.answers["blocks"] >= 1  # the blocks answered, not the plain pass
         np.testing.assert_array_equal(by_blocks[0], by_plain[0])

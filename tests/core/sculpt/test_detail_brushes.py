@@ -14,8 +14,9 @@ from gogreen_core.mesh.geometry import vertex_normals
 from gogreen_core.mesh.remesh import median_edge_length
 from gogreen_core.mesh.shapes import flat_sheet, icosphere
 from gogreen_core.mesh.topology import mesh_edges
+from gogreen_core.sculpt.brushes.base import smooth_cutoff
 from gogreen_core.sculpt.brushes.clay_strips import CLAY_OFFSET
-from gogreen_core.sculpt.brushes.dabs import DAB_SPACING, dab_offsets, falloff
+from gogreen_core.sculpt.brushes.dabs import DAB_SPACING, dab_offsets
 from gogreen_core.sculpt.brushes.draw import DRAW_RATE
 from gogreen_core.sculpt.brushes.flatten import CONTRAST_RATE
 from gogreen_core.sculpt.engine_settings import EngineSettings
@@ -68,7 +69,7 @@ def test_draw_moves_along_the_area_normal_by_the_falloff_and_ctrl_carves(sheet):
     radius = brush_radius(drawn)
     motion = drawn.vertices - vertices
     distance = np.linalg.norm(vertices - center, axis=1)
-    expected = DRAW_RATE * DAB_SPACING * radius * falloff(distance, radius)
+    expected = DRAW_RATE * DAB_SPACING * radius * smooth_cutoff(distance, 0.0, radius)
     assert np.all(motion[:, :2] == 0.0)  # along the sheet's normal alone
     np.testing.assert_allclose(motion[:, 2], expected, rtol=1e-12, atol=1e-15)
     assert np.all(motion[distance >= radius] == 0.0) and motion[:, 2].max() > 0

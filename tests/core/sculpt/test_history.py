@@ -12,6 +12,11 @@ def bits(a: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(a, dtype=np.float64).view(np.uint64)
 
 
+def record_change(history: History, label: str, before, after, merge: bool = False) -> None:
+    """Record the rows that differ between all positions ``before`` and ``after``."""
+    history.record_rows(label, np.arange(len(before)), before, after, merge)
+
+
 def entry_bytes(k: int) -> int:
     """Memory of one entry moving k vertices: int64 indices + two (k, 3) float64 blocks."""
     return 8 * k + 2 * 8 * 3 * k
@@ -28,7 +33,7 @@ def random_session(history: History, vertices: np.ndarray, steps: int, seed: int
         vertices[idx] += rng.normal(size=(len(idx), 3)) * scale
         vertices[idx[0]] = [-0.0, 1e-310, 3.0]
         if k % 2:
-            history.record_change(f"edit {k}", before, vertices)
+            record_change(history, f"edit {k}", before, vertices)
         else:
             history.record(f"edit {k}", idx, before[idx], vertices[idx])
         states.append(vertices.copy())
@@ -69,12 +74,12 @@ def test_record_change_compares_bits_and_stores_only_changed_rows():
     after[2, 0] = -0.0  # equal as a number, different bits: must be undoable exactly
     after[4] = [1.0, 2.0, 3.0]
     history = History()
-    history.record_change("move", before, after)
+    record_change(history, "move", before, after)
     assert history.memory_bytes == entry_bytes(2)
     history.undo(after)
     assert np.array_equal(bits(after), bits(before))
     nan = np.full((2, 3), np.nan)
-    history.record_change("nothing", nan, nan.copy())  # same NaN bits: no change
+    record_change(history, "nothing", nan, nan.copy())  # same NaN bits: no change
     assert history.undo_labels == []
 
 
@@ -85,7 +90,7 @@ def test_new_record_drops_redo_and_empty_change_does_not():
     vertices[0] = 1
     history.undo(vertices)
     assert history.can_redo and history.redo_labels == ["a"]
-    history.record_change("nothing", vertices, vertices.copy())
+    record_change(history, "nothing", vertices, vertices.copy())
     history.record("empty", np.zeros(0, dtype=int), np.zeros((0, 3)), np.zeros((0, 3)))
     assert history.can_redo and history.undo_labels == []  # empty changes are not recorded
     history.record("b", [1], [[0, 0, 0]], [[0, 2, 0]])
@@ -138,7 +143,7 @@ def test_bad_input_is_refused_without_changing_anything():
     with pytest.raises(ValueError, match="negative"):
         history.record("a", [-1], np.zeros((1, 3)), np.ones((1, 3)))
     with pytest.raises(ValueError, match="shape"):
-        history.record_change("a", np.zeros((4, 3)), np.zeros((5, 3)))
+        record_change(history, "a", np.zeros((4, 3)), np.zeros((5, 3)))
     assert not history.can_undo and history.memory_bytes == 0
 
     history.record("move", [9], np.zeros((1, 3)), np.ones((1, 3)))
@@ -159,7 +164,7 @@ def test_merged_changes_undo_as_one_step_bit_for_bit():
     for k in range(4):  # each step moves a different, overlapping set of rows
         nxt = states[-1].copy()
         nxt[k * 5 : k * 5 + 12] += rng.normal(size=(12, 3))
-        history.record_change("constraint drag", states[-1], nxt, merge=k > 0)
+        record_change(history, "constraint drag", states[-1], nxt, merge=k > 0)
         states.append(nxt)
     assert history.undo_labels == ["constraint drag"]
     vertices = states[-1].copy()
@@ -171,7 +176,7 @@ def test_merged_changes_undo_as_one_step_bit_for_bit():
     history.undo(vertices)
     moved = vertices.copy()
     moved[0] += 1.0
-    history.record_change("constraint drag", vertices, moved, merge=True)
+    record_change(history, "constraint drag", vertices, moved, merge=True)
     assert history.undo_labels == ["constraint drag"] and not history.can_redo
 
 
@@ -187,7 +192,7 @@ def test_snapshot_and_restore_put_the_stacks_back():
     assert history.memory_bytes == 8 + 2 * 24
 
 
-def test_record_rows_keeps_what_record_change_keeps():
+def test_record_rows_of_candidates_keeps_what_all_rows_keep():
     """An operation that knows its rows records the same entry as a full comparison."""
     rng = np.random.default_rng(3)
     before = rng.normal(size=(200, 3))
@@ -195,7 +200,7 @@ def test_record_rows_keeps_what_record_change_keeps():
     after[[4, 50, 51]] += 1.0
     after[7] = -0.0 * before[7] + before[7]  # unchanged bits: left out
     full, rows = History(), History()
-    full.record_change("drag", before, after)
+    record_change(full, "drag", before, after)
     candidates = np.array([4, 7, 50, 51, 120])
     rows.record_rows("drag", candidates, before[candidates], after[candidates])
     for history in (full, rows):

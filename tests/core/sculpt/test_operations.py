@@ -160,7 +160,7 @@ def test_settings_changes_are_undo_steps_restored_exactly(sphere):
     first = sculptor.settings
     spline = SplineRadial.from_profile(KelvinletRadial(1.0), 6)
     sculptor.set_material(CUBIC)
-    sculptor.set_falloff(spline, 6, brush_weights={"pinch": np.linspace(1, 2, 8)})
+    sculptor.change_settings(falloff=spline, l_max=6, brush_weights={"pinch": np.linspace(1, 2, 8)})
     sculptor.set_constraint_radius(0.25)
     assert sculptor.history.undo_labels == ["material", "falloff", "constraint radius"]
     after = sculptor.settings
@@ -260,7 +260,7 @@ def test_parse_session_checks_everything_before_applying(sphere):
     sculptor.apply_brush(Brush("grab"), [BrushEvent(vertices[1], [0.0, 0.02, 0.0])])
     session = session_of(sculptor)
     parsed = parse_session(session)
-    assert [op.name for op in parsed.operations] == ["stroke"] and parsed.steps == 1
+    assert [op.name for op in parsed.operations] == ["stroke"] and parsed.operations[0].steps == 1
     session["operations"].append({"op": "constraint_drag", "index": 0.5, "delta": [0, 0, 0]})
     target = Sculptor(vertices, faces)
     with pytest.raises(ParameterError, match=r"operations\[1\]\.index"):
@@ -314,7 +314,9 @@ def test_settings_refused_inside_a_stroke_and_bad_values_change_nothing(sphere):
         sculptor.set_constraint_radius(0.0)
     assert info.value.parameter == "radius"
     with pytest.raises(ParameterError) as info:
-        sculptor.set_falloff(GaussianRadial(1.0), l_max=4, brush_weights={"grab": [1.0, 2.0]})
+        sculptor.change_settings(
+            falloff=GaussianRadial(1.0), l_max=4, brush_weights={"grab": [1.0, 2.0]}
+        )
     assert info.value.parameter == "brush_weights.grab"
     with pytest.raises(ParameterError) as info:
         sculptor.set_material("steel")
