@@ -20,7 +20,7 @@ import time
 
 import numpy as np
 
-from app.panels.falloff_panel import (
+from app.panels.falloff_preview import (
     PREVIEW_SAMPLES,
     PreviewComputer,
     PreviewRequest,
