@@ -95,9 +95,10 @@ def cluster_decimation(
     size *= np.sqrt(occupied / wanted)
     keys = _cells(vertices, low, size)
     order = np.argsort(keys, kind="stable")
-    starts = np.flatnonzero(np.r_[True, np.diff(keys[order]) != 0])
+    first_of_cell = np.r_[True, np.diff(keys[order]) != 0]
+    starts = np.flatnonzero(first_of_cell)
     cluster = np.empty(len(vertices), dtype=np.int64)
-    cluster[order] = np.cumsum(np.r_[True, np.diff(keys[order]) != 0]) - 1
+    cluster[order] = np.cumsum(first_of_cell) - 1
     counts = np.diff(np.r_[starts, len(order)])
     means = np.add.reduceat(vertices[order], starts, axis=0) / counts[:, None]
     offset = vertices - means[cluster]
@@ -315,11 +316,7 @@ class LevelOfDetail:
         (only the rows that changed)."""
         if self._deferred is not None:
             vertices, self._deferred = self._deferred, None
-            shown, self.shown = self.shown, False
-            try:
-                self.display.update_vertices(vertices)
-            finally:
-                self.shown = shown
+            self.display.update_vertices(vertices, now=True)
 
     def colors_changed(self) -> None:
         """The mesh's direct colours changed: the drawn copy's follow."""

@@ -455,20 +455,19 @@ class MeshDisplay(_Base):
             self.request_render()
             self.rehover()
 
-    def update_vertices(self, vertices: np.ndarray, indices: np.ndarray | None = None) -> None:
-        """Write new positions (N, 3, the mesh's order) into the actor's arrays in place.
-
-        ``indices``: the vertices that moved; None compares every vertex with the shown one
-        (undo, a pin drag) and updates those that differ. Only the moved rows and the normals
-        of them and their one-ring are written (:meth:`SurfaceIndex.update`, whose arrays VTK
-        draws); the arrays are marked modified. While the index builds (a flat-shaded view) or
-        the interaction copy is drawn (``lod``), that is written; the index catches up later.
-        """
+    def update_vertices(
+        self, vertices: np.ndarray, indices: np.ndarray | None = None, now: bool = False
+    ) -> None:
+        """Write new positions (N, 3, the mesh's order) into the actor's arrays in place:
+        ``indices`` moved (None: those that differ from the shown ones), only their rows and
+        the normals of their one-ring (:meth:`SurfaceIndex.update`, whose arrays VTK draws).
+        While the index builds (flat-shaded) or the interaction copy is drawn (``lod``), that
+        is written and the mesh catches up later (``now``: the catching up)."""
         if self.mesh is None:
             return
         vertices = np.asarray(vertices, dtype=np.float64)
         surface = self.surface
-        if self.lod.defer(vertices):  # the copy is drawn: the mesh's rows when it settles
+        if not now and self.lod.defer(vertices):  # the copy is drawn: the mesh's when it settles
             return
         if indices is None and surface is not None:
             indices = surface.changed_rows(vertices)
