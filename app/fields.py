@@ -23,14 +23,7 @@ from typing import TYPE_CHECKING
 
 from PySide6.QtCore import Qt, Signal
 from PySide6.QtGui import QFocusEvent, QKeyEvent, QValidator
-from PySide6.QtWidgets import (
-    QAbstractSpinBox,
-    QDoubleSpinBox,
-    QLineEdit,
-    QSpinBox,
-    QToolTip,
-    QWidget,
-)
+from PySide6.QtWidgets import QAbstractSpinBox, QDoubleSpinBox, QSpinBox, QToolTip, QWidget
 
 from app.bindings import is_marked_invalid, mark_invalid
 
@@ -61,10 +54,7 @@ class _FieldBehaviour(_SpinBox):
         self.setCorrectionMode(QAbstractSpinBox.CorrectionMode.CorrectToPreviousValue)
         self._tip = ""
         self._said = ""  # what refuse() said in the status bar
-        # a line edit made here, not lineEdit()'s: PySide may hand back a stale wrapper of
-        # another type (a QSurface) kept for the same address, which has no textChanged
-        line = QLineEdit(self)
-        self.setLineEdit(line)
+        line = self.lineEdit()
         line.textChanged.connect(self._text_changed)
 
     # -- judging the text --------------------------------------------------------------------
