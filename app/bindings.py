@@ -47,11 +47,12 @@ from PySide6.QtWidgets import (
     QComboBox,
     QDoubleSpinBox,
     QLabel,
+    QLineEdit,
     QSpinBox,
     QToolTip,
     QWidget,
 )
-from shiboken6 import isValid
+from shiboken6 import invalidate, isValid
 
 from app.theme import active_theme
 from gogreen_core.interaction.settings import ChangeEvent, EventedModel
@@ -66,6 +67,7 @@ __all__ = [
     "bind_view",
     "bindings_of",
     "is_marked_invalid",
+    "line_edit",
     "mark_invalid",
     "panel_words",
     "refresh",
@@ -78,6 +80,18 @@ def _same(value: Any) -> Any:
     return value
 
 
+def line_edit(box: QAbstractSpinBox) -> QLineEdit:
+    """``box.lineEdit()``, past a stale wrapper. Qt deletes a closed viewport's GL surface
+    without PySide knowing (a QSurface is no QObject), so PySide keeps that wrapper and hands
+    it back for a new object at the same address: a QSurface where a line edit was asked for.
+    Invalidating the stale wrapper makes PySide wrap the line edit afresh."""
+    line = box.lineEdit()
+    if not isinstance(line, QLineEdit):
+        invalidate(line)
+        line = box.lineEdit()
+    return line
+
+
 def mark_invalid(widget: QWidget, invalid: bool) -> None:
     """Show ``widget`` as holding an invalid value (red text on a red-tinted background: the
     refused text itself reads as refused, not only the field's frame) or restore its normal
@@ -88,7 +102,7 @@ def mark_invalid(widget: QWidget, invalid: bool) -> None:
     """
     widget.setProperty("invalid", bool(invalid))
     # a spin box's text is its line edit's, which does not take the box's palette
-    line = widget.lineEdit() if isinstance(widget, QAbstractSpinBox) else None
+    line = line_edit(widget) if isinstance(widget, QAbstractSpinBox) else None
     for target in (widget, line):
         if target is None:
             continue

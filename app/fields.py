@@ -25,7 +25,7 @@ from PySide6.QtCore import Qt, Signal
 from PySide6.QtGui import QFocusEvent, QKeyEvent, QValidator
 from PySide6.QtWidgets import QAbstractSpinBox, QDoubleSpinBox, QSpinBox, QToolTip, QWidget
 
-from app.bindings import is_marked_invalid, mark_invalid
+from app.bindings import is_marked_invalid, line_edit, mark_invalid
 
 __all__ = ["DecimalField", "IntegerField", "NumberField", "number_text"]
 
@@ -54,8 +54,8 @@ class _FieldBehaviour(_SpinBox):
         self.setCorrectionMode(QAbstractSpinBox.CorrectionMode.CorrectToPreviousValue)
         self._tip = ""
         self._said = ""  # what refuse() said in the status bar
-        line = self.lineEdit()
-        line.textChanged.connect(self._text_changed)
+        self._line = line_edit(self)
+        self._line.textChanged.connect(self._text_changed)
 
     # -- judging the text --------------------------------------------------------------------
     @property
@@ -147,7 +147,7 @@ class _FieldBehaviour(_SpinBox):
     def revert(self) -> None:
         """Drop a refused text: the value in effect again (``left`` lets a binding show the
         model's value)."""
-        line = self.lineEdit()
+        line = self._line
         shown = self.textFromValue(self.value())
         if self.specialValueText() and self.value() == self.minimum():
             shown = self.specialValueText()
@@ -179,7 +179,7 @@ class _FieldBehaviour(_SpinBox):
     def keyPressEvent(self, event: QKeyEvent) -> None:
         key = event.key()
         if key in (Qt.Key.Key_Return, Qt.Key.Key_Enter):
-            message = self.refusal(self.lineEdit().text())
+            message = self.refusal(self._line.text())
             if message is not None:
                 self.refuse(message)
                 event.accept()
@@ -192,14 +192,14 @@ class _FieldBehaviour(_SpinBox):
     def focusOutEvent(self, event: QFocusEvent) -> None:
         """A text in range is taken (Qt's commit); a refused one stays, red and named (the spin
         box would put the previous value back silently), until mended or cancelled."""
-        text = self.lineEdit().text()
+        text = self._line.text()
         message = self.refusal(text)
         super().focusOutEvent(event)
         if message is None:
             self._unmark()  # mended: taken now
         else:
-            if self.lineEdit().text() != text:
-                self.lineEdit().setText(text)
+            if self._line.text() != text:
+                self._line.setText(text)
             self.refuse(message)
 
 

@@ -7,7 +7,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from PySide6.QtWidgets import QComboBox, QDoubleSpinBox, QLabel, QSlider, QSpinBox
+import shiboken6
+from PySide6.QtGui import QColor, QPalette, QSurface
+from PySide6.QtWidgets import QComboBox, QDoubleSpinBox, QLabel, QLineEdit, QSlider, QSpinBox
 
 from app.bindings import (
     bind,
@@ -16,11 +18,14 @@ from app.bindings import (
     bind_readout,
     bind_spin,
     bindings_of,
+    line_edit,
+    mark_invalid,
     panel_words,
     refresh,
 )
 from app.panels.number_grid import NumberGrid
 from app.panels.widgets import is_marked_invalid
+from app.theme import active_theme
 from gogreen_core.interaction.settings import (
     BrushSettings,
     EventedModel,
@@ -169,3 +174,26 @@ def test_no_signal_is_blocked_by_hand_outside_the_bindings():
         if "blockSignals" in text or "QSignalBlocker" in text:
             offenders.append(path.relative_to(ROOT).as_posix())
     assert not offenders, f"signals blocked by hand (bind the widget instead): {offenders}"
+
+
+def _stale_surface_over_line_edit(box: QDoubleSpinBox) -> None:
+    """What a closed viewport leaves behind: PySide's wrapper of a deleted QSurface registered at
+    the address of the box's line edit (Qt reused the memory)."""
+    ptr = shiboken6.getCppPointer(box.lineEdit())[0]
+    shiboken6.invalidate(box.lineEdit())
+    stale = shiboken6.wrapInstance(ptr, QSurface)
+    assert type(box.lineEdit()) is QSurface  # the state a new field would meet
+    box._stale = stale  # kept alive as pyvistaqt keeps its surface
+
+
+def test_line_edit_gets_past_a_stale_surface_wrapper(qtbot) -> None:
+    box = QDoubleSpinBox()
+    qtbot.addWidget(box)
+    box.setValue(0.25)
+    _stale_surface_over_line_edit(box)
+    line = line_edit(box)
+    assert isinstance(line, QLineEdit)
+    assert line.text() == box.text()
+    mark_invalid(box, True)  # reaches the line edit's palette, not the stale QSurface
+    assert is_marked_invalid(box)
+    assert line.palette().color(QPalette.ColorRole.Text) == QColor(active_theme().error_text)
