@@ -44,7 +44,9 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import numba
 import numpy as np
@@ -124,13 +126,13 @@ def event_split(sculptor: Sculptor, brush: Brush, event: BrushEvent, repeats: in
     run_ranges, rows_near = _stream.run_ranges, type(sculptor._mesh).rows_near
     times: dict[str, list[float]] = {}
 
-    def timed(name: str, call, *args):  # type: ignore[no-untyped-def]
+    def timed(name: str, call: Callable[..., Any], *args: Any) -> Any:
         start = time.process_time()
         result = call(*args)
         times.setdefault(name, []).append(time.process_time() - start)
         return result
 
-    def ranges(work, n, least):  # type: ignore[no-untyped-def]
+    def ranges(work: Any, n: int, least: int) -> None:
         name = passes[work.args[0]] if work.func is _stream._pass else "write-back"
         timed(name, run_ranges, work, n, least)
 
