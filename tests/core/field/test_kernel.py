@@ -392,7 +392,7 @@ def test_strong_anisotropy_converges_with_l_max():
 
 
 def test_material_rule_keeps_lebedev_when_smooth_and_grades_when_peaked():
-    from gogreen_core.field.kernel import material_rule
+    from gogreen_core.physics.quadrature import material_rule
 
     for material in (MATERIALS["cubic"], MATERIALS["isotropic"], MATERIALS["general21"]):
         nodes, weights = material_rule(material, 8)
