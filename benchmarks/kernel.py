@@ -203,7 +203,7 @@ def main() -> None:
         kernel = GreenKernel(material, l_max=l_max, radial=GaussianRadial(eps))
         new_eps = timed(lambda k=kernel: k.with_eps(0.7), 7)
         print(f"{l_max:>6} {first:>9.1f} {cold:>9.1f} {warm:>9.1f} {new_eps:>9.2f}")
-    # M⁻¹ sharply peaked: the graded product rule instead of Lebedev (see kernel.material_rule)
+    # M⁻¹ sharply peaked: the graded product rule instead of Lebedev (see quadrature.material_rule)
     fibres = Material.from_voigt(FIBRES_VOIGT).rotated(
         np.array([[0.36, 0.48, -0.8], [-0.8, 0.6, 0.0], [0.48, 0.64, 0.6]])
     )

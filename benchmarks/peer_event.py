@@ -17,6 +17,10 @@ Prints, in one run (figures only, no assertions):
   (``gogreen_core.mesh.influence``) against the plain pass over every vertex it replaced, the
   blocks' build (the first query on a new vertex array) and their upkeep after the event (the
   report of its moved rows, and the refit of their blocks' boxes at the next query);
+* where the event's CPU time goes: the streamlines' passes (the probes, the first pass, the
+  refinement, the write-back), the influence ball and the rest; the moved vertices by distance
+  to the brush centre in ε (the field's far field starts beyond the cutoff, at 4 ε) and how
+  many velocity evaluations they took;
 * the event's accuracy: max vertex error against 64 RK4 substeps over the cursor motion, its
   velocity evaluations a vertex (third-order steps take 3, RK4 steps 4, the probes that choose
   between them 15 each);
@@ -40,7 +44,9 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import numba
 import numpy as np
@@ -49,6 +55,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from gogreen_core import Brush, BrushEvent, Material, Sculptor  # noqa: E402
+from gogreen_core.field import _stream  # noqa: E402
 from gogreen_core.field._evaluation import near_segment  # noqa: E402
 from gogreen_core.field._stream import probe_rows  # noqa: E402
 from gogreen_core.field.kernel import prepare_degree  # noqa: E402
@@ -110,6 +117,39 @@ def ogre(meshes: Path) -> tuple[np.ndarray, np.ndarray] | None:
 
 def median_ms(samples: list[float]) -> str:
     return f"{1e3 * statistics.median(samples):7.2f} ms (min {1e3 * min(samples):.2f})"
+
+
+def event_split(sculptor: Sculptor, brush: Brush, event: BrushEvent, repeats: int) -> None:
+    """Median CPU time of the event's parts: each pass of the streamlines (timed around
+    ``_stream.run_ranges``), the influence ball (``MeshState.rows_near``) and the rest."""
+    passes = {0: "probes", 1: "first pass", 2: "refinement"}
+    run_ranges, rows_near = _stream.run_ranges, type(sculptor._mesh).rows_near
+    times: dict[str, list[float]] = {}
+
+    def timed(name: str, call: Callable[..., Any], *args: Any) -> Any:
+        start = time.process_time()
+        result = call(*args)
+        times.setdefault(name, []).append(time.process_time() - start)
+        return result
+
+    def ranges(work: Any, n: int, least: int) -> None:
+        name = passes[work.args[0]] if work.func is _stream._pass else "write-back"
+        timed(name, run_ranges, work, n, least)
+
+    _stream.run_ranges = ranges
+    type(sculptor._mesh).rows_near = lambda *a: timed("influence ball", rows_near, *a)
+    try:
+        for _ in range(repeats):
+            sculptor.begin_stroke(brush)
+            timed("event", sculptor.stroke_event, event)
+            sculptor.end_stroke()
+            sculptor.undo()
+    finally:
+        _stream.run_ranges, type(sculptor._mesh).rows_near = run_ranges, rows_near
+    median = {name: 1e3 * statistics.median(v) * len(v) / repeats for name, v in times.items()}
+    rest = 2 * median["event"] - sum(median.values())
+    parts = ", ".join(f"{name} {ms:.2f}" for name, ms in median.items() if name != "event")
+    print(f"  event's CPU time (ms, medians): {median['event']:.2f} = {parts}, rest {rest:.2f}")
 
 
 def influence_ball(
@@ -220,6 +260,14 @@ def peer_event(vertices: np.ndarray, faces: np.ndarray, repeats: int) -> None:
     print(f"  ratio event / peer (medians, CPU time):      {ratio_cpu:7.2f}x")
     own = float(evaluations.mean())
     print(f"  evaluations a vertex (its own + the probes'): {own:.3f} + {probes / len(rows):.3f}")
+    counts = ", ".join(f"{n}: {c:,}" for n, c in enumerate(np.bincount(evaluations)) if c)
+    print(f"  vertices by their own evaluations:           {counts}")
+    rho = np.linalg.norm(vertices[rows] - center, axis=1) / eps
+    counted = np.histogram(rho, bins=[0, 1, 2, 3, 4, np.inf])[0]
+    names = ("<1", "1-2", "2-3", "3-4", ">4")
+    shells = ", ".join(f"{b}: {c:,}" for b, c in zip(names, counted, strict=True))
+    print(f"  vertices by distance to the centre (in ε):   {shells}")
+    event_split(sculptor, brush, BrushEvent(center, delta), repeats)
     print(f"  one fixed RK4 step on the ball's rows:       {median_ms(passes)}")
     n_evaluations = 4 * len(rows)
     ns_event = 1e9 * statistics.median(passes_cpu) / n_evaluations

@@ -23,7 +23,8 @@ fastmath: ``_numpy_eval`` performs the float32 operations in the same order (wit
   error as e (e / max(m, e))^(2/3), m the point's motion. Points predicted beyond
   ``_stream.ESTIMATE_SAFETY`` · tolerance · scale (scale: the largest of |Δc| and every m) are
   packed into blocks of their own and integrated again with 2, 4, ... RK4 steps until
-  Richardson's estimate |x_n - x_(n/2)| / 15 is under that bound (at most MAX_ADAPTIVE_STEPS);
+  Richardson's estimate |x_n - x_(n/2)| / 15 is under that bound, and 16 times the one before
+  (an edited weak centre's x₂ can lie nearer the limit than its x₄; at most MAX_ADAPTIVE_STEPS);
 * adaptive, on ``_stream.THIRD_ORDER_POINTS`` points or more: first the probes
   (``_stream.probe_rows``), each integrated with one third-order step (SSPRK3, three
   evaluations) and with one and two RK4 steps. Where the third-order error they show is within
@@ -416,6 +417,7 @@ def _pass(
     mid_rows = np.empty((6, BLOCK))
     motion2 = np.empty(BLOCK)
     spreads = np.empty(BLOCK)
+    changes = np.empty(BLOCK)  # REFINE: each point's last |x_n - x_(n/2)| (none before)
     picked = np.empty(BLOCK, dtype=np.int64)
     for blk in range(first_block, last_block):
         start = blk * BLOCK
@@ -423,6 +425,7 @@ def _pass(
         if kind == REFINE:
             for j in range(nb):
                 picked[j] = picked_rows[start + j]
+                changes[j] = 0.0
                 for k in range(3):
                     previous[k, j] = out[picked[j], k]
         else:  # the gather, then the checks counted in loops that vectorize (no store in a branch)
@@ -466,14 +469,16 @@ def _pass(
             kept = 0
             for j in range(count):
                 n = picked[j]
-                d2 = _norm2(end, previous, j, 0)
+                change = math.sqrt(_norm2(end, previous, j, 0))
                 for k in range(3):
                     out[n, k] = end[k, j]
                 if evaluations.shape[0]:
                     evaluations[n] += 4 * steps
                 # Richardson: the n-step result's error is about |x_n - x_(n/2)| / (2⁴ - 1)
-                if math.sqrt(d2) > 15.0 * level and steps < MAX_ADAPTIVE_STEPS:
+                again = change > 15.0 * level or changes[j] > 240.0 * level
+                if again and steps < MAX_ADAPTIVE_STEPS:
                     picked[kept] = n
+                    changes[kept] = change
                     for k in range(3):
                         previous[k, kept] = end[k, j]
                     kept += 1

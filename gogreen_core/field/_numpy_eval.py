@@ -154,10 +154,8 @@ def _single_field(field: StreamField, geometry: tuple[Any, ...]) -> np.ndarray:
     if l_last > l_first:
         single = tuple(v.astype(np.float32) for v in geometry[:3])
         loc, seg = geometry[8].astype(np.float32), geometry[5]
-        rad = []
-        for d in range(tables32.shape[1]):
-            c = tables32[seg, d]  # (n, 3): each point's segment
-            rad.append(c[:, 0] + (c[:, 1] + c[:, 2] * loc) * loc)
+        c, s = tables32[seg], loc[:, None]  # (n, n_deg, 3): each point's segment
+        rad = list((c[..., 0] + (c[..., 1] + c[..., 2] * s) * s).T)
         total = _angular(l_first + 2, l_last, base, coeffs32, beta32, single, rad)
     else:
         total = np.zeros((3, len(x)), dtype=np.float32)
@@ -169,9 +167,8 @@ def _velocity(pos: np.ndarray, t: float, field: StreamField) -> np.ndarray:
     vel: Any = None
     for mi, signs in enumerate(field.mirrors):
         c = field.center0 + t * field.center_step
-        image = np.where(
-            signs[:, None] > 0, pos, field.origin[:, None] - (pos - field.origin[:, None])
-        )
+        o = field.origin[:, None]
+        image = np.where(signs[:, None] > 0, pos, o - (pos - o))
         geometry = _geometry(image - c[:, None], field.eps, field.power, field.tables.shape[1])
         u = np.clip((geometry[3] - field.cutoff_inner) * field.inv_width, 0.0, 1.0)
         weight = np.where(u < CUTOFF_END, 1.0 - u * u * u * (10.0 + u * (6.0 * u - 15.0)), 0.0)
@@ -243,6 +240,7 @@ def stream_pass(
             if kind == REFINE:
                 picked = picked_rows[span]
                 previous = out[picked].T
+                changes = np.zeros(len(picked))
                 steps = 2
                 while picked.size:
                     rows = indices[picked] if indexed else picked
@@ -251,10 +249,12 @@ def stream_pass(
                     out[picked] = end.T
                     if len(evaluations):
                         evaluations[picked] += 4 * steps
-                    again = np.sqrt(_norm2(end, previous)) > 15.0 * level
+                    change = np.sqrt(_norm2(end, previous))
+                    again = (change > 15.0 * level) | (changes > 240.0 * level)
                     again &= steps < MAX_ADAPTIVE_STEPS
                     bad[blocks[~again][~np.isfinite(end[:, ~again]).all(axis=0)]] = True
                     picked, previous, blocks = picked[again], end[:, again], blocks[again]
+                    changes = change[again]
                     steps *= 2
                 continue
             rows = span if kind == FIRST else picked_rows[span]

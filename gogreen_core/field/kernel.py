@@ -31,7 +31,7 @@ from gogreen_core.field.coefficients import (
 )
 from gogreen_core.field.frame import turned_sums
 from gogreen_core.physics.material import Material
-from gogreen_core.physics.quadrature import lebedev_points, material_rule
+from gogreen_core.physics.quadrature import lebedev_points
 from gogreen_core.physics.radial import TABLE_DEGREE, GaussianRadial, RadialProfile
 from gogreen_core.physics.radial_tables import single_tables
 from gogreen_core.validation import ParameterError, check_finite, check_integer, check_number
@@ -42,7 +42,6 @@ __all__ = [
     "GreenKernel",
     "StreamlineOverflow",
     "lebedev_points",
-    "material_rule",
     "prepare_degree",
 ]
 
@@ -127,7 +126,6 @@ class GreenKernel:
         self._even, self._odd = pack_terms(self._sums, l_max, self._weights)
         self._set_radial(GaussianRadial(1.0) if radial is None else radial)
 
-    # -- precompute --------------------------------------------------------------------------
     def _set_radial(self, radial: RadialProfile) -> None:
         if not isinstance(radial, RadialProfile):
             raise ValueError(f"radial must be a RadialProfile (got {type(radial).__name__})")
@@ -176,7 +174,6 @@ class GreenKernel:
         (:func:`~gogreen_core.field.coefficients.degree_norms`)."""
         return degree_norms(self._sums, self._l_max)
 
-    # -- properties --------------------------------------------------------------------------
     @property
     def material(self) -> Material:
         return self._material
@@ -198,7 +195,6 @@ class GreenKernel:
     def degree_weights(self) -> np.ndarray:
         return self._weights
 
-    # -- evaluation --------------------------------------------------------------------------
     def _run(
         self, parity: Parity, pts: np.ndarray, c: np.ndarray, coeffs: np.ndarray
     ) -> np.ndarray:
@@ -374,8 +370,7 @@ class GreenKernel:
         returns the seconds it took."""
         start = time.perf_counter()
         prepare_degree(self._l_max)
-        points = np.zeros((2, 3))
-        points[1] = 1.0
+        points = np.array([[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]])
         origin = np.zeros(3)
         for load in (np.ones(3), np.eye(3)):
             self.streamlines(points, origin, load, cutoff=(1.0, 2.0), substeps=1)

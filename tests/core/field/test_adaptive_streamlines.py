@@ -16,6 +16,7 @@ import pytest
 from streamline_counts import counted
 
 from gogreen_core import GreenKernel, Material
+from gogreen_core._compiled import forced
 from gogreen_core.field._stream import (
     ESTIMATE_SAFETY,
     MIN_PROBES,
@@ -111,7 +112,9 @@ def event(kind, material, falloff, vertices, size=0.2):
     full = GreenKernel(material, L_MAX, radial)
     kernel = full
     influence = 4
-    if kind == "grab_biscale":
+    if kind == "grab_local":  # the default brush (key 1)
+        kernel = full.with_radial(MultiscaleRadial.local(radial))
+    elif kind == "grab_biscale":
         kernel = full.with_radial(MultiscaleRadial.biscale(radial))
     elif kind == "grab_triscale":
         kernel = full.with_radial(MultiscaleRadial.triscale(radial))
@@ -169,7 +172,12 @@ def compare(kernel, load, center, step, cutoff, points, **options):
     + [("stretch", "cubic", "weak centre"), ("grab_triscale", "cubic", "kelvinlet")]
     + [("pinch_weighted", "orthotropic", "gaussian"), ("twist_weighted", "cubic", "spline")]
     + [("fold_wrinkle", "cubic", "gaussian"), ("fold_wrinkle", "orthotropic", "spline")]
-    + [("grab", "cubic", "weak centre"), ("scale", "orthotropic", "weak centre")],
+    + [("grab", "cubic", "weak centre"), ("scale", "orthotropic", "weak centre")]
+    # every Green brush kind on every material; the default brush on every falloff
+    + [("grab_local", m, "gaussian") for m in MATERIALS]
+    + [("grab_local", "cubic", f) for f in FALLOFFS if f != "gaussian"]
+    + [(kind, "isotropic", "gaussian") for kind in ("scale", "twist", "pinch", "stretch")]
+    + [(kind, "orthotropic", "gaussian") for kind in ("grab_triscale", "wrinkle", "twist")],
 )
 def test_adaptive_matches_fixed_step_reference(kind, material, falloff, pebble):
     kernel, load, center, step, cutoff = event(kind, MATERIALS[material], falloff, pebble)
@@ -298,6 +306,23 @@ def test_a_monotone_weak_centre_is_integrated_within_twice_the_tolerance(materia
     finally:
         del FALLOFFS["weak monotone"]
     assert error <= 2.0 * TOLERANCE, error
+
+
+def test_refinement_goes_on_while_the_changes_shrink_by_chance(pebble):
+    """The default brush on an edited weak centre: a point whose two-step end lies nearer the
+    limit than its four-step one (their change 185 times smaller than the one before, not RK4's
+    16) was accepted at 2.3 × TOLERANCE; it is refined on to 16 steps (124 evaluations), within
+    the tolerance, and the NumPy reference takes the same steps to the same ends."""
+    kernel, load, center, step, cutoff = event("grab_local", CUBIC, "weak centre", pebble)
+    result, evaluations, error, _, _ = compare(kernel, load, center, step, cutoff, pebble)
+    assert error <= TOLERANCE, error
+    assert evaluations.max() == 4 + 8 + 16 + 32 + 64
+    with forced("numpy"):
+        twin, twin_evaluations = counted(
+            kernel, pebble, center, load, center_step=step, cutoff=cutoff, tolerance=TOLERANCE
+        )
+    np.testing.assert_array_equal(twin_evaluations, evaluations)
+    assert np.abs(twin - result).max() <= 1e-12 * np.abs(result).max()
 
 
 def test_third_order_steps_where_the_probes_show_they_are_enough(pebble):

@@ -290,6 +290,26 @@ def test_bad_input_raises_value_error(build, message):
     assert message in str(info.value)
 
 
+def test_the_full_sum_reaches_its_far_field_form_exponentially_only_at_degree_zero():
+    """The full sum against its far-field form G(x̂ R) R (R = 1e8 ε; MATH.md): the degree-0
+    term alone is there to rounding from 6 ε on (erfc), but the terms above it only
+    algebraically (~l²/(4ρ²)): 1-2 % of G at 4 ε, where the streamlines' cutoff ends, 4e-4 at
+    20 ε. A far-field shortcut of the brush field would miss the 1e-4 tolerance."""
+    direction = np.array([[0.6, -0.48, 0.64]])
+
+    def gap(kernel: GreenKernel, rho: float) -> float:
+        far = kernel.green(direction * 1e8) * 1e8
+        return float(np.abs(kernel.green(direction * rho) * rho - far).max() / np.abs(far).max())
+
+    for material in (Material.isotropic(1.0, 0.3), Material.cubic(3.0, 1.5, 0.4)):
+        alone = GreenKernel(material, l_max=0, radial=GaussianRadial(1.0))
+        assert gap(alone, 4.0) < 1e-7 and gap(alone, 6.0) < 1e-14
+        full = GreenKernel(material, l_max=8, radial=GaussianRadial(1.0))
+        assert gap(full, 4.0) > 5e-3 and gap(full, 20.0) > 1e-4
+        for rho in (6.0, 20.0):  # ρ² · gap settles to a constant
+            assert 3.8 < gap(full, rho) / gap(full, 2 * rho) < 4.2
+
+
 @pytest.mark.parametrize("radial", [GaussianRadial(0.3), KelvinletRadial(0.3)])
 def test_far_points_decay_finitely(radial):
     """Points up to COORDINATE_LIMIT away give the far field, finite: r·u and r·G tend to a
@@ -392,7 +412,7 @@ def test_strong_anisotropy_converges_with_l_max():
 
 
 def test_material_rule_keeps_lebedev_when_smooth_and_grades_when_peaked():
-    from gogreen_core.field.kernel import material_rule
+    from gogreen_core.physics.quadrature import material_rule
 
     for material in (MATERIALS["cubic"], MATERIALS["isotropic"], MATERIALS["general21"]):
         nodes, weights = material_rule(material, 8)
