@@ -309,8 +309,7 @@ def homogenize_detailed(
     t_start = time.perf_counter()
     ph = check_phases(phases)
     mat_a, mat_b = _check_pair(materials)
-    if not 0.0 < rtol < 1.0:
-        raise ValueError(f"rtol must lie in (0, 1) (got {rtol})")
+    check_number("rtol", rtol, low=0.0, high=1.0, low_open=True, high_open=True)
     n = ph.shape[0]
     volume = float(n**3)
     frac_b = float(ph.mean(dtype=np.float64))
