@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from gogreen_core.physics.radial import DEFAULT_SPLINE_RHO
+from gogreen_core.validation import check_number
 
 if TYPE_CHECKING:
     from gogreen_core.sculpt.sculptor import Sculptor
@@ -36,9 +37,7 @@ def spline_abscissae(edges_per_eps: float | None = None) -> np.ndarray:
     (every 0.25) and at most every 1/16, then the tail 5, 6, 8, 10. None: the default 17."""
     if edges_per_eps is None:
         return DEFAULT_SPLINE_RHO.copy()
-    value = float(edges_per_eps)
-    if not np.isfinite(value) or value <= 0:
-        raise ValueError(f"edges_per_eps must be finite and > 0 (got {edges_per_eps!r})")
+    value = check_number("edges_per_eps", edges_per_eps, low=0.0, low_open=True)
     step = min(0.25, max(_FINEST_SPLINE_STEP, 2.0 / value))
     count = round(_DENSE_SPLINE_REACH / step)
     return np.concatenate([np.linspace(0.0, _DENSE_SPLINE_REACH, count + 1), _SPLINE_TAIL])
