@@ -561,11 +561,10 @@ def faces_touching(faces: np.ndarray, marked: np.ndarray) -> np.ndarray:
     return cast(np.ndarray, corners[:, 0] | corners[:, 1] | corners[:, 2])
 
 
-def grow_region(faces: np.ndarray, region: np.ndarray, rings: int = 1) -> np.ndarray:
-    """(N,) bool: ``region`` (N,) bool and every vertex within ``rings`` edges of it."""
+def grow_region(faces: np.ndarray, region: np.ndarray) -> np.ndarray:
+    """(N,) bool: ``region`` (N,) bool and every vertex one edge from it."""
     grown = np.asarray(region, dtype=bool).copy()
-    for _ in range(rings):
-        grown[faces[np.flatnonzero(faces_touching(faces, grown))].ravel()] = True
+    grown[faces[np.flatnonzero(faces_touching(faces, grown))].ravel()] = True
     return grown
 
 
