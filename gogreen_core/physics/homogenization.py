@@ -264,6 +264,24 @@ def _apply_stiffness(  # pragma: no cover - compiled
             xdot[ij, c] = part[c]
 
 
+@nb.njit(parallel=True, cache=True, fastmath=True)
+def _apply_symbol(sinv: np.ndarray, xh: np.ndarray) -> None:  # pragma: no cover - compiled
+    """In place xh[f] = sinv[f] @ xh[f] per frequency f; sinv real (..., 3, 3), xh (..., 3, m)."""
+    n0, n1, n2 = xh.shape[0], xh.shape[1], xh.shape[2]
+    m = xh.shape[4]
+    for i in nb.prange(n0):
+        for j in range(n1):
+            for k in range(n2):
+                s = sinv[i, j, k]
+                for c in range(m):
+                    v0 = xh[i, j, k, 0, c]
+                    v1 = xh[i, j, k, 1, c]
+                    v2 = xh[i, j, k, 2, c]
+                    xh[i, j, k, 0, c] = s[0, 0] * v0 + s[0, 1] * v1 + s[0, 2] * v2
+                    xh[i, j, k, 1, c] = s[1, 0] * v0 + s[1, 1] * v1 + s[1, 2] * v2
+                    xh[i, j, k, 2, c] = s[2, 0] * v0 + s[2, 1] * v1 + s[2, 2] * v2
+
+
 @dataclass(frozen=True)
 class HomogenizationResult:
     """The effective ``material`` of :func:`homogenize_detailed`, the ``fraction_b`` of phase
@@ -323,8 +341,7 @@ def homogenize_detailed(
 
     def precondition(r: np.ndarray) -> np.ndarray:
         rh = sfft.rfftn(r, axes=(0, 1, 2), workers=workers)
-        parts = rh.view(np.float64)  # (..., 3, 12): real and imaginary columns, sinv real
-        np.matmul(sinv, parts, out=parts)
+        _apply_symbol(sinv, rh)
         return cast(np.ndarray, sfft.irfftn(rh, s=(n, n, n), axes=(0, 1, 2), workers=workers))
 
     def dot(u: np.ndarray, v: np.ndarray) -> np.ndarray:
