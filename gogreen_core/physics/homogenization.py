@@ -282,6 +282,26 @@ def _apply_symbol(sinv: np.ndarray, xh: np.ndarray) -> None:  # pragma: no cover
                     xh[i, j, k, 2, c] = s[2, 0] * v0 + s[2, 1] * v1 + s[2, 2] * v2
 
 
+@nb.njit(parallel=True, cache=True, fastmath=True)
+def _axpy_columns(  # pragma: no cover - compiled
+    y: np.ndarray, x: np.ndarray, a: np.ndarray
+) -> None:
+    """y[:, c] += a[c] * x[:, c] for (M, m) arrays."""
+    for i in nb.prange(y.shape[0]):
+        for c in range(y.shape[1]):
+            y[i, c] += a[c] * x[i, c]
+
+
+@nb.njit(parallel=True, cache=True, fastmath=True)
+def _xpay_columns(  # pragma: no cover - compiled
+    y: np.ndarray, x: np.ndarray, a: np.ndarray
+) -> None:
+    """y[:, c] = x[:, c] + a[c] * y[:, c] for (M, m) arrays."""
+    for i in nb.prange(y.shape[0]):
+        for c in range(y.shape[1]):
+            y[i, c] = x[i, c] + a[c] * y[i, c]
+
+
 @dataclass(frozen=True)
 class HomogenizationResult:
     """The effective ``material`` of :func:`homogenize_detailed`, the ``fraction_b`` of phase
@@ -375,15 +395,14 @@ def homogenize_detailed(
         iterations += 1
         pq = stiffness(p, q)
         alpha = np.where(active, rz / np.where(pq > 0, pq, 1.0), 0.0)
-        w += alpha * p  # each load case (last axis) its own step
-        r -= alpha * q
+        _axpy_columns(w.reshape(-1, 6), p.reshape(-1, 6), alpha)
+        _axpy_columns(r.reshape(-1, 6), q.reshape(-1, 6), -alpha)
         z = precondition(r)
         rz_new = dot(r, z)
         beta = np.where(active, rz_new / np.where(rz > 0, rz, 1.0), 0.0)
         rz = np.where(active, rz_new, rz)
         active = active & (rz > target)
-        p *= beta
-        p += z
+        _xpay_columns(p.reshape(-1, 6), z.reshape(-1, 6), beta)
         if progress is not None:
             done = np.where(
                 active, np.log(np.maximum(rz, floor) / target) / np.maximum(log_span, 1e-300), 0
