@@ -30,17 +30,11 @@ __all__ = [
     "PreparedSubdivision",
     "loop_subdivide",
     "prepare_subdivision",
-    "unmasked_faces",
 ]
 
 #: A face is "not masked" (refined by a subdivision of the unmasked part) when every corner's
 #: mask value is below this.
 MASK_THRESHOLD = 0.5
-
-
-def unmasked_faces(faces: np.ndarray, mask: np.ndarray) -> np.ndarray:
-    """(M,) bool: the faces whose corners all have a mask value below :data:`MASK_THRESHOLD`."""
-    return cast(np.ndarray, np.all(mask[faces] < MASK_THRESHOLD, axis=1))
 
 
 def _loop_beta(valence: np.ndarray) -> np.ndarray:
@@ -249,7 +243,7 @@ def prepare_subdivision(
     along; the result is read-only and compact (the sculptor keeps it for undo)."""
     faces = np.asarray(source.faces, dtype=np.int64)
     uv_faces = None if source.uv_faces is None else np.asarray(source.uv_faces, dtype=np.int64)
-    refine = unmasked_faces(faces, source.mask) if unmasked_only else None
+    refine = np.all(source.mask[faces] < MASK_THRESHOLD, axis=1) if unmasked_only else None
     done = loop_subdivide(
         source.vertices,
         faces,
