@@ -388,9 +388,7 @@ class SplineRadial(RadialProfile):
         # Keyed by content, never by id(): a new profile may reuse a dead one's id (measured:
         # 40 falloffs built and dropped, one got a dead one's table).
         if self._digest is None:
-            digest = hashlib.sha256()
-            if self._interpolation != "cubic":  # cubic digests as they were
-                digest.update(f"{self._interpolation};".encode())
+            digest = hashlib.sha256(f"{self._interpolation};".encode())
             for (kind, l), (rho, value) in sorted(self._curves.items()):
                 digest.update(f"{kind}{l}:{len(rho)};".encode())
                 digest.update(rho.tobytes())
