@@ -37,11 +37,6 @@ __all__ = [
 MASK_THRESHOLD = 0.5
 
 
-def _loop_beta(valence: np.ndarray) -> np.ndarray:
-    n = np.maximum(valence, 1).astype(np.float64)
-    return cast(np.ndarray, (0.625 - (0.375 + 0.25 * np.cos(2.0 * np.pi / n)) ** 2) / n)
-
-
 def _gathered_sum(index: np.ndarray, columns: np.ndarray, rows: np.ndarray, n: int) -> np.ndarray:
     """Σ points[rows] (K,) by ``index`` (K,) into (n, 3), summed in order (reproducible);
     ``columns`` (3, N) are the points' coordinates, each contiguous (faster gathers)."""
@@ -72,7 +67,8 @@ def _old_positions(
     odd[faces[~refine].ravel()] = True  # next to an unrefined face: stays
     interior = ~odd & (rim_count == 0) & (valence >= 3)
     boundary = ~odd & (rim_count == 2)
-    beta = _loop_beta(valence)[:, None]
+    k = np.maximum(valence, 1).astype(np.float64)  # Loop's β (the module docstring)
+    beta = ((0.625 - (0.375 + 0.25 * np.cos(2.0 * np.pi / k)) ** 2) / k)[:, None]
     loop = np.where(
         interior[:, None],
         (1.0 - valence[:, None] * beta) * vertices + beta * around,
