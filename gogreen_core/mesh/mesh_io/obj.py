@@ -259,9 +259,8 @@ def sections_by_lines(data: bytes) -> Sections | None:
 def _numbers_per_line(
     piece: bytes, tag: bytes, sentinel: bytes, dtype: type[np.generic]
 ) -> tuple[np.ndarray, np.ndarray] | None:
-    """All numbers of a piece and how many each line has, or None if a token is not a number
-    or a line of another kind is among them. A ``sentinel`` the data cannot hold (NaN, or 0
-    among 1-based indices) replaces each line break to count them."""
+    """All numbers of a piece and how many each line has (a ``sentinel`` the data cannot hold
+    marks each line break), or None for a token not a number or a line of another kind."""
     lines = piece.count(b"\n") + 1
     between = b" " + sentinel + b" " * max(1, len(tag) + 2 - len(sentinel))
     text = piece.replace(b"\n" + tag, between)

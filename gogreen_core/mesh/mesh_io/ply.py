@@ -123,9 +123,8 @@ def _polygons(tables: dict[str, Columns], n_vertices: int, name: str) -> tuple[n
 
 
 def _whole_indices(lists: PlyList, n_vertices: int, name: str, what: str) -> np.ndarray:
-    """The items of ``lists`` as int64; MeshFileError naming the record of one that is not a
-    whole number (checked before the cast, which would make a meaningless int64 of 1e30 or
-    NaN) or not in [0, n_vertices) (-1 allowed in strips, where it separates them)."""
+    """The items of ``lists`` as int64; MeshFileError naming the record of one not a whole
+    number (checked before the cast) or not in [0, n_vertices) (-1 allowed in strips)."""
     values = lists.values
 
     def refuse(wrong: np.ndarray, problem: str) -> None:
@@ -353,10 +352,8 @@ def _walk_binary_records(
     signed: np.ndarray,
     big_endian: bool,
 ) -> tuple[np.ndarray, np.ndarray, int, float]:
-    """Start of each record and the end of the last (count + 1,), and the length of each list
-    (count, lists) of an element of binary records at ``buffer[offset:]``; status 0, or
-    _TRUNCATED, or _BAD_LENGTH with the bad length. ``numbers``: the buffer as float64 when
-    the list lengths are float64 (ASCII's numbers), else empty."""
+    """Each record's start and the last's end (count + 1,), each list's length (count, lists),
+    status (0, _TRUNCATED, _BAD_LENGTH) and the bad length; ``numbers``: float64 view or empty."""
     n_lists = np.count_nonzero(is_list)
     starts = np.empty(count + 1, dtype=np.int64)
     lengths = np.zeros((count, n_lists), dtype=np.int64)
