@@ -19,7 +19,7 @@ from gogreen_core.mesh.topology import (
     vertex_neighbours,
 )
 
-__all__ = ["CavityField", "affected_rows", "curvature"]
+__all__ = ["CavityField", "curvature"]
 
 
 def _gather(
@@ -54,16 +54,6 @@ def curvature(
     return out
 
 
-def affected_rows(neighbours: VertexNeighbours, moved: np.ndarray, n_vertices: int) -> np.ndarray:
-    """The sorted vertices (k,) whose curvature depends on the ``moved`` ones: them and their
-    one-ring (a vertex's κ reads its normal, which reads its one-ring, and its neighbours)."""
-    moved = np.asarray(moved, dtype=np.int64).ravel()
-    mark = np.zeros(n_vertices, dtype=bool)
-    mark[moved] = True
-    mark[_gather(neighbours, moved)[0]] = True
-    return np.flatnonzero(mark)
-
-
 class CavityField:
     """The curvature ``values`` (N,) float64 of the vertices of a mesh of triangles ``faces``
     (M, 3), kept up to date event by event by :meth:`update` (zeros before)."""
@@ -82,10 +72,15 @@ class CavityField:
     ) -> np.ndarray:
         """Recompute κ where ``moved`` (indices; None: every vertex) changed it, from
         ``vertices`` (N, 3); ``normals(rows)`` gives the unit normals (n, 3) of vertices
-        ``rows`` (n,). Returns the rows recomputed."""
+        ``rows`` (n,). Returns the rows recomputed, sorted: the moved vertices and their
+        one-ring (a vertex's κ reads its normal, which reads its one-ring, and its neighbours)."""
         if moved is None:
             rows = np.arange(self.n_vertices)
         else:
-            rows = affected_rows(self.neighbours, moved, self.n_vertices)
+            moved = np.asarray(moved, dtype=np.int64).ravel()
+            mark = np.zeros(self.n_vertices, dtype=bool)
+            mark[moved] = True
+            mark[_gather(self.neighbours, moved)[0]] = True
+            rows = np.flatnonzero(mark)
         self.values[rows] = curvature(vertices, normals(rows), self.neighbours, rows)
         return rows

@@ -81,10 +81,8 @@ def _connect(
     faces: np.ndarray, rank: np.ndarray, face_order: np.ndarray, face_rank: np.ndarray,
     index_faces: np.ndarray, offsets: np.ndarray, leaf_ids: np.ndarray, block_offsets: np.ndarray,
     block_leaves: np.ndarray) -> int:  # fmt: skip
-    """Fill index_faces (index order, index-numbered corners); each index vertex's faces as
-    leaf positions in original face order (as :func:`vertex_normals` sums them) in leaf_ids by
-    offsets; each vertex block's distinct leaves in block_leaves by block_offsets (returns how
-    many entries that uses)."""
+    """Fill index_faces (index order and numbering); leaf_ids by offsets: each vertex's faces
+    in mesh face order; block_leaves by block_offsets: each block's leaves (returns their count)."""
     n_faces = faces.shape[0]
     for p in range(n_faces):
         f = face_order[p]
@@ -124,10 +122,9 @@ def _update(
     positions: np.ndarray, moved: np.ndarray, ring: np.ndarray, block_moved: np.ndarray,
     block_ring: np.ndarray, leaf_mark: np.ndarray, leaf_dirty: np.ndarray, face_normals: np.ndarray,
     normals: np.ndarray, n_threads: int) -> np.int64:  # fmt: skip
-    """One event (see :meth:`SurfaceIndex.update`): copy the seeds, mark their blocks' leaves,
-    recompute those leaves' faces with a moved corner (as numpy.cross, then float32), renormalize
-    their corners (sums in face order, as np.bincount). Block flags spare scans of every vertex;
-    each pass clears what it reads last (no per-event allocation). Returns the normals redone."""
+    """One :meth:`SurfaceIndex.update`: copy the seeds, redo their blocks' leaves' face normals
+    (numpy.cross, kept float32) and their corners' normals (summed in face order, as bincount);
+    block flags spare whole scans, each pass clears the flags it reads. Returns the count."""
     n = positions.shape[0]
     n_seeds = seeds.shape[0]
     for t in prange(n_threads):

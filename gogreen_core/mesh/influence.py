@@ -119,9 +119,6 @@ class VertexBlocks:
             if rows is None:
                 self._dirty[:] = True
                 return
-            rows = np.asarray(rows)
-            if rows.dtype == np.bool_:
-                rows = np.flatnonzero(rows)
             rows = np.ascontiguousarray(rows, dtype=np.int64).ravel()
             if compiled:
                 _mark(rows, self._n, self._dirty)

@@ -22,47 +22,9 @@ __all__ = [
     "MeshEdit",
     "MeshSnapshot",
     "MeshState",
-    "check_mesh",
-    "check_uv",
     "compact_faces",
     "topology_edit",
 ]
-
-
-def check_mesh(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Copies of ``vertices`` (N, 3) float64 and ``faces`` (M, 3) int64, or ValueError: empty,
-    not finite, the wrong shape, a face naming a vertex that does not exist."""
-    v = np.array(vertices, dtype=np.float64)
-    f = np.array(faces, dtype=np.int64)
-    if v.ndim != 2 or v.shape[1] != 3 or len(v) == 0:
-        raise ValueError(f"vertices must be a non-empty (N, 3) array (got shape {v.shape})")
-    if not np.all(np.isfinite(v)):
-        raise ValueError("vertices contain NaN or infinite coordinates")
-    if f.ndim != 2 or f.shape[1] != 3:
-        raise ValueError(f"faces must be an (M, 3) array (got shape {f.shape})")
-    if f.size and (f.min() < 0 or f.max() >= len(v)):
-        raise ValueError(f"faces reference vertices outside 0..{len(v) - 1}")
-    return v, f
-
-
-def check_uv(
-    uv: np.ndarray | None, uv_faces: np.ndarray | None, n_faces: int
-) -> tuple[np.ndarray | None, np.ndarray | None]:
-    """Copies of texture coordinates ``uv`` (T, 2) float64 and their face corners ``uv_faces``
-    (M, 3) int64 (rows of -1 for untextured faces), both or neither; ValueError otherwise."""
-    if uv is None and uv_faces is None:
-        return None, None
-    if uv is None or uv_faces is None:
-        raise ValueError("uv and uv_faces go together")
-    t = np.array(uv, dtype=np.float64)
-    c = np.array(uv_faces, dtype=np.int64)
-    if t.ndim != 2 or t.shape[1] != 2 or not np.all(np.isfinite(t)):
-        raise ValueError(f"uv must be a finite (T, 2) array (got shape {t.shape})")
-    if c.shape != (n_faces, 3):
-        raise ValueError(f"uv_faces must have shape ({n_faces}, 3) (got {c.shape})")
-    if c.size and (c.min() < -1 or c.max() >= len(t)):
-        raise ValueError(f"uv_faces must hold -1 or rows below {len(t)} of uv")
-    return t, c
 
 
 class MaskRows(NamedTuple):
@@ -221,8 +183,28 @@ class MeshState:
         uv: np.ndarray | None = None,
         uv_faces: np.ndarray | None = None,
     ) -> None:
-        self.vertices, self.faces = check_mesh(vertices, faces)
-        self.uv, self.uv_faces = check_uv(uv, uv_faces, len(self.faces))
+        self.vertices = v = np.array(vertices, dtype=np.float64)
+        self.faces = f = np.array(faces, dtype=np.int64)
+        if v.ndim != 2 or v.shape[1] != 3 or len(v) == 0:
+            raise ValueError(f"vertices must be a non-empty (N, 3) array (got shape {v.shape})")
+        if not np.all(np.isfinite(v)):
+            raise ValueError("vertices contain NaN or infinite coordinates")
+        if f.ndim != 2 or f.shape[1] != 3:
+            raise ValueError(f"faces must be an (M, 3) array (got shape {f.shape})")
+        if f.size and (f.min() < 0 or f.max() >= len(v)):
+            raise ValueError(f"faces reference vertices outside 0..{len(v) - 1}")
+        self.uv = self.uv_faces = None
+        if (uv is None) != (uv_faces is None):
+            raise ValueError("uv and uv_faces go together")
+        if uv is not None:
+            self.uv = t = np.array(uv, dtype=np.float64)
+            self.uv_faces = c = np.array(uv_faces, dtype=np.int64)
+            if t.ndim != 2 or t.shape[1] != 2 or not np.all(np.isfinite(t)):
+                raise ValueError(f"uv must be a finite (T, 2) array (got shape {t.shape})")
+            if c.shape != (len(f), 3):
+                raise ValueError(f"uv_faces must have shape ({len(f)}, 3) (got {c.shape})")
+            if c.size and (c.min() < -1 or c.max() >= len(t)):
+                raise ValueError(f"uv_faces must hold -1 or rows below {len(t)} of uv")
         low, high = self.vertices.min(axis=0), self.vertices.max(axis=0)
         self.model_size = float(np.linalg.norm(high - low))
         if not self.model_size > 0:

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from gogreen_core.physics.radial import DEFAULT_SPLINE_RHO
+from gogreen_core.validation import check_number
 
 if TYPE_CHECKING:
     from gogreen_core.sculpt.sculptor import Sculptor
@@ -21,13 +22,6 @@ _EDGES: weakref.WeakKeyDictionary[Sculptor, tuple[int, float]] = weakref.WeakKey
 
 __all__ = ["edges_per_eps", "mean_edge_length", "spline_abscissae"]
 
-#: Where a spline made for a mesh is sampled densely (ρ ≤ this), and the coarse tail beyond.
-_DENSE_SPLINE_REACH = 4.0
-_SPLINE_TAIL = (5.0, 6.0, 8.0, 10.0)
-#: Finest spacing (in ρ) of a spline made for a mesh (69 control points in all): a curve
-#: editor with more points than this is no longer editable by hand.
-_FINEST_SPLINE_STEP = 1.0 / 16.0
-
 
 def spline_abscissae(edges_per_eps: float | None = None) -> np.ndarray:
     """Control abscissae ρ (increasing, from 0) of a spline falloff for a mesh whose edges are
@@ -36,12 +30,9 @@ def spline_abscissae(edges_per_eps: float | None = None) -> np.ndarray:
     (every 0.25) and at most every 1/16, then the tail 5, 6, 8, 10. None: the default 17."""
     if edges_per_eps is None:
         return DEFAULT_SPLINE_RHO.copy()
-    value = float(edges_per_eps)
-    if not np.isfinite(value) or value <= 0:
-        raise ValueError(f"edges_per_eps must be finite and > 0 (got {edges_per_eps!r})")
-    step = min(0.25, max(_FINEST_SPLINE_STEP, 2.0 / value))
-    count = round(_DENSE_SPLINE_REACH / step)
-    return np.concatenate([np.linspace(0.0, _DENSE_SPLINE_REACH, count + 1), _SPLINE_TAIL])
+    value = check_number("edges_per_eps", edges_per_eps, low=0.0, low_open=True)
+    step = min(0.25, max(1.0 / 16.0, 2.0 / value))  # finer (over 69 points): not editable by hand
+    return np.concatenate([np.linspace(0.0, 4.0, round(4.0 / step) + 1), (5.0, 6.0, 8.0, 10.0)])
 
 
 def mean_edge_length(vertices: np.ndarray, faces: np.ndarray) -> float:

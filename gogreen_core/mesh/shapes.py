@@ -12,6 +12,7 @@ import numpy as np
 
 from gogreen_core.mesh.subdivision import _split_faces
 from gogreen_core.mesh.topology import mesh_edges
+from gogreen_core.validation import check_integer
 
 __all__ = ["default_model", "flat_sheet", "icosphere", "open_tube"]
 
@@ -44,18 +45,14 @@ def _subdivide(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.
     return np.concatenate([vertices, midpoints]), children
 
 
-def icosphere(subdivisions: int = 4, radius: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
-    """A closed sphere of near-equilateral triangles: an icosahedron whose triangles are split
-    in four ``subdivisions`` times (0 to 8), of ``radius`` (> 0). Returns vertices
-    (10·4^s + 2, 3) float64 and faces (20·4^s, 3) int64, counter-clockwise seen from outside."""
-    if int(subdivisions) != subdivisions or not 0 <= subdivisions <= 8:
-        raise ValueError(f"subdivisions must be an integer in [0, 8] (got {subdivisions!r})")
-    if not (np.isfinite(radius) and radius > 0):
-        raise ValueError(f"radius must be finite and > 0 (got {radius!r})")
+def icosphere(subdivisions: int = 4) -> tuple[np.ndarray, np.ndarray]:
+    """A closed unit sphere of near-equilateral triangles: an icosahedron whose triangles are
+    split in four ``subdivisions`` times (0 to 8). Returns vertices (10·4^s + 2, 3) float64 and
+    faces (20·4^s, 3) int64, counter-clockwise seen from outside."""
     vertices, faces = _icosahedron()
-    for _ in range(int(subdivisions)):
+    for _ in range(check_integer("subdivisions", subdivisions, low=0, high=8)):
         vertices, faces = _subdivide(vertices, faces)
-    return vertices * float(radius), faces.astype(np.int64)
+    return vertices, faces.astype(np.int64)
 
 
 # (direction, relative amplitude, angular width in radians) of the default model's bumps

@@ -28,37 +28,13 @@ from gogreen_core.mesh.topology import MeshEdges, mesh_edges
 __all__ = [
     "MASK_THRESHOLD",
     "PreparedSubdivision",
-    "SubdividedMesh",
     "loop_subdivide",
     "prepare_subdivision",
-    "unmasked_faces",
 ]
 
 #: A face is "not masked" (refined by a subdivision of the unmasked part) when every corner's
 #: mask value is below this.
 MASK_THRESHOLD = 0.5
-
-
-@dataclass(frozen=True)
-class SubdividedMesh:
-    """The result of :func:`loop_subdivide`: vertices (N', 3), faces (M', 3), the mask (N',)
-    (None without one), UVs (T', 2) and their corners (M', 3) (None without)."""
-
-    vertices: np.ndarray
-    faces: np.ndarray
-    mask: np.ndarray | None = None
-    uv: np.ndarray | None = None
-    uv_faces: np.ndarray | None = None
-
-
-def unmasked_faces(faces: np.ndarray, mask: np.ndarray) -> np.ndarray:
-    """(M,) bool: the faces whose corners all have a mask value below :data:`MASK_THRESHOLD`."""
-    return cast(np.ndarray, np.all(mask[faces] < MASK_THRESHOLD, axis=1))
-
-
-def _loop_beta(valence: np.ndarray) -> np.ndarray:
-    n = np.maximum(valence, 1).astype(np.float64)
-    return cast(np.ndarray, (0.625 - (0.375 + 0.25 * np.cos(2.0 * np.pi / n)) ** 2) / n)
 
 
 def _gathered_sum(index: np.ndarray, columns: np.ndarray, rows: np.ndarray, n: int) -> np.ndarray:
@@ -91,7 +67,8 @@ def _old_positions(
     odd[faces[~refine].ravel()] = True  # next to an unrefined face: stays
     interior = ~odd & (rim_count == 0) & (valence >= 3)
     boundary = ~odd & (rim_count == 2)
-    beta = _loop_beta(valence)[:, None]
+    k = np.maximum(valence, 1).astype(np.float64)  # Loop's β (the module docstring)
+    beta = ((0.625 - (0.375 + 0.25 * np.cos(2.0 * np.pi / k)) ** 2) / k)[:, None]
     loop = np.where(
         interior[:, None],
         (1.0 - valence[:, None] * beta) * vertices + beta * around,
@@ -185,12 +162,13 @@ def loop_subdivide(
     uv_faces: np.ndarray | None = None,
     edges: MeshEdges | None = None,
     progress: Callable[[float], None] | None = None,
-) -> SubdividedMesh:
+) -> MeshSnapshot:
     """One step of Loop subdivision (see the module docstring) of ``vertices`` (N, 3) float64,
     ``faces`` (M, 3) int64: the faces ``refine`` (M,) bool (default all), ``mask`` (N,) in
-    [0, 1] (an edge vertex gets the mean of its ends'), ``uv`` (T, 2) with ``uv_faces`` (M, 3)
-    (-1 rows: untextured), ``edges`` (their :func:`~gogreen_core.mesh.topology.mesh_edges` when
-    known); ``progress`` is called with the fraction done (it may raise to cancel)."""
+    [0, 1] (default 0; an edge vertex gets the mean of its ends'), ``uv`` (T, 2) with
+    ``uv_faces`` (M, 3) (-1 rows: untextured), ``edges`` (their
+    :func:`~gogreen_core.mesh.topology.mesh_edges` when known); ``progress`` is called with the
+    fraction done (it may raise to cancel). Returns the new arrays (uv None without)."""
     vertices = np.asarray(vertices, dtype=np.float64)
     faces = np.asarray(faces, dtype=np.int64)
     n = len(vertices)
@@ -204,7 +182,8 @@ def loop_subdivide(
     split[edges.face_edges[refine].ravel()] = True
     split_sides = split[edges.face_edges]
     refine |= split_sides.all(axis=1)  # all three sides split: refined with the region
-    free = np.ones(n) if mask is None else 1.0 - np.asarray(mask, dtype=np.float64)
+    m = np.zeros(n) if mask is None else np.asarray(mask, dtype=np.float64)
+    free = 1.0 - m
     old = _old_positions(vertices, faces, edges, refine, free)
     report(0.55)
     new = _edge_positions(vertices, faces, edges, refine, split, free)
@@ -213,11 +192,8 @@ def loop_subdivide(
     middles = np.where(split_sides, number[edges.face_edges], -1)
     new_faces = _split_faces(faces, middles, refine, split_sides.sum(axis=1))
     report(0.85)
-    new_mask = None
-    if mask is not None:
-        m = np.asarray(mask, dtype=np.float64)
-        ends = edges.ends[split]
-        new_mask = np.concatenate([m, 0.5 * (m[ends[:, 0]] + m[ends[:, 1]])])
+    ends = edges.ends[split]
+    new_mask = np.concatenate([m, 0.5 * (m[ends[:, 0]] + m[ends[:, 1]])])
     new_uv = new_uv_faces = None
     if uv is not None and uv_faces is not None:
         new_uv, new_uv_faces = _subdivided_uv(
@@ -227,7 +203,7 @@ def loop_subdivide(
             refine,
         )
     report(1.0)
-    return SubdividedMesh(np.concatenate([old, new]), new_faces, new_mask, new_uv, new_uv_faces)
+    return MeshSnapshot(np.concatenate([old, new]), new_faces, new_mask, new_uv, new_uv_faces)
 
 
 def _same_bits(a: np.ndarray | None, b: np.ndarray | None) -> bool:
@@ -263,7 +239,7 @@ def prepare_subdivision(
     along; the result is read-only and compact (the sculptor keeps it for undo)."""
     faces = np.asarray(source.faces, dtype=np.int64)
     uv_faces = None if source.uv_faces is None else np.asarray(source.uv_faces, dtype=np.int64)
-    refine = unmasked_faces(faces, source.mask) if unmasked_only else None
+    refine = np.all(source.mask[faces] < MASK_THRESHOLD, axis=1) if unmasked_only else None
     done = loop_subdivide(
         source.vertices,
         faces,
@@ -274,6 +250,5 @@ def prepare_subdivision(
         edges=edges,
         progress=progress,
     )
-    assert done.mask is not None
     result = MeshSnapshot.frozen(done.vertices, done.faces, done.mask, done.uv, done.uv_faces)
     return PreparedSubdivision(source, bool(unmasked_only), result)

@@ -133,18 +133,16 @@ def bimaterial(
     young: float = 1.0,
     poisson: float = 0.3,
     contrast: float = 100.0,
-    poisson_b: float | None = None,
 ) -> tuple[Material, Material]:
     """The two isotropic phases of a pattern: a (voxels 0) ``Material.isotropic(young,
-    poisson)``, b (voxels 1) ``contrast`` ∈ [1, 1e4] times stiffer, of ``poisson_b`` if given."""
+    poisson)``, b (voxels 1) ``contrast`` ∈ [1, 1e4] times stiffer, of the same ``poisson``."""
     c = float(contrast)
     if not np.isfinite(c) or not MIN_CONTRAST <= c <= MAX_CONTRAST:
         raise ValueError(
             f"contrast must lie in [{MIN_CONTRAST:g}, {MAX_CONTRAST:g}] (got {contrast}); "
             "to make phase b the softer one, swap 0 and 1 in the pattern"
         )
-    nu_b = poisson if poisson_b is None else poisson_b
-    return Material.isotropic(young, poisson), Material.isotropic(c * float(young), nu_b)
+    return Material.isotropic(young, poisson), Material.isotropic(c * float(young), poisson)
 
 
 def _strain_operator() -> np.ndarray:
@@ -329,8 +327,7 @@ def homogenize_detailed(
     t_start = time.perf_counter()
     ph = check_phases(phases)
     mat_a, mat_b = _check_pair(materials)
-    if not 0.0 < rtol < 1.0:
-        raise ValueError(f"rtol must lie in (0, 1) (got {rtol})")
+    check_number("rtol", rtol, low=0.0, high=1.0, low_open=True, high_open=True)
     n = ph.shape[0]
     volume = float(n**3)
     frac_b = float(ph.mean(dtype=np.float64))

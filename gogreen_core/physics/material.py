@@ -44,18 +44,6 @@ def uniaxial_stress(directions: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(directions[..., _ROWS] * directions[..., _COLS])
 
 
-def check_rotation(rotation: np.ndarray, tol: float = 1e-9) -> np.ndarray:
-    """``rotation`` as a float (3, 3) array; ValueError unless a proper rotation (within tol)."""
-    rot = check_finite("rotation", rotation, (3, 3))
-    err = np.abs(rot @ rot.T - np.eye(3)).max()
-    if err > tol:
-        raise ValueError(f"rotation is not orthonormal: max |R R^T - I| = {err:.3g}")
-    det = np.linalg.det(rot)
-    if det < 0:
-        raise ValueError("rotation has determinant -1: a reflection, not a proper rotation")
-    return rot
-
-
 class Material:
     """A homogeneous linear elastic material, immutable, defined by its stiffness: build one
     with a named constructor (``isotropic``, ``from_lame``, ``cubic``, ``orthotropic``,
@@ -216,7 +204,12 @@ class Material:
 
     def rotated(self, rotation: np.ndarray) -> Material:
         """The material turned by the rotation R (3, 3): C'_abcd = R_ai R_bj R_ck R_dl C_ijkl."""
-        rot = check_rotation(rotation)
+        rot = check_finite("rotation", rotation, (3, 3))
+        err = np.abs(rot @ rot.T - np.eye(3)).max()
+        if err > 1e-9:
+            raise ValueError(f"rotation is not orthonormal: max |R R^T - I| = {err:.3g}")
+        if np.linalg.det(rot) < 0:
+            raise ValueError("rotation has determinant -1: a reflection, not a proper rotation")
         c = np.einsum("ai,bj,ck,dl,ijkl->abcd", rot, rot, rot, rot, self._tensor, optimize=True)
         return Material(tensor_to_voigt(c))
 

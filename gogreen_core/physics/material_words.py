@@ -10,7 +10,6 @@ they lie between ("tilted 45° from +Z toward −Y").
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import cast
 
 import numpy as np
 from scipy.optimize import minimize
@@ -109,17 +108,12 @@ def material_traits(material: Material) -> MaterialTraits:
     elif spread > 0 and values[1] - values[0] < _PAIRED * spread:
         kind, axis = "fibres", vectors[:, 2]
     across = soft - (soft @ stiff) * stiff
-    across = across / np.linalg.norm(across) if np.linalg.norm(across) > 1e-9 else _other(stiff)
+    if not np.linalg.norm(across) > 1e-9:  # soft along stiff: any direction across it
+        across = np.cross(stiff, _AXES[np.argmin(np.abs(stiff))])
+    across = across / np.linalg.norm(across)
     third = np.cross(stiff, across)
     poisson = np.array([_poisson(material, stiff, across), _poisson(material, stiff, third)])
     return MaterialTraits(kind, stiff, soft, ratio, poisson, axis)
-
-
-def _other(vector: np.ndarray) -> np.ndarray:
-    """A unit vector ⟂ ``vector``."""
-    helper = _AXES[np.argmin(np.abs(vector))]
-    out = np.cross(vector, helper)
-    return cast(np.ndarray, out / np.linalg.norm(out))
 
 
 def direction_words(direction: np.ndarray) -> str:

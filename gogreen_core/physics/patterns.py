@@ -15,7 +15,7 @@ from typing import Any, cast
 
 import numpy as np
 
-from gogreen_core.validation import check_integer
+from gogreen_core.validation import check_choice, check_integer, check_number
 
 __all__ = [
     "PATTERNS",
@@ -104,10 +104,8 @@ def fibers(
     <= 1): tetragonal about ``axis``."""
     n, periods = _check_grid(n, periods)
     ax = _check_axis(axis)
-    if shape == "square":
+    if check_choice("shape", shape, ("round", "square")) == "square":
         return lattice(n, fraction, periods, "xyz"[ax])
-    if shape != "round":
-        raise ValueError(f"shape must be 'round' or 'square' (got {shape!r})")
     f = _check_fraction(fraction, _MAX_FIBER_FRACTION, "round fibres touch at pi/4")
     coords = _motif_coords(n, periods)
     u, v = (coords[i] for i in range(3) if i != ax)
@@ -131,11 +129,9 @@ def spheres(
     or face-centred ("fcc") lattice, radius from ``fraction`` (at most the touching-sphere
     packing: pi/6 for sc, 0.680 for bcc, 0.740 for fcc). Cubic symmetry."""
     n, periods = _check_grid(n, periods)
-    if arrangement not in _SPHERE_LATTICES:
-        raise ValueError(
-            f"arrangement must be one of {sorted(_SPHERE_LATTICES)} (got {arrangement!r})"
-        )
-    centres, f_max = _SPHERE_LATTICES[arrangement]
+    centres, f_max = _SPHERE_LATTICES[
+        check_choice("arrangement", arrangement, ("sc", "bcc", "fcc"))
+    ]
     f = _check_fraction(fraction, f_max, f"spheres of a {arrangement} lattice touch at {f_max:.4g}")
     x, y, z = _motif_coords(n, periods)
     radius2 = (3.0 * f / (4.0 * np.pi * len(centres))) ** (2.0 / 3.0)
@@ -189,9 +185,7 @@ def random_pattern(
     Statistically isotropic, deterministic for a given ``seed``."""
     n = check_integer("n", n, low=2)
     f = _check_fraction(fraction)
-    corr = float(correlation)
-    if not np.isfinite(corr) or corr < 0:
-        raise ValueError(f"correlation must be >= 0 (got {correlation})")
+    corr = check_number("correlation", correlation, low=0.0)
     rng = np.random.default_rng(seed)
     noise = rng.random((n, n, n))
     if corr > 0:

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from gogreen_core.physics.material import Material
+from gogreen_core.validation import check_number
 
 __all__ = ["SYMMETRY_CLASSES", "SymmetryDescription", "describe_symmetry"]
 
@@ -81,9 +82,7 @@ def describe_symmetry(material: Material | np.ndarray, rtol: float = 1e-5) -> Sy
         raise ValueError(f"Voigt stiffness must be 6x6 (got shape {c6.shape})")
     if not np.all(np.isfinite(c6)):
         raise ValueError("Voigt stiffness must be finite")
-    rtol = float(rtol)
-    if not 0.0 <= rtol < 1.0:
-        raise ValueError(f"rtol must lie in [0, 1) (got {rtol})")
+    rtol = check_number("rtol", rtol, low=0.0, high=1.0, high_open=True)
     c6 = 0.5 * (c6 + c6.T)
     tol = rtol * float(np.abs(c6).max())
     groups, means = _group_coefficients(c6, tol)

@@ -19,14 +19,12 @@ __all__ = ["atomic_write", "write_bytes_atomic", "write_text_atomic"]
 
 
 def write_text_atomic(path: str | os.PathLike[str], text: str) -> None:
-    """Write ``text`` (UTF-8) to ``path`` through a temporary file renamed over it, so a failed
-    write never leaves a half-written file (sessions, presets). ``MeshFileError`` on failure."""
+    """Write ``text`` (UTF-8) to ``path`` atomically; ``MeshFileError`` on failure."""
     write_bytes_atomic(path, text.encode("utf-8"))
 
 
 def write_bytes_atomic(path: str | os.PathLike[str], data: bytes) -> None:
-    """Write ``data`` to ``path`` through a temporary file renamed over it, so a failed write
-    never leaves a half-written file (screenshots). ``MeshFileError`` on failure."""
+    """Write ``data`` to ``path`` atomically; ``MeshFileError`` on failure."""
     p = Path(path)
 
     def write(out: BinaryIO) -> None:

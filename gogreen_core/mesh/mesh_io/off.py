@@ -17,13 +17,11 @@ __all__ = ["read_off", "write_off"]
 
 
 def read_off(data: bytes, name: str) -> MeshData:
-    rows: list[tuple[int, str]] = []  # (line number, content without comment), non-empty only
-    for number, raw in enumerate(text_lines(data).split("\n"), start=1):
-        if "#" in raw:
-            raw = raw.split("#", 1)[0]
-        line = raw.strip()
-        if line:
-            rows.append((number, line))
+    rows = [  # (line number, content without comment), non-empty only
+        (number, line)
+        for number, raw in enumerate(text_lines(data).split("\n"), start=1)
+        if (line := raw.split("#", 1)[0].strip())
+    ]
     if not rows:
         raise MeshFileError(f"{name}: no data (only comments or blank lines)")
     head = rows[0][1].split()

@@ -15,8 +15,6 @@ from gogreen_core.mesh.mesh_io import (
     atomic,
     load_mesh,
     obj,
-    obj_fast,
-    obj_strict,
     ply,
     save_mesh,
     text,
@@ -463,22 +461,22 @@ IRREGULAR_OBJ = [  # each is read by the strict reader (accepted or refused the 
 @pytest.mark.parametrize("content", REGULAR_OBJ + IRREGULAR_OBJ)
 def test_fast_obj_reader_agrees_with_the_strict_one(content):
     data = content.encode("utf-8")
-    assert outcome(obj.read_obj, data) == outcome(obj_strict.read_obj_strict, data)
+    assert outcome(obj.read_obj, data) == outcome(obj.read_obj_strict, data)
 
 
 @pytest.mark.parametrize("content", REGULAR_OBJ)
 def test_regular_obj_files_take_the_fast_path(content):
-    assert obj_fast.read_obj_fast(content.encode("utf-8")) is not None
+    assert obj.read_obj_fast(content.encode("utf-8")) is not None
 
 
 @pytest.mark.parametrize("content", REGULAR_OBJ + IRREGULAR_OBJ)
 def test_the_obj_sections_agree_with_the_strict_reader(content):
     data = content.encode("utf-8").removeprefix(b"\xef\xbb\xbf").replace(b"\r\n", b"\n")
     data += b"" if data.endswith(b"\n") else b"\n"
-    sections = obj_fast.sections_by_lines(data)
-    mesh = None if sections is None else obj_fast.mesh_from_sections(*sections)
+    sections = obj.sections_by_lines(data)
+    mesh = None if sections is None else obj.mesh_from_sections(*sections)
     if mesh is not None:
-        assert outcome(lambda *_: mesh, data) == outcome(obj_strict.read_obj_strict, data)
+        assert outcome(lambda *_: mesh, data) == outcome(obj.read_obj_strict, data)
 
 
 @pytest.mark.parametrize(
@@ -486,15 +484,15 @@ def test_the_obj_sections_agree_with_the_strict_reader(content):
 )
 def test_fast_obj_reader_leaves_every_bad_file_to_the_strict_one(name, content):
     data = content if isinstance(content, bytes) else content.encode("utf-8")
-    assert obj_fast.read_obj_fast(data) is None
-    assert outcome(obj.read_obj, data, name) == outcome(obj_strict.read_obj_strict, data, name)
+    assert obj.read_obj_fast(data) is None
+    assert outcome(obj.read_obj, data, name) == outcome(obj.read_obj_strict, data, name)
 
 
 def test_fast_obj_reader_on_every_listed_mesh_matches_the_strict_one(listed):
     path, _ = listed
     data = path.read_bytes()
-    assert obj_fast.read_obj_fast(data) is not None
-    assert outcome(obj.read_obj, data) == outcome(obj_strict.read_obj_strict, data)
+    assert obj.read_obj_fast(data) is not None
+    assert outcome(obj.read_obj, data) == outcome(obj.read_obj_strict, data)
 
 
 ASCII_PLY_FILES = [(n, c) for n, c, _ in BAD_FILES if n.endswith(".ply")] + [

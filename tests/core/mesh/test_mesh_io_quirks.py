@@ -13,9 +13,7 @@ import pytest
 from mesh_io_models import U_SHAPE, edges_used_once, triangle_area
 
 from gogreen_core.mesh.mesh_io import MeshFileError, load_mesh, save_mesh
-from gogreen_core.mesh.mesh_io.obj import read_obj
-from gogreen_core.mesh.mesh_io.obj_fast import read_obj_fast
-from gogreen_core.mesh.mesh_io.obj_strict import read_obj_strict
+from gogreen_core.mesh.mesh_io.obj import read_obj, read_obj_fast, read_obj_strict
 from gogreen_core.mesh.mesh_io.text import parse_numbers
 
 
@@ -352,9 +350,9 @@ WARM_UP_CHECK = """
 import sys
 import numpy as np
 from gogreen_core.mesh import mesh_io
-from gogreen_core.mesh.mesh_io import ply_elements, polygons, weld
+from gogreen_core.mesh.mesh_io import ply, polygons, weld
 
-loops = [ply_elements._walk_binary_records, ply_elements._copy_runs,
+loops = [ply._walk_binary_records, ply._copy_runs,
          polygons._fans, weld._first_equal_rows]
 mesh_io.warm_up()
 ready = {f: set(f.signatures) for f in loops}

@@ -43,12 +43,11 @@ def corner_angles(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
 
 @pytest.mark.parametrize("subdivisions", [0, 1, 2, 4])
 def test_icosphere_is_a_closed_outward_sphere(subdivisions):
-    radius = 2.5
-    vertices, faces = icosphere(subdivisions, radius=radius)
+    vertices, faces = icosphere(subdivisions)
     assert vertices.dtype == np.float64 and faces.dtype == np.int64
     assert vertices.shape == (10 * 4**subdivisions + 2, 3)
     assert faces.shape == (20 * 4**subdivisions, 3)
-    assert np.allclose(np.linalg.norm(vertices, axis=1), radius)
+    assert np.allclose(np.linalg.norm(vertices, axis=1), 1.0)
     assert len(np.unique(vertices.round(12), axis=0)) == len(vertices)  # no duplicates
     assert_closed_and_consistently_oriented(faces)
     tri = vertices[faces]
@@ -57,8 +56,8 @@ def test_icosphere_is_a_closed_outward_sphere(subdivisions):
 
 
 def test_icosphere_volume_converges_to_the_ball():
-    ball = 4 / 3 * np.pi * 2.0**3
-    errors = [ball - signed_volume(*icosphere(s, radius=2.0)) for s in range(1, 6)]
+    ball = 4 / 3 * np.pi
+    errors = [ball - signed_volume(*icosphere(s)) for s in range(1, 6)]
     assert all(e > 0 for e in errors)  # inscribed polyhedron, positive (outward) volume
     assert errors[3] / ball < 3e-3  # 4 subdivisions
     assert all(b < a / 3.5 for a, b in itertools.pairwise(errors))  # ~ h², ×1/4
@@ -73,8 +72,6 @@ BAD_ARGUMENTS = [
     ((-1,), "subdivisions"),
     ((9,), "subdivisions"),
     ((1.5,), "subdivisions"),
-    ((2, 0.0), "radius"),
-    ((2, np.inf), "radius"),
 ]
 
 

@@ -11,8 +11,13 @@ from scipy.interpolate import CubicSpline
 from gogreen_core import Brush, BrushEvent, Material, Sculptor
 from gogreen_core.field.kernel import GreenKernel
 from gogreen_core.interaction.tools import grab_motion
-from gogreen_core.physics.falloff_curves import local_slopes, monotone_hermite
-from gogreen_core.physics.radial import DEFAULT_SPLINE_RHO, GaussianRadial, SplineRadial
+from gogreen_core.physics.radial import (
+    DEFAULT_SPLINE_RHO,
+    GaussianRadial,
+    SplineRadial,
+    local_slopes,
+    monotone_hermite,
+)
 from gogreen_core.sculpt.schema import parse_falloff
 from gogreen_core.validation import ParameterError
 
