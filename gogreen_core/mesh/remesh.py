@@ -366,9 +366,9 @@ def remesh(
     vertices : (N, 3) float64, model units; faces : (M, 3) int64.
     region : (N,) bool, the vertices whose faces may change (e.g. what a stroke moved, grown
         by a ring: :func:`grow_region`); every vertex for the whole mesh.
-    target_length : L, model units (> 0, checked by the callers): edges end between 4/5 L and
-        4/3 L where they can; or (N,) float64, each vertex's L (a sizing field: an edge against
-        the mean of its ends'; new vertices interpolate it, returned as ``sizes``).
+    target_length : L, model units (> 0): edges end between 4/5 L and 4/3 L where they can;
+        or (N,) float64, each vertex's L (a sizing field: an edge against the mean of its
+        ends'; new vertices interpolate it, returned as ``sizes``).
     mask : (N,) float64 in [0, 1], optional: carried onto new vertices (interpolated); a
         vertex held at :data:`~gogreen_core.mesh.subdivision.MASK_THRESHOLD` or more is locked.
     uv : (T, 2) float64 and uv_faces : (M, 3) int64 (-1 rows: untextured faces), optional.
@@ -378,9 +378,16 @@ def remesh(
     """
     vertices = np.asarray(vertices, dtype=np.float64)
     faces = np.asarray(faces, dtype=np.int64)
+    n = len(vertices)
     sizing = np.ndim(target_length) > 0
     target = np.asarray(target_length, dtype=np.float64)
+    if sizing and target.shape != (n,):
+        raise ValueError(f"target_length must be one length or ({n},) (got {target.shape})")
+    if not sizing and not (np.isfinite(target) and target > 0):
+        raise ValueError(f"target_length must be a positive length (got {target_length!r})")
     region = np.asarray(region, dtype=bool)
+    if region.shape != (n,):
+        raise ValueError(f"region must have shape ({n},) (got {region.shape})")
     in_patch = faces_touching(faces, region)
     inside = np.flatnonzero(in_patch)
     local = np.unique(faces[inside])  # the patch's vertices, ascending
@@ -388,6 +395,8 @@ def remesh(
     # only the patch's rows are read: the cost is the region's, not the mesh's
     mask_local = np.zeros(len(local)) if mask is None else np.asarray(mask, np.float64)[local]
     sizes_local = target[local] if sizing else np.full(len(local), float(target))
+    if sizing and not (np.isfinite(sizes_local).all() and (sizes_local > 0).all()):
+        raise ValueError("target_length must be positive lengths around the region")
     held = mask_local >= MASK_THRESHOLD
     if locked is not None:
         held |= np.asarray(locked, dtype=bool)[local]
