@@ -545,3 +545,19 @@ def test_each_event_measures_strain_only_on_the_faces_it_moved(monkeypatch):
     assert measured and max(measured) < 0.1 * len(faces)
     assert adopted and state.vertices is adopted[-1].vertices  # no copy
     assert state.faces is adopted[-1].faces
+
+
+@pytest.mark.parametrize(
+    ("length", "region", "words"),
+    [
+        (0.0, None, "target_length must be a positive length"),
+        (float("nan"), None, "target_length must be a positive length"),
+        (np.ones(3), None, "target_length must be one length or"),
+        (0.1, np.ones(3, dtype=bool), "region must have shape"),
+    ],
+)
+def test_remesh_names_a_bad_length_or_region(length, region, words) -> None:
+    vertices, faces = icosphere(2)
+    region = np.ones(len(vertices), dtype=bool) if region is None else region
+    with pytest.raises(ValueError, match=words):
+        remesh(vertices, faces, region, length)
