@@ -13,7 +13,7 @@ import hashlib
 import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
@@ -72,7 +72,8 @@ MAX_OPERATIONS = 10_000_000
 
 def mesh_fingerprint(vertices: np.ndarray) -> str:
     """SHA-256 of the float64 vertex array: tells whether a session replays on its own mesh."""
-    return hashlib.sha256(np.ascontiguousarray(vertices, dtype=np.float64).tobytes()).hexdigest()
+    array = np.ascontiguousarray(vertices, dtype=np.float64)
+    return hashlib.sha256(memoryview(cast(Any, array)).cast("B")).hexdigest()
 
 
 @dataclass(frozen=True)
