@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator
 from contextlib import contextmanager
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 
@@ -21,6 +21,7 @@ __all__ = [
     "check_number",
     "check_object",
     "check_string",
+    "check_type",
     "check_vector",
     "field",
     "prefixed",
@@ -159,6 +160,17 @@ def check_string(name: str, value: object, *, max_length: int = 10_000) -> str:
         raise ParameterError(name, f"{name} must be a string (got {type(value).__name__})")
     if len(value) > max_length:
         raise ParameterError(name, f"{name} is too long ({len(value)} > {max_length} characters)")
+    return value
+
+
+T = TypeVar("T")
+
+
+def check_type(name: str, value: object, kind: type[T]) -> T:
+    """``value`` if it is an instance of ``kind`` (a Brush, EngineSettings...)."""
+    if not isinstance(value, kind):
+        what = kind.__name__
+        raise ParameterError(name, f"{name} must be {what} (got {type(value).__name__})")
     return value
 
 

@@ -23,7 +23,13 @@ from gogreen_core.sculpt.brushes import Brush
 from gogreen_core.sculpt.engine_settings import SETTING_GROUPS, EngineSettings
 from gogreen_core.sculpt.schema import parse_file
 from gogreen_core.sculpt.setting_table import rows
-from gogreen_core.validation import ParameterError, check_integer, check_object, check_string
+from gogreen_core.validation import (
+    ParameterError,
+    check_integer,
+    check_object,
+    check_string,
+    check_type,
+)
 
 if TYPE_CHECKING:
     from gogreen_core.sculpt.sculptor import Sculptor
@@ -62,9 +68,7 @@ class Preset:
         given.update({**dict(zip(names, ordered, strict=False)), **values})
         if len(ordered) > len(names) or set(given) - set(names):
             raise TypeError(f"Preset() takes the settings {', '.join(names)} (got {sorted(given)})")
-        brush = Brush() if brush is None else brush
-        if not isinstance(brush, Brush):
-            raise ParameterError("brush", f"brush must be a Brush (got {type(brush).__name__})")
+        brush = Brush() if brush is None else check_type("brush", brush, Brush)
         for attribute, value in (("name", name), ("brush", brush), ("description", description)):
             object.__setattr__(self, attribute, value)
         object.__setattr__(self, "settings", EngineSettings(**given))

@@ -35,7 +35,7 @@ from gogreen_core.sculpt.engine_settings import (
     resized_brush_weights,
 )
 from gogreen_core.sculpt.setting_table import Setting, rows
-from gogreen_core.validation import ParameterError
+from gogreen_core.validation import ParameterError, check_type
 
 if TYPE_CHECKING:
     from gogreen_core.sculpt.sculptor import Sculptor
@@ -233,9 +233,7 @@ class BrushSettings(EventedModel):
         return Brush(**self._values)
 
     def set_brush(self, brush: Brush, *, continued: bool = False) -> None:
-        if not isinstance(brush, Brush):
-            raise ParameterError("brush", f"brush must be a Brush (got {type(brush).__name__})")
-        self.update(asdict(brush), continued=continued)
+        self.update(asdict(check_type("brush", brush, Brush)), continued=continued)
 
 
 def _row_fields(table: Iterable[Setting], prefix: str = "") -> dict[str, Field]:
