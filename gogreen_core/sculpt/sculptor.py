@@ -398,7 +398,7 @@ class Sculptor:
                 "sha256": self._fingerprint,
             },
             "settings": self._initial.to_dict(),
-            "operations": self._log.to_list(),
+            "operations": [op.to_dict() for op in self._log],
         }
 
     @classmethod

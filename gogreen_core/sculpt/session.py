@@ -187,11 +187,6 @@ def _upgrade_v2_to_v3(data: dict[str, Any]) -> dict[str, Any]:
     return {**data, "version": 3, "operations": operations}
 
 
-def _upgrade_v3_to_v4(data: dict[str, Any]) -> dict[str, Any]:
-    """The strokes' fields partly in single precision (within 1e-4 of their motion)."""
-    return {**data, "version": 4}
-
-
 def _upgrade_v4_to_v5(data: dict[str, Any]) -> dict[str, Any]:
     """``degree_weights`` (of the wrinkle brush of versions 1-2 only) went."""
 
@@ -224,20 +219,19 @@ def _upgrade_v5_to_v6(data: dict[str, Any]) -> dict[str, Any]:
     return {**data, "version": 6, "operations": operations}
 
 
-def _upgrade_v6_to_v7(data: dict[str, Any]) -> dict[str, Any]:
-    """Nothing to change: version 7 lets a ``remesh`` give ``"detail_size": null`` (each
-    vertex's own edge length), which a version-6 reader refuses."""
-    return {**data, "version": 7}
+def _renumbered(data: dict[str, Any]) -> dict[str, Any]:
+    """A version step that changed nothing an older file holds."""
+    return {**data, "version": data["version"] + 1}
 
 
 #: The upgrade from each version to the next.
 _UPGRADES: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {
     1: _upgrade_v1_to_v2,
     2: _upgrade_v2_to_v3,
-    3: _upgrade_v3_to_v4,
+    3: _renumbered,  # the strokes' fields partly in single precision (within 1e-4 of the motion)
     4: _upgrade_v4_to_v5,
     5: _upgrade_v5_to_v6,
-    6: _upgrade_v6_to_v7,
+    6: _renumbered,  # a remesh may give "detail_size": null (each vertex's own edge length)
 }
 
 
