@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any
 
 from gogreen_core.mesh.mesh_io import write_text_atomic
 from gogreen_core.sculpt.brushes import Brush
-from gogreen_core.sculpt.engine_settings import SETTING_GROUPS, EngineSettings
+from gogreen_core.sculpt.engine_settings import EngineSettings
 from gogreen_core.sculpt.schema import parse_file
 from gogreen_core.sculpt.setting_table import rows
 from gogreen_core.validation import (
@@ -85,12 +85,7 @@ class Preset:
 
     def apply(self, sculptor: Sculptor) -> None:
         """Give ``sculptor`` this preset's settings (not the brush), as one undo step."""
-        target, joined = self.engine_settings(sculptor.settings), False
-        for group in SETTING_GROUPS:
-            if not sculptor.settings.agrees(target, group):
-                values = {name: getattr(target, name) for name in group}
-                sculptor.change_settings(continued=joined, **values)
-                joined = True
+        sculptor.apply_settings(self.engine_settings(sculptor.settings), one_step=True)
 
     def to_dict(self) -> dict[str, Any]:
         return {

@@ -171,14 +171,17 @@ class Sculptor:
         return rows
 
     # -- settings ----------------------------------------------------------------------------
-    def apply_settings(self, settings: EngineSettings, *, continued: bool = False) -> None:
+    def apply_settings(
+        self, settings: EngineSettings, *, continued: bool = False, one_step: bool = False
+    ) -> None:
         """Compute with ``settings`` from now on: each group of fields that differs changes
-        (:meth:`change_settings`, one undo step per group)."""
+        (:meth:`change_settings`, one undo step per group, or all in one with ``one_step``)."""
         settings = check_type("settings", settings, EngineSettings)
         for group in SETTING_GROUPS:
             if not self.settings.agrees(settings, group):
                 values = {name: getattr(settings, name) for name in group}
                 self.change_settings(continued=continued, **values)
+                continued = continued or one_step
 
     def change_settings(
         self, *, continued: bool = False, replaying: bool = False, **changes: Any
