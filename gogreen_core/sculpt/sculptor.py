@@ -260,8 +260,14 @@ class Sculptor:
         """Abandon the current stroke, restoring the vertices as they were before it."""
         self._strokes.cancel()
 
-    def apply_brush(self, brush: Brush, events: Sequence[BrushEvent]) -> np.ndarray:
-        """A whole stroke at once; returns the moved indices (no events: ParameterError)."""
+    def apply_brush(
+        self,
+        brush: Brush,
+        events: Sequence[BrushEvent],
+        progress: Callable[[], None] | None = None,
+    ) -> np.ndarray:
+        """A whole stroke at once; returns the moved indices (no events: ParameterError).
+        ``progress()`` is called after each event."""
         if len(events) == 0:
             raise ParameterError("events", "a stroke needs at least one event (none given)")
         self.begin_stroke(brush)
@@ -269,6 +275,8 @@ class Sculptor:
             for number, event in enumerate(events):
                 with prefixed(f"events[{number}]"):
                     self.stroke_event(event)
+                if progress is not None:
+                    progress()
         except Exception:
             self.cancel_stroke()
             raise

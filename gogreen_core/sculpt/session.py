@@ -252,24 +252,6 @@ def load_session(path: str | os.PathLike[str]) -> Session:
 
 
 # -- replay ------------------------------------------------------------------------------------
-Step = Callable[[], None]
-
-
-def _stroke(sculptor: Sculptor, op: Stroke, step: Step) -> None:
-    sculptor.begin_stroke(op.brush)
-    try:
-        for number, event in enumerate(op.events):
-            with prefixed(f"events[{number}]"):
-                sculptor.stroke_event(event)
-            step()
-    except Exception:
-        sculptor.cancel_stroke()
-        raise
-    sculptor.end_stroke()
-    if not op.events:
-        step()
-
-
 #: How each record is done: through the sculptor's public methods (a logged settings change is
 #: always replayed, as the drag it stands for was a step).
 _ACTIONS: dict[type[Operation], Callable[[Sculptor, Any], object]] = {
@@ -321,7 +303,7 @@ def replay(
             for number, op in enumerate(ops):
                 with prefixed(f"operations[{number}]"):
                     if isinstance(op, Stroke):
-                        _stroke(sculptor, op, step)
+                        sculptor.apply_brush(op.brush, op.events, step)
                     else:
                         _ACTIONS[type(op)](sculptor, op)
                         step()
