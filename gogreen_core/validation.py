@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator
 from contextlib import contextmanager
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 
@@ -21,6 +21,7 @@ __all__ = [
     "check_number",
     "check_object",
     "check_string",
+    "check_type",
     "check_vector",
     "field",
     "prefixed",
@@ -72,10 +73,9 @@ def check_number(
     low: float | None = None,
     high: float | None = None,
     low_open: bool = False,
-    high_open: bool = False,
 ) -> float:
-    """``value`` as a finite float within the bounds (closed unless ``low_open`` /
-    ``high_open``); ``bool`` is refused (``True`` is not a radius)."""
+    """``value`` as a finite float within the bounds (closed unless ``low_open``); ``bool`` is
+    refused (``True`` is not a radius)."""
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
         raise ParameterError(name, f"{name} must be a number (got {value!r})")
     try:
@@ -87,9 +87,8 @@ def check_number(
     if low is not None and (v < low or (low_open and v == low)):
         sign = ">" if low_open else "≥"
         raise ParameterError(name, f"{name} must be {sign} {low:g} (got {value!r})")
-    if high is not None and (v > high or (high_open and v == high)):
-        sign = "<" if high_open else "≤"
-        raise ParameterError(name, f"{name} must be {sign} {high:g} (got {value!r})")
+    if high is not None and v > high:
+        raise ParameterError(name, f"{name} must be ≤ {high:g} (got {value!r})")
     return v
 
 
@@ -159,6 +158,17 @@ def check_string(name: str, value: object, *, max_length: int = 10_000) -> str:
         raise ParameterError(name, f"{name} must be a string (got {type(value).__name__})")
     if len(value) > max_length:
         raise ParameterError(name, f"{name} is too long ({len(value)} > {max_length} characters)")
+    return value
+
+
+T = TypeVar("T")
+
+
+def check_type(name: str, value: object, kind: type[T]) -> T:
+    """``value`` if it is an instance of ``kind`` (a Brush, EngineSettings...)."""
+    if not isinstance(value, kind):
+        what = kind.__name__
+        raise ParameterError(name, f"{name} must be {what} (got {type(value).__name__})")
     return value
 
 

@@ -39,7 +39,6 @@ from gogreen_core.files.journal_format import (
     owner,
     recovery_root,
     replay_work,
-    vertex_hash,
     write_all,
 )
 from gogreen_core.mesh.mesh_io import MeshData, write_bytes_atomic
@@ -48,6 +47,7 @@ from gogreen_core.sculpt.brushes.brush import BrushEvent
 from gogreen_core.sculpt.checkpoint import SculptState, write_checkpoint
 from gogreen_core.sculpt.operations import Operation, Stroke
 from gogreen_core.sculpt.sculptor import Sculptor, capture_state
+from gogreen_core.sculpt.session import mesh_fingerprint
 
 __all__ = ["CHECKPOINT_WORK", "JOURNAL_FILE", "THUMBNAIL_FILE", "Journal", "recovery_root"]
 
@@ -172,7 +172,7 @@ class Journal:
                 self.directory, self._lock = new_folder(self.root)
             state = capture_state(self.sculptor)  # with its faces and UVs: the base copy's
             self._base_faces = self.sculptor.faces
-            sha = vertex_hash(state.vertices)
+            sha = mesh_fingerprint(state.vertices)
             base = f"base-{sha[:16]}.npz"
             self._token = secrets.token_hex(8)
             names = ("points", "matrix", "inverse")

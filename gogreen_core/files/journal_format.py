@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import contextlib
 import errno
-import hashlib
 import json
 import os
 import secrets
@@ -21,9 +20,7 @@ from dataclasses import dataclass, field
 from datetime import datetime
 from pathlib import Path
 from types import ModuleType
-from typing import Any, cast
-
-import numpy as np
+from typing import Any
 
 from gogreen_core.sculpt.operations import Operation, operation_from_dict
 from gogreen_core.sculpt.session import SESSION_VERSION, upgrade_session
@@ -54,7 +51,6 @@ __all__ = [
     "recovery_root",
     "replay_work",
     "state_home",
-    "vertex_hash",
     "write_all",
 ]
 
@@ -118,12 +114,6 @@ def checkpoint_files(directory: Path) -> list[tuple[int, Path]]:
         with contextlib.suppress(ValueError):
             found.append((int(path.stem.split("-", 1)[1]), path))
     return sorted(found)
-
-
-def vertex_hash(vertices: np.ndarray) -> str:
-    """SHA-256 of the float64 vertex array (the session files' ``mesh.sha256``)."""
-    array = np.ascontiguousarray(vertices, dtype=np.float64)
-    return hashlib.sha256(memoryview(cast(Any, array)).cast("B")).hexdigest()
 
 
 class JournalLock:
@@ -372,9 +362,8 @@ def _parse_record(
         return None, f"is out of order (numbered {number})"
     if kind not in ("append", "replace"):
         return None, f"is of a kind this version does not know ({kind!r})"
-    if not (isinstance(n, int) and isinstance(d, int) and isinstance(t, (int, float))):
-        return None, "is malformed"
-    if not isinstance(op, dict):
+    numbers = isinstance(n, int) and isinstance(d, int) and isinstance(t, (int, float))
+    if not numbers or not isinstance(op, dict):
         return None, "is malformed"
     typed = None
     if validate:

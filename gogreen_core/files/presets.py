@@ -20,10 +20,16 @@ from typing import TYPE_CHECKING, Any
 
 from gogreen_core.mesh.mesh_io import write_text_atomic
 from gogreen_core.sculpt.brushes import Brush
-from gogreen_core.sculpt.engine_settings import SETTING_GROUPS, EngineSettings
+from gogreen_core.sculpt.engine_settings import EngineSettings
 from gogreen_core.sculpt.schema import parse_file
 from gogreen_core.sculpt.setting_table import rows
-from gogreen_core.validation import ParameterError, check_integer, check_object, check_string
+from gogreen_core.validation import (
+    ParameterError,
+    check_integer,
+    check_object,
+    check_string,
+    check_type,
+)
 
 if TYPE_CHECKING:
     from gogreen_core.sculpt.sculptor import Sculptor
@@ -62,9 +68,7 @@ class Preset:
         given.update({**dict(zip(names, ordered, strict=False)), **values})
         if len(ordered) > len(names) or set(given) - set(names):
             raise TypeError(f"Preset() takes the settings {', '.join(names)} (got {sorted(given)})")
-        brush = Brush() if brush is None else brush
-        if not isinstance(brush, Brush):
-            raise ParameterError("brush", f"brush must be a Brush (got {type(brush).__name__})")
+        brush = Brush() if brush is None else check_type("brush", brush, Brush)
         for attribute, value in (("name", name), ("brush", brush), ("description", description)):
             object.__setattr__(self, attribute, value)
         object.__setattr__(self, "settings", EngineSettings(**given))
@@ -81,12 +85,7 @@ class Preset:
 
     def apply(self, sculptor: Sculptor) -> None:
         """Give ``sculptor`` this preset's settings (not the brush), as one undo step."""
-        target, joined = self.engine_settings(sculptor.settings), False
-        for group in SETTING_GROUPS:
-            if not sculptor.settings.agrees(target, group):
-                values = {name: getattr(target, name) for name in group}
-                sculptor.change_settings(continued=joined, **values)
-                joined = True
+        sculptor.apply_settings(self.engine_settings(sculptor.settings), one_step=True)
 
     def to_dict(self) -> dict[str, Any]:
         return {

@@ -37,13 +37,12 @@ from gogreen_core.files.journal_format import (
     read_journal,
     recovery_root,
     replay_work,
-    vertex_hash,
 )
 from gogreen_core.mesh.mesh_io import MeshData, load_mesh
 from gogreen_core.sculpt.checkpoint import CheckpointError, SculptState, read_checkpoint
 from gogreen_core.sculpt.operations import SETTINGS_CHANGES, Operation
 from gogreen_core.sculpt.sculptor import Sculptor, restore_state
-from gogreen_core.sculpt.session import SESSION_FORMAT, SESSION_VERSION, replay
+from gogreen_core.sculpt.session import SESSION_FORMAT, SESSION_VERSION, mesh_fingerprint, replay
 
 __all__ = [
     "RECOVERY_WORK",
@@ -329,7 +328,7 @@ def _base_mismatch(base: MeshData, mesh: dict[str, Any]) -> str | None:
             f"has {len(base.vertices)} vertices and {len(base.faces)} faces, not "
             f"{mesh['vertices']} and {mesh['faces']}"
         )
-    if vertex_hash(base.vertices) != mesh["sha256"]:
+    if mesh_fingerprint(base.vertices) != mesh["sha256"]:
         return "has other vertices (hash mismatch)"
     return None
 

@@ -25,6 +25,7 @@ from typing import Any, TypeVar
 
 import numpy as np
 
+from gogreen_core.field.limits import check_l_max
 from gogreen_core.field.truncation import truncation_errors
 from gogreen_core.files.journal import recovery_root
 from gogreen_core.files.recovery import (
@@ -47,7 +48,7 @@ from gogreen_core.sculpt.brushes import (
 )
 from gogreen_core.sculpt.engine_settings import EngineSettings
 from gogreen_core.sculpt.operations import MAX_EVENTS
-from gogreen_core.sculpt.schema import parse_falloff, parse_l_max, parse_material, read_json
+from gogreen_core.sculpt.schema import parse_falloff, parse_material, read_json
 from gogreen_core.sculpt.sculptor import Sculptor
 from gogreen_core.sculpt.session import load_session
 from gogreen_core.sculpt.setting_table import Setting, rows
@@ -195,7 +196,7 @@ def _deform(args: argparse.Namespace) -> int:
 def _truncation(args: argparse.Namespace) -> int:
     """Print δ(l_max) of the material, one line per even l_max, then the summary."""
     material = _material(args)
-    l_max = parse_l_max(args.l_max, "--l-max")
+    l_max = check_l_max(args.l_max, "--l-max")
     max_degree = check_integer("--max-degree", args.max_degree, low=0, high=44)
     progress = None if args.quiet else ProgressBar("truncation")
     report = truncation_errors(material, max_degree, progress=progress)

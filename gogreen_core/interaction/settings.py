@@ -11,9 +11,8 @@ once per update. Views bind to it both ways; :class:`EngineLink` feeds the engin
     link = EngineLink(settings, sculptor)            # material/falloff/pins reach the engine
     settings.material = Material.isotropic(1, 0.45)  # -> sculptor.apply_settings(...)
 
-Values are immutable: a change is an assignment. The fields are rows of the setting table
-(:mod:`gogreen_core.sculpt.setting_table`), :data:`PEN_ROWS` and :data:`VIEW_ROWS`. A drag sets
-its field with ``continued=True`` after its first step: one undo step in the engine.
+The fields are rows of the setting table (:mod:`gogreen_core.sculpt.setting_table`),
+:data:`PEN_ROWS` and :data:`VIEW_ROWS`; values are immutable (a change is an assignment).
 """
 
 from __future__ import annotations
@@ -35,7 +34,7 @@ from gogreen_core.sculpt.engine_settings import (
     resized_brush_weights,
 )
 from gogreen_core.sculpt.setting_table import Setting, rows
-from gogreen_core.validation import ParameterError
+from gogreen_core.validation import ParameterError, check_type
 
 if TYPE_CHECKING:
     from gogreen_core.sculpt.sculptor import Sculptor
@@ -149,8 +148,7 @@ class Field:
 
 
 class EventedModel:
-    """Base of the evented models: declared :class:`Field` s, validated, with change events
-    (:meth:`_normalize` may validate fields that depend on each other)."""
+    """Base of the evented models: declared :class:`Field` s, validated, with change events."""
 
     fields: ClassVar[dict[str, Field]] = {}
 
@@ -175,7 +173,7 @@ class EventedModel:
             self.update(values)
 
     def set(self, name: str, value: Any, *, continued: bool = False, source: str = "") -> None:
-        """Set one field (see :meth:`update`)."""
+        """Set one field (see :meth:`update`; a drag's later steps are ``continued``)."""
         self.update({name: value}, continued=continued, source=source)
 
     def update(
@@ -197,7 +195,7 @@ class EventedModel:
         return frozenset(changed)
 
     def _normalize(self, values: dict[str, Any]) -> dict[str, Any]:
-        """Validated ``values`` (field order); may add dependent fields."""
+        """Validated ``values`` (field order); a subclass may check dependent fields here."""
         out = {}
         for name, f in self.fields.items():
             if name in values:
@@ -233,9 +231,7 @@ class BrushSettings(EventedModel):
         return Brush(**self._values)
 
     def set_brush(self, brush: Brush, *, continued: bool = False) -> None:
-        if not isinstance(brush, Brush):
-            raise ParameterError("brush", f"brush must be a Brush (got {type(brush).__name__})")
-        self.update(asdict(brush), continued=continued)
+        self.update(asdict(check_type("brush", brush, Brush)), continued=continued)
 
 
 def _row_fields(table: Iterable[Setting], prefix: str = "") -> dict[str, Field]:
@@ -348,8 +344,7 @@ class Settings(_Rows, made=_row_fields(rows("app"))):
         return EngineSettings(**{name: self._values[name] for name in ENGINE_FIELDS})
 
     def weights_for(self, kind: str) -> np.ndarray:
-        """Brush ``kind``'s degree weights ω_l (l_max + 2,) (its defaults when it has none of its
-        own)."""
+        """Brush ``kind``'s degree weights ω_l (l_max + 2,) (:meth:`EngineSettings.weights_for`)."""
         return self.engine_settings.weights_for(kind)
 
     def set_brush_weights(
@@ -370,8 +365,7 @@ class Settings(_Rows, made=_row_fields(rows("app"))):
         self.brush.set_brush(preset.brush)
 
     def sculptor_options(self) -> dict[str, Any]:
-        """Keyword arguments of :class:`gogreen_core.Sculptor` for a new mesh: these
-        :attr:`engine_settings`."""
+        """Keyword arguments of :class:`gogreen_core.Sculptor` for a new mesh."""
         return {"settings": self.engine_settings}
 
 

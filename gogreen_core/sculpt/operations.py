@@ -260,40 +260,17 @@ class Remesh(Operation):
         _set(self, "iterations", rounds)
 
 
-@dataclass(frozen=True)
-class ConstraintsClear(Operation):
-    """Remove every pin."""
-
-    name: ClassVar[str] = "constraints_clear"
-
-
-@dataclass(frozen=True)
-class MaskInvert(Operation):
-    """Invert the vertex mask, m → 1 − m (an undo step; the vertices do not move)."""
-
-    name: ClassVar[str] = "mask_invert"
+def _plain_record(name: str, doc: str) -> type[Operation]:
+    """The record class of an operation without fields: ``{"op": name}``."""
+    made = type(name.title().replace("_", ""), (Operation,), {"name": name, "__doc__": doc})
+    return cast("type[Operation]", dataclass(frozen=True)(made))
 
 
-@dataclass(frozen=True)
-class MaskClear(Operation):
-    """Clear the vertex mask (an undo step when anything was masked)."""
-
-    name: ClassVar[str] = "mask_clear"
-
-
-@dataclass(frozen=True)
-class Undo(Operation):
-    """Undo the last step."""
-
-    name: ClassVar[str] = "undo"
-
-
-@dataclass(frozen=True)
-class Redo(Operation):
-    """Redo the last undone step."""
-
-    name: ClassVar[str] = "redo"
-
+ConstraintsClear = _plain_record("constraints_clear", "Remove every pin.")
+MaskInvert = _plain_record("mask_invert", "Invert the vertex mask, m → 1 − m (an undo step).")
+MaskClear = _plain_record("mask_clear", "Clear the vertex mask (an undo step if any was masked).")
+Undo = _plain_record("undo", "Undo the last step.")
+Redo = _plain_record("redo", "Redo the last undone step.")
 
 _RECORDS: tuple[type[Operation], ...] = (
     Stroke,

@@ -105,7 +105,6 @@ class Pins:
         return index
 
     def _record(self, label: str, before: np.ndarray) -> None:
-        """One undo step for a change of the pins alone (positions before and now)."""
         state = (_Points(before), _Points(self.points))
         self.history.record_state(label, state)
 
@@ -172,10 +171,8 @@ class Pins:
     def _solver(
         self, constraints: ConstraintSet, start: np.ndarray, delta: np.ndarray, continued: bool
     ) -> ConstraintSet:
-        """The pins a drag of the pin at ``start`` by ``delta`` solves with: ``constraints``,
-        or with the "surface" material frame the pins with the material turned onto the surface
-        under the dragged pin (:mod:`~gogreen_core.sculpt.material_frame`), kept while the drag
-        continues."""
+        """``constraints``, or with the "surface" material frame the pins with the material turned
+        onto the surface at ``start`` (the dragged pin's), kept while the drag continues."""
         kernels = self._kernels()
         if kernels.settings.material_frame != "surface":
             self._framed = None

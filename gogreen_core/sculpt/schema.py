@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, TypeVar, cast
 
 from gogreen_core.field.kernel import L_MAX_LIMIT
-from gogreen_core.field.limits import check_l_max, check_material
+from gogreen_core.field.limits import check_material
 from gogreen_core.physics.material import Material
 from gogreen_core.physics.radial import (
     INTERPOLATIONS,
@@ -46,7 +46,6 @@ __all__ = [
     "MAX_CONTROL_POINTS",
     "parse_falloff",
     "parse_file",
-    "parse_l_max",
     "parse_material",
     "read_json",
 ]
@@ -108,10 +107,6 @@ def parse_falloff(data: object, path: str = "falloff") -> RadialProfile:
     )
     with prefixed(name):
         return SplineRadial(eps, curves, interpolation)
-
-
-#: Truncation degree: an integer in [0, ``L_MAX_LIMIT``] (``parse_l_max(value, path)``).
-parse_l_max = check_l_max
 
 
 def member(data: object, path: str, key: str) -> object:

@@ -1,8 +1,5 @@
-"""The sculpting engine: a mesh, its settings, strokes, pins, undo and the session log.
-
-Everything the app does with the mouse goes through :class:`Sculptor`, so a script (or
-``gogreen replay``) can do it too; it holds the parts together and keeps undo consistent.
-"""
+"""The sculpting engine: a mesh, its settings, strokes, pins, undo and the session log. Everything
+the app does with the mouse goes through :class:`Sculptor`, so a script can do it too."""
 
 from __future__ import annotations
 
@@ -40,8 +37,14 @@ from gogreen_core.sculpt.session import (
     replay,
 )
 from gogreen_core.sculpt.session_log import LogListener, SessionLog
-from gogreen_core.sculpt.stroke import Remesher, StrokeDriver, checked_brush
-from gogreen_core.validation import ParameterError, check_bool, check_vector, prefixed
+from gogreen_core.sculpt.stroke import Remesher, StrokeDriver
+from gogreen_core.validation import (
+    ParameterError,
+    check_bool,
+    check_type,
+    check_vector,
+    prefixed,
+)
 
 __all__ = [
     "Sculptor",
@@ -90,7 +93,7 @@ class Sculptor:
             settings = EngineSettings(**values)
         elif values:
             raise TypeError("Sculptor() takes settings or their fields one by one, not both")
-        self._kernels = KernelCache(_checked(settings))
+        self._kernels = KernelCache(check_type("settings", settings, EngineSettings))
         self._initial = settings
         self._strokes = StrokeDriver(self._mesh, self.history, self._log)
         self._pins = Pins(self._mesh, self.history, self._log, lambda: self._kernels)
@@ -150,9 +153,8 @@ class Sculptor:
 
     def adopt_vertices(self, vertices: np.ndarray) -> np.ndarray:
         """Take positions (N, 3) a host application (Blender) changed outside the engine: the
-        rows that differ are written, no undo step or session record (our undo is cleared when
-        a row changed). Returns their indices (K,); ParameterError for a wrong shape or a
-        coordinate that is not finite."""
+        rows that differ are written, no undo step or record (undo is cleared). Returns their
+        indices (K,); ParameterError for a wrong shape or a coordinate that is not finite."""
         self._strokes.refuse("adopt vertices")
         mesh = self._mesh
         new = np.asarray(vertices, dtype=np.float64)
@@ -169,14 +171,17 @@ class Sculptor:
         return rows
 
     # -- settings ----------------------------------------------------------------------------
-    def apply_settings(self, settings: EngineSettings, *, continued: bool = False) -> None:
+    def apply_settings(
+        self, settings: EngineSettings, *, continued: bool = False, one_step: bool = False
+    ) -> None:
         """Compute with ``settings`` from now on: each group of fields that differs changes
-        (:meth:`change_settings`, one undo step per group)."""
-        settings = _checked(settings)
+        (:meth:`change_settings`, one undo step per group, or all in one with ``one_step``)."""
+        settings = check_type("settings", settings, EngineSettings)
         for group in SETTING_GROUPS:
             if not self.settings.agrees(settings, group):
                 values = {name: getattr(settings, name) for name in group}
                 self.change_settings(continued=continued, **values)
+                continued = continued or one_step
 
     def change_settings(
         self, *, continued: bool = False, replaying: bool = False, **changes: Any
@@ -233,7 +238,8 @@ class Sculptor:
     def influence(self, brush: Brush) -> float:
         """``brush``'s influence radius in ε (``inf``: every vertex): its own number, or what
         ``"auto"`` gives with the current settings (the cursor's influence ring)."""
-        return checked_brush(brush).type.reach(self._strokes.context(self._kernels), brush)
+        context = self._strokes.context(self._kernels)
+        return check_type("brush", brush, Brush).type.reach(context, brush)
 
     def begin_stroke(self, brush: Brush) -> None:
         """Start a stroke with ``brush``; events follow, then :meth:`end_stroke`."""
@@ -254,8 +260,14 @@ class Sculptor:
         """Abandon the current stroke, restoring the vertices as they were before it."""
         self._strokes.cancel()
 
-    def apply_brush(self, brush: Brush, events: Sequence[BrushEvent]) -> np.ndarray:
-        """A whole stroke at once; returns the moved indices (no events: ParameterError)."""
+    def apply_brush(
+        self,
+        brush: Brush,
+        events: Sequence[BrushEvent],
+        progress: Callable[[], None] | None = None,
+    ) -> np.ndarray:
+        """A whole stroke at once; returns the moved indices (no events: ParameterError).
+        ``progress()`` is called after each event."""
         if len(events) == 0:
             raise ParameterError("events", "a stroke needs at least one event (none given)")
         self.begin_stroke(brush)
@@ -263,6 +275,8 @@ class Sculptor:
             for number, event in enumerate(events):
                 with prefixed(f"events[{number}]"):
                     self.stroke_event(event)
+                if progress is not None:
+                    progress()
         except Exception:
             self.cancel_stroke()
             raise
@@ -342,7 +356,6 @@ class Sculptor:
     def _history_step(
         self, step: Callable[[np.ndarray], str | None], record: Operation
     ) -> str | None:
-        """Undo or redo: the vertices, then the settings, mask, mesh or pins the step had."""
         label = step(self._mesh.vertices)
         if label is not None:
             self._mesh.moved(self.history.restored_indices)  # written in place
@@ -396,7 +409,7 @@ class Sculptor:
                 "sha256": self._fingerprint,
             },
             "settings": self._initial.to_dict(),
-            "operations": self._log.to_list(),
+            "operations": [op.to_dict() for op in self._log],
         }
 
     @classmethod
@@ -426,14 +439,6 @@ class Sculptor:
         replay(self, operations, progress)
 
 
-def _checked(settings: object) -> EngineSettings:
-    if not isinstance(settings, EngineSettings):
-        raise ParameterError(
-            "settings", f"settings must be EngineSettings (got {type(settings).__name__})"
-        )
-    return settings
-
-
 # -- crash recovery ----------------------------------------------------------------------------
 def capture_state(sculptor: Sculptor, faces: np.ndarray | None = None) -> SculptState:
     """A copy of what ``sculptor``'s next operations compute from (:class:`SculptState`); its
@@ -459,16 +464,12 @@ def restore_state(
     faces: np.ndarray,
     uv: np.ndarray | None = None,
     uv_faces: np.ndarray | None = None,
-    **options: Any,
 ) -> Sculptor:
     """A sculptor that continues bit for bit from ``state`` (:func:`capture_state`), empty
-    history and log. ``faces``, ``uv``, ``uv_faces``: for a state without its own.
-    ``options``: ``history_bytes``."""
+    history and log. ``faces``, ``uv``, ``uv_faces``: for a state without its own."""
     if state.faces is not None:
         faces, uv, uv_faces = state.faces, state.uv, state.uv_faces
-    sculptor = Sculptor(
-        state.vertices, faces, uv=uv, uv_faces=uv_faces, settings=state.settings, **options
-    )
+    sculptor = Sculptor(state.vertices, faces, uv=uv, uv_faces=uv_faces, settings=state.settings)
     if state.mask is not None:
         sculptor._mesh.set_mask_rows(MaskRows(np.arange(len(state.mask)), state.mask))
     sculptor.model_size = sculptor._mesh.model_size = float(state.model_size)

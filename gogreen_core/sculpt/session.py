@@ -13,7 +13,7 @@ import hashlib
 import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
@@ -72,7 +72,8 @@ MAX_OPERATIONS = 10_000_000
 
 def mesh_fingerprint(vertices: np.ndarray) -> str:
     """SHA-256 of the float64 vertex array: tells whether a session replays on its own mesh."""
-    return hashlib.sha256(np.ascontiguousarray(vertices, dtype=np.float64).tobytes()).hexdigest()
+    array = np.ascontiguousarray(vertices, dtype=np.float64)
+    return hashlib.sha256(memoryview(cast(Any, array)).cast("B")).hexdigest()
 
 
 @dataclass(frozen=True)
@@ -186,11 +187,6 @@ def _upgrade_v2_to_v3(data: dict[str, Any]) -> dict[str, Any]:
     return {**data, "version": 3, "operations": operations}
 
 
-def _upgrade_v3_to_v4(data: dict[str, Any]) -> dict[str, Any]:
-    """The strokes' fields partly in single precision (within 1e-4 of their motion)."""
-    return {**data, "version": 4}
-
-
 def _upgrade_v4_to_v5(data: dict[str, Any]) -> dict[str, Any]:
     """``degree_weights`` (of the wrinkle brush of versions 1-2 only) went."""
 
@@ -223,20 +219,19 @@ def _upgrade_v5_to_v6(data: dict[str, Any]) -> dict[str, Any]:
     return {**data, "version": 6, "operations": operations}
 
 
-def _upgrade_v6_to_v7(data: dict[str, Any]) -> dict[str, Any]:
-    """Nothing to change: version 7 lets a ``remesh`` give ``"detail_size": null`` (each
-    vertex's own edge length), which a version-6 reader refuses."""
-    return {**data, "version": 7}
+def _renumbered(data: dict[str, Any]) -> dict[str, Any]:
+    """A version step that changed nothing an older file holds."""
+    return {**data, "version": data["version"] + 1}
 
 
 #: The upgrade from each version to the next.
 _UPGRADES: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {
     1: _upgrade_v1_to_v2,
     2: _upgrade_v2_to_v3,
-    3: _upgrade_v3_to_v4,
+    3: _renumbered,  # the strokes' fields partly in single precision (within 1e-4 of the motion)
     4: _upgrade_v4_to_v5,
     5: _upgrade_v5_to_v6,
-    6: _upgrade_v6_to_v7,
+    6: _renumbered,  # a remesh may give "detail_size": null (each vertex's own edge length)
 }
 
 
@@ -257,24 +252,6 @@ def load_session(path: str | os.PathLike[str]) -> Session:
 
 
 # -- replay ------------------------------------------------------------------------------------
-Step = Callable[[], None]
-
-
-def _stroke(sculptor: Sculptor, op: Stroke, step: Step) -> None:
-    sculptor.begin_stroke(op.brush)
-    try:
-        for number, event in enumerate(op.events):
-            with prefixed(f"events[{number}]"):
-                sculptor.stroke_event(event)
-            step()
-    except Exception:
-        sculptor.cancel_stroke()
-        raise
-    sculptor.end_stroke()
-    if not op.events:
-        step()
-
-
 #: How each record is done: through the sculptor's public methods (a logged settings change is
 #: always replayed, as the drag it stands for was a step).
 _ACTIONS: dict[type[Operation], Callable[[Sculptor, Any], object]] = {
@@ -326,7 +303,7 @@ def replay(
             for number, op in enumerate(ops):
                 with prefixed(f"operations[{number}]"):
                     if isinstance(op, Stroke):
-                        _stroke(sculptor, op, step)
+                        sculptor.apply_brush(op.brush, op.events, step)
                     else:
                         _ACTIONS[type(op)](sculptor, op)
                         step()

@@ -65,6 +65,3 @@ class SessionLog:
         if length < len(self._operations):
             del self._operations[length:]
             self._notify("truncate", None)
-
-    def to_list(self) -> list[dict[str, Any]]:
-        return [op.to_dict() for op in self._operations]

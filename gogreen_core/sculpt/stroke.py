@@ -1,20 +1,10 @@
-"""The stroke driver: begin a stroke, one event per mouse event, end it.
+"""The stroke driver: begin a stroke, one event per mouse event, end it (one undo step and one
+session log entry); and Mesh → Remesh.
 
-Each event moves the current vertices with the stroke's brush (its row of the brush table,
-:mod:`gogreen_core.sculpt.brushes`); a Green's function brush takes its field as a velocity over
-pseudo-time [0, 1] (paper Sec. 3.2), so a stroke is the composition of its events' flows.
-
-:meth:`StrokeDriver._write` is the one place brush results reach the mesh: without a vertex mask
-brushes write through; with one each row moves (1 − mask) of the way. A stroke is one undo step
-and one session log entry, recorded when it ends.
-
-With the "surface" material frame a Green's function brush's stroke computes with the kernels
-turned onto the surface at its first event (:mod:`gogreen_core.sculpt.material_frame`).
-
-Dynamic topology (``EngineSettings.dynamic_topology``): after each event, the faces the stroke
-strained or whose vertices it moved most are remeshed (:meth:`StrokeDriver._remesh`,
-:mod:`gogreen_core.mesh.remesh`), the pins' vertices locked; the undo step holds what the
-stroke changed (:class:`~gogreen_core.mesh.mesh_state.MeshEdit`).
+Each event moves the current vertices with the stroke's brush (:mod:`gogreen_core.sculpt.brushes`);
+a Green's function brush takes its field as a velocity over pseudo-time [0, 1] (paper Sec. 3.2),
+so a stroke is the composition of its events' flows. With dynamic topology the strained faces
+are remeshed after each event (:meth:`StrokeDriver._remesh`).
 """
 
 from __future__ import annotations
@@ -48,7 +38,7 @@ from gogreen_core.sculpt.kernel_cache import KernelCache
 from gogreen_core.sculpt.material_frame import FramedKernels, frame_at
 from gogreen_core.sculpt.operations import REMESH_ITERATIONS, Remesh, Stroke
 from gogreen_core.sculpt.session_log import SessionLog
-from gogreen_core.validation import ParameterError
+from gogreen_core.validation import check_type
 
 __all__ = [
     "CORE_MOTION",
@@ -87,8 +77,8 @@ class _Stroke:
     memo: dict[str, Any] = field(default_factory=dict)  # the brush's state between events
     mask_before: np.ndarray | None = None  # (N,) the mask, copied at the first mask edit
     # dynamic topology: the mesh at the start (once remeshed), each vertex's and face's row in
-    # it (-1: new), position when last remeshed and event after which it was (0: none yet);
-    # the target edge length (model units): one, or each vertex's (N,)
+    # it (-1: new), position when last remeshed and event after which it was; the target edge
+    # length (model units): one, or each vertex's (N,)
     start: MeshSnapshot | None = None
     origin: np.ndarray = field(default_factory=lambda: _NO_INDEX)
     face_origin: np.ndarray = field(default_factory=lambda: _NO_INDEX)
@@ -134,7 +124,7 @@ class StrokeDriver:
         )
 
     def begin(self, brush: Brush) -> None:
-        self._stroke = _Stroke(checked_brush(brush), self.mesh.vertices.copy())
+        self._stroke = _Stroke(check_type("brush", brush, Brush), self.mesh.vertices.copy())
 
     def event(self, kernels: KernelCache, event: BrushEvent) -> np.ndarray:
         """Apply one event of the current stroke; the indices (n,) of the rows it moved (or
@@ -142,10 +132,7 @@ class StrokeDriver:
         stroke = self._stroke
         if stroke is None:
             raise RuntimeError("stroke_event outside a stroke: call begin_stroke first")
-        if not isinstance(event, BrushEvent):
-            raise ParameterError(
-                "event", f"a stroke event must be a BrushEvent (got {type(event).__name__})"
-            )
+        check_type("event", event, BrushEvent)
         # pen pressure → radius (the field bound is cached in units of ε: valid for any)
         brush = event.brush(stroke.brush)
         self.mesh.check_point("center", event.center)
@@ -184,11 +171,9 @@ class StrokeDriver:
         return pinned
 
     def _remesh(self, stroke: _Stroke, settings: EngineSettings, rows: np.ndarray) -> bool:
-        """Dynamic topology after an event that moved ``rows``: the faces (grown by a ring)
-        around vertices whose sides changed by more than :data:`STRAIN_TOLERANCE` since they
-        were last remeshed, or that moved per event at least :data:`CORE_MOTION` of the most
-        any did, are remeshed to the detail size (None: each vertex's edges before the stroke,
-        so coarse parts stay coarse). True when the mesh changed."""
+        """Dynamic topology after an event that moved ``rows``: remesh the faces (grown by a
+        ring) around vertices strained (:data:`STRAIN_TOLERANCE`) or moving most
+        (:data:`CORE_MOTION`) since they were last remeshed. True when the mesh changed."""
         mesh = self.mesh
         if stroke.reference is None:
             stroke.reference = stroke.before
@@ -196,7 +181,7 @@ class StrokeDriver:
         if stroke.detail is None:
             if settings.detail_size is not None:
                 stroke.detail = settings.detail_size * mesh.model_size
-            else:  # each vertex's edges before the stroke (coarse parts stay coarse)
+            else:  # each vertex's edges before the stroke: coarse parts stay coarse
                 stroke.detail = local_edge_lengths(stroke.before, mesh.faces)
         detail = stroke.detail
         if not np.all(detail > 0):  # a model of size 0: nothing to measure by
@@ -393,11 +378,9 @@ class Remesher:
         prepared: PreparedRemesh | None = None,
     ) -> None:
         """Remesh the whole mesh, or its faces not masked, to edges of about ``detail_size``
-        model sizes (None: each vertex's own, its edges' mean; :mod:`gogreen_core.mesh.remesh`;
-        ``iterations`` rounds), mask and UVs carried along, the pins' vertices kept, the
-        model's size and origin unchanged: one undo step (undo gives back the previous arrays
-        exactly) and one log entry. ``prepared``: the same remesh computed ahead
-        (:meth:`prepare`); a ValueError, nothing changed, if the mesh changed since."""
+        model sizes (None: each vertex's own; :mod:`gogreen_core.mesh.remesh`), the pins'
+        vertices kept: one undo step and log entry. ``prepared``: the same computed ahead
+        (:meth:`prepare`); ValueError, nothing changed, if the mesh changed since."""
         self.strokes.refuse("remesh")
         if prepared is None:
             prepared = self.prepare(detail_size, unmasked_only, iterations).compute()
@@ -418,10 +401,3 @@ def surface_frame_of(mesh: MeshState, brush: Brush, event: BrushEvent) -> np.nda
     brush's stroke direction, another's cursor motion; :func:`frame_at`)."""
     motion = event.direction if brush.type.is_affine else event.delta
     return frame_at(mesh, event.center, brush.eps(mesh.model_size), motion)
-
-
-def checked_brush(brush: object) -> Brush:
-    """``brush``, refused (ParameterError) unless it is a :class:`Brush`."""
-    if not isinstance(brush, Brush):
-        raise ParameterError("brush", f"brush must be a Brush (got {type(brush).__name__})")
-    return brush

@@ -252,7 +252,7 @@ def _cli_run(data: bytes, folder: Path) -> None:
             _finite("deform", value)
     elif args.command == "truncation":
         batch._material(args)
-        batch.parse_l_max(args.l_max, "--l-max")
+        batch.check_l_max(args.l_max, "--l-max")
 
 
 def targets(folder: Path) -> list[Target]:

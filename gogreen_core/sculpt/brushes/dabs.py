@@ -176,9 +176,8 @@ class DetailBrush(PaintBrush):
 def _vertex_normals(
     mesh: MeshState, rows: np.ndarray, slot: np.ndarray, current: np.ndarray
 ) -> np.ndarray:
-    """Area-weighted unit normals (k, 3) of vertices ``rows`` (k,), from the faces around them
-    with the positions ``current[slot[v]]`` where ``slot[v]`` ≥ 0, else ``mesh.vertices[v]``
-    (:func:`~gogreen_core.mesh.geometry.vertex_normals`' sums, restricted to these rows)."""
+    """Area-weighted unit normals (k, 3) of vertices ``rows`` (k,), with the positions
+    ``current[slot[v]]`` where ``slot[v]`` ≥ 0, else ``mesh.vertices[v]``."""
     owner, around = FaceAdjacency.of(mesh.faces, len(mesh.vertices)).around(rows)
     corners = mesh.faces[around]
     where = slot[corners]
