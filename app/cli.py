@@ -44,13 +44,15 @@ def main(argv: list[str] | None = None) -> int:
 
         return batch_main(argv)
     args = _parser().parse_args(argv)
+    from app.memory import read_sources_uncached, use_own_pages_for_big_blocks
+
+    use_own_pages_for_big_blocks()  # a replaced big mesh gives its memory back (app.memory)
+    read_sources_uncached()  # before the app's imports: PySide6 would keep their sources
+
     from PySide6.QtCore import QTimer
     from PySide6.QtWidgets import QApplication
 
     from app.main_window import MainWindow
-    from app.memory import use_own_pages_for_big_blocks
-
-    use_own_pages_for_big_blocks()  # a replaced big mesh gives its memory back (app.memory)
 
     app = QApplication.instance() or QApplication(sys.argv[:1])
     app.setApplicationName("GoGreen Sculpt")

@@ -409,6 +409,13 @@ class MainWindow(QMainWindow):
         self.look.apply_mesh_look()  # the actor now draws the index's arrays
         if self.document is not None:
             self.flash(f"{self.document.title} is ready to sculpt")
+        self._release_when_settled()
+
+    def _release_when_settled(self) -> None:
+        """Once the surface index and the kernels are in, return the free pages their
+        building and the start-up left to the system (:mod:`app.memory`)."""
+        if not (self.kernel_warmer.busy or self.viewport.surface_building):
+            QTimer.singleShot(0, partial(release_freed_memory, collect=False))
 
     def _surface_failed(self, error: str) -> None:
         self.surface_progress.hide()
@@ -465,6 +472,8 @@ class MainWindow(QMainWindow):
 
     def _compiling(self, busy: bool) -> None:
         self.status.compile_progress.setVisible(busy)
+        if not busy:
+            self._release_when_settled()
         if busy:  # a busy bar until the driver counts units missing from the cache
             self.status.compile_progress.setRange(0, 0)
             self.flash(

@@ -69,17 +69,75 @@ def big_mesh(meshes: Path) -> Path | str:
     return out
 
 
-def probe_rss(meshes: Path) -> dict[str, object]:
-    from PySide6.QtCore import QSettings, Qt
-    from PySide6.QtTest import QTest
+def anonymous_mb() -> float:
+    """This process's anonymous memory in MB (its heaps and stacks: RSS without the pages of
+    mapped files, which depend on what other processes keep in the page cache)."""
+    for line in Path("/proc/self/smaps_rollup").read_text().splitlines():
+        if line.startswith("Anonymous:"):
+            return int(line.split()[1]) / 1024
+    raise RuntimeError("no Anonymous")
+
+
+FLOOR = """
+import json, sys, time
+if "--uncached" in sys.argv:  # PySide6 keeps no module sources, as in the app (app.memory)
+    import app.memory
+    getattr(app.memory, "read_sources_uncached", lambda: None)()
+if "--all" in sys.argv:  # the rest of the app's dependencies, imported first as the app does
+    import numba, scipy.spatial, trimesh
+from PySide6.QtWidgets import QApplication, QMainWindow
+import pyvista as pv
+from pyvistaqt import QtInteractor
+sys.path.insert(0, sys.argv[1])
+from app_scale import anonymous_mb, rss_mb
+app = QApplication(sys.argv[:1])
+window = QMainWindow()
+free = window.screen().availableGeometry()  # the app's size: app.main_window.fit_to_screen
+window.resize(round(free.width() * 0.94), round(free.height() * 0.94))
+plotter = QtInteractor(window)
+window.setCentralWidget(plotter.interactor)
+plotter.add_mesh(pv.Icosphere(nsub=6), smooth_shading=True)  # 40,962 points: the default model's
+window.show()
+end = time.perf_counter() + 3.0
+while time.perf_counter() < end:
+    app.processEvents()
+    time.sleep(0.01)
+plotter.render()
+print(json.dumps({"rss": rss_mb(), "anonymous": anonymous_mb()}))
+"""
+
+
+def floor(*options: str) -> dict[str, float]:
+    """RSS and anonymous MB of the floor the dependencies set: a bare Qt main window of the
+    app's size with one pyvistaqt view of a 40,962-point smooth-shaded sphere, rendered
+    (options ``--all``: with numba, scipy.spatial and trimesh imported as well; ``--uncached``:
+    PySide6 keeps no module sources, :func:`app.memory.read_sources_uncached`)."""
+    run = subprocess.run(
+        [sys.executable, "-c", FLOOR, str(HERE.parent), *options], capture_output=True, text=True
+    )
+    if run.returncode:
+        raise RuntimeError(run.stderr[-3000:])
+    return json.loads(run.stdout.strip().splitlines()[-1])
+
+
+def probe_idle() -> dict[str, float]:
+    """RSS and anonymous MB of the app idle on the default model after a fresh start."""
+    window, _settle = start_app()
+    result = {"rss": rss_mb(), "anonymous": anonymous_mb()}
+    window.close()
+    return result
+
+
+def start_app():
+    """The main window, started as ``app.cli.main`` does, idle on the default model; and a
+    function that runs its events for some seconds."""
+    from PySide6.QtCore import QSettings
     from PySide6.QtWidgets import QApplication
 
-    try:  # as app.cli.main does (not in the code before issue 36)
-        from app.memory import use_own_pages_for_big_blocks
-    except ImportError:
-        pass
-    else:
-        use_own_pages_for_big_blocks()
+    from app import memory
+
+    for step in ("use_own_pages_for_big_blocks", "read_sources_uncached"):  # as app.cli.main
+        getattr(memory, step, lambda: None)()  # (absent from older code)
     app = QApplication.instance() or QApplication(sys.argv[:1])
     from app.main_window import MainWindow
 
@@ -97,6 +155,16 @@ def probe_rss(meshes: Path) -> dict[str, object]:
     while window.homogenization_panel.is_busy:
         settle(0.1)
     settle(3.0)
+    return window, settle
+
+
+def probe_rss(meshes: Path) -> dict[str, object]:
+    from PySide6.QtCore import Qt
+    from PySide6.QtTest import QTest
+    from PySide6.QtWidgets import QApplication
+
+    window, settle = start_app()
+    app = QApplication.instance()
     result: dict[str, object] = {"idle": rss_mb()}
     path = big_mesh(meshes)
     if isinstance(path, str):
@@ -367,20 +435,65 @@ def print_interaction(r: dict[str, object]) -> None:
     )
 
 
+def print_idle_and_floor(launches: int) -> None:
+    """Idle RSS of the app beside the floor of its dependencies, medians of fresh launches
+    taking turns (the page cache then serves them alike)."""
+    from statistics import median
+
+    runs: dict[str, list[dict[str, float]]] = {"app": [], "gui": [], "all": [], "uncached": []}
+    for _ in range(launches):
+        runs["gui"].append(floor())
+        runs["all"].append(floor("--all"))
+        runs["uncached"].append(floor("--all", "--uncached"))
+        run = subprocess.run(
+            [sys.executable, str(HERE), "--probe-idle"], capture_output=True, text=True
+        )
+        if run.returncode:
+            raise RuntimeError(run.stderr[-3000:])
+        runs["app"].append(json.loads(run.stdout.strip().splitlines()[-1]))
+    rss = {k: median(r["rss"] for r in v) for k, v in runs.items()}
+    anon = {k: median(r["anonymous"] for r in v) for k, v in runs.items()}
+    each = ", ".join(f"{r['rss']:.0f}" for r in runs["app"])
+    print(
+        f"RSS idle, default model, fresh start (median of {launches} launches: {each}): "
+        f"{rss['app']:.0f} MB (anonymous {anon['app']:.0f} MB; goal <= 500)"
+    )
+    print(
+        f"floor of the dependencies (a bare window of the app's size, one pyvistaqt view of a "
+        f"40,962-point sphere): {rss['gui']:.0f} MB (anonymous {anon['gui']:.0f}); with numba, "
+        f"scipy.spatial and trimesh imported too: {rss['all']:.0f} MB (anonymous "
+        f"{anon['all']:.0f}); the app above it: {rss['app'] - rss['all']:+.0f} MB "
+        f"(anonymous {anon['app'] - anon['all']:+.0f})"
+    )
+    print(
+        f"the same floor with PySide6 keeping no module sources (as the app): "
+        f"{rss['uncached']:.0f} MB (anonymous {anon['uncached']:.0f}); the app above it: "
+        f"{rss['app'] - rss['uncached']:+.0f} MB (anonymous {anon['app'] - anon['uncached']:+.0f})"
+    )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--meshes", default=str(HERE.parents[2] / "shared/meshes"))
     parser.add_argument("--probe-rss", action="store_true", help=argparse.SUPPRESS)
+    parser.add_argument("--probe-idle", action="store_true", help=argparse.SUPPRESS)
+    parser.add_argument(
+        "--launches", type=int, default=3, help="fresh launches for the idle medians (default 3)"
+    )
     parser.add_argument("--skip-compile", action="store_true", help="RSS figures only")
     parser.add_argument("--skip-rss", action="store_true", help="compile figures only")
     args = parser.parse_args()
     if args.probe_rss:
         print(json.dumps(probe_rss(Path(args.meshes))))
         return
+    if args.probe_idle:
+        print(json.dumps(probe_idle()))
+        return
     import gogreen_core
 
     print(f"code: {Path(gogreen_core.__file__).parent.parent}")
     if not args.skip_rss:
+        print_idle_and_floor(args.launches)
         run = subprocess.run(
             [sys.executable, str(HERE), "--probe-rss", "--meshes", args.meshes],
             capture_output=True,

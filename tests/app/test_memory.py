@@ -1,0 +1,43 @@
+"""The app keeps no copies of its modules' sources (issue 36, item 4): PySide6's import hook
+reads each module imported after it to see whether it names PySide6, and linecache kept them
+all (about 70 MB); no RSS figures here, benchmarks/app_scale.py prints those."""
+
+from __future__ import annotations
+
+import linecache
+import sys
+
+from app.memory import read_sources_uncached, release_freed_memory
+
+
+def _import_from(folder, name: str, text: str):
+    (folder / f"{name}.py").write_text(text)
+    sys.path.insert(0, str(folder))
+    try:
+        exec(f"import {name}", {})  # through the import statement, as PySide6's hook sees it
+    finally:
+        sys.path.remove(str(folder))
+        sys.modules.pop(name, None)
+    return str(folder / f"{name}.py")
+
+
+def test_pyside_answers_its_question_without_keeping_the_source(tmp_path):
+    assert read_sources_uncached()
+    assert read_sources_uncached()  # a second call keeps the one hook
+    feature = sys.modules["shibokensupport.feature"]
+    names_qt = _import_from(tmp_path, "gogreen_test_names_qt", "import PySide6  # noqa\n")
+    plain = _import_from(tmp_path, "gogreen_test_plain", "ANSWER = 42\n")
+    assert names_qt not in linecache.cache and plain not in linecache.cache
+    # the hook's answers as before: a module naming PySide6 takes part in feature switching
+    assert feature.pyside_feature_dict["gogreen_test_names_qt"] == 0
+    assert feature.pyside_feature_dict["gogreen_test_plain"] == -1
+
+
+def test_release_drops_the_cached_sources_and_tracebacks_still_read_them(tmp_path):
+    path = tmp_path / "some_module.py"
+    path.write_text("first = 1\nsecond = 2\n")
+    assert linecache.getline(str(path), 2) == "second = 2\n"
+    assert str(path) in linecache.cache
+    release_freed_memory(collect=False)
+    assert str(path) not in linecache.cache
+    assert linecache.getline(str(path), 2) == "second = 2\n"  # read again when asked
