@@ -44,10 +44,9 @@ def main(argv: list[str] | None = None) -> int:
 
         return batch_main(argv)
     args = _parser().parse_args(argv)
-    from app.memory import read_sources_uncached, use_own_pages_for_big_blocks
+    from app.memory import start_lean
 
-    use_own_pages_for_big_blocks()  # a replaced big mesh gives its memory back (app.memory)
-    read_sources_uncached()  # before the app's imports: PySide6 would keep their sources
+    start_lean()  # before the app's imports (app.memory)
 
     from PySide6.QtCore import QTimer
     from PySide6.QtWidgets import QApplication

@@ -14,7 +14,9 @@ PySide6 reads the source of every module imported after it (``inspect.getsource`
 whether it names PySide6: its ``__feature__`` switches), and :mod:`linecache` keeps each
 source: about 70 MB for the app's 1,160 modules. :func:`read_sources_uncached` asks PySide6's
 question of the file's bytes instead, kept nowhere; :func:`release_freed_memory` drops the
-sources cached anyway (tracebacks read them again when needed).
+sources cached anyway (tracebacks read them again when needed). And pyvista loads its mypy
+plugin whenever mypy is installed (the test tools of the project's environment): 27 MB the
+app never uses. :func:`start_lean` does all of this at start.
 """
 
 from __future__ import annotations
@@ -31,6 +33,7 @@ __all__ = [
     "MMAP_THRESHOLD",
     "read_sources_uncached",
     "release_freed_memory",
+    "start_lean",
     "use_own_pages_for_big_blocks",
 ]
 
@@ -79,6 +82,15 @@ def read_sources_uncached() -> bool:
     reads_pyside.reads_uncached = True  # type: ignore[attr-defined]
     feature._mod_uses_pyside = reads_pyside  # type: ignore[union-attr]
     return True
+
+
+def start_lean() -> None:
+    """Call first at start, before pyvista and the app's modules are imported: big blocks get
+    pages of their own, PySide6 keeps no module sources, and pyvista finds no mypy to load its
+    plugin from (a None in ``sys.modules`` stops that import in this process only)."""
+    use_own_pages_for_big_blocks()
+    read_sources_uncached()
+    sys.modules.setdefault("mypy", None)  # type: ignore[arg-type]
 
 
 def release_freed_memory(collect: bool = True) -> None:

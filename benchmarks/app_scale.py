@@ -4,8 +4,13 @@
 
 Prints (figures only; nothing is asserted; issue 36, items 2, 3 and 4):
 
-* RSS of the app (the real main window, in a process of its own): idle on the default model
-  after a fresh start; after opening the ~1M-vertex mesh (the ogre of ``../shared/meshes``
+* RSS of the app (the real main window, in a process of its own) idle on the default model
+  after a fresh start (median of ``--launches``), beside the floor its dependencies set (child
+  processes: a bare main window of the app's size with one pyvistaqt view drawing a
+  40,962-point sphere with the viewport's render settings; with numba, scipy.spatial and
+  trimesh imported too; and the same loaded as the app loads them, ``app.memory.start_lean``):
+  the app above that last floor is what the app's own code costs. Then, in one process: idle,
+  after opening the ~1M-vertex mesh (the ogre of ``../shared/meshes``
   Loop-subdivided twice: 992,608 vertices; skipped with the reason when the meshes are absent);
   and idle again after Ctrl+N (a key event posted to the window) back to the default model;
 * on that mesh, with real events posted to the viewport (medians, ms): the brush step in the
@@ -80,9 +85,9 @@ def anonymous_mb() -> float:
 
 FLOOR = """
 import json, sys, time
-if "--uncached" in sys.argv:  # PySide6 keeps no module sources, as in the app (app.memory)
-    import app.memory
-    getattr(app.memory, "read_sources_uncached", lambda: None)()
+if "--lean" in sys.argv:  # the dependencies loaded as the app loads them (app.memory)
+    from app.memory import start_lean
+    start_lean()
 if "--all" in sys.argv:  # the rest of the app's dependencies, imported first as the app does
     import numba, scipy.spatial, trimesh
 from PySide6.QtWidgets import QApplication, QMainWindow
@@ -94,7 +99,7 @@ app = QApplication(sys.argv[:1])
 window = QMainWindow()
 free = window.screen().availableGeometry()  # the app's size: app.main_window.fit_to_screen
 window.resize(round(free.width() * 0.94), round(free.height() * 0.94))
-plotter = QtInteractor(window)
+plotter = QtInteractor(window, auto_update=False, multi_samples=0)  # as app.viewport's
 window.setCentralWidget(plotter.interactor)
 plotter.add_mesh(pv.Icosphere(nsub=6), smooth_shading=True)  # 40,962 points: the default model's
 window.show()
@@ -110,8 +115,8 @@ print(json.dumps({"rss": rss_mb(), "anonymous": anonymous_mb()}))
 def floor(*options: str) -> dict[str, float]:
     """RSS and anonymous MB of the floor the dependencies set: a bare Qt main window of the
     app's size with one pyvistaqt view of a 40,962-point smooth-shaded sphere, rendered
-    (options ``--all``: with numba, scipy.spatial and trimesh imported as well; ``--uncached``:
-    PySide6 keeps no module sources, :func:`app.memory.read_sources_uncached`)."""
+    (options ``--all``: with numba, scipy.spatial and trimesh imported as well; ``--lean``: the
+    dependencies loaded as the app loads them, :func:`app.memory.start_lean`)."""
     run = subprocess.run(
         [sys.executable, "-c", FLOOR, str(HERE.parent), *options], capture_output=True, text=True
     )
@@ -136,8 +141,8 @@ def start_app():
 
     from app import memory
 
-    for step in ("use_own_pages_for_big_blocks", "read_sources_uncached"):  # as app.cli.main
-        getattr(memory, step, lambda: None)()  # (absent from older code)
+    # as app.cli.main does (older code: only the first)
+    getattr(memory, "start_lean", memory.use_own_pages_for_big_blocks)()
     app = QApplication.instance() or QApplication(sys.argv[:1])
     from app.main_window import MainWindow
 
@@ -440,11 +445,11 @@ def print_idle_and_floor(launches: int) -> None:
     taking turns (the page cache then serves them alike)."""
     from statistics import median
 
-    runs: dict[str, list[dict[str, float]]] = {"app": [], "gui": [], "all": [], "uncached": []}
+    runs: dict[str, list[dict[str, float]]] = {"app": [], "gui": [], "all": [], "lean": []}
     for _ in range(launches):
         runs["gui"].append(floor())
         runs["all"].append(floor("--all"))
-        runs["uncached"].append(floor("--all", "--uncached"))
+        runs["lean"].append(floor("--all", "--lean"))
         run = subprocess.run(
             [sys.executable, str(HERE), "--probe-idle"], capture_output=True, text=True
         )
@@ -460,15 +465,17 @@ def print_idle_and_floor(launches: int) -> None:
     )
     print(
         f"floor of the dependencies (a bare window of the app's size, one pyvistaqt view of a "
-        f"40,962-point sphere): {rss['gui']:.0f} MB (anonymous {anon['gui']:.0f}); with numba, "
+        f"40,962-point sphere, no multisampling as the viewport): {rss['gui']:.0f} MB "
+        f"(anonymous {anon['gui']:.0f}); with numba, "
         f"scipy.spatial and trimesh imported too: {rss['all']:.0f} MB (anonymous "
         f"{anon['all']:.0f}); the app above it: {rss['app'] - rss['all']:+.0f} MB "
         f"(anonymous {anon['app'] - anon['all']:+.0f})"
     )
     print(
-        f"the same floor with PySide6 keeping no module sources (as the app): "
-        f"{rss['uncached']:.0f} MB (anonymous {anon['uncached']:.0f}); the app above it: "
-        f"{rss['app'] - rss['uncached']:+.0f} MB (anonymous {anon['app'] - anon['uncached']:+.0f})"
+        f"the same floor with the dependencies loaded as the app loads them (app.memory."
+        f"start_lean: PySide6 keeps no module sources, pyvista no mypy plugin): "
+        f"{rss['lean']:.0f} MB (anonymous {anon['lean']:.0f}); the app above it (ours): "
+        f"{rss['app'] - rss['lean']:+.0f} MB (anonymous {anon['app'] - anon['lean']:+.0f})"
     )
 
 

@@ -1,10 +1,12 @@
 """The app keeps no copies of its modules' sources (issue 36, item 4): PySide6's import hook
 reads each module imported after it to see whether it names PySide6, and linecache kept them
-all (about 70 MB); no RSS figures here, benchmarks/app_scale.py prints those."""
+all (about 70 MB); nor pyvista's mypy plugin. No RSS figures here: benchmarks/app_scale.py
+prints those."""
 
 from __future__ import annotations
 
 import linecache
+import subprocess
 import sys
 
 from app.memory import read_sources_uncached, release_freed_memory
@@ -41,3 +43,14 @@ def test_release_drops_the_cached_sources_and_tracebacks_still_read_them(tmp_pat
     release_freed_memory(collect=False)
     assert str(path) not in linecache.cache
     assert linecache.getline(str(path), 2) == "second = 2\n"  # read again when asked
+
+
+def test_the_app_starts_without_pyvistas_mypy_plugin():
+    # in a process of its own: the app's start (app.cli.main) before pyvista is imported
+    code = (
+        "import sys\nfrom app.memory import start_lean\nstart_lean()\nimport pyvista\n"
+        "print(sorted(name for name, module in sys.modules.items() if name.startswith('mypy') "
+        "and module is not None))"
+    )
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert run.stdout.split() == ["[]"]
