@@ -474,7 +474,7 @@ class MainWindow(QMainWindow):
         self.status.compile_progress.setVisible(busy)
         if not busy:
             self._release_when_settled()
-        if busy:  # a busy bar until the driver counts units missing from the cache
+        else:  # a busy bar until the driver counts units missing from the cache
             self.status.compile_progress.setRange(0, 0)
             self.flash(
                 "Preparing the brush kernels (compiled on the first start only): strokes run on "

@@ -99,8 +99,9 @@ def release_freed_memory(collect: bool = True) -> None:
     system."""
     if collect:
         gc.collect()
-    for path in [path for path in list(linecache.cache) if os.path.isfile(path)]:
-        linecache.cache.pop(path, None)
+    for path in list(linecache.cache):
+        if os.path.isfile(path):  # not the sources registered for code without a file
+            linecache.cache.pop(path, None)
     libc = _libc()
     if libc is not None:
         libc.malloc_trim(0)

@@ -170,7 +170,7 @@ def probe_rss(meshes: Path) -> dict[str, object]:
 
     window, settle = start_app()
     app = QApplication.instance()
-    result: dict[str, object] = {"idle": rss_mb()}
+    result: dict[str, object] = {"idle": rss_mb(), "idle_anonymous": anonymous_mb()}
     path = big_mesh(meshes)
     if isinstance(path, str):
         result["skipped"] = path
@@ -189,6 +189,7 @@ def probe_rss(meshes: Path) -> dict[str, object]:
     QTest.keyClick(window.viewport, Qt.Key.Key_N, Qt.KeyboardModifier.ControlModifier)
     settle(3.0)
     result["back"] = rss_mb()
+    result["back_anonymous"] = anonymous_mb()
     result["back_vertices"] = len(window.document.sculptor.vertices)
     window.close()
     return result
@@ -518,7 +519,8 @@ def main() -> None:
             change = 100 * (rss["back"] / rss["idle"] - 1)
             print(
                 f"RSS after Ctrl+N back to the default model: {rss['back']:.0f} MB "
-                f"({change:+.0f} % of the fresh start)"
+                f"({change:+.0f} % of the fresh start; anonymous {rss['back_anonymous']:.0f} MB, "
+                f"{rss['idle_anonymous']:.0f} MB at the fresh start)"
             )
             print_interaction(rss)
     if args.skip_compile:

@@ -54,3 +54,15 @@ def test_the_app_starts_without_pyvistas_mypy_plugin():
     )
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert run.stdout.split() == ["[]"]
+
+
+def test_the_window_releases_once_a_new_surface_index_is_in(window, qtbot, tmp_path):
+    path = tmp_path / "read_by_a_traceback.py"
+    path.write_text("line = 1\n")
+    linecache.getline(str(path), 1)
+    sculptor = window.document.sculptor
+    # as an opened mesh is: its surface index built on the background thread
+    window.viewport.set_mesh(sculptor.vertices, sculptor.faces, background=True)
+    assert str(path) in linecache.cache  # nothing released while the index builds
+    qtbot.waitUntil(lambda: str(path) not in linecache.cache, timeout=60_000)
+    assert not window.viewport.surface_building
