@@ -112,17 +112,21 @@ print(json.dumps({"rss": rss_mb(), "anonymous": anonymous_mb()}))
 """
 
 
+def child_json(*args: str) -> dict:
+    """What a child Python process run with ``args`` prints last, as JSON (its error's end
+    raised when it fails)."""
+    run = subprocess.run([sys.executable, *args], capture_output=True, text=True)
+    if run.returncode:
+        raise RuntimeError(run.stderr[-3000:])
+    return json.loads(run.stdout.strip().splitlines()[-1])
+
+
 def floor(*options: str) -> dict[str, float]:
     """RSS and anonymous MB of the floor the dependencies set: a bare Qt main window of the
     app's size with one pyvistaqt view of a 40,962-point smooth-shaded sphere, rendered
     (options ``--all``: with numba, scipy.spatial and trimesh imported as well; ``--lean``: the
     dependencies loaded as the app loads them, :func:`app.memory.start_lean`)."""
-    run = subprocess.run(
-        [sys.executable, "-c", FLOOR, str(HERE.parent), *options], capture_output=True, text=True
-    )
-    if run.returncode:
-        raise RuntimeError(run.stderr[-3000:])
-    return json.loads(run.stdout.strip().splitlines()[-1])
+    return child_json("-c", FLOOR, str(HERE.parent), *options)
 
 
 def probe_idle() -> dict[str, float]:
@@ -451,12 +455,7 @@ def print_idle_and_floor(launches: int) -> None:
         runs["gui"].append(floor())
         runs["all"].append(floor("--all"))
         runs["lean"].append(floor("--all", "--lean"))
-        run = subprocess.run(
-            [sys.executable, str(HERE), "--probe-idle"], capture_output=True, text=True
-        )
-        if run.returncode:
-            raise RuntimeError(run.stderr[-3000:])
-        runs["app"].append(json.loads(run.stdout.strip().splitlines()[-1]))
+        runs["app"].append(child_json(str(HERE), "--probe-idle"))
     rss = {k: median(r["rss"] for r in v) for k, v in runs.items()}
     anon = {k: median(r["anonymous"] for r in v) for k, v in runs.items()}
     each = ", ".join(f"{r['rss']:.0f}" for r in runs["app"])
@@ -502,16 +501,8 @@ def main() -> None:
     print(f"code: {Path(gogreen_core.__file__).parent.parent}")
     if not args.skip_rss:
         print_idle_and_floor(args.launches)
-        run = subprocess.run(
-            [sys.executable, str(HERE), "--probe-rss", "--meshes", args.meshes],
-            capture_output=True,
-            text=True,
-        )
-        if run.returncode:
-            print(run.stderr[-3000:])
-            raise SystemExit("the RSS probe failed")
-        rss = json.loads(run.stdout.strip().splitlines()[-1])
-        print(f"RSS idle, default model, fresh start: {rss['idle']:.0f} MB")
+        rss = child_json(str(HERE), "--probe-rss", "--meshes", args.meshes)
+        print(f"RSS idle, default model, fresh start (the process below): {rss['idle']:.0f} MB")
         if "skipped" in rss:
             print(f"1M-vertex mesh: skipped ({rss['skipped']})")
         else:
