@@ -44,13 +44,14 @@ def main(argv: list[str] | None = None) -> int:
 
         return batch_main(argv)
     args = _parser().parse_args(argv)
+    from app.memory import start_lean
+
+    start_lean()  # before the app's imports (app.memory)
+
     from PySide6.QtCore import QTimer
     from PySide6.QtWidgets import QApplication
 
     from app.main_window import MainWindow
-    from app.memory import use_own_pages_for_big_blocks
-
-    use_own_pages_for_big_blocks()  # a replaced big mesh gives its memory back (app.memory)
 
     app = QApplication.instance() or QApplication(sys.argv[:1])
     app.setApplicationName("GoGreen Sculpt")

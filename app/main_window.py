@@ -77,9 +77,7 @@ FIRST_RUN_HINT = (
 
 
 def fit_to_screen(window: QMainWindow) -> None:
-    """Open ``window`` over most of its screen (:data:`WINDOW_SHARE` of the free area,
-    centred), as a desktop tool does; at a fixed size it was 1300 × 800 on a 1600 × 1000
-    screen."""
+    """Open ``window`` centred over :data:`WINDOW_SHARE` of its screen's free area."""
     screen = window.screen() or QApplication.primaryScreen()
     free = screen.availableGeometry()
     size = QSize(round(free.width() * WINDOW_SHARE), round(free.height() * WINDOW_SHARE))
@@ -153,7 +151,6 @@ class MainWindow(QMainWindow):
         self._build_docks()
         self.status = StatusArea(self.statusBar())
         self.message_label = self.status.message_label
-        self.step_label = self.status.step_label
         self.surface_progress = self.status.surface_progress
         self.wrinkle_fix_button = self.status.wrinkle_fix_button
         self._build_menus()
@@ -231,12 +228,8 @@ class MainWindow(QMainWindow):
         self.keymap_actions[key] = action
 
     def _visibility_action(self, widget: QDockWidget | QToolBar) -> QAction:
-        """Checkable View-menu entry that shows or hides a dock or tool bar.
-
-        Made here instead of taken from ``toggleViewAction()``: for that C++-created action
-        PySide6 6.12 once returned a stale wrapper of another class (a TypeError at start-up in
-        CI); actions created from Python always have their own wrapper.
-        """
+        """Checkable View-menu entry that shows or hides a dock or tool bar (not
+        ``toggleViewAction()``: PySide6 once gave a stale wrapper of that C++-made action)."""
         action = QAction(widget.windowTitle(), self, checkable=True, checked=True)
         # triggered (the user's choice), not toggled: echoes of visibilityChanged must not hide
         action.triggered.connect(lambda: widget.setVisible(action.isChecked()))
@@ -336,6 +329,13 @@ class MainWindow(QMainWindow):
         viewport.surface_ready.connect(self._surface_ready)
         viewport.surface_failed.connect(self._surface_failed)
         viewport.surface_pending.connect(self._surface_pending)
+
+        def release_when_settled(*_args: object) -> None:  # start-up or opening work done
+            if not (self.kernel_warmer.busy or viewport.surface_building):
+                QTimer.singleShot(0, partial(release_freed_memory, collect=False))
+
+        for settled in (viewport.surface_ready, self.kernel_warmer.busy_changed):
+            settled.connect(release_when_settled)
         self.brush_bar.constraint_mode_changed.connect(self._constraint_mode_changed)
         self.model.brush.events.changed.connect(lambda _c: viewport.refresh_cursor())
         self.model.events.material.connect(self._material_changed)

@@ -4,8 +4,13 @@
 
 Prints (figures only; nothing is asserted; issue 36, items 2, 3 and 4):
 
-* RSS of the app (the real main window, in a process of its own): idle on the default model
-  after a fresh start; after opening the ~1M-vertex mesh (the ogre of ``../shared/meshes``
+* RSS of the app (the real main window, in a process of its own) idle on the default model
+  after a fresh start (median of ``--launches``), beside the floor its dependencies set (child
+  processes: a bare main window of the app's size with one pyvistaqt view drawing a
+  40,962-point sphere with the viewport's render settings; with numba, scipy.spatial and
+  trimesh imported too; and the same loaded as the app loads them, ``app.memory.start_lean``):
+  the app above that last floor is what the app's own code costs. Then, in one process: idle,
+  after opening the ~1M-vertex mesh (the ogre of ``../shared/meshes``
   Loop-subdivided twice: 992,608 vertices; skipped with the reason when the meshes are absent);
   and idle again after Ctrl+N (a key event posted to the window) back to the default model;
 * on that mesh, with real events posted to the viewport (medians, ms): the brush step in the
@@ -69,17 +74,79 @@ def big_mesh(meshes: Path) -> Path | str:
     return out
 
 
-def probe_rss(meshes: Path) -> dict[str, object]:
-    from PySide6.QtCore import QSettings, Qt
-    from PySide6.QtTest import QTest
+def anonymous_mb() -> float:
+    """This process's anonymous memory in MB (its heaps and stacks: RSS without the pages of
+    mapped files, which depend on what other processes keep in the page cache)."""
+    for line in Path("/proc/self/smaps_rollup").read_text().splitlines():
+        if line.startswith("Anonymous:"):
+            return int(line.split()[1]) / 1024
+    raise RuntimeError("no Anonymous")
+
+
+FLOOR = """
+import json, sys, time
+if "--lean" in sys.argv:  # the dependencies loaded as the app loads them (app.memory)
+    from app.memory import start_lean
+    start_lean()
+if "--all" in sys.argv:  # the rest of the app's dependencies, imported first as the app does
+    import numba, scipy.spatial, trimesh
+from PySide6.QtWidgets import QApplication, QMainWindow
+import pyvista as pv
+from pyvistaqt import QtInteractor
+sys.path.insert(0, sys.argv[1])
+from app_scale import anonymous_mb, rss_mb
+app = QApplication(sys.argv[:1])
+window = QMainWindow()
+free = window.screen().availableGeometry()  # the app's size: app.main_window.fit_to_screen
+window.resize(round(free.width() * 0.94), round(free.height() * 0.94))
+plotter = QtInteractor(window, auto_update=False, multi_samples=0)  # as app.viewport's
+window.setCentralWidget(plotter.interactor)
+plotter.add_mesh(pv.Icosphere(nsub=6), smooth_shading=True)  # 40,962 points: the default model's
+window.show()
+end = time.perf_counter() + 3.0
+while time.perf_counter() < end:
+    app.processEvents()
+    time.sleep(0.01)
+plotter.render()
+print(json.dumps({"rss": rss_mb(), "anonymous": anonymous_mb()}))
+"""
+
+
+def child_json(*args: str) -> dict:
+    """What a child Python process run with ``args`` prints last, as JSON (its error's end
+    raised when it fails)."""
+    run = subprocess.run([sys.executable, *args], capture_output=True, text=True)
+    if run.returncode:
+        raise RuntimeError(run.stderr[-3000:])
+    return json.loads(run.stdout.strip().splitlines()[-1])
+
+
+def floor(*options: str) -> dict[str, float]:
+    """RSS and anonymous MB of the floor the dependencies set: a bare Qt main window of the
+    app's size with one pyvistaqt view of a 40,962-point smooth-shaded sphere, rendered
+    (options ``--all``: with numba, scipy.spatial and trimesh imported as well; ``--lean``: the
+    dependencies loaded as the app loads them, :func:`app.memory.start_lean`)."""
+    return child_json("-c", FLOOR, str(HERE.parent), *options)
+
+
+def probe_idle() -> dict[str, float]:
+    """RSS and anonymous MB of the app idle on the default model after a fresh start."""
+    window, _settle = start_app()
+    result = {"rss": rss_mb(), "anonymous": anonymous_mb()}
+    window.close()
+    return result
+
+
+def start_app():
+    """The main window, started as ``app.cli.main`` does, idle on the default model; and a
+    function that runs its events for some seconds."""
+    from PySide6.QtCore import QSettings
     from PySide6.QtWidgets import QApplication
 
-    try:  # as app.cli.main does (not in the code before issue 36)
-        from app.memory import use_own_pages_for_big_blocks
-    except ImportError:
-        pass
-    else:
-        use_own_pages_for_big_blocks()
+    from app import memory
+
+    # as app.cli.main does (older code: only the first)
+    getattr(memory, "start_lean", memory.use_own_pages_for_big_blocks)()
     app = QApplication.instance() or QApplication(sys.argv[:1])
     from app.main_window import MainWindow
 
@@ -97,7 +164,17 @@ def probe_rss(meshes: Path) -> dict[str, object]:
     while window.homogenization_panel.is_busy:
         settle(0.1)
     settle(3.0)
-    result: dict[str, object] = {"idle": rss_mb()}
+    return window, settle
+
+
+def probe_rss(meshes: Path) -> dict[str, object]:
+    from PySide6.QtCore import Qt
+    from PySide6.QtTest import QTest
+    from PySide6.QtWidgets import QApplication
+
+    window, settle = start_app()
+    app = QApplication.instance()
+    result: dict[str, object] = {"idle": rss_mb(), "idle_anonymous": anonymous_mb()}
     path = big_mesh(meshes)
     if isinstance(path, str):
         result["skipped"] = path
@@ -116,6 +193,7 @@ def probe_rss(meshes: Path) -> dict[str, object]:
     QTest.keyClick(window.viewport, Qt.Key.Key_N, Qt.KeyboardModifier.ControlModifier)
     settle(3.0)
     result["back"] = rss_mb()
+    result["back_anonymous"] = anonymous_mb()
     result["back_vertices"] = len(window.document.sculptor.vertices)
     window.close()
     return result
@@ -367,30 +445,64 @@ def print_interaction(r: dict[str, object]) -> None:
     )
 
 
+def print_idle_and_floor(launches: int) -> None:
+    """Idle RSS of the app beside the floor of its dependencies, medians of fresh launches
+    taking turns (the page cache then serves them alike)."""
+    from statistics import median
+
+    runs: dict[str, list[dict[str, float]]] = {"app": [], "gui": [], "all": [], "lean": []}
+    for _ in range(launches):
+        runs["gui"].append(floor())
+        runs["all"].append(floor("--all"))
+        runs["lean"].append(floor("--all", "--lean"))
+        runs["app"].append(child_json(str(HERE), "--probe-idle"))
+    rss = {k: median(r["rss"] for r in v) for k, v in runs.items()}
+    anon = {k: median(r["anonymous"] for r in v) for k, v in runs.items()}
+    each = ", ".join(f"{r['rss']:.0f}" for r in runs["app"])
+    print(
+        f"RSS idle, default model, fresh start (median of {launches} launches: {each}): "
+        f"{rss['app']:.0f} MB (anonymous {anon['app']:.0f} MB; goal <= 500)"
+    )
+    print(
+        f"floor of the dependencies (a bare window of the app's size, one pyvistaqt view of a "
+        f"40,962-point sphere, no multisampling as the viewport): {rss['gui']:.0f} MB "
+        f"(anonymous {anon['gui']:.0f}); with numba, "
+        f"scipy.spatial and trimesh imported too: {rss['all']:.0f} MB (anonymous "
+        f"{anon['all']:.0f}); the app above it: {rss['app'] - rss['all']:+.0f} MB "
+        f"(anonymous {anon['app'] - anon['all']:+.0f})"
+    )
+    print(
+        f"the same floor with the dependencies loaded as the app loads them (app.memory."
+        f"start_lean: PySide6 keeps no module sources, pyvista no mypy plugin): "
+        f"{rss['lean']:.0f} MB (anonymous {anon['lean']:.0f}); the app above it (ours): "
+        f"{rss['app'] - rss['lean']:+.0f} MB (anonymous {anon['app'] - anon['lean']:+.0f})"
+    )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--meshes", default=str(HERE.parents[2] / "shared/meshes"))
     parser.add_argument("--probe-rss", action="store_true", help=argparse.SUPPRESS)
+    parser.add_argument("--probe-idle", action="store_true", help=argparse.SUPPRESS)
+    parser.add_argument(
+        "--launches", type=int, default=3, help="fresh launches for the idle medians (default 3)"
+    )
     parser.add_argument("--skip-compile", action="store_true", help="RSS figures only")
     parser.add_argument("--skip-rss", action="store_true", help="compile figures only")
     args = parser.parse_args()
     if args.probe_rss:
         print(json.dumps(probe_rss(Path(args.meshes))))
         return
+    if args.probe_idle:
+        print(json.dumps(probe_idle()))
+        return
     import gogreen_core
 
     print(f"code: {Path(gogreen_core.__file__).parent.parent}")
     if not args.skip_rss:
-        run = subprocess.run(
-            [sys.executable, str(HERE), "--probe-rss", "--meshes", args.meshes],
-            capture_output=True,
-            text=True,
-        )
-        if run.returncode:
-            print(run.stderr[-3000:])
-            raise SystemExit("the RSS probe failed")
-        rss = json.loads(run.stdout.strip().splitlines()[-1])
-        print(f"RSS idle, default model, fresh start: {rss['idle']:.0f} MB")
+        print_idle_and_floor(args.launches)
+        rss = child_json(str(HERE), "--probe-rss", "--meshes", args.meshes)
+        print(f"RSS idle, default model, fresh start (the process below): {rss['idle']:.0f} MB")
         if "skipped" in rss:
             print(f"1M-vertex mesh: skipped ({rss['skipped']})")
         else:
@@ -398,7 +510,8 @@ def main() -> None:
             change = 100 * (rss["back"] / rss["idle"] - 1)
             print(
                 f"RSS after Ctrl+N back to the default model: {rss['back']:.0f} MB "
-                f"({change:+.0f} % of the fresh start)"
+                f"({change:+.0f} % of the fresh start; anonymous {rss['back_anonymous']:.0f} MB, "
+                f"{rss['idle_anonymous']:.0f} MB at the fresh start)"
             )
             print_interaction(rss)
     if args.skip_compile:

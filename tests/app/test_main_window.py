@@ -32,7 +32,7 @@ def test_drag_moves_near_vertices_only_and_undo_restores(window):
     assert moved[dist < 0.02 * sculptor.model_size].min() > 0
     assert np.all(moved[dist > 0.6 * sculptor.model_size] == 0)
     assert np.array_equal(window.viewport.shown_vertices(), sculptor.vertices)  # view updated
-    assert window.last_step_ms > 0 and "ms" in window.step_label.text()
+    assert window.last_step_ms > 0 and "ms" in window.status.step_label.text()
     after = sculptor.vertices.copy()
     window.undo()
     assert np.array_equal(sculptor.vertices, before)
