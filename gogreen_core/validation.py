@@ -73,9 +73,10 @@ def check_number(
     low: float | None = None,
     high: float | None = None,
     low_open: bool = False,
+    high_open: bool = False,
 ) -> float:
-    """``value`` as a finite float within the bounds (closed unless ``low_open``); ``bool`` is
-    refused (``True`` is not a radius)."""
+    """``value`` as a finite float within the bounds (closed unless ``low_open`` /
+    ``high_open``); ``bool`` is refused (``True`` is not a radius)."""
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
         raise ParameterError(name, f"{name} must be a number (got {value!r})")
     try:
@@ -87,8 +88,9 @@ def check_number(
     if low is not None and (v < low or (low_open and v == low)):
         sign = ">" if low_open else "≥"
         raise ParameterError(name, f"{name} must be {sign} {low:g} (got {value!r})")
-    if high is not None and v > high:
-        raise ParameterError(name, f"{name} must be ≤ {high:g} (got {value!r})")
+    if high is not None and (v > high or (high_open and v == high)):
+        sign = "<" if high_open else "≤"
+        raise ParameterError(name, f"{name} must be {sign} {high:g} (got {value!r})")
     return v
 
 

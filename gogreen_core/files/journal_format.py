@@ -362,8 +362,9 @@ def _parse_record(
         return None, f"is out of order (numbered {number})"
     if kind not in ("append", "replace"):
         return None, f"is of a kind this version does not know ({kind!r})"
-    numbers = isinstance(n, int) and isinstance(d, int) and isinstance(t, (int, float))
-    if not numbers or not isinstance(op, dict):
+    if not (isinstance(n, int) and isinstance(d, int) and isinstance(t, (int, float))):
+        return None, "is malformed"
+    if not isinstance(op, dict):
         return None, "is malformed"
     typed = None
     if validate:
