@@ -30,10 +30,10 @@ from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 from types import ModuleType
+from typing import Any
 
 from gogreen_core import compile_times
 from gogreen_core._compile_lock import LOCK_HELD_VARIABLE, CacheLock, compile_holder, running
-from gogreen_core._numba_cache import modules_cached
 
 #: A unit: DRIVERS, GEOMETRY, BRUSHES, MESH_IO or (l_first, l_last) of an angular kernel.
 Unit = str | tuple[int, ...]
@@ -50,10 +50,10 @@ __all__ = [
     "Progress",
     "add_progress_listener",
     "compile_holder",
+    "dispatchers_cached",
     "drivers",
     "forced",
     "forced_code",
-    "mark_ready",
     "modules_cached",
     "prepare",
     "register",
@@ -212,6 +212,45 @@ class CompiledModule:
             self._compiling.now = False
 
 
+def dispatchers_cached(calls: Iterable[tuple[Any, tuple[Any, ...]]]) -> bool:
+    """Whether numba's disk cache holds every (dispatcher, arguments) call of ``calls``,
+    typed as they are (numba's ``_cache.load_overload``, not public API)."""
+    from numba import typeof
+
+    for dispatcher, args in calls:
+        signature = tuple(typeof(a) for a in args)
+        if dispatcher._cache.load_overload(signature, dispatcher.targetctx) is None:
+            return False
+    return True
+
+
+def modules_cached(name: str) -> bool:
+    """Whether numba's disk cache holds machine code for this machine of every compiled
+    function of module ``name`` (of a package: of its modules too), from their cache index. A
+    function without any entry is one only compiled code calls."""
+    import importlib
+    import pkgutil
+
+    from numba.core.dispatcher import Dispatcher
+
+    module = importlib.import_module(name)
+    modules = [module]
+    for info in pkgutil.iter_modules(getattr(module, "__path__", [])):
+        modules.append(importlib.import_module(f"{module.__name__}.{info.name}"))
+    found = False
+    for dispatcher in (v for m in modules for v in vars(m).values()):
+        if isinstance(dispatcher, Dispatcher) and dispatcher.__module__.startswith(module.__name__):
+            internals: Any = dispatcher  # numba's cache and code generator carry no types
+            magic = internals.targetctx.codegen().magic_tuple()
+            index = internals._cache._cache_file._load_index()
+            if not index:  # never compiled on its own: called only from compiled code (inlined)
+                continue
+            if not any(key[1] == magic for key in index):
+                return False
+            found = True
+    return found
+
+
 def _kind(unit: Unit) -> str:
     return unit if isinstance(unit, str) else ANGULAR
 
@@ -233,13 +272,6 @@ def drivers() -> bool:
 def forced_code() -> str | None:
     """The code :func:`forced` chose ("numpy", "generic", "unrolled"), or None."""
     return _forced
-
-
-def mark_ready(unit: Unit) -> None:
-    """Note that ``unit`` was compiled or loaded on this thread (outside the worker)."""
-    with _condition:
-        _ready.add(unit)
-        _condition.notify_all()
 
 
 def _in_use(unit: Unit) -> bool:

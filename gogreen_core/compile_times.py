@@ -13,6 +13,8 @@ import tempfile
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
+from gogreen_core._compile_lock import cache_folder
+
 __all__ = [
     "BUILT_IN_WEIGHTS",
     "SECONDS_PER_WEIGHT",
@@ -62,10 +64,8 @@ def weight(unit: str | tuple[int, ...]) -> float | None:
 
 
 def times_path() -> Path:
-    """The JSON file of measured seconds per unit, in ``NUMBA_CACHE_DIR`` or else the package's
-    ``__pycache__`` (numba's cache beside the sources)."""
-    folder = os.environ.get("NUMBA_CACHE_DIR") or str(Path(__file__).parent / "__pycache__")
-    return Path(folder) / FILE_NAME
+    """The JSON file of measured seconds per unit, beside numba's disk cache."""
+    return cache_folder() / FILE_NAME
 
 
 def recorded() -> dict[str, float]:

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from gogreen_core import _compiled, _numba_cache
+from gogreen_core import _compiled
 from gogreen_core.field import _expansion, _influence_compiled, _integrator, _stream, _unrolled
 
 if TYPE_CHECKING:
@@ -101,14 +101,13 @@ def ensure_drivers() -> None:
     """Compile (or load from numba's disk cache) every driver in this thread, now."""
     for dispatcher, args in _driver_calls():
         dispatcher(*args)
-    _compiled.mark_ready(_compiled.DRIVERS)
 
 
 _compiled.register(
     _compiled.DRIVERS,
     __name__,
     lambda unit: ensure_drivers(),
-    lambda unit: _numba_cache.dispatchers_cached(_driver_calls()),
+    lambda unit: _compiled.dispatchers_cached(_driver_calls()),
 )
 _compiled.register(_compiled.ANGULAR, __name__, _load_angular, _angular_cached)
 #: The drivers after the streamlines' two (the expansion, the influence loops), which a second
@@ -119,6 +118,6 @@ _compiled.register(
     HELPER,
     __name__,
     lambda unit: [dispatcher(*args) for dispatcher, args in _driver_calls()[2:]],
-    lambda unit: _numba_cache.dispatchers_cached(_driver_calls()[2:]),
+    lambda unit: _compiled.dispatchers_cached(_driver_calls()[2:]),
     helps=_compiled.DRIVERS,
 )
