@@ -8,6 +8,7 @@ parity chooses its :class:`Backend` once the code it evaluates with is ready
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from functools import partial
 from typing import Any, NamedTuple
 
@@ -20,7 +21,7 @@ from gogreen_core.field import _drivers, _expansion, _integrator, _numpy_eval, _
 from gogreen_core.field._expansion import BLOCK
 from gogreen_core.field._influence_compiled import near_segment_rows
 
-__all__ = ["Backend", "Parity", "expand", "near_segment", "stream", "stream_field"]
+__all__ = ["Backend", "Parity", "expand", "near_segment", "stream_field"]
 #: Blocks per range handed to a thread by ``expand``.
 _MIN_BLOCKS = 32
 
@@ -144,11 +145,12 @@ def stream_field(
     cutoff: tuple[float, float],
     mirrors: np.ndarray,
     origin: np.ndarray,
-) -> tuple[_stream.StreamField, Backend]:
+) -> tuple[_stream.StreamField, Callable[..., None]]:
     """The velocity field of the load ``coeffs`` (n_terms, 3) of ``parity`` moving from
     ``center`` by ``center_step``, faded between the ``cutoff`` radii, mirrored by ``mirrors``
     about ``origin`` (``tables``: the parity's radial tables; ``single_tables``: the float32
-    ones of the degrees above the lowest), and the backend that integrates it."""
+    ones of the degrees above the lowest), and the pass that integrates it (``run_pass`` of
+    ``_stream.stream``: compiled or NumPy's)."""
     inner, outer = cutoff
     width = outer - inner
     backend = parity.backend()
@@ -162,28 +164,7 @@ def stream_field(
         origin=origin, coeffs32=coeffs32, beta32=parity.beta_single, tables32=single_tables,
         cscale=cscale, angular32=backend.angular32, unrolled32=backend.unrolled32,
     )  # fmt: skip
-    return field, backend
-
-
-def stream(
-    field: _stream.StreamField,
-    backend: Backend,
-    points: np.ndarray,
-    rows: np.ndarray,
-    indexed: bool,
-    in_place: bool,
-    limit: float,
-    substeps: int,
-    tolerance: float,
-    out: np.ndarray,
-    steps: np.ndarray,
-) -> int:
-    """The streamlines of ``field`` (:func:`stream_field`) from ``points`` with ``backend``; see
-    ``_stream.stream`` for the arguments and the status returned."""
-    run_pass = _integrator._pass if backend.compiled else _numpy_eval.stream_pass
-    return _stream.stream(
-        points, rows, indexed, in_place, limit, field, substeps, tolerance, out, steps, run_pass
-    )
+    return field, _integrator._pass if backend.compiled else _numpy_eval.stream_pass
 
 
 def near_segment(

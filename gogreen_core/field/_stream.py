@@ -128,7 +128,7 @@ def stream(
     tolerance: float,
     out: np.ndarray,
     evaluations: np.ndarray,
-    run_pass: Callable[..., None] = _pass,
+    run_pass: Callable[..., None],
 ) -> int:
     """Move points along the streamlines of ``field`` (``_integrator``), its passes run by
     ``run_pass`` (``_integrator._pass`` or its NumPy twin ``_numpy_eval.stream_pass``).

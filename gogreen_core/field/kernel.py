@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from gogreen_core import _compiled
-from gogreen_core.field import _drivers, _evaluation
+from gogreen_core.field import _drivers, _evaluation, _stream
 from gogreen_core.field._evaluation import Parity
 from gogreen_core.field._expansion import SEGMENT_DEGREE
 from gogreen_core.field.coefficients import (
@@ -344,12 +344,12 @@ class GreenKernel:
             raise ValueError(f"evaluations must be an int64 array of {n} counts")
         if n == 0:
             return result
-        field, backend = _evaluation.stream_field(
+        field, run_pass = _evaluation.stream_field(
             parity, tables, single, self._radial.eps, coeffs, c, step, (inner, outer), signs, o
         )
-        status = _evaluation.stream(
-            field, backend, pts, rows, indices is not None, in_place, COORDINATE_LIMIT,
-            substeps, tol, result, evaluations,
+        status = _stream.stream(
+            pts, rows, indices is not None, in_place, COORDINATE_LIMIT, field, substeps, tol,
+            result, evaluations, run_pass,
         )  # fmt: skip
         if status == 1:
             raise ParameterError("indices", f"indices must be rows 0 to {len(pts) - 1}")
