@@ -15,7 +15,7 @@ from gogreen_core.field import _expansion, _influence_compiled, _integrator, _st
 if TYPE_CHECKING:
     from numba.core.ccallback import CFunc
 
-__all__ = ["angular", "ensure_drivers", "generic_marker", "units_for"]
+__all__ = ["angular", "generic_marker", "units_for"]
 
 _markers: dict[bool, CFunc[Any]] = {}
 
@@ -60,15 +60,6 @@ def _angular_kernels(unit: _compiled.Unit) -> list[tuple[int, int, bool]]:
     return [(first, last, single) for single in ((False, True) if last > first else (False,))]
 
 
-def _load_angular(unit: _compiled.Unit) -> None:
-    for first, last, single in _angular_kernels(unit):
-        _unrolled.unrolled_angular(first, last, single)
-
-
-def _angular_cached(unit: _compiled.Unit) -> bool:
-    return all(_unrolled.angular_cached(*kernel) for kernel in _angular_kernels(unit))
-
-
 def _driver_calls() -> list[tuple[Any, tuple[Any, ...]]]:
     """(dispatcher, arguments) of every driver, typed as the real calls are (float64
     C-contiguous writable arrays, int64 rows and bases, bool flags, the C callback type of
@@ -97,27 +88,26 @@ def _driver_calls() -> list[tuple[Any, tuple[Any, ...]]]:
     ]  # fmt: skip
 
 
-def ensure_drivers() -> None:
-    """Compile (or load from numba's disk cache) every driver in this thread, now."""
-    for dispatcher, args in _driver_calls():
-        dispatcher(*args)
+def _register_drivers(unit: str, first: int, helps: _compiled.Unit | None = None) -> None:
+    """Register the drivers ``_driver_calls()[first:]`` as ``unit`` (compiled by calling them)."""
+    _compiled.register(
+        unit,
+        __name__,
+        lambda _: [dispatcher(*args) for dispatcher, args in _driver_calls()[first:]],
+        lambda _: _compiled.dispatchers_cached(_driver_calls()[first:]),
+        helps,
+    )
 
 
+_register_drivers(_compiled.DRIVERS, 0)
 _compiled.register(
-    _compiled.DRIVERS,
+    _compiled.ANGULAR,
     __name__,
-    lambda unit: ensure_drivers(),
-    lambda unit: _compiled.dispatchers_cached(_driver_calls()),
+    lambda unit: [_unrolled.unrolled_angular(*kernel) for kernel in _angular_kernels(unit)],
+    lambda unit: all(_unrolled.angular_cached(*kernel) for kernel in _angular_kernels(unit)),
 )
-_compiled.register(_compiled.ANGULAR, __name__, _load_angular, _angular_cached)
 #: The drivers after the streamlines' two (the expansion, the influence loops), which a second
 #: compiling child compiles first, while the first compiles the streamlines' (the costliest):
 #: it then finds these in the disk cache.
 HELPER = "drivers_rest"
-_compiled.register(
-    HELPER,
-    __name__,
-    lambda unit: [dispatcher(*args) for dispatcher, args in _driver_calls()[2:]],
-    lambda unit: _compiled.dispatchers_cached(_driver_calls()[2:]),
-    helps=_compiled.DRIVERS,
-)
+_register_drivers(HELPER, 2, helps=_compiled.DRIVERS)

@@ -118,7 +118,8 @@ class GreenKernel:
         degree_weights: Sequence[float] | np.ndarray | None = None,
     ):
         if not isinstance(material, Material):
-            raise ValueError(f"material must be a Material (got {type(material).__name__})")
+            message = f"material must be a Material (got {type(material).__name__})"
+            raise ParameterError("material", message)
         l_max = check_integer("l_max", l_max, low=0, high=L_MAX_LIMIT)
         self._material, self._l_max = material, l_max
         self._weights = checked_weights(degree_weights, l_max)

@@ -20,7 +20,7 @@ from scipy.integrate import lebedev_rule
 from gogreen_core.field.kernel import L_MAX_LIMIT, GreenKernel
 from gogreen_core.physics.material import Material
 from gogreen_core.physics.radial import GaussianRadial
-from gogreen_core.validation import ParameterError, check_integer, check_number
+from gogreen_core.validation import check_integer, check_number
 
 __all__ = ["DEFAULT_TOLERANCE", "TruncationCancelled", "TruncationReport", "truncation_errors"]
 
@@ -99,8 +99,6 @@ def truncation_errors(
     cancelled: Callable[[], bool] | None = None,
 ) -> TruncationReport:
     """δ(l_max) for even l_max = 0, 2, ..., ``max_degree`` (≤ 44): see the module docstring."""
-    if not isinstance(material, Material):
-        raise ParameterError("material", f"material must be a Material (got {material!r})")
     top = L_MAX_LIMIT - _REFERENCE_MARGIN
     max_degree = check_integer("max_degree", max_degree, low=0, high=top)
     max_degree -= max_degree % 2
