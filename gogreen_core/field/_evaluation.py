@@ -89,17 +89,6 @@ class Parity:
             self._backend = backend
         return backend
 
-    def single(self, folded: np.ndarray) -> tuple[np.ndarray, float]:
-        """(``folded`` (n_terms, K) over the largest magnitude of its rows above degree l_first,
-        as float32; that magnitude): the streamlines' single precision coefficients (zeros and
-        0 when there is none; NaN when it is not finite)."""
-        upper = np.abs(folded[2 * self.l_first + 1 :])
-        scale = float(upper.max(initial=0.0))
-        if scale == 0.0:
-            return np.zeros(folded.shape, dtype=np.float32), 0.0
-        with np.errstate(invalid="ignore"):
-            return np.ascontiguousarray(folded / scale, dtype=np.float32), scale
-
     def folded(self, coeffs: np.ndarray) -> np.ndarray:
         """``coeffs`` (n_terms, K) with the Legendre scales folded in."""
         return np.ascontiguousarray(coeffs * self.scales[:, None])
@@ -155,7 +144,12 @@ def stream_field(
     width = outer - inner
     backend = parity.backend()
     folded = parity.folded(coeffs)
-    coeffs32, cscale = parity.single(folded)
+    # float32 coefficients over the largest magnitude of the rows above the lowest degree
+    cscale = float(np.abs(folded[2 * parity.l_first + 1 :]).max(initial=0.0))
+    coeffs32 = np.zeros(folded.shape, dtype=np.float32)
+    if cscale != 0.0:
+        with np.errstate(invalid="ignore"):
+            coeffs32 = np.ascontiguousarray(folded / cscale, dtype=np.float32)
     field = _stream.StreamField(
         center0=center, center_step=center_step, eps=float(eps), power=parity.power,
         l_first=parity.l_first, l_last=parity.l_last, base=parity.base, coeffs=folded,
@@ -180,7 +174,10 @@ def near_segment(
     """Which points some mirror image of which lies within ``radius`` of the segment (the
     vertices a brush event can reach), on the thread pool; in NumPy until compiled."""
     if not (_compiled.drivers() if compiled is None else compiled):
-        _numpy_eval.near_segment(points, start, step, radius, mirrors, origin, out)
+        # without the compiled test's contractions: rows at rounding distance from the ball's
+        # surface may differ, which moves nothing (``_integrator``'s CUTOFF_END)
+        distance2 = _numpy_eval.segment_distance2(points, start, step, mirrors, origin)
+        out[:] = distance2 < radius * radius
         return
     work = partial(near_segment_rows, points, start, step, float(radius), mirrors, origin, out)
     run_ranges(work, points.shape[0], 1 << 16)

@@ -130,18 +130,12 @@ def stream(
     evaluations: np.ndarray,
     run_pass: Callable[..., None],
 ) -> int:
-    """Move points along the streamlines of ``field`` (``_integrator``), its passes run by
-    ``run_pass`` (``_integrator._pass`` or its NumPy twin ``_numpy_eval.stream_pass``).
-
-    ``points`` (N_all, 3): start positions, the rows ``indices`` (N,) int64 if ``indexed``
-    (read in place), written back in place with ``write_back`` if every end is finite.
-    ``substeps`` fixed RK4 steps if ``tolerance <= 0``, else adaptive steps within
-    ``tolerance`` times the motion scale. ``out`` (N, 3) gets the end positions,
-    ``evaluations`` (N,) int64 the velocity evaluations each point took (if not empty).
+    """Move ``points`` (N_all, 3; the rows ``indices`` (N,) if ``indexed``) along the
+    streamlines of ``field`` by ``run_pass`` (``_integrator._pass`` or its NumPy twin), as
+    ``GreenKernel.streamlines`` (``tolerance <= 0``: fixed steps; ``write_back``: in place).
     Returns 0 when done, 1 if an index is out of range, 2 if an indexed start position is not
     finite or beyond ``limit`` (nothing integrated), 3 if an end position is not finite
-    (nothing written back).
-    """
+    (nothing written back)."""
     n_points = indices.shape[0] if indexed else points.shape[0]
     if indexed and points.shape[0] == 0:
         return 1
