@@ -1,9 +1,7 @@
 """The code a :class:`~gogreen_core.field.kernel.GreenKernel` evaluates with: the compiled
-drivers (``_expansion``, ``_integrator``, serial GIL-free numba functions on a thread pool, with
-the generated angular kernels of ``_unrolled``), deterministic bit for bit whatever the number
-of threads, or until they are ready (``_compiled``) the NumPy reference ``_numpy_eval``. Each
-parity chooses its :class:`Backend` once the code it evaluates with is ready
-(:meth:`Parity.backend`), not at every call.
+drivers (``_expansion``, ``_integrator``, with ``_unrolled``'s angular kernels) on the thread
+pool, bit for bit whatever the number of threads, or until they are ready (``_compiled``) the
+NumPy reference ``_numpy_eval``; each parity chooses once they are (:meth:`Parity.backend`).
 """
 
 from __future__ import annotations

@@ -1,6 +1,4 @@
-"""The streamlines' passes (``_integrator``, see there) run over the thread pool, and the
-choices between them.
-"""
+"""The streamlines' passes (``_integrator``) run over the thread pool, and the choices between."""
 
 from __future__ import annotations
 
@@ -179,9 +177,7 @@ def stream(
             refine = _above(rank[0], blocks[1], bound * bound * bound)
             refined_bad = np.zeros((len(refine) + BLOCK - 1) // BLOCK, dtype=np.bool_)
             run(REFINE, refine, rank, level=bound, bad_blocks=refined_bad)
-            # a first step that overflowed fails the event even where refinement might not
-            if write_back and (refined_bad.any() or bad.any()):
-                return 3
+            bad[:] |= refined_bad.any()  # a first step that overflowed fails it all the same
     if not write_back:
         return 0
     if bad.any():
