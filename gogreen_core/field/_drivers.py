@@ -61,9 +61,8 @@ def _angular_kernels(unit: _compiled.Unit) -> list[tuple[int, int, bool]]:
 
 
 def _driver_calls() -> list[tuple[Any, tuple[Any, ...]]]:
-    """(dispatcher, arguments) of every driver, typed as the real calls are (float64
-    C-contiguous writable arrays, int64 rows and bases, bool flags, the C callback type of
-    ``angular``), with empty ranges: calling them compiles and returns."""
+    """(dispatcher, arguments) of every driver, typed as the real calls are, with empty ranges:
+    calling them compiles and returns."""
     f3, f33 = np.zeros(3), np.zeros((1, 3))
     rows, base = np.zeros(1, dtype=np.int64), np.zeros(2, dtype=np.int64)
     tables = np.zeros((1, 2, _expansion.SEGMENT_DEGREE + 1))

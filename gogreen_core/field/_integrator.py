@@ -44,9 +44,7 @@ if TYPE_CHECKING:
     from gogreen_core.field._stream import StreamField as Field
 
     #: The scratch rows of ``_scratch``.
-    Scratch = tuple[
-        np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray
-    ]
+    Scratch = tuple[np.ndarray, ...]
     Rows = tuple[np.ndarray, np.ndarray, np.ndarray]
 
 __all__ = ["CUTOFF_END", "MAX_ADAPTIVE_STEPS"]

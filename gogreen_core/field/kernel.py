@@ -281,18 +281,14 @@ class GreenKernel:
         center_step, s the C² ``cutoff`` (1 up to its first radius, 0 from its second; None:
         none), M the reflections of ``mirror_signs`` (n_m, 3) of ±1 (first row (1, 1, 1)).
 
-        ``tolerance`` (default :data:`STREAMLINE_TOLERANCE`): adaptive steps, every point
-        within ``tolerance`` times the motion scale (the largest of |center_step| and every
-        point's motion) of the fixed 64-step result (the error control: ``_integrator``);
-        ``substeps`` is then unused. ``tolerance=None``: ``substeps`` fixed RK4 steps. Either
-        way the output is bit-identical whatever the number of threads.
-
-        ``indices`` (n,) int: move only the rows ``points[indices]``, read in place (bit for
-        bit ``streamlines(points[indices], ...)``). ``in_place``: also write the end positions
-        into ``points`` (a writable C-contiguous float64 (N, 3) array) at ``indices``, only if
-        all are finite (else ValueError, ``points`` unchanged). ``out``: a reused C-contiguous
-        float64 buffer of at least n rows, of which the result is a view. ``evaluations``: an
-        int64 (n,) array receiving the velocity evaluations each point took (4 per RK4 step).
+        ``tolerance``: adaptive steps, every point within ``tolerance`` times the motion scale
+        (the largest of |center_step| and every point's motion) of the fixed 64-step result;
+        None: ``substeps`` fixed RK4 steps. Bit-identical whatever the number of threads.
+        ``indices`` (n,) int: move only ``points[indices]``, read in place. ``in_place``: also
+        write the ends into ``points`` (writable C-contiguous float64) at ``indices`` if all are
+        finite (else ValueError, ``points`` unchanged). ``out``: a reused C-contiguous float64
+        buffer of at least n rows, the result a view of it. ``evaluations``: int64 (n,), gets
+        the velocity evaluations each point took (4 per RK4 step).
         """
         if in_place and _writable(np.asarray(points, dtype=np.float64)) is not points:
             message = "in_place needs points as a writable C-contiguous (N, 3) float64 array"
