@@ -7,7 +7,9 @@ with M(ξ)_ik = C_ijkl ξ_j ξ_l, P_lm = ∫_S² M(ξ̂)⁻¹ Y_lm(ξ̂) dS and 
 the real SH basis of ``sph.py`` (exact by the addition theorem, so everything stays real). The
 material matrices are integrated once (:func:`material_rule`); R_l and ℛ_l come from the radial
 profile's tables; evaluation is the numba code behind ``_evaluation.py``. G is truncated at even
-l ≤ l_max and ∇G at odd l ≤ l_max + 1.
+l ≤ l_max and ∇G at odd l ≤ l_max + 1. The quadrature sums (:func:`_material_sums`) are the
+expensive part; packing them with signs, 1/(2π²), degree weights and output maps
+(:func:`_pack_terms`) takes microseconds, so a kernel repacks for other weights.
 """
 
 from __future__ import annotations
@@ -23,17 +25,11 @@ from gogreen_core import _compiled
 from gogreen_core.field import _drivers, _evaluation, _stream
 from gogreen_core.field._evaluation import Parity
 from gogreen_core.field._expansion import SEGMENT_DEGREE
-from gogreen_core.field.coefficients import (
-    checked_weights,
-    degree_norms,
-    material_sums,
-    pack_terms,
-    parity_ranges,
-)
 from gogreen_core.physics.material import Material
-from gogreen_core.physics.quadrature import lebedev_points
+from gogreen_core.physics.quadrature import lebedev_points, material_rule
 from gogreen_core.physics.radial import TABLE_DEGREE, GaussianRadial, RadialProfile
 from gogreen_core.physics.radial_tables import single_tables
+from gogreen_core.physics.sph import real_sph_harm
 from gogreen_core.physics.sph_rotation import real_wigner_d
 from gogreen_core.validation import ParameterError, check_finite, check_integer, check_number
 
@@ -99,6 +95,81 @@ def _writable(arr: np.ndarray) -> np.ndarray:
     return arr if arr.flags.writeable else arr.copy()
 
 
+def _parity_ranges(l_max: int) -> tuple[tuple[int, int], tuple[int, int]]:
+    """(first, last) degree of each parity for truncation ``l_max``: even l ≤ l_max for G,
+    odd l ≤ l_max + 1 for ∇G."""
+    return (0, l_max - l_max % 2), (1, l_max + 1 - l_max % 2)
+
+
+def _checked_weights(degree_weights: Sequence[float] | np.ndarray | None, l_max: int) -> np.ndarray:
+    """Degree weights (l_max + 1,), read-only: all ones for None; ValueError for the wrong
+    count or a value that is not finite."""
+    weights = np.ones(l_max + 1) if degree_weights is None else np.array(degree_weights, float)
+    if weights.shape != (l_max + 1,):
+        count = f"l_max + 1 = {l_max + 1}"
+        raise ValueError(f"degree_weights must have {count} values (got shape {weights.shape})")
+    check_finite("degree_weights", weights)
+    weights.setflags(write=False)
+    return weights
+
+
+def _material_sums(material: Material, l_max: int) -> tuple[np.ndarray, np.ndarray]:
+    """Σ_q w_q Y_lm(ξ_q) M⁻¹(ξ_q) for even l ≤ l_max ((n_even, 9)) and Σ_q w_q Y_lm(ξ_q)
+    M⁻¹(ξ_q) ξ_q,p for odd l ≤ l_max + 1 ((n_odd, 27)): paper Eq. 10 and 12 before signs,
+    normalization and weights."""
+    nodes, qw = material_rule(material, l_max)
+    (_, even_last), (_, odd_last) = _parity_ranges(l_max)
+    even_rows = [c for l in range(0, even_last + 1, 2) for c in range(l * l, (l + 1) ** 2)]
+    odd_rows = [c for l in range(1, odd_last + 1, 2) for c in range(l * l, (l + 1) ** 2)]
+    # in chunks of nodes that bound the harmonics to ~64 MB
+    even_sum: np.ndarray | float = 0.0
+    odd_sum: np.ndarray | float = 0.0
+    chunk = max(256, 8_000_000 // (l_max + 2) ** 2)
+    for start in range(0, len(nodes), chunk):
+        part = nodes[start : start + chunk]
+        m_inv = np.linalg.inv(material.acoustic_tensor(part))
+        m_inv *= qw[start : start + chunk, None, None]
+        flat = m_inv.reshape(len(part), 9)
+        grad_flat = (m_inv[:, :, :, None] * part[:, None, None, :]).reshape(len(part), 27)
+        rows = real_sph_harm(part, l_max + 1).T  # ((L+1)², n), C-contiguous
+        even_sum = even_sum + rows[even_rows] @ flat
+        odd_sum = odd_sum + rows[odd_rows] @ grad_flat
+    return np.asarray(even_sum), np.asarray(odd_sum)
+
+
+def _pack_terms(
+    sums: tuple[np.ndarray, np.ndarray],
+    l_max: int,
+    weights: np.ndarray,
+    output_maps: np.ndarray | None = None,
+) -> tuple[Parity, Parity]:
+    """The even and odd packed coefficients: the sums times i^l (even l) or i^(l+1) (odd l),
+    both real, the 1/(2π²) and the degree weight (the odd degree l takes ``weights[l − 1]``),
+    then each degree's output map (``output_maps[l]``, l_max's for ∇G's top degree)."""
+    if output_maps is not None:
+        output_maps = check_finite("output_maps", output_maps, (l_max + 1, 3, 3))
+
+    def pack(l_first: int, l_last: int, sums: np.ndarray, shape: tuple[int, ...]) -> Parity:
+        base = np.full(l_last + 1 if l_last >= 0 else 1, -1, dtype=np.int64)
+        factors: list[float] = []
+        offset = 0
+        for l in range(l_first, l_last + 1, 2):
+            base[l] = offset
+            offset += 2 * l + 1
+            sign = (-1.0) ** ((l + (l % 2)) // 2)
+            weight = weights[l] if l % 2 == 0 else weights[l - 1]
+            factors.extend([sign * weight / (2 * np.pi**2)] * (2 * l + 1))
+        mats = (sums * np.asarray(factors)[:, None]).reshape((offset, *shape))
+        if output_maps is not None:
+            for l in range(l_first, l_last + 1, 2):
+                rows = slice(base[l], base[l] + 2 * l + 1)
+                mats[rows] = np.einsum("ik,tk...->ti...", output_maps[min(l, l_max)], mats[rows])
+        return Parity(l_first, l_last, mats, base)
+
+    (_, even_last), (_, odd_last) = _parity_ranges(l_max)
+    return pack(0, even_last, sums[0], (3, 3)), pack(1, odd_last, sums[1], (3, 3, 3))
+
+
 # _expansion unrolls the segment polynomial for this degree
 assert TABLE_DEGREE == SEGMENT_DEGREE
 
@@ -123,9 +194,9 @@ class GreenKernel:
             raise ParameterError("material", message)
         l_max = check_integer("l_max", l_max, low=0, high=L_MAX_LIMIT)
         self._material, self._l_max = material, l_max
-        self._weights = checked_weights(degree_weights, l_max)
-        self._sums = material_sums(material, l_max)
-        self._even, self._odd = pack_terms(self._sums, l_max, self._weights)
+        self._weights = _checked_weights(degree_weights, l_max)
+        self._sums = _material_sums(material, l_max)
+        self._even, self._odd = _pack_terms(self._sums, l_max, self._weights)
         self._set_radial(GaussianRadial(1.0) if radial is None else radial)
 
     def _set_radial(self, radial: RadialProfile) -> None:
@@ -154,11 +225,11 @@ class GreenKernel:
     ) -> GreenKernel:
         """The same kernel with other ``degree_weights``, bit for bit a new one built with them.
         ``output_maps`` (l_max + 1, 3, 3), optional: a linear map A_l applied to each degree's
-        displacement, u = Σ_l A_l u_l (:func:`~gogreen_core.field.coefficients.pack_terms`)."""
-        weights = checked_weights(degree_weights, self._l_max)
+        displacement, u = Σ_l A_l u_l (:func:`_pack_terms`)."""
+        weights = _checked_weights(degree_weights, self._l_max)
         clone = copy.copy(self)
         clone._weights = weights
-        clone._even, clone._odd = pack_terms(self._sums, self._l_max, weights, output_maps)
+        clone._even, clone._odd = _pack_terms(self._sums, self._l_max, weights, output_maps)
         return clone
 
     def turned(self, rotation: np.ndarray) -> GreenKernel:
@@ -173,7 +244,7 @@ class GreenKernel:
         """
         material = self._material.rotated(rotation)  # checks the rotation
         f = np.asarray(rotation, dtype=np.float64)
-        (_, even_last), (_, odd_last) = parity_ranges(self._l_max)
+        (_, even_last), (_, odd_last) = _parity_ranges(self._l_max)
         wigner = real_wigner_d(f, max(even_last, odd_last, 0))
         even, odd = self._sums
         out_even, out_odd = np.empty_like(even), np.empty_like(odd)
@@ -187,13 +258,18 @@ class GreenKernel:
             out_odd[rows] = np.einsum("ia,jb,pc,tabc->tijp", f, f, f, mixed).reshape(-1, 27)
         clone = copy.copy(self)
         clone._material, clone._sums = material, (out_even, out_odd)
-        clone._even, clone._odd = pack_terms(clone._sums, self._l_max, self._weights)
+        clone._even, clone._odd = _pack_terms(clone._sums, self._l_max, self._weights)
         return clone
 
     def degree_norms(self) -> np.ndarray:
-        """(l_max + 2,) the size of each degree's material term, unweighted
-        (:func:`~gogreen_core.field.coefficients.degree_norms`)."""
-        return degree_norms(self._sums, self._l_max)
+        """(l_max + 2,) the Frobenius norm of each degree's quadrature sums, unweighted (Σ_m P_lm
+        for even l, 𝒫_lm for odd l), comparable between degrees of one parity."""
+        norms = np.zeros(self._l_max + 2)
+        for (first, last), parity_sums in zip(_parity_ranges(self._l_max), self._sums, strict=True):
+            for l in range(first, last + 1, 2):
+                rows = parity_sums[l * (l - 1) // 2 : (l + 1) * (l + 2) // 2]
+                norms[l] = float(np.sqrt(np.sum(rows * rows)))
+        return norms
 
     @property
     def material(self) -> Material:
