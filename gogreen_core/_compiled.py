@@ -80,8 +80,7 @@ _pending: list[Unit] = []
 _failed: dict[Unit, Exception] = {}
 #: Units this process had compiled (the others it only loaded from numba's disk cache).
 _compiled_units: set[Unit] = set()
-#: What :func:`add_progress_listener` listeners are called with, on a compile thread (the
-#: worker, or the second child's follower), one call at a time.
+#: A progress listener (:func:`add_progress_listener`).
 ProgressCallback = Callable[["Progress"], None]
 _progress_listeners: list[ProgressCallback] = []
 #: (units, callback) waiting for their units (see :func:`when_ready`).
@@ -99,8 +98,7 @@ class Progress:
     total: int
     elapsed: float
     left: tuple[Unit, ...]
-    #: Seconds left from each unit's expected time (:mod:`gogreen_core.compile_times`), None
-    #: when a unit has none.
+    #: Seconds left from the units' expected times (``compile_times``; None if one has none).
     estimate: float | None = None
 
     @property

@@ -5,6 +5,7 @@ kernel of each parity and highest degree (``(l_first, l_last)``).
 
 from __future__ import annotations
 
+from functools import cache
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -17,19 +18,15 @@ if TYPE_CHECKING:
 
 __all__ = ["angular", "generic_marker", "units_for"]
 
-_markers: dict[bool, CFunc[Any]] = {}
 
-
+@cache
 def generic_marker(single: bool = False) -> CFunc[Any]:
     """The C callback passed as ``angular`` (``single``: ``angular32``) with ``unrolled=False``
     (never called: the drivers run the generic ``_expansion._angular``)."""
-    marker = _markers.get(single)
-    if marker is None:
-        from numba import cfunc
+    from numba import cfunc
 
-        signature = _expansion.ANGULAR_SINGLE_SIGNATURE if single else _expansion.ANGULAR_SIGNATURE
-        marker = _markers[single] = cfunc(signature, cache=True)(_expansion.generic_marker)
-    return marker
+    signature = _expansion.ANGULAR_SINGLE_SIGNATURE if single else _expansion.ANGULAR_SIGNATURE
+    return cfunc(signature, cache=True)(_expansion.generic_marker)
 
 
 def angular(l_first: int, l_last: int, single: bool = False) -> CFunc[Any] | None:

@@ -3,10 +3,9 @@
 
     δ(l_max) = max_x ‖G_lmax(x) − G_ref(x)‖_F / max_x ‖G_ref(x)‖_F
 
-over points x within 6 ε of the load, against the same expansion 16 degrees higher (the tests
-check it against a plane-wave quadrature of G). An odd l_max has the error of l_max − 1. The
-falloff hardly changes δ; the Gaussian is used. About a second of work: ``progress(done,
-total)`` is called after each degree, ``cancelled()`` stops between them.
+over points x within 6 ε of the load, against the same expansion 16 degrees higher (an odd
+l_max has the error of l_max − 1; the falloff hardly changes δ: the Gaussian is used). About a
+second of work: ``progress(done, total)`` after each degree, ``cancelled()`` stops between them.
 """
 
 from __future__ import annotations
