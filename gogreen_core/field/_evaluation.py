@@ -76,13 +76,9 @@ class Parity:
         kernel = _drivers.angular(self.l_first, self.l_last) if generated else None
         upper = generated and self.l_last > self.l_first
         kernel32 = _drivers.angular(self.l_first, self.l_last, single=True) if upper else None
-        backend = Backend(
-            True,
-            kernel if kernel is not None else _drivers.generic_marker(),
-            kernel is not None,
-            kernel32 if kernel32 is not None else _drivers.generic_marker(single=True),
-            kernel32 is not None,
-        )
+        angular = kernel if kernel is not None else _drivers.generic_marker()
+        angular32 = kernel32 if kernel32 is not None else _drivers.generic_marker(single=True)
+        backend = Backend(True, angular, kernel is not None, angular32, kernel32 is not None)
         if not generated or (kernel is not None and (kernel32 is not None or not upper)):
             self._backend = backend
         return backend

@@ -46,17 +46,8 @@ def _geometry(offsets: np.ndarray, eps: float, power: int, n_seg: int) -> tuple[
     fj = np.minimum(np.floor(u), n_seg - 1.0)
     scale = inv_re if power == 1 else inv_re * inv_re
     sigma = 2.0 * (u - fj)
-    return (
-        x * inv,
-        y * inv,
-        z * inv,
-        r,
-        sigma - 1.0,
-        fj.astype(np.int64),
-        scale,
-        np.where(positive, scale, 0.0),
-        sigma,
-    )
+    scale1 = np.where(positive, scale, 0.0)
+    return x * inv, y * inv, z * inv, r, sigma - 1.0, fj.astype(np.int64), scale, scale1, sigma
 
 
 def _radial(tables: np.ndarray, l_first: int, geometry: tuple[Any, ...]) -> list[np.ndarray]:
