@@ -88,6 +88,10 @@ def _points(name: str, value: ArrayLike) -> np.ndarray:
     return _writable(_within_limit(name, arr))
 
 
+def _load_name(shape: tuple[int, ...]) -> str:
+    return "force" if shape == (3,) else "affine load"
+
+
 def _writable(arr: np.ndarray) -> np.ndarray:
     """``arr`` C-contiguous and writable (a copy if it is not): the compiled functions are
     typed for such arrays, and a read-only one would compile them again."""
@@ -315,38 +319,34 @@ class GreenKernel:
         """Vector load: u = G(points - center) · force → (N, 3). Finite within
         :data:`COORDINATE_LIMIT` (decay 1/r); beyond it, or for a force so large that u
         overflows, a :class:`~gogreen_core.validation.ParameterError` names the input."""
-        return self._displace(points, center, "force", force, (3,))
+        return self._displace(points, center, force, (3,))
 
     def affine_displacement(
         self, points: np.ndarray, center: np.ndarray, load: np.ndarray
     ) -> np.ndarray:
         """Affine load H (3, 3): u_i = Σ_jp ∂_p G_ij(points - center) H_jp → (N, 3); finite
         within :data:`COORDINATE_LIMIT` as :meth:`displacement` (decay 1/r²)."""
-        return self._displace(points, center, "affine load", load, (3, 3))
+        return self._displace(points, center, load, (3, 3))
 
     def _displace(
-        self,
-        points: np.ndarray,
-        center: np.ndarray,
-        name: str,
-        load: ArrayLike,
-        shape: tuple[int, ...],
+        self, points: np.ndarray, center: np.ndarray, load: ArrayLike, shape: tuple[int, ...]
     ) -> np.ndarray:
         pts = _points("points", points)
         c = _within_limit("center", _finite_array("center", center, (3,)))
-        parity, _, _, coeffs = self._loaded(name, load, shape)
+        parity, _, _, coeffs = self._loaded(load, shape)
         if not np.isfinite(coeffs).all():
+            name = _load_name(shape)
             raise ParameterError(
                 name, f"{name} is too large for this material: its expansion overflows"
             )
         return self._run(parity, pts, c, coeffs)
 
     def _loaded(
-        self, name: str, load: ArrayLike, shape: tuple[int, ...]
+        self, load: ArrayLike, shape: tuple[int, ...]
     ) -> tuple[Parity, np.ndarray, np.ndarray, np.ndarray]:
         """The parity of a force (3,) or an affine load (3, 3), its radial tables (double and
         single precision) and the load's coefficients (n_terms, 3)."""
-        value = _finite_array(name, load, shape)
+        value = _finite_array(_load_name(shape), load, shape)
         with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported by callers
             if shape == (3,):
                 return self._even, self._even_tables, self._even_single, self._even.matrices @ value
@@ -401,14 +401,12 @@ class GreenKernel:
             if pts.ndim != 2 or pts.shape[1] != 3:
                 raise ParameterError("points", f"points must have shape (N, 3) (got {pts.shape})")
         c = _finite_array("center", center, (3,))
-        step = (
-            np.zeros(3) if center_step is None else _finite_array("center_step", center_step, (3,))
-        )
+        step = np.zeros(3) if center_step is None else center_step
+        step = _finite_array("center_step", step, (3,))
         shape = np.shape(load)
         if shape not in ((3,), (3, 3)):
             raise ValueError(f"load must be a force (3,) or an affine load (3, 3), got {shape}")
-        name = "force" if shape == (3,) else "affine load"
-        parity, tables, single, coeffs = self._loaded(name, load, shape)
+        parity, tables, single, coeffs = self._loaded(load, shape)
         inner, outer = (0.0, 0.0) if cutoff is None else (float(cutoff[0]), float(cutoff[1]))
         if cutoff is not None and not (np.isfinite(outer) and 0.0 <= inner < outer):
             raise ValueError(f"cutoff must satisfy 0 <= inner < outer, finite (got {cutoff})")
