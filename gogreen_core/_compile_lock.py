@@ -1,15 +1,11 @@
 """The lock beside numba's disk cache: one compilation per cache at a time, across processes.
 
-Before compiling units missing from the cache, ``_compiled``'s worker takes an exclusive
-``flock`` on ``gogreen-compile.lock`` in :func:`cache_folder` and hands it to its compiling
-children, which hold it to their end. Another process finding it held keeps evaluating in NumPy
-and waits, then loads what the holder compiled and compiles only what is still missing. The
-kernel frees the lock of a holder that died. The lock file names the holder (pids, parent,
-units); ``gogreen-compile.log`` beside it keeps a line per compilation.
-
-A process exiting while its children compile does not wait: they run on detached (their own
-session: a closed terminal or Ctrl+C does not stop them), finish the cache for the next run,
-and the exiting process says so on stderr.
+``_compiled``'s worker takes an exclusive ``flock`` on :data:`LOCK_NAME` in :func:`cache_folder`
+before compiling, and its compiling children inherit it to their end (the kernel frees a dead
+holder's). Another process finding it held evaluates in NumPy meanwhile, then loads what the
+holder compiled. The lock file names the holder, :data:`LOG_NAME` logs each compilation.
+Children still compiling when their process exits run on detached (their own session) and
+finish the cache for the next run; stderr says so.
 """
 
 from __future__ import annotations

@@ -1,21 +1,17 @@
 """The compiled code, brought into the process without making anyone wait for a compiler.
 
-Compiled code comes in units: the field's drivers (:data:`DRIVERS`), the generated angular
-kernel of each parity and highest degree (``(l_first, l_last)``), the surface index, the paint
-brushes' and the mesh readers' loops. Each module with compiled code registers its part of a
-unit when imported (:func:`register`) and asks here whether it is ready; until it is, the NumPy
-twin or the generic angular kernel serves with the same results, so :func:`request` queues
-units and returns at once.
+Compiled code comes in units (:data:`DRIVERS`, :data:`GEOMETRY`, :data:`BRUSHES`,
+:data:`MESH_IO`, and the generated angular kernel ``(l_first, l_last)`` of each parity and
+highest degree). Each module registers its unit when imported (:func:`register`) and
+asks here whether it is ready; until then its NumPy twin (or the generic angular kernel) serves
+with the same results, and :func:`request` queues the unit without waiting.
 
-A worker thread loads units numba's disk cache holds (milliseconds) and has the others
-compiled by a child Python process (``_main``) filling that cache, then loads them. In a thread
-of this process a compilation would hold the GIL and numba's compiler lock, slowing the GUI and
-the NumPy evaluation; a child runs on the other core. Where no child can run (Python embedded
-in an application) the worker compiles in this process.
-
-``GOGREEN_COMPILE`` chooses: ``child`` (default), ``thread`` (a background thread here) or
-``off`` (only an explicit :func:`prepare` compiles; tests, machines where numba cannot).
-One compilation per cache at a time, across processes: see ``_compile_lock``.
+A worker thread loads the units numba's disk cache holds (milliseconds) and has the others
+compiled by a child Python (``_main``: in a thread here a compilation would hold the GIL and
+numba's lock, slowing the GUI), then loads them; where no child can run (Python embedded in an
+application) it compiles in this process. ``GOGREEN_COMPILE``: ``child`` (default), ``thread``
+or ``off`` (only :func:`prepare` compiles). One compilation per cache at a time: see
+``_compile_lock``.
 """
 
 from __future__ import annotations
@@ -30,10 +26,10 @@ from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 from types import ModuleType
+from typing import Any
 
 from gogreen_core import compile_times
 from gogreen_core._compile_lock import LOCK_HELD_VARIABLE, CacheLock, compile_holder, running
-from gogreen_core._numba_cache import modules_cached
 
 #: A unit: DRIVERS, GEOMETRY, BRUSHES, MESH_IO or (l_first, l_last) of an angular kernel.
 Unit = str | tuple[int, ...]
@@ -50,10 +46,10 @@ __all__ = [
     "Progress",
     "add_progress_listener",
     "compile_holder",
+    "dispatchers_cached",
     "drivers",
     "forced",
     "forced_code",
-    "mark_ready",
     "modules_cached",
     "prepare",
     "register",
@@ -84,8 +80,7 @@ _pending: list[Unit] = []
 _failed: dict[Unit, Exception] = {}
 #: Units this process had compiled (the others it only loaded from numba's disk cache).
 _compiled_units: set[Unit] = set()
-#: What :func:`add_progress_listener` listeners are called with, on a compile thread (the
-#: worker, or the second child's follower), one call at a time.
+#: A progress listener (:func:`add_progress_listener`).
 ProgressCallback = Callable[["Progress"], None]
 _progress_listeners: list[ProgressCallback] = []
 #: (units, callback) waiting for their units (see :func:`when_ready`).
@@ -103,8 +98,7 @@ class Progress:
     total: int
     elapsed: float
     left: tuple[Unit, ...]
-    #: Seconds left from each unit's expected time (:mod:`gogreen_core.compile_times`), None
-    #: when a unit has none.
+    #: Seconds left from the units' expected times (``compile_times``; None if one has none).
     estimate: float | None = None
 
     @property
@@ -148,18 +142,17 @@ def _tell_progress(progress: Progress) -> None:
 
 @dataclass(frozen=True)
 class _Part:
-    """One module's part of a unit: ``load(unit)`` compiles or loads it on the calling thread,
+    """A registered unit: ``load(unit)`` compiles or loads it on the calling thread,
     ``cached(unit)`` tells whether the disk cache holds it; a compiling child imports
     ``module``."""
 
     module: str
-    name: str
     load: Callable[[Unit], object]
     cached: Callable[[Unit], bool]
 
 
-#: The registered units (ANGULAR for every (l_first, l_last)), each with its parts.
-_units: dict[str, list[_Part]] = {}
+#: The registered units (ANGULAR for every (l_first, l_last)).
+_units: dict[str, _Part] = {}
 #: unit → the unit that helps compile it (see :func:`register`).
 _helpers: dict[Unit, str] = {}
 
@@ -171,16 +164,13 @@ def register(
     cached: Callable[[Unit], bool],
     helps: Unit | None = None,
 ) -> None:
-    """Register ``module``'s part of ``unit`` (:class:`_Part`; again: replaced). A part added
-    to a ready unit makes it not ready until the part is loaded too. ``helps``: a unit part of
-    which ``unit`` compiles, in a second child while the first compiles that unit."""
-    part = _Part(module, getattr(load, "__qualname__", repr(load)), load, cached)
+    """Register ``unit`` of ``module`` (:class:`_Part`; again: replaced, and not ready until
+    loaded again). ``helps``: a unit part of which ``unit`` compiles, in a second child while the
+    first compiles that unit."""
     with _condition:
         if helps is not None:
             _helpers[helps] = unit
-        parts = _units.setdefault(unit, [])
-        parts[:] = [p for p in parts if (p.module, p.name) != (part.module, part.name)]
-        parts.append(part)
+        _units[unit] = _Part(module, load, cached)
         _ready.difference_update([u for u in _ready if _kind(u) == unit])
 
 
@@ -212,13 +202,52 @@ class CompiledModule:
             self._compiling.now = False
 
 
+def dispatchers_cached(calls: Iterable[tuple[Any, tuple[Any, ...]]]) -> bool:
+    """Whether numba's disk cache holds every (dispatcher, arguments) call of ``calls``,
+    typed as they are (numba's ``_cache.load_overload``, not public API)."""
+    from numba import typeof
+
+    for dispatcher, args in calls:
+        signature = tuple(typeof(a) for a in args)
+        if dispatcher._cache.load_overload(signature, dispatcher.targetctx) is None:
+            return False
+    return True
+
+
+def modules_cached(name: str) -> bool:
+    """Whether numba's disk cache holds machine code for this machine of every compiled
+    function of module ``name`` (of a package: of its modules too), from their cache index. A
+    function without any entry is one only compiled code calls."""
+    import importlib
+    import pkgutil
+
+    from numba.core.dispatcher import Dispatcher
+
+    module = importlib.import_module(name)
+    modules = [module]
+    for info in pkgutil.iter_modules(getattr(module, "__path__", [])):
+        modules.append(importlib.import_module(f"{module.__name__}.{info.name}"))
+    found = False
+    for dispatcher in (v for m in modules for v in vars(m).values()):
+        if isinstance(dispatcher, Dispatcher) and dispatcher.__module__.startswith(module.__name__):
+            internals: Any = dispatcher  # numba's cache and code generator carry no types
+            magic = internals.targetctx.codegen().magic_tuple()
+            index = internals._cache._cache_file._load_index()
+            if not index:  # never compiled on its own: called only from compiled code (inlined)
+                continue
+            if not any(key[1] == magic for key in index):
+                return False
+            found = True
+    return found
+
+
 def _kind(unit: Unit) -> str:
     return unit if isinstance(unit, str) else ANGULAR
 
 
-def _parts(unit: Unit) -> list[_Part]:
+def _part(unit: Unit) -> _Part | None:
     with _condition:
-        return list(_units.get(_kind(unit), ()))
+        return _units.get(_kind(unit))
 
 
 #: Tests and benchmarks only (:func:`forced`): None, or which code evaluates.
@@ -233,13 +262,6 @@ def drivers() -> bool:
 def forced_code() -> str | None:
     """The code :func:`forced` chose ("numpy", "generic", "unrolled"), or None."""
     return _forced
-
-
-def mark_ready(unit: Unit) -> None:
-    """Note that ``unit`` was compiled or loaded on this thread (outside the worker)."""
-    with _condition:
-        _ready.add(unit)
-        _condition.notify_all()
 
 
 def _in_use(unit: Unit) -> bool:
@@ -417,7 +439,7 @@ def _bring_in(units: list[Unit], missing: list[Unit], lock: CacheLock | None) ->
 def _settle(unit: Unit, missing: list[Unit], count: _UnitCount) -> None:
     """Load ``unit`` (compiled here if no child did), mark it ready or failed, take it off the
     queue and call the callbacks now due."""
-    if not _parts(unit):  # its module is not imported yet: asked for again later
+    if _part(unit) is None:  # its module is not imported yet: asked for again later
         with _condition:
             _pending.remove(unit)
             _condition.notify_all()
@@ -446,19 +468,18 @@ def _settle(unit: Unit, missing: list[Unit], count: _UnitCount) -> None:
 
 
 def _load(unit: Unit) -> None:
-    parts = _parts(unit)
-    if not parts:
+    part = _part(unit)
+    if part is None:
         raise LookupError(f"no compile unit {unit!r} is registered (its module is not imported)")
-    for part in parts:
-        part.load(unit)
+    part.load(unit)
 
 
 def _cached(unit: Unit) -> bool:
     """Whether numba's disk cache holds ``unit`` (then loading it takes milliseconds); any
     doubt counts as not cached (a child then finds everything cached)."""
     try:
-        parts = _parts(unit)
-        return bool(parts) and all(part.cached(unit) for part in parts)
+        part = _part(unit)
+        return part is not None and part.cached(unit)
     except Exception:
         return False
 
@@ -483,7 +504,7 @@ def _compile_in_child(
     split: bool = False,
 ) -> bool:
     """Compile ``units`` into numba's disk cache in a child process; True if it succeeded.
-    Its arguments are ``module,module=unit`` (the modules register the unit); it prints each
+    Its arguments are ``module=unit`` (the module registers the unit); it prints each
     once its unit is compiled, and ``unit_compiled(unit)`` is called then. It inherits ``lock``
     and holds it to its end. ``split`` (two cores or more): the first unit (what the first
     stroke needs) alone in one child, its helper (:func:`register`) and the rest in another."""
@@ -496,9 +517,9 @@ def _compile_in_child(
     for group in (units[:1], [*helper, *units[1:]]) if split else (units,):
         by_arg: dict[str, Unit] = {}
         for unit in group:
-            modules = ",".join(dict.fromkeys(part.module for part in _parts(unit)))
+            part = _part(unit)
             name = unit if isinstance(unit, str) else f"{unit[0]}:{unit[1]}"
-            by_arg[f"{modules}={name}"] = unit
+            by_arg[f"{part.module if part else ''}={name}"] = unit
         try:
             child = subprocess.Popen(
                 [sys.executable, "-c", _CHILD_SCRIPT, *by_arg],
@@ -551,15 +572,15 @@ _CHILD_SCRIPT = (
 
 def _main(argv: list[str]) -> int:
     """The child: compile into numba's disk cache the units of its command line
-    (``module,module=unit``). It outlives a parent that ends meanwhile, not CHILD_TIMEOUT."""
+    (``module=unit``). It outlives a parent that ends meanwhile, not CHILD_TIMEOUT."""
     import importlib
 
     quit_timer = threading.Timer(CHILD_TIMEOUT, os._exit, (3,))
     quit_timer.daemon = True
     quit_timer.start()
     for arg in argv:
-        modules, _, name = arg.rpartition("=")
-        for module in filter(None, modules.split(",")):
+        module, _, name = arg.rpartition("=")
+        if module:
             importlib.import_module(module)
         _load(tuple(int(v) for v in name.split(":")) if ":" in name else name)
         try:

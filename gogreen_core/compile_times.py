@@ -11,7 +11,8 @@ import json
 import os
 import tempfile
 from collections.abc import Mapping, Sequence
-from pathlib import Path
+
+from gogreen_core._compile_lock import cache_folder
 
 __all__ = [
     "BUILT_IN_WEIGHTS",
@@ -19,7 +20,6 @@ __all__ = [
     "record",
     "recorded",
     "seconds_left",
-    "times_path",
     "unit_name",
     "weight",
 ]
@@ -32,7 +32,7 @@ ANGULAR_WEIGHT_PER_DEGREE = 0.0115
 #: Seconds of weight 1 when nothing was measured: a first start on a quiet machine took 40 s
 #: at l_max 8 (issue 32), of total weight 1.57.
 SECONDS_PER_WEIGHT = 25.0
-#: The file of measured seconds per unit, in numba's cache folder.
+#: The file of measured seconds per unit, beside numba's disk cache (``cache_folder``).
 FILE_NAME = "gogreen-compile-times.json"
 
 _NAMES = {
@@ -61,17 +61,10 @@ def weight(unit: str | tuple[int, ...]) -> float | None:
     return ANGULAR_WEIGHT_PER_DEGREE * (unit[-1] + 1)
 
 
-def times_path() -> Path:
-    """The JSON file of measured seconds per unit, in ``NUMBA_CACHE_DIR`` or else the package's
-    ``__pycache__`` (numba's cache beside the sources)."""
-    folder = os.environ.get("NUMBA_CACHE_DIR") or str(Path(__file__).parent / "__pycache__")
-    return Path(folder) / FILE_NAME
-
-
 def recorded() -> dict[str, float]:
     """Seconds each unit took when last compiled here ({} if none or unreadable)."""
     try:
-        data = json.loads(times_path().read_text(encoding="utf-8"))
+        data = json.loads((cache_folder() / FILE_NAME).read_text(encoding="utf-8"))
     except (OSError, ValueError):
         return {}
     if not isinstance(data, dict):
@@ -86,7 +79,7 @@ def recorded() -> dict[str, float]:
 def record(seconds: Mapping[str | tuple[int, ...], float]) -> None:
     """Add the measured ``seconds`` per unit to the file (written whole, then renamed); nothing
     when its folder cannot be written."""
-    path = times_path()
+    path = cache_folder() / FILE_NAME
     data = recorded()
     known = {unit: s for unit, s in seconds.items() if weight(unit) is not None and s > 0}
     if not known:  # only the units of this table (not a test's, a plug-in's)

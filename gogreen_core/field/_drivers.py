@@ -5,31 +5,28 @@ kernel of each parity and highest degree (``(l_first, l_last)``).
 
 from __future__ import annotations
 
+from functools import cache
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from gogreen_core import _compiled, _numba_cache
+from gogreen_core import _compiled
 from gogreen_core.field import _expansion, _influence_compiled, _integrator, _stream, _unrolled
 
 if TYPE_CHECKING:
     from numba.core.ccallback import CFunc
 
-__all__ = ["angular", "ensure_drivers", "generic_marker", "units_for"]
-
-_markers: dict[bool, CFunc[Any]] = {}
+__all__ = ["angular", "generic_marker", "units_for"]
 
 
+@cache
 def generic_marker(single: bool = False) -> CFunc[Any]:
     """The C callback passed as ``angular`` (``single``: ``angular32``) with ``unrolled=False``
     (never called: the drivers run the generic ``_expansion._angular``)."""
-    marker = _markers.get(single)
-    if marker is None:
-        from numba import cfunc
+    from numba import cfunc
 
-        signature = _expansion.ANGULAR_SINGLE_SIGNATURE if single else _expansion.ANGULAR_SIGNATURE
-        marker = _markers[single] = cfunc(signature, cache=True)(_expansion.generic_marker)
-    return marker
+    signature = _expansion.ANGULAR_SINGLE_SIGNATURE if single else _expansion.ANGULAR_SIGNATURE
+    return cfunc(signature, cache=True)(_expansion.generic_marker)
 
 
 def angular(l_first: int, l_last: int, single: bool = False) -> CFunc[Any] | None:
@@ -60,19 +57,9 @@ def _angular_kernels(unit: _compiled.Unit) -> list[tuple[int, int, bool]]:
     return [(first, last, single) for single in ((False, True) if last > first else (False,))]
 
 
-def _load_angular(unit: _compiled.Unit) -> None:
-    for first, last, single in _angular_kernels(unit):
-        _unrolled.unrolled_angular(first, last, single)
-
-
-def _angular_cached(unit: _compiled.Unit) -> bool:
-    return all(_unrolled.angular_cached(*kernel) for kernel in _angular_kernels(unit))
-
-
 def _driver_calls() -> list[tuple[Any, tuple[Any, ...]]]:
-    """(dispatcher, arguments) of every driver, typed as the real calls are (float64
-    C-contiguous writable arrays, int64 rows and bases, bool flags, the C callback type of
-    ``angular``), with empty ranges: calling them compiles and returns."""
+    """(dispatcher, arguments) of every driver, typed as the real calls are, with empty ranges:
+    calling them compiles and returns."""
     f3, f33 = np.zeros(3), np.zeros((1, 3))
     rows, base = np.zeros(1, dtype=np.int64), np.zeros(2, dtype=np.int64)
     tables = np.zeros((1, 2, _expansion.SEGMENT_DEGREE + 1))
@@ -97,28 +84,26 @@ def _driver_calls() -> list[tuple[Any, tuple[Any, ...]]]:
     ]  # fmt: skip
 
 
-def ensure_drivers() -> None:
-    """Compile (or load from numba's disk cache) every driver in this thread, now."""
-    for dispatcher, args in _driver_calls():
-        dispatcher(*args)
-    _compiled.mark_ready(_compiled.DRIVERS)
+def _register_drivers(unit: str, first: int, helps: _compiled.Unit | None = None) -> None:
+    """Register the drivers ``_driver_calls()[first:]`` as ``unit`` (compiled by calling them)."""
+    _compiled.register(
+        unit,
+        __name__,
+        lambda _: [dispatcher(*args) for dispatcher, args in _driver_calls()[first:]],
+        lambda _: _compiled.dispatchers_cached(_driver_calls()[first:]),
+        helps,
+    )
 
 
+_register_drivers(_compiled.DRIVERS, 0)
 _compiled.register(
-    _compiled.DRIVERS,
+    _compiled.ANGULAR,
     __name__,
-    lambda unit: ensure_drivers(),
-    lambda unit: _numba_cache.dispatchers_cached(_driver_calls()),
+    lambda unit: [_unrolled.unrolled_angular(*kernel) for kernel in _angular_kernels(unit)],
+    lambda unit: all(_unrolled.angular_cached(*kernel) for kernel in _angular_kernels(unit)),
 )
-_compiled.register(_compiled.ANGULAR, __name__, _load_angular, _angular_cached)
 #: The drivers after the streamlines' two (the expansion, the influence loops), which a second
 #: compiling child compiles first, while the first compiles the streamlines' (the costliest):
 #: it then finds these in the disk cache.
 HELPER = "drivers_rest"
-_compiled.register(
-    HELPER,
-    __name__,
-    lambda unit: [dispatcher(*args) for dispatcher, args in _driver_calls()[2:]],
-    lambda unit: _numba_cache.dispatchers_cached(_driver_calls()[2:]),
-    helps=_compiled.DRIVERS,
-)
+_register_drivers(HELPER, 2, helps=_compiled.DRIVERS)

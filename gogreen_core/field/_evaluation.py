@@ -1,13 +1,12 @@
 """The code a :class:`~gogreen_core.field.kernel.GreenKernel` evaluates with: the compiled
-drivers (``_expansion``, ``_integrator``, serial GIL-free numba functions on a thread pool, with
-the generated angular kernels of ``_unrolled``), deterministic bit for bit whatever the number
-of threads, or until they are ready (``_compiled``) the NumPy reference ``_numpy_eval``. Each
-parity chooses its :class:`Backend` once the code it evaluates with is ready
-(:meth:`Parity.backend`), not at every call.
+drivers (``_expansion``, ``_integrator``, with ``_unrolled``'s angular kernels) on the thread
+pool, bit for bit whatever the number of threads, or until they are ready (``_compiled``) the
+NumPy reference ``_numpy_eval``; each parity chooses once they are (:meth:`Parity.backend`).
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from functools import partial
 from typing import Any, NamedTuple
 
@@ -20,7 +19,7 @@ from gogreen_core.field import _drivers, _expansion, _integrator, _numpy_eval, _
 from gogreen_core.field._expansion import BLOCK
 from gogreen_core.field._influence_compiled import near_segment_rows
 
-__all__ = ["Backend", "Parity", "expand", "near_segment", "stream", "stream_field"]
+__all__ = ["Backend", "Parity", "expand", "near_segment", "stream_field"]
 #: Blocks per range handed to a thread by ``expand``.
 _MIN_BLOCKS = 32
 
@@ -77,27 +76,12 @@ class Parity:
         kernel = _drivers.angular(self.l_first, self.l_last) if generated else None
         upper = generated and self.l_last > self.l_first
         kernel32 = _drivers.angular(self.l_first, self.l_last, single=True) if upper else None
-        backend = Backend(
-            True,
-            kernel if kernel is not None else _drivers.generic_marker(),
-            kernel is not None,
-            kernel32 if kernel32 is not None else _drivers.generic_marker(single=True),
-            kernel32 is not None,
-        )
+        angular = kernel if kernel is not None else _drivers.generic_marker()
+        angular32 = kernel32 if kernel32 is not None else _drivers.generic_marker(single=True)
+        backend = Backend(True, angular, kernel is not None, angular32, kernel32 is not None)
         if not generated or (kernel is not None and (kernel32 is not None or not upper)):
             self._backend = backend
         return backend
-
-    def single(self, folded: np.ndarray) -> tuple[np.ndarray, float]:
-        """(``folded`` (n_terms, K) over the largest magnitude of its rows above degree l_first,
-        as float32; that magnitude): the streamlines' single precision coefficients (zeros and
-        0 when there is none; NaN when it is not finite)."""
-        upper = np.abs(folded[2 * self.l_first + 1 :])
-        scale = float(upper.max(initial=0.0))
-        if scale == 0.0:
-            return np.zeros(folded.shape, dtype=np.float32), 0.0
-        with np.errstate(invalid="ignore"):
-            return np.ascontiguousarray(folded / scale, dtype=np.float32), scale
 
     def folded(self, coeffs: np.ndarray) -> np.ndarray:
         """``coeffs`` (n_terms, K) with the Legendre scales folded in."""
@@ -144,16 +128,22 @@ def stream_field(
     cutoff: tuple[float, float],
     mirrors: np.ndarray,
     origin: np.ndarray,
-) -> tuple[_stream.StreamField, Backend]:
+) -> tuple[_stream.StreamField, Callable[..., None]]:
     """The velocity field of the load ``coeffs`` (n_terms, 3) of ``parity`` moving from
     ``center`` by ``center_step``, faded between the ``cutoff`` radii, mirrored by ``mirrors``
     about ``origin`` (``tables``: the parity's radial tables; ``single_tables``: the float32
-    ones of the degrees above the lowest), and the backend that integrates it."""
+    ones of the degrees above the lowest), and the pass that integrates it (``run_pass`` of
+    ``_stream.stream``: compiled or NumPy's)."""
     inner, outer = cutoff
     width = outer - inner
     backend = parity.backend()
     folded = parity.folded(coeffs)
-    coeffs32, cscale = parity.single(folded)
+    # float32 coefficients over the largest magnitude of the rows above the lowest degree
+    cscale = float(np.abs(folded[2 * parity.l_first + 1 :]).max(initial=0.0))
+    coeffs32 = np.zeros(folded.shape, dtype=np.float32)
+    if cscale != 0.0:
+        with np.errstate(invalid="ignore"):
+            coeffs32 = np.ascontiguousarray(folded / cscale, dtype=np.float32)
     field = _stream.StreamField(
         center0=center, center_step=center_step, eps=float(eps), power=parity.power,
         l_first=parity.l_first, l_last=parity.l_last, base=parity.base, coeffs=folded,
@@ -162,28 +152,7 @@ def stream_field(
         origin=origin, coeffs32=coeffs32, beta32=parity.beta_single, tables32=single_tables,
         cscale=cscale, angular32=backend.angular32, unrolled32=backend.unrolled32,
     )  # fmt: skip
-    return field, backend
-
-
-def stream(
-    field: _stream.StreamField,
-    backend: Backend,
-    points: np.ndarray,
-    rows: np.ndarray,
-    indexed: bool,
-    in_place: bool,
-    limit: float,
-    substeps: int,
-    tolerance: float,
-    out: np.ndarray,
-    steps: np.ndarray,
-) -> int:
-    """The streamlines of ``field`` (:func:`stream_field`) from ``points`` with ``backend``; see
-    ``_stream.stream`` for the arguments and the status returned."""
-    run_pass = _integrator._pass if backend.compiled else _numpy_eval.stream_pass
-    return _stream.stream(
-        points, rows, indexed, in_place, limit, field, substeps, tolerance, out, steps, run_pass
-    )
+    return field, _integrator._pass if backend.compiled else _numpy_eval.stream_pass
 
 
 def near_segment(
@@ -199,7 +168,10 @@ def near_segment(
     """Which points some mirror image of which lies within ``radius`` of the segment (the
     vertices a brush event can reach), on the thread pool; in NumPy until compiled."""
     if not (_compiled.drivers() if compiled is None else compiled):
-        _numpy_eval.near_segment(points, start, step, radius, mirrors, origin, out)
+        # without the compiled test's contractions: rows at rounding distance from the ball's
+        # surface may differ, which moves nothing (``_integrator``'s CUTOFF_END)
+        distance2 = _numpy_eval.segment_distance2(points, start, step, mirrors, origin)
+        out[:] = distance2 < radius * radius
         return
     work = partial(near_segment_rows, points, start, step, float(radius), mirrors, origin, out)
     run_ranges(work, points.shape[0], 1 << 16)

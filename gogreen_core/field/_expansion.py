@@ -5,11 +5,8 @@
 with x = points[n] - center, r = |x|, t = r/(r+ε), T_l the piecewise polynomial radial tables of
 ``radial.py`` and Y_lm the real harmonics of ``sph.py`` in the rescaled form of ``_unrolled``
 (Legendre scales folded into ``coeffs``). G, ∇G, vector and affine loads differ only in ``coeffs``.
-
-The generic ``_angular`` here and the straight-line kernels ``_unrolled`` generates (2-3x
-faster) perform the same IEEE operations in the same order, with no contraction (no
-``fastmath``), so a replay gives the same bits whichever was compiled when the stroke was made;
-``_numpy_eval`` is held to them within 1e-12 relative.
+The generic ``_angular`` here and ``_unrolled``'s kernels (2-3x faster) perform the same IEEE
+operations in the same order (no ``fastmath``): a replay gives the same bits whichever served.
 
 The functions are serial and release the GIL (``_parallel`` runs them over ranges of blocks:
 serial ones compile far faster than ``parallel=True``). Points go in blocks of ``BLOCK`` on
@@ -53,11 +50,9 @@ _F4P = types.CPointer(types.float32)
 ANGULAR_SINGLE_SIGNATURE = types.void(types.int64, _F4P, _F4P, _F4P, _F4P)
 
 
-def generic_marker(  # pragma: no cover - never called
-    nb: int, geo: Any, rad: Any, coeffs: Any, acc: Any
-) -> None:
-    """Passed as ``angular`` with ``unrolled=False`` (``_drivers.generic_marker``)."""
-    carray(acc, (3, BLOCK))[0, 0] = np.nan
+def generic_marker(nb: int, geo: Any, rad: Any, coeffs: Any, acc: Any) -> None:
+    """Passed as ``angular`` with ``unrolled=False`` (``_drivers.generic_marker``): never run."""
+    carray(acc, (3, BLOCK))[0, 0] = np.nan  # pragma: no cover
 
 
 # Exact power-of-two scales for norms of offsets whose squares overflow (see ``_geometry``).
@@ -77,11 +72,8 @@ def _geometry(
 ) -> None:
     """Rows of ``geo``: x̂, ŷ, ẑ, r, local table variable, 1/(r+ε)^p for l = 0 and for l ≥ 1,
     from the offsets x - c in rows 0-2 (normalized in place); ``seg`` gets each point's segment.
-
     At r = 0 the direction and the l ≥ 1 scale are 0 (R_l(0) = ℛ_l(0) = 0 for l ≥ 1). Where
-    x² + y² + z² would overflow, r comes from the offsets scaled by 2⁻⁶⁰⁰ (exact): every finite
-    offset gives a finite r and the far field its decay.
-    """
+    x² + y² + z² would overflow, r comes from the offsets scaled by 2⁻⁶⁰⁰ (exact)."""
     x, y, z, rr, loc, scale0, scale1 = geo[0], geo[1], geo[2], geo[3], geo[4], geo[5], geo[6]
     n_huge = 0
     for i in range(nb):

@@ -3,37 +3,31 @@
     v(x, t) = Σ_M M s(|y - c(t)|) u(y - c(t)),   y = origin + M (x - origin),  c(t) = c₀ + t Δc
 
 u is the expansion of ``_expansion`` with the load contracted into its coefficients (K = 3), s
-the C² smooth cutoff (1 up to ``cutoff_inner``, a quintic smoothstep down to 0 over
-1 / inv_width), M the mirror reflections about ``origin`` (row 0 is the brush itself).
+the C² cutoff (1 up to ``cutoff_inner``, a quintic smoothstep to 0 over 1 / inv_width), M the
+mirror reflections about ``origin`` (row 0: the brush itself).
 
-u is evaluated with the parity's lowest degree (l = 0 for G, 1 for ∇G: most of the field, all
-of it at the brush centre) in double precision, so the grabbed point follows the cursor to
-rounding, and the degrees above it, a correction of a few to a few tens of percent, in single
-precision (float32 directions, table variables, ``radial_tables.single_table``, coefficients
-over their largest magnitude ``cscale``; the generated ``angular_single`` kernels or the generic
-``_expansion._angular`` on float32 rows: twice the arithmetic rate), summed, scaled and added in
-double precision: ~1e-8 of the field off double precision, 1e-4 below the tolerance. No
-fastmath: ``_numpy_eval`` performs the float32 operations in the same order (within 1e-12).
+The parity's lowest degree (l = 0 for G, 1 for ∇G: most of the field, all of it at the centre)
+is evaluated in double precision, so the grabbed point follows the cursor to rounding; the
+degrees above it (a correction of a few to tens of percent) in float32, at twice the arithmetic
+rate (``StreamField``'s float32 members, ``radial_tables.single_table``), summed in double: ~1e-8
+of the field, 1e-4 below the tolerance. No fastmath: ``_numpy_eval`` repeats the operations.
 
-``_stream.stream`` runs the passes below over blocks of points on the thread pool:
+``_stream.stream`` runs the passes of ``_pass`` over blocks of points on the thread pool:
 
-* fixed steps (``tolerance <= 0``): ``substeps`` classical RK4 steps for every point;
-* adaptive: one RK4 step for every point; the larger distance e of its end to the ends of two
-  second-order rules of its stages (midpoint x₀ + k₂, trapezoid x₀ + (k₁ + k₄)/2) predicts its
-  error as e (e / max(m, e))^(2/3), m the point's motion. Points predicted beyond
-  ``_stream.ESTIMATE_SAFETY`` · tolerance · scale (scale: the largest of |Δc| and every m) are
-  packed into blocks of their own and integrated again with 2, 4, ... RK4 steps until
-  Richardson's estimate |x_n - x_(n/2)| / 15 is under that bound, and 16 times the one before
-  (an edited weak centre's x₂ can lie nearer the limit than its x₄; at most MAX_ADAPTIVE_STEPS);
-* adaptive, on ``_stream.THIRD_ORDER_POINTS`` points or more: first the probes
-  (``_stream.probe_rows``), each integrated with one third-order step (SSPRK3, three
-  evaluations) and with one and two RK4 steps. Where the third-order error they show is within
-  the bound at every probe, every point takes the third-order step instead, and keeps it if its
-  spread (distance to the Heun end of the same stages) is within the probes' range; the others
-  go to the refinement above. Elsewhere the RK4 pass runs.
+* fixed steps (``tolerance <= 0``): ``substeps`` RK4 steps for every point;
+* adaptive: one RK4 step, its error predicted from the larger distance e of its end to the
+  midpoint (x₀ + k₂) and trapezoid (x₀ + (k₁ + k₄)/2) ends as e (e / max(m, e))^(2/3), m the
+  point's motion. Points predicted beyond ``_stream.ESTIMATE_SAFETY`` · tolerance · scale (the
+  largest of |Δc| and every m) are integrated again, BLOCK at a time, with 2, 4, ... RK4 steps
+  until Richardson's |x_n - x_(n/2)| / 15 is under that bound, and 16 times the one before (at
+  most MAX_ADAPTIVE_STEPS);
+* adaptive on ``_stream.THIRD_ORDER_POINTS`` points or more: probes (``_stream.probe_rows``)
+  first compare one SSPRK3 step with one and two RK4 steps; where the third-order error is
+  within the bound at every probe, every point takes the SSPRK3 step and keeps it if its spread
+  (to the Heun end of the same stages) is within the probes' range; the others are refined.
 
 A point's result depends only on the input (blocks follow the point order, not the threads),
-and the generic and generated angular kernels give the same bits: replays are bit-identical.
+and both angular kernels give the same bits: replays are bit-identical.
 """
 
 from __future__ import annotations
@@ -50,9 +44,7 @@ if TYPE_CHECKING:
     from gogreen_core.field._stream import StreamField as Field
 
     #: The scratch rows of ``_scratch``.
-    Scratch = tuple[
-        np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray
-    ]
+    Scratch = tuple[np.ndarray, ...]
     Rows = tuple[np.ndarray, np.ndarray, np.ndarray]
 
 __all__ = ["CUTOFF_END", "MAX_ADAPTIVE_STEPS"]
@@ -60,7 +52,7 @@ __all__ = ["CUTOFF_END", "MAX_ADAPTIVE_STEPS"]
 #: SHA-256 (first 16 hex digits) of ``_expansion.py``, written by ``scripts/make_kernels.py``.
 #: numba keys the disk cache of this module's compiled code on this file alone, yet compiles
 #: that module's functions into it: a change there must change this file.
-COMPILED_SOURCES = "5aefe960b5b0eb43"
+COMPILED_SOURCES = "a945a80c7689697c"
 
 #: Largest number of RK4 steps the adaptive streamlines give one vertex in one event.
 MAX_ADAPTIVE_STEPS = 256
@@ -286,15 +278,11 @@ def _steps(
     scratch: Scratch,
     rows: Rows,
 ) -> None:
-    """end[:, :nb] = ``n_steps`` classical RK4 steps over t ∈ [0, 1] from start[:, :nb], or
-    (``third_order``) one third-order step. One RK4 step also writes into mid (6, BLOCK) the
-    midpoint end x₀ + k₂ (rows 0-2) and the trapezoid end x₀ + (k₁ + k₄)/2 (rows 3-5).
-
-    Third order: Shu and Osher's SSPRK3, stages k₁ at (x₀, 0), k₂ at (x₀ + k₁, 1), k₃ at
-    (x₀ + (k₁ + k₂)/4, ½), end x₀ + (k₁ + k₂ + 4 k₃)/6; spread[i] = |(2 k₃ - k₁ - k₂)/3|², the
-    squared distance to the Heun end x₀ + (k₁ + k₂)/2 (mid rows 3-5 hold k₁ + k₂). One call of
-    the velocity for all stages (fewer inlined copies compile faster).
-    """
+    """end[:, :nb] = ``n_steps`` RK4 steps over t ∈ [0, 1] from start[:, :nb]; one step also
+    writes the midpoint end x₀ + k₂ (mid rows 0-2) and the trapezoid end (rows 3-5). Or
+    (``third_order``) Shu and Osher's SSPRK3: k₁ at (x₀, 0), k₂ at (x₀ + k₁, 1), k₃ at
+    (x₀ + (k₁ + k₂)/4, ½), end x₀ + (k₁ + k₂ + 4 k₃)/6, spread[i] = |(2 k₃ - k₁ - k₂)/3|² (to
+    the Heun end; mid rows 3-5 hold k₁ + k₂). One velocity call site: fewer inlined copies."""
     pos, stage_pos, vel = rows
     h = 1.0 / n_steps
     if third_order or n_steps == 1:  # one step: it starts from ``start`` itself
@@ -397,15 +385,12 @@ def _pass(
     first_block: int,
     last_block: int,
 ) -> None:
-    """Blocks [first_block, last_block) of one pass of ``_stream.stream``.
-
-    PROBE: the third-order end x₃'s error against two RK4 steps x₄ plus their Richardson
-    estimate against one, |x₃ - x₄| + |x₄ - x₄'| / 15 (found[0]; infinite for a bad start),
-    its squared spread (found[1]) and |x₄ - x₀|² (found[2]). FIRST: found[0] the rank (the
-    cube of the predicted error). REFINE: ``picked_rows`` (indices into ``out``) packed BLOCK
-    at a time, again with 2, 4, … RK4 steps until Richardson's estimate is under ``level``.
-    One function for the three: each compiled function holding the velocity costs seconds.
-    """
+    """Blocks [first_block, last_block) of one pass of ``_stream.stream``. PROBE: found[0] =
+    |x₃ - x₄| + |x₄ - x₄'| / 15 (SSPRK3 against two RK4 steps, plus their Richardson estimate;
+    infinite for a bad start), found[1] the spread, found[2] |x₄ - x₀|². FIRST: found[0] the
+    rank (the cube of the predicted error). REFINE: ``picked_rows`` (rows of ``out``), BLOCK at
+    a time (module docstring). One function for the three: each one holding the velocity
+    compiles for seconds."""
     n_points = indices.shape[0] if indexed else points.shape[0]
     if kind != FIRST:
         n_points = picked_rows.shape[0]
@@ -474,7 +459,8 @@ def _pass(
                     out[n, k] = end[k, j]
                 if evaluations.shape[0]:
                     evaluations[n] += 4 * steps
-                # Richardson: the n-step result's error is about |x_n - x_(n/2)| / (2⁴ - 1)
+                # Richardson: the n-step result's error is about |x_n - x_(n/2)| / (2⁴ - 1); the
+                # change before within 16 times that too (RK4's rate, not a chance agreement)
                 again = change > 15.0 * level or changes[j] > 240.0 * level
                 if again and steps < MAX_ADAPTIVE_STEPS:
                     picked[kept] = n

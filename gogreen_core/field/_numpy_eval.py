@@ -22,7 +22,7 @@ from gogreen_core.field._integrator import (
 )
 from gogreen_core.field._stream import StreamField
 
-__all__ = ["expand", "near_segment", "segment_distance2", "stream_pass"]
+__all__ = ["expand", "segment_distance2", "stream_pass"]
 
 #: Points evaluated at once (a few MB of temporaries).
 CHUNK = 4096
@@ -46,17 +46,8 @@ def _geometry(offsets: np.ndarray, eps: float, power: int, n_seg: int) -> tuple[
     fj = np.minimum(np.floor(u), n_seg - 1.0)
     scale = inv_re if power == 1 else inv_re * inv_re
     sigma = 2.0 * (u - fj)
-    return (
-        x * inv,
-        y * inv,
-        z * inv,
-        r,
-        sigma - 1.0,
-        fj.astype(np.int64),
-        scale,
-        np.where(positive, scale, 0.0),
-        sigma,
-    )
+    scale1 = np.where(positive, scale, 0.0)
+    return x * inv, y * inv, z * inv, r, sigma - 1.0, fj.astype(np.int64), scale, scale1, sigma
 
 
 def _radial(tables: np.ndarray, l_first: int, geometry: tuple[Any, ...]) -> list[np.ndarray]:
@@ -314,18 +305,3 @@ def segment_distance2(
     along = y[..., 0] * step[0] + y[..., 1] * step[1] + y[..., 2] * step[2]
     t = np.clip(along * (1.0 / length2 if length2 > 0.0 else 0.0), 0.0, 1.0)
     return cast(np.ndarray, np.square(y - t[..., None] * step).sum(axis=2).min(axis=0))
-
-
-def near_segment(
-    points: np.ndarray,
-    start: np.ndarray,
-    step: np.ndarray,
-    radius: float,
-    mirrors: np.ndarray,
-    origin: np.ndarray,
-    out: np.ndarray,
-) -> None:
-    """``_influence_compiled.near_segment_rows`` over every point (without its contractions:
-    the vertices at rounding distance from the ball's surface may differ, which changes
-    nothing, see ``_integrator``)."""
-    out[:] = segment_distance2(points, start, step, mirrors, origin) < radius * radius

@@ -1,6 +1,4 @@
-"""The streamlines' passes (``_integrator``, see there) run over the thread pool, and the
-choices between them.
-"""
+"""The streamlines' passes (``_integrator``) run over the thread pool, and the choices between."""
 
 from __future__ import annotations
 
@@ -128,20 +126,14 @@ def stream(
     tolerance: float,
     out: np.ndarray,
     evaluations: np.ndarray,
-    run_pass: Callable[..., None] = _pass,
+    run_pass: Callable[..., None],
 ) -> int:
-    """Move points along the streamlines of ``field`` (``_integrator``), its passes run by
-    ``run_pass`` (``_integrator._pass`` or its NumPy twin ``_numpy_eval.stream_pass``).
-
-    ``points`` (N_all, 3): start positions, the rows ``indices`` (N,) int64 if ``indexed``
-    (read in place), written back in place with ``write_back`` if every end is finite.
-    ``substeps`` fixed RK4 steps if ``tolerance <= 0``, else adaptive steps within
-    ``tolerance`` times the motion scale. ``out`` (N, 3) gets the end positions,
-    ``evaluations`` (N,) int64 the velocity evaluations each point took (if not empty).
+    """Move ``points`` (N_all, 3; the rows ``indices`` (N,) if ``indexed``) along the
+    streamlines of ``field`` by ``run_pass`` (``_integrator._pass`` or its NumPy twin), as
+    ``GreenKernel.streamlines`` (``tolerance <= 0``: fixed steps; ``write_back``: in place).
     Returns 0 when done, 1 if an index is out of range, 2 if an indexed start position is not
     finite or beyond ``limit`` (nothing integrated), 3 if an end position is not finite
-    (nothing written back).
-    """
+    (nothing written back)."""
     n_points = indices.shape[0] if indexed else points.shape[0]
     if indexed and points.shape[0] == 0:
         return 1
@@ -185,9 +177,7 @@ def stream(
             refine = _above(rank[0], blocks[1], bound * bound * bound)
             refined_bad = np.zeros((len(refine) + BLOCK - 1) // BLOCK, dtype=np.bool_)
             run(REFINE, refine, rank, level=bound, bad_blocks=refined_bad)
-            # a first step that overflowed fails the event even where refinement might not
-            if write_back and (refined_bad.any() or bad.any()):
-                return 3
+            bad[:] |= refined_bad.any()  # a first step that overflowed fails it all the same
     if not write_back:
         return 0
     if bad.any():

@@ -4,13 +4,10 @@ The generic ``_expansion._angular`` is bound by the loads and stores of its scra
 the angular sum of one point (paper Eq. 10 or 12) is straight-line code, every intermediate in
 a register, vectorized over points. Same IEEE operations in the same order: the same bits.
 
-``scripts/make_kernels.py`` writes one module per (parity, highest degree) into
-``gogreen_core.field._angular`` (committed, checked fresh by
-``tests/core/field/test_generated_kernels.py``), each with the function ``angular`` and its
-compile ``OPTIONS``; :func:`unrolled_angular` makes it a C callback of
-``_expansion.ANGULAR_SIGNATURE`` cached by numba like any module's code. The drivers take it as
-a first-class function, so only it is compiled per degree (by ``_compiled``, in the background,
-while the generic kernel serves).
+``scripts/make_kernels.py`` writes one module per (parity, highest degree) into ``_angular``
+(committed; a test checks it is fresh); :func:`unrolled_angular` makes its ``angular`` a cached C
+callback the drivers take as a first-class function, so only it compiles per degree (in the
+background, while the generic kernel serves).
 
 Rescaled recurrence: with P_l = Q_l^m / S_l, S_m = Q_m^m and S_l = a_lm S_{l-1}, the normalized
 recurrence Q_l = a_lm (z Q_{l-1} - b_lm Q_{l-2}) of ``sph.py`` becomes

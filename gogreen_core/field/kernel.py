@@ -7,7 +7,9 @@ with M(ξ)_ik = C_ijkl ξ_j ξ_l, P_lm = ∫_S² M(ξ̂)⁻¹ Y_lm(ξ̂) dS and 
 the real SH basis of ``sph.py`` (exact by the addition theorem, so everything stays real). The
 material matrices are integrated once (:func:`material_rule`); R_l and ℛ_l come from the radial
 profile's tables; evaluation is the numba code behind ``_evaluation.py``. G is truncated at even
-l ≤ l_max and ∇G at odd l ≤ l_max + 1.
+l ≤ l_max and ∇G at odd l ≤ l_max + 1. The quadrature sums (:func:`_material_sums`) are the
+expensive part; packing them with signs, 1/(2π²), degree weights and output maps
+(:func:`_pack_terms`) takes microseconds, so a kernel repacks for other weights.
 """
 
 from __future__ import annotations
@@ -20,20 +22,15 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from gogreen_core import _compiled
-from gogreen_core.field import _drivers, _evaluation
+from gogreen_core.field import _drivers, _evaluation, _stream
 from gogreen_core.field._evaluation import Parity
 from gogreen_core.field._expansion import SEGMENT_DEGREE
-from gogreen_core.field.coefficients import (
-    checked_weights,
-    degree_norms,
-    material_sums,
-    pack_terms,
-)
-from gogreen_core.field.frame import turned_sums
 from gogreen_core.physics.material import Material
-from gogreen_core.physics.quadrature import lebedev_points
+from gogreen_core.physics.quadrature import lebedev_points, material_rule
 from gogreen_core.physics.radial import TABLE_DEGREE, GaussianRadial, RadialProfile
 from gogreen_core.physics.radial_tables import single_tables
+from gogreen_core.physics.sph import real_sph_harm
+from gogreen_core.physics.sph_rotation import real_wigner_d
 from gogreen_core.validation import ParameterError, check_finite, check_integer, check_number
 
 __all__ = [
@@ -91,11 +88,90 @@ def _points(name: str, value: ArrayLike) -> np.ndarray:
     return _writable(_within_limit(name, arr))
 
 
+def _load_name(shape: tuple[int, ...]) -> str:
+    return "force" if shape == (3,) else "affine load"
+
+
 def _writable(arr: np.ndarray) -> np.ndarray:
     """``arr`` C-contiguous and writable (a copy if it is not): the compiled functions are
     typed for such arrays, and a read-only one would compile them again."""
     arr = np.ascontiguousarray(arr)
     return arr if arr.flags.writeable else arr.copy()
+
+
+def _parity_ranges(l_max: int) -> tuple[tuple[int, int], tuple[int, int]]:
+    """(first, last) degree of each parity for truncation ``l_max``: even l ≤ l_max for G,
+    odd l ≤ l_max + 1 for ∇G."""
+    return (0, l_max - l_max % 2), (1, l_max + 1 - l_max % 2)
+
+
+def _checked_weights(degree_weights: Sequence[float] | np.ndarray | None, l_max: int) -> np.ndarray:
+    """Degree weights (l_max + 1,), read-only: all ones for None; ValueError for the wrong
+    count or a value that is not finite."""
+    weights = np.ones(l_max + 1) if degree_weights is None else np.array(degree_weights, float)
+    if weights.shape != (l_max + 1,):
+        count = f"l_max + 1 = {l_max + 1}"
+        raise ValueError(f"degree_weights must have {count} values (got shape {weights.shape})")
+    check_finite("degree_weights", weights)
+    weights.setflags(write=False)
+    return weights
+
+
+def _material_sums(material: Material, l_max: int) -> tuple[np.ndarray, np.ndarray]:
+    """Σ_q w_q Y_lm(ξ_q) M⁻¹(ξ_q) for even l ≤ l_max ((n_even, 9)) and Σ_q w_q Y_lm(ξ_q)
+    M⁻¹(ξ_q) ξ_q,p for odd l ≤ l_max + 1 ((n_odd, 27)): paper Eq. 10 and 12 before signs,
+    normalization and weights."""
+    nodes, qw = material_rule(material, l_max)
+    (_, even_last), (_, odd_last) = _parity_ranges(l_max)
+    even_rows = [c for l in range(0, even_last + 1, 2) for c in range(l * l, (l + 1) ** 2)]
+    odd_rows = [c for l in range(1, odd_last + 1, 2) for c in range(l * l, (l + 1) ** 2)]
+    # in chunks of nodes that bound the harmonics to ~64 MB
+    even_sum: np.ndarray | float = 0.0
+    odd_sum: np.ndarray | float = 0.0
+    chunk = max(256, 8_000_000 // (l_max + 2) ** 2)
+    for start in range(0, len(nodes), chunk):
+        part = nodes[start : start + chunk]
+        m_inv = np.linalg.inv(material.acoustic_tensor(part))
+        m_inv *= qw[start : start + chunk, None, None]
+        flat = m_inv.reshape(len(part), 9)
+        grad_flat = (m_inv[:, :, :, None] * part[:, None, None, :]).reshape(len(part), 27)
+        rows = real_sph_harm(part, l_max + 1).T  # ((L+1)², n), C-contiguous
+        even_sum = even_sum + rows[even_rows] @ flat
+        odd_sum = odd_sum + rows[odd_rows] @ grad_flat
+    return np.asarray(even_sum), np.asarray(odd_sum)
+
+
+def _pack_terms(
+    sums: tuple[np.ndarray, np.ndarray],
+    l_max: int,
+    weights: np.ndarray,
+    output_maps: np.ndarray | None = None,
+) -> tuple[Parity, Parity]:
+    """The even and odd packed coefficients: the sums times i^l (even l) or i^(l+1) (odd l),
+    both real, the 1/(2π²) and the degree weight (the odd degree l takes ``weights[l − 1]``),
+    then each degree's output map (``output_maps[l]``, l_max's for ∇G's top degree)."""
+    if output_maps is not None:
+        output_maps = check_finite("output_maps", output_maps, (l_max + 1, 3, 3))
+
+    def pack(l_first: int, l_last: int, sums: np.ndarray, shape: tuple[int, ...]) -> Parity:
+        base = np.full(l_last + 1 if l_last >= 0 else 1, -1, dtype=np.int64)
+        factors: list[float] = []
+        offset = 0
+        for l in range(l_first, l_last + 1, 2):
+            base[l] = offset
+            offset += 2 * l + 1
+            sign = (-1.0) ** ((l + (l % 2)) // 2)
+            weight = weights[l] if l % 2 == 0 else weights[l - 1]
+            factors.extend([sign * weight / (2 * np.pi**2)] * (2 * l + 1))
+        mats = (sums * np.asarray(factors)[:, None]).reshape((offset, *shape))
+        if output_maps is not None:
+            for l in range(l_first, l_last + 1, 2):
+                rows = slice(base[l], base[l] + 2 * l + 1)
+                mats[rows] = np.einsum("ik,tk...->ti...", output_maps[min(l, l_max)], mats[rows])
+        return Parity(l_first, l_last, mats, base)
+
+    (_, even_last), (_, odd_last) = _parity_ranges(l_max)
+    return pack(0, even_last, sums[0], (3, 3)), pack(1, odd_last, sums[1], (3, 3, 3))
 
 
 # _expansion unrolls the segment polynomial for this degree
@@ -118,12 +194,13 @@ class GreenKernel:
         degree_weights: Sequence[float] | np.ndarray | None = None,
     ):
         if not isinstance(material, Material):
-            raise ValueError(f"material must be a Material (got {type(material).__name__})")
+            message = f"material must be a Material (got {type(material).__name__})"
+            raise ParameterError("material", message)
         l_max = check_integer("l_max", l_max, low=0, high=L_MAX_LIMIT)
         self._material, self._l_max = material, l_max
-        self._weights = checked_weights(degree_weights, l_max)
-        self._sums = material_sums(material, l_max)
-        self._even, self._odd = pack_terms(self._sums, l_max, self._weights)
+        self._weights = _checked_weights(degree_weights, l_max)
+        self._sums = _material_sums(material, l_max)
+        self._even, self._odd = _pack_terms(self._sums, l_max, self._weights)
         self._set_radial(GaussianRadial(1.0) if radial is None else radial)
 
     def _set_radial(self, radial: RadialProfile) -> None:
@@ -152,27 +229,51 @@ class GreenKernel:
     ) -> GreenKernel:
         """The same kernel with other ``degree_weights``, bit for bit a new one built with them.
         ``output_maps`` (l_max + 1, 3, 3), optional: a linear map A_l applied to each degree's
-        displacement, u = Σ_l A_l u_l (:func:`~gogreen_core.field.coefficients.pack_terms`)."""
-        weights = checked_weights(degree_weights, self._l_max)
+        displacement, u = Σ_l A_l u_l (:func:`_pack_terms`)."""
+        weights = _checked_weights(degree_weights, self._l_max)
         clone = copy.copy(self)
         clone._weights = weights
-        clone._even, clone._odd = pack_terms(self._sums, self._l_max, weights, output_maps)
+        clone._even, clone._odd = _pack_terms(self._sums, self._l_max, weights, output_maps)
         return clone
 
     def turned(self, rotation: np.ndarray) -> GreenKernel:
         """The kernel of the material turned by the proper rotation ``rotation`` F (3, 3):
-        G'(x) = F G(Fᵀx) Fᵀ (:func:`~gogreen_core.field.frame.turned_sums`)."""
+        G'(x) = F G(Fᵀx) Fᵀ, exact, from this kernel's quadrature sums in a fraction of a
+        millisecond (a new quadrature: tens to hundreds; ``benchmarks/material_frame.py``). For
+        C' = F·C, M'(ξ) = F M(Fᵀξ) Fᵀ, so with Y_l(F η) = D_l(F) Y_l(η) (``real_wigner_d``), the
+        material terms of paper Eq. 10 and 12 turn as
+
+            P'_lm = F [Σ_m' D_l(F)_mm' P_lm'] Fᵀ                          (G's terms, even l)
+            𝒫'_lm,ijp = Σ_m' D_l(F)_mm' F_ia F_jb F_pc 𝒫_lm',abc        (∇G's terms, odd l)
+        """
         material = self._material.rotated(rotation)  # checks the rotation
+        f = np.asarray(rotation, dtype=np.float64)
+        (_, even_last), (_, odd_last) = _parity_ranges(self._l_max)
+        wigner = real_wigner_d(f, max(even_last, odd_last, 0))
+        even, odd = self._sums
+        out_even, out_odd = np.empty_like(even), np.empty_like(odd)
+        for l in range(0, even_last + 1, 2):
+            rows = slice(l * (l - 1) // 2, (l + 1) * (l + 2) // 2)  # the 2l + 1 rows of degree l
+            mixed = (wigner[l] @ even[rows]).reshape(-1, 3, 3)
+            out_even[rows] = np.einsum("ia,tab,jb->tij", f, mixed, f).reshape(-1, 9)
+        for l in range(1, odd_last + 1, 2):
+            rows = slice(l * (l - 1) // 2, (l + 1) * (l + 2) // 2)
+            mixed = (wigner[l] @ odd[rows]).reshape(-1, 3, 3, 3)
+            out_odd[rows] = np.einsum("ia,jb,pc,tabc->tijp", f, f, f, mixed).reshape(-1, 27)
         clone = copy.copy(self)
-        clone._material = material
-        clone._sums = turned_sums(self._sums, self._l_max, rotation)
-        clone._even, clone._odd = pack_terms(clone._sums, self._l_max, self._weights)
+        clone._material, clone._sums = material, (out_even, out_odd)
+        clone._even, clone._odd = _pack_terms(clone._sums, self._l_max, self._weights)
         return clone
 
     def degree_norms(self) -> np.ndarray:
-        """(l_max + 2,) the size of each degree's material term, unweighted
-        (:func:`~gogreen_core.field.coefficients.degree_norms`)."""
-        return degree_norms(self._sums, self._l_max)
+        """(l_max + 2,) the Frobenius norm of each degree's quadrature sums, unweighted (Σ_m P_lm
+        for even l, 𝒫_lm for odd l), comparable between degrees of one parity."""
+        norms = np.zeros(self._l_max + 2)
+        for (first, last), parity_sums in zip(_parity_ranges(self._l_max), self._sums, strict=True):
+            for l in range(first, last + 1, 2):
+                rows = parity_sums[l * (l - 1) // 2 : (l + 1) * (l + 2) // 2]
+                norms[l] = float(np.sqrt(np.sum(rows * rows)))
+        return norms
 
     @property
     def material(self) -> Material:
@@ -218,38 +319,34 @@ class GreenKernel:
         """Vector load: u = G(points - center) · force → (N, 3). Finite within
         :data:`COORDINATE_LIMIT` (decay 1/r); beyond it, or for a force so large that u
         overflows, a :class:`~gogreen_core.validation.ParameterError` names the input."""
-        return self._displace(points, center, "force", force, (3,))
+        return self._displace(points, center, force, (3,))
 
     def affine_displacement(
         self, points: np.ndarray, center: np.ndarray, load: np.ndarray
     ) -> np.ndarray:
         """Affine load H (3, 3): u_i = Σ_jp ∂_p G_ij(points - center) H_jp → (N, 3); finite
         within :data:`COORDINATE_LIMIT` as :meth:`displacement` (decay 1/r²)."""
-        return self._displace(points, center, "affine load", load, (3, 3))
+        return self._displace(points, center, load, (3, 3))
 
     def _displace(
-        self,
-        points: np.ndarray,
-        center: np.ndarray,
-        name: str,
-        load: ArrayLike,
-        shape: tuple[int, ...],
+        self, points: np.ndarray, center: np.ndarray, load: ArrayLike, shape: tuple[int, ...]
     ) -> np.ndarray:
         pts = _points("points", points)
         c = _within_limit("center", _finite_array("center", center, (3,)))
-        parity, _, _, coeffs = self._loaded(name, load, shape)
+        parity, _, _, coeffs = self._loaded(load, shape)
         if not np.isfinite(coeffs).all():
+            name = _load_name(shape)
             raise ParameterError(
                 name, f"{name} is too large for this material: its expansion overflows"
             )
         return self._run(parity, pts, c, coeffs)
 
     def _loaded(
-        self, name: str, load: ArrayLike, shape: tuple[int, ...]
+        self, load: ArrayLike, shape: tuple[int, ...]
     ) -> tuple[Parity, np.ndarray, np.ndarray, np.ndarray]:
         """The parity of a force (3,) or an affine load (3, 3), its radial tables (double and
         single precision) and the load's coefficients (n_terms, 3)."""
-        value = _finite_array(name, load, shape)
+        value = _finite_array(_load_name(shape), load, shape)
         with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported by callers
             if shape == (3,):
                 return self._even, self._even_tables, self._even_single, self._even.matrices @ value
@@ -280,18 +377,14 @@ class GreenKernel:
         center_step, s the C² ``cutoff`` (1 up to its first radius, 0 from its second; None:
         none), M the reflections of ``mirror_signs`` (n_m, 3) of ±1 (first row (1, 1, 1)).
 
-        ``tolerance`` (default :data:`STREAMLINE_TOLERANCE`): adaptive steps, every point
-        within ``tolerance`` times the motion scale (the largest of |center_step| and every
-        point's motion) of the fixed 64-step result (the error control: ``_integrator``);
-        ``substeps`` is then unused. ``tolerance=None``: ``substeps`` fixed RK4 steps. Either
-        way the output is bit-identical whatever the number of threads.
-
-        ``indices`` (n,) int: move only the rows ``points[indices]``, read in place (bit for
-        bit ``streamlines(points[indices], ...)``). ``in_place``: also write the end positions
-        into ``points`` (a writable C-contiguous float64 (N, 3) array) at ``indices``, only if
-        all are finite (else ValueError, ``points`` unchanged). ``out``: a reused C-contiguous
-        float64 buffer of at least n rows, of which the result is a view. ``evaluations``: an
-        int64 (n,) array receiving the velocity evaluations each point took (4 per RK4 step).
+        ``tolerance``: adaptive steps, every point within ``tolerance`` times the motion scale
+        (the largest of |center_step| and every point's motion) of the fixed 64-step result;
+        None: ``substeps`` fixed RK4 steps. Bit-identical whatever the number of threads.
+        ``indices`` (n,) int: move only ``points[indices]``, read in place. ``in_place``: also
+        write the ends into ``points`` (writable C-contiguous float64) at ``indices`` if all are
+        finite (else ValueError, ``points`` unchanged). ``out``: a reused C-contiguous float64
+        buffer of at least n rows, the result a view of it. ``evaluations``: int64 (n,), gets
+        the velocity evaluations each point took (4 per RK4 step).
         """
         if in_place and _writable(np.asarray(points, dtype=np.float64)) is not points:
             message = "in_place needs points as a writable C-contiguous (N, 3) float64 array"
@@ -308,14 +401,12 @@ class GreenKernel:
             if pts.ndim != 2 or pts.shape[1] != 3:
                 raise ParameterError("points", f"points must have shape (N, 3) (got {pts.shape})")
         c = _finite_array("center", center, (3,))
-        step = (
-            np.zeros(3) if center_step is None else _finite_array("center_step", center_step, (3,))
-        )
+        step = np.zeros(3) if center_step is None else center_step
+        step = _finite_array("center_step", step, (3,))
         shape = np.shape(load)
         if shape not in ((3,), (3, 3)):
             raise ValueError(f"load must be a force (3,) or an affine load (3, 3), got {shape}")
-        name = "force" if shape == (3,) else "affine load"
-        parity, tables, single, coeffs = self._loaded(name, load, shape)
+        parity, tables, single, coeffs = self._loaded(load, shape)
         inner, outer = (0.0, 0.0) if cutoff is None else (float(cutoff[0]), float(cutoff[1]))
         if cutoff is not None and not (np.isfinite(outer) and 0.0 <= inner < outer):
             raise ValueError(f"cutoff must satisfy 0 <= inner < outer, finite (got {cutoff})")
@@ -344,12 +435,12 @@ class GreenKernel:
             raise ValueError(f"evaluations must be an int64 array of {n} counts")
         if n == 0:
             return result
-        field, backend = _evaluation.stream_field(
+        field, run_pass = _evaluation.stream_field(
             parity, tables, single, self._radial.eps, coeffs, c, step, (inner, outer), signs, o
         )
-        status = _evaluation.stream(
-            field, backend, pts, rows, indices is not None, in_place, COORDINATE_LIMIT,
-            substeps, tol, result, evaluations,
+        status = _stream.stream(
+            pts, rows, indices is not None, in_place, COORDINATE_LIMIT, field, substeps, tol,
+            result, evaluations, run_pass,
         )  # fmt: skip
         if status == 1:
             raise ParameterError("indices", f"indices must be rows 0 to {len(pts) - 1}")
