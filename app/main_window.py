@@ -171,6 +171,7 @@ class MainWindow(QMainWindow):
         )
         self.viewport.set_tools(self.tools)
         self.last_step_ms = 0.0
+        self._busy_text = ""  # the status message of a brush step running off the GUI thread
         self.kernel_warmer = KernelWarmer(self)
         self._announced_warmups: set[int] = set()
         #: The documents' crash-recovery journals and the offer of unsaved work at start.
@@ -254,26 +255,34 @@ class MainWindow(QMainWindow):
         self.keymap_actions: dict[str, QAction] = {}
         bar, files = self.menuBar(), self.files
         file_menu = bar.addMenu("&File")
-        self.new_action = self._action(file_menu, "&New", files.new_document, "new", "new")
-        self._action(file_menu, "&Open…", files.open_dialog, "open", "open")
+        # what reads or replaces the mesh waits for a brush step running off the GUI thread
+        later = self.after_step
+        self.new_action = self._action(
+            file_menu, "&New", later(files.new_document, "New"), "new", "new"
+        )
+        self._action(file_menu, "&Open…", later(files.open_dialog, "Opening"), "open", "open")
         files.recent_menu = file_menu.addMenu("Open &Recent")
-        self._action(file_menu, "&Save", files.save, "save", "save")
-        self._action(file_menu, "Save &As…", files.save_as_dialog, "save_as")
+        self._action(file_menu, "&Save", later(files.save, "Saving"), "save", "save")
+        self._action(file_menu, "Save &As…", later(files.save_as_dialog, "Saving"), "save_as")
         file_menu.addSeparator()
         files.fill_presets_menu(file_menu.addMenu("&Presets"))
         self._action(file_menu, "Load &Preset File…", files.load_preset_dialog)
         self._action(file_menu, "Save Pr&eset…", files.save_preset_dialog)
-        self._action(file_menu, "Export Se&ssion…", files.export_session_dialog)
+        self._action(file_menu, "Export Se&ssion…", later(files.export_session_dialog, "Export"))
         self.screenshot_action = self._action(
             file_menu, "Export Scree&nshot…", files.screenshot_dialog, "screenshot", "screenshot"
         )
         file_menu.addSeparator()
         self._action(file_menu, "&Quit", self.close, "quit")
         edit_menu = bar.addMenu("&Edit")
-        self.undo_action = self._action(edit_menu, "&Undo", self.undo, "undo", "undo")
-        self.redo_action = self._action(edit_menu, "&Redo", self.redo, "redo", "redo")
+        self.undo_action = self._action(
+            edit_menu, "&Undo", later(self.undo, "Undo"), "undo", "undo"
+        )
+        self.redo_action = self._action(
+            edit_menu, "&Redo", later(self.redo, "Redo"), "redo", "redo"
+        )
         edit_menu.addSeparator()
-        self._action(edit_menu, "Clear &Constraints", self.clear_constraints)
+        self._action(edit_menu, "Clear &Constraints", later(self.clear_constraints))
         brush = self.brush_bar
         self._action(edit_menu, "Radius Smaller", lambda: brush.scale_radius(-1), "radius_smaller")
         self._action(edit_menu, "Radius Larger", lambda: brush.scale_radius(1), "radius_larger")
@@ -322,8 +331,22 @@ class MainWindow(QMainWindow):
         set_icon(pin, "pin")
         files.refresh_recent()
 
+    def after_step(self, slot: Callable[[], object], what: str = "") -> Callable[[], None]:
+        """``slot`` as a menu action's: called once no brush step runs off the GUI thread
+        (:meth:`SculptViewport.after_step`; ``what`` names it in the status bar meanwhile)."""
+        return lambda *_args: self.viewport.after_step(slot, what)
+
+    def _step_busy(self, text: str) -> None:
+        """A brush step runs off the GUI thread for a while (``text``), or they ended ("")."""
+        if text:
+            self.flash(text)
+        else:
+            self.unsay(self._busy_text)
+        self._busy_text = text
+
     def _connect(self) -> None:
         viewport, status = self.viewport, self.status
+        viewport.step_busy.connect(self._step_busy)
         viewport.tool_message.connect(self.flash)
         viewport.tool_error.connect(self.show_error)
         viewport.step_timed.connect(self._step_timed)
@@ -336,7 +359,9 @@ class MainWindow(QMainWindow):
         viewport.surface_ready.connect(self._surface_ready)
         viewport.surface_failed.connect(self._surface_failed)
         viewport.surface_pending.connect(self._surface_pending)
-        self.brush_bar.constraint_mode_changed.connect(self._constraint_mode_changed)
+        self.brush_bar.constraint_mode_changed.connect(
+            lambda on: viewport.after_step(partial(self._constraint_mode_changed, on))
+        )
         self.model.brush.events.changed.connect(lambda _c: viewport.refresh_cursor())
         self.model.events.material.connect(self._material_changed)
         self.material_panel.form.events.angles.connect(
@@ -423,7 +448,10 @@ class MainWindow(QMainWindow):
         )
 
     def closeEvent(self, event: QCloseEvent) -> None:
-        if self.files.maybe_save():
+        if self.viewport.stroke_busy:  # closes once the brush step being applied ends
+            event.ignore()
+            self.viewport.after_step(self.close, "Closing")
+        elif self.files.maybe_save():
             self.mesh_edits.cancel()
             self.crash_recovery.close()  # saved or discarded: the journal goes
             self.viewport.cancel_surface_build()  # it stops at its next progress report
@@ -518,6 +546,7 @@ class MainWindow(QMainWindow):
     def _history_step(self, name: str) -> None:
         sculptor = self.sculptor
         if self.tools.dragging:
+            self.flash(f"Cannot {name} during a stroke")
             return
         if self.mesh_edits.busy:
             self.flash(f"Cannot {name}: {self.mesh_edits.refusal()}")

@@ -31,6 +31,7 @@ import argparse
 import json
 import os
 import signal
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -69,7 +70,7 @@ def big_mesh(meshes: Path) -> Path | str:
     return out
 
 
-def probe_rss(meshes: Path) -> dict[str, object]:
+def probe_rss(meshes: Path, stall_only: bool = False, gui: bool = False) -> dict[str, object]:
     from PySide6.QtCore import QSettings, Qt
     from PySide6.QtTest import QTest
     from PySide6.QtWidgets import QApplication
@@ -108,7 +109,14 @@ def probe_rss(meshes: Path) -> dict[str, object]:
     settle(3.0)
     result["vertices"] = len(window.document.sculptor.vertices)
     result["big"] = rss_mb()
+    if stall_only:
+        result.update(dynamic_stroke_stall(app, window, on_gui_thread=gui))
+        window.document._saved_vertices = window.document.sculptor.vertices.copy()
+        window.document._saved_faces = window.document.sculptor.faces
+        window.close()
+        return result
     result.update(interaction_figures(app, window))
+    result.update(dynamic_stroke_stall(app, window))
     window.document._saved_vertices = window.document.sculptor.vertices.copy()  # no prompt
     assert not window.document.dirty  # Ctrl+N then asks nothing
     window.activateWindow()  # the shortcut fires in the active window
@@ -242,6 +250,89 @@ def interaction_figures(app, window) -> dict[str, object]:
     return figures
 
 
+def dynamic_stroke_stall(
+    app, window, seconds: float = 10.0, on_gui_thread: bool = False
+) -> dict[str, object]:
+    """A left-button grab (radius 0.03) with dynamic topology on the open mesh, moves posted
+    every 40 ms for ``seconds``, then the release: the longest gap between ticks of a 10 ms
+    timer of the GUI thread from the press to the stroke's end (the window's longest stall),
+    the events applied and seconds from the release to the stroke's end (issue 34).
+    ``on_gui_thread``: every step on the GUI thread, as before issue 34's worker."""
+    from PySide6.QtCore import QEvent, QPointF, Qt, QTimer
+    from PySide6.QtGui import QMouseEvent
+    from PySide6.QtWidgets import QApplication
+
+    vp = window.viewport
+    if on_gui_thread:
+        vp.stroke_worker.slow_steps = lambda *_args: False
+    window.model.dynamic_topology = True
+    window.model.brush.update({"kind": "grab", "radius": 0.03})
+    w, h = vp.width(), vp.height()
+    start = QPointF(0.45 * w, 0.5 * h)
+    ticks: list[float] = []
+    beat = QTimer()
+    beat.setInterval(10)
+    beat.timeout.connect(lambda: ticks.append(time.perf_counter()))
+
+    def post(kind, pos, button, buttons) -> None:
+        event = QMouseEvent(
+            kind, pos, vp.mapToGlobal(pos), button, buttons, Qt.KeyboardModifier.NoModifier
+        )
+        QApplication.postEvent(vp, event)
+
+    def stroke_going() -> bool:
+        return window.tools.dragging or getattr(vp, "stroke_busy", False) or vp.render_pending
+
+    left, none = Qt.MouseButton.LeftButton, Qt.MouseButton.NoButton
+
+    def until_ended() -> None:  # and the new faces indexed (strokes wait for it)
+        while stroke_going() or vp.surface_building:
+            app.processEvents()
+            time.sleep(0.002)
+
+    # a first stroke, not measured: the remesh kernels load (or compile) on first use
+    post(QEvent.Type.MouseButtonPress, start, left, left)
+    for k in range(1, 4):
+        post(QEvent.Type.MouseMove, QPointF(start.x() - 12 * k, start.y() + 5 * k), none, left)
+        app.processEvents()
+        while vp.stroke_busy or vp._flush_timer.isActive():
+            app.processEvents()
+    post(QEvent.Type.MouseButtonRelease, QPointF(start.x() - 36, start.y() + 15), left, none)
+    app.processEvents()
+    until_ended()
+    steps: list[float] = []
+    vp.step_timed.connect(steps.append)
+    beat.start()
+    began = time.perf_counter()
+    post(QEvent.Type.MouseButtonPress, start, left, left)
+    pos, moves = start, 0
+    while time.perf_counter() - began < seconds:
+        due = int((time.perf_counter() - began) / 0.04)
+        while moves < due:  # the moves that fell due while the window was busy
+            moves += 1
+            pos = QPointF(start.x() + 0.5 * moves, start.y() - 0.3 * moves)
+            post(QEvent.Type.MouseMove, pos, none, left)
+        app.processEvents()
+        time.sleep(0.002)
+    released = time.perf_counter()
+    post(QEvent.Type.MouseButtonRelease, pos, left, none)
+    app.processEvents()
+    until_ended()
+    ended = time.perf_counter()
+    beat.stop()
+    window.model.dynamic_topology = False
+    gaps = [b - a for a, b in zip([began, *ticks], [*ticks, ended], strict=True)]
+    return {
+        "stall_max": 1e3 * max(gaps),
+        "stall_moves": moves,
+        "stall_events": window.tools.processed,
+        "stall_release": 1e3 * (ended - released),
+        "stall_vertices": len(window.document.sculptor.vertices),
+        "stall_step": statistics.median(steps) if steps else float("nan"),
+        "stall_steps": [round(ms) for ms in steps],
+    }
+
+
 # -- compile figures -----------------------------------------------------------------------------
 FIRST_REQUEST = """
 import json, time
@@ -367,22 +458,42 @@ def print_interaction(r: dict[str, object]) -> None:
     )
 
 
+def print_stall(r: dict[str, object]) -> None:
+    if "stall_max" not in r:
+        return
+    print(
+        f"dynamic-topology grab (radius 0.03) for 10 s on the 1M mesh: longest GUI-thread stall "
+        f"{r['stall_max']:.0f} ms (10 ms heartbeat); {r['stall_moves']} moves -> "
+        f"{r['stall_events']} events (median {r['stall_step']:.0f} ms), release -> stroke "
+        f"ended {r['stall_release']:.0f} ms, "
+        f"{r['stall_vertices']:,} vertices after"
+    )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--meshes", default=str(HERE.parents[2] / "shared/meshes"))
     parser.add_argument("--probe-rss", action="store_true", help=argparse.SUPPRESS)
     parser.add_argument("--skip-compile", action="store_true", help="RSS figures only")
+    parser.add_argument(
+        "--stall-only", action="store_true", help="only the dynamic-topology stroke's stall"
+    )
+    parser.add_argument(
+        "--on-gui-thread", action="store_true", help="(--stall-only) steps on the GUI thread"
+    )
     parser.add_argument("--skip-rss", action="store_true", help="compile figures only")
     args = parser.parse_args()
     if args.probe_rss:
-        print(json.dumps(probe_rss(Path(args.meshes))))
+        print(json.dumps(probe_rss(Path(args.meshes), args.stall_only, args.on_gui_thread)))
         return
     import gogreen_core
 
     print(f"code: {Path(gogreen_core.__file__).parent.parent}")
     if not args.skip_rss:
         run = subprocess.run(
-            [sys.executable, str(HERE), "--probe-rss", "--meshes", args.meshes],
+            [sys.executable, str(HERE), "--probe-rss", "--meshes", args.meshes]
+            + ["--stall-only"] * args.stall_only
+            + ["--on-gui-thread"] * args.on_gui_thread,
             capture_output=True,
             text=True,
         )
@@ -393,6 +504,8 @@ def main() -> None:
         print(f"RSS idle, default model, fresh start: {rss['idle']:.0f} MB")
         if "skipped" in rss:
             print(f"1M-vertex mesh: skipped ({rss['skipped']})")
+        elif args.stall_only:
+            print_stall(rss)
         else:
             print(f"RSS with the {rss['vertices']:,}-vertex mesh open: {rss['big']:.0f} MB")
             change = 100 * (rss["back"] / rss["idle"] - 1)
@@ -401,7 +514,8 @@ def main() -> None:
                 f"({change:+.0f} % of the fresh start)"
             )
             print_interaction(rss)
-    if args.skip_compile:
+            print_stall(rss)
+    if args.skip_compile or args.stall_only:
         return
     load = os.getloadavg()[0]
     ready = compile_ready()
