@@ -22,12 +22,15 @@ from PySide6.QtCore import QObject, QTimer, Signal
 
 from gogreen_core.interaction.tools import SculptTools, ToolUpdate
 
-__all__ = ["BUSY_AFTER_MS", "SLOW_STEP_MS", "StrokeWorker"]
+__all__ = ["BIG_MESH_VERTICES", "BUSY_AFTER_MS", "SLOW_STEP_MS", "StrokeWorker"]
 
 #: A step running longer than this is shown as work under way (ms).
 BUSY_AFTER_MS = 300
-#: A stroke whose last step took this long runs its next ones off the GUI thread (ms).
+#: On a mesh of at least :data:`BIG_MESH_VERTICES`, a stroke whose last step took this long
+#: runs its next ones off the GUI thread (ms). Smaller meshes' steps stay on it (a few ms; the
+#: same path as before, and GUI tests stay deterministic on a loaded machine).
 SLOW_STEP_MS = 80.0
+BIG_MESH_VERTICES = 200_000
 
 
 class StrokeWorker(QObject):
@@ -54,8 +57,11 @@ class StrokeWorker(QObject):
         self._shown_busy = False
         #: A step is running (set on the GUI thread; the worker never changes it).
         self.running = False
-        #: Steps of at least this many ms move the stroke's next steps off the GUI thread.
-        self.slow_step_ms = SLOW_STEP_MS
+        #: Steps of at least this many ms on a mesh of at least this many vertices move the
+        #: stroke's next steps off the GUI thread.
+        self.slow_step_ms, self.big_mesh_vertices = SLOW_STEP_MS, BIG_MESH_VERTICES
+        self._idle = threading.Event()
+        self._idle.set()
         self._busy_timer = QTimer(self)
         self._busy_timer.setSingleShot(True)
         self._busy_timer.setInterval(BUSY_AFTER_MS)
@@ -64,12 +70,15 @@ class StrokeWorker(QObject):
 
     def slow_steps(self, tools: SculptTools, last_step_ms: float) -> bool:
         """Whether ``tools``' next brush step runs here: with dynamic topology (a remesh in
-        every event), or when the stroke's last step took :attr:`slow_step_ms` or more. Pin
-        drags stay on the GUI thread (they are not strokes: settings may change meanwhile)."""
+        every event), or on a big mesh when the last step took :attr:`slow_step_ms` or more.
+        Pin drags stay on the GUI thread (not strokes: settings may change meanwhile)."""
         sculptor = tools.sculptor
         if sculptor is None or tools.mode != "brush":
             return False
-        return bool(sculptor.settings.dynamic_topology) or last_step_ms >= self.slow_step_ms
+        if sculptor.settings.dynamic_topology:
+            return True
+        big = len(sculptor.vertices) >= self.big_mesh_vertices
+        return big and last_step_ms >= self.slow_step_ms
 
     def run(self, step: Callable[[], ToolUpdate], error_title: str) -> None:
         """Run ``step`` on the worker thread; ``finished`` reports its end."""
@@ -80,6 +89,7 @@ class StrokeWorker(QObject):
             self._thread = threading.Thread(target=self._work, name="brush steps", daemon=True)
             self._thread.start()
         self._busy_timer.start()
+        self._idle.clear()
         self._jobs.put(step)
 
     @property
@@ -88,7 +98,9 @@ class StrokeWorker(QObject):
         return time.perf_counter() - self._started if self.running else 0.0
 
     def stop(self) -> None:
-        """End the worker thread once its step (if any) is done (the window closes)."""
+        """End the worker thread once its step (if any) is done, waiting for that step (the
+        view closes: nothing may report to it afterwards)."""
+        self._idle.wait(60.0)
         if self._thread is not None:
             self._jobs.put(None)
             self._thread = None
@@ -96,9 +108,11 @@ class StrokeWorker(QObject):
     def _work(self) -> None:
         while (step := self._jobs.get()) is not None:
             try:
-                self._done.emit(step(), None)
+                update, error = step(), None
             except Exception as exc:  # the tools catch the engine's refusals; reported
-                self._done.emit(None, exc)
+                update, error = None, exc
+            self._idle.set()
+            self._done.emit(update, error)
 
     def _show_busy(self) -> None:
         if self.running:

@@ -43,7 +43,8 @@ class Gate:
 def slow(window, monkeypatch):
     """Every brush step of the window runs off the GUI thread, behind a closed gate."""
     window.model.brush.kind = "grab"
-    window.viewport.stroke_worker.slow_step_ms = 0.0  # the policy: every step is slow
+    worker = window.viewport.stroke_worker
+    worker.slow_step_ms = worker.big_mesh_vertices = 0  # the policy: every step is slow
     return Gate(window.document.sculptor, monkeypatch)
 
 
@@ -153,7 +154,7 @@ def test_new_document_during_a_step_waits_for_it(window, slow, qtbot):
 def test_an_error_in_a_step_off_the_gui_thread_restores_the_mesh(window, monkeypatch, qtbot):
     vp, sculptor = window.viewport, window.document.sculptor
     window.model.brush.kind = "grab"
-    vp.stroke_worker.slow_step_ms = 0.0
+    vp.stroke_worker.slow_step_ms = vp.stroke_worker.big_mesh_vertices = 0
     gate = Gate(sculptor, monkeypatch, error=ZeroDivisionError("broken kernel"))
     before, steps = sculptor.vertices.copy(), len(sculptor.history.undo_labels)
     pos = press_and_move(window, 1)
