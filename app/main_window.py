@@ -560,6 +560,7 @@ class MainWindow(QMainWindow):
         # a subdivision undone or redone shows its whole mesh
         self.mesh_edits.sync(sculptor.history.restored_indices)
         self.refresh_title()
+        self._refresh_status()  # a dynamic-topology stroke undone: another vertex count
         # past tense: "Undo: Scale stroke" read as what the next undo would do, and stayed
         # on while later strokes were made
         self.flash(f"{'Undone' if name == 'undo' else 'Redone'}: {label}")

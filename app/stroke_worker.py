@@ -115,7 +115,7 @@ class StrokeWorker(QObject):
             self._done.emit(update, error)
 
     def _show_busy(self) -> None:
-        if self.running:
+        if self.running and not self._shown_busy:  # once per run of steps
             self._shown_busy = True
             self.busy.emit(True)
 

@@ -178,9 +178,14 @@ def test_fast_steps_stay_on_the_gui_thread_and_dynamic_topology_goes_off_it(wind
     send(vp, RELEASE, center_of(window) + QPoint(5, -3), buttons=NONE)
     assert not vp.in_stroke
     window.model.dynamic_topology = True
+    window.model.detail_size = 0.004  # finer than the model's edges: the step splits them
+    count = len(sculptor.vertices)
     pos = press_and_move(window, 1)
     assert vp.stroke_busy  # the remeshing step runs off the GUI thread
     send(vp, RELEASE, pos, buttons=NONE)
     steps_done(vp)
     assert not vp.in_stroke and sculptor.history.undo_labels[-1].endswith("stroke")
     assert np.array_equal(vp.shown_vertices(), sculptor.vertices)
+    assert len(sculptor.vertices) > count
+    window.undo()  # the count of the mesh the undo gave back is shown
+    assert window.status.vertex_label.text() == f"{count:,} vertices"
