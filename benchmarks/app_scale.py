@@ -324,6 +324,10 @@ def dynamic_stroke_stall(
             post(QEvent.Type.MouseMove, pos, none, left)
         app.processEvents()
         time.sleep(0.002)
+    while moves < round(seconds / 0.04):  # the same path however late the window answered
+        moves += 1
+        pos = QPointF(start.x() + 0.5 * moves, start.y() - 0.3 * moves)
+        post(QEvent.Type.MouseMove, pos, none, left)
     released = time.perf_counter()
     post(QEvent.Type.MouseButtonRelease, pos, left, none)
     app.processEvents()
