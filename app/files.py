@@ -173,7 +173,7 @@ class FileActions(QObject):
             action = menu.addAction(Path(path).name)
             action.setToolTip(path)
             action.triggered.connect(
-                lambda _c=False, p=path: self.window.viewport.after_step(
+                lambda _c=False, p=path: self.window.viewport.stroke_worker.after_step(
                     partial(self._open_recent, p), "Opening"
                 )
             )

@@ -13,7 +13,7 @@ end). The File menu's work is :class:`app.files.FileActions`, the View menu's lo
 from __future__ import annotations
 
 from collections.abc import Callable
-from functools import cache, partial
+from functools import partial
 
 from PySide6.QtCore import QPoint, QSettings, QSize, Qt, QTimer
 from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
@@ -46,16 +46,15 @@ from app.navigation import OPPOSITE_VIEWS, VIEW_TITLES, NavigationPreferences, V
 from app.panels.falloff_panel import FalloffPanel
 from app.panels.homogenization_panel import HomogenizationPanel
 from app.panels.material_panel import MaterialPanel
-from app.status import StatusArea
+from app.status import StatusArea, active_material_name
 from app.theme import apply_theme, qt_application
 from app.viewport import SculptViewport
 from app.wrinkle_hint import WrinkleHint, material_anisotropy, wrinkle_preset
-from gogreen_core.files.presets import Preset, builtin_presets
+from gogreen_core.files.presets import Preset
 from gogreen_core.interaction.settings import ChangeEvent, EngineLink, Settings
 from gogreen_core.interaction.tools import SculptTools
 from gogreen_core.mesh.resolution import edges_per_eps
 from gogreen_core.physics.material import Material
-from gogreen_core.physics.material_words import material_name
 from gogreen_core.sculpt.brushes import brush_row
 from gogreen_core.sculpt.sculptor import Sculptor
 
@@ -85,26 +84,6 @@ def fit_to_screen(window: QMainWindow) -> None:
     size = QSize(round(free.width() * WINDOW_SHARE), round(free.height() * WINDOW_SHARE))
     window.resize(size)
     window.move(free.center() - QPoint(size.width() // 2, size.height() // 2))
-
-
-@cache
-def _preset_materials() -> tuple[tuple[str, Material], ...]:
-    """The built-in presets' names and materials (read once)."""
-    return tuple((preset.name, preset.material) for preset in builtin_presets())
-
-
-def active_material_name(window: MainWindow) -> str:
-    """The active material's name: a built-in preset's name when it is one's, its kind and
-    anisotropy (:func:`material_name`), and the Material panel's rotation of its axes."""
-    material = window.model.material
-    name = material_name(material)
-    preset = next((n for n, m in _preset_materials() if m == material), None)
-    if preset is not None:
-        name = f"{preset} ({name})"
-    angles = window.material_panel.form.angles
-    if any(angles):
-        name += " · axes turned " + ", ".join(f"{a:g}°" for a in angles)
-    return name
 
 
 class MainWindow(QMainWindow):
@@ -171,7 +150,6 @@ class MainWindow(QMainWindow):
         )
         self.viewport.set_tools(self.tools)
         self.last_step_ms = 0.0
-        self._busy_text = ""  # the status message of a brush step running off the GUI thread
         self.kernel_warmer = KernelWarmer(self)
         self._announced_warmups: set[int] = set()
         #: The documents' crash-recovery journals and the offer of unsaved work at start.
@@ -254,12 +232,14 @@ class MainWindow(QMainWindow):
         #: The window's actions by keymap entry (``"undo"``, ``"brush_grab"``, …).
         self.keymap_actions: dict[str, QAction] = {}
         bar, files = self.menuBar(), self.files
+
+        def later(slot: Callable[[], object], what: str = "") -> Callable[[], None]:
+            # what reads or replaces the mesh waits for a brush step off the GUI thread
+            return lambda *_args: self.viewport.stroke_worker.after_step(slot, what)
+
         file_menu = bar.addMenu("&File")
-        # what reads or replaces the mesh waits for a brush step running off the GUI thread
-        later = self.after_step
-        self.new_action = self._action(
-            file_menu, "&New", later(files.new_document, "New"), "new", "new"
-        )
+        new = later(files.new_document, "New")
+        self.new_action = self._action(file_menu, "&New", new, "new", "new")
         self._action(file_menu, "&Open…", later(files.open_dialog, "Opening"), "open", "open")
         files.recent_menu = file_menu.addMenu("Open &Recent")
         self._action(file_menu, "&Save", later(files.save, "Saving"), "save", "save")
@@ -275,12 +255,8 @@ class MainWindow(QMainWindow):
         file_menu.addSeparator()
         self._action(file_menu, "&Quit", self.close, "quit")
         edit_menu = bar.addMenu("&Edit")
-        self.undo_action = self._action(
-            edit_menu, "&Undo", later(self.undo, "Undo"), "undo", "undo"
-        )
-        self.redo_action = self._action(
-            edit_menu, "&Redo", later(self.redo, "Redo"), "redo", "redo"
-        )
+        self.undo_action = self._action(edit_menu, "&Undo", self.undo, "undo", "undo")
+        self.redo_action = self._action(edit_menu, "&Redo", self.redo, "redo", "redo")
         edit_menu.addSeparator()
         self._action(edit_menu, "Clear &Constraints", later(self.clear_constraints))
         brush = self.brush_bar
@@ -318,9 +294,10 @@ class MainWindow(QMainWindow):
         view_menu.addAction(self.field_preview.action)
         self._bind_keys(self.field_preview.action, "field_preview")
         help_menu = bar.addMenu("&Help")
-        self.keymap_action = self._action(
-            help_menu, "&Keyboard && Mouse", self.toggle_keymap, "keymap", "help"
+        self.keymap_action = self._action(  # (the overlay is made after the menus)
+            help_menu, "&Keyboard && Mouse", lambda: self.keymap_overlay.toggle_overlay(), "keymap"
         )
+        set_icon(self.keymap_action, "help")
         # The brush bar's actions take their keys from the keymap too, and the project's icons.
         for kind, action in self.brush_bar.kind_actions.items():
             tip = action.toolTip().rsplit("  [", 1)[0]
@@ -331,22 +308,9 @@ class MainWindow(QMainWindow):
         set_icon(pin, "pin")
         files.refresh_recent()
 
-    def after_step(self, slot: Callable[[], object], what: str = "") -> Callable[[], None]:
-        """``slot`` as a menu action's: called once no brush step runs off the GUI thread
-        (:meth:`SculptViewport.after_step`; ``what`` names it in the status bar meanwhile)."""
-        return lambda *_args: self.viewport.after_step(slot, what)
-
-    def _step_busy(self, text: str) -> None:
-        """A brush step runs off the GUI thread for a while (``text``), or they ended ("")."""
-        if text:
-            self.flash(text)
-        else:
-            self.unsay(self._busy_text)
-        self._busy_text = text
-
     def _connect(self) -> None:
         viewport, status = self.viewport, self.status
-        viewport.step_busy.connect(self._step_busy)
+        viewport.stroke_worker.busy.connect(status.show_busy)  # a slow brush step runs
         viewport.tool_message.connect(self.flash)
         viewport.tool_error.connect(self.show_error)
         viewport.step_timed.connect(self._step_timed)
@@ -360,7 +324,7 @@ class MainWindow(QMainWindow):
         viewport.surface_failed.connect(self._surface_failed)
         viewport.surface_pending.connect(self._surface_pending)
         self.brush_bar.constraint_mode_changed.connect(
-            lambda on: viewport.after_step(partial(self._constraint_mode_changed, on))
+            lambda on: viewport.stroke_worker.after_step(partial(self._constraint_mode_changed, on))
         )
         self.model.brush.events.changed.connect(lambda _c: viewport.refresh_cursor())
         self.model.events.material.connect(self._material_changed)
@@ -383,10 +347,6 @@ class MainWindow(QMainWindow):
         )
 
     # -- help --------------------------------------------------------------------------------
-    def toggle_keymap(self) -> None:
-        """Show the keymap over the viewport, or hide it (Help menu, ``?``, F1)."""
-        self.keymap_overlay.toggle_overlay()
-
     def show_first_run_hint(self) -> bool:
         """Once per user (remembered in the settings): say that ``?`` shows the controls.
         Returns whether the hint was shown."""
@@ -448,9 +408,9 @@ class MainWindow(QMainWindow):
         )
 
     def closeEvent(self, event: QCloseEvent) -> None:
-        if self.viewport.stroke_busy:  # closes once the brush step being applied ends
+        if self.viewport.stroke_worker.running:  # closes once the brush step ends
             event.ignore()
-            self.viewport.after_step(self.close, "Closing")
+            self.viewport.stroke_worker.after_step(self.close, "Closing")
         elif self.files.maybe_save():
             self.mesh_edits.cancel()
             self.crash_recovery.close()  # saved or discarded: the journal goes
@@ -544,7 +504,10 @@ class MainWindow(QMainWindow):
         self._history_step("redo")
 
     def _history_step(self, name: str) -> None:
-        sculptor = self.sculptor
+        sculptor, worker = self.sculptor, self.viewport.stroke_worker
+        if worker.running:  # after the brush step (and the release waiting for it)
+            worker.after_step(partial(self._history_step, name), name.title())
+            return
         if self.tools.dragging:
             self.flash(f"Cannot {name} during a stroke")
             return

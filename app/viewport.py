@@ -16,10 +16,7 @@ draws the :class:`~gogreen_core.interaction.tools.ToolUpdate` each call gives ba
 (:meth:`SculptViewport.draw`); what the window must know (a message, an error, a step's time, a
 stroke's end) leaves as signals. Drag moves are coalesced: the tools keep the newest and one
 zero-timer per event-loop turn applies it (:meth:`SculptViewport.flush_tools`), so a burst of moves
-costs one brush step. Slow steps (dynamic topology, or a stroke whose last step was slow) run on a
-worker thread (:mod:`app.stroke_worker`): the window keeps answering, the newest move waits for
-the next step, each finished step is drawn, and the release (and what would touch the mesh:
-:meth:`SculptViewport.after_step`) waits for the running step.
+costs one brush step. Slow steps run on a worker thread (:mod:`app.stroke_worker`).
 
 It renders on demand only: :meth:`SculptViewport.request_render` coalesces every request made
 before control returns to the event loop into one render (pyvistaqt's periodic
@@ -41,7 +38,6 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from functools import partial
 from typing import Any
 
 from PySide6.QtCore import QEvent, QPointF, Qt, QTimer, Signal
@@ -64,6 +60,18 @@ _MODIFIER_NAMES = (
 )
 
 
+def _mute_vtk_keys(iren: Any) -> None:
+    """No VTK or pyvista key binding may act (app.keymap is the app's only keymap): keys are
+    not passed to the interactor (:meth:`SculptViewport.keyPressEvent`), and should one arrive
+    by another path, pyvista's key callbacks (q, b, v, Shift+C, Up, Down, plus, minus) are gone
+    and the style's default key actions (p outline, s / w, r, e / q, f, 3, j / t / c / a) are
+    replaced by observers that do nothing."""
+    iren.clear_key_event_callbacks()
+    style = iren.interactor.GetInteractorStyle()
+    for event in ("CharEvent", "KeyPressEvent", "KeyReleaseEvent"):
+        style.AddObserver(event, lambda *_args: None)
+
+
 # pyvistaqt's QtInteractor itself joins QWidget.update and BasePlotter.update
 class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[misc]
     """Viewport with the stroke loop, a brush cursor ring, in-place mesh updates and
@@ -77,8 +85,6 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
     tool_error(str, str) : (title, message) of an engine error; the stroke was cancelled.
     step_timed(float) : milliseconds of the engine step just drawn.
     stroke_ended() : a stroke or pin drag ended (the document may have changed).
-    step_busy(str) : what a brush step running off the GUI thread for a while does ("" once
-        the steps are done).
     radius_wheel(int), strength_wheel(int) : +1 / -1 per wheel notch with Ctrl / Shift.
     frame_rendered(float) : milliseconds of a render just done.
     surface_progress(float) : fraction done of a background :class:`SurfaceIndex` build.
@@ -97,7 +103,6 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
     #: A tool step gave the mesh new faces (dynamic topology): show the new mesh.
     faces_replaced = Signal()
     stroke_ended = Signal()
-    step_busy = Signal(str)
     radius_wheel = Signal(int)
     strength_wheel = Signal(int)
     frame_rendered = Signal(float)
@@ -114,7 +119,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         plotter: Any = self  # pyvista's argument-checking decorator hides these signatures
         plotter.set_background("#2b2f36", top="#4a5260")
         plotter.enable_trackball_style()
-        self._mute_vtk_keys()
+        _mute_vtk_keys(self.iren)
         self._init_display()
         #: The Qt-free tools pointer events go to (:meth:`set_tools`); None: nothing sculpts.
         self.tools: SculptTools | None = None
@@ -136,15 +141,8 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         self._hover_timer = self._zero_timer(self._hover_now)
         self._ring_computed.connect(self.refresh_cursor)
         self._flush_timer = self._zero_timer(self.flush_tools)
-        #: Slow brush steps run there; meanwhile the newest move (and how many came) waits
-        #: here, a release waits at its position, and the calls of :meth:`after_step` wait.
+        #: Runs slow brush steps off the GUI thread (moves, the release and undo wait there).
         self.stroke_worker = StrokeWorker(self)
-        self.stroke_worker.finished.connect(self._step_done)
-        self.stroke_worker.busy.connect(self._show_step_busy)
-        self._waiting_move: tuple[PointerEvent, int] | None = None
-        self._release_pos: QPointF | None = None
-        self._after_step: list[Callable[[], object]] = []
-        self._last_step_ms = 0.0
         #: Wheel notches not yet applied (a sum: a touchpad gives fractions) and where the
         #: pointer was at the newest; the newest camera drag move not yet handed to VTK.
         self._wheel_notches = 0.0
@@ -176,17 +174,6 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         if actor is not None and window is not None and actor.GetTexture() is not None:
             actor.GetTexture().ReleaseGraphicsResources(window)
         super().close()
-
-    def _mute_vtk_keys(self) -> None:
-        """No VTK or pyvista key binding may act (app.keymap is the app's only keymap): keys
-        are not passed to the interactor (:meth:`keyPressEvent`), and should one arrive by
-        another path, pyvista's key callbacks (q, b, v, Shift+C, Up, Down, plus, minus) are gone
-        and the style's default key actions (p outline, s / w, r, e / q, f, 3, j / t / c / a)
-        are replaced by observers that do nothing."""
-        self.iren.clear_key_event_callbacks()
-        style = self.iren.interactor.GetInteractorStyle()
-        for event in ("CharEvent", "KeyPressEvent", "KeyReleaseEvent"):
-            style.AddObserver(event, lambda *_args: None)
 
     def _zero_timer(self, slot: Callable[[], None]) -> QTimer:
         timer = QTimer(self)
@@ -234,76 +221,10 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
             tools.ring_ready = self._ring_computed.emit  # queued to the GUI thread
 
     def flush_tools(self) -> None:
-        """Apply the newest recorded move or hover (older ones were coalesced) and draw it; a
-        slow brush step on the worker thread, drawn when it ends (:meth:`_step_done`)."""
+        """Apply the newest recorded move or hover (older ones were coalesced) and draw it (a
+        slow step: once it ended on the worker)."""
         self._flush_timer.stop()
-        tools = self.tools
-        if tools is None or self.stroke_worker.running:
-            return  # the newest move waits for the running step's end
-        if tools.dragging and tools.has_pending and self._off_thread():
-            self.stroke_worker.run(tools.flush, "Brush stopped")
-        else:
-            self.draw(tools.flush(), "Brush stopped")
-
-    def _off_thread(self) -> bool:
-        assert self.tools is not None
-        return self.stroke_worker.slow_steps(self.tools, self._last_step_ms)
-
-    @property
-    def stroke_busy(self) -> bool:
-        """A brush step runs off the GUI thread (a release may be waiting for it)."""
-        return self.stroke_worker.running
-
-    def after_step(self, action: Callable[[], object], what: str = "") -> None:
-        """Call ``action`` now, or, while a brush step runs off the GUI thread, once it and the
-        stroke's release waiting for it are done (``what`` says so in the status bar): what
-        touches the mesh (undo, files, closing) never meets a half-applied step."""
-        if not self.stroke_busy:
-            action()
-            return
-        self._after_step.append(action)
-        if what:
-            self.tool_message.emit(f"{what} once the brush step being applied ends")
-
-    def _step_done(self, update: ToolUpdate, error_title: str, error: Exception | None) -> None:
-        """A step on the worker ended: draw it, then the next step from the newest move, or the
-        waiting release, and what waited for the steps."""
-        self.draw(update, error_title)
-        if error is not None and self.tools is not None:  # restores the mesh: no half step
-            self.tools.cancel()
-            self.draw(ToolUpdate(all_moved=True))
-            self.tool_error.emit(error_title, f"{type(error).__name__}: {error}")
-        if self._waiting_move is not None and self.tools is not None:
-            (move, count), self._waiting_move = self._waiting_move, None
-            self.tools.move(move)
-            self.tools.received += count - 1 if self.tools.dragging else 0
-        self.flush_tools()
-        if self.stroke_worker.running:
-            return
-        if self._release_pos is not None:
-            self._finish_release()
-        waiting, self._after_step = self._after_step, []
-        for action in waiting:
-            action()
-
-    def _show_step_busy(self, busy: bool) -> None:
-        """A step has run for a while: a busy cursor and a status message, until steps end."""
-        if not busy:
-            if not self.pin_mode:  # (a pin mode waiting for the steps set its cursor)
-                self.unsetCursor()
-            self.step_busy.emit("")
-            return
-        self.setCursor(Qt.CursorShape.BusyCursor)
-        sculptor = self.tools.sculptor if self.tools is not None else None
-        size = f" of {len(sculptor.vertices):,} vertices" if sculptor is not None else ""
-        remesh = " (dynamic topology remeshes it)" if self._dynamic_topology() else ""
-        self.step_busy.emit(
-            f"Applying the brush to the mesh{size}{remesh}: the newest pointer position follows"
-        )
-
-    def _dynamic_topology(self) -> bool:
-        sculptor = self.tools.sculptor if self.tools is not None else None
-        return sculptor is not None and bool(sculptor.settings.dynamic_topology)
+        self.stroke_worker.flush()
 
     def _schedule_flush(self) -> None:
         if not self._flush_timer.isActive():
@@ -335,8 +256,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         if sculptor is None or not update.changed:
             return
         if update.step_seconds:
-            self._last_step_ms = 1e3 * update.step_seconds
-            self.step_timed.emit(self._last_step_ms)
+            self.step_timed.emit(1e3 * update.step_seconds)
         if update.pins_changed:
             self.show_pins(sculptor.constraint_points, sculptor.constraint_reach)
         drag = self.tools.value_drag if self.tools is not None else None
@@ -376,8 +296,8 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
 
     def refresh_cursor(self) -> None:
         """The brush changed: the ring shows its new radius at once (after a running step)."""
-        if self.stroke_busy:
-            self.after_step(self.refresh_cursor)
+        if self.stroke_worker.running:
+            self.stroke_worker.after_step(self.refresh_cursor)
         elif self.tools is not None and self.tools.cursor.state is not None:
             if self.tools.sculptor is not None:
                 self.show_cursor(self.tools.cursor.refresh())
@@ -506,22 +426,15 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         if hit is None:
             return False
         self._reaching = False
-        if self.stroke_busy:  # the last stroke's release waits for its running step
-            self.tool_message.emit(
-                "Cannot sculpt yet: the last stroke's brush step is still being applied "
-                "(see the status bar); press again when it ends"
-            )
+        if self.stroke_worker.refuse_press():  # the last stroke's release waits for its step
             return True
         point, normal = hit
         self._drag_depth = self._depth(point)
         self._hover_timer.stop()
         self.lod.interaction_frames()
         event = self.pointer_event(ev.position(), point, normal, ev.modifiers())
-        tools = self.tools
-        if tools is not None and self._off_thread() and not tools.ready():
-            self.stroke_worker.run(partial(tools.press, event), "Cannot sculpt")
-        elif tools is not None:
-            self.draw(tools.press(event), "Cannot sculpt")
+        if self.tools is not None:
+            self.stroke_worker.press(event)
         self.pointer_pressed.emit(event)
         return True
 
@@ -550,10 +463,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
                 hit = self.pick(ev.position())  # a paint stroke follows the surface
                 point = point if hit is None else hit[0]
             event = self.pointer_event(ev.position(), point, None, ev.modifiers())
-            if self.stroke_busy:  # the newest waits for the running step (latest wins)
-                count = self._waiting_move[1] if self._waiting_move is not None else 0
-                self._waiting_move = (event, count + 1)
-            elif self.tools is not None:
+            if self.tools is not None and not self.stroke_worker.move(event):
                 self.tools.move(event)
                 self._schedule_flush()
             return
@@ -621,13 +531,9 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
     def mouseReleaseEvent(self, ev: QMouseEvent) -> None:
         if self._drag_depth is not None and ev.button() == Qt.MouseButton.LeftButton:
             self._drag_depth = None
-            self._release_pos = ev.position()
-            tools = self.tools
-            if tools is not None and tools.has_pending and not self.stroke_busy:
-                self.flush_tools()  # the last move; off the GUI thread when slow
-            if not self.stroke_busy:
-                self._finish_release()
-            return  # else once the running step ends (_step_done)
+            self._flush_timer.stop()
+            self.stroke_worker.release(ev.position())  # (after a running step)
+            return
         if self._reaching and ev.button() == Qt.MouseButton.LeftButton:
             self._reaching = False  # the drag never reached the model
             return
@@ -644,22 +550,6 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
                 self.lod.show_full()
             self.request_render()
             self.rehover()
-
-    def _finish_release(self) -> None:
-        """End the stroke whose button was released (its last step applied)."""
-        self._flush_timer.stop()
-        pos, self._release_pos = self._release_pos, None
-        if self.tools is not None:
-            self.draw(self.tools.release(), "Brush stopped")
-        self.lod.show_full()
-        if self._faces_in_stroke:  # the whole new mesh shown and indexed, once
-            self._faces_in_stroke = False
-            self.faces_replaced.emit()
-        self.stroke_ended.emit()
-        # the ring leaves where the stroke acted for the surface under the pointer now, in
-        # the same frame as the settled mesh (a frame of a big mesh is slow)
-        self._hover_pos = pos
-        self._hover_now()
 
     def apply_camera_move(self) -> None:
         """Hand VTK's trackball style the newest camera drag move (older ones were
@@ -704,4 +594,4 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
     @property
     def in_stroke(self) -> bool:
         """The left button is dragging on the model (or was released while a step ran)."""
-        return self._drag_depth is not None or self._release_pos is not None
+        return self._drag_depth is not None or self.stroke_worker.release_pos is not None

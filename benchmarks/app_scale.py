@@ -287,7 +287,7 @@ def dynamic_stroke_stall(
         QApplication.postEvent(vp, event)
 
     def stroke_going() -> bool:
-        return window.tools.dragging or getattr(vp, "stroke_busy", False) or vp.render_pending
+        return window.tools.dragging or vp.stroke_worker.running or vp.render_pending
 
     left, none = Qt.MouseButton.LeftButton, Qt.MouseButton.NoButton
 
@@ -301,7 +301,7 @@ def dynamic_stroke_stall(
     for k in range(1, 4):
         post(QEvent.Type.MouseMove, QPointF(start.x() - 12 * k, start.y() + 5 * k), none, left)
         app.processEvents()
-        while vp.stroke_busy or vp._flush_timer.isActive():
+        while vp.stroke_worker.running or vp._flush_timer.isActive():
             app.processEvents()
     post(QEvent.Type.MouseButtonRelease, QPointF(start.x() - 36, start.y() + 15), left, none)
     app.processEvents()

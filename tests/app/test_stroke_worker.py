@@ -65,7 +65,7 @@ def test_moves_during_a_slow_step_are_coalesced_and_the_newest_follows(window, s
     vp, sculptor = window.viewport, window.document.sculptor
     before = sculptor.vertices.copy()
     pos = press_and_move(window, 5)
-    assert vp.stroke_busy
+    assert vp.stroke_worker.running
     qtbot.waitUntil(lambda: len(slow.centers) == 1)  # the first move's step runs, held
     assert np.array_equal(sculptor.vertices, before)  # nothing drawn before the step ends
     # the window answers meanwhile: after ~0.3 s it says that work is under way
@@ -76,7 +76,7 @@ def test_moves_during_a_slow_step_are_coalesced_and_the_newest_follows(window, s
     assert len(slow.centers) == 2  # the running step, then one from the newest move
     assert window.tools.received == 5 and window.tools.processed == 2
     send(vp, RELEASE, pos, buttons=NONE)
-    assert not vp.stroke_busy and not window.tools.dragging
+    assert not vp.stroke_worker.running and not window.tools.dragging
     assert not np.array_equal(sculptor.vertices, before)
     assert np.array_equal(vp.shown_vertices(), sculptor.vertices)  # each step drawn
     assert "Applying the brush" not in window.message_label.text()
@@ -89,7 +89,7 @@ def test_the_release_and_an_undo_wait_for_the_running_step(window, slow, qtbot):
     before, steps = sculptor.vertices.copy(), len(sculptor.history.undo_labels)
     pos = press_and_move(window, 2)
     send(vp, RELEASE, pos, buttons=NONE)
-    assert vp.stroke_busy and vp.in_stroke and window.tools.dragging  # the release waits
+    assert vp.stroke_worker.running and vp.in_stroke and window.tools.dragging  # the release waits
     window.undo_action.trigger()  # Ctrl+Z right after the release: queued behind the stroke
     assert "Undo once the brush step being applied ends" in window.message_label.text()
     assert np.array_equal(sculptor.vertices, before)
@@ -136,7 +136,7 @@ def test_closing_during_a_step_closes_once_it_ended(window, slow, qtbot):
     assert window.isVisible() and "Closing once" in window.message_label.text()
     slow.open()
     qtbot.waitUntil(lambda: not window.isVisible(), timeout=30_000)
-    assert not vp.stroke_busy
+    assert not vp.stroke_worker.running
 
 
 def test_new_document_during_a_step_waits_for_it(window, slow, qtbot):
@@ -147,7 +147,7 @@ def test_new_document_during_a_step_waits_for_it(window, slow, qtbot):
     assert window.document is old  # not replaced under the running step
     slow.open()
     qtbot.waitUntil(lambda: window.document is not old, timeout=30_000)
-    assert not vp.stroke_busy and not window.tools.dragging
+    assert not vp.stroke_worker.running and not window.tools.dragging
     assert window.tools.sculptor is window.document.sculptor
 
 
@@ -173,7 +173,7 @@ def test_fast_steps_stay_on_the_gui_thread_and_dynamic_topology_goes_off_it(wind
     window.model.brush.kind = "grab"
     before = sculptor.vertices.copy()
     press_and_move(window, 1)
-    assert not vp.stroke_busy  # done at once, on the GUI thread
+    assert not vp.stroke_worker.running  # done at once, on the GUI thread
     assert not np.array_equal(sculptor.vertices, before)
     send(vp, RELEASE, center_of(window) + QPoint(5, -3), buttons=NONE)
     assert not vp.in_stroke
@@ -181,7 +181,7 @@ def test_fast_steps_stay_on_the_gui_thread_and_dynamic_topology_goes_off_it(wind
     window.model.detail_size = 0.004  # finer than the model's edges: the step splits them
     count = len(sculptor.vertices)
     pos = press_and_move(window, 1)
-    assert vp.stroke_busy  # the remeshing step runs off the GUI thread
+    assert vp.stroke_worker.running  # the remeshing step runs off the GUI thread
     send(vp, RELEASE, pos, buttons=NONE)
     steps_done(vp)
     assert not vp.in_stroke and sculptor.history.undo_labels[-1].endswith("stroke")

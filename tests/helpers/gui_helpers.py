@@ -31,7 +31,7 @@ def steps_done(viewport, timeout: float = 120.0) -> None:
     """Deliver events until no brush step runs off the GUI thread (a slow step's end is drawn,
     a release waiting for it done); fails after ``timeout`` seconds."""
     end = time.monotonic() + timeout
-    while viewport.stroke_busy:
+    while viewport.stroke_worker.running:
         if time.monotonic() > end:
             faulthandler.dump_traceback(sys.stderr)  # where the step hangs
             raise AssertionError("a brush step did not end")
