@@ -60,6 +60,7 @@ class StrokeWorker(QObject):
         #: A step runs on the worker thread (set and cleared on the GUI thread).
         self.running = False
         self._title, self._shown_busy = "", False
+        self._message = "Applying the brush to the mesh"  # said once a step runs a while
         #: The newest move that came during a step and how many came; where the button was
         #: released during a step (the release waits); what waits for the steps to end.
         self.waiting_move: tuple[PointerEvent, int] | None = None
@@ -177,6 +178,14 @@ class StrokeWorker(QObject):
     def _run(self, step: Callable[[], ToolUpdate], error_title: str) -> None:
         self.running = True
         self._title = error_title
+        tools = self.view.tools  # what the busy message says, read before the step runs
+        sculptor = tools.sculptor if tools is not None else None
+        if sculptor is not None:
+            remesh = " (dynamic topology remeshes it)" if sculptor.settings.dynamic_topology else ""
+            self._message = (
+                f"Applying the brush to the mesh of {len(sculptor.vertices):,} vertices{remesh}: "
+                "the newest pointer position follows"
+            )
         if self._thread is None:
             self._thread = threading.Thread(target=self._work, name="brush steps", daemon=True)
             self._thread.start()
@@ -228,12 +237,4 @@ class StrokeWorker(QObject):
             return
         self._shown_busy = True
         self.view.setCursor(Qt.CursorShape.BusyCursor)
-        tools = self.view.tools
-        sculptor = tools.sculptor if tools is not None else None
-        size = f" of {len(sculptor.vertices):,} vertices" if sculptor is not None else ""
-        remesh = sculptor is not None and sculptor.settings.dynamic_topology
-        self.busy.emit(
-            f"Applying the brush to the mesh{size}"
-            f"{' (dynamic topology remeshes it)' if remesh else ''}: the newest pointer "
-            "position follows"
-        )
+        self.busy.emit(self._message)
