@@ -23,7 +23,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from PySide6.QtCore import QBuffer, QIODevice, QObject, Qt, QTimer
+from PySide6.QtCore import QBuffer, QIODevice, QObject, Qt, QTimer, Signal
 from PySide6.QtGui import QImage
 from PySide6.QtWidgets import QLabel, QMessageBox, QProgressBar
 
@@ -76,6 +76,8 @@ class CrashRecovery(QObject):
     """The crash-recovery side of a :class:`~app.main_window.MainWindow` (see the module
     docstring)."""
 
+    _wake = Signal()  # the journal wrote a record or met a problem (from any thread)
+
     def __init__(self, window) -> None:
         super().__init__(window)
         self.window = window
@@ -83,6 +85,7 @@ class CrashRecovery(QObject):
         self._idle_timer.setSingleShot(True)
         self._idle_timer.setInterval(IDLE_MS)
         self._idle_timer.timeout.connect(self.idle)
+        self._wake.connect(self._idle_timer.start)
         self._thumbnail_at = (0.0, -1)  # time and journal records of the last picture
         self._settings_written: str | None = None  # the app settings the journal holds
         # a change of the app's own settings is written at the next idle moment
@@ -109,7 +112,8 @@ class CrashRecovery(QObject):
         goes), ``document`` gets one."""
         if previous is not None and previous is not document:
             previous.close()
-        document.start_journal(wake=self._idle_timer.start)
+        # queued: the journal records a brush step's event on the stroke worker's thread
+        document.start_journal(wake=self._wake.emit)
         self._thumbnail_at = (0.0, -1)
         self._settings_written = None
         self.idle()  # says at once when no journal can be written

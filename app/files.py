@@ -8,6 +8,7 @@ the model being edited.
 from __future__ import annotations
 
 import json
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -172,7 +173,9 @@ class FileActions(QObject):
             action = menu.addAction(Path(path).name)
             action.setToolTip(path)
             action.triggered.connect(
-                lambda _c=False, p=path: self.maybe_save() and self.open_file(p)
+                lambda _c=False, p=path: self.window.viewport.stroke_worker.after_step(
+                    partial(self._open_recent, p), "Opening"
+                )
             )
         menu.setEnabled(bool(self.recent_files()))
 

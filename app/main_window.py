@@ -13,7 +13,7 @@ end). The File menu's work is :class:`app.files.FileActions`, the View menu's lo
 from __future__ import annotations
 
 from collections.abc import Callable
-from functools import cache, partial
+from functools import partial
 
 from PySide6.QtCore import QPoint, QSettings, QSize, Qt, QTimer
 from PySide6.QtGui import QAction, QCloseEvent, QKeySequence
@@ -46,16 +46,15 @@ from app.navigation import OPPOSITE_VIEWS, VIEW_TITLES, NavigationPreferences, V
 from app.panels.falloff_panel import FalloffPanel
 from app.panels.homogenization_panel import HomogenizationPanel
 from app.panels.material_panel import MaterialPanel
-from app.status import StatusArea
+from app.status import StatusArea, active_material_name
 from app.theme import apply_theme, qt_application
 from app.viewport import SculptViewport
 from app.wrinkle_hint import WrinkleHint, material_anisotropy, wrinkle_preset
-from gogreen_core.files.presets import Preset, builtin_presets
+from gogreen_core.files.presets import Preset
 from gogreen_core.interaction.settings import ChangeEvent, EngineLink, Settings
 from gogreen_core.interaction.tools import SculptTools
 from gogreen_core.mesh.resolution import edges_per_eps
 from gogreen_core.physics.material import Material
-from gogreen_core.physics.material_words import material_name
 from gogreen_core.sculpt.brushes import brush_row
 from gogreen_core.sculpt.sculptor import Sculptor
 
@@ -83,26 +82,6 @@ def fit_to_screen(window: QMainWindow) -> None:
     size = QSize(round(free.width() * WINDOW_SHARE), round(free.height() * WINDOW_SHARE))
     window.resize(size)
     window.move(free.center() - QPoint(size.width() // 2, size.height() // 2))
-
-
-@cache
-def _preset_materials() -> tuple[tuple[str, Material], ...]:
-    """The built-in presets' names and materials (read once)."""
-    return tuple((preset.name, preset.material) for preset in builtin_presets())
-
-
-def active_material_name(window: MainWindow) -> str:
-    """The active material's name: a built-in preset's name when it is one's, its kind and
-    anisotropy (:func:`material_name`), and the Material panel's rotation of its axes."""
-    material = window.model.material
-    name = material_name(material)
-    preset = next((n for n, m in _preset_materials() if m == material), None)
-    if preset is not None:
-        name = f"{preset} ({name})"
-    angles = window.material_panel.form.angles
-    if any(angles):
-        name += " · axes turned " + ", ".join(f"{a:g}°" for a in angles)
-    return name
 
 
 class MainWindow(QMainWindow):
@@ -246,17 +225,23 @@ class MainWindow(QMainWindow):
         #: The window's actions by keymap entry (``"undo"``, ``"brush_grab"``, …).
         self.keymap_actions: dict[str, QAction] = {}
         bar, files = self.menuBar(), self.files
+
+        def later(slot: Callable[[], object], what: str = "") -> Callable[[], None]:
+            # what reads or replaces the mesh waits for a brush step off the GUI thread
+            return lambda *_args: self.viewport.stroke_worker.after_step(slot, what)
+
         file_menu = bar.addMenu("&File")
-        self.new_action = self._action(file_menu, "&New", files.new_document, "new", "new")
-        self._action(file_menu, "&Open…", files.open_dialog, "open", "open")
+        new = later(files.new_document, "New")
+        self.new_action = self._action(file_menu, "&New", new, "new", "new")
+        self._action(file_menu, "&Open…", later(files.open_dialog, "Opening"), "open", "open")
         files.recent_menu = file_menu.addMenu("Open &Recent")
-        self._action(file_menu, "&Save", files.save, "save", "save")
-        self._action(file_menu, "Save &As…", files.save_as_dialog, "save_as")
+        self._action(file_menu, "&Save", later(files.save, "Saving"), "save", "save")
+        self._action(file_menu, "Save &As…", later(files.save_as_dialog, "Saving"), "save_as")
         file_menu.addSeparator()
         files.fill_presets_menu(file_menu.addMenu("&Presets"))
         self._action(file_menu, "Load &Preset File…", files.load_preset_dialog)
         self._action(file_menu, "Save Pr&eset…", files.save_preset_dialog)
-        self._action(file_menu, "Export Se&ssion…", files.export_session_dialog)
+        self._action(file_menu, "Export Se&ssion…", later(files.export_session_dialog, "Export"))
         self.screenshot_action = self._action(
             file_menu, "Export Scree&nshot…", files.screenshot_dialog, "screenshot", "screenshot"
         )
@@ -266,7 +251,7 @@ class MainWindow(QMainWindow):
         self.undo_action = self._action(edit_menu, "&Undo", self.undo, "undo", "undo")
         self.redo_action = self._action(edit_menu, "&Redo", self.redo, "redo", "redo")
         edit_menu.addSeparator()
-        self._action(edit_menu, "Clear &Constraints", self.clear_constraints)
+        self._action(edit_menu, "Clear &Constraints", later(self.clear_constraints))
         brush = self.brush_bar
         self._action(edit_menu, "Radius Smaller", lambda: brush.scale_radius(-1), "radius_smaller")
         self._action(edit_menu, "Radius Larger", lambda: brush.scale_radius(1), "radius_larger")
@@ -302,9 +287,10 @@ class MainWindow(QMainWindow):
         view_menu.addAction(self.field_preview.action)
         self._bind_keys(self.field_preview.action, "field_preview")
         help_menu = bar.addMenu("&Help")
-        self.keymap_action = self._action(
-            help_menu, "&Keyboard && Mouse", self.toggle_keymap, "keymap", "help"
+        self.keymap_action = self._action(  # (the overlay is made after the menus)
+            help_menu, "&Keyboard && Mouse", lambda: self.keymap_overlay.toggle_overlay(), "keymap"
         )
+        set_icon(self.keymap_action, "help")
         # The brush bar's actions take their keys from the keymap too, and the project's icons.
         for kind, action in self.brush_bar.kind_actions.items():
             tip = action.toolTip().rsplit("  [", 1)[0]
@@ -317,6 +303,7 @@ class MainWindow(QMainWindow):
 
     def _connect(self) -> None:
         viewport, status = self.viewport, self.status
+        viewport.stroke_worker.busy.connect(status.show_busy)  # a slow brush step runs
         viewport.tool_message.connect(self.flash)
         viewport.tool_error.connect(self.show_error)
         viewport.step_timed.connect(self._step_timed)
@@ -336,7 +323,9 @@ class MainWindow(QMainWindow):
 
         for settled in (viewport.surface_ready, self.kernel_warmer.busy_changed):
             settled.connect(release_when_settled)
-        self.brush_bar.constraint_mode_changed.connect(self._constraint_mode_changed)
+        self.brush_bar.constraint_mode_changed.connect(
+            lambda on: viewport.stroke_worker.after_step(partial(self._constraint_mode_changed, on))
+        )
         self.model.brush.events.changed.connect(lambda _c: viewport.refresh_cursor())
         self.model.events.material.connect(self._material_changed)
         self.material_panel.form.events.angles.connect(
@@ -358,10 +347,6 @@ class MainWindow(QMainWindow):
         )
 
     # -- help --------------------------------------------------------------------------------
-    def toggle_keymap(self) -> None:
-        """Show the keymap over the viewport, or hide it (Help menu, ``?``, F1)."""
-        self.keymap_overlay.toggle_overlay()
-
     def show_first_run_hint(self) -> bool:
         """Once per user (remembered in the settings): say that ``?`` shows the controls.
         Returns whether the hint was shown."""
@@ -423,7 +408,10 @@ class MainWindow(QMainWindow):
         )
 
     def closeEvent(self, event: QCloseEvent) -> None:
-        if self.files.maybe_save():
+        if self.viewport.stroke_worker.running:  # closes once the brush step ends
+            event.ignore()
+            self.viewport.stroke_worker.after_step(self.close, "Closing")
+        elif self.files.maybe_save():
             self.mesh_edits.cancel()
             self.crash_recovery.close()  # saved or discarded: the journal goes
             self.viewport.cancel_surface_build()  # it stops at its next progress report
@@ -516,8 +504,12 @@ class MainWindow(QMainWindow):
         self._history_step("redo")
 
     def _history_step(self, name: str) -> None:
-        sculptor = self.sculptor
+        sculptor, worker = self.sculptor, self.viewport.stroke_worker
+        if worker.running:  # after the brush step (and the release waiting for it)
+            worker.after_step(partial(self._history_step, name), name.title())
+            return
         if self.tools.dragging:
+            self.flash(f"Cannot {name} during a stroke")
             return
         if self.mesh_edits.busy:
             self.flash(f"Cannot {name}: {self.mesh_edits.refusal()}")
@@ -531,6 +523,7 @@ class MainWindow(QMainWindow):
         # a subdivision undone or redone shows its whole mesh
         self.mesh_edits.sync(sculptor.history.restored_indices)
         self.refresh_title()
+        self._refresh_status()  # a dynamic-topology stroke undone: another vertex count
         # past tense: "Undo: Scale stroke" read as what the next undo would do, and stayed
         # on while later strokes were made
         self.flash(f"{'Undone' if name == 'undo' else 'Redone'}: {label}")

@@ -2,9 +2,39 @@
 
 from __future__ import annotations
 
+from functools import cache
+from typing import TYPE_CHECKING
+
 from PySide6.QtWidgets import QLabel, QProgressBar, QPushButton, QStatusBar
 
-__all__ = ["StatusArea", "compile_progress_text"]
+from gogreen_core.files.presets import builtin_presets
+from gogreen_core.physics.material import Material
+from gogreen_core.physics.material_words import material_name
+
+if TYPE_CHECKING:
+    from app.main_window import MainWindow
+
+__all__ = ["StatusArea", "active_material_name", "compile_progress_text"]
+
+
+@cache
+def _preset_materials() -> tuple[tuple[str, Material], ...]:
+    """The built-in presets' names and materials (read once)."""
+    return tuple((preset.name, preset.material) for preset in builtin_presets())
+
+
+def active_material_name(window: MainWindow) -> str:
+    """The active material's name: a built-in preset's name when it is one's, its kind and
+    anisotropy (:func:`material_name`), and the Material panel's rotation of its axes."""
+    material = window.model.material
+    name = material_name(material)
+    preset = next((n for n, m in _preset_materials() if m == material), None)
+    if preset is not None:
+        name = f"{preset} ({name})"
+    angles = window.material_panel.form.angles
+    if any(angles):
+        name += " · axes turned " + ", ".join(f"{a:g}°" for a in angles)
+    return name
 
 
 def _time_left(seconds_left: float | None) -> str:
@@ -40,6 +70,7 @@ class StatusArea:
         self.step_label = QLabel("brush step: –")
         self.frame_label = QLabel("render: –")
         self.message_label = QLabel()
+        self._busy = ""  # the message of a slow brush step (show_busy)
         # the active material, named at all times (it stays when another model is opened)
         self.material_label = QLabel()
         self.material_label.setToolTip(
@@ -110,6 +141,14 @@ class StatusArea:
         if vertices is not None:
             self.vertex_label.setText(f"{vertices:,} vertices")
         self.step_label.setText(f"brush step: {step_ms:.1f} ms")
+
+    def show_busy(self, text: str) -> None:
+        """Say what a slow brush step does (``text``), or, "", take that back if still said."""
+        if text:
+            self.message_label.setText(text)
+        elif self.message_label.text() == self._busy:
+            self.message_label.clear()
+        self._busy = text
 
     def show_frame_time(self, ms: float) -> None:
         self.frame_label.setText(f"render: {ms:.0f} ms")

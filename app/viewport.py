@@ -16,7 +16,7 @@ draws the :class:`~gogreen_core.interaction.tools.ToolUpdate` each call gives ba
 (:meth:`SculptViewport.draw`); what the window must know (a message, an error, a step's time, a
 stroke's end) leaves as signals. Drag moves are coalesced: the tools keep the newest and one
 zero-timer per event-loop turn applies it (:meth:`SculptViewport.flush_tools`), so a burst of moves
-costs one brush step.
+costs one brush step. Slow steps run on a worker thread (:mod:`app.stroke_worker`).
 
 It renders on demand only: :meth:`SculptViewport.request_render` coalesces every request made
 before control returns to the event loop into one render (pyvistaqt's periodic
@@ -48,6 +48,7 @@ from pyvistaqt import QtInteractor
 from app.icons import icon_pixmap
 from app.mesh_display import BACKGROUND_INDEX_FACES, HOME_VIEW_DIRECTION, PIN_COLOR, MeshDisplay
 from app.navigation import ZOOM_STEP, CameraViews, camera_gesture, vtk_button
+from app.stroke_worker import StrokeWorker
 from gogreen_core.interaction.tools import PointerEvent, SculptTools, ToolUpdate
 
 __all__ = ["BACKGROUND_INDEX_FACES", "HOME_VIEW_DIRECTION", "SculptViewport"]
@@ -57,6 +58,18 @@ _MODIFIER_NAMES = (
     ("ctrl", Qt.KeyboardModifier.ControlModifier),
     ("alt", Qt.KeyboardModifier.AltModifier),
 )
+
+
+def _mute_vtk_keys(iren: Any) -> None:
+    """No VTK or pyvista key binding may act (app.keymap is the app's only keymap): keys are
+    not passed to the interactor (:meth:`SculptViewport.keyPressEvent`), and should one arrive
+    by another path, pyvista's key callbacks (q, b, v, Shift+C, Up, Down, plus, minus) are gone
+    and the style's default key actions (p outline, s / w, r, e / q, f, 3, j / t / c / a) are
+    replaced by observers that do nothing."""
+    iren.clear_key_event_callbacks()
+    style = iren.interactor.GetInteractorStyle()
+    for event in ("CharEvent", "KeyPressEvent", "KeyReleaseEvent"):
+        style.AddObserver(event, lambda *_args: None)
 
 
 # pyvistaqt's QtInteractor itself joins QWidget.update and BasePlotter.update
@@ -106,7 +119,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         plotter: Any = self  # pyvista's argument-checking decorator hides these signatures
         plotter.set_background("#2b2f36", top="#4a5260")
         plotter.enable_trackball_style()
-        self._mute_vtk_keys()
+        _mute_vtk_keys(self.iren)
         self._init_display()
         #: The Qt-free tools pointer events go to (:meth:`set_tools`); None: nothing sculpts.
         self.tools: SculptTools | None = None
@@ -128,6 +141,8 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         self._hover_timer = self._zero_timer(self._hover_now)
         self._ring_computed.connect(self.refresh_cursor)
         self._flush_timer = self._zero_timer(self.flush_tools)
+        #: Runs slow brush steps off the GUI thread (moves, the release and undo wait there).
+        self.stroke_worker = StrokeWorker(self)
         #: Wheel notches not yet applied (a sum: a touchpad gives fractions) and where the
         #: pointer was at the newest; the newest camera drag move not yet handed to VTK.
         self._wheel_notches = 0.0
@@ -154,21 +169,11 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         """Close the plotter; a matcap's texture first gives back what it holds in the render
         window (else VTK reports the window deleted before the texture)."""
         self.lod.settle_timer.stop()
+        self.stroke_worker.stop()
         actor, window = self.mesh_actor, self.ren_win
         if actor is not None and window is not None and actor.GetTexture() is not None:
             actor.GetTexture().ReleaseGraphicsResources(window)
         super().close()
-
-    def _mute_vtk_keys(self) -> None:
-        """No VTK or pyvista key binding may act (app.keymap is the app's only keymap): keys
-        are not passed to the interactor (:meth:`keyPressEvent`), and should one arrive by
-        another path, pyvista's key callbacks (q, b, v, Shift+C, Up, Down, plus, minus) are gone
-        and the style's default key actions (p outline, s / w, r, e / q, f, 3, j / t / c / a)
-        are replaced by observers that do nothing."""
-        self.iren.clear_key_event_callbacks()
-        style = self.iren.interactor.GetInteractorStyle()
-        for event in ("CharEvent", "KeyPressEvent", "KeyReleaseEvent"):
-            style.AddObserver(event, lambda *_args: None)
 
     def _zero_timer(self, slot: Callable[[], None]) -> QTimer:
         timer = QTimer(self)
@@ -216,10 +221,10 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
             tools.ring_ready = self._ring_computed.emit  # queued to the GUI thread
 
     def flush_tools(self) -> None:
-        """Apply the newest recorded move or hover (older ones were coalesced) and draw it."""
+        """Apply the newest recorded move or hover (older ones were coalesced) and draw it (a
+        slow step: once it ended on the worker)."""
         self._flush_timer.stop()
-        if self.tools is not None:
-            self.draw(self.tools.flush(), "Brush stopped")
+        self.stroke_worker.flush()
 
     def _schedule_flush(self) -> None:
         if not self._flush_timer.isActive():
@@ -290,8 +295,10 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         self.show_pins(sculptor.constraint_points, sculptor.constraint_reach)
 
     def refresh_cursor(self) -> None:
-        """The brush changed: the ring shows its new radius at once."""
-        if self.tools is not None and self.tools.cursor.state is not None:
+        """The brush changed: the ring shows its new radius at once (after a running step)."""
+        if self.stroke_worker.running:
+            self.stroke_worker.after_step(self.refresh_cursor)
+        elif self.tools is not None and self.tools.cursor.state is not None:
             if self.tools.sculptor is not None:
                 self.show_cursor(self.tools.cursor.refresh())
 
@@ -418,14 +425,16 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         hit = self.pick(ev.position())
         if hit is None:
             return False
+        self._reaching = False
+        if self.stroke_worker.refuse_press():  # the last stroke's release waits for its step
+            return True
         point, normal = hit
         self._drag_depth = self._depth(point)
-        self._reaching = False
         self._hover_timer.stop()
         self.lod.interaction_frames()
         event = self.pointer_event(ev.position(), point, normal, ev.modifiers())
         if self.tools is not None:
-            self.draw(self.tools.press(event), "Cannot sculpt")
+            self.stroke_worker.press(event)
         self.pointer_pressed.emit(event)
         return True
 
@@ -453,8 +462,9 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
             if self.tools is not None and self.tools.stroke.sweeping:
                 hit = self.pick(ev.position())  # a paint stroke follows the surface
                 point = point if hit is None else hit[0]
-            if self.tools is not None:
-                self.tools.move(self.pointer_event(ev.position(), point, None, ev.modifiers()))
+            event = self.pointer_event(ev.position(), point, None, ev.modifiers())
+            if self.tools is not None and not self.stroke_worker.move(event):
+                self.tools.move(event)
                 self._schedule_flush()
             return
         if self._reaching:
@@ -522,17 +532,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         if self._drag_depth is not None and ev.button() == Qt.MouseButton.LeftButton:
             self._drag_depth = None
             self._flush_timer.stop()
-            if self.tools is not None:
-                self.draw(self.tools.release(), "Brush stopped")
-            self.lod.show_full()
-            if self._faces_in_stroke:  # the whole new mesh shown and indexed, once
-                self._faces_in_stroke = False
-                self.faces_replaced.emit()
-            self.stroke_ended.emit()
-            # the ring leaves where the stroke acted for the surface under the pointer now, in
-            # the same frame as the settled mesh (a frame of a big mesh is slow)
-            self._hover_pos = ev.position()
-            self._hover_now()
+            self.stroke_worker.release(ev.position())  # (after a running step)
             return
         if self._reaching and ev.button() == Qt.MouseButton.LeftButton:
             self._reaching = False  # the drag never reached the model
@@ -546,7 +546,8 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
                 super().mouseReleaseEvent(self._as_button(ev, button))
             finally:
                 interactor.EnableRenderOn()
-            self.lod.show_full()
+            if not self.in_stroke:  # the copy's catch-up reads the mesh: after the steps
+                self.lod.show_full()
             self.request_render()
             self.rehover()
 
@@ -592,5 +593,5 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
 
     @property
     def in_stroke(self) -> bool:
-        """The left button is dragging on the model."""
-        return self._drag_depth is not None
+        """The left button is dragging on the model (or was released while a step ran)."""
+        return self._drag_depth is not None or self.stroke_worker.release_pos is not None

@@ -19,11 +19,26 @@ Prints (figures only; nothing is asserted; issue 36, items 2, 3 and 4):
   orbit and wheel zooms (from the interaction copy, :mod:`app.level_of_detail`, where full
   frames take over 100 ms); from each release (and the last notch) to a settled screen and
   that frame, at full resolution; the idle CPU after it all;
+* on that mesh with dynamic topology (issue 34): a left-button grab (radius 0.03), a move posted
+  every 40 ms for 10 s, then the release: the GUI thread's longest stall (the longest gap
+  between ticks of a 10 ms timer) and the longest without the time spent rendering, the
+  engine's events (count, median), and from the release until a next stroke can start (the
+  new faces indexed). ``--stall-only`` runs only this; ``--on-gui-thread`` runs every step on
+  the GUI thread, as before :mod:`app.stroke_worker`;
 * on an empty numba cache (a temporary ``NUMBA_CACHE_DIR``): seconds from the app's first
   request of its kernels until the field's compiled drivers serve (the first stroke runs
   compiled), and until every unit of the request is in;
 * three short scripts (one brush event each) started one after another on an empty cache: how
   many compiling child processes they started (one: the lock beside the cache).
+
+Measured 2026-11-29 (the dynamic-topology stroke; 2 cores shared, load average ~5):
+* every step on the GUI thread (``--on-gui-thread``, as before the stroke worker): longest
+  stall 2.70 s, 2.26 s not counting renders (frames 0.51 s); 8 events, median 0.95 s;
+  release -> next stroke possible 5.4 s.
+* slow steps on the stroke worker (three runs): longest stall 0.87-1.11 s, 0.22-0.56 s not
+  counting renders (frames 0.30-0.45 s: a full-resolution frame per finished event is now the
+  longest stall); 10 events, median 1.09-1.25 s; release -> next stroke possible 3.8 s, or
+  ~24 s in the two runs whose last step took 18-20 s (not understood; the window answered).
 
 Goals: brush step ≤ the engine's event + 20 ms; stroke and camera frames ≥ 3× faster than
 a full frame; idle ≤ 500 MB; after Ctrl+N within 10 % of the fresh start; drivers ≤ 20 s after the
@@ -36,9 +51,11 @@ import argparse
 import json
 import os
 import signal
+import statistics
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 from pathlib import Path
 
@@ -167,7 +184,7 @@ def start_app():
     return window, settle
 
 
-def probe_rss(meshes: Path) -> dict[str, object]:
+def probe_rss(meshes: Path, stall_only: bool = False, gui: bool = False) -> dict[str, object]:
     from PySide6.QtCore import Qt
     from PySide6.QtTest import QTest
     from PySide6.QtWidgets import QApplication
@@ -185,7 +202,14 @@ def probe_rss(meshes: Path) -> dict[str, object]:
     settle(3.0)
     result["vertices"] = len(window.document.sculptor.vertices)
     result["big"] = rss_mb()
+    if stall_only:
+        result.update(dynamic_stroke_stall(app, window, on_gui_thread=gui))
+        window.document._saved_vertices = window.document.sculptor.vertices.copy()
+        window.document._saved_faces = window.document.sculptor.faces
+        window.close()
+        return result
     result.update(interaction_figures(app, window))
+    result.update(dynamic_stroke_stall(app, window))
     window.document._saved_vertices = window.document.sculptor.vertices.copy()  # no prompt
     assert not window.document.dirty  # Ctrl+N then asks nothing
     window.activateWindow()  # the shortcut fires in the active window
@@ -209,6 +233,9 @@ def interaction_figures(app, window) -> dict[str, object]:
     from PySide6.QtWidgets import QApplication
 
     vp = window.viewport
+    # the brush step on the GUI thread: a slow one on a big mesh would go to the stroke
+    # worker (app.stroke_worker), and this figure is the app's cost around the engine
+    vp.stroke_worker.slow_step_ms = float("inf")
     frames: list[tuple[float, bool]] = []  # (ms, drawn from the interaction copy)
     vp.frame_rendered.connect(lambda ms: frames.append((ms, vp.lod.shown)))
     app_steps: list[float] = []
@@ -318,6 +345,117 @@ def interaction_figures(app, window) -> dict[str, object]:
         time.sleep(0.05)
     figures["idle_cpu"] = 100 * (time.process_time() - cpu) / 3.0
     return figures
+
+
+def dynamic_stroke_stall(
+    app, window, seconds: float = 10.0, on_gui_thread: bool = False
+) -> dict[str, object]:
+    """A left-button grab (radius 0.03) with dynamic topology on the open mesh, moves posted
+    every 40 ms for ``seconds``, then the release: the longest gap between ticks of a 10 ms
+    timer of the GUI thread from the press to the stroke's end (the window's longest stall),
+    the events applied and seconds from the release to the stroke's end (issue 34).
+    ``on_gui_thread``: every step on the GUI thread, as before issue 34's worker."""
+    from PySide6.QtCore import QEvent, QPointF, Qt, QTimer
+    from PySide6.QtGui import QMouseEvent
+    from PySide6.QtWidgets import QApplication
+
+    from app.stroke_worker import SLOW_STEP_MS
+
+    vp = window.viewport
+    vp.stroke_worker.slow_step_ms = SLOW_STEP_MS
+    if on_gui_thread:
+        vp.stroke_worker.slow_steps = lambda *_args: False
+    window.model.dynamic_topology = True
+    window.model.brush.update({"kind": "grab", "radius": 0.03})
+    w, h = vp.width(), vp.height()
+    start = QPointF(0.45 * w, 0.5 * h)
+    ticks: list[float] = []
+    beat = QTimer()
+    beat.setInterval(10)
+    beat.timeout.connect(lambda: ticks.append(time.perf_counter()))
+
+    def post(kind, pos, button, buttons) -> None:
+        event = QMouseEvent(
+            kind, pos, vp.mapToGlobal(pos), button, buttons, Qt.KeyboardModifier.NoModifier
+        )
+        QApplication.postEvent(vp, event)
+
+    def stroke_going() -> bool:
+        return window.tools.dragging or vp.stroke_worker.running or vp.render_pending
+
+    left, none = Qt.MouseButton.LeftButton, Qt.MouseButton.NoButton
+
+    def until_ended() -> None:  # and the new faces indexed (strokes wait for it)
+        while stroke_going() or vp.surface_building:
+            app.processEvents()
+            time.sleep(0.002)
+
+    # a first stroke, not measured: the remesh kernels load (or compile) on first use
+    post(QEvent.Type.MouseButtonPress, start, left, left)
+    for k in range(1, 4):
+        post(QEvent.Type.MouseMove, QPointF(start.x() - 12 * k, start.y() + 5 * k), none, left)
+        app.processEvents()
+        while vp.stroke_worker.running or vp._flush_timer.isActive():
+            app.processEvents()
+    post(QEvent.Type.MouseButtonRelease, QPointF(start.x() - 36, start.y() + 15), left, none)
+    app.processEvents()
+    until_ended()
+    steps: list[float] = []
+    vp.step_timed.connect(steps.append)
+    renders: list[tuple[float, float]] = []  # (start, end) of each frame
+    vp.frame_rendered.connect(
+        lambda ms: renders.append((time.perf_counter() - ms / 1e3, time.perf_counter()))
+    )
+    beat.start()
+    began = time.perf_counter()
+    post(QEvent.Type.MouseButtonPress, start, left, left)
+    count = round(seconds / 0.04)
+    released = [0.0]
+    to_global = vp.mapToGlobal(QPointF(0.0, 0.0))
+
+    def pointer() -> None:  # as the window system does: on time, however busy the window
+        def send(kind, pos, button, buttons) -> None:
+            modifiers = Qt.KeyboardModifier.NoModifier
+            event = QMouseEvent(kind, pos, pos + to_global, button, buttons, modifiers)
+            QApplication.postEvent(vp, event)  # (thread-safe)
+
+        for k in range(1, count + 1):
+            time.sleep(max(0.0, began + 0.04 * k - time.perf_counter()))
+            pos = QPointF(start.x() + 0.25 * k, start.y() - 0.15 * k)
+            send(QEvent.Type.MouseMove, pos, none, left)
+        released[0] = time.perf_counter()
+        send(QEvent.Type.MouseButtonRelease, pos, left, none)
+
+    thread = threading.Thread(target=pointer)
+    thread.start()
+    while thread.is_alive():
+        app.processEvents()
+        time.sleep(0.002)
+    thread.join()
+    moves = count
+    app.processEvents()
+    until_ended()
+    ended = time.perf_counter()
+    release_time = released[0]
+    beat.stop()
+    window.model.dynamic_topology = False
+    spans = list(zip([began, *ticks], [*ticks, ended], strict=True))
+    gaps = [b - a for a, b in spans]
+
+    def outside_renders(a: float, b: float) -> float:
+        return b - a - sum(max(0.0, min(b, e) - max(a, s)) for s, e in renders)
+
+    return {
+        "stall_max": 1e3 * max(gaps),
+        "stall_no_render": 1e3 * max(outside_renders(a, b) for a, b in spans),
+        "frame": statistics.median(e - s for s, e in renders) * 1e3 if renders else float("nan"),
+        "stall_moves": moves,
+        "stall_events": window.tools.processed,
+        "stall_release": 1e3 * (ended - release_time),
+        "stall_vertices": len(window.document.sculptor.vertices),
+        "stall_step": statistics.median(steps) if steps else float("nan"),
+        "stall_steps": [round(ms) for ms in steps],
+    }
 
 
 # -- compile figures -----------------------------------------------------------------------------
@@ -479,6 +617,19 @@ def print_idle_and_floor(launches: int) -> None:
     )
 
 
+def print_stall(r: dict[str, object]) -> None:
+    if "stall_max" not in r:
+        return
+    print(
+        f"dynamic-topology grab (radius 0.03) for 10 s on the 1M mesh: longest GUI-thread stall "
+        f"{r['stall_max']:.0f} ms (10 ms heartbeat), {r['stall_no_render']:.0f} ms not counting "
+        f"renders (frames {r['frame']:.0f} ms); {r['stall_moves']} moves -> "
+        f"{r['stall_events']} events (median {r['stall_step']:.0f} ms), release -> next stroke "
+        f"possible {r['stall_release']:.0f} ms, "
+        f"{r['stall_vertices']:,} vertices after"
+    )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--meshes", default=str(HERE.parents[2] / "shared/meshes"))
@@ -488,10 +639,16 @@ def main() -> None:
         "--launches", type=int, default=3, help="fresh launches for the idle medians (default 3)"
     )
     parser.add_argument("--skip-compile", action="store_true", help="RSS figures only")
+    parser.add_argument(
+        "--stall-only", action="store_true", help="only the dynamic-topology stroke's stall"
+    )
+    parser.add_argument(
+        "--on-gui-thread", action="store_true", help="(--stall-only) steps on the GUI thread"
+    )
     parser.add_argument("--skip-rss", action="store_true", help="compile figures only")
     args = parser.parse_args()
     if args.probe_rss:
-        print(json.dumps(probe_rss(Path(args.meshes))))
+        print(json.dumps(probe_rss(Path(args.meshes), args.stall_only, args.on_gui_thread)))
         return
     if args.probe_idle:
         print(json.dumps(probe_idle()))
@@ -500,11 +657,15 @@ def main() -> None:
 
     print(f"code: {Path(gogreen_core.__file__).parent.parent}")
     if not args.skip_rss:
-        print_idle_and_floor(args.launches)
-        rss = child_json(str(HERE), "--probe-rss", "--meshes", args.meshes)
+        if not args.stall_only:
+            print_idle_and_floor(args.launches)
+        options = ["--stall-only"] * args.stall_only + ["--on-gui-thread"] * args.on_gui_thread
+        rss = child_json(str(HERE), "--probe-rss", "--meshes", args.meshes, *options)
         print(f"RSS idle, default model, fresh start (the process below): {rss['idle']:.0f} MB")
         if "skipped" in rss:
             print(f"1M-vertex mesh: skipped ({rss['skipped']})")
+        elif args.stall_only:
+            print_stall(rss)
         else:
             print(f"RSS with the {rss['vertices']:,}-vertex mesh open: {rss['big']:.0f} MB")
             change = 100 * (rss["back"] / rss["idle"] - 1)
@@ -514,7 +675,8 @@ def main() -> None:
                 f"{rss['idle_anonymous']:.0f} MB at the fresh start)"
             )
             print_interaction(rss)
-    if args.skip_compile:
+            print_stall(rss)
+    if args.skip_compile or args.stall_only:
         return
     load = os.getloadavg()[0]
     ready = compile_ready()

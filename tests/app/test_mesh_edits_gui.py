@@ -5,7 +5,7 @@ background for big meshes), undo of each."""
 from __future__ import annotations
 
 import numpy as np
-from gui_helpers import activate, center_of
+from gui_helpers import activate, center_of, steps_done
 from PySide6.QtCore import QPoint, QPointF, Qt
 from PySide6.QtGui import QMouseEvent
 from PySide6.QtTest import QTest
@@ -30,12 +30,15 @@ def drag_with(window, start: QPoint, modifiers=Qt.KeyboardModifier.NoModifier, s
 
     left, none = Qt.MouseButton.LeftButton, Qt.MouseButton.NoButton
     vp.mousePressEvent(event(QMouseEvent.Type.MouseButtonPress, start, left, left))
+    steps_done(vp)
     pos = start
     for _ in range(steps):
         pos = pos + QPoint(6, -4)
         vp.mouseMoveEvent(event(QMouseEvent.Type.MouseMove, pos, none, left))
         window.viewport.flush_tools()
+        steps_done(vp)  # a dynamic-topology step runs off the GUI thread
     vp.mouseReleaseEvent(event(QMouseEvent.Type.MouseButtonRelease, pos, left, none))
+    steps_done(vp)
 
 
 def shown_colors(window):

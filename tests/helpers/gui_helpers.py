@@ -4,7 +4,11 @@ puts ``tests/`` on the path, as for ``green_reference``); Qt only, the app is im
 
 from __future__ import annotations
 
-from PySide6.QtCore import QPoint, QPointF, Qt
+import faulthandler
+import sys
+import time
+
+from PySide6.QtCore import QCoreApplication, QEventLoop, QPoint, QPointF, Qt
 from PySide6.QtGui import QMouseEvent
 
 
@@ -21,6 +25,17 @@ def send(viewport, kind, pos, button=Qt.MouseButton.LeftButton, buttons=None) ->
         QMouseEvent.Type.MouseMove: viewport.mouseMoveEvent,
         QMouseEvent.Type.MouseButtonRelease: viewport.mouseReleaseEvent,
     }[kind](event)
+
+
+def steps_done(viewport, timeout: float = 120.0) -> None:
+    """Deliver events until no brush step runs off the GUI thread (a slow step's end is drawn,
+    a release waiting for it done); fails after ``timeout`` seconds."""
+    end = time.monotonic() + timeout
+    while viewport.stroke_worker.running:
+        if time.monotonic() > end:
+            faulthandler.dump_traceback(sys.stderr)  # where the step hangs
+            raise AssertionError("a brush step did not end")
+        QCoreApplication.processEvents(QEventLoop.ProcessEventsFlag.AllEvents, 20)
 
 
 def drag(window, start: QPoint, steps: int = 6) -> None:
