@@ -24,13 +24,7 @@ from gogreen_core.mesh.remesh import (
     remesh_snapshot,
     strained_vertices,
 )
-from gogreen_core.sculpt.brushes import (
-    Brush,
-    BrushEvent,
-    Displacement,
-    GreenBrush,
-    StrokeContext,
-)
+from gogreen_core.sculpt.brushes import Brush, BrushEvent, Displacement, GreenBrush, StrokeContext
 from gogreen_core.sculpt.brushes.table import brush_row
 from gogreen_core.sculpt.engine_settings import EngineSettings
 from gogreen_core.sculpt.history import History
@@ -53,7 +47,7 @@ __all__ = [
 #: Dynamic topology remeshes where a side of a face changed (as a vector) by more than this
 #: fraction of its length since its vertices were last remeshed: a rigid shift strains nothing.
 STRAIN_TOLERANCE = 0.1
-#: ... and where a vertex moved at least this fraction of the most any vertex did since.
+#: ... and where a vertex moved at least this fraction of the most any did in the stroke.
 CORE_MOTION = 0.25
 #: Rounds of split, collapse, flip and relaxation after each event.
 DYNAMIC_ITERATIONS = 1
@@ -88,6 +82,7 @@ class _Stroke:
     kernels: KernelCache | None = None  # the surface frame's, fixed at the first event
     # the rows (ascending) moved since they were last remeshed: only their faces can be strained
     unsettled: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    fastest: float = 0.0  # the core's largest squared motion an event so far
 
 
 class StrokeDriver:
@@ -195,12 +190,14 @@ class StrokeDriver:
         around[rows] = True
         faces = mesh.faces[np.flatnonzero(faces_touching(mesh.faces, around))]
         strained = strained_vertices(stroke.reference, mesh.vertices, faces, STRAIN_TOLERANCE)
-        # and the brush's core, per event (against the total motion the bar would creep out)
+        # and the brush's core, per event (against the total motion the bar would creep out), as
+        # against the fastest yet: after a pause the whole path would be the core, remeshed at once
         assert stroke.settled_at is not None
         shift = mesh.vertices[unsettled] - stroke.reference[unsettled]
         elapsed = len(stroke.events) - stroke.settled_at[unsettled]
         moved2 = np.einsum("ij,ij->i", shift, shift) / (elapsed * elapsed)
-        strained[unsettled] |= (moved2 > 0) & (moved2 >= CORE_MOTION**2 * moved2.max())
+        stroke.fastest = max(stroke.fastest, float(moved2.max()))
+        strained[unsettled] |= (moved2 > 0) & (moved2 >= CORE_MOTION**2 * stroke.fastest)
         if not strained.any():
             return False
         if stroke.start is None:  # the topology is still the stroke's start's

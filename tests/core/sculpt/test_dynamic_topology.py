@@ -561,3 +561,28 @@ def test_remesh_names_a_bad_length_or_region(length, region, words) -> None:
     region = np.ones(len(vertices), dtype=bool) if region is None else region
     with pytest.raises(ValueError, match=words):
         remesh(vertices, faces, region, length)
+
+
+def test_a_pause_in_a_stroke_does_not_remesh_its_whole_path(monkeypatch) -> None:
+    """A tiny move after a drag (the pointer paused): the brush's core is measured against the
+    fastest the stroke went, so the region remeshed stays the size of a moving event's (at 1M
+    vertices the whole path took 20 s)."""
+    regions: list[int] = []
+    remesh_now = stroke_module.remesh
+
+    def counted(vertices, faces, region, *args, **kwargs):
+        regions.append(int(np.count_nonzero(region)))
+        return remesh_now(vertices, faces, region, *args, **kwargs)
+
+    monkeypatch.setattr(stroke_module, "remesh", counted)
+    vertices, faces = default_model()
+    sculptor = Sculptor(vertices, faces, settings=EngineSettings(dynamic_topology=True))
+    center = vertices[int(np.argmax(vertices[:, 1]))].copy()
+    step = 0.004 * sculptor.model_size * np.array([1.0, 0.3, 0.0])
+    sculptor.begin_stroke(Brush("grab", radius=0.03))
+    for k in range(10):
+        sculptor.stroke_event(BrushEvent(center + k * step, step))
+    moving = regions[-1]
+    sculptor.stroke_event(BrushEvent(center + 10 * step, 1e-3 * step))
+    sculptor.end_stroke()
+    assert regions[-1] <= moving, (regions[-1], moving)
