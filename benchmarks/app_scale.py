@@ -38,7 +38,11 @@ Measured 2026-11-29 (the dynamic-topology stroke; 2 cores shared, load average ~
 * slow steps on the stroke worker (three runs): longest stall 0.87-1.11 s, 0.22-0.56 s not
   counting renders (frames 0.30-0.45 s: a full-resolution frame per finished event is now the
   longest stall); 10 events, median 1.09-1.25 s; release -> next stroke possible 3.8 s, or
-  ~24 s in the two runs whose last step took 18-20 s (not understood; the window answered).
+  ~24 s in the two runs whose last step took 18-20 s: the last move was a small one, and the
+  brush's core was measured against that event's fastest, so the whole path was remeshed.
+* with the core measured against the fastest the stroke went (quiet machine, 2 runs): longest
+  stall 0.60-0.95 s; 9 events, median 1.2-1.3 s, none over 2.5 s; release -> next stroke 4.7-5.5
+  s (6 runs before it: 3.7-31 s, the last step 18-28 s in 4 of them).
 
 Goals: brush step ≤ the engine's event + 20 ms; stroke and camera frames ≥ 3× faster than
 a full frame; idle ≤ 500 MB; after Ctrl+N within 10 % of the fresh start; drivers ≤ 20 s after the
