@@ -513,7 +513,10 @@ def test_a_stroke_during_compilation_moves_the_mesh(ico, monkeypatch):
 
     module = sys.modules[MODULE]
     operators, compile_status = sub(module, "operators"), sub(module, "compile_status")
-    # a new machine: nothing compiled in this process, the compiler busy elsewhere
+    # a new machine: nothing compiled in this process, the compiler busy elsewhere (once this
+    # process's worker has brought in what earlier tests asked for: it would mark it ready)
+    with _compiled._condition:
+        assert _compiled._condition.wait_for(lambda: not _compiled._pending, 120)
     monkeypatch.setattr(_compiled, "_ready", set())
     monkeypatch.setattr(_compiled, "_callbacks", [])
     monkeypatch.setattr(_compiled, "_mode", lambda: "off")
