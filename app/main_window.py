@@ -433,7 +433,11 @@ class MainWindow(QMainWindow):
     def _material_changed(self, event: ChangeEvent) -> None:
         self.status.show_material(active_material_name(self))
         sculptor = self.sculptor
-        if event.source != "engine" and sculptor is not None and sculptor.material == event.value:
+        if (
+            event.source != "engine"
+            and sculptor is not None
+            and sculptor.settings.material == event.value
+        ):
             self.flash("Material applied")
 
     def _use_homogenized(self, material: Material) -> None:

@@ -27,9 +27,7 @@ from gogreen_core.validation import (
     check_object,
     prefixed,
 )
-from gogreen_core.validation import (
-    field as field_path,
-)
+from gogreen_core.validation import field as field_path
 
 __all__ = [
     "OPERATIONS",

@@ -10,11 +10,8 @@ from typing import Any
 import numpy as np
 
 from gogreen_core.field.kernel import GreenKernel
-from gogreen_core.field.limits import check_constraint_radius
 from gogreen_core.mesh.mesh_state import MaskRows, MeshEdit, MeshSnapshot, MeshState
 from gogreen_core.mesh.subdivision import PreparedSubdivision, prepare_subdivision
-from gogreen_core.physics.material import Material
-from gogreen_core.physics.radial import RadialProfile
 from gogreen_core.sculpt.brushes import Brush, BrushEvent
 from gogreen_core.sculpt.checkpoint import SculptState
 from gogreen_core.sculpt.constraints import CONSTRAINT_INFLUENCE, ConstraintSet
@@ -38,13 +35,7 @@ from gogreen_core.sculpt.session import (
 )
 from gogreen_core.sculpt.session_log import LogListener, SessionLog
 from gogreen_core.sculpt.stroke import Remesher, StrokeDriver
-from gogreen_core.validation import (
-    ParameterError,
-    check_bool,
-    check_type,
-    check_vector,
-    prefixed,
-)
+from gogreen_core.validation import ParameterError, check_bool, check_type, check_vector, prefixed
 
 __all__ = [
     "Sculptor",
@@ -136,18 +127,6 @@ class Sculptor:
         return self._kernels.settings
 
     @property
-    def material(self) -> Material:
-        return self.settings.material
-
-    @property
-    def falloff(self) -> RadialProfile:
-        return self.settings.falloff
-
-    @property
-    def l_max(self) -> int:
-        return self.settings.l_max
-
-    @property
     def in_stroke(self) -> bool:
         return self._strokes.active
 
@@ -211,23 +190,6 @@ class Sculptor:
         self.history.record_state(last if merge and last else label, (before, after), merge)
         # A collapsed drag is logged as its last value; the replay makes the same one step.
         self._log.record(settings_record(after, group[0], continued), replace_last=merge)
-
-    def set_material(self, material: Material, continued: bool = False) -> None:
-        """Use ``material`` for the next operations (see :meth:`change_settings`)."""
-        self.change_settings(material=material, continued=continued)
-
-    def set_falloff(
-        self, falloff: RadialProfile, l_max: int | None = None, *, continued: bool = False
-    ) -> None:
-        """Use this falloff shape (and l_max; None: kept) from now on, the brushes' weights
-        resized to it (see :meth:`change_settings`)."""
-        l_max = self.l_max if l_max is None else l_max
-        self.change_settings(falloff=falloff, l_max=l_max, continued=continued)
-
-    def set_constraint_radius(self, radius: float, continued: bool = False) -> None:
-        """ε of the constraints, relative to the model size (see :meth:`change_settings`)."""
-        radius = check_constraint_radius(radius, "radius")
-        self.change_settings(constraint_radius=radius, continued=continued)
 
     # -- strokes -----------------------------------------------------------------------------
     def kernel(self, brush: Brush) -> GreenKernel | None:

@@ -282,7 +282,7 @@ def test_refused_material_values_never_stay_on_screen(window, qtbot, made_textur
         assert field.lineEdit().text() == text and is_marked_invalid(field)
         assert panel.error.startswith(f"Not applied: {words}")
         assert "young" not in panel.error and "poisson" not in panel.error
-    assert window.document.sculptor.material == Material.isotropic(1.0, 0.3)
+    assert window.document.sculptor.settings.material == Material.isotropic(1.0, 0.3)
     assert window.files.open_file(str(made_textured.path))
     assert young.lineEdit().text() == "1" and poisson.lineEdit().text() == "0.3"
     assert not is_marked_invalid(poisson) and panel.error == ""

@@ -43,12 +43,12 @@ def test_drag_moves_near_vertices_only_and_undo_restores(window):
 
 def test_invalid_material_keeps_the_old_one(window):
     panel = window.material_panel
-    old = window.document.sculptor.material
+    old = window.document.sculptor.settings.material
     panel.set_field("poisson", 0.6)
     assert panel.error
-    assert window.document.sculptor.material == old
+    assert window.document.sculptor.settings.material == old
     panel.set_field("poisson", 0.45)
-    assert window.document.sculptor.material == Material.isotropic(1.0, 0.45)
+    assert window.document.sculptor.settings.material == Material.isotropic(1.0, 0.45)
 
 
 def test_falloff_edit_changes_the_next_deformation(window):
@@ -75,7 +75,7 @@ def test_changing_l_max_prepares_its_kernels_in_the_background(window, qtbot):
     # it says what happened: "loaded" from the disk cache (as here, warm), "compiled" when it was
     word = "compiled in" if ready.args[2] else "loaded in"
     assert word in window.message_label.text()
-    assert window.document.sculptor.l_max == 5
+    assert window.document.sculptor.settings.l_max == 5
     assert not window.kernel_warmer.request(5)  # once per degree
     drag(window, center_of(window))  # sculpts with the prepared kernels
     assert window.document.dirty
@@ -142,12 +142,14 @@ def test_builtin_presets_are_in_the_menu_and_apply(window, tmp_path):
     assert "Rubber (volume preserving)" in names and len(names) >= 5
     rubber = actions[names.index("Rubber (volume preserving)")]
     rubber.trigger()
-    assert window.document.sculptor.material == Material.isotropic(1.0, 0.49)
+    assert window.document.sculptor.settings.material == Material.isotropic(1.0, 0.49)
     assert window.material_panel.material == Material.isotropic(1.0, 0.49)
     wrinkle = actions[names.index("Layered sheet wrinkles")]
     wrinkle.trigger()
     assert window.brush_bar.brush.kind == "wrinkle"
-    assert not window.document.sculptor.material.voigt[0, 1] == 0.49  # a new, anisotropic one
+    assert (
+        not window.document.sculptor.settings.material.voigt[0, 1] == 0.49
+    )  # a new, anisotropic one
     # the current settings saved as a preset file load back unchanged
     from gogreen_core import load_preset, save_preset
 
@@ -201,11 +203,11 @@ def test_panels_and_engine_follow_the_settings_model(window):
     model = window.model
     model.material = Material.isotropic(2.0, 0.4)
     assert window.material_panel.material == Material.isotropic(2.0, 0.4)
-    assert window.document.sculptor.material == Material.isotropic(2.0, 0.4)
+    assert window.document.sculptor.settings.material == Material.isotropic(2.0, 0.4)
     model.l_max = 6
     assert window.falloff_panel.l_max_spin.value() == 6
     assert len(window.falloff_panel.weight_spins) == 4  # the grab brush: R0 R2 R4 R6
-    assert window.document.sculptor.l_max == 6
+    assert window.document.sculptor.settings.l_max == 6
     window.falloff_panel.weight_spins[2].setValue(3.0)  # R4
     assert (
         model.weights_for("grab_local")[4]
@@ -453,14 +455,14 @@ def test_a_curve_drag_is_one_undo_step_restored_exactly_and_redone(window, qtbot
     qtbot.waitExposed(editor)
     sculptor = window.document.sculptor
     model_curves = window.model.falloff.to_dict()
-    engine_curves = sculptor.falloff.to_dict()
+    engine_curves = sculptor.settings.falloff.to_dict()
     points = editor.control_points()
     depth = len(sculptor.history.undo_labels)
     rho, _ = points
     _curve_drag(qtbot, editor, int(np.searchsorted(rho, 1.0)), -40)
     edited = window.model.falloff.to_dict()
     assert edited != model_curves
-    assert sculptor.falloff.to_dict() == edited  # the engine follows every step
+    assert sculptor.settings.falloff.to_dict() == edited  # the engine follows every step
     assert len(sculptor.history.undo_labels) == depth + 1  # the whole drag: one step
     assert sculptor.history.undo_labels[-1] == "falloff"
 
@@ -468,14 +470,14 @@ def test_a_curve_drag_is_one_undo_step_restored_exactly_and_redone(window, qtbot
     activate(window, qtbot)
     qtbot.keyClick(editor, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)  # window's undo
     assert window.model.falloff.to_dict() == model_curves
-    assert sculptor.falloff.to_dict() == engine_curves
+    assert sculptor.settings.falloff.to_dict() == engine_curves
     for shown, before in zip(editor.control_points(), points, strict=True):
         assert np.array_equal(shown, before)  # the editor shows the old curve again
     assert len(sculptor.history.undo_labels) == depth
 
     window.redo()
     assert window.model.falloff.to_dict() == edited
-    assert sculptor.falloff.to_dict() == edited
+    assert sculptor.settings.falloff.to_dict() == edited
     window.undo()
     assert window.model.falloff.to_dict() == model_curves
 
@@ -521,8 +523,8 @@ def test_wrinkle_on_an_isotropic_material_says_so_and_one_click_fixes_it(window,
     qtbot.mouseClick(window.wrinkle_fix_button, Qt.MouseButton.LeftButton)
     preset = wrinkle_preset()
     assert window.model.material == preset.material
-    assert sculptor.material == preset.material
-    assert material_anisotropy(sculptor.material) > 0.5
+    assert sculptor.settings.material == preset.material
+    assert material_anisotropy(sculptor.settings.material) > 0.5
     assert len(sculptor.history.undo_labels) == depth + 1  # material and weights: one step
     assert window.wrinkle_fix_button.isHidden()
     assert "anisotropic" not in window.brush_bar.kind_actions["wrinkle"].toolTip()
@@ -536,7 +538,7 @@ def test_wrinkle_on_an_isotropic_material_says_so_and_one_click_fixes_it(window,
 
     window.undo()  # the material step: the old material and weights exactly
     assert window.model.material == old_material
-    assert sculptor.material == old_material
+    assert sculptor.settings.material == old_material
     assert sculptor.settings == old_settings
     assert window.wrinkle_fix_button.isVisible()  # wrinkle still picked: offered again
 
@@ -559,5 +561,5 @@ def test_the_active_material_is_named_on_screen_and_stays_when_another_model_ope
     other = tmp_path / "other.obj"
     other.write_bytes(made_textured.path.read_bytes())
     assert window.files.open_file(str(other))
-    assert window.document.sculptor.material == window.model.material
+    assert window.document.sculptor.settings.material == window.model.material
     assert label.text() == named and label.isVisible()

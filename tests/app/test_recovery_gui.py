@@ -256,7 +256,7 @@ def test_recovery_brings_back_every_setting(window, qtbot, tmp_path, made_file):
     assert panel.mode == "transversely_isotropic"
     assert panel.form.angles == (30.0, 0.0, 15.0)
     assert panel.rotation.angles == (30.0, 0.0, 15.0)
-    assert panel.form.material == model.material == window.document.sculptor.material
+    assert panel.form.material == model.material == window.document.sculptor.settings.material
     expected = Settings()
     expected.falloff = KelvinletRadial(1.0)
     assert model.falloff == expected.falloff

@@ -112,7 +112,7 @@ def test_a_second_press_and_a_setting_during_the_step_are_refused_with_a_message
 ):
     vp, sculptor = window.viewport, window.document.sculptor
     history = sculptor.history
-    material, steps = sculptor.material, len(history.undo_labels)
+    material, steps = sculptor.settings.material, len(history.undo_labels)
     pos = press_and_move(window, 1)
     send(vp, RELEASE, pos, buttons=NONE)
     send(vp, PRESS, pos)  # a second stroke while the first one's step runs
@@ -121,7 +121,7 @@ def test_a_second_press_and_a_setting_during_the_step_are_refused_with_a_message
     send(vp, RELEASE, pos + QPoint(20, 0), buttons=NONE)
     window.apply_material(Material.cubic(3.0, 1.5, 0.4))  # the engine is in a stroke
     assert "not applied" in window.message_label.text()
-    assert sculptor.material == material and window.model.material == material
+    assert sculptor.settings.material == material and window.model.material == material
     slow.open()
     steps_done(vp)
     assert len(slow.centers) == 1 and not window.tools.dragging

@@ -89,13 +89,15 @@ def steps(sculptor: Sculptor, seed: int) -> list[Callable[[], None]]:
         if rng.random() < 0.5:
             for k in range(int(rng.integers(1, 4))):
                 material = Material.isotropic(1.0, 0.1 + 0.3 * rng.random())
-                out.append(lambda m=material, c=k > 0: sculptor.set_material(m, continued=c))
+                out.append(
+                    lambda m=material, c=k > 0: sculptor.change_settings(material=m, continued=c)
+                )
         elif rng.random() < 0.5:
             falloff = KelvinletRadial(1.0) if rng.random() < 0.5 else GaussianRadial(1.0)
-            out.append(lambda: sculptor.set_falloff(falloff))
+            out.append(lambda: sculptor.change_settings(falloff=falloff))
         else:
             radius = 0.05 + 0.1 * rng.random()
-            out.append(lambda: sculptor.set_constraint_radius(radius))
+            out.append(lambda: sculptor.change_settings(constraint_radius=radius))
 
     def history() -> None:
         for _ in range(int(rng.integers(1, 4))):

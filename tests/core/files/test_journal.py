@@ -88,8 +88,8 @@ def test_the_log_tells_its_listeners_every_change(mesh):
         lambda kind, item, n: seen.append((kind, type(item).__name__, n))
     )
     stroke(sculptor, 0)
-    sculptor.set_material(Material.isotropic(1, 0.2))
-    sculptor.set_material(Material.isotropic(1, 0.1), continued=True)
+    sculptor.change_settings(material=Material.isotropic(1, 0.2))
+    sculptor.change_settings(material=Material.isotropic(1, 0.1), continued=True)
     sculptor.undo()
     assert seen == [("event", "BrushEvent", 0)] * 6 + [
         ("append", "Stroke", 1),
@@ -253,7 +253,7 @@ def test_recovery_from_a_checkpoint_is_exact_and_keeps_the_history_after_it(mesh
     for k in range(4):
         stroke(sculptor, k)
         checkpoint(journal)
-    sculptor.set_material(Material.isotropic(1, 0.45))
+    sculptor.change_settings(material=Material.isotropic(1, 0.45))
     checkpoint(journal)
     stroke(sculptor, 4)
     checkpoint(journal)
@@ -289,10 +289,10 @@ def test_a_checkpoint_the_records_undo_past_is_not_used(mesh, tmp_path):
 
 def test_a_continued_drag_across_a_checkpoint(mesh, tmp_path):
     sculptor, journal = journaled(mesh, tmp_path, auto_checkpoint=False)
-    sculptor.set_material(Material.isotropic(1, 0.2))
+    sculptor.change_settings(material=Material.isotropic(1, 0.2))
     journal.checkpoint()  # in the middle of a slider drag
     for nu in (0.15, 0.1, 0.05):
-        sculptor.set_material(Material.isotropic(1, nu), continued=True)
+        sculptor.change_settings(material=Material.isotropic(1, nu), continued=True)
     sculptor.undo()
     stroke(sculptor, 2)
     directory = crash(journal)
@@ -306,8 +306,8 @@ def test_the_session_of_a_journal_replays_to_the_recovered_mesh(mesh, tmp_path):
     sculptor, journal = journaled(mesh, tmp_path)
     sculptor.add_constraint(mesh.vertices[100])
     sculptor.drag_constraint(0, [0.0, 0.02, 0.0])
-    sculptor.set_material(Material.isotropic(1, 0.2))
-    sculptor.set_material(Material.isotropic(1, 0.1), continued=True)
+    sculptor.change_settings(material=Material.isotropic(1, 0.2))
+    sculptor.change_settings(material=Material.isotropic(1, 0.1), continued=True)
     stroke(sculptor, 3)
     sculptor.undo()
     directory = crash(journal)

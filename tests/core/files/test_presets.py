@@ -41,7 +41,7 @@ def test_builtin_presets_match_their_generator_and_apply():
         assert have.description
         sculptor = Sculptor(vertices, faces)
         have.apply(sculptor)
-        assert sculptor.material == have.material and sculptor.l_max == have.l_max
+        assert sculptor.settings.material == have.material and sculptor.settings.l_max == have.l_max
 
 
 def test_preset_round_trip_and_apply():

@@ -32,11 +32,11 @@ def recorded(sphere):
     """A valid session using every kind of operation, as JSON data."""
     vertices, faces = sphere
     s = Sculptor(vertices, faces)
-    s.set_material(ANISOTROPIC)
-    s.set_falloff(SplineRadial.from_profile(GaussianRadial(1.0), 4), 4)
+    s.change_settings(material=ANISOTROPIC)
+    s.change_settings(falloff=SplineRadial.from_profile(GaussianRadial(1.0), 4), l_max=4)
     s.apply_brush(Brush("grab"), [BrushEvent(vertices[0], [0.0, 0.05, 0.0], radius_factor=0.5)])
     s.apply_brush(Brush("twist"), [BrushEvent(vertices[5], amount=0.2, axis=[0, 1, 0])])
-    s.set_constraint_radius(0.2)
+    s.change_settings(constraint_radius=0.2)
     s.add_constraint(vertices[10])
     s.add_constraint(vertices[20])
     s.drag_constraint(1, [0.0, 0.0, 0.05])
@@ -214,8 +214,8 @@ def test_the_recorded_session_itself_replays(sphere, recorded):
         (lambda s, v: (s.add_constraint(v[0]), s.drag_constraint(0.5, [0, 0.1, 0])), "index"),
         (lambda s, v: (s.add_constraint(v[0]), s.drag_constraint(1, [0, 0.1, 0])), "index"),
         (lambda s, v: s.remove_constraint(0), "index"),
-        (lambda s, v: s.set_constraint_radius(HUGE), "radius"),
-        (lambda s, v: s.set_material(Material.isotropic(HUGE, 0.3)), "material"),
+        (lambda s, v: s.change_settings(constraint_radius=HUGE), "constraint_radius"),
+        (lambda s, v: s.change_settings(material=Material.isotropic(HUGE, 0.3)), "material"),
         (
             lambda s, v: s.change_settings(
                 falloff=GaussianRadial(1.0), l_max=2, brush_weights={"grab": [1.0, HUGE, 1.0, 1.0]}

@@ -133,9 +133,9 @@ def test_engine_link_feeds_the_sculptor_one_call_per_group(sculptor, monkeypatch
     real = sculptor.change_settings
     monkeypatch.setattr(sculptor, "change_settings", lambda **k: (calls.append(k), real(**k)))
     settings.material = Material.isotropic(1.0, 0.45)
-    assert sculptor.material == Material.isotropic(1.0, 0.45) and len(calls) == 1
+    assert sculptor.settings.material == Material.isotropic(1.0, 0.45) and len(calls) == 1
     settings.update({"l_max": 4, "falloff": GaussianRadial(1.0)})
-    assert len(calls) == 2 and sculptor.l_max == 4
+    assert len(calls) == 2 and sculptor.settings.l_max == 4
     assert set(calls[-1]) == {"falloff", "l_max", "brush_weights", "continued"}
     assert sculptor.settings.brush_weights == settings.brush_weights
     settings.constraint_radius = 0.2
@@ -145,7 +145,7 @@ def test_engine_link_feeds_the_sculptor_one_call_per_group(sculptor, monkeypatch
     edited = settings.falloff.with_point_moved("R", 0, 2, float(rho[2]), float(value[2]) * 2)
     settings.set("falloff", edited, continued=True)
     assert len(calls) == 4 and calls[-1]["continued"]
-    assert np.isclose(sculptor.falloff.curve("R", 0)[1][2], value[2] * 2)
+    assert np.isclose(sculptor.settings.falloff.curve("R", 0)[1][2], value[2] * 2)
     link.attach(None)
     settings.material = Material.isotropic(1.0, 0.2)  # no engine: nothing to feed
 
@@ -157,14 +157,14 @@ def test_engine_refusal_restores_the_settings_and_reports(sculptor):
     sculptor.begin_stroke(Brush())
     settings.material = Material.isotropic(1.0, 0.45)  # refused during a stroke
     assert errors and errors[0][0] == "material" and "stroke" in errors[0][1]
-    assert settings.material == sculptor.material == Material.isotropic(1.0, 0.3)
+    assert settings.material == sculptor.settings.material == Material.isotropic(1.0, 0.3)
     sculptor.cancel_stroke()
 
 
 def test_pull_copies_engine_values_without_echo(sculptor):
     settings = Settings()
     link = EngineLink(settings, sculptor)
-    sculptor.set_material(Material.isotropic(3.0, 0.1))  # e.g. an undo in the engine
+    sculptor.change_settings(material=Material.isotropic(3.0, 0.1))  # e.g. an undo in the engine
     log_before = len(sculptor.session()["operations"])
     events = record(settings.events.material)
     link.pull()

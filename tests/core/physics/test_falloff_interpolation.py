@@ -232,11 +232,11 @@ def test_sessions_replay_their_own_interpolation_bit_for_bit(interpolation):
     before, after = raised(interpolation)
     sculptor = Sculptor(vertices, faces, falloff=before)
     top = vertices[int(np.argmax(vertices[:, 2]))]
-    sculptor.set_falloff(after)
+    sculptor.change_settings(falloff=after)
     sculptor.apply_brush(Brush("grab", radius=0.1), [BrushEvent(top, [0.0, 0.05, 0.05])])
     session = json.loads(json.dumps(sculptor.session()))
     assert ("interpolation" in json.dumps(session)) == (interpolation != "cubic")
     again = Sculptor.from_session(session, vertices, faces)
     again.replay(session["operations"])
     assert np.array_equal(again.vertices, sculptor.vertices)
-    assert again.falloff.interpolation == interpolation
+    assert again.settings.falloff.interpolation == interpolation

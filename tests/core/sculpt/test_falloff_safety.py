@@ -264,9 +264,9 @@ def test_a_falloff_that_is_zero_everywhere_is_refused(sphere):
         rho, value = falloff.curve(kind, l)
         falloff = falloff.with_curves({(kind, l): (rho, 0 * value)})
     with pytest.raises(ParameterError, match="zero everywhere") as info:
-        sculptor.set_falloff(falloff, l_max=4)
+        sculptor.change_settings(falloff=falloff, l_max=4)
     assert info.value.parameter == "falloff"
-    assert sculptor.falloff.kind_name == "gaussian"  # nothing changed
+    assert sculptor.settings.falloff.kind_name == "gaussian"  # nothing changed
 
 
 def test_a_grab_whose_field_is_zero_is_refused_and_moves_nothing(sphere):
@@ -293,7 +293,7 @@ def test_the_bound_is_cached_per_kernel_not_per_event(sphere):
     # another radius: the same samples (they are taken at ε = 1)
     other = Brush("grab", radius=2 * RADIUS)
     assert _field_bound(sculptor, other, sculptor.kernel(other)) is first
-    sculptor.set_falloff(_edited(_wiggles))
+    sculptor.change_settings(falloff=_edited(_wiggles))
     assert _field_bound(sculptor, brush, sculptor.kernel(brush)) is not first
 
 

@@ -159,22 +159,22 @@ def test_settings_changes_are_undo_steps_restored_exactly(sphere):
     sculptor = Sculptor(vertices, faces)
     first = sculptor.settings
     spline = SplineRadial.from_profile(KelvinletRadial(1.0), 6)
-    sculptor.set_material(CUBIC)
+    sculptor.change_settings(material=CUBIC)
     sculptor.change_settings(falloff=spline, l_max=6, brush_weights={"pinch": np.linspace(1, 2, 8)})
-    sculptor.set_constraint_radius(0.25)
+    sculptor.change_settings(constraint_radius=0.25)
     assert sculptor.history.undo_labels == ["material", "falloff", "constraint radius"]
     after = sculptor.settings
     assert sculptor.undo() == "constraint radius"
     assert sculptor.settings.constraint_radius == 0.1
     assert sculptor.undo() == "falloff"
-    assert sculptor.falloff.to_dict() == first.falloff.to_dict()
-    assert sculptor.l_max == 8 and not sculptor.settings.brush_weights
+    assert sculptor.settings.falloff.to_dict() == first.falloff.to_dict()
+    assert sculptor.settings.l_max == 8 and not sculptor.settings.brush_weights
     assert sculptor.undo() == "material"
-    assert sculptor.material == first.material
+    assert sculptor.settings.material == first.material
     for _ in range(3):
         sculptor.redo()
     assert sculptor.settings == after
-    assert sculptor.falloff.to_dict() == spline.with_eps(1.0).to_dict()
+    assert sculptor.settings.falloff.to_dict() == spline.with_eps(1.0).to_dict()
     # the engine computes with the restored settings: the same stroke as a fresh sculptor's
     brush, event = Brush("twist", radius=0.3), BrushEvent(vertices[0], amount=0.2)
     sculptor.undo()
@@ -190,9 +190,9 @@ def test_a_slider_drag_is_one_step_and_replays(sphere):
     sculptor = Sculptor(vertices, faces)
     sculptor.apply_brush(Brush("grab"), [BrushEvent(vertices[1], [0.0, 0.02, 0.0])])
     for k, poisson in enumerate(np.linspace(0.1, 0.45, 6)):
-        sculptor.set_material(Material.isotropic(1.0, poisson), continued=k > 0)
+        sculptor.change_settings(material=Material.isotropic(1.0, poisson), continued=k > 0)
     for k, radius in enumerate((0.12, 0.15, 0.2)):
-        sculptor.set_constraint_radius(radius, continued=k > 0)
+        sculptor.change_settings(constraint_radius=radius, continued=k > 0)
     assert sculptor.history.undo_labels == ["Wide grab stroke", "material", "constraint radius"]
     ops = sculptor.session()["operations"]
     assert [op["op"] for op in ops] == ["stroke", "material", "constraint_radius"]
@@ -201,10 +201,12 @@ def test_a_slider_drag_is_one_step_and_replays(sphere):
     sculptor.undo()
     sculptor.undo()  # the radius drag
     sculptor.undo()  # the whole material drag at once
-    assert sculptor.material == Material.isotropic(1.0, 0.3)
+    assert sculptor.settings.material == Material.isotropic(1.0, 0.3)
     # a continued change after an undo starts a new step: it never joins an undone one
-    sculptor.set_material(CUBIC, continued=True)
-    sculptor.set_falloff(KelvinletRadial(1.0), continued=True)  # joins the material's step
+    sculptor.change_settings(material=CUBIC, continued=True)
+    sculptor.change_settings(
+        falloff=KelvinletRadial(1.0), continued=True
+    )  # joins the material's step
     assert sculptor.history.undo_labels == ["Wide grab stroke", "material"]
     session = session_of(sculptor)
     assert session["version"] == SESSION_VERSION == 7
@@ -215,8 +217,8 @@ def test_a_slider_drag_is_one_step_and_replays(sphere):
     assert again.history.undo_labels == sculptor.history.undo_labels
     assert again.session()["operations"] == session["operations"]
     again.undo()
-    assert again.material == Material.isotropic(1.0, 0.3)
-    assert isinstance(again.falloff, GaussianRadial)
+    assert again.settings.material == Material.isotropic(1.0, 0.3)
+    assert isinstance(again.settings.falloff, GaussianRadial)
 
 
 def test_a_preset_is_one_undo_step(sphere):
@@ -225,9 +227,11 @@ def test_a_preset_is_one_undo_step(sphere):
     wood = next(p for p in builtin_presets() if "Wood" in p.name)
     wood.apply(sculptor)
     assert sculptor.history.undo_labels == ["material"]
-    assert sculptor.material == wood.material and sculptor.l_max == wood.l_max
+    assert sculptor.settings.material == wood.material and sculptor.settings.l_max == wood.l_max
     sculptor.undo()
-    assert sculptor.material == Material.isotropic(1.0, 0.3) and sculptor.l_max == 8
+    assert (
+        sculptor.settings.material == Material.isotropic(1.0, 0.3) and sculptor.settings.l_max == 8
+    )
 
 
 def test_a_version_1_undo_that_means_another_step_today_is_refused(sphere):
@@ -286,7 +290,7 @@ def test_a_replay_failing_part_way_is_rolled_back(sphere):
     assert info.value.parameter == "operations[3].index"
     assert np.array_equal(sculptor.vertices, before)
     assert sculptor.history.undo_labels == labels
-    assert sculptor.material == Material.isotropic(1.0, 0.3)
+    assert sculptor.settings.material == Material.isotropic(1.0, 0.3)
     assert len(sculptor.constraint_points) == 0
     assert [op["op"] for op in sculptor.session()["operations"]] == ["stroke"]
 
@@ -294,11 +298,11 @@ def test_a_replay_failing_part_way_is_rolled_back(sphere):
 def test_an_unchanged_value_is_no_step_but_a_drag_back_to_the_start_is_one(sphere):
     vertices, faces = sphere
     sculptor = Sculptor(vertices, faces)
-    sculptor.set_material(Material.isotropic(1.0, 0.3))  # the current one
-    sculptor.set_constraint_radius(0.1)
+    sculptor.change_settings(material=Material.isotropic(1.0, 0.3))  # the current one
+    sculptor.change_settings(constraint_radius=0.1)
     assert not sculptor.history.can_undo and sculptor.session()["operations"] == []
-    sculptor.set_material(CUBIC)
-    sculptor.set_material(Material.isotropic(1.0, 0.3), continued=True)  # dragged back
+    sculptor.change_settings(material=CUBIC)
+    sculptor.change_settings(material=Material.isotropic(1.0, 0.3), continued=True)  # dragged back
     assert sculptor.history.undo_labels == ["material"]
     session = session_of(sculptor)
     again = Sculptor.from_session(session, vertices, faces)
@@ -311,22 +315,24 @@ def test_settings_refused_inside_a_stroke_and_bad_values_change_nothing(sphere):
     vertices, faces = sphere
     sculptor = Sculptor(vertices, faces)
     with pytest.raises(ParameterError, match="radius") as info:
-        sculptor.set_constraint_radius(0.0)
-    assert info.value.parameter == "radius"
+        sculptor.change_settings(constraint_radius=0.0)
+    assert info.value.parameter == "constraint_radius"
     with pytest.raises(ParameterError) as info:
         sculptor.change_settings(
             falloff=GaussianRadial(1.0), l_max=4, brush_weights={"grab": [1.0, 2.0]}
         )
     assert info.value.parameter == "brush_weights.grab"
     with pytest.raises(ParameterError) as info:
-        sculptor.set_material("steel")
+        sculptor.change_settings(material="steel")
     assert info.value.parameter == "material"
     sculptor.begin_stroke(Brush())
     with pytest.raises(RuntimeError, match="during a stroke"):
-        sculptor.set_material(CUBIC)
+        sculptor.change_settings(material=CUBIC)
     sculptor.cancel_stroke()
     assert not sculptor.history.can_undo and sculptor.session()["operations"] == []
-    assert sculptor.material == Material.isotropic(1.0, 0.3) and sculptor.l_max == 8
+    assert (
+        sculptor.settings.material == Material.isotropic(1.0, 0.3) and sculptor.settings.l_max == 8
+    )
 
 
 def test_per_event_radius_factors_replay_bit_identically(sphere):

@@ -178,9 +178,13 @@ def test_brush_weights_are_checked_and_follow_l_max():
     omega = np.ones(10)
     omega[3] = 4.0
     sculptor.apply_settings(sculptor.settings.with_brush_weights("pinch", omega))
-    sculptor.set_falloff(GaussianRadial(1.0), l_max=4)  # fewer degrees: the common ones stay
+    sculptor.change_settings(
+        falloff=GaussianRadial(1.0), l_max=4
+    )  # fewer degrees: the common ones stay
     assert np.array_equal(sculptor.settings.weights_for("pinch"), [1, 1, 1, 4, 1, 1])
-    sculptor.set_falloff(GaussianRadial(1.0), l_max=6)  # new degrees: the brush's defaults
+    sculptor.change_settings(
+        falloff=GaussianRadial(1.0), l_max=6
+    )  # new degrees: the brush's defaults
     assert np.array_equal(sculptor.settings.weights_for("pinch"), [1, 1, 1, 4, 1, 1, 1, 1])
     sculptor.undo()
     sculptor.undo()

@@ -15,7 +15,7 @@ from gogreen_core.sculpt.sculptor import Sculptor
 def sculptor():
     vertices, faces = icosphere(4)
     s = Sculptor(vertices, faces)
-    s.set_constraint_radius(0.05)
+    s.change_settings(constraint_radius=0.05)
     return s
 
 

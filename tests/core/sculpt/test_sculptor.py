@@ -147,7 +147,7 @@ def test_relative_radius_behaves_alike_at_any_model_size(bunny):
 def test_constraints_land_on_targets_and_low_rank_updates_match(bunny):
     vertices, faces = bunny
     sculptor = Sculptor(vertices, faces, material=ANISOTROPIC)
-    sculptor.set_constraint_radius(0.05)
+    sculptor.change_settings(constraint_radius=0.05)
     ids = [10, 800, 1600, 2400, 3000]
     for i in ids:
         sculptor.add_constraint(vertices[i])
@@ -188,7 +188,7 @@ def test_undo_redo_restore_bit_for_bit(bunny):
 def test_session_replay_reproduces_the_result_bit_for_bit(bunny):
     vertices, faces = bunny
     sculptor = Sculptor(vertices, faces, falloff=KelvinletRadial(1.0), l_max=6)
-    sculptor.set_material(ANISOTROPIC)
+    sculptor.change_settings(material=ANISOTROPIC)
     sculptor.apply_brush(
         Brush("grab_biscale", radius=0.07, symmetry="x"),
         [BrushEvent(vertices[3], [0.001, 0.002, 0.0]), BrushEvent(vertices[4], [0.0, 0.002, 0.0])],
@@ -245,11 +245,11 @@ def test_a_continued_settings_drag_is_one_step_and_one_log_entry(bunny):
     vertices, faces = bunny
     sculptor = Sculptor(vertices, faces)
     # a slider or curve drag sets the material / falloff many times in a row
-    sculptor.set_falloff(KelvinletRadial(1.0), l_max=6)
+    sculptor.change_settings(falloff=KelvinletRadial(1.0), l_max=6)
     for k, poisson in enumerate((0.1, 0.2, 0.3)):
-        sculptor.set_material(Material.isotropic(1.0, poisson), continued=k > 0)
+        sculptor.change_settings(material=Material.isotropic(1.0, poisson), continued=k > 0)
     sculptor.apply_brush(Brush("grab"), [BrushEvent(vertices[3], [0.0, 0.002, 0.0])])
-    sculptor.set_material(Material.isotropic(1.0, 0.45))
+    sculptor.change_settings(material=Material.isotropic(1.0, 0.45))
     sculptor.apply_brush(Brush("grab"), [BrushEvent(vertices[9], [0.002, 0.0, 0.0])])
     ops = sculptor.session()["operations"]
     assert [op["op"] for op in ops] == ["falloff", "material", "stroke", "material", "stroke"]
