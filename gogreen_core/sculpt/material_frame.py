@@ -14,7 +14,7 @@ reflected turned material, so the result is the mirror image of the stroke.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
@@ -49,8 +49,7 @@ def area_normal(mesh: MeshState, center: np.ndarray, radius: float) -> np.ndarra
     length = float(np.linalg.norm(total))
     if not length > 0:
         raise ValueError("the surface under the brush has no area: no normal to follow")
-    normal: np.ndarray = total / length
-    return normal
+    return cast(np.ndarray, total / length)
 
 
 def surface_frame(normal: np.ndarray, motion: np.ndarray | None) -> np.ndarray:

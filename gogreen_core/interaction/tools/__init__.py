@@ -16,11 +16,7 @@ from gogreen_core.interaction.tools.cursor import (
 )
 from gogreen_core.interaction.tools.events import CursorState, PointerEvent, ToolUpdate
 from gogreen_core.interaction.tools.sculpt import NUMBER_KEYS, SculptTools, brush_for_key
-from gogreen_core.interaction.tools.stroke import (
-    PIXELS_PER_UNIT_AMOUNT,
-    StrokeController,
-    brush_drag,
-)
+from gogreen_core.interaction.tools.stroke import PIXELS_PER_UNIT_AMOUNT, StrokeController
 
 __all__ = [
     "MOVING_FRACTION",
@@ -32,7 +28,6 @@ __all__ = [
     "SculptTools",
     "StrokeController",
     "ToolUpdate",
-    "brush_drag",
     "brush_for_key",
     "brush_profile",
     "felt_profile",

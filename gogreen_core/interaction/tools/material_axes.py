@@ -7,7 +7,7 @@ stroke starting there would take (:func:`~gogreen_core.sculpt.material_frame.mat
 from __future__ import annotations
 
 from functools import lru_cache
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 from scipy.integrate import lebedev_rule
@@ -58,5 +58,4 @@ def cursor_axes(sculptor: Sculptor, point: np.ndarray, radius: float) -> np.ndar
     if axes is None:
         return None
     frame = material_frame_at(sculptor, point, radius)
-    turned: np.ndarray = axes @ frame.T
-    return turned
+    return cast(np.ndarray, axes @ frame.T)

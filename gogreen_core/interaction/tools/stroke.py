@@ -20,7 +20,6 @@ __all__ = [
     "MIN_PRESSURE_RADIUS",
     "PIXELS_PER_UNIT_AMOUNT",
     "StrokeController",
-    "brush_drag",
 ]
 
 #: Screen drag (pixels) that makes an affine brush's amount 1 (strain, or radians for twist).
@@ -29,11 +28,6 @@ PIXELS_PER_UNIT_AMOUNT = 100.0
 AFFINE_SIGN_PIXELS = 3.0
 #: Smallest radius factor pen pressure gives (a feather touch still sculpts).
 MIN_PRESSURE_RADIUS = 0.1
-
-
-def brush_drag(brush: Brush) -> str:
-    """How a drag becomes ``brush``'s events: its row's ``drag`` (one of ``DRAGS``)."""
-    return brush_row(brush.kind).drag
 
 
 class StrokeController:
@@ -66,7 +60,7 @@ class StrokeController:
         self._applied: np.ndarray | None = None  # the last applied event's point (spacing)
         #: The latest pen sample's radius factor (1 when off or between strokes).
         self.radius_factor = 1.0
-        self._drag = ""  # the stroke's brush_drag
+        self._drag = ""  # how the stroke's drag becomes events (its brush row's ``drag``)
 
     @property
     def anchored(self) -> bool:
@@ -97,7 +91,7 @@ class StrokeController:
         self._lazy = (event.screen, self.anchor.copy())
         self._applied = self.anchor.copy()
         self.radius_factor = self._radius_factor(event)
-        self._drag = brush_drag(brush)
+        self._drag = brush_row(brush.kind).drag
         if self._drag != "sweep":
             return None
         dab = BrushEvent(
@@ -149,7 +143,8 @@ class StrokeController:
     def _depth(self, event: PointerEvent, brush: Brush) -> np.ndarray:
         """How far (3,) below the press point an anchored brush's load centre lies: its row's
         ``depth`` ε along the normal turned away from the viewer."""
-        depth = brush_row(brush.kind).depth if brush_drag(brush) == "anchored" else 0.0
+        row = brush_row(brush.kind)
+        depth = row.depth if row.drag == "anchored" else 0.0
         if not depth or event.normal is None:
             return np.zeros(3)
         normal = np.asarray(event.normal, dtype=float)

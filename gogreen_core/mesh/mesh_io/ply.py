@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass
-from typing import BinaryIO
+from typing import BinaryIO, cast
 
 import numba
 import numpy as np
@@ -157,8 +157,7 @@ def _strip_triangles(strips: PlyList, n_vertices: int, name: str) -> np.ndarray:
     a, b, c = flat[i], flat[i + 1], flat[i + 2]
     odd = (i - after_stop[i]) % 2 == 1
     triangles = np.stack([np.where(odd, b, a), np.where(odd, a, b), c], axis=1)
-    kept: np.ndarray = triangles[(a != b) & (b != c) & (a != c)]
-    return kept
+    return cast(np.ndarray, triangles[(a != b) & (b != c) & (a != c)])
 
 
 def write_ply(mesh: MeshData, out: BinaryIO, ascii: bool) -> None:

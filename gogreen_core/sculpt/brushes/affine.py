@@ -107,8 +107,7 @@ def centre_jacobian(kernel: GreenKernel, center: np.ndarray, load: np.ndarray) -
     )  # (12, 3): +h, +h/2, −h, −h/2
     coarse = (u[0:3] - u[6:9]) / (2 * h)
     fine = (u[3:6] - u[9:12]) / h
-    result: np.ndarray = ((4 * fine - coarse) / 3).T  # [i, p] = ∂u_i/∂x_p
-    return result
+    return cast(np.ndarray, ((4 * fine - coarse) / 3).T)  # [i, p] = ∂u_i/∂x_p
 
 
 def _response(jacobian: np.ndarray, shape: np.ndarray) -> float:

@@ -222,8 +222,7 @@ class GreenBrush(BrushType):
         omega = settings.weights_for(self.weights_kind)
         if np.all(omega == 1.0):
             return None
-        weights: np.ndarray = omega[1:] if self.is_affine else omega[:-1]
-        return weights
+        return omega[1:] if self.is_affine else omega[:-1]
 
     def reach(self, ctx: StrokeContext, brush: Brush) -> float:
         """Influence radius in ε: ``influence``, or for ``"auto"``

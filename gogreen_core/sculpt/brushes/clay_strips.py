@@ -54,5 +54,4 @@ class ClayStripsBrush(DetailBrush):
         height = dot3(plane - dab.points, normal)  # how far the plane is above each point
         footprint[(side * height <= 0) | (np.abs(height) > radius)] = 0.0
         fraction = np.minimum(abs(dab.amount) * CLAY_RATE * DAB_SPACING * footprint, 1.0)
-        motion: np.ndarray = np.outer(fraction * height, normal)
-        return motion
+        return np.outer(fraction * height, normal)

@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 from abc import abstractmethod
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
@@ -50,8 +50,7 @@ _DIRECTION = "detail direction"
 def dot3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Dot products over the last axis (of length 3) of ``a`` and ``b`` ((n, 3) or (3,)),
     written out: BLAS sums may round differently per machine (see the module docstring)."""
-    out: np.ndarray = a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2]
-    return out
+    return cast(np.ndarray, a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2])
 
 
 def dab_offsets(length: float, spacing: float, travel: float | None) -> tuple[np.ndarray, float]:
@@ -188,5 +187,4 @@ def _vertex_normals(
         out[:, axis] = np.bincount(owner, face[:, axis], minlength=len(rows))
     norm = np.linalg.norm(out, axis=1)
     norm[norm == 0] = 1.0
-    normals: np.ndarray = out / norm[:, None]
-    return normals
+    return cast(np.ndarray, out / norm[:, None])

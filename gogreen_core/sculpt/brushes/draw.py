@@ -20,5 +20,4 @@ class DrawBrush(DetailBrush):
 
     def offsets(self, dab: Dab) -> np.ndarray:
         scale = dab.amount * DRAW_RATE * DAB_SPACING * dab.radius
-        motion: np.ndarray = np.outer(scale * dab.weight, dab.area_normal)
-        return motion
+        return np.outer(scale * dab.weight, dab.area_normal)

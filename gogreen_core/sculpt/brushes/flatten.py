@@ -27,5 +27,4 @@ class FlattenBrush(DetailBrush):
         if dab.amount < 0:  # contrast: bounded, not a runaway
             most = -dab.amount * CONTRAST_RATE * DAB_SPACING * dab.radius * dab.weight
             push = np.clip(push, -most, most)
-        motion: np.ndarray = np.outer(push, dab.area_normal)
-        return motion
+        return np.outer(push, dab.area_normal)

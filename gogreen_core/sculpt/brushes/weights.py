@@ -54,8 +54,7 @@ def check_brush_weights(
 
 def default_weights(kind: str, l_max: int) -> np.ndarray:
     """The degree weights (l_max + 2,) brush ``kind`` starts with (its table row's)."""
-    weights: np.ndarray = brush_type(kind).default_weights(l_max)
-    return weights
+    return brush_type(kind).default_weights(l_max)
 
 
 def resized_brush_weights(

@@ -31,12 +31,7 @@ import numpy as np
 
 from gogreen_core.field.kernel import GreenKernel
 from gogreen_core.physics.radial import RadialProfile
-from gogreen_core.sculpt.brushes.base import (
-    EventField,
-    StrokeContext,
-    mirror_signs,
-    smooth_cutoff,
-)
+from gogreen_core.sculpt.brushes.base import EventField, StrokeContext, mirror_signs, smooth_cutoff
 from gogreen_core.sculpt.brushes.grab import GrabBrush
 from gogreen_core.sculpt.falloff_safety import MAX_GRAB_RATIO, MAX_GRAB_STRAIN
 
@@ -114,8 +109,7 @@ class FoldRadial(RadialProfile):
             power = 1 if kind == "R" else 2
             return self._base.dimensionless(kind, l, MOUND_SCALE * rho) * MOUND_SCALE**power
         t = rho / FOLD_RING
-        window: np.ndarray = t**l * np.exp(0.5 * l * (1.0 - t * t))
-        return window
+        return t**l * np.exp(0.5 * l * (1.0 - t * t))
 
     def table_key(self) -> tuple[Any, ...]:
         return ("folds", FOLD_RING, MOUND_SCALE, self._base.table_key())
@@ -131,8 +125,7 @@ def _surface_normal(vertices: np.ndarray, rows: np.ndarray) -> np.ndarray | None
     points = vertices[rows]
     centred = points - points.mean(axis=0)
     _, vectors = np.linalg.eigh(centred.T @ centred)
-    normal: np.ndarray = vectors[:, 0]
-    return normal
+    return vectors[:, 0]
 
 
 def _disk(
