@@ -41,6 +41,7 @@ from gogreen_core import (
 from gogreen_core.mesh.shapes import icosphere
 from gogreen_core.sculpt.brushes.weights import check_brush_weights
 from gogreen_core.sculpt.engine_settings import EngineSettings, resized_brush_weights
+from gogreen_core.sculpt.schema import parse_material
 
 __all__ = [
     "ADDON_BRUSH_KINDS",
@@ -142,7 +143,7 @@ def material_from_json(text: str, what: str = "material") -> Material:
     if not text:
         raise ParameterError(what, f"no {what} has been set (load a preset or compute one)")
     try:
-        return Material.from_dict(json.loads(text))
+        return parse_material(json.loads(text), what)
     except (ValueError, TypeError) as exc:
         raise ParameterError(what, f"{what} is not a valid stiffness: {exc}") from None
 

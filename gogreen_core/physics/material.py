@@ -227,15 +227,9 @@ class Material:
 
     # -- serialization ------------------------------------------------------------------------
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready description: ``{"voigt": 6x6 nested list}``."""
+        """JSON-ready description: ``{"voigt": 6x6 nested list}``
+        (:func:`gogreen_core.sculpt.schema.parse_material` reads it back)."""
         return {"voigt": self._voigt.tolist()}
-
-    @classmethod
-    def from_dict(cls, data: dict[str, Any]) -> Material:
-        """Inverse of :meth:`to_dict`."""
-        if not isinstance(data, dict) or "voigt" not in data:
-            raise ValueError("material description must be a dict with a 'voigt' entry")
-        return cls(np.asarray(data["voigt"], dtype=np.float64))
 
     def __eq__(self, other: object) -> bool:
         return isinstance(other, Material) and np.array_equal(self._voigt, other._voigt)

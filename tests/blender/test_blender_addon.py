@@ -46,6 +46,7 @@ from gogreen_core import (  # noqa: E402
     make_pattern,
     save_preset,
 )
+from gogreen_core.sculpt.schema import parse_material  # noqa: E402
 
 REPO_MODULE = "gogreen_test"
 MODULE = f"bl_ext.{REPO_MODULE}.gogreen_sculpt"
@@ -744,7 +745,7 @@ def test_homogenize_computes_the_pattern_material(ico):
     expected = homogenize(
         make_pattern("layered", n=8, **params), bimaterial(s.phase_young, s.phase_poisson, 50.0)
     )
-    stored = Material.from_dict(json.loads(s.homogenized_material))
+    stored = parse_material(json.loads(s.homogenized_material))
     assert stored == expected
     assert stroke_op("SCENE", EVENTS[:1]) == {"FINISHED"}
     s.contrast = 60.0  # a stale result is refused, not silently used
@@ -772,7 +773,7 @@ def test_presets_are_shared_with_the_desktop_app(ico, tmp_path):
     s = bpy.context.scene.gogreen
     wood = {p.name: p for p in builtin_presets()}["Wood grain"]
     assert bpy.ops.gogreen.load_preset(preset="Wood grain") == {"FINISHED"}
-    assert Material.from_dict(json.loads(s.custom_material)) == wood.material  # every bit
+    assert parse_material(json.loads(s.custom_material)) == wood.material  # every bit
     assert s.l_max == wood.l_max and s.brush == wood.brush.kind
     assert json.loads(s.brush_weights or "{}") == {
         k: list(w) for k, w in wood.brush_weights.items()
@@ -825,7 +826,7 @@ def test_a_mask_brush_preset_loads_and_keeps_the_brush(ico, tmp_path, capfd):
     assert bpy.ops.gogreen.load_preset_file(filepath=str(path)) == {"FINISHED"}
     assert s.brush == "twist" and s.radius == pytest.approx(0.05)
     assert s.material_mode == "CUSTOM" and s.custom_name == "Masking"
-    assert Material.from_dict(json.loads(s.custom_material)) == wood.material
+    assert parse_material(json.loads(s.custom_material)) == wood.material
     assert s.l_max == wood.l_max
     assert "Mask brush" in capfd.readouterr().out
     assert stroke_op("SCENE", EVENTS[:1]) == {"FINISHED"}
