@@ -283,23 +283,13 @@ def _apply_symbol(sinv: np.ndarray, xh: np.ndarray) -> None:  # pragma: no cover
 
 
 @nb.njit(parallel=True, cache=True, fastmath=True)
-def _axpy_columns(  # pragma: no cover - compiled
-    y: np.ndarray, x: np.ndarray, a: np.ndarray
+def _combine_columns(  # pragma: no cover - compiled
+    y: np.ndarray, b: np.ndarray, x: np.ndarray, a: np.ndarray
 ) -> None:
-    """y[:, c] += a[c] * x[:, c] for (M, m) arrays."""
+    """y[:, c] = b[c] * y[:, c] + a[c] * x[:, c] for (M, m) arrays (CG's updates)."""
     for i in nb.prange(y.shape[0]):
         for c in range(y.shape[1]):
-            y[i, c] += a[c] * x[i, c]
-
-
-@nb.njit(parallel=True, cache=True, fastmath=True)
-def _xpay_columns(  # pragma: no cover - compiled
-    y: np.ndarray, x: np.ndarray, a: np.ndarray
-) -> None:
-    """y[:, c] = x[:, c] + a[c] * y[:, c] for (M, m) arrays."""
-    for i in nb.prange(y.shape[0]):
-        for c in range(y.shape[1]):
-            y[i, c] = x[i, c] + a[c] * y[i, c]
+            y[i, c] = b[c] * y[i, c] + a[c] * x[i, c]
 
 
 @dataclass(frozen=True)
@@ -391,18 +381,19 @@ def homogenize_detailed(
     active = rz > target
     iterations = 0
     best = 0.0
+    ones = np.ones(6)
     while active.any() and iterations < max_iter:
         iterations += 1
         pq = stiffness(p, q)
         alpha = np.where(active, rz / np.where(pq > 0, pq, 1.0), 0.0)
-        _axpy_columns(w.reshape(-1, 6), p.reshape(-1, 6), alpha)
-        _axpy_columns(r.reshape(-1, 6), q.reshape(-1, 6), -alpha)
+        _combine_columns(w.reshape(-1, 6), ones, p.reshape(-1, 6), alpha)
+        _combine_columns(r.reshape(-1, 6), ones, q.reshape(-1, 6), -alpha)
         z = precondition(r)
         rz_new = dot(r, z)
         beta = np.where(active, rz_new / np.where(rz > 0, rz, 1.0), 0.0)
         rz = np.where(active, rz_new, rz)
         active = active & (rz > target)
-        _xpay_columns(p.reshape(-1, 6), z.reshape(-1, 6), beta)
+        _combine_columns(p.reshape(-1, 6), beta, z.reshape(-1, 6), ones)
         if progress is not None:
             done = np.where(
                 active, np.log(np.maximum(rz, floor) / target) / np.maximum(log_span, 1e-300), 0
