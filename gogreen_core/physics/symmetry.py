@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from gogreen_core.physics.material import Material
-from gogreen_core.validation import check_number
+from gogreen_core.validation import check_finite, check_number
 
 __all__ = ["SYMMETRY_CLASSES", "SymmetryDescription", "describe_symmetry"]
 
@@ -77,11 +77,8 @@ def describe_symmetry(material: Material | np.ndarray, rtol: float = 1e-5) -> Sy
     """Equal-coefficient groups and symmetry class of a :class:`Material` or (6, 6) Voigt
     stiffness, in its own axes. Two coefficients are equal (a coefficient zero) when they differ
     by at most ``rtol * max|C|`` (the homogenizer is accurate to better than 1e-6)."""
-    c6 = material.voigt if isinstance(material, Material) else np.asarray(material, dtype=float)
-    if c6.shape != (6, 6):
-        raise ValueError(f"Voigt stiffness must be 6x6 (got shape {c6.shape})")
-    if not np.all(np.isfinite(c6)):
-        raise ValueError("Voigt stiffness must be finite")
+    voigt = material.voigt if isinstance(material, Material) else material
+    c6 = check_finite("voigt", voigt, (6, 6))
     rtol = check_number("rtol", rtol, low=0.0, high=1.0, high_open=True)
     c6 = 0.5 * (c6 + c6.T)
     tol = rtol * float(np.abs(c6).max())

@@ -196,7 +196,7 @@ def test_fibers_are_tetragonal_about_their_axis():
 
 
 def test_describe_symmetry_rejects_bad_input():
-    with pytest.raises(ValueError, match="6x6"):
+    with pytest.raises(ValueError, match=r"voigt must have shape \(6, 6\)"):
         describe_symmetry(np.eye(5))
     with pytest.raises(ValueError, match="rtol"):
         describe_symmetry(np.eye(6), rtol=-1.0)
