@@ -27,7 +27,7 @@ from scipy import special
 from scipy.interpolate import CubicHermiteSpline, CubicSpline, PPoly
 
 from gogreen_core.physics.radial_tables import DECAY, TABLE_DEGREE, cached_table
-from gogreen_core.validation import check_number
+from gogreen_core.validation import check_choice, check_integer, check_number
 
 __all__ = [
     "INTERPOLATIONS",
@@ -45,12 +45,8 @@ KINDS = ("R", "dR")
 
 
 def _check_degree(kind: str, l: int) -> int:
-    if kind not in KINDS:
-        raise ValueError(f"radial kind must be one of {KINDS} (got {kind!r})")
-    l = int(l)
-    if l < 0:
-        raise ValueError(f"degree l must be >= 0 (got {l})")
-    return l
+    check_choice("radial kind", kind, KINDS)
+    return check_integer("degree l", l, low=0)
 
 
 class RadialProfile(ABC):
