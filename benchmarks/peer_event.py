@@ -159,7 +159,7 @@ def evaluation_parts(kernel: Any, points: np.ndarray, center: np.ndarray, delta:
         cumulative.append(1e9 * best / (2 * n))
     names = ("geometry", "lowest degree's table", "float32 tables", "angular sum")
     parts = [f"{name} {cumulative[k + 1] - cumulative[k]:.2f}" for k, name in enumerate(names)]
-    rest = cumulative[5] - cumulative[4] + cumulative[0]
+    rest = cumulative[5] - cumulative[4]
     print(f"  one evaluation, CPU ns a point (one thread): {cumulative[5] - cumulative[0]:.2f} "
           f"= {', '.join(parts)}, the rest {rest:.2f}")  # fmt: skip
 
