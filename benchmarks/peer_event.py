@@ -21,6 +21,10 @@ Prints, in one run (figures only, no assertions):
   refinement, the write-back), the influence ball and the rest; the moved vertices by distance
   to the brush centre in ε (the field's far field starts beyond the cutoff, at 4 ε) and how
   many velocity evaluations they took;
+* one velocity evaluation's parts on the ball's vertices (one thread, CPU ns a point, each part
+  timed with those before it): the geometry (offsets, r, direction, table variable, cutoff),
+  the lowest degree's float64 table, the float32 tables of the degrees above it, their angular
+  sum (the generated kernel) and the rest of the velocity (the weighted combination);
 * the event's accuracy: max vertex error against 64 RK4 substeps over the cursor motion, its
   velocity evaluations a vertex (third-order steps take 3, RK4 steps 4, the probes that choose
   between them 15 each);
@@ -55,8 +59,9 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from gogreen_core import Brush, BrushEvent, Material, Sculptor  # noqa: E402
-from gogreen_core.field import _stream  # noqa: E402
+from gogreen_core.field import _evaluation, _integrator, _stream  # noqa: E402
 from gogreen_core.field._evaluation import near_segment  # noqa: E402
+from gogreen_core.field._expansion import BLOCK, _radial  # noqa: E402
 from gogreen_core.field._stream import probe_rows  # noqa: E402
 from gogreen_core.field.kernel import prepare_degree  # noqa: E402
 from gogreen_core.mesh.influence import VertexBlocks, plain_rows_near  # noqa: E402
@@ -99,6 +104,64 @@ def kelvinlet_rk4(points, rows, center, step, force, eps, a, b):  # pragma: no c
         points[row, 0] = ex
         points[row, 1] = ey
         points[row, 2] = ez
+
+
+@numba.njit(cache=True)
+def velocity_parts(part, start, field, repeats):  # pragma: no cover - compiled
+    """``_integrator._single_velocity`` on the points ``start`` (3, n), block by block, up to
+    its ``part`` (0: the copy alone, 1 + geometry, 2 + lowest degree's table, 3 + float32
+    tables, 4 + angular sum, 5 the whole velocity instead)."""
+    scratch, _ = _integrator._scratch(field.tables32.shape[1])
+    geo, seg, rad, geo32, rad32, _, total32 = scratch
+    pos, vel = np.empty((3, BLOCK)), np.empty((3, BLOCK))
+    check = 0.0
+    for _ in range(repeats):
+        for b in range(start.shape[1] // BLOCK):
+            pos[:, :] = start[:, b * BLOCK : (b + 1) * BLOCK]
+            if part == 5:
+                _integrator._single_velocity(pos, BLOCK, 0.5, field, scratch, vel)
+                check += vel[0, 0]
+                continue
+            if part >= 1:
+                _integrator._single_geometry(pos, 0, BLOCK, 0.5, field, scratch)
+            if part >= 2:
+                _radial(field.tables, field.l_first, BLOCK, geo, seg, rad)
+            if part >= 3:
+                _integrator._single_radial(field.tables32, BLOCK, seg, geo32[4], rad32)
+            if part >= 4:
+                coeffs32 = field.coeffs32
+                field.angular32(BLOCK, geo32.ctypes, rad32.ctypes, coeffs32.ctypes, total32.ctypes)
+            check += pos[0, 0] + geo[3, 0] + rad[0, 0] + rad32[0, 0] + total32[0, 0]
+    return check
+
+
+def evaluation_parts(kernel: Any, points: np.ndarray, center: np.ndarray, delta: np.ndarray,
+                     load: np.ndarray, cutoff: tuple[float, float]) -> None:  # fmt: skip
+    """Print one velocity evaluation's parts (``velocity_parts``), CPU ns a point, minima."""
+    parity, tables, single, coeffs = kernel._loaded(load, (3,))
+    field, _ = _evaluation.stream_field(
+        parity, tables, single, kernel.eps, coeffs, center, delta, cutoff, np.ones((1, 3)),
+        np.zeros(3),
+    )  # fmt: skip
+    if not field.unrolled32:
+        print("  (evaluation's parts: the generated angular kernel is not ready; skipped)")
+        return
+    n = len(points) // BLOCK * BLOCK
+    start = np.ascontiguousarray(points[:n].T)
+    cumulative = []
+    for part in range(6):
+        velocity_parts(part, start[:, :BLOCK], field, 1)
+        best = math.inf
+        for _ in range(5):
+            begin = time.process_time()
+            velocity_parts(part, start, field, 2)
+            best = min(best, time.process_time() - begin)
+        cumulative.append(1e9 * best / (2 * n))
+    names = ("geometry", "lowest degree's table", "float32 tables", "angular sum")
+    parts = [f"{name} {cumulative[k + 1] - cumulative[k]:.2f}" for k, name in enumerate(names)]
+    rest = cumulative[5] - cumulative[4]
+    print(f"  one evaluation, CPU ns a point (one thread): {cumulative[5] - cumulative[0]:.2f} "
+          f"= {', '.join(parts)}, the rest {rest:.2f}")  # fmt: skip
 
 
 def ogre(meshes: Path) -> tuple[np.ndarray, np.ndarray] | None:
@@ -273,6 +336,7 @@ def peer_event(vertices: np.ndarray, faces: np.ndarray, repeats: int) -> None:
     ns_event = 1e9 * statistics.median(passes_cpu) / n_evaluations
     ns_peer = 1e9 * statistics.median(peers_cpu) / n_evaluations
     print(f"  CPU a field evaluation, expansion / Kelvinlet: {ns_event:5.1f} / {ns_peer:.1f} ns")
+    evaluation_parts(kernel, vertices[rows] - center, np.zeros(3), delta, load, cutoff)
     print(f"  max error vs 64 RK4 substeps / cursor motion: {error:.2e}")
     influence_ball(sculptor, center, delta, cutoff[1], repeats)
 

@@ -52,7 +52,7 @@ __all__ = ["CUTOFF_END", "MAX_ADAPTIVE_STEPS"]
 #: SHA-256 (first 16 hex digits) of ``_expansion.py``, written by ``scripts/make_kernels.py``.
 #: numba keys the disk cache of this module's compiled code on this file alone, yet compiles
 #: that module's functions into it: a change there must change this file.
-COMPILED_SOURCES = "a945a80c7689697c"
+COMPILED_SOURCES = "8d3d7833f022b0fc"
 
 #: Largest number of RK4 steps the adaptive streamlines give one vertex in one event.
 MAX_ADAPTIVE_STEPS = 256

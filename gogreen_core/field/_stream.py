@@ -31,8 +31,8 @@ __all__ = [
 #: max error / motion scale 2e-6 (grab of 0.2 ε) up to 9.8e-5 (grab of 0.8 ε), affine brushes
 #: below 2e-6; 0.1 refined 5x more vertices for no needed gain.
 ESTIMATE_SAFETY = 0.25
-#: Blocks per range handed to a thread (each a fraction of a millisecond of work).
-_MIN_BLOCKS = 8
+#: Fewest blocks a range handed to a thread (2,048 points: a fraction of a millisecond).
+_MIN_BLOCKS = max(1, 2048 // BLOCK)
 #: Fewest points an adaptive pass probes for third-order steps (below, RK4 serves them all).
 THIRD_ORDER_POINTS = 1024
 #: Points a probe stands for (at least MIN_PROBES probes): the probes cost 15 evaluations

@@ -4,7 +4,7 @@ from gogreen_core.field._unrolled.angular_source: do not edit."""
 from numba import carray
 from numpy import float32 as F
 
-BLOCK = 256
+BLOCK = 1024
 #: Options of the C callbacks gogreen_core.field._unrolled makes of the kernels.
 OPTIONS = dict(boundscheck=False, error_model="numpy")
 
