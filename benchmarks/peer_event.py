@@ -12,7 +12,8 @@ Prints, in one run (figures only, no assertions):
   step of the closed-form regularized Kelvinlet (de Goes & James 2017) of the same moving
   load (4 evaluations a vertex), numba, parallel over the vertices, read and written in place
   like the mesh rows of the event; event and peer alternate, so that the load of the shared
-  cores falls on both; medians, minima and the ratio of the medians;
+  cores falls on both; medians, minima and the ratio of the medians; and the same peer on every
+  vertex, as Blender's Elastic Deform runs it (it gathers all nodes: its Kelvinlet has no cutoff);
 * the event's influence ball (which vertices it may move): answered by the vertex blocks
   (``gogreen_core.mesh.influence``) against the plain pass over every vertex it replaced, the
   blocks' build (the first query on a new vertex array) and their upkeep after the event (the
@@ -269,7 +270,10 @@ def peer_event(vertices: np.ndarray, faces: np.ndarray, repeats: int) -> None:
     force = delta * eps / (1.5 * a - b)
     work = vertices.copy()
     kelvinlet_rk4(work, rows, center, delta, force, eps, a, b)  # compile / load
-    events, events_cpu, peers, peers_cpu = [], [], [], []
+    # Blender's Elastic Deform gathers every PBVH node (SCULPT_tool_needs_all_pbvh_nodes: the
+    # Kelvinlet has no cutoff), so the brush itself evaluates every vertex: a second figure
+    every_row = np.arange(len(vertices))
+    events, events_cpu, peers, peers_cpu, blender_cpu = [], [], [], [], []
     after = None
     for _ in range(repeats):
         sculptor.begin_stroke(brush)
@@ -285,6 +289,10 @@ def peer_event(vertices: np.ndarray, faces: np.ndarray, repeats: int) -> None:
         kelvinlet_rk4(work, rows, center, delta, force, eps, a, b)
         peers.append(time.perf_counter() - start)
         peers_cpu.append(time.process_time() - start_cpu)
+        work[:] = vertices
+        start_cpu = time.process_time()
+        kelvinlet_rk4(work, every_row, center, delta, force, eps, a, b)
+        blender_cpu.append(time.process_time() - start_cpu)
     kernel = sculptor.kernel(brush)
     g0 = kernel.green(np.zeros((1, 3)))[0]
     reference = vertices.copy()
@@ -321,6 +329,9 @@ def peer_event(vertices: np.ndarray, faces: np.ndarray, repeats: int) -> None:
     print(f"  peer, CPU time of all threads:               {median_ms(peers_cpu)}")
     print(f"  ratio event / peer (medians, wall):          {ratio:7.2f}x")
     print(f"  ratio event / peer (medians, CPU time):      {ratio_cpu:7.2f}x")
+    blender = statistics.median(events_cpu) / statistics.median(blender_cpu)
+    print(f"  the peer as Blender's brush runs it, on all {len(vertices):,} vertices (CPU): "
+          f"{median_ms(blender_cpu)}; event / that: {blender:.2f}x")  # fmt: skip
     own = float(evaluations.mean())
     print(f"  evaluations a vertex (its own + the probes'): {own:.3f} + {probes / len(rows):.3f}")
     counts = ", ".join(f"{n}: {c:,}" for n, c in enumerate(np.bincount(evaluations)) if c)
