@@ -9,7 +9,9 @@ The copy is a vertex clustering whose vertices are vertices of the mesh (in each
 grid, the one nearest the mean of the cell's vertices), so a stroke frame shows the brush's
 effect by copying the moved rows from the mesh: no re-decimation per event. Its normals and
 arrays are a :class:`gogreen_core.mesh.geometry.SurfaceIndex` of its own, updated only where
-its rows changed.
+its rows changed. Where dynamic topology changes the mesh (locally) the copy keeps its faces
+and follows: its vertices become the same vertices in their new rows, and where one was
+collapsed away, the nearest corner of the new faces (:meth:`LightMesh.follow`).
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ import pyvista as pv
 from PySide6.QtCore import QTimer
 
 from gogreen_core.mesh.geometry import SurfaceIndex
+from gogreen_core.mesh.mesh_state import Renumbering
 
 if TYPE_CHECKING:
     from app.mesh_display import MeshDisplay
@@ -138,11 +141,13 @@ class LightMesh:
     Parameters: ``vertices`` (N, 3) and ``faces`` (M, 3) of the mesh; ``target_faces``.
     Attributes: ``rows`` (k,) the mesh vertices it copies, ``index`` its
     :class:`SurfaceIndex`, ``polydata`` (drawing the index's arrays), ``actor`` (None until
-    :meth:`attach`).
+    :meth:`attach`), ``base`` (the mesh's rows of the copy's vertices where the mesh was
+    indexed, before the changes :meth:`follow` took).
     """
 
     def __init__(self, vertices: np.ndarray, faces: np.ndarray, target_faces: int = LIGHT_FACES):
         self.rows, light_faces = cluster_decimation(vertices, faces, target_faces)
+        self.base = self.rows
         self.index = SurfaceIndex(np.asarray(vertices)[self.rows], light_faces)
         self.polydata, self._shared = indexed_polydata(self.index)
         self.actor: Any = None
@@ -179,6 +184,25 @@ class LightMesh:
             self.polydata.GetPoints().Modified()
             self.polydata.GetPointData().GetNormals().Modified()
         return len(changed)
+
+    def follow(self, vertices: np.ndarray, faces: np.ndarray, change: Renumbering) -> None:
+        """The mesh became ``vertices`` (N', 3), ``faces`` by ``change`` from the mesh of
+        :attr:`base`: each vertex of the copy the same vertex in its new row, or where it was
+        collapsed away, the new faces' corner nearest to where it is drawn."""
+        from scipy.spatial import cKDTree
+
+        n_kept = int(np.count_nonzero(change.origin >= 0))
+        size = max(int(self.base.max(initial=-1)), int(change.origin.max(initial=-1))) + 1
+        kept = np.full(size, -1)
+        kept[change.origin[:n_kept]] = np.arange(n_kept)
+        rows = kept[self.base]
+        lost = np.flatnonzero(rows < 0)
+        if len(lost):
+            corners = np.unique(faces[int(np.count_nonzero(change.face_origin >= 0)) :])
+            drawn = self.index.positions[self.index.rank[lost]]
+            rows[lost] = corners[cKDTree(vertices[corners]).query(drawn)[1]]
+        self.rows = rows
+        self.update(vertices[rows])
 
     def show(self, look: Any, colors: np.ndarray | None, mesh_rank: np.ndarray) -> None:
         """Draw the copy in place of the mesh actor ``look``: its texture (a matcap) and its
@@ -247,7 +271,11 @@ class LevelOfDetail:
         self.settle_timer.timeout.connect(self.show_full)
 
     def attach(self, light: LightMesh | None) -> None:
-        """Use ``light`` as the copy of the mesh just shown (None: none)."""
+        """Use ``light`` as the copy of the mesh just shown (None: none; the copy in use: it
+        followed the mesh to its new topology, indexed now)."""
+        if light is not None and light is self.light:
+            light.base = light.rows
+            return
         self.light = light
         if light is not None:
             light.attach(self.display, self.display.mesh_actor)
@@ -273,6 +301,14 @@ class LevelOfDetail:
             if not self.software_gl:
                 window.SetMultiSamples(HARDWARE_MULTI_SAMPLES)
                 self.display.request_render()
+
+    def follow(self, vertices: np.ndarray, faces: np.ndarray, change: Renumbering) -> None:
+        """The mesh became ``vertices``, ``faces`` by a local ``change`` of its indexed
+        topology: the copy follows it (:meth:`LightMesh.follow`), still drawn if it was; the
+        vertices moved meanwhile are dropped (the mesh's index is made anew)."""
+        self._deferred = None
+        if self.light is not None:
+            self.light.follow(vertices, faces, change)
 
     def interaction_frames(self) -> None:
         """The camera moves or a stroke runs: its frames from the copy when full frames are

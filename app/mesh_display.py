@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import pyvista as pv
 from PySide6.QtCore import QPointF
+from PySide6.QtWidgets import QApplication
 
 from app.background import BackgroundRunner
 from app.cursor_overlay import CursorOverlay, PinOverlay, to_display
@@ -27,6 +28,7 @@ from app.level_of_detail import LevelOfDetail, LightMesh, indexed, indexed_polyd
 from gogreen_core.interaction.tools import CursorState
 from gogreen_core.mesh.cavity import CavityField
 from gogreen_core.mesh.geometry import SurfaceIndex
+from gogreen_core.mesh.mesh_state import Renumbering
 
 if TYPE_CHECKING:
     from pyvistaqt import QtInteractor
@@ -121,6 +123,9 @@ class MeshDisplay(_Base):
         self.field_arrow_actor: Any = None
         #: Per-mesh index: incremental normals and ray picking (gogreen_core.mesh.geometry).
         self.surface: SurfaceIndex | None = None
+        #: The last index made and the faces it indexes: a local change of topology
+        #: (dynamic topology) renumbers it (:meth:`SurfaceIndex.renumbered`), no new build.
+        self._indexed: tuple[SurfaceIndex, np.ndarray] | None = None
         self._arrays_shared = False
         self.lod = LevelOfDetail(self)  # a big mesh's interaction copy, built with its index
         # the index of a big mesh is built on the background thread (app.background)
@@ -144,6 +149,7 @@ class MeshDisplay(_Base):
         reset_camera: bool = True,
         background: bool | None = None,
         in_stroke: bool = False,
+        renumbering: Renumbering | None = None,
     ) -> None:
         """Show a new mesh (one actor, replaced only when the mesh itself changes), without
         pins.
@@ -158,6 +164,10 @@ class MeshDisplay(_Base):
         ``in_stroke``: new faces during a stroke (dynamic topology), drawn into the same actor
         (cursor, pins, mask tint kept); a big mesh flat-shaded without an index (a stroke
         picks only at its press) until the stroke ends and shows the mesh again.
+
+        ``renumbering``: how these faces were made of the indexed ones by a local change (the
+        sculptor's, dynamic topology): a big mesh's index is renumbered in the background (a
+        fraction of a build) and its interaction copy follows the new vertices at once.
         """
         if self.mesh_actor is not None and not in_stroke:
             self.remove_actor(self.mesh_actor, render=False)
@@ -171,22 +181,44 @@ class MeshDisplay(_Base):
         self._field_rgb = self._field_on = None
         self._field_rows = np.zeros(0, dtype=np.int64)
         self.cavity = None  # the new mesh's, once its index is ready
-        self.lod.drop()
+        vertices = np.array(vertices, dtype=np.float64)  # our copy: VTK draws it
+        faces = np.asarray(faces)
+        if background is None:
+            background = len(faces) >= BACKGROUND_INDEX_FACES
+        base = self._indexed
+        local = (
+            background
+            and renumbering is not None
+            and base is not None
+            and renumbering.before is base[1]
+            and renumbering.after is faces
+        )
+        if local:
+            assert renumbering is not None
+            self.lod.follow(vertices, faces, renumbering)
+        else:
+            self.lod.drop()
         self._index_runner.cancel()
         self._index_job = None
         self.surface = None
-        vertices = np.array(vertices, dtype=np.float64)  # our copy: VTK draws it
-        self._faces = np.asarray(faces)
-        if background is None:
-            background = len(self._faces) >= BACKGROUND_INDEX_FACES
+        self._faces = faces
         if background:
             self._show(pv.PolyData.from_regular_faces(vertices, self._faces))
             if not in_stroke:
                 built_from = vertices.copy()  # the build reads this; the view's copy may move
-                faces = self._faces
-                self._index_job = self._index_runner.submit(
-                    lambda task: indexed(built_from, faces, task.progress), supersede=True
-                )
+                if local:
+                    assert base is not None and renumbering is not None
+                    old, light = base[0], self.lod.light
+                    change = renumbering.origin, renumbering.face_origin
+
+                    def job(task):
+                        return old.renumbered(built_from, faces, *change), light
+                else:
+
+                    def job(task):
+                        return indexed(built_from, faces, task.progress)
+
+                self._index_job = self._index_runner.submit(job, supersede=True)
         else:
             self._use_index(*indexed(vertices, self._faces))
         if reset_camera:
@@ -401,6 +433,8 @@ class MeshDisplay(_Base):
         # VTK wraps the index's arrays without a copy: its updates are the actor's
         mesh, self._arrays_shared = indexed_polydata(surface)
         self.surface = surface
+        assert self._faces is not None
+        self._indexed = (surface, self._faces)
         if self.cavity_on:
             self._measure_cavity()
         self._show(mesh)
@@ -415,6 +449,8 @@ class MeshDisplay(_Base):
         shown = self.mesh.points
         surface.update(shown, surface.changed_rows(shown))
         self._use_index(surface, light)
+        if not QApplication.mouseButtons():  # the copy drawn since a stroke: the mesh now
+            self.lod.show_full()
         self.request_render()
         self.surface_ready.emit()
 

@@ -22,6 +22,7 @@ __all__ = [
     "MeshEdit",
     "MeshSnapshot",
     "MeshState",
+    "Renumbering",
     "compact_faces",
     "topology_edit",
 ]
@@ -36,6 +37,17 @@ class MaskRows(NamedTuple):
     @property
     def nbytes(self) -> int:
         return int(self.rows.nbytes + self.values.nbytes)
+
+
+class Renumbering(NamedTuple):
+    """How a local change of topology (dynamic topology's) made the faces ``after`` of those
+    ``before`` (the arrays themselves): ``origin`` (N',) and ``face_origin`` (M',) int64, each
+    row's row before (-1: new, all after the others; as :func:`topology_edit` takes them)."""
+
+    before: np.ndarray
+    after: np.ndarray
+    origin: np.ndarray
+    face_origin: np.ndarray
 
 
 def compact_faces(faces: np.ndarray) -> np.ndarray:
@@ -174,7 +186,8 @@ class MeshState:
     untextured) or None; the :attr:`mask` (N,) float64 in [0, 1] (1 does not move);
     :attr:`model_size` (bounding-box diagonal at load, model units) and :attr:`origin` (its
     centre: the point of the mirror planes). :attr:`topology` counts the changes of the face
-    array; :attr:`edges` and :attr:`neighbours` are built on first use for the current faces."""
+    array (:attr:`renumbering`: the last, if a local one); :attr:`edges` and :attr:`neighbours`
+    are built on first use for the current faces."""
 
     def __init__(
         self,
@@ -218,6 +231,7 @@ class MeshState:
         #: Counts the changes of the mask (a view redraws its tint when it changes).
         self.mask_version = 0
         self.topology = 0
+        self.renumbering: Renumbering | None = None
         self._blocks = VertexBlocks()
 
     # -- connectivity ------------------------------------------------------------------------
@@ -254,11 +268,17 @@ class MeshState:
             None if self.uv_faces is None else compact_faces(self.uv_faces),
         )
 
-    def adopt(self, mesh: MeshSnapshot | MeshEdit, owned: bool = False) -> None:
+    def adopt(
+        self,
+        mesh: MeshSnapshot | MeshEdit,
+        owned: bool = False,
+        renumbering: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
+    ) -> None:
         """Take the arrays of ``mesh`` (copies; a new face array, a new :attr:`topology`), or
         of a :class:`MeshEdit` side applied to these; the model's size and origin stay.
         ``owned``: its arrays are new, writable, float64 and int64, nobody else's (dynamic
-        topology's): taken as they are, no copy."""
+        topology's): taken as they are, no copy; ``renumbering``: how (a :class:`Renumbering`
+        less ``after``)."""
         if isinstance(mesh, MeshEdit):
             mesh, owned = mesh.applied(self), True
         take = np.asarray if owned else np.array
@@ -273,6 +293,11 @@ class MeshState:
         self.uv_faces = None if mesh.uv_faces is None else take(mesh.uv_faces, dtype=np.int64)
         if not same:
             self.topology += 1
+            self.renumbering = (
+                None
+                if renumbering is None
+                else Renumbering(renumbering[0], faces, *renumbering[1:])
+            )
             for built in ("edges", "neighbours"):  # built again on first use
                 self.__dict__.pop(built, None)
 

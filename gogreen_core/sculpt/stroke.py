@@ -236,7 +236,8 @@ class StrokeDriver:
             setattr(stroke, name, np.concatenate([carried, np.full(n - len(carried), -1)]))
         assert done.mask is not None
         new_mesh = MeshSnapshot(done.vertices, done.faces, done.mask, done.uv, done.uv_faces)
-        mesh.adopt(new_mesh, owned=True)
+        change = (stroke.start.faces, stroke.origin, stroke.face_origin)
+        mesh.adopt(new_mesh, owned=True, renumbering=change)
         return True
 
     def _write(self, stroke: _Stroke, moved: Displacement) -> None:
