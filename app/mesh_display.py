@@ -191,7 +191,6 @@ class MeshDisplay(_Base):
             and renumbering is not None
             and base is not None
             and renumbering.before is base[1]
-            and renumbering.after is faces
         )
         if local:
             assert renumbering is not None

@@ -351,6 +351,38 @@ def interaction_figures(app, window) -> dict[str, object]:
     return figures
 
 
+def _timed_release_stages(window) -> list[tuple[str, float, float]]:
+    """Wrap what a dynamic-topology stroke's end runs (the tools' release: undo step and
+    journal; showing the new mesh; the index build or renumbering, on the background thread;
+    taking the built index) to record (name, start, end) of each call, perf_counter seconds."""
+    import app.mesh_display
+    from gogreen_core.mesh.geometry import SurfaceIndex
+
+    spans: list[tuple[str, float, float]] = []
+
+    def timed(name, function):
+        def run(*args, **kwargs):
+            start = time.perf_counter()
+            try:
+                return function(*args, **kwargs)
+            finally:
+                spans.append((name, start, time.perf_counter()))
+
+        return run
+
+    vp, tools = window.viewport, window.tools
+    tools.release = timed("tools.release (undo step, journal)", tools.release)
+    vp.set_mesh = timed("viewport.set_mesh", vp.set_mesh)
+    vp._use_index = timed("viewport takes the index", vp._use_index)
+    tools.flush = timed("brush step", tools.flush)
+    built = app.mesh_display.indexed
+    app.mesh_display.indexed = timed("index and copy built anew (background)", built)
+    if hasattr(SurfaceIndex, "renumbered"):
+        renumbered = SurfaceIndex.renumbered
+        SurfaceIndex.renumbered = timed("index renumbered (background)", renumbered)
+    return spans
+
+
 def dynamic_stroke_stall(
     app, window, seconds: float = 10.0, on_gui_thread: bool = False
 ) -> dict[str, object]:
@@ -407,9 +439,14 @@ def dynamic_stroke_stall(
     steps: list[float] = []
     vp.step_timed.connect(steps.append)
     renders: list[tuple[float, float]] = []  # (start, end) of each frame
-    vp.frame_rendered.connect(
-        lambda ms: renders.append((time.perf_counter() - ms / 1e3, time.perf_counter()))
-    )
+    drew: list[str] = []  # what each frame drew
+
+    def rendered(ms: float) -> None:
+        renders.append((time.perf_counter() - ms / 1e3, time.perf_counter()))
+        drew.append("frame (copy)" if vp.lod.shown else "frame (full mesh)")
+
+    vp.frame_rendered.connect(rendered)
+    stages = _timed_release_stages(window)
     beat.start()
     began = time.perf_counter()
     post(QEvent.Type.MouseButtonPress, start, left, left)
@@ -443,6 +480,8 @@ def dynamic_stroke_stall(
     release_time = released[0]
     beat.stop()
     window.model.dynamic_topology = False
+    stages.extend((what, s, e) for what, (s, e) in zip(drew, renders, strict=True))
+    stages.sort(key=lambda stage: stage[1])
     spans = list(zip([began, *ticks], [*ticks, ended], strict=True))
     gaps = [b - a for a, b in spans]
 
@@ -459,6 +498,12 @@ def dynamic_stroke_stall(
         "stall_vertices": len(window.document.sculptor.vertices),
         "stall_step": statistics.median(steps) if steps else float("nan"),
         "stall_steps": [round(ms) for ms in steps],
+        # what ran after the release: (stage, ms from the release to its start, its ms)
+        "stall_stages": [
+            (name, round(1e3 * (a - release_time)), round(1e3 * (b - a)))
+            for name, a, b in stages
+            if b >= release_time
+        ],
     }
 
 
@@ -632,6 +677,8 @@ def print_stall(r: dict[str, object]) -> None:
         f"possible {r['stall_release']:.0f} ms, "
         f"{r['stall_vertices']:,} vertices after"
     )
+    for name, start, ms in r.get("stall_stages", []):
+        print(f"    after the release: {name} at {start} ms, for {ms} ms")
 
 
 def main() -> None:

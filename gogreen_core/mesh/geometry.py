@@ -353,11 +353,10 @@ class SurfaceIndex:
                 "meshes of 2**31 vertices or 2**31 / 3 faces or more are not supported"
             )
         faces = np.ascontiguousarray(faces, dtype=np.int32)
-        low, scale = _frame(vertices)
         # the vertices along the curve, then the faces by their centroids
-        order = _curve_order(vertices, np.arange(n, dtype=np.int32).reshape(n, 1), low, scale)
+        order = _curve_order(vertices, np.arange(n, dtype=np.int32).reshape(n, 1))
         report(0.2)
-        face_order = _curve_order(vertices, faces, low, scale)
+        face_order = _curve_order(vertices, faces)
         report(0.4)
         normals, face_normals = np.empty((n, 3)), np.empty((len(faces), 3), dtype=np.float32)
         # every vertex "moved": every face normal, vertex normal and box
@@ -415,7 +414,7 @@ class SurfaceIndex:
         normals around what changed or moved are computed, the bits of a new build's. This
         index is only read."""
         vertices = np.ascontiguousarray(vertices, dtype=np.float64)
-        faces = checked_faces(np.ascontiguousarray(faces, dtype=np.int32), len(vertices))
+        faces = np.ascontiguousarray(checked_faces(faces, len(vertices)), dtype=np.int32)
         origin, face_origin = np.asarray(origin), np.asarray(face_origin)
         if origin.shape != (len(vertices),) or face_origin.shape != (len(faces),):
             raise ValueError("origin and face_origin must have a row per vertex and face")
@@ -431,25 +430,23 @@ class SurfaceIndex:
         order = np.concatenate([rows[alive], added]).astype(np.int32)
         new_faces = faces[n_kept_faces:]
         face_rows = number[self.face_order] >= 0
-        new_order = _curve_order(vertices, new_faces, *_frame(vertices[new_faces.ravel()]))
-        face_order = np.concatenate(
-            [number[self.face_order[face_rows]], new_order + n_kept_faces]
-        ).astype(np.int32)
+        new_order = _curve_order(vertices, new_faces) + n_kept_faces
+        face_order = np.concatenate([number[self.face_order[face_rows]], new_order])
+        face_order = face_order.astype(np.int32)
         normals = np.empty((len(vertices), 3))
         normals[:n_kept] = self.normals[alive]
         face_normals = np.empty((len(faces), 3), dtype=np.float32)
         face_normals[:n_kept_faces] = self._face_normals[face_rows]
         # seeds: the corners of the removed and the new faces, the new vertices, the moved ones
-        gone = kept[self.order[self.faces[~face_rows]]].ravel()
+        seeds = np.zeros(len(vertices), dtype=bool)
+        seeds[kept[self.order[self.faces[~face_rows]]]] = True  # (-1: the last row too, harmless)
+        seeds[new_faces] = seeds[added] = True
         differ = self.positions[alive] != vertices[order[:n_kept]]
-        seeds = np.concatenate(
-            [
-                gone[gone >= 0], new_faces.ravel(), added,
-                order[:n_kept][differ[:, 0] | differ[:, 1] | differ[:, 2]],
-            ]
-        )  # fmt: skip
+        seeds[order[:n_kept][differ[:, 0] | differ[:, 1] | differ[:, 2]]] = True
         index = SurfaceIndex.__new__(SurfaceIndex)
-        index._build(vertices, faces, order, face_order, normals, face_normals, np.unique(seeds))
+        index._build(
+            vertices, faces, order, face_order, normals, face_normals, np.flatnonzero(seeds)
+        )
         return index
 
     @property
@@ -541,17 +538,12 @@ def _threads_for(work: int) -> AbstractContextManager[int]:
     return threads_at_most(1 if work < PARALLEL_VERTICES else numba.get_num_threads())
 
 
-def _frame(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The low corner and scale of the Z-order grid over ``points`` (N, 3)."""
+def _curve_order(points: np.ndarray, groups: np.ndarray) -> np.ndarray:
+    """Indices (int32) of the groups (k, g) of ``points`` (N, 3) sorted along the Z-order curve
+    (over the box of all the points) of their mean points, ties in index order."""
     low = points.min(axis=0) if len(points) else np.zeros(3)
     extent = (points.max(axis=0) - low) if len(points) else np.ones(3)
-    return low, ((1 << _MORTON_BITS) - 1) / np.maximum(extent, 1e-300)
-
-
-def _curve_order(points: np.ndarray, groups: np.ndarray, low: np.ndarray,
-                 scale: np.ndarray) -> np.ndarray:  # fmt: skip
-    """Indices (int32) of the groups (k, g) of ``points`` sorted along the Z-order curve of
-    their mean points, ties in index order."""
+    scale = ((1 << _MORTON_BITS) - 1) / np.maximum(extent, 1e-300)
     keys = np.empty(len(groups), dtype=np.int64)
     _kernels()._morton_keys(points, np.ascontiguousarray(groups, dtype=np.int32), low, scale, keys)
     keys.sort()  # unique keys: any sort gives the stable order; numpy's default is fastest

@@ -40,12 +40,11 @@ class MaskRows(NamedTuple):
 
 
 class Renumbering(NamedTuple):
-    """How a local change of topology (dynamic topology's) made the faces ``after`` of those
-    ``before`` (the arrays themselves): ``origin`` (N',) and ``face_origin`` (M',) int64, each
-    row's row before (-1: new, all after the others; as :func:`topology_edit` takes them)."""
+    """How a local change of topology (dynamic topology's) made the mesh of the faces
+    ``before`` (that array) into the current one: ``origin`` (N',) and ``face_origin`` (M',)
+    int64, each row's row before (-1: new, all after the others; as :func:`topology_edit`)."""
 
     before: np.ndarray
-    after: np.ndarray
     origin: np.ndarray
     face_origin: np.ndarray
 
@@ -186,7 +185,7 @@ class MeshState:
     untextured) or None; the :attr:`mask` (N,) float64 in [0, 1] (1 does not move);
     :attr:`model_size` (bounding-box diagonal at load, model units) and :attr:`origin` (its
     centre: the point of the mirror planes). :attr:`topology` counts the changes of the face
-    array (:attr:`renumbering`: the last, if a local one); :attr:`edges` and :attr:`neighbours`
+    array (:attr:`renumbering`: the last one's, if local); :attr:`edges` and :attr:`neighbours`
     are built on first use for the current faces."""
 
     def __init__(
@@ -197,11 +196,11 @@ class MeshState:
         uv_faces: np.ndarray | None = None,
     ) -> None:
         self.vertices = v = np.array(vertices, dtype=np.float64)
-        self.faces = f = np.array(faces, dtype=np.int64)
         if v.ndim != 2 or v.shape[1] != 3 or len(v) == 0:
             raise ValueError(f"vertices must be a non-empty (N, 3) array (got shape {v.shape})")
         if not np.all(np.isfinite(v)):
             raise ValueError("vertices contain NaN or infinite coordinates")
+        self.faces = f = np.array(faces, dtype=np.int64)
         if f.ndim != 2 or f.shape[1] != 3:
             raise ValueError(f"faces must be an (M, 3) array (got shape {f.shape})")
         if f.size and (f.min() < 0 or f.max() >= len(v)):
@@ -268,17 +267,11 @@ class MeshState:
             None if self.uv_faces is None else compact_faces(self.uv_faces),
         )
 
-    def adopt(
-        self,
-        mesh: MeshSnapshot | MeshEdit,
-        owned: bool = False,
-        renumbering: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
-    ) -> None:
+    def adopt(self, mesh: MeshSnapshot | MeshEdit, owned: bool = False) -> None:
         """Take the arrays of ``mesh`` (copies; a new face array, a new :attr:`topology`), or
         of a :class:`MeshEdit` side applied to these; the model's size and origin stay.
         ``owned``: its arrays are new, writable, float64 and int64, nobody else's (dynamic
-        topology's): taken as they are, no copy; ``renumbering``: how (a :class:`Renumbering`
-        less ``after``)."""
+        topology's): taken as they are, no copy."""
         if isinstance(mesh, MeshEdit):
             mesh, owned = mesh.applied(self), True
         take = np.asarray if owned else np.array
@@ -293,11 +286,7 @@ class MeshState:
         self.uv_faces = None if mesh.uv_faces is None else take(mesh.uv_faces, dtype=np.int64)
         if not same:
             self.topology += 1
-            self.renumbering = (
-                None
-                if renumbering is None
-                else Renumbering(renumbering[0], faces, *renumbering[1:])
-            )
+            self.renumbering = None  # the caller says how, if it knows
             for built in ("edges", "neighbours"):  # built again on first use
                 self.__dict__.pop(built, None)
 

@@ -15,7 +15,13 @@ from typing import Any
 
 import numpy as np
 
-from gogreen_core.mesh.mesh_state import MaskRows, MeshSnapshot, MeshState, topology_edit
+from gogreen_core.mesh.mesh_state import (
+    MaskRows,
+    MeshSnapshot,
+    MeshState,
+    Renumbering,
+    topology_edit,
+)
 from gogreen_core.mesh.remesh import (
     faces_touching,
     grow_region,
@@ -236,8 +242,8 @@ class StrokeDriver:
             setattr(stroke, name, np.concatenate([carried, np.full(n - len(carried), -1)]))
         assert done.mask is not None
         new_mesh = MeshSnapshot(done.vertices, done.faces, done.mask, done.uv, done.uv_faces)
-        change = (stroke.start.faces, stroke.origin, stroke.face_origin)
-        mesh.adopt(new_mesh, owned=True, renumbering=change)
+        mesh.adopt(new_mesh, owned=True)
+        mesh.renumbering = Renumbering(stroke.start.faces, stroke.origin, stroke.face_origin)
         return True
 
     def _write(self, stroke: _Stroke, moved: Displacement) -> None:
