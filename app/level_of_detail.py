@@ -40,6 +40,7 @@ __all__ = [
     "cluster_decimation",
     "indexed",
     "indexed_polydata",
+    "indexing",
 ]
 
 #: Faces of the interaction copy (a tenth of the render cost of 2M faces here).
@@ -238,6 +239,22 @@ def indexed(
     it has at least :data:`LIGHT_MIN_FACES` faces."""
     light = LightMesh(vertices, faces) if len(faces) >= LIGHT_MIN_FACES else None
     return SurfaceIndex(vertices, faces, progress), light
+
+
+def indexing(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    base: SurfaceIndex | None,
+    change: Renumbering | None,
+    light: LightMesh | None,
+) -> Callable[[Any], tuple[SurfaceIndex, LightMesh | None]]:
+    """The background job indexing a mesh (it reads a copy of ``vertices``: the view's may
+    move): ``base`` renumbered by ``change`` with the copy ``light`` (which followed the
+    change), or without a base a new index and copy (:func:`indexed`)."""
+    vertices = vertices.copy()
+    if base is None or change is None:
+        return lambda task: indexed(vertices, faces, task.progress)
+    return lambda _task: (base.renumbered(vertices, faces, *change[1:]), light)
 
 
 def _software_renderer(window: Any) -> bool:

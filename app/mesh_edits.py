@@ -144,7 +144,7 @@ class MeshEdits(QObject):
                 sculptor.vertices,
                 sculptor.faces,
                 reset_camera=False,
-                renumbering=sculptor.renumbering,
+                renumbering=sculptor.remesher.mesh.renumbering,  # a stroke's: local
             )
             self.window.look.apply_mesh_look()
             self.window.surface_progress.setValue(0)

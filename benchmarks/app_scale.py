@@ -355,7 +355,7 @@ def _timed_release_stages(window) -> list[tuple[str, float, float]]:
     """Wrap what a dynamic-topology stroke's end runs (the tools' release: undo step and
     journal; showing the new mesh; the index build or renumbering, on the background thread;
     taking the built index) to record (name, start, end) of each call, perf_counter seconds."""
-    import app.mesh_display
+    import app.level_of_detail
     from gogreen_core.mesh.geometry import SurfaceIndex
 
     spans: list[tuple[str, float, float]] = []
@@ -375,8 +375,8 @@ def _timed_release_stages(window) -> list[tuple[str, float, float]]:
     vp.set_mesh = timed("viewport.set_mesh", vp.set_mesh)
     vp._use_index = timed("viewport takes the index", vp._use_index)
     tools.flush = timed("brush step", tools.flush)
-    built = app.mesh_display.indexed
-    app.mesh_display.indexed = timed("index and copy built anew (background)", built)
+    built = app.level_of_detail.indexed
+    app.level_of_detail.indexed = timed("index and copy built anew (background)", built)
     if hasattr(SurfaceIndex, "renumbered"):
         renumbered = SurfaceIndex.renumbered
         SurfaceIndex.renumbered = timed("index renumbered (background)", renumbered)

@@ -11,7 +11,7 @@ import numpy as np
 
 from gogreen_core.field.kernel import GreenKernel
 from gogreen_core.field.limits import check_constraint_radius
-from gogreen_core.mesh.mesh_state import MaskRows, MeshEdit, MeshSnapshot, MeshState, Renumbering
+from gogreen_core.mesh.mesh_state import MaskRows, MeshEdit, MeshSnapshot, MeshState
 from gogreen_core.mesh.subdivision import PreparedSubdivision, prepare_subdivision
 from gogreen_core.physics.material import Material
 from gogreen_core.physics.radial import RadialProfile
@@ -115,11 +115,6 @@ class Sculptor:
     def faces(self) -> np.ndarray:
         """(M, 3) int64 faces (a subdivision, and its undo, give the sculptor new ones)."""
         return self._mesh.faces
-
-    @property
-    def renumbering(self) -> Renumbering | None:
-        """How dynamic topology made :attr:`faces` of others (a view takes it locally)."""
-        return self._mesh.renumbering
 
     @property
     def mesh(self) -> MeshSnapshot:

@@ -158,8 +158,8 @@ def test_a_dynamic_topology_stroke_keeps_the_copy_and_renumbers_the_index(
     vp.render_now()
     vp.lod.full_frame_ms = 5 * LIGHT_FRAME_MS
     builds = []
-    build = app.mesh_display.indexed
-    monkeypatch.setattr(app.mesh_display, "indexed", lambda *a: builds.append(1) or build(*a))
+    build = app.level_of_detail.indexed
+    monkeypatch.setattr(app.level_of_detail, "indexed", lambda *a: builds.append(1) or build(*a))
     window.model.dynamic_topology = True
     window.model.detail_size = 0.004
     window.model.brush.kind = "grab"
