@@ -24,11 +24,17 @@ from PySide6.QtWidgets import QApplication
 
 from app.background import BackgroundRunner
 from app.cursor_overlay import CursorOverlay, PinOverlay, to_display
-from app.level_of_detail import LevelOfDetail, LightMesh, indexed, indexed_polydata, indexing
+from app.level_of_detail import (
+    LevelOfDetail,
+    LightMesh,
+    Renumbering,
+    indexed,
+    indexed_polydata,
+    indexing,
+)
 from gogreen_core.interaction.tools import CursorState
 from gogreen_core.mesh.cavity import CavityField
 from gogreen_core.mesh.geometry import SurfaceIndex
-from gogreen_core.mesh.mesh_state import Renumbering
 from gogreen_core.mesh.remesh import closest_points_on_triangles
 
 if TYPE_CHECKING:
@@ -162,7 +168,7 @@ class MeshDisplay(_Base):
         if background is None:
             background = len(faces) >= BACKGROUND_INDEX_FACES
         base = self._indexed if background and renumbering is not None else None
-        if base is not None and renumbering is not None and renumbering.before is base[1]:
+        if base is not None and renumbering is not None and renumbering[0] is base[1]:
             self.lod.follow(vertices, faces, renumbering)
         else:
             base = None

@@ -328,7 +328,8 @@ class SurfaceIndex:
     what a renderer draws directly (the viewport's VTK arrays share their memory).
 
     Parameters: vertices (N, 3) float64; faces (M, 3) int; progress: called with the fraction
-    done (0, 1] between the build's stages (raising from it cancels the build).
+    done (0, 1] between the build's stages (raising from it cancels the build); orders: the
+    vertices' and faces' orders (int32 permutations) to build in (no sort), else the curve's.
 
     Attributes: order (N,) int32, the vertex of each row of :attr:`positions` and
     :attr:`normals` (rank (N,) its inverse); positions (N, 3) and normals (N, 3) float64 as of
@@ -341,6 +342,7 @@ class SurfaceIndex:
         vertices: np.ndarray,
         faces: np.ndarray,
         progress: Callable[[float], None] | None = None,
+        orders: tuple[np.ndarray, np.ndarray] | None = None,
     ):
         report = progress if progress is not None else (lambda _fraction: None)
         vertices = np.ascontiguousarray(vertices, dtype=np.float64)
@@ -349,32 +351,19 @@ class SurfaceIndex:
         n = len(vertices)
         faces = checked_faces(faces, n)
         if n >= 2**31 or 3 * len(faces) >= 2**31:  # int32 rows and face-corner offsets
-            raise ValueError(
-                "meshes of 2**31 vertices or 2**31 / 3 faces or more are not supported"
-            )
+            raise ValueError("meshes of 2**31 vertices or 2**31 / 3 faces or more are unsupported")
         faces = np.ascontiguousarray(faces, dtype=np.int32)
-        # the vertices along the curve, then the faces by their centroids
-        order = _curve_order(vertices, np.arange(n, dtype=np.int32).reshape(n, 1))
-        report(0.2)
-        face_order = _curve_order(vertices, faces)
-        report(0.4)
-        normals, face_normals = np.empty((n, 3)), np.empty((len(faces), 3), dtype=np.float32)
-        # every vertex "moved": every face normal, vertex normal and box
-        self._build(vertices, faces, order, face_order, normals, face_normals, np.arange(n))
-        report(1.0)
-
-    def _build(
-        self, vertices: np.ndarray, faces: np.ndarray, order: np.ndarray,
-        face_order: np.ndarray, normals: np.ndarray, face_normals: np.ndarray, seeds: np.ndarray,
-    ) -> None:  # fmt: skip
-        """The index in the given orders; ``normals`` and ``face_normals`` (index orders) are
-        right but for the ``seeds`` (mesh vertices) and the faces around them."""
-        n = self._n_vertices = len(vertices)
-        self.order, self.face_order = order, face_order
+        self._n_vertices = n
+        if orders is None:  # the vertices along the curve, then the faces by their centroids
+            alone = np.arange(n, dtype=np.int32).reshape(n, 1)
+            orders = _curve_order(vertices, alone), _curve_order(vertices, faces)
+        self.order, self.face_order = orders
         self.rank = np.empty(n, dtype=np.int32)
-        self.rank[order] = np.arange(n, dtype=np.int32)
+        self.rank[self.order] = np.arange(n, dtype=np.int32)
+        report(0.2)
         face_rank = np.empty(len(faces), dtype=np.int32)
-        face_rank[face_order] = np.arange(len(faces), dtype=np.int32)
+        face_rank[self.face_order] = np.arange(len(faces), dtype=np.int32)
+        report(0.4)
         self.faces = np.empty((len(faces), 3), dtype=np.int32)
         n_blocks = (n + (1 << _BLOCK_SHIFT) - 1) >> _BLOCK_SHIFT
         self._offsets = np.empty(n + 1, dtype=np.int32)
@@ -382,72 +371,30 @@ class SurfaceIndex:
         self._block_offsets = np.empty(n_blocks + 1, dtype=np.int32)
         block_leaves = np.empty(3 * len(faces), dtype=np.int32)
         used = _kernels()._connect(
-            faces, self.rank, face_order, face_rank, self.faces, self._offsets,
+            faces, self.rank, self.face_order, face_rank, self.faces, self._offsets,
             self._leaf_ids, self._block_offsets, block_leaves,
         )  # fmt: skip
         self._block_leaves = block_leaves[:used].copy()
+        report(0.7)
         n_leaves = (len(faces) + LEAF_SIZE - 1) // LEAF_SIZE
-        self.positions = np.take(vertices, order, axis=0)
-        self.normals = normals
+        self.positions = np.empty((n, 3))
+        self.normals = np.empty((n, 3))
         self._moved = np.zeros(n, dtype=np.bool_)
         self._ring = np.zeros(n, dtype=np.bool_)
         self._block_moved = np.zeros(n_blocks, dtype=np.bool_)
         self._block_ring = np.zeros(n_blocks, dtype=np.bool_)
         self._leaf_mark = np.zeros(n_leaves, dtype=np.bool_)
-        self._leaf_dirty = np.ones(n_leaves, dtype=np.bool_)
+        self._leaf_dirty = np.zeros(n_leaves, dtype=np.bool_)
         # float32: the vertex normals' sums read them (the per-event pass bound by memory
         # traffic) and VTK draws float32; each is (b - a) × (c - a) rounded once
-        self._face_normals = face_normals
+        self._face_normals = np.empty((len(faces), 3), dtype=np.float32)
         self._boxes = np.empty((n_leaves, 6))
         self._stale_boxes = 0  # vertices moved since the boxes were last refit
-        self.update(vertices, seeds)
-        self._stale_boxes = n  # every box
+        # every vertex "moved": every face normal, vertex normal and box
+        self.update(vertices, np.arange(n, dtype=np.int64))
+        report(0.95)
         self._refit()
-
-    def renumbered(
-        self, vertices: np.ndarray, faces: np.ndarray, origin: np.ndarray, face_origin: np.ndarray
-    ) -> SurfaceIndex:
-        """The index of the mesh (``vertices`` (N', 3), ``faces`` (M', 3)) that a local change
-        of topology made of this one's (``origin``, ``face_origin``: see
-        :class:`gogreen_core.mesh.mesh_state.Renumbering`), without a new sort: this order for
-        what was kept, then the new vertices and the new faces (along the curve); only the
-        normals around what changed or moved are computed, the bits of a new build's. This
-        index is only read."""
-        vertices = np.ascontiguousarray(vertices, dtype=np.float64)
-        faces = np.ascontiguousarray(checked_faces(faces, len(vertices)), dtype=np.int32)
-        origin, face_origin = np.asarray(origin), np.asarray(face_origin)
-        if origin.shape != (len(vertices),) or face_origin.shape != (len(faces),):
-            raise ValueError("origin and face_origin must have a row per vertex and face")
-        kept = np.full(self._n_vertices, -1)  # each vertex's new row (-1: removed)
-        n_kept = int(np.count_nonzero(origin >= 0))
-        kept[origin[:n_kept]] = np.arange(n_kept)
-        number = np.full(len(self.faces), -1)
-        n_kept_faces = int(np.count_nonzero(face_origin >= 0))
-        number[face_origin[:n_kept_faces]] = np.arange(n_kept_faces)
-        rows = kept[self.order]  # each old row's new vertex
-        alive = rows >= 0
-        added = np.arange(n_kept, len(vertices))
-        order = np.concatenate([rows[alive], added]).astype(np.int32)
-        new_faces = faces[n_kept_faces:]
-        face_rows = number[self.face_order] >= 0
-        new_order = _curve_order(vertices, new_faces) + n_kept_faces
-        face_order = np.concatenate([number[self.face_order[face_rows]], new_order])
-        face_order = face_order.astype(np.int32)
-        normals = np.empty((len(vertices), 3))
-        normals[:n_kept] = self.normals[alive]
-        face_normals = np.empty((len(faces), 3), dtype=np.float32)
-        face_normals[:n_kept_faces] = self._face_normals[face_rows]
-        # seeds: the corners of the removed and the new faces, the new vertices, the moved ones
-        seeds = np.zeros(len(vertices), dtype=bool)
-        seeds[kept[self.order[self.faces[~face_rows]]]] = True  # (-1: the last row too, harmless)
-        seeds[new_faces] = seeds[added] = True
-        differ = self.positions[alive] != vertices[order[:n_kept]]
-        seeds[order[:n_kept][differ[:, 0] | differ[:, 1] | differ[:, 2]]] = True
-        index = SurfaceIndex.__new__(SurfaceIndex)
-        index._build(
-            vertices, faces, order, face_order, normals, face_normals, np.flatnonzero(seeds)
-        )
-        return index
+        report(1.0)
 
     @property
     def vertices(self) -> np.ndarray:
@@ -540,7 +487,7 @@ def _threads_for(work: int) -> AbstractContextManager[int]:
 
 def _curve_order(points: np.ndarray, groups: np.ndarray) -> np.ndarray:
     """Indices (int32) of the groups (k, g) of ``points`` (N, 3) sorted along the Z-order curve
-    (over the box of all the points) of their mean points, ties in index order."""
+    (of the points' bounding box) of their mean points, ties in index order."""
     low = points.min(axis=0) if len(points) else np.zeros(3)
     extent = (points.max(axis=0) - low) if len(points) else np.ones(3)
     scale = ((1 << _MORTON_BITS) - 1) / np.maximum(extent, 1e-300)
@@ -554,9 +501,7 @@ def _exercise() -> None:
     """Call every compiled function of this module once, on a small surface index."""
     vertices = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
     index = SurfaceIndex(vertices, np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]))
-    moved = vertices.copy()
-    moved[3, 2] = 1.5
-    index.update(moved, np.array([3]))
+    index.update(1.5 * vertices, np.array([3]))
     index.changed_rows(vertices)
     index.pick(np.array([0.2, 0.2, 3.0]), np.array([0.0, 0.0, -1.0]))
 

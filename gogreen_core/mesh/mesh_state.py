@@ -22,7 +22,6 @@ __all__ = [
     "MeshEdit",
     "MeshSnapshot",
     "MeshState",
-    "Renumbering",
     "compact_faces",
     "topology_edit",
 ]
@@ -37,16 +36,6 @@ class MaskRows(NamedTuple):
     @property
     def nbytes(self) -> int:
         return int(self.rows.nbytes + self.values.nbytes)
-
-
-class Renumbering(NamedTuple):
-    """How a local change of topology (dynamic topology's) made the mesh of the faces
-    ``before`` (that array) into the current one: ``origin`` (N',) and ``face_origin`` (M',)
-    int64, each row's row before (-1: new, all after the others; as :func:`topology_edit`)."""
-
-    before: np.ndarray
-    origin: np.ndarray
-    face_origin: np.ndarray
 
 
 def compact_faces(faces: np.ndarray) -> np.ndarray:
@@ -184,9 +173,9 @@ class MeshState:
     stay right); faces (M, 3) int64; texture corners ``uv`` (T, 2), ``uv_faces`` (M, 3) (-1:
     untextured) or None; the :attr:`mask` (N,) float64 in [0, 1] (1 does not move);
     :attr:`model_size` (bounding-box diagonal at load, model units) and :attr:`origin` (its
-    centre: the point of the mirror planes). :attr:`topology` counts the changes of the face
-    array (:attr:`renumbering`: the last one's, if local); :attr:`edges` and :attr:`neighbours`
-    are built on first use for the current faces."""
+    centre: the point of the mirror planes); :attr:`renumbering` (faces, origin, face_origin)
+    if the faces came of those by a local change (as :func:`topology_edit` takes it), else
+    None; :attr:`edges` and :attr:`neighbours` are built on first use for the current faces."""
 
     def __init__(
         self,
@@ -196,11 +185,11 @@ class MeshState:
         uv_faces: np.ndarray | None = None,
     ) -> None:
         self.vertices = v = np.array(vertices, dtype=np.float64)
+        self.faces = f = np.array(faces, dtype=np.int64)
         if v.ndim != 2 or v.shape[1] != 3 or len(v) == 0:
             raise ValueError(f"vertices must be a non-empty (N, 3) array (got shape {v.shape})")
         if not np.all(np.isfinite(v)):
             raise ValueError("vertices contain NaN or infinite coordinates")
-        self.faces = f = np.array(faces, dtype=np.int64)
         if f.ndim != 2 or f.shape[1] != 3:
             raise ValueError(f"faces must be an (M, 3) array (got shape {f.shape})")
         if f.size and (f.min() < 0 or f.max() >= len(v)):
@@ -229,8 +218,7 @@ class MeshState:
         self.masked = False
         #: Counts the changes of the mask (a view redraws its tint when it changes).
         self.mask_version = 0
-        self.topology = 0
-        self.renumbering: Renumbering | None = None
+        self.renumbering: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
         self._blocks = VertexBlocks()
 
     # -- connectivity ------------------------------------------------------------------------
@@ -268,7 +256,7 @@ class MeshState:
         )
 
     def adopt(self, mesh: MeshSnapshot | MeshEdit, owned: bool = False) -> None:
-        """Take the arrays of ``mesh`` (copies; a new face array, a new :attr:`topology`), or
+        """Take the arrays of ``mesh`` (copies; a new face array, no :attr:`renumbering`), or
         of a :class:`MeshEdit` side applied to these; the model's size and origin stay.
         ``owned``: its arrays are new, writable, float64 and int64, nobody else's (dynamic
         topology's): taken as they are, no copy."""
@@ -285,7 +273,6 @@ class MeshState:
         self.uv = None if mesh.uv is None else take(mesh.uv, dtype=np.float64)
         self.uv_faces = None if mesh.uv_faces is None else take(mesh.uv_faces, dtype=np.int64)
         if not same:
-            self.topology += 1
             self.renumbering = None  # the caller says how, if it knows
             for built in ("edges", "neighbours"):  # built again on first use
                 self.__dict__.pop(built, None)

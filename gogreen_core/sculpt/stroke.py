@@ -15,13 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from gogreen_core.mesh.mesh_state import (
-    MaskRows,
-    MeshSnapshot,
-    MeshState,
-    Renumbering,
-    topology_edit,
-)
+from gogreen_core.mesh.mesh_state import MaskRows, MeshSnapshot, MeshState, topology_edit
 from gogreen_core.mesh.remesh import (
     faces_touching,
     grow_region,
@@ -243,7 +237,7 @@ class StrokeDriver:
         assert done.mask is not None
         new_mesh = MeshSnapshot(done.vertices, done.faces, done.mask, done.uv, done.uv_faces)
         mesh.adopt(new_mesh, owned=True)
-        mesh.renumbering = Renumbering(stroke.start.faces, stroke.origin, stroke.face_origin)
+        mesh.renumbering = (stroke.start.faces, stroke.origin, stroke.face_origin)
         return True
 
     def _write(self, stroke: _Stroke, moved: Displacement) -> None:

@@ -223,49 +223,54 @@ def test_pick_misses_and_bad_rays(pebble):
         index.pick(np.array([np.nan, 0, 0]), np.ones(3))
 
 
-def test_renumbered_index_after_local_remeshes_equals_a_new_build(pebble):
-    """Dynamic topology: random local remeshes (vertices split, collapsed, moved) taken by
-    :meth:`SurfaceIndex.renumbered` give the normals (bit for bit), picks and drawn faces of a
-    new index on the same mesh."""
-    from gogreen_core.mesh.remesh import remesh
-
+def test_an_index_built_in_given_orders_equals_a_new_build(pebble):
+    """Given orders (a renumbered mesh keeps its index's, issue 34): no sort, the normals (bit
+    for bit), picks and drawn faces of a build along the curve."""
     vertices, faces = pebble
-    index = SurfaceIndex(vertices, faces)
-    rng = np.random.default_rng(7)
-    removed = added = 0
-    median = np.median(np.linalg.norm(vertices[faces[:, 0]] - vertices[faces[:, 1]], axis=1))
-    for step in range(4):
-        center = vertices[rng.integers(len(vertices))]
-        moved, _ = brush_move(vertices, int(rng.integers(len(vertices))), 0.3, seed=step)
-        region = np.linalg.norm(vertices - center, axis=1) < 0.35
-        done = remesh(moved, faces, region, median * rng.choice([0.5, 2.0]), iterations=2)
-        removed += int((done.kept < 0).sum())
-        added += len(done.vertices) - int((done.kept >= 0).sum())
-        origin = np.full(len(done.vertices), -1)
-        origin[: np.count_nonzero(done.kept >= 0)] = np.flatnonzero(done.kept >= 0)
-        face_origin = np.full(len(done.faces), -1)
-        face_origin[: np.count_nonzero(done.kept_faces)] = np.flatnonzero(done.kept_faces)
-        index = index.renumbered(done.vertices, done.faces, origin, face_origin)
-        vertices, faces = done.vertices, done.faces
-        fresh = SurfaceIndex(vertices, faces)
-        assert np.array_equal(index.order[index.rank], np.arange(len(vertices)))
-        assert np.array_equal(index.positions[index.rank], vertices)
-        drawn = np.sort(np.sort(index.order[index.faces], axis=1), axis=0)
-        assert np.array_equal(drawn, np.sort(np.sort(faces, axis=1), axis=0))
-        assert np.array_equal(index.normals[index.rank], fresh.normals[fresh.rank])
-        assert np.array_equal(index._face_normals[np.argsort(index.face_order)],
-                              fresh._face_normals[np.argsort(fresh.face_order)])  # fmt: skip
-        for _ in range(40):
-            origin = rng.normal(size=3) * 3
-            direction = rng.normal(size=3) * 0.3 - origin
-            got, expected = index.pick(origin, direction), fresh.pick(origin, direction)
-            assert (got is None) == (expected is None)
-            if got is not None:
-                assert got[0] == expected[0]
-                assert np.array_equal(got[1], expected[1])
-        moved2, changed2 = brush_move(vertices, 3, 0.5, seed=step + 10)  # then strokes as ever
-        index.update(moved2, changed2)
-        assert_normals_of(index, moved2, faces)
-    assert removed > 0 and added > 0
-    with pytest.raises(ValueError, match="origin"):
-        index.renumbered(vertices, faces, np.arange(3), np.arange(len(faces)))
+    rng = np.random.default_rng(5)
+    orders = rng.permutation(len(vertices)), rng.permutation(len(faces))
+    index, fresh = SurfaceIndex(vertices, faces, orders=orders), SurfaceIndex(vertices, faces)
+    assert np.array_equal(index.order, orders[0]) and np.array_equal(index.face_order, orders[1])
+    assert np.array_equal(index.normals[index.rank], fresh.normals[fresh.rank])
+    assert np.array_equal(index.order[index.faces], faces[orders[1]])
+    for _ in range(40):
+        origin = rng.normal(size=3) * 3
+        direction = rng.normal(size=3) * 0.3 - origin
+        got, expected = index.pick(origin, direction), fresh.pick(origin, direction)
+        assert (got is None) == (expected is None)
+        assert got is None or (got[0] == expected[0] and np.array_equal(got[1], expected[1]))
+    moved, changed = brush_move(vertices, 3, 0.5)
+    index.update(moved, changed)
+    assert_normals_of(index, moved, faces)
+
+
+def test_a_dynamic_topology_stroke_records_how_it_renumbered_the_mesh():
+    """The mesh state's record of a dynamic-topology stroke: the faces before it and each
+    row's row before (the carried faces are the old ones renumbered, the new rows after the
+    others); an undo (faces from elsewhere) leaves no record."""
+    from gogreen_core import Sculptor
+    from gogreen_core.sculpt.brushes import Brush, BrushEvent
+
+    vertices, faces = default_model(3)
+    sculptor = Sculptor(vertices, faces, dynamic_topology=True)
+    before_vertices = sculptor.vertices.copy()
+    state = sculptor.remesher.mesh
+    assert state.renumbering is None
+    before = sculptor.faces
+    top = sculptor.vertices[int(np.argmax(sculptor.vertices[:, 2]))].copy()
+    step = np.array([0.0, 0.0, 0.03 * sculptor.model_size])
+    sculptor.begin_stroke(Brush("grab", radius=0.05))
+    for k in range(4):
+        sculptor.stroke_event(BrushEvent(center=top + k * step, delta=step))
+    sculptor.end_stroke()
+    assert sculptor.faces.shape != before.shape
+    start, origin, face_origin = state.renumbering
+    assert start is before
+    n, m = np.count_nonzero(origin >= 0), np.count_nonzero(face_origin >= 0)
+    assert np.all(origin[:n] >= 0) and np.all(origin[n:] < 0) and np.all(face_origin[m:] < 0)
+    assert np.all(np.diff(origin[:n]) > 0) and np.all(np.diff(face_origin[:m]) > 0)
+    new_row = np.full(len(before_vertices), -1)
+    new_row[origin[:n]] = np.arange(n)
+    assert np.array_equal(new_row[before[face_origin[:m]]], sculptor.faces[:m])
+    sculptor.undo()
+    assert state.renumbering is None and np.array_equal(sculptor.faces, before)
