@@ -150,11 +150,18 @@ class MeshDisplay(_Base):
         (cursor, pins, mask tint kept), a big mesh flat-shaded without an index until the
         stroke ends. ``renumbering``: how a local change (the sculptor's, dynamic topology)
         made these faces of the indexed ones: a big mesh's index is renumbered instead (a
-        fraction of a build), its interaction copy kept (:meth:`LevelOfDetail.follow`)."""
+        fraction of a build), its interaction copy and actor kept (:meth:`LevelOfDetail.follow`)."""
+        vertices = np.array(vertices, dtype=np.float64)  # our copy: VTK draws it
+        faces = np.asarray(faces)
+        if background is None:
+            background = len(faces) >= BACKGROUND_INDEX_FACES
+        base = self._indexed if background and renumbering is not None else None
+        if base is None or renumbering is None or renumbering[0] is not base[1]:
+            base = None
+        if self.mesh_actor is not None and not in_stroke and base is None:
+            self.remove_actor(self.mesh_actor, render=False)
+            self.mesh_actor = None
         if not in_stroke:
-            if self.mesh_actor is not None:
-                self.remove_actor(self.mesh_actor, render=False)
-                self.mesh_actor = None
             self.show_cursor(None)  # sized for the old mesh; it would also widen the home view
             self.show_pins(np.zeros((0, 3)), 0.0)
             self._mask = None  # the new mesh's tint comes with show_mask
@@ -163,15 +170,9 @@ class MeshDisplay(_Base):
         self._field_rgb = self._field_on = None
         self._field_rows = np.zeros(0, dtype=np.int64)
         self.cavity = None  # the new mesh's, once its index is ready
-        vertices = np.array(vertices, dtype=np.float64)  # our copy: VTK draws it
-        faces = np.asarray(faces)
-        if background is None:
-            background = len(faces) >= BACKGROUND_INDEX_FACES
-        base = self._indexed if background and renumbering is not None else None
-        if base is not None and renumbering is not None and renumbering[0] is base[1]:
+        if base is not None and renumbering is not None:
             self.lod.follow(vertices, faces, renumbering)
         else:
-            base = None
             self.lod.drop()
         self._index_runner.cancel()
         self._index_job = None

@@ -188,7 +188,9 @@ def start_app():
     return window, settle
 
 
-def probe_rss(meshes: Path, stall_only: bool = False, gui: bool = False) -> dict[str, object]:
+def probe_rss(
+    meshes: Path, stall_only: bool = False, gui: bool = False, default: bool = False
+) -> dict[str, object]:
     from PySide6.QtCore import Qt
     from PySide6.QtTest import QTest
     from PySide6.QtWidgets import QApplication
@@ -196,6 +198,12 @@ def probe_rss(meshes: Path, stall_only: bool = False, gui: bool = False) -> dict
     window, settle = start_app()
     app = QApplication.instance()
     result: dict[str, object] = {"idle": rss_mb(), "idle_anonymous": anonymous_mb()}
+    if default:  # the stall on the default model instead
+        result.update(dynamic_stroke_stall(app, window, on_gui_thread=gui))
+        window.document._saved_vertices = window.document.sculptor.vertices.copy()
+        window.document._saved_faces = window.document.sculptor.faces
+        window.close()
+        return result
     path = big_mesh(meshes)
     if isinstance(path, str):
         result["skipped"] = path
@@ -401,6 +409,7 @@ def dynamic_stroke_stall(
     vp.stroke_worker.slow_step_ms = SLOW_STEP_MS
     if on_gui_thread:
         vp.stroke_worker.slow_steps = lambda *_args: False
+    result_before = len(window.document.sculptor.vertices)
     window.model.dynamic_topology = True
     window.model.brush.update({"kind": "grab", "radius": 0.03})
     w, h = vp.width(), vp.height()
@@ -496,6 +505,7 @@ def dynamic_stroke_stall(
         "stall_events": window.tools.processed,
         "stall_release": 1e3 * (ended - release_time),
         "stall_vertices": len(window.document.sculptor.vertices),
+        "vertices_before": result_before,
         "stall_step": statistics.median(steps) if steps else float("nan"),
         "stall_steps": [round(ms) for ms in steps],
         # what ran after the release: (stage, ms from the release to its start, its ms)
@@ -670,7 +680,8 @@ def print_stall(r: dict[str, object]) -> None:
     if "stall_max" not in r:
         return
     print(
-        f"dynamic-topology grab (radius 0.03) for 10 s on the 1M mesh: longest GUI-thread stall "
+        f"dynamic-topology grab (radius 0.03) for 10 s on the {r['vertices_before']:,}-vertex "
+        f"mesh: longest GUI-thread stall "
         f"{r['stall_max']:.0f} ms (10 ms heartbeat), {r['stall_no_render']:.0f} ms not counting "
         f"renders (frames {r['frame']:.0f} ms); {r['stall_moves']} moves -> "
         f"{r['stall_events']} events (median {r['stall_step']:.0f} ms), release -> next stroke "
@@ -696,10 +707,14 @@ def main() -> None:
     parser.add_argument(
         "--on-gui-thread", action="store_true", help="(--stall-only) steps on the GUI thread"
     )
+    parser.add_argument(
+        "--default-model", action="store_true", help="(--stall-only) on the default model"
+    )
     parser.add_argument("--skip-rss", action="store_true", help="compile figures only")
     args = parser.parse_args()
     if args.probe_rss:
-        print(json.dumps(probe_rss(Path(args.meshes), args.stall_only, args.on_gui_thread)))
+        options = (args.stall_only, args.on_gui_thread, args.default_model)
+        print(json.dumps(probe_rss(Path(args.meshes), *options)))
         return
     if args.probe_idle:
         print(json.dumps(probe_idle()))
@@ -711,6 +726,7 @@ def main() -> None:
         if not args.stall_only:
             print_idle_and_floor(args.launches)
         options = ["--stall-only"] * args.stall_only + ["--on-gui-thread"] * args.on_gui_thread
+        options += ["--default-model"] * args.default_model
         rss = child_json(str(HERE), "--probe-rss", "--meshes", args.meshes, *options)
         print(f"RSS idle, default model, fresh start (the process below): {rss['idle']:.0f} MB")
         if "skipped" in rss:
