@@ -23,8 +23,9 @@ Prints (figures only; nothing is asserted; issue 36, items 2, 3 and 4):
   every 40 ms for 10 s, then the release: the GUI thread's longest stall (the longest gap
   between ticks of a 10 ms timer) and the longest without the time spent rendering, the
   engine's events (count, median), and from the release until a next stroke can start (the
-  new faces indexed). ``--stall-only`` runs only this; ``--on-gui-thread`` runs every step on
-  the GUI thread, as before :mod:`app.stroke_worker`;
+  new faces indexed), and what ran after the release, when and for how long.
+  ``--stall-only`` runs only this (``--default-model``: on the default model);
+  ``--on-gui-thread`` runs every step on the GUI thread, as before :mod:`app.stroke_worker`;
 * on an empty numba cache (a temporary ``NUMBA_CACHE_DIR``): seconds from the app's first
   request of its kernels until the field's compiled drivers serve (the first stroke runs
   compiled), and until every unit of the request is in;
@@ -43,6 +44,18 @@ Measured 2026-11-29 (the dynamic-topology stroke; 2 cores shared, load average ~
 * with the core measured against the fastest the stroke went (quiet machine, 2 runs): longest
   stall 0.60-0.95 s; 9 events, median 1.2-1.3 s, none over 2.5 s; release -> next stroke 4.7-5.5
   s (6 runs before it: 3.7-31 s, the last step 18-28 s in 4 of them).
+
+* the index renumbered at the release (issue 34: ``SurfaceIndex(orders=...)``, no sort; the
+  interaction copy kept, following the new vertices, so stroke frames stay light), three runs
+  each interleaved with main's, load average 5-5.5: release -> next stroke possible 2.4-2.7 s
+  (median 2.57 s; main 4.7-5.4 s, median 5.19 s), of which ~1.3 s the steps still running at
+  the release, ~0.1 s the tools' release, ~0.5 s renumbering, ~0.4-0.75 s the first full frame
+  (main: ~1.8 s index and copy built anew); frames during the stroke 59-67 ms (copy; main
+  312-358 ms, full flat mesh); longest stall 0.49-0.89 s (main 0.75-0.78 s: the last full
+  frame either way), 0.27-0.30 s not counting renders (main 0.19-0.25 s: the copy follows the
+  new vertices on the GUI thread, 30-70 ms a step). ``--default-model`` (2 runs each): release
+  -> next stroke 0.42-0.69 s (main 0.76-0.94 s), the same code path (small meshes index at
+  once).
 
 Goals: brush step ≤ the engine's event + 20 ms; stroke and camera frames ≥ 3× faster than
 a full frame; idle ≤ 500 MB; after Ctrl+N within 10 % of the fresh start; drivers ≤ 20 s after the
@@ -364,7 +377,6 @@ def _timed_release_stages(window) -> list[tuple[str, float, float]]:
     journal; showing the new mesh; the index build or renumbering, on the background thread;
     taking the built index) to record (name, start, end) of each call, perf_counter seconds."""
     import app.level_of_detail
-    from gogreen_core.mesh.geometry import SurfaceIndex
 
     spans: list[tuple[str, float, float]] = []
 
@@ -385,9 +397,9 @@ def _timed_release_stages(window) -> list[tuple[str, float, float]]:
     tools.flush = timed("brush step", tools.flush)
     built = app.level_of_detail.indexed
     app.level_of_detail.indexed = timed("index and copy built anew (background)", built)
-    if hasattr(SurfaceIndex, "renumbered"):
-        renumbered = SurfaceIndex.renumbered
-        SurfaceIndex.renumbered = timed("index renumbered (background)", renumbered)
+    if hasattr(app.level_of_detail, "renumbered"):  # issue 34: the index renumbered
+        renumbered = app.level_of_detail.renumbered
+        app.level_of_detail.renumbered = timed("index renumbered (background)", renumbered)
     return spans
 
 
