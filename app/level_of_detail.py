@@ -9,7 +9,9 @@ The copy is a vertex clustering whose vertices are vertices of the mesh (in each
 grid, the one nearest the mean of the cell's vertices), so a stroke frame shows the brush's
 effect by copying the moved rows from the mesh: no re-decimation per event. Its normals and
 arrays are a :class:`gogreen_core.mesh.geometry.SurfaceIndex` of its own, updated only where
-its rows changed.
+its rows changed. Where dynamic topology changes the mesh (locally) the copy keeps its faces
+and follows: its vertices become the same vertices in their new rows, and where one was
+collapsed away, the nearest corner of the new faces (:meth:`LightMesh.follow`).
 """
 
 from __future__ import annotations
@@ -34,11 +36,18 @@ __all__ = [
     "SETTLE_MS",
     "LevelOfDetail",
     "LightMesh",
+    "Renumbering",
     "cluster_decimation",
     "indexed",
     "indexed_polydata",
+    "indexing",
+    "renumbered",
 ]
 
+#: How a local change of topology (dynamic topology's) made the mesh of the faces ``before``
+#: into the current one: (before, origin (N',), face_origin (M',)), each row's row before, -1
+#: for a new one (``gogreen_core.mesh.mesh_state.MeshState.renumbering``).
+Renumbering = tuple[np.ndarray, np.ndarray, np.ndarray]
 #: Faces of the interaction copy (a tenth of the render cost of 2M faces here).
 LIGHT_FACES = 100_000
 #: Meshes with fewer faces draw every frame in full (their frames are cheap enough).
@@ -138,11 +147,13 @@ class LightMesh:
     Parameters: ``vertices`` (N, 3) and ``faces`` (M, 3) of the mesh; ``target_faces``.
     Attributes: ``rows`` (k,) the mesh vertices it copies, ``index`` its
     :class:`SurfaceIndex`, ``polydata`` (drawing the index's arrays), ``actor`` (None until
-    :meth:`attach`).
+    :meth:`attach`), ``base`` (the mesh's rows of the copy's vertices where the mesh was
+    indexed, before the changes :meth:`follow` took).
     """
 
     def __init__(self, vertices: np.ndarray, faces: np.ndarray, target_faces: int = LIGHT_FACES):
         self.rows, light_faces = cluster_decimation(vertices, faces, target_faces)
+        self.base = self.rows
         self.index = SurfaceIndex(np.asarray(vertices)[self.rows], light_faces)
         self.polydata, self._shared = indexed_polydata(self.index)
         self.actor: Any = None
@@ -180,6 +191,23 @@ class LightMesh:
             self.polydata.GetPointData().GetNormals().Modified()
         return len(changed)
 
+    def follow(self, vertices: np.ndarray, faces: np.ndarray, change: Renumbering) -> None:
+        """The mesh became ``vertices`` (N', 3), ``faces`` by ``change`` from the mesh of
+        :attr:`base`: each vertex of the copy the same vertex in its new row, or where it was
+        collapsed away, the new faces' corner nearest to where it is drawn."""
+        from scipy.spatial import cKDTree
+
+        _, origin, face_origin = change
+        size = max(int(self.base.max(initial=-1)), int(origin.max(initial=-1))) + 1
+        rows = _new_rows(origin, size)[self.base]
+        lost = np.flatnonzero(rows < 0)
+        if len(lost):
+            corners = np.unique(faces[int(np.count_nonzero(face_origin >= 0)) :])
+            drawn = self.index.positions[self.index.rank[lost]]
+            rows[lost] = corners[cKDTree(vertices[corners]).query(drawn)[1]]
+        self.rows = rows
+        self.update(vertices[rows])
+
     def show(self, look: Any, colors: np.ndarray | None, mesh_rank: np.ndarray) -> None:
         """Draw the copy in place of the mesh actor ``look``: its texture (a matcap) and its
         direct colours ``colors`` (N, 3) uint8 in the order of the mesh's index, whose
@@ -216,6 +244,49 @@ def indexed(
     return SurfaceIndex(vertices, faces, progress), light
 
 
+def indexing(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    base: SurfaceIndex | None,
+    change: Renumbering | None,
+    light: LightMesh | None,
+) -> Callable[[Any], tuple[SurfaceIndex, LightMesh | None]]:
+    """The background job indexing a mesh (it reads a copy of ``vertices``: the view's may
+    move): ``base`` renumbered by ``change`` with the copy ``light`` (which followed the
+    change), or without a base a new index and copy (:func:`indexed`)."""
+    vertices = vertices.copy()
+    if base is None or change is None:
+        return lambda task: indexed(vertices, faces, task.progress)
+    return lambda _task: (renumbered(base, vertices, faces, change), light)
+
+
+def renumbered(
+    index: SurfaceIndex, vertices: np.ndarray, faces: np.ndarray, change: Renumbering
+) -> SurfaceIndex:
+    """The index of the mesh ``vertices`` (N', 3), ``faces`` (M', 3) that a local ``change``
+    made of ``index``'s, built in ``index``'s order for what was kept, the new vertices and
+    faces after it: no sort (a fraction of a new build), the same normals and picks."""
+    _, origin, face_origin = change
+    orders = _carried(index.order, origin), _carried(index.face_order, face_origin)
+    return SurfaceIndex(vertices, faces, orders=orders)
+
+
+def _new_rows(origin: np.ndarray, n: int) -> np.ndarray:
+    """Each of ``n`` old rows' new row (-1: gone), from ``origin`` (see :data:`Renumbering`)."""
+    new = np.full(n, -1)
+    kept = origin[origin >= 0]
+    new[kept] = np.arange(len(kept))
+    return new
+
+
+def _carried(old_order: np.ndarray, origin: np.ndarray) -> np.ndarray:
+    """An order of the new rows: those carried over (``origin``) in ``old_order``, then the
+    new ones."""
+    rows = _new_rows(origin, len(old_order))[old_order]
+    carried = rows[rows >= 0]
+    return np.concatenate([carried, np.arange(len(carried), len(origin))]).astype(np.int32)
+
+
 def _software_renderer(window: Any) -> bool:
     """The render ``window``'s OpenGL renderer is a software one (after its first frame)."""
     report = window.ReportCapabilities().lower()
@@ -247,7 +318,11 @@ class LevelOfDetail:
         self.settle_timer.timeout.connect(self.show_full)
 
     def attach(self, light: LightMesh | None) -> None:
-        """Use ``light`` as the copy of the mesh just shown (None: none)."""
+        """Use ``light`` as the copy of the mesh just shown (None: none; the copy in use: it
+        followed the mesh to its new topology, indexed now)."""
+        if light is not None and light is self.light:
+            light.base = light.rows
+            return
         self.light = light
         if light is not None:
             light.attach(self.display, self.display.mesh_actor)
@@ -273,6 +348,14 @@ class LevelOfDetail:
             if not self.software_gl:
                 window.SetMultiSamples(HARDWARE_MULTI_SAMPLES)
                 self.display.request_render()
+
+    def follow(self, vertices: np.ndarray, faces: np.ndarray, change: Renumbering) -> None:
+        """The mesh became ``vertices``, ``faces`` by a local ``change`` of its indexed
+        topology: the copy follows it (:meth:`LightMesh.follow`), still drawn if it was; the
+        vertices moved meanwhile are dropped (the mesh's index is made anew)."""
+        self._deferred = None
+        if self.light is not None:
+            self.light.follow(vertices, faces, change)
 
     def interaction_frames(self) -> None:
         """The camera moves or a stroke runs: its frames from the copy when full frames are

@@ -20,13 +20,22 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import pyvista as pv
 from PySide6.QtCore import QPointF
+from PySide6.QtWidgets import QApplication
 
 from app.background import BackgroundRunner
 from app.cursor_overlay import CursorOverlay, PinOverlay, to_display
-from app.level_of_detail import LevelOfDetail, LightMesh, indexed, indexed_polydata
+from app.level_of_detail import (
+    LevelOfDetail,
+    LightMesh,
+    Renumbering,
+    indexed,
+    indexed_polydata,
+    indexing,
+)
 from gogreen_core.interaction.tools import CursorState
 from gogreen_core.mesh.cavity import CavityField
 from gogreen_core.mesh.geometry import SurfaceIndex
+from gogreen_core.mesh.remesh import closest_points_on_triangles
 
 if TYPE_CHECKING:
     from pyvistaqt import QtInteractor
@@ -70,20 +79,6 @@ CAVITY_CONTRAST = 0.3
 CAVITY_SCALE = 2.5
 
 
-def barycentric(a: np.ndarray, b: np.ndarray, c: np.ndarray, p: np.ndarray) -> np.ndarray:
-    """Barycentric weights (3,) of point ``p`` in triangle ``a b c`` (clipped to [0, 1])."""
-    v0, v1, v2 = b - a, c - a, p - a
-    d00, d01, d11 = v0 @ v0, v0 @ v1, v1 @ v1
-    d20, d21 = v2 @ v0, v2 @ v1
-    det = d00 * d11 - d01 * d01
-    if det == 0:
-        return np.full(3, 1.0 / 3.0)
-    v = (d11 * d20 - d01 * d21) / det
-    w = (d00 * d21 - d01 * d20) / det
-    weights = np.clip(np.array([1.0 - v - w, v, w]), 0.0, 1.0)
-    return weights / weights.sum()
-
-
 def _tint(base: np.ndarray, shade: np.ndarray) -> np.ndarray:
     """RGB (n, 3) uint8 of the colour ``base`` (3,) (0-255) times the factors ``shade`` (n,)."""
     return np.rint(np.clip(shade[:, None] * base, 0.0, 255.0)).astype(np.uint8)
@@ -101,18 +96,15 @@ class MeshDisplay(_Base):
         self.mesh: pv.PolyData | None = None
         self.mesh_actor: Any = None
         self._faces: np.ndarray | None = None
-        #: The vertex mask drawn as a tint (the mesh's order), None when nothing is masked, and
-        #: the sculptor's mask version it shows (-1: none yet).
+        #: The mask tinted (the mesh's order; None: nothing masked), its version (-1: none yet).
         self._mask: np.ndarray | None = None
         self._mask_version = -1
-        #: The field preview: its colours (N, 3) uint8 where ``_field_on`` (N,) bool, and the
-        #: rows it colours now (the mesh's order).
+        #: The field preview: colours (N, 3) uint8 where ``_field_on`` (N,), the rows it colours.
         self._field_rgb: np.ndarray | None = None
         self._field_on: np.ndarray | None = None
         self._field_rows = np.zeros(0, dtype=np.int64)
-        #: The cavity tint: on or off, and the curvature it shows, in the surface index's
-        #: vertex order (its arrays are local in memory; None while off or until the
-        #: surface index is ready), its reference κ₀ and the model size it scales by.
+        #: The cavity tint: on, the curvature it shows in the index's order (None while off or
+        #: until the index is ready), its reference κ₀ and the model size it scales by.
         self.cavity_on = False
         self.cavity: CavityField | None = None
         self._cavity_ref = 0.0
@@ -121,6 +113,8 @@ class MeshDisplay(_Base):
         self.field_arrow_actor: Any = None
         #: Per-mesh index: incremental normals and ray picking (gogreen_core.mesh.geometry).
         self.surface: SurfaceIndex | None = None
+        #: The last index made and its faces: a local change renumbers it, no new build.
+        self._indexed: tuple[SurfaceIndex, np.ndarray] | None = None
         self._arrays_shared = False
         self.lod = LevelOfDetail(self)  # a big mesh's interaction copy, built with its index
         # the index of a big mesh is built on the background thread (app.background)
@@ -144,22 +138,27 @@ class MeshDisplay(_Base):
         reset_camera: bool = True,
         background: bool | None = None,
         in_stroke: bool = False,
+        renumbering: Renumbering | None = None,
     ) -> None:
         """Show a new mesh (one actor, replaced only when the mesh itself changes), without
-        pins.
-
-        Its :class:`SurfaceIndex` (picking, incremental normals) is built at once for a mesh
-        of fewer than :data:`BACKGROUND_INDEX_FACES` faces, else (or with ``background``) on
-        the background thread (about 0.5 s at 2M faces): meanwhile the mesh is shown
-        flat-shaded in its own order, vertex updates are drawn, picks find nothing and a left
-        press emits ``surface_pending`` instead of starting a stroke.
-        ``surface_progress`` and then ``surface_ready`` report the build.
-
+        pins. Its :class:`SurfaceIndex` (picking, incremental normals) is built at once below
+        :data:`BACKGROUND_INDEX_FACES` faces, else (or with ``background``) on the background
+        thread (~0.5 s at 2M faces; ``surface_progress``, then ``surface_ready``): meanwhile
+        the mesh is shown flat-shaded in its own order, vertex updates are drawn, picks find
+        nothing and a left press emits ``surface_pending`` instead of starting a stroke.
         ``in_stroke``: new faces during a stroke (dynamic topology), drawn into the same actor
-        (cursor, pins, mask tint kept); a big mesh flat-shaded without an index (a stroke
-        picks only at its press) until the stroke ends and shows the mesh again.
-        """
-        if self.mesh_actor is not None and not in_stroke:
+        (cursor, pins, mask tint kept), a big mesh flat-shaded without an index until the
+        stroke ends. ``renumbering``: how a local change (the sculptor's, dynamic topology)
+        made these faces of the indexed ones: a big mesh's index is renumbered instead (a
+        fraction of a build), its interaction copy and actor kept (:meth:`LevelOfDetail.follow`)."""
+        vertices = np.array(vertices, dtype=np.float64)  # our copy: VTK draws it
+        faces = np.asarray(faces)
+        if background is None:
+            background = len(faces) >= BACKGROUND_INDEX_FACES
+        base = self._indexed if background and renumbering is not None else None
+        if base is None or renumbering is None or renumbering[0] is not base[1]:
+            base = None
+        if self.mesh_actor is not None and not in_stroke and base is None:
             self.remove_actor(self.mesh_actor, render=False)
             self.mesh_actor = None
         if not in_stroke:
@@ -171,22 +170,20 @@ class MeshDisplay(_Base):
         self._field_rgb = self._field_on = None
         self._field_rows = np.zeros(0, dtype=np.int64)
         self.cavity = None  # the new mesh's, once its index is ready
-        self.lod.drop()
+        if base is not None and renumbering is not None:
+            self.lod.follow(vertices, faces, renumbering)
+        else:
+            self.lod.drop()
         self._index_runner.cancel()
         self._index_job = None
         self.surface = None
-        vertices = np.array(vertices, dtype=np.float64)  # our copy: VTK draws it
-        self._faces = np.asarray(faces)
-        if background is None:
-            background = len(self._faces) >= BACKGROUND_INDEX_FACES
+        self._faces = faces
         if background:
             self._show(pv.PolyData.from_regular_faces(vertices, self._faces))
             if not in_stroke:
-                built_from = vertices.copy()  # the build reads this; the view's copy may move
-                faces = self._faces
-                self._index_job = self._index_runner.submit(
-                    lambda task: indexed(built_from, faces, task.progress), supersede=True
-                )
+                old = None if base is None else base[0]
+                job = indexing(vertices, faces, old, renumbering, self.lod.light)
+                self._index_job = self._index_runner.submit(job, supersede=True)
         else:
             self._use_index(*indexed(vertices, self._faces))
         if reset_camera:
@@ -401,6 +398,8 @@ class MeshDisplay(_Base):
         # VTK wraps the index's arrays without a copy: its updates are the actor's
         mesh, self._arrays_shared = indexed_polydata(surface)
         self.surface = surface
+        assert self._faces is not None
+        self._indexed = (surface, self._faces)
         if self.cavity_on:
             self._measure_cavity()
         self._show(mesh)
@@ -415,6 +414,8 @@ class MeshDisplay(_Base):
         shown = self.mesh.points
         surface.update(shown, surface.changed_rows(shown))
         self._use_index(surface, light)
+        if not QApplication.mouseButtons():  # the copy drawn since a stroke: the mesh now
+            self.lod.show_full()
         self.request_render()
         self.surface_ready.emit()
 
@@ -522,7 +523,7 @@ class MeshDisplay(_Base):
         face, point = hit
         rows = self.surface.rank[self._faces[face]]
         a, b, c = self.surface.positions[rows]
-        weights = barycentric(a, b, c, point)
+        weights = closest_points_on_triangles(point[None], a[None], b[None], c[None])[1][0]
         normal = weights @ self.surface.normals[rows]
         length = np.linalg.norm(normal)
         return point, (normal / length if length > 0 else np.cross(b - a, c - a))

@@ -140,7 +140,12 @@ class MeshEdits(QObject):
         remade = sculptor.faces is not self._shown_faces
         if remade:
             self._shown_faces = sculptor.faces
-            viewport.set_mesh(sculptor.vertices, sculptor.faces, reset_camera=False)
+            viewport.set_mesh(
+                sculptor.vertices,
+                sculptor.faces,
+                reset_camera=False,
+                renumbering=sculptor.remesher.mesh.renumbering,  # a stroke's: local
+            )
             self.window.look.apply_mesh_look()
             self.window.surface_progress.setValue(0)
             self.window.surface_progress.setVisible(viewport.surface_building)

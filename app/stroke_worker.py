@@ -145,10 +145,11 @@ class StrokeWorker(QObject):
         view, pos, self.release_pos = self.view, self.release_pos, None
         if view.tools is not None:
             view.draw(view.tools.release(), "Brush stopped")
-        view.lod.show_full()
         if view._faces_in_stroke:  # the whole new mesh shown and indexed, once
             view._faces_in_stroke = False
             view.faces_replaced.emit()
+        if not view.surface_building:  # else the mesh is drawn once indexed (no flat frame)
+            view.lod.show_full()
         view.stroke_ended.emit()
         # the ring leaves where the stroke acted for the surface under the pointer now, in
         # the same frame as the settled mesh (a frame of a big mesh is slow)

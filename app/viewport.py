@@ -236,7 +236,10 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         sculptor = self.tools.sculptor if self.tools is not None else None
         if sculptor is not None and self._faces is not None and sculptor.faces is not self._faces:
             if self.in_stroke:  # dynamic topology: drawn at once, indexed when the stroke ends
-                self.set_mesh(sculptor.vertices, sculptor.faces, False, in_stroke=True)
+                change = sculptor.remesher.mesh.renumbering  # how its faces came
+                self.set_mesh(
+                    sculptor.vertices, sculptor.faces, False, in_stroke=True, renumbering=change
+                )
                 self.show_mask_of(sculptor)
                 self._faces_in_stroke = True
             else:

@@ -23,8 +23,9 @@ Prints (figures only; nothing is asserted; issue 36, items 2, 3 and 4):
   every 40 ms for 10 s, then the release: the GUI thread's longest stall (the longest gap
   between ticks of a 10 ms timer) and the longest without the time spent rendering, the
   engine's events (count, median), and from the release until a next stroke can start (the
-  new faces indexed). ``--stall-only`` runs only this; ``--on-gui-thread`` runs every step on
-  the GUI thread, as before :mod:`app.stroke_worker`;
+  new faces indexed), and what ran after the release, when and for how long.
+  ``--stall-only`` runs only this (``--default-model``: on the default model);
+  ``--on-gui-thread`` runs every step on the GUI thread, as before :mod:`app.stroke_worker`;
 * on an empty numba cache (a temporary ``NUMBA_CACHE_DIR``): seconds from the app's first
   request of its kernels until the field's compiled drivers serve (the first stroke runs
   compiled), and until every unit of the request is in;
@@ -43,6 +44,18 @@ Measured 2026-11-29 (the dynamic-topology stroke; 2 cores shared, load average ~
 * with the core measured against the fastest the stroke went (quiet machine, 2 runs): longest
   stall 0.60-0.95 s; 9 events, median 1.2-1.3 s, none over 2.5 s; release -> next stroke 4.7-5.5
   s (6 runs before it: 3.7-31 s, the last step 18-28 s in 4 of them).
+
+* the index renumbered at the release (issue 34: ``SurfaceIndex(orders=...)``, no sort; the
+  interaction copy kept, following the new vertices, so stroke frames stay light), three runs
+  each interleaved with main's, load average 5-5.5: release -> next stroke possible 2.4-2.7 s
+  (median 2.57 s; main 4.7-5.4 s, median 5.19 s), of which ~1.3 s the steps still running at
+  the release, ~0.1 s the tools' release, ~0.5 s renumbering, ~0.4-0.75 s the first full frame
+  (main: ~1.8 s index and copy built anew); frames during the stroke 59-67 ms (copy; main
+  312-358 ms, full flat mesh); longest stall 0.49-0.89 s (main 0.75-0.78 s: the last full
+  frame either way), 0.27-0.30 s not counting renders (main 0.19-0.25 s: the copy follows the
+  new vertices on the GUI thread, 30-70 ms a step). ``--default-model`` (2 runs each): release
+  -> next stroke 0.42-0.69 s (main 0.76-0.94 s), the same code path (small meshes index at
+  once).
 
 Goals: brush step ≤ the engine's event + 20 ms; stroke and camera frames ≥ 3× faster than
 a full frame; idle ≤ 500 MB; after Ctrl+N within 10 % of the fresh start; drivers ≤ 20 s after the
@@ -188,7 +201,9 @@ def start_app():
     return window, settle
 
 
-def probe_rss(meshes: Path, stall_only: bool = False, gui: bool = False) -> dict[str, object]:
+def probe_rss(
+    meshes: Path, stall_only: bool = False, gui: bool = False, default: bool = False
+) -> dict[str, object]:
     from PySide6.QtCore import Qt
     from PySide6.QtTest import QTest
     from PySide6.QtWidgets import QApplication
@@ -196,6 +211,12 @@ def probe_rss(meshes: Path, stall_only: bool = False, gui: bool = False) -> dict
     window, settle = start_app()
     app = QApplication.instance()
     result: dict[str, object] = {"idle": rss_mb(), "idle_anonymous": anonymous_mb()}
+    if default:  # the stall on the default model instead
+        result.update(dynamic_stroke_stall(app, window, on_gui_thread=gui))
+        window.document._saved_vertices = window.document.sculptor.vertices.copy()
+        window.document._saved_faces = window.document.sculptor.faces
+        window.close()
+        return result
     path = big_mesh(meshes)
     if isinstance(path, str):
         result["skipped"] = path
@@ -351,6 +372,37 @@ def interaction_figures(app, window) -> dict[str, object]:
     return figures
 
 
+def _timed_release_stages(window) -> list[tuple[str, float, float]]:
+    """Wrap what a dynamic-topology stroke's end runs (the tools' release: undo step and
+    journal; showing the new mesh; the index build or renumbering, on the background thread;
+    taking the built index) to record (name, start, end) of each call, perf_counter seconds."""
+    import app.level_of_detail
+
+    spans: list[tuple[str, float, float]] = []
+
+    def timed(name, function):
+        def run(*args, **kwargs):
+            start = time.perf_counter()
+            try:
+                return function(*args, **kwargs)
+            finally:
+                spans.append((name, start, time.perf_counter()))
+
+        return run
+
+    vp, tools = window.viewport, window.tools
+    tools.release = timed("tools.release (undo step, journal)", tools.release)
+    vp.set_mesh = timed("viewport.set_mesh", vp.set_mesh)
+    vp._use_index = timed("viewport takes the index", vp._use_index)
+    tools.flush = timed("brush step", tools.flush)
+    built = app.level_of_detail.indexed
+    app.level_of_detail.indexed = timed("index and copy built anew (background)", built)
+    if hasattr(app.level_of_detail, "renumbered"):  # issue 34: the index renumbered
+        renumbered = app.level_of_detail.renumbered
+        app.level_of_detail.renumbered = timed("index renumbered (background)", renumbered)
+    return spans
+
+
 def dynamic_stroke_stall(
     app, window, seconds: float = 10.0, on_gui_thread: bool = False
 ) -> dict[str, object]:
@@ -369,6 +421,7 @@ def dynamic_stroke_stall(
     vp.stroke_worker.slow_step_ms = SLOW_STEP_MS
     if on_gui_thread:
         vp.stroke_worker.slow_steps = lambda *_args: False
+    result_before = len(window.document.sculptor.vertices)
     window.model.dynamic_topology = True
     window.model.brush.update({"kind": "grab", "radius": 0.03})
     w, h = vp.width(), vp.height()
@@ -407,9 +460,14 @@ def dynamic_stroke_stall(
     steps: list[float] = []
     vp.step_timed.connect(steps.append)
     renders: list[tuple[float, float]] = []  # (start, end) of each frame
-    vp.frame_rendered.connect(
-        lambda ms: renders.append((time.perf_counter() - ms / 1e3, time.perf_counter()))
-    )
+    drew: list[str] = []  # what each frame drew
+
+    def rendered(ms: float) -> None:
+        renders.append((time.perf_counter() - ms / 1e3, time.perf_counter()))
+        drew.append("frame (copy)" if vp.lod.shown else "frame (full mesh)")
+
+    vp.frame_rendered.connect(rendered)
+    stages = _timed_release_stages(window)
     beat.start()
     began = time.perf_counter()
     post(QEvent.Type.MouseButtonPress, start, left, left)
@@ -443,6 +501,8 @@ def dynamic_stroke_stall(
     release_time = released[0]
     beat.stop()
     window.model.dynamic_topology = False
+    stages.extend((what, s, e) for what, (s, e) in zip(drew, renders, strict=True))
+    stages.sort(key=lambda stage: stage[1])
     spans = list(zip([began, *ticks], [*ticks, ended], strict=True))
     gaps = [b - a for a, b in spans]
 
@@ -457,8 +517,15 @@ def dynamic_stroke_stall(
         "stall_events": window.tools.processed,
         "stall_release": 1e3 * (ended - release_time),
         "stall_vertices": len(window.document.sculptor.vertices),
+        "vertices_before": result_before,
         "stall_step": statistics.median(steps) if steps else float("nan"),
         "stall_steps": [round(ms) for ms in steps],
+        # what ran after the release: (stage, ms from the release to its start, its ms)
+        "stall_stages": [
+            (name, round(1e3 * (a - release_time)), round(1e3 * (b - a)))
+            for name, a, b in stages
+            if b >= release_time
+        ],
     }
 
 
@@ -625,13 +692,16 @@ def print_stall(r: dict[str, object]) -> None:
     if "stall_max" not in r:
         return
     print(
-        f"dynamic-topology grab (radius 0.03) for 10 s on the 1M mesh: longest GUI-thread stall "
+        f"dynamic-topology grab (radius 0.03) for 10 s on the {r['vertices_before']:,}-vertex "
+        f"mesh: longest GUI-thread stall "
         f"{r['stall_max']:.0f} ms (10 ms heartbeat), {r['stall_no_render']:.0f} ms not counting "
         f"renders (frames {r['frame']:.0f} ms); {r['stall_moves']} moves -> "
         f"{r['stall_events']} events (median {r['stall_step']:.0f} ms), release -> next stroke "
         f"possible {r['stall_release']:.0f} ms, "
         f"{r['stall_vertices']:,} vertices after"
     )
+    for name, start, ms in r.get("stall_stages", []):
+        print(f"    after the release: {name} at {start} ms, for {ms} ms")
 
 
 def main() -> None:
@@ -649,10 +719,14 @@ def main() -> None:
     parser.add_argument(
         "--on-gui-thread", action="store_true", help="(--stall-only) steps on the GUI thread"
     )
+    parser.add_argument(
+        "--default-model", action="store_true", help="(--stall-only) on the default model"
+    )
     parser.add_argument("--skip-rss", action="store_true", help="compile figures only")
     args = parser.parse_args()
     if args.probe_rss:
-        print(json.dumps(probe_rss(Path(args.meshes), args.stall_only, args.on_gui_thread)))
+        options = (args.stall_only, args.on_gui_thread, args.default_model)
+        print(json.dumps(probe_rss(Path(args.meshes), *options)))
         return
     if args.probe_idle:
         print(json.dumps(probe_idle()))
@@ -664,6 +738,7 @@ def main() -> None:
         if not args.stall_only:
             print_idle_and_floor(args.launches)
         options = ["--stall-only"] * args.stall_only + ["--on-gui-thread"] * args.on_gui_thread
+        options += ["--default-model"] * args.default_model
         rss = child_json(str(HERE), "--probe-rss", "--meshes", args.meshes, *options)
         print(f"RSS idle, default model, fresh start (the process below): {rss['idle']:.0f} MB")
         if "skipped" in rss:

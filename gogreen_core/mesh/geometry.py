@@ -328,7 +328,8 @@ class SurfaceIndex:
     what a renderer draws directly (the viewport's VTK arrays share their memory).
 
     Parameters: vertices (N, 3) float64; faces (M, 3) int; progress: called with the fraction
-    done (0, 1] between the build's stages (raising from it cancels the build).
+    done (0, 1] between the build's stages (raising from it cancels the build); orders: the
+    vertices' and faces' orders (int32 permutations) to build in (no sort), else the curve's.
 
     Attributes: order (N,) int32, the vertex of each row of :attr:`positions` and
     :attr:`normals` (rank (N,) its inverse); positions (N, 3) and normals (N, 3) float64 as of
@@ -341,6 +342,7 @@ class SurfaceIndex:
         vertices: np.ndarray,
         faces: np.ndarray,
         progress: Callable[[float], None] | None = None,
+        orders: tuple[np.ndarray, np.ndarray] | None = None,
     ):
         report = progress if progress is not None else (lambda _fraction: None)
         vertices = np.ascontiguousarray(vertices, dtype=np.float64)
@@ -349,20 +351,16 @@ class SurfaceIndex:
         n = len(vertices)
         faces = checked_faces(faces, n)
         if n >= 2**31 or 3 * len(faces) >= 2**31:  # int32 rows and face-corner offsets
-            raise ValueError(
-                "meshes of 2**31 vertices or 2**31 / 3 faces or more are not supported"
-            )
+            raise ValueError("meshes of 2**31 vertices or 2**31 / 3 faces or more are unsupported")
         faces = np.ascontiguousarray(faces, dtype=np.int32)
         self._n_vertices = n
-        low = vertices.min(axis=0) if n else np.zeros(3)
-        extent = (vertices.max(axis=0) - low) if n else np.ones(3)
-        scale = ((1 << _MORTON_BITS) - 1) / np.maximum(extent, 1e-300)
-        # the vertices along the curve, then the faces by their centroids
-        self.order = _curve_order(vertices, np.arange(n, dtype=np.int32).reshape(n, 1), low, scale)
+        if orders is None:  # the vertices along the curve, then the faces by their centroids
+            alone = np.arange(n, dtype=np.int32).reshape(n, 1)
+            orders = _curve_order(vertices, alone), _curve_order(vertices, faces)
+        self.order, self.face_order = orders
         self.rank = np.empty(n, dtype=np.int32)
         self.rank[self.order] = np.arange(n, dtype=np.int32)
         report(0.2)
-        self.face_order = _curve_order(vertices, faces, low, scale)
         face_rank = np.empty(len(faces), dtype=np.int32)
         face_rank[self.face_order] = np.arange(len(faces), dtype=np.int32)
         report(0.4)
@@ -487,10 +485,12 @@ def _threads_for(work: int) -> AbstractContextManager[int]:
     return threads_at_most(1 if work < PARALLEL_VERTICES else numba.get_num_threads())
 
 
-def _curve_order(points: np.ndarray, groups: np.ndarray, low: np.ndarray,
-                 scale: np.ndarray) -> np.ndarray:  # fmt: skip
-    """Indices (int32) of the groups (k, g) of ``points`` sorted along the Z-order curve of
-    their mean points, ties in index order."""
+def _curve_order(points: np.ndarray, groups: np.ndarray) -> np.ndarray:
+    """Indices (int32) of the groups (k, g) of ``points`` (N, 3) sorted along the Z-order curve
+    (of the points' bounding box) of their mean points, ties in index order."""
+    low = points.min(axis=0) if len(points) else np.zeros(3)
+    extent = (points.max(axis=0) - low) if len(points) else np.ones(3)
+    scale = ((1 << _MORTON_BITS) - 1) / np.maximum(extent, 1e-300)
     keys = np.empty(len(groups), dtype=np.int64)
     _kernels()._morton_keys(points, np.ascontiguousarray(groups, dtype=np.int32), low, scale, keys)
     keys.sort()  # unique keys: any sort gives the stable order; numpy's default is fastest
@@ -501,9 +501,7 @@ def _exercise() -> None:
     """Call every compiled function of this module once, on a small surface index."""
     vertices = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
     index = SurfaceIndex(vertices, np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]))
-    moved = vertices.copy()
-    moved[3, 2] = 1.5
-    index.update(moved, np.array([3]))
+    index.update(1.5 * vertices, np.array([3]))
     index.changed_rows(vertices)
     index.pick(np.array([0.2, 0.2, 3.0]), np.array([0.0, 0.0, -1.0]))
 

@@ -173,8 +173,9 @@ class MeshState:
     stay right); faces (M, 3) int64; texture corners ``uv`` (T, 2), ``uv_faces`` (M, 3) (-1:
     untextured) or None; the :attr:`mask` (N,) float64 in [0, 1] (1 does not move);
     :attr:`model_size` (bounding-box diagonal at load, model units) and :attr:`origin` (its
-    centre: the point of the mirror planes). :attr:`topology` counts the changes of the face
-    array; :attr:`edges` and :attr:`neighbours` are built on first use for the current faces."""
+    centre: the point of the mirror planes); :attr:`renumbering` (faces, origin, face_origin)
+    if the faces came of those by a local change (as :func:`topology_edit` takes it), else
+    None; :attr:`edges` and :attr:`neighbours` are built on first use for the current faces."""
 
     def __init__(
         self,
@@ -217,7 +218,7 @@ class MeshState:
         self.masked = False
         #: Counts the changes of the mask (a view redraws its tint when it changes).
         self.mask_version = 0
-        self.topology = 0
+        self.renumbering: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
         self._blocks = VertexBlocks()
 
     # -- connectivity ------------------------------------------------------------------------
@@ -255,7 +256,7 @@ class MeshState:
         )
 
     def adopt(self, mesh: MeshSnapshot | MeshEdit, owned: bool = False) -> None:
-        """Take the arrays of ``mesh`` (copies; a new face array, a new :attr:`topology`), or
+        """Take the arrays of ``mesh`` (copies; a new face array, no :attr:`renumbering`), or
         of a :class:`MeshEdit` side applied to these; the model's size and origin stay.
         ``owned``: its arrays are new, writable, float64 and int64, nobody else's (dynamic
         topology's): taken as they are, no copy."""
@@ -272,7 +273,7 @@ class MeshState:
         self.uv = None if mesh.uv is None else take(mesh.uv, dtype=np.float64)
         self.uv_faces = None if mesh.uv_faces is None else take(mesh.uv_faces, dtype=np.int64)
         if not same:
-            self.topology += 1
+            self.renumbering = None  # the caller says how, if it knows
             for built in ("edges", "neighbours"):  # built again on first use
                 self.__dict__.pop(built, None)
 

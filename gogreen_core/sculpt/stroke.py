@@ -237,6 +237,7 @@ class StrokeDriver:
         assert done.mask is not None
         new_mesh = MeshSnapshot(done.vertices, done.faces, done.mask, done.uv, done.uv_faces)
         mesh.adopt(new_mesh, owned=True)
+        mesh.renumbering = (stroke.start.faces, stroke.origin, stroke.face_origin)
         return True
 
     def _write(self, stroke: _Stroke, moved: Displacement) -> None:

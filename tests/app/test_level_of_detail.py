@@ -137,3 +137,119 @@ def test_a_thumbnail_from_the_copy_leaves_the_full_mesh_shown(big_viewport):
     assert frames and frames[0]  # drawn from the copy
     assert not vp.lod.shown and vp.mesh_actor.GetVisibility()
     assert not vp.lod.light.actor.GetVisibility()
+
+
+def test_a_dynamic_topology_stroke_keeps_the_copy_and_renumbers_the_index(
+    window, qtbot, monkeypatch
+):
+    """Issue 34: on a big mesh a dynamic-topology stroke draws the interaction copy all along
+    (it follows the new vertices), and the release renumbers the index, no new build, to the
+    normals, picks and faces of a new one; an undo shows the mesh before it again."""
+    import app.mesh_display
+    from gogreen_core.mesh.geometry import SurfaceIndex
+
+    monkeypatch.setattr(app.level_of_detail, "LIGHT_MIN_FACES", 1000)
+    monkeypatch.setattr(app.mesh_display, "BACKGROUND_INDEX_FACES", 1000)
+    activate(window, qtbot)
+    vp = window.viewport
+    sculptor = window.document.sculptor
+    vp.set_mesh(sculptor.vertices, sculptor.faces)
+    qtbot.waitUntil(lambda: vp.surface is not None, timeout=60_000)
+    vp.render_now()
+    vp.lod.full_frame_ms = 5 * LIGHT_FRAME_MS
+    builds = []
+    build = app.level_of_detail.indexed
+    monkeypatch.setattr(app.level_of_detail, "indexed", lambda *a: builds.append(1) or build(*a))
+    window.model.dynamic_topology = True
+    window.model.detail_size = 0.004
+    window.model.brush.kind = "grab"
+    window.model.brush.radius = 0.2
+    vertices, faces = sculptor.vertices.copy(), sculptor.faces.copy()
+    start = center_of(window)
+    QTest.mousePress(vp, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, start)
+    shown_during = []
+    for k in range(1, 6):
+        QTest.mouseMove(vp, start + QPoint(8 * k, -6 * k))
+        vp.flush_tools()
+        qtbot.waitUntil(lambda: not vp.stroke_worker.running, timeout=60_000)
+        shown_during.append(vp.lod.shown)
+        light = vp.lod.light
+        assert np.array_equal(light.index.vertices, sculptor.vertices[light.rows])
+    QTest.mouseRelease(vp, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, start)
+    qtbot.waitUntil(lambda: vp.surface is not None and not vp.lod.shown, timeout=60_000)
+    assert all(shown_during) and not builds
+    assert sculptor.faces.shape != faces.shape  # the stroke changed the topology
+    fresh, index = SurfaceIndex(sculptor.vertices, sculptor.faces), vp.surface
+    assert np.array_equal(index.normals[index.rank], fresh.normals[fresh.rank])
+    assert np.array_equal(vp.shown_vertices(), sculptor.vertices)
+    drawn = vp.mesh.regular_faces  # the mesh's faces, each once, as rows of the index
+    assert np.array_equal(
+        np.sort(np.sort(index.order[drawn], axis=1), axis=0),
+        np.sort(np.sort(sculptor.faces, axis=1), axis=0),
+    )
+    rng = np.random.default_rng(1)
+    for _ in range(30):
+        origin = rng.normal(size=3) * 3
+        direction = rng.normal(size=3) * 0.2 - origin
+        got, expected = index.pick(origin, direction), fresh.pick(origin, direction)
+        assert (got is None) == (expected is None)
+        assert got is None or (got[0] == expected[0] and np.array_equal(got[1], expected[1]))
+    QTest.keyClick(vp, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    qtbot.waitUntil(lambda: vp.surface is not None, timeout=60_000)
+    assert np.array_equal(sculptor.faces, faces) and np.array_equal(sculptor.vertices, vertices)
+    assert np.array_equal(vp.shown_vertices(), vertices)
+    assert vp.mesh.n_cells == len(faces)
+
+
+def test_renumbered_index_after_local_remeshes_equals_a_new_build():
+    """Issue 34: random local remeshes (vertices split, collapsed, moved) renumber the index
+    (:func:`app.level_of_detail.renumbered`: the kept rows in their order, no sort) to the
+    normals (bit for bit), picks and drawn faces of a new index on the same mesh."""
+    from app.level_of_detail import renumbered
+    from gogreen_core.mesh.geometry import SurfaceIndex
+    from gogreen_core.mesh.remesh import remesh
+    from gogreen_core.mesh.shapes import default_model
+
+    vertices, faces = default_model(4)
+    index = SurfaceIndex(vertices, faces)
+    rng = np.random.default_rng(7)
+    removed = added = 0
+    median = np.median(np.linalg.norm(vertices[faces[:, 0]] - vertices[faces[:, 1]], axis=1))
+    for _ in range(4):
+        center = vertices[rng.integers(len(vertices))]
+        moved = (
+            vertices
+            + 0.01
+            * rng.normal(size=vertices.shape)
+            * (np.linalg.norm(vertices - center, axis=1) < 0.3)[:, None]
+        )
+        region = np.linalg.norm(vertices - center, axis=1) < 0.35
+        done = remesh(moved, faces, region, median * rng.choice([0.5, 2.0]), iterations=2)
+        removed += int((done.kept < 0).sum())
+        added += len(done.vertices) - int((done.kept >= 0).sum())
+        origin = np.full(len(done.vertices), -1)
+        origin[: np.count_nonzero(done.kept >= 0)] = np.flatnonzero(done.kept >= 0)
+        face_origin = np.full(len(done.faces), -1)
+        face_origin[: np.count_nonzero(done.kept_faces)] = np.flatnonzero(done.kept_faces)
+        previous = index
+        index = renumbered(index, done.vertices, done.faces, (faces, origin, face_origin))
+        n = np.count_nonzero(origin >= 0)  # the kept vertices keep their rows' order
+        assert np.all(np.diff(previous.rank[origin[:n]][np.argsort(index.rank[:n])]) > 0)
+        vertices, faces = done.vertices, done.faces
+        fresh = SurfaceIndex(vertices, faces)
+        assert np.array_equal(index.order[index.rank], np.arange(len(vertices)))
+        assert np.array_equal(index.positions[index.rank], vertices)
+        drawn = np.sort(np.sort(index.order[index.faces], axis=1), axis=0)
+        assert np.array_equal(drawn, np.sort(np.sort(faces, axis=1), axis=0))
+        assert np.array_equal(index.normals[index.rank], fresh.normals[fresh.rank])
+        assert np.array_equal(index._face_normals[np.argsort(index.face_order)],
+                              fresh._face_normals[np.argsort(fresh.face_order)])  # fmt: skip
+        for _ in range(40):
+            origin = rng.normal(size=3) * 3
+            direction = rng.normal(size=3) * 0.3 - origin
+            got, expected = index.pick(origin, direction), fresh.pick(origin, direction)
+            assert (got is None) == (expected is None)
+            if got is not None:
+                assert got[0] == expected[0]
+                assert np.array_equal(got[1], expected[1])
+    assert removed > 0 and added > 0

@@ -221,3 +221,56 @@ def test_pick_misses_and_bad_rays(pebble):
         index.pick(np.zeros(3), np.zeros(3))
     with pytest.raises(ValueError, match="finite"):
         index.pick(np.array([np.nan, 0, 0]), np.ones(3))
+
+
+def test_an_index_built_in_given_orders_equals_a_new_build(pebble):
+    """Given orders (a renumbered mesh keeps its index's, issue 34): no sort, the normals (bit
+    for bit), picks and drawn faces of a build along the curve."""
+    vertices, faces = pebble
+    rng = np.random.default_rng(5)
+    orders = rng.permutation(len(vertices)), rng.permutation(len(faces))
+    index, fresh = SurfaceIndex(vertices, faces, orders=orders), SurfaceIndex(vertices, faces)
+    assert np.array_equal(index.order, orders[0]) and np.array_equal(index.face_order, orders[1])
+    assert np.array_equal(index.normals[index.rank], fresh.normals[fresh.rank])
+    assert np.array_equal(index.order[index.faces], faces[orders[1]])
+    for _ in range(40):
+        origin = rng.normal(size=3) * 3
+        direction = rng.normal(size=3) * 0.3 - origin
+        got, expected = index.pick(origin, direction), fresh.pick(origin, direction)
+        assert (got is None) == (expected is None)
+        assert got is None or (got[0] == expected[0] and np.array_equal(got[1], expected[1]))
+    moved, changed = brush_move(vertices, 3, 0.5)
+    index.update(moved, changed)
+    assert_normals_of(index, moved, faces)
+
+
+def test_a_dynamic_topology_stroke_records_how_it_renumbered_the_mesh():
+    """The mesh state's record of a dynamic-topology stroke: the faces before it and each
+    row's row before (the carried faces are the old ones renumbered, the new rows after the
+    others); an undo (faces from elsewhere) leaves no record."""
+    from gogreen_core import Sculptor
+    from gogreen_core.sculpt.brushes import Brush, BrushEvent
+
+    vertices, faces = default_model(3)
+    sculptor = Sculptor(vertices, faces, dynamic_topology=True)
+    before_vertices = sculptor.vertices.copy()
+    state = sculptor.remesher.mesh
+    assert state.renumbering is None
+    before = sculptor.faces
+    top = sculptor.vertices[int(np.argmax(sculptor.vertices[:, 2]))].copy()
+    step = np.array([0.0, 0.0, 0.03 * sculptor.model_size])
+    sculptor.begin_stroke(Brush("grab", radius=0.05))
+    for k in range(4):
+        sculptor.stroke_event(BrushEvent(center=top + k * step, delta=step))
+    sculptor.end_stroke()
+    assert sculptor.faces.shape != before.shape
+    start, origin, face_origin = state.renumbering
+    assert start is before
+    n, m = np.count_nonzero(origin >= 0), np.count_nonzero(face_origin >= 0)
+    assert np.all(origin[:n] >= 0) and np.all(origin[n:] < 0) and np.all(face_origin[m:] < 0)
+    assert np.all(np.diff(origin[:n]) > 0) and np.all(np.diff(face_origin[:m]) > 0)
+    new_row = np.full(len(before_vertices), -1)
+    new_row[origin[:n]] = np.arange(n)
+    assert np.array_equal(new_row[before[face_origin[:m]]], sculptor.faces[:m])
+    sculptor.undo()
+    assert state.renumbering is None and np.array_equal(sculptor.faces, before)
