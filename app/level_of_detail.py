@@ -191,10 +191,14 @@ class LightMesh:
             self.polydata.GetPointData().GetNormals().Modified()
         return len(changed)
 
-    def follow(self, vertices: np.ndarray, faces: np.ndarray, change: Renumbering) -> None:
+    def follow(
+        self, vertices: np.ndarray, faces: np.ndarray, change: Renumbering, before: np.ndarray
+    ) -> None:
         """The mesh became ``vertices`` (N', 3), ``faces`` by ``change`` from the mesh of
-        :attr:`base`: each vertex of the copy the same vertex in its new row, or where it was
-        collapsed away, the new faces' corner nearest to where it is drawn."""
+        :attr:`base`, whose vertices were at ``before`` (N, 3): each vertex of the copy the
+        same vertex in its new row, or where it was collapsed away, the kept corner of the new
+        faces that was nearest to it before (a neighbour on its side of the surface: the
+        corner nearest to where it is drawn may be across a fold the stroke made)."""
         from scipy.spatial import cKDTree
 
         _, origin, face_origin = change
@@ -203,8 +207,13 @@ class LightMesh:
         lost = np.flatnonzero(rows < 0)
         if len(lost):
             corners = np.unique(faces[int(np.count_nonzero(face_origin >= 0)) :])
-            drawn = self.index.positions[self.index.rank[lost]]
-            rows[lost] = corners[cKDTree(vertices[corners]).query(drawn)[1]]
+            kept = corners[origin[corners] >= 0]
+            if len(kept):
+                near = cKDTree(before[origin[kept]]).query(before[self.base[lost]])[1]
+                rows[lost] = kept[near]
+            else:  # every corner is new: the one nearest to where it is drawn
+                drawn = self.index.positions[self.index.rank[lost]]
+                rows[lost] = corners[cKDTree(vertices[corners]).query(drawn)[1]]
         self.rows = rows
         self.update(vertices[rows])
 
@@ -349,13 +358,15 @@ class LevelOfDetail:
                 window.SetMultiSamples(HARDWARE_MULTI_SAMPLES)
                 self.display.request_render()
 
-    def follow(self, vertices: np.ndarray, faces: np.ndarray, change: Renumbering) -> None:
-        """The mesh became ``vertices``, ``faces`` by a local ``change`` of its indexed
-        topology: the copy follows it (:meth:`LightMesh.follow`), still drawn if it was; the
+    def follow(
+        self, vertices: np.ndarray, faces: np.ndarray, change: Renumbering, base: SurfaceIndex
+    ) -> None:
+        """The mesh became ``vertices``, ``faces`` by a local ``change`` of the topology ``base``
+        indexed: the copy follows it (:meth:`LightMesh.follow`), still drawn if it was; the
         vertices moved meanwhile are dropped (the mesh's index is made anew)."""
         self._deferred = None
         if self.light is not None:
-            self.light.follow(vertices, faces, change)
+            self.light.follow(vertices, faces, change, base.positions[base.rank])
 
     def interaction_frames(self) -> None:
         """The camera moves or a stroke runs: its frames from the copy when full frames are

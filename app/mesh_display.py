@@ -171,7 +171,7 @@ class MeshDisplay(_Base):
         self._field_rows = np.zeros(0, dtype=np.int64)
         self.cavity = None  # the new mesh's, once its index is ready
         if base is not None and renumbering is not None:
-            self.lod.follow(vertices, faces, renumbering)
+            self.lod.follow(vertices, faces, renumbering, base[0])
         else:
             self.lod.drop()
         self._index_runner.cancel()
