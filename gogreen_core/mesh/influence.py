@@ -87,8 +87,7 @@ class VertexBlocks:
     """The influence test of one vertex array, answered with the bounding boxes of its blocks
     of :data:`BLOCK` consecutive rows (see the module docstring): lo, hi (n_blocks, 3) (lo > hi:
     no finite row), dirty (n_blocks,) (written since fitted). One lock guards them, so a
-    background query and another thread's writes may interleave.
-    """
+    background query and another thread's writes may interleave."""
 
     def __init__(self) -> None:
         self._lock = threading.Lock()
@@ -108,16 +107,21 @@ class VertexBlocks:
         self._dirty = np.ones(n_blocks, dtype=np.bool_)
         self._near = np.empty(n, dtype=np.bool_)
         self._dormant: bool | None = None  # decided with the first boxes
+        self._answer: tuple[NDArray[np.int64], ...] = ()  # the last answer, its blocks not OUT
 
     def changed(self, vertices: NDArray[np.float64], rows: NDArray[np.integer] | None) -> None:
         """Rows ``rows`` (k,) of ``vertices`` (N, 3) were written (None: any row may have been):
-        their boxes are refitted before the next answer. Nothing to do for another array."""
+        their boxes are refitted before the next answer (an answer of :meth:`rows_near` must be
+        reported unchanged). Nothing to do for another array."""
         compiled = _compiled.drivers()
         with self._lock:
             if not self._serves(vertices) or self._dormant:
                 return
             if rows is None:
                 self._dirty[:] = True
+                return
+            if self._answer and rows is self._answer[0]:  # no pass over an event's 500k rows
+                self._dirty[self._answer[1]] = True
                 return
             rows = np.ascontiguousarray(rows, dtype=np.int64).ravel()
             if compiled:
@@ -135,10 +139,9 @@ class VertexBlocks:
         mirrors: NDArray[np.float64],
         origin: NDArray[np.float64],
     ) -> NDArray[np.int64]:
-        """The rows (n,) int64, ascending, of ``vertices`` (N, 3) some mirror image of which
-        (``mirrors`` (k, 3) ±1 signs about ``origin`` (3,)) lies within ``radius`` (model
-        units) of the segment ``start`` (3,) → ``start + step`` (3,): exactly the plain pass's
-        (:func:`plain_rows_near`)."""
+        """The rows (n,) int64, ascending, of ``vertices`` (N, 3) the influence test keeps
+        (module docstring; ``mirrors`` (k, 3) ±1 signs about ``origin`` (3,)): exactly
+        :func:`plain_rows_near`'s."""
         query: Query = (
             np.ascontiguousarray(start, dtype=np.float64),
             np.ascontiguousarray(step, dtype=np.float64),
@@ -199,6 +202,7 @@ class VertexBlocks:
         ends = np.cumsum(counts)
         out = np.empty(int(ends[-1]) if n_hits else 0, dtype=np.int64)
         run_ranges(partial(_emit, n, hits, status, near, ends - counts, out), n_hits, MIN_BLOCKS)
+        self._answer = (out, hits)
         return out
 
 
