@@ -76,8 +76,7 @@ def plain_rows_near(
     compiled: bool,
 ) -> NDArray[np.int64]:
     """The rows (n,) int64 of ``points`` (N, 3) the influence test keeps, by a pass over all of
-    them: ``_evaluation.near_segment`` (compiled, or NumPy's when ``compiled`` is False), then
-    ``np.flatnonzero``."""
+    them (``_evaluation.near_segment``, NumPy's unless ``compiled``) and ``np.flatnonzero``."""
     out = np.empty(len(points), dtype=np.bool_)
     _evaluation.near_segment(points, start, step, radius, mirrors, origin, out, compiled)
     return np.flatnonzero(out)
@@ -111,8 +110,7 @@ class VertexBlocks:
 
     def changed(self, vertices: NDArray[np.float64], rows: NDArray[np.integer] | None) -> None:
         """Rows ``rows`` (k,) of ``vertices`` (N, 3) were written (None: any row may have been):
-        their boxes are refitted before the next answer (an answer of :meth:`rows_near` must be
-        reported unchanged). Nothing to do for another array."""
+        their boxes are refitted before the next answer. Nothing to do for another array."""
         compiled = _compiled.drivers()
         with self._lock:
             if not self._serves(vertices) or self._dormant:
@@ -120,7 +118,7 @@ class VertexBlocks:
             if rows is None:
                 self._dirty[:] = True
                 return
-            if self._answer and rows is self._answer[0]:  # no pass over an event's 500k rows
+            if self._answer and rows is self._answer[0]:  # an answer (unchanged): no row pass
                 self._dirty[self._answer[1]] = True
                 return
             rows = np.ascontiguousarray(rows, dtype=np.int64).ravel()
@@ -175,8 +173,7 @@ class VertexBlocks:
             self._dirty[dirty] = False
 
     def _without_locality(self) -> bool:
-        """Whether the median block spans more than :data:`DORMANT_EXTENT` of the diagonal of
-        the vertices' bounding box (then the plain pass serves this array)."""
+        """Whether the median block spans over :data:`DORMANT_EXTENT` of the bbox diagonal."""
         lo, hi = self._lo, self._hi
         valid = np.all(lo <= hi, axis=1)
         if not valid.any():
@@ -223,8 +220,7 @@ def _usable(
     radius: float,
     mirrors: NDArray[np.float64],
 ) -> bool:
-    """Whether the blocks may answer (see the module docstring; the coordinates are checked
-    with the boxes)."""
+    """Whether the blocks may answer (module docstring; the boxes check the coordinates)."""
     if not (start.shape == step.shape == (3,) and mirrors.ndim == 2 and mirrors.shape[1] == 3):
         return False
     if not (1 <= len(mirrors) <= MAX_IMAGES and np.all(np.abs(mirrors) == 1.0)):
