@@ -17,7 +17,8 @@ Prints, in one run (figures only, no assertions):
 * the event's influence ball (which vertices it may move): answered by the vertex blocks
   (``gogreen_core.mesh.influence``) against the plain pass over every vertex it replaced, the
   blocks' build (the first query on a new vertex array) and their upkeep after the event (the
-  report of its moved rows, and the refit of their blocks' boxes at the next query);
+  report of its moved rows (the answer itself; the same rows in another array take a pass over
+  them), and the refit of their blocks' boxes at the next query);
 * where the event's CPU time goes: the streamlines' passes (the probes, the first pass, the
   refinement, the write-back), the influence ball and the rest; the moved vertices by distance
   to the brush centre in ε (the field's far field starts beyond the cutoff, at 4 ε) and how
@@ -227,17 +228,20 @@ def influence_ball(
     VertexBlocks().rows_near(mesh.vertices, *args, mesh.origin)  # a build, then the answer
     first = time.perf_counter() - start
     rows = mesh.rows_near(*args)
-    blocks, plain, report, refit = [], [], [], []
+    blocks, plain, report, report_rows, refit = [], [], [], [], []
     for _ in range(repeats):
         start = time.perf_counter()
-        mesh.rows_near(*args)
+        answer = mesh.rows_near(*args)
         blocks.append(time.perf_counter() - start)
         start = time.perf_counter()
         plain_rows_near(mesh.vertices, *args, mesh.origin, True)
         plain.append(time.perf_counter() - start)
         start = time.perf_counter()
-        mesh.moved(rows)  # what the event's write reports
+        mesh.moved(answer)  # what the event's write reports: the answer itself (its blocks)
         report.append(time.perf_counter() - start)
+        start = time.perf_counter()
+        mesh.moved(rows)  # another array of the same rows: a pass over them
+        report_rows.append(time.perf_counter() - start)
         start = time.perf_counter()
         mesh.rows_near(*args)  # refits the moved rows' blocks first
         refit.append(time.perf_counter() - start - blocks[-1])
@@ -249,6 +253,7 @@ def influence_ball(
     print(f"  plain pass over every vertex + flatnonzero:  {median_ms(plain)}")
     print(f"  first query on a new vertex array (build):   {1e3 * first:7.2f} ms")
     print(f"  report of the event's {len(rows):,} moved rows:  {median_ms(report)}")
+    print(f"  the same rows in another array (a row pass):  {median_ms(report_rows)}")
     print(f"  refit of their blocks at the next query:     {median_ms(refit)}")
 
 

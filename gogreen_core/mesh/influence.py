@@ -76,8 +76,7 @@ def plain_rows_near(
     compiled: bool,
 ) -> NDArray[np.int64]:
     """The rows (n,) int64 of ``points`` (N, 3) the influence test keeps, by a pass over all of
-    them: ``_evaluation.near_segment`` (compiled, or NumPy's when ``compiled`` is False), then
-    ``np.flatnonzero``."""
+    them (``_evaluation.near_segment``, NumPy's unless ``compiled``) and ``np.flatnonzero``."""
     out = np.empty(len(points), dtype=np.bool_)
     _evaluation.near_segment(points, start, step, radius, mirrors, origin, out, compiled)
     return np.flatnonzero(out)
@@ -87,8 +86,7 @@ class VertexBlocks:
     """The influence test of one vertex array, answered with the bounding boxes of its blocks
     of :data:`BLOCK` consecutive rows (see the module docstring): lo, hi (n_blocks, 3) (lo > hi:
     no finite row), dirty (n_blocks,) (written since fitted). One lock guards them, so a
-    background query and another thread's writes may interleave.
-    """
+    background query and another thread's writes may interleave."""
 
     def __init__(self) -> None:
         self._lock = threading.Lock()
@@ -108,6 +106,7 @@ class VertexBlocks:
         self._dirty = np.ones(n_blocks, dtype=np.bool_)
         self._near = np.empty(n, dtype=np.bool_)
         self._dormant: bool | None = None  # decided with the first boxes
+        self._answer: tuple[NDArray[np.int64], ...] = ()  # the last answer, its blocks not OUT
 
     def changed(self, vertices: NDArray[np.float64], rows: NDArray[np.integer] | None) -> None:
         """Rows ``rows`` (k,) of ``vertices`` (N, 3) were written (None: any row may have been):
@@ -118,6 +117,9 @@ class VertexBlocks:
                 return
             if rows is None:
                 self._dirty[:] = True
+                return
+            if self._answer and rows is self._answer[0]:  # an answer (unchanged): no row pass
+                self._dirty[self._answer[1]] = True
                 return
             rows = np.ascontiguousarray(rows, dtype=np.int64).ravel()
             if compiled:
@@ -135,10 +137,9 @@ class VertexBlocks:
         mirrors: NDArray[np.float64],
         origin: NDArray[np.float64],
     ) -> NDArray[np.int64]:
-        """The rows (n,) int64, ascending, of ``vertices`` (N, 3) some mirror image of which
-        (``mirrors`` (k, 3) ±1 signs about ``origin`` (3,)) lies within ``radius`` (model
-        units) of the segment ``start`` (3,) → ``start + step`` (3,): exactly the plain pass's
-        (:func:`plain_rows_near`)."""
+        """The rows (n,) int64, ascending, of ``vertices`` (N, 3) the influence test keeps
+        (module docstring; ``mirrors`` (k, 3) ±1 signs about ``origin`` (3,)): exactly
+        :func:`plain_rows_near`'s."""
         query: Query = (
             np.ascontiguousarray(start, dtype=np.float64),
             np.ascontiguousarray(step, dtype=np.float64),
@@ -172,8 +173,7 @@ class VertexBlocks:
             self._dirty[dirty] = False
 
     def _without_locality(self) -> bool:
-        """Whether the median block spans more than :data:`DORMANT_EXTENT` of the diagonal of
-        the vertices' bounding box (then the plain pass serves this array)."""
+        """Whether the median block spans over :data:`DORMANT_EXTENT` of the bbox diagonal."""
         lo, hi = self._lo, self._hi
         valid = np.all(lo <= hi, axis=1)
         if not valid.any():
@@ -199,6 +199,7 @@ class VertexBlocks:
         ends = np.cumsum(counts)
         out = np.empty(int(ends[-1]) if n_hits else 0, dtype=np.int64)
         run_ranges(partial(_emit, n, hits, status, near, ends - counts, out), n_hits, MIN_BLOCKS)
+        self._answer = (out, hits)
         return out
 
 
@@ -219,8 +220,7 @@ def _usable(
     radius: float,
     mirrors: NDArray[np.float64],
 ) -> bool:
-    """Whether the blocks may answer (see the module docstring; the coordinates are checked
-    with the boxes)."""
+    """Whether the blocks may answer (module docstring; the boxes check the coordinates)."""
     if not (start.shape == step.shape == (3,) and mirrors.ndim == 2 and mirrors.shape[1] == 3):
         return False
     if not (1 <= len(mirrors) <= MAX_IMAGES and np.all(np.abs(mirrors) == 1.0)):

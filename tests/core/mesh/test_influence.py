@@ -285,6 +285,28 @@ def test_vertices_moved_out_of_their_block_are_found(code):
         assert_rows_right(mesh, rng, queries=8)
 
 
+@pytest.mark.parametrize("code", CODES)
+def test_an_answer_reported_back_marks_its_blocks_without_a_row_pass(code, monkeypatch):
+    """A brush event reports the rows ``rows_near`` gave it (the same array): their blocks are
+    marked from the answer's blocks, not by a pass over the rows, and later queries around
+    where they went give the plain pass's rows; another array of the same rows takes the pass."""
+    rng = np.random.default_rng(5)
+    mesh = MeshState(*bumpy_sphere(4))
+    signs = mirror_signs("x")
+    passes = []
+    mark = influence._mark
+    monkeypatch.setattr(influence, "_mark", lambda *a: passes.append(1) or mark(*a))
+    with _compiled.forced(code):
+        for round_ in range(6):
+            center = mesh.vertices[rng.integers(len(mesh.vertices))]
+            rows = mesh.rows_near(center, np.zeros(3), 0.3, signs)
+            assert len(rows)
+            mesh.vertices[rows] += 0.2 * rng.normal(size=3)  # a shift of a few blocks' size
+            mesh.moved(rows if round_ % 2 == 0 else rows.copy())
+            assert len(passes) == round_ // 2 + round_ % 2
+            assert_rows_right(mesh, rng, queries=6, around=rows)
+
+
 def test_an_unreported_write_is_caught():
     """What the conftest's check is for: a write that forgets to report its rows gives wrong
     rows, and the check says so."""
