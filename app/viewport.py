@@ -174,6 +174,14 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         if actor is not None and window is not None and actor.GetTexture() is not None:
             actor.GetTexture().ReleaseGraphicsResources(window)
         super().close()
+        # pyvistaqt keeps its wrappers of the GL context and surface after close. The surface
+        # is no QObject: PySide never learns that Qt deletes it with the widget, and its
+        # wrapper stays registered at that address until this object is collected; a new
+        # object there (a field's line edit) came back as that QSurface. Dropped while the
+        # surface still lives.
+        forget_context = getattr(self, "_forget_context", None)  # its QOpenGLWidget interactor
+        if forget_context is not None:
+            forget_context()
 
     def _zero_timer(self, slot: Callable[[], None]) -> QTimer:
         timer = QTimer(self)
