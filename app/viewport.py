@@ -167,13 +167,16 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
 
     def close(self) -> None:  # type: ignore[override]  # pyvistaqt.QtInteractor.close
         """Close the plotter; a matcap's texture first gives back what it holds in the render
-        window (else VTK reports the window deleted before the texture)."""
+        window (else VTK reports the window deleted before the texture). pyvistaqt's wrapper
+        of the GL surface goes too: no QObject, it outlived the surface Qt deletes with the
+        widget, and PySide handed it back for a new object at that address."""
         self.lod.settle_timer.stop()
         self.stroke_worker.stop()
         actor, window = self.mesh_actor, self.ren_win
         if actor is not None and window is not None and actor.GetTexture() is not None:
             actor.GetTexture().ReleaseGraphicsResources(window)
         super().close()
+        getattr(self, "_forget_context", lambda: None)()  # (pyvistaqt's GL-widget interactor)
 
     def _zero_timer(self, slot: Callable[[], None]) -> QTimer:
         timer = QTimer(self)

@@ -187,13 +187,19 @@ def made_huge(tmp_path_factory) -> MadeMesh:
 
 
 @pytest.fixture(autouse=True)
-def background_jobs_end():
-    """After each test, wait for the app's background jobs (a panel's computation outlives the
-    panel by up to a second), so that none runs on into the next test or past the end."""
+def qt_work_ends():
+    """After each test (pytest-qt has closed its widgets), wait for the app's background jobs
+    (a panel's computation outlives the panel by up to a second), so that none runs on into
+    the next test or past the end; then delete the closed widgets at once. Left to Qt, a
+    closed window was deleted inside the next test's first wait (its window activation), in
+    native code, beside that test's own window."""
     yield
     background = sys.modules.get("app.background")
     if background is not None:
         background.shared_pool().waitForDone(60_000)
+    qt_core = sys.modules.get("PySide6.QtCore")
+    if qt_core is not None and qt_core.QCoreApplication.instance() is not None:
+        qt_core.QCoreApplication.sendPostedEvents(None, qt_core.QEvent.Type.DeferredDelete)
 
 
 @pytest.fixture(autouse=True)
@@ -222,6 +228,7 @@ def app_look(qapp):
 @pytest.fixture
 def window(qtbot, tmp_path, monkeypatch, made_textured, app_look):
     """The main window on Spot's stand-in (UV seams), kernels ready, message boxes answered."""
+    from gui_helpers import steps_done
     from PySide6.QtCore import QSettings
     from PySide6.QtWidgets import QMessageBox
 
@@ -230,7 +237,9 @@ def window(qtbot, tmp_path, monkeypatch, made_textured, app_look):
     monkeypatch.setattr(QMessageBox, "warning", lambda *a, **k: QMessageBox.StandardButton.Ok)
     monkeypatch.setattr(QMessageBox, "question", lambda *a, **k: QMessageBox.StandardButton.Discard)
     win = MainWindow(QSettings(str(tmp_path / "settings.ini"), QSettings.Format.IniFormat))
-    qtbot.addWidget(win)
+    # a running brush step would make the window refuse to close (it closes once the step
+    # ends), and pytest-qt deletes it all the same: its viewport never closed
+    qtbot.addWidget(win, before_close_func=lambda w: steps_done(w.viewport))
     win.show()
     qtbot.waitExposed(win)
     assert win.files.open_file(str(made_textured.path))  # Spot's stand-in: UV seams (conftest.py)

@@ -1,5 +1,6 @@
 """The viewport alone (no main window): incremental normals, ray picking, the cursor overlay."""
 
+import gc
 import threading
 
 import numpy as np
@@ -7,7 +8,7 @@ import pytest
 import vtk
 from gui_helpers import send, shown_viewport
 from PySide6.QtCore import QPointF, QTimer
-from PySide6.QtGui import QMouseEvent
+from PySide6.QtGui import QMouseEvent, QSurface
 
 from app.viewport import SculptViewport
 from gogreen_core.mesh.geometry import SurfaceIndex, vertex_normals
@@ -253,3 +254,18 @@ def test_opening_a_big_mesh_does_not_block_the_event_loop(window, qtbot, monkeyp
     assert vp.surface is not None and np.array_equal(vp.shown_vertices(), before)
     vp.render_now()
     assert vp.pick(QPointF(vp.width() / 2, vp.height() / 2)) is not None
+
+
+def _surface_wrappers() -> int:
+    """Python wrappers of a bare QSurface alive now (PySide cannot tell when Qt deletes one)."""
+    return sum(type(o) is QSurface for o in gc.get_objects())
+
+
+def test_a_closed_viewport_keeps_no_wrapper_of_its_gl_surface(viewport):
+    """The GL surface Qt deletes with the widget is no QObject: a wrapper of it kept past the
+    close stays registered at that address, and PySide handed it back for a new object there
+    (a field's line edit came back as a QSurface)."""
+    before = _surface_wrappers()
+    assert before >= 1  # the shown viewport's, which pyvistaqt keeps for its context
+    viewport.close()
+    assert _surface_wrappers() == before - 1
