@@ -167,9 +167,8 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
 
     def close(self) -> None:  # type: ignore[override]  # pyvistaqt.QtInteractor.close
         """Close the plotter; a matcap's texture first gives back what it holds in the render
-        window (else VTK reports the window deleted before the texture). pyvistaqt's wrapper
-        of the GL surface goes too: no QObject, it outlived the surface Qt deletes with the
-        widget, and PySide handed it back for a new object at that address."""
+        window (else VTK reports the window deleted before the texture); pyvistaqt's wrapper of
+        the GL surface goes (no QObject: PySide handed it back for a new object at its address)."""
         self.lod.settle_timer.stop()
         self.stroke_worker.stop()
         actor, window = self.mesh_actor, self.ren_win
@@ -240,9 +239,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         if sculptor is not None and self._faces is not None and sculptor.faces is not self._faces:
             if self.in_stroke:  # dynamic topology: drawn at once, indexed when the stroke ends
                 change = sculptor.remesher.mesh.renumbering  # how its faces came
-                self.set_mesh(
-                    sculptor.vertices, sculptor.faces, False, in_stroke=True, renumbering=change
-                )
+                self.set_mesh(sculptor.vertices, sculptor.faces, False, None, True, change)
                 self.show_mask_of(sculptor)
                 self._faces_in_stroke = True
             else:
