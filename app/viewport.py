@@ -167,15 +167,14 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
 
     def close(self) -> None:  # type: ignore[override]  # pyvistaqt.QtInteractor.close
         """Close the plotter; a matcap's texture first gives back what it holds in the render
-        window (else VTK reports the window deleted before the texture); pyvistaqt's wrapper of
-        the GL surface goes (no QObject: PySide handed it back for a new object at its address)."""
+        window (else VTK reports the window deleted first), and pyvistaqt's GL-surface wrapper."""
         self.lod.settle_timer.stop()
         self.stroke_worker.stop()
         actor, window = self.mesh_actor, self.ren_win
         if actor is not None and window is not None and actor.GetTexture() is not None:
             actor.GetTexture().ReleaseGraphicsResources(window)
         super().close()
-        getattr(self, "_forget_context", lambda: None)()  # (pyvistaqt's GL-widget interactor)
+        getattr(self, "_forget_context", lambda: None)()  # else its QSurface wrapper goes stale
 
     def _zero_timer(self, slot: Callable[[], None]) -> QTimer:
         timer = QTimer(self)
@@ -190,8 +189,7 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
 
         A Qt ``update()``: requests made before the next paint merge into one paint, and the
         widget's paint is where pyvistaqt renders. (``render()`` renders at once and then
-        schedules that paint, which renders again: two renders per frame.)
-        """
+        schedules that paint, which renders again: two renders per frame.)"""
         self._render_pending = True
         self.update()
 
@@ -239,7 +237,9 @@ class SculptViewport(CameraViews, MeshDisplay, QtInteractor):  # type: ignore[mi
         if sculptor is not None and self._faces is not None and sculptor.faces is not self._faces:
             if self.in_stroke:  # dynamic topology: drawn at once, indexed when the stroke ends
                 change = sculptor.remesher.mesh.renumbering  # how its faces came
-                self.set_mesh(sculptor.vertices, sculptor.faces, False, None, True, change)
+                self.set_mesh(
+                    sculptor.vertices, sculptor.faces, False, in_stroke=True, renumbering=change
+                )
                 self.show_mask_of(sculptor)
                 self._faces_in_stroke = True
             else:
