@@ -253,3 +253,37 @@ def test_renumbered_index_after_local_remeshes_equals_a_new_build():
                 assert got[0] == expected[0]
                 assert np.array_equal(got[1], expected[1])
     assert removed > 0 and added > 0
+
+
+def test_a_copy_vertex_collapsed_away_follows_a_neighbour_on_its_side_of_a_pull():
+    """Issue 34: after a dynamic-topology pull, a copy vertex the remesh collapsed away takes
+    a kept neighbour from before the stroke; the new corner nearest to where the copy drew it
+    could be across the pull's fold, and the copy showed faces turned inside out (46 on this
+    pull, none before it; 3 now)."""
+    from scipy.spatial import cKDTree
+
+    from gogreen_core import Brush, BrushEvent, EngineSettings, Sculptor
+    from gogreen_core.mesh.geometry import vertex_normals
+    from gogreen_core.mesh.shapes import default_model
+
+    vertices, faces = default_model()
+    sculptor = Sculptor(vertices, faces, settings=EngineSettings(dynamic_topology=True))
+    light = app.level_of_detail.LightMesh(vertices, faces, target_faces=len(faces) // 10)
+    top = int(np.argmax(vertices @ [0.1, 0.2, 1.0]))
+    normal = vertex_normals(vertices, faces)[top]
+    centre = vertices[top].copy()
+    sculptor.begin_stroke(Brush("grab", radius=0.03))
+    for k in range(12):
+        step = 0.015 * sculptor.model_size * (normal + np.array([0.5 * (k % 3 == 0), 0, 0]))
+        sculptor.stroke_event(BrushEvent(centre, step))
+        centre = centre + step
+    new_vertices, new_faces = sculptor.vertices, sculptor.faces
+    change = sculptor.remesher.mesh.renumbering
+    light.follow(new_vertices, new_faces, change, vertices)
+    assert np.all(light.rows >= 0)
+    copy = new_vertices[light.rows][light.index.order][light.index.faces]
+    face_normals = np.cross(copy[:, 1] - copy[:, 0], copy[:, 2] - copy[:, 0])
+    nearest = cKDTree(new_vertices).query(copy.mean(axis=1))[1]
+    facing = np.einsum("ij,ij->i", face_normals, vertex_normals(new_vertices, new_faces)[nearest])
+    turned = facing < -0.2 * np.linalg.norm(face_normals, axis=1)
+    assert np.count_nonzero(turned) <= 10
