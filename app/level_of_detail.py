@@ -11,7 +11,7 @@ effect by copying the moved rows from the mesh: no re-decimation per event. Its 
 arrays are a :class:`gogreen_core.mesh.geometry.SurfaceIndex` of its own, updated only where
 its rows changed. Where dynamic topology changes the mesh (locally) the copy keeps its faces
 and follows: its vertices become the same vertices in their new rows, and where one was
-collapsed away, the nearest corner of the new faces (:meth:`LightMesh.follow`).
+collapsed away, a kept neighbour from before the change (:meth:`LightMesh.follow`).
 """
 
 from __future__ import annotations
