@@ -317,9 +317,12 @@ class MainWindow(QMainWindow):
         viewport.surface_failed.connect(self._surface_failed)
         viewport.surface_pending.connect(self._surface_pending)
 
-        def release_when_settled(*_args: object) -> None:  # start-up or opening work done
+        def release_if_settled() -> None:  # asked again when it runs: a new mesh may build
             if not (self.kernel_warmer.busy or viewport.surface_building):
-                QTimer.singleShot(0, partial(release_freed_memory, collect=False))
+                release_freed_memory(collect=False)
+
+        def release_when_settled(*_args: object) -> None:  # start-up or opening work done
+            QTimer.singleShot(0, release_if_settled)
 
         for settled in (viewport.surface_ready, self.kernel_warmer.busy_changed):
             settled.connect(release_when_settled)
