@@ -192,24 +192,26 @@ class LightMesh:
         return len(changed)
 
     def follow(
-        self, vertices: np.ndarray, faces: np.ndarray, change: Renumbering, before: np.ndarray
+        self, vertices: np.ndarray, faces: np.ndarray, change: Renumbering, before: SurfaceIndex
     ) -> None:
         """The mesh became ``vertices`` (N', 3), ``faces`` by ``change`` from the mesh of
-        :attr:`base`, whose vertices were at ``before`` (N, 3): each vertex of the copy the
-        same vertex in its new row, or where it was collapsed away, the kept corner of the new
-        faces that was nearest to it before (a neighbour on its side of the surface: the
-        corner nearest to where it is drawn may be across a fold the stroke made)."""
+        :attr:`base`, indexed by ``before``: each vertex of the copy the same vertex in its new
+        row, or where it was collapsed away, the kept corner of the new faces that was nearest
+        to it before (a neighbour on its side of the surface: the corner nearest to where it is
+        drawn may be across a fold the stroke made)."""
         from scipy.spatial import cKDTree
 
+        def was_at(mesh_rows: np.ndarray) -> np.ndarray:  # only the rows asked: no (N, 3) copy
+            return before.positions[before.rank[mesh_rows]]
+
         _, origin, face_origin = change
-        size = max(int(self.base.max(initial=-1)), int(origin.max(initial=-1))) + 1
-        rows = _new_rows(origin, size)[self.base]
+        rows = _new_rows(origin, len(before.rank))[self.base]
         lost = np.flatnonzero(rows < 0)
         if len(lost):
             corners = np.unique(faces[int(np.count_nonzero(face_origin >= 0)) :])
             kept = corners[origin[corners] >= 0]
             if len(kept):
-                near = cKDTree(before[origin[kept]]).query(before[self.base[lost]])[1]
+                near = cKDTree(was_at(origin[kept])).query(was_at(self.base[lost]))[1]
                 rows[lost] = kept[near]
             else:  # every corner is new: the one nearest to where it is drawn
                 drawn = self.index.positions[self.index.rank[lost]]
@@ -366,7 +368,7 @@ class LevelOfDetail:
         vertices moved meanwhile are dropped (the mesh's index is made anew)."""
         self._deferred = None
         if self.light is not None:
-            self.light.follow(vertices, faces, change, base.positions[base.rank])
+            self.light.follow(vertices, faces, change, base)
 
     def interaction_frames(self) -> None:
         """The camera moves or a stroke runs: its frames from the copy when full frames are

@@ -155,9 +155,9 @@ class MeshDisplay(_Base):
         faces = np.asarray(faces)
         if background is None:
             background = len(faces) >= BACKGROUND_INDEX_FACES
-        base = self._indexed if background and renumbering is not None else None
-        if base is None or renumbering is None or renumbering[0] is not base[1]:
-            base = None
+        base = self._indexed  # renumbered when a local change of its faces made these
+        if not background or renumbering is None or base is None or renumbering[0] is not base[1]:
+            base = self._indexed = None  # a new build: the old index is not kept meanwhile
         if self.mesh_actor is not None and not in_stroke and base is None:
             self.remove_actor(self.mesh_actor, render=False)
             self.mesh_actor = None

@@ -263,7 +263,7 @@ def test_a_copy_vertex_collapsed_away_follows_a_neighbour_on_its_side_of_a_pull(
     from scipy.spatial import cKDTree
 
     from gogreen_core import Brush, BrushEvent, EngineSettings, Sculptor
-    from gogreen_core.mesh.geometry import vertex_normals
+    from gogreen_core.mesh.geometry import SurfaceIndex, vertex_normals
     from gogreen_core.mesh.shapes import default_model
 
     vertices, faces = default_model()
@@ -279,7 +279,7 @@ def test_a_copy_vertex_collapsed_away_follows_a_neighbour_on_its_side_of_a_pull(
         centre = centre + step
     new_vertices, new_faces = sculptor.vertices, sculptor.faces
     change = sculptor.remesher.mesh.renumbering
-    light.follow(new_vertices, new_faces, change, vertices)
+    light.follow(new_vertices, new_faces, change, SurfaceIndex(vertices, faces))
     assert np.all(light.rows >= 0)
     copy = new_vertices[light.rows][light.index.order][light.index.faces]
     face_normals = np.cross(copy[:, 1] - copy[:, 0], copy[:, 2] - copy[:, 0])
