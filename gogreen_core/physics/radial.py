@@ -203,13 +203,9 @@ def monotone_hermite(rho: np.ndarray, value: np.ndarray) -> CubicHermiteSpline:
 def interpolant(interpolation: str, rho: np.ndarray, value: np.ndarray) -> PPoly:
     """The curve through the control points (ρ (n,) increasing, value (n,)) by
     ``interpolation`` (one of :data:`INTERPOLATIONS`)."""
-    if interpolation == "monotone":
+    if check_choice("spline interpolation", interpolation, INTERPOLATIONS) == "monotone":
         return monotone_hermite(rho, value)
-    if interpolation == "cubic":
-        return CubicSpline(rho, value, bc_type="not-a-knot")
-    raise ValueError(
-        f"spline interpolation must be one of {', '.join(INTERPOLATIONS)} (got {interpolation!r})"
-    )
+    return CubicSpline(rho, value, bc_type="not-a-knot")
 
 
 #: Default control abscissae (ρ = r/ε) of a spline falloff: dense where the falloff bends.
@@ -381,8 +377,7 @@ class SplineRadial(RadialProfile):
         return out
 
     def table_key(self) -> tuple[Any, ...]:
-        # Keyed by content, never by id(): a new profile may reuse a dead one's id (measured:
-        # 40 falloffs built and dropped, one got a dead one's table).
+        # by content, never by id(): a new profile may reuse a dead one's id (and its table)
         if self._digest is None:
             digest = hashlib.sha256(f"{self._interpolation};".encode())
             for (kind, l), (rho, value) in sorted(self._curves.items()):

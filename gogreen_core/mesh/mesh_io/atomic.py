@@ -26,17 +26,13 @@ def write_text_atomic(path: str | os.PathLike[str], text: str) -> None:
 def write_bytes_atomic(path: str | os.PathLike[str], data: bytes) -> None:
     """Write ``data`` to ``path`` atomically; ``MeshFileError`` on failure."""
     p = Path(path)
-
-    def write(out: BinaryIO) -> None:
-        out.write(data)
-
     try:
-        atomic_write(p, write)
+        atomic_write(p, lambda out: out.write(data))
     except OSError as exc:
         raise MeshFileError(f"{p.name}: cannot write ({exc.strerror or exc})") from None
 
 
-def atomic_write(path: str | os.PathLike[str], write: Callable[[BinaryIO], None]) -> None:
+def atomic_write(path: str | os.PathLike[str], write: Callable[[BinaryIO], object]) -> None:
     """Write through ``write`` into a temporary file next to ``path``, then rename it over."""
     target = Path(os.path.realpath(path))
     folder = target.parent
