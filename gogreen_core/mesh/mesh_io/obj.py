@@ -2,32 +2,101 @@
 
 Positions stay as listed (trimesh's loader splits vertices at UV seams, changing the vertex
 count and order that sessions rely on); texture coordinates are kept per face corner. Normals,
-materials and groups are not kept. Two readers: :func:`read_obj_fast` parses a regular file with
-whole-array operations and returns None as soon as anything is unusual (a comment after data, a
-tab after a tag, mixed corner forms, a bad number, an index out of range, ...); then
-:func:`read_obj_strict` reads it line by line, accepting it the same way (same result) or naming
-the line at fault.
+materials and groups are not kept. The reader classifies every statement at once and parses the
+v, vt and f statements each as one array; a kind with a statement the arrays cannot take (a tab
+after its tag, mixed corner forms, a bad number, a relative index...) is read statement by
+statement, which accepts it as the specification does or names the first line at fault.
 """
 
 from __future__ import annotations
 
 import re
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from typing import BinaryIO
 
 import numpy as np
 
 from gogreen_core.mesh.mesh_io.data import MAX_INDEX, MeshData, MeshFileError, first_non_finite
 from gogreen_core.mesh.mesh_io.polygons import triangulate
-from gogreen_core.mesh.mesh_io.text import parse_numbers, text_lines, without_dos_eof, write_rows
+from gogreen_core.mesh.mesh_io.text import parse_numbers, text_lines, write_rows
 
-__all__ = ["OBJ_STATEMENTS", "read_obj", "read_obj_fast", "read_obj_strict", "write_obj"]
+__all__ = ["OBJ_STATEMENTS", "read_obj", "write_obj"]
+
+_SPACE = 32  # bytes <= 32 separate tokens (space, tab, line ends, control characters)
+_MAX_RUNS = 10_000  # more runs of same-kind lines than this: gather them with a byte mask
+#: One statement read on its own: (its first line, its words, its text).
+_Statement = tuple[int, list[str], str]
 
 
 def read_obj(data: bytes, name: str) -> MeshData:
-    """OBJ: the fast whole-array reader when the file is regular, else the strict one."""
-    mesh = read_obj_fast(data)
-    return read_obj_strict(data, name) if mesh is None else mesh
+    text, firsts = _statements(data)
+    arr = np.frombuffer(text + b"   ", dtype=np.uint8)
+    ends = np.flatnonzero(arr == ord("\n"))
+    starts = np.concatenate([[0], ends[:-1] + 1])
+    c0, c1, c2 = arr[starts], arr[starts + 1], arr[starts + 2]
+    kinds = {
+        b"v ": (c0 == ord("v")) & (c1 == _SPACE),
+        b"vt ": (c0 == ord("v")) & (c1 == ord("t")) & (c2 == _SPACE),
+        b"f ": (c0 == ord("f")) & (c1 == _SPACE),
+    }
+    lines = np.arange(1, len(starts) + 1) if firsts is None else firsts
+    errors: list[tuple[int, str]] = []  # (line, message): the first of each kind of statement
+    ignored = (starts == ends) | ((c0 == ord("v")) & (c1 == ord("n")) & (c2 == _SPACE))
+    for i in np.flatnonzero(~(kinds[b"v "] | kinds[b"vt "] | kinds[b"f "] | ignored)).tolist():
+        words = text[starts[i] : ends[i]].decode().split()  # g, s, usemtl... or an odd v, vt, f
+        tag = words[0] if words else ""
+        if tag in ("v", "vt", "f", "fo"):
+            kinds[tag[:2].replace("fo", "f").encode() + b" "][i] = True
+        elif tag and tag not in OBJ_STATEMENTS:
+            errors.append((int(lines[i]), f"unknown statement {tag[:20]!r} (not an OBJ file?)"))
+            break
+
+    def statements(tag: bytes) -> Iterator[_Statement]:
+        for i in np.flatnonzero(kinds[tag]).tolist():
+            content = text[starts[i] : ends[i]].decode()
+            yield int(lines[i]), content.split(), content
+
+    pieces = _pieces(text, starts, ends, kinds)
+    counted = [np.cumsum(kinds[tag])[kinds[b"f "]] for tag in (b"v ", b"vt ")]
+    v = _coordinates(pieces[b"v "], statements(b"v "), errors, 3)
+    uv = _coordinates(pieces[b"vt "], statements(b"vt "), errors, 2)
+    corners, textures, sizes = _faces(pieces[b"f "], statements(b"f "), counted, errors)
+    if errors:
+        line, message = min(errors)
+        raise MeshFileError(f"{name}, line {line}: {message}")
+    if not len(v):
+        raise MeshFileError(f"{name}: no vertices (empty or not an OBJ file)")
+    if not len(sizes):
+        raise MeshFileError(f"{name}: no faces (the file has only points)")
+    vertex_lines, face_lines = (lines[kinds[tag]] for tag in (b"v ", b"f "))
+    last_corners = np.cumsum(sizes)
+    if (bad := first_non_finite(v)) is not None:
+        raise MeshFileError(
+            f"{name}, line {vertex_lines[bad]}: vertex {bad + 1} has a non-finite coordinate "
+            f"{v[bad].tolist()}"
+        )
+    outside = corners >= len(v)
+    if outside.any():
+        bad = int(np.argmax(outside))
+        polygon = int(np.searchsorted(last_corners, bad, side="right"))
+        raise MeshFileError(
+            f"{name}, line {face_lines[polygon]}: face {polygon + 1} references vertex "
+            f"{int(corners[bad]) + 1} but the file has {len(v)} vertices"
+        )
+    triangles = triangulate(v, corners, sizes)
+    mesh = MeshData(v, corners[triangles])
+    if textures is not None:
+        outside = textures >= len(uv)
+        if outside.any():
+            bad = int(np.argmax(outside))
+            polygon = int(np.searchsorted(last_corners, bad, side="right"))
+            raise MeshFileError(
+                f"{name}, line {face_lines[polygon]}: face references texture "
+                f"coordinate {int(textures[bad]) + 1} but the file has {len(uv)} texture "
+                "coordinates"
+            )
+        mesh.uv, mesh.uv_faces = uv, textures[triangles]
+    return mesh
 
 
 def write_obj(mesh: MeshData, out: BinaryIO) -> None:
@@ -61,183 +130,28 @@ OBJ_STATEMENTS = frozenset(
 )
 
 
-def read_obj_strict(data: bytes, name: str) -> MeshData:
-    vertices: list[tuple[float, ...]] = []
-    vertex_lines: list[int] = []
-    uvs: list[tuple[float, float]] = []
-    corners: list[int] = []  # vertex index of each polygon corner, polygon after polygon
-    corner_uvs: list[int] = []  # texture index of each corner, -1 when the face has none
-    sizes: list[int] = []  # corners of each polygon
-    face_lines: list[int] = []  # source line of each polygon
-    textured = 0
-
-    def index(token: str, count: int, kind: str, line: int) -> int:
-        try:
-            i = int(token)
-        except ValueError:
-            raise MeshFileError(f"{name}, line {line}: bad {kind} index {token!r}") from None
-        if i > MAX_INDEX:  # no file holds that many; int64 arrays could not even store it
-            raise MeshFileError(
-                f"{name}, line {line}: {kind} index {i} is out of range (the file cannot hold "
-                f"that many)"
-            )
-        if i > 0:
-            return i - 1  # checked against the final count below (forward references are legal)
-        if i < 0 and count + i >= 0:
-            return count + i  # relative to the entries read so far
-        if i == 0:
-            raise MeshFileError(f"{name}, line {line}: OBJ indices start at 1 (got 0)")
-        raise MeshFileError(
-            f"{name}, line {line}: relative {kind} index {i} points before the first {kind} "
-            f"(only {count} read so far)"
-        )
-
-    def numbers(tokens: list[str], line: int, raw: str) -> tuple[float, ...]:
-        try:
-            return tuple(map(float, tokens))
-        except ValueError:
-            raise MeshFileError(f"{name}, line {line}: bad number in {raw.strip()!r}") from None
-
-    for number, raw in statements(text_lines(data)):
-        parts = raw.split()
-        if not parts:
-            continue
-        tag = parts[0]
-        if tag not in OBJ_STATEMENTS:
-            raise MeshFileError(
-                f"{name}, line {number}: unknown statement {tag[:20]!r} (not an OBJ file?)"
-            )
-        if tag == "v":
-            if len(parts) < 4:
-                raise MeshFileError(f"{name}, line {number}: a vertex needs 3 coordinates")
-            vertices.append(numbers(parts[1:4], number, raw))
-            vertex_lines.append(number)
-        elif tag == "vt":
-            if len(parts) < 2:
-                raise MeshFileError(f"{name}, line {number}: empty texture coordinate")
-            u, *rest = numbers(parts[1:3], number, raw)
-            if not np.isfinite([u, *rest]).all():
-                raise MeshFileError(
-                    f"{name}, line {number}: texture coordinate {len(uvs) + 1} has a non-finite "
-                    f"value {[u, *rest]}"
-                )
-            uvs.append((u, rest[0] if rest else 0.0))
-        elif tag in ("f", "fo"):  # 'fo' is the old spelling of 'f'
-            if len(parts) < 4:
-                raise MeshFileError(f"{name}, line {number}: a face needs at least 3 corners")
-            pos: list[int] = []
-            tex: list[int] = []
-            for corner in parts[1:]:
-                fields = corner.split("/")
-                pos.append(index(fields[0], len(vertices), "vertex", number))
-                if len(fields) > 1 and fields[1]:
-                    tex.append(index(fields[1], len(uvs), "texture coordinate", number))
-            if tex and len(tex) != len(pos):
-                raise MeshFileError(
-                    f"{name}, line {number}: some corners of this face lack a texture index"
-                )
-            textured += bool(tex)
-            corners += pos
-            corner_uvs += tex or [-1] * len(pos)
-            sizes.append(len(pos))
-            face_lines.append(number)
-
-    if not vertices:
-        raise MeshFileError(f"{name}: no vertices (empty or not an OBJ file)")
-    if not sizes:
-        raise MeshFileError(f"{name}: no faces (the file has only points)")
-    v = np.array(vertices, dtype=np.float64)
-    c = np.array(corners, dtype=np.int64)
-    ends = np.cumsum(sizes)
-
-    def polygon_of(corner: int) -> int:
-        return int(np.searchsorted(ends, corner, side="right"))
-
-    if (bad := first_non_finite(v)) is not None:
-        raise MeshFileError(
-            f"{name}, line {vertex_lines[bad]}: vertex {bad + 1} has a non-finite coordinate "
-            f"{v[bad].tolist()}"
-        )
-    outside = c >= len(v)
-    if outside.any():
-        bad = int(np.argmax(outside))
-        polygon = polygon_of(bad)
-        raise MeshFileError(
-            f"{name}, line {face_lines[polygon]}: face {polygon + 1} references vertex "
-            f"{int(c[bad]) + 1} but the file has {len(v)} vertices"
-        )
-    triangles = triangulate(v, c, np.array(sizes))
-    mesh = MeshData(v, c[triangles])
-    if textured:
-        t = np.array(corner_uvs, dtype=np.int64)
-        outside = t >= len(uvs)
-        if outside.any():
-            bad = int(np.argmax(outside))
-            raise MeshFileError(
-                f"{name}, line {face_lines[polygon_of(bad)]}: face references texture "
-                f"coordinate {int(t[bad]) + 1} but the file has {len(uvs)} texture coordinates"
-            )
-        mesh.uv = np.array(uvs, dtype=np.float64).reshape(-1, 2)
-        mesh.uv_faces = t[triangles]
-    return mesh
+def _statements(data: bytes) -> tuple[bytes, np.ndarray | None]:
+    """The statements of an OBJ file (:func:`text_lines`) one a line, each ending in a line
+    end: comments removed, and a line that ends in a backslash joined with the next (the
+    specification's continuation; Rhino writes long faces so); and the first line of each
+    statement (None: the statements are the lines)."""
+    text = text_lines(data) + "\n"
+    if "#" in text:
+        text = re.sub("#[^\n]*", "", text)
+    if "\\" not in text:
+        return text.encode(), None
+    continued = re.compile(r"\\[^\S\n]*\n")
+    joined = [m.end() - 1 for m in continued.finditer(text)]
+    newlines = np.flatnonzero(np.frombuffer(text.encode("utf-32-le"), np.uint32) == ord("\n"))
+    firsts = np.concatenate([[1], np.flatnonzero(~np.isin(newlines, joined)) + 2])
+    return continued.sub(" ", text).encode() + b"\n", firsts
 
 
-def statements(text: str) -> Iterator[tuple[int, str]]:
-    """The number of its first line and the content of each statement of an OBJ text:
-    comments removed, and a line that ends in a backslash joined with the next one (the
-    specification's continuation; Rhino writes long faces so)."""
-    pending, first = "", 0
-    for number, raw in enumerate(text.split("\n"), start=1):
-        if "#" in raw:
-            raw = raw.split("#", 1)[0]
-        content = raw.rstrip()
-        if content.endswith("\\"):
-            if not pending:
-                first = number
-            pending += content[:-1] + " "
-        elif pending:
-            yield first, pending + raw
-            pending = ""
-        else:
-            yield number, raw
-    if pending:
-        yield first, pending
-
-
-# -- the fast reader -------------------------------------------------------------------------------
-_SPACE = 32  # bytes <= 32 separate tokens (space, tab, line ends, control characters)
-_MAX_RUNS = 10_000  # more runs of same-kind lines than this: gather them with a byte mask
-
-
-#: The v, vt and f pieces (None without such lines), and per face line the count of v and vt
-#: lines before it (for relative indices).
-Sections = tuple[dict[bytes, bytes | None], np.ndarray, np.ndarray]
-
-
-def sections_by_lines(data: bytes) -> Sections | None:
-    """The sections of an OBJ text ('\n' line ends), by classifying every line with
-    whole-array operations; None unless every other line is a comment, blank, or a known
-    statement other than v, vt and f."""
-    arr = np.frombuffer(data + b"   ", dtype=np.uint8)
-    ends = np.flatnonzero(arr == ord("\n"))
-    starts = np.concatenate([[0], ends[:-1] + 1])
-    c0, c1, c2 = arr[starts], arr[starts + 1], arr[starts + 2]
-    kinds = {
-        b"v ": (c0 == ord("v")) & (c1 == ord(" ")),
-        b"vt ": (c0 == ord("v")) & (c1 == ord("t")) & (c2 == ord(" ")),
-        b"f ": (c0 == ord("f")) & (c1 == ord(" ")),
-    }
-    if b"#" in data:  # a comment is fine only on a line of its own
-        hashes = np.flatnonzero(arr == ord("#"))
-        if (c0[np.searchsorted(starts, hashes, side="right") - 1] != ord("#")).any():
-            return None
-    ignored = (c0 == ord("#")) | (starts == ends)
-    ignored |= (c0 == ord("v")) & (c1 == ord("n")) & (c2 == ord(" "))  # normals: not kept
-    others = np.flatnonzero(~(kinds[b"v "] | kinds[b"vt "] | kinds[b"f "] | ignored))
-    for line in others.tolist():  # g, s, usemtl...
-        words = data[starts[line] : ends[line]].decode("utf-8", "replace").split()
-        if words and (words[0] not in OBJ_STATEMENTS or words[0] in ("v", "vt", "f", "fo")):
-            return None
+def _pieces(
+    text: bytes, starts: np.ndarray, ends: np.ndarray, kinds: dict[bytes, np.ndarray]
+) -> dict[bytes, bytes | None]:
+    """The statements of each kind as one text, without the first one's tag and the last line
+    end (None without statements of that kind)."""
     pieces: dict[bytes, bytes | None] = {}
     for tag, keep in kinds.items():
         if not keep.any():
@@ -247,13 +161,155 @@ def sections_by_lines(data: bytes) -> Sections | None:
         first, last = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
         if len(first) <= _MAX_RUNS:  # runs of lines of this kind: copy them whole
             bounds = zip(starts[first].tolist(), (ends[last] + 1).tolist(), strict=True)
-            text = b"".join([data[a:b] for a, b in bounds])
+            piece = b"".join([text[a:b] for a, b in bounds])
         else:
             mask = np.repeat(keep, ends - starts + 1)
-            text = arr[: len(mask)][mask].tobytes()
-        pieces[tag] = text[len(tag) : -1]
-    face_lines = np.flatnonzero(kinds[b"f "])
-    return pieces, np.cumsum(kinds[b"v "])[face_lines], np.cumsum(kinds[b"vt "])[face_lines]
+            piece = np.frombuffer(text, dtype=np.uint8)[mask].tobytes()
+        pieces[tag] = piece[len(tag) : -1]
+    return pieces
+
+
+class _Refused(Exception):
+    """A statement that is not OBJ; the message says why."""
+
+
+def _numbers(words: list[str], content: str) -> tuple[float, ...]:
+    try:
+        return tuple(map(float, words))
+    except ValueError:
+        raise _Refused(f"bad number in {content.strip()!r}") from None
+
+
+def _coordinates(
+    piece: bytes | None,
+    statements: Iterator[_Statement],
+    errors: list[tuple[int, str]],
+    width: int,
+) -> np.ndarray:
+    """Positions (N, 3) of the v statements (``width`` 3) or texture coordinates (T, 2) of
+    the vt ones (v = 0 when not given, none non-finite)."""
+    tag, least = (b"v ", 3) if width == 3 else (b"vt ", 1)
+    if piece is None:
+        return np.zeros((0, width))
+    parsed = _numbers_per_line(piece, tag, b"nan", np.float64)
+    if parsed is not None and parsed[1].min() >= least:
+        values, counts = parsed
+        if counts.min() >= width:
+            found = _first_columns(values, counts, width)
+        elif counts.max() == 1:
+            found = np.stack([values, np.zeros_like(values)], axis=1)
+        if (counts.min() >= width or counts.max() == 1) and np.isfinite(found).all():
+            return found
+    rows: list[tuple[float, ...]] = []
+
+    def read(words: list[str], content: str, *_: object) -> None:
+        if len(words) <= least:
+            raise _Refused(
+                "a vertex needs 3 coordinates" if width == 3 else "empty texture coordinate"
+            )
+        values = _numbers(words[1 : width + 1], content)
+        if width == 2 and not np.isfinite(values).all():
+            raise _Refused(
+                f"texture coordinate {len(rows) + 1} has a non-finite value {list(values)}"
+            )
+        rows.append((*values, 0.0)[:width])
+
+    _each(statements, read, errors)
+    return np.array(rows, dtype=np.float64).reshape(-1, width)
+
+
+def _faces(
+    piece: bytes | None,
+    statements: Iterator[_Statement],
+    counted: list[np.ndarray],
+    errors: list[tuple[int, str]],
+) -> tuple[np.ndarray, np.ndarray | None, np.ndarray]:
+    """The f statements' vertex (C,) and texture indices (C,) of each corner (from 0; texture
+    None when no face has any, -1 for a face without), and the corners of each (P,);
+    ``counted``: the v and vt statements before each (for relative indices)."""
+    if piece is None:
+        return np.zeros(0, dtype=np.int64), None, np.zeros(0, dtype=np.int64)
+    found = _face_corners(piece)
+    if found is not None and found[1].min() >= 3:
+        numbers, sizes, doubled = found
+        position = _resolved(numbers[:, 0], counted[0], sizes)
+        plain = numbers.shape[1] < 2 or doubled  # no corner has a texture index
+        texture = None if plain else _resolved(numbers[:, 1], counted[1], sizes)
+        if position is not None and (plain or texture is not None):
+            return position, texture, sizes
+    corners: list[int] = []
+    textures: list[int] = []
+    polygons: list[int] = []
+
+    def read(words: list[str], _: str, vertices: int, uvs: int) -> None:
+        if len(words) < 4:
+            raise _Refused("a face needs at least 3 corners")
+        pos: list[int] = []
+        tex: list[int] = []
+        for corner in words[1:]:
+            fields = corner.split("/")
+            pos.append(_index(fields[0], vertices, "vertex"))
+            if len(fields) > 1 and fields[1]:
+                tex.append(_index(fields[1], uvs, "texture coordinate"))
+        if tex and len(tex) != len(pos):
+            raise _Refused("some corners of this face lack a texture index")
+        corners.extend(pos)
+        textures.extend(tex or [-1] * len(pos))
+        polygons.append(len(pos))
+
+    _each(statements, read, errors, *(c.tolist() for c in counted))
+    c, t, p = (np.array(x, dtype=np.int64) for x in (corners, textures, polygons))
+    return c, (t if (t >= 0).any() else None), p
+
+
+def _each(
+    statements: Iterator[_Statement],
+    read: Callable[..., None],
+    errors: list[tuple[int, str]],
+    *per_statement: list[int],
+) -> None:
+    """``read(words, text, *values)`` of each statement until one is refused (appended to
+    ``errors`` with its line)."""
+    for (line, words, content), *values in zip(statements, *per_statement, strict=False):
+        try:
+            read(words, content, *values)
+        except _Refused as exc:
+            errors.append((line, str(exc)))
+            return
+
+
+def _resolved(column: np.ndarray, counted: np.ndarray, sizes: np.ndarray) -> np.ndarray | None:
+    """0-based indices from 1-based or relative ones (``counted``: entries before each face);
+    None when one is 0, before the first entry or beyond :data:`MAX_INDEX`."""
+    if (column == 0).any() or column.max() > MAX_INDEX:
+        return None
+    relative = column < 0
+    if relative.any():
+        column = column.copy()
+        column[relative] += np.repeat(counted, sizes)[relative] + 1
+        if (column[relative] < 1).any():
+            return None
+    return column - 1
+
+
+def _index(token: str, count: int, kind: str) -> int:
+    """The 0-based index of an OBJ index ``token`` (1-based, or relative to the ``count``
+    entries read so far)."""
+    try:
+        i = int(token)
+    except ValueError:
+        raise _Refused(f"bad {kind} index {token!r}") from None
+    if i > MAX_INDEX:  # no file holds that many; int64 arrays could not even store it
+        raise _Refused(f"{kind} index {i} is out of range (the file cannot hold that many)")
+    if i > 0:
+        return i - 1  # checked against the final count (forward references are legal)
+    if i < 0 and count + i >= 0:
+        return count + i
+    if i == 0:
+        raise _Refused("OBJ indices start at 1 (got 0)")
+    raise _Refused(
+        f"relative {kind} index {i} points before the first {kind} (only {count} read so far)"
+    )
 
 
 def _numbers_per_line(
@@ -272,7 +328,7 @@ def _numbers_per_line(
         return None
     marks = np.flatnonzero(np.isnan(values) if sentinel == b"nan" else values == 0)
     if len(marks) != lines:
-        return None  # a NaN or 0 in the data itself: the strict reader reports it
+        return None  # a NaN or 0 in the data itself: read statement by statement
     counts = np.diff(marks, prepend=-1) - 1
     return np.delete(values, marks), counts
 
@@ -288,7 +344,11 @@ def _first_columns(values: np.ndarray, counts: np.ndarray, columns: int) -> np.n
 
 def _face_corners(piece: bytes) -> tuple[np.ndarray, np.ndarray, bool] | None:
     """Corner numbers (C, fields), corners per face line, and whether the corners are
-    ``a//c`` (no texture), from the f piece; None unless every corner has the same form."""
+    ``a//c`` (no texture), from the f piece; None unless every corner has the same form (or
+    for a sign before a space, which numpy's integers skip)."""
+    buffer = np.frombuffer(piece + b" ", dtype=np.uint8)
+    if (buffer[np.flatnonzero((buffer == ord("-")) | (buffer == ord("+"))) + 1] <= _SPACE).any():
+        return None
     n_slashes = piece.count(b"/")
     if n_slashes == 0:
         parsed = _numbers_per_line(piece, b"f ", b"0", np.int64)
@@ -322,84 +382,3 @@ def _face_corners(piece: bytes) -> tuple[np.ndarray, np.ndarray, bool] | None:
     if len(numbers) != fields * n_corners:
         return None  # an empty field such as "1/ 2/ 3/"
     return numbers.reshape(-1, fields), corners, bool(doubled)
-
-
-def read_obj_fast(data: bytes) -> MeshData | None:
-    """The mesh of a regular OBJ file, else None (the strict reader then reads it)."""
-    data = without_dos_eof(data.removeprefix(b"\xef\xbb\xbf"))
-    if b"\r" in data:
-        data = data.replace(b"\r\n", b"\n")
-        if b"\r" in data:
-            return None
-    if b"\\" in data:  # lines continued by a backslash
-        continued = [m.start() for m in re.finditer(rb"\\[ \t]*\n", data)]
-        if any(b"#" in data[data.rfind(b"\n", 0, at) + 1 : at] for at in continued):
-            return None  # a comment never continues: the strict reader knows that
-        data = re.sub(rb"\\[ \t]*\n", b" ", data)
-    if not data.endswith(b"\n"):
-        data += b"\n"
-    sections = sections_by_lines(data)
-    return None if sections is None else mesh_from_sections(*sections)
-
-
-def mesh_from_sections(
-    pieces: dict[bytes, bytes | None], v_before: np.ndarray, vt_before: np.ndarray
-) -> MeshData | None:
-    if pieces[b"v "] is None or pieces[b"f "] is None:
-        return None
-
-    parsed = _numbers_per_line(pieces[b"v "], b"v ", b"nan", np.float64)
-    if parsed is None or parsed[1].min() < 3:
-        return None
-    vertices = _first_columns(*parsed, 3)
-    if not np.isfinite(vertices).all():
-        return None
-
-    uv = np.zeros((0, 2))
-    if pieces[b"vt "] is not None:
-        parsed = _numbers_per_line(pieces[b"vt "], b"vt ", b"nan", np.float64)
-        if parsed is None or parsed[1].min() < 1:
-            return None
-        values, counts = parsed
-        if counts.max() == 1:
-            uv = np.stack([values, np.zeros_like(values)], axis=1)
-        elif counts.min() >= 2:
-            uv = _first_columns(values, counts, 2)
-        else:
-            return None  # a mix of 1- and 2-value lines: left to the strict reader
-        if not np.isfinite(uv).all():
-            return None
-
-    found = _face_corners(pieces[b"f "])
-    if found is None:
-        return None
-    numbers, corners, doubled = found
-    if corners.min() < 3:
-        return None
-
-    def indices(column: np.ndarray, counted: np.ndarray, total: int) -> np.ndarray | None:
-        """0-based indices from 1-based or relative ones (``counted``: entries before each face
-        line); None when one is 0, before the first entry, or past the last."""
-        if (column == 0).any():
-            return None
-        relative = column < 0
-        if relative.any():
-            column = column.copy()
-            column[relative] += counted[np.repeat(np.arange(len(corners)), corners)[relative]] + 1
-            if (column[relative] < 1).any():
-                return None
-        if column.max() > total:  # also catches indices too large for int64 (saturated)
-            return None
-        return column - 1
-
-    position = indices(numbers[:, 0], v_before, len(vertices))
-    if position is None:
-        return None
-    triangles = triangulate(vertices, position, corners)
-    mesh = MeshData(vertices, position[triangles])
-    if numbers.shape[1] >= 2 and not doubled:
-        texture = indices(numbers[:, 1], vt_before, len(uv))
-        if texture is None:
-            return None
-        mesh.uv, mesh.uv_faces = uv, texture[triangles]
-    return mesh

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 import struct
 from pathlib import Path
@@ -393,7 +394,7 @@ def test_bad_files_are_rejected_naming_the_file_and_the_problem(tmp_path, name, 
     assert message in str(info.value)
 
 
-# -- the fast OBJ reader against the strict one ------------------------------------------------
+# -- the OBJ reader: whole arrays, statement by statement where they cannot do ----------------
 def outcome(read, content: bytes, name: str = "t.obj"):
     """What a reader makes of ``content``: the mesh's arrays, or the error message."""
     try:
@@ -458,41 +459,31 @@ IRREGULAR_OBJ = [  # each is read by the strict reader (accepted or refused the 
 ]
 
 
+#: What the OBJ reader makes of each of them, recorded when a line-by-line reader (the reference
+#: the whole-array one was held to) read every file.
+OBJ_OUTCOMES = json.loads((Path(__file__).parent / "obj_outcomes.json").read_text())
+
+
 @pytest.mark.parametrize("content", REGULAR_OBJ + IRREGULAR_OBJ)
-def test_fast_obj_reader_agrees_with_the_strict_one(content):
-    data = content.encode("utf-8")
-    assert outcome(obj.read_obj, data) == outcome(obj.read_obj_strict, data)
+def test_obj_files_are_read_as_the_line_by_line_reference_read_them(content):
+    found = outcome(obj.read_obj, content.encode("utf-8"))
+    assert json.loads(json.dumps(found)) == OBJ_OUTCOMES[content]
+
+
+def _read_statement_by_statement(*args):
+    raise AssertionError("a regular OBJ file was read statement by statement")
 
 
 @pytest.mark.parametrize("content", REGULAR_OBJ)
-def test_regular_obj_files_take_the_fast_path(content):
-    assert obj.read_obj_fast(content.encode("utf-8")) is not None
+def test_regular_obj_files_are_read_as_whole_arrays(content, monkeypatch):
+    monkeypatch.setattr(obj, "_each", _read_statement_by_statement)
+    assert obj.read_obj(content.encode("utf-8"), "t.obj") is not None
 
 
-@pytest.mark.parametrize("content", REGULAR_OBJ + IRREGULAR_OBJ)
-def test_the_obj_sections_agree_with_the_strict_reader(content):
-    data = content.encode("utf-8").removeprefix(b"\xef\xbb\xbf").replace(b"\r\n", b"\n")
-    data += b"" if data.endswith(b"\n") else b"\n"
-    sections = obj.sections_by_lines(data)
-    mesh = None if sections is None else obj.mesh_from_sections(*sections)
-    if mesh is not None:
-        assert outcome(lambda *_: mesh, data) == outcome(obj.read_obj_strict, data)
-
-
-@pytest.mark.parametrize(
-    ("name", "content"), [(n, c) for n, c, _ in BAD_FILES if n.endswith(".obj")]
-)
-def test_fast_obj_reader_leaves_every_bad_file_to_the_strict_one(name, content):
-    data = content if isinstance(content, bytes) else content.encode("utf-8")
-    assert obj.read_obj_fast(data) is None
-    assert outcome(obj.read_obj, data, name) == outcome(obj.read_obj_strict, data, name)
-
-
-def test_fast_obj_reader_on_every_listed_mesh_matches_the_strict_one(listed):
+def test_every_listed_obj_mesh_is_read_as_whole_arrays(listed, monkeypatch):
     path, _ = listed
-    data = path.read_bytes()
-    assert obj.read_obj_fast(data) is not None
-    assert outcome(obj.read_obj, data) == outcome(obj.read_obj_strict, data)
+    monkeypatch.setattr(obj, "_each", _read_statement_by_statement)
+    assert len(obj.read_obj(path.read_bytes(), path.name).faces)
 
 
 ASCII_PLY_FILES = [(n, c) for n, c, _ in BAD_FILES if n.endswith(".ply")] + [

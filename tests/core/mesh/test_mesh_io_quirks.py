@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 from mesh_io_models import U_SHAPE, edges_used_once, triangle_area
 
-from gogreen_core.mesh.mesh_io import MeshFileError, load_mesh, save_mesh
-from gogreen_core.mesh.mesh_io.obj import read_obj, read_obj_fast, read_obj_strict
+from gogreen_core.mesh.mesh_io import MeshFileError, load_mesh, obj, save_mesh
+from gogreen_core.mesh.mesh_io.obj import read_obj
 from gogreen_core.mesh.mesh_io.text import parse_numbers
 
 
@@ -42,7 +42,7 @@ WALL = (
 WALL_AREA = 100.0 - 16.0
 
 
-def test_continued_lines_are_joined_like_the_specification_says(tmp_path: Path):
+def test_continued_lines_are_joined_like_the_specification_says(tmp_path: Path, monkeypatch):
     data = WALL.encode()
     (tmp_path / "wall.obj").write_bytes(data)
     mesh = load_mesh(tmp_path / "wall.obj")
@@ -50,8 +50,8 @@ def test_continued_lines_are_joined_like_the_specification_says(tmp_path: Path):
     assert len(mesh.faces) == (8 - 2) + (5 - 2) + (5 - 2)
     joined = data.replace(b"\\\n  ", b"").replace(b"\\\n", b"")
     assert outcome(read_obj, data) == outcome(read_obj, joined)
-    assert read_obj_fast(data) is not None  # the whole-array reader joins them too
-    assert outcome(lambda d, _n: read_obj_fast(d), data) == outcome(read_obj_strict, data)
+    monkeypatch.setattr(obj, "_each", lambda *_: pytest.fail("read statement by statement"))
+    assert outcome(read_obj, data) == outcome(read_obj, joined)  # as whole arrays
 
 
 def test_line_numbers_count_the_continued_lines(tmp_path: Path):
