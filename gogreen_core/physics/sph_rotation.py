@@ -14,10 +14,10 @@ import numpy as np
 from gogreen_core.physics.quadrature import lebedev_points
 from gogreen_core.physics.sph import real_sph_harm
 
-__all__ = ["real_wigner_d"]
+__all__ = ["LEBEDEV_ORDERS", "real_wigner_d"]
 
 #: The Lebedev orders SciPy provides (odd up to 31, then every 6th up to 131).
-_LEBEDEV_ORDERS = (*range(3, 32, 2), *range(35, 132, 6))
+LEBEDEV_ORDERS = (*range(3, 32, 2), *range(35, 132, 6))
 #: Nodes per block of the quadrature (bounds the harmonics' memory at high degree).
 _CHUNK = 1024
 
@@ -26,7 +26,7 @@ _CHUNK = 1024
 def _rule(l_top: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Lebedev nodes (n, 3), weights (n,) exact for degree 2 ``l_top``, and w · Y(η) at them
     ((l_top + 1)², n), read-only."""
-    order = next((o for o in _LEBEDEV_ORDERS if o >= 2 * l_top + 1), None)
+    order = next((o for o in LEBEDEV_ORDERS if o >= 2 * l_top + 1), None)
     if order is None:
         raise ValueError(f"degree {l_top} is beyond the Lebedev rules available (65)")
     nodes, weights = lebedev_points(order)

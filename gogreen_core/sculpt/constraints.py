@@ -34,13 +34,13 @@ class ConstraintSet:
     """
 
     def __init__(self, kernel: GreenKernel):
-        self._kernel = kernel
+        self.kernel = kernel
         outer = CONSTRAINT_INFLUENCE * kernel.eps
         self._cutoff = (CUTOFF_START * outer, outer)
         self._min_sep = 1e-6 * kernel.eps
         self._points = np.zeros((0, 3))
-        self._matrix = np.zeros((0, 0))
-        self._inverse = np.zeros((0, 0))
+        self.matrix = np.zeros((0, 0))
+        self.inverse = np.zeros((0, 0))
 
     @classmethod
     def restored(
@@ -49,25 +49,13 @@ class ConstraintSet:
         """A set in exactly the state another one had: its ``points`` (k, 3), ``matrix`` and
         ``inverse`` (3k, 3k) bit for bit (adding the points again would round differently)."""
         constraints = cls(kernel)
-        constraints._points, constraints._matrix, constraints._inverse = points, matrix, inverse
+        constraints._points, constraints.matrix, constraints.inverse = points, matrix, inverse
         return constraints
-
-    @property
-    def kernel(self) -> GreenKernel:
-        return self._kernel
 
     @property
     def points(self) -> np.ndarray:
         """(k, 3) constraint positions (a copy)."""
         return self._points.copy()
-
-    @property
-    def inverse(self) -> np.ndarray:
-        return self._inverse
-
-    @property
-    def matrix(self) -> np.ndarray:
-        return self._matrix
 
     def __len__(self) -> int:
         return len(self._points)
@@ -76,7 +64,7 @@ class ConstraintSet:
         """s G(others − p) as a (3k, 3) column block."""
         offsets = others - p
         weights = smooth_cutoff(np.linalg.norm(offsets, axis=1), *self._cutoff)
-        blocks = self._kernel.green(offsets) * weights[:, None, None]
+        blocks = self.kernel.green(offsets) * weights[:, None, None]
         return cast(np.ndarray, blocks.reshape(-1, 3))
 
     def add(self, point: np.ndarray) -> int:
@@ -93,8 +81,8 @@ class ConstraintSet:
                     f"(distance {dist[j]:.3g} < {self._min_sep:.3g})"
                 )
         b = self._blocks(p, self._points)  # (3k, 3)
-        d = self._kernel.green(np.zeros((1, 3)))[0]
-        a_inv_b = self._inverse @ b
+        d = self.kernel.green(np.zeros((1, 3)))[0]
+        a_inv_b = self.inverse @ b
         schur = d - b.T @ a_inv_b
         try:
             eig = np.linalg.eigvalsh(0.5 * (schur + schur.T))
@@ -111,10 +99,10 @@ class ConstraintSet:
                 "(the constraint system would be singular)"
             )
         s_inv = np.linalg.inv(schur)
-        top = self._inverse + a_inv_b @ s_inv @ a_inv_b.T
+        top = self.inverse + a_inv_b @ s_inv @ a_inv_b.T
         side = -a_inv_b @ s_inv
-        self._inverse = np.block([[top, side], [side.T, s_inv]])
-        self._matrix = np.block([[self._matrix, b], [b.T, d]])
+        self.inverse = np.block([[top, side], [side.T, s_inv]])
+        self.matrix = np.block([[self.matrix, b], [b.T, d]])
         self._points = np.vstack([self._points, p])
         return k
 
@@ -123,34 +111,34 @@ class ConstraintSet:
         k = len(self._points)
         keep = np.concatenate([np.arange(3 * index), np.arange(3 * index + 3, 3 * k)])
         drop = np.arange(3 * index, 3 * index + 3)
-        p = self._inverse[np.ix_(keep, keep)]
-        q = self._inverse[np.ix_(keep, drop)]
-        r = self._inverse[np.ix_(drop, drop)]
-        self._inverse = p - q @ np.linalg.solve(r, q.T)
-        self._matrix = self._matrix[np.ix_(keep, keep)]
+        p = self.inverse[np.ix_(keep, keep)]
+        q = self.inverse[np.ix_(keep, drop)]
+        r = self.inverse[np.ix_(drop, drop)]
+        self.inverse = p - q @ np.linalg.solve(r, q.T)
+        self.matrix = self.matrix[np.ix_(keep, keep)]
         self._points = np.delete(self._points, index, axis=0)
 
     def move(self, index: int, point: np.ndarray) -> None:
         """Move constraint ``index`` to ``point`` (keeps its index): a removal and an addition."""
-        saved = (self._points, self._matrix, self._inverse)
+        saved = (self._points, self.matrix, self.inverse)
         self.remove(index)
         try:
             new = self.add(point)
         except ValueError:
-            self._points, self._matrix, self._inverse = saved
+            self._points, self.matrix, self.inverse = saved
             raise
         order = list(range(new))
         order.insert(index, new)  # the moved point back at its index
         idx = np.concatenate([np.arange(3 * i, 3 * i + 3) for i in order])
         self._points = self._points[order]
-        self._matrix = self._matrix[np.ix_(idx, idx)]
-        self._inverse = self._inverse[np.ix_(idx, idx)]
+        self.matrix = self.matrix[np.ix_(idx, idx)]
+        self.inverse = self.inverse[np.ix_(idx, idx)]
 
     def solve(self, displacements: np.ndarray) -> np.ndarray:
         """Forces (k, 3) whose field has the prescribed ``displacements`` (k, 3) at the points."""
         d = np.asarray(displacements, dtype=np.float64).reshape(-1)
-        f = self._inverse @ d
-        f += self._inverse @ (d - self._matrix @ f)  # one refinement step
+        f = self.inverse @ d
+        f += self.inverse @ (d - self.matrix @ f)  # one refinement step
         return f.reshape(-1, 3)
 
     def displacement_rows(
@@ -181,6 +169,6 @@ class ConstraintSet:
         u = np.zeros((len(rows), 3))
         for p, f, pin_rows, weights in pins:
             if len(pin_rows):
-                displacement = self._kernel.displacement(points[pin_rows], p, f)
+                displacement = self.kernel.displacement(points[pin_rows], p, f)
                 u[slot[pin_rows]] += displacement * weights[:, None]
         return rows, u

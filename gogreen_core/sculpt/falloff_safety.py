@@ -17,10 +17,10 @@ from functools import lru_cache
 from typing import cast
 
 import numpy as np
-from scipy.integrate import lebedev_rule
 
 from gogreen_core.field.kernel import GreenKernel, lebedev_points
 from gogreen_core.physics.material import Material
+from gogreen_core.physics.sph_rotation import LEBEDEV_ORDERS
 
 __all__ = [
     "AFFINE_FALLBACK",
@@ -53,17 +53,11 @@ _GRADIENT_STEP = 1e-4
 _SAMPLES_PER_EPS = 16
 #: Beyond this radius (in ε) the field is sampled geometrically (unbounded influence).
 _DENSE_RHO = 10.0
-#: Lebedev orders scipy provides (odd up to 31, then every 6th).
-_LEBEDEV_ORDERS = (*range(3, 32, 2), *range(35, 132, 6))
 
 
-@lru_cache(maxsize=8)
 def _directions(l_max: int) -> tuple[np.ndarray, np.ndarray]:
     """Lebedev nodes (n, 3) and weights (n,) of order ≥ 2 (l_max + 1) + 1 (at most 41)."""
-    wanted = min(2 * (l_max + 1) + 1, 41)
-    order = next(o for o in _LEBEDEV_ORDERS if o >= wanted)
-    nodes, weights = lebedev_rule(order)
-    return np.ascontiguousarray(nodes.T), weights
+    return lebedev_points(next(o for o in LEBEDEV_ORDERS if o >= min(2 * l_max + 3, 41)))
 
 
 def _radii(influence: float) -> np.ndarray:

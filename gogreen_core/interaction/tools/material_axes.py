@@ -10,10 +10,10 @@ from functools import lru_cache
 from typing import TYPE_CHECKING, cast
 
 import numpy as np
-from scipy.integrate import lebedev_rule
 
 from gogreen_core.interaction.tools.gauge import tangent_frame
 from gogreen_core.physics.material import Material
+from gogreen_core.physics.quadrature import lebedev_points
 from gogreen_core.sculpt.material_frame import material_frame_at
 
 if TYPE_CHECKING:
@@ -33,7 +33,7 @@ def main_axes(material: Material) -> np.ndarray | None:
     """The material's main directions (3, 3), rows: unit directions scaled by E along them
     over the largest E (at least :data:`MIN_AXIS`), right-handed; None for an isotropic
     material (E the same every way). Read-only, cached."""
-    nodes = np.ascontiguousarray(lebedev_rule(41)[0].T)
+    nodes = lebedev_points(41)[0]
     young = material.directional_young(nodes)
     top = float(young.max())
     if not young.max() - young.min() > _ISOTROPIC * top:
