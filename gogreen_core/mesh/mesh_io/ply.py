@@ -385,9 +385,7 @@ def _walk_binary_records(
                     return starts, lengths, _BAD_LENGTH, float(k)
             lengths[r, column] = k
             column += 1
-            pos += size[j] + k * item[j]
-            if pos > end:
-                return starts, lengths, _TRUNCATED, 0.0
+            pos += size[j] + k * item[j]  # past the end: refused below, or at the next length
         if pos > end:
             return starts, lengths, _TRUNCATED, 0.0
     starts[count] = pos
@@ -451,25 +449,19 @@ def row_problem(
     ]
     if len(lines) != sum(element.count for element in elements):
         return None  # not one record per line, or the counts are wrong: said as it is
-    row = 0
+    rows = iter(lines)
     for element in elements:
         for record in range(element.count):
-            if row >= len(lines):
-                return None
-            number, words = lines[row]
-            row += 1
-            expected, pos, has_list = 0, 0, False
+            number, words = next(rows)
+            expected, has_list = 0, False  # (the values before each property's)
             for p in element.properties:
                 if p.count_dtype is None:
                     expected += 1
-                    pos += 1
                     continue
                 has_list = True
-                if pos >= len(words) or not re.fullmatch(r"\+?\d+(\.0*)?", words[pos]):
+                if expected >= len(words) or not re.fullmatch(r"\+?\d+(\.0*)?", words[expected]):
                     return None  # a bad length: reported as such
-                k = int(float(words[pos]))
-                expected += 1 + k
-                pos += 1 + k
+                expected += 1 + int(float(words[expected]))
             if len(words) > expected or (len(words) < expected and not has_list):
                 declared = ", ".join(p.name for p in element.properties)
                 return MeshFileError(
