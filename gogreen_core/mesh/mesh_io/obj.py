@@ -75,26 +75,21 @@ def read_obj(data: bytes, name: str) -> MeshData:
             f"{name}, line {vertex_lines[bad]}: vertex {bad + 1} has a non-finite coordinate "
             f"{v[bad].tolist()}"
         )
-    outside = corners >= len(v)
-    if outside.any():
-        bad = int(np.argmax(outside))
-        polygon = int(np.searchsorted(last_corners, bad, side="right"))
-        raise MeshFileError(
-            f"{name}, line {face_lines[polygon]}: face {polygon + 1} references vertex "
-            f"{int(corners[bad]) + 1} but the file has {len(v)} vertices"
-        )
-    triangles = triangulate(v, corners, sizes)
-    mesh = MeshData(v, corners[triangles])
-    if textures is not None:
-        outside = textures >= len(uv)
+    for indices, count, what in ((corners, len(v), "vertex"), (textures, len(uv), "texture")):
+        outside = indices >= count
         if outside.any():
             bad = int(np.argmax(outside))
             polygon = int(np.searchsorted(last_corners, bad, side="right"))
+            face, have = f"face {polygon + 1}", f"{count} vertices"
+            if what == "texture":
+                face, what, have = "face", "texture coordinate", f"{count} texture coordinates"
             raise MeshFileError(
-                f"{name}, line {face_lines[polygon]}: face references texture "
-                f"coordinate {int(textures[bad]) + 1} but the file has {len(uv)} texture "
-                "coordinates"
+                f"{name}, line {face_lines[polygon]}: {face} references {what} "
+                f"{int(indices[bad]) + 1} but the file has {have}"
             )
+    triangles = triangulate(v, corners, sizes)
+    mesh = MeshData(v, corners[triangles])
+    if (textures >= 0).any():
         mesh.uv, mesh.uv_faces = uv, textures[triangles]
     return mesh
 
@@ -223,19 +218,21 @@ def _faces(
     statements: Iterator[_Statement],
     counted: list[np.ndarray],
     errors: list[tuple[int, str]],
-) -> tuple[np.ndarray, np.ndarray | None, np.ndarray]:
-    """The f statements' vertex (C,) and texture indices (C,) of each corner (from 0; texture
-    None when no face has any, -1 for a face without), and the corners of each (P,);
-    ``counted``: the v and vt statements before each (for relative indices)."""
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The f statements' vertex (C,) and texture indices (C,) of each corner (from 0; -1 for
+    a face without), and the corners of each (P,); ``counted``: the v and vt statements before
+    each (for relative indices)."""
     if piece is None:
-        return np.zeros(0, dtype=np.int64), None, np.zeros(0, dtype=np.int64)
+        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64), np.zeros(0, np.int64)
     found = _face_corners(piece)
     if found is not None and found[1].min() >= 3:
         numbers, sizes, doubled = found
         position = _resolved(numbers[:, 0], counted[0], sizes)
         plain = numbers.shape[1] < 2 or doubled  # no corner has a texture index
-        texture = None if plain else _resolved(numbers[:, 1], counted[1], sizes)
-        if position is not None and (plain or texture is not None):
+        texture = (
+            np.full(len(numbers), -1) if plain else _resolved(numbers[:, 1], counted[1], sizes)
+        )
+        if position is not None and texture is not None:
             return position, texture, sizes
     corners: list[int] = []
     textures: list[int] = []
@@ -259,7 +256,7 @@ def _faces(
 
     _each(statements, read, errors, *(c.tolist() for c in counted))
     c, t, p = (np.array(x, dtype=np.int64) for x in (corners, textures, polygons))
-    return c, (t if (t >= 0).any() else None), p
+    return c, t, p
 
 
 def _each(
