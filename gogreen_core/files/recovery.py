@@ -260,18 +260,14 @@ def journal_session(contents: JournalContents) -> dict[str, Any]:
 def _start_state(header: dict[str, Any], base: MeshData, mask: np.ndarray | None) -> SculptState:
     """The start state: the header's settings and pins, the base copy's arrays."""
     start = header["start"]
-    pins = start.get("pins")
-    arrays = [base.vertices.copy()]
-    if pins is not None:
-        arrays += [np.array(pins[key], dtype=np.float64) for key in ("points", "matrix", "inverse")]
+    arrays = {"vertices": base.vertices.copy()}  # (the faces: the base copy's, not a second)
+    for key, value in (start.get("pins") or {}).items():
+        arrays[key] = np.array(value, dtype=np.float64)
     if start.get("mask"):
         if mask is None or mask.shape != (len(base.vertices),):
             raise CheckpointError("the start's mask is missing from the copy of the start mesh")
-        arrays.append(np.array(mask, dtype=np.float64))
-    head = {**start, "pins": None if pins is None else len(pins["points"])}
-    if start.get("faces") is not None:  # the base copy's faces: no second copy of them
-        head["faces"] = head["uv"] = None
-    return SculptState.from_header(head, arrays)
+        arrays["mask"] = np.array(mask, dtype=np.float64)
+    return SculptState.from_header(start, arrays)
 
 
 def _load_base(

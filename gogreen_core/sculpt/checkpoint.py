@@ -92,26 +92,19 @@ class SculptState:
         }
 
     @classmethod
-    def from_header(cls, header: dict[str, Any], arrays: list[np.ndarray]) -> SculptState:
-        """Inverse of :meth:`header` with the arrays read back (ValueError if malformed)."""
+    def from_header(cls, header: dict[str, Any], arrays: dict[str, np.ndarray]) -> SculptState:
+        """Inverse of :meth:`header` with the arrays read back by name (ValueError if malformed)."""
         settings = EngineSettings.from_dict(_upgraded_settings(header), "settings")
         origin = np.array(header["origin"], dtype=np.float64)
         size = float(header["model_size"])
         if origin.shape != (3,) or not np.isfinite(origin).all() or not size > 0:
             raise ValueError("model size or origin malformed")
-        pins = (
-            cast("tuple[np.ndarray, np.ndarray, np.ndarray]", tuple(arrays[1:4]))
-            if header["pins"] is not None
-            else None
+        pins = tuple(arrays[key] for key in _PINS) if "points" in arrays else None
+        faces, uv_faces = (arrays[k].astype(np.int64) if k in arrays else None for k in _INDICES)
+        mask, uv = arrays.get("mask"), arrays.get("uv")
+        return cls(
+            arrays["vertices"], settings, cast(Any, pins), size, origin, mask, faces, uv, uv_faces
         )
-        rest = iter(arrays[1 if pins is None else 4 :])
-        mask = next(rest) if header.get("mask") else None
-        faces = uv = uv_faces = None
-        if header.get("faces") is not None:
-            faces = next(rest).astype(np.int64)
-            if header.get("uv") is not None:
-                uv, uv_faces = next(rest), next(rest).astype(np.int64)
-        return cls(arrays[0], settings, pins, size, origin, mask, faces, uv, uv_faces)
 
 
 def _upgraded_settings(header: dict[str, Any]) -> object:
@@ -123,22 +116,26 @@ def _upgraded_settings(header: dict[str, Any]) -> object:
     return settings
 
 
-def _shapes(header: dict[str, Any]) -> list[tuple[int, ...]]:
+_PINS = ("points", "matrix", "inverse")  # the names of the pins' arrays
+_INDICES = ("faces", "uv_faces")  # and of the index arrays (stored as float64)
+
+
+def _shapes(header: dict[str, Any]) -> dict[str, tuple[int, ...]]:
     n, k = header["vertices"], header["pins"]
     if not isinstance(n, int) or n < 1 or not (k is None or (isinstance(k, int) and k >= 0)):
         raise ValueError("vertex or pin count malformed")
-    shapes: list[tuple[int, ...]] = [(n, 3)]
+    shapes: dict[str, tuple[int, ...]] = {"vertices": (n, 3)}
     if k is not None:
-        shapes += [(k, 3), (3 * k, 3 * k), (3 * k, 3 * k)]
+        shapes.update(zip(_PINS, [(k, 3), (3 * k, 3 * k), (3 * k, 3 * k)], strict=True))
     m, t = header.get("faces"), header.get("uv")
     if header.get("mask"):
-        shapes.append((n,))
+        shapes["mask"] = (n,)
     if m is not None:
         if not isinstance(m, int) or m < 0 or not (t is None or (isinstance(t, int) and t >= 0)):
             raise ValueError("face or texture coordinate count malformed")
-        shapes.append((m, 3))
+        shapes["faces"] = (m, 3)
         if t is not None:
-            shapes += [(t, 2), (m, 3)]
+            shapes.update(uv=(t, 2), uv_faces=(m, 3))
     return shapes
 
 
@@ -195,17 +192,17 @@ def read_checkpoint(path: str | os.PathLike[str]) -> tuple[SculptState, dict[str
             f"one reads {CHECKPOINT_VERSION})"
         )
     offset = magic + 8 + length
-    size = offset + 8 * sum(int(np.prod(s)) for s in shapes) + 4
+    size = offset + 8 * sum(int(np.prod(s)) for s in shapes.values()) + 4
     if len(data) != size:
         state = "cut short" if len(data) < size else "too long"
         raise CheckpointError(f"{name}: {state} ({len(data)} bytes, {size} expected)")
     (crc,) = struct.unpack_from("<I", data, size - 4)
     if zlib.crc32(memoryview(data)[: size - 4]) != crc:
         raise CheckpointError(f"{name}: corrupt (checksum mismatch)")
-    arrays = []
-    for shape in shapes:
+    arrays = {}
+    for key, shape in shapes.items():
         count = int(np.prod(shape))
-        arrays.append(np.frombuffer(data, "<f8", count, offset).astype(np.float64).reshape(shape))
+        arrays[key] = np.frombuffer(data, "<f8", count, offset).astype(np.float64).reshape(shape)
         offset += 8 * count
     try:
         return SculptState.from_header(header, arrays), header
