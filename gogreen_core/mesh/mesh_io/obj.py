@@ -18,7 +18,7 @@ import numpy as np
 
 from gogreen_core.mesh.mesh_io.data import MAX_INDEX, MeshData, MeshFileError, first_non_finite
 from gogreen_core.mesh.mesh_io.polygons import triangulate
-from gogreen_core.mesh.mesh_io.text import parse_numbers, text_lines, write_rows
+from gogreen_core.mesh.mesh_io.text import BOM, parse_numbers, without_dos_eof, write_rows
 
 __all__ = ["OBJ_STATEMENTS", "read_obj", "write_obj"]
 
@@ -43,7 +43,7 @@ def read_obj(data: bytes, name: str) -> MeshData:
     errors: list[tuple[int, str]] = []  # (line, message): the first of each kind of statement
     ignored = (starts == ends) | ((c0 == ord("v")) & (c1 == ord("n")) & (c2 == _SPACE))
     for i in np.flatnonzero(~(kinds[b"v "] | kinds[b"vt "] | kinds[b"f "] | ignored)).tolist():
-        words = text[starts[i] : ends[i]].decode().split()  # g, s, usemtl... or an odd v, vt, f
+        words = text[starts[i] : ends[i]].decode(errors="replace").split()  # g, s, usemtl...
         tag = words[0] if words else ""
         if tag in ("v", "vt", "f", "fo"):
             kinds[tag[:2].replace("fo", "f").encode() + b" "][i] = True
@@ -53,7 +53,7 @@ def read_obj(data: bytes, name: str) -> MeshData:
 
     def statements(tag: bytes) -> Iterator[_Statement]:
         for i in np.flatnonzero(kinds[tag]).tolist():
-            content = text[starts[i] : ends[i]].decode()
+            content = text[starts[i] : ends[i]].decode(errors="replace")
             yield int(lines[i]), content.split(), content
 
     pieces = _pieces(text, starts, ends, kinds)
@@ -126,20 +126,22 @@ OBJ_STATEMENTS = frozenset(
 
 
 def _statements(data: bytes) -> tuple[bytes, np.ndarray | None]:
-    """The statements of an OBJ file (:func:`text_lines`) one a line, each ending in a line
-    end: comments removed, and a line that ends in a backslash joined with the next (the
-    specification's continuation; Rhino writes long faces so); and the first line of each
-    statement (None: the statements are the lines)."""
-    text = text_lines(data) + "\n"
-    if "#" in text:
-        text = re.sub("#[^\n]*", "", text)
-    if "\\" not in text:
-        return text.encode(), None
+    """The statements of an OBJ file (its text as :func:`text_lines` reads it) one a line, each
+    ending in a line end: comments removed, and a line that ends in a backslash joined with the
+    next (the specification's continuation; Rhino writes long faces so); and the first line of
+    each statement (None: the statements are the lines)."""
+    text = without_dos_eof(data).removeprefix(BOM.encode())
+    if b"\r" in text:
+        text = text.replace(b"\r\n", b"\n").replace(b"\r", b"\n")
+    text = re.sub(rb"#[^\n]*", b"", text + b"\n") if b"#" in text else text + b"\n"
+    if b"\\" not in text:
+        return text, None
+    decoded = text.decode("utf-8", "replace")  # (any Unicode space may follow the backslash)
     continued = re.compile(r"\\[^\S\n]*\n")
-    joined = [m.end() - 1 for m in continued.finditer(text)]
-    newlines = np.flatnonzero(np.frombuffer(text.encode("utf-32-le"), np.uint32) == ord("\n"))
+    joined = [m.end() - 1 for m in continued.finditer(decoded)]
+    newlines = np.flatnonzero(np.frombuffer(decoded.encode("utf-32-le"), np.uint32) == ord("\n"))
     firsts = np.concatenate([[1], np.flatnonzero(~np.isin(newlines, joined)) + 2])
-    return continued.sub(" ", text).encode() + b"\n", firsts
+    return continued.sub(" ", decoded).encode() + b"\n", firsts
 
 
 def _pieces(
@@ -343,9 +345,11 @@ def _face_corners(piece: bytes) -> tuple[np.ndarray, np.ndarray, bool] | None:
     """Corner numbers (C, fields), corners per face line, and whether the corners are
     ``a//c`` (no texture), from the f piece; None unless every corner has the same form (or
     for a sign before a space, which numpy's integers skip)."""
-    buffer = np.frombuffer(piece + b" ", dtype=np.uint8)
-    if (buffer[np.flatnonzero((buffer == ord("-")) | (buffer == ord("+"))) + 1] <= _SPACE).any():
-        return None
+    if b"-" in piece or b"+" in piece:
+        buffer = np.frombuffer(piece + b" ", dtype=np.uint8)
+        signs = np.flatnonzero((buffer == ord("-")) | (buffer == ord("+")))
+        if (buffer[signs + 1] <= _SPACE).any():
+            return None
     n_slashes = piece.count(b"/")
     if n_slashes == 0:
         parsed = _numbers_per_line(piece, b"f ", b"0", np.int64)
