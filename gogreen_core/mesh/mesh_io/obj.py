@@ -186,9 +186,7 @@ def _coordinates(
     """Positions (N, 3) of the v statements (``width`` 3) or texture coordinates (T, 2) of
     the vt ones (v = 0 when not given, none non-finite)."""
     tag, least = (b"v ", 3) if width == 3 else (b"vt ", 1)
-    if piece is None:
-        return np.zeros((0, width))
-    parsed = _numbers_per_line(piece, tag, b"nan", np.float64)
+    parsed = None if piece is None else _numbers_per_line(piece, tag, b"nan", np.float64)
     if parsed is not None and parsed[1].min() >= least:
         values, counts = parsed
         if counts.min() >= width:
@@ -224,9 +222,7 @@ def _faces(
     """The f statements' vertex (C,) and texture indices (C,) of each corner (from 0; -1 for
     a face without), and the corners of each (P,); ``counted``: the v and vt statements before
     each (for relative indices)."""
-    if piece is None:
-        return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64), np.zeros(0, np.int64)
-    found = _face_corners(piece)
+    found = None if piece is None else _face_corners(piece)
     if found is not None and found[1].min() >= 3:
         numbers, sizes, doubled = found
         position = _resolved(numbers[:, 0], counted[0], sizes)

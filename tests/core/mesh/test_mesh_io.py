@@ -470,8 +470,9 @@ def test_obj_files_are_read_as_the_line_by_line_reference_read_them(content):
     assert json.loads(json.dumps(found)) == OBJ_OUTCOMES[content]
 
 
-def _read_statement_by_statement(*args):
-    raise AssertionError("a regular OBJ file was read statement by statement")
+def _read_statement_by_statement(statements, *args):
+    for _ in statements:
+        raise AssertionError("a regular OBJ file was read statement by statement")
 
 
 @pytest.mark.parametrize("content", REGULAR_OBJ)

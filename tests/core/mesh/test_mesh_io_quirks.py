@@ -50,7 +50,7 @@ def test_continued_lines_are_joined_like_the_specification_says(tmp_path: Path, 
     assert len(mesh.faces) == (8 - 2) + (5 - 2) + (5 - 2)
     joined = data.replace(b"\\\n  ", b"").replace(b"\\\n", b"")
     assert outcome(read_obj, data) == outcome(read_obj, joined)
-    monkeypatch.setattr(obj, "_each", lambda *_: pytest.fail("read statement by statement"))
+    monkeypatch.setattr(obj, "_each", lambda found, *_: [pytest.fail("one by one") for _ in found])
     assert outcome(read_obj, data) == outcome(read_obj, joined)  # as whole arrays
 
 
