@@ -232,10 +232,10 @@ class CrashRecovery(QObject):
         window.set_document(Document.recovered_from(recovery))
         if saved is not None:
             restore_app_settings(window, saved)
-        steps = len(recovery.sculptor.history.undo_labels)
+        steps, contents = len(recovery.sculptor.history.undo_labels), recovery.contents
         window.flash(
-            f"Recovered {recovery.title}: {recovery.operations} operations, as at the last one "
-            f"({steps} undo steps); not saved yet"
+            f"Recovered {contents.title}: {len(contents.operations)} operations, as at the last "
+            f"one ({steps} undo steps); not saved yet"
         )
         if recovery.notes:
             QMessageBox.warning(

@@ -72,7 +72,7 @@ class Document:
         """The document a crash-recovery journal rebuilt (its undo history holds the replayed
         records); unsaved until saved. Its journal continues the recovered one, which is
         removed once the new one holds the recovered state."""
-        document = cls(recovery.mesh, recovery.document, sculptor=recovery.sculptor)
+        document = cls(recovery.mesh, recovery.contents.document, sculptor=recovery.sculptor)
         document.recovered = True
         document._recovery = recovery
         return document

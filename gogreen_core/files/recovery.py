@@ -207,9 +207,10 @@ def _lock(directory: Path) -> JournalLock:
 
 @dataclass
 class Recovery:
-    """A recovered journal: the document's ``mesh``, a ``sculptor`` that continues bit for bit
-    (its undo history holds the ``replayed`` records), ``start`` (0, or the checkpoint's
-    record), ``notes`` on what was dropped, and the ``lock`` (held until :meth:`release`)."""
+    """A recovered journal (``contents``: its title, document, operations...): the document's
+    ``mesh``, a ``sculptor`` that continues bit for bit (its undo history holds the ``replayed``
+    records), ``start`` (0, or the checkpoint's record), ``notes`` on what was dropped, and the
+    ``lock`` (held until :meth:`release`)."""
 
     contents: JournalContents
     mesh: MeshData
@@ -220,18 +221,6 @@ class Recovery:
     notes: list[str]
     lock: JournalLock | None
     seconds: float = 0.0
-
-    @property
-    def operations(self) -> int:
-        return len(self.contents.operations)
-
-    @property
-    def title(self) -> str:
-        return self.contents.title
-
-    @property
-    def document(self) -> str | None:
-        return self.contents.document
 
     def release(self) -> None:
         if self.lock is not None:

@@ -253,12 +253,13 @@ def _write_recovered(directory: Path, args: argparse.Namespace) -> None:
             _save(recovery.mesh, recovery.sculptor, args.output)
         finally:
             recovery.release()
+        contents, notes = recovery.contents, recovery.notes
         print(
-            f"recovered {recovery.title}: {recovery.operations} operations ({recovery.records} "
-            f"records; {recovery.replayed} replayed in {recovery.seconds:.1f} s) -> {args.output}",
+            f"recovered {contents.title}: {len(contents.operations)} operations "
+            f"({recovery.records} records; {recovery.replayed} replayed in "
+            f"{recovery.seconds:.1f} s) -> {args.output}",
             file=sys.stderr,
         )
-        contents, notes = recovery.contents, recovery.notes
     else:
         contents = read_journal(directory)
         notes = contents.notes
