@@ -42,19 +42,26 @@ engine's threads count too), medians. Figures only, no assertions.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import resource
 import statistics
 import time
+from collections import defaultdict
+from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from gogreen_core import Brush, BrushEvent, Material, Sculptor
+from gogreen_core.mesh import remesh as remesh_module
 from gogreen_core.mesh.geometry import vertex_normals
 from gogreen_core.mesh.mesh_io import load_mesh
+from gogreen_core.mesh.mesh_state import MeshState
 from gogreen_core.mesh.remesh import median_edge_length, smallest_angles
 from gogreen_core.mesh.shapes import default_model
 from gogreen_core.mesh.topology import mesh_edges
+from gogreen_core.sculpt import stroke as stroke_module
 from gogreen_core.sculpt.engine_settings import EngineSettings
 
 CUBIC = Material.cubic(3.0, 1.5, 0.4)
@@ -128,6 +135,90 @@ def remesh_default(repeats: int) -> None:
         )
 
 
+#: The stages of one dynamic-topology step, as (owner, attribute) timed by :func:`timed_stages`.
+STAGES = {
+    "select: strain": (stroke_module, "strained_vertices"),
+    "select: pins": (stroke_module.StrokeDriver, "pinned_vertices"),
+    "select: grow": (stroke_module, "grow_region"),
+    "remesh: total": (stroke_module, "remesh"),
+    "remesh: split": (remesh_module._Patch, "split"),
+    "remesh: collapse": (remesh_module._Patch, "collapse"),
+    "remesh: flip": (remesh_module._Patch, "flip"),
+    "remesh: relax": (remesh_module._Patch, "relax"),
+    "remesh: compact (assemble)": (remesh_module, "_assemble"),
+    "mesh adopt": (MeshState, "adopt"),
+    "step: total": (stroke_module.StrokeDriver, "_remesh"),
+}
+
+
+@contextlib.contextmanager
+def timed_stages(seconds: dict[str, list[float]]) -> Iterator[None]:
+    """While open, each :data:`STAGES` function adds its CPU seconds of each call to
+    ``seconds[name]`` (one entry per step: calls within a step add up)."""
+    saved = [(owner, name, getattr(owner, name)) for owner, name in STAGES.values()]
+
+    def timer(stage: str, function: Callable[..., Any]) -> Callable[..., Any]:
+        def timed(*args: Any, **kwargs: Any) -> Any:
+            start = time.process_time()
+            try:
+                return function(*args, **kwargs)
+            finally:
+                seconds[stage][-1] += time.process_time() - start
+
+        return timed
+
+    for stage, (owner, name) in STAGES.items():
+        setattr(owner, name, timer(stage, getattr(owner, name)))
+    try:
+        yield
+    finally:
+        for owner, name, function in saved:
+            setattr(owner, name, function)
+
+
+def step_stages(vertices: np.ndarray, faces: np.ndarray, row: int, events: int) -> None:
+    """The split of dynamic-topology steps (a belly pull of ``events`` events from ``row``)
+    into :data:`STAGES`: medians of the steps after the first, ms; "other" is the step less its
+    stages (strain marks, bookkeeping of the stroke: reference, origins)."""
+    normals = vertex_normals(vertices, faces)
+    sculptor = Sculptor(
+        vertices, faces, settings=EngineSettings(material=CUBIC, dynamic_topology=True)
+    )
+    seconds: dict[str, list[float]] = defaultdict(list)
+    center = sculptor.vertices[row].copy()
+    delta = 0.01 * sculptor.model_size * normals[row]
+    sculptor.begin_stroke(Brush("grab", radius=0.03))
+    sizes = []
+    with timed_stages(seconds):
+        for _ in range(events):
+            for stage in STAGES:
+                seconds[stage].append(0.0)
+            before = len(sculptor.faces)
+            start = time.process_time()
+            sculptor.stroke_event(BrushEvent(center=center, delta=delta))
+            seconds["event: total"].append(time.process_time() - start)
+            sizes.append(len(sculptor.faces) - before)
+            center = center + delta
+    sculptor.end_stroke()
+    inner = ("remesh: split", "remesh: collapse", "remesh: flip", "remesh: relax")
+    inner += ("remesh: compact (assemble)",)
+    derived = {
+        "remesh: setup (patch, region rows)": [
+            t - sum(seconds[s][i] for s in inner) for i, t in enumerate(seconds["remesh: total"])
+        ],
+        "other (marks, stroke bookkeeping)": [
+            t - sum(seconds[s][i] for s in STAGES if s.startswith(("select", "remesh: t", "mesh")))
+            for i, t in enumerate(seconds["step: total"])
+        ],
+        "brush (event less step)": [
+            e - t for e, t in zip(seconds["event: total"], seconds["step: total"], strict=True)
+        ],
+    }
+    print(f"-- one dynamic-topology step at {len(vertices):,} vertices (median of {events - 1})")
+    for stage, values in {**seconds, **derived}.items():
+        print(f"{stage:38s} {1e3 * statistics.median(values[1:]):7.1f} ms")
+
+
 def million(meshes: Path, events: int, remesh_too: bool) -> None:
     ogre = meshes / "ogre.obj"
     if not ogre.exists():
@@ -140,6 +231,7 @@ def million(meshes: Path, events: int, remesh_too: bool) -> None:
     vertices, faces = base.vertices.copy(), base.faces.copy()
     normals = vertex_normals(vertices, faces)
     belly = int(np.argmin(vertices[:, 1]))  # the front of the belly (-y)
+    step_stages(vertices, faces, belly, events)
     print(f"-- the ogre subdivided twice ({len(vertices):,} vertices), {events}-event belly pull")
     for dynamic in (False, True):
         settings = EngineSettings(material=CUBIC, dynamic_topology=dynamic)
