@@ -14,22 +14,32 @@ from numba import njit
 
 __all__ = [
     "closest_points_on_triangles",
+    "edge_length_sums",
     "pick_collapses",
     "pick_flips",
+    "renumber_faces",
     "smallest_angles",
-    "strained_faces",
+    "squared_motions",
+    "strained_corners",
 ]
 
 
 @njit(cache=True, nogil=True, boundscheck=False)
-def strained_faces(
-    reference: np.ndarray, vertices: np.ndarray, faces: np.ndarray, tolerance2: float
+def strained_corners(
+    reference: np.ndarray,
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    marked: np.ndarray,
+    tolerance2: float,
 ) -> np.ndarray:
-    """(M,) bool: the faces (M, 3) one of whose sides changed, as a vector, by more than
-    sqrt(``tolerance2``) times its length from ``reference`` (N, 3) to ``vertices`` (N, 3).
-    One pass, no (M, 3) temporaries: a grab's faint far field moves most of a big mesh."""
-    out = np.zeros(len(faces), dtype=np.bool_)
+    """(N,) bool: the corners of the faces (M, 3) with a ``marked`` (N,) corner one of whose
+    sides changed, as a vector, by more than sqrt(``tolerance2``) times its length from
+    ``reference`` (N, 3) to ``vertices`` (N, 3). One pass, no (M, 3) temporaries: a grab's
+    faint far field moves most of a big mesh."""
+    out = np.zeros(len(vertices), dtype=np.bool_)
     for f in range(len(faces)):
+        if not (marked[faces[f, 0]] or marked[faces[f, 1]] or marked[faces[f, 2]]):
+            continue
         for k in range(3):
             a, b = faces[f, k], faces[f, (k + 1) % 3]
             changed = side = 0.0
@@ -39,9 +49,54 @@ def strained_faces(
                 changed += c * c
                 side += d * d
             if changed > tolerance2 * side:
-                out[f] = True
+                out[faces[f, 0]] = out[faces[f, 1]] = out[faces[f, 2]] = True
                 break
     return out
+
+
+@njit(cache=True, nogil=True, boundscheck=False)
+def squared_motions(vertices: np.ndarray, reference: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """(k,): the squared distance of each of ``rows`` (k,) from ``reference`` to ``vertices``
+    (both (N, 3)), without (k, 3) gathers."""
+    out = np.empty(len(rows))
+    for i in range(len(rows)):
+        v, out[i] = rows[i], 0.0
+        for x in range(3):
+            out[i] += (vertices[v, x] - reference[v, x]) ** 2
+    return out
+
+
+@njit(cache=True, nogil=True, boundscheck=False)
+def edge_length_sums(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(N,) each vertex's sum of the lengths of its faces' sides at it (an inner edge counted
+    once from each face) and (N,) their number."""
+    total, count = np.zeros(len(vertices)), np.zeros(len(vertices))
+    for f in range(len(faces)):
+        for k in range(3):
+            a, b = faces[f, k], faces[f, (k + 1) % 3]
+            length2 = 0.0
+            for x in range(3):
+                length2 += (vertices[b, x] - vertices[a, x]) ** 2
+            length = np.sqrt(length2)
+            total[a] += length
+            total[b] += length
+            count[a] += 1.0
+            count[b] += 1.0
+    return total, count
+
+
+@njit(cache=True, nogil=True, boundscheck=False)
+def renumber_faces(
+    faces: np.ndarray, skip: np.ndarray, number: np.ndarray, out: np.ndarray
+) -> None:
+    """``out`` (k, 3): the faces (M, 3) not ``skip`` (M,), in order, their corners ``number``
+    (N,): one pass, no whole-mesh temporaries (a compress and a gather moved 2M faces twice)."""
+    j = 0
+    for f in range(len(faces)):
+        if not skip[f]:
+            for k in range(3):
+                out[j, k] = number[faces[f, k]]
+            j += 1
 
 
 @njit(cache=True, nogil=True, boundscheck=False)

@@ -35,10 +35,13 @@ import numpy as np
 
 from gogreen_core.mesh._remesh_kernels import (
     closest_points_on_triangles,
+    edge_length_sums,
     pick_collapses,
     pick_flips,
+    renumber_faces,
     smallest_angles,
-    strained_faces,
+    squared_motions,
+    strained_corners,
 )
 from gogreen_core.mesh.mesh_state import MeshSnapshot
 from gogreen_core.mesh.subdivision import (
@@ -69,6 +72,7 @@ __all__ = [
     "remesh",
     "remesh_snapshot",
     "smallest_angles",
+    "squared_motions",
     "strained_vertices",
 ]
 
@@ -100,6 +104,16 @@ class RemeshedMesh:
     changed: np.ndarray
     kept_faces: np.ndarray
     sizes: np.ndarray | None = None
+
+    def carried(self, old: np.ndarray, changed: np.ndarray | float) -> np.ndarray:
+        """Per-vertex values ``old`` (N, ...) in the new numbering (N', ...): the kept rows',
+        in order, with ``changed``'s (N', ... or one value) at the :attr:`changed` rows."""
+        keep = self.kept >= 0
+        out = np.empty((len(self.vertices), *old.shape[1:]), old.dtype)
+        np.compress(keep, old, axis=0, out=out[: np.count_nonzero(keep)])
+        rows = np.flatnonzero(self.changed)
+        out[rows] = changed[rows] if isinstance(changed, np.ndarray) else changed
+        return out
 
 
 @dataclass
@@ -390,8 +404,13 @@ def remesh(
         raise ValueError(f"region must have shape ({n},) (got {region.shape})")
     in_patch = faces_touching(faces, region)
     inside = np.flatnonzero(in_patch)
-    local = np.unique(faces[inside])  # the patch's vertices, ascending
-    patch_faces = np.searchsorted(local, faces[inside])
+    corners = faces[inside]
+    mark = np.zeros(n, dtype=bool)  # a mark and a lookup, not np.unique's and searchsorted's sorts
+    mark[corners] = True
+    local = np.flatnonzero(mark)  # the patch's vertices, ascending
+    number = np.empty(n, dtype=np.int64)
+    number[local] = np.arange(len(local))
+    patch_faces = number[corners]
     # only the patch's rows are read: the cost is the region's, not the mesh's
     mask_local = np.zeros(len(local)) if mask is None else np.asarray(mask, np.float64)[local]
     sizes_local = target[local] if sizing else np.full(len(local), float(target))
@@ -473,13 +492,8 @@ def _assemble(
 
     out_vertices = per_vertex(vertices, patch.points)
     out_faces = np.empty((len(faces) - int(in_patch.sum()) + len(patch.faces), 3), np.int64)
-    n_outside = len(out_faces) - len(patch.faces)
-    outside = np.compress(~in_patch, faces, axis=0)  # renumbered only when a vertex was removed
-    if n_kept == n:
-        out_faces[:n_outside] = outside
-    else:  # no temporary: a 2M-face gather writes straight into place
-        np.take(kept, outside, out=out_faces[:n_outside], mode="clip")
-    out_faces[n_outside:] = number[patch.faces]
+    renumber_faces(faces, in_patch, kept, out_faces)
+    out_faces[len(out_faces) - len(patch.faces) :] = number[patch.faces]
 
     out_mask = None if mask is None else per_vertex(np.asarray(mask, np.float64), patch.mask)
     out_sizes = None if sizes is None else per_vertex(sizes, patch.sizes)
@@ -539,15 +553,11 @@ def local_edge_lengths(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """(N,) float64: the mean length of each vertex's edges in ``faces`` (M, 3) over
     ``vertices`` (N, 3), model units (a sizing field); a vertex of no face (or only of edges
     of length 0) gets the median of the others (1 without any): every length is positive."""
-    faces = np.asarray(faces, dtype=np.int64)
     n = len(vertices)
-    total, count = np.zeros(n), np.zeros(n)
-    for k in range(3):
-        a, b = faces[:, k], faces[:, (k + 1) % 3]
-        length = np.linalg.norm(vertices[b] - vertices[a], axis=1)
-        total += np.bincount(a, length, minlength=n) + np.bincount(b, length, minlength=n)
-        count += np.bincount(a, minlength=n) + np.bincount(b, minlength=n)
-    lengths = np.divide(total, count, out=np.zeros(n), where=count > 0)
+    total, count = edge_length_sums(
+        np.ascontiguousarray(vertices, dtype=np.float64), np.asarray(faces, dtype=np.int64)
+    )
+    lengths: np.ndarray = np.divide(total, count, out=np.zeros(n), where=count > 0)
     alone = ~(lengths > 0)
     if alone.any():
         lengths[alone] = float(np.median(lengths[~alone])) if (~alone).any() else 1.0
@@ -569,18 +579,20 @@ def grow_region(faces: np.ndarray, region: np.ndarray) -> np.ndarray:
 
 
 def strained_vertices(
-    reference: np.ndarray, vertices: np.ndarray, faces: np.ndarray, tolerance: float
+    reference: np.ndarray,
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    marked: np.ndarray,
+    tolerance: float,
 ) -> np.ndarray:
-    """(N,) bool: the corners of the ``faces`` that :func:`strained_faces` finds from
+    """(N,) bool: the corners of the ``faces`` (M, 3) with a ``marked`` (N,) bool corner that
+    are strained (:func:`~gogreen_core.mesh._remesh_kernels.strained_corners`) from
     ``reference`` (N, 3) to ``vertices`` (N, 3) (stretched, sheared or turned: a rigid shift
     strains nothing)."""
-    faces = np.ascontiguousarray(faces, dtype=np.int64)
-    strained = strained_faces(
+    return strained_corners(
         np.ascontiguousarray(reference, dtype=np.float64),
         np.ascontiguousarray(vertices, dtype=np.float64),
-        faces,
+        np.ascontiguousarray(faces, dtype=np.int64),
+        np.ascontiguousarray(marked, dtype=bool),
         float(tolerance) ** 2,
     )
-    out = np.zeros(len(vertices), dtype=bool)
-    out[faces[strained].ravel()] = True
-    return out

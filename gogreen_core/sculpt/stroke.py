@@ -17,11 +17,11 @@ import numpy as np
 
 from gogreen_core.mesh.mesh_state import MaskRows, MeshSnapshot, MeshState, topology_edit
 from gogreen_core.mesh.remesh import (
-    faces_touching,
     grow_region,
     local_edge_lengths,
     remesh,
     remesh_snapshot,
+    squared_motions,
     strained_vertices,
 )
 from gogreen_core.sculpt.brushes import Brush, BrushEvent, Displacement, GreenBrush, StrokeContext
@@ -188,14 +188,14 @@ class StrokeDriver:
         unsettled = stroke.unsettled = np.flatnonzero(around)
         around[:] = False
         around[rows] = True
-        faces = mesh.faces[np.flatnonzero(faces_touching(mesh.faces, around))]
-        strained = strained_vertices(stroke.reference, mesh.vertices, faces, STRAIN_TOLERANCE)
+        strained = strained_vertices(
+            stroke.reference, mesh.vertices, mesh.faces, around, STRAIN_TOLERANCE
+        )
         # and the brush's core, per event (against the total motion the bar would creep out), as
         # against the fastest yet: after a pause the whole path would be the core, remeshed at once
         assert stroke.settled_at is not None
-        shift = mesh.vertices[unsettled] - stroke.reference[unsettled]
         elapsed = len(stroke.events) - stroke.settled_at[unsettled]
-        moved2 = np.einsum("ij,ij->i", shift, shift) / (elapsed * elapsed)
+        moved2 = squared_motions(mesh.vertices, stroke.reference, unsettled) / (elapsed * elapsed)
         stroke.fastest = max(stroke.fastest, float(moved2.max()))
         strained[unsettled] |= (moved2 > 0) & (moved2 >= CORE_MOTION**2 * stroke.fastest)
         if not strained.any():
@@ -216,16 +216,15 @@ class StrokeDriver:
             locked=self.pinned_vertices(),
             iterations=DYNAMIC_ITERATIONS,
         )
-        # the remeshed vertices settle where they are now; the unsettled others keep theirs
-        reference = done.vertices.copy()
+        # the remeshed vertices settle where they are now; the others keep theirs (a settled
+        # vertex's is where it is)
         now = done.kept[unsettled]
         still = now >= 0
         still[still] = ~done.changed[now[still]]
-        reference[now[still]] = stroke.reference[unsettled[still]]
-        stroke.reference, stroke.unsettled = reference, now[still]
+        stroke.reference = done.carried(stroke.reference, done.vertices)
         settled_at = np.full(len(done.vertices), len(stroke.events), dtype=np.int64)
         settled_at[now[still]] = stroke.settled_at[unsettled[still]]
-        stroke.settled_at = settled_at
+        stroke.settled_at, stroke.unsettled = settled_at, now[still]
         if done.sizes is not None:
             stroke.detail = done.sizes
         for name, kept, n in (

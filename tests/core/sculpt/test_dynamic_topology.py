@@ -15,6 +15,7 @@ from gogreen_core import Sculptor
 from gogreen_core.mesh.mesh_state import MaskRows
 from gogreen_core.mesh.remesh import (
     closest_points_on_triangles,
+    faces_touching,
     median_edge_length,
     remesh,
     smallest_angles,
@@ -524,9 +525,9 @@ def test_each_event_measures_strain_only_on_the_faces_it_moved(monkeypatch):
     measured: list[int] = []
     strained = stroke_module.strained_vertices
 
-    def spy(reference, points, cells, tolerance):
-        measured.append(len(cells))
-        return strained(reference, points, cells, tolerance)
+    def spy(reference, points, cells, marked, tolerance):
+        measured.append(int(np.count_nonzero(faces_touching(cells, marked))))
+        return strained(reference, points, cells, marked, tolerance)
 
     monkeypatch.setattr(stroke_module, "strained_vertices", spy)
     adopted = []
