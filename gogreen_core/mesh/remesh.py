@@ -36,12 +36,14 @@ import numpy as np
 from gogreen_core.mesh._remesh_kernels import (
     closest_points_on_triangles,
     edge_length_sums,
+    patch_connectivity,
     pick_collapses,
     pick_flips,
     renumber_faces,
     smallest_angles,
     squared_motions,
     strained_corners,
+    vertex_faces,
 )
 from gogreen_core.mesh.mesh_state import MeshSnapshot
 from gogreen_core.mesh.subdivision import (
@@ -53,9 +55,7 @@ from gogreen_core.mesh.subdivision import (
 from gogreen_core.mesh.topology import (
     BOUNDARY,
     INTERIOR,
-    FaceAdjacency,
     MeshEdges,
-    VertexNeighbours,
     mesh_edges,
     vertex_neighbours,
 )
@@ -136,21 +136,13 @@ class _Patch:
         n = len(self.points)
         self.mode = vertex_neighbours(mesh_edges(self.faces, n), n).mode
 
-    def connectivity(
-        self, edges: MeshEdges | None = None
-    ) -> tuple[MeshEdges, np.ndarray, VertexNeighbours]:
+    def connectivity(self) -> tuple[MeshEdges, np.ndarray, np.ndarray, np.ndarray]:
         """The edges, each edge's two faces ((E, 2), -1 unless it has two) and each vertex's
-        neighbours."""
-        n = len(self.points)
-        if edges is None:
-            edges = mesh_edges(self.faces, n)
-        order = np.argsort(edges.face_edges.ravel(), kind="stable")  # face sides by edge
-        two = edges.face_count == 2
-        first = (np.cumsum(edges.face_count) - edges.face_count)[two]
-        edge_faces = np.full((len(edges), 2), -1, dtype=np.int64)
-        edge_faces[two] = order[first[:, None] + np.arange(2)] // 3
-        neighbours = vertex_neighbours(edges, n)
-        return edges, edge_faces, neighbours
+        neighbours (offsets (n + 1,), neighbours (2E,)): :func:`patch_connectivity`."""
+        ends, face_edges, count, edge_faces, offsets, neighbours = patch_connectivity(
+            self.faces, len(self.points)
+        )
+        return MeshEdges(ends, face_edges, count), edge_faces, offsets, neighbours
 
     def free(self) -> np.ndarray:
         """Vertices that may move or be collapsed away (not on a seam: their corners name one
@@ -167,7 +159,7 @@ class _Patch:
 
     # -- 1. split ------------------------------------------------------------------------------
     def split(self) -> bool:
-        edges = mesh_edges(self.faces, len(self.points))
+        edges = self.connectivity()[0]
         a, b = edges.ends[:, 0], edges.ends[:, 1]
         side = self.points[b] - self.points[a]
         length2 = np.einsum("ij,ij->i", side, side)
@@ -198,7 +190,7 @@ class _Patch:
 
     # -- 2. collapse ---------------------------------------------------------------------------
     def collapse(self, min_area2: float) -> bool:
-        edges = mesh_edges(self.faces, len(self.points))
+        edges, edge_faces, offsets, neighbours = self.connectivity()
         a, b = edges.ends[:, 0], edges.ends[:, 1]
         length = np.linalg.norm(self.points[b] - self.points[a], axis=1)
         free = self.free()
@@ -213,8 +205,6 @@ class _Patch:
         if not len(candidates):
             return False
         candidates = candidates[np.argsort(length[candidates], kind="stable")]
-        edges, edge_faces, neighbours = self.connectivity(edges)
-        around = FaceAdjacency(self.faces, len(self.points))
         pairs, positions, middle = pick_collapses(
             candidates,
             edges.ends,
@@ -222,10 +212,9 @@ class _Patch:
             self.points,
             self.faces,
             self.uv_faces,
-            neighbours.offsets,
-            neighbours.neighbours,
-            around.offsets,
-            around.face_ids,
+            offsets,
+            neighbours,
+            *vertex_faces(self.faces, len(self.points)),
             self.closed,
             free,
             SPLIT_ABOVE * self.sizes,
@@ -259,12 +248,12 @@ class _Patch:
 
     # -- 3. flip -------------------------------------------------------------------------------
     def flip(self, min_area2: float) -> bool:
-        edges, edge_faces, neighbours = self.connectivity()
+        edges, edge_faces, offsets, neighbours = self.connectivity()
         a, b = edges.ends[:, 0], edges.ends[:, 1]
         candidates = np.flatnonzero((edges.face_count == 2) & self.closed[a] & self.closed[b])
         if not len(candidates):
             return False
-        valence = np.diff(neighbours.offsets)
+        valence = np.diff(offsets)
         target = np.where(self.mode == BOUNDARY, 4, 6).astype(np.int64)
         flips = pick_flips(
             candidates,
@@ -273,8 +262,8 @@ class _Patch:
             self.points,
             self.faces,
             self.uv_faces,
-            neighbours.offsets,
-            neighbours.neighbours,
+            offsets,
+            neighbours,
             self.closed,
             valence.astype(np.int64),
             target,
