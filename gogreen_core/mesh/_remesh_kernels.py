@@ -15,6 +15,7 @@ from numba import njit
 __all__ = [
     "closest_points_on_triangles",
     "edge_length_sums",
+    "nearest_on_faces",
     "patch_connectivity",
     "pick_collapses",
     "pick_flips",
@@ -433,12 +434,76 @@ def pick_flips(
     return out[:count]
 
 
+@njit(cache=True, nogil=True, boundscheck=False)
+def _dot(u: np.ndarray, v: np.ndarray) -> float:
+    """u · v (3,), summed as numpy's einsum sums (the remesh's results as they were)."""
+    return float((u[0] * v[0] + u[2] * v[2]) + u[1] * v[1])
+
+
+@njit(cache=True, nogil=True, boundscheck=False)
+def _closest(p: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> tuple[float, float]:
+    """The barycentric weights (v, w) of b and c of the point of triangle (a, b, c) nearest to
+    ``p`` (Ericson, "Real-Time Collision Detection", 5.1.5); a degenerate triangle answers
+    with one of its corners or sides."""
+    ab, ac, ap, bp, cp = b - a, c - a, p - a, p - b, p - c
+    d1, d2 = _dot(ab, ap), _dot(ac, ap)
+    d3, d4 = _dot(ab, bp), _dot(ac, bp)
+    d5, d6 = _dot(ab, cp), _dot(ac, cp)
+    va, vb, vc = d3 * d6 - d5 * d4, d5 * d2 - d1 * d6, d1 * d4 - d3 * d2
+    if d1 <= 0 and d2 <= 0:
+        v, w = 0.0, 0.0
+    elif d3 >= 0 and d4 <= d3:
+        v, w = 1.0, 0.0
+    elif vc <= 0 and d1 >= 0 and d3 <= 0:
+        v, w = d1 / (d1 - d3), 0.0
+    elif d6 >= 0 and d5 <= d6:
+        v, w = 0.0, 1.0
+    elif vb <= 0 and d2 >= 0 and d6 <= 0:
+        v, w = 0.0, d2 / (d2 - d6)
+    elif va <= 0 and d4 - d3 >= 0 and d5 - d6 >= 0:
+        w = (d4 - d3) / ((d4 - d3) + (d5 - d6))
+        v = 1.0 - w
+    else:
+        v, w = vb / (va + vb + vc), vc / (va + vb + vc)
+    if not (np.isfinite(v) and np.isfinite(w)):  # a degenerate triangle inside: a corner
+        v, w = 0.0, 0.0
+    return v, w
+
+
+@njit(cache=True, nogil=True, boundscheck=False)
+def nearest_on_faces(
+    goals: np.ndarray,
+    rows: np.ndarray,
+    points: np.ndarray,
+    faces: np.ndarray,
+    vf_offsets: np.ndarray,
+    vf_faces: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """For each goal (k, 3), the nearest point (k, 3) of the faces (M, 3) around its vertex
+    ``rows`` (k,) (the first nearest in face order), that face (k,) and the point's barycentric
+    coordinates (k, 3) in it."""
+    near, bary = np.empty((len(rows), 3)), np.empty((len(rows), 3))
+    chosen = np.empty(len(rows), dtype=np.int64)
+    for i in range(len(rows)):
+        best = np.inf
+        for j in range(vf_offsets[rows[i]], vf_offsets[rows[i] + 1]):
+            f = vf_faces[j]
+            a, b, c = points[faces[f, 0]], points[faces[f, 1]], points[faces[f, 2]]
+            v, w = _closest(goals[i], a, b, c)
+            q = a * (1.0 - v - w) + b * v + c * w
+            gap = _dot(q - goals[i], q - goals[i])
+            if gap < best or j == vf_offsets[rows[i]]:
+                best, chosen[i], near[i] = gap, f, q
+                bary[i, 0], bary[i, 1], bary[i, 2] = 1.0 - v - w, v, w
+    return near, bary, chosen
+
+
 def closest_points_on_triangles(
     points: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
     """The point of triangle (a, b, c) nearest to each of ``points``, all (K, 3): the points
-    (K, 3) and their barycentric coordinates (K, 3) (Ericson, "Real-Time Collision Detection",
-    5.1.5). A degenerate triangle answers with one of its corners or sides."""
+    (K, 3) and their barycentric coordinates (K, 3), as :func:`_closest` (numpy: nothing to
+    compile for the app's picks)."""
 
     def dot(u: np.ndarray, v: np.ndarray) -> np.ndarray:
         return cast(np.ndarray, np.einsum("ij,ij->i", u, v))

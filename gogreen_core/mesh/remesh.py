@@ -36,6 +36,7 @@ import numpy as np
 from gogreen_core.mesh._remesh_kernels import (
     closest_points_on_triangles,
     edge_length_sums,
+    nearest_on_faces,
     patch_connectivity,
     pick_collapses,
     pick_flips,
@@ -82,8 +83,6 @@ SPLIT_ABOVE = 4.0 / 3.0
 COLLAPSE_BELOW = 4.0 / 5.0
 #: Split passes per iteration at most (each halves the long edges: 2^8 × L is plenty).
 _SPLIT_ROUNDS = 8
-#: Vertex-triangle pairs per block of the relaxation's nearest points (bounds its memory).
-_BLOCK = 1 << 17
 #: A face is degenerate below this area, in target lengths squared.
 _MIN_AREA = 1e-4
 
@@ -305,23 +304,16 @@ class _Patch:
         step = centre - points[rows]
         step -= np.einsum("ij,ij->i", step, unit)[:, None] * unit
         goal = points[rows] + step
-        # back onto the surface: the nearest point of the one-ring's triangles (as they were)
         slot = np.full(n, -1, dtype=np.int64)
         slot[rows] = np.arange(len(rows))
-        pick = slot[corners] >= 0
-        who, face = slot[corners[pick]], face_of[pick]
-        near, bary = np.empty((len(who), 3)), np.empty((len(who), 3))
-        for at in range(0, len(who), _BLOCK):  # in blocks: a dozen (K, 3) temporaries each
-            s, w, f = slice(at, at + _BLOCK), who[at : at + _BLOCK], face[at : at + _BLOCK]
-            near[s], bary[s] = closest_points_on_triangles(goal[w], p0[f], p1[f], p2[f])
-        gap = np.einsum("ij,ij->i", near - goal[who], near - goal[who])
-        order = np.lexsort((gap, who))
-        first = order[np.r_[True, who[order][1:] != who[order][:-1]]]
-        chosen_face, chosen_bary = face[first], bary[first]
+        # back onto the surface: the nearest point of the one-ring's triangles (as they were)
+        near, chosen_bary, chosen_face = nearest_on_faces(
+            goal, rows, points, faces, *vertex_faces(faces, n)
+        )
         # a vertex whose move would turn a face of its by more than 60° or degenerate it
         # (the centroid beyond its one-ring) stays where it is
         moved = points.copy()
-        moved[rows] = near[first]
+        moved[rows] = near
         stays = np.zeros(len(rows), dtype=bool)
         for _ in range(4):
             moved[rows[stays]] = points[rows[stays]]
