@@ -133,7 +133,7 @@ class _Patch:
         # how each vertex may move (topology.INTERIOR, ...): right for the closed vertices, kept
         # through the passes (only edges of two faces change; new vertices are interior)
         n = len(self.points)
-        self.mode = vertex_neighbours(mesh_edges(self.faces, n), n).mode
+        self.mode = vertex_neighbours(self.connectivity()[0], n).mode
 
     def connectivity(self) -> tuple[MeshEdges, np.ndarray, np.ndarray, np.ndarray]:
         """The edges, each edge's two faces ((E, 2), -1 unless it has two) and each vertex's
