@@ -137,7 +137,7 @@ def remesh_default(repeats: int) -> None:
 
 #: The stages of one dynamic-topology step, as (owner, attribute) timed by :func:`timed_stages`.
 STAGES = {
-    "select: strain": (stroke_module, "strained_vertices"),
+    "select: strain": (stroke_module, "strained_corners"),
     "select: pins": (stroke_module.StrokeDriver, "pinned_vertices"),
     "select: grow": (stroke_module, "grow_region"),
     "remesh: total": (stroke_module, "remesh"),

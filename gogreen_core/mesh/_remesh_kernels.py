@@ -1,5 +1,5 @@
-"""The sequential parts of local isotropic remeshing (:mod:`gogreen_core.mesh.remesh`): which
-short edges to collapse and which edges to flip in one pass; per-triangle arithmetic.
+"""The compiled loops of local isotropic remeshing (:mod:`gogreen_core.mesh.remesh`): the
+connectivity (counting sorts), the collapses and flips of a pass, strain, per-triangle arithmetic.
 
 Each pass reads the connectivity of its start (compressed rows) and picks operations whose
 neighbourhoods do not overlap (each claims every vertex it reads), so every check still holds
@@ -15,30 +15,22 @@ from numba import njit
 __all__ = [
     "closest_points_on_triangles",
     "edge_length_sums",
-    "nearest_on_faces",
     "patch_connectivity",
     "pick_collapses",
     "pick_flips",
     "renumber_faces",
     "smallest_angles",
-    "squared_motions",
     "strained_corners",
-    "vertex_faces",
 ]
 
 
 @njit(cache=True, nogil=True, boundscheck=False)
 def strained_corners(
-    reference: np.ndarray,
-    vertices: np.ndarray,
-    faces: np.ndarray,
-    marked: np.ndarray,
-    tolerance2: float,
+    reference: np.ndarray, vertices: np.ndarray, faces: np.ndarray, marked: np.ndarray, tol2: float
 ) -> np.ndarray:
     """(N,) bool: the corners of the faces (M, 3) with a ``marked`` (N,) corner one of whose
-    sides changed, as a vector, by more than sqrt(``tolerance2``) times its length from
-    ``reference`` (N, 3) to ``vertices`` (N, 3). One pass, no (M, 3) temporaries: a grab's
-    faint far field moves most of a big mesh."""
+    sides changed, as a vector, by more than sqrt(``tol2``) times its length from ``reference``
+    (N, 3) to ``vertices`` (N, 3) (a grab's faint far field moves most of a big mesh)."""
     out = np.zeros(len(vertices), dtype=np.bool_)
     for f in range(len(faces)):
         if not (marked[faces[f, 0]] or marked[faces[f, 1]] or marked[faces[f, 2]]):
@@ -51,29 +43,16 @@ def strained_corners(
                 d = reference[b, x] - reference[a, x]
                 changed += c * c
                 side += d * d
-            if changed > tolerance2 * side:
+            if changed > tol2 * side:
                 out[faces[f, 0]] = out[faces[f, 1]] = out[faces[f, 2]] = True
                 break
     return out
 
 
 @njit(cache=True, nogil=True, boundscheck=False)
-def squared_motions(vertices: np.ndarray, reference: np.ndarray, rows: np.ndarray) -> np.ndarray:
-    """(k,): the squared distance of each of ``rows`` (k,) from ``reference`` to ``vertices``
-    (both (N, 3)), without (k, 3) gathers."""
-    out = np.empty(len(rows))
-    for i in range(len(rows)):
-        v, out[i] = rows[i], 0.0
-        for x in range(3):
-            out[i] += (vertices[v, x] - reference[v, x]) ** 2
-    return out
-
-
-@njit(cache=True, nogil=True, boundscheck=False)
-def edge_length_sums(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(N,) each vertex's sum of the lengths of its faces' sides at it (an inner edge counted
-    once from each face) and (N,) their number."""
-    total, count = np.zeros(len(vertices)), np.zeros(len(vertices))
+def edge_length_sums(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """(N,) each vertex's sum of its faces' sides' lengths (an inner edge once a face)."""
+    total = np.zeros(len(vertices))
     for f in range(len(faces)):
         for k in range(3):
             a, b = faces[f, k], faces[f, (k + 1) % 3]
@@ -83,17 +62,14 @@ def edge_length_sums(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarra
             length = np.sqrt(length2)
             total[a] += length
             total[b] += length
-            count[a] += 1.0
-            count[b] += 1.0
-    return total, count
+    return total
 
 
 @njit(cache=True, nogil=True, boundscheck=False)
 def renumber_faces(
     faces: np.ndarray, skip: np.ndarray, number: np.ndarray, out: np.ndarray
 ) -> None:
-    """``out`` (k, 3): the faces (M, 3) not ``skip`` (M,), in order, their corners ``number``
-    (N,): one pass, no whole-mesh temporaries (a compress and a gather moved 2M faces twice)."""
+    """``out`` (k, 3): the faces (M, 3) not ``skip`` (M,), in order, corners ``number`` (N,)."""
     j = 0
     for f in range(len(faces)):
         if not skip[f]:
@@ -107,10 +83,7 @@ def _bucketed(keys: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
     """A counting sort: offsets (n + 1,) and the positions (K,) of ``keys`` (K,) in [0, n)
     grouped by key, in increasing position within each (stable)."""
     offsets = np.zeros(n + 1, dtype=np.int64)
-    for key in keys:
-        offsets[key + 1] += 1
-    for v in range(n):
-        offsets[v + 1] += offsets[v]
+    offsets[1:] = np.cumsum(np.bincount(keys, minlength=n))
     fill, order = offsets[:-1].copy(), np.empty(len(keys), dtype=np.int64)
     for i in range(len(keys)):
         order[fill[keys[i]]] = i
@@ -122,12 +95,9 @@ def _bucketed(keys: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
 def patch_connectivity(
     faces: np.ndarray, n: int
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """What :func:`~gogreen_core.mesh.topology.mesh_edges` and
-    :func:`~gogreen_core.mesh.topology.vertex_neighbours` give for ``faces`` (M, 3) on ``n``
-    vertices, equal, by counting sorts (theirs sort 3M keys): the edges' ends (E, 2), the faces'
-    edges (M, 3), the edges' face counts (E,), their two faces (E, 2) (-1 unless two; first the
-    one whose side comes first), and each vertex's neighbours, ascending (offsets (n + 1,),
-    neighbours (2E,))."""
+    """``topology.mesh_edges`` and ``vertex_neighbours`` of ``faces`` (M, 3) on ``n`` vertices by
+    counting sorts (equal; theirs sort 3M keys): ends (E, 2), face_edges (M, 3), face_count (E,),
+    each edge's first two faces (E, 2), offsets (n + 1,), neighbours (2E,)."""
     flat = faces.ravel()
     low, high = np.empty(len(flat), np.int64), np.empty(len(flat), np.int64)
     for i in range(len(flat)):
@@ -142,10 +112,8 @@ def patch_connectivity(
                 other[k], order[k] = other[k - 1], order[k - 1]
                 k -= 1
             other[k], order[k] = h, i
-    face_edges = np.empty(len(flat), dtype=np.int64)
-    ends = np.empty((len(flat), 2), dtype=np.int64)
-    count = np.zeros(len(flat), dtype=np.int64)
-    edge_faces = np.full((len(flat), 2), -1, dtype=np.int64)
+    face_edges, count = np.empty(len(flat), np.int64), np.zeros(len(flat), np.int64)
+    ends, edge_faces = np.empty((len(flat), 2), np.int64), np.full((len(flat), 2), -1, np.int64)
     e = -1
     for v in range(n):
         for j in range(starts[v], starts[v + 1]):
@@ -156,28 +124,10 @@ def patch_connectivity(
             if count[e] < 2:
                 edge_faces[e, count[e]] = order[j] // 3
             count[e] += 1
-    n_edges = e + 1
-    for e in range(n_edges):
-        if count[e] != 2:
-            edge_faces[e] = -1
-    offsets, slots = _bucketed(ends[:n_edges].ravel(), n)
-    neighbours = ends[:n_edges].ravel()[slots ^ 1]  # the other end of each (edges in order)
-    return (
-        ends[:n_edges],
-        face_edges.reshape(-1, 3),
-        count[:n_edges],
-        edge_faces[:n_edges],
-        offsets,
-        neighbours,
-    )
-
-
-@njit(cache=True, nogil=True, boundscheck=False)
-def vertex_faces(faces: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
-    """Each vertex's faces of ``faces`` (M, 3), increasing: offsets (n + 1,), faces (3M,) (as
-    :class:`~gogreen_core.mesh.topology.FaceAdjacency`, by a counting sort)."""
-    offsets, order = _bucketed(faces.ravel(), n)
-    return offsets, order // 3
+    ends, count, edge_faces = ends[: e + 1], count[: e + 1], edge_faces[: e + 1]
+    offsets, slots = _bucketed(ends.ravel(), n)
+    neighbours = ends.ravel()[slots ^ 1]  # the other end of each (edges in order)
+    return ends, face_edges.reshape(-1, 3), count, edge_faces, offsets, neighbours
 
 
 @njit(cache=True, nogil=True, boundscheck=False)
@@ -204,48 +154,44 @@ def _row_at(faces: np.ndarray, uv_faces: np.ndarray, f: int, v: int) -> int:
 def _faces_keep_facing(
     points: np.ndarray,
     faces: np.ndarray,
-    vf_offsets: np.ndarray,
-    vf_faces: np.ndarray,
-    v: int,
+    around: tuple[np.ndarray, np.ndarray],
     a: int,
     b: int,
     position: np.ndarray,
     min_area2: float,
 ) -> bool:
-    """The faces of ``v`` that do not hold both ``a`` and ``b`` still face the way they did,
-    and are not degenerate, once ``a`` and ``b`` sit at ``position``."""
-    for j in range(vf_offsets[v], vf_offsets[v + 1]):
-        f = vf_faces[j]
-        if _corner(faces, f, a) >= 0 and _corner(faces, f, b) >= 0:
-            continue
-        corners = np.empty((3, 3))
-        for k in range(3):
-            w = faces[f, k]
-            corners[k] = position if (w == a or w == b) else points[w]
-        before = _normal(points[faces[f, 0]], points[faces[f, 1]], points[faces[f, 2]])
-        after = _normal(corners[0], corners[1], corners[2])
-        area2 = after[0] ** 2 + after[1] ** 2 + after[2] ** 2
-        if area2 <= min_area2:
-            return False
-        dot = before[0] * after[0] + before[1] * after[1] + before[2] * after[2]
-        before2 = before[0] ** 2 + before[1] ** 2 + before[2] ** 2
-        if dot <= 0.5 * np.sqrt(area2 * before2):  # turned by more than 60°: refused
-            return False
+    """The faces of ``a`` and of ``b`` (``around``: ``FaceAdjacency``'s rows) that do not hold both
+    still face the way they did and are not degenerate once ``a`` and ``b`` are at ``position``."""
+    vf_offsets, vf_faces = around
+    for v in (a, b):
+        for j in range(vf_offsets[v], vf_offsets[v + 1]):
+            f = vf_faces[j]
+            if _corner(faces, f, a) >= 0 and _corner(faces, f, b) >= 0:
+                continue
+            corners = np.empty((3, 3))
+            for k in range(3):
+                w = faces[f, k]
+                corners[k] = position if (w == a or w == b) else points[w]
+            before = _normal(points[faces[f, 0]], points[faces[f, 1]], points[faces[f, 2]])
+            after = _normal(corners[0], corners[1], corners[2])
+            area2 = after[0] ** 2 + after[1] ** 2 + after[2] ** 2
+            if area2 <= min_area2:
+                return False
+            dot = before[0] * after[0] + before[1] * after[1] + before[2] * after[2]
+            before2 = before[0] ** 2 + before[1] ** 2 + before[2] ** 2
+            if dot <= 0.5 * np.sqrt(area2 * before2):  # turned by more than 60°: refused
+                return False
     return True
 
 
 @njit(cache=True, nogil=True, boundscheck=False)
 def pick_collapses(
     candidates: np.ndarray,
-    ends: np.ndarray,
-    edge_faces: np.ndarray,
+    links: tuple[np.ndarray, ...],
     points: np.ndarray,
     faces: np.ndarray,
     uv_faces: np.ndarray,
-    offsets: np.ndarray,
-    neighbours: np.ndarray,
-    vf_offsets: np.ndarray,
-    vf_faces: np.ndarray,
+    around: tuple[np.ndarray, np.ndarray],
     closed: np.ndarray,
     free: np.ndarray,
     high: np.ndarray,
@@ -254,7 +200,9 @@ def pick_collapses(
     """Short edges to collapse (the conditions of :mod:`gogreen_core.mesh.remesh`, step 2; both
     ends ``closed``, the removed one ``free``; ``high`` (n,): each vertex's longest edge), in
     ``candidates`` (K,) order: rows (k, 3) int64 (removed vertex, kept vertex, edge), the kept
-    vertex's new position (k, 3) and whether it is the midpoint (k,) (else it stays)."""
+    vertex's new position (k, 3) and whether it is the midpoint (k,) (else it stays). ``links``:
+    :func:`patch_connectivity`'s, ``around``: ``FaceAdjacency``'s (offsets, face_ids)."""
+    ends, _, _, edge_faces, offsets, neighbours = links
     n = len(closed)
     claimed = np.zeros(n, dtype=np.bool_)
     mark = np.zeros(n, dtype=np.int64)  # stamp: neighbours of the candidate's first end
@@ -306,11 +254,7 @@ def pick_collapses(
                     too_long = True
         if too_long:
             continue
-        if not _faces_keep_facing(
-            points, faces, vf_offsets, vf_faces, a, a, b, position, min_area2
-        ) or not _faces_keep_facing(
-            points, faces, vf_offsets, vf_faces, b, a, b, position, min_area2
-        ):
+        if not _faces_keep_facing(points, faces, around, a, b, position, min_area2):
             continue
         claimed[a] = claimed[b] = True
         for v in (a, b):
@@ -329,16 +273,12 @@ def _min_angle_cos(p: np.ndarray, q: np.ndarray, r: np.ndarray) -> float:
     worst = -1.0
     corners = (p, q, r)
     for k in range(3):
-        o = corners[k]
-        u = corners[(k + 1) % 3] - o
-        v = corners[(k + 2) % 3] - o
+        u, v = corners[(k + 1) % 3] - corners[k], corners[(k + 2) % 3] - corners[k]
         nu = np.sqrt(u[0] ** 2 + u[1] ** 2 + u[2] ** 2)
         nv = np.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2)
         if nu == 0.0 or nv == 0.0:
             return 1.0
-        c = (u[0] * v[0] + u[1] * v[1] + u[2] * v[2]) / (nu * nv)
-        if c > worst:
-            worst = c
+        worst = max(worst, (u[0] * v[0] + u[1] * v[1] + u[2] * v[2]) / (nu * nv))
     return worst
 
 
@@ -356,13 +296,10 @@ def smallest_angles(corners: np.ndarray) -> np.ndarray:
 @njit(cache=True, nogil=True, boundscheck=False)
 def pick_flips(
     candidates: np.ndarray,
-    ends: np.ndarray,
-    edge_faces: np.ndarray,
+    links: tuple[np.ndarray, ...],
     points: np.ndarray,
     faces: np.ndarray,
     uv_faces: np.ndarray,
-    offsets: np.ndarray,
-    neighbours: np.ndarray,
     closed: np.ndarray,
     valence: np.ndarray,
     target: np.ndarray,
@@ -372,7 +309,8 @@ def pick_flips(
     deviations from ``target`` drop, none below 3, the smallest angle not below half of what
     it was nor below 10° when it was above, the faces not turned over, no seam), in
     ``candidates`` (K,) order: rows (k, 4) int64 of the two faces and the edge's ends a, b,
-    the first face running a → b."""
+    the first face running a → b (``links``: :func:`patch_connectivity`'s)."""
+    ends, _, _, edge_faces, offsets, neighbours = links
     n = len(closed)
     claimed = np.zeros(n, dtype=np.bool_)
     out = np.empty((len(candidates), 4), dtype=np.int64)
@@ -434,76 +372,12 @@ def pick_flips(
     return out[:count]
 
 
-@njit(cache=True, nogil=True, boundscheck=False)
-def _dot(u: np.ndarray, v: np.ndarray) -> float:
-    """u · v (3,), summed as numpy's einsum sums (the remesh's results as they were)."""
-    return float((u[0] * v[0] + u[2] * v[2]) + u[1] * v[1])
-
-
-@njit(cache=True, nogil=True, boundscheck=False)
-def _closest(p: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> tuple[float, float]:
-    """The barycentric weights (v, w) of b and c of the point of triangle (a, b, c) nearest to
-    ``p`` (Ericson, "Real-Time Collision Detection", 5.1.5); a degenerate triangle answers
-    with one of its corners or sides."""
-    ab, ac, ap, bp, cp = b - a, c - a, p - a, p - b, p - c
-    d1, d2 = _dot(ab, ap), _dot(ac, ap)
-    d3, d4 = _dot(ab, bp), _dot(ac, bp)
-    d5, d6 = _dot(ab, cp), _dot(ac, cp)
-    va, vb, vc = d3 * d6 - d5 * d4, d5 * d2 - d1 * d6, d1 * d4 - d3 * d2
-    if d1 <= 0 and d2 <= 0:
-        v, w = 0.0, 0.0
-    elif d3 >= 0 and d4 <= d3:
-        v, w = 1.0, 0.0
-    elif vc <= 0 and d1 >= 0 and d3 <= 0:
-        v, w = d1 / (d1 - d3), 0.0
-    elif d6 >= 0 and d5 <= d6:
-        v, w = 0.0, 1.0
-    elif vb <= 0 and d2 >= 0 and d6 <= 0:
-        v, w = 0.0, d2 / (d2 - d6)
-    elif va <= 0 and d4 - d3 >= 0 and d5 - d6 >= 0:
-        w = (d4 - d3) / ((d4 - d3) + (d5 - d6))
-        v = 1.0 - w
-    else:
-        v, w = vb / (va + vb + vc), vc / (va + vb + vc)
-    if not (np.isfinite(v) and np.isfinite(w)):  # a degenerate triangle inside: a corner
-        v, w = 0.0, 0.0
-    return v, w
-
-
-@njit(cache=True, nogil=True, boundscheck=False)
-def nearest_on_faces(
-    goals: np.ndarray,
-    rows: np.ndarray,
-    points: np.ndarray,
-    faces: np.ndarray,
-    vf_offsets: np.ndarray,
-    vf_faces: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """For each goal (k, 3), the nearest point (k, 3) of the faces (M, 3) around its vertex
-    ``rows`` (k,) (the first nearest in face order), that face (k,) and the point's barycentric
-    coordinates (k, 3) in it."""
-    near, bary = np.empty((len(rows), 3)), np.empty((len(rows), 3))
-    chosen = np.empty(len(rows), dtype=np.int64)
-    for i in range(len(rows)):
-        best = np.inf
-        for j in range(vf_offsets[rows[i]], vf_offsets[rows[i] + 1]):
-            f = vf_faces[j]
-            a, b, c = points[faces[f, 0]], points[faces[f, 1]], points[faces[f, 2]]
-            v, w = _closest(goals[i], a, b, c)
-            q = a * (1.0 - v - w) + b * v + c * w
-            gap = _dot(q - goals[i], q - goals[i])
-            if gap < best or j == vf_offsets[rows[i]]:
-                best, chosen[i], near[i] = gap, f, q
-                bary[i, 0], bary[i, 1], bary[i, 2] = 1.0 - v - w, v, w
-    return near, bary, chosen
-
-
 def closest_points_on_triangles(
     points: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
     """The point of triangle (a, b, c) nearest to each of ``points``, all (K, 3): the points
-    (K, 3) and their barycentric coordinates (K, 3), as :func:`_closest` (numpy: nothing to
-    compile for the app's picks)."""
+    (K, 3) and their barycentric coordinates (K, 3) (Ericson, "Real-Time Collision Detection",
+    5.1.5). A degenerate triangle answers with one of its corners or sides."""
 
     def dot(u: np.ndarray, v: np.ndarray) -> np.ndarray:
         return cast(np.ndarray, np.einsum("ij,ij->i", u, v))

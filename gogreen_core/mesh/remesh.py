@@ -36,17 +36,13 @@ import numpy as np
 from gogreen_core.mesh._remesh_kernels import (
     closest_points_on_triangles,
     edge_length_sums,
-    nearest_on_faces,
     patch_connectivity,
     pick_collapses,
     pick_flips,
     renumber_faces,
     smallest_angles,
-    squared_motions,
     strained_corners,
-    vertex_faces,
 )
-from gogreen_core.mesh.mesh_state import MeshSnapshot
 from gogreen_core.mesh.subdivision import (
     MASK_THRESHOLD,
     _gathered_sum,
@@ -56,6 +52,7 @@ from gogreen_core.mesh.subdivision import (
 from gogreen_core.mesh.topology import (
     BOUNDARY,
     INTERIOR,
+    FaceAdjacency,
     MeshEdges,
     mesh_edges,
     vertex_neighbours,
@@ -71,10 +68,8 @@ __all__ = [
     "local_edge_lengths",
     "median_edge_length",
     "remesh",
-    "remesh_snapshot",
     "smallest_angles",
-    "squared_motions",
-    "strained_vertices",
+    "strained_corners",
 ]
 
 #: Edges longer than this many target lengths are split (Botsch & Kobbelt's 4/3).
@@ -83,6 +78,8 @@ SPLIT_ABOVE = 4.0 / 3.0
 COLLAPSE_BELOW = 4.0 / 5.0
 #: Split passes per iteration at most (each halves the long edges: 2^8 × L is plenty).
 _SPLIT_ROUNDS = 8
+#: Vertex-triangle pairs per block of the relaxation's nearest points (bounds its memory).
+_BLOCK = 1 << 17
 #: A face is degenerate below this area, in target lengths squared.
 _MIN_AREA = 1e-4
 
@@ -104,16 +101,6 @@ class RemeshedMesh:
     kept_faces: np.ndarray
     sizes: np.ndarray | None = None
 
-    def carried(self, old: np.ndarray, changed: np.ndarray | float) -> np.ndarray:
-        """Per-vertex values ``old`` (N, ...) in the new numbering (N', ...): the kept rows',
-        in order, with ``changed``'s (N', ... or one value) at the :attr:`changed` rows."""
-        keep = self.kept >= 0
-        out = np.empty((len(self.vertices), *old.shape[1:]), old.dtype)
-        np.compress(keep, old, axis=0, out=out[: np.count_nonzero(keep)])
-        rows = np.flatnonzero(self.changed)
-        out[rows] = changed[rows] if isinstance(changed, np.ndarray) else changed
-        return out
-
 
 @dataclass
 class _Patch:
@@ -133,15 +120,7 @@ class _Patch:
         # how each vertex may move (topology.INTERIOR, ...): right for the closed vertices, kept
         # through the passes (only edges of two faces change; new vertices are interior)
         n = len(self.points)
-        self.mode = vertex_neighbours(self.connectivity()[0], n).mode
-
-    def connectivity(self) -> tuple[MeshEdges, np.ndarray, np.ndarray, np.ndarray]:
-        """The edges, each edge's two faces ((E, 2), -1 unless it has two) and each vertex's
-        neighbours (offsets (n + 1,), neighbours (2E,)): :func:`patch_connectivity`."""
-        ends, face_edges, count, edge_faces, offsets, neighbours = patch_connectivity(
-            self.faces, len(self.points)
-        )
-        return MeshEdges(ends, face_edges, count), edge_faces, offsets, neighbours
+        self.mode = vertex_neighbours(MeshEdges(*patch_connectivity(self.faces, n)[:3]), n).mode
 
     def free(self) -> np.ndarray:
         """Vertices that may move or be collapsed away (not on a seam: their corners name one
@@ -149,31 +128,27 @@ class _Patch:
         free = self.closed & ~self.locked & (self.mode == INTERIOR)
         if self.uv is not None:
             corners, rows = self.faces.ravel(), self.uv_faces.ravel()
-            low = np.full(len(free), np.iinfo(np.int64).max)
-            high = np.full(len(free), np.iinfo(np.int64).min)
-            np.minimum.at(low, corners, rows)
-            np.maximum.at(high, corners, rows)
-            free &= low == high
+            row = np.empty(len(free), dtype=np.int64)
+            row[corners] = rows  # one of each vertex's rows: a seam's differs from another
+            free[corners[rows != row[corners]]] = False
         return cast(np.ndarray, free)
 
     # -- 1. split ------------------------------------------------------------------------------
     def split(self) -> bool:
-        edges = self.connectivity()[0]
-        a, b = edges.ends[:, 0], edges.ends[:, 1]
+        ends, face_edges, count = patch_connectivity(self.faces, len(self.points))[:3]
+        a, b = ends[:, 0], ends[:, 1]
         side = self.points[b] - self.points[a]
         length2 = np.einsum("ij,ij->i", side, side)
         high = SPLIT_ABOVE * 0.5 * (self.sizes[a] + self.sizes[b])
-        split = (
-            (edges.face_count == 2) & (self.closed[a] | self.closed[b]) & (length2 > high * high)
-        )
+        split = (count == 2) & (self.closed[a] | self.closed[b]) & (length2 > high * high)
         if not split.any():
             return False
-        split_sides = split[edges.face_edges]
+        split_sides = split[face_edges]
         refine = split_sides.all(axis=1)
         number = np.cumsum(split) - 1 + len(self.points)
-        middles = np.where(split_sides, number[edges.face_edges], -1)
+        middles = np.where(split_sides, number[face_edges], -1)
         counts = split_sides.sum(axis=1)
-        ends = edges.ends[split]
+        ends = ends[split]
         for name in ("points", "mask", "sizes"):  # the midpoints'
             old = getattr(self, name)
             setattr(self, name, np.concatenate([old, 0.5 * (old[ends[:, 0]] + old[ends[:, 1]])]))
@@ -189,31 +164,25 @@ class _Patch:
 
     # -- 2. collapse ---------------------------------------------------------------------------
     def collapse(self, min_area2: float) -> bool:
-        edges, edge_faces, offsets, neighbours = self.connectivity()
-        a, b = edges.ends[:, 0], edges.ends[:, 1]
+        links = patch_connectivity(self.faces, len(self.points))
+        ends, _, count, edge_faces = links[:4]
+        a, b = ends[:, 0], ends[:, 1]
         length = np.linalg.norm(self.points[b] - self.points[a], axis=1)
         free = self.free()
-        short = (
-            (edges.face_count == 2)
-            & (length < COLLAPSE_BELOW * 0.5 * (self.sizes[a] + self.sizes[b]))
-            & self.closed[a]
-            & self.closed[b]
-            & (free[a] | free[b])
-        )
+        short = (count == 2) & self.closed[a] & self.closed[b] & (free[a] | free[b])
+        short &= length < COLLAPSE_BELOW * 0.5 * (self.sizes[a] + self.sizes[b])
         candidates = np.flatnonzero(short)
         if not len(candidates):
             return False
         candidates = candidates[np.argsort(length[candidates], kind="stable")]
+        around = FaceAdjacency(self.faces, len(self.points))
         pairs, positions, middle = pick_collapses(
             candidates,
-            edges.ends,
-            edge_faces,
+            links,
             self.points,
             self.faces,
             self.uv_faces,
-            offsets,
-            neighbours,
-            *vertex_faces(self.faces, len(self.points)),
+            (around.offsets, around.face_ids),
             self.closed,
             free,
             SPLIT_ABOVE * self.sizes,
@@ -247,22 +216,20 @@ class _Patch:
 
     # -- 3. flip -------------------------------------------------------------------------------
     def flip(self, min_area2: float) -> bool:
-        edges, edge_faces, offsets, neighbours = self.connectivity()
-        a, b = edges.ends[:, 0], edges.ends[:, 1]
-        candidates = np.flatnonzero((edges.face_count == 2) & self.closed[a] & self.closed[b])
+        links = patch_connectivity(self.faces, len(self.points))
+        ends, count, offsets = links[0], links[2], links[4]
+        a, b = ends[:, 0], ends[:, 1]
+        candidates = np.flatnonzero((count == 2) & self.closed[a] & self.closed[b])
         if not len(candidates):
             return False
         valence = np.diff(offsets)
         target = np.where(self.mode == BOUNDARY, 4, 6).astype(np.int64)
         flips = pick_flips(
             candidates,
-            edges.ends,
-            edge_faces,
+            links,
             self.points,
             self.faces,
             self.uv_faces,
-            offsets,
-            neighbours,
             self.closed,
             valence.astype(np.int64),
             target,
@@ -306,10 +273,17 @@ class _Patch:
         goal = points[rows] + step
         slot = np.full(n, -1, dtype=np.int64)
         slot[rows] = np.arange(len(rows))
-        # back onto the surface: the nearest point of the one-ring's triangles (as they were)
-        near, chosen_bary, chosen_face = nearest_on_faces(
-            goal, rows, points, faces, *vertex_faces(faces, n)
-        )
+        # back onto the surface: the first nearest point of the one-ring's triangles (as they were)
+        who, face = FaceAdjacency(faces, n).around(rows)  # faces increasing
+        near, bary = np.empty((len(who), 3)), np.empty((len(who), 3))
+        for at in range(0, len(who), _BLOCK):  # in blocks: a dozen (K, 3) temporaries each
+            s, w, f = slice(at, at + _BLOCK), who[at : at + _BLOCK], face[at : at + _BLOCK]
+            near[s], bary[s] = closest_points_on_triangles(goal[w], p0[f], p1[f], p2[f])
+        gap = np.einsum("ij,ij->i", near - goal[who], near - goal[who])
+        starts = np.searchsorted(who, np.arange(len(rows)))
+        nearest = np.flatnonzero(gap == np.minimum.reduceat(gap, starts)[who])
+        first = nearest[np.r_[True, who[nearest][1:] != who[nearest][:-1]]]
+        near, chosen_face, chosen_bary = near[first], face[first], bary[first]
         # a vertex whose move would turn a face of its by more than 60° or degenerate it
         # (the centroid beyond its one-ring) stays where it is
         moved = points.copy()
@@ -386,13 +360,10 @@ def remesh(
     in_patch = faces_touching(faces, region)
     inside = np.flatnonzero(in_patch)
     corners = faces[inside]
-    mark = np.zeros(n, dtype=bool)  # a mark and a lookup, not np.unique's and searchsorted's sorts
-    mark[corners] = True
-    local = np.flatnonzero(mark)  # the patch's vertices, ascending
+    local = np.flatnonzero(np.bincount(corners.ravel(), minlength=n))  # ascending, no sort
     number = np.empty(n, dtype=np.int64)
     number[local] = np.arange(len(local))
     patch_faces = number[corners]
-    # only the patch's rows are read: the cost is the region's, not the mesh's
     mask_local = np.zeros(len(local)) if mask is None else np.asarray(mask, np.float64)[local]
     sizes_local = target[local] if sizing else np.full(len(local), float(target))
     if sizing and not (np.isfinite(sizes_local).all() and (sizes_local > 0).all()):
@@ -492,36 +463,6 @@ def _assemble(
     )
 
 
-def remesh_snapshot(
-    source: MeshSnapshot,
-    target_length: float | np.ndarray,
-    unmasked_only: bool,
-    locked: np.ndarray | None,
-    iterations: int,
-    progress: Callable[[float], None] | None = None,
-) -> MeshSnapshot:
-    """Mesh → Remesh: the whole mesh of ``source`` (or its faces not masked, corners below
-    :data:`~gogreen_core.mesh.subdivision.MASK_THRESHOLD`) remeshed to ``target_length`` (model
-    units; one, or each vertex's) with its mask and UVs; read-only and compact, the after-side
-    of its undo step. ``progress``: as for :func:`remesh`."""
-    mask = np.asarray(source.mask, dtype=np.float64)
-    region = mask < MASK_THRESHOLD if unmasked_only else np.ones(len(mask), dtype=bool)
-    done = remesh(
-        source.vertices,
-        np.asarray(source.faces, dtype=np.int64),
-        region,
-        target_length,
-        mask=mask,
-        uv=source.uv,
-        uv_faces=None if source.uv_faces is None else np.asarray(source.uv_faces, np.int64),
-        locked=locked,
-        iterations=iterations,
-        progress=progress,
-    )
-    assert done.mask is not None
-    return MeshSnapshot.frozen(done.vertices, done.faces, done.mask, done.uv, done.uv_faces)
-
-
 def median_edge_length(vertices: np.ndarray, faces: np.ndarray) -> float:
     """The median length of the edges (each once) of ``faces`` (M, 3); 0 without faces."""
     if not len(faces):
@@ -535,9 +476,9 @@ def local_edge_lengths(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     ``vertices`` (N, 3), model units (a sizing field); a vertex of no face (or only of edges
     of length 0) gets the median of the others (1 without any): every length is positive."""
     n = len(vertices)
-    total, count = edge_length_sums(
-        np.ascontiguousarray(vertices, dtype=np.float64), np.asarray(faces, dtype=np.int64)
-    )
+    faces = np.asarray(faces, dtype=np.int64)
+    total = edge_length_sums(np.asarray(vertices, np.float64), faces)
+    count = 2.0 * np.bincount(faces.ravel(), minlength=n)  # each corner is on two sides
     lengths: np.ndarray = np.divide(total, count, out=np.zeros(n), where=count > 0)
     alone = ~(lengths > 0)
     if alone.any():
@@ -557,23 +498,3 @@ def grow_region(faces: np.ndarray, region: np.ndarray) -> np.ndarray:
     grown = np.asarray(region, dtype=bool).copy()
     grown[faces[np.flatnonzero(faces_touching(faces, grown))].ravel()] = True
     return grown
-
-
-def strained_vertices(
-    reference: np.ndarray,
-    vertices: np.ndarray,
-    faces: np.ndarray,
-    marked: np.ndarray,
-    tolerance: float,
-) -> np.ndarray:
-    """(N,) bool: the corners of the ``faces`` (M, 3) with a ``marked`` (N,) bool corner that
-    are strained (:func:`~gogreen_core.mesh._remesh_kernels.strained_corners`) from
-    ``reference`` (N, 3) to ``vertices`` (N, 3) (stretched, sheared or turned: a rigid shift
-    strains nothing)."""
-    return strained_corners(
-        np.ascontiguousarray(reference, dtype=np.float64),
-        np.ascontiguousarray(vertices, dtype=np.float64),
-        np.ascontiguousarray(faces, dtype=np.int64),
-        np.ascontiguousarray(marked, dtype=bool),
-        float(tolerance) ** 2,
-    )

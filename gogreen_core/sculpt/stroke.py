@@ -20,10 +20,9 @@ from gogreen_core.mesh.remesh import (
     grow_region,
     local_edge_lengths,
     remesh,
-    remesh_snapshot,
-    squared_motions,
-    strained_vertices,
+    strained_corners,
 )
+from gogreen_core.mesh.subdivision import MASK_THRESHOLD
 from gogreen_core.sculpt.brushes import Brush, BrushEvent, Displacement, GreenBrush, StrokeContext
 from gogreen_core.sculpt.brushes.table import brush_row
 from gogreen_core.sculpt.engine_settings import EngineSettings
@@ -188,14 +187,15 @@ class StrokeDriver:
         unsettled = stroke.unsettled = np.flatnonzero(around)
         around[:] = False
         around[rows] = True
-        strained = strained_vertices(
-            stroke.reference, mesh.vertices, mesh.faces, around, STRAIN_TOLERANCE
+        strained = strained_corners(
+            stroke.reference, mesh.vertices, mesh.faces, around, STRAIN_TOLERANCE**2
         )
         # and the brush's core, per event (against the total motion the bar would creep out), as
         # against the fastest yet: after a pause the whole path would be the core, remeshed at once
         assert stroke.settled_at is not None
+        shift = mesh.vertices[unsettled] - stroke.reference[unsettled]
         elapsed = len(stroke.events) - stroke.settled_at[unsettled]
-        moved2 = squared_motions(mesh.vertices, stroke.reference, unsettled) / (elapsed * elapsed)
+        moved2 = np.einsum("ij,ij->i", shift, shift) / (elapsed * elapsed)
         stroke.fastest = max(stroke.fastest, float(moved2.max()))
         strained[unsettled] |= (moved2 > 0) & (moved2 >= CORE_MOTION**2 * stroke.fastest)
         if not strained.any():
@@ -216,15 +216,16 @@ class StrokeDriver:
             locked=self.pinned_vertices(),
             iterations=DYNAMIC_ITERATIONS,
         )
-        # the remeshed vertices settle where they are now; the others keep theirs (a settled
-        # vertex's is where it is)
+        # the remeshed vertices settle where they are now; the unsettled others keep theirs
+        reference = done.vertices.copy()
         now = done.kept[unsettled]
         still = now >= 0
         still[still] = ~done.changed[now[still]]
-        stroke.reference = done.carried(stroke.reference, done.vertices)
+        reference[now[still]] = stroke.reference[unsettled[still]]
+        stroke.reference, stroke.unsettled = reference, now[still]
         settled_at = np.full(len(done.vertices), len(stroke.events), dtype=np.int64)
         settled_at[now[still]] = stroke.settled_at[unsettled[still]]
-        stroke.settled_at, stroke.unsettled = settled_at, now[still]
+        stroke.settled_at = settled_at
         if done.sizes is not None:
             stroke.detail = done.sizes
         for name, kept, n in (
@@ -327,10 +328,22 @@ class PreparedRemesh:
         op, before = self.op, self.before
         # without a detail size each vertex's own: about as many vertices, fine parts fine
         length = self.length or local_edge_lengths(before.vertices, before.faces)
-        after = remesh_snapshot(
-            before, length, op.unmasked_only, self.locked, op.iterations, progress
+        masked = (before.mask >= MASK_THRESHOLD) & op.unmasked_only
+        done = remesh(
+            before.vertices,
+            before.faces,
+            ~masked,
+            length,
+            mask=before.mask,
+            uv=before.uv,
+            uv_faces=before.uv_faces,
+            locked=self.locked,
+            iterations=op.iterations,
+            progress=progress,
         )
-        self.result[:] = [after]
+        assert done.mask is not None
+        after = (done.vertices, done.faces, done.mask, done.uv, done.uv_faces)
+        self.result[:] = [MeshSnapshot.frozen(*after)]  # read-only, compact: the undo's after
         return self
 
     def made_from(self, mesh: MeshSnapshot | MeshState) -> bool:
