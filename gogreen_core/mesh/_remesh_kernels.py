@@ -21,6 +21,7 @@ __all__ = [
     "renumber_faces",
     "smallest_angles",
     "strained_corners",
+    "vertex_faces",
 ]
 
 
@@ -131,6 +132,13 @@ def patch_connectivity(
 
 
 @njit(cache=True, nogil=True, boundscheck=False)
+def vertex_faces(faces: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Each vertex's faces, increasing: offsets (n + 1,), faces (3M,) (``FaceAdjacency``'s)."""
+    offsets, order = _bucketed(faces.ravel(), n)
+    return offsets, order // 3
+
+
+@njit(cache=True, nogil=True, boundscheck=False)
 def _normal(p: np.ndarray, q: np.ndarray, r: np.ndarray) -> np.ndarray:
     return np.cross(q - p, r - p)
 
@@ -160,7 +168,7 @@ def _faces_keep_facing(
     position: np.ndarray,
     min_area2: float,
 ) -> bool:
-    """The faces of ``a`` and of ``b`` (``around``: ``FaceAdjacency``'s rows) that do not hold both
+    """The faces of ``a`` and of ``b`` (``around``: :func:`vertex_faces`) that do not hold both
     still face the way they did and are not degenerate once ``a`` and ``b`` are at ``position``."""
     vf_offsets, vf_faces = around
     for v in (a, b):
@@ -201,7 +209,7 @@ def pick_collapses(
     ends ``closed``, the removed one ``free``; ``high`` (n,): each vertex's longest edge), in
     ``candidates`` (K,) order: rows (k, 3) int64 (removed vertex, kept vertex, edge), the kept
     vertex's new position (k, 3) and whether it is the midpoint (k,) (else it stays). ``links``:
-    :func:`patch_connectivity`'s, ``around``: ``FaceAdjacency``'s (offsets, face_ids)."""
+    :func:`patch_connectivity`'s, ``around``: :func:`vertex_faces`'."""
     ends, _, _, edge_faces, offsets, neighbours = links
     n = len(closed)
     claimed = np.zeros(n, dtype=np.bool_)

@@ -42,6 +42,7 @@ from gogreen_core.mesh._remesh_kernels import (
     renumber_faces,
     smallest_angles,
     strained_corners,
+    vertex_faces,
 )
 from gogreen_core.mesh.subdivision import (
     MASK_THRESHOLD,
@@ -63,7 +64,6 @@ __all__ = [
     "SPLIT_ABOVE",
     "RemeshedMesh",
     "closest_points_on_triangles",
-    "faces_touching",
     "grow_region",
     "local_edge_lengths",
     "median_edge_length",
@@ -175,14 +175,13 @@ class _Patch:
         if not len(candidates):
             return False
         candidates = candidates[np.argsort(length[candidates], kind="stable")]
-        around = FaceAdjacency(self.faces, len(self.points))
         pairs, positions, middle = pick_collapses(
             candidates,
             links,
             self.points,
             self.faces,
             self.uv_faces,
-            (around.offsets, around.face_ids),
+            vertex_faces(self.faces, len(self.points)),
             self.closed,
             free,
             SPLIT_ABOVE * self.sizes,
@@ -357,7 +356,7 @@ def remesh(
     region = np.asarray(region, dtype=bool)
     if region.shape != (n,):
         raise ValueError(f"region must have shape ({n},) (got {region.shape})")
-    in_patch = faces_touching(faces, region)
+    in_patch = region[faces[:, 0]] | region[faces[:, 1]] | region[faces[:, 2]]
     inside = np.flatnonzero(in_patch)
     corners = faces[inside]
     local = np.flatnonzero(np.bincount(corners.ravel(), minlength=n))  # ascending, no sort
@@ -486,15 +485,9 @@ def local_edge_lengths(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     return lengths
 
 
-def faces_touching(faces: np.ndarray, marked: np.ndarray) -> np.ndarray:
-    """(M,) bool: the faces (M, 3) with a corner ``marked`` (N,) bool (column by column: a
-    tenth of the time of ``np.any(marked[faces], axis=1)`` on 2M faces)."""
-    corners = marked[faces]
-    return cast(np.ndarray, corners[:, 0] | corners[:, 1] | corners[:, 2])
-
-
 def grow_region(faces: np.ndarray, region: np.ndarray) -> np.ndarray:
     """(N,) bool: ``region`` (N,) bool and every vertex one edge from it."""
     grown = np.asarray(region, dtype=bool).copy()
-    grown[faces[np.flatnonzero(faces_touching(faces, grown))].ravel()] = True
+    touching = grown[faces[:, 0]] | grown[faces[:, 1]] | grown[faces[:, 2]]
+    grown[faces[np.flatnonzero(touching)].ravel()] = True
     return grown

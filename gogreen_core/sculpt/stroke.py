@@ -170,8 +170,7 @@ class StrokeDriver:
         (:data:`CORE_MOTION`) since they were last remeshed. True when the mesh changed."""
         mesh = self.mesh
         if stroke.reference is None:
-            stroke.reference = stroke.before
-            stroke.settled_at = np.zeros(len(stroke.before), dtype=np.int64)
+            stroke.reference, stroke.settled_at = stroke.before, np.zeros(len(stroke.before), int)
         if stroke.detail is None:
             if settings.detail_size is not None:
                 stroke.detail = settings.detail_size * mesh.model_size
