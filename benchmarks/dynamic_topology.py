@@ -11,29 +11,36 @@ Prints medians of:
 * Mesh → Remesh of the default model to its surface's own edge lengths (no detail size: each
   vertex's mean edge), to its median edge length (a uniform remesh) and to twice it;
 * with ``../shared/meshes/ogre.obj`` (relative to the checkout): the ogre subdivided twice
-  (992,608 vertices), a long pull on its belly (the same brush, 10 events) with and without
-  dynamic topology in events per second and the memory of its undo step, and a Remesh of it
-  to its own edge lengths (two rounds). Skipped, with the reason, when the mesh is absent or
-  with ``--no-million``; ``--million-events``, ``--no-million-remesh`` and ``--million-only``
-  shorten it.
+  (992,608 vertices): the split of one dynamic-topology step of a belly pull into its stages
+  (:data:`STAGES`: selection, split, collapse, flip, relaxation, compaction, adoption, the
+  stroke's bookkeeping, the brush); a long pull on its belly (the same brush, 10 events) with
+  and without dynamic topology in events per second and the memory of its undo step, and a
+  Remesh of it to its own edge lengths (two rounds). Skipped, with the reason, when the mesh is
+  absent or with ``--no-million``; ``--million-events``, ``--no-million-remesh`` and
+  ``--million-only`` shorten it.
 
-Measured 2026-11-29 (2 cores shared with other jobs: load average 9-11 the whole run; CPU
-times, so the load inflates them less than wall times, which were 3-7x longer):
-* default model: the pull 3 ms an event fixed, 60 ms dynamic (median; longest edge 1.74 x the
-  median, spike faces >= 20 deg 100 %, 41,512 vertices); Remesh to its own edges 2.2 s
-  (40,950 vertices, edges 0.85-1.23 x the median), to its median 3.0 s, to twice it 2.0 s.
-* 1M-vertex ogre, 10 events: fixed 22.1 events/s (47 ms an event), undo step 48 MiB (the
-  grab's far field moves every vertex); dynamic 0.61-0.65 events/s (1.43-1.56 s an event, two
-  runs; was 0.56 and 1.76 s), 992,608 -> 1,005,321 vertices, undo step 57 MiB (was both
-  whole meshes, ~115 MiB).
-  Each event remeshes a region of ~77k vertices (the strained faces and the brush's core):
-  most of the event is that region's remesh (relaxation ~30 %, collapses ~20 %, splits and
-  flips ~15 % each, much of it sorting edges); the whole-mesh passes of a remesh call (faces
-  touching the region, compacting the arrays) take 65 ms, 140 ms before (a ~300-vertex
-  region). Ending the stroke (finding what changed for its undo step) takes 0.06 s.
-* Remesh of the 1M-vertex ogre to its own edges (2 rounds): 51-55 s CPU, 1,042,626 vertices,
-  peak memory 2.3 GiB (Remesh alone). To its median edge (one length for edges spanning
-  0.005-0.097, before Remesh kept each vertex's): 510 s, 4,636,878 vertices, ~8 GB.
+Measured 2026-11-29 (2 cores shared with other jobs, load average 4-6; CPU times, medians;
+"before" is main 7aac3d2, run interleaved with "after" in the same session):
+* default model: the pull 3 ms an event fixed; dynamic 55-56 ms before, 34-35 ms after (stroke
+  1.41-1.44 s -> 0.92 s), the same mesh (longest edge 1.73 x the median, spike faces >= 20 deg
+  100 %, 41,512 vertices). Remesh to its own edges 1.94-1.97 s -> 1.30-1.34 s (40,950
+  vertices, edges 0.85-1.23 x the median), to its median 2.74-2.78 s -> 1.56-1.67 s, to twice
+  it 1.91-2.05 s -> 1.24 s.
+* 1M-vertex ogre, 8 events: fixed 22-23.5 events/s (47-50 ms an event), undo step 48 MiB (the
+  grab's far field moves every vertex); dynamic 0.70-0.76 events/s (1.30-1.40 s an event)
+  before, 1.30-1.31 events/s (749-758 ms) after, 992,608 -> 1,000,297 vertices either way,
+  undo step 55 MiB. One step (each remeshes a region of ~78k vertices, 156k faces: the
+  strained faces and the brush's core), before -> after: selection 42 ms (strain 34: every
+  face with a moved corner, and the grab moves every row; growing 8) -> the same; setup (the
+  patch's rows and connectivity) 117-119 -> 56-59; split 203-215 -> 144-148; collapse 289-304
+  -> 124-127; flip 195-203 -> 71-73; relaxation 237-257 -> 183-189; compaction of the arrays
+  35-148 (page faults of two 2M-face temporaries) -> 26-28; the stroke's bookkeeping (marks,
+  reference positions, origins) 93-96 -> 69-71; the whole step 1268-1285 -> 737-757; the brush
+  50 either way. A stroke's first dynamic event also measures each vertex's edges: 0.62 s ->
+  0.07 s.
+* Remesh of the 1M-vertex ogre to its own edges (2 rounds): 48.8 s -> 29.0 s CPU, 1,042,626
+  vertices either way. To its median edge (one length for edges spanning 0.005-0.097): 510 s
+  before, 4,636,878 vertices, ~8 GB (not measured again).
 
 Times are CPU seconds of this process (``time.process_time``: the machine is shared, and the
 engine's threads count too), medians. Figures only, no assertions.
@@ -42,19 +49,26 @@ engine's threads count too), medians. Figures only, no assertions.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import resource
 import statistics
 import time
+from collections import defaultdict
+from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from gogreen_core import Brush, BrushEvent, Material, Sculptor
+from gogreen_core.mesh import remesh as remesh_module
 from gogreen_core.mesh.geometry import vertex_normals
 from gogreen_core.mesh.mesh_io import load_mesh
+from gogreen_core.mesh.mesh_state import MeshState
 from gogreen_core.mesh.remesh import median_edge_length, smallest_angles
 from gogreen_core.mesh.shapes import default_model
 from gogreen_core.mesh.topology import mesh_edges
+from gogreen_core.sculpt import stroke as stroke_module
 from gogreen_core.sculpt.engine_settings import EngineSettings
 
 CUBIC = Material.cubic(3.0, 1.5, 0.4)
@@ -128,6 +142,90 @@ def remesh_default(repeats: int) -> None:
         )
 
 
+#: The stages of one dynamic-topology step, as (owner, attribute) timed by :func:`timed_stages`.
+STAGES = {
+    "select: strain": (stroke_module, "strained_corners"),
+    "select: pins": (stroke_module.StrokeDriver, "pinned_vertices"),
+    "select: grow": (stroke_module, "grow_region"),
+    "remesh: total": (stroke_module, "remesh"),
+    "remesh: split": (remesh_module._Patch, "split"),
+    "remesh: collapse": (remesh_module._Patch, "collapse"),
+    "remesh: flip": (remesh_module._Patch, "flip"),
+    "remesh: relax": (remesh_module._Patch, "relax"),
+    "remesh: compact (assemble)": (remesh_module, "_assemble"),
+    "mesh adopt": (MeshState, "adopt"),
+    "step: total": (stroke_module.StrokeDriver, "_remesh"),
+}
+
+
+@contextlib.contextmanager
+def timed_stages(seconds: dict[str, list[float]]) -> Iterator[None]:
+    """While open, each :data:`STAGES` function adds its CPU seconds of each call to
+    ``seconds[name]`` (one entry per step: calls within a step add up)."""
+    saved = [(owner, name, getattr(owner, name)) for owner, name in STAGES.values()]
+
+    def timer(stage: str, function: Callable[..., Any]) -> Callable[..., Any]:
+        def timed(*args: Any, **kwargs: Any) -> Any:
+            start = time.process_time()
+            try:
+                return function(*args, **kwargs)
+            finally:
+                seconds[stage][-1] += time.process_time() - start
+
+        return timed
+
+    for stage, (owner, name) in STAGES.items():
+        setattr(owner, name, timer(stage, getattr(owner, name)))
+    try:
+        yield
+    finally:
+        for owner, name, function in saved:
+            setattr(owner, name, function)
+
+
+def step_stages(vertices: np.ndarray, faces: np.ndarray, row: int, events: int) -> None:
+    """The split of dynamic-topology steps (a belly pull of ``events`` events from ``row``)
+    into :data:`STAGES`: medians of the steps after the first, ms; "other" is the step less its
+    stages (strain marks, bookkeeping of the stroke: reference, origins)."""
+    normals = vertex_normals(vertices, faces)
+    sculptor = Sculptor(
+        vertices, faces, settings=EngineSettings(material=CUBIC, dynamic_topology=True)
+    )
+    seconds: dict[str, list[float]] = defaultdict(list)
+    center = sculptor.vertices[row].copy()
+    delta = 0.01 * sculptor.model_size * normals[row]
+    sculptor.begin_stroke(Brush("grab", radius=0.03))
+    sizes = []
+    with timed_stages(seconds):
+        for _ in range(events):
+            for stage in STAGES:
+                seconds[stage].append(0.0)
+            before = len(sculptor.faces)
+            start = time.process_time()
+            sculptor.stroke_event(BrushEvent(center=center, delta=delta))
+            seconds["event: total"].append(time.process_time() - start)
+            sizes.append(len(sculptor.faces) - before)
+            center = center + delta
+    sculptor.end_stroke()
+    inner = ("remesh: split", "remesh: collapse", "remesh: flip", "remesh: relax")
+    inner += ("remesh: compact (assemble)",)
+    derived = {
+        "remesh: setup (patch, region rows)": [
+            t - sum(seconds[s][i] for s in inner) for i, t in enumerate(seconds["remesh: total"])
+        ],
+        "other (marks, stroke bookkeeping)": [
+            t - sum(seconds[s][i] for s in STAGES if s.startswith(("select", "remesh: t", "mesh")))
+            for i, t in enumerate(seconds["step: total"])
+        ],
+        "brush (event less step)": [
+            e - t for e, t in zip(seconds["event: total"], seconds["step: total"], strict=True)
+        ],
+    }
+    print(f"-- one dynamic-topology step at {len(vertices):,} vertices (median of {events - 1})")
+    for stage, values in {**seconds, **derived}.items():
+        print(f"{stage:38s} {1e3 * statistics.median(values[1:]):7.1f} ms")
+
+
 def million(meshes: Path, events: int, remesh_too: bool) -> None:
     ogre = meshes / "ogre.obj"
     if not ogre.exists():
@@ -140,6 +238,7 @@ def million(meshes: Path, events: int, remesh_too: bool) -> None:
     vertices, faces = base.vertices.copy(), base.faces.copy()
     normals = vertex_normals(vertices, faces)
     belly = int(np.argmin(vertices[:, 1]))  # the front of the belly (-y)
+    step_stages(vertices, faces, belly, events)
     print(f"-- the ogre subdivided twice ({len(vertices):,} vertices), {events}-event belly pull")
     for dynamic in (False, True):
         settings = EngineSettings(material=CUBIC, dynamic_topology=dynamic)

@@ -1,5 +1,5 @@
-"""The sequential parts of local isotropic remeshing (:mod:`gogreen_core.mesh.remesh`): which
-short edges to collapse and which edges to flip in one pass; per-triangle arithmetic.
+"""The compiled loops of local isotropic remeshing (:mod:`gogreen_core.mesh.remesh`): the
+connectivity (counting sorts), the collapses and flips of a pass, strain, per-triangle arithmetic.
 
 Each pass reads the connectivity of its start (compressed rows) and picks operations whose
 neighbourhoods do not overlap (each claims every vertex it reads), so every check still holds
@@ -14,22 +14,28 @@ from numba import njit
 
 __all__ = [
     "closest_points_on_triangles",
+    "edge_length_sums",
+    "patch_connectivity",
     "pick_collapses",
     "pick_flips",
+    "renumber_faces",
     "smallest_angles",
-    "strained_faces",
+    "strained_corners",
+    "vertex_faces",
 ]
 
 
 @njit(cache=True, nogil=True, boundscheck=False)
-def strained_faces(
-    reference: np.ndarray, vertices: np.ndarray, faces: np.ndarray, tolerance2: float
+def strained_corners(
+    reference: np.ndarray, vertices: np.ndarray, faces: np.ndarray, marked: np.ndarray, tol2: float
 ) -> np.ndarray:
-    """(M,) bool: the faces (M, 3) one of whose sides changed, as a vector, by more than
-    sqrt(``tolerance2``) times its length from ``reference`` (N, 3) to ``vertices`` (N, 3).
-    One pass, no (M, 3) temporaries: a grab's faint far field moves most of a big mesh."""
-    out = np.zeros(len(faces), dtype=np.bool_)
+    """(N,) bool: the corners of the faces (M, 3) with a ``marked`` (N,) corner one of whose
+    sides changed, as a vector, by more than sqrt(``tol2``) times its length from ``reference``
+    (N, 3) to ``vertices`` (N, 3) (a grab's faint far field moves most of a big mesh)."""
+    out = np.zeros(len(vertices), dtype=np.bool_)
     for f in range(len(faces)):
+        if not (marked[faces[f, 0]] or marked[faces[f, 1]] or marked[faces[f, 2]]):
+            continue
         for k in range(3):
             a, b = faces[f, k], faces[f, (k + 1) % 3]
             changed = side = 0.0
@@ -38,10 +44,98 @@ def strained_faces(
                 d = reference[b, x] - reference[a, x]
                 changed += c * c
                 side += d * d
-            if changed > tolerance2 * side:
-                out[f] = True
+            if changed > tol2 * side:
+                out[faces[f, 0]] = out[faces[f, 1]] = out[faces[f, 2]] = True
                 break
     return out
+
+
+@njit(cache=True, nogil=True, boundscheck=False)
+def edge_length_sums(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """(N,) each vertex's sum of its faces' sides' lengths (an inner edge once a face)."""
+    total = np.zeros(len(vertices))
+    for f in range(len(faces)):
+        for k in range(3):
+            a, b = faces[f, k], faces[f, (k + 1) % 3]
+            length2 = 0.0
+            for x in range(3):
+                length2 += (vertices[b, x] - vertices[a, x]) ** 2
+            length = np.sqrt(length2)
+            total[a] += length
+            total[b] += length
+    return total
+
+
+@njit(cache=True, nogil=True, boundscheck=False)
+def renumber_faces(
+    faces: np.ndarray, skip: np.ndarray, number: np.ndarray, out: np.ndarray
+) -> None:
+    """``out`` (k, 3): the faces (M, 3) not ``skip`` (M,), in order, corners ``number`` (N,)."""
+    j = 0
+    for f in range(len(faces)):
+        if not skip[f]:
+            for k in range(3):
+                out[j, k] = number[faces[f, k]]
+            j += 1
+
+
+@njit(cache=True, nogil=True, boundscheck=False)
+def _bucketed(keys: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """A counting sort: offsets (n + 1,) and the positions (K,) of ``keys`` (K,) in [0, n)
+    grouped by key, in increasing position within each (stable)."""
+    offsets = np.zeros(n + 1, dtype=np.int64)
+    offsets[1:] = np.cumsum(np.bincount(keys, minlength=n))
+    fill, order = offsets[:-1].copy(), np.empty(len(keys), dtype=np.int64)
+    for i in range(len(keys)):
+        order[fill[keys[i]]] = i
+        fill[keys[i]] += 1
+    return offsets, order
+
+
+@njit(cache=True, nogil=True, boundscheck=False)
+def patch_connectivity(
+    faces: np.ndarray, n: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """``topology.mesh_edges`` and ``vertex_neighbours`` of ``faces`` (M, 3) on ``n`` vertices by
+    counting sorts (equal; theirs sort 3M keys): ends (E, 2), face_edges (M, 3), face_count (E,),
+    each edge's first two faces (E, 2), offsets (n + 1,), neighbours (2E,)."""
+    flat = faces.ravel()
+    low, high = np.empty(len(flat), np.int64), np.empty(len(flat), np.int64)
+    for i in range(len(flat)):
+        a, b = flat[i], flat[i - i % 3 + (i + 1) % 3]
+        low[i], high[i] = min(a, b), max(a, b)
+    starts, order = _bucketed(low, n)
+    other = high[order]  # one gather, then the sorts read in sequence
+    for v in range(n):  # each vertex's sides by their other end (insertion: a few, stable)
+        for j in range(starts[v] + 1, starts[v + 1]):
+            h, i, k = other[j], order[j], j
+            while k > starts[v] and other[k - 1] > h:
+                other[k], order[k] = other[k - 1], order[k - 1]
+                k -= 1
+            other[k], order[k] = h, i
+    face_edges, count = np.empty(len(flat), np.int64), np.zeros(len(flat), np.int64)
+    ends, edge_faces = np.empty((len(flat), 2), np.int64), np.full((len(flat), 2), -1, np.int64)
+    e = -1
+    for v in range(n):
+        for j in range(starts[v], starts[v + 1]):
+            if j == starts[v] or other[j] != other[j - 1]:
+                e += 1
+                ends[e, 0], ends[e, 1] = v, other[j]
+            face_edges[order[j]] = e
+            if count[e] < 2:
+                edge_faces[e, count[e]] = order[j] // 3
+            count[e] += 1
+    ends, count, edge_faces = ends[: e + 1], count[: e + 1], edge_faces[: e + 1]
+    offsets, slots = _bucketed(ends.ravel(), n)
+    neighbours = ends.ravel()[slots ^ 1]  # the other end of each (edges in order)
+    return ends, face_edges.reshape(-1, 3), count, edge_faces, offsets, neighbours
+
+
+@njit(cache=True, nogil=True, boundscheck=False)
+def vertex_faces(faces: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Each vertex's faces, increasing: offsets (n + 1,), faces (3M,) (``FaceAdjacency``'s)."""
+    offsets, order = _bucketed(faces.ravel(), n)
+    return offsets, order // 3
 
 
 @njit(cache=True, nogil=True, boundscheck=False)
@@ -68,48 +162,44 @@ def _row_at(faces: np.ndarray, uv_faces: np.ndarray, f: int, v: int) -> int:
 def _faces_keep_facing(
     points: np.ndarray,
     faces: np.ndarray,
-    vf_offsets: np.ndarray,
-    vf_faces: np.ndarray,
-    v: int,
+    around: tuple[np.ndarray, np.ndarray],
     a: int,
     b: int,
     position: np.ndarray,
     min_area2: float,
 ) -> bool:
-    """The faces of ``v`` that do not hold both ``a`` and ``b`` still face the way they did,
-    and are not degenerate, once ``a`` and ``b`` sit at ``position``."""
-    for j in range(vf_offsets[v], vf_offsets[v + 1]):
-        f = vf_faces[j]
-        if _corner(faces, f, a) >= 0 and _corner(faces, f, b) >= 0:
-            continue
-        corners = np.empty((3, 3))
-        for k in range(3):
-            w = faces[f, k]
-            corners[k] = position if (w == a or w == b) else points[w]
-        before = _normal(points[faces[f, 0]], points[faces[f, 1]], points[faces[f, 2]])
-        after = _normal(corners[0], corners[1], corners[2])
-        area2 = after[0] ** 2 + after[1] ** 2 + after[2] ** 2
-        if area2 <= min_area2:
-            return False
-        dot = before[0] * after[0] + before[1] * after[1] + before[2] * after[2]
-        before2 = before[0] ** 2 + before[1] ** 2 + before[2] ** 2
-        if dot <= 0.5 * np.sqrt(area2 * before2):  # turned by more than 60°: refused
-            return False
+    """The faces of ``a`` and of ``b`` (``around``: :func:`vertex_faces`) that do not hold both
+    still face the way they did and are not degenerate once ``a`` and ``b`` are at ``position``."""
+    vf_offsets, vf_faces = around
+    for v in (a, b):
+        for j in range(vf_offsets[v], vf_offsets[v + 1]):
+            f = vf_faces[j]
+            if _corner(faces, f, a) >= 0 and _corner(faces, f, b) >= 0:
+                continue
+            corners = np.empty((3, 3))
+            for k in range(3):
+                w = faces[f, k]
+                corners[k] = position if (w == a or w == b) else points[w]
+            before = _normal(points[faces[f, 0]], points[faces[f, 1]], points[faces[f, 2]])
+            after = _normal(corners[0], corners[1], corners[2])
+            area2 = after[0] ** 2 + after[1] ** 2 + after[2] ** 2
+            if area2 <= min_area2:
+                return False
+            dot = before[0] * after[0] + before[1] * after[1] + before[2] * after[2]
+            before2 = before[0] ** 2 + before[1] ** 2 + before[2] ** 2
+            if dot <= 0.5 * np.sqrt(area2 * before2):  # turned by more than 60°: refused
+                return False
     return True
 
 
 @njit(cache=True, nogil=True, boundscheck=False)
 def pick_collapses(
     candidates: np.ndarray,
-    ends: np.ndarray,
-    edge_faces: np.ndarray,
+    links: tuple[np.ndarray, ...],
     points: np.ndarray,
     faces: np.ndarray,
     uv_faces: np.ndarray,
-    offsets: np.ndarray,
-    neighbours: np.ndarray,
-    vf_offsets: np.ndarray,
-    vf_faces: np.ndarray,
+    around: tuple[np.ndarray, np.ndarray],
     closed: np.ndarray,
     free: np.ndarray,
     high: np.ndarray,
@@ -118,7 +208,9 @@ def pick_collapses(
     """Short edges to collapse (the conditions of :mod:`gogreen_core.mesh.remesh`, step 2; both
     ends ``closed``, the removed one ``free``; ``high`` (n,): each vertex's longest edge), in
     ``candidates`` (K,) order: rows (k, 3) int64 (removed vertex, kept vertex, edge), the kept
-    vertex's new position (k, 3) and whether it is the midpoint (k,) (else it stays)."""
+    vertex's new position (k, 3) and whether it is the midpoint (k,) (else it stays). ``links``:
+    :func:`patch_connectivity`'s, ``around``: :func:`vertex_faces`'."""
+    ends, _, _, edge_faces, offsets, neighbours = links
     n = len(closed)
     claimed = np.zeros(n, dtype=np.bool_)
     mark = np.zeros(n, dtype=np.int64)  # stamp: neighbours of the candidate's first end
@@ -170,11 +262,7 @@ def pick_collapses(
                     too_long = True
         if too_long:
             continue
-        if not _faces_keep_facing(
-            points, faces, vf_offsets, vf_faces, a, a, b, position, min_area2
-        ) or not _faces_keep_facing(
-            points, faces, vf_offsets, vf_faces, b, a, b, position, min_area2
-        ):
+        if not _faces_keep_facing(points, faces, around, a, b, position, min_area2):
             continue
         claimed[a] = claimed[b] = True
         for v in (a, b):
@@ -193,16 +281,12 @@ def _min_angle_cos(p: np.ndarray, q: np.ndarray, r: np.ndarray) -> float:
     worst = -1.0
     corners = (p, q, r)
     for k in range(3):
-        o = corners[k]
-        u = corners[(k + 1) % 3] - o
-        v = corners[(k + 2) % 3] - o
+        u, v = corners[(k + 1) % 3] - corners[k], corners[(k + 2) % 3] - corners[k]
         nu = np.sqrt(u[0] ** 2 + u[1] ** 2 + u[2] ** 2)
         nv = np.sqrt(v[0] ** 2 + v[1] ** 2 + v[2] ** 2)
         if nu == 0.0 or nv == 0.0:
             return 1.0
-        c = (u[0] * v[0] + u[1] * v[1] + u[2] * v[2]) / (nu * nv)
-        if c > worst:
-            worst = c
+        worst = max(worst, (u[0] * v[0] + u[1] * v[1] + u[2] * v[2]) / (nu * nv))
     return worst
 
 
@@ -220,13 +304,10 @@ def smallest_angles(corners: np.ndarray) -> np.ndarray:
 @njit(cache=True, nogil=True, boundscheck=False)
 def pick_flips(
     candidates: np.ndarray,
-    ends: np.ndarray,
-    edge_faces: np.ndarray,
+    links: tuple[np.ndarray, ...],
     points: np.ndarray,
     faces: np.ndarray,
     uv_faces: np.ndarray,
-    offsets: np.ndarray,
-    neighbours: np.ndarray,
     closed: np.ndarray,
     valence: np.ndarray,
     target: np.ndarray,
@@ -236,7 +317,8 @@ def pick_flips(
     deviations from ``target`` drop, none below 3, the smallest angle not below half of what
     it was nor below 10° when it was above, the faces not turned over, no seam), in
     ``candidates`` (K,) order: rows (k, 4) int64 of the two faces and the edge's ends a, b,
-    the first face running a → b."""
+    the first face running a → b (``links``: :func:`patch_connectivity`'s)."""
+    ends, _, _, edge_faces, offsets, neighbours = links
     n = len(closed)
     claimed = np.zeros(n, dtype=np.bool_)
     out = np.empty((len(candidates), 4), dtype=np.int64)

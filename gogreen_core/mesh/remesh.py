@@ -35,12 +35,15 @@ import numpy as np
 
 from gogreen_core.mesh._remesh_kernels import (
     closest_points_on_triangles,
+    edge_length_sums,
+    patch_connectivity,
     pick_collapses,
     pick_flips,
+    renumber_faces,
     smallest_angles,
-    strained_faces,
+    strained_corners,
+    vertex_faces,
 )
-from gogreen_core.mesh.mesh_state import MeshSnapshot
 from gogreen_core.mesh.subdivision import (
     MASK_THRESHOLD,
     _gathered_sum,
@@ -52,7 +55,6 @@ from gogreen_core.mesh.topology import (
     INTERIOR,
     FaceAdjacency,
     MeshEdges,
-    VertexNeighbours,
     mesh_edges,
     vertex_neighbours,
 )
@@ -62,14 +64,12 @@ __all__ = [
     "SPLIT_ABOVE",
     "RemeshedMesh",
     "closest_points_on_triangles",
-    "faces_touching",
     "grow_region",
     "local_edge_lengths",
     "median_edge_length",
     "remesh",
-    "remesh_snapshot",
     "smallest_angles",
-    "strained_vertices",
+    "strained_corners",
 ]
 
 #: Edges longer than this many target lengths are split (Botsch & Kobbelt's 4/3).
@@ -120,23 +120,7 @@ class _Patch:
         # how each vertex may move (topology.INTERIOR, ...): right for the closed vertices, kept
         # through the passes (only edges of two faces change; new vertices are interior)
         n = len(self.points)
-        self.mode = vertex_neighbours(mesh_edges(self.faces, n), n).mode
-
-    def connectivity(
-        self, edges: MeshEdges | None = None
-    ) -> tuple[MeshEdges, np.ndarray, VertexNeighbours]:
-        """The edges, each edge's two faces ((E, 2), -1 unless it has two) and each vertex's
-        neighbours."""
-        n = len(self.points)
-        if edges is None:
-            edges = mesh_edges(self.faces, n)
-        order = np.argsort(edges.face_edges.ravel(), kind="stable")  # face sides by edge
-        two = edges.face_count == 2
-        first = (np.cumsum(edges.face_count) - edges.face_count)[two]
-        edge_faces = np.full((len(edges), 2), -1, dtype=np.int64)
-        edge_faces[two] = order[first[:, None] + np.arange(2)] // 3
-        neighbours = vertex_neighbours(edges, n)
-        return edges, edge_faces, neighbours
+        self.mode = vertex_neighbours(MeshEdges(*patch_connectivity(self.faces, n)[:3]), n).mode
 
     def free(self) -> np.ndarray:
         """Vertices that may move or be collapsed away (not on a seam: their corners name one
@@ -144,31 +128,27 @@ class _Patch:
         free = self.closed & ~self.locked & (self.mode == INTERIOR)
         if self.uv is not None:
             corners, rows = self.faces.ravel(), self.uv_faces.ravel()
-            low = np.full(len(free), np.iinfo(np.int64).max)
-            high = np.full(len(free), np.iinfo(np.int64).min)
-            np.minimum.at(low, corners, rows)
-            np.maximum.at(high, corners, rows)
-            free &= low == high
+            row = np.empty(len(free), dtype=np.int64)
+            row[corners] = rows  # one of each vertex's rows: a seam's differs from another
+            free[corners[rows != row[corners]]] = False
         return cast(np.ndarray, free)
 
     # -- 1. split ------------------------------------------------------------------------------
     def split(self) -> bool:
-        edges = mesh_edges(self.faces, len(self.points))
-        a, b = edges.ends[:, 0], edges.ends[:, 1]
+        ends, face_edges, count = patch_connectivity(self.faces, len(self.points))[:3]
+        a, b = ends[:, 0], ends[:, 1]
         side = self.points[b] - self.points[a]
         length2 = np.einsum("ij,ij->i", side, side)
         high = SPLIT_ABOVE * 0.5 * (self.sizes[a] + self.sizes[b])
-        split = (
-            (edges.face_count == 2) & (self.closed[a] | self.closed[b]) & (length2 > high * high)
-        )
+        split = (count == 2) & (self.closed[a] | self.closed[b]) & (length2 > high * high)
         if not split.any():
             return False
-        split_sides = split[edges.face_edges]
+        split_sides = split[face_edges]
         refine = split_sides.all(axis=1)
         number = np.cumsum(split) - 1 + len(self.points)
-        middles = np.where(split_sides, number[edges.face_edges], -1)
+        middles = np.where(split_sides, number[face_edges], -1)
         counts = split_sides.sum(axis=1)
-        ends = edges.ends[split]
+        ends = ends[split]
         for name in ("points", "mask", "sizes"):  # the midpoints'
             old = getattr(self, name)
             setattr(self, name, np.concatenate([old, 0.5 * (old[ends[:, 0]] + old[ends[:, 1]])]))
@@ -184,34 +164,24 @@ class _Patch:
 
     # -- 2. collapse ---------------------------------------------------------------------------
     def collapse(self, min_area2: float) -> bool:
-        edges = mesh_edges(self.faces, len(self.points))
-        a, b = edges.ends[:, 0], edges.ends[:, 1]
+        links = patch_connectivity(self.faces, len(self.points))
+        ends, _, count, edge_faces = links[:4]
+        a, b = ends[:, 0], ends[:, 1]
         length = np.linalg.norm(self.points[b] - self.points[a], axis=1)
         free = self.free()
-        short = (
-            (edges.face_count == 2)
-            & (length < COLLAPSE_BELOW * 0.5 * (self.sizes[a] + self.sizes[b]))
-            & self.closed[a]
-            & self.closed[b]
-            & (free[a] | free[b])
-        )
+        short = (count == 2) & self.closed[a] & self.closed[b] & (free[a] | free[b])
+        short &= length < COLLAPSE_BELOW * 0.5 * (self.sizes[a] + self.sizes[b])
         candidates = np.flatnonzero(short)
         if not len(candidates):
             return False
         candidates = candidates[np.argsort(length[candidates], kind="stable")]
-        edges, edge_faces, neighbours = self.connectivity(edges)
-        around = FaceAdjacency(self.faces, len(self.points))
         pairs, positions, middle = pick_collapses(
             candidates,
-            edges.ends,
-            edge_faces,
+            links,
             self.points,
             self.faces,
             self.uv_faces,
-            neighbours.offsets,
-            neighbours.neighbours,
-            around.offsets,
-            around.face_ids,
+            vertex_faces(self.faces, len(self.points)),
             self.closed,
             free,
             SPLIT_ABOVE * self.sizes,
@@ -245,22 +215,20 @@ class _Patch:
 
     # -- 3. flip -------------------------------------------------------------------------------
     def flip(self, min_area2: float) -> bool:
-        edges, edge_faces, neighbours = self.connectivity()
-        a, b = edges.ends[:, 0], edges.ends[:, 1]
-        candidates = np.flatnonzero((edges.face_count == 2) & self.closed[a] & self.closed[b])
+        links = patch_connectivity(self.faces, len(self.points))
+        ends, count, offsets = links[0], links[2], links[4]
+        a, b = ends[:, 0], ends[:, 1]
+        candidates = np.flatnonzero((count == 2) & self.closed[a] & self.closed[b])
         if not len(candidates):
             return False
-        valence = np.diff(neighbours.offsets)
+        valence = np.diff(offsets)
         target = np.where(self.mode == BOUNDARY, 4, 6).astype(np.int64)
         flips = pick_flips(
             candidates,
-            edges.ends,
-            edge_faces,
+            links,
             self.points,
             self.faces,
             self.uv_faces,
-            neighbours.offsets,
-            neighbours.neighbours,
             self.closed,
             valence.astype(np.int64),
             target,
@@ -302,23 +270,23 @@ class _Patch:
         step = centre - points[rows]
         step -= np.einsum("ij,ij->i", step, unit)[:, None] * unit
         goal = points[rows] + step
-        # back onto the surface: the nearest point of the one-ring's triangles (as they were)
         slot = np.full(n, -1, dtype=np.int64)
         slot[rows] = np.arange(len(rows))
-        pick = slot[corners] >= 0
-        who, face = slot[corners[pick]], face_of[pick]
+        # back onto the surface: the first nearest point of the one-ring's triangles (as they were)
+        who, face = FaceAdjacency(faces, n).around(rows)  # faces increasing
         near, bary = np.empty((len(who), 3)), np.empty((len(who), 3))
         for at in range(0, len(who), _BLOCK):  # in blocks: a dozen (K, 3) temporaries each
             s, w, f = slice(at, at + _BLOCK), who[at : at + _BLOCK], face[at : at + _BLOCK]
             near[s], bary[s] = closest_points_on_triangles(goal[w], p0[f], p1[f], p2[f])
         gap = np.einsum("ij,ij->i", near - goal[who], near - goal[who])
-        order = np.lexsort((gap, who))
-        first = order[np.r_[True, who[order][1:] != who[order][:-1]]]
-        chosen_face, chosen_bary = face[first], bary[first]
+        starts = np.searchsorted(who, np.arange(len(rows)))
+        nearest = np.flatnonzero(gap == np.minimum.reduceat(gap, starts)[who])
+        first = nearest[np.r_[True, who[nearest][1:] != who[nearest][:-1]]]
+        near, chosen_face, chosen_bary = near[first], face[first], bary[first]
         # a vertex whose move would turn a face of its by more than 60° or degenerate it
         # (the centroid beyond its one-ring) stays where it is
         moved = points.copy()
-        moved[rows] = near[first]
+        moved[rows] = near
         stays = np.zeros(len(rows), dtype=bool)
         for _ in range(4):
             moved[rows[stays]] = points[rows[stays]]
@@ -388,11 +356,13 @@ def remesh(
     region = np.asarray(region, dtype=bool)
     if region.shape != (n,):
         raise ValueError(f"region must have shape ({n},) (got {region.shape})")
-    in_patch = faces_touching(faces, region)
+    in_patch = region[faces[:, 0]] | region[faces[:, 1]] | region[faces[:, 2]]
     inside = np.flatnonzero(in_patch)
-    local = np.unique(faces[inside])  # the patch's vertices, ascending
-    patch_faces = np.searchsorted(local, faces[inside])
-    # only the patch's rows are read: the cost is the region's, not the mesh's
+    corners = faces[inside]
+    local = np.flatnonzero(np.bincount(corners.ravel(), minlength=n))  # ascending, no sort
+    number = np.empty(n, dtype=np.int64)
+    number[local] = np.arange(len(local))
+    patch_faces = number[corners]
     mask_local = np.zeros(len(local)) if mask is None else np.asarray(mask, np.float64)[local]
     sizes_local = target[local] if sizing else np.full(len(local), float(target))
     if sizing and not (np.isfinite(sizes_local).all() and (sizes_local > 0).all()):
@@ -473,13 +443,8 @@ def _assemble(
 
     out_vertices = per_vertex(vertices, patch.points)
     out_faces = np.empty((len(faces) - int(in_patch.sum()) + len(patch.faces), 3), np.int64)
-    n_outside = len(out_faces) - len(patch.faces)
-    outside = np.compress(~in_patch, faces, axis=0)  # renumbered only when a vertex was removed
-    if n_kept == n:
-        out_faces[:n_outside] = outside
-    else:  # no temporary: a 2M-face gather writes straight into place
-        np.take(kept, outside, out=out_faces[:n_outside], mode="clip")
-    out_faces[n_outside:] = number[patch.faces]
+    renumber_faces(faces, in_patch, kept, out_faces)
+    out_faces[len(out_faces) - len(patch.faces) :] = number[patch.faces]
 
     out_mask = None if mask is None else per_vertex(np.asarray(mask, np.float64), patch.mask)
     out_sizes = None if sizes is None else per_vertex(sizes, patch.sizes)
@@ -497,36 +462,6 @@ def _assemble(
     )
 
 
-def remesh_snapshot(
-    source: MeshSnapshot,
-    target_length: float | np.ndarray,
-    unmasked_only: bool,
-    locked: np.ndarray | None,
-    iterations: int,
-    progress: Callable[[float], None] | None = None,
-) -> MeshSnapshot:
-    """Mesh → Remesh: the whole mesh of ``source`` (or its faces not masked, corners below
-    :data:`~gogreen_core.mesh.subdivision.MASK_THRESHOLD`) remeshed to ``target_length`` (model
-    units; one, or each vertex's) with its mask and UVs; read-only and compact, the after-side
-    of its undo step. ``progress``: as for :func:`remesh`."""
-    mask = np.asarray(source.mask, dtype=np.float64)
-    region = mask < MASK_THRESHOLD if unmasked_only else np.ones(len(mask), dtype=bool)
-    done = remesh(
-        source.vertices,
-        np.asarray(source.faces, dtype=np.int64),
-        region,
-        target_length,
-        mask=mask,
-        uv=source.uv,
-        uv_faces=None if source.uv_faces is None else np.asarray(source.uv_faces, np.int64),
-        locked=locked,
-        iterations=iterations,
-        progress=progress,
-    )
-    assert done.mask is not None
-    return MeshSnapshot.frozen(done.vertices, done.faces, done.mask, done.uv, done.uv_faces)
-
-
 def median_edge_length(vertices: np.ndarray, faces: np.ndarray) -> float:
     """The median length of the edges (each once) of ``faces`` (M, 3); 0 without faces."""
     if not len(faces):
@@ -539,48 +474,20 @@ def local_edge_lengths(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """(N,) float64: the mean length of each vertex's edges in ``faces`` (M, 3) over
     ``vertices`` (N, 3), model units (a sizing field); a vertex of no face (or only of edges
     of length 0) gets the median of the others (1 without any): every length is positive."""
-    faces = np.asarray(faces, dtype=np.int64)
     n = len(vertices)
-    total, count = np.zeros(n), np.zeros(n)
-    for k in range(3):
-        a, b = faces[:, k], faces[:, (k + 1) % 3]
-        length = np.linalg.norm(vertices[b] - vertices[a], axis=1)
-        total += np.bincount(a, length, minlength=n) + np.bincount(b, length, minlength=n)
-        count += np.bincount(a, minlength=n) + np.bincount(b, minlength=n)
-    lengths = np.divide(total, count, out=np.zeros(n), where=count > 0)
+    faces = np.asarray(faces, dtype=np.int64)
+    total = edge_length_sums(np.asarray(vertices, np.float64), faces)
+    count = 2.0 * np.bincount(faces.ravel(), minlength=n)  # each corner is on two sides
+    lengths: np.ndarray = np.divide(total, count, out=np.zeros(n), where=count > 0)
     alone = ~(lengths > 0)
     if alone.any():
         lengths[alone] = float(np.median(lengths[~alone])) if (~alone).any() else 1.0
     return lengths
 
 
-def faces_touching(faces: np.ndarray, marked: np.ndarray) -> np.ndarray:
-    """(M,) bool: the faces (M, 3) with a corner ``marked`` (N,) bool (column by column: a
-    tenth of the time of ``np.any(marked[faces], axis=1)`` on 2M faces)."""
-    corners = marked[faces]
-    return cast(np.ndarray, corners[:, 0] | corners[:, 1] | corners[:, 2])
-
-
 def grow_region(faces: np.ndarray, region: np.ndarray) -> np.ndarray:
     """(N,) bool: ``region`` (N,) bool and every vertex one edge from it."""
     grown = np.asarray(region, dtype=bool).copy()
-    grown[faces[np.flatnonzero(faces_touching(faces, grown))].ravel()] = True
+    touching = grown[faces[:, 0]] | grown[faces[:, 1]] | grown[faces[:, 2]]
+    grown[faces[np.flatnonzero(touching)].ravel()] = True
     return grown
-
-
-def strained_vertices(
-    reference: np.ndarray, vertices: np.ndarray, faces: np.ndarray, tolerance: float
-) -> np.ndarray:
-    """(N,) bool: the corners of the ``faces`` that :func:`strained_faces` finds from
-    ``reference`` (N, 3) to ``vertices`` (N, 3) (stretched, sheared or turned: a rigid shift
-    strains nothing)."""
-    faces = np.ascontiguousarray(faces, dtype=np.int64)
-    strained = strained_faces(
-        np.ascontiguousarray(reference, dtype=np.float64),
-        np.ascontiguousarray(vertices, dtype=np.float64),
-        faces,
-        float(tolerance) ** 2,
-    )
-    out = np.zeros(len(vertices), dtype=bool)
-    out[faces[strained].ravel()] = True
-    return out

@@ -17,13 +17,12 @@ import numpy as np
 
 from gogreen_core.mesh.mesh_state import MaskRows, MeshSnapshot, MeshState, topology_edit
 from gogreen_core.mesh.remesh import (
-    faces_touching,
     grow_region,
     local_edge_lengths,
     remesh,
-    remesh_snapshot,
-    strained_vertices,
+    strained_corners,
 )
+from gogreen_core.mesh.subdivision import MASK_THRESHOLD
 from gogreen_core.sculpt.brushes import Brush, BrushEvent, Displacement, GreenBrush, StrokeContext
 from gogreen_core.sculpt.brushes.table import brush_row
 from gogreen_core.sculpt.engine_settings import EngineSettings
@@ -171,8 +170,7 @@ class StrokeDriver:
         (:data:`CORE_MOTION`) since they were last remeshed. True when the mesh changed."""
         mesh = self.mesh
         if stroke.reference is None:
-            stroke.reference = stroke.before
-            stroke.settled_at = np.zeros(len(stroke.before), dtype=np.int64)
+            stroke.reference, stroke.settled_at = stroke.before, np.zeros(len(stroke.before), int)
         if stroke.detail is None:
             if settings.detail_size is not None:
                 stroke.detail = settings.detail_size * mesh.model_size
@@ -188,8 +186,9 @@ class StrokeDriver:
         unsettled = stroke.unsettled = np.flatnonzero(around)
         around[:] = False
         around[rows] = True
-        faces = mesh.faces[np.flatnonzero(faces_touching(mesh.faces, around))]
-        strained = strained_vertices(stroke.reference, mesh.vertices, faces, STRAIN_TOLERANCE)
+        strained = strained_corners(
+            stroke.reference, mesh.vertices, mesh.faces, around, STRAIN_TOLERANCE**2
+        )
         # and the brush's core, per event (against the total motion the bar would creep out), as
         # against the fastest yet: after a pause the whole path would be the core, remeshed at once
         assert stroke.settled_at is not None
@@ -328,10 +327,22 @@ class PreparedRemesh:
         op, before = self.op, self.before
         # without a detail size each vertex's own: about as many vertices, fine parts fine
         length = self.length or local_edge_lengths(before.vertices, before.faces)
-        after = remesh_snapshot(
-            before, length, op.unmasked_only, self.locked, op.iterations, progress
+        masked = (before.mask >= MASK_THRESHOLD) & op.unmasked_only
+        done = remesh(
+            before.vertices,
+            before.faces,
+            ~masked,
+            length,
+            mask=before.mask,
+            uv=before.uv,
+            uv_faces=before.uv_faces,
+            locked=self.locked,
+            iterations=op.iterations,
+            progress=progress,
         )
-        self.result[:] = [after]
+        assert done.mask is not None
+        after = (done.vertices, done.faces, done.mask, done.uv, done.uv_faces)
+        self.result[:] = [MeshSnapshot.frozen(*after)]  # read-only, compact: the undo's after
         return self
 
     def made_from(self, mesh: MeshSnapshot | MeshState) -> bool:

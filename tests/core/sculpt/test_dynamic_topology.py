@@ -522,13 +522,13 @@ def test_each_event_measures_strain_only_on_the_faces_it_moved(monkeypatch):
         vertices, faces, settings=EngineSettings(material=CUBIC, dynamic_topology=True)
     )
     measured: list[int] = []
-    strained = stroke_module.strained_vertices
+    strained = stroke_module.strained_corners
 
-    def spy(reference, points, cells, tolerance):
-        measured.append(len(cells))
-        return strained(reference, points, cells, tolerance)
+    def spy(reference, points, cells, marked, tolerance):
+        measured.append(int(np.count_nonzero(marked[cells].any(axis=1))))
+        return strained(reference, points, cells, marked, tolerance)
 
-    monkeypatch.setattr(stroke_module, "strained_vertices", spy)
+    monkeypatch.setattr(stroke_module, "strained_corners", spy)
     adopted = []
     state = sculptor._mesh
     adopt = state.adopt
