@@ -28,6 +28,7 @@ from gogreen_core.mesh.geometry import SurfaceIndex
 
 if TYPE_CHECKING:
     from app.mesh_display import MeshDisplay
+    from gogreen_core.mesh.mesh_state import MeshEdit
 
 __all__ = [
     "LIGHT_FACES",
@@ -38,6 +39,7 @@ __all__ = [
     "LightMesh",
     "Renumbering",
     "cluster_decimation",
+    "edit_renumbering",
     "indexed",
     "indexed_polydata",
     "indexing",
@@ -208,7 +210,7 @@ class LightMesh:
         rows = _new_rows(origin, len(before.rank))[self.base]
         lost = np.flatnonzero(rows < 0)
         if len(lost):
-            corners = np.unique(faces[int(np.count_nonzero(face_origin >= 0)) :])
+            corners = np.unique(faces[face_origin < 0])
             kept = corners[origin[corners] >= 0]
             if len(kept):
                 near = cKDTree(was_at(origin[kept])).query(was_at(self.base[lost]))[1]
@@ -278,24 +280,34 @@ def renumbered(
     made of ``index``'s, built in ``index``'s order for what was kept, the new vertices and
     faces after it: no sort (a fraction of a new build), the same normals and picks."""
     _, origin, face_origin = change
-    orders = _carried(index.order, origin), _carried(index.face_order, face_origin)
-    return SurfaceIndex(vertices, faces, orders=orders)
+    return SurfaceIndex(vertices, faces, carried=(index, origin, face_origin))
+
+
+def edit_renumbering(edit: MeshEdit, faces: np.ndarray) -> Renumbering | None:
+    """How an undo or redo step of a dynamic-topology stroke, ``edit`` (the side applied),
+    renumbered the mesh of ``faces``: the stroke's change inverted (each row's row before,
+    -1 for one the stroke had removed), or again; the carried rows keep their order. None
+    if ``edit`` was not applied to a mesh of that many faces."""
+
+    def origin(n: int, new: np.ndarray, gone: np.ndarray) -> np.ndarray:
+        kept, carried = np.ones(n, dtype=bool), np.ones(n - len(new) + len(gone), dtype=bool)
+        kept[new] = carried[gone] = False
+        rows = np.full(n, -1)
+        rows[kept] = np.flatnonzero(carried)
+        return rows
+
+    if len(faces) != edit.n_faces - len(edit.new_faces) + len(edit.gone_faces):
+        return None
+    vertex_origin = origin(edit.n_vertices, edit.new, edit.gone)
+    return faces, vertex_origin, origin(edit.n_faces, edit.new_faces, edit.gone_faces)
 
 
 def _new_rows(origin: np.ndarray, n: int) -> np.ndarray:
     """Each of ``n`` old rows' new row (-1: gone), from ``origin`` (see :data:`Renumbering`)."""
     new = np.full(n, -1)
-    kept = origin[origin >= 0]
-    new[kept] = np.arange(len(kept))
+    kept = np.flatnonzero(origin >= 0)
+    new[origin[kept]] = kept
     return new
-
-
-def _carried(old_order: np.ndarray, origin: np.ndarray) -> np.ndarray:
-    """An order of the new rows: those carried over (``origin``) in ``old_order``, then the
-    new ones."""
-    rows = _new_rows(origin, len(old_order))[old_order]
-    carried = rows[rows >= 0]
-    return np.concatenate([carried, np.arange(len(carried), len(origin))]).astype(np.int32)
 
 
 def _software_renderer(window: Any) -> bool:
