@@ -150,7 +150,8 @@ class LightMesh:
     Attributes: ``rows`` (k,) the mesh vertices it copies, ``index`` its
     :class:`SurfaceIndex`, ``polydata`` (drawing the index's arrays), ``actor`` (None until
     :meth:`attach`), ``base`` (the mesh's rows of the copy's vertices where the mesh was
-    indexed, before the changes :meth:`follow` took).
+    indexed, before the changes :meth:`follow` took), ``ahead`` (None, or a change's
+    ``face_origin`` and the rows :meth:`followed_rows` found for it off the GUI thread).
     """
 
     def __init__(self, vertices: np.ndarray, faces: np.ndarray, target_faces: int = LIGHT_FACES):
@@ -159,6 +160,7 @@ class LightMesh:
         self.index = SurfaceIndex(np.asarray(vertices)[self.rows], light_faces)
         self.polydata, self._shared = indexed_polydata(self.index)
         self.actor: Any = None
+        self.ahead: tuple[np.ndarray, np.ndarray] | None = None
 
     @property
     def n_faces(self) -> int:
@@ -197,10 +199,21 @@ class LightMesh:
         self, vertices: np.ndarray, faces: np.ndarray, change: Renumbering, before: SurfaceIndex
     ) -> None:
         """The mesh became ``vertices`` (N', 3), ``faces`` by ``change`` from the mesh of
-        :attr:`base`, indexed by ``before``: each vertex of the copy the same vertex in its new
-        row, or where it was collapsed away, the kept corner of the new faces that was nearest
-        to it before (a neighbour on its side of the surface: the corner nearest to where it is
-        drawn may be across a fold the stroke made)."""
+        :attr:`base`, indexed by ``before``: the copy's vertices move to :meth:`followed_rows`
+        (found ahead, on the stroke's worker thread, if :attr:`ahead` holds them)."""
+        if self.ahead is not None and self.ahead[0] is change[2]:  # (the release's: again)
+            self.rows = self.ahead[1]
+        else:
+            self.rows = self.followed_rows(vertices, faces, change, before)
+        self.update(vertices[self.rows])
+
+    def followed_rows(
+        self, vertices: np.ndarray, faces: np.ndarray, change: Renumbering, before: SurfaceIndex
+    ) -> np.ndarray:
+        """Where the copy's vertices are after ``change`` (see :meth:`follow`): each the same
+        vertex in its new row, or where it was collapsed away, the kept corner of the new faces
+        that was nearest to it before (a neighbour on its side of the surface: the corner
+        nearest to where it is drawn may be across a fold the stroke made)."""
         from scipy.spatial import cKDTree
 
         def was_at(mesh_rows: np.ndarray) -> np.ndarray:  # only the rows asked: no (N, 3) copy
@@ -218,8 +231,7 @@ class LightMesh:
             else:  # every corner is new: the one nearest to where it is drawn
                 drawn = self.index.positions[self.index.rank[lost]]
                 rows[lost] = corners[cKDTree(vertices[corners]).query(drawn)[1]]
-        self.rows = rows
-        self.update(vertices[rows])
+        return rows
 
     def show(self, look: Any, colors: np.ndarray | None, mesh_rank: np.ndarray) -> None:
         """Draw the copy in place of the mesh actor ``look``: its texture (a matcap) and its

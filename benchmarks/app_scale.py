@@ -500,9 +500,26 @@ def dynamic_stroke_stall(
     ended = time.perf_counter()
     release_time = released[0]
     beat.stop()
-    window.model.dynamic_topology = False
     stages.extend((what, s, e) for what, (s, e) in zip(drew, renders, strict=True))
     stages.sort(key=lambda stage: stage[1])
+    stall_stages = [
+        (name, round(1e3 * (a - release_time)), round(1e3 * (b - a)))
+        for name, a, b in stages
+        if b >= release_time
+    ]
+    history: dict[str, object] = {}  # (before the setting's change, an undo step of its own)
+    for name in ("undo", "redo"):  # of the stroke: until a next stroke can start
+        spans_before, frames_before = len(stages), len(renders)
+        begun = time.perf_counter()
+        getattr(window, name)()  # what Ctrl+Z / Ctrl+Shift+Z run
+        until_ended()
+        history[f"{name}_ms"] = 1e3 * (time.perf_counter() - begun)
+        spans = [*stages[spans_before:], *(("frame", a, b) for a, b in renders[frames_before:])]
+        history[f"{name}_stages"] = [
+            (what, round(1e3 * (a - begun)), round(1e3 * (b - a)))
+            for what, a, b in sorted(spans, key=lambda span: span[1])
+        ]
+    window.model.dynamic_topology = False
     spans = list(zip([began, *ticks], [*ticks, ended], strict=True))
     gaps = [b - a for a, b in spans]
 
@@ -521,11 +538,8 @@ def dynamic_stroke_stall(
         "stall_step": statistics.median(steps) if steps else float("nan"),
         "stall_steps": [round(ms) for ms in steps],
         # what ran after the release: (stage, ms from the release to its start, its ms)
-        "stall_stages": [
-            (name, round(1e3 * (a - release_time)), round(1e3 * (b - a)))
-            for name, a, b in stages
-            if b >= release_time
-        ],
+        "stall_stages": stall_stages,
+        **history,
     }
 
 
@@ -702,6 +716,11 @@ def print_stall(r: dict[str, object]) -> None:
     )
     for name, start, ms in r.get("stall_stages", []):
         print(f"    after the release: {name} at {start} ms, for {ms} ms")
+    for step in ("undo", "redo"):
+        if f"{step}_ms" in r:
+            print(f"{step} of that stroke -> next stroke possible {r[f'{step}_ms']:.0f} ms")
+            for name, start, ms in r[f"{step}_stages"]:
+                print(f"    after the {step}: {name} at {start} ms, for {ms} ms")
 
 
 def main() -> None:

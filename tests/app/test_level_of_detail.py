@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+import threading
+
 import numpy as np
 import pytest
 from gui_helpers import activate, center_of, shown_viewport
@@ -145,7 +147,7 @@ def test_a_dynamic_topology_stroke_keeps_the_copy_and_renumbers_the_index(
     """Issue 34: on a big mesh a dynamic-topology stroke draws the interaction copy all along
     (it follows the new vertices), and the release renumbers the index, no new build, to the
     normals, picks and faces of a new one; its undo and redo are renumbered too (the copy kept,
-    no new build)."""
+    no new build). The copy's new rows are found with each step, off the GUI thread."""
     import app.mesh_display
     from gogreen_core.mesh.geometry import SurfaceIndex
     from gogreen_core.mesh.mesh_io import MeshData, save_mesh
@@ -163,9 +165,16 @@ def test_a_dynamic_topology_stroke_keeps_the_copy_and_renumbers_the_index(
     qtbot.waitUntil(lambda: vp.surface is not None, timeout=60_000)
     vp.render_now()
     vp.lod.full_frame_ms = 5 * LIGHT_FRAME_MS
-    builds = []
+    builds, follows = [], []
     build = app.level_of_detail.indexed
     monkeypatch.setattr(app.level_of_detail, "indexed", lambda *a: builds.append(1) or build(*a))
+    followed_rows = app.level_of_detail.LightMesh.followed_rows
+
+    def spy(*args):  # where the copy's new rows are found: on the stroke's worker thread
+        follows.append(threading.current_thread() is threading.main_thread())
+        return followed_rows(*args)
+
+    monkeypatch.setattr(app.level_of_detail.LightMesh, "followed_rows", spy)
     window.model.dynamic_topology = True
     window.model.detail_size = 0.004
     window.model.brush.kind = "grab"
@@ -184,6 +193,7 @@ def test_a_dynamic_topology_stroke_keeps_the_copy_and_renumbers_the_index(
     QTest.mouseRelease(vp, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, start)
     qtbot.waitUntil(lambda: vp.surface is not None and not vp.lod.shown, timeout=60_000)
     assert all(shown_during) and not builds
+    assert follows and not any(follows)  # none on the GUI thread
     assert sculptor.faces.shape != faces.shape  # the stroke changed the topology
     fresh, index = SurfaceIndex(sculptor.vertices, sculptor.faces), vp.surface
     assert np.array_equal(index.normals[index.rank], fresh.normals[fresh.rank])
