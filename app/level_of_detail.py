@@ -388,11 +388,16 @@ class LevelOfDetail:
         self, vertices: np.ndarray, faces: np.ndarray, change: Renumbering, base: SurfaceIndex
     ) -> None:
         """The mesh became ``vertices``, ``faces`` by a local ``change`` of the topology ``base``
-        indexed: the copy follows it (:meth:`LightMesh.follow`), still drawn if it was; the
-        vertices moved meanwhile are dropped (the mesh's index is made anew)."""
+        indexed: the copy follows it (:meth:`LightMesh.follow`), still drawn if it was, and
+        drawn now (without colours) if full frames are slow (an undo, a redo: no flat frame
+        of the mesh while its index is renumbered); the vertices moved meanwhile are dropped
+        (the mesh's index is made anew)."""
         self._deferred = None
         if self.light is not None:
             self.light.follow(vertices, faces, change, base)
+            if not self.shown and self.full_frame_ms > LIGHT_FRAME_MS:
+                self.light.show(self.display.mesh_actor, None, base.rank)
+                self.shown = True
 
     def interaction_frames(self) -> None:
         """The camera moves or a stroke runs: its frames from the copy when full frames are

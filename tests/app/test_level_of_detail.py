@@ -147,7 +147,8 @@ def test_a_dynamic_topology_stroke_keeps_the_copy_and_renumbers_the_index(
     """Issue 34: on a big mesh a dynamic-topology stroke draws the interaction copy all along
     (it follows the new vertices), and the release renumbers the index, no new build, to the
     normals, picks and faces of a new one; its undo and redo are renumbered too (the copy kept,
-    no new build). The copy's new rows are found with each step, off the GUI thread."""
+    no new build; the copy drawn meanwhile). The copy's new rows are found with each step, off
+    the GUI thread."""
     import app.mesh_display
     from gogreen_core.mesh.geometry import SurfaceIndex
     from gogreen_core.mesh.mesh_io import MeshData, save_mesh
@@ -216,8 +217,11 @@ def test_a_dynamic_topology_stroke_keeps_the_copy_and_renumbers_the_index(
         (Qt.Key.Key_Z, (vertices, faces)),
         (Qt.Key.Key_Y, (stroke_vertices, stroke_faces)),
     ):
+        vp.lod.full_frame_ms = 5 * LIGHT_FRAME_MS  # slow full frames: the copy drawn meanwhile
         QTest.keyClick(vp, key, Qt.KeyboardModifier.ControlModifier)  # undo, redo: renumbered too
+        assert vp.surface_building and vp.lod.shown and not vp.mesh_actor.GetVisibility()
         qtbot.waitUntil(lambda: vp.surface is not None, timeout=60_000)
+        assert not vp.lod.shown and vp.mesh_actor.GetVisibility()
         assert np.array_equal(sculptor.faces, now[1]) and np.array_equal(sculptor.vertices, now[0])
         assert np.array_equal(vp.shown_vertices(), now[0])
         assert vp.mesh.n_cells == len(now[1]) and not builds and vp.lod.light is light
