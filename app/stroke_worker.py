@@ -14,6 +14,7 @@ step. The sculptor is used by one thread at a time. A step still running after
 
 from __future__ import annotations
 
+import contextlib
 import queue
 import threading
 from collections.abc import Callable
@@ -198,9 +199,11 @@ class StrokeWorker(QObject):
         while (step := self._jobs.get()) is not None:
             try:
                 update, error = step(), None
-                self._follow_ahead()
             except Exception as exc:  # the tools catch the engine's refusals; reported
                 update, error = None, exc
+            if error is None:  # (failing, the GUI thread finds the rows: not the step's error)
+                with contextlib.suppress(Exception):
+                    self._follow_ahead()
             self._idle.set()
             self._done.emit(update, self._title, error)
 
