@@ -28,6 +28,7 @@ from gogreen_core.mesh.geometry import SurfaceIndex
 
 if TYPE_CHECKING:
     from app.mesh_display import MeshDisplay
+    from gogreen_core.mesh.mesh_state import MeshEdit
 
 __all__ = [
     "LIGHT_FACES",
@@ -38,6 +39,7 @@ __all__ = [
     "LightMesh",
     "Renumbering",
     "cluster_decimation",
+    "edit_renumbering",
     "indexed",
     "indexed_polydata",
     "indexing",
@@ -148,7 +150,8 @@ class LightMesh:
     Attributes: ``rows`` (k,) the mesh vertices it copies, ``index`` its
     :class:`SurfaceIndex`, ``polydata`` (drawing the index's arrays), ``actor`` (None until
     :meth:`attach`), ``base`` (the mesh's rows of the copy's vertices where the mesh was
-    indexed, before the changes :meth:`follow` took).
+    indexed, before the changes :meth:`follow` took), ``ahead`` (None, or a change's
+    ``face_origin`` and the rows :meth:`followed_rows` found for it off the GUI thread).
     """
 
     def __init__(self, vertices: np.ndarray, faces: np.ndarray, target_faces: int = LIGHT_FACES):
@@ -157,6 +160,7 @@ class LightMesh:
         self.index = SurfaceIndex(np.asarray(vertices)[self.rows], light_faces)
         self.polydata, self._shared = indexed_polydata(self.index)
         self.actor: Any = None
+        self.ahead: tuple[np.ndarray, np.ndarray] | None = None
 
     @property
     def n_faces(self) -> int:
@@ -195,10 +199,21 @@ class LightMesh:
         self, vertices: np.ndarray, faces: np.ndarray, change: Renumbering, before: SurfaceIndex
     ) -> None:
         """The mesh became ``vertices`` (N', 3), ``faces`` by ``change`` from the mesh of
-        :attr:`base`, indexed by ``before``: each vertex of the copy the same vertex in its new
-        row, or where it was collapsed away, the kept corner of the new faces that was nearest
-        to it before (a neighbour on its side of the surface: the corner nearest to where it is
-        drawn may be across a fold the stroke made)."""
+        :attr:`base`, indexed by ``before``: the copy's vertices move to :meth:`followed_rows`
+        (found ahead, on the stroke's worker thread, if :attr:`ahead` holds them)."""
+        if self.ahead is not None and self.ahead[0] is change[2]:  # (the release's: again)
+            self.rows = self.ahead[1]
+        else:
+            self.rows = self.followed_rows(vertices, faces, change, before)
+        self.update(vertices[self.rows])
+
+    def followed_rows(
+        self, vertices: np.ndarray, faces: np.ndarray, change: Renumbering, before: SurfaceIndex
+    ) -> np.ndarray:
+        """Where the copy's vertices are after ``change`` (see :meth:`follow`): each the same
+        vertex in its new row, or where it was collapsed away, the kept corner of the new faces
+        that was nearest to it before (a neighbour on its side of the surface: the corner
+        nearest to where it is drawn may be across a fold the stroke made)."""
         from scipy.spatial import cKDTree
 
         def was_at(mesh_rows: np.ndarray) -> np.ndarray:  # only the rows asked: no (N, 3) copy
@@ -208,7 +223,7 @@ class LightMesh:
         rows = _new_rows(origin, len(before.rank))[self.base]
         lost = np.flatnonzero(rows < 0)
         if len(lost):
-            corners = np.unique(faces[int(np.count_nonzero(face_origin >= 0)) :])
+            corners = np.unique(faces[face_origin < 0])
             kept = corners[origin[corners] >= 0]
             if len(kept):
                 near = cKDTree(was_at(origin[kept])).query(was_at(self.base[lost]))[1]
@@ -216,8 +231,7 @@ class LightMesh:
             else:  # every corner is new: the one nearest to where it is drawn
                 drawn = self.index.positions[self.index.rank[lost]]
                 rows[lost] = corners[cKDTree(vertices[corners]).query(drawn)[1]]
-        self.rows = rows
-        self.update(vertices[rows])
+        return rows
 
     def show(self, look: Any, colors: np.ndarray | None, mesh_rank: np.ndarray) -> None:
         """Draw the copy in place of the mesh actor ``look``: its texture (a matcap) and its
@@ -278,24 +292,34 @@ def renumbered(
     made of ``index``'s, built in ``index``'s order for what was kept, the new vertices and
     faces after it: no sort (a fraction of a new build), the same normals and picks."""
     _, origin, face_origin = change
-    orders = _carried(index.order, origin), _carried(index.face_order, face_origin)
-    return SurfaceIndex(vertices, faces, orders=orders)
+    return SurfaceIndex(vertices, faces, carried=(index, origin, face_origin))
+
+
+def edit_renumbering(edit: MeshEdit, faces: np.ndarray) -> Renumbering | None:
+    """How an undo or redo step of a dynamic-topology stroke, ``edit`` (the side applied),
+    renumbered the mesh of ``faces``: the stroke's change inverted (each row's row before,
+    -1 for one the stroke had removed), or again; the carried rows keep their order. None
+    if ``edit`` was not applied to a mesh of that many faces."""
+
+    def origin(n: int, new: np.ndarray, gone: np.ndarray) -> np.ndarray:
+        kept, carried = np.ones(n, dtype=bool), np.ones(n - len(new) + len(gone), dtype=bool)
+        kept[new] = carried[gone] = False
+        rows = np.full(n, -1)
+        rows[kept] = np.flatnonzero(carried)
+        return rows
+
+    if len(faces) != edit.n_faces - len(edit.new_faces) + len(edit.gone_faces):
+        return None
+    vertex_origin = origin(edit.n_vertices, edit.new, edit.gone)
+    return faces, vertex_origin, origin(edit.n_faces, edit.new_faces, edit.gone_faces)
 
 
 def _new_rows(origin: np.ndarray, n: int) -> np.ndarray:
     """Each of ``n`` old rows' new row (-1: gone), from ``origin`` (see :data:`Renumbering`)."""
     new = np.full(n, -1)
-    kept = origin[origin >= 0]
-    new[kept] = np.arange(len(kept))
+    kept = np.flatnonzero(origin >= 0)
+    new[origin[kept]] = kept
     return new
-
-
-def _carried(old_order: np.ndarray, origin: np.ndarray) -> np.ndarray:
-    """An order of the new rows: those carried over (``origin``) in ``old_order``, then the
-    new ones."""
-    rows = _new_rows(origin, len(old_order))[old_order]
-    carried = rows[rows >= 0]
-    return np.concatenate([carried, np.arange(len(carried), len(origin))]).astype(np.int32)
 
 
 def _software_renderer(window: Any) -> bool:
@@ -364,11 +388,16 @@ class LevelOfDetail:
         self, vertices: np.ndarray, faces: np.ndarray, change: Renumbering, base: SurfaceIndex
     ) -> None:
         """The mesh became ``vertices``, ``faces`` by a local ``change`` of the topology ``base``
-        indexed: the copy follows it (:meth:`LightMesh.follow`), still drawn if it was; the
-        vertices moved meanwhile are dropped (the mesh's index is made anew)."""
+        indexed: the copy follows it (:meth:`LightMesh.follow`), still drawn if it was, and
+        drawn now (without colours) if full frames are slow (an undo, a redo: no flat frame
+        of the mesh while its index is renumbered); the vertices moved meanwhile are dropped
+        (the mesh's index is made anew)."""
         self._deferred = None
         if self.light is not None:
             self.light.follow(vertices, faces, change, base)
+            if not self.shown and self.full_frame_ms > LIGHT_FRAME_MS:
+                self.light.show(self.display.mesh_actor, None, base.rank)
+                self.shown = True
 
     def interaction_frames(self) -> None:
         """The camera moves or a stroke runs: its frames from the copy when full frames are

@@ -528,7 +528,7 @@ class MainWindow(QMainWindow):
         self.engine_link.pull()  # an undone setting shows in the panels again
         refresh()
         # a subdivision undone or redone shows its whole mesh
-        self.mesh_edits.sync(sculptor.history.restored_indices)
+        self.mesh_edits.sync(sculptor.history.restored_indices, stepped=True)
         self.refresh_title()
         self._refresh_status()  # a dynamic-topology stroke undone: another vertex count
         # past tense: "Undo: Scale stroke" read as what the next undo would do, and stayed

@@ -22,6 +22,8 @@ from PySide6.QtGui import QGuiApplication
 from PySide6.QtWidgets import QInputDialog, QMenu, QMenuBar
 
 from app.background import BackgroundRunner, Task
+from app.level_of_detail import edit_renumbering
+from gogreen_core.mesh.mesh_state import MeshEdit
 from gogreen_core.mesh.subdivision import PreparedSubdivision, prepare_subdivision
 from gogreen_core.sculpt.stroke import PreparedRemesh
 
@@ -128,10 +130,11 @@ class MeshEdits(QObject):
         return self._runner.wait(msecs)
 
     # -- view --------------------------------------------------------------------------------
-    def sync(self, indices: np.ndarray | None = None) -> bool:
+    def sync(self, indices: np.ndarray | None = None, stepped: bool = False) -> bool:
         """Bring the view up to the sculptor's mesh: when its faces changed (a subdivision,
         its undo or redo) the whole mesh is shown again, with its pins and mask (True);
-        else the vertices that differ (or ``indices``), pins and mask are drawn (False)."""
+        else the vertices that differ (or ``indices``), pins and mask are drawn (False).
+        ``stepped``: after an undo or redo (a dynamic-topology stroke's renumbers the index)."""
         document = self.window.document
         if document is None:
             return False
@@ -139,12 +142,13 @@ class MeshEdits(QObject):
         viewport = self.window.viewport
         remade = sculptor.faces is not self._shown_faces
         if remade:
+            change = sculptor.remesher.mesh.renumbering  # a stroke's: local
+            edit = sculptor.history.restored_state
+            if stepped and isinstance(edit, MeshEdit) and self._shown_faces is not None:
+                change = edit_renumbering(edit, self._shown_faces)  # its undo or redo: local
             self._shown_faces = sculptor.faces
             viewport.set_mesh(
-                sculptor.vertices,
-                sculptor.faces,
-                reset_camera=False,
-                renumbering=sculptor.remesher.mesh.renumbering,  # a stroke's: local
+                sculptor.vertices, sculptor.faces, reset_camera=False, renumbering=change
             )
             self.window.look.apply_mesh_look()
             self.window.surface_progress.setValue(0)

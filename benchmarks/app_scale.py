@@ -23,7 +23,8 @@ Prints (figures only; nothing is asserted; issue 36, items 2, 3 and 4):
   every 40 ms for 10 s, then the release: the GUI thread's longest stall (the longest gap
   between ticks of a 10 ms timer) and the longest without the time spent rendering, the
   engine's events (count, median), and from the release until a next stroke can start (the
-  new faces indexed), and what ran after the release, when and for how long.
+  new faces indexed), and what ran after the release, when and for how long; then the
+  stroke's undo and its redo, each until a next stroke can start, and what ran meanwhile.
   ``--stall-only`` runs only this (``--default-model``: on the default model);
   ``--on-gui-thread`` runs every step on the GUI thread, as before :mod:`app.stroke_worker`;
 * on an empty numba cache (a temporary ``NUMBA_CACHE_DIR``): seconds from the app's first
@@ -45,7 +46,7 @@ Measured 2026-11-29 (the dynamic-topology stroke; 2 cores shared, load average ~
   stall 0.60-0.95 s; 9 events, median 1.2-1.3 s, none over 2.5 s; release -> next stroke 4.7-5.5
   s (6 runs before it: 3.7-31 s, the last step 18-28 s in 4 of them).
 
-* the index renumbered at the release (issue 34: ``SurfaceIndex(orders=...)``, no sort; the
+* the index renumbered at the release (issue 34: given orders, now ``carried=``, no sort; the
   interaction copy kept, following the new vertices, so stroke frames stay light), three runs
   each interleaved with main's, load average 5-5.5: release -> next stroke possible 2.4-2.7 s
   (median 2.57 s; main 4.7-5.4 s, median 5.19 s), of which ~1.3 s the steps still running at
@@ -56,6 +57,18 @@ Measured 2026-11-29 (the dynamic-topology stroke; 2 cores shared, load average ~
   new vertices on the GUI thread, 30-70 ms a step). ``--default-model`` (2 runs each): release
   -> next stroke 0.42-0.69 s (main 0.76-0.94 s), the same code path (small meshes index at
   once).
+* undo and redo of that stroke renumbered too (the step's MeshEdit read as the change; the
+  copy drawn meanwhile, its rows found on the stroke worker), three runs each interleaved with
+  main's (7aac3d2, same script), load average 5.5-6.4: undo -> next stroke possible 2.0-2.3
+  s (median 2.32 s; main 3.0-5.6 s, median 5.53 s: index and copy built anew, 2.0-4.2 s,
+  beside a flat full frame of 0.5-1.3 s), redo 1.5-2.8 s (median 1.93 s; main 3.5-9.4 s,
+  median 6.98 s); the renumbering itself 0.6-1.2 s, then the first full frame 0.5-1.0 s.
+  Stall not counting renders 251-362 ms (median 318; main 324-577, median 433: the copy's
+  follow no longer on the GUI thread). Release -> next stroke 3.1-5.1 s (main 3.4-5.6 s: the
+  steps still running at the release vary most); its renumbering 0.8-1.0 s (main 0.7-1.2 s):
+  at this load the fresh pages of the new arrays (~200 MB, the app gives each its own) and
+  the serial face-connect pass outweigh the normals now carried over (measured alone: a
+  build in given orders 250-560 ms, carried 220-480 ms).
 
 Goals: brush step ≤ the engine's event + 20 ms; stroke and camera frames ≥ 3× faster than
 a full frame; idle ≤ 500 MB; after Ctrl+N within 10 % of the fresh start; drivers ≤ 20 s after the
@@ -500,9 +513,26 @@ def dynamic_stroke_stall(
     ended = time.perf_counter()
     release_time = released[0]
     beat.stop()
-    window.model.dynamic_topology = False
     stages.extend((what, s, e) for what, (s, e) in zip(drew, renders, strict=True))
     stages.sort(key=lambda stage: stage[1])
+    stall_stages = [
+        (name, round(1e3 * (a - release_time)), round(1e3 * (b - a)))
+        for name, a, b in stages
+        if b >= release_time
+    ]
+    history: dict[str, object] = {}  # (before the setting's change, an undo step of its own)
+    for name in ("undo", "redo"):  # of the stroke: until a next stroke can start
+        spans_before, frames_before = len(stages), len(renders)
+        begun = time.perf_counter()
+        getattr(window, name)()  # what Ctrl+Z / Ctrl+Shift+Z run
+        until_ended()
+        history[f"{name}_ms"] = 1e3 * (time.perf_counter() - begun)
+        spans = [*stages[spans_before:], *(("frame", a, b) for a, b in renders[frames_before:])]
+        history[f"{name}_stages"] = [
+            (what, round(1e3 * (a - begun)), round(1e3 * (b - a)))
+            for what, a, b in sorted(spans, key=lambda span: span[1])
+        ]
+    window.model.dynamic_topology = False
     spans = list(zip([began, *ticks], [*ticks, ended], strict=True))
     gaps = [b - a for a, b in spans]
 
@@ -521,11 +551,8 @@ def dynamic_stroke_stall(
         "stall_step": statistics.median(steps) if steps else float("nan"),
         "stall_steps": [round(ms) for ms in steps],
         # what ran after the release: (stage, ms from the release to its start, its ms)
-        "stall_stages": [
-            (name, round(1e3 * (a - release_time)), round(1e3 * (b - a)))
-            for name, a, b in stages
-            if b >= release_time
-        ],
+        "stall_stages": stall_stages,
+        **history,
     }
 
 
@@ -702,6 +729,11 @@ def print_stall(r: dict[str, object]) -> None:
     )
     for name, start, ms in r.get("stall_stages", []):
         print(f"    after the release: {name} at {start} ms, for {ms} ms")
+    for step in ("undo", "redo"):
+        if f"{step}_ms" in r:
+            print(f"{step} of that stroke -> next stroke possible {r[f'{step}_ms']:.0f} ms")
+            for name, start, ms in r[f"{step}_stages"]:
+                print(f"    after the {step}: {name} at {start} ms, for {ms} ms")
 
 
 def main() -> None:

@@ -1,8 +1,6 @@
 """NumPy twins of ``geometry.py``'s compiled functions, serving until numba has compiled those
-in the background (``_compiled``), so a new machine picks and shades at once: same arguments and
-outputs, integer bookkeeping exact, normals, boxes and hits within 1e-12 relative, so the two
-may take turns on one index. ``n_threads`` arguments are ignored.
-"""
+(``_compiled``): same arguments (``n_threads`` ignored) and outputs, integer bookkeeping exact,
+normals, boxes and hits within 1e-12 relative, so the two may take turns on one index."""
 
 from __future__ import annotations
 
@@ -158,10 +156,8 @@ def _leaf_hits(
             b = (boxes[:, 3 + k] - origin[k]) * inv_dir[k]
             a, b = np.where(a > b, b, a), np.where(a > b, a, b)
             flat = ~(a <= b)  # NaN from 0·inf: the ray lies in the slab plane
-            a = np.where(flat, -np.inf, a)
-            b = np.where(flat, np.inf, b)
-            t0 = np.maximum(t0, a)
-            t1 = np.minimum(t1, b)
+            t0 = np.maximum(t0, np.where(flat, -np.inf, a))
+            t1 = np.minimum(t1, np.where(flat, np.inf, b))
     near[:] = np.where(t0 <= t1, t0, np.inf)
 
 

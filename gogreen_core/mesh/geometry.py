@@ -26,20 +26,16 @@ _JIT: NogilJitOptions = {"cache": True, "boundscheck": False, "nogil": True}
 
 
 def vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    """Area-weighted unit vertex normals (N, 3) of a triangle mesh (faces (M, 3)).
-
-    A vertex in no face (or only in degenerate ones) gets (0, 0, 1)."""
+    """Area-weighted unit vertex normals (N, 3) of a triangle mesh (faces (M, 3)); (0, 0, 1)
+    for a vertex in no face (or only in degenerate ones)."""
     a, b, c = (vertices[faces[:, k]] for k in range(3))
     face_normals = np.cross(b - a, c - a)  # length = 2 · area: area weighting for free
-    n = len(vertices)
-    out = np.empty((n, 3))
-    flat = faces.ravel()
-    for axis in range(3):
-        out[:, axis] = np.bincount(flat, np.repeat(face_normals[:, axis], 3), minlength=n)
+    corner_normals = np.repeat(face_normals, 3, axis=0)  # faces in order, corners in order
+    n, flat = len(vertices), faces.ravel()
+    out = np.stack([np.bincount(flat, w, minlength=n) for w in corner_normals.T], axis=1)
     norm: np.ndarray[tuple[int], np.dtype[np.float64]] = np.linalg.norm(out, axis=1)
-    empty = norm == 0
-    out[empty] = (0.0, 0.0, 1.0)
-    norm[empty] = 1.0
+    out[norm == 0] = (0.0, 0.0, 1.0)
+    norm[norm == 0] = 1.0
     return out / norm[:, None]
 
 
@@ -49,8 +45,7 @@ def mesh_volume(vertices: np.ndarray, faces: np.ndarray) -> float:
     return float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0)
 
 
-#: Work items per chunk of the per-event kernels: chunks are dealt to the threads in turn, so a
-#: brush region (contiguous in the index's spatial order) is shared by all threads.
+#: Work items per chunk of the per-event kernels, dealt to the threads in turn: all share a region.
 _VERTEX_CHUNK = 4096
 _LEAF_CHUNK = 128
 #: Blocks (of 2**_BLOCK_SHIFT vertices, see ``_geometry_numpy``) per chunk.
@@ -60,8 +55,7 @@ _BLOCK_CHUNK = _VERTEX_CHUNK >> _BLOCK_SHIFT
 @njit(parallel=True, **_JIT)
 def _morton_keys(points: np.ndarray, groups: np.ndarray, low: np.ndarray, scale: np.ndarray,
                  keys: np.ndarray) -> None:  # fmt: skip
-    """keys[i] = (Z-order code of the mean of points[groups[i]]) << 31 | i: sorting the keys
-    sorts the items along the curve, ties in index order (what a stable sort gives)."""
+    """keys[i] = (Z-order code of points[groups[i]]'s mean) << 31 | i (sorted: ties by index)."""
     k = groups.shape[1]
     for i in prange(groups.shape[0]):
         code = 0
@@ -123,8 +117,7 @@ def _update(
     block_ring: np.ndarray, leaf_mark: np.ndarray, leaf_dirty: np.ndarray, face_normals: np.ndarray,
     normals: np.ndarray, n_threads: int) -> np.int64:  # fmt: skip
     """One :meth:`SurfaceIndex.update`: copy the seeds, redo their blocks' leaves' face normals
-    (numpy.cross, kept float32) and their corners' normals (summed in face order, as bincount);
-    block flags spare whole scans, each pass clears the flags it reads. Returns the count."""
+    (float32) and their corners' normals (summed in face order); block flags spare scans."""
     n = positions.shape[0]
     n_seeds = seeds.shape[0]
     for t in prange(n_threads):
@@ -197,15 +190,12 @@ def _update(
                         n1 += face_normals[f, 1]
                         n2 += face_normals[f, 2]
                     norm = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
-                    if norm == 0.0:
-                        normals[i, 0] = 0.0
-                        normals[i, 1] = 0.0
-                        normals[i, 2] = 1.0
-                    else:
-                        inverse = 1.0 / norm
-                        normals[i, 0] = n0 * inverse
-                        normals[i, 1] = n1 * inverse
-                        normals[i, 2] = n2 * inverse
+                    if norm == 0.0:  # in no face, or only in degenerate ones
+                        n0, n1, n2, norm = 0.0, 0.0, 1.0, 1.0
+                    inverse = 1.0 / norm
+                    normals[i, 0] = n0 * inverse
+                    normals[i, 1] = n1 * inverse
+                    normals[i, 2] = n2 * inverse
         counts[16 * t] = count
     total: np.int64 = counts.sum()
     return total
@@ -254,8 +244,7 @@ def _refit(positions: np.ndarray, index_faces: np.ndarray, leaf_dirty: np.ndarra
 @njit(**_JIT)
 def _leaf_hits(boxes: np.ndarray, origin: np.ndarray, inv_dir: np.ndarray,
                near: np.ndarray) -> None:  # fmt: skip
-    """near[c] = entry distance of the ray into box c, or inf if it misses. Serial: a
-    parallel launch costs more than this millisecond of work when the cores are busy."""
+    """near[c] = entry distance of the ray into box c, or inf if it misses (serial: ~1 ms)."""
     for c in range(boxes.shape[0]):
         t0 = 0.0
         t1 = np.inf
@@ -316,25 +305,22 @@ def _closest_hit(vertices: np.ndarray, leaf_faces: np.ndarray, order: np.ndarray
 
 
 class SurfaceIndex:
-    """What the viewport needs per event, at a cost proportional to the change.
-
-    Built once per mesh in an order of its own, so a brush region reads neighbouring memory:
-    vertices along a Z-order curve (:attr:`order`), faces in Z-order of their centroids in
-    leaves of :data:`LEAF_SIZE` faces (:attr:`face_order`), each leaf with a bounding box.
-    :meth:`update` recomputes the faces around the moved vertices and the normals of their
-    one-ring (bit for bit a new build's; :func:`vertex_normals` within float32 rounding, ~1e-7)
-    and marks their leaves' boxes stale; :meth:`pick` refits those, then tests the faces of the
-    boxes the ray hits, nearest first. :attr:`positions`, :attr:`normals` and :attr:`faces` are
-    what a renderer draws directly (the viewport's VTK arrays share their memory).
+    """What the viewport needs per event, at a cost proportional to the change: vertices in
+    Z-order (:attr:`order`), faces by their centroids' in leaves of :data:`LEAF_SIZE` faces
+    (:attr:`face_order`) with bounding boxes, so a brush region reads neighbouring memory.
+    :meth:`update` redoes the faces around the moved vertices and their one-ring's normals (bit
+    for bit a new build's; :func:`vertex_normals`' within float32 rounding) and marks their
+    boxes stale; :meth:`pick` refits those, then tests the boxes the ray hits, nearest first.
 
     Parameters: vertices (N, 3) float64; faces (M, 3) int; progress: called with the fraction
-    done (0, 1] between the build's stages (raising from it cancels the build); orders: the
-    vertices' and faces' orders (int32 permutations) to build in (no sort), else the curve's.
+    done (0, 1] between the build's stages (raising from it cancels the build); carried:
+    (index, origin, face_origin) if these came of ``index``'s mesh by a local change (each
+    row's row there, -1: new; the carried in order): no sort, the kept rows in their order
+    and with their normals, the new ones after them, updated where anything changed.
 
-    Attributes: order (N,) int32, the vertex of each row of :attr:`positions` and
-    :attr:`normals` (rank (N,) its inverse); positions (N, 3) and normals (N, 3) float64 as of
-    the last :meth:`update`, in index order; faces (M, 3) int32 in leaf order, as rows of
-    :attr:`positions` (face_order (M,) int32: the mesh face of each).
+    Attributes (a renderer draws them directly): positions (N, 3), normals (N, 3) float64 in
+    index order (order (N,) int32: the vertex of each row, rank (N,) its inverse); faces (M, 3)
+    int32 in leaf order, as rows of positions (face_order (M,) int32: the mesh face of each).
     """
 
     def __init__(
@@ -342,7 +328,7 @@ class SurfaceIndex:
         vertices: np.ndarray,
         faces: np.ndarray,
         progress: Callable[[float], None] | None = None,
-        orders: tuple[np.ndarray, np.ndarray] | None = None,
+        carried: tuple[SurfaceIndex, np.ndarray, np.ndarray] | None = None,
     ):
         report = progress if progress is not None else (lambda _fraction: None)
         vertices = np.ascontiguousarray(vertices, dtype=np.float64)
@@ -354,13 +340,15 @@ class SurfaceIndex:
             raise ValueError("meshes of 2**31 vertices or 2**31 / 3 faces or more are unsupported")
         faces = np.ascontiguousarray(faces, dtype=np.int32)
         self._n_vertices = n
-        if orders is None:  # the vertices along the curve, then the faces by their centroids
-            alone = np.arange(n, dtype=np.int32).reshape(n, 1)
-            orders = _curve_order(vertices, alone), _curve_order(vertices, faces)
-        self.order, self.face_order = orders
+        if carried is None:  # the vertices along the curve, then the faces by their centroids
+            self.order = _curve_order(vertices, np.arange(n, dtype=np.int32).reshape(n, 1))
+            self.face_order = _curve_order(vertices, faces)
+        else:  # the kept rows in the order they had, the new ones after them
+            before, origin, face_origin = carried
+            self.order, rows = _kept_order(before.order, origin)
+            self.face_order, face_rows = _kept_order(before.face_order, face_origin)
         self.rank = np.empty(n, dtype=np.int32)
         self.rank[self.order] = np.arange(n, dtype=np.int32)
-        report(0.2)
         face_rank = np.empty(len(faces), dtype=np.int32)
         face_rank[self.face_order] = np.arange(len(faces), dtype=np.int32)
         report(0.4)
@@ -384,17 +372,31 @@ class SurfaceIndex:
         self._block_moved = np.zeros(n_blocks, dtype=np.bool_)
         self._block_ring = np.zeros(n_blocks, dtype=np.bool_)
         self._leaf_mark = np.zeros(n_leaves, dtype=np.bool_)
-        self._leaf_dirty = np.zeros(n_leaves, dtype=np.bool_)
-        # float32: the vertex normals' sums read them (the per-event pass bound by memory
-        # traffic) and VTK draws float32; each is (b - a) × (c - a) rounded once
+        self._leaf_dirty = np.ones(n_leaves, dtype=np.bool_)  # every box is fit at the end
+        # float32: half the memory the normals' sums read; each (b - a) × (c - a) rounded once
         self._face_normals = np.empty((len(faces), 3), dtype=np.float32)
         self._boxes = np.empty((n_leaves, 6))
-        self._stale_boxes = 0  # vertices moved since the boxes were last refit
-        # every vertex "moved": every face normal, vertex normal and box
-        self.update(vertices, np.arange(n, dtype=np.int64))
+        self._stale_boxes = n  # vertices moved since the boxes were last refit (all)
+        if carried is None:  # every vertex "moved": every face normal and vertex normal
+            self.update(vertices, np.arange(n, dtype=np.int64))
+        else:  # only what changed
+            self.update(vertices, self._carried(vertices, faces, before, rows, face_rows))
         report(0.95)
         self._refit()
         report(1.0)
+
+    def _carried(self, vertices: np.ndarray, faces: np.ndarray, before: SurfaceIndex,
+                 rows: np.ndarray, face_rows: np.ndarray) -> np.ndarray:  # fmt: skip
+        """Take ``before``'s normals of the rows carried over (``rows``, ``face_rows``: its rows'
+        new rows, -1: gone); the vertices to update: new, moved, corners of new or gone faces."""
+        kept, kept_faces = np.flatnonzero(rows >= 0), np.flatnonzero(face_rows >= 0)
+        n, m = len(kept), len(kept_faces)  # ascending rows of ``before``: no random reads
+        np.take(before.positions, kept, axis=0, out=self.positions[:n], mode="clip")
+        np.take(before.normals, kept, axis=0, out=self.normals[:n], mode="clip")  # clip: no buffer
+        np.take(before._face_normals, kept_faces, 0, self._face_normals[:m], mode="clip")
+        gone = rows[before.faces[face_rows < 0]].ravel()
+        new = (self.order[n:], faces[self.face_order[m:]].ravel(), gone[gone >= 0])
+        return np.concatenate([*new, self.changed_rows(vertices)])
 
     @property
     def vertices(self) -> np.ndarray:
@@ -403,9 +405,8 @@ class SurfaceIndex:
 
     def update(self, vertices: np.ndarray, changed: np.ndarray) -> int:
         """The vertices ``changed`` (indices) moved to ``vertices`` (N, 3, the mesh's order;
-        only the rows ``changed`` are read): update :attr:`positions` and :attr:`normals`,
-        mark the boxes they touch stale. Returns how many normals were recomputed (the moved
-        vertices and their one-ring)."""
+        only those rows are read): update :attr:`positions` and :attr:`normals`, mark their
+        boxes stale. Returns how many normals were recomputed (theirs and their one-ring's)."""
         vertices = self._checked(vertices)
         seeds = np.ascontiguousarray(changed, dtype=np.int64).ravel()
         if not seeds.size:
@@ -433,8 +434,7 @@ class SurfaceIndex:
         return vertices
 
     def changed_rows(self, vertices: np.ndarray) -> np.ndarray:
-        """The sorted indices of the rows of ``vertices`` (N, 3, the mesh's order) that
-        differ from the positions of the last :meth:`update` (what an undo moved)."""
+        """The rows (sorted) of ``vertices`` (N, 3, the mesh's order) unlike the last update's."""
         vertices = self._checked(vertices)
         mask = np.empty(self._n_vertices, dtype=np.bool_)
         with _threads_for(self._n_vertices) as threads:
@@ -453,8 +453,7 @@ class SurfaceIndex:
     def pick(self, origin: np.ndarray, direction: np.ndarray) -> tuple[int, np.ndarray] | None:
         """The first face (the mesh's face number) hit by the ray origin + t·direction (t ≥ 0)
         at the positions of the last :meth:`update`, and the hit point (3,); or None."""
-        o = np.asarray(origin, dtype=np.float64)
-        d = np.asarray(direction, dtype=np.float64)
+        o, d = (np.asarray(v, dtype=np.float64) for v in (origin, direction))
         if o.shape != (3,) or d.shape != (3,) or not np.all(np.isfinite(o) & np.isfinite(d)):
             raise ValueError("pick origin and direction must be 3 finite numbers each")
         if not np.any(d):
@@ -470,19 +469,25 @@ class SurfaceIndex:
         face, t = kernels._closest_hit(
             self.positions, self.faces, self.face_order, candidates, near, o, d
         )
-        if face < 0:
-            return None
-        return int(face), o + t * d
+        return None if face < 0 else (int(face), o + t * d)
 
 
-#: Below this many moved vertices an update runs on the calling thread alone: waking the
-#: other threads would cost more than the work (much more when the cores are busy).
+#: Below this many moved vertices an update runs on the calling thread alone (cheaper).
 PARALLEL_VERTICES = 20_000
 
 
 def _threads_for(work: int) -> AbstractContextManager[int]:
     """numba's thread count for ``work`` vertices: 1 below :data:`PARALLEL_VERTICES`."""
     return threads_at_most(1 if work < PARALLEL_VERTICES else numba.get_num_threads())
+
+
+def _kept_order(old_order: np.ndarray, origin: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The order (int32) of rows carried over (``origin``: each one's old row, -1: new) in
+    ``old_order``, then the new rows; and each row of ``old_order``'s new row (-1: gone)."""
+    new_row = np.full(len(old_order), -1, dtype=np.int32)
+    new_row[origin[origin >= 0]] = np.flatnonzero(origin >= 0)
+    rows = new_row[old_order]
+    return np.concatenate([rows[rows >= 0], np.flatnonzero(origin < 0)]).astype(np.int32), rows
 
 
 def _curve_order(points: np.ndarray, groups: np.ndarray) -> np.ndarray:
@@ -506,9 +511,7 @@ def _exercise() -> None:
     index.pick(np.array([0.2, 0.2, 3.0]), np.array([0.0, 0.0, -1.0]))
 
 
-#: This module's compiled functions once numba has them (compiled in the background, see
-#: ``gogreen_core._compiled``), else their NumPy twins (``_geometry_numpy``: within 1e-12),
-#: so that a new machine need not wait for the compiler to pick and shade.
+#: This module's compiled functions once numba has them (``gogreen_core._compiled``), else
+#: their NumPy twins (``_geometry_numpy``): a new machine picks and shades at once.
 _COMPILED = _compiled.CompiledModule(_compiled.GEOMETRY, __name__, _geometry_numpy, _exercise)
 _kernels = _COMPILED.kernels
-compile_now = _COMPILED.compile_now

@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+import threading
+
 import numpy as np
 import pytest
 from gui_helpers import activate, center_of, shown_viewport
@@ -140,26 +142,40 @@ def test_a_thumbnail_from_the_copy_leaves_the_full_mesh_shown(big_viewport):
 
 
 def test_a_dynamic_topology_stroke_keeps_the_copy_and_renumbers_the_index(
-    window, qtbot, monkeypatch
+    window, qtbot, monkeypatch, tmp_path
 ):
     """Issue 34: on a big mesh a dynamic-topology stroke draws the interaction copy all along
     (it follows the new vertices), and the release renumbers the index, no new build, to the
-    normals, picks and faces of a new one; an undo shows the mesh before it again."""
+    normals, picks and faces of a new one; its undo and redo are renumbered too (the copy kept,
+    no new build; the copy drawn meanwhile). The copy's new rows are found with each step, off
+    the GUI thread."""
     import app.mesh_display
     from gogreen_core.mesh.geometry import SurfaceIndex
+    from gogreen_core.mesh.mesh_io import MeshData, save_mesh
 
     monkeypatch.setattr(app.level_of_detail, "LIGHT_MIN_FACES", 1000)
     monkeypatch.setattr(app.mesh_display, "BACKGROUND_INDEX_FACES", 1000)
     activate(window, qtbot)
     vp = window.viewport
     sculptor = window.document.sculptor
-    vp.set_mesh(sculptor.vertices, sculptor.faces)
+    # without texture coordinates (their undo steps hold whole meshes, no record of the change)
+    path = str(tmp_path / "model.ply")
+    save_mesh(MeshData(sculptor.vertices, sculptor.faces), path)
+    assert window.files.open_file(path)
+    sculptor = window.document.sculptor
     qtbot.waitUntil(lambda: vp.surface is not None, timeout=60_000)
     vp.render_now()
     vp.lod.full_frame_ms = 5 * LIGHT_FRAME_MS
-    builds = []
+    builds, follows = [], []
     build = app.level_of_detail.indexed
     monkeypatch.setattr(app.level_of_detail, "indexed", lambda *a: builds.append(1) or build(*a))
+    followed_rows = app.level_of_detail.LightMesh.followed_rows
+
+    def spy(*args):  # where the copy's new rows are found: on the stroke's worker thread
+        follows.append(threading.current_thread() is threading.main_thread())
+        return followed_rows(*args)
+
+    monkeypatch.setattr(app.level_of_detail.LightMesh, "followed_rows", spy)
     window.model.dynamic_topology = True
     window.model.detail_size = 0.004
     window.model.brush.kind = "grab"
@@ -178,6 +194,7 @@ def test_a_dynamic_topology_stroke_keeps_the_copy_and_renumbers_the_index(
     QTest.mouseRelease(vp, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, start)
     qtbot.waitUntil(lambda: vp.surface is not None and not vp.lod.shown, timeout=60_000)
     assert all(shown_during) and not builds
+    assert follows and not any(follows)  # none on the GUI thread
     assert sculptor.faces.shape != faces.shape  # the stroke changed the topology
     fresh, index = SurfaceIndex(sculptor.vertices, sculptor.faces), vp.surface
     assert np.array_equal(index.normals[index.rank], fresh.normals[fresh.rank])
@@ -194,65 +211,100 @@ def test_a_dynamic_topology_stroke_keeps_the_copy_and_renumbers_the_index(
         got, expected = index.pick(origin, direction), fresh.pick(origin, direction)
         assert (got is None) == (expected is None)
         assert got is None or (got[0] == expected[0] and np.array_equal(got[1], expected[1]))
-    QTest.keyClick(vp, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
-    qtbot.waitUntil(lambda: vp.surface is not None, timeout=60_000)
-    assert np.array_equal(sculptor.faces, faces) and np.array_equal(sculptor.vertices, vertices)
-    assert np.array_equal(vp.shown_vertices(), vertices)
-    assert vp.mesh.n_cells == len(faces)
+    stroke_vertices, stroke_faces = sculptor.vertices.copy(), sculptor.faces.copy()
+    light = vp.lod.light
+    for key, now in (
+        (Qt.Key.Key_Z, (vertices, faces)),
+        (Qt.Key.Key_Y, (stroke_vertices, stroke_faces)),
+    ):
+        vp.lod.full_frame_ms = 5 * LIGHT_FRAME_MS  # slow full frames: the copy drawn meanwhile
+        QTest.keyClick(vp, key, Qt.KeyboardModifier.ControlModifier)  # undo, redo: renumbered too
+        assert vp.surface_building and vp.lod.shown and not vp.mesh_actor.GetVisibility()
+        qtbot.waitUntil(lambda: vp.surface is not None, timeout=60_000)
+        assert not vp.lod.shown and vp.mesh_actor.GetVisibility()
+        assert np.array_equal(sculptor.faces, now[1]) and np.array_equal(sculptor.vertices, now[0])
+        assert np.array_equal(vp.shown_vertices(), now[0])
+        assert vp.mesh.n_cells == len(now[1]) and not builds and vp.lod.light is light
+        fresh, index = SurfaceIndex(*now), vp.surface
+        assert np.array_equal(index.normals[index.rank], fresh.normals[fresh.rank])
+        assert np.array_equal(light.index.vertices, sculptor.vertices[light.rows])
 
 
-def test_renumbered_index_after_local_remeshes_equals_a_new_build():
-    """Issue 34: random local remeshes (vertices split, collapsed, moved) renumber the index
-    (:func:`app.level_of_detail.renumbered`: the kept rows in their order, no sort) to the
-    normals (bit for bit), picks and drawn faces of a new index on the same mesh."""
-    from app.level_of_detail import renumbered
+def _assert_index_of(index, vertices, faces, rng):
+    """``index`` has the positions, normals (bit for bit), face normals, drawn faces and picks
+    of a new build on the mesh ``vertices``, ``faces``."""
     from gogreen_core.mesh.geometry import SurfaceIndex
+
+    fresh = SurfaceIndex(vertices, faces)
+    assert np.array_equal(index.order[index.rank], np.arange(len(vertices)))
+    assert np.array_equal(index.positions[index.rank], vertices)
+    drawn = np.sort(np.sort(index.order[index.faces], axis=1), axis=0)
+    assert np.array_equal(drawn, np.sort(np.sort(faces, axis=1), axis=0))
+    assert np.array_equal(index.normals[index.rank], fresh.normals[fresh.rank])
+    assert np.array_equal(index._face_normals[np.argsort(index.face_order)],
+                          fresh._face_normals[np.argsort(fresh.face_order)])  # fmt: skip
+    for _ in range(40):
+        origin = rng.normal(size=3) * 3
+        direction = rng.normal(size=3) * 0.3 - origin
+        got, expected = index.pick(origin, direction), fresh.pick(origin, direction)
+        assert (got is None) == (expected is None)
+        if got is not None:
+            assert got[0] == expected[0]
+            assert np.array_equal(got[1], expected[1])
+
+
+def test_renumbered_index_after_local_remeshes_undo_and_redo_equals_a_new_build():
+    """Issue 34: random local remeshes (vertices split, collapsed, moved), then their undo
+    and redo steps, renumber the index (:func:`app.level_of_detail.renumbered`: the kept rows
+    in their order, no sort, their normals carried where nothing changed) to the normals (bit
+    for bit), picks and drawn faces of a new index on the same mesh; one brush move after it
+    too."""
+    from app.level_of_detail import edit_renumbering, renumbered
+    from gogreen_core.mesh.geometry import SurfaceIndex
+    from gogreen_core.mesh.mesh_state import MeshSnapshot, MeshState, topology_edit
     from gogreen_core.mesh.remesh import remesh
     from gogreen_core.mesh.shapes import default_model
 
     vertices, faces = default_model(4)
+    state = MeshState(vertices, faces)
     index = SurfaceIndex(vertices, faces)
     rng = np.random.default_rng(7)
     removed = added = 0
     median = np.median(np.linalg.norm(vertices[faces[:, 0]] - vertices[faces[:, 1]], axis=1))
+    steps = []
     for _ in range(4):
+        vertices, faces = state.vertices, state.faces
         center = vertices[rng.integers(len(vertices))]
-        moved = (
-            vertices
-            + 0.01
-            * rng.normal(size=vertices.shape)
-            * (np.linalg.norm(vertices - center, axis=1) < 0.3)[:, None]
-        )
-        region = np.linalg.norm(vertices - center, axis=1) < 0.35
-        done = remesh(moved, faces, region, median * rng.choice([0.5, 2.0]), iterations=2)
+        near = np.linalg.norm(vertices - center, axis=1)
+        moved = vertices + 0.01 * rng.normal(size=vertices.shape) * (near < 0.3)[:, None]
+        done = remesh(moved, faces, near < 0.35, median * rng.choice([0.5, 2.0]), iterations=2)
         removed += int((done.kept < 0).sum())
         added += len(done.vertices) - int((done.kept >= 0).sum())
         origin = np.full(len(done.vertices), -1)
         origin[: np.count_nonzero(done.kept >= 0)] = np.flatnonzero(done.kept >= 0)
         face_origin = np.full(len(done.faces), -1)
         face_origin[: np.count_nonzero(done.kept_faces)] = np.flatnonzero(done.kept_faces)
+        before = MeshSnapshot(vertices, faces, state.mask)
+        after = MeshSnapshot(done.vertices, done.faces, np.zeros(len(done.vertices)))
+        steps.append(topology_edit(before, after, origin, face_origin))
         previous = index
         index = renumbered(index, done.vertices, done.faces, (faces, origin, face_origin))
+        state.adopt(after)
         n = np.count_nonzero(origin >= 0)  # the kept vertices keep their rows' order
         assert np.all(np.diff(previous.rank[origin[:n]][np.argsort(index.rank[:n])]) > 0)
-        vertices, faces = done.vertices, done.faces
-        fresh = SurfaceIndex(vertices, faces)
-        assert np.array_equal(index.order[index.rank], np.arange(len(vertices)))
-        assert np.array_equal(index.positions[index.rank], vertices)
-        drawn = np.sort(np.sort(index.order[index.faces], axis=1), axis=0)
-        assert np.array_equal(drawn, np.sort(np.sort(faces, axis=1), axis=0))
-        assert np.array_equal(index.normals[index.rank], fresh.normals[fresh.rank])
-        assert np.array_equal(index._face_normals[np.argsort(index.face_order)],
-                              fresh._face_normals[np.argsort(fresh.face_order)])  # fmt: skip
-        for _ in range(40):
-            origin = rng.normal(size=3) * 3
-            direction = rng.normal(size=3) * 0.3 - origin
-            got, expected = index.pick(origin, direction), fresh.pick(origin, direction)
-            assert (got is None) == (expected is None)
-            if got is not None:
-                assert got[0] == expected[0]
-                assert np.array_equal(got[1], expected[1])
+        _assert_index_of(index, done.vertices, done.faces, rng)
     assert removed > 0 and added > 0
+    for side in [back for back, _ in reversed(steps)] + [forth for _, forth in steps]:
+        change = edit_renumbering(side, state.faces)  # an undo or a redo: how it renumbers
+        assert edit_renumbering(side, state.faces[1:]) is None  # another mesh's
+        state.adopt(side)
+        index = renumbered(index, state.vertices, state.faces, change)
+        _assert_index_of(index, state.vertices, state.faces, rng)
+    moved = state.vertices.copy()
+    rows = np.flatnonzero(np.linalg.norm(moved - moved[0], axis=1) < 0.3)
+    moved[rows] += 0.02
+    index.update(moved, rows)
+    _assert_index_of(index, moved, state.faces, rng)
 
 
 def test_a_copy_vertex_collapsed_away_follows_a_neighbour_on_its_side_of_a_pull():

@@ -223,25 +223,39 @@ def test_pick_misses_and_bad_rays(pebble):
         index.pick(np.array([np.nan, 0, 0]), np.ones(3))
 
 
-def test_an_index_built_in_given_orders_equals_a_new_build(pebble):
-    """Given orders (a renumbered mesh keeps its index's, issue 34): no sort, the normals (bit
-    for bit), picks and drawn faces of a build along the curve."""
+def test_an_index_carried_over_a_local_change_equals_a_new_build(pebble):
+    """An index carried over a local change (issue 34: ``carried``, no sort, the normals of
+    what did not change taken over): the kept rows in their order, the new ones after them;
+    the normals (bit for bit), picks and drawn faces of a new build, and after a brush move."""
+    from gogreen_core.mesh.remesh import remesh
+
     vertices, faces = pebble
+    index = SurfaceIndex(vertices, faces)
+    near = np.linalg.norm(vertices - vertices[7], axis=1)
+    moved = vertices + 0.01 * (near < 0.3)[:, None]
+    done = remesh(moved, faces, near < 0.35, 0.02, iterations=2)
+    origin = np.full(len(done.vertices), -1)
+    origin[: np.count_nonzero(done.kept >= 0)] = np.flatnonzero(done.kept >= 0)
+    face_origin = np.full(len(done.faces), -1)
+    face_origin[: np.count_nonzero(done.kept_faces)] = np.flatnonzero(done.kept_faces)
+    assert np.any(origin < 0) and np.any(done.kept < 0)  # vertices made and removed
+    carried = SurfaceIndex(done.vertices, done.faces, carried=(index, origin, face_origin))
+    kept = origin >= 0
+    assert np.array_equal(carried.order[: np.count_nonzero(kept)],
+                          np.flatnonzero(kept)[np.argsort(index.rank[origin[kept]])])  # fmt: skip
+    fresh = SurfaceIndex(done.vertices, done.faces)
+    assert_normals_of(carried, done.vertices, done.faces)
+    assert np.array_equal(carried.order[carried.faces], done.faces[carried.face_order])
     rng = np.random.default_rng(5)
-    orders = rng.permutation(len(vertices)), rng.permutation(len(faces))
-    index, fresh = SurfaceIndex(vertices, faces, orders=orders), SurfaceIndex(vertices, faces)
-    assert np.array_equal(index.order, orders[0]) and np.array_equal(index.face_order, orders[1])
-    assert np.array_equal(index.normals[index.rank], fresh.normals[fresh.rank])
-    assert np.array_equal(index.order[index.faces], faces[orders[1]])
     for _ in range(40):
         origin = rng.normal(size=3) * 3
         direction = rng.normal(size=3) * 0.3 - origin
-        got, expected = index.pick(origin, direction), fresh.pick(origin, direction)
+        got, expected = carried.pick(origin, direction), fresh.pick(origin, direction)
         assert (got is None) == (expected is None)
         assert got is None or (got[0] == expected[0] and np.array_equal(got[1], expected[1]))
-    moved, changed = brush_move(vertices, 3, 0.5)
-    index.update(moved, changed)
-    assert_normals_of(index, moved, faces)
+    moved, changed = brush_move(done.vertices, 3, 0.5)
+    carried.update(moved, changed)
+    assert_normals_of(carried, moved, done.faces)
 
 
 def test_a_dynamic_topology_stroke_records_how_it_renumbered_the_mesh():
