@@ -205,39 +205,23 @@ def _single_velocity(
             for k in range(3):
                 for i in range(nb):
                     total32[k, i] = 0.0
-        t0 = rad[0]
-        for k in range(3):
-            sgn = mirrors[mi, k]
-            v_k, t_k = vel[k], total32[k]
-            c0, c1, c2 = (
-                coeffs[0, k],
-                coeffs[1 if l_first else 0, k],
-                coeffs[2 if l_first else 0, k],
-            )
-            # the lowest degree: R₀ Y₀₀ C, or R₁ Σ_m Y_1m C_1m in the rescaled form of
-            # ``_expansion._angular`` (P_1^0 = z, P_1^1 = 1, cos φ = x̂, sin φ = ŷ); then the
-            # weighted sum (a zero weight adds exactly nothing; one loop per case: a branch
-            # inside kept it from vectorizing)
-            if l_first == 0 and mi == 0:
-                for i in range(nb):
-                    u = t0[i] * c0 + (scale1[i] * cscale) * t_k[i]
-                    v_k[i] = weight[i] * u if weight[i] != 0.0 else 0.0
-            elif l_first == 0:
-                for i in range(nb):
-                    u = t0[i] * c0 + (scale1[i] * cscale) * t_k[i]
-                    v_k[i] = v_k[i] + (sgn * weight[i]) * u if weight[i] != 0.0 else v_k[i]
-            elif mi == 0:
-                for i in range(nb):
-                    a = t0[i]
+        # the lowest degree: R₀ Y₀₀ C, or R₁ Σ_m Y_1m C_1m in the rescaled form of
+        # ``_expansion._angular`` (P_1^0 = z, P_1^1 = 1, cos φ = x̂, sin φ = ŷ); then the weighted
+        # sum (a zero weight adds exactly nothing); x, y, z in one loop: each row read once
+        t0, row1, row2 = rad[0], (1 if l_first else 0), (2 if l_first else 0)
+        for i in range(nb):
+            a, s, w = t0[i], scale1[i] * cscale, weight[i]
+            for k in range(3):
+                c0, c1, c2 = coeffs[0, k], coeffs[row1, k], coeffs[row2, k]
+                if l_first == 0:
+                    u = a * c0 + s * total32[k, i]
+                else:
                     u = ((a * z[i]) * c1 + x[i] * (a * c2)) + y[i] * (a * c0)
-                    u = u + (scale1[i] * cscale) * t_k[i]
-                    v_k[i] = weight[i] * u if weight[i] != 0.0 else 0.0
-            else:
-                for i in range(nb):
-                    a = t0[i]
-                    u = ((a * z[i]) * c1 + x[i] * (a * c2)) + y[i] * (a * c0)
-                    u = u + (scale1[i] * cscale) * t_k[i]
-                    v_k[i] = v_k[i] + (sgn * weight[i]) * u if weight[i] != 0.0 else v_k[i]
+                    u = u + s * total32[k, i]
+                if mi == 0:
+                    vel[k, i] = w * u if w != 0.0 else 0.0
+                else:
+                    vel[k, i] = vel[k, i] + (mirrors[mi, k] * w) * u if w != 0.0 else vel[k, i]
 
 
 @njit(**_JIT)
