@@ -361,6 +361,7 @@ def _pass(
     points: np.ndarray,  # (N_all, 3) float64, start positions (the rows ``indices`` if indexed)
     indices: np.ndarray,  # (N,) int64 rows of ``points`` to move if ``indexed``
     indexed: bool,  # False: move every row of ``points`` (``indices`` is not read)
+    in_place: bool,  # FIRST, REFINE: final ends into ``points`` (see below)
     limit: float,  # largest coordinate magnitude accepted in an indexed start position
     field: Field,
     n_steps: int,  # FIRST: RK4 steps (1 when adaptive)
@@ -382,7 +383,9 @@ def _pass(
     infinite for a bad start), found[1] the spread, found[2] |x₄ - x₀|². FIRST: found[0] the
     rank (the cube of the predicted error). REFINE: ``picked_rows`` (rows of ``out``), BLOCK at
     a time (module docstring). One function for the three: each one holding the velocity
-    compiles for seconds."""
+    compiles for seconds. ``in_place`` (``_stream.stream`` checks it may): the final ends go to
+    ``points`` (no row of ``out`` written, none read back), a third-order step not kept to
+    ``out`` (REFINE's first previous end)."""
     n_points = indices.shape[0] if indexed else points.shape[0]
     if kind != FIRST:
         n_points = picked_rows.shape[0]
@@ -461,7 +464,10 @@ def _pass(
                         previous[k, kept] = end[k, j]
                     kept += 1
                 else:  # its final end position
+                    row = indices[n] if indexed else n
                     for k in range(3):
+                        if in_place:
+                            points[row, k] = end[k, j]
                         if not math.isfinite(end[k, j]):
                             bad[blk] = True
             count = kept
@@ -474,9 +480,19 @@ def _pass(
                 found[2, start + j] = _norm2(fourth, start_rows, j, 0)
         if kind != FIRST:
             continue
-        for i in range(nb):
-            for k in range(3):
-                out[start + i, k] = end_rows[k, i]
+        if not in_place:
+            for i in range(nb):
+                for k in range(3):
+                    out[start + i, k] = end_rows[k, i]
+        elif problem[blk] == 0:  # the kept ends in place (a problem: rows may be out of range)
+            for i in range(nb):
+                final = not adaptive or spreads[i] <= level
+                row = indices[start + i] if indexed else start + i
+                for k in range(3):
+                    if final:
+                        points[row, k] = end_rows[k, i]
+                    else:
+                        out[start + i, k] = end_rows[k, i]
         if evaluations.shape[0]:  # (an empty array: not counted)
             for i in range(nb):
                 evaluations[start + i] = 3 if third_order else 4 * n_steps

@@ -115,6 +115,22 @@ def third_order_limit(
     return float(spread.max())
 
 
+def _bounded(field: StreamField) -> bool:
+    """Whether every velocity of ``field`` is provably below 1e300 (an end from a start within
+    ``kernel.COORDINATE_LIMIT`` stays finite) and its float32 sums below 1e36: per mirror image
+    the scale 1/ε^power times the tables' largest values (Σ|c_j| over a segment) times the
+    coefficients' sum times the harmonics' bound ((1 + max β)^l_last for the rescaled P_l^m,
+    whose recurrence adds β P_(l-2) to z P_(l-1); |cos mφ|, |sin mφ| ≤ 1)."""
+    with np.errstate(all="ignore"):
+        harmonics = (1.0 + float(np.abs(field.beta32).max(initial=0.0))) ** field.l_last
+        upper = np.abs(field.tables32.astype(np.float64)) @ [1.0, 2.0, 4.0]  # σ ∈ [0, 2]
+        coeffs32 = np.abs(field.coeffs32.astype(np.float64)).sum(axis=0)
+        single = harmonics * float(upper.sum(axis=1).max(initial=0.0)) * coeffs32
+        low = np.abs(field.tables).sum(axis=-1).max() * np.abs(field.coeffs).sum(axis=0)
+        scale = len(field.mirrors) * field.eps ** -float(field.power)
+        return bool(single.max() < 1e36 and (scale * (low + field.cscale * single)).max() < 1e300)
+
+
 def stream(
     points: np.ndarray,
     indices: np.ndarray,
@@ -127,13 +143,16 @@ def stream(
     out: np.ndarray,
     evaluations: np.ndarray,
     run_pass: Callable[..., None],
+    rows_checked: bool = False,
 ) -> int:
     """Move ``points`` (N_all, 3; the rows ``indices`` (N,) if ``indexed``) along the
     streamlines of ``field`` by ``run_pass`` (``_integrator._pass`` or its NumPy twin), as
     ``GreenKernel.streamlines`` (``tolerance <= 0``: fixed steps; ``write_back``: in place).
     Returns 0 when done, 1 if an index is out of range, 2 if an indexed start position is not
     finite or beyond ``limit`` (nothing integrated), 3 if an end position is not finite
-    (nothing written back)."""
+    (nothing written back). ``rows_checked`` (the rows valid, their starts finite within
+    ``limit``), ``write_back`` and a velocity :func:`_bounded`: the passes write the final ends
+    in place as they make them (no pass over ``out``; a failed check may leave rows moved)."""
     n_points = indices.shape[0] if indexed else points.shape[0]
     if indexed and points.shape[0] == 0:
         return 1
@@ -154,19 +173,22 @@ def stream(
         bad_blocks: np.ndarray = bad,
     ) -> None:
         work = partial(
-            run_pass, kind, points, indices, indexed, limit, field, n_steps, adaptive, third, level,
-            picked, out, evaluations, found, blocks, problem, bad_blocks,
+            run_pass, kind, points, indices, indexed, in_place and kind != PROBE, limit, field,
+            n_steps, adaptive, third, level, picked, out, evaluations, found, blocks, problem,
+            bad_blocks,
         )  # fmt: skip
         n = n_blocks if kind == FIRST else (len(picked) + BLOCK - 1) // BLOCK
         run_ranges(work, n, _MIN_BLOCKS if kind == FIRST else 1)
 
-    limit3 = -1.0
+    limit3, in_place = -1.0, False
     if adaptive:
         probes = probe_rows(n_points)
         found = np.empty((3, len(probes)))
         run(PROBE, probes, found)
         limit3 = third_order_limit(field.center_step, tolerance, *found)
     steps = 1 if adaptive else substeps
+    in_place = write_back and rows_checked and run_pass is _pass
+    in_place = in_place and (limit3 >= 0.0 or not adaptive) and _bounded(field)
     run(FIRST, probe_rows(0), rank, steps, limit3 >= 0.0, max(limit3, 0.0))
     for code in (1, 2):
         if np.any(problem == code):
@@ -182,6 +204,8 @@ def stream(
         return 0
     if bad.any():
         return 3
+    if in_place:
+        return 0
     if run_pass is not _pass:  # NumPy: nothing compiled
         points[indices if indexed else slice(None)] = out[:n_points]
         return 0
