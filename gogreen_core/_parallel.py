@@ -24,10 +24,9 @@ from numba.core.ccallback import CFunc
 
 __all__ = ["run_ranges"]
 
-#: Ranges per thread at most. Handed out as threads ask, each a 1 / (2 threads) share of the
-#: items left (OpenMP's guided schedule): the last ones small, so a thread slowed by other
-#: programs does not hold the others up, and few calls (each unboxes its arguments again: 9 µs
-#: for the streamlines' pass, 64 equal ranges of a 1M-vertex event's: 0.6 ms).
+#: Ranges per thread at most, handed out as threads ask, each 1 / (2 threads) of what is left
+#: (guided): the last small, so a thread slowed by other programs does not hold the others up,
+#: and few calls (each unboxes its arguments: 9 µs for a streamline pass).
 RANGES_PER_THREAD = 32
 
 _pool: ThreadPoolExecutor | None = None
@@ -107,9 +106,8 @@ def run_ranges(work: Callable[[int, int], None], n_items: int, min_items: int) -
         return
     bounds, least = [0], max(n_items // n_ranges, 1)
     while bounds[-1] < n_items:
-        bounds.append(
-            min(bounds[-1] + max((n_items - bounds[-1]) // (2 * threads), least), n_items)
-        )
+        share = max((n_items - bounds[-1]) // (2 * threads), least)
+        bounds.append(min(bounds[-1] + share, n_items))
     # next() on this iterator is one C call under the GIL: each range goes to one thread
     ranges = itertools.pairwise(bounds)
 

@@ -153,8 +153,7 @@ def _single_radial(
 ) -> None:
     """rad32[d, i] = the float32 table ``tables32`` (S, n_deg - 1, 3) of degree d above the
     lowest at point i, c₀ + (c₁ + c₂ σ) σ with σ = loc + 1, unscaled. Four degrees a loop, then
-    two (their coefficients side by side: one index serves them all; two: 1.3x faster than one,
-    four: 1.15x faster than two)."""
+    two (coefficients side by side: one index serves them; 1.15x faster than two, two 1.3x one)."""
     n_deg = tables32.shape[1]
     n_four = n_deg - n_deg % 4
     for d0 in range(0, n_four, 4):
@@ -383,9 +382,8 @@ def _pass(
     infinite for a bad start), found[1] the spread, found[2] |x₄ - x₀|². FIRST: found[0] the
     rank (the cube of the predicted error). REFINE: ``picked_rows`` (rows of ``out``), BLOCK at
     a time (module docstring). One function for the three: each one holding the velocity
-    compiles for seconds. ``in_place`` (``_stream.stream`` checks it may): the final ends go to
-    ``points`` (no row of ``out`` written, none read back), a third-order step not kept to
-    ``out`` (REFINE's first previous end)."""
+    compiles for seconds. ``in_place`` (``_stream.stream`` checks it may): final ends go into
+    ``points``, not ``out`` (which gets the third-order ends refined: REFINE's first previous)."""
     n_points = indices.shape[0] if indexed else points.shape[0]
     if kind != FIRST:
         n_points = picked_rows.shape[0]
@@ -480,19 +478,14 @@ def _pass(
                 found[2, start + j] = _norm2(fourth, start_rows, j, 0)
         if kind != FIRST:
             continue
-        if not in_place:
-            for i in range(nb):
-                for k in range(3):
+        for i in range(nb):  # (a block with a problem: its rows may be out of range)
+            final = in_place and problem[blk] == 0 and (not adaptive or spreads[i] <= level)
+            row = indices[start + i] if indexed and final else start + i
+            for k in range(3):
+                if final:
+                    points[row, k] = end_rows[k, i]
+                else:
                     out[start + i, k] = end_rows[k, i]
-        elif problem[blk] == 0:  # the kept ends in place (a problem: rows may be out of range)
-            for i in range(nb):
-                final = not adaptive or spreads[i] <= level
-                row = indices[start + i] if indexed else start + i
-                for k in range(3):
-                    if final:
-                        points[row, k] = end_rows[k, i]
-                    else:
-                        out[start + i, k] = end_rows[k, i]
         if evaluations.shape[0]:  # (an empty array: not counted)
             for i in range(nb):
                 evaluations[start + i] = 3 if third_order else 4 * n_steps
@@ -529,14 +522,3 @@ def _pass(
         for i in range(nb):
             most = max(most, motion2[i])
         block_found[0, blk] = math.sqrt(most)
-
-
-@njit(**_JIT)
-def _write_back(
-    points: np.ndarray, indices: np.ndarray, indexed: bool, out: np.ndarray, first: int, last: int
-) -> None:
-    """points[indices[n]] (or points[n]) = out[n] for n in [first, last)."""
-    for n in range(first, last):
-        row = indices[n] if indexed else n
-        for k in range(3):
-            points[row, k] = out[n, k]

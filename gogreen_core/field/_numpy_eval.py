@@ -219,8 +219,7 @@ def stream_pass(
     found: np.ndarray, block_found: np.ndarray, problem: np.ndarray, bad: np.ndarray,
     first_block: int, last_block: int,
 ) -> None:  # fmt: skip
-    """``_integrator._pass`` (the same arguments; never ``in_place``), CHUNK points (whole
-    blocks) at a time."""
+    """``_integrator._pass`` (the same arguments but ``in_place``), CHUNK points at a time."""
     n_points = indices.shape[0] if indexed else points.shape[0]
     n_points = n_points if kind == FIRST else picked_rows.shape[0]
     last = min(last_block * BLOCK, n_points)

@@ -11,7 +11,7 @@ import numpy as np
 
 from gogreen_core._parallel import run_ranges
 from gogreen_core.field._expansion import BLOCK
-from gogreen_core.field._integrator import FIRST, PROBE, REFINE, _pass, _write_back
+from gogreen_core.field._integrator import FIRST, PROBE, REFINE, _pass
 
 __all__ = [
     "ESTIMATE_SAFETY",
@@ -116,11 +116,9 @@ def third_order_limit(
 
 
 def _bounded(field: StreamField) -> bool:
-    """Whether every velocity of ``field`` is provably below 1e300 (an end from a start within
-    ``kernel.COORDINATE_LIMIT`` stays finite) and its float32 sums below 1e36: per mirror image
-    the scale 1/ε^power times the tables' largest values (Σ|c_j| over a segment) times the
-    coefficients' sum times the harmonics' bound ((1 + max β)^l_last for the rescaled P_l^m,
-    whose recurrence adds β P_(l-2) to z P_(l-1); |cos mφ|, |sin mφ| ≤ 1)."""
+    """Whether every velocity is provably below 1e300 (no end overflows) and its float32 sums
+    below 1e36: images × 1/ε^power × the tables' Σ|c_j| × the coefficients × (1 + max β)^l_last
+    (the rescaled P_l^m's recurrence adds β P_(l-2) to z P_(l-1); |cos mφ|, |sin mφ| ≤ 1)."""
     with np.errstate(all="ignore"):
         harmonics = (1.0 + float(np.abs(field.beta32).max(initial=0.0))) ** field.l_last
         upper = np.abs(field.tables32.astype(np.float64)) @ [1.0, 2.0, 4.0]  # σ ∈ [0, 2]
@@ -150,9 +148,8 @@ def stream(
     ``GreenKernel.streamlines`` (``tolerance <= 0``: fixed steps; ``write_back``: in place).
     Returns 0 when done, 1 if an index is out of range, 2 if an indexed start position is not
     finite or beyond ``limit`` (nothing integrated), 3 if an end position is not finite
-    (nothing written back). ``rows_checked`` (the rows valid, their starts finite within
-    ``limit``), ``write_back`` and a velocity :func:`_bounded`: the passes write the final ends
-    in place as they make them (no pass over ``out``; a failed check may leave rows moved)."""
+    (nothing written back). ``rows_checked`` (valid rows, starts finite within ``limit``) with
+    a :func:`_bounded` velocity: the passes write the final ends in place as they make them."""
     n_points = indices.shape[0] if indexed else points.shape[0]
     if indexed and points.shape[0] == 0:
         return 1
@@ -204,10 +201,6 @@ def stream(
         return 0
     if bad.any():
         return 3
-    if in_place:
-        return 0
-    if run_pass is not _pass:  # NumPy: nothing compiled
+    if not in_place:
         points[indices if indexed else slice(None)] = out[:n_points]
-        return 0
-    run_ranges(partial(_write_back, points, indices, indexed, out), n_points, 1 << 16)
     return 0

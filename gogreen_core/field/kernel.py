@@ -383,13 +383,11 @@ class GreenKernel:
         None: ``substeps`` fixed RK4 steps. Bit-identical whatever the number of threads.
         ``indices`` (n,) int: move only ``points[indices]``, read in place. ``in_place``: also
         write the ends into ``points`` (writable C-contiguous float64) at ``indices`` if all are
-        finite (else ValueError, ``points`` unchanged). ``rows_checked`` (with ``in_place``): the
-        caller vouches that ``indices`` are distinct rows whose positions are finite within
-        :data:`COORDINATE_LIMIT` (a mesh's), so the ends go into ``points`` as they are made,
-        not into the result (no second pass over them; were the vouch wrong, an error may leave
-        rows moved). ``out``: a reused C-contiguous float64 buffer of at least n rows, the
-        result a view of it. ``evaluations``: int64 (n,), gets the velocity evaluations each
-        point took (4 per RK4 step).
+        finite (else ValueError, ``points`` unchanged). ``rows_checked``: the caller vouches that
+        ``indices`` are distinct rows of positions finite within :data:`COORDINATE_LIMIT`; the
+        ends then go into ``points`` as made, not the result (a wrong vouch may move some rows).
+        ``out``: a reused C-contiguous float64 buffer of at least n rows, the result a view of it.
+        ``evaluations``: int64 (n,), gets the velocity evaluations each point took (4 a step).
         """
         if in_place and _writable(np.asarray(points, dtype=np.float64)) is not points:
             message = "in_place needs points as a writable C-contiguous (N, 3) float64 array"
