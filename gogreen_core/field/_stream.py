@@ -116,9 +116,8 @@ def third_order_limit(
 
 
 def _bounded(field: StreamField) -> bool:
-    """Whether every velocity is provably below 1e300 (no end overflows) and its float32 sums
-    below 1e36: images × 1/ε^power × the tables' Σ|c_j| × the coefficients × (1 + max β)^l_last
-    (the rescaled P_l^m's recurrence adds β P_(l-2) to z P_(l-1); |cos mφ|, |sin mφ| ≤ 1)."""
+    """Whether |v| < 1e300 (no end overflows), float32 sums < 1e36: images × 1/ε^power × tables'
+    Σ|c_j| × coefficients × (1 + max β)^l_last (P_l^m = z P_(l-1) - β P_(l-2); |cos mφ| ≤ 1)."""
     with np.errstate(all="ignore"):
         harmonics = (1.0 + float(np.abs(field.beta32).max(initial=0.0))) ** field.l_last
         upper = np.abs(field.tables32.astype(np.float64)) @ [1.0, 2.0, 4.0]  # σ ∈ [0, 2]
@@ -148,8 +147,7 @@ def stream(
     ``GreenKernel.streamlines`` (``tolerance <= 0``: fixed steps; ``write_back``: in place).
     Returns 0 when done, 1 if an index is out of range, 2 if an indexed start position is not
     finite or beyond ``limit`` (nothing integrated), 3 if an end position is not finite
-    (nothing written back). ``rows_checked`` (valid rows, starts finite within ``limit``) with
-    a :func:`_bounded` velocity: the passes write the final ends in place as they make them."""
+    (nothing written back). Vouched rows (``rows_checked``), :func:`_bounded`: written as made."""
     n_points = indices.shape[0] if indexed else points.shape[0]
     if indexed and points.shape[0] == 0:
         return 1
@@ -167,12 +165,10 @@ def stream(
         n_steps: int = 1,
         third: bool = False,
         level: float = 0.0,
-        bad_blocks: np.ndarray = bad,
     ) -> None:
         work = partial(
             run_pass, kind, points, indices, indexed, in_place and kind != PROBE, limit, field,
-            n_steps, adaptive, third, level, picked, out, evaluations, found, blocks, problem,
-            bad_blocks,
+            n_steps, adaptive, third, level, picked, out, evaluations, found, blocks, problem, bad,
         )  # fmt: skip
         n = n_blocks if kind == FIRST else (len(picked) + BLOCK - 1) // BLOCK
         run_ranges(work, n, _MIN_BLOCKS if kind == FIRST else 1)
@@ -193,10 +189,8 @@ def stream(
     if adaptive:
         bound = refinement_bound(field.center_step, float(blocks[0].max(initial=0.0)), tolerance)
         if bound > 0.0:
-            refine = _above(rank[0], blocks[1], bound * bound * bound)
-            refined_bad = np.zeros((len(refine) + BLOCK - 1) // BLOCK, dtype=np.bool_)
-            run(REFINE, refine, rank, level=bound, bad_blocks=refined_bad)
-            bad[:] |= refined_bad.any()  # a first step that overflowed fails it all the same
+            # (a refined block's overflow marks ``bad`` at its own index: only bad.any() is read)
+            run(REFINE, _above(rank[0], blocks[1], bound * bound * bound), rank, level=bound)
     if not write_back:
         return 0
     if bad.any():

@@ -383,9 +383,8 @@ class GreenKernel:
         None: ``substeps`` fixed RK4 steps. Bit-identical whatever the number of threads.
         ``indices`` (n,) int: move only ``points[indices]``, read in place. ``in_place``: also
         write the ends into ``points`` (writable C-contiguous float64) at ``indices`` if all are
-        finite (else ValueError, ``points`` unchanged). ``rows_checked``: the caller vouches that
-        ``indices`` are distinct rows of positions finite within :data:`COORDINATE_LIMIT`; the
-        ends then go into ``points`` as made, not the result (a wrong vouch may move some rows).
+        finite (else ValueError, ``points`` unchanged). ``rows_checked`` (distinct rows, finite
+        within :data:`COORDINATE_LIMIT`): the ends go there as made, not into the result.
         ``out``: a reused C-contiguous float64 buffer of at least n rows, the result a view of it.
         ``evaluations``: int64 (n,), gets the velocity evaluations each point took (4 a step).
         """
