@@ -20,9 +20,9 @@ Prints, in one run (figures only, no assertions):
   report of its moved rows (the answer itself; the same rows in another array take a pass over
   them), and the refit of their blocks' boxes at the next query);
 * where the event's CPU time goes: the streamlines' passes (the probes, the first pass, the
-  refinement, the write-back), the influence ball and the rest; the moved vertices by distance
-  to the brush centre in ε (the field's far field starts beyond the cutoff, at 4 ε) and how
-  many velocity evaluations they took;
+  refinement; a write-back where the ends are not written as made), the influence ball and
+  the rest; the moved vertices by distance to the brush centre in ε (the field's far field
+  starts beyond the cutoff, at 4 ε) and how many velocity evaluations they took;
 * one velocity evaluation's parts on the ball's vertices (one thread, CPU ns a point, each part
   timed with those before it): the geometry (offsets, r, direction, table variable, cutoff),
   the lowest degree's float64 table, the float32 tables of the degrees above it, their angular

@@ -74,9 +74,8 @@ def _driver_calls() -> list[tuple[Any, tuple[Any, ...]]]:
     )  # fmt: skip
     return [
         (_integrator._pass,
-         (0, f33, rows, True, 1.0, field, 1, True, True, 0.0, rows, f33, rows, f33, f33, rows,
-          flags, 0, 0)),
-        (_integrator._write_back, (f33, rows, True, f33, 0, 0)),
+         (0, f33, rows, True, True, 1.0, field, 1, True, True, 0.0, rows, f33, rows, f33, f33,
+          rows, flags, 0, 0)),
         # the rest: see HELPER
         (_expansion.expand_blocks,
          (f33, f3, 1.0, 1, 0, 0, base, f33, beta, tables, marker, False, f33, 0, 0)),

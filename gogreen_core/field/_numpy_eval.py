@@ -213,13 +213,13 @@ def _norm2(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def stream_pass(
-    kind: int, points: np.ndarray, indices: np.ndarray, indexed: bool, limit: float,
-    field: StreamField, n_steps: int, adaptive: bool, third_order: bool, level: float,
-    picked_rows: np.ndarray, out: np.ndarray, evaluations: np.ndarray, found: np.ndarray,
-    block_found: np.ndarray, problem: np.ndarray, bad: np.ndarray, first_block: int,
-    last_block: int,
+    kind: int, points: np.ndarray, indices: np.ndarray, indexed: bool, in_place: bool,
+    limit: float, field: StreamField, n_steps: int, adaptive: bool, third_order: bool,
+    level: float, picked_rows: np.ndarray, out: np.ndarray, evaluations: np.ndarray,
+    found: np.ndarray, block_found: np.ndarray, problem: np.ndarray, bad: np.ndarray,
+    first_block: int, last_block: int,
 ) -> None:  # fmt: skip
-    """``_integrator._pass`` (the same arguments), CHUNK points (whole blocks) at a time."""
+    """``_integrator._pass`` (the same arguments but ``in_place``), CHUNK points at a time."""
     n_points = indices.shape[0] if indexed else points.shape[0]
     n_points = n_points if kind == FIRST else picked_rows.shape[0]
     last = min(last_block * BLOCK, n_points)

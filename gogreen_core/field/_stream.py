@@ -11,7 +11,7 @@ import numpy as np
 
 from gogreen_core._parallel import run_ranges
 from gogreen_core.field._expansion import BLOCK
-from gogreen_core.field._integrator import FIRST, PROBE, REFINE, _pass, _write_back
+from gogreen_core.field._integrator import FIRST, PROBE, REFINE, _pass
 
 __all__ = [
     "ESTIMATE_SAFETY",
@@ -115,6 +115,19 @@ def third_order_limit(
     return float(spread.max())
 
 
+def _bounded(field: StreamField) -> bool:
+    """Whether |v| < 1e300 (no end overflows), float32 sums < 1e36: images × 1/ε^power × tables'
+    Σ|c_j| × coefficients × (1 + max β)^l_last (P_l^m = z P_(l-1) - β P_(l-2); |cos mφ| ≤ 1)."""
+    with np.errstate(all="ignore"):
+        harmonics = (1.0 + float(np.abs(field.beta32).max(initial=0.0))) ** field.l_last
+        upper = np.abs(field.tables32.astype(np.float64)) @ [1.0, 2.0, 4.0]  # σ ∈ [0, 2]
+        coeffs32 = np.abs(field.coeffs32.astype(np.float64)).sum(axis=0)
+        single = harmonics * float(upper.sum(axis=1).max(initial=0.0)) * coeffs32
+        low = np.abs(field.tables).sum(axis=-1).max() * np.abs(field.coeffs).sum(axis=0)
+        scale = len(field.mirrors) * field.eps ** -float(field.power)
+        return bool(single.max() < 1e36 and (scale * (low + field.cscale * single)).max() < 1e300)
+
+
 def stream(
     points: np.ndarray,
     indices: np.ndarray,
@@ -127,13 +140,14 @@ def stream(
     out: np.ndarray,
     evaluations: np.ndarray,
     run_pass: Callable[..., None],
+    rows_checked: bool = False,
 ) -> int:
     """Move ``points`` (N_all, 3; the rows ``indices`` (N,) if ``indexed``) along the
     streamlines of ``field`` by ``run_pass`` (``_integrator._pass`` or its NumPy twin), as
     ``GreenKernel.streamlines`` (``tolerance <= 0``: fixed steps; ``write_back``: in place).
     Returns 0 when done, 1 if an index is out of range, 2 if an indexed start position is not
     finite or beyond ``limit`` (nothing integrated), 3 if an end position is not finite
-    (nothing written back)."""
+    (nothing written back). Vouched rows (``rows_checked``), :func:`_bounded`: written as made."""
     n_points = indices.shape[0] if indexed else points.shape[0]
     if indexed and points.shape[0] == 0:
         return 1
@@ -151,22 +165,23 @@ def stream(
         n_steps: int = 1,
         third: bool = False,
         level: float = 0.0,
-        bad_blocks: np.ndarray = bad,
     ) -> None:
         work = partial(
-            run_pass, kind, points, indices, indexed, limit, field, n_steps, adaptive, third, level,
-            picked, out, evaluations, found, blocks, problem, bad_blocks,
+            run_pass, kind, points, indices, indexed, in_place and kind != PROBE, limit, field,
+            n_steps, adaptive, third, level, picked, out, evaluations, found, blocks, problem, bad,
         )  # fmt: skip
         n = n_blocks if kind == FIRST else (len(picked) + BLOCK - 1) // BLOCK
         run_ranges(work, n, _MIN_BLOCKS if kind == FIRST else 1)
 
-    limit3 = -1.0
+    limit3, in_place = -1.0, False
     if adaptive:
         probes = probe_rows(n_points)
         found = np.empty((3, len(probes)))
         run(PROBE, probes, found)
         limit3 = third_order_limit(field.center_step, tolerance, *found)
     steps = 1 if adaptive else substeps
+    in_place = write_back and rows_checked and run_pass is _pass
+    in_place = in_place and (limit3 >= 0.0 or not adaptive) and _bounded(field)
     run(FIRST, probe_rows(0), rank, steps, limit3 >= 0.0, max(limit3, 0.0))
     for code in (1, 2):
         if np.any(problem == code):
@@ -174,16 +189,12 @@ def stream(
     if adaptive:
         bound = refinement_bound(field.center_step, float(blocks[0].max(initial=0.0)), tolerance)
         if bound > 0.0:
-            refine = _above(rank[0], blocks[1], bound * bound * bound)
-            refined_bad = np.zeros((len(refine) + BLOCK - 1) // BLOCK, dtype=np.bool_)
-            run(REFINE, refine, rank, level=bound, bad_blocks=refined_bad)
-            bad[:] |= refined_bad.any()  # a first step that overflowed fails it all the same
+            # (a refined block's overflow marks ``bad`` at its own index: only bad.any() is read)
+            run(REFINE, _above(rank[0], blocks[1], bound * bound * bound), rank, level=bound)
     if not write_back:
         return 0
     if bad.any():
         return 3
-    if run_pass is not _pass:  # NumPy: nothing compiled
+    if not in_place:
         points[indices if indexed else slice(None)] = out[:n_points]
-        return 0
-    run_ranges(partial(_write_back, points, indices, indexed, out), n_points, 1 << 16)
     return 0

@@ -367,6 +367,7 @@ class GreenKernel:
         tolerance: float | None = STREAMLINE_TOLERANCE,
         indices: np.ndarray | None = None,
         in_place: bool = False,
+        rows_checked: bool = False,
         out: np.ndarray | None = None,
         evaluations: np.ndarray | None = None,
     ) -> np.ndarray:
@@ -382,9 +383,10 @@ class GreenKernel:
         None: ``substeps`` fixed RK4 steps. Bit-identical whatever the number of threads.
         ``indices`` (n,) int: move only ``points[indices]``, read in place. ``in_place``: also
         write the ends into ``points`` (writable C-contiguous float64) at ``indices`` if all are
-        finite (else ValueError, ``points`` unchanged). ``out``: a reused C-contiguous float64
-        buffer of at least n rows, the result a view of it. ``evaluations``: int64 (n,), gets
-        the velocity evaluations each point took (4 per RK4 step).
+        finite (else ValueError, ``points`` unchanged). ``rows_checked`` (distinct rows, finite
+        within :data:`COORDINATE_LIMIT`): the ends go there as made, not into the result.
+        ``out``: a reused C-contiguous float64 buffer of at least n rows, the result a view of it.
+        ``evaluations``: int64 (n,), gets the velocity evaluations each point took (4 a step).
         """
         if in_place and _writable(np.asarray(points, dtype=np.float64)) is not points:
             message = "in_place needs points as a writable C-contiguous (N, 3) float64 array"
@@ -440,7 +442,7 @@ class GreenKernel:
         )
         status = _stream.stream(
             pts, rows, indices is not None, in_place, COORDINATE_LIMIT, field, substeps, tol,
-            result, evaluations, run_pass,
+            result, evaluations, run_pass, rows_checked,
         )  # fmt: skip
         if status == 1:
             raise ParameterError("indices", f"indices must be rows 0 to {len(pts) - 1}")

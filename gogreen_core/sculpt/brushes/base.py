@@ -308,13 +308,14 @@ class GreenBrush(BrushType):
                     tolerance=None if brush.substeps else STREAMLINE_TOLERANCE,
                     indices=rows,
                     in_place=ctx.write_through,
+                    rows_checked=True,  # the influence test's rows of a finite mesh
                     out=out,
                 )
             except StreamlineOverflow:
                 raise ValueError(self._overflow()) from None
             if not ctx.write_through and not np.isfinite(out).all():  # never NaN in the mesh
                 raise ValueError(self._overflow())
-        return Displacement(rows, out, written=ctx.write_through)
+        return Displacement(rows, None if ctx.write_through else out, written=ctx.write_through)
 
     def _overflow(self) -> str:
         return (
