@@ -118,6 +118,47 @@ def default_pull(repeats: int) -> None:
         )
 
 
+def two_charts(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Texture corners the benchmark makes (uv (T, 2), uv_faces (M, 3)): the faces whose centre
+    lies beyond the median x take the chart (y, z), the others (y, z) shifted by 10 model sizes
+    (a seam where they meet); each row used."""
+    east = vertices[faces].mean(axis=1)[:, 0] > np.median(vertices[:, 0])
+    rows, corners = np.unique(
+        np.where(east[:, None], faces, faces + len(vertices)), return_inverse=True
+    )
+    size = float(np.linalg.norm(vertices.max(axis=0) - vertices.min(axis=0)))
+    charts = np.concatenate([vertices[:, 1:], vertices[:, 1:] + [10.0 * size, 0.0]])
+    return charts[rows], corners.reshape(-1, 3)
+
+
+def textured_pulls(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    corners: tuple[np.ndarray, np.ndarray],
+    row: int,
+    events: int,
+    repeats: int,
+) -> None:
+    """A dynamic-topology pull from ``row`` along its normal (:func:`pull`, steps of 0.01 model
+    sizes) on the mesh without and with the texture ``corners`` (uv, uv_faces): event medians
+    (the first left out) and the bytes of its undo step."""
+    direction = vertex_normals(vertices, faces)[row]
+    for uv, uv_faces in ((None, None), corners):
+        events_s, sizes = [], []
+        for _ in range(repeats):
+            settings = EngineSettings(material=CUBIC, dynamic_topology=True)
+            sculptor = Sculptor(vertices, faces, uv=uv, uv_faces=uv_faces, settings=settings)
+            events_s.extend(pull(sculptor, row, direction, events, 0.01)[1:])
+            sizes.append(sculptor.history.memory_bytes)
+        rows = sculptor.mesh.uv
+        print(
+            f"dynamic, {'plain' if uv is None else 'textured':8s} event median "
+            f"{1e3 * statistics.median(events_s):7.1f} ms, undo step "
+            f"{statistics.median(sizes) / 2**20:7.2f} MiB, {len(sculptor.vertices):,} vertices, "
+            f"{0 if rows is None else len(rows):,} uv rows"
+        )
+
+
 def remesh_default(repeats: int) -> None:
     vertices, faces = default_model()
     for factor in (None, 1.0, 2.0):
@@ -263,6 +304,39 @@ def million(meshes: Path, events: int, remesh_too: bool) -> None:
     )
 
 
+def textured(meshes: Path, repeats: int, million_too: bool, events: int) -> None:
+    """Dynamic-topology pulls with and without texture corners: the default model
+    (:func:`two_charts`), Spot subdivided twice (its own UVs and seams) and the ogre subdivided
+    twice (1M vertices, :func:`two_charts`)."""
+    vertices, faces = default_model()
+    print(f"-- the default model ({len(vertices):,} vertices), 20 events from the top")
+    top = int(np.argmax(vertices[:, 2]))
+    textured_pulls(vertices, faces, two_charts(vertices, faces), top, 20, repeats)
+    spot = meshes / "spot.obj"
+    if spot.exists():
+        mesh = load_mesh(spot)
+        base = Sculptor(mesh.vertices, mesh.faces, uv=mesh.uv, uv_faces=mesh.uv_faces)
+        base.subdivide()
+        base.subdivide()
+        v, uv, uv_faces = base.vertices, base.mesh.uv, base.mesh.uv_faces
+        assert uv is not None and uv_faces is not None
+        print(f"-- Spot subdivided twice ({len(v):,} vertices), 20 events from the top")
+        textured_pulls(v, base.faces, (uv, uv_faces), int(np.argmax(v[:, 2])), 20, repeats)
+    else:
+        print(f"{spot} not found: Spot's figures need ../shared/meshes")
+    ogre = meshes / "ogre.obj"
+    if not million_too or not ogre.exists():
+        print("the 1M-vertex textured figures skipped (--no-million or no ogre.obj)")
+        return
+    mesh = load_mesh(ogre)
+    base = Sculptor(mesh.vertices, mesh.faces)
+    base.subdivide()
+    base.subdivide()
+    v, f = base.vertices.copy(), base.faces.copy()
+    print(f"-- the ogre subdivided twice ({len(v):,} vertices), {events} events on its belly")
+    textured_pulls(v, f, two_charts(v, f), int(np.argmin(v[:, 1])), events, 1)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=3)
@@ -273,7 +347,11 @@ def main() -> None:
     parser.add_argument("--million-events", type=int, default=10, help="events of its pull")
     parser.add_argument("--no-million-remesh", action="store_true", help="skip its Remesh")
     parser.add_argument("--million-only", action="store_true", help="only the 1M-vertex mesh")
+    parser.add_argument("--textured-only", action="store_true", help="only textured pulls")
     args = parser.parse_args()
+    if args.textured_only:
+        textured(Path(args.meshes), args.repeats, not args.no_million, args.million_events)
+        return
     if not args.million_only:
         default_pull(args.repeats)
         remesh_default(args.repeats)

@@ -67,16 +67,17 @@ def edge_length_sums(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True, nogil=True, boundscheck=False)
-def renumber_faces(
-    faces: np.ndarray, skip: np.ndarray, number: np.ndarray, out: np.ndarray
-) -> None:
-    """``out`` (k, 3): the faces (M, 3) not ``skip`` (M,), in order, corners ``number`` (N,)."""
-    j = 0
+def renumber_faces(faces: np.ndarray, skip: np.ndarray, number: np.ndarray, out: np.ndarray) -> int:
+    """``out`` (k, 3): the faces (M, 3) not ``skip`` (M,), in order, corners ``number`` (N,)
+    (a corner -1 reads its last entry); the smallest number written (0 without)."""
+    j, low = 0, 0
     for f in range(len(faces)):
         if not skip[f]:
             for k in range(3):
                 out[j, k] = number[faces[f, k]]
+                low = min(low, out[j, k])
             j += 1
+    return low
 
 
 @njit(cache=True, nogil=True, boundscheck=False)

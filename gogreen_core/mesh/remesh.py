@@ -82,6 +82,7 @@ _SPLIT_ROUNDS = 8
 _BLOCK = 1 << 17
 #: A face is degenerate below this area, in target lengths squared.
 _MIN_AREA = 1e-4
+_NO_ROWS = np.zeros(0, dtype=np.int64)
 
 
 @dataclass(frozen=True)
@@ -89,7 +90,9 @@ class RemeshedMesh:
     """The result of :func:`remesh`: the new arrays (mask, uv and sizes None without; sizes
     (N',): each vertex's target length); kept (N,) int64: each old vertex's new index, -1 when
     collapsed away; changed (N',) bool: the region's vertices and the new ones (the others are
-    bit for bit as they were); kept_faces (M,) bool: the old faces kept, in order, first."""
+    bit for bit as they were); kept_faces (M,) bool: the old faces kept, in order, first;
+    uv_kept (T,) int64 (None without uv): each old texture row's new index, -1 when dropped
+    (the region's rows no face uses any more; new rows come after the kept ones)."""
 
     vertices: np.ndarray
     faces: np.ndarray
@@ -100,6 +103,7 @@ class RemeshedMesh:
     changed: np.ndarray
     kept_faces: np.ndarray
     sizes: np.ndarray | None = None
+    uv_kept: np.ndarray | None = None
 
 
 @dataclass
@@ -370,6 +374,14 @@ def remesh(
     held = mask_local >= MASK_THRESHOLD
     if locked is not None:
         held |= np.asarray(locked, dtype=bool)[local]
+    # the patch's texture rows too numbered of their own (the region's rows ascending, then new)
+    uv_local, patch_uv, patch_corners = _NO_ROWS, None, np.full((len(inside), 3), -1)
+    if uv is not None and uv_faces is not None:
+        patch_corners = np.asarray(uv_faces, np.int64)[inside]
+        textured = patch_corners >= 0
+        uv_local = np.unique(patch_corners[textured])
+        patch_uv = np.asarray(uv, dtype=np.float64)[uv_local]
+        patch_corners[textured] = np.searchsorted(uv_local, patch_corners[textured])
     patch = _Patch(
         vertices[local],
         patch_faces,
@@ -377,10 +389,8 @@ def remesh(
         held,
         mask_local,
         sizes_local.copy(),
-        None if uv is None else np.asarray(uv, dtype=np.float64).copy(),
-        np.full((len(inside), 3), -1)
-        if uv_faces is None
-        else np.asarray(uv_faces, np.int64)[inside],
+        patch_uv,
+        patch_corners,
     )
     L = float(sizes_local.min()) if len(local) else 1.0
     min_area2 = (2.0 * _MIN_AREA * L * L) ** 2
@@ -394,9 +404,8 @@ def remesh(
     if progress is not None:
         progress(iterations / (iterations + 1))
     _repeat(patch.split, _SPLIT_ROUNDS)  # what the relaxation stretched past 4/3 L
-    return _assemble(
-        vertices, faces, mask, target if sizing else None, uv, uv_faces, in_patch, local, patch
-    )
+    sizes = target if sizing else None
+    return _assemble(vertices, faces, mask, sizes, uv, uv_faces, in_patch, local, uv_local, patch)
 
 
 def _repeat(step: Callable[[], bool], rounds: int) -> None:
@@ -404,6 +413,38 @@ def _repeat(step: Callable[[], bool], rounds: int) -> None:
     for _ in range(rounds):
         if not step():
             break
+
+
+def _numbering(n: int, local: np.ndarray, used: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
+    """A patch's rows in the whole mesh's: ``local`` (n_local,) the patch's first rows' in the
+    mesh's n, ``used`` (n_patch,) bool the patch's rows its faces use. Returns kept (n,): each
+    row's new one (-1: gone, the patch's unused old rows); number (n_patch,): each patch row's
+    new one (the new rows after the kept, in order; -1: unused); how many rows are kept."""
+    n_local = len(local)
+    keep = np.ones(n, dtype=bool)
+    keep[local[~used[:n_local]]] = False
+    kept = np.cumsum(keep) - 1
+    n_kept = int(kept[-1]) + 1 if n else 0
+    kept[~keep] = -1
+    number = np.full(len(used), -1, dtype=np.int64)
+    number[:n_local] = kept[local]
+    added = np.flatnonzero(used[n_local:]) + n_local
+    number[added] = n_kept + np.arange(len(added))
+    return kept, number, n_kept
+
+
+def _carried(
+    old: np.ndarray, new: np.ndarray, numbering: tuple[np.ndarray, np.ndarray, int]
+) -> np.ndarray:
+    """The rows of ``old`` kept with the patch's rows ``new`` written where they go
+    (``numbering``: :func:`_numbering`'s), no whole-mesh temporaries (np.compress: a quarter of
+    boolean indexing's time at 1M)."""
+    kept, number, n_kept = numbering
+    rows = np.flatnonzero(number >= 0)
+    out = np.empty((max(n_kept, int(number.max(initial=-1)) + 1), *old.shape[1:]))
+    out[:n_kept] = np.compress(kept >= 0, old, axis=0) if n_kept < len(old) else old
+    out[number[rows]] = new[rows]
+    return out
 
 
 def _assemble(
@@ -415,50 +456,51 @@ def _assemble(
     uv_faces: np.ndarray | None,
     in_patch: np.ndarray,
     local: np.ndarray,
+    uv_local: np.ndarray,
     patch: _Patch,
 ) -> RemeshedMesh:
-    """The whole mesh again: old vertices in order (less the removed), then new ones; faces
-    outside the patch in order, then the patch's."""
-    n, n_local = len(vertices), len(local)
+    """The whole mesh again: old vertices (texture rows) in order less the patch's unused ones,
+    then new ones; faces outside the patch in order, then the patch's."""
     used = np.zeros(len(patch.points), dtype=bool)
     used[patch.faces.ravel()] = True
-    keep = np.ones(n, dtype=bool)
-    keep[local[~used[:n_local]]] = False
-    kept = np.cumsum(keep) - 1
-    kept[~keep] = -1
-    n_kept = int(keep.sum())
-    added = np.flatnonzero(used[n_local:]) + n_local
-    number = np.full(len(patch.points), -1, dtype=np.int64)
-    number[:n_local] = kept[local]
-    number[added] = n_kept + np.arange(len(added))
-    moved = keep[local]
-
-    def per_vertex(old: np.ndarray, new: np.ndarray) -> np.ndarray:
-        # no whole-mesh temporaries; np.compress: a quarter of boolean indexing's time at 1M
-        out = np.empty((n_kept + len(added), *old.shape[1:]))
-        out[:n_kept] = np.compress(keep, old, axis=0) if n_kept < n else old
-        out[kept[local[moved]]] = new[:n_local][moved]
-        out[n_kept:] = new[added]
-        return out
-
-    out_vertices = per_vertex(vertices, patch.points)
+    numbering = kept, number, n_kept = _numbering(len(vertices), local, used)
+    out_vertices = _carried(vertices, patch.points, numbering)
     out_faces = np.empty((len(faces) - int(in_patch.sum()) + len(patch.faces), 3), np.int64)
     renumber_faces(faces, in_patch, kept, out_faces)
-    out_faces[len(out_faces) - len(patch.faces) :] = number[patch.faces]
-
-    out_mask = None if mask is None else per_vertex(np.asarray(mask, np.float64), patch.mask)
-    out_sizes = None if sizes is None else per_vertex(sizes, patch.sizes)
-    out_uv = out_uv_faces = None
+    n_carried = len(out_faces) - len(patch.faces)
+    out_faces[n_carried:] = number[patch.faces]
+    out_mask = None if mask is None else _carried(np.asarray(mask), patch.mask, numbering)
+    out_sizes = None if sizes is None else _carried(sizes, patch.sizes, numbering)
+    out_uv = out_uv_faces = uv_kept = None
     if uv is not None and uv_faces is not None and patch.uv is not None:
-        corners = np.concatenate([np.asarray(uv_faces, dtype=np.int64)[~in_patch], patch.uv_faces])
-        rows = np.unique(corners[corners >= 0])
-        out_uv = patch.uv[rows]
-        out_uv_faces = np.where(corners >= 0, np.searchsorted(rows, corners), -1)
+        used_uv = np.zeros(len(patch.uv), dtype=bool)
+        used_uv[patch.uv_faces[patch.uv_faces >= 0]] = True
+        out_uv_faces = np.empty_like(out_faces)
+        for _ in range(2):
+            uv_numbering = uv_kept, uv_number, _ = _numbering(len(uv), uv_local, used_uv)
+            # -1 corners read the last entry; a row the patch no longer uses but a face outside
+            # it does (one row for far corners: deduplicated UVs) reads -2: then all are kept
+            table = np.append(uv_kept, -1)
+            table[uv_local[~used_uv[: len(uv_local)]]] = -2
+            if renumber_faces(uv_faces, in_patch, table, out_uv_faces) >= -1:
+                break
+            used_uv[: len(uv_local)] = True
+        out_uv = _carried(np.asarray(uv), patch.uv, uv_numbering)
+        out_uv_faces[n_carried:] = np.where(patch.uv_faces >= 0, uv_number[patch.uv_faces], -1)
     changed = np.zeros(len(out_vertices), dtype=bool)
-    changed[kept[local[patch.closed[:n_local] & keep[local]]]] = True
+    changed[kept[local[patch.closed[: len(local)] & (kept[local] >= 0)]]] = True
     changed[n_kept:] = True
     return RemeshedMesh(
-        out_vertices, out_faces, out_mask, out_uv, out_uv_faces, kept, changed, ~in_patch, out_sizes
+        out_vertices,
+        out_faces,
+        out_mask,
+        out_uv,
+        out_uv_faces,
+        kept,
+        changed,
+        ~in_patch,
+        out_sizes,
+        uv_kept,
     )
 
 

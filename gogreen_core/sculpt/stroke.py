@@ -69,12 +69,13 @@ class _Stroke:
     events: list[BrushEvent] = field(default_factory=list)
     memo: dict[str, Any] = field(default_factory=dict)  # the brush's state between events
     mask_before: np.ndarray | None = None  # (N,) the mask, copied at the first mask edit
-    # dynamic topology: the mesh at the start (once remeshed), each vertex's and face's row in
-    # it (-1: new), position when last remeshed and event after which it was; the target edge
-    # length (model units): one, or each vertex's (N,)
+    # dynamic topology: the mesh at the start (once remeshed), each vertex's, face's and texture
+    # row's row in it (-1: new), position when last remeshed and event after which it was; the
+    # target edge length (model units): one, or each vertex's (N,)
     start: MeshSnapshot | None = None
     origin: np.ndarray = field(default_factory=lambda: _NO_INDEX)
     face_origin: np.ndarray = field(default_factory=lambda: _NO_INDEX)
+    uv_origin: np.ndarray | None = None
     reference: np.ndarray | None = None
     settled_at: np.ndarray | None = None
     detail: float | np.ndarray | None = None
@@ -204,6 +205,7 @@ class StrokeDriver:
             stroke.start = MeshSnapshot(*start)
             stroke.origin = np.arange(len(mesh.vertices))
             stroke.face_origin = np.arange(len(mesh.faces))
+            stroke.uv_origin = None if mesh.uv is None else np.arange(len(mesh.uv))
         done = remesh(
             mesh.vertices,
             mesh.faces,
@@ -227,12 +229,15 @@ class StrokeDriver:
         stroke.settled_at = settled_at
         if done.sizes is not None:
             stroke.detail = done.sizes
-        for name, kept, n in (
-            ("origin", done.kept >= 0, len(done.vertices)),
-            ("face_origin", done.kept_faces, len(done.faces)),
+        for name, kept, new in (
+            ("origin", done.kept >= 0, done.vertices),
+            ("face_origin", done.kept_faces, done.faces),
+            ("uv_origin", None if done.uv_kept is None else done.uv_kept >= 0, done.uv),
         ):  # the kept rows come first, in order
-            carried = np.compress(kept, getattr(stroke, name))
-            setattr(stroke, name, np.concatenate([carried, np.full(n - len(carried), -1)]))
+            if kept is not None and new is not None:
+                carried = np.compress(kept, getattr(stroke, name))
+                n = len(new) - len(carried)
+                setattr(stroke, name, np.concatenate([carried, np.full(n, -1)]))
         assert done.mask is not None
         new_mesh = MeshSnapshot(done.vertices, done.faces, done.mask, done.uv, done.uv_faces)
         mesh.adopt(new_mesh, owned=True)
@@ -271,14 +276,10 @@ class StrokeDriver:
             return np.zeros(0, dtype=np.int64)
         # the changed rows found once here, not marked every event (1M vertices: 6 ms once)
         mesh, label = self.mesh, f"{brush_row(stroke.brush.kind).label} stroke"
-        if stroke.start is not None:  # new faces: what changed (with UVs the whole meshes)
-            now = MeshSnapshot(mesh.vertices, mesh.faces, mesh.mask)
-            sides: tuple[object, object] = (
-                topology_edit(stroke.start, now, stroke.origin, stroke.face_origin)
-                if mesh.uv is None
-                else (stroke.start, mesh.snapshot())
-            )
-            self.history.record_state(label, sides)
+        if stroke.start is not None:  # new faces: what changed
+            now = MeshSnapshot(mesh.vertices, mesh.faces, mesh.mask, mesh.uv, mesh.uv_faces)
+            origins = (stroke.origin, stroke.face_origin, stroke.uv_origin)
+            self.history.record_state(label, topology_edit(stroke.start, now, *origins))
             self.log.record(Stroke(stroke.brush, tuple(stroke.events)))
             return np.arange(len(mesh.vertices))
         vertices, before = self.mesh.vertices, stroke.before

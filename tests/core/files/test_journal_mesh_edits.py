@@ -114,3 +114,37 @@ def test_dynamic_topology_strokes_and_a_remesh_are_recovered(mesh, tmp_path):
         assert same(recovery.sculptor, sculptor), budget
         assert recovery.sculptor.settings == sculptor.settings
         recovery.release()
+
+
+def test_a_textured_dynamic_topology_stroke_and_its_undo_are_recovered(tmp_path):
+    """The undo step of a textured mesh's dynamic-topology stroke (what changed, texture rows
+    included) is made again by the recovery's replay: redo and undo give the arrays back."""
+    from gogreen_core.mesh.mesh_io import MeshData
+
+    vertices, faces = icosphere(4)
+    loaded = MeshData(vertices, faces, uv=vertices[:, :2].copy(), uv_faces=faces.copy())
+    sculptor = Sculptor(vertices, faces, uv=loaded.uv, uv_faces=loaded.uv_faces)
+    start = sculptor.mesh
+    journal = Journal(sculptor, loaded, root=tmp_path, auto_checkpoint=False)
+    sculptor.change_settings(dynamic_topology=True, detail_size=0.03)
+    stroke(sculptor, 0)
+    assert len(sculptor.faces) != len(faces)  # the stroke remeshed
+    checkpoint(journal)
+    stroke(sculptor, 1)
+    stroked = Sculptor(vertices, faces)
+    stroked._mesh.adopt(sculptor.mesh)
+    sculptor.undo()
+    directory = crash(journal)
+    for budget in (0, np.inf):  # from the checkpoint, and from the start
+        recovery = recover(directory, budget=budget)
+        again = recovery.sculptor
+        assert same(again, sculptor), budget
+        again.redo()
+        assert same(again, stroked) and again.mesh.uv is not None
+        if budget:
+            for _ in range(3):  # the strokes and the setting
+                assert again.undo() is not None
+            unchanged = Sculptor(vertices, faces)
+            unchanged._mesh.adopt(start)
+            assert same(again, unchanged)
+        recovery.release()

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
+import gogreen_core.mesh.remesh as remesh_module
 import gogreen_core.sculpt.stroke as stroke_module
 from gogreen_core import Sculptor
 from gogreen_core.mesh.mesh_state import MaskRows
@@ -586,3 +587,138 @@ def test_a_pause_in_a_stroke_does_not_remesh_its_whole_path(monkeypatch) -> None
     sculptor.stroke_event(BrushEvent(center + 10 * step, 1e-3 * step))
     sculptor.end_stroke()
     assert regions[-1] <= moving, (regions[-1], moving)
+
+
+# -- texture coordinates through a stroke ---------------------------------------------------------
+def textured_pull(sculptor: Sculptor, events: int = 8) -> None:
+    """A grab near the sphere's seam (x = 0), its reach bounded (most vertices stay)."""
+    direction = np.array([0.1, 0.3, 1.0]) / np.linalg.norm([0.1, 0.3, 1.0])
+    center = sculptor.vertices[int(np.argmax(sculptor.vertices @ direction))].copy()
+    step = 0.02 * sculptor.model_size * direction
+    sculptor.begin_stroke(Brush("grab", radius=0.04, influence=2.0))
+    for _ in range(events):
+        sculptor.stroke_event(BrushEvent(center=center, delta=step))
+        center = center + step
+    sculptor.end_stroke()
+
+
+def textured_icosphere(level: int = 5) -> tuple[np.ndarray, ...]:
+    """An icosphere with :func:`textured_sphere`'s two charts (each row used once) and mask."""
+    vertices, faces = icosphere(level)
+    east = vertices[faces].mean(axis=1)[:, 0] > 0
+    rows, corners = np.unique(
+        np.where(east[:, None], faces, faces + len(vertices)), return_inverse=True
+    )
+    uv = np.concatenate([vertices[:, 1:], vertices[:, 1:] + [10.0, 0.0]])[rows]
+    uv_faces = corners.reshape(-1, 3)
+    uv_faces[-3:] = -1  # a few faces without texture
+    return vertices, faces, uv, uv_faces, 0.2 + 0.1 * vertices[:, 0]
+
+
+def arrays(sculptor: Sculptor) -> tuple[np.ndarray, ...]:
+    mesh = sculptor.mesh
+    assert mesh.uv is not None and mesh.uv_faces is not None
+    return mesh.vertices, mesh.faces, mesh.uv, mesh.uv_faces.astype(np.int64), mesh.mask
+
+
+def test_a_textured_stroke_undoes_and_redoes_bit_for_bit_from_a_step_of_what_changed():
+    """A textured mesh's dynamic-topology stroke keeps its texture corners (each face on one
+    chart, the seam a seam, the rows the faces use and no others of the region) and its undo
+    step holds what changed (whole snapshots of the meshes before and after: 30x more), which
+    gives back vertices, faces, uv, uv_faces and the mask bit for bit, and again on redo."""
+    vertices, faces, uv, uv_faces, mask = textured_icosphere()
+    sculptor = Sculptor(
+        vertices, faces, uv=uv, uv_faces=uv_faces, settings=EngineSettings(dynamic_topology=True)
+    )
+    sculptor._mesh.set_mask_rows(MaskRows(np.arange(len(vertices)), mask))
+    start = tuple(a.copy() for a in arrays(sculptor))
+    textured_pull(sculptor)
+    after = tuple(a.copy() for a in arrays(sculptor))
+    new_v, new_f, new_uv, new_corners, new_mask = after
+    assert len(new_f) != len(faces)  # remeshed
+    euler_and_check(new_v, new_f)
+    textured = new_corners[:, 0] >= 0
+    assert np.count_nonzero(~textured) == 3 and np.all(new_corners[~textured] == -1)
+    chart = new_uv[new_corners[textured]][:, :, 0] > 5.0
+    assert np.all(chart == chart[:, :1])  # one chart per face
+    assert np.array_equal(np.unique(new_corners[textured]), np.arange(len(new_uv)))
+    assert np.all((new_mask > 0.1 - 1e-12) & (new_mask < 0.3 + 1e-12))  # interpolated
+    whole = sum(a.nbytes for a in start + after) - (start[1].nbytes + after[1].nbytes) // 2
+    whole -= (start[3].nbytes + after[3].nbytes) // 2  # the faces int32 in a snapshot
+    assert sculptor.history.memory_bytes < 0.1 * whole
+    for _ in range(2):
+        sculptor.undo()
+        assert all(np.array_equal(a, b) for a, b in zip(arrays(sculptor), start, strict=True))
+        state = sculptor._mesh  # the engine's arrays (a snapshot's faces are int32)
+        assert state.faces.dtype == np.int64 and state.uv_faces.dtype == np.int64
+        sculptor.redo()
+        assert all(np.array_equal(a, b) for a, b in zip(arrays(sculptor), after, strict=True))
+
+
+def test_a_textured_session_replays_bit_for_bit():
+    vertices, faces, uv, uv_faces, _ = textured_icosphere(4)
+    settings = EngineSettings(material=CUBIC, dynamic_topology=True)
+    sculptor = Sculptor(vertices, faces, uv=uv, uv_faces=uv_faces, settings=settings)
+    textured_pull(sculptor, 5)
+    textured_pull(sculptor, 4)
+    sculptor.undo()
+    sculptor.redo()
+    after = arrays(sculptor)
+    session = json.loads(json.dumps(sculptor.session()))
+    again = Sculptor.from_session(session, vertices, faces, uv, uv_faces)
+    again.replay(session["operations"])
+    assert all(np.array_equal(a, b) for a, b in zip(arrays(again), after, strict=True))
+    again.undo()
+    again.undo()
+    start = (vertices, faces, uv, uv_faces, np.zeros(len(vertices)))
+    assert all(np.array_equal(a, b) for a, b in zip(arrays(again), start, strict=True))
+
+
+def test_the_remesh_reads_and_compacts_only_the_regions_texture_rows(monkeypatch):
+    """The patch holds the texture rows its faces use, not the whole array; rows outside the
+    region stay as they were, in order, an unused one included (a whole-mesh compaction
+    dropped it), and new rows come after them."""
+    vertices, faces, uv, uv_faces, _ = textured_icosphere(4)
+    uv = np.concatenate([uv, [[7.0, 7.0]]])  # a row no face uses
+    sizes: list[int] = []
+    patch = remesh_module._Patch
+
+    def spy(*args):
+        sizes.append(len(args[6]))
+        return patch(*args)
+
+    monkeypatch.setattr(remesh_module, "_Patch", spy)
+    region = vertices[:, 2] > 0.9
+    target = 0.5 * median_edge_length(vertices, faces)
+    done = remesh(vertices, faces, region, target, uv=uv, uv_faces=uv_faces)
+    assert len(done.faces) > len(faces) and sizes[0] < 0.1 * len(uv)
+    assert done.uv_kept is not None and done.uv is not None and done.uv_faces is not None
+    kept = np.flatnonzero(done.uv_kept >= 0)
+    assert np.array_equal(done.uv_kept[kept], np.arange(len(kept)))  # in order, first
+    assert done.uv_kept[-1] >= 0 and np.array_equal(done.uv[done.uv_kept[-1]], [7.0, 7.0])
+    outside = done.kept_faces & (uv_faces[:, 0] >= 0)
+    carried = done.uv_faces[: np.count_nonzero(done.kept_faces)][outside[done.kept_faces]]
+    assert np.array_equal(done.uv[carried], uv[uv_faces[outside]])
+    # the region's rows no face uses any more are dropped (collapses), no others
+    used = np.zeros(len(done.uv), dtype=bool)
+    used[done.uv_faces[done.uv_faces >= 0]] = True
+    assert np.array_equal(np.flatnonzero(~used), [done.uv_kept[-1]])
+
+
+def test_a_texture_row_shared_with_far_corners_is_kept():
+    """Texture rows shared by corners far apart (deduplicated UVs): a row the region's faces no
+    longer use but a face outside it does stays, and every corner names a row."""
+    vertices, faces, _, _, _ = textured_icosphere(3)
+    uv, uv_faces = vertices[:, :2].copy(), faces.copy()
+    region = vertices[:, 2] > 0.5
+    south = np.flatnonzero(np.all(vertices[faces][:, :, 2] < -0.5, axis=1))
+    north = np.flatnonzero(region)
+    uv_faces[south[: len(north) // 3]] = north[: 3 * (len(north) // 3)].reshape(-1, 3)
+    done = remesh(
+        vertices, faces, region, 1.7 * median_edge_length(vertices, faces), uv=uv, uv_faces=uv_faces
+    )
+    assert len(done.vertices) < len(vertices)  # collapses
+    assert done.uv is not None and done.uv_faces is not None
+    assert done.uv_faces.min() >= 0 and done.uv_faces.max() < len(done.uv)
+    carried = done.uv_faces[: np.count_nonzero(done.kept_faces)]
+    assert np.array_equal(carried, done.uv_kept[uv_faces[done.kept_faces]])
