@@ -6,9 +6,9 @@ which a new face array (:meth:`MeshState.adopt`) keeps, so brush sizes do not ju
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
-from typing import Any, NamedTuple
+from typing import NamedTuple
 
 import numpy as np
 
@@ -36,9 +36,6 @@ class MaskRows(NamedTuple):
     @property
     def nbytes(self) -> int:
         return int(self.rows.nbytes + self.values.nbytes)
-
-
-_NO_ROWS = np.zeros(0, dtype=np.int64)
 
 
 def compact_faces(faces: np.ndarray) -> np.ndarray:
@@ -88,9 +85,8 @@ class MeshEdit:
     of the other mesh not in ``gone`` (vertices, faces) are carried over in order to this
     side's rows not in ``new``, carried faces renumbered; ``rows`` (the new rows and the
     carried rows that moved) take ``vertices``, ``mask_rows`` ``mask``, the ``new_faces`` rows
-    ``faces``. Sizes: n_vertices and n_faces, this side's. Texture rows alike (n_uv None:
-    none): the rows not ``gone_uv`` carried to those not ``new_uv``, ``uv_rows`` take ``uv``,
-    the new faces' corners ``uv_faces``, the carried faces' renumbered."""
+    ``faces``. Sizes: n_vertices and n_faces, this side's. ``texture``: the same of the texture
+    rows (its vertices the (T, 2) uv rows, its faces uv_faces; no mask), or None without."""
 
     n_vertices: int
     gone: np.ndarray
@@ -103,52 +99,39 @@ class MeshEdit:
     gone_faces: np.ndarray
     new_faces: np.ndarray
     faces: np.ndarray
-    n_uv: int | None
-    gone_uv: np.ndarray
-    new_uv: np.ndarray
-    uv_rows: np.ndarray
-    uv: np.ndarray
-    uv_faces: np.ndarray
+    texture: MeshEdit | None = None
 
     @property
     def nbytes(self) -> int:
-        return sum(
-            int(getattr(self, name).nbytes) for name in self.__dataclass_fields__ if name[0] != "n"
-        )
+        fields = (getattr(self, name) for name in self.__dataclass_fields__ if name[0] != "n")
+        return sum(int(getattr(field, "nbytes", 0)) for field in fields)
 
     def applied(self, other: MeshSnapshot | MeshState) -> MeshSnapshot:
         """This side's arrays (new, writable) from ``other``, the other side's mesh."""
-        carried = _marked(len(other.faces), self.gone_faces, inverse=True)
-        at = _marked(self.n_faces, self.new_faces, inverse=True)
-        source, target, number = _carry(len(other.vertices), self.n_vertices, self.gone, self.new)
-        vertices, mask = np.empty((self.n_vertices, 3)), np.empty(self.n_vertices)
+        source = _marked(len(other.vertices), self.gone, inverse=True)
+        target = _marked(self.n_vertices, self.new, inverse=True)
+        vertices = np.empty((self.n_vertices, *other.vertices.shape[1:]))
+        mask = np.empty(self.n_vertices)
         vertices[target], mask[target] = other.vertices[source], other.mask[source]
         vertices[self.rows], mask[self.mask_rows] = self.vertices, self.mask
+        number = np.full(len(other.vertices) + 1, -1, dtype=np.int64)  # the last: a -1 corner's
+        number[source] = target
         faces = np.empty((self.n_faces, 3), dtype=np.int64)
-        faces[at] = number[other.faces[carried]]
+        carried = _marked(len(other.faces), self.gone_faces, inverse=True)
+        faces[_marked(self.n_faces, self.new_faces, inverse=True)] = number[other.faces[carried]]
         faces[self.new_faces] = self.faces
-        if self.n_uv is None or other.uv is None or other.uv_faces is None:
+        textures = _texture_mesh(other)
+        if self.texture is None or textures is None:
             return MeshSnapshot(vertices, faces, mask)
-        source, target, number = _carry(len(other.uv), self.n_uv, self.gone_uv, self.new_uv)
-        uv = np.empty((self.n_uv, 2))
-        uv[target] = other.uv[source]
-        uv[self.uv_rows] = self.uv
-        uv_faces = np.empty_like(faces)
-        uv_faces[at] = number[other.uv_faces[carried]]
-        uv_faces[self.new_faces] = self.uv_faces
-        return MeshSnapshot(vertices, faces, mask, uv, uv_faces)
+        texture = self.texture.applied(textures)
+        return MeshSnapshot(vertices, faces, mask, texture.vertices, texture.faces)
 
 
-def _carry(
-    n_old: int, n: int, gone: np.ndarray, new: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The rows (ascending) of range(n_old) not ``gone``, their rows in range(n) (those not
-    ``new``), and each old row's new row ((n_old + 1,), -1: gone; the last entry, -1, is what
-    an untextured corner, -1, reads)."""
-    source, target = _marked(n_old, gone, inverse=True), _marked(n, new, inverse=True)
-    number = np.full(n_old + 1, -1, dtype=np.int64)
-    number[source] = target
-    return source, target, number
+def _texture_mesh(mesh: MeshSnapshot | MeshState) -> MeshSnapshot | None:
+    """The texture rows as a mesh (uv_faces its faces, no mask), or None without."""
+    if mesh.uv is None or mesh.uv_faces is None:
+        return None
+    return MeshSnapshot(mesh.uv, mesh.uv_faces, np.broadcast_to(0.0, (len(mesh.uv),)))
 
 
 def _marked(n: int, *rows: np.ndarray, inverse: bool = False) -> np.ndarray:
@@ -169,50 +152,42 @@ def topology_edit(
 ) -> tuple[MeshEdit, MeshEdit]:
     """The two sides (before, after) of the undo step of an edit that turned ``before`` into
     ``after`` keeping the order of the vertices, faces and texture rows it did not remove and
-    appending new ones: ``origin`` (N',), ``face_origin`` (M',) and ``uv_origin`` (T',; None
-    without texture coordinates) int, each row of ``after``'s row in ``before`` (-1 for a new
-    one, all after the others)."""
+    appending new ones: ``origin`` (N',), ``face_origin`` (M',) and ``uv_origin`` (T'; None
+    without texture rows) int, each row of ``after``'s row in ``before`` (-1 for a new one,
+    all after the others)."""
     carried, carried_faces = origin[origin >= 0], face_origin[face_origin >= 0]
-    gone = _marked(len(before.vertices), carried, inverse=True)
+    n, m = len(carried), len(carried_faces)
+    n_before = len(before.vertices)
+    gone = _marked(n_before, carried, inverse=True)
     gone_faces = _marked(len(before.faces), carried_faces, inverse=True)
-    added = np.arange(len(carried), len(after.vertices))
-    added_faces = np.arange(len(carried_faces), len(after.faces))
+    bits = before.vertices[carried].view(np.uint64) != after.vertices[:n].view(np.uint64)
+    moved = np.flatnonzero(bits.any(axis=1))
+    painted = np.flatnonzero(before.mask[carried].view(np.uint64) != after.mask[:n].view(np.uint64))
+    added = np.arange(n, len(after.vertices))
+    added_faces = np.arange(m, len(after.faces))
 
-    def changes(
-        old: np.ndarray, new: np.ndarray, carried: np.ndarray, gone: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray]:
-        # the rows to write back (gone, or carried and changed) and forth (changed, or new)
-        n = len(carried)
-        bits = old[carried].view(np.uint64) != new[:n].view(np.uint64)
-        changed = np.flatnonzero(bits.any(axis=1) if bits.ndim > 1 else bits)
-        back = _marked(len(old), gone, carried[changed])
-        return back, np.concatenate([changed, np.arange(n, len(new))])
+    def side(mesh: MeshSnapshot, *rows: np.ndarray) -> MeshEdit:
+        # the rows int32, as a snapshot's faces
+        gone, new, moved, painted, gone_faces, new_faces = map(compact_faces, rows)
+        vertices, mask = mesh.vertices[moved], mesh.mask[painted]
+        faces = compact_faces(mesh.faces[new_faces])
+        n, m = len(mesh.vertices), len(mesh.faces)
+        return MeshEdit(
+            n, gone, new, moved, vertices, painted, mask, m, gone_faces, new_faces, faces
+        )
 
-    back, forth = changes(before.vertices, after.vertices, carried, gone)
-    back_mask, forth_mask = changes(before.mask, after.mask, carried, gone)
-    gone_uv = added_uv = back_uv = forth_uv = _NO_ROWS
-    if uv_origin is not None and before.uv is not None and after.uv is not None:
-        carried_uv = uv_origin[uv_origin >= 0]
-        gone_uv = _marked(len(before.uv), carried_uv, inverse=True)
-        added_uv = np.arange(len(carried_uv), len(after.uv))
-        back_uv, forth_uv = changes(before.uv, after.uv, carried_uv, gone_uv)
-
-    def side(mesh: MeshSnapshot, own: tuple[Any, ...], other: tuple[Any, ...]) -> MeshEdit:
-        # own: this side's rows (new, written, painted, new faces, new and written uv rows),
-        # other: the other side's (its first, fourth and fifth: gone); int32, as faces
-        new, rows, painted, new_faces, new_uv, uv_rows = map(compact_faces, own)
-        gone, gone_faces, gone_uv = (compact_faces(other[k]) for k in (0, 3, 4))
-        uv: tuple[Any, ...] = (None, _NO_ROWS, _NO_ROWS, _NO_ROWS, np.zeros((0, 2)), _NO_ROWS)
-        if uv_origin is not None and mesh.uv is not None and mesh.uv_faces is not None:
-            corners = compact_faces(mesh.uv_faces[new_faces])
-            uv = (len(mesh.uv), gone_uv, new_uv, uv_rows, mesh.uv[uv_rows], corners)
-        head = (len(mesh.vertices), gone, new, rows, mesh.vertices[rows], painted)
-        tail = (mesh.mask[painted], len(mesh.faces), gone_faces, new_faces)
-        return MeshEdit(*head, *tail, compact_faces(mesh.faces[new_faces]), *uv)
-
-    before_rows = (gone, back, back_mask, gone_faces, gone_uv, back_uv)
-    after_rows = (added, forth, forth_mask, added_faces, added_uv, forth_uv)
-    return side(before, before_rows, after_rows), side(after, after_rows, before_rows)
+    back = _marked(n_before, gone, carried[moved])
+    back_mask = _marked(n_before, gone, carried[painted])
+    forth, forth_mask = np.concatenate([moved, added]), np.concatenate([painted, added])
+    sides = (
+        side(before, added, gone, back, back_mask, added_faces, gone_faces),
+        side(after, gone, added, forth, forth_mask, gone_faces, added_faces),
+    )
+    textures = _texture_mesh(before), _texture_mesh(after)
+    if uv_origin is None or textures[0] is None or textures[1] is None:
+        return sides
+    inner = topology_edit(textures[0], textures[1], uv_origin, face_origin)
+    return replace(sides[0], texture=inner[0]), replace(sides[1], texture=inner[1])
 
 
 class MeshState:
