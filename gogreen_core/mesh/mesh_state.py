@@ -59,23 +59,15 @@ class MeshSnapshot:
         arrays = (self.vertices, self.faces, self.mask, self.uv, self.uv_faces)
         return sum(int(a.nbytes) for a in arrays if a is not None)
 
-    @classmethod
-    def frozen(
-        cls,
-        vertices: np.ndarray,
-        faces: np.ndarray,
-        mask: np.ndarray,
-        uv: np.ndarray | None = None,
-        uv_faces: np.ndarray | None = None,
-    ) -> MeshSnapshot:
-        """A snapshot of a new mesh (a subdivision's or a remesh's, the after-side of its undo
-        step): the arrays themselves, read-only, face arrays compact."""
-        corners = None if uv_faces is None else compact_faces(uv_faces)
-        arrays = (vertices, compact_faces(faces), mask, uv, corners)
-        for array in arrays:
+    def frozen(self) -> MeshSnapshot:
+        """These arrays themselves, read-only, face arrays compact (a new mesh: the after-side
+        of a subdivision's or a remesh's undo step)."""
+        corners = None if self.uv_faces is None else compact_faces(self.uv_faces)
+        frozen = replace(self, faces=compact_faces(self.faces), uv_faces=corners)
+        for array in (frozen.vertices, frozen.faces, frozen.mask, frozen.uv, frozen.uv_faces):
             if array is not None:
                 array.setflags(write=False)
-        return cls(*arrays)
+        return frozen
 
 
 @dataclass(frozen=True)

@@ -362,11 +362,7 @@ def remesh(
         raise ValueError(f"region must have shape ({n},) (got {region.shape})")
     in_patch = region[faces[:, 0]] | region[faces[:, 1]] | region[faces[:, 2]]
     inside = np.flatnonzero(in_patch)
-    corners = faces[inside]
-    local = np.flatnonzero(np.bincount(corners.ravel(), minlength=n))  # ascending, no sort
-    number = np.empty(n, dtype=np.int64)
-    number[local] = np.arange(len(local))
-    patch_faces = number[corners]
+    local, patch_faces = _localized(faces[inside], n)
     mask_local = np.zeros(len(local)) if mask is None else np.asarray(mask, np.float64)[local]
     sizes_local = target[local] if sizing else np.full(len(local), float(target))
     if sizing and not (np.isfinite(sizes_local).all() and (sizes_local > 0).all()):
@@ -374,14 +370,10 @@ def remesh(
     held = mask_local >= MASK_THRESHOLD
     if locked is not None:
         held |= np.asarray(locked, dtype=bool)[local]
-    # the patch's texture rows too numbered of their own (the region's rows ascending, then new)
     uv_local, patch_uv, patch_corners = _NO_ROWS, None, np.full((len(inside), 3), -1)
-    if uv is not None and uv_faces is not None:
-        patch_corners = np.asarray(uv_faces, np.int64)[inside]
-        textured = patch_corners >= 0
-        uv_local = np.unique(patch_corners[textured])
+    if uv is not None and uv_faces is not None:  # the patch's texture rows numbered alike
+        uv_local, patch_corners = _localized(np.asarray(uv_faces, np.int64)[inside], len(uv))
         patch_uv = np.asarray(uv, dtype=np.float64)[uv_local]
-        patch_corners[textured] = np.searchsorted(uv_local, patch_corners[textured])
     patch = _Patch(
         vertices[local],
         patch_faces,
@@ -413,6 +405,15 @@ def _repeat(step: Callable[[], bool], rounds: int) -> None:
     for _ in range(rounds):
         if not step():
             break
+
+
+def _localized(corners: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """The rows (ascending) of range(n) that ``corners`` (K, 3) name, and the corners numbered
+    by them (-1 stays -1): by a count, no sort."""
+    local = np.flatnonzero(np.bincount(corners.ravel() + 1, minlength=n + 1)[1:])
+    number = np.full(n + 1, -1, dtype=np.int64)  # the last: a -1 corner's
+    number[local] = np.arange(len(local))
+    return local, number[corners]
 
 
 def _numbering(n: int, local: np.ndarray, used: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
@@ -461,8 +462,7 @@ def _assemble(
 ) -> RemeshedMesh:
     """The whole mesh again: old vertices (texture rows) in order less the patch's unused ones,
     then new ones; faces outside the patch in order, then the patch's."""
-    used = np.zeros(len(patch.points), dtype=bool)
-    used[patch.faces.ravel()] = True
+    used = np.bincount(patch.faces.ravel(), minlength=len(patch.points)) > 0
     numbering = kept, number, n_kept = _numbering(len(vertices), local, used)
     out_vertices = _carried(vertices, patch.points, numbering)
     out_faces = np.empty((len(faces) - int(in_patch.sum()) + len(patch.faces), 3), np.int64)
@@ -473,8 +473,7 @@ def _assemble(
     out_sizes = None if sizes is None else _carried(sizes, patch.sizes, numbering)
     out_uv = out_uv_faces = uv_kept = None
     if uv is not None and uv_faces is not None and patch.uv is not None:
-        used_uv = np.zeros(len(patch.uv), dtype=bool)
-        used_uv[patch.uv_faces[patch.uv_faces >= 0]] = True
+        used_uv = np.bincount(patch.uv_faces.ravel() + 1, minlength=len(patch.uv) + 1)[1:] > 0
         out_uv_faces = np.empty_like(out_faces)
         for _ in range(2):
             uv_numbering = uv_kept, uv_number, _ = _numbering(len(uv), uv_local, used_uv)

@@ -250,5 +250,5 @@ def prepare_subdivision(
         edges=edges,
         progress=progress,
     )
-    result = MeshSnapshot.frozen(done.vertices, done.faces, done.mask, done.uv, done.uv_faces)
+    result = done.frozen()
     return PreparedSubdivision(source, bool(unmasked_only), result)

@@ -342,8 +342,8 @@ class PreparedRemesh:
             progress=progress,
         )
         assert done.mask is not None
-        after = (done.vertices, done.faces, done.mask, done.uv, done.uv_faces)
-        self.result[:] = [MeshSnapshot.frozen(*after)]  # read-only, compact: the undo's after
+        after = MeshSnapshot(done.vertices, done.faces, done.mask, done.uv, done.uv_faces)
+        self.result[:] = [after.frozen()]  # read-only, compact: the undo's after
         return self
 
     def made_from(self, mesh: MeshSnapshot | MeshState) -> bool:
