@@ -199,13 +199,12 @@ class _Patch:
             face = edge_faces[pairs[:, 2], 0]
             kept_row = self.uv_faces[face, np.argmax(self.faces[face] == kept[:, None], axis=1)]
             gone_row = self.uv_faces[face, np.argmax(self.faces[face] == gone[:, None], axis=1)]
-            textured = (kept_row >= 0) & (gone_row >= 0)
-            both = middle & textured
+            both = middle & (kept_row >= 0)  # a face's corners are all textured or none
             self.uv[kept_row[both]] = 0.5 * (self.uv[gone_row[both]] + self.uv[kept_row[both]])
             row_of = np.full(len(self.points), -1, dtype=np.int64)
-            row_of[gone] = kept_row
-            at_gone = np.isin(self.faces, gone)
-            self.uv_faces = np.where(at_gone, row_of[self.faces], self.uv_faces)
+            row_of[gone] = kept_row  # a removed end's corners all had its one row, or none
+            rows = row_of[self.faces]
+            self.uv_faces = np.where(rows >= 0, rows, self.uv_faces)
         self.mask[kept[middle]] = 0.5 * (self.mask[gone[middle]] + self.mask[kept[middle]])
         self.sizes[kept[middle]] = 0.5 * (self.sizes[gone[middle]] + self.sizes[kept[middle]])
         self.points[kept] = positions
@@ -312,9 +311,8 @@ class _Patch:
             textured = corner_rows[:, 0] >= 0
             own_row = np.empty(n, dtype=np.int64)  # a free vertex's one texture row
             own_row[corners] = self.uv_faces.ravel()
-            own = own_row[rows]
             new_uv = np.einsum("ijk,ij->ik", self.uv[corner_rows[textured]], chosen_bary[textured])
-            self.uv[own[textured]] = new_uv
+            self.uv[own_row[rows][textured]] = new_uv
         self.points[rows] = moved[rows]
 
 
