@@ -12,18 +12,6 @@ from typing import cast
 import numpy as np
 from numba import njit
 
-__all__ = [
-    "closest_points_on_triangles",
-    "edge_length_sums",
-    "patch_connectivity",
-    "pick_collapses",
-    "pick_flips",
-    "renumber_faces",
-    "smallest_angles",
-    "strained_corners",
-    "vertex_faces",
-]
-
 
 @njit(cache=True, nogil=True, boundscheck=False)
 def strained_corners(
@@ -154,9 +142,9 @@ def _corner(faces: np.ndarray, f: int, v: int) -> int:
 
 
 @njit(cache=True, nogil=True, boundscheck=False)
-def _row_at(faces: np.ndarray, uv_faces: np.ndarray, f: int, v: int) -> int:
-    """The texture row of face ``f``'s corner at vertex ``v``."""
-    return int(uv_faces[f, _corner(faces, f, v)])
+def _seam(faces: np.ndarray, uv_faces: np.ndarray, f0: int, f1: int, v: int) -> bool:
+    """The corners of faces ``f0`` and ``f1`` at vertex ``v`` name different texture rows."""
+    return bool(uv_faces[f0, _corner(faces, f0, v)] != uv_faces[f1, _corner(faces, f1, v)])
 
 
 @njit(cache=True, nogil=True, boundscheck=False)
@@ -246,7 +234,7 @@ def pick_collapses(
             continue
         f0, f1 = edge_faces[e, 0], edge_faces[e, 1]
         # the kept end's texture corner must be one row on both sides of the edge
-        if _row_at(faces, uv_faces, f0, b) != _row_at(faces, uv_faces, f1, b):
+        if _seam(faces, uv_faces, f0, f1, b):
             continue
         both = free[b]
         position = 0.5 * (points[a] + points[b]) if both else points[b].copy()
@@ -349,9 +337,7 @@ def pick_flips(
         if np.any(neighbours[offsets[c] : offsets[c + 1]] == d):  # the edge c d exists
             continue
         # a texture seam along the edge: the two faces' corners at a (and at b) differ
-        if _row_at(faces, uv_faces, f0, a) != _row_at(faces, uv_faces, f1, a) or _row_at(
-            faces, uv_faces, f0, b
-        ) != _row_at(faces, uv_faces, f1, b):
+        if _seam(faces, uv_faces, f0, f1, a) or _seam(faces, uv_faces, f0, f1, b):
             continue
         pa, pb, pc, pd = points[a], points[b], points[c], points[d]
         old = _normal(pa, pb, pc) + _normal(pb, pa, pd)

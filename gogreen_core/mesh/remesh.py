@@ -360,29 +360,20 @@ def remesh(
         raise ValueError(f"region must have shape ({n},) (got {region.shape})")
     in_patch = region[faces[:, 0]] | region[faces[:, 1]] | region[faces[:, 2]]
     inside = np.flatnonzero(in_patch)
-    local, patch_faces = _localized(faces[inside], n)
+    local, cells = _localized(faces[inside], n)
     mask_local = np.zeros(len(local)) if mask is None else np.asarray(mask, np.float64)[local]
-    sizes_local = target[local] if sizing else np.full(len(local), float(target))
-    if sizing and not (np.isfinite(sizes_local).all() and (sizes_local > 0).all()):
+    sizes = target[local] if sizing else np.full(len(local), float(target))  # the patch's own
+    if sizing and not (np.isfinite(sizes).all() and (sizes > 0).all()):
         raise ValueError("target_length must be positive lengths around the region")
     held = mask_local >= MASK_THRESHOLD
     if locked is not None:
         held |= np.asarray(locked, dtype=bool)[local]
-    uv_local, patch_uv, patch_corners = _NO_ROWS, None, np.full((len(inside), 3), -1)
+    uv_local, uv_rows, corners = _NO_ROWS, None, np.full((len(inside), 3), -1)
     if uv is not None and uv_faces is not None:  # the patch's texture rows numbered alike
-        uv_local, patch_corners = _localized(np.asarray(uv_faces, np.int64)[inside], len(uv))
-        patch_uv = np.asarray(uv, dtype=np.float64)[uv_local]
-    patch = _Patch(
-        vertices[local],
-        patch_faces,
-        region[local],
-        held,
-        mask_local,
-        sizes_local.copy(),
-        patch_uv,
-        patch_corners,
-    )
-    L = float(sizes_local.min()) if len(local) else 1.0
+        uv_local, corners = _localized(np.asarray(uv_faces, np.int64)[inside], len(uv))
+        uv_rows = np.asarray(uv, dtype=np.float64)[uv_local]
+    L = float(sizes.min()) if len(local) else 1.0
+    patch = _Patch(vertices[local], cells, region[local], held, mask_local, sizes, uv_rows, corners)
     min_area2 = (2.0 * _MIN_AREA * L * L) ** 2
     for done in range(iterations):
         if progress is not None:
@@ -394,8 +385,8 @@ def remesh(
     if progress is not None:
         progress(iterations / (iterations + 1))
     _repeat(patch.split, _SPLIT_ROUNDS)  # what the relaxation stretched past 4/3 L
-    sizes = target if sizing else None
-    return _assemble(vertices, faces, mask, sizes, uv, uv_faces, in_patch, local, uv_local, patch)
+    lengths = target if sizing else None
+    return _assemble(vertices, faces, mask, lengths, uv, uv_faces, in_patch, local, uv_local, patch)
 
 
 def _repeat(step: Callable[[], bool], rounds: int) -> None:
@@ -487,18 +478,8 @@ def _assemble(
     changed = np.zeros(len(out_vertices), dtype=bool)
     changed[kept[local[patch.closed[: len(local)] & (kept[local] >= 0)]]] = True
     changed[n_kept:] = True
-    return RemeshedMesh(
-        out_vertices,
-        out_faces,
-        out_mask,
-        out_uv,
-        out_uv_faces,
-        kept,
-        changed,
-        ~in_patch,
-        out_sizes,
-        uv_kept,
-    )
+    arrays = (out_vertices, out_faces, out_mask, out_uv, out_uv_faces)
+    return RemeshedMesh(*arrays, kept, changed, ~in_patch, out_sizes, uv_kept)
 
 
 def median_edge_length(vertices: np.ndarray, faces: np.ndarray) -> float:
