@@ -56,8 +56,7 @@ class MeshSnapshot:
 
     @property
     def nbytes(self) -> int:
-        arrays = (self.vertices, self.faces, self.mask, self.uv, self.uv_faces)
-        return sum(int(a.nbytes) for a in arrays if a is not None)
+        return sum(int(getattr(getattr(self, k), "nbytes", 0)) for k in self.__dataclass_fields__)
 
     def frozen(self) -> MeshSnapshot:
         """These arrays themselves, read-only, face arrays compact (a new mesh: the after-side
@@ -95,8 +94,7 @@ class MeshEdit:
 
     @property
     def nbytes(self) -> int:
-        fields = (getattr(self, name) for name in self.__dataclass_fields__ if name[0] != "n")
-        return sum(int(getattr(field, "nbytes", 0)) for field in fields)
+        return sum(int(getattr(getattr(self, k), "nbytes", 0)) for k in self.__dataclass_fields__)
 
     def applied(self, other: MeshSnapshot | MeshState) -> MeshSnapshot:
         """This side's arrays (new, writable) from ``other``, the other side's mesh."""
@@ -137,7 +135,7 @@ def _marked(n: int, *rows: np.ndarray, inverse: bool = False) -> np.ndarray:
 
 def topology_edit(
     before: MeshSnapshot,
-    after: MeshSnapshot,
+    after: MeshSnapshot | MeshState,
     origin: np.ndarray,
     face_origin: np.ndarray,
     uv_origin: np.ndarray | None = None,
@@ -158,7 +156,7 @@ def topology_edit(
     added = np.arange(n, len(after.vertices))
     added_faces = np.arange(m, len(after.faces))
 
-    def side(mesh: MeshSnapshot, *rows: np.ndarray) -> MeshEdit:
+    def side(mesh: MeshSnapshot | MeshState, *rows: np.ndarray) -> MeshEdit:
         # the rows int32, as a snapshot's faces
         gone, new, moved, painted, gone_faces, new_faces = map(compact_faces, rows)
         vertices, mask = mesh.vertices[moved], mesh.mask[painted]

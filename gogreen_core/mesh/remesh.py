@@ -375,15 +375,14 @@ def remesh(
     L = float(sizes.min()) if len(local) else 1.0
     patch = _Patch(vertices[local], cells, region[local], held, mask_local, sizes, uv_rows, corners)
     min_area2 = (2.0 * _MIN_AREA * L * L) ** 2
+    report = progress or (lambda _fraction: None)
     for done in range(iterations):
-        if progress is not None:
-            progress(done / (iterations + 1))
+        report(done / (iterations + 1))
         _repeat(patch.split, _SPLIT_ROUNDS)
         _repeat(lambda: patch.collapse(min_area2), 2)
         _repeat(lambda: patch.flip(min_area2), 2)
         patch.relax(min_area2)
-    if progress is not None:
-        progress(iterations / (iterations + 1))
+    report(iterations / (iterations + 1))
     _repeat(patch.split, _SPLIT_ROUNDS)  # what the relaxation stretched past 4/3 L
     lengths = target if sizing else None
     return _assemble(vertices, faces, mask, lengths, uv, uv_faces, in_patch, local, uv_local, patch)

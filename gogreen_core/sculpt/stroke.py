@@ -277,9 +277,8 @@ class StrokeDriver:
         # the changed rows found once here, not marked every event (1M vertices: 6 ms once)
         mesh, label = self.mesh, f"{brush_row(stroke.brush.kind).label} stroke"
         if stroke.start is not None:  # new faces: what changed
-            now = MeshSnapshot(mesh.vertices, mesh.faces, mesh.mask, mesh.uv, mesh.uv_faces)
             origins = (stroke.origin, stroke.face_origin, stroke.uv_origin)
-            self.history.record_state(label, topology_edit(stroke.start, now, *origins))
+            self.history.record_state(label, topology_edit(stroke.start, mesh, *origins))
             self.log.record(Stroke(stroke.brush, tuple(stroke.events)))
             return np.arange(len(mesh.vertices))
         vertices, before = self.mesh.vertices, stroke.before
