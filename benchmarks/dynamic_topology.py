@@ -193,7 +193,9 @@ STAGES = {
     "remesh: collapse": (remesh_module._Patch, "collapse"),
     "remesh: flip": (remesh_module._Patch, "flip"),
     "remesh: relax": (remesh_module._Patch, "relax"),
-    "remesh: compact (assemble)": (remesh_module, "_assemble"),
+    "remesh: compact (numbering)": (remesh_module, "_numbering"),
+    "remesh: compact (copies)": (remesh_module, "_carried"),
+    "remesh: compact (renumbering)": (remesh_module, "renumber_faces"),
     "mesh adopt": (MeshState, "adopt"),
     "step: total": (stroke_module.StrokeDriver, "_remesh"),
 }
@@ -249,7 +251,7 @@ def step_stages(vertices: np.ndarray, faces: np.ndarray, row: int, events: int) 
             center = center + delta
     sculptor.end_stroke()
     inner = ("remesh: split", "remesh: collapse", "remesh: flip", "remesh: relax")
-    inner += ("remesh: compact (assemble)",)
+    inner += tuple(stage for stage in STAGES if stage.startswith("remesh: compact"))
     derived = {
         "remesh: setup (patch, region rows)": [
             t - sum(seconds[s][i] for s in inner) for i, t in enumerate(seconds["remesh: total"])

@@ -29,7 +29,6 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import cast
 
 import numpy as np
 
@@ -129,13 +128,13 @@ class _Patch:
     def free(self) -> np.ndarray:
         """Vertices that may move or be collapsed away (not on a seam: their corners name one
         texture row, or all none)."""
-        free = self.closed & ~self.locked & (self.mode == INTERIOR)
+        free: np.ndarray = self.closed & ~self.locked & (self.mode == INTERIOR)
         if self.uv is not None:
             corners, rows = self.faces.ravel(), self.uv_faces.ravel()
             row = np.empty(len(free), dtype=np.int64)
             row[corners] = rows  # one of each vertex's rows: a seam's differs from another
             free[corners[rows != row[corners]]] = False
-        return cast(np.ndarray, free)
+        return free
 
     # -- 1. split ------------------------------------------------------------------------------
     def split(self) -> bool:
@@ -384,8 +383,36 @@ def remesh(
         patch.relax(min_area2)
     report(iterations / (iterations + 1))
     _repeat(patch.split, _SPLIT_ROUNDS)  # what the relaxation stretched past 4/3 L
-    lengths = target if sizing else None
-    return _assemble(vertices, faces, mask, lengths, uv, uv_faces, in_patch, local, uv_local, patch)
+    # the whole mesh again: the kept rows in order, then new ones; outside faces, then the patch's
+    used = np.bincount(patch.faces.ravel(), minlength=len(patch.points)) > 0
+    numbering = kept, number, n_kept = _numbering(len(vertices), local, used)
+    out_vertices = _carried(vertices, patch.points, numbering)
+    out_faces = np.empty((len(faces) - int(in_patch.sum()) + len(patch.faces), 3), np.int64)
+    renumber_faces(faces, in_patch, kept, out_faces)
+    n_carried = len(out_faces) - len(patch.faces)
+    out_faces[n_carried:] = number[patch.faces]
+    out_mask = None if mask is None else _carried(np.asarray(mask), patch.mask, numbering)
+    out_sizes = _carried(target, patch.sizes, numbering) if sizing else None
+    out_uv = out_uv_faces = uv_kept = None
+    if uv is not None and uv_faces is not None and patch.uv is not None:
+        used_uv = np.bincount(patch.uv_faces.ravel() + 1, minlength=len(patch.uv) + 1)[1:] > 0
+        out_uv_faces = np.empty_like(out_faces)
+        for _ in range(2):
+            uv_numbering = uv_kept, uv_number, _ = _numbering(len(uv), uv_local, used_uv)
+            # -1 corners read the last entry; a row the patch no longer uses but a face outside
+            # it does (one row for far corners: deduplicated UVs) reads -2: then all are kept
+            table = np.append(uv_kept, -1)
+            table[uv_local[~used_uv[: len(uv_local)]]] = -2
+            if renumber_faces(uv_faces, in_patch, table, out_uv_faces) >= -1:
+                break
+            used_uv[: len(uv_local)] = True
+        out_uv = _carried(np.asarray(uv), patch.uv, uv_numbering)
+        out_uv_faces[n_carried:] = np.where(patch.uv_faces >= 0, uv_number[patch.uv_faces], -1)
+    changed = np.zeros(len(out_vertices), dtype=bool)
+    changed[kept[local[patch.closed[: len(local)] & (kept[local] >= 0)]]] = True
+    changed[n_kept:] = True
+    arrays = (out_vertices, out_faces, out_mask, out_uv, out_uv_faces)
+    return RemeshedMesh(*arrays, kept, changed, ~in_patch, out_sizes, uv_kept)
 
 
 def _repeat(step: Callable[[], bool], rounds: int) -> None:
@@ -425,60 +452,14 @@ def _numbering(n: int, local: np.ndarray, used: np.ndarray) -> tuple[np.ndarray,
 def _carried(
     old: np.ndarray, new: np.ndarray, numbering: tuple[np.ndarray, np.ndarray, int]
 ) -> np.ndarray:
-    """The rows of ``old`` kept with the patch's rows ``new`` written where they go
-    (``numbering``: :func:`_numbering`'s), no whole-mesh temporaries (np.compress: a quarter of
-    boolean indexing's time at 1M)."""
+    """``old``'s rows kept, the patch's rows ``new`` written where they go (``numbering``: by
+    :func:`_numbering`); np.compress: a quarter of boolean indexing's time at 1M rows."""
     kept, number, n_kept = numbering
     rows = np.flatnonzero(number >= 0)
     out = np.empty((max(n_kept, int(number.max(initial=-1)) + 1), *old.shape[1:]))
     out[:n_kept] = np.compress(kept >= 0, old, axis=0) if n_kept < len(old) else old
     out[number[rows]] = new[rows]
     return out
-
-
-def _assemble(
-    vertices: np.ndarray,
-    faces: np.ndarray,
-    mask: np.ndarray | None,
-    sizes: np.ndarray | None,
-    uv: np.ndarray | None,
-    uv_faces: np.ndarray | None,
-    in_patch: np.ndarray,
-    local: np.ndarray,
-    uv_local: np.ndarray,
-    patch: _Patch,
-) -> RemeshedMesh:
-    """The whole mesh again: old vertices (texture rows) in order less the patch's unused ones,
-    then new ones; faces outside the patch in order, then the patch's."""
-    used = np.bincount(patch.faces.ravel(), minlength=len(patch.points)) > 0
-    numbering = kept, number, n_kept = _numbering(len(vertices), local, used)
-    out_vertices = _carried(vertices, patch.points, numbering)
-    out_faces = np.empty((len(faces) - int(in_patch.sum()) + len(patch.faces), 3), np.int64)
-    renumber_faces(faces, in_patch, kept, out_faces)
-    n_carried = len(out_faces) - len(patch.faces)
-    out_faces[n_carried:] = number[patch.faces]
-    out_mask = None if mask is None else _carried(np.asarray(mask), patch.mask, numbering)
-    out_sizes = None if sizes is None else _carried(sizes, patch.sizes, numbering)
-    out_uv = out_uv_faces = uv_kept = None
-    if uv is not None and uv_faces is not None and patch.uv is not None:
-        used_uv = np.bincount(patch.uv_faces.ravel() + 1, minlength=len(patch.uv) + 1)[1:] > 0
-        out_uv_faces = np.empty_like(out_faces)
-        for _ in range(2):
-            uv_numbering = uv_kept, uv_number, _ = _numbering(len(uv), uv_local, used_uv)
-            # -1 corners read the last entry; a row the patch no longer uses but a face outside
-            # it does (one row for far corners: deduplicated UVs) reads -2: then all are kept
-            table = np.append(uv_kept, -1)
-            table[uv_local[~used_uv[: len(uv_local)]]] = -2
-            if renumber_faces(uv_faces, in_patch, table, out_uv_faces) >= -1:
-                break
-            used_uv[: len(uv_local)] = True
-        out_uv = _carried(np.asarray(uv), patch.uv, uv_numbering)
-        out_uv_faces[n_carried:] = np.where(patch.uv_faces >= 0, uv_number[patch.uv_faces], -1)
-    changed = np.zeros(len(out_vertices), dtype=bool)
-    changed[kept[local[patch.closed[: len(local)] & (kept[local] >= 0)]]] = True
-    changed[n_kept:] = True
-    arrays = (out_vertices, out_faces, out_mask, out_uv, out_uv_faces)
-    return RemeshedMesh(*arrays, kept, changed, ~in_patch, out_sizes, uv_kept)
 
 
 def median_edge_length(vertices: np.ndarray, faces: np.ndarray) -> float:
