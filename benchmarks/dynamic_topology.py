@@ -265,7 +265,7 @@ def step_stages(vertices: np.ndarray, faces: np.ndarray, row: int, events: int) 
             sizes.append(len(sculptor.faces) - before)
             center = center + delta
     sculptor.end_stroke()
-    inner = ("remesh: split", "remesh: collapse", "remesh: flip", "remesh: relax")
+    inner: tuple[str, ...] = ("remesh: split", "remesh: collapse", "remesh: flip", "remesh: relax")
     inner += tuple(stage for stage in STAGES if stage.startswith("remesh: compact"))
     derived = {
         "remesh: setup (patch, region rows)": [
@@ -284,15 +284,21 @@ def step_stages(vertices: np.ndarray, faces: np.ndarray, row: int, events: int) 
         print(f"{stage:38s} {1e3 * statistics.median(values[1:]):7.1f} ms")
 
 
+def subdivided_twice(path: Path) -> Sculptor:
+    """A sculptor on the mesh of ``path`` (its UVs too) subdivided twice."""
+    mesh = load_mesh(path)
+    base = Sculptor(mesh.vertices, mesh.faces, uv=mesh.uv, uv_faces=mesh.uv_faces)
+    base.subdivide()
+    base.subdivide()
+    return base
+
+
 def million(meshes: Path, events: int, remesh_too: bool) -> None:
     ogre = meshes / "ogre.obj"
     if not ogre.exists():
         print(f"{ogre} not found: the 1M-vertex figures need ../shared/meshes")
         return
-    mesh = load_mesh(ogre)
-    base = Sculptor(mesh.vertices, mesh.faces)
-    base.subdivide()
-    base.subdivide()
+    base = subdivided_twice(ogre)
     vertices, faces = base.vertices.copy(), base.faces.copy()
     normals = vertex_normals(vertices, faces)
     belly = int(np.argmin(vertices[:, 1]))  # the front of the belly (-y)
@@ -331,10 +337,7 @@ def textured(meshes: Path, repeats: int, million_too: bool, events: int) -> None
     textured_pulls(vertices, faces, two_charts(vertices, faces), top, 20, repeats)
     spot = meshes / "spot.obj"
     if spot.exists():
-        mesh = load_mesh(spot)
-        base = Sculptor(mesh.vertices, mesh.faces, uv=mesh.uv, uv_faces=mesh.uv_faces)
-        base.subdivide()
-        base.subdivide()
+        base = subdivided_twice(spot)
         v, uv, uv_faces = base.vertices, base.mesh.uv, base.mesh.uv_faces
         assert uv is not None and uv_faces is not None
         print(f"-- Spot subdivided twice ({len(v):,} vertices), 20 events from the top")
@@ -345,10 +348,7 @@ def textured(meshes: Path, repeats: int, million_too: bool, events: int) -> None
     if not million_too or not ogre.exists():
         print("the 1M-vertex textured figures skipped (--no-million or no ogre.obj)")
         return
-    mesh = load_mesh(ogre)
-    base = Sculptor(mesh.vertices, mesh.faces)
-    base.subdivide()
-    base.subdivide()
+    base = subdivided_twice(ogre)
     v, f = base.vertices.copy(), base.faces.copy()
     print(f"-- the ogre subdivided twice ({len(v):,} vertices), {events} events on its belly")
     textured_pulls(v, f, two_charts(v, f), int(np.argmin(v[:, 1])), events, 1)
