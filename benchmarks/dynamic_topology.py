@@ -46,16 +46,17 @@ Measured 2026-11-29 (2 cores shared with other jobs, load average 4-6; CPU times
 0.01 model sizes along the normal, grab radius 0.03) without and with texture corners: the
 default model and the 1M-vertex ogre with :func:`two_charts` (two charts, a seam), Spot
 subdivided twice (its own UVs and seams).
-Measured 2026-11-29, load 3.8-5.6, two runs of each interleaved with main b7950e6 (event
-medians; undo step of the stroke):
-* default model, textured: 57-60 ms an event before, 32-35 ms after (untextured 28-50 ms);
-  undo step 9.42 MiB (whole snapshots) -> 3.59 MiB (untextured 2.73 MiB).
+Measured 2026-11-29, load 3.8-5.6, two runs of each interleaved with main b7950e6, and the
+final tree once more (load 2-3), event medians and the stroke's undo step (the final run's
+bytes count an edit's new rows too, which main's count left out: +5 % on untextured steps):
+* default model, textured: 57-60 ms an event before, 30-35 ms after (untextured 27-50 ms);
+  undo step 9.42 MiB (whole snapshots) -> 3.86 MiB (untextured 2.87 MiB).
 * Spot subdivided twice (46,850 vertices, 51,514 uv rows): 107 ms -> 80-97 ms (untextured
-  76-84 ms); undo step 11.06 -> 5.73 MiB (3.62).
+  75-84 ms); undo step 11.06 -> 6.42 MiB (3.96).
 * the ogre subdivided twice (992,608 vertices, 1,001,040 uv rows), 5 events: 1,965-2,572 ms ->
-  919-1,039 ms an event (untextured 733-785 ms: the rest is the new uv and uv_faces arrays of
-  each step, 16 + 48 MB); undo step 227.65 MiB -> 62.26 MiB (untextured 53.95 MiB: the grab's
-  far field moves every vertex).
+  850-1,039 ms an event (untextured 733-785 ms: the rest is mostly the new uv and uv_faces
+  arrays of each step, 16 + 48 MB); undo step 227.65 MiB -> 64.93 MiB (untextured 55.29 MiB:
+  the grab's far field moves every vertex).
 
 Times are CPU seconds of this process (``time.process_time``: the machine is shared, and the
 engine's threads count too), medians. Figures only, no assertions.
