@@ -38,6 +38,7 @@ __all__ = [
     "LevelOfDetail",
     "LightMesh",
     "Renumbering",
+    "chained",
     "cluster_decimation",
     "edit_renumbering",
     "indexed",
@@ -314,6 +315,19 @@ def edit_renumbering(edit: MeshEdit, faces: np.ndarray) -> Renumbering | None:
     return faces, vertex_origin, origin(edit.n_faces, edit.new_faces, edit.gone_faces)
 
 
+def chained(first: Renumbering, second: Renumbering) -> Renumbering:
+    """The change ``first`` then ``second`` (which starts from ``first``'s result) as one: each
+    row's row before ``first`` (-1: new in either)."""
+
+    def through(later: np.ndarray, earlier: np.ndarray) -> np.ndarray:
+        rows = later.copy()
+        kept = later >= 0
+        rows[kept] = earlier[later[kept]]
+        return rows
+
+    return first[0], through(second[1], first[1]), through(second[2], first[2])
+
+
 def _new_rows(origin: np.ndarray, n: int) -> np.ndarray:
     """Each of ``n`` old rows' new row (-1: gone), from ``origin`` (see :data:`Renumbering`)."""
     new = np.full(n, -1)
@@ -351,10 +365,33 @@ class LevelOfDetail:
         self.settle_timer.setSingleShot(True)
         self.settle_timer.setInterval(SETTLE_MS)
         self.settle_timer.timeout.connect(self.show_full)
+        #: The faces shown while the index is renumbered to them, and how they came of the
+        #: indexed ones (a change arriving before that index is in is chained onto it).
+        self._pending: tuple[np.ndarray, Renumbering] | None = None
+
+    def chain(
+        self,
+        change: Renumbering | None,
+        indexed: tuple[SurfaceIndex, np.ndarray] | None,
+        faces: np.ndarray,
+    ) -> Renumbering | None:
+        """How ``faces`` came of the faces ``indexed`` (index, faces): ``change`` if it starts
+        there; if it starts from the faces still being renumbered to (an undo pressed before
+        its stroke's index was in), that renumbering and ``change`` composed; else None."""
+        pending, self._pending = self._pending, None
+        if change is None or indexed is None:
+            return None
+        if change[0] is not indexed[1]:
+            if pending is None or change[0] is not pending[0]:
+                return None
+            change = chained(pending[1], change)
+        self._pending = faces, change
+        return change
 
     def attach(self, light: LightMesh | None) -> None:
         """Use ``light`` as the copy of the mesh just shown (None: none; the copy in use: it
         followed the mesh to its new topology, indexed now)."""
+        self._pending = None
         if light is not None and light is self.light:
             light.base = light.rows
             return

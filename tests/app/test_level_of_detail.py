@@ -149,26 +149,12 @@ def test_a_dynamic_topology_stroke_keeps_the_copy_and_renumbers_the_index(
     normals, picks and faces of a new one; its undo and redo are renumbered too (the copy kept,
     no new build; the copy drawn meanwhile). The copy's new rows are found with each step, off
     the GUI thread."""
-    import app.mesh_display
     from gogreen_core.mesh.geometry import SurfaceIndex
-    from gogreen_core.mesh.mesh_io import MeshData, save_mesh
 
-    monkeypatch.setattr(app.level_of_detail, "LIGHT_MIN_FACES", 1000)
-    monkeypatch.setattr(app.mesh_display, "BACKGROUND_INDEX_FACES", 1000)
-    activate(window, qtbot)
-    vp = window.viewport
-    sculptor = window.document.sculptor
-    # without texture coordinates (their undo steps hold whole meshes, no record of the change)
-    path = str(tmp_path / "model.ply")
-    save_mesh(MeshData(sculptor.vertices, sculptor.faces), path)
-    assert window.files.open_file(path)
-    sculptor = window.document.sculptor
-    qtbot.waitUntil(lambda: vp.surface is not None, timeout=60_000)
-    vp.render_now()
+    builds = _dynamic_topology_window(window, qtbot, monkeypatch, tmp_path)
+    vp, sculptor = window.viewport, window.document.sculptor
     vp.lod.full_frame_ms = 5 * LIGHT_FRAME_MS
-    builds, follows = [], []
-    build = app.level_of_detail.indexed
-    monkeypatch.setattr(app.level_of_detail, "indexed", lambda *a: builds.append(1) or build(*a))
+    follows = []
     followed_rows = app.level_of_detail.LightMesh.followed_rows
 
     def spy(*args):  # where the copy's new rows are found: on the stroke's worker thread
@@ -176,10 +162,6 @@ def test_a_dynamic_topology_stroke_keeps_the_copy_and_renumbers_the_index(
         return followed_rows(*args)
 
     monkeypatch.setattr(app.level_of_detail.LightMesh, "followed_rows", spy)
-    window.model.dynamic_topology = True
-    window.model.detail_size = 0.004
-    window.model.brush.kind = "grab"
-    window.model.brush.radius = 0.2
     vertices, faces = sculptor.vertices.copy(), sculptor.faces.copy()
     start = center_of(window)
     QTest.mousePress(vp, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, start)
@@ -228,6 +210,80 @@ def test_a_dynamic_topology_stroke_keeps_the_copy_and_renumbers_the_index(
         fresh, index = SurfaceIndex(*now), vp.surface
         assert np.array_equal(index.normals[index.rank], fresh.normals[fresh.rank])
         assert np.array_equal(light.index.vertices, sculptor.vertices[light.rows])
+
+
+def _dynamic_topology_window(window, qtbot, monkeypatch, tmp_path):
+    """The window on a "big" copy of its model (an interaction copy, a background index),
+    dynamic topology on, a grab brush; new index builds are counted in the list returned."""
+    import app.mesh_display
+    from gogreen_core.mesh.mesh_io import MeshData, save_mesh
+
+    monkeypatch.setattr(app.level_of_detail, "LIGHT_MIN_FACES", 1000)
+    monkeypatch.setattr(app.mesh_display, "BACKGROUND_INDEX_FACES", 1000)
+    activate(window, qtbot)
+    sculptor = window.document.sculptor
+    path = str(tmp_path / "model.ply")
+    save_mesh(MeshData(sculptor.vertices, sculptor.faces), path)
+    assert window.files.open_file(path)
+    qtbot.waitUntil(lambda: window.viewport.surface is not None, timeout=60_000)
+    window.viewport.render_now()
+    builds: list[int] = []
+    build = app.level_of_detail.indexed
+    monkeypatch.setattr(app.level_of_detail, "indexed", lambda *a: builds.append(1) or build(*a))
+    window.model.dynamic_topology = True
+    window.model.detail_size = 0.004
+    window.model.brush.kind = "grab"
+    window.model.brush.radius = 0.2
+    return builds
+
+
+def test_an_undo_before_the_strokes_index_is_in_chains_the_renumberings(
+    window, qtbot, monkeypatch, tmp_path
+):
+    """Issue 34: an undo pressed while the release still renumbers the index renumbers the
+    index from before the stroke by the two changes composed (no new build) to a new build's
+    normals and picks; the copy kept, at the restored vertices."""
+    builds = _dynamic_topology_window(window, qtbot, monkeypatch, tmp_path)
+    vp, sculptor = window.viewport, window.document.sculptor
+    before, light = vp.surface, vp.lod.light
+    vertices, faces = sculptor.vertices.copy(), sculptor.faces.copy()
+    gate, bases = threading.Event(), []
+    renumbered = app.level_of_detail.renumbered
+
+    def held(index, *args):  # the release's renumbering waits for the undo
+        bases.append(index)
+        assert gate.wait(60)
+        return renumbered(index, *args)
+
+    monkeypatch.setattr(app.level_of_detail, "renumbered", held)
+    start = center_of(window)
+    QTest.mousePress(vp, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, start)
+    for k in range(1, 4):
+        QTest.mouseMove(vp, start + QPoint(8 * k, -6 * k))
+        vp.flush_tools()
+        qtbot.waitUntil(lambda: not vp.stroke_worker.running, timeout=60_000)
+    QTest.mouseRelease(vp, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, start)
+    qtbot.waitUntil(lambda: len(bases) == 1, timeout=60_000)
+    assert sculptor.faces.shape != faces.shape and vp.surface is None
+    QTest.keyClick(vp, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    gate.set()
+    qtbot.waitUntil(lambda: vp.surface is not None, timeout=60_000)
+    assert np.array_equal(sculptor.faces, faces) and np.array_equal(sculptor.vertices, vertices)
+    assert not builds and len(bases) == 2 and bases[1] is before  # chained onto the old index
+    assert vp.lod.light is light
+    assert np.array_equal(light.index.vertices, vertices[light.rows])
+    assert np.array_equal(vp.shown_vertices(), vertices)
+    _assert_index_of(vp.surface, vertices, faces, np.random.default_rng(3))
+
+
+def test_chained_changes_compose_row_by_row():
+    from app.level_of_detail import chained
+
+    first = (np.zeros((0, 3)), np.array([0, -1, 2, 3]), np.array([1, -1, 0]))
+    second = (np.zeros((0, 3)), np.array([3, 0, -1, 1]), np.array([2, 0, -1]))
+    faces, origin, face_origin = chained(first, second)
+    assert faces is first[0]
+    assert origin.tolist() == [3, 0, -1, -1] and face_origin.tolist() == [0, 1, -1]
 
 
 def _assert_index_of(index, vertices, faces, rng):
