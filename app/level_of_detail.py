@@ -481,10 +481,12 @@ class LevelOfDetail:
             self.display.update_vertices(vertices, now=True)
 
     def colors_changed(self) -> None:
-        """The mesh's direct colours changed: the drawn copy's follow."""
-        surface = self.display.surface
-        if self.shown and self.light is not None and surface is not None:
-            self.light.set_colors(self._colors(), surface.rank)
+        """The mesh's direct colours changed: the drawn copy's follow (also while the mesh's
+        index is renumbered: the colours are then in the mesh's order)."""
+        surface, mesh = self.display.surface, self.display.mesh
+        if self.shown and self.light is not None and mesh is not None:
+            rank = surface.rank if surface is not None else np.arange(mesh.n_points)
+            self.light.set_colors(self._colors(), rank)
 
     def _colors(self) -> np.ndarray | None:
         """The mesh's direct colours (N, 3) uint8 as drawn (its index's order), or None."""

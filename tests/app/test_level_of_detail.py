@@ -94,6 +94,23 @@ def test_mask_colours_reach_the_copy(big_viewport):
     assert np.array_equal(dark, mask[rows] > 0)
 
 
+def test_mask_colours_reach_the_copy_drawn_while_the_index_is_renumbered(big_viewport, qtbot):
+    """Issue 34: the copy drawn during an undo's renumbering (no index yet) gets the mask tint,
+    the colours then in the mesh's order."""
+    vp = big_viewport
+    vertices, faces = vp.surface.vertices, vp._faces
+    vp.lod.full_frame_ms = 5 * LIGHT_FRAME_MS
+    same = (faces, np.arange(len(vertices)), np.arange(len(faces)))  # a local change: none
+    vp.set_mesh(vertices, faces.copy(), reset_camera=False, background=True, renumbering=same)
+    assert vp.surface is None and vp.lod.shown
+    mask = (vertices[:, 0] > 0.2).astype(float)
+    vp.show_mask(mask)
+    colors = np.asarray(vp.lod.light.polydata.point_data["Colors"])
+    rows = vp.lod.light.rows[vp.lod.light.index.order]
+    assert np.array_equal(colors[:, 0] < 150, mask[rows] > 0)
+    qtbot.waitUntil(lambda: vp.surface is not None, timeout=60_000)
+
+
 def test_a_stroke_on_a_slow_renderer_draws_the_copy_then_the_full_mesh(window, qtbot, monkeypatch):
     monkeypatch.setattr(app.level_of_detail, "LIGHT_MIN_FACES", 1000)
     activate(window, qtbot)
