@@ -155,8 +155,8 @@ class MeshDisplay(_Base):
         if background is None:
             background = len(faces) >= BACKGROUND_INDEX_FACES
         base = self._indexed  # renumbered when a local change (or two: chained) made these faces
-        renumbering = self.lod.chain(renumbering, base, faces)
-        if not background or renumbering is None or base is None:
+        renumbering = self.lod.chain(renumbering if background else None, base, faces)
+        if renumbering is None or base is None:
             base = self._indexed = None  # a new build: the old index is not kept meanwhile
         if self.mesh_actor is not None and not in_stroke and base is None:
             self.remove_actor(self.mesh_actor, render=False)

@@ -111,6 +111,39 @@ def test_mask_colours_reach_the_copy_drawn_while_the_index_is_renumbered(big_vie
     qtbot.waitUntil(lambda: vp.surface is not None, timeout=60_000)
 
 
+@pytest.mark.parametrize("fraction", [0.01, 0.5])
+def test_renumberings_past_a_fraction_of_new_faces_start_a_sorted_build(
+    big_viewport, qtbot, monkeypatch, fraction
+):
+    """Issue 34: new faces are appended to a renumbered index unsorted; once renumberings
+    appended more than RESORT_FRACTION of the faces, a sorted build is made in the background
+    while the renumbered index serves, and takes its place (Z-order leaves, a new build's
+    picks); below it the renumbered index stays."""
+    from gogreen_core.mesh.geometry import SurfaceIndex
+
+    monkeypatch.setattr(app.level_of_detail, "RESORT_FRACTION", fraction)
+    vp = big_viewport
+    vertices, faces = vp.surface.vertices, vp._faces
+    face_origin = np.arange(len(faces))
+    face_origin[::20] = -1  # every 20th face "new": appended after the others
+    change = (faces, np.arange(len(vertices)), face_origin)
+    vp.set_mesh(vertices, faces.copy(), reset_camera=False, background=True, renumbering=change)
+    qtbot.waitUntil(lambda: vp.surface is not None, timeout=60_000)
+    renumbered = vp.surface
+    fresh = SurfaceIndex(vertices, faces)
+    assert vp.lod.appended == len(faces[::20])
+    assert not np.array_equal(renumbered.face_order, fresh.face_order)
+    if fraction > 0.05:
+        qtbot.wait(300)
+        assert vp.surface is renumbered and not vp.lod._resort.busy
+        return
+    qtbot.waitUntil(lambda: vp.surface is not renumbered, timeout=60_000)
+    assert vp.lod.appended == 0 and vp.lod.light is not None
+    _assert_index_of(vp.surface, vertices, faces, np.random.default_rng(5))
+    assert np.array_equal(vp.surface.face_order, fresh.face_order)  # sorted again
+    assert vp.mesh.n_cells == len(faces)
+
+
 def test_a_stroke_on_a_slow_renderer_draws_the_copy_then_the_full_mesh(window, qtbot, monkeypatch):
     monkeypatch.setattr(app.level_of_detail, "LIGHT_MIN_FACES", 1000)
     activate(window, qtbot)
