@@ -413,7 +413,32 @@ def _timed_release_stages(window) -> list[tuple[str, float, float]]:
     if hasattr(app.level_of_detail, "renumbered"):  # issue 34: the index renumbered
         renumbered = app.level_of_detail.renumbered
         app.level_of_detail.renumbered = timed("index renumbered (background)", renumbered)
+        _time_renumbering_stages(timed)
     return spans
+
+
+def _time_renumbering_stages(timed) -> None:
+    """Wrap the stages of a renumbered SurfaceIndex (orders kept, the face-connect pass, the
+    arrays carried over) with ``timed`` (the kernels' object is wrapped, numba's or NumPy's)."""
+    from gogreen_core.mesh import geometry
+
+    if not hasattr(geometry, "_kept_order"):
+        return
+    geometry._kept_order = timed("  renumbering: orders kept", geometry._kept_order)
+    index = geometry.SurfaceIndex
+    index._carried = timed("  renumbering: arrays carried", index._carried)
+    kernels = geometry._kernels
+
+    class Timed:
+        def __getattr__(self, name):
+            function = getattr(kernels(), name)
+            return (
+                timed("  SurfaceIndex: face-connect pass", function)
+                if name == "_connect"
+                else function
+            )
+
+    geometry._kernels = Timed
 
 
 def dynamic_stroke_stall(
