@@ -75,7 +75,7 @@ Measured 2026-11-29 (the dynamic-topology stroke; 2 cores shared, load average ~
   stroke median 2.86 s (m7 2.41 s), undo 1.71 s (m7 1.32 s), redo 2.32 s (m7 1.43 s): the
   same path (the undo waits for the index here; no sorted build: ~0.1 % of faces appended), the
   spread is the load's (run 3: 1.51 / 1.01 / 1.25 s vs m7's 2.09 / 0.83 / 1.22 s). Renumbering by
-  stage (9 renumberings): orders kept 58-483 ms (vertices and faces), the face-connect pass
+  stage (9 renumberings): orders kept 58-346 ms (vertices and faces), the face-connect pass
   73-333 ms (median 81), the arrays carried over 65-561 ms (median 203): fresh pages and
   memory traffic, not the normals; what is left for a change-proportional renumbering.
 
