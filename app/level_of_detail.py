@@ -24,6 +24,7 @@ import numpy as np
 import pyvista as pv
 from PySide6.QtCore import QTimer
 
+from app.background import BackgroundRunner
 from gogreen_core.mesh.geometry import SurfaceIndex
 
 if TYPE_CHECKING:
@@ -34,10 +35,12 @@ __all__ = [
     "LIGHT_FACES",
     "LIGHT_FRAME_MS",
     "LIGHT_MIN_FACES",
+    "RESORT_FRACTION",
     "SETTLE_MS",
     "LevelOfDetail",
     "LightMesh",
     "Renumbering",
+    "chained",
     "cluster_decimation",
     "edit_renumbering",
     "indexed",
@@ -58,6 +61,10 @@ LIGHT_MIN_FACES = 400_000
 LIGHT_FRAME_MS = 100.0
 #: The full mesh is drawn again this long (ms) after the last wheel zoom (a drag: at its end).
 SETTLE_MS = 300
+#: Faces appended by renumberings (unsorted: their leaves' boxes span the change and picks
+#: test more of them) past this fraction of the faces: a sorted build starts in the
+#: background while the renumbered index serves (:meth:`LevelOfDetail.attach`).
+RESORT_FRACTION = 0.05
 #: Multisampling (anti-aliased edges) on hardware OpenGL. Software OpenGL (Mesa's llvmpipe)
 #: draws without: there 4 samples tripled a frame of the 1M-vertex mesh and took 340 MB more.
 HARDWARE_MULTI_SAMPLES = 4
@@ -285,6 +292,13 @@ def indexing(
     return lambda _task: (renumbered(base, vertices, faces, change), light)
 
 
+def _sorted_build(
+    vertices: np.ndarray, faces: np.ndarray
+) -> Callable[[Any], tuple[SurfaceIndex, np.ndarray]]:
+    """The background job of a new (sorted) index of a mesh, and the faces it was made for."""
+    return lambda task: (SurfaceIndex(vertices, faces, task.progress), faces)
+
+
 def renumbered(
     index: SurfaceIndex, vertices: np.ndarray, faces: np.ndarray, change: Renumbering
 ) -> SurfaceIndex:
@@ -312,6 +326,19 @@ def edit_renumbering(edit: MeshEdit, faces: np.ndarray) -> Renumbering | None:
         return None
     vertex_origin = origin(edit.n_vertices, edit.new, edit.gone)
     return faces, vertex_origin, origin(edit.n_faces, edit.new_faces, edit.gone_faces)
+
+
+def chained(first: Renumbering, second: Renumbering) -> Renumbering:
+    """The change ``first`` then ``second`` (which starts from ``first``'s result) as one: each
+    row's row before ``first`` (-1: new in either)."""
+
+    def through(later: np.ndarray, earlier: np.ndarray) -> np.ndarray:
+        rows = later.copy()
+        kept = later >= 0
+        rows[kept] = earlier[later[kept]]
+        return rows
+
+    return first[0], through(second[1], first[1]), through(second[2], first[2])
 
 
 def _new_rows(origin: np.ndarray, n: int) -> np.ndarray:
@@ -351,10 +378,44 @@ class LevelOfDetail:
         self.settle_timer.setSingleShot(True)
         self.settle_timer.setInterval(SETTLE_MS)
         self.settle_timer.timeout.connect(self.show_full)
+        #: The faces shown while the index is renumbered to them, and how they came of the
+        #: indexed ones (a change arriving before that index is in is chained onto it).
+        self._pending: tuple[np.ndarray, Renumbering] | None = None
+        #: Faces appended (unsorted) to the index by renumberings since its last sorted build.
+        self.appended = 0
+        self._resort = BackgroundRunner(display)
+        self._resort.finished.connect(self._resorted)
+
+    def chain(
+        self,
+        change: Renumbering | None,
+        indexed: tuple[SurfaceIndex, np.ndarray] | None,
+        faces: np.ndarray,
+    ) -> Renumbering | None:
+        """How ``faces`` came of the faces ``indexed`` (index, faces): ``change`` if it starts
+        there; if it starts from the faces still being renumbered to (an undo pressed before
+        its stroke's index was in), that renumbering and ``change`` composed; else None."""
+        pending, self._pending = self._pending, None
+        if change is None or indexed is None:
+            return None
+        self._resort.cancel()  # the faces it sorts are gone
+        if change[0] is not indexed[1]:
+            if pending is None or change[0] is not pending[0]:
+                return None
+            change = chained(pending[1], change)
+        self._pending = faces, change
+        return change
 
     def attach(self, light: LightMesh | None) -> None:
         """Use ``light`` as the copy of the mesh just shown (None: none; the copy in use: it
-        followed the mesh to its new topology, indexed now)."""
+        followed the mesh to its new topology, indexed now). A renumbered index (its new faces
+        appended, unsorted) past :data:`RESORT_FRACTION` of new faces: a sorted build starts."""
+        pending, self._pending = self._pending, None
+        self.appended = 0 if pending is None else self.appended + int(np.sum(pending[1][2] < 0))
+        surface, faces = self.display.surface, self.display._faces
+        if pending is not None and surface is not None and faces is not None:
+            if self.appended > RESORT_FRACTION * len(faces):
+                self._resort.submit(_sorted_build(surface.vertices, faces), supersede=True)
         if light is not None and light is self.light:
             light.base = light.rows
             return
@@ -362,8 +423,22 @@ class LevelOfDetail:
         if light is not None:
             light.attach(self.display, self.display.mesh_actor)
 
+    def _resorted(self, _job: int, built: tuple[SurfaceIndex, np.ndarray]) -> None:
+        """A sorted build of the renumbered mesh ended: it serves from now on, brought up to
+        the vertices moved meanwhile; dropped if the faces changed or a stroke runs (the next
+        renumbering starts another)."""
+        surface, faces = built
+        display: Any = self.display
+        if faces is not display._faces or display.surface is None or display.in_stroke:
+            return
+        shown = display.shown_vertices()
+        surface.update(shown, surface.changed_rows(shown))
+        display._use_index(surface, self.light)
+        display.request_render()
+
     def drop(self) -> None:
         """No copy (a new mesh: the moved vertices of the old one are dropped)."""
+        self._resort.cancel()
         self._deferred = None
         self.settle_timer.stop()
         if self.light is not None:
@@ -444,10 +519,12 @@ class LevelOfDetail:
             self.display.update_vertices(vertices, now=True)
 
     def colors_changed(self) -> None:
-        """The mesh's direct colours changed: the drawn copy's follow."""
-        surface = self.display.surface
-        if self.shown and self.light is not None and surface is not None:
-            self.light.set_colors(self._colors(), surface.rank)
+        """The mesh's direct colours changed: the drawn copy's follow (also while the mesh's
+        index is renumbered: the colours are then in the mesh's order)."""
+        surface, mesh = self.display.surface, self.display.mesh
+        if self.shown and self.light is not None and mesh is not None:
+            rank = surface.rank if surface is not None else np.arange(mesh.n_points)
+            self.light.set_colors(self._colors(), rank)
 
     def _colors(self) -> np.ndarray | None:
         """The mesh's direct colours (N, 3) uint8 as drawn (its index's order), or None."""

@@ -64,8 +64,7 @@ MODEL_RGB = np.array(pv.Color(MODEL_COLOR).int_rgb, dtype=np.float64)
 MASK_SHADE = 0.6
 #: The mesh's point array of direct RGB colours (mask tint and field preview).
 COLOR_ARRAY = "SurfaceColors"
-#: Meshes with at least this many faces get their SurfaceIndex built in the background
-#: (about 25 ms of build below it: not worth a flat-shaded moment).
+#: Meshes of this many faces or more get their index built in the background (~25 ms below).
 BACKGROUND_INDEX_FACES = 200_000
 #: Direction from the model to the camera in the home view: in front (+z), a little right and above.
 HOME_VIEW_DIRECTION = (0.55, 0.4, 1.0)
@@ -155,8 +154,9 @@ class MeshDisplay(_Base):
         faces = np.asarray(faces)
         if background is None:
             background = len(faces) >= BACKGROUND_INDEX_FACES
-        base = self._indexed  # renumbered when a local change of its faces made these
-        if not background or renumbering is None or base is None or renumbering[0] is not base[1]:
+        base = self._indexed  # renumbered when a local change (or two: chained) made these faces
+        renumbering = self.lod.chain(renumbering if background else None, base, faces)
+        if renumbering is None or base is None:
             base = self._indexed = None  # a new build: the old index is not kept meanwhile
         if self.mesh_actor is not None and not in_stroke and base is None:
             self.remove_actor(self.mesh_actor, render=False)

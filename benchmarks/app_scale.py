@@ -69,6 +69,15 @@ Measured 2026-11-29 (the dynamic-topology stroke; 2 cores shared, load average ~
   at this load the fresh pages of the new arrays (~200 MB, the app gives each its own) and
   the serial face-connect pass outweigh the normals now carried over (measured alone: a
   build in given orders 250-560 ms, carried 220-480 ms).
+* round 8 (index8: an undo pressed before the release's index is in chains the two changes; a
+  sorted build in the background past 5 % of appended faces; the copy tinted during an undo):
+  three runs each interleaved with m7 (b7950e6, same script), load 3.5-6: release -> next
+  stroke median 2.86 s (m7 2.41 s), undo 1.71 s (m7 1.32 s), redo 2.32 s (m7 1.43 s): the
+  same path (the undo waits for the index here; no sorted build: ~0.1 % of faces appended), the
+  spread is the load's (run 3: 1.51 / 1.01 / 1.25 s vs m7's 2.09 / 0.83 / 1.22 s). Renumbering by
+  stage (9 renumberings): orders kept 58-346 ms (vertices and faces), the face-connect pass
+  73-333 ms (median 81), the arrays carried over 65-561 ms (median 203): fresh pages and
+  memory traffic, not the normals; what is left for a change-proportional renumbering.
 
 Goals: brush step ≤ the engine's event + 20 ms; stroke and camera frames ≥ 3× faster than
 a full frame; idle ≤ 500 MB; after Ctrl+N within 10 % of the fresh start; drivers ≤ 20 s after the
@@ -413,7 +422,32 @@ def _timed_release_stages(window) -> list[tuple[str, float, float]]:
     if hasattr(app.level_of_detail, "renumbered"):  # issue 34: the index renumbered
         renumbered = app.level_of_detail.renumbered
         app.level_of_detail.renumbered = timed("index renumbered (background)", renumbered)
+        _time_renumbering_stages(timed)
     return spans
+
+
+def _time_renumbering_stages(timed) -> None:
+    """Wrap the stages of a renumbered SurfaceIndex (orders kept, the face-connect pass, the
+    arrays carried over) with ``timed`` (the kernels' object is wrapped, numba's or NumPy's)."""
+    from gogreen_core.mesh import geometry
+
+    if not hasattr(geometry, "_kept_order"):
+        return
+    geometry._kept_order = timed("  renumbering: orders kept", geometry._kept_order)
+    index = geometry.SurfaceIndex
+    index._carried = timed("  renumbering: arrays carried", index._carried)
+    kernels = geometry._kernels
+
+    class Timed:
+        def __getattr__(self, name):
+            function = getattr(kernels(), name)
+            return (
+                timed("  SurfaceIndex: face-connect pass", function)
+                if name == "_connect"
+                else function
+            )
+
+    geometry._kernels = Timed
 
 
 def dynamic_stroke_stall(

@@ -94,6 +94,56 @@ def test_mask_colours_reach_the_copy(big_viewport):
     assert np.array_equal(dark, mask[rows] > 0)
 
 
+def test_mask_colours_reach_the_copy_drawn_while_the_index_is_renumbered(big_viewport, qtbot):
+    """Issue 34: the copy drawn during an undo's renumbering (no index yet) gets the mask tint,
+    the colours then in the mesh's order."""
+    vp = big_viewport
+    vertices, faces = vp.surface.vertices, vp._faces
+    vp.lod.full_frame_ms = 5 * LIGHT_FRAME_MS
+    same = (faces, np.arange(len(vertices)), np.arange(len(faces)))  # a local change: none
+    vp.set_mesh(vertices, faces.copy(), reset_camera=False, background=True, renumbering=same)
+    assert vp.surface is None and vp.lod.shown
+    mask = (vertices[:, 0] > 0.2).astype(float)
+    vp.show_mask(mask)
+    colors = np.asarray(vp.lod.light.polydata.point_data["Colors"])
+    rows = vp.lod.light.rows[vp.lod.light.index.order]
+    assert np.array_equal(colors[:, 0] < 150, mask[rows] > 0)
+    qtbot.waitUntil(lambda: vp.surface is not None, timeout=60_000)
+
+
+@pytest.mark.parametrize("fraction", [0.01, 0.5])
+def test_renumberings_past_a_fraction_of_new_faces_start_a_sorted_build(
+    big_viewport, qtbot, monkeypatch, fraction
+):
+    """Issue 34: new faces are appended to a renumbered index unsorted; once renumberings
+    appended more than RESORT_FRACTION of the faces, a sorted build is made in the background
+    while the renumbered index serves, and takes its place (Z-order leaves, a new build's
+    picks); below it the renumbered index stays."""
+    from gogreen_core.mesh.geometry import SurfaceIndex
+
+    monkeypatch.setattr(app.level_of_detail, "RESORT_FRACTION", fraction)
+    vp = big_viewport
+    vertices, faces = vp.surface.vertices, vp._faces
+    face_origin = np.arange(len(faces))
+    face_origin[::20] = -1  # every 20th face "new": appended after the others
+    change = (faces, np.arange(len(vertices)), face_origin)
+    vp.set_mesh(vertices, faces.copy(), reset_camera=False, background=True, renumbering=change)
+    qtbot.waitUntil(lambda: vp.surface is not None, timeout=60_000)
+    renumbered = vp.surface
+    fresh = SurfaceIndex(vertices, faces)
+    assert vp.lod.appended == len(faces[::20])
+    assert not np.array_equal(renumbered.face_order, fresh.face_order)
+    if fraction > 0.05:
+        qtbot.wait(300)
+        assert vp.surface is renumbered and not vp.lod._resort.busy
+        return
+    qtbot.waitUntil(lambda: vp.surface is not renumbered, timeout=60_000)
+    assert vp.lod.appended == 0 and vp.lod.light is not None
+    _assert_index_of(vp.surface, vertices, faces, np.random.default_rng(5))
+    assert np.array_equal(vp.surface.face_order, fresh.face_order)  # sorted again
+    assert vp.mesh.n_cells == len(faces)
+
+
 def test_a_stroke_on_a_slow_renderer_draws_the_copy_then_the_full_mesh(window, qtbot, monkeypatch):
     monkeypatch.setattr(app.level_of_detail, "LIGHT_MIN_FACES", 1000)
     activate(window, qtbot)
@@ -149,26 +199,12 @@ def test_a_dynamic_topology_stroke_keeps_the_copy_and_renumbers_the_index(
     normals, picks and faces of a new one; its undo and redo are renumbered too (the copy kept,
     no new build; the copy drawn meanwhile). The copy's new rows are found with each step, off
     the GUI thread."""
-    import app.mesh_display
     from gogreen_core.mesh.geometry import SurfaceIndex
-    from gogreen_core.mesh.mesh_io import MeshData, save_mesh
 
-    monkeypatch.setattr(app.level_of_detail, "LIGHT_MIN_FACES", 1000)
-    monkeypatch.setattr(app.mesh_display, "BACKGROUND_INDEX_FACES", 1000)
-    activate(window, qtbot)
-    vp = window.viewport
-    sculptor = window.document.sculptor
-    # without texture coordinates (their undo steps hold whole meshes, no record of the change)
-    path = str(tmp_path / "model.ply")
-    save_mesh(MeshData(sculptor.vertices, sculptor.faces), path)
-    assert window.files.open_file(path)
-    sculptor = window.document.sculptor
-    qtbot.waitUntil(lambda: vp.surface is not None, timeout=60_000)
-    vp.render_now()
+    builds = _dynamic_topology_window(window, qtbot, monkeypatch, tmp_path)
+    vp, sculptor = window.viewport, window.document.sculptor
     vp.lod.full_frame_ms = 5 * LIGHT_FRAME_MS
-    builds, follows = [], []
-    build = app.level_of_detail.indexed
-    monkeypatch.setattr(app.level_of_detail, "indexed", lambda *a: builds.append(1) or build(*a))
+    follows = []
     followed_rows = app.level_of_detail.LightMesh.followed_rows
 
     def spy(*args):  # where the copy's new rows are found: on the stroke's worker thread
@@ -176,10 +212,6 @@ def test_a_dynamic_topology_stroke_keeps_the_copy_and_renumbers_the_index(
         return followed_rows(*args)
 
     monkeypatch.setattr(app.level_of_detail.LightMesh, "followed_rows", spy)
-    window.model.dynamic_topology = True
-    window.model.detail_size = 0.004
-    window.model.brush.kind = "grab"
-    window.model.brush.radius = 0.2
     vertices, faces = sculptor.vertices.copy(), sculptor.faces.copy()
     start = center_of(window)
     QTest.mousePress(vp, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, start)
@@ -228,6 +260,80 @@ def test_a_dynamic_topology_stroke_keeps_the_copy_and_renumbers_the_index(
         fresh, index = SurfaceIndex(*now), vp.surface
         assert np.array_equal(index.normals[index.rank], fresh.normals[fresh.rank])
         assert np.array_equal(light.index.vertices, sculptor.vertices[light.rows])
+
+
+def _dynamic_topology_window(window, qtbot, monkeypatch, tmp_path):
+    """The window on a "big" copy of its model (an interaction copy, a background index),
+    dynamic topology on, a grab brush; new index builds are counted in the list returned."""
+    import app.mesh_display
+    from gogreen_core.mesh.mesh_io import MeshData, save_mesh
+
+    monkeypatch.setattr(app.level_of_detail, "LIGHT_MIN_FACES", 1000)
+    monkeypatch.setattr(app.mesh_display, "BACKGROUND_INDEX_FACES", 1000)
+    activate(window, qtbot)
+    sculptor = window.document.sculptor
+    path = str(tmp_path / "model.ply")
+    save_mesh(MeshData(sculptor.vertices, sculptor.faces), path)
+    assert window.files.open_file(path)
+    qtbot.waitUntil(lambda: window.viewport.surface is not None, timeout=60_000)
+    window.viewport.render_now()
+    builds: list[int] = []
+    build = app.level_of_detail.indexed
+    monkeypatch.setattr(app.level_of_detail, "indexed", lambda *a: builds.append(1) or build(*a))
+    window.model.dynamic_topology = True
+    window.model.detail_size = 0.004
+    window.model.brush.kind = "grab"
+    window.model.brush.radius = 0.2
+    return builds
+
+
+def test_an_undo_before_the_strokes_index_is_in_chains_the_renumberings(
+    window, qtbot, monkeypatch, tmp_path
+):
+    """Issue 34: an undo pressed while the release still renumbers the index renumbers the
+    index from before the stroke by the two changes composed (no new build) to a new build's
+    normals and picks; the copy kept, at the restored vertices."""
+    builds = _dynamic_topology_window(window, qtbot, monkeypatch, tmp_path)
+    vp, sculptor = window.viewport, window.document.sculptor
+    before, light = vp.surface, vp.lod.light
+    vertices, faces = sculptor.vertices.copy(), sculptor.faces.copy()
+    gate, bases = threading.Event(), []
+    renumbered = app.level_of_detail.renumbered
+
+    def held(index, *args):  # the release's renumbering waits for the undo
+        bases.append(index)
+        assert gate.wait(60)
+        return renumbered(index, *args)
+
+    monkeypatch.setattr(app.level_of_detail, "renumbered", held)
+    start = center_of(window)
+    QTest.mousePress(vp, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, start)
+    for k in range(1, 4):
+        QTest.mouseMove(vp, start + QPoint(8 * k, -6 * k))
+        vp.flush_tools()
+        qtbot.waitUntil(lambda: not vp.stroke_worker.running, timeout=60_000)
+    QTest.mouseRelease(vp, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, start)
+    qtbot.waitUntil(lambda: len(bases) == 1, timeout=60_000)
+    assert sculptor.faces.shape != faces.shape and vp.surface is None
+    QTest.keyClick(vp, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+    gate.set()
+    qtbot.waitUntil(lambda: vp.surface is not None, timeout=60_000)
+    assert np.array_equal(sculptor.faces, faces) and np.array_equal(sculptor.vertices, vertices)
+    assert not builds and len(bases) == 2 and bases[1] is before  # chained onto the old index
+    assert vp.lod.light is light
+    assert np.array_equal(light.index.vertices, vertices[light.rows])
+    assert np.array_equal(vp.shown_vertices(), vertices)
+    _assert_index_of(vp.surface, vertices, faces, np.random.default_rng(3))
+
+
+def test_chained_changes_compose_row_by_row():
+    from app.level_of_detail import chained
+
+    first = (np.zeros((0, 3)), np.array([0, -1, 2, 3]), np.array([1, -1, 0]))
+    second = (np.zeros((0, 3)), np.array([3, 0, -1, 1]), np.array([2, 0, -1]))
+    faces, origin, face_origin = chained(first, second)
+    assert faces is first[0]
+    assert origin.tolist() == [3, 0, -1, -1] and face_origin.tolist() == [0, 1, -1]
 
 
 def _assert_index_of(index, vertices, faces, rng):
