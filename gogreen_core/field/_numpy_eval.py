@@ -43,7 +43,7 @@ def _geometry(offsets: np.ndarray, eps: float, power: int, n_seg: int) -> tuple[
         inv = np.where(positive, 1.0 / r, 0.0)
         inv_re = 1.0 / (r + eps)
     u = np.minimum(r * inv_re, 1.0) * n_seg
-    fj = np.minimum(np.floor(u), n_seg - 1.0)
+    fj = np.fmin(np.floor(u), n_seg - 1.0)  # fmin: an overflowed stage's NaN ends NaN, refused
     scale = inv_re if power == 1 else inv_re * inv_re
     sigma = 2.0 * (u - fj)
     scale1 = np.where(positive, scale, 0.0)
