@@ -466,7 +466,7 @@ class LevelOfDetail:
         indexed: the copy follows it (:meth:`LightMesh.follow`), still drawn if it was, and
         drawn now (without colours) if full frames are slow (an undo, a redo: no flat frame
         of the mesh while its index is renumbered); the vertices moved meanwhile are dropped
-        (the mesh's index is made anew)."""
+        (the mesh's index is renumbered from the change)."""
         self._deferred = None
         if self.light is not None:
             self.light.follow(vertices, faces, change, base)

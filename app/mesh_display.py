@@ -147,9 +147,9 @@ class MeshDisplay(_Base):
         nothing and a left press emits ``surface_pending`` instead of starting a stroke.
         ``in_stroke``: new faces during a stroke (dynamic topology), drawn into the same actor
         (cursor, pins, mask tint kept), a big mesh flat-shaded without an index until the
-        stroke ends. ``renumbering``: how a local change (the sculptor's, dynamic topology)
-        made these faces of the indexed ones: a big mesh's index is renumbered instead (a
-        fraction of a build), its interaction copy and actor kept (:meth:`LevelOfDetail.follow`)."""
+        stroke ends. ``renumbering``: how a local change (a dynamic-topology stroke, its undo or
+        redo, or two chained) made these faces of the indexed ones: a big mesh's index is
+        renumbered instead, its interaction copy and actor kept (:meth:`LevelOfDetail.follow`)."""
         vertices = np.array(vertices, dtype=np.float64)  # our copy: VTK draws it
         faces = np.asarray(faces)
         if background is None:

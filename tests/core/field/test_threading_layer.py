@@ -61,5 +61,5 @@ def test_run_ranges_covers_the_items_in_few_shrinking_ranges():
     assert all(a[1] == b[0] for a, b in itertools.pairwise(ranges))
     sizes = [last - first for first, last in ranges]
     assert min(sizes) >= 2 and sizes == sorted(sizes, reverse=True)
-    assert len(ranges) <= 16  # (64 equal ranges before)
+    assert len(ranges) <= 16  # guided: few calls, each unboxes its arguments
     assert sizes[-1] <= 493 // 64 + 1  # the last as small as 64 equal ones
