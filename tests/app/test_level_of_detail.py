@@ -122,6 +122,11 @@ def test_renumberings_past_a_fraction_of_new_faces_start_a_sorted_build(
     from gogreen_core.mesh.geometry import SurfaceIndex
 
     monkeypatch.setattr(app.level_of_detail, "RESORT_FRACTION", fraction)
+    # the sorted build waits until the renumbered index was looked at (else, on a small mesh,
+    # it may take over before the test first sees the renumbered one)
+    gate, build = threading.Event(), app.level_of_detail._sorted_build
+    held = lambda v, f: lambda task: (gate.wait(60), build(v, f)(task))[1]  # noqa: E731
+    monkeypatch.setattr(app.level_of_detail, "_sorted_build", held)
     vp = big_viewport
     vertices, faces = vp.surface.vertices, vp._faces
     face_origin = np.arange(len(faces))
@@ -133,6 +138,7 @@ def test_renumberings_past_a_fraction_of_new_faces_start_a_sorted_build(
     fresh = SurfaceIndex(vertices, faces)
     assert vp.lod.appended == len(faces[::20])
     assert not np.array_equal(renumbered.face_order, fresh.face_order)
+    gate.set()
     if fraction > 0.05:
         qtbot.wait(300)
         assert vp.surface is renumbered and not vp.lod._resort.busy
