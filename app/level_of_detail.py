@@ -417,7 +417,7 @@ class LevelOfDetail:
             if self.appended > RESORT_FRACTION * len(faces):
                 self._resort.submit(_sorted_build(surface.vertices, faces), supersede=True)
         if light is not None and light is self.light:
-            light.base = light.rows
+            light.base, light.ahead = light.rows, None  # its change is in: the rows found go
             return
         self.light = light
         if light is not None:
