@@ -260,15 +260,16 @@ class _Patch:
         corners = faces.ravel()
         face_of = np.repeat(np.arange(len(faces)), 3)
         weight = np.bincount(corners, area[face_of], minlength=n)
-        moving = free & (weight > 0)
+        vertex_normal = _gathered_sum(corners, np.ascontiguousarray(normal.T), face_of, n)
+        length = np.linalg.norm(vertex_normal, axis=1)
+        moving = free & (length > 0)  # no tangent plane (a fold's normals cancel): stays
         if not moving.any():
             return
         columns = np.ascontiguousarray((area[:, None] * centroid).T)
         centre = _gathered_sum(corners, columns, face_of, n)
-        vertex_normal = _gathered_sum(corners, np.ascontiguousarray(normal.T), face_of, n)
         rows = np.flatnonzero(moving)
         centre = centre[rows] / weight[rows, None]
-        unit = vertex_normal[rows] / np.linalg.norm(vertex_normal[rows], axis=1)[:, None]
+        unit = vertex_normal[rows] / length[rows, None]
         step = centre - points[rows]
         step -= np.einsum("ij,ij->i", step, unit)[:, None] * unit
         goal = points[rows] + step

@@ -722,3 +722,32 @@ def test_a_texture_row_shared_with_far_corners_is_kept():
     assert done.uv_faces.min() >= 0 and done.uv_faces.max() < len(done.uv)
     carried = done.uv_faces[: np.count_nonzero(done.kept_faces)]
     assert np.array_equal(carried, done.uv_kept[uv_faces[done.kept_faces]])
+
+
+def test_a_free_vertex_whose_normals_cancel_stays_put_in_the_relaxation():
+    """A fold's vertex whose faces' normals sum to exactly zero has no tangent plane: the
+    relaxation leaves it where it is (it ended the stroke with a shape mismatch, or NaN) and
+    still moves the others."""
+    fold = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 0.5, 0], [0, -1, 0]]  # normals +z -z -z +z
+    angles = np.arange(6) * np.pi / 3
+    fan = np.column_stack([5 + np.cos(angles), np.sin(angles), np.zeros(6)])
+    points = np.concatenate([fold, [[5.2, 0.1, 0.0]], fan])
+    faces = np.array(
+        [[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 1]]
+        + [[5, 6 + k, 6 + (k + 1) % 6] for k in range(6)]
+    )
+    n = len(points)
+    closed = np.isin(np.arange(n), [0, 5])
+    patch = remesh_module._Patch(
+        points.copy(),
+        faces,
+        closed,
+        np.zeros(n, bool),
+        np.zeros(n),
+        np.ones(n),
+        None,
+        np.full((len(faces), 3), -1),
+    )
+    patch.relax(1e-12)
+    assert np.array_equal(patch.points[0], [0, 0, 0])
+    assert not np.array_equal(patch.points[5], points[5]) and np.isfinite(patch.points).all()
