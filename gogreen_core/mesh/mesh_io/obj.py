@@ -30,10 +30,10 @@ _Statement = tuple[int, list[str], str]
 
 def read_obj(data: bytes, name: str) -> MeshData:
     text, firsts = _statements(data)
-    arr = np.frombuffer(text + b"   ", dtype=np.uint8)
+    arr = np.frombuffer(text, dtype=np.uint8)
     ends = np.flatnonzero(arr == ord("\n"))
     starts = np.concatenate([[0], ends[:-1] + 1])
-    c0, c1, c2 = arr[starts], arr[starts + 1], arr[starts + 2]
+    c0, c1, c2 = (arr[np.minimum(starts + k, len(arr) - 1)] for k in range(3))
     kinds = {
         b"v ": (c0 == ord("v")) & (c1 == _SPACE),
         b"vt ": (c0 == ord("v")) & (c1 == ord("t")) & (c2 == _SPACE),
@@ -68,23 +68,21 @@ def read_obj(data: bytes, name: str) -> MeshData:
         raise MeshFileError(f"{name}: no vertices (empty or not an OBJ file)")
     if not len(sizes):
         raise MeshFileError(f"{name}: no faces (the file has only points)")
-    vertex_lines, face_lines = (lines[kinds[tag]] for tag in (b"v ", b"f "))
-    last_corners = np.cumsum(sizes)
     if (bad := first_non_finite(v)) is not None:
         raise MeshFileError(
-            f"{name}, line {vertex_lines[bad]}: vertex {bad + 1} has a non-finite coordinate "
-            f"{v[bad].tolist()}"
+            f"{name}, line {lines[kinds[b'v ']][bad]}: vertex {bad + 1} has a non-finite "
+            f"coordinate {v[bad].tolist()}"
         )
     for indices, count, what in ((corners, len(v), "vertex"), (textures, len(uv), "texture")):
         outside = indices >= count
         if outside.any():
             bad = int(np.argmax(outside))
-            polygon = int(np.searchsorted(last_corners, bad, side="right"))
+            polygon = int(np.searchsorted(np.cumsum(sizes), bad, side="right"))
             face, have = f"face {polygon + 1}", f"{count} vertices"
             if what == "texture":
                 face, what, have = "face", "texture coordinate", f"{count} texture coordinates"
             raise MeshFileError(
-                f"{name}, line {face_lines[polygon]}: {face} references {what} "
+                f"{name}, line {lines[kinds[b'f ']][polygon]}: {face} references {what} "
                 f"{int(indices[bad]) + 1} but the file has {have}"
             )
     triangles = triangulate(v, corners, sizes)
@@ -133,7 +131,12 @@ def _statements(data: bytes) -> tuple[bytes, np.ndarray | None]:
     text = without_dos_eof(data).removeprefix(BOM.encode())
     if b"\r" in text:
         text = text.replace(b"\r\n", b"\n").replace(b"\r", b"\n")
-    text = re.sub(rb"#[^\n]*", b"", text + b"\n") if b"#" in text else text + b"\n"
+    if not text.endswith(b"\n"):
+        text += b"\n"
+    if (first := text.find(b"#")) >= 0:  # the text between comments only: a header's is cheap
+        last, view = text.find(b"\n", text.rfind(b"#")), memoryview(text)
+        comments = re.sub(rb"#[^\n]*", b"", text[first:last])
+        text = b"".join([view[:first], comments, view[last:]])
     if b"\\" not in text:
         return text, None
     decoded = text.decode("utf-8", "replace")  # (any Unicode space may follow the backslash)
@@ -156,25 +159,18 @@ def _pieces(
             continue
         edges = np.diff(np.concatenate([[0], keep.view(np.int8), [0]]))
         first, last = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
-        if len(first) <= _MAX_RUNS:  # runs of lines of this kind: copy them whole
-            bounds = zip(starts[first].tolist(), (ends[last] + 1).tolist(), strict=True)
-            piece = b"".join([text[a:b] for a, b in bounds])
+        if len(first) <= _MAX_RUNS:  # runs of lines of this kind: copied whole, once
+            begin, end, view = starts[first], ends[last] + 1, memoryview(text)
+            begin[0], end[-1] = begin[0] + len(tag), end[-1] - 1
+            pieces[tag] = b"".join([view[a:b] for a, b in np.column_stack([begin, end]).tolist()])
         else:
             mask = np.repeat(keep, ends - starts + 1)
-            piece = np.frombuffer(text, dtype=np.uint8)[mask].tobytes()
-        pieces[tag] = piece[len(tag) : -1]
+            pieces[tag] = np.frombuffer(text, dtype=np.uint8)[mask].tobytes()[len(tag) : -1]
     return pieces
 
 
 class _Refused(Exception):
     """A statement that is not OBJ; the message says why."""
-
-
-def _numbers(words: list[str], content: str) -> tuple[float, ...]:
-    try:
-        return tuple(map(float, words))
-    except ValueError:
-        raise _Refused(f"bad number in {content.strip()!r}") from None
 
 
 def _coordinates(
@@ -202,7 +198,10 @@ def _coordinates(
             raise _Refused(
                 "a vertex needs 3 coordinates" if width == 3 else "empty texture coordinate"
             )
-        values = _numbers(words[1 : width + 1], content)
+        try:
+            values = tuple(map(float, words[1 : width + 1]))
+        except ValueError:
+            raise _Refused(f"bad number in {content.strip()!r}") from None
         if width == 2 and not np.isfinite(values).all():
             raise _Refused(
                 f"texture coordinate {len(rows) + 1} has a non-finite value {list(values)}"
@@ -318,7 +317,7 @@ def _numbers_per_line(
     if len(text) - len(piece) != (lines - 1) * (len(between) - len(tag) - 1):
         return None  # a line without the tag among them
     try:
-        values = parse_numbers(text + b" " + sentinel, dtype)
+        values = parse_numbers(b" ".join([text, sentinel]), dtype)
     except ValueError:
         return None
     marks = np.flatnonzero(np.isnan(values) if sentinel == b"nan" else values == 0)

@@ -49,8 +49,10 @@ def parse_numbers(text: bytes, dtype: type[np.generic]) -> np.ndarray:
 def without_dos_eof(data: bytes) -> bytes:
     """``data`` without a DOS end-of-file byte (and what follows it, whitespace only) at its
     end."""
-    end = data.rstrip(b" \t\r\n\0")
-    return end[:-1] if end.endswith(DOS_EOF) else data
+    end = len(data)
+    while end and data[end - 1] in b" \t\r\n\0":  # (rstrip would copy a large file)
+        end -= 1
+    return data[: end - 1] if data[end - 1 : end] == DOS_EOF else data
 
 
 def text_lines(data: bytes) -> str:
