@@ -216,13 +216,6 @@ class SculptTools:
         self._ring_thread = threading.Thread(target=work, name="cursor ring", daemon=True)
         self._ring_thread.start()
 
-    def wait_ring(self, timeout: float | None = None) -> bool:
-        """Block until the worker's ring is computed (tests, scripts); False on time-out."""
-        if self._ring_thread is not None:
-            self._ring_thread.join(timeout)
-            return not self._ring_thread.is_alive()
-        return True
-
     def _cursor_axes(self, point: np.ndarray) -> np.ndarray | None:
         """:func:`cursor_axes` where the cursor rests (None for a brush without a Green's
         function field)."""

@@ -203,7 +203,9 @@ def test_new_settings_do_not_stall_the_pointer_the_ring_comes_from_a_worker(mode
     settings.falloff = SplineRadial.from_profile(KelvinletRadial(1.0), settings.l_max)
     assert tools.cursor.place(point, normal).moving_radius == before  # at once: the old ring
     go.set()
-    assert ready.wait(60) and tools.wait_ring(60)
+    assert ready.wait(60) and tools._ring_thread is not None
+    tools._ring_thread.join(60)  # the worker has finished its ring
+    assert not tools._ring_thread.is_alive()
     assert threads and threading.get_ident() not in threads
     after = tools.cursor.place(point, normal).moving_radius
     assert after != before  # the Kelvinlet's ring, computed on the worker
