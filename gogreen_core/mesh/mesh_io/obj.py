@@ -252,8 +252,7 @@ def _faces(
         polygons.append(len(pos))
 
     _each(statements, read, errors, *(c.tolist() for c in counted))
-    c, t, p = (np.array(x, dtype=np.int64) for x in (corners, textures, polygons))
-    return c, t, p
+    return np.array(corners, np.int64), np.array(textures, np.int64), np.array(polygons, np.int64)
 
 
 def _each(
