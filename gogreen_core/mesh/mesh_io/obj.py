@@ -41,7 +41,8 @@ def read_obj(data: bytes, name: str) -> MeshData:
     }
     lines = np.arange(1, len(starts) + 1) if firsts is None else firsts
     errors: list[tuple[int, str]] = []  # (line, message): the first of each kind of statement
-    ignored = (starts == ends) | ((c0 == ord("v")) & (c1 == ord("n")) & (c2 == _SPACE))
+    ignored = (starts == ends) | (c0 == ord("#"))  # blank, a comment line, a normal:
+    ignored |= (c0 == ord("v")) & (c1 == ord("n")) & (c2 == _SPACE)
     for i in np.flatnonzero(~(kinds[b"v "] | kinds[b"vt "] | kinds[b"f "] | ignored)).tolist():
         words = text[starts[i] : ends[i]].decode(errors="replace").split()  # g, s, usemtl...
         tag = words[0] if words else ""
@@ -125,16 +126,17 @@ OBJ_STATEMENTS = frozenset(
 
 def _statements(data: bytes) -> tuple[bytes, np.ndarray | None]:
     """The statements of an OBJ file (its text as :func:`text_lines` reads it) one a line, each
-    ending in a line end: comments removed, and a line that ends in a backslash joined with the
-    next (the specification's continuation; Rhino writes long faces so); and the first line of
-    each statement (None: the statements are the lines)."""
+    ending in a line end: comments removed (whole comment lines may stay), and a line that ends
+    in a backslash joined with the next (the specification's continuation; Rhino writes long
+    faces so); and the first line of each statement (None: the statements are the lines)."""
     text = without_dos_eof(data).removeprefix(BOM.encode())
     if b"\r" in text:
         text = text.replace(b"\r\n", b"\n").replace(b"\r", b"\n")
     if not text.endswith(b"\n"):
         text += b"\n"
-    if (first := text.find(b"#")) >= 0:  # the text between comments only: a header's is cheap
-        last, view = text.find(b"\n", text.rfind(b"#")), memoryview(text)
+    first, last = text.find(b"#"), text.find(b"\n", text.rfind(b"#"))  # (whole lines stay)
+    if first >= 0 and (b"\\" in text or re.search(rb"[^\n]#", text[max(first - 1, 0) : last])):
+        view = memoryview(text)  # a comment after a statement, or continuations: cut them
         comments = re.sub(rb"#[^\n]*", b"", text[first:last])
         text = b"".join([view[:first], comments, view[last:]])
     if b"\\" not in text:
