@@ -30,7 +30,6 @@ from gogreen_core.validation import ParameterError, check_bool, check_integer, c
 
 __all__ = ["Pins"]
 
-_NO_ROWS = np.zeros((0, 3))
 #: A pin's influence test: the ball about its point (no step, no mirror image).
 _NO_STEP = np.zeros(3)
 _ONE_IMAGE = np.ones((1, 3))
@@ -96,7 +95,7 @@ class Pins:
         p = self.mesh.check_point("point", point)
         constraints = self.constraints
         if constraints is None:
-            constraints = self.built(self._kernels(), _NO_ROWS)
+            constraints = self.built(self._kernels(), np.zeros((0, 3)))
         before = constraints.points
         index = constraints.add(p)
         self.constraints = constraints

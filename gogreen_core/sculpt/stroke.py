@@ -51,7 +51,6 @@ CORE_MOTION = 0.25
 #: Rounds of split, collapse, flip and relaxation after each event.
 DYNAMIC_ITERATIONS = 1
 _NO_INDEX = np.zeros(0, dtype=np.int64)
-_NO_ROWS = np.zeros((0, 3))
 
 
 def blend_by_mask(old: np.ndarray, new: np.ndarray, held: np.ndarray) -> np.ndarray:
@@ -94,7 +93,7 @@ class StrokeDriver:
         self._stroke: _Stroke | None = None
         self._rows = np.empty((0, 3))  # the brushes' result rows, grown as needed
         #: The pins' points (k, 3): dynamic topology never moves nor removes their vertices.
-        self.pin_points: Callable[[], np.ndarray] = lambda: _NO_ROWS
+        self.pin_points: Callable[[], np.ndarray] = lambda: np.zeros((0, 3))
 
     @property
     def active(self) -> bool:
