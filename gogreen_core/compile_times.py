@@ -15,7 +15,6 @@ from collections.abc import Mapping, Sequence
 from gogreen_core._compile_lock import cache_folder
 
 __all__ = [
-    "BUILT_IN_WEIGHTS",
     "SECONDS_PER_WEIGHT",
     "record",
     "recorded",
@@ -24,9 +23,14 @@ __all__ = [
     "weight",
 ]
 
-#: Relative compile times of the named units, the drivers 1 (measured one unit at a time on an
-#: empty cache on the project's 2-core machine, under load).
-BUILT_IN_WEIGHTS = {"drivers": 1.0, "geometry": 0.22, "mesh_io": 0.10, "brushes": 0.04}
+#: The named units: relative compile time, the drivers 1 (measured one unit at a time on an
+#: empty cache on the project's 2-core machine, under load), and what the status bar calls it.
+_UNITS = {
+    "drivers": (1.0, "field drivers"),
+    "geometry": (0.22, "surface index"),
+    "mesh_io": (0.10, "mesh readers"),
+    "brushes": (0.04, "paint brushes"),
+}
 #: An angular kernel (l_first, l_last): this weight per degree up to l_last.
 ANGULAR_WEIGHT_PER_DEGREE = 0.0115
 #: Seconds of weight 1 when nothing was measured: a first start on a quiet machine took 40 s
@@ -34,13 +38,6 @@ ANGULAR_WEIGHT_PER_DEGREE = 0.0115
 SECONDS_PER_WEIGHT = 25.0
 #: The file of measured seconds per unit, beside numba's disk cache (``cache_folder``).
 FILE_NAME = "gogreen-compile-times.json"
-
-_NAMES = {
-    "drivers": "field drivers",
-    "geometry": "surface index",
-    "mesh_io": "mesh readers",
-    "brushes": "paint brushes",
-}
 
 
 def _key(unit: str | tuple[int, ...]) -> str:
@@ -50,14 +47,14 @@ def _key(unit: str | tuple[int, ...]) -> str:
 def unit_name(unit: str | tuple[int, ...]) -> str:
     """What ``unit`` is, for the status bar: "field drivers", "angular kernel, degrees 0–8"."""
     if isinstance(unit, str):
-        return _NAMES.get(unit, unit.replace("_", " "))
+        return _UNITS[unit][1] if unit in _UNITS else unit.replace("_", " ")
     return f"angular kernel, degrees {unit[0]}–{unit[-1]}"
 
 
 def weight(unit: str | tuple[int, ...]) -> float | None:
     """The built-in relative compile time of ``unit`` (None for a unit it does not know)."""
     if isinstance(unit, str):
-        return BUILT_IN_WEIGHTS.get(unit)
+        return _UNITS[unit][0] if unit in _UNITS else None
     return ANGULAR_WEIGHT_PER_DEGREE * (unit[-1] + 1)
 
 

@@ -27,7 +27,7 @@ LAYERS = ("physics", "field", "mesh", "sculpt", "files", "interaction")
 MAX_TOP_LEVEL_MODULES = 12
 #: Most hand-written lines of the core (generated code aside; blank lines and docstrings count):
 #: new code pays for itself by cuts. Issue 33 asks for 20,395; lower this as the core shrinks.
-MAX_CORE_LINES = 20_588
+MAX_CORE_LINES = 20_585
 
 
 def _modules(package: str) -> dict[str, Path]:
