@@ -419,35 +419,41 @@ def _timed_release_stages(window) -> list[tuple[str, float, float]]:
     tools.flush = timed("brush step", tools.flush)
     built = app.level_of_detail.indexed
     app.level_of_detail.indexed = timed("index and copy built anew (background)", built)
-    if hasattr(app.level_of_detail, "renumbered"):  # issue 34: the index renumbered
-        renumbered = app.level_of_detail.renumbered
-        app.level_of_detail.renumbered = timed("index renumbered (background)", renumbered)
-        _time_renumbering_stages(timed)
+    refreshed = app.level_of_detail.refreshed_polydata
+    app.level_of_detail.refreshed_polydata = timed("  VTK arrays refreshed in place", refreshed)
+    import app.mesh_display
+
+    app.mesh_display.refreshed_polydata = app.level_of_detail.refreshed_polydata
+    _time_renumbering_stages(timed)
     return spans
 
 
 def _time_renumbering_stages(timed) -> None:
-    """Wrap the stages of a renumbered SurfaceIndex (orders kept, the face-connect pass, the
-    arrays carried over) with ``timed`` (the kernels' object is wrapped, numba's or NumPy's)."""
+    """Wrap SurfaceIndex.renumber (in place, on the GUI thread) and its stages (the slot maps
+    of vertices and faces, the face and block lists rewritten, the rows that moved found, the
+    normals and face normals of what changed) with ``timed``."""
     from gogreen_core.mesh import geometry
 
-    if not hasattr(geometry, "_kept_order"):
-        return
-    geometry._kept_order = timed("  renumbering: orders kept", geometry._kept_order)
     index = geometry.SurfaceIndex
-    index._carried = timed("  renumbering: arrays carried", index._carried)
-    kernels = geometry._kernels
+    inside = [False]
 
-    class Timed:
-        def __getattr__(self, name):
-            function = getattr(kernels(), name)
-            return (
-                timed("  SurfaceIndex: face-connect pass", function)
-                if name == "_connect"
-                else function
-            )
+    def renumber(self, *args):
+        inside[0] = True
+        try:
+            return timed("index renumbered in place (GUI thread)", plain)(self, *args)
+        finally:
+            inside[0] = False
 
-    geometry._kernels = Timed
+    def stage(name, function):
+        wrapped = timed(name, function)
+        return lambda *a, **k: (wrapped if inside[0] else function)(*a, **k)
+
+    plain = index.renumber
+    index.renumber = renumber
+    geometry._carried_slots = timed("  renumbering: slot maps", geometry._carried_slots)
+    index._relist = timed("  renumbering: face and block lists", index._relist)
+    index.changed_rows = stage("  renumbering: moved rows found", index.changed_rows)
+    index.update = stage("  renumbering: normals of what changed", index.update)
 
 
 def dynamic_stroke_stall(
