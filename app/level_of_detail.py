@@ -89,10 +89,12 @@ def _shares(mesh: pv.PolyData, surface: SurfaceIndex) -> bool:
     )
 
 
-def refreshed_polydata(mesh: pv.PolyData, surface: SurfaceIndex) -> tuple[pv.PolyData, bool]:
+def refreshed_polydata(mesh: pv.PolyData | None, surface: SurfaceIndex) -> tuple[pv.PolyData, bool]:
     """``mesh`` (of :func:`indexed_polydata`) after ``surface`` was renumbered in place: its
     arrays marked modified where their slots were written in place, wrapped again (no copy)
     where slots were added or the index's room grew; and whether VTK shares them."""
+    if mesh is None:
+        return indexed_polydata(surface)
     if mesh.n_points != len(surface.positions) or mesh.n_cells != len(surface.faces):
         mesh.points = surface.positions
         mesh.point_data["Normals"] = surface.normals
@@ -301,12 +303,24 @@ def indexed(
 
 
 def indexing(
-    vertices: np.ndarray, faces: np.ndarray
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    base: SurfaceIndex | None = None,
+    change: Renumbering | None = None,
+    light: LightMesh | None = None,
 ) -> Callable[[Any], tuple[SurfaceIndex, LightMesh | None]]:
-    """The background job indexing a mesh (:func:`indexed`; it reads a copy of ``vertices``:
-    the view's may move)."""
+    """The background job indexing a mesh (it reads a copy of ``vertices``: the view's may
+    move): ``base`` renumbered in place by ``change`` (nothing else may touch it meanwhile),
+    with the copy ``light`` (which followed the change), or a new index and copy."""
     vertices = vertices.copy()
-    return lambda task: indexed(vertices, faces, task.progress)
+    if base is None or change is None:
+        return lambda task: indexed(vertices, faces, task.progress)
+
+    def renumbered(_task: Any) -> tuple[SurfaceIndex, LightMesh | None]:
+        base.renumber(vertices, faces, change[1], change[2])
+        return base, light
+
+    return renumbered
 
 
 def _sorted_build(
@@ -494,8 +508,8 @@ class LevelOfDetail:
             self.display.update_vertices(vertices, now=True)
 
     def colors_changed(self) -> None:
-        """The mesh's direct colours changed: the drawn copy's follow (also while the mesh's
-        index is renumbered: the colours are then in the mesh's order)."""
+        """The mesh's direct colours changed: the drawn copy's follow (also during a
+        dynamic-topology stroke, the mesh without an index: the colours in the mesh's order)."""
         surface, mesh = self.display.surface, self.display.mesh
         if self.shown and self.light is not None and mesh is not None:
             rank = surface.rank if surface is not None else np.arange(mesh.n_points)

@@ -146,11 +146,13 @@ class MeshDisplay(_Base):
         new faces during a stroke (dynamic topology; cursor, pins, mask tint kept), a big mesh
         flat until the stroke ends. ``renumbering``: how a local change (a dynamic-topology
         stroke, its undo or redo) made these faces of the indexed ones: a big mesh's index is
-        renumbered in place (the slots VTK draws), its interaction copy and actor kept."""
+        renumbered in place (an undo's, a redo's at once), its copy and actor kept."""
         vertices = np.array(vertices, dtype=np.float64)  # our copy: VTK draws it
         faces = np.asarray(faces)
         if background is None:
             background = len(faces) >= BACKGROUND_INDEX_FACES
+        if self._index_job is not None and self._indexed is not None:
+            self._index_runner.wait()  # the renumbering running (in place, of that index) first
         base = self._indexed  # renumbered when a local change made these faces
         renumbering = self.lod.chain(renumbering if background else None, base, faces)
         if renumbering is None or base is None:
@@ -174,13 +176,14 @@ class MeshDisplay(_Base):
         self._index_runner.cancel()
         self._index_job = None
         drawn, self.surface, self._faces = self.surface, None, faces
-        if base is not None and renumbering is not None and not in_stroke:
-            base[0].renumber(vertices, faces, renumbering[1], renumbering[2])
-            self._use_index(base[0], self.lod.light, base[0] is drawn)
-        elif background:
+        old = None if base is None or renumbering is None or in_stroke else base[0]
+        if old is not None and old is drawn and renumbering is not None:  # an undo, a redo:
+            old.renumber(vertices, faces, renumbering[1], renumbering[2])  # at once, VTK's arrays
+            self._use_index(old, self.lod.light, True)
+        elif background:  # (a stroke's release: its index, not drawn, renumbered there)
             self._show(pv.PolyData.from_regular_faces(vertices, self._faces))
             if not in_stroke:
-                job = indexing(vertices, faces)
+                job = indexing(vertices, faces, old, renumbering, self.lod.light)
                 self._index_job = self._index_runner.submit(job, supersede=True)
         else:
             self._use_index(*indexed(vertices, self._faces))
@@ -394,14 +397,10 @@ class MeshDisplay(_Base):
     def _use_index(
         self, surface: SurfaceIndex, light: LightMesh | None = None, drawn: bool = False
     ) -> None:
-        """Draw the mesh from ``surface``'s arrays (VTK wraps them: the per-event updates
-        write them in place) and pick on it; ``light``: its interaction copy. ``drawn``: the
-        actor draws it already (renumbered in place: its arrays marked modified)."""
-        mesh, self._arrays_shared = (
-            refreshed_polydata(self.mesh, surface)
-            if drawn and self.mesh is not None
-            else indexed_polydata(surface)
-        )
+        """Draw the mesh from ``surface``'s arrays (VTK wraps them: updates write them in
+        place) and pick on it; ``light``: its copy. ``drawn``: drawn already (renumbered)."""
+        polydata = refreshed_polydata(self.mesh, surface) if drawn else indexed_polydata(surface)
+        mesh, self._arrays_shared = polydata
         self.surface = surface
         assert self._faces is not None
         self._indexed = (surface, self._faces)

@@ -419,18 +419,24 @@ def _timed_release_stages(window) -> list[tuple[str, float, float]]:
     tools.flush = timed("brush step", tools.flush)
     built = app.level_of_detail.indexed
     app.level_of_detail.indexed = timed("index and copy built anew (background)", built)
-    refreshed = app.level_of_detail.refreshed_polydata
-    app.level_of_detail.refreshed_polydata = timed("  VTK arrays refreshed in place", refreshed)
     import app.mesh_display
 
-    app.mesh_display.refreshed_polydata = app.level_of_detail.refreshed_polydata
+    refreshed = app.level_of_detail.refreshed_polydata
+    if os.environ.get("GOGREEN_BENCH_FRESH_ARRAYS"):  # the other way: a new PolyData each time
+        fresh = app.level_of_detail.indexed_polydata
+        app.mesh_display.refreshed_polydata = timed(
+            "  VTK given a new PolyData", lambda _mesh, surface: fresh(surface)
+        )
+    else:
+        app.mesh_display.refreshed_polydata = timed("  VTK arrays refreshed in place", refreshed)
     _time_renumbering_stages(timed)
     return spans
 
 
 def _time_renumbering_stages(timed) -> None:
-    """Wrap SurfaceIndex.renumber (in place, on the GUI thread) and its stages (the slot maps
-    of vertices and faces, the face and block lists rewritten, the rows that moved found, the
+    """Wrap SurfaceIndex.renumber (in place: an undo's or a redo's on the GUI thread, a
+    release's on the background thread) and its stages (the slot maps
+    of vertices and faces, the face lists rewritten, the rows that moved found, the
     normals and face normals of what changed) with ``timed``."""
     from gogreen_core.mesh import geometry
 
@@ -440,7 +446,7 @@ def _time_renumbering_stages(timed) -> None:
     def renumber(self, *args):
         inside[0] = True
         try:
-            return timed("index renumbered in place (GUI thread)", plain)(self, *args)
+            return timed("index renumbered in place", plain)(self, *args)
         finally:
             inside[0] = False
 
@@ -451,7 +457,7 @@ def _time_renumbering_stages(timed) -> None:
     plain = index.renumber
     index.renumber = renumber
     geometry._carried_slots = timed("  renumbering: slot maps", geometry._carried_slots)
-    index._relist = timed("  renumbering: face and block lists", index._relist)
+    index._relist = timed("  renumbering: face lists", index._relist)
     index.changed_rows = stage("  renumbering: moved rows found", index.changed_rows)
     index.update = stage("  renumbering: normals of what changed", index.update)
 
@@ -794,8 +800,15 @@ def main() -> None:
     parser.add_argument(
         "--default-model", action="store_true", help="(--stall-only) on the default model"
     )
+    parser.add_argument(
+        "--fresh-arrays",
+        action="store_true",
+        help="(--stall-only) VTK gets a new PolyData after each renumbering (not Modified())",
+    )
     parser.add_argument("--skip-rss", action="store_true", help="compile figures only")
     args = parser.parse_args()
+    if args.fresh_arrays:  # (read by the probe's process)
+        os.environ["GOGREEN_BENCH_FRESH_ARRAYS"] = "1"
     if args.probe_rss:
         options = (args.stall_only, args.on_gui_thread, args.default_model)
         print(json.dumps(probe_rss(Path(args.meshes), *options)))

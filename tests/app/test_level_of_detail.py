@@ -94,10 +94,12 @@ def test_mask_colours_reach_the_copy(big_viewport):
     assert np.array_equal(dark, mask[rows] > 0)
 
 
-def test_mask_colours_reach_the_copy_drawn_while_a_dynamic_topology_stroke_runs(big_viewport):
+def test_mask_colours_reach_the_copy_drawn_while_a_dynamic_topology_stroke_runs(
+    big_viewport, qtbot
+):
     """Issue 34: the copy drawn during a dynamic-topology stroke (the mesh drawn flat, no index
     until the release) gets the mask tint, the colours then in the mesh's order; the release
-    renumbers the index in place (the same one)."""
+    renumbers the index in place (the same one, on the background thread: it is not drawn)."""
     vp = big_viewport
     index, vertices, faces = vp.surface, vp.surface.vertices, vp._faces
     vp.lod.full_frame_ms = 5 * LIGHT_FRAME_MS
@@ -111,7 +113,9 @@ def test_mask_colours_reach_the_copy_drawn_while_a_dynamic_topology_stroke_runs(
     rows = vp.lod.light.rows[vp.lod.light.index.order]
     assert np.array_equal(colors[:, 0] < 150, mask[rows] > 0)
     vp.set_mesh(vertices, faces.copy(), reset_camera=False, background=True, renumbering=same)
-    assert vp.surface is index and not vp.surface_building
+    assert vp.surface_building
+    qtbot.waitUntil(lambda: vp.surface is not None, timeout=60_000)
+    assert vp.surface is index and vp.lod.light is not None
 
 
 @pytest.mark.parametrize("fraction", [0.01, 0.5])
@@ -209,6 +213,7 @@ def test_a_dynamic_topology_stroke_keeps_the_copy_and_renumbers_the_index(
     from gogreen_core.mesh.geometry import SurfaceIndex
 
     builds = _dynamic_topology_window(window, qtbot, monkeypatch, tmp_path)
+    monkeypatch.setattr(app.level_of_detail, "RESORT_FRACTION", 10.0)  # no sorted build
     vp, sculptor = window.viewport, window.document.sculptor
     vp.lod.full_frame_ms = 5 * LIGHT_FRAME_MS
     follows = []
