@@ -113,8 +113,12 @@ def _update(
                 positions[i, 1] = vertices[v, 1]
                 positions[i, 2] = vertices[v, 2]
                 moved[i] = True
-                for e in range(starts[i], ends[i]):
-                    leaf_mark[leaf_ids[e] // LEAF_SIZE] = True
+    for t in prange(n_threads):  # their faces' leaves, in slot order (no random reads)
+        for s in range(t * _VERTEX_CHUNK, n, n_threads * _VERTEX_CHUNK):
+            for i in range(s, min(s + _VERTEX_CHUNK, n)):
+                if moved[i]:
+                    for e in range(starts[i], ends[i]):
+                        leaf_mark[leaf_ids[e] // LEAF_SIZE] = True
     n_leaves = leaf_mark.shape[0]
     n_faces = faces.shape[0]
     for t in prange(n_threads):
@@ -322,11 +326,12 @@ class SurfaceIndex:
         report(0.7)
         self._positions, self._normals = np.empty((n, 3)), np.empty((n, 3))
         self._moved, self._ring = np.zeros(n, dtype=np.bool_), np.zeros(n, dtype=np.bool_)
-        self._leaf_mark = np.zeros(_leaves(m), dtype=np.bool_)
-        self._leaf_dirty = np.ones(_leaves(m), dtype=np.bool_)  # every box is fit at the end
+        n_leaves = -(-m // LEAF_SIZE)  # (rounded up)
+        self._leaf_mark = np.zeros(n_leaves, dtype=np.bool_)
+        self._leaf_dirty = np.ones(n_leaves, dtype=np.bool_)  # every box is fit at the end
         # float32: half the memory the normals' sums read; each (b - a) × (c - a) rounded once
         self._face_normals = np.empty((m, 3), dtype=np.float32)
-        self._boxes = np.empty((_leaves(m), 6))
+        self._boxes = np.empty((n_leaves, 6))
         self._stale_boxes = n  # vertices moved since the boxes were last refit (all)
         self.update(vertices, np.arange(n, dtype=np.int64))  # every vertex "moved"
         report(0.95)
@@ -383,7 +388,7 @@ class SurfaceIndex:
         for names, size in (
             ("_positions _normals _order _moved _ring _starts _ends", n),
             ("_faces _face_order _face_normals", m),
-            ("_leaf_mark _leaf_dirty _boxes", _leaves(m)),
+            ("_leaf_mark _leaf_dirty _boxes", -(-m // LEAF_SIZE)),
         ):
             for name in names.split():
                 setattr(self, name, _room(getattr(self, name), size))
@@ -469,7 +474,7 @@ class SurfaceIndex:
         self._refit()
         with np.errstate(divide="ignore"):
             inv = 1.0 / d
-        boxes = self._boxes[: _leaves(self._face_slots)]
+        boxes = self._boxes[: -(-self._face_slots // LEAF_SIZE)]
         near = np.empty(len(boxes))
         kernels = _kernels()
         kernels._leaf_hits(boxes, o, inv, near)
@@ -492,9 +497,9 @@ def _threads_for(work: int) -> AbstractContextManager[int]:
 
 def _carried_slots(rank: np.ndarray, order: np.ndarray, origin: np.ndarray
                    ) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
-    """Each new row's slot where it was kept (``origin``: its row before, -1: new, left to
-    fill) and the slots of the rows gone; ``order`` (each slot's row) renumbered, -1 there."""
-    new_rank = rank[origin]  # (a new row's: a placeholder)
+    """Each kept row's slot (``origin``: rows before, -1: new), the gone rows' slots (-1 in
+    ``order``, each slot's row, renumbered); a new row's slot is a placeholder."""
+    new_rank = rank[origin]
     alive = np.zeros(len(rank) + 1, dtype=bool)
     alive[origin] = True  # (-1: the last, spare entry)
     gone = rank[~alive[:-1]]
@@ -502,10 +507,6 @@ def _carried_slots(rank: np.ndarray, order: np.ndarray, origin: np.ndarray
     order[new_rank[kept]] = kept
     order[gone] = -1
     return new_rank, gone
-
-
-def _leaves(m: int) -> int:
-    return (m + LEAF_SIZE - 1) // LEAF_SIZE
 
 
 def _room(array: np.ndarray, size: int) -> np.ndarray:
