@@ -78,6 +78,23 @@ Measured 2026-11-29 (the dynamic-topology stroke; 2 cores shared, load average ~
   stage (9 renumberings): orders kept 58-346 ms (vertices and faces), the face-connect pass
   73-333 ms (median 81), the arrays carried over 65-561 ms (median 203): fresh pages and
   memory traffic, not the normals; what is left for a change-proportional renumbering.
+* round 9 (index9: SurfaceIndex.renumber in place: slots, removed faces blanked, only the
+  changed face lists and normals rewritten, the old buffers reused; an undo's or redo's on the
+  GUI thread with VTK's arrays marked modified, a release's on the background thread): three
+  runs each interleaved with main (f5efe7a, same script), load 1.2-1.7. The renumbering itself:
+  release 167-193 ms (main 298-379, background), undo 94-144 ms (main 265-378), redo 125-130
+  ms (main 305-451); by stage (undo): slot maps of vertices and faces ~30 ms, face lists ~11
+  ms, moved rows found ~14 ms, normals ~35 ms (of them the ~860k rows the elastic grab moved;
+  main: orders 83, face-connect pass 73, arrays carried 45-142 ms). From the change shown to
+  the first full frame of the renumbered index: release median 540 ms (main 634), undo 447
+  (742), redo 453 (986); undo -> next stroke 797 ms (main 916), redo 662 (1158); release ->
+  next stroke 1986 ms (main 1600: the steps still running at the release vary; here the
+  recovery thumbnail's copy frame and a full frame again, ~300 ms, fall after the index is
+  in). Longest stall 374 ms (main 306), 142 not counting renders (main 125). VTK given a new
+  PolyData instead of the same arrays marked modified (--fresh-arrays, 4 runs each): the next
+  frame the same within the spread (medians 271-277 vs 258-330 ms: VTK uploads whole buffers
+  either way). The index alone on three recorded 1M changes (topology only, quiet machine,
+  median of 5): 67k, 88k and 169k new faces 60/66/102 ms (main's carried build 168/160/177 ms).
 
 Goals: brush step ≤ the engine's event + 20 ms; stroke and camera frames ≥ 3× faster than
 a full frame; idle ≤ 500 MB; after Ctrl+N within 10 % of the fresh start; drivers ≤ 20 s after the
