@@ -350,7 +350,8 @@ class SurfaceIndex:
         """Become, in place, the index of ``vertices`` (N', 3), ``faces`` (M', 3) that a local
         change made of this mesh (``origin`` (N',), ``face_origin`` (M',): each row's row before,
         -1: new; kept faces in order): removed rows' slots freed or blanked, new rows in free
-        slots or after; only what changed recomputed (a new build's normals, picks and faces)."""
+        slots or after; only what changed recomputed (a new build's normals, picks and faces).
+        Returns the normals and face slots written."""
         vertices, faces = self._checked(vertices, None), np.asarray(faces)
         origin, face_origin = np.asarray(origin), np.asarray(face_origin)
         if origin.shape != (len(vertices),) or face_origin.shape != (len(faces),):
