@@ -40,13 +40,12 @@ __all__ = [
     "LevelOfDetail",
     "LightMesh",
     "Renumbering",
-    "chained",
     "cluster_decimation",
     "edit_renumbering",
     "indexed",
     "indexed_polydata",
     "indexing",
-    "renumbered",
+    "refreshed_polydata",
 ]
 
 #: How a local change of topology (dynamic topology's) made the mesh of the faces ``before``
@@ -61,8 +60,8 @@ LIGHT_MIN_FACES = 400_000
 LIGHT_FRAME_MS = 100.0
 #: The full mesh is drawn again this long (ms) after the last wheel zoom (a drag: at its end).
 SETTLE_MS = 300
-#: Faces appended by renumberings (unsorted: their leaves' boxes span the change and picks
-#: test more of them) past this fraction of the faces: a sorted build starts in the
+#: Face slots renumberings blanked or wrote (unsorted: their leaves' boxes span the change
+#: and picks test more of them) past this fraction of the faces: a sorted build starts in the
 #: background while the renumbered index serves (:meth:`LevelOfDetail.attach`).
 RESORT_FRACTION = 0.05
 #: Multisampling (anti-aliased edges) on hardware OpenGL. Software OpenGL (Mesa's llvmpipe)
@@ -77,9 +76,36 @@ def indexed_polydata(surface: SurfaceIndex) -> tuple[pv.PolyData, bool]:
     mesh = pv.PolyData.from_regular_faces(surface.positions, surface.faces)  # type: ignore[arg-type]
     mesh.point_data["Normals"] = surface.normals
     mesh.point_data.active_normals_name = "Normals"
-    shared = np.shares_memory(mesh.points, surface.positions) and np.shares_memory(
-        mesh.point_data["Normals"], surface.normals
+    return mesh, _shares(mesh, surface)
+
+
+def _shares(mesh: pv.PolyData, surface: SurfaceIndex) -> bool:
+    """VTK draws ``surface``'s arrays themselves (no copies)."""
+    polys = pv.convert_array(mesh.GetPolys().GetConnectivityArray())
+    return (
+        np.shares_memory(mesh.points, surface.positions)
+        and np.shares_memory(mesh.point_data["Normals"], surface.normals)
+        and np.shares_memory(polys, surface.faces)
     )
+
+
+def refreshed_polydata(mesh: pv.PolyData | None, surface: SurfaceIndex) -> tuple[pv.PolyData, bool]:
+    """``mesh`` (of :func:`indexed_polydata`) after ``surface`` was renumbered in place: its
+    arrays marked modified where their slots were written in place, wrapped again (no copy)
+    where slots were added or the index's room grew; and whether VTK shares them."""
+    if mesh is None:
+        return indexed_polydata(surface)
+    if mesh.n_points != len(surface.positions) or mesh.n_cells != len(surface.faces):
+        mesh.points = surface.positions
+        mesh.point_data["Normals"] = surface.normals
+        mesh.point_data.active_normals_name = "Normals"
+        mesh.faces = pv.CellArray.from_regular_cells(surface.faces)
+    shared = _shares(mesh, surface)
+    if not shared:  # (the index's room grew: new buffers)
+        return indexed_polydata(surface)
+    mesh.GetPoints().Modified()
+    mesh.GetPointData().GetNormals().Modified()
+    mesh.GetPolys().Modified()
     return mesh, shared
 
 
@@ -279,17 +305,22 @@ def indexed(
 def indexing(
     vertices: np.ndarray,
     faces: np.ndarray,
-    base: SurfaceIndex | None,
-    change: Renumbering | None,
-    light: LightMesh | None,
+    base: SurfaceIndex | None = None,
+    change: Renumbering | None = None,
+    light: LightMesh | None = None,
 ) -> Callable[[Any], tuple[SurfaceIndex, LightMesh | None]]:
     """The background job indexing a mesh (it reads a copy of ``vertices``: the view's may
-    move): ``base`` renumbered by ``change`` with the copy ``light`` (which followed the
-    change), or without a base a new index and copy (:func:`indexed`)."""
+    move): ``base`` renumbered in place by ``change`` (nothing else may touch it meanwhile),
+    with the copy ``light`` (which followed the change), or a new index and copy."""
     vertices = vertices.copy()
     if base is None or change is None:
         return lambda task: indexed(vertices, faces, task.progress)
-    return lambda _task: (renumbered(base, vertices, faces, change), light)
+
+    def renumbered(_task: Any) -> tuple[SurfaceIndex, LightMesh | None]:
+        base.renumber(vertices, faces, change[1], change[2])
+        return base, light
+
+    return renumbered
 
 
 def _sorted_build(
@@ -297,16 +328,6 @@ def _sorted_build(
 ) -> Callable[[Any], tuple[SurfaceIndex, np.ndarray]]:
     """The background job of a new (sorted) index of a mesh, and the faces it was made for."""
     return lambda task: (SurfaceIndex(vertices, faces, task.progress), faces)
-
-
-def renumbered(
-    index: SurfaceIndex, vertices: np.ndarray, faces: np.ndarray, change: Renumbering
-) -> SurfaceIndex:
-    """The index of the mesh ``vertices`` (N', 3), ``faces`` (M', 3) that a local ``change``
-    made of ``index``'s, built in ``index``'s order for what was kept, the new vertices and
-    faces after it: no sort (a fraction of a new build), the same normals and picks."""
-    _, origin, face_origin = change
-    return SurfaceIndex(vertices, faces, carried=(index, origin, face_origin))
 
 
 def edit_renumbering(edit: MeshEdit, faces: np.ndarray) -> Renumbering | None:
@@ -326,19 +347,6 @@ def edit_renumbering(edit: MeshEdit, faces: np.ndarray) -> Renumbering | None:
         return None
     vertex_origin = origin(edit.n_vertices, edit.new, edit.gone)
     return faces, vertex_origin, origin(edit.n_faces, edit.new_faces, edit.gone_faces)
-
-
-def chained(first: Renumbering, second: Renumbering) -> Renumbering:
-    """The change ``first`` then ``second`` (which starts from ``first``'s result) as one: each
-    row's row before ``first`` (-1: new in either)."""
-
-    def through(later: np.ndarray, earlier: np.ndarray) -> np.ndarray:
-        rows = later.copy()
-        kept = later >= 0
-        rows[kept] = earlier[later[kept]]
-        return rows
-
-    return first[0], through(second[1], first[1]), through(second[2], first[2])
 
 
 def _new_rows(origin: np.ndarray, n: int) -> np.ndarray:
@@ -378,11 +386,6 @@ class LevelOfDetail:
         self.settle_timer.setSingleShot(True)
         self.settle_timer.setInterval(SETTLE_MS)
         self.settle_timer.timeout.connect(self.show_full)
-        #: The faces shown while the index is renumbered to them, and how they came of the
-        #: indexed ones (a change arriving before that index is in is chained onto it).
-        self._pending: tuple[np.ndarray, Renumbering] | None = None
-        #: Faces appended (unsorted) to the index by renumberings since its last sorted build.
-        self.appended = 0
         self._resort = BackgroundRunner(display)
         self._resort.finished.connect(self._resorted)
 
@@ -392,29 +395,20 @@ class LevelOfDetail:
         indexed: tuple[SurfaceIndex, np.ndarray] | None,
         faces: np.ndarray,
     ) -> Renumbering | None:
-        """How ``faces`` came of the faces ``indexed`` (index, faces): ``change`` if it starts
-        there; if it starts from the faces still being renumbered to (an undo pressed before
-        its stroke's index was in), that renumbering and ``change`` composed; else None."""
-        pending, self._pending = self._pending, None
+        """``change`` if it made ``faces`` of the faces ``indexed`` (index, faces), else None
+        (a sorted build running for the faces before is dropped either way)."""
         if change is None or indexed is None:
             return None
         self._resort.cancel()  # the faces it sorts are gone
-        if change[0] is not indexed[1]:
-            if pending is None or change[0] is not pending[0]:
-                return None
-            change = chained(pending[1], change)
-        self._pending = faces, change
-        return change
+        return change if change[0] is indexed[1] else None
 
     def attach(self, light: LightMesh | None) -> None:
         """Use ``light`` as the copy of the mesh just shown (None: none; the copy in use: it
-        followed the mesh to its new topology, indexed now). A renumbered index (its new faces
-        appended, unsorted) past :data:`RESORT_FRACTION` of new faces: a sorted build starts."""
-        pending, self._pending = self._pending, None
-        self.appended = 0 if pending is None else self.appended + int(np.sum(pending[1][2] < 0))
+        followed the mesh to its new topology, indexed now). An index renumbered past
+        :data:`RESORT_FRACTION` of unsorted faces: a sorted build starts."""
         surface, faces = self.display.surface, self.display._faces
-        if pending is not None and surface is not None and faces is not None:
-            if self.appended > RESORT_FRACTION * len(faces):
+        if surface is not None and faces is not None and surface.unsorted:
+            if surface.unsorted > RESORT_FRACTION * len(faces):
                 self._resort.submit(_sorted_build(surface.vertices, faces), supersede=True)
         if light is not None and light is self.light:
             light.base, light.ahead = light.rows, None  # its change is in: the rows found go
@@ -463,16 +457,11 @@ class LevelOfDetail:
         self, vertices: np.ndarray, faces: np.ndarray, change: Renumbering, base: SurfaceIndex
     ) -> None:
         """The mesh became ``vertices``, ``faces`` by a local ``change`` of the topology ``base``
-        indexed: the copy follows it (:meth:`LightMesh.follow`), still drawn if it was, and
-        drawn now (without colours) if full frames are slow (an undo, a redo: no flat frame
-        of the mesh while its index is renumbered); the vertices moved meanwhile are dropped
-        (the mesh's index is renumbered from the change)."""
+        indexed (before it is renumbered): the copy follows it (:meth:`LightMesh.follow`), still
+        drawn if it was; the vertices moved meanwhile are dropped (the change has them)."""
         self._deferred = None
         if self.light is not None:
             self.light.follow(vertices, faces, change, base)
-            if not self.shown and self.full_frame_ms > LIGHT_FRAME_MS:
-                self.light.show(self.display.mesh_actor, None, base.rank)
-                self.shown = True
 
     def interaction_frames(self) -> None:
         """The camera moves or a stroke runs: its frames from the copy when full frames are
@@ -519,8 +508,8 @@ class LevelOfDetail:
             self.display.update_vertices(vertices, now=True)
 
     def colors_changed(self) -> None:
-        """The mesh's direct colours changed: the drawn copy's follow (also while the mesh's
-        index is renumbered: the colours are then in the mesh's order)."""
+        """The mesh's direct colours changed: the drawn copy's follow (also during a
+        dynamic-topology stroke, the mesh without an index: the colours in the mesh's order)."""
         surface, mesh = self.display.surface, self.display.mesh
         if self.shown and self.light is not None and mesh is not None:
             rank = surface.rank if surface is not None else np.arange(mesh.n_points)

@@ -1,16 +1,14 @@
 """What the viewport draws and picks: the mesh, its surface index, the pins, the brush cursor.
 
-The mesh's colours: the model colour (a matcap divides it out: its picture's colours show),
-darkened where the vertex mask holds vertices, the field preview's colours
-(:mod:`app.field_preview`) over the vertices the brush would move, and when the cavity tint is
-on, each vertex darker in hollows and lighter on ridges (its curvature,
-:mod:`gogreen_core.mesh.cavity`, recomputed for the moved vertices and their one-ring only);
-all one direct-RGB point array, updated in place for the rows that change.
+The mesh's colours: the model colour darkened where the vertex mask holds vertices, the field
+preview's colours (:mod:`app.field_preview`) over the vertices the brush would move, and with
+the cavity tint, darker in hollows and lighter on ridges (:mod:`gogreen_core.mesh.cavity`);
+one direct-RGB point array, updated in place for the rows that change.
 
 :class:`MeshDisplay` is a part of :class:`app.viewport.SculptViewport` (a mixin over its
-pyvista plotter): the mesh actor is created once; each brush event writes new positions and
-normals into its arrays in place; picking is a ray cast on the mesh's
-:class:`gogreen_core.mesh.geometry.SurfaceIndex`, which a big mesh builds on the background thread.
+pyvista plotter): the mesh actor is created once; VTK draws the arrays of the mesh's
+:class:`gogreen_core.mesh.geometry.SurfaceIndex` (built on the background thread for a big
+mesh), which each brush event writes in place; picking is a ray cast on it.
 """
 
 from __future__ import annotations
@@ -31,6 +29,7 @@ from app.level_of_detail import (
     indexed,
     indexed_polydata,
     indexing,
+    refreshed_polydata,
 )
 from gogreen_core.interaction.tools import CursorState
 from gogreen_core.mesh.cavity import CavityField
@@ -142,19 +141,19 @@ class MeshDisplay(_Base):
         """Show a new mesh (one actor, replaced only when the mesh itself changes), without
         pins. Its :class:`SurfaceIndex` (picking, incremental normals) is built at once below
         :data:`BACKGROUND_INDEX_FACES` faces, else (or with ``background``) on the background
-        thread (~0.5 s at 2M faces; ``surface_progress``, then ``surface_ready``): meanwhile
-        the mesh is shown flat-shaded in its own order, vertex updates are drawn, picks find
-        nothing and a left press emits ``surface_pending`` instead of starting a stroke.
-        ``in_stroke``: new faces during a stroke (dynamic topology), drawn into the same actor
-        (cursor, pins, mask tint kept), a big mesh flat-shaded without an index until the
-        stroke ends. ``renumbering``: how a local change (a dynamic-topology stroke, its undo or
-        redo, or two chained) made these faces of the indexed ones: a big mesh's index is
-        renumbered instead, its interaction copy and actor kept (:meth:`LevelOfDetail.follow`)."""
+        thread (``surface_progress``, then ``surface_ready``): meanwhile the mesh is drawn
+        flat, picks find nothing and a left press emits ``surface_pending``. ``in_stroke``:
+        new faces during a stroke (dynamic topology; cursor, pins, mask tint kept), a big mesh
+        flat until the stroke ends. ``renumbering``: how a local change (a dynamic-topology
+        stroke, its undo or redo) made these faces of the indexed ones: a big mesh's index is
+        renumbered in place (an undo's, a redo's at once), its copy and actor kept."""
         vertices = np.array(vertices, dtype=np.float64)  # our copy: VTK draws it
         faces = np.asarray(faces)
         if background is None:
             background = len(faces) >= BACKGROUND_INDEX_FACES
-        base = self._indexed  # renumbered when a local change (or two: chained) made these faces
+        if self._index_job is not None and self._indexed is not None:
+            self._index_runner.wait()  # the renumbering running (in place, of that index) first
+        base = self._indexed  # renumbered when a local change made these faces
         renumbering = self.lod.chain(renumbering if background else None, base, faces)
         if renumbering is None or base is None:
             base = self._indexed = None  # a new build: the old index is not kept meanwhile
@@ -176,12 +175,14 @@ class MeshDisplay(_Base):
             self.lod.drop()
         self._index_runner.cancel()
         self._index_job = None
-        self.surface = None
-        self._faces = faces
-        if background:
+        drawn, self.surface, self._faces = self.surface, None, faces
+        old = None if base is None or renumbering is None or in_stroke else base[0]
+        if old is not None and old is drawn and renumbering is not None:  # an undo, a redo:
+            old.renumber(vertices, faces, renumbering[1], renumbering[2])  # at once, VTK's arrays
+            self._use_index(old, self.lod.light, True)
+        elif background:  # (a stroke's release: its index, not drawn, renumbered there)
             self._show(pv.PolyData.from_regular_faces(vertices, self._faces))
             if not in_stroke:
-                old = None if base is None else base[0]
                 job = indexing(vertices, faces, old, renumbering, self.lod.light)
                 self._index_job = self._index_runner.submit(job, supersede=True)
         else:
@@ -254,7 +255,7 @@ class MeshDisplay(_Base):
         """Colour the vertices ``rows`` (n,) (the mesh's order) with ``colors`` (n, 3) uint8
         RGB over the model (the field preview; the mask still darkens them), with ``arrows``
         (feet (k, 3), vectors (k, 3), model units) drawn over it; None: no preview."""
-        n = self.mesh.n_points if self.mesh is not None else 0
+        n = self.n_vertices
         self._show_arrows(arrows if rows is not None else None)
         if rows is None or colors is None or n == 0:
             if len(self._field_rows):
@@ -315,21 +316,23 @@ class MeshDisplay(_Base):
         """The cavity tint is drawn (on, and the mesh's curvature known)."""
         return self.cavity_on and self.cavity is not None and self.mesh is not None
 
-    def _cavity_normals(self, rows: np.ndarray) -> np.ndarray:
-        assert self.surface is not None
-        return self.surface.normals[rows]
-
     def _measure_cavity(self) -> None:
-        """The curvature of every vertex, its median the tint's neutral value. Computed on the
-        surface index's arrays, in its order: a brush region's rows and their neighbours are
-        near in memory there (half the time of the mesh's order on the ogre)."""
+        """The curvature of every vertex, its median the tint's neutral value, in the surface
+        index's order (a brush region's rows near in memory: half the time on the ogre)."""
         surface = self.surface
         assert surface is not None
         positions = surface.positions
-        self.cavity = CavityField(surface.faces, len(positions))
-        self.cavity.update(positions, self._cavity_normals)
-        self._cavity_ref = float(np.median(self.cavity.values)) if len(positions) else 0.0
+        self.cavity = CavityField(surface.faces[surface.face_order >= 0], len(positions))
+        self.cavity.update(positions, lambda rows: surface.normals[rows])
+        values = self.cavity.values[surface.rank]  # (not the free slots')
+        self._cavity_ref = float(np.median(values)) if len(values) else 0.0
         self._cavity_size = float(np.linalg.norm(np.ptp(positions, axis=0))) or 1.0
+
+    @property
+    def n_vertices(self) -> int:
+        """The mesh's vertices (the points drawn but an index's free slots)."""
+        surface, mesh = self.surface, self.mesh
+        return len(surface.rank) if surface is not None else mesh.n_points if mesh else 0
 
     @property
     def field_shown(self) -> bool:
@@ -338,7 +341,7 @@ class MeshDisplay(_Base):
 
     def _colors(self, rows: np.ndarray | None) -> np.ndarray:
         """The colours (n, 3) uint8 of ``rows`` (None: every vertex), the mesh's order."""
-        n = self.mesh.n_points if self.mesh is not None else 0
+        n = self.n_vertices
         count = n if rows is None else len(rows)
         mask = self._mask if self._mask is not None and len(self._mask) == n else None
         shade = np.ones(count)
@@ -359,14 +362,13 @@ class MeshDisplay(_Base):
         return colors
 
     def _draw_colors(self, rows: np.ndarray | None = None) -> None:
-        """Colour the mesh (direct RGB point colours, in the shown order: the surface index's
-        when it draws) from the mask and the field preview, only ``rows`` when given, or back
-        to the plain colour without either."""
+        """Colour the mesh (direct RGB point colours, in the shown order) from the mask, field
+        preview and cavity tint, only ``rows`` when given; the plain colour without them."""
         if self.mesh is None or self.mesh_actor is None:
             return
         mapper = self.mesh_actor.mapper
         data = self.mesh.point_data
-        masked = self._mask is not None and len(self._mask) == self.mesh.n_points
+        masked = self._mask is not None and len(self._mask) == self.n_vertices
         if not masked and not self.field_shown and not self.cavity_shown:
             if COLOR_ARRAY in data:
                 data.remove(COLOR_ARRAY)
@@ -381,7 +383,7 @@ class MeshDisplay(_Base):
         else:
             colors = self._colors(None)
             if rank is not None:
-                shown = np.empty_like(colors)
+                shown = np.zeros((self.mesh.n_points, 3), dtype=np.uint8)  # (free slots too)
                 shown[rank] = colors
                 colors = shown
             data[COLOR_ARRAY] = colors
@@ -392,11 +394,13 @@ class MeshDisplay(_Base):
         self.lod.colors_changed()
         self.request_render()
 
-    def _use_index(self, surface: SurfaceIndex, light: LightMesh | None = None) -> None:
-        """Draw the mesh from ``surface``'s arrays (shared, in its order: the per-event
-        updates write them in place) and pick on it; ``light``: its interaction copy."""
-        # VTK wraps the index's arrays without a copy: its updates are the actor's
-        mesh, self._arrays_shared = indexed_polydata(surface)
+    def _use_index(
+        self, surface: SurfaceIndex, light: LightMesh | None = None, drawn: bool = False
+    ) -> None:
+        """Draw the mesh from ``surface``'s arrays (VTK wraps them: updates write them in
+        place) and pick on it; ``light``: its copy. ``drawn``: drawn already (renumbered)."""
+        polydata = refreshed_polydata(self.mesh, surface) if drawn else indexed_polydata(surface)
+        mesh, self._arrays_shared = polydata
         self.surface = surface
         assert self._faces is not None
         self._indexed = (surface, self._faces)
@@ -493,7 +497,7 @@ class MeshDisplay(_Base):
             if self.cavity_shown and surface is not None:
                 assert self.cavity is not None
                 positions, moved = surface.positions, surface.rank[indices]
-                rows = self.cavity.update(positions, self._cavity_normals, moved)
+                rows = self.cavity.update(positions, lambda rows: surface.normals[rows], moved)
                 self._draw_colors(surface.order[rows])
 
     # -- picking -----------------------------------------------------------------------------
@@ -580,12 +584,7 @@ class MeshDisplay(_Base):
     def model_image(self, light: bool = False) -> np.ndarray:
         """The view as drawn, without the brush cursor: (H, W, 3) uint8 RGB, H and W in device
         pixels (screenshots); ``light``: from the interaction copy when there is one (a
-        thumbnail: a fraction of a full frame of a big mesh).
-
-        The cursor is left out of one render, which is read back; it is then drawn again as it
-        was (its state is kept) at the next render, requested here: one frame without it on
-        screen at most.
-        """
+        thumbnail). The cursor is left out of one render read back, drawn again at the next."""
         overlay = self.cursor_overlay
         overlay.suspended = True
         try:

@@ -78,6 +78,23 @@ Measured 2026-11-29 (the dynamic-topology stroke; 2 cores shared, load average ~
   stage (9 renumberings): orders kept 58-346 ms (vertices and faces), the face-connect pass
   73-333 ms (median 81), the arrays carried over 65-561 ms (median 203): fresh pages and
   memory traffic, not the normals; what is left for a change-proportional renumbering.
+* round 9 (index9: SurfaceIndex.renumber in place: slots, removed faces blanked, only the
+  changed face lists and normals rewritten, the old buffers reused; an undo's or redo's on the
+  GUI thread with VTK's arrays marked modified, a release's on the background thread): three
+  runs each interleaved with main (f5efe7a, same script), load 1.2-1.7. The renumbering itself:
+  release 167-193 ms (main 298-379, background), undo 94-144 ms (main 265-378), redo 125-130
+  ms (main 305-451); by stage (undo): slot maps of vertices and faces ~30 ms, face lists ~11
+  ms, moved rows found ~14 ms, normals ~35 ms (of them the ~860k rows the elastic grab moved;
+  main: orders 83, face-connect pass 73, arrays carried 45-142 ms). From the change shown to
+  the first full frame of the renumbered index: release median 540 ms (main 634), undo 447
+  (742), redo 453 (986); undo -> next stroke 797 ms (main 916), redo 662 (1158); release ->
+  next stroke 1986 ms (main 1600: the steps still running at the release vary; here the
+  recovery thumbnail's copy frame and a full frame again, ~300 ms, fall after the index is
+  in). Longest stall 374 ms (main 306), 142 not counting renders (main 125). VTK given a new
+  PolyData instead of the same arrays marked modified (--fresh-arrays, 4 runs each): the next
+  frame the same within the spread (medians 271-277 vs 258-330 ms: VTK uploads whole buffers
+  either way). The index alone on three recorded 1M changes (topology only, quiet machine,
+  median of 5): 67k, 88k and 169k new faces 60/66/102 ms (main's carried build 168/160/177 ms).
 
 Goals: brush step ≤ the engine's event + 20 ms; stroke and camera frames ≥ 3× faster than
 a full frame; idle ≤ 500 MB; after Ctrl+N within 10 % of the fresh start; drivers ≤ 20 s after the
@@ -419,35 +436,47 @@ def _timed_release_stages(window) -> list[tuple[str, float, float]]:
     tools.flush = timed("brush step", tools.flush)
     built = app.level_of_detail.indexed
     app.level_of_detail.indexed = timed("index and copy built anew (background)", built)
-    if hasattr(app.level_of_detail, "renumbered"):  # issue 34: the index renumbered
-        renumbered = app.level_of_detail.renumbered
-        app.level_of_detail.renumbered = timed("index renumbered (background)", renumbered)
-        _time_renumbering_stages(timed)
+    import app.mesh_display
+
+    refreshed = app.level_of_detail.refreshed_polydata
+    if os.environ.get("GOGREEN_BENCH_FRESH_ARRAYS"):  # the other way: a new PolyData each time
+        fresh = app.level_of_detail.indexed_polydata
+        app.mesh_display.refreshed_polydata = timed(
+            "  VTK given a new PolyData", lambda _mesh, surface: fresh(surface)
+        )
+    else:
+        app.mesh_display.refreshed_polydata = timed("  VTK arrays refreshed in place", refreshed)
+    _time_renumbering_stages(timed)
     return spans
 
 
 def _time_renumbering_stages(timed) -> None:
-    """Wrap the stages of a renumbered SurfaceIndex (orders kept, the face-connect pass, the
-    arrays carried over) with ``timed`` (the kernels' object is wrapped, numba's or NumPy's)."""
+    """Wrap SurfaceIndex.renumber (in place: an undo's or a redo's on the GUI thread, a
+    release's on the background thread) and its stages (the slot maps
+    of vertices and faces, the face lists rewritten, the rows that moved found, the
+    normals and face normals of what changed) with ``timed``."""
     from gogreen_core.mesh import geometry
 
-    if not hasattr(geometry, "_kept_order"):
-        return
-    geometry._kept_order = timed("  renumbering: orders kept", geometry._kept_order)
     index = geometry.SurfaceIndex
-    index._carried = timed("  renumbering: arrays carried", index._carried)
-    kernels = geometry._kernels
+    inside = [False]
 
-    class Timed:
-        def __getattr__(self, name):
-            function = getattr(kernels(), name)
-            return (
-                timed("  SurfaceIndex: face-connect pass", function)
-                if name == "_connect"
-                else function
-            )
+    def renumber(self, *args):
+        inside[0] = True
+        try:
+            return timed("index renumbered in place", plain)(self, *args)
+        finally:
+            inside[0] = False
 
-    geometry._kernels = Timed
+    def stage(name, function):
+        wrapped = timed(name, function)
+        return lambda *a, **k: (wrapped if inside[0] else function)(*a, **k)
+
+    plain = index.renumber
+    index.renumber = renumber
+    geometry._carried_slots = timed("  renumbering: slot maps", geometry._carried_slots)
+    index._relist = timed("  renumbering: face lists", index._relist)
+    index.changed_rows = stage("  renumbering: moved rows found", index.changed_rows)
+    index.update = stage("  renumbering: normals of what changed", index.update)
 
 
 def dynamic_stroke_stall(
@@ -788,8 +817,15 @@ def main() -> None:
     parser.add_argument(
         "--default-model", action="store_true", help="(--stall-only) on the default model"
     )
+    parser.add_argument(
+        "--fresh-arrays",
+        action="store_true",
+        help="(--stall-only) VTK gets a new PolyData after each renumbering (not Modified())",
+    )
     parser.add_argument("--skip-rss", action="store_true", help="compile figures only")
     args = parser.parse_args()
+    if args.fresh_arrays:  # (read by the probe's process)
+        os.environ["GOGREEN_BENCH_FRESH_ARRAYS"] = "1"
     if args.probe_rss:
         options = (args.stall_only, args.on_gui_thread, args.default_model)
         print(json.dumps(probe_rss(Path(args.meshes), *options)))

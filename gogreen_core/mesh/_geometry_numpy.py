@@ -12,8 +12,6 @@ __all__ = ["LEAF_SIZE"]
 
 #: Faces per leaf of the surface index (one bounding box each; ``geometry.SurfaceIndex``).
 LEAF_SIZE = 32
-#: Vertices per block (2**_BLOCK_SHIFT) of the per-event flags.
-_BLOCK_SHIFT = 6
 #: Bits per axis of the Z-order (Morton) codes; a code leaves 31 bits for the item's index.
 _MORTON_BITS = 10
 
@@ -39,54 +37,30 @@ def _morton_keys(
 def _connect(
     faces: np.ndarray, rank: np.ndarray, face_order: np.ndarray, face_rank: np.ndarray,
     index_faces: np.ndarray, offsets: np.ndarray, leaf_ids: np.ndarray,
-    block_offsets: np.ndarray, block_leaves: np.ndarray,
-) -> int:  # fmt: skip
-    n = offsets.shape[0] - 1
+) -> None:  # fmt: skip
     corners = rank[faces].astype(np.int64)  # (M, 3) index vertex of each corner
     index_faces[:] = corners[face_order]
     flat = corners.ravel()  # faces in original order, corners in order: the summation order
-    counts = np.bincount(flat, minlength=n)
     offsets[0] = 0
-    np.cumsum(counts, out=offsets[1:])
-    by_vertex = np.argsort(flat, kind="stable")
-    leaf_ids[: flat.size] = face_rank[by_vertex // 3]
-    # per block of vertices, its distinct leaves in order of first appearance
-    entry_block = np.repeat(np.arange(n, dtype=np.int64) >> _BLOCK_SHIFT, counts)
-    entry_leaf = leaf_ids[: flat.size].astype(np.int64) // LEAF_SIZE
-    n_leaves = max(1, (faces.shape[0] + LEAF_SIZE - 1) // LEAF_SIZE)
-    _, first = np.unique(entry_block * n_leaves + entry_leaf, return_index=True)
-    keep = np.zeros(flat.size, dtype=bool)
-    keep[first] = True
-    used = int(keep.sum())
-    block_leaves[:used] = entry_leaf[keep]
-    n_blocks = block_offsets.shape[0] - 1
-    block_offsets[0] = 0
-    np.cumsum(np.bincount(entry_block[keep], minlength=n_blocks), out=block_offsets[1:])
-    return used
+    np.cumsum(np.bincount(flat, minlength=offsets.shape[0] - 1), out=offsets[1:])
+    leaf_ids[: flat.size] = face_rank[np.argsort(flat, kind="stable") // 3]
 
 
-def _ranges(offsets: np.ndarray, starts: np.ndarray) -> np.ndarray:
-    """Every index in [offsets[s], offsets[s + 1]) for s in ``starts``, in order."""
-    return concatenated_ranges(offsets[starts], offsets[starts + 1] - offsets[starts])
+def _ranges(starts: np.ndarray, ends: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """Every index in [starts[r], ends[r]) for r in ``rows``, in order."""
+    return concatenated_ranges(starts[rows], ends[rows] - starts[rows])
 
 
 def _update(
-    vertices: np.ndarray, seeds: np.ndarray, rank: np.ndarray, offsets: np.ndarray,
-    leaf_ids: np.ndarray, block_offsets: np.ndarray, block_leaves: np.ndarray,
-    faces: np.ndarray, positions: np.ndarray, moved: np.ndarray, ring: np.ndarray,
-    block_moved: np.ndarray, block_ring: np.ndarray, leaf_mark: np.ndarray,
-    leaf_dirty: np.ndarray, face_normals: np.ndarray, normals: np.ndarray, n_threads: int,
+    vertices: np.ndarray, seeds: np.ndarray, rank: np.ndarray, starts: np.ndarray,
+    ends: np.ndarray, leaf_ids: np.ndarray, faces: np.ndarray, positions: np.ndarray,
+    moved: np.ndarray, ring: np.ndarray, leaf_mark: np.ndarray, leaf_dirty: np.ndarray,
+    face_normals: np.ndarray, normals: np.ndarray, n_threads: int,
 ) -> int:  # fmt: skip
-    n = positions.shape[0]
     rows = rank[seeds].astype(np.int64)
     positions[rows] = vertices[seeds]
     moved[rows] = True
-    block_moved[rows >> _BLOCK_SHIFT] = True
-    blocks = np.flatnonzero(block_moved)
-    block_moved[blocks] = False
-    block_ring[blocks] = True
-    entries = _ranges(block_offsets, blocks)
-    leaf_mark[block_leaves[entries]] = True
+    leaf_mark[leaf_ids[_ranges(starts, ends, rows)] // LEAF_SIZE] = True
     leaves = np.flatnonzero(leaf_mark)
     leaf_mark[leaves] = False
     leaf_dirty[leaves] = True
@@ -97,18 +71,12 @@ def _update(
     face = face[moved[a] | moved[b] | moved[c]]
     a, b, c = (faces[face, k] for k in range(3))
     face_normals[face] = np.cross(positions[b] - positions[a], positions[c] - positions[a])
-    for corner in (a, b, c):
-        ring[corner] = True
-        block_ring[corner >> _BLOCK_SHIFT] = True
-    blocks = np.flatnonzero(block_ring)
-    block_ring[blocks] = False
-    vertex = (blocks[:, None] * (1 << _BLOCK_SHIFT) + np.arange(1 << _BLOCK_SHIFT)).ravel()
-    vertex = vertex[vertex < n]
-    vertex = vertex[moved[vertex] | ring[vertex]]
+    ring[a] = ring[b] = ring[c] = True
+    vertex = np.flatnonzero(moved[: positions.shape[0]] | ring[: positions.shape[0]])
     moved[vertex] = False
     ring[vertex] = False
-    entries = _ranges(offsets, vertex)
-    owner = np.repeat(np.arange(len(vertex)), offsets[vertex + 1] - offsets[vertex])
+    entries = _ranges(starts, ends, vertex)
+    owner = np.repeat(np.arange(len(vertex)), ends[vertex] - starts[vertex])
     sums = np.zeros((len(vertex), 3))
     np.add.at(sums, owner, face_normals[leaf_ids[entries]])  # in face order, as compiled
     norm = np.sqrt(np.sum(sums * sums, axis=1))
@@ -139,10 +107,13 @@ def _refit(
     starts = leaves * LEAF_SIZE
     counts = np.minimum(starts + LEAF_SIZE, n_faces) - starts
     face = concatenated_ranges(starts, counts)
-    corners = positions[index_faces[face]]  # (f, 3, 3): the faces' corners of the leaves
+    f = index_faces[face]
+    corners = positions[f]  # (f, 3, 3): the faces' corners of the leaves
+    blank = ((f[:, 0] == f[:, 1]) & (f[:, 1] == f[:, 2]))[:, None]  # widens no box
     bounds = np.concatenate([[0], np.cumsum(counts)[:-1]])
-    boxes[leaves, :3] = np.minimum.reduceat(corners.min(axis=1), bounds, axis=0)
-    boxes[leaves, 3:] = np.maximum.reduceat(corners.max(axis=1), bounds, axis=0)
+    low, high = np.where(blank, np.inf, corners.min(axis=1)), corners.max(axis=1)
+    boxes[leaves, :3] = np.minimum.reduceat(low, bounds, axis=0)
+    boxes[leaves, 3:] = np.maximum.reduceat(np.where(blank, -np.inf, high), bounds, axis=0)
 
 
 def _leaf_hits(
@@ -158,7 +129,7 @@ def _leaf_hits(
             flat = ~(a <= b)  # NaN from 0·inf: the ray lies in the slab plane
             t0 = np.maximum(t0, np.where(flat, -np.inf, a))
             t1 = np.minimum(t1, np.where(flat, np.inf, b))
-    near[:] = np.where(t0 <= t1, t0, np.inf)
+    near[:] = np.where((t0 <= t1) & (boxes[:, 0] <= boxes[:, 3]), t0, np.inf)
 
 
 def _closest_hit(

@@ -14,8 +14,8 @@ from numba import njit, prange
 from gogreen_core import _compiled
 from gogreen_core._jit_options import NogilJitOptions
 from gogreen_core.mesh import _geometry_numpy
-from gogreen_core.mesh._geometry_numpy import _BLOCK_SHIFT, _MORTON_BITS, LEAF_SIZE
-from gogreen_core.mesh.topology import checked_faces
+from gogreen_core.mesh._geometry_numpy import _MORTON_BITS, LEAF_SIZE
+from gogreen_core.mesh.topology import checked_faces, concatenated_ranges
 from gogreen_core.threads import threads_at_most
 
 __all__ = ["SurfaceIndex", "mesh_volume", "vertex_normals"]
@@ -48,8 +48,6 @@ def mesh_volume(vertices: np.ndarray, faces: np.ndarray) -> float:
 #: Work items per chunk of the per-event kernels, dealt to the threads in turn: all share a region.
 _VERTEX_CHUNK = 4096
 _LEAF_CHUNK = 128
-#: Blocks (of 2**_BLOCK_SHIFT vertices, see ``_geometry_numpy``) per chunk.
-_BLOCK_CHUNK = _VERTEX_CHUNK >> _BLOCK_SHIFT
 
 
 @njit(parallel=True, **_JIT)
@@ -71,12 +69,11 @@ def _morton_keys(points: np.ndarray, groups: np.ndarray, low: np.ndarray, scale:
 
 
 @njit(**_JIT)
-def _connect(
-    faces: np.ndarray, rank: np.ndarray, face_order: np.ndarray, face_rank: np.ndarray,
-    index_faces: np.ndarray, offsets: np.ndarray, leaf_ids: np.ndarray, block_offsets: np.ndarray,
-    block_leaves: np.ndarray) -> int:  # fmt: skip
+def _connect(faces: np.ndarray, rank: np.ndarray, face_order: np.ndarray, face_rank: np.ndarray,
+             index_faces: np.ndarray, offsets: np.ndarray,
+             leaf_ids: np.ndarray) -> None:  # fmt: skip
     """Fill index_faces (index order and numbering); leaf_ids by offsets: each vertex's faces
-    in mesh face order; block_leaves by block_offsets: each block's leaves (returns their count)."""
+    in mesh face order."""
     n_faces = faces.shape[0]
     for p in range(n_faces):
         f = face_order[p]
@@ -94,30 +91,17 @@ def _connect(
             i = rank[faces[f, k]]
             leaf_ids[cursor[i]] = face_rank[f]
             cursor[i] += 1
-    n = offsets.shape[0] - 1
-    seen_by = np.full((n_faces + LEAF_SIZE - 1) // LEAF_SIZE, -1, dtype=np.int32)
-    used = 0
-    block_offsets[0] = 0
-    for b in range(block_offsets.shape[0] - 1):
-        for j in range(offsets[b << _BLOCK_SHIFT], offsets[min((b + 1) << _BLOCK_SHIFT, n)]):
-            leaf = leaf_ids[j] // LEAF_SIZE
-            if seen_by[leaf] != b:
-                seen_by[leaf] = b
-                block_leaves[used] = leaf
-                used += 1
-        block_offsets[b + 1] = used
-    return used
 
 
 @njit(parallel=True, **_JIT)
 def _update(
-    vertices: np.ndarray, seeds: np.ndarray, rank: np.ndarray, offsets: np.ndarray,
-    leaf_ids: np.ndarray, block_offsets: np.ndarray, block_leaves: np.ndarray, faces: np.ndarray,
-    positions: np.ndarray, moved: np.ndarray, ring: np.ndarray, block_moved: np.ndarray,
-    block_ring: np.ndarray, leaf_mark: np.ndarray, leaf_dirty: np.ndarray, face_normals: np.ndarray,
-    normals: np.ndarray, n_threads: int) -> np.int64:  # fmt: skip
-    """One :meth:`SurfaceIndex.update`: copy the seeds, redo their blocks' leaves' face normals
-    (float32) and their corners' normals (summed in face order); block flags spare scans."""
+    vertices: np.ndarray, seeds: np.ndarray, rank: np.ndarray, starts: np.ndarray,
+    ends: np.ndarray, leaf_ids: np.ndarray, faces: np.ndarray, positions: np.ndarray,
+    moved: np.ndarray, ring: np.ndarray, leaf_mark: np.ndarray, leaf_dirty: np.ndarray,
+    face_normals: np.ndarray, normals: np.ndarray, n_threads: int,
+) -> np.int64:  # fmt: skip
+    """One :meth:`SurfaceIndex.update`: copy the seeds, redo their leaves' face normals
+    (float32) and their corners' normals (summed in face order)."""
     n = positions.shape[0]
     n_seeds = seeds.shape[0]
     for t in prange(n_threads):
@@ -129,16 +113,12 @@ def _update(
                 positions[i, 1] = vertices[v, 1]
                 positions[i, 2] = vertices[v, 2]
                 moved[i] = True
-                block_moved[i >> _BLOCK_SHIFT] = True
-    n_blocks = block_moved.shape[0]
-    for t in prange(n_threads):
-        for s in range(t * _BLOCK_CHUNK, n_blocks, n_threads * _BLOCK_CHUNK):
-            for b in range(s, min(s + _BLOCK_CHUNK, n_blocks)):
-                if block_moved[b]:
-                    block_moved[b] = False
-                    block_ring[b] = True
-                    for j in range(block_offsets[b], block_offsets[b + 1]):
-                        leaf_mark[block_leaves[j]] = True
+    for t in prange(n_threads):  # their faces' leaves, in slot order (no random reads)
+        for s in range(t * _VERTEX_CHUNK, n, n_threads * _VERTEX_CHUNK):
+            for i in range(s, min(s + _VERTEX_CHUNK, n)):
+                if moved[i]:
+                    for e in range(starts[i], ends[i]):
+                        leaf_mark[leaf_ids[e] // LEAF_SIZE] = True
     n_leaves = leaf_mark.shape[0]
     n_faces = faces.shape[0]
     for t in prange(n_threads):
@@ -164,38 +144,31 @@ def _update(
                     ring[a] = True
                     ring[b] = True
                     ring[c] = True
-                    block_ring[a >> _BLOCK_SHIFT] = True
-                    block_ring[b >> _BLOCK_SHIFT] = True
-                    block_ring[c >> _BLOCK_SHIFT] = True
     counts = np.zeros(16 * n_threads, dtype=np.int64)  # a cache line per thread
     for t in prange(n_threads):
         count = 0
-        for s in range(t * _BLOCK_CHUNK, n_blocks, n_threads * _BLOCK_CHUNK):
-            for b in range(s, min(s + _BLOCK_CHUNK, n_blocks)):
-                if not block_ring[b]:
+        for s in range(t * _VERTEX_CHUNK, n, n_threads * _VERTEX_CHUNK):
+            for i in range(s, min(s + _VERTEX_CHUNK, n)):
+                if not moved[i] and not ring[i]:
                     continue
-                block_ring[b] = False
-                for i in range(b << _BLOCK_SHIFT, min((b + 1) << _BLOCK_SHIFT, n)):
-                    if not moved[i] and not ring[i]:
-                        continue
-                    moved[i] = False
-                    ring[i] = False
-                    count += 1
-                    n0 = 0.0
-                    n1 = 0.0
-                    n2 = 0.0
-                    for j in range(offsets[i], offsets[i + 1]):
-                        f = leaf_ids[j]
-                        n0 += face_normals[f, 0]
-                        n1 += face_normals[f, 1]
-                        n2 += face_normals[f, 2]
-                    norm = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
-                    if norm == 0.0:  # in no face, or only in degenerate ones
-                        n0, n1, n2, norm = 0.0, 0.0, 1.0, 1.0
-                    inverse = 1.0 / norm
-                    normals[i, 0] = n0 * inverse
-                    normals[i, 1] = n1 * inverse
-                    normals[i, 2] = n2 * inverse
+                moved[i] = False
+                ring[i] = False
+                count += 1
+                n0 = 0.0
+                n1 = 0.0
+                n2 = 0.0
+                for j in range(starts[i], ends[i]):
+                    f = leaf_ids[j]
+                    n0 += face_normals[f, 0]
+                    n1 += face_normals[f, 1]
+                    n2 += face_normals[f, 2]
+                norm = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
+                if norm == 0.0:  # in no face, or only in degenerate ones
+                    n0, n1, n2, norm = 0.0, 0.0, 1.0, 1.0
+                inverse = 1.0 / norm
+                normals[i, 0] = n0 * inverse
+                normals[i, 1] = n1 * inverse
+                normals[i, 2] = n2 * inverse
         counts[16 * t] = count
     total: np.int64 = counts.sum()
     return total
@@ -232,6 +205,8 @@ def _refit(positions: np.ndarray, index_faces: np.ndarray, leaf_dirty: np.ndarra
                 lo0 = lo1 = lo2 = np.inf
                 hi0 = hi1 = hi2 = -np.inf
                 for f in range(leaf * LEAF_SIZE, min((leaf + 1) * LEAF_SIZE, n_faces)):
+                    if index_faces[f, 0] == index_faces[f, 1] == index_faces[f, 2]:
+                        continue  # blanked (a removed face's slot): widens no box
                     for k in range(3):
                         v = index_faces[f, k]
                         x, y, z = positions[v, 0], positions[v, 1], positions[v, 2]
@@ -257,7 +232,7 @@ def _leaf_hits(boxes: np.ndarray, origin: np.ndarray, inv_dir: np.ndarray,
                 a, b = -np.inf, np.inf
             t0 = max(t0, a)
             t1 = min(t1, b)
-        near[c] = t0 if t0 <= t1 else np.inf
+        near[c] = t0 if t0 <= t1 and boxes[c, 0] <= boxes[c, 3] else np.inf  # (empty leaf)
 
 
 @njit(**_JIT)
@@ -309,18 +284,16 @@ class SurfaceIndex:
     Z-order (:attr:`order`), faces by their centroids' in leaves of :data:`LEAF_SIZE` faces
     (:attr:`face_order`) with bounding boxes, so a brush region reads neighbouring memory.
     :meth:`update` redoes the faces around the moved vertices and their one-ring's normals (bit
-    for bit a new build's; :func:`vertex_normals`' within float32 rounding) and marks their
-    boxes stale; :meth:`pick` refits those, then tests the boxes the ray hits, nearest first.
+    for bit a new build's; :func:`vertex_normals`' within float32 rounding), :meth:`pick`
+    refits the stale boxes and tests those the ray hits, nearest first; :meth:`renumber` takes
+    a local change of topology in place. Parameters: vertices (N, 3) float64; faces (M, 3)
+    int; progress: called with the fraction done (0, 1] (raising from it cancels the build).
 
-    Parameters: vertices (N, 3) float64; faces (M, 3) int; progress: called with the fraction
-    done (0, 1] between the build's stages (raising from it cancels the build); carried:
-    (index, origin, face_origin) if these came of ``index``'s mesh by a local change (each
-    row's row there, -1: new; the carried in order): no sort, the kept rows in their order
-    and with their normals, the new ones after them, updated where anything changed.
-
-    Attributes (a renderer draws them directly): positions (N, 3), normals (N, 3) float64 in
-    index order (order (N,) int32: the vertex of each row, rank (N,) its inverse); faces (M, 3)
-    int32 in leaf order, as rows of positions (face_order (M,) int32: the mesh face of each).
+    Attributes (a renderer draws them directly): positions (S, 3), normals (S, 3) float64 by
+    slot (order (S,) int32: each slot's vertex, -1: free; rank (N,): each vertex's slot);
+    faces (F, 3) int32 in leaf order, of slots (face_order (F,): each one's mesh face, -1: a
+    blanked slot, one corner thrice: drawn as nothing, never picked). S = N, F = M until
+    :meth:`renumber`; ``unsorted``: the face slots it blanked or wrote since the build.
     """
 
     def __init__(
@@ -328,86 +301,129 @@ class SurfaceIndex:
         vertices: np.ndarray,
         faces: np.ndarray,
         progress: Callable[[float], None] | None = None,
-        carried: tuple[SurfaceIndex, np.ndarray, np.ndarray] | None = None,
     ):
         report = progress if progress is not None else (lambda _fraction: None)
-        vertices = np.ascontiguousarray(vertices, dtype=np.float64)
-        if vertices.ndim != 2 or vertices.shape[1] != 3:
-            raise ValueError(f"vertices must have shape (N, 3) (got {vertices.shape})")
+        vertices = self._checked(vertices, None)
         n = len(vertices)
         faces = checked_faces(faces, n)
         if n >= 2**31 or 3 * len(faces) >= 2**31:  # int32 rows and face-corner offsets
             raise ValueError("meshes of 2**31 vertices or 2**31 / 3 faces or more are unsupported")
-        faces = np.ascontiguousarray(faces, dtype=np.int32)
-        self._n_vertices = n
-        if carried is None:  # the vertices along the curve, then the faces by their centroids
-            self.order = _curve_order(vertices, np.arange(n, dtype=np.int32).reshape(n, 1))
-            self.face_order = _curve_order(vertices, faces)
-        else:  # the kept rows in the order they had, the new ones after them
-            before, origin, face_origin = carried
-            self.order, rows = _kept_order(before.order, origin)
-            self.face_order, face_rows = _kept_order(before.face_order, face_origin)
-        self.rank = np.empty(n, dtype=np.int32)
-        self.rank[self.order] = np.arange(n, dtype=np.int32)
-        face_rank = np.empty(len(faces), dtype=np.int32)
-        face_rank[self.face_order] = np.arange(len(faces), dtype=np.int32)
+        faces = faces.astype(np.int32)
+        self._n_vertices, self.unsorted, m = n, 0, len(faces)
+        self._slots, self._face_slots = n, m
+        self._order = _curve_order(vertices, np.arange(n, dtype=np.int32).reshape(n, 1))
+        self._face_order = _curve_order(vertices, faces)
+        self.rank, self._face_rank = np.empty(n, np.int32), np.empty(m, np.int32)
+        self.rank[self._order] = np.arange(n, dtype=np.int32)
+        self._face_rank[self._face_order] = np.arange(m, dtype=np.int32)
         report(0.4)
-        self.faces = np.empty((len(faces), 3), dtype=np.int32)
-        n_blocks = (n + (1 << _BLOCK_SHIFT) - 1) >> _BLOCK_SHIFT
-        self._offsets = np.empty(n + 1, dtype=np.int32)
-        self._leaf_ids = np.empty(3 * len(faces), dtype=np.int32)
-        self._block_offsets = np.empty(n_blocks + 1, dtype=np.int32)
-        block_leaves = np.empty(3 * len(faces), dtype=np.int32)
-        used = _kernels()._connect(
-            faces, self.rank, self.face_order, face_rank, self.faces, self._offsets,
-            self._leaf_ids, self._block_offsets, block_leaves,
-        )  # fmt: skip
-        self._block_leaves = block_leaves[:used].copy()
+        self._faces = np.empty((m, 3), dtype=np.int32)
+        offsets, self._leaf_ids = np.empty(n + 1, np.int32), np.empty(3 * m, dtype=np.int32)
+        _kernels()._connect(faces, self.rank, self._face_order, self._face_rank, self._faces,
+                            offsets, self._leaf_ids)  # fmt: skip
+        # each slot's faces: [start, end) of a pool (a renumber writes new lists at its end)
+        self._starts, self._ends, self._pool = offsets[:-1].copy(), offsets[1:].copy(), 3 * m
         report(0.7)
-        n_leaves = (len(faces) + LEAF_SIZE - 1) // LEAF_SIZE
-        self.positions = np.empty((n, 3))
-        self.normals = np.empty((n, 3))
-        self._moved = np.zeros(n, dtype=np.bool_)
-        self._ring = np.zeros(n, dtype=np.bool_)
-        self._block_moved = np.zeros(n_blocks, dtype=np.bool_)
-        self._block_ring = np.zeros(n_blocks, dtype=np.bool_)
+        self._positions, self._normals = np.empty((n, 3)), np.empty((n, 3))
+        self._moved, self._ring = np.zeros(n, dtype=np.bool_), np.zeros(n, dtype=np.bool_)
+        n_leaves = -(-m // LEAF_SIZE)  # (rounded up)
         self._leaf_mark = np.zeros(n_leaves, dtype=np.bool_)
         self._leaf_dirty = np.ones(n_leaves, dtype=np.bool_)  # every box is fit at the end
         # float32: half the memory the normals' sums read; each (b - a) × (c - a) rounded once
-        self._face_normals = np.empty((len(faces), 3), dtype=np.float32)
+        self._face_normals = np.empty((m, 3), dtype=np.float32)
         self._boxes = np.empty((n_leaves, 6))
         self._stale_boxes = n  # vertices moved since the boxes were last refit (all)
-        if carried is None:  # every vertex "moved": every face normal and vertex normal
-            self.update(vertices, np.arange(n, dtype=np.int64))
-        else:  # only what changed
-            self.update(vertices, self._carried(vertices, faces, before, rows, face_rows))
+        self.update(vertices, np.arange(n, dtype=np.int64))  # every vertex "moved"
         report(0.95)
         self._refit()
+        self._grow(1.125)  # room for new rows: a renumber writes in place
         report(1.0)
 
-    def _carried(self, vertices: np.ndarray, faces: np.ndarray, before: SurfaceIndex,
-                 rows: np.ndarray, face_rows: np.ndarray) -> np.ndarray:  # fmt: skip
-        """Take ``before``'s normals of the rows carried over (``rows``, ``face_rows``: its rows'
-        new rows, -1: gone); the vertices to update: new, moved, corners of new or gone faces."""
-        kept, kept_faces = np.flatnonzero(rows >= 0), np.flatnonzero(face_rows >= 0)
-        n, m = len(kept), len(kept_faces)  # ascending rows of ``before``: no random reads
-        np.take(before.positions, kept, axis=0, out=self.positions[:n], mode="clip")
-        np.take(before.normals, kept, axis=0, out=self.normals[:n], mode="clip")  # clip: no buffer
-        np.take(before._face_normals, kept_faces, 0, self._face_normals[:m], mode="clip")
-        gone = rows[before.faces[face_rows < 0]].ravel()
-        new = (self.order[n:], faces[self.face_order[m:]].ravel(), gone[gone >= 0])
-        return np.concatenate([*new, self.changed_rows(vertices)])
+    positions = property(lambda self: self._positions[: self._slots])
+    normals = property(lambda self: self._normals[: self._slots])
+    order = property(lambda self: self._order[: self._slots])
+    faces = property(lambda self: self._faces[: self._face_slots])
+    face_order = property(lambda self: self._face_order[: self._face_slots])
+
+    def renumber(self, vertices: np.ndarray, faces: np.ndarray, origin: np.ndarray,
+                 face_origin: np.ndarray) -> int:  # fmt: skip
+        """Become, in place, the index of ``vertices`` (N', 3), ``faces`` (M', 3) that a local
+        change made of this mesh (``origin`` (N',), ``face_origin`` (M',): each row's row before,
+        -1: new; kept faces in order): removed rows' slots freed or blanked, new rows in free
+        slots or after; only what changed recomputed (a new build's normals, picks and faces).
+        Returns the normals and face slots written."""
+        vertices, faces = self._checked(vertices, None), np.asarray(faces)
+        origin, face_origin = np.asarray(origin), np.asarray(face_origin)
+        if origin.shape != (len(vertices),) or face_origin.shape != (len(faces),):
+            raise ValueError("origin and face_origin must give each vertex's and face's row")
+        rank, _ = _carried_slots(self.rank, self._order, origin)
+        face_rank, gone = _carried_slots(self._face_rank, self._face_order, face_origin)
+        lost = self._faces[gone].ravel()  # the slots that lost a face
+        self._faces[gone] = self._faces[gone, :1]  # blanked: one corner thrice
+        new, new_faces = np.flatnonzero(origin < 0), np.flatnonzero(face_origin < 0)
+        rank[new] = self._free_slots(new, "_order", "_slots")
+        face_rank[new_faces] = slots = self._free_slots(new_faces, "_face_order", "_face_slots")
+        self._faces[slots] = corners = rank[checked_faces(faces[new_faces], len(vertices))]
+        self.rank, self._face_rank, self._n_vertices = rank, face_rank, len(vertices)
+        self._relist(lost, corners, slots, gone)
+        self.unsorted += len(gone) + len(slots)
+        self._leaf_dirty[np.concatenate([gone, slots]) // LEAF_SIZE] = True  # (refit by seeds)
+        live = self._order[lost]
+        seeds = [new, faces[new_faces].ravel(), live[live >= 0], self.changed_rows(vertices)]
+        return self.update(vertices, np.concatenate(seeds)) + len(gone) + len(slots)
+
+    def _free_slots(self, rows: np.ndarray, owner: str, used: str) -> np.ndarray:
+        """Slots for ``rows``: free ones (``owner`` -1) below the ``used`` count, then after."""
+        count = getattr(self, used)
+        free = np.flatnonzero(getattr(self, owner)[:count] < 0)[: len(rows)]
+        extra = len(rows) - len(free)
+        setattr(self, used, count + extra)
+        self._grow(1.0)
+        slots = np.concatenate([free, np.arange(count, count + extra)]).astype(np.int32)
+        getattr(self, owner)[slots] = rows
+        return slots
+
+    def _grow(self, room: float) -> None:
+        """Room for ``room`` times the slots in use (vertices and faces; a quarter more)."""
+        n, m = int(room * self._slots), int(room * self._face_slots)
+        for names, size in (
+            ("_positions _normals _order _moved _ring _starts _ends", n),
+            ("_faces _face_order _face_normals", m),
+            ("_leaf_mark _leaf_dirty _boxes", -(-m // LEAF_SIZE)),
+        ):
+            for name in names.split():
+                setattr(self, name, _room(getattr(self, name), size))
+
+    def _relist(self, lost: np.ndarray, corners: np.ndarray, slots: np.ndarray,
+                gone: np.ndarray) -> None:  # fmt: skip
+        """The face lists of the slots that lost faces (``gone``) or got faces (``corners`` of
+        ``slots``) rewritten at the pool's end, in mesh face order (a new build's sums)."""
+        mark = np.zeros(self._slots, dtype=bool)
+        mark[lost] = mark[corners] = True
+        touched = np.flatnonzero(mark)
+        counts = self._ends[touched] - self._starts[touched]
+        ids = self._leaf_ids[concatenated_ranges(self._starts[touched], counts)]
+        keep = ~np.isin(ids, gone, kind="table")
+        owner = np.concatenate([np.repeat(touched, counts)[keep], corners.ravel()])
+        ids = np.concatenate([ids[keep], np.repeat(slots, 3)])
+        ids = ids[np.lexsort((self._face_order[ids], owner))]
+        counts = np.bincount(owner, minlength=self._slots)[touched]
+        self._leaf_ids = _room(self._leaf_ids, self._pool + len(ids))
+        self._leaf_ids[self._pool : self._pool + len(ids)] = ids
+        self._starts[touched] = self._pool + np.cumsum(counts) - counts
+        self._pool += len(ids)
+        self._ends[touched] = self._starts[touched] + counts
 
     @property
     def vertices(self) -> np.ndarray:
         """The positions (N, 3) as of the last :meth:`update`, in the mesh's order (a copy)."""
-        return self.positions[self.rank]
+        return np.take(self._positions, self.rank, axis=0)
 
     def update(self, vertices: np.ndarray, changed: np.ndarray) -> int:
         """The vertices ``changed`` (indices) moved to ``vertices`` (N, 3, the mesh's order;
         only those rows are read): update :attr:`positions` and :attr:`normals`, mark their
         boxes stale. Returns how many normals were recomputed (theirs and their one-ring's)."""
-        vertices = self._checked(vertices)
+        vertices = self._checked(vertices, self._n_vertices)
         seeds = np.ascontiguousarray(changed, dtype=np.int64).ravel()
         if not seeds.size:
             return 0
@@ -417,33 +433,31 @@ class SurfaceIndex:
         with _threads_for(len(seeds)) as threads:
             return int(
                 _kernels()._update(
-                    vertices, seeds, self.rank, self._offsets, self._leaf_ids,
-                    self._block_offsets, self._block_leaves, self.faces, self.positions,
-                    self._moved, self._ring, self._block_moved, self._block_ring,
-                    self._leaf_mark, self._leaf_dirty, self._face_normals, self.normals,
-                    threads,
+                    vertices, seeds, self.rank, self._starts, self._ends, self._leaf_ids,
+                    self.faces, self.positions, self._moved, self._ring, self._leaf_mark,
+                    self._leaf_dirty, self._face_normals, self.normals, threads,
                 )
             )  # fmt: skip
 
-    def _checked(self, vertices: np.ndarray) -> np.ndarray:
+    @staticmethod
+    def _checked(vertices: np.ndarray, n: int | None) -> np.ndarray:
         vertices = np.ascontiguousarray(vertices, dtype=np.float64)
-        if vertices.shape != (self._n_vertices, 3):
-            raise ValueError(
-                f"vertices must have shape ({self._n_vertices}, 3) (got {vertices.shape})"
-            )
+        if vertices.ndim != 2 or vertices.shape[1] != 3 or n not in (None, len(vertices)):
+            expected = "N" if n is None else n
+            raise ValueError(f"vertices must have shape ({expected}, 3) (got {vertices.shape})")
         return vertices
 
     def changed_rows(self, vertices: np.ndarray) -> np.ndarray:
         """The rows (sorted) of ``vertices`` (N, 3, the mesh's order) unlike the last update's."""
-        vertices = self._checked(vertices)
+        vertices = self._checked(vertices, self._n_vertices)
         mask = np.empty(self._n_vertices, dtype=np.bool_)
         with _threads_for(self._n_vertices) as threads:
-            _kernels()._differ(vertices, self.rank, self.positions, mask, threads)
+            _kernels()._differ(vertices, self.rank, self._positions, mask, threads)
         return np.flatnonzero(mask)
 
     def _refit(self) -> None:
         """Refit the boxes of the leaves marked stale since the last pick."""
-        if self._stale_boxes:
+        if self._stale_boxes:  # (the leaves past the faces: none marked, no faces)
             with _threads_for(self._stale_boxes) as threads:
                 _kernels()._refit(
                     self.positions, self.faces, self._leaf_dirty, self._boxes, threads
@@ -461,9 +475,10 @@ class SurfaceIndex:
         self._refit()
         with np.errstate(divide="ignore"):
             inv = 1.0 / d
-        near = np.empty(len(self._boxes))
+        boxes = self._boxes[: -(-self._face_slots // LEAF_SIZE)]
+        near = np.empty(len(boxes))
         kernels = _kernels()
-        kernels._leaf_hits(self._boxes, o, inv, near)
+        kernels._leaf_hits(boxes, o, inv, near)
         hit = np.flatnonzero(near < np.inf)
         candidates = hit[np.argsort(near[hit], kind="stable")]
         face, t = kernels._closest_hit(
@@ -481,13 +496,27 @@ def _threads_for(work: int) -> AbstractContextManager[int]:
     return threads_at_most(1 if work < PARALLEL_VERTICES else numba.get_num_threads())
 
 
-def _kept_order(old_order: np.ndarray, origin: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The order (int32) of rows carried over (``origin``: each one's old row, -1: new) in
-    ``old_order``, then the new rows; and each row of ``old_order``'s new row (-1: gone)."""
-    new_row = np.full(len(old_order), -1, dtype=np.int32)
-    new_row[origin[origin >= 0]] = np.flatnonzero(origin >= 0)
-    rows = new_row[old_order]
-    return np.concatenate([rows[rows >= 0], np.flatnonzero(origin < 0)]).astype(np.int32), rows
+def _carried_slots(rank: np.ndarray, order: np.ndarray, origin: np.ndarray
+                   ) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+    """Each kept row's slot (``origin``: rows before, -1: new), the gone rows' slots (-1 in
+    ``order``, each slot's row, renumbered); a new row's slot is a placeholder."""
+    new_rank = rank[origin]
+    alive = np.zeros(len(rank) + 1, dtype=bool)
+    alive[origin] = True  # (-1: the last, spare entry)
+    gone = rank[~alive[:-1]]
+    kept = np.flatnonzero(origin >= 0)
+    order[new_rank[kept]] = kept
+    order[gone] = -1
+    return new_rank, gone
+
+
+def _room(array: np.ndarray, size: int) -> np.ndarray:
+    """``array``, or a copy with room for a quarter more than ``size`` rows (zeros after)."""
+    if len(array) >= size:
+        return array
+    out = np.zeros((size + size // 4, *array.shape[1:]), dtype=array.dtype)
+    out[: len(array)] = array
+    return out
 
 
 def _curve_order(points: np.ndarray, groups: np.ndarray) -> np.ndarray:

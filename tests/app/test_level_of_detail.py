@@ -12,7 +12,7 @@ from PySide6.QtCore import QPoint, Qt
 from PySide6.QtTest import QTest
 
 import app.level_of_detail
-from app.level_of_detail import LIGHT_FRAME_MS, cluster_decimation
+from app.level_of_detail import LIGHT_FRAME_MS, _shares, cluster_decimation
 from gogreen_core.mesh.shapes import icosphere
 
 
@@ -94,21 +94,28 @@ def test_mask_colours_reach_the_copy(big_viewport):
     assert np.array_equal(dark, mask[rows] > 0)
 
 
-def test_mask_colours_reach_the_copy_drawn_while_the_index_is_renumbered(big_viewport, qtbot):
-    """Issue 34: the copy drawn during an undo's renumbering (no index yet) gets the mask tint,
-    the colours then in the mesh's order."""
+def test_mask_colours_reach_the_copy_drawn_while_a_dynamic_topology_stroke_runs(
+    big_viewport, qtbot
+):
+    """Issue 34: the copy drawn during a dynamic-topology stroke (the mesh drawn flat, no index
+    until the release) gets the mask tint, the colours then in the mesh's order; the release
+    renumbers the index in place (the same one, on the background thread: it is not drawn)."""
     vp = big_viewport
-    vertices, faces = vp.surface.vertices, vp._faces
+    index, vertices, faces = vp.surface, vp.surface.vertices, vp._faces
     vp.lod.full_frame_ms = 5 * LIGHT_FRAME_MS
+    vp.lod.interaction_frames()
     same = (faces, np.arange(len(vertices)), np.arange(len(faces)))  # a local change: none
-    vp.set_mesh(vertices, faces.copy(), reset_camera=False, background=True, renumbering=same)
+    vp.set_mesh(vertices, faces.copy(), False, True, in_stroke=True, renumbering=same)
     assert vp.surface is None and vp.lod.shown
     mask = (vertices[:, 0] > 0.2).astype(float)
     vp.show_mask(mask)
     colors = np.asarray(vp.lod.light.polydata.point_data["Colors"])
     rows = vp.lod.light.rows[vp.lod.light.index.order]
     assert np.array_equal(colors[:, 0] < 150, mask[rows] > 0)
+    vp.set_mesh(vertices, faces.copy(), reset_camera=False, background=True, renumbering=same)
+    assert vp.surface_building
     qtbot.waitUntil(lambda: vp.surface is not None, timeout=60_000)
+    assert vp.surface is index and vp.lod.light is not None
 
 
 @pytest.mark.parametrize("fraction", [0.01, 0.5])
@@ -130,22 +137,20 @@ def test_renumberings_past_a_fraction_of_new_faces_start_a_sorted_build(
     vp = big_viewport
     vertices, faces = vp.surface.vertices, vp._faces
     face_origin = np.arange(len(faces))
-    face_origin[::20] = -1  # every 20th face "new": appended after the others
+    face_origin[::20] = -1  # every 20th face "new": its old slot blanked, a slot written
     change = (faces, np.arange(len(vertices)), face_origin)
     vp.set_mesh(vertices, faces.copy(), reset_camera=False, background=True, renumbering=change)
-    qtbot.waitUntil(lambda: vp.surface is not None, timeout=60_000)
     renumbered = vp.surface
-    fresh = SurfaceIndex(vertices, faces)
-    assert vp.lod.appended == len(faces[::20])
-    assert not np.array_equal(renumbered.face_order, fresh.face_order)
+    assert renumbered is not None and renumbered.unsorted == 2 * len(faces[::20])
     gate.set()
     if fraction > 0.05:
         qtbot.wait(300)
         assert vp.surface is renumbered and not vp.lod._resort.busy
         return
     qtbot.waitUntil(lambda: vp.surface is not renumbered, timeout=60_000)
-    assert vp.lod.appended == 0 and vp.lod.light is not None
+    assert vp.surface.unsorted == 0 and vp.lod.light is not None
     _assert_index_of(vp.surface, vertices, faces, np.random.default_rng(5))
+    fresh = SurfaceIndex(vertices, faces)
     assert np.array_equal(vp.surface.face_order, fresh.face_order)  # sorted again
     assert vp.mesh.n_cells == len(faces)
 
@@ -203,11 +208,12 @@ def test_a_dynamic_topology_stroke_keeps_the_copy_and_renumbers_the_index(
     """Issue 34: on a big mesh a dynamic-topology stroke draws the interaction copy all along
     (it follows the new vertices), and the release renumbers the index, no new build, to the
     normals, picks and faces of a new one; its undo and redo are renumbered too (the copy kept,
-    no new build; the copy drawn meanwhile). The copy's new rows are found with each step, off
-    the GUI thread."""
+    no new build), all in place (the same index, its arrays VTK draws, the mesh drawn at
+    once). The copy's new rows are found with each step, off the GUI thread."""
     from gogreen_core.mesh.geometry import SurfaceIndex
 
     builds = _dynamic_topology_window(window, qtbot, monkeypatch, tmp_path)
+    monkeypatch.setattr(app.level_of_detail, "RESORT_FRACTION", 10.0)  # no sorted build
     vp, sculptor = window.viewport, window.document.sculptor
     vp.lod.full_frame_ms = 5 * LIGHT_FRAME_MS
     follows = []
@@ -219,6 +225,7 @@ def test_a_dynamic_topology_stroke_keeps_the_copy_and_renumbers_the_index(
 
     monkeypatch.setattr(app.level_of_detail.LightMesh, "followed_rows", spy)
     vertices, faces = sculptor.vertices.copy(), sculptor.faces.copy()
+    before = vp.surface
     start = center_of(window)
     QTest.mousePress(vp, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, start)
     shown_during = []
@@ -231,13 +238,14 @@ def test_a_dynamic_topology_stroke_keeps_the_copy_and_renumbers_the_index(
         assert np.array_equal(light.index.vertices, sculptor.vertices[light.rows])
     QTest.mouseRelease(vp, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, start)
     qtbot.waitUntil(lambda: vp.surface is not None and not vp.lod.shown, timeout=60_000)
-    assert all(shown_during) and not builds
+    assert all(shown_during) and not builds and vp.surface is before
     assert follows and not any(follows)  # none on the GUI thread
     assert sculptor.faces.shape != faces.shape  # the stroke changed the topology
     fresh, index = SurfaceIndex(sculptor.vertices, sculptor.faces), vp.surface
     assert np.array_equal(index.normals[index.rank], fresh.normals[fresh.rank])
     assert np.array_equal(vp.shown_vertices(), sculptor.vertices)
     drawn = vp.mesh.regular_faces  # the mesh's faces, each once, as rows of the index
+    drawn = drawn[(drawn[:, 0] != drawn[:, 1]) | (drawn[:, 1] != drawn[:, 2])]  # (no blanks)
     assert np.array_equal(
         np.sort(np.sort(index.order[drawn], axis=1), axis=0),
         np.sort(np.sort(sculptor.faces, axis=1), axis=0),
@@ -255,14 +263,14 @@ def test_a_dynamic_topology_stroke_keeps_the_copy_and_renumbers_the_index(
         (Qt.Key.Key_Z, (vertices, faces)),
         (Qt.Key.Key_Y, (stroke_vertices, stroke_faces)),
     ):
-        vp.lod.full_frame_ms = 5 * LIGHT_FRAME_MS  # slow full frames: the copy drawn meanwhile
+        vp.lod.full_frame_ms = 5 * LIGHT_FRAME_MS  # slow full frames
         QTest.keyClick(vp, key, Qt.KeyboardModifier.ControlModifier)  # undo, redo: renumbered too
-        assert vp.surface_building and vp.lod.shown and not vp.mesh_actor.GetVisibility()
-        qtbot.waitUntil(lambda: vp.surface is not None, timeout=60_000)
+        assert vp.surface is before and not vp.surface_building  # in place, at once
         assert not vp.lod.shown and vp.mesh_actor.GetVisibility()
+        assert _shares(vp.mesh, before)  # VTK draws the index's arrays
         assert np.array_equal(sculptor.faces, now[1]) and np.array_equal(sculptor.vertices, now[0])
         assert np.array_equal(vp.shown_vertices(), now[0])
-        assert vp.mesh.n_cells == len(now[1]) and not builds and vp.lod.light is light
+        assert vp.mesh.n_cells == len(before.faces) and not builds and vp.lod.light is light
         fresh, index = SurfaceIndex(*now), vp.surface
         assert np.array_equal(index.normals[index.rank], fresh.normals[fresh.rank])
         assert np.array_equal(light.index.vertices, sculptor.vertices[light.rows])
@@ -293,55 +301,6 @@ def _dynamic_topology_window(window, qtbot, monkeypatch, tmp_path):
     return builds
 
 
-def test_an_undo_before_the_strokes_index_is_in_chains_the_renumberings(
-    window, qtbot, monkeypatch, tmp_path
-):
-    """Issue 34: an undo pressed while the release still renumbers the index renumbers the
-    index from before the stroke by the two changes composed (no new build) to a new build's
-    normals and picks; the copy kept, at the restored vertices."""
-    builds = _dynamic_topology_window(window, qtbot, monkeypatch, tmp_path)
-    vp, sculptor = window.viewport, window.document.sculptor
-    before, light = vp.surface, vp.lod.light
-    vertices, faces = sculptor.vertices.copy(), sculptor.faces.copy()
-    gate, bases = threading.Event(), []
-    renumbered = app.level_of_detail.renumbered
-
-    def held(index, *args):  # the release's renumbering waits for the undo
-        bases.append(index)
-        assert gate.wait(60)
-        return renumbered(index, *args)
-
-    monkeypatch.setattr(app.level_of_detail, "renumbered", held)
-    start = center_of(window)
-    QTest.mousePress(vp, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, start)
-    for k in range(1, 4):
-        QTest.mouseMove(vp, start + QPoint(8 * k, -6 * k))
-        vp.flush_tools()
-        qtbot.waitUntil(lambda: not vp.stroke_worker.running, timeout=60_000)
-    QTest.mouseRelease(vp, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, start)
-    qtbot.waitUntil(lambda: len(bases) == 1, timeout=60_000)
-    assert sculptor.faces.shape != faces.shape and vp.surface is None
-    QTest.keyClick(vp, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
-    gate.set()
-    qtbot.waitUntil(lambda: vp.surface is not None, timeout=60_000)
-    assert np.array_equal(sculptor.faces, faces) and np.array_equal(sculptor.vertices, vertices)
-    assert not builds and len(bases) == 2 and bases[1] is before  # chained onto the old index
-    assert vp.lod.light is light
-    assert np.array_equal(light.index.vertices, vertices[light.rows])
-    assert np.array_equal(vp.shown_vertices(), vertices)
-    _assert_index_of(vp.surface, vertices, faces, np.random.default_rng(3))
-
-
-def test_chained_changes_compose_row_by_row():
-    from app.level_of_detail import chained
-
-    first = (np.zeros((0, 3)), np.array([0, -1, 2, 3]), np.array([1, -1, 0]))
-    second = (np.zeros((0, 3)), np.array([3, 0, -1, 1]), np.array([2, 0, -1]))
-    faces, origin, face_origin = chained(first, second)
-    assert faces is first[0]
-    assert origin.tolist() == [3, 0, -1, -1] and face_origin.tolist() == [0, 1, -1]
-
-
 def _assert_index_of(index, vertices, faces, rng):
     """``index`` has the positions, normals (bit for bit), face normals, drawn faces and picks
     of a new build on the mesh ``vertices``, ``faces``."""
@@ -350,10 +309,11 @@ def _assert_index_of(index, vertices, faces, rng):
     fresh = SurfaceIndex(vertices, faces)
     assert np.array_equal(index.order[index.rank], np.arange(len(vertices)))
     assert np.array_equal(index.positions[index.rank], vertices)
-    drawn = np.sort(np.sort(index.order[index.faces], axis=1), axis=0)
+    live = np.flatnonzero(index.face_order >= 0)  # (not the blanked slots)
+    drawn = np.sort(np.sort(index.order[index.faces[live]], axis=1), axis=0)
     assert np.array_equal(drawn, np.sort(np.sort(faces, axis=1), axis=0))
     assert np.array_equal(index.normals[index.rank], fresh.normals[fresh.rank])
-    assert np.array_equal(index._face_normals[np.argsort(index.face_order)],
+    assert np.array_equal(index._face_normals[live[np.argsort(index.face_order[live])]],
                           fresh._face_normals[np.argsort(fresh.face_order)])  # fmt: skip
     for _ in range(40):
         origin = rng.normal(size=3) * 3
@@ -367,11 +327,10 @@ def _assert_index_of(index, vertices, faces, rng):
 
 def test_renumbered_index_after_local_remeshes_undo_and_redo_equals_a_new_build():
     """Issue 34: random local remeshes (vertices split, collapsed, moved), then their undo
-    and redo steps, renumber the index (:func:`app.level_of_detail.renumbered`: the kept rows
-    in their order, no sort, their normals carried where nothing changed) to the normals (bit
-    for bit), picks and drawn faces of a new index on the same mesh; one brush move after it
-    too."""
-    from app.level_of_detail import edit_renumbering, renumbered
+    and redo steps, renumber the index in place (:meth:`SurfaceIndex.renumber`: the kept rows
+    in their slots, the new ones in free slots or after) to the normals (bit for bit), picks
+    and drawn faces of a new index on the same mesh; one brush move after it too."""
+    from app.level_of_detail import edit_renumbering
     from gogreen_core.mesh.geometry import SurfaceIndex
     from gogreen_core.mesh.mesh_state import MeshSnapshot, MeshState, topology_edit
     from gogreen_core.mesh.remesh import remesh
@@ -399,18 +358,18 @@ def test_renumbered_index_after_local_remeshes_undo_and_redo_equals_a_new_build(
         before = MeshSnapshot(vertices, faces, state.mask)
         after = MeshSnapshot(done.vertices, done.faces, np.zeros(len(done.vertices)))
         steps.append(topology_edit(before, after, origin, face_origin))
-        previous = index
-        index = renumbered(index, done.vertices, done.faces, (faces, origin, face_origin))
+        slots = index.rank.copy()
+        index.renumber(done.vertices, done.faces, origin, face_origin)
         state.adopt(after)
-        n = np.count_nonzero(origin >= 0)  # the kept vertices keep their rows' order
-        assert np.all(np.diff(previous.rank[origin[:n]][np.argsort(index.rank[:n])]) > 0)
+        n = np.count_nonzero(origin >= 0)  # the kept vertices keep their slots
+        assert np.array_equal(index.rank[:n], slots[origin[:n]])
         _assert_index_of(index, done.vertices, done.faces, rng)
     assert removed > 0 and added > 0
     for side in [back for back, _ in reversed(steps)] + [forth for _, forth in steps]:
         change = edit_renumbering(side, state.faces)  # an undo or a redo: how it renumbers
         assert edit_renumbering(side, state.faces[1:]) is None  # another mesh's
         state.adopt(side)
-        index = renumbered(index, state.vertices, state.faces, change)
+        index.renumber(state.vertices, state.faces, change[1], change[2])
         _assert_index_of(index, state.vertices, state.faces, rng)
     moved = state.vertices.copy()
     rows = np.flatnonzero(np.linalg.norm(moved - moved[0], axis=1) < 0.3)

@@ -223,39 +223,101 @@ def test_pick_misses_and_bad_rays(pebble):
         index.pick(np.array([np.nan, 0, 0]), np.ones(3))
 
 
-def test_an_index_carried_over_a_local_change_equals_a_new_build(pebble):
-    """An index carried over a local change (issue 34: ``carried``, no sort, the normals of
-    what did not change taken over): the kept rows in their order, the new ones after them;
-    the normals (bit for bit), picks and drawn faces of a new build, and after a brush move."""
+def local_remesh(vertices, faces, center, detail, seed):
+    """A local remesh around vertex ``center`` (moved a little first) and how it renumbered
+    the mesh: (vertices, faces, origin, face_origin), the kept rows first, in order."""
     from gogreen_core.mesh.remesh import remesh
 
-    vertices, faces = pebble
-    index = SurfaceIndex(vertices, faces)
-    near = np.linalg.norm(vertices - vertices[7], axis=1)
-    moved = vertices + 0.01 * (near < 0.3)[:, None]
-    done = remesh(moved, faces, near < 0.35, 0.02, iterations=2)
+    near = np.linalg.norm(vertices - vertices[center], axis=1)
+    rng = np.random.default_rng(seed)
+    moved = vertices + 0.01 * rng.normal(size=3) * (near < 0.3)[:, None]
+    done = remesh(moved, faces, near < 0.35, detail, iterations=2)
     origin = np.full(len(done.vertices), -1)
     origin[: np.count_nonzero(done.kept >= 0)] = np.flatnonzero(done.kept >= 0)
     face_origin = np.full(len(done.faces), -1)
     face_origin[: np.count_nonzero(done.kept_faces)] = np.flatnonzero(done.kept_faces)
-    assert np.any(origin < 0) and np.any(done.kept < 0)  # vertices made and removed
-    carried = SurfaceIndex(done.vertices, done.faces, carried=(index, origin, face_origin))
-    kept = origin >= 0
-    assert np.array_equal(carried.order[: np.count_nonzero(kept)],
-                          np.flatnonzero(kept)[np.argsort(index.rank[origin[kept]])])  # fmt: skip
-    fresh = SurfaceIndex(done.vertices, done.faces)
-    assert_normals_of(carried, done.vertices, done.faces)
-    assert np.array_equal(carried.order[carried.faces], done.faces[carried.face_order])
-    rng = np.random.default_rng(5)
+    return done.vertices, done.faces, origin, face_origin
+
+
+def inverted(origin, n_before):
+    """The renumbering back (an undo): each row before's row now (-1: removed by it)."""
+    back = np.full(n_before, -1)
+    kept = np.flatnonzero(origin >= 0)
+    back[origin[kept]] = kept
+    return back
+
+
+def assert_same_as_new_build(index, vertices, faces, seed=5):
+    """Normals bit for bit, faces drawn (blanked slots aside: one corner thrice), picks."""
+    assert_normals_of(index, vertices, faces)
+    assert np.array_equal(index.vertices, vertices)
+    live = index.face_order >= 0
+    blank = index.faces[~live]
+    assert np.all((blank[:, 0] == blank[:, 1]) & (blank[:, 1] == blank[:, 2]))
+    assert np.array_equal(np.sort(index.face_order[live]), np.arange(len(faces)))
+    assert np.array_equal(index.order[index.faces[live]], faces[index.face_order[live]])
+    assert np.array_equal(index.order[index.rank], np.arange(len(vertices)))
+    fresh = SurfaceIndex(vertices, faces)
+    rng = np.random.default_rng(seed)
     for _ in range(40):
         origin = rng.normal(size=3) * 3
         direction = rng.normal(size=3) * 0.3 - origin
-        got, expected = carried.pick(origin, direction), fresh.pick(origin, direction)
+        got, expected = index.pick(origin, direction), fresh.pick(origin, direction)
         assert (got is None) == (expected is None)
         assert got is None or (got[0] == expected[0] and np.array_equal(got[1], expected[1]))
-    moved, changed = brush_move(done.vertices, 3, 0.5)
-    carried.update(moved, changed)
-    assert_normals_of(carried, moved, done.faces)
+
+
+@pytest.mark.parametrize("mode", ["unrolled", "numpy"])
+def test_an_index_renumbered_in_place_over_local_changes_equals_a_new_build(pebble, mode):
+    """Issue 34: random local remeshes (finer and coarser), then their undo and redo steps
+    (new rows anywhere), renumber one index in place (removed vertices' slots freed, removed
+    faces' blanked, new ones in free slots or after the last): after each, the normals (bit for
+    bit), faces drawn and picks of a new build, and after a brush move."""
+    vertices, faces = pebble
+    rng = np.random.default_rng(1)
+    with forced(mode):
+        index = SurfaceIndex(vertices, faces)
+        history = []
+        for step in range(5):
+            center, detail = int(rng.integers(len(vertices))), [0.02, 0.08][step % 2]
+            done = local_remesh(vertices, faces, center, detail, step)
+            index.renumber(*done)
+            assert_same_as_new_build(index, done[0], done[1], step)
+            history.append((vertices, faces, done))
+            vertices, faces = done[0], done[1]
+        for before_vertices, before_faces, done in reversed(history[-3:]):  # undo, undo, undo
+            index.renumber(before_vertices, before_faces, inverted(done[2], len(before_vertices)),
+                           inverted(done[3], len(before_faces)))  # fmt: skip
+            assert_same_as_new_build(index, before_vertices, before_faces)
+        before_vertices, before_faces, done = history[-3]  # redo
+        index.renumber(*done)
+        assert_same_as_new_build(index, done[0], done[1])
+        moved, changed = brush_move(done[0], 3, 0.5)
+        index.update(moved, changed)
+        assert_normals_of(index, moved, done[1])
+
+
+def test_a_renumbering_writes_only_what_changed(pebble):
+    """Issue 34: renumbering in place touches the rows of the change, not the mesh: the kept
+    vertices' and faces' slots keep their rows and bits (no copy), the arrays are the same
+    buffers (room to spare), the rows written are about the change's, not the mesh's."""
+    vertices, faces = default_model(5)
+    index = SurfaceIndex(vertices, faces)
+    buffers = [index._positions, index._normals, index._faces, index._face_normals]
+    done = local_remesh(vertices, faces, 7, 0.04, 0)  # ~700 of 20k faces new
+    kept, kept_faces = np.flatnonzero(done[2] >= 0), np.flatnonzero(done[3] >= 0)
+    slots, face_slots = index.rank[done[2][kept]], index._face_rank[done[3][kept_faces]]
+    before = index._faces[face_slots].copy(), index._face_normals[face_slots].copy()
+    written = index.renumber(*done)
+    assert all(a is b for a, b in zip(buffers, [index._positions, index._normals, index._faces,
+                                               index._face_normals], strict=True))  # fmt: skip
+    assert np.array_equal(index.rank[kept], slots)  # kept rows keep their slots
+    assert np.array_equal(index._face_rank[kept_faces], face_slots)
+    assert np.array_equal(index._faces[face_slots], before[0])
+    assert np.array_equal(index._face_normals[face_slots], before[1])
+    changed = np.count_nonzero(done[3] < 0) + len(faces) - len(kept_faces)
+    assert changed < len(faces) / 10 and 0 < written < 5 * changed
+    assert_same_as_new_build(index, done[0], done[1])
 
 
 def test_a_dynamic_topology_stroke_records_how_it_renumbered_the_mesh():

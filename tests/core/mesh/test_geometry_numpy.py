@@ -12,8 +12,9 @@ from gogreen_core._compiled import forced
 from gogreen_core.mesh.geometry import SurfaceIndex
 from gogreen_core.mesh.shapes import default_model, icosphere
 
-STATE = ("order", "rank", "positions", "normals", "faces", "face_order", "_offsets", "_leaf_ids",
-         "_block_offsets", "_block_leaves", "_face_normals", "_boxes", "_leaf_dirty")  # fmt: skip
+STATE = ("order", "rank", "positions", "normals", "faces", "face_order", "_starts", "_ends",
+         "_leaf_ids", "_face_normals", "_boxes",
+         "_leaf_dirty")  # fmt: skip
 
 
 def meshes():
