@@ -16,6 +16,7 @@ collapsed away, a kept neighbour from before the change (:meth:`LightMesh.follow
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from typing import TYPE_CHECKING, Any
@@ -37,6 +38,7 @@ __all__ = [
     "LIGHT_MIN_FACES",
     "RESORT_FRACTION",
     "SETTLE_MS",
+    "InPlaceRenumbering",
     "LevelOfDetail",
     "LightMesh",
     "Renumbering",
@@ -44,7 +46,6 @@ __all__ = [
     "edit_renumbering",
     "indexed",
     "indexed_polydata",
-    "indexing",
     "refreshed_polydata",
 ]
 
@@ -302,25 +303,38 @@ def indexed(
     return SurfaceIndex(vertices, faces, progress), light
 
 
-def indexing(
-    vertices: np.ndarray,
-    faces: np.ndarray,
-    base: SurfaceIndex | None = None,
-    change: Renumbering | None = None,
-    light: LightMesh | None = None,
-) -> Callable[[Any], tuple[SurfaceIndex, LightMesh | None]]:
-    """The background job indexing a mesh (it reads a copy of ``vertices``: the view's may
-    move): ``base`` renumbered in place by ``change`` (nothing else may touch it meanwhile),
-    with the copy ``light`` (which followed the change), or a new index and copy."""
-    vertices = vertices.copy()
-    if base is None or change is None:
-        return lambda task: indexed(vertices, faces, task.progress)
+class InPlaceRenumbering:
+    """The background job renumbering ``base`` in place to ``vertices`` (N, 3; a copy is read),
+    ``faces`` by ``change``, with the copy ``light`` (which followed the change). Nothing else
+    may touch ``base`` meanwhile. :meth:`take` (the GUI thread) ends it at once."""
 
-    def renumbered(_task: Any) -> tuple[SurfaceIndex, LightMesh | None]:
-        base.renumber(vertices, faces, change[1], change[2])
-        return base, light
+    def __init__(
+        self,
+        base: SurfaceIndex,
+        vertices: np.ndarray,
+        faces: np.ndarray,
+        change: Renumbering,
+        light: LightMesh | None,
+    ) -> None:
+        self.base, self.light = base, light
+        self._args = (vertices.copy(), faces, change[1], change[2])
+        self._lock = threading.Lock()
+        self._started = False  # (under the lock: it ran, or take dropped it)
 
-    return renumbered
+    def __call__(self, _task: Any) -> tuple[SurfaceIndex, LightMesh | None]:
+        with self._lock:
+            if not self._started:
+                self._started = True
+                self.base.renumber(*self._args)
+        return self.base, self.light
+
+    def take(self) -> tuple[SurfaceIndex, LightMesh | None] | None:
+        """Its result, waiting while it runs (a fraction of a second); None if it has not
+        started (other work ahead of it on the one background thread: a homogenization, the
+        kernels' warm-up): it is dropped then, ``base`` untouched, rather than waited for."""
+        with self._lock:
+            ran, self._started = self._started, True
+        return (self.base, self.light) if ran else None
 
 
 def _sorted_build(
@@ -388,6 +402,29 @@ class LevelOfDetail:
         self.settle_timer.timeout.connect(self.show_full)
         self._resort = BackgroundRunner(display)
         self._resort.finished.connect(self._resorted)
+        self._renumbering: InPlaceRenumbering | None = None
+
+    def indexing(
+        self,
+        vertices: np.ndarray,
+        faces: np.ndarray,
+        base: SurfaceIndex | None,
+        change: Renumbering | None,
+    ) -> Callable[[Any], tuple[SurfaceIndex, LightMesh | None]]:
+        """The background job indexing a mesh (it reads a copy of ``vertices``: the view's may
+        move): ``base`` renumbered in place by ``change`` with the copy (kept for
+        :meth:`take_renumbering`), or a new index and copy."""
+        if base is None or change is None:
+            self._renumbering, vertices = None, vertices.copy()
+            return lambda task: indexed(vertices, faces, task.progress)
+        self._renumbering = InPlaceRenumbering(base, vertices, faces, change, self.light)
+        return self._renumbering
+
+    def take_renumbering(self) -> tuple[SurfaceIndex, LightMesh | None] | None:
+        """The result of the in-place renumbering last submitted, if any and it ran
+        (:meth:`InPlaceRenumbering.take`: else it is dropped)."""
+        pending, self._renumbering = self._renumbering, None
+        return None if pending is None else pending.take()
 
     def chain(
         self,
@@ -406,6 +443,7 @@ class LevelOfDetail:
         """Use ``light`` as the copy of the mesh just shown (None: none; the copy in use: it
         followed the mesh to its new topology, indexed now). An index renumbered past
         :data:`RESORT_FRACTION` of unsorted faces: a sorted build starts."""
+        self._renumbering = None  # (done: what it holds goes)
         surface, faces = self.display.surface, self.display._faces
         if surface is not None and faces is not None and surface.unsorted:
             if surface.unsorted > RESORT_FRACTION * len(faces):

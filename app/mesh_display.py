@@ -28,7 +28,6 @@ from app.level_of_detail import (
     Renumbering,
     indexed,
     indexed_polydata,
-    indexing,
     refreshed_polydata,
 )
 from gogreen_core.interaction.tools import CursorState
@@ -151,8 +150,8 @@ class MeshDisplay(_Base):
         faces = np.asarray(faces)
         if background is None:
             background = len(faces) >= BACKGROUND_INDEX_FACES
-        if self._index_job is not None and self._indexed is not None:
-            self._index_runner.wait()  # the renumbering running (in place, of that index) first
+        if self._index_job is not None and (taken := self.lod.take_renumbering()) is not None:
+            self._index_built(self._index_job, taken)  # the release's renumbering: in first
         base = self._indexed  # renumbered when a local change made these faces
         renumbering = self.lod.chain(renumbering if background else None, base, faces)
         if renumbering is None or base is None:
@@ -183,7 +182,7 @@ class MeshDisplay(_Base):
         elif background:  # (a stroke's release: its index, not drawn, renumbered there)
             self._show(pv.PolyData.from_regular_faces(vertices, self._faces))
             if not in_stroke:
-                job = indexing(vertices, faces, old, renumbering, self.lod.light)
+                job = self.lod.indexing(vertices, faces, old, renumbering)
                 self._index_job = self._index_runner.submit(job, supersede=True)
         else:
             self._use_index(*indexed(vertices, self._faces))

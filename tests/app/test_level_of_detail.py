@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -274,6 +275,42 @@ def test_a_dynamic_topology_stroke_keeps_the_copy_and_renumbers_the_index(
         fresh, index = SurfaceIndex(*now), vp.surface
         assert np.array_equal(index.normals[index.rank], fresh.normals[fresh.rank])
         assert np.array_equal(light.index.vertices, sculptor.vertices[light.rows])
+
+
+def test_an_undo_while_the_release_renumbering_waits_behind_other_work_does_not_freeze(
+    window, qtbot, monkeypatch, tmp_path
+):
+    """A stroke's release renumbers the index in place on the one background thread; an undo
+    pressed while that job still waits behind other work there (a homogenization, the kernels'
+    warm-up) drops it (the index untouched) and builds anew instead of blocking the GUI until
+    that work ends (pressed while it runs, it waits for it: the test above)."""
+    from app.background import BackgroundRunner
+
+    builds = _dynamic_topology_window(window, qtbot, monkeypatch, tmp_path)
+    vp, sculptor = window.viewport, window.document.sculptor
+    vertices, faces = sculptor.vertices.copy(), sculptor.faces.copy()
+    start = center_of(window)
+    QTest.mousePress(vp, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, start)
+    for k in range(1, 4):
+        QTest.mouseMove(vp, start + QPoint(8 * k, -6 * k))
+        vp.flush_tools()
+        qtbot.waitUntil(lambda: not vp.stroke_worker.running, timeout=60_000)
+    gate, blocker = threading.Event(), BackgroundRunner()
+    blocker.submit(lambda _task: gate.wait(20))  # other work ahead on the worker thread
+    try:
+        QTest.mouseRelease(vp, Qt.MouseButton.LeftButton, Qt.KeyboardModifier.NoModifier, start)
+        qtbot.waitUntil(lambda: vp.surface_building, timeout=60_000)  # the renumbering queued
+        assert sculptor.faces.shape != faces.shape and not builds
+        began = time.perf_counter()
+        QTest.keyClick(vp, Qt.Key.Key_Z, Qt.KeyboardModifier.ControlModifier)
+        waited = time.perf_counter() - began
+    finally:
+        gate.set()
+    assert waited < 5.0  # (it waited for the blocker's 20 s before)
+    assert np.array_equal(sculptor.faces, faces) and np.array_equal(sculptor.vertices, vertices)
+    qtbot.waitUntil(lambda: vp.surface is not None, timeout=60_000)
+    assert builds  # the undo's faces indexed anew: the dropped renumbering never ran
+    _assert_index_of(vp.surface, vertices, faces, np.random.default_rng(3))
 
 
 def _dynamic_topology_window(window, qtbot, monkeypatch, tmp_path):
